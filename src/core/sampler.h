@@ -1,0 +1,42 @@
+/* Per-pixel sample generators. Two kinds:
+ *  - stratified: jittered strata in every dimension, each 1D/2D dimension stratified on its
+ *    own and decorrelated by a random permutation of the sample index (padded stratification);
+ *  - sobol: Owen-scrambled Sobol' (0,2)-sequence points per 2D dimension, padded the same way
+ *    (the low-discrepancy Monte Carlo baseline).
+ * A pixel's samples depend only on (seed, pixel, pass, sample index): images are identical
+ * for any thread count and tile order. */
+#ifndef WEDGE_CORE_SAMPLER_H
+#define WEDGE_CORE_SAMPLER_H
+
+#include <stdint.h>
+
+#include "core/rng.h"
+#include "core/vec.h"
+
+typedef enum { SAMPLER_STRATIFIED, SAMPLER_SOBOL } SamplerKind;
+
+/* Maps a pbrt-v4 sampler name to ours: "stratified", "independent" -> stratified;
+ * "sobol", "zsobol", "paddedsobol", "halton", "pmj02bn" -> sobol. Unknown -> sobol. */
+SamplerKind sampler_kind_from_pbrt(const char *name);
+const char *sampler_kind_name(SamplerKind kind);
+
+typedef struct {
+    SamplerKind kind;
+    uint64_t seed;
+    int spp;          /* samples of this pixel in this pass (>= 1) */
+    uint64_t pixel_seed;
+    int sample_index; /* current sample, 0 .. spp-1 */
+    int dim;          /* next dimension to hand out */
+    Pcg32 rng;        /* jitter/scramble stream of the current sample */
+} PixelSampler;
+
+/* Starts pixel (px, py) of pass `pass` with spp samples. */
+void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp);
+/* Begins sample i (0 <= i < spp); dimensions restart at 0. */
+void sampler_start_sample(PixelSampler *s, int sample_index);
+/* Next dimension(s) of the current sample, each in [0, 1). Consumers must request
+ * dimensions in a fixed order per sample so strata line up across samples. */
+float sampler_1d(PixelSampler *s);
+vec2 sampler_2d(PixelSampler *s);
+
+#endif
