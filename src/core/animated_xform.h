@@ -29,4 +29,14 @@ void mat4_decompose(const Mat4 *m, double t[3], Quat *r, Mat4 *s);
 Mat4 quat_to_mat4(Quat q);
 Quat quat_slerp(Quat a, Quat b, double u);
 
+/* Rotation matrix (upper 3x3 of m, assumed orthonormal with determinant +1) to a unit
+ * quaternion. */
+Quat quat_from_mat4(const Mat4 *m);
+/* A conservative axis-aligned bound of the box [lo, hi] (object space) moved by `a` over the
+ * shutter interval [u0, u1] (0 <= u0 <= u1 <= 1): every point of the box at every time in
+ * the interval lies inside [out_lo, out_hi]. Sampled at several times and padded by a bound
+ * on how far the motion can bulge between samples (rotation arcs). */
+void anim_xform_motion_bounds(const AnimXform *a, const double lo[3], const double hi[3], double u0,
+                              double u1, double out_lo[3], double out_hi[3]);
+
 #endif

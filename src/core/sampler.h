@@ -39,4 +39,13 @@ void sampler_start_sample(PixelSampler *s, int sample_index);
 float sampler_1d(PixelSampler *s);
 vec2 sampler_2d(PixelSampler *s);
 
+/* Scalar dimensions (a 2D request uses two) that get stratified / low-discrepancy values;
+ * later dimensions of a sample are independent uniform random numbers from s->rng. */
+#define SAMPLER_PADDED_DIMS 64
+
+/* Element i of a pseudo-random permutation of {0, ..., n-1} chosen by seed, computed without
+ * storing the permutation (cycle-walking a keyed bijection on the next power of two).
+ * i >= n is taken modulo n; n = 0 or 1 returns 0. */
+uint32_t sampler_permute(uint32_t i, uint32_t n, uint64_t seed);
+
 #endif

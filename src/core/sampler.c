@@ -1,0 +1,251 @@
+/* Per-pixel samplers: padded stratified (multi-jitter in 2D) and padded
+ * Owen-scrambled Sobol'. Nothing is stored per pixel but a seed: every value is a pure
+ * function of (pixel seed, sample index, dimension), so tiles can run in any order on any
+ * number of threads. See docs/sampling.md. */
+#include "core/sampler.h"
+
+#include <math.h>
+#include <string.h>
+
+/* ---- seeds ----------------------------------------------------------------------------- */
+
+/* Seed of one scalar dimension of one pixel. `block` counts how many times the caller has
+ * wrapped around spp (sample indices >= spp), so every block is a fresh stratified set. */
+static uint64_t dim_seed(const PixelSampler *s, int dim, uint32_t block, uint64_t salt)
+{
+    /* Distinct (dim, salt) give distinct odd-multiplier offsets; the splitmix finaliser
+     * then makes the seeds of neighbouring dimensions look independent. */
+    uint64_t key = ((uint64_t)(uint32_t)dim << 8 | salt) * 0xd1342543de82ef95ull;
+    uint64_t h = hash_u64(s->pixel_seed ^ key);
+    return block ? hash_u64(h + block) : h;
+}
+
+/* ---- permutations without storage ----------------------------------------------------- */
+
+/* A keyed bijection of [0, mask] with mask = 2^bits - 1. Each step is invertible modulo
+ * 2^bits: xor with a constant, multiplication by an odd number, adding a constant, and
+ * x ^= x >> k (the top k bits are unchanged, so the lower ones can be recovered top down).
+ * Multiplication carries entropy upwards, the right shift carries it back down; four
+ * rounds mix small domains (16 to 256 elements) well enough that the permutations of
+ * different seeds look independent. The idea (cycle-walking a hash restricted to a power
+ * of two) follows Kensler 2013, "Correlated Multi-Jittered Sampling", sec. 3; the steps and
+ * constants here are our own. */
+static uint32_t permute_pow2(uint32_t x, uint32_t mask, int bits, uint64_t seed)
+{
+    int shift = bits > 1 ? (bits + 1) / 2 : 1;
+    uint32_t k0 = (uint32_t)seed, k1 = (uint32_t)(seed >> 32);
+    x ^= k0 & mask;
+    x = (x * 0x9e3779b1u) & mask;
+    x ^= x >> shift;
+    x = (x + k1) & mask;
+    x = (x * (0x2c9277b5u | (k0 >> 16) | 1u)) & mask;
+    x ^= x >> shift;
+    x ^= (k1 >> 8) & mask;
+    x = (x * 0x85ebca77u) & mask;
+    x ^= x >> shift;
+    x = (x + (k0 >> 5)) & mask;
+    x = (x * 0xc2b2ae3du) & mask;
+    x ^= x >> shift;
+    return x;
+}
+
+uint32_t sampler_permute(uint32_t i, uint32_t n, uint64_t seed)
+{
+    if (n <= 1) return 0;
+    /* An index outside [0, n) could sit on a cycle that never enters it: fold it in. */
+    if (i >= n) i %= n;
+    uint32_t mask = n - 1;
+    mask |= mask >> 1;
+    mask |= mask >> 2;
+    mask |= mask >> 4;
+    mask |= mask >> 8;
+    mask |= mask >> 16;
+    int bits = 32 - __builtin_clz(mask); /* mask > 0 here */
+    /* Cycle walking: apply the bijection until the value falls inside [0, n). Starting from
+     * i < n the orbit of a permutation returns to i, so this terminates; since n > mask/2,
+     * the expected number of steps is below 2. */
+    uint32_t x = i;
+    do {
+        x = permute_pow2(x, mask, bits, seed);
+    } while (x >= n);
+    return x;
+}
+
+/* ---- stratified ------------------------------------------------------------------------ */
+
+/* (stratum + jitter) / n as a float that stays inside [stratum/n, (stratum+1)/n): rounding
+ * the double to float could otherwise step onto the next stratum's edge (or 1.0). For n
+ * below 2^24, float * n is exact in double, so the test below is exact. */
+static float stratum_value(uint32_t stratum, double jitter, uint32_t n)
+{
+    float v = (float)(((double)stratum + jitter) / (double)n);
+    if (n < (1u << 24)) {
+        while ((double)v * n >= (double)stratum + 1.0) v = nextafterf(v, 0.0f);
+        while ((double)v * n < (double)stratum) v = nextafterf(v, 1.0f);
+    }
+    return v < 1.0f ? v : 0x1.fffffep-1f;
+}
+
+static double jitter01(Pcg32 *rng) { return (double)pcg32_next(rng) * 0x1p-32; }
+
+/* Splits n into a rows x cols grid, rows the largest divisor of n not above sqrt(n):
+ * 16 -> 4 x 4, 12 -> 3 x 4, 8 -> 2 x 4, a prime p -> 1 x p (a Latin hypercube). */
+static void grid_shape(uint32_t n, uint32_t *rows, uint32_t *cols)
+{
+    uint32_t r = (uint32_t)floor(sqrt((double)n));
+    while (r > 1 && n % r) --r;
+    if (r < 1) r = 1;
+    *rows = r;
+    *cols = n / r;
+}
+
+/* Multi-jittered point number j of n (Chiu, Shirley, Wang 1994, "Multi-jittered
+ * sampling"): the unit square is a rows x cols grid with one point per cell, and each cell
+ * is further split into rows sub-columns and cols sub-rows so that the n points also fall
+ * one per stratum of width 1/n in x and in y. Point j sits in cell (c = j % cols,
+ * r = j / cols); within column c the sub-columns of its rows are a permutation of [0, rows),
+ * and within row r the sub-rows of its columns a permutation of [0, cols).
+ * We deliberately use an independent permutation per column (and per row), not the single
+ * shared one of Kensler 2013's "correlated" variant: with a shared permutation the error of
+ * an integrand with a mixed term (f = x y) contains sum_c c * perm(c), which does not
+ * average out and decays only as n^-0.75; independent permutations give n^-1, as a plain
+ * jittered grid (measured in tests/core/test_sampler.c, about 1.5x lower error than it). */
+static vec2 multi_jitter(uint32_t j, uint32_t n, uint64_t seed, Pcg32 *rng)
+{
+    uint32_t rows, cols;
+    grid_shape(n, &rows, &cols);
+    uint32_t c = j % cols, r = j / cols;
+    uint32_t sub_x = sampler_permute(r, rows, hash_u64(seed ^ (0x5bd1e995ull + ((uint64_t)c << 32))));
+    uint32_t sub_y = sampler_permute(c, cols, hash_u64(seed ^ (0x27d4eb2full + ((uint64_t)r << 32))));
+    double jx = jitter01(rng), jy = jitter01(rng);
+    /* x = (c + (sub_x + jx) / rows) / cols: 1D stratum c * rows + sub_x of n. */
+    return v2(stratum_value(c * rows + sub_x, jx, n), stratum_value(r * cols + sub_y, jy, n));
+}
+
+/* ---- Sobol' ---------------------------------------------------------------------------- */
+
+static uint32_t reverse_bits32(uint32_t v)
+{
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+/* Sobol' points are built here directly in bit-reversed form (bit 0 = the most significant
+ * bit of the fraction), which is the form the scramble below works on; one reversal at the
+ * end turns the result into a fraction.
+ * First dimension: the base-2 radical inverse (van der Corput), whose reversed form is the
+ * index itself. */
+static uint32_t sobol_dim0_reversed(uint32_t i) { return i; }
+
+/* Second dimension: its generator matrix is the Pascal matrix modulo 2, whose columns are
+ * v_0 = 1/2 and v_{k+1} = v_k xor (v_k >> 1) (direction numbers m = 1, 3, 5, 15, 17, 51,
+ * ...); reversed, v_0 = 1 and v_{k+1} = v_k xor (v_k << 1). Together with dim0, every
+ * aligned block of 2^k indices is a (0, k, 2)-net in base 2 (Sobol' 1967). */
+static uint32_t sobol_dim1_reversed(uint32_t i)
+{
+    uint32_t r = 0, v = 1u;
+    for (; i; i >>= 1, v ^= v << 1)
+        if (i & 1u) r ^= v;
+    return r;
+}
+
+/* Owen's nested uniform scramble, approximated by a hash in the spirit of Laine and Karras
+ * 2011 and Burley 2020 ("Practical Hash-based Owen Scrambling", sec. 3-4). Input and output
+ * are bit-reversed fractions. Each step flips bit j by a function of bits 0..j-1 only
+ * (adding a constant, x ^= x * even, x *= odd: carries only travel upwards), which is
+ * exactly the nested-scramble form, so scrambled (0, k, 2)-nets stay nets. The constants
+ * are our own; tests/core/test_sampler.c compares the integration error against a
+ * brute-force true Owen scramble. */
+static uint32_t owen_scramble_reversed(uint32_t v, uint32_t seed)
+{
+    v += seed;
+    v ^= v * 0x6b43a9b6u;
+    v *= (seed >> 16) | 1u;
+    v ^= v * 0x1d8e4e28u;
+    v += seed * 0x9e3779b9u;
+    v ^= v * 0xa3b195aeu;
+    v *= 0x8a5cd789u;
+    v ^= v * 0x2f5a6e04u;
+    return v;
+}
+
+/* 0.32 fixed point to a float in [0, 1): keep the top 24 bits, which a float holds exactly. */
+static float fixed_to_float(uint32_t v) { return (float)(v >> 8) * 0x1p-24f; }
+
+static float scrambled_to_float(uint32_t reversed, uint32_t seed)
+{
+    return fixed_to_float(reverse_bits32(owen_scramble_reversed(reversed, seed)));
+}
+
+/* ---- public API ------------------------------------------------------------------------ */
+
+SamplerKind sampler_kind_from_pbrt(const char *name)
+{
+    if (name && (strcmp(name, "stratified") == 0 || strcmp(name, "independent") == 0))
+        return SAMPLER_STRATIFIED;
+    return SAMPLER_SOBOL; /* sobol, zsobol, paddedsobol, halton, pmj02bn, and unknown names */
+}
+
+const char *sampler_kind_name(SamplerKind kind)
+{
+    return kind == SAMPLER_STRATIFIED ? "stratified" : "sobol";
+}
+
+void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp)
+{
+    memset(s, 0, sizeof *s);
+    s->kind = kind;
+    s->seed = seed;
+    s->spp = spp >= 1 ? spp : 1;
+    s->pixel_seed = hash_pixel_seed(seed, px, py, pass);
+    sampler_start_sample(s, 0);
+}
+
+void sampler_start_sample(PixelSampler *s, int sample_index)
+{
+    s->sample_index = sample_index >= 0 ? sample_index : 0;
+    s->dim = 0;
+    /* The jitter stream of this sample: a fresh PCG32 state keyed by (pixel, sample). */
+    pcg32_seed(&s->rng, hash_u64(s->pixel_seed ^ hash_u64((uint64_t)s->sample_index + 0x51ed27ull)),
+               s->pixel_seed >> 1);
+}
+
+/* Position of the current sample inside the stratified set of spp points of dimension dim
+ * (the per-dimension shuffle that decorrelates dimensions: "padding"). */
+static uint32_t padded_index(const PixelSampler *s, int dim, uint32_t *block, uint64_t salt)
+{
+    uint32_t n = (uint32_t)s->spp, i = (uint32_t)s->sample_index;
+    *block = i / n;
+    return sampler_permute(i % n, n, dim_seed(s, dim, *block, salt));
+}
+
+float sampler_1d(PixelSampler *s)
+{
+    int dim = s->dim++;
+    if (dim >= SAMPLER_PADDED_DIMS) return pcg32_float(&s->rng);
+    uint32_t n = (uint32_t)s->spp, block;
+    uint32_t j = padded_index(s, dim, &block, 1);
+    if (s->kind == SAMPLER_STRATIFIED) return stratum_value(j, jitter01(&s->rng), n);
+    /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
+    uint32_t seed = (uint32_t)dim_seed(s, dim, block, 2);
+    return scrambled_to_float(sobol_dim0_reversed(j), seed);
+}
+
+vec2 sampler_2d(PixelSampler *s)
+{
+    int dim = s->dim;
+    s->dim += 2;
+    if (dim >= SAMPLER_PADDED_DIMS - 1) {
+        float x = pcg32_float(&s->rng);
+        return v2(x, pcg32_float(&s->rng));
+    }
+    uint32_t n = (uint32_t)s->spp, block;
+    uint32_t j = padded_index(s, dim, &block, 3);
+    uint64_t seed = dim_seed(s, dim, block, 4);
+    if (s->kind == SAMPLER_STRATIFIED) return multi_jitter(j, n, seed, &s->rng);
+    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)seed),
+              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(seed >> 32)));
+}

@@ -1,0 +1,347 @@
+/* Samplers: range, determinism, stratification, (0,2)-net structure and convergence rate. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "check.h"
+#include "core/sampler.h"
+
+#define MAX_N 256
+#define DIMS 12 /* scalar dimensions tested per sample: 1D, 2D, 1D, 2D, ... */
+
+/* Generates all n samples of one pixel, requesting a fixed pattern of dimensions
+ * (1D, 2D, 1D, 2D, ...) up to DIMS scalars; out[i][d] is scalar dimension d of sample i. */
+static void fill_pixel(SamplerKind kind, uint64_t seed, int px, int py, int pass, int n, float out[][DIMS])
+{
+    PixelSampler s;
+    sampler_start_pixel(&s, kind, seed, px, py, pass, n);
+    for (int i = 0; i < n; ++i) {
+        sampler_start_sample(&s, i);
+        int d = 0;
+        while (d < DIMS) {
+            if ((d % 3) == 0) {
+                out[i][d++] = sampler_1d(&s);
+            } else {
+                vec2 p = sampler_2d(&s);
+                out[i][d++] = p.x;
+                out[i][d++] = p.y;
+            }
+        }
+    }
+}
+/* Dimension d is the first (x) coordinate of a 2D request when d % 3 == 1. */
+static int is_2d_x(int d) { return d % 3 == 1; }
+
+static float g_samples[MAX_N][DIMS];
+static float g_other[MAX_N][DIMS];
+
+/* Every value in [0, 1), for many spp, and also for dimensions past the padded range. */
+static void test_range(SamplerKind kind)
+{
+    for (int n = 1; n <= 70; n += (n < 20 ? 1 : 7)) {
+        PixelSampler s;
+        sampler_start_pixel(&s, kind, 7, 3, 5, 0, n);
+        for (int i = 0; i < n; ++i) {
+            sampler_start_sample(&s, i);
+            for (int d = 0; d < 50; ++d) {
+                float a = sampler_1d(&s);
+                vec2 b = sampler_2d(&s);
+                CHECK(a >= 0.0f && a < 1.0f);
+                CHECK(b.x >= 0.0f && b.x < 1.0f && b.y >= 0.0f && b.y < 1.0f);
+            }
+        }
+    }
+}
+
+static void test_determinism(SamplerKind kind)
+{
+    const int n = 16;
+    fill_pixel(kind, 42, 10, 20, 1, n, g_samples);
+    fill_pixel(kind, 42, 10, 20, 1, n, g_other);
+    CHECK(memcmp(g_samples, g_other, sizeof(float) * DIMS * n) == 0);
+
+    /* A different pixel, pass or seed gives different values. Count the differing values
+     * rather than requiring all: two independent floats coincide with negligible odds. */
+    const int variants[4][4] = {{11, 20, 1, 42}, {10, 21, 1, 42}, {10, 20, 2, 42}, {10, 20, 1, 43}};
+    for (int v = 0; v < 4; ++v) {
+        fill_pixel(kind, (uint64_t)variants[v][3], variants[v][0], variants[v][1], variants[v][2], n, g_other);
+        int same = 0;
+        for (int i = 0; i < n; ++i)
+            for (int d = 0; d < DIMS; ++d) same += g_samples[i][d] == g_other[i][d];
+        CHECK(same <= 2);
+    }
+
+    /* Sample i does not depend on which samples were generated before it. */
+    PixelSampler s;
+    sampler_start_pixel(&s, kind, 42, 10, 20, 1, n);
+    sampler_start_sample(&s, 9);
+    CHECK(sampler_1d(&s) == g_samples[9][0]);
+    vec2 p = sampler_2d(&s);
+    CHECK(p.x == g_samples[9][1] && p.y == g_samples[9][2]);
+}
+
+/* Exactly one of the n values of dimension d in each interval [k/n, (k+1)/n). */
+static int stratified_1d(float v[][DIMS], int n, int d)
+{
+    int count[MAX_N] = {0};
+    for (int i = 0; i < n; ++i) {
+        int k = (int)floor((double)v[i][d] * n);
+        if (k < 0 || k >= n) return 0;
+        ++count[k];
+    }
+    for (int k = 0; k < n; ++k)
+        if (count[k] != 1) return 0;
+    return 1;
+}
+
+/* Exactly one point (v[i][d], v[i][d+1]) in each cell of a cols x rows grid. */
+static int stratified_grid(float v[][DIMS], int n, int d, int cols, int rows)
+{
+    int count[MAX_N] = {0};
+    for (int i = 0; i < n; ++i) {
+        int cx = (int)floor((double)v[i][d] * cols), cy = (int)floor((double)v[i][d + 1] * rows);
+        if (cx < 0 || cx >= cols || cy < 0 || cy >= rows) return 0;
+        ++count[cy * cols + cx];
+    }
+    for (int k = 0; k < cols * rows; ++k)
+        if (count[k] != 1) return 0;
+    return 1;
+}
+
+static void test_stratified(void)
+{
+    for (int pixel = 0; pixel < 20; ++pixel) {
+        /* n = 16: 1D strata of width 1/16 in every scalar dimension (including both
+         * coordinates of each 2D dimension) and a 4 x 4 jittered grid per 2D dimension. */
+        fill_pixel(SAMPLER_STRATIFIED, 1, pixel, 3 * pixel, 0, 16, g_samples);
+        for (int d = 0; d < DIMS; ++d) CHECK(stratified_1d(g_samples, 16, d));
+        for (int d = 0; d < DIMS; ++d)
+            if (is_2d_x(d)) CHECK(stratified_grid(g_samples, 16, d, 4, 4));
+        /* n = 12 (not a square): 1D strata of width 1/12 everywhere, a 4 x 3 grid per 2D. */
+        fill_pixel(SAMPLER_STRATIFIED, 1, pixel, 3 * pixel, 0, 12, g_samples);
+        for (int d = 0; d < DIMS; ++d) CHECK(stratified_1d(g_samples, 12, d));
+        for (int d = 0; d < DIMS; ++d)
+            if (is_2d_x(d)) CHECK(stratified_grid(g_samples, 12, d, 4, 3));
+        /* A prime count: still one point per 1/n stratum in every projection. */
+        fill_pixel(SAMPLER_STRATIFIED, 1, pixel, 3 * pixel, 0, 13, g_samples);
+        for (int d = 0; d < DIMS; ++d) CHECK(stratified_1d(g_samples, 13, d));
+    }
+
+    /* Sample indices past spp start a new, again stratified set (progressive use). */
+    PixelSampler s;
+    sampler_start_pixel(&s, SAMPLER_STRATIFIED, 1, 4, 4, 0, 16);
+    for (int i = 0; i < 16; ++i) {
+        sampler_start_sample(&s, 16 + i);
+        g_samples[i][0] = sampler_1d(&s);
+    }
+    CHECK(stratified_1d(g_samples, 16, 0));
+
+    /* Padding decorrelates dimensions: the sample that lands in the first 1D stratum of
+     * dimension 0 is not always the one in the first stratum of dimension 3. */
+    int same_order = 0;
+    for (int pixel = 0; pixel < 20; ++pixel) {
+        fill_pixel(SAMPLER_STRATIFIED, 1, pixel, 0, 0, 16, g_samples);
+        int eq = 1;
+        for (int i = 0; i < 16; ++i)
+            eq &= (int)(g_samples[i][0] * 16) == (int)(g_samples[i][3] * 16);
+        same_order += eq;
+    }
+    CHECK(same_order == 0);
+}
+
+/* (0, k, 2)-net in base 2: for every split a + b = k, each elementary interval
+ * [i/2^a, (i+1)/2^a) x [j/2^b, (j+1)/2^b) holds exactly one of the n = 2^k points. */
+static int is_02_net(float v[][DIMS], int k, int d)
+{
+    int n = 1 << k;
+    for (int a = 0; a <= k; ++a)
+        if (!stratified_grid(v, n, d, 1 << a, 1 << (k - a))) return 0;
+    return 1;
+}
+
+static void test_sobol_nets(void)
+{
+    const int ks[2] = {4, 6};
+    for (int t = 0; t < 2; ++t) {
+        int k = ks[t], n = 1 << k;
+        for (int pixel = 0; pixel < 20; ++pixel) {
+            fill_pixel(SAMPLER_SOBOL, 5, pixel, 7, pixel % 3, n, g_samples);
+            for (int d = 0; d < DIMS; ++d)
+                if (is_2d_x(d)) CHECK(is_02_net(g_samples, k, d));
+            /* 1D dimensions: the scrambled van der Corput points are one per 1/n stratum
+             * (and so are the 2D coordinates, the 1D projections of a (0,2)-net). */
+            for (int d = 0; d < DIMS; ++d) CHECK(stratified_1d(g_samples, n, d));
+        }
+    }
+}
+
+static void test_permute(void)
+{
+    unsigned char seen[300];
+    for (uint32_t n = 1; n <= 300; n += (n < 40 ? 1 : 13))
+        for (uint64_t seed = 0; seed < 8; ++seed) {
+            memset(seen, 0, sizeof seen);
+            for (uint32_t i = 0; i < n; ++i) {
+                uint32_t p = sampler_permute(i, n, hash_u64(seed));
+                CHECK(p < n);
+                if (p < n) seen[p]++;
+            }
+            for (uint32_t i = 0; i < n; ++i) CHECK(seen[i] == 1);
+        }
+    /* Different seeds give different permutations: over many seeds every position of a
+     * 16-element permutation takes every value, roughly uniformly (chi-square-like bound:
+     * 4000 seeds, expected 250 per cell, allow +-30%, i.e. over 7 standard deviations). */
+    static int hist[16][16];
+    for (uint64_t seed = 0; seed < 4000; ++seed)
+        for (uint32_t i = 0; i < 16; ++i) hist[i][sampler_permute(i, 16, hash_u64(seed + 1000))]++;
+    for (int i = 0; i < 16; ++i)
+        for (int j = 0; j < 16; ++j) CHECK(hist[i][j] > 175 && hist[i][j] < 325);
+}
+
+/* Integrand with a closed form: f(x, y) = x y e^(x+y) = (x e^x)(y e^y); the integral of
+ * x e^x over [0, 1] is [(x - 1) e^x]_0^1 = 1, so the integral over the unit square is 1. */
+static double f_smooth(double x, double y) { return x * y * exp(x + y); }
+
+/* RMS error of the n-sample estimate over many pixels, using the 2D dimension that follows
+ * `skip` scalar dimensions (skip = 1 exercises the padding shuffle; skip >= the padded range
+ * gives independent random numbers). */
+static double rms_error(SamplerKind kind, int n, int skip, int pixels)
+{
+    double sum_sq = 0.0;
+    for (int p = 0; p < pixels; ++p) {
+        PixelSampler s;
+        sampler_start_pixel(&s, kind, 99, p % 64, p / 64, 0, n);
+        double est = 0.0;
+        for (int i = 0; i < n; ++i) {
+            sampler_start_sample(&s, i);
+            for (int d = 0; d < skip; ++d) (void)sampler_1d(&s);
+            vec2 u = sampler_2d(&s);
+            est += f_smooth(u.x, u.y);
+        }
+        est /= n;
+        sum_sq += (est - 1.0) * (est - 1.0);
+    }
+    return sqrt(sum_sq / pixels);
+}
+
+/* Least-squares slope of log(rms) against log(n) for n = 4, 8, ..., 256. */
+static double error_slope(SamplerKind kind, int skip)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int m = 0;
+    for (int n = 4; n <= 256; n *= 2, ++m) {
+        double x = log((double)n), y = log(rms_error(kind, n, skip, 1024));
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+    }
+    return (m * sxy - sx * sy) / (m * sxx - sx * sx);
+}
+
+/* Expected rates for a smooth (C^1) integrand in 2D:
+ *  - independent samples: variance sigma^2 / n, RMS error ~ n^-0.5;
+ *  - stratified with one point per cell of side h ~ n^-1/2: inside a cell f varies by
+ *    O(h), so each cell's term has variance O(h^2) / n^2 and the n cells sum to
+ *    O(h^2 / n) = O(n^-2): RMS error ~ n^-1 (multi-jitter on rectangular 2 x 4, 4 x 8,
+ *    8 x 16 grids for the non-square n has the same cell size order);
+ *  - Owen-scrambled (0, m, 2)-nets: variance O(n^-3 (log n)) for smooth f (Owen 1997,
+ *    "Scrambled net variance for integrals of smooth functions"): RMS ~ n^-1.5.
+ * Both samplers must therefore beat -0.75 clearly, while independent numbers must not. */
+static void test_convergence(void)
+{
+    double slope_strat = error_slope(SAMPLER_STRATIFIED, 1);
+    double slope_sobol = error_slope(SAMPLER_SOBOL, 1);
+    double slope_random = error_slope(SAMPLER_SOBOL, SAMPLER_PADDED_DIMS + 1);
+    printf("error slopes: stratified %.3f, sobol %.3f, independent (past padded dims) %.3f\n",
+           slope_strat, slope_sobol, slope_random);
+    CHECK(slope_strat < -0.75);
+    CHECK(slope_sobol < -0.75);
+    CHECK(slope_sobol < slope_strat); /* n^-1.5 versus n^-1 */
+    CHECK(slope_random > -0.65 && slope_random < -0.35);
+}
+
+/* Reference for the hash-based scramble: a true Owen scramble (Owen 1995), where the flip
+ * of bit d depends on the d leading bits through an independent random bit per node of the
+ * binary tree (here a splitmix hash of (node, depth, seed)). Brute force, 24 bits. */
+static uint32_t owen_reference(uint32_t v, uint64_t seed)
+{
+    uint32_t out = 0;
+    for (int d = 0; d < 24; ++d) {
+        uint32_t prefix = d ? v >> (32 - d) : 0;
+        uint32_t flip = (uint32_t)hash_u64(seed ^ hash_u64(((uint64_t)d << 32) | prefix)) & 1u;
+        out |= (((v >> (31 - d)) & 1u) ^ flip) << (31 - d);
+    }
+    return out;
+}
+
+/* Sobol' points straight from the generator matrices: dimension 0 is the identity matrix
+ * read backwards (radical inverse), dimension 1 the Pascal matrix mod 2, entry (row r,
+ * column c) = binomial(c, r) mod 2 = 1 iff (r & c) == r (Lucas' theorem). */
+static uint32_t sobol_reference(uint32_t i, int dim)
+{
+    uint32_t out = 0;
+    for (int c = 0; c < 32; ++c) {
+        if (!((i >> c) & 1u)) continue;
+        if (dim == 0) {
+            out ^= 1u << (31 - c);
+        } else {
+            for (int r = 0; r <= c; ++r)
+                if ((r & c) == r) out ^= 1u << (31 - r);
+        }
+    }
+    return out;
+}
+
+/* Our scrambled Sobol' points must integrate like truly Owen-scrambled Sobol' points: same
+ * RMS error within the statistical uncertainty of 2048 pixels (a few %; allow 15%). A weak
+ * hash would leave structure and show up as a larger error. */
+static void test_owen_quality(void)
+{
+    const int pixels = 2048;
+    for (int n = 16; n <= 256; n *= 4) {
+        double sum_sq = 0.0;
+        for (int p = 0; p < pixels; ++p) {
+            uint64_t seed = hash_u64((uint64_t)p + 777);
+            double est = 0.0;
+            for (int i = 0; i < n; ++i) {
+                double x = (owen_reference(sobol_reference((uint32_t)i, 0), seed) >> 8) * 0x1p-24;
+                double y = (owen_reference(sobol_reference((uint32_t)i, 1), ~seed) >> 8) * 0x1p-24;
+                est += f_smooth(x, y);
+            }
+            est /= n;
+            sum_sq += (est - 1.0) * (est - 1.0);
+        }
+        double ref = sqrt(sum_sq / pixels), ours = rms_error(SAMPLER_SOBOL, n, 1, pixels);
+        printf("n = %3d: rms error, hashed Owen %.3g, reference Owen %.3g (ratio %.3f)\n", n, ours, ref,
+               ours / ref);
+        CHECK(ours / ref > 0.85 && ours / ref < 1.15);
+    }
+}
+
+static void test_names(void)
+{
+    CHECK(sampler_kind_from_pbrt("stratified") == SAMPLER_STRATIFIED);
+    CHECK(sampler_kind_from_pbrt("independent") == SAMPLER_STRATIFIED);
+    const char *sobols[] = {"sobol", "zsobol", "paddedsobol", "halton", "pmj02bn", "nonsense"};
+    for (int i = 0; i < 6; ++i) CHECK(sampler_kind_from_pbrt(sobols[i]) == SAMPLER_SOBOL);
+    CHECK(sampler_kind_from_pbrt(NULL) == SAMPLER_SOBOL);
+    CHECK_STR(sampler_kind_name(SAMPLER_STRATIFIED), "stratified");
+    CHECK_STR(sampler_kind_name(SAMPLER_SOBOL), "sobol");
+}
+
+int main(void)
+{
+    test_names();
+    test_permute();
+    for (int k = 0; k < 2; ++k) {
+        SamplerKind kind = k ? SAMPLER_SOBOL : SAMPLER_STRATIFIED;
+        test_range(kind);
+        test_determinism(kind);
+    }
+    test_stratified();
+    test_sobol_nets();
+    test_convergence();
+    test_owen_quality();
+    CHECK_DONE();
+}
