@@ -37,10 +37,70 @@ bool exr_read_rgb(const char *path, int *width, int *height, float **rgb, Diag *
 bool png_write_srgb(const char *path, int width, int height, const float *rgb_linear, Diag *err);
 /* Writes already display-encoded rgb in [0,1] as 8-bit PNG (used after an OCIO transform). */
 bool png_write_display(const char *path, int width, int height, const float *rgb_display, Diag *err);
-/* Reads an 8/16-bit PNG as float rgb in [0,1] (no decoding of sRGB: callers decide), malloc'd. */
+/* Reads an 8/16-bit PNG as float rgb in [0,1] (no decoding of sRGB: callers decide), malloc'd.
+ * Pixels are interleaved with *channels values each: 3 (RGB) or 4 (RGBA when the file has
+ * alpha: grey+alpha, RGBA, or a palette with transparency). Grey is expanded to RGB and
+ * palettes to their colours; values are code / (2^bits - 1). err exit 2. */
 bool png_read(const char *path, int *width, int *height, int *channels, float **pixels, Diag *err);
 
 /* True when the path ends in ".png" (case-insensitive). */
 bool path_is_png(const char *path);
+
+/* ---- Additions beyond the original contract (io engineer) ---- */
+
+/* Compression numbering of the EXR file format (same values as the file's byte). */
+typedef enum {
+    EXRC_NONE = 0, EXRC_RLE = 1, EXRC_ZIPS = 2, EXRC_ZIP = 3, EXRC_PIZ = 4, EXRC_PXR24 = 5,
+    EXRC_B44 = 6, EXRC_B44A = 7, EXRC_DWAA = 8, EXRC_DWAB = 9
+} ExrCompression;
+typedef enum { EXR_STORE_FLOAT, EXR_STORE_HALF, EXR_STORE_UINT } ExrStoreType;
+
+/* Knobs for exr_write_with(); exr_write() is {EXR_STORE_FLOAT, EXRC_ZIP, scanline}. */
+typedef struct {
+    ExrStoreType store;       /* pixel type on disk (uint: values rounded, clamped at 0) */
+    ExrCompression compression;
+    int tile_size;            /* 0: scanline file; > 0: single-level tiled, square tiles */
+    long nonfinite_replaced;  /* out: how many NaN/Inf values were written as 0 */
+} ExrWriteOptions;
+
+bool exr_write_with(const char *path, int width, int height, const ExrChannel *channels,
+                    int channel_count, const ExrAttr *attrs, int attr_count, ExrWriteOptions *opt,
+                    Diag *err);
+
+/* A whole EXR (first part) in memory: every channel as a float plane, plus the string,
+ * float, double (stored in f) and int header attributes. Channel names are in file order
+ * (alphabetical). The data window origin is dropped: pixel (0,0) is its top-left corner. */
+typedef struct {
+    int width, height;
+    int channel_count;
+    char **names;      /* channel_count names */
+    float **planes;    /* planes[c][y * width + x] */
+    int attr_count;
+    ExrAttr *attrs;    /* names and strings owned by the image */
+} ExrImage;
+
+/* Reads every channel of any scanline or single-level tiled EXR (half/float/uint, any
+ * compression; subsampled channels are refused). err exit 2. */
+bool exr_read(const char *path, ExrImage *img, Diag *err);
+void exr_image_free(ExrImage *img);
+/* The plane of a channel, or NULL when the image has no channel of that name. */
+const float *exr_image_channel(const ExrImage *img, const char *name);
+const ExrAttr *exr_image_attr(const ExrImage *img, const char *name);
+/* Reads one named channel ("Z", "albedo.R") as a malloc'd width*height float plane. A
+ * missing channel is an error that lists the channels the file has. err exit 2. */
+bool exr_read_channel(const char *path, const char *channel, int *width, int *height, float **data,
+                      Diag *err);
+
+/* Any of the two formats by extension: PNG is decoded from sRGB to linear (alpha dropped),
+ * anything else is read as EXR with exr_read_rgb. Interleaved rgb, malloc'd. err exit 2. */
+bool image_read_linear_rgb(const char *path, int *width, int *height, float **rgb, Diag *err);
+
+/* Texture and environment images by pbrt-v4's rules (issue 4, "imagemap"): EXR values are
+ * linear and the encoding is ignored; PNG values (8- or 16-bit) are decoded with encoding:
+ * "sRGB" (pbrt-v4's default; also used when encoding is NULL), "linear" or "gamma G".
+ * Alpha (PNG alpha, EXR "A") is coverage and is never decoded. Pixels are interleaved,
+ * *channels = 3 (RGB) or 4 (RGBA); grey files are expanded. err exit 2. */
+bool image_read_texture(const char *path, const char *encoding, int *width, int *height, int *channels,
+                        float **pixels, Diag *err);
 
 #endif
