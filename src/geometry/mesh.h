@@ -28,4 +28,19 @@ bool mesh_from_shape(const ShapeDesc *shape, TriMesh *mesh, Diag *err);
 long mesh_triangle_count(const ShapeDesc *shape, Diag *err);
 void mesh_free(TriMesh *mesh);
 
+/* ---- additions (geometry engineer) ---- */
+
+/* Receives one warning about a shape's data: loc names the shape or the data file, text
+ * has no "warning:" prefix (e.g. pass it on with scene_warn(scene, loc, "%s", text)). */
+typedef void (*MeshWarnFn)(void *ctx, SrcLoc loc, const char *text);
+
+/* mesh_from_shape that also reports warnings (skipped PLY polygons, ignored parameters
+ * such as plymesh "displacement"); warn may be NULL (warnings dropped). */
+bool mesh_from_shape_warn(const ShapeDesc *shape, TriMesh *mesh, MeshWarnFn warn, void *warn_ctx,
+                          Diag *err);
+
+/* Largest triangle count a single shape may produce (subdivision levels beyond it are an
+ * error rather than an out-of-memory crash). */
+#define MESH_MAX_TRIANGLES (1L << 27)
+
 #endif
