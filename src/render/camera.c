@@ -1,0 +1,144 @@
+/* pbrt-v4 perspective camera (PerspectiveCamera::GenerateRay) with a thin lens. */
+#include "render/camera.h"
+
+#include <math.h>
+
+#include "render/warp.h"
+
+bool camera_init(Camera *cam, const CameraDesc *desc, int width_px, int height_px, Diag *err)
+{
+    return camera_init_times(cam, desc, width_px, height_px, 0.0, 1.0, err);
+}
+
+bool camera_init_times(Camera *cam, const CameraDesc *desc, int width_px, int height_px, double xform_time_start,
+                       double xform_time_end, Diag *err)
+{
+    *cam = (Camera){0};
+    cam->width_px = width_px;
+    cam->height_px = height_px;
+    if (!(desc->fov_deg > 0.0f && desc->fov_deg < 180.0f)) {
+        diag_set(err, WEDGE_EXIT_INPUT, desc->loc, "camera fov must be in (0, 180) degrees, got %g",
+                 (double)desc->fov_deg);
+        return false;
+    }
+    if (desc->lens_radius < 0.0f || !(desc->focal_distance > 0.0f)) {
+        diag_set(err, WEDGE_EXIT_INPUT, desc->loc, "camera lensradius must be >= 0 and focaldistance > 0");
+        return false;
+    }
+    /* Screen window: [-frame, frame] x [-1, 1] for wide images, the transpose for tall ones,
+     * so fov covers the shorter axis (pbrt-v4 CameraBase). */
+    float frame = desc->frame_aspect > 0.0f ? desc->frame_aspect : (float)width_px / (float)height_px;
+    if (frame > 1.0f) {
+        cam->screen_min[0] = -frame, cam->screen_max[0] = frame;
+        cam->screen_min[1] = -1.0f, cam->screen_max[1] = 1.0f;
+    } else {
+        cam->screen_min[0] = -1.0f, cam->screen_max[0] = 1.0f;
+        cam->screen_min[1] = -1.0f / frame, cam->screen_max[1] = 1.0f / frame;
+    }
+    if (desc->has_screen_window) {
+        cam->screen_min[0] = desc->screen_window[0], cam->screen_max[0] = desc->screen_window[1];
+        cam->screen_min[1] = desc->screen_window[2], cam->screen_max[1] = desc->screen_window[3];
+    }
+    cam->tan_half_fov = tanf(desc->fov_deg * (WEDGE_PI / 180.0f) * 0.5f);
+    cam->lens_radius_world = desc->lens_radius;
+    cam->focal_distance_world = desc->focal_distance;
+    cam->shutter_open = desc->shutter_open;
+    cam->shutter_close = desc->shutter_close;
+
+    /* pbrt-v4 interpolates world-from-camera (the inverse of each end's CTM). */
+    Mat4 wfc[2];
+    for (int i = 0; i < 2; ++i) {
+        if (!mat4_inverse(&desc->camera_from_world.m[i], &wfc[i])) {
+            diag_set(err, WEDGE_EXIT_INPUT, desc->loc, "camera transform is singular");
+            return false;
+        }
+    }
+    anim_xform_init(&cam->world_from_camera, &wfc[0], &wfc[1]);
+    cam->moving = cam->world_from_camera.animated && desc->shutter_open < desc->shutter_close;
+    cam->world_from_camera_static = wfc[0];
+    cam->camera_from_world_static = desc->camera_from_world.m[0];
+    if (cam->world_from_camera.animated) {
+        /* The static matrices describe the camera at shutter open (the whole exposure when
+         * the shutter is closed): that time as a fraction between the two poses. */
+        double span = xform_time_end - xform_time_start;
+        double u_open = span > 0.0 ? (desc->shutter_open - xform_time_start) / span : 0.0;
+        u_open = fmin(1.0, fmax(0.0, u_open));
+        cam->world_from_camera_static = anim_xform_at(&cam->world_from_camera, u_open);
+        if (!mat4_inverse(&cam->world_from_camera_static, &cam->camera_from_world_static)) {
+            diag_set(err, WEDGE_EXIT_INPUT, desc->loc, "camera transform is singular");
+            return false;
+        }
+    }
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) cam->wfc_f[i][j] = (float)cam->world_from_camera_static.m[i][j];
+    for (int j = 0; j < 4; ++j) cam->cfw_z_f[j] = (float)cam->camera_from_world_static.m[2][j];
+    return true;
+}
+
+static Mat4 world_from_camera_at(const Camera *cam, float time01)
+{
+    if (!cam->moving) return cam->world_from_camera_static;
+    return anim_xform_at(&cam->world_from_camera, time01);
+}
+
+float camera_depth(const Camera *cam, vec3 p_world, float time01)
+{
+    if (!cam->moving)
+        return cam->cfw_z_f[0] * p_world.x + cam->cfw_z_f[1] * p_world.y + cam->cfw_z_f[2] * p_world.z + cam->cfw_z_f[3];
+    Mat4 cfw = camera_from_world_at(cam, time01);
+    return mat4_apply_point(&cfw, p_world).z;
+}
+
+Mat4 camera_from_world_at(const Camera *cam, float time01)
+{
+    if (!cam->moving) return cam->camera_from_world_static;
+    Mat4 wfc = anim_xform_at(&cam->world_from_camera, time01), cfw;
+    if (!mat4_inverse(&wfc, &cfw)) return cam->camera_from_world_static;
+    return cfw;
+}
+
+CameraRay camera_generate_ray(const Camera *cam, float px_raster, float py_raster, vec2 lens_uv, float time01)
+{
+    /* raster -> screen (pbrt-v4 rasterFromScreen inverted) -> camera-space point at z = 1 */
+    float sx = cam->screen_min[0] + (px_raster / (float)cam->width_px) * (cam->screen_max[0] - cam->screen_min[0]);
+    float sy = cam->screen_max[1] - (py_raster / (float)cam->height_px) * (cam->screen_max[1] - cam->screen_min[1]);
+    /* not normalised: the lens construction is scale-invariant and the world direction
+     * is normalised once at the end */
+    vec3 d_cam = v3(sx * cam->tan_half_fov, sy * cam->tan_half_fov, 1.0f);
+    vec3 o_cam = v3(0.0f, 0.0f, 0.0f);
+    if (cam->lens_radius_world > 0.0f) {
+        /* Thin lens: every ray through the lens meets the pinhole ray on the plane of focus
+         * z = focaldistance (pbrt-v4 PerspectiveCamera::GenerateRay). */
+        vec3 p_lens = v3(cam->lens_radius_world * lens_uv.x, cam->lens_radius_world * lens_uv.y, 0.0f);
+        float ft = cam->focal_distance_world / d_cam.z;
+        vec3 p_focus = v3_scale(d_cam, ft);
+        o_cam = p_lens;
+        d_cam = v3_sub(p_focus, p_lens);
+    }
+    CameraRay r;
+    if (!cam->moving) { /* static camera: a float 3x4 transform */
+        const float(*m)[4] = cam->wfc_f;
+        r.o_world = v3(m[0][0] * o_cam.x + m[0][1] * o_cam.y + m[0][2] * o_cam.z + m[0][3],
+                       m[1][0] * o_cam.x + m[1][1] * o_cam.y + m[1][2] * o_cam.z + m[1][3],
+                       m[2][0] * o_cam.x + m[2][1] * o_cam.y + m[2][2] * o_cam.z + m[2][3]);
+        r.d_world = v3_normalize(v3(m[0][0] * d_cam.x + m[0][1] * d_cam.y + m[0][2] * d_cam.z,
+                                    m[1][0] * d_cam.x + m[1][1] * d_cam.y + m[1][2] * d_cam.z,
+                                    m[2][0] * d_cam.x + m[2][1] * d_cam.y + m[2][2] * d_cam.z));
+        return r;
+    }
+    Mat4 wfc = world_from_camera_at(cam, time01);
+    r.o_world = mat4_apply_point(&wfc, o_cam);
+    r.d_world = v3_normalize(mat4_apply_vector(&wfc, d_cam));
+    return r;
+}
+
+bool camera_project(const Camera *cam, vec3 p_world, float time01, float *px_raster, float *py_raster)
+{
+    Mat4 cfw = camera_from_world_at(cam, time01);
+    vec3 p = mat4_apply_point(&cfw, p_world);
+    if (!(p.z > 0.0f)) return false;
+    float sx = p.x / (p.z * cam->tan_half_fov), sy = p.y / (p.z * cam->tan_half_fov);
+    *px_raster = (sx - cam->screen_min[0]) / (cam->screen_max[0] - cam->screen_min[0]) * (float)cam->width_px;
+    *py_raster = (cam->screen_max[1] - sy) / (cam->screen_max[1] - cam->screen_min[1]) * (float)cam->height_px;
+    return true;
+}

@@ -1,0 +1,101 @@
+/* Frame buffers: per-pixel sums and their resolution into images. */
+#include "render/frame.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+bool frame_init(Frame *f, int width, int height)
+{
+    *f = (Frame){0};
+    if (width <= 0 || height <= 0) return false;
+    size_t n = (size_t)width * (size_t)height;
+    f->width = width, f->height = height;
+    f->color = calloc(3 * n, sizeof(float));
+    f->direct = calloc(3 * n, sizeof(float));
+    f->indirect = calloc(3 * n, sizeof(float));
+    f->emission = calloc(3 * n, sizeof(float));
+    f->albedo = calloc(3 * n, sizeof(float));
+    f->normal = calloc(3 * n, sizeof(float));
+    f->depth = calloc(n, sizeof(float));
+    f->hits = calloc(n, sizeof(float));
+    f->spp = calloc(n, sizeof(float));
+    if (!f->color || !f->direct || !f->indirect || !f->emission || !f->albedo || !f->normal || !f->depth || !f->hits ||
+        !f->spp) {
+        frame_free(f);
+        return false;
+    }
+    return true;
+}
+
+void frame_free(Frame *f)
+{
+    free(f->color), free(f->direct), free(f->indirect), free(f->emission);
+    free(f->albedo), free(f->normal), free(f->depth), free(f->hits), free(f->spp);
+    *f = (Frame){0};
+}
+
+void frame_clear(Frame *f)
+{
+    size_t n = (size_t)f->width * (size_t)f->height;
+    memset(f->color, 0, 3 * n * sizeof(float));
+    memset(f->direct, 0, 3 * n * sizeof(float));
+    memset(f->indirect, 0, 3 * n * sizeof(float));
+    memset(f->emission, 0, 3 * n * sizeof(float));
+    memset(f->albedo, 0, 3 * n * sizeof(float));
+    memset(f->normal, 0, 3 * n * sizeof(float));
+    memset(f->depth, 0, n * sizeof(float));
+    memset(f->hits, 0, n * sizeof(float));
+    memset(f->spp, 0, n * sizeof(float));
+}
+
+long frame_resolve3(const Frame *f, const float *sum3, float *out)
+{
+    long guarded = 0;
+    size_t n = (size_t)f->width * (size_t)f->height;
+    for (size_t i = 0; i < n; ++i) {
+        float s = f->spp[i];
+        for (int c = 0; c < 3; ++c) {
+            float v = s > 0.0f ? sum3[3 * i + c] / s : 0.0f;
+            if (!isfinite(v)) v = 0.0f, ++guarded;
+            out[3 * i + c] = v;
+        }
+    }
+    return guarded;
+}
+
+long frame_resolve_normal(const Frame *f, float *out3)
+{
+    long guarded = 0;
+    size_t n = (size_t)f->width * (size_t)f->height;
+    for (size_t i = 0; i < n; ++i) {
+        const float *s = f->normal + 3 * i;
+        double len = sqrt((double)s[0] * s[0] + (double)s[1] * s[1] + (double)s[2] * s[2]);
+        for (int c = 0; c < 3; ++c) {
+            float v = len > 0.0 ? (float)(s[c] / len) : 0.0f;
+            if (!isfinite(v)) v = 0.0f, ++guarded;
+            out3[3 * i + c] = v;
+        }
+    }
+    return guarded;
+}
+
+long frame_resolve_depth(const Frame *f, float *out1)
+{
+    long guarded = 0;
+    size_t n = (size_t)f->width * (size_t)f->height;
+    for (size_t i = 0; i < n; ++i) {
+        float v = f->hits[i] > 0.0f ? f->depth[i] / f->hits[i] : 0.0f;
+        if (!isfinite(v)) v = 0.0f, ++guarded;
+        out1[i] = v;
+    }
+    return guarded;
+}
+
+double frame_spp_avg(const Frame *f)
+{
+    size_t n = (size_t)f->width * (size_t)f->height;
+    double s = 0.0;
+    for (size_t i = 0; i < n; ++i) s += f->spp[i];
+    return n ? s / (double)n : 0.0;
+}

@@ -1,0 +1,204 @@
+/* Path integrator with next-event estimation and MIS (see integrator.h).
+ *
+ * Sampler dimensions, in this fixed order per camera sample (strata line up across the
+ * samples of a pixel): film position (2D); lens (2D, only with a lens); time (1D, only with
+ * motion); then per path vertex: light choice (1D), light position (2D), BSDF direction (2D). */
+#include "render/integrator.h"
+
+#include <math.h>
+
+#include "render/warp.h"
+
+static bool finite3(vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+/* Replaces a non-finite contribution by zero and counts it. */
+static vec3 guard3(vec3 v, IntegratorStats *st)
+{
+    if (finite3(v)) return v;
+    ++st->guarded_events;
+    return v3s(0.0f);
+}
+
+typedef struct {
+    SurfaceHit hit;
+    vec3 wo;      /* unit, towards where the path came from */
+    vec3 n;       /* shading normal flipped to wo's side: the Lambert lobe's axis */
+    vec3 albedo;
+} Vertex;
+
+static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo, Vertex *v)
+{
+    v->hit = *h;
+    v->wo = wo;
+    v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
+    v->albedo = material_albedo(sc->materials, h->geom->material, h->uv, h->p);
+}
+
+/* Next-event estimation: one light sample, MIS-weighted against the BSDF (Veach 1997,
+ * eq. 9.13 with beta = 2). Fills *rec when it is not NULL and the light is an area light. */
+static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float time01, PixelSampler *s, IntegratorStats *st,
+                             ShadowRayRecord *rec, int *rec_count)
+{
+    float u_pick = sampler_1d(s);
+    vec2 u_light = sampler_2d(s);
+    float pmf = 0.0f;
+    int li = lights_pick(sc->lights, u_pick, &pmf);
+    if (li < 0) return v3s(0.0f);
+    LightSample ls;
+    if (!light_sample(sc->lights, sc->tracer, li, v->hit.p, time01, u_light, &ls)) return v3s(0.0f);
+    float cos_i = v3_dot(v->n, ls.wi);
+    float cos_o = v3_dot(v->n, v->wo);
+    vec3 f = bsdf_diffuse_f(v->albedo, cos_o, cos_i);
+    bool is_area = sc->lights->lights[li].kind == LIGHT_AREA;
+    /* A receiver facing away from the light traces no shadow ray (and records none). */
+    if (v3_max_component(f) <= 0.0f) return v3s(0.0f);
+
+    /* The shadow ray leaves the receiver and stops short of the light's surface (both
+     * ends pushed off their surfaces). */
+    vec3 o = surface_offset(&v->hit, ls.wi), dir = ls.wi;
+    float tmax = INFINITY;
+    if (isfinite(ls.dist)) {
+        vec3 target = ls.p_light;
+        if (ls.err_light > 0.0f && v3_length2(ls.n_light) > 0.0f) {
+            float side = v3_dot(ls.n_light, v3_sub(o, ls.p_light)) >= 0.0f ? 1.0f : -1.0f;
+            target = v3_madd(ls.p_light, ls.n_light, side * ls.err_light);
+        }
+        vec3 d = v3_sub(target, o);
+        float len = v3_length(d);
+        if (!(len > 0.0f)) {
+            ++st->guarded_events;
+            return v3s(0.0f);
+        }
+        dir = v3_scale(d, 1.0f / len);
+        tmax = len;
+    }
+    ++st->rays_shadow;
+    bool occluded;
+    if (rec && is_area && *rec_count < SAMPLE_RECORD_MAX_SHADOW) {
+        SurfaceHit occ;
+        occluded = tracer_intersect_ex(sc->tracer, o, dir, tmax, time01, false, &occ);
+        ShadowRayRecord *r = &rec[(*rec_count)++];
+        r->d_light_world = ls.dist;
+        r->d_occluder_world = occluded ? occ.t : INFINITY;
+        r->light_p_world = ls.p_light;
+        r->light_index = li;
+    } else {
+        occluded = tracer_occluded(sc->tracer, o, dir, tmax, time01);
+    }
+    if (occluded) return v3s(0.0f);
+    float denom = pmf * ls.pdf;
+    if (!(denom > 0.0f)) {
+        ++st->guarded_events;
+        return v3s(0.0f);
+    }
+    float w = ls.delta ? 1.0f : mis_power(denom, bsdf_diffuse_pdf(cos_o, cos_i));
+    return guard3(v3_scale(v3_mul(f, ls.Li), fabsf(cos_i) * w / denom), st);
+}
+
+/* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling. */
+static vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, const SurfaceHit *h, vec3 wi,
+                              float time01, bool hit)
+{
+    const LightSet *L = sc->lights;
+    vec3 sum = v3s(0.0f);
+    if (!hit) {
+        for (int k = 0; k < L->infinite_count; ++k) {
+            int li = L->infinite[k];
+            float pdf_light = lights_pmf(L, li) * infinite_light_pdf();
+            sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), mis_power(pdf_bsdf, pdf_light)));
+        }
+        return sum;
+    }
+    if (h->light < 0) return sum;
+    vec3 Le = area_light_L(L, h->light, h, v3_neg(wi));
+    if (v3_max_component(Le) <= 0.0f) return sum;
+    float pdf_light = lights_pmf(L, h->light) * area_light_pdf(L, sc->tracer, h->light, p_from, h, time01);
+    return v3_scale(Le, mis_power(pdf_bsdf, pdf_light));
+}
+
+void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px, int py, SampleRecord *rec,
+                             IntegratorStats *st)
+{
+    *rec = (SampleRecord){0};
+    rec->depth_cam = INFINITY;
+    rec->object_id = -1;
+
+    vec2 u_film = sampler_2d(s);
+    rec->px_raster = (float)px + u_film.x;
+    rec->py_raster = (float)py + u_film.y;
+    vec2 lens = v2(0.0f, 0.0f);
+    if (sc->sample_lens) lens = warp_disk_concentric(sampler_2d(s));
+    rec->lens_u = lens.x, rec->lens_v = lens.y;
+    float shutter_u = 0.0f;
+    if (sc->sample_time) shutter_u = sampler_1d(s);
+    rec->time = shutter_u;
+    /* scene time -> fraction between the two transform poses (what Embree's time is) */
+    float t_scene = sc->shutter_open + shutter_u * (sc->shutter_close - sc->shutter_open);
+    float span = sc->xform_time_end - sc->xform_time_start;
+    float time01 = span > 0.0f ? (t_scene - sc->xform_time_start) / span : 0.0f;
+    time01 = fminf(1.0f, fmaxf(0.0f, time01));
+
+    CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, time01);
+    ++st->rays_primary;
+    SurfaceHit h;
+    if (!tracer_intersect(sc->tracer, cr.o_world, cr.d_world, INFINITY, time01, &h)) {
+        /* camera rays see infinite lights directly (no MIS: nothing else samples them) */
+        vec3 env = v3s(0.0f);
+        for (int k = 0; k < sc->lights->infinite_count; ++k)
+            env = v3_add(env, infinite_light_L(sc->lights, sc->lights->infinite[k], cr.d_world));
+        rec->emission = guard3(env, st);
+        rec->L = rec->emission;
+        return;
+    }
+    Vertex v;
+    make_vertex(sc, &h, v3_neg(cr.d_world), &v);
+    rec->hit = true;
+    rec->albedo = v.albedo;
+    rec->p_world = h.p;
+    rec->n_shading = v.n;
+    rec->object_id = h.object_id;
+    rec->depth_cam = camera_depth(sc->camera, h.p, time01);
+    if (h.light >= 0) rec->emission = guard3(area_light_L(sc->lights, h.light, &h, v.wo), st);
+
+    const LightSet *L = sc->lights;
+    bool mis_emitters = L->has_area || L->infinite_count > 0;
+    vec3 beta = v3s(1.0f);
+    for (int depth = 1; depth <= sc->max_depth; ++depth) {
+        vec3 *bucket = depth == 1 ? &rec->direct : &rec->indirect;
+        bool first = depth == 1 && sc->record_ray_geometry;
+        vec3 ld = sample_one_light(sc, &v, time01, s, st, first ? rec->shadow : NULL, &rec->shadow_count);
+        *bucket = v3_add(*bucket, v3_mul(beta, ld));
+
+        if (depth == sc->max_depth && !mis_emitters) break;
+        /* BSDF sample: cosine-weighted about the lobe axis */
+        vec2 u_b = sampler_2d(s);
+        vec3 local = warp_cosine_hemisphere(u_b), t1, t2;
+        v3_basis(v.n, &t1, &t2);
+        vec3 wi = v3_normalize(v3_add(v3_add(v3_scale(t1, local.x), v3_scale(t2, local.y)), v3_scale(v.n, local.z)));
+        float cos_i = v3_dot(v.n, wi), cos_o = v3_dot(v.n, v.wo);
+        float pdf = bsdf_diffuse_pdf(cos_o, cos_i);
+        if (!(pdf > 0.0f)) break;
+        vec3 f = bsdf_diffuse_f(v.albedo, cos_o, cos_i);
+        vec3 beta_next = guard3(v3_mul(beta, v3_scale(f, cos_i / pdf)), st);
+        if (v3_max_component(beta_next) <= 0.0f) break;
+
+        vec3 o = surface_offset(&v.hit, wi);
+        ++st->rays_indirect;
+        SurfaceHit nh;
+        /* the last ray of the path only needs emitters shaded */
+        bool hit = tracer_intersect_ex(sc->tracer, o, wi, INFINITY, time01, depth < sc->max_depth, &nh);
+        if (first && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
+            BounceRayRecord *b = &rec->bounce[rec->bounce_count++];
+            b->d_hit_world = hit ? nh.t : INFINITY;
+            b->dir_world = wi;
+        }
+        vec3 le = bsdf_ray_emission(sc, v.hit.p, pdf, hit ? &nh : NULL, wi, time01, hit);
+        *bucket = v3_add(*bucket, guard3(v3_mul(beta_next, le), st));
+        if (!hit || depth == sc->max_depth) break;
+        beta = beta_next;
+        make_vertex(sc, &nh, v3_neg(wi), &v);
+    }
+    rec->direct = guard3(rec->direct, st);
+    rec->indirect = guard3(rec->indirect, st);
+    rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
+}

@@ -1,0 +1,508 @@
+/* Light sources and their sampling (pbrt-v4 semantics; see light.h). */
+#include "render/light.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/warp.h"
+
+static const float LIGHT_OFFSET_REL = 1e-5f; /* as tracer.c: scales with the coordinates */
+
+static float luminance(vec3 c)
+{
+    float y = 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+    return y > 0.0f ? y : fmaxf(0.0f, v3_max_component(c));
+}
+
+static float max_abs3(vec3 v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z))); }
+
+static vec3 param_point(const ParamSet *ps, const char *name, vec3 def)
+{
+    int n = 0;
+    const float *f = params_floats(ps, name, &n);
+    return (f && n >= 3) ? v3(f[0], f[1], f[2]) : def;
+}
+
+static vec3 param_emission(const ParamSet *ps, const char *name)
+{
+    float rgb[3];
+    if (params_illuminant_rgb(ps, name, rgb)) return v3(fmaxf(rgb[0], 0.0f), fmaxf(rgb[1], 0.0f), fmaxf(rgb[2], 0.0f));
+    return v3s(1.0f);
+}
+
+static Light *push_light(LightSet *set, int *cap)
+{
+    if (set->count == *cap) {
+        int c = *cap ? 2 * *cap : 16;
+        Light *l = realloc(set->lights, (size_t)c * sizeof *l);
+        if (!l) return NULL;
+        set->lights = l, *cap = c;
+    }
+    Light *l = &set->lights[set->count++];
+    memset(l, 0, sizeof *l);
+    l->instance = -1, l->layer = l->geom = l->prim = -1;
+    return l;
+}
+
+/* Position of a geometry-space point / normal of an emitter in world space at a time. */
+typedef struct {
+    bool instanced;
+    Mat4 w, w_inv;
+} EmitterXform;
+
+static EmitterXform emitter_xform(const Tracer *tr, int instance, float time01)
+{
+    EmitterXform x;
+    x.instanced = false; /* w and w_inv are only read when instanced */
+    if (instance < 0) return x;
+    x.instanced = true;
+    x.w = tracer_world_from_instance(tr, instance, time01);
+    if (!mat4_inverse(&x.w, &x.w_inv)) x.w_inv = mat4_identity();
+    return x;
+}
+
+static vec3 ex_point(const EmitterXform *x, vec3 p) { return x->instanced ? mat4_apply_point(&x->w, p) : p; }
+static vec3 ex_normal(const EmitterXform *x, vec3 n)
+{
+    return x->instanced ? v3_normalize(mat4_apply_normal(&x->w_inv, n)) : n;
+}
+
+/* World-space triangle of an emitter with its oriented unit normal (as tracer.c's hits). */
+static void emitter_triangle(const Geom *g, int prim, const EmitterXform *x, vec3 P[3], vec3 *n_unit, float *area)
+{
+    const uint32_t *ix = g->index + 3 * (size_t)prim;
+    const vec3 *V = (const vec3 *)g->p;
+    vec3 pg[3] = {V[ix[0]], V[ix[1]], V[ix[2]]};
+    vec3 n = v3_normalize(v3_cross(v3_sub(pg[1], pg[0]), v3_sub(pg[2], pg[0])));
+    if (g->n) {
+        vec3 s = v3_add(v3_add(g->n[ix[0]], g->n[ix[1]]), g->n[ix[2]]);
+        if (v3_dot(n, s) < 0.0f) n = v3_neg(n);
+    } else if (g->flip_normal) {
+        n = v3_neg(n);
+    }
+    for (int i = 0; i < 3; ++i) P[i] = ex_point(x, pg[i]);
+    *n_unit = ex_normal(x, n);
+    *area = 0.5f * v3_length(v3_cross(v3_sub(P[1], P[0]), v3_sub(P[2], P[0])));
+}
+
+/* World placement of a disk or sphere: M = world_from_object. */
+static Mat4 emitter_world_from_object(const Geom *g, const EmitterXform *x)
+{
+    return x->instanced ? mat4_mul(&x->w, &g->geom_from_object) : g->geom_from_object;
+}
+
+static float disk_area(const Geom *g, const Mat4 *m, vec3 *n_unit)
+{
+    vec3 ex = mat4_apply_vector(m, v3(1, 0, 0)), ey = mat4_apply_vector(m, v3(0, 1, 0));
+    vec3 c = v3_cross(ex, ey);
+    float stretch = v3_length(c);
+    /* cross(M ex, M ey) = det(M) M^-T ez: undo the determinant's sign to get the normal */
+    vec3 n = v3_normalize(c);
+    if (mat4_swaps_handedness(m)) n = v3_neg(n);
+    if (g->flip_normal) n = v3_neg(n);
+    *n_unit = n;
+    double a_obj = 0.5 * g->phimax_rad * (g->radius * g->radius - g->inner_radius * g->inner_radius);
+    return (float)(a_obj * stretch);
+}
+
+/* Sphere centre and radius in world space (uniform scale assumed; see docs/rendering.md). */
+static void sphere_world(const Geom *g, const Mat4 *m, vec3 *c, float *r)
+{
+    *c = mat4_apply_point(m, v3(0, 0, 0));
+    double det = m->m[0][0] * (m->m[1][1] * m->m[2][2] - m->m[1][2] * m->m[2][1]) -
+                 m->m[0][1] * (m->m[1][0] * m->m[2][2] - m->m[1][2] * m->m[2][0]) +
+                 m->m[0][2] * (m->m[1][0] * m->m[2][1] - m->m[1][1] * m->m[2][0]);
+    *r = (float)(g->radius * cbrt(fabs(det)));
+}
+
+bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
+{
+    *set = (LightSet){0};
+    int cap = 0;
+    vec3 bmin = v3(tr->bounds_min[0], tr->bounds_min[1], tr->bounds_min[2]);
+    vec3 bmax = v3(tr->bounds_max[0], tr->bounds_max[1], tr->bounds_max[2]);
+    set->scene_center = v3_scale(v3_add(bmin, bmax), 0.5f);
+    set->scene_radius = 0.5f * v3_length(v3_sub(bmax, bmin));
+    if (!(set->scene_radius > 0.0f) || !isfinite(set->scene_radius)) set->scene_radius = 1.0f;
+
+    /* Area lights: every emitting geometry of layer 0 and of moving-shape layers. */
+    for (int li = 0; li < tr->layer_count; ++li) {
+        Layer *layer = &tr->layers[li];
+        for (int gi = 0; gi < layer->geom_count; ++gi) {
+            Geom *g = &layer->geoms[gi];
+            if (g->area_light < 0 || g->kind == GEOM_INSTANCE) continue;
+            AreaLightDesc *ad = &scene->area_lights[g->area_light];
+            vec3 L = v3_scale(param_emission(&ad->params, "L"), params_float(&ad->params, "scale", 1.0f));
+            bool two_sided = params_bool(&ad->params, "twosided", false);
+            int n_prims = g->kind == GEOM_TRIANGLES ? g->triangle_count : 1;
+            if (n_prims == 0) continue;
+            g->light_first = set->count;
+            EmitterXform x = emitter_xform(tr, g->owner_instance, 0.0f);
+            for (int p = 0; p < n_prims; ++p) {
+                Light *l = push_light(set, &cap);
+                if (!l) goto oom;
+                l->kind = LIGHT_AREA;
+                l->L = L;
+                l->two_sided = two_sided;
+                l->layer = li, l->geom = gi, l->prim = p;
+                l->instance = g->owner_instance;
+                if (g->kind == GEOM_TRIANGLES) {
+                    vec3 P[3], n;
+                    emitter_triangle(g, p, &x, P, &n, &l->area_world);
+                    /* static triangles: cache the world-space geometry for sampling */
+                    l->tri_p0 = P[0], l->tri_e1 = v3_sub(P[1], P[0]), l->tri_e2 = v3_sub(P[2], P[0]);
+                    l->tri_n = n;
+                    l->tri_err = LIGHT_OFFSET_REL * fmaxf(max_abs3(P[0]), fmaxf(max_abs3(P[1]), max_abs3(P[2])));
+                } else if (g->kind == GEOM_DISK) {
+                    Mat4 m = emitter_world_from_object(g, &x);
+                    vec3 n;
+                    l->area_world = disk_area(g, &m, &n);
+                } else {
+                    Mat4 m = emitter_world_from_object(g, &x);
+                    vec3 c;
+                    float r;
+                    sphere_world(g, &m, &c, &r);
+                    l->area_world = 4.0f * WEDGE_PI * r * r;
+                }
+                set->has_area = true;
+            }
+        }
+    }
+    bool warned_unsupported = false;
+    for (int i = 0; i < scene->light_count; ++i) {
+        LightDesc *d = &scene->lights[i];
+        const Mat4 *m = &d->world_from_light.m[0];
+        float scale = params_float(&d->params, "scale", 1.0f);
+        const char *type = d->type ? d->type : "";
+        Light *l = NULL;
+        if (!strcmp(type, "point")) {
+            if (!(l = push_light(set, &cap))) goto oom;
+            l->kind = LIGHT_POINT;
+            l->L = v3_scale(param_emission(&d->params, "I"), scale);
+            l->p_world = mat4_apply_point(m, param_point(&d->params, "from", v3(0, 0, 0)));
+        } else if (!strcmp(type, "spot")) {
+            if (!(l = push_light(set, &cap))) goto oom;
+            l->kind = LIGHT_SPOT;
+            l->L = v3_scale(param_emission(&d->params, "I"), scale);
+            vec3 from = param_point(&d->params, "from", v3(0, 0, 0)), to = param_point(&d->params, "to", v3(0, 0, 1));
+            l->p_world = mat4_apply_point(m, from);
+            l->w_world = v3_normalize(mat4_apply_vector(m, v3_sub(to, from)));
+            float cone = params_float(&d->params, "coneangle", 30.0f), delta = params_float(&d->params, "conedeltaangle", 5.0f);
+            l->cos_falloff_end = cosf(cone * WEDGE_PI / 180.0f);
+            l->cos_falloff_start = cosf((cone - delta) * WEDGE_PI / 180.0f);
+        } else if (!strcmp(type, "distant")) {
+            if (!(l = push_light(set, &cap))) goto oom;
+            l->kind = LIGHT_DISTANT;
+            l->L = v3_scale(param_emission(&d->params, "L"), scale);
+            vec3 from = param_point(&d->params, "from", v3(0, 0, 0)), to = param_point(&d->params, "to", v3(0, 0, 1));
+            l->w_world = v3_normalize(mat4_apply_vector(m, v3_sub(from, to)));
+        } else if (!strcmp(type, "infinite")) {
+            if (!(l = push_light(set, &cap))) goto oom;
+            l->kind = LIGHT_INFINITE;
+            if (params_string(&d->params, "filename", NULL)) {
+                scene_warn(scene, d->loc, "image-based infinite lights are not supported yet; using a constant "
+                                          "environment of radiance 'scale'");
+                l->L = v3s(scale);
+            } else {
+                l->L = v3_scale(param_emission(&d->params, "L"), scale);
+            }
+        } else {
+            if (!warned_unsupported) scene_warn(scene, d->loc, "light type '%s' is not supported; it is skipped", type);
+            warned_unsupported = true;
+        }
+    }
+
+    set->cdf = malloc((size_t)(set->count + 1) * sizeof(float));
+    set->infinite = malloc((size_t)(set->count > 0 ? set->count : 1) * sizeof(int));
+    if (!set->cdf || !set->infinite) goto oom;
+    double acc = 0.0, r2 = (double)set->scene_radius * set->scene_radius;
+    set->cdf[0] = 0.0f;
+    for (int i = 0; i < set->count; ++i) {
+        Light *l = &set->lights[i];
+        double y = luminance(l->L), phi = 0.0;
+        switch (l->kind) {
+        case LIGHT_AREA: phi = y * l->area_world * M_PI * (l->two_sided ? 2.0 : 1.0); break;
+        case LIGHT_POINT: phi = 4.0 * M_PI * y; break;
+        case LIGHT_SPOT: phi = 2.0 * M_PI * y * (1.0 - 0.5 * (l->cos_falloff_start + l->cos_falloff_end)); break;
+        case LIGHT_DISTANT: phi = M_PI * r2 * y; break;
+        case LIGHT_INFINITE: phi = 4.0 * M_PI * M_PI * r2 * y; break;
+        }
+        if (!(phi > 0.0) || !isfinite(phi)) phi = 0.0;
+        if (l->kind != LIGHT_AREA) set->has_delta |= (l->kind != LIGHT_INFINITE && phi > 0.0);
+        if (l->kind == LIGHT_INFINITE) set->infinite[set->infinite_count++] = i;
+        acc += phi;
+        set->cdf[i + 1] = (float)acc;
+    }
+    set->power_total = (float)acc;
+    return true;
+oom:
+    diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building lights");
+    lights_free(set);
+    return false;
+}
+
+void lights_free(LightSet *set)
+{
+    free(set->lights);
+    free(set->cdf);
+    free(set->infinite);
+    *set = (LightSet){0};
+}
+
+int lights_pick(const LightSet *set, float u, float *pmf)
+{
+    if (!(set->power_total > 0.0f)) return -1;
+    float target = u * set->power_total;
+    int lo = 0, hi = set->count - 1; /* first i with cdf[i+1] > target */
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (set->cdf[mid + 1] > target)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    while (lo < set->count - 1 && set->cdf[lo + 1] - set->cdf[lo] <= 0.0f) ++lo; /* skip empty lights */
+    *pmf = (set->cdf[lo + 1] - set->cdf[lo]) / set->power_total;
+    return *pmf > 0.0f ? lo : -1;
+}
+
+float lights_pmf(const LightSet *set, int light)
+{
+    if (light < 0 || light >= set->count || !(set->power_total > 0.0f)) return 0.0f;
+    return (set->cdf[light + 1] - set->cdf[light]) / set->power_total;
+}
+
+/* Finishes an area sample: direction, distance and the solid-angle pdf from an area pdf. */
+static bool finish_area_sample(const Light *l, vec3 p_ref, vec3 p, vec3 n, float pdf_area, float err_light,
+                               LightSample *ls)
+{
+    vec3 d = v3_sub(p, p_ref);
+    float dist2 = v3_length2(d);
+    if (!(dist2 > 0.0f) || !(pdf_area > 0.0f)) return false;
+    float dist = sqrtf(dist2);
+    vec3 wi = v3_scale(d, 1.0f / dist);
+    float cos_l = -v3_dot(n, wi);
+    if (!l->two_sided && cos_l <= 0.0f) return false;
+    if (fabsf(cos_l) < 1e-7f) return false;
+    ls->wi = wi;
+    ls->dist = dist;
+    ls->p_light = p;
+    ls->n_light = n;
+    ls->err_light = err_light;
+    ls->Li = l->L;
+    ls->pdf = pdf_area * dist2 / fabsf(cos_l);
+    ls->delta = false;
+    return isfinite(ls->pdf);
+}
+
+/* Cone sampling of a sphere seen from outside (pbrt-v4 Sphere::Sample with a reference point). */
+static bool sample_sphere(const Light *l, const Geom *g, const Mat4 *m, vec3 p_ref, vec2 u, LightSample *ls)
+{
+    vec3 c;
+    float r;
+    sphere_world(g, m, &c, &r);
+    float err = LIGHT_OFFSET_REL * (max_abs3(c) + r);
+    vec3 to_c = v3_sub(c, p_ref);
+    float dc2 = v3_length2(to_c);
+    if (dc2 <= r * r * 1.0001f) {
+        /* inside (or on) the sphere: uniform area sampling */
+        vec3 nn = warp_uniform_sphere(u);
+        vec3 p = v3_madd(c, nn, r);
+        if (g->flip_normal) nn = v3_neg(nn);
+        return finish_area_sample(l, p_ref, p, nn, 1.0f / (4.0f * WEDGE_PI * r * r), err, ls);
+    }
+    float dc = sqrtf(dc2);
+    float sin_max = r / dc, sin2_max = sin_max * sin_max;
+    float cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin2_max));
+    float one_minus_cos_max = 1.0f - cos_max;
+    float cos_t = (cos_max - 1.0f) * u.x + 1.0f;
+    float sin2_t = 1.0f - cos_t * cos_t;
+    if (sin2_max < 0.00068523f) { /* small cone: Taylor expansion keeps precision */
+        sin2_t = sin2_max * u.x;
+        cos_t = sqrtf(1.0f - sin2_t);
+        one_minus_cos_max = sin2_max / 2.0f;
+    }
+    /* angle alpha from the centre to the sampled point, as seen from the centre */
+    float cos_a = sin2_t / sin_max + cos_t * sqrtf(fmaxf(0.0f, 1.0f - sin2_t / sin2_max));
+    float sin_a = sqrtf(fmaxf(0.0f, 1.0f - cos_a * cos_a));
+    float phi = 2.0f * WEDGE_PI * u.y;
+    vec3 wc = v3_scale(to_c, 1.0f / dc), t1, t2;
+    v3_basis(wc, &t1, &t2);
+    /* outward normal at the point: -(sin_a cos phi t1 + sin_a sin phi t2 + cos_a wc) */
+    vec3 nn = v3_neg(v3_add(v3_add(v3_scale(t1, sin_a * cosf(phi)), v3_scale(t2, sin_a * sinf(phi))), v3_scale(wc, cos_a)));
+    vec3 p = v3_madd(c, nn, r);
+    if (g->zmin > -g->radius || g->zmax < g->radius || g->phimax_rad < 2.0 * M_PI) {
+        /* partial sphere: points of the full cap that are not on the surface carry no light */
+        Mat4 inv;
+        if (mat4_inverse(m, &inv)) {
+            vec3 po = mat4_apply_point(&inv, p);
+            double phi = atan2(po.y, po.x);
+            if (phi < 0.0) phi += 2.0 * M_PI;
+            if (po.z < g->zmin || po.z > g->zmax || phi > g->phimax_rad) return false;
+        }
+    }
+    vec3 n_emit = g->flip_normal ? v3_neg(nn) : nn;
+    vec3 d = v3_sub(p, p_ref);
+    float dist = v3_length(d);
+    if (!(dist > 0.0f)) return false;
+    vec3 wi = v3_scale(d, 1.0f / dist);
+    if (!l->two_sided && v3_dot(n_emit, wi) >= 0.0f) return false;
+    ls->wi = wi;
+    ls->dist = dist;
+    ls->p_light = p;
+    ls->n_light = n_emit;
+    ls->err_light = err;
+    ls->Li = l->L;
+    ls->pdf = 1.0f / (2.0f * WEDGE_PI * one_minus_cos_max);
+    ls->delta = false;
+    return isfinite(ls->pdf) && ls->pdf > 0.0f;
+}
+
+bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, float time01, vec2 u, LightSample *ls)
+{
+    const Light *l = &set->lights[li];
+    switch (l->kind) {
+    case LIGHT_AREA: {
+        const Geom *g = &tr->layers[l->layer].geoms[l->geom];
+        if (g->kind == GEOM_TRIANGLES && l->instance < 0) {
+            if (!(l->area_world > 0.0f)) return false;
+            vec2 b = warp_triangle(u);
+            /* p = b0 p0 + b1 p1 + b2 p2 = p0 + b1 e1 + b2 e2 */
+            vec3 p = v3_add(l->tri_p0, v3_add(v3_scale(l->tri_e1, b.y), v3_scale(l->tri_e2, 1.0f - b.x - b.y)));
+            return finish_area_sample(l, p_ref, p, l->tri_n, 1.0f / l->area_world, l->tri_err, ls);
+        }
+        EmitterXform x = emitter_xform(tr, l->instance, time01);
+        if (g->kind == GEOM_TRIANGLES) {
+            vec3 P[3], n;
+            float area;
+            emitter_triangle(g, l->prim, &x, P, &n, &area);
+            if (!(area > 0.0f)) return false;
+            vec2 b = warp_triangle(u);
+            vec3 p = v3_add(v3_add(v3_scale(P[0], b.x), v3_scale(P[1], b.y)), v3_scale(P[2], 1.0f - b.x - b.y));
+            float err = LIGHT_OFFSET_REL * fmaxf(max_abs3(P[0]), fmaxf(max_abs3(P[1]), max_abs3(P[2])));
+            return finish_area_sample(l, p_ref, p, n, 1.0f / area, err, ls);
+        }
+        Mat4 m = emitter_world_from_object(g, &x);
+        if (g->kind == GEOM_SPHERE) return sample_sphere(l, g, &m, p_ref, u, ls);
+        /* disk: uniform in area (radius by the square-root map, angle up to phimax) */
+        vec3 n;
+        float area = disk_area(g, &m, &n);
+        if (!(area > 0.0f)) return false;
+        double r = sqrt(g->inner_radius * g->inner_radius + u.x * (g->radius * g->radius - g->inner_radius * g->inner_radius));
+        double phi = u.y * g->phimax_rad;
+        vec3 p = mat4_apply_point(&m, v3((float)(r * cos(phi)), (float)(r * sin(phi)), (float)g->height));
+        float err = LIGHT_OFFSET_REL * (max_abs3(p) + (float)g->radius);
+        return finish_area_sample(l, p_ref, p, n, 1.0f / area, err, ls);
+    }
+    case LIGHT_POINT:
+    case LIGHT_SPOT: {
+        vec3 d = v3_sub(l->p_world, p_ref);
+        float dist2 = v3_length2(d);
+        if (!(dist2 > 0.0f)) return false;
+        float dist = sqrtf(dist2);
+        ls->wi = v3_scale(d, 1.0f / dist);
+        ls->dist = dist;
+        ls->p_light = l->p_world;
+        ls->n_light = v3s(0.0f);
+        ls->err_light = LIGHT_OFFSET_REL * max_abs3(l->p_world);
+        vec3 I = l->L;
+        if (l->kind == LIGHT_SPOT) {
+            float cos_t = -v3_dot(ls->wi, l->w_world);
+            float lo = l->cos_falloff_end, hi = l->cos_falloff_start;
+            float s;
+            if (cos_t <= lo) s = 0.0f;
+            else if (cos_t >= hi || hi <= lo) s = 1.0f;
+            else {
+                float t = (cos_t - lo) / (hi - lo);
+                s = t * t * (3.0f - 2.0f * t); /* pbrt-v4 SmoothStep falloff */
+            }
+            I = v3_scale(I, s);
+        }
+        ls->Li = v3_scale(I, 1.0f / dist2);
+        ls->pdf = 1.0f;
+        ls->delta = true;
+        return v3_max_component(ls->Li) > 0.0f;
+    }
+    case LIGHT_DISTANT:
+        ls->wi = l->w_world;
+        ls->dist = INFINITY;
+        ls->p_light = v3_madd(p_ref, l->w_world, 2.0f * set->scene_radius);
+        ls->n_light = v3_neg(l->w_world);
+        ls->err_light = 0.0f;
+        ls->Li = l->L;
+        ls->pdf = 1.0f;
+        ls->delta = true;
+        return v3_max_component(ls->Li) > 0.0f;
+    case LIGHT_INFINITE:
+        ls->wi = warp_uniform_sphere(u);
+        ls->dist = INFINITY;
+        ls->p_light = v3_madd(p_ref, ls->wi, 2.0f * set->scene_radius);
+        ls->n_light = v3_neg(ls->wi);
+        ls->err_light = 0.0f;
+        ls->Li = l->L;
+        ls->pdf = infinite_light_pdf();
+        ls->delta = false;
+        return v3_max_component(ls->Li) > 0.0f;
+    }
+    return false;
+}
+
+vec3 area_light_L(const LightSet *set, int li, const SurfaceHit *h, vec3 w)
+{
+    if (li < 0 || li >= set->count) return v3s(0.0f);
+    const Light *l = &set->lights[li];
+    if (!l->two_sided && v3_dot(h->ng, w) <= 0.0f) return v3s(0.0f); /* one-sided: emits along ng */
+    return l->L;
+}
+
+float area_light_pdf(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, const SurfaceHit *h, float time01)
+{
+    if (li < 0 || li >= set->count) return 0.0f;
+    const Light *l = &set->lights[li];
+    const Geom *g = &tr->layers[l->layer].geoms[l->geom];
+    vec3 d = v3_sub(h->p, p_ref);
+    float dist2 = v3_length2(d);
+    if (!(dist2 > 0.0f)) return 0.0f;
+    vec3 wi = v3_scale(d, 1.0f / sqrtf(dist2));
+    float area;
+    if (g->kind == GEOM_TRIANGLES && l->instance < 0) {
+        area = l->area_world;
+    } else if (g->kind == GEOM_TRIANGLES) {
+        EmitterXform x = emitter_xform(tr, l->instance, time01);
+        vec3 P[3], n;
+        emitter_triangle(g, l->prim, &x, P, &n, &area);
+    } else {
+        EmitterXform x = emitter_xform(tr, l->instance, time01);
+        Mat4 m = emitter_world_from_object(g, &x);
+        if (g->kind == GEOM_SPHERE) {
+            vec3 c;
+            float r;
+            sphere_world(g, &m, &c, &r);
+            float dc2 = v3_length2(v3_sub(c, p_ref));
+            if (dc2 > r * r * 1.0001f) {
+                /* cone sampling only reaches the cap facing p_ref (matters for partial spheres) */
+                if (v3_dot(v3_sub(h->p, c), v3_sub(p_ref, h->p)) < 0.0f) return 0.0f;
+                float sin2_max = r * r / dc2;
+                float one_minus_cos_max = sin2_max < 0.00068523f ? sin2_max / 2.0f : 1.0f - sqrtf(fmaxf(0.0f, 1.0f - sin2_max));
+                return 1.0f / (2.0f * WEDGE_PI * one_minus_cos_max);
+            }
+            area = 4.0f * WEDGE_PI * r * r;
+        } else {
+            vec3 n;
+            area = disk_area(g, &m, &n);
+        }
+    }
+    float cos_l = fabsf(v3_dot(h->ng, wi));
+    if (!(area > 0.0f) || !(cos_l > 0.0f)) return 0.0f;
+    float pdf = dist2 / (cos_l * area);
+    return isfinite(pdf) ? pdf : 0.0f;
+}
+
+vec3 infinite_light_L(const LightSet *set, int li, vec3 w)
+{
+    (void)w;
+    return set->lights[li].L;
+}
+
+float infinite_light_pdf(void) { return 1.0f / (4.0f * WEDGE_PI); }

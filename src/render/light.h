@@ -1,0 +1,77 @@
+/* Light sources: diffuse area lights (one Light per emitting triangle, sphere or disk),
+ * point, spot, distant and constant infinite lights (pbrt-v4 semantics), and the light
+ * selection distribution (proportional to an estimate of emitted power). */
+#ifndef WEDGE_RENDER_LIGHT_H
+#define WEDGE_RENDER_LIGHT_H
+
+#include <stdbool.h>
+
+#include "core/diag.h"
+#include "core/vec.h"
+#include "render/tracer.h"
+#include "scene/scene_desc.h"
+
+typedef enum { LIGHT_AREA, LIGHT_POINT, LIGHT_SPOT, LIGHT_DISTANT, LIGHT_INFINITE } LightKind;
+
+typedef struct {
+    LightKind kind;
+    vec3 L;                 /* radiance (area, distant: radiance x solid angle = irradiance
+                             * scale, infinite) or intensity (point, spot), times "scale" */
+    bool two_sided;         /* area lights */
+    int layer, geom, prim;  /* area lights: the emitting geometry */
+    int instance;           /* area light on a moving shape: its instance, else -1 */
+    vec3 p_world;           /* point, spot */
+    vec3 w_world;           /* spot: unit axis; distant: unit direction towards the light */
+    float cos_falloff_end, cos_falloff_start; /* spot */
+    float area_world;       /* area lights, at shutter open */
+    vec3 tri_p0, tri_e1, tri_e2, tri_n; /* static triangle lights: world vertex 0, edges, normal */
+    float tri_err;          /* static triangle lights: surface offset */
+} Light;
+
+typedef struct {
+    Light *lights;
+    int count;
+    float *cdf;             /* count + 1 entries: selection by power */
+    float power_total;
+    int *infinite;          /* indices of infinite lights (seen by escaping rays) */
+    int infinite_count;
+    bool has_area, has_delta;
+    float scene_radius;     /* bounding sphere of the geometry (distant/infinite power) */
+    vec3 scene_center;
+} LightSet;
+
+/* A sampled point on a light as seen from a receiver. */
+typedef struct {
+    vec3 wi;                /* unit direction receiver -> light */
+    float dist;             /* distance to the light point (INFINITY for distant/infinite) */
+    vec3 p_light;           /* the point on the light (area), light position (point/spot) */
+    vec3 n_light;           /* surface normal at p_light (area lights) */
+    float err_light;        /* offset that keeps the shadow ray off the light's surface */
+    vec3 Li;                /* incident radiance (area/infinite) or intensity / dist^2 (delta) */
+    float pdf;              /* solid-angle density of wi (1 for delta lights) */
+    bool delta;
+} LightSample;
+
+/* Builds the lights of a scene (area lights from tracer geometries; sets Geom.light_first).
+ * Unsupported light types become warnings. */
+bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err);
+void lights_free(LightSet *set);
+
+/* Picks a light with probability proportional to power; returns -1 when there is none. */
+int lights_pick(const LightSet *set, float u, float *pmf);
+float lights_pmf(const LightSet *set, int light);
+
+/* Samples light l as seen from p_world at time time01. Returns false when the sample
+ * carries no light (zero pdf, back side, ...). */
+bool light_sample(const LightSet *set, const Tracer *tr, int l, vec3 p_world, float time01, vec2 u, LightSample *ls);
+
+/* Radiance leaving area light l at hit h towards direction w (unit, away from the surface). */
+vec3 area_light_L(const LightSet *set, int l, const SurfaceHit *h, vec3 w);
+/* Solid-angle pdf with which light_sample would produce the point h seen from p_ref. */
+float area_light_pdf(const LightSet *set, const Tracer *tr, int l, vec3 p_ref, const SurfaceHit *h, float time01);
+
+/* Infinite light l's radiance from direction w (unit, pointing away from the scene). */
+vec3 infinite_light_L(const LightSet *set, int l, vec3 w);
+float infinite_light_pdf(void);
+
+#endif

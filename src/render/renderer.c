@@ -1,0 +1,356 @@
+/* Render passes over tiles on a pool of threads (see renderer.h). */
+#include "render/renderer.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "render/integrator.h"
+#include "render/light.h"
+#include "render/material.h"
+#include "render/tracer.h"
+
+enum { TILE_PX = 16 };
+
+struct Renderer {
+    SceneDesc *scene;
+    RenderOptions opt;
+    int width, height, spp, threads;
+    SamplerKind sampler;
+    Camera camera;
+    Tracer tracer;
+    LightSet lights;
+    MaterialTable materials;
+    IntegratorScene isc;
+    Effects effects;
+    RenderStats stats;
+};
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out, Diag *err)
+{
+    *out = NULL;
+    Renderer *r = calloc(1, sizeof *r);
+    if (!r) {
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        return false;
+    }
+    r->scene = scene;
+    r->opt = *opt;
+    r->width = opt->width > 0 ? opt->width : scene->film.xres;
+    r->height = opt->height > 0 ? opt->height : scene->film.yres;
+    r->spp = opt->spp > 0 ? opt->spp : scene->sampler.spp;
+    if (r->spp <= 0) r->spp = 16;
+    if (r->width <= 0 || r->height <= 0) {
+        diag_set(err, WEDGE_EXIT_INPUT, scene->film.loc, "film resolution must be positive, got %dx%d", r->width, r->height);
+        free(r);
+        return false;
+    }
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    r->threads = opt->threads > 0 ? opt->threads : (cores > 0 ? (int)cores : 1);
+    r->sampler = opt->sampler_set ? opt->sampler : sampler_kind_from_pbrt(scene->sampler.type ? scene->sampler.type : "zsobol");
+
+    if (!camera_init_times(&r->camera, &scene->camera, r->width, r->height, scene->transform_start_time,
+                           scene->transform_end_time, err))
+        goto fail;
+    if (!materials_build(scene, &r->materials, err)) goto fail;
+    if (!tracer_build(&r->tracer, scene, r->threads, err)) goto fail;
+    if (!lights_build(&r->lights, scene, &r->tracer, err)) goto fail;
+    r->stats.seconds_build = r->tracer.seconds_build;
+
+    IntegratorScene *isc = &r->isc;
+    isc->camera = &r->camera;
+    isc->tracer = &r->tracer;
+    isc->lights = &r->lights;
+    isc->materials = &r->materials;
+    isc->max_depth = scene->integrator.max_depth;
+    isc->sample_lens = r->camera.lens_radius_world > 0.0f;
+    isc->sample_time = (r->tracer.has_motion || r->camera.moving) && scene->camera.shutter_open < scene->camera.shutter_close;
+    isc->shutter_open = scene->camera.shutter_open;
+    isc->shutter_close = scene->camera.shutter_close;
+    isc->xform_time_start = scene->transform_start_time;
+    isc->xform_time_end = scene->transform_end_time;
+    if (!(isc->xform_time_end > isc->xform_time_start)) isc->xform_time_start = 0.0f, isc->xform_time_end = 1.0f;
+    isc->record_ray_geometry = opt->record_ray_geometry;
+
+    r->effects.soft_shadows = r->lights.has_area;
+    r->effects.defocus = isc->sample_lens;
+    r->effects.motion = isc->sample_time;
+    r->effects.indirect = isc->max_depth >= 2;
+    *out = r;
+    return true;
+fail:
+    renderer_destroy(r);
+    return false;
+}
+
+void renderer_destroy(Renderer *r)
+{
+    if (!r) return;
+    lights_free(&r->lights);
+    tracer_free(&r->tracer);
+    materials_free(&r->materials);
+    free(r);
+}
+
+int renderer_width(const Renderer *r) { return r->width; }
+int renderer_height(const Renderer *r) { return r->height; }
+int renderer_spp(const Renderer *r) { return r->spp; }
+int renderer_threads(const Renderer *r) { return r->threads; }
+int renderer_max_depth(const Renderer *r) { return r->isc.max_depth; }
+SamplerKind renderer_sampler(const Renderer *r) { return r->sampler; }
+Effects renderer_effects(const Renderer *r) { return r->effects; }
+const Camera *renderer_camera(const Renderer *r) { return &r->camera; }
+RenderStats renderer_stats(const Renderer *r) { return r->stats; }
+long renderer_triangle_count(const Renderer *r) { return r->tracer.triangle_count; }
+long long renderer_embree_peak_bytes(const Renderer *r) { return r->tracer.embree_bytes_peak; }
+
+void renderer_set_record_ray_geometry(Renderer *r, bool on) { r->isc.record_ray_geometry = on; }
+
+int renderer_light_count(const Renderer *r) { return r->lights.count; }
+
+bool renderer_light_info(const Renderer *r, int li, RenderLightInfo *info)
+{
+    if (li < 0 || li >= r->lights.count) return false;
+    const Light *l = &r->lights.lights[li];
+    memset(info, 0, sizeof *info);
+    info->shape = -1;
+    info->radiance = l->L;
+    info->two_sided = l->two_sided;
+    info->area_world = l->area_world;
+    switch (l->kind) {
+    case LIGHT_AREA: {
+        info->kind = RENDER_LIGHT_AREA;
+        const Geom *g = &r->tracer.layers[l->layer].geoms[l->geom];
+        info->shape = g->shape;
+        Mat4 w = l->instance >= 0 ? tracer_world_from_instance(&r->tracer, l->instance, 0.0f) : mat4_identity();
+        if (g->kind == GEOM_TRIANGLES) {
+            if (l->instance < 0) {
+                info->center_world = v3_add(l->tri_p0, v3_scale(v3_add(l->tri_e1, l->tri_e2), 1.0f / 3.0f));
+                info->normal_world = l->tri_n;
+            } else {
+                const uint32_t *ix = g->index + 3 * (size_t)l->prim;
+                const vec3 *V = (const vec3 *)g->p;
+                vec3 c = v3_scale(v3_add(v3_add(V[ix[0]], V[ix[1]]), V[ix[2]]), 1.0f / 3.0f);
+                info->center_world = mat4_apply_point(&w, c);
+                vec3 n = v3_normalize(v3_cross(v3_sub(V[ix[1]], V[ix[0]]), v3_sub(V[ix[2]], V[ix[0]])));
+                if (g->flip_normal) n = v3_neg(n);
+                Mat4 inv;
+                info->normal_world = mat4_inverse(&w, &inv) ? v3_normalize(mat4_apply_normal(&inv, n)) : n;
+            }
+        } else {
+            Mat4 m = mat4_mul(&w, &g->geom_from_object), inv;
+            info->center_world = mat4_apply_point(&m, v3(0.0f, 0.0f, g->kind == GEOM_DISK ? (float)g->height : 0.0f));
+            if (g->kind == GEOM_DISK && mat4_inverse(&m, &inv)) {
+                vec3 n = v3_normalize(mat4_apply_normal(&inv, v3(0.0f, 0.0f, 1.0f)));
+                info->normal_world = g->flip_normal ? v3_neg(n) : n;
+            }
+        }
+        break;
+    }
+    case LIGHT_POINT: info->kind = RENDER_LIGHT_POINT; info->center_world = l->p_world; break;
+    case LIGHT_SPOT:
+        info->kind = RENDER_LIGHT_SPOT;
+        info->center_world = l->p_world;
+        info->normal_world = l->w_world;
+        break;
+    case LIGHT_DISTANT: info->kind = RENDER_LIGHT_DISTANT; info->normal_world = l->w_world; break;
+    case LIGHT_INFINITE: info->kind = RENDER_LIGHT_INFINITE; break;
+    }
+    return true;
+}
+
+/* ---- one pass ---- */
+
+typedef struct {
+    Renderer *r;
+    int pass;
+    const int *spp_pp;
+    int spp_uniform;
+    Frame *frame;
+    const SampleSink *sink;
+    int tiles_x, tile_count;
+    int sample_begin, sample_end; /* the round: sample indices [begin, end) of every pixel */
+    int next_tile;              /* atomic */
+    long long samples_done;     /* atomic */
+    long long rays_done;        /* atomic */
+    int workers_done;           /* atomic */
+    int cancelled;              /* atomic */
+    pthread_mutex_t stats_lock;
+    IntegratorStats stats;
+} PassJob;
+
+static bool cancel_requested(const PassJob *job)
+{
+    return job->r->opt.cancel && *job->r->opt.cancel;
+}
+
+/* Renders the samples of this round of a pixel that has spp samples in the pass; returns
+ * how many were taken (fewer only when the render is cancelled, checked every 64 samples
+ * so Ctrl-C is quick even at high spp). */
+static int render_pixel(PassJob *job, int px, int py, int spp, IntegratorStats *st)
+{
+    Renderer *r = job->r;
+    int first = job->sample_begin, last = job->sample_end < spp ? job->sample_end : spp;
+    if (first >= last) return 0;
+    PixelSampler s;
+    /* the sampler is set up for all spp samples of the pass: a round takes a slice */
+    sampler_start_pixel(&s, r->sampler, r->opt.seed, px, py, job->pass, spp);
+    /* double sums per pixel and pass: one float add per pass into the frame */
+    double c[3] = {0}, di[3] = {0}, in[3] = {0}, em[3] = {0}, al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
+    int taken = 0;
+    for (int i = first; i < last; ++i, ++taken) {
+        if ((taken & 63) == 63 && cancel_requested(job)) break;
+        sampler_start_sample(&s, i);
+        SampleRecord rec;
+        integrate_camera_sample(&r->isc, &s, px, py, &rec, st);
+        c[0] += rec.L.x, c[1] += rec.L.y, c[2] += rec.L.z;
+        di[0] += rec.direct.x, di[1] += rec.direct.y, di[2] += rec.direct.z;
+        in[0] += rec.indirect.x, in[1] += rec.indirect.y, in[2] += rec.indirect.z;
+        em[0] += rec.emission.x, em[1] += rec.emission.y, em[2] += rec.emission.z;
+        if (rec.hit) {
+            al[0] += rec.albedo.x, al[1] += rec.albedo.y, al[2] += rec.albedo.z;
+            nn[0] += rec.n_shading.x, nn[1] += rec.n_shading.y, nn[2] += rec.n_shading.z;
+            if (isfinite(rec.depth_cam)) depth += rec.depth_cam, hits += 1.0;
+        }
+        if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, &rec);
+    }
+    Frame *f = job->frame;
+    size_t i1 = (size_t)py * (size_t)f->width + (size_t)px, i3 = 3 * i1;
+    for (int k = 0; k < 3; ++k) {
+        f->color[i3 + k] += (float)c[k];
+        f->direct[i3 + k] += (float)di[k];
+        f->indirect[i3 + k] += (float)in[k];
+        f->emission[i3 + k] += (float)em[k];
+        f->albedo[i3 + k] += (float)al[k];
+        f->normal[i3 + k] += (float)nn[k];
+    }
+    f->depth[i1] += (float)depth;
+    f->hits[i1] += (float)hits;
+    f->spp[i1] += (float)taken;
+    return taken;
+}
+
+static void *pass_worker(void *arg)
+{
+    PassJob *job = arg;
+    Renderer *r = job->r;
+    IntegratorStats st = {0};
+    for (;;) {
+        if (cancel_requested(job)) {
+            __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
+            break;
+        }
+        int tile = __atomic_fetch_add(&job->next_tile, 1, __ATOMIC_RELAXED);
+        if (tile >= job->tile_count) break;
+        int x0 = (tile % job->tiles_x) * TILE_PX, y0 = (tile / job->tiles_x) * TILE_PX;
+        int x1 = x0 + TILE_PX < r->width ? x0 + TILE_PX : r->width;
+        int y1 = y0 + TILE_PX < r->height ? y0 + TILE_PX : r->height;
+        long long samples = 0;
+        long long rays_before = st.rays_primary + st.rays_shadow + st.rays_indirect;
+        for (int y = y0; y < y1; ++y) {
+            if (cancel_requested(job)) { /* Ctrl-C: stop after the current row */
+                __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
+                break;
+            }
+            for (int x = x0; x < x1; ++x) {
+                int spp = job->spp_pp ? job->spp_pp[(size_t)y * (size_t)r->width + (size_t)x] : job->spp_uniform;
+                if (spp <= 0) continue;
+                samples += render_pixel(job, x, y, spp, &st);
+            }
+        }
+        __atomic_add_fetch(&job->samples_done, samples, __ATOMIC_RELAXED);
+        __atomic_add_fetch(&job->rays_done, st.rays_primary + st.rays_shadow + st.rays_indirect - rays_before,
+                           __ATOMIC_RELAXED);
+    }
+    pthread_mutex_lock(&job->stats_lock);
+    job->stats.rays_primary += st.rays_primary;
+    job->stats.rays_shadow += st.rays_shadow;
+    job->stats.rays_indirect += st.rays_indirect;
+    job->stats.guarded_events += st.guarded_events;
+    pthread_mutex_unlock(&job->stats_lock);
+    __atomic_add_fetch(&job->workers_done, 1, __ATOMIC_RELEASE);
+    return NULL;
+}
+
+bool render_pass(Renderer *r, int pass, const int *spp_per_pixel, int spp_uniform, Frame *frame, const SampleSink *sink)
+{
+    if (!frame || frame->width != r->width || frame->height != r->height) return false; /* caller bug */
+    double t0 = seconds_now();
+    PassJob job;
+    memset(&job, 0, sizeof job);
+    int spp_max = spp_uniform;
+    job.r = r;
+    job.pass = pass;
+    job.spp_pp = spp_per_pixel;
+    job.spp_uniform = spp_uniform;
+    job.frame = frame;
+    job.sink = sink;
+    job.tiles_x = (r->width + TILE_PX - 1) / TILE_PX;
+    job.tile_count = job.tiles_x * ((r->height + TILE_PX - 1) / TILE_PX);
+    pthread_mutex_init(&job.stats_lock, NULL);
+    long long total = 0;
+    if (spp_per_pixel) {
+        spp_max = 0;
+        for (size_t i = 0; i < (size_t)r->width * (size_t)r->height; ++i) {
+            total += spp_per_pixel[i] > 0 ? spp_per_pixel[i] : 0;
+            if (spp_per_pixel[i] > spp_max) spp_max = spp_per_pixel[i];
+        }
+    } else {
+        total = (long long)r->width * r->height * (spp_uniform > 0 ? spp_uniform : 0);
+    }
+
+    /* The pass runs in rounds over the whole image, each taking the next slice of every
+     * pixel's sample indices (4, 4, 8, 16, ... up to 64 samples): an interrupted render
+     * has a complete image at a lower sample count, and the progress bar moves evenly.
+     * The rounds depend only on the sample counts, so images stay identical for any
+     * number of threads; within a round a pixel belongs to one thread. */
+    int n = r->threads > 0 ? r->threads : 1;
+    pthread_t *tid = calloc((size_t)n, sizeof *tid);
+    for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
+        /* rounds [0,4) [4,8) [8,16) ... [64,128) [128,192) ...: at least 4 consecutive
+         * samples of a pixel per round keep the traversal's caches warm */
+        end = begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64);
+        job.sample_begin = begin;
+        job.sample_end = end;
+        job.next_tile = 0;
+        job.workers_done = 0;
+        int started = 0;
+        if (tid)
+            for (; started < n; ++started)
+                if (pthread_create(&tid[started], NULL, pass_worker, &job) != 0) break;
+        if (started == 0) pass_worker(&job); /* no threads available: do it here */
+        /* Only a progress display needs the calling thread to wake up; poll often enough
+         * that the end of a short round is noticed quickly. */
+        while (r->opt.progress && started > 0 && __atomic_load_n(&job.workers_done, __ATOMIC_ACQUIRE) < started) {
+            RenderProgress p = {__atomic_load_n(&job.samples_done, __ATOMIC_RELAXED), total,
+                                __atomic_load_n(&job.rays_done, __ATOMIC_RELAXED), seconds_now() - t0};
+            r->opt.progress(r->opt.progress_ctx, &p);
+            struct timespec ts = {0, 10 * 1000 * 1000};
+            nanosleep(&ts, NULL);
+        }
+        for (int i = 0; i < started; ++i) pthread_join(tid[i], NULL);
+    }
+    free(tid);
+    if (r->opt.progress) {
+        RenderProgress p = {job.samples_done, total, job.rays_done, seconds_now() - t0};
+        r->opt.progress(r->opt.progress_ctx, &p);
+    }
+    pthread_mutex_destroy(&job.stats_lock);
+    r->stats.rays_primary += job.stats.rays_primary;
+    r->stats.rays_shadow += job.stats.rays_shadow;
+    r->stats.rays_indirect += job.stats.rays_indirect;
+    r->stats.guarded_events += job.stats.guarded_events;
+    r->stats.samples += job.samples_done;
+    r->stats.seconds_trace += seconds_now() - t0;
+    return !job.cancelled;
+}

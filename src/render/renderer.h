@@ -1,0 +1,104 @@
+/* The render loop: a scene built for tracing, rendered in passes over tiles on all cores.
+ *
+ *   Renderer *r; renderer_create(scene, &opts, &r, &err);
+ *   Frame f; frame_init(&f, renderer_width(r), renderer_height(r));
+ *   render_pass(r, 0, NULL, renderer_spp(r), &f, NULL);      // uniform spp
+ *   render_pass(r, 1, per_pixel_spp, 0, &f, &sink);            // adaptive second pass
+ *
+ * Each pixel's sampler is seeded from (seed, pixel, pass). A pass runs in rounds, each
+ * taking the next slice of every pixel's sample indices ([0,4) [4,8) [8,16) ... at most 64
+ * at a time), so an interrupted pass leaves a complete image; the rounds depend only on
+ * the sample counts and a pixel's samples of a round are summed by one thread in order,
+ * so images are bit-identical for any thread count. */
+#ifndef WEDGE_RENDER_RENDERER_H
+#define WEDGE_RENDER_RENDERER_H
+
+#include <signal.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/diag.h"
+#include "core/sampler.h"
+#include "render/camera.h"
+#include "render/frame.h"
+#include "render/sample_record.h"
+#include "scene/scene_desc.h"
+
+typedef struct {
+    long long samples_done, samples_total;
+    long long rays_done;
+    double seconds;
+} RenderProgress;
+
+typedef void (*RenderProgressFn)(void *ctx, const RenderProgress *p);
+
+typedef struct {
+    int width, height;        /* 0: the film's resolution */
+    int spp;                  /* 0: the scene's pixelsamples */
+    uint64_t seed;
+    int threads;              /* 0: all online cores */
+    bool sampler_set;         /* false: map the scene's sampler name */
+    SamplerKind sampler;
+    bool record_ray_geometry; /* fill SampleRecord shadow/bounce arrays (filters that need them) */
+    volatile sig_atomic_t *cancel; /* when it becomes non-zero, passes stop after the current rows */
+    RenderProgressFn progress;     /* called about 10 times a second from the calling thread */
+    void *progress_ctx;
+} RenderOptions;
+
+typedef struct {
+    long long rays_primary, rays_shadow, rays_indirect;
+    long long guarded_events;
+    long long samples;
+    double seconds_trace;     /* wall time inside render_pass */
+    double seconds_build;     /* Embree scene build */
+} RenderStats;
+
+typedef struct Renderer Renderer;
+
+/* Builds camera, materials, Embree scene and lights. Scene warnings raised while building
+ * are added to scene->warnings. Errors: exit 2 bad input, exit 3 runtime. */
+bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out, Diag *err);
+void renderer_destroy(Renderer *r);
+
+int renderer_width(const Renderer *r);
+int renderer_height(const Renderer *r);
+int renderer_spp(const Renderer *r);
+int renderer_threads(const Renderer *r);
+int renderer_max_depth(const Renderer *r);
+SamplerKind renderer_sampler(const Renderer *r);
+/* The effects the renderer will actually sample (DESIGN.md section 2). */
+Effects renderer_effects(const Renderer *r);
+const Camera *renderer_camera(const Renderer *r);
+RenderStats renderer_stats(const Renderer *r);
+/* Triangles in the Embree scene and Embree's peak memory (bytes). */
+long renderer_triangle_count(const Renderer *r);
+long long renderer_embree_peak_bytes(const Renderer *r);
+
+/* What a filter may want to know about a light (index = ShadowRayRecord.light_index).
+ * Area lights are one entry per emitting triangle, sphere or disk; `shape` (the SceneDesc
+ * shape index) groups the triangles of one emitter. Geometry at shutter open. */
+typedef enum { RENDER_LIGHT_AREA, RENDER_LIGHT_POINT, RENDER_LIGHT_SPOT, RENDER_LIGHT_DISTANT, RENDER_LIGHT_INFINITE } RenderLightKind;
+typedef struct {
+    RenderLightKind kind;
+    int shape;               /* area lights: SceneDesc shape index; else -1 */
+    vec3 center_world;       /* area: centroid (sphere: centre); point/spot: position */
+    vec3 normal_world;       /* triangles/disks: emitting-side unit normal; spot: axis; distant: towards the light */
+    float area_world;        /* area lights (sphere: full surface) */
+    vec3 radiance;           /* L (area, distant, infinite) or intensity I (point, spot), times scale */
+    bool two_sided;
+} RenderLightInfo;
+int renderer_light_count(const Renderer *r);
+bool renderer_light_info(const Renderer *r, int light, RenderLightInfo *info);
+
+/* Turns the recording of shadow/bounce ray geometry in SampleRecords on or off for the
+ * following passes (initially RenderOptions.record_ray_geometry). A filter that needs the
+ * geometry only in its first pass can turn it off for the second. Not during a pass. */
+void renderer_set_record_ray_geometry(Renderer *r, bool on);
+
+/* Renders pass `pass` into frame (sums are added): spp_per_pixel[y * width + x] samples per
+ * pixel, or spp_uniform everywhere when spp_per_pixel is NULL. sink (may be NULL) gets
+ * every SampleRecord. Returns false when cancelled (the frame holds what was done) or when
+ * the frame's size is not the renderer's. */
+bool render_pass(Renderer *r, int pass, const int *spp_per_pixel, int spp_uniform, Frame *frame, const SampleSink *sink);
+
+#endif

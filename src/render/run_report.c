@@ -1,0 +1,61 @@
+/* JSON run report. */
+#include "render/run_report.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; ++p) {
+        if (*p == '"' || *p == '\\')
+            fprintf(f, "\\%c", *p);
+        else if (*p < 0x20)
+            fprintf(f, "\\u%04x", *p);
+        else
+            fputc(*p, f);
+    }
+    fputc('"', f);
+}
+
+/* JSON has no NaN/Inf: write 0 for them (they never occur unless a clock misbehaves). */
+static double finite_or_zero(double v) { return isfinite(v) ? v : 0.0; }
+
+bool run_report_write(const char *path, const RunReport *r, Diag *err)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot write report '%s': %s", path, strerror(errno));
+        return false;
+    }
+    fprintf(f, "{\n");
+    fprintf(f, "  \"width\": %d,\n  \"height\": %d,\n", r->width, r->height);
+    fprintf(f, "  \"spp_avg\": %.6g,\n", finite_or_zero(r->spp_avg));
+    fprintf(f, "  \"seconds_total\": %.6f,\n", finite_or_zero(r->seconds_total));
+    fprintf(f, "  \"seconds_trace\": %.6f,\n", finite_or_zero(r->seconds_trace));
+    fprintf(f, "  \"seconds_filter\": %.6f,\n", finite_or_zero(r->seconds_filter));
+    fprintf(f, "  \"seconds_build\": %.6f,\n", finite_or_zero(r->seconds_build));
+    fprintf(f, "  \"rays_primary\": %lld,\n  \"rays_shadow\": %lld,\n  \"rays_indirect\": %lld,\n", r->rays_primary,
+            r->rays_shadow, r->rays_indirect);
+    fprintf(f, "  \"effects\": {\"soft_shadows\": %s, \"defocus\": %s, \"motion\": %s, \"indirect\": %s},\n",
+            r->effects.soft_shadows ? "true" : "false", r->effects.defocus ? "true" : "false",
+            r->effects.motion ? "true" : "false", r->effects.indirect ? "true" : "false");
+    fprintf(f, "  \"threads\": %d,\n  \"seed\": %" PRIu64 ",\n", r->threads, r->seed);
+    fprintf(f, "  \"guarded_events\": %lld,\n", r->guarded_events);
+    fprintf(f, "  \"sampler\": ");
+    json_string(f, r->sampler);
+    fprintf(f, ",\n  \"filter\": ");
+    json_string(f, r->filter);
+    fprintf(f, ",\n  \"scene\": ");
+    json_string(f, r->scene);
+    fprintf(f, ",\n  \"output\": ");
+    json_string(f, r->output);
+    fprintf(f, ",\n  \"triangles\": %ld,\n  \"interrupted\": %s\n}\n", r->triangles, r->interrupted ? "true" : "false");
+    bool ok = !ferror(f);
+    if (fclose(f) != 0) ok = false;
+    if (!ok) diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot write report '%s'", path);
+    return ok;
+}

@@ -1,0 +1,31 @@
+/* The machine-readable summary of one render (wedge render --report FILE.json). */
+#ifndef WEDGE_RENDER_RUN_REPORT_H
+#define WEDGE_RENDER_RUN_REPORT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/diag.h"
+#include "scene/scene_desc.h"
+
+typedef struct {
+    int width, height;
+    double spp_avg;
+    double seconds_total, seconds_trace, seconds_filter, seconds_build;
+    long long rays_primary, rays_shadow, rays_indirect;
+    long long guarded_events;  /* guarded divisions / non-finite values replaced, all stages */
+    Effects effects;
+    int threads;
+    uint64_t seed;
+    const char *sampler;       /* "stratified" / "sobol" */
+    const char *filter;        /* "none", ... */
+    const char *scene;         /* scene path or "<default>" */
+    const char *output;
+    bool interrupted;
+    long triangles;
+} RunReport;
+
+/* Writes the report as one JSON object (keys of issue 3 plus a few extras). err exit 3. */
+bool run_report_write(const char *path, const RunReport *r, Diag *err);
+
+#endif

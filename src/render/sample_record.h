@@ -1,0 +1,66 @@
+/* What the integrator knows about one camera sample, handed to the reconstruction stage.
+ *
+ * The renderer fills one SampleRecord per camera sample and passes it to a SampleSink
+ * (DESIGN.md section 2). Calls for one pixel never overlap: a pass runs in rounds (slices
+ * of every pixel's sample indices) separated by thread joins, and within a round a pixel
+ * belongs to one thread, so a sink may keep per-pixel statistics without locks. The raw ray geometry (shadow and bounce rays) is filled only when
+ * RenderOptions.record_ray_geometry is set: plain Monte Carlo does not pay for it. */
+#ifndef WEDGE_RENDER_SAMPLE_RECORD_H
+#define WEDGE_RENDER_SAMPLE_RECORD_H
+
+#include <stdbool.h>
+
+#include "core/vec.h"
+
+/* One shadow ray from the first hit (the receiver) towards a point on an area light.
+ * Distances are world units along the ray. */
+typedef struct {
+    float d_light_world;    /* receiver -> light sample point */
+    float d_occluder_world; /* receiver -> first occluder, or +INFINITY when unoccluded */
+    vec3 light_p_world;     /* the light sample point */
+    int light_index;        /* which light (index into the renderer's light list) */
+} ShadowRayRecord;
+
+/* The BSDF-sampled bounce ray leaving the first hit. */
+typedef struct {
+    float d_hit_world;      /* receiver -> reflector hit, or +INFINITY when it escaped */
+    vec3 dir_world;         /* unit direction */
+} BounceRayRecord;
+
+enum { SAMPLE_RECORD_MAX_SHADOW = 1, SAMPLE_RECORD_MAX_BOUNCE = 1 };
+
+typedef struct {
+    /* the sample's position in the extra dimensions */
+    float px_raster, py_raster;   /* film position, pixels (pixel (x, y) covers [x, x+1)) */
+    float lens_u, lens_v;         /* unit-disk lens coordinates in [-1, 1]^2 (0 for a pinhole) */
+    float time;                   /* normalised shutter time in [0, 1] (shutter open when static) */
+
+    /* radiance (linear rgb); L = emission + direct + indirect */
+    vec3 L;
+    vec3 emission;                /* emission seen directly by the camera ray (incl. infinite lights) */
+    vec3 direct;                  /* direct light reflected at the first hit (MIS light + BSDF) */
+    vec3 indirect;                /* everything reflected at the first hit that bounced at least once */
+
+    /* first-hit surface (valid when hit) */
+    bool hit;
+    vec3 albedo;                  /* diffuse reflectance at the first hit */
+    vec3 p_world;                 /* first hit position */
+    vec3 n_shading;               /* unit shading normal, facing the camera ray's origin side */
+    float depth_cam;              /* camera-space z of the first hit (world units), +INFINITY on a miss */
+    int object_id;                /* per top-level shape or per instance; -1 on a miss */
+
+    /* raw ray geometry (only with RenderOptions.record_ray_geometry) */
+    int shadow_count;             /* shadow rays to area lights recorded from the first hit */
+    ShadowRayRecord shadow[SAMPLE_RECORD_MAX_SHADOW];
+    int bounce_count;             /* bounce rays recorded from the first hit */
+    BounceRayRecord bounce[SAMPLE_RECORD_MAX_BOUNCE];
+} SampleRecord;
+
+/* Consumer hook: add() is called once per camera sample; calls for the same pixel (px, py)
+ * never run concurrently and come in increasing sample order. */
+typedef struct {
+    void (*add)(void *ctx, int px, int py, const SampleRecord *r);
+    void *ctx;
+} SampleSink;
+
+#endif

@@ -1,0 +1,825 @@
+/* Embree scene construction and ray queries (see tracer.h for the layer layout). */
+#include "render/tracer.h"
+
+#include <float.h>
+#include <stdio.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "geometry/mesh.h"
+
+/* Relative size of the offset that lifts a new ray's origin off the surface it starts on.
+ * Float rounding in a hit point is a few ulps (~1e-7) of the coordinates involved; 1e-5
+ * leaves two orders of magnitude of margin and is invisible at any scene scale because it
+ * scales with the coordinates (cf. pbrt-v4's error bounds, which scale the same way). */
+static const float OFFSET_REL = 1e-5f;
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- Embree device callbacks ---- */
+
+typedef struct {
+    char message[256];
+} ErrorSlot;
+
+static void on_embree_error(void *user, enum RTCError code, const char *str)
+{
+    ErrorSlot *slot = user;
+    if (slot && !slot->message[0]) snprintf(slot->message, sizeof slot->message, "error %d: %s", (int)code, str ? str : "");
+}
+
+static bool on_embree_memory(void *user, ssize_t bytes, bool post)
+{
+    (void)post;
+    Tracer *tr = user;
+    long long now = __atomic_add_fetch(&tr->embree_bytes, (long long)bytes, __ATOMIC_RELAXED);
+    long long peak = __atomic_load_n(&tr->embree_bytes_peak, __ATOMIC_RELAXED);
+    while (now > peak && !__atomic_compare_exchange_n(&tr->embree_bytes_peak, &peak, now, true, __ATOMIC_RELAXED,
+                                                      __ATOMIC_RELAXED)) {
+    }
+    return true;
+}
+
+/* ---- small double-precision helpers ---- */
+
+static void apply_point_d(const Mat4 *m, const double p[3], double out[3])
+{
+    for (int i = 0; i < 3; ++i) out[i] = m->m[i][0] * p[0] + m->m[i][1] * p[1] + m->m[i][2] * p[2] + m->m[i][3];
+}
+
+static void apply_vector_d(const Mat4 *m, const double v[3], double out[3])
+{
+    for (int i = 0; i < 3; ++i) out[i] = m->m[i][0] * v[0] + m->m[i][1] * v[1] + m->m[i][2] * v[2];
+}
+
+static float max_abs3(vec3 v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z))); }
+
+/* Largest factor by which the 3x3 part can stretch a vector (row-sum norm bound). */
+static double max_stretch(const Mat4 *m)
+{
+    double s = 0.0;
+    for (int i = 0; i < 3; ++i) s = fmax(s, fabs(m->m[i][0]) + fabs(m->m[i][1]) + fabs(m->m[i][2]));
+    return s;
+}
+
+/* ---- exact spheres and disks (pbrt-v4 Sphere / Disk, intersected in object space) ---- */
+
+/* Nearest object-space hit in (tnear, tfar) of the ray o + t d given in geometry space. */
+static bool quadric_hit(const Geom *g, const double o_geom[3], const double d_geom[3], double tnear, double tfar,
+                        double *t_out)
+{
+    double o[3], d[3];
+    apply_point_d(&g->object_from_geom, o_geom, o);
+    apply_vector_d(&g->object_from_geom, d_geom, d);
+    if (g->kind == GEOM_DISK) {
+        if (d[2] == 0.0) return false;
+        double t = (g->height - o[2]) / d[2];
+        if (!(t > tnear && t < tfar)) return false;
+        double x = o[0] + t * d[0], y = o[1] + t * d[1];
+        double r2 = x * x + y * y;
+        if (r2 > g->radius * g->radius || r2 < g->inner_radius * g->inner_radius) return false;
+        if (g->phimax_rad < 2.0 * M_PI) {
+            double phi = atan2(y, x);
+            if (phi < 0.0) phi += 2.0 * M_PI;
+            if (phi > g->phimax_rad) return false;
+        }
+        *t_out = t;
+        return true;
+    }
+    /* Sphere: a t^2 + b t + c = 0 with the discriminant computed from the distance of the
+     * centre to the line (pbrt-v4 section 6.8.1), which stays accurate for distant spheres. */
+    double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (!(a > 0.0)) return false;
+    double b = 2.0 * (d[0] * o[0] + d[1] * o[1] + d[2] * o[2]);
+    double c = o[0] * o[0] + o[1] * o[1] + o[2] * o[2] - g->radius * g->radius;
+    double f = b / (2.0 * a);
+    double v[3] = {o[0] - f * d[0], o[1] - f * d[1], o[2] - f * d[2]};
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    double disc = 4.0 * a * (g->radius + len) * (g->radius - len);
+    if (disc < 0.0) return false;
+    double root = sqrt(disc);
+    double q = b < 0.0 ? -0.5 * (b - root) : -0.5 * (b + root);
+    double t0 = q / a, t1 = (q != 0.0) ? c / q : t0;
+    if (t0 > t1) {
+        double tmp = t0;
+        t0 = t1, t1 = tmp;
+    }
+    double cand[2] = {t0, t1};
+    for (int k = 0; k < 2; ++k) {
+        double t = cand[k];
+        if (!(t > tnear && t < tfar)) continue;
+        double p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
+        bool partial_z = g->zmin > -g->radius || g->zmax < g->radius;
+        if (partial_z && (p[2] < g->zmin || p[2] > g->zmax)) continue;
+        if (g->phimax_rad < 2.0 * M_PI) {
+            double phi = atan2(p[1], p[0]);
+            if (phi < 0.0) phi += 2.0 * M_PI;
+            if (phi > g->phimax_rad) continue;
+        }
+        *t_out = t;
+        return true;
+    }
+    return false;
+}
+
+static void quadric_object_bounds(const Geom *g, double lo[3], double hi[3])
+{
+    if (g->kind == GEOM_DISK) {
+        lo[0] = lo[1] = -g->radius, hi[0] = hi[1] = g->radius;
+        lo[2] = hi[2] = g->height;
+    } else {
+        lo[0] = lo[1] = -g->radius, hi[0] = hi[1] = g->radius;
+        lo[2] = g->zmin, hi[2] = g->zmax;
+    }
+}
+
+static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
+{
+    const Geom *g = args->geometryUserPtr;
+    double lo[3], hi[3], bmin[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, bmax[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    quadric_object_bounds(g, lo, hi);
+    for (int c = 0; c < 8; ++c) {
+        double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]}, q[3];
+        apply_point_d(&g->geom_from_object, p, q);
+        for (int i = 0; i < 3; ++i) bmin[i] = fmin(bmin[i], q[i]), bmax[i] = fmax(bmax[i], q[i]);
+    }
+    /* pad by a relative epsilon so float rounding of the box never clips the surface */
+    double pad = 1e-6 * fmax(fmax(fabs(bmin[0]), fabs(bmax[0])), fmax(fmax(fabs(bmin[1]), fabs(bmax[1])),
+                                                                    fmax(fabs(bmin[2]), fabs(bmax[2])))) + 1e-30;
+    args->bounds_o->lower_x = (float)(bmin[0] - pad), args->bounds_o->upper_x = (float)(bmax[0] + pad);
+    args->bounds_o->lower_y = (float)(bmin[1] - pad), args->bounds_o->upper_y = (float)(bmax[1] + pad);
+    args->bounds_o->lower_z = (float)(bmin[2] - pad), args->bounds_o->upper_z = (float)(bmax[2] + pad);
+}
+
+static void quadric_intersect_cb(const struct RTCIntersectFunctionNArguments *args)
+{
+    if (args->N != 1 || !args->valid[0]) return; /* only single rays are traced */
+    struct RTCRayHit *rh = (struct RTCRayHit *)args->rayhit;
+    const Geom *g = args->geometryUserPtr;
+    double o[3] = {rh->ray.org_x, rh->ray.org_y, rh->ray.org_z}, d[3] = {rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z};
+    double t;
+    if (!quadric_hit(g, o, d, rh->ray.tnear, rh->ray.tfar, &t)) return;
+    rh->ray.tfar = (float)t;
+    rh->hit.u = rh->hit.v = 0.0f;
+    rh->hit.Ng_x = 0.0f;
+    rh->hit.Ng_y = 0.0f;
+    rh->hit.Ng_z = 1.0f;
+    rh->hit.primID = args->primID;
+    rh->hit.geomID = args->geomID;
+    rh->hit.instID[0] = args->context->instID[0];
+}
+
+static void quadric_occluded_cb(const struct RTCOccludedFunctionNArguments *args)
+{
+    if (args->N != 1 || !args->valid[0]) return;
+    struct RTCRay *ray = (struct RTCRay *)args->ray;
+    const Geom *g = args->geometryUserPtr;
+    double o[3] = {ray->org_x, ray->org_y, ray->org_z}, d[3] = {ray->dir_x, ray->dir_y, ray->dir_z};
+    double t;
+    if (quadric_hit(g, o, d, ray->tnear, ray->tfar, &t)) ray->tfar = -INFINITY;
+}
+
+/* ---- building ---- */
+
+static Geom *layer_add(Layer *l)
+{
+    if (l->geom_count == l->geom_cap) {
+        int cap = l->geom_cap ? 2 * l->geom_cap : 8;
+        Geom *g = realloc(l->geoms, (size_t)cap * sizeof *g);
+        if (!g) return NULL;
+        l->geoms = g, l->geom_cap = cap;
+    }
+    Geom *g = &l->geoms[l->geom_count++];
+    memset(g, 0, sizeof *g);
+    g->shape = -1, g->material = -1, g->area_light = -1, g->light_first = -1, g->instance = -1, g->owner_instance = -1;
+    g->geom_from_object = g->object_from_geom = mat4_identity();
+    return g;
+}
+
+static void forward_mesh_warning(void *ctx, SrcLoc loc, const char *text)
+{
+    scene_warn((SceneDesc *)ctx, loc, "%s", text);
+}
+
+/* Fills a Geom from a shape placed by geom_from_object (object -> geometry space). */
+static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Mat4 *geom_from_object, Diag *err)
+{
+    ShapeDesc *s = &scene->shapes[shape_index];
+    g->shape = shape_index;
+    g->material = s->material;
+    g->flip_normal = s->reverse_orientation != mat4_swaps_handedness(geom_from_object);
+    g->geom_from_object = *geom_from_object;
+    if (!mat4_inverse(geom_from_object, &g->object_from_geom)) {
+        diag_set(err, WEDGE_EXIT_INPUT, s->loc, "shape transform is singular");
+        return false;
+    }
+    if (!strcmp(s->type, "sphere")) {
+        g->kind = GEOM_SPHERE;
+        g->radius = fabs(params_float(&s->params, "radius", 1.0f));
+        double zmin = params_float(&s->params, "zmin", (float)-g->radius);
+        double zmax = params_float(&s->params, "zmax", (float)g->radius);
+        g->zmin = fmax(-g->radius, fmin(zmin, zmax));
+        g->zmax = fmin(g->radius, fmax(zmin, zmax));
+        g->phimax_rad = fmin(360.0, fmax(0.0, params_float(&s->params, "phimax", 360.0f))) * M_PI / 180.0;
+        return true;
+    }
+    if (!strcmp(s->type, "disk")) {
+        g->kind = GEOM_DISK;
+        g->height = params_float(&s->params, "height", 0.0f);
+        g->radius = fabs(params_float(&s->params, "radius", 1.0f));
+        g->inner_radius = fabs(params_float(&s->params, "innerradius", 0.0f));
+        g->phimax_rad = fmin(360.0, fmax(0.0, params_float(&s->params, "phimax", 360.0f))) * M_PI / 180.0;
+        return true;
+    }
+    TriMesh mesh = {0};
+    if (!mesh_from_shape_warn(s, &mesh, forward_mesh_warning, scene, err)) return false;
+    g->kind = GEOM_TRIANGLES;
+    g->vertex_count = mesh.vertex_count;
+    g->triangle_count = mesh.triangle_count;
+    /* Embree reads vertices with 16-byte loads: pad the last one. */
+    float *p = realloc(mesh.p, (size_t)mesh.vertex_count * sizeof(vec3) + 16);
+    if (!p) {
+        mesh_free(&mesh);
+        diag_set(err, WEDGE_EXIT_RUNTIME, s->loc, "out of memory loading mesh");
+        return false;
+    }
+    bool identity = mat4_is_identity(geom_from_object);
+    Mat4 normal_xf = g->object_from_geom; /* normals use the inverse transpose */
+    for (int i = 0; i < mesh.vertex_count; ++i) {
+        vec3 *v = (vec3 *)p + i;
+        if (!identity) *v = mat4_apply_point(geom_from_object, *v);
+        if (mesh.n) {
+            vec3 n = identity ? mesh.n[i] : mat4_apply_normal(&normal_xf, mesh.n[i]);
+            n = v3_normalize(n);
+            mesh.n[i] = s->reverse_orientation ? v3_neg(n) : n;
+        }
+    }
+    g->p = p;
+    g->index = mesh.index;
+    g->n = mesh.n;
+    g->uv = mesh.uv;
+    return true;
+}
+
+static void geom_free(Geom *g)
+{
+    if (g->kind == GEOM_TRIANGLES) {
+        free((void *)g->p);
+        free((void *)g->index);
+        free(g->n);
+        free(g->uv);
+    }
+}
+
+/* Gram-Schmidt QR of the 3x3 part: A = Q U with Q a rotation and U upper triangular (what
+ * Embree's quaternion decomposition can represent: M = T R S, S upper triangular). */
+static void qr_decompose(const Mat4 *m, double q[3][3], double u[3][3])
+{
+    double a[3][3]; /* columns */
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) a[j][i] = m->m[i][j];
+    memset(u, 0, 9 * sizeof(double));
+    double e[3][3];
+    for (int j = 0; j < 3; ++j) {
+        double v[3] = {a[j][0], a[j][1], a[j][2]};
+        for (int k = 0; k < j; ++k) {
+            double r = e[k][0] * a[j][0] + e[k][1] * a[j][1] + e[k][2] * a[j][2];
+            u[k][j] = r;
+            for (int i = 0; i < 3; ++i) v[i] -= r * e[k][i];
+        }
+        double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        u[j][j] = len;
+        if (len > 0.0) {
+            for (int i = 0; i < 3; ++i) e[j][i] = v[i] / len;
+        } else { /* degenerate column: any unit vector orthogonal to the previous ones */
+            double t[3] = {j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0};
+            if (j == 2) {
+                t[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+                t[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+                t[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+            }
+            for (int i = 0; i < 3; ++i) e[j][i] = t[i];
+        }
+    }
+    /* A mirror ends up in U (negative last scale) so that Q stays a proper rotation. */
+    double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[1][0] * (e[0][1] * e[2][2] - e[0][2] * e[2][1]) +
+                 e[2][0] * (e[0][1] * e[1][2] - e[0][2] * e[1][1]);
+    if (det < 0.0) {
+        for (int i = 0; i < 3; ++i) e[2][i] = -e[2][i];
+        for (int k = 2; k < 3; ++k) u[2][k] = -u[2][k];
+    }
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) q[i][j] = e[j][i];
+}
+
+static Quat quat_from_rotation(double r[3][3])
+{
+    Quat q;
+    double trace = r[0][0] + r[1][1] + r[2][2];
+    if (trace > 0.0) {
+        double s = sqrt(trace + 1.0) * 2.0;
+        q.w = 0.25 * s;
+        q.x = (r[2][1] - r[1][2]) / s;
+        q.y = (r[0][2] - r[2][0]) / s;
+        q.z = (r[1][0] - r[0][1]) / s;
+    } else if (r[0][0] > r[1][1] && r[0][0] > r[2][2]) {
+        double s = sqrt(1.0 + r[0][0] - r[1][1] - r[2][2]) * 2.0;
+        q.w = (r[2][1] - r[1][2]) / s;
+        q.x = 0.25 * s;
+        q.y = (r[0][1] + r[1][0]) / s;
+        q.z = (r[0][2] + r[2][0]) / s;
+    } else if (r[1][1] > r[2][2]) {
+        double s = sqrt(1.0 + r[1][1] - r[0][0] - r[2][2]) * 2.0;
+        q.w = (r[0][2] - r[2][0]) / s;
+        q.x = (r[0][1] + r[1][0]) / s;
+        q.y = 0.25 * s;
+        q.z = (r[1][2] + r[2][1]) / s;
+    } else {
+        double s = sqrt(1.0 + r[2][2] - r[0][0] - r[1][1]) * 2.0;
+        q.w = (r[1][0] - r[0][1]) / s;
+        q.x = (r[0][2] + r[2][0]) / s;
+        q.y = (r[1][2] + r[2][1]) / s;
+        q.z = 0.25 * s;
+    }
+    return q;
+}
+
+static bool polar_scale_is_diagonal(const Mat4 *s)
+{
+    double diag = fmax(fabs(s->m[0][0]), fmax(fabs(s->m[1][1]), fabs(s->m[2][2])));
+    double off = fmax(fabs(s->m[0][1]), fmax(fabs(s->m[0][2]), fabs(s->m[1][2])));
+    return off <= 1e-9 * diag;
+}
+
+/* Motion of an instance: pbrt-v4 AnimatedTransform poses handed to Embree as quaternion
+ * decompositions. With a diagonal polar scale at both ends, two time steps reproduce pbrt's
+ * interpolation (T lerp, R slerp, S lerp) exactly; otherwise 17 exact poses bound the error
+ * of Embree's per-segment interpolation. */
+static void set_instance_motion(RTCGeometry g, const AnimXform *a)
+{
+    int steps = (polar_scale_is_diagonal(&a->s[0]) && polar_scale_is_diagonal(&a->s[1])) ? 2 : 17;
+    rtcSetGeometryTimeStepCount(g, (unsigned)steps);
+    Quat prev = {0, 0, 0, 1};
+    for (int k = 0; k < steps; ++k) {
+        Mat4 m = k == 0 ? a->start : (k == steps - 1 ? a->end : anim_xform_at(a, (double)k / (steps - 1)));
+        double q[3][3], u[3][3];
+        qr_decompose(&m, q, u);
+        Quat r = quat_from_rotation(q);
+        if (k > 0 && r.x * prev.x + r.y * prev.y + r.z * prev.z + r.w * prev.w < 0.0)
+            r.x = -r.x, r.y = -r.y, r.z = -r.z, r.w = -r.w; /* shorter arc */
+        prev = r;
+        struct RTCQuaternionDecomposition qd;
+        rtcInitQuaternionDecomposition(&qd);
+        rtcQuaternionDecompositionSetScale(&qd, (float)u[0][0], (float)u[1][1], (float)u[2][2]);
+        rtcQuaternionDecompositionSetSkew(&qd, (float)u[0][1], (float)u[0][2], (float)u[1][2]);
+        rtcQuaternionDecompositionSetQuaternion(&qd, (float)r.w, (float)r.x, (float)r.y, (float)r.z);
+        rtcQuaternionDecompositionSetTranslation(&qd, (float)m.m[0][3], (float)m.m[1][3], (float)m.m[2][3]);
+        rtcSetGeometryTransformQuaternion(g, (unsigned)k, &qd);
+    }
+}
+
+static void set_instance_static(RTCGeometry g, const Mat4 *m)
+{
+    float xf[12];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) xf[i * 4 + j] = (float)m->m[i][j];
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
+}
+
+static Instance *add_instance(Tracer *tr, int *cap)
+{
+    if (tr->instance_count == *cap) {
+        int c = *cap ? 2 * *cap : 8;
+        Instance *in = realloc(tr->instances, (size_t)c * sizeof *in);
+        if (!in) return NULL;
+        tr->instances = in, *cap = c;
+    }
+    Instance *in = &tr->instances[tr->instance_count++];
+    memset(in, 0, sizeof *in);
+    return in;
+}
+
+static Layer *add_layer(Tracer *tr, int *cap)
+{
+    if (tr->layer_count == *cap) {
+        int c = *cap ? 2 * *cap : 8;
+        Layer *l = realloc(tr->layers, (size_t)c * sizeof *l);
+        if (!l) return NULL;
+        tr->layers = l, *cap = c;
+    }
+    Layer *l = &tr->layers[tr->layer_count++];
+    memset(l, 0, sizeof *l);
+    return l;
+}
+
+/* Creates the Embree geometries of a layer (after its Geom array is final, since Embree
+ * keeps pointers to the Geoms) and commits its scene. */
+static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
+{
+    l->scene = rtcNewScene(tr->device);
+    rtcSetSceneFlags(l->scene, RTC_SCENE_FLAG_ROBUST);
+    for (int i = 0; i < l->geom_count; ++i) {
+        Geom *g = &l->geoms[i];
+        RTCGeometry eg = NULL;
+        switch (g->kind) {
+        case GEOM_TRIANGLES:
+            eg = rtcNewGeometry(tr->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            rtcSetSharedGeometryBuffer(eg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, g->p, 0, sizeof(vec3),
+                                       (size_t)g->vertex_count);
+            rtcSetSharedGeometryBuffer(eg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, g->index, 0, 3 * sizeof(uint32_t),
+                                       (size_t)g->triangle_count);
+            break;
+        case GEOM_SPHERE:
+        case GEOM_DISK:
+            eg = rtcNewGeometry(tr->device, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(eg, 1);
+            rtcSetGeometryUserData(eg, g);
+            rtcSetGeometryBoundsFunction(eg, quadric_bounds_cb, g);
+            rtcSetGeometryIntersectFunction(eg, quadric_intersect_cb);
+            rtcSetGeometryOccludedFunction(eg, quadric_occluded_cb);
+            break;
+        case GEOM_INSTANCE: {
+            Instance *in = &tr->instances[g->instance];
+            eg = rtcNewGeometry(tr->device, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(eg, tr->layers[in->layer].scene);
+            in->geometry = eg;
+            break;
+        }
+        }
+        if (!eg) break;
+        if (g->kind == GEOM_INSTANCE) {
+            Instance *in = &tr->instances[g->instance];
+            if (in->moving)
+                set_instance_motion(eg, &in->motion);
+            else
+                set_instance_static(eg, &in->world_from_inst);
+        }
+        rtcCommitGeometry(eg);
+        rtcAttachGeometryByID(l->scene, eg, (unsigned)i);
+        if (g->kind != GEOM_INSTANCE) rtcReleaseGeometry(eg); /* instances: released in tracer_free */
+    }
+    rtcCommitScene(l->scene);
+    if (slot->message[0] || rtcGetDeviceError(tr->device) != RTC_ERROR_NONE) {
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "building the Embree scene failed: %s",
+                 slot->message[0] ? slot->message : "unknown error");
+        return false;
+    }
+    return true;
+}
+
+bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
+{
+    *tr = (Tracer){0};
+    double t0 = seconds_now();
+    ErrorSlot *slot = NULL;
+    slot = calloc(1, sizeof *slot); /* filled by Embree's error callback */
+    if (!slot) goto oom;
+    char config[64];
+    snprintf(config, sizeof config, "threads=%d", threads > 0 ? threads : 0);
+    tr->device = rtcNewDevice(threads > 0 ? config : NULL);
+    if (!tr->device) {
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot create the Embree device (error %d)",
+                 (int)rtcGetDeviceError(NULL));
+        return false;
+    }
+    rtcSetDeviceErrorFunction(tr->device, on_embree_error, slot);
+    rtcSetDeviceMemoryMonitorFunction(tr->device, on_embree_memory, tr);
+
+    const CameraDesc *cam = &scene->camera;
+    bool shutter_open = cam->shutter_open < cam->shutter_close;
+    /* With a closed shutter, moving things are frozen at the shutter time, expressed as
+     * the fraction between the two transform times (TransformTimes, default 0 1). */
+    double xf_span = scene->transform_end_time - scene->transform_start_time;
+    double frozen_u = xf_span > 0.0 ? (cam->shutter_open - scene->transform_start_time) / xf_span : 0.0;
+    frozen_u = fmin(1.0, fmax(0.0, frozen_u));
+    int layer_cap = 0, instance_cap = 0;
+    /* layer 0: top level; layers 1..object_count: ObjectBegin prototypes */
+    for (int i = 0; i <= scene->object_count; ++i)
+        if (!add_layer(tr, &layer_cap)) goto oom;
+
+    bool warned_instanced_light = false, warned_interface = false;
+    for (int si = 0; si < scene->shape_count; ++si) {
+        ShapeDesc *s = &scene->shapes[si];
+        if (s->material >= 0 && s->material < scene->material_count && scene->materials[s->material].type &&
+            !strcmp(scene->materials[s->material].type, "interface")) {
+            /* pbrt-v4: an "interface" shape only bounds a participating medium and is
+             * invisible to rays; media are not modelled, so the shape is left out. */
+            if (!warned_interface)
+                scene_warn(scene, s->loc, "shapes with material \"interface\" only bound media, which are not supported; "
+                                          "they are left out");
+            warned_interface = true;
+            continue;
+        }
+        bool moving = xform_pair_animated(&s->world_from_object) && shutter_open;
+        Mat4 pose = s->world_from_object.m[0];
+        if (xform_pair_animated(&s->world_from_object) && !shutter_open) {
+            AnimXform a;
+            anim_xform_init(&a, &s->world_from_object.m[0], &s->world_from_object.m[1]);
+            pose = anim_xform_at(&a, frozen_u);
+        }
+        if (s->object >= 0) {
+            /* Inside ObjectBegin: transforms are instance-from-object, taken at shutter open. */
+            Layer *l = &tr->layers[1 + s->object];
+            Geom *g = layer_add(l);
+            if (!g) goto oom;
+            if (!geom_from_shape(g, scene, si, &s->world_from_object.m[0], err)) goto fail;
+            if (s->area_light >= 0 && !warned_instanced_light) {
+                scene_warn(scene, s->loc, "area lights inside object instances are not supported; the shape does not emit");
+                warned_instanced_light = true;
+            }
+            continue;
+        }
+        if (!moving) {
+            Geom *g = layer_add(&tr->layers[0]);
+            if (!g) goto oom;
+            if (!geom_from_shape(g, scene, si, &pose, err)) goto fail;
+            g->area_light = s->area_light;
+            continue;
+        }
+        /* A moving shape: its own layer in object space, instanced with motion. */
+        Layer *l = add_layer(tr, &layer_cap);
+        if (!l) goto oom;
+        int layer_index = tr->layer_count - 1;
+        Geom *g = layer_add(l);
+        if (!g) goto oom;
+        Mat4 id = mat4_identity();
+        if (!geom_from_shape(g, scene, si, &id, err)) goto fail;
+        g->area_light = s->area_light;
+        g->flip_normal = s->reverse_orientation != mat4_swaps_handedness(&s->world_from_object.m[0]);
+        Instance *in = add_instance(tr, &instance_cap);
+        if (!in) goto oom;
+        in->layer = layer_index;
+        in->moving = true;
+        in->world_from_inst = s->world_from_object.m[0];
+        anim_xform_init(&in->motion, &s->world_from_object.m[0], &s->world_from_object.m[1]);
+        g->owner_instance = tr->instance_count - 1;
+        Geom *ig = layer_add(&tr->layers[0]);
+        if (!ig) goto oom;
+        ig->kind = GEOM_INSTANCE;
+        ig->instance = tr->instance_count - 1;
+        tr->has_motion = true;
+    }
+    for (int ii = 0; ii < scene->instance_count; ++ii) {
+        InstanceDesc *d = &scene->instances[ii];
+        if (d->object < 0 || d->object >= scene->object_count || tr->layers[1 + d->object].geom_count == 0) continue;
+        Instance *in = add_instance(tr, &instance_cap);
+        if (!in) goto oom;
+        in->layer = 1 + d->object;
+        in->moving = xform_pair_animated(&d->world_from_instance) && shutter_open;
+        in->world_from_inst = d->world_from_instance.m[0];
+        anim_xform_init(&in->motion, &d->world_from_instance.m[0], &d->world_from_instance.m[1]);
+        if (xform_pair_animated(&d->world_from_instance) && !shutter_open) {
+            AnimXform a;
+            anim_xform_init(&a, &d->world_from_instance.m[0], &d->world_from_instance.m[1]);
+            in->world_from_inst = anim_xform_at(&a, frozen_u);
+        }
+        Geom *ig = layer_add(&tr->layers[0]);
+        if (!ig) goto oom;
+        ig->kind = GEOM_INSTANCE;
+        ig->instance = tr->instance_count - 1;
+        tr->has_motion |= in->moving;
+    }
+    for (int i = 0; i < tr->instance_count; ++i) {
+        Instance *in = &tr->instances[i];
+        if (!mat4_inverse(&in->world_from_inst, &in->inst_from_world)) {
+            diag_set(err, WEDGE_EXIT_INPUT, (SrcLoc){0}, "object instance transform is singular");
+            goto fail;
+        }
+    }
+    for (int li = 0; li < tr->layer_count; ++li)
+        for (int gi = 0; gi < tr->layers[li].geom_count; ++gi)
+            if (tr->layers[li].geoms[gi].kind == GEOM_TRIANGLES) tr->triangle_count += tr->layers[li].geoms[gi].triangle_count;
+
+    /* Prototype layers first (instances need their committed scenes), the top level last. */
+    for (int li = 1; li < tr->layer_count; ++li)
+        if (!commit_layer(tr, &tr->layers[li], slot, err)) goto fail;
+    if (!commit_layer(tr, &tr->layers[0], slot, err)) goto fail;
+    {
+        struct RTCBounds b;
+        rtcGetSceneBounds(tr->layers[0].scene, &b);
+        tr->bounds_min[0] = b.lower_x, tr->bounds_min[1] = b.lower_y, tr->bounds_min[2] = b.lower_z;
+        tr->bounds_max[0] = b.upper_x, tr->bounds_max[1] = b.upper_y, tr->bounds_max[2] = b.upper_z;
+        if (tr->layers[0].geom_count == 0)
+            for (int i = 0; i < 3; ++i) tr->bounds_min[i] = tr->bounds_max[i] = 0.0f;
+    }
+    rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
+    free(slot);
+    tr->seconds_build = seconds_now() - t0;
+    return true;
+oom:
+    diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building the scene");
+fail:
+    if (tr->device) rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
+    free(slot);
+    tracer_free(tr);
+    return false;
+}
+
+void tracer_free(Tracer *tr)
+{
+    for (int li = 0; li < tr->layer_count; ++li) {
+        Layer *l = &tr->layers[li];
+        if (l->scene) rtcReleaseScene(l->scene);
+        for (int gi = 0; gi < l->geom_count; ++gi) geom_free(&l->geoms[gi]);
+        free(l->geoms);
+    }
+    for (int i = 0; i < tr->instance_count; ++i)
+        if (tr->instances[i].geometry) rtcReleaseGeometry(tr->instances[i].geometry);
+    free(tr->layers);
+    free(tr->instances);
+    if (tr->device) rtcReleaseDevice(tr->device);
+    *tr = (Tracer){0};
+}
+
+/* ---- queries ---- */
+
+Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01)
+{
+    const Instance *in = &tr->instances[instance];
+    if (!in->moving) return in->world_from_inst;
+    /* Ask Embree for its own interpolated pose so shading agrees with the traversal. */
+    float xf[12];
+    rtcGetGeometryTransform(in->geometry, time01, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
+    Mat4 m = mat4_identity();
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) m.m[i][j] = xf[i * 4 + j];
+    return m;
+}
+
+static void init_ray(struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01)
+{
+    r->org_x = o.x, r->org_y = o.y, r->org_z = o.z;
+    r->dir_x = d.x, r->dir_y = d.y, r->dir_z = d.z;
+    r->tnear = 0.0f;
+    r->tfar = tmax;
+    r->time = time01;
+    r->mask = 0xFFFFFFFFu;
+    r->id = 0;
+    r->flags = 0;
+}
+
+/* Hit point, normals and uv in geometry space. p_hint_geom is the ray's hit point there. */
+static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const double p_hint_geom[3], vec3 *p, vec3 *ng,
+                             vec3 *ns, vec2 *uv, float *mag)
+{
+    if (g->kind == GEOM_TRIANGLES) {
+        const uint32_t *ix = g->index + 3 * (size_t)prim;
+        const vec3 *P = (const vec3 *)g->p;
+        vec3 p0 = P[ix[0]], p1 = P[ix[1]], p2 = P[ix[2]];
+        float b0 = 1.0f - bu - bv;
+        /* barycentric reconstruction: lies on the triangle up to rounding, unlike o + t d */
+        *p = v3_add(v3_add(v3_scale(p0, b0), v3_scale(p1, bu)), v3_scale(p2, bv));
+        *mag = fmaxf(max_abs3(p0), fmaxf(max_abs3(p1), max_abs3(p2)));
+        vec3 n = v3_normalize(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
+        if (g->n) {
+            vec3 s = v3_add(v3_add(v3_scale(g->n[ix[0]], b0), v3_scale(g->n[ix[1]], bu)), v3_scale(g->n[ix[2]], bv));
+            s = v3_normalize(s);
+            if (v3_length2(s) == 0.0f) s = n;
+            if (v3_dot(n, s) < 0.0f) n = v3_neg(n); /* pbrt-v4: ng follows the shading normal */
+            *ns = s;
+        } else {
+            if (g->flip_normal) n = v3_neg(n);
+            *ns = n;
+        }
+        *ng = n;
+        if (g->uv) {
+            vec2 a = g->uv[ix[0]], b = g->uv[ix[1]], c = g->uv[ix[2]];
+            *uv = v2(b0 * a.x + bu * b.x + bv * c.x, b0 * a.y + bu * b.y + bv * c.y);
+        } else {
+            *uv = v2(bu + bv, bv); /* pbrt-v4 default (0,0) (1,0) (1,1) */
+        }
+        return;
+    }
+    double po[3];
+    apply_point_d(&g->object_from_geom, p_hint_geom, po);
+    double n_obj[3] = {0.0, 0.0, 1.0};
+    if (g->kind == GEOM_SPHERE) {
+        double len = sqrt(po[0] * po[0] + po[1] * po[1] + po[2] * po[2]);
+        if (len > 0.0)
+            for (int i = 0; i < 3; ++i) po[i] *= g->radius / len; /* reproject onto the surface */
+        for (int i = 0; i < 3; ++i) n_obj[i] = po[i];
+        double phi = atan2(po[1], po[0]);
+        if (phi < 0.0) phi += 2.0 * M_PI;
+        double r = g->radius > 0.0 ? g->radius : 1.0;
+        double theta = acos(fmax(-1.0, fmin(1.0, po[2] / r)));
+        double th_min = acos(fmax(-1.0, fmin(1.0, g->zmin / r))), th_max = acos(fmax(-1.0, fmin(1.0, g->zmax / r)));
+        double dv = th_max - th_min;
+        *uv = v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f, dv != 0.0 ? (float)((theta - th_min) / dv) : 0.0f);
+    } else {
+        po[2] = g->height;
+        double rh = sqrt(po[0] * po[0] + po[1] * po[1]);
+        double phi = atan2(po[1], po[0]);
+        if (phi < 0.0) phi += 2.0 * M_PI;
+        double dr = g->radius - g->inner_radius;
+        *uv = v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f, dr != 0.0 ? (float)((g->radius - rh) / dr) : 0.0f);
+    }
+    double pg[3];
+    apply_point_d(&g->geom_from_object, po, pg);
+    *p = v3((float)pg[0], (float)pg[1], (float)pg[2]);
+    vec3 n = v3_normalize(mat4_apply_normal(&g->object_from_geom, v3((float)n_obj[0], (float)n_obj[1], (float)n_obj[2])));
+    if (g->flip_normal) n = v3_neg(n);
+    *ng = *ns = n;
+    *mag = max_abs3(*p) + (float)(g->radius * max_stretch(&g->geom_from_object));
+}
+
+bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, SurfaceHit *hit)
+{
+    return tracer_intersect_ex(tr, o, d, tmax, time01, true, hit);
+}
+
+bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit rh;
+    init_ray(&rh.ray, o, d, tmax, time01);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+    const Geom *g;
+    int instance = -1, object_id;
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+        object_id = (int)rh.hit.instID[0];
+        instance = tr->layers[0].geoms[object_id].instance;
+        g = &tr->layers[tr->instances[instance].layer].geoms[rh.hit.geomID];
+    } else {
+        object_id = (int)rh.hit.geomID;
+        g = &tr->layers[0].geoms[object_id];
+    }
+    float t = rh.ray.tfar;
+    if (!shade_all && g->light_first < 0) {
+        /* the caller only needs emitters shaded: skip the vertex fetches */
+        memset(hit, 0, sizeof *hit);
+        hit->t = t;
+        hit->geom = g;
+        hit->prim = (int)rh.hit.primID;
+        hit->instance = instance;
+        hit->object_id = object_id;
+        hit->light = -1;
+        return true;
+    }
+    double pg[3] = {0.0, 0.0, 0.0};
+    if (g->kind != GEOM_TRIANGLES || instance >= 0)
+        for (int i = 0; i < 3; ++i) pg[i] = (double)v3_get(o, i) + (double)t * v3_get(d, i);
+    Mat4 wfi, ifw;
+    if (instance >= 0) {
+        double pw[3] = {pg[0], pg[1], pg[2]};
+        wfi = tracer_world_from_instance(tr, instance, time01);
+        if (tr->instances[instance].moving) {
+            if (!mat4_inverse(&wfi, &ifw)) ifw = tr->instances[instance].inst_from_world;
+        } else {
+            ifw = tr->instances[instance].inst_from_world;
+        }
+        apply_point_d(&ifw, pw, pg);
+    }
+    vec3 p, ng, ns;
+    vec2 uv;
+    float mag;
+    shade_geom_space(g, (int)rh.hit.primID, rh.hit.u, rh.hit.v, pg, &p, &ng, &ns, &uv, &mag);
+    float err = OFFSET_REL * mag;
+    if (instance >= 0) {
+        vec3 pw_f = mat4_apply_point(&wfi, p);
+        ng = v3_normalize(mat4_apply_normal(&ifw, ng));
+        ns = v3_normalize(mat4_apply_normal(&ifw, ns));
+        err = OFFSET_REL * (max_abs3(pw_f) + (float)max_stretch(&wfi) * mag);
+        p = pw_f;
+    }
+    if (v3_length2(ns) == 0.0f) ns = ng;
+    hit->t = t;
+    hit->p = p;
+    hit->ng = ng;
+    hit->ns = ns;
+    hit->uv = uv;
+    hit->err = err;
+    hit->geom = g;
+    hit->prim = (int)rh.hit.primID;
+    hit->instance = instance;
+    hit->object_id = object_id;
+    hit->light = g->light_first >= 0 ? g->light_first + (g->kind == GEOM_TRIANGLES ? hit->prim : 0) : -1;
+    return true;
+}
+
+bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay r;
+    init_ray(&r, o, d, tmax, time01);
+    rtcOccluded1(tr->layers[0].scene, &ctx, &r);
+    return r.tfar == -INFINITY;
+}
+
+vec3 surface_offset(const SurfaceHit *h, vec3 w)
+{
+    float s = v3_dot(h->ng, w) >= 0.0f ? h->err : -h->err;
+    return v3_madd(h->p, h->ng, s);
+}

@@ -1,0 +1,112 @@
+/* The Embree scene: every shape of a SceneDesc as Embree geometry, plus what shading needs
+ * to interpret a hit (which shape, its material and emitter, normals, uv).
+ *
+ * Layout: layer 0 is the top-level scene. Static shapes live there in world space
+ * (triangles pre-transformed; spheres/disks as exact user geometry with their object
+ * transform). A shape whose transform moves during the shutter becomes a one-shape layer
+ * instanced with Embree motion (quaternion decomposition per time step), so it moves
+ * rigidly as pbrt-v4's AnimatedTransform. Each ObjectBegin/End becomes a layer instanced by
+ * every ObjectInstance. Scenes without motion build no motion data. */
+#ifndef WEDGE_RENDER_TRACER_H
+#define WEDGE_RENDER_TRACER_H
+
+#include <embree3/rtcore.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/animated_xform.h"
+#include "core/diag.h"
+#include "core/vec.h"
+#include "scene/scene_desc.h"
+
+typedef enum { GEOM_TRIANGLES, GEOM_SPHERE, GEOM_DISK, GEOM_INSTANCE } GeomKind;
+
+/* One Embree geometry. "Geometry space" is world space for layer 0 and instance space for
+ * the other layers. */
+typedef struct {
+    GeomKind kind;
+    int shape;               /* index into SceneDesc.shapes (-1 for instances) */
+    int material;            /* SceneDesc material index, -1 = default */
+    int area_light;          /* SceneDesc area light index, -1 = none (always -1 inside ObjectBegin) */
+    int light_first;         /* first Light of this geometry (+ primID for triangles), -1 = none;
+                              * set by lights_build */
+    bool flip_normal;        /* pbrt-v4: reverse_orientation XOR transform swaps handedness */
+    /* triangles, positions in geometry space */
+    int vertex_count, triangle_count;
+    const float *p;          /* Embree vertex buffer, 3 floats per vertex */
+    const uint32_t *index;   /* Embree index buffer, 3 per triangle */
+    vec3 *n;                 /* shading normals in geometry space (NULL = none) */
+    vec2 *uv;                /* per-vertex uv (NULL = pbrt default (0,0) (1,0) (1,1)) */
+    /* spheres and disks: object-space quadric, placed by geom_from_object */
+    double radius, zmin, zmax, phimax_rad, height, inner_radius;
+    Mat4 geom_from_object, object_from_geom;
+    /* instances */
+    int instance;            /* index into Tracer.instances (GEOM_INSTANCE), else -1 */
+    int owner_instance;      /* for a moving shape's own layer: the instance that moves it */
+} Geom;
+
+typedef struct {
+    RTCScene scene;
+    Geom *geoms;
+    int geom_count, geom_cap;
+} Layer;
+
+typedef struct {
+    int layer;               /* the instanced layer */
+    bool moving;
+    AnimXform motion;        /* world-from-instance over the shutter (when moving) */
+    RTCGeometry geometry;    /* for rtcGetGeometryTransform at a ray's time */
+    Mat4 world_from_inst;    /* static instances (and shutter-open pose of moving ones) */
+    Mat4 inst_from_world;
+} Instance;
+
+typedef struct {
+    RTCDevice device;
+    Layer *layers;
+    int layer_count;
+    Instance *instances;
+    int instance_count;
+    bool has_motion;         /* some geometry moves: rays carry time */
+    float bounds_min[3], bounds_max[3]; /* world bounds (shutter open and close) */
+    double seconds_build;
+    long triangle_count;
+    long long embree_bytes, embree_bytes_peak; /* from Embree's memory monitor */
+} Tracer;
+
+/* Where a ray hit, in world space, ready for shading. */
+typedef struct {
+    float t;                 /* ray parameter (world units when the direction is unit) */
+    vec3 p;                  /* world position */
+    vec3 ng;                 /* unit geometric normal, pbrt-v4 orientation */
+    vec3 ns;                 /* unit shading normal, on ng's side */
+    vec2 uv;
+    float err;               /* offset along ng that keeps new rays off this surface */
+    const Geom *geom;
+    int prim;
+    int instance;            /* -1 when not instanced */
+    int object_id;           /* top-level geometry id: one per static shape / instance */
+    int light;               /* Light index when the surface emits, else -1 */
+} SurfaceHit;
+
+/* Builds the Embree scene. Errors: exit 2 for bad shapes (mesh loading), exit 3 for Embree
+ * failures. Area lights inside object instances are not supported (pbrt-v4 neither): a
+ * warning is added to the scene and they do not emit. */
+bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err);
+void tracer_free(Tracer *tr);
+
+/* Closest hit along o + t d, t in (0, tmax). Returns false on a miss. */
+bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, SurfaceHit *hit);
+/* As tracer_intersect; with shade_all false, a hit on a surface that does not emit fills
+ * only t, geom, prim, instance, object_id and light (= -1): for rays whose hit point is
+ * not shaded (the last ray of a path, occluder distances). */
+bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit);
+/* Any hit along o + t d, t in (0, tmax). */
+bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01);
+
+/* World-from-geometry transform of a layer geometry at a time (identity for layer 0). */
+Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01);
+
+/* A ray origin on the surface, pushed off it to the side of direction w. */
+vec3 surface_offset(const SurfaceHit *h, vec3 w);
+
+#endif

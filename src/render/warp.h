@@ -1,0 +1,63 @@
+/* Warps from the unit square to the domains the renderer samples (Shirley and Chiu 1997
+ * concentric disk; Malley's method for cosine hemispheres; uniform cones; triangles by the
+ * square-root parameterisation) and the MIS power heuristic (Veach 1997, eq. 9.13). */
+#ifndef WEDGE_RENDER_WARP_H
+#define WEDGE_RENDER_WARP_H
+
+#include <math.h>
+
+#include "core/vec.h"
+
+#ifndef WEDGE_PI
+#define WEDGE_PI 3.14159265358979323846f
+#endif
+
+/* Concentric map of [0,1)^2 onto the unit disk: preserves stratification and area ratios. */
+static inline vec2 warp_disk_concentric(vec2 u)
+{
+    float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
+    if (ox == 0.0f && oy == 0.0f) return v2(0.0f, 0.0f);
+    float r, theta;
+    if (fabsf(ox) > fabsf(oy)) {
+        r = ox;
+        theta = (WEDGE_PI / 4.0f) * (oy / ox);
+    } else {
+        r = oy;
+        theta = (WEDGE_PI / 2.0f) - (WEDGE_PI / 4.0f) * (ox / oy);
+    }
+    return v2(r * cosf(theta), r * sinf(theta));
+}
+
+/* Cosine-weighted direction about +z (Malley: project the disk up); pdf = cos(theta)/pi. */
+static inline vec3 warp_cosine_hemisphere(vec2 u)
+{
+    vec2 d = warp_disk_concentric(u);
+    float z = sqrtf(fmaxf(0.0f, 1.0f - d.x * d.x - d.y * d.y));
+    return v3(d.x, d.y, z);
+}
+
+/* Uniform direction on the unit sphere; pdf = 1/(4 pi). */
+static inline vec3 warp_uniform_sphere(vec2 u)
+{
+    float z = 1.0f - 2.0f * u.x;
+    float r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+    float phi = 2.0f * WEDGE_PI * u.y;
+    return v3(r * cosf(phi), r * sinf(phi), z);
+}
+
+/* Barycentrics (b0, b1) of a uniform point on a triangle (b2 = 1 - b0 - b1). */
+static inline vec2 warp_triangle(vec2 u)
+{
+    float su = sqrtf(u.x);
+    return v2(1.0f - su, u.y * su);
+}
+
+/* Power heuristic with beta = 2 for one sample from each of two strategies. */
+static inline float mis_power(float pdf_this, float pdf_other)
+{
+    float a = pdf_this * pdf_this, b = pdf_other * pdf_other;
+    if (!(a + b > 0.0f) || isinf(a)) return isinf(a) ? 1.0f : 0.0f;
+    return a / (a + b);
+}
+
+#endif

@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# wedge render command line (issue 3): exit codes 0/1/2/3, -o EXR and PNG, --res/--spp
+# override the scene, --report JSON keys, --aovs layers, the embedded default scene, and
+# Ctrl-C (SIGINT) writing the image of the samples taken so far with its real spp.
+set -u
+if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+fail=0
+check() { # check DESCRIPTION EXPECTED_RC ACTUAL_RC
+    if [ "$2" != "$3" ]; then echo "FAIL: $1: exit $3, expected $2"; fail=1; fi
+}
+
+cat > "$T/small.pbrt" <<'PBRT'
+LookAt 0 1 -4  0 0.5 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 64 ] "integer yresolution" [ 48 ] "string filename" [ "film_name.exr" ]
+Sampler "zsobol" "integer pixelsamples" [ 64 ]
+Integrator "path" "integer maxdepth" [ 2 ]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 5 5 5 ]
+  Shape "trianglemesh" "point3 P" [ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Shape "trianglemesh" "point3 P" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeBegin
+  Translate 0 0.5 0
+  Shape "sphere" "float radius" [ 0.5 ]
+AttributeEnd
+PBRT
+
+# usage errors: exit 1
+"$WEDGE" render --bogus >/dev/null 2>&1; check "unknown option" 1 $?
+"$WEDGE" render "$T/small.pbrt" --spp 0 >/dev/null 2>&1; check "--spp 0" 1 $?
+"$WEDGE" render "$T/small.pbrt" --res 10 >/dev/null 2>&1; check "--res without x" 1 $?
+"$WEDGE" render "$T/small.pbrt" --sampler halton >/dev/null 2>&1; check "--sampler halton" 1 $?
+"$WEDGE" render "$T/small.pbrt" --filter magic >/dev/null 2>&1; check "--filter magic" 1 $?
+"$WEDGE" render "$T/small.pbrt" -o >/dev/null 2>&1; check "-o without value" 1 $?
+"$WEDGE" render --help >/dev/null 2>&1; check "--help" 0 $?
+
+# bad input: exit 2 with a located error
+"$WEDGE" render "$T/missing.pbrt" -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "missing scene" 2 $?
+printf 'WorldBegin\nShape "sphere" "float radius" [ 1\n' > "$T/bad.pbrt"
+"$WEDGE" render "$T/bad.pbrt" -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "syntax error" 2 $?
+grep -q "bad.pbrt:.*error" "$T/err.txt" || { echo "FAIL: syntax error message lacks location: $(cat "$T/err.txt")"; fail=1; }
+
+# runtime failure: unwritable output folder, exit 3
+"$WEDGE" render "$T/small.pbrt" --spp 1 --res 8x8 -o "$T/no/such/dir/x.exr" >/dev/null 2>&1; check "unwritable output" 3 $?
+
+# a normal render: EXR, report keys, overrides
+"$WEDGE" render "$T/small.pbrt" --spp 2 --res 40x30 --seed 3 --threads 2 --aovs -o "$T/a.exr" --report "$T/a.json" --quiet
+check "render to EXR" 0 $?
+[ -s "$T/a.exr" ] || { echo "FAIL: no EXR written"; fail=1; }
+for key in width height spp_avg seconds_total seconds_trace seconds_filter rays_primary rays_shadow rays_indirect effects threads seed guarded_events; do
+    grep -q "\"$key\"" "$T/a.json" || { echo "FAIL: report lacks $key"; fail=1; }
+done
+grep -q '"width": 40,' "$T/a.json" || { echo "FAIL: --res width not applied"; fail=1; }
+grep -q '"height": 30,' "$T/a.json" || { echo "FAIL: --res height not applied"; fail=1; }
+grep -q '"spp_avg": 2,' "$T/a.json" || { echo "FAIL: --spp not applied"; fail=1; }
+grep -q '"rays_primary": 2400,' "$T/a.json" || { echo "FAIL: rays_primary != 40*30*2"; fail=1; }
+grep -q '"seed": 3,' "$T/a.json" || { echo "FAIL: seed not reported"; fail=1; }
+grep -q '"threads": 2,' "$T/a.json" || { echo "FAIL: threads not reported"; fail=1; }
+# the AOV layer names are in the EXR header
+for ch in R G B A albedo.R N.X Z direct.G indirect.B spp; do
+    grep -aq "$ch" "$T/a.exr" || { echo "FAIL: EXR lacks channel $ch"; fail=1; }
+done
+ls -a "$T" | grep -q 'tmp' && { echo "FAIL: a temporary file was left behind"; fail=1; }
+
+# identical seed and options: identical files' pixels (compare reports the difference)
+"$WEDGE" render "$T/small.pbrt" --spp 2 --res 40x30 --seed 3 --threads 1 -o "$T/b.exr" --quiet; check "render 1 thread" 0 $?
+"$WEDGE" render "$T/small.pbrt" --spp 2 --res 40x30 --seed 3 --threads 2 -o "$T/c.exr" --quiet; check "render 2 threads" 0 $?
+if "$WEDGE" compare "$T/b.exr" "$T/c.exr" >"$T/cmp.txt" 2>&1; then
+    grep -Eq '^MSE +0$' "$T/cmp.txt" || { echo "FAIL: 1 and 2 threads differ: $(cat "$T/cmp.txt")"; fail=1; }
+fi
+
+# PNG output; the default -o is the film's filename (in the current folder)
+"$WEDGE" render "$T/small.pbrt" --spp 1 --res 16x12 -o "$T/p.png" --quiet; check "render to PNG" 0 $?
+head -c 8 "$T/p.png" | grep -aq PNG || { echo "FAIL: not a PNG"; fail=1; }
+(cd "$T" && "$WEDGE" render small.pbrt --spp 1 --res 16x12 --quiet); check "default output" 0 $?
+[ -s "$T/film_name.exr" ] || { echo "FAIL: film filename not used as default output"; fail=1; }
+
+# the embedded default scene
+"$WEDGE" render --spp 1 --res 32x24 -o "$T/d.exr" --report "$T/d.json" --quiet; check "default scene" 0 $?
+grep -q '"soft_shadows": true, "defocus": true, "motion": true, "indirect": true' "$T/d.json" ||
+    { echo "FAIL: the default scene lacks an effect: $(grep effects "$T/d.json")"; fail=1; }
+
+# Ctrl-C: stop early, write the image with the real spp, exit 0
+"$WEDGE" render "$T/small.pbrt" --spp 100000 --res 64x48 --threads 2 -o "$T/i.exr" --report "$T/i.json" --quiet &
+pid=$!
+sleep 1
+kill -INT $pid
+wait $pid; check "interrupted render" 0 $?
+[ -s "$T/i.exr" ] || { echo "FAIL: interrupted render wrote no EXR"; fail=1; }
+grep -q '"interrupted": true' "$T/i.json" || { echo "FAIL: report does not say interrupted"; fail=1; }
+spp=$(sed -n 's/.*"spp_avg": \([0-9.e+-]*\),/\1/p' "$T/i.json")
+awk -v s="$spp" 'BEGIN { exit !(s > 0 && s < 100000) }' || { echo "FAIL: interrupted spp_avg $spp"; fail=1; }
+
+exit $fail

@@ -1,0 +1,83 @@
+/* Helpers for the renderer tests: render scene text into a Frame. */
+#ifndef WEDGE_TESTS_RENDER_TEST_UTIL_H
+#define WEDGE_TESTS_RENDER_TEST_UTIL_H
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/frame.h"
+#include "render/renderer.h"
+#include "scene/scene_desc.h"
+
+typedef struct {
+    SceneDesc scene;
+    Renderer *r;
+    Frame frame;
+    RenderStats stats;
+} TestRender;
+
+/* Parses text and renders it (1 pass). opt may be NULL. Returns false (message printed) on
+ * any failure. */
+static inline bool test_render(const char *text, const RenderOptions *opt, TestRender *t)
+{
+    memset(t, 0, sizeof *t);
+    Diag err = {0};
+    if (!scene_parse_string(text, strlen(text), "<test>", NULL, &t->scene, &err)) {
+        fprintf(stderr, "parse failed: %s\n", err.message);
+        return false;
+    }
+    scene_analyze_effects(&t->scene);
+    RenderOptions o = {0};
+    if (opt) o = *opt;
+    if (!renderer_create(&t->scene, &o, &t->r, &err)) {
+        fprintf(stderr, "renderer_create failed: %s\n", err.message);
+        scene_desc_free(&t->scene);
+        return false;
+    }
+    if (!frame_init(&t->frame, renderer_width(t->r), renderer_height(t->r))) return false;
+    render_pass(t->r, 0, NULL, renderer_spp(t->r), &t->frame, NULL);
+    t->stats = renderer_stats(t->r);
+    return true;
+}
+
+static inline void test_render_free(TestRender *t)
+{
+    frame_free(&t->frame);
+    renderer_destroy(t->r);
+    scene_desc_free(&t->scene);
+}
+
+/* Mean colour of pixel (x, y). */
+static inline void test_pixel(const TestRender *t, int x, int y, double rgb[3])
+{
+    size_t i = (size_t)y * (size_t)t->frame.width + (size_t)x;
+    for (int c = 0; c < 3; ++c) rgb[c] = t->frame.spp[i] > 0 ? t->frame.color[3 * i + c] / t->frame.spp[i] : 0.0;
+}
+
+/* True when every sum in the frame is finite. */
+static inline bool test_frame_finite(const Frame *f)
+{
+    size_t n = (size_t)f->width * (size_t)f->height;
+    const float *planes3[] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
+    for (size_t k = 0; k < sizeof planes3 / sizeof planes3[0]; ++k)
+        for (size_t i = 0; i < 3 * n; ++i)
+            if (!isfinite(planes3[k][i])) return false;
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(f->depth[i]) || !isfinite(f->hits[i]) || !isfinite(f->spp[i])) return false;
+    return true;
+}
+
+/* Mean of the colour over the whole image (average of the three channels). */
+static inline double test_mean(const TestRender *t)
+{
+    size_t n = (size_t)t->frame.width * (size_t)t->frame.height;
+    double s = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        if (t->frame.spp[i] > 0)
+            s += (t->frame.color[3 * i] + t->frame.color[3 * i + 1] + t->frame.color[3 * i + 2]) / (3.0 * t->frame.spp[i]);
+    return s / (double)n;
+}
+
+#endif

@@ -1,0 +1,140 @@
+/* Closed-form irradiance checks (issue 3): a Lambertian plane of reflectance rho seen by a
+ * single-pixel camera with a tiny field of view, lit by
+ *  - a uniform rectangular emitter of radiance L centred above the point at height h:
+ *    E = 2L [A/sqrt(1+A^2) atan(B/sqrt(1+A^2)) + B/sqrt(1+B^2) atan(A/sqrt(1+B^2))],
+ *    A, B = half sides / h (four times the corner form factor of a rectangle);
+ *  - a point light of intensity I at distance d and height h: E = I cos(theta)/d^2 = I h/d^3;
+ *  - a sphere light (radius r, centre at distance d straight above): E = pi L (r/d)^2;
+ *  - a disk light (radius R, height h, facing down): E = pi L R^2 / (h^2 + R^2);
+ *  - a spot light on its axis: as a point light; pointing away: 0;
+ *  - a distant light of radiance L arriving at angle theta: E = L cos(theta);
+ *  - a constant infinite light L over the whole upper hemisphere: E = pi L.
+ * The plane's radiance is rho E / pi. maxdepth 1: direct light only, so the light's back
+ * face or the plane cannot add interreflections. Each must match within 1%. */
+#include "check.h"
+#include "render_test_util.h"
+
+#define PI 3.14159265358979323846
+
+static const char *HEADER =
+    "LookAt 0 0.8 -3  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 0.02 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 1 ] \"integer yresolution\" [ 1 ]\n"
+    "Sampler \"independent\" \"integer pixelsamples\" [ %d ]\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+    "WorldBegin\n"
+    "AttributeBegin\n"
+    "  Material \"diffuse\" \"rgb reflectance\" [ %g %g %g ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "AttributeEnd\n";
+
+static double render_center(const char *lights, int spp, double rho)
+{
+    char text[4096];
+    int n = snprintf(text, sizeof text, HEADER, spp, rho, rho, rho);
+    snprintf(text + n, sizeof text - (size_t)n, "%s", lights);
+    TestRender t;
+    RenderOptions o = {0};
+    o.threads = 2;
+    o.seed = 7;
+    o.sampler_set = true; /* stratified jitter in every dimension */
+    o.sampler = SAMPLER_STRATIFIED;
+    if (!test_render(text, &o, &t)) return -1.0;
+    double rgb[3];
+    test_pixel(&t, 0, 0, rgb);
+    CHECK(test_frame_finite(&t.frame));
+    CHECK_NEAR(rgb[0], rgb[1], 1e-9 + 1e-6 * rgb[0]);
+    test_render_free(&t);
+    return rgb[0];
+}
+
+int main(void)
+{
+    const double rho = 0.5;
+    char lights[1024];
+
+    /* rectangle: half sides a = 0.6, b = 0.4 at h = 1, facing down (winding normal -y) */
+    {
+        double L = 3.0, a = 0.6, b = 0.4, h = 1.0, A = a / h, B = b / h;
+        double E = 2.0 * L * (A / sqrt(1 + A * A) * atan(B / sqrt(1 + A * A)) + B / sqrt(1 + B * B) * atan(A / sqrt(1 + B * B)));
+        snprintf(lights, sizeof lights,
+                 "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ %g %g %g ]\n"
+                 " Shape \"trianglemesh\" \"point3 P\" [ %g %g %g  %g %g %g  %g %g %g  %g %g %g ]"
+                 " \"integer indices\" [ 0 1 2 0 2 3 ]\nAttributeEnd\n",
+                 L, L, L, -a, h, -b, a, h, -b, a, h, b, -a, h, b);
+        double got = render_center(lights, 16384, rho);
+        double want = rho * E / PI;
+        fprintf(stderr, "rectangle: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
+    /* point light */
+    {
+        double I = 5.0, x = 0.3, h = 1.5, z = 0.2, d = sqrt(x * x + h * h + z * z);
+        snprintf(lights, sizeof lights, "LightSource \"point\" \"rgb I\" [ %g %g %g ] \"point3 from\" [ %g %g %g ]\n", I, I,
+                 I, x, h, z);
+        double got = render_center(lights, 64, rho);
+        double want = rho * (I * h / (d * d * d)) / PI;
+        fprintf(stderr, "point: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
+    /* sphere light straight above: cone sampling */
+    {
+        double L = 4.0, r = 0.5, d = 2.0;
+        snprintf(lights, sizeof lights,
+                 "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ %g %g %g ]\n Translate 0 %g 0\n"
+                 " Shape \"sphere\" \"float radius\" [ %g ]\nAttributeEnd\n",
+                 L, L, L, d, r);
+        double got = render_center(lights, 16384, rho);
+        double want = rho * (PI * L * (r / d) * (r / d)) / PI;
+        fprintf(stderr, "sphere: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
+    /* disk light facing down: Rotate 90 about x takes the disk's +z normal to -y */
+    {
+        double L = 2.0, R = 0.7, h = 1.2;
+        snprintf(lights, sizeof lights,
+                 "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ %g %g %g ]\n Translate 0 %g 0\n Rotate 90 1 0 0\n"
+                 " Shape \"disk\" \"float radius\" [ %g ]\nAttributeEnd\n",
+                 L, L, L, h, R);
+        double got = render_center(lights, 16384, rho);
+        double want = rho * (PI * L * R * R / (h * h + R * R)) / PI;
+        fprintf(stderr, "disk: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
+    /* spot light straight above, aimed at the point (on axis) and aimed away */
+    {
+        double I = 3.0, h = 1.6;
+        snprintf(lights, sizeof lights,
+                 "LightSource \"spot\" \"rgb I\" [ %g %g %g ] \"point3 from\" [ 0 %g 0 ] \"point3 to\" [ 0 0 0 ]"
+                 " \"float coneangle\" [ 20 ]\n", I, I, I, h);
+        double got = render_center(lights, 16, rho);
+        double want = rho * (I / (h * h)) / PI;
+        fprintf(stderr, "spot: got %.6f want %.6f\n", got, want);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+        snprintf(lights, sizeof lights,
+                 "LightSource \"spot\" \"rgb I\" [ %g %g %g ] \"point3 from\" [ 0 %g 0 ] \"point3 to\" [ 3 0 0 ]"
+                 " \"float coneangle\" [ 20 ]\n", I, I, I, h);
+        CHECK(render_center(lights, 16, rho) == 0.0);
+    }
+    /* distant light from direction (1, 2, 0.5) (from - to) */
+    {
+        double L = 2.0, dx = 1.0, dy = 2.0, dz = 0.5, cos_t = dy / sqrt(dx * dx + dy * dy + dz * dz);
+        snprintf(lights, sizeof lights,
+                 "LightSource \"distant\" \"rgb L\" [ %g %g %g ] \"point3 from\" [ %g %g %g ] \"point3 to\" [ 0 0 0 ]\n", L,
+                 L, L, dx, dy, dz);
+        double got = render_center(lights, 16, rho);
+        double want = rho * L * cos_t / PI;
+        fprintf(stderr, "distant: got %.6f want %.6f\n", got, want);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
+    /* constant environment: the point sees the whole upper hemisphere, E = pi L */
+    {
+        double L = 0.8;
+        snprintf(lights, sizeof lights, "LightSource \"infinite\" \"rgb L\" [ %g %g %g ]\n", L, L, L);
+        double got = render_center(lights, 16384, rho);
+        double want = rho * L;
+        fprintf(stderr, "infinite: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
+    CHECK_DONE();
+}
