@@ -1,13 +1,192 @@
-/* PLACEHOLDER: replaced by the work that implements 'wedge info'. */
+/* wedge info SCENE [--json]: what the parser understood of a scene (film, camera, counts,
+ * lights by type, effects, warnings), as text or as one JSON object. */
 #include <stdio.h>
+#include <string.h>
 
 #include "app/commands.h"
 #include "core/diag.h"
+#include "geometry/mesh.h"
+#include "recon/cl_runtime.h"
+#include "scene/scene_desc.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: wedge info SCENE [--json]\n"
+            "       wedge info --cl\n\n"
+            "Summarises a pbrt-v4 scene: film, camera, sampler, counts of shapes, triangles\n"
+            "(after loading meshes), lights by type, materials, the distribution effects found\n"
+            "(soft_shadows, defocus, motion, indirect) and the parser's warnings.\n\n"
+            "  --json   print one JSON object instead of text\n"
+            "  --cl     list the OpenCL platforms and devices\n");
+}
+
+/* Light counts by type; area lights are the emissive shapes outside object definitions. */
+typedef struct {
+    const char *type;
+    int count;
+} LightCount;
+
+static int count_lights(const SceneDesc *s, LightCount *out, int max)
+{
+    int n = 0;
+    int area = 0;
+    for (int i = 0; i < s->shape_count; ++i) area += s->shapes[i].area_light >= 0 && s->shapes[i].object < 0;
+    if (area) out[n++] = (LightCount){"area", area};
+    for (int i = 0; i < s->light_count; ++i) {
+        int k = 0;
+        while (k < n && strcmp(out[k].type, s->lights[i].type)) ++k;
+        if (k == n) {
+            if (n == max) continue;
+            out[n++] = (LightCount){s->lights[i].type, 0};
+        }
+        out[k].count++;
+    }
+    return n;
+}
+
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; ++s) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
+        else if (c == '\n') fputs("\\n", f);
+        else if (c == '\t') fputs("\\t", f);
+        else if (c < 0x20 || c >= 0x7f) fprintf(f, "\\u%04x", c);
+        else fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+static const char *effect_names[4] = {"soft_shadows", "defocus", "motion", "indirect"};
+
+static void effects_flags(const Effects *e, bool on[4])
+{
+    on[0] = e->soft_shadows;
+    on[1] = e->defocus;
+    on[2] = e->motion;
+    on[3] = e->indirect;
+}
+
+static void print_json(const SceneDesc *s, long triangles, FILE *f)
+{
+    bool on[4];
+    effects_flags(&s->effects, on);
+    fprintf(f, "{\"scene\": ");
+    json_string(f, s->path);
+    fprintf(f, ", \"effects\": [");
+    for (int i = 0, first = 1; i < 4; ++i)
+        if (on[i]) {
+            fprintf(f, "%s\"%s\"", first ? "" : ", ", effect_names[i]);
+            first = 0;
+        }
+    fprintf(f, "], \"width\": %d, \"height\": %d, \"spp\": %d, \"triangles\": %ld", s->film.xres, s->film.yres,
+            s->sampler.spp, triangles);
+    LightCount lc[64];
+    int nl = count_lights(s, lc, 64);
+    fprintf(f, ", \"lights\": {");
+    for (int i = 0; i < nl; ++i) {
+        fprintf(f, "%s", i ? ", " : "");
+        json_string(f, lc[i].type);
+        fprintf(f, ": %d", lc[i].count);
+    }
+    fprintf(f, "}, \"shapes\": %d, \"instances\": %d, \"materials\": %d, \"textures\": %d, \"max_depth\": %d",
+            s->shape_count, s->instance_count, s->material_count, s->texture_count, s->integrator.max_depth);
+    fprintf(f, ", \"camera\": {\"fov\": %g, \"lensradius\": %g, \"focaldistance\": %g, \"shutteropen\": %g, "
+               "\"shutterclose\": %g}",
+            (double)s->camera.fov_deg, (double)s->camera.lens_radius, (double)s->camera.focal_distance,
+            (double)s->camera.shutter_open, (double)s->camera.shutter_close);
+    fprintf(f, ", \"warnings\": [");
+    for (int i = 0; i < s->warning_count; ++i) {
+        fprintf(f, "%s", i ? ", " : "");
+        json_string(f, s->warnings[i]);
+    }
+    fprintf(f, "]}\n");
+}
+
+static void print_text(const SceneDesc *s, long triangles, FILE *f)
+{
+    fprintf(f, "scene       %s\n", s->path);
+    fprintf(f, "film        %s %dx%d -> %s\n", s->film.type, s->film.xres, s->film.yres, s->film.filename);
+    fprintf(f, "camera      %s fov %g lensradius %g focaldistance %g shutter [%g, %g]\n", s->camera.type,
+            (double)s->camera.fov_deg, (double)s->camera.lens_radius, (double)s->camera.focal_distance,
+            (double)s->camera.shutter_open, (double)s->camera.shutter_close);
+    fprintf(f, "sampler     %s, %d spp\n", s->sampler.type, s->sampler.spp);
+    fprintf(f, "integrator  %s, maxdepth %d\n", s->integrator.type, s->integrator.max_depth);
+    fprintf(f, "shapes      %d (%d object definitions, %d instances)\n", s->shape_count, s->object_count,
+            s->instance_count);
+    fprintf(f, "triangles   %ld\n", triangles);
+    LightCount lc[64];
+    int nl = count_lights(s, lc, 64);
+    fprintf(f, "lights     ");
+    if (!nl) fprintf(f, " none");
+    for (int i = 0; i < nl; ++i) fprintf(f, " %s %d", lc[i].type, lc[i].count);
+    fprintf(f, "\nmaterials   %d, textures %d\n", s->material_count, s->texture_count);
+    bool on[4];
+    effects_flags(&s->effects, on);
+    fprintf(f, "effects    ");
+    int any = 0;
+    for (int i = 0; i < 4; ++i)
+        if (on[i]) {
+            fprintf(f, " %s", effect_names[i]);
+            any = 1;
+        }
+    fprintf(f, "%s\n", any ? "" : " none");
+    fprintf(f, "warnings    %d\n", s->warning_count);
+    for (int i = 0; i < s->warning_count; ++i) fprintf(f, "  %s\n", s->warnings[i]);
+}
 
 int cmd_info(int argc, char **argv)
 {
-    (void)argc;
-    (void)argv;
-    fprintf(stderr, "wedge info: not implemented yet\n");
-    return WEDGE_EXIT_RUNTIME;
+    const char *path = NULL;
+    bool json = false, cl = false;
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--json")) json = true;
+        else if (!strcmp(argv[i], "--cl")) cl = true;
+        else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            usage(stdout);
+            return WEDGE_EXIT_OK;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            fprintf(stderr, "wedge info: unknown option '%s'\n", argv[i]);
+            usage(stderr);
+            return WEDGE_EXIT_USAGE;
+        } else if (path) {
+            fprintf(stderr, "wedge info: more than one scene given\n");
+            usage(stderr);
+            return WEDGE_EXIT_USAGE;
+        } else
+            path = argv[i];
+    }
+
+    /* ---- wedge info --cl: owned by the OpenCL engineer (recon module) ---- */
+    if (cl) return recon_print_devices(stdout) ? WEDGE_EXIT_OK : WEDGE_EXIT_RUNTIME;
+    /* ---- end of the --cl part ---- */
+
+    if (!path) {
+        usage(stderr);
+        return WEDGE_EXIT_USAGE;
+    }
+    SceneDesc scene;
+    Diag err;
+    if (!scene_parse_file(path, &scene, &err)) {
+        fprintf(stderr, "%s\n", err.message);
+        return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
+    }
+    long triangles = 0;
+    for (int i = 0; i < scene.shape_count; ++i) {
+        const char *t = scene.shapes[i].type;
+        if (!strcmp(t, "sphere") || !strcmp(t, "disk")) continue;
+        long n = mesh_triangle_count(&scene.shapes[i], &err);
+        if (n < 0) {
+            fprintf(stderr, "%s\n", err.message);
+            scene_desc_free(&scene);
+            return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
+        }
+        triangles += n;
+    }
+    if (json) print_json(&scene, triangles, stdout);
+    else print_text(&scene, triangles, stdout);
+    scene_desc_free(&scene);
+    return WEDGE_EXIT_OK;
 }

@@ -33,7 +33,7 @@ typedef struct {
     ParamType type;
     const char *name;
     int count;             /* number of scalar values (floats, ints, strings or bools) */
-    const float *floats;   /* PARAM_FLOAT/POINT*/VECTOR*/NORMAL3/RGB/SPECTRUM(numeric)/BLACKBODY */
+    const float *floats;   /* PARAM_FLOAT, POINT2/3, VECTOR2/3, NORMAL3, RGB, SPECTRUM (numeric), BLACKBODY */
     const int32_t *ints;   /* PARAM_INTEGER */
     const char *const *strings; /* PARAM_STRING/TEXTURE/SPECTRUM(named) */
     const bool *bools;     /* PARAM_BOOL */
@@ -61,6 +61,13 @@ const int32_t *params_ints(const ParamSet *ps, const char *name, int *count);
 bool params_rgb(const ParamSet *ps, const char *name, float rgb[3]);
 /* The texture name of a "texture NAME" parameter, or NULL. */
 const char *params_texture(const ParamSet *ps, const char *name);
+/* A light's emission ("L", "I") as rgb with pbrt-v4's photometric normalisation: rgb values
+ * are returned as given; spectrum and blackbody emissions are divided by their luminance
+ * (pbrt-v4 divides the light's scale by SpectrumToPhotometric), so that only "scale" /
+ * "power" set their brightness. Returns false when absent. */
+bool params_illuminant_rgb(const ParamSet *ps, const char *name, float rgb[3]);
+/* Number of parameters no getter has asked for yet. */
+int params_count_unused(const ParamSet *ps);
 
 /* ---- scene entities ---- */
 
@@ -170,6 +177,12 @@ typedef struct {
 } Effects;
 
 typedef struct {
+    const char *type;       /* pixel filter name ("gaussian" default); kept, renderer decides */
+    ParamSet params;
+    SrcLoc loc;
+} FilterDesc;
+
+typedef struct {
     Arena arena;
     const char *path;       /* the scene file ("<default>" for the embedded scene) */
     CameraDesc camera;
@@ -177,6 +190,9 @@ typedef struct {
     SamplerDesc sampler;
     IntegratorDesc integrator;
     const char *color_space;
+    FilterDesc filter;
+    ParamSet options;        /* every "Option" statement's parameter, in order */
+    float transform_start_time, transform_end_time; /* TransformTimes; default 0 and 1 */
 
     MaterialDesc *materials; int material_count;
     TextureDesc *textures;   int texture_count;
@@ -187,6 +203,10 @@ typedef struct {
     InstanceDesc *instances; int instance_count;
 
     const char **warnings;   int warning_count; /* full "PATH:LINE:COL: warning: ..." lines */
+    /* Every scene text file read (the main file and each Include/Import, as opened), in
+     * reading order, each once; data files (PLY, images) are not listed. Empty for
+     * scene_parse_string's own text. Used to key reference caches. */
+    const char **source_files; int source_file_count;
     Effects effects;         /* filled by scene_analyze_effects */
 } SceneDesc;
 

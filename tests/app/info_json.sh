@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# wedge info --json: the documented keys and values on small scenes whose answers are known
+# by construction, and on the pbrt-v4 killeroo scene when ../shared is present.
+set -euo pipefail
+command -v python3 >/dev/null || { echo "python3 not found: skipping"; exit 77; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# All four effects: area light on a quad (soft shadows), lens (defocus), moving sphere
+# (motion), maxdepth 5 (indirect); two point lights; 2 + 2 triangles; one unsupported shape.
+cat > "$tmp/all.pbrt" <<'SCENE'
+LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective" "float fov" 40 "float lensradius" 0.05 "float focaldistance" 5
+Film "rgb" "integer xresolution" 64 "integer yresolution" 48
+Sampler "zsobol" "integer pixelsamples" 8
+WorldBegin
+LightSource "point" "rgb I" [ 1 1 1 ]
+LightSource "point" "rgb I" [ 1 1 1 ]
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 2 2 2 ]
+  Shape "trianglemesh" "point3 P" [ 0 0 0 1 0 0 1 1 0 0 1 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Shape "trianglemesh" "point3 P" [ 0 0 1 1 0 1 1 1 1 0 1 1 ] "integer indices" [ 0 1 2 0 2 3 ]
+ActiveTransform EndTime
+Translate 0.1 0 0
+ActiveTransform All
+Shape "sphere"
+Shape "cylinder"
+SCENE
+"$WEDGE" info --json "$tmp/all.pbrt" > "$tmp/all.json"
+python3 - "$tmp/all.json" "$tmp/all.pbrt" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["effects"] == ["soft_shadows", "defocus", "motion", "indirect"], j["effects"]
+assert (j["width"], j["height"], j["spp"]) == (64, 48, 8), j
+assert j["triangles"] == 4, j["triangles"]
+assert j["lights"] == {"area": 1, "point": 2}, j["lights"]
+assert j["shapes"] == 3 and j["materials"] == 0, j
+want = sys.argv[2] + ":17:1: warning: unsupported shape \"cylinder\" ignored"
+assert j["warnings"] == [want], j["warnings"]
+PY
+
+# No effects at all: pinhole, static, maxdepth 1, point light only; pbrt-v4 defaults.
+printf 'Integrator "path" "integer maxdepth" 1\nWorldBegin\nLightSource "point"\n' > "$tmp/none.pbrt"
+"$WEDGE" info --json "$tmp/none.pbrt" > "$tmp/none.json"
+python3 - "$tmp/none.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["effects"] == [], j["effects"]
+assert (j["width"], j["height"], j["spp"], j["triangles"]) == (1280, 720, 16, 0), j
+assert j["lights"] == {"point": 1} and j["warnings"] == [], j
+PY
+
+# The human summary names the same things.
+"$WEDGE" info "$tmp/all.pbrt" > "$tmp/all.txt"
+grep -q '^effects     soft_shadows defocus motion indirect$' "$tmp/all.txt"
+grep -q '^triangles   4$' "$tmp/all.txt"
+grep -q '^lights      area 1 point 2$' "$tmp/all.txt"
+
+# A real pbrt-v4 scene: two killeroos, each 8316 control triangles after one Loop level
+# (4 x 8316 = 33264, README of the scene folder) plus two 2-triangle planes.
+killeroo="${WEDGE_SOURCE_DIR:-.}/../shared/pbrt-v4-scenes/killeroos/killeroo-moving.pbrt"
+if [ -f "$killeroo" ]; then
+    "$WEDGE" info --json "$killeroo" > "$tmp/k.json"
+    python3 - "$tmp/k.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["triangles"] == 2 * 4 * 8316 + 4, j["triangles"]
+assert j["effects"] == ["soft_shadows", "motion", "indirect"], j["effects"]
+assert (j["width"], j["height"], j["spp"]) == (1024, 1024, 512)
+assert j["lights"] == {"area": 1}
+PY
+else
+    echo "note: ../shared/pbrt-v4-scenes absent, killeroo check skipped"
+fi
+echo ok
