@@ -50,14 +50,32 @@ static bool check_mesh(SceneDesc *scene, ShapeDesc *s, int corners, Diag *err)
         }
         return FAIL(err, s->loc, "%s: missing \"integer indices\"", s->type);
     }
-    if (I->count % corners != 0)
-        return FAIL(err, I->loc, "%s: \"integer indices\" needs a multiple of %d values, got %d", s->type, corners,
-                    I->count);
+    long faces;
+    const Param *nv = corners == 0 ? params_find(&s->params, "nverts") : NULL;
+    if (nv) {
+        /* Polygons of varying size (wedge's Catmull-Clark loopsubdiv): nverts gives each face's size. */
+        long total = 0;
+        for (int i = 0; i < nv->count; ++i) {
+            if (nv->ints[i] < 3)
+                return FAIL(err, nv->loc, "%s: face %d has %d vertices in \"integer nverts\"; a face needs at least 3",
+                            s->type, i, (int)nv->ints[i]);
+            total += nv->ints[i];
+        }
+        if (total != I->count)
+            return FAIL(err, nv->loc, "%s: \"integer nverts\" adds up to %ld but \"integer indices\" has %d values",
+                        s->type, total, I->count);
+        faces = nv->count;
+    } else {
+        if (corners == 0) corners = 3;
+        if (I->count % corners != 0)
+            return FAIL(err, I->loc, "%s: \"integer indices\" needs a multiple of %d values, got %d", s->type,
+                        corners, I->count);
+        faces = I->count / corners;
+    }
     for (int i = 0; i < I->count; ++i)
         if (I->ints[i] < 0 || I->ints[i] >= nverts)
             return FAIL(err, I->loc, "%s: index %d (value %d of \"integer indices\") is out of range [0, %d)",
                         s->type, (int)I->ints[i], i + 1, nverts);
-    long faces = I->count / corners;
     const char *per_vertex[][2] = {{"N", "normal N"}, {"S", "vector3 S"}, {"uv", "point2 uv"}};
     for (int k = 0; k < 3; ++k) {
         const Param *q = params_find(&s->params, per_vertex[k][0]);
@@ -84,7 +102,7 @@ bool shape_validate(SceneDesc *scene, ShapeDesc *s, Diag *err)
         if (l && (l->ints[0] < 0 || l->ints[0] > LOOPSUBDIV_LEVELS_MAX))
             return FAIL(err, l->loc, "loopsubdiv: \"integer levels\" must be in [0, %d], got %d", LOOPSUBDIV_LEVELS_MAX,
                         (int)l->ints[0]);
-        return check_mesh(scene, s, 3, err);
+        return check_mesh(scene, s, 0, err); /* 0: triangles, or the sizes in "nverts" */
     }
     if (!strcmp(t, "sphere")) {
         const Param *r = params_find(&s->params, "radius");

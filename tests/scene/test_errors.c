@@ -93,6 +93,13 @@ int main(void)
            "t.pbrt:2:20: error: loopsubdiv: \"integer levels\" must be in [0, 10], got -1");
     expect("WorldBegin\nShape \"loopsubdiv\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 5]",
            "t.pbrt:2:51: error: loopsubdiv: index 5 (value 3 of \"integer indices\") is out of range [0, 3)");
+    /* Catmull-Clark faces of varying size: "nverts" must describe "indices" exactly. */
+    expect("WorldBegin\nShape \"loopsubdiv\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"integer indices\" [0 1 3 2] "
+           "\"integer nverts\" [3]",
+           "t.pbrt:2:85: error: loopsubdiv: \"integer nverts\" adds up to 3 but \"integer indices\" has 4 values");
+    expect("WorldBegin\nShape \"loopsubdiv\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"integer indices\" [0 1 3 2] "
+           "\"integer nverts\" [2 2]",
+           "t.pbrt:2:85: error: loopsubdiv: face 0 has 2 vertices in \"integer nverts\"; a face needs at least 3");
     expect("WorldBegin\nShape \"sphere\" \"float radius\" -2",
            "t.pbrt:2:16: error: sphere: \"float radius\" must not be negative, got -2");
     expect("WorldBegin\nShape \"disk\" \"float radius\" 1 \"float innerradius\" 2",
