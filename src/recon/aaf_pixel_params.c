@@ -1,0 +1,210 @@
+/* Per-pixel AAF parameter maps (see aaf_pixel_params.h). */
+#include "recon/aaf_pixel_params.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+
+/* Box averages of up to three per-pixel quantities over the pixels flagged valid, via summed
+ * area tables: O(1) per pixel whatever the radius. Double precision keeps the table exact
+ * enough for 4K images of world distances. */
+typedef struct {
+    int w, h;
+    double *sum[3]; /* (w+1) x (h+1) tables */
+    double *count;
+} BoxAverager;
+
+static bool box_init(BoxAverager *b, int w, int h, const bool *valid, const float *q0, const float *q1,
+                     const float *q2)
+{
+    const float *q[3] = {q0, q1, q2};
+    size_t n = (size_t)(w + 1) * (size_t)(h + 1);
+    b->w = w;
+    b->h = h;
+    b->count = calloc(n, sizeof(double));
+    for (int k = 0; k < 3; ++k) b->sum[k] = calloc(n, sizeof(double));
+    if (!b->count || !b->sum[0] || !b->sum[1] || !b->sum[2]) return false;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            size_t o = (size_t)(y + 1) * (size_t)(w + 1) + (size_t)(x + 1);
+            size_t up = o - (size_t)(w + 1), left = o - 1, diag = up - 1;
+            double c = valid[i] ? 1.0 : 0.0;
+            b->count[o] = c + b->count[up] + b->count[left] - b->count[diag];
+            for (int k = 0; k < 3; ++k) {
+                double v = (valid[i] && q[k]) ? (double)q[k][i] : 0.0;
+                b->sum[k][o] = v + b->sum[k][up] + b->sum[k][left] - b->sum[k][diag];
+            }
+        }
+    }
+    return true;
+}
+
+static void box_free(BoxAverager *b)
+{
+    free(b->count);
+    for (int k = 0; k < 3; ++k) free(b->sum[k]);
+}
+
+static double box_query(const BoxAverager *b, const double *t, int x0, int y0, int x1, int y1)
+{
+    size_t W = (size_t)(b->w + 1);
+    return t[(size_t)(y1 + 1) * W + (size_t)(x1 + 1)] - t[(size_t)y0 * W + (size_t)(x1 + 1)] -
+           t[(size_t)(y1 + 1) * W + (size_t)x0] + t[(size_t)y0 * W + (size_t)x0];
+}
+
+/* Averages over valid pixels in the (2r+1)^2 window around (x, y); false when there are none. */
+static bool box_average(const BoxAverager *b, int x, int y, int r, float out[3])
+{
+    int x0 = x - r < 0 ? 0 : x - r, y0 = y - r < 0 ? 0 : y - r;
+    int x1 = x + r >= b->w ? b->w - 1 : x + r, y1 = y + r >= b->h ? b->h - 1 : y + r;
+    double c = box_query(b, b->count, x0, y0, x1, y1);
+    if (c < 0.5) return false;
+    for (int k = 0; k < 3; ++k) out[k] = (float)(box_query(b, b->sum[k], x0, y0, x1, y1) / c);
+    return true;
+}
+
+static float at_or(const float *a, size_t i, float fallback) { return a ? a[i] : fallback; }
+static bool pixel_hit(const AafPixelStats *st, size_t i) { return st->hit ? st->hit[i] != 0 : true; }
+
+/* Width for a pixel with no occluder (reflector) within the borrow radius, in world units. */
+static float far_beta_world(const AafPixelStats *st, size_t i, const AafImageConfig *ic)
+{
+    float d = at_or(st->pixel_world, i, 0.0f);
+    float b = ic->far_beta_px * d;
+    return (b > 0.0f && isfinite(b)) ? b : 0.0f;
+}
+
+int aaf_shadow_params_image(const AafPixelStats *st, const AafShadowConfig *c, const AafImageConfig *ic,
+                            float *beta_world, int *spp)
+{
+    int w = st->width, h = st->height;
+    size_t n = (size_t)w * (size_t)h;
+    bool *occluded = calloc(n ? n : 1, sizeof(bool));
+    BoxAverager box = {0};
+    int filtered = 0;
+    if (!occluded) goto fail;
+    for (size_t i = 0; i < n; ++i)
+        occluded[i] = pixel_hit(st, i) && st->d2max_world && st->d2max_world[i] > 0.0f &&
+                      isfinite(st->d2max_world[i]) && isfinite(st->d1_world[i]);
+    if (!box_init(&box, w, h, occluded, st->d1_world, st->d2min_world, st->d2max_world)) goto fail;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            beta_world[i] = 0.0f;
+            spp[i] = ic->spp_min;
+            if (!pixel_hit(st, i)) continue;
+            float d1 = 0, d2min = 0, d2max = 0;
+            if (occluded[i]) {
+                d1 = st->d1_world[i];
+                d2min = st->d2min_world[i];
+                d2max = st->d2max_world[i];
+            } else {
+                float avg[3];
+                if (!box_average(&box, x, y, ic->borrow_radius_px, avg)) { /* unoccluded */
+                    beta_world[i] = far_beta_world(st, i, ic);
+                    if (beta_world[i] > 0.0f) ++filtered;
+                    continue;
+                }
+                d1 = avg[0];
+                d2min = avg[1];
+                d2max = avg[2];
+            }
+            float s1, s2;
+            aaf_shadow_slopes(d1, d2min, d2max, &s1, &s2); /* AAF-shadow eq. 4 */
+            float sigma = at_or(st->sigma_light_world, i, 0.0f);
+            float d = at_or(st->pixel_world, i, 0.0f);
+            beta_world[i] = aaf_shadow_beta_world(s2, sigma, d, c);                    /* eq. 13 */
+            spp[i] = aaf_clamp_spp(aaf_shadow_spp(s1, s2, sigma, d, c), ic->spp_min, ic->spp_cap); /* eq. 21 */
+            if (beta_world[i] > 0.0f) ++filtered;
+        }
+    }
+    box_free(&box);
+    free(occluded);
+    return filtered;
+fail:
+    box_free(&box);
+    free(occluded);
+    for (size_t i = 0; i < n; ++i) {
+        beta_world[i] = 0.0f; /* out of memory: fall back to unfiltered Monte Carlo */
+        spp[i] = ic->spp_min;
+    }
+    return 0;
+}
+
+int aaf_indirect_params_image(const AafPixelStats *st, const AafIndirectConfig *c, const AafImageConfig *ic,
+                              float scene_size_world, float *beta_world, int *spp)
+{
+    int w = st->width, h = st->height;
+    size_t n = (size_t)w * (size_t)h;
+    bool *reflected = calloc(n ? n : 1, sizeof(bool));
+    BoxAverager box = {0};
+    int filtered = 0;
+    if (!reflected) goto fail;
+    for (size_t i = 0; i < n; ++i)
+        reflected[i] = pixel_hit(st, i) && st->zmin_world && isfinite(st->zmin_world[i]) &&
+                       isfinite(st->zmax_world[i]) && st->zmax_world[i] >= st->zmin_world[i];
+    if (!box_init(&box, w, h, reflected, st->zmin_world, st->zmax_world, NULL)) goto fail;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            beta_world[i] = 0.0f;
+            spp[i] = ic->spp_min;
+            if (!pixel_hit(st, i)) continue;
+            float zmin, zmax;
+            if (reflected[i]) {
+                zmin = st->zmin_world[i];
+                zmax = st->zmax_world[i];
+            } else {
+                float avg[3];
+                if (!box_average(&box, x, y, ic->borrow_radius_px, avg)) { /* nothing near */
+                    beta_world[i] = far_beta_world(st, i, ic);
+                    if (beta_world[i] > 0.0f) ++filtered;
+                    continue;
+                }
+                zmin = avg[0];
+                zmax = avg[1];
+            }
+            /* AAF-GI Sec. 5: zmin at least 2% of the scene, or corners would not be filtered. */
+            zmin = aaf_indirect_clamp_zmin(zmin, scene_size_world, c->zmin_clamp_frac);
+            float m = at_or(st->blinn_phong_m, i, 0.0f);
+            float omega_h = m > 0.0f ? aaf_indirect_omega_h_glossy(m) : aaf_indirect_omega_h_diffuse();
+            float gamma = m > 0.0f ? aaf_indirect_gamma_glossy(m) : aaf_indirect_gamma_diffuse();
+            float d = at_or(st->pixel_world, i, 0.0f);
+            beta_world[i] = aaf_indirect_beta_world(zmin, omega_h, d, c); /* eqs. 15, 16 */
+            float cap = c->spp_cap_per_mu * c->mu;
+            if (ic->spp_cap > 0.0f && ic->spp_cap < cap) cap = ic->spp_cap;
+            spp[i] = aaf_clamp_spp(aaf_indirect_spp(zmin, zmax, omega_h, gamma, d, c), ic->spp_min, cap); /* eq. 21 */
+            if (beta_world[i] > 0.0f) ++filtered;
+        }
+    }
+    box_free(&box);
+    free(reflected);
+    return filtered;
+fail:
+    box_free(&box);
+    free(reflected);
+    for (size_t i = 0; i < n; ++i) {
+        beta_world[i] = 0.0f;
+        spp[i] = ic->spp_min;
+    }
+    return 0;
+}
+
+int aaf_defocus_params_image(const AafPixelStats *st, const AafDefocusConfig *c, const AafImageConfig *ic,
+                             float *beta_px, int *spp)
+{
+    size_t n = (size_t)st->width * (size_t)st->height;
+    int filtered = 0;
+    for (size_t i = 0; i < n; ++i) {
+        beta_px[i] = 0.0f;
+        spp[i] = ic->spp_min;
+        if (!st->coc_min_px || !st->coc_max_px) continue;
+        float smin = st->coc_min_px[i], smax = st->coc_max_px[i];
+        if (!(smin <= smax)) continue; /* no primary hit recorded: nothing to size a filter by */
+        beta_px[i] = aaf_defocus_beta_px(smin, smax, c);
+        spp[i] = aaf_clamp_spp(aaf_defocus_spp(smin, smax, c), ic->spp_min, ic->spp_cap);
+        if (beta_px[i] > 0.0f) ++filtered;
+    }
+    return filtered;
+}

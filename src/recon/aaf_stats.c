@@ -1,0 +1,404 @@
+/* Per-pixel AAF statistics from SampleRecords (see aaf_stats.h). */
+#include "recon/aaf_stats.h"
+
+#include <float.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam)
+{
+    memset(s, 0, sizeof *s);
+    s->width = width;
+    s->height = height;
+    s->cam = cam;
+    s->collect_rays = true;
+    size_t n = (size_t)width * (size_t)height;
+    if (n == 0) return false;
+    s->samples = calloc(n, sizeof(int));
+    s->hits = calloc(n, sizeof(int));
+    s->pos_sum = calloc(3 * n, sizeof(float));
+    s->nrm_sum = calloc(3 * n, sizeof(float));
+    s->depth_sum = calloc(n, sizeof(float));
+    s->object_id = malloc(n * sizeof(int));
+    s->shadow_rays = calloc(n, sizeof(int));
+    s->occluded_rays = calloc(n, sizeof(int));
+    s->d1_sum = calloc(n, sizeof(float));
+    s->ratio_min = malloc(n * sizeof(float));
+    s->ratio_max = calloc(n, sizeof(float));
+    s->light_p_sum = calloc(3 * n, sizeof(float));
+    s->light_pp_sum = calloc(6 * n, sizeof(float));
+    s->zmin = malloc(n * sizeof(float));
+    s->zmax = calloc(n, sizeof(float));
+    s->coc_min = malloc(n * sizeof(float));
+    s->coc_max = malloc(n * sizeof(float));
+    if (!s->samples || !s->hits || !s->pos_sum || !s->nrm_sum || !s->depth_sum || !s->object_id ||
+        !s->shadow_rays || !s->occluded_rays || !s->d1_sum || !s->ratio_min || !s->ratio_max ||
+        !s->light_p_sum || !s->light_pp_sum || !s->zmin || !s->zmax || !s->coc_min || !s->coc_max) {
+        aaf_stats_free(s);
+        return false;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        s->object_id[i] = -1;
+        s->ratio_min[i] = INFINITY;
+        s->zmin[i] = INFINITY;
+        s->coc_min[i] = INFINITY;  /* min > max: no data yet */
+        s->coc_max[i] = -INFINITY;
+    }
+    return true;
+}
+
+void aaf_stats_free(AafStats *s)
+{
+    free(s->samples);
+    free(s->hits);
+    free(s->pos_sum);
+    free(s->nrm_sum);
+    free(s->depth_sum);
+    free(s->object_id);
+    free(s->shadow_rays);
+    free(s->occluded_rays);
+    free(s->d1_sum);
+    free(s->ratio_min);
+    free(s->ratio_max);
+    free(s->light_p_sum);
+    free(s->light_pp_sum);
+    free(s->zmin);
+    free(s->zmax);
+    free(s->coc_min);
+    free(s->coc_max);
+    memset(s, 0, sizeof *s);
+}
+
+/* Thin lens (pbrt-v4): the ray from lens point R u through the in-focus point crosses depth z
+ * displaced by R u (1 - F/z) from where the pinhole ray does; one pixel at depth F is
+ * F * pixel_angle wide, and the displacement, seen from the lens centre, shrinks with the
+ * same F/z as everything else on that plane. Slope = R (1 - F/z) / (F pixel_angle) px per
+ * unit u, the form below; z = inf gives R/(F pixel_angle). */
+float aaf_coc_slope_px(const AafCameraModel *cam, float depth_cam)
+{
+    float R = cam->lens_radius_world, F = cam->focal_distance_world, a = cam->pixel_angle;
+    if (!(R > 0.0f) || !(F > 0.0f) || !(a > 0.0f)) return 0.0f;
+    float inv_z = (depth_cam > 0.0f) ? 1.0f / depth_cam : 0.0f; /* inf -> 0; behind: treat as far */
+    float s = (R / a) * (1.0f / F - inv_z);
+    return isfinite(s) ? s : (s > 0.0f ? FLT_MAX : -FLT_MAX);
+}
+
+void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r)
+{
+    AafStats *s = ctx;
+    if (px < 0 || py < 0 || px >= s->width || py >= s->height) return;
+    size_t i = (size_t)py * (size_t)s->width + (size_t)px;
+    s->samples[i]++;
+    if (s->collect_rays && s->cam.lens_radius_world > 0.0f) {
+        float slope = aaf_coc_slope_px(&s->cam, r->hit ? r->depth_cam : INFINITY);
+        s->coc_min[i] = fminf(s->coc_min[i], slope);
+        s->coc_max[i] = fmaxf(s->coc_max[i], slope);
+    }
+    if (!r->hit) return;
+    if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) return;
+    s->hits[i]++;
+    if (s->object_id[i] < 0) s->object_id[i] = r->object_id;
+    s->pos_sum[3 * i + 0] += r->p_world.x;
+    s->pos_sum[3 * i + 1] += r->p_world.y;
+    s->pos_sum[3 * i + 2] += r->p_world.z;
+    s->nrm_sum[3 * i + 0] += r->n_shading.x;
+    s->nrm_sum[3 * i + 1] += r->n_shading.y;
+    s->nrm_sum[3 * i + 2] += r->n_shading.z;
+    if (isfinite(r->depth_cam)) s->depth_sum[i] += r->depth_cam;
+    if (!s->collect_rays) return;
+
+    for (int k = 0; k < r->shadow_count && k < SAMPLE_RECORD_MAX_SHADOW; ++k) {
+        const ShadowRayRecord *sh = &r->shadow[k];
+        float d1 = sh->d_light_world;
+        if (!(d1 > 0.0f) || !isfinite(d1)) continue;
+        s->shadow_rays[i]++;
+        s->d1_sum[i] += d1;
+        vec3 p = sh->light_p_world;
+        float *m = s->light_p_sum + 3 * i, *q = s->light_pp_sum + 6 * i;
+        m[0] += p.x, m[1] += p.y, m[2] += p.z;
+        q[0] += p.x * p.x, q[1] += p.x * p.y, q[2] += p.x * p.z;
+        q[3] += p.y * p.y, q[4] += p.y * p.z, q[5] += p.z * p.z;
+        float t = sh->d_occluder_world;
+        if (t >= 0.0f && t < d1) {
+            /* AAF-shadow Fig. 2: d2 = d1 - t along the same ray, so d1/d2 is exact per ray
+             * even when d1 differs between light samples. */
+            float ratio = (d1 - t) / d1;
+            s->occluded_rays[i]++;
+            s->ratio_min[i] = fminf(s->ratio_min[i], ratio);
+            s->ratio_max[i] = fmaxf(s->ratio_max[i], ratio);
+        }
+    }
+    for (int k = 0; k < r->bounce_count && k < SAMPLE_RECORD_MAX_BOUNCE; ++k) {
+        const BounceRayRecord *b = &r->bounce[k];
+        if (!(b->d_hit_world >= 0.0f) || !isfinite(b->d_hit_world)) continue; /* escaped: no reflector */
+        /* AAF-GI Sec. 3.1: z is measured perpendicular to the receiver (x' = x + z v). */
+        float z = b->d_hit_world * fabsf(v3_dot(b->dir_world, r->n_shading));
+        s->zmin[i] = fminf(s->zmin[i], z);
+        s->zmax[i] = fmaxf(s->zmax[i], z);
+    }
+}
+
+/* ---- derived maps ---- */
+
+/* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations. */
+static void sym3_eigen(double a[3][3], double evals[3], double evecs[3][3])
+{
+    double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int sweep = 0; sweep < 32; ++sweep) {
+        double off = fabs(a[0][1]) + fabs(a[0][2]) + fabs(a[1][2]);
+        if (off < 1e-30) break;
+        for (int p = 0; p < 2; ++p) {
+            for (int q = p + 1; q < 3; ++q) {
+                if (fabs(a[p][q]) < 1e-300) continue;
+                double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+                double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
+                for (int k = 0; k < 3; ++k) { /* A <- A J */
+                    double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; ++k) { /* A <- J^T A */
+                    double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        evals[k] = a[k][k];
+        for (int j = 0; j < 3; ++j) evecs[j][k] = v[j][k]; /* column k is eigenvector k */
+    }
+}
+
+/* The light as one Gaussian (AAF-shadow Sec. 4.1): from the covariance of all light sample
+ * points of the frame, the plane normal is the direction of least spread and the light is
+ * replaced by a uniform rectangle with the same in-plane variances l1, l2 (sides sqrt(12 l)),
+ * whose "effective width" 2 sigma (eq. 16 uses A_l = (2 sigma)^2) gives
+ * sigma = sqrt(area)/2 = sqrt(3) (l1 l2)^(1/4). One planar light per frame is assumed;
+ * several lights make sigma larger (see docs/algorithms.md). */
+static void estimate_light(const AafStats *s, AafDerived *d)
+{
+    float *sigma_world = &d->light_sigma_world, *normal = d->light_normal;
+    size_t n = (size_t)s->width * (size_t)s->height;
+    double cnt = 0, m[3] = {0, 0, 0}, q[6] = {0, 0, 0, 0, 0, 0};
+    for (size_t i = 0; i < n; ++i) {
+        if (s->shadow_rays[i] == 0) continue;
+        cnt += s->shadow_rays[i];
+        for (int k = 0; k < 3; ++k) m[k] += s->light_p_sum[3 * i + k];
+        for (int k = 0; k < 6; ++k) q[k] += s->light_pp_sum[6 * i + k];
+    }
+    *sigma_world = 0.0f;
+    normal[0] = normal[1] = normal[2] = 0.0f;
+    if (cnt < 2) return;
+    for (int k = 0; k < 3; ++k) m[k] /= cnt;
+    double c[3][3] = {{q[0] / cnt - m[0] * m[0], q[1] / cnt - m[0] * m[1], q[2] / cnt - m[0] * m[2]},
+                      {0, q[3] / cnt - m[1] * m[1], q[4] / cnt - m[1] * m[2]},
+                      {0, 0, q[5] / cnt - m[2] * m[2]}};
+    c[1][0] = c[0][1];
+    c[2][0] = c[0][2];
+    c[2][1] = c[1][2];
+    double ev[3], evec[3][3];
+    sym3_eigen(c, ev, evec);
+    int lo = 0;
+    for (int k = 1; k < 3; ++k)
+        if (ev[k] < ev[lo]) lo = k;
+    double l1 = fmax(ev[(lo + 1) % 3], 0.0), l2 = fmax(ev[(lo + 2) % 3], 0.0);
+    double sigma = sqrt(3.0) * pow(l1 * l2, 0.25);
+    *sigma_world = isfinite(sigma) ? (float)sigma : 0.0f;
+    double len = sqrt(evec[0][lo] * evec[0][lo] + evec[1][lo] * evec[1][lo] + evec[2][lo] * evec[2][lo]);
+    if (len > 0 && isfinite(len))
+        for (int k = 0; k < 3; ++k) normal[k] = (float)(evec[k][lo] / len);
+    /* The same rectangle for the unoccluded-irradiance quadrature: centre, and half-side
+     * vectors along the in-plane eigenvectors (uniform on [-a, a] has variance a^2/3). */
+    double ha = sqrt(3.0 * l1), hb = sqrt(3.0 * l2);
+    int ia = (lo + 1) % 3, ib = (lo + 2) % 3;
+    for (int k = 0; k < 3; ++k) {
+        d->light_center[k] = (float)m[k];
+        d->light_half_u[k] = (float)(evec[k][ia] * ha);
+        d->light_half_v[k] = (float)(evec[k][ib] * hb);
+    }
+    d->light_known = isfinite(ha) && isfinite(hb) && isfinite(m[0] + m[1] + m[2]);
+}
+
+void aaf_derived_free(AafDerived *d)
+{
+    free(d->hit);
+    free(d->pixel_world);
+    free(d->d1);
+    free(d->d2min);
+    free(d->d2max);
+    free(d->sigma_light);
+    free(d->zmin);
+    free(d->zmax);
+    free(d->coc_min);
+    free(d->coc_max);
+    free(d->pos4);
+    free(d->nrm4);
+    memset(d, 0, sizeof *d);
+}
+
+/* The filter guides: mean position and depth, unit mean normal and object id, pixel size. */
+static void derive_guides(const AafStats *s, AafDerived *d)
+{
+    size_t n = (size_t)s->width * (size_t)s->height;
+    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (size_t i = 0; i < n; ++i) {
+        int hits = s->hits[i];
+        d->hit[i] = hits > 0;
+        for (int k = 0; k < 4; ++k) d->pos4[4 * i + k] = d->nrm4[4 * i + k] = 0.0f;
+        d->nrm4[4 * i + 3] = -1.0f;
+        d->pixel_world[i] = 0.0f;
+        if (hits == 0) continue;
+        float inv = 1.0f / (float)hits;
+        float nl = 0;
+        for (int k = 0; k < 3; ++k) {
+            float p = s->pos_sum[3 * i + k] * inv;
+            d->pos4[4 * i + k] = p;
+            lo[k] = fminf(lo[k], p);
+            hi[k] = fmaxf(hi[k], p);
+            nl += s->nrm_sum[3 * i + k] * s->nrm_sum[3 * i + k];
+        }
+        nl = sqrtf(nl);
+        for (int k = 0; k < 3; ++k) d->nrm4[4 * i + k] = nl > 0.0f ? s->nrm_sum[3 * i + k] / nl : 0.0f;
+        d->nrm4[4 * i + 3] = (float)s->object_id[i];
+        float depth = s->depth_sum[i] * inv;
+        d->pos4[4 * i + 3] = depth;
+        /* AAF-shadow Sec. 4.1: d = world length one pixel covers at the receiver (we leave out
+         * foreshortening, which only makes d smaller and the filter more conservative). */
+        d->pixel_world[i] = depth * s->cam.pixel_angle;
+    }
+    float diag2 = 0;
+    for (int k = 0; k < 3; ++k) diag2 += hi[k] > lo[k] ? (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0f;
+    d->scene_size_world = sqrtf(diag2);
+}
+
+void aaf_derive_guides(const AafStats *s, AafDerived *d) { derive_guides(s, d); }
+
+bool aaf_derive(const AafStats *s, AafDerived *d)
+{
+    memset(d, 0, sizeof *d);
+    int w = s->width, h = s->height;
+    size_t n = (size_t)w * (size_t)h;
+    d->width = w;
+    d->height = h;
+    d->hit = calloc(n, 1);
+    d->pixel_world = calloc(n, sizeof(float));
+    d->d1 = calloc(n, sizeof(float));
+    d->d2min = calloc(n, sizeof(float));
+    d->d2max = calloc(n, sizeof(float));
+    d->sigma_light = calloc(n, sizeof(float));
+    d->zmin = calloc(n, sizeof(float));
+    d->zmax = calloc(n, sizeof(float));
+    d->coc_min = calloc(n, sizeof(float));
+    d->coc_max = calloc(n, sizeof(float));
+    d->pos4 = calloc(4 * n, sizeof(float));
+    d->nrm4 = calloc(4 * n, sizeof(float));
+    if (!d->hit || !d->pixel_world || !d->d1 || !d->d2min || !d->d2max || !d->sigma_light || !d->zmin ||
+        !d->zmax || !d->coc_min || !d->coc_max || !d->pos4 || !d->nrm4) {
+        aaf_derived_free(d);
+        return false;
+    }
+    estimate_light(s, d);
+    derive_guides(s, d);
+    for (size_t i = 0; i < n; ++i) {
+        d->coc_min[i] = s->coc_min[i];
+        d->coc_max[i] = s->coc_max[i];
+        d->zmin[i] = s->zmin[i];
+        d->zmax[i] = s->zmax[i];
+        d->sigma_light[i] = d->light_sigma_world;
+        if (s->hits[i] > 0 && s->shadow_rays[i] > 0) {
+            float d1 = s->d1_sum[i] / (float)s->shadow_rays[i];
+            d->d1[i] = d1;
+            if (s->occluded_rays[i] > 0) {
+                d->d2min[i] = s->ratio_min[i] * d1;
+                d->d2max[i] = s->ratio_max[i] * d1;
+            }
+        }
+    }
+    return true;
+}
+
+/* AAF-shadow eq. 1 factors the direct light into r(x), the unoccluded irradiance, times the
+ * light-weighted visibility; only the visibility is what the wedge analysis says is smooth.
+ * We estimate r(x) up to a constant (light radiance and area cancel when we divide by it and
+ * multiply back) by a fixed 4 x 4 midpoint quadrature over the estimated light rectangle:
+ * mean over points q of cos(receiver) cos(light) / |q - p|^2. Deterministic, so it adds no
+ * noise, and smooth along surfaces. */
+typedef struct {
+    const AafDerived *d;
+    float *r;
+    size_t begin, end;
+} ShadeJob;
+
+static void *shade_rows(void *arg)
+{
+    const ShadeJob *job = arg;
+    const AafDerived *d = job->d;
+    enum { Q = 4 };
+    for (size_t i = job->begin; i < job->end; ++i) {
+        job->r[i] = 0.0f;
+        if (!d->hit[i] || !d->light_known) continue;
+        const float *p = d->pos4 + 4 * i, *nr = d->nrm4 + 4 * i;
+        double sum = 0.0;
+        for (int a = 0; a < Q; ++a) {
+            for (int b = 0; b < Q; ++b) {
+                float fa = 2.0f * ((float)a + 0.5f) / Q - 1.0f, fb = 2.0f * ((float)b + 0.5f) / Q - 1.0f;
+                float w[3], len2 = 0.0f;
+                for (int k = 0; k < 3; ++k) {
+                    w[k] = d->light_center[k] + fa * d->light_half_u[k] + fb * d->light_half_v[k] - p[k];
+                    len2 += w[k] * w[k];
+                }
+                if (!(len2 > 0.0f)) continue;
+                float inv_len = 1.0f / sqrtf(len2);
+                float cos_r = (nr[0] * w[0] + nr[1] * w[1] + nr[2] * w[2]) * inv_len;
+                float cos_l = fabsf(d->light_normal[0] * w[0] + d->light_normal[1] * w[1] + d->light_normal[2] * w[2]) * inv_len;
+                if (cos_r > 0.0f) sum += (double)(cos_r * cos_l / len2);
+            }
+        }
+        float v = (float)(sum / (Q * Q));
+        job->r[i] = isfinite(v) ? v : 0.0f;
+    }
+    return NULL;
+}
+
+void aaf_unoccluded_irradiance(const AafDerived *d, float *r)
+{
+    /* Two halves on two threads (the machine model of DESIGN.md section 7); each pixel is
+     * independent, so the result does not depend on the split. */
+    size_t n = (size_t)d->width * (size_t)d->height;
+    ShadeJob jobs[2] = {{d, r, 0, n / 2}, {d, r, n / 2, n}};
+    pthread_t t;
+    bool threaded = pthread_create(&t, NULL, shade_rows, &jobs[1]) == 0;
+    shade_rows(&jobs[0]);
+    if (threaded)
+        pthread_join(t, NULL);
+    else
+        shade_rows(&jobs[1]);
+}
+
+AafPixelStats aaf_derived_pixel_stats(const AafDerived *d)
+{
+    AafPixelStats st = {0};
+    st.width = d->width;
+    st.height = d->height;
+    st.hit = d->hit;
+    st.pixel_world = d->pixel_world;
+    st.d1_world = d->d1;
+    st.d2min_world = d->d2min;
+    st.d2max_world = d->d2max;
+    st.sigma_light_world = d->sigma_light;
+    st.zmin_world = d->zmin;
+    st.zmax_world = d->zmax;
+    st.coc_min_px = d->coc_min;
+    st.coc_max_px = d->coc_max;
+    return st;
+}

@@ -1,0 +1,84 @@
+/* Per-pixel statistics for axis-aligned filtering, accumulated from the renderer's
+ * SampleRecords by a SampleSink (DESIGN.md section 2).
+ *
+ * Pass 1 (sparse sampling) measures, per pixel: the shadow-ray geometry (AAF-shadow Sec. 6:
+ * d1, d2min, d2max from 9 light samples), the bounce-ray distances (AAF-GI Sec. 5: zmin,
+ * zmax from 16 hemisphere samples), and the range of circle-of-confusion slopes (defocus).
+ * Every pass adds the receiver's position, normal and object id (the filter's guides).
+ * The sink is called from the thread that owns the pixel, so no locks are needed. */
+#ifndef WEDGE_RECON_AAF_STATS_H
+#define WEDGE_RECON_AAF_STATS_H
+
+#include <stdbool.h>
+
+#include "recon/aaf_pixel_params.h"
+#include "render/sample_record.h"
+
+/* What turns a camera-space depth into a CoC slope (thin lens, pbrt-v4 conventions). */
+typedef struct {
+    float lens_radius_world;     /* 0: pinhole */
+    float focal_distance_world;  /* depth of the plane in focus */
+    float pixel_angle;           /* world size of a pixel at depth 1 (screen units per pixel) */
+} AafCameraModel;
+
+typedef struct {
+    int width, height;
+    AafCameraModel cam;
+    bool collect_rays;           /* true during pass 1: ray geometry feeds the statistics */
+
+    /* per pixel accumulators */
+    int *samples, *hits;
+    float *pos_sum;              /* 3 per pixel */
+    float *nrm_sum;              /* 3 per pixel */
+    float *depth_sum;
+    int *object_id;              /* first hit's object id, -1 until a sample hits */
+    /* shadows: ratio r = d2/d1 along each occluded shadow ray (light->occluder over
+     * light->receiver), so that d2min = rmin * d1 and d2max = rmax * d1 */
+    int *shadow_rays, *occluded_rays;
+    float *d1_sum;
+    float *ratio_min, *ratio_max;
+    float *light_p_sum;          /* 3 per pixel: sampled light points */
+    float *light_pp_sum;         /* 6 per pixel: xx xy xz yy yz zz */
+    /* indirect: distance of the reflector from the receiver's tangent plane (AAF-GI Fig. 2: z) */
+    float *zmin, *zmax;
+    /* defocus: signed CoC slope, pixels per unit lens coordinate */
+    float *coc_min, *coc_max;
+} AafStats;
+
+bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam);
+void aaf_stats_free(AafStats *s);
+
+/* The SampleSink callback (ctx = AafStats *). */
+void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r);
+
+/* CoC slope of a point at camera depth z (INFINITY allowed): (R / pixel_angle) (1/F - 1/z),
+ * negative in front of the focal plane. */
+float aaf_coc_slope_px(const AafCameraModel *cam, float depth_cam);
+
+/* Derived maps the parameter code consumes, owned by the caller's AafDerived. */
+typedef struct {
+    int width, height;
+    unsigned char *hit;
+    float *pixel_world, *d1, *d2min, *d2max, *sigma_light;
+    float *zmin, *zmax, *coc_min, *coc_max;
+    float *pos4, *nrm4;          /* filter guides: mean position + depth, normal + object id */
+    float light_normal[3];       /* the light plane's unit normal (eq. 12); zero if unknown */
+    float light_center[3];       /* the light as a rectangle: centre and half-side vectors */
+    float light_half_u[3], light_half_v[3];
+    bool light_known;
+    float scene_size_world;      /* diagonal of the hit points' bounding box */
+    float light_sigma_world;     /* global estimate (see aaf_stats.c) */
+} AafDerived;
+
+bool aaf_derive(const AafStats *s, AafDerived *out);
+/* Recomputes only the guides (pos4, nrm4, hit, pixel_world, scene size) of an AafDerived made
+ * by aaf_derive from the same AafStats: after pass 2 has added samples. */
+void aaf_derive_guides(const AafStats *s, AafDerived *d);
+void aaf_derived_free(AafDerived *d);
+/* r(x) of AAF-shadow eq. 1 up to a constant factor: the irradiance the estimated light
+ * rectangle would give each pixel without occlusion (0 where unknown). n floats. */
+void aaf_unoccluded_irradiance(const AafDerived *d, float *r);
+/* Points AafPixelStats at the derived maps. */
+AafPixelStats aaf_derived_pixel_stats(const AafDerived *d);
+
+#endif
