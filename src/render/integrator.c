@@ -2,7 +2,15 @@
  *
  * Sampler dimensions, in this fixed order per camera sample (strata line up across the
  * samples of a pixel): film position (2D); lens (2D, only with a lens); time (1D, only with
- * motion); then per path vertex: light choice (1D), light position (2D), BSDF direction (2D). */
+ * motion); then per path vertex: light choice (1D), light position (2D), BSDF lobe choice
+ * (1D), BSDF direction (2D). Every vertex draws all of them, whatever its material (a delta
+ * BSDF draws the light dimensions and does not use them), so the strata of a dimension
+ * belong to the same decision in every sample.
+ *
+ * Materials: Lambert (material.h) and the glossy BSDFs of bsdf_glossy.h, evaluated in the
+ * local frame (t1, t2, ns). Delta lobes (smooth conductor / dielectric, the smooth coat of
+ * coateddiffuse) are reached only by BSDF sampling, and what they see is weighted 1 (no
+ * MIS: light sampling cannot produce their directions). */
 #include "render/integrator.h"
 
 #include <math.h>
@@ -22,16 +30,87 @@ static vec3 guard3(vec3 v, IntegratorStats *st)
 typedef struct {
     SurfaceHit hit;
     vec3 wo;      /* unit, towards where the path came from */
-    vec3 n;       /* shading normal flipped to wo's side: the Lambert lobe's axis */
-    vec3 albedo;
+    vec3 n;       /* Lambert: shading normal flipped to wo's side (the lobe's axis);
+                   * glossy: the shading normal as is (dielectrics need inside / outside) */
+    vec3 t1, t2;  /* glossy: tangents completing the local frame (t1, t2, n) */
+    bool glossy;
+    vec3 albedo;  /* Lambert reflectance */
+    GlossyBsdf bsdf;
+    vec3 wo_l;    /* glossy: wo in the local frame */
 } Vertex;
+
+static vec3 to_local(const Vertex *v, vec3 w) { return v3(v3_dot(v->t1, w), v3_dot(v->t2, w), v3_dot(v->n, w)); }
+
+static vec3 from_local(const Vertex *v, vec3 l)
+{
+    return v3_normalize(v3_add(v3_add(v3_scale(v->t1, l.x), v3_scale(v->t2, l.y)), v3_scale(v->n, l.z)));
+}
 
 static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo, Vertex *v)
 {
     v->hit = *h;
     v->wo = wo;
-    v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
-    v->albedo = material_albedo(sc->materials, h->geom->material, h->uv, h->p);
+    /* mix materials pick one of their two materials per hit (deterministic hash of p, wo) */
+    int m = material_resolve(sc->materials, h->geom->material, h->uv, h->p, wo);
+    MaterialBsdf mb = material_bsdf(sc->materials, m, h->uv, h->p);
+    v->glossy = mb.glossy;
+    if (mb.glossy) {
+        v->bsdf = mb.bsdf;
+        v->n = h->ns;
+        v3_basis(v->n, &v->t1, &v->t2);
+        v->wo_l = to_local(v, wo);
+        v->albedo = v3s(0.0f);
+    } else {
+        v->albedo = mb.albedo;
+        v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
+        v3_basis(v->n, &v->t1, &v->t2);
+    }
+}
+
+/* f(wo, wi) (no cosine), the |cosine| of wi at the shading normal, and the solid-angle
+ * pdf with which vertex_sample would pick wi (non-delta lobes only). */
+static vec3 vertex_f(const Vertex *v, vec3 wi, float *cos_abs, float *pdf)
+{
+    if (v->glossy) {
+        vec3 wi_l = to_local(v, wi);
+        *cos_abs = fabsf(wi_l.z);
+        *pdf = glossy_pdf(&v->bsdf, v->wo_l, wi_l);
+        return glossy_f(&v->bsdf, v->wo_l, wi_l);
+    }
+    float cos_i = v3_dot(v->n, wi), cos_o = v3_dot(v->n, v->wo);
+    *cos_abs = fabsf(cos_i);
+    *pdf = bsdf_diffuse_pdf(cos_o, cos_i);
+    return bsdf_diffuse_f(v->albedo, cos_o, cos_i);
+}
+
+typedef struct {
+    vec3 wi;      /* world, unit */
+    vec3 weight;  /* f |cos| / pdf */
+    float pdf;    /* solid angle (the lobe probability for delta lobes) */
+    bool delta;
+} VertexSample;
+
+/* BSDF sampling: Lambert draws a cosine-weighted direction about n; glossy BSDFs choose a
+ * lobe with u_lobe and sample it (bsdf_glossy.h). False when nothing was sampled. */
+static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, VertexSample *vs)
+{
+    if (v->glossy) {
+        GlossySample gs;
+        if (!glossy_sample(&v->bsdf, v->wo_l, u_lobe, u, &gs)) return false;
+        vs->wi = from_local(v, gs.wi);
+        vs->pdf = gs.pdf;
+        vs->delta = gs.delta;
+        vs->weight = v3_scale(gs.f, fabsf(gs.wi.z) / gs.pdf);
+        return true;
+    }
+    vec3 local = warp_cosine_hemisphere(u);
+    vs->wi = from_local(v, local);
+    float cos_i = v3_dot(v->n, vs->wi), cos_o = v3_dot(v->n, v->wo);
+    vs->pdf = bsdf_diffuse_pdf(cos_o, cos_i);
+    vs->delta = false;
+    if (!(vs->pdf > 0.0f)) return false;
+    vs->weight = v3_scale(bsdf_diffuse_f(v->albedo, cos_o, cos_i), cos_i / vs->pdf);
+    return true;
 }
 
 /* Next-event estimation: one light sample, MIS-weighted against the BSDF (Veach 1997,
@@ -41,14 +120,15 @@ static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float t
 {
     float u_pick = sampler_1d(s);
     vec2 u_light = sampler_2d(s);
+    /* a BSDF made of delta lobes only cannot be reached by a light sample */
+    if (v->glossy && glossy_is_delta(&v->bsdf)) return v3s(0.0f);
     float pmf = 0.0f;
     int li = lights_pick(sc->lights, u_pick, &pmf);
     if (li < 0) return v3s(0.0f);
     LightSample ls;
     if (!light_sample(sc->lights, sc->tracer, li, v->hit.p, time01, u_light, &ls)) return v3s(0.0f);
-    float cos_i = v3_dot(v->n, ls.wi);
-    float cos_o = v3_dot(v->n, v->wo);
-    vec3 f = bsdf_diffuse_f(v->albedo, cos_o, cos_i);
+    float cos_i = 0.0f, pdf_bsdf = 0.0f;
+    vec3 f = vertex_f(v, ls.wi, &cos_i, &pdf_bsdf);
     bool is_area = sc->lights->lights[li].kind == LIGHT_AREA;
     /* A receiver facing away from the light traces no shadow ray (and records none). */
     if (v3_max_component(f) <= 0.0f) return v3s(0.0f);
@@ -91,29 +171,51 @@ static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float t
         ++st->guarded_events;
         return v3s(0.0f);
     }
-    float w = ls.delta ? 1.0f : mis_power(denom, bsdf_diffuse_pdf(cos_o, cos_i));
-    return guard3(v3_scale(v3_mul(f, ls.Li), fabsf(cos_i) * w / denom), st);
+    float w = ls.delta ? 1.0f : mis_power(denom, pdf_bsdf);
+    return guard3(v3_scale(v3_mul(f, ls.Li), cos_i * w / denom), st);
 }
 
-/* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling. */
-static vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, const SurfaceHit *h, vec3 wi,
-                              float time01, bool hit)
+/* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling (weight 1
+ * after a delta lobe or from a delta-only vertex, which light sampling never serves). */
+static vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, bool no_mis, const SurfaceHit *h,
+                              vec3 wi, float time01, bool hit)
 {
     const LightSet *L = sc->lights;
     vec3 sum = v3s(0.0f);
     if (!hit) {
         for (int k = 0; k < L->infinite_count; ++k) {
             int li = L->infinite[k];
-            float pdf_light = lights_pmf(L, li) * infinite_light_pdf();
-            sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), mis_power(pdf_bsdf, pdf_light)));
+            float pdf_light = lights_pmf(L, li) * infinite_light_pdf(L, li, wi);
+            float w = no_mis ? 1.0f : mis_power(pdf_bsdf, pdf_light);
+            sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), w));
         }
         return sum;
     }
     if (h->light < 0) return sum;
     vec3 Le = area_light_L(L, h->light, h, v3_neg(wi));
     if (v3_max_component(Le) <= 0.0f) return sum;
+    if (no_mis) return Le;
     float pdf_light = lights_pmf(L, h->light) * area_light_pdf(L, sc->tracer, h->light, p_from, h, time01);
     return v3_scale(Le, mis_power(pdf_bsdf, pdf_light));
+}
+
+/* The first hit's reflectance split for the filters' demodulation (sample_record.h). */
+static void record_first_hit_material(const Vertex *v, SampleRecord *rec)
+{
+    if (v->glossy) {
+        GlossyAlbedo a = glossy_albedo(&v->bsdf, v->wo_l);
+        rec->albedo_diffuse = a.diffuse;
+        rec->albedo_glossy = a.glossy;
+        rec->phong_exponent = glossy_phong_exponent(&v->bsdf);
+        rec->unfilterable = !glossy_is_filterable(&v->bsdf) || glossy_is_delta(&v->bsdf);
+    } else {
+        rec->albedo_diffuse = v->albedo;
+        rec->albedo_glossy = v3s(0.0f);
+        rec->phong_exponent = 0.0f;
+        rec->unfilterable = false;
+    }
+    vec3 sum = v3_add(rec->albedo_diffuse, rec->albedo_glossy);
+    rec->albedo = v3(fminf(sum.x, 1.0f), fminf(sum.y, 1.0f), fminf(sum.z, 1.0f));
 }
 
 void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px, int py, SampleRecord *rec,
@@ -153,9 +255,9 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
     Vertex v;
     make_vertex(sc, &h, v3_neg(cr.d_world), &v);
     rec->hit = true;
-    rec->albedo = v.albedo;
+    record_first_hit_material(&v, rec);
     rec->p_world = h.p;
-    rec->n_shading = v.n;
+    rec->n_shading = v3_dot(h.ns, v.wo) < 0.0f ? v3_neg(h.ns) : h.ns; /* towards the camera, any material */
     rec->object_id = h.object_id;
     rec->depth_cam = camera_depth(sc->camera, h.p, time01);
     if (h.light >= 0) rec->emission = guard3(area_light_L(sc->lights, h.light, &h, v.wo), st);
@@ -163,24 +265,26 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
     const LightSet *L = sc->lights;
     bool mis_emitters = L->has_area || L->infinite_count > 0;
     vec3 beta = v3s(1.0f);
+    /* Light the filters must pass through unfiltered (sample_record.h): everything at a
+     * dielectric first hit, and whatever arrives through a delta lobe of the first hit. */
+    bool unfiltered = v.glossy && !glossy_is_filterable(&v.bsdf);
     for (int depth = 1; depth <= sc->max_depth; ++depth) {
         vec3 *bucket = depth == 1 ? &rec->direct : &rec->indirect;
         bool first = depth == 1 && sc->record_ray_geometry;
-        vec3 ld = sample_one_light(sc, &v, time01, s, st, first ? rec->shadow : NULL, &rec->shadow_count);
-        *bucket = v3_add(*bucket, v3_mul(beta, ld));
+        vec3 ld = v3_mul(beta, sample_one_light(sc, &v, time01, s, st, first ? rec->shadow : NULL, &rec->shadow_count));
+        *bucket = v3_add(*bucket, ld);
+        if (unfiltered) rec->unfiltered = v3_add(rec->unfiltered, ld);
 
-        if (depth == sc->max_depth && !mis_emitters) break;
-        /* BSDF sample: cosine-weighted about the lobe axis */
+        float u_lobe = sampler_1d(s);
         vec2 u_b = sampler_2d(s);
-        vec3 local = warp_cosine_hemisphere(u_b), t1, t2;
-        v3_basis(v.n, &t1, &t2);
-        vec3 wi = v3_normalize(v3_add(v3_add(v3_scale(t1, local.x), v3_scale(t2, local.y)), v3_scale(v.n, local.z)));
-        float cos_i = v3_dot(v.n, wi), cos_o = v3_dot(v.n, v.wo);
-        float pdf = bsdf_diffuse_pdf(cos_o, cos_i);
-        if (!(pdf > 0.0f)) break;
-        vec3 f = bsdf_diffuse_f(v.albedo, cos_o, cos_i);
-        vec3 beta_next = guard3(v3_mul(beta, v3_scale(f, cos_i / pdf)), st);
+        if (depth == sc->max_depth && !mis_emitters) break;
+        VertexSample vs;
+        if (!vertex_sample(&v, u_lobe, u_b, &vs)) break;
+        vec3 wi = vs.wi;
+        float pdf = vs.pdf;
+        vec3 beta_next = guard3(v3_mul(beta, vs.weight), st);
         if (v3_max_component(beta_next) <= 0.0f) break;
+        if (depth == 1 && vs.delta) unfiltered = true;
 
         vec3 o = surface_offset(&v.hit, wi);
         ++st->rays_indirect;
@@ -192,13 +296,16 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
             b->d_hit_world = hit ? nh.t : INFINITY;
             b->dir_world = wi;
         }
-        vec3 le = bsdf_ray_emission(sc, v.hit.p, pdf, hit ? &nh : NULL, wi, time01, hit);
-        *bucket = v3_add(*bucket, guard3(v3_mul(beta_next, le), st));
+        bool no_mis = vs.delta || (v.glossy && glossy_is_delta(&v.bsdf));
+        vec3 le = guard3(v3_mul(beta_next, bsdf_ray_emission(sc, v.hit.p, pdf, no_mis, hit ? &nh : NULL, wi, time01, hit)), st);
+        *bucket = v3_add(*bucket, le);
+        if (unfiltered) rec->unfiltered = v3_add(rec->unfiltered, le);
         if (!hit || depth == sc->max_depth) break;
         beta = beta_next;
         make_vertex(sc, &nh, v3_neg(wi), &v);
     }
     rec->direct = guard3(rec->direct, st);
     rec->indirect = guard3(rec->indirect, st);
+    rec->unfiltered = guard3(rec->unfiltered, st);
     rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
 }

@@ -2,6 +2,7 @@
 #include "render/light.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -200,10 +201,33 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
         } else if (!strcmp(type, "infinite")) {
             if (!(l = push_light(set, &cap))) goto oom;
             l->kind = LIGHT_INFINITE;
-            if (params_string(&d->params, "filename", NULL)) {
-                scene_warn(scene, d->loc, "image-based infinite lights are not supported yet; using a constant "
-                                          "environment of radiance 'scale'");
-                l->L = v3s(scale);
+            const char *file = params_string(&d->params, "filename", NULL);
+            if (file && *file) {
+                char path[4096];
+                if (file[0] == '/' || !d->base_dir || !*d->base_dir)
+                    snprintf(path, sizeof path, "%s", file);
+                else
+                    snprintf(path, sizeof path, "%s/%s", d->base_dir, file);
+                l->env = calloc(1, sizeof *l->env);
+                if (!l->env) goto oom;
+                if (!envmap_load(l->env, path, scale, err)) {
+                    /* report at the light's statement (the message names the file) */
+                    if (err->exit_code != WEDGE_EXIT_RUNTIME) {
+                        char inner[sizeof err->message];
+                        const char *what = strstr(err->message, "error: ");
+                        snprintf(inner, sizeof inner, "%s", what ? what + 7 : err->message);
+                        size_t len = strlen(inner);
+                        while (len && inner[len - 1] == '\n') inner[--len] = '\0';
+                        if (strstr(inner, path))
+                            diag_set(err, WEDGE_EXIT_INPUT, d->loc, "%s", inner);
+                        else
+                            diag_set(err, WEDGE_EXIT_INPUT, d->loc, "environment map '%s': %s", path, inner);
+                    }
+                    lights_free(set);
+                    return false;
+                }
+                envmap_set_transform(l->env, m);
+                l->L = envmap_mean_radiance(l->env);
             } else {
                 l->L = v3_scale(param_emission(&d->params, "L"), scale);
             }
@@ -244,6 +268,12 @@ oom:
 
 void lights_free(LightSet *set)
 {
+    for (int i = 0; set->lights && i < set->count; ++i) {
+        if (set->lights[i].env) {
+            envmap_free(set->lights[i].env);
+            free(set->lights[i].env);
+        }
+    }
     free(set->lights);
     free(set->cdf);
     free(set->infinite);
@@ -435,13 +465,17 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         ls->delta = true;
         return v3_max_component(ls->Li) > 0.0f;
     case LIGHT_INFINITE:
-        ls->wi = warp_uniform_sphere(u);
+        if (l->env) {
+            if (!envmap_sample(l->env, u, &ls->wi, &ls->Li, &ls->pdf)) return false;
+        } else {
+            ls->wi = warp_uniform_sphere(u);
+            ls->Li = l->L;
+            ls->pdf = 1.0f / (4.0f * WEDGE_PI);
+        }
         ls->dist = INFINITY;
         ls->p_light = v3_madd(p_ref, ls->wi, 2.0f * set->scene_radius);
         ls->n_light = v3_neg(ls->wi);
         ls->err_light = 0.0f;
-        ls->Li = l->L;
-        ls->pdf = infinite_light_pdf();
         ls->delta = false;
         return v3_max_component(ls->Li) > 0.0f;
     }
@@ -501,8 +535,12 @@ float area_light_pdf(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, 
 
 vec3 infinite_light_L(const LightSet *set, int li, vec3 w)
 {
-    (void)w;
-    return set->lights[li].L;
+    const Light *l = &set->lights[li];
+    return l->env ? envmap_Le(l->env, w) : l->L;
 }
 
-float infinite_light_pdf(void) { return 1.0f / (4.0f * WEDGE_PI); }
+float infinite_light_pdf(const LightSet *set, int li, vec3 w)
+{
+    const Light *l = &set->lights[li];
+    return l->env ? envmap_pdf(l->env, w) : 1.0f / (4.0f * WEDGE_PI);
+}

@@ -1,6 +1,7 @@
 /* Light sources: diffuse area lights (one Light per emitting triangle, sphere or disk),
- * point, spot, distant and constant infinite lights (pbrt-v4 semantics), and the light
- * selection distribution (proportional to an estimate of emitted power). */
+ * point, spot, distant, constant infinite and image infinite lights (pbrt-v4 semantics; the
+ * image one importance sampled through envmap.h), and the light selection distribution
+ * (proportional to an estimate of emitted power). */
 #ifndef WEDGE_RENDER_LIGHT_H
 #define WEDGE_RENDER_LIGHT_H
 
@@ -8,6 +9,7 @@
 
 #include "core/diag.h"
 #include "core/vec.h"
+#include "render/envmap.h"
 #include "render/tracer.h"
 #include "scene/scene_desc.h"
 
@@ -26,6 +28,7 @@ typedef struct {
     float area_world;       /* area lights, at shutter open */
     vec3 tri_p0, tri_e1, tri_e2, tri_n; /* static triangle lights: world vertex 0, edges, normal */
     float tri_err;          /* static triangle lights: surface offset */
+    Envmap *env;            /* infinite light with "filename": the image (owned); else NULL */
 } Light;
 
 typedef struct {
@@ -72,6 +75,8 @@ float area_light_pdf(const LightSet *set, const Tracer *tr, int l, vec3 p_ref, c
 
 /* Infinite light l's radiance from direction w (unit, pointing away from the scene). */
 vec3 infinite_light_L(const LightSet *set, int l, vec3 w);
-float infinite_light_pdf(void);
+/* Solid-angle density with which light_sample picks direction w on infinite light l
+ * (uniform 1/(4 pi) without an image; the image's importance density with one). */
+float infinite_light_pdf(const LightSet *set, int l, vec3 w);
 
 #endif

@@ -1,7 +1,15 @@
-/* Materials and the textures they read. For now only pbrt-v4 "diffuse" (Lambert) is
- * modelled; every other material type renders as diffuse grey 0.5 with one warning per
- * type. The BSDF interface (eval / sample / pdf in a local frame) is what a glossy model
- * will plug into. */
+/* Materials and the textures they read (docs/materials.md).
+ *
+ * Materials: pbrt-v4 "diffuse" (Lambert), the glossy "coateddiffuse", "conductor" and
+ * "dielectric" (bsdf_glossy.h, parameters read by glossy_params.h), and "mix" (one of two
+ * materials chosen per hit, deterministically, as pbrt-v4's MixMaterial). "interface"
+ * shapes are left out by the tracer (media are not modelled). Other types render as
+ * diffuse grey 0.5 with one warning per type.
+ *
+ * Textures: constant, checkerboard (2D and 3D), imagemap (image_texture.h), scale and mix.
+ * Texture arguments (checkerboard tex1/tex2, scale tex/scale, mix tex1/tex2/amount) are
+ * either constants or references to textures declared earlier; evaluation recurses with a
+ * depth guard. Float textures are stored as grey triples (x = the float). */
 #ifndef WEDGE_RENDER_MATERIAL_H
 #define WEDGE_RENDER_MATERIAL_H
 
@@ -9,24 +17,51 @@
 
 #include "core/diag.h"
 #include "core/vec.h"
+#include "render/bsdf_glossy.h"
+#include "render/glossy_params.h"
+#include "render/image_texture.h"
 #include "scene/scene_desc.h"
 
-typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD_2D, TEX_CHECKERBOARD_3D } TextureKind;
+typedef enum {
+    TEX_CONSTANT,
+    TEX_CHECKERBOARD_2D,
+    TEX_CHECKERBOARD_3D,
+    TEX_IMAGEMAP,
+    TEX_SCALE,
+    TEX_MIX
+} TextureKind;
+
+/* A texture argument: a texture (index into MaterialTable.textures) or a constant. */
+typedef struct {
+    int tex;                    /* >= 0: texture index; -1: use value */
+    vec3 value;
+} TexRef;
+
+/* Deepest texture nesting evaluated; deeper references give the constant 0.5 (references
+ * only point to earlier textures, so there are no cycles; the guard bounds the stack). */
+#define TEXTURE_MAX_DEPTH 16
 
 typedef struct {
     TextureKind kind;
+    bool is_float;              /* declared "float": evaluates to (v, v, v) */
     vec3 value;                 /* constant */
-    vec3 tex1, tex2;            /* checkerboard */
+    vec3 tex1, tex2;            /* checkerboard constants (arg[0], arg[1] when not textured) */
     float uscale, vscale, udelta, vdelta;
     Mat4 texture_from_world;    /* 3D checkerboard */
+    TexRef arg[3];              /* checkerboard: tex1, tex2; scale: tex, scale; mix: tex1, tex2, amount */
+    ImageTexture *image;        /* imagemap, owned */
 } Texture;
 
-typedef enum { MATERIAL_DIFFUSE } MaterialKind;
+typedef enum { MATERIAL_DIFFUSE, MATERIAL_GLOSSY, MATERIAL_MIX } MaterialKind;
 
 typedef struct {
     MaterialKind kind;
-    vec3 reflectance;           /* used when texture < 0 */
-    int texture;                /* index into MaterialTable.textures, or -1 */
+    vec3 reflectance;           /* diffuse: used when texture < 0 */
+    int texture;                /* diffuse: index into MaterialTable.textures, or -1 */
+    GlossyParams glossy;        /* MATERIAL_GLOSSY */
+    int color_tex, urough_tex, vrough_tex; /* glossy: texture indices or -1 */
+    int mix[2];                 /* MATERIAL_MIX: material indices (-1: the default material) */
+    TexRef mix_amount;          /* MATERIAL_MIX: probability of choosing mix[1] */
 } Material;
 
 typedef struct {
@@ -38,12 +73,32 @@ typedef struct {
 } MaterialTable;
 
 /* Converts the scene's materials and textures; unsupported ones become grey with a
- * warning added to the scene (one per material type / texture class). */
+ * warning added to the scene (one per material type / texture class). A missing or
+ * unreadable imagemap file is an error at the texture's location (exit 2). */
 bool materials_build(SceneDesc *scene, MaterialTable *table, Diag *err);
 void materials_free(MaterialTable *table);
 
-/* Diffuse reflectance of material index m (-1 = default) at uv / p_world, clamped to [0,1]. */
+/* Texture i (or the constant of r) at uv / p_world. */
+vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int depth);
+vec3 texref_eval(const MaterialTable *table, TexRef r, vec2 uv, vec3 p_world, int depth);
+
+/* Resolves mix materials at a hit: returns the index of the concrete (diffuse or glossy)
+ * material hit point p_world seen from direction wo_world uses, or -1 for the default. */
+int material_resolve(const MaterialTable *table, int m, vec2 uv, vec3 p_world, vec3 wo_world);
+
+/* Diffuse reflectance of concrete material index m (-1 = default) at uv / p_world, clamped
+ * to [0,1]. For a glossy material: its diffuse base (coateddiffuse) or 0. */
 vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world);
+
+/* The BSDF of a concrete material at a shading point. */
+typedef struct {
+    bool glossy;                /* false: Lambert with albedo */
+    vec3 albedo;                /* Lambert reflectance (diffuse materials) */
+    GlossyBsdf bsdf;            /* glossy materials */
+} MaterialBsdf;
+MaterialBsdf material_bsdf(const MaterialTable *table, int m, vec2 uv, vec3 p_world);
+/* The glossy BSDF of material m (kind MATERIAL_GLOSSY) with its textures evaluated. */
+GlossyBsdf material_glossy_bsdf(const MaterialTable *table, const Material *m, vec2 uv, vec3 p_world);
 
 /* Lambertian BSDF in the local shading frame (z = shading normal, wo and wi both unit
  * vectors). f = albedo/pi on the same side, 0 otherwise (no transmission). */

@@ -40,10 +40,25 @@ typedef struct {
     vec3 emission;                /* emission seen directly by the camera ray (incl. infinite lights) */
     vec3 direct;                  /* direct light reflected at the first hit (MIS light + BSDF) */
     vec3 indirect;                /* everything reflected at the first hit that bounced at least once */
+    vec3 unfiltered;              /* the part of direct + indirect the filters must not blur
+                                   * (already included there): all of it at a dielectric first hit,
+                                   * and whatever arrived through a delta lobe of the first hit (a
+                                   * smooth mirror, a smooth coat's reflection); subtract it before
+                                   * filtering and add it back after */
 
     /* first-hit surface (valid when hit) */
     bool hit;
-    vec3 albedo;                  /* diffuse reflectance at the first hit */
+    vec3 albedo;                  /* reflectance at the first hit for demodulation: Lambert
+                                   * reflectance, or albedo_diffuse + albedo_glossy (each channel
+                                   * at most 1) for a glossy material */
+    vec3 albedo_diffuse;          /* the diffuse (Lambert) part: reflectance, coateddiffuse's base
+                                   * as seen through the coat; 0 for conductors and dielectrics */
+    vec3 albedo_glossy;           /* the glossy / specular part for the viewing direction
+                                   * (glossy_albedo); 0 for Lambert */
+    float phong_exponent;         /* equivalent Blinn-Phong exponent of the glossy lobe (002 eq. 18);
+                                   * 0 when there is no glossy lobe (Lambert) */
+    bool unfilterable;            /* the first hit is a dielectric or made of delta lobes only:
+                                   * its light is in `unfiltered`, pass it through */
     vec3 p_world;                 /* first hit position */
     vec3 n_shading;               /* unit shading normal, facing the camera ray's origin side */
     float depth_cam;              /* camera-space z of the first hit (world units), +INFINITY on a miss */
