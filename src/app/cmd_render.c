@@ -1,9 +1,9 @@
 /* wedge render [SCENE] [-o OUT] [--spp N] [--res WxH] [--seed N] [--threads N] [--aovs]
- *              [--report FILE.json] [--quiet] [--sampler stratified|sobol] [--filter none]
- *              [--view NAME]
+ *              [--report FILE.json] [--quiet] [--sampler stratified|sobol]
+ *              [--filter auto|aaf|none] [--mu X] [--cl-device N|NAME] [--visualize] [--view NAME]
  *
- * Parses the scene (or the embedded default), renders it with the Monte Carlo renderer and
- * writes an EXR (float R G B A, optional AOV layers, header attributes) or an 8-bit PNG
+ * Parses the scene (or the embedded default), renders it with the Monte Carlo renderer,
+ * reconstructs it with the chosen filter (src/recon) and writes an EXR (float R G B A, optional AOV layers, header attributes) or an 8-bit PNG
  * through an OpenColorIO view (issue 4: every display-referred output goes through OCIO).
  * Ctrl-C stops the render after the rows in flight and writes what was sampled. */
 #include <errno.h>
@@ -19,8 +19,10 @@
 
 #include "app/commands.h"
 #include "core/diag.h"
+#include "core/false_colour.h"
 #include "io/image_io.h"
 #include "io/ocio.h"
+#include "recon/aaf_render.h"
 #include "render/frame.h"
 #include "render/progress.h"
 #include "render/renderer.h"
@@ -41,7 +43,10 @@ typedef struct {
     bool quiet;
     bool sampler_set;
     SamplerKind sampler;
-    const char *filter;       /* "none" (filters register further values) */
+    const char *filter;       /* "auto", "aaf" or "none" */
+    float mu;                 /* filter knob; 0: each paper's default */
+    const char *cl_device;    /* NULL: $WEDGE_CL_DEVICE, else the first GPU, else CPU */
+    bool visualize;           /* false-colour PNG maps of filter widths and spp */
     const char *view;         /* OCIO view for PNG output; NULL: the display's default */
     bool help;
 } RenderArgs;
@@ -54,12 +59,14 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: wedge render [SCENE] [-o OUT] [--spp N] [--res WxH] [--seed N] [--threads N]\n"
             "                    [--aovs] [--report FILE.json] [--quiet] [--sampler stratified|sobol]\n"
-            "                    [--filter none] [--view NAME]\n\n"
+            "                    [--filter auto|aaf|none] [--mu X] [--cl-device N|NAME] [--visualize]\n"
+            "                    [--view NAME]\n\n"
             "Renders a pbrt-v4 scene (without SCENE: the embedded default scene) to OUT.\n\n"
             "  -o OUT          output image; .png writes 8-bit display-referred colour through\n"
             "                  OpenColorIO ($OCIO or the built-in config), anything else EXR\n"
             "                  (default: the scene's Film \"filename\")\n"
-            "  --spp N         samples per pixel (default: the scene's pixelsamples)\n"
+            "  --spp N         samples per pixel with --filter none (default: the scene's\n"
+            "                  pixelsamples); a filter chooses its own per-pixel counts (--mu)\n"
             "  --res WxH       image size in pixels (default: the scene's film)\n"
             "  --seed N        random seed (default 0); the image depends only on the seed\n"
             "  --threads N     worker threads (default: all cores)\n"
@@ -67,7 +74,15 @@ static void usage(FILE *f)
             "  --report FILE   write a JSON run report\n"
             "  --quiet         no progress bar and no warnings on stderr\n"
             "  --sampler KIND  stratified or sobol (default: mapped from the scene's Sampler)\n"
-            "  --filter NAME   reconstruction filter: none (plain Monte Carlo)\n"
+            "  --filter NAME   reconstruction: auto (default: the best filter for each effect the\n"
+            "                  scene has; for now axis-aligned filtering), aaf, or none (plain\n"
+            "                  Monte Carlo from the same sampler)\n"
+            "  --mu X          filter knob (> 0): larger means more samples and narrower filters;\n"
+            "                  as X grows the result converges to Monte Carlo (default: each\n"
+            "                  paper's value, 2 for shadows and defocus, 1 for indirect light)\n"
+            "  --cl-device D   OpenCL device by index or name substring (see 'wedge info --cl');\n"
+            "                  default $WEDGE_CL_DEVICE, else the first GPU, else the first CPU\n"
+            "  --visualize     also write OUT-beta-EFFECT.png and OUT-spp.png false-colour maps\n"
             "  --view NAME     OCIO view for PNG output (default: the display's default view);\n"
             "                  views: %s\n",
             views);
@@ -87,7 +102,7 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
 static int parse_render_args(int argc, char **argv, RenderArgs *a)
 {
     *a = (RenderArgs){0};
-    a->filter = "none";
+    a->filter = "auto";
     for (int i = 1; i < argc; ++i) {
         const char *o = argv[i];
         const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -153,8 +168,20 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             a->sampler_set = true;
         } else if (!strcmp(o, "--filter")) {
             NEED_VALUE();
-            if (strcmp(val, "none")) goto bad_value;
+            if (strcmp(val, "none") && strcmp(val, "aaf") && strcmp(val, "auto")) goto bad_value;
             a->filter = val;
+        } else if (!strcmp(o, "--mu")) {
+            NEED_VALUE();
+            char *end;
+            errno = 0;
+            double mu = strtod(val, &end);
+            if (errno || end == val || *end || !(mu > 0.0) || !(mu <= 1e6)) goto bad_value;
+            a->mu = (float)mu;
+        } else if (!strcmp(o, "--cl-device")) {
+            NEED_VALUE();
+            a->cl_device = val;
+        } else if (!strcmp(o, "--visualize")) {
+            a->visualize = true;
         } else if (o[0] == '-' && o[1]) {
             fprintf(stderr, "wedge render: unknown option '%s'\n", o);
             usage(stderr);
@@ -195,36 +222,32 @@ static double seconds_now(void)
 /* ---- output ---- */
 
 typedef struct {
-    float *rgb, *direct, *indirect, *emission, *albedo, *normal, *depth, *alpha;
+    float *direct, *indirect, *emission, *albedo, *normal, *depth, *alpha;
 } OutputPlanes;
 
 static void planes_free(OutputPlanes *p)
 {
-    free(p->rgb), free(p->direct), free(p->indirect), free(p->emission);
+    free(p->direct), free(p->indirect), free(p->emission);
     free(p->albedo), free(p->normal), free(p->depth), free(p->alpha);
 }
 
-static bool write_image(const char *path, const Frame *f, const RenderArgs *a, const char *scene_name, double spp_avg,
-                        double seconds, SamplerKind sampler, long long *guarded, Diag *err)
+/* rgb: the final image (3 floats per pixel); aaf: the filter's maps, or NULL. */
+static bool write_image(const char *path, const Frame *f, const float *rgb, const AafRenderResult *aaf,
+                        const RenderArgs *a, const char *scene_name, double spp_avg, double seconds,
+                        SamplerKind sampler, long long *guarded, Diag *err)
 {
     size_t n = (size_t)f->width * (size_t)f->height;
     OutputPlanes p = {0};
-    p.rgb = malloc(3 * n * sizeof(float));
-    if (!p.rgb) goto oom;
-    *guarded += frame_resolve3(f, f->color, p.rgb);
-    if (path_is_png(path)) {
-        bool ok = ocio_write_png(path, f->width, f->height, p.rgb, a->view, err);
-        planes_free(&p);
-        return ok;
-    }
+    if (path_is_png(path)) return ocio_write_png(path, f->width, f->height, rgb, a->view, err);
     p.alpha = malloc(n * sizeof(float));
     if (!p.alpha) goto oom;
     for (size_t i = 0; i < n; ++i) p.alpha[i] = 1.0f;
-    ExrChannel ch[24];
+    ExrChannel ch[24 + AAF_EFFECT_COUNT];
+    char beta_names[AAF_EFFECT_COUNT][64];
     int nc = 0;
-    ch[nc++] = (ExrChannel){"R", p.rgb + 0, 3};
-    ch[nc++] = (ExrChannel){"G", p.rgb + 1, 3};
-    ch[nc++] = (ExrChannel){"B", p.rgb + 2, 3};
+    ch[nc++] = (ExrChannel){"R", rgb + 0, 3};
+    ch[nc++] = (ExrChannel){"G", rgb + 1, 3};
+    ch[nc++] = (ExrChannel){"B", rgb + 2, 3};
     ch[nc++] = (ExrChannel){"A", p.alpha, 1};
     if (a->aovs) {
         p.direct = malloc(3 * n * sizeof(float));
@@ -253,6 +276,11 @@ static bool write_image(const char *path, const Frame *f, const RenderArgs *a, c
         ch[nc++] = (ExrChannel){"N.Z", p.normal + 2, 3};
         ch[nc++] = (ExrChannel){"Z", p.depth, 1};
         ch[nc++] = (ExrChannel){"spp", f->spp, 1};
+        for (int e = 0; aaf && e < AAF_EFFECT_COUNT; ++e)
+            if (aaf->beta_px[e]) {
+                snprintf(beta_names[e], sizeof beta_names[e], "aaf.beta_px.%s", aaf_effect_name(e));
+                ch[nc++] = (ExrChannel){beta_names[e], aaf->beta_px[e], 1};
+            }
     }
     char seed_txt[32];
     snprintf(seed_txt, sizeof seed_txt, "%" PRIu64, a->seed);
@@ -274,6 +302,40 @@ oom:
     planes_free(&p);
     diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory writing '%s'", path);
     return false;
+}
+
+/* OUT without its extension + suffix: "img.exr" + "-spp.png" -> "img-spp.png". */
+static void sibling_path(char *buf, size_t size, const char *out_path, const char *suffix)
+{
+    const char *dot = strrchr(out_path, '.'), *slash = strrchr(out_path, '/');
+    size_t stem = (dot && (!slash || dot > slash)) ? (size_t)(dot - out_path) : strlen(out_path);
+    snprintf(buf, size, "%.*s%s", (int)stem, out_path, suffix);
+}
+
+/* --visualize: false-colour PNGs of each filter width (pixels) and of the samples per pixel,
+ * each scaled to its own maximum (printed, so the colours can be read as numbers). */
+static bool write_visualizations(const char *out_path, const Frame *f, const AafRenderResult *aaf, Diag *err)
+{
+    size_t n = (size_t)f->width * (size_t)f->height;
+    float *rgb = malloc(3 * n * sizeof(float));
+    if (!rgb) {
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for --visualize");
+        return false;
+    }
+    bool ok = true;
+    for (int e = -1; ok && e < AAF_EFFECT_COUNT; ++e) {
+        const float *values = e < 0 ? f->spp : (aaf ? aaf->beta_px[e] : NULL);
+        if (!values) continue;
+        char suffix[64], path[4096];
+        snprintf(suffix, sizeof suffix, e < 0 ? "-spp.png" : "-beta-%s.png", e < 0 ? "" : aaf_effect_name(e));
+        sibling_path(path, sizeof path, out_path, suffix);
+        float vmax = false_colour_image(values, n, rgb);
+        ok = png_write_display(path, f->width, f->height, rgb, err);
+        if (ok) fprintf(stderr, "wedge render: wrote %s (%s, dark = 0 to bright = %g)\n", path,
+                        e < 0 ? "samples per pixel" : "filter width in pixels", (double)vmax);
+    }
+    free(rgb);
+    return ok;
 }
 
 int cmd_render(int argc, char **argv)
@@ -314,7 +376,11 @@ int cmd_render(int argc, char **argv)
     RenderOptions ro = {0};
     ro.width = a.width, ro.height = a.height, ro.spp = a.spp, ro.seed = a.seed, ro.threads = a.threads;
     ro.sampler_set = a.sampler_set, ro.sampler = a.sampler;
-    ro.record_ray_geometry = false; /* --filter none reads no ray geometry */
+    bool filtered = strcmp(a.filter, "none") != 0;
+    if (filtered && a.spp > 0 && !a.quiet)
+        fprintf(stderr, "wedge render: note: --spp is not used with --filter %s, which sets each pixel's samples "
+                        "itself; use --mu to trade samples for filter width, or --filter none\n", a.filter);
+    ro.record_ray_geometry = filtered; /* plain Monte Carlo pays nothing for the filters' statistics */
     ro.cancel = &interrupt_flag;
     ProgressBar bar = {stderr, 0.0, 0, 0};
     if (!a.quiet && isatty(STDERR_FILENO)) ro.progress = progress_bar_update, ro.progress_ctx = &bar;
@@ -340,18 +406,57 @@ int cmd_render(int argc, char **argv)
 
     interrupt_flag = 0;
     void (*old_handler)(int) = signal(SIGINT, on_sigint);
-    bool complete = render_pass(r, 0, NULL, renderer_spp(r), &frame, NULL);
-    signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
-    if (ro.progress) progress_bar_finish(&bar);
+    AafRenderResult aaf = {0};
+    float *mc_rgb = NULL;
+    const float *rgb = NULL;
+    bool complete;
+    long long guarded = 0;
+    if (filtered) {
+        /* auto and aaf agree until further filters land: AAF for every effect it covers. */
+        AafRenderOptions ao = aaf_render_options_default();
+        ao.mu = a.mu;
+        ao.cl_device = a.cl_device;
+        bool ok = aaf_render(r, &ao, &frame, &aaf, &err);
+        signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
+        if (ro.progress) progress_bar_finish(&bar);
+        if (!ok) {
+            fputs(err.message, stderr);
+            if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+            frame_free(&frame);
+            renderer_destroy(r);
+            scene_desc_free(&scene);
+            return err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
+        }
+        complete = !aaf.cancelled;
+        rgb = aaf.rgb;
+        guarded += aaf.guarded_events;
+    } else {
+        complete = render_pass(r, 0, NULL, renderer_spp(r), &frame, NULL);
+        signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
+        if (ro.progress) progress_bar_finish(&bar);
+        mc_rgb = malloc(3 * (size_t)frame.width * (size_t)frame.height * sizeof(float));
+        if (!mc_rgb) {
+            fprintf(stderr, "wedge render: out of memory for a %dx%d image\n", frame.width, frame.height);
+            frame_free(&frame);
+            renderer_destroy(r);
+            scene_desc_free(&scene);
+            return WEDGE_EXIT_RUNTIME;
+        }
+        guarded += frame_resolve3(&frame, frame.color, mc_rgb);
+        rgb = mc_rgb;
+    }
     if (!complete && !a.quiet) fprintf(stderr, "wedge render: interrupted; writing the samples taken so far\n");
 
     RenderStats st = renderer_stats(r);
     double spp_avg = frame_spp_avg(&frame);
-    long long guarded = st.guarded_events;
+    guarded += st.guarded_events;
     double seconds_total = seconds_now() - t_start;
     const char *scene_name = a.scene_path ? a.scene_path : "<default>";
     int exit_code = WEDGE_EXIT_OK;
-    if (!write_image(out_path, &frame, &a, scene_name, spp_avg, seconds_total, renderer_sampler(r), &guarded, &err)) {
+    const AafRenderResult *maps = filtered ? &aaf : NULL;
+    if (!write_image(out_path, &frame, rgb, maps, &a, scene_name, spp_avg, seconds_total, renderer_sampler(r),
+                     &guarded, &err) ||
+        (a.visualize && !write_visualizations(out_path, &frame, maps, &err))) {
         fputs(err.message, stderr);
         if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
         exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
@@ -363,7 +468,14 @@ int cmd_render(int argc, char **argv)
         rep.spp_avg = spp_avg;
         rep.seconds_total = seconds_total;
         rep.seconds_trace = st.seconds_trace;
-        rep.seconds_filter = 0.0;
+        rep.seconds_filter = filtered ? aaf.seconds_filter : 0.0;
+        /* effect -> filter, in the order and names of the scene's effects */
+        rep.filters[0] = filtered ? aaf.filters[AAF_EFFECT_SHADOWS] : "none";
+        rep.filters[1] = filtered ? aaf.filters[AAF_EFFECT_DEFOCUS] : "none";
+        rep.filters[2] = "none"; /* motion: no filter yet */
+        rep.filters[3] = filtered ? aaf.filters[AAF_EFFECT_INDIRECT] : "none";
+        rep.mu = filtered ? a.mu : 0.0;
+        rep.cl_device = filtered ? aaf.device : NULL;
         rep.seconds_build = st.seconds_build;
         rep.rays_primary = st.rays_primary, rep.rays_shadow = st.rays_shadow, rep.rays_indirect = st.rays_indirect;
         rep.guarded_events = guarded;
@@ -382,6 +494,8 @@ int cmd_render(int argc, char **argv)
             exit_code = WEDGE_EXIT_RUNTIME;
         }
     }
+    free(mc_rgb);
+    aaf_render_result_free(&aaf);
     frame_free(&frame);
     renderer_destroy(r);
     scene_desc_free(&scene);

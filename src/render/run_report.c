@@ -1,10 +1,13 @@
 /* JSON run report. */
 #include "render/run_report.h"
 
+#include "io/atomic_file.h"
+
 #include <errno.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static void json_string(FILE *f, const char *s)
@@ -26,7 +29,10 @@ static double finite_or_zero(double v) { return isfinite(v) ? v : 0.0; }
 
 bool run_report_write(const char *path, const RunReport *r, Diag *err)
 {
-    FILE *f = fopen(path, "w");
+    /* Composed in memory, then written atomically like every output file. */
+    char *text = NULL;
+    size_t text_len = 0;
+    FILE *f = open_memstream(&text, &text_len);
     if (!f) {
         diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot write report '%s': %s", path, strerror(errno));
         return false;
@@ -49,6 +55,21 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     json_string(f, r->sampler);
     fprintf(f, ",\n  \"filter\": ");
     json_string(f, r->filter);
+    static const char *const effect_names[4] = {"soft_shadows", "defocus", "motion", "indirect"};
+    const bool present[4] = {r->effects.soft_shadows, r->effects.defocus, r->effects.motion, r->effects.indirect};
+    fprintf(f, ",\n  \"filters\": {");
+    for (int e = 0, first = 1; e < 4; ++e) {
+        if (!present[e]) continue;
+        fprintf(f, "%s\"%s\": ", first ? "" : ", ", effect_names[e]);
+        json_string(f, r->filters[e] ? r->filters[e] : "none");
+        first = 0;
+    }
+    fprintf(f, "}");
+    fprintf(f, ",\n  \"mu\": %.6g", finite_or_zero(r->mu));
+    if (r->cl_device && r->cl_device[0]) {
+        fprintf(f, ",\n  \"cl_device\": ");
+        json_string(f, r->cl_device);
+    }
     fprintf(f, ",\n  \"scene\": ");
     json_string(f, r->scene);
     fprintf(f, ",\n  \"output\": ");
@@ -56,6 +77,20 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     fprintf(f, ",\n  \"triangles\": %ld,\n  \"interrupted\": %s\n}\n", r->triangles, r->interrupted ? "true" : "false");
     bool ok = !ferror(f);
     if (fclose(f) != 0) ok = false;
-    if (!ok) diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot write report '%s'", path);
+    if (!ok) {
+        free(text);
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot write report '%s'", path);
+        return false;
+    }
+    AtomicFile af;
+    ok = atomic_file_open(&af, path, err);
+    if (ok && !atomic_file_pwrite(&af, text, text_len, 0)) {
+        atomic_file_abort(&af);
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot write report '%s': %s", path, strerror(errno));
+        ok = false;
+    } else if (ok) {
+        ok = atomic_file_commit(&af, err);
+    }
+    free(text);
     return ok;
 }

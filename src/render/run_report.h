@@ -18,7 +18,10 @@ typedef struct {
     int threads;
     uint64_t seed;
     const char *sampler;       /* "stratified" / "sobol" */
-    const char *filter;        /* "none", ... */
+    const char *filter;        /* what was asked: "auto", "aaf", "none" */
+    const char *filters[4];    /* per effect (soft_shadows, defocus, motion, indirect): filter used */
+    double mu;                 /* filter knob asked for (0: each paper's default) */
+    const char *cl_device;     /* OpenCL device used by the filters, or NULL */
     const char *scene;         /* scene path or "<default>" */
     const char *output;
     bool interrupted;

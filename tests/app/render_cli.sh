@@ -47,8 +47,9 @@ grep -q "bad.pbrt:.*error" "$T/err.txt" || { echo "FAIL: syntax error message la
 # runtime failure: unwritable output folder, exit 3
 "$WEDGE" render "$T/small.pbrt" --spp 1 --res 8x8 -o "$T/no/such/dir/x.exr" >/dev/null 2>&1; check "unwritable output" 3 $?
 
-# a normal render: EXR, report keys, overrides
-"$WEDGE" render "$T/small.pbrt" --spp 2 --res 40x30 --seed 3 --threads 2 --aovs -o "$T/a.exr" --report "$T/a.json" --quiet
+# a plain Monte Carlo render: EXR, report keys, overrides (with a filter, the filter
+# chooses the sample counts; see the filtered render below)
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 2 --res 40x30 --seed 3 --threads 2 --aovs -o "$T/a.exr" --report "$T/a.json" --quiet
 check "render to EXR" 0 $?
 [ -s "$T/a.exr" ] || { echo "FAIL: no EXR written"; fail=1; }
 for key in width height spp_avg seconds_total seconds_trace seconds_filter rays_primary rays_shadow rays_indirect effects threads seed guarded_events; do
@@ -67,8 +68,8 @@ done
 ls -a "$T" | grep -q 'tmp' && { echo "FAIL: a temporary file was left behind"; fail=1; }
 
 # identical seed and options: identical files' pixels (compare reports the difference)
-"$WEDGE" render "$T/small.pbrt" --spp 2 --res 40x30 --seed 3 --threads 1 -o "$T/b.exr" --quiet; check "render 1 thread" 0 $?
-"$WEDGE" render "$T/small.pbrt" --spp 2 --res 40x30 --seed 3 --threads 2 -o "$T/c.exr" --quiet; check "render 2 threads" 0 $?
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 2 --res 40x30 --seed 3 --threads 1 -o "$T/b.exr" --quiet; check "render 1 thread" 0 $?
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 2 --res 40x30 --seed 3 --threads 2 -o "$T/c.exr" --quiet; check "render 2 threads" 0 $?
 if "$WEDGE" compare "$T/b.exr" "$T/c.exr" >"$T/cmp.txt" 2>&1; then
     grep -Eq '^MSE +0$' "$T/cmp.txt" || { echo "FAIL: 1 and 2 threads differ: $(cat "$T/cmp.txt")"; fail=1; }
 fi
@@ -84,8 +85,17 @@ head -c 8 "$T/p.png" | grep -aq PNG || { echo "FAIL: not a PNG"; fail=1; }
 grep -q '"soft_shadows": true, "defocus": true, "motion": true, "indirect": true' "$T/d.json" ||
     { echo "FAIL: the default scene lacks an effect: $(grep effects "$T/d.json")"; fail=1; }
 
+# the default filter (auto): axis-aligned filtering of the effects present, reported per effect
+"$WEDGE" render "$T/small.pbrt" --res 40x30 --aovs -o "$T/f.exr" --report "$T/f.json" --quiet; check "filtered render" 0 $?
+grep -q '"filters": {"soft_shadows": "aaf", "indirect": "aaf"}' "$T/f.json" ||
+    { echo "FAIL: filters per effect: $(grep filters "$T/f.json")"; fail=1; }
+grep -aq "aaf.beta_px.shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aaf.beta_px.shadows layer"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --mu 0 >/dev/null 2>&1; check "--mu 0" 1 $?
+"$WEDGE" render "$T/small.pbrt" --res 8x8 --cl-device no-such-device -o "$T/x.exr" --quiet 2>"$T/err.txt"
+check "unknown OpenCL device" 1 $?
+
 # Ctrl-C: stop early, write the image with the real spp, exit 0
-"$WEDGE" render "$T/small.pbrt" --spp 100000 --res 64x48 --threads 2 -o "$T/i.exr" --report "$T/i.json" --quiet &
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 100000 --res 64x48 --threads 2 -o "$T/i.exr" --report "$T/i.json" --quiet &
 pid=$!
 sleep 1
 kill -INT $pid
