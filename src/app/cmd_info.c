@@ -7,14 +7,15 @@
 #include "core/diag.h"
 #include "geometry/mesh.h"
 #include "recon/cl_runtime.h"
+#include "recon/filter_select.h"
 #include "scene/scene_desc.h"
 
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: wedge info SCENE [--json]\n"
+            "usage: wedge info [SCENE] [--json]\n"
             "       wedge info --cl\n\n"
-            "Summarises a pbrt-v4 scene: film, camera, sampler, counts of shapes, triangles\n"
+            "Summarises a pbrt-v4 scene (without SCENE: the embedded default scene): film, camera, sampler, counts of shapes, triangles\n"
             "(after loading meshes), lights by type, materials, the distribution effects found\n"
             "(soft_shadows, defocus, motion, indirect) and the parser's warnings.\n\n"
             "  --json   print one JSON object instead of text\n"
@@ -81,7 +82,13 @@ static void print_json(const SceneDesc *s, long triangles, FILE *f)
             fprintf(f, "%s\"%s\"", first ? "" : ", ", effect_names[i]);
             first = 0;
         }
-    fprintf(f, "], \"width\": %d, \"height\": %d, \"spp\": %d, \"triangles\": %ld", s->film.xres, s->film.yres,
+    fprintf(f, "], \"filters\": {");
+    for (int i = 0, first = 1; i < 4; ++i)
+        if (on[i]) {
+            fprintf(f, "%s\"%s\": \"%s\"", first ? "" : ", ", effect_names[i], recon_filter_for("auto", &s->effects, i));
+            first = 0;
+        }
+    fprintf(f, "}, \"width\": %d, \"height\": %d, \"spp\": %d, \"triangles\": %ld", s->film.xres, s->film.yres,
             s->sampler.spp, triangles);
     LightCount lc[64];
     int nl = count_lights(s, lc, 64);
@@ -129,7 +136,7 @@ static void print_text(const SceneDesc *s, long triangles, FILE *f)
     int any = 0;
     for (int i = 0; i < 4; ++i)
         if (on[i]) {
-            fprintf(f, " %s", effect_names[i]);
+            fprintf(f, " %s (filter: %s)", effect_names[i], recon_filter_for("auto", &s->effects, i));
             any = 1;
         }
     fprintf(f, "%s\n", any ? "" : " none");
@@ -163,13 +170,13 @@ int cmd_info(int argc, char **argv)
     if (cl) return recon_print_devices(stdout) ? WEDGE_EXIT_OK : WEDGE_EXIT_RUNTIME;
     /* ---- end of the --cl part ---- */
 
-    if (!path) {
-        usage(stderr);
-        return WEDGE_EXIT_USAGE;
-    }
+    /* Without SCENE: the scene embedded in the binary, as for wedge render. */
     SceneDesc scene;
     Diag err;
-    if (!scene_parse_file(path, &scene, &err)) {
+    bool parsed = path ? scene_parse_file(path, &scene, &err)
+                       : scene_parse_string(wedge_default_scene, strlen(wedge_default_scene), "<default>", NULL,
+                                            &scene, &err);
+    if (!parsed) {
         fprintf(stderr, "%s\n", err.message);
         return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
     }

@@ -23,6 +23,7 @@
 #include "io/image_io.h"
 #include "io/ocio.h"
 #include "recon/aaf_render.h"
+#include "recon/filter_select.h"
 #include "render/frame.h"
 #include "render/progress.h"
 #include "render/renderer.h"
@@ -168,7 +169,7 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             a->sampler_set = true;
         } else if (!strcmp(o, "--filter")) {
             NEED_VALUE();
-            if (strcmp(val, "none") && strcmp(val, "aaf") && strcmp(val, "auto")) goto bad_value;
+            if (!recon_filter_known(val)) goto bad_value;
             a->filter = val;
         } else if (!strcmp(o, "--mu")) {
             NEED_VALUE();
@@ -469,11 +470,11 @@ int cmd_render(int argc, char **argv)
         rep.seconds_total = seconds_total;
         rep.seconds_trace = st.seconds_trace;
         rep.seconds_filter = filtered ? aaf.seconds_filter : 0.0;
-        /* effect -> filter, in the order and names of the scene's effects */
-        rep.filters[0] = filtered ? aaf.filters[AAF_EFFECT_SHADOWS] : "none";
-        rep.filters[1] = filtered ? aaf.filters[AAF_EFFECT_DEFOCUS] : "none";
-        rep.filters[2] = "none"; /* motion: no filter yet */
-        rep.filters[3] = filtered ? aaf.filters[AAF_EFFECT_INDIRECT] : "none";
+        /* effect -> filter used (the policy's choice, or none when a render was cut short) */
+        static const int aaf_index[RECON_EFFECT_COUNT] = {AAF_EFFECT_SHADOWS, AAF_EFFECT_DEFOCUS, -1,
+                                                          AAF_EFFECT_INDIRECT};
+        for (int e = 0; e < RECON_EFFECT_COUNT; ++e)
+            rep.filters[e] = filtered && aaf_index[e] >= 0 ? aaf.filters[aaf_index[e]] : "none";
         rep.mu = filtered ? a.mu : 0.0;
         rep.cl_device = filtered ? aaf.device : NULL;
         rep.seconds_build = st.seconds_build;

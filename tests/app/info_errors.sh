@@ -24,7 +24,6 @@ expect 2 "$tmp/missing.pbrt: error: cannot open scene file: No such file or dire
 # Binary bytes (all 256 values, starting at 0x00).
 for i in $(seq 0 255); do printf "\\$(printf %03o "$i")"; done > "$tmp/binary.pbrt"
 expect 2 "$tmp/binary.pbrt:1:1: error: unexpected byte 0x00" -- info "$tmp/binary.pbrt"
-expect 1 "" -- info
 expect 1 "" -- info --nope "$tmp/bad.pbrt"
 expect 1 "" -- info a.pbrt b.pbrt
 expect 0 "" -- info --help

@@ -32,6 +32,7 @@ python3 - "$tmp/all.json" "$tmp/all.pbrt" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
 assert j["effects"] == ["soft_shadows", "defocus", "motion", "indirect"], j["effects"]
+assert j["filters"] == {"soft_shadows": "aaf", "defocus": "aaf", "motion": "none", "indirect": "aaf"}, j["filters"]
 assert (j["width"], j["height"], j["spp"]) == (64, 48, 8), j
 assert j["triangles"] == 4, j["triangles"]
 assert j["lights"] == {"area": 1, "point": 2}, j["lights"]
@@ -53,7 +54,7 @@ PY
 
 # The human summary names the same things.
 "$WEDGE" info "$tmp/all.pbrt" > "$tmp/all.txt"
-grep -q '^effects     soft_shadows defocus motion indirect$' "$tmp/all.txt"
+grep -q '^effects     soft_shadows (filter: aaf) defocus (filter: aaf) motion (filter: none) indirect (filter: aaf)$' "$tmp/all.txt"
 grep -q '^triangles   4$' "$tmp/all.txt"
 grep -q '^lights      area 1 point 2$' "$tmp/all.txt"
 
@@ -73,4 +74,7 @@ PY
 else
     echo "note: ../shared/pbrt-v4-scenes absent, killeroo check skipped"
 fi
+# without SCENE: the embedded default scene, which shows all four effects
+"$WEDGE" info --json > "$tmp/default.json"
+python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["scene"] == "<default>" and len(j["effects"]) == 4, j' "$tmp/default.json"
 echo ok
