@@ -1,0 +1,32 @@
+/* The method table of `wedge converge` (see converge_methods.h). */
+#include "app/converge_methods.h"
+
+#include <string.h>
+
+static const ConvergeMethod methods[] = {
+    {"mc", {"--sampler", "stratified", "--filter", "none", NULL}, false,
+     "unfiltered Monte Carlo, stratified (jittered) samples"},
+    {"mc-ld", {"--sampler", "sobol", "--filter", "none", NULL}, false,
+     "unfiltered Monte Carlo, Owen-scrambled Sobol' samples"},
+    /* Filters: the filter picks its own per-pixel sample counts from mu (--spp is then only a
+     * label of the run; spp_avg in the results is what it really used). */
+    {"aaf", {"--sampler", "stratified", "--filter", "aaf", NULL}, true,
+     "axis-aligned filtering (papers 001, 002) of every effect the scene has"},
+};
+
+const char *const converge_reference_args[] = {"--sampler", "sobol", "--filter", "none"};
+const int converge_reference_arg_count = 4;
+
+int converge_method_count(void) { return (int)(sizeof methods / sizeof methods[0]); }
+
+const ConvergeMethod *converge_method_at(int i)
+{
+    return i >= 0 && i < converge_method_count() ? &methods[i] : NULL;
+}
+
+const ConvergeMethod *converge_method_find(const char *name)
+{
+    for (int i = 0; i < converge_method_count(); ++i)
+        if (!strcmp(methods[i].name, name)) return &methods[i];
+    return NULL;
+}

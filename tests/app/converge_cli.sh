@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# wedge converge end to end on a tiny scene: usage errors, the exact CSV header, one row per
+# (method, spp), the images and reports, and the speedup table (the baseline against itself
+# is exactly 1x: interpolating a curve at one of its own points returns that point).
+set -euo pipefail
+: "${WEDGE:?}"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+expect_exit() { # CODE CMD...
+  local want=$1; shift
+  set +e; "$@" > "$tmp/out.txt" 2>&1; local got=$?; set -e
+  [ "$got" = "$want" ] || { cat "$tmp/out.txt"; fail "'$*' exited $got, expected $want"; }
+}
+expect_exit 1 "$WEDGE" converge --spp 4 --methods mc
+expect_exit 1 "$WEDGE" converge --spp 4 --methods nosuch --out "$tmp/x"
+grep -q "unknown method 'nosuch'; known: mc mc-ld" "$tmp/out.txt" || fail "unknown-method message"
+expect_exit 1 "$WEDGE" converge --spp 4,x --methods mc --out "$tmp/x"
+expect_exit 1 "$WEDGE" converge --spp 4 --methods mc --out "$tmp/x" --res 12
+expect_exit 0 "$WEDGE" converge --help
+expect_exit 2 "$WEDGE" converge "$tmp/missing.pbrt" --spp 4 --methods mc --out "$tmp/x"
+
+cat > "$tmp/tiny.pbrt" <<'PBRT'
+LookAt 0 1 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 12 ] "integer yresolution" [ 10 ]
+Integrator "path" "integer maxdepth" [ 1 ]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
+  Shape "trianglemesh" "point3 P" [ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ] "integer indices" [ 0 1 2  0 2 3 ]
+AttributeEnd
+Shape "trianglemesh" "point3 P" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ] "integer indices" [ 0 2 1  0 3 2 ]
+Shape "sphere" "float radius" [ 0.4 ]
+PBRT
+# Plots only where gnuplot is installed (tools/setup installs it).
+plots=--no-plots
+command -v gnuplot > /dev/null && plots=
+"$WEDGE" converge "$tmp/tiny.pbrt" --spp 2,8,32 --methods mc,mc-ld --ref-spp 64 --cache "$tmp/cache" \
+  --out "$tmp/sweep" $plots > "$tmp/log" 2>&1 || { cat "$tmp/log"; fail "sweep failed"; }
+if [ -z "$plots" ]; then
+  for p in error_vs_spp error_vs_seconds; do
+    [ "$(head -c 8 "$tmp/sweep/$p.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$p.png is not a PNG"
+  done
+fi
+csv="$tmp/sweep/results.csv"
+[ "$(head -1 "$csv")" = "scene,method,mu,spp_avg,seconds_total,seconds_trace,seconds_filter,relmse,mse,psnr,ssim" ] ||
+  fail "results.csv header: $(head -1 "$csv")"
+[ "$(tail -n +2 "$csv" | wc -l)" = 6 ] || fail "expected 6 rows"
+awk -F, 'NR > 1 && (NF != 11 || $1 != "tiny" || $3 != "" || $8 <= 0 || $9 <= 0 || $5 <= 0) { bad = 1 } END { exit bad }' "$csv" ||
+  fail "malformed rows: $(cat "$csv")"
+# spp_avg is what the renderer reports: uniform sampling gives exactly the requested spp.
+[ "$(awk -F, 'NR > 1 { printf "%s ", $4 }' "$csv")" = "2 8 32 2 8 32 " ] || fail "spp_avg column"
+# The metrics are those of wedge compare on the same images.
+img="$tmp/sweep/images/tiny-mc-spp8.exr"
+[ -f "$img" ] && [ -f "$tmp/sweep/images/tiny-mc-spp8.json" ] && [ -f "$tmp/sweep/reference.exr" ] || fail "images missing"
+json=$("$WEDGE" compare "$tmp/sweep/reference.exr" "$img" --json)
+want=$(printf '%s' "$json" | sed -E 's/.*"relmse": *([-0-9.eE+]+).*/\1/')
+got=$(awk -F, '$2 == "mc" && $4 == 8 { print $8 }' "$csv")
+awk -v a="$want" -v b="$got" 'BEGIN { exit !(a > 0 && (a - b) / a < 1e-5 && (b - a) / a < 1e-5) }' ||
+  fail "relMSE $got differs from wedge compare's $want"
+# Speedup of the baseline against itself is 1 at every budget.
+sp="$tmp/sweep/speedup.csv"
+[ "$(head -1 "$sp")" = "scene,method,mu,spp_avg,seconds_total,relmse,mc_spp,mc_seconds,speedup_samples,speedup_time,extrapolated" ] || fail "speedup.csv header"
+awk -F, 'NR > 1 && $2 == "mc" { n++; if ($9 < 0.9999 || $9 > 1.0001 || $10 < 0.9999 || $10 > 1.0001) bad = 1 } END { exit bad || n != 3 }' "$sp" ||
+  fail "mc against itself is not 1x: $(cat "$sp")"
+echo "converge_cli: ok"
