@@ -95,12 +95,4 @@ bool exr_read_channel(const char *path, const char *channel, int *width, int *he
  * anything else is read as EXR with exr_read_rgb. Interleaved rgb, malloc'd. err exit 2. */
 bool image_read_linear_rgb(const char *path, int *width, int *height, float **rgb, Diag *err);
 
-/* Texture and environment images by pbrt-v4's rules (issue 4, "imagemap"): EXR values are
- * linear and the encoding is ignored; PNG values (8- or 16-bit) are decoded with encoding:
- * "sRGB" (pbrt-v4's default; also used when encoding is NULL), "linear" or "gamma G".
- * Alpha (PNG alpha, EXR "A") is coverage and is never decoded. Pixels are interleaved,
- * *channels = 3 (RGB) or 4 (RGBA); grey files are expanded. err exit 2. */
-bool image_read_texture(const char *path, const char *encoding, int *width, int *height, int *channels,
-                        float **pixels, Diag *err);
-
 #endif
