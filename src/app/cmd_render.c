@@ -383,7 +383,7 @@ int cmd_render(int argc, char **argv)
                         "itself; use --mu to trade samples for filter width, or --filter none\n", a.filter);
     ro.record_ray_geometry = filtered; /* plain Monte Carlo pays nothing for the filters' statistics */
     ro.cancel = &interrupt_flag;
-    ProgressBar bar = {stderr, 0.0, 0, 0};
+    ProgressBar bar = {.out = stderr};
     if (!a.quiet && isatty(STDERR_FILENO)) ro.progress = progress_bar_update, ro.progress_ctx = &bar;
 
     Renderer *r = NULL;

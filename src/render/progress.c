@@ -18,6 +18,16 @@ static void human(double v, char *buf, size_t n)
 void progress_bar_update(void *ctx, const RenderProgress *p)
 {
     ProgressBar *bar = ctx;
+    /* A renderer's clock restarts with every pass (a filter's adaptive second pass, say):
+     * keep the finished pass's line and start a new one. */
+    if (bar->printed && p->seconds < bar->last_seen_s) {
+        fputc('\n', bar->out);
+        bar->printed = 0;
+        bar->done_printed = 0;
+        bar->last_print_s = 0.0;
+        ++bar->pass;
+    }
+    bar->last_seen_s = p->seconds;
     bool done = p->samples_done >= p->samples_total;
     if (done && bar->done_printed) return;
     if (!done && bar->printed && p->seconds - bar->last_print_s < 0.1) return;
@@ -35,7 +45,7 @@ void progress_bar_update(void *ctx, const RenderProgress *p)
     double rate = p->seconds > 0.0 ? (double)p->rays_done / p->seconds : 0.0;
     human(rate, rate_s, sizeof rate_s);
     double eta = (frac > 0.0 && frac < 1.0) ? p->seconds * (1.0 - frac) / frac : 0.0;
-    fprintf(bar->out, "\r[%s] %3.0f%%  %s/%s samples  %s rays/s  ETA %5.1fs ", bar_txt, 100.0 * frac, done_s, total_s,
+    fprintf(bar->out, "\rpass %d [%s] %3.0f%%  %s/%s samples  %s rays/s  ETA %5.1fs ", bar->pass + 1, bar_txt, 100.0 * frac, done_s, total_s,
             rate_s, eta);
     fflush(bar->out);
     bar->printed = 1;

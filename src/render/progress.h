@@ -11,6 +11,8 @@ typedef struct {
     double last_print_s;    /* throttles redraws */
     int printed;            /* a line is on screen (needs a final newline) */
     int done_printed;       /* the 100% line is on screen */
+    double last_seen_s;     /* the pass clock at the last update: it restarts with each pass */
+    int pass;               /* 0-based pass number shown on the line */
 } ProgressBar;
 
 /* RenderProgressFn for RenderOptions.progress (ctx = ProgressBar*). */
