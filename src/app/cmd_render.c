@@ -34,7 +34,8 @@
 
 typedef struct {
     const char *scene_path;   /* NULL: the embedded default scene */
-    const char *out_path;     /* NULL: the film's filename */
+    const char *out_paths[8]; /* -o, repeatable (one render, several files); none: the film's filename */
+    int out_count;
     int spp;                  /* 0: scene's */
     int width, height;        /* 0: scene's */
     uint64_t seed;
@@ -63,8 +64,9 @@ static void usage(FILE *f)
             "                    [--filter auto|aaf|none] [--mu X] [--cl-device N|NAME] [--visualize]\n"
             "                    [--view NAME]\n\n"
             "Renders a pbrt-v4 scene (without SCENE: the embedded default scene) to OUT.\n\n"
-            "  -o OUT          output image; .png writes 8-bit display-referred colour through\n"
-            "                  OpenColorIO ($OCIO or the built-in config), anything else EXR\n"
+            "  -o OUT          output image, repeatable (one render, several files); .png writes\n"
+            "                  8-bit display-referred colour through OpenColorIO ($OCIO or the\n"
+            "                  built-in config), anything else EXR\n"
             "                  (default: the scene's Film \"filename\")\n"
             "  --spp N         samples per pixel with --filter none (default: the scene's\n"
             "                  pixelsamples); a filter chooses its own per-pixel counts (--mu)\n"
@@ -120,7 +122,11 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             a->help = true;
         } else if (!strcmp(o, "-o")) {
             NEED_VALUE();
-            a->out_path = val;
+            if (a->out_count == (int)(sizeof a->out_paths / sizeof a->out_paths[0])) {
+                fprintf(stderr, "wedge render: at most %d -o outputs\n", a->out_count);
+                return WEDGE_EXIT_USAGE;
+            }
+            a->out_paths[a->out_count++] = val;
         } else if (!strcmp(o, "--spp")) {
             NEED_VALUE();
             if (!parse_int(val, 1, 1L << 24, &v)) goto bad_value;
@@ -396,7 +402,8 @@ int cmd_render(int argc, char **argv)
     if (!a.quiet)
         for (int i = 0; i < scene.warning_count; ++i) fprintf(stderr, "%s\n", scene.warnings[i]);
 
-    const char *out_path = a.out_path ? a.out_path : (scene.film.filename ? scene.film.filename : "pbrt.exr");
+    if (a.out_count == 0) a.out_paths[a.out_count++] = scene.film.filename ? scene.film.filename : "pbrt.exr";
+    const char *out_path = a.out_paths[0];
     Frame frame;
     if (!frame_init(&frame, renderer_width(r), renderer_height(r))) {
         fprintf(stderr, "wedge render: out of memory for a %dx%d frame\n", renderer_width(r), renderer_height(r));
@@ -455,9 +462,14 @@ int cmd_render(int argc, char **argv)
     const char *scene_name = a.scene_path ? a.scene_path : "<default>";
     int exit_code = WEDGE_EXIT_OK;
     const AafRenderResult *maps = filtered ? &aaf : NULL;
-    if (!write_image(out_path, &frame, rgb, maps, &a, scene_name, spp_avg, seconds_total, renderer_sampler(r),
-                     &guarded, &err) ||
-        (a.visualize && !write_visualizations(out_path, &frame, maps, &err))) {
+    for (int k = 0; k < a.out_count && exit_code == WEDGE_EXIT_OK; ++k)
+        if (!write_image(a.out_paths[k], &frame, rgb, maps, &a, scene_name, spp_avg, seconds_total,
+                         renderer_sampler(r), &guarded, &err)) {
+            fputs(err.message, stderr);
+            if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+            exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
+        }
+    if (exit_code == WEDGE_EXIT_OK && a.visualize && !write_visualizations(out_path, &frame, maps, &err)) {
         fputs(err.message, stderr);
         if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
         exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;

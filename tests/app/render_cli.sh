@@ -74,6 +74,10 @@ if "$WEDGE" compare "$T/b.exr" "$T/c.exr" >"$T/cmp.txt" 2>&1; then
     grep -Eq '^MSE +0$' "$T/cmp.txt" || { echo "FAIL: 1 and 2 threads differ: $(cat "$T/cmp.txt")"; fail=1; }
 fi
 
+# one render, several outputs
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 1 --res 16x12 -o "$T/m.exr" -o "$T/m.png" --quiet
+check "two outputs" 0 $?
+[ -s "$T/m.exr" ] && [ -s "$T/m.png" ] || { echo "FAIL: -o twice did not write both files"; fail=1; }
 # PNG output; the default -o is the film's filename (in the current folder)
 "$WEDGE" render "$T/small.pbrt" --spp 1 --res 16x12 -o "$T/p.png" --quiet; check "render to PNG" 0 $?
 head -c 8 "$T/p.png" | grep -aq PNG || { echo "FAIL: not a PNG"; fail=1; }
