@@ -82,7 +82,7 @@ static void usage(FILE *f)
             "                  Monte Carlo from the same sampler)\n"
             "  --mu X          filter knob (> 0): larger means more samples and narrower filters;\n"
             "                  as X grows the result converges to Monte Carlo (default: each\n"
-            "                  paper's value, 2 for shadows and defocus, 1 for indirect light)\n"
+            "                  filter's default: 2 for shadows and indirect light, 1 for defocus)\n"
             "  --cl-device D   OpenCL device by index or name substring (see 'wedge info --cl');\n"
             "                  default $WEDGE_CL_DEVICE, else the first GPU, else the first CPU\n"
             "  --visualize     also write OUT-beta-EFFECT.png and OUT-spp.png false-colour maps\n"

@@ -19,6 +19,7 @@ enum {
     PL_IN_R, PL_IN_G, PL_IN_B, PL_IN_W,
     PL_TMP_R, PL_TMP_G, PL_TMP_B, PL_TMP_W,
     PL_OUT_R, PL_OUT_G, PL_OUT_B, PL_OUT_W,
+    PL_LX, PL_LY, PL_LZ, PL_LW,                                 /* per-pixel filter plane */
     PL_COUNT
 };
 
@@ -201,29 +202,27 @@ static double event_seconds(cl_event e)
     return t1 > t0 ? (double)(t1 - t0) * 1e-9 : 0.0;
 }
 
-static bool run_pass(AafFilter *f, int axis, const AafFilterRules *rules, const float *plane_normal3, int in0,
-                     int out0, cl_event *ev, Diag *d)
+static bool run_pass(AafFilter *f, int axis, const AafFilterRules *rules, bool plane_given, int in0, int out0,
+                     cl_event *ev, Diag *d)
 {
     cl_kernel k = f->pass;
     cl_int err = set_dims(f, k);
     cl_int ints[2] = {axis, rules->mode};
-    cl_int plane_mode = plane_normal3 ? 1 : 0;
-    float pn[3] = {0, 0, 0};
-    if (plane_normal3) memcpy(pn, plane_normal3, sizeof pn);
+    cl_int plane_mode = plane_given ? 1 : 0;
     cl_uint a = 4;
     for (int i = 0; i < 2; ++i) err |= clSetKernelArg(k, a++, sizeof(cl_int), &ints[i]);
     err |= clSetKernelArg(k, a++, sizeof(float), &rules->cos_normal_min);
     err |= clSetKernelArg(k, a++, sizeof(float), &rules->depth_tol_rel);
     err |= clSetKernelArg(k, a++, sizeof(cl_int), &plane_mode);
-    for (int i = 0; i < 3; ++i) err |= clSetKernelArg(k, a++, sizeof(float), &pn[i]);
     for (int c = 0; c < 4; ++c) err |= clSetKernelArg(k, a++, sizeof(cl_mem), &f->planes[in0 + c]);
     for (int p = PL_PX; p <= PL_RADIUS; ++p) err |= clSetKernelArg(k, a++, sizeof(cl_mem), &f->planes[p]);
+    for (int p = PL_LX; p <= PL_LZ; ++p) err |= clSetKernelArg(k, a++, sizeof(cl_mem), &f->planes[p]);
     for (int c = 0; c < 4; ++c) err |= clSetKernelArg(k, a++, sizeof(cl_mem), &f->planes[out0 + c]);
     if (!cl_check(err, "aaf_filter_pass arguments", d)) return false;
     return launch_2d(f, k, (size_t)(f->width + 7) / 8, (size_t)f->height, ev, d);
 }
 
-bool aaf_filter_run(AafFilter *f, const float *value4, const float *plane_normal3, const float *param_xy,
+bool aaf_filter_run(AafFilter *f, const float *value4, const float *plane_normal4, const float *param_xy,
                     const AafFilterRules *rules, float *out4, double *kernel_seconds, Diag *d)
 {
     if (kernel_seconds) *kernel_seconds = 0.0;
@@ -235,6 +234,7 @@ bool aaf_filter_run(AafFilter *f, const float *value4, const float *plane_normal
     /* In the plane of each pixel's own normal unless told otherwise; without guides (pixel
      * mode) the plane is irrelevant. */
     bool ok = upload4(f, value4, PL_IN_R, d);
+    if (plane_normal4) ok = ok && upload4(f, plane_normal4, PL_LX, d);
     cl_int err = clEnqueueWriteBuffer(f->rt->queue, f->raw2, CL_FALSE, 0, n * 8, param_xy, 0, NULL, NULL);
     err |= set_dims(f, f->unpack_params);
     err |= clSetKernelArg(f->unpack_params, 4, sizeof(cl_mem), &f->raw2);
@@ -242,8 +242,8 @@ bool aaf_filter_run(AafFilter *f, const float *value4, const float *plane_normal
     err |= clSetKernelArg(f->unpack_params, 6, sizeof(cl_mem), &f->planes[PL_RADIUS]);
     ok = ok && cl_check(err, "upload", d) && launch_2d(f, f->unpack_params, (size_t)f->width, (size_t)f->height, NULL, d);
     cl_event ev[2] = {NULL, NULL};
-    ok = ok && run_pass(f, 0, rules, plane_normal3, PL_IN_R, PL_TMP_R, &ev[0], d) &&
-         run_pass(f, 1, rules, plane_normal3, PL_TMP_R, PL_OUT_R, &ev[1], d);
+    ok = ok && run_pass(f, 0, rules, plane_normal4 != NULL, PL_IN_R, PL_TMP_R, &ev[0], d) &&
+         run_pass(f, 1, rules, plane_normal4 != NULL, PL_TMP_R, PL_OUT_R, &ev[1], d);
     if (ok) {
         err = set_dims(f, f->pack4);
         for (int c = 0; c < 4; ++c) err |= clSetKernelArg(f->pack4, (cl_uint)(4 + c), sizeof(cl_mem), &f->planes[PL_OUT_R + c]);

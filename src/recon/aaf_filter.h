@@ -44,11 +44,12 @@ bool aaf_filter_reserve(AafFilter *f, int width, int height, Diag *d);
 bool aaf_filter_set_guides(AafFilter *f, int width, int height, const float *pos4, const float *nrm4, Diag *d);
 
 /* Filters value4 (rgb + usable flag) into out4 (may alias value4); radii above
- * AAF_FILTER_RADIUS_CAP_PX are clamped to it. Distances are measured in the plane with unit
- * normal plane_normal3 (AAF-shadow eq. 12: the light's normal), or, when it is NULL, in the
- * tangent plane of each centre pixel (AAF-GI). kernel_seconds (may be NULL) receives the
+ * AAF_FILTER_RADIUS_CAP_PX are clamped to it. Distances are measured in the plane whose unit
+ * normal is the centre pixel's entry of plane_normal4 (4 floats per pixel, the 4th unused;
+ * AAF-shadow eq. 12: the normal of the pixel's light), or, when it is NULL, in the tangent
+ * plane of each centre pixel (AAF-GI). kernel_seconds (may be NULL) receives the
  * device time of the two filter passes as measured by OpenCL profiling. */
-bool aaf_filter_run(AafFilter *f, const float *value4, const float *plane_normal3, const float *param_xy,
+bool aaf_filter_run(AafFilter *f, const float *value4, const float *plane_normal4, const float *param_xy,
                     const AafFilterRules *rules, float *out4, double *kernel_seconds, Diag *d);
 
 #endif

@@ -95,7 +95,10 @@ float aaf_shadow_spp(float s1, float s2, float sigma_light_world, float pixel_wo
 
 AafIndirectConfig aaf_indirect_config_default(void)
 {
-    AafIndirectConfig c = {0.3f, 1.0f, 0.02f, 100.0f}; /* AAF-GI Sec. 5 */
+    /* AAF-GI Sec. 5: alpha 0.3, the 2% zmin clamp. Deviations, measured (docs/algorithms.md,
+     * "Indirect light: what limited the gain"): the cap is 16 mu samples per pixel instead of
+     * 100 mu, and mu defaults to 2 instead of the paper's 0.9. */
+    AafIndirectConfig c = {0.3f, 2.0f, 0.02f, 16.0f};
     return c;
 }
 
@@ -161,7 +164,7 @@ float aaf_indirect_spp(float zmin_world, float zmax_world, float omega_h, float 
 
 AafDefocusConfig aaf_defocus_config_default(void)
 {
-    AafDefocusConfig c = {3.0f, 1.0f, 2.0f}; /* the AAF-shadow constants, same derivation */
+    AafDefocusConfig c = {3.0f, 1.0f, 1.0f}; /* k, alpha as AAF-shadow; mu 1 (measured, docs/algorithms.md) */
     return c;
 }
 

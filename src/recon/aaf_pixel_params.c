@@ -64,6 +64,20 @@ static bool box_average(const BoxAverager *b, int x, int y, int r, float out[3])
     return true;
 }
 
+/* The same average without the centre pixel's own values (self, when it is valid): the
+ * "leave one out" statistics of a pixel, independent of its own samples. */
+static bool box_average_others(const BoxAverager *b, int x, int y, int r, bool self_valid, const float self[3],
+                               float out[3])
+{
+    int x0 = x - r < 0 ? 0 : x - r, y0 = y - r < 0 ? 0 : y - r;
+    int x1 = x + r >= b->w ? b->w - 1 : x + r, y1 = y + r >= b->h ? b->h - 1 : y + r;
+    double c = box_query(b, b->count, x0, y0, x1, y1) - (self_valid ? 1.0 : 0.0);
+    if (c < 0.5) return false;
+    for (int k = 0; k < 3; ++k)
+        out[k] = (float)((box_query(b, b->sum[k], x0, y0, x1, y1) - (self_valid ? (double)self[k] : 0.0)) / c);
+    return true;
+}
+
 static float at_or(const float *a, size_t i, float fallback) { return a ? a[i] : fallback; }
 static bool pixel_hit(const AafPixelStats *st, size_t i) { return st->hit ? st->hit[i] != 0 : true; }
 
@@ -103,6 +117,7 @@ int aaf_shadow_params_image(const AafPixelStats *st, const AafShadowConfig *c, c
                 float avg[3];
                 if (!box_average(&box, x, y, ic->borrow_radius_px, avg)) { /* unoccluded */
                     beta_world[i] = far_beta_world(st, i, ic);
+                    if (ic->far_spp > spp[i]) spp[i] = ic->far_spp;
                     if (beta_world[i] > 0.0f) ++filtered;
                     continue;
                 }
@@ -151,20 +166,25 @@ int aaf_indirect_params_image(const AafPixelStats *st, const AafIndirectConfig *
             beta_world[i] = 0.0f;
             spp[i] = ic->spp_min;
             if (!pixel_hit(st, i)) continue;
-            float zmin, zmax;
+            /* zmin, zmax from the neighbours' bounce rays, not the pixel's own: the pixel's
+             * rays also made its pass-1 indirect value, and choosing its sample count and width
+             * from them biases its mean (a pixel whose rays hit a near, bright reflector, or
+             * escaped, would get its value and its extra samples together; measured 1-2% off
+             * by region, docs/algorithms.md section 2.5). The 3x3 neighbours first, else the
+             * borrow radius (AAF-GI's 5-pixel neighbourhood), else the far width. */
+            float own[3] = {0.0f, 0.0f, 0.0f}, avg[3];
             if (reflected[i]) {
-                zmin = st->zmin_world[i];
-                zmax = st->zmax_world[i];
-            } else {
-                float avg[3];
-                if (!box_average(&box, x, y, ic->borrow_radius_px, avg)) { /* nothing near */
-                    beta_world[i] = far_beta_world(st, i, ic);
-                    if (beta_world[i] > 0.0f) ++filtered;
-                    continue;
-                }
-                zmin = avg[0];
-                zmax = avg[1];
+                own[0] = st->zmin_world[i];
+                own[1] = st->zmax_world[i];
             }
+            if (!box_average_others(&box, x, y, 1, reflected[i], own, avg) &&
+                !box_average_others(&box, x, y, ic->borrow_radius_px, reflected[i], own, avg)) {
+                beta_world[i] = far_beta_world(st, i, ic);
+                if (ic->far_spp > spp[i]) spp[i] = ic->far_spp;
+                if (beta_world[i] > 0.0f) ++filtered;
+                continue;
+            }
+            float zmin = avg[0], zmax = avg[1];
             /* AAF-GI Sec. 5: zmin at least 2% of the scene, or corners would not be filtered. */
             zmin = aaf_indirect_clamp_zmin(zmin, scene_size_world, c->zmin_clamp_frac);
             float m = at_or(st->blinn_phong_m, i, 0.0f);

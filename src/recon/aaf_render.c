@@ -21,6 +21,13 @@
 #define BORROW_RADIUS_PX 5
 /* Filter taps up to 2 beta (95% of a Gaussian's mass; the rest is renormalised away). */
 #define RADIUS_SIGMAS 2.0f
+/* Mixed pixels (aaf_stats.c: samples on different surfaces over the shutter or lens, which
+ * includes antialiased silhouettes) are left out of the world-space filters and are plain
+ * Monte Carlo; they get this many times mu times the pass-1 count (32 at mu 1, 64 at mu 2 with
+ * 16 in pass 1), so that their noise does not stand out against the filtered neighbours and
+ * still falls as mu grows (consistency; with a fixed count they were the error floor of the
+ * mu sweep on the soft-shadow bench scene). */
+#define MIXED_SPP_PER_MU 2.0f
 /* Albedo below this is treated as black: the irradiance cannot be recovered there. */
 #define MIN_ALBEDO 1.0e-4f
 /* Pixels whose unoccluded irradiance is below this fraction of the frame's largest (facing
@@ -69,10 +76,13 @@ static AafCameraModel camera_model(const Camera *c)
 /* Per-pixel means of the frame's sums (3 floats per pixel). */
 typedef struct {
     float *color, *direct, *indirect, *emission, *albedo;
+    float *unf_direct, *unf_indirect; /* SampleRecord.unfiltered, split (aaf_stats_add) */
 } Means;
 
 static void means_free(Means *m)
 {
+    free(m->unf_direct);
+    free(m->unf_indirect);
     free(m->color);
     free(m->direct);
     free(m->indirect);
@@ -89,7 +99,10 @@ static bool means_resolve(const Frame *f, Means *m, bool with_color, long long *
     m->indirect = malloc(n3 * sizeof(float));
     m->emission = malloc(n3 * sizeof(float));
     m->albedo = malloc(n3 * sizeof(float));
-    if (!m->color || !m->direct || !m->indirect || !m->emission || !m->albedo) return false;
+    m->unf_direct = calloc(n3, sizeof(float));
+    m->unf_indirect = calloc(n3, sizeof(float));
+    if (!m->color || !m->direct || !m->indirect || !m->emission || !m->albedo || !m->unf_direct || !m->unf_indirect)
+        return false;
     if (with_color) *guarded += frame_resolve3(f, f->color, m->color);
     *guarded += frame_resolve3(f, f->direct, m->direct);
     *guarded += frame_resolve3(f, f->indirect, m->indirect);
@@ -98,17 +111,35 @@ static bool means_resolve(const Frame *f, Means *m, bool with_color, long long *
     return true;
 }
 
+/* The light the filters must not blur (SampleRecord.unfiltered) is taken out of the direct and
+ * indirect means here and added back after filtering. The stats saw the same samples as the
+ * frame (the sink ran in both passes), so their counts are the frame's. */
+static void means_split_unfiltered(Means *m, const AafStats *st, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        float inv = st->samples[i] > 0 ? 1.0f / (float)st->samples[i] : 0.0f;
+        for (int k = 0; k < 3; ++k) {
+            size_t j = 3 * i + (size_t)k;
+            float ud = st->unf_direct_sum[j] * inv, ui = st->unf_indirect_sum[j] * inv;
+            m->unf_direct[j] = isfinite(ud) ? ud : 0.0f;
+            m->unf_indirect[j] = isfinite(ui) ? ui : 0.0f;
+            m->direct[j] -= m->unf_direct[j];
+            m->indirect[j] -= m->unf_indirect[j];
+        }
+    }
+}
+
 /* value4 = radiance / (albedo * shade): what the filters assume smooth. shade (NULL: 1) is the
  * unoccluded irradiance r(x) for direct light, so that what is filtered is the visibility
  * (AAF-shadow eq. 1). Usable where there is a surface with non-black albedo and shade above
  * shade_min; elsewhere the raw radiance, unusable (kept as it is, not shared). */
 static void demodulate(size_t n, const float *radiance3, const float *albedo3, const float *shade, float shade_min,
-                       const unsigned char *hit, float *value4)
+                       const unsigned char *hit, const unsigned char *mixed, float *value4)
 {
     for (size_t i = 0; i < n; ++i) {
         const float *a = albedo3 + 3 * i;
         float sh = shade ? shade[i] : 1.0f;
-        bool ok = hit[i] && a[0] > MIN_ALBEDO && a[1] > MIN_ALBEDO && a[2] > MIN_ALBEDO && sh > shade_min;
+        bool ok = hit[i] && !mixed[i] && a[0] > MIN_ALBEDO && a[1] > MIN_ALBEDO && a[2] > MIN_ALBEDO && sh > shade_min;
         for (int k = 0; k < 3; ++k) value4[4 * i + k] = ok ? radiance3[3 * i + k] / (a[k] * sh) : radiance3[3 * i + k];
         value4[4 * i + 3] = ok ? 1.0f : 0.0f;
     }
@@ -232,14 +263,24 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     float *filtered4 = malloc(4 * n * sizeof(float)), *shade = malloc(n * sizeof(float));
     ClRuntime *rt = NULL;
     AafFilter *filter = NULL;
+    AafLightGeom *lights = NULL;
+    float *slope4 = malloc(4 * n * sizeof(float));
     ClOpener opener;
     memset(&opener, 0, sizeof opener);
     bool ok = false, stats_ok = aaf_stats_init(&stats, w, h, camera_model(renderer_camera(r)));
-    if (!res->rgb || !res->spp || !stats_ok || !spp_effect || !spp_extra || !value4 || !param || !filtered4 || !shade) {
+    if (!res->rgb || !res->spp || !stats_ok || !spp_effect || !spp_extra || !value4 || !param || !filtered4 || !shade ||
+        !slope4) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for AAF buffers (%dx%d)", w, h);
         goto done;
     }
     SampleSink sink = {aaf_stats_add, &stats};
+    int light_count = renderer_light_count(r);
+    lights = calloc(light_count > 0 ? (size_t)light_count : 1, sizeof *lights);
+    if (lights) {
+        aaf_lights_from_renderer(r, lights, light_count);
+        stats.lights = lights;
+        stats.light_count = light_count;
+    }
 
     /* ---- pass 1: sparse sampling ---- */
     bool complete = render_pass(r, 0, NULL, res->pass1_spp, frame, any ? &sink : NULL);
@@ -263,7 +304,12 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
             /* Far from any occluder/reflector: radius 2 beta within the borrow radius, and
              * shrinking with mu like every other width (aaf_pixel_params.h). */
             float far_beta_px = (float)BORROW_RADIUS_PX / fmaxf(mu, 2.0f);
-            AafImageConfig ic = {BORROW_RADIUS_PX, res->pass1_spp, 100.0f * mu, far_beta_px};
+            /* Their light is still Monte Carlo (the unoccluded direct light of an area light,
+             * indirect light from far away): from mu 2 on their samples grow with mu like the
+             * width shrinks, so that they too converge (the paper's fixed pass-1 count made
+             * them the error floor of a mu sweep on the soft-shadow bench scene). */
+            int far_spp = aaf_clamp_spp((float)res->pass1_spp * fmaxf(1.0f, 0.5f * mu), res->pass1_spp, 100.0f * mu);
+            AafImageConfig ic = {BORROW_RADIUS_PX, res->pass1_spp, 100.0f * mu, far_beta_px, far_spp};
             if (e == AAF_EFFECT_SHADOWS) aaf_shadow_params_image(&ps, &shadow_cfg, &ic, beta[e], spp_effect);
             if (e == AAF_EFFECT_INDIRECT)
                 aaf_indirect_params_image(&ps, &indirect_cfg, &ic, derived.scene_size_world, beta[e], spp_effect);
@@ -272,6 +318,15 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
                 int extra = spp_effect[i] - res->pass1_spp;
                 if (extra > spp_extra[i]) spp_extra[i] = extra;
             }
+        }
+        float mu_max = 0.0f;
+        for (int e = 0; e < AAF_EFFECT_COUNT; ++e)
+            if (on[e]) mu_max = fmaxf(mu_max, e == 0 ? shadow_cfg.mu : e == 1 ? indirect_cfg.mu : defocus_cfg.mu);
+        int mixed_spp = aaf_clamp_spp(MIXED_SPP_PER_MU * mu_max * (float)res->pass1_spp, res->pass1_spp,
+                                      100.0f * mu_max);
+        for (size_t i = 0; i < n; ++i) {
+            int extra = mixed_spp - res->pass1_spp;
+            if (derived.mixed[i] && extra > spp_extra[i]) spp_extra[i] = extra;
         }
         /* ---- pass 2: adaptive sampling, while OpenCL starts up ---- */
         opener_start(&opener, o->cl_device, w, h);
@@ -284,6 +339,7 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for AAF buffers");
         goto done;
     }
+    if (complete && any) means_split_unfiltered(&means, &stats, n);
     for (size_t i = 0; i < n; ++i) res->spp[i] = frame->spp[i];
     res->spp_avg = frame_spp_avg(frame);
     if (!complete || !any) {
@@ -318,10 +374,10 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
         float shade_max = 0.0f;
         for (size_t i = 0; i < n; ++i) shade_max = fmaxf(shade_max, shade[i]);
         demodulate(n, means.direct, means.albedo, derived.light_known ? shade : NULL, MIN_SHADE_REL * shade_max,
-                   derived.hit, value4);
+                   derived.hit, derived.mixed, value4);
         aaf_filter_make_params((int)n, beta[AAF_EFFECT_SHADOWS], derived.pixel_world, RADIUS_SIGMAS,
                                AAF_FILTER_RADIUS_CAP_PX, param);
-        if (!aaf_filter_run(filter, value4, derived.light_normal, param, &world_rules, filtered4, &kernel_s, d)) goto done;
+        if (!aaf_filter_run(filter, value4, derived.plane4, param, &world_rules, filtered4, &kernel_s, d)) goto done;
         res->seconds_kernels += kernel_s;
         remodulate_add(n, filtered4, means.albedo, derived.light_known ? shade : NULL, res->rgb);
     } else {
@@ -330,7 +386,7 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     /* Indirect light: irradiance (albedo divided out), distances in each receiver's tangent
      * plane (AAF-GI eq. 16). */
     if (on[AAF_EFFECT_INDIRECT]) {
-        demodulate(n, means.indirect, means.albedo, NULL, 0.0f, derived.hit, value4);
+        demodulate(n, means.indirect, means.albedo, NULL, 0.0f, derived.hit, derived.mixed, value4);
         aaf_filter_make_params((int)n, beta[AAF_EFFECT_INDIRECT], derived.pixel_world, RADIUS_SIGMAS,
                                AAF_FILTER_RADIUS_CAP_PX, param);
         if (!aaf_filter_run(filter, value4, NULL, param, &world_rules, filtered4, &kernel_s, d)) goto done;
@@ -339,6 +395,7 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     } else {
         for (size_t i = 0; i < 3 * n; ++i) res->rgb[i] += means.indirect[i];
     }
+    for (size_t i = 0; i < 3 * n; ++i) res->rgb[i] += means.unf_direct[i] + means.unf_indirect[i];
     /* Defocus: the primary radiance itself is filtered, in pixels, across objects. */
     if (on[AAF_EFFECT_DEFOCUS]) {
         for (size_t i = 0; i < n; ++i) {
@@ -347,7 +404,16 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
         }
         AafFilterRules pixel_rules = aaf_filter_rules_default(AAF_DIST_PIXEL);
         aaf_filter_make_params((int)n, beta[AAF_EFFECT_DEFOCUS], NULL, RADIUS_SIGMAS, AAF_FILTER_RADIUS_CAP_PX, param);
-        if (!aaf_filter_run(filter, value4, NULL, param, &pixel_rules, filtered4, &kernel_s, d)) goto done;
+        /* Each pixel's sharpest CoC slope (the end of its range nearest 0; 0 if the range
+         * straddles the focal plane): the kernel keeps sharper neighbours out of a blur, e.g.
+         * an in-focus object's edge pixels out of the defocused background behind it. */
+        for (size_t i = 0; i < n; ++i) {
+            float lo = derived.coc_min[i], hi = derived.coc_max[i];
+            float sharp = (lo <= 0.0f && hi >= 0.0f) ? 0.0f : (fabsf(lo) < fabsf(hi) ? lo : hi);
+            slope4[4 * i] = isfinite(sharp) && lo <= hi ? sharp : 0.0f;
+            slope4[4 * i + 1] = slope4[4 * i + 2] = slope4[4 * i + 3] = 0.0f;
+        }
+        if (!aaf_filter_run(filter, value4, slope4, param, &pixel_rules, filtered4, &kernel_s, d)) goto done;
         res->seconds_kernels += kernel_s;
         for (size_t i = 0; i < n; ++i)
             for (int k = 0; k < 3; ++k) res->rgb[3 * i + k] = filtered4[4 * i + k];
@@ -376,5 +442,7 @@ done:
     free(param);
     free(filtered4);
     free(shade);
+    free(lights);
+    free(slope4);
     return ok;
 }

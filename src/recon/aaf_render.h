@@ -26,7 +26,7 @@ enum { AAF_EFFECT_SHADOWS = 0, AAF_EFFECT_INDIRECT = 1, AAF_EFFECT_DEFOCUS = 2, 
 const char *aaf_effect_name(int effect);
 
 typedef struct {
-    float mu;              /* > 0: used for every effect; <= 0: each paper's default (2, 1, 2) */
+    float mu;              /* > 0: used for every effect; <= 0: the defaults (shadows 2, indirect 2, defocus 1) */
     bool want[AAF_EFFECT_COUNT]; /* filter this effect if the scene has it (auto: all true) */
     const char *cl_device; /* --cl-device; NULL: $WEDGE_CL_DEVICE, else the first GPU/CPU */
 } AafRenderOptions;

@@ -33,6 +33,19 @@ bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam)
     s->zmax = calloc(n, sizeof(float));
     s->coc_min = malloc(n * sizeof(float));
     s->coc_max = malloc(n * sizeof(float));
+    s->sigma_min = malloc(n * sizeof(float));
+    s->plane_sum = calloc(3 * n, sizeof(float));
+    s->depth_sq_sum = calloc(n, sizeof(double));
+    s->id_mixed = calloc(n, 1);
+    s->unfilterable = calloc(n, sizeof(int));
+    s->phong_max = calloc(n, sizeof(float));
+    s->unf_direct_sum = calloc(3 * n, sizeof(float));
+    s->unf_indirect_sum = calloc(3 * n, sizeof(float));
+    if (!s->sigma_min || !s->plane_sum || !s->depth_sq_sum || !s->id_mixed || !s->unfilterable || !s->phong_max ||
+        !s->unf_direct_sum || !s->unf_indirect_sum) {
+        aaf_stats_free(s);
+        return false;
+    }
     if (!s->samples || !s->hits || !s->pos_sum || !s->nrm_sum || !s->depth_sum || !s->object_id ||
         !s->shadow_rays || !s->occluded_rays || !s->d1_sum || !s->ratio_min || !s->ratio_max ||
         !s->light_p_sum || !s->light_pp_sum || !s->zmin || !s->zmax || !s->coc_min || !s->coc_max) {
@@ -45,6 +58,7 @@ bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam)
         s->zmin[i] = INFINITY;
         s->coc_min[i] = INFINITY;  /* min > max: no data yet */
         s->coc_max[i] = -INFINITY;
+        s->sigma_min[i] = INFINITY;
     }
     return true;
 }
@@ -68,7 +82,54 @@ void aaf_stats_free(AafStats *s)
     free(s->zmax);
     free(s->coc_min);
     free(s->coc_max);
+    free(s->sigma_min);
+    free(s->plane_sum);
+    free(s->depth_sq_sum);
+    free(s->id_mixed);
+    free(s->unfilterable);
+    free(s->phong_max);
+    free(s->unf_direct_sum);
+    free(s->unf_indirect_sum);
     memset(s, 0, sizeof *s);
+}
+
+/* The Gaussian width of AAF-shadow Sec. 4.1 from the exact emitter: sigma = sqrt(A)/2 with A
+ * the area the light presents (the same convention as eq. 16's A_l = (2 sigma)^2). A planar
+ * emitter split into triangles (a quad light is two) counts as one light of the summed area,
+ * grouped by its SceneDesc shape; a sphere presents its silhouette, area/4. */
+void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count)
+{
+    RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
+    int max_shape = -1;
+    for (int l = 0; l < count; ++l) {
+        memset(&lights[l], 0, sizeof lights[l]);
+        if (info && !renderer_light_info(r, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
+        if (info && info[l].kind == RENDER_LIGHT_AREA && info[l].shape > max_shape) max_shape = info[l].shape;
+    }
+    if (!info) return; /* out of memory: sigma 0, the caller falls back to the estimate */
+    double *shape_area = calloc((size_t)max_shape + 2, sizeof(double));
+    for (int l = 0; l < count && shape_area; ++l)
+        if (info[l].kind == RENDER_LIGHT_AREA && info[l].shape >= 0) shape_area[info[l].shape] += info[l].area_world;
+    for (int l = 0; l < count; ++l) {
+        const RenderLightInfo *li = &info[l];
+        if (li->kind != RENDER_LIGHT_AREA) continue;
+        bool planar = v3_dot(li->normal_world, li->normal_world) > 0.5f; /* spheres have no normal */
+        double area = li->area_world;
+        if (!planar) area *= 0.25;
+        else if (shape_area && li->shape >= 0) area = shape_area[li->shape];
+        float sigma = (float)(0.5 * sqrt(area));
+        lights[l].sigma_world = isfinite(sigma) ? sigma : 0.0f;
+        if (planar) {
+            lights[l].normal[0] = li->normal_world.x;
+            lights[l].normal[1] = li->normal_world.y;
+            lights[l].normal[2] = li->normal_world.z;
+        }
+        lights[l].center[0] = li->center_world.x;
+        lights[l].center[1] = li->center_world.y;
+        lights[l].center[2] = li->center_world.z;
+    }
+    free(shape_area);
+    free(info);
 }
 
 /* Thin lens (pbrt-v4): the ray from lens point R u through the in-focus point crosses depth z
@@ -100,13 +161,32 @@ void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r)
     if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) return;
     s->hits[i]++;
     if (s->object_id[i] < 0) s->object_id[i] = r->object_id;
+    else if (s->object_id[i] != r->object_id) s->id_mixed[i] = 1;
+    if (r->unfilterable) s->unfilterable[i]++;
+    if (r->phong_exponent > s->phong_max[i] && isfinite(r->phong_exponent)) s->phong_max[i] = r->phong_exponent;
+    /* `unfiltered` is part of direct + indirect without saying which: attribute it to the
+     * indirect light first (mirror images of the scene), the rest to direct (the light seen in
+     * a mirror), per channel, so that both filtered remainders stay >= 0. */
+    {
+        float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
+        float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+        for (int k = 0; k < 3; ++k) {
+            float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
+            float ui = fminf(uk, fmaxf(ind[k], 0.0f));
+            s->unf_indirect_sum[3 * i + k] += ui;
+            s->unf_direct_sum[3 * i + k] += uk - ui;
+        }
+    }
     s->pos_sum[3 * i + 0] += r->p_world.x;
     s->pos_sum[3 * i + 1] += r->p_world.y;
     s->pos_sum[3 * i + 2] += r->p_world.z;
     s->nrm_sum[3 * i + 0] += r->n_shading.x;
     s->nrm_sum[3 * i + 1] += r->n_shading.y;
     s->nrm_sum[3 * i + 2] += r->n_shading.z;
-    if (isfinite(r->depth_cam)) s->depth_sum[i] += r->depth_cam;
+    if (isfinite(r->depth_cam)) {
+        s->depth_sum[i] += r->depth_cam;
+        s->depth_sq_sum[i] += (double)r->depth_cam * (double)r->depth_cam;
+    }
     if (!s->collect_rays) return;
 
     for (int k = 0; k < r->shadow_count && k < SAMPLE_RECORD_MAX_SHADOW; ++k) {
@@ -120,6 +200,24 @@ void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r)
         m[0] += p.x, m[1] += p.y, m[2] += p.z;
         q[0] += p.x * p.x, q[1] += p.x * p.y, q[2] += p.x * p.z;
         q[3] += p.y * p.y, q[4] += p.y * p.z, q[5] += p.z * p.z;
+        int li = sh->light_index;
+        if (s->lights && li >= 0 && li < s->light_count && s->lights[li].sigma_world > 0.0f) {
+            /* the exact light of this ray: its width, and the plane eq. 12 measures distances
+             * in (a sphere's: perpendicular to the receiver -> centre direction) */
+            const AafLightGeom *L = &s->lights[li];
+            s->sigma_min[i] = fminf(s->sigma_min[i], L->sigma_world);
+            float pn[3] = {L->normal[0], L->normal[1], L->normal[2]};
+            if (pn[0] == 0.0f && pn[1] == 0.0f && pn[2] == 0.0f) {
+                pn[0] = L->center[0] - r->p_world.x;
+                pn[1] = L->center[1] - r->p_world.y;
+                pn[2] = L->center[2] - r->p_world.z;
+                float len = sqrtf(pn[0] * pn[0] + pn[1] * pn[1] + pn[2] * pn[2]);
+                for (int k = 0; k < 3; ++k) pn[k] = len > 0.0f ? pn[k] / len : 0.0f;
+            }
+            float *ps = s->plane_sum + 3 * i; /* a plane has no side: align before summing */
+            float sgn = (ps[0] * pn[0] + ps[1] * pn[1] + ps[2] * pn[2]) < 0.0f ? -1.0f : 1.0f;
+            for (int k = 0; k < 3; ++k) ps[k] += sgn * pn[k];
+        }
         float t = sh->d_occluder_world;
         if (t >= 0.0f && t < d1) {
             /* AAF-shadow Fig. 2: d2 = d1 - t along the same ray, so d1/d2 is exact per ray
@@ -243,8 +341,21 @@ void aaf_derived_free(AafDerived *d)
     free(d->coc_max);
     free(d->pos4);
     free(d->nrm4);
+    free(d->plane4);
+    free(d->mixed);
+    free(d->phong_m);
     memset(d, 0, sizeof *d);
 }
+
+/* Mixed pixels: a pixel whose samples (over the shutter or the lens) land on surfaces that
+ * disagree has a mean position, normal and albedo that belong to no surface; the world-space
+ * filters would compare neighbours against that phantom and divide by a phantom albedo and
+ * r(x) (the dark speckled ring around the motion-blurred sphere of the default scene). Such
+ * a pixel is detected by: another object id, some samples missing all geometry, mean unit
+ * normal shorter than this (normals spread over more than about 25 degrees), or depth
+ * spread (std / mean) above this. */
+#define AAF_MIXED_NORMAL_COHERENCE 0.9f
+#define AAF_MIXED_DEPTH_REL_STD 0.1f
 
 /* The filter guides: mean position and depth, unit mean normal and object id, pixel size. */
 static void derive_guides(const AafStats *s, AafDerived *d)
@@ -257,6 +368,7 @@ static void derive_guides(const AafStats *s, AafDerived *d)
         for (int k = 0; k < 4; ++k) d->pos4[4 * i + k] = d->nrm4[4 * i + k] = 0.0f;
         d->nrm4[4 * i + 3] = -1.0f;
         d->pixel_world[i] = 0.0f;
+        d->mixed[i] = 0;
         if (hits == 0) continue;
         float inv = 1.0f / (float)hits;
         float nl = 0;
@@ -271,6 +383,10 @@ static void derive_guides(const AafStats *s, AafDerived *d)
         for (int k = 0; k < 3; ++k) d->nrm4[4 * i + k] = nl > 0.0f ? s->nrm_sum[3 * i + k] / nl : 0.0f;
         d->nrm4[4 * i + 3] = (float)s->object_id[i];
         float depth = s->depth_sum[i] * inv;
+        double var = s->depth_sq_sum[i] / hits - (double)depth * (double)depth;
+        float depth_rel_std = depth > 0.0f && var > 0.0 ? (float)(sqrt(var) / depth) : 0.0f;
+        d->mixed[i] = s->id_mixed[i] || hits < s->samples[i] || s->unfilterable[i] > 0 ||
+                      nl < AAF_MIXED_NORMAL_COHERENCE * (float)hits || depth_rel_std > AAF_MIXED_DEPTH_REL_STD;
         d->pos4[4 * i + 3] = depth;
         /* AAF-shadow Sec. 4.1: d = world length one pixel covers at the receiver (we leave out
          * foreshortening, which only makes d smaller and the filter more conservative). */
@@ -302,19 +418,40 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
     d->coc_max = calloc(n, sizeof(float));
     d->pos4 = calloc(4 * n, sizeof(float));
     d->nrm4 = calloc(4 * n, sizeof(float));
+    d->plane4 = calloc(4 * n, sizeof(float));
+    d->mixed = calloc(n, 1);
+    d->phong_m = calloc(n, sizeof(float));
     if (!d->hit || !d->pixel_world || !d->d1 || !d->d2min || !d->d2max || !d->sigma_light || !d->zmin ||
-        !d->zmax || !d->coc_min || !d->coc_max || !d->pos4 || !d->nrm4) {
+        !d->zmax || !d->coc_min || !d->coc_max || !d->pos4 || !d->nrm4 || !d->plane4 || !d->mixed || !d->phong_m) {
         aaf_derived_free(d);
         return false;
     }
     estimate_light(s, d);
+    /* Exact lights (the usual case): pixels without a shadow ray to an area light fall back
+     * to the smallest light's width, the conservative choice. */
+    float sigma_fallback = d->light_sigma_world;
+    if (s->lights && s->light_count > 0) {
+        float smallest = INFINITY;
+        for (int l = 0; l < s->light_count; ++l)
+            if (s->lights[l].sigma_world > 0.0f) smallest = fminf(smallest, s->lights[l].sigma_world);
+        if (isfinite(smallest)) {
+            d->exact_lights = true;
+            sigma_fallback = smallest;
+        }
+    }
     derive_guides(s, d);
     for (size_t i = 0; i < n; ++i) {
+        d->phong_m[i] = s->phong_max[i];
+        const float *ps = s->plane_sum + 3 * i;
+        float pl = sqrtf(ps[0] * ps[0] + ps[1] * ps[1] + ps[2] * ps[2]);
+        for (int k = 0; k < 3; ++k) d->plane4[4 * i + k] = pl > 0.0f ? ps[k] / pl : d->light_normal[k];
+        d->plane4[4 * i + 3] = 0.0f;
+        d->sigma_light[i] = d->exact_lights ? (isfinite(s->sigma_min[i]) ? s->sigma_min[i] : sigma_fallback)
+                                            : d->light_sigma_world;
         d->coc_min[i] = s->coc_min[i];
         d->coc_max[i] = s->coc_max[i];
         d->zmin[i] = s->zmin[i];
         d->zmax[i] = s->zmax[i];
-        d->sigma_light[i] = d->light_sigma_world;
         if (s->hits[i] > 0 && s->shadow_rays[i] > 0) {
             float d1 = s->d1_sum[i] / (float)s->shadow_rays[i];
             d->d1[i] = d1;
@@ -400,5 +537,6 @@ AafPixelStats aaf_derived_pixel_stats(const AafDerived *d)
     st.zmax_world = d->zmax;
     st.coc_min_px = d->coc_min;
     st.coc_max_px = d->coc_max;
+    st.blinn_phong_m = d->phong_m;
     return st;
 }

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 
 #include "recon/aaf_pixel_params.h"
+#include "render/renderer.h"
 #include "render/sample_record.h"
 
 /* What turns a camera-space depth into a CoC slope (thin lens, pbrt-v4 conventions). */
@@ -21,10 +22,22 @@ typedef struct {
     float pixel_angle;           /* world size of a pixel at depth 1 (screen units per pixel) */
 } AafCameraModel;
 
+/* One light as the shadow filter sees it (from renderer_light_info, index = ShadowRayRecord
+ * .light_index): its Gaussian width and, for planar lights, the plane's unit normal. */
+typedef struct {
+    float sigma_world;           /* sqrt(A)/2 (AAF-shadow eq. 16: A_l = (2 sigma)^2); A is the
+                                  * emitter's total area (all triangles of one shape), or for a
+                                  * sphere its silhouette pi r^2 = area/4; 0: not an area light */
+    float normal[3];             /* planar: unit normal; sphere: 0 (use receiver -> centre) */
+    float center[3];             /* sphere: centre */
+} AafLightGeom;
+
 typedef struct {
     int width, height;
     AafCameraModel cam;
     bool collect_rays;           /* true during pass 1: ray geometry feeds the statistics */
+    const AafLightGeom *lights;  /* exact lights (not owned; NULL: estimate from light samples) */
+    int light_count;
 
     /* per pixel accumulators */
     int *samples, *hits;
@@ -39,6 +52,17 @@ typedef struct {
     float *ratio_min, *ratio_max;
     float *light_p_sum;          /* 3 per pixel: sampled light points */
     float *light_pp_sum;         /* 6 per pixel: xx xy xz yy yz zz */
+    /* exact lights: min sigma over the lights of the pixel's shadow rays (the most
+     * conservative width, see aaf_stats.c), and the sum of the per-ray light-plane normals */
+    float *sigma_min;
+    float *plane_sum;            /* 3 per pixel */
+    /* mixed pixels (motion, defocus): samples that disagree on object, hit/miss or depth */
+    double *depth_sq_sum;
+    unsigned char *id_mixed;     /* some hit sample had another object id than the first */
+    int *unfilterable;           /* samples whose first hit was unfilterable (dielectric, delta) */
+    float *phong_max;            /* largest Blinn-Phong exponent seen (0: diffuse) */
+    /* SampleRecord.unfiltered split between direct and indirect (see aaf_stats_add) */
+    float *unf_direct_sum, *unf_indirect_sum; /* 3 per pixel each */
     /* indirect: distance of the reflector from the receiver's tangent plane (AAF-GI Fig. 2: z) */
     float *zmin, *zmax;
     /* defocus: signed CoC slope, pixels per unit lens coordinate */
@@ -46,6 +70,8 @@ typedef struct {
 } AafStats;
 
 bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam);
+/* Fills lights[0..count) from the renderer's exact light list (count = renderer_light_count). */
+void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count);
 void aaf_stats_free(AafStats *s);
 
 /* The SampleSink callback (ctx = AafStats *). */
@@ -62,10 +88,17 @@ typedef struct {
     float *pixel_world, *d1, *d2min, *d2max, *sigma_light;
     float *zmin, *zmax, *coc_min, *coc_max;
     float *pos4, *nrm4;          /* filter guides: mean position + depth, normal + object id */
+    float *plane4;               /* per pixel unit normal of the plane shadow-filter distances
+                                  * are measured in (eq. 12); NULL data: light_normal */
+    unsigned char *mixed;        /* the pixel's samples saw different surfaces (motion blur,
+                                  * defocus edges) or an unfilterable one: keep it out of the
+                                  * world-space filters (aaf_pixel_is_mixed) */
+    float *phong_m;              /* Blinn-Phong exponent per pixel for AAF-GI eq. 18 (0: diffuse) */
     float light_normal[3];       /* the light plane's unit normal (eq. 12); zero if unknown */
     float light_center[3];       /* the light as a rectangle: centre and half-side vectors */
     float light_half_u[3], light_half_v[3];
     bool light_known;
+    bool exact_lights;           /* sigma and planes come from the renderer's light list */
     float scene_size_world;      /* diagonal of the hit points' bounding box */
     float light_sigma_world;     /* global estimate (see aaf_stats.c) */
 } AafDerived;

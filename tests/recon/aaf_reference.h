@@ -29,6 +29,8 @@ static void ref_aaf_pass(int w, int h, int axis, int pixel_mode, float cos_norma
                 if (v[3] == 0.0f) continue;
                 double dist2;
                 if (pixel_mode) {
+                    /* with a slope plane: same sign and at least half the centre's slope */
+                    if (plane && (double)plane[4 * j] * plane[4 * i] < 0.5 * (double)plane[4 * i] * plane[4 * i]) continue;
                     dist2 = (double)t * t;
                 } else {
                     const float *nc = nrm + 4 * i, *nj = nrm + 4 * j;

@@ -118,6 +118,8 @@ static void test_indirect_hand_values(void)
 {
     AafIndirectConfig c = aaf_indirect_config_default();
     CHECK_NEAR(c.alpha, 0.3, 1e-7);
+    CHECK_NEAR(c.spp_cap_per_mu, 16.0, 0.0); /* our measured cap (paper: 100) */
+    c.mu = 1.0f;                             /* the hand values below are at mu = 1 */
     CHECK_NEAR(aaf_indirect_omega_h_diffuse(), 2.8, 1e-6);
     /* eq. 18: 3.6 + 0.084 * 20 = 5.28 */
     CHECK_NEAR(aaf_indirect_omega_h_glossy(20.0f), 5.28, 1e-5);
@@ -151,6 +153,8 @@ static void test_indirect_hand_values(void)
 static void test_defocus_hand_values(void)
 {
     AafDefocusConfig c = aaf_defocus_config_default();
+    CHECK_NEAR(c.mu, 1.0, 0.0); /* measured default (docs/algorithms.md) */
+    c.mu = 2.0f;                /* the hand values below are at mu = 2 */
     float amin, amax;
     aaf_defocus_abs_slopes(-3.0f, 5.0f, &amin, &amax);
     CHECK_NEAR(amin, 0.0, 0.0); /* straddles the focal plane */
@@ -210,7 +214,7 @@ static void test_shadow_image_borrowing(void)
     st.d2max_world = d2max;
     st.sigma_light_world = sigma;
     AafShadowConfig c = aaf_shadow_config_default();
-    AafImageConfig ic = {2, 9, 200.0f, 0.0f};
+    AafImageConfig ic = {2, 9, 200.0f, 0.0f, 0};
     int filtered = aaf_shadow_params_image(&st, &c, &ic, beta, spp);
     CHECK(filtered == 25);
     CHECK_NEAR(beta[4 * W + 4], 1.0 / 60.0, 1e-7);

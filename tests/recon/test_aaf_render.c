@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "recon/aaf_params.h"
 #include "recon/aaf_render.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
@@ -55,6 +56,86 @@ static const char *ALL_EFFECTS_SCENE =
     "AttributeBegin\n"
     "  Translate -0.9 0.3 -1.5\n"
     "  Shape \"sphere\" \"float radius\" [ 0.3 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n" /* glass: unfilterable, its light passes through the filters */
+    "  Material \"dielectric\" \"float eta\" [ 1.5 ]\n"
+    "  Translate 0.9 0.3 -1.0\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.3 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n" /* glossy coat: phong exponent and a delta-free glossy lobe */
+    "  Material \"coateddiffuse\" \"rgb reflectance\" [ 0.2 0.5 0.2 ] \"float roughness\" [ 0.05 ]\n"
+    "  Translate -0.3 0.2 -2.0\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.2 ]\n"
+    "AttributeEnd\n";
+
+/* Indirect light only: a point light (hard shadows, no shadow filter) beside a red wall; the
+ * floor and a sphere get one bounce of red light. */
+static const char *INDIRECT_SCENE =
+    "LookAt 0 2.5 -4   0 0.3 0.5   0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ] \"string filename\" [ \"t.exr\" ]\n"
+    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 2 ]\n"
+    "WorldBegin\n"
+    "LightSource \"point\" \"rgb I\" [ 6 6 6 ] \"point3 from\" [ 0.5 2.5 0 ]\n"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.6 0.6 0.6 ]\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -3 0 -5  3 0 -5  3 0 3  -3 0 3 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
+    "AttributeBegin\n"
+    "  Material \"diffuse\" \"rgb reflectance\" [ 0.8 0.1 0.1 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -3 0 1.5  3 0 1.5  3 3 1.5  -3 3 1.5 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n"
+    "  Translate -0.4 0.4 0.3\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.4 ]\n"
+    "AttributeEnd\n";
+
+/* Defocus only: focused on an empty plane between a sphere (in front) and a checkered wall
+ * (behind), lit by a point light: every surface is out of focus, the regime the defocus
+ * filter is for. */
+static const char *DEFOCUS_SCENE =
+    "LookAt 0 0.5 -3   0 0.5 1   0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ] \"float lensradius\" [ 0.5 ] \"float focaldistance\" [ 3.5 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 128 ] \"integer yresolution\" [ 128 ] \"string filename\" [ \"t.exr\" ]\n"
+    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+    "WorldBegin\n"
+    "LightSource \"point\" \"rgb I\" [ 20 20 20 ] \"point3 from\" [ 0 2 -2 ]\n"
+    "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 10 ] \"float vscale\" [ 10 ]\n"
+    "        \"rgb tex1\" [ 0.9 0.9 0.9 ] \"rgb tex2\" [ 0.1 0.1 0.1 ]\n"
+    "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -4 -3 4  4 -3 4  4 4 4  -4 4 4 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point2 uv\" [ 0 0 1 0 1 1 0 1 ]\n"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.7 0.7 0.2 ]\n"
+    "AttributeBegin\n"
+    "  Translate 0.3 0.4 -0.5\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.3 ]\n"
+    "AttributeEnd\n";
+
+/* Motion blur and defocus over soft shadows (issue 6, the dark speckled ring of the default
+ * scene): a sphere in front of the focal plane moving across a lit floor during the shutter,
+ * so the pixels around it mix sphere and floor samples (over the shutter and over the lens). */
+static const char *MOTION_SCENE =
+    "LookAt 0 1.6 -5.5   0 0.6 0   0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 30 ] \"float lensradius\" [ 0.08 ] \"float focaldistance\" [ 5.6 ]\n"
+    "  \"float shutteropen\" [ 0 ] \"float shutterclose\" [ 1 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 48 ] \"integer yresolution\" [ 36 ] \"string filename\" [ \"t.exr\" ]\n"
+    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+    "WorldBegin\n"
+    "AttributeBegin\n"
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 18 17 15 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -0.6 3 -0.6  0.6 3 -0.6  0.6 3 0.6  -0.6 3 0.6 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "AttributeEnd\n"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.6 0.6 0.6 ]\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -6  4 0 -6  4 0 3  -4 0 3 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
+    "AttributeBegin\n"
+    "  Material \"diffuse\" \"rgb reflectance\" [ 0.15 0.25 0.8 ]\n"
+    "  ActiveTransform StartTime\n"
+    "  Translate -0.5 0.35 -1.6\n"
+    "  ActiveTransform EndTime\n"
+    "  Translate 0.0 0.35 -1.6\n"
+    "  ActiveTransform All\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.35 ]\n"
     "AttributeEnd\n";
 
 static bool make_renderer(const char *text, unsigned seed, int spp, SceneDesc *scene, Renderer **r)
@@ -135,6 +216,15 @@ static double rel_mse(const float *img, const float *ref, size_t n3)
     return s / (double)n3;
 }
 
+/* The Monte Carlo side of an equal-spp comparison: the smallest square count >= spp_avg, so
+ * the stratified sampler gets a full k x k grid (a prime count would stratify it in strips
+ * only and flatter the filter). */
+static int mc_spp_at_least(double spp_avg)
+{
+    int k = (int)ceil(sqrt(spp_avg) - 1e-9);
+    return k * k;
+}
+
 static bool all_finite(const float *a, size_t n)
 {
     for (size_t i = 0; i < n; ++i)
@@ -159,15 +249,77 @@ static void test_shadows_beat_monte_carlo_and_converge(void)
         CHECK_STR(res.filters[AAF_EFFECT_INDIRECT], "none");
         CHECK(all_finite(res.rgb, n3));
         double err = rel_mse(res.rgb, ref, n3);
-        /* Monte Carlo with the same average number of samples per pixel */
-        int spp = (int)(res.spp_avg + 0.5);
-        float *mc = render_mc(SHADOW_SCENE, 2, spp, &w, &h);
+        /* Monte Carlo with (at least) the same average number of samples per pixel */
+        float *mc = render_mc(SHADOW_SCENE, 2, mc_spp_at_least(res.spp_avg), &w, &h);
         double err_mc = mc ? rel_mse(mc, ref, n3) : 0.0;
         fprintf(stderr, "mu %.0f: spp_avg %.2f relMSE aaf %.3g, mc %.3g (ratio %.2f)\n", mus[m], res.spp_avg, err,
                 err_mc, err_mc / err);
         if (mus[m] == 2.0f) CHECK(2.0 * err <= err_mc); /* issue 6: >= 2x lower at the default mu */
         CHECK(err < prev);                               /* consistency: falls as mu grows */
         prev = err;
+        free(mc);
+        aaf_render_result_free(&res);
+    }
+    free(ref);
+}
+
+/* Issue 6: at equal average spp, AAF's relMSE is at least 2x lower than Monte Carlo's, at
+ * the default mu (indirect light, defocus); and consistency: at twice the default mu the
+ * error is lower still. */
+static void test_beats_monte_carlo(const char *name, const char *scene, int effect, float mu_default)
+{
+    int w = 0, h = 0;
+    float *ref = render_mc(scene, 99, 256, &w, &h);
+    CHECK(ref != NULL);
+    if (!ref) return;
+    size_t n3 = 3 * (size_t)w * (size_t)h;
+    AafRenderResult res;
+    CHECK(render_aaf(scene, 1, 0.0f, &res));
+    if (res.rgb) {
+        CHECK_STR(res.filters[effect], "aaf");
+        CHECK(all_finite(res.rgb, n3));
+        double err = rel_mse(res.rgb, ref, n3);
+        float *mc = render_mc(scene, 2, mc_spp_at_least(res.spp_avg), &w, &h);
+        double err_mc = mc ? rel_mse(mc, ref, n3) : 0.0;
+        fprintf(stderr, "%s: spp_avg %.2f relMSE aaf %.3g, mc %.3g (ratio %.2f)\n", name, res.spp_avg, err, err_mc,
+                err_mc / err);
+        CHECK(2.0 * err <= err_mc);
+        free(mc);
+        aaf_render_result_free(&res);
+        AafRenderResult res2;
+        CHECK(render_aaf(scene, 1, 2.0f * mu_default, &res2));
+        if (res2.rgb) {
+            double err2 = rel_mse(res2.rgb, ref, n3);
+            fprintf(stderr, "%s at mu %.0f: spp_avg %.2f relMSE aaf %.3g\n", name, 2.0 * mu_default, res2.spp_avg, err2);
+            CHECK(err2 < err);
+            aaf_render_result_free(&res2);
+        }
+    }
+    free(ref);
+}
+
+/* Mixed pixels (motion blur and defocus over a filtered shadow): pixels whose samples hit the
+ * moving sphere and the floor must stay out of the world-space filters; before the fix they
+ * were compared against phantom guides (a dark and bright speckled ring). */
+static void test_motion_mixed_pixels(void)
+{
+    int w = 0, h = 0;
+    float *ref = render_mc(MOTION_SCENE, 99, 512, &w, &h);
+    CHECK(ref != NULL);
+    if (!ref) return;
+    size_t n3 = 3 * (size_t)w * (size_t)h;
+    AafRenderResult res;
+    CHECK(render_aaf(MOTION_SCENE, 1, 0.0f, &res));
+    if (res.rgb) {
+        CHECK(all_finite(res.rgb, n3));
+        float *mc = render_mc(MOTION_SCENE, 2, mc_spp_at_least(res.spp_avg), &w, &h);
+        double err = rel_mse(res.rgb, ref, n3), err_mc = mc ? rel_mse(mc, ref, n3) : 0.0;
+        fprintf(stderr, "motion: spp_avg %.2f relMSE aaf %.3g, mc %.3g (ratio %.2f)\n", res.spp_avg, err, err_mc,
+                err_mc / err);
+        /* Measured when this was written: with the mixed-pixel test disabled the ring makes
+         * AAF's relMSE 4.8x Monte Carlo's at equal spp; with it, 1.2x (motion blur itself is
+         * not filtered, and the defocus filter pays for its samples). The bar sits between. */
+        CHECK(err <= 2.0 * err_mc);
         free(mc);
         aaf_render_result_free(&res);
     }
@@ -200,6 +352,9 @@ static void test_all_effects_finite(void)
 int main(void)
 {
     test_shadows_beat_monte_carlo_and_converge();
+    test_beats_monte_carlo("indirect", INDIRECT_SCENE, AAF_EFFECT_INDIRECT, aaf_indirect_config_default().mu);
+    test_beats_monte_carlo("defocus", DEFOCUS_SCENE, AAF_EFFECT_DEFOCUS, aaf_defocus_config_default().mu);
+    test_motion_mixed_pixels();
     test_all_effects_finite();
     CHECK_DONE();
 }

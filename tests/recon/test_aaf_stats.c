@@ -155,8 +155,109 @@ static void test_light_estimate(void)
     aaf_stats_free(&s);
 }
 
+/* Exact lights: a shadow ray's own light sets the pixel's sigma (the smallest over its rays)
+ * and the plane of eq. 12 (a rectangle's normal; for a sphere the receiver -> centre
+ * direction). */
+static void test_exact_lights(void)
+{
+    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
+    AafLightGeom lights[2] = {{0}};
+    lights[0].sigma_world = 0.5f; /* a square of side 1 facing down */
+    lights[0].normal[1] = -1.0f;
+    lights[1].sigma_world = 0.25f; /* a sphere centred above-right of the receiver */
+    lights[1].center[0] = 4.0f;
+    lights[1].center[1] = 3.0f;
+    lights[1].center[2] = 2.0f;
+    AafStats s;
+    CHECK(aaf_stats_init(&s, 2, 1, cam));
+    s.lights = lights;
+    s.light_count = 2;
+    SampleRecord r = surface_sample(); /* receiver at (1, 0, 2) */
+    r.shadow_count = 1;
+    r.shadow[0].d_light_world = 5.0f;
+    r.shadow[0].d_occluder_world = INFINITY;
+    r.shadow[0].light_index = 0;
+    aaf_stats_add(&s, 0, 0, &r);
+    aaf_stats_add(&s, 0, 0, &r);
+    r.shadow[0].light_index = 1;
+    aaf_stats_add(&s, 1, 0, &r);
+    r.shadow[0].light_index = 7; /* out of range: ignored */
+    aaf_stats_add(&s, 1, 0, &r);
+    AafDerived d;
+    CHECK(aaf_derive(&s, &d));
+    CHECK(d.exact_lights);
+    CHECK_NEAR(d.sigma_light[0], 0.5, 0.0);
+    CHECK_NEAR(d.sigma_light[1], 0.25, 0.0);
+    CHECK_NEAR(fabsf(d.plane4[1]), 1.0, 1e-6);
+    /* receiver -> centre = (3, 3, 0) / (3 sqrt 2) */
+    CHECK_NEAR(d.plane4[4 + 0], 1.0 / sqrt(2.0), 1e-6);
+    CHECK_NEAR(d.plane4[4 + 1], 1.0 / sqrt(2.0), 1e-6);
+    CHECK_NEAR(d.plane4[4 + 2], 0.0, 1e-6);
+    aaf_derived_free(&d);
+    aaf_stats_free(&s);
+}
+
+/* Mixed pixels: samples on two objects (motion blur), hits and misses, normals far apart, a
+ * large depth spread or an unfilterable surface mark the pixel; identical samples do not. */
+static void test_mixed_pixels(void)
+{
+    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
+    AafStats s;
+    CHECK(aaf_stats_init(&s, 6, 1, cam));
+    SampleRecord r = surface_sample();
+    for (int k = 0; k < 4; ++k) aaf_stats_add(&s, 0, 0, &r); /* pixel 0: clean */
+    aaf_stats_add(&s, 1, 0, &r);                              /* pixel 1: two objects */
+    r.object_id = 8;
+    aaf_stats_add(&s, 1, 0, &r);
+    r = surface_sample();
+    aaf_stats_add(&s, 2, 0, &r); /* pixel 2: a hit and a miss */
+    SampleRecord miss = {0};
+    miss.depth_cam = INFINITY;
+    miss.object_id = -1;
+    aaf_stats_add(&s, 2, 0, &miss);
+    aaf_stats_add(&s, 3, 0, &r); /* pixel 3: normals 90 degrees apart (|mean| = 0.71) */
+    r.n_shading = v3(1.0f, 0.0f, 0.0f);
+    aaf_stats_add(&s, 3, 0, &r);
+    r = surface_sample();
+    aaf_stats_add(&s, 4, 0, &r); /* pixel 4: depths 4 and 8 (std/mean = 1/3) */
+    r.depth_cam = 8.0f;
+    aaf_stats_add(&s, 4, 0, &r);
+    r = surface_sample();
+    r.unfilterable = true; /* pixel 5: glass */
+    aaf_stats_add(&s, 5, 0, &r);
+    AafDerived d;
+    CHECK(aaf_derive(&s, &d));
+    CHECK(d.mixed[0] == 0);
+    for (int i = 1; i < 6; ++i) CHECK(d.mixed[i] == 1);
+    aaf_derived_free(&d);
+    aaf_stats_free(&s);
+}
+
+/* The unfiltered light is split per channel: indirect first, the rest direct. */
+static void test_unfiltered_split(void)
+{
+    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
+    AafStats s;
+    CHECK(aaf_stats_init(&s, 1, 1, cam));
+    SampleRecord r = surface_sample();
+    r.direct = v3(1.0f, 1.0f, 1.0f);
+    r.indirect = v3(0.5f, 0.0f, 2.0f);
+    r.unfiltered = v3(1.0f, 0.5f, 1.0f);
+    aaf_stats_add(&s, 0, 0, &r);
+    CHECK_NEAR(s.unf_indirect_sum[0], 0.5, 0.0);
+    CHECK_NEAR(s.unf_direct_sum[0], 0.5, 0.0);
+    CHECK_NEAR(s.unf_indirect_sum[1], 0.0, 0.0);
+    CHECK_NEAR(s.unf_direct_sum[1], 0.5, 0.0);
+    CHECK_NEAR(s.unf_indirect_sum[2], 1.0, 0.0);
+    CHECK_NEAR(s.unf_direct_sum[2], 0.0, 0.0);
+    aaf_stats_free(&s);
+}
+
 int main(void)
 {
+    test_exact_lights();
+    test_mixed_pixels();
+    test_unfiltered_split();
     test_coc_slope();
     test_pixel_statistics();
     test_light_estimate();

@@ -18,23 +18,25 @@
  *   inv2b2    1/(2 beta^2) of the centre pixel (world^-2, or px^-2 in pixel mode)
  *   radius    filter radius in pixels (0: leave the pixel as it is), <= pad
  *
- * Distances are measured in a plane (eq. 12): plane_mode 1 uses the fixed unit normal
- * (plane_x, plane_y, plane_z) (the light's normal, for shadows), plane_mode 0 the centre
- * pixel's own normal (its tangent plane, for indirect light); a zero normal gives plain 3D
- * distance.
+ * Distances are measured in a plane (eq. 12): plane_mode 1 uses the centre pixel's entry of
+ * the planes l[xyz] (the unit normal of its light, for shadows: a rectangle light's normal, or
+ * for a sphere light the receiver -> light direction), plane_mode 0 the centre pixel's own
+ * normal (its tangent plane, for indirect light); a zero normal gives plain 3D distance.
  *
  * Neighbours are rejected (AAF-shadow Sec. 6, DESIGN.md section 4) when they belong to
  * another object, their normal is more than acos(cos_normal_min) away, or they lie further
  * than depth_tol_rel * depth from the centre's tangent plane (a depth discontinuity).
- * Pixel mode (defocus): the distance is the tap offset in pixels and only unusable pixels
- * are rejected: blurring across objects is the effect being reconstructed. */
+ * Pixel mode (defocus): the distance is the tap offset in pixels; blurring across objects is
+ * the effect being reconstructed, so objects are not compared, but with plane_mode 1 the
+ * plane lx holds each pixel's mean signed CoC slope and a neighbour is rejected unless its
+ * slope has the centre's sign and at least half its magnitude. */
 
 #define AAF_MODE_WORLD 0
 #define AAF_MODE_PIXEL 1
 
 __kernel void aaf_filter_pass(int width, int height, int pitch, int pad, int axis, int mode,
                               float cos_normal_min, float depth_tol_rel,
-                              int plane_mode, float plane_x, float plane_y, float plane_z,
+                              int plane_mode,
                               __global const float *in_r, __global const float *in_g,
                               __global const float *in_b, __global const float *in_w,
                               __global const float *px, __global const float *py,
@@ -42,6 +44,8 @@ __kernel void aaf_filter_pass(int width, int height, int pitch, int pad, int axi
                               __global const float *nx, __global const float *ny,
                               __global const float *nz, __global const float *id,
                               __global const float *inv2b2, __global const float *radius,
+                              __global const float *lx, __global const float *ly,
+                              __global const float *lz,
                               __global float *out_r, __global float *out_g,
                               __global float *out_b, __global float *out_w)
 {
@@ -72,9 +76,9 @@ __kernel void aaf_filter_pass(int width, int height, int pitch, int pad, int axi
         c_ny = vload8(0, ny + base);
         c_nz = vload8(0, nz + base);
         c_id = vload8(0, id + base);
-        c_lx = plane_mode ? (float8)plane_x : c_nx;
-        c_ly = plane_mode ? (float8)plane_y : c_ny;
-        c_lz = plane_mode ? (float8)plane_z : c_nz;
+        c_lx = plane_mode ? vload8(0, lx + base) : c_nx;
+        c_ly = plane_mode ? vload8(0, ly + base) : c_ny;
+        c_lz = plane_mode ? vload8(0, lz + base) : c_nz;
         tol = depth_tol_rel * vload8(0, depth + base);
     }
 
@@ -97,6 +101,13 @@ __kernel void aaf_filter_pass(int width, int height, int pitch, int pad, int axi
             float8 along = c_lx * dx + c_ly * dy + c_lz * dz;                  /* eq. 12 */
             dist2 = fmax(dx * dx + dy * dy + dz * dz - along * along, 0.0f);
         } else {
+            /* defocus: a neighbour contributes when its CoC slope has the centre's sign and
+             * at least half its size; a sharper neighbour (an in-focus object, or the other
+             * side of the focal plane) would bleed into the blur */
+            if (plane_mode) {
+                float8 c_s = vload8(0, lx + base);
+                ok = ok & (vload8(0, lx + o) * c_s >= 0.5f * c_s * c_s);
+            }
             dist2 = (float8)(fk * fk);
         }
         float8 wt = select((float8)0.0f, exp(-dist2 * inv), ok);                 /* eq. 11 */
