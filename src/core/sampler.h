@@ -20,14 +20,29 @@ typedef enum { SAMPLER_STRATIFIED, SAMPLER_SOBOL } SamplerKind;
 SamplerKind sampler_kind_from_pbrt(const char *name);
 const char *sampler_kind_name(SamplerKind kind);
 
+/* Permutations of up to this many elements are drawn by an exact shuffle; a pixel's sampler
+ * keeps the ones it has drawn (each serves every sample of the pixel) in a small cache. */
+#define SAMPLER_SHUFFLE_MAX 16
+#define SAMPLER_PERM_CACHE_SLOTS 128
+
+typedef struct {
+    uint64_t seed;
+    uint8_t n; /* 0: empty slot */
+    uint8_t perm[SAMPLER_SHUFFLE_MAX];
+} SamplerPermSlot;
+
 typedef struct {
     SamplerKind kind;
     uint64_t seed;
     int spp;          /* samples of this pixel in this pass (>= 1) */
+    uint32_t grid_rows, grid_cols; /* the 2D stratification grid of spp points */
+    double inv_spp;   /* 1 / spp */
     uint64_t pixel_seed;
     int sample_index; /* current sample, 0 .. spp-1 */
     int dim;          /* next dimension to hand out */
     Pcg32 rng;        /* jitter/scramble stream of the current sample */
+    /* Direct-mapped by seed; a pure cache: the values never depend on what is cached. */
+    SamplerPermSlot perm_cache[SAMPLER_PERM_CACHE_SLOTS];
 } PixelSampler;
 
 /* Starts pixel (px, py) of pass `pass` with spp samples. */
