@@ -61,12 +61,8 @@ static void shuffle_small(uint32_t n, uint64_t seed, uint8_t *perm)
     Pcg32 rng;
     pcg32_seed(&rng, seed, 0x9e3779b97f4a7c15ull);
     for (uint32_t k = n - 1; k > 0; --k) {
-        /* uniform in [0, k] by rejection (no modulo bias) */
-        uint32_t range = k + 1, limit = UINT32_MAX - UINT32_MAX % range, r;
-        do {
-            r = pcg32_next(&rng);
-        } while (r >= limit);
-        uint32_t j = r % range;
+        /* uniform in [0, k] without modulo bias, and (almost always) without a division */
+        uint32_t j = pcg32_below(&rng, k + 1);
         uint8_t t = perm[k];
         perm[k] = perm[j];
         perm[j] = t;
