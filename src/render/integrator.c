@@ -19,6 +19,14 @@
 
 static bool finite3(vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
+/* v3_max_component(v) <= 0 without its two fmaxf library calls: fmaxf skips NaN operands,
+ * so the maximum is <= 0 exactly when no component is > 0 and not all of them are NaN. */
+static inline bool max_component_nonpositive(vec3 v)
+{
+    if (v.x > 0.0f || v.y > 0.0f || v.z > 0.0f) return false;
+    return !(isnan(v.x) && isnan(v.y) && isnan(v.z));
+}
+
 /* Replaces a non-finite contribution by zero and counts it. */
 static vec3 guard3(vec3 v, IntegratorStats *st)
 {
@@ -131,7 +139,7 @@ static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float t
     vec3 f = vertex_f(v, ls.wi, &cos_i, &pdf_bsdf);
     bool is_area = sc->lights->lights[li].kind == LIGHT_AREA;
     /* A receiver facing away from the light traces no shadow ray (and records none). */
-    if (v3_max_component(f) <= 0.0f) return v3s(0.0f);
+    if (max_component_nonpositive(f)) return v3s(0.0f);
 
     /* The shadow ray leaves the receiver and stops short of the light's surface (both
      * ends pushed off their surfaces). */
@@ -193,11 +201,14 @@ static vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_
     }
     if (h->light < 0) return sum;
     vec3 Le = area_light_L(L, h->light, h, v3_neg(wi));
-    if (v3_max_component(Le) <= 0.0f) return sum;
+    if (max_component_nonpositive(Le)) return sum;
     if (no_mis) return Le;
     float pdf_light = lights_pmf(L, h->light) * area_light_pdf(L, sc->tracer, h->light, p_from, h, time01);
     return v3_scale(Le, mis_power(pdf_bsdf, pdf_light));
 }
+
+/* fminf(a, 1) inline, for every a (NaN gives 1, as fminf): a library call otherwise. */
+static inline float min1(float a) { return a < 1.0f ? a : 1.0f; }
 
 /* The first hit's reflectance split for the filters' demodulation (sample_record.h). */
 static void record_first_hit_material(const Vertex *v, SampleRecord *rec)
@@ -215,7 +226,7 @@ static void record_first_hit_material(const Vertex *v, SampleRecord *rec)
         rec->unfilterable = false;
     }
     vec3 sum = v3_add(rec->albedo_diffuse, rec->albedo_glossy);
-    rec->albedo = v3(fminf(sum.x, 1.0f), fminf(sum.y, 1.0f), fminf(sum.z, 1.0f));
+    rec->albedo = v3(min1(sum.x), min1(sum.y), min1(sum.z));
 }
 
 void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px, int py, SampleRecord *rec,
@@ -283,7 +294,7 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
         vec3 wi = vs.wi;
         float pdf = vs.pdf;
         vec3 beta_next = guard3(v3_mul(beta, vs.weight), st);
-        if (v3_max_component(beta_next) <= 0.0f) break;
+        if (max_component_nonpositive(beta_next)) break;
         if (depth == 1 && vs.delta) unfiltered = true;
 
         vec3 o = surface_offset(&v.hit, wi);

@@ -59,7 +59,11 @@ static void apply_vector_d(const Mat4 *m, const double v[3], double out[3])
     for (int i = 0; i < 3; ++i) out[i] = m->m[i][0] * v[0] + m->m[i][1] * v[1] + m->m[i][2] * v[2];
 }
 
-static float max_abs3(vec3 v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z))); }
+/* fmaxf for operands that are never -0 (absolute values): the same result, but inline
+ * (without -ffinite-math-only fmaxf is a library call, eight of them per shaded hit). */
+static inline float fmax_abs(float a, float b) { return (a > b || b != b) ? a : b; }
+
+static float max_abs3(vec3 v) { return fmax_abs(fabsf(v.x), fmax_abs(fabsf(v.y), fabsf(v.z))); }
 
 /* Largest factor by which the 3x3 part can stretch a vector (row-sum norm bound). */
 static double max_stretch(const Mat4 *m)
@@ -676,7 +680,7 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
         float b0 = 1.0f - bu - bv;
         /* barycentric reconstruction: lies on the triangle up to rounding, unlike o + t d */
         *p = v3_add(v3_add(v3_scale(p0, b0), v3_scale(p1, bu)), v3_scale(p2, bv));
-        *mag = fmaxf(max_abs3(p0), fmaxf(max_abs3(p1), max_abs3(p2)));
+        *mag = fmax_abs(max_abs3(p0), fmax_abs(max_abs3(p1), max_abs3(p2)));
         vec3 n = v3_normalize(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
         if (g->n) {
             vec3 s = v3_add(v3_add(v3_scale(g->n[ix[0]], b0), v3_scale(g->n[ix[1]], bu)), v3_scale(g->n[ix[2]], bv));

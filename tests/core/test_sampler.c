@@ -80,6 +80,61 @@ static void test_determinism(SamplerKind kind)
     CHECK(p.x == g_samples[9][1] && p.y == g_samples[9][2]);
 }
 
+/* The sampler caches permutations and per-dimension tables per pixel; values must not
+ * depend on what is cached: every sample equals the same sample drawn by a fresh sampler,
+ * whatever order the samples are visited in, for spp with and without the cached path
+ * (up to 16) and for indices past spp; also when a dimension index is requested as 1D in
+ * one sample and as 2D in another (the tables are per request kind). */
+static void test_cache_is_pure(SamplerKind kind)
+{
+    const int counts[] = {1, 2, 3, 4, 6, 9, 16, 17, 32};
+    for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
+        int n = counts[c];
+        fill_pixel(kind, 7, 3, 4, 0, n, g_samples);
+        PixelSampler s;
+        sampler_start_pixel(&s, kind, 7, 3, 4, 0, n);
+        int mismatches = 0;
+        for (int pass = 0; pass < 2; ++pass)
+            for (int k = 0; k < n; ++k) {
+                int i = pass ? k : n - 1 - k; /* reverse order, then forward */
+                sampler_start_sample(&s, i);
+                for (int d = 0; d < DIMS;) {
+                    if ((d % 3) == 0) {
+                        mismatches += sampler_1d(&s) != g_samples[i][d++];
+                    } else {
+                        vec2 p = sampler_2d(&s);
+                        mismatches += p.x != g_samples[i][d++];
+                        mismatches += p.y != g_samples[i][d++];
+                    }
+                }
+            }
+        CHECK(mismatches == 0);
+
+        /* past spp (a second block of strata) and with the request kinds swapped */
+        for (int i = n; i < n + 3; ++i) {
+            PixelSampler fresh;
+            sampler_start_pixel(&fresh, kind, 7, 3, 4, 0, n);
+            sampler_start_sample(&fresh, i);
+            vec2 a = sampler_2d(&fresh);
+            float b = sampler_1d(&fresh);
+            sampler_start_sample(&s, i);
+            vec2 a2 = sampler_2d(&s);
+            CHECK(a.x == a2.x && a.y == a2.y && b == sampler_1d(&s));
+        }
+        for (int i = 0; i < n; ++i) {
+            PixelSampler fresh;
+            sampler_start_pixel(&fresh, kind, 7, 3, 4, 0, n);
+            sampler_start_sample(&fresh, i);
+            vec2 a = sampler_2d(&fresh); /* dimensions 0-1 as 2D, where fill_pixel asked 1D, 2D */
+            sampler_start_sample(&s, i);
+            vec2 a2 = sampler_2d(&s);
+            CHECK(a.x == a2.x && a.y == a2.y);
+            sampler_start_sample(&s, i);
+            CHECK(sampler_1d(&s) == g_samples[i][0]);
+        }
+    }
+}
+
 /* Exactly one of the n values of dimension d in each interval [k/n, (k+1)/n). */
 static int stratified_1d(float v[][DIMS], int n, int d)
 {
@@ -370,6 +425,7 @@ int main(void)
         SamplerKind kind = k ? SAMPLER_SOBOL : SAMPLER_STRATIFIED;
         test_range(kind);
         test_determinism(kind);
+        test_cache_is_pure(kind);
     }
     test_stratified();
     test_sobol_nets();
