@@ -5,6 +5,8 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
+#include "recon/recon_parallel.h"
+
 /* Box averages of up to three per-pixel quantities over the pixels flagged valid, via summed
  * area tables: O(1) per pixel whatever the radius. Double precision keeps the table exact
  * enough for 4K images of world distances. */
@@ -14,29 +16,49 @@ typedef struct {
     double *count;
 } BoxAverager;
 
-static bool box_init(BoxAverager *b, int w, int h, const bool *valid, const float *q0, const float *q1,
-                     const float *q2)
+typedef struct {
+    BoxAverager *b;
+    const bool *valid;
+    const float *q[3];
+} BoxBuild;
+
+/* Table t (0..2: sum of q[t], 3: count) by the summed-area recurrence. */
+static void box_build_table(BoxBuild *bb, int t)
 {
-    const float *q[3] = {q0, q1, q2};
-    size_t n = (size_t)(w + 1) * (size_t)(h + 1);
-    b->w = w;
-    b->h = h;
-    b->count = calloc(n, sizeof(double));
-    for (int k = 0; k < 3; ++k) b->sum[k] = calloc(n, sizeof(double));
-    if (!b->count || !b->sum[0] || !b->sum[1] || !b->sum[2]) return false;
+    BoxAverager *b = bb->b;
+    int w = b->w, h = b->h;
+    double *tab = t == 3 ? b->count : b->sum[t];
+    const float *q = t == 3 ? NULL : bb->q[t];
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * (size_t)w + (size_t)x;
             size_t o = (size_t)(y + 1) * (size_t)(w + 1) + (size_t)(x + 1);
             size_t up = o - (size_t)(w + 1), left = o - 1, diag = up - 1;
-            double c = valid[i] ? 1.0 : 0.0;
-            b->count[o] = c + b->count[up] + b->count[left] - b->count[diag];
-            for (int k = 0; k < 3; ++k) {
-                double v = (valid[i] && q[k]) ? (double)q[k][i] : 0.0;
-                b->sum[k][o] = v + b->sum[k][up] + b->sum[k][left] - b->sum[k][diag];
-            }
+            double v = t == 3 ? (bb->valid[i] ? 1.0 : 0.0) : ((bb->valid[i] && q) ? (double)q[i] : 0.0);
+            tab[o] = v + tab[up] + tab[left] - tab[diag];
         }
     }
+}
+
+/* The four tables are independent: two per core. */
+static void box_build_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    for (size_t t = begin; t < end; ++t) box_build_table(ctx, (int)t);
+}
+
+static bool box_init(BoxAverager *b, int w, int h, const bool *valid, const float *q0, const float *q1,
+                     const float *q2)
+{
+    size_t n = (size_t)(w + 1) * (size_t)(h + 1);
+    b->w = w;
+    b->h = h;
+    /* calloc: row 0 and column 0 of every table stay 0 */
+    b->count = calloc(n, sizeof(double));
+    for (int k = 0; k < 3; ++k) b->sum[k] = calloc(n, sizeof(double));
+    if (!b->count || !b->sum[0] || !b->sum[1] || !b->sum[2]) return false;
+    BoxBuild bb = {b, valid, {q0, q1, q2}};
+    recon_parallel_for_work(4, (size_t)w * (size_t)h, box_build_range, &bb);
     return true;
 }
 
@@ -89,6 +111,61 @@ static float far_beta_world(const AafPixelStats *st, size_t i, const AafImageCon
     return (b > 0.0f && isfinite(b)) ? b : 0.0f;
 }
 
+/* The per-pixel part of the two borrowing parameter maps, over a range of rows on one core. */
+typedef struct {
+    const AafPixelStats *st;
+    const void *cfg;             /* AafShadowConfig or AafIndirectConfig */
+    const AafImageConfig *ic;
+    const BoxAverager *box;
+    const bool *own_data;        /* the pixel's own rays saw an occluder / reflector */
+    float scene_size_world;
+    float *beta_world;
+    int *spp;
+    int filtered[RECON_PARTS];
+} ParamsRows;
+
+static void shadow_rows(void *ctx, size_t y0, size_t y1, int part)
+{
+    ParamsRows *pr = ctx;
+    const AafPixelStats *st = pr->st;
+    const AafShadowConfig *c = pr->cfg;
+    const AafImageConfig *ic = pr->ic;
+    int w = st->width, filtered = 0;
+    for (int y = (int)y0; y < (int)y1; ++y) {
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            pr->beta_world[i] = 0.0f;
+            pr->spp[i] = ic->spp_min;
+            if (!pixel_hit(st, i)) continue;
+            float d1 = 0, d2min = 0, d2max = 0;
+            if (pr->own_data[i]) {
+                d1 = st->d1_world[i];
+                d2min = st->d2min_world[i];
+                d2max = st->d2max_world[i];
+            } else {
+                float avg[3];
+                if (!box_average(pr->box, x, y, ic->borrow_radius_px, avg)) { /* unoccluded */
+                    pr->beta_world[i] = far_beta_world(st, i, ic);
+                    if (ic->far_spp > pr->spp[i]) pr->spp[i] = ic->far_spp;
+                    if (pr->beta_world[i] > 0.0f) ++filtered;
+                    continue;
+                }
+                d1 = avg[0];
+                d2min = avg[1];
+                d2max = avg[2];
+            }
+            float s1, s2;
+            aaf_shadow_slopes(d1, d2min, d2max, &s1, &s2); /* AAF-shadow eq. 4 */
+            float sigma = at_or(st->sigma_light_world, i, 0.0f);
+            float d = at_or(st->pixel_world, i, 0.0f);
+            pr->beta_world[i] = aaf_shadow_beta_world(s2, sigma, d, c);                    /* eq. 13 */
+            pr->spp[i] = aaf_clamp_spp(aaf_shadow_spp(s1, s2, sigma, d, c), ic->spp_min, ic->spp_cap); /* eq. 21 */
+            if (pr->beta_world[i] > 0.0f) ++filtered;
+        }
+    }
+    pr->filtered[part] = filtered;
+}
+
 int aaf_shadow_params_image(const AafPixelStats *st, const AafShadowConfig *c, const AafImageConfig *ic,
                             float *beta_world, int *spp)
 {
@@ -102,38 +179,9 @@ int aaf_shadow_params_image(const AafPixelStats *st, const AafShadowConfig *c, c
         occluded[i] = pixel_hit(st, i) && st->d2max_world && st->d2max_world[i] > 0.0f &&
                       isfinite(st->d2max_world[i]) && isfinite(st->d1_world[i]);
     if (!box_init(&box, w, h, occluded, st->d1_world, st->d2min_world, st->d2max_world)) goto fail;
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            size_t i = (size_t)y * (size_t)w + (size_t)x;
-            beta_world[i] = 0.0f;
-            spp[i] = ic->spp_min;
-            if (!pixel_hit(st, i)) continue;
-            float d1 = 0, d2min = 0, d2max = 0;
-            if (occluded[i]) {
-                d1 = st->d1_world[i];
-                d2min = st->d2min_world[i];
-                d2max = st->d2max_world[i];
-            } else {
-                float avg[3];
-                if (!box_average(&box, x, y, ic->borrow_radius_px, avg)) { /* unoccluded */
-                    beta_world[i] = far_beta_world(st, i, ic);
-                    if (ic->far_spp > spp[i]) spp[i] = ic->far_spp;
-                    if (beta_world[i] > 0.0f) ++filtered;
-                    continue;
-                }
-                d1 = avg[0];
-                d2min = avg[1];
-                d2max = avg[2];
-            }
-            float s1, s2;
-            aaf_shadow_slopes(d1, d2min, d2max, &s1, &s2); /* AAF-shadow eq. 4 */
-            float sigma = at_or(st->sigma_light_world, i, 0.0f);
-            float d = at_or(st->pixel_world, i, 0.0f);
-            beta_world[i] = aaf_shadow_beta_world(s2, sigma, d, c);                    /* eq. 13 */
-            spp[i] = aaf_clamp_spp(aaf_shadow_spp(s1, s2, sigma, d, c), ic->spp_min, ic->spp_cap); /* eq. 21 */
-            if (beta_world[i] > 0.0f) ++filtered;
-        }
-    }
+    ParamsRows pr = {st, c, ic, &box, occluded, 0.0f, beta_world, spp, {0}};
+    recon_parallel_for_work((size_t)h, n, shadow_rows, &pr);
+    for (int p = 0; p < RECON_PARTS; ++p) filtered += pr.filtered[p];
     box_free(&box);
     free(occluded);
     return filtered;
@@ -145,6 +193,55 @@ fail:
         spp[i] = ic->spp_min;
     }
     return 0;
+}
+
+static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
+{
+    ParamsRows *pr = ctx;
+    const AafPixelStats *st = pr->st;
+    const AafIndirectConfig *c = pr->cfg;
+    const AafImageConfig *ic = pr->ic;
+    int w = st->width, filtered = 0;
+    float scene_size_world = pr->scene_size_world;
+    for (int y = (int)y0; y < (int)y1; ++y) {
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            pr->beta_world[i] = 0.0f;
+            pr->spp[i] = ic->spp_min;
+            if (!pixel_hit(st, i)) continue;
+            /* zmin, zmax from the neighbours' bounce rays, not the pixel's own: the pixel's
+             * rays also made its pass-1 indirect value, and choosing its sample count and width
+             * from them biases its mean (a pixel whose rays hit a near, bright reflector, or
+             * escaped, would get its value and its extra samples together; measured 1-2% off
+             * by region, docs/algorithms.md section 2.5). The 3x3 neighbours first, else the
+             * borrow radius (AAF-GI's 5-pixel neighbourhood), else the far width. */
+            float own[3] = {0.0f, 0.0f, 0.0f}, avg[3];
+            if (pr->own_data[i]) {
+                own[0] = st->zmin_world[i];
+                own[1] = st->zmax_world[i];
+            }
+            if (!box_average_others(pr->box, x, y, 1, pr->own_data[i], own, avg) &&
+                !box_average_others(pr->box, x, y, ic->borrow_radius_px, pr->own_data[i], own, avg)) {
+                pr->beta_world[i] = far_beta_world(st, i, ic);
+                if (ic->far_spp > pr->spp[i]) pr->spp[i] = ic->far_spp;
+                if (pr->beta_world[i] > 0.0f) ++filtered;
+                continue;
+            }
+            float zmin = avg[0], zmax = avg[1];
+            /* AAF-GI Sec. 5: zmin at least 2% of the scene, or corners would not be filtered. */
+            zmin = aaf_indirect_clamp_zmin(zmin, scene_size_world, c->zmin_clamp_frac);
+            float m = at_or(st->blinn_phong_m, i, 0.0f);
+            float omega_h = m > 0.0f ? aaf_indirect_omega_h_glossy(m) : aaf_indirect_omega_h_diffuse();
+            float gamma = m > 0.0f ? aaf_indirect_gamma_glossy(m) : aaf_indirect_gamma_diffuse();
+            float d = at_or(st->pixel_world, i, 0.0f);
+            pr->beta_world[i] = aaf_indirect_beta_world(zmin, omega_h, d, c); /* eqs. 15, 16 */
+            float cap = c->spp_cap_per_mu * c->mu;
+            if (ic->spp_cap > 0.0f && ic->spp_cap < cap) cap = ic->spp_cap;
+            pr->spp[i] = aaf_clamp_spp(aaf_indirect_spp(zmin, zmax, omega_h, gamma, d, c), ic->spp_min, cap); /* eq. 21 */
+            if (pr->beta_world[i] > 0.0f) ++filtered;
+        }
+    }
+    pr->filtered[part] = filtered;
 }
 
 int aaf_indirect_params_image(const AafPixelStats *st, const AafIndirectConfig *c, const AafImageConfig *ic,
@@ -160,44 +257,9 @@ int aaf_indirect_params_image(const AafPixelStats *st, const AafIndirectConfig *
         reflected[i] = pixel_hit(st, i) && st->zmin_world && isfinite(st->zmin_world[i]) &&
                        isfinite(st->zmax_world[i]) && st->zmax_world[i] >= st->zmin_world[i];
     if (!box_init(&box, w, h, reflected, st->zmin_world, st->zmax_world, NULL)) goto fail;
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            size_t i = (size_t)y * (size_t)w + (size_t)x;
-            beta_world[i] = 0.0f;
-            spp[i] = ic->spp_min;
-            if (!pixel_hit(st, i)) continue;
-            /* zmin, zmax from the neighbours' bounce rays, not the pixel's own: the pixel's
-             * rays also made its pass-1 indirect value, and choosing its sample count and width
-             * from them biases its mean (a pixel whose rays hit a near, bright reflector, or
-             * escaped, would get its value and its extra samples together; measured 1-2% off
-             * by region, docs/algorithms.md section 2.5). The 3x3 neighbours first, else the
-             * borrow radius (AAF-GI's 5-pixel neighbourhood), else the far width. */
-            float own[3] = {0.0f, 0.0f, 0.0f}, avg[3];
-            if (reflected[i]) {
-                own[0] = st->zmin_world[i];
-                own[1] = st->zmax_world[i];
-            }
-            if (!box_average_others(&box, x, y, 1, reflected[i], own, avg) &&
-                !box_average_others(&box, x, y, ic->borrow_radius_px, reflected[i], own, avg)) {
-                beta_world[i] = far_beta_world(st, i, ic);
-                if (ic->far_spp > spp[i]) spp[i] = ic->far_spp;
-                if (beta_world[i] > 0.0f) ++filtered;
-                continue;
-            }
-            float zmin = avg[0], zmax = avg[1];
-            /* AAF-GI Sec. 5: zmin at least 2% of the scene, or corners would not be filtered. */
-            zmin = aaf_indirect_clamp_zmin(zmin, scene_size_world, c->zmin_clamp_frac);
-            float m = at_or(st->blinn_phong_m, i, 0.0f);
-            float omega_h = m > 0.0f ? aaf_indirect_omega_h_glossy(m) : aaf_indirect_omega_h_diffuse();
-            float gamma = m > 0.0f ? aaf_indirect_gamma_glossy(m) : aaf_indirect_gamma_diffuse();
-            float d = at_or(st->pixel_world, i, 0.0f);
-            beta_world[i] = aaf_indirect_beta_world(zmin, omega_h, d, c); /* eqs. 15, 16 */
-            float cap = c->spp_cap_per_mu * c->mu;
-            if (ic->spp_cap > 0.0f && ic->spp_cap < cap) cap = ic->spp_cap;
-            spp[i] = aaf_clamp_spp(aaf_indirect_spp(zmin, zmax, omega_h, gamma, d, c), ic->spp_min, cap); /* eq. 21 */
-            if (beta_world[i] > 0.0f) ++filtered;
-        }
-    }
+    ParamsRows pr = {st, c, ic, &box, reflected, scene_size_world, beta_world, spp, {0}};
+    recon_parallel_for_work((size_t)h, n, indirect_rows, &pr);
+    for (int p = 0; p < RECON_PARTS; ++p) filtered += pr.filtered[p];
     box_free(&box);
     free(reflected);
     return filtered;

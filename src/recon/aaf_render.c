@@ -12,6 +12,7 @@
 #include "recon/aaf_pixel_params.h"
 #include "recon/aaf_stats.h"
 #include "recon/cl_runtime.h"
+#include "recon/recon_parallel.h"
 
 /* AAF-shadow Sec. 6: 9 light samples; AAF-GI Sec. 5: 16 hemisphere samples. Defocus uses 16
  * lens samples to see the pixel's range of depths. */
@@ -111,67 +112,201 @@ static bool means_resolve(const Frame *f, Means *m, bool with_color, long long *
     return true;
 }
 
-/* The light the filters must not blur (SampleRecord.unfiltered) is taken out of the direct and
- * indirect means here and added back after filtering. The stats saw the same samples as the
- * frame (the sink ran in both passes), so their counts are the frame's. */
-static void means_split_unfiltered(Means *m, const AafStats *st, size_t n)
+/* ---- the host-side per-pixel work around the filters, fused and run on both cores ----
+ *
+ * Two passes over the image replace the earlier chain of whole-image loops (resolve five means,
+ * split off the unfiltered light, demodulate, filter, remodulate, add up): `prepare` reads the
+ * frame's sums once and writes only what the filters read; `composite` recomputes the few means
+ * it needs with the same arithmetic (so the image is bit-identical to the chained version) and
+ * writes the output. Each pixel is independent; guard counts are kept per part. */
+typedef struct {
+    const Frame *frame;
+    const AafStats *stats;
+    const AafDerived *derived;
+    const float *shade;          /* r(x) for direct light (NULL: 1) */
+    float shade_min;
+    bool on_shadows, on_indirect;
+    float *value_direct4, *value_indirect4; /* demodulated inputs of the filters (NULL: off) */
+    float *spp_out;
+    long long guarded[RECON_PARTS];
+} PreparePass;
+
+/* frame_resolve3's per-channel mean (render/frame.c), with the same arithmetic. */
+static inline float sum_mean(float sum, float spp, long long *guarded)
 {
-    for (size_t i = 0; i < n; ++i) {
-        float inv = st->samples[i] > 0 ? 1.0f / (float)st->samples[i] : 0.0f;
+    float v = spp > 0.0f ? sum / spp : 0.0f;
+    if (!isfinite(v)) {
+        v = 0.0f;
+        ++*guarded;
+    }
+    return v;
+}
+
+/* The light the filters must not blur (SampleRecord.unfiltered), per channel: it is taken out
+ * of the direct and indirect means and added back after filtering. The stats saw the same
+ * samples as the frame (the sink ran in both passes), so their counts are the frame's. */
+static inline void unfiltered_means(const AafStats *st, size_t i, float ud[3], float ui[3])
+{
+    float inv = st->samples[i] > 0 ? 1.0f / (float)st->samples[i] : 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        float d = st->unf_direct_sum[3 * i + k] * inv, u = st->unf_indirect_sum[3 * i + k] * inv;
+        ud[k] = isfinite(d) ? d : 0.0f;
+        ui[k] = isfinite(u) ? u : 0.0f;
+    }
+}
+
+/* value4 = radiance / (albedo * shade): what the filters assume smooth (shade = r(x) for direct
+ * light, so that the visibility is filtered, AAF-shadow eq. 1). Usable where there is a surface
+ * with non-black albedo and shade above shade_min; elsewhere the raw radiance, flagged unusable
+ * (kept as it is, not shared). */
+static inline void demodulate_pixel(const float rad[3], const float a[3], float sh, bool usable, float *value4)
+{
+    bool ok = usable && a[0] > MIN_ALBEDO && a[1] > MIN_ALBEDO && a[2] > MIN_ALBEDO;
+    for (int k = 0; k < 3; ++k) value4[k] = ok ? rad[k] / (a[k] * sh) : rad[k];
+    value4[3] = ok ? 1.0f : 0.0f;
+}
+
+static void prepare_range(void *ctx, size_t begin, size_t end, int part)
+{
+    PreparePass *pp = ctx;
+    const Frame *f = pp->frame;
+    const AafDerived *dv = pp->derived;
+    long long guarded = 0;
+    for (size_t i = begin; i < end; ++i) {
+        float spp = f->spp[i];
+        pp->spp_out[i] = spp;
+        float a[3], dir[3], ind[3], ud[3], ui[3];
+        for (int k = 0; k < 3; ++k) {
+            dir[k] = sum_mean(f->direct[3 * i + k], spp, &guarded);
+            ind[k] = sum_mean(f->indirect[3 * i + k], spp, &guarded);
+            (void)sum_mean(f->emission[3 * i + k], spp, &guarded); /* counted like the others */
+            a[k] = sum_mean(f->albedo[3 * i + k], spp, &guarded);
+        }
+        unfiltered_means(pp->stats, i, ud, ui);
+        for (int k = 0; k < 3; ++k) {
+            dir[k] -= ud[k];
+            ind[k] -= ui[k];
+        }
+        bool surface = dv->hit[i] && !dv->mixed[i];
+        if (pp->on_shadows) {
+            float sh = pp->shade ? pp->shade[i] : 1.0f;
+            demodulate_pixel(dir, a, sh, surface && sh > pp->shade_min, pp->value_direct4 + 4 * i);
+        }
+        if (pp->on_indirect) demodulate_pixel(ind, a, 1.0f, surface, pp->value_indirect4 + 4 * i);
+    }
+    pp->guarded[part] = guarded;
+}
+
+typedef struct {
+    const Frame *frame;
+    const AafStats *stats;
+    const AafDerived *derived;
+    const float *shade;                           /* as in PreparePass */
+    const float *filtered_direct4, *filtered_indirect4; /* NULL: that light was not filtered */
+    float *rgb;
+    float *defocus_value4, *defocus_slope4;       /* NULL: no defocus filter follows */
+} CompositePass;
+
+/* Adds albedo * shade * filtered value, or the raw radiance where it was not demodulated. */
+static inline float remodulate(const float *value4, int k, float albedo, float sh)
+{
+    return value4[3] != 0.0f ? albedo * sh * value4[k] : value4[k];
+}
+
+static void composite_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    CompositePass *cp = ctx;
+    const Frame *f = cp->frame;
+    long long ignored = 0; /* counted by prepare_range already */
+    for (size_t i = begin; i < end; ++i) {
+        float spp = f->spp[i], ud[3], ui[3], v[3];
+        unfiltered_means(cp->stats, i, ud, ui);
+        float sh = cp->shade ? cp->shade[i] : 1.0f;
         for (int k = 0; k < 3; ++k) {
             size_t j = 3 * i + (size_t)k;
-            float ud = st->unf_direct_sum[j] * inv, ui = st->unf_indirect_sum[j] * inv;
-            m->unf_direct[j] = isfinite(ud) ? ud : 0.0f;
-            m->unf_indirect[j] = isfinite(ui) ? ui : 0.0f;
-            m->direct[j] -= m->unf_direct[j];
-            m->indirect[j] -= m->unf_indirect[j];
+            float a = sum_mean(f->albedo[j], spp, &ignored);
+            /* emission + direct + indirect + unfiltered, added in this order */
+            v[k] = sum_mean(f->emission[j], spp, &ignored);
+            v[k] += cp->filtered_direct4 ? remodulate(cp->filtered_direct4 + 4 * i, k, a, sh)
+                                         : sum_mean(f->direct[j], spp, &ignored) - ud[k];
+            v[k] += cp->filtered_indirect4 ? remodulate(cp->filtered_indirect4 + 4 * i, k, a, 1.0f)
+                                           : sum_mean(f->indirect[j], spp, &ignored) - ui[k];
+            v[k] += ud[k] + ui[k];
+        }
+        /* the pixel's filter inputs are all read: defocus_value4 may reuse their buffers */
+        for (int k = 0; k < 3; ++k) cp->rgb[3 * i + (size_t)k] = v[k];
+        if (cp->defocus_value4) {
+            float *dv = cp->defocus_value4 + 4 * i;
+            dv[0] = v[0];
+            dv[1] = v[1];
+            dv[2] = v[2];
+            dv[3] = 1.0f;
+            /* Each pixel's sharpest CoC slope (the end of its range nearest 0; 0 if the range
+             * straddles the focal plane): the kernel keeps sharper neighbours out of a blur, e.g.
+             * an in-focus object's edge pixels out of the defocused background behind it. */
+            float lo = cp->derived->coc_min[i], hi = cp->derived->coc_max[i];
+            float sharp = (lo <= 0.0f && hi >= 0.0f) ? 0.0f : (fabsf(lo) < fabsf(hi) ? lo : hi);
+            float *sl = cp->defocus_slope4 + 4 * i;
+            sl[0] = isfinite(sharp) && lo <= hi ? sharp : 0.0f;
+            sl[1] = sl[2] = sl[3] = 0.0f;
         }
     }
 }
 
-/* value4 = radiance / (albedo * shade): what the filters assume smooth. shade (NULL: 1) is the
- * unoccluded irradiance r(x) for direct light, so that what is filtered is the visibility
- * (AAF-shadow eq. 1). Usable where there is a surface with non-black albedo and shade above
- * shade_min; elsewhere the raw radiance, unusable (kept as it is, not shared). */
-static void demodulate(size_t n, const float *radiance3, const float *albedo3, const float *shade, float shade_min,
-                       const unsigned char *hit, const unsigned char *mixed, float *value4)
-{
-    for (size_t i = 0; i < n; ++i) {
-        const float *a = albedo3 + 3 * i;
-        float sh = shade ? shade[i] : 1.0f;
-        bool ok = hit[i] && !mixed[i] && a[0] > MIN_ALBEDO && a[1] > MIN_ALBEDO && a[2] > MIN_ALBEDO && sh > shade_min;
-        for (int k = 0; k < 3; ++k) value4[4 * i + k] = ok ? radiance3[3 * i + k] / (a[k] * sh) : radiance3[3 * i + k];
-        value4[4 * i + 3] = ok ? 1.0f : 0.0f;
-    }
-}
+/* Last pass: the defocus filter's output (if any) into rgb, widths in pixels for the AOVs,
+ * and no non-finite value left in the image. */
+typedef struct {
+    float *rgb;
+    const float *defocus_out4;    /* NULL: no defocus filter ran */
+    const float *beta[AAF_EFFECT_COUNT];
+    const float *pixel_world;
+    float *beta_px[AAF_EFFECT_COUNT];
+    long long guarded[RECON_PARTS];
+} FinishPass;
 
-/* Adds albedo * shade * filtered value (or the raw radiance where it was not demodulated). */
-static void remodulate_add(size_t n, const float *value4, const float *albedo3, const float *shade, float *out3)
+static void finish_range(void *ctx, size_t begin, size_t end, int part)
 {
-    for (size_t i = 0; i < n; ++i) {
-        float sh = shade ? shade[i] : 1.0f;
-        for (int k = 0; k < 3; ++k)
-            out3[3 * i + k] += value4[4 * i + 3] != 0.0f ? albedo3[3 * i + k] * sh * value4[4 * i + k] : value4[4 * i + k];
-    }
-}
-
-static void beta_to_px(size_t n, const float *beta, const float *pixel_world, float *beta_px)
-{
-    for (size_t i = 0; i < n; ++i) {
-        float b = pixel_world ? (pixel_world[i] > 0.0f ? beta[i] / pixel_world[i] : 0.0f) : beta[i];
-        beta_px[i] = isfinite(b) ? b : (float)AAF_FILTER_RADIUS_CAP_PX;
-    }
-}
-
-static long long guard_finite(float *a, size_t n)
-{
+    FinishPass *fp = ctx;
     long long bad = 0;
-    for (size_t i = 0; i < n; ++i)
-        if (!isfinite(a[i])) {
-            a[i] = 0.0f;
-            ++bad;
+    for (size_t i = begin; i < end; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            float v = fp->defocus_out4 ? fp->defocus_out4[4 * i + (size_t)k] : fp->rgb[3 * i + (size_t)k];
+            if (!isfinite(v)) {
+                v = 0.0f;
+                ++bad;
+            }
+            fp->rgb[3 * i + (size_t)k] = v;
         }
-    return bad;
+        for (int e = 0; e < AAF_EFFECT_COUNT; ++e) {
+            if (!fp->beta[e]) continue;
+            const float *pw = e == AAF_EFFECT_DEFOCUS ? NULL : fp->pixel_world;
+            float b = pw ? (pw[i] > 0.0f ? fp->beta[e][i] / pw[i] : 0.0f) : fp->beta[e][i];
+            fp->beta_px[e][i] = isfinite(b) ? b : (float)AAF_FILTER_RADIUS_CAP_PX;
+        }
+    }
+    fp->guarded[part] = bad;
+}
+
+typedef struct {
+    int n;
+    const float *beta, *pixel_world;
+    float *param;
+} ParamsPass;
+
+static void params_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    ParamsPass *pp = ctx;
+    aaf_filter_make_params((int)(end - begin), pp->beta + begin, pp->pixel_world ? pp->pixel_world + begin : NULL,
+                           RADIUS_SIGMAS, AAF_FILTER_RADIUS_CAP_PX, pp->param + 2 * begin);
+}
+
+/* aaf_filter_make_params on both cores. */
+static void make_params(size_t n, const float *beta, const float *pixel_world, float *param)
+{
+    ParamsPass pp = {(int)n, beta, pixel_world, param};
+    recon_parallel_for(n, params_range, &pp);
 }
 
 /* Creating the OpenCL context and building the kernels takes 50-150 ms on PoCL: do it on a
@@ -330,19 +465,23 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
         }
         /* ---- pass 2: adaptive sampling, while OpenCL starts up ---- */
         opener_start(&opener, o->cl_device, w, h);
-        stats.collect_rays = false; /* parameters come from pass 1; pass 2 refines the guides */
+        /* Parameters come from pass 1; pass 2 only refines the guides, so it records no ray
+         * geometry: its shadow rays become any-hit occlusion queries instead of closest-hit
+         * traces (the same visibility, cheaper per sample). */
+        stats.collect_rays = false;
+        renderer_set_record_ray_geometry(r, false);
         t_pass2 = wall_seconds();
         complete = render_pass(r, 1, spp_extra, 0, frame, &sink);
+        renderer_set_record_ray_geometry(r, true); /* as the caller set it up (aaf_render.h) */
         t_pass2 = wall_seconds() - t_pass2;
     }
-    if (!means_resolve(frame, &means, !complete || !any, &res->guarded_events)) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for AAF buffers");
-        goto done;
-    }
-    if (complete && any) means_split_unfiltered(&means, &stats, n);
-    for (size_t i = 0; i < n; ++i) res->spp[i] = frame->spp[i];
-    res->spp_avg = frame_spp_avg(frame);
-    if (!complete || !any) {
+    if (!complete || !any) { /* cancelled, or nothing to filter: the plain mean */
+        if (!means_resolve(frame, &means, true, &res->guarded_events)) {
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for AAF buffers");
+            goto done;
+        }
+        for (size_t i = 0; i < n; ++i) res->spp[i] = frame->spp[i];
+        res->spp_avg = frame_spp_avg(frame);
         res->cancelled = !complete;
         memcpy(res->rgb, means.color, 3 * n * sizeof(float));
         for (int e = 0; e < AAF_EFFECT_COUNT; ++e) {
@@ -353,9 +492,30 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
         ok = true;
         goto done;
     }
+    res->spp_avg = frame_spp_avg(frame);
 
     /* ---- filters ---- */
     aaf_derive_guides(&stats, &derived); /* the guides of both passes */
+    /* Direct light: the visibility (direct / (albedo r(x))) is filtered, with distances in the
+     * plane of the light (eq. 12), and multiplied back by albedo r(x) (eq. 1). Indirect light:
+     * irradiance (albedo divided out), distances in each receiver's tangent plane (AAF-GI
+     * eq. 16). Both inputs are made in one pass over the frame. */
+    const float *shade_used = NULL;
+    float shade_min = 0.0f;
+    if (on[AAF_EFFECT_SHADOWS]) {
+        aaf_unoccluded_irradiance(&derived, shade);
+        float shade_max = 0.0f;
+        for (size_t i = 0; i < n; ++i) shade_max = fmaxf(shade_max, shade[i]);
+        shade_used = derived.light_known ? shade : NULL;
+        shade_min = MIN_SHADE_REL * shade_max;
+    }
+    float *value_direct4 = on[AAF_EFFECT_SHADOWS] ? value4 : NULL;
+    float *value_indirect4 = on[AAF_EFFECT_INDIRECT] ? filtered4 : NULL;
+    PreparePass prep = {frame, &stats, &derived, shade_used, shade_min, on[AAF_EFFECT_SHADOWS],
+                        on[AAF_EFFECT_INDIRECT], value_direct4, value_indirect4, res->spp, {0}};
+    recon_parallel_for(n, prepare_range, &prep);
+    for (int p = 0; p < RECON_PARTS; ++p) res->guarded_events += prep.guarded[p];
+
     if (!opener_join(&opener, d)) goto done;
     rt = opener.rt;
     filter = opener.filter;
@@ -365,62 +525,41 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     if (!aaf_filter_set_guides(filter, w, h, derived.pos4, derived.nrm4, d)) goto done;
     AafFilterRules world_rules = aaf_filter_rules_default(AAF_DIST_WORLD);
     double kernel_s = 0.0;
-
-    /* Direct light: the visibility (direct / (albedo r(x))) is filtered, with distances in the
-     * plane of the light (eq. 12), and multiplied back by albedo r(x) (eq. 1). */
-    for (size_t i = 0; i < 3 * n; ++i) res->rgb[i] = means.emission[i];
-    if (on[AAF_EFFECT_SHADOWS]) {
-        aaf_unoccluded_irradiance(&derived, shade);
-        float shade_max = 0.0f;
-        for (size_t i = 0; i < n; ++i) shade_max = fmaxf(shade_max, shade[i]);
-        demodulate(n, means.direct, means.albedo, derived.light_known ? shade : NULL, MIN_SHADE_REL * shade_max,
-                   derived.hit, derived.mixed, value4);
-        aaf_filter_make_params((int)n, beta[AAF_EFFECT_SHADOWS], derived.pixel_world, RADIUS_SIGMAS,
-                               AAF_FILTER_RADIUS_CAP_PX, param);
-        if (!aaf_filter_run(filter, value4, derived.plane4, param, &world_rules, filtered4, &kernel_s, d)) goto done;
+    /* each filter runs in place on its own input buffer */
+    if (value_direct4) {
+        make_params(n, beta[AAF_EFFECT_SHADOWS], derived.pixel_world, param);
+        if (!aaf_filter_run(filter, value_direct4, derived.plane4, param, &world_rules, value_direct4, &kernel_s, d))
+            goto done;
         res->seconds_kernels += kernel_s;
-        remodulate_add(n, filtered4, means.albedo, derived.light_known ? shade : NULL, res->rgb);
-    } else {
-        for (size_t i = 0; i < 3 * n; ++i) res->rgb[i] += means.direct[i];
     }
-    /* Indirect light: irradiance (albedo divided out), distances in each receiver's tangent
-     * plane (AAF-GI eq. 16). */
-    if (on[AAF_EFFECT_INDIRECT]) {
-        demodulate(n, means.indirect, means.albedo, NULL, 0.0f, derived.hit, derived.mixed, value4);
-        aaf_filter_make_params((int)n, beta[AAF_EFFECT_INDIRECT], derived.pixel_world, RADIUS_SIGMAS,
-                               AAF_FILTER_RADIUS_CAP_PX, param);
-        if (!aaf_filter_run(filter, value4, NULL, param, &world_rules, filtered4, &kernel_s, d)) goto done;
+    if (value_indirect4) {
+        make_params(n, beta[AAF_EFFECT_INDIRECT], derived.pixel_world, param);
+        if (!aaf_filter_run(filter, value_indirect4, NULL, param, &world_rules, value_indirect4, &kernel_s, d))
+            goto done;
         res->seconds_kernels += kernel_s;
-        remodulate_add(n, filtered4, means.albedo, NULL, res->rgb);
-    } else {
-        for (size_t i = 0; i < 3 * n; ++i) res->rgb[i] += means.indirect[i];
     }
-    for (size_t i = 0; i < 3 * n; ++i) res->rgb[i] += means.unf_direct[i] + means.unf_indirect[i];
-    /* Defocus: the primary radiance itself is filtered, in pixels, across objects. */
+    /* Composite; defocus then filters the primary radiance itself, in pixels, across objects
+     * (its input reuses the direct light's buffer, pixel by pixel after reading it). */
+    CompositePass comp = {frame, &stats, &derived, shade_used, value_direct4, value_indirect4, res->rgb,
+                          on[AAF_EFFECT_DEFOCUS] ? value4 : NULL, on[AAF_EFFECT_DEFOCUS] ? slope4 : NULL};
+    recon_parallel_for(n, composite_range, &comp);
     if (on[AAF_EFFECT_DEFOCUS]) {
-        for (size_t i = 0; i < n; ++i) {
-            for (int k = 0; k < 3; ++k) value4[4 * i + k] = res->rgb[3 * i + k];
-            value4[4 * i + 3] = 1.0f;
-        }
         AafFilterRules pixel_rules = aaf_filter_rules_default(AAF_DIST_PIXEL);
-        aaf_filter_make_params((int)n, beta[AAF_EFFECT_DEFOCUS], NULL, RADIUS_SIGMAS, AAF_FILTER_RADIUS_CAP_PX, param);
-        /* Each pixel's sharpest CoC slope (the end of its range nearest 0; 0 if the range
-         * straddles the focal plane): the kernel keeps sharper neighbours out of a blur, e.g.
-         * an in-focus object's edge pixels out of the defocused background behind it. */
-        for (size_t i = 0; i < n; ++i) {
-            float lo = derived.coc_min[i], hi = derived.coc_max[i];
-            float sharp = (lo <= 0.0f && hi >= 0.0f) ? 0.0f : (fabsf(lo) < fabsf(hi) ? lo : hi);
-            slope4[4 * i] = isfinite(sharp) && lo <= hi ? sharp : 0.0f;
-            slope4[4 * i + 1] = slope4[4 * i + 2] = slope4[4 * i + 3] = 0.0f;
-        }
-        if (!aaf_filter_run(filter, value4, slope4, param, &pixel_rules, filtered4, &kernel_s, d)) goto done;
+        make_params(n, beta[AAF_EFFECT_DEFOCUS], NULL, param);
+        if (!aaf_filter_run(filter, value4, slope4, param, &pixel_rules, value4, &kernel_s, d)) goto done;
         res->seconds_kernels += kernel_s;
-        for (size_t i = 0; i < n; ++i)
-            for (int k = 0; k < 3; ++k) res->rgb[3 * i + k] = filtered4[4 * i + k];
     }
-    for (int e = 0; e < AAF_EFFECT_COUNT; ++e)
-        if (on[e]) beta_to_px(n, beta[e], e == AAF_EFFECT_DEFOCUS ? NULL : derived.pixel_world, res->beta_px[e]);
-    res->guarded_events += guard_finite(res->rgb, 3 * n);
+    FinishPass fin;
+    memset(&fin, 0, sizeof fin);
+    fin.rgb = res->rgb;
+    fin.defocus_out4 = on[AAF_EFFECT_DEFOCUS] ? value4 : NULL;
+    fin.pixel_world = derived.pixel_world;
+    for (int e = 0; e < AAF_EFFECT_COUNT; ++e) {
+        fin.beta[e] = on[e] ? beta[e] : NULL;
+        fin.beta_px[e] = on[e] ? res->beta_px[e] : NULL;
+    }
+    recon_parallel_for(n, finish_range, &fin);
+    for (int p = 0; p < RECON_PARTS; ++p) res->guarded_events += fin.guarded[p];
     ok = true;
 
 done:

@@ -3,9 +3,10 @@
 
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "recon/recon_parallel.h"
 
 bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam)
 {
@@ -357,12 +358,21 @@ void aaf_derived_free(AafDerived *d)
 #define AAF_MIXED_NORMAL_COHERENCE 0.9f
 #define AAF_MIXED_DEPTH_REL_STD 0.1f
 
-/* The filter guides: mean position and depth, unit mean normal and object id, pixel size. */
-static void derive_guides(const AafStats *s, AafDerived *d)
+/* The filter guides: mean position and depth, unit mean normal and object id, pixel size;
+ * each core takes a range of pixels and its own bounding box of the hit points. */
+typedef struct {
+    const AafStats *s;
+    AafDerived *d;
+    float lo[RECON_PARTS][3], hi[RECON_PARTS][3];
+} GuidesPass;
+
+static void guides_range(void *ctx, size_t begin, size_t end, int part)
 {
-    size_t n = (size_t)s->width * (size_t)s->height;
+    GuidesPass *gp = ctx;
+    const AafStats *s = gp->s;
+    AafDerived *d = gp->d;
     float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = begin; i < end; ++i) {
         int hits = s->hits[i];
         d->hit[i] = hits > 0;
         for (int k = 0; k < 4; ++k) d->pos4[4 * i + k] = d->nrm4[4 * i + k] = 0.0f;
@@ -392,12 +402,70 @@ static void derive_guides(const AafStats *s, AafDerived *d)
          * foreshortening, which only makes d smaller and the filter more conservative). */
         d->pixel_world[i] = depth * s->cam.pixel_angle;
     }
+    for (int k = 0; k < 3; ++k) {
+        gp->lo[part][k] = lo[k];
+        gp->hi[part][k] = hi[k];
+    }
+}
+
+static void derive_guides(const AafStats *s, AafDerived *d)
+{
+    size_t n = (size_t)s->width * (size_t)s->height;
+    GuidesPass gp;
+    gp.s = s;
+    gp.d = d;
+    recon_parallel_for(n, guides_range, &gp);
+    /* min and max are exact, so the box does not depend on the split */
     float diag2 = 0;
-    for (int k = 0; k < 3; ++k) diag2 += hi[k] > lo[k] ? (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        float lo = FLT_MAX, hi = -FLT_MAX;
+        for (int p = 0; p < RECON_PARTS; ++p) {
+            lo = fminf(lo, gp.lo[p][k]);
+            hi = fmaxf(hi, gp.hi[p][k]);
+        }
+        diag2 += hi > lo ? (hi - lo) * (hi - lo) : 0.0f;
+    }
     d->scene_size_world = sqrtf(diag2);
 }
 
 void aaf_derive_guides(const AafStats *s, AafDerived *d) { derive_guides(s, d); }
+
+/* The per-pixel part of aaf_derive (independent pixels: any split gives the same maps). */
+typedef struct {
+    const AafStats *s;
+    AafDerived *d;
+    float sigma_fallback;
+} DerivePass;
+
+static void derive_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    const DerivePass *dp = ctx;
+    const AafStats *s = dp->s;
+    AafDerived *d = dp->d;
+    float sigma_fallback = dp->sigma_fallback;
+    for (size_t i = begin; i < end; ++i) {
+        d->phong_m[i] = s->phong_max[i];
+        const float *ps = s->plane_sum + 3 * i;
+        float pl = sqrtf(ps[0] * ps[0] + ps[1] * ps[1] + ps[2] * ps[2]);
+        for (int k = 0; k < 3; ++k) d->plane4[4 * i + k] = pl > 0.0f ? ps[k] / pl : d->light_normal[k];
+        d->plane4[4 * i + 3] = 0.0f;
+        d->sigma_light[i] = d->exact_lights ? (isfinite(s->sigma_min[i]) ? s->sigma_min[i] : sigma_fallback)
+                                            : d->light_sigma_world;
+        d->coc_min[i] = s->coc_min[i];
+        d->coc_max[i] = s->coc_max[i];
+        d->zmin[i] = s->zmin[i];
+        d->zmax[i] = s->zmax[i];
+        if (s->hits[i] > 0 && s->shadow_rays[i] > 0) {
+            float d1 = s->d1_sum[i] / (float)s->shadow_rays[i];
+            d->d1[i] = d1;
+            if (s->occluded_rays[i] > 0) {
+                d->d2min[i] = s->ratio_min[i] * d1;
+                d->d2max[i] = s->ratio_max[i] * d1;
+            }
+        }
+    }
+}
 
 bool aaf_derive(const AafStats *s, AafDerived *d)
 {
@@ -440,27 +508,8 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
         }
     }
     derive_guides(s, d);
-    for (size_t i = 0; i < n; ++i) {
-        d->phong_m[i] = s->phong_max[i];
-        const float *ps = s->plane_sum + 3 * i;
-        float pl = sqrtf(ps[0] * ps[0] + ps[1] * ps[1] + ps[2] * ps[2]);
-        for (int k = 0; k < 3; ++k) d->plane4[4 * i + k] = pl > 0.0f ? ps[k] / pl : d->light_normal[k];
-        d->plane4[4 * i + 3] = 0.0f;
-        d->sigma_light[i] = d->exact_lights ? (isfinite(s->sigma_min[i]) ? s->sigma_min[i] : sigma_fallback)
-                                            : d->light_sigma_world;
-        d->coc_min[i] = s->coc_min[i];
-        d->coc_max[i] = s->coc_max[i];
-        d->zmin[i] = s->zmin[i];
-        d->zmax[i] = s->zmax[i];
-        if (s->hits[i] > 0 && s->shadow_rays[i] > 0) {
-            float d1 = s->d1_sum[i] / (float)s->shadow_rays[i];
-            d->d1[i] = d1;
-            if (s->occluded_rays[i] > 0) {
-                d->d2min[i] = s->ratio_min[i] * d1;
-                d->d2max[i] = s->ratio_max[i] * d1;
-            }
-        }
-    }
+    DerivePass dp = {s, d, sigma_fallback};
+    recon_parallel_for(n, derive_range, &dp);
     return true;
 }
 
@@ -470,56 +519,57 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
  * multiply back) by a fixed 4 x 4 midpoint quadrature over the estimated light rectangle:
  * mean over points q of cos(receiver) cos(light) / |q - p|^2. Deterministic, so it adds no
  * noise, and smooth along surfaces. */
+enum { SHADE_Q = 4 }; /* quadrature points per side of the light rectangle */
+
 typedef struct {
     const AafDerived *d;
     float *r;
-    size_t begin, end;
-} ShadeJob;
+    float q[SHADE_Q * SHADE_Q][3]; /* the light's quadrature points (world) */
+} ShadePass;
 
-static void *shade_rows(void *arg)
+static void shade_range(void *ctx, size_t begin, size_t end, int part)
 {
-    const ShadeJob *job = arg;
-    const AafDerived *d = job->d;
-    enum { Q = 4 };
-    for (size_t i = job->begin; i < job->end; ++i) {
-        job->r[i] = 0.0f;
+    (void)part;
+    const ShadePass *sp = ctx;
+    const AafDerived *d = sp->d;
+    const float *nl = d->light_normal;
+    for (size_t i = begin; i < end; ++i) {
+        sp->r[i] = 0.0f;
         if (!d->hit[i] || !d->light_known) continue;
         const float *p = d->pos4 + 4 * i, *nr = d->nrm4 + 4 * i;
         double sum = 0.0;
-        for (int a = 0; a < Q; ++a) {
-            for (int b = 0; b < Q; ++b) {
-                float fa = 2.0f * ((float)a + 0.5f) / Q - 1.0f, fb = 2.0f * ((float)b + 0.5f) / Q - 1.0f;
-                float w[3], len2 = 0.0f;
-                for (int k = 0; k < 3; ++k) {
-                    w[k] = d->light_center[k] + fa * d->light_half_u[k] + fb * d->light_half_v[k] - p[k];
-                    len2 += w[k] * w[k];
-                }
-                if (!(len2 > 0.0f)) continue;
-                float inv_len = 1.0f / sqrtf(len2);
-                float cos_r = (nr[0] * w[0] + nr[1] * w[1] + nr[2] * w[2]) * inv_len;
-                float cos_l = fabsf(d->light_normal[0] * w[0] + d->light_normal[1] * w[1] + d->light_normal[2] * w[2]) * inv_len;
-                if (cos_r > 0.0f) sum += (double)(cos_r * cos_l / len2);
+        for (int j = 0; j < SHADE_Q * SHADE_Q; ++j) {
+            float w[3], len2 = 0.0f;
+            for (int k = 0; k < 3; ++k) {
+                w[k] = sp->q[j][k] - p[k];
+                len2 += w[k] * w[k];
             }
+            if (!(len2 > 0.0f)) continue;
+            float inv_len = 1.0f / sqrtf(len2);
+            float cos_r = (nr[0] * w[0] + nr[1] * w[1] + nr[2] * w[2]) * inv_len;
+            float cos_l = fabsf(nl[0] * w[0] + nl[1] * w[1] + nl[2] * w[2]) * inv_len;
+            if (cos_r > 0.0f) sum += (double)(cos_r * cos_l / len2);
         }
-        float v = (float)(sum / (Q * Q));
-        job->r[i] = isfinite(v) ? v : 0.0f;
+        float v = (float)(sum / (SHADE_Q * SHADE_Q));
+        sp->r[i] = isfinite(v) ? v : 0.0f;
     }
-    return NULL;
 }
 
 void aaf_unoccluded_irradiance(const AafDerived *d, float *r)
 {
-    /* Two halves on two threads (the machine model of DESIGN.md section 7); each pixel is
-     * independent, so the result does not depend on the split. */
-    size_t n = (size_t)d->width * (size_t)d->height;
-    ShadeJob jobs[2] = {{d, r, 0, n / 2}, {d, r, n / 2, n}};
-    pthread_t t;
-    bool threaded = pthread_create(&t, NULL, shade_rows, &jobs[1]) == 0;
-    shade_rows(&jobs[0]);
-    if (threaded)
-        pthread_join(t, NULL);
-    else
-        shade_rows(&jobs[1]);
+    /* The quadrature points are the same for every pixel: computed once. Pixels are
+     * independent, so the two cores' split does not change the result. */
+    ShadePass sp;
+    sp.d = d;
+    sp.r = r;
+    for (int a = 0; a < SHADE_Q; ++a) {
+        for (int b = 0; b < SHADE_Q; ++b) {
+            float fa = 2.0f * ((float)a + 0.5f) / SHADE_Q - 1.0f, fb = 2.0f * ((float)b + 0.5f) / SHADE_Q - 1.0f;
+            for (int k = 0; k < 3; ++k)
+                sp.q[a * SHADE_Q + b][k] = d->light_center[k] + fa * d->light_half_u[k] + fb * d->light_half_v[k];
+        }
+    }
+    recon_parallel_for((size_t)d->width * (size_t)d->height, shade_range, &sp);
 }
 
 AafPixelStats aaf_derived_pixel_stats(const AafDerived *d)
