@@ -524,7 +524,7 @@ static int load_scene(const ConvergeOptions *o, SceneDesc *scene)
                   ? scene_parse_file(o->scene_path, scene, &err)
                   : scene_parse_string(wedge_default_scene, strlen(wedge_default_scene), "<default>", NULL, scene, &err);
     if (!ok) {
-        fputs(err.message, stderr);
+        diag_print(&err);
         return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
     }
     return WEDGE_EXIT_OK;
@@ -563,7 +563,7 @@ int cmd_converge(int argc, char **argv)
                     converge_reference_arg_count};
     char key[33];
     if (!ref_key_for_scene(&scene, o.scene_path ? NULL : wedge_default_scene, &rp, key, &err)) {
-        fputs(err.message, stderr);
+        diag_print(&err);
         scene_desc_free(&scene);
         return err.exit_code;
     }
@@ -574,7 +574,7 @@ int cmd_converge(int argc, char **argv)
     }
     char cache[4096], ref_path[4200], ref_report[4200];
     if (!ref_cache_dir(o.cache_dir, cache, sizeof cache, &err)) {
-        fputs(err.message, stderr);
+        diag_print(&err);
         return err.exit_code;
     }
     snprintf(ref_path, sizeof ref_path, "%s/ref-%s.exr", cache, key);
@@ -609,7 +609,7 @@ int cmd_converge(int argc, char **argv)
     int ref_w, ref_h;
     float *ref = NULL;
     if (!exr_read_rgb(ref_path, &ref_w, &ref_h, &ref, &err)) {
-        fputs(err.message, stderr);
+        diag_print(&err);
         return WEDGE_EXIT_RUNTIME;
     }
     if (ref_w != o.width || ref_h != o.height) {
@@ -710,7 +710,7 @@ int cmd_converge(int argc, char **argv)
                 int w, h;
                 float *img = NULL;
                 if (!exr_read_rgb(image, &w, &h, &img, &err)) {
-                    fputs(err.message, stderr);
+                    diag_print(&err);
                     rc = WEDGE_EXIT_RUNTIME;
                     break;
                 }

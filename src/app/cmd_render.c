@@ -361,8 +361,7 @@ int cmd_render(int argc, char **argv)
         /* Check --view before rendering: a typo must not cost a whole render. */
         OcioView *ov = NULL;
         if (!ocio_view_open(a.view, &ov, &err)) {
-            fputs(err.message, stderr);
-            if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+            diag_print(&err);
             return err.exit_code ? err.exit_code : WEDGE_EXIT_USAGE;
         }
         ocio_view_close(ov);
@@ -374,8 +373,7 @@ int cmd_render(int argc, char **argv)
                                : scene_parse_string(wedge_default_scene, strlen(wedge_default_scene), "<default>", NULL,
                                                     &scene, &err);
     if (!parsed) {
-        fputs(err.message, stderr);
-        if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+        diag_print(&err);
         return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
     }
     scene_analyze_effects(&scene);
@@ -394,8 +392,7 @@ int cmd_render(int argc, char **argv)
 
     Renderer *r = NULL;
     if (!renderer_create(&scene, &ro, &r, &err)) {
-        fputs(err.message, stderr);
-        if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+        diag_print(&err);
         scene_desc_free(&scene);
         return err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
     }
@@ -428,8 +425,7 @@ int cmd_render(int argc, char **argv)
         signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
         if (ro.progress) progress_bar_finish(&bar);
         if (!ok) {
-            fputs(err.message, stderr);
-            if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+            diag_print(&err);
             frame_free(&frame);
             renderer_destroy(r);
             scene_desc_free(&scene);
@@ -465,13 +461,11 @@ int cmd_render(int argc, char **argv)
     for (int k = 0; k < a.out_count && exit_code == WEDGE_EXIT_OK; ++k)
         if (!write_image(a.out_paths[k], &frame, rgb, maps, &a, scene_name, spp_avg, seconds_total,
                          renderer_sampler(r), &guarded, &err)) {
-            fputs(err.message, stderr);
-            if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+            diag_print(&err);
             exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
         }
     if (exit_code == WEDGE_EXIT_OK && a.visualize && !write_visualizations(out_path, &frame, maps, &err)) {
-        fputs(err.message, stderr);
-        if (err.message[0] && err.message[strlen(err.message) - 1] != '\n') fputc('\n', stderr);
+        diag_print(&err);
         exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
     }
     seconds_total = seconds_now() - t_start;
@@ -502,8 +496,7 @@ int cmd_render(int argc, char **argv)
         rep.interrupted = !complete;
         rep.triangles = renderer_triangle_count(r);
         if (!run_report_write(a.report_path, &rep, &err)) {
-            fputs(err.message, stderr);
-            fputc('\n', stderr);
+            diag_print(&err);
             exit_code = WEDGE_EXIT_RUNTIME;
         }
     }

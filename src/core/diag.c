@@ -37,3 +37,10 @@ void diag_append(Diag *d, const char *fmt, ...)
     vsnprintf(d->message + used, sizeof d->message - used, fmt, ap);
     va_end(ap);
 }
+
+void diag_print(const Diag *d)
+{
+    size_t n = strnlen(d->message, sizeof d->message);
+    fwrite(d->message, 1, n, stderr);
+    if (n && d->message[n - 1] != '\n') fputc('\n', stderr);
+}

@@ -33,6 +33,8 @@ void diag_set(Diag *d, int exit_code, SrcLoc loc, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 /* Appends a line of text (e.g. "PATH:LINE:COL: note: included from here"). */
 void diag_append(Diag *d, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Prints the message to stderr as complete lines (a final newline added if missing). */
+void diag_print(const Diag *d);
 /* Formats a location-prefixed message into buf: "PATH:LINE:COL: KIND: WHAT". */
 int diag_format(char *buf, size_t size, SrcLoc loc, const char *kind, const char *fmt, va_list ap);
 
