@@ -166,33 +166,42 @@ static void shadow_rows(void *ctx, size_t y0, size_t y1, int part)
     pr->filtered[part] = filtered;
 }
 
-int aaf_shadow_params_image(const AafPixelStats *st, const AafShadowConfig *c, const AafImageConfig *ic,
-                            float *beta_world, int *spp)
+/* Shared by the two borrowing maps: averages the statistics q0..q2 over the pixels marked in
+ * own_data (the borrow box), runs `rows` over the image on both cores and frees own_data.
+ * Out of memory (own_data NULL included): every pixel falls back to unfiltered Monte Carlo. */
+static int run_param_rows(const AafPixelStats *st, const void *cfg, const AafImageConfig *ic, bool *own_data,
+                          const float *q0, const float *q1, const float *q2, float scene_size_world,
+                          void (*rows)(void *ctx, size_t y0, size_t y1, int part), float *beta_world, int *spp)
 {
     int w = st->width, h = st->height;
     size_t n = (size_t)w * (size_t)h;
-    bool *occluded = calloc(n ? n : 1, sizeof(bool));
     BoxAverager box = {0};
     int filtered = 0;
-    if (!occluded) goto fail;
-    for (size_t i = 0; i < n; ++i)
+    if (own_data && box_init(&box, w, h, own_data, q0, q1, q2)) {
+        ParamsRows pr = {st, cfg, ic, &box, own_data, scene_size_world, beta_world, spp, {0}};
+        recon_parallel_for_work((size_t)h, n, rows, &pr);
+        for (int p = 0; p < RECON_PARTS; ++p) filtered += pr.filtered[p];
+    } else {
+        for (size_t i = 0; i < n; ++i) {
+            beta_world[i] = 0.0f;
+            spp[i] = ic->spp_min;
+        }
+    }
+    box_free(&box);
+    free(own_data);
+    return filtered;
+}
+
+int aaf_shadow_params_image(const AafPixelStats *st, const AafShadowConfig *c, const AafImageConfig *ic,
+                            float *beta_world, int *spp)
+{
+    size_t n = (size_t)st->width * (size_t)st->height;
+    bool *occluded = calloc(n ? n : 1, sizeof(bool));
+    for (size_t i = 0; occluded && i < n; ++i)
         occluded[i] = pixel_hit(st, i) && st->d2max_world && st->d2max_world[i] > 0.0f &&
                       isfinite(st->d2max_world[i]) && isfinite(st->d1_world[i]);
-    if (!box_init(&box, w, h, occluded, st->d1_world, st->d2min_world, st->d2max_world)) goto fail;
-    ParamsRows pr = {st, c, ic, &box, occluded, 0.0f, beta_world, spp, {0}};
-    recon_parallel_for_work((size_t)h, n, shadow_rows, &pr);
-    for (int p = 0; p < RECON_PARTS; ++p) filtered += pr.filtered[p];
-    box_free(&box);
-    free(occluded);
-    return filtered;
-fail:
-    box_free(&box);
-    free(occluded);
-    for (size_t i = 0; i < n; ++i) {
-        beta_world[i] = 0.0f; /* out of memory: fall back to unfiltered Monte Carlo */
-        spp[i] = ic->spp_min;
-    }
-    return 0;
+    return run_param_rows(st, c, ic, occluded, st->d1_world, st->d2min_world, st->d2max_world, 0.0f, shadow_rows,
+                          beta_world, spp);
 }
 
 static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
@@ -247,30 +256,13 @@ static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
 int aaf_indirect_params_image(const AafPixelStats *st, const AafIndirectConfig *c, const AafImageConfig *ic,
                               float scene_size_world, float *beta_world, int *spp)
 {
-    int w = st->width, h = st->height;
-    size_t n = (size_t)w * (size_t)h;
+    size_t n = (size_t)st->width * (size_t)st->height;
     bool *reflected = calloc(n ? n : 1, sizeof(bool));
-    BoxAverager box = {0};
-    int filtered = 0;
-    if (!reflected) goto fail;
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; reflected && i < n; ++i)
         reflected[i] = pixel_hit(st, i) && st->zmin_world && isfinite(st->zmin_world[i]) &&
                        isfinite(st->zmax_world[i]) && st->zmax_world[i] >= st->zmin_world[i];
-    if (!box_init(&box, w, h, reflected, st->zmin_world, st->zmax_world, NULL)) goto fail;
-    ParamsRows pr = {st, c, ic, &box, reflected, scene_size_world, beta_world, spp, {0}};
-    recon_parallel_for_work((size_t)h, n, indirect_rows, &pr);
-    for (int p = 0; p < RECON_PARTS; ++p) filtered += pr.filtered[p];
-    box_free(&box);
-    free(reflected);
-    return filtered;
-fail:
-    box_free(&box);
-    free(reflected);
-    for (size_t i = 0; i < n; ++i) {
-        beta_world[i] = 0.0f;
-        spp[i] = ic->spp_min;
-    }
-    return 0;
+    return run_param_rows(st, c, ic, reflected, st->zmin_world, st->zmax_world, NULL, scene_size_world, indirect_rows,
+                          beta_world, spp);
 }
 
 int aaf_defocus_params_image(const AafPixelStats *st, const AafDefocusConfig *c, const AafImageConfig *ic,
