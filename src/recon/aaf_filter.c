@@ -39,6 +39,7 @@ AafFilterRules aaf_filter_rules_default(int mode)
     r.mode = mode;
     r.cos_normal_min = 0.96592583f; /* cos 15 deg: the papers use 10-20 degrees */
     r.depth_tol_rel = 0.05f;
+    r.sharp_beta_ratio = 0.0f;
     return r;
 }
 
@@ -213,6 +214,9 @@ static bool run_pass(AafFilter *f, int axis, const AafFilterRules *rules, bool p
     for (int i = 0; i < 2; ++i) err |= clSetKernelArg(k, a++, sizeof(cl_int), &ints[i]);
     err |= clSetKernelArg(k, a++, sizeof(float), &rules->cos_normal_min);
     err |= clSetKernelArg(k, a++, sizeof(float), &rules->depth_tol_rel);
+    float r = rules->sharp_beta_ratio;
+    float sharp_inv_factor = (r > 0.0f && rules->mode == AAF_DIST_WORLD) ? 1.0f / (r * r) : 0.0f;
+    err |= clSetKernelArg(k, a++, sizeof(float), &sharp_inv_factor);
     err |= clSetKernelArg(k, a++, sizeof(cl_int), &plane_mode);
     for (int c = 0; c < 4; ++c) err |= clSetKernelArg(k, a++, sizeof(cl_mem), &f->planes[in0 + c]);
     for (int p = PL_PX; p <= PL_RADIUS; ++p) err |= clSetKernelArg(k, a++, sizeof(cl_mem), &f->planes[p]);

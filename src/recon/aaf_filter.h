@@ -21,6 +21,8 @@ typedef struct {
     int mode;               /* AAF_DIST_WORLD or AAF_DIST_PIXEL */
     float cos_normal_min;   /* reject neighbours whose normal is further than this (cos 15 deg) */
     float depth_tol_rel;    /* reject neighbours off the centre's tangent plane by > this * depth */
+    float sharp_beta_ratio; /* world mode: reject neighbours whose width is below this times the
+                             * centre's, or that are not filtered (0: off) */
 } AafFilterRules;
 
 AafFilterRules aaf_filter_rules_default(int mode);

@@ -75,19 +75,9 @@ static double box_query(const BoxAverager *b, const double *t, int x0, int y0, i
            t[(size_t)(y1 + 1) * W + (size_t)x0] + t[(size_t)y0 * W + (size_t)x0];
 }
 
-/* Averages over valid pixels in the (2r+1)^2 window around (x, y); false when there are none. */
-static bool box_average(const BoxAverager *b, int x, int y, int r, float out[3])
-{
-    int x0 = x - r < 0 ? 0 : x - r, y0 = y - r < 0 ? 0 : y - r;
-    int x1 = x + r >= b->w ? b->w - 1 : x + r, y1 = y + r >= b->h ? b->h - 1 : y + r;
-    double c = box_query(b, b->count, x0, y0, x1, y1);
-    if (c < 0.5) return false;
-    for (int k = 0; k < 3; ++k) out[k] = (float)(box_query(b, b->sum[k], x0, y0, x1, y1) / c);
-    return true;
-}
-
-/* The same average without the centre pixel's own values (self, when it is valid): the
- * "leave one out" statistics of a pixel, independent of its own samples. */
+/* Averages over the valid pixels in the (2r+1)^2 window around (x, y) without the centre
+ * pixel's own values (self, when it is valid): the "leave one out" statistics of a pixel,
+ * independent of its own samples. False when no other pixel there is valid. */
 static bool box_average_others(const BoxAverager *b, int x, int y, int r, bool self_valid, const float self[3],
                                float out[3])
 {
@@ -103,11 +93,33 @@ static bool box_average_others(const BoxAverager *b, int x, int y, int r, bool s
 static float at_or(const float *a, size_t i, float fallback) { return a ? a[i] : fallback; }
 static bool pixel_hit(const AafPixelStats *st, size_t i) { return st->hit ? st->hit[i] != 0 : true; }
 
-/* Width for a pixel with no occluder (reflector) within the borrow radius, in world units. */
-static float far_beta_world(const AafPixelStats *st, size_t i, const AafImageConfig *ic)
+/* Chebyshev distance (pixels) from (x, y) to the nearest pixel flagged valid in the box, searched
+ * from first_r up to max_r; max_r + 1 when there is none that close. O(1) per ring (one box
+ * query), so a far pixel costs at most max_r - first_r queries. */
+static int box_nearest_valid(const BoxAverager *b, int x, int y, int first_r, int max_r)
 {
-    float d = at_or(st->pixel_world, i, 0.0f);
-    float b = ic->far_beta_px * d;
+    for (int r = first_r; r <= max_r; ++r) {
+        int x0 = x - r < 0 ? 0 : x - r, y0 = y - r < 0 ? 0 : y - r;
+        int x1 = x + r >= b->w ? b->w - 1 : x + r, y1 = y + r >= b->h ? b->h - 1 : y + r;
+        if (box_query(b, b->count, x0, y0, x1, y1) > 0.5) return r;
+    }
+    return max_r + 1;
+}
+
+/* Width for a pixel with no occluder (reflector) within the borrow radius, in world units:
+ * far_beta_px, but narrowed so that the filter's taps (radius ceil(2 beta), aaf_filter.h) end
+ * before the nearest pixel that saw one: dist - 1 >= 2 beta. Visibility is 1 everywhere the
+ * taps reach, so the width can grow with the distance to the nearest shadow. */
+static float far_beta_world(const AafPixelStats *st, size_t i, const AafImageConfig *ic, const BoxAverager *box,
+                            int x, int y)
+{
+    float beta_px = ic->far_beta_px;
+    if (beta_px <= 0.0f) return 0.0f;
+    int reach_px = (int)ceilf(2.0f * beta_px);
+    int dist_px = box_nearest_valid(box, x, y, ic->borrow_radius_px + 1, reach_px);
+    /* 0.999: beta travels in world units and back, and its rounding must not add a tap */
+    if (dist_px <= reach_px) beta_px = fminf(beta_px, 0.4995f * (float)(dist_px - 1));
+    float b = beta_px * at_or(st->pixel_world, i, 0.0f);
     return (b > 0.0f && isfinite(b)) ? b : 0.0f;
 }
 
@@ -124,6 +136,31 @@ typedef struct {
     int filtered[RECON_PARTS];
 } ParamsRows;
 
+/* The statistics a pixel's parameters are derived from: the mean over the other pixels of its
+ * 3 x 3 neighbourhood that have data, else over its borrow window (AAF-shadow Sec. 6, AAF-GI
+ * Sec. 5: a 5-pixel radius), else its own when it has data; false when nothing is near (a far
+ * pixel). Never the pixel's own when a neighbour has data: its own rays also made its pass-1
+ * value, and choosing its sample count and width from them biases its mean (a pixel whose rays
+ * hit a near occluder or bright reflector would get its value and its extra samples together;
+ * measured 1-2% off by region for indirect light, docs/algorithms.md section 2.5). */
+static bool neighbour_stats(const ParamsRows *pr, int x, int y, size_t i, const float own[3], float avg[3])
+{
+    bool self = pr->own_data[i];
+    if (box_average_others(pr->box, x, y, 1, self, own, avg) ||
+        box_average_others(pr->box, x, y, pr->ic->borrow_radius_px, self, own, avg))
+        return true;
+    for (int k = 0; k < 3; ++k) avg[k] = own[k];
+    return self;
+}
+
+/* A far pixel's width and count. */
+static int far_params(const ParamsRows *pr, int x, int y, size_t i)
+{
+    pr->beta_world[i] = far_beta_world(pr->st, i, pr->ic, pr->box, x, y);
+    if (pr->ic->far_spp > pr->spp[i]) pr->spp[i] = pr->ic->far_spp;
+    return pr->beta_world[i] > 0.0f ? 1 : 0;
+}
+
 static void shadow_rows(void *ctx, size_t y0, size_t y1, int part)
 {
     ParamsRows *pr = ctx;
@@ -137,23 +174,17 @@ static void shadow_rows(void *ctx, size_t y0, size_t y1, int part)
             pr->beta_world[i] = 0.0f;
             pr->spp[i] = ic->spp_min;
             if (!pixel_hit(st, i)) continue;
-            float d1 = 0, d2min = 0, d2max = 0;
+            float own[3] = {0.0f, 0.0f, 0.0f}, avg[3];
             if (pr->own_data[i]) {
-                d1 = st->d1_world[i];
-                d2min = st->d2min_world[i];
-                d2max = st->d2max_world[i];
-            } else {
-                float avg[3];
-                if (!box_average(pr->box, x, y, ic->borrow_radius_px, avg)) { /* unoccluded */
-                    pr->beta_world[i] = far_beta_world(st, i, ic);
-                    if (ic->far_spp > pr->spp[i]) pr->spp[i] = ic->far_spp;
-                    if (pr->beta_world[i] > 0.0f) ++filtered;
-                    continue;
-                }
-                d1 = avg[0];
-                d2min = avg[1];
-                d2max = avg[2];
+                own[0] = st->d1_world[i];
+                own[1] = st->d2min_world[i];
+                own[2] = st->d2max_world[i];
             }
+            if (!neighbour_stats(pr, x, y, i, own, avg)) {
+                filtered += far_params(pr, x, y, i);
+                continue;
+            }
+            float d1 = avg[0], d2min = avg[1], d2max = avg[2];
             float s1, s2;
             aaf_shadow_slopes(d1, d2min, d2max, &s1, &s2); /* AAF-shadow eq. 4 */
             float sigma = at_or(st->sigma_light_world, i, 0.0f);
@@ -218,22 +249,13 @@ static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
             pr->beta_world[i] = 0.0f;
             pr->spp[i] = ic->spp_min;
             if (!pixel_hit(st, i)) continue;
-            /* zmin, zmax from the neighbours' bounce rays, not the pixel's own: the pixel's
-             * rays also made its pass-1 indirect value, and choosing its sample count and width
-             * from them biases its mean (a pixel whose rays hit a near, bright reflector, or
-             * escaped, would get its value and its extra samples together; measured 1-2% off
-             * by region, docs/algorithms.md section 2.5). The 3x3 neighbours first, else the
-             * borrow radius (AAF-GI's 5-pixel neighbourhood), else the far width. */
             float own[3] = {0.0f, 0.0f, 0.0f}, avg[3];
             if (pr->own_data[i]) {
                 own[0] = st->zmin_world[i];
                 own[1] = st->zmax_world[i];
             }
-            if (!box_average_others(pr->box, x, y, 1, pr->own_data[i], own, avg) &&
-                !box_average_others(pr->box, x, y, ic->borrow_radius_px, pr->own_data[i], own, avg)) {
-                pr->beta_world[i] = far_beta_world(st, i, ic);
-                if (ic->far_spp > pr->spp[i]) pr->spp[i] = ic->far_spp;
-                if (pr->beta_world[i] > 0.0f) ++filtered;
+            if (!neighbour_stats(pr, x, y, i, own, avg)) {
+                filtered += far_params(pr, x, y, i);
                 continue;
             }
             float zmin = avg[0], zmax = avg[1];

@@ -4,11 +4,11 @@
  * Pixels whose own pass-1 rays saw no occluder (shadows) or no reflector (indirect) borrow
  * the average statistics of the pixels within borrow_radius_px that did (AAF-shadow Sec. 6:
  * "average values of d1 and d2 in a 5 pixel radius"). If none did, the pixel gets far_spp
- * samples and the fixed width far_beta_px (0: not filtered): visibility is
- * 1 over the whole light there, so only the smooth unshadowed irradiance is noisy, and a
- * filter whose radius (2 beta) stays within the borrow radius cannot reach any pixel that
- * saw an occluder (it would have borrowed), so no shadow leaks in. Same for indirect light
- * with "reflector" for "occluder". */
+ * samples and the width far_beta_px (0: not filtered), narrowed to (dist - 1)/2 pixels where
+ * dist is the Chebyshev distance to the nearest pixel that saw an occluder: visibility is 1
+ * over the whole light there, so only the smooth unshadowed irradiance is noisy, and a filter
+ * whose radius (2 beta) ends before that pixel lets no shadow leak in. Same for indirect
+ * light with "reflector" for "occluder". */
 #ifndef WEDGE_RECON_AAF_PIXEL_PARAMS_H
 #define WEDGE_RECON_AAF_PIXEL_PARAMS_H
 
@@ -38,7 +38,7 @@ typedef struct {
     int borrow_radius_px;    /* neighbourhood for pixels without occluder/reflector (5) */
     int spp_min;             /* samples already taken in pass 1 */
     float spp_cap;           /* upper bound on n (100 mu) */
-    float far_beta_px;       /* width for pixels with no occluder/reflector nearby (0: none) */
+    float far_beta_px;       /* largest width for pixels with no occluder/reflector nearby (0: none) */
     int far_spp;             /* their sample count (<= spp_min: spp_min) */
 } AafImageConfig;
 

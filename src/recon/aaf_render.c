@@ -20,15 +20,22 @@
 #define PASS1_SPP_OTHER 16
 /* AAF-shadow Sec. 6: unoccluded pixels borrow from a 5 pixel radius. */
 #define BORROW_RADIUS_PX 5
+/* Pixels with no occluder (reflector) in their borrow window are filtered out to this radius
+ * (2 beta) at mu <= 2, less where one is nearer (aaf_pixel_params.h). Visibility is 1 there,
+ * and the unshadowed irradiance varies on the scale of the light's distance, far above 16
+ * pixels; the radius stays within the filter's 32-pixel padding at any mu. */
+#define FAR_RADIUS_PX 16
 /* Filter taps up to 2 beta (95% of a Gaussian's mass; the rest is renormalised away). */
 #define RADIUS_SIGMAS 2.0f
 /* Mixed pixels (aaf_stats.c: samples on different surfaces over the shutter or lens, which
  * includes antialiased silhouettes) are left out of the world-space filters and are plain
- * Monte Carlo; they get this many times mu times the pass-1 count (32 at mu 1, 64 at mu 2 with
- * 16 in pass 1), so that their noise does not stand out against the filtered neighbours and
- * still falls as mu grows (consistency; with a fixed count they were the error floor of the
- * mu sweep on the soft-shadow bench scene). */
-#define MIXED_SPP_PER_MU 2.0f
+ * Monte Carlo; they get this many times mu times the pass-1 count (capped at 100 mu: 144 at
+ * mu 2 with 9 in pass 1), so that their noise does not stand out against the filtered
+ * neighbours and still falls as mu grows (consistency; with a fixed count they were the error
+ * floor of the mu sweep on the soft-shadow bench scene). They are a few percent of the pixels
+ * but, being unfiltered, the cheapest error to remove: going from 2 to 8 here cut the
+ * soft-shadow bench scene's error by 29% for 10% more samples (docs/algorithms.md 4.1). */
+#define MIXED_SPP_PER_MU 8.0f
 /* Albedo below this is treated as black: the irradiance cannot be recovered there. */
 #define MIN_ALBEDO 1.0e-4f
 /* Pixels whose unoccluded irradiance is below this fraction of the frame's largest (facing
@@ -436,9 +443,9 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
                 goto done;
             }
             float mu = e == 0 ? shadow_cfg.mu : e == 1 ? indirect_cfg.mu : defocus_cfg.mu;
-            /* Far from any occluder/reflector: radius 2 beta within the borrow radius, and
-             * shrinking with mu like every other width (aaf_pixel_params.h). */
-            float far_beta_px = (float)BORROW_RADIUS_PX / fmaxf(mu, 2.0f);
+            /* Far from any occluder/reflector: radius 2 beta up to FAR_RADIUS_PX (less near
+             * one, aaf_pixel_params.h), shrinking with mu like every other width. */
+            float far_beta_px = (float)FAR_RADIUS_PX / fmaxf(mu, 2.0f);
             /* Their light is still Monte Carlo (the unoccluded direct light of an area light,
              * indirect light from far away): from mu 2 on their samples grow with mu like the
              * width shrinks, so that they too converge (the paper's fixed pass-1 count made
@@ -524,6 +531,10 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     snprintf(res->device, sizeof res->device, "%s", cl_runtime_device_label(rt));
     if (!aaf_filter_set_guides(filter, w, h, derived.pos4, derived.nrm4, d)) goto done;
     AafFilterRules world_rules = aaf_filter_rules_default(AAF_DIST_WORLD);
+    /* a neighbour with under half the centre's width holds sharper shadow (indirect) detail than
+     * the centre's filter passes: the contact shadow at a thin occluder's foot inside the wide
+     * penumbra of a high one (docs/algorithms.md 4) */
+    world_rules.sharp_beta_ratio = 0.5f;
     double kernel_s = 0.0;
     /* each filter runs in place on its own input buffer */
     if (value_direct4) {

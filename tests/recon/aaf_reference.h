@@ -8,7 +8,7 @@
 
 /* One 1D pass over a w x h image along axis 0 (x) or 1 (y). Same buffer layouts as aaf.cl. */
 static void ref_aaf_pass(int w, int h, int axis, int pixel_mode, float cos_normal_min, float depth_tol_rel,
-                         const float *value, const float *pos, const float *nrm, const float *plane,
+                         float sharp_beta_ratio, const float *value, const float *pos, const float *nrm, const float *plane,
                          const float *param, float *out)
 {
     for (int y = 0; y < h; ++y) {
@@ -37,6 +37,12 @@ static void ref_aaf_pass(int w, int h, int axis, int pixel_mode, float cos_norma
                     if (nc[3] != nj[3]) continue;
                     double ndot = (double)nc[0] * nj[0] + (double)nc[1] * nj[1] + (double)nc[2] * nj[2];
                     if (ndot < cos_normal_min) continue;
+                    /* sharper (narrower or unfiltered) neighbours stay out: beta_j < ratio beta_i */
+                    if (sharp_beta_ratio > 0.0f) {
+                        if (param[2 * j + 1] <= 0.0f) continue;
+                        double bi = 1.0 / sqrt(2.0 * param[2 * i]), bj = 1.0 / sqrt(2.0 * param[2 * j]);
+                        if (bj < (double)sharp_beta_ratio * bi * (1.0 - 1e-6)) continue; /* inv 0: infinite */
+                    }
                     double dp[3], along = 0, plane_off = 0, len2 = 0;
                     for (int k = 0; k < 3; ++k) {
                         dp[k] = (double)pos[4 * j + k] - (double)pos[4 * i + k];
@@ -64,11 +70,11 @@ static void ref_aaf_pass(int w, int h, int axis, int pixel_mode, float cos_norma
 
 /* The full separable filter: x pass then y pass (tmp holds 4*w*h floats). */
 static void ref_aaf_filter(int w, int h, int pixel_mode, float cos_normal_min, float depth_tol_rel,
-                           const float *value, const float *pos, const float *nrm, const float *plane,
+                           float sharp_beta_ratio, const float *value, const float *pos, const float *nrm, const float *plane,
                            const float *param, float *tmp, float *out)
 {
-    ref_aaf_pass(w, h, 0, pixel_mode, cos_normal_min, depth_tol_rel, value, pos, nrm, plane, param, tmp);
-    ref_aaf_pass(w, h, 1, pixel_mode, cos_normal_min, depth_tol_rel, tmp, pos, nrm, plane, param, out);
+    ref_aaf_pass(w, h, 0, pixel_mode, cos_normal_min, depth_tol_rel, sharp_beta_ratio, value, pos, nrm, plane, param, tmp);
+    ref_aaf_pass(w, h, 1, pixel_mode, cos_normal_min, depth_tol_rel, sharp_beta_ratio, tmp, pos, nrm, plane, param, out);
 }
 
 #endif

@@ -125,7 +125,7 @@ static void test_make_params(void)
     CHECK(all_finite(p, 12));
 }
 
-static void compare_with_reference(AafFilter *f, int w, int h, int mode, bool explicit_plane)
+static void compare_with_reference(AafFilter *f, int w, int h, int mode, bool explicit_plane, float sharp_ratio)
 {
     Input in;
     input_alloc(&in, w, h);
@@ -135,6 +135,7 @@ static void compare_with_reference(AafFilter *f, int w, int h, int mode, bool ex
         for (size_t i = 0; i < n; ++i) in.beta[i] /= in.pixel_world[i];
     aaf_filter_make_params((int)n, in.beta, mode == AAF_DIST_PIXEL ? NULL : in.pixel_world, 2.0f, 12, in.param);
     AafFilterRules rules = aaf_filter_rules_default(mode);
+    rules.sharp_beta_ratio = sharp_ratio;
     float *got = calloc(4 * n, sizeof(float)), *want = calloc(4 * n, sizeof(float)), *tmp = calloc(4 * n, sizeof(float));
     Diag d = {0};
     CHECK(aaf_filter_set_guides(f, w, h, in.pos, in.nrm, &d));
@@ -144,10 +145,13 @@ static void compare_with_reference(AafFilter *f, int w, int h, int mode, bool ex
     CHECK(ok);
     if (!ok) fprintf(stderr, "%s\n", d.message);
     CHECK(secs >= 0.0);
-    ref_aaf_filter(w, h, mode == AAF_DIST_PIXEL, rules.cos_normal_min, rules.depth_tol_rel, in.value, in.pos,
+    /* the kernel ignores the sharpness rule in pixel mode */
+    float ref_sharp = mode == AAF_DIST_WORLD ? sharp_ratio : 0.0f;
+    ref_aaf_filter(w, h, mode == AAF_DIST_PIXEL, rules.cos_normal_min, rules.depth_tol_rel, ref_sharp, in.value, in.pos,
                    in.nrm, explicit_plane ? in.plane : (mode == AAF_DIST_PIXEL ? NULL : in.nrm), in.param, tmp, want);
     double err = max_rel_error(got, want, n);
-    fprintf(stderr, "%dx%d mode %d plane %d: max relative error %.3g\n", w, h, mode, explicit_plane, err);
+    fprintf(stderr, "%dx%d mode %d plane %d sharp %.2f: max relative error %.3g\n", w, h, mode, explicit_plane,
+            (double)sharp_ratio, err);
     CHECK(err <= 1e-4);
     /* The filter actually did something (otherwise the comparison proves little). */
     CHECK(max_rel_error(got, in.value, n) > 1e-2);
@@ -202,6 +206,53 @@ static void test_properties(AafFilter *f)
     input_free(&in);
 }
 
+/* A wide-filtered region next to a sharp one (a contact shadow beside a wide penumbra): with
+ * the sharpness rule the wide pixels take nothing from the sharp ones, without it they do. */
+static void test_sharp_neighbours(AafFilter *f)
+{
+    int w = 40, h = 6;
+    size_t n = (size_t)w * h;
+    Input in;
+    input_alloc(&in, w, h);
+    input_random(&in);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * w + x;
+            /* one flat object facing +z: no other rule rejects anything */
+            in.pos[4 * i + 0] = (float)x * in.pixel_world[i];
+            in.pos[4 * i + 1] = (float)y * in.pixel_world[i];
+            in.pos[4 * i + 2] = 0.0f;
+            in.pos[4 * i + 3] = 10.0f;
+            in.nrm[4 * i + 0] = in.nrm[4 * i + 1] = 0.0f;
+            in.nrm[4 * i + 2] = 1.0f;
+            in.nrm[4 * i + 3] = 0.0f;
+            bool sharp = x < w / 2;
+            in.beta[i] = (sharp ? 0.8f : 4.0f) * in.pixel_world[i]; /* px widths 0.8 and 4 */
+            float v = sharp ? 0.0f : 1.0f;
+            for (int k = 0; k < 3; ++k) in.value[4 * i + k] = v;
+            in.value[4 * i + 3] = 1.0f;
+        }
+    }
+    aaf_filter_make_params((int)n, in.beta, in.pixel_world, 2.0f, 16, in.param);
+    AafFilterRules rules = aaf_filter_rules_default(AAF_DIST_WORLD);
+    float *out = calloc(4 * n, sizeof(float));
+    Diag d = {0};
+    CHECK(aaf_filter_set_guides(f, w, h, in.pos, in.nrm, &d));
+    size_t edge = (size_t)2 * w + w / 2; /* first wide pixel of row 2 */
+    CHECK(aaf_filter_run(f, in.value, NULL, in.param, &rules, out, NULL, &d));
+    CHECK(out[4 * edge] < 0.9f); /* without the rule the zeros leak in */
+    rules.sharp_beta_ratio = 0.5f;
+    CHECK(aaf_filter_run(f, in.value, NULL, in.param, &rules, out, NULL, &d));
+    /* every wide pixel keeps exactly 1: the sharp zeros are rejected (a sharp centre may
+     * still take from wide neighbours; its own narrow filter resolves them) */
+    double worst = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = w / 2; x < w; ++x) worst = fmax(worst, fabs((double)out[4 * ((size_t)y * w + x)] - 1.0));
+    CHECK(worst < 1e-6);
+    free(out);
+    input_free(&in);
+}
+
 int main(void)
 {
     test_make_params();
@@ -215,11 +266,13 @@ int main(void)
     AafFilter *f = aaf_filter_create(rt, &d);
     CHECK(f != NULL);
     if (f) {
-        compare_with_reference(f, 37, 23, AAF_DIST_WORLD, false);
-        compare_with_reference(f, 37, 23, AAF_DIST_WORLD, true);
-        compare_with_reference(f, 19, 31, AAF_DIST_PIXEL, false);
-        compare_with_reference(f, 19, 31, AAF_DIST_PIXEL, true);
+        compare_with_reference(f, 37, 23, AAF_DIST_WORLD, false, 0.0f);
+        compare_with_reference(f, 37, 23, AAF_DIST_WORLD, true, 0.0f);
+        compare_with_reference(f, 37, 23, AAF_DIST_WORLD, true, 0.5f);
+        compare_with_reference(f, 19, 31, AAF_DIST_PIXEL, false, 0.0f);
+        compare_with_reference(f, 19, 31, AAF_DIST_PIXEL, true, 0.5f);
         test_properties(f);
+        test_sharp_neighbours(f);
     }
     aaf_filter_destroy(f);
     cl_runtime_destroy(rt);

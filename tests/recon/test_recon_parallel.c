@@ -2,6 +2,7 @@
  * that use it: every index is visited exactly once whatever the size, and a parameter map
  * computed on both cores (an image large enough to be split) equals a brute-force,
  * single-threaded evaluation of the same formulas pixel by pixel. */
+#include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
 
@@ -38,8 +39,9 @@ static void test_coverage(size_t n)
 }
 
 /* Shadow parameters on a 160 x 120 image (split between the cores, summed-area tables built
- * two per core) against the formulas applied pixel by pixel with the borrowed averages
- * summed directly over each pixel's window. */
+ * two per core) against the formulas applied pixel by pixel with the neighbours' averages
+ * summed directly over each pixel's window, and far pixels' widths from a brute-force search
+ * for the nearest occluded pixel. */
 static void test_shadow_map_matches_brute_force(void)
 {
     enum { W = 160, H = 120, R = 5 };
@@ -74,25 +76,27 @@ static void test_shadow_map_matches_brute_force(void)
     st.d2max_world = d2max;
     st.sigma_light_world = sig;
     AafShadowConfig c = aaf_shadow_config_default();
-    AafImageConfig ic = {R, 9, 200.0f, 2.5f, 12};
+    /* far width 8 px (reach 16): wider than the block's border, so it gets narrowed there */
+    AafImageConfig ic = {R, 9, 200.0f, 8.0f, 12};
     int filtered = aaf_shadow_params_image(&st, &c, &ic, beta, spp);
     int expect_filtered = 0, mismatches = 0;
+    int reach = (int)ceilf(2.0f * ic.far_beta_px);
     for (int y = 0; y < H; ++y) {
         for (int x = 0; x < W; ++x) {
             size_t i = (size_t)y * W + x;
             float eb = 0.0f;
             int es = ic.spp_min;
             if (hit[i]) {
+                bool self = d2max[i] > 0.0f;
                 float a = 0, b = 0, cc = 0;
                 bool have = false;
-                if (d2max[i] > 0.0f) {
-                    a = d1[i], b = d2min[i], cc = d2max[i];
-                    have = true;
-                } else {
+                /* leave-one-out mean over the 3 x 3 window, else the borrow window */
+                int radii[2] = {1, R};
+                for (int k = 0; k < 2 && !have; ++k) {
                     double s1 = 0, s2 = 0, s3 = 0, cnt = 0;
-                    for (int yy = y - R; yy <= y + R; ++yy)
-                        for (int xx = x - R; xx <= x + R; ++xx) {
-                            if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+                    for (int yy = y - radii[k]; yy <= y + radii[k]; ++yy)
+                        for (int xx = x - radii[k]; xx <= x + radii[k]; ++xx) {
+                            if (xx < 0 || yy < 0 || xx >= W || yy >= H || (xx == x && yy == y)) continue;
                             size_t j = (size_t)yy * W + xx;
                             if (!hit[j] || !(d2max[j] > 0.0f)) continue;
                             s1 += d1[j], s2 += d2min[j], s3 += d2max[j], cnt += 1;
@@ -102,14 +106,30 @@ static void test_shadow_map_matches_brute_force(void)
                         have = true;
                     }
                 }
+                if (!have && self) { /* isolated: its own rays */
+                    a = d1[i], b = d2min[i], cc = d2max[i];
+                    have = true;
+                }
                 if (have) {
                     float sl1, sl2;
                     aaf_shadow_slopes(a, b, cc, &sl1, &sl2);
                     eb = aaf_shadow_beta_world(sl2, sig[i], pw[i], &c);
                     es = aaf_clamp_spp(aaf_shadow_spp(sl1, sl2, sig[i], pw[i], &c), ic.spp_min, ic.spp_cap);
                 } else {
-                    eb = ic.far_beta_px * pw[i];
+                    /* far: the Chebyshev distance to the nearest pixel that saw an occluder
+                     * bounds the filter radius (taps end one pixel before it) */
+                    int dist = reach + 1;
+                    for (size_t j = 0; j < n; ++j) {
+                        if (!hit[j] || !(d2max[j] > 0.0f)) continue;
+                        int dx = abs((int)(j % W) - x), dy = abs((int)(j / W) - y);
+                        int dd = dx > dy ? dx : dy;
+                        if (dd < dist) dist = dd;
+                    }
+                    float bpx = ic.far_beta_px;
+                    if (dist <= reach && 0.4995f * (float)(dist - 1) < bpx) bpx = 0.4995f * (float)(dist - 1);
+                    eb = bpx * pw[i];
                     es = ic.far_spp;
+                    if (ceilf(2.0f * bpx) >= (float)dist) ++mismatches; /* a tap would reach it */
                 }
             }
             if (eb > 0.0f) ++expect_filtered;

@@ -26,6 +26,10 @@
  * Neighbours are rejected (AAF-shadow Sec. 6, DESIGN.md section 4) when they belong to
  * another object, their normal is more than acos(cos_normal_min) away, or they lie further
  * than depth_tol_rel * depth from the centre's tangent plane (a depth discontinuity).
+ * With sharp_inv_factor > 0 a neighbour is also rejected when its own width is less than
+ * 1/sqrt(sharp_inv_factor) of the centre's (its inv2b2 is larger than sharp_inv_factor times
+ * the centre's) or it is not filtered at all: its signal holds detail (a sharper shadow) that
+ * the centre's wider filter would smear into the centre.
  * Pixel mode (defocus): the distance is the tap offset in pixels; blurring across objects is
  * the effect being reconstructed, so objects are not compared, but with plane_mode 1 the
  * plane lx holds each pixel's mean signed CoC slope and a neighbour is rejected unless its
@@ -36,7 +40,7 @@
 
 __kernel void aaf_filter_pass(int width, int height, int pitch, int pad, int axis, int mode,
                               float cos_normal_min, float depth_tol_rel,
-                              int plane_mode,
+                              float sharp_inv_factor, int plane_mode,
                               __global const float *in_r, __global const float *in_g,
                               __global const float *in_b, __global const float *in_w,
                               __global const float *px, __global const float *py,
@@ -98,6 +102,8 @@ __kernel void aaf_filter_pass(int width, int height, int pitch, int pad, int axi
             ok = ok & (vload8(0, id + o) == c_id)   /* same object */
                     & (cosn >= cos_normal_min)      /* no normal discontinuity */
                     & (off <= tol);                 /* no depth discontinuity */
+            if (sharp_inv_factor > 0.0f)            /* no sharper neighbour */
+                ok = ok & (vload8(0, radius + o) > 0.0f) & (vload8(0, inv2b2 + o) <= sharp_inv_factor * inv);
             float8 along = c_lx * dx + c_ly * dy + c_lz * dz;                  /* eq. 12 */
             dist2 = fmax(dx * dx + dy * dy + dz * dz - along * along, 0.0f);
         } else {
