@@ -388,6 +388,9 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     }
     res->pass1_spp = (on[AAF_EFFECT_INDIRECT] || on[AAF_EFFECT_DEFOCUS]) ? PASS1_SPP_OTHER : PASS1_SPP_SHADOWS;
     if (!any) res->pass1_spp = renderer_spp(r); /* nothing to filter: plain Monte Carlo */
+    /* The device opens during pass 2 (opener_start); a wrong --cl-device or a missing driver
+     * is found now, before any sample is traced. */
+    if (any && !cl_runtime_check_device(o->cl_device, d)) return false;
 
     AafShadowConfig shadow_cfg = aaf_shadow_config_default();
     AafIndirectConfig indirect_cfg = aaf_indirect_config_default();

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/zalloc.h"
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
 
@@ -18,31 +19,31 @@ bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam)
     s->collect_rays = true;
     size_t n = (size_t)width * (size_t)height;
     if (n == 0) return false;
-    s->samples = calloc(n, sizeof(int));
-    s->hits = calloc(n, sizeof(int));
-    s->pos_sum = calloc(3 * n, sizeof(float));
-    s->nrm_sum = calloc(3 * n, sizeof(float));
-    s->depth_sum = calloc(n, sizeof(float));
+    s->samples = zalloc(n, sizeof(int));
+    s->hits = zalloc(n, sizeof(int));
+    s->pos_sum = zalloc(3 * n, sizeof(float));
+    s->nrm_sum = zalloc(3 * n, sizeof(float));
+    s->depth_sum = zalloc(n, sizeof(float));
     s->object_id = malloc(n * sizeof(int));
-    s->shadow_rays = calloc(n, sizeof(int));
-    s->occluded_rays = calloc(n, sizeof(int));
-    s->d1_sum = calloc(n, sizeof(float));
+    s->shadow_rays = zalloc(n, sizeof(int));
+    s->occluded_rays = zalloc(n, sizeof(int));
+    s->d1_sum = zalloc(n, sizeof(float));
     s->ratio_min = malloc(n * sizeof(float));
-    s->ratio_max = calloc(n, sizeof(float));
-    s->light_p_sum = calloc(3 * n, sizeof(float));
-    s->light_pp_sum = calloc(6 * n, sizeof(float));
+    s->ratio_max = zalloc(n, sizeof(float));
+    s->light_p_sum = zalloc(3 * n, sizeof(float));
+    s->light_pp_sum = zalloc(6 * n, sizeof(float));
     s->zmin = malloc(n * sizeof(float));
-    s->zmax = calloc(n, sizeof(float));
+    s->zmax = zalloc(n, sizeof(float));
     s->coc_min = malloc(n * sizeof(float));
     s->coc_max = malloc(n * sizeof(float));
     s->sigma_min = malloc(n * sizeof(float));
-    s->plane_sum = calloc(3 * n, sizeof(float));
-    s->depth_sq_sum = calloc(n, sizeof(double));
-    s->id_mixed = calloc(n, 1);
-    s->unfilterable = calloc(n, sizeof(int));
-    s->phong_max = calloc(n, sizeof(float));
-    s->unf_direct_sum = calloc(3 * n, sizeof(float));
-    s->unf_indirect_sum = calloc(3 * n, sizeof(float));
+    s->plane_sum = zalloc(3 * n, sizeof(float));
+    s->depth_sq_sum = zalloc(n, sizeof(double));
+    s->id_mixed = zalloc(n, 1);
+    s->unfilterable = zalloc(n, sizeof(int));
+    s->phong_max = zalloc(n, sizeof(float));
+    s->unf_direct_sum = zalloc(3 * n, sizeof(float));
+    s->unf_indirect_sum = zalloc(3 * n, sizeof(float));
     if (!s->sigma_min || !s->plane_sum || !s->depth_sq_sum || !s->id_mixed || !s->unfilterable || !s->phong_max ||
         !s->unf_direct_sum || !s->unf_indirect_sum) {
         aaf_stats_free(s);

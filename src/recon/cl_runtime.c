@@ -175,6 +175,22 @@ static bool build_program(ClRuntime *rt, const char *const *sources, int count, 
     return false;
 }
 
+bool cl_runtime_check_device(const char *device_choice, Diag *d)
+{
+    DeviceList *list = calloc(1, sizeof *list);
+    if (!list) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        return false;
+    }
+    bool ok = list_devices(list, d);
+    if (ok) {
+        if (!device_choice || !*device_choice) device_choice = getenv(WEDGE_CL_DEVICE_ENV);
+        ok = choose_device(list, device_choice, d) >= 0;
+    }
+    free(list);
+    return ok;
+}
+
 ClRuntime *cl_runtime_create_with_sources(const char *device_choice, const char *const *sources,
                                           int source_count, Diag *d)
 {

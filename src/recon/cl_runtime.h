@@ -32,6 +32,11 @@ ClRuntime *cl_runtime_create(const char *device_choice, Diag *d);
 ClRuntime *cl_runtime_create_with_sources(const char *device_choice, const char *const *sources,
                                           int source_count, Diag *d);
 
+/* Whether cl_runtime_create(device_choice) would find its device (same errors), without
+ * creating anything: a few milliseconds once the driver is loaded, so a filter can fail
+ * before it renders rather than after. */
+bool cl_runtime_check_device(const char *device_choice, Diag *d);
+
 void cl_runtime_destroy(ClRuntime *rt);
 
 /* "DEVICE NAME (PLATFORM NAME)", for reports and logs. */

@@ -5,21 +5,23 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/zalloc.h"
+
 bool frame_init(Frame *f, int width, int height)
 {
     *f = (Frame){0};
     if (width <= 0 || height <= 0) return false;
     size_t n = (size_t)width * (size_t)height;
     f->width = width, f->height = height;
-    f->color = calloc(3 * n, sizeof(float));
-    f->direct = calloc(3 * n, sizeof(float));
-    f->indirect = calloc(3 * n, sizeof(float));
-    f->emission = calloc(3 * n, sizeof(float));
-    f->albedo = calloc(3 * n, sizeof(float));
-    f->normal = calloc(3 * n, sizeof(float));
-    f->depth = calloc(n, sizeof(float));
-    f->hits = calloc(n, sizeof(float));
-    f->spp = calloc(n, sizeof(float));
+    f->color = zalloc(3 * n, sizeof(float));
+    f->direct = zalloc(3 * n, sizeof(float));
+    f->indirect = zalloc(3 * n, sizeof(float));
+    f->emission = zalloc(3 * n, sizeof(float));
+    f->albedo = zalloc(3 * n, sizeof(float));
+    f->normal = zalloc(3 * n, sizeof(float));
+    f->depth = zalloc(n, sizeof(float));
+    f->hits = zalloc(n, sizeof(float));
+    f->spp = zalloc(n, sizeof(float));
     if (!f->color || !f->direct || !f->indirect || !f->emission || !f->albedo || !f->normal || !f->depth || !f->hits ||
         !f->spp) {
         frame_free(f);

@@ -97,6 +97,13 @@ grep -aq "aaf.beta_px.shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aaf.bet
 "$WEDGE" render "$T/small.pbrt" --mu 0 >/dev/null 2>&1; check "--mu 0" 1 $?
 "$WEDGE" render "$T/small.pbrt" --res 8x8 --cl-device no-such-device -o "$T/x.exr" --quiet 2>"$T/err.txt"
 check "unknown OpenCL device" 1 $?
+grep -qx "error: no OpenCL device matches 'no-such-device' (see 'wedge info --cl')" "$T/err.txt" ||
+    { echo "FAIL: unknown device message: $(cat "$T/err.txt")"; fail=1; }
+# ... and that is found before anything is traced: pass 1 of a 3000x3000 frame would take
+# many minutes under the sanitizers, the device check milliseconds
+timeout 120 "$WEDGE" render "$T/small.pbrt" --res 3000x3000 --cl-device no-such-device -o "$T/x.exr" --quiet 2>/dev/null
+check "unknown OpenCL device, before rendering" 1 $?
+[ ! -e "$T/x.exr" ] || { echo "FAIL: an output was written despite the device error"; fail=1; }
 
 # Ctrl-C: stop early, write the image with the real spp, exit 0
 "$WEDGE" render "$T/small.pbrt" --filter none --spp 100000 --res 64x48 --threads 2 -o "$T/i.exr" --report "$T/i.json" --quiet &
