@@ -655,7 +655,7 @@ int cmd_converge(int argc, char **argv)
     char name_buf[256];
     const char *name = scene_name(&o, name_buf, sizeof name_buf);
 
-    int max_rows = o.method_count * (o.mu_count > 0 ? o.mu_count : 1) * o.spp_count;
+    int max_rows = o.method_count * (o.mu_count > 0 ? o.mu_count : 1) * o.spp_count; /* an upper bound */
     ConvergeRow *rows = calloc((size_t)max_rows, sizeof *rows);
     int row_count = 0, run_index = 0;
     rc = rows ? WEDGE_EXIT_OK : WEDGE_EXIT_RUNTIME;
@@ -665,10 +665,15 @@ int cmd_converge(int argc, char **argv)
         int mu_runs = m->takes_mu && o.mu_count > 0 ? o.mu_count : 1;
         for (int ui = 0; ui < mu_runs && rc == WEDGE_EXIT_OK; ++ui) {
             const char *mu = m->takes_mu && o.mu_count > 0 ? o.mu[ui] : NULL;
-            for (int si = 0; si < o.spp_count && rc == WEDGE_EXIT_OK; ++si) {
-                char stem[4400], image[4500], report[4500];
-                if (!fmt_path(stem, sizeof stem, "%s/%s-%s%s%s-spp%d", images, name, m->name, mu ? "-mu" : "",
-                              mu ? mu : "", o.spp[si]) ||
+            /* A filter sets each pixel's samples itself from mu (wedge render ignores --spp
+             * under a filter): one run per mu, not one per --spp value (those would only be
+             * repeats). */
+            int spp_runs = m->takes_mu ? 1 : o.spp_count;
+            for (int si = 0; si < spp_runs && rc == WEDGE_EXIT_OK; ++si) {
+                char stem[4400], image[4500], report[4500], spp_label[32] = "";
+                if (!m->takes_mu) snprintf(spp_label, sizeof spp_label, "-spp%d", o.spp[si]);
+                if (!fmt_path(stem, sizeof stem, "%s/%s-%s%s%s%s", images, name, m->name, mu ? "-mu" : "",
+                              mu ? mu : "", spp_label) ||
                     !fmt_path(image, sizeof image, "%s.exr", stem) || !fmt_path(report, sizeof report, "%s.json", stem)) {
                     fprintf(stderr, "wedge converge: error: output path too long\n");
                     rc = WEDGE_EXIT_RUNTIME;

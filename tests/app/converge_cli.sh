@@ -64,4 +64,11 @@ sp="$tmp/sweep/speedup.csv"
 [ "$(head -1 "$sp")" = "scene,method,mu,spp_avg,seconds_total,relmse,mc_spp,mc_seconds,speedup_samples,speedup_time,extrapolated" ] || fail "speedup.csv header"
 awk -F, 'NR > 1 && $2 == "mc" { n++; if ($9 < 0.9999 || $9 > 1.0001 || $10 < 0.9999 || $10 > 1.0001) bad = 1 } END { exit bad || n != 3 }' "$sp" ||
   fail "mc against itself is not 1x: $(cat "$sp")"
+# A filter sets its own samples: one run per mu, whatever --spp lists (no repeated runs).
+"$WEDGE" converge "$tmp/tiny.pbrt" --spp 2,8,32 --methods mc,aaf --mu 1,4 --ref-spp 64 --cache "$tmp/cache" \
+  --out "$tmp/sweep2" --no-plots > "$tmp/log2" 2>&1 || { cat "$tmp/log2"; fail "sweep with aaf failed"; }
+csv2="$tmp/sweep2/results.csv"
+[ "$(awk -F, '$2 == "aaf" { printf "%s ", $3 }' "$csv2")" = "1 4 " ] || fail "aaf rows: $(cat "$csv2")"
+[ "$(awk -F, '$2 == "mc"' "$csv2" | wc -l)" = 3 ] || fail "mc rows: $(cat "$csv2")"
+[ -f "$tmp/sweep2/images/tiny-aaf-mu4.exr" ] || fail "aaf image missing: $(ls "$tmp/sweep2/images")"
 echo "converge_cli: ok"
