@@ -5,6 +5,7 @@
 int cmd_render(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
 int cmd_converge(int argc, char **argv);
 
 /* The scene embedded in the binary (scenes/default.pbrt), NUL-terminated. */

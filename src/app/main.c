@@ -13,6 +13,7 @@ static const struct {
     {"render", cmd_render, "render a pbrt-v4 scene (or the embedded default) to EXR/PNG"},
     {"info", cmd_info, "summarise a scene: film, camera, shapes, lights, effects, warnings"},
     {"compare", cmd_compare, "error metrics of an image against a reference"},
+    {"convert", cmd_convert, "convert an image between EXR and PNG (PNG through the OpenColorIO view)"},
     {"converge", cmd_converge, "error-versus-spp and error-versus-time sweeps against a cached reference"},
 };
 
