@@ -428,7 +428,11 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     }
 
     /* ---- pass 1: sparse sampling ---- */
+    /* Shadow and bounce ray geometry is for the shadow and indirect filters; defocus needs
+     * only each sample's depth, so without them the shadow rays stay occlusion queries. */
+    renderer_set_record_ray_geometry(r, on[AAF_EFFECT_SHADOWS] || on[AAF_EFFECT_INDIRECT]);
     bool complete = render_pass(r, 0, NULL, res->pass1_spp, frame, any ? &sink : NULL);
+    renderer_set_record_ray_geometry(r, true); /* as the caller set it up (aaf_render.h) */
     t_filter0 = wall_seconds();
     if (complete && any) {
         /* ---- parameters per effect ---- */
