@@ -130,6 +130,23 @@ void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count
         lights[l].center[0] = li->center_world.x;
         lights[l].center[1] = li->center_world.y;
         lights[l].center[2] = li->center_world.z;
+        /* the emitter itself, for r(x) */
+        lights[l].radiance_mean = (li->radiance.x + li->radiance.y + li->radiance.z) / 3.0f;
+        lights[l].two_sided = li->two_sided;
+        if (li->is_triangle) {
+            lights[l].emitter = AAF_EMITTER_TRIANGLE;
+            for (int k = 0; k < 3; ++k) {
+                lights[l].tri[k][0] = li->tri_world[k].x;
+                lights[l].tri[k][1] = li->tri_world[k].y;
+                lights[l].tri[k][2] = li->tri_world[k].z;
+            }
+        } else {
+            /* radius of the disk or sphere with the emitter's area (partial shapes and
+             * non-uniform scales become the round shape of the same area) */
+            lights[l].emitter = planar ? AAF_EMITTER_DISK : AAF_EMITTER_SPHERE;
+            double r = sqrt(li->area_world / (planar ? M_PI : 4.0 * M_PI));
+            lights[l].radius_world = isfinite(r) ? (float)r : 0.0f;
+        }
     }
     free(shape_area);
     free(info);
@@ -508,6 +525,12 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
             d->exact_lights = true;
             sigma_fallback = smallest;
         }
+        int emitters = 0;
+        for (int l = 0; l < s->light_count; ++l) emitters += s->lights[l].emitter != AAF_EMITTER_NONE;
+        if (emitters > 0 && emitters <= AAF_EXACT_EMITTERS_MAX) {
+            d->lights = s->lights;
+            d->light_count = s->light_count;
+        }
     }
     derive_guides(s, d);
     DerivePass dp = {s, d, sigma_fallback};
@@ -517,25 +540,92 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
 
 /* AAF-shadow eq. 1 factors the direct light into r(x), the unoccluded irradiance, times the
  * light-weighted visibility; only the visibility is what the wedge analysis says is smooth.
- * r(x) is needed up to a constant (light radiance cancels when we divide by it and multiply
- * back): the projected solid angle of the light rectangle over its area, i.e. the mean over
- * the rectangle of cos(receiver) cos(light) / |q - p|^2 (1/m^2), evaluated exactly with
- * Lambert's polygon formula clipped to the receiver's horizon. Deterministic, so it adds no
- * noise. (A 4 x 4 midpoint quadrature was 10-30% off where the light straddles a curved
- * receiver's horizon, and the filter spread that error as bias.) */
+ * r(x) is needed up to a constant (it is divided out and multiplied back): with the
+ * renderer's emitters, sum_l L_l Phi_l(x) / sum_l L_l A_l, Phi_l the projected solid angle
+ * of emitter l (Lambert's polygon formula clipped to the receiver's horizon, exact for
+ * triangles) and L_l its mean radiance, so that direct / (albedo r) is the light-weighted
+ * visibility times a constant; without them, the same for the light rectangle estimated from
+ * the light samples (1/m^2 either way). Deterministic, so it adds no noise. (A 4 x 4 midpoint
+ * quadrature over the estimated rectangle was 10-30% off where the light straddles a curved
+ * receiver's horizon, and the rectangle itself is rotated arbitrarily for a square light,
+ * whose covariance has no preferred axes: the filter spread both errors as bias.) */
+enum { ROUND_SIDES = 16 }; /* disks and sphere silhouettes as polygons of this many sides */
+_Static_assert((int)ROUND_SIDES < (int)POLYGON_MAX_VERTS, "a clipped round polygon must fit polygon_irradiance");
+
 typedef struct {
     const AafDerived *d;
     float *r;
-    double quad[4][3];   /* the light rectangle's corners (world) */
+    double quad[4][3];   /* the estimated light rectangle's corners (world) */
     double inv_area;     /* 1 / its area; 0: degenerate, treated as a point at the centre */
+    double inv_weight;   /* exact emitters: 1 / sum_l L_l A_l */
 } ShadePass;
+
+/* A circle of radius rad around c in the plane with unit normal nrm, as a polygon whose area
+ * equals the circle's (so round and triangle emitters keep their relative weights). */
+static void round_polygon(const double c[3], const double nrm[3], double rad, double v[ROUND_SIDES][3])
+{
+    double t[3] = {1, 0, 0};
+    if (fabs(nrm[0]) > 0.9) t[0] = 0, t[1] = 1;
+    double a[3] = {nrm[1] * t[2] - nrm[2] * t[1], nrm[2] * t[0] - nrm[0] * t[2], nrm[0] * t[1] - nrm[1] * t[0]};
+    double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    for (int k = 0; k < 3; ++k) a[k] /= la;
+    double b[3] = {nrm[1] * a[2] - nrm[2] * a[1], nrm[2] * a[0] - nrm[0] * a[2], nrm[0] * a[1] - nrm[1] * a[0]};
+    /* a regular N-gon inscribed in radius R has area (N/2) R^2 sin(2 pi/N) */
+    double R = rad * sqrt(2.0 * M_PI / (ROUND_SIDES * sin(2.0 * M_PI / ROUND_SIDES)));
+    for (int i = 0; i < ROUND_SIDES; ++i) {
+        double phi = 2.0 * M_PI * i / ROUND_SIDES, ca = R * cos(phi), sb = R * sin(phi);
+        for (int k = 0; k < 3; ++k) v[i][k] = c[k] + ca * a[k] + sb * b[k];
+    }
+}
+
+/* Phi of one emitter seen from p (normal n); 0 from behind a one-sided planar emitter. */
+static double emitter_phi(const AafLightGeom *L, const double p[3], const double n[3])
+{
+    double c[3] = {L->center[0], L->center[1], L->center[2]};
+    double nl[3] = {L->normal[0], L->normal[1], L->normal[2]};
+    if (L->emitter == AAF_EMITTER_TRIANGLE || L->emitter == AAF_EMITTER_DISK) {
+        double side = nl[0] * (p[0] - c[0]) + nl[1] * (p[1] - c[1]) + nl[2] * (p[2] - c[2]);
+        if (!L->two_sided && !(side > 0.0)) return 0.0;
+    }
+    if (L->emitter == AAF_EMITTER_TRIANGLE) {
+        double v[3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) v[i][k] = L->tri[i][k];
+        return polygon_projected_solid_angle(p, n, v, 3);
+    }
+    if (!(L->radius_world > 0.0f)) return 0.0;
+    double v[ROUND_SIDES][3];
+    if (L->emitter == AAF_EMITTER_DISK) {
+        round_polygon(c, nl, L->radius_world, v);
+        return polygon_projected_solid_angle(p, n, (const double(*)[3])v, ROUND_SIDES);
+    }
+    if (L->emitter != AAF_EMITTER_SPHERE) return 0.0;
+    /* a sphere subtends the cone of its silhouette circle: radius rad sqrt(D^2 - rad^2)/D,
+     * centred rad^2/D before the centre, facing the receiver */
+    double u[3] = {c[0] - p[0], c[1] - p[1], c[2] - p[2]};
+    double D = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]), rad = L->radius_world;
+    if (!(D > rad)) return 0.0; /* inside the light */
+    for (int k = 0; k < 3; ++k) u[k] /= D;
+    double cc[3];
+    for (int k = 0; k < 3; ++k) cc[k] = c[k] - u[k] * (rad * rad / D);
+    round_polygon(cc, u, rad * sqrt(D * D - rad * rad) / D, v);
+    return polygon_projected_solid_angle(p, n, (const double(*)[3])v, ROUND_SIDES);
+}
 
 static float unoccluded_at(const ShadePass *sp, const float *pf, const float *nf)
 {
     double p[3] = {pf[0], pf[1], pf[2]}, n[3] = {nf[0], nf[1], nf[2]};
+    const AafDerived *d = sp->d;
+    if (d->lights) {
+        double sum = 0.0;
+        for (int l = 0; l < d->light_count; ++l)
+            if (d->lights[l].emitter != AAF_EMITTER_NONE)
+                sum += (double)d->lights[l].radiance_mean * emitter_phi(&d->lights[l], p, n);
+        return (float)(sum * sp->inv_weight);
+    }
     if (sp->inv_area > 0.0) return (float)(polygon_projected_solid_angle(p, n, sp->quad, 4) * sp->inv_area);
     /* a point-like light: the limit of the same mean, with an isotropic emitter */
-    const float *c = sp->d->light_center;
+    const float *c = d->light_center;
     double w[3] = {c[0] - p[0], c[1] - p[1], c[2] - p[2]};
     double len2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
     double cos_r = (n[0] * w[0] + n[1] * w[1] + n[2] * w[2]) / sqrt(len2);
@@ -547,9 +637,10 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
     (void)part;
     const ShadePass *sp = ctx;
     const AafDerived *d = sp->d;
+    bool known = d->lights || d->light_known;
     for (size_t i = begin; i < end; ++i) {
         sp->r[i] = 0.0f;
-        if (!d->hit[i] || !d->light_known) continue;
+        if (!d->hit[i] || !known) continue;
         float v = unoccluded_at(sp, d->pos4 + 4 * i, d->nrm4 + 4 * i);
         sp->r[i] = isfinite(v) ? v : 0.0f;
     }
@@ -559,8 +650,30 @@ void aaf_unoccluded_irradiance(const AafDerived *d, float *r)
 {
     /* Pixels are independent, so the two cores' split does not change the result. */
     ShadePass sp;
+    memset(&sp, 0, sizeof sp);
     sp.d = d;
     sp.r = r;
+    if (d->lights) {
+        double weight = 0.0;
+        for (int l = 0; l < d->light_count; ++l) {
+            const AafLightGeom *L = &d->lights[l];
+            double area = 0.0;
+            if (L->emitter == AAF_EMITTER_TRIANGLE) {
+                double e1[3], e2[3];
+                for (int k = 0; k < 3; ++k) {
+                    e1[k] = (double)L->tri[1][k] - L->tri[0][k];
+                    e2[k] = (double)L->tri[2][k] - L->tri[0][k];
+                }
+                double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                       cz = e1[0] * e2[1] - e1[1] * e2[0];
+                area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+            }
+            if (L->emitter == AAF_EMITTER_DISK || L->emitter == AAF_EMITTER_SPHERE)
+                area = M_PI * (double)L->radius_world * L->radius_world;
+            if (L->emitter != AAF_EMITTER_NONE) weight += (double)L->radiance_mean * area;
+        }
+        sp.inv_weight = weight > 0.0 && isfinite(weight) ? 1.0 / weight : 1.0;
+    }
     static const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     double lu = 0.0, lv = 0.0;
     for (int k = 0; k < 3; ++k) {

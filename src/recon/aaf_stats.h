@@ -30,6 +30,13 @@ typedef struct {
                                   * sphere its silhouette pi r^2 = area/4; 0: not an area light */
     float normal[3];             /* planar: unit normal; sphere: 0 (use receiver -> centre) */
     float center[3];             /* sphere: centre */
+    /* The emitter itself, for the exact unoccluded irradiance r(x) (aaf_unoccluded_irradiance):
+     * a triangle's vertices, or a disk's / sphere's radius around center. */
+    enum { AAF_EMITTER_NONE, AAF_EMITTER_TRIANGLE, AAF_EMITTER_DISK, AAF_EMITTER_SPHERE } emitter;
+    float tri[3][3];
+    float radius_world;
+    float radiance_mean;         /* mean of the emitted radiance's r, g, b: the emitter's weight */
+    bool two_sided;
 } AafLightGeom;
 
 typedef struct {
@@ -99,6 +106,8 @@ typedef struct {
     float light_half_u[3], light_half_v[3];
     bool light_known;
     bool exact_lights;           /* sigma and planes come from the renderer's light list */
+    const AafLightGeom *lights;  /* the emitters for r(x) (not owned; NULL: use the rectangle) */
+    int light_count;
     float scene_size_world;      /* diagonal of the hit points' bounding box */
     float light_sigma_world;     /* global estimate (see aaf_stats.c) */
 } AafDerived;
@@ -108,8 +117,10 @@ bool aaf_derive(const AafStats *s, AafDerived *out);
  * by aaf_derive from the same AafStats: after pass 2 has added samples. */
 void aaf_derive_guides(const AafStats *s, AafDerived *d);
 void aaf_derived_free(AafDerived *d);
-/* r(x) of AAF-shadow eq. 1 up to a constant factor: the irradiance the estimated light
- * rectangle would give each pixel without occlusion (0 where unknown). n floats. */
+/* r(x) of AAF-shadow eq. 1 up to a constant factor: the irradiance each pixel would get
+ * without occlusion (0 where unknown), exactly from the emitters when d->lights lists them
+ * (at most AAF_EXACT_EMITTERS_MAX of them), else from the estimated light rectangle. n floats. */
+#define AAF_EXACT_EMITTERS_MAX 256
 void aaf_unoccluded_irradiance(const AafDerived *d, float *r);
 /* Points AafPixelStats at the derived maps. */
 AafPixelStats aaf_derived_pixel_stats(const AafDerived *d);

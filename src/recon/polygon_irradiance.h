@@ -14,7 +14,7 @@
 #define WEDGE_RECON_POLYGON_IRRADIANCE_H
 
 /* Most vertices a polygon may have (clipping adds at most one). */
-enum { POLYGON_MAX_VERTS = 8 };
+enum { POLYGON_MAX_VERTS = 32 };
 
 /* Phi (steradians, >= 0) of the convex polygon v[0..count-1] (world, either winding) seen
  * from p with unit normal n. count in [3, POLYGON_MAX_VERTS - 1]; else 0. */

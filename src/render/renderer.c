@@ -134,9 +134,13 @@ bool renderer_light_info(const Renderer *r, int li, RenderLightInfo *info)
         info->shape = g->shape;
         Mat4 w = l->instance >= 0 ? tracer_world_from_instance(&r->tracer, l->instance, 0.0f) : mat4_identity();
         if (g->kind == GEOM_TRIANGLES) {
+            info->is_triangle = true;
             if (l->instance < 0) {
                 info->center_world = v3_add(l->tri_p0, v3_scale(v3_add(l->tri_e1, l->tri_e2), 1.0f / 3.0f));
                 info->normal_world = l->tri_n;
+                info->tri_world[0] = l->tri_p0;
+                info->tri_world[1] = v3_add(l->tri_p0, l->tri_e1);
+                info->tri_world[2] = v3_add(l->tri_p0, l->tri_e2);
             } else {
                 const uint32_t *ix = g->index + 3 * (size_t)l->prim;
                 const vec3 *V = (const vec3 *)g->p;
@@ -146,6 +150,13 @@ bool renderer_light_info(const Renderer *r, int li, RenderLightInfo *info)
                 if (g->flip_normal) n = v3_neg(n);
                 Mat4 inv;
                 info->normal_world = mat4_inverse(&w, &inv) ? v3_normalize(mat4_apply_normal(&inv, n)) : n;
+                for (int k = 0; k < 3; ++k) info->tri_world[k] = mat4_apply_point(&w, V[ix[k]]);
+            }
+            if (v3_dot(v3_cross(v3_sub(info->tri_world[1], info->tri_world[0]), v3_sub(info->tri_world[2], info->tri_world[0])),
+                       info->normal_world) < 0.0f) { /* the stated winding: swap to match the normal */
+                vec3 t = info->tri_world[1];
+                info->tri_world[1] = info->tri_world[2];
+                info->tri_world[2] = t;
             }
         } else {
             Mat4 m = mat4_mul(&w, &g->geom_from_object), inv;

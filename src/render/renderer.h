@@ -86,6 +86,8 @@ typedef struct {
     float area_world;        /* area lights (sphere: full surface) */
     vec3 radiance;           /* L (area, distant, infinite) or intensity I (point, spot), times scale */
     bool two_sided;
+    bool is_triangle;        /* area light on a triangle: its vertices follow */
+    vec3 tri_world[3];       /*   in the order whose (p1 - p0) x (p2 - p0) is normal_world */
 } RenderLightInfo;
 int renderer_light_count(const Renderer *r);
 bool renderer_light_info(const Renderer *r, int light, RenderLightInfo *info);

@@ -193,6 +193,88 @@ static void test_exact_lights(void)
     aaf_stats_free(&s);
 }
 
+/* r(x) of the receiver of surface_sample (p = (1, 0, 2), normal +y) for one light list: the
+ * value aaf_unoccluded_irradiance gives pixel 0. */
+static double r_for_lights(AafLightGeom *lights, int count)
+{
+    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
+    AafStats s;
+    CHECK(aaf_stats_init(&s, 1, 1, cam));
+    s.lights = lights;
+    s.light_count = count;
+    SampleRecord r = surface_sample();
+    aaf_stats_add(&s, 0, 0, &r);
+    AafDerived d;
+    CHECK(aaf_derive(&s, &d));
+    CHECK(d.lights == lights);
+    float out = -1.0f;
+    aaf_unoccluded_irradiance(&d, &out);
+    aaf_derived_free(&d);
+    aaf_stats_free(&s);
+    return out;
+}
+
+static AafLightGeom triangle_light(float x0, float z0, float x1, float z1, float x2, float z2, float y)
+{
+    AafLightGeom L = {0};
+    L.emitter = AAF_EMITTER_TRIANGLE;
+    L.sigma_world = 0.5f;
+    L.normal[1] = -1.0f; /* facing down */
+    float v[3][3] = {{x0, y, z0}, {x1, y, z1}, {x2, y, z2}};
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) L.tri[i][k] = v[i][k];
+    L.center[0] = (x0 + x1 + x2) / 3.0f;
+    L.center[1] = y;
+    L.center[2] = (z0 + z1 + z2) / 3.0f;
+    L.radiance_mean = 1.0f;
+    return L;
+}
+
+/* With the renderer's emitters r(x) is exact: sum_l L_l Phi_l / sum_l L_l A_l, Phi the
+ * projected solid angle. Closed forms: a 2 x 2 square (two triangles) seen from under its
+ * corner (pi times the classic form factor), a disk on its axis (pi a^2 / (a^2 + h^2)), a
+ * sphere straight above (pi (R/D)^2); one-sided emitters give nothing behind them. */
+static void test_exact_irradiance(void)
+{
+    /* the square [-1, 1] x [2, 4] at y = 5, receiver under its corner (1, 2) */
+    AafLightGeom sq[2] = {triangle_light(-1, 2, 1, 2, 1, 4, 5.0f), triangle_light(-1, 2, 1, 4, -1, 4, 5.0f)};
+    /* pi F with F = (1/2pi) [X/sqrt(1+X^2) atan(Y/sqrt(1+X^2)) + (the same, X <-> Y)], X = Y = 2/5 */
+    double X = 0.4, sx = sqrt(1 + X * X);
+    double phi_square = 0.5 * (2.0 * X / sx * atan(X / sx));
+    CHECK_NEAR(r_for_lights(sq, 2), phi_square / 4.0, 1e-5 * phi_square);
+    /* twice the radiance on both halves: the same r (it is a ratio) */
+    sq[0].radiance_mean = sq[1].radiance_mean = 2.0f;
+    CHECK_NEAR(r_for_lights(sq, 2), phi_square / 4.0, 1e-5 * phi_square);
+    /* the square below the receiver's horizon: nothing; above it but facing up (one-sided,
+     * receiver behind it): nothing; two-sided: the same as facing the receiver */
+    AafLightGeom below[2] = {triangle_light(-1, 2, 1, 2, 1, 4, -5.0f), triangle_light(-1, 2, 1, 4, -1, 4, -5.0f)};
+    CHECK_NEAR(r_for_lights(below, 2), 0.0, 0.0);
+    for (int i = 0; i < 2; ++i) sq[i].normal[1] = 1.0f;
+    CHECK_NEAR(r_for_lights(sq, 2), 0.0, 0.0);
+    for (int i = 0; i < 2; ++i) sq[i].two_sided = true;
+    CHECK_NEAR(r_for_lights(sq, 2), phi_square / 4.0, 1e-5 * phi_square);
+
+    /* a disk of radius 1, 2 above the receiver, facing down: Phi = pi/5, weight pi */
+    AafLightGeom disk = {0};
+    disk.emitter = AAF_EMITTER_DISK;
+    disk.radius_world = 1.0f;
+    disk.normal[1] = -1.0f;
+    disk.center[0] = 1.0f, disk.center[1] = 2.0f, disk.center[2] = 2.0f;
+    disk.radiance_mean = 3.0f;
+    CHECK_NEAR(r_for_lights(&disk, 1), 1.0 / 5.0, 2e-3 / 5.0); /* a 16-gon of the disk's area */
+    /* a sphere of radius 1 centred 4 above: Phi = pi/16, weight pi R^2 */
+    AafLightGeom sphere = {0};
+    sphere.emitter = AAF_EMITTER_SPHERE;
+    sphere.radius_world = 1.0f;
+    sphere.center[0] = 1.0f, sphere.center[1] = 4.0f, sphere.center[2] = 2.0f;
+    sphere.radiance_mean = 1.0f;
+    CHECK_NEAR(r_for_lights(&sphere, 1), 1.0 / 16.0, 2e-3 / 16.0);
+    /* both: the radiance-weighted mix, sum L Phi / sum L A */
+    AafLightGeom both[2] = {disk, sphere};
+    double want = (3.0 * M_PI / 5.0 + M_PI / 16.0) / (3.0 * M_PI + M_PI);
+    CHECK_NEAR(r_for_lights(both, 2), want, 2e-3 * want);
+}
+
 /* Mixed pixels: samples on two objects (motion blur), hits and misses, normals far apart, a
  * large depth spread or an unfilterable surface mark the pixel; identical samples do not. */
 static void test_mixed_pixels(void)
@@ -252,6 +334,7 @@ static void test_unfiltered_split(void)
 int main(void)
 {
     test_exact_lights();
+    test_exact_irradiance();
     test_mixed_pixels();
     test_unfiltered_split();
     test_coc_slope();

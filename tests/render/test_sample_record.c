@@ -113,6 +113,20 @@ int main(void)
         CHECK_NEAR(a.normal_world.y, -1.0, 1e-6);
         CHECK_NEAR(a.center_world.y, 2.0, 1e-6);
         CHECK_NEAR(a.radiance.x, 4.0, 1e-6);
+        /* the triangles' vertices: on the light's plane, wound so that their normal is the
+         * emitting side's, with the triangle's area, together covering the quad */
+        const RenderLightInfo *ab[2] = {&a, &b};
+        double covered = 0.0;
+        for (int t = 0; t < 2; ++t) {
+            const RenderLightInfo *li = ab[t];
+            CHECK(li->is_triangle);
+            for (int k = 0; k < 3; ++k) CHECK_NEAR(li->tri_world[k].y, 2.0, 1e-6);
+            vec3 c = v3_cross(v3_sub(li->tri_world[1], li->tri_world[0]), v3_sub(li->tri_world[2], li->tri_world[0]));
+            CHECK(v3_dot(c, li->normal_world) > 0.0f);
+            CHECK_NEAR(0.5 * v3_length(c), li->area_world, 1e-6);
+            covered += 0.5 * v3_length(c);
+        }
+        CHECK_NEAR(covered, 1.0, 1e-6);
         CHECK(!renderer_light_info(t.r, 2, &a));
         test_render_free(&t);
     }
