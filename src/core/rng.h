@@ -16,10 +16,10 @@ static inline uint64_t hash_u64(uint64_t x)
 /* Seed of one pixel's sampler in one pass: independent of thread count and tile order. */
 static inline uint64_t hash_pixel_seed(uint64_t seed, int px, int py, int pass)
 {
-    uint64_t h = hash_u64(seed);
-    h = hash_u64(h ^ (uint64_t)(uint32_t)px);
-    h = hash_u64(h ^ ((uint64_t)(uint32_t)py << 1));
-    return hash_u64(h ^ ((uint64_t)(uint32_t)pass << 2));
+    /* Two chained hashes (it starts every pixel's dependency chain): a bijection of the seed
+     * stepped by the pass along a Weyl sequence, then mixed with the pixel's 64-bit word. */
+    uint64_t h = hash_u64(seed) + (uint64_t)(uint32_t)pass * 0x9e3779b97f4a7c15ull;
+    return hash_u64(h ^ ((uint64_t)(uint32_t)px | (uint64_t)(uint32_t)py << 32));
 }
 
 typedef struct {

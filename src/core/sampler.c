@@ -52,28 +52,74 @@ static uint32_t permute_pow2(uint32_t x, uint32_t mask, int bits, uint64_t seed)
     return x;
 }
 
+/* ---- uniform integers from one 64-bit random number ----------------------------------- */
+
+/* Several uniform integers in [0, b_1), [0, b_2), ... drawn from one 64-bit random number r
+ * by repeated multiply-shift: j_1 is the high word of r b_1, whose low word feeds the next
+ * draw, and so on (Lemire 2019, "Fast random integer generation in an interval", batched as
+ * in Brackett-Rozinsky and Lemire 2024, "Batched ranged random integer generation"). By
+ * induction r (b_1 ... b_k) = J 2^64 + low, where J is the mixed-radix number with digits
+ * j_1 .. j_k: the draws are J = floor(r P / 2^64) for the product P of the bounds, which is
+ * exactly uniform on [0, P) once the rare low < 2^64 mod P are rejected (Lemire's test).
+ * One hash per permutation instead of one PCG32 seeding and a draw per element. */
+typedef struct {
+    uint64_t bits;    /* the unused fraction of the random number (the low word) */
+    uint64_t product; /* P: product of the bounds drawn so far (below 2^64 by the callers) */
+} BatchDraw;
+
+static inline BatchDraw batch_start(uint64_t random_bits) { return (BatchDraw){random_bits, 1u}; }
+
+static inline uint32_t batch_below(BatchDraw *d, uint32_t bound)
+{
+    unsigned __int128 m = (unsigned __int128)d->bits * bound;
+    d->bits = (uint64_t)m;
+    d->product *= bound;
+    return (uint32_t)(m >> 64);
+}
+
+/* Lemire's acceptance test for the whole batch; low >= P >= 2^64 mod P is the fast path. */
+static inline bool batch_accepted(const BatchDraw *d)
+{
+    return d->bits >= d->product || d->bits >= (0u - d->product) % d->product;
+}
+
+/* Element i of a permutation (or table) of at most 16 values packed 4 bits per element. */
+static inline uint32_t nibble(uint64_t packed, uint32_t i) { return (uint32_t)(packed >> (4u * i)) & 15u; }
+
+/* Fisher-Yates shuffle of [0, n), n <= 16, with the draws taken from d (n! <= 16! < 2^45),
+ * on a permutation held in a register, 4 bits per element (elements n..15 stay in place and
+ * are never read). */
+static inline uint64_t batch_shuffle_nibbles(BatchDraw *d, uint32_t n)
+{
+    uint64_t p = 0xfedcba9876543210ull; /* the identity */
+    for (uint32_t k = n; k-- > 1;) {
+        uint32_t j = batch_below(d, k + 1);
+        uint64_t swap = ((p >> (4u * k)) ^ (p >> (4u * j))) & 15u;
+        p ^= (swap << (4u * k)) | (swap << (4u * j));
+    }
+    return p;
+}
+
+/* A uniformly random permutation of [0, n), n <= SAMPLER_SHUFFLE_MAX, packed in nibbles, from
+ * random_bits, which must be uniform 64 bits (a hash output). Redraws (with probability
+ * below n!/2^64 < 2e-6) hash the rejected bits. */
+static uint64_t shuffle_bits_nibbles(uint32_t n, uint64_t random_bits)
+{
+    for (;; random_bits = hash_u64(random_bits)) {
+        BatchDraw d = batch_start(random_bits);
+        uint64_t p = batch_shuffle_nibbles(&d, n);
+        if (batch_accepted(&d)) return p;
+    }
+}
+
 /* Small domains: the keyed bijection above has only a handful of distinct keys on 2-4 bits
  * and is far from a uniformly random permutation (n = 3 after cycle walking: P(0 -> 0) = 1/4
  * instead of 1/3), which biased multi-jitter (E[x y] 2% low at 3 x 3) and correlated the
- * padded dimensions. Up to this size an explicit Fisher-Yates shuffle driven by PCG32 is
- * exact and still cheap (at most 16 steps per call). */
+ * padded dimensions. Up to this size an explicit Fisher-Yates shuffle is exact and cheap. */
 static inline void shuffle_small(uint32_t n, uint64_t seed, uint8_t *perm)
 {
-    Pcg32 rng;
-    pcg32_seed(&rng, seed, 0x9e3779b97f4a7c15ull);
-    if (n == 2) { /* the common 2 x 2 multi-jitter case: one draw, swap or not */
-        uint32_t j = pcg32_below(&rng, 2);
-        perm[0] = (uint8_t)(1u - j), perm[1] = (uint8_t)j;
-        return;
-    }
-    for (uint32_t k = 0; k < n; ++k) perm[k] = (uint8_t)k;
-    for (uint32_t k = n - 1; k > 0; --k) {
-        /* uniform in [0, k] without modulo bias, and (almost always) without a division */
-        uint32_t j = pcg32_below(&rng, k + 1);
-        uint8_t t = perm[k];
-        perm[k] = perm[j];
-        perm[j] = t;
-    }
+    uint64_t p = shuffle_bits_nibbles(n, hash_u64(seed));
+    for (uint32_t k = 0; k < n; ++k) perm[k] = (uint8_t)nibble(p, k);
 }
 
 static uint32_t permute_small(uint32_t i, uint32_t n, uint64_t seed)
@@ -126,27 +172,30 @@ uint32_t sampler_permute(uint32_t i, uint32_t n, uint64_t seed)
 
 /* ---- stratified ------------------------------------------------------------------------ */
 
-/* (stratum + jitter) / n as a float that stays inside [stratum/n, (stratum+1)/n): rounding
- * the double to float could otherwise step onto the next stratum's edge (or 1.0). For n
- * below 2^24, float * n is exact in double, so the test below is exact. */
-static float stratum_value(uint32_t stratum, double jitter, uint32_t n, double inv_n)
+/* (stratum + jitter) / n as a float that stays inside [stratum/n, (stratum+1)/n), with
+ * jitter = jitter_bits 2^-32: rounding to float could otherwise step onto the next
+ * stratum's edge (or 1.0). For n below 2^24, float * n is exact in double, so the test of
+ * the correction loops is exact. */
+static float stratum_value(const PixelSampler *s, uint32_t stratum, uint32_t jitter_bits)
 {
-    /* The product may round differently from the quotient; the loops below settle it. */
-    float v = (float)(((double)stratum + jitter) * inv_n);
+    /* (stratum 2^32 + bits) 2^-32 is the real stratum + jitter: converted to double it rounds
+     * exactly as (double)stratum + jitter does (not at all below 2^21 strata), and the powers
+     * of two are exact, so this is the same double as (stratum + jitter) inv_spp. Signed,
+     * as it is below 2^63: x86-64 converts signed integers in one instruction. */
+    float v = (float)((double)(int64_t)(((uint64_t)stratum << 32) | jitter_bits) * s->inv_spp_2m32);
     /* Fast exit, no change in the result: v = x (1 + e) with x = (stratum + jitter) / n and
-     * |e| < 2^-23 (one float rounding, one double product), so v n is within
-     * n 2^-23 of stratum + jitter; a jitter that far from 0 and 1 keeps v n strictly
-     * inside (stratum, stratum + 1), where neither loop below runs and v < 1. */
-    double margin = (double)n * 0x1p-23; /* exact; the compiler keeps it out of loops */
-    if (jitter > margin && jitter < 1.0 - margin) return v;
+     * |e| < 2^-23 (one float rounding, one double product), so v n is within n 2^-23 of
+     * stratum + jitter; a jitter that far from 0 and 1 (margin_bits = n 2^-23 in units of
+     * 2^-32) keeps v n strictly inside (stratum, stratum + 1), where neither loop below runs
+     * and v < 1. */
+    if (jitter_bits > s->margin_bits && jitter_bits < (uint64_t)UINT32_MAX + 1u - s->margin_bits) return v;
+    uint32_t n = (uint32_t)s->spp;
     if (n < (1u << 24)) {
         while ((double)v * n >= (double)stratum + 1.0) v = nextafterf(v, 0.0f);
         while ((double)v * n < (double)stratum) v = nextafterf(v, 1.0f);
     }
     return v < 1.0f ? v : 0x1.fffffep-1f;
 }
-
-static double jitter01(Pcg32 *rng) { return (double)pcg32_next(rng) * 0x1p-32; }
 
 /* Splits n into a rows x cols grid, rows the largest divisor of n not above sqrt(n):
  * 16 -> 4 x 4, 12 -> 3 x 4, 8 -> 2 x 4, a prime p -> 1 x p (a Latin hypercube). */
@@ -181,21 +230,20 @@ static uint64_t row_perm_seed(uint64_t seed, uint32_t r) { return hash_u64(seed 
  * an integrand with a mixed term (f = x y) contains sum_c c * perm(c), which does not
  * average out and decays only as n^-0.75; independent permutations give n^-1, as a plain
  * jittered grid (measured in tests/core/test_sampler.c, about 1.5x lower error than it). */
-static vec2 multi_jitter(PixelSampler *s, uint32_t j, uint32_t n, uint64_t seed)
+static vec2 multi_jitter(PixelSampler *s, uint32_t j, uint64_t seed, uint64_t jitter_bits)
 {
-    Pcg32 *rng = &s->rng;
     uint32_t rows = s->grid_rows, cols = s->grid_cols;
     uint32_t c = j % cols, r = j / cols;
     uint32_t sub_x = permute_cached(s, r, rows, column_perm_seed(seed, c));
     uint32_t sub_y = permute_cached(s, c, cols, row_perm_seed(seed, r));
-    double jx = jitter01(rng), jy = jitter01(rng);
     /* x = (c + (sub_x + jx) / rows) / cols: 1D stratum c * rows + sub_x of n. */
-    return v2(stratum_value(c * rows + sub_x, jx, n, s->inv_spp), stratum_value(r * cols + sub_y, jy, n, s->inv_spp));
+    return v2(stratum_value(s, c * rows + sub_x, (uint32_t)jitter_bits),
+              stratum_value(s, r * cols + sub_y, (uint32_t)(jitter_bits >> 32)));
 }
 
 /* ---- Sobol' ---------------------------------------------------------------------------- */
 
-static uint32_t reverse_bits32(uint32_t v)
+static inline uint32_t reverse_bits32(uint32_t v)
 {
     v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
@@ -209,16 +257,20 @@ static uint32_t reverse_bits32(uint32_t v)
  * end turns the result into a fraction.
  * First dimension: the base-2 radical inverse (van der Corput), whose reversed form is the
  * index itself. */
-static uint32_t sobol_dim0_reversed(uint32_t i) { return i; }
+static inline uint32_t sobol_dim0_reversed(uint32_t i) { return i; }
 
 /* Second dimension: its generator matrix is the Pascal matrix modulo 2, whose columns are
  * v_0 = 1/2 and v_{k+1} = v_k xor (v_k >> 1) (direction numbers m = 1, 3, 5, 15, 17, 51,
  * ...); reversed, v_0 = 1 and v_{k+1} = v_k xor (v_k << 1). Together with dim0, every
  * aligned block of 2^k indices is a (0, k, 2)-net in base 2 (Sobol' 1967). */
-static uint32_t sobol_dim1_reversed(uint32_t i)
+static inline uint32_t sobol_dim1_reversed(uint32_t i)
 {
-    uint32_t r = 0, v = 1u;
-    for (; i; i >>= 1, v ^= v << 1)
+    /* The first four columns, v = 1, 3, 5, 15, selected without branches: the point index
+     * of a pixel's few samples is random, and a data-dependent loop mispredicts. */
+    uint32_t r = ((0u - (i & 1u)) & 1u) ^ ((0u - (i >> 1 & 1u)) & 3u) ^ ((0u - (i >> 2 & 1u)) & 5u) ^
+                 ((0u - (i >> 3 & 1u)) & 15u);
+    uint32_t v = 17u; /* v_4 */
+    for (i >>= 4; i; i >>= 1, v ^= v << 1)
         if (i & 1u) r ^= v;
     return r;
 }
@@ -230,7 +282,7 @@ static uint32_t sobol_dim1_reversed(uint32_t i)
  * exactly the nested-scramble form, so scrambled (0, k, 2)-nets stay nets. The constants
  * are our own; tests/core/test_sampler.c compares the integration error against a
  * brute-force true Owen scramble. */
-static uint32_t owen_scramble_reversed(uint32_t v, uint32_t seed)
+static inline uint32_t owen_scramble_reversed(uint32_t v, uint32_t seed)
 {
     v += seed;
     v ^= v * 0x6b43a9b6u;
@@ -248,9 +300,9 @@ static uint32_t owen_scramble_reversed(uint32_t v, uint32_t seed)
 }
 
 /* 0.32 fixed point to a float in [0, 1): keep the top 24 bits, which a float holds exactly. */
-static float fixed_to_float(uint32_t v) { return (float)(v >> 8) * 0x1p-24f; }
+static inline float fixed_to_float(uint32_t v) { return (float)(v >> 8) * 0x1p-24f; }
 
-static float scrambled_to_float(uint32_t reversed, uint32_t seed)
+static inline float scrambled_to_float(uint32_t reversed, uint32_t seed)
 {
     return fixed_to_float(reverse_bits32(owen_scramble_reversed(reversed, seed)));
 }
@@ -271,109 +323,148 @@ const char *sampler_kind_name(SamplerKind kind)
 
 void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp)
 {
-    /* Everything but the caches, whose validity bits (perm_valid, dims_ready) are cleared
+    /* Everything but the caches, whose validity bits (perm_valid, tables_ready) are cleared
      * with the rest: a few stores per pixel instead of touching kilobytes. */
     memset(s, 0, offsetof(PixelSampler, perm_cache));
     s->kind = kind;
     s->seed = seed;
     s->spp = spp >= 1 ? spp : 1;
     s->inv_spp = 1.0 / (double)s->spp;
+    s->inv_spp_2m32 = s->inv_spp * 0x1p-32;
+    s->margin_bits = (uint64_t)s->spp << 9; /* n 2^-23 = n 2^9 2^-32 */
     grid_shape((uint32_t)s->spp, &s->grid_rows, &s->grid_cols);
     s->pixel_seed = hash_pixel_seed(seed, px, py, pass);
     sampler_start_sample(s, 0);
 }
 
-/* The jitter stream of the current sample: a fresh PCG32 state keyed by (pixel, sample). */
-static void seed_sample_rng(PixelSampler *s)
+/* The key of the current sample's random numbers. Jitter (and every dimension past the
+ * padded ones) is counter-based: request `dim` of a sample takes output dim + 1 of a
+ * SplitMix64 stream started at this key (Steele, Lea, Flood 2014, "Fast splittable
+ * pseudorandom number generators"), one hash per request, in any order, and nothing to
+ * seed per sample but the key itself. */
+static void set_sample_key(PixelSampler *s)
 {
-    pcg32_seed(&s->rng, hash_u64(s->pixel_seed ^ hash_u64((uint64_t)s->sample_index + 0x51ed27ull)),
-               s->pixel_seed >> 1);
-    s->rng_ready = true;
+    s->sample_key = hash_u64(s->pixel_seed ^ ((uint64_t)(uint32_t)s->sample_index * 0xd6e8feb86659fd93ull));
+    s->key_ready = true;
 }
 
-static Pcg32 *sample_rng(PixelSampler *s)
+/* 64 random bits of request `dim` of the current sample (hash_u64 adds the stream's
+ * increment itself). */
+static inline uint64_t request_bits(PixelSampler *s, int dim)
 {
-    if (!s->rng_ready) seed_sample_rng(s);
-    return &s->rng;
+    if (!s->key_ready) set_sample_key(s);
+    return hash_u64(s->sample_key + (uint64_t)(uint32_t)dim * 0x9e3779b97f4a7c15ull);
 }
+
+/* Top 24 bits of a 32-bit word as a float in [0, 1). */
+static inline float float_of(uint32_t bits) { return (float)(bits >> 8) * 0x1p-24f; }
 
 void sampler_start_sample(PixelSampler *s, int sample_index)
 {
     s->sample_index = sample_index >= 0 ? sample_index : 0;
+    uint32_t i = (uint32_t)s->sample_index, n = (uint32_t)s->spp;
+    if (i < n) { /* the usual case: no division */
+        s->block = 0, s->index_in_block = i;
+    } else {
+        s->block = i / n, s->index_in_block = i % n;
+    }
+    if (s->block != s->tables_block) { /* the tables describe another block */
+        s->tables_ready[0] = s->tables_ready[1] = 0;
+        s->tables_block = s->block;
+    }
     s->dim = 0;
-    /* The Sobol' sampler draws from the stream only past the padded dimensions: seed it on
-     * first use (sample_rng) rather than for every sample. */
-    s->rng_ready = false;
-    if (s->kind == SAMPLER_STRATIFIED) seed_sample_rng(s);
+    /* The Sobol' sampler needs the key only past the padded dimensions: set it on first
+     * use (request_bits) rather than for every sample. */
+    s->key_ready = false;
+    if (s->kind == SAMPLER_STRATIFIED) set_sample_key(s);
 }
 
 /* Position of the current sample inside the stratified set of spp points of dimension dim
- * (the per-dimension shuffle that decorrelates dimensions: "padding"). */
-static uint32_t padded_index(PixelSampler *s, int dim, uint32_t *block, uint64_t salt)
+ * (the per-dimension shuffle that decorrelates dimensions: "padding"), for spp above
+ * SAMPLER_SHUFFLE_MAX (smaller counts use the tables below). */
+static uint32_t padded_index(PixelSampler *s, int dim, uint64_t salt)
 {
-    uint32_t n = (uint32_t)s->spp, i = (uint32_t)s->sample_index;
-    *block = i / n;
-    return permute_cached(s, i % n, n, dim_seed(s, dim, *block, salt));
+    return sampler_permute(s->index_in_block, (uint32_t)s->spp, dim_seed(s, dim, s->block, salt));
 }
 
-/* ---- per-pixel dimension tables (the common case: spp <= 16, indices below spp) ----- */
+/* ---- per-pixel dimension tables (spp <= SAMPLER_SHUFFLE_MAX) ------------------------ */
 
-/* The table of scalar dimension dim for requests of `kind` (1 or 2), built on first use in
- * this pixel. NULL when the cached path does not apply (the caller computes directly). */
-static SamplerDimTable *dim_table(PixelSampler *s, int dim, uint8_t kind)
+/* The multi-jitter strata of all n = rows x cols points, built like multi_jitter's: column
+ * c's sub-column permutation gives the x strata of its rows points, row r's sub-row
+ * permutation the y strata of its cols points. All of them come from one random number: the
+ * product of the bounds, (rows!)^cols (cols!)^rows, is at most 24^8 < 2^37 for n <= 16. */
+static void mj_strata(uint32_t rows, uint32_t cols, uint64_t random_bits, uint8_t *x_stratum, uint8_t *y_stratum)
+{
+    for (;; random_bits = hash_u64(random_bits)) {
+        BatchDraw d = batch_start(random_bits);
+        for (uint32_t c = 0; c < cols; ++c) {
+            uint64_t sub = batch_shuffle_nibbles(&d, rows);
+            for (uint32_t k = 0; k < rows; ++k, sub >>= 4) x_stratum[k * cols + c] = (uint8_t)(c * rows + (sub & 15u));
+        }
+        for (uint32_t r = 0; r < rows; ++r) {
+            uint64_t sub = batch_shuffle_nibbles(&d, cols);
+            for (uint32_t k = 0; k < cols; ++k, sub >>= 4) y_stratum[r * cols + k] = (uint8_t)(r * cols + (sub & 15u));
+        }
+        if (batch_accepted(&d)) return;
+    }
+}
+
+/* Builds the table of scalar dimension dim for requests of `kind` (1 or 2) in the current
+ * block of sample indices. */
+static const SamplerDimTable *build_dim_table(PixelSampler *s, int dim, int kind)
 {
     uint32_t n = (uint32_t)s->spp;
-    if (n > SAMPLER_SHUFFLE_MAX || (uint32_t)s->sample_index >= n) return NULL;
     SamplerDimTable *t = &s->dim_table[dim];
+    uint64_t pad = shuffle_bits_nibbles(n, dim_seed(s, dim, s->block, kind == 1 ? 1 : 3));
+    t->x = pad; /* a 1D stratified value's stratum is its point index; Sobol' keeps the index */
+    if (s->kind == SAMPLER_SOBOL) {
+        t->seed = dim_seed(s, dim, s->block, kind == 1 ? 2 : 4);
+    } else if (kind == 2) {
+        uint8_t xs[SAMPLER_SHUFFLE_MAX], ys[SAMPLER_SHUFFLE_MAX];
+        mj_strata(s->grid_rows, s->grid_cols, dim_seed(s, dim, s->block, 4), xs, ys);
+        uint64_t x = 0, y = 0;
+        for (uint32_t i = n; i-- > 0;) { /* sample index i gets point pad[i]'s strata */
+            uint32_t j = nibble(pad, i);
+            x = x << 4 | xs[j];
+            y = y << 4 | ys[j];
+        }
+        t->x = x, t->y = y;
+    }
     uint64_t bit = 1ull << dim;
-    if ((s->dims_ready & bit) && t->kind == kind) return t;
-    /* the same seeds and permutation as padded_index() and the per-request paths below */
-    shuffle_small(n, dim_seed(s, dim, 0, kind == 1 ? 1 : 3), t->pad);
-    /* a stratified 1D dimension has no seed beyond its permutation */
-    t->seed = kind == 1 && s->kind == SAMPLER_STRATIFIED ? 0 : dim_seed(s, dim, 0, kind == 1 ? 2 : 4);
-    t->kind = kind;
-    t->cols_ready = t->rows_ready = t->points_ready = 0;
-    s->dims_ready |= bit;
+    s->tables_ready[kind - 1] |= bit;
+    s->tables_ready[2 - kind] &= ~bit; /* the entry now holds the other kind's table */
     return t;
 }
 
-/* Fills the multi-jitter strata of point j (as multi_jitter computes them): x from column
- * c's sub-column permutation, y from row r's sub-row permutation. Each permutation serves
- * every point of its column / row, so it is drawn once per pixel. */
-static void table_fill_point(PixelSampler *s, SamplerDimTable *t, uint32_t j)
+/* The table of scalar dimension dim for requests of `kind` (1 or 2) in the current block,
+ * built on first use. NULL when spp is too large for tables (the caller computes directly). */
+static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kind)
 {
-    uint32_t rows = s->grid_rows, cols = s->grid_cols, c = j % cols, r = j / cols;
-    if (!(t->cols_ready & (1u << c))) {
-        uint8_t perm[SAMPLER_SHUFFLE_MAX] = {0};
-        if (rows > 1) shuffle_small(rows, column_perm_seed(t->seed, c), perm);
-        for (uint32_t k = 0; k < rows; ++k) t->x_stratum[k * cols + c] = (uint8_t)(c * rows + perm[k]);
-        t->cols_ready |= (uint16_t)(1u << c);
-    }
-    if (!(t->rows_ready & (1u << r))) {
-        uint8_t perm[SAMPLER_SHUFFLE_MAX] = {0};
-        if (cols > 1) shuffle_small(cols, row_perm_seed(t->seed, r), perm);
-        for (uint32_t k = 0; k < cols; ++k) t->y_stratum[r * cols + k] = (uint8_t)(r * cols + perm[k]);
-        t->rows_ready |= (uint16_t)(1u << r);
-    }
-    t->points_ready |= (uint16_t)(1u << j);
+    if (s->spp > SAMPLER_SHUFFLE_MAX) return NULL;
+    if (s->tables_ready[kind - 1] & (1ull << dim)) return &s->dim_table[dim];
+    return build_dim_table(s, dim, kind);
 }
 
-float sampler_1d(PixelSampler *s)
+/* Scalar dimension dim of the current sample as a 1D value. */
+static float value_1d(PixelSampler *s, int dim)
 {
-    int dim = s->dim++;
-    if (dim >= SAMPLER_PADDED_DIMS) return pcg32_float(sample_rng(s));
-    SamplerDimTable *t = dim_table(s, dim, 1);
-    if (t) {
-        uint32_t j = t->pad[s->sample_index];
-        if (s->kind == SAMPLER_STRATIFIED) return stratum_value(j, jitter01(&s->rng), (uint32_t)s->spp, s->inv_spp);
-        return scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed);
-    }
-    uint32_t n = (uint32_t)s->spp, block;
-    uint32_t j = padded_index(s, dim, &block, 1);
-    if (s->kind == SAMPLER_STRATIFIED) return stratum_value(j, jitter01(&s->rng), n, s->inv_spp);
+    if (dim >= SAMPLER_PADDED_DIMS) return float_of((uint32_t)request_bits(s, dim));
+    const SamplerDimTable *t = dim_table(s, dim, 1);
+    uint32_t j = t ? nibble(t->x, s->index_in_block) : padded_index(s, dim, 1);
+    if (s->kind == SAMPLER_STRATIFIED)
+        return stratum_value(s, j, (uint32_t)request_bits(s, dim));
     /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
-    uint32_t seed = (uint32_t)dim_seed(s, dim, block, 2);
+    uint32_t seed = t ? (uint32_t)t->seed : (uint32_t)dim_seed(s, dim, s->block, 2);
     return scrambled_to_float(sobol_dim0_reversed(j), seed);
+}
+
+float sampler_1d(PixelSampler *s) { return value_1d(s, s->dim++); }
+
+float sampler_1d_at(PixelSampler *s, int dim) { return value_1d(s, dim >= 0 ? dim : 0); }
+
+void sampler_skip(PixelSampler *s, int count)
+{
+    if (count > 0) s->dim += count;
 }
 
 vec2 sampler_2d(PixelSampler *s)
@@ -381,27 +472,23 @@ vec2 sampler_2d(PixelSampler *s)
     int dim = s->dim;
     s->dim += 2;
     if (dim >= SAMPLER_PADDED_DIMS - 1) {
-        Pcg32 *rng = sample_rng(s);
-        float x = pcg32_float(rng);
-        return v2(x, pcg32_float(rng));
+        uint64_t bits = request_bits(s, dim);
+        return v2(float_of((uint32_t)bits), float_of((uint32_t)(bits >> 32)));
     }
-    SamplerDimTable *t = dim_table(s, dim, 2);
+    const SamplerDimTable *t = dim_table(s, dim, 2);
     if (t) {
-        uint32_t j = t->pad[s->sample_index];
+        uint32_t i = s->index_in_block;
         if (s->kind == SAMPLER_STRATIFIED) {
-            if (!(t->points_ready & (1u << j))) table_fill_point(s, t, j);
-            uint32_t sx = t->x_stratum[j], sy = t->y_stratum[j];
-            /* jitter draws in multi_jitter's order: x, then y */
-            double jx = jitter01(&s->rng), jy = jitter01(&s->rng);
-            return v2(stratum_value(sx, jx, (uint32_t)s->spp, s->inv_spp), stratum_value(sy, jy, (uint32_t)s->spp, s->inv_spp));
+            uint64_t bits = request_bits(s, dim);
+            return v2(stratum_value(s, nibble(t->x, i), (uint32_t)bits), stratum_value(s, nibble(t->y, i), (uint32_t)(bits >> 32)));
         }
+        uint32_t j = nibble(t->x, i);
         return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
                   scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
     }
-    uint32_t n = (uint32_t)s->spp, block;
-    uint32_t j = padded_index(s, dim, &block, 3);
-    uint64_t seed = dim_seed(s, dim, block, 4);
-    if (s->kind == SAMPLER_STRATIFIED) return multi_jitter(s, j, n, seed);
+    uint32_t j = padded_index(s, dim, 3);
+    uint64_t seed = dim_seed(s, dim, s->block, 4);
+    if (s->kind == SAMPLER_STRATIFIED) return multi_jitter(s, j, seed, request_bits(s, dim));
     return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)seed),
               scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(seed >> 32)));
 }

@@ -25,7 +25,8 @@ const char *sampler_kind_name(SamplerKind kind);
  * keeps the ones it has drawn (each serves every sample of the pixel) in a small cache. */
 #define SAMPLER_SHUFFLE_MAX 16
 /* Scalar dimensions (a 2D request uses two) that get stratified / low-discrepancy values;
- * later dimensions of a sample are independent uniform random numbers from s->rng. */
+ * later dimensions of a sample are independent uniform random numbers (hashed from the
+ * sample's key and the dimension). */
 #define SAMPLER_PADDED_DIMS 64
 #define SAMPLER_PERM_CACHE_SLOTS 128
 
@@ -35,19 +36,16 @@ typedef struct {
     uint8_t perm[SAMPLER_SHUFFLE_MAX];
 } SamplerPermSlot;
 
-/* What a pixel's sampler derives once per scalar dimension (with spp <= SAMPLER_SHUFFLE_MAX
- * and sample indices below spp) and then reuses for every sample of the pixel: the
- * dimension's seeds, its padding permutation and, for stratified 2D requests, the
- * multi-jitter sub-strata of each point. A pure cache, filled lazily: the values are the
- * ones the uncached computation gives. */
+/* What a pixel's sampler derives once per scalar dimension (with spp <= SAMPLER_SHUFFLE_MAX)
+ * and then reuses for every sample of the pixel: for each sample index i of the current
+ * block of spp indices, the point the dimension's padding permutation assigns to it and, for
+ * stratified requests, that point's 1D strata, packed 4 bits per index (values < 16). A pure
+ * cache, filled on first use of the dimension: values do not depend on what it holds. */
 typedef struct {
-    uint8_t kind;                 /* 1: built for sampler_1d, 2: for sampler_2d */
-    uint16_t cols_ready, rows_ready; /* stratified 2D: which columns / rows have x_stratum / y_stratum */
-    uint16_t points_ready;        /* stratified 2D: which points j have both strata */
-    uint64_t seed;                /* dim_seed(.., 2) for 1D Sobol', dim_seed(.., 4) for 2D; 0 for 1D stratified */
-    uint8_t pad[SAMPLER_SHUFFLE_MAX];       /* sample index -> point index j */
-    uint8_t x_stratum[SAMPLER_SHUFFLE_MAX]; /* point j -> its 1D stratum of n in x */
-    uint8_t y_stratum[SAMPLER_SHUFFLE_MAX]; /* ... and in y */
+    uint64_t seed;    /* Sobol': the scramble seeds (low word for x, high word for y) */
+    uint64_t x;       /* nibble i: stratified, the 1D stratum of x (or of the 1D value);
+                       * Sobol', the padded point index */
+    uint64_t y;       /* nibble i: stratified 2D, the 1D stratum of y */
 } SamplerDimTable;
 
 typedef struct {
@@ -56,26 +54,37 @@ typedef struct {
     int spp;          /* samples of this pixel in this pass (>= 1) */
     uint32_t grid_rows, grid_cols; /* the 2D stratification grid of spp points */
     double inv_spp;   /* 1 / spp */
+    double inv_spp_2m32; /* 2^-32 / spp: 32-bit jitter to the stratum's scale */
+    uint64_t margin_bits; /* spp 2^-23 in units of 2^-32 (stratified rounding bound) */
     uint64_t pixel_seed;
-    int sample_index; /* current sample, 0 .. spp-1 */
+    int sample_index; /* current sample, >= 0 (indices >= spp start further blocks) */
+    uint32_t block, index_in_block; /* sample_index / spp and sample_index % spp */
     int dim;          /* next dimension to hand out */
-    Pcg32 rng;        /* jitter/scramble stream of the current sample */
-    bool rng_ready;   /* rng is seeded for the current sample (always, for stratified) */
+    uint64_t sample_key; /* keys the current sample's jitter (counter-based: one hash per request) */
+    bool key_ready;   /* sample_key is set for the current sample (always, for stratified) */
     uint64_t perm_valid[SAMPLER_PERM_CACHE_SLOTS / 64]; /* which perm_cache slots hold a permutation */
-    uint64_t dims_ready;          /* which dim_table entries are built */
-    /* Direct-mapped by seed; a pure cache: the values never depend on what is cached. */
+    uint64_t tables_ready[2];     /* bit d: dim_table[d] is built for 1D ([0]) / 2D ([1]) requests */
+    uint32_t tables_block;        /* ... for this block of sample indices */
+    /* Direct-mapped by seed (spp > SAMPLER_SHUFFLE_MAX only); a pure cache. */
     SamplerPermSlot perm_cache[SAMPLER_PERM_CACHE_SLOTS];
     SamplerDimTable dim_table[SAMPLER_PADDED_DIMS];
 } PixelSampler;
 
 /* Starts pixel (px, py) of pass `pass` with spp samples. */
 void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp);
-/* Begins sample i (0 <= i < spp); dimensions restart at 0. */
+/* Begins sample i (i >= 0; each further block of spp indices is a fresh stratified set);
+ * dimensions restart at 0. */
 void sampler_start_sample(PixelSampler *s, int sample_index);
 /* Next dimension(s) of the current sample, each in [0, 1). Consumers must request
  * dimensions in a fixed order per sample so strata line up across samples. */
 float sampler_1d(PixelSampler *s);
 vec2 sampler_2d(PixelSampler *s);
+/* Every value is a pure function of (pixel, sample, dimension), so a dimension may also be
+ * skipped now (its index reserved: later requests keep their indices) and drawn later, or
+ * never, by its index: sampler_1d_at(s, d) is what sampler_1d would have returned as
+ * dimension d of the current sample (a 1D request's index is s->dim before the call). */
+void sampler_skip(PixelSampler *s, int count);
+float sampler_1d_at(PixelSampler *s, int dim);
 
 /* Element i of a pseudo-random permutation of {0, ..., n-1} chosen by seed, computed without
  * storing the permutation (cycle-walking a keyed bijection on the next power of two).

@@ -97,11 +97,26 @@ Mat4 camera_from_world_at(const Camera *cam, float time01)
     return cfw;
 }
 
+/* The world-space ray of a camera-space ray (d_cam need not be unit) at time01 for a moving
+ * camera: out of line, so the common static case keeps a small stack frame. */
+static __attribute__((noinline)) CameraRay moving_camera_ray(const Camera *cam, vec3 o_cam, vec3 d_cam, float time01)
+{
+    Mat4 wfc = world_from_camera_at(cam, time01);
+    CameraRay r;
+    r.o_world = mat4_apply_point(&wfc, o_cam);
+    r.d_world = v3_normalize(mat4_apply_vector(&wfc, d_cam));
+    return r;
+}
+
 CameraRay camera_generate_ray(const Camera *cam, float px_raster, float py_raster, vec2 lens_uv, float time01)
 {
-    /* raster -> screen (pbrt-v4 rasterFromScreen inverted) -> camera-space point at z = 1 */
-    float sx = cam->screen_min[0] + (px_raster / (float)cam->width_px) * (cam->screen_max[0] - cam->screen_min[0]);
-    float sy = cam->screen_max[1] - (py_raster / (float)cam->height_px) * (cam->screen_max[1] - cam->screen_min[1]);
+    /* raster -> screen (pbrt-v4 rasterFromScreen inverted) -> camera-space point at z = 1.
+     * The screen extent per pixel does not depend on the sample: its divisions run off the
+     * sample's dependency chain (one multiply-add per axis on it). */
+    float x_per_px = (cam->screen_max[0] - cam->screen_min[0]) / (float)cam->width_px;
+    float y_per_px = (cam->screen_max[1] - cam->screen_min[1]) / (float)cam->height_px;
+    float sx = cam->screen_min[0] + px_raster * x_per_px;
+    float sy = cam->screen_max[1] - py_raster * y_per_px;
     /* not normalised: the lens construction is scale-invariant and the world direction
      * is normalised once at the end */
     vec3 d_cam = v3(sx * cam->tan_half_fov, sy * cam->tan_half_fov, 1.0f);
@@ -115,20 +130,16 @@ CameraRay camera_generate_ray(const Camera *cam, float px_raster, float py_raste
         o_cam = p_lens;
         d_cam = v3_sub(p_focus, p_lens);
     }
+    if (cam->moving) return moving_camera_ray(cam, o_cam, d_cam, time01);
+    /* static camera: a float 3x4 transform */
+    const float(*m)[4] = cam->wfc_f;
     CameraRay r;
-    if (!cam->moving) { /* static camera: a float 3x4 transform */
-        const float(*m)[4] = cam->wfc_f;
-        r.o_world = v3(m[0][0] * o_cam.x + m[0][1] * o_cam.y + m[0][2] * o_cam.z + m[0][3],
-                       m[1][0] * o_cam.x + m[1][1] * o_cam.y + m[1][2] * o_cam.z + m[1][3],
-                       m[2][0] * o_cam.x + m[2][1] * o_cam.y + m[2][2] * o_cam.z + m[2][3]);
-        r.d_world = v3_normalize(v3(m[0][0] * d_cam.x + m[0][1] * d_cam.y + m[0][2] * d_cam.z,
-                                    m[1][0] * d_cam.x + m[1][1] * d_cam.y + m[1][2] * d_cam.z,
-                                    m[2][0] * d_cam.x + m[2][1] * d_cam.y + m[2][2] * d_cam.z));
-        return r;
-    }
-    Mat4 wfc = world_from_camera_at(cam, time01);
-    r.o_world = mat4_apply_point(&wfc, o_cam);
-    r.d_world = v3_normalize(mat4_apply_vector(&wfc, d_cam));
+    r.o_world = v3(m[0][0] * o_cam.x + m[0][1] * o_cam.y + m[0][2] * o_cam.z + m[0][3],
+                   m[1][0] * o_cam.x + m[1][1] * o_cam.y + m[1][2] * o_cam.z + m[1][3],
+                   m[2][0] * o_cam.x + m[2][1] * o_cam.y + m[2][2] * o_cam.z + m[2][3]);
+    r.d_world = v3_normalize(v3(m[0][0] * d_cam.x + m[0][1] * d_cam.y + m[0][2] * d_cam.z,
+                                m[1][0] * d_cam.x + m[1][1] * d_cam.y + m[1][2] * d_cam.z,
+                                m[2][0] * d_cam.x + m[2][1] * d_cam.y + m[2][2] * d_cam.z));
     return r;
 }
 

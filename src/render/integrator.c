@@ -3,9 +3,10 @@
  * Sampler dimensions, in this fixed order per camera sample (strata line up across the
  * samples of a pixel): film position (2D); lens (2D, only with a lens); time (1D, only with
  * motion); then per path vertex: light choice (1D), light position (2D), BSDF lobe choice
- * (1D), BSDF direction (2D). Every vertex draws all of them, whatever its material (a delta
- * BSDF draws the light dimensions and does not use them), so the strata of a dimension
- * belong to the same decision in every sample.
+ * (1D), BSDF direction (2D). Every vertex takes all of them, whatever its material (a delta
+ * BSDF draws the light dimensions and does not use them; a Lambert vertex reserves the lobe
+ * choice's index without drawing it), so the strata of a dimension belong to the same
+ * decision in every sample.
  *
  * Materials: Lambert (material.h) and the glossy BSDFs of bsdf_glossy.h, evaluated in the
  * local frame (t1, t2, ns). Delta lobes (smooth conductor / dielectric, the smooth coat of
@@ -54,22 +55,38 @@ static vec3 from_local(const Vertex *v, vec3 l)
     return v3_normalize(v3_add(v3_add(v3_scale(v->t1, l.x), v3_scale(v->t2, l.y)), v3_scale(v->n, l.z)));
 }
 
+/* Material m of the table, -1 (or out of range) meaning the default material, as
+ * material.c resolves indices. */
+static const Material *material_at(const MaterialTable *t, int m)
+{
+    return (m >= 0 && m < t->material_count) ? &t->materials[m] : &t->default_material;
+}
+
 static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo, Vertex *v)
 {
+    const MaterialTable *mt = sc->materials;
     v->hit = *h;
     v->wo = wo;
     /* mix materials pick one of their two materials per hit (deterministic hash of p, wo) */
-    int m = material_resolve(sc->materials, h->geom->material, h->uv, h->p, wo);
-    MaterialBsdf mb = material_bsdf(sc->materials, m, h->uv, h->p);
-    v->glossy = mb.glossy;
-    if (mb.glossy) {
-        v->bsdf = mb.bsdf;
+    int m = h->geom->material;
+    const Material *mat = material_at(mt, m);
+    if (mat->kind == MATERIAL_MIX) {
+        m = material_resolve(mt, m, h->uv, h->p, wo);
+        mat = material_at(mt, m);
+    }
+    /* What material_bsdf returns, without building and copying its large result (a
+     * Lambert hit is the common case): the glossy BSDF, or the Lambert albedo. */
+    v->glossy = mat->kind == MATERIAL_GLOSSY;
+    if (v->glossy) {
+        v->bsdf = material_glossy_bsdf(mt, mat, h->uv, h->p);
         v->n = h->ns;
         v3_basis(v->n, &v->t1, &v->t2);
         v->wo_l = to_local(v, wo);
         v->albedo = v3s(0.0f);
     } else {
-        v->albedo = mb.albedo;
+        /* an untextured diffuse material's albedo is its reflectance (material_albedo) */
+        bool textured = mat->texture >= 0 && mat->texture < mt->texture_count;
+        v->albedo = textured ? material_albedo(mt, m, h->uv, h->p) : mat->reflectance;
         v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
         v3_basis(v->n, &v->t1, &v->t2);
     }
@@ -112,7 +129,9 @@ static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, VertexSample *v
         return true;
     }
     vec3 local = warp_cosine_hemisphere(u);
-    vs->wi = from_local(v, local);
+    /* A unit vector in an orthonormal frame is unit to rounding (a few 1e-7): no
+     * normalisation (a square root and a division on the way to the bounce ray). */
+    vs->wi = v3_add(v3_add(v3_scale(v->t1, local.x), v3_scale(v->t2, local.y)), v3_scale(v->n, local.z));
     float cos_i = v3_dot(v->n, vs->wi), cos_o = v3_dot(v->n, v->wo);
     vs->pdf = bsdf_diffuse_pdf(cos_o, cos_i);
     vs->delta = false;
@@ -121,13 +140,32 @@ static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, VertexSample *v
     return true;
 }
 
+/* The sampler dimensions of one path vertex, in the order they are requested. */
+typedef struct {
+    float pick;   /* light choice (1D) */
+    vec2 light;   /* position on the light (2D) */
+    int lobe_dim; /* BSDF lobe choice (1D): its index, drawn only by a glossy vertex */
+    vec2 bsdf;    /* BSDF direction (2D) */
+} VertexDims;
+
+static void draw_vertex_dims(PixelSampler *s, VertexDims *u)
+{
+    u->pick = sampler_1d(s);
+    u->light = sampler_2d(s);
+    /* Only glossy BSDFs choose a lobe: the index is reserved (the later dimensions keep
+     * theirs) and the value drawn when needed (sampler_1d_at: the same value). */
+    u->lobe_dim = s->dim;
+    sampler_skip(s, 1);
+    u->bsdf = sampler_2d(s);
+}
+
 /* Next-event estimation: one light sample, MIS-weighted against the BSDF (Veach 1997,
  * eq. 9.13 with beta = 2). Fills *rec when it is not NULL and the light is an area light. */
-static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float time01, PixelSampler *s, IntegratorStats *st,
+static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float time01, const VertexDims *u, IntegratorStats *st,
                              ShadowRayRecord *rec, int *rec_count)
 {
-    float u_pick = sampler_1d(s);
-    vec2 u_light = sampler_2d(s);
+    float u_pick = u->pick;
+    vec2 u_light = u->light;
     /* a BSDF made of delta lobes only cannot be reached by a light sample */
     if (v->glossy && glossy_is_delta(&v->bsdf)) return v3s(0.0f);
     float pmf = 0.0f;
@@ -245,11 +283,18 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
     float shutter_u = 0.0f;
     if (sc->sample_time) shutter_u = sampler_1d(s);
     rec->time = shutter_u;
+    /* The first vertex's dimensions come next in the fixed order: drawn now, before the
+     * camera ray, the sampler's independent requests overlap each other instead of each
+     * waiting on the shading work around it (same values: the order is unchanged; a
+     * camera ray that misses has drawn them for nothing). */
+    VertexDims u_vertex;
+    draw_vertex_dims(s, &u_vertex);
     /* scene time -> fraction between the two transform poses (what Embree's time is) */
     float t_scene = sc->shutter_open + shutter_u * (sc->shutter_close - sc->shutter_open);
     float span = sc->xform_time_end - sc->xform_time_start;
     float time01 = span > 0.0f ? (t_scene - sc->xform_time_start) / span : 0.0f;
-    time01 = fminf(1.0f, fmaxf(0.0f, time01));
+    /* fminf(1, fmaxf(0, time01)) without two library calls (NaN -> 0 as there) */
+    time01 = time01 > 0.0f ? (time01 < 1.0f ? time01 : 1.0f) : 0.0f;
 
     CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, time01);
     ++st->rays_primary;
@@ -282,12 +327,13 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
     for (int depth = 1; depth <= sc->max_depth; ++depth) {
         vec3 *bucket = depth == 1 ? &rec->direct : &rec->indirect;
         bool first = depth == 1 && sc->record_ray_geometry;
-        vec3 ld = v3_mul(beta, sample_one_light(sc, &v, time01, s, st, first ? rec->shadow : NULL, &rec->shadow_count));
+        if (depth > 1) draw_vertex_dims(s, &u_vertex);
+        vec3 ld = v3_mul(beta, sample_one_light(sc, &v, time01, &u_vertex, st, first ? rec->shadow : NULL, &rec->shadow_count));
         *bucket = v3_add(*bucket, ld);
         if (unfiltered) rec->unfiltered = v3_add(rec->unfiltered, ld);
 
-        float u_lobe = sampler_1d(s);
-        vec2 u_b = sampler_2d(s);
+        float u_lobe = v.glossy ? sampler_1d_at(s, u_vertex.lobe_dim) : 0.5f; /* Lambert: unused */
+        vec2 u_b = u_vertex.bsdf;
         if (depth == sc->max_depth && !mis_emitters) break;
         VertexSample vs;
         if (!vertex_sample(&v, u_lobe, u_b, &vs)) break;

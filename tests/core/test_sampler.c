@@ -406,6 +406,129 @@ static void test_unbiased_any_count(SamplerKind kind)
     }
 }
 
+/* Small permutations are exactly uniform: over many seeds each of the n! orderings of
+ * n = 3 and n = 4 elements appears equally often (expected count 2400 and 600 per
+ * ordering; allow 5 standard deviations, sd = sqrt(count)). A biased shuffle (a modulo
+ * draw, a too-short random number split over many draws) shows up here. */
+static void test_small_permutations_uniform(void)
+{
+    const int seeds = 14400;
+    for (uint32_t n = 3; n <= 4; ++n) {
+        int count[256] = {0};
+        int orderings = n == 3 ? 6 : 24;
+        for (int k = 0; k < seeds; ++k) {
+            uint64_t seed = hash_u64((uint64_t)k * 7919u + n);
+            int code = 0;
+            for (uint32_t i = 0; i < n; ++i) code = code * 4 + (int)sampler_permute(i, n, seed);
+            count[code]++;
+        }
+        int distinct = 0, worst = 0;
+        double expect = (double)seeds / orderings;
+        for (int c = 0; c < 256; ++c) {
+            if (!count[c]) continue;
+            ++distinct;
+            int dev = (int)fabs(count[c] - expect);
+            if (dev > worst) worst = dev;
+        }
+        CHECK(distinct == orderings);
+        CHECK(worst < 5.0 * sqrt(expect));
+    }
+}
+
+/* Every spp up to 16 (the per-pixel table path) and a second block of indices: one value
+ * per 1/n stratum in every scalar dimension, one point per cell of the rows x cols grid in
+ * every 2D dimension (rows = largest divisor of n not above sqrt(n)). */
+static void test_stratified_every_small_count(void)
+{
+    for (int n = 1; n <= 16; ++n) {
+        int rows = 1;
+        for (int r = 1; r * r <= n; ++r)
+            if (n % r == 0) rows = r;
+        int cols = n / rows;
+        for (int block = 0; block < 2; ++block) {
+            PixelSampler s;
+            sampler_start_pixel(&s, SAMPLER_STRATIFIED, 3, 5, 7, 0, n);
+            for (int i = 0; i < n; ++i) {
+                sampler_start_sample(&s, block * n + i);
+                for (int d = 0; d < DIMS;) {
+                    if ((d % 3) == 0) {
+                        g_samples[i][d++] = sampler_1d(&s);
+                    } else {
+                        vec2 p = sampler_2d(&s);
+                        g_samples[i][d++] = p.x;
+                        g_samples[i][d++] = p.y;
+                    }
+                }
+            }
+            for (int d = 0; d < DIMS; ++d) CHECK(stratified_1d(g_samples, n, d));
+            for (int d = 0; d < DIMS; ++d)
+                if (is_2d_x(d)) CHECK(stratified_grid(g_samples, n, d, cols, rows));
+        }
+    }
+}
+
+/* The jitter inside the strata (one hash per request, keyed by sample and dimension) is
+ * uniform and independent: with o = v n - floor(v n) the offset of a value in its stratum,
+ * E[o] = 1/2 in every dimension, and E[o o'] = 1/4 for two dimensions of one sample (x and
+ * y of a 2D request, two different requests) and for one dimension of two consecutive
+ * samples. 4 spp over 20000 pixels: 80000 products, sd of each mean below 0.3 / sqrt(80000)
+ * = 1.1e-3; allow 5 of them. */
+static void test_jitter_independent(void)
+{
+    const int n = 4, pixels = 20000;
+    double sum[DIMS] = {0}, xy = 0.0, across = 0.0, consecutive = 0.0;
+    for (int p = 0; p < pixels; ++p) {
+        fill_pixel(SAMPLER_STRATIFIED, 11, p % 200, p / 200, 0, n, g_samples);
+        for (int i = 0; i < n; ++i) {
+            double o[DIMS];
+            for (int d = 0; d < DIMS; ++d) {
+                double v = (double)g_samples[i][d] * n;
+                o[d] = v - floor(v);
+                sum[d] += o[d];
+            }
+            xy += o[1] * o[2];
+            across += o[1] * o[4];
+            double v0 = (double)g_samples[(i + 1) % n][1] * n;
+            consecutive += o[1] * (v0 - floor(v0));
+        }
+    }
+    double total = (double)pixels * n, tol = 5.0 * 0.3 / sqrt(total);
+    for (int d = 0; d < DIMS; ++d) CHECK(fabs(sum[d] / total - 0.5) < tol);
+    CHECK(fabs(xy / total - 0.25) < tol);
+    CHECK(fabs(across / total - 0.25) < tol);
+    CHECK(fabs(consecutive / total - 0.25) < tol);
+}
+
+/* A dimension skipped with sampler_skip and drawn later with sampler_1d_at (or never) has
+ * the value sampler_1d gives in sequence, and the dimensions after it keep their values:
+ * tables, past spp (17), past the padded range (dimension 70). */
+static void test_skip_and_draw_at(SamplerKind kind)
+{
+    const int counts[] = {4, 9, 17};
+    for (int c = 0; c < 3; ++c) {
+        int n = counts[c];
+        PixelSampler a, b;
+        sampler_start_pixel(&a, kind, 21, 6, 2, 0, n);
+        sampler_start_pixel(&b, kind, 21, 6, 2, 0, n);
+        int mismatches = 0;
+        for (int i = 0; i < n + 2; ++i) {
+            sampler_start_sample(&a, i);
+            sampler_start_sample(&b, i);
+            for (int d = 0; d < 72;) {
+                float x = sampler_1d(&a); /* dimension d, in sequence */
+                vec2 y = sampler_2d(&a);
+                int skipped = b.dim;
+                sampler_skip(&b, 1);
+                vec2 y2 = sampler_2d(&b);
+                mismatches += y.x != y2.x || y.y != y2.y;
+                if (i % 2 == 0) mismatches += sampler_1d_at(&b, skipped) != x; /* drawn late, or not at all */
+                d += 3;
+            }
+        }
+        CHECK(mismatches == 0);
+    }
+}
+
 static void test_names(void)
 {
     CHECK(sampler_kind_from_pbrt("stratified") == SAMPLER_STRATIFIED);
@@ -426,8 +549,12 @@ int main(void)
         test_range(kind);
         test_determinism(kind);
         test_cache_is_pure(kind);
+        test_skip_and_draw_at(kind);
     }
     test_stratified();
+    test_small_permutations_uniform();
+    test_stratified_every_small_count();
+    test_jitter_independent();
     test_sobol_nets();
     test_convergence();
     test_owen_quality();

@@ -8,6 +8,8 @@
  *     on the same Embree scene and thread count: the renderer/raw ratio is the overhead of
  *     everything that is not traversal;
  *  4. the full renderer with maxdepth 2 (one bounce) for reference.
+ * With --render-only K it only renders K passes (step 2) and prints the best time per
+ * sample: a short, clean run for profilers.
  * Every timing is the best of 5 runs (the development machine is shared); renderer and raw
  * replay alternate, and the median of the 5 per-pair ratios is printed as well.
  * Memory: peak resident set during the build minus the resident set before it (the parsed
@@ -206,7 +208,7 @@ static void *replay(void *arg)
 
 int main(int argc, char **argv)
 {
-    int n = 400, res = 384, spp = 4, threads = 0;
+    int n = 400, res = 384, spp = 4, threads = 0, render_only = 0;
     const char *sampler_name = "stratified";
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--grid")) n = atoi(argv[i + 1]);
@@ -214,6 +216,8 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--spp")) spp = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "--threads")) threads = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "--sampler")) sampler_name = argv[i + 1]; /* stratified or sobol */
+        /* --render-only K: only K renderer passes, for profilers (perf record) */
+        else if (!strcmp(argv[i], "--render-only")) render_only = atoi(argv[i + 1]);
     }
     if (threads <= 0) threads = (int)sysconf(_SC_NPROCESSORS_ONLN);
     double t0 = now_s();
@@ -242,6 +246,25 @@ int main(int argc, char **argv)
     long tris = renderer_triangle_count(r);
     long long embree_peak = renderer_embree_peak_bytes(r);
     RenderStats st0 = renderer_stats(r);
+    if (render_only > 0) {
+        Frame fr;
+        frame_init(&fr, renderer_width(r), renderer_height(r));
+        double best = INFINITY;
+        for (int k = 0; k < render_only; ++k) {
+            RenderStats b = renderer_stats(r);
+            frame_clear(&fr);
+            render_pass(r, 0, NULL, spp, &fr, NULL);
+            best = fmin(best, renderer_stats(r).seconds_trace - b.seconds_trace);
+        }
+        RenderStats a = renderer_stats(r);
+        double samples = (double)res * res * spp;
+        printf("render only: %d passes, best %.4f s = %.1f ns per sample per thread, %.0f rays per pass\n", render_only, best,
+               best * threads / samples * 1e9, (double)(a.rays_primary + a.rays_shadow + a.rays_indirect) / render_only);
+        frame_free(&fr);
+        renderer_destroy(r);
+        scene_desc_free(&scene);
+        return 0;
+    }
 
     /* Capture the rays (same seed, same samples) with a second, recording renderer, and
      * build a third Embree scene from the same description for the raw replay (the Renderer
