@@ -228,3 +228,28 @@ void image_relerr_map(const float *ref_rgb, const float *test_rgb, int width, in
         }
     }
 }
+
+void image_relmse_by_key(const float *ref_rgb, const float *test_rgb, const float *key, int width, int height,
+                         const double *edges, int edge_count, ErrorBin *bins)
+{
+    for (int b = 0; b <= edge_count; ++b) bins[b] = (ErrorBin){0, 0.0, 0.0};
+    size_t n = (size_t)width * (size_t)height;
+    for (size_t i = 0; i < n; ++i) {
+        double sum = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            double r = finite_or_zero(ref_rgb[3 * i + (size_t)c]), t = finite_or_zero(test_rgb[3 * i + (size_t)c]);
+            sum += (t - r) * (t - r) / (r * r + RELMSE_EPSILON);
+        }
+        /* the first bin whose upper edge lies above the key (few edges: a linear scan) */
+        int b = edge_count;
+        if (isfinite(key[i]))
+            for (int e = 0; e < edge_count; ++e)
+                if (key[i] < edges[e]) {
+                    b = e;
+                    break;
+                }
+        bins[b].pixels += 1;
+        if (isfinite(key[i])) bins[b].key_sum += key[i];
+        bins[b].relmse_sum += sum / 3.0;
+    }
+}

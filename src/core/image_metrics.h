@@ -63,4 +63,19 @@ void image_relerr_map(const float *ref_rgb, const float *test_rgb, int width, in
                       float *relerr, float *rgb_display);
 void relerr_false_colour(double relerr, float rgb_display[3]);
 
+/* Where the error comes from: relMSE split by the value of a per-pixel key (a filter width,
+ * an spp count, ...). Bin b holds the pixels with edges[b-1] <= key < edges[b] (edges[-1] =
+ * -inf, edges[edge_count] = +inf), so there are edge_count + 1 bins; edges must increase.
+ * A non-finite key goes to the last bin (and counts as 0 in its sum). Per bin: the number of
+ * pixels, the sum of the keys, and the sum of the pixels' relMSE terms (mean over channels of
+ * (t - r)^2 / (r^2 + 0.01)), so the bins' sums add up to relMSE * width * height. */
+typedef struct {
+    long pixels;
+    double key_sum;      /* sum of the (finite) keys, for the mean */
+    double relmse_sum;   /* sum of the per-pixel relMSE terms */
+} ErrorBin;
+
+void image_relmse_by_key(const float *ref_rgb, const float *test_rgb, const float *key, int width, int height,
+                         const double *edges, int edge_count, ErrorBin *bins);
+
 #endif

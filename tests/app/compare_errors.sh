@@ -46,6 +46,9 @@ nan, inf = float('nan'), float('inf')
 write_exr(d + '/ref.exr', 3, 1, {'R': [0.5] * 3, 'G': [0.5] * 3, 'B': [0.5] * 3})
 write_exr(d + '/nan.exr', 3, 1, {'R': [nan, 0.5, inf], 'G': [0.5, 0.5, -inf], 'B': [0.5] * 3})
 write_exr(d + '/z_only.exr', 3, 1, {'Z': [1.0] * 3})
+# a test image with a per-pixel key: pixel errors 0, 0.5 and 1.5 against ref.exr
+write_exr(d + '/keyed.exr', 3, 1, {'R': [0.5, 1.0, 2.0], 'G': [0.5, 1.0, 2.0], 'B': [0.5, 1.0, 2.0],
+                                   'spp': [16.0, 40.0, 100.0]})
 open(d + '/text.exr', 'w').write('not an image\n')
 PY
 
@@ -70,11 +73,40 @@ expect_exit 1 "--diff with a bad extension" -- "$T/a_2x2.png" "$T/a_2x2.png" --d
 expect_exit 0 "--help" -- --help
 grep -q '^usage: wedge compare REF TEST' "$T/stdout" || { echo "FAIL: --help text"; fail=1; }
 
+expect_exit 1 "--by without a channel" -- "$T/ref.exr" "$T/keyed.exr" --by && expect_stderr "--by" "error: --by needs a channel name"
+expect_exit 1 "--bins not increasing" -- "$T/ref.exr" "$T/keyed.exr" --by spp --bins 4,2 && expect_stderr "--bins order" "error: --bins needs increasing finite numbers"
+expect_exit 1 "--bins not numbers" -- "$T/ref.exr" "$T/keyed.exr" --by spp --bins 1,x && expect_stderr "--bins text" "error: --bins needs increasing finite numbers"
+
 # Unreadable inputs: exit 2, 'PATH: error: ...' naming the file.
 expect_exit 2 "missing reference" -- "$T/absent.exr" "$T/ref.exr" && expect_stderr "missing reference" "$T/absent.exr: error: cannot open: No such file or directory"
 expect_exit 2 "missing test" -- "$T/ref.exr" "$T/absent.png" && expect_stderr "missing test" "$T/absent.png: error: cannot open: No such file or directory"
 expect_exit 2 "garbage EXR" -- "$T/ref.exr" "$T/text.exr" && expect_stderr "garbage" "$T/text.exr: error: cannot read EXR"
 expect_exit 2 "EXR without colour" -- "$T/ref.exr" "$T/z_only.exr" && expect_stderr "no rgb" "$T/z_only.exr: error: no R, G, B or Y channels (the file has: Z)"
+
+# --by: the channel must exist in TEST (EXR), named with what the file has; nothing on stdout.
+expect_exit 2 "--by a missing channel" -- "$T/ref.exr" "$T/keyed.exr" --by aaf.beta_px.shadow && \
+  expect_stderr "--by missing" "$T/keyed.exr: error: no channel 'aaf.beta_px.shadow' (the file has: B, G, R, spp)"
+[ -s "$T/stdout" ] && { echo "FAIL: --by a missing channel printed metrics"; fail=1; }
+expect_exit 2 "--by on a PNG" -- "$T/a_2x2.png" "$T/a_2x2.png" --by spp && \
+  expect_stderr "--by png" "$T/a_2x2.png: error: --by needs an EXR test image"
+
+# --by splits relMSE: terms 0, 0.25/0.26 and 2.25/0.26 (each channel alike) in bins < 32,
+# [32, 64), >= 64; the shares add up to 1.
+expect_exit 0 "--by spp" -- "$T/ref.exr" "$T/keyed.exr" --by spp --bins 32,64 --json
+python3 - "$T/stdout" <<'PY' || { echo "FAIL: --by spp breakdown"; fail=1; }
+import json, sys
+j = json.loads(open(sys.argv[1]).read())
+b = j['by']['bins']
+assert j['by']['channel'] == 'spp' and len(b) == 3, j
+assert b[0]['lo'] is None and b[0]['hi'] == 32 and b[2]['hi'] is None, b
+assert [x['pixels'] for x in b] == [1, 1, 1], b
+terms = [0.0, 0.25 / 0.26, 2.25 / 0.26]
+for x, t in zip(b, terms):
+    assert abs(x['relmse'] - t) < 1e-6, (x, t)
+    assert abs(x['relmse_share'] - t / sum(terms)) < 1e-6, (x, t)
+assert abs(b[1]['mean'] - 40.0) < 1e-9, b
+assert abs(j['relmse'] - sum(terms) / 3) < 1e-6, j
+PY
 
 # Size mismatch: exit 2, naming both files.
 expect_exit 2 "size mismatch" -- "$T/a_2x2.png" "$T/b_3x2.png" && \

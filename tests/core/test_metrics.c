@@ -275,6 +275,29 @@ static void test_relerr_map(void)
     CHECK(bad == 0);
 }
 
+/* relMSE split by a key: each pixel lands in the bin its key falls in (lower edge
+ * inclusive), a non-finite key in the last bin, and the bins add up to relMSE. Pixels of
+ * the 2x1 images above (terms e0^2 and e1^2) repeated in a 4x1 image with keys 0.5 (on an
+ * edge: the upper bin), -3 (open first bin), NaN and 7 (open last bin). */
+static void test_relmse_by_key(void)
+{
+    const float ref[12] = {0.0f, 0.5f, 1.0f, 0.1f, 0.2f, 2.0f, 0.0f, 0.5f, 1.0f, 0.1f, 0.2f, 2.0f};
+    const float test[12] = {0.1f, 0.5f, 0.5f, 0.1f, 0.4f, 3.0f, 0.1f, 0.5f, 0.5f, 0.1f, 0.4f, 3.0f};
+    const float key[4] = {0.5f, -3.0f, NAN, 7.0f};
+    const double edges[2] = {0.5, 2.0};
+    double t0 = (1.0 + 0.25 / 1.01) / 3.0, t1 = (0.8 + 1.0 / 4.01) / 3.0;
+    ErrorBin bins[3];
+    image_relmse_by_key(ref, test, key, 4, 1, edges, 2, bins);
+    CHECK(bins[0].pixels == 1 && bins[1].pixels == 1 && bins[2].pixels == 2);
+    CHECK_NEAR(bins[0].relmse_sum, t1, 1e-6);        /* key -3 */
+    CHECK_NEAR(bins[1].relmse_sum, t0, 1e-6);        /* key 0.5 */
+    CHECK_NEAR(bins[2].relmse_sum, t0 + t1, 1e-6);   /* NaN and 7 */
+    CHECK_NEAR(bins[0].key_sum, -3.0, 0.0);
+    CHECK_NEAR(bins[2].key_sum, 7.0, 0.0);           /* the NaN adds nothing */
+    double total = bins[0].relmse_sum + bins[1].relmse_sum + bins[2].relmse_sum;
+    CHECK_NEAR(total / 4.0, metric_relmse(ref, test, 4, 1), 1e-7);
+}
+
 int main(void)
 {
     test_pointwise_metrics();
@@ -286,5 +309,6 @@ int main(void)
     test_ssim_checkerboard();
     test_ssim_brute_force();
     test_relerr_map();
+    test_relmse_by_key();
     CHECK_DONE();
 }
