@@ -86,11 +86,27 @@ static inline bool batch_accepted(const BatchDraw *d)
 /* Element i of a permutation (or table) of at most 16 values packed 4 bits per element. */
 static inline uint32_t nibble(uint64_t packed, uint32_t i) { return (uint32_t)(packed >> (4u * i)) & 15u; }
 
+/* All 24 permutations of [0, 4), nibble i holding element i, in the order of the
+ * Fisher-Yates decoding of J = q_1 + 2 q_2 + 6 q_3 (q_m in [0, m]: swap elements m and
+ * m - q_m, m = 1, 2, 3). The first k! entries are then exactly the permutations of [0, k)
+ * that fix the elements from k on, so a uniform J below k! picks a uniform permutation of
+ * [0, k) with one draw (tests/core/test_sampler.c: test_small_permutations_uniform). */
+static const uint16_t SMALL_PERMS[24] = {
+    0x3210, 0x3201, 0x3120, 0x3021, 0x3012, 0x3102, 0x2310, 0x2301, 0x1320, 0x0321, 0x0312, 0x1302,
+    0x1230, 0x0231, 0x2130, 0x2031, 0x1032, 0x0132, 0x0213, 0x1203, 0x0123, 0x1023, 0x2013, 0x2103,
+};
+
 /* Fisher-Yates shuffle of [0, n), n <= 16, with the draws taken from d (n! <= 16! < 2^45),
  * on a permutation held in a register, 4 bits per element (elements n..15 stay in place and
- * are never read). */
+ * are never read). Up to n = 4 (the grid's rows and columns at small spp, and spp 4 itself)
+ * one draw of bound n! indexes SMALL_PERMS instead: the same uniform distribution without
+ * n - 1 dependent draws and nibble swaps by variable shifts. */
 static inline uint64_t batch_shuffle_nibbles(BatchDraw *d, uint32_t n)
 {
+    if (n <= 4) {
+        static const uint8_t factorial[5] = {1, 1, 2, 6, 24};
+        return 0xfedcba9876540000ull | SMALL_PERMS[n > 1 ? batch_below(d, factorial[n]) : 0];
+    }
     uint64_t p = 0xfedcba9876543210ull; /* the identity */
     for (uint32_t k = n; k-- > 1;) {
         uint32_t j = batch_below(d, k + 1);
@@ -172,23 +188,42 @@ uint32_t sampler_permute(uint32_t i, uint32_t n, uint64_t seed)
 
 /* ---- stratified ------------------------------------------------------------------------ */
 
-/* (stratum + jitter) / n as a float that stays inside [stratum/n, (stratum+1)/n), with
- * jitter = jitter_bits 2^-32: rounding to float could otherwise step onto the next
- * stratum's edge (or 1.0). For n below 2^24, float * n is exact in double, so the test of
- * the correction loops is exact. */
-static float stratum_value(const PixelSampler *s, uint32_t stratum, uint32_t jitter_bits)
+static float stratum_value_near_edge(const PixelSampler *s, uint32_t stratum, float v);
+
+/* (stratum + jitter_bits 2^-32) / n rounded once to float (see stratum_value). */
+static inline float stratum_value_raw(const PixelSampler *s, uint32_t stratum, uint32_t jitter_bits)
 {
     /* (stratum 2^32 + bits) 2^-32 is the real stratum + jitter: converted to double it rounds
      * exactly as (double)stratum + jitter does (not at all below 2^21 strata), and the powers
      * of two are exact, so this is the same double as (stratum + jitter) inv_spp. Signed,
      * as it is below 2^63: x86-64 converts signed integers in one instruction. */
-    float v = (float)((double)(int64_t)(((uint64_t)stratum << 32) | jitter_bits) * s->inv_spp_2m32);
-    /* Fast exit, no change in the result: v = x (1 + e) with x = (stratum + jitter) / n and
-     * |e| < 2^-23 (one float rounding, one double product), so v n is within n 2^-23 of
-     * stratum + jitter; a jitter that far from 0 and 1 (margin_bits = n 2^-23 in units of
-     * 2^-32) keeps v n strictly inside (stratum, stratum + 1), where neither loop below runs
-     * and v < 1. */
-    if (jitter_bits > s->margin_bits && jitter_bits < (uint64_t)UINT32_MAX + 1u - s->margin_bits) return v;
+    return (float)((double)(int64_t)(((uint64_t)stratum << 32) | jitter_bits) * s->inv_spp_2m32);
+}
+
+/* Whether stratum_value_raw is already the answer: the rounded value v = x (1 + e) with
+ * x = (stratum + jitter) / n and |e| < 2^-23 (one float rounding, one double product), so
+ * v n is within n 2^-23 of stratum + jitter; a jitter that far from 0 and 1 (margin_bits =
+ * n 2^-23 in units of 2^-32) keeps v n strictly inside (stratum, stratum + 1), where no
+ * correction is needed and v < 1. */
+static inline bool jitter_clear_of_edges(const PixelSampler *s, uint32_t jitter_bits)
+{
+    return jitter_bits > s->margin_bits && jitter_bits < (uint64_t)UINT32_MAX + 1u - s->margin_bits;
+}
+
+/* (stratum + jitter) / n as a float that stays inside [stratum/n, (stratum+1)/n), with
+ * jitter = jitter_bits 2^-32: rounding to float could otherwise step onto the next
+ * stratum's edge (or 1.0). For n below 2^24, float * n is exact in double, so the test of
+ * the correction loops is exact. */
+static inline float stratum_value(const PixelSampler *s, uint32_t stratum, uint32_t jitter_bits)
+{
+    float v = stratum_value_raw(s, stratum, jitter_bits);
+    return jitter_clear_of_edges(s, jitter_bits) ? v : stratum_value_near_edge(s, stratum, v);
+}
+
+/* stratum_value for a jitter within the rounding bound of a stratum edge (a few in a
+ * million): out of line, so that the common case stays small where it is inlined. */
+static __attribute__((noinline)) float stratum_value_near_edge(const PixelSampler *s, uint32_t stratum, float v)
+{
     uint32_t n = (uint32_t)s->spp;
     if (n < (1u << 24)) {
         while ((double)v * n >= (double)stratum + 1.0) v = nextafterf(v, 0.0f);
@@ -324,8 +359,13 @@ const char *sampler_kind_name(SamplerKind kind)
 void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp)
 {
     /* Everything but the caches, whose validity bits (perm_valid, tables_ready) are cleared
-     * with the rest: a few stores per pixel instead of touching kilobytes. */
-    memset(s, 0, offsetof(PixelSampler, perm_cache));
+     * with the rest: a few stores per pixel instead of touching kilobytes. Field by field:
+     * a memset of the header compiles to a `rep stos`, whose start-up cost per pixel was
+     * measurable. */
+    s->perm_valid[0] = s->perm_valid[1] = 0;
+    s->tables_ready[0] = s->tables_ready[1] = 0;
+    s->tables_block = 0;
+    s->sample_key = 0;
     s->kind = kind;
     s->seed = seed;
     s->spp = spp >= 1 ? spp : 1;
@@ -389,46 +429,76 @@ static uint32_t padded_index(PixelSampler *s, int dim, uint64_t salt)
 
 /* ---- per-pixel dimension tables (spp <= SAMPLER_SHUFFLE_MAX) ------------------------ */
 
-/* The multi-jitter strata of all n = rows x cols points, built like multi_jitter's: column
- * c's sub-column permutation gives the x strata of its rows points, row r's sub-row
- * permutation the y strata of its cols points. All of them come from one random number: the
- * product of the bounds, (rows!)^cols (cols!)^rows, is at most 24^8 < 2^37 for n <= 16. */
-static void mj_strata(uint32_t rows, uint32_t cols, uint64_t random_bits, uint8_t *x_stratum, uint8_t *y_stratum)
+/* count independent shuffles p_k of [0, size) side by side (count size <= 16), block k in
+ * nibbles [k size, (k + 1) size) holding p_k scale + k step (each below 16: nibbles never
+ * carry into each other). */
+static inline uint64_t batch_shuffles_packed(BatchDraw *d, uint32_t count, uint32_t size, uint32_t scale, uint32_t step)
 {
-    for (;; random_bits = hash_u64(random_bits)) {
-        BatchDraw d = batch_start(random_bits);
-        for (uint32_t c = 0; c < cols; ++c) {
-            uint64_t sub = batch_shuffle_nibbles(&d, rows);
-            for (uint32_t k = 0; k < rows; ++k, sub >>= 4) x_stratum[k * cols + c] = (uint8_t)(c * rows + (sub & 15u));
+    if (size == 16) return batch_shuffle_nibbles(d, 16); /* count is 1, scale 1 */
+    uint64_t keep = (1ull << (4u * size)) - 1u, ones = keep / 15u, packed = 0;
+    for (uint32_t k = 0; k < count; ++k)
+        packed |= ((batch_shuffle_nibbles(d, size) & keep) * scale + k * step * ones) << (4u * size * k);
+    return packed;
+}
+
+/* The two strata tables of a multi-jittered 2D dimension (multi_jitter's construction for
+ * the points, padded by a uniform permutation of the sample indices), built directly per
+ * sample index without materialising the points. Sample i's x stratum is pi(i) for a
+ * uniform permutation pi; that puts it in grid column c = pi(i) / rows with sub-column
+ * a = pi(i) % rows. Within column c the sample of sub-column a lies in row sigma_c(a), and
+ * within row r the point of column c has sub-row tau_r(c), for independent uniform
+ * permutations sigma_c of [0, rows) and tau_r of [0, cols); its y stratum is
+ * r cols + tau_r(c). Every valid padded multi-jitter assignment (x strata a permutation,
+ * one sample per grid cell, distinct sub-columns in a column and sub-rows in a row) comes
+ * from exactly one (pi, sigma, tau), and there are n! (rows!)^cols (cols!)^rows of both,
+ * so this is the same uniform distribution as padding the points of multi_jitter (which
+ * draws sigma_c inverted, and scatters and re-gathers the points: slower).
+ * Packed as lookups: nibble x of `cell` is the grid cell sigma_c(a) cols + c of x stratum
+ * x = c rows + a, and nibble z of `y_of_cell` the y stratum r cols + tau_r(c) of cell
+ * z = r cols + c. All draws come from one random number where their product (at most
+ * 10! 2^5 (5!)^2 < 2^41 for n <= 10) leaves Lemire's rejection negligible; above that pi
+ * uses bits_pi and the grid permutations bits_grid (at most (4!)^8 < 2^37). */
+static void mj_tables(uint32_t n, uint32_t rows, uint32_t cols, uint64_t bits_pi, uint64_t bits_grid, uint64_t *x_out,
+                      uint64_t *y_out)
+{
+    uint64_t pi, cell, y_of_cell;
+    if (n <= 10) {
+        for (;; bits_pi = hash_u64(bits_pi)) {
+            BatchDraw d = batch_start(bits_pi);
+            pi = batch_shuffle_nibbles(&d, n);
+            cell = batch_shuffles_packed(&d, cols, rows, cols, 1);
+            y_of_cell = batch_shuffles_packed(&d, rows, cols, 1, cols);
+            if (batch_accepted(&d)) break;
         }
-        for (uint32_t r = 0; r < rows; ++r) {
-            uint64_t sub = batch_shuffle_nibbles(&d, cols);
-            for (uint32_t k = 0; k < cols; ++k, sub >>= 4) y_stratum[r * cols + k] = (uint8_t)(r * cols + (sub & 15u));
+    } else {
+        pi = shuffle_bits_nibbles(n, bits_pi);
+        for (;; bits_grid = hash_u64(bits_grid)) {
+            BatchDraw d = batch_start(bits_grid);
+            cell = batch_shuffles_packed(&d, cols, rows, cols, 1);
+            y_of_cell = batch_shuffles_packed(&d, rows, cols, 1, cols);
+            if (batch_accepted(&d)) break;
         }
-        if (batch_accepted(&d)) return;
     }
+    uint64_t y = 0;
+    for (uint32_t i = n; i-- > 0;) y = y << 4 | nibble(y_of_cell, nibble(cell, nibble(pi, i)));
+    *x_out = pi, *y_out = y;
 }
 
 /* Builds the table of scalar dimension dim for requests of `kind` (1 or 2) in the current
- * block of sample indices. */
-static const SamplerDimTable *build_dim_table(PixelSampler *s, int dim, int kind)
+ * block of sample indices. Out of line: inlined, its register pressure made every request
+ * (mostly table hits) save and restore six registers. */
+static __attribute__((noinline)) const SamplerDimTable *build_dim_table(PixelSampler *s, int dim, int kind)
 {
     uint32_t n = (uint32_t)s->spp;
     SamplerDimTable *t = &s->dim_table[dim];
-    uint64_t pad = shuffle_bits_nibbles(n, dim_seed(s, dim, s->block, kind == 1 ? 1 : 3));
-    t->x = pad; /* a 1D stratified value's stratum is its point index; Sobol' keeps the index */
-    if (s->kind == SAMPLER_SOBOL) {
-        t->seed = dim_seed(s, dim, s->block, kind == 1 ? 2 : 4);
-    } else if (kind == 2) {
-        uint8_t xs[SAMPLER_SHUFFLE_MAX], ys[SAMPLER_SHUFFLE_MAX];
-        mj_strata(s->grid_rows, s->grid_cols, dim_seed(s, dim, s->block, 4), xs, ys);
-        uint64_t x = 0, y = 0;
-        for (uint32_t i = n; i-- > 0;) { /* sample index i gets point pad[i]'s strata */
-            uint32_t j = nibble(pad, i);
-            x = x << 4 | xs[j];
-            y = y << 4 | ys[j];
-        }
-        t->x = x, t->y = y;
+    if (s->kind == SAMPLER_STRATIFIED && kind == 2) {
+        /* the second random number only when the draws do not fit in one (n > 10) */
+        uint64_t bits_grid = n > 10 ? dim_seed(s, dim, s->block, 4) : 0;
+        mj_tables(n, s->grid_rows, s->grid_cols, dim_seed(s, dim, s->block, 3), bits_grid, &t->x, &t->y);
+    } else {
+        /* a 1D stratified value's stratum is its padded index; Sobol' keeps the index */
+        t->x = shuffle_bits_nibbles(n, dim_seed(s, dim, s->block, kind == 1 ? 1 : 3));
+        if (s->kind == SAMPLER_SOBOL) t->seed = dim_seed(s, dim, s->block, kind == 1 ? 2 : 4);
     }
     uint64_t bit = 1ull << dim;
     s->tables_ready[kind - 1] |= bit;
@@ -445,8 +515,14 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
     return build_dim_table(s, dim, kind);
 }
 
+/* True when dimension dim's table for requests of `kind` is built (spp <= 16 implied). */
+static inline bool table_ready(const PixelSampler *s, int dim, int kind)
+{
+    return dim < SAMPLER_PADDED_DIMS - 1 && (s->tables_ready[kind - 1] >> dim & 1u);
+}
+
 /* Scalar dimension dim of the current sample as a 1D value. */
-static float value_1d(PixelSampler *s, int dim)
+static __attribute__((noinline)) float value_1d(PixelSampler *s, int dim)
 {
     if (dim >= SAMPLER_PADDED_DIMS) return float_of((uint32_t)request_bits(s, dim));
     const SamplerDimTable *t = dim_table(s, dim, 1);
@@ -458,37 +534,81 @@ static float value_1d(PixelSampler *s, int dim)
     return scrambled_to_float(sobol_dim0_reversed(j), seed);
 }
 
-float sampler_1d(PixelSampler *s) { return value_1d(s, s->dim++); }
+/* Inline common case as in sampler_2d; value_1d gives the same values in every case. */
+static inline float sample_1d_fast(PixelSampler *s, int dim)
+{
+    if (table_ready(s, dim, 1)) {
+        uint32_t j = nibble(s->dim_table[dim].x, s->index_in_block);
+        if (s->kind == SAMPLER_STRATIFIED) {
+            uint32_t jitter = (uint32_t)request_bits(s, dim);
+            if (jitter_clear_of_edges(s, jitter)) return stratum_value_raw(s, j, jitter);
+        } else {
+            return scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)s->dim_table[dim].seed);
+        }
+    }
+    return value_1d(s, dim);
+}
 
-float sampler_1d_at(PixelSampler *s, int dim) { return value_1d(s, dim >= 0 ? dim : 0); }
+float sampler_1d(PixelSampler *s) { return sample_1d_fast(s, s->dim++); }
+
+float sampler_1d_at(PixelSampler *s, int dim) { return sample_1d_fast(s, dim >= 0 ? dim : 0); }
 
 void sampler_skip(PixelSampler *s, int count)
 {
     if (count > 0) s->dim += count;
 }
 
-vec2 sampler_2d(PixelSampler *s)
+/* sampler_2d without tables: dimensions past the padded ones, and spp above
+ * SAMPLER_SHUFFLE_MAX. Out of line (see build_dim_table). */
+static __attribute__((noinline)) vec2 value_2d_untabled(PixelSampler *s, int dim)
 {
-    int dim = s->dim;
-    s->dim += 2;
     if (dim >= SAMPLER_PADDED_DIMS - 1) {
         uint64_t bits = request_bits(s, dim);
         return v2(float_of((uint32_t)bits), float_of((uint32_t)(bits >> 32)));
-    }
-    const SamplerDimTable *t = dim_table(s, dim, 2);
-    if (t) {
-        uint32_t i = s->index_in_block;
-        if (s->kind == SAMPLER_STRATIFIED) {
-            uint64_t bits = request_bits(s, dim);
-            return v2(stratum_value(s, nibble(t->x, i), (uint32_t)bits), stratum_value(s, nibble(t->y, i), (uint32_t)(bits >> 32)));
-        }
-        uint32_t j = nibble(t->x, i);
-        return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
-                  scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
     }
     uint32_t j = padded_index(s, dim, 3);
     uint64_t seed = dim_seed(s, dim, s->block, 4);
     if (s->kind == SAMPLER_STRATIFIED) return multi_jitter(s, j, seed, request_bits(s, dim));
     return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)seed),
               scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(seed >> 32)));
+}
+
+/* sampler_2d for dimension dim, every case. */
+static __attribute__((noinline)) vec2 value_2d(PixelSampler *s, int dim)
+{
+    const SamplerDimTable *t = dim < SAMPLER_PADDED_DIMS - 1 ? dim_table(s, dim, 2) : NULL;
+    if (!t) return value_2d_untabled(s, dim);
+    uint32_t i = s->index_in_block;
+    if (s->kind == SAMPLER_STRATIFIED) {
+        uint64_t bits = request_bits(s, dim);
+        return v2(stratum_value(s, nibble(t->x, i), (uint32_t)bits),
+                  stratum_value(s, nibble(t->y, i), (uint32_t)(bits >> 32)));
+    }
+    uint32_t j = nibble(t->x, i);
+    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
+              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+}
+
+/* The common case inline, without calls (so without registers to save): a built table and,
+ * for stratified values, jitter away from the stratum edges; value_2d does the rest and
+ * gives the same values. */
+vec2 sampler_2d(PixelSampler *s)
+{
+    int dim = s->dim;
+    s->dim += 2;
+    if (table_ready(s, dim, 2)) {
+        const SamplerDimTable *t = &s->dim_table[dim];
+        uint32_t i = s->index_in_block;
+        if (s->kind == SAMPLER_STRATIFIED) {
+            uint64_t bits = request_bits(s, dim);
+            uint32_t jx = (uint32_t)bits, jy = (uint32_t)(bits >> 32);
+            if (jitter_clear_of_edges(s, jx) && jitter_clear_of_edges(s, jy))
+                return v2(stratum_value_raw(s, nibble(t->x, i), jx), stratum_value_raw(s, nibble(t->y, i), jy));
+        } else {
+            uint32_t j = nibble(t->x, i);
+            return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
+                      scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+        }
+    }
+    return value_2d(s, dim);
 }

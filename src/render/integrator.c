@@ -18,7 +18,15 @@
 
 #include "render/warp.h"
 
-static bool finite3(vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+/* All three components finite, without a test and branch per component: x * 0 is 0 for a
+ * finite x and NaN for an infinite or NaN one, and a sum with a NaN term is NaN, which is
+ * the one value unequal to itself. (Exact: no rounding can make a NaN of zeros or the
+ * converse.) */
+static inline bool finite3(vec3 v)
+{
+    float z = v.x * 0.0f + v.y * 0.0f + v.z * 0.0f;
+    return z == z;
+}
 
 /* v3_max_component(v) <= 0 without its two fmaxf library calls: fmaxf skips NaN operands,
  * so the maximum is <= 0 exactly when no component is > 0 and not all of them are NaN. */
@@ -267,12 +275,46 @@ static void record_first_hit_material(const Vertex *v, SampleRecord *rec)
     rec->albedo = v3(min1(sum.x), min1(sum.y), min1(sum.z));
 }
 
+/* Scene time of shutter fraction shutter_u -> fraction between the two transform poses
+ * (what Embree's time is). */
+static float shutter_time01(const IntegratorScene *sc, float shutter_u)
+{
+    float t_scene = sc->shutter_open + shutter_u * (sc->shutter_close - sc->shutter_open);
+    float span = sc->xform_time_end - sc->xform_time_start;
+    float time01 = span > 0.0f ? (t_scene - sc->xform_time_start) / span : 0.0f;
+    /* fminf(1, fmaxf(0, time01)) without two library calls (NaN -> 0 as there) */
+    return time01 > 0.0f ? (time01 < 1.0f ? time01 : 1.0f) : 0.0f;
+}
+
+float integrator_fixed_time01(const IntegratorScene *sc) { return shutter_time01(sc, 0.0f); }
+
+/* The record of a sample that has seen nothing yet. Field by field rather than
+ * `*rec = (SampleRecord){0}`: the compiler turns that into a `rep stos` over the whole
+ * record, whose start-up cost was a visible part of a sample; these are a few vector
+ * stores. The ray geometry arrays are cleared too (the record is filled completely). */
+static inline void record_reset(SampleRecord *rec)
+{
+    const vec3 zero = v3s(0.0f);
+    rec->lens_u = rec->lens_v = rec->time = 0.0f;
+    rec->L = rec->emission = rec->direct = rec->indirect = rec->unfiltered = zero;
+    rec->hit = false;
+    rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
+    rec->phong_exponent = 0.0f;
+    rec->unfilterable = false;
+    rec->p_world = rec->n_shading = zero;
+    rec->depth_cam = INFINITY;
+    rec->object_id = -1;
+    rec->shadow_count = rec->bounce_count = 0;
+    rec->shadow[0] = (ShadowRayRecord){0};
+    rec->bounce[0] = (BounceRayRecord){0};
+}
+
 void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px, int py, SampleRecord *rec,
                              IntegratorStats *st)
 {
-    *rec = (SampleRecord){0};
-    rec->depth_cam = INFINITY;
-    rec->object_id = -1;
+    _Static_assert(SAMPLE_RECORD_MAX_SHADOW == 1 && SAMPLE_RECORD_MAX_BOUNCE == 1,
+                   "record_reset clears one entry of each");
+    record_reset(rec);
 
     vec2 u_film = sampler_2d(s);
     rec->px_raster = (float)px + u_film.x;
@@ -283,20 +325,16 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
     float shutter_u = 0.0f;
     if (sc->sample_time) shutter_u = sampler_1d(s);
     rec->time = shutter_u;
+    float time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
+    CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, time01);
     /* The first vertex's dimensions come next in the fixed order: drawn now, before the
-     * camera ray, the sampler's independent requests overlap each other instead of each
-     * waiting on the shading work around it (same values: the order is unchanged; a
-     * camera ray that misses has drawn them for nothing). */
+     * camera ray is traced, the sampler's independent requests overlap each other and the
+     * camera ray's square root and division instead of each waiting on the shading work
+     * around it (same values: the order is unchanged; a camera ray that misses has drawn
+     * them for nothing). */
     VertexDims u_vertex;
     draw_vertex_dims(s, &u_vertex);
-    /* scene time -> fraction between the two transform poses (what Embree's time is) */
-    float t_scene = sc->shutter_open + shutter_u * (sc->shutter_close - sc->shutter_open);
-    float span = sc->xform_time_end - sc->xform_time_start;
-    float time01 = span > 0.0f ? (t_scene - sc->xform_time_start) / span : 0.0f;
-    /* fminf(1, fmaxf(0, time01)) without two library calls (NaN -> 0 as there) */
-    time01 = time01 > 0.0f ? (time01 < 1.0f ? time01 : 1.0f) : 0.0f;
 
-    CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, time01);
     ++st->rays_primary;
     SurfaceHit h;
     if (!tracer_intersect(sc->tracer, cr.o_world, cr.d_world, INFINITY, time01, &h)) {

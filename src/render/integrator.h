@@ -26,12 +26,17 @@ typedef struct {
     float shutter_open, shutter_close;       /* scene time */
     float xform_time_start, xform_time_end;  /* TransformTimes: scene times of the two poses */
     bool record_ray_geometry;  /* fill SampleRecord shadow/bounce arrays */
+    float time01_fixed;        /* without sample_time: every ray's time (integrator_fixed_time01) */
 } IntegratorScene;
 
 typedef struct {
     long long rays_primary, rays_shadow, rays_indirect;
     long long guarded_events;  /* non-finite values replaced, degenerate divisions skipped */
 } IntegratorStats;
+
+/* The pose fraction of every ray when no time is sampled (shutter fraction 0), once per
+ * scene instead of per sample: store it in time01_fixed after filling the other fields. */
+float integrator_fixed_time01(const IntegratorScene *sc);
 
 /* Traces camera sample (sampler positioned at the start of a sample) of pixel (px, py) and
  * fills rec completely. */

@@ -81,6 +81,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->xform_time_end = scene->transform_end_time;
     if (!(isc->xform_time_end > isc->xform_time_start)) isc->xform_time_start = 0.0f, isc->xform_time_end = 1.0f;
     isc->record_ray_geometry = opt->record_ray_geometry;
+    isc->time01_fixed = integrator_fixed_time01(isc);
 
     r->effects.soft_shadows = r->lights.has_area;
     r->effects.defocus = isc->sample_lens;

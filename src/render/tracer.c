@@ -65,6 +65,16 @@ static inline float fmax_abs(float a, float b) { return (a > b || b != b) ? a : 
 
 static float max_abs3(vec3 v) { return fmax_abs(fabsf(v.x), fmax_abs(fabsf(v.y), fabsf(v.z))); }
 
+/* max_abs3 over a triangle's three vertices for vertices without NaN (Embree builds no
+ * triangle with a non-finite vertex, so every hit triangle qualifies): `a > b ? a : b` is
+ * one maxss, where fmax_abs's NaN test costs a compare and a blend more per operand. */
+static inline float max_abs_vertices(vec3 p0, vec3 p1, vec3 p2)
+{
+    float v[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, m = fabsf(v[0]);
+    for (int k = 1; k < 9; ++k) m = m > fabsf(v[k]) ? m : fabsf(v[k]);
+    return m;
+}
+
 /* Largest factor by which the 3x3 part can stretch a vector (row-sum norm bound). */
 static double max_stretch(const Mat4 *m)
 {
@@ -669,36 +679,43 @@ static void init_ray(struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01)
     r->flags = 0;
 }
 
+/* Hit point, normals and uv of a triangle hit in geometry space (barycentrics bu, bv). */
+static inline void shade_triangle(const Geom *g, int prim, float bu, float bv, vec3 *p, vec3 *ng, vec3 *ns, vec2 *uv,
+                                  float *mag)
+{
+    const uint32_t *ix = g->index + 3 * (size_t)prim;
+    const vec3 *P = (const vec3 *)g->p;
+    vec3 p0 = P[ix[0]], p1 = P[ix[1]], p2 = P[ix[2]];
+    float b0 = 1.0f - bu - bv;
+    /* barycentric reconstruction: lies on the triangle up to rounding, unlike o + t d */
+    *p = v3_add(v3_add(v3_scale(p0, b0), v3_scale(p1, bu)), v3_scale(p2, bv));
+    *mag = max_abs_vertices(p0, p1, p2);
+    vec3 n = v3_normalize(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
+    if (g->n) {
+        vec3 s = v3_add(v3_add(v3_scale(g->n[ix[0]], b0), v3_scale(g->n[ix[1]], bu)), v3_scale(g->n[ix[2]], bv));
+        s = v3_normalize(s);
+        if (v3_length2(s) == 0.0f) s = n;
+        if (v3_dot(n, s) < 0.0f) n = v3_neg(n); /* pbrt-v4: ng follows the shading normal */
+        *ns = s;
+    } else {
+        if (g->flip_normal) n = v3_neg(n);
+        *ns = n;
+    }
+    *ng = n;
+    if (g->uv) {
+        vec2 a = g->uv[ix[0]], b = g->uv[ix[1]], c = g->uv[ix[2]];
+        *uv = v2(b0 * a.x + bu * b.x + bv * c.x, b0 * a.y + bu * b.y + bv * c.y);
+    } else {
+        *uv = v2(bu + bv, bv); /* pbrt-v4 default (0,0) (1,0) (1,1) */
+    }
+}
+
 /* Hit point, normals and uv in geometry space. p_hint_geom is the ray's hit point there. */
 static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const double p_hint_geom[3], vec3 *p, vec3 *ng,
                              vec3 *ns, vec2 *uv, float *mag)
 {
     if (g->kind == GEOM_TRIANGLES) {
-        const uint32_t *ix = g->index + 3 * (size_t)prim;
-        const vec3 *P = (const vec3 *)g->p;
-        vec3 p0 = P[ix[0]], p1 = P[ix[1]], p2 = P[ix[2]];
-        float b0 = 1.0f - bu - bv;
-        /* barycentric reconstruction: lies on the triangle up to rounding, unlike o + t d */
-        *p = v3_add(v3_add(v3_scale(p0, b0), v3_scale(p1, bu)), v3_scale(p2, bv));
-        *mag = fmax_abs(max_abs3(p0), fmax_abs(max_abs3(p1), max_abs3(p2)));
-        vec3 n = v3_normalize(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
-        if (g->n) {
-            vec3 s = v3_add(v3_add(v3_scale(g->n[ix[0]], b0), v3_scale(g->n[ix[1]], bu)), v3_scale(g->n[ix[2]], bv));
-            s = v3_normalize(s);
-            if (v3_length2(s) == 0.0f) s = n;
-            if (v3_dot(n, s) < 0.0f) n = v3_neg(n); /* pbrt-v4: ng follows the shading normal */
-            *ns = s;
-        } else {
-            if (g->flip_normal) n = v3_neg(n);
-            *ns = n;
-        }
-        *ng = n;
-        if (g->uv) {
-            vec2 a = g->uv[ix[0]], b = g->uv[ix[1]], c = g->uv[ix[2]];
-            *uv = v2(b0 * a.x + bu * b.x + bv * c.x, b0 * a.y + bu * b.y + bv * c.y);
-        } else {
-            *uv = v2(bu + bv, bv); /* pbrt-v4 default (0,0) (1,0) (1,1) */
-        }
+        shade_triangle(g, prim, bu, bv, p, ng, ns, uv, mag);
         return;
     }
     double po[3];
@@ -738,16 +755,12 @@ bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01
     return tracer_intersect_ex(tr, o, d, tmax, time01, true, hit);
 }
 
-bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit)
+/* tracer_intersect_ex's shading of any hit rh of the ray o + t d (instances, spheres and
+ * disks included). Out of line: the common case below stays small. */
+static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d, float time01, bool shade_all,
+                                                const struct RTCRayHit *hr, SurfaceHit *hit)
 {
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    struct RTCRayHit rh;
-    init_ray(&rh.ray, o, d, tmax, time01);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    struct RTCRayHit rh = *hr;
 
     const Geom *g;
     int instance = -1, object_id;
@@ -812,6 +825,50 @@ bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float tim
     return true;
 }
 
+bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit rh;
+    init_ray(&rh.ray, o, d, tmax, time01);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return shade_hit(tr, o, d, time01, shade_all, &rh, hit);
+    const Geom *g = &tr->layers[0].geoms[rh.hit.geomID];
+    if (g->kind != GEOM_TRIANGLES) return shade_hit(tr, o, d, time01, shade_all, &rh, hit);
+    /* The common cases, a triangle of the top level, as shade_hit does them. */
+    if (!shade_all && g->light_first < 0) {
+        /* the caller only needs emitters shaded: skip the vertex fetches */
+        memset(hit, 0, sizeof *hit);
+        hit->t = rh.ray.tfar;
+        hit->geom = g;
+        hit->prim = (int)rh.hit.primID;
+        hit->instance = -1;
+        hit->object_id = (int)rh.hit.geomID;
+        hit->light = -1;
+        return true;
+    }
+    vec3 p, ng, ns;
+    vec2 uv;
+    float mag;
+    shade_triangle(g, (int)rh.hit.primID, rh.hit.u, rh.hit.v, &p, &ng, &ns, &uv, &mag);
+    if (v3_length2(ns) == 0.0f) ns = ng;
+    hit->t = rh.ray.tfar;
+    hit->p = p;
+    hit->ng = ng;
+    hit->ns = ns;
+    hit->uv = uv;
+    hit->err = OFFSET_REL * mag;
+    hit->geom = g;
+    hit->prim = (int)rh.hit.primID;
+    hit->instance = -1;
+    hit->object_id = (int)rh.hit.geomID;
+    hit->light = g->light_first >= 0 ? g->light_first + hit->prim : -1;
+    return true;
+}
+
 bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
 {
     struct RTCIntersectContext ctx;
@@ -820,10 +877,4 @@ bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
     init_ray(&r, o, d, tmax, time01);
     rtcOccluded1(tr->layers[0].scene, &ctx, &r);
     return r.tfar == -INFINITY;
-}
-
-vec3 surface_offset(const SurfaceHit *h, vec3 w)
-{
-    float s = v3_dot(h->ng, w) >= 0.0f ? h->err : -h->err;
-    return v3_madd(h->p, h->ng, s);
 }

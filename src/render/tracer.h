@@ -106,7 +106,12 @@ bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
 /* World-from-geometry transform of a layer geometry at a time (identity for layer 0). */
 Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01);
 
-/* A ray origin on the surface, pushed off it to the side of direction w. */
-vec3 surface_offset(const SurfaceHit *h, vec3 w);
+/* A ray origin on the surface, pushed off it to the side of direction w. (Inline: two or
+ * three per camera sample, each on the way to a traversal.) */
+static inline vec3 surface_offset(const SurfaceHit *h, vec3 w)
+{
+    float s = v3_dot(h->ng, w) >= 0.0f ? h->err : -h->err;
+    return v3_madd(h->p, h->ng, s);
+}
 
 #endif

@@ -413,9 +413,9 @@ static void test_unbiased_any_count(SamplerKind kind)
 static void test_small_permutations_uniform(void)
 {
     const int seeds = 14400;
-    for (uint32_t n = 3; n <= 4; ++n) {
+    for (uint32_t n = 2; n <= 4; ++n) {
         int count[256] = {0};
-        int orderings = n == 3 ? 6 : 24;
+        int orderings = n == 2 ? 2 : (n == 3 ? 6 : 24);
         for (int k = 0; k < seeds; ++k) {
             uint64_t seed = hash_u64((uint64_t)k * 7919u + n);
             int code = 0;
@@ -433,6 +433,39 @@ static void test_small_permutations_uniform(void)
         CHECK(distinct == orderings);
         CHECK(worst < 5.0 * sqrt(expect));
     }
+}
+
+/* The padded multi-jitter tables at 4 spp (a 2 x 2 grid): which 1D x and y stratum each of
+ * the 4 samples of a 2D dimension gets. There are 4! (2!)^2 (2!)^2 = 384 valid assignments
+ * (x strata a permutation, one sample per grid cell, distinct sub-strata in every row and
+ * column), and padded multi-jitter with uniform permutations makes them equally likely.
+ * 384 * 60 pixel-dimensions: 60 expected per assignment, sd below 7.8; allow 5 sd. */
+static void test_multi_jitter_assignments_uniform(void)
+{
+    enum { OUTCOMES = 1 << 16 };
+    static int count[OUTCOMES];
+    int trials = 0;
+    for (int py = 0; trials < 384 * 60; ++py)
+        for (int px = 0; px < 64 && trials < 384 * 60; ++px) {
+            fill_pixel(SAMPLER_STRATIFIED, 11, px, py, 0, 4, g_samples);
+            for (int d = 0; d < DIMS && trials < 384 * 60; ++d) {
+                if (!is_2d_x(d)) continue;
+                int code = 0; /* 2 bits per stratum: x and y of samples 0..3 */
+                for (int i = 0; i < 4; ++i)
+                    code = code << 4 | (int)(g_samples[i][d] * 4.0f) << 2 | (int)(g_samples[i][d + 1] * 4.0f);
+                count[code]++;
+                ++trials;
+            }
+        }
+    int distinct = 0, worst = 0;
+    for (int c = 0; c < OUTCOMES; ++c) {
+        if (!count[c]) continue;
+        ++distinct;
+        int dev = abs(count[c] - 60);
+        if (dev > worst) worst = dev;
+    }
+    CHECK(distinct == 384);
+    CHECK(worst < 39);
 }
 
 /* Every spp up to 16 (the per-pixel table path) and a second block of indices: one value
@@ -554,6 +587,7 @@ int main(void)
     test_stratified();
     test_small_permutations_uniform();
     test_stratified_every_small_count();
+    test_multi_jitter_assignments_uniform();
     test_jitter_independent();
     test_sobol_nets();
     test_convergence();
