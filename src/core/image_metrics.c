@@ -204,17 +204,23 @@ void relerr_false_colour(double relerr, float rgb_display[3])
     for (int c = 0; c < 3; ++c) rgb_display[c] = stops[k][c] + f * (stops[k + 1][c] - stops[k][c]);
 }
 
+/* Pixel i's share of relMSE: the mean over its channels of (t - r)^2 / (r^2 + 0.01). */
+static double pixel_relmse_term(const float *ref_rgb, const float *test_rgb, size_t i)
+{
+    double sum = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        double r = finite_or_zero(ref_rgb[3 * i + (size_t)c]), t = finite_or_zero(test_rgb[3 * i + (size_t)c]);
+        sum += (t - r) * (t - r) / (r * r + RELMSE_EPSILON);
+    }
+    return sum / 3.0;
+}
+
 void image_relerr_map(const float *ref_rgb, const float *test_rgb, int width, int height,
                       float *relerr, float *rgb_display)
 {
     size_t n = (size_t)width * (size_t)height;
     for (size_t i = 0; i < n; ++i) {
-        double sum = 0.0;
-        for (int c = 0; c < 3; ++c) {
-            double r = finite_or_zero(ref_rgb[3 * i + (size_t)c]), t = finite_or_zero(test_rgb[3 * i + (size_t)c]);
-            sum += (t - r) * (t - r) / (r * r + RELMSE_EPSILON);
-        }
-        double e = sqrt(sum / 3.0);
+        double e = sqrt(pixel_relmse_term(ref_rgb, test_rgb, i));
         if (relerr) relerr[i] = (float)e;
         if (!rgb_display) continue;
         relerr_false_colour(e, rgb_display + 3 * i);
@@ -235,11 +241,7 @@ void image_relmse_by_key(const float *ref_rgb, const float *test_rgb, const floa
     for (int b = 0; b <= edge_count; ++b) bins[b] = (ErrorBin){0, 0.0, 0.0};
     size_t n = (size_t)width * (size_t)height;
     for (size_t i = 0; i < n; ++i) {
-        double sum = 0.0;
-        for (int c = 0; c < 3; ++c) {
-            double r = finite_or_zero(ref_rgb[3 * i + (size_t)c]), t = finite_or_zero(test_rgb[3 * i + (size_t)c]);
-            sum += (t - r) * (t - r) / (r * r + RELMSE_EPSILON);
-        }
+        double term = pixel_relmse_term(ref_rgb, test_rgb, i);
         /* the first bin whose upper edge lies above the key (few edges: a linear scan) */
         int b = edge_count;
         if (isfinite(key[i]))
@@ -250,6 +252,6 @@ void image_relmse_by_key(const float *ref_rgb, const float *test_rgb, const floa
                 }
         bins[b].pixels += 1;
         if (isfinite(key[i])) bins[b].key_sum += key[i];
-        bins[b].relmse_sum += sum / 3.0;
+        bins[b].relmse_sum += term;
     }
 }
