@@ -124,7 +124,13 @@ static void print_breakdown(const char *channel, const float *key, const float *
     double total = 0.0, pixels = (double)width * (double)height;
     for (int b = 0; b <= edge_count; ++b) total += bins[b].relmse_sum;
     if (json) {
-        printf(", \"by\": {\"channel\": \"%s\", \"bins\": [", channel);
+        printf(", \"by\": {\"channel\": \"");
+        for (const char *c = channel; *c; ++c) { /* an EXR channel name may hold any byte */
+            if (*c == '"' || *c == '\\') printf("\\%c", *c);
+            else if ((unsigned char)*c < 0x20) printf("\\u%04x", (unsigned)(unsigned char)*c);
+            else putchar(*c);
+        }
+        printf("\", \"bins\": [");
     } else {
         printf("\nrelMSE by %s:\n", channel);
         printf("  %-24s %8s %12s %12s %10s\n", "range", "pixels", "mean value", "relMSE", "of relMSE");
