@@ -63,13 +63,6 @@ static vec3 from_local(const Vertex *v, vec3 l)
     return v3_normalize(v3_add(v3_add(v3_scale(v->t1, l.x), v3_scale(v->t2, l.y)), v3_scale(v->n, l.z)));
 }
 
-/* Material m of the table, -1 (or out of range) meaning the default material, as
- * material.c resolves indices. */
-static const Material *material_at(const MaterialTable *t, int m)
-{
-    return (m >= 0 && m < t->material_count) ? &t->materials[m] : &t->default_material;
-}
-
 static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo, Vertex *v)
 {
     const MaterialTable *mt = sc->materials;
@@ -77,13 +70,12 @@ static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
     v->wo = wo;
     /* mix materials pick one of their two materials per hit (deterministic hash of p, wo) */
     int m = h->geom->material;
-    const Material *mat = material_at(mt, m);
+    const Material *mat = material_get(mt, m);
     if (mat->kind == MATERIAL_MIX) {
         m = material_resolve(mt, m, h->uv, h->p, wo);
-        mat = material_at(mt, m);
+        mat = material_get(mt, m);
     }
-    /* What material_bsdf returns, without building and copying its large result (a
-     * Lambert hit is the common case): the glossy BSDF, or the Lambert albedo. */
+    /* The glossy BSDF, or the Lambert albedo (a Lambert hit is the common case). */
     v->glossy = mat->kind == MATERIAL_GLOSSY;
     if (v->glossy) {
         v->bsdf = material_glossy_bsdf(mt, mat, h->uv, h->p);
@@ -92,9 +84,8 @@ static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
         v->wo_l = to_local(v, wo);
         v->albedo = v3s(0.0f);
     } else {
-        /* an untextured diffuse material's albedo is its reflectance (material_albedo) */
-        bool textured = mat->texture >= 0 && mat->texture < mt->texture_count;
-        v->albedo = textured ? material_albedo(mt, m, h->uv, h->p) : mat->reflectance;
+        /* an untextured diffuse material's albedo is its reflectance, without the call */
+        v->albedo = material_textured(mt, mat) ? material_albedo(mt, m, h->uv, h->p) : mat->reflectance;
         v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
         v3_basis(v->n, &v->t1, &v->t2);
     }

@@ -302,11 +302,6 @@ vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int 
     return v3s(0.5f);
 }
 
-static const Material *material_get(const MaterialTable *table, int m)
-{
-    return (m >= 0 && m < table->material_count) ? &table->materials[m] : &table->default_material;
-}
-
 /* A hash of the hit point and direction mapped to [0,1): the "random" choice of a mix
  * material that stays the same for every evaluation at one hit (as pbrt-v4's HashFloat of
  * p, wo and the two materials). */
@@ -352,19 +347,6 @@ GlossyBsdf material_glossy_bsdf(const MaterialTable *table, const Material *m, v
     return glossy_params_bsdf(gp, ur, vr, color);
 }
 
-MaterialBsdf material_bsdf(const MaterialTable *table, int m, vec2 uv, vec3 p_world)
-{
-    const Material *mat = material_get(table, m);
-    MaterialBsdf b = {0};
-    if (mat->kind == MATERIAL_GLOSSY) {
-        b.glossy = true;
-        b.bsdf = material_glossy_bsdf(table, mat, uv, p_world);
-        return b;
-    }
-    b.albedo = material_albedo(table, m, uv, p_world);
-    return b;
-}
-
 vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world)
 {
     const Material *mat = material_get(table, m);
@@ -373,7 +355,7 @@ vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world)
         return mat->color_tex >= 0 ? clamp01(texture_eval(table, mat->color_tex, uv, p_world, 0)) : mat->glossy.color;
     }
     if (mat->kind == MATERIAL_MIX) return v3s(0.5f);
-    if (mat->texture >= 0 && mat->texture < table->texture_count)
+    if (material_textured(table, mat))
         return clamp01(texture_eval(table, mat->texture, uv, p_world, 0));
     return mat->reflectance;
 }

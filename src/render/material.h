@@ -78,6 +78,19 @@ typedef struct {
 bool materials_build(SceneDesc *scene, MaterialTable *table, Diag *err);
 void materials_free(MaterialTable *table);
 
+/* Material m of the table; -1 (or any index out of range) is the default material. */
+static inline const Material *material_get(const MaterialTable *table, int m)
+{
+    return (m >= 0 && m < table->material_count) ? &table->materials[m] : &table->default_material;
+}
+
+/* Whether a diffuse material's reflectance comes from one of the table's textures (else it
+ * is the constant `reflectance`). */
+static inline bool material_textured(const MaterialTable *table, const Material *m)
+{
+    return m->texture >= 0 && m->texture < table->texture_count;
+}
+
 /* Texture i (or the constant of r) at uv / p_world. */
 vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int depth);
 vec3 texref_eval(const MaterialTable *table, TexRef r, vec2 uv, vec3 p_world, int depth);
@@ -90,13 +103,6 @@ int material_resolve(const MaterialTable *table, int m, vec2 uv, vec3 p_world, v
  * to [0,1]. For a glossy material: its diffuse base (coateddiffuse) or 0. */
 vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world);
 
-/* The BSDF of a concrete material at a shading point. */
-typedef struct {
-    bool glossy;                /* false: Lambert with albedo */
-    vec3 albedo;                /* Lambert reflectance (diffuse materials) */
-    GlossyBsdf bsdf;            /* glossy materials */
-} MaterialBsdf;
-MaterialBsdf material_bsdf(const MaterialTable *table, int m, vec2 uv, vec3 p_world);
 /* The glossy BSDF of material m (kind MATERIAL_GLOSSY) with its textures evaluated. */
 GlossyBsdf material_glossy_bsdf(const MaterialTable *table, const Material *m, vec2 uv, vec3 p_world);
 

@@ -755,6 +755,37 @@ bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01
     return tracer_intersect_ex(tr, o, d, tmax, time01, true, hit);
 }
 
+/* A hit the caller needs no shading of (only emitters matter to it): where and what, no
+ * vertex fetches. */
+static inline void hit_unshaded(SurfaceHit *hit, float t, const Geom *g, int prim, int instance, int object_id)
+{
+    memset(hit, 0, sizeof *hit);
+    hit->t = t;
+    hit->geom = g;
+    hit->prim = prim;
+    hit->instance = instance;
+    hit->object_id = object_id;
+    hit->light = -1;
+}
+
+/* A shaded hit from its world-space point, normals, uv and offset error. */
+static inline void hit_shaded(SurfaceHit *hit, float t, vec3 p, vec3 ng, vec3 ns, vec2 uv, float err, const Geom *g,
+                              int prim, int instance, int object_id)
+{
+    if (v3_length2(ns) == 0.0f) ns = ng;
+    hit->t = t;
+    hit->p = p;
+    hit->ng = ng;
+    hit->ns = ns;
+    hit->uv = uv;
+    hit->err = err;
+    hit->geom = g;
+    hit->prim = prim;
+    hit->instance = instance;
+    hit->object_id = object_id;
+    hit->light = g->light_first >= 0 ? g->light_first + (g->kind == GEOM_TRIANGLES ? prim : 0) : -1;
+}
+
 /* tracer_intersect_ex's shading of any hit rh of the ray o + t d (instances, spheres and
  * disks included). Out of line: the common case below stays small. */
 static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d, float time01, bool shade_all,
@@ -774,14 +805,7 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
     }
     float t = rh.ray.tfar;
     if (!shade_all && g->light_first < 0) {
-        /* the caller only needs emitters shaded: skip the vertex fetches */
-        memset(hit, 0, sizeof *hit);
-        hit->t = t;
-        hit->geom = g;
-        hit->prim = (int)rh.hit.primID;
-        hit->instance = instance;
-        hit->object_id = object_id;
-        hit->light = -1;
+        hit_unshaded(hit, t, g, (int)rh.hit.primID, instance, object_id);
         return true;
     }
     double pg[3] = {0.0, 0.0, 0.0};
@@ -810,18 +834,7 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
         err = OFFSET_REL * (max_abs3(pw_f) + (float)max_stretch(&wfi) * mag);
         p = pw_f;
     }
-    if (v3_length2(ns) == 0.0f) ns = ng;
-    hit->t = t;
-    hit->p = p;
-    hit->ng = ng;
-    hit->ns = ns;
-    hit->uv = uv;
-    hit->err = err;
-    hit->geom = g;
-    hit->prim = (int)rh.hit.primID;
-    hit->instance = instance;
-    hit->object_id = object_id;
-    hit->light = g->light_first >= 0 ? g->light_first + (g->kind == GEOM_TRIANGLES ? hit->prim : 0) : -1;
+    hit_shaded(hit, t, p, ng, ns, uv, err, g, (int)rh.hit.primID, instance, object_id);
     return true;
 }
 
@@ -838,34 +851,17 @@ bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float tim
     if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return shade_hit(tr, o, d, time01, shade_all, &rh, hit);
     const Geom *g = &tr->layers[0].geoms[rh.hit.geomID];
     if (g->kind != GEOM_TRIANGLES) return shade_hit(tr, o, d, time01, shade_all, &rh, hit);
-    /* The common cases, a triangle of the top level, as shade_hit does them. */
+    /* The common case, a triangle of the top level, as shade_hit does it. */
+    int prim = (int)rh.hit.primID, object_id = (int)rh.hit.geomID;
     if (!shade_all && g->light_first < 0) {
-        /* the caller only needs emitters shaded: skip the vertex fetches */
-        memset(hit, 0, sizeof *hit);
-        hit->t = rh.ray.tfar;
-        hit->geom = g;
-        hit->prim = (int)rh.hit.primID;
-        hit->instance = -1;
-        hit->object_id = (int)rh.hit.geomID;
-        hit->light = -1;
+        hit_unshaded(hit, rh.ray.tfar, g, prim, -1, object_id);
         return true;
     }
     vec3 p, ng, ns;
     vec2 uv;
     float mag;
-    shade_triangle(g, (int)rh.hit.primID, rh.hit.u, rh.hit.v, &p, &ng, &ns, &uv, &mag);
-    if (v3_length2(ns) == 0.0f) ns = ng;
-    hit->t = rh.ray.tfar;
-    hit->p = p;
-    hit->ng = ng;
-    hit->ns = ns;
-    hit->uv = uv;
-    hit->err = OFFSET_REL * mag;
-    hit->geom = g;
-    hit->prim = (int)rh.hit.primID;
-    hit->instance = -1;
-    hit->object_id = (int)rh.hit.geomID;
-    hit->light = g->light_first >= 0 ? g->light_first + hit->prim : -1;
+    shade_triangle(g, prim, rh.hit.u, rh.hit.v, &p, &ng, &ns, &uv, &mag);
+    hit_shaded(hit, rh.ray.tfar, p, ng, ns, uv, OFFSET_REL * mag, g, prim, -1, object_id);
     return true;
 }
 
