@@ -164,7 +164,9 @@ float aaf_indirect_spp(float zmin_world, float zmax_world, float omega_h, float 
 
 AafDefocusConfig aaf_defocus_config_default(void)
 {
-    AafDefocusConfig c = {3.0f, 1.0f, 1.0f}; /* k, alpha as AAF-shadow; mu 1 (measured, docs/algorithms.md) */
+    /* k, alpha as AAF-shadow; mu 1 (measured, docs/algorithms.md); the background is assumed lit
+     * until the caller knows the scene has no light at infinity */
+    AafDefocusConfig c = {3.0f, 1.0f, 1.0f, false};
     return c;
 }
 

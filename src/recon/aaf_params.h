@@ -15,6 +15,8 @@
 #ifndef WEDGE_RECON_AAF_PARAMS_H
 #define WEDGE_RECON_AAF_PARAMS_H
 
+#include <stdbool.h>
+
 /* ---- soft shadows (AAF-shadow) ---- */
 
 typedef struct {
@@ -91,6 +93,9 @@ typedef struct {
     float k;      /* as AAF-shadow eq. 13 (3) */
     float alpha;  /* pixel band fraction (1) */
     float mu;     /* (2) */
+    /* No light at infinity: a primary ray that escapes sees zero radiance, so a pixel whose
+     * pass-1 rays all escaped has an empty spectrum and keeps its pass-1 samples. */
+    bool black_background;
 } AafDefocusConfig;
 
 AafDefocusConfig aaf_defocus_config_default(void);

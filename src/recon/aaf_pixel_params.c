@@ -299,8 +299,12 @@ int aaf_defocus_params_image(const AafPixelStats *st, const AafDefocusConfig *c,
         float smin = st->coc_min_px[i], smax = st->coc_max_px[i];
         if (!(smin <= smax)) continue; /* no primary hit recorded: nothing to size a filter by */
         beta_px[i] = aaf_defocus_beta_px(smin, smax, c);
-        spp[i] = aaf_clamp_spp(aaf_defocus_spp(smin, smax, c), ic->spp_min, ic->spp_cap);
         if (beta_px[i] > 0.0f) ++filtered;
+        /* Only escaped rays so far, and they see black: the light field is zero wherever pass 1
+         * looked, an empty spectrum that needs no further samples (as for the pixels without
+         * a surface in the shadow and indirect maps). The width stays, for the neighbours. */
+        if (c->black_background && !pixel_hit(st, i)) continue;
+        spp[i] = aaf_clamp_spp(aaf_defocus_spp(smin, smax, c), ic->spp_min, ic->spp_cap);
     }
     return filtered;
 }

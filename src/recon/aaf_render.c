@@ -81,6 +81,15 @@ static AafCameraModel camera_model(const Camera *c)
     return m;
 }
 
+/* An environment ("infinite") light is the only radiance a ray that escapes the scene sees. */
+static bool has_light_at_infinity(const Renderer *r)
+{
+    RenderLightInfo info;
+    for (int l = 0; l < renderer_light_count(r); ++l)
+        if (renderer_light_info(r, l, &info) && info.kind == RENDER_LIGHT_INFINITE) return true;
+    return false;
+}
+
 /* Per-pixel means of the frame's sums (3 floats per pixel). */
 typedef struct {
     float *color, *direct, *indirect, *emission, *albedo;
@@ -396,6 +405,7 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
     AafIndirectConfig indirect_cfg = aaf_indirect_config_default();
     AafDefocusConfig defocus_cfg = aaf_defocus_config_default();
     if (o->mu > 0.0f) shadow_cfg.mu = indirect_cfg.mu = defocus_cfg.mu = o->mu;
+    defocus_cfg.black_background = !has_light_at_infinity(r);
 
     res->rgb = calloc(3 * n, sizeof(float));
     res->spp = calloc(n, sizeof(float));

@@ -230,6 +230,37 @@ static void test_shadow_image_borrowing(void)
     CHECK(spp[1 * W + 4] == 9);
 }
 
+/* Defocus image maps: pixel 0 saw a surface behind the focal plane (slopes 4..10 px), pixel 1
+ * only escaped rays (the background's slope, 20 px, for both ends). Over a lit background
+ * the escaped pixel is sized like any other: beta = (1/(k mu)) sigma_u 20 = 10/6 px and
+ * n = (mu Omega_u/20 + alpha)^2 (Omega_u + 20 mu Omega_u/20)^2 = 1.2^2 6^2 = 51.84 -> 52 at mu = 2.
+ * Over a black background it keeps its pass-1 samples (and its width, for its neighbours). */
+static void test_defocus_image_black_background(void)
+{
+    float smin[2] = {4.0f, 20.0f}, smax[2] = {10.0f, 20.0f}, beta[2];
+    unsigned char hit[2] = {1, 0};
+    int spp[2];
+    AafPixelStats st = {0};
+    st.width = 2;
+    st.height = 1;
+    st.hit = hit;
+    st.coc_min_px = smin;
+    st.coc_max_px = smax;
+    AafDefocusConfig c = aaf_defocus_config_default();
+    CHECK(!c.black_background); /* unknown background: assume it is lit */
+    c.mu = 2.0f;
+    AafImageConfig ic = {2, 16, 200.0f, 0.0f, 0};
+    CHECK(aaf_defocus_params_image(&st, &c, &ic, beta, spp) == 2);
+    CHECK(spp[0] == 200); /* 576, capped */
+    CHECK(spp[1] == 52);
+    CHECK_NEAR(beta[1], 10.0 / 6.0, 1e-6);
+    c.black_background = true;
+    CHECK(aaf_defocus_params_image(&st, &c, &ic, beta, spp) == 2);
+    CHECK(spp[0] == 200);
+    CHECK(spp[1] == 16);
+    CHECK_NEAR(beta[1], 10.0 / 6.0, 1e-6);
+}
+
 int main(void)
 {
     test_shadow_hand_values();
@@ -239,5 +270,6 @@ int main(void)
     test_defocus_hand_values();
     test_clamp_spp();
     test_shadow_image_borrowing();
+    test_defocus_image_black_background();
     CHECK_DONE();
 }

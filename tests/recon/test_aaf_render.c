@@ -349,6 +349,50 @@ static void test_all_effects_finite(void)
     aaf_render_result_free(&res);
 }
 
+/* A defocused sphere alone in the frame (the corners see nothing): with no light at infinity
+ * the rays that escape see black, so pixels whose pass-1 rays all escaped keep their pass-1
+ * samples and stay black; add an environment light and the same pixels see a (uniformly
+ * lit) background at infinity and are sampled by the defocus rule like any other. */
+static const char *LONE_SPHERE_SCENE =
+    "LookAt 0 0 -3   0 0 0   0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ] \"float lensradius\" [ 0.2 ] \"float focaldistance\" [ 2 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 24 ] \"integer yresolution\" [ 24 ] \"string filename\" [ \"t.exr\" ]\n"
+    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+    "WorldBegin\n"
+    "LightSource \"point\" \"rgb I\" [ 10 10 10 ] \"point3 from\" [ 0 2 -2 ]\n"
+    "%s"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+    "Shape \"sphere\" \"float radius\" [ 0.5 ]\n";
+
+static void test_black_background_not_resampled(void)
+{
+    char text[2048];
+    int corner[4][2] = {{0, 0}, {23, 0}, {0, 23}, {23, 23}};
+    for (int lit = 0; lit < 2; ++lit) {
+        snprintf(text, sizeof text, LONE_SPHERE_SCENE, lit ? "LightSource \"infinite\" \"rgb L\" [ 0.3 0.3 0.3 ]\n" : "");
+        AafRenderResult res = {0};
+        if (!render_aaf(text, 3, 0.0f, &res)) {
+            CHECK(false);
+            continue;
+        }
+        CHECK(res.beta_px[AAF_EFFECT_DEFOCUS] != NULL);
+        int more = 0;
+        for (int k = 0; k < 4; ++k) {
+            size_t i = (size_t)corner[k][1] * 24 + (size_t)corner[k][0];
+            if (!lit) {
+                CHECK(res.spp[i] == (float)res.pass1_spp);
+                CHECK(res.rgb[3 * i] == 0.0f && res.rgb[3 * i + 1] == 0.0f && res.rgb[3 * i + 2] == 0.0f);
+            }
+            more += res.spp[i] > (float)res.pass1_spp;
+        }
+        if (lit) CHECK(more == 4);
+        /* the sphere's pixels are sampled past pass 1 either way */
+        CHECK(res.spp[12 * 24 + 12] > (float)res.pass1_spp);
+        aaf_render_result_free(&res);
+    }
+}
+
 int main(void)
 {
     test_shadows_beat_monte_carlo_and_converge();
@@ -356,5 +400,6 @@ int main(void)
     test_beats_monte_carlo("defocus", DEFOCUS_SCENE, AAF_EFFECT_DEFOCUS, aaf_defocus_config_default().mu);
     test_motion_mixed_pixels();
     test_all_effects_finite();
+    test_black_background_not_resampled();
     CHECK_DONE();
 }
