@@ -476,43 +476,56 @@ static void make_plots(const char *out_dir)
 
 /* ---- speedup ---- */
 
+/* One block of speedups: every run against one baseline's curve (rows of speedup.csv and
+ * lines of the printed table). False, and nothing written, when the sweep has under two runs
+ * of the baseline. */
+static bool speedup_against(FILE *f, const char *scene, const char *baseline, const ConvergeRow *rows, int row_count,
+                            CurvePoint *curve)
+{
+    int n = 0;
+    for (int i = 0; i < row_count; ++i)
+        if (!strcmp(rows[i].method->name, baseline))
+            curve[n++] = (CurvePoint){rows[i].spp_avg, rows[i].seconds_total, rows[i].relmse};
+    if (n < 2) return false;
+    printf("\nequal-error speedup against %s (relMSE; baseline interpolated in log-log):\n", baseline);
+    printf("  %-8s %-6s %9s %11s %11s %10s %10s\n", "method", "mu", "spp", "relMSE", "base spp", "x samples",
+           "x time");
+    for (int i = 0; i < row_count; ++i) {
+        const ConvergeRow *r = &rows[i];
+        EqualErrorCost c = equal_error_cost(curve, n, r->relmse);
+        if (!c.valid || !(r->spp_avg > 0) || !(r->seconds_total > 0)) continue;
+        double x_samples = c.spp / r->spp_avg, x_time = c.seconds / r->seconds_total;
+        fprintf(f, "%s,%s,%s,%s,%.6g,%.6g,%.9g,%.6g,%.6g,%.6g,%.6g,%d\n", scene, r->method->name, r->mu ? r->mu : "",
+                baseline, r->spp_avg, r->seconds_total, r->relmse, c.spp, c.seconds, x_samples, x_time,
+                c.extrapolated);
+        printf("  %-8s %-6s %9.1f %11.4g %11.1f %10.3g %10.3g%s\n", r->method->name, r->mu ? r->mu : "-",
+               r->spp_avg, r->relmse, c.spp, x_samples, x_time, c.extrapolated ? "  (extrapolated)" : "");
+    }
+    return true;
+}
+
 static void write_speedup(const char *out_dir, const char *scene, const ConvergeRow *rows, int row_count)
 {
-    CurvePoint *mc = malloc(sizeof *mc * (size_t)(row_count ? row_count : 1));
-    if (!mc) return;
-    int mc_count = 0;
-    for (int i = 0; i < row_count; ++i)
-        if (!strcmp(rows[i].method->name, CONVERGE_BASELINE_METHOD))
-            mc[mc_count++] = (CurvePoint){rows[i].spp_avg, rows[i].seconds_total, rows[i].relmse};
+    CurvePoint *curve = malloc(sizeof *curve * (size_t)(row_count ? row_count : 1));
+    if (!curve) return;
     char path[4096];
     snprintf(path, sizeof path, "%s/speedup.csv", out_dir);
     FILE *f = fopen(path, "w");
     if (!f) {
         fprintf(stderr, "wedge converge: error: cannot write %s: %s\n", path, strerror(errno));
-        free(mc);
+        free(curve);
         return;
     }
-    fprintf(f, "scene,method,mu,spp_avg,seconds_total,relmse,mc_spp,mc_seconds,speedup_samples,speedup_time,extrapolated\n");
-    if (mc_count < 2) {
-        printf("equal-error speedup: needs the '%s' method with at least two budgets in the sweep\n",
-               CONVERGE_BASELINE_METHOD);
-    } else {
-        printf("\nequal-error speedup against %s (relMSE; baseline interpolated in log-log):\n",
-               CONVERGE_BASELINE_METHOD);
-        printf("  %-8s %-6s %9s %11s %11s %10s %10s\n", "method", "mu", "spp", "relMSE", "mc spp", "x samples", "x time");
-    }
-    for (int i = 0; i < row_count && mc_count >= 2; ++i) {
-        const ConvergeRow *r = &rows[i];
-        EqualErrorCost c = equal_error_cost(mc, mc_count, r->relmse);
-        if (!c.valid || !(r->spp_avg > 0) || !(r->seconds_total > 0)) continue;
-        double x_samples = c.spp / r->spp_avg, x_time = c.seconds / r->seconds_total;
-        fprintf(f, "%s,%s,%s,%.6g,%.6g,%.9g,%.6g,%.6g,%.6g,%.6g,%d\n", scene, r->method->name, r->mu ? r->mu : "",
-                r->spp_avg, r->seconds_total, r->relmse, c.spp, c.seconds, x_samples, x_time, c.extrapolated);
-        printf("  %-8s %-6s %9.1f %11.4g %11.1f %10.3g %10.3g%s\n", r->method->name, r->mu ? r->mu : "-",
-               r->spp_avg, r->relmse, c.spp, x_samples, x_time, c.extrapolated ? "  (extrapolated)" : "");
-    }
+    fprintf(f, "scene,method,mu,baseline,spp_avg,seconds_total,relmse,base_spp,base_seconds,speedup_samples,"
+               "speedup_time,extrapolated\n");
+    bool any = false;
+    for (int b = 0; b < converge_baseline_method_count; ++b)
+        any = speedup_against(f, scene, converge_baseline_methods[b], rows, row_count, curve) || any;
+    if (!any)
+        printf("equal-error speedup: needs a Monte Carlo method (%s or %s) with at least two budgets in the sweep\n",
+               converge_baseline_methods[0], converge_baseline_methods[1]);
     fclose(f);
-    free(mc);
+    free(curve);
 }
 
 /* ---- the sweep ---- */

@@ -12,7 +12,14 @@ static const ConvergeMethod methods[] = {
      * label of the run; spp_avg in the results is what it really used). */
     {"aaf", {"--sampler", "stratified", "--filter", "aaf", NULL}, true,
      "axis-aligned filtering (papers 001, 002) of every effect the scene has"},
+    {"aaf-ld", {"--sampler", "sobol", "--filter", "aaf", NULL}, true,
+     "axis-aligned filtering with Owen-scrambled Sobol' samples"},
 };
+
+/* Both Monte Carlo methods are baselines: at equal error the faster sampler differs with spp
+ * and scene (docs/sampling.md), and a speedup is quoted against the stronger of the two. */
+const char *const converge_baseline_methods[] = {"mc", "mc-ld"};
+const int converge_baseline_method_count = 2;
 
 const char *const converge_reference_args[] = {"--sampler", "sobol", "--filter", "none"};
 const int converge_reference_arg_count = 4;

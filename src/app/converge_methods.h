@@ -16,8 +16,10 @@ typedef struct {
     const char *summary;
 } ConvergeMethod;
 
-/* The name of the Monte Carlo baseline that equal-error speedups are measured against. */
-#define CONVERGE_BASELINE_METHOD "mc"
+/* The Monte Carlo methods that equal-error speedups are measured against, each on its own
+ * (speedup.csv has a row per run and baseline). */
+extern const char *const converge_baseline_methods[];
+extern const int converge_baseline_method_count;
 
 /* NULL when unknown. */
 const ConvergeMethod *converge_method_find(const char *name);

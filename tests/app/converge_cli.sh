@@ -14,7 +14,7 @@ expect_exit() { # CODE CMD...
 }
 expect_exit 1 "$WEDGE" converge --spp 4 --methods mc
 expect_exit 1 "$WEDGE" converge --spp 4 --methods nosuch --out "$tmp/x"
-grep -q "unknown method 'nosuch'; known: mc mc-ld" "$tmp/out.txt" || fail "unknown-method message"
+grep -q "unknown method 'nosuch'; known: mc mc-ld aaf aaf-ld" "$tmp/out.txt" || fail "unknown-method message"
 expect_exit 1 "$WEDGE" converge --spp 4,x --methods mc --out "$tmp/x"
 expect_exit 1 "$WEDGE" converge --spp 4 --methods mc --out "$tmp/x" --res 12
 expect_exit 0 "$WEDGE" converge --help
@@ -59,11 +59,16 @@ want=$(printf '%s' "$json" | sed -E 's/.*"relmse": *([-0-9.eE+]+).*/\1/')
 got=$(awk -F, '$2 == "mc" && $4 == 8 { print $8 }' "$csv")
 awk -v a="$want" -v b="$got" 'BEGIN { exit !(a > 0 && (a - b) / a < 1e-5 && (b - a) / a < 1e-5) }' ||
   fail "relMSE $got differs from wedge compare's $want"
-# Speedup of the baseline against itself is 1 at every budget.
+# Every run against each Monte Carlo baseline of the sweep: 6 runs x 2 baselines. A baseline
+# against itself is 1 at every budget.
 sp="$tmp/sweep/speedup.csv"
-[ "$(head -1 "$sp")" = "scene,method,mu,spp_avg,seconds_total,relmse,mc_spp,mc_seconds,speedup_samples,speedup_time,extrapolated" ] || fail "speedup.csv header"
-awk -F, 'NR > 1 && $2 == "mc" { n++; if ($9 < 0.9999 || $9 > 1.0001 || $10 < 0.9999 || $10 > 1.0001) bad = 1 } END { exit bad || n != 3 }' "$sp" ||
-  fail "mc against itself is not 1x: $(cat "$sp")"
+[ "$(head -1 "$sp")" = "scene,method,mu,baseline,spp_avg,seconds_total,relmse,base_spp,base_seconds,speedup_samples,speedup_time,extrapolated" ] || fail "speedup.csv header"
+[ "$(tail -n +2 "$sp" | wc -l)" = 12 ] || fail "expected 12 speedup rows: $(cat "$sp")"
+for b in mc mc-ld; do
+  awk -F, -v b="$b" 'NR > 1 && $2 == b && $4 == b { n++; if ($10 < 0.9999 || $10 > 1.0001 || $11 < 0.9999 || $11 > 1.0001) bad = 1 } END { exit bad || n != 3 }' "$sp" ||
+    fail "$b against itself is not 1x: $(cat "$sp")"
+done
+grep -q "equal-error speedup against mc-ld" "$tmp/log" || fail "no mc-ld block in the printout: $(cat "$tmp/log")"
 # A filter sets its own samples: one run per mu, whatever --spp lists (no repeated runs).
 "$WEDGE" converge "$tmp/tiny.pbrt" --spp 2,8,32 --methods mc,aaf --mu 1,4 --ref-spp 64 --cache "$tmp/cache" \
   --out "$tmp/sweep2" --no-plots > "$tmp/log2" 2>&1 || { cat "$tmp/log2"; fail "sweep with aaf failed"; }
@@ -71,4 +76,7 @@ csv2="$tmp/sweep2/results.csv"
 [ "$(awk -F, '$2 == "aaf" { printf "%s ", $3 }' "$csv2")" = "1 4 " ] || fail "aaf rows: $(cat "$csv2")"
 [ "$(awk -F, '$2 == "mc"' "$csv2" | wc -l)" = 3 ] || fail "mc rows: $(cat "$csv2")"
 [ -f "$tmp/sweep2/images/tiny-aaf-mu4.exr" ] || fail "aaf image missing: $(ls "$tmp/sweep2/images")"
+# Only mc in that sweep: the speedups are against mc alone (2 aaf + 3 mc runs).
+sp2="$tmp/sweep2/speedup.csv"
+[ "$(awk -F, 'NR > 1 { printf "%s ", $4 }' "$sp2")" = "mc mc mc mc mc " ] || fail "sweep2 baselines: $(cat "$sp2")"
 echo "converge_cli: ok"
