@@ -254,6 +254,37 @@ static void grid_shape(uint32_t n, uint32_t *rows, uint32_t *cols)
 static uint64_t column_perm_seed(uint64_t seed, uint32_t c) { return hash_u64(seed ^ (0x5bd1e995ull + ((uint64_t)c << 32))); }
 static uint64_t row_perm_seed(uint64_t seed, uint32_t r) { return hash_u64(seed ^ (0x27d4eb2full + ((uint64_t)r << 32))); }
 
+/* A uniform integer in [0, m) from 64 random bits (Lemire's test; a rejection rehashes). */
+static inline uint32_t uniform_below(uint64_t random_bits, uint32_t m)
+{
+    for (;; random_bits = hash_u64(random_bits)) {
+        BatchDraw d = batch_start(random_bits);
+        uint32_t v = batch_below(&d, m);
+        if (batch_accepted(&d)) return v;
+    }
+}
+
+/* Element i of the sub-permutation of [0, m) of one grid column (or row) of multi_jitter,
+ * past the tables (spp > SAMPLER_SHUFFLE_MAX). Up to m = SAMPLER_SHUFFLE_MAX it is one exact
+ * shuffle rho shared by the dimension's columns (key shared_seed, cached), rotated by an
+ * offset o drawn uniformly per column (from own_seed): sigma_c(i) = (rho(i) + o_c) mod m.
+ * Independent shuffles per column would each be drawn afresh in every round of a pass (the
+ * pixel's sampler, and its cache, live for one round): about one shuffle per sample per 2D
+ * dimension, most of the render time at 64-256 spp. The rotations keep what the estimator
+ * needs: each column's sub-columns are still a permutation (the strata), each sample's
+ * sub-column is exactly uniform and independent of its row's sub-row (so every sample is
+ * uniform: unbiased), and the per-column terms of a mixed integrand (sum_r r sigma_c(r) for
+ * f = x y) are uncorrelated between columns, because their mean over o_c does not depend on
+ * rho; a shared unrotated permutation (Kensler's correlated multi-jitter) would correlate
+ * them (see multi_jitter). Larger m: the keyed bijection per column, stateless. */
+static uint32_t grid_sub_permute(PixelSampler *s, uint32_t i, uint32_t m, uint64_t shared_seed, uint64_t own_seed)
+{
+    if (m <= 1) return 0;
+    if (m > SAMPLER_SHUFFLE_MAX) return sampler_permute(i, m, own_seed);
+    uint32_t v = permute_cached(s, i, m, shared_seed) + uniform_below(own_seed, m);
+    return v >= m ? v - m : v;
+}
+
 /* Multi-jittered point number j of n (Chiu, Shirley, Wang 1994, "Multi-jittered
  * sampling"): the unit square is a rows x cols grid with one point per cell, and each cell
  * is further split into rows sub-columns and cols sub-rows so that the n points also fall
@@ -269,8 +300,8 @@ static vec2 multi_jitter(PixelSampler *s, uint32_t j, uint64_t seed, uint64_t ji
 {
     uint32_t rows = s->grid_rows, cols = s->grid_cols;
     uint32_t c = j % cols, r = j / cols;
-    uint32_t sub_x = permute_cached(s, r, rows, column_perm_seed(seed, c));
-    uint32_t sub_y = permute_cached(s, c, cols, row_perm_seed(seed, r));
+    uint32_t sub_x = grid_sub_permute(s, r, rows, seed ^ 0x243f6a8885a308d3ull, column_perm_seed(seed, c));
+    uint32_t sub_y = grid_sub_permute(s, c, cols, seed ^ 0x13198a2e03707344ull, row_perm_seed(seed, r));
     /* x = (c + (sub_x + jx) / rows) / cols: 1D stratum c * rows + sub_x of n. */
     return v2(stratum_value(s, c * rows + sub_x, (uint32_t)jitter_bits),
               stratum_value(s, r * cols + sub_y, (uint32_t)(jitter_bits >> 32)));

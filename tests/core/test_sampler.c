@@ -204,6 +204,43 @@ static void test_stratified(void)
     CHECK(same_order == 0);
 }
 
+/* Past the tables (spp > 16) the multi-jitter structure still holds: one point per stratum
+ * of width 1/n in every scalar dimension and one per cell of the rows x cols grid of every 2D
+ * dimension. And neighbouring grid columns are not correlated: over pixels, the difference
+ * (mod rows) between the sub-columns that columns 0 and 1 give their row-0 points is uniform
+ * (a permutation shared by the columns, as in Kensler's correlated multi-jitter, would make it
+ * always 0; chi-square with rows - 1 degrees of freedom, bound far above its 1e-4 quantile). */
+static void test_multi_jitter_past_tables(void)
+{
+    const int counts[][3] = {{32, 4, 8}, {36, 6, 6}, {100, 10, 10}, {144, 12, 12}, {68, 4, 17}};
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; ++k) {
+        int n = counts[k][0], rows = counts[k][1], cols = counts[k][2];
+        for (int pixel = 0; pixel < 10; ++pixel) {
+            fill_pixel(SAMPLER_STRATIFIED, 3, pixel, 5 * pixel, 0, n, g_samples);
+            for (int d = 0; d < DIMS; ++d) CHECK(stratified_1d(g_samples, n, d));
+            for (int d = 0; d < DIMS; ++d)
+                if (is_2d_x(d)) CHECK(stratified_grid(g_samples, n, d, cols, rows));
+        }
+    }
+    enum { N = 36, ROWS = 6, COLS = 6, PIXELS = 3000 };
+    int hist[ROWS] = {0};
+    for (int p = 0; p < PIXELS; ++p) {
+        fill_pixel(SAMPLER_STRATIFIED, 9, p % 100, p / 100, 0, N, g_samples);
+        int sub[2] = {-1, -1};
+        for (int i = 0; i < N; ++i) {
+            int x_stratum = (int)(g_samples[i][1] * N), y_stratum = (int)(g_samples[i][2] * N);
+            int column = x_stratum / ROWS, row = y_stratum / COLS;
+            if (row == 0 && column < 2) sub[column] = x_stratum % ROWS;
+        }
+        CHECK(sub[0] >= 0 && sub[1] >= 0);
+        if (sub[0] >= 0 && sub[1] >= 0) hist[(sub[1] - sub[0] + ROWS) % ROWS]++;
+    }
+    double chi2 = 0.0, expected = (double)PIXELS / ROWS;
+    for (int v = 0; v < ROWS; ++v) chi2 += (hist[v] - expected) * (hist[v] - expected) / expected;
+    printf("multi-jitter past the tables: column offset chi-square %.1f (5 dof)\n", chi2);
+    CHECK(chi2 < 35.0);
+}
+
 /* (0, k, 2)-net in base 2: for every split a + b = k, each elementary interval
  * [i/2^a, (i+1)/2^a) x [j/2^b, (j+1)/2^b) holds exactly one of the n = 2^k points. */
 static int is_02_net(float v[][DIMS], int k, int d)
@@ -383,8 +420,8 @@ static void test_owen_quality(void)
 static void test_unbiased_any_count(SamplerKind kind)
 {
     const int pixels = 20000;
-    int counts[] = {3, 9, 12, 13, 24, 37};
-    for (int c = 0; c < 6; ++c) {
+    int counts[] = {3, 9, 12, 13, 24, 36, 37};
+    for (int c = 0; c < 7; ++c) {
         int n = counts[c];
         double sum[DIMS] = {0}, sum_xy = 0.0, sum_pad = 0.0;
         for (int p = 0; p < pixels; ++p) {
@@ -585,6 +622,7 @@ int main(void)
         test_skip_and_draw_at(kind);
     }
     test_stratified();
+    test_multi_jitter_past_tables();
     test_small_permutations_uniform();
     test_stratified_every_small_count();
     test_multi_jitter_assignments_uniform();
