@@ -395,6 +395,7 @@ void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int p
      * measurable. */
     s->perm_valid[0] = s->perm_valid[1] = 0;
     s->tables_ready[0] = s->tables_ready[1] = 0;
+    s->seeds_ready[0] = s->seeds_ready[1] = 0;
     s->tables_block = 0;
     s->sample_key = 0;
     s->kind = kind;
@@ -441,6 +442,7 @@ void sampler_start_sample(PixelSampler *s, int sample_index)
     }
     if (s->block != s->tables_block) { /* the tables describe another block */
         s->tables_ready[0] = s->tables_ready[1] = 0;
+        s->seeds_ready[0] = s->seeds_ready[1] = 0;
         s->tables_block = s->block;
     }
     s->dim = 0;
@@ -448,14 +450,6 @@ void sampler_start_sample(PixelSampler *s, int sample_index)
      * use (request_bits) rather than for every sample. */
     s->key_ready = false;
     if (s->kind == SAMPLER_STRATIFIED) set_sample_key(s);
-}
-
-/* Position of the current sample inside the stratified set of spp points of dimension dim
- * (the per-dimension shuffle that decorrelates dimensions: "padding"), for spp above
- * SAMPLER_SHUFFLE_MAX (smaller counts use the tables below). */
-static uint32_t padded_index(PixelSampler *s, int dim, uint64_t salt)
-{
-    return sampler_permute(s->index_in_block, (uint32_t)s->spp, dim_seed(s, dim, s->block, salt));
 }
 
 /* ---- per-pixel dimension tables (spp <= SAMPLER_SHUFFLE_MAX) ------------------------ */
@@ -546,6 +540,35 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
     return build_dim_table(s, dim, kind);
 }
 
+/* Past the tables (spp above SAMPLER_SHUFFLE_MAX): the seeds of scalar dimension dim for
+ * requests of `kind` (1 or 2) in the current block, hashed on first use. x keys the padding
+ * permutation, the per-dimension shuffle of sample indices that decorrelates dimensions;
+ * seed keys the values (Sobol' scramble, stratified 2D multi-jitter). Two hashes per
+ * request otherwise, on the critical path of every sample. */
+static __attribute__((noinline)) const SamplerDimTable *build_dim_seeds(PixelSampler *s, int dim, int kind)
+{
+    SamplerDimTable *t = &s->dim_table[dim];
+    t->x = dim_seed(s, dim, s->block, kind == 1 ? 1 : 3);
+    t->seed = dim_seed(s, dim, s->block, kind == 1 ? 2 : 4);
+    uint64_t bit = 1ull << dim;
+    s->seeds_ready[kind - 1] |= bit;
+    s->seeds_ready[2 - kind] &= ~bit; /* the entry now holds the other kind's seeds */
+    return t;
+}
+
+static inline const SamplerDimTable *dim_seeds(PixelSampler *s, int dim, int kind)
+{
+    if (s->seeds_ready[kind - 1] & (1ull << dim)) return &s->dim_table[dim];
+    return build_dim_seeds(s, dim, kind);
+}
+
+/* Position of the current sample inside the stratified set of spp points (its padded
+ * index), past the tables. */
+static inline uint32_t padded_index(const PixelSampler *s, const SamplerDimTable *seeds)
+{
+    return sampler_permute(s->index_in_block, (uint32_t)s->spp, seeds->x);
+}
+
 /* True when dimension dim's table for requests of `kind` is built (spp <= 16 implied). */
 static inline bool table_ready(const PixelSampler *s, int dim, int kind)
 {
@@ -557,12 +580,17 @@ static __attribute__((noinline)) float value_1d(PixelSampler *s, int dim)
 {
     if (dim >= SAMPLER_PADDED_DIMS) return float_of((uint32_t)request_bits(s, dim));
     const SamplerDimTable *t = dim_table(s, dim, 1);
-    uint32_t j = t ? nibble(t->x, s->index_in_block) : padded_index(s, dim, 1);
+    uint32_t j;
+    if (t) {
+        j = nibble(t->x, s->index_in_block);
+    } else {
+        t = dim_seeds(s, dim, 1);
+        j = padded_index(s, t);
+    }
     if (s->kind == SAMPLER_STRATIFIED)
         return stratum_value(s, j, (uint32_t)request_bits(s, dim));
     /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
-    uint32_t seed = t ? (uint32_t)t->seed : (uint32_t)dim_seed(s, dim, s->block, 2);
-    return scrambled_to_float(sobol_dim0_reversed(j), seed);
+    return scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed);
 }
 
 /* Inline common case as in sampler_2d; value_1d gives the same values in every case. */
@@ -597,8 +625,9 @@ static __attribute__((noinline)) vec2 value_2d_untabled(PixelSampler *s, int dim
         uint64_t bits = request_bits(s, dim);
         return v2(float_of((uint32_t)bits), float_of((uint32_t)(bits >> 32)));
     }
-    uint32_t j = padded_index(s, dim, 3);
-    uint64_t seed = dim_seed(s, dim, s->block, 4);
+    const SamplerDimTable *t = dim_seeds(s, dim, 2);
+    uint32_t j = padded_index(s, t);
+    uint64_t seed = t->seed;
     if (s->kind == SAMPLER_STRATIFIED) return multi_jitter(s, j, seed, request_bits(s, dim));
     return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)seed),
               scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(seed >> 32)));

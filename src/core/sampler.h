@@ -36,15 +36,18 @@ typedef struct {
     uint8_t perm[SAMPLER_SHUFFLE_MAX];
 } SamplerPermSlot;
 
-/* What a pixel's sampler derives once per scalar dimension (with spp <= SAMPLER_SHUFFLE_MAX)
- * and then reuses for every sample of the pixel: for each sample index i of the current
+/* What a pixel's sampler derives once per scalar dimension and then reuses for every sample
+ * of the pixel. With spp <= SAMPLER_SHUFFLE_MAX: for each sample index i of the current
  * block of spp indices, the point the dimension's padding permutation assigns to it and, for
- * stratified requests, that point's 1D strata, packed 4 bits per index (values < 16). A pure
+ * stratified requests, that point's 1D strata, packed 4 bits per index (values < 16). With
+ * more samples: the dimension's seeds only (the permutation is computed per sample). A pure
  * cache, filled on first use of the dimension: values do not depend on what it holds. */
 typedef struct {
-    uint64_t seed;    /* Sobol': the scramble seeds (low word for x, high word for y) */
+    uint64_t seed;    /* Sobol': the scramble seeds (low word for x, high word for y);
+                       * stratified 2D past the tables: the multi-jitter seed */
     uint64_t x;       /* nibble i: stratified, the 1D stratum of x (or of the 1D value);
-                       * Sobol', the padded point index */
+                       * Sobol', the padded point index. Past the tables: the padding
+                       * permutation's seed */
     uint64_t y;       /* nibble i: stratified 2D, the 1D stratum of y */
 } SamplerDimTable;
 
@@ -64,6 +67,7 @@ typedef struct {
     bool key_ready;   /* sample_key is set for the current sample (always, for stratified) */
     uint64_t perm_valid[SAMPLER_PERM_CACHE_SLOTS / 64]; /* which perm_cache slots hold a permutation */
     uint64_t tables_ready[2];     /* bit d: dim_table[d] is built for 1D ([0]) / 2D ([1]) requests */
+    uint64_t seeds_ready[2];      /* spp above the tables: bit d, dim_table[d] holds d's seeds */
     uint32_t tables_block;        /* ... for this block of sample indices */
     /* Direct-mapped by seed (spp > SAMPLER_SHUFFLE_MAX only); a pure cache. */
     SamplerPermSlot perm_cache[SAMPLER_PERM_CACHE_SLOTS];
