@@ -105,6 +105,19 @@ timeout 120 "$WEDGE" render "$T/small.pbrt" --res 3000x3000 --cl-device no-such-
 check "unknown OpenCL device, before rendering" 1 $?
 [ ! -e "$T/x.exr" ] || { echo "FAIL: an output was written despite the device error"; fail=1; }
 
+# Sobol' at a count that is not a power of two: a note naming the two powers around it (the
+# scene's zsobol maps to sobol); none at a power of two, none with the stratified sampler,
+# none under --quiet
+note="wedge render: note: 100 samples per pixel is not a power of two, which the Sobol' sampler handles less well (more time per sample past 16, slower convergence of smooth light); --spp 64 or 128 avoids it, or --sampler stratified"
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 100 --res 8x8 -o "$T/n.exr" 2>"$T/n.txt" >/dev/null
+check "sobol at 100 spp" 0 $?
+grep -qxF "$note" "$T/n.txt" || { echo "FAIL: no Sobol' count note at 100 spp: $(cat "$T/n.txt")"; fail=1; }
+for args in "--spp 128" "--spp 100 --sampler stratified" "--spp 100 --quiet"; do
+    # shellcheck disable=SC2086
+    "$WEDGE" render "$T/small.pbrt" --filter none $args --res 8x8 -o "$T/n.exr" 2>"$T/n.txt" >/dev/null
+    ! grep -q "not a power of two" "$T/n.txt" || { echo "FAIL: Sobol' count note with $args"; fail=1; }
+done
+
 # Ctrl-C: stop early, write the image with the real spp, exit 0
 "$WEDGE" render "$T/small.pbrt" --filter none --spp 100000 --res 64x48 --threads 2 -o "$T/i.exr" --report "$T/i.json" --quiet &
 pid=$!
