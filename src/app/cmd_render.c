@@ -101,6 +101,25 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
     return true;
 }
 
+/* What an option's value must look like, for the error message. */
+static const char *render_option_wants(const char *opt)
+{
+    static const struct {
+        const char *opt, *wants;
+    } wants[] = {
+        {"--spp", "an integer in [1, 16777216]"},
+        {"--res", "WxH with W and H in [1, 65536] (e.g. 640x360)"},
+        {"--seed", "a non-negative integer"},
+        {"--threads", "an integer in [1, 1024]"},
+        {"--sampler", "stratified or sobol"},
+        {"--mu", "a number in (0, 1e6]"},
+    };
+    for (size_t i = 0; i < sizeof wants / sizeof wants[0]; ++i)
+        if (!strcmp(opt, wants[i].opt)) return wants[i].wants;
+    if (!strcmp(opt, "--filter")) return recon_filter_choices();
+    return "another value";
+}
+
 /* Returns WEDGE_EXIT_OK or WEDGE_EXIT_USAGE (message printed). */
 static int parse_render_args(int argc, char **argv, RenderArgs *a)
 {
@@ -201,7 +220,7 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
         }
         continue;
     bad_value:
-        fprintf(stderr, "wedge render: invalid value '%s' for option '%s'\n", val, o);
+        fprintf(stderr, "wedge render: %s wants %s, got '%s'\n", o, render_option_wants(o), val);
         return WEDGE_EXIT_USAGE;
 #undef NEED_VALUE
     }

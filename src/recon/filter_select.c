@@ -24,6 +24,8 @@ bool recon_filter_known(const char *requested)
     return !strcmp(requested, "auto") || !strcmp(requested, "aaf") || !strcmp(requested, "none");
 }
 
+const char *recon_filter_choices(void) { return "auto, aaf or none"; }
+
 const char *recon_filter_for(const char *requested, const Effects *fx, int effect)
 {
     if (!recon_effect_present(fx, effect) || !strcmp(requested, "none")) return "none";
