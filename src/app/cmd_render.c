@@ -101,18 +101,26 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
     return true;
 }
 
+/* Option limits: the parser and its error messages share them. */
+#define RENDER_SPP_MAX 16777216
+#define RENDER_RES_MAX 65536
+#define RENDER_THREADS_MAX 1024
+#define RENDER_MU_MAX 1e6
+#define RENDER_STR_(x) #x
+#define RENDER_STR(x) RENDER_STR_(x)
+
 /* What an option's value must look like, for the error message. */
 static const char *render_option_wants(const char *opt)
 {
     static const struct {
         const char *opt, *wants;
     } wants[] = {
-        {"--spp", "an integer in [1, 16777216]"},
-        {"--res", "WxH with W and H in [1, 65536] (e.g. 640x360)"},
+        {"--spp", "an integer in [1, " RENDER_STR(RENDER_SPP_MAX) "]"},
+        {"--res", "WxH with W and H in [1, " RENDER_STR(RENDER_RES_MAX) "] (e.g. 640x360)"},
         {"--seed", "a non-negative integer"},
-        {"--threads", "an integer in [1, 1024]"},
+        {"--threads", "an integer in [1, " RENDER_STR(RENDER_THREADS_MAX) "]"},
         {"--sampler", "stratified or sobol"},
-        {"--mu", "a number in (0, 1e6]"},
+        {"--mu", "a number in (0, " RENDER_STR(RENDER_MU_MAX) "]"},
     };
     for (size_t i = 0; i < sizeof wants / sizeof wants[0]; ++i)
         if (!strcmp(opt, wants[i].opt)) return wants[i].wants;
@@ -148,7 +156,7 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             a->out_paths[a->out_count++] = val;
         } else if (!strcmp(o, "--spp")) {
             NEED_VALUE();
-            if (!parse_int(val, 1, 1L << 24, &v)) goto bad_value;
+            if (!parse_int(val, 1, RENDER_SPP_MAX, &v)) goto bad_value;
             a->spp = (int)v;
         } else if (!strcmp(o, "--res")) {
             NEED_VALUE();
@@ -160,7 +168,7 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             memcpy(w, val, n);
             w[n] = 0;
             long wv, hv;
-            if (!parse_int(w, 1, 65536, &wv) || !parse_int(x + 1, 1, 65536, &hv)) goto bad_value;
+            if (!parse_int(w, 1, RENDER_RES_MAX, &wv) || !parse_int(x + 1, 1, RENDER_RES_MAX, &hv)) goto bad_value;
             a->width = (int)wv, a->height = (int)hv;
         } else if (!strcmp(o, "--seed")) {
             NEED_VALUE();
@@ -171,7 +179,7 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             a->seed = (uint64_t)s;
         } else if (!strcmp(o, "--threads")) {
             NEED_VALUE();
-            if (!parse_int(val, 1, 1024, &v)) goto bad_value;
+            if (!parse_int(val, 1, RENDER_THREADS_MAX, &v)) goto bad_value;
             a->threads = (int)v;
         } else if (!strcmp(o, "--aovs")) {
             a->aovs = true;
@@ -201,7 +209,7 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             char *end;
             errno = 0;
             double mu = strtod(val, &end);
-            if (errno || end == val || *end || !(mu > 0.0) || !(mu <= 1e6)) goto bad_value;
+            if (errno || end == val || *end || !(mu > 0.0) || !(mu <= RENDER_MU_MAX)) goto bad_value;
             a->mu = (float)mu;
         } else if (!strcmp(o, "--cl-device")) {
             NEED_VALUE();
