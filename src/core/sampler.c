@@ -12,15 +12,17 @@
 
 /* ---- seeds ----------------------------------------------------------------------------- */
 
-/* Seed of one scalar dimension of one pixel. `block` counts how many times the caller has
- * wrapped around spp (sample indices >= spp), so every block is a fresh stratified set. */
-static uint64_t dim_seed(const PixelSampler *s, int dim, uint32_t block, uint64_t salt)
+/* Seed of one scalar dimension of one pixel. `part` is the part's perm_key or value_key:
+ * its low word counts how many times the caller has wrapped around the set (sample indices
+ * >= set_spp), so every block is a fresh stratified set, and bit 32 marks a continuation
+ * (sampler_continue_pixel). 0 for a pixel's first (or only) set. */
+static uint64_t dim_seed(const PixelSampler *s, int dim, uint64_t part, uint64_t salt)
 {
     /* Distinct (dim, salt) give distinct odd-multiplier offsets; the splitmix finaliser
      * then makes the seeds of neighbouring dimensions look independent. */
     uint64_t key = ((uint64_t)(uint32_t)dim << 8 | salt) * 0xd1342543de82ef95ull;
     uint64_t h = hash_u64(s->pixel_seed ^ key);
-    return block ? hash_u64(h + block) : h;
+    return part ? hash_u64(h + part) : h;
 }
 
 /* ---- permutations without storage ----------------------------------------------------- */
@@ -387,7 +389,21 @@ const char *sampler_kind_name(SamplerKind kind)
     return kind == SAMPLER_STRATIFIED ? "stratified" : "sobol";
 }
 
-void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp)
+/* The strata count and everything derived from it, for the part a sample is in. */
+static void set_part_size(PixelSampler *s, int spp)
+{
+    s->spp = spp;
+    s->inv_spp = 1.0 / (double)spp;
+    s->inv_spp_2m32 = s->inv_spp * 0x1p-32;
+    s->margin_bits = (uint64_t)spp << 9; /* n 2^-23 = n 2^9 2^-32 */
+    grid_shape((uint32_t)spp, &s->grid_rows, &s->grid_cols);
+}
+
+/* Marks a set continued from its first part (a key no block number reaches). */
+#define CONTINUATION_KEY (1ull << 32)
+
+void sampler_continue_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass,
+                            int spp_before, int spp)
 {
     /* Everything but the caches, whose validity bits (perm_valid, tables_ready) are cleared
      * with the rest: a few stores per pixel instead of touching kilobytes. Field by field:
@@ -396,17 +412,19 @@ void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int p
     s->perm_valid[0] = s->perm_valid[1] = 0;
     s->tables_ready[0] = s->tables_ready[1] = 0;
     s->seeds_ready[0] = s->seeds_ready[1] = 0;
-    s->tables_block = 0;
     s->sample_key = 0;
     s->kind = kind;
     s->seed = seed;
-    s->spp = spp >= 1 ? spp : 1;
-    s->inv_spp = 1.0 / (double)s->spp;
-    s->inv_spp_2m32 = s->inv_spp * 0x1p-32;
-    s->margin_bits = (uint64_t)s->spp << 9; /* n 2^-23 = n 2^9 2^-32 */
-    grid_shape((uint32_t)s->spp, &s->grid_rows, &s->grid_cols);
+    s->set_spp = spp >= 1 ? spp : 1;
+    s->prefix_spp = spp_before >= 1 && spp_before < s->set_spp ? spp_before : 0;
+    s->part_key = UINT64_MAX; /* no part yet: sampler_start_sample sets it up */
     s->pixel_seed = hash_pixel_seed(seed, px, py, pass);
     sampler_start_sample(s, 0);
+}
+
+void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp)
+{
+    sampler_continue_pixel(s, kind, seed, px, py, pass, 0, spp);
 }
 
 /* The key of the current sample's random numbers. Jitter (and every dimension past the
@@ -431,20 +449,40 @@ static inline uint64_t request_bits(PixelSampler *s, int dim)
 /* Top 24 bits of a 32-bit word as a float in [0, 1). */
 static inline float float_of(uint32_t bits) { return (float)(bits >> 8) * 0x1p-24f; }
 
+/* Switches the sampler to the part of the set with key `key` (sampler_start_sample):
+ * its size, the keys of its seeds, and the tables, which described another part. */
+static __attribute__((noinline)) void enter_part(PixelSampler *s, uint64_t key)
+{
+    bool continuation = (key & CONTINUATION_KEY) != 0;
+    int prefix = s->block == 0 ? s->prefix_spp : 0;
+    set_part_size(s, continuation ? s->set_spp - prefix : prefix > 0 ? prefix : s->set_spp);
+    s->part_key = key;
+    /* The continuation gets padding permutations of its own. A stratified continuation is a
+     * new stratified set, so its strata and jitter are keyed anew too; a Sobol' one keeps
+     * the scrambles of the first part, so that both take their points from one scrambled
+     * sequence, the continuation from index prefix on. */
+    s->perm_key = key;
+    s->value_key = (continuation && s->kind == SAMPLER_SOBOL) ? (key & ~CONTINUATION_KEY) : key;
+    s->point_offset = continuation && s->kind == SAMPLER_SOBOL ? (uint32_t)prefix : 0u;
+    s->tables_ready[0] = s->tables_ready[1] = 0;
+    s->seeds_ready[0] = s->seeds_ready[1] = 0;
+}
+
 void sampler_start_sample(PixelSampler *s, int sample_index)
 {
     s->sample_index = sample_index >= 0 ? sample_index : 0;
-    uint32_t i = (uint32_t)s->sample_index, n = (uint32_t)s->spp;
+    uint32_t i = (uint32_t)s->sample_index, n = (uint32_t)s->set_spp;
     if (i < n) { /* the usual case: no division */
         s->block = 0, s->index_in_block = i;
     } else {
         s->block = i / n, s->index_in_block = i % n;
     }
-    if (s->block != s->tables_block) { /* the tables describe another block */
-        s->tables_ready[0] = s->tables_ready[1] = 0;
-        s->seeds_ready[0] = s->seeds_ready[1] = 0;
-        s->tables_block = s->block;
+    uint64_t key = s->block;
+    if (s->block == 0 && s->prefix_spp > 0 && i >= (uint32_t)s->prefix_spp) {
+        key |= CONTINUATION_KEY;
+        s->index_in_block = i - (uint32_t)s->prefix_spp;
     }
+    if (key != s->part_key) enter_part(s, key);
     s->dim = 0;
     /* The Sobol' sampler needs the key only past the padded dimensions: set it on first
      * use (request_bits) rather than for every sample. */
@@ -518,12 +556,12 @@ static __attribute__((noinline)) const SamplerDimTable *build_dim_table(PixelSam
     SamplerDimTable *t = &s->dim_table[dim];
     if (s->kind == SAMPLER_STRATIFIED && kind == 2) {
         /* the second random number only when the draws do not fit in one (n > 10) */
-        uint64_t bits_grid = n > 10 ? dim_seed(s, dim, s->block, 4) : 0;
-        mj_tables(n, s->grid_rows, s->grid_cols, dim_seed(s, dim, s->block, 3), bits_grid, &t->x, &t->y);
+        uint64_t bits_grid = n > 10 ? dim_seed(s, dim, s->value_key, 4) : 0;
+        mj_tables(n, s->grid_rows, s->grid_cols, dim_seed(s, dim, s->value_key, 3), bits_grid, &t->x, &t->y);
     } else {
         /* a 1D stratified value's stratum is its padded index; Sobol' keeps the index */
-        t->x = shuffle_bits_nibbles(n, dim_seed(s, dim, s->block, kind == 1 ? 1 : 3));
-        if (s->kind == SAMPLER_SOBOL) t->seed = dim_seed(s, dim, s->block, kind == 1 ? 2 : 4);
+        t->x = shuffle_bits_nibbles(n, dim_seed(s, dim, s->perm_key, kind == 1 ? 1 : 3));
+        if (s->kind == SAMPLER_SOBOL) t->seed = dim_seed(s, dim, s->value_key, kind == 1 ? 2 : 4);
     }
     uint64_t bit = 1ull << dim;
     s->tables_ready[kind - 1] |= bit;
@@ -548,8 +586,8 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
 static __attribute__((noinline)) const SamplerDimTable *build_dim_seeds(PixelSampler *s, int dim, int kind)
 {
     SamplerDimTable *t = &s->dim_table[dim];
-    t->x = dim_seed(s, dim, s->block, kind == 1 ? 1 : 3);
-    t->seed = dim_seed(s, dim, s->block, kind == 1 ? 2 : 4);
+    t->x = dim_seed(s, dim, s->perm_key, kind == 1 ? 1 : 3);
+    t->seed = dim_seed(s, dim, s->value_key, kind == 1 ? 2 : 4);
     uint64_t bit = 1ull << dim;
     s->seeds_ready[kind - 1] |= bit;
     s->seeds_ready[2 - kind] &= ~bit; /* the entry now holds the other kind's seeds */
@@ -590,7 +628,7 @@ static __attribute__((noinline)) float value_1d(PixelSampler *s, int dim)
     if (s->kind == SAMPLER_STRATIFIED)
         return stratum_value(s, j, (uint32_t)request_bits(s, dim));
     /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
-    return scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed);
+    return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)t->seed);
 }
 
 /* Inline common case as in sampler_2d; value_1d gives the same values in every case. */
@@ -602,7 +640,7 @@ static inline float sample_1d_fast(PixelSampler *s, int dim)
             uint32_t jitter = (uint32_t)request_bits(s, dim);
             if (jitter_clear_of_edges(s, jitter)) return stratum_value_raw(s, j, jitter);
         } else {
-            return scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)s->dim_table[dim].seed);
+            return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)s->dim_table[dim].seed);
         }
     }
     return value_1d(s, dim);
@@ -629,6 +667,7 @@ static __attribute__((noinline)) vec2 value_2d_untabled(PixelSampler *s, int dim
     uint32_t j = padded_index(s, t);
     uint64_t seed = t->seed;
     if (s->kind == SAMPLER_STRATIFIED) return multi_jitter(s, j, seed, request_bits(s, dim));
+    j += s->point_offset;
     return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)seed),
               scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(seed >> 32)));
 }
@@ -644,7 +683,7 @@ static __attribute__((noinline)) vec2 value_2d(PixelSampler *s, int dim)
         return v2(stratum_value(s, nibble(t->x, i), (uint32_t)bits),
                   stratum_value(s, nibble(t->y, i), (uint32_t)(bits >> 32)));
     }
-    uint32_t j = nibble(t->x, i);
+    uint32_t j = nibble(t->x, i) + s->point_offset;
     return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
               scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
 }
@@ -665,7 +704,7 @@ vec2 sampler_2d(PixelSampler *s)
             if (jitter_clear_of_edges(s, jx) && jitter_clear_of_edges(s, jy))
                 return v2(stratum_value_raw(s, nibble(t->x, i), jx), stratum_value_raw(s, nibble(t->y, i), jy));
         } else {
-            uint32_t j = nibble(t->x, i);
+            uint32_t j = nibble(t->x, i) + s->point_offset;
             return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
                       scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
         }

@@ -54,21 +54,27 @@ typedef struct {
 typedef struct {
     SamplerKind kind;
     uint64_t seed;
-    int spp;          /* samples of this pixel in this pass (>= 1) */
+    int set_spp;      /* samples of this pixel in this pass (>= 1): one set */
+    int prefix_spp;   /* 0, or the first prefix_spp samples of the set (< set_spp) are a set of
+                       * their own and the rest continues them (sampler_continue_pixel) */
+    /* The set, or the part of it, that the current sample belongs to: */
+    int spp;          /* its number of points (the strata count) */
     uint32_t grid_rows, grid_cols; /* the 2D stratification grid of spp points */
     double inv_spp;   /* 1 / spp */
     double inv_spp_2m32; /* 2^-32 / spp: 32-bit jitter to the stratum's scale */
     uint64_t margin_bits; /* spp 2^-23 in units of 2^-32 (stratified rounding bound) */
+    uint64_t part_key;    /* which part: block | (0 whole or prefix, 1 continuation) << 32 */
+    uint64_t perm_key, value_key; /* key the part's padding permutations and its values */
+    uint32_t point_offset;        /* Sobol': the part's first sequence index */
     uint64_t pixel_seed;
-    int sample_index; /* current sample, >= 0 (indices >= spp start further blocks) */
-    uint32_t block, index_in_block; /* sample_index / spp and sample_index % spp */
+    int sample_index; /* current sample, >= 0 (indices >= set_spp start further blocks) */
+    uint32_t block, index_in_block; /* sample_index / set_spp, and the index within the part */
     int dim;          /* next dimension to hand out */
     uint64_t sample_key; /* keys the current sample's jitter (counter-based: one hash per request) */
     bool key_ready;   /* sample_key is set for the current sample (always, for stratified) */
     uint64_t perm_valid[SAMPLER_PERM_CACHE_SLOTS / 64]; /* which perm_cache slots hold a permutation */
     uint64_t tables_ready[2];     /* bit d: dim_table[d] is built for 1D ([0]) / 2D ([1]) requests */
     uint64_t seeds_ready[2];      /* spp above the tables: bit d, dim_table[d] holds d's seeds */
-    uint32_t tables_block;        /* ... for this block of sample indices */
     /* Direct-mapped by seed (spp > SAMPLER_SHUFFLE_MAX only); a pure cache. */
     SamplerPermSlot perm_cache[SAMPLER_PERM_CACHE_SLOTS];
     SamplerDimTable dim_table[SAMPLER_PADDED_DIMS];
@@ -76,7 +82,18 @@ typedef struct {
 
 /* Starts pixel (px, py) of pass `pass` with spp samples. */
 void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass, int spp);
-/* Begins sample i (i >= 0; each further block of spp indices is a fresh stratified set);
+/* Starts pixel (px, py) of pass `pass` to continue the spp_before samples that
+ * sampler_start_pixel(..., pass, spp_before) gave up to spp samples in all: sample indices
+ * [0, spp_before) give exactly those samples again, [spp_before, spp) the continuation.
+ * Sobol': the two together are the first spp points of every dimension's scrambled sequence
+ * (for spp a power of two, a (0, k, 2)-net), as if the pixel had been one set of spp from
+ * the start, the padding permutation aside. Stratified: the continuation is a stratified set
+ * of spp - spp_before points of its own (stratified sets do not extend). spp <= spp_before
+ * is sampler_start_pixel(..., spp). */
+void sampler_continue_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass,
+                            int spp_before, int spp);
+/* Begins sample i (i >= 0; each further block of spp indices is a fresh stratified set,
+ * without a prefix);
  * dimensions restart at 0. */
 void sampler_start_sample(PixelSampler *s, int sample_index);
 /* Next dimension(s) of the current sample, each in [0, 1). Consumers must request

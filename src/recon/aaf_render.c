@@ -495,7 +495,10 @@ bool aaf_render(Renderer *r, const AafRenderOptions *o, Frame *frame, AafRenderR
         stats.collect_rays = false;
         renderer_set_record_ray_geometry(r, false);
         t_pass2 = wall_seconds();
-        complete = render_pass(r, 1, spp_extra, 0, frame, &sink);
+        /* Pass 2 continues each pixel's pass-1 samples as one sampler set (with Sobol',
+         * the first n points of each dimension's sequence): an independent second set
+         * integrates worse (docs/sampling.md, "Continuing a pixel's samples"). */
+        complete = render_pass_more(r, 0, res->pass1_spp, spp_extra, frame, &sink);
         renderer_set_record_ray_geometry(r, true); /* as the caller set it up (aaf_render.h) */
         t_pass2 = wall_seconds() - t_pass2;
     }

@@ -5,7 +5,8 @@
  *   pass 1   uniform sparse sampling (9 spp for shadows, 16 when indirect light or defocus
  *            is filtered), recording the ray geometry into per-pixel statistics
  *   params   per effect: filter width beta and samples per pixel n (aaf_pixel_params.h)
- *   pass 2   adaptive: max over effects of n minus the pass-1 count, per pixel
+ *   pass 2   adaptive: max over effects of n minus the pass-1 count, per pixel, continuing
+ *            each pixel's pass-1 sampler set (render_pass_more)
  *   filter   OpenCL, separately: direct irradiance (shadows), indirect irradiance, each with
  *            the albedo divided out, then the composite primary radiance (defocus)
  *   output   emission + albedo * filtered direct + albedo * filtered indirect, then defocus

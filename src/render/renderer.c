@@ -186,6 +186,7 @@ bool renderer_light_info(const Renderer *r, int li, RenderLightInfo *info)
 typedef struct {
     Renderer *r;
     int pass;
+    int spp_before;             /* render_pass_more: samples each pixel took before (else 0) */
     const int *spp_pp;
     int spp_uniform;
     Frame *frame;
@@ -215,14 +216,16 @@ static int render_pixel(PassJob *job, int px, int py, int spp, IntegratorStats *
     int first = job->sample_begin, last = job->sample_end < spp ? job->sample_end : spp;
     if (first >= last) return 0;
     PixelSampler s;
-    /* the sampler is set up for all spp samples of the pass: a round takes a slice */
-    sampler_start_pixel(&s, r->sampler, r->opt.seed, px, py, job->pass, spp);
+    /* the sampler is set up for all spp samples of the pass (after spp_before earlier ones
+     * when it continues them): a round takes a slice */
+    int before = job->spp_before;
+    sampler_continue_pixel(&s, r->sampler, r->opt.seed, px, py, job->pass, before, before + spp);
     /* double sums per pixel and pass: one float add per pass into the frame */
     double c[3] = {0}, di[3] = {0}, in[3] = {0}, em[3] = {0}, al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
     int taken = 0;
     for (int i = first; i < last; ++i, ++taken) {
         if ((taken & 63) == 63 && cancel_requested(job)) break;
-        sampler_start_sample(&s, i);
+        sampler_start_sample(&s, before + i);
         SampleRecord rec;
         integrate_camera_sample(&r->isc, &s, px, py, &rec, st);
         c[0] += rec.L.x, c[1] += rec.L.y, c[2] += rec.L.z;
@@ -294,7 +297,8 @@ static void *pass_worker(void *arg)
     return NULL;
 }
 
-bool render_pass(Renderer *r, int pass, const int *spp_per_pixel, int spp_uniform, Frame *frame, const SampleSink *sink)
+static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_pixel, int spp_uniform, Frame *frame,
+                     const SampleSink *sink)
 {
     if (!frame || frame->width != r->width || frame->height != r->height) return false; /* caller bug */
     double t0 = seconds_now();
@@ -303,6 +307,7 @@ bool render_pass(Renderer *r, int pass, const int *spp_per_pixel, int spp_unifor
     int spp_max = spp_uniform;
     job.r = r;
     job.pass = pass;
+    job.spp_before = spp_before > 0 ? spp_before : 0;
     job.spp_pp = spp_per_pixel;
     job.spp_uniform = spp_uniform;
     job.frame = frame;
@@ -365,4 +370,14 @@ bool render_pass(Renderer *r, int pass, const int *spp_per_pixel, int spp_unifor
     r->stats.samples += job.samples_done;
     r->stats.seconds_trace += seconds_now() - t0;
     return !job.cancelled;
+}
+
+bool render_pass(Renderer *r, int pass, const int *spp_per_pixel, int spp_uniform, Frame *frame, const SampleSink *sink)
+{
+    return run_pass(r, pass, 0, spp_per_pixel, spp_uniform, frame, sink);
+}
+
+bool render_pass_more(Renderer *r, int pass, int spp_before, const int *spp_more, Frame *frame, const SampleSink *sink)
+{
+    return run_pass(r, pass, spp_before, spp_more, 0, frame, sink);
 }

@@ -3,7 +3,8 @@
  *   Renderer *r; renderer_create(scene, &opts, &r, &err);
  *   Frame f; frame_init(&f, renderer_width(r), renderer_height(r));
  *   render_pass(r, 0, NULL, renderer_spp(r), &f, NULL);      // uniform spp
- *   render_pass(r, 1, per_pixel_spp, 0, &f, &sink);            // adaptive second pass
+ *   render_pass(r, 1, per_pixel_spp, 0, &f, &sink);            // an independent second pass
+ *   render_pass_more(r, 0, 16, per_pixel_more, &f, &sink);     // or: continue pass 0's 16
  *
  * Each pixel's sampler is seeded from (seed, pixel, pass). A pass runs in rounds, each
  * taking the next slice of every pixel's sample indices ([0,4) [4,8) [8,16) ... at most 64
@@ -102,5 +103,14 @@ void renderer_set_record_ray_geometry(Renderer *r, bool on);
  * every SampleRecord. Returns false when cancelled (the frame holds what was done) or when
  * the frame's size is not the renderer's. */
 bool render_pass(Renderer *r, int pass, const int *spp_per_pixel, int spp_uniform, Frame *frame, const SampleSink *sink);
+
+/* Adds spp_more[y * width + x] samples to each pixel after the spp_before that
+ * render_pass(r, pass, NULL, spp_before, ...) took, as the same pass: each pixel's samples
+ * of both calls together are one sampler set continued (sampler_continue_pixel); with the
+ * Sobol' sampler, the first spp_before + spp_more points of each dimension's sequence. An
+ * adaptive second pass made this way integrates better than an independent one (pass-1
+ * and pass-2 points stratified together). Same return values as render_pass. */
+bool render_pass_more(Renderer *r, int pass, int spp_before, const int *spp_more, Frame *frame,
+                      const SampleSink *sink);
 
 #endif

@@ -1,7 +1,7 @@
 /* Determinism: the embedded default scene (all four effects) rendered with 1 and with 2
  * threads gives bit-identical frame sums (pixels are seeded from (seed, pixel, pass) and
  * summed by one thread each); a different seed gives a different image; a second pass adds
- * to the first with different samples. */
+ * to the first with different samples, and so does a continuation of the first pass. */
 #include "check.h"
 #include "render_test_util.h"
 
@@ -62,6 +62,19 @@ int main(void)
         int bad = 0;
         for (int i = 0; i < 40 * 30; ++i) bad += t2.frame.spp[i] != 4.0f + (float)(i % 3);
         CHECK(bad == 0);
+        /* continuing pass 0 instead (an adaptive second pass): the same sums for 1 and 2
+         * threads, and each pixel's count grows by its own number */
+        CHECK(render_pass_more(t1.r, 0, 4, spp, &t1.frame, NULL));
+        o.threads = 2, o.seed = 1234;
+        TestRender t4;
+        CHECK(test_render(text, &o, &t4));
+        CHECK(render_pass_more(t4.r, 0, 4, spp, &t4.frame, NULL));
+        CHECK(frames_identical(&t1.frame, &t4.frame));
+        bad = 0;
+        for (int i = 0; i < 40 * 30; ++i) bad += t1.frame.spp[i] != 4.0f + (float)(i % 3);
+        CHECK(bad == 0);
+        CHECK(!frames_identical(&t1.frame, &t2.frame)); /* a continuation is not a new pass */
+        test_render_free(&t4);
         free(spp);
         test_render_free(&t1);
         test_render_free(&t2);
