@@ -109,8 +109,9 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
 #define RENDER_STR_(x) #x
 #define RENDER_STR(x) RENDER_STR_(x)
 
-/* What an option's value must look like, for the error message. */
-static const char *render_option_wants(const char *opt)
+/* What an option's value must look like, for the error message (buf: room for a phrase
+ * built at run time). */
+static const char *render_option_wants(const char *opt, char *buf, size_t size)
 {
     static const struct {
         const char *opt, *wants;
@@ -124,7 +125,7 @@ static const char *render_option_wants(const char *opt)
     };
     for (size_t i = 0; i < sizeof wants / sizeof wants[0]; ++i)
         if (!strcmp(opt, wants[i].opt)) return wants[i].wants;
-    if (!strcmp(opt, "--filter")) return recon_filter_choices();
+    if (!strcmp(opt, "--filter")) return recon_filter_choices(buf, size);
     return "another value";
 }
 
@@ -227,8 +228,9 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             return WEDGE_EXIT_USAGE;
         }
         continue;
-    bad_value:
-        fprintf(stderr, "wedge render: %s wants %s, got '%s'\n", o, render_option_wants(o), val);
+    bad_value:;
+        char wants[128];
+        fprintf(stderr, "wedge render: %s wants %s, got '%s'\n", o, render_option_wants(o, wants, sizeof wants), val);
         return WEDGE_EXIT_USAGE;
 #undef NEED_VALUE
     }

@@ -1,5 +1,6 @@
 #include "recon/filter_select.h"
 
+#include <stdio.h>
 #include <string.h>
 
 const char *recon_effect_name(int effect)
@@ -19,12 +20,29 @@ bool recon_effect_present(const Effects *fx, int effect)
     }
 }
 
+/* The --filter values; a new filter adds its name here (and its policy to recon_filter_for). */
+static const char *const FILTER_NAMES[] = {"auto", "aaf", "none"};
+enum { FILTER_NAME_COUNT = sizeof FILTER_NAMES / sizeof FILTER_NAMES[0] };
+
 bool recon_filter_known(const char *requested)
 {
-    return !strcmp(requested, "auto") || !strcmp(requested, "aaf") || !strcmp(requested, "none");
+    for (int i = 0; i < FILTER_NAME_COUNT; ++i)
+        if (!strcmp(requested, FILTER_NAMES[i])) return true;
+    return false;
 }
 
-const char *recon_filter_choices(void) { return "auto, aaf or none"; }
+const char *recon_filter_choices(char *buf, size_t size)
+{
+    size_t len = 0;
+    if (size) buf[0] = 0;
+    for (int i = 0; i < FILTER_NAME_COUNT && len < size; ++i) {
+        const char *sep = i == 0 ? "" : i == FILTER_NAME_COUNT - 1 ? " or " : ", ";
+        int w = snprintf(buf + len, size - len, "%s%s", sep, FILTER_NAMES[i]);
+        if (w < 0) break;
+        len += (size_t)w;
+    }
+    return buf;
+}
 
 const char *recon_filter_for(const char *requested, const Effects *fx, int effect)
 {
