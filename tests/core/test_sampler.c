@@ -11,23 +11,26 @@
 
 /* Generates all n samples of one pixel, requesting a fixed pattern of dimensions
  * (1D, 2D, 1D, 2D, ...) up to DIMS scalars; out[i][d] is scalar dimension d of sample i. */
+static void draw_sample(PixelSampler *s, int i, float out[DIMS])
+{
+    sampler_start_sample(s, i);
+    int d = 0;
+    while (d < DIMS) {
+        if ((d % 3) == 0) {
+            out[d++] = sampler_1d(s);
+        } else {
+            vec2 p = sampler_2d(s);
+            out[d++] = p.x;
+            out[d++] = p.y;
+        }
+    }
+}
+
 static void fill_pixel(SamplerKind kind, uint64_t seed, int px, int py, int pass, int n, float out[][DIMS])
 {
     PixelSampler s;
     sampler_start_pixel(&s, kind, seed, px, py, pass, n);
-    for (int i = 0; i < n; ++i) {
-        sampler_start_sample(&s, i);
-        int d = 0;
-        while (d < DIMS) {
-            if ((d % 3) == 0) {
-                out[i][d++] = sampler_1d(&s);
-            } else {
-                vec2 p = sampler_2d(&s);
-                out[i][d++] = p.x;
-                out[i][d++] = p.y;
-            }
-        }
-    }
+    for (int i = 0; i < n; ++i) draw_sample(&s, i, out[i]);
 }
 /* Dimension d is the first (x) coordinate of a 2D request when d % 3 == 1. */
 static int is_2d_x(int d) { return d % 3 == 1; }
@@ -449,19 +452,7 @@ static void fill_pixel_continued(SamplerKind kind, uint64_t seed, int px, int py
 {
     PixelSampler s;
     sampler_continue_pixel(&s, kind, seed, px, py, 0, before, n);
-    for (int i = n; i-- > 0;) {
-        sampler_start_sample(&s, i);
-        int d = 0;
-        while (d < DIMS) {
-            if ((d % 3) == 0) {
-                out[i][d++] = sampler_1d(&s);
-            } else {
-                vec2 p = sampler_2d(&s);
-                out[i][d++] = p.x;
-                out[i][d++] = p.y;
-            }
-        }
-    }
+    for (int i = n; i-- > 0;) draw_sample(&s, i, out[i]);
 }
 
 static int compare_floats(const void *a, const void *b)
