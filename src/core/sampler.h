@@ -92,9 +92,8 @@ void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int p
  * is sampler_start_pixel(..., spp). */
 void sampler_continue_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int px, int py, int pass,
                             int spp_before, int spp);
-/* Begins sample i (i >= 0; each further block of spp indices is a fresh stratified set,
- * without a prefix);
- * dimensions restart at 0. */
+/* Begins sample i (i >= 0; each further block of set_spp indices is a fresh stratified set,
+ * without a prefix); dimensions restart at 0. */
 void sampler_start_sample(PixelSampler *s, int sample_index);
 /* Next dimension(s) of the current sample, each in [0, 1). Consumers must request
  * dimensions in a fixed order per sample so strata line up across samples. */
