@@ -22,7 +22,7 @@
 #include "core/false_colour.h"
 #include "io/image_io.h"
 #include "io/ocio.h"
-#include "recon/aaf_render.h"
+#include "recon/aaf/aaf_render.h"
 #include "recon/filter_select.h"
 #include "render/frame.h"
 #include "render/progress.h"

@@ -1,5 +1,5 @@
 /* The OpenCL side of the reconstruction stage: choosing a device, creating a context and
- * queue, and building the kernels embedded in the binary (the .cl files in src/recon/kernels).
+ * queue, and building the kernels embedded in the binary (the .cl files under src/recon).
  *
  * The OpenCL types stay hidden behind ClRuntime so that code including this header needs no
  * OpenCL headers (and no CL_TARGET_OPENCL_VERSION). Only the recon module sees the CL API. */

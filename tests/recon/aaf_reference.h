@@ -1,4 +1,4 @@
-/* Plain C reference implementations of the recon kernels (kernels/aaf.cl), written from the
+/* Plain C reference implementations of the recon kernels (aaf/aaf.cl), written from the
  * definitions (AAF-shadow eqs. 10-12) as straightforward loops, for the kernel tests. */
 #ifndef WEDGE_TESTS_RECON_AAF_REFERENCE_H
 #define WEDGE_TESTS_RECON_AAF_REFERENCE_H

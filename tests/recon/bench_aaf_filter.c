@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "recon/aaf_filter.h"
+#include "recon/aaf/aaf_filter.h"
 #include "recon/cl_runtime.h"
 
 static double now(void)

@@ -1,4 +1,4 @@
-/* The OpenCL AAF filter (kernels/aaf.cl, aaf_filter.c) against its plain C reference
+/* The OpenCL AAF filter (aaf/aaf.cl, aaf_filter.c) against its plain C reference
  * (aaf_reference.h) on small random inputs, plus properties that hold for any input:
  * constants are preserved, width 0 is the identity, no mixing across objects, no NaN. */
 #include <stdlib.h>
@@ -6,7 +6,7 @@
 
 #include "aaf_reference.h"
 #include "check.h"
-#include "recon/aaf_filter.h"
+#include "recon/aaf/aaf_filter.h"
 #include "recon/cl_runtime.h"
 
 static unsigned rng_state = 12345u;

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "recon/aaf_params.h"
-#include "recon/aaf_pixel_params.h"
+#include "recon/aaf/aaf_params.h"
+#include "recon/aaf/aaf_pixel_params.h"
 
 static void test_shadow_hand_values(void)
 {

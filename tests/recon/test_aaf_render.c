@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "recon/aaf_params.h"
-#include "recon/aaf_render.h"
+#include "recon/aaf/aaf_params.h"
+#include "recon/aaf/aaf_render.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
 

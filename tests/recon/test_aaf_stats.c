@@ -4,7 +4,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "recon/aaf_stats.h"
+#include "recon/aaf/aaf_stats.h"
 
 static SampleRecord surface_sample(void)
 {

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "recon/aaf_pixel_params.h"
+#include "recon/aaf/aaf_pixel_params.h"
 #include "recon/recon_parallel.h"
 
 typedef struct {

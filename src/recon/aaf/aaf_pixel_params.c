@@ -1,5 +1,5 @@
 /* Per-pixel AAF parameter maps (see aaf_pixel_params.h). */
-#include "recon/aaf_pixel_params.h"
+#include "recon/aaf/aaf_pixel_params.h"
 
 #include <math.h>
 #include <stdbool.h>

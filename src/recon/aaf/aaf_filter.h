@@ -1,5 +1,5 @@
 /* Host side of the separable AAF screen-space filter (kernel aaf_filter_pass in
- * kernels/aaf.cl): uploads the guide buffers once per frame, then filters any number of
+ * aaf/aaf.cl): uploads the guide buffers once per frame, then filters any number of
  * quantities (direct irradiance, indirect irradiance, primary radiance), each with its own
  * per-pixel width, in two 1D passes (x then y). Buffer layouts are those of aaf.cl. */
 #ifndef WEDGE_RECON_AAF_FILTER_H

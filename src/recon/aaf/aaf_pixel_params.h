@@ -12,7 +12,7 @@
 #ifndef WEDGE_RECON_AAF_PIXEL_PARAMS_H
 #define WEDGE_RECON_AAF_PIXEL_PARAMS_H
 
-#include "recon/aaf_params.h"
+#include "recon/aaf/aaf_params.h"
 
 /* Pass-1 statistics, one value per pixel, row-major width x height. Any pointer may be NULL
  * when its effect is not present. */

@@ -11,7 +11,7 @@
 
 #include <stdbool.h>
 
-#include "recon/aaf_pixel_params.h"
+#include "recon/aaf/aaf_pixel_params.h"
 #include "render/renderer.h"
 #include "render/sample_record.h"
 

@@ -1,5 +1,5 @@
 /* Per-pixel AAF statistics from SampleRecords (see aaf_stats.h). */
-#include "recon/aaf_stats.h"
+#include "recon/aaf/aaf_stats.h"
 
 #include <float.h>
 #include <math.h>

@@ -1,5 +1,5 @@
 /* Axis-aligned filter parameters (see aaf_params.h and docs/algorithms.md). */
-#include "recon/aaf_params.h"
+#include "recon/aaf/aaf_params.h"
 
 #include <float.h>
 #include <math.h>

@@ -1,5 +1,5 @@
 /* Host side of the AAF screen-space filter (see aaf_filter.h). */
-#include "recon/aaf_filter.h"
+#include "recon/aaf/aaf_filter.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -11,7 +11,7 @@
  * filtering would change nothing visible, so the pixel is skipped. */
 #define MIN_BETA_PX 0.25f
 
-/* ---- device buffers: padded float planes (layout in kernels/aaf.cl) ---- */
+/* ---- device buffers: padded float planes (layout in aaf/aaf.cl) ---- */
 
 enum {
     PL_PX, PL_PY, PL_PZ, PL_DEPTH, PL_NX, PL_NY, PL_NZ, PL_ID, /* guides, set once per frame */

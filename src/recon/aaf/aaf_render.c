@@ -1,5 +1,5 @@
 /* The AAF rendering pipeline (see aaf_render.h). */
-#include "recon/aaf_render.h"
+#include "recon/aaf/aaf_render.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -7,10 +7,10 @@
 #include <string.h>
 #include <time.h>
 
-#include "recon/aaf_filter.h"
-#include "recon/aaf_params.h"
-#include "recon/aaf_pixel_params.h"
-#include "recon/aaf_stats.h"
+#include "recon/aaf/aaf_filter.h"
+#include "recon/aaf/aaf_params.h"
+#include "recon/aaf/aaf_pixel_params.h"
+#include "recon/aaf/aaf_stats.h"
 #include "recon/cl_runtime.h"
 #include "recon/recon_parallel.h"
 
