@@ -532,6 +532,7 @@ int cmd_render(int argc, char **argv)
         rep.cl_device = filtered ? aaf.device : NULL;
         rep.seconds_build = st.seconds_build;
         rep.rays_primary = st.rays_primary, rep.rays_shadow = st.rays_shadow, rep.rays_indirect = st.rays_indirect;
+        rep.rays_bsdf = st.rays_bsdf;
         rep.guarded_events = guarded;
         rep.effects = renderer_effects(r);
         rep.threads = renderer_threads(r);

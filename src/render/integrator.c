@@ -373,7 +373,10 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
         if (depth == 1 && vs.delta) unfiltered = true;
 
         vec3 o = surface_offset(&v.hit, wi);
-        ++st->rays_indirect;
+        /* the last ray of a path only finds emitters for MIS of direct light; the others
+         * carry the path on (reported apart: a maxdepth 1 scene traces no bounce ray) */
+        if (depth < sc->max_depth) ++st->rays_indirect;
+        else ++st->rays_bsdf;
         SurfaceHit nh;
         /* the last ray of the path only needs emitters shaded */
         bool hit = tracer_intersect_ex(sc->tracer, o, wi, INFINITY, time01, depth < sc->max_depth, &nh);

@@ -30,7 +30,7 @@ typedef struct {
 } IntegratorScene;
 
 typedef struct {
-    long long rays_primary, rays_shadow, rays_indirect;
+    long long rays_primary, rays_shadow, rays_indirect, rays_bsdf;
     long long guarded_events;  /* non-finite values replaced, degenerate divisions skipped */
 } IntegratorStats;
 

@@ -271,7 +271,7 @@ static void *pass_worker(void *arg)
         int x1 = x0 + TILE_PX < r->width ? x0 + TILE_PX : r->width;
         int y1 = y0 + TILE_PX < r->height ? y0 + TILE_PX : r->height;
         long long samples = 0;
-        long long rays_before = st.rays_primary + st.rays_shadow + st.rays_indirect;
+        long long rays_before = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
         for (int y = y0; y < y1; ++y) {
             if (cancel_requested(job)) { /* Ctrl-C: stop after the current row */
                 __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
@@ -284,13 +284,14 @@ static void *pass_worker(void *arg)
             }
         }
         __atomic_add_fetch(&job->samples_done, samples, __ATOMIC_RELAXED);
-        __atomic_add_fetch(&job->rays_done, st.rays_primary + st.rays_shadow + st.rays_indirect - rays_before,
+        __atomic_add_fetch(&job->rays_done, st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf - rays_before,
                            __ATOMIC_RELAXED);
     }
     pthread_mutex_lock(&job->stats_lock);
     job->stats.rays_primary += st.rays_primary;
     job->stats.rays_shadow += st.rays_shadow;
     job->stats.rays_indirect += st.rays_indirect;
+    job->stats.rays_bsdf += st.rays_bsdf;
     job->stats.guarded_events += st.guarded_events;
     pthread_mutex_unlock(&job->stats_lock);
     __atomic_add_fetch(&job->workers_done, 1, __ATOMIC_RELEASE);
@@ -366,6 +367,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     r->stats.rays_primary += job.stats.rays_primary;
     r->stats.rays_shadow += job.stats.rays_shadow;
     r->stats.rays_indirect += job.stats.rays_indirect;
+    r->stats.rays_bsdf += job.stats.rays_bsdf;
     r->stats.guarded_events += job.stats.guarded_events;
     r->stats.samples += job.samples_done;
     r->stats.seconds_trace += seconds_now() - t0;

@@ -47,7 +47,9 @@ typedef struct {
 } RenderOptions;
 
 typedef struct {
-    long long rays_primary, rays_shadow, rays_indirect;
+    long long rays_primary, rays_shadow;
+    long long rays_indirect;  /* bounce rays that continue a path */
+    long long rays_bsdf;      /* a path's last, BSDF-sampled ray: emitters found for MIS of direct light */
     long long guarded_events;
     long long samples;
     double seconds_trace;     /* wall time inside render_pass */

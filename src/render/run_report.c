@@ -44,8 +44,8 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     fprintf(f, "  \"seconds_trace\": %.6f,\n", finite_or_zero(r->seconds_trace));
     fprintf(f, "  \"seconds_filter\": %.6f,\n", finite_or_zero(r->seconds_filter));
     fprintf(f, "  \"seconds_build\": %.6f,\n", finite_or_zero(r->seconds_build));
-    fprintf(f, "  \"rays_primary\": %lld,\n  \"rays_shadow\": %lld,\n  \"rays_indirect\": %lld,\n", r->rays_primary,
-            r->rays_shadow, r->rays_indirect);
+    fprintf(f, "  \"rays_primary\": %lld,\n  \"rays_shadow\": %lld,\n  \"rays_indirect\": %lld,\n  \"rays_bsdf\": %lld,\n",
+            r->rays_primary, r->rays_shadow, r->rays_indirect, r->rays_bsdf);
     fprintf(f, "  \"effects\": {\"soft_shadows\": %s, \"defocus\": %s, \"motion\": %s, \"indirect\": %s},\n",
             r->effects.soft_shadows ? "true" : "false", r->effects.defocus ? "true" : "false",
             r->effects.motion ? "true" : "false", r->effects.indirect ? "true" : "false");

@@ -12,7 +12,7 @@ typedef struct {
     int width, height;
     double spp_avg;
     double seconds_total, seconds_trace, seconds_filter, seconds_build;
-    long long rays_primary, rays_shadow, rays_indirect;
+    long long rays_primary, rays_shadow, rays_indirect, rays_bsdf; /* RenderStats */
     long long guarded_events;  /* guarded divisions / non-finite values replaced, all stages */
     Effects effects;
     int threads;
