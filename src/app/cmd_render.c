@@ -1,9 +1,10 @@
 /* wedge render [SCENE] [-o OUT] [--spp N] [--res WxH] [--seed N] [--threads N] [--aovs]
  *              [--report FILE.json] [--quiet] [--sampler stratified|sobol]
- *              [--filter auto|aaf|none] [--mu X] [--cl-device N|NAME] [--visualize] [--view NAME]
+ *              [--filter auto|METHOD|none] [--mu X] [--mem-limit SIZE] [--cl-device N|NAME]
+ *              [--visualize] [--view NAME]
  *
- * Parses the scene (or the embedded default), renders it with the Monte Carlo renderer,
- * reconstructs it with the chosen filter (src/recon) and writes an EXR (float R G B A, optional AOV layers, header attributes) or an 8-bit PNG
+ * Parses the scene (or the embedded default), renders and reconstructs it through the
+ * reconstruction pipeline (recon/pipeline.h, every --filter including none) and writes an EXR (float R G B A, optional AOV layers, header attributes) or an 8-bit PNG
  * through an OpenColorIO view (issue 4: every display-referred output goes through OCIO).
  * Ctrl-C stops the render after the rows in flight and writes what was sampled. */
 #include <errno.h>
@@ -22,12 +23,12 @@
 #include "core/false_colour.h"
 #include "io/image_io.h"
 #include "io/ocio.h"
-#include "recon/aaf/aaf_render.h"
-#include "recon/filter_select.h"
+#include "app/run_report.h"
+#include "recon/pipeline.h"
+#include "recon/select.h"
 #include "render/frame.h"
 #include "render/progress.h"
 #include "render/renderer.h"
-#include "render/run_report.h"
 #include "scene/scene_desc.h"
 
 /* ---- the command line, parsed in one place ---- */
@@ -45,8 +46,9 @@ typedef struct {
     bool quiet;
     bool sampler_set;
     SamplerKind sampler;
-    const char *filter;       /* "auto", "aaf" or "none" */
+    const char *filter;       /* "auto", a method's name or "none" */
     float mu;                 /* filter knob; 0: each paper's default */
+    double mem_limit;         /* bytes for per-sample storage; 0: half the physical memory */
     const char *cl_device;    /* NULL: $WEDGE_CL_DEVICE, else the first GPU, else CPU */
     bool visualize;           /* false-colour PNG maps of filter widths and spp */
     const char *view;         /* OCIO view for PNG output; NULL: the display's default */
@@ -55,21 +57,24 @@ typedef struct {
 
 static void usage(FILE *f)
 {
-    char views[256];
+    char views[256], filters[256];
     Diag verr = {0};
+    recon_filter_choices(filters, sizeof filters);
     if (!ocio_list_views(views, sizeof views, &verr)) snprintf(views, sizeof views, "(config not readable)");
     fprintf(f,
             "usage: wedge render [SCENE] [-o OUT] [--spp N] [--res WxH] [--seed N] [--threads N]\n"
             "                    [--aovs] [--report FILE.json] [--quiet] [--sampler stratified|sobol]\n"
-            "                    [--filter auto|aaf|none] [--mu X] [--cl-device N|NAME] [--visualize]\n"
-            "                    [--view NAME]\n\n"
+            "                    [--filter NAME] [--mu X] [--mem-limit SIZE] [--cl-device N|NAME]\n"
+            "                    [--visualize] [--view NAME]\n\n"
             "Renders a pbrt-v4 scene (without SCENE: the embedded default scene) to OUT.\n\n"
             "  -o OUT          output image, repeatable (one render, several files); .png writes\n"
             "                  8-bit display-referred colour through OpenColorIO ($OCIO or the\n"
             "                  built-in config), anything else EXR\n"
             "                  (default: the scene's Film \"filename\")\n"
-            "  --spp N         samples per pixel with --filter none (default: the scene's\n"
-            "                  pixelsamples); a filter chooses its own per-pixel counts (--mu)\n"
+            "  --spp N         samples per pixel: with --filter none every pixel's count (default:\n"
+            "                  the scene's pixelsamples); with a filter the average budget of the\n"
+            "                  frame, spread over the pixels by the filter's plan (default: the\n"
+            "                  filter's own, set by --mu)\n"
             "  --res WxH       image size in pixels (default: the scene's film)\n"
             "  --seed N        random seed (default 0); the image depends only on the seed\n"
             "  --threads N     worker threads (default: all cores)\n"
@@ -77,18 +82,22 @@ static void usage(FILE *f)
             "  --report FILE   write a JSON run report\n"
             "  --quiet         no progress bar and no warnings on stderr\n"
             "  --sampler KIND  stratified or sobol (default: mapped from the scene's Sampler)\n"
-            "  --filter NAME   reconstruction: auto (default: the best filter for each effect the\n"
-            "                  scene has; for now axis-aligned filtering), aaf, or none (plain\n"
-            "                  Monte Carlo from the same sampler)\n"
+            "  --filter NAME   reconstruction, one of %s: auto (default) picks the\n"
+            "                  measured best method for each effect the scene has ('wedge info\n"
+            "                  --filters' lists the methods), none is plain Monte Carlo\n"
             "  --mu X          filter knob (> 0): larger means more samples and narrower filters;\n"
             "                  as X grows the result converges to Monte Carlo (default: each\n"
-            "                  filter's default: 2 for shadows and indirect light, 1 for defocus)\n"
+            "                  filter's default: 2 for shadows and indirect light, 1 for defocus);\n"
+            "                  with --spp, --mu shapes the filters and --spp sets the samples\n"
+            "  --mem-limit S   memory for per-sample storage (filters that keep samples), e.g.\n"
+            "                  512M or 8G (default: half the physical memory); a frame that needs\n"
+            "                  more is refused before rendering\n"
             "  --cl-device D   OpenCL device by index or name substring (see 'wedge info --cl');\n"
             "                  default $WEDGE_CL_DEVICE, else the first GPU, else the first CPU\n"
             "  --visualize     also write OUT-beta-EFFECT.png and OUT-spp.png false-colour maps\n"
             "  --view NAME     OCIO view for PNG output (default: the display's default view);\n"
             "                  views: %s\n",
-            views);
+            filters, views);
 }
 
 static bool parse_int(const char *s, long lo, long hi, long *out)
@@ -122,6 +131,7 @@ static const char *render_option_wants(const char *opt, char *buf, size_t size)
         {"--threads", "an integer in [1, " RENDER_STR(RENDER_THREADS_MAX) "]"},
         {"--sampler", "stratified or sobol"},
         {"--mu", "a number in (0, " RENDER_STR(RENDER_MU_MAX) "]"},
+        {"--mem-limit", "a size in bytes with an optional K, M or G suffix (e.g. 512M)"},
     };
     for (size_t i = 0; i < sizeof wants / sizeof wants[0]; ++i)
         if (!strcmp(opt, wants[i].opt)) return wants[i].wants;
@@ -212,6 +222,15 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
             double mu = strtod(val, &end);
             if (errno || end == val || *end || !(mu > 0.0) || !(mu <= RENDER_MU_MAX)) goto bad_value;
             a->mu = (float)mu;
+        } else if (!strcmp(o, "--mem-limit")) {
+            NEED_VALUE();
+            char *end;
+            errno = 0;
+            double bytes = strtod(val, &end);
+            double unit = !*end ? 1.0 : !strcmp(end, "K") ? 1024.0 : !strcmp(end, "M") ? 1048576.0
+                                    : !strcmp(end, "G") ? 1073741824.0 : 0.0;
+            if (errno || end == val || unit == 0.0 || !(bytes >= 1.0) || !(bytes * unit < 1e18)) goto bad_value;
+            a->mem_limit = bytes * unit;
         } else if (!strcmp(o, "--cl-device")) {
             NEED_VALUE();
             a->cl_device = val;
@@ -233,6 +252,17 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
         fprintf(stderr, "wedge render: %s wants %s, got '%s'\n", o, render_option_wants(o, wants, sizeof wants), val);
         return WEDGE_EXIT_USAGE;
 #undef NEED_VALUE
+    }
+    /* an option that would do nothing is a mistake worth saying, not ignoring */
+    if (!strcmp(a->filter, "none") && a->mu > 0.0f) {
+        fprintf(stderr, "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte "
+                        "Carlo); drop --mu, or choose a filter (--filter auto)\n");
+        return WEDGE_EXIT_USAGE;
+    }
+    if (!strcmp(a->filter, "none") && a->mem_limit > 0.0) {
+        fprintf(stderr, "wedge render: --mem-limit caps a filter's per-sample storage and does nothing with "
+                        "--filter none; drop it, or choose a filter\n");
+        return WEDGE_EXIT_USAGE;
     }
     return WEDGE_EXIT_OK;
 }
@@ -267,19 +297,19 @@ static void planes_free(OutputPlanes *p)
     free(p->albedo), free(p->normal), free(p->depth), free(p->alpha);
 }
 
-/* rgb: the final image (3 floats per pixel); aaf: the filter's maps, or NULL. */
-static bool write_image(const char *path, const Frame *f, const float *rgb, const AafRenderResult *aaf,
-                        const RenderArgs *a, const char *scene_name, double spp_avg, double seconds,
-                        SamplerKind sampler, long long *guarded, Diag *err)
+/* f: the frame's sums (AOVs); res: the image and the methods' layers. */
+static bool write_image(const char *path, const Frame *f, const ReconResult *res, const RenderArgs *a,
+                        const char *scene_name, double seconds, SamplerKind sampler, long long *guarded, Diag *err)
 {
+    const float *rgb = res->rgb;
+    double spp_avg = res->spp_avg;
     size_t n = (size_t)f->width * (size_t)f->height;
     OutputPlanes p = {0};
     if (path_is_png(path)) return ocio_write_png(path, f->width, f->height, rgb, a->view, err);
     p.alpha = malloc(n * sizeof(float));
     if (!p.alpha) goto oom;
     for (size_t i = 0; i < n; ++i) p.alpha[i] = 1.0f;
-    ExrChannel ch[24 + AAF_EFFECT_COUNT];
-    char beta_names[AAF_EFFECT_COUNT][64];
+    ExrChannel ch[24 + RECON_AOV_MAX];
     int nc = 0;
     ch[nc++] = (ExrChannel){"R", rgb + 0, 3};
     ch[nc++] = (ExrChannel){"G", rgb + 1, 3};
@@ -312,11 +342,7 @@ static bool write_image(const char *path, const Frame *f, const float *rgb, cons
         ch[nc++] = (ExrChannel){"N.Z", p.normal + 2, 3};
         ch[nc++] = (ExrChannel){"Z", p.depth, 1};
         ch[nc++] = (ExrChannel){"spp", f->spp, 1};
-        for (int e = 0; aaf && e < AAF_EFFECT_COUNT; ++e)
-            if (aaf->beta_px[e]) {
-                snprintf(beta_names[e], sizeof beta_names[e], "aaf.beta_px.%s", aaf_effect_name(e));
-                ch[nc++] = (ExrChannel){beta_names[e], aaf->beta_px[e], 1};
-            }
+        for (int k = 0; k < res->aov_count; ++k) ch[nc++] = (ExrChannel){res->aovs[k].name, res->aovs[k].data, 1};
     }
     char seed_txt[32];
     snprintf(seed_txt, sizeof seed_txt, "%" PRIu64, a->seed);
@@ -348,9 +374,10 @@ static void sibling_path(char *buf, size_t size, const char *out_path, const cha
     snprintf(buf, size, "%.*s%s", (int)stem, out_path, suffix);
 }
 
-/* --visualize: false-colour PNGs of each filter width (pixels) and of the samples per pixel,
- * each scaled to its own maximum (printed, so the colours can be read as numbers). */
-static bool write_visualizations(const char *out_path, const Frame *f, const AafRenderResult *aaf, Diag *err)
+/* --visualize: false-colour PNGs of the samples per pixel and of each method layer (filter
+ * widths), each scaled to its own maximum (printed, so the colours can be read as numbers):
+ * OUT-spp.png, OUT-<layer>.png. */
+static bool write_visualizations(const char *out_path, const Frame *f, const ReconResult *res, Diag *err)
 {
     size_t n = (size_t)f->width * (size_t)f->height;
     float *rgb = malloc(3 * n * sizeof(float));
@@ -359,16 +386,15 @@ static bool write_visualizations(const char *out_path, const Frame *f, const Aaf
         return false;
     }
     bool ok = true;
-    for (int e = -1; ok && e < AAF_EFFECT_COUNT; ++e) {
-        const float *values = e < 0 ? f->spp : (aaf ? aaf->beta_px[e] : NULL);
-        if (!values) continue;
-        char suffix[64], path[4096];
-        snprintf(suffix, sizeof suffix, e < 0 ? "-spp.png" : "-beta-%s.png", e < 0 ? "" : aaf_effect_name(e));
+    for (int k = -1; ok && k < res->aov_count; ++k) {
+        const float *values = k < 0 ? f->spp : res->aovs[k].data;
+        char suffix[96], path[4096];
+        snprintf(suffix, sizeof suffix, "-%s.png", k < 0 ? "spp" : res->aovs[k].name);
         sibling_path(path, sizeof path, out_path, suffix);
         float vmax = false_colour_image(values, n, rgb);
         ok = png_write_display(path, f->width, f->height, rgb, err);
         if (ok) fprintf(stderr, "wedge render: wrote %s (%s, dark = 0 to bright = %g)\n", path,
-                        e < 0 ? "samples per pixel" : "filter width in pixels", (double)vmax);
+                        k < 0 ? "samples per pixel" : res->aovs[k].unit, (double)vmax);
     }
     free(rgb);
     return ok;
@@ -427,11 +453,6 @@ int cmd_render(int argc, char **argv)
     RenderOptions ro = {0};
     ro.width = a.width, ro.height = a.height, ro.spp = a.spp, ro.seed = a.seed, ro.threads = a.threads;
     ro.sampler_set = a.sampler_set, ro.sampler = a.sampler;
-    bool filtered = strcmp(a.filter, "none") != 0;
-    if (filtered && a.spp > 0 && !a.quiet)
-        fprintf(stderr, "wedge render: note: --spp is not used with --filter %s, which sets each pixel's samples "
-                        "itself; use --mu to trade samples for filter width, or --filter none\n", a.filter);
-    ro.record_ray_geometry = filtered; /* plain Monte Carlo pays nothing for the filters' statistics */
     ro.cancel = &interrupt_flag;
     ProgressBar bar = {.out = stderr};
     if (!a.quiet && isatty(STDERR_FILENO)) ro.progress = progress_bar_update, ro.progress_ctx = &bar;
@@ -444,92 +465,66 @@ int cmd_render(int argc, char **argv)
     }
     if (!a.quiet)
         for (int i = 0; i < scene.warning_count; ++i) fprintf(stderr, "%s\n", scene.warnings[i]);
-    if (!filtered && !a.quiet) note_sobol_count(renderer_sampler(r), renderer_spp(r));
-
     if (a.out_count == 0) a.out_paths[a.out_count++] = scene.film.filename ? scene.film.filename : "pbrt.exr";
     const char *out_path = a.out_paths[0];
-    Frame frame;
-    if (!frame_init(&frame, renderer_width(r), renderer_height(r))) {
-        fprintf(stderr, "wedge render: out of memory for a %dx%d frame\n", renderer_width(r), renderer_height(r));
-        renderer_destroy(r);
-        scene_desc_free(&scene);
-        return WEDGE_EXIT_RUNTIME;
-    }
 
+    ReconOptions po = {0};
+    po.filter = a.filter;
+    po.mu = a.mu;
+    po.spp = a.spp;
+    po.cl_device = a.cl_device;
+    po.mem_limit_bytes = (size_t)a.mem_limit;
+    ReconPipeline *pipe = NULL;
+    bool ok = recon_pipeline_create(r, &po, &pipe, &err);
+    if (ok && !a.quiet) {
+        const ReconChoice *c = &recon_pipeline_result(pipe)->choice;
+        if (!recon_choice_any(c)) note_sobol_count(renderer_sampler(r), a.spp > 0 ? a.spp : renderer_spp(r));
+    }
     interrupt_flag = 0;
     void (*old_handler)(int) = signal(SIGINT, on_sigint);
-    AafRenderResult aaf = {0};
-    float *mc_rgb = NULL;
-    const float *rgb = NULL;
-    bool complete;
-    long long guarded = 0;
-    if (filtered) {
-        /* auto and aaf agree until further filters land: AAF for every effect it covers. */
-        AafRenderOptions ao = aaf_render_options_default();
-        ao.mu = a.mu;
-        ao.cl_device = a.cl_device;
-        bool ok = aaf_render(r, &ao, &frame, &aaf, &err);
-        signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
-        if (ro.progress) progress_bar_finish(&bar);
-        if (!ok) {
-            diag_print(&err);
-            frame_free(&frame);
-            renderer_destroy(r);
-            scene_desc_free(&scene);
-            return err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
-        }
-        complete = !aaf.cancelled;
-        rgb = aaf.rgb;
-        guarded += aaf.guarded_events;
-    } else {
-        complete = render_pass(r, 0, NULL, renderer_spp(r), &frame, NULL);
-        signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
-        if (ro.progress) progress_bar_finish(&bar);
-        mc_rgb = malloc(3 * (size_t)frame.width * (size_t)frame.height * sizeof(float));
-        if (!mc_rgb) {
-            fprintf(stderr, "wedge render: out of memory for a %dx%d image\n", frame.width, frame.height);
-            frame_free(&frame);
-            renderer_destroy(r);
-            scene_desc_free(&scene);
-            return WEDGE_EXIT_RUNTIME;
-        }
-        guarded += frame_resolve3(&frame, frame.color, mc_rgb);
-        rgb = mc_rgb;
+    ok = ok && recon_pipeline_render(pipe, &err);
+    signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
+    if (ro.progress) progress_bar_finish(&bar);
+    if (!ok) {
+        diag_print(&err);
+        recon_pipeline_destroy(pipe);
+        renderer_destroy(r);
+        scene_desc_free(&scene);
+        return err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
     }
+    const ReconResult *res = recon_pipeline_result(pipe);
+    const Frame *frame = &recon_pipeline_gbuffer(pipe)->frame;
+    bool complete = !res->cancelled;
+    long long guarded = res->guarded_events;
     if (!complete && !a.quiet) fprintf(stderr, "wedge render: interrupted; writing the samples taken so far\n");
 
     RenderStats st = renderer_stats(r);
-    double spp_avg = frame_spp_avg(&frame);
     guarded += st.guarded_events;
     double seconds_total = seconds_now() - t_start;
     const char *scene_name = a.scene_path ? a.scene_path : "<default>";
     int exit_code = WEDGE_EXIT_OK;
-    const AafRenderResult *maps = filtered ? &aaf : NULL;
     for (int k = 0; k < a.out_count && exit_code == WEDGE_EXIT_OK; ++k)
-        if (!write_image(a.out_paths[k], &frame, rgb, maps, &a, scene_name, spp_avg, seconds_total,
-                         renderer_sampler(r), &guarded, &err)) {
+        if (!write_image(a.out_paths[k], frame, res, &a, scene_name, seconds_total, renderer_sampler(r), &guarded,
+                         &err)) {
             diag_print(&err);
             exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
         }
-    if (exit_code == WEDGE_EXIT_OK && a.visualize && !write_visualizations(out_path, &frame, maps, &err)) {
+    if (exit_code == WEDGE_EXIT_OK && a.visualize && !write_visualizations(out_path, frame, res, &err)) {
         diag_print(&err);
         exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
     }
     seconds_total = seconds_now() - t_start;
     if (exit_code == WEDGE_EXIT_OK && a.report_path) {
         RunReport rep = {0};
-        rep.width = frame.width, rep.height = frame.height;
-        rep.spp_avg = spp_avg;
+        rep.width = frame->width, rep.height = frame->height;
+        rep.spp_avg = res->spp_avg;
         rep.seconds_total = seconds_total;
         rep.seconds_trace = st.seconds_trace;
-        rep.seconds_filter = filtered ? aaf.seconds_filter : 0.0;
-        /* effect -> filter used (the policy's choice, or none when a render was cut short) */
-        static const int aaf_index[RECON_EFFECT_COUNT] = {AAF_EFFECT_SHADOWS, AAF_EFFECT_DEFOCUS, -1,
-                                                          AAF_EFFECT_INDIRECT};
-        for (int e = 0; e < RECON_EFFECT_COUNT; ++e)
-            rep.filters[e] = filtered && aaf_index[e] >= 0 ? aaf.filters[aaf_index[e]] : "none";
-        rep.mu = filtered ? a.mu : 0.0;
-        rep.cl_device = filtered ? aaf.device : NULL;
+        rep.seconds_filter = res->seconds_filter;
+        /* effect -> method used (the policy's choice, or none when a render was cut short) */
+        for (int e = 0; e < EFFECT_COUNT; ++e) rep.filters[e] = recon_choice_name(&res->choice, (Effect)e);
+        rep.mu = res->mu;
+        rep.cl_device = res->device[0] ? res->device : NULL;
         rep.seconds_build = st.seconds_build;
         rep.rays_primary = st.rays_primary, rep.rays_shadow = st.rays_shadow, rep.rays_indirect = st.rays_indirect;
         rep.rays_bsdf = st.rays_bsdf;
@@ -548,9 +543,7 @@ int cmd_render(int argc, char **argv)
             exit_code = WEDGE_EXIT_RUNTIME;
         }
     }
-    free(mc_rgb);
-    aaf_render_result_free(&aaf);
-    frame_free(&frame);
+    recon_pipeline_destroy(pipe);
     renderer_destroy(r);
     scene_desc_free(&scene);
     return exit_code;

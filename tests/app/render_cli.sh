@@ -100,7 +100,32 @@ grep -q '"soft_shadows": true, "defocus": true, "motion": true, "indirect": true
 "$WEDGE" render "$T/small.pbrt" --res 40x30 --aovs -o "$T/f.exr" --report "$T/f.json" --quiet; check "filtered render" 0 $?
 grep -q '"filters": {"soft_shadows": "aaf", "indirect": "aaf"}' "$T/f.json" ||
     { echo "FAIL: filters per effect: $(grep filters "$T/f.json")"; fail=1; }
-grep -aq "aaf.beta_px.shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aaf.beta_px.shadows layer"; fail=1; }
+grep -aq "aaf.beta_px.soft_shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aaf.beta_px.soft_shadows layer"; fail=1; }
+# an option that does nothing in a mode is a usage error with a message, not silence
+"$WEDGE" render "$T/small.pbrt" --filter none --mu 2 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--mu with --filter none" 1 $?
+grep -qx "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte Carlo); drop --mu, or choose a filter (--filter auto)" "$T/err.txt" ||
+    { echo "FAIL: --mu with --filter none message: $(cat "$T/err.txt")"; fail=1; }
+# --spp with a filter is the frame's average budget (pass 1 and the adaptive pass together),
+# met to within 5% (the plan is scaled to it; rounding is diffused, so it is closer still)
+for budget in 12 40; do
+    "$WEDGE" render "$T/small.pbrt" --res 40x30 --spp $budget -o "$T/b.exr" --report "$T/b.json" --quiet
+    check "--spp $budget with a filter" 0 $?
+    python3 - "$T/b.json" $budget <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); want = float(sys.argv[2])
+if abs(r["spp_avg"] - want) > 0.05 * want or r["filters"]["soft_shadows"] != "aaf":
+    print("FAIL: --spp %g gave spp_avg %g (filters %s)" % (want, r["spp_avg"], r["filters"])); sys.exit(1)
+PY
+done
+# rays: with maxdepth 1 the BSDF rays for MIS of direct light are not indirect rays
+sed 's/"integer maxdepth" \[ 2 \]/"integer maxdepth" [ 1 ]/' "$T/small.pbrt" > "$T/direct.pbrt"
+"$WEDGE" render "$T/direct.pbrt" --filter none --spp 2 --res 16x12 -o "$T/r.exr" --report "$T/r.json" --quiet
+python3 - "$T/r.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1]))
+if r["rays_indirect"] != 0 or r["rays_bsdf"] <= 0 or r["rays_primary"] != 16 * 12 * 2:
+    print("FAIL: maxdepth 1 rays: %s" % {k: r[k] for k in r if k.startswith("rays")}); sys.exit(1)
+PY
 "$WEDGE" render "$T/small.pbrt" --mu 0 >/dev/null 2>&1; check "--mu 0" 1 $?
 "$WEDGE" render "$T/small.pbrt" --res 8x8 --cl-device no-such-device -o "$T/x.exr" --quiet 2>"$T/err.txt"
 check "unknown OpenCL device" 1 $?

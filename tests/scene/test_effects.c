@@ -7,8 +7,8 @@ static const char *effects_of(const char *text)
     static char out[5];
     SceneDesc s;
     if (!parse_ok(text, &s)) return "error";
-    snprintf(out, sizeof out, "%d%d%d%d", s.effects.soft_shadows, s.effects.defocus, s.effects.motion,
-             s.effects.indirect);
+    for (int e = 0; e < EFFECT_COUNT; ++e) out[e] = effect_in(s.effects, (Effect)e) ? '1' : '0';
+    out[EFFECT_COUNT] = 0;
     scene_desc_free(&s);
     return out;
 }

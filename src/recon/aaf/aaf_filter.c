@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "recon/cl_runtime_internal.h"
+#include "recon/cl/cl_runtime_internal.h"
 
 /* Below this width (pixels) the nearest neighbour's weight exp(-1/(2 beta^2)) is < 4e-4:
  * filtering would change nothing visible, so the pixel is skipped. */

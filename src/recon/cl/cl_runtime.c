@@ -1,11 +1,11 @@
 /* OpenCL device choice, context and program build (see cl_runtime.h). */
-#include "recon/cl_runtime_internal.h"
+#include "recon/cl/cl_runtime_internal.h"
 
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "recon/kernel_sources.h"
+#include "recon/cl/kernel_sources.h"
 
 #define MAX_PLATFORMS 16
 #define MAX_DEVICES_PER_PLATFORM 32

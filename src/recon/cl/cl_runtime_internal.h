@@ -8,7 +8,7 @@
 #endif
 #include <CL/cl.h>
 
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 
 struct ClRuntime {
     cl_platform_id platform;

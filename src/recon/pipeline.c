@@ -1,0 +1,636 @@
+/* The reconstruction pipeline (see pipeline.h). */
+#include "recon/pipeline.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "recon/recon_parallel.h"
+
+/* Albedo below this is treated as black: the irradiance cannot be recovered there. */
+#define MIN_ALBEDO 1.0e-4f
+/* A --spp budget is met by searching mu on a log scale over this range ... */
+#define BUDGET_MU_MIN 0.01f
+#define BUDGET_MU_MAX 1.0e4f
+#define BUDGET_SEARCH_STEPS 24
+/* ... and progressive steps double mu from this start when none was given. */
+#define STEP_MU_START 2.0f
+
+typedef struct {
+    const ReconMethodClass *cls;
+    ReconMethod *m;
+    EffectMask effects;
+} MethodSlot;
+
+struct ReconPipeline {
+    Renderer *r;
+    ReconOptions opt;
+    ReconChoice choice;
+    MethodSlot slots[EFFECT_COUNT];
+    int slot_count;
+    bool filtering;              /* some effect has a method */
+    bool fixed_only;             /* no method plans: one pass at a fixed count */
+    GBuffer g;
+    bool g_ready;
+    SampleStore *store;
+    ClRuntime *rt;
+    ReconResult res;
+    float *value_direct4, *value_indirect4, *radiance4; /* 4 floats per pixel each */
+    int *spp_total, *spp_extra;
+    int pass;                    /* sampler passes started */
+};
+
+static double wall_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static size_t pixel_count(const ReconPipeline *p)
+{
+    return (size_t)renderer_width(p->r) * (size_t)renderer_height(p->r);
+}
+
+static MethodSlot *slot_for(ReconPipeline *p, Effect e)
+{
+    for (int s = 0; s < p->slot_count; ++s)
+        if (effect_in(p->slots[s].effects, e)) return &p->slots[s];
+    return NULL;
+}
+
+bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **out, Diag *d)
+{
+    *out = NULL;
+    if (!o->filter || !recon_filter_known(o->filter)) {
+        char choices[256];
+        diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0}, "--filter wants %s, got '%s'",
+                 recon_filter_choices(choices, sizeof choices), o->filter ? o->filter : "");
+        return false;
+    }
+    ReconPipeline *p = calloc(1, sizeof *p);
+    if (!p) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        return false;
+    }
+    p->r = r;
+    p->opt = *o;
+    recon_select(renderer_effects(r), o->filter, &p->choice);
+    /* one slot per distinct method, holding every effect it filters */
+    p->fixed_only = true;
+    for (int e = 0; e < EFFECT_COUNT; ++e) {
+        const ReconMethodClass *c = p->choice.method[e];
+        if (!c) continue;
+        p->filtering = true;
+        int s = 0;
+        while (s < p->slot_count && p->slots[s].cls != c) ++s;
+        if (s == p->slot_count) {
+            p->slots[p->slot_count++].cls = c;
+            if (c->adaptive) p->fixed_only = false;
+        }
+        p->slots[s].effects |= EFFECT_BIT(e);
+    }
+    if (p->filtering && !cl_runtime_check_device(o->cl_device, d)) {
+        free(p);
+        return false;
+    }
+    p->res.width = renderer_width(r);
+    p->res.height = renderer_height(r);
+    p->res.choice = p->choice;
+    *out = p;
+    return true;
+}
+
+void recon_pipeline_destroy(ReconPipeline *p)
+{
+    if (!p) return;
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].m) p->slots[s].cls->destroy(p->slots[s].m);
+    cl_runtime_destroy(p->rt);
+    sample_store_destroy(p->store);
+    if (p->g_ready) gbuffer_free(&p->g);
+    free(p->res.rgb);
+    free(p->value_direct4);
+    free(p->value_indirect4);
+    free(p->radiance4);
+    free(p->spp_total);
+    free(p->spp_extra);
+    free(p);
+}
+
+const ReconResult *recon_pipeline_result(const ReconPipeline *p) { return &p->res; }
+const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
+
+/* ---- sampling ---- */
+
+/* Every sample goes to the guides, the store and each method, in that order. */
+static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
+{
+    ReconPipeline *p = ctx;
+    gbuffer_add(&p->g, px, py, rec);
+    if (p->store) sample_store_add(p->store, px, py, rec);
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->add_sample) p->slots[s].cls->add_sample(p->slots[s].m, px, py, rec);
+}
+
+static void begin_pass(ReconPipeline *p, int pass, bool ray_geometry)
+{
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->begin_pass) p->slots[s].cls->begin_pass(p->slots[s].m, pass);
+    /* ray geometry only when a method reads it: otherwise shadow rays stay any-hit
+     * occlusion queries, cheaper than closest-hit traces */
+    renderer_set_record_ray_geometry(p->r, ray_geometry);
+}
+
+/* Buffers, guides, store and methods for a filtered frame. */
+static bool setup_filtered(ReconPipeline *p, Diag *d)
+{
+    int w = renderer_width(p->r), h = renderer_height(p->r);
+    size_t n = pixel_count(p);
+    if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) goto oom;
+    p->g_ready = true;
+    p->res.rgb = calloc(3 * n, sizeof(float));
+    p->value_direct4 = malloc(4 * n * sizeof(float));
+    p->value_indirect4 = malloc(4 * n * sizeof(float));
+    p->radiance4 = malloc(4 * n * sizeof(float));
+    p->spp_total = malloc(n * sizeof(int));
+    p->spp_extra = calloc(n, sizeof(int));
+    if (!p->res.rgb || !p->value_direct4 || !p->value_indirect4 || !p->radiance4 || !p->spp_total || !p->spp_extra)
+        goto oom;
+    int pass1 = 0, fixed_max = 0;
+    unsigned fields = 0;
+    for (int s = 0; s < p->slot_count; ++s) {
+        const ReconMethodClass *c = p->slots[s].cls;
+        int k = c->pass1_spp(p->slots[s].effects);
+        if (k > pass1) pass1 = k;
+        if (!c->adaptive && k > fixed_max) fixed_max = k;
+        fields |= c->sample_fields;
+    }
+    /* a fixed-count frame takes the --spp budget in one pass */
+    if (p->fixed_only && p->opt.spp > 0) pass1 = p->opt.spp;
+    /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
+    if (!p->fixed_only && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
+    p->res.pass1_spp = pass1;
+    if (fields) {
+        /* the store keeps what the fixed-count methods take (or pass 1 of adaptive ones) */
+        int capacity = fixed_max > pass1 ? fixed_max : pass1;
+        size_t limit = p->opt.mem_limit_bytes ? p->opt.mem_limit_bytes : sample_store_default_limit();
+        if (!sample_store_create(fields, w, h, capacity, limit, &p->store, d)) return false;
+    }
+    for (int s = 0; s < p->slot_count; ++s) {
+        ReconSetup setup = {p->r, &p->g, p->slots[s].cls->sample_fields ? p->store : NULL, p->slots[s].effects,
+                            p->opt.mu, {0}};
+        memcpy(setup.method_options, p->opt.method_options, sizeof setup.method_options);
+        if (!p->slots[s].cls->create(&setup, &p->slots[s].m, d)) return false;
+    }
+    return true;
+oom:
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the reconstruction buffers (%dx%d)", w, h);
+    return false;
+}
+
+/* The per-pixel total the methods' plans ask for at mu (the maximum over methods), in
+ * p->spp_total; returns the image's average. */
+static bool plan_at(ReconPipeline *p, float mu, double *avg, Diag *d)
+{
+    size_t n = pixel_count(p);
+    const float *spp_now = p->g.frame.spp;
+    for (size_t i = 0; i < n; ++i) p->spp_total[i] = (int)spp_now[i];
+    int *one = malloc(n * sizeof(int));
+    if (!one) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the sample plan");
+        return false;
+    }
+    for (int s = 0; s < p->slot_count; ++s) {
+        const ReconMethodClass *c = p->slots[s].cls;
+        if (!c->plan) continue;
+        if (!c->plan(p->slots[s].m, mu, spp_now, one, d)) {
+            free(one);
+            return false;
+        }
+        for (size_t i = 0; i < n; ++i)
+            if (one[i] > p->spp_total[i]) p->spp_total[i] = one[i];
+    }
+    free(one);
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += p->spp_total[i];
+    *avg = n ? sum / (double)n : 0.0;
+    return true;
+}
+
+/* The extra samples per pixel: the plan's total minus what each pixel has. With a --spp
+ * budget the extras are scaled to make the frame's average exactly the budget, by error
+ * diffusion in scan order (deterministic, each pixel within one sample of its share). */
+static void extras_from_plan(ReconPipeline *p, int budget)
+{
+    size_t n = pixel_count(p);
+    const float *now = p->g.frame.spp;
+    double want = 0.0, have = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        int e = p->spp_total[i] - (int)now[i];
+        p->spp_extra[i] = e > 0 ? e : 0;
+        want += p->spp_extra[i];
+        have += now[i];
+    }
+    if (budget <= 0) return;
+    double room = (double)budget * (double)n - have;
+    if (room <= 0.0) {
+        memset(p->spp_extra, 0, n * sizeof(int));
+        return;
+    }
+    /* no pixel asks for more: spread the budget evenly */
+    double scale = want > 0.0 ? room / want : 0.0, carry = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double share = want > 0.0 ? scale * p->spp_extra[i] : room / (double)n;
+        double v = share + carry;
+        int k = (int)floor(v + 0.5);
+        if (k < 0) k = 0;
+        carry = v - k;
+        p->spp_extra[i] = k;
+    }
+}
+
+/* mu for a --spp budget without --mu: the plans' average grows with mu, so bisect log(mu). */
+static bool mu_for_budget(ReconPipeline *p, int budget, float *mu, Diag *d)
+{
+    float lo = BUDGET_MU_MIN, hi = BUDGET_MU_MAX;
+    double avg;
+    for (int it = 0; it < BUDGET_SEARCH_STEPS; ++it) {
+        float mid = sqrtf(lo * hi);
+        if (!plan_at(p, mid, &avg, d)) return false;
+        if (avg > budget) hi = mid;
+        else lo = mid;
+    }
+    *mu = lo;
+    return true;
+}
+
+/* ---- the OpenCL device, opened while the last pass traces ---- */
+
+typedef struct {
+    pthread_t thread;
+    bool started;
+    ReconPipeline *p;
+    ClRuntime *rt;
+    Diag diag;
+} DeviceOpener;
+
+static void *opener_main(void *arg)
+{
+    DeviceOpener *op = arg;
+    ReconPipeline *p = op->p;
+    op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
+    for (int s = 0; op->rt && s < p->slot_count; ++s)
+        if (p->slots[s].cls->open_device && !p->slots[s].cls->open_device(p->slots[s].m, op->rt, &op->diag)) {
+            cl_runtime_destroy(op->rt);
+            op->rt = NULL;
+        }
+    return NULL;
+}
+
+static void opener_start(DeviceOpener *op, ReconPipeline *p)
+{
+    memset(op, 0, sizeof *op);
+    op->p = p;
+    /* Creating the context and building the kernels takes 50-150 ms on PoCL: do it on a
+     * helper thread while the pass traces. */
+    op->started = pthread_create(&op->thread, NULL, opener_main, op) == 0;
+    if (!op->started) opener_main(op);
+}
+
+static bool opener_join(DeviceOpener *op, ReconPipeline *p, Diag *d)
+{
+    if (op->started) pthread_join(op->thread, NULL);
+    op->started = false;
+    if (!op->rt) {
+        if (d) *d = op->diag;
+        return false;
+    }
+    p->rt = op->rt;
+    return true;
+}
+
+/* ---- reconstruction: per-pixel host work on both cores around the methods' filters ---- */
+
+/* frame_resolve3's per-channel mean (render/frame.c), with the same arithmetic. */
+static inline float sum_mean(float sum, float spp, long long *guarded)
+{
+    float v = spp > 0.0f ? sum / spp : 0.0f;
+    if (!isfinite(v)) {
+        v = 0.0f;
+        ++*guarded;
+    }
+    return v;
+}
+
+/* value4 = radiance / (albedo * factor): what a shading filter assumes smooth. Usable where
+ * there is a surface with non-black albedo and factor above its minimum; elsewhere the raw
+ * radiance, flagged unusable (passed through, not shared). */
+static inline void demodulate_pixel(const float rad[3], const float a[3], float factor, bool usable, float *value4)
+{
+    bool ok = usable && a[0] > MIN_ALBEDO && a[1] > MIN_ALBEDO && a[2] > MIN_ALBEDO;
+    for (int k = 0; k < 3; ++k) value4[k] = ok ? rad[k] / (a[k] * factor) : rad[k];
+    value4[3] = ok ? 1.0f : 0.0f;
+}
+
+typedef struct {
+    const GBuffer *g;
+    const float *factor;          /* direct light's extra factor (NULL: 1) */
+    float factor_min;
+    float *value_direct4, *value_indirect4; /* NULL: that light is not filtered */
+    long long guarded[RECON_PARTS];
+} PreparePass;
+
+static void prepare_range(void *ctx, size_t begin, size_t end, int part)
+{
+    PreparePass *pp = ctx;
+    const GBuffer *g = pp->g;
+    const Frame *f = &g->frame;
+    long long guarded = 0;
+    for (size_t i = begin; i < end; ++i) {
+        float spp = f->spp[i];
+        float a[3], dir[3], ind[3], ud[3], ui[3];
+        for (int k = 0; k < 3; ++k) {
+            dir[k] = sum_mean(f->direct[3 * i + k], spp, &guarded);
+            ind[k] = sum_mean(f->indirect[3 * i + k], spp, &guarded);
+            (void)sum_mean(f->emission[3 * i + k], spp, &guarded); /* counted like the others */
+            a[k] = sum_mean(f->albedo[3 * i + k], spp, &guarded);
+        }
+        gbuffer_unfiltered_means(g, i, ud, ui);
+        for (int k = 0; k < 3; ++k) {
+            dir[k] -= ud[k];
+            ind[k] -= ui[k];
+        }
+        bool surface = g->hit[i] && !g->mixed[i];
+        if (pp->value_direct4) {
+            float sh = pp->factor ? pp->factor[i] : 1.0f;
+            demodulate_pixel(dir, a, sh, surface && sh > pp->factor_min, pp->value_direct4 + 4 * i);
+        }
+        if (pp->value_indirect4) demodulate_pixel(ind, a, 1.0f, surface, pp->value_indirect4 + 4 * i);
+    }
+    pp->guarded[part] = guarded;
+}
+
+typedef struct {
+    const GBuffer *g;
+    const float *factor;                          /* as in PreparePass */
+    const float *filtered_direct4, *filtered_indirect4; /* NULL: that light was not filtered */
+    float *rgb;
+    float *radiance4;                             /* NULL: no camera-effect filter follows */
+} CompositePass;
+
+/* albedo * factor * filtered value, or the raw radiance where it was not demodulated */
+static inline float remodulate(const float *value4, int k, float albedo, float factor)
+{
+    return value4[3] != 0.0f ? albedo * factor * value4[k] : value4[k];
+}
+
+static void composite_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    CompositePass *cp = ctx;
+    const Frame *f = &cp->g->frame;
+    long long ignored = 0; /* counted by prepare_range already */
+    for (size_t i = begin; i < end; ++i) {
+        float spp = f->spp[i], ud[3], ui[3], v[3];
+        gbuffer_unfiltered_means(cp->g, i, ud, ui);
+        float sh = cp->factor ? cp->factor[i] : 1.0f;
+        for (int k = 0; k < 3; ++k) {
+            size_t j = 3 * i + (size_t)k;
+            float a = sum_mean(f->albedo[j], spp, &ignored);
+            /* emission + direct + indirect + unfiltered, added in this order */
+            v[k] = sum_mean(f->emission[j], spp, &ignored);
+            v[k] += cp->filtered_direct4 ? remodulate(cp->filtered_direct4 + 4 * i, k, a, sh)
+                                         : sum_mean(f->direct[j], spp, &ignored) - ud[k];
+            v[k] += cp->filtered_indirect4 ? remodulate(cp->filtered_indirect4 + 4 * i, k, a, 1.0f)
+                                           : sum_mean(f->indirect[j], spp, &ignored) - ui[k];
+            v[k] += ud[k] + ui[k];
+        }
+        for (int k = 0; k < 3; ++k) cp->rgb[3 * i + (size_t)k] = v[k];
+        if (cp->radiance4) {
+            float *rv = cp->radiance4 + 4 * i;
+            rv[0] = v[0], rv[1] = v[1], rv[2] = v[2], rv[3] = 1.0f;
+        }
+    }
+}
+
+/* The camera-effect filter's output (if any) into rgb; no non-finite value left, counted. */
+typedef struct {
+    float *rgb;
+    const float *radiance4;       /* NULL: no camera-effect filter ran */
+    long long guarded[RECON_PARTS];
+} FinishPass;
+
+static void finish_range(void *ctx, size_t begin, size_t end, int part)
+{
+    FinishPass *fp = ctx;
+    long long bad = 0;
+    for (size_t i = begin; i < end; ++i)
+        for (int k = 0; k < 3; ++k) {
+            float v = fp->radiance4 ? fp->radiance4[4 * i + (size_t)k] : fp->rgb[3 * i + (size_t)k];
+            if (!isfinite(v)) {
+                v = 0.0f;
+                ++bad;
+            }
+            fp->rgb[3 * i + (size_t)k] = v;
+        }
+    fp->guarded[part] = bad;
+}
+
+/* Filters and composites the frame's samples into res.rgb. */
+static bool reconstruct(ReconPipeline *p, Diag *d)
+{
+    size_t n = pixel_count(p);
+    MethodSlot *sh = slot_for(p, EFFECT_SOFT_SHADOWS), *in = slot_for(p, EFFECT_INDIRECT);
+    const float *factor = NULL;
+    float factor_min = 0.0f;
+    if (sh && sh->cls->light_factor && !sh->cls->light_factor(sh->m, EFFECT_SOFT_SHADOWS, &factor, &factor_min, d))
+        return false;
+    float *direct4 = sh ? p->value_direct4 : NULL, *indirect4 = in ? p->value_indirect4 : NULL;
+    PreparePass prep = {&p->g, factor, factor_min, direct4, indirect4, {0}};
+    recon_parallel_for(n, prepare_range, &prep);
+    for (int k = 0; k < RECON_PARTS; ++k) p->res.guarded_events += prep.guarded[k];
+
+    double kernel_s = 0.0;
+    if (direct4) {
+        if (!sh->cls->filter_light(sh->m, EFFECT_SOFT_SHADOWS, direct4, &kernel_s, d)) return false;
+        p->res.seconds_kernels += kernel_s;
+    }
+    if (indirect4) {
+        if (!in->cls->filter_light(in->m, EFFECT_INDIRECT, indirect4, &kernel_s, d)) return false;
+        p->res.seconds_kernels += kernel_s;
+    }
+    EffectMask camera = 0;
+    MethodSlot *cam = NULL;
+    for (int e = EFFECT_DEFOCUS; e <= EFFECT_MOTION; ++e) {
+        MethodSlot *s = slot_for(p, (Effect)e);
+        if (!s) continue;
+        camera |= EFFECT_BIT(e);
+        cam = s;
+    }
+    CompositePass comp = {&p->g, factor, direct4, indirect4, p->res.rgb, cam ? p->radiance4 : NULL};
+    recon_parallel_for(n, composite_range, &comp);
+    /* one method filters the camera effects together (a second one, if the policy ever
+     * splits them, filters the first one's output) */
+    for (int s = 0; s < p->slot_count && camera; ++s) {
+        EffectMask mine = p->slots[s].effects & camera;
+        if (!mine) continue;
+        if (!p->slots[s].cls->filter_radiance(p->slots[s].m, mine, p->radiance4, &kernel_s, d)) return false;
+        p->res.seconds_kernels += kernel_s;
+    }
+    FinishPass fin = {p->res.rgb, cam ? p->radiance4 : NULL, {0}};
+    recon_parallel_for(n, finish_range, &fin);
+    for (int k = 0; k < RECON_PARTS; ++k) p->res.guarded_events += fin.guarded[k];
+    p->res.aov_count = 0;
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->aovs)
+            p->res.aov_count += p->slots[s].cls->aovs(p->slots[s].m, p->res.aovs + p->res.aov_count,
+                                                      RECON_AOV_MAX - p->res.aov_count);
+    return true;
+}
+
+/* The plain mean of the samples taken (Monte Carlo, or a cancelled render). */
+static bool plain_mean(ReconPipeline *p, Diag *d)
+{
+    size_t n = pixel_count(p);
+    if (!p->res.rgb && !(p->res.rgb = calloc(3 * n, sizeof(float)))) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d image", p->res.width, p->res.height);
+        return false;
+    }
+    p->res.guarded_events += frame_resolve3(&p->g.frame, p->g.frame.color, p->res.rgb);
+    p->res.aov_count = 0;
+    memset(&p->res.choice, 0, sizeof p->res.choice);
+    for (int e = 0; e < EFFECT_COUNT; ++e) p->res.choice.reason[e] = p->choice.reason[e];
+    return true;
+}
+
+/* --filter none (or nothing to filter): one pass, no sink. */
+static bool render_plain(ReconPipeline *p, Diag *d)
+{
+    int w = renderer_width(p->r), h = renderer_height(p->r);
+    if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
+        return false;
+    }
+    p->g_ready = true;
+    int spp = p->opt.spp > 0 ? p->opt.spp : renderer_spp(p->r);
+    p->res.pass1_spp = spp;
+    renderer_set_record_ray_geometry(p->r, false);
+    p->res.cancelled = !render_pass(p->r, p->pass++, NULL, spp, &p->g.frame, NULL);
+    p->res.spp_avg = frame_spp_avg(&p->g.frame);
+    if (!plain_mean(p, d)) return false;
+    p->res.choice = p->choice;
+    p->res.steps = 1;
+    return true;
+}
+
+bool recon_pipeline_render(ReconPipeline *p, Diag *d)
+{
+    if (p->res.steps > 0) return recon_pipeline_step(p, d);
+    if (!p->filtering) return render_plain(p, d);
+    double t0 = wall_seconds(), t_trace = 0.0;
+    if (!setup_filtered(p, d)) return false;
+    SampleSink sink = {fan_out, p};
+    bool geometry = false;
+    for (int s = 0; s < p->slot_count; ++s) geometry = geometry || (p->slots[s].cls->ray_geometry & p->slots[s].effects);
+
+    /* ---- pass 1 ---- */
+    begin_pass(p, 0, geometry);
+    double t = wall_seconds();
+    bool complete = render_pass(p->r, p->pass++, NULL, p->res.pass1_spp, &p->g.frame, &sink);
+    t_trace += wall_seconds() - t;
+    DeviceOpener opener;
+    bool opened = false;
+    if (complete) {
+        gbuffer_resolve_guides(&p->g);
+        /* ---- plans and pass 2 (adaptive methods) ---- */
+        float mu = p->opt.mu;
+        if (!p->fixed_only) {
+            double avg;
+            if (p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) return false;
+            if (!plan_at(p, mu, &avg, d)) return false;
+            extras_from_plan(p, p->opt.spp);
+        }
+        p->res.mu = mu > 0.0f ? mu : 0.0f;
+        opener_start(&opener, p);
+        opened = true;
+        if (!p->fixed_only) {
+            /* plans come from pass 1; pass 2 only refines the guides, without ray geometry,
+             * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
+             * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
+            begin_pass(p, 1, false);
+            t = wall_seconds();
+            complete = render_pass_more(p->r, 0, p->res.pass1_spp, p->spp_extra, &p->g.frame, &sink);
+            t_trace += wall_seconds() - t;
+        }
+    }
+    p->res.spp_avg = frame_spp_avg(&p->g.frame);
+    bool ok;
+    if (!complete) { /* cancelled: the plain mean of what was taken */
+        p->res.cancelled = true;
+        if (opened) opener_join(&opener, p, NULL);
+        ok = plain_mean(p, d);
+    } else {
+        gbuffer_resolve_guides(&p->g);
+        ok = opener_join(&opener, p, d);
+        if (ok) {
+            snprintf(p->res.device, sizeof p->res.device, "%s", cl_runtime_device_label(p->rt));
+            ok = reconstruct(p, d);
+        }
+        if (ok) p->res.steps = 1;
+    }
+    p->res.seconds_filter = wall_seconds() - t0 - t_trace;
+    return ok;
+}
+
+bool recon_pipeline_step(ReconPipeline *p, Diag *d)
+{
+    if (p->res.steps == 0) return recon_pipeline_render(p, d);
+    if (p->res.cancelled) return true;
+    size_t n = pixel_count(p);
+    double t0 = wall_seconds(), t_trace = 0.0;
+    if (!p->filtering) { /* Monte Carlo: double the samples */
+        int spp = p->res.pass1_spp << (p->res.steps - 1);
+        double t = wall_seconds();
+        p->res.cancelled = !render_pass(p->r, p->pass++, NULL, spp, &p->g.frame, NULL);
+        t_trace += wall_seconds() - t;
+        p->res.spp_avg = frame_spp_avg(&p->g.frame);
+        bool ok = plain_mean(p, d);
+        p->res.choice = p->choice;
+        p->res.steps += !p->res.cancelled;
+        p->res.seconds_filter += wall_seconds() - t0 - t_trace;
+        return ok;
+    }
+    /* each step doubles mu: the filters narrow and the plans ask for more samples */
+    float mu = (p->res.mu > 0.0f ? p->res.mu : STEP_MU_START) * 2.0f;
+    if (!p->fixed_only) {
+        double avg;
+        if (!plan_at(p, mu, &avg, d)) return false;
+        extras_from_plan(p, 0);
+    }
+    /* every pixel gets at least pass 1's count more, so that the step always adds samples */
+    for (size_t i = 0; i < n; ++i) {
+        if (p->fixed_only) p->spp_extra[i] = 0;
+        if (p->spp_extra[i] < p->res.pass1_spp) p->spp_extra[i] = p->res.pass1_spp;
+    }
+    p->res.mu = mu;
+    SampleSink sink = {fan_out, p};
+    begin_pass(p, p->pass, false);
+    double t = wall_seconds();
+    bool complete = render_pass(p->r, p->pass++, p->spp_extra, 0, &p->g.frame, &sink);
+    t_trace += wall_seconds() - t;
+    p->res.spp_avg = frame_spp_avg(&p->g.frame);
+    bool ok;
+    if (!complete) {
+        p->res.cancelled = true;
+        ok = plain_mean(p, d);
+    } else {
+        gbuffer_resolve_guides(&p->g);
+        ok = reconstruct(p, d);
+        if (ok) p->res.steps++;
+    }
+    p->res.seconds_filter += wall_seconds() - t0 - t_trace;
+    return ok;
+}
