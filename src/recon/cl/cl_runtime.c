@@ -276,6 +276,19 @@ cl_kernel cl_runtime_kernel(ClRuntime *rt, const char *name, Diag *d)
     return k;
 }
 
+bool cl_launch_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
+{
+    size_t lx = CL_LAUNCH_LOCAL_X, ly = CL_LAUNCH_LOCAL_Y, most = 0;
+    if (clGetKernelWorkGroupInfo(k, rt->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof most, &most, NULL) == CL_SUCCESS)
+        while (lx * ly > most && ly > 1) ly /= 2;
+    while (lx * ly > most && lx > 1 && most > 0) lx /= 2;
+    size_t global[2] = {(gx + lx - 1) / lx * lx, (gy + ly - 1) / ly * ly}, local[2] = {lx, ly};
+    cl_int err = clEnqueueNDRangeKernel(rt->queue, k, 2, NULL, global, local, 0, NULL, ev);
+    if (err == CL_SUCCESS) return true;
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel launch failed: %s", cl_error_name(err));
+    return false;
+}
+
 static const char *type_name(cl_device_type t)
 {
     if (t & CL_DEVICE_TYPE_GPU) return "GPU";
