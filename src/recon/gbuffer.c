@@ -39,19 +39,13 @@ typedef struct {
     size_t offset, size, per_pixel;
 } Slot;
 
-enum {
-    S_HITS, S_POS, S_NRM, S_DEPTH, S_DEPTH_SQ, S_OBJECT, S_ID_MIXED, S_UNFILTERABLE, S_UNF_DIRECT, S_UNF_INDIRECT,
-    S_HIT, S_MIXED, S_POS4, S_NRM4, S_PIXEL_WORLD, S_COUNT
-};
+enum { S_SUMS, S_HIT, S_MIXED, S_POS4, S_NRM4, S_PIXEL_WORLD, S_COUNT };
 
 static const struct {
     size_t size, per_pixel;
 } SLOT_SHAPE[S_COUNT] = {
-    [S_HITS] = {sizeof(int), 1},          [S_POS] = {sizeof(float), 3},         [S_NRM] = {sizeof(float), 3},
-    [S_DEPTH] = {sizeof(float), 1},       [S_DEPTH_SQ] = {sizeof(double), 1},   [S_OBJECT] = {sizeof(int), 1},
-    [S_ID_MIXED] = {1, 1},                [S_UNFILTERABLE] = {sizeof(int), 1},  [S_UNF_DIRECT] = {sizeof(float), 3},
-    [S_UNF_INDIRECT] = {sizeof(float), 3}, [S_HIT] = {1, 1},                    [S_MIXED] = {1, 1},
-    [S_POS4] = {sizeof(float), 4},        [S_NRM4] = {sizeof(float), 4},        [S_PIXEL_WORLD] = {sizeof(float), 1},
+    [S_SUMS] = {sizeof(GBufferSums), 1}, [S_HIT] = {1, 1}, [S_MIXED] = {1, 1},
+    [S_POS4] = {sizeof(float), 4},       [S_NRM4] = {sizeof(float), 4}, [S_PIXEL_WORLD] = {sizeof(float), 1},
 };
 
 /* Offsets of every slot in one block (each 16-byte aligned); returns the block's size, 0 on
@@ -91,22 +85,13 @@ bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam)
     g->width = width;
     g->height = height;
     g->cam = cam;
-    g->hits = (int *)(b + off[S_HITS]);
-    g->pos_sum = (float *)(b + off[S_POS]);
-    g->nrm_sum = (float *)(b + off[S_NRM]);
-    g->depth_sum = (float *)(b + off[S_DEPTH]);
-    g->depth_sq_sum = (double *)(b + off[S_DEPTH_SQ]);
-    g->object_id = (int *)(b + off[S_OBJECT]);
-    g->id_mixed = b + off[S_ID_MIXED];
-    g->unfilterable = (int *)(b + off[S_UNFILTERABLE]);
-    g->unf_direct_sum = (float *)(b + off[S_UNF_DIRECT]);
-    g->unf_indirect_sum = (float *)(b + off[S_UNF_INDIRECT]);
+    g->sums = (GBufferSums *)(b + off[S_SUMS]);
     g->hit = b + off[S_HIT];
     g->mixed = b + off[S_MIXED];
     g->pos4 = (float *)(b + off[S_POS4]);
     g->nrm4 = (float *)(b + off[S_NRM4]);
     g->pixel_world = (float *)(b + off[S_PIXEL_WORLD]);
-    for (size_t i = 0; i < n; ++i) g->object_id[i] = -1;
+    for (size_t i = 0; i < n; ++i) g->sums[i].object_id = -1;
     return true;
 }
 
@@ -123,11 +108,11 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     if (px < 0 || py < 0 || px >= g->width || py >= g->height) return;
     if (!r->hit) return;
     if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) return;
-    size_t i = (size_t)py * (size_t)g->width + (size_t)px;
-    g->hits[i]++;
-    if (g->object_id[i] < 0) g->object_id[i] = r->object_id;
-    else if (g->object_id[i] != r->object_id) g->id_mixed[i] = 1;
-    if (r->unfilterable) g->unfilterable[i]++;
+    GBufferSums *s = &g->sums[(size_t)py * (size_t)g->width + (size_t)px];
+    s->hits++;
+    if (s->object_id < 0) s->object_id = r->object_id;
+    else if (s->object_id != r->object_id) s->id_mixed = 1;
+    if (r->unfilterable) s->unfilterable++;
     /* `unfiltered` is part of direct + indirect without saying which: attribute it to the
      * indirect light first (mirror images of the scene), the rest to direct (the light seen in
      * a mirror), per channel, so that both filtered remainders stay >= 0. */
@@ -136,18 +121,18 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     for (int k = 0; k < 3; ++k) {
         float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
         float ui = fminf(uk, fmaxf(ind[k], 0.0f));
-        g->unf_indirect_sum[3 * i + k] += ui;
-        g->unf_direct_sum[3 * i + k] += uk - ui;
+        s->unf_indirect_sum[k] += ui;
+        s->unf_direct_sum[k] += uk - ui;
     }
-    g->pos_sum[3 * i + 0] += r->p_world.x;
-    g->pos_sum[3 * i + 1] += r->p_world.y;
-    g->pos_sum[3 * i + 2] += r->p_world.z;
-    g->nrm_sum[3 * i + 0] += r->n_shading.x;
-    g->nrm_sum[3 * i + 1] += r->n_shading.y;
-    g->nrm_sum[3 * i + 2] += r->n_shading.z;
+    s->pos_sum[0] += r->p_world.x;
+    s->pos_sum[1] += r->p_world.y;
+    s->pos_sum[2] += r->p_world.z;
+    s->nrm_sum[0] += r->n_shading.x;
+    s->nrm_sum[1] += r->n_shading.y;
+    s->nrm_sum[2] += r->n_shading.z;
     if (isfinite(r->depth_cam)) {
-        g->depth_sum[i] += r->depth_cam;
-        g->depth_sq_sum[i] += (double)r->depth_cam * (double)r->depth_cam;
+        s->depth_sum += r->depth_cam;
+        s->depth_sq_sum += (double)r->depth_cam * (double)r->depth_cam;
     }
 }
 
@@ -156,7 +141,7 @@ void gbuffer_unfiltered_means(const GBuffer *g, size_t i, float direct[3], float
     float spp = g->frame.spp[i];
     float inv = spp > 0.0f ? 1.0f / spp : 0.0f;
     for (int k = 0; k < 3; ++k) {
-        float d = g->unf_direct_sum[3 * i + k] * inv, u = g->unf_indirect_sum[3 * i + k] * inv;
+        float d = g->sums[i].unf_direct_sum[k] * inv, u = g->sums[i].unf_indirect_sum[k] * inv;
         direct[k] = isfinite(d) ? d : 0.0f;
         indirect[k] = isfinite(u) ? u : 0.0f;
     }
@@ -184,7 +169,8 @@ static void guides_range(void *ctx, size_t begin, size_t end, int part)
     GBuffer *g = gp->g;
     float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
     for (size_t i = begin; i < end; ++i) {
-        int hits = g->hits[i];
+        const GBufferSums *s = &g->sums[i];
+        int hits = s->hits;
         g->hit[i] = hits > 0;
         for (int k = 0; k < 4; ++k) g->pos4[4 * i + k] = g->nrm4[4 * i + k] = 0.0f;
         g->nrm4[4 * i + 3] = -1.0f;
@@ -194,19 +180,19 @@ static void guides_range(void *ctx, size_t begin, size_t end, int part)
         float inv = 1.0f / (float)hits;
         float nl = 0;
         for (int k = 0; k < 3; ++k) {
-            float p = g->pos_sum[3 * i + k] * inv;
+            float p = s->pos_sum[k] * inv;
             g->pos4[4 * i + k] = p;
             lo[k] = fminf(lo[k], p);
             hi[k] = fmaxf(hi[k], p);
-            nl += g->nrm_sum[3 * i + k] * g->nrm_sum[3 * i + k];
+            nl += s->nrm_sum[k] * s->nrm_sum[k];
         }
         nl = sqrtf(nl);
-        for (int k = 0; k < 3; ++k) g->nrm4[4 * i + k] = nl > 0.0f ? g->nrm_sum[3 * i + k] / nl : 0.0f;
-        g->nrm4[4 * i + 3] = (float)g->object_id[i];
-        float depth = g->depth_sum[i] * inv;
-        double var = g->depth_sq_sum[i] / hits - (double)depth * (double)depth;
+        for (int k = 0; k < 3; ++k) g->nrm4[4 * i + k] = nl > 0.0f ? s->nrm_sum[k] / nl : 0.0f;
+        g->nrm4[4 * i + 3] = (float)s->object_id;
+        float depth = s->depth_sum * inv;
+        double var = s->depth_sq_sum / hits - (double)depth * (double)depth;
         float depth_rel_std = depth > 0.0f && var > 0.0 ? (float)(sqrt(var) / depth) : 0.0f;
-        g->mixed[i] = g->id_mixed[i] || (float)hits < g->frame.spp[i] || g->unfilterable[i] > 0 ||
+        g->mixed[i] = s->id_mixed || (float)hits < g->frame.spp[i] || s->unfilterable > 0 ||
                       nl < MIXED_NORMAL_COHERENCE * (float)hits || depth_rel_std > MIXED_DEPTH_REL_STD;
         g->pos4[4 * i + 3] = depth;
         /* AAF-shadow Sec. 4.1: d = world length one pixel covers at the receiver (we leave out

@@ -100,7 +100,7 @@ static void test_pixel_statistics(void)
     fixture_add(&fx, 5, 5, &r);
 
     size_t i = 1 * 3 + 1;
-    CHECK(fx.g.frame.spp[i] == 3.0f && fx.g.hits[i] == 3 && fx.s.shadow_rays[i] == 3 && fx.s.occluded_rays[i] == 2);
+    CHECK(fx.g.frame.spp[i] == 3.0f && fx.g.sums[i].hits == 3 && fx.s.shadow_rays[i] == 3 && fx.s.occluded_rays[i] == 2);
     CHECK_NEAR(fx.s.ratio_min[i], 1.0 / 3.0, 1e-6);
     CHECK_NEAR(fx.s.ratio_max[i], 0.75, 1e-6);
     CHECK_NEAR(fx.s.zmin[i], 1.0, 1e-6);
@@ -353,12 +353,12 @@ static void test_unfiltered_split(void)
     r.indirect = v3(0.5f, 0.0f, 2.0f);
     r.unfiltered = v3(1.0f, 0.5f, 1.0f);
     fixture_add(&fx, 0, 0, &r);
-    CHECK_NEAR(fx.g.unf_indirect_sum[0], 0.5, 0.0);
-    CHECK_NEAR(fx.g.unf_direct_sum[0], 0.5, 0.0);
-    CHECK_NEAR(fx.g.unf_indirect_sum[1], 0.0, 0.0);
-    CHECK_NEAR(fx.g.unf_direct_sum[1], 0.5, 0.0);
-    CHECK_NEAR(fx.g.unf_indirect_sum[2], 1.0, 0.0);
-    CHECK_NEAR(fx.g.unf_direct_sum[2], 0.0, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_indirect_sum[0], 0.5, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_direct_sum[0], 0.5, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_indirect_sum[1], 0.0, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_direct_sum[1], 0.5, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_indirect_sum[2], 1.0, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_direct_sum[2], 0.0, 0.0);
     fixture_free(&fx);
 }
 

@@ -311,7 +311,7 @@ static void derive_range(void *ctx, size_t begin, size_t end, int part)
         d->coc_max[i] = s->coc_max[i];
         d->zmin[i] = s->zmin[i];
         d->zmax[i] = s->zmax[i];
-        if (s->g->hits[i] > 0 && s->shadow_rays[i] > 0) {
+        if (s->g->sums[i].hits > 0 && s->shadow_rays[i] > 0) {
             float d1 = s->d1_sum[i] / (float)s->shadow_rays[i];
             d->d1[i] = d1;
             if (s->occluded_rays[i] > 0) {
