@@ -259,6 +259,11 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
                         "Carlo); drop --mu, or choose a filter (--filter auto)\n");
         return WEDGE_EXIT_USAGE;
     }
+    if (!strcmp(a->filter, "none") && a->cl_device) {
+        fprintf(stderr, "wedge render: --cl-device picks the device the filters run on and does nothing with "
+                        "--filter none; drop it, or choose a filter\n");
+        return WEDGE_EXIT_USAGE;
+    }
     if (!strcmp(a->filter, "none") && a->mem_limit > 0.0) {
         fprintf(stderr, "wedge render: --mem-limit caps a filter's per-sample storage and does nothing with "
                         "--filter none; drop it, or choose a filter\n");

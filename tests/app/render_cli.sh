@@ -105,6 +105,9 @@ grep -aq "aaf.beta_px.soft_shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aa
 "$WEDGE" render "$T/small.pbrt" --filter none --mu 2 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--mu with --filter none" 1 $?
 grep -qx "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte Carlo); drop --mu, or choose a filter (--filter auto)" "$T/err.txt" ||
     { echo "FAIL: --mu with --filter none message: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --filter none --cl-device 0 -o "$T/x.exr" >/dev/null 2>&1; check "--cl-device with --filter none" 1 $?
+"$WEDGE" render "$T/small.pbrt" --filter none --mem-limit 1G -o "$T/x.exr" >/dev/null 2>&1; check "--mem-limit with --filter none" 1 $?
+"$WEDGE" render "$T/small.pbrt" --mem-limit 12X -o "$T/x.exr" >/dev/null 2>&1; check "--mem-limit 12X" 1 $?
 # --spp with a filter is the frame's average budget (pass 1 and the adaptive pass together),
 # met to within 5% (the plan is scaled to it; rounding is diffused, so it is closer still)
 for budget in 12 40; do
