@@ -24,6 +24,7 @@
 #include "io/image_io.h"
 #include "io/ocio.h"
 #include "app/run_report.h"
+#include "recon/dist.h"
 #include "recon/pipeline.h"
 #include "recon/select.h"
 #include "render/frame.h"
@@ -422,23 +423,34 @@ static void note_sobol_count(SamplerKind kind, int spp)
             spp, below, below * 2);
 }
 
-int cmd_render(int argc, char **argv)
+/* An error message, once: every rank meets the same usage and input errors, which rank 0
+ * reports; a failure of this rank alone (memory, device) says which rank it was. */
+static void print_error(const Diag *err, const ReconDist *dist)
+{
+    if (dist->rank == 0) diag_print(err);
+    else if (err->exit_code != WEDGE_EXIT_USAGE && err->exit_code != WEDGE_EXIT_INPUT)
+        fprintf(stderr, "wedge render (MPI rank %d of %d): %s\n", dist->rank, dist->ranks, err->message);
+}
+
+static int render_command(int argc, char **argv, ReconDist *dist)
 {
     double t_start = seconds_now();
     RenderArgs a;
     int rc = parse_render_args(argc, argv, &a);
     if (rc != WEDGE_EXIT_OK) return rc;
     if (a.help) {
-        usage(stdout);
+        if (dist->rank == 0) usage(stdout);
         return WEDGE_EXIT_OK;
     }
+    bool root = dist->rank == 0;
+    if (!root) a.quiet = true; /* one progress bar and one set of warnings, rank 0's */
 
     Diag err = {0};
     if (a.view) {
         /* Check --view before rendering: a typo must not cost a whole render. */
         OcioView *ov = NULL;
         if (!ocio_view_open(a.view, &ov, &err)) {
-            diag_print(&err);
+            print_error(&err, dist);
             return err.exit_code ? err.exit_code : WEDGE_EXIT_USAGE;
         }
         ocio_view_close(ov);
@@ -450,7 +462,7 @@ int cmd_render(int argc, char **argv)
                                : scene_parse_string(wedge_default_scene, strlen(wedge_default_scene), "<default>", NULL,
                                                     &scene, &err);
     if (!parsed) {
-        diag_print(&err);
+        print_error(&err, dist);
         return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
     }
     scene_analyze_effects(&scene);
@@ -463,10 +475,14 @@ int cmd_render(int argc, char **argv)
     if (!a.quiet && isatty(STDERR_FILENO)) ro.progress = progress_bar_update, ro.progress_ctx = &bar;
 
     Renderer *r = NULL;
-    if (!renderer_create(&scene, &ro, &r, &err)) {
-        diag_print(&err);
+    bool built = renderer_create(&scene, &ro, &r, &err);
+    if (!built) print_error(&err, dist);
+    /* every rank built its scene, or none renders (a rank left out would hang the others) */
+    if (!dist_all_ok(dist, built)) {
+        if (built && root) fprintf(stderr, "wedge render: another MPI rank could not build the scene (its message is above)\n");
+        renderer_destroy(r);
         scene_desc_free(&scene);
-        return err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
+        return built ? WEDGE_EXIT_RUNTIME : (err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME);
     }
     if (!a.quiet)
         for (int i = 0; i < scene.warning_count; ++i) fprintf(stderr, "%s\n", scene.warnings[i]);
@@ -479,19 +495,28 @@ int cmd_render(int argc, char **argv)
     po.spp = a.spp;
     po.cl_device = a.cl_device;
     po.mem_limit_bytes = (size_t)a.mem_limit;
+    po.dist = dist;
     ReconPipeline *pipe = NULL;
     bool ok = recon_pipeline_create(r, &po, &pipe, &err);
+    if (!ok) print_error(&err, dist);
+    bool all = dist_all_ok(dist, ok);
+    if (ok && !all) { /* this rank is fine; another one says why it is not */
+        recon_pipeline_destroy(pipe);
+        renderer_destroy(r);
+        scene_desc_free(&scene);
+        return WEDGE_EXIT_RUNTIME;
+    }
     if (ok && !a.quiet) {
         const ReconChoice *c = &recon_pipeline_result(pipe)->choice;
         if (!recon_choice_any(c)) note_sobol_count(renderer_sampler(r), a.spp > 0 ? a.spp : renderer_spp(r));
     }
     interrupt_flag = 0;
     void (*old_handler)(int) = signal(SIGINT, on_sigint);
-    ok = ok && recon_pipeline_render(pipe, &err);
+    bool rendered = ok && recon_pipeline_render(pipe, &err);
     signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
     if (ro.progress) progress_bar_finish(&bar);
-    if (!ok) {
-        diag_print(&err);
+    if (!rendered) {
+        if (ok) print_error(&err, dist);
         recon_pipeline_destroy(pipe);
         renderer_destroy(r);
         scene_desc_free(&scene);
@@ -504,18 +529,28 @@ int cmd_render(int argc, char **argv)
     if (!complete && !a.quiet) fprintf(stderr, "wedge render: interrupted; writing the samples taken so far\n");
 
     RenderStats st = renderer_stats(r);
+    /* the ranks' rays and guards, all of them (collectives: every rank takes part) */
+    st.rays_primary = dist_sum_ll(dist, st.rays_primary), st.rays_shadow = dist_sum_ll(dist, st.rays_shadow);
+    st.rays_indirect = dist_sum_ll(dist, st.rays_indirect), st.rays_bsdf = dist_sum_ll(dist, st.rays_bsdf);
+    st.guarded_events = dist_sum_ll(dist, st.guarded_events);
     guarded += st.guarded_events;
     double seconds_total = seconds_now() - t_start;
     const char *scene_name = a.scene_path ? a.scene_path : "<default>";
     int exit_code = WEDGE_EXIT_OK;
+    if (!root) { /* rank 0 writes the image, the layers and the report */
+        recon_pipeline_destroy(pipe);
+        renderer_destroy(r);
+        scene_desc_free(&scene);
+        return exit_code;
+    }
     for (int k = 0; k < a.out_count && exit_code == WEDGE_EXIT_OK; ++k)
         if (!write_image(a.out_paths[k], frame, res, &a, scene_name, seconds_total, renderer_sampler(r), &guarded,
                          &err)) {
-            diag_print(&err);
+            print_error(&err, dist);
             exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
         }
     if (exit_code == WEDGE_EXIT_OK && a.visualize && !write_visualizations(out_path, frame, res, &err)) {
-        diag_print(&err);
+        print_error(&err, dist);
         exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
     }
     seconds_total = seconds_now() - t_start;
@@ -543,8 +578,10 @@ int cmd_render(int argc, char **argv)
         rep.output = out_path;
         rep.interrupted = !complete;
         rep.triangles = renderer_triangle_count(r);
+        rep.ranks = dist->ranks;
+        for (int k = 0; k < 4; ++k) rep.bytes_pass[k] = dist->bytes_sent[k];
         if (!run_report_write(a.report_path, &rep, &err)) {
-            diag_print(&err);
+            print_error(&err, dist);
             exit_code = WEDGE_EXIT_RUNTIME;
         }
     }
@@ -552,4 +589,13 @@ int cmd_render(int argc, char **argv)
     renderer_destroy(r);
     scene_desc_free(&scene);
     return exit_code;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    ReconDist dist;
+    dist_init(&argc, &argv, &dist);
+    int rc = render_command(argc, argv, &dist);
+    dist_finish(&dist);
+    return rc;
 }

@@ -4,6 +4,7 @@
 
 #include "app/commands.h"
 #include "core/diag.h"
+#include "recon/dist.h"
 
 static const struct {
     const char *name;
@@ -36,7 +37,8 @@ int main(int argc, char **argv)
         return WEDGE_EXIT_OK;
     }
     if (!strcmp(argv[1], "--version")) {
-        printf("wedge %s\n", WEDGE_VERSION);
+        /* what a script may need to know about this build */
+        printf("wedge %s (MPI: %s)\n", WEDGE_VERSION, dist_available() ? "yes" : "no");
         return WEDGE_EXIT_OK;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)

@@ -26,6 +26,8 @@ typedef struct {
     const char *output;
     bool interrupted;
     long triangles;
+    int ranks;                 /* MPI ranks that shared the frame (1: one process) */
+    long long bytes_pass[4];   /* bytes the ranks sent per pass (gathers, plan broadcast) */
 } RunReport;
 
 /* Writes the report as one JSON object (keys of issue 3 plus a few extras). err exit 3. */

@@ -24,6 +24,7 @@
 
 #include "core/diag.h"
 #include "recon/cl/cl_runtime.h"
+#include "recon/dist.h"
 #include "recon/gbuffer.h"
 #include "recon/sample_store.h"
 #include "render/renderer.h"
@@ -82,6 +83,11 @@ typedef struct {
     /* Filters the composite radiance in place for the camera effects in `effects` (defocus,
      * motion): value4 per pixel is (r, g, b, 1). */
     bool (*filter_radiance)(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d);
+    /* The per-pixel arrays its sink fills (up to max; returns how many), which the pipeline
+     * gathers from the ranks that own the pixels when a frame is shared by MPI ranks
+     * (dist.h). Every array the sink writes must be listed, or ranks disagree. May be NULL
+     * for a method without a sink. */
+    int (*shared)(ReconMethod *m, DistArray *out, int max);
     /* Its AOV layers after reconstruction (up to max); returns how many. May be NULL. */
     int (*aovs)(ReconMethod *m, ReconAov *out, int max);
     void (*destroy)(ReconMethod *m);

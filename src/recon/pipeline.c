@@ -39,6 +39,7 @@ struct ReconPipeline {
     ReconResult res;
     float *value_direct4, *value_indirect4, *radiance4; /* 4 floats per pixel each */
     int *spp_total, *spp_extra;
+    int *spp_mine;               /* MPI ranks: a pass's counts with 0 for the pixels of others */
     int pass;                    /* sampler passes started */
 };
 
@@ -117,6 +118,7 @@ void recon_pipeline_destroy(ReconPipeline *p)
     free(p->radiance4);
     free(p->spp_total);
     free(p->spp_extra);
+    free(p->spp_mine);
     free(p);
 }
 
@@ -124,6 +126,45 @@ const ReconResult *recon_pipeline_result(const ReconPipeline *p) { return &p->re
 const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
 
 /* ---- sampling ---- */
+
+static bool distributed(const ReconPipeline *p) { return p->opt.dist && p->opt.dist->ranks > 1; }
+static bool is_root(const ReconPipeline *p) { return !distributed(p) || p->opt.dist->rank == 0; }
+
+/* The counts this rank traces: counts (or uniform where counts is NULL) for the pixels it
+ * owns, 0 for the others; without ranks, counts itself (NULL: uniform). */
+static const int *counts_mine(ReconPipeline *p, const int *counts, int uniform)
+{
+    if (!distributed(p)) return counts;
+    int w = renderer_width(p->r), h = renderer_height(p->r);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            bool mine = dist_owner(p->opt.dist, w, x, y) == p->opt.dist->rank;
+            p->spp_mine[i] = mine ? (counts ? counts[i] : uniform) : 0;
+        }
+    return p->spp_mine;
+}
+
+/* After a pass: every rank finished it (or all treat it as cancelled), and rank 0 holds every
+ * per-pixel sum: the frame, the guides' sums, the store, the methods' statistics. */
+static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
+{
+    if (!distributed(p)) return true;
+    *complete = dist_all_ok(p->opt.dist, *complete);
+    enum { MAX_ARRAYS = 64 };
+    DistArray a[MAX_ARRAYS];
+    int n = 0;
+    Frame *f = &p->g.frame;
+    float *rgb_sums[6] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
+    for (int k = 0; k < 6; ++k) a[n++] = (DistArray){rgb_sums[k], 3 * sizeof(float)};
+    float *scalar_sums[3] = {f->depth, f->hits, f->spp};
+    for (int k = 0; k < 3; ++k) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
+    if (p->filtering) a[n++] = (DistArray){p->g.sums, sizeof(GBufferSums)};
+    if (p->store) n += sample_store_arrays(p->store, a + n, MAX_ARRAYS - n);
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->shared) n += p->slots[s].cls->shared(p->slots[s].m, a + n, MAX_ARRAYS - n);
+    return dist_gather(p->opt.dist, p->g.width, p->g.height, a, n, pass, d);
+}
 
 /* Every sample goes to the guides, the store and each method, in that order. */
 static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
@@ -157,7 +198,9 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     p->radiance4 = malloc(4 * n * sizeof(float));
     p->spp_total = malloc(n * sizeof(int));
     p->spp_extra = calloc(n, sizeof(int));
-    if (!p->res.rgb || !p->value_direct4 || !p->value_indirect4 || !p->radiance4 || !p->spp_total || !p->spp_extra)
+    if (distributed(p)) p->spp_mine = malloc(n * sizeof(int));
+    if (!p->res.rgb || !p->value_direct4 || !p->value_indirect4 || !p->radiance4 || !p->spp_total || !p->spp_extra ||
+        (distributed(p) && !p->spp_mine))
         goto oom;
     int pass1 = 0, fixed_max = 0;
     unsigned fields = 0;
@@ -518,7 +561,13 @@ static bool render_plain(ReconPipeline *p, Diag *d)
     int spp = p->opt.spp > 0 ? p->opt.spp : renderer_spp(p->r);
     p->res.pass1_spp = spp;
     renderer_set_record_ray_geometry(p->r, false);
-    p->res.cancelled = !render_pass(p->r, p->pass++, NULL, spp, &p->g.frame, NULL);
+    if (distributed(p) && !(p->spp_mine = malloc((size_t)w * (size_t)h * sizeof(int)))) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
+        return false;
+    }
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
+    if (!gather_pass(p, 0, &complete, d)) return false;
+    p->res.cancelled = !complete;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     if (!plain_mean(p, d)) return false;
     p->res.choice = p->choice;
@@ -539,36 +588,47 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     /* ---- pass 1 ---- */
     begin_pass(p, 0, geometry);
     double t = wall_seconds();
-    bool complete = render_pass(p->r, p->pass++, NULL, p->res.pass1_spp, &p->g.frame, &sink);
+    int pass1 = p->res.pass1_spp;
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
+    if (!gather_pass(p, 0, &complete, d)) return false;
     DeviceOpener opener;
     bool opened = false;
     if (complete) {
-        gbuffer_resolve_guides(&p->g);
-        /* ---- plans and pass 2 (adaptive methods) ---- */
+        /* ---- plans (rank 0) and pass 2 (adaptive methods) ---- */
         float mu = p->opt.mu;
-        if (!p->fixed_only) {
-            double avg;
-            if (p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) return false;
-            if (!plan_at(p, mu, &avg, d)) return false;
-            extras_from_plan(p, p->opt.spp);
+        if (is_root(p)) {
+            gbuffer_resolve_guides(&p->g);
+            if (!p->fixed_only) {
+                double avg;
+                if (p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) return false;
+                if (!plan_at(p, mu, &avg, d)) return false;
+                extras_from_plan(p, p->opt.spp);
+            }
+            opener_start(&opener, p);
+            opened = true;
         }
         p->res.mu = mu > 0.0f ? mu : 0.0f;
-        opener_start(&opener, p);
-        opened = true;
         if (!p->fixed_only) {
+            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d)) return false;
             /* plans come from pass 1; pass 2 only refines the guides, without ray geometry,
              * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
             begin_pass(p, 1, false);
             t = wall_seconds();
-            complete = render_pass_more(p->r, 0, p->res.pass1_spp, p->spp_extra, &p->g.frame, &sink);
+            complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
             t_trace += wall_seconds() - t;
+            if (!gather_pass(p, 1, &complete, d)) {
+                if (opened) opener_join(&opener, p, NULL);
+                return false;
+            }
         }
     }
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     bool ok;
-    if (!complete) { /* cancelled: the plain mean of what was taken */
+    if (!is_root(p)) { /* another rank: its samples are on rank 0 now */
+        ok = true;
+    } else if (!complete) { /* cancelled: the plain mean of what was taken */
         p->res.cancelled = true;
         if (opened) opener_join(&opener, p, NULL);
         ok = plain_mean(p, d);
@@ -588,6 +648,10 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
 bool recon_pipeline_step(ReconPipeline *p, Diag *d)
 {
     if (p->res.steps == 0) return recon_pipeline_render(p, d);
+    if (distributed(p)) {
+        diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0}, "progressive rendering runs in one process, not under mpirun");
+        return false;
+    }
     if (p->res.cancelled) return true;
     size_t n = pixel_count(p);
     double t0 = wall_seconds(), t_trace = 0.0;

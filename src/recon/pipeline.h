@@ -19,7 +19,11 @@
  * call adds samples to every pixel at a doubled mu (the methods' filters narrow, the image
  * converges to the Monte Carlo answer: consistency, docs/design.md) and reconstructs again.
  * Each step is its own sampler pass (seeded from seed, pixel and step), because a stratified
- * set can be continued once but not extended again. */
+ * set can be continued once but not extended again.
+ *
+ * Several MPI ranks (ReconOptions.dist): each traces the pixels it owns, the pipeline gathers
+ * every per-pixel sum to rank 0 after each pass, rank 0 plans and broadcasts the plan, and
+ * reconstructs; the image equals the single-process one (dist.h). recon_pipeline_render only. */
 #ifndef WEDGE_RECON_PIPELINE_H
 #define WEDGE_RECON_PIPELINE_H
 
@@ -27,6 +31,7 @@
 #include <stddef.h>
 
 #include "core/diag.h"
+#include "recon/dist.h"
 #include "recon/gbuffer.h"
 #include "recon/method.h"
 #include "recon/select.h"
@@ -41,6 +46,8 @@ typedef struct {
     const char *cl_device;     /* NULL: $WEDGE_CL_DEVICE, else the first GPU, else the first CPU */
     size_t mem_limit_bytes;    /* cap on the per-sample store; 0: half the physical memory */
     int method_options[4];     /* passed to the methods (ReconSetup.method_options) */
+    ReconDist *dist;           /* ranks sharing the frame (dist.h); NULL: this process alone.
+                                * Only rank 0's result holds the image. */
 } ReconOptions;
 
 enum { RECON_AOV_MAX = 16 };

@@ -158,6 +158,16 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
     }
 }
 
+int sample_store_arrays(SampleStore *s, DistArray *out, int max)
+{
+    int n = 0;
+    if (n < max) out[n++] = (DistArray){s->count, sizeof(int)};
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_ && n < max; ++f)
+        if (s->field[f])
+            out[n++] = (DistArray){s->field[f], (size_t)s->capacity * (size_t)FIELDS[f].components * sizeof(float)};
+    return n;
+}
+
 unsigned sample_store_fields(const SampleStore *s) { return s->fields; }
 int sample_store_capacity(const SampleStore *s) { return s->capacity; }
 int sample_store_count(const SampleStore *s, size_t i) { return s->count[i]; }

@@ -15,6 +15,7 @@
 #include <stddef.h>
 
 #include "core/diag.h"
+#include "recon/dist.h"
 #include "render/sample_record.h"
 
 /* The fields a method may ask for. */
@@ -63,6 +64,9 @@ int sample_store_capacity(const SampleStore *s);
 int sample_store_count(const SampleStore *s, size_t i);
 /* The array of one field (NULL when the store does not hold it). */
 const float *sample_store_field(const SampleStore *s, unsigned field);
+/* The store's per-pixel arrays (the counts, then each field's), for gathering (dist.h);
+ * returns how many (at most SAMPLE_FIELD_COUNT_ + 1). */
+int sample_store_arrays(SampleStore *s, DistArray *out, int max);
 /* Samples that arrived past a pixel's capacity (not kept). */
 long long sample_store_dropped(const SampleStore *s);
 

@@ -301,6 +301,8 @@ static bool aaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     return aaf_filter_run(m->filter, value4, m->slope4, m->param, &rules, value4, kernel_seconds, d);
 }
 
+static int aaf_shared(ReconMethod *m, DistArray *out, int max) { return aaf_stats_arrays(&m->stats, out, max); }
+
 /* The filter widths in pixels, one layer per filtered effect: aaf.beta_px.<effect>. */
 static int aaf_aovs(ReconMethod *m, ReconAov *out, int max)
 {
@@ -339,6 +341,7 @@ const ReconMethodClass recon_method_aaf = {
     .light_factor = aaf_light_factor,
     .filter_light = aaf_filter_light,
     .filter_radiance = aaf_filter_radiance,
+    .shared = aaf_shared,
     .aovs = aaf_aovs,
     .destroy = aaf_destroy,
 };

@@ -53,6 +53,16 @@ bool aaf_stats_init(AafStats *s, const GBuffer *g)
     return true;
 }
 
+int aaf_stats_arrays(AafStats *s, DistArray *out, int max)
+{
+    int n = 0;
+#define LIST(name, type, per, init)                                                                        \
+    if (n < max) out[n++] = (DistArray){s->name, (per) * sizeof(type)};
+    AAF_STATS_ARRAYS(LIST)
+#undef LIST
+    return n;
+}
+
 void aaf_stats_free(AafStats *s)
 {
 #define FREE(name, type, per, init) free(s->name);

@@ -13,6 +13,7 @@
 #include <stdbool.h>
 
 #include "recon/aaf/aaf_pixel_params.h"
+#include "recon/dist.h"
 #include "recon/gbuffer.h"
 #include "render/renderer.h"
 #include "render/sample_record.h"
@@ -65,6 +66,9 @@ bool aaf_stats_init(AafStats *s, const GBuffer *g);
 /* Fills lights[0..count) from the renderer's exact light list (count = renderer_light_count). */
 void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count);
 void aaf_stats_free(AafStats *s);
+
+/* The statistics' per-pixel arrays, for gathering from MPI ranks (dist.h); returns how many. */
+int aaf_stats_arrays(AafStats *s, DistArray *out, int max);
 
 /* The SampleSink callback (ctx = AafStats *). */
 void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r);
