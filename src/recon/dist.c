@@ -10,7 +10,7 @@
 #include <mpi.h>
 #endif
 
-enum { DIST_TILE_PX = 16 };
+enum { DIST_TILE_PX = 8 };
 
 bool dist_available(void)
 {
