@@ -512,8 +512,13 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     }
     interrupt_flag = 0;
     void (*old_handler)(int) = signal(SIGINT, on_sigint);
+    /* Under mpirun, Ctrl-C reaches mpirun, which sends the ranks SIGTERM (then SIGKILL after
+     * its timeout): treated as Ctrl-C, the ranks finish the rows in flight together and rank 0
+     * writes the samples taken. */
+    void (*old_term)(int) = dist->ranks > 1 ? signal(SIGTERM, on_sigint) : SIG_ERR;
     bool rendered = ok && recon_pipeline_render(pipe, &err);
     signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
+    if (dist->ranks > 1) signal(SIGTERM, old_term == SIG_ERR ? SIG_DFL : old_term);
     if (ro.progress) progress_bar_finish(&bar);
     if (!rendered) {
         if (ok) print_error(&err, dist);

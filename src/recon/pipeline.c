@@ -648,18 +648,17 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
 bool recon_pipeline_step(ReconPipeline *p, Diag *d)
 {
     if (p->res.steps == 0) return recon_pipeline_render(p, d);
-    if (distributed(p)) {
-        diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0}, "progressive rendering runs in one process, not under mpirun");
-        return false;
-    }
     if (p->res.cancelled) return true;
     size_t n = pixel_count(p);
     double t0 = wall_seconds(), t_trace = 0.0;
+    int pass_slot = p->pass < 3 ? p->pass : 3; /* the byte counter of this pass */
     if (!p->filtering) { /* Monte Carlo: double the samples */
         int spp = p->res.pass1_spp << (p->res.steps - 1);
         double t = wall_seconds();
-        p->res.cancelled = !render_pass(p->r, p->pass++, NULL, spp, &p->g.frame, NULL);
+        bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
         t_trace += wall_seconds() - t;
+        if (!gather_pass(p, pass_slot, &complete, d)) return false;
+        p->res.cancelled = !complete;
         p->res.spp_avg = frame_spp_avg(&p->g.frame);
         bool ok = plain_mean(p, d);
         p->res.choice = p->choice;
@@ -667,27 +666,35 @@ bool recon_pipeline_step(ReconPipeline *p, Diag *d)
         p->res.seconds_filter += wall_seconds() - t0 - t_trace;
         return ok;
     }
-    /* each step doubles mu: the filters narrow and the plans ask for more samples */
+    /* each step doubles mu: the filters narrow and the plans (rank 0's) ask for more samples */
     float mu = (p->res.mu > 0.0f ? p->res.mu : STEP_MU_START) * 2.0f;
-    if (!p->fixed_only) {
-        double avg;
-        if (!plan_at(p, mu, &avg, d)) return false;
-        extras_from_plan(p, 0);
+    if (is_root(p)) {
+        if (!p->fixed_only) {
+            double avg;
+            if (!plan_at(p, mu, &avg, d)) return false;
+            extras_from_plan(p, 0);
+        }
+        /* every pixel gets at least pass 1's count more, so that the step always adds samples */
+        for (size_t i = 0; i < n; ++i) {
+            if (p->fixed_only) p->spp_extra[i] = 0;
+            if (p->spp_extra[i] < p->res.pass1_spp) p->spp_extra[i] = p->res.pass1_spp;
+        }
     }
-    /* every pixel gets at least pass 1's count more, so that the step always adds samples */
-    for (size_t i = 0; i < n; ++i) {
-        if (p->fixed_only) p->spp_extra[i] = 0;
-        if (p->spp_extra[i] < p->res.pass1_spp) p->spp_extra[i] = p->res.pass1_spp;
-    }
+    if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d)) return false;
     p->res.mu = mu;
     SampleSink sink = {fan_out, p};
     begin_pass(p, p->pass, false);
     double t = wall_seconds();
-    bool complete = render_pass(p->r, p->pass++, p->spp_extra, 0, &p->g.frame, &sink);
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
+    if (!gather_pass(p, pass_slot, &complete, d)) return false;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     bool ok;
-    if (!complete) {
+    if (!is_root(p)) {
+        ok = true;
+        p->res.steps += complete;
+        p->res.cancelled = !complete;
+    } else if (!complete) {
         p->res.cancelled = true;
         ok = plain_mean(p, d);
     } else {

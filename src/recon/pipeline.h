@@ -22,8 +22,9 @@
  * set can be continued once but not extended again.
  *
  * Several MPI ranks (ReconOptions.dist): each traces the pixels it owns, the pipeline gathers
- * every per-pixel sum to rank 0 after each pass, rank 0 plans and broadcasts the plan, and
- * reconstructs; the image equals the single-process one (dist.h). recon_pipeline_render only. */
+ * every per-pixel sum to rank 0 after each pass (and each step), rank 0 plans and broadcasts
+ * the plan, and reconstructs; the image equals the single-process one (dist.h). Every rank
+ * must make the same calls: a decision to stop stepping is rank 0's, broadcast. */
 #ifndef WEDGE_RECON_PIPELINE_H
 #define WEDGE_RECON_PIPELINE_H
 

@@ -52,14 +52,34 @@ rc=$?
 [ $rc = 2 ] || { echo "FAIL: bad scene under mpirun: exit $rc, expected 2"; cat "$T/out.txt"; fail=1; }
 n=$(grep -c "bad.pbrt:2:" "$T/out.txt")
 [ "$n" = 1 ] || { echo "FAIL: the bad scene was reported $n times, expected once:"; cat "$T/out.txt"; fail=1; }
+# Ctrl-C: mpirun passes it on (as SIGTERM), the ranks stop together and rank 0 writes the
+# samples taken, as one process does
+ranks_of() { pgrep -f -- "-o $1" | while read -r pid; do [ "$(cat /proc/$pid/comm 2>/dev/null)" = wedge ] && echo "$pid"; done; }
+timeout 200 mpirun -np 2 "$WEDGE" render "$scene" --res 200x150 --spp 4096 --filter none --threads 1 \
+    -o "$T/int.exr" --report "$T/int.json" --quiet >"$T/out.txt" 2>&1 &
+job=$!
+for _ in $(seq 1 100); do [ "$(ranks_of "$T/int.exr" | wc -l)" = 2 ] && break; sleep 0.2; done
+sleep 2
+pkill -INT -P $job mpirun # mpirun itself, not the timeout around it
+wait $job
+python3 - "$T/int.json" <<'PY' || { cat "$T/out.txt"; fail=1; }
+import json, sys
+try:
+    r = json.load(open(sys.argv[1]))
+except OSError:
+    print("FAIL: Ctrl-C under mpirun wrote no report"); sys.exit(1)
+if not r["interrupted"] or not 0 < r["spp_avg"] < 4096:
+    print("FAIL: Ctrl-C under mpirun: interrupted %s, spp_avg %s" % (r["interrupted"], r["spp_avg"])); sys.exit(1)
+print("Ctrl-C under mpirun: %.1f spp kept" % r["spp_avg"])
+PY
+[ -s "$T/int.exr" ] || { echo "FAIL: Ctrl-C under mpirun wrote no image"; fail=1; }
 # a rank that dies: the job ends with a failure in bounded time, it does not hang
 timeout 200 mpirun -np 2 "$WEDGE" render "$scene" --res 400x300 --spp 4096 --filter none --threads 1 \
     -o "$T/long.exr" --quiet >"$T/out.txt" 2>&1 &
 job=$!
 victim=""
 for _ in $(seq 1 100); do
-    victim=$(pgrep -f -- "-o $T/long.exr" | while read -r pid; do
-        [ "$(cat /proc/$pid/comm 2>/dev/null)" = wedge ] && echo "$pid"; done | tail -1)
+    victim=$(ranks_of "$T/long.exr" | tail -1)
     [ -n "$victim" ] && break
     sleep 0.2
 done
