@@ -10,27 +10,11 @@
 #include <string.h>
 
 #include "check.h"
+#include "recon_test_util.h"
 #include "recon/aaf/aaf_params.h"
 #include "recon/pipeline.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
-
-/* An area light above a floor and a square occluder 1 unit above the floor: penumbrae and a
- * small umbra in view. Direct light only. */
-static const char *SHADOW_SCENE =
-    "LookAt -1.5 2.5 -1.5   0.8 0 0.3   0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 30 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 40 ] \"integer yresolution\" [ 40 ] \"string filename\" [ \"t.exr\" ]\n"
-    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
-    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
-    "WorldBegin\n"
-    "AttributeBegin\n"
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 8 8 8 ]\n"
-    "  Shape \"trianglemesh\" \"point3 P\" [ -0.8 4 -0.8  0.8 4 -0.8  0.8 4 0.8  -0.8 4 0.8 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-    "AttributeEnd\n"
-    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
-    "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
-    "Shape \"trianglemesh\" \"point3 P\" [ 0.3 1 -0.3  0.9 1 -0.3  0.9 1 0.3  0.3 1 0.3 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n";
 
 /* Soft shadows, one-bounce indirect light from a red wall, and a thin lens. */
 static const char *ALL_EFFECTS_SCENE =
@@ -223,17 +207,6 @@ static const float *aov(const ReconResult *res, const char *name)
     for (int k = 0; k < res->aov_count; ++k)
         if (!strcmp(res->aovs[k].name, name)) return res->aovs[k].data;
     return NULL;
-}
-
-/* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */
-static double rel_mse(const float *img, const float *ref, size_t n3)
-{
-    double s = 0;
-    for (size_t i = 0; i < n3; ++i) {
-        double e = (double)img[i] - ref[i];
-        s += e * e / ((double)ref[i] * ref[i] + 0.01);
-    }
-    return s / (double)n3;
 }
 
 /* The Monte Carlo side of an equal-spp comparison: the smallest square count >= spp_avg, so

@@ -6,25 +6,10 @@
 #include <string.h>
 
 #include "check.h"
+#include "recon_test_util.h"
 #include "recon/pipeline.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
-
-/* An area light over a floor with a hovering square occluder: penumbrae in view. */
-static const char *SCENE =
-    "LookAt -1.5 2.5 -1.5   0.8 0 0.3   0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 30 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 32 ] \"integer yresolution\" [ 32 ]\n"
-    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
-    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
-    "WorldBegin\n"
-    "AttributeBegin\n"
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 8 8 8 ]\n"
-    "  Shape \"trianglemesh\" \"point3 P\" [ -0.8 4 -0.8  0.8 4 -0.8  0.8 4 0.8  -0.8 4 0.8 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-    "AttributeEnd\n"
-    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
-    "Shape \"trianglemesh\" \"point3 P\" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
-    "Shape \"trianglemesh\" \"point3 P\" [ -0.4 1 -0.4  0.4 1 -0.4  0.4 1 0.4  -0.4 1 0.4 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n";
 
 typedef struct {
     SceneDesc scene;
@@ -39,7 +24,7 @@ static bool setup(Setup *s, const char *filter, unsigned seed)
     RenderOptions ro = {0};
     ro.seed = seed, ro.threads = 2;
     ReconOptions o = {.filter = filter};
-    bool ok = scene_parse_string(SCENE, strlen(SCENE), "<step>", NULL, &s->scene, &d) &&
+    bool ok = scene_parse_string(SHADOW_SCENE, strlen(SHADOW_SCENE), "<step>", NULL, &s->scene, &d) &&
               renderer_create(&s->scene, &ro, &s->r, &d) && recon_pipeline_create(s->r, &o, &s->p, &d);
     if (!ok) fprintf(stderr, "%s\n", d.message);
     return ok;
@@ -52,26 +37,16 @@ static void teardown(Setup *s)
     scene_desc_free(&s->scene);
 }
 
-static double rel_mse(const float *img, const float *ref, size_t n3)
-{
-    double sum = 0;
-    for (size_t i = 0; i < n3; ++i) {
-        double e = (double)img[i] - ref[i];
-        sum += e * e / ((double)ref[i] * ref[i] + 0.01);
-    }
-    return sum / (double)n3;
-}
-
 int main(void)
 {
-    enum { N = 32 * 32 };
+    enum { N = 40 * 40 }; /* SHADOW_SCENE's film */
     /* the reference: 1024 Monte Carlo samples per pixel, another seed */
     Setup ref;
     CHECK(setup(&ref, "none", 99));
     float *ref_rgb = NULL;
     {
         Frame f;
-        frame_init(&f, 32, 32);
+        frame_init(&f, 40, 40);
         CHECK(render_pass(ref.r, 0, NULL, 1024, &f, NULL));
         ref_rgb = malloc(3 * N * sizeof(float));
         frame_resolve3(&f, f.color, ref_rgb);
