@@ -51,6 +51,8 @@ typedef struct {
     double mem_limit;         /* bytes for per-sample storage; 0: half the physical memory */
     const char *cl_device;    /* NULL: $WEDGE_CL_DEVICE, else the first GPU, else CPU */
     bool visualize;           /* false-colour PNG maps of filter widths and spp */
+    double time_budget;       /* --time: seconds of progressive rendering; 0: one frame */
+    double checkpoint;        /* --checkpoint: seconds between checkpoint writes; 0: none */
     const char *view;         /* OCIO view for PNG output; NULL: the display's default */
     bool help;
 } RenderArgs;
@@ -94,7 +96,12 @@ static void usage(FILE *f)
             "                  more is refused before rendering\n"
             "  --cl-device D   OpenCL device by index or name substring (see 'wedge info --cl');\n"
             "                  default $WEDGE_CL_DEVICE, else the first GPU, else the first CPU\n"
-            "  --visualize     also write OUT-beta-EFFECT.png and OUT-spp.png false-colour maps\n"
+            "  --time S        render progressively for S seconds (wall time of the whole command),\n"
+            "                  then write: steps add samples to every pixel and filter again,\n"
+            "                  each narrower; the first step is the ordinary frame\n"
+            "  --checkpoint S  render progressively and write the current filtered image to every\n"
+            "                  -o output every S seconds (atomically), until --time or --spp\n"
+            "  --visualize     also write OUT-spp.png and a false-colour map per filter layer\n"
             "  --view NAME     OCIO view for PNG output (default: the display's default view);\n"
             "                  views: %s\n",
             filters, views);
@@ -132,6 +139,8 @@ static const char *render_option_wants(const char *opt, char *buf, size_t size)
         {"--sampler", "stratified or sobol"},
         {"--mu", "a number in (0, " RENDER_STR(RENDER_MU_MAX) "]"},
         {"--mem-limit", "a size in bytes with an optional K, M or G suffix (e.g. 512M)"},
+        {"--time", "a number of seconds in (0, 1e7]"},
+        {"--checkpoint", "a number of seconds in (0, 1e7]"},
     };
     for (size_t i = 0; i < sizeof wants / sizeof wants[0]; ++i)
         if (!strcmp(opt, wants[i].opt)) return wants[i].wants;
@@ -234,6 +243,14 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
         } else if (!strcmp(o, "--cl-device")) {
             NEED_VALUE();
             a->cl_device = val;
+        } else if (!strcmp(o, "--time") || !strcmp(o, "--checkpoint")) {
+            NEED_VALUE();
+            char *end;
+            errno = 0;
+            double sec = strtod(val, &end);
+            if (errno || end == val || *end || !(sec > 0.0) || !(sec <= 1e7)) goto bad_value;
+            if (!strcmp(o, "--time")) a->time_budget = sec;
+            else a->checkpoint = sec;
         } else if (!strcmp(o, "--visualize")) {
             a->visualize = true;
         } else if (o[0] == '-' && o[1]) {
@@ -254,6 +271,11 @@ static int parse_render_args(int argc, char **argv, RenderArgs *a)
 #undef NEED_VALUE
     }
     /* an option that would do nothing is a mistake worth saying, not ignoring */
+    if (a->checkpoint > 0.0 && !(a->time_budget > 0.0) && a->spp == 0) {
+        fprintf(stderr, "wedge render: --checkpoint writes the image while a progressive render runs and needs "
+                        "its target: add --time SECONDS or --spp N\n");
+        return WEDGE_EXIT_USAGE;
+    }
     if (!strcmp(a->filter, "none") && a->mu > 0.0f) {
         fprintf(stderr, "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte "
                         "Carlo); drop --mu, or choose a filter (--filter auto)\n");
@@ -307,6 +329,77 @@ static void note_sobol_count(SamplerKind kind, int spp)
             spp, below, below * 2);
 }
 
+/* ---- progressive rendering: --time, --checkpoint ---- */
+
+typedef struct {
+    const RenderArgs *a;
+    ReconPipeline *pipe;
+    const Renderer *r;
+    const ReconDist *dist;
+    const char *scene_name;
+    double t_start;           /* the command's start (wall): --time counts from here */
+} Progressive;
+
+/* Writes the current image to every -o output (rank 0), atomically. */
+static bool write_checkpoint(const Progressive *pr, Diag *err)
+{
+    const ReconResult *res = recon_pipeline_result(pr->pipe);
+    const Frame *frame = &recon_pipeline_gbuffer(pr->pipe)->frame;
+    RenderOutputInfo info = {pr->scene_name, pr->a->filter, pr->a->seed, renderer_sampler(pr->r),
+                             seconds_now() - pr->t_start, pr->a->aovs, pr->a->view};
+    long long guarded = 0;
+    for (int k = 0; k < pr->a->out_count; ++k)
+        if (!render_output_write(pr->a->out_paths[k], frame, res, &info, &guarded, err)) return false;
+    if (!pr->a->quiet)
+        fprintf(stderr, "wedge render: checkpoint at %.1f s, %.1f samples per pixel: %s\n", info.seconds, res->spp_avg,
+                pr->a->out_paths[0]);
+    return true;
+}
+
+/* Steps (recon_pipeline_step) until the target: --time (each step capped to the samples the
+ * time left allows at the rate measured so far, so the budget is met, not overshot) or --spp
+ * (each step capped to it); with --checkpoint each step is also capped to about one interval,
+ * and the image is written after every step that ends one. Rank 0 decides and broadcasts, so
+ * every MPI rank makes the same calls. */
+static bool render_progressive(const Progressive *pr, Diag *err)
+{
+    const RenderArgs *a = pr->a;
+    ReconDist *dist = (ReconDist *)pr->dist;
+    if (!recon_pipeline_step(pr->pipe, 0.0, err)) return false; /* the ordinary frame */
+    double t_render0 = pr->t_start, last_checkpoint = seconds_now();
+    double pixels = (double)renderer_width(pr->r) * (double)renderer_height(pr->r);
+    for (;;) {
+        const ReconResult *res = recon_pipeline_result(pr->pipe);
+        int decision[2] = {0, 0}; /* continue?, the step's cap in 1/1024 samples per pixel */
+        if (dist->rank == 0 && !res->cancelled) {
+            double now = seconds_now();
+            if (a->checkpoint > 0.0 && now - last_checkpoint >= a->checkpoint) {
+                if (!write_checkpoint(pr, err)) return false;
+                last_checkpoint = now;
+            }
+            double rate = res->spp_avg * pixels / fmax(now - t_render0, 1e-6); /* samples per second */
+            double target = a->spp > 0 ? (double)a->spp : INFINITY, cap = target;
+            if (a->time_budget > 0.0) cap = fmin(cap, res->spp_avg + (a->time_budget - (now - pr->t_start)) * rate / pixels);
+            /* a step per checkpoint interval, but at least one sample per pixel (each step is a
+             * reconstruction, about the cost of a few samples per pixel); the last one to the
+             * --spp target goes all the way */
+            if (a->checkpoint > 0.0) {
+                double step_cap = res->spp_avg + fmax(a->checkpoint * rate / pixels, 1.0);
+                cap = fmin(cap, target - step_cap < 1.0 ? target : step_cap);
+            }
+            /* worth a step: the target's last sample, or a twentieth of a sample per pixel */
+            bool worth = cap >= target ? cap * pixels >= res->spp_avg * pixels + 1.0 : cap > res->spp_avg + 0.05;
+            if (isfinite(cap) && worth && cap < 2.0e6) {
+                decision[0] = 1;
+                decision[1] = (int)(cap * 1024.0);
+            }
+        }
+        if (!dist_broadcast_ints(dist, decision, 2, err)) return false;
+        if (!decision[0]) return true;
+        if (!recon_pipeline_step(pr->pipe, decision[1] / 1024.0, err)) return false;
+    }
+}
+
 /* An error message, once: every rank meets the same usage and input errors, which rank 0
  * reports; a failure of this rank alone (memory, device) says which rank it was. */
 static void print_error(const Diag *err, const ReconDist *dist)
@@ -352,7 +445,8 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     scene_analyze_effects(&scene);
 
     RenderOptions ro = {0};
-    ro.width = a.width, ro.height = a.height, ro.spp = a.spp, ro.seed = a.seed, ro.threads = a.threads;
+    ro.width = a.width, ro.height = a.height, ro.seed = a.seed, ro.threads = a.threads;
+    ro.spp = a.time_budget > 0.0 || a.checkpoint > 0.0 ? 0 : a.spp; /* progressive: the target, not the first step */
     ro.sampler_set = a.sampler_set, ro.sampler = a.sampler;
     ro.cancel = &interrupt_flag;
     ProgressBar bar = {.out = stderr};
@@ -376,7 +470,9 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     ReconOptions po = {0};
     po.filter = a.filter;
     po.mu = a.mu;
-    po.spp = a.spp;
+    /* progressive: --spp is where the steps stop, the first step is the default frame */
+    bool progressive = a.time_budget > 0.0 || a.checkpoint > 0.0;
+    po.spp = progressive ? 0 : a.spp;
     po.cl_device = a.cl_device;
     po.mem_limit_bytes = (size_t)a.mem_limit;
     po.dist = dist;
@@ -400,7 +496,9 @@ static int render_command(int argc, char **argv, ReconDist *dist)
      * its timeout): treated as Ctrl-C, the ranks finish the rows in flight together and rank 0
      * writes the samples taken. */
     void (*old_term)(int) = dist->ranks > 1 ? signal(SIGTERM, on_sigint) : SIG_ERR;
-    bool rendered = ok && recon_pipeline_render(pipe, &err);
+    const char *scene_name = a.scene_path ? a.scene_path : "<default>";
+    Progressive pr = {&a, pipe, r, dist, scene_name, t_start};
+    bool rendered = ok && (progressive ? render_progressive(&pr, &err) : recon_pipeline_render(pipe, &err));
     signal(SIGINT, old_handler == SIG_ERR ? SIG_DFL : old_handler);
     if (dist->ranks > 1) signal(SIGTERM, old_term == SIG_ERR ? SIG_DFL : old_term);
     if (ro.progress) progress_bar_finish(&bar);
@@ -424,7 +522,6 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     st.guarded_events = dist_sum_ll(dist, st.guarded_events);
     guarded += st.guarded_events;
     double seconds_total = seconds_now() - t_start;
-    const char *scene_name = a.scene_path ? a.scene_path : "<default>";
     int exit_code = WEDGE_EXIT_OK;
     if (!root) { /* rank 0 writes the image, the layers and the report */
         recon_pipeline_destroy(pipe);
@@ -468,6 +565,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
         rep.interrupted = !complete;
         rep.triangles = renderer_triangle_count(r);
         rep.ranks = dist->ranks;
+        rep.steps = res->steps;
         for (int k = 0; k < 4; ++k) rep.bytes_pass[k] = dist->bytes_sent[k];
         if (!run_report_write(a.report_path, &rep, &err)) {
             print_error(&err, dist);

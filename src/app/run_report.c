@@ -73,6 +73,7 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     json_string(f, r->scene);
     fprintf(f, ",\n  \"output\": ");
     json_string(f, r->output);
+    fprintf(f, ",\n  \"steps\": %d", r->steps);
     fprintf(f, ",\n  \"ranks\": %d,\n  \"bytes_communicated\": [%lld, %lld, %lld, %lld]", r->ranks > 0 ? r->ranks : 1,
             r->bytes_pass[0], r->bytes_pass[1], r->bytes_pass[2], r->bytes_pass[3]);
     fprintf(f, ",\n  \"triangles\": %ld,\n  \"interrupted\": %s\n}\n", r->triangles, r->interrupted ? "true" : "false");

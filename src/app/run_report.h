@@ -27,6 +27,7 @@ typedef struct {
     bool interrupted;
     long triangles;
     int ranks;                 /* MPI ranks that shared the frame (1: one process) */
+    int steps;                 /* reconstructions: 1, more with --time/--checkpoint */
     long long bytes_pass[4];   /* bytes the ranks sent per pass (gathers, plan broadcast) */
 } RunReport;
 

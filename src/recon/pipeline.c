@@ -263,27 +263,18 @@ static bool plan_at(ReconPipeline *p, float mu, double *avg, Diag *d)
     return true;
 }
 
-/* The extra samples per pixel: the plan's total minus what each pixel has. With a --spp
- * budget the extras are scaled to make the frame's average exactly the budget, by error
- * diffusion in scan order (deterministic, each pixel within one sample of its share). */
-static void extras_from_plan(ReconPipeline *p, int budget)
+/* Scales the extra samples per pixel to `room` samples in all, by error diffusion in scan
+ * order (deterministic, each pixel within one sample of its share); with no extras at all,
+ * the room is spread evenly. */
+static void scale_extras(ReconPipeline *p, double room)
 {
     size_t n = pixel_count(p);
-    const float *now = p->g.frame.spp;
-    double want = 0.0, have = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        int e = p->spp_total[i] - (int)now[i];
-        p->spp_extra[i] = e > 0 ? e : 0;
-        want += p->spp_extra[i];
-        have += now[i];
-    }
-    if (budget <= 0) return;
-    double room = (double)budget * (double)n - have;
+    double want = 0.0;
+    for (size_t i = 0; i < n; ++i) want += p->spp_extra[i];
     if (room <= 0.0) {
         memset(p->spp_extra, 0, n * sizeof(int));
         return;
     }
-    /* no pixel asks for more: spread the budget evenly */
     double scale = want > 0.0 ? room / want : 0.0, carry = 0.0;
     for (size_t i = 0; i < n; ++i) {
         double share = want > 0.0 ? scale * p->spp_extra[i] : room / (double)n;
@@ -293,6 +284,27 @@ static void extras_from_plan(ReconPipeline *p, int budget)
         carry = v - k;
         p->spp_extra[i] = k;
     }
+}
+
+/* The samples the frame has so far. */
+static double frame_samples(const ReconPipeline *p)
+{
+    double have = 0.0;
+    for (size_t i = 0; i < pixel_count(p); ++i) have += p->g.frame.spp[i];
+    return have;
+}
+
+/* The extra samples per pixel: the plan's total minus what each pixel has. With a --spp
+ * budget the extras are scaled to make the frame's average exactly the budget. */
+static void extras_from_plan(ReconPipeline *p, int budget)
+{
+    size_t n = pixel_count(p);
+    const float *now = p->g.frame.spp;
+    for (size_t i = 0; i < n; ++i) {
+        int e = p->spp_total[i] - (int)now[i];
+        p->spp_extra[i] = e > 0 ? e : 0;
+    }
+    if (budget > 0) scale_extras(p, (double)budget * (double)n - frame_samples(p));
 }
 
 /* mu for a --spp budget without --mu: the plans' average grows with mu, so bisect log(mu). */
@@ -561,7 +573,8 @@ static bool render_plain(ReconPipeline *p, Diag *d)
     int spp = p->opt.spp > 0 ? p->opt.spp : renderer_spp(p->r);
     p->res.pass1_spp = spp;
     renderer_set_record_ray_geometry(p->r, false);
-    if (distributed(p) && !(p->spp_mine = malloc((size_t)w * (size_t)h * sizeof(int)))) {
+    p->spp_extra = calloc((size_t)w * (size_t)h, sizeof(int)); /* progressive steps' counts */
+    if (!p->spp_extra || (distributed(p) && !(p->spp_mine = malloc((size_t)w * (size_t)h * sizeof(int))))) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
         return false;
     }
@@ -577,7 +590,7 @@ static bool render_plain(ReconPipeline *p, Diag *d)
 
 bool recon_pipeline_render(ReconPipeline *p, Diag *d)
 {
-    if (p->res.steps > 0) return recon_pipeline_step(p, d);
+    if (p->res.steps > 0) return recon_pipeline_step(p, 0.0, d);
     if (!p->filtering) return render_plain(p, d);
     double t0 = wall_seconds(), t_trace = 0.0;
     if (!setup_filtered(p, d)) return false;
@@ -628,6 +641,8 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     bool ok;
     if (!is_root(p)) { /* another rank: its samples are on rank 0 now */
         ok = true;
+        p->res.cancelled = !complete;
+        p->res.steps = complete ? 1 : 0;
     } else if (!complete) { /* cancelled: the plain mean of what was taken */
         p->res.cancelled = true;
         if (opened) opener_join(&opener, p, NULL);
@@ -645,17 +660,22 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     return ok;
 }
 
-bool recon_pipeline_step(ReconPipeline *p, Diag *d)
+bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
 {
     if (p->res.steps == 0) return recon_pipeline_render(p, d);
     if (p->res.cancelled) return true;
     size_t n = pixel_count(p);
+    /* at the cap (less than one sample of room left): nothing to add */
+    if (spp_cap > 0.0 && frame_samples(p) + 1.0 > spp_cap * (double)n) return true;
     double t0 = wall_seconds(), t_trace = 0.0;
     int pass_slot = p->pass < 3 ? p->pass : 3; /* the byte counter of this pass */
-    if (!p->filtering) { /* Monte Carlo: double the samples */
+    if (!p->filtering) { /* Monte Carlo: double the samples (up to the cap) */
         int spp = p->res.pass1_spp << (p->res.steps - 1);
+        for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
+        double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
+        if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
         double t = wall_seconds();
-        bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
+        bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
         t_trace += wall_seconds() - t;
         if (!gather_pass(p, pass_slot, &complete, d)) return false;
         p->res.cancelled = !complete;
@@ -675,9 +695,16 @@ bool recon_pipeline_step(ReconPipeline *p, Diag *d)
             extras_from_plan(p, 0);
         }
         /* every pixel gets at least pass 1's count more, so that the step always adds samples */
+        double want = 0.0;
         for (size_t i = 0; i < n; ++i) {
             if (p->fixed_only) p->spp_extra[i] = 0;
             if (p->spp_extra[i] < p->res.pass1_spp) p->spp_extra[i] = p->res.pass1_spp;
+            want += p->spp_extra[i];
+        }
+        /* ... but not past the cap: the plan scaled down to what is left */
+        if (spp_cap > 0.0) {
+            double room = floor(spp_cap * (double)n - frame_samples(p));
+            if (room < want) scale_extras(p, room);
         }
     }
     if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d)) return false;

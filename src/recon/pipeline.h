@@ -83,8 +83,10 @@ void recon_pipeline_destroy(ReconPipeline *p);
 bool recon_pipeline_render(ReconPipeline *p, Diag *d);
 
 /* Progressive rendering: the first call is recon_pipeline_render, each later call adds
- * samples to every pixel and reconstructs again (see above). */
-bool recon_pipeline_step(ReconPipeline *p, Diag *d);
+ * samples to every pixel and reconstructs again (see above). spp_cap > 0 caps the frame's
+ * average samples per pixel after the step (the plan is scaled down to it: a time budget or a
+ * --spp target is met without overshooting); 0: the plan as it is. */
+bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d);
 
 const ReconResult *recon_pipeline_result(const ReconPipeline *p);
 /* The guides and the frame's sums (AOVs: albedo, normal, depth, samples per pixel). */

@@ -120,6 +120,26 @@ if abs(r["spp_avg"] - want) > 0.05 * want or r["filters"]["soft_shadows"] != "aa
     print("FAIL: --spp %g gave spp_avg %g (filters %s)" % (want, r["spp_avg"], r["filters"])); sys.exit(1)
 PY
 done
+# progressive rendering: --checkpoint needs a target; with --spp the steps stop exactly at it
+# (the last step's plan is scaled down), writing checkpoints on the way
+"$WEDGE" render "$T/small.pbrt" --checkpoint 1 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--checkpoint without a target" 1 $?
+grep -qx "wedge render: --checkpoint writes the image while a progressive render runs and needs its target: add --time SECONDS or --spp N" "$T/err.txt" ||
+    { echo "FAIL: --checkpoint message: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --time 0 -o "$T/x.exr" >/dev/null 2>&1; check "--time 0" 1 $?
+for filter in aaf none; do
+    "$WEDGE" render "$T/small.pbrt" --res 32x24 --filter $filter --spp 150 --checkpoint 0.001 -o "$T/p.exr" \
+        --report "$T/p.json" 2>"$T/p.txt"
+    check "progressive --filter $filter" 0 $?
+    python3 - "$T/p.json" "$T/p.txt" $filter <<'PY' || fail=1
+import json, sys
+r, log, f = json.load(open(sys.argv[1])), open(sys.argv[2]).read(), sys.argv[3]
+# error diffusion puts the frame's total within one sample of 150 x 32 x 24
+ok = abs(r["spp_avg"] - 150) <= 1.0 / (32 * 24) and r["steps"] >= 2 and not r["interrupted"] \
+    and "wedge render: checkpoint at " in log
+if not ok:
+    print("FAIL: progressive %s: spp_avg %s, steps %s, log %r" % (f, r["spp_avg"], r["steps"], log[:300])); sys.exit(1)
+PY
+done
 # rays: with maxdepth 1 the BSDF rays for MIS of direct light are not indirect rays
 sed 's/"integer maxdepth" \[ 2 \]/"integer maxdepth" [ 1 ]/' "$T/small.pbrt" > "$T/direct.pbrt"
 "$WEDGE" render "$T/direct.pbrt" --filter none --spp 2 --res 16x12 -o "$T/r.exr" --report "$T/r.json" --quiet

@@ -1,7 +1,8 @@
 /* The pipeline's step function (progressive rendering): every step adds samples to every
  * pixel and reconstructs with mu doubled, so the image converges to the Monte Carlo answer:
  * on a soft-shadow scene the error against a 1024-spp reference falls at every step, every
- * pixel's count grows, and the image stays finite. --filter none steps double the samples. */
+ * pixel's count grows, and the image stays finite. A step with a cap stops at it. --filter
+ * none steps double the samples. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -60,7 +61,7 @@ int main(void)
     double prev_err = 1e30, prev_avg = 0.0;
     float *prev_spp = calloc(N, sizeof(float));
     for (int step = 0; step < 4; ++step) {
-        CHECK(recon_pipeline_step(s.p, &d));
+        CHECK(recon_pipeline_step(s.p, 0.0, &d));
         const ReconResult *res = recon_pipeline_result(s.p);
         const float *spp = recon_pipeline_gbuffer(s.p)->frame.spp;
         double err = rel_mse(res->rgb, ref_rgb, 3 * N);
@@ -76,11 +77,25 @@ int main(void)
     }
     teardown(&s);
 
+    /* A capped step stops at the cap: a --time or --spp target is met, not overshot. The
+     * plan is scaled down by error diffusion, so the frame's total is the cap to within one
+     * sample; at the cap a step adds nothing. */
+    CHECK(setup(&s, "aaf", 2));
+    CHECK(recon_pipeline_step(s.p, 0.0, &d));
+    double first = recon_pipeline_result(s.p)->spp_avg, cap = 1.5 * first;
+    CHECK(recon_pipeline_step(s.p, cap, &d));
+    CHECK_NEAR(recon_pipeline_result(s.p)->spp_avg, cap, 1.0 / N);
+    CHECK(recon_pipeline_result(s.p)->steps == 2);
+    CHECK(recon_pipeline_step(s.p, cap, &d));
+    CHECK(recon_pipeline_result(s.p)->steps == 2);
+    CHECK_NEAR(recon_pipeline_result(s.p)->spp_avg, cap, 1.0 / N);
+    teardown(&s);
+
     /* Monte Carlo steps: 16, then +16, +32, +64 samples (doubling the total) */
     CHECK(setup(&s, "none", 1));
     const double expect[4] = {16, 32, 64, 128};
     for (int step = 0; step < 4; ++step) {
-        CHECK(recon_pipeline_step(s.p, &d));
+        CHECK(recon_pipeline_step(s.p, 0.0, &d));
         CHECK_NEAR(recon_pipeline_result(s.p)->spp_avg, expect[step], 0.0);
     }
     teardown(&s);
