@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "app/commands.h"
+#include "app/render_args.h"
 #include "app/render_output.h"
 #include "app/run_report.h"
 #include "core/diag.h"
@@ -31,31 +32,6 @@
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
 
-/* ---- the command line, parsed in one place ---- */
-
-typedef struct {
-    const char *scene_path;   /* NULL: the embedded default scene */
-    const char *out_paths[8]; /* -o, repeatable (one render, several files); none: the film's filename */
-    int out_count;
-    int spp;                  /* 0: scene's */
-    int width, height;        /* 0: scene's */
-    uint64_t seed;
-    int threads;              /* 0: all cores */
-    bool aovs;
-    const char *report_path;
-    bool quiet;
-    bool sampler_set;
-    SamplerKind sampler;
-    const char *filter;       /* "auto", a method's name or "none" */
-    float mu;                 /* filter knob; 0: each paper's default */
-    double mem_limit;         /* bytes for per-sample storage; 0: half the physical memory */
-    const char *cl_device;    /* NULL: $WEDGE_CL_DEVICE, else the first GPU, else CPU */
-    bool visualize;           /* false-colour PNG maps of filter widths and spp */
-    double time_budget;       /* --time: seconds of progressive rendering; 0: one frame */
-    double checkpoint;        /* --checkpoint: seconds between checkpoint writes; 0: none */
-    const char *view;         /* OCIO view for PNG output; NULL: the display's default */
-    bool help;
-} RenderArgs;
 
 static void usage(FILE *f)
 {
@@ -105,193 +81,6 @@ static void usage(FILE *f)
             "  --view NAME     OCIO view for PNG output (default: the display's default view);\n"
             "                  views: %s\n",
             filters, views);
-}
-
-static bool parse_int(const char *s, long lo, long hi, long *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi) return false;
-    *out = v;
-    return true;
-}
-
-/* Option limits: the parser and its error messages share them. */
-#define RENDER_SPP_MAX 16777216
-#define RENDER_RES_MAX 65536
-#define RENDER_THREADS_MAX 1024
-#define RENDER_MU_MAX 1e6
-#define RENDER_STR_(x) #x
-#define RENDER_STR(x) RENDER_STR_(x)
-
-/* What an option's value must look like, for the error message (buf: room for a phrase
- * built at run time). */
-static const char *render_option_wants(const char *opt, char *buf, size_t size)
-{
-    static const struct {
-        const char *opt, *wants;
-    } wants[] = {
-        {"--spp", "an integer in [1, " RENDER_STR(RENDER_SPP_MAX) "]"},
-        {"--res", "WxH with W and H in [1, " RENDER_STR(RENDER_RES_MAX) "] (e.g. 640x360)"},
-        {"--seed", "a non-negative integer"},
-        {"--threads", "an integer in [1, " RENDER_STR(RENDER_THREADS_MAX) "]"},
-        {"--sampler", "stratified or sobol"},
-        {"--mu", "a number in (0, " RENDER_STR(RENDER_MU_MAX) "]"},
-        {"--mem-limit", "a size in bytes with an optional K, M or G suffix (e.g. 512M)"},
-        {"--time", "a number of seconds in (0, 1e7]"},
-        {"--checkpoint", "a number of seconds in (0, 1e7]"},
-    };
-    for (size_t i = 0; i < sizeof wants / sizeof wants[0]; ++i)
-        if (!strcmp(opt, wants[i].opt)) return wants[i].wants;
-    if (!strcmp(opt, "--filter")) return recon_filter_choices(buf, size);
-    return "another value";
-}
-
-/* Returns WEDGE_EXIT_OK or WEDGE_EXIT_USAGE (message printed). */
-static int parse_render_args(int argc, char **argv, RenderArgs *a)
-{
-    *a = (RenderArgs){0};
-    a->filter = "auto";
-    for (int i = 1; i < argc; ++i) {
-        const char *o = argv[i];
-        const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
-        long v;
-#define NEED_VALUE()                                                                   \
-    do {                                                                               \
-        if (!val) {                                                                    \
-            fprintf(stderr, "wedge render: option '%s' needs a value\n", o);           \
-            return WEDGE_EXIT_USAGE;                                                   \
-        }                                                                              \
-        ++i;                                                                           \
-    } while (0)
-        if (!strcmp(o, "-h") || !strcmp(o, "--help")) {
-            a->help = true;
-        } else if (!strcmp(o, "-o")) {
-            NEED_VALUE();
-            if (a->out_count == (int)(sizeof a->out_paths / sizeof a->out_paths[0])) {
-                fprintf(stderr, "wedge render: at most %d -o outputs\n", a->out_count);
-                return WEDGE_EXIT_USAGE;
-            }
-            a->out_paths[a->out_count++] = val;
-        } else if (!strcmp(o, "--spp")) {
-            NEED_VALUE();
-            if (!parse_int(val, 1, RENDER_SPP_MAX, &v)) goto bad_value;
-            a->spp = (int)v;
-        } else if (!strcmp(o, "--res")) {
-            NEED_VALUE();
-            char *x = strchr(val, 'x');
-            if (!x) goto bad_value;
-            char w[32];
-            size_t n = (size_t)(x - val);
-            if (n == 0 || n >= sizeof w) goto bad_value;
-            memcpy(w, val, n);
-            w[n] = 0;
-            long wv, hv;
-            if (!parse_int(w, 1, RENDER_RES_MAX, &wv) || !parse_int(x + 1, 1, RENDER_RES_MAX, &hv)) goto bad_value;
-            a->width = (int)wv, a->height = (int)hv;
-        } else if (!strcmp(o, "--seed")) {
-            NEED_VALUE();
-            char *end;
-            errno = 0;
-            unsigned long long s = strtoull(val, &end, 10);
-            if (errno || end == val || *end || val[0] == '-') goto bad_value;
-            a->seed = (uint64_t)s;
-        } else if (!strcmp(o, "--threads")) {
-            NEED_VALUE();
-            if (!parse_int(val, 1, RENDER_THREADS_MAX, &v)) goto bad_value;
-            a->threads = (int)v;
-        } else if (!strcmp(o, "--aovs")) {
-            a->aovs = true;
-        } else if (!strcmp(o, "--report")) {
-            NEED_VALUE();
-            a->report_path = val;
-        } else if (!strcmp(o, "--view")) {
-            NEED_VALUE();
-            a->view = val;
-        } else if (!strcmp(o, "--quiet")) {
-            a->quiet = true;
-        } else if (!strcmp(o, "--sampler")) {
-            NEED_VALUE();
-            if (!strcmp(val, "stratified"))
-                a->sampler = SAMPLER_STRATIFIED;
-            else if (!strcmp(val, "sobol"))
-                a->sampler = SAMPLER_SOBOL;
-            else
-                goto bad_value;
-            a->sampler_set = true;
-        } else if (!strcmp(o, "--filter")) {
-            NEED_VALUE();
-            if (!recon_filter_known(val)) goto bad_value;
-            a->filter = val;
-        } else if (!strcmp(o, "--mu")) {
-            NEED_VALUE();
-            char *end;
-            errno = 0;
-            double mu = strtod(val, &end);
-            if (errno || end == val || *end || !(mu > 0.0) || !(mu <= RENDER_MU_MAX)) goto bad_value;
-            a->mu = (float)mu;
-        } else if (!strcmp(o, "--mem-limit")) {
-            NEED_VALUE();
-            char *end;
-            errno = 0;
-            double bytes = strtod(val, &end);
-            double unit = !*end ? 1.0 : !strcmp(end, "K") ? 1024.0 : !strcmp(end, "M") ? 1048576.0
-                                    : !strcmp(end, "G") ? 1073741824.0 : 0.0;
-            if (errno || end == val || unit == 0.0 || !(bytes >= 1.0) || !(bytes * unit < 1e18)) goto bad_value;
-            a->mem_limit = bytes * unit;
-        } else if (!strcmp(o, "--cl-device")) {
-            NEED_VALUE();
-            a->cl_device = val;
-        } else if (!strcmp(o, "--time") || !strcmp(o, "--checkpoint")) {
-            NEED_VALUE();
-            char *end;
-            errno = 0;
-            double sec = strtod(val, &end);
-            if (errno || end == val || *end || !(sec > 0.0) || !(sec <= 1e7)) goto bad_value;
-            if (!strcmp(o, "--time")) a->time_budget = sec;
-            else a->checkpoint = sec;
-        } else if (!strcmp(o, "--visualize")) {
-            a->visualize = true;
-        } else if (o[0] == '-' && o[1]) {
-            fprintf(stderr, "wedge render: unknown option '%s'\n", o);
-            usage(stderr);
-            return WEDGE_EXIT_USAGE;
-        } else if (!a->scene_path) {
-            a->scene_path = o;
-        } else {
-            fprintf(stderr, "wedge render: more than one scene given ('%s' and '%s')\n", a->scene_path, o);
-            return WEDGE_EXIT_USAGE;
-        }
-        continue;
-    bad_value:;
-        char wants[128];
-        fprintf(stderr, "wedge render: %s wants %s, got '%s'\n", o, render_option_wants(o, wants, sizeof wants), val);
-        return WEDGE_EXIT_USAGE;
-#undef NEED_VALUE
-    }
-    /* an option that would do nothing is a mistake worth saying, not ignoring */
-    if (a->checkpoint > 0.0 && !(a->time_budget > 0.0) && a->spp == 0) {
-        fprintf(stderr, "wedge render: --checkpoint writes the image while a progressive render runs and needs "
-                        "its target: add --time SECONDS or --spp N\n");
-        return WEDGE_EXIT_USAGE;
-    }
-    if (!strcmp(a->filter, "none") && a->mu > 0.0f) {
-        fprintf(stderr, "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte "
-                        "Carlo); drop --mu, or choose a filter (--filter auto)\n");
-        return WEDGE_EXIT_USAGE;
-    }
-    if (!strcmp(a->filter, "none") && a->cl_device) {
-        fprintf(stderr, "wedge render: --cl-device picks the device the filters run on and does nothing with "
-                        "--filter none; drop it, or choose a filter\n");
-        return WEDGE_EXIT_USAGE;
-    }
-    if (!strcmp(a->filter, "none") && a->mem_limit > 0.0) {
-        fprintf(stderr, "wedge render: --mem-limit caps a filter's per-sample storage and does nothing with "
-                        "--filter none; drop it, or choose a filter\n");
-        return WEDGE_EXIT_USAGE;
-    }
-    return WEDGE_EXIT_OK;
 }
 
 /* ---- Ctrl-C ---- */
@@ -413,7 +202,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
 {
     double t_start = seconds_now();
     RenderArgs a;
-    int rc = parse_render_args(argc, argv, &a);
+    int rc = parse_render_args(argc, argv, "render", &a);
     if (rc != WEDGE_EXIT_OK) return rc;
     if (a.help) {
         if (dist->rank == 0) usage(stdout);
