@@ -12,6 +12,7 @@ static const struct {
     const char *summary;
 } commands[] = {
     {"render", cmd_render, "render a pbrt-v4 scene (or the embedded default) to EXR/PNG"},
+    {"preview", cmd_preview, "render into a window, progressively: the filtered image sharpens as samples accumulate"},
     {"info", cmd_info, "summarise a scene: film, camera, shapes, lights, effects, warnings"},
     {"compare", cmd_compare, "error metrics of an image against a reference"},
     {"convert", cmd_convert, "convert an image between EXR and PNG (PNG through the OpenColorIO view)"},

@@ -1,4 +1,5 @@
-/* The preview's window on SDL2 (see preview_window.h). */
+/* The preview's window on SDL2 (see preview_window.h); empty in a build without SDL2. */
+#ifdef WEDGE_SDL
 #include "app/preview_window.h"
 
 #include <stdlib.h>
@@ -118,3 +119,6 @@ PreviewEvent preview_window_wait(PreviewWindow *w, int timeout_ms)
     }
     return pe;
 }
+#else
+typedef int wedge_preview_window_needs_sdl2;
+#endif
