@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "app/commands.h"
+#include "app/output_check.h"
 #include "app/render_args.h"
 #include "app/render_output.h"
 #include "app/run_report.h"
@@ -241,8 +242,15 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     ProgressBar bar = {.out = stderr};
     if (!a.quiet && isatty(STDERR_FILENO)) ro.progress = progress_bar_update, ro.progress_ctx = &bar;
 
+    if (a.out_count == 0) a.out_paths[a.out_count++] = scene.film.filename ? scene.film.filename : "pbrt.exr";
+    /* every output writable and none of them an input, before anything is traced (rank 0
+     * writes them) */
+    bool outputs_ok = true;
+    for (int k = 0; root && outputs_ok && k < a.out_count; ++k)
+        outputs_ok = output_check(a.out_paths[k], "output image", &scene, &err);
+    if (root && outputs_ok && a.report_path) outputs_ok = output_check(a.report_path, "report", &scene, &err);
     Renderer *r = NULL;
-    bool built = renderer_create(&scene, &ro, &r, &err);
+    bool built = outputs_ok && renderer_create(&scene, &ro, &r, &err);
     if (!built) print_error(&err, dist);
     /* every rank built its scene, or none renders (a rank left out would hang the others) */
     if (!dist_all_ok(dist, built)) {
@@ -253,7 +261,6 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     }
     if (!a.quiet)
         for (int i = 0; i < scene.warning_count; ++i) fprintf(stderr, "%s\n", scene.warnings[i]);
-    if (a.out_count == 0) a.out_paths[a.out_count++] = scene.film.filename ? scene.film.filename : "pbrt.exr";
     const char *out_path = a.out_paths[0];
 
     ReconOptions po = {0};

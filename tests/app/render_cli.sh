@@ -120,6 +120,27 @@ if abs(r["spp_avg"] - want) > 0.05 * want or r["filters"]["soft_shadows"] != "aa
     print("FAIL: --spp %g gave spp_avg %g (filters %s)" % (want, r["spp_avg"], r["filters"])); sys.exit(1)
 PY
 done
+# outputs are checked before rendering: never one of the scene's inputs (the scene, an
+# included file, an image texture), never in a directory that is not there; the inputs are
+# left as they were
+mkdir -p "$T/in"
+printf 'Texture "t" "spectrum" "imagemap" "string filename" "tex.png"\n' > "$T/in/inc.pbrt"
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 1 --res 4x4 -o "$T/in/tex.png" --quiet || fail=1
+{ cat "$T/small.pbrt"; echo 'Include "inc.pbrt"'; } > "$T/in/scene.pbrt"
+cp "$T/in/scene.pbrt" "$T/scene.copy"; cp "$T/in/tex.png" "$T/tex.copy"
+for target in scene.pbrt inc.pbrt tex.png; do
+    "$WEDGE" render "$T/in/scene.pbrt" --res 8x8 -o "$T/in/$target" 2>"$T/err.txt" >/dev/null
+    check "-o over the input $target" 1 $?
+    grep -q "^error: the output image '$T/in/$target' is one of the scene's input files" "$T/err.txt" ||
+        { echo "FAIL: -o over $target: $(cat "$T/err.txt")"; fail=1; }
+done
+cmp -s "$T/in/scene.pbrt" "$T/scene.copy" && cmp -s "$T/in/tex.png" "$T/tex.copy" || { echo "FAIL: an input was changed"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --spp 4096 --res 512x512 -o "$T/no/such/dir/x.exr" 2>"$T/err.txt" >/dev/null
+check "-o in a missing directory" 3 $?
+grep -qx "error: cannot write the output image '$T/no/such/dir/x.exr': the directory '$T/no/such/dir' does not exist" "$T/err.txt" ||
+    { echo "FAIL: missing directory message: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --res 8x8 -o "$T/x.exr" --report "$T/no/r.json" 2>"$T/err.txt" >/dev/null
+check "--report in a missing directory" 3 $?
 # progressive rendering: --checkpoint needs a target; with --spp the steps stop exactly at it
 # (the last step's plan is scaled down), writing checkpoints on the way
 "$WEDGE" render "$T/small.pbrt" --checkpoint 1 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--checkpoint without a target" 1 $?
