@@ -310,6 +310,11 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     bool complete = !res->cancelled;
     long long guarded = res->guarded_events;
     if (!complete && !a.quiet) fprintf(stderr, "wedge render: interrupted; writing the samples taken so far\n");
+    /* a cleaned-up value is never hidden: said here, counted in the report */
+    if (res->nonfinite_pixels > 0 && root)
+        fprintf(stderr, "wedge render: warning: %lld pixel%s came out NaN or infinite and %s written as 0 (the report's "
+                        "nonfinite_pixels; guarded_events counts every value replaced)\n",
+                res->nonfinite_pixels, res->nonfinite_pixels == 1 ? "" : "s", res->nonfinite_pixels == 1 ? "was" : "were");
 
     RenderStats st = renderer_stats(r);
     /* the ranks' rays and guards, all of them (collectives: every rank takes part) */
@@ -351,6 +356,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
         rep.rays_primary = st.rays_primary, rep.rays_shadow = st.rays_shadow, rep.rays_indirect = st.rays_indirect;
         rep.rays_bsdf = st.rays_bsdf;
         rep.guarded_events = guarded;
+        rep.nonfinite_pixels = res->nonfinite_pixels;
         rep.effects = renderer_effects(r);
         rep.threads = renderer_threads(r);
         rep.seed = a.seed;

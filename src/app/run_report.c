@@ -52,6 +52,7 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     fprintf(f, "},\n");
     fprintf(f, "  \"threads\": %d,\n  \"seed\": %" PRIu64 ",\n", r->threads, r->seed);
     fprintf(f, "  \"guarded_events\": %lld,\n", r->guarded_events);
+    fprintf(f, "  \"nonfinite_pixels\": %lld,\n", r->nonfinite_pixels);
     fprintf(f, "  \"sampler\": ");
     json_string(f, r->sampler);
     fprintf(f, ",\n  \"filter\": ");

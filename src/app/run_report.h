@@ -14,6 +14,7 @@ typedef struct {
     double seconds_total, seconds_trace, seconds_filter, seconds_build;
     long long rays_primary, rays_shadow, rays_indirect, rays_bsdf; /* RenderStats */
     long long guarded_events;  /* guarded divisions / non-finite values replaced, all stages */
+    long long nonfinite_pixels;/* pixels of the image that were non-finite and written as 0 */
     EffectMask effects;
     int threads;
     uint64_t seed;

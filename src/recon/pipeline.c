@@ -396,6 +396,7 @@ typedef struct {
     float factor_min;
     float *value_direct4, *value_indirect4; /* NULL: that light is not filtered */
     long long guarded[RECON_PARTS];
+    long long bad_pixels[RECON_PARTS];      /* pixels with a non-finite mean (set to 0) */
 } PreparePass;
 
 static void prepare_range(void *ctx, size_t begin, size_t end, int part)
@@ -403,16 +404,18 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
     PreparePass *pp = ctx;
     const GBuffer *g = pp->g;
     const Frame *f = &g->frame;
-    long long guarded = 0;
+    long long guarded = 0, bad_pixels = 0;
     for (size_t i = begin; i < end; ++i) {
         float spp = f->spp[i];
         float a[3], dir[3], ind[3], ud[3], ui[3];
+        long long before = guarded;
         for (int k = 0; k < 3; ++k) {
             dir[k] = sum_mean(f->direct[3 * i + k], spp, &guarded);
             ind[k] = sum_mean(f->indirect[3 * i + k], spp, &guarded);
             (void)sum_mean(f->emission[3 * i + k], spp, &guarded); /* counted like the others */
             a[k] = sum_mean(f->albedo[3 * i + k], spp, &guarded);
         }
+        bad_pixels += guarded > before;
         gbuffer_unfiltered_means(g, i, ud, ui);
         for (int k = 0; k < 3; ++k) {
             dir[k] -= ud[k];
@@ -426,6 +429,7 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
         if (pp->value_indirect4) demodulate_pixel(ind, a, 1.0f, surface, pp->value_indirect4 + 4 * i);
     }
     pp->guarded[part] = guarded;
+    pp->bad_pixels[part] = bad_pixels;
 }
 
 typedef struct {
@@ -476,13 +480,15 @@ typedef struct {
     float *rgb;
     const float *radiance4;       /* NULL: no camera-effect filter ran */
     long long guarded[RECON_PARTS];
+    long long bad_pixels[RECON_PARTS];
 } FinishPass;
 
 static void finish_range(void *ctx, size_t begin, size_t end, int part)
 {
     FinishPass *fp = ctx;
-    long long bad = 0;
-    for (size_t i = begin; i < end; ++i)
+    long long bad = 0, bad_pixels = 0;
+    for (size_t i = begin; i < end; ++i) {
+        long long before = bad;
         for (int k = 0; k < 3; ++k) {
             float v = fp->radiance4 ? fp->radiance4[4 * i + (size_t)k] : fp->rgb[3 * i + (size_t)k];
             if (!isfinite(v)) {
@@ -491,7 +497,10 @@ static void finish_range(void *ctx, size_t begin, size_t end, int part)
             }
             fp->rgb[3 * i + (size_t)k] = v;
         }
+        bad_pixels += bad > before;
+    }
     fp->guarded[part] = bad;
+    fp->bad_pixels[part] = bad_pixels;
 }
 
 /* Filters and composites the frame's samples into res.rgb. */
@@ -504,9 +513,13 @@ static bool reconstruct(ReconPipeline *p, Diag *d)
     if (sh && sh->cls->light_factor && !sh->cls->light_factor(sh->m, EFFECT_SOFT_SHADOWS, &factor, &factor_min, d))
         return false;
     float *direct4 = sh ? p->value_direct4 : NULL, *indirect4 = in ? p->value_indirect4 : NULL;
-    PreparePass prep = {&p->g, factor, factor_min, direct4, indirect4, {0}};
+    PreparePass prep = {&p->g, factor, factor_min, direct4, indirect4, {0}, {0}};
     recon_parallel_for(n, prepare_range, &prep);
-    for (int k = 0; k < RECON_PARTS; ++k) p->res.guarded_events += prep.guarded[k];
+    long long bad_inputs = 0;
+    for (int k = 0; k < RECON_PARTS; ++k) {
+        p->res.guarded_events += prep.guarded[k];
+        bad_inputs += prep.bad_pixels[k];
+    }
 
     double kernel_s = 0.0;
     if (direct4) {
@@ -535,9 +548,14 @@ static bool reconstruct(ReconPipeline *p, Diag *d)
         if (!p->slots[s].cls->filter_radiance(p->slots[s].m, mine, p->radiance4, &kernel_s, d)) return false;
         p->res.seconds_kernels += kernel_s;
     }
-    FinishPass fin = {p->res.rgb, cam ? p->radiance4 : NULL, {0}};
+    FinishPass fin = {p->res.rgb, cam ? p->radiance4 : NULL, {0}, {0}};
     recon_parallel_for(n, finish_range, &fin);
-    for (int k = 0; k < RECON_PARTS; ++k) p->res.guarded_events += fin.guarded[k];
+    /* pixels whose means or whose filtered result were not finite (each set to 0) */
+    p->res.nonfinite_pixels = bad_inputs;
+    for (int k = 0; k < RECON_PARTS; ++k) {
+        p->res.guarded_events += fin.guarded[k];
+        p->res.nonfinite_pixels += fin.bad_pixels[k];
+    }
     p->res.aov_count = 0;
     for (int s = 0; s < p->slot_count; ++s)
         if (p->slots[s].cls->aovs)
@@ -554,7 +572,16 @@ static bool plain_mean(ReconPipeline *p, Diag *d)
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d image", p->res.width, p->res.height);
         return false;
     }
-    p->res.guarded_events += frame_resolve3(&p->g.frame, p->g.frame.color, p->res.rgb);
+    /* pixels whose mean is not finite (frame_resolve3 sets them to 0): counted, reported */
+    const Frame *f = &p->g.frame;
+    p->res.nonfinite_pixels = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k)
+            if (f->spp[i] > 0.0f && !isfinite(f->color[3 * i + (size_t)k] / f->spp[i])) {
+                p->res.nonfinite_pixels++;
+                break;
+            }
+    p->res.guarded_events += frame_resolve3(f, f->color, p->res.rgb);
     p->res.aov_count = 0;
     memset(&p->res.choice, 0, sizeof p->res.choice);
     for (int e = 0; e < EFFECT_COUNT; ++e) p->res.choice.reason[e] = p->choice.reason[e];

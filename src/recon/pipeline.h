@@ -65,7 +65,8 @@ typedef struct {
     int steps;                 /* reconstructions done (recon_pipeline_step calls that completed) */
     double seconds_filter;     /* wall time spent outside tracing: plans, filters, composite */
     double seconds_kernels;    /* OpenCL device time of the filter passes */
-    long long guarded_events;  /* non-finite values replaced by 0, counted */
+    long long guarded_events;  /* non-finite values replaced by 0, counted (every stage) */
+    long long nonfinite_pixels;/* pixels of rgb that came out non-finite and were set to 0 */
     bool cancelled;            /* a pass was cancelled: rgb is the unfiltered mean of what was taken */
     char device[600];          /* OpenCL device used ("" when none was needed) */
 } ReconResult;

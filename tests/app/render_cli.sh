@@ -141,6 +141,25 @@ grep -qx "error: cannot write the output image '$T/no/such/dir/x.exr': the direc
     { echo "FAIL: missing directory message: $(cat "$T/err.txt")"; fail=1; }
 "$WEDGE" render "$T/small.pbrt" --res 8x8 -o "$T/x.exr" --report "$T/no/r.json" 2>"$T/err.txt" >/dev/null
 check "--report in a missing directory" 3 $?
+# no NaN or infinity reaches the image, and none is hidden: a light of radiance 3e38 seen
+# directly overflows float sums; the pixels that came out non-finite are written as 0, counted
+# in the report and said on stderr, with and without a filter
+sed 's/"rgb L" \[ 5 5 5 \]/"rgb L" [ 3e38 3e38 3e38 ]/; s/^LookAt .*/LookAt 0 1 -4  0 1.8 0  0 1 0/' "$T/small.pbrt" > "$T/inf.pbrt"
+for filter in none aaf; do
+    "$WEDGE" render "$T/inf.pbrt" --filter $filter --res 16x12 --spp 4 -o "$T/inf.exr" --report "$T/inf.json" 2>"$T/err.txt" >/dev/null
+    check "overflowing light, --filter $filter" 0 $?
+    python3 - "$T/inf.json" "$T/err.txt" "$T/inf.exr" "$WEDGE" <<'PY' || fail=1
+import json, subprocess, sys
+r, err = json.load(open(sys.argv[1])), open(sys.argv[2]).read()
+n = r["nonfinite_pixels"]
+said = "pixels came out NaN or infinite and were written as 0" in err
+cmp = json.loads(subprocess.run([sys.argv[4], "compare", sys.argv[3], sys.argv[3], "--json"], capture_output=True,
+                                text=True).stdout)
+if not (n > 0 and said and r["guarded_events"] >= n and cmp["nonfinite"] == 0):
+    print("FAIL: overflow: nonfinite_pixels %s, guarded %s, said %s, EXR non-finite %s" % (n, r["guarded_events"], said,
+          cmp["nonfinite"])); sys.exit(1)
+PY
+done
 # progressive rendering: --checkpoint needs a target; with --spp the steps stop exactly at it
 # (the last step's plan is scaled down), writing checkpoints on the way
 "$WEDGE" render "$T/small.pbrt" --checkpoint 1 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--checkpoint without a target" 1 $?
