@@ -29,6 +29,11 @@ bool preview_window_open(int width, int height, const char *title, PreviewWindow
                  "--checkpoint 10 -o out.exr");
         return false;
     }
+    /* Plain 2D blits, no OpenGL anywhere: left to itself SDL accelerates the window's
+     * framebuffer with a GL context, which on a machine without a GPU loads Mesa's LLVM
+     * rasteriser (slow to start, and its JIT deadlocks AddressSanitizer's unwinder). */
+    SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
+    SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
     /* Ctrl-C in the terminal arrives as SDL_QUIT: a clean quit, like closing the window */
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},

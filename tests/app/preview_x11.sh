@@ -12,8 +12,6 @@ done
 T=$(mktemp -d)
 scene=${WEDGE_SOURCE_DIR:-../..}/scenes/bench/soft_shadows.pbrt
 fail=0
-# SDL and the X libraries keep some state to the end of the process on purpose
-export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
 
 # no display: a clear message and exit 3, before anything is rendered
 DISPLAY= WAYLAND_DISPLAY= "$WEDGE" preview "$scene" --res 32x32 2>"$T/err.txt"
@@ -42,7 +40,7 @@ for _ in $(seq 1 600); do # the window, once its first image is up (its title gi
     kill -0 $pv 2>/dev/null || break
     sleep 0.1
 done
-if [ -z "$wid" ]; then echo "FAIL: no preview window with an image"; cat "$T/preview.txt"; exit 1; fi
+if [ -z "$wid" ]; then echo "FAIL: no preview window with an image:"; cat "$T/preview.txt"; xdotool search --name "wedge" getwindowname %@ 2>&1; exit 1; fi
 spp_of() { xdotool getwindowname "$wid" | sed -n 's/^wedge preview - \([0-9.]*\) spp.*/\1/p'; }
 shot() { xwd -id "$wid" -silent > "$T/$1.xwd" && convert "xwd:$T/$1.xwd" "$T/$1.png"; }
 first=$(spp_of)
