@@ -8,6 +8,7 @@
 
 #include "core/diag.h"
 #include "recon/select.h"
+#include "scene/scene_desc.h"
 
 static bool parse_int(const char *s, long lo, long hi, long *out)
 {
@@ -20,7 +21,7 @@ static bool parse_int(const char *s, long lo, long hi, long *out)
 }
 
 /* Option limits: the parser and its error messages share them. */
-#define RENDER_SPP_MAX 16777216
+#define RENDER_SPP_MAX SCENE_SPP_MAX /* scene/scene_desc.h: one bound for the scene and the command line */
 #define RENDER_RES_MAX 65536
 #define RENDER_THREADS_MAX 1024
 #define RENDER_MU_MAX 1e6

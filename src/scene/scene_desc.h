@@ -177,6 +177,9 @@ typedef struct {
     SrcLoc loc;
 } FilterDesc;
 
+/* The most samples per pixel a scene may ask for (wedge render --spp has the same bound). */
+#define SCENE_SPP_MAX 16777216
+
 typedef struct {
     Arena arena;
     const char *path;       /* the scene file ("<default>" for the embedded scene) */

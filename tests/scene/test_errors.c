@@ -110,6 +110,18 @@ int main(void)
     expect("Film \"rgb\" \"integer yresolution\" 0", "t.pbrt:1:12: error: \"integer yresolution\" must be at least 1, got 0");
     expect("Sampler \"zsobol\" \"integer pixelsamples\" 0",
            "t.pbrt:1:18: error: \"integer pixelsamples\" must be at least 1, got 0");
+    /* unbounded work from the scene: the same bound as wedge render --spp (issue 20 item 11) */
+    expect("Sampler \"zsobol\" \"integer pixelsamples\" [ 2147483647 ]",
+           "t.pbrt:1:18: error: \"integer pixelsamples\" must be at most 16777216, got 2147483647");
+    expect("Sampler \"stratified\" \"integer xsamples\" 8192",
+           "t.pbrt:1:22: error: \"integer xsamples\" must be at most 4096, got 8192");
+    /* degenerate camera windows (item 8): an empty screen window, pixel bounds off the film */
+    expect("Camera \"perspective\" \"float screenwindow\" [ 0 0 0 0 ]",
+           "t.pbrt:1:22: error: \"float screenwindow\" needs xmin xmax ymin ymax with xmin < xmax and ymin < ymax, "
+           "got [0 0 0 0]");
+    expect("Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 48 \"integer pixelbounds\" [ 0 100000 -5 3 ]",
+           "t.pbrt:1:62: error: \"integer pixelbounds\" needs 4 values x0 x1 y0 y1 inside the 64x48 film with x0 < x1 "
+           "and y0 < y1");
     expect("Camera \"perspective\" \"float fov\" 180",
            "t.pbrt:1:22: error: \"float fov\" must be in (0, 180) degrees, got 180");
     expect("Scale 1 0 1\nCamera \"perspective\"", "t.pbrt:2:1: error: camera transform is singular");
