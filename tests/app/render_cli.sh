@@ -160,6 +160,18 @@ if not (n > 0 and said and r["guarded_events"] >= n and cmp["nonfinite"] == 0):
           cmp["nonfinite"])); sys.exit(1)
 PY
 done
+# coordinates beyond what the ray tracer takes (Embree asserted and aborted, exit 134): a
+# clear error naming the statement, exit 2, for the camera, its lens and the geometry
+big() { printf '%s\nCamera "perspective" %s\nFilm "rgb" "integer xresolution" 8 "integer yresolution" 8\nWorldBegin\n%s\nShape "sphere"\n' "$1" "$2" "$3" > "$T/big.pbrt"; }
+for case in "LookAt 0 0 -2e18 0 0 0 0 1 0|||$T/big.pbrt:2:1: error: the camera is at (0, 0, -2e+18)" \
+            "LookAt 0 0 -5 0 0 0 0 1 0|\"float lensradius\" 1e19||$T/big.pbrt:2:1: error: camera \"float lensradius\" 1e+19 is beyond" \
+            "LookAt 0 0 -5 0 0 0 0 1 0||Scale 1e18 1e18 1e18|error: the scene's geometry extends from (-1e+18, -1e+18, -1e+18)"; do
+    IFS='|' read -r look cam world want <<<"$case"
+    big "$look" "$cam" "$world"
+    "$WEDGE" render "$T/big.pbrt" -o "$T/big.exr" --quiet 2>"$T/err.txt"
+    check "huge coordinates ($look $cam $world)" 2 $?
+    grep -qF -- "$want" "$T/err.txt" || { echo "FAIL: huge coordinates: $(cat "$T/err.txt")"; fail=1; }
+done
 # progressive rendering: --checkpoint needs a target; with --spp the steps stop exactly at it
 # (the last step's plan is scaled down), writing checkpoints on the way
 "$WEDGE" render "$T/small.pbrt" --checkpoint 1 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--checkpoint without a target" 1 $?
