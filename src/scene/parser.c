@@ -1499,6 +1499,10 @@ static bool statement(Parser *P, Lexer *lx, const Token *t)
     case 'R':
         if (tok_is(t, "Rotate")) {
             if (!read_numbers(P, lx, t, 4, v)) return false;
+            /* pbrt-v4 normalises the axis and gets NaN for a zero one; we rotate by nothing,
+             * and say so */
+            if (!(v[1] * v[1] + v[2] * v[2] + v[3] * v[3] > 0.0) && v[0] != 0.0)
+                scene_warn(P->scene, loc, "Rotate %g about the zero axis (0, 0, 0) has no direction: ignored", v[0]);
             Mat4 m = mat4_rotate(v[0], v[1], v[2], v[3]);
             return apply_ctm(P, &m, false, loc);
         }
