@@ -9,6 +9,7 @@
 #include "geometry/mesh.h"
 #include "recon/cl/cl_runtime.h"
 #include "recon/select.h"
+#include "render/renderer.h"
 #include "scene/scene_desc.h"
 
 static void usage(FILE *f)
@@ -247,6 +248,20 @@ int cmd_info(int argc, char **argv)
         }
         triangles += n;
     }
+    /* The scene built as wedge render builds it (materials, textures, lights, Embree
+     * geometry; one pixel, one thread): the warnings only the build finds (an unknown
+     * texture, a mix naming itself, a skipped light) are shown here too, and a scene that
+     * cannot be built fails here as it would there. */
+    RenderOptions ro = {0};
+    ro.width = ro.height = 1;
+    ro.threads = 1;
+    Renderer *r = NULL;
+    if (!renderer_create(&scene, &ro, &r, &err)) {
+        fprintf(stderr, "%s\n", err.message);
+        scene_desc_free(&scene);
+        return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
+    }
+    renderer_destroy(r);
     ReconChoice choice;
     recon_select(scene.effects, filter, &choice);
     if (json) print_json(&scene, &choice, triangles, stdout);

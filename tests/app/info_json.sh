@@ -78,3 +78,18 @@ fi
 "$WEDGE" info --json > "$tmp/default.json"
 python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["scene"] == "<default>" and len(j["effects"]) == 4, j' "$tmp/default.json"
 echo ok
+
+# Warnings the scene build finds (not the parser) are shown by info as by render (issue 20
+# item 12): a dielectric with eta 0, a mix material that names itself.
+cat > "$tmp/build_warn.pbrt" <<'SCENE'
+WorldBegin
+Material "dielectric" "float eta" 0
+Shape "sphere"
+MakeNamedMaterial "m" "string type" "mix" "string materials" [ "m" "m" ]
+NamedMaterial "m"
+Shape "sphere"
+SCENE
+"$WEDGE" info "$tmp/build_warn.pbrt" > "$tmp/bw.txt"
+grep -qx "warnings    2" "$tmp/bw.txt"
+grep -qxF "  $tmp/build_warn.pbrt:2:23: warning: \"eta\" must be positive; using 1.5" "$tmp/bw.txt"
+grep -qxF "  $tmp/build_warn.pbrt:4:1: warning: mix material: unknown material 'm'; using diffuse grey 0.5" "$tmp/bw.txt"
