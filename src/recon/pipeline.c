@@ -697,7 +697,10 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
     double t0 = wall_seconds(), t_trace = 0.0;
     int pass_slot = p->pass < 3 ? p->pass : 3; /* the byte counter of this pass */
     if (!p->filtering) { /* Monte Carlo: double the samples (up to the cap) */
-        int spp = p->res.pass1_spp << (p->res.steps - 1);
+        /* pass 1's count times 2^(steps - 1), bounded like any sample count */
+        int doublings = p->res.steps - 1 < 24 ? p->res.steps - 1 : 24;
+        double want = ldexp((double)p->res.pass1_spp, doublings);
+        int spp = want < (double)SCENE_SPP_MAX ? (int)want : SCENE_SPP_MAX;
         for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
         double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
         if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
