@@ -26,3 +26,14 @@ for res in 37x23 64x48 97x131; do
     fi
 done
 echo "kernels compiled once: $first"
+# An unwritable home (no kernel cache): PoCL reported no device at all, and wedge said
+# "install an OpenCL driver". Now the kernels go to a temporary cache, said on stderr and
+# removed at exit.
+unset POCL_CACHE_DIR XDG_CACHE_HOME
+export TMPDIR="$T/tmp"
+mkdir -p "$TMPDIR"
+HOME=/dev/null "$WEDGE" render "$scene" --res 16x12 --mu 0.5 -o "$T/c.exr" --quiet 2>"$T/err.txt" ||
+    { echo "FAIL: unwritable HOME: $(cat "$T/err.txt")"; exit 1; }
+grep -q "^wedge: note: the OpenCL kernel cache /dev/null/.cache/pocl is not writable" "$T/err.txt" ||
+    { echo "FAIL: no note about the kernel cache: $(cat "$T/err.txt")"; exit 1; }
+[ -z "$(ls -A "$TMPDIR")" ] || { echo "FAIL: the temporary kernel cache was left behind: $(ls "$TMPDIR")"; exit 1; }

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/cl/kernel_cache.h"
 #include "recon/cl/kernel_sources.h"
 
 #define MAX_PLATFORMS 16
@@ -66,6 +67,7 @@ static bool list_devices(DeviceList *list, Diag *d)
     cl_uint nplat = 0;
     list->count = 0;
     list->platform_count = 0;
+    kernel_cache_prepare(); /* before the driver looks for its cache */
     cl_int err = clGetPlatformIDs(MAX_PLATFORMS, platforms, &nplat);
     if (err != CL_SUCCESS || nplat == 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
@@ -98,7 +100,7 @@ static bool list_devices(DeviceList *list, Diag *d)
     if (list->count == 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
                  "OpenCL platforms found but no device: install an OpenCL driver, e.g. the "
-                 "Debian package %s for the CPU",
+                 "Debian package %s for the CPU (PoCL also needs a writable kernel cache: $POCL_CACHE_DIR)",
                  WEDGE_CL_PACKAGE_HINT);
         return false;
     }
