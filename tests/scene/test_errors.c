@@ -32,6 +32,26 @@ int main(void)
     expect("WorldBegin\nShape\xff", "t.pbrt:2:6: error: unexpected byte 0xff");
     expect("WorldBegin\n  \"x\"", "t.pbrt:2:3: error: expected a directive, got the string \"x\"");
 
+    /* Strings (issue 20 item 10): an unknown escape is an error at its backslash, not a
+     * dropped character; control bytes in a quoted name are printed escaped (the message
+     * stays one line); a name too long for the message loses its middle, not the reason. */
+    expect("Camera \"persp\\qective\"",
+           "t.pbrt:1:14: error: unknown escape '\\q' in a string (known: \\b \\f \\n \\r \\t \\\\ \\' \\\")");
+    expect("WorldBegin\nObjectInstance \"ab\x01\x1b[31mcd\"",
+           "t.pbrt:2:1: error: object \"ab\\x01\\x1b[31mcd\" not defined");
+    {
+        static char text[8192];
+        int n = snprintf(text, sizeof text, "WorldBegin\nObjectInstance \"");
+        for (int i = 0; i < 5000; ++i) text[n++] = 'x';
+        snprintf(text + n, sizeof text - (size_t)n, "\"");
+        const char *m = parse_err(text);
+        size_t len = strlen(m);
+        CHECK(len < 2048 && len > 1900);
+        CHECK(strncmp(m, "t.pbrt:2:1: error: object \"xxx", 30) == 0);
+        CHECK(strstr(m, "x...x") != NULL);
+        CHECK(len > 13 && !strcmp(m + len - 13, "\" not defined"));
+    }
+
     /* Brackets. */
     expect("WorldBegin\nShape \"sphere\" \"float radius\" [ 1\n",
            "t.pbrt:2:31: error: unbalanced '[': no matching ']'");
