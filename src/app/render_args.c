@@ -172,26 +172,26 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
 #undef NEED_VALUE
     }
     /* an option that would do nothing is a mistake worth saying, not ignoring */
-    if (a->checkpoint > 0.0 && !(a->time_budget > 0.0) && a->spp == 0) {
-        fprintf(stderr, "wedge %s: --checkpoint writes the image while a progressive render runs and needs "
-                        "its target: add --time SECONDS or --spp N\n", command);
-        return WEDGE_EXIT_USAGE;
-    }
-    if (!strcmp(a->filter, "none") && a->mu > 0.0f) {
-        fprintf(stderr, "wedge %s: --mu sets a filter's knob and does nothing with --filter none (plain Monte "
-                        "Carlo); drop --mu, or choose a filter (--filter auto)\n", command);
-        return WEDGE_EXIT_USAGE;
-    }
-    if (!strcmp(a->filter, "none") && a->cl_device) {
-        fprintf(stderr, "wedge %s: --cl-device picks the device the filters run on and does nothing with "
-                        "--filter none; drop it, or choose a filter\n", command);
-        return WEDGE_EXIT_USAGE;
-    }
-    if (!strcmp(a->filter, "none") && a->mem_limit > 0.0) {
-        fprintf(stderr, "wedge %s: --mem-limit caps a filter's per-sample storage and does nothing with "
-                        "--filter none; drop it, or choose a filter\n", command);
-        return WEDGE_EXIT_USAGE;
-    }
+    bool plain = !strcmp(a->filter, "none");
+    const struct {
+        bool pointless;
+        const char *why;
+    } pointless[] = {
+        {a->checkpoint > 0.0 && !(a->time_budget > 0.0) && a->spp == 0,
+         "--checkpoint writes the image while a progressive render runs and needs its target: add --time SECONDS "
+         "or --spp N"},
+        {plain && a->mu > 0.0f, "--mu sets a filter's knob and does nothing with --filter none (plain Monte Carlo); "
+                                "drop --mu, or choose a filter (--filter auto)"},
+        {plain && a->cl_device, "--cl-device picks the device the filters run on and does nothing with --filter "
+                                "none; drop it, or choose a filter"},
+        {plain && a->mem_limit > 0.0, "--mem-limit caps a filter's per-sample storage and does nothing with --filter "
+                                      "none; drop it, or choose a filter"},
+    };
+    for (size_t k = 0; k < sizeof pointless / sizeof pointless[0]; ++k)
+        if (pointless[k].pointless) {
+            fprintf(stderr, "wedge %s: %s\n", command, pointless[k].why);
+            return WEDGE_EXIT_USAGE;
+        }
     return WEDGE_EXIT_OK;
 }
 
