@@ -3,7 +3,7 @@
  *  - zero-area lights (a collapsed quad, a sphere and a disk of radius 0);
  *  - lights touching surfaces (a sphere light resting on the floor, a quad light lying in
  *    the floor plane, a disk light coplanar with a wall);
- *  - the same scene at scales 1e6 and 1e-4: radiance is scale-invariant (solid angles do
+ *  - the same scene at scales 1e-4, 1e6, 1e9 and 1e12: radiance is scale-invariant (solid angles do
  *    not change), so the image must match the unit-scale one. Acne or leaking offsets would
  *    darken or brighten it; the comparison is per pixel, same seed, same samples. */
 #include "check.h"
@@ -94,8 +94,11 @@ int main(void)
         CHECK(false);
         CHECK_DONE();
     }
-    const double scales[] = {1e6, 1e-4};
-    for (int k = 0; k < 2; ++k) {
+    /* 1e9 and 1e12 rendered dark and black while edge cross products overflowed float
+     * (v3_length, v3_normalize now rescale); 1e15 is 3% off and 1e-10 and below lose the
+     * direct light: not yet understood (issue 20 item 2) */
+    const double scales[] = {1e6, 1e-4, 1e9, 1e12};
+    for (int k = 0; k < 4; ++k) {
         TestRender t;
         if (!render_scene("", scales[k], &t)) {
             CHECK(false);
