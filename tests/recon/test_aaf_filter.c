@@ -253,6 +253,42 @@ static void test_sharp_neighbours(AafFilter *f)
     input_free(&in);
 }
 
+/* Non-finite values in pixels the filter must pass through (usable flag 0: no surface, mixed,
+ * black albedo) are never read by their neighbours: the output elsewhere is bit for bit the
+ * output with those values at 0, and the two pixels themselves come out as they went in (the
+ * pipeline's finish pass counts and clears them). The pipeline never marks a non-finite
+ * value usable: composite_prepare sets non-finite means to 0 first. */
+static void test_nonfinite_unusable(AafFilter *f)
+{
+    int w = 21, h = 13;
+    size_t n = (size_t)w * h, bad_nan = 5 * (size_t)w + 7, bad_inf = 9 * (size_t)w + 12;
+    Input in;
+    input_alloc(&in, w, h);
+    input_random(&in);
+    for (size_t i = 0; i < n; ++i) {
+        in.beta[i] = 0.04f; /* 4 px */
+        in.value[4 * i + 3] = 1.0f;
+    }
+    in.value[4 * bad_nan + 3] = in.value[4 * bad_inf + 3] = 0.0f;
+    for (int k = 0; k < 3; ++k) in.value[4 * bad_nan + k] = NAN, in.value[4 * bad_inf + k] = INFINITY;
+    aaf_filter_make_params((int)n, in.beta, in.pixel_world, 2.0f, 16, in.param);
+    AafFilterRules rules = aaf_filter_rules_default(AAF_DIST_WORLD);
+    float *with_bad = calloc(4 * n, sizeof(float)), *with_zero = calloc(4 * n, sizeof(float));
+    Diag d = {0};
+    CHECK(aaf_filter_set_guides(f, w, h, in.pos, in.nrm, &d));
+    CHECK(aaf_filter_run(f, in.value, NULL, in.param, &rules, with_bad, NULL, &d));
+    for (int k = 0; k < 3; ++k) in.value[4 * bad_nan + k] = in.value[4 * bad_inf + k] = 0.0f;
+    CHECK(aaf_filter_run(f, in.value, NULL, in.param, &rules, with_zero, NULL, &d));
+    bool same = true;
+    for (size_t i = 0; i < n; ++i)
+        if (i != bad_nan && i != bad_inf) same = same && memcmp(with_bad + 4 * i, with_zero + 4 * i, 4 * sizeof(float)) == 0;
+    CHECK(same);
+    CHECK(isnan(with_bad[4 * bad_nan]) && isinf(with_bad[4 * bad_inf])); /* passed through, not hidden */
+    free(with_bad);
+    free(with_zero);
+    input_free(&in);
+}
+
 int main(void)
 {
     test_make_params();
@@ -273,6 +309,7 @@ int main(void)
         compare_with_reference(f, 19, 31, AAF_DIST_PIXEL, true, 0.5f);
         test_properties(f);
         test_sharp_neighbours(f);
+    test_nonfinite_unusable(f);
     }
     aaf_filter_destroy(f);
     cl_runtime_destroy(rt);

@@ -117,9 +117,11 @@ __kernel void aaf_filter_pass(int width, int height, int pitch, int pad, int axi
             dist2 = (float8)(fk * fk);
         }
         float8 wt = select((float8)0.0f, exp(-dist2 * inv), ok);                 /* eq. 11 */
-        s_r += wt * vload8(0, in_r + o);
-        s_g += wt * vload8(0, in_g + o);
-        s_b += wt * vload8(0, in_b + o);
+        /* a rejected neighbour's value is not read at all: 0 * NaN would be NaN, and a pixel
+         * passed through (usable 0) may hold anything */
+        s_r += wt * select((float8)0.0f, vload8(0, in_r + o), ok);
+        s_g += wt * select((float8)0.0f, vload8(0, in_g + o), ok);
+        s_b += wt * select((float8)0.0f, vload8(0, in_b + o), ok);
         s_w += wt;
     }
     /* Normalise (eq. 11's constant cancels). The centre passes its own tests with weight 1,
