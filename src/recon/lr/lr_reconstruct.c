@@ -61,11 +61,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                     const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
                     int layer = lr_tile_layer_of(&tile, s);
                     if (layer < j) continue;
-                    bool finite = isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]);
-                    if (!finite) {
-                        if (j == 0) out->nonfinite++;
-                        continue;
-                    }
+                    if (!(isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]))) continue; /* counted once below */
                     float p, q, w;
                     lr_reproject(s, cp, sp, f, &p, &q, &w);
                     int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
@@ -119,6 +115,8 @@ void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out)
     size_t cells = (size_t)cfg->window_px * cfg->window_px * CH_COUNT;
     float *grid = malloc(sizeof(float) * cells), *pass1 = malloc(sizeof(float) * cells);
     out->nonfinite = 0;
+    for (size_t i = 0; i < (size_t)img->width * img->height * img->spp; ++i)
+        if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
     int ntx = (img->width + cfg->tile_px - 1) / cfg->tile_px, nty = (img->height + cfg->tile_px - 1) / cfg->tile_px;
     for (int ty = 0; ty < nty; ++ty)
         for (int tx = 0; tx < ntx; ++tx) filter_tile(img, cfg, tx, ty, grid, pass1, out);
