@@ -27,7 +27,8 @@ static void usage(FILE *f)
             "  MSE     mean of (t - r)^2; RMSE its square root\n"
             "  PSNR    10 log10(1 / MSE of the images clamped to [0,1]), at most 100 dB\n"
             "  SSIM    mean SSIM (11x11 Gaussian, sigma 1.5) of the sRGB-encoded luma\n"
-            "  nonfinite  pixels of TEST with a NaN or infinite value (counted as 0 above)\n"
+            "  nonfinite  pixels of TEST with a NaN or infinite value (counted as 0 above); the same\n"
+            "             for REF as nonfinite_ref (and a warning on stderr for either)\n"
             "\n"
             "  --json         print one JSON object: relmse mse rmse psnr ssim nonfinite\n"
             "  --diff FILE    write a false-colour per-pixel relative error image\n"
@@ -255,9 +256,16 @@ int cmd_compare(int argc, char **argv)
         fprintf(stderr, "%s\n", err.message);
         return rc;
     }
+    for (int k = 0; k < 2; ++k) { /* counted as 0 in the metrics: never silently */
+        long bad = k == 0 ? m.nonfinite_ref : m.nonfinite;
+        if (bad > 0)
+            fprintf(stderr, "wedge compare: warning: %s has %ld pixel%s with NaN or infinite values (counted as 0)\n",
+                    paths[k], bad, bad == 1 ? "" : "s");
+    }
     if (json) {
-        printf("{\"relmse\": %.9g, \"mse\": %.9g, \"rmse\": %.9g, \"psnr\": %.9g, \"ssim\": %.9g, \"nonfinite\": %ld",
-               m.relmse, m.mse, m.rmse, m.psnr, m.ssim, m.nonfinite);
+        printf("{\"relmse\": %.9g, \"mse\": %.9g, \"rmse\": %.9g, \"psnr\": %.9g, \"ssim\": %.9g, \"nonfinite\": %ld, "
+               "\"nonfinite_ref\": %ld",
+               m.relmse, m.mse, m.rmse, m.psnr, m.ssim, m.nonfinite, m.nonfinite_ref);
     } else {
         printf("relMSE     %.6g\n", m.relmse);
         printf("MSE        %.6g\n", m.mse);
@@ -265,6 +273,7 @@ int cmd_compare(int argc, char **argv)
         printf("PSNR       %.4f dB\n", m.psnr);
         printf("SSIM       %.6f\n", m.ssim);
         printf("non-finite %ld pixel%s\n", m.nonfinite, m.nonfinite == 1 ? "" : "s");
+        printf("non-finite in the reference %ld pixel%s\n", m.nonfinite_ref, m.nonfinite_ref == 1 ? "" : "s");
         if (diff_path) printf("diff       %s\n", diff_path);
     }
     if (key) print_breakdown(by_channel, key, ref, test, rw, rh, edges, edge_count, json);

@@ -313,8 +313,10 @@ static void base_render_args(ArgList *l, const ConvergeOptions *o, const char *o
     if (o->scene_path) arg_add(l, o->scene_path);
     arg_add(l, "-o");
     arg_add(l, out_image);
-    arg_add(l, "--spp");
-    arg_addf(l, "%lld", spp, 0);
+    if (spp > 0) { /* 0: the filter's own budget (a run per --mu value) */
+        arg_add(l, "--spp");
+        arg_addf(l, "%lld", spp, 0);
+    }
     arg_add(l, "--res");
     arg_addf(l, "%lldx%lld", o->width, o->height);
     arg_add(l, "--seed");
@@ -678,13 +680,13 @@ int cmd_converge(int argc, char **argv)
         int mu_runs = m->takes_mu && o.mu_count > 0 ? o.mu_count : 1;
         for (int ui = 0; ui < mu_runs && rc == WEDGE_EXIT_OK; ++ui) {
             const char *mu = m->takes_mu && o.mu_count > 0 ? o.mu[ui] : NULL;
-            /* A filter sets each pixel's samples itself from mu (wedge render ignores --spp
-             * under a filter): one run per mu, not one per --spp value (those would only be
-             * repeats). */
-            int spp_runs = m->takes_mu ? 1 : o.spp_count;
+            /* A filter with --mu sets each pixel's samples itself from mu: one run per mu. Without
+             * --mu, each --spp value is the filter's average budget (wedge render --spp). */
+            bool by_mu = m->takes_mu && mu;
+            int spp_runs = by_mu ? 1 : o.spp_count;
             for (int si = 0; si < spp_runs && rc == WEDGE_EXIT_OK; ++si) {
                 char stem[4400], image[4500], report[4500], spp_label[32] = "";
-                if (!m->takes_mu) snprintf(spp_label, sizeof spp_label, "-spp%d", o.spp[si]);
+                if (!by_mu) snprintf(spp_label, sizeof spp_label, "-spp%d", o.spp[si]);
                 if (!fmt_path(stem, sizeof stem, "%s/%s-%s%s%s%s", images, name, m->name, mu ? "-mu" : "",
                               mu ? mu : "", spp_label) ||
                     !fmt_path(image, sizeof image, "%s.exr", stem) || !fmt_path(report, sizeof report, "%s.json", stem)) {
@@ -695,7 +697,7 @@ int cmd_converge(int argc, char **argv)
                 /* A fresh seed per run (the reference used o.seed itself): runs are independent
                  * of each other and of the reference, so errors do not correlate. */
                 long long seed = o.seed + 1 + run_index++;
-                base_render_args(&l, &o, image, o.spp[si], seed, report);
+                base_render_args(&l, &o, image, by_mu ? 0 : o.spp[si], seed, report);
                 for (int k = 0; m->render_args[k]; ++k) arg_add(&l, m->render_args[k]);
                 if (mu) {
                     arg_add(&l, "--mu");

@@ -1,25 +1,31 @@
-/* wedge info SCENE [--json]: what the parser understood of a scene (film, camera, counts,
- * lights by type, effects, warnings), as text or as one JSON object. */
+/* wedge info SCENE [--json] [--filter NAME]: what the parser understood of a scene (film,
+ * camera, counts, lights by type, effects, the method each effect gets and why, warnings), as
+ * text or as one JSON object; wedge info --filters [--json]: the reconstruction methods. */
 #include <stdio.h>
 #include <string.h>
 
 #include "app/commands.h"
 #include "core/diag.h"
 #include "geometry/mesh.h"
-#include "recon/cl_runtime.h"
-#include "recon/filter_select.h"
+#include "recon/cl/cl_runtime.h"
+#include "recon/select.h"
+#include "render/renderer.h"
 #include "scene/scene_desc.h"
 
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: wedge info [SCENE] [--json]\n"
+            "usage: wedge info [SCENE] [--json] [--filter NAME]\n"
+            "       wedge info --filters [--json]\n"
             "       wedge info --cl\n\n"
             "Summarises a pbrt-v4 scene (without SCENE: the embedded default scene): film, camera, sampler, counts of shapes, triangles\n"
             "(after loading meshes), lights by type, materials, the distribution effects found\n"
-            "(soft_shadows, defocus, motion, indirect) and the parser's warnings.\n\n"
-            "  --json   print one JSON object instead of text\n"
-            "  --cl     list the OpenCL platforms and devices\n");
+            "(soft_shadows, defocus, motion, indirect) with the reconstruction method each gets\n"
+            "and why, and the parser's warnings.\n\n"
+            "  --json         print one JSON object instead of text\n"
+            "  --filter NAME  the methods 'wedge render --filter NAME' would use (default auto)\n"
+            "  --filters      list the reconstruction methods: effects, sampling, storage\n"
+            "  --cl           list the OpenCL platforms and devices\n");
 }
 
 /* Light counts by type; area lights are the emissive shapes outside object definitions. */
@@ -60,35 +66,45 @@ static void json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
-static const char *effect_names[4] = {"soft_shadows", "defocus", "motion", "indirect"};
-
-static void effects_flags(const Effects *e, bool on[4])
+/* The effects a mask holds, as a JSON array of names. */
+static void json_effects(FILE *f, EffectMask m)
 {
-    on[0] = e->soft_shadows;
-    on[1] = e->defocus;
-    on[2] = e->motion;
-    on[3] = e->indirect;
+    fprintf(f, "[");
+    for (int e = 0, first = 1; e < EFFECT_COUNT; ++e)
+        if (effect_in(m, (Effect)e)) {
+            fprintf(f, "%s\"%s\"", first ? "" : ", ", effect_name((Effect)e));
+            first = 0;
+        }
+    fprintf(f, "]");
 }
 
-static void print_json(const SceneDesc *s, long triangles, FILE *f)
+/* "filters": {effect: method} and "reasons": {effect: why}, for the present effects. */
+static void json_choice(FILE *f, const SceneDesc *s, const ReconChoice *c)
 {
-    bool on[4];
-    effects_flags(&s->effects, on);
+    fprintf(f, ", \"filters\": {");
+    for (int e = 0, first = 1; e < EFFECT_COUNT; ++e)
+        if (effect_in(s->effects, (Effect)e)) {
+            fprintf(f, "%s\"%s\": \"%s\"", first ? "" : ", ", effect_name((Effect)e), recon_choice_name(c, (Effect)e));
+            first = 0;
+        }
+    fprintf(f, "}, \"reasons\": {");
+    for (int e = 0, first = 1; e < EFFECT_COUNT; ++e)
+        if (effect_in(s->effects, (Effect)e)) {
+            fprintf(f, "%s\"%s\": ", first ? "" : ", ", effect_name((Effect)e));
+            json_string(f, c->reason[e] ? c->reason[e] : "");
+            first = 0;
+        }
+    fprintf(f, "}");
+}
+
+static void print_json(const SceneDesc *s, const ReconChoice *c, long triangles, FILE *f)
+{
     fprintf(f, "{\"scene\": ");
     json_string(f, s->path);
-    fprintf(f, ", \"effects\": [");
-    for (int i = 0, first = 1; i < 4; ++i)
-        if (on[i]) {
-            fprintf(f, "%s\"%s\"", first ? "" : ", ", effect_names[i]);
-            first = 0;
-        }
-    fprintf(f, "], \"filters\": {");
-    for (int i = 0, first = 1; i < 4; ++i)
-        if (on[i]) {
-            fprintf(f, "%s\"%s\": \"%s\"", first ? "" : ", ", effect_names[i], recon_filter_for("auto", &s->effects, i));
-            first = 0;
-        }
-    fprintf(f, "}, \"width\": %d, \"height\": %d, \"spp\": %d, \"triangles\": %ld", s->film.xres, s->film.yres,
+    fprintf(f, ", \"effects\": ");
+    json_effects(f, s->effects);
+    json_choice(f, s, c);
+    fprintf(f, ", \"width\": %d, \"height\": %d, \"spp\": %d, \"triangles\": %ld", s->film.xres, s->film.yres,
             s->sampler.spp, triangles);
     LightCount lc[64];
     int nl = count_lights(s, lc, 64);
@@ -112,7 +128,7 @@ static void print_json(const SceneDesc *s, long triangles, FILE *f)
     fprintf(f, "]}\n");
 }
 
-static void print_text(const SceneDesc *s, long triangles, FILE *f)
+static void print_text(const SceneDesc *s, const ReconChoice *c, long triangles, FILE *f)
 {
     fprintf(f, "scene       %s\n", s->path);
     fprintf(f, "film        %s %dx%d -> %s\n", s->film.type, s->film.xres, s->film.yres, s->film.filename);
@@ -130,27 +146,63 @@ static void print_text(const SceneDesc *s, long triangles, FILE *f)
     if (!nl) fprintf(f, " none");
     for (int i = 0; i < nl; ++i) fprintf(f, " %s %d", lc[i].type, lc[i].count);
     fprintf(f, "\nmaterials   %d, textures %d\n", s->material_count, s->texture_count);
-    bool on[4];
-    effects_flags(&s->effects, on);
     fprintf(f, "effects    ");
-    int any = 0;
-    for (int i = 0; i < 4; ++i)
-        if (on[i]) {
-            fprintf(f, " %s (filter: %s)", effect_names[i], recon_filter_for("auto", &s->effects, i));
-            any = 1;
-        }
-    fprintf(f, "%s\n", any ? "" : " none");
+    for (int e = 0; e < EFFECT_COUNT; ++e)
+        if (effect_in(s->effects, (Effect)e)) fprintf(f, " %s (filter: %s)", effect_name((Effect)e), recon_choice_name(c, (Effect)e));
+    fprintf(f, "%s\n", s->effects ? "" : " none");
+    for (int e = 0; e < EFFECT_COUNT; ++e)
+        if (effect_in(s->effects, (Effect)e) && c->reason[e])
+            fprintf(f, "  %-12s %s\n", effect_name((Effect)e), c->reason[e]);
     fprintf(f, "warnings    %d\n", s->warning_count);
     for (int i = 0; i < s->warning_count; ++i) fprintf(f, "  %s\n", s->warnings[i]);
 }
 
+/* wedge info --filters: the registered methods. */
+static void print_methods(bool json, FILE *f)
+{
+    if (json) fprintf(f, "{\"methods\": [");
+    for (int i = 0; recon_methods[i]; ++i) {
+        const ReconMethodClass *m = recon_methods[i];
+        const char *sampling = m->adaptive ? "adaptive" : "fixed";
+        const char *storage = m->sample_fields ? "per-sample" : "per-pixel";
+        if (json) {
+            fprintf(f, "%s{\"name\": ", i ? ", " : "");
+            json_string(f, m->name);
+            fprintf(f, ", \"effects\": ");
+            json_effects(f, m->effects);
+            fprintf(f, ", \"sampling\": \"%s\", \"storage\": \"%s\", \"title\": ", sampling, storage);
+            json_string(f, m->title);
+            fprintf(f, "}");
+            continue;
+        }
+        fprintf(f, "%-6s", m->name);
+        for (int e = 0, first = 1; e < EFFECT_COUNT; ++e)
+            if (effect_in(m->effects, (Effect)e)) {
+                fprintf(f, "%s%s", first ? " " : ",", effect_name((Effect)e));
+                first = 0;
+            }
+        fprintf(f, "; %s sampling, %s storage\n       %s\n", sampling, storage, m->title);
+    }
+    if (json) fprintf(f, "]}\n");
+}
+
 int cmd_info(int argc, char **argv)
 {
-    const char *path = NULL;
-    bool json = false, cl = false;
+    const char *path = NULL, *filter = "auto";
+    bool json = false, cl = false, methods = false;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--json")) json = true;
         else if (!strcmp(argv[i], "--cl")) cl = true;
+        else if (!strcmp(argv[i], "--filters")) methods = true;
+        else if (!strcmp(argv[i], "--filter")) {
+            if (i + 1 >= argc || !recon_filter_known(argv[i + 1])) {
+                char choices[256];
+                fprintf(stderr, "wedge info: --filter wants %s, got '%s'\n", recon_filter_choices(choices, sizeof choices),
+                        i + 1 < argc ? argv[i + 1] : "");
+                return WEDGE_EXIT_USAGE;
+            }
+            filter = argv[++i];
+        }
         else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             usage(stdout);
             return WEDGE_EXIT_OK;
@@ -169,6 +221,10 @@ int cmd_info(int argc, char **argv)
     /* ---- wedge info --cl: owned by the OpenCL engineer (recon module) ---- */
     if (cl) return recon_print_devices(stdout) ? WEDGE_EXIT_OK : WEDGE_EXIT_RUNTIME;
     /* ---- end of the --cl part ---- */
+    if (methods) {
+        print_methods(json, stdout);
+        return WEDGE_EXIT_OK;
+    }
 
     /* Without SCENE: the scene embedded in the binary, as for wedge render. */
     SceneDesc scene;
@@ -192,8 +248,24 @@ int cmd_info(int argc, char **argv)
         }
         triangles += n;
     }
-    if (json) print_json(&scene, triangles, stdout);
-    else print_text(&scene, triangles, stdout);
+    /* The scene built as wedge render builds it (materials, textures, lights, Embree
+     * geometry; one pixel, one thread): the warnings only the build finds (an unknown
+     * texture, a mix naming itself, a skipped light) are shown here too, and a scene that
+     * cannot be built fails here as it would there. */
+    RenderOptions ro = {0};
+    ro.width = ro.height = 1;
+    ro.threads = 1;
+    Renderer *r = NULL;
+    if (!renderer_create(&scene, &ro, &r, &err)) {
+        fprintf(stderr, "%s\n", err.message);
+        scene_desc_free(&scene);
+        return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
+    }
+    renderer_destroy(r);
+    ReconChoice choice;
+    recon_select(scene.effects, filter, &choice);
+    if (json) print_json(&scene, &choice, triangles, stdout);
+    else print_text(&scene, &choice, triangles, stdout);
     scene_desc_free(&scene);
     return WEDGE_EXIT_OK;
 }

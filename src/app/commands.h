@@ -3,6 +3,7 @@
 #define WEDGE_APP_COMMANDS_H
 
 int cmd_render(int argc, char **argv);
+int cmd_preview(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_convert(int argc, char **argv);

@@ -4,6 +4,7 @@
 
 #include "app/commands.h"
 #include "core/diag.h"
+#include "recon/dist.h"
 
 static const struct {
     const char *name;
@@ -11,6 +12,7 @@ static const struct {
     const char *summary;
 } commands[] = {
     {"render", cmd_render, "render a pbrt-v4 scene (or the embedded default) to EXR/PNG"},
+    {"preview", cmd_preview, "render into a window, progressively: the filtered image sharpens as samples accumulate"},
     {"info", cmd_info, "summarise a scene: film, camera, shapes, lights, effects, warnings"},
     {"compare", cmd_compare, "error metrics of an image against a reference"},
     {"convert", cmd_convert, "convert an image between EXR and PNG (PNG through the OpenColorIO view)"},
@@ -36,7 +38,8 @@ int main(int argc, char **argv)
         return WEDGE_EXIT_OK;
     }
     if (!strcmp(argv[1], "--version")) {
-        printf("wedge %s\n", WEDGE_VERSION);
+        /* what a script may need to know about this build */
+        printf("wedge %s (MPI: %s)\n", WEDGE_VERSION, dist_available() ? "yes" : "no");
         return WEDGE_EXIT_OK;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)

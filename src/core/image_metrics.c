@@ -178,6 +178,7 @@ bool image_metrics_compute(const float *ref_rgb, const float *test_rgb, int widt
     out->psnr = metric_psnr(ref_rgb, test_rgb, width, height);
     out->ssim = metric_ssim(ref_rgb, test_rgb, width, height);
     out->nonfinite = metric_nonfinite(test_rgb, width, height);
+    out->nonfinite_ref = metric_nonfinite(ref_rgb, width, height);
     return !isnan(out->ssim);
 }
 

@@ -7,7 +7,8 @@
  *   PSNR    = 10 log10(1 / MSE'), MSE' the MSE of both images clamped to [0, 1]
  *   SSIM    = mean SSIM (Wang et al. 2004) of the luma Y' = 0.2126 R' + 0.7152 G' + 0.0722 B'
  *             of the clamped, sRGB-encoded images (R' = srgb_encode(clamp(R))), data range 1
- *   nonfinite = number of TEST pixels with at least one NaN or infinite channel.
+ *   nonfinite = number of TEST pixels with at least one NaN or infinite channel;
+ *   nonfinite_ref the same for REF (a reference with NaN is no reference).
  * Choices the issue leaves open (documented here, tested in tests/core/test_metrics.c):
  *   - Non-finite values (either image) count as 0 in every other metric, which is what our
  *     writers store for them; nonfinite tells that it happened.
@@ -24,7 +25,7 @@
 
 typedef struct {
     double relmse, mse, rmse, psnr, ssim;
-    long nonfinite;
+    long nonfinite, nonfinite_ref;
 } ImageMetrics;
 
 /* SSIM parameters (Wang et al. 2004, section III-C). */

@@ -22,12 +22,31 @@ static inline vec3 v3_cross(vec3 a, vec3 b)
     return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
 static inline float v3_length2(vec3 a) { return v3_dot(a, a); }
-static inline float v3_length(vec3 a) { return sqrtf(v3_dot(a, a)); }
+/* Lengths whose square float holds with full precision (about 1e-18 to 1e18): the usual
+ * case takes the plain formula; longer or shorter vectors (a cross product of two edges in a
+ * scene scaled by 1e9 or 1e-10) are divided by their largest component first, since their
+ * square over- or underflows (which made such scenes render black). */
+#define V3_LENGTH_PLAIN_MIN 1.0e-18f
+#define V3_LENGTH_PLAIN_MAX 1.0e18f
+static inline float v3_max_abs(vec3 a) { return fmaxf(fabsf(a.x), fmaxf(fabsf(a.y), fabsf(a.z))); }
+static inline float v3_length(vec3 a)
+{
+    float l = sqrtf(v3_dot(a, a));
+    if (l > V3_LENGTH_PLAIN_MIN && l < V3_LENGTH_PLAIN_MAX) return l;
+    float m = v3_max_abs(a);
+    if (!(m > 0.0f) || !isfinite(m)) return m > 0.0f ? INFINITY : 0.0f;
+    vec3 b = v3_scale(a, 1.0f / m);
+    return m * sqrtf(v3_dot(b, b));
+}
 /* Returns a zero vector for a zero-length input instead of NaN. */
 static inline vec3 v3_normalize(vec3 a)
 {
-    float l = v3_length(a);
-    return l > 0.0f ? v3_scale(a, 1.0f / l) : v3(0.0f, 0.0f, 0.0f);
+    float l = sqrtf(v3_dot(a, a));
+    if (l > V3_LENGTH_PLAIN_MIN && l < V3_LENGTH_PLAIN_MAX) return v3_scale(a, 1.0f / l);
+    float m = v3_max_abs(a); /* rescaled first: see v3_length */
+    if (!(m > 0.0f) || !isfinite(m)) return v3(0.0f, 0.0f, 0.0f);
+    vec3 b = v3_scale(a, 1.0f / m);
+    return v3_scale(b, 1.0f / sqrtf(v3_dot(b, b)));
 }
 static inline float v3_max_component(vec3 a) { return fmaxf(a.x, fmaxf(a.y, a.z)); }
 static inline float v3_get(vec3 a, int i) { return i == 0 ? a.x : (i == 1 ? a.y : a.z); }

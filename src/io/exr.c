@@ -380,12 +380,20 @@ void exr_image_free(ExrImage *img)
     memset(img, 0, sizeof *img);
 }
 
+/* The largest ratio of a chunk's unpacked to packed size any EXR codec produces (deflate's
+ * limit is 1032:1), with a margin. */
+#define EXR_MAX_EXPANSION 1100ull
+
 /* Decodes one chunk into the planes; (x0, y0) is its corner relative to the data window. */
 static exr_result_t read_chunk(exr_const_context_t ctx, const exr_chunk_info_t *cinfo, int x0, int y0,
                                exr_decode_pipeline_t *dec, bool *first, ExrImage *img)
 {
     if (x0 < 0 || y0 < 0 || x0 + cinfo->width > img->width || y0 + cinfo->height > img->height)
         return EXR_ERR_CORRUPT_CHUNK; /* never write outside the planes */
+    /* No codec expands data more than deflate does (about 1032:1): a chunk that claims to
+     * unpack to more is corrupt, and decoding it would allocate what it claims (1.3 GB from a
+     * 2 KB file, found by tools/fuzz-readers exr). */
+    if (cinfo->unpacked_size > cinfo->packed_size * EXR_MAX_EXPANSION + 4096) return EXR_ERR_CORRUPT_CHUNK;
     exr_result_t rv = *first ? exr_decoding_initialize(ctx, 0, cinfo, dec)
                              : exr_decoding_update(ctx, 0, cinfo, dec);
     if (rv != EXR_ERR_SUCCESS) return rv;

@@ -3,6 +3,7 @@
 
 #include <math.h>
 
+#include "render/tracer.h"
 #include "render/warp.h"
 
 bool camera_init(Camera *cam, const CameraDesc *desc, int width_px, int height_px, Diag *err)
@@ -50,6 +51,24 @@ bool camera_init_times(Camera *cam, const CameraDesc *desc, int width_px, int he
     for (int i = 0; i < 2; ++i) {
         if (!mat4_inverse(&desc->camera_from_world.m[i], &wfc[i])) {
             diag_set(err, WEDGE_EXIT_INPUT, desc->loc, "camera transform is singular");
+            return false;
+        }
+    }
+    /* rays start on the lens: it must lie where the ray tracer can represent points */
+    if (!(desc->lens_radius < TRACER_COORD_MAX)) {
+        diag_set(err, WEDGE_EXIT_INPUT, desc->loc,
+                 "camera \"float lensradius\" %g is beyond the coordinates the ray tracer can represent (below %g)",
+                 (double)desc->lens_radius, (double)TRACER_COORD_MAX);
+        return false;
+    }
+    for (int i = 0; i < 2; ++i) {
+        vec3 eye = mat4_apply_point(&wfc[i], v3(0.0f, 0.0f, 0.0f));
+        float reach = fmaxf(fabsf(eye.x), fmaxf(fabsf(eye.y), fabsf(eye.z))) + desc->lens_radius;
+        if (!(reach < TRACER_COORD_MAX)) {
+            diag_set(err, WEDGE_EXIT_INPUT, desc->loc,
+                     "the camera is at (%g, %g, %g) (set by LookAt or the transform before Camera), beyond the "
+                     "coordinates the ray tracer can represent (magnitude below %g): move the scene towards the origin",
+                     (double)eye.x, (double)eye.y, (double)eye.z, (double)TRACER_COORD_MAX);
             return false;
         }
     }

@@ -25,11 +25,33 @@ static vec3 param_point(const ParamSet *ps, const char *name, vec3 def)
     return (f && n >= 3) ? v3(f[0], f[1], f[2]) : def;
 }
 
-static vec3 param_emission(const ParamSet *ps, const char *name)
+
+/* Largest emission taken without a warning: sums of a few thousand samples of it, times BSDF
+ * and geometry factors, stay finite in float (FLT_MAX is 3.4e38). */
+#define EMISSION_WARN_MAX 1e30f
+
+/* emission * scale, with a warning (shown by render and info) for what would otherwise be
+ * dropped, dimmed or overflow silently: negative values (clamped to 0), a negative or
+ * non-finite scale (the light emits nothing), and radiance so large that sums overflow. */
+static vec3 checked_emission(SceneDesc *scene, SrcLoc loc, const ParamSet *ps, const char *name, float scale)
 {
-    float rgb[3];
-    if (params_illuminant_rgb(ps, name, rgb)) return v3(fmaxf(rgb[0], 0.0f), fmaxf(rgb[1], 0.0f), fmaxf(rgb[2], 0.0f));
-    return v3s(1.0f);
+    float rgb[3] = {1.0f, 1.0f, 1.0f};
+    if (params_illuminant_rgb(ps, name, rgb) && (rgb[0] < 0.0f || rgb[1] < 0.0f || rgb[2] < 0.0f))
+        scene_warn(scene, loc, "negative \"%s\" (%g %g %g) is clamped to 0: a light cannot remove light", name,
+                   (double)rgb[0], (double)rgb[1], (double)rgb[2]);
+    vec3 e = v3(fmaxf(rgb[0], 0.0f), fmaxf(rgb[1], 0.0f), fmaxf(rgb[2], 0.0f));
+    if (!(scale >= 0.0f) || !isfinite(scale)) {
+        scene_warn(scene, loc, "light \"scale\" %g is negative or not finite: the light emits nothing", (double)scale);
+        return v3s(0.0f);
+    }
+    vec3 out = v3_scale(e, scale);
+    float peak = fmaxf(out.x, fmaxf(out.y, out.z));
+    if (!(peak <= EMISSION_WARN_MAX))
+        scene_warn(scene, loc,
+                   "\"%s\" times \"scale\" reaches %g, beyond what float sums of it hold: pixels that see this light "
+                   "will come out infinite (set to 0 and counted in the report's nonfinite_pixels)",
+                   name, (double)peak);
+    return out;
 }
 
 static Light *push_light(LightSet *set, int *cap)
@@ -134,7 +156,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
             Geom *g = &layer->geoms[gi];
             if (g->area_light < 0 || g->kind == GEOM_INSTANCE) continue;
             AreaLightDesc *ad = &scene->area_lights[g->area_light];
-            vec3 L = v3_scale(param_emission(&ad->params, "L"), params_float(&ad->params, "scale", 1.0f));
+            vec3 L = checked_emission(scene, ad->loc, &ad->params, "L", params_float(&ad->params, "scale", 1.0f));
             bool two_sided = params_bool(&ad->params, "twosided", false);
             int n_prims = g->kind == GEOM_TRIANGLES ? g->triangle_count : 1;
             if (n_prims == 0) continue;
@@ -180,12 +202,12 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
         if (!strcmp(type, "point")) {
             if (!(l = push_light(set, &cap))) goto oom;
             l->kind = LIGHT_POINT;
-            l->L = v3_scale(param_emission(&d->params, "I"), scale);
+            l->L = checked_emission(scene, d->loc, &d->params, "I", scale);
             l->p_world = mat4_apply_point(m, param_point(&d->params, "from", v3(0, 0, 0)));
         } else if (!strcmp(type, "spot")) {
             if (!(l = push_light(set, &cap))) goto oom;
             l->kind = LIGHT_SPOT;
-            l->L = v3_scale(param_emission(&d->params, "I"), scale);
+            l->L = checked_emission(scene, d->loc, &d->params, "I", scale);
             vec3 from = param_point(&d->params, "from", v3(0, 0, 0)), to = param_point(&d->params, "to", v3(0, 0, 1));
             l->p_world = mat4_apply_point(m, from);
             l->w_world = v3_normalize(mat4_apply_vector(m, v3_sub(to, from)));
@@ -195,7 +217,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
         } else if (!strcmp(type, "distant")) {
             if (!(l = push_light(set, &cap))) goto oom;
             l->kind = LIGHT_DISTANT;
-            l->L = v3_scale(param_emission(&d->params, "L"), scale);
+            l->L = checked_emission(scene, d->loc, &d->params, "L", scale);
             vec3 from = param_point(&d->params, "from", v3(0, 0, 0)), to = param_point(&d->params, "to", v3(0, 0, 1));
             l->w_world = v3_normalize(mat4_apply_vector(m, v3_sub(from, to)));
         } else if (!strcmp(type, "infinite")) {
@@ -229,7 +251,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
                 envmap_set_transform(l->env, m);
                 l->L = envmap_mean_radiance(l->env);
             } else {
-                l->L = v3_scale(param_emission(&d->params, "L"), scale);
+                l->L = checked_emission(scene, d->loc, &d->params, "L", scale);
             }
         } else {
             if (!warned_unsupported) scene_warn(scene, d->loc, "light type '%s' is not supported; it is skipped", type);

@@ -18,6 +18,12 @@ Microfacet microfacet_make(float uroughness, float vroughness, bool remap_roughn
     Microfacet m;
     m.alpha_x = remap_roughness ? microfacet_roughness_to_alpha(ru) : ru;
     m.alpha_y = remap_roughness ? microfacet_roughness_to_alpha(rv) : rv;
+    /* as pbrt-v4: unless both axes are smooth (a delta lobe), neither alpha goes below 1e-4:
+     * an axis at 0 would make D 0 everywhere off the plane (a black material) */
+    if (!microfacet_is_smooth(m)) {
+        m.alpha_x = fmaxf(m.alpha_x, MICROFACET_ALPHA_MIN);
+        m.alpha_y = fmaxf(m.alpha_y, MICROFACET_ALPHA_MIN);
+    }
     return m;
 }
 

@@ -19,6 +19,8 @@ typedef struct {
 /* pbrt-v4 calls a distribution with max(alpha) below this "effectively smooth" and
  * switches to a perfectly specular (delta) lobe. */
 #define MICROFACET_SMOOTH_ALPHA 1e-3f
+/* Smallest alpha of a rough lobe's axis (pbrt-v4's TrowbridgeReitzDistribution). */
+#define MICROFACET_ALPHA_MIN 1e-4f
 
 /* pbrt-v4's TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness). Used
  * when a material's "remaproughness" is true (the default); otherwise roughness is alpha. */

@@ -25,7 +25,7 @@ struct Renderer {
     LightSet lights;
     MaterialTable materials;
     IntegratorScene isc;
-    Effects effects;
+    EffectMask effects;
     RenderStats stats;
 };
 
@@ -73,8 +73,12 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->lights = &r->lights;
     isc->materials = &r->materials;
     isc->max_depth = scene->integrator.max_depth;
-    isc->sample_lens = r->camera.lens_radius_world > 0.0f;
-    isc->sample_time = (r->tracer.has_motion || r->camera.moving) && scene->camera.shutter_open < scene->camera.shutter_close;
+    /* the lens and shutter dimensions are sampled exactly when the scene's one effect
+     * analysis (scene/effects.c, also read by `wedge info`) found defocus and motion */
+    scene_analyze_effects(scene);
+    r->effects = scene->effects;
+    isc->sample_lens = effect_in(r->effects, EFFECT_DEFOCUS) && r->camera.lens_radius_world > 0.0f;
+    isc->sample_time = effect_in(r->effects, EFFECT_MOTION);
     isc->shutter_open = scene->camera.shutter_open;
     isc->shutter_close = scene->camera.shutter_close;
     isc->xform_time_start = scene->transform_start_time;
@@ -83,10 +87,6 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->record_ray_geometry = opt->record_ray_geometry;
     isc->time01_fixed = integrator_fixed_time01(isc);
 
-    r->effects.soft_shadows = r->lights.has_area;
-    r->effects.defocus = isc->sample_lens;
-    r->effects.motion = isc->sample_time;
-    r->effects.indirect = isc->max_depth >= 2;
     *out = r;
     return true;
 fail:
@@ -109,7 +109,7 @@ int renderer_spp(const Renderer *r) { return r->spp; }
 int renderer_threads(const Renderer *r) { return r->threads; }
 int renderer_max_depth(const Renderer *r) { return r->isc.max_depth; }
 SamplerKind renderer_sampler(const Renderer *r) { return r->sampler; }
-Effects renderer_effects(const Renderer *r) { return r->effects; }
+EffectMask renderer_effects(const Renderer *r) { return r->effects; }
 const Camera *renderer_camera(const Renderer *r) { return &r->camera; }
 RenderStats renderer_stats(const Renderer *r) { return r->stats; }
 long renderer_triangle_count(const Renderer *r) { return r->tracer.triangle_count; }

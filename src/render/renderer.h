@@ -69,8 +69,8 @@ int renderer_spp(const Renderer *r);
 int renderer_threads(const Renderer *r);
 int renderer_max_depth(const Renderer *r);
 SamplerKind renderer_sampler(const Renderer *r);
-/* The effects the renderer will actually sample (DESIGN.md section 2). */
-Effects renderer_effects(const Renderer *r);
+/* The scene's effects (scene_analyze_effects), which the renderer samples (DESIGN.md section 2). */
+EffectMask renderer_effects(const Renderer *r);
 const Camera *renderer_camera(const Renderer *r);
 RenderStats renderer_stats(const Renderer *r);
 /* Triangles in the Embree scene and Embree's peak memory (bytes). */

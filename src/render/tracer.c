@@ -269,6 +269,16 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
     for (int i = 0; i < mesh.vertex_count; ++i) {
         vec3 *v = (vec3 *)p + i;
         if (!identity) *v = mat4_apply_point(geom_from_object, *v);
+        if (!(fabsf(v->x) < TRACER_COORD_MAX && fabsf(v->y) < TRACER_COORD_MAX && fabsf(v->z) < TRACER_COORD_MAX)) {
+            diag_set(err, WEDGE_EXIT_INPUT, s->loc,
+                     "the shape reaches (%g, %g, %g), beyond the coordinates the ray tracer can represent (magnitude "
+                     "below %g): scale the scene down or move it towards the origin",
+                     (double)v->x, (double)v->y, (double)v->z, (double)TRACER_COORD_MAX);
+            free(p);
+            mesh.p = NULL;
+            mesh_free(&mesh);
+            return false;
+        }
         if (mesh.n) {
             vec3 n = identity ? mesh.n[i] : mat4_apply_normal(&normal_xf, mesh.n[i]);
             n = v3_normalize(n);
@@ -622,6 +632,17 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
         tr->bounds_max[0] = b.upper_x, tr->bounds_max[1] = b.upper_y, tr->bounds_max[2] = b.upper_z;
         if (tr->layers[0].geom_count == 0)
             for (int i = 0; i < 3; ++i) tr->bounds_min[i] = tr->bounds_max[i] = 0.0f;
+        /* instances, spheres and moving shapes are checked here, as a whole */
+        for (int i = 0; i < 3; ++i)
+            if (!(fabsf(tr->bounds_min[i]) < TRACER_COORD_MAX && fabsf(tr->bounds_max[i]) < TRACER_COORD_MAX)) {
+                diag_set(err, WEDGE_EXIT_INPUT, (SrcLoc){0},
+                         "the scene's geometry extends from (%g, %g, %g) to (%g, %g, %g), beyond the coordinates the ray "
+                         "tracer can represent (magnitude below %g): scale the scene down or move it towards the origin",
+                         (double)tr->bounds_min[0], (double)tr->bounds_min[1], (double)tr->bounds_min[2],
+                         (double)tr->bounds_max[0], (double)tr->bounds_max[1], (double)tr->bounds_max[2],
+                         (double)TRACER_COORD_MAX);
+                goto fail;
+            }
     }
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);

@@ -19,6 +19,11 @@
 #include "core/vec.h"
 #include "scene/scene_desc.h"
 
+/* The largest coordinate magnitude the ray tracer takes: Embree rejects rays whose origin
+ * exceeds about 1.84e18 in any coordinate (an assertion, not an error), so geometry and the
+ * camera must stay inside this, with room for the hit points' offsets. */
+#define TRACER_COORD_MAX 1.0e18f
+
 typedef enum { GEOM_TRIANGLES, GEOM_SPHERE, GEOM_DISK, GEOM_INSTANCE } GeomKind;
 
 /* One Embree geometry. "Geometry space" is world space for layer 0 and instance space for

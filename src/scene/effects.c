@@ -74,23 +74,42 @@ static bool area_light_emits(const AreaLightDesc *a)
     return L[0] > 0.0f || L[1] > 0.0f || L[2] > 0.0f;
 }
 
+static const char *const EFFECT_NAMES[EFFECT_COUNT] = {"soft_shadows", "defocus", "motion", "indirect"};
+
+const char *effect_name(Effect e) { return (unsigned)e < EFFECT_COUNT ? EFFECT_NAMES[e] : "?"; }
+
+bool effect_from_name(const char *s, Effect *out)
+{
+    for (int e = 0; e < EFFECT_COUNT; ++e)
+        if (!strcmp(s, EFFECT_NAMES[e])) {
+            *out = (Effect)e;
+            return true;
+        }
+    return false;
+}
+
+/* The one analysis of a scene's effects: `wedge info` reports it and the renderer samples
+ * exactly these dimensions (renderer_create), so the two cannot disagree. */
 void scene_analyze_effects(SceneDesc *scene)
 {
-    Effects e = {false, false, false, false};
-    for (int i = 0; i < scene->shape_count && !e.soft_shadows; ++i) {
+    EffectMask e = 0;
+    for (int i = 0; i < scene->shape_count; ++i) {
         const ShapeDesc *s = &scene->shapes[i];
         if (s->area_light < 0 || s->area_light >= scene->area_light_count) continue;
-        if (area_light_emits(&scene->area_lights[s->area_light]) && shape_has_area(s)) e.soft_shadows = true;
+        if (area_light_emits(&scene->area_lights[s->area_light]) && shape_has_area(s)) {
+            e |= EFFECT_BIT(EFFECT_SOFT_SHADOWS);
+            break;
+        }
     }
-    e.defocus = scene->camera.lens_radius > 0.0f;
+    if (scene->camera.lens_radius > 0.0f) e |= EFFECT_BIT(EFFECT_DEFOCUS);
     if (scene->camera.shutter_close > scene->camera.shutter_open) {
         bool moves = xform_pair_animated(&scene->camera.camera_from_world);
         for (int i = 0; i < scene->shape_count && !moves; ++i)
             moves = xform_pair_animated(&scene->shapes[i].world_from_object);
         for (int i = 0; i < scene->instance_count && !moves; ++i)
             moves = xform_pair_animated(&scene->instances[i].world_from_instance);
-        e.motion = moves;
+        if (moves) e |= EFFECT_BIT(EFFECT_MOTION);
     }
-    e.indirect = scene->integrator.max_depth >= 2;
+    if (scene->integrator.max_depth >= 2) e |= EFFECT_BIT(EFFECT_INDIRECT);
     scene->effects = e;
 }

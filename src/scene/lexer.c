@@ -70,7 +70,19 @@ bool lexer_next(Lexer *lx, Token *tok, Diag *err)
     if (c == '"') {
         const char *q = p + 1;
         while (q < end && *q != '"' && *q != '\n') {
-            if (*q == '\\' && q + 1 < end && q[1] != '\n') ++q; /* an escaped character */
+            if (*q == '\\' && q + 1 < end && q[1] != '\n') { /* an escaped character */
+                /* the escapes pbrt-v4 knows; another one is a typo, not a character to drop */
+                if (q[1] == '\0' || !strchr("bfnrt\\'\"", q[1])) {
+                    SrcLoc loc = {lx->path, tok->line, tok->col + (int)(q - p)};
+                    unsigned char e = (unsigned char)q[1];
+                    if (e >= 0x20 && e < 0x7f)
+                        diag_set(err, WEDGE_EXIT_INPUT, loc, "unknown escape '\\%c' in a string (known: \\b \\f \\n \\r \\t \\\\ \\' \\\")", e);
+                    else
+                        diag_set(err, WEDGE_EXIT_INPUT, loc, "unknown escape '\\' followed by byte 0x%02x in a string", e);
+                    return false;
+                }
+                ++q;
+            }
             ++q;
         }
         if (q >= end || *q != '"') {

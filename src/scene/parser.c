@@ -1162,6 +1162,13 @@ static bool stmt_camera(Parser *P, Lexer *lx, const Token *dir)
             diag_set(P->err, WEDGE_EXIT_INPUT, p->loc, "\"float screenwindow\" needs 4 values, got %d", p->count);
             return false;
         }
+        const float *w = p->floats;
+        if (!(isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2]) && isfinite(w[3]) && w[0] < w[1] && w[2] < w[3])) {
+            diag_set(P->err, WEDGE_EXIT_INPUT, p->loc,
+                     "\"float screenwindow\" needs xmin xmax ymin ymax with xmin < xmax and ymin < ymax, got [%g %g %g %g]",
+                     (double)w[0], (double)w[1], (double)w[2], (double)w[3]);
+            return false;
+        }
         c->has_screen_window = true;
         memcpy(c->screen_window, p->floats, sizeof c->screen_window);
     }
@@ -1210,6 +1217,15 @@ static bool stmt_film(Parser *P, Lexer *lx, const Token *dir)
             return false;
         }
         memcpy(f->crop, c, sizeof f->crop);
+    }
+    if ((p = params_find(&ps, "pixelbounds"))) {
+        const int32_t *b = p->ints;
+        if (p->count != 4 || !(b[0] >= 0 && b[0] < b[1] && b[1] <= f->xres && b[2] >= 0 && b[2] < b[3] && b[3] <= f->yres)) {
+            diag_set(P->err, WEDGE_EXIT_INPUT, p->loc,
+                     "\"integer pixelbounds\" needs 4 values x0 x1 y0 y1 inside the %dx%d film with x0 < x1 and y0 < y1",
+                     f->xres, f->yres);
+            return false;
+        }
     }
     return true;
 }
@@ -1483,6 +1499,10 @@ static bool statement(Parser *P, Lexer *lx, const Token *t)
     case 'R':
         if (tok_is(t, "Rotate")) {
             if (!read_numbers(P, lx, t, 4, v)) return false;
+            /* pbrt-v4 normalises the axis and gets NaN for a zero one; we rotate by nothing,
+             * and say so */
+            if (!(v[1] * v[1] + v[2] * v[2] + v[3] * v[3] > 0.0) && v[0] != 0.0)
+                scene_warn(P->scene, loc, "Rotate %g about the zero axis (0, 0, 0) has no direction: ignored", v[0]);
             Mat4 m = mat4_rotate(v[0], v[1], v[2], v[3]);
             return apply_ctm(P, &m, false, loc);
         }
@@ -1504,12 +1524,13 @@ static bool statement(Parser *P, Lexer *lx, const Token *t)
             if (!strcmp(d->type, "stratified")) {
                 /* pbrt-v4: spp = xsamples * ysamples (default 4 x 4). */
                 int xs, ys;
-                if (!positive_int_param(P, &d->params, "xsamples", 4, 1, 1 << 15, &xs)) return false;
-                if (!positive_int_param(P, &d->params, "ysamples", 4, 1, 1 << 15, &ys)) return false;
-                d->spp = xs * ys;
+                if (!positive_int_param(P, &d->params, "xsamples", 4, 1, 1 << 12, &xs)) return false;
+                if (!positive_int_param(P, &d->params, "ysamples", 4, 1, 1 << 12, &ys)) return false;
+                d->spp = xs * ys; /* at most 2^24, SCENE_SPP_MAX */
                 return true;
             }
-            return positive_int_param(P, &d->params, "pixelsamples", 16, 1, INT_MAX, &d->spp);
+            /* the same bound as wedge render --spp: a scene cannot ask for unbounded work */
+            return positive_int_param(P, &d->params, "pixelsamples", 16, 1, SCENE_SPP_MAX, &d->spp);
         }
         break;
     case 'T':

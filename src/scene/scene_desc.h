@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "scene/effects.h"
 #include "core/arena.h"
 #include "core/diag.h"
 #include "core/transform.h"
@@ -169,18 +170,15 @@ typedef struct {
     SrcLoc loc;
 } InstanceDesc;
 
-typedef struct {
-    bool soft_shadows; /* some area light with non-zero emission and non-zero area */
-    bool defocus;      /* lens_radius > 0 */
-    bool motion;       /* shutter open < close and something moves */
-    bool indirect;     /* integrator max_depth >= 2 */
-} Effects;
 
 typedef struct {
     const char *type;       /* pixel filter name ("gaussian" default); kept, renderer decides */
     ParamSet params;
     SrcLoc loc;
 } FilterDesc;
+
+/* The most samples per pixel a scene may ask for (wedge render --spp has the same bound). */
+#define SCENE_SPP_MAX 16777216
 
 typedef struct {
     Arena arena;
@@ -207,7 +205,7 @@ typedef struct {
      * reading order, each once; data files (PLY, images) are not listed. Empty for
      * scene_parse_string's own text. Used to key reference caches. */
     const char **source_files; int source_file_count;
-    Effects effects;         /* filled by scene_analyze_effects */
+    EffectMask effects;      /* filled by scene_analyze_effects (scene/effects.h) */
 } SceneDesc;
 
 /* Parses a scene file (and its includes). On failure returns false, fills err (exit code 2)

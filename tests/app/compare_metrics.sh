@@ -58,6 +58,8 @@ write_exr(d + '/ref.exr', 2, 1, rgb_planes(ref))
 write_exr(d + '/test.exr', 2, 1, rgb_planes(test))
 # Same test image, data window at (-3, 5): only the pixels matter.
 write_exr(d + '/test_offset.exr', 2, 1, rgb_planes(test), origin=(-3, 5))
+# NaN and infinity in a reference: counted as 0 in the metrics, and said.
+write_exr(d + '/bad_ref.exr', 2, 1, rgb_planes([(float('nan'), 0.5, 1.0), (0.1, float('inf'), 2.0)]))
 # A luminance-only EXR is grey.
 write_exr(d + '/grey.exr', 2, 1, {'Y': [0.5, 0.25]})
 write_exr(d + '/grey_rgb.exr', 2, 1, rgb_planes([(0.5, 0.5, 0.5), (0.25, 0.25, 0.25)]))
@@ -75,12 +77,18 @@ def no_constants(c):
     raise ValueError('non-finite constant ' + c)
 j = json.loads(text, parse_constant=no_constants)  # exactly one object, nothing else
 assert isinstance(j, dict), text
-assert sorted(j) == sorted(['relmse', 'mse', 'rmse', 'psnr', 'ssim', 'nonfinite']), j
+assert sorted(j) == sorted(['relmse', 'mse', 'rmse', 'psnr', 'ssim', 'nonfinite', 'nonfinite_ref']), j
 srgb = lambda x: 12.92 * x if x <= 0.0031308 else 1.055 * x ** (1 / 2.4) - 0.055
 near = lambda a, b, tol=1e-6: abs(a - b) <= tol
 exec(sys.argv[2])
 PY
 }
+
+# 0. A reference with non-finite values is reported (both pixels), not silently zeroed.
+"$WEDGE" compare "$T/bad_ref.exr" "$T/test.exr" --json > "$T/out.json" 2>"$T/err.txt" || { echo "FAIL: compare exit $?"; fail=1; }
+check_json "$T/out.json" 'assert j["nonfinite_ref"] == 2 and j["nonfinite"] == 0, j' || { echo "FAIL: nonfinite_ref"; fail=1; }
+grep -qx "wedge compare: warning: $T/bad_ref.exr has 2 pixels with NaN or infinite values (counted as 0)" "$T/err.txt" ||
+    { echo "FAIL: no warning for a reference with NaN: $(cat "$T/err.txt")"; fail=1; }
 
 # 1. The hand-worked 2x1 example (see tests/core/test_metrics.c for the arithmetic).
 #    SSIM: the 2x1 image is narrower than the window, which shrinks to 1x1: per pixel

@@ -78,3 +78,32 @@ fi
 "$WEDGE" info --json > "$tmp/default.json"
 python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["scene"] == "<default>" and len(j["effects"]) == 4, j' "$tmp/default.json"
 echo ok
+
+# Warnings the scene build finds (not the parser) are shown by info as by render (issue 20
+# item 12): a dielectric with eta 0, a mix material that names itself.
+cat > "$tmp/build_warn.pbrt" <<'SCENE'
+WorldBegin
+Material "dielectric" "float eta" 0
+Shape "sphere"
+MakeNamedMaterial "m" "string type" "mix" "string materials" [ "m" "m" ]
+NamedMaterial "m"
+Shape "sphere"
+SCENE
+"$WEDGE" info "$tmp/build_warn.pbrt" > "$tmp/bw.txt"
+grep -qx "warnings    2" "$tmp/bw.txt"
+grep -qxF "  $tmp/build_warn.pbrt:2:23: warning: \"eta\" must be positive; using 1.5" "$tmp/bw.txt"
+grep -qxF "  $tmp/build_warn.pbrt:4:1: warning: mix material: unknown material 'm'; using diffuse grey 0.5" "$tmp/bw.txt"
+
+# Light values that would be dropped, dimmed or overflow silently are said (issue 20 item 6):
+# negative values, a negative scale, radiance beyond what float sums hold.
+cat > "$tmp/lights.pbrt" <<'SCENE'
+WorldBegin
+LightSource "point" "rgb I" [ 3e38 1 1 ] "float scale" 1e10
+LightSource "point" "rgb I" [ 1 -1 1 ]
+LightSource "distant" "float scale" -2
+SCENE
+"$WEDGE" info "$tmp/lights.pbrt" > "$tmp/lw.txt"
+grep -qx "warnings    3" "$tmp/lw.txt"
+grep -qxF "  $tmp/lights.pbrt:2:1: warning: \"I\" times \"scale\" reaches inf, beyond what float sums of it hold: pixels that see this light will come out infinite (set to 0 and counted in the report's nonfinite_pixels)" "$tmp/lw.txt"
+grep -qxF "  $tmp/lights.pbrt:3:1: warning: negative \"I\" (1 -1 1) is clamped to 0: a light cannot remove light" "$tmp/lw.txt"
+grep -qxF "  $tmp/lights.pbrt:4:1: warning: light \"scale\" -2 is negative or not finite: the light emits nothing" "$tmp/lw.txt"

@@ -77,9 +77,8 @@ ls -a "$T" | grep -q 'tmp' && { echo "FAIL: a temporary file was left behind"; f
 # identical seed and options: identical files' pixels (compare reports the difference)
 "$WEDGE" render "$T/small.pbrt" --filter none --spp 2 --res 40x30 --seed 3 --threads 1 -o "$T/b.exr" --quiet; check "render 1 thread" 0 $?
 "$WEDGE" render "$T/small.pbrt" --filter none --spp 2 --res 40x30 --seed 3 --threads 2 -o "$T/c.exr" --quiet; check "render 2 threads" 0 $?
-if "$WEDGE" compare "$T/b.exr" "$T/c.exr" >"$T/cmp.txt" 2>&1; then
-    grep -Eq '^MSE +0$' "$T/cmp.txt" || { echo "FAIL: 1 and 2 threads differ: $(cat "$T/cmp.txt")"; fail=1; }
-fi
+"$WEDGE" compare "$T/b.exr" "$T/c.exr" >"$T/cmp.txt" 2>&1; check "compare 1 and 2 threads" 0 $?
+grep -Eq '^MSE +0$' "$T/cmp.txt" || { echo "FAIL: 1 and 2 threads differ: $(cat "$T/cmp.txt")"; fail=1; }
 
 # one render, several outputs
 "$WEDGE" render "$T/small.pbrt" --filter none --spp 1 --res 16x12 -o "$T/m.exr" -o "$T/m.png" --quiet
@@ -100,7 +99,107 @@ grep -q '"soft_shadows": true, "defocus": true, "motion": true, "indirect": true
 "$WEDGE" render "$T/small.pbrt" --res 40x30 --aovs -o "$T/f.exr" --report "$T/f.json" --quiet; check "filtered render" 0 $?
 grep -q '"filters": {"soft_shadows": "aaf", "indirect": "aaf"}' "$T/f.json" ||
     { echo "FAIL: filters per effect: $(grep filters "$T/f.json")"; fail=1; }
-grep -aq "aaf.beta_px.shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aaf.beta_px.shadows layer"; fail=1; }
+grep -aq "aaf.beta_px.soft_shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aaf.beta_px.soft_shadows layer"; fail=1; }
+# an option that does nothing in a mode is a usage error with a message, not silence
+"$WEDGE" render "$T/small.pbrt" --filter none --mu 2 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--mu with --filter none" 1 $?
+grep -qx "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte Carlo); drop --mu, or choose a filter (--filter auto)" "$T/err.txt" ||
+    { echo "FAIL: --mu with --filter none message: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --filter none --cl-device 0 -o "$T/x.exr" >/dev/null 2>&1; check "--cl-device with --filter none" 1 $?
+"$WEDGE" render "$T/small.pbrt" --filter none --mem-limit 1G -o "$T/x.exr" >/dev/null 2>&1; check "--mem-limit with --filter none" 1 $?
+"$WEDGE" render "$T/small.pbrt" --mem-limit 12X -o "$T/x.exr" >/dev/null 2>&1; check "--mem-limit 12X" 1 $?
+# --spp with a filter is the frame's average budget (pass 1 and the adaptive pass together),
+# met to within 5% (the plan is scaled to it; rounding is diffused, so it is closer still)
+for budget in 12 40; do
+    "$WEDGE" render "$T/small.pbrt" --res 40x30 --spp $budget -o "$T/b.exr" --report "$T/b.json" --quiet
+    check "--spp $budget with a filter" 0 $?
+    python3 - "$T/b.json" $budget <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); want = float(sys.argv[2])
+if abs(r["spp_avg"] - want) > 0.05 * want or r["filters"]["soft_shadows"] != "aaf":
+    print("FAIL: --spp %g gave spp_avg %g (filters %s)" % (want, r["spp_avg"], r["filters"])); sys.exit(1)
+PY
+done
+# outputs are checked before rendering: never one of the scene's inputs (the scene, an
+# included file, an image texture), never in a directory that is not there; the inputs are
+# left as they were
+mkdir -p "$T/in"
+printf 'Texture "t" "spectrum" "imagemap" "string filename" "tex.png"\n' > "$T/in/inc.pbrt"
+"$WEDGE" render "$T/small.pbrt" --filter none --spp 1 --res 4x4 -o "$T/in/tex.png" --quiet || fail=1
+{ cat "$T/small.pbrt"; echo 'Include "inc.pbrt"'; } > "$T/in/scene.pbrt"
+cp "$T/in/scene.pbrt" "$T/scene.copy"; cp "$T/in/tex.png" "$T/tex.copy"
+for target in scene.pbrt inc.pbrt tex.png; do
+    "$WEDGE" render "$T/in/scene.pbrt" --res 8x8 -o "$T/in/$target" 2>"$T/err.txt" >/dev/null
+    check "-o over the input $target" 1 $?
+    grep -q "^error: the output image '$T/in/$target' is one of the scene's input files" "$T/err.txt" ||
+        { echo "FAIL: -o over $target: $(cat "$T/err.txt")"; fail=1; }
+done
+cmp -s "$T/in/scene.pbrt" "$T/scene.copy" && cmp -s "$T/in/tex.png" "$T/tex.copy" || { echo "FAIL: an input was changed"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --spp 4096 --res 512x512 -o "$T/no/such/dir/x.exr" 2>"$T/err.txt" >/dev/null
+check "-o in a missing directory" 3 $?
+grep -qx "error: cannot write the output image '$T/no/such/dir/x.exr': the directory '$T/no/such/dir' does not exist" "$T/err.txt" ||
+    { echo "FAIL: missing directory message: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --res 8x8 -o "$T/x.exr" --report "$T/no/r.json" 2>"$T/err.txt" >/dev/null
+check "--report in a missing directory" 3 $?
+# no NaN or infinity reaches the image, and none is hidden: a light of radiance 3e38 seen
+# directly overflows float sums; the pixels that came out non-finite are written as 0, counted
+# in the report and said on stderr, with and without a filter
+sed 's/"rgb L" \[ 5 5 5 \]/"rgb L" [ 3e38 3e38 3e38 ]/; s/^LookAt .*/LookAt 0 1 -4  0 1.8 0  0 1 0/' "$T/small.pbrt" > "$T/inf.pbrt"
+for filter in none aaf; do
+    "$WEDGE" render "$T/inf.pbrt" --filter $filter --res 16x12 --spp 4 -o "$T/inf.exr" --report "$T/inf.json" 2>"$T/err.txt" >/dev/null
+    check "overflowing light, --filter $filter" 0 $?
+    python3 - "$T/inf.json" "$T/err.txt" "$T/inf.exr" "$WEDGE" <<'PY' || fail=1
+import json, subprocess, sys
+r, err = json.load(open(sys.argv[1])), open(sys.argv[2]).read()
+n = r["nonfinite_pixels"]
+said = "pixels came out NaN or infinite and were written as 0" in err
+cmp = json.loads(subprocess.run([sys.argv[4], "compare", sys.argv[3], sys.argv[3], "--json"], capture_output=True,
+                                text=True).stdout)
+if not (n > 0 and said and r["guarded_events"] >= n and cmp["nonfinite"] == 0):
+    print("FAIL: overflow: nonfinite_pixels %s, guarded %s, said %s, EXR non-finite %s" % (n, r["guarded_events"], said,
+          cmp["nonfinite"])); sys.exit(1)
+PY
+done
+# coordinates beyond what the ray tracer takes (Embree asserted and aborted, exit 134): a
+# clear error naming the statement, exit 2, for the camera, its lens and the geometry
+big() { printf '%s\nCamera "perspective" %s\nFilm "rgb" "integer xresolution" 8 "integer yresolution" 8\nWorldBegin\n%s\nShape "sphere"\n' "$1" "$2" "$3" > "$T/big.pbrt"; }
+for case in "LookAt 0 0 -2e18 0 0 0 0 1 0|||$T/big.pbrt:2:1: error: the camera is at (0, 0, -2e+18)" \
+            "LookAt 0 0 -5 0 0 0 0 1 0|\"float lensradius\" 1e19||$T/big.pbrt:2:1: error: camera \"float lensradius\" 1e+19 is beyond" \
+            "LookAt 0 0 -5 0 0 0 0 1 0||Scale 1e18 1e18 1e18|error: the scene's geometry extends from (-1e+18, -1e+18, -1e+18)"; do
+    IFS='|' read -r look cam world want <<<"$case"
+    big "$look" "$cam" "$world"
+    "$WEDGE" render "$T/big.pbrt" -o "$T/big.exr" --quiet 2>"$T/err.txt"
+    check "huge coordinates ($look $cam $world)" 2 $?
+    grep -qF -- "$want" "$T/err.txt" || { echo "FAIL: huge coordinates: $(cat "$T/err.txt")"; fail=1; }
+done
+# progressive rendering: --checkpoint needs a target; with --spp the steps stop exactly at it
+# (the last step's plan is scaled down), writing checkpoints on the way
+"$WEDGE" render "$T/small.pbrt" --checkpoint 1 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--checkpoint without a target" 1 $?
+grep -qx "wedge render: --checkpoint writes the image while a progressive render runs and needs its target: add --time SECONDS or --spp N" "$T/err.txt" ||
+    { echo "FAIL: --checkpoint message: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$T/small.pbrt" --time 0 -o "$T/x.exr" >/dev/null 2>&1; check "--time 0" 1 $?
+for filter in aaf none; do
+    "$WEDGE" render "$T/small.pbrt" --res 32x24 --filter $filter --spp 150 --checkpoint 0.001 -o "$T/p.exr" \
+        --report "$T/p.json" 2>"$T/p.txt"
+    check "progressive --filter $filter" 0 $?
+    python3 - "$T/p.json" "$T/p.txt" $filter <<'PY' || fail=1
+import json, sys
+r, log, f = json.load(open(sys.argv[1])), open(sys.argv[2]).read(), sys.argv[3]
+# error diffusion puts the frame's total within one sample of 150 x 32 x 24
+ok = abs(r["spp_avg"] - 150) <= 1.0 / (32 * 24) and r["steps"] >= 2 and not r["interrupted"] \
+    and "wedge render: checkpoint at " in log
+if not ok:
+    print("FAIL: progressive %s: spp_avg %s, steps %s, log %r" % (f, r["spp_avg"], r["steps"], log[:300])); sys.exit(1)
+PY
+done
+# rays: with maxdepth 1 the BSDF rays for MIS of direct light are not indirect rays
+sed 's/"integer maxdepth" \[ 2 \]/"integer maxdepth" [ 1 ]/' "$T/small.pbrt" > "$T/direct.pbrt"
+"$WEDGE" render "$T/direct.pbrt" --filter none --spp 2 --res 16x12 -o "$T/r.exr" --report "$T/r.json" --quiet
+python3 - "$T/r.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1]))
+if r["rays_indirect"] != 0 or r["rays_bsdf"] <= 0 or r["rays_primary"] != 16 * 12 * 2:
+    print("FAIL: maxdepth 1 rays: %s" % {k: r[k] for k in r if k.startswith("rays")}); sys.exit(1)
+PY
 "$WEDGE" render "$T/small.pbrt" --mu 0 >/dev/null 2>&1; check "--mu 0" 1 $?
 "$WEDGE" render "$T/small.pbrt" --res 8x8 --cl-device no-such-device -o "$T/x.exr" --quiet 2>"$T/err.txt"
 check "unknown OpenCL device" 1 $?

@@ -429,8 +429,21 @@ static void test_atomic_failures(void)
     clean_tmp();
 }
 
+/* A 1.2 KB file found by tools/fuzz-readers exr whose chunk claims to unpack to 1.3 GB: refused
+ * as corrupt before anything that large is allocated (the fuzz smoke run, which seeds from
+ * this folder, would also stop at its 1 GB memory limit). */
+static void test_chunk_claiming_too_much(void)
+{
+    ExrImage img;
+    Diag err = {0};
+    CHECK(!exr_read("data/fuzz-oom-chunk.exr", &img, &err));
+    CHECK(strstr(err.message, "EXR_ERR_CORRUPT_CHUNK") != NULL);
+    CHECK(err.exit_code == WEDGE_EXIT_INPUT);
+}
+
 int main(void)
 {
+    test_chunk_claiming_too_much();
     snprintf(tmpdir, sizeof tmpdir, "/tmp/wedge_test_exr_XXXXXX");
     if (!mkdtemp(tmpdir)) {
         perror("mkdtemp");

@@ -6,7 +6,7 @@
 #include <time.h>
 
 #include "recon/aaf/aaf_filter.h"
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 
 static double now(void)
 {

@@ -7,7 +7,7 @@
 #include "aaf_reference.h"
 #include "check.h"
 #include "recon/aaf/aaf_filter.h"
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 
 static unsigned rng_state = 12345u;
 static float frand(void) /* uniform [0, 1) */

@@ -6,6 +6,37 @@
 #include "check.h"
 #include "recon/aaf/aaf_stats.h"
 
+/* The statistics with the pipeline's shared guides, fed as the pipeline feeds them: every
+ * sample to the GBuffer and the AAF sink, and the frame's sample count as the renderer adds it. */
+typedef struct {
+    GBuffer g;
+    AafStats s;
+} Fixture;
+
+static bool fixture_init(Fixture *fx, int w, int h, ReconCamera cam)
+{
+    return gbuffer_init(&fx->g, w, h, cam) && aaf_stats_init(&fx->s, &fx->g);
+}
+
+static void fixture_add(Fixture *fx, int px, int py, const SampleRecord *r)
+{
+    gbuffer_add(&fx->g, px, py, r);
+    aaf_stats_add(&fx->s, px, py, r);
+    if (px >= 0 && py >= 0 && px < fx->g.width && py < fx->g.height) fx->g.frame.spp[py * fx->g.width + px] += 1.0f;
+}
+
+static bool fixture_derive(Fixture *fx, AafDerived *d)
+{
+    gbuffer_resolve_guides(&fx->g);
+    return aaf_derive(&fx->s, d);
+}
+
+static void fixture_free(Fixture *fx)
+{
+    aaf_stats_free(&fx->s);
+    gbuffer_free(&fx->g);
+}
+
 static SampleRecord surface_sample(void)
 {
     SampleRecord r = {0};
@@ -22,21 +53,21 @@ static void test_coc_slope(void)
 {
     /* R = 0.1, F = 5, one pixel spans 0.001 at depth 1: slope = (R/a)(1/F - 1/z) = 100 (0.2 - 1/z).
      * z = 10 -> 10 px; z = 2.5 (in front) -> -20 px; z = F -> 0; z = inf -> 20 px. */
-    AafCameraModel cam = {0.1f, 5.0f, 0.001f};
-    CHECK_NEAR(aaf_coc_slope_px(&cam, 10.0f), 10.0, 1e-4);
-    CHECK_NEAR(aaf_coc_slope_px(&cam, 2.5f), -20.0, 1e-4);
-    CHECK_NEAR(aaf_coc_slope_px(&cam, 5.0f), 0.0, 1e-5);
-    CHECK_NEAR(aaf_coc_slope_px(&cam, INFINITY), 20.0, 1e-4);
-    CHECK(isfinite(aaf_coc_slope_px(&cam, 0.0f)));
-    AafCameraModel pinhole = {0.0f, 5.0f, 0.001f};
-    CHECK_NEAR(aaf_coc_slope_px(&pinhole, 2.0f), 0.0, 0.0);
+    ReconCamera cam = {0.1f, 5.0f, 0.001f};
+    CHECK_NEAR(recon_coc_slope_px(&cam, 10.0f), 10.0, 1e-4);
+    CHECK_NEAR(recon_coc_slope_px(&cam, 2.5f), -20.0, 1e-4);
+    CHECK_NEAR(recon_coc_slope_px(&cam, 5.0f), 0.0, 1e-5);
+    CHECK_NEAR(recon_coc_slope_px(&cam, INFINITY), 20.0, 1e-4);
+    CHECK(isfinite(recon_coc_slope_px(&cam, 0.0f)));
+    ReconCamera pinhole = {0.0f, 5.0f, 0.001f};
+    CHECK_NEAR(recon_coc_slope_px(&pinhole, 2.0f), 0.0, 0.0);
 }
 
 static void test_pixel_statistics(void)
 {
-    AafCameraModel cam = {0.1f, 5.0f, 0.001f};
-    AafStats s;
-    CHECK(aaf_stats_init(&s, 3, 2, cam));
+    ReconCamera cam = {0.1f, 5.0f, 0.001f};
+    Fixture fx;
+    CHECK(fixture_init(&fx, 3, 2, cam));
     SampleRecord r = surface_sample();
     r.shadow_count = 1;
     r.bounce_count = 1;
@@ -47,7 +78,7 @@ static void test_pixel_statistics(void)
     /* bounce 1: reflector 2 away at 60 degrees from the normal -> z = 2 cos 60 = 1 */
     r.bounce[0].d_hit_world = 2.0f;
     r.bounce[0].dir_world = v3(sinf((float)M_PI / 3), cosf((float)M_PI / 3), 0.0f);
-    aaf_stats_add(&s, 1, 1, &r);
+    fixture_add(&fx, 1, 1, &r);
     /* shadow ray 2: light 6 away, occluder 4 from the receiver -> d2 = 2, ratio 1/3;
      * bounce 2 straight up, 3 away -> z = 3; a third, unoccluded ray and escaped bounce */
     r.shadow[0].d_light_world = 6.0f;
@@ -55,46 +86,46 @@ static void test_pixel_statistics(void)
     r.bounce[0].d_hit_world = 3.0f;
     r.bounce[0].dir_world = v3(0, 1, 0);
     r.depth_cam = 6.0f;
-    aaf_stats_add(&s, 1, 1, &r);
+    fixture_add(&fx, 1, 1, &r);
     r.shadow[0].d_light_world = 5.0f;
     r.shadow[0].d_occluder_world = INFINITY;
     r.bounce[0].d_hit_world = INFINITY;
-    aaf_stats_add(&s, 1, 1, &r);
+    fixture_add(&fx, 1, 1, &r);
     /* a miss in pixel (0, 0): only the CoC of the background (z = inf -> 20 px) */
     SampleRecord miss = {0};
     miss.depth_cam = INFINITY;
     miss.object_id = -1;
-    aaf_stats_add(&s, 0, 0, &miss);
+    fixture_add(&fx, 0, 0, &miss);
     /* out-of-range pixels are ignored */
-    aaf_stats_add(&s, 5, 5, &r);
+    fixture_add(&fx, 5, 5, &r);
 
     size_t i = 1 * 3 + 1;
-    CHECK(s.samples[i] == 3 && s.hits[i] == 3 && s.shadow_rays[i] == 3 && s.occluded_rays[i] == 2);
-    CHECK_NEAR(s.ratio_min[i], 1.0 / 3.0, 1e-6);
-    CHECK_NEAR(s.ratio_max[i], 0.75, 1e-6);
-    CHECK_NEAR(s.zmin[i], 1.0, 1e-6);
-    CHECK_NEAR(s.zmax[i], 3.0, 1e-6);
+    CHECK(fx.g.frame.spp[i] == 3.0f && fx.g.sums[i].hits == 3 && fx.s.shadow_rays[i] == 3 && fx.s.occluded_rays[i] == 2);
+    CHECK_NEAR(fx.s.ratio_min[i], 1.0 / 3.0, 1e-6);
+    CHECK_NEAR(fx.s.ratio_max[i], 0.75, 1e-6);
+    CHECK_NEAR(fx.s.zmin[i], 1.0, 1e-6);
+    CHECK_NEAR(fx.s.zmax[i], 3.0, 1e-6);
     /* depths 4, 6, 6: slopes 100 (0.2 - 0.25) = -5 and 100 (0.2 - 1/6) = 3.333 */
-    CHECK_NEAR(s.coc_min[i], -5.0, 1e-4);
-    CHECK_NEAR(s.coc_max[i], 10.0 / 3.0, 1e-4);
-    CHECK_NEAR(s.coc_min[0], 20.0, 1e-4);
+    CHECK_NEAR(fx.s.coc_min[i], -5.0, 1e-4);
+    CHECK_NEAR(fx.s.coc_max[i], 10.0 / 3.0, 1e-4);
+    CHECK_NEAR(fx.s.coc_min[0], 20.0, 1e-4);
 
     AafDerived d;
-    CHECK(aaf_derive(&s, &d));
+    CHECK(fixture_derive(&fx, &d));
     /* d1 = mean(4, 6, 5) = 5; d2min = (1/3) 5, d2max = 0.75 * 5 */
     CHECK_NEAR(d.d1[i], 5.0, 1e-6);
     CHECK_NEAR(d.d2min[i], 5.0 / 3.0, 1e-5);
     CHECK_NEAR(d.d2max[i], 3.75, 1e-5);
     /* guides: mean position, unit normal + object id, mean depth (4+6+6)/3; pixel size z * a */
-    CHECK_NEAR(d.pos4[4 * i + 0], 1.0, 1e-6);
-    CHECK_NEAR(d.pos4[4 * i + 3], 16.0 / 3.0, 1e-5);
-    CHECK_NEAR(d.nrm4[4 * i + 1], 1.0, 1e-6);
-    CHECK_NEAR(d.nrm4[4 * i + 3], 7.0, 0.0);
-    CHECK_NEAR(d.pixel_world[i], 16.0 / 3.0 * 0.001, 1e-8);
-    CHECK(d.hit[i] == 1 && d.hit[0] == 0);
-    CHECK_NEAR(d.nrm4[3], -1.0, 0.0); /* no surface */
+    CHECK_NEAR(fx.g.pos4[4 * i + 0], 1.0, 1e-6);
+    CHECK_NEAR(fx.g.pos4[4 * i + 3], 16.0 / 3.0, 1e-5);
+    CHECK_NEAR(fx.g.nrm4[4 * i + 1], 1.0, 1e-6);
+    CHECK_NEAR(fx.g.nrm4[4 * i + 3], 7.0, 0.0);
+    CHECK_NEAR(fx.g.pixel_world[i], 16.0 / 3.0 * 0.001, 1e-8);
+    CHECK(fx.g.hit[i] == 1 && fx.g.hit[0] == 0);
+    CHECK_NEAR(fx.g.nrm4[3], -1.0, 0.0); /* no surface */
     aaf_derived_free(&d);
-    aaf_stats_free(&s);
+    fixture_free(&fx);
 }
 
 static void test_light_estimate(void)
@@ -102,9 +133,9 @@ static void test_light_estimate(void)
     /* A square light of side 2 in the plane y = 5, sampled on a 100 x 100 grid of cell
      * centres: per-axis variance (a^2/12)(1 - 1/100^2). The uniform rectangle with these
      * variances has area a^2 = 4, so sigma = sqrt(4)/2 = 1 (to 1e-4) and the normal is +-y. */
-    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
-    AafStats s;
-    CHECK(aaf_stats_init(&s, 4, 4, cam));
+    ReconCamera cam = {0.0f, 1.0f, 0.001f};
+    Fixture fx;
+    CHECK(fixture_init(&fx, 4, 4, cam));
     SampleRecord r = surface_sample();
     r.shadow_count = 1;
     r.shadow[0].d_light_world = 5.0f;
@@ -112,10 +143,10 @@ static void test_light_estimate(void)
     for (int a = 0; a < 100; ++a)
         for (int b = 0; b < 100; ++b) {
             r.shadow[0].light_p_world = v3(-1.0f + (a + 0.5f) * 0.02f, 5.0f, 3.0f - 1.0f + (b + 0.5f) * 0.02f);
-            aaf_stats_add(&s, (a * 100 + b) % 4, (a / 25) % 4, &r);
+            fixture_add(&fx, (a * 100 + b) % 4, (a / 25) % 4, &r);
         }
     AafDerived d;
-    CHECK(aaf_derive(&s, &d));
+    CHECK(fixture_derive(&fx, &d));
     CHECK_NEAR(d.light_sigma_world, 1.0, 2e-3);
     CHECK_NEAR(fabsf(d.light_normal[1]), 1.0, 1e-4);
     CHECK_NEAR(d.light_normal[0], 0.0, 1e-3);
@@ -137,18 +168,18 @@ static void test_light_estimate(void)
         double X = 0.4, sx = sqrt(1 + X * X);
         double want = 0.5 * (2.0 * X / sx * atan(X / sx)) / 4.0;
         float *r = calloc(16, sizeof(float));
-        d.hit[15] = 0;
+        fx.g.hit[15] = 0;
         aaf_unoccluded_irradiance(&d, r);
         CHECK_NEAR(r[5], want, 2e-3 * want);
         CHECK_NEAR(r[15], 0.0, 0.0); /* no surface in pixel (3, 3): 0 */
         /* a receiver facing away from the light sees nothing */
-        d.nrm4[4 * 5 + 1] = -1.0f;
+        fx.g.nrm4[4 * 5 + 1] = -1.0f;
         aaf_unoccluded_irradiance(&d, r);
         CHECK_NEAR(r[5], 0.0, 0.0);
         free(r);
     }
     aaf_derived_free(&d);
-    aaf_stats_free(&s);
+    fixture_free(&fx);
 }
 
 /* Exact lights: a shadow ray's own light sets the pixel's sigma (the smallest over its rays)
@@ -156,7 +187,7 @@ static void test_light_estimate(void)
  * direction). */
 static void test_exact_lights(void)
 {
-    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
+    ReconCamera cam = {0.0f, 1.0f, 0.001f};
     AafLightGeom lights[2] = {{0}};
     lights[0].sigma_world = 0.5f; /* a square of side 1 facing down */
     lights[0].normal[1] = -1.0f;
@@ -164,23 +195,23 @@ static void test_exact_lights(void)
     lights[1].center[0] = 4.0f;
     lights[1].center[1] = 3.0f;
     lights[1].center[2] = 2.0f;
-    AafStats s;
-    CHECK(aaf_stats_init(&s, 2, 1, cam));
-    s.lights = lights;
-    s.light_count = 2;
+    Fixture fx;
+    CHECK(fixture_init(&fx, 2, 1, cam));
+    fx.s.lights = lights;
+    fx.s.light_count = 2;
     SampleRecord r = surface_sample(); /* receiver at (1, 0, 2) */
     r.shadow_count = 1;
     r.shadow[0].d_light_world = 5.0f;
     r.shadow[0].d_occluder_world = INFINITY;
     r.shadow[0].light_index = 0;
-    aaf_stats_add(&s, 0, 0, &r);
-    aaf_stats_add(&s, 0, 0, &r);
+    fixture_add(&fx, 0, 0, &r);
+    fixture_add(&fx, 0, 0, &r);
     r.shadow[0].light_index = 1;
-    aaf_stats_add(&s, 1, 0, &r);
+    fixture_add(&fx, 1, 0, &r);
     r.shadow[0].light_index = 7; /* out of range: ignored */
-    aaf_stats_add(&s, 1, 0, &r);
+    fixture_add(&fx, 1, 0, &r);
     AafDerived d;
-    CHECK(aaf_derive(&s, &d));
+    CHECK(fixture_derive(&fx, &d));
     CHECK(d.exact_lights);
     CHECK_NEAR(d.sigma_light[0], 0.5, 0.0);
     CHECK_NEAR(d.sigma_light[1], 0.25, 0.0);
@@ -190,27 +221,27 @@ static void test_exact_lights(void)
     CHECK_NEAR(d.plane4[4 + 1], 1.0 / sqrt(2.0), 1e-6);
     CHECK_NEAR(d.plane4[4 + 2], 0.0, 1e-6);
     aaf_derived_free(&d);
-    aaf_stats_free(&s);
+    fixture_free(&fx);
 }
 
 /* r(x) of the receiver of surface_sample (p = (1, 0, 2), normal +y) for one light list: the
  * value aaf_unoccluded_irradiance gives pixel 0. */
 static double r_for_lights(AafLightGeom *lights, int count)
 {
-    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
-    AafStats s;
-    CHECK(aaf_stats_init(&s, 1, 1, cam));
-    s.lights = lights;
-    s.light_count = count;
+    ReconCamera cam = {0.0f, 1.0f, 0.001f};
+    Fixture fx;
+    CHECK(fixture_init(&fx, 1, 1, cam));
+    fx.s.lights = lights;
+    fx.s.light_count = count;
     SampleRecord r = surface_sample();
-    aaf_stats_add(&s, 0, 0, &r);
+    fixture_add(&fx, 0, 0, &r);
     AafDerived d;
-    CHECK(aaf_derive(&s, &d));
+    CHECK(fixture_derive(&fx, &d));
     CHECK(d.lights == lights);
     float out = -1.0f;
     aaf_unoccluded_irradiance(&d, &out);
     aaf_derived_free(&d);
-    aaf_stats_free(&s);
+    fixture_free(&fx);
     return out;
 }
 
@@ -279,56 +310,56 @@ static void test_exact_irradiance(void)
  * large depth spread or an unfilterable surface mark the pixel; identical samples do not. */
 static void test_mixed_pixels(void)
 {
-    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
-    AafStats s;
-    CHECK(aaf_stats_init(&s, 6, 1, cam));
+    ReconCamera cam = {0.0f, 1.0f, 0.001f};
+    Fixture fx;
+    CHECK(fixture_init(&fx, 6, 1, cam));
     SampleRecord r = surface_sample();
-    for (int k = 0; k < 4; ++k) aaf_stats_add(&s, 0, 0, &r); /* pixel 0: clean */
-    aaf_stats_add(&s, 1, 0, &r);                              /* pixel 1: two objects */
+    for (int k = 0; k < 4; ++k) fixture_add(&fx, 0, 0, &r); /* pixel 0: clean */
+    fixture_add(&fx, 1, 0, &r);                              /* pixel 1: two objects */
     r.object_id = 8;
-    aaf_stats_add(&s, 1, 0, &r);
+    fixture_add(&fx, 1, 0, &r);
     r = surface_sample();
-    aaf_stats_add(&s, 2, 0, &r); /* pixel 2: a hit and a miss */
+    fixture_add(&fx, 2, 0, &r); /* pixel 2: a hit and a miss */
     SampleRecord miss = {0};
     miss.depth_cam = INFINITY;
     miss.object_id = -1;
-    aaf_stats_add(&s, 2, 0, &miss);
-    aaf_stats_add(&s, 3, 0, &r); /* pixel 3: normals 90 degrees apart (|mean| = 0.71) */
+    fixture_add(&fx, 2, 0, &miss);
+    fixture_add(&fx, 3, 0, &r); /* pixel 3: normals 90 degrees apart (|mean| = 0.71) */
     r.n_shading = v3(1.0f, 0.0f, 0.0f);
-    aaf_stats_add(&s, 3, 0, &r);
+    fixture_add(&fx, 3, 0, &r);
     r = surface_sample();
-    aaf_stats_add(&s, 4, 0, &r); /* pixel 4: depths 4 and 8 (std/mean = 1/3) */
+    fixture_add(&fx, 4, 0, &r); /* pixel 4: depths 4 and 8 (std/mean = 1/3) */
     r.depth_cam = 8.0f;
-    aaf_stats_add(&s, 4, 0, &r);
+    fixture_add(&fx, 4, 0, &r);
     r = surface_sample();
     r.unfilterable = true; /* pixel 5: glass */
-    aaf_stats_add(&s, 5, 0, &r);
+    fixture_add(&fx, 5, 0, &r);
     AafDerived d;
-    CHECK(aaf_derive(&s, &d));
-    CHECK(d.mixed[0] == 0);
-    for (int i = 1; i < 6; ++i) CHECK(d.mixed[i] == 1);
+    CHECK(fixture_derive(&fx, &d));
+    CHECK(fx.g.mixed[0] == 0);
+    for (int i = 1; i < 6; ++i) CHECK(fx.g.mixed[i] == 1);
     aaf_derived_free(&d);
-    aaf_stats_free(&s);
+    fixture_free(&fx);
 }
 
 /* The unfiltered light is split per channel: indirect first, the rest direct. */
 static void test_unfiltered_split(void)
 {
-    AafCameraModel cam = {0.0f, 1.0f, 0.001f};
-    AafStats s;
-    CHECK(aaf_stats_init(&s, 1, 1, cam));
+    ReconCamera cam = {0.0f, 1.0f, 0.001f};
+    Fixture fx;
+    CHECK(fixture_init(&fx, 1, 1, cam));
     SampleRecord r = surface_sample();
     r.direct = v3(1.0f, 1.0f, 1.0f);
     r.indirect = v3(0.5f, 0.0f, 2.0f);
     r.unfiltered = v3(1.0f, 0.5f, 1.0f);
-    aaf_stats_add(&s, 0, 0, &r);
-    CHECK_NEAR(s.unf_indirect_sum[0], 0.5, 0.0);
-    CHECK_NEAR(s.unf_direct_sum[0], 0.5, 0.0);
-    CHECK_NEAR(s.unf_indirect_sum[1], 0.0, 0.0);
-    CHECK_NEAR(s.unf_direct_sum[1], 0.5, 0.0);
-    CHECK_NEAR(s.unf_indirect_sum[2], 1.0, 0.0);
-    CHECK_NEAR(s.unf_direct_sum[2], 0.0, 0.0);
-    aaf_stats_free(&s);
+    fixture_add(&fx, 0, 0, &r);
+    CHECK_NEAR(fx.g.sums[0].unf_indirect_sum[0], 0.5, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_direct_sum[0], 0.5, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_indirect_sum[1], 0.0, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_direct_sum[1], 0.5, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_indirect_sum[2], 1.0, 0.0);
+    CHECK_NEAR(fx.g.sums[0].unf_direct_sum[2], 0.0, 0.0);
+    fixture_free(&fx);
 }
 
 int main(void)

@@ -6,7 +6,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 
 int main(void)
 {

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 
 int main(void)
 {

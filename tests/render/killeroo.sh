@@ -34,10 +34,9 @@ for name in killeroo-simple killeroo-moving; do
         [ $ok = 1 ] || { echo "FAIL: $name: undocumented warning: $line"; fail=1; }
     done <"$T/$name.err"
     grep -q "error" "$T/$name.err" && { echo "FAIL: $name: error on stderr: $(cat "$T/$name.err")"; fail=1; }
-    # no non-finite pixel (compare counts them in TEST)
-    "$WEDGE" compare "$T/$name.exr" "$T/$name.exr" >"$T/$name.cmp" 2>&1 ||
-        { echo "FAIL: $name: compare failed: $(cat "$T/$name.cmp")"; fail=1; }
-    grep -Eq '^non-finite +0 pixels' "$T/$name.cmp" || { echo "FAIL: $name: $(grep non-finite "$T/$name.cmp")"; fail=1; }
+    # no non-finite pixel: the renderer's own count of what it cleaned (the EXR is clean by
+    # construction, so checking it could not fail)
+    grep -q '"nonfinite_pixels": 0,' "$T/$name.json" || { echo "FAIL: $name: $(grep nonfinite "$T/$name.json")"; fail=1; }
     # the subdivided meshes are there
     grep -q '"triangles": [1-9]' "$T/$name.json" || { echo "FAIL: $name: no triangles in the report"; fail=1; }
 done

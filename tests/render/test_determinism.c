@@ -47,8 +47,8 @@ int main(void)
     ok = ok && test_render(text, &o, &t3);
     CHECK(ok);
     if (ok) {
-        Effects e = renderer_effects(t1.r);
-        CHECK(e.soft_shadows && e.defocus && e.motion && e.indirect);
+        EffectMask e = renderer_effects(t1.r);
+        CHECK(e == EFFECT_MASK_ALL);
         CHECK(frames_identical(&t1.frame, &t2.frame));
         CHECK(!frames_identical(&t1.frame, &t3.frame));
         CHECK(test_frame_finite(&t1.frame));

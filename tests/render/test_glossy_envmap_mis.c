@@ -3,7 +3,11 @@
  * importance sampling (light sample + BSDF sample, power heuristic, delta lobes taken
  * without MIS) must match a brute-force quadrature of the same integral (delta lobes added
  * in closed form). This checks that GlossySample's f / pdf / delta conventions and
- * envmap_sample / envmap_pdf combine into an unbiased estimator. */
+ * envmap_sample / envmap_pdf combine into an unbiased estimator. The delta lobes of the
+ * smooth conductor and dielectric come from the Fresnel equations written out here in double
+ * complex arithmetic (not from glossy_sample, which would check the code against itself). */
+#include <complex.h>
+
 #include "check.h"
 #include "materials_test_util.h"
 #include "render/bsdf_glossy.h"
@@ -25,8 +29,40 @@ static float *make_sky(int n)
     return rgb;
 }
 
+/* Unpolarised Fresnel reflectance at an interface of relative complex index eta (the
+ * conductor's n + i k, or a dielectric's real eta), from the incident cosine. */
+static double fresnel_closed_form(double cos_i, double complex eta)
+{
+    double sin2_i = 1.0 - cos_i * cos_i;
+    double complex cos_t = csqrt(1.0 - sin2_i / (eta * eta));
+    double complex r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    double complex r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (creal(r_par * conj(r_par)) + creal(r_perp * conj(r_perp)));
+}
+
+typedef enum { DELTA_BY_SAMPLING, DELTA_CONDUCTOR, DELTA_DIELECTRIC } DeltaRef;
+
+/* The delta lobes in closed form, green channel: a smooth conductor of normal reflectance r
+ * (eta 1, k^2 = 4 r / (1 - r)) reflects F into the mirror direction; a smooth dielectric of
+ * index eta (wo outside) reflects F and transmits (1 - F) / eta^2 along Snell's direction
+ * (radiance is compressed into the smaller solid angle, pbrt-v4's Radiance transport). */
+static double delta_closed_form(DeltaRef kind, double param, const Envmap *e, vec3 wo)
+{
+    vec3 mirror = v3(-wo.x, -wo.y, wo.z);
+    double cos_i = wo.z;
+    if (kind == DELTA_CONDUCTOR) {
+        double k = 2.0 * sqrt(param) / sqrt(1.0 - param);
+        return envmap_Le(e, mirror).y * fresnel_closed_form(cos_i, 1.0 + k * I);
+    }
+    double eta = param, F = fresnel_closed_form(cos_i, eta);
+    double sin_t = sqrt(1.0 - cos_i * cos_i) / eta, cos_t = sqrt(1.0 - sin_t * sin_t);
+    double s = sqrt(wo.x * wo.x + wo.y * wo.y); /* the transmitted ray leaves on the far side */
+    vec3 refracted = v3((float)(-wo.x / s * sin_t), (float)(-wo.y / s * sin_t), (float)-cos_t);
+    return envmap_Le(e, mirror).y * F + envmap_Le(e, refracted).y * (1.0 - F) / (eta * eta);
+}
+
 /* Quadrature of the non-delta part plus the delta lobes' closed forms (green channel). */
-static double reference(const GlossyBsdf *b, const Envmap *e, vec3 wo)
+static double reference(const GlossyBsdf *b, const Envmap *e, vec3 wo, DeltaRef delta, double param)
 {
     const int nt = 600, np = 1200;
     double sum = 0.0, dt = MT_PI / nt, dp = 2.0 * MT_PI / np;
@@ -38,6 +74,7 @@ static double reference(const GlossyBsdf *b, const Envmap *e, vec3 wo)
             if (f.y > 0.0f) sum += envmap_Le(e, wi).y * f.y * fabs(wi.z) * sin(t) * dt * dp;
         }
     }
+    if (delta != DELTA_BY_SAMPLING) return sum + delta_closed_form(delta, param, e, wo);
     /* delta lobes (at most one reflection and one transmission): a delta sample's f |cos|
      * is the lobe's weight, whatever the probability of choosing it */
     bool seen_r = false, seen_t = false;
@@ -95,19 +132,25 @@ int main(void)
         const char *name;
         GlossyBsdf b;
         float theta_deg;
+        DeltaRef delta;
+        double param; /* the closed form's reflectance or eta */
     } cases[] = {
-        {"rough conductor", glossy_conductor((Microfacet){0.3f, 0.3f}, v3(0.2f, 0.9f, 1.1f), v3(3.6f, 2.6f, 2.3f)), 35},
-        {"anisotropic conductor", glossy_conductor_reflectance((Microfacet){0.2f, 0.5f}, v3s(0.8f)), 60},
-        {"smooth conductor", glossy_conductor_reflectance((Microfacet){0, 0}, v3s(0.8f)), 40},
-        {"rough coateddiffuse", glossy_coated_diffuse((Microfacet){0.3f, 0.3f}, v3(0.6f, 0.4f, 0.2f), 1.5f, -1), 30},
-        {"smooth coateddiffuse", glossy_coated_diffuse((Microfacet){0, 0}, v3(0.6f, 0.4f, 0.2f), 1.5f, -1), 70},
-        {"rough dielectric", glossy_dielectric((Microfacet){0.4f, 0.4f}, 1.5f), 45},
-        {"rough dielectric from inside", glossy_dielectric((Microfacet){0.4f, 0.4f}, 1.5f), 140},
-        {"smooth dielectric", glossy_dielectric((Microfacet){0, 0}, 1.5f), 50},
+        {"rough conductor", glossy_conductor((Microfacet){0.3f, 0.3f}, v3(0.2f, 0.9f, 1.1f), v3(3.6f, 2.6f, 2.3f)), 35,
+         DELTA_BY_SAMPLING, 0},
+        {"anisotropic conductor", glossy_conductor_reflectance((Microfacet){0.2f, 0.5f}, v3s(0.8f)), 60,
+         DELTA_BY_SAMPLING, 0},
+        {"smooth conductor", glossy_conductor_reflectance((Microfacet){0, 0}, v3s(0.8f)), 40, DELTA_CONDUCTOR, 0.8},
+        {"rough coateddiffuse", glossy_coated_diffuse((Microfacet){0.3f, 0.3f}, v3(0.6f, 0.4f, 0.2f), 1.5f, -1), 30,
+         DELTA_BY_SAMPLING, 0},
+        {"smooth coateddiffuse", glossy_coated_diffuse((Microfacet){0, 0}, v3(0.6f, 0.4f, 0.2f), 1.5f, -1), 70,
+         DELTA_BY_SAMPLING, 0},
+        {"rough dielectric", glossy_dielectric((Microfacet){0.4f, 0.4f}, 1.5f), 45, DELTA_BY_SAMPLING, 0},
+        {"rough dielectric from inside", glossy_dielectric((Microfacet){0.4f, 0.4f}, 1.5f), 140, DELTA_BY_SAMPLING, 0},
+        {"smooth dielectric", glossy_dielectric((Microfacet){0, 0}, 1.5f), 50, DELTA_DIELECTRIC, 1.5},
     };
     for (int c = 0; c < 8; ++c) {
         vec3 wo = mt_dir(cases[c].theta_deg * MT_PI / 180.0, 0.3);
-        double ref = reference(&cases[c].b, &e, wo), se;
+        double ref = reference(&cases[c].b, &e, wo, cases[c].delta, cases[c].param), se;
         double est = estimate(&cases[c].b, &e, wo, 40000, 100 + c, &se);
         bool ok = fabs(est - ref) <= 4.0 * se + 2e-3 * ref;
         fprintf(stderr, "%-30s reference %9.5f  MIS %9.5f +- %.5f %s\n", cases[c].name, ref, est, se, ok ? "" : "<-- FAIL");

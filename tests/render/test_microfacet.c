@@ -64,6 +64,12 @@ int main(void)
     CHECK(microfacet_is_smooth(microfacet_make(0.0f, 0.0f, true)));
     CHECK(microfacet_is_smooth(microfacet_make(-1.0f, NAN, true)));
     CHECK(!microfacet_is_smooth(microfacet_make(1e-4f, 1e-4f, true))); /* alpha 0.01 */
+    /* one smooth axis of a rough lobe: alpha 1e-4 there (pbrt-v4), not 0 */
+    r = microfacet_make(0.0f, 0.09f, true);
+    CHECK(r.alpha_x == MICROFACET_ALPHA_MIN && r.alpha_y == 0.3f);
+    r = microfacet_make(0.09f, -1.0f, true);
+    CHECK(r.alpha_x == 0.3f && r.alpha_y == MICROFACET_ALPHA_MIN);
+    CHECK(microfacet_D(r, v3(0.0f, 0.0f, 1.0f)) > 0.0f);
 
     /* D is normalised: integral of D(wm) cos(theta_m) = 1 (isotropic and anisotropic). */
     Microfacet ms[] = {{0.1f, 0.1f}, {0.5f, 0.5f}, {1.0f, 1.0f}, {0.15f, 0.6f}};

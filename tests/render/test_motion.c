@@ -80,7 +80,7 @@ int main(void)
         RenderOptions o = {0};
         o.seed = 5;
         if (test_render(text, &o, &t)) {
-            CHECK(renderer_effects(t.r).motion);
+            CHECK(effect_in(renderer_effects(t.r), EFFECT_MOTION));
             const Camera *cam = renderer_camera(t.r);
             float left_px, right_px, py;
             /* silhouette half-width of a sphere at distance D: r D / sqrt(D^2 - r^2) on the z = 0 plane */
@@ -124,7 +124,7 @@ int main(void)
                 CHECK(false);
                 continue;
             }
-            CHECK(!renderer_effects(ts.r).motion); /* identical ends: no time dimension */
+            CHECK(!effect_in(renderer_effects(ts.r), EFFECT_MOTION)); /* identical ends: no time dimension */
             double a_static = total_emission(&ts);
             if (scene == 1) a_static = ts.frame.width * ts.frame.height - a_static; /* dark square on a bright wall */
             for (int e = 0; e < 2; ++e) {
@@ -134,7 +134,7 @@ int main(void)
                     CHECK(false);
                     continue;
                 }
-                CHECK(renderer_effects(tr.r).motion);
+                CHECK(effect_in(renderer_effects(tr.r), EFFECT_MOTION));
                 double a_rot = total_emission(&tr);
                 if (scene == 1) a_rot = tr.frame.width * tr.frame.height - a_rot;
                 fprintf(stderr, "%s: static area %.3f px, moving (%s) %.3f px\n", scene ? "instance" : "shape", a_static,
@@ -165,7 +165,7 @@ int main(void)
         RenderOptions o = {0};
         o.seed = 4;
         if (test_render(text, &o, &t)) {
-            CHECK(renderer_effects(t.r).motion);
+            CHECK(effect_in(renderer_effects(t.r), EFFECT_MOTION));
             const Camera *cam = renderer_camera(t.r);
             double D = 5.0, r = 0.3, half = r * D / sqrt(D * D - r * r);
             float left_px, right_px, py;
@@ -251,7 +251,7 @@ int main(void)
         o.sampler_set = true;
         o.sampler = SAMPLER_STRATIFIED;
         if (test_render(text, &o, &t)) {
-            CHECK(renderer_effects(t.r).motion);
+            CHECK(effect_in(renderer_effects(t.r), EFFECT_MOTION));
             double rgb[3];
             test_pixel(&t, 0, 0, rgb);
             double want = 0.5 * E / 3.14159265358979323846;

@@ -3,7 +3,7 @@
  *  - zero-area lights (a collapsed quad, a sphere and a disk of radius 0);
  *  - lights touching surfaces (a sphere light resting on the floor, a quad light lying in
  *    the floor plane, a disk light coplanar with a wall);
- *  - the same scene at scales 1e6 and 1e-4: radiance is scale-invariant (solid angles do
+ *  - the same scene at scales 1e-4, 1e6, 1e9 and 1e12: radiance is scale-invariant (solid angles do
  *    not change), so the image must match the unit-scale one. Acne or leaking offsets would
  *    darken or brighten it; the comparison is per pixel, same seed, same samples. */
 #include "check.h"
@@ -42,19 +42,30 @@ static bool render_scene(const char *extra, double scale, TestRender *t)
     return true;
 }
 
-static void check_clean(const char *what, const char *extra)
+/* The scene with `extra` added renders finite, with no guarded event (nothing non-finite
+ * was caught), and, when the extra adds nothing that emits or occludes in view
+ * (adds_nothing), with the same mean as the scene alone: degenerate triangles are invisible
+ * and zero-area lights emit nothing. Their presence changes which light each sample picks
+ * (a zero-area light is never picked: its power is 0), so the two images are different
+ * samples of the same expectation; 3% on the image mean is well above that noise (32x24
+ * pixels, 16 samples each: about 0.5% measured). */
+static void check_clean(const char *what, const char *extra, bool adds_nothing)
 {
-    TestRender t;
-    if (!render_scene(extra, 1.0, &t)) {
+    TestRender t, base;
+    if (!render_scene(extra, 1.0, &t) || !render_scene("", 1.0, &base)) {
         CHECK(false);
         return;
     }
     bool finite = test_frame_finite(&t.frame);
-    double mean = test_mean(&t);
-    fprintf(stderr, "%s: finite %d mean %.4f guarded %lld\n", what, finite, mean, t.stats.guarded_events);
+    double mean = test_mean(&t), mean_base = test_mean(&base);
+    fprintf(stderr, "%s: finite %d mean %.4f (scene alone %.4f) guarded %lld\n", what, finite, mean, mean_base,
+            t.stats.guarded_events);
     CHECK(finite);
+    CHECK(t.stats.guarded_events == 0);
     CHECK(mean > 0.0);
+    if (adds_nothing) CHECK_NEAR(mean / mean_base, 1.0, 0.03);
     test_render_free(&t);
+    test_render_free(&base);
 }
 
 int main(void)
@@ -63,19 +74,19 @@ int main(void)
                 "Shape \"trianglemesh\" \"point3 P\" [ 0 1 0  0 1 0  1 1 1  0 0.5 0  1 0.5 0  2 0.5 0 ] \"integer indices\" [ 0 1 2  3 4 5 ]\n"
                 "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ 3 3 3 ]\n"
                 " Shape \"trianglemesh\" \"point3 P\" [ 1 1 0  1 1 0  1 1 0  0 1.5 0  1 1.5 0  2 1.5 0 ] \"integer indices\" [ 0 1 2  3 4 5 ]\n"
-                "AttributeEnd\n");
+                "AttributeEnd\n", true);
     check_clean("zero-area lights",
                 "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ 3 3 3 ]\n"
                 " Shape \"trianglemesh\" \"point3 P\" [ 1 1 1  1 1 1  1 1 1  1 1 1 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
                 " AttributeBegin\n  Translate 1 1 0\n  Shape \"sphere\" \"float radius\" [ 0 ]\n AttributeEnd\n"
                 " AttributeBegin\n  Translate -1 1 0\n  Shape \"disk\" \"float radius\" [ 0 ]\n AttributeEnd\n"
-                "AttributeEnd\n");
+                "AttributeEnd\n", true);
     check_clean("lights touching surfaces",
                 "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
                 " AttributeBegin\n  Translate 1.2 0.3 0.5\n  Shape \"sphere\" \"float radius\" [ 0.3 ]\n AttributeEnd\n"
                 " Shape \"trianglemesh\" \"point3 P\" [ -2 0 -2  -1 0 -2  -1 0 -1  -2 0 -1 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
                 " AttributeBegin\n  Translate 0 1 1.5\n  Shape \"disk\" \"float radius\" [ 0.5 ]\n AttributeEnd\n"
-                "AttributeEnd\n");
+                "AttributeEnd\n", false);
 
     /* scale invariance */
     TestRender ref;
@@ -83,8 +94,11 @@ int main(void)
         CHECK(false);
         CHECK_DONE();
     }
-    const double scales[] = {1e6, 1e-4};
-    for (int k = 0; k < 2; ++k) {
+    /* 1e9 and 1e12 rendered dark and black while edge cross products overflowed float
+     * (v3_length, v3_normalize now rescale); 1e15 is 3% off and 1e-10 and below lose the
+     * direct light: not yet understood (issue 20 item 2) */
+    const double scales[] = {1e6, 1e-4, 1e9, 1e12};
+    for (int k = 0; k < 4; ++k) {
         TestRender t;
         if (!render_scene("", scales[k], &t)) {
             CHECK(false);

@@ -107,6 +107,12 @@ static void test_white_furnace(void)
         "Material \"coateddiffuse\" \"rgb reflectance\" [ 1 1 1 ] \"float roughness\" [ 0 ]",
         "Material \"dielectric\" \"float roughness\" [ 0.3 ]",
         "Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" \"spectrum k\" \"metal-Au-k\" \"float roughness\" [ 0.1 ]",
+        /* zero (or negative) roughness on one axis only: rough along the other (pbrt-v4 keeps
+         * alpha >= 1e-4 per axis unless both are smooth); these rendered black */
+        "Material \"conductor\" \"rgb reflectance\" [ 1 1 1 ] \"float uroughness\" [ 0 ] \"float vroughness\" [ 0.3 ]",
+        "Material \"conductor\" \"rgb reflectance\" [ 1 1 1 ] \"float uroughness\" [ -0.2 ] \"float vroughness\" [ 0.3 ]",
+        "Material \"dielectric\" \"float uroughness\" [ 0.3 ] \"float vroughness\" [ 0 ]",
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 1 1 1 ] \"float uroughness\" [ 0 ] \"float vroughness\" [ 0.3 ]",
     };
     for (size_t i = 0; i < sizeof materials / sizeof materials[0]; ++i) {
         bool finite = false;

@@ -160,5 +160,13 @@ int main(void)
             free(big);
         }
     }
+    /* Rotate about the zero axis: no direction to rotate about (pbrt-v4 gets NaN); the
+     * identity, with a warning naming the statement (issue 20 item 9) */
+    CHECK(parse_ok("WorldBegin\nRotate 30 0 0 0\nShape \"sphere\"\n", &s));
+    CHECK(s.warning_count == 1);
+    if (s.warning_count == 1)
+        CHECK_STR(s.warnings[0], "t.pbrt:2:1: warning: Rotate 30 about the zero axis (0, 0, 0) has no direction: ignored");
+    CHECK(mat4_is_identity(&s.shapes[0].world_from_object.m[0]));
+    scene_desc_free(&s);
     CHECK_DONE();
 }

@@ -7,8 +7,8 @@ static const char *effects_of(const char *text)
     static char out[5];
     SceneDesc s;
     if (!parse_ok(text, &s)) return "error";
-    snprintf(out, sizeof out, "%d%d%d%d", s.effects.soft_shadows, s.effects.defocus, s.effects.motion,
-             s.effects.indirect);
+    for (int e = 0; e < EFFECT_COUNT; ++e) out[e] = effect_in(s.effects, (Effect)e) ? '1' : '0';
+    out[EFFECT_COUNT] = 0;
     scene_desc_free(&s);
     return out;
 }
@@ -67,6 +67,16 @@ int main(void)
     CHECK_STR(effects_of(DIRECT "WorldBegin\nActiveTransform StartTime\nTranslate 1 0 0\nActiveTransform EndTime\n"
                                 "Translate 1 0 0\nActiveTransform All\n" QUAD),
               "0000");
+    /* One vocabulary: the names, in this order, and back. */
+    const char *names[EFFECT_COUNT] = {"soft_shadows", "defocus", "motion", "indirect"};
+    for (int e = 0; e < EFFECT_COUNT; ++e) {
+        Effect back;
+        CHECK_STR(effect_name((Effect)e), names[e]);
+        CHECK(effect_from_name(names[e], &back) && back == (Effect)e);
+    }
+    Effect none;
+    CHECK(!effect_from_name("shadows", &none));
+    CHECK_STR(effect_name(EFFECT_COUNT), "?");
     /* Defaults as pbrt-v4. */
     SceneDesc s;
     CHECK(parse_ok("WorldBegin\n", &s));

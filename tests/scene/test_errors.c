@@ -32,6 +32,26 @@ int main(void)
     expect("WorldBegin\nShape\xff", "t.pbrt:2:6: error: unexpected byte 0xff");
     expect("WorldBegin\n  \"x\"", "t.pbrt:2:3: error: expected a directive, got the string \"x\"");
 
+    /* Strings (issue 20 item 10): an unknown escape is an error at its backslash, not a
+     * dropped character; control bytes in a quoted name are printed escaped (the message
+     * stays one line); a name too long for the message loses its middle, not the reason. */
+    expect("Camera \"persp\\qective\"",
+           "t.pbrt:1:14: error: unknown escape '\\q' in a string (known: \\b \\f \\n \\r \\t \\\\ \\' \\\")");
+    expect("WorldBegin\nObjectInstance \"ab\x01\x1b[31mcd\"",
+           "t.pbrt:2:1: error: object \"ab\\x01\\x1b[31mcd\" not defined");
+    {
+        static char text[8192];
+        int n = snprintf(text, sizeof text, "WorldBegin\nObjectInstance \"");
+        for (int i = 0; i < 5000; ++i) text[n++] = 'x';
+        snprintf(text + n, sizeof text - (size_t)n, "\"");
+        const char *m = parse_err(text);
+        size_t len = strlen(m);
+        CHECK(len < 2048 && len > 1900);
+        CHECK(strncmp(m, "t.pbrt:2:1: error: object \"xxx", 30) == 0);
+        CHECK(strstr(m, "x...x") != NULL);
+        CHECK(len > 13 && !strcmp(m + len - 13, "\" not defined"));
+    }
+
     /* Brackets. */
     expect("WorldBegin\nShape \"sphere\" \"float radius\" [ 1\n",
            "t.pbrt:2:31: error: unbalanced '[': no matching ']'");
@@ -110,6 +130,18 @@ int main(void)
     expect("Film \"rgb\" \"integer yresolution\" 0", "t.pbrt:1:12: error: \"integer yresolution\" must be at least 1, got 0");
     expect("Sampler \"zsobol\" \"integer pixelsamples\" 0",
            "t.pbrt:1:18: error: \"integer pixelsamples\" must be at least 1, got 0");
+    /* unbounded work from the scene: the same bound as wedge render --spp (issue 20 item 11) */
+    expect("Sampler \"zsobol\" \"integer pixelsamples\" [ 2147483647 ]",
+           "t.pbrt:1:18: error: \"integer pixelsamples\" must be at most 16777216, got 2147483647");
+    expect("Sampler \"stratified\" \"integer xsamples\" 8192",
+           "t.pbrt:1:22: error: \"integer xsamples\" must be at most 4096, got 8192");
+    /* degenerate camera windows (item 8): an empty screen window, pixel bounds off the film */
+    expect("Camera \"perspective\" \"float screenwindow\" [ 0 0 0 0 ]",
+           "t.pbrt:1:22: error: \"float screenwindow\" needs xmin xmax ymin ymax with xmin < xmax and ymin < ymax, "
+           "got [0 0 0 0]");
+    expect("Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 48 \"integer pixelbounds\" [ 0 100000 -5 3 ]",
+           "t.pbrt:1:62: error: \"integer pixelbounds\" needs 4 values x0 x1 y0 y1 inside the 64x48 film with x0 < x1 "
+           "and y0 < y1");
     expect("Camera \"perspective\" \"float fov\" 180",
            "t.pbrt:1:22: error: \"float fov\" must be in (0, 180) degrees, got 180");
     expect("Scale 1 0 1\nCamera \"perspective\"", "t.pbrt:2:1: error: camera transform is singular");

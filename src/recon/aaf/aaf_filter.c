@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "recon/cl_runtime_internal.h"
+#include "recon/cl/cl_runtime_internal.h"
 
 /* Below this width (pixels) the nearest neighbour's weight exp(-1/(2 beta^2)) is < 4e-4:
  * filtering would change nothing visible, so the pixel is skipped. */
@@ -140,8 +140,7 @@ static bool alloc_buffers(AafFilter *f, int width, int height, Diag *d)
 
 static bool launch_2d(AafFilter *f, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
 {
-    size_t global[2] = {gx, gy};
-    return cl_check(clEnqueueNDRangeKernel(f->rt->queue, k, 2, NULL, global, NULL, 0, NULL, ev), "kernel launch", d);
+    return cl_launch_2d(f->rt, k, gx, gy, ev, d);
 }
 
 /* Sets the (width, height, pitch, pad) arguments every kernel starts with. */

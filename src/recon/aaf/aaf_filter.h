@@ -8,7 +8,7 @@
 #include <stdbool.h>
 
 #include "core/diag.h"
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 
 typedef struct AafFilter AafFilter;
 

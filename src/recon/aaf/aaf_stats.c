@@ -10,89 +10,64 @@
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
 
-bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam)
+/* The statistics' arrays: element size and count per pixel, and the initial value of
+ * those that start as "no data yet" (min > max) instead of 0. */
+#define AAF_STATS_ARRAYS(X)                                                                                \
+    X(shadow_rays, int, 1, 0)                                                                              \
+    X(occluded_rays, int, 1, 0)                                                                            \
+    X(d1_sum, float, 1, 0)                                                                                 \
+    X(ratio_min, float, 1, INFINITY)                                                                       \
+    X(ratio_max, float, 1, 0)                                                                              \
+    X(light_p_sum, float, 3, 0)                                                                            \
+    X(light_pp_sum, float, 6, 0)                                                                           \
+    X(zmin, float, 1, INFINITY)                                                                            \
+    X(zmax, float, 1, 0)                                                                                   \
+    X(coc_min, float, 1, INFINITY)                                                                         \
+    X(coc_max, float, 1, -INFINITY)                                                                        \
+    X(sigma_min, float, 1, INFINITY)                                                                       \
+    X(plane_sum, float, 3, 0)                                                                              \
+    X(phong_max, float, 1, 0)
+
+bool aaf_stats_init(AafStats *s, const GBuffer *g)
 {
     memset(s, 0, sizeof *s);
-    s->width = width;
-    s->height = height;
-    s->cam = cam;
+    s->width = g->width;
+    s->height = g->height;
+    s->g = g;
     s->collect_rays = true;
-    size_t n = (size_t)width * (size_t)height;
+    size_t n = (size_t)g->width * (size_t)g->height;
     if (n == 0) return false;
-    s->samples = zalloc(n, sizeof(int));
-    s->hits = zalloc(n, sizeof(int));
-    s->pos_sum = zalloc(3 * n, sizeof(float));
-    s->nrm_sum = zalloc(3 * n, sizeof(float));
-    s->depth_sum = zalloc(n, sizeof(float));
-    s->object_id = malloc(n * sizeof(int));
-    s->shadow_rays = zalloc(n, sizeof(int));
-    s->occluded_rays = zalloc(n, sizeof(int));
-    s->d1_sum = zalloc(n, sizeof(float));
-    s->ratio_min = malloc(n * sizeof(float));
-    s->ratio_max = zalloc(n, sizeof(float));
-    s->light_p_sum = zalloc(3 * n, sizeof(float));
-    s->light_pp_sum = zalloc(6 * n, sizeof(float));
-    s->zmin = malloc(n * sizeof(float));
-    s->zmax = zalloc(n, sizeof(float));
-    s->coc_min = malloc(n * sizeof(float));
-    s->coc_max = malloc(n * sizeof(float));
-    s->sigma_min = malloc(n * sizeof(float));
-    s->plane_sum = zalloc(3 * n, sizeof(float));
-    s->depth_sq_sum = zalloc(n, sizeof(double));
-    s->id_mixed = zalloc(n, 1);
-    s->unfilterable = zalloc(n, sizeof(int));
-    s->phong_max = zalloc(n, sizeof(float));
-    s->unf_direct_sum = zalloc(3 * n, sizeof(float));
-    s->unf_indirect_sum = zalloc(3 * n, sizeof(float));
-    if (!s->sigma_min || !s->plane_sum || !s->depth_sq_sum || !s->id_mixed || !s->unfilterable || !s->phong_max ||
-        !s->unf_direct_sum || !s->unf_indirect_sum) {
+    bool ok = true;
+#define ALLOC(name, type, per, init) ok = ok && (s->name = zalloc((per) * n, sizeof(type))) != NULL;
+    AAF_STATS_ARRAYS(ALLOC)
+#undef ALLOC
+    if (!ok) {
         aaf_stats_free(s);
         return false;
     }
-    if (!s->samples || !s->hits || !s->pos_sum || !s->nrm_sum || !s->depth_sum || !s->object_id ||
-        !s->shadow_rays || !s->occluded_rays || !s->d1_sum || !s->ratio_min || !s->ratio_max ||
-        !s->light_p_sum || !s->light_pp_sum || !s->zmin || !s->zmax || !s->coc_min || !s->coc_max) {
-        aaf_stats_free(s);
-        return false;
-    }
-    for (size_t i = 0; i < n; ++i) {
-        s->object_id[i] = -1;
-        s->ratio_min[i] = INFINITY;
-        s->zmin[i] = INFINITY;
-        s->coc_min[i] = INFINITY;  /* min > max: no data yet */
-        s->coc_max[i] = -INFINITY;
-        s->sigma_min[i] = INFINITY;
-    }
+#define INIT(name, type, per, init)                                                                        \
+    if ((init) != 0)                                                                                       \
+        for (size_t i = 0; i < (per) * n; ++i) s->name[i] = (type)(init);
+    AAF_STATS_ARRAYS(INIT)
+#undef INIT
     return true;
+}
+
+int aaf_stats_arrays(AafStats *s, DistArray *out, int max)
+{
+    int n = 0;
+#define LIST(name, type, per, init)                                                                        \
+    if (n < max) out[n++] = (DistArray){s->name, (per) * sizeof(type)};
+    AAF_STATS_ARRAYS(LIST)
+#undef LIST
+    return n;
 }
 
 void aaf_stats_free(AafStats *s)
 {
-    free(s->samples);
-    free(s->hits);
-    free(s->pos_sum);
-    free(s->nrm_sum);
-    free(s->depth_sum);
-    free(s->object_id);
-    free(s->shadow_rays);
-    free(s->occluded_rays);
-    free(s->d1_sum);
-    free(s->ratio_min);
-    free(s->ratio_max);
-    free(s->light_p_sum);
-    free(s->light_pp_sum);
-    free(s->zmin);
-    free(s->zmax);
-    free(s->coc_min);
-    free(s->coc_max);
-    free(s->sigma_min);
-    free(s->plane_sum);
-    free(s->depth_sq_sum);
-    free(s->id_mixed);
-    free(s->unfilterable);
-    free(s->phong_max);
-    free(s->unf_direct_sum);
-    free(s->unf_indirect_sum);
+#define FREE(name, type, per, init) free(s->name);
+    AAF_STATS_ARRAYS(FREE)
+#undef FREE
     memset(s, 0, sizeof *s);
 }
 
@@ -152,61 +127,19 @@ void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count
     free(info);
 }
 
-/* Thin lens (pbrt-v4): the ray from lens point R u through the in-focus point crosses depth z
- * displaced by R u (1 - F/z) from where the pinhole ray does; one pixel at depth F is
- * F * pixel_angle wide, and the displacement, seen from the lens centre, shrinks with the
- * same F/z as everything else on that plane. Slope = R (1 - F/z) / (F pixel_angle) px per
- * unit u, the form below; z = inf gives R/(F pixel_angle). */
-float aaf_coc_slope_px(const AafCameraModel *cam, float depth_cam)
-{
-    float R = cam->lens_radius_world, F = cam->focal_distance_world, a = cam->pixel_angle;
-    if (!(R > 0.0f) || !(F > 0.0f) || !(a > 0.0f)) return 0.0f;
-    float inv_z = (depth_cam > 0.0f) ? 1.0f / depth_cam : 0.0f; /* inf -> 0; behind: treat as far */
-    float s = (R / a) * (1.0f / F - inv_z);
-    return isfinite(s) ? s : (s > 0.0f ? FLT_MAX : -FLT_MAX);
-}
-
 void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r)
 {
     AafStats *s = ctx;
     if (px < 0 || py < 0 || px >= s->width || py >= s->height) return;
     size_t i = (size_t)py * (size_t)s->width + (size_t)px;
-    s->samples[i]++;
-    if (s->collect_rays && s->cam.lens_radius_world > 0.0f) {
-        float slope = aaf_coc_slope_px(&s->cam, r->hit ? r->depth_cam : INFINITY);
+    if (s->collect_rays && s->g->cam.lens_radius_world > 0.0f) {
+        float slope = recon_coc_slope_px(&s->g->cam, r->hit ? r->depth_cam : INFINITY);
         s->coc_min[i] = fminf(s->coc_min[i], slope);
         s->coc_max[i] = fmaxf(s->coc_max[i], slope);
     }
     if (!r->hit) return;
     if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) return;
-    s->hits[i]++;
-    if (s->object_id[i] < 0) s->object_id[i] = r->object_id;
-    else if (s->object_id[i] != r->object_id) s->id_mixed[i] = 1;
-    if (r->unfilterable) s->unfilterable[i]++;
     if (r->phong_exponent > s->phong_max[i] && isfinite(r->phong_exponent)) s->phong_max[i] = r->phong_exponent;
-    /* `unfiltered` is part of direct + indirect without saying which: attribute it to the
-     * indirect light first (mirror images of the scene), the rest to direct (the light seen in
-     * a mirror), per channel, so that both filtered remainders stay >= 0. */
-    {
-        float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
-        float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
-        for (int k = 0; k < 3; ++k) {
-            float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
-            float ui = fminf(uk, fmaxf(ind[k], 0.0f));
-            s->unf_indirect_sum[3 * i + k] += ui;
-            s->unf_direct_sum[3 * i + k] += uk - ui;
-        }
-    }
-    s->pos_sum[3 * i + 0] += r->p_world.x;
-    s->pos_sum[3 * i + 1] += r->p_world.y;
-    s->pos_sum[3 * i + 2] += r->p_world.z;
-    s->nrm_sum[3 * i + 0] += r->n_shading.x;
-    s->nrm_sum[3 * i + 1] += r->n_shading.y;
-    s->nrm_sum[3 * i + 2] += r->n_shading.z;
-    if (isfinite(r->depth_cam)) {
-        s->depth_sum[i] += r->depth_cam;
-        s->depth_sq_sum[i] += (double)r->depth_cam * (double)r->depth_cam;
-    }
     if (!s->collect_rays) return;
 
     for (int k = 0; k < r->shadow_count && k < SAMPLE_RECORD_MAX_SHADOW; ++k) {
@@ -349,8 +282,6 @@ static void estimate_light(const AafStats *s, AafDerived *d)
 
 void aaf_derived_free(AafDerived *d)
 {
-    free(d->hit);
-    free(d->pixel_world);
     free(d->d1);
     free(d->d2min);
     free(d->d2max);
@@ -359,95 +290,10 @@ void aaf_derived_free(AafDerived *d)
     free(d->zmax);
     free(d->coc_min);
     free(d->coc_max);
-    free(d->pos4);
-    free(d->nrm4);
     free(d->plane4);
-    free(d->mixed);
     free(d->phong_m);
     memset(d, 0, sizeof *d);
 }
-
-/* Mixed pixels: a pixel whose samples (over the shutter or the lens) land on surfaces that
- * disagree has a mean position, normal and albedo that belong to no surface; the world-space
- * filters would compare neighbours against that phantom and divide by a phantom albedo and
- * r(x) (the dark speckled ring around the motion-blurred sphere of the default scene). Such
- * a pixel is detected by: another object id, some samples missing all geometry, mean unit
- * normal shorter than this (normals spread over more than about 25 degrees), or depth
- * spread (std / mean) above this. */
-#define AAF_MIXED_NORMAL_COHERENCE 0.9f
-#define AAF_MIXED_DEPTH_REL_STD 0.1f
-
-/* The filter guides: mean position and depth, unit mean normal and object id, pixel size;
- * each core takes a range of pixels and its own bounding box of the hit points. */
-typedef struct {
-    const AafStats *s;
-    AafDerived *d;
-    float lo[RECON_PARTS][3], hi[RECON_PARTS][3];
-} GuidesPass;
-
-static void guides_range(void *ctx, size_t begin, size_t end, int part)
-{
-    GuidesPass *gp = ctx;
-    const AafStats *s = gp->s;
-    AafDerived *d = gp->d;
-    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
-    for (size_t i = begin; i < end; ++i) {
-        int hits = s->hits[i];
-        d->hit[i] = hits > 0;
-        for (int k = 0; k < 4; ++k) d->pos4[4 * i + k] = d->nrm4[4 * i + k] = 0.0f;
-        d->nrm4[4 * i + 3] = -1.0f;
-        d->pixel_world[i] = 0.0f;
-        d->mixed[i] = 0;
-        if (hits == 0) continue;
-        float inv = 1.0f / (float)hits;
-        float nl = 0;
-        for (int k = 0; k < 3; ++k) {
-            float p = s->pos_sum[3 * i + k] * inv;
-            d->pos4[4 * i + k] = p;
-            lo[k] = fminf(lo[k], p);
-            hi[k] = fmaxf(hi[k], p);
-            nl += s->nrm_sum[3 * i + k] * s->nrm_sum[3 * i + k];
-        }
-        nl = sqrtf(nl);
-        for (int k = 0; k < 3; ++k) d->nrm4[4 * i + k] = nl > 0.0f ? s->nrm_sum[3 * i + k] / nl : 0.0f;
-        d->nrm4[4 * i + 3] = (float)s->object_id[i];
-        float depth = s->depth_sum[i] * inv;
-        double var = s->depth_sq_sum[i] / hits - (double)depth * (double)depth;
-        float depth_rel_std = depth > 0.0f && var > 0.0 ? (float)(sqrt(var) / depth) : 0.0f;
-        d->mixed[i] = s->id_mixed[i] || hits < s->samples[i] || s->unfilterable[i] > 0 ||
-                      nl < AAF_MIXED_NORMAL_COHERENCE * (float)hits || depth_rel_std > AAF_MIXED_DEPTH_REL_STD;
-        d->pos4[4 * i + 3] = depth;
-        /* AAF-shadow Sec. 4.1: d = world length one pixel covers at the receiver (we leave out
-         * foreshortening, which only makes d smaller and the filter more conservative). */
-        d->pixel_world[i] = depth * s->cam.pixel_angle;
-    }
-    for (int k = 0; k < 3; ++k) {
-        gp->lo[part][k] = lo[k];
-        gp->hi[part][k] = hi[k];
-    }
-}
-
-static void derive_guides(const AafStats *s, AafDerived *d)
-{
-    size_t n = (size_t)s->width * (size_t)s->height;
-    GuidesPass gp;
-    gp.s = s;
-    gp.d = d;
-    recon_parallel_for(n, guides_range, &gp);
-    /* min and max are exact, so the box does not depend on the split */
-    float diag2 = 0;
-    for (int k = 0; k < 3; ++k) {
-        float lo = FLT_MAX, hi = -FLT_MAX;
-        for (int p = 0; p < RECON_PARTS; ++p) {
-            lo = fminf(lo, gp.lo[p][k]);
-            hi = fmaxf(hi, gp.hi[p][k]);
-        }
-        diag2 += hi > lo ? (hi - lo) * (hi - lo) : 0.0f;
-    }
-    d->scene_size_world = sqrtf(diag2);
-}
-
-void aaf_derive_guides(const AafStats *s, AafDerived *d) { derive_guides(s, d); }
 
 /* The per-pixel part of aaf_derive (independent pixels: any split gives the same maps). */
 typedef struct {
@@ -475,7 +321,7 @@ static void derive_range(void *ctx, size_t begin, size_t end, int part)
         d->coc_max[i] = s->coc_max[i];
         d->zmin[i] = s->zmin[i];
         d->zmax[i] = s->zmax[i];
-        if (s->hits[i] > 0 && s->shadow_rays[i] > 0) {
+        if (s->g->sums[i].hits > 0 && s->shadow_rays[i] > 0) {
             float d1 = s->d1_sum[i] / (float)s->shadow_rays[i];
             d->d1[i] = d1;
             if (s->occluded_rays[i] > 0) {
@@ -493,8 +339,7 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
     size_t n = (size_t)w * (size_t)h;
     d->width = w;
     d->height = h;
-    d->hit = calloc(n, 1);
-    d->pixel_world = calloc(n, sizeof(float));
+    d->g = s->g;
     d->d1 = calloc(n, sizeof(float));
     d->d2min = calloc(n, sizeof(float));
     d->d2max = calloc(n, sizeof(float));
@@ -503,13 +348,10 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
     d->zmax = calloc(n, sizeof(float));
     d->coc_min = calloc(n, sizeof(float));
     d->coc_max = calloc(n, sizeof(float));
-    d->pos4 = calloc(4 * n, sizeof(float));
-    d->nrm4 = calloc(4 * n, sizeof(float));
     d->plane4 = calloc(4 * n, sizeof(float));
-    d->mixed = calloc(n, 1);
     d->phong_m = calloc(n, sizeof(float));
-    if (!d->hit || !d->pixel_world || !d->d1 || !d->d2min || !d->d2max || !d->sigma_light || !d->zmin ||
-        !d->zmax || !d->coc_min || !d->coc_max || !d->pos4 || !d->nrm4 || !d->plane4 || !d->mixed || !d->phong_m) {
+    if (!d->d1 || !d->d2min || !d->d2max || !d->sigma_light || !d->zmin || !d->zmax || !d->coc_min || !d->coc_max ||
+        !d->plane4 || !d->phong_m) {
         aaf_derived_free(d);
         return false;
     }
@@ -532,7 +374,6 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
             d->light_count = s->light_count;
         }
     }
-    derive_guides(s, d);
     DerivePass dp = {s, d, sigma_fallback};
     recon_parallel_for(n, derive_range, &dp);
     return true;
@@ -640,8 +481,8 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
     bool known = d->lights || d->light_known;
     for (size_t i = begin; i < end; ++i) {
         sp->r[i] = 0.0f;
-        if (!d->hit[i] || !known) continue;
-        float v = unoccluded_at(sp, d->pos4 + 4 * i, d->nrm4 + 4 * i);
+        if (!d->g->hit[i] || !known) continue;
+        float v = unoccluded_at(sp, d->g->pos4 + 4 * i, d->g->nrm4 + 4 * i);
         sp->r[i] = isfinite(v) ? v : 0.0f;
     }
 }
@@ -686,7 +527,7 @@ void aaf_unoccluded_irradiance(const AafDerived *d, float *r)
                             corner[c][1] * d->light_half_v[k];
     double area = 4.0 * sqrt(lu) * sqrt(lv);
     /* below 1e-12 of the squared scene size the rectangle is a point for every receiver */
-    double scene2 = (double)d->scene_size_world * d->scene_size_world;
+    double scene2 = (double)d->g->scene_size_world * d->g->scene_size_world;
     sp.inv_area = (area > 1e-12 * scene2 && isfinite(area)) ? 1.0 / area : 0.0;
     recon_parallel_for((size_t)d->width * (size_t)d->height, shade_range, &sp);
 }
@@ -696,8 +537,8 @@ AafPixelStats aaf_derived_pixel_stats(const AafDerived *d)
     AafPixelStats st = {0};
     st.width = d->width;
     st.height = d->height;
-    st.hit = d->hit;
-    st.pixel_world = d->pixel_world;
+    st.hit = d->g->hit;
+    st.pixel_world = d->g->pixel_world;
     st.d1_world = d->d1;
     st.d2min_world = d->d2min;
     st.d2max_world = d->d2max;

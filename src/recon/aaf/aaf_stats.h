@@ -4,23 +4,19 @@
  * Pass 1 (sparse sampling) measures, per pixel: the shadow-ray geometry (AAF-shadow Sec. 6:
  * d1, d2min, d2max from 9 light samples), the bounce-ray distances (AAF-GI Sec. 5: zmin,
  * zmax from 16 hemisphere samples), and the range of circle-of-confusion slopes (defocus).
- * Every pass adds the receiver's position, normal and object id (the filter's guides).
- * The sink is called from the thread that owns the pixel, so no locks are needed. */
+ * The receiver's position, normal and object id (the filter's guides) are the pipeline's
+ * GBuffer, shared by every method. The sink is called from the thread that owns the pixel,
+ * so no locks are needed. */
 #ifndef WEDGE_RECON_AAF_STATS_H
 #define WEDGE_RECON_AAF_STATS_H
 
 #include <stdbool.h>
 
 #include "recon/aaf/aaf_pixel_params.h"
+#include "recon/dist.h"
+#include "recon/gbuffer.h"
 #include "render/renderer.h"
 #include "render/sample_record.h"
-
-/* What turns a camera-space depth into a CoC slope (thin lens, pbrt-v4 conventions). */
-typedef struct {
-    float lens_radius_world;     /* 0: pinhole */
-    float focal_distance_world;  /* depth of the plane in focus */
-    float pixel_angle;           /* world size of a pixel at depth 1 (screen units per pixel) */
-} AafCameraModel;
 
 /* One light as the shadow filter sees it (from renderer_light_info, index = ShadowRayRecord
  * .light_index): its Gaussian width and, for planar lights, the plane's unit normal. */
@@ -41,17 +37,12 @@ typedef struct {
 
 typedef struct {
     int width, height;
-    AafCameraModel cam;
+    const GBuffer *g;            /* the shared guides (not owned): camera, hits, positions */
     bool collect_rays;           /* true during pass 1: ray geometry feeds the statistics */
     const AafLightGeom *lights;  /* exact lights (not owned; NULL: estimate from light samples) */
     int light_count;
 
     /* per pixel accumulators */
-    int *samples, *hits;
-    float *pos_sum;              /* 3 per pixel */
-    float *nrm_sum;              /* 3 per pixel */
-    float *depth_sum;
-    int *object_id;              /* first hit's object id, -1 until a sample hits */
     /* shadows: ratio r = d2/d1 along each occluded shadow ray (light->occluder over
      * light->receiver), so that d2min = rmin * d1 and d2max = rmax * d1 */
     int *shadow_rays, *occluded_rays;
@@ -63,43 +54,33 @@ typedef struct {
      * conservative width, see aaf_stats.c), and the sum of the per-ray light-plane normals */
     float *sigma_min;
     float *plane_sum;            /* 3 per pixel */
-    /* mixed pixels (motion, defocus): samples that disagree on object, hit/miss or depth */
-    double *depth_sq_sum;
-    unsigned char *id_mixed;     /* some hit sample had another object id than the first */
-    int *unfilterable;           /* samples whose first hit was unfilterable (dielectric, delta) */
     float *phong_max;            /* largest Blinn-Phong exponent seen (0: diffuse) */
-    /* SampleRecord.unfiltered split between direct and indirect (see aaf_stats_add) */
-    float *unf_direct_sum, *unf_indirect_sum; /* 3 per pixel each */
     /* indirect: distance of the reflector from the receiver's tangent plane (AAF-GI Fig. 2: z) */
     float *zmin, *zmax;
     /* defocus: signed CoC slope, pixels per unit lens coordinate */
     float *coc_min, *coc_max;
 } AafStats;
 
-bool aaf_stats_init(AafStats *s, int width, int height, AafCameraModel cam);
+/* Statistics for the frame of g (which must outlive them). */
+bool aaf_stats_init(AafStats *s, const GBuffer *g);
 /* Fills lights[0..count) from the renderer's exact light list (count = renderer_light_count). */
 void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count);
 void aaf_stats_free(AafStats *s);
 
+/* The statistics' per-pixel arrays, for gathering from MPI ranks (dist.h); returns how many. */
+int aaf_stats_arrays(AafStats *s, DistArray *out, int max);
+
 /* The SampleSink callback (ctx = AafStats *). */
 void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r);
-
-/* CoC slope of a point at camera depth z (INFINITY allowed): (R / pixel_angle) (1/F - 1/z),
- * negative in front of the focal plane. */
-float aaf_coc_slope_px(const AafCameraModel *cam, float depth_cam);
 
 /* Derived maps the parameter code consumes, owned by the caller's AafDerived. */
 typedef struct {
     int width, height;
-    unsigned char *hit;
-    float *pixel_world, *d1, *d2min, *d2max, *sigma_light;
+    const GBuffer *g;            /* the guides (hit, pos4, nrm4, mixed, pixel_world), not owned */
+    float *d1, *d2min, *d2max, *sigma_light;
     float *zmin, *zmax, *coc_min, *coc_max;
-    float *pos4, *nrm4;          /* filter guides: mean position + depth, normal + object id */
     float *plane4;               /* per pixel unit normal of the plane shadow-filter distances
                                   * are measured in (eq. 12); NULL data: light_normal */
-    unsigned char *mixed;        /* the pixel's samples saw different surfaces (motion blur,
-                                  * defocus edges) or an unfilterable one: keep it out of the
-                                  * world-space filters (aaf_pixel_is_mixed) */
     float *phong_m;              /* Blinn-Phong exponent per pixel for AAF-GI eq. 18 (0: diffuse) */
     float light_normal[3];       /* the light plane's unit normal (eq. 12); zero if unknown */
     float light_center[3];       /* the light as a rectangle: centre and half-side vectors */
@@ -108,14 +89,11 @@ typedef struct {
     bool exact_lights;           /* sigma and planes come from the renderer's light list */
     const AafLightGeom *lights;  /* the emitters for r(x) (not owned; NULL: use the rectangle) */
     int light_count;
-    float scene_size_world;      /* diagonal of the hit points' bounding box */
     float light_sigma_world;     /* global estimate (see aaf_stats.c) */
 } AafDerived;
 
+/* From the statistics and the guides of s->g (resolved: gbuffer_resolve_guides). */
 bool aaf_derive(const AafStats *s, AafDerived *out);
-/* Recomputes only the guides (pos4, nrm4, hit, pixel_world, scene size) of an AafDerived made
- * by aaf_derive from the same AafStats: after pass 2 has added samples. */
-void aaf_derive_guides(const AafStats *s, AafDerived *d);
 void aaf_derived_free(AafDerived *d);
 /* r(x) of AAF-shadow eq. 1 up to a constant factor: the irradiance each pixel would get
  * without occlusion (0 where unknown), exactly from the emitters when d->lights lists them

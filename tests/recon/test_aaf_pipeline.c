@@ -1,4 +1,5 @@
-/* The AAF pipeline end to end on small scenes (aaf_render.c with the real renderer):
+/* AAF through the reconstruction pipeline, end to end on small scenes (pipeline.c and
+ * aaf/aaf_method.c with the real renderer):
  *  - soft shadows: at equal average spp, AAF's relMSE against a high-spp reference is at
  *    least 2x lower than plain Monte Carlo's (issue 6), and the error keeps falling along a
  *    mu sweep (consistency);
@@ -9,27 +10,11 @@
 #include <string.h>
 
 #include "check.h"
+#include "recon_test_util.h"
 #include "recon/aaf/aaf_params.h"
-#include "recon/aaf/aaf_render.h"
+#include "recon/pipeline.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
-
-/* An area light above a floor and a square occluder 1 unit above the floor: penumbrae and a
- * small umbra in view. Direct light only. */
-static const char *SHADOW_SCENE =
-    "LookAt -1.5 2.5 -1.5   0.8 0 0.3   0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 30 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 40 ] \"integer yresolution\" [ 40 ] \"string filename\" [ \"t.exr\" ]\n"
-    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
-    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
-    "WorldBegin\n"
-    "AttributeBegin\n"
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 8 8 8 ]\n"
-    "  Shape \"trianglemesh\" \"point3 P\" [ -0.8 4 -0.8  0.8 4 -0.8  0.8 4 0.8  -0.8 4 0.8 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-    "AttributeEnd\n"
-    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
-    "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
-    "Shape \"trianglemesh\" \"point3 P\" [ 0.3 1 -0.3  0.9 1 -0.3  0.9 1 0.3  0.3 1 0.3 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n";
 
 /* Soft shadows, one-bounce indirect light from a red wall, and a thin lens. */
 static const char *ALL_EFFECTS_SCENE =
@@ -151,7 +136,6 @@ static bool make_renderer(const char *text, unsigned seed, int spp, SceneDesc *s
     ro.seed = seed;
     ro.spp = spp;
     ro.threads = 2;
-    ro.record_ray_geometry = true;
     if (!renderer_create(scene, &ro, r, &d)) {
         fprintf(stderr, "%s\n", d.message);
         scene_desc_free(scene);
@@ -179,41 +163,50 @@ static float *render_mc(const char *text, unsigned seed, int spp, int *w, int *h
     return rgb;
 }
 
-static bool render_aaf(const char *text, unsigned seed, float mu, AafRenderResult *res)
-{
+/* One filtered render through the pipeline; free with run_free. */
+typedef struct {
     SceneDesc scene;
     Renderer *r;
-    if (!make_renderer(text, seed, 16, &scene, &r)) return false;
-    Frame f;
-    frame_init(&f, renderer_width(r), renderer_height(r));
-    AafRenderOptions o = aaf_render_options_default();
-    o.mu = mu;
-    Diag d = {0};
-    bool ok = aaf_render(r, &o, &f, res, &d);
-    if (!ok) fprintf(stderr, "%s\n", d.message);
-    if (ok) { /* the spp map is the frame's */
-        double sum = 0;
-        for (int i = 0; i < f.width * f.height; ++i) {
-            CHECK(res->spp[i] == f.spp[i]);
-            sum += res->spp[i];
-        }
-        CHECK_NEAR(res->spp_avg, sum / (f.width * f.height), 1e-6 * res->spp_avg);
-    }
-    frame_free(&f);
-    renderer_destroy(r);
-    scene_desc_free(&scene);
-    return ok;
+    ReconPipeline *p;
+    const ReconResult *res;
+    const float *spp;   /* the frame's samples per pixel */
+} Run;
+
+static void run_free(Run *run)
+{
+    recon_pipeline_destroy(run->p);
+    renderer_destroy(run->r);
+    scene_desc_free(&run->scene);
+    memset(run, 0, sizeof *run);
 }
 
-/* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */
-static double rel_mse(const float *img, const float *ref, size_t n3)
+static bool render_filtered(const char *text, unsigned seed, float mu, int spp_budget, Run *run)
 {
-    double s = 0;
-    for (size_t i = 0; i < n3; ++i) {
-        double e = (double)img[i] - ref[i];
-        s += e * e / ((double)ref[i] * ref[i] + 0.01);
+    memset(run, 0, sizeof *run);
+    if (!make_renderer(text, seed, 16, &run->scene, &run->r)) return false;
+    ReconOptions o = {.filter = "aaf", .mu = mu, .spp = spp_budget};
+    Diag d = {0};
+    bool ok = recon_pipeline_create(run->r, &o, &run->p, &d) && recon_pipeline_render(run->p, &d);
+    if (!ok) {
+        fprintf(stderr, "%s\n", d.message);
+        run_free(run);
+        return false;
     }
-    return s / (double)n3;
+    run->res = recon_pipeline_result(run->p);
+    const Frame *f = &recon_pipeline_gbuffer(run->p)->frame;
+    run->spp = f->spp;
+    double sum = 0;
+    for (int i = 0; i < f->width * f->height; ++i) sum += f->spp[i];
+    CHECK_NEAR(run->res->spp_avg, sum / (f->width * f->height), 1e-6 * run->res->spp_avg);
+    return true;
+}
+
+/* The AOV layer called name, or NULL. */
+static const float *aov(const ReconResult *res, const char *name)
+{
+    for (int k = 0; k < res->aov_count; ++k)
+        if (!strcmp(res->aovs[k].name, name)) return res->aovs[k].data;
+    return NULL;
 }
 
 /* The Monte Carlo side of an equal-spp comparison: the smallest square count >= spp_avg, so
@@ -242,11 +235,12 @@ static void test_shadows_beat_monte_carlo_and_converge(void)
     double prev = 1e30;
     float mus[3] = {1.0f, 2.0f, 4.0f};
     for (int m = 0; m < 3; ++m) {
-        AafRenderResult res;
-        CHECK(render_aaf(SHADOW_SCENE, 1, mus[m], &res));
-        if (!res.rgb) continue;
-        CHECK_STR(res.filters[AAF_EFFECT_SHADOWS], "aaf");
-        CHECK_STR(res.filters[AAF_EFFECT_INDIRECT], "none");
+        Run run;
+        CHECK(render_filtered(SHADOW_SCENE, 1, mus[m], 0, &run));
+        if (!run.res) continue;
+        ReconResult res = *run.res;
+        CHECK_STR(recon_choice_name(&res.choice, EFFECT_SOFT_SHADOWS), "aaf");
+        CHECK_STR(recon_choice_name(&res.choice, EFFECT_INDIRECT), "none");
         CHECK(all_finite(res.rgb, n3));
         double err = rel_mse(res.rgb, ref, n3);
         /* Monte Carlo with (at least) the same average number of samples per pixel */
@@ -258,7 +252,7 @@ static void test_shadows_beat_monte_carlo_and_converge(void)
         CHECK(err < prev);                               /* consistency: falls as mu grows */
         prev = err;
         free(mc);
-        aaf_render_result_free(&res);
+        run_free(&run);
     }
     free(ref);
 }
@@ -266,17 +260,18 @@ static void test_shadows_beat_monte_carlo_and_converge(void)
 /* Issue 6: at equal average spp, AAF's relMSE is at least 2x lower than Monte Carlo's, at
  * the default mu (indirect light, defocus); and consistency: at twice the default mu the
  * error is lower still. */
-static void test_beats_monte_carlo(const char *name, const char *scene, int effect, float mu_default)
+static void test_beats_monte_carlo(const char *name, const char *scene, Effect effect, float mu_default)
 {
     int w = 0, h = 0;
     float *ref = render_mc(scene, 99, 256, &w, &h);
     CHECK(ref != NULL);
     if (!ref) return;
     size_t n3 = 3 * (size_t)w * (size_t)h;
-    AafRenderResult res;
-    CHECK(render_aaf(scene, 1, 0.0f, &res));
-    if (res.rgb) {
-        CHECK_STR(res.filters[effect], "aaf");
+    Run run;
+    CHECK(render_filtered(scene, 1, 0.0f, 0, &run));
+    if (run.res) {
+        ReconResult res = *run.res;
+        CHECK_STR(recon_choice_name(&res.choice, effect), "aaf");
         CHECK(all_finite(res.rgb, n3));
         double err = rel_mse(res.rgb, ref, n3);
         float *mc = render_mc(scene, 2, mc_spp_at_least(res.spp_avg), &w, &h);
@@ -285,14 +280,15 @@ static void test_beats_monte_carlo(const char *name, const char *scene, int effe
                 err_mc / err);
         CHECK(2.0 * err <= err_mc);
         free(mc);
-        aaf_render_result_free(&res);
-        AafRenderResult res2;
-        CHECK(render_aaf(scene, 1, 2.0f * mu_default, &res2));
-        if (res2.rgb) {
-            double err2 = rel_mse(res2.rgb, ref, n3);
-            fprintf(stderr, "%s at mu %.0f: spp_avg %.2f relMSE aaf %.3g\n", name, 2.0 * mu_default, res2.spp_avg, err2);
+        run_free(&run);
+        Run run2;
+        CHECK(render_filtered(scene, 1, 2.0f * mu_default, 0, &run2));
+        if (run2.res) {
+            double err2 = rel_mse(run2.res->rgb, ref, n3);
+            fprintf(stderr, "%s at mu %.0f: spp_avg %.2f relMSE aaf %.3g\n", name, 2.0 * mu_default, run2.res->spp_avg,
+                    err2);
             CHECK(err2 < err);
-            aaf_render_result_free(&res2);
+            run_free(&run2);
         }
     }
     free(ref);
@@ -308,9 +304,10 @@ static void test_motion_mixed_pixels(void)
     CHECK(ref != NULL);
     if (!ref) return;
     size_t n3 = 3 * (size_t)w * (size_t)h;
-    AafRenderResult res;
-    CHECK(render_aaf(MOTION_SCENE, 1, 0.0f, &res));
-    if (res.rgb) {
+    Run run;
+    CHECK(render_filtered(MOTION_SCENE, 1, 0.0f, 0, &run));
+    if (run.res) {
+        ReconResult res = *run.res;
         CHECK(all_finite(res.rgb, n3));
         float *mc = render_mc(MOTION_SCENE, 2, mc_spp_at_least(res.spp_avg), &w, &h);
         double err = rel_mse(res.rgb, ref, n3), err_mc = mc ? rel_mse(mc, ref, n3) : 0.0;
@@ -321,32 +318,38 @@ static void test_motion_mixed_pixels(void)
          * not filtered, and the defocus filter pays for its samples). The bar sits between. */
         CHECK(err <= 2.0 * err_mc);
         free(mc);
-        aaf_render_result_free(&res);
+        run_free(&run);
     }
     free(ref);
 }
 
 static void test_all_effects_finite(void)
 {
-    AafRenderResult res;
-    CHECK(render_aaf(ALL_EFFECTS_SCENE, 3, 0.0f, &res));
-    if (!res.rgb) return;
+    Run run;
+    CHECK(render_filtered(ALL_EFFECTS_SCENE, 3, 0.0f, 0, &run));
+    if (!run.res) return;
+    ReconResult res = *run.res;
     size_t n = (size_t)res.width * (size_t)res.height;
     CHECK(all_finite(res.rgb, 3 * n));
-    for (int e = 0; e < AAF_EFFECT_COUNT; ++e) {
-        CHECK(res.present[e]);
-        CHECK_STR(res.filters[e], "aaf");
-        CHECK(res.beta_px[e] != NULL);
-        if (res.beta_px[e]) {
-            CHECK(all_finite(res.beta_px[e], n));
-            for (size_t i = 0; i < n; ++i) CHECK(res.beta_px[e][i] >= 0.0f);
+    const Effect filtered[3] = {EFFECT_SOFT_SHADOWS, EFFECT_DEFOCUS, EFFECT_INDIRECT};
+    for (int k = 0; k < 3; ++k) {
+        Effect e = filtered[k];
+        char name[64];
+        snprintf(name, sizeof name, "aaf.beta_px.%s", effect_name(e));
+        const float *beta_px = aov(&res, name);
+        CHECK(effect_in(renderer_effects(run.r), e));
+        CHECK_STR(recon_choice_name(&res.choice, e), "aaf");
+        CHECK(beta_px != NULL);
+        if (beta_px) {
+            CHECK(all_finite(beta_px, n));
+            for (size_t i = 0; i < n; ++i) CHECK(beta_px[i] >= 0.0f);
         }
     }
     CHECK(res.pass1_spp == 16);
     CHECK(res.spp_avg >= 16.0);
     CHECK(res.seconds_filter >= 0.0 && res.seconds_kernels >= 0.0);
     CHECK(res.device[0] != '\0');
-    aaf_render_result_free(&res);
+    run_free(&run);
 }
 
 /* A defocused sphere alone in the frame (the corners see nothing): with no light at infinity
@@ -371,33 +374,36 @@ static void test_black_background_not_resampled(void)
     int corner[4][2] = {{0, 0}, {23, 0}, {0, 23}, {23, 23}};
     for (int lit = 0; lit < 2; ++lit) {
         snprintf(text, sizeof text, LONE_SPHERE_SCENE, lit ? "LightSource \"infinite\" \"rgb L\" [ 0.3 0.3 0.3 ]\n" : "");
-        AafRenderResult res = {0};
-        if (!render_aaf(text, 3, 0.0f, &res)) {
+        Run run;
+        if (!render_filtered(text, 3, 0.0f, 0, &run)) {
             CHECK(false);
             continue;
         }
-        CHECK(res.beta_px[AAF_EFFECT_DEFOCUS] != NULL);
+        ReconResult res = *run.res;
+        res.rgb = run.res->rgb;
+        const float *spp = run.spp;
+        CHECK(aov(&res, "aaf.beta_px.defocus") != NULL);
         int more = 0;
         for (int k = 0; k < 4; ++k) {
             size_t i = (size_t)corner[k][1] * 24 + (size_t)corner[k][0];
             if (!lit) {
-                CHECK(res.spp[i] == (float)res.pass1_spp);
+                CHECK(spp[i] == (float)res.pass1_spp);
                 CHECK(res.rgb[3 * i] == 0.0f && res.rgb[3 * i + 1] == 0.0f && res.rgb[3 * i + 2] == 0.0f);
             }
-            more += res.spp[i] > (float)res.pass1_spp;
+            more += spp[i] > (float)res.pass1_spp;
         }
         if (lit) CHECK(more == 4);
         /* the sphere's pixels are sampled past pass 1 either way */
-        CHECK(res.spp[12 * 24 + 12] > (float)res.pass1_spp);
-        aaf_render_result_free(&res);
+        CHECK(spp[12 * 24 + 12] > (float)res.pass1_spp);
+        run_free(&run);
     }
 }
 
 int main(void)
 {
     test_shadows_beat_monte_carlo_and_converge();
-    test_beats_monte_carlo("indirect", INDIRECT_SCENE, AAF_EFFECT_INDIRECT, aaf_indirect_config_default().mu);
-    test_beats_monte_carlo("defocus", DEFOCUS_SCENE, AAF_EFFECT_DEFOCUS, aaf_defocus_config_default().mu);
+    test_beats_monte_carlo("indirect", INDIRECT_SCENE, EFFECT_INDIRECT, aaf_indirect_config_default().mu);
+    test_beats_monte_carlo("defocus", DEFOCUS_SCENE, EFFECT_DEFOCUS, aaf_defocus_config_default().mu);
     test_motion_mixed_pixels();
     test_all_effects_finite();
     test_black_background_not_resampled();

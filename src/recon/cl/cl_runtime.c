@@ -1,11 +1,12 @@
 /* OpenCL device choice, context and program build (see cl_runtime.h). */
-#include "recon/cl_runtime_internal.h"
+#include "recon/cl/cl_runtime_internal.h"
 
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "recon/kernel_sources.h"
+#include "recon/cl/kernel_cache.h"
+#include "recon/cl/kernel_sources.h"
 
 #define MAX_PLATFORMS 16
 #define MAX_DEVICES_PER_PLATFORM 32
@@ -66,6 +67,7 @@ static bool list_devices(DeviceList *list, Diag *d)
     cl_uint nplat = 0;
     list->count = 0;
     list->platform_count = 0;
+    kernel_cache_prepare(); /* before the driver looks for its cache */
     cl_int err = clGetPlatformIDs(MAX_PLATFORMS, platforms, &nplat);
     if (err != CL_SUCCESS || nplat == 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
@@ -98,7 +100,7 @@ static bool list_devices(DeviceList *list, Diag *d)
     if (list->count == 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
                  "OpenCL platforms found but no device: install an OpenCL driver, e.g. the "
-                 "Debian package %s for the CPU",
+                 "Debian package %s for the CPU (PoCL also needs a writable kernel cache: $POCL_CACHE_DIR)",
                  WEDGE_CL_PACKAGE_HINT);
         return false;
     }
@@ -274,6 +276,19 @@ cl_kernel cl_runtime_kernel(ClRuntime *rt, const char *name, Diag *d)
         return NULL;
     }
     return k;
+}
+
+bool cl_launch_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
+{
+    size_t lx = CL_LAUNCH_LOCAL_X, ly = CL_LAUNCH_LOCAL_Y, most = 0;
+    if (clGetKernelWorkGroupInfo(k, rt->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof most, &most, NULL) == CL_SUCCESS)
+        while (lx * ly > most && ly > 1) ly /= 2;
+    while (lx * ly > most && lx > 1 && most > 0) lx /= 2;
+    size_t global[2] = {(gx + lx - 1) / lx * lx, (gy + ly - 1) / ly * ly}, local[2] = {lx, ly};
+    cl_int err = clEnqueueNDRangeKernel(rt->queue, k, 2, NULL, global, local, 0, NULL, ev);
+    if (err == CL_SUCCESS) return true;
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel launch failed: %s", cl_error_name(err));
+    return false;
 }
 
 static const char *type_name(cl_device_type t)

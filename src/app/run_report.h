@@ -1,6 +1,6 @@
 /* The machine-readable summary of one render (wedge render --report FILE.json). */
-#ifndef WEDGE_RENDER_RUN_REPORT_H
-#define WEDGE_RENDER_RUN_REPORT_H
+#ifndef WEDGE_APP_RUN_REPORT_H
+#define WEDGE_APP_RUN_REPORT_H
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -14,18 +14,22 @@ typedef struct {
     double seconds_total, seconds_trace, seconds_filter, seconds_build;
     long long rays_primary, rays_shadow, rays_indirect, rays_bsdf; /* RenderStats */
     long long guarded_events;  /* guarded divisions / non-finite values replaced, all stages */
-    Effects effects;
+    long long nonfinite_pixels;/* pixels of the image that were non-finite and written as 0 */
+    EffectMask effects;
     int threads;
     uint64_t seed;
     const char *sampler;       /* "stratified" / "sobol" */
     const char *filter;        /* what was asked: "auto", "aaf", "none" */
-    const char *filters[4];    /* per effect (soft_shadows, defocus, motion, indirect): filter used */
+    const char *filters[EFFECT_COUNT]; /* per effect (scene/effects.h order): the method used, "none" */
     double mu;                 /* filter knob asked for (0: each paper's default) */
     const char *cl_device;     /* OpenCL device used by the filters, or NULL */
     const char *scene;         /* scene path or "<default>" */
     const char *output;
     bool interrupted;
     long triangles;
+    int ranks;                 /* MPI ranks that shared the frame (1: one process) */
+    int steps;                 /* reconstructions: 1, more with --time/--checkpoint */
+    long long bytes_pass[4];   /* bytes the ranks sent per pass (gathers, plan broadcast) */
 } RunReport;
 
 /* Writes the report as one JSON object (keys of issue 3 plus a few extras). err exit 3. */

@@ -1,5 +1,5 @@
 /* JSON run report. */
-#include "render/run_report.h"
+#include "app/run_report.h"
 
 #include "io/atomic_file.h"
 
@@ -46,21 +46,21 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     fprintf(f, "  \"seconds_build\": %.6f,\n", finite_or_zero(r->seconds_build));
     fprintf(f, "  \"rays_primary\": %lld,\n  \"rays_shadow\": %lld,\n  \"rays_indirect\": %lld,\n  \"rays_bsdf\": %lld,\n",
             r->rays_primary, r->rays_shadow, r->rays_indirect, r->rays_bsdf);
-    fprintf(f, "  \"effects\": {\"soft_shadows\": %s, \"defocus\": %s, \"motion\": %s, \"indirect\": %s},\n",
-            r->effects.soft_shadows ? "true" : "false", r->effects.defocus ? "true" : "false",
-            r->effects.motion ? "true" : "false", r->effects.indirect ? "true" : "false");
+    fprintf(f, "  \"effects\": {");
+    for (int e = 0; e < EFFECT_COUNT; ++e)
+        fprintf(f, "%s\"%s\": %s", e ? ", " : "", effect_name((Effect)e), effect_in(r->effects, (Effect)e) ? "true" : "false");
+    fprintf(f, "},\n");
     fprintf(f, "  \"threads\": %d,\n  \"seed\": %" PRIu64 ",\n", r->threads, r->seed);
     fprintf(f, "  \"guarded_events\": %lld,\n", r->guarded_events);
+    fprintf(f, "  \"nonfinite_pixels\": %lld,\n", r->nonfinite_pixels);
     fprintf(f, "  \"sampler\": ");
     json_string(f, r->sampler);
     fprintf(f, ",\n  \"filter\": ");
     json_string(f, r->filter);
-    static const char *const effect_names[4] = {"soft_shadows", "defocus", "motion", "indirect"};
-    const bool present[4] = {r->effects.soft_shadows, r->effects.defocus, r->effects.motion, r->effects.indirect};
     fprintf(f, ",\n  \"filters\": {");
-    for (int e = 0, first = 1; e < 4; ++e) {
-        if (!present[e]) continue;
-        fprintf(f, "%s\"%s\": ", first ? "" : ", ", effect_names[e]);
+    for (int e = 0, first = 1; e < EFFECT_COUNT; ++e) {
+        if (!effect_in(r->effects, (Effect)e)) continue;
+        fprintf(f, "%s\"%s\": ", first ? "" : ", ", effect_name((Effect)e));
         json_string(f, r->filters[e] ? r->filters[e] : "none");
         first = 0;
     }
@@ -74,6 +74,9 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     json_string(f, r->scene);
     fprintf(f, ",\n  \"output\": ");
     json_string(f, r->output);
+    fprintf(f, ",\n  \"steps\": %d", r->steps);
+    fprintf(f, ",\n  \"ranks\": %d,\n  \"bytes_communicated\": [%lld, %lld, %lld, %lld]", r->ranks > 0 ? r->ranks : 1,
+            r->bytes_pass[0], r->bytes_pass[1], r->bytes_pass[2], r->bytes_pass[3]);
     fprintf(f, ",\n  \"triangles\": %ld,\n  \"interrupted\": %s\n}\n", r->triangles, r->interrupted ? "true" : "false");
     bool ok = !ferror(f);
     if (fclose(f) != 0) ok = false;

@@ -8,7 +8,7 @@
 #endif
 #include <CL/cl.h>
 
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 
 struct ClRuntime {
     cl_platform_id platform;
@@ -24,5 +24,14 @@ const char *cl_error_name(cl_int err);
 
 /* Creates the named kernel from rt->program; NULL + Diag on failure. */
 cl_kernel cl_runtime_kernel(ClRuntime *rt, const char *name, Diag *d);
+
+/* Launches a 2D kernel over at least gx x gy work items, in work groups of one fixed size
+ * (CL_LAUNCH_LOCAL_X x CL_LAUNCH_LOCAL_Y, smaller if the kernel allows fewer): the global size
+ * is rounded up to whole groups, so kernels must return for ids past their image. Left to
+ * choose, PoCL picks a local size that divides the global size and compiles the kernel anew
+ * for each one it has not seen: 0.5-0.65 s at every new image size (131x97, 133x99, 137x101)
+ * against 0.02 s for a size seen before. A fixed local size is compiled once. */
+enum { CL_LAUNCH_LOCAL_X = 16, CL_LAUNCH_LOCAL_Y = 4 };
+bool cl_launch_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d);
 
 #endif

@@ -1,0 +1,225 @@
+/* The shared per-pixel guides (see gbuffer.h). */
+#include "recon/gbuffer.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/zalloc.h"
+#include "recon/recon_parallel.h"
+
+ReconCamera recon_camera_from(const Camera *c)
+{
+    ReconCamera m;
+    m.lens_radius_world = c->lens_radius_world;
+    m.focal_distance_world = c->focal_distance_world;
+    /* screen units per pixel, times tan(fov/2): world size of one pixel at camera depth 1 */
+    m.pixel_angle = (c->screen_max[0] - c->screen_min[0]) / (float)c->width_px * c->tan_half_fov;
+    return m;
+}
+
+/* Thin lens (pbrt-v4): the ray from lens point R u through the in-focus point crosses depth z
+ * displaced by R u (1 - F/z) from where the pinhole ray does; one pixel at depth F is
+ * F * pixel_angle wide, and the displacement, seen from the lens centre, shrinks with the
+ * same F/z as everything else on that plane. Slope = R (1 - F/z) / (F pixel_angle) px per
+ * unit u, the form below; z = inf gives R/(F pixel_angle). */
+float recon_coc_slope_px(const ReconCamera *cam, float depth_cam)
+{
+    float R = cam->lens_radius_world, F = cam->focal_distance_world, a = cam->pixel_angle;
+    if (!(R > 0.0f) || !(F > 0.0f) || !(a > 0.0f)) return 0.0f;
+    float inv_z = (depth_cam > 0.0f) ? 1.0f / depth_cam : 0.0f; /* inf -> 0; behind: treat as far */
+    float s = (R / a) * (1.0f / F - inv_z);
+    return isfinite(s) ? s : (s > 0.0f ? FLT_MAX : -FLT_MAX);
+}
+
+/* The arrays of one GBuffer, in allocation order: element size and count per pixel. */
+typedef struct {
+    size_t offset, size, per_pixel;
+} Slot;
+
+enum { S_SUMS, S_HIT, S_MIXED, S_POS4, S_NRM4, S_PIXEL_WORLD, S_COUNT };
+
+static const struct {
+    size_t size, per_pixel;
+} SLOT_SHAPE[S_COUNT] = {
+    [S_SUMS] = {sizeof(GBufferSums), 1}, [S_HIT] = {1, 1}, [S_MIXED] = {1, 1},
+    [S_POS4] = {sizeof(float), 4},       [S_NRM4] = {sizeof(float), 4}, [S_PIXEL_WORLD] = {sizeof(float), 1},
+};
+
+/* Offsets of every slot in one block (each 16-byte aligned); returns the block's size, 0 on
+ * overflow. */
+static size_t layout(size_t n, size_t offsets[S_COUNT])
+{
+    size_t at = 0;
+    for (int s = 0; s < S_COUNT; ++s) {
+        size_t per = SLOT_SHAPE[s].size * SLOT_SHAPE[s].per_pixel;
+        if (n > SIZE_MAX / 2 / per) return 0;
+        offsets[s] = at;
+        at += (n * per + 15) & ~(size_t)15;
+    }
+    return at;
+}
+
+size_t gbuffer_bytes(int width, int height)
+{
+    size_t n = (size_t)width * (size_t)height, off[S_COUNT];
+    /* the frame: 6 rgb sums and 3 scalars per pixel (render/frame.h) */
+    return layout(n, off) + n * (6 * 3 + 3) * sizeof(float);
+}
+
+bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam)
+{
+    memset(g, 0, sizeof *g);
+    if (width <= 0 || height <= 0) return false;
+    size_t n = (size_t)width * (size_t)height, off[S_COUNT];
+    size_t bytes = layout(n, off);
+    if (bytes == 0 || !frame_init(&g->frame, width, height)) return false;
+    unsigned char *b = zalloc(bytes, 1);
+    if (!b) {
+        frame_free(&g->frame);
+        return false;
+    }
+    g->block_ = b;
+    g->width = width;
+    g->height = height;
+    g->cam = cam;
+    g->sums = (GBufferSums *)(b + off[S_SUMS]);
+    g->hit = b + off[S_HIT];
+    g->mixed = b + off[S_MIXED];
+    g->pos4 = (float *)(b + off[S_POS4]);
+    g->nrm4 = (float *)(b + off[S_NRM4]);
+    g->pixel_world = (float *)(b + off[S_PIXEL_WORLD]);
+    for (size_t i = 0; i < n; ++i) g->sums[i].object_id = -1;
+    return true;
+}
+
+void gbuffer_free(GBuffer *g)
+{
+    frame_free(&g->frame);
+    free(g->block_);
+    memset(g, 0, sizeof *g);
+}
+
+void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
+{
+    GBuffer *g = ctx;
+    if (px < 0 || py < 0 || px >= g->width || py >= g->height) return;
+    if (!r->hit) return;
+    if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) return;
+    GBufferSums *s = &g->sums[(size_t)py * (size_t)g->width + (size_t)px];
+    s->hits++;
+    if (s->object_id < 0) s->object_id = r->object_id;
+    else if (s->object_id != r->object_id) s->id_mixed = 1;
+    if (r->unfilterable) s->unfilterable++;
+    /* `unfiltered` is part of direct + indirect without saying which: attribute it to the
+     * indirect light first (mirror images of the scene), the rest to direct (the light seen in
+     * a mirror), per channel, so that both filtered remainders stay >= 0. */
+    float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
+    float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+    for (int k = 0; k < 3; ++k) {
+        float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
+        float ui = fminf(uk, fmaxf(ind[k], 0.0f));
+        s->unf_indirect_sum[k] += ui;
+        s->unf_direct_sum[k] += uk - ui;
+    }
+    s->pos_sum[0] += r->p_world.x;
+    s->pos_sum[1] += r->p_world.y;
+    s->pos_sum[2] += r->p_world.z;
+    s->nrm_sum[0] += r->n_shading.x;
+    s->nrm_sum[1] += r->n_shading.y;
+    s->nrm_sum[2] += r->n_shading.z;
+    if (isfinite(r->depth_cam)) {
+        s->depth_sum += r->depth_cam;
+        s->depth_sq_sum += (double)r->depth_cam * (double)r->depth_cam;
+    }
+}
+
+void gbuffer_unfiltered_means(const GBuffer *g, size_t i, float direct[3], float indirect[3])
+{
+    float spp = g->frame.spp[i];
+    float inv = spp > 0.0f ? 1.0f / spp : 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        float d = g->sums[i].unf_direct_sum[k] * inv, u = g->sums[i].unf_indirect_sum[k] * inv;
+        direct[k] = isfinite(d) ? d : 0.0f;
+        indirect[k] = isfinite(u) ? u : 0.0f;
+    }
+}
+
+/* Mixed pixels: a pixel whose samples (over the shutter or the lens) land on surfaces that
+ * disagree has a mean position, normal and albedo that belong to no surface; a world-space
+ * filter would compare neighbours against that phantom and divide by a phantom albedo (the
+ * dark speckled ring around the motion-blurred sphere of the default scene). Such a pixel is
+ * detected by: another object id, some samples missing all geometry, mean unit normal
+ * shorter than this (normals spread over more than about 25 degrees), or depth spread
+ * (std / mean) above this. */
+#define MIXED_NORMAL_COHERENCE 0.9f
+#define MIXED_DEPTH_REL_STD 0.1f
+
+/* Each core takes a range of pixels and its own bounding box of the hit points. */
+typedef struct {
+    GBuffer *g;
+    float lo[RECON_PARTS][3], hi[RECON_PARTS][3];
+} GuidesPass;
+
+static void guides_range(void *ctx, size_t begin, size_t end, int part)
+{
+    GuidesPass *gp = ctx;
+    GBuffer *g = gp->g;
+    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (size_t i = begin; i < end; ++i) {
+        const GBufferSums *s = &g->sums[i];
+        int hits = s->hits;
+        g->hit[i] = hits > 0;
+        for (int k = 0; k < 4; ++k) g->pos4[4 * i + k] = g->nrm4[4 * i + k] = 0.0f;
+        g->nrm4[4 * i + 3] = -1.0f;
+        g->pixel_world[i] = 0.0f;
+        g->mixed[i] = 0;
+        if (hits == 0) continue;
+        float inv = 1.0f / (float)hits;
+        float nl = 0;
+        for (int k = 0; k < 3; ++k) {
+            float p = s->pos_sum[k] * inv;
+            g->pos4[4 * i + k] = p;
+            lo[k] = fminf(lo[k], p);
+            hi[k] = fmaxf(hi[k], p);
+            nl += s->nrm_sum[k] * s->nrm_sum[k];
+        }
+        nl = sqrtf(nl);
+        for (int k = 0; k < 3; ++k) g->nrm4[4 * i + k] = nl > 0.0f ? s->nrm_sum[k] / nl : 0.0f;
+        g->nrm4[4 * i + 3] = (float)s->object_id;
+        float depth = s->depth_sum * inv;
+        double var = s->depth_sq_sum / hits - (double)depth * (double)depth;
+        float depth_rel_std = depth > 0.0f && var > 0.0 ? (float)(sqrt(var) / depth) : 0.0f;
+        g->mixed[i] = s->id_mixed || (float)hits < g->frame.spp[i] || s->unfilterable > 0 ||
+                      nl < MIXED_NORMAL_COHERENCE * (float)hits || depth_rel_std > MIXED_DEPTH_REL_STD;
+        g->pos4[4 * i + 3] = depth;
+        /* AAF-shadow Sec. 4.1: d = world length one pixel covers at the receiver (we leave out
+         * foreshortening, which only makes d smaller and a filter more conservative). */
+        g->pixel_world[i] = depth * g->cam.pixel_angle;
+    }
+    for (int k = 0; k < 3; ++k) {
+        gp->lo[part][k] = lo[k];
+        gp->hi[part][k] = hi[k];
+    }
+}
+
+void gbuffer_resolve_guides(GBuffer *g)
+{
+    size_t n = (size_t)g->width * (size_t)g->height;
+    GuidesPass gp;
+    gp.g = g;
+    recon_parallel_for(n, guides_range, &gp);
+    /* min and max are exact, so the box does not depend on the split */
+    float diag2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        float lo = FLT_MAX, hi = -FLT_MAX;
+        for (int p = 0; p < RECON_PARTS; ++p) {
+            lo = fminf(lo, gp.lo[p][k]);
+            hi = fmaxf(hi, gp.hi[p][k]);
+        }
+        diag2 += hi > lo ? (hi - lo) * (hi - lo) : 0.0f;
+    }
+    g->scene_size_world = sqrtf(diag2);
+}

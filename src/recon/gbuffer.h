@@ -1,0 +1,88 @@
+/* The per-pixel guides every reconstruction method shares (DESIGN.md section 9), computed
+ * once per frame by the pipeline:
+ *
+ *   frame     the renderer's per-pixel radiance sums (render_pass writes them: colour,
+ *             direct, indirect, emission, albedo, samples taken)
+ *   sums      what the pipeline's own sink adds per camera sample: surface hits, position,
+ *             shading normal, depth and its square, object id and whether it varies, samples
+ *             on unfilterable surfaces, and SampleRecord.unfiltered split into the direct and
+ *             indirect parts the filters must not blur
+ *   guides    resolved from the sums after each pass (gbuffer_resolve_guides): mean
+ *             position and depth, unit normal and object id, whether the pixel saw a surface,
+ *             whether its samples saw different surfaces ("mixed"), the world size of a pixel
+ *             at its receiver, and the size of the visible scene
+ *
+ * The sink is called from the thread that owns the pixel (sample_record.h), so no locks. */
+#ifndef WEDGE_RECON_GBUFFER_H
+#define WEDGE_RECON_GBUFFER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "render/camera.h"
+#include "render/frame.h"
+#include "render/sample_record.h"
+
+/* What turns a camera-space depth into screen quantities (thin lens, pbrt-v4 conventions). */
+typedef struct {
+    float lens_radius_world;     /* 0: pinhole */
+    float focal_distance_world;  /* depth of the plane in focus */
+    float pixel_angle;           /* world size of a pixel at depth 1 (screen units per pixel) */
+} ReconCamera;
+
+ReconCamera recon_camera_from(const Camera *c);
+
+/* Signed circle-of-confusion slope of a point at camera depth z (INFINITY allowed), pixels
+ * per unit lens coordinate: (R / pixel_angle) (1/F - 1/z), negative in front of the focal
+ * plane (docs/algorithms.md 3.1); 0 for a pinhole. */
+float recon_coc_slope_px(const ReconCamera *cam, float depth_cam);
+
+/* What the sink adds up for one pixel, kept together so that a sample touches two cache lines
+ * rather than one per quantity (as ten separate arrays the sink was 4% of a soft-shadow
+ * frame's time). */
+typedef struct {
+    float pos_sum[3], nrm_sum[3];
+    float unf_direct_sum[3], unf_indirect_sum[3]; /* SampleRecord.unfiltered, split */
+    float depth_sum;
+    int hits;                     /* samples that hit a surface at a finite position */
+    int object_id;                /* first hit's object id, -1 until a sample hits */
+    int unfilterable;             /* samples whose first hit was unfilterable (dielectric, delta) */
+    double depth_sq_sum;
+    unsigned char id_mixed;       /* a later hit had another object id */
+} GBufferSums;
+
+typedef struct {
+    int width, height;
+    ReconCamera cam;
+    Frame frame;
+
+    GBufferSums *sums;            /* per pixel (gbuffer_add) */
+
+    /* guides (gbuffer_resolve_guides) */
+    unsigned char *hit;           /* some sample hit a surface */
+    unsigned char *mixed;         /* the samples saw different surfaces or an unfilterable one */
+    float *pos4;                  /* mean position (world), mean depth (world) */
+    float *nrm4;                  /* unit mean normal, object id (-1: none) */
+    float *pixel_world;           /* world length of one pixel at the receiver (0: no hit) */
+    float scene_size_world;       /* diagonal of the bounding box of the pixels' positions */
+
+    void *block_;                 /* one allocation behind all the arrays above but frame */
+} GBuffer;
+
+/* False when out of memory (or a zero size). */
+bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam);
+void gbuffer_free(GBuffer *g);
+
+/* The SampleSink callback (ctx = GBuffer *). */
+void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r);
+
+/* The guides from the sums and the frame's sample counts, after a pass. */
+void gbuffer_resolve_guides(GBuffer *g);
+
+/* Per-pixel, per-channel means of the unfiltered light (0 where non-finite). */
+void gbuffer_unfiltered_means(const GBuffer *g, size_t i, float direct[3], float indirect[3]);
+
+/* Bytes gbuffer_init allocates for a width x height image (the frame included). */
+size_t gbuffer_bytes(int width, int height);
+
+#endif

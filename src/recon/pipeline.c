@@ -1,0 +1,615 @@
+/* The reconstruction pipeline (see pipeline.h). */
+#include "recon/pipeline.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "recon/composite.h"
+
+/* A --spp budget is met by searching mu on a log scale over this range ... */
+#define BUDGET_MU_MIN 0.01f
+#define BUDGET_MU_MAX 1.0e4f
+#define BUDGET_SEARCH_STEPS 24
+/* ... and progressive steps double mu from this start when none was given. */
+#define STEP_MU_START 2.0f
+
+typedef struct {
+    const ReconMethodClass *cls;
+    ReconMethod *m;
+    EffectMask effects;
+} MethodSlot;
+
+struct ReconPipeline {
+    Renderer *r;
+    ReconOptions opt;
+    ReconChoice choice;
+    MethodSlot slots[EFFECT_COUNT];
+    int slot_count;
+    bool filtering;              /* some effect has a method */
+    bool fixed_only;             /* no method plans: one pass at a fixed count */
+    GBuffer g;
+    bool g_ready;
+    SampleStore *store;
+    ClRuntime *rt;
+    ReconResult res;
+    float *value_direct4, *value_indirect4, *radiance4; /* 4 floats per pixel each */
+    int *spp_total, *spp_extra;
+    int *spp_mine;               /* MPI ranks: a pass's counts with 0 for the pixels of others */
+    int pass;                    /* sampler passes started */
+};
+
+static double wall_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static size_t pixel_count(const ReconPipeline *p)
+{
+    return (size_t)renderer_width(p->r) * (size_t)renderer_height(p->r);
+}
+
+static MethodSlot *slot_for(ReconPipeline *p, Effect e)
+{
+    for (int s = 0; s < p->slot_count; ++s)
+        if (effect_in(p->slots[s].effects, e)) return &p->slots[s];
+    return NULL;
+}
+
+bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **out, Diag *d)
+{
+    *out = NULL;
+    if (!o->filter || !recon_filter_known(o->filter)) {
+        char choices[256];
+        diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0}, "--filter wants %s, got '%s'",
+                 recon_filter_choices(choices, sizeof choices), o->filter ? o->filter : "");
+        return false;
+    }
+    ReconPipeline *p = calloc(1, sizeof *p);
+    if (!p) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        return false;
+    }
+    p->r = r;
+    p->opt = *o;
+    recon_select(renderer_effects(r), o->filter, &p->choice);
+    /* one slot per distinct method, holding every effect it filters */
+    p->fixed_only = true;
+    for (int e = 0; e < EFFECT_COUNT; ++e) {
+        const ReconMethodClass *c = p->choice.method[e];
+        if (!c) continue;
+        p->filtering = true;
+        int s = 0;
+        while (s < p->slot_count && p->slots[s].cls != c) ++s;
+        if (s == p->slot_count) {
+            p->slots[p->slot_count++].cls = c;
+            if (c->adaptive) p->fixed_only = false;
+        }
+        p->slots[s].effects |= EFFECT_BIT(e);
+    }
+    if (p->filtering && !cl_runtime_check_device(o->cl_device, d)) {
+        free(p);
+        return false;
+    }
+    p->res.width = renderer_width(r);
+    p->res.height = renderer_height(r);
+    p->res.choice = p->choice;
+    *out = p;
+    return true;
+}
+
+void recon_pipeline_destroy(ReconPipeline *p)
+{
+    if (!p) return;
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].m) p->slots[s].cls->destroy(p->slots[s].m);
+    cl_runtime_destroy(p->rt);
+    sample_store_destroy(p->store);
+    if (p->g_ready) gbuffer_free(&p->g);
+    free(p->res.rgb);
+    free(p->value_direct4);
+    free(p->value_indirect4);
+    free(p->radiance4);
+    free(p->spp_total);
+    free(p->spp_extra);
+    free(p->spp_mine);
+    free(p);
+}
+
+const ReconResult *recon_pipeline_result(const ReconPipeline *p) { return &p->res; }
+const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
+
+/* ---- sampling ---- */
+
+static bool distributed(const ReconPipeline *p) { return p->opt.dist && p->opt.dist->ranks > 1; }
+static bool is_root(const ReconPipeline *p) { return !distributed(p) || p->opt.dist->rank == 0; }
+
+/* The counts this rank traces: counts (or uniform where counts is NULL) for the pixels it
+ * owns, 0 for the others; without ranks, counts itself (NULL: uniform). */
+static const int *counts_mine(ReconPipeline *p, const int *counts, int uniform)
+{
+    if (!distributed(p)) return counts;
+    int w = renderer_width(p->r), h = renderer_height(p->r);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            bool mine = dist_owner(p->opt.dist, w, x, y) == p->opt.dist->rank;
+            p->spp_mine[i] = mine ? (counts ? counts[i] : uniform) : 0;
+        }
+    return p->spp_mine;
+}
+
+/* After a pass: every rank finished it (or all treat it as cancelled), and rank 0 holds every
+ * per-pixel sum: the frame, the guides' sums, the store, the methods' statistics. */
+static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
+{
+    if (!distributed(p)) return true;
+    *complete = dist_all_ok(p->opt.dist, *complete);
+    enum { MAX_ARRAYS = 64 };
+    DistArray a[MAX_ARRAYS];
+    int n = 0;
+    Frame *f = &p->g.frame;
+    float *rgb_sums[6] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
+    for (int k = 0; k < 6; ++k) a[n++] = (DistArray){rgb_sums[k], 3 * sizeof(float)};
+    float *scalar_sums[3] = {f->depth, f->hits, f->spp};
+    for (int k = 0; k < 3; ++k) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
+    if (p->filtering) a[n++] = (DistArray){p->g.sums, sizeof(GBufferSums)};
+    if (p->store) n += sample_store_arrays(p->store, a + n, MAX_ARRAYS - n);
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->shared) n += p->slots[s].cls->shared(p->slots[s].m, a + n, MAX_ARRAYS - n);
+    return dist_gather(p->opt.dist, p->g.width, p->g.height, a, n, pass, d);
+}
+
+/* Every sample goes to the guides, the store and each method, in that order. */
+static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
+{
+    ReconPipeline *p = ctx;
+    gbuffer_add(&p->g, px, py, rec);
+    if (p->store) sample_store_add(p->store, px, py, rec);
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->add_sample) p->slots[s].cls->add_sample(p->slots[s].m, px, py, rec);
+}
+
+static void begin_pass(ReconPipeline *p, int pass, bool ray_geometry)
+{
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->begin_pass) p->slots[s].cls->begin_pass(p->slots[s].m, pass);
+    /* ray geometry only when a method reads it: otherwise shadow rays stay any-hit
+     * occlusion queries, cheaper than closest-hit traces */
+    renderer_set_record_ray_geometry(p->r, ray_geometry);
+}
+
+/* Buffers, guides, store and methods for a filtered frame. */
+static bool setup_filtered(ReconPipeline *p, Diag *d)
+{
+    int w = renderer_width(p->r), h = renderer_height(p->r);
+    size_t n = pixel_count(p);
+    if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) goto oom;
+    p->g_ready = true;
+    p->res.rgb = calloc(3 * n, sizeof(float));
+    p->value_direct4 = malloc(4 * n * sizeof(float));
+    p->value_indirect4 = malloc(4 * n * sizeof(float));
+    p->radiance4 = malloc(4 * n * sizeof(float));
+    p->spp_total = malloc(n * sizeof(int));
+    p->spp_extra = calloc(n, sizeof(int));
+    if (distributed(p)) p->spp_mine = malloc(n * sizeof(int));
+    if (!p->res.rgb || !p->value_direct4 || !p->value_indirect4 || !p->radiance4 || !p->spp_total || !p->spp_extra ||
+        (distributed(p) && !p->spp_mine))
+        goto oom;
+    int pass1 = 0, fixed_max = 0;
+    unsigned fields = 0;
+    for (int s = 0; s < p->slot_count; ++s) {
+        const ReconMethodClass *c = p->slots[s].cls;
+        int k = c->pass1_spp(p->slots[s].effects);
+        if (k > pass1) pass1 = k;
+        if (!c->adaptive && k > fixed_max) fixed_max = k;
+        fields |= c->sample_fields;
+    }
+    /* a fixed-count frame takes the --spp budget in one pass */
+    if (p->fixed_only && p->opt.spp > 0) pass1 = p->opt.spp;
+    /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
+    if (!p->fixed_only && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
+    p->res.pass1_spp = pass1;
+    if (fields) {
+        /* the store keeps what the fixed-count methods take (or pass 1 of adaptive ones) */
+        int capacity = fixed_max > pass1 ? fixed_max : pass1;
+        size_t limit = p->opt.mem_limit_bytes ? p->opt.mem_limit_bytes : sample_store_default_limit();
+        if (!sample_store_create(fields, w, h, capacity, limit, &p->store, d)) return false;
+    }
+    for (int s = 0; s < p->slot_count; ++s) {
+        ReconSetup setup = {p->r, &p->g, p->slots[s].cls->sample_fields ? p->store : NULL, p->slots[s].effects,
+                            p->opt.mu, {0}};
+        memcpy(setup.method_options, p->opt.method_options, sizeof setup.method_options);
+        if (!p->slots[s].cls->create(&setup, &p->slots[s].m, d)) return false;
+    }
+    return true;
+oom:
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the reconstruction buffers (%dx%d)", w, h);
+    return false;
+}
+
+/* The per-pixel total the methods' plans ask for at mu (the maximum over methods), in
+ * p->spp_total; returns the image's average. */
+static bool plan_at(ReconPipeline *p, float mu, double *avg, Diag *d)
+{
+    size_t n = pixel_count(p);
+    const float *spp_now = p->g.frame.spp;
+    for (size_t i = 0; i < n; ++i) p->spp_total[i] = (int)spp_now[i];
+    int *one = malloc(n * sizeof(int));
+    if (!one) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the sample plan");
+        return false;
+    }
+    for (int s = 0; s < p->slot_count; ++s) {
+        const ReconMethodClass *c = p->slots[s].cls;
+        if (!c->plan) continue;
+        if (!c->plan(p->slots[s].m, mu, spp_now, one, d)) {
+            free(one);
+            return false;
+        }
+        for (size_t i = 0; i < n; ++i)
+            if (one[i] > p->spp_total[i]) p->spp_total[i] = one[i];
+    }
+    free(one);
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += p->spp_total[i];
+    *avg = n ? sum / (double)n : 0.0;
+    return true;
+}
+
+/* Scales the extra samples per pixel to `room` samples in all, by error diffusion in scan
+ * order (deterministic, each pixel within one sample of its share); with no extras at all,
+ * the room is spread evenly. */
+static void scale_extras(ReconPipeline *p, double room)
+{
+    size_t n = pixel_count(p);
+    double want = 0.0;
+    for (size_t i = 0; i < n; ++i) want += p->spp_extra[i];
+    if (room <= 0.0) {
+        memset(p->spp_extra, 0, n * sizeof(int));
+        return;
+    }
+    double scale = want > 0.0 ? room / want : 0.0, carry = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double share = want > 0.0 ? scale * p->spp_extra[i] : room / (double)n;
+        double v = share + carry;
+        int k = (int)floor(v + 0.5);
+        if (k < 0) k = 0;
+        carry = v - k;
+        p->spp_extra[i] = k;
+    }
+}
+
+/* The samples the frame has so far. */
+static double frame_samples(const ReconPipeline *p)
+{
+    double have = 0.0;
+    for (size_t i = 0; i < pixel_count(p); ++i) have += p->g.frame.spp[i];
+    return have;
+}
+
+/* The extra samples per pixel: the plan's total minus what each pixel has. With a --spp
+ * budget the extras are scaled to make the frame's average exactly the budget. */
+static void extras_from_plan(ReconPipeline *p, int budget)
+{
+    size_t n = pixel_count(p);
+    const float *now = p->g.frame.spp;
+    for (size_t i = 0; i < n; ++i) {
+        int e = p->spp_total[i] - (int)now[i];
+        p->spp_extra[i] = e > 0 ? e : 0;
+    }
+    if (budget > 0) scale_extras(p, (double)budget * (double)n - frame_samples(p));
+}
+
+/* mu for a --spp budget without --mu: the plans' average grows with mu, so bisect log(mu). */
+static bool mu_for_budget(ReconPipeline *p, int budget, float *mu, Diag *d)
+{
+    float lo = BUDGET_MU_MIN, hi = BUDGET_MU_MAX;
+    double avg;
+    for (int it = 0; it < BUDGET_SEARCH_STEPS; ++it) {
+        float mid = sqrtf(lo * hi);
+        if (!plan_at(p, mid, &avg, d)) return false;
+        if (avg > budget) hi = mid;
+        else lo = mid;
+    }
+    *mu = lo;
+    return true;
+}
+
+/* ---- the OpenCL device, opened while the last pass traces ---- */
+
+typedef struct {
+    pthread_t thread;
+    bool started;
+    ReconPipeline *p;
+    ClRuntime *rt;
+    Diag diag;
+} DeviceOpener;
+
+static void *opener_main(void *arg)
+{
+    DeviceOpener *op = arg;
+    ReconPipeline *p = op->p;
+    op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
+    for (int s = 0; op->rt && s < p->slot_count; ++s)
+        if (p->slots[s].cls->open_device && !p->slots[s].cls->open_device(p->slots[s].m, op->rt, &op->diag)) {
+            cl_runtime_destroy(op->rt);
+            op->rt = NULL;
+        }
+    return NULL;
+}
+
+static void opener_start(DeviceOpener *op, ReconPipeline *p)
+{
+    memset(op, 0, sizeof *op);
+    op->p = p;
+    /* Creating the context and building the kernels takes 50-150 ms on PoCL: do it on a
+     * helper thread while the pass traces. */
+    op->started = pthread_create(&op->thread, NULL, opener_main, op) == 0;
+    if (!op->started) opener_main(op);
+}
+
+static bool opener_join(DeviceOpener *op, ReconPipeline *p, Diag *d)
+{
+    if (op->started) pthread_join(op->thread, NULL);
+    op->started = false;
+    if (!op->rt) {
+        if (d) *d = op->diag;
+        return false;
+    }
+    p->rt = op->rt;
+    return true;
+}
+
+/* Filters and composites the frame's samples into res.rgb. */
+static bool reconstruct(ReconPipeline *p, Diag *d)
+{
+    MethodSlot *sh = slot_for(p, EFFECT_SOFT_SHADOWS), *in = slot_for(p, EFFECT_INDIRECT);
+    const float *factor = NULL;
+    float factor_min = 0.0f;
+    if (sh && sh->cls->light_factor && !sh->cls->light_factor(sh->m, EFFECT_SOFT_SHADOWS, &factor, &factor_min, d))
+        return false;
+    float *direct4 = sh ? p->value_direct4 : NULL, *indirect4 = in ? p->value_indirect4 : NULL;
+    CompositeCounts inputs = composite_prepare(&p->g, factor, factor_min, direct4, indirect4);
+    p->res.guarded_events += inputs.guarded;
+
+    double kernel_s = 0.0;
+    if (direct4) {
+        if (!sh->cls->filter_light(sh->m, EFFECT_SOFT_SHADOWS, direct4, &kernel_s, d)) return false;
+        p->res.seconds_kernels += kernel_s;
+    }
+    if (indirect4) {
+        if (!in->cls->filter_light(in->m, EFFECT_INDIRECT, indirect4, &kernel_s, d)) return false;
+        p->res.seconds_kernels += kernel_s;
+    }
+    EffectMask camera = 0;
+    MethodSlot *cam = NULL;
+    for (int e = EFFECT_DEFOCUS; e <= EFFECT_MOTION; ++e) {
+        MethodSlot *s = slot_for(p, (Effect)e);
+        if (!s) continue;
+        camera |= EFFECT_BIT(e);
+        cam = s;
+    }
+    composite_image(&p->g, factor, direct4, indirect4, p->res.rgb, cam ? p->radiance4 : NULL);
+    /* one method filters the camera effects together (a second one, if the policy ever
+     * splits them, filters the first one's output) */
+    for (int s = 0; s < p->slot_count && camera; ++s) {
+        EffectMask mine = p->slots[s].effects & camera;
+        if (!mine) continue;
+        if (!p->slots[s].cls->filter_radiance(p->slots[s].m, mine, p->radiance4, &kernel_s, d)) return false;
+        p->res.seconds_kernels += kernel_s;
+    }
+    CompositeCounts out = composite_finish(p->res.rgb, cam ? p->radiance4 : NULL, pixel_count(p));
+    /* pixels whose means or whose filtered result were not finite (each set to 0) */
+    p->res.guarded_events += out.guarded;
+    p->res.nonfinite_pixels = inputs.bad_pixels + out.bad_pixels;
+    p->res.aov_count = 0;
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->aovs)
+            p->res.aov_count += p->slots[s].cls->aovs(p->slots[s].m, p->res.aovs + p->res.aov_count,
+                                                      RECON_AOV_MAX - p->res.aov_count);
+    return true;
+}
+
+/* The plain mean of the samples taken (Monte Carlo, or a cancelled render). */
+static bool plain_mean(ReconPipeline *p, Diag *d)
+{
+    size_t n = pixel_count(p);
+    if (!p->res.rgb && !(p->res.rgb = calloc(3 * n, sizeof(float)))) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d image", p->res.width, p->res.height);
+        return false;
+    }
+    /* pixels whose mean is not finite (frame_resolve3 sets them to 0): counted, reported */
+    const Frame *f = &p->g.frame;
+    p->res.nonfinite_pixels = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k)
+            if (f->spp[i] > 0.0f && !isfinite(f->color[3 * i + (size_t)k] / f->spp[i])) {
+                p->res.nonfinite_pixels++;
+                break;
+            }
+    p->res.guarded_events += frame_resolve3(f, f->color, p->res.rgb);
+    p->res.aov_count = 0;
+    memset(&p->res.choice, 0, sizeof p->res.choice);
+    for (int e = 0; e < EFFECT_COUNT; ++e) p->res.choice.reason[e] = p->choice.reason[e];
+    return true;
+}
+
+/* --filter none (or nothing to filter): one pass, no sink. */
+static bool render_plain(ReconPipeline *p, Diag *d)
+{
+    int w = renderer_width(p->r), h = renderer_height(p->r);
+    if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
+        return false;
+    }
+    p->g_ready = true;
+    int spp = p->opt.spp > 0 ? p->opt.spp : renderer_spp(p->r);
+    p->res.pass1_spp = spp;
+    renderer_set_record_ray_geometry(p->r, false);
+    p->spp_extra = calloc((size_t)w * (size_t)h, sizeof(int)); /* progressive steps' counts */
+    if (!p->spp_extra || (distributed(p) && !(p->spp_mine = malloc((size_t)w * (size_t)h * sizeof(int))))) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
+        return false;
+    }
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
+    if (!gather_pass(p, 0, &complete, d)) return false;
+    p->res.cancelled = !complete;
+    p->res.spp_avg = frame_spp_avg(&p->g.frame);
+    if (!plain_mean(p, d)) return false;
+    p->res.choice = p->choice;
+    p->res.steps = 1;
+    return true;
+}
+
+bool recon_pipeline_render(ReconPipeline *p, Diag *d)
+{
+    if (p->res.steps > 0) return recon_pipeline_step(p, 0.0, d);
+    if (!p->filtering) return render_plain(p, d);
+    double t0 = wall_seconds(), t_trace = 0.0;
+    if (!setup_filtered(p, d)) return false;
+    SampleSink sink = {fan_out, p};
+    bool geometry = false;
+    for (int s = 0; s < p->slot_count; ++s) geometry = geometry || (p->slots[s].cls->ray_geometry & p->slots[s].effects);
+
+    /* ---- pass 1 ---- */
+    begin_pass(p, 0, geometry);
+    double t = wall_seconds();
+    int pass1 = p->res.pass1_spp;
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
+    t_trace += wall_seconds() - t;
+    if (!gather_pass(p, 0, &complete, d)) return false;
+    DeviceOpener opener;
+    bool opened = false;
+    if (complete) {
+        /* ---- plans (rank 0) and pass 2 (adaptive methods) ---- */
+        float mu = p->opt.mu;
+        if (is_root(p)) {
+            gbuffer_resolve_guides(&p->g);
+            if (!p->fixed_only) {
+                double avg;
+                if (p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) return false;
+                if (!plan_at(p, mu, &avg, d)) return false;
+                extras_from_plan(p, p->opt.spp);
+            }
+            opener_start(&opener, p);
+            opened = true;
+        }
+        p->res.mu = mu > 0.0f ? mu : 0.0f;
+        if (!p->fixed_only) {
+            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d)) return false;
+            /* plans come from pass 1; pass 2 only refines the guides, without ray geometry,
+             * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
+             * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
+            begin_pass(p, 1, false);
+            t = wall_seconds();
+            complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
+            t_trace += wall_seconds() - t;
+            if (!gather_pass(p, 1, &complete, d)) {
+                if (opened) opener_join(&opener, p, NULL);
+                return false;
+            }
+        }
+    }
+    p->res.spp_avg = frame_spp_avg(&p->g.frame);
+    bool ok;
+    if (!is_root(p)) { /* another rank: its samples are on rank 0 now */
+        ok = true;
+        p->res.cancelled = !complete;
+        p->res.steps = complete ? 1 : 0;
+    } else if (!complete) { /* cancelled: the plain mean of what was taken */
+        p->res.cancelled = true;
+        if (opened) opener_join(&opener, p, NULL);
+        ok = plain_mean(p, d);
+    } else {
+        gbuffer_resolve_guides(&p->g);
+        ok = opener_join(&opener, p, d);
+        if (ok) {
+            snprintf(p->res.device, sizeof p->res.device, "%s", cl_runtime_device_label(p->rt));
+            ok = reconstruct(p, d);
+        }
+        if (ok) p->res.steps = 1;
+    }
+    p->res.seconds_filter = wall_seconds() - t0 - t_trace;
+    return ok;
+}
+
+bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
+{
+    if (p->res.steps == 0) return recon_pipeline_render(p, d);
+    if (p->res.cancelled) return true;
+    size_t n = pixel_count(p);
+    /* at the cap (less than one sample of room left): nothing to add */
+    if (spp_cap > 0.0 && frame_samples(p) + 1.0 > spp_cap * (double)n) return true;
+    double t0 = wall_seconds(), t_trace = 0.0;
+    int pass_slot = p->pass < 3 ? p->pass : 3; /* the byte counter of this pass */
+    if (!p->filtering) { /* Monte Carlo: double the samples (up to the cap) */
+        /* pass 1's count times 2^(steps - 1), bounded like any sample count */
+        int doublings = p->res.steps - 1 < 24 ? p->res.steps - 1 : 24;
+        double want = ldexp((double)p->res.pass1_spp, doublings);
+        int spp = want < (double)SCENE_SPP_MAX ? (int)want : SCENE_SPP_MAX;
+        for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
+        double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
+        if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
+        double t = wall_seconds();
+        bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
+        t_trace += wall_seconds() - t;
+        if (!gather_pass(p, pass_slot, &complete, d)) return false;
+        p->res.cancelled = !complete;
+        p->res.spp_avg = frame_spp_avg(&p->g.frame);
+        bool ok = plain_mean(p, d);
+        p->res.choice = p->choice;
+        p->res.steps += !p->res.cancelled;
+        p->res.seconds_filter += wall_seconds() - t0 - t_trace;
+        return ok;
+    }
+    /* each step doubles mu: the filters narrow and the plans (rank 0's) ask for more samples */
+    float mu = (p->res.mu > 0.0f ? p->res.mu : STEP_MU_START) * 2.0f;
+    if (is_root(p)) {
+        if (!p->fixed_only) {
+            double avg;
+            if (!plan_at(p, mu, &avg, d)) return false;
+            extras_from_plan(p, 0);
+        }
+        /* every pixel gets at least pass 1's count more, so that the step always adds samples */
+        double want = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            if (p->fixed_only) p->spp_extra[i] = 0;
+            if (p->spp_extra[i] < p->res.pass1_spp) p->spp_extra[i] = p->res.pass1_spp;
+            want += p->spp_extra[i];
+        }
+        /* ... but not past the cap: the plan scaled down to what is left */
+        if (spp_cap > 0.0) {
+            double room = floor(spp_cap * (double)n - frame_samples(p));
+            if (room < want) scale_extras(p, room);
+        }
+    }
+    if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d)) return false;
+    p->res.mu = mu;
+    SampleSink sink = {fan_out, p};
+    begin_pass(p, p->pass, false);
+    double t = wall_seconds();
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);
+    t_trace += wall_seconds() - t;
+    if (!gather_pass(p, pass_slot, &complete, d)) return false;
+    p->res.spp_avg = frame_spp_avg(&p->g.frame);
+    bool ok;
+    if (!is_root(p)) {
+        ok = true;
+        p->res.steps += complete;
+        p->res.cancelled = !complete;
+    } else if (!complete) {
+        p->res.cancelled = true;
+        ok = plain_mean(p, d);
+    } else {
+        gbuffer_resolve_guides(&p->g);
+        ok = reconstruct(p, d);
+        if (ok) p->res.steps++;
+    }
+    p->res.seconds_filter += wall_seconds() - t0 - t_trace;
+    return ok;
+}

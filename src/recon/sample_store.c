@@ -1,0 +1,181 @@
+/* The per-sample store (see sample_store.h). */
+#include "recon/sample_store.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/zalloc.h"
+
+static const struct {
+    unsigned bit;
+    int components;
+    const char *name;
+} FIELDS[SAMPLE_FIELD_COUNT_] = {
+    {SAMPLE_FIELD_FILM, 2, "film"},         {SAMPLE_FIELD_LENS, 2, "lens"},
+    {SAMPLE_FIELD_TIME, 1, "time"},         {SAMPLE_FIELD_DEPTH, 1, "depth"},
+    {SAMPLE_FIELD_RADIANCE, 3, "radiance"}, {SAMPLE_FIELD_DIRECT, 3, "direct"},
+    {SAMPLE_FIELD_INDIRECT, 3, "indirect"}, {SAMPLE_FIELD_POSITION, 3, "position"},
+    {SAMPLE_FIELD_NORMAL, 3, "normal"},     {SAMPLE_FIELD_LIGHT, 5, "light"},
+    {SAMPLE_FIELD_BOUNCE, 4, "bounce"},
+};
+
+struct SampleStore {
+    unsigned fields;
+    int width, height, capacity;
+    int *count;                       /* per pixel */
+    float *field[SAMPLE_FIELD_COUNT_];
+    long long dropped;                /* atomic */
+};
+
+int sample_field_components(unsigned field)
+{
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f)
+        if (FIELDS[f].bit == field) return FIELDS[f].components;
+    return 0;
+}
+
+const char *sample_field_name(unsigned field)
+{
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f)
+        if (FIELDS[f].bit == field) return FIELDS[f].name;
+    return "?";
+}
+
+size_t sample_store_bytes(unsigned fields, int width, int height, int capacity)
+{
+    if (width <= 0 || height <= 0 || capacity < 0) return SIZE_MAX;
+    size_t pixels = (size_t)width * (size_t)height, floats = 0;
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f)
+        if (fields & FIELDS[f].bit) floats += (size_t)FIELDS[f].components;
+    if (pixels > SIZE_MAX / sizeof(int)) return SIZE_MAX;
+    size_t per_pixel = floats * sizeof(float);
+    if (capacity > 0 && per_pixel > SIZE_MAX / (size_t)capacity) return SIZE_MAX;
+    per_pixel *= (size_t)capacity;
+    if (pixels > (SIZE_MAX - pixels * sizeof(int)) / (per_pixel ? per_pixel : 1)) return SIZE_MAX;
+    return pixels * sizeof(int) + pixels * per_pixel;
+}
+
+size_t sample_store_default_limit(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || page <= 0) return (size_t)4 << 30; /* unknown: 4 GiB */
+    return (size_t)pages / 2 * (size_t)page;
+}
+
+bool sample_store_create(unsigned fields, int width, int height, int capacity, size_t mem_limit,
+                         SampleStore **out, Diag *d)
+{
+    *out = NULL;
+    size_t bytes = sample_store_bytes(fields, width, height, capacity);
+    if (bytes == SIZE_MAX || bytes > mem_limit) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
+                 "the per-sample store for %dx%d pixels at %d samples per pixel needs %.2f GiB, over the memory "
+                 "limit of %.2f GiB: lower --res or --spp, raise --mem-limit, or choose a filter that keeps "
+                 "per-pixel sums (--filter aaf)",
+                 width, height, capacity, bytes == SIZE_MAX ? INFINITY : (double)bytes / (1u << 30),
+                 (double)mem_limit / (1u << 30));
+        return false;
+    }
+    SampleStore *s = calloc(1, sizeof *s);
+    size_t pixels = (size_t)width * (size_t)height;
+    bool ok = s && (s->count = zalloc(pixels, sizeof(int))) != NULL;
+    for (int f = 0; ok && f < SAMPLE_FIELD_COUNT_; ++f)
+        if (fields & FIELDS[f].bit)
+            ok = (s->field[f] = malloc(pixels * (size_t)capacity * (size_t)FIELDS[f].components * sizeof(float) + 1)) != NULL;
+    if (!ok) {
+        sample_store_destroy(s);
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the per-sample store (%.2f GiB)",
+                 (double)bytes / (1u << 30));
+        return false;
+    }
+    s->fields = fields;
+    s->width = width;
+    s->height = height;
+    s->capacity = capacity;
+    *out = s;
+    return true;
+}
+
+void sample_store_destroy(SampleStore *s)
+{
+    if (!s) return;
+    free(s->count);
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f) free(s->field[f]);
+    free(s);
+}
+
+static void put3(float *dst, vec3 v)
+{
+    dst[0] = v.x, dst[1] = v.y, dst[2] = v.z;
+}
+
+void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
+{
+    SampleStore *s = ctx;
+    if (px < 0 || py < 0 || px >= s->width || py >= s->height) return;
+    size_t i = (size_t)py * (size_t)s->width + (size_t)px;
+    int k = s->count[i];
+    if (k >= s->capacity) {
+        __atomic_add_fetch(&s->dropped, 1, __ATOMIC_RELAXED);
+        return;
+    }
+    s->count[i] = k + 1;
+    size_t j = i * (size_t)s->capacity + (size_t)k;
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f) {
+        float *dst = s->field[f];
+        if (!dst) continue;
+        dst += j * (size_t)FIELDS[f].components;
+        switch (FIELDS[f].bit) {
+        case SAMPLE_FIELD_FILM: dst[0] = r->px_raster, dst[1] = r->py_raster; break;
+        case SAMPLE_FIELD_LENS: dst[0] = r->lens_u, dst[1] = r->lens_v; break;
+        case SAMPLE_FIELD_TIME: dst[0] = r->time; break;
+        case SAMPLE_FIELD_DEPTH: dst[0] = r->hit ? r->depth_cam : INFINITY; break;
+        case SAMPLE_FIELD_RADIANCE: put3(dst, r->L); break;
+        case SAMPLE_FIELD_DIRECT: put3(dst, r->direct); break;
+        case SAMPLE_FIELD_INDIRECT: put3(dst, r->indirect); break;
+        case SAMPLE_FIELD_POSITION: put3(dst, r->p_world); break;
+        case SAMPLE_FIELD_NORMAL: put3(dst, r->n_shading); break;
+        case SAMPLE_FIELD_LIGHT:
+            if (r->shadow_count > 0) {
+                put3(dst, r->shadow[0].light_p_world);
+                dst[3] = r->shadow[0].d_light_world, dst[4] = r->shadow[0].d_occluder_world;
+            } else {
+                dst[0] = dst[1] = dst[2] = dst[3] = 0.0f, dst[4] = INFINITY;
+            }
+            break;
+        case SAMPLE_FIELD_BOUNCE:
+            if (r->bounce_count > 0) {
+                put3(dst, r->bounce[0].dir_world);
+                dst[3] = r->bounce[0].d_hit_world;
+            } else {
+                dst[0] = dst[1] = dst[2] = 0.0f, dst[3] = INFINITY;
+            }
+            break;
+        }
+    }
+}
+
+int sample_store_arrays(SampleStore *s, DistArray *out, int max)
+{
+    int n = 0;
+    if (n < max) out[n++] = (DistArray){s->count, sizeof(int)};
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_ && n < max; ++f)
+        if (s->field[f])
+            out[n++] = (DistArray){s->field[f], (size_t)s->capacity * (size_t)FIELDS[f].components * sizeof(float)};
+    return n;
+}
+
+unsigned sample_store_fields(const SampleStore *s) { return s->fields; }
+int sample_store_capacity(const SampleStore *s) { return s->capacity; }
+int sample_store_count(const SampleStore *s, size_t i) { return s->count[i]; }
+long long sample_store_dropped(const SampleStore *s) { return __atomic_load_n(&s->dropped, __ATOMIC_RELAXED); }
+
+const float *sample_store_field(const SampleStore *s, unsigned field)
+{
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f)
+        if (FIELDS[f].bit == field) return s->field[f];
+    return NULL;
+}

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# One policy (recon/select.c) read by `wedge info` and `wedge render`: on every bench scene,
+# the default scene and (when ../shared is present) the killeroo scenes, `wedge info --json`
+# and the run report name the same method for every effect, for each --filter value; the
+# report's effects are info's; `wedge info --filters --json` lists the registered methods.
+set -u
+if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+src=${WEDGE_SOURCE_DIR:-../..}
+fail=0
+scenes=("$src"/scenes/bench/*.pbrt "$src/scenes/default.pbrt")
+for k in killeroo-simple killeroo-moving; do
+    f="$src/../shared/pbrt-v4-scenes/killeroos/$k.pbrt"
+    [ -f "$f" ] && scenes+=("$f")
+done
+for scene in "${scenes[@]}"; do
+    for filter in auto aaf none; do
+        name=$(basename "$scene" .pbrt)-$filter
+        "$WEDGE" info "$scene" --json --filter "$filter" > "$T/$name-info.json" || { echo "FAIL: info $name"; fail=1; continue; }
+        args=(--res 12x9 --spp 1)
+        [ "$filter" = none ] || args=(--res 12x9 --mu 0.5)
+        "$WEDGE" render "$scene" --filter "$filter" "${args[@]}" --threads 2 -o "$T/$name.exr" \
+            --report "$T/$name.json" --quiet || { echo "FAIL: render $name"; fail=1; continue; }
+        python3 - "$T/$name-info.json" "$T/$name.json" "$name" <<'PY' || fail=1
+import json, sys
+info, rep, name = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), sys.argv[3]
+effects = [e for e, on in rep["effects"].items() if on]
+ok = info["filters"] == rep["filters"] and sorted(info["effects"]) == sorted(effects) \
+    and set(info["reasons"]) == set(info["effects"])
+if not ok:
+    print("FAIL: %s: info %s / %s, report %s / %s" % (name, info["effects"], info["filters"], effects, rep["filters"]))
+    sys.exit(1)
+print("%s: %s" % (name, rep["filters"]))
+PY
+    done
+done
+"$WEDGE" info --filters --json > "$T/methods.json" || fail=1
+python3 - "$T/methods.json" <<'PY' || fail=1
+import json, sys
+m = {x["name"]: x for x in json.load(open(sys.argv[1]))["methods"]}
+a = m.get("aaf")
+if not a or a["effects"] != ["soft_shadows", "defocus", "indirect"] or a["sampling"] != "adaptive" \
+        or a["storage"] != "per-pixel":
+    print("FAIL: wedge info --filters --json: %s" % m); sys.exit(1)
+PY
+exit $fail

@@ -1,0 +1,35 @@
+/* What the reconstruction tests share: small scenes and the benchmarks' error measure. */
+#ifndef WEDGE_TESTS_RECON_TEST_UTIL_H
+#define WEDGE_TESTS_RECON_TEST_UTIL_H
+
+#include <stddef.h>
+
+/* An area light above a floor and a square occluder 1 unit above the floor: penumbrae and a
+ * small umbra in view. Direct light only. */
+static const char *const SHADOW_SCENE =
+    "LookAt -1.5 2.5 -1.5   0.8 0 0.3   0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 30 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 40 ] \"integer yresolution\" [ 40 ] \"string filename\" [ \"t.exr\" ]\n"
+    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+    "WorldBegin\n"
+    "AttributeBegin\n"
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 8 8 8 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -0.8 4 -0.8  0.8 4 -0.8  0.8 4 0.8  -0.8 4 0.8 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "AttributeEnd\n"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ 0.3 1 -0.3  0.9 1 -0.3  0.9 1 0.3  0.3 1 0.3 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n";
+
+/* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */
+static inline double rel_mse(const float *img, const float *ref, size_t n3)
+{
+    double s = 0;
+    for (size_t i = 0; i < n3; ++i) {
+        double e = (double)img[i] - ref[i];
+        s += e * e / ((double)ref[i] * ref[i] + 0.01);
+    }
+    return s / (double)n3;
+}
+
+#endif
