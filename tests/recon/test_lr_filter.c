@@ -74,7 +74,7 @@ static void test_neither_is_pixel_filter(const LrFilterConfig *cfg)
  * eq. 8 warp S (primal precision = Fourier covariance S S^T, angular frequencies). */
 static int check_x_only(const LrFilterConfig *cfg, LrSlopes s, unsigned *seed)
 {
-    LrFilter f = lr_filter_make(&s, cfg);
+    LrFilter f = lr_filter_make_paper(&s, cfg);
     double S[3][3];
     lr_filter_warp(&s, cfg, S);
     for (int k = 0; k < 20; ++k) {
@@ -135,6 +135,44 @@ static void test_layer_blur(const LrFilterConfig *cfg)
     }
 }
 
+/* The blur at slopes (c, d): v^T Sigma v with v = (1, c, d) and Sigma the primal filter's
+ * covariance in x-only form; a flat dimension counts only if its coefficient is 0. */
+static double blur_var(const LrFilter *f, double c, double d)
+{
+    double sx = 1 / f->inv_sigma_x_px, a = c + f->eta_px, b = d + f->xi_px, v = sx * sx;
+    if (f->inv_sigma_u > 0) v += a * a / ((double)f->inv_sigma_u * f->inv_sigma_u);
+    else if (fabs(a) > 1e-5) return INFINITY;
+    if (f->inv_sigma_t > 0) v += b * b / ((double)f->inv_sigma_t * f->inv_sigma_t);
+    else if (fabs(b) > 1e-5) return INFINITY;
+    return v;
+}
+
+/* complete_bands (docs 8.3): at the layer's central slopes the filter gives both blurs, the
+ * Gaussian aperture's c^2 sigma_a^2 and the Gaussian shutter's d^2 sigma_shutter^2, in every
+ * case (the paper's case U alone gives only the first, case T only the second). Slopes kept
+ * small enough that no clamp applies. */
+static void test_both_blurs(const LrFilterConfig *cfg)
+{
+    double sa2 = (double)cfg->sigma_lens * cfg->sigma_lens, st2 = (double)cfg->sigma_shutter * cfg->sigma_shutter;
+    struct { float c0, c1, d0, d1; LrClip clip; } cases[] = {
+        {3, 3, 2, 2, LR_CLIP_U}, {3, 4, 1.5f, 2.5f, LR_CLIP_U}, {-5, -4, 0.5f, 0.7f, LR_CLIP_U},
+        {0.5f, 0.5f, 6, 6, LR_CLIP_T}, {0.4f, 0.6f, 5, 7, LR_CLIP_T}, {0.05f, 0.1f, 0.2f, 0.3f, LR_CLIP_X},
+    };
+    for (unsigned i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        LrSlopes s = {cases[i].c0, cases[i].c1, cases[i].d0, cases[i].d1};
+        LrFilter f = lr_filter_make(&s, cfg);
+        CHECK(f.clip_x == cases[i].clip && !f.clamped);
+        double c = s.c_min_px, d = s.d_min_px, c1 = s.c_max_px, d1 = s.d_max_px;
+        /* central slopes: the harmonic mean in the clipping dimension, the mean in the other */
+        double cc = f.clip_x == LR_CLIP_U ? 2 / (1 / c + 1 / c1) : 0.5 * (c + c1);
+        double dc = f.clip_x == LR_CLIP_T ? 2 / (1 / d + 1 / d1) : 0.5 * (d + d1);
+        double want = cc * cc * sa2 + dc * dc * st2;
+        if (f.clip_x == LR_CLIP_X) want += (double)cfg->sigma_pixel_px * cfg->sigma_pixel_px;
+        CHECK(rel(blur_var(&f, cc, dc), want) < 1e-4);
+        if (!(rel(blur_var(&f, cc, dc), want) < 1e-4)) fprintf(stderr, "case %u: blur %g want %g\n", i, blur_var(&f, cc, dc), want);
+    }
+}
+
 /* Finite output for degenerate and extreme input (no NaN reaches the kernels). */
 static void test_finite(const LrFilterConfig *cfg)
 {
@@ -158,6 +196,7 @@ int main(void)
     test_neither_is_pixel_filter(&cfg);
     test_x_only_rewrite(&cfg);
     test_layer_blur(&cfg);
+    test_both_blurs(&cfg);
     test_finite(&cfg);
     CHECK_DONE();
 }

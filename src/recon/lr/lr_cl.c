@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "recon/cl_runtime_internal.h"
+#include "recon/cl/cl_runtime_internal.h"
 
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12, CH = 5 }; /* as in lr.cl */
 

@@ -5,7 +5,7 @@
 #define WEDGE_RECON_LR_CL_H
 
 #include "core/diag.h"
-#include "recon/cl_runtime.h"
+#include "recon/cl/cl_runtime.h"
 #include "recon/lr/lr_reconstruct.h"
 
 typedef struct LrCl LrCl;

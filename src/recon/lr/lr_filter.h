@@ -19,7 +19,8 @@ typedef enum { LR_CLIP_X = 0, LR_CLIP_U = 1, LR_CLIP_T = 2 } LrClip;
 
 typedef struct {
     float sigma_pixel_px; /* the pixel's band limit, as a primal Gaussian (LR: 1/3 px) */
-    float sigma_lens;     /* the aperture, unit-disk lens units (LR: sigma_a = 1/3) */
+    float sigma_lens;     /* the aperture, unit-disk lens units (LR: sigma_a = 1/3; ours 1/2,
+                           * the renderer's uniform disk's per-axis std) */
     float sigma_shutter;  /* the shutter, in units of the shutter interval t in [0, 1]
                            * (LR: 2/3 on their shutter [-1, 1], i.e. 1/3 here) */
     float sigma_clamp_px; /* largest primal screen sigma: (N_s - N) / 4 (LR Appendix C) */
@@ -50,7 +51,14 @@ typedef struct {
     float inv_sigma_v;     /* 1/sigma_v */
 } LrFilter;
 
-/* Appendix B + C: the filter of one partition. Never produces NaN or Inf for finite input. */
+/* Appendix B + C as the paper has them: the filter of one partition. Its blur at the
+ * layer's central slopes is only the band it was clipped by (the aperture's in case U, the
+ * shutter's in case T, docs/algorithms.md 8.3). */
+LrFilter lr_filter_make_paper(const LrSlopes *s, const LrFilterConfig *cfg);
+
+/* What LR uses: lr_filter_make_paper convolved with the Gaussian aperture and shutter it does
+ * not already contain (both blurs at the central slopes), the excess over sigma_clamp taken
+ * back by reprojecting less (docs 8.4). Never produces NaN or Inf for finite input. */
 LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg);
 
 /* The Fourier-domain warp of eq. 8 (the case's scale then two shears, in the order
