@@ -39,30 +39,12 @@ static const char *const SCENE =
     "  Shape \"sphere\" \"float radius\" [ 0.5 ]\n"
     "AttributeEnd\n";
 
-static bool make(unsigned seed, int spp, SceneDesc *scene, Renderer **r)
-{
-    Diag d = {0};
-    if (!scene_parse_string(SCENE, strlen(SCENE), "<test>", NULL, scene, &d)) return false;
-    scene_analyze_effects(scene);
-    RenderOptions ro;
-    memset(&ro, 0, sizeof ro);
-    ro.seed = seed;
-    ro.spp = spp;
-    ro.threads = 2;
-    if (!renderer_create(scene, &ro, r, &d)) {
-        fprintf(stderr, "%s\n", d.message);
-        scene_desc_free(scene);
-        return false;
-    }
-    return true;
-}
-
 /* One render through the pipeline; returns a copy of the image and checks the result. */
 static float *render(const char *filter, unsigned seed, int spp, bool lr_checks)
 {
     SceneDesc scene;
     Renderer *r;
-    if (!make(seed, spp, &scene, &r)) return NULL;
+    if (!recon_test_renderer(SCENE, seed, spp, false, &scene, &r)) return NULL;
     ReconOptions o = {.filter = filter, .spp = spp};
     ReconPipeline *p = NULL;
     Diag d = {0};

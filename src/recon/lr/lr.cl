@@ -91,6 +91,21 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             }
 }
 
+/* One 1D Gaussian pass of Algorithm 2 at window cell (ix, iy): the cells at k (dx, dy),
+ * k in [-r, r], nearest pixel, weighted by exp(-(k inv_sigma)^2 / 2), summed into acc. */
+static void lr_pass_sum(__global const float *g, int ww, int wh, int ix, int iy, float dx, float dy, int r,
+                        float inv_sigma, float *acc)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    for (int c = 0; c < LR_CH; ++c) acc[c] = 0.0f;
+    for (int k = -r; k <= r; ++k) {
+        int jx = ix + (int)floor((float)k * dx + 0.5f), jy = iy + (int)floor((float)k * dy + 0.5f);
+        if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
+        float a = (float)k * inv_sigma, wk = exp(-0.5f * a * a);
+        for (int c = 0; c < LR_CH; ++c) acc[c] += wk * g[(jy * ww + jx) * LR_CH + c];
+    }
+}
+
 /* Algorithm 2, first pass: along the layer's motion, every window cell. */
 __kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int max_layers,
                        __global const int *tile_layers, __global const float *params, __global const float *grid,
@@ -106,15 +121,8 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
     int ix = cell % ww, iy = cell / ww;
     __global const float *lp = params + id * LR_LP_STRIDE;
     __global const float *g = grid + (size_t)id * window_px * window_px * LR_CH;
-    float cp = lp[0], sp = lp[1], isx = lp[2];
-    int rx = (int)lp[10];
-    float acc[LR_CH] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    for (int k = -rx; k <= rx; ++k) {
-        int jx = ix + (int)floor((float)k * cp + 0.5f), jy = iy + (int)floor((float)k * sp + 0.5f);
-        if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-        float a = (float)k * isx, wk = exp(-0.5f * a * a);
-        for (int c = 0; c < LR_CH; ++c) acc[c] += wk * g[(jy * ww + jx) * LR_CH + c];
-    }
+    float acc[LR_CH];
+    lr_pass_sum(g, ww, wh, ix, iy, lp[0], lp[1], (int)lp[10], lp[2], acc); /* along (cos psi, sin psi) */
     __global float *o = pass1 + (size_t)id * window_px * window_px * LR_CH + (iy * ww + ix) * LR_CH;
     for (int c = 0; c < LR_CH; ++c) o[c] = acc[c];
 }
@@ -137,15 +145,8 @@ __kernel void lr_across_composite(int width, int height, int tile_px, int window
         int id = tile * max_layers + j;
         __global const float *lp = params + id * LR_LP_STRIDE;
         __global const float *p1 = pass1 + (size_t)id * window_px * window_px * LR_CH;
-        float cp = lp[0], sp = lp[1], isy = lp[7];
-        int ry = (int)lp[11];
-        float acc[LR_CH] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-        for (int k = -ry; k <= ry; ++k) {
-            int jx = ix + (int)floor(-(float)k * sp + 0.5f), jy = iy + (int)floor((float)k * cp + 0.5f);
-            if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-            float a = (float)k * isy, wk = exp(-0.5f * a * a);
-            for (int c = 0; c < LR_CH; ++c) acc[c] += wk * p1[(jy * ww + jx) * LR_CH + c];
-        }
+        float acc[LR_CH];
+        lr_pass_sum(p1, ww, wh, ix, iy, -lp[1], lp[0], (int)lp[11], lp[7], acc); /* across: (-sin, cos) */
         if (!(acc[1] > 0.0f)) continue;
         float alpha = acc[0] / acc[1];
         for (int c = 0; c < 3; ++c) out[c] += trans * acc[2 + c] / acc[1];
