@@ -58,7 +58,8 @@ static bool lr_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     }
     if (!m || !m->layers || !m->extent_px || !s->store) {
         lr_destroy(m);
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for LR buffers");
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
+                 s->store ? "out of memory for LR buffers" : "LR needs the per-sample store (none was given)");
         return false;
     }
     m->g = s->gbuffer;
