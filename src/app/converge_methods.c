@@ -14,6 +14,11 @@ static const ConvergeMethod methods[] = {
      "axis-aligned filtering (papers 001, 002) of every effect the scene has"},
     {"aaf-ld", {"--sampler", "sobol", "--filter", "aaf", NULL}, true,
      "axis-aligned filtering with Owen-scrambled Sobol' samples"},
+    /* fixed-count filters: --spp is the samples per pixel they take */
+    {"lr", {"--sampler", "stratified", "--filter", "lr", NULL}, false,
+     "layered reconstruction (paper 004) of defocus and motion blur"},
+    {"lr-ld", {"--sampler", "sobol", "--filter", "lr", NULL}, false,
+     "layered reconstruction with Owen-scrambled Sobol' samples"},
 };
 
 /* Both Monte Carlo methods are baselines: at equal error the faster sampler differs with spp

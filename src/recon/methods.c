@@ -5,9 +5,11 @@
 #include "recon/method.h"
 
 extern const ReconMethodClass recon_method_aaf; /* recon/aaf/aaf_method.c */
+extern const ReconMethodClass recon_method_lr;  /* recon/lr/lr_method.c */
 
 const ReconMethodClass *const recon_methods[] = {
     &recon_method_aaf,
+    &recon_method_lr,
     NULL,
 };
 

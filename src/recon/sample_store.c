@@ -19,7 +19,7 @@ static const struct {
     {SAMPLE_FIELD_RADIANCE, 3, "radiance"}, {SAMPLE_FIELD_DIRECT, 3, "direct"},
     {SAMPLE_FIELD_INDIRECT, 3, "indirect"}, {SAMPLE_FIELD_POSITION, 3, "position"},
     {SAMPLE_FIELD_NORMAL, 3, "normal"},     {SAMPLE_FIELD_LIGHT, 5, "light"},
-    {SAMPLE_FIELD_BOUNCE, 4, "bounce"},
+    {SAMPLE_FIELD_BOUNCE, 4, "bounce"},     {SAMPLE_FIELD_MOTION, 2, "motion"},
 };
 
 struct SampleStore {
@@ -146,6 +146,7 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
                 dst[0] = dst[1] = dst[2] = dst[3] = 0.0f, dst[4] = INFINITY;
             }
             break;
+        case SAMPLE_FIELD_MOTION: dst[0] = r->motion_px[0], dst[1] = r->motion_px[1]; break;
         case SAMPLE_FIELD_BOUNCE:
             if (r->bounce_count > 0) {
                 put3(dst, r->bounce[0].dir_world);

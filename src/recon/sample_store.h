@@ -32,7 +32,8 @@ enum {
     SAMPLE_FIELD_LIGHT = 1u << 9,     /* the shadow ray's light point (world), d_light, d_occluder
                                        * (world, +inf when unoccluded); needs ray geometry */
     SAMPLE_FIELD_BOUNCE = 1u << 10,   /* the bounce ray's direction and hit distance; needs ray geometry */
-    SAMPLE_FIELD_COUNT_ = 11
+    SAMPLE_FIELD_MOTION = 1u << 11,   /* screen velocity of the first hit (px per unit shutter time) */
+    SAMPLE_FIELD_COUNT_ = 12
 };
 
 typedef struct SampleStore SampleStore;

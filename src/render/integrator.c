@@ -295,9 +295,35 @@ static inline void record_reset(SampleRecord *rec)
     rec->p_world = rec->n_shading = zero;
     rec->depth_cam = INFINITY;
     rec->object_id = -1;
+    rec->motion_px[0] = rec->motion_px[1] = 0.0f;
     rec->shadow_count = rec->bounce_count = 0;
     rec->shadow[0] = (ShadowRayRecord){0};
     rec->bounce[0] = (BounceRayRecord){0};
+}
+
+/* The first hit's screen velocity (SampleRecord.motion_px, for LR): its point in its
+ * instance's space, placed by the instance's transform and projected by the camera at shutter
+ * open and at shutter close. The chord over the shutter: exact for linear motion, the mean
+ * velocity for rotation. Points behind the camera at either end get 0. */
+static void first_hit_motion(const IntegratorScene *sc, const SurfaceHit *h, float time01, float motion_px[2])
+{
+    motion_px[0] = motion_px[1] = 0.0f;
+    if (!sc->sample_time) return;
+    float t0 = shutter_time01(sc, 0.0f), t1 = shutter_time01(sc, 1.0f);
+    vec3 p0 = h->p, p1 = h->p;
+    if (h->instance >= 0 && sc->tracer->instances[h->instance].moving) {
+        Mat4 wfi = tracer_world_from_instance(sc->tracer, h->instance, time01), ifw;
+        if (!mat4_inverse(&wfi, &ifw)) return;
+        vec3 p_inst = mat4_apply_point(&ifw, h->p);
+        Mat4 w0 = tracer_world_from_instance(sc->tracer, h->instance, t0);
+        Mat4 w1 = tracer_world_from_instance(sc->tracer, h->instance, t1);
+        p0 = mat4_apply_point(&w0, p_inst);
+        p1 = mat4_apply_point(&w1, p_inst);
+    }
+    float x0, y0, x1, y1;
+    if (!camera_project(sc->camera, p0, t0, &x0, &y0) || !camera_project(sc->camera, p1, t1, &x1, &y1)) return;
+    float mx = x1 - x0, my = y1 - y0;
+    if (isfinite(mx) && isfinite(my)) motion_px[0] = mx, motion_px[1] = my;
 }
 
 void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px, int py, SampleRecord *rec,
@@ -345,6 +371,7 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
     rec->n_shading = v3_dot(h.ns, v.wo) < 0.0f ? v3_neg(h.ns) : h.ns; /* towards the camera, any material */
     rec->object_id = h.object_id;
     rec->depth_cam = camera_depth(sc->camera, h.p, time01);
+    first_hit_motion(sc, &h, time01, rec->motion_px);
     if (h.light >= 0) rec->emission = guard3(area_light_L(sc->lights, h.light, &h, v.wo), st);
 
     const LightSet *L = sc->lights;

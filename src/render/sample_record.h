@@ -63,6 +63,11 @@ typedef struct {
     vec3 n_shading;               /* unit shading normal, facing the camera ray's origin side */
     float depth_cam;              /* camera-space z of the first hit (world units), +INFINITY on a miss */
     int object_id;                /* per top-level shape or per instance; -1 on a miss */
+    float motion_px[2];           /* screen velocity of the first hit, raster pixels per unit
+                                   * shutter time (the film moves from shutter open to close):
+                                   * the hit's object-space point carried by its animated
+                                   * transform and seen by the (possibly moving) camera at
+                                   * shutter open and close; 0 on a miss or without motion */
 
     /* raw ray geometry (only with RenderOptions.record_ray_geometry) */
     int shadow_count;             /* shadow rays to area lights recorded from the first hit */

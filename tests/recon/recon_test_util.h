@@ -2,7 +2,13 @@
 #ifndef WEDGE_TESTS_RECON_TEST_UTIL_H
 #define WEDGE_TESTS_RECON_TEST_UTIL_H
 
+#include <stdbool.h>
 #include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "render/renderer.h"
+#include "scene/scene_desc.h"
 
 /* An area light above a floor and a square occluder 1 unit above the floor: penumbrae and a
  * small umbra in view. Direct light only. */
@@ -20,6 +26,31 @@ static const char *const SHADOW_SCENE =
     "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
     "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
     "Shape \"trianglemesh\" \"point3 P\" [ 0.3 1 -0.3  0.9 1 -0.3  0.9 1 0.3  0.3 1 0.3 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n";
+
+/* A renderer for a scene given as text (2 threads, the seed and spp given); false with the
+ * message on stderr. Free with renderer_destroy and scene_desc_free. */
+static inline bool recon_test_renderer(const char *text, unsigned seed, int spp, bool ray_geometry, SceneDesc *scene,
+                                       Renderer **r)
+{
+    Diag d = {0};
+    if (!scene_parse_string(text, strlen(text), "<test>", NULL, scene, &d)) {
+        fprintf(stderr, "%s\n", d.message);
+        return false;
+    }
+    scene_analyze_effects(scene);
+    RenderOptions ro;
+    memset(&ro, 0, sizeof ro);
+    ro.seed = seed;
+    ro.spp = spp;
+    ro.threads = 2;
+    ro.record_ray_geometry = ray_geometry;
+    if (!renderer_create(scene, &ro, r, &d)) {
+        fprintf(stderr, "%s\n", d.message);
+        scene_desc_free(scene);
+        return false;
+    }
+    return true;
+}
 
 /* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */
 static inline double rel_mse(const float *img, const float *ref, size_t n3)

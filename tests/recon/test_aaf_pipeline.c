@@ -123,33 +123,12 @@ static const char *MOTION_SCENE =
     "  Shape \"sphere\" \"float radius\" [ 0.35 ]\n"
     "AttributeEnd\n";
 
-static bool make_renderer(const char *text, unsigned seed, int spp, SceneDesc *scene, Renderer **r)
-{
-    Diag d = {0};
-    if (!scene_parse_string(text, strlen(text), "<test>", NULL, scene, &d)) {
-        fprintf(stderr, "%s\n", d.message);
-        return false;
-    }
-    scene_analyze_effects(scene);
-    RenderOptions ro;
-    memset(&ro, 0, sizeof ro);
-    ro.seed = seed;
-    ro.spp = spp;
-    ro.threads = 2;
-    if (!renderer_create(scene, &ro, r, &d)) {
-        fprintf(stderr, "%s\n", d.message);
-        scene_desc_free(scene);
-        return false;
-    }
-    return true;
-}
-
 /* Plain Monte Carlo image (mean colour), 3 floats per pixel. */
 static float *render_mc(const char *text, unsigned seed, int spp, int *w, int *h)
 {
     SceneDesc scene;
     Renderer *r;
-    if (!make_renderer(text, seed, spp, &scene, &r)) return NULL;
+    if (!recon_test_renderer(text, seed, spp, false, &scene, &r)) return NULL;
     *w = renderer_width(r);
     *h = renderer_height(r);
     Frame f;
@@ -183,7 +162,7 @@ static void run_free(Run *run)
 static bool render_filtered(const char *text, unsigned seed, float mu, int spp_budget, Run *run)
 {
     memset(run, 0, sizeof *run);
-    if (!make_renderer(text, seed, 16, &run->scene, &run->r)) return false;
+    if (!recon_test_renderer(text, seed, 16, false, &run->scene, &run->r)) return false;
     ReconOptions o = {.filter = "aaf", .mu = mu, .spp = spp_budget};
     Diag d = {0};
     bool ok = recon_pipeline_create(run->r, &o, &run->p, &d) && recon_pipeline_render(run->p, &d);

@@ -1,0 +1,274 @@
+/* LR eqs. 8-14 and Appendices B, C; derivation in docs/algorithms.md ("Layered
+ * reconstruction", 8.2-8.4). All frequencies are angular (band limit 1/sigma, not the
+ * paper's 1/(2 pi sigma); the paper's 2 pi factors cancel against that). */
+#include "recon/lr/lr_filter.h"
+
+#include <math.h>
+
+LrFilterConfig lr_filter_config_default(void)
+{
+    LrFilterConfig c;
+    c.sigma_pixel_px = 1.0f / 3.0f;
+    /* LR uses 1/3 against a Gaussian-aperture reference; the renderer's lens is the uniform
+     * unit disk, whose per-axis std is 1/2: matching it cut the error on a defocused scene
+     * 4.4x (docs/algorithms.md 8.1) */
+    c.sigma_lens = 0.5f;
+    c.sigma_shutter = 1.0f / 3.0f; /* LR's 2/3 on a shutter of length 2 */
+    c.sigma_clamp_px = (32.0f - 16.0f) / 4.0f;
+    return c;
+}
+
+/* Smallest |slope| of a range; 0 when the range touches or straddles 0 (the spectrum then
+ * reaches every Omega_x up to the other band limits). */
+static double min_abs(double lo, double hi)
+{
+    if (lo <= 0.0 && hi >= 0.0) return 0.0;
+    return fmin(fabs(lo), fabs(hi));
+}
+
+/* The Fourier warp in "roles": x, the clipping dimension a and the other extra dimension b.
+ * Clip against a (LR Appendix B, case Omega_u): scale (s_x, s_a, s_b), then shear Omega_x by
+ * alpha Omega_a, then Omega_b by beta Omega_x (eq. 8). Clip against x: scale then shear
+ * Omega_a by beta_a Omega_x and Omega_b by beta_b Omega_x (already x-only). */
+typedef struct {
+    bool clip_x;
+    double s_x, s_a, s_b;
+    double alpha;          /* clip a: Omega_x shear by Omega_a */
+    double beta_a, beta_b; /* clip a: beta_b only; clip x: both */
+} RoleWarp;
+
+/* The clipped double wedge of slopes (a in [a_lo, a_hi] clipped at |Omega_a| <= band_a,
+ * b in [b_lo, b_hi]) as one scaled and sheared Gaussian. Spectral lines are
+ * Omega_a = -a Omega_x, Omega_b = -b Omega_x (our signs, docs 8.2). */
+static RoleWarp warp_clip_a(double a_lo, double a_hi, double band_a, double b_lo, double b_hi)
+{
+    RoleWarp w = {0};
+    /* At Omega_a = band_a the lines sit at Omega_x = -band_a / a for a in [a_lo, a_hi]. */
+    double inv_lo = 1.0 / a_lo, inv_hi = 1.0 / a_hi;
+    w.s_a = band_a;
+    w.s_x = band_a * fabs(inv_lo - inv_hi) * 0.5;
+    w.alpha = -0.5 * (inv_lo + inv_hi);
+    /* Omega_x reaches band_a / |a|min; there the b lines spread by |b_hi - b_lo| Omega_x. */
+    double x_extent = band_a / min_abs(a_lo, a_hi);
+    w.beta_b = -0.5 * (b_lo + b_hi);
+    w.s_b = 0.5 * fabs(b_hi - b_lo) * x_extent;
+    return w;
+}
+
+static RoleWarp warp_clip_x(double band_x, double a_lo, double a_hi, double b_lo, double b_hi)
+{
+    RoleWarp w = {0};
+    w.clip_x = true;
+    w.s_x = band_x;
+    w.beta_a = -0.5 * (a_lo + a_hi);
+    w.s_a = 0.5 * fabs(a_hi - a_lo) * band_x;
+    w.beta_b = -0.5 * (b_lo + b_hi);
+    w.s_b = 0.5 * fabs(b_hi - b_lo) * band_x;
+    return w;
+}
+
+/* Appendix C: widen the Fourier filter until the primal sigma_x is at most sigma_clamp. In
+ * the clip-a case that means a larger s_x (gamma = 1/sigma_clamp); the spread s_b grows with
+ * the Omega_x extent the filter now reaches. The shear alpha stays, so a layer's central
+ * slope keeps exactly its blur (docs 8.4); only fewer samples are shared. */
+static bool clamp_warp(RoleWarp *w, double sigma_clamp)
+{
+    double gamma2 = w->s_x * w->s_x + (w->clip_x ? 0.0 : w->alpha * w->alpha * w->s_a * w->s_a);
+    double gamma_min = 1.0 / sigma_clamp;
+    if (gamma2 >= gamma_min * gamma_min) return false;
+    double gamma = sqrt(gamma2);
+    double grow = gamma > 0.0 ? gamma_min / gamma : 1.0;
+    if (w->clip_x) {
+        w->s_x = gamma_min;
+        w->s_a *= grow;
+    } else {
+        w->s_x = sqrt(gamma_min * gamma_min - w->alpha * w->alpha * w->s_a * w->s_a);
+    }
+    w->s_b *= grow;
+    return true;
+}
+
+/* Eqs. 10-11: the same Gaussian with both shears functions of Omega_x only, then eq. 13's
+ * primal scales. Outputs in roles: 1/sigma_x, shear of x by a and by b, 1/sigma_a, 1/sigma_b. */
+static void x_only(const RoleWarp *w, double *inv_sx, double *eta_a, double *xi_b, double *inv_sa, double *inv_sb)
+{
+    if (w->clip_x) {
+        *inv_sx = w->s_x;
+        *eta_a = w->beta_a;
+        *xi_b = w->beta_b;
+        *inv_sa = w->s_a;
+        *inv_sb = w->s_b;
+        return;
+    }
+    double gamma = sqrt(w->s_x * w->s_x + w->alpha * w->alpha * w->s_a * w->s_a);
+    *inv_sx = gamma;
+    *eta_a = gamma > 0.0 ? w->alpha * w->s_a * w->s_a / (gamma * gamma) : 0.0;
+    *inv_sa = gamma > 0.0 ? w->s_x * w->s_a / gamma : 0.0;
+    *xi_b = w->beta_b;
+    *inv_sb = w->s_b;
+}
+
+/* The xut subspace: which band clips first along the corner ray (smallest |c| and |d|). */
+static RoleWarp warp_xut(const LrSlopes *s, const LrFilterConfig *cfg, LrClip *clip)
+{
+    double band_x = 1.0 / cfg->sigma_pixel_px, band_u = 1.0 / cfg->sigma_lens, band_t = 1.0 / cfg->sigma_shutter;
+    double cmin = min_abs(s->c_min_px, s->c_max_px), dmin = min_abs(s->d_min_px, s->d_max_px);
+    double ext_u = cmin > 0.0 ? band_u / cmin : INFINITY;
+    double ext_t = dmin > 0.0 ? band_t / dmin : INFINITY;
+    if (band_x <= ext_u && band_x <= ext_t) {
+        *clip = LR_CLIP_X;
+        return warp_clip_x(band_x, s->c_min_px, s->c_max_px, s->d_min_px, s->d_max_px);
+    }
+    if (ext_u <= ext_t) {
+        *clip = LR_CLIP_U;
+        return warp_clip_a(s->c_min_px, s->c_max_px, band_u, s->d_min_px, s->d_max_px);
+    }
+    *clip = LR_CLIP_T;
+    return warp_clip_a(s->d_min_px, s->d_max_px, band_t, s->c_min_px, s->c_max_px);
+}
+
+/* The filter of a case contains the band limit it was clipped by (case U: s_u = 1/sigma_a, the
+ * aperture; case T: the shutter) but not the other one: at the layer's central slopes its
+ * output has the aperture's blur and none of the shutter's (case U), or the converse (docs
+ * 8.3). We convolve the primal filter with the Gaussian of the missing aperture or shutter,
+ * var_add, in the dimension with shear `shear` and weight variance *var (INFINITY: flat):
+ * the covariance gains var_add in that dimension, which in x-only form is
+ *     var' = var + var_add,  shear' = shear var / var',  sigma_x'^2 = sigma_x^2 + shear^2 var - shear'^2 var'
+ * (flat: shear unchanged, sigma_x^2 += shear^2 var_add). The reductions are untouched: the
+ * added dimension has shear 0 there. */
+static void add_band(double *var_x, double *shear, double *var, double var_add)
+{
+    if (!(var_add > 0.0) || *shear == 0.0) {
+        if (isfinite(*var)) *var += var_add;
+        return;
+    }
+    if (!isfinite(*var)) {
+        *var_x += *shear * *shear * var_add;
+        return;
+    }
+    double v1 = *var + var_add, sh1 = *shear * *var / v1;
+    *var_x += *shear * *shear * *var - sh1 * sh1 * v1;
+    *shear = sh1;
+    *var = v1;
+}
+
+/* A filter wider than sigma_clamp after add_band: the excess blur E comes from reprojecting
+ * along the added dimension and blurring back; reproject less instead, by the shear that
+ * keeps the central slope's blur ((slope + shear')^2 var = E), with sigma_x at the clamp. */
+static void clamp_added(double *var_x, double *shear, double var, double sigma_clamp)
+{
+    double e = *var_x - sigma_clamp * sigma_clamp;
+    if (!(e > 0.0) || !isfinite(var) || !(var > 0.0) || *shear == 0.0) return;
+    double back = sqrt(e / var); /* how far the samples stay from the centre, per unit */
+    double mag = fabs(*shear);
+    if (back >= mag) { /* no reprojection at all along it, sigma_x covers what is left */
+        *var_x -= mag * mag * var;
+        *shear = 0.0;
+        return;
+    }
+    *shear = copysign(mag - back, *shear);
+    *var_x = sigma_clamp * sigma_clamp;
+}
+
+static double var_of(float inv_sigma) { return inv_sigma > 0.0f ? 1.0 / ((double)inv_sigma * inv_sigma) : INFINITY; }
+static float inv_of(double var) { return isfinite(var) && var > 0.0 ? (float)(1.0 / sqrt(var)) : 0.0f; }
+
+static void complete_bands(LrFilter *f, const LrFilterConfig *cfg)
+{
+    double sa2 = (double)cfg->sigma_lens * cfg->sigma_lens, st2 = (double)cfg->sigma_shutter * cfg->sigma_shutter;
+    double vx = 1.0 / ((double)f->inv_sigma_x_px * f->inv_sigma_x_px), vu = var_of(f->inv_sigma_u), vt = var_of(f->inv_sigma_t);
+    double eta = f->eta_px, xi = f->xi_px;
+    if (f->clip_x != LR_CLIP_U) add_band(&vx, &eta, &vu, sa2);
+    if (f->clip_x != LR_CLIP_T) add_band(&vx, &xi, &vt, st2);
+    /* the larger of the two added reprojections gives back first */
+    if (f->clip_x != LR_CLIP_T) clamp_added(&vx, &xi, vt, cfg->sigma_clamp_px);
+    if (f->clip_x != LR_CLIP_U) clamp_added(&vx, &eta, vu, cfg->sigma_clamp_px);
+    f->inv_sigma_x_px = (float)(1.0 / sqrt(vx));
+    f->eta_px = (float)eta, f->xi_px = (float)xi;
+    f->inv_sigma_u = inv_of(vu), f->inv_sigma_t = inv_of(vt);
+    if (f->clip_y != LR_CLIP_U) {
+        double vy = 1.0 / ((double)f->inv_sigma_y_px * f->inv_sigma_y_px), vv = var_of(f->inv_sigma_v), rho = f->rho_px;
+        add_band(&vy, &rho, &vv, sa2);
+        clamp_added(&vy, &rho, vv, cfg->sigma_clamp_px);
+        f->inv_sigma_y_px = (float)(1.0 / sqrt(vy));
+        f->rho_px = (float)rho;
+        f->inv_sigma_v = inv_of(vv);
+    }
+}
+
+LrFilter lr_filter_make_paper(const LrSlopes *s, const LrFilterConfig *cfg)
+{
+    LrFilter f = {0};
+    double sx, sh_a, sh_b, sa, sb;
+    RoleWarp w = warp_xut(s, cfg, &f.clip_x);
+    f.clamped = clamp_warp(&w, cfg->sigma_clamp_px);
+    x_only(&w, &sx, &sh_a, &sh_b, &sa, &sb);
+    f.inv_sigma_x_px = (float)sx;
+    if (f.clip_x == LR_CLIP_T) { /* roles: a = t, b = u */
+        f.xi_px = (float)sh_a;
+        f.inv_sigma_t = (float)sa;
+        f.eta_px = (float)sh_b;
+        f.inv_sigma_u = (float)sb;
+    } else {
+        f.eta_px = (float)sh_a;
+        f.inv_sigma_u = (float)sa;
+        f.xi_px = (float)sh_b;
+        f.inv_sigma_t = (float)sb;
+    }
+    /* The yv subspace is the same design without time (VMCS13's sheared defocus filter). */
+    LrSlopes yv = *s;
+    yv.d_min_px = yv.d_max_px = 0.0f;
+    LrClip clip_y;
+    RoleWarp wy = warp_xut(&yv, cfg, &clip_y);
+    f.clip_y = clip_y;
+    f.clamped = clamp_warp(&wy, cfg->sigma_clamp_px) || f.clamped;
+    double dummy_b;
+    x_only(&wy, &sx, &sh_a, &sh_b, &sa, &dummy_b);
+    f.inv_sigma_y_px = (float)sx;
+    f.rho_px = (float)sh_a;
+    f.inv_sigma_v = (float)sa;
+    return f;
+}
+
+LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg)
+{
+    LrFilter f = lr_filter_make_paper(s, cfg);
+    complete_bands(&f, cfg);
+    return f;
+}
+
+void lr_filter_warp(const LrSlopes *s, const LrFilterConfig *cfg, double S[3][3])
+{
+    LrClip clip;
+    RoleWarp w = warp_xut(s, cfg, &clip);
+    clamp_warp(&w, cfg->sigma_clamp_px);
+    /* In roles (x, a, b): clip a: [[1, alpha, 0], [0, 1, 0], [beta, alpha beta, 1]] diag(s);
+     * clip x: [[1, 0, 0], [beta_a, 1, 0], [beta_b, 0, 1]] diag(s). */
+    double R[3][3] = {{0}};
+    if (w.clip_x) {
+        R[0][0] = w.s_x;
+        R[1][0] = w.beta_a * w.s_x;
+        R[1][1] = w.s_a;
+        R[2][0] = w.beta_b * w.s_x;
+        R[2][2] = w.s_b;
+    } else {
+        R[0][0] = w.s_x;
+        R[0][1] = w.alpha * w.s_a;
+        R[1][1] = w.s_a;
+        R[2][0] = w.beta_b * w.s_x;
+        R[2][1] = w.alpha * w.beta_b * w.s_a;
+        R[2][2] = w.s_b;
+    }
+    /* Roles to (x, u, t): swap a and b (rows and columns) when the clip is against t. */
+    int map[3] = {0, 1, 2};
+    if (clip == LR_CLIP_T) map[1] = 2, map[2] = 1;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) S[map[i]][map[j]] = R[i][j];
+}
+
+double lr_filter_weight_xut(const LrFilter *f, double dx_px, double du, double dt)
+{
+    double ax = f->inv_sigma_x_px * (dx_px + f->eta_px * du + f->xi_px * dt);
+    double au = f->inv_sigma_u * du, at = f->inv_sigma_t * dt;
+    return exp(-0.5 * (ax * ax + au * au + at * at));
+}

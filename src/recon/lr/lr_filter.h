@@ -1,0 +1,72 @@
+/* LR's per-partition 5D filter (LR section 5, eqs. 8-14, Appendix B and C): from the range of
+ * circle-of-confusion slopes and motion slopes of the samples of one partition (a tile's depth
+ * layer) to the scale, two shears and the primal product of Gaussians
+ *
+ *     w(x, y, u, v, t) = w(x + eta u + xi t; sigma_x) w(y + rho v; sigma_y) w(u) w(v) w(t)
+ *
+ * in the partition's rotated frame (x along its mean motion). Coordinates and signs are ours
+ * (docs/algorithms.md, "Layered reconstruction"): a static point of the layer is seen at
+ *     x = x0 + c u + d (t - 1/2),   y = y0 + c v
+ * with x, y in pixels, u, v on the unit lens disk, t in [0, 1] (the shutter interval),
+ * c in px per unit u (signed circle of confusion) and d in px per unit t (motion along x). */
+#ifndef WEDGE_RECON_LR_FILTER_H
+#define WEDGE_RECON_LR_FILTER_H
+
+#include <stdbool.h>
+
+/* Which band limit clips the spectrum first along the partition's corner ray (Appendix B). */
+typedef enum { LR_CLIP_X = 0, LR_CLIP_U = 1, LR_CLIP_T = 2 } LrClip;
+
+typedef struct {
+    float sigma_pixel_px; /* the pixel's band limit, as a primal Gaussian (LR: 1/3 px) */
+    float sigma_lens;     /* the aperture, unit-disk lens units (LR: sigma_a = 1/3; ours 1/2,
+                           * the renderer's uniform disk's per-axis std) */
+    float sigma_shutter;  /* the shutter, in units of the shutter interval t in [0, 1]
+                           * (LR: 2/3 on their shutter [-1, 1], i.e. 1/3 here) */
+    float sigma_clamp_px; /* largest primal screen sigma: (N_s - N) / 4 (LR Appendix C) */
+} LrFilterConfig;
+
+/* The paper's constants, with sigma_clamp for a 16-pixel tile in a 32-pixel window. */
+LrFilterConfig lr_filter_config_default(void);
+
+/* The slopes of one partition: ranges may be degenerate (min == max) and may straddle 0. */
+typedef struct {
+    float c_min_px, c_max_px; /* circle-of-confusion slope dx/du (= dy/dv), px per unit u */
+    float d_min_px, d_max_px; /* motion slope along the rotated x axis, px per unit t */
+} LrSlopes;
+
+/* The primal filter, stored as Fourier scales (1/sigma): 0 means a flat weight in that
+ * dimension (sigma infinite), which is how the reductions appear (no motion: inv_sigma_t = 0). */
+typedef struct {
+    LrClip clip_x;         /* case of the xut subspace */
+    LrClip clip_y;         /* case of the yv subspace (LR_CLIP_X or LR_CLIP_U) */
+    bool clamped;          /* sigma_x or sigma_y hit sigma_clamp_px (Appendix C) */
+    float inv_sigma_x_px;  /* 1/sigma_x, 1/px */
+    float eta_px;          /* shear of x by u, px per unit u (eq. 11) */
+    float xi_px;           /* shear of x by t, px per unit t (eq. 11: xi = beta) */
+    float inv_sigma_u;     /* 1/sigma_u, per unit u */
+    float inv_sigma_t;     /* 1/sigma_t, per unit t */
+    float inv_sigma_y_px;  /* 1/sigma_y, 1/px */
+    float rho_px;          /* shear of y by v, px per unit v */
+    float inv_sigma_v;     /* 1/sigma_v */
+} LrFilter;
+
+/* Appendix B + C as the paper has them: the filter of one partition. Its blur at the
+ * layer's central slopes is only the band it was clipped by (the aperture's in case U, the
+ * shutter's in case T, docs/algorithms.md 8.3). */
+LrFilter lr_filter_make_paper(const LrSlopes *s, const LrFilterConfig *cfg);
+
+/* What LR uses: lr_filter_make_paper convolved with the Gaussian aperture and shutter it does
+ * not already contain (both blurs at the central slopes), the excess over sigma_clamp taken
+ * back by reprojecting less (docs 8.4). Never produces NaN or Inf for finite input. */
+LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg);
+
+/* The Fourier-domain warp of eq. 8 (the case's scale then two shears, in the order
+ * (Omega_x, Omega_u, Omega_t)) before the x-only rewrite, for tests of eqs. 10-11. */
+void lr_filter_warp(const LrSlopes *s, const LrFilterConfig *cfg, double S[3][3]);
+
+/* The primal weight of eq. 13 in the xut subspace (unnormalised, 1 at the origin), for an
+ * offset (dx_px, du, dt) from the evaluation point. */
+double lr_filter_weight_xut(const LrFilter *f, double dx_px, double du, double dt);
+
+#endif

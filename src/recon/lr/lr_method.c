@@ -1,0 +1,182 @@
+/* Layered reconstruction (LR, seeds/004) as a reconstruction method (recon/method.h).
+ *
+ *   samples  a fixed count for the whole frame (8 per pixel, or --spp), no plan; the
+ *            pipeline's per-sample store keeps film position, lens, time, depth, screen
+ *            motion and radiance of every sample
+ *   filter   the camera effects (defocus, motion) on the composite radiance: partitions on
+ *            the host, reprojection / screen filter / compositing in OpenCL (lr_cl.h)
+ *   AOVs     lr.layers (non-empty depth layers of the pixel's tile) and lr.extent_px (sigma_x
+ *            of the front-most layer with opacity at the pixel)
+ *
+ * Shading filters (another method's soft shadows or indirect light) run before this on the
+ * pixel means; their effect reaches LR as a per-pixel additive correction of every sample's
+ * radiance (the filtered mean minus the raw mean of the pixel's stored samples), so a pixel
+ * that motion or defocus mixes keeps the shading filter's result in its mean and LR moves
+ * only each sample's own deviation (docs/algorithms.md 8.7). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/lr/lr_cl.h"
+#include "recon/method.h"
+
+/* LR section 8: 4-8 samples per pixel; the default is 8. */
+#define LR_DEFAULT_SPP 8
+
+struct ReconMethod {
+    const GBuffer *g;
+    SampleStore *store;
+    EffectMask effects;
+    LrConfig cfg;
+    LrCl *cl;
+    float *layers, *extent_px; /* AOVs, width * height */
+};
+
+static int lr_pass1_spp(EffectMask effects)
+{
+    (void)effects;
+    return LR_DEFAULT_SPP;
+}
+
+static void lr_destroy(ReconMethod *m)
+{
+    if (!m) return;
+    lr_cl_destroy(m->cl);
+    free(m->layers);
+    free(m->extent_px);
+    free(m);
+}
+
+static bool lr_create(const ReconSetup *s, ReconMethod **out, Diag *d)
+{
+    ReconMethod *m = calloc(1, sizeof *m);
+    *out = NULL;
+    size_t n = (size_t)s->gbuffer->width * (size_t)s->gbuffer->height;
+    if (m) {
+        m->layers = calloc(n, sizeof(float));
+        m->extent_px = calloc(n, sizeof(float));
+    }
+    if (!m || !m->layers || !m->extent_px || !s->store) {
+        lr_destroy(m);
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
+                 s->store ? "out of memory for LR buffers" : "LR needs the per-sample store (none was given)");
+        return false;
+    }
+    m->g = s->gbuffer;
+    m->store = s->store;
+    m->effects = s->effects;
+    m->cfg = lr_config_default();
+    *out = m;
+    return true;
+}
+
+static bool lr_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
+{
+    if (m->cl) return true;
+    return (m->cl = lr_cl_create(rt, d)) != NULL;
+}
+
+/* The store's samples as LrSamples (the smallest per-pixel count, which in a fixed-count
+ * frame is every pixel's), each sample's radiance shifted by its pixel's correction. */
+static LrSample *gather_samples(const ReconMethod *m, const float *value4, int *spp_out)
+{
+    const SampleStore *st = m->store;
+    int w = m->g->width, h = m->g->height, cap = sample_store_capacity(st);
+    size_t n = (size_t)w * (size_t)h;
+    int spp = cap;
+    for (size_t i = 0; i < n; ++i) {
+        int c = sample_store_count(st, i);
+        if (c < spp) spp = c;
+    }
+    *spp_out = spp;
+    if (spp <= 0) return NULL;
+    LrSample *s = malloc(sizeof(LrSample) * n * (size_t)spp);
+    if (!s) return NULL;
+    const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
+    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
+    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    for (size_t i = 0; i < n; ++i) {
+        int count = sample_store_count(st, i);
+        double mean[3] = {0, 0, 0};
+        for (int k = 0; k < count; ++k)
+            for (int c = 0; c < 3; ++c) mean[c] += rad[(i * cap + k) * 3 + c];
+        float corr[3];
+        for (int c = 0; c < 3; ++c) {
+            corr[c] = count > 0 ? (float)(value4[4 * i + c] - mean[c] / count) : 0.0f;
+            if (!isfinite(corr[c])) corr[c] = 0.0f; /* a non-finite mean: the sample counts it */
+        }
+        for (int k = 0; k < spp; ++k) {
+            size_t j = i * cap + k;
+            LrSample *o = &s[i * spp + k];
+            o->x_px = film[2 * j];
+            o->y_px = film[2 * j + 1];
+            /* raster y runs against camera y (pbrt's rasterFromScreen): dy/dv = -c, so the
+             * lens v that LR sees is flipped to keep y = y0 + c v (lr_partition.h) */
+            o->u = lens ? lens[2 * j] : 0.0f;
+            o->v = lens ? -lens[2 * j + 1] : 0.0f;
+            o->t = time ? time[j] : 0.5f;
+            o->depth = depth[j];
+            o->coc_px = recon_coc_slope_px(&m->g->cam, depth[j]);
+            if (!isfinite(o->coc_px)) o->coc_px = 0.0f;
+            o->motion_px[0] = motion ? motion[2 * j] : 0.0f;
+            o->motion_px[1] = motion ? motion[2 * j + 1] : 0.0f;
+            for (int c = 0; c < 3; ++c) o->L[c] = rad[j * 3 + c] + corr[c];
+        }
+    }
+    return s;
+}
+
+static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    (void)effects;
+    int spp = 0;
+    LrSample *s = gather_samples(m, value4, &spp);
+    if (!s) {
+        if (spp <= 0) return true; /* nothing stored (a cancelled frame): leave the means */
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for LR samples");
+        return false;
+    }
+    int w = m->g->width, h = m->g->height;
+    size_t n = (size_t)w * (size_t)h;
+    float *rgb = malloc(sizeof(float) * 3 * n);
+    bool ok = rgb != NULL;
+    if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for LR output");
+    LrSamples img = {w, h, spp, s};
+    LrOutput out = {rgb, m->layers, m->extent_px, 0};
+    if (ok && m->cl) {
+        ok = lr_cl_run(m->cl, &img, &m->cfg, &out, kernel_seconds, d);
+    } else if (ok) {
+        lr_reconstruct_c(&img, &m->cfg, &out);
+    }
+    if (ok)
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) value4[4 * i + c] = rgb[3 * i + c];
+    free(rgb);
+    free(s);
+    return ok;
+}
+
+static int lr_aovs(ReconMethod *m, ReconAov *out, int max)
+{
+    int count = 0;
+    if (count < max) out[count++] = (ReconAov){"lr.layers", m->layers, "depth layers"};
+    if (count < max) out[count++] = (ReconAov){"lr.extent_px", m->extent_px, "filter sigma in pixels"};
+    return count;
+}
+
+const ReconMethodClass recon_method_lr = {
+    .name = "lr",
+    .title = "layered reconstruction (LR): sheared 5D filter per tile and depth layer, fixed samples (default 8)",
+    .effects = EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_MOTION),
+    .adaptive = false,
+    .sample_fields = SAMPLE_FIELD_FILM | SAMPLE_FIELD_LENS | SAMPLE_FIELD_TIME | SAMPLE_FIELD_DEPTH |
+                     SAMPLE_FIELD_RADIANCE | SAMPLE_FIELD_MOTION,
+    .ray_geometry = 0,
+    .pass1_spp = lr_pass1_spp,
+    .create = lr_create,
+    .open_device = lr_open_device,
+    .filter_radiance = lr_filter_radiance,
+    .aovs = lr_aovs,
+    .destroy = lr_destroy,
+};

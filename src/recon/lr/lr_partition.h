@@ -1,0 +1,70 @@
+/* LR partitions (section 7): a 16x16 tile's search window (32x32 pixels) of samples split into
+ * depth layers, and per layer the mean motion direction psi, the circle-of-confusion and motion
+ * slope ranges and the filter of lr_filter.h. Plain buffers, no OpenCL: the host computes the
+ * partitions, the kernels (lr.cl) and the C reference (lr_reference.c) consume them. */
+#ifndef WEDGE_RECON_LR_PARTITION_H
+#define WEDGE_RECON_LR_PARTITION_H
+
+#include "recon/lr/lr_filter.h"
+
+/* One camera sample as LR reads it (LR section 3: (x, y, u, v, t) -> (z, d, l)). */
+typedef struct {
+    float x_px, y_px;     /* film position, pixels (pixel (x, y) covers [x, x+1)) */
+    float u, v;           /* lens position on the unit disk, oriented so that y = y0 + c v */
+    float t;              /* shutter time in [0, 1] */
+    float depth;          /* camera-space depth, world units; INFINITY for a miss */
+    float coc_px;         /* c = dx/du = dy/dv, px per unit lens (signed, 0 in focus) */
+    float motion_px[2];   /* screen velocity, px per unit shutter time */
+    float L[3];           /* radiance */
+} LrSample;
+
+/* A fixed number of samples per pixel, pixel-major: sample k of pixel (px, py) is
+ * s[(py * width + px) * spp + k]. */
+typedef struct {
+    int width, height, spp;
+    const LrSample *s;
+} LrSamples;
+
+enum { LR_MAX_LAYERS = 16, LR_MAX_DEPTH_BOUNDS = 15, LR_MAX_COC_BOUNDS = 8 };
+
+typedef struct {
+    LrFilterConfig filter;
+    int tile_px;              /* N: 16 */
+    int window_px;            /* N_s: 32 (tile plus (N_s - N)/2 on each side) */
+    int uniform_layers;       /* layers uniform in depth over the window's depth range */
+    int focus_bounds;         /* extra boundaries at c = +-focus_step_px * k^2, k = 1..n/2 */
+    float focus_step_px;
+    float motion_spread_max;  /* no motion filter when the directions' spread exceeds this
+                               * share of the mean motion (and half a pixel) */
+} LrConfig;
+
+LrConfig lr_config_default(void);
+
+/* The layers of one tile: a sample's layer is the number of depth bounds below its depth plus
+ * the number of CoC bounds below its c (both orders agree: c grows with depth), compacted to
+ * the non-empty layers; misses (depth INFINITY) are the last layer. */
+typedef struct {
+    int n_depth, n_coc;
+    float depth_bound[LR_MAX_DEPTH_BOUNDS];
+    float coc_bound_px[LR_MAX_COC_BOUNDS];
+    int compact[LR_MAX_LAYERS + 1]; /* raw layer -> compact layer */
+    int layer_count;                /* non-empty layers, front to back */
+    struct {
+        int count;                  /* samples of the window in the layer */
+        float cos_psi, sin_psi;     /* mean motion direction (the rotated frame's x axis) */
+        bool motion_filter;         /* false when the directions spread too much */
+        LrSlopes slopes;
+        LrFilter filter;
+    } layer[LR_MAX_LAYERS];
+} LrTile;
+
+/* Window of tile (tx, ty) in pixels, clipped to the image: [x0, x1) x [y0, y1). */
+void lr_tile_window(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *x0, int *y0, int *x1, int *y1);
+
+/* Partitions the window of tile (tx, ty) (LR sections 5, 7). */
+void lr_tile_partition(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *tile);
+
+/* The compact layer of a sample in this tile. */
+int lr_tile_layer_of(const LrTile *tile, const LrSample *s);
+
+#endif

@@ -1,0 +1,125 @@
+/* LR Algorithms 1 and 2 and eq. 17 in plain C (see lr_reconstruct.h). */
+#include "recon/lr/lr_reconstruct.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
+{
+    int cap = cfg->window_px / 2;
+    if (!(inv_sigma_px > 0.0f)) return cap;
+    float r = ceilf(3.0f / inv_sigma_px);
+    return r > (float)cap ? cap : (int)r;
+}
+
+void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, float *p_px, float *q_px, float *weight)
+{
+    /* rotated lens coordinates (the lens rotates with the screen: defocus is isotropic) */
+    float ur = cp * s->u + sp * s->v, vr = -sp * s->u + cp * s->v;
+    float tc = s->t - 0.5f; /* the filter is centred on mid-shutter */
+    float along = f->eta_px * ur + f->xi_px * tc, across = f->rho_px * vr;
+    *p_px = s->x_px + cp * along - sp * across; /* eq. 16: R^T (shift in the rotated frame) */
+    *q_px = s->y_px + sp * along + cp * across;
+    float au = f->inv_sigma_u * ur, av = f->inv_sigma_v * vr, at = f->inv_sigma_t * tc;
+    *weight = expf(-0.5f * (au * au + av * av + at * at)); /* w_u w_v w_t of eq. 14 */
+}
+
+enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
+
+static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int ty, float *grid, float *pass1,
+                        LrOutput *out)
+{
+    LrTile tile;
+    lr_tile_partition(img, cfg, tx, ty, &tile);
+    int x0, y0, x1, y1;
+    lr_tile_window(img, cfg, tx, ty, &x0, &y0, &x1, &y1);
+    int ww = x1 - x0, wh = y1 - y0;
+    int tx0 = tx * cfg->tile_px, ty0 = ty * cfg->tile_px;
+    int tx1 = tx0 + cfg->tile_px > img->width ? img->width : tx0 + cfg->tile_px;
+    int ty1 = ty0 + cfg->tile_px > img->height ? img->height : ty0 + cfg->tile_px;
+    int tw = tx1 - tx0;
+    int npix = tw * (ty1 - ty0);
+    float *trans = malloc(sizeof(float) * (size_t)npix); /* transmittance so far (eq. 17) */
+    for (int i = 0; i < npix; ++i) trans[i] = 1.0f;
+    for (int i = 0; i < npix; ++i) {
+        int px = tx0 + i % tw, py = ty0 + i / tw;
+        float *o = &out->rgb[((size_t)py * img->width + px) * 3];
+        o[0] = o[1] = o[2] = 0.0f;
+        if (out->layers) out->layers[(size_t)py * img->width + px] = (float)tile.layer_count;
+        if (out->extent_px) out->extent_px[(size_t)py * img->width + px] = 0.0f;
+    }
+    for (int j = 0; j < tile.layer_count; ++j) {
+        const LrFilter *f = &tile.layer[j].filter;
+        float cp = tile.layer[j].cos_psi, sp = tile.layer[j].sin_psi;
+        memset(grid, 0, sizeof(float) * CH_COUNT * (size_t)ww * wh);
+        /* Algorithm 1: samples of this layer add opacity and radiance, samples behind it add
+         * weight only (they saw through layer j). */
+        for (int py = y0; py < y1; ++py)
+            for (int px = x0; px < x1; ++px)
+                for (int k = 0; k < img->spp; ++k) {
+                    const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
+                    int layer = lr_tile_layer_of(&tile, s);
+                    if (layer < j) continue;
+                    if (!(isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]))) continue; /* counted once below */
+                    float p, q, w;
+                    lr_reproject(s, cp, sp, f, &p, &q, &w);
+                    int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
+                    if (ix < 0 || iy < 0 || ix >= ww || iy >= wh) continue;
+                    float *g = &grid[((size_t)iy * ww + ix) * CH_COUNT];
+                    g[CH_W] += w;
+                    if (layer == j) {
+                        g[CH_A] += w;
+                        for (int c = 0; c < 3; ++c) g[CH_R + c] += w * s->L[c];
+                    }
+                }
+        /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel). */
+        int rx = lr_filter_radius_px(f->inv_sigma_x_px, cfg), ry = lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+        for (int iy = 0; iy < wh; ++iy)
+            for (int ix = 0; ix < ww; ++ix) {
+                float acc[CH_COUNT] = {0};
+                for (int k = -rx; k <= rx; ++k) {
+                    int jx = ix + (int)floorf((float)k * cp + 0.5f), jy = iy + (int)floorf((float)k * sp + 0.5f);
+                    if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
+                    float a = (float)k * f->inv_sigma_x_px, w = expf(-0.5f * a * a);
+                    const float *g = &grid[((size_t)jy * ww + jx) * CH_COUNT];
+                    for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
+                }
+                memcpy(&pass1[((size_t)iy * ww + ix) * CH_COUNT], acc, sizeof acc);
+            }
+        /* pass 2: across the motion, tile pixels only; then normalise and composite. */
+        for (int i = 0; i < npix; ++i) {
+            int px = tx0 + i % tw, py = ty0 + i / tw, ix = px - x0, iy = py - y0;
+            float acc[CH_COUNT] = {0};
+            for (int k = -ry; k <= ry; ++k) {
+                int jx = ix + (int)floorf(-(float)k * sp + 0.5f), jy = iy + (int)floorf((float)k * cp + 0.5f);
+                if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
+                float a = (float)k * f->inv_sigma_y_px, w = expf(-0.5f * a * a);
+                const float *g = &pass1[((size_t)jy * ww + jx) * CH_COUNT];
+                for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
+            }
+            if (!(acc[CH_W] > 0.0f)) continue; /* nothing of this layer or behind reached here */
+            float alpha = acc[CH_A] / acc[CH_W];
+            float *o = &out->rgb[((size_t)py * img->width + px) * 3];
+            for (int c = 0; c < 3; ++c) o[c] += trans[i] * acc[CH_R + c] / acc[CH_W]; /* eq. 17 */
+            if (out->extent_px && alpha > 0.0f && out->extent_px[(size_t)py * img->width + px] == 0.0f)
+                out->extent_px[(size_t)py * img->width + px] = 1.0f / f->inv_sigma_x_px;
+            trans[i] *= 1.0f - alpha;
+        }
+    }
+    free(trans);
+}
+
+void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out)
+{
+    size_t cells = (size_t)cfg->window_px * cfg->window_px * CH_COUNT;
+    float *grid = malloc(sizeof(float) * cells), *pass1 = malloc(sizeof(float) * cells);
+    out->nonfinite = 0;
+    for (size_t i = 0; i < (size_t)img->width * img->height * img->spp; ++i)
+        if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
+    int ntx = (img->width + cfg->tile_px - 1) / cfg->tile_px, nty = (img->height + cfg->tile_px - 1) / cfg->tile_px;
+    for (int ty = 0; ty < nty; ++ty)
+        for (int tx = 0; tx < ntx; ++tx) filter_tile(img, cfg, tx, ty, grid, pass1, out);
+    free(grid);
+    free(pass1);
+}

@@ -1,0 +1,58 @@
+/* The slow oracle for LR's reconstruction: per pixel and per layer, a direct gather of every
+ * window sample with the 5D product of Gaussians of LR eq. 14, evaluated in the layer's
+ * rotated frame at the sample's reprojected (quantised) pixel, then eq. 17. No grids, no
+ * separable passes. Exact agreement with the separable form needs the offsets to be whole
+ * pixels along both rotated axes, i.e. psi a multiple of 90 degrees. */
+#ifndef WEDGE_TESTS_LR_ORACLE_H
+#define WEDGE_TESTS_LR_ORACLE_H
+
+#include <math.h>
+
+#include "recon/lr/lr_reconstruct.h"
+
+static void lr_oracle_pixel(const LrSamples *img, const LrConfig *cfg, int px, int py, double rgb[3])
+{
+    int tx = px / cfg->tile_px, ty = py / cfg->tile_px;
+    LrTile tile;
+    lr_tile_partition(img, cfg, tx, ty, &tile);
+    int x0, y0, x1, y1;
+    lr_tile_window(img, cfg, tx, ty, &x0, &y0, &x1, &y1);
+    double trans = 1.0;
+    rgb[0] = rgb[1] = rgb[2] = 0.0;
+    for (int j = 0; j < tile.layer_count; ++j) {
+        const LrFilter *f = &tile.layer[j].filter;
+        double cp = tile.layer[j].cos_psi, sp = tile.layer[j].sin_psi;
+        int rx = lr_filter_radius_px(f->inv_sigma_x_px, cfg), ry = lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+        double A = 0, W = 0, E[3] = {0, 0, 0};
+        for (int sy = y0; sy < y1; ++sy)
+            for (int sx = x0; sx < x1; ++sx)
+                for (int k = 0; k < img->spp; ++k) {
+                    const LrSample *s = &img->s[((size_t)sy * img->width + sx) * img->spp + k];
+                    int layer = lr_tile_layer_of(&tile, s);
+                    if (layer < j) continue;
+                    float p, q, wuvt;
+                    lr_reproject(s, (float)cp, (float)sp, f, &p, &q, &wuvt);
+                    int cx = (int)floor(p), cy = (int)floor(q);
+                    if (cx < x0 || cy < y0 || cx >= x1 || cy >= y1) continue;
+                    /* offsets along (k1) and across (k2) the motion, whole pixels here */
+                    double dx = cx - px, dy = cy - py;
+                    double k1 = floor(cp * dx + sp * dy + 0.5), k2 = floor(-sp * dx + cp * dy + 0.5);
+                    if (fabs(k1) > rx || fabs(k2) > ry) continue;
+                    /* the separable passes see the intermediate pixel P + k2 (across) too */
+                    int mx = px + (int)floor(-k2 * sp + 0.5), my = py + (int)floor(k2 * cp + 0.5);
+                    if (mx < x0 || my < y0 || mx >= x1 || my >= y1) continue;
+                    double ax = k1 * f->inv_sigma_x_px, ay = k2 * f->inv_sigma_y_px;
+                    double w = wuvt * exp(-0.5 * (ax * ax + ay * ay));
+                    W += w;
+                    if (layer == j) {
+                        A += w;
+                        for (int c = 0; c < 3; ++c) E[c] += w * s->L[c];
+                    }
+                }
+        if (!(W > 0)) continue;
+        for (int c = 0; c < 3; ++c) rgb[c] += trans * E[c] / W;
+        trans *= 1.0 - A / W;
+    }
+}
+
+#endif

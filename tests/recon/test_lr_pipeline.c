@@ -1,0 +1,106 @@
+/* LR end to end through the reconstruction pipeline (--filter lr) on a tiny scene with motion
+ * and defocus: the image is finite, both camera effects are assigned to lr, the AOVs are
+ * there and sane, and at equal samples (8 per pixel) its error against a high-spp Monte Carlo
+ * reference is below plain Monte Carlo's (the filter removes more noise than the bias it adds
+ * from its Gaussian aperture and shutter, 8.1). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../check.h"
+#include "recon/pipeline.h"
+#include "recon_test_util.h"
+#include "scene/scene_desc.h"
+
+static const char *const SCENE =
+    "LookAt 0 1.2 -5   0 0.8 0   0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ] \"float lensradius\" [ 0.1 ] \"float focaldistance\" [ 5 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 48 ] \"integer yresolution\" [ 36 ] \"string filename\" [ \"t.exr\" ]\n"
+    "Sampler \"stratified\" \"integer pixelsamples\" [ 8 ]\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+    "WorldBegin\n"
+    "LightSource \"distant\" \"rgb L\" [ 2 2 2 ] \"point3 from\" [ 1 2 -3 ] \"point3 to\" [ 0 0 0 ]\n"
+    "AttributeBegin\n"
+    "  Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 8 ] \"float vscale\" [ 8 ]\n"
+    "          \"rgb tex1\" [ 0.8 0.8 0.8 ] \"rgb tex2\" [ 0.1 0.1 0.1 ]\n"
+    "  Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -5 0 -4  5 0 -4  5 0 4  -5 0 4 ] \"integer indices\" [ 0 2 1 0 3 2 ]"
+    " \"point2 uv\" [ 0 0 1 0 1 1 0 1 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -5 0 4  5 0 4  5 5 4  -5 5 4 ] \"integer indices\" [ 0 1 2 0 2 3 ]"
+    " \"point2 uv\" [ 0 0 1 0 1 1 0 1 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n"
+    "  Material \"diffuse\" \"rgb reflectance\" [ 0.85 0.25 0.2 ]\n"
+    "  ActiveTransform StartTime\n"
+    "  Translate -1.0 0.5 -1.5\n"
+    "  ActiveTransform EndTime\n"
+    "  Translate 0.0 0.5 -1.5\n"
+    "  ActiveTransform All\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.5 ]\n"
+    "AttributeEnd\n";
+
+/* One render through the pipeline; returns a copy of the image and checks the result. */
+static float *render(const char *filter, unsigned seed, int spp, bool lr_checks)
+{
+    SceneDesc scene;
+    Renderer *r;
+    if (!recon_test_renderer(SCENE, seed, spp, false, &scene, &r)) return NULL;
+    ReconOptions o = {.filter = filter, .spp = spp};
+    ReconPipeline *p = NULL;
+    Diag d = {0};
+    float *out = NULL;
+    if (recon_pipeline_create(r, &o, &p, &d) && recon_pipeline_render(p, &d)) {
+        const ReconResult *res = recon_pipeline_result(p);
+        size_t n = (size_t)res->width * res->height;
+        out = malloc(sizeof(float) * 3 * n);
+        memcpy(out, res->rgb, sizeof(float) * 3 * n);
+        CHECK(res->nonfinite_pixels == 0);
+        if (lr_checks) {
+            CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_DEFOCUS), "lr"));
+            CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_MOTION), "lr"));
+            CHECK(res->spp_avg == spp);
+            const float *layers = NULL, *extent = NULL;
+            for (int k = 0; k < res->aov_count; ++k) {
+                if (!strcmp(res->aovs[k].name, "lr.layers")) layers = res->aovs[k].data;
+                if (!strcmp(res->aovs[k].name, "lr.extent_px")) extent = res->aovs[k].data;
+            }
+            CHECK(layers && extent);
+            int bad = 0, sharp = 0;
+            for (size_t i = 0; layers && extent && i < n; ++i) {
+                bad += !(layers[i] >= 1 && layers[i] <= 16) || !(extent[i] >= 0 && extent[i] <= 4.0f + 1e-4f);
+                sharp += extent[i] > 0 && extent[i] < 0.34f; /* the pixel filter (1/3 px) near focus */
+            }
+            CHECK(bad == 0); /* the extent is at most sigma_clamp = 4 px (Appendix C) */
+            (void)sharp;
+        }
+    } else {
+        fprintf(stderr, "%s\n", d.message);
+        CHECK(false);
+    }
+    recon_pipeline_destroy(p);
+    renderer_destroy(r);
+    scene_desc_free(&scene);
+    return out;
+}
+
+int main(void)
+{
+    const int w = 48, h = 36;
+    float *ref = render("none", 100, 512, false);
+    double e_lr = 0, e_mc = 0;
+    for (unsigned seed = 1; seed <= 2 && ref; ++seed) {
+        float *lr = render("lr", seed, 8, true), *mc = render("none", seed, 8, false);
+        if (lr && mc) {
+            e_lr += rel_mse(lr, ref, (size_t)w * h * 3);
+            e_mc += rel_mse(mc, ref, (size_t)w * h * 3);
+        }
+        free(lr);
+        free(mc);
+    }
+    fprintf(stderr, "relMSE at 8 spp (2 seeds): lr %.4g, mc %.4g\n", e_lr / 2, e_mc / 2);
+    /* The reference's own noise at 512 spp is ~64x below MC at 8 spp, so the comparison is
+     * decided by the methods, not by it. */
+    CHECK(e_lr < e_mc);
+    free(ref);
+    CHECK_DONE();
+}

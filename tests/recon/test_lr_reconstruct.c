@@ -1,0 +1,184 @@
+/* LR's reconstruction in C (src/recon/lr/lr_reconstruct.c) against the direct 5D gather
+ * (lr_oracle.h), plus the reductions on images: without motion the shutter times do not
+ * matter, with a pinhole the lens positions do not, with neither the result is the pixel
+ * filter of the unfiltered image; and the blur of a defocused plane against its closed form
+ * with the error falling as samples are added. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../check.h"
+#include "lr_oracle.h"
+#include "lr_scene.h"
+
+enum { W = 40, H = 36 }; /* not a multiple of the 16-pixel tile: partial tiles at the edges */
+
+static float *recon(const LrSample *s, int w, int h, int spp, const LrConfig *cfg)
+{
+    float *rgb = malloc(sizeof(float) * 3 * (size_t)w * h);
+    LrSamples img = {w, h, spp, s};
+    LrOutput out = {rgb, NULL, NULL, 0};
+    lr_reconstruct_c(&img, cfg, &out);
+    CHECK(out.nonfinite == 0);
+    return rgb;
+}
+
+static void test_oracle(float mx, float my)
+{
+    int spp = 4;
+    LrTestLayer layers[2] = {
+        {2.0f, -3.0f, {mx, my}, 20.0f, 17.0f, 9.0f, 0.7f},
+        {8.0f, 5.0f, {0.3f * mx, 0.3f * my}, 0, 0, 0, 0.4f},
+    };
+    LrSample *s = malloc(sizeof(LrSample) * W * H * spp);
+    lr_test_scene(s, W, H, spp, layers, 2, 11);
+    /* spread the slopes within each object so that the layers' ranges are not degenerate:
+     * finite sigma_u and sigma_t, all three clipping cases' code paths (the oracle only needs
+     * the records, not a consistent light field) */
+    unsigned seed = 23;
+    for (int i = 0; i < W * H * spp; ++i) {
+        s[i].coc_px += lr_test_unit(&seed) - 0.5f;
+        s[i].motion_px[0] *= 0.9f + 0.2f * lr_test_unit(&seed);
+        s[i].motion_px[1] *= 0.9f + 0.2f * lr_test_unit(&seed);
+    }
+    LrConfig cfg = lr_config_default();
+    float *rgb = recon(s, W, H, spp, &cfg);
+    LrSamples img = {W, H, spp, s};
+    double worst = 0;
+    for (int py = 0; py < H; ++py)
+        for (int px = 0; px < W; ++px) {
+            double o[3];
+            lr_oracle_pixel(&img, &cfg, px, py, o);
+            for (int c = 0; c < 3; ++c) worst = fmax(worst, fabs(o[c] - rgb[((size_t)py * W + px) * 3 + c]));
+        }
+    /* float sums of up to ~4000 weighted terms of size <= 1 against double: 1e-4 absolute
+     * is ~30 ulp of float at 1.0 after the summation error of a few thousand terms */
+    CHECK(worst < 1e-4);
+    if (!(worst < 1e-4)) fprintf(stderr, "oracle (%g, %g): worst %g\n", mx, my, worst);
+    free(rgb);
+    free(s);
+}
+
+static void shuffle_field(LrSample *s, int n, int which, unsigned seed)
+{
+    for (int i = n - 1; i > 0; --i) {
+        int j = (int)(lr_test_rand(&seed) % (unsigned)(i + 1));
+        if (which == 0) {
+            float t = s[i].t;
+            s[i].t = s[j].t, s[j].t = t;
+        } else {
+            float u = s[i].u, v = s[i].v;
+            s[i].u = s[j].u, s[i].v = s[j].v, s[j].u = u, s[j].v = v;
+        }
+    }
+}
+
+/* Property reductions: the output must not depend on a dimension the scene does not vary in.
+ * The samples' positions stay; only t (or u, v) values are permuted, so the output must be
+ * bitwise the same. */
+static void test_reduction_invariance(int no_motion)
+{
+    int spp = 4, n = W * H * spp;
+    LrTestLayer layers[2] = {
+        {2.0f, no_motion ? -4.0f : 0.0f, {no_motion ? 0.0f : 6.0f, no_motion ? 0.0f : 2.0f}, 18.0f, 18.0f, 8.0f, 0.6f},
+        {8.0f, no_motion ? 3.0f : 0.0f, {0.0f, 0.0f}, 0, 0, 0, 0.5f},
+    };
+    LrSample *s = malloc(sizeof(LrSample) * (size_t)n);
+    lr_test_scene(s, W, H, spp, layers, 2, 5);
+    LrConfig cfg = lr_config_default();
+    float *a = recon(s, W, H, spp, &cfg);
+    shuffle_field(s, n, no_motion ? 0 : 1, 99);
+    float *b = recon(s, W, H, spp, &cfg);
+    CHECK(memcmp(a, b, sizeof(float) * 3 * W * H) == 0);
+    free(a);
+    free(b);
+    free(s);
+}
+
+/* Neither defocus nor motion: the filter is the pixel Gaussian (sigma 1/3 px, radius 1): the
+ * output is the per-pixel mean plus at most the neighbours' share, which for sigma 1/3 is
+ * 1 - (1/(1 + 2 e^-4.5))^2 = 4.3% of the largest neighbour difference. */
+static void test_neither_is_unfiltered(void)
+{
+    int spp = 4;
+    LrTestLayer layers[1] = {{5.0f, 0.0f, {0.0f, 0.0f}, 0, 0, 0, 0.9f}};
+    LrSample *s = malloc(sizeof(LrSample) * W * H * spp);
+    lr_test_scene(s, W, H, spp, layers, 1, 3);
+    LrConfig cfg = lr_config_default();
+    float *rgb = recon(s, W, H, spp, &cfg);
+    double e1 = exp(-4.5), share = 1.0 - 1.0 / ((1 + 2 * e1) * (1 + 2 * e1));
+    int bad = 0;
+    for (int py = 1; py < H - 1; ++py)
+        for (int px = 1; px < W - 1; ++px)
+            for (int c = 0; c < 3; ++c) {
+                double mean[9], lo = 1e30, hi = -1e30;
+                for (int d = 0; d < 9; ++d) {
+                    int qx = px + d % 3 - 1, qy = py + d / 3 - 1;
+                    mean[d] = 0;
+                    for (int k = 0; k < spp; ++k) mean[d] += s[((size_t)qy * W + qx) * spp + k].L[c] / spp;
+                    lo = fmin(lo, mean[d]), hi = fmax(hi, mean[d]);
+                }
+                double got = rgb[((size_t)py * W + px) * 3 + c];
+                if (fabs(got - mean[4]) > share * (hi - lo) + 1e-5) ++bad; /* 1e-5: float sums */
+            }
+    CHECK(bad == 0);
+    free(rgb);
+    free(s);
+}
+
+/* A plane at one circle-of-confusion slope c with texture 0.5 + 0.4 sin(w x) cos(w y): in a
+ * single thin layer the filter reprojects every sample to the pinhole image, quantises it to
+ * its pixel (the cell average, a sinc factor per axis) and blurs with the Gaussian aperture's
+ * sigma |c| sigma_a, discretely sampled: per axis the factor sum_k g(k) cos(w k) / sum_k g(k).
+ * Away from the image border the error against that closed form falls with the samples. */
+static double plane_error(int spp, float c)
+{
+    int w = 48, h = 48;
+    float freq = 0.35f;
+    LrTestLayer layers[1] = {{5.0f, c, {0.0f, 0.0f}, 0, 0, 0, freq}};
+    LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
+    lr_test_scene(s, w, h, spp, layers, 1, 17);
+    LrConfig cfg = lr_config_default();
+    float *rgb = recon(s, w, h, spp, &cfg);
+    LrFilter f = lr_filter_make(&(LrSlopes){c, c, 0, 0}, &cfg.filter);
+    int r = lr_filter_radius_px(f.inv_sigma_x_px, &cfg);
+    double num = 0, den = 0;
+    for (int k = -r; k <= r; ++k) {
+        double g = exp(-0.5 * pow(k * f.inv_sigma_x_px, 2));
+        num += g * cos(freq * k), den += g;
+    }
+    double sinc = sin(0.5 * freq) / (0.5 * freq), axis = sinc * num / den;
+    double err = 0;
+    int n = 0;
+    for (int py = 16; py < 32; ++py) /* the centre tile: its window lies inside the image */
+        for (int px = 16; px < 32; ++px) {
+            double x = px + 0.5, y = py + 0.5;
+            double want = 0.5 + 0.4 * axis * axis * sin(freq * x) * cos(freq * y);
+            double d = rgb[((size_t)py * w + px) * 3] - want;
+            err += d * d, ++n;
+        }
+    free(rgb);
+    free(s);
+    return err / n;
+}
+
+static void test_plane_converges(void)
+{
+    double e4 = plane_error(4, 2.5f), e64 = plane_error(64, 2.5f);
+    /* Monte Carlo: 16x the samples, about 1/16 the squared error; ask for 1/4 */
+    CHECK(e64 < 0.25 * e4);
+    /* and the closed form holds: at 64 spp the rms error is far below the texture's 0.4 */
+    CHECK(sqrt(e64) < 0.01);
+    fprintf(stderr, "plane: mse 4 spp %.3g, 64 spp %.3g\n", e4, e64);
+}
+
+int main(void)
+{
+    test_oracle(7.0f, 0.0f);  /* psi = 0 */
+    test_oracle(0.0f, -6.0f); /* psi = -90 degrees */
+    test_reduction_invariance(1);
+    test_reduction_invariance(0);
+    test_neither_is_unfiltered();
+    test_plane_converges();
+    CHECK_DONE();
+}
