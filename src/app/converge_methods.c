@@ -8,6 +8,12 @@ static const ConvergeMethod methods[] = {
      "unfiltered Monte Carlo, stratified (jittered) samples"},
     {"mc-ld", {"--sampler", "sobol", "--filter", "none", NULL}, false,
      "unfiltered Monte Carlo, Owen-scrambled Sobol' samples"},
+    /* The renderer's default: each effect gets the method select.c's policy gives it (issue
+     * 18). Adaptive when that includes AAF, so it takes --mu like aaf. */
+    {"auto", {"--sampler", "stratified", "--filter", "auto", NULL}, true,
+     "each effect filtered by the method the policy picks (wedge info shows which)"},
+    {"auto-ld", {"--sampler", "sobol", "--filter", "auto", NULL}, true,
+     "the policy's methods with Owen-scrambled Sobol' samples"},
     /* Filters: the filter picks its own per-pixel sample counts from mu (--spp is then only a
      * label of the run; spp_avg in the results is what it really used). */
     {"aaf", {"--sampler", "stratified", "--filter", "aaf", NULL}, true,

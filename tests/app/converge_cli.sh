@@ -14,7 +14,7 @@ expect_exit() { # CODE CMD...
 }
 expect_exit 1 "$WEDGE" converge --spp 4 --methods mc
 expect_exit 1 "$WEDGE" converge --spp 4 --methods nosuch --out "$tmp/x"
-grep -q "unknown method 'nosuch'; known: mc mc-ld aaf aaf-ld" "$tmp/out.txt" || fail "unknown-method message"
+grep -q "unknown method 'nosuch'; known: mc mc-ld auto auto-ld aaf aaf-ld" "$tmp/out.txt" || fail "unknown-method message"
 expect_exit 1 "$WEDGE" converge --spp 4,x --methods mc --out "$tmp/x"
 expect_exit 1 "$WEDGE" converge --spp 4 --methods mc --out "$tmp/x" --res 12
 expect_exit 0 "$WEDGE" converge --help
