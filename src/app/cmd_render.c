@@ -349,7 +349,10 @@ static int render_command(int argc, char **argv, ReconDist *dist)
         rep.seconds_trace = st.seconds_trace;
         rep.seconds_filter = res->seconds_filter;
         /* effect -> method used (the policy's choice, or none when a render was cut short) */
-        for (int e = 0; e < EFFECT_COUNT; ++e) rep.filters[e] = recon_choice_name(&res->choice, (Effect)e);
+        for (int e = 0; e < EFFECT_COUNT; ++e) {
+            rep.filters[e] = recon_choice_name(&res->choice, (Effect)e);
+            rep.pixels_filtered[e] = res->pixels_filtered[e];
+        }
         rep.mu = res->mu;
         rep.cl_device = res->device[0] ? res->device : NULL;
         rep.seconds_build = st.seconds_build;

@@ -27,6 +27,32 @@ static void json_string(FILE *f, const char *s)
 /* JSON has no NaN/Inf: write 0 for them (they never occur unless a clock misbehaves). */
 static double finite_or_zero(double v) { return isfinite(v) ? v : 0.0; }
 
+/* "pixels_filtered": {"METHOD": {"EFFECT": pixels, ...}, ...}: which method filtered how
+ * many pixels of each effect (methods in the order they first appear among the effects). */
+static void write_pixels_filtered(FILE *f, const RunReport *r)
+{
+    fprintf(f, ",\n  \"pixels_filtered\": {");
+    int methods_written = 0;
+    for (int e = 0; e < EFFECT_COUNT; ++e) {
+        const char *m = r->filters[e];
+        if (!effect_in(r->effects, (Effect)e) || !m || !strcmp(m, "none")) continue;
+        bool seen = false;
+        for (int k = 0; k < e && !seen; ++k)
+            seen = effect_in(r->effects, (Effect)k) && r->filters[k] && !strcmp(r->filters[k], m);
+        if (seen) continue;
+        fprintf(f, "%s", methods_written++ ? ", " : "");
+        json_string(f, m);
+        fprintf(f, ": {");
+        for (int k = e, first = 1; k < EFFECT_COUNT; ++k) {
+            if (!effect_in(r->effects, (Effect)k) || !r->filters[k] || strcmp(r->filters[k], m)) continue;
+            fprintf(f, "%s\"%s\": %lld", first ? "" : ", ", effect_name((Effect)k), r->pixels_filtered[k]);
+            first = 0;
+        }
+        fprintf(f, "}");
+    }
+    fprintf(f, "}");
+}
+
 bool run_report_write(const char *path, const RunReport *r, Diag *err)
 {
     /* Composed in memory, then written atomically like every output file. */
@@ -65,6 +91,7 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
         first = 0;
     }
     fprintf(f, "}");
+    write_pixels_filtered(f, r);
     fprintf(f, ",\n  \"mu\": %.6g", finite_or_zero(r->mu));
     if (r->cl_device && r->cl_device[0]) {
         fprintf(f, ",\n  \"cl_device\": ");

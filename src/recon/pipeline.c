@@ -365,6 +365,14 @@ static bool opener_join(DeviceOpener *op, ReconPipeline *p, Diag *d)
     return true;
 }
 
+/* Pixels of a demodulated light (4 floats per pixel, NULL: none) flagged usable. */
+static long long usable_pixels(const float *value4, size_t pixels)
+{
+    long long n = 0;
+    for (size_t i = 0; value4 && i < pixels; ++i) n += value4[4 * i + 3] > 0.0f;
+    return n;
+}
+
 /* Filters and composites the frame's samples into res.rgb. */
 static bool reconstruct(ReconPipeline *p, Diag *d)
 {
@@ -378,6 +386,9 @@ static bool reconstruct(ReconPipeline *p, Diag *d)
     p->res.guarded_events += inputs.guarded;
 
     double kernel_s = 0.0;
+    memset(p->res.pixels_filtered, 0, sizeof p->res.pixels_filtered);
+    p->res.pixels_filtered[EFFECT_SOFT_SHADOWS] = usable_pixels(direct4, pixel_count(p));
+    p->res.pixels_filtered[EFFECT_INDIRECT] = usable_pixels(indirect4, pixel_count(p));
     if (direct4) {
         if (!sh->cls->filter_light(sh->m, EFFECT_SOFT_SHADOWS, direct4, &kernel_s, d)) return false;
         p->res.seconds_kernels += kernel_s;
@@ -393,6 +404,7 @@ static bool reconstruct(ReconPipeline *p, Diag *d)
         if (!s) continue;
         camera |= EFFECT_BIT(e);
         cam = s;
+        p->res.pixels_filtered[e] = (long long)pixel_count(p);
     }
     composite_image(&p->g, factor, direct4, indirect4, p->res.rgb, cam ? p->radiance4 : NULL);
     /* one method filters the camera effects together (a second one, if the policy ever
@@ -434,6 +446,7 @@ static bool plain_mean(ReconPipeline *p, Diag *d)
             }
     p->res.guarded_events += frame_resolve3(f, f->color, p->res.rgb);
     p->res.aov_count = 0;
+    memset(p->res.pixels_filtered, 0, sizeof p->res.pixels_filtered);
     memset(&p->res.choice, 0, sizeof p->res.choice);
     for (int e = 0; e < EFFECT_COUNT; ++e) p->res.choice.reason[e] = p->choice.reason[e];
     return true;

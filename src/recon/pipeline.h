@@ -67,6 +67,10 @@ typedef struct {
     double seconds_kernels;    /* OpenCL device time of the filter passes */
     long long guarded_events;  /* non-finite values replaced by 0, counted (every stage) */
     long long nonfinite_pixels;/* pixels of rgb that came out non-finite and were set to 0 */
+    long long pixels_filtered[EFFECT_COUNT]; /* per effect, the pixels its method (choice) was
+                                * given to filter: for the shading effects the usable ones (a
+                                * surface, not mixed, non-black albedo), the rest pass through;
+                                * for the camera effects every pixel */
     bool cancelled;            /* a pass was cancelled: rgb is the unfiltered mean of what was taken */
     char device[600];          /* OpenCL device used ("" when none was needed) */
 } ReconResult;

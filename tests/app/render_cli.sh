@@ -100,6 +100,14 @@ grep -q '"soft_shadows": true, "defocus": true, "motion": true, "indirect": true
 grep -q '"filters": {"soft_shadows": "aaf", "indirect": "aaf"}' "$T/f.json" ||
     { echo "FAIL: filters per effect: $(grep filters "$T/f.json")"; fail=1; }
 grep -aq "aaf.beta_px.soft_shadows" "$T/f.exr" || { echo "FAIL: EXR lacks the aaf.beta_px.soft_shadows layer"; fail=1; }
+# the report says which method filtered how many pixels: the shading effects' usable pixels
+# (the background and the light passed through), nothing for plain Monte Carlo
+python3 - "$T/f.json" "$T/a.json" <<'PY' || fail=1
+import json, sys
+f = json.load(open(sys.argv[1]))["pixels_filtered"]; a = json.load(open(sys.argv[2]))["pixels_filtered"]
+ok = set(f) == {"aaf"} and set(f["aaf"]) == {"soft_shadows", "indirect"} and all(0 < n < 1200 for n in f["aaf"].values()) and a == {}
+if not ok: print("FAIL: pixels_filtered %s (filtered) / %s (none)" % (f, a)); sys.exit(1)
+PY
 # an option that does nothing in a mode is a usage error with a message, not silence
 "$WEDGE" render "$T/small.pbrt" --filter none --mu 2 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--mu with --filter none" 1 $?
 grep -qx "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte Carlo); drop --mu, or choose a filter (--filter auto)" "$T/err.txt" ||
