@@ -1,0 +1,392 @@
+/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows, as a reconstruction method
+ * (recon/method.h). docs/algorithms.md 9.
+ *
+ *   samples  a fixed count (9 by default, the paper's; --spp sets it), one pass that records
+ *            the shadow-ray geometry
+ *   sink     per pixel: AAF's shadow statistics (the wedge: d1, d2min, d2max, aaf_stats.h) and
+ *            the complex sums of eq. 20 for each of the ((2N-1)^2 + 1)/2 components of the 4D
+ *            filter (maaf_shadow.h), the light sample's position on the light giving the phase
+ *   filter   the direct light divided by albedo and the unoccluded irradiance r(x) (as AAF),
+ *            one image pass per axis with every component at once (maaf_filter.h)
+ *
+ * Only soft shadows: the scene's other effects stay Monte Carlo with --filter maaf. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/aaf/aaf_params.h"
+#include "recon/aaf/aaf_stats.h"
+#include "recon/maaf/maaf_filter.h"
+#include "recon/maaf/maaf_shadow.h"
+#include "recon/method.h"
+
+/* seeds/003 Sec. 6.1 and Fig. 9: 9 samples per pixel for soft shadows. */
+#define MAAF_SPP_DEFAULT 9
+/* The filter knob at MAAF_SPP_DEFAULT samples: every component's Omega_x width times this (1:
+ * the paper's boxes). With more samples per pixel the replicas of the spectrum move apart by
+ * the fourth root of the count along each of the four axes, so the width grows with it and
+ * the filter narrows towards the pixel itself (consistency). */
+#define MAAF_KAPPA_DEFAULT 1.0f
+/* seeds/003 Sec. 6.2 "Pre-filtering": slopes are averaged over a 5 x 5 window. Pixels whose
+ * window saw no occluder borrow from this radius (AAF-shadow Sec. 6's 5 pixels). */
+#define SLOPE_WINDOW_PX 2
+#define BORROW_RADIUS_PX 5
+/* No occluder within BORROW_RADIUS_PX: visibility is 1 there; the unshadowed light is filtered
+ * with a plain Gaussian of this std (pixels, at the default count), AAF's far width. */
+#define FAR_STD_PX 4.0f
+/* Pixels whose unoccluded irradiance is below this fraction of the frame's largest keep their
+ * own direct light (as AAF: dividing by it is unstable). */
+#define MIN_SHADE_REL 1.0e-3f
+/* Normal rejection: seeds/003 uses 20 degrees, AAF 15; depth tolerance as AAF's. */
+#define COS_NORMAL_MIN 0.93969262f
+#define DEPTH_TOL_REL 0.05f
+
+struct ReconMethod {
+    const Renderer *renderer;
+    const GBuffer *g;
+    EffectMask effects;
+    float kappa;                /* the knob at MAAF_SPP_DEFAULT samples */
+    int pairs, comps;
+    AafLightGeom *geoms;
+    MaafLight *lights;
+    int light_count;
+    AafStats stats;
+    bool stats_ok;
+    AafDerived derived;
+    bool derived_ok;
+    float *ysum;                /* comps * 8 per pixel (eq. 20) */
+    float *frame4;              /* the pixel's light-plane normal (first shadow ray), w: 1 once set */
+    float *ydemod;              /* ysum with the albedo and r(x) divided out, per filter run */
+    float *guide4;              /* frame4 with w = usable, per filter run */
+    float *param, *out4, *shade;
+    float *std_px, *components; /* AOVs */
+    MaafFilter *filter;
+    long long nonfinite_samples;
+};
+
+static int maaf_pass1_spp(EffectMask effects)
+{
+    (void)effects;
+    return MAAF_SPP_DEFAULT;
+}
+
+static void maaf_destroy(ReconMethod *m)
+{
+    if (!m) return;
+    maaf_filter_destroy(m->filter);
+    if (m->derived_ok) aaf_derived_free(&m->derived);
+    if (m->stats_ok) aaf_stats_free(&m->stats);
+    free(m->geoms);
+    free(m->lights);
+    free(m->ysum);
+    free(m->frame4);
+    free(m->ydemod);
+    free(m->guide4);
+    free(m->param);
+    free(m->out4);
+    free(m->shade);
+    free(m->std_px);
+    free(m->components);
+    free(m);
+}
+
+/* Each light's emitter centre (the area-weighted centroid of all triangles of its shape) and
+ * normal, and its y-design. */
+static void lights_from_renderer(ReconMethod *m)
+{
+    int count = m->light_count;
+    RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
+    if (!info) return;
+    for (int l = 0; l < count; ++l)
+        if (!renderer_light_info(m->renderer, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
+    for (int l = 0; l < count; ++l) {
+        MaafLight *ml = &m->lights[l];
+        memset(ml, 0, sizeof *ml);
+        if (info[l].kind != RENDER_LIGHT_AREA || !(m->geoms[l].sigma_world > 0.0f)) continue;
+        double c[3] = {0, 0, 0}, area = 0.0;
+        for (int k = 0; k < count; ++k) {
+            bool same = k == l || (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape);
+            if (!same) continue;
+            c[0] += info[k].area_world * info[k].center_world.x;
+            c[1] += info[k].area_world * info[k].center_world.y;
+            c[2] += info[k].area_world * info[k].center_world.z;
+            area += info[k].area_world;
+        }
+        for (int k = 0; k < 3; ++k) ml->center[k] = area > 0.0 ? (float)(c[k] / area) : 0.0f;
+        memcpy(ml->normal, m->geoms[l].normal, sizeof ml->normal);
+        maaf_light_design(m->geoms[l].sigma_world, m->pairs, ml);
+    }
+    free(info);
+}
+
+static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
+{
+    ReconMethod *m = calloc(1, sizeof *m);
+    *out = NULL;
+    if (!m) goto oom;
+    m->renderer = s->renderer;
+    m->g = s->gbuffer;
+    m->effects = s->effects;
+    m->kappa = s->mu > 0.0f ? s->mu : MAAF_KAPPA_DEFAULT;
+    m->pairs = s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT;
+    if (m->pairs > MAAF_PAIRS_MAX) m->pairs = MAAF_PAIRS_MAX;
+    m->comps = maaf_component_count(m->pairs);
+    size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
+    m->stats_ok = aaf_stats_init(&m->stats, m->g);
+    m->ysum = calloc(n * per, sizeof(float));
+    m->ydemod = malloc(n * per * sizeof(float));
+    m->frame4 = calloc(4 * n, sizeof(float));
+    m->guide4 = malloc(4 * n * sizeof(float));
+    m->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
+    m->out4 = malloc(4 * n * sizeof(float));
+    m->shade = malloc(n * sizeof(float));
+    m->std_px = calloc(n, sizeof(float));
+    m->components = calloc(n, sizeof(float));
+    m->light_count = renderer_light_count(s->renderer);
+    size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
+    m->geoms = calloc(lights, sizeof *m->geoms);
+    m->lights = calloc(lights, sizeof *m->lights);
+    if (!m->stats_ok || !m->ysum || !m->ydemod || !m->frame4 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+        !m->std_px || !m->components || !m->geoms || !m->lights)
+        goto oom;
+    aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
+    m->stats.lights = m->geoms;
+    m->stats.light_count = m->light_count;
+    lights_from_renderer(m);
+    *out = m;
+    return true;
+oom:
+    maaf_destroy(m);
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF buffers (%d pairs)",
+             s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT);
+    return false;
+}
+
+static void maaf_begin_pass(ReconMethod *m, int pass)
+{
+    /* the wedge comes from the pass that records ray geometry (the only pass of a frame) */
+    m->stats.collect_rays = pass == 0;
+}
+
+static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
+{
+    aaf_stats_add(&m->stats, px, py, r);
+    if (!r->hit || r->shadow_count < 1) return;
+    const ShadowRayRecord *sr = &r->shadow[0];
+    if (sr->light_index < 0 || sr->light_index >= m->light_count) return;
+    const MaafLight *l = &m->lights[sr->light_index];
+    if (!(l->omega_y_max > 0.0f)) return;
+    size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
+    /* the direct light without the part the filters must not blur (gbuffer_add's split) */
+    float f[4] = {r->direct.x, r->direct.y, r->direct.z, 1.0f};
+    float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
+    float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+    for (int k = 0; k < 3; ++k) {
+        float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
+        f[k] -= uk - fminf(uk, fmaxf(ind[k], 0.0f));
+    }
+    float p[3] = {r->p_world.x, r->p_world.y, r->p_world.z};
+    float L[3] = {sr->light_p_world.x, sr->light_p_world.y, sr->light_p_world.z};
+    if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2]) || !isfinite(L[0] + L[1] + L[2]) ||
+        !isfinite(p[0] + p[1] + p[2])) {
+        ++m->nonfinite_samples; /* left out of the sums, reported at filter time */
+        return;
+    }
+    float *fr = m->frame4 + 4 * i;
+    if (fr[3] == 0.0f) { /* the pixel's light plane: its first shadow ray's light */
+        maaf_light_normal(l, p, fr);
+        fr[3] = 1.0f;
+    }
+    float t1[3], t2[3];
+    maaf_basis(fr, t1, t2);
+    float dl[3] = {L[0] - l->center[0], L[1] - l->center[1], L[2] - l->center[2]};
+    float y1 = dl[0] * t1[0] + dl[1] * t1[1] + dl[2] * t1[2];
+    float y2 = dl[0] * t2[0] + dl[1] * t2[1] + dl[2] * t2[2];
+    maaf_accumulate(m->pairs, l, y1, y2, f, m->ysum + i * (size_t)m->comps * 8);
+}
+
+static bool ensure_derived(ReconMethod *m, Diag *d)
+{
+    if (m->derived_ok) return true;
+    if (!aaf_derive(&m->stats, &m->derived)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF statistics");
+        return false;
+    }
+    m->derived_ok = true;
+    return true;
+}
+
+static bool maaf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
+{
+    if (m->filter) return true;
+    return (m->filter = maaf_filter_create(rt, d)) != NULL;
+}
+
+/* AAF-shadow eq. 1, as AAF: only the visibility is smooth enough to filter. */
+static bool maaf_light_factor(ReconMethod *m, Effect e, const float **factor, float *min_factor, Diag *d)
+{
+    *factor = NULL;
+    *min_factor = 0.0f;
+    if (e != EFFECT_SOFT_SHADOWS) return true;
+    if (!ensure_derived(m, d)) return false;
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    aaf_unoccluded_irradiance(&m->derived, m->shade);
+    float shade_max = 0.0f;
+    for (size_t i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
+    *factor = m->derived.light_known ? m->shade : NULL;
+    *min_factor = MIN_SHADE_REL * shade_max;
+    return true;
+}
+
+/* The pixel's wedge [s_min, s_max] (AAF-shadow eq. 4), averaged over a 5 x 5 window of pixels
+ * that saw an occluder (seeds/003's pre-filtering), else over the borrow radius; false when no
+ * pixel there did. */
+static bool pixel_wedge(const ReconMethod *m, int x, int y, float *s_min, float *s_max)
+{
+    const AafDerived *dv = &m->derived;
+    int w = m->g->width, h = m->g->height;
+    for (int r = SLOPE_WINDOW_PX; r <= BORROW_RADIUS_PX; r += BORROW_RADIUS_PX - SLOPE_WINDOW_PX) {
+        double lo = 0.0, hi = 0.0;
+        int count = 0;
+        for (int yy = y - r; yy <= y + r; ++yy)
+            for (int xx = x - r; xx <= x + r; ++xx) {
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                size_t j = (size_t)yy * w + xx;
+                if (!(dv->d2min[j] > 0.0f) || !(dv->d1[j] > 0.0f)) continue;
+                float s1, s2; /* s1 steepest (occluder nearest the light), s2 shallowest */
+                aaf_shadow_slopes(dv->d1[j], dv->d2min[j], dv->d2max[j], &s1, &s2);
+                lo += s2;
+                hi += s1;
+                ++count;
+            }
+        if (count) {
+            *s_min = (float)(lo / count);
+            *s_max = (float)(hi / count);
+            return true;
+        }
+    }
+    return false;
+}
+
+static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    if (e != EFFECT_SOFT_SHADOWS) return true;
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    int w = g->width, h = g->height;
+    size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
+    const float *factor = m->derived.light_known ? m->shade : NULL;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * w + x;
+            float spp = g->frame.spp[i];
+            bool usable = value4[4 * i + 3] != 0.0f && m->frame4[4 * i + 3] != 0.0f && spp > 0.0f;
+            float *yd = m->ydemod + i * per, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            memcpy(m->guide4 + 4 * i, m->frame4 + 4 * i, 3 * sizeof(float));
+            m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
+            m->std_px[i] = 0.0f;
+            m->components[i] = 0.0f;
+            if (!usable) {
+                memset(yd, 0, per * sizeof(float));
+                memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
+                continue;
+            }
+            /* composite.c's demodulation (value4 was made usable only where it is stable):
+             * each pixel's sums divided by its own albedo and r(x) */
+            float inv[3];
+            for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
+            const float *ys = m->ysum + i * per;
+            for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
+            float kappa = m->kappa * powf(spp / (float)MAAF_SPP_DEFAULT, 0.25f);
+            float s_min, s_max, pw = g->pixel_world[i];
+            int light = -1;
+            for (int l = 0; l < m->light_count && light < 0; ++l) /* the pixel's light: its frame's */
+                if (m->lights[l].omega_y_max > 0.0f) light = l;
+            float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
+            float wy = sigma > 0.0f ? 2.0f / sigma : (light >= 0 ? m->lights[light].omega_y_max : 0.0f);
+            if (pixel_wedge(m, x, y, &s_min, &s_max)) {
+                m->std_px[i] = maaf_pixel_param(s_min, s_max, wy, m->pairs, kappa, pw, pr);
+                if (m->std_px[i] > 0.0f) m->components[i] = (float)((2 * m->pairs - 1) * (2 * m->pairs - 1));
+            } else {
+                maaf_pixel_param_plain(FAR_STD_PX / kappa, pw, m->pairs, pr);
+                m->std_px[i] = pr[0] > 0.0f ? FAR_STD_PX / kappa : 0.0f;
+                m->components[i] = pr[0] > 0.0f ? 1.0f : 0.0f;
+            }
+        }
+    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->param, COS_NORMAL_MIN,
+                          DEPTH_TOL_REL};
+    if (!m->filter) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
+        return false;
+    }
+    if (!maaf_filter_run(m->filter, &in, m->out4, kernel_seconds, d)) return false;
+    long long nonfinite = 0, central_only = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float *o = m->out4 + 4 * i;
+        if (o[3] == 0.0f) continue;
+        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
+            ++nonfinite; /* keep the pixel's own value */
+            continue;
+        }
+        central_only += o[3] == 2.0f;
+        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
+    }
+    if (nonfinite || m->nonfinite_samples)
+        fprintf(stderr, "wedge: maaf: %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
+                nonfinite, m->nonfinite_samples);
+    (void)central_only;
+    return true;
+}
+
+static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
+{
+    (void)m, (void)effects, (void)value4, (void)d;
+    *kernel_seconds = 0.0;
+    return true;
+}
+
+static int maaf_shared(ReconMethod *m, DistArray *out, int max)
+{
+    int count = aaf_stats_arrays(&m->stats, out, max);
+    if (count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
+    if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
+    return count;
+}
+
+static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
+{
+    int count = 0;
+    if (count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.soft_shadows");
+        out[count].data = m->std_px;
+        out[count++].unit = "central filter std in pixels";
+    }
+    if (count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.components.soft_shadows");
+        out[count].data = m->components;
+        out[count++].unit = "filters";
+    }
+    return count;
+}
+
+const ReconMethodClass recon_method_maaf = {
+    .name = "maaf",
+    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, (2N-1)^2 offset Gaussians, fixed spp",
+    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .adaptive = false,
+    .sample_fields = 0,
+    .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .pass1_spp = maaf_pass1_spp,
+    .create = maaf_create,
+    .begin_pass = maaf_begin_pass,
+    .add_sample = maaf_add_sample,
+    .plan = NULL,
+    .open_device = maaf_open_device,
+    .light_factor = maaf_light_factor,
+    .filter_light = maaf_filter_light,
+    .filter_radiance = maaf_filter_radiance,
+    .shared = maaf_shared,
+    .aovs = maaf_aovs,
+    .destroy = maaf_destroy,
+};
