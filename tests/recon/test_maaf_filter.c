@@ -18,6 +18,7 @@ enum { W = 24, H = 20, SPP_SIDE = 2 };
 #define LIGHT_Z 2.0f
 #define OCCLUDER_Z 1.0f
 #define EDGE_X 0.45f
+#define KAPPA 4.0f /* the method's default knob (maaf_method.c) */
 
 static unsigned rng_state = 777u;
 static float frand(void)
@@ -28,7 +29,7 @@ static float frand(void)
 
 typedef struct {
     int pairs;
-    float *ysum, *pos4, *nrm4, *frame4, *param, *mean, *exact;
+    float *ysum, *pos4, *nrm4, *frame4, *axis2, *param, *mean, *exact;
 } Scene;
 
 static float receiver_x(int x) { return -0.3f + (x + 0.5f) * PIXEL_WORLD; }
@@ -47,13 +48,19 @@ static void scene_build(Scene *s, int pairs, float phase_sign, bool constant)
     s->pos4 = calloc(4 * n, sizeof(float));
     s->nrm4 = calloc(4 * n, sizeof(float));
     s->frame4 = calloc(4 * n, sizeof(float));
+    s->axis2 = calloc(4 * n, sizeof(float));
     s->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
     s->mean = calloc(n, sizeof(float));
     s->exact = calloc(n, sizeof(float));
-    MaafLight light = {{0.5f, 0.5f, LIGHT_Z}, {0.0f, 0.0f, -1.0f}, 0.0f, {0}, {0}};
-    maaf_light_design(0.5f, pairs, &light); /* sigma = sqrt(area)/2 */
-    float t1[3], t2[3];
-    maaf_basis(light.normal, t1, t2);
+    static MaafLight light; /* the unit square along x and y, centred at (0.5, 0.5) */
+    memset(&light, 0, sizeof light);
+    light.center[0] = light.center[1] = 0.5f;
+    light.center[2] = LIGHT_Z;
+    light.t1[0] = light.t2[1] = 1.0f;
+    light.lo[0] = light.lo[1] = -0.5f;
+    light.hi[0] = light.hi[1] = 0.5f;
+    maaf_light_design(0.5f / KAPPA, pairs, &light); /* sigma = sqrt(area)/2, the design scaled by the knob */
+    const float *t1 = light.t1, *t2 = light.t2;
     /* s = d1/d2 - 1 = 2/1 - 1 = 1 for this occluder; a wedge around it */
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
@@ -62,8 +69,9 @@ static void scene_build(Scene *s, int pairs, float phase_sign, bool constant)
             float *p4 = s->pos4 + 4 * i, *n4 = s->nrm4 + 4 * i, *f4 = s->frame4 + 4 * i;
             p4[0] = px, p4[1] = py, p4[2] = 0.0f, p4[3] = 3.0f;
             n4[2] = 1.0f;
-            memcpy(f4, light.normal, 3 * sizeof(float));
+            memcpy(f4, t1, 3 * sizeof(float));
             f4[3] = 1.0f;
+            memcpy(s->axis2 + 4 * i, t2, 3 * sizeof(float));
             float e = px + 0.1f; /* visible fraction: L.x > 0.9 - P.x */
             s->exact[i] = constant ? 1.0f : (e < 0.0f ? 0.0f : e > 1.0f ? 1.0f : e);
             maaf_pixel_param(0.8f, 1.25f, light.omega_y_max, pairs, 1.0f, PIXEL_WORLD, s->param + i * MAAF_PARAM_STRIDE);
@@ -89,6 +97,7 @@ static void scene_free(Scene *s)
     free(s->pos4);
     free(s->nrm4);
     free(s->frame4);
+    free(s->axis2);
     free(s->param);
     free(s->mean);
     free(s->exact);
@@ -96,7 +105,7 @@ static void scene_free(Scene *s)
 
 static MaafFilterInput scene_input(const Scene *s)
 {
-    MaafFilterInput in = {W, H, s->pairs, s->ysum, s->pos4, s->nrm4, s->frame4, s->param, 0.96592583f, 0.05f};
+    MaafFilterInput in = {W, H, s->pairs, s->ysum, s->pos4, s->nrm4, s->frame4, s->axis2, s->param, 0.96592583f, 0.05f};
     return in;
 }
 

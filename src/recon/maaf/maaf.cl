@@ -13,7 +13,7 @@
  * phase is exact across the two passes (offsets add), the Gaussian is separated like AAF's.
  *
  * Per pixel: in/tmp: 2 float4 (re, im) per component; pos4 (position, depth), nrm4 (normal,
- * object id), frame4 (light-plane normal, usable flag); param: MAAF_PARAM_STRIDE floats,
+ * object id), frame4 (the light's axis t1, usable flag), axis2 (its axis t2); param: MAAF_PARAM_STRIDE floats,
  * radius in pixels, then per band p: amplitude, C_x, sx^2/2 (world units). out4: filtered rgb
  * and a flag (0: unchanged, 1: filtered, 2: the full sum's weight was too small and the
  * central component alone was used). */
@@ -23,19 +23,13 @@
 #define MAAF_PARAM_STRIDE 16
 /* below this fraction of the central component's weight the full sum is not trusted */
 #define MAAF_MIN_WEIGHT_FRACTION 0.2f
-
-/* The light-plane axes from its unit normal (the same in maaf_filter.c). */
-static void maaf_basis(float3 n, float3 *t1, float3 *t2)
-{
-    float3 a = fabs(n.x) > 0.9f ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(1.0f, 0.0f, 0.0f);
-    *t1 = normalize(cross(a, n));
-    *t2 = cross(n, *t1);
-}
+/* sx^2 ratio of the sharpness rule: a neighbour's std under 1/2 of the centre's */
+#define MAAF_SHARP_FACTOR 4.0f
 
 __kernel void maaf_pass(int width, int height, int axis, int pairs, int comps, float cos_normal_min,
                         float depth_tol_rel, __global const float4 *in, __global const float4 *pos4,
                         __global const float4 *nrm4, __global const float4 *frame4,
-                        __global const float *param, __global float4 *tmp, __global float4 *out4)
+                        __global const float4 *axis2, __global const float *param, __global float4 *tmp, __global float4 *out4)
 {
     int x = (int)get_global_id(0), y = (int)get_global_id(1);
     if (x >= width || y >= height) return;
@@ -51,10 +45,7 @@ __kernel void maaf_pass(int width, int height, int axis, int pairs, int comps, f
             out4[i] = (float4)(0.0f);
         return;
     }
-    float3 n = cf.xyz;
-    if (dot(n, n) < 0.5f) n = (float3)(0.0f, 0.0f, 1.0f);
-    float3 t1, t2;
-    maaf_basis(n, &t1, &t2);
+    float3 t1 = cf.xyz, t2 = axis2[i].xyz;
     float4 cp = pos4[i], cn = nrm4[i];
     float tol = depth_tol_rel * cp.w;
     float amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
@@ -74,6 +65,11 @@ __kernel void maaf_pass(int width, int height, int axis, int pairs, int comps, f
         float3 dlt = cp.xyz - np.xyz;
         /* AAF's rejections: another object, a normal discontinuity, a depth discontinuity */
         if (nn.w != cn.w || dot(cn.xyz, nn.xyz) < cos_normal_min || fabs(dot(cn.xyz, dlt)) > tol) continue;
+        /* AAF's sharpness rule: a neighbour that is not filtered, or whose central filter is under
+         * half as wide as the centre's, holds detail (a contact shadow, a shadow from an occluder
+         * outside the centre's wedge) that the centre's filter would smear */
+        __global const float *pn = param + j * MAAF_PARAM_STRIDE;
+        if (pn[0] <= 0.0f || pn[3] > MAAF_SHARP_FACTOR * hv[0]) continue;
         float d1 = dot(dlt, t1), d2 = dot(dlt, t2);
         float2 e1[MAAF_PAIRS_MAX], e2[MAAF_PAIRS_MAX];
         for (int p = 0; p < pairs; ++p) {

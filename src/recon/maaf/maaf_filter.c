@@ -8,6 +8,7 @@
 #include "recon/cl/cl_runtime_internal.h"
 
 #define MIN_WEIGHT_FRACTION 0.2f /* MAAF_MIN_WEIGHT_FRACTION in maaf.cl */
+#define SHARP_FACTOR 4.0f        /* MAAF_SHARP_FACTOR */
 
 int maaf_component_count(int pairs)
 {
@@ -39,8 +40,7 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
     const float *pr = in->param + (size_t)i * MAAF_PARAM_STRIDE;
     int radius = (int)pr[0];
     memset(acc, 0, (size_t)comps * 8 * sizeof(float));
-    float t1[3], t2[3];
-    maaf_basis(in->frame4 + 4 * i, t1, t2);
+    const float *t1 = in->frame4 + 4 * i, *t2 = in->axis2_4 + 4 * i;
     const float *cp = in->pos4 + 4 * i, *cn = in->nrm4 + 4 * i;
     float tol = in->depth_tol_rel * cp[3];
     for (int k = -radius; k <= radius; ++k) {
@@ -51,6 +51,8 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
         const float *np = in->pos4 + 4 * j, *nn = in->nrm4 + 4 * j;
         float dlt[3] = {cp[0] - np[0], cp[1] - np[1], cp[2] - np[2]};
         if (nn[3] != cn[3] || dot3(cn, nn) < in->cos_normal_min || fabsf(dot3(cn, dlt)) > tol) continue;
+        const float *pn = in->param + (size_t)j * MAAF_PARAM_STRIDE;
+        if (pn[0] <= 0.0f || pn[3] > SHARP_FACTOR * pr[3]) continue; /* maaf.cl's sharpness rule */
         float d1 = dot3(dlt, t1), d2 = dot3(dlt, t2);
         float e1[MAAF_PAIRS_MAX][2], e2[MAAF_PAIRS_MAX][2];
         for (int p = 0; p < pairs; ++p) {
@@ -131,7 +133,7 @@ void maaf_filter_reference(const MaafFilterInput *in, float *out4)
 
 /* ---- OpenCL ---- */
 
-enum { BUF_IN, BUF_TMP, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_OUT, BUF_COUNT };
+enum { BUF_IN, BUF_TMP, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_OUT, BUF_COUNT };
 
 struct MaafFilter {
     ClRuntime *rt;
@@ -202,7 +204,7 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     size_t ybytes = n * (size_t)comps * 8 * sizeof(float);
     bool ok = buffer(f, BUF_IN, ybytes, in->ysum, d) && buffer(f, BUF_TMP, ybytes, NULL, d) &&
               buffer(f, BUF_POS, n * 16, in->pos4, d) && buffer(f, BUF_NRM, n * 16, in->nrm4, d) &&
-              buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
+              buffer(f, BUF_FRAME, n * 16, in->frame4, d) && buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
               buffer(f, BUF_OUT, n * 16, NULL, d);
     cl_event ev[2] = {NULL, NULL};

@@ -24,7 +24,8 @@ typedef struct {
     const float *ysum;     /* 8 floats per component per pixel: Y_c re (r, g, b, w), im (r, g, b, w) */
     const float *pos4;     /* world position, camera depth */
     const float *nrm4;     /* unit normal, object id */
-    const float *frame4;   /* unit normal of the light's plane, usable flag (0: not filtered, not used) */
+    const float *frame4;   /* the light's first axis t1 (unit), usable flag (0: not filtered, not used) */
+    const float *axis2_4;  /* the light's second axis t2 (unit), unused */
     const float *param;    /* MAAF_PARAM_STRIDE per pixel */
     float cos_normal_min;  /* neighbour rejection, as AAF's */
     float depth_tol_rel;

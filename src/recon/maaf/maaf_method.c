@@ -22,18 +22,18 @@
 
 /* seeds/003 Sec. 6.1 and Fig. 9: 9 samples per pixel for soft shadows. */
 #define MAAF_SPP_DEFAULT 9
-/* The filter knob at MAAF_SPP_DEFAULT samples: every component's Omega_x width times this (1:
- * the paper's boxes). With more samples per pixel the replicas of the spectrum move apart by
- * the fourth root of the count along each of the four axes, so the width grows with it and
- * the filter narrows towards the pixel itself (consistency). */
-#define MAAF_KAPPA_DEFAULT 1.0f
+/* The filter knob (--mu): the whole design scaled by it, Omega_y_max = kappa 2 / sigma_light,
+ * so every primal width shrinks as 1/kappa (consistency: kappa -> infinity is Monte Carlo).
+ * 1 is the paper's; 4 had the lowest error at 9 and 36 spp on the soft-shadow bench scene
+ * (docs/algorithms.md 9.7). */
+#define MAAF_KAPPA_DEFAULT 4.0f
 /* seeds/003 Sec. 6.2 "Pre-filtering": slopes are averaged over a 5 x 5 window. Pixels whose
  * window saw no occluder borrow from this radius (AAF-shadow Sec. 6's 5 pixels). */
 #define SLOPE_WINDOW_PX 2
 #define BORROW_RADIUS_PX 5
 /* No occluder within BORROW_RADIUS_PX: visibility is 1 there; the unshadowed light is filtered
- * with a plain Gaussian of this std (pixels, at the default count), AAF's far width. */
-#define FAR_STD_PX 4.0f
+ * with a plain Gaussian of this std (pixels, at the default knob; measured: 2 and 4 alike). */
+#define FAR_STD_PX 2.0f
 /* Pixels whose unoccluded irradiance is below this fraction of the frame's largest keep their
  * own direct light (as AAF: dividing by it is unstable). */
 #define MIN_SHADE_REL 1.0e-3f
@@ -45,17 +45,19 @@ struct ReconMethod {
     const Renderer *renderer;
     const GBuffer *g;
     EffectMask effects;
-    float kappa;                /* the knob at MAAF_SPP_DEFAULT samples */
+    float kappa;                /* the filter knob (MAAF_KAPPA_DEFAULT) */
     int pairs, comps;
     AafLightGeom *geoms;
     MaafLight *lights;
+    const MaafLight *first_light; /* the first area light: for samples without a shadow ray */
     int light_count;
     AafStats stats;
     bool stats_ok;
     AafDerived derived;
     bool derived_ok;
     float *ysum;                /* comps * 8 per pixel (eq. 20) */
-    float *frame4;              /* the pixel's light-plane normal (first shadow ray), w: 1 once set */
+    float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
+    float *axis2;               /* and t2 */
     float *ydemod;              /* ysum with the albedo and r(x) divided out, per filter run */
     float *guide4;              /* frame4 with w = usable, per filter run */
     float *param, *out4, *shade;
@@ -80,6 +82,7 @@ static void maaf_destroy(ReconMethod *m)
     free(m->lights);
     free(m->ysum);
     free(m->frame4);
+    free(m->axis2);
     free(m->ydemod);
     free(m->guide4);
     free(m->param);
@@ -90,8 +93,11 @@ static void maaf_destroy(ReconMethod *m)
     free(m);
 }
 
-/* Each light's emitter centre (the area-weighted centroid of all triangles of its shape) and
- * normal, and its y-design. */
+static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Each light's emitter centre (the area-weighted centroid of all triangles of its shape), its
+ * axes (along the first triangle's first edge: a quad light's edges) and extent along them,
+ * and its y-design. Disks and spheres are boxes of their (silhouette) area. */
 static void lights_from_renderer(ReconMethod *m)
 {
     int count = m->light_count;
@@ -113,8 +119,49 @@ static void lights_from_renderer(ReconMethod *m)
             area += info[k].area_world;
         }
         for (int k = 0; k < 3; ++k) ml->center[k] = area > 0.0 ? (float)(c[k] / area) : 0.0f;
-        memcpy(ml->normal, m->geoms[l].normal, sizeof ml->normal);
-        maaf_light_design(m->geoms[l].sigma_world, m->pairs, ml);
+        const float *n = m->geoms[l].normal;
+        bool planar = dot3(n, n) > 0.5f;
+        if (planar && info[l].is_triangle) {
+            /* every triangle of the shape must use the same axes (a pixel's sums mix samples
+             * from all of them): the first triangle's first edge, a quad's edge */
+            int first = l;
+            for (int k = 0; k < l && first == l; ++k)
+                if (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape &&
+                    info[k].is_triangle)
+                    first = k;
+            const RenderLightInfo *ft = &info[first];
+            float e[3] = {ft->tri_world[1].x - ft->tri_world[0].x, ft->tri_world[1].y - ft->tri_world[0].y,
+                          ft->tri_world[1].z - ft->tri_world[0].z};
+            float en = dot3(e, n);
+            for (int k = 0; k < 3; ++k) e[k] -= en * n[k];
+            float len = sqrtf(dot3(e, e));
+            for (int k = 0; k < 3; ++k) ml->t1[k] = len > 0.0f ? e[k] / len : 0.0f;
+            ml->t2[0] = n[1] * ml->t1[2] - n[2] * ml->t1[1];
+            ml->t2[1] = n[2] * ml->t1[0] - n[0] * ml->t1[2];
+            ml->t2[2] = n[0] * ml->t1[1] - n[1] * ml->t1[0];
+            ml->lo[0] = ml->lo[1] = INFINITY;
+            ml->hi[0] = ml->hi[1] = -INFINITY;
+            for (int k = 0; k < count; ++k) {
+                bool same = k == l || (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape);
+                if (!same || !info[k].is_triangle) continue;
+                for (int v = 0; v < 3; ++v) {
+                    float d[3] = {info[k].tri_world[v].x - ml->center[0], info[k].tri_world[v].y - ml->center[1],
+                                  info[k].tri_world[v].z - ml->center[2]};
+                    float a = dot3(d, ml->t1), b = dot3(d, ml->t2);
+                    ml->lo[0] = fminf(ml->lo[0], a), ml->hi[0] = fmaxf(ml->hi[0], a);
+                    ml->lo[1] = fminf(ml->lo[1], b), ml->hi[1] = fmaxf(ml->hi[1], b);
+                }
+            }
+        } else {
+            if (planar) maaf_basis(n, ml->t1, ml->t2); /* disk; a sphere's axes face each receiver */
+            float half = 0.5f * sqrtf((float)M_PI) * m->geoms[l].radius_world; /* box of the same area */
+            ml->lo[0] = ml->lo[1] = -half;
+            ml->hi[0] = ml->hi[1] = half;
+        }
+        if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
+            continue; /* degenerate: omega_y_max stays 0, its samples are not used */
+        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light */
+        maaf_light_design(m->geoms[l].sigma_world / m->kappa, m->pairs, ml);
     }
     free(info);
 }
@@ -136,6 +183,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->ysum = calloc(n * per, sizeof(float));
     m->ydemod = malloc(n * per * sizeof(float));
     m->frame4 = calloc(4 * n, sizeof(float));
+    m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
     m->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
     m->out4 = malloc(4 * n * sizeof(float));
@@ -146,13 +194,15 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || !m->ysum || !m->ydemod || !m->frame4 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || !m->ysum || !m->ydemod || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
     m->stats.light_count = m->light_count;
     lights_from_renderer(m);
+    for (int l = m->light_count - 1; l >= 0; --l)
+        if (m->lights[l].omega_y_max > 0.0f) m->first_light = &m->lights[l];
     *out = m;
     return true;
 oom:
@@ -171,11 +221,12 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
 {
     aaf_stats_add(&m->stats, px, py, r);
-    if (!r->hit || r->shadow_count < 1) return;
-    const ShadowRayRecord *sr = &r->shadow[0];
-    if (sr->light_index < 0 || sr->light_index >= m->light_count) return;
-    const MaafLight *l = &m->lights[sr->light_index];
-    if (!(l->omega_y_max > 0.0f)) return;
+    if (!r->hit) return;
+    const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
+    bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
+                 m->lights[sr->light_index].omega_y_max > 0.0f;
+    const MaafLight *l = known ? &m->lights[sr->light_index] : m->first_light;
+    if (!l) return;
     size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
     /* the direct light without the part the filters must not blur (gbuffer_add's split) */
     float f[4] = {r->direct.x, r->direct.y, r->direct.z, 1.0f};
@@ -186,19 +237,24 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
         f[k] -= uk - fminf(uk, fmaxf(ind[k], 0.0f));
     }
     float p[3] = {r->p_world.x, r->p_world.y, r->p_world.z};
-    float L[3] = {sr->light_p_world.x, sr->light_p_world.y, sr->light_p_world.z};
-    if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2]) || !isfinite(L[0] + L[1] + L[2]) ||
-        !isfinite(p[0] + p[1] + p[2])) {
+    if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
         ++m->nonfinite_samples; /* left out of the sums, reported at filter time */
         return;
     }
-    float *fr = m->frame4 + 4 * i;
-    if (fr[3] == 0.0f) { /* the pixel's light plane: its first shadow ray's light */
-        maaf_light_normal(l, p, fr);
-        fr[3] = 1.0f;
+    if (!known) { /* no shadow ray: its light point is unknown (maaf_shadow.h) */
+        maaf_accumulate_unknown(m->pairs, l, f, m->ysum + i * (size_t)m->comps * 8);
+        return;
     }
-    float t1[3], t2[3];
-    maaf_basis(fr, t1, t2);
+    float L[3] = {sr->light_p_world.x, sr->light_p_world.y, sr->light_p_world.z};
+    if (!isfinite(L[0] + L[1] + L[2]) || !isfinite(p[0] + p[1] + p[2])) {
+        ++m->nonfinite_samples;
+        return;
+    }
+    float *t1 = m->frame4 + 4 * i, *t2 = m->axis2 + 4 * i;
+    if (t1[3] == 0.0f) { /* the pixel's axes: its first shadow ray's light's */
+        maaf_light_axes(l, p, t1, t2);
+        t1[3] = 1.0f;
+    }
     float dl[3] = {L[0] - l->center[0], L[1] - l->center[1], L[2] - l->center[2]};
     float y1 = dl[0] * t1[0] + dl[1] * t1[1] + dl[2] * t1[2];
     float y2 = dl[0] * t2[0] + dl[1] * t2[1] + dl[2] * t2[2];
@@ -223,7 +279,7 @@ static bool maaf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
 }
 
 /* AAF-shadow eq. 1, as AAF: only the visibility is smooth enough to filter. */
-static bool maaf_light_factor(ReconMethod *m, Effect e, const float **factor, float *min_factor, Diag *d)
+static bool maaf_method_light_factor(ReconMethod *m, Effect e, const float **factor, float *min_factor, Diag *d)
 {
     *factor = NULL;
     *min_factor = 0.0f;
@@ -298,30 +354,28 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
             const float *ys = m->ysum + i * per;
             for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
-            float kappa = m->kappa * powf(spp / (float)MAAF_SPP_DEFAULT, 0.25f);
             float s_min, s_max, pw = g->pixel_world[i];
-            int light = -1;
-            for (int l = 0; l < m->light_count && light < 0; ++l) /* the pixel's light: its frame's */
-                if (m->lights[l].omega_y_max > 0.0f) light = l;
+            /* the pixel's light's band (AAF's per-pixel sigma), the knob scaling the whole design */
             float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
-            float wy = sigma > 0.0f ? 2.0f / sigma : (light >= 0 ? m->lights[light].omega_y_max : 0.0f);
+            float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
             if (pixel_wedge(m, x, y, &s_min, &s_max)) {
-                m->std_px[i] = maaf_pixel_param(s_min, s_max, wy, m->pairs, kappa, pw, pr);
+                m->std_px[i] = maaf_pixel_param(s_min, s_max, wy, m->pairs, 1.0f, pw, pr);
                 if (m->std_px[i] > 0.0f) m->components[i] = (float)((2 * m->pairs - 1) * (2 * m->pairs - 1));
             } else {
-                maaf_pixel_param_plain(FAR_STD_PX / kappa, pw, m->pairs, pr);
-                m->std_px[i] = pr[0] > 0.0f ? FAR_STD_PX / kappa : 0.0f;
+                float far_px = FAR_STD_PX * MAAF_KAPPA_DEFAULT / m->kappa;
+                maaf_pixel_param_plain(far_px, pw, m->pairs, pr);
+                m->std_px[i] = pr[0] > 0.0f ? far_px : 0.0f;
                 m->components[i] = pr[0] > 0.0f ? 1.0f : 0.0f;
             }
         }
-    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->param, COS_NORMAL_MIN,
+    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
     if (!m->filter) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
         return false;
     }
     if (!maaf_filter_run(m->filter, &in, m->out4, kernel_seconds, d)) return false;
-    long long nonfinite = 0, central_only = 0;
+    long long nonfinite = 0;
     for (size_t i = 0; i < n; ++i) {
         const float *o = m->out4 + 4 * i;
         if (o[3] == 0.0f) continue;
@@ -329,13 +383,11 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             ++nonfinite; /* keep the pixel's own value */
             continue;
         }
-        central_only += o[3] == 2.0f;
         memcpy(value4 + 4 * i, o, 3 * sizeof(float));
     }
     if (nonfinite || m->nonfinite_samples)
         fprintf(stderr, "wedge: maaf: %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
                 nonfinite, m->nonfinite_samples);
-    (void)central_only;
     return true;
 }
 
@@ -351,6 +403,7 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     int count = aaf_stats_arrays(&m->stats, out, max);
     if (count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
+    if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     return count;
 }
 
@@ -383,7 +436,7 @@ const ReconMethodClass recon_method_maaf = {
     .add_sample = maaf_add_sample,
     .plan = NULL,
     .open_device = maaf_open_device,
-    .light_factor = maaf_light_factor,
+    .light_factor = maaf_method_light_factor,
     .filter_light = maaf_filter_light,
     .filter_radiance = maaf_filter_radiance,
     .shared = maaf_shared,

@@ -6,6 +6,22 @@
 
 #define INV_SQRT_2PI 0.39894228f
 
+/* int_{a}^{b} exp(j C t) g(t; s) dt by Simpson's rule (the integrand is smooth: a Gaussian of
+ * std 1/s times an oscillation of period 2 pi / C, both wider than the step). */
+static void window_integral(double a, double b, double C, double s, double out[2])
+{
+    enum { STEPS = 256 };
+    double h = (b - a) / STEPS, re = 0.0, im = 0.0;
+    for (int k = 0; k <= STEPS; ++k) {
+        double t = a + k * h, wk = (k == 0 || k == STEPS) ? 1.0 : (k & 1) ? 4.0 : 2.0;
+        double g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
+        re += wk * g * cos(C * t);
+        im += wk * g * sin(C * t);
+    }
+    out[0] = re * h / 3.0;
+    out[1] = im * h / 3.0;
+}
+
 void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
 {
     float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
@@ -16,31 +32,82 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
         l->cy[p] = p < pairs ? wy * 2.0f * (float)p / bands : 0.0f;
         l->sy[p] = p < pairs ? wy / bands : 0.0f;
     }
+    memset(l->table, 0, sizeof l->table);
+    if (!(wy > 0.0f)) return;
+    for (int a = 0; a < 2; ++a)
+        for (int p = 0; p < pairs; ++p)
+            for (int e = 0; e < MAAF_YTABLE; ++e) {
+                /* c_p(y) = int_{lo - y}^{hi - y} exp(j C t) g(t) dt, t = y' - y */
+                double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0), c[2];
+                window_integral(l->lo[a] - y, l->hi[a] - y, l->cy[p], l->sy[p], c);
+                l->table[a][p][e][0] = (float)c[0];
+                l->table[a][p][e][1] = (float)c[1];
+            }
+    for (int a = 0; a < 2; ++a)
+        for (int p = 0; p < pairs; ++p)
+            for (int k = 0; k < 2; ++k) { /* trapezoid rule over the uniform table */
+                double s = 0.0;
+                for (int e = 0; e < MAAF_YTABLE; ++e)
+                    s += (e == 0 || e == MAAF_YTABLE - 1 ? 0.5 : 1.0) * l->table[a][p][e][k];
+                l->mean[a][p][k] = (float)(s / (MAAF_YTABLE - 1));
+            }
 }
 
-void maaf_light_normal(const MaafLight *l, const float p[3], float n[3])
+void maaf_light_axes(const MaafLight *l, const float p[3], float t1[3], float t2[3])
 {
-    if (l->normal[0] != 0.0f || l->normal[1] != 0.0f || l->normal[2] != 0.0f) {
-        memcpy(n, l->normal, 3 * sizeof(float));
+    if (l->t1[0] != 0.0f || l->t1[1] != 0.0f || l->t1[2] != 0.0f) {
+        memcpy(t1, l->t1, 3 * sizeof(float));
+        memcpy(t2, l->t2, 3 * sizeof(float));
         return;
     }
     float d[3] = {l->center[0] - p[0], l->center[1] - p[1], l->center[2] - p[2]};
     float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int k = 0; k < 3; ++k) n[k] = len > 0.0f ? d[k] / len : (k == 2 ? 1.0f : 0.0f);
+    float n[3] = {0.0f, 0.0f, 1.0f};
+    if (len > 0.0f)
+        for (int k = 0; k < 3; ++k) n[k] = d[k] / len;
+    maaf_basis(n, t1, t2);
 }
+
+void maaf_light_factor(const MaafLight *l, int axis, int p, float y, float c[2])
+{
+    float span = l->hi[axis] - l->lo[axis];
+    float u = span > 0.0f ? (y - l->lo[axis]) / span * (MAAF_YTABLE - 1) : 0.0f;
+    if (!(u > 0.0f)) u = 0.0f; /* NaN too */
+    if (u > MAAF_YTABLE - 1) u = MAAF_YTABLE - 1;
+    int e = (int)u;
+    if (e > MAAF_YTABLE - 2) e = MAAF_YTABLE - 2;
+    float t = u - (float)e;
+    const float(*row)[2] = l->table[axis][p];
+    c[0] = row[e][0] + t * (row[e + 1][0] - row[e][0]);
+    c[1] = row[e][1] + t * (row[e + 1][1] - row[e][1]);
+}
+
+static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4], float *ysum);
 
 void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const float f4[4], float *ysum)
 {
-    /* b_p(y) per axis (eq. 20): Gaussian of the light's band, phase -C_y^p y */
+    /* c_p(y) per axis (eq. 20 with the light integrated, see maaf_shadow.h) */
     float b1[MAAF_PAIRS_MAX][2], b2[MAAF_PAIRS_MAX][2];
     for (int p = 0; p < pairs; ++p) {
-        float s = l->sy[p], g1 = s * INV_SQRT_2PI * expf(-0.5f * s * s * y1 * y1);
-        float g2 = s * INV_SQRT_2PI * expf(-0.5f * s * s * y2 * y2);
-        b1[p][0] = g1 * cosf(l->cy[p] * y1);
-        b1[p][1] = -g1 * sinf(l->cy[p] * y1);
-        b2[p][0] = g2 * cosf(l->cy[p] * y2);
-        b2[p][1] = -g2 * sinf(l->cy[p] * y2);
+        maaf_light_factor(l, 0, p, y1, b1[p]);
+        maaf_light_factor(l, 1, p, y2, b2[p]);
     }
+    accumulate(pairs, b1, b2, f4, ysum);
+}
+
+void maaf_accumulate_unknown(int pairs, const MaafLight *l, const float f4[4], float *ysum)
+{
+    float b1[MAAF_PAIRS_MAX][2], b2[MAAF_PAIRS_MAX][2];
+    for (int p = 0; p < pairs; ++p)
+        for (int k = 0; k < 2; ++k) {
+            b1[p][k] = l->mean[0][p][k];
+            b2[p][k] = l->mean[1][p][k];
+        }
+    accumulate(pairs, b1, b2, f4, ysum);
+}
+
+static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4], float *ysum)
+{
     int c = 0;
     for (int p = 0; p < pairs; ++p)
         for (int q = -(pairs - 1); q < pairs; ++q) {
