@@ -1,8 +1,9 @@
 /* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows, as a reconstruction method
  * (recon/method.h). docs/algorithms.md 9.
  *
- *   samples  a fixed count (9 by default, the paper's; --spp sets it), one pass that records
- *            the shadow-ray geometry
+ *   samples  pass 1: 9 per pixel (the paper's count), recording the shadow-ray geometry; the
+ *            plan adds samples only where the filter does not reach (silhouettes, contact
+ *            shadows: maaf_plan), the rest keep pass 1's 9
  *   sink     per pixel: AAF's shadow statistics (the wedge: d1, d2min, d2max, aaf_stats.h) and
  *            the complex sums of eq. 20 for each of the ((2N-1)^2 + 1)/2 components of the 4D
  *            filter (maaf_shadow.h), the light sample's position on the light giving the phase
@@ -40,6 +41,10 @@
 /* Normal rejection: seeds/003 uses 20 degrees, AAF 15; depth tolerance as AAF's. */
 #define COS_NORMAL_MIN 0.93969262f
 #define DEPTH_TOL_REL 0.05f
+/* The plan (maaf_plan): extra samples where the filter does not reach */
+#define EXTRA_SPP_PER_MU 8.0f
+#define UNFILTERED_STD_PX 0.5f
+#define MAAF_PLAN_MU_DEFAULT 2.0f
 
 struct ReconMethod {
     const Renderer *renderer;
@@ -55,6 +60,7 @@ struct ReconMethod {
     bool stats_ok;
     AafDerived derived;
     bool derived_ok;
+    int pass1_spp;              /* the samples every pixel had when the first plan was made */
     float *ysum;                /* comps * 8 per pixel (eq. 20) */
     float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
     float *axis2;               /* and t2 */
@@ -324,6 +330,59 @@ static bool pixel_wedge(const ReconMethod *m, int x, int y, float *s_min, float 
     return false;
 }
 
+/* Pixel (x, y)'s x-filter into pr (MAAF_PARAM_STRIDE floats): the MAAF design of its wedge, or
+ * a plain Gaussian where no occluder is near. Returns the central std in pixels (0: not
+ * filtered) and the number of 4D components in *components. */
+static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *components)
+{
+    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
+    float s_min, s_max, pw = m->g->pixel_world[i], std_px;
+    /* the pixel's light's band (AAF's per-pixel sigma), the knob scaling the whole design */
+    float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
+    float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
+    if (pixel_wedge(m, x, y, &s_min, &s_max)) {
+        std_px = maaf_pixel_param(s_min, s_max, wy, m->pairs, 1.0f, pw, pr);
+        *components = std_px > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+    } else {
+        float far_px = FAR_STD_PX * MAAF_KAPPA_DEFAULT / m->kappa;
+        maaf_pixel_param_plain(far_px, pw, m->pairs, pr);
+        std_px = pr[0] > 0.0f ? far_px : 0.0f;
+        *components = pr[0] > 0.0f ? 1.0f : 0.0f;
+    }
+    return std_px;
+}
+
+/* Where the filter cannot help, samples can (as AAF, aaf_method.c): pixels whose samples saw
+ * different surfaces (silhouettes: left out of the filter) and surface pixels whose filter is
+ * under UNFILTERED_STD_PX wide (contact shadows) get EXTRA_SPP_PER_MU times mu times pass 1's
+ * count, at most 100 mu. Their extra samples come without ray geometry; they are Monte Carlo
+ * pixels, and the filter leaves them out as neighbours (sharpness rule). */
+static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
+{
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    if (!m->pass1_spp) m->pass1_spp = n ? (int)spp_now[0] : 0;
+    int pass1 = m->pass1_spp;
+    /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
+    float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
+    int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    for (int y = 0; y < g->height; ++y)
+        for (int x = 0; x < g->width; ++x) {
+            size_t i = (size_t)y * g->width + x;
+            spp_total[i] = pass1;
+            if (!g->hit[i]) continue;
+            if (g->mixed[i]) {
+                spp_total[i] = extra;
+                continue;
+            }
+            if (m->frame4[4 * i + 3] == 0.0f) continue; /* no direct light reaches it: no noise */
+            float comps;
+            if (pixel_filter(m, x, y, m->param + i * MAAF_PARAM_STRIDE, &comps) < UNFILTERED_STD_PX) spp_total[i] = extra;
+        }
+    return true;
+}
+
 static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
 {
     *kernel_seconds = 0.0;
@@ -354,19 +413,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
             const float *ys = m->ysum + i * per;
             for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
-            float s_min, s_max, pw = g->pixel_world[i];
-            /* the pixel's light's band (AAF's per-pixel sigma), the knob scaling the whole design */
-            float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
-            float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
-            if (pixel_wedge(m, x, y, &s_min, &s_max)) {
-                m->std_px[i] = maaf_pixel_param(s_min, s_max, wy, m->pairs, 1.0f, pw, pr);
-                if (m->std_px[i] > 0.0f) m->components[i] = (float)((2 * m->pairs - 1) * (2 * m->pairs - 1));
-            } else {
-                float far_px = FAR_STD_PX * MAAF_KAPPA_DEFAULT / m->kappa;
-                maaf_pixel_param_plain(far_px, pw, m->pairs, pr);
-                m->std_px[i] = pr[0] > 0.0f ? far_px : 0.0f;
-                m->components[i] = pr[0] > 0.0f ? 1.0f : 0.0f;
-            }
+            m->std_px[i] = pixel_filter(m, x, y, pr, &m->components[i]);
         }
     MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
@@ -425,16 +472,16 @@ static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
 
 const ReconMethodClass recon_method_maaf = {
     .name = "maaf",
-    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, (2N-1)^2 offset Gaussians, fixed spp",
+    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, (2N-1)^2 offset Gaussians, 9 spp + extra at silhouettes",
     .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
-    .adaptive = false,
+    .adaptive = true,
     .sample_fields = 0,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
     .pass1_spp = maaf_pass1_spp,
     .create = maaf_create,
     .begin_pass = maaf_begin_pass,
     .add_sample = maaf_add_sample,
-    .plan = NULL,
+    .plan = maaf_plan,
     .open_device = maaf_open_device,
     .light_factor = maaf_method_light_factor,
     .filter_light = maaf_filter_light,
