@@ -152,12 +152,13 @@ float maaf_pixel_param(float s_min, float s_max, float omega_y_max, int pairs, f
 
 void maaf_pixel_param_plain(float std_px, float pixel_world, int pairs, float *param)
 {
-    (void)pairs;
     clear_param(param);
     if (!(std_px >= 0.25f) || !(pixel_world > 0.0f) || !isfinite(std_px)) return;
     float sx = 1.0f / (std_px * pixel_world);
     param[1] = sx * INV_SQRT_2PI;
-    param[3] = 0.5f * sx * sx;
+    /* the other bands get amplitude 0 but the same Gaussian: their row-pass sums, which a
+     * neighbour's column pass may read, are smoothed like the central one, not box-summed */
+    for (int p = 0; p < pairs && p < MAAF_PAIRS_MAX; ++p) param[3 + 3 * p] = 0.5f * sx * sx;
     float radius = ceilf(2.0f * std_px);
     param[0] = radius > (float)MAAF_RADIUS_CAP_PX ? (float)MAAF_RADIUS_CAP_PX : radius;
 }
