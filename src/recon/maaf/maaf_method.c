@@ -220,7 +220,7 @@ oom:
 
 static void maaf_begin_pass(ReconMethod *m, int pass)
 {
-    /* the wedge comes from the pass that records ray geometry (the only pass of a frame) */
+    /* the wedge comes from pass 1, the pass that records ray geometry */
     m->stats.collect_rays = pass == 0;
 }
 
