@@ -372,7 +372,7 @@ int cmd_preview(int argc, char **argv)
     if (!a.quiet)
         for (int i = 0; i < scene.warning_count; ++i) fprintf(stderr, "%s\n", scene.warnings[i]);
     ReconOptions po = {.filter = a.filter, .mu = a.mu, .cl_device = a.cl_device,
-                       .mem_limit_bytes = (size_t)a.mem_limit};
+                       .mem_limit_bytes = (size_t)a.mem_limit, .method_options = {a.maaf_pairs}};
     if (!recon_pipeline_create(r, &po, &pipe, &err)) goto fail;
     int w = renderer_width(r), h = renderer_height(r);
     size_t n = (size_t)w * (size_t)h;

@@ -68,6 +68,8 @@ static void usage(FILE *f)
             "                  as X grows the result converges to Monte Carlo (default: each\n"
             "                  filter's default: 2 for shadows and indirect light, 1 for defocus);\n"
             "                  with --spp, --mu shapes the filters and --spp sets the samples\n"
+            "  --maaf-pairs N  --filter maaf: filter pairs per 2D subspace, 2N-1 filters each,\n"
+            "                  (2N-1)^2 in 4D (1..5, default 3)\n"
             "  --mem-limit S   memory for per-sample storage (filters that keep samples), e.g.\n"
             "                  512M or 8G (default: half the physical memory); a frame that needs\n"
             "                  more is refused before rendering\n"
@@ -266,6 +268,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     ReconOptions po = {0};
     po.filter = a.filter;
     po.mu = a.mu;
+    po.method_options[0] = a.maaf_pairs; /* MAAF reads its pairs here (ReconSetup) */
     /* progressive: --spp is where the steps stop, the first step is the default frame */
     bool progressive = a.time_budget > 0.0 || a.checkpoint > 0.0;
     po.spp = progressive ? 0 : a.spp;

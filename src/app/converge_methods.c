@@ -25,6 +25,10 @@ static const ConvergeMethod methods[] = {
      "layered reconstruction (paper 004) of defocus and motion blur"},
     {"lr-ld", {"--sampler", "sobol", "--filter", "lr", NULL}, false,
      "layered reconstruction with Owen-scrambled Sobol' samples"},
+    {"maaf", {"--sampler", "stratified", "--filter", "maaf", NULL}, true,
+     "multiple axis-aligned filters (paper 003) of soft shadows"},
+    {"maaf-ld", {"--sampler", "sobol", "--filter", "maaf", NULL}, true,
+     "multiple axis-aligned filters with Owen-scrambled Sobol' samples"},
 };
 
 /* Both Monte Carlo methods are baselines: at equal error the faster sampler differs with spp

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/diag.h"
+#include "recon/maaf/maaf_design.h"
 #include "recon/select.h"
 #include "scene/scene_desc.h"
 
@@ -41,6 +42,7 @@ static const char *render_option_wants(const char *opt, char *buf, size_t size)
         {"--threads", "an integer in [1, " RENDER_STR(RENDER_THREADS_MAX) "]"},
         {"--sampler", "stratified or sobol"},
         {"--mu", "a number in (0, " RENDER_STR(RENDER_MU_MAX) "]"},
+        {"--maaf-pairs", "an integer in [1, " RENDER_STR(MAAF_PAIRS_MAX) "]"},
         {"--mem-limit", "a size in bytes with an optional K, M or G suffix (e.g. 512M)"},
         {"--time", "a number of seconds in (0, 1e7]"},
         {"--checkpoint", "a number of seconds in (0, 1e7]"},
@@ -133,6 +135,13 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
             double mu = strtod(val, &end);
             if (errno || end == val || *end || !(mu > 0.0) || !(mu <= RENDER_MU_MAX)) goto bad_value;
             a->mu = (float)mu;
+        } else if (!strcmp(o, "--maaf-pairs")) {
+            NEED_VALUE();
+            char *end;
+            errno = 0;
+            long pairs = strtol(val, &end, 10);
+            if (errno || end == val || *end || pairs < 1 || pairs > MAAF_PAIRS_MAX) goto bad_value;
+            a->maaf_pairs = (int)pairs;
         } else if (!strcmp(o, "--mem-limit")) {
             NEED_VALUE();
             char *end;
@@ -182,6 +191,8 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
          "or --spp N"},
         {plain && a->mu > 0.0f, "--mu sets a filter's knob and does nothing with --filter none (plain Monte Carlo); "
                                 "drop --mu, or choose a filter (--filter auto)"},
+        {a->maaf_pairs > 0 && strcmp(a->filter, "maaf") != 0,
+         "--maaf-pairs sets MAAF's number of filter pairs and needs --filter maaf"},
         {plain && a->cl_device, "--cl-device picks the device the filters run on and does nothing with --filter "
                                 "none; drop it, or choose a filter"},
         {plain && a->mem_limit > 0.0, "--mem-limit caps a filter's per-sample storage and does nothing with --filter "

@@ -23,6 +23,7 @@ typedef struct {
     SamplerKind sampler;
     const char *filter;       /* "auto", a method's name or "none" */
     float mu;                 /* filter knob; 0: each paper's default */
+    int maaf_pairs;           /* --maaf-pairs N: MAAF's filter pairs per 2D subspace; 0: default */
     double mem_limit;         /* bytes for per-sample storage; 0: half the physical memory */
     const char *cl_device;    /* NULL: $WEDGE_CL_DEVICE, else the first GPU, else CPU */
     bool visualize;           /* false-colour PNG maps of filter widths and spp */

@@ -1,0 +1,47 @@
+/* The MAAF image-space pass (seeds/003 eq. 21, 4D soft-shadow filter as the product of two 2D
+ * designs): OpenCL kernel maaf_pass in maaf/maaf.cl, and its plain C reference, which computes
+ * the same thing (tests/recon/test_maaf_filter.c checks they agree). Layouts are those of
+ * maaf.cl; every array is row-major, width x height, no padding. */
+#ifndef WEDGE_RECON_MAAF_FILTER_H
+#define WEDGE_RECON_MAAF_FILTER_H
+
+#include <stdbool.h>
+
+#include "core/diag.h"
+#include "recon/cl/cl_runtime.h"
+#include "recon/maaf/maaf_design.h"
+
+/* Components of the half set (p > 0, or p = 0 and q >= 0) of (2N - 1)^2: ((2N-1)^2 + 1) / 2. */
+#define MAAF_COMPS_MAX (((2 * MAAF_PAIRS_MAX - 1) * (2 * MAAF_PAIRS_MAX - 1) + 1) / 2)
+int maaf_component_count(int pairs);
+/* Per pixel parameters: radius (pixels), then per band p: amplitude, C_x, sx^2 / 2. */
+#define MAAF_PARAM_STRIDE (1 + 3 * MAAF_PAIRS_MAX)
+/* Largest radius in pixels (the kernel's cost grows with it). */
+#define MAAF_RADIUS_CAP_PX 32
+
+typedef struct {
+    int width, height, pairs;
+    const float *ysum;     /* 8 floats per component per pixel: Y_c re (r, g, b, w), im (r, g, b, w) */
+    const float *pos4;     /* world position, camera depth */
+    const float *nrm4;     /* unit normal, object id */
+    const float *frame4;   /* the light's first axis t1 (unit), usable flag (0: not filtered, not used) */
+    const float *axis2_4;  /* the light's second axis t2 (unit), unused */
+    const float *param;    /* MAAF_PARAM_STRIDE per pixel */
+    float cos_normal_min;  /* neighbour rejection, as AAF's */
+    float depth_tol_rel;
+} MaafFilterInput;
+
+/* The light-plane axes of a unit normal (zero normal: +z), as the kernel builds them. */
+void maaf_basis(const float n[3], float t1[3], float t2[3]);
+
+/* out4: filtered rgb and a flag per pixel (0: unchanged, 1: filtered, 2: central component only). */
+void maaf_filter_reference(const MaafFilterInput *in, float *out4);
+
+typedef struct MaafFilter MaafFilter;
+MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d);
+void maaf_filter_destroy(MaafFilter *f);
+/* Same as maaf_filter_reference, on the device; kernel_seconds (may be NULL): both passes'
+ * device time. */
+bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d);
+
+#endif

@@ -1,0 +1,492 @@
+/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows, as a reconstruction method
+ * (recon/method.h). docs/algorithms.md 9.
+ *
+ *   samples  pass 1: 9 per pixel (the paper's count), recording the shadow-ray geometry; the
+ *            plan adds samples only where the filter does not reach (silhouettes, contact
+ *            shadows: maaf_plan), the rest keep pass 1's 9
+ *   sink     per pixel: AAF's shadow statistics (the wedge: d1, d2min, d2max, aaf_stats.h) and
+ *            the complex sums of eq. 20 for each of the ((2N-1)^2 + 1)/2 components of the 4D
+ *            filter (maaf_shadow.h), the light sample's position on the light giving the phase
+ *   filter   the direct light divided by albedo and the unoccluded irradiance r(x) (as AAF),
+ *            one image pass per axis with every component at once (maaf_filter.h)
+ *
+ * Only soft shadows: the scene's other effects stay Monte Carlo with --filter maaf. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/aaf/aaf_params.h"
+#include "recon/aaf/aaf_stats.h"
+#include "recon/maaf/maaf_filter.h"
+#include "recon/maaf/maaf_shadow.h"
+#include "recon/method.h"
+
+/* seeds/003 Sec. 6.1 and Fig. 9: 9 samples per pixel for soft shadows. */
+#define MAAF_SPP_DEFAULT 9
+/* The filter knob (--mu): the whole design scaled by it, Omega_y_max = kappa 2 / sigma_light,
+ * so every primal width shrinks as 1/kappa (consistency: kappa -> infinity is Monte Carlo).
+ * 1 is the paper's; 4 had the lowest error at 9 and 36 spp on the soft-shadow bench scene
+ * (docs/algorithms.md 9.7). */
+#define MAAF_KAPPA_DEFAULT 4.0f
+/* seeds/003 Sec. 6.2 "Pre-filtering": slopes are averaged over a 5 x 5 window. Pixels whose
+ * window saw no occluder borrow from this radius (AAF-shadow Sec. 6's 5 pixels). */
+#define SLOPE_WINDOW_PX 2
+#define BORROW_RADIUS_PX 5
+/* No occluder within BORROW_RADIUS_PX: visibility is 1 there; the unshadowed light is filtered
+ * with a plain Gaussian of this std (pixels, at the default knob; measured: 2 and 4 alike). */
+#define FAR_STD_PX 2.0f
+/* Pixels whose unoccluded irradiance is below this fraction of the frame's largest keep their
+ * own direct light (as AAF: dividing by it is unstable). */
+#define MIN_SHADE_REL 1.0e-3f
+/* Normal rejection: seeds/003 uses 20 degrees, AAF 15; depth tolerance as AAF's. */
+#define COS_NORMAL_MIN 0.93969262f
+#define DEPTH_TOL_REL 0.05f
+/* The plan (maaf_plan): extra samples where the filter does not reach */
+#define EXTRA_SPP_PER_MU 8.0f
+#define UNFILTERED_STD_PX 0.5f
+#define MAAF_PLAN_MU_DEFAULT 2.0f
+
+struct ReconMethod {
+    const Renderer *renderer;
+    const GBuffer *g;
+    EffectMask effects;
+    float kappa;                /* the filter knob (MAAF_KAPPA_DEFAULT) */
+    int pairs, comps;
+    AafLightGeom *geoms;
+    MaafLight *lights;
+    const MaafLight *first_light; /* the first area light: for samples without a shadow ray */
+    int light_count;
+    AafStats stats;
+    bool stats_ok;
+    AafDerived derived;
+    bool derived_ok;
+    int pass1_spp;              /* the samples every pixel had when the first plan was made */
+    float *ysum;                /* comps * 8 per pixel (eq. 20) */
+    float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
+    float *axis2;               /* and t2 */
+    float *ydemod;              /* ysum with the albedo and r(x) divided out, per filter run */
+    float *guide4;              /* frame4 with w = usable, per filter run */
+    float *param, *out4, *shade;
+    float *std_px, *components; /* AOVs */
+    MaafFilter *filter;
+    long long nonfinite_samples;
+};
+
+static int maaf_pass1_spp(EffectMask effects)
+{
+    (void)effects;
+    return MAAF_SPP_DEFAULT;
+}
+
+static void maaf_destroy(ReconMethod *m)
+{
+    if (!m) return;
+    maaf_filter_destroy(m->filter);
+    if (m->derived_ok) aaf_derived_free(&m->derived);
+    if (m->stats_ok) aaf_stats_free(&m->stats);
+    free(m->geoms);
+    free(m->lights);
+    free(m->ysum);
+    free(m->frame4);
+    free(m->axis2);
+    free(m->ydemod);
+    free(m->guide4);
+    free(m->param);
+    free(m->out4);
+    free(m->shade);
+    free(m->std_px);
+    free(m->components);
+    free(m);
+}
+
+static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Each light's emitter centre (the area-weighted centroid of all triangles of its shape), its
+ * axes (along the first triangle's first edge: a quad light's edges) and extent along them,
+ * and its y-design. Disks and spheres are boxes of their (silhouette) area. */
+static void lights_from_renderer(ReconMethod *m)
+{
+    int count = m->light_count;
+    RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
+    if (!info) return;
+    for (int l = 0; l < count; ++l)
+        if (!renderer_light_info(m->renderer, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
+    for (int l = 0; l < count; ++l) {
+        MaafLight *ml = &m->lights[l];
+        memset(ml, 0, sizeof *ml);
+        if (info[l].kind != RENDER_LIGHT_AREA || !(m->geoms[l].sigma_world > 0.0f)) continue;
+        double c[3] = {0, 0, 0}, area = 0.0;
+        for (int k = 0; k < count; ++k) {
+            bool same = k == l || (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape);
+            if (!same) continue;
+            c[0] += info[k].area_world * info[k].center_world.x;
+            c[1] += info[k].area_world * info[k].center_world.y;
+            c[2] += info[k].area_world * info[k].center_world.z;
+            area += info[k].area_world;
+        }
+        for (int k = 0; k < 3; ++k) ml->center[k] = area > 0.0 ? (float)(c[k] / area) : 0.0f;
+        const float *n = m->geoms[l].normal;
+        bool planar = dot3(n, n) > 0.5f;
+        if (planar && info[l].is_triangle) {
+            /* every triangle of the shape must use the same axes (a pixel's sums mix samples
+             * from all of them): the first triangle's first edge, a quad's edge */
+            int first = l;
+            for (int k = 0; k < l && first == l; ++k)
+                if (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape &&
+                    info[k].is_triangle)
+                    first = k;
+            const RenderLightInfo *ft = &info[first];
+            float e[3] = {ft->tri_world[1].x - ft->tri_world[0].x, ft->tri_world[1].y - ft->tri_world[0].y,
+                          ft->tri_world[1].z - ft->tri_world[0].z};
+            float en = dot3(e, n);
+            for (int k = 0; k < 3; ++k) e[k] -= en * n[k];
+            float len = sqrtf(dot3(e, e));
+            for (int k = 0; k < 3; ++k) ml->t1[k] = len > 0.0f ? e[k] / len : 0.0f;
+            ml->t2[0] = n[1] * ml->t1[2] - n[2] * ml->t1[1];
+            ml->t2[1] = n[2] * ml->t1[0] - n[0] * ml->t1[2];
+            ml->t2[2] = n[0] * ml->t1[1] - n[1] * ml->t1[0];
+            ml->lo[0] = ml->lo[1] = INFINITY;
+            ml->hi[0] = ml->hi[1] = -INFINITY;
+            for (int k = 0; k < count; ++k) {
+                bool same = k == l || (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape);
+                if (!same || !info[k].is_triangle) continue;
+                for (int v = 0; v < 3; ++v) {
+                    float d[3] = {info[k].tri_world[v].x - ml->center[0], info[k].tri_world[v].y - ml->center[1],
+                                  info[k].tri_world[v].z - ml->center[2]};
+                    float a = dot3(d, ml->t1), b = dot3(d, ml->t2);
+                    ml->lo[0] = fminf(ml->lo[0], a), ml->hi[0] = fmaxf(ml->hi[0], a);
+                    ml->lo[1] = fminf(ml->lo[1], b), ml->hi[1] = fmaxf(ml->hi[1], b);
+                }
+            }
+        } else {
+            if (planar) maaf_basis(n, ml->t1, ml->t2); /* disk; a sphere's axes face each receiver */
+            float half = 0.5f * sqrtf((float)M_PI) * m->geoms[l].radius_world; /* box of the same area */
+            ml->lo[0] = ml->lo[1] = -half;
+            ml->hi[0] = ml->hi[1] = half;
+        }
+        if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
+            continue; /* degenerate: omega_y_max stays 0, its samples are not used */
+        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light */
+        maaf_light_design(m->geoms[l].sigma_world / m->kappa, m->pairs, ml);
+    }
+    free(info);
+}
+
+static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
+{
+    ReconMethod *m = calloc(1, sizeof *m);
+    *out = NULL;
+    if (!m) goto oom;
+    m->renderer = s->renderer;
+    m->g = s->gbuffer;
+    m->effects = s->effects;
+    m->kappa = s->mu > 0.0f ? s->mu : MAAF_KAPPA_DEFAULT;
+    m->pairs = s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT;
+    if (m->pairs > MAAF_PAIRS_MAX) m->pairs = MAAF_PAIRS_MAX;
+    m->comps = maaf_component_count(m->pairs);
+    size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
+    m->stats_ok = aaf_stats_init(&m->stats, m->g);
+    m->ysum = calloc(n * per, sizeof(float));
+    m->ydemod = malloc(n * per * sizeof(float));
+    m->frame4 = calloc(4 * n, sizeof(float));
+    m->axis2 = calloc(4 * n, sizeof(float));
+    m->guide4 = malloc(4 * n * sizeof(float));
+    m->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
+    m->out4 = malloc(4 * n * sizeof(float));
+    m->shade = malloc(n * sizeof(float));
+    m->std_px = calloc(n, sizeof(float));
+    m->components = calloc(n, sizeof(float));
+    m->light_count = renderer_light_count(s->renderer);
+    size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
+    m->geoms = calloc(lights, sizeof *m->geoms);
+    m->lights = calloc(lights, sizeof *m->lights);
+    if (!m->stats_ok || !m->ysum || !m->ydemod || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+        !m->std_px || !m->components || !m->geoms || !m->lights)
+        goto oom;
+    aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
+    m->stats.lights = m->geoms;
+    m->stats.light_count = m->light_count;
+    lights_from_renderer(m);
+    for (int l = m->light_count - 1; l >= 0; --l)
+        if (m->lights[l].omega_y_max > 0.0f) m->first_light = &m->lights[l];
+    *out = m;
+    return true;
+oom:
+    maaf_destroy(m);
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF buffers (%d pairs)",
+             s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT);
+    return false;
+}
+
+static void maaf_begin_pass(ReconMethod *m, int pass)
+{
+    /* the wedge comes from pass 1, the pass that records ray geometry */
+    m->stats.collect_rays = pass == 0;
+}
+
+static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
+{
+    aaf_stats_add(&m->stats, px, py, r);
+    if (!r->hit) return;
+    const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
+    bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
+                 m->lights[sr->light_index].omega_y_max > 0.0f;
+    const MaafLight *l = known ? &m->lights[sr->light_index] : m->first_light;
+    if (!l) return;
+    size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
+    /* the direct light without the part the filters must not blur (gbuffer_add's split) */
+    float f[4] = {r->direct.x, r->direct.y, r->direct.z, 1.0f};
+    float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
+    float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+    for (int k = 0; k < 3; ++k) {
+        float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
+        f[k] -= uk - fminf(uk, fmaxf(ind[k], 0.0f));
+    }
+    float p[3] = {r->p_world.x, r->p_world.y, r->p_world.z};
+    if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
+        ++m->nonfinite_samples; /* left out of the sums, reported at filter time */
+        return;
+    }
+    if (!known) { /* no shadow ray: its light point is unknown (maaf_shadow.h) */
+        maaf_accumulate_unknown(m->pairs, l, f, m->ysum + i * (size_t)m->comps * 8);
+        return;
+    }
+    float L[3] = {sr->light_p_world.x, sr->light_p_world.y, sr->light_p_world.z};
+    if (!isfinite(L[0] + L[1] + L[2]) || !isfinite(p[0] + p[1] + p[2])) {
+        ++m->nonfinite_samples;
+        return;
+    }
+    float *t1 = m->frame4 + 4 * i, *t2 = m->axis2 + 4 * i;
+    if (t1[3] == 0.0f) { /* the pixel's axes: its first shadow ray's light's */
+        maaf_light_axes(l, p, t1, t2);
+        t1[3] = 1.0f;
+    }
+    float dl[3] = {L[0] - l->center[0], L[1] - l->center[1], L[2] - l->center[2]};
+    float y1 = dl[0] * t1[0] + dl[1] * t1[1] + dl[2] * t1[2];
+    float y2 = dl[0] * t2[0] + dl[1] * t2[1] + dl[2] * t2[2];
+    maaf_accumulate(m->pairs, l, y1, y2, f, m->ysum + i * (size_t)m->comps * 8);
+}
+
+static bool ensure_derived(ReconMethod *m, Diag *d)
+{
+    if (m->derived_ok) return true;
+    if (!aaf_derive(&m->stats, &m->derived)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF statistics");
+        return false;
+    }
+    m->derived_ok = true;
+    return true;
+}
+
+static bool maaf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
+{
+    if (m->filter) return true;
+    return (m->filter = maaf_filter_create(rt, d)) != NULL;
+}
+
+/* AAF-shadow eq. 1, as AAF: only the visibility is smooth enough to filter. */
+static bool maaf_method_light_factor(ReconMethod *m, Effect e, const float **factor, float *min_factor, Diag *d)
+{
+    *factor = NULL;
+    *min_factor = 0.0f;
+    if (e != EFFECT_SOFT_SHADOWS) return true;
+    if (!ensure_derived(m, d)) return false;
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    aaf_unoccluded_irradiance(&m->derived, m->shade);
+    float shade_max = 0.0f;
+    for (size_t i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
+    *factor = m->derived.light_known ? m->shade : NULL;
+    *min_factor = MIN_SHADE_REL * shade_max;
+    return true;
+}
+
+/* The pixel's wedge [s_min, s_max] (AAF-shadow eq. 4), averaged over a 5 x 5 window of pixels
+ * that saw an occluder (seeds/003's pre-filtering), else over the borrow radius; false when no
+ * pixel there did. */
+static bool pixel_wedge(const ReconMethod *m, int x, int y, float *s_min, float *s_max)
+{
+    const AafDerived *dv = &m->derived;
+    int w = m->g->width, h = m->g->height;
+    for (int r = SLOPE_WINDOW_PX; r <= BORROW_RADIUS_PX; r += BORROW_RADIUS_PX - SLOPE_WINDOW_PX) {
+        double lo = 0.0, hi = 0.0;
+        int count = 0;
+        for (int yy = y - r; yy <= y + r; ++yy)
+            for (int xx = x - r; xx <= x + r; ++xx) {
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                size_t j = (size_t)yy * w + xx;
+                if (!(dv->d2min[j] > 0.0f) || !(dv->d1[j] > 0.0f)) continue;
+                float s1, s2; /* s1 steepest (occluder nearest the light), s2 shallowest */
+                aaf_shadow_slopes(dv->d1[j], dv->d2min[j], dv->d2max[j], &s1, &s2);
+                lo += s2;
+                hi += s1;
+                ++count;
+            }
+        if (count) {
+            *s_min = (float)(lo / count);
+            *s_max = (float)(hi / count);
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Pixel (x, y)'s x-filter into pr (MAAF_PARAM_STRIDE floats): the MAAF design of its wedge, or
+ * a plain Gaussian where no occluder is near. Returns the central std in pixels (0: not
+ * filtered) and the number of 4D components in *components. */
+static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *components)
+{
+    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
+    float s_min, s_max, pw = m->g->pixel_world[i], std_px;
+    /* the pixel's light's band (AAF's per-pixel sigma), the knob scaling the whole design */
+    float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
+    float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
+    if (pixel_wedge(m, x, y, &s_min, &s_max)) {
+        std_px = maaf_pixel_param(s_min, s_max, wy, m->pairs, 1.0f, pw, pr);
+        *components = std_px > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+    } else {
+        float far_px = FAR_STD_PX * MAAF_KAPPA_DEFAULT / m->kappa;
+        maaf_pixel_param_plain(far_px, pw, m->pairs, pr);
+        std_px = pr[0] > 0.0f ? far_px : 0.0f;
+        *components = pr[0] > 0.0f ? 1.0f : 0.0f;
+    }
+    return std_px;
+}
+
+/* Where the filter cannot help, samples can (as AAF, aaf_method.c): pixels whose samples saw
+ * different surfaces (silhouettes: left out of the filter) and surface pixels whose filter is
+ * under UNFILTERED_STD_PX wide (contact shadows) get EXTRA_SPP_PER_MU times mu times pass 1's
+ * count, at most 100 mu. Their extra samples come without ray geometry; they are Monte Carlo
+ * pixels, and the filter leaves them out as neighbours (sharpness rule). */
+static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
+{
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    if (!m->pass1_spp) m->pass1_spp = n ? (int)spp_now[0] : 0;
+    int pass1 = m->pass1_spp;
+    /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
+    float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
+    int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    for (int y = 0; y < g->height; ++y)
+        for (int x = 0; x < g->width; ++x) {
+            size_t i = (size_t)y * g->width + x;
+            spp_total[i] = pass1;
+            if (!g->hit[i]) continue;
+            if (g->mixed[i]) {
+                spp_total[i] = extra;
+                continue;
+            }
+            if (m->frame4[4 * i + 3] == 0.0f) continue; /* no direct light reaches it: no noise */
+            float comps;
+            if (pixel_filter(m, x, y, m->param + i * MAAF_PARAM_STRIDE, &comps) < UNFILTERED_STD_PX) spp_total[i] = extra;
+        }
+    return true;
+}
+
+static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    if (e != EFFECT_SOFT_SHADOWS) return true;
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    int w = g->width, h = g->height;
+    size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
+    const float *factor = m->derived.light_known ? m->shade : NULL;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * w + x;
+            float spp = g->frame.spp[i];
+            bool usable = value4[4 * i + 3] != 0.0f && m->frame4[4 * i + 3] != 0.0f && spp > 0.0f;
+            float *yd = m->ydemod + i * per, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            memcpy(m->guide4 + 4 * i, m->frame4 + 4 * i, 3 * sizeof(float));
+            m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
+            m->std_px[i] = 0.0f;
+            m->components[i] = 0.0f;
+            if (!usable) {
+                memset(yd, 0, per * sizeof(float));
+                memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
+                continue;
+            }
+            /* composite.c's demodulation (value4 was made usable only where it is stable):
+             * each pixel's sums divided by its own albedo and r(x) */
+            float inv[3];
+            for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
+            const float *ys = m->ysum + i * per;
+            for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
+            m->std_px[i] = pixel_filter(m, x, y, pr, &m->components[i]);
+        }
+    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->axis2, m->param, COS_NORMAL_MIN,
+                          DEPTH_TOL_REL};
+    if (!m->filter) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
+        return false;
+    }
+    if (!maaf_filter_run(m->filter, &in, m->out4, kernel_seconds, d)) return false;
+    long long nonfinite = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float *o = m->out4 + 4 * i;
+        if (o[3] == 0.0f) continue;
+        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
+            ++nonfinite; /* keep the pixel's own value */
+            continue;
+        }
+        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
+    }
+    if (nonfinite || m->nonfinite_samples)
+        fprintf(stderr, "wedge: maaf: %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
+                nonfinite, m->nonfinite_samples);
+    return true;
+}
+
+static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
+{
+    (void)m, (void)effects, (void)value4, (void)d;
+    *kernel_seconds = 0.0;
+    return true;
+}
+
+static int maaf_shared(ReconMethod *m, DistArray *out, int max)
+{
+    int count = aaf_stats_arrays(&m->stats, out, max);
+    if (count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
+    if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
+    if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
+    return count;
+}
+
+static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
+{
+    int count = 0;
+    if (count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.soft_shadows");
+        out[count].data = m->std_px;
+        out[count++].unit = "central filter std in pixels";
+    }
+    if (count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.components.soft_shadows");
+        out[count].data = m->components;
+        out[count++].unit = "filters";
+    }
+    return count;
+}
+
+const ReconMethodClass recon_method_maaf = {
+    .name = "maaf",
+    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, (2N-1)^2 offset Gaussians, 9 spp + extra at silhouettes",
+    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .adaptive = true,
+    .sample_fields = 0,
+    .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .pass1_spp = maaf_pass1_spp,
+    .create = maaf_create,
+    .begin_pass = maaf_begin_pass,
+    .add_sample = maaf_add_sample,
+    .plan = maaf_plan,
+    .open_device = maaf_open_device,
+    .light_factor = maaf_method_light_factor,
+    .filter_light = maaf_filter_light,
+    .filter_radiance = maaf_filter_radiance,
+    .shared = maaf_shared,
+    .aovs = maaf_aovs,
+    .destroy = maaf_destroy,
+};

@@ -1,0 +1,164 @@
+/* Soft-shadow MAAF: light frames, the sums of eq. 20, per-pixel filters (see maaf_shadow.h). */
+#include "recon/maaf/maaf_shadow.h"
+
+#include <math.h>
+#include <string.h>
+
+#define INV_SQRT_2PI 0.39894228f
+
+/* int_{a}^{b} exp(j C t) g(t; s) dt by Simpson's rule (the integrand is smooth: a Gaussian of
+ * std 1/s times an oscillation of period 2 pi / C, both wider than the step). */
+static void window_integral(double a, double b, double C, double s, double out[2])
+{
+    enum { STEPS = 256 };
+    double h = (b - a) / STEPS, re = 0.0, im = 0.0;
+    for (int k = 0; k <= STEPS; ++k) {
+        double t = a + k * h, wk = (k == 0 || k == STEPS) ? 1.0 : (k & 1) ? 4.0 : 2.0;
+        double g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
+        re += wk * g * cos(C * t);
+        im += wk * g * sin(C * t);
+    }
+    out[0] = re * h / 3.0;
+    out[1] = im * h / 3.0;
+}
+
+void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
+{
+    float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
+    l->omega_y_max = wy;
+    float bands = 2.0f * (float)pairs - 1.0f;
+    for (int p = 0; p < MAAF_PAIRS_MAX; ++p) {
+        /* eq. 6 */
+        l->cy[p] = p < pairs ? wy * 2.0f * (float)p / bands : 0.0f;
+        l->sy[p] = p < pairs ? wy / bands : 0.0f;
+    }
+    memset(l->table, 0, sizeof l->table);
+    if (!(wy > 0.0f)) return;
+    for (int a = 0; a < 2; ++a)
+        for (int p = 0; p < pairs; ++p)
+            for (int e = 0; e < MAAF_YTABLE; ++e) {
+                /* c_p(y) = int_{lo - y}^{hi - y} exp(j C t) g(t) dt, t = y' - y */
+                double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0), c[2];
+                window_integral(l->lo[a] - y, l->hi[a] - y, l->cy[p], l->sy[p], c);
+                l->table[a][p][e][0] = (float)c[0];
+                l->table[a][p][e][1] = (float)c[1];
+            }
+    for (int a = 0; a < 2; ++a)
+        for (int p = 0; p < pairs; ++p)
+            for (int k = 0; k < 2; ++k) { /* trapezoid rule over the uniform table */
+                double s = 0.0;
+                for (int e = 0; e < MAAF_YTABLE; ++e)
+                    s += (e == 0 || e == MAAF_YTABLE - 1 ? 0.5 : 1.0) * l->table[a][p][e][k];
+                l->mean[a][p][k] = (float)(s / (MAAF_YTABLE - 1));
+            }
+}
+
+void maaf_light_axes(const MaafLight *l, const float p[3], float t1[3], float t2[3])
+{
+    if (l->t1[0] != 0.0f || l->t1[1] != 0.0f || l->t1[2] != 0.0f) {
+        memcpy(t1, l->t1, 3 * sizeof(float));
+        memcpy(t2, l->t2, 3 * sizeof(float));
+        return;
+    }
+    float d[3] = {l->center[0] - p[0], l->center[1] - p[1], l->center[2] - p[2]};
+    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    float n[3] = {0.0f, 0.0f, 1.0f};
+    if (len > 0.0f)
+        for (int k = 0; k < 3; ++k) n[k] = d[k] / len;
+    maaf_basis(n, t1, t2);
+}
+
+void maaf_light_factor(const MaafLight *l, int axis, int p, float y, float c[2])
+{
+    float span = l->hi[axis] - l->lo[axis];
+    float u = span > 0.0f ? (y - l->lo[axis]) / span * (MAAF_YTABLE - 1) : 0.0f;
+    if (!(u > 0.0f)) u = 0.0f; /* NaN too */
+    if (u > MAAF_YTABLE - 1) u = MAAF_YTABLE - 1;
+    int e = (int)u;
+    if (e > MAAF_YTABLE - 2) e = MAAF_YTABLE - 2;
+    float t = u - (float)e;
+    const float(*row)[2] = l->table[axis][p];
+    c[0] = row[e][0] + t * (row[e + 1][0] - row[e][0]);
+    c[1] = row[e][1] + t * (row[e + 1][1] - row[e][1]);
+}
+
+static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4], float *ysum);
+
+void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const float f4[4], float *ysum)
+{
+    /* c_p(y) per axis (eq. 20 with the light integrated, see maaf_shadow.h) */
+    float b1[MAAF_PAIRS_MAX][2], b2[MAAF_PAIRS_MAX][2];
+    for (int p = 0; p < pairs; ++p) {
+        maaf_light_factor(l, 0, p, y1, b1[p]);
+        maaf_light_factor(l, 1, p, y2, b2[p]);
+    }
+    accumulate(pairs, b1, b2, f4, ysum);
+}
+
+void maaf_accumulate_unknown(int pairs, const MaafLight *l, const float f4[4], float *ysum)
+{
+    float b1[MAAF_PAIRS_MAX][2], b2[MAAF_PAIRS_MAX][2];
+    for (int p = 0; p < pairs; ++p)
+        for (int k = 0; k < 2; ++k) {
+            b1[p][k] = l->mean[0][p][k];
+            b2[p][k] = l->mean[1][p][k];
+        }
+    accumulate(pairs, b1, b2, f4, ysum);
+}
+
+static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4], float *ysum)
+{
+    int c = 0;
+    for (int p = 0; p < pairs; ++p)
+        for (int q = -(pairs - 1); q < pairs; ++q) {
+            if (p == 0 && q < 0) continue;
+            /* band -q along axis 2 has centre -C_y^q: the conjugate factor */
+            float br = q >= 0 ? b2[q][0] : b2[-q][0], bi = q >= 0 ? b2[q][1] : -b2[-q][1];
+            float wr = b1[p][0] * br - b1[p][1] * bi, wi = b1[p][0] * bi + b1[p][1] * br;
+            float *yr = ysum + 8 * c, *yi = yr + 4;
+            for (int ch = 0; ch < 4; ++ch) {
+                yr[ch] += wr * f4[ch];
+                yi[ch] += wi * f4[ch];
+            }
+            ++c;
+        }
+}
+
+static void clear_param(float *param) { memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float)); }
+
+float maaf_pixel_param(float s_min, float s_max, float omega_y_max, int pairs, float kappa, float pixel_world,
+                       float *param)
+{
+    clear_param(param);
+    MaafDesign2D d;
+    if (!(pixel_world > 0.0f) || !(kappa > 0.0f) || !maaf_design_2d(s_min, s_max, omega_y_max, pairs, &d)) return 0.0f;
+    float std_px = 0.0f;
+    for (int p = 0; p < d.pairs; ++p) {
+        /* kappa widens every component in Omega_x (narrower in x) and keeps its centre on the wedge */
+        float sx = kappa * d.c[p].sx;
+        param[1 + 3 * p] = d.c[p].weight * sx * INV_SQRT_2PI; /* mu_p g's normalisation */
+        param[2 + 3 * p] = d.c[p].cx;
+        param[3 + 3 * p] = 0.5f * sx * sx;
+        if (p == 0) std_px = 1.0f / (sx * pixel_world); /* the widest component */
+    }
+    if (!isfinite(std_px) || std_px < 0.25f) { /* below a quarter pixel nothing changes */
+        clear_param(param);
+        return 0.0f;
+    }
+    float radius = ceilf(2.0f * std_px);
+    param[0] = radius > (float)MAAF_RADIUS_CAP_PX ? (float)MAAF_RADIUS_CAP_PX : radius;
+    return std_px;
+}
+
+void maaf_pixel_param_plain(float std_px, float pixel_world, int pairs, float *param)
+{
+    clear_param(param);
+    if (!(std_px >= 0.25f) || !(pixel_world > 0.0f) || !isfinite(std_px)) return;
+    float sx = 1.0f / (std_px * pixel_world);
+    param[1] = sx * INV_SQRT_2PI;
+    /* the other bands get amplitude 0 but the same Gaussian: their row-pass sums, which a
+     * neighbour's column pass may read, are smoothed like the central one, not box-summed */
+    for (int p = 0; p < pairs && p < MAAF_PAIRS_MAX; ++p) param[3 + 3 * p] = 0.5f * sx * sx;
+    float radius = ceilf(2.0f * std_px);
+    param[0] = radius > (float)MAAF_RADIUS_CAP_PX ? (float)MAAF_RADIUS_CAP_PX : radius;
+}
