@@ -1,6 +1,8 @@
 /* LR's OpenCL kernels (lr.cl via lr_cl.c) against the plain C reconstruction
  * (lr_reconstruct_c) on small synthetic light fields: diagonal motion (rotated filters),
- * large blurs (clamped filters, many layers), a partial last tile, a non-finite sample. */
+ * large blurs (clamped filters, many layers), a partial last tile, a non-finite sample, and a
+ * smaller frame after a larger one (buffers kept between runs). The partition statistics are
+ * computed on the device and the layer counts (AOV) must equal the C partitions'. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -61,6 +63,8 @@ int main(void)
                               {3.0f, 0.2f, {0.0f, 12.0f}, 30.0f, 20.0f, 10.0f, 0.9f},
                               {9.0f, 18.0f, {0.0f, 0.0f}, 0, 0, 0, 0.3f}};
         compare(lr, 48, 33, 8, big, 3, true);
+        /* the device buffers only grow: a smaller frame after a larger one reads no stale cells */
+        compare(lr, 37, 29, 4, diag, 2, false);
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

@@ -7,10 +7,18 @@
 
 int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
 {
-    int cap = cfg->window_px / 2;
+    int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
     if (!(inv_sigma_px > 0.0f)) return cap;
     float r = ceilf(3.0f / inv_sigma_px);
     return r > (float)cap ? cap : (int)r;
+}
+
+void lr_tap_weights(float inv_sigma_px, int r, float *w)
+{
+    for (int k = 0; k <= r; ++k) {
+        float a = (float)k * inv_sigma_px;
+        w[k] = expf(-0.5f * a * a);
+    }
 }
 
 void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, float *p_px, float *q_px, float *weight)
@@ -75,13 +83,16 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                 }
         /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel). */
         int rx = lr_filter_radius_px(f->inv_sigma_x_px, cfg), ry = lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+        float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
+        lr_tap_weights(f->inv_sigma_x_px, rx, taps_x);
+        lr_tap_weights(f->inv_sigma_y_px, ry, taps_y);
         for (int iy = 0; iy < wh; ++iy)
             for (int ix = 0; ix < ww; ++ix) {
                 float acc[CH_COUNT] = {0};
                 for (int k = -rx; k <= rx; ++k) {
                     int jx = ix + (int)floorf((float)k * cp + 0.5f), jy = iy + (int)floorf((float)k * sp + 0.5f);
                     if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-                    float a = (float)k * f->inv_sigma_x_px, w = expf(-0.5f * a * a);
+                    float w = taps_x[k < 0 ? -k : k];
                     const float *g = &grid[((size_t)jy * ww + jx) * CH_COUNT];
                     for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
                 }
@@ -94,7 +105,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
             for (int k = -ry; k <= ry; ++k) {
                 int jx = ix + (int)floorf(-(float)k * sp + 0.5f), jy = iy + (int)floorf((float)k * cp + 0.5f);
                 if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-                float a = (float)k * f->inv_sigma_y_px, w = expf(-0.5f * a * a);
+                float w = taps_y[k < 0 ? -k : k];
                 const float *g = &pass1[((size_t)jy * ww + jx) * CH_COUNT];
                 for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
             }

@@ -15,8 +15,15 @@ typedef struct {
     long nonfinite;      /* non-finite sample radiances skipped (counted, never propagated) */
 } LrOutput;
 
-/* Screen-filter radius for a primal sigma: 3 sigma, at least 0, at most half the window. */
+/* Screen-filter radius for a primal sigma: 3 sigma, at least 0, at most half the window and
+ * at most LR_MAX_RADIUS_PX (the kernels' tap tables). */
+enum { LR_MAX_RADIUS_PX = 32 };
 int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg);
+
+/* The screen filter's tap weights w[k] = exp(-(k / sigma)^2 / 2), k = 0..r (r <=
+ * LR_MAX_RADIUS_PX): once per partition, shared by the C passes and the kernels (lr.cl reads
+ * them from the host), so both weight every tap with the same value. */
+void lr_tap_weights(float inv_sigma_px, int r, float *w);
 
 /* The reprojected pixel of a sample for a layer filter (eq. 16), in the unrotated frame. */
 void lr_reproject(const LrSample *s, float cos_psi, float sin_psi, const LrFilter *f, float *p_px, float *q_px,
