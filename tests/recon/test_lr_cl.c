@@ -36,11 +36,12 @@ static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, 
         }
         aov_diff += la[i] != lb[i] || fabsf(ea[i] - eb[i]) > 1e-5f * ea[i];
     }
-    /* Same operations in the same order with contraction off; only exp differs (OpenCL's exp
-     * is within 3 ulp, glibc's expf within 1): relative ~4e-7 per weight, through ratios of
-     * sums of weights of size <= 1: 1e-5 absolute on values <= 1.3 */
-    CHECK(worst < 1e-5);
-    if (!(worst < 1e-5)) fprintf(stderr, "worst %g\n", worst);
+    /* Same operations in the same order with contraction off, the same Gaussian (lr_gauss,
+     * written out in both) and the same tap tables: on PoCL the images are bit for bit equal.
+     * The bound leaves room only for a device whose float division or floor differs in the
+     * last bit (1e-6 absolute on values <= 1.3). */
+    CHECK(worst <= 1e-6);
+    if (!(worst <= 1e-6)) fprintf(stderr, "worst %g\n", worst);
     CHECK(aov_diff == 0 && nonfinite == 0);
     free(a), free(b), free(la), free(lb), free(ea), free(eb), free(s);
 }

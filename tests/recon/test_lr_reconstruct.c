@@ -172,8 +172,24 @@ static void test_plane_converges(void)
     fprintf(stderr, "plane: mse 4 spp %.3g, 64 spp %.3g\n", e4, e64);
 }
 
+/* lr_gauss against exp(-s/2) in double: relative error below 1e-6 up to the cut, 0 beyond. */
+static void test_gauss(void)
+{
+    double worst = 0.0;
+    for (int i = 0; i <= 36000; ++i) {
+        float s = (float)i * 1e-3f;
+        double e = exp(-0.5 * (double)s);
+        worst = fmax(worst, fabs(lr_gauss(s) - e) / e);
+    }
+    CHECK(worst < 1e-6);
+    if (!(worst < 1e-6)) fprintf(stderr, "lr_gauss: worst relative error %g\n", worst);
+    CHECK(lr_gauss(0.0f) == 1.0f);
+    CHECK(lr_gauss(36.01f) == 0.0f && lr_gauss(INFINITY) == 0.0f && lr_gauss(NAN) == 0.0f);
+}
+
 int main(void)
 {
+    test_gauss();
     test_oracle(7.0f, 0.0f);  /* psi = 0 */
     test_oracle(0.0f, -6.0f); /* psi = -90 degrees */
     test_reduction_invariance(1);

@@ -43,6 +43,23 @@ static LrWindow lr_window(int tx, int ty, int width, int height, int tile_px, in
     return w;
 }
 
+/* exp(-s / 2), operation for operation lr_reconstruct.h's lr_gauss (see there). */
+#define LR_GAUSS_CUT 36.0f
+static float lr_gauss(float s)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    if (!(s <= LR_GAUSS_CUT)) return 0.0f;
+    float y = -0.72134752f * s;
+    float n = floor(y + 0.5f), f = y - n;
+    float p = 1.535336188319500e-4f;
+    p = p * f + 1.339887440266574e-3f;
+    p = p * f + 9.618437357674640e-3f;
+    p = p * f + 5.550332471162809e-2f;
+    p = p * f + 2.402264791363012e-1f;
+    p = p * f + 6.931472028550421e-1f;
+    return (1.0f + f * p) * as_float((((int)n + 127) << 23));
+}
+
 #ifdef cl_khr_fp64
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 typedef double lr_sum; /* as lr_partition.c sums the motion: the same psi, bit for bit */
@@ -194,7 +211,8 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
             if (ix < 0 || iy < 0 || ix >= ww || iy >= wh) continue;
             float au = isu * ur, av = isv * vr, at = ist * tc;
-            float wt = exp(-0.5f * (au * au + av * av + at * at));
+            float wt = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
+            if (wt == 0.0f) continue;
             __global float *c = g + (iy * ww + ix) * LR_CH;
             c[1] += wt;
             if (layer == j) {

@@ -30,7 +30,7 @@ void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, floa
     *p_px = s->x_px + cp * along - sp * across; /* eq. 16: R^T (shift in the rotated frame) */
     *q_px = s->y_px + sp * along + cp * across;
     float au = f->inv_sigma_u * ur, av = f->inv_sigma_v * vr, at = f->inv_sigma_t * tc;
-    *weight = expf(-0.5f * (au * au + av * av + at * at)); /* w_u w_v w_t of eq. 14 */
+    *weight = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
 }
 
 enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
@@ -73,7 +73,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                     float p, q, w;
                     lr_reproject(s, cp, sp, f, &p, &q, &w);
                     int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
-                    if (ix < 0 || iy < 0 || ix >= ww || iy >= wh) continue;
+                    if (ix < 0 || iy < 0 || ix >= ww || iy >= wh || w == 0.0f) continue;
                     float *g = &grid[((size_t)iy * ww + ix) * CH_COUNT];
                     g[CH_W] += w;
                     if (layer == j) {

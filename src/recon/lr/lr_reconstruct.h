@@ -5,6 +5,8 @@
 #ifndef WEDGE_RECON_LR_RECONSTRUCT_H
 #define WEDGE_RECON_LR_RECONSTRUCT_H
 
+#include <math.h>
+
 #include "recon/lr/lr_partition.h"
 
 typedef struct {
@@ -24,6 +26,30 @@ int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg);
  * LR_MAX_RADIUS_PX): once per partition, shared by the C passes and the kernels (lr.cl reads
  * them from the host), so both weight every tap with the same value. */
 void lr_tap_weights(float inv_sigma_px, int r, float *w);
+
+/* exp(-s / 2) for s >= 0, 0 beyond s = LR_GAUSS_CUT (weight 1.5e-8): 2^y with y = -s log2(e) / 2
+ * split into round(y) (the exponent bits) and a remainder in [-1/2, 1/2] (Cephes' exp2f
+ * polynomial, relative error ~2e-7). lr.cl has the same function operation for operation, so
+ * the C passes and the kernels weight every sample with the same value; it costs about half
+ * of a libm exp, and the reprojection evaluates it once per (layer, sample). */
+#define LR_GAUSS_CUT 36.0f
+static inline float lr_gauss(float s)
+{
+    if (!(s <= LR_GAUSS_CUT)) return 0.0f;
+    float y = -0.72134752f * s; /* -log2(e) / 2 */
+    float n = floorf(y + 0.5f), f = y - n;
+    float p = 1.535336188319500e-4f;
+    p = p * f + 1.339887440266574e-3f;
+    p = p * f + 9.618437357674640e-3f;
+    p = p * f + 5.550332471162809e-2f;
+    p = p * f + 2.402264791363012e-1f;
+    p = p * f + 6.931472028550421e-1f;
+    union {
+        int i;
+        float f;
+    } two_n = {.i = ((int)n + 127) << 23}; /* 2^n, n in [-26, 0]: a normal float */
+    return (1.0f + f * p) * two_n.f;
+}
 
 /* The reprojected pixel of a sample for a layer filter (eq. 16), in the unrotated frame. */
 void lr_reproject(const LrSample *s, float cos_psi, float sin_psi, const LrFilter *f, float *p_px, float *q_px,
