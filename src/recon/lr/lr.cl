@@ -193,14 +193,30 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     __global const int *compact = tl + 1;
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
-    for (int i = 0; i < ww * wh * LR_CH; ++i) g[i] = 0.0f;
     float cp = lp[0], sp = lp[1], eta = lp[3], xi = lp[4], isu = lp[5], ist = lp[6], rho = lp[8], isv = lp[9];
-    for (int cell = 0; cell < ww * wh; ++cell) {
-        int px = w.x0 + cell % ww, py = w.y0 + cell / ww;
+    /* Only the grid cells the screen passes read matter: lr_along's box around the tile,
+     * widened by the along radius. A sample moves at most |eta| + |xi|/2 + |rho| px (|u_r|,
+     * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source pixels farther than that from
+     * the box cannot land in it and are not visited: for a sharp layer that is the tile and a
+     * few pixels instead of the whole window. The cells read get exactly the C version's sums. */
+    float rx = lp[10], ry = lp[11];
+    int tx0 = (tile % ntx) * tile_px - w.x0, ty0 = (tile / ntx) * tile_px - w.y0;
+    int mx = (int)ceil(ry * fabs(sp)) + 1 + (int)ceil(rx * fabs(cp)) + 1;
+    int my = (int)ceil(ry * fabs(cp)) + 1 + (int)ceil(rx * fabs(sp)) + 1;
+    int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho))) + 2;
+    int cx0 = max(0, tx0 - mx - reach), cx1 = min(ww, tx0 + tile_px + mx + reach);
+    int cy0 = max(0, ty0 - my - reach), cy1 = min(wh, ty0 + tile_px + my + reach);
+    int bx0 = max(0, tx0 - mx), bx1 = min(ww, tx0 + tile_px + mx), by0 = max(0, ty0 - my), by1 = min(wh, ty0 + tile_px + my);
+    for (int iy = by0; iy < by1; ++iy)
+        for (int ix = bx0; ix < bx1; ++ix)
+            for (int c = 0; c < LR_CH; ++c) g[(iy * ww + ix) * LR_CH + c] = 0.0f;
+    for (int cell = 0; cell < (cy1 - cy0) * (cx1 - cx0); ++cell) {
+        int sx = cx0 + cell % (cx1 - cx0), sy = cy0 + cell / (cx1 - cx0);
+        int px = w.x0 + sx, py = w.y0 + sy, first = (sy * ww + sx) * spp;
         for (int k = 0; k < spp; ++k) {
-            int id = ids[cell * spp + k];
-            if (id & LR_SKIP) continue; /* non-finite radiance (counted on the host) */
-            int layer = compact[id];
+            int raw = ids[first + k];
+            if (raw & LR_SKIP) continue; /* non-finite radiance (counted on the host) */
+            int layer = compact[raw];
             if (layer < j) continue;
             __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
             float ur = cp * s[2] + sp * s[3], vr = -sp * s[2] + cp * s[3];
@@ -209,7 +225,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             float p = s[0] + cp * along - sp * across; /* eq. 16 */
             float q = s[1] + sp * along + cp * across;
             int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
-            if (ix < 0 || iy < 0 || ix >= ww || iy >= wh) continue;
+            if (ix < bx0 || iy < by0 || ix >= bx1 || iy >= by1) continue; /* never read */
             float au = isu * ur, av = isv * vr, at = ist * tc;
             float wt = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
             if (wt == 0.0f) continue;
