@@ -187,9 +187,38 @@ static void test_gauss(void)
     CHECK(lr_gauss(36.01f) == 0.0f && lr_gauss(INFINITY) == 0.0f && lr_gauss(NAN) == 0.0f);
 }
 
+/* LR section 5's "too large variance in motion": a layer whose speeds along the mean
+ * direction span more than motion_range_px and half the mean gets no motion filter; a layer
+ * of similar speeds, or one whose directions agree within the rule, keeps it. */
+static void test_motion_variance_rule(void)
+{
+    LrConfig cfg = lr_config_default();
+    struct {
+        float d_min, d_max, across;
+        bool filtered;
+    } cases[] = {
+        {28.0f, 32.0f, 0.0f, true},   /* similar speeds: a 4-px range about 30 */
+        {0.0f, 60.0f, 0.0f, false},   /* static floor + fast sphere in one layer */
+        {-1.0f, 2.5f, 0.2f, true},    /* slow, within motion_range_px */
+        {40.0f, 60.0f, 0.0f, true},   /* 20 px range, less than half the mean (50) */
+        {28.0f, 32.0f, 20.0f, false}, /* directions spread across */
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        LrTile t;
+        lr_tile_bounds(&cfg, 1.0f, 2.0f, &t);
+        LrLayerStats st[LR_MAX_LAYERS + 1];
+        for (int i = 0; i < LR_MAX_LAYERS + 1; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f};
+        st[0] = (LrLayerStats){10, 1.0f, 0.0f, -2.0f, -1.5f, cases[k].d_min, cases[k].d_max, cases[k].across};
+        lr_tile_finish(&cfg, st, &t);
+        CHECK(t.layer_count == 1 && t.layer[0].motion_filter == cases[k].filtered);
+        if (!cases[k].filtered) CHECK(t.layer[0].slopes.d_min_px == 0.0f && t.layer[0].slopes.d_max_px == 0.0f);
+    }
+}
+
 int main(void)
 {
     test_gauss();
+    test_motion_variance_rule();
     test_oracle(7.0f, 0.0f);  /* psi = 0 */
     test_oracle(0.0f, -6.0f); /* psi = -90 degrees */
     test_reduction_invariance(1);

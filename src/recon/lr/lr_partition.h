@@ -35,7 +35,10 @@ typedef struct {
     int focus_bounds;         /* extra boundaries at c = +-focus_step_px * k^2, k = 1..n/2 */
     float focus_step_px;
     float motion_spread_max;  /* no motion filter when the directions' spread exceeds this
-                               * share of the mean motion (and half a pixel) */
+                               * share of the mean motion (and half a pixel), or when the
+                               * range of speeds along the mean direction exceeds this share
+                               * of it and motion_range_px */
+    float motion_range_px;
 } LrConfig;
 
 LrConfig lr_config_default(void);
