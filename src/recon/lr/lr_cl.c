@@ -135,7 +135,8 @@ static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
         for (int j = 0; j < lr->tiles[t].layer_count; ++j) {
             const LrFilter *f = &lr->tiles[t].layer[j].filter;
             float *p = lr->lp + ((size_t)t * L + j) * LP_STRIDE;
-            int rx = lr_filter_radius_px(f->inv_sigma_x_px, cfg), ry = lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+            int rx, ry;
+            lr_screen_radii_px(f, cfg, &rx, &ry);
             float v[LP_TAPS_X] = {lr->tiles[t].layer[j].cos_psi, lr->tiles[t].layer[j].sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px,
                                   f->inv_sigma_u, f->inv_sigma_t, f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, (float)rx, (float)ry};
             memcpy(p, v, sizeof v);

@@ -13,6 +13,15 @@ int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
     return r > (float)cap ? cap : (int)r;
 }
 
+void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry)
+{
+    float pixel = 1.0f / cfg->filter.sigma_pixel_px;
+    bool neither = f->eta_px == 0.0f && f->xi_px == 0.0f && f->rho_px == 0.0f && f->inv_sigma_x_px >= pixel &&
+                   f->inv_sigma_y_px >= pixel;
+    *rx = neither ? 0 : lr_filter_radius_px(f->inv_sigma_x_px, cfg);
+    *ry = neither ? 0 : lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+}
+
 void lr_tap_weights(float inv_sigma_px, int r, float *w)
 {
     for (int k = 0; k <= r; ++k) {
@@ -82,7 +91,8 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                     }
                 }
         /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel). */
-        int rx = lr_filter_radius_px(f->inv_sigma_x_px, cfg), ry = lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+        int rx, ry;
+        lr_screen_radii_px(f, cfg, &rx, &ry);
         float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
         lr_tap_weights(f->inv_sigma_x_px, rx, taps_x);
         lr_tap_weights(f->inv_sigma_y_px, ry, taps_y);

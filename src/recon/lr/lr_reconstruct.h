@@ -22,6 +22,13 @@ typedef struct {
 enum { LR_MAX_RADIUS_PX = 32 };
 int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg);
 
+/* The screen passes' radii for a partition's filter: lr_filter_radius_px of sigma_x and
+ * sigma_y, except for a layer with neither blur (no shear, both sigmas at most
+ * sigma_pixel: a static layer seen through a pinhole), whose samples stay in their pixels
+ * (radii 0): the pixel filter alone would only spread each pixel by 1.1% into its
+ * neighbours, which around a light source is a visible ring (docs/algorithms.md 8.11). */
+void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry);
+
 /* The screen filter's tap weights w[k] = exp(-(k / sigma)^2 / 2), k = 0..r (r <=
  * LR_MAX_RADIUS_PX): once per partition, shared by the C passes and the kernels (lr.cl reads
  * them from the host), so both weight every tap with the same value. */
