@@ -22,7 +22,8 @@ static void lr_oracle_pixel(const LrSamples *img, const LrConfig *cfg, int px, i
     for (int j = 0; j < tile.layer_count; ++j) {
         const LrFilter *f = &tile.layer[j].filter;
         double cp = tile.layer[j].cos_psi, sp = tile.layer[j].sin_psi;
-        int rx = lr_filter_radius_px(f->inv_sigma_x_px, cfg), ry = lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+        int rx, ry;
+        lr_screen_radii_px(f, cfg, &rx, &ry);
         double A = 0, W = 0, E[3] = {0, 0, 0};
         for (int sy = y0; sy < y1; ++sy)
             for (int sx = x0; sx < x1; ++sx)

@@ -95,9 +95,10 @@ static void test_reduction_invariance(int no_motion)
     free(s);
 }
 
-/* Neither defocus nor motion: the filter is the pixel Gaussian (sigma 1/3 px, radius 1): the
- * output is the per-pixel mean plus at most the neighbours' share, which for sigma 1/3 is
- * 1 - (1/(1 + 2 e^-4.5))^2 = 4.3% of the largest neighbour difference. */
+/* Neither defocus nor motion: the filter is the pixel Gaussian (sigma 1/3 px) with no shear,
+ * and the screen passes keep every sample in its pixel (lr_screen_radii_px): the output is
+ * each pixel's own mean (the first build spread up to 1 - (1/(1 + 2 e^-4.5))^2 = 4.3% of the
+ * largest neighbour difference into it). */
 static void test_neither_is_unfiltered(void)
 {
     int spp = 4;
@@ -106,20 +107,14 @@ static void test_neither_is_unfiltered(void)
     lr_test_scene(s, W, H, spp, layers, 1, 3);
     LrConfig cfg = lr_config_default();
     float *rgb = recon(s, W, H, spp, &cfg);
-    double e1 = exp(-4.5), share = 1.0 - 1.0 / ((1 + 2 * e1) * (1 + 2 * e1));
     int bad = 0;
     for (int py = 1; py < H - 1; ++py)
         for (int px = 1; px < W - 1; ++px)
             for (int c = 0; c < 3; ++c) {
-                double mean[9], lo = 1e30, hi = -1e30;
-                for (int d = 0; d < 9; ++d) {
-                    int qx = px + d % 3 - 1, qy = py + d / 3 - 1;
-                    mean[d] = 0;
-                    for (int k = 0; k < spp; ++k) mean[d] += s[((size_t)qy * W + qx) * spp + k].L[c] / spp;
-                    lo = fmin(lo, mean[d]), hi = fmax(hi, mean[d]);
-                }
+                double mean = 0;
+                for (int k = 0; k < spp; ++k) mean += s[((size_t)py * W + px) * spp + k].L[c] / spp;
                 double got = rgb[((size_t)py * W + px) * 3 + c];
-                if (fabs(got - mean[4]) > share * (hi - lo) + 1e-5) ++bad; /* 1e-5: float sums */
+                if (fabs(got - mean) > 1e-5) ++bad; /* 1e-5: float sums of weights exp(0) = 1 */
             }
     CHECK(bad == 0);
     free(rgb);
@@ -172,8 +167,53 @@ static void test_plane_converges(void)
     fprintf(stderr, "plane: mse 4 spp %.3g, 64 spp %.3g\n", e4, e64);
 }
 
+/* lr_gauss against exp(-s/2) in double: relative error below 1e-6 up to the cut, 0 beyond. */
+static void test_gauss(void)
+{
+    double worst = 0.0;
+    for (int i = 0; i <= 36000; ++i) {
+        float s = (float)i * 1e-3f;
+        double e = exp(-0.5 * (double)s);
+        worst = fmax(worst, fabs(lr_gauss(s) - e) / e);
+    }
+    CHECK(worst < 1e-6);
+    if (!(worst < 1e-6)) fprintf(stderr, "lr_gauss: worst relative error %g\n", worst);
+    CHECK(lr_gauss(0.0f) == 1.0f);
+    CHECK(lr_gauss(36.01f) == 0.0f && lr_gauss(INFINITY) == 0.0f && lr_gauss(NAN) == 0.0f);
+}
+
+/* LR section 5's "too large variance in motion": a layer whose speeds along the mean
+ * direction span more than motion_range_px and half the mean gets no motion filter; a layer
+ * of similar speeds, or one whose directions agree within the rule, keeps it. */
+static void test_motion_variance_rule(void)
+{
+    LrConfig cfg = lr_config_default();
+    struct {
+        float d_min, d_max, across;
+        bool filtered;
+    } cases[] = {
+        {28.0f, 32.0f, 0.0f, true},   /* similar speeds: a 4-px range about 30 */
+        {0.0f, 60.0f, 0.0f, false},   /* static floor + fast sphere in one layer */
+        {-1.0f, 2.5f, 0.2f, true},    /* slow, within motion_range_px */
+        {40.0f, 60.0f, 0.0f, true},   /* 20 px range, less than half the mean (50) */
+        {28.0f, 32.0f, 20.0f, false}, /* directions spread across */
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        LrTile t;
+        lr_tile_bounds(&cfg, 1.0f, 2.0f, &t);
+        LrLayerStats st[LR_MAX_LAYERS + 1];
+        for (int i = 0; i < LR_MAX_LAYERS + 1; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f};
+        st[0] = (LrLayerStats){10, 1.0f, 0.0f, -2.0f, -1.5f, cases[k].d_min, cases[k].d_max, cases[k].across};
+        lr_tile_finish(&cfg, st, &t);
+        CHECK(t.layer_count == 1 && t.layer[0].motion_filter == cases[k].filtered);
+        if (!cases[k].filtered) CHECK(t.layer[0].slopes.d_min_px == 0.0f && t.layer[0].slopes.d_max_px == 0.0f);
+    }
+}
+
 int main(void)
 {
+    test_gauss();
+    test_motion_variance_rule();
     test_oracle(7.0f, 0.0f);  /* psi = 0 */
     test_oracle(0.0f, -6.0f); /* psi = -90 degrees */
     test_reduction_invariance(1);

@@ -1,23 +1,51 @@
-/* Host side of lr.cl (see lr_cl.h). Buffers are reallocated per run: the partition count
- * depends on the image and its depth layers. */
+/* Host side of lr.cl (see lr_cl.h). Host arrays and device buffers live as long as the LrCl
+ * and only grow: a frame of the same size and layer count allocates nothing (the first version
+ * allocated and page-faulted ~50 MB per frame). */
 #include "recon/lr/lr_cl.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "recon/cl/cl_runtime_internal.h"
 
-enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12, CH = 5 }; /* as in lr.cl */
+/* as in lr.cl */
+enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_TAPS_X = 12,
+       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8 };
 
 _Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
                "lr.cl's tile layouts");
+_Static_assert(LP_STRIDE == 78 && LP_TAPS_Y == 45, "lr.cl's LR_LP_STRIDE and LR_TAPS_Y");
+_Static_assert(LR_MAX_LAYERS + 1 < 0x80, "lr.cl's raw layer ids are bytes, 0x80 flags a skipped sample");
+
+/* A device buffer that keeps its size between runs and grows when asked for more. */
+typedef struct {
+    cl_mem mem;
+    size_t bytes;
+} GrowBuf;
 
 struct LrCl {
     ClRuntime *rt;
-    cl_kernel reproject, along, across;
+    cl_kernel stats, reproject, along, across;
+    /* host partitions, flattened into the kernel layouts; capacities in tiles / partitions */
+    float *tb, *st, *lp;
+    int *tl;
+    LrTile *tiles;
+    size_t tiles_cap, parts_cap;
+    GrowBuf b_cb, b_st, b_tb, b_tl, b_lp, b_ids, b_g, b_p1, b_rgb, b_l, b_e;
+    LrClTimes last;
 };
+
+LrClTimes lr_cl_last_times(const LrCl *lr) { return lr->last; }
+
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static bool cl_ok(cl_int err, const char *what, Diag *d)
 {
@@ -26,13 +54,26 @@ static bool cl_ok(cl_int err, const char *what, Diag *d)
     return false;
 }
 
+static bool grow(ClRuntime *rt, GrowBuf *b, size_t bytes, cl_mem_flags flags, Diag *d)
+{
+    if (b->mem && b->bytes >= bytes) return true;
+    if (b->mem) clReleaseMemObject(b->mem);
+    b->mem = NULL;
+    b->bytes = 0;
+    cl_int err = CL_SUCCESS;
+    b->mem = clCreateBuffer(rt->context, flags, bytes > 0 ? bytes : 1, NULL, &err);
+    if (!cl_ok(err, "buffer allocation", d)) return false;
+    b->bytes = bytes;
+    return true;
+}
+
 LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
 {
     LrCl *lr = calloc(1, sizeof *lr);
     if (!lr) return NULL;
     lr->rt = rt;
-    if (!(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) || !(lr->along = cl_runtime_kernel(rt, "lr_along", d)) ||
-        !(lr->across = cl_runtime_kernel(rt, "lr_across_composite", d))) {
+    if (!(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) || !(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) ||
+        !(lr->along = cl_runtime_kernel(rt, "lr_along", d)) || !(lr->across = cl_runtime_kernel(rt, "lr_across_composite", d))) {
         lr_cl_destroy(lr);
         return NULL;
     }
@@ -42,36 +83,44 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
 void lr_cl_destroy(LrCl *lr)
 {
     if (!lr) return;
-    if (lr->reproject) clReleaseKernel(lr->reproject);
-    if (lr->along) clReleaseKernel(lr->along);
-    if (lr->across) clReleaseKernel(lr->across);
+    cl_kernel k[4] = {lr->stats, lr->reproject, lr->along, lr->across};
+    for (int i = 0; i < 4; ++i)
+        if (k[i]) clReleaseKernel(k[i]);
+    GrowBuf *b[11] = {&lr->b_cb, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e};
+    for (int i = 0; i < 11; ++i)
+        if (b[i]->mem) clReleaseMemObject(b[i]->mem);
+    free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
     free(lr);
 }
 
 static double event_seconds(cl_event ev)
 {
     cl_ulong t0 = 0, t1 = 0;
-    if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) != CL_SUCCESS ||
+    if (!ev || clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) != CL_SUCCESS ||
         clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) != CL_SUCCESS)
         return 0.0;
     return (double)(t1 - t0) * 1e-9;
 }
 
-/* Host partitions, flattened into the kernel layouts. */
-static int flatten_tiles(const LrSamples *img, const LrConfig *cfg, int ntiles, int ntx, float *tb, int *tl,
-                         LrTile *tiles)
+/* The partitions from the device's statistics (lr_tile_stats), flattened into the kernel
+ * layouts; returns the most layers of a tile. */
+static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
 {
     int max_layers = 1;
     for (int t = 0; t < ntiles; ++t) {
-        LrTile *T = &tiles[t];
-        lr_tile_partition(img, cfg, t % ntx, t / ntx, T);
-        float *b = tb + (size_t)t * TB_STRIDE;
-        memset(b, 0, sizeof(float) * TB_STRIDE);
-        b[0] = (float)T->n_depth;
-        b[1] = (float)T->n_coc;
-        for (int i = 0; i < T->n_depth; ++i) b[2 + i] = T->depth_bound[i];
-        for (int i = 0; i < T->n_coc; ++i) b[17 + i] = T->coc_bound_px[i];
-        int *l = tl + (size_t)t * TL_STRIDE;
+        LrTile *T = &lr->tiles[t];
+        const float *b = lr->tb + (size_t)t * TB_STRIDE;
+        memset(T, 0, sizeof *T);
+        T->n_depth = (int)b[0];
+        T->n_coc = (int)b[1];
+        for (int i = 0; i < T->n_depth; ++i) T->depth_bound[i] = b[2 + i];
+        for (int i = 0; i < T->n_coc; ++i) T->coc_bound_px[i] = b[17 + i];
+        LrLayerStats st[LR_MAX_LAYERS + 1];
+        const float *o = lr->st + (size_t)t * (LR_MAX_LAYERS + 1) * ST_STRIDE;
+        for (int i = 0; i < LR_MAX_LAYERS + 1; ++i, o += ST_STRIDE)
+            st[i] = (LrLayerStats){(int)o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7]};
+        lr_tile_finish(cfg, st, T);
+        int *l = lr->tl + (size_t)t * TL_STRIDE;
         l[0] = T->layer_count;
         for (int i = 0; i < LR_MAX_LAYERS + 1; ++i) l[1 + i] = T->compact[i];
         if (T->layer_count > max_layers) max_layers = T->layer_count;
@@ -79,94 +128,139 @@ static int flatten_tiles(const LrSamples *img, const LrConfig *cfg, int ntiles, 
     return max_layers;
 }
 
+/* Per (tile, layer): rotation, filter, radii and the two tap tables (lr_tap_weights). */
+static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
+{
+    for (int t = 0; t < ntiles; ++t)
+        for (int j = 0; j < lr->tiles[t].layer_count; ++j) {
+            const LrFilter *f = &lr->tiles[t].layer[j].filter;
+            float *p = lr->lp + ((size_t)t * L + j) * LP_STRIDE;
+            int rx, ry;
+            lr_screen_radii_px(f, cfg, &rx, &ry);
+            float v[LP_TAPS_X] = {lr->tiles[t].layer[j].cos_psi, lr->tiles[t].layer[j].sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px,
+                                  f->inv_sigma_u, f->inv_sigma_t, f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, (float)rx, (float)ry};
+            memcpy(p, v, sizeof v);
+            lr_tap_weights(f->inv_sigma_x_px, rx, p + LP_TAPS_X);
+            lr_tap_weights(f->inv_sigma_y_px, ry, p + LP_TAPS_Y);
+        }
+}
+
+static bool set_args(cl_kernel k, const cl_int *ints, int nints, const cl_mem *mems, int nmems, Diag *d)
+{
+    cl_int err = CL_SUCCESS;
+    for (int i = 0; i < nints; ++i) err |= clSetKernelArg(k, (cl_uint)i, sizeof(cl_int), &ints[i]);
+    for (int i = 0; i < nmems; ++i) err |= clSetKernelArg(k, (cl_uint)(nints + i), sizeof(cl_mem), &mems[i]);
+    return cl_ok(err, "arguments", d);
+}
+
 bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *out, double *kernel_seconds, Diag *d)
 {
-    cl_context ctx = lr->rt->context;
-    cl_command_queue q = lr->rt->queue;
+    ClRuntime *rt = lr->rt;
+    cl_command_queue q = rt->queue;
+    if (cfg->window_px / 2 > LR_MAX_RADIUS_PX || cfg->window_px > 255) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "LR window of %d px is larger than the kernels allow (64)", cfg->window_px);
+        return false;
+    }
     int ntx = (img->width + cfg->tile_px - 1) / cfg->tile_px, nty = (img->height + cfg->tile_px - 1) / cfg->tile_px;
     int ntiles = ntx * nty;
     size_t npix = (size_t)img->width * img->height, nsamples = npix * (size_t)img->spp;
-    float *tb = malloc(sizeof(float) * TB_STRIDE * (size_t)ntiles);
-    int *tl = malloc(sizeof(int) * TL_STRIDE * (size_t)ntiles);
-    LrTile *tiles = malloc(sizeof(LrTile) * (size_t)ntiles);
-    float *aov_l = out->layers ? NULL : malloc(sizeof(float) * npix), *aov_e = out->extent_px ? NULL : malloc(sizeof(float) * npix);
-    bool ok = tb && tl && tiles && (out->layers || aov_l) && (out->extent_px || aov_e);
-    if (!ok) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory (LR partitions)");
-        free(tb), free(tl), free(tiles), free(aov_l), free(aov_e);
-        return false;
+    size_t wcells = (size_t)cfg->window_px * cfg->window_px;
+    if ((size_t)ntiles > lr->tiles_cap) {
+        free(lr->tb), free(lr->st), free(lr->tl), free(lr->tiles);
+        lr->tb = malloc(sizeof(float) * TB_STRIDE * (size_t)ntiles);
+        lr->st = malloc(sizeof(float) * ST_STRIDE * (LR_MAX_LAYERS + 1) * (size_t)ntiles);
+        lr->tl = malloc(sizeof(int) * TL_STRIDE * (size_t)ntiles);
+        lr->tiles = malloc(sizeof(LrTile) * (size_t)ntiles);
+        lr->tiles_cap = lr->tb && lr->st && lr->tl && lr->tiles ? (size_t)ntiles : 0;
+        if (!lr->tiles_cap) {
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory (LR partitions)");
+            return false;
+        }
     }
-    int L = flatten_tiles(img, cfg, ntiles, ntx, tb, tl, tiles);
-    size_t nparts = (size_t)ntiles * L;
-    float *lp = calloc(nparts * LP_STRIDE, sizeof(float));
     out->nonfinite = 0;
     for (size_t i = 0; i < nsamples; ++i)
         if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
-    for (int t = 0; lp && t < ntiles; ++t)
-        for (int j = 0; j < tiles[t].layer_count; ++j) {
-            const LrFilter *f = &tiles[t].layer[j].filter;
-            float *p = lp + ((size_t)t * L + j) * LP_STRIDE;
-            float v[LP_STRIDE] = {tiles[t].layer[j].cos_psi, tiles[t].layer[j].sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px,
-                                  f->inv_sigma_u, f->inv_sigma_t, f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v,
-                                  (float)lr_filter_radius_px(f->inv_sigma_x_px, cfg), (float)lr_filter_radius_px(f->inv_sigma_y_px, cfg)};
-            memcpy(p, v, sizeof v);
+
+    /* The samples are read in place (on a CPU device PoCL uses the host memory); the rest
+     * lives in the grow-only buffers. */
+    double t0 = now_s();
+    cl_int err = CL_SUCCESS;
+    cl_mem b_s = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(LrSample) * nsamples, (void *)img->s, &err);
+    bool ok = cl_ok(err, "buffer allocation", d);
+    size_t st_bytes = sizeof(float) * ST_STRIDE * (LR_MAX_LAYERS + 1) * (size_t)ntiles;
+    ok = ok && grow(rt, &lr->b_cb, sizeof(float) * LR_MAX_COC_BOUNDS, CL_MEM_READ_ONLY, d) &&
+         grow(rt, &lr->b_st, st_bytes, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_tb, sizeof(float) * TB_STRIDE * (size_t)ntiles, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_ids, (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d);
+    /* Partition statistics on the device (one work-item per tile), the rest on the host. */
+    LrTile shape;
+    lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
+    cl_int uniform = cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
+    cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NT = ntiles;
+    cl_event ev[4] = {NULL, NULL, NULL, NULL};
+    if (ok) {
+        cl_int ints[9] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc};
+        cl_mem m[5] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem};
+        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, sizeof(float) * LR_MAX_COC_BOUNDS, shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
+             set_args(lr->stats, ints, 9, m, 5, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
+             cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
+             cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
+    }
+    int L = ok ? finish_tiles(lr, cfg, ntiles) : 1;
+    size_t nparts = (size_t)ntiles * L;
+    if (ok && nparts > lr->parts_cap) {
+        free(lr->lp);
+        lr->lp = malloc(sizeof(float) * LP_STRIDE * nparts);
+        lr->parts_cap = lr->lp ? nparts : 0;
+        if (!lr->lp) {
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory (LR partitions)");
+            ok = false;
         }
-    free(tiles);
-    cl_int err = lp ? CL_SUCCESS : CL_OUT_OF_HOST_MEMORY;
-    size_t grid_bytes = nparts * (size_t)cfg->window_px * cfg->window_px * CH * sizeof(float);
-    cl_mem b_s = NULL, b_tb = NULL, b_tl = NULL, b_lp = NULL, b_g = NULL, b_p1 = NULL, b_rgb = NULL, b_l = NULL, b_e = NULL;
-    if (err == CL_SUCCESS) b_s = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(LrSample) * nsamples, (void *)img->s, &err);
-    if (err == CL_SUCCESS) b_tb = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(float) * TB_STRIDE * (size_t)ntiles, tb, &err);
-    if (err == CL_SUCCESS) b_tl = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(int) * TL_STRIDE * (size_t)ntiles, tl, &err);
-    if (err == CL_SUCCESS) b_lp = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(float) * LP_STRIDE * nparts, lp, &err);
-    if (err == CL_SUCCESS) b_g = clCreateBuffer(ctx, CL_MEM_READ_WRITE, grid_bytes, NULL, &err);
-    if (err == CL_SUCCESS) b_p1 = clCreateBuffer(ctx, CL_MEM_READ_WRITE, grid_bytes, NULL, &err);
-    if (err == CL_SUCCESS) b_rgb = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 3 * npix, NULL, &err);
-    if (err == CL_SUCCESS) b_l = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * npix, NULL, &err);
-    if (err == CL_SUCCESS) b_e = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * npix, NULL, &err);
-    ok = cl_ok(err, "buffer allocation", d);
-    cl_event ev[3] = {NULL, NULL, NULL};
-    cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, LL = L;
-    if (ok) {
-        cl_kernel k = lr->reproject;
-        cl_int ints[7] = {W, H, S, T, N, NX, LL};
-        err = 0;
-        for (cl_uint i = 0; i < 7; ++i) err |= clSetKernelArg(k, i, sizeof(cl_int), &ints[i]);
-        cl_mem m[5] = {b_s, b_tb, b_tl, b_lp, b_g};
-        for (cl_uint i = 0; i < 5; ++i) err |= clSetKernelArg(k, 7 + i, sizeof(cl_mem), &m[i]);
-        size_t g1 = nparts;
-        ok = cl_ok(err, "arguments", d) && cl_ok(clEnqueueNDRangeKernel(q, k, 1, NULL, &g1, NULL, 0, NULL, &ev[0]), "reprojection", d);
-    }
-    cl_int ints6[6] = {W, H, T, N, NX, LL};
-    if (ok) {
-        cl_kernel k = lr->along;
-        err = 0;
-        for (cl_uint i = 0; i < 6; ++i) err |= clSetKernelArg(k, i, sizeof(cl_int), &ints6[i]);
-        cl_mem m[4] = {b_tl, b_lp, b_g, b_p1};
-        for (cl_uint i = 0; i < 4; ++i) err |= clSetKernelArg(k, 6 + i, sizeof(cl_mem), &m[i]);
-        size_t g2[2] = {(size_t)N * N, nparts};
-        ok = cl_ok(err, "arguments", d) && cl_ok(clEnqueueNDRangeKernel(q, k, 2, NULL, g2, NULL, 0, NULL, &ev[1]), "filter along", d);
     }
     if (ok) {
-        cl_kernel k = lr->across;
-        err = 0;
-        for (cl_uint i = 0; i < 6; ++i) err |= clSetKernelArg(k, i, sizeof(cl_int), &ints6[i]);
-        cl_mem m[6] = {b_tl, b_lp, b_p1, b_rgb, b_l, b_e};
-        for (cl_uint i = 0; i < 6; ++i) err |= clSetKernelArg(k, 6 + i, sizeof(cl_mem), &m[i]);
-        size_t g2[2] = {(size_t)W, (size_t)H};
-        ok = cl_ok(err, "arguments", d) && cl_ok(clEnqueueNDRangeKernel(q, k, 2, NULL, g2, NULL, 0, NULL, &ev[2]), "filter across", d);
+        memset(lr->lp, 0, sizeof(float) * LP_STRIDE * nparts);
+        flatten_params(lr, cfg, ntiles, L);
     }
+    double t_part = now_s() - t0;
+    size_t grid_bytes = nparts * wcells * CH * sizeof(float);
+    ok = ok && grow(rt, &lr->b_tl, sizeof(int) * TL_STRIDE * (size_t)ntiles, CL_MEM_READ_ONLY, d) &&
+         grow(rt, &lr->b_lp, sizeof(float) * LP_STRIDE * nparts, CL_MEM_READ_ONLY, d) &&
+         grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_rgb, sizeof(float) * 3 * npix, CL_MEM_WRITE_ONLY, d) &&
+         grow(rt, &lr->b_l, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d) && grow(rt, &lr->b_e, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d);
     if (ok)
-        ok = cl_ok(clEnqueueReadBuffer(q, b_rgb, CL_TRUE, 0, sizeof(float) * 3 * npix, out->rgb, 0, NULL, NULL), "download", d) &&
-             cl_ok(clEnqueueReadBuffer(q, b_l, CL_TRUE, 0, sizeof(float) * npix, out->layers ? out->layers : aov_l, 0, NULL, NULL), "download", d) &&
-             cl_ok(clEnqueueReadBuffer(q, b_e, CL_TRUE, 0, sizeof(float) * npix, out->extent_px ? out->extent_px : aov_e, 0, NULL, NULL), "download", d);
+        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_tl.mem, CL_FALSE, 0, sizeof(int) * TL_STRIDE * (size_t)ntiles, lr->tl, 0, NULL, NULL), "upload", d) &&
+             cl_ok(clEnqueueWriteBuffer(q, lr->b_lp.mem, CL_FALSE, 0, sizeof(float) * LP_STRIDE * nparts, lr->lp, 0, NULL, NULL), "upload", d);
+
+    cl_int LL = L;
+    if (ok) { /* Algorithm 1, one work-item per (layer, tile) */
+        cl_int ints[8] = {W, H, S, T, N, NX, NT, LL};
+        cl_mem m[5] = {b_s, lr->b_ids.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
+        ok = set_args(lr->reproject, ints, 8, m, 5, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)ntiles, &ev[1], d);
+    }
+    cl_int ints7[7] = {W, H, T, N, NX, NT, LL};
+    if (ok) {
+        cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
+        ok = set_args(lr->along, ints7, 7, m, 4, d) && cl_launch_2d(rt, lr->along, wcells, nparts, &ev[2], d);
+    }
+    if (ok) {
+        cl_mem m[6] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem};
+        ok = set_args(lr->across, ints7, 7, m, 6, d) && cl_launch_2d(rt, lr->across, (size_t)W, (size_t)H, &ev[3], d);
+    }
+    float *aov_l = out->layers, *aov_e = out->extent_px;
+    if (ok)
+        ok = cl_ok(clEnqueueReadBuffer(q, lr->b_rgb.mem, CL_TRUE, 0, sizeof(float) * 3 * npix, out->rgb, 0, NULL, NULL), "download", d) &&
+             (!aov_l || cl_ok(clEnqueueReadBuffer(q, lr->b_l.mem, CL_TRUE, 0, sizeof(float) * npix, aov_l, 0, NULL, NULL), "download", d)) &&
+             (!aov_e || cl_ok(clEnqueueReadBuffer(q, lr->b_e.mem, CL_TRUE, 0, sizeof(float) * npix, aov_e, 0, NULL, NULL), "download", d));
     clFinish(q);
-    if (ok && kernel_seconds) *kernel_seconds = event_seconds(ev[0]) + event_seconds(ev[1]) + event_seconds(ev[2]);
-    for (int i = 0; i < 3; ++i)
+    double ks = 0.0;
+    for (int i = 0; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? event_seconds(ev[i]) : 0.0;
+    if (ok && kernel_seconds) *kernel_seconds = ks;
+    lr->last.partitions = nparts;
+    lr->last.max_layers = L;
+    lr->last.partition_s = t_part;
+    for (int i = 0; i < 4; ++i)
         if (ev[i]) clReleaseEvent(ev[i]);
-    cl_mem all[9] = {b_s, b_tb, b_tl, b_lp, b_g, b_p1, b_rgb, b_l, b_e};
-    for (int i = 0; i < 9; ++i)
-        if (all[i]) clReleaseMemObject(all[i]);
-    free(tb), free(tl), free(lp), free(aov_l), free(aov_e);
+    if (b_s) clReleaseMemObject(b_s);
     return ok;
 }

@@ -1,8 +1,10 @@
-/* Host side of LR's OpenCL kernels (lr.cl): partitions on the host (lr_partition.c), then
- * reprojection, the two screen-filter passes and compositing on the device. Same output as
+/* Host side of LR's OpenCL kernels (lr.cl): partition statistics on the device, the
+ * partitions' filters on the host (lr_partition.c), then the samples' layers, reprojection, the two screen-filter passes and compositing on the device. Same output as
  * lr_reconstruct_c (tested). */
 #ifndef WEDGE_RECON_LR_CL_H
 #define WEDGE_RECON_LR_CL_H
+
+#include <stddef.h>
 
 #include "core/diag.h"
 #include "recon/cl/cl_runtime.h"
@@ -10,12 +12,24 @@
 
 typedef struct LrCl LrCl;
 
+/* Where the last lr_cl_run spent its time (for benchmarks): the partitions (wall seconds:
+ * statistics on the device, filters on the host) and the device time of the kernels
+ * tile_stats, reproject, along, across. */
+typedef struct {
+    double partition_s;
+    double kernel_s[4];
+    size_t partitions;
+    int max_layers;
+} LrClTimes;
+
 LrCl *lr_cl_create(ClRuntime *rt, Diag *d);
 void lr_cl_destroy(LrCl *lr);
 
 /* Reconstructs img into out (rgb required, AOVs optional; non-finite sample radiances are
  * skipped and counted in out->nonfinite). kernel_seconds (may be NULL) receives the device
- * time of the three kernels (OpenCL profiling). */
+ * time of the four kernels (OpenCL profiling). The samples are read in place during the call. */
+LrClTimes lr_cl_last_times(const LrCl *lr);
+
 bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *out, double *kernel_seconds, Diag *d);
 
 #endif

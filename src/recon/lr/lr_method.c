@@ -30,6 +30,9 @@ struct ReconMethod {
     LrConfig cfg;
     LrCl *cl;
     float *layers, *extent_px; /* AOVs, width * height */
+    LrSample *samples;         /* the store's samples as LR reads them, kept between frames */
+    size_t samples_cap;
+    float *rgb;                /* LR's output, width * height * 3 */
 };
 
 static int lr_pass1_spp(EffectMask effects)
@@ -44,6 +47,8 @@ static void lr_destroy(ReconMethod *m)
     lr_cl_destroy(m->cl);
     free(m->layers);
     free(m->extent_px);
+    free(m->samples);
+    free(m->rgb);
     free(m);
 }
 
@@ -55,8 +60,9 @@ static bool lr_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     if (m) {
         m->layers = calloc(n, sizeof(float));
         m->extent_px = calloc(n, sizeof(float));
+        m->rgb = malloc(sizeof(float) * 3 * n);
     }
-    if (!m || !m->layers || !m->extent_px || !s->store) {
+    if (!m || !m->layers || !m->extent_px || !m->rgb || !s->store) {
         lr_destroy(m);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
                  s->store ? "out of memory for LR buffers" : "LR needs the per-sample store (none was given)");
@@ -78,7 +84,7 @@ static bool lr_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
 
 /* The store's samples as LrSamples (the smallest per-pixel count, which in a fixed-count
  * frame is every pixel's), each sample's radiance shifted by its pixel's correction. */
-static LrSample *gather_samples(const ReconMethod *m, const float *value4, int *spp_out)
+static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_out)
 {
     const SampleStore *st = m->store;
     int w = m->g->width, h = m->g->height, cap = sample_store_capacity(st);
@@ -90,8 +96,13 @@ static LrSample *gather_samples(const ReconMethod *m, const float *value4, int *
     }
     *spp_out = spp;
     if (spp <= 0) return NULL;
-    LrSample *s = malloc(sizeof(LrSample) * n * (size_t)spp);
-    if (!s) return NULL;
+    if (n * (size_t)spp > m->samples_cap) {
+        free(m->samples);
+        m->samples = malloc(sizeof(LrSample) * n * (size_t)spp);
+        m->samples_cap = m->samples ? n * (size_t)spp : 0;
+        if (!m->samples) return NULL;
+    }
+    LrSample *s = m->samples;
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
     const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
     const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
@@ -139,9 +150,8 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     }
     int w = m->g->width, h = m->g->height;
     size_t n = (size_t)w * (size_t)h;
-    float *rgb = malloc(sizeof(float) * 3 * n);
-    bool ok = rgb != NULL;
-    if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for LR output");
+    float *rgb = m->rgb;
+    bool ok = true;
     LrSamples img = {w, h, spp, s};
     LrOutput out = {rgb, m->layers, m->extent_px, 0};
     if (ok && m->cl) {
@@ -152,8 +162,6 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     if (ok)
         for (size_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c) value4[4 * i + c] = rgb[3 * i + c];
-    free(rgb);
-    free(s);
     return ok;
 }
 

@@ -35,7 +35,10 @@ typedef struct {
     int focus_bounds;         /* extra boundaries at c = +-focus_step_px * k^2, k = 1..n/2 */
     float focus_step_px;
     float motion_spread_max;  /* no motion filter when the directions' spread exceeds this
-                               * share of the mean motion (and half a pixel) */
+                               * share of the mean motion (and half a pixel), or when the
+                               * range of speeds along the mean direction exceeds this share
+                               * of it and motion_range_px */
+    float motion_range_px;
 } LrConfig;
 
 LrConfig lr_config_default(void);
@@ -61,8 +64,30 @@ typedef struct {
 /* Window of tile (tx, ty) in pixels, clipped to the image: [x0, x1) x [y0, y1). */
 void lr_tile_window(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *x0, int *y0, int *x1, int *y1);
 
-/* Partitions the window of tile (tx, ty) (LR sections 5, 7). */
+/* Partitions the window of tile (tx, ty) (LR sections 5, 7): lr_tile_bounds from the window's
+ * depth range, the per-layer statistics below, then lr_tile_finish. */
 void lr_tile_partition(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *tile);
+
+/* What a partition needs from its samples, per raw layer (before compaction): the sample
+ * count, the mean motion's direction, the CoC range, and in that direction's frame the range
+ * of motion along it and the largest motion across it. OpenCL computes the same
+ * (lr.cl: lr_tile_stats), the host finishes the partition from it. */
+typedef struct {
+    int count;
+    float cos_psi, sin_psi;
+    float c_min_px, c_max_px;
+    float d_min_px, d_max_px;
+    float across_px;
+} LrLayerStats;
+
+/* The tile's layer bounds from its window's depth range (zmin > zmax: no hits); clears t. */
+void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t);
+
+/* Compaction, motion ranges widened by the spread across psi (Figure 4), the filters. */
+void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *raw_stats, LrTile *t);
+
+/* The raw layer (before compaction) of a depth and CoC slope in a tile. */
+int lr_tile_raw_layer(const LrTile *tile, float depth, float coc_px);
 
 /* The compact layer of a sample in this tile. */
 int lr_tile_layer_of(const LrTile *tile, const LrSample *s);

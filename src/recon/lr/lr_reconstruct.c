@@ -7,10 +7,27 @@
 
 int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
 {
-    int cap = cfg->window_px / 2;
+    int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
     if (!(inv_sigma_px > 0.0f)) return cap;
     float r = ceilf(3.0f / inv_sigma_px);
     return r > (float)cap ? cap : (int)r;
+}
+
+void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry)
+{
+    float pixel = 1.0f / cfg->filter.sigma_pixel_px;
+    bool neither = f->eta_px == 0.0f && f->xi_px == 0.0f && f->rho_px == 0.0f && f->inv_sigma_x_px >= pixel &&
+                   f->inv_sigma_y_px >= pixel;
+    *rx = neither ? 0 : lr_filter_radius_px(f->inv_sigma_x_px, cfg);
+    *ry = neither ? 0 : lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+}
+
+void lr_tap_weights(float inv_sigma_px, int r, float *w)
+{
+    for (int k = 0; k <= r; ++k) {
+        float a = (float)k * inv_sigma_px;
+        w[k] = expf(-0.5f * a * a);
+    }
 }
 
 void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, float *p_px, float *q_px, float *weight)
@@ -22,7 +39,7 @@ void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, floa
     *p_px = s->x_px + cp * along - sp * across; /* eq. 16: R^T (shift in the rotated frame) */
     *q_px = s->y_px + sp * along + cp * across;
     float au = f->inv_sigma_u * ur, av = f->inv_sigma_v * vr, at = f->inv_sigma_t * tc;
-    *weight = expf(-0.5f * (au * au + av * av + at * at)); /* w_u w_v w_t of eq. 14 */
+    *weight = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
 }
 
 enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
@@ -65,7 +82,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                     float p, q, w;
                     lr_reproject(s, cp, sp, f, &p, &q, &w);
                     int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
-                    if (ix < 0 || iy < 0 || ix >= ww || iy >= wh) continue;
+                    if (ix < 0 || iy < 0 || ix >= ww || iy >= wh || w == 0.0f) continue;
                     float *g = &grid[((size_t)iy * ww + ix) * CH_COUNT];
                     g[CH_W] += w;
                     if (layer == j) {
@@ -74,14 +91,18 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                     }
                 }
         /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel). */
-        int rx = lr_filter_radius_px(f->inv_sigma_x_px, cfg), ry = lr_filter_radius_px(f->inv_sigma_y_px, cfg);
+        int rx, ry;
+        lr_screen_radii_px(f, cfg, &rx, &ry);
+        float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
+        lr_tap_weights(f->inv_sigma_x_px, rx, taps_x);
+        lr_tap_weights(f->inv_sigma_y_px, ry, taps_y);
         for (int iy = 0; iy < wh; ++iy)
             for (int ix = 0; ix < ww; ++ix) {
                 float acc[CH_COUNT] = {0};
                 for (int k = -rx; k <= rx; ++k) {
                     int jx = ix + (int)floorf((float)k * cp + 0.5f), jy = iy + (int)floorf((float)k * sp + 0.5f);
                     if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-                    float a = (float)k * f->inv_sigma_x_px, w = expf(-0.5f * a * a);
+                    float w = taps_x[k < 0 ? -k : k];
                     const float *g = &grid[((size_t)jy * ww + jx) * CH_COUNT];
                     for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
                 }
@@ -94,7 +115,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
             for (int k = -ry; k <= ry; ++k) {
                 int jx = ix + (int)floorf(-(float)k * sp + 0.5f), jy = iy + (int)floorf((float)k * cp + 0.5f);
                 if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-                float a = (float)k * f->inv_sigma_y_px, w = expf(-0.5f * a * a);
+                float w = taps_y[k < 0 ? -k : k];
                 const float *g = &pass1[((size_t)jy * ww + jx) * CH_COUNT];
                 for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
             }

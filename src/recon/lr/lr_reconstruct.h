@@ -5,6 +5,8 @@
 #ifndef WEDGE_RECON_LR_RECONSTRUCT_H
 #define WEDGE_RECON_LR_RECONSTRUCT_H
 
+#include <math.h>
+
 #include "recon/lr/lr_partition.h"
 
 typedef struct {
@@ -15,8 +17,46 @@ typedef struct {
     long nonfinite;      /* non-finite sample radiances skipped (counted, never propagated) */
 } LrOutput;
 
-/* Screen-filter radius for a primal sigma: 3 sigma, at least 0, at most half the window. */
+/* Screen-filter radius for a primal sigma: 3 sigma, at least 0, at most half the window and
+ * at most LR_MAX_RADIUS_PX (the kernels' tap tables). */
+enum { LR_MAX_RADIUS_PX = 32 };
 int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg);
+
+/* The screen passes' radii for a partition's filter: lr_filter_radius_px of sigma_x and
+ * sigma_y, except for a layer with neither blur (no shear, both sigmas at most
+ * sigma_pixel: a static layer seen through a pinhole), whose samples stay in their pixels
+ * (radii 0): the pixel filter alone would only spread each pixel by 1.1% into its
+ * neighbours, which around a light source is a visible ring (docs/algorithms.md 8.11). */
+void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry);
+
+/* The screen filter's tap weights w[k] = exp(-(k / sigma)^2 / 2), k = 0..r (r <=
+ * LR_MAX_RADIUS_PX): once per partition, shared by the C passes and the kernels (lr.cl reads
+ * them from the host), so both weight every tap with the same value. */
+void lr_tap_weights(float inv_sigma_px, int r, float *w);
+
+/* exp(-s / 2) for s >= 0, 0 beyond s = LR_GAUSS_CUT (weight 1.5e-8): 2^y with y = -s log2(e) / 2
+ * split into round(y) (the exponent bits) and a remainder in [-1/2, 1/2] (Cephes' exp2f
+ * polynomial, relative error ~2e-7). lr.cl has the same function operation for operation, so
+ * the C passes and the kernels weight every sample with the same value; it costs about half
+ * of a libm exp, and the reprojection evaluates it once per (layer, sample). */
+#define LR_GAUSS_CUT 36.0f
+static inline float lr_gauss(float s)
+{
+    if (!(s <= LR_GAUSS_CUT)) return 0.0f;
+    float y = -0.72134752f * s; /* -log2(e) / 2 */
+    float n = floorf(y + 0.5f), f = y - n;
+    float p = 1.535336188319500e-4f;
+    p = p * f + 1.339887440266574e-3f;
+    p = p * f + 9.618437357674640e-3f;
+    p = p * f + 5.550332471162809e-2f;
+    p = p * f + 2.402264791363012e-1f;
+    p = p * f + 6.931472028550421e-1f;
+    union {
+        int i;
+        float f;
+    } two_n = {.i = ((int)n + 127) << 23}; /* 2^n, n in [-26, 0]: a normal float */
+    return (1.0f + f * p) * two_n.f;
+}
 
 /* The reprojected pixel of a sample for a layer filter (eq. 16), in the unrotated frame. */
 void lr_reproject(const LrSample *s, float cos_psi, float sin_psi, const LrFilter *f, float *p_px, float *q_px,
