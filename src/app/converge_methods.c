@@ -19,6 +19,10 @@ static const ConvergeMethod methods[] = {
      "layered reconstruction (paper 004) of defocus and motion blur"},
     {"lr-ld", {"--sampler", "sobol", "--filter", "lr", NULL}, false,
      "layered reconstruction with Owen-scrambled Sobol' samples"},
+    {"fsf", {"--sampler", "stratified", "--filter", "fsf", NULL}, false,
+     "fast 4D sheared filtering (paper 000) of soft shadows"},
+    {"fsf-ld", {"--sampler", "sobol", "--filter", "fsf", NULL}, false,
+     "fast 4D sheared filtering with Owen-scrambled Sobol' samples"},
 };
 
 /* Both Monte Carlo methods are baselines: at equal error the faster sampler differs with spp

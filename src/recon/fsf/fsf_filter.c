@@ -100,7 +100,9 @@ typedef struct {
     const FsfPixel *px;
     const FsfGuides *gd;
     float *out4, *P, *G, *Q;
-    int bin;
+    FsfTap *taps;
+    float *cum1;
+    int bin, axis;
 } Job;
 
 static void add_own(const FsfSamples *s, size_t i, float acc[4])
@@ -163,25 +165,24 @@ static void brute_range(void *ctx, size_t begin, size_t end, int part)
 
 void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4)
 {
-    Job j = {s, g, px, gd, out4, NULL, NULL, NULL, 0};
+    Job j = {s, g, px, gd, out4, NULL, NULL, NULL, NULL, NULL, 0, 0};
     recon_parallel_for((size_t)s->width * (size_t)s->height, brute_range, &j);
 }
 
 /* ---- the four passes ---- */
 
-void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, int bin, float *P, size_t begin,
-                size_t end)
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const float *cum1, int bin, float *P,
+                size_t begin, size_t end)
 {
     int J = g->shift_nodes;
     float dY = node_step(g, 0), L1 = g->half_m[0], mid = 0.5f * (float)(J - 1);
-    float cum[2 * FSF_RADIUS_CAP_PX + 2];
     for (size_t i = begin; i < end; ++i) {
         float *Pi = P + (size_t)J * 4 * i;
-        /* the density of reprojected samples uses this pixel's filter for its gatherers' (a
-         * smooth field: FSF section 4.2's approximation again) */
-        int r = fsf_radius_steps(px[i].sigma_px[0]);
-        fsf_tap_prefix(px[i].sigma_px[0], cum);
         memset(Pi, 0, sizeof(float) * 4 * (size_t)J);
+        /* the density of reprojected samples uses this pixel's filter for its gatherers'
+         * (a smooth field: FSF section 4.2's approximation again) */
+        int r = fsf_radius_steps(px[i].sigma_px[0]);
+        const float *cum = cum1 + (size_t)FSF_CUM * i;
         for (int k = 0; k < s->count[i]; ++k) {
             size_t slot = i * (size_t)s->capacity + (size_t)k;
             if (fsf_y2_bin(g, s->y_m[2 * slot + 1]) != bin) continue;
@@ -193,7 +194,7 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, int b
             if (j1 > J - 1) j1 = J - 1;
             for (int jj = j0; jj <= j1; ++jj) {
                 float z = y1 - ((float)jj - mid) * dY; /* seen from the pixel at shift Y */
-                if (box(g, 0, z) == 0.0f) continue; /* rounding at the ends */
+                if (box(g, 0, z) == 0.0f) continue;    /* rounding at the ends */
                 float rho = fsf_density(z, px[i].eta_m[0], L1, r, cum);
                 if (!(rho > 0.0f)) continue;
                 float wk = 1.0f / rho, *o = Pi + 4 * jj;
@@ -203,34 +204,49 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, int b
     }
 }
 
-/* acc += wt * F(Y), F given on the shift grid (4 floats per node), linear between nodes. */
-static inline void add_interp(const FsfGrid *g, int a, const float *F, float Y, float wt, float acc[4])
+void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
+              FsfTap *taps, size_t begin, size_t end)
 {
     int J = g->shift_nodes;
-    float f = Y / node_step(g, a) + 0.5f * (float)(J - 1);
-    if (!(f >= 0.0f && f <= (float)(J - 1))) return;
-    int j0 = (int)floorf(f);
-    if (j0 > J - 2) j0 = J - 2;
-    float b = f - (float)j0, a0 = wt * (1.0f - b), a1 = wt * b;
-    const float *F0 = F + 4 * j0, *F1 = F0 + 4;
-    for (int c = 0; c < 4; ++c) acc[c] += a0 * F0[c] + a1 * F1[c];
-}
-
-void fsf_pass1b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int bin,
-                const float *P, float *G, size_t begin, size_t end)
-{
-    int J = g->shift_nodes;
+    float inv_dY = 1.0f / node_step(g, axis), mid = 0.5f * (float)(J - 1);
     for (size_t i = begin; i < end; ++i) {
         const FsfPixel *pp = &px[i];
+        FsfTap *ti = taps + (size_t)FSF_TAPS * i;
         int x = (int)(i % (size_t)width), y = (int)(i / (size_t)width);
-        float acc[4] = {0, 0, 0, 0};
-        int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[0]) : 0;
-        for (int t = -r; t <= r; ++t) {
-            int q = step_pixel(width, height, x, y, pp->dir[0], (float)t);
+        int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[axis]) : 0;
+        for (int t = -FSF_RADIUS_CAP_PX; t <= FSF_RADIUS_CAP_PX; ++t) {
+            FsfTap *o = &ti[t + FSF_RADIUS_CAP_PX];
+            o->node = -1, o->a0 = o->a1 = 0.0f;
+            if (t < -r || t > r) continue;
+            int q = step_pixel(width, height, x, y, pp->dir[axis], (float)t);
             if (q < 0 || (t != 0 && !accept(gd, width, (int)i, q))) continue;
-            add_interp(g, 0, P + (size_t)J * 4 * (size_t)q, -pp->eta_m[0] * (float)t, gauss((float)t, pp->sigma_px[0]),
-                       acc);
+            /* the shift Y = eta (x - x') = -eta t, between grid nodes j0 and j0 + 1 */
+            float f = -pp->eta_m[axis] * (float)t * inv_dY + mid;
+            if (!(f >= 0.0f && f <= (float)(J - 1))) continue;
+            int j0 = (int)floorf(f);
+            if (j0 > J - 2) j0 = J - 2;
+            float b = f - (float)j0, wt = gauss((float)t, pp->sigma_px[axis]);
+            o->node = q * J + j0, o->a0 = wt * (1.0f - b), o->a1 = wt * b;
         }
+    }
+}
+
+/* One pixel's gather: the sum over its taps of the interpolated node values (4 floats). */
+static inline void gather_taps(const FsfTap *ti, const float *F, float acc[4])
+{
+    for (int t = 0; t < FSF_TAPS; ++t) {
+        if (ti[t].node < 0) continue;
+        const float *F0 = F + 4 * (size_t)ti[t].node;
+        float a0 = ti[t].a0, a1 = ti[t].a1;
+        for (int c = 0; c < 4; ++c) acc[c] += a0 * F0[c] + a1 * F0[4 + c];
+    }
+}
+
+void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end)
+{
+    for (size_t i = begin; i < end; ++i) {
+        float acc[4] = {0, 0, 0, 0};
+        gather_taps(taps1 + (size_t)FSF_TAPS * i, P, acc);
         memcpy(G + ((size_t)g->y2_bins * i + (size_t)bin) * 4, acc, sizeof acc);
     }
 }
@@ -259,36 +275,34 @@ void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const float *G, float *Q, 
     }
 }
 
-void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, const float *Q,
-                float *out4, size_t begin, size_t end)
+void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end)
 {
-    int J = g->shift_nodes;
     for (size_t i = begin; i < end; ++i) {
-        const FsfPixel *pp = &px[i];
-        int x = (int)(i % (size_t)width), y = (int)(i / (size_t)width);
         float acc[4] = {0, 0, 0, 0};
-        int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[1]) : 0;
-        for (int t = -r; t <= r; ++t) {
-            int q = step_pixel(width, height, x, y, pp->dir[1], (float)t);
-            if (q < 0 || (t != 0 && !accept(gd, width, (int)i, q))) continue;
-            add_interp(g, 1, Q + (size_t)J * 4 * (size_t)q, -pp->eta_m[1] * (float)t, gauss((float)t, pp->sigma_px[1]),
-                       acc);
-        }
+        gather_taps(taps2 + (size_t)FSF_TAPS * i, Q, acc);
         memcpy(out4 + 4 * i, acc, sizeof acc);
     }
 }
 
+static void range_taps(void *ctx, size_t b, size_t e, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    fsf_taps(j->g, j->px, j->gd, j->s->width, j->s->height, j->axis, j->taps, b, e);
+    if (j->axis == 0)
+        for (size_t i = b; i < e; ++i) fsf_tap_prefix(j->px[i].sigma_px[0], j->cum1 + (size_t)FSF_CUM * i);
+}
 static void range_1a(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass1a(j->s, j->g, j->px, j->bin, j->P, b, e);
+    fsf_pass1a(j->s, j->g, j->px, j->cum1, j->bin, j->P, b, e);
 }
 static void range_1b(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass1b(j->g, j->px, j->gd, j->s->width, j->s->height, j->bin, j->P, j->G, b, e);
+    fsf_pass1b(j->g, j->taps, j->bin, j->P, j->G, b, e);
 }
 static void range_2a(void *ctx, size_t b, size_t e, int part)
 {
@@ -300,27 +314,35 @@ static void range_2b(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass2b(j->g, j->px, j->gd, j->s->width, j->s->height, j->Q, j->out4, b, e);
+    fsf_pass2b(j->taps, j->Q, j->out4, b, e);
 }
 
 bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4)
 {
     size_t n = (size_t)s->width * (size_t)s->height, J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
     /* pass 1 runs one y2 bin at a time: P holds one slice (FSF's p for that bin), so the
-     * memory is n (J + B) * 4 floats rather than n J B * 4 */
+     * memory is n (J + B) * 4 floats rather than n J B * 4; each pixel's taps (neighbour and
+     * interpolation weights) are found once per axis, not once per slice */
     float *P = malloc(sizeof(float) * 4 * J * n), *G = malloc(sizeof(float) * 4 * B * n);
-    bool ok = P && G;
+    FsfTap *taps = malloc(sizeof(FsfTap) * FSF_TAPS * n);
+    float *cum1 = malloc(sizeof(float) * FSF_CUM * n);
+    bool ok = P && G && taps && cum1;
     if (ok) {
-        Job j = {s, g, px, gd, out4, P, G, NULL, 0};
+        Job j = {s, g, px, gd, out4, P, G, NULL, taps, cum1, 0, 0};
+        recon_parallel_for(n, range_taps, &j);
         for (j.bin = 0; j.bin < g->y2_bins; ++j.bin) {
             recon_parallel_for(n, range_1a, &j);
             recon_parallel_for(n, range_1b, &j);
         }
         j.Q = P; /* Q has P's shape; P is no longer needed */
         recon_parallel_for(n, range_2a, &j);
+        j.axis = 1;
+        recon_parallel_for(n, range_taps, &j);
         recon_parallel_for(n, range_2b, &j);
     }
     free(P);
     free(G);
+    free(taps);
+    free(cum1);
     return ok;
 }

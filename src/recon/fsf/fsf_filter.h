@@ -87,16 +87,26 @@ void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px,
 bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                          float *out4);
 
-/* The pieces, for the OpenCL version's tests: one y2-bin slice of pass 1a (P: shift_nodes * 4
- * per pixel), pass 1b of that slice into G (y2_bins * 4 per pixel), pass 2a (Q: shift_nodes
- * * 4 per pixel) and pass 2b (out4). */
-void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, int bin, float *P, size_t begin,
-                size_t end);
-void fsf_pass1b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int bin,
-                const float *P, float *G, size_t begin, size_t end);
+/* One tap of a gather: the node (q * shift_nodes + j0) of the neighbour q's grid below the
+ * tap's shift, and the weights of nodes j0 and j0 + 1 (Gaussian times linear
+ * interpolation); node -1: no tap (outside the radius or the image, rejected). */
+typedef struct {
+    int node;
+    float a0, a1;
+} FsfTap;
+enum { FSF_TAPS = 2 * FSF_RADIUS_CAP_PX + 1 };
+
+/* The pieces, for the OpenCL version's tests: each pixel's taps along one axis (FSF_TAPS
+ * per pixel); one y2-bin slice of pass 1a (P: shift_nodes * 4 per pixel) and pass 1b of that
+ * slice into G (y2_bins * 4 per pixel; cum1: fsf_tap_prefix of each pixel's first axis, FSF_CUM
+ * floats per pixel); pass 2a (Q: shift_nodes * 4 per pixel) and 2b (out4). */
+void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
+              FsfTap *taps, size_t begin, size_t end);
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const float *cum1, int bin, float *P,
+                size_t begin, size_t end);
+void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end);
 void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const float *G, float *Q, size_t begin, size_t end);
-void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, const float *Q,
-                float *out4, size_t begin, size_t end);
+void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end);
 
 /* The density of reprojected samples. Samples lie uniformly on the light, so those of the
  * neighbour t steps away land, seen from the centre, uniformly on [-L + eta t, L + eta t]:
@@ -105,6 +115,7 @@ void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int w
  * sum estimates the light's uniform mean rather than a profile tapered by the filter.
  * fsf_tap_prefix fills cum (2 r + 2 floats, r = fsf_radius_steps) with the running sums
  * of w over the taps -r .. r. */
+enum { FSF_CUM = 2 * FSF_RADIUS_CAP_PX + 2 };
 void fsf_tap_prefix(float sigma_px, float *cum);
 float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum);
 
