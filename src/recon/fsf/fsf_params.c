@@ -6,12 +6,63 @@
 
 #include "recon/recon_parallel.h"
 
+/* Windows over which slope ranges are gathered: radius 2 (the 5 x 5 of slope smoothing) up
+ * to the tap cap. */
+enum { LEVELS = 4 };
+static const int LEVEL_RADIUS_PX[LEVELS] = {2, 4, 8, FSF_RADIUS_CAP_PX};
+
 typedef struct {
     const FsfParamsIn *in;
-    float *own_lo, *own_hi; /* the pixel's own range (+inf, -inf: none) */
+    float *own_lo, *own_hi;             /* the pixel's own range (+inf, -inf: none) */
+    float *lvl_lo[LEVELS], *lvl_hi[LEVELS]; /* the range over the square window of each level */
+    float *tmp_lo, *tmp_hi;
+    int level;
     FsfPixel *px;
     float *k_lo, *k_hi;
 } Job;
+
+/* Sliding min / max of the own ranges along rows (pass 0: own -> tmp) or columns (pass 1:
+ * tmp -> level), radius LEVEL_RADIUS_PX[level]. Rows (columns) are the range's items. */
+static void window_rows(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->in->g->width, r = LEVEL_RADIUS_PX[j->level];
+    for (size_t y = begin; y < end; ++y)
+        for (int x = 0; x < w; ++x) {
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = x - r; q <= x + r; ++q) {
+                if (q < 0 || q >= w) continue;
+                lo = fminf(lo, j->own_lo[y * (size_t)w + (size_t)q]);
+                hi = fmaxf(hi, j->own_hi[y * (size_t)w + (size_t)q]);
+            }
+            j->tmp_lo[y * (size_t)w + (size_t)x] = lo, j->tmp_hi[y * (size_t)w + (size_t)x] = hi;
+        }
+}
+
+static void window_cols(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->in->g->width, h = j->in->g->height, r = LEVEL_RADIUS_PX[j->level];
+    for (size_t x = begin; x < end; ++x)
+        for (int y = 0; y < h; ++y) {
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = y - r; q <= y + r; ++q) {
+                if (q < 0 || q >= h) continue;
+                lo = fminf(lo, j->tmp_lo[(size_t)q * (size_t)w + x]);
+                hi = fmaxf(hi, j->tmp_hi[(size_t)q * (size_t)w + x]);
+            }
+            j->lvl_lo[j->level][(size_t)y * (size_t)w + x] = lo, j->lvl_hi[j->level][(size_t)y * (size_t)w + x] = hi;
+        }
+}
+
+/* FSF eq. 4 in pixel steps for a slope spread, before the cap (infinite for one slope). */
+static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float step_m)
+{
+    float sigma_m = spread > 0.0f ? 0.5f * in->light->half_m[axis] / spread : INFINITY;
+    return sigma_m / (in->mu * step_m);
+}
 
 /* The slope range of the pixel's own occluded samples. */
 static void own_range(void *ctx, size_t begin, size_t end, int part)
@@ -65,7 +116,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     Job *j = ctx;
     const FsfParamsIn *in = j->in;
     const GBuffer *g = in->g;
-    int w = g->width, h = g->height;
+    int w = g->width;
     for (size_t i = begin; i < end; ++i) {
         FsfPixel *pp = &j->px[i];
         pp->dir[0][0] = 1.0f, pp->dir[0][1] = 0.0f, pp->dir[1][0] = 0.0f, pp->dir[1][1] = 1.0f;
@@ -73,25 +124,16 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
         j->k_lo[i] = j->k_hi[i] = 0.0f;
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
-        float lo = j->own_lo[i], hi = j->own_hi[i];
-        if (!(lo <= hi)) { /* slope smoothing: the window's range */
-            for (int qy = y - FSF_BORROW_RADIUS_PX; qy <= y + FSF_BORROW_RADIUS_PX; ++qy)
-                for (int qx = x - FSF_BORROW_RADIUS_PX; qx <= x + FSF_BORROW_RADIUS_PX; ++qx) {
-                    if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
-                    size_t q = (size_t)qy * (size_t)w + (size_t)qx;
-                    lo = fminf(lo, j->own_lo[q]), hi = fmaxf(hi, j->own_hi[q]);
-                }
-        }
         if (!in->usable[i]) continue;
         vec3 jx, jy;
         if (!jacobian_column(g, x, y, 0, &jx) || !jacobian_column(g, x, y, 1, &jy)) continue;
         vec3 n = v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]);
-        bool known = lo <= hi;
-        float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
-        if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
         /* J^T J for the least-squares screen direction of each light axis */
         float a11 = v3_dot(jx, jx), a12 = v3_dot(jx, jy), a22 = v3_dot(jy, jy), det = a11 * a22 - a12 * a12;
         if (!(det > 0.0f)) continue;
+        float step_m[2];
+        vec3 Dm[2];
+        float dir[2][2];
         for (int a = 0; a < 2; ++a) {
             vec3 axis = in->light->axis_world[a];
             vec3 ut = v3_madd(axis, n, -v3_dot(axis, n));
@@ -99,21 +141,35 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
             float sx = (a22 * b1 - a12 * b2) / det, sy = (a11 * b2 - a12 * b1) / det, len = sqrtf(sx * sx + sy * sy);
             if (!(len > 0.0f)) goto skip;
             sx /= len, sy /= len;
-            vec3 D = v3_add(v3_scale(jx, sx), v3_scale(jy, sy)); /* receiver metres per step */
-            float step_m = v3_length(D);
-            if (!(step_m > 0.0f)) goto skip;
-            pp->dir[a][0] = sx, pp->dir[a][1] = sy;
-            pp->eta_m[a] = k_mean * v3_dot(D, axis);
-            float sigma_px;
-            if (!known) {
-                sigma_px = FSF_FAR_RADIUS_PX / FSF_RADIUS_SIGMAS;
-            } else {
-                /* FSF eq. 4 in receiver metres; one slope: no limit but the cap */
-                float sigma_m = spread > 0.0f ? 0.5f * in->light->half_m[a] / spread : INFINITY;
-                sigma_px = sigma_m / (in->mu * step_m);
-            }
-            float cap = (float)FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS;
-            pp->sigma_px[a] = sigma_px < cap ? sigma_px : cap;
+            Dm[a] = v3_add(v3_scale(jx, sx), v3_scale(jy, sy)); /* receiver metres per step */
+            step_m[a] = v3_length(Dm[a]);
+            if (!(step_m[a] > 0.0f)) goto skip;
+            dir[a][0] = sx, dir[a][1] = sy;
+        }
+        /* The slope range must cover the samples under the whole footprint, not only the
+         * pixel's own (a neighbour's samples reprojected with another occluder's shear land
+         * on the wrong light point). Each window (radius 2: FSF section 5's 5 x 5 slope
+         * smoothing, which also gives unoccluded pixels their neighbours' slopes; then 4, 8,
+         * 16) gives a width that is safe up to its radius: the range's width (none in a
+         * window without occluders: every sample there is lit), capped so that the taps
+         * (2 sigma) stay inside the window. The widest safe one wins, with its range. */
+        float lo = INFINITY, hi = -INFINITY, best = -1.0f, cap_px = 0.0f;
+        for (int l = 0; l < LEVELS; ++l) {
+            float ll = j->lvl_lo[l][i], hh = j->lvl_hi[l][i], r_cap = (float)LEVEL_RADIUS_PX[l] / FSF_RADIUS_SIGMAS;
+            float sl = r_cap;
+            if (ll <= hh)
+                sl = fminf(fminf(sigma_steps(in, 0, hh - ll, step_m[0]), sigma_steps(in, 1, hh - ll, step_m[1])), r_cap);
+            if (sl > best) best = sl, lo = ll, hi = hh, cap_px = r_cap;
+        }
+        bool known = lo <= hi;
+        float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
+        if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
+        for (int a = 0; a < 2; ++a) {
+            pp->dir[a][0] = dir[a][0], pp->dir[a][1] = dir[a][1];
+            pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
+            /* FSF eq. 4; one slope: no limit but the cap */
+            float sigma_px = known ? sigma_steps(in, a, spread, step_m[a]) : cap_px;
+            pp->sigma_px[a] = sigma_px < cap_px ? sigma_px : cap_px;
         }
         continue;
     skip:
@@ -125,13 +181,20 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
 bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k_hi)
 {
     size_t n = (size_t)in->g->width * (size_t)in->g->height;
-    Job j = {in, malloc(n * sizeof(float)), malloc(n * sizeof(float)), px, k_lo, k_hi};
-    bool ok = j.own_lo && j.own_hi;
+    Job j = {0};
+    j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
+    float *block = malloc(sizeof(float) * n * (4 + 2 * LEVELS));
+    bool ok = block != NULL;
     if (ok) {
+        j.own_lo = block, j.own_hi = block + n, j.tmp_lo = block + 2 * n, j.tmp_hi = block + 3 * n;
+        for (int l = 0; l < LEVELS; ++l) j.lvl_lo[l] = block + (4 + 2 * (size_t)l) * n, j.lvl_hi[l] = j.lvl_lo[l] + n;
         recon_parallel_for(n, own_range, &j);
+        for (j.level = 0; j.level < LEVELS; ++j.level) {
+            recon_parallel_for((size_t)in->g->height, window_rows, &j);
+            recon_parallel_for((size_t)in->g->width, window_cols, &j);
+        }
         recon_parallel_for(n, params_range, &j);
     }
-    free(j.own_lo);
-    free(j.own_hi);
+    free(block);
     return ok;
 }

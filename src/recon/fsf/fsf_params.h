@@ -3,10 +3,13 @@
  *
  *   slopes   k = (d_light - d_occ) / d_occ per occluded sample (light metres per receiver
  *            metre; FSF's s = d1/d2 - 1 with d2 measured from the light is 1 / k); the pixel's
- *            range [k_lo, k_hi]. Pixels none of whose samples hit an occluder take the range
- *            of the 5 x 5 window around them (FSF section 5, slope smoothing); with none there
- *            either they are filtered without shear over a small radius (nothing near casts a
- *            shadow on them).
+ *            range [k_lo, k_hi] is taken over a window, not over its own samples: the filter
+ *            reprojects every sample under its footprint, so the range must hold their
+ *            occluders too. Windows of radius 2 (5 x 5: FSF section 5's slope smoothing,
+ *            which also gives unoccluded pixels their neighbours' slopes), 4, 8 and 16 each
+ *            give a width (below) capped so that its taps stay inside the window; the widest
+ *            wins, with its window's range. A window without occluded samples allows its full
+ *            radius without shear (every sample in it is lit).
  *   shear    the mean slope (k_lo + k_hi) / 2: the primal counterpart of the harmonic mean of
  *            FSF's s_min, s_max (section 3.1), times the receiver metres along the light axis
  *            of one pixel step (eta, light metres per step).
@@ -24,10 +27,6 @@
 #include "recon/gbuffer.h"
 #include "recon/sample_store.h"
 
-/* Slope smoothing: unoccluded pixels borrow from this radius (5 x 5 window). */
-enum { FSF_BORROW_RADIUS_PX = 2 };
-/* Pixels with no occluder within the window: filtered without shear, taps to 2 sigma = this. */
-#define FSF_FAR_RADIUS_PX 2.0f
 
 typedef struct {
     const GBuffer *g;
