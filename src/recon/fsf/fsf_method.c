@@ -7,13 +7,15 @@
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
- *            with per-pixel shear and widths (fsf_params.h)
+ *            with per-pixel shear and widths (fsf_params.h): parameters on the host, the four
+ *            passes in OpenCL (fsf_cl.h; fsf_filter_factored when no device was opened)
  *   AOVs     fsf.eta_m_per_px (the shear along the light's first axis, light metres per pixel
  *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo) */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_params.h"
@@ -31,6 +33,7 @@ struct ReconMethod {
     SampleStore *store;
     FsfLight light;
     float mu;
+    FsfCl *cl;
     float *shade;                /* unoccluded irradiance (the light factor) */
     float *eta_aov, *sigma_aov, *spread_aov;
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
@@ -45,6 +48,7 @@ static int fsf_pass1_spp(EffectMask effects)
 static void fsf_destroy(ReconMethod *m)
 {
     if (!m) return;
+    fsf_cl_destroy(m->cl);
     free(m->shade);
     free(m->eta_aov);
     free(m->sigma_aov);
@@ -82,6 +86,12 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
     *out = m;
     return true;
+}
+
+static bool fsf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
+{
+    if (m->cl) return true;
+    return (m->cl = fsf_cl_create(rt, d)) != NULL;
 }
 
 /* AAF-shadow eq. 1, as for AAF: only the visibility is smooth enough to filter, so the
@@ -148,7 +158,8 @@ static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *ke
     size_t n = (size_t)w * (size_t)h, slots = n * (size_t)cap;
     unsigned char *usable = malloc(n);
     int *count = malloc(n * sizeof(int));
-    float *y_m = malloc(slots * 2 * sizeof(float) + 1), *v = malloc(slots * 3 * sizeof(float) + 1);
+    /* at least one slot's floats: fsf_cl_run uploads one for an empty store */
+    float *y_m = malloc((slots + 1) * 2 * sizeof(float)), *v = malloc((slots + 1) * 3 * sizeof(float));
     float *k_lo = malloc(n * sizeof(float)), *k_hi = malloc(n * sizeof(float)), *out4 = malloc(n * 4 * sizeof(float));
     FsfPixel *px = malloc(n * sizeof(FsfPixel));
     bool ok = usable && count && y_m && v && k_lo && k_hi && out4 && px;
@@ -166,7 +177,9 @@ static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *ke
     FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, usable);
     if (ok) {
-        if (!fsf_filter_factored(&s, &grid, px, &gd, out4)) {
+        if (m->cl) {
+            ok = fsf_cl_run(m->cl, &s, &grid, px, &gd, out4, kernel_seconds, d);
+        } else if (!fsf_filter_factored(&s, &grid, px, &gd, out4)) {
             ok = false;
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF passes");
         }
@@ -213,6 +226,7 @@ const ReconMethodClass recon_method_fsf = {
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
     .pass1_spp = fsf_pass1_spp,
     .create = fsf_create,
+    .open_device = fsf_open_device,
     .light_factor = fsf_light_factor,
     .filter_light = fsf_filter_light,
     .aovs = fsf_aovs,
