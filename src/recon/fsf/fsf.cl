@@ -15,6 +15,7 @@
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
 #define FSF_CUM (2 * FSF_RADIUS_CAP_PX + 2)
 #define FSF_RADIUS_SIGMAS 2.0f
+#define FSF_MAX_Y2_BINS 64
 
 typedef struct {
     float half1, half2;  /* L1, L2 */
@@ -168,27 +169,29 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin, __global const int *tap
     vstore4(fsf_gather(i, tap_node, tap_w, P), a.B * i + bin, G);
 }
 
-/* Pass 2a (fsf_pass2a, eq. 14). */
+/* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only). */
 __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global const float *G, __global float *Q)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
     int J = a.J, B = a.B;
-    float dY = 4.0f * a.half2 / (float)(J - 1), L2 = a.half2, mid = 0.5f * (float)(J - 1);
+    float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
     int r = fsf_radius(sigma);
-    float cum[FSF_CUM];
+    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS];
     cum[0] = 0.0f;
     for (int t = -r; t <= r; ++t) cum[t + r + 1] = cum[t + r] + fsf_gauss((float)t, sigma);
+    for (int m = -2 * B; m < B; ++m) {
+        float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
+        float rho = fsf_box(z, L2) != 0.0f ? fsf_density_p(z, eta, L2, r, cum) : 0.0f;
+        inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
+    }
     for (int jj = 0; jj < J; ++jj) {
-        float Y = ((float)jj - mid) * dY;
         float4 acc = (float4)(0.0f);
         for (int b = 0; b < B; ++b) {
-            float c = -L2 + ((float)b + 0.5f) * 2.0f * L2 / (float)B;
-            if (fsf_box(c - Y, L2) == 0.0f) continue;
-            float rho = fsf_density_p(c - Y, eta, L2, r, cum);
-            if (!(rho > 0.0f)) continue;
-            acc += vload4(B * i + b, G) / rho;
+            float wk = inv_rho[b - 2 * jj + 2 * B];
+            if (wk == 0.0f) continue;
+            acc += vload4(B * i + b, G) * wk;
         }
         vstore4(acc, J * i + jj, Q);
     }

@@ -70,6 +70,10 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
     FsfArgs a = {g->half_m[0], g->half_m[1], g->shift_nodes, g->y2_bins, gd->cos_normal_min, gd->plane_tol_rel,
                  s->width, s->height};
+    if (g->y2_bins != g->shift_nodes - 1 || g->y2_bins > FSF_MAX_Y2_BINS) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
+        return false;
+    }
     cl_int err = CL_SUCCESS;
     enum { COUNT, YS, VAL, PX, POS, NRM, USE, NODE, TW, CUM, P, G, Q, OUT, NBUF };
     cl_mem b[NBUF] = {0};

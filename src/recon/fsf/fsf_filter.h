@@ -53,9 +53,13 @@ typedef struct {
 typedef struct {
     float half_m[2];           /* L1, L2: the light's half extents along u and v (metres) */
     int shift_nodes;           /* nodes of the shift grids Y1, Y2 over [-2 L, 2 L] (odd: one
-                                * node at 0); FSF section 5: 16 bins, so 17 nodes */
-    int y2_bins;               /* bins of y2 over [-L2, L2] carried through pass 1 (FSF footnote 8) */
+                                * node at 0); FSF section 5 has 16 bins (17 nodes), the
+                                * default 8 (fsf_grid_default) */
+    int y2_bins;               /* bins of y2 over [-L2, L2] carried through pass 1 (FSF footnote 8);
+                                * must be shift_nodes - 1 (<= FSF_MAX_Y2_BINS): pass 2a relies on
+                                * the node spacing being twice the bin width */
 } FsfGrid;
+enum { FSF_MAX_Y2_BINS = 64 };
 
 /* Per pixel. sigma_px[a] == 0 leaves the pixel out (its input passes through). */
 typedef struct {
@@ -83,7 +87,7 @@ int fsf_radius_steps(float sigma_px);
  * out get their own samples' plain sum. */
 void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4);
 
-/* The same in four 1D passes. false when out of memory. */
+/* The same in four 1D passes. false when out of memory (or a grid without y2_bins = shift_nodes - 1). */
 bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                          float *out4);
 

@@ -152,6 +152,7 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
 
 static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
 {
+
     *kernel_seconds = 0.0;
     if (e != EFFECT_SOFT_SHADOWS) return true;
     int w = m->g->width, h = m->g->height, cap = sample_store_capacity(m->store);
