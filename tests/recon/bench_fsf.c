@@ -1,7 +1,7 @@
 /* Benchmark (not a test): the factored FSF filter (four 1D passes) against the brute-force
  * 4D sum on the same synthetic samples (fsf_synth.h), W x H pixels, 16 samples per pixel,
- * a 33-pixel footprint (sigma 8, the paper's cap) on both axes, the default grid (9 shift
- * nodes, 8 y2 bins). Warm: one untimed run, then the median of 3. Both use recon_parallel_for (2 cores).
+ * a 33-pixel footprint (sigma 8, the paper's cap) on both axes, the default grid (17 shift
+ * nodes, 16 y2 bins). Warm: one untimed run, then the median of 3. Both use recon_parallel_for (2 cores).
  * FSF section 6 reports 40-50x for its GPU implementation. Usage: bench_fsf [W H [factored]] */
 #include <stdio.h>
 #include <stdlib.h>

@@ -56,8 +56,37 @@ static float *render(const char *filter, unsigned seed, int spp, bool fsf_checks
     return out;
 }
 
+/* A sphere light has soft shadows but no light plane with axes: a clear refusal. */
+static void sphere_light_refused(void)
+{
+    char text[4096];
+    const char *quad = "  Shape \"trianglemesh\" \"point3 P\" [ -0.8 4 -0.8  0.8 4 -0.8  0.8 4 0.8  -0.8 4 0.8 ]"
+                       " \"integer indices\" [ 0 1 2 0 2 3 ]\n";
+    const char *at = strstr(SHADOW_SCENE, quad);
+    CHECK(at != NULL);
+    if (!at) return;
+    snprintf(text, sizeof text, "%.*s  Translate 0 4 0 Shape \"sphere\" \"float radius\" [ 0.5 ]\n%s",
+             (int)(at - SHADOW_SCENE), SHADOW_SCENE, at + strlen(quad));
+    SceneDesc scene;
+    Renderer *r;
+    if (!recon_test_renderer(text, 1, 4, false, &scene, &r)) {
+        CHECK(false);
+        return;
+    }
+    ReconOptions o = {.filter = "fsf", .spp = 4};
+    ReconPipeline *p = NULL;
+    Diag d = {0};
+    bool ok = recon_pipeline_create(r, &o, &p, &d) && recon_pipeline_render(p, &d);
+    CHECK(!ok);
+    CHECK_STR(d.message, "error: --filter fsf filters soft shadows of a planar area light made of triangles; the scene has none");
+    recon_pipeline_destroy(p);
+    renderer_destroy(r);
+    scene_desc_free(&scene);
+}
+
 int main(void)
 {
+    sphere_light_refused();
     const int w = 40, h = 40;
     float *ref = render("none", 100, 1024, false);
     double e_fsf = 0, e_mc = 0;

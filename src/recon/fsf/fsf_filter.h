@@ -53,8 +53,7 @@ typedef struct {
 typedef struct {
     float half_m[2];           /* L1, L2: the light's half extents along u and v (metres) */
     int shift_nodes;           /* nodes of the shift grids Y1, Y2 over [-2 L, 2 L] (odd: one
-                                * node at 0); FSF section 5 has 16 bins (17 nodes), the
-                                * default 8 (fsf_grid_default) */
+                                * node at 0); FSF section 5: 16 bins, so 17 nodes */
     int y2_bins;               /* bins of y2 over [-L2, L2] carried through pass 1 (FSF footnote 8);
                                 * must be shift_nodes - 1 (<= FSF_MAX_Y2_BINS): pass 2a relies on
                                 * the node spacing being twice the bin width */
