@@ -114,10 +114,19 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, __global const float *px
     }
 }
 
+/* Each sample slot's y2 bin, once for the 16 slices of pass 1a. */
+__kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *count, __global const float *ys,
+                       __global uchar *bin2)
+{
+    int i = get_global_id(0);
+    if (i >= a.width * a.height) return;
+    for (int k = 0; k < count[i]; ++k) bin2[i * capacity + k] = (uchar)fsf_bin2(ys[2 * (i * capacity + k) + 1], a.half2, a.B);
+}
+
 /* Pass 1a for one y2 bin (fsf_pass1a, eq. 12). */
 __kernel void fsf_pass1a(const FsfArgs a, const int bin, const int capacity, __global const int *count,
-                         __global const float *ys, __global const float *value, __global const float *px,
-                         __global const float *cum1, __global float *P)
+                         __global const float *ys, __global const uchar *bin2, __global const float *value,
+                         __global const float *px, __global const float *cum1, __global float *P)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
@@ -130,7 +139,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin, const int capacity, __g
     __global const float *cum = cum1 + FSF_CUM * i;
     for (int k = 0; k < count[i]; ++k) {
         int slot = i * capacity + k;
-        if (fsf_bin2(ys[2 * slot + 1], a.half2, a.B) != bin) continue;
+        if (bin2[slot] != bin) continue;
         float y1 = ys[2 * slot];
         float v0 = value[3 * slot], v1 = value[3 * slot + 1], v2 = value[3 * slot + 2];
         int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);

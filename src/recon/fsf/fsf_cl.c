@@ -18,7 +18,7 @@ typedef struct {
 
 struct FsfCl {
     ClRuntime *rt;
-    cl_kernel taps, pass1a, pass1b, pass2a, pass2b;
+    cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
 };
 
 static bool cl_ok(cl_int err, const char *what, Diag *d)
@@ -33,7 +33,8 @@ FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d)
     FsfCl *f = calloc(1, sizeof *f);
     if (!f) return NULL;
     f->rt = rt;
-    if (!(f->taps = cl_runtime_kernel(rt, "fsf_taps", d)) || !(f->pass1a = cl_runtime_kernel(rt, "fsf_pass1a", d)) ||
+    if (!(f->taps = cl_runtime_kernel(rt, "fsf_taps", d)) || !(f->bins = cl_runtime_kernel(rt, "fsf_bins", d)) ||
+        !(f->pass1a = cl_runtime_kernel(rt, "fsf_pass1a", d)) ||
         !(f->pass1b = cl_runtime_kernel(rt, "fsf_pass1b", d)) || !(f->pass2a = cl_runtime_kernel(rt, "fsf_pass2a", d)) ||
         !(f->pass2b = cl_runtime_kernel(rt, "fsf_pass2b", d))) {
         fsf_cl_destroy(f);
@@ -45,8 +46,8 @@ FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d)
 void fsf_cl_destroy(FsfCl *f)
 {
     if (!f) return;
-    cl_kernel k[5] = {f->taps, f->pass1a, f->pass1b, f->pass2a, f->pass2b};
-    for (int i = 0; i < 5; ++i)
+    cl_kernel k[6] = {f->taps, f->bins, f->pass1a, f->pass1b, f->pass2a, f->pass2b};
+    for (int i = 0; i < 6; ++i)
         if (k[i]) clReleaseKernel(k[i]);
     free(f);
 }
@@ -75,13 +76,14 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         return false;
     }
     cl_int err = CL_SUCCESS;
-    enum { COUNT, YS, VAL, PX, POS, NRM, USE, NODE, TW, CUM, P, G, Q, OUT, NBUF };
+    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NODE, TW, CUM, P, G, Q, OUT, NBUF };
     cl_mem b[NBUF] = {0};
     const cl_mem_flags ro = CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR;
     /* a store without slots (capacity 0) still gets a buffer of one float */
     size_t slots1 = slots ? slots : 1;
     b[COUNT] = clCreateBuffer(ctx, ro, sizeof(int) * n, (void *)s->count, &err);
     if (!err) b[YS] = clCreateBuffer(ctx, ro, sizeof(float) * 2 * slots1, (void *)s->y_m, &err);
+    if (!err) b[BIN2] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slots1, NULL, &err);
     if (!err) b[VAL] = clCreateBuffer(ctx, ro, sizeof(float) * 3 * slots1, (void *)s->value, &err);
     if (!err) b[PX] = clCreateBuffer(ctx, ro, sizeof(FsfPixel) * n, (void *)px, &err);
     if (!err) b[POS] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err);
@@ -103,12 +105,18 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 7), "arguments", d) &&
              cl_ok(clEnqueueNDRangeKernel(q, f->taps, 1, NULL, &global, NULL, 0, NULL, &first), "taps", d);
     }
+    if (ok) {
+        cl_int ints[1] = {s->capacity};
+        cl_mem m[3] = {b[COUNT], b[YS], b[BIN2]};
+        ok = cl_ok(set_args(f->bins, &a, ints, 1, m, 3), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->bins, 1, NULL, &global, NULL, 0, NULL, NULL), "bins", d);
+    }
     for (int bin = 0; ok && bin < g->y2_bins; ++bin) {
         cl_int i1a[2] = {bin, s->capacity};
-        cl_mem m1a[6] = {b[COUNT], b[YS], b[VAL], b[PX], b[CUM], b[P]};
+        cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
         cl_int i1b[1] = {bin};
         cl_mem m1b[4] = {b[NODE], b[TW], b[P], b[G]};
-        ok = cl_ok(set_args(f->pass1a, &a, i1a, 2, m1a, 6), "arguments", d) &&
+        ok = cl_ok(set_args(f->pass1a, &a, i1a, 2, m1a, 7), "arguments", d) &&
              cl_ok(clEnqueueNDRangeKernel(q, f->pass1a, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1a", d) &&
              cl_ok(set_args(f->pass1b, &a, i1b, 1, m1b, 4), "arguments", d) &&
              cl_ok(clEnqueueNDRangeKernel(q, f->pass1b, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1b", d);
