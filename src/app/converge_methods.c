@@ -29,6 +29,10 @@ static const ConvergeMethod methods[] = {
      "multiple axis-aligned filters (paper 003) of soft shadows"},
     {"maaf-ld", {"--sampler", "sobol", "--filter", "maaf", NULL}, true,
      "multiple axis-aligned filters with Owen-scrambled Sobol' samples"},
+    {"fsf", {"--sampler", "stratified", "--filter", "fsf", NULL}, false,
+     "fast 4D sheared filtering (paper 000) of soft shadows"},
+    {"fsf-ld", {"--sampler", "sobol", "--filter", "fsf", NULL}, false,
+     "fast 4D sheared filtering with Owen-scrambled Sobol' samples"},
 };
 
 /* Both Monte Carlo methods are baselines: at equal error the faster sampler differs with spp

@@ -7,11 +7,13 @@
 extern const ReconMethodClass recon_method_aaf; /* recon/aaf/aaf_method.c */
 extern const ReconMethodClass recon_method_lr;  /* recon/lr/lr_method.c */
 extern const ReconMethodClass recon_method_maaf; /* recon/maaf/maaf_method.c */
+extern const ReconMethodClass recon_method_fsf; /* recon/fsf/fsf_method.c */
 
 const ReconMethodClass *const recon_methods[] = {
     &recon_method_aaf,
     &recon_method_lr,
     &recon_method_maaf,
+    &recon_method_fsf,
     NULL,
 };
 

@@ -38,7 +38,7 @@ PBRT
 "$WEDGE" render "$T/small.pbrt" -o >/dev/null 2>&1; check "-o without value" 1 $?
 "$WEDGE" render --help >/dev/null 2>&1; check "--help" 0 $?
 # a bad value's message says what the option wants
-for case in "--mu|1e9|a number in (0, 1e6]" "--filter|magic|auto, aaf, lr, maaf or none" "--maaf-pairs|6|an integer in [1, 5]" "--res|10|WxH with W and H in [1, 65536] (e.g. 640x360)"; do
+for case in "--mu|1e9|a number in (0, 1e6]" "--filter|magic|auto, aaf, lr, maaf, fsf or none" "--maaf-pairs|6|an integer in [1, 5]" "--res|10|WxH with W and H in [1, 65536] (e.g. 640x360)"; do
     IFS='|' read -r opt val wants <<<"$case"
     "$WEDGE" render "$T/small.pbrt" "$opt" "$val" 2>"$T/err.txt" >/dev/null; check "$opt $val" 1 $?
     want="wedge render: $opt wants $wants, got '$val'"

@@ -1,0 +1,149 @@
+/* Host side of fsf.cl (see fsf_cl.h). Buffers are created per run. */
+#include "recon/fsf/fsf_cl.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/cl/cl_runtime_internal.h"
+
+_Static_assert(sizeof(FsfPixel) == 8 * sizeof(float), "fsf.cl reads FsfPixel as 8 floats");
+
+/* fsf.cl's FsfArgs, passed by value. */
+typedef struct {
+    cl_float half1, half2;
+    cl_int J, B;
+    cl_float cos_normal_min, plane_tol_rel;
+    cl_int width, height;
+} FsfArgs;
+
+struct FsfCl {
+    ClRuntime *rt;
+    cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
+};
+
+static bool cl_ok(cl_int err, const char *what, Diag *d)
+{
+    if (err == CL_SUCCESS) return true;
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL %s (FSF): %s", what, cl_error_name(err));
+    return false;
+}
+
+FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d)
+{
+    FsfCl *f = calloc(1, sizeof *f);
+    if (!f) return NULL;
+    f->rt = rt;
+    if (!(f->taps = cl_runtime_kernel(rt, "fsf_taps", d)) || !(f->bins = cl_runtime_kernel(rt, "fsf_bins", d)) ||
+        !(f->pass1a = cl_runtime_kernel(rt, "fsf_pass1a", d)) ||
+        !(f->pass1b = cl_runtime_kernel(rt, "fsf_pass1b", d)) || !(f->pass2a = cl_runtime_kernel(rt, "fsf_pass2a", d)) ||
+        !(f->pass2b = cl_runtime_kernel(rt, "fsf_pass2b", d))) {
+        fsf_cl_destroy(f);
+        return NULL;
+    }
+    return f;
+}
+
+void fsf_cl_destroy(FsfCl *f)
+{
+    if (!f) return;
+    cl_kernel k[6] = {f->taps, f->bins, f->pass1a, f->pass1b, f->pass2a, f->pass2b};
+    for (int i = 0; i < 6; ++i)
+        if (k[i]) clReleaseKernel(k[i]);
+    free(f);
+}
+
+/* Sets a kernel's arguments: the FsfArgs, then ints (as cl_int), then buffers. */
+static cl_int set_args(cl_kernel k, const FsfArgs *a, const cl_int *ints, int ni, const cl_mem *mems, int nm)
+{
+    cl_int err = clSetKernelArg(k, 0, sizeof *a, a);
+    cl_uint idx = 1;
+    for (int i = 0; i < ni; ++i) err |= clSetKernelArg(k, idx++, sizeof(cl_int), &ints[i]);
+    for (int i = 0; i < nm; ++i) err |= clSetKernelArg(k, idx++, sizeof(cl_mem), &mems[i]);
+    return err;
+}
+
+bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
+                float *out4, double *kernel_seconds, Diag *d)
+{
+    cl_context ctx = f->rt->context;
+    cl_command_queue q = f->rt->queue;
+    size_t n = (size_t)s->width * (size_t)s->height, slots = n * (size_t)s->capacity;
+    size_t J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
+    FsfArgs a = {g->half_m[0], g->half_m[1], g->shift_nodes, g->y2_bins, gd->cos_normal_min, gd->plane_tol_rel,
+                 s->width, s->height};
+    if (g->y2_bins != g->shift_nodes - 1 || g->y2_bins > FSF_MAX_Y2_BINS) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
+        return false;
+    }
+    cl_int err = CL_SUCCESS;
+    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NODE, TW, CUM, P, G, Q, OUT, NBUF };
+    cl_mem b[NBUF] = {0};
+    const cl_mem_flags ro = CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR;
+    /* a store without slots (capacity 0) still gets a buffer of one float */
+    size_t slots1 = slots ? slots : 1;
+    b[COUNT] = clCreateBuffer(ctx, ro, sizeof(int) * n, (void *)s->count, &err);
+    if (!err) b[YS] = clCreateBuffer(ctx, ro, sizeof(float) * 2 * slots1, (void *)s->y_m, &err);
+    if (!err) b[BIN2] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slots1, NULL, &err);
+    if (!err) b[VAL] = clCreateBuffer(ctx, ro, sizeof(float) * 3 * slots1, (void *)s->value, &err);
+    if (!err) b[PX] = clCreateBuffer(ctx, ro, sizeof(FsfPixel) * n, (void *)px, &err);
+    if (!err) b[POS] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err);
+    if (!err) b[NRM] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err);
+    if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
+    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * FSF_TAPS * n, NULL, &err);
+    if (!err) b[TW] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 2 * FSF_TAPS * n, NULL, &err);
+    if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_CUM * n, NULL, &err);
+    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
+    if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
+    if (!err) b[Q] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
+    if (!err) b[OUT] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 4 * n, NULL, &err);
+    bool ok = cl_ok(err, "buffer allocation", d);
+    size_t global = n;
+    cl_event first = NULL, last = NULL;
+    if (ok) { /* taps along the first axis (and cum1) */
+        cl_int ints[1] = {0};
+        cl_mem m[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
+        ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 7), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->taps, 1, NULL, &global, NULL, 0, NULL, &first), "taps", d);
+    }
+    if (ok) {
+        cl_int ints[1] = {s->capacity};
+        cl_mem m[3] = {b[COUNT], b[YS], b[BIN2]};
+        ok = cl_ok(set_args(f->bins, &a, ints, 1, m, 3), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->bins, 1, NULL, &global, NULL, 0, NULL, NULL), "bins", d);
+    }
+    for (int bin = 0; ok && bin < g->y2_bins; ++bin) {
+        cl_int i1a[2] = {bin, s->capacity};
+        cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
+        cl_int i1b[1] = {bin};
+        cl_mem m1b[4] = {b[NODE], b[TW], b[P], b[G]};
+        ok = cl_ok(set_args(f->pass1a, &a, i1a, 2, m1a, 7), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->pass1a, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1a", d) &&
+             cl_ok(set_args(f->pass1b, &a, i1b, 1, m1b, 4), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->pass1b, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1b", d);
+    }
+    if (ok) {
+        cl_mem m2a[3] = {b[PX], b[G], b[Q]};
+        cl_int ints[1] = {1};
+        cl_mem mt[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
+        cl_mem m2b[4] = {b[NODE], b[TW], b[Q], b[OUT]};
+        ok = cl_ok(set_args(f->pass2a, &a, NULL, 0, m2a, 3), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->pass2a, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 2a", d) &&
+             cl_ok(set_args(f->taps, &a, ints, 1, mt, 7), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->taps, 1, NULL, &global, NULL, 0, NULL, NULL), "taps", d) &&
+             cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 4), "arguments", d) &&
+             cl_ok(clEnqueueNDRangeKernel(q, f->pass2b, 1, NULL, &global, NULL, 0, NULL, &last), "pass 2b", d);
+    }
+    if (ok) ok = cl_ok(clEnqueueReadBuffer(q, b[OUT], CL_TRUE, 0, sizeof(float) * 4 * n, out4, 0, NULL, NULL), "download", d);
+    clFinish(q);
+    if (ok && kernel_seconds) {
+        cl_ulong t0 = 0, t1 = 0;
+        if (clGetEventProfilingInfo(first, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) == CL_SUCCESS &&
+            clGetEventProfilingInfo(last, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) == CL_SUCCESS && t1 > t0)
+            *kernel_seconds = (double)(t1 - t0) * 1e-9;
+    }
+    if (first) clReleaseEvent(first);
+    if (last) clReleaseEvent(last);
+    for (int i = 0; i < NBUF; ++i)
+        if (b[i]) clReleaseMemObject(b[i]);
+    return ok;
+}

@@ -1,0 +1,20 @@
+/* Host side of FSF's OpenCL kernels (fsf.cl): the same four passes as fsf_filter_factored,
+ * on the device (tested against it). */
+#ifndef WEDGE_RECON_FSF_CL_H
+#define WEDGE_RECON_FSF_CL_H
+
+#include "core/diag.h"
+#include "recon/cl/cl_runtime.h"
+#include "recon/fsf/fsf_filter.h"
+
+typedef struct FsfCl FsfCl;
+
+FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d);
+void fsf_cl_destroy(FsfCl *f);
+
+/* fsf_filter_factored on the device: out4 gets (rgb, weight) per pixel. kernel_seconds (may
+ * be NULL) receives the device time from the first kernel's start to the last one's end. */
+bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
+                float *out4, double *kernel_seconds, Diag *d);
+
+#endif

@@ -1,0 +1,359 @@
+/* FSF on the host: the brute-force oracle and the factored four-pass filter (fsf_filter.h). */
+#include "recon/fsf/fsf_filter.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/recon_parallel.h"
+
+FsfGrid fsf_grid_default(float half_u_m, float half_v_m)
+{
+    FsfGrid g;
+    g.half_m[0] = half_u_m;
+    g.half_m[1] = half_v_m;
+    /* FSF section 5: 16 bins (about 4 l for l = 4 samples along an axis). With 8 the
+     * single-occluder test scene (recon_test_util.h, 128x128) had 1.6x the error (1.59e-4
+     * against 1.01e-4); the soft-shadow bench scene did not tell them apart (4.1e-4, 4.3e-4)
+     * and 8 takes 0.65 of the device time */
+    g.shift_nodes = 17;
+    g.y2_bins = g.shift_nodes - 1;
+    return g;
+}
+
+FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable)
+{
+    FsfGuides gd;
+    gd.pos4 = pos4;
+    gd.nrm4 = nrm4;
+    gd.usable = usable;
+    gd.cos_normal_min = 0.96592583f; /* cos 15 deg, as the AAF filters (papers: 10-20 deg) */
+    gd.plane_tol_rel = 0.05f;
+    return gd;
+}
+
+int fsf_radius_steps(float sigma_px)
+{
+    if (!(sigma_px > 0.0f)) return 0;
+    float r = ceilf(FSF_RADIUS_SIGMAS * sigma_px);
+    return r < (float)FSF_RADIUS_CAP_PX ? (int)r : FSF_RADIUS_CAP_PX;
+}
+
+int fsf_y2_bin(const FsfGrid *g, float y2_m)
+{
+    float f = (y2_m + g->half_m[1]) / (2.0f * g->half_m[1]) * (float)g->y2_bins;
+    int b = (int)floorf(f);
+    return b < 0 ? 0 : b >= g->y2_bins ? g->y2_bins - 1 : b;
+}
+
+/* Spacing of the shift grid along axis a: shift_nodes nodes over [-2 L, 2 L] (beyond 2 L the
+ * box I(y - Y) misses every sample on the light). */
+static float node_step(const FsfGrid *g, int a) { return 4.0f * g->half_m[a] / (float)(g->shift_nodes - 1); }
+
+/* The box profile of the uniform light along axis a. */
+static inline float box(const FsfGrid *g, int a, float y) { return fabsf(y) <= g->half_m[a] ? 1.0f : 0.0f; }
+
+/* May centre pixel p take light from pixel q? */
+static bool accept(const FsfGuides *gd, int w, int p, int q)
+{
+    (void)w;
+    if (!gd->usable[q]) return false;
+    if (q == p) return true;
+    const float *np = gd->nrm4 + 4 * (size_t)p, *nq = gd->nrm4 + 4 * (size_t)q;
+    if (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < gd->cos_normal_min) return false;
+    const float *pp = gd->pos4 + 4 * (size_t)p, *pq = gd->pos4 + 4 * (size_t)q;
+    float off = np[0] * (pq[0] - pp[0]) + np[1] * (pq[1] - pp[1]) + np[2] * (pq[2] - pp[2]);
+    return fabsf(off) <= gd->plane_tol_rel * pp[3];
+}
+
+/* The pixel t steps from (x, y) along dir, rounded to the nearest; -1 outside the image. */
+static inline int step_pixel(int w, int h, int x, int y, const float dir[2], float t)
+{
+    int qx = x + (int)floorf(t * dir[0] + 0.5f), qy = y + (int)floorf(t * dir[1] + 0.5f);
+    return (qx < 0 || qy < 0 || qx >= w || qy >= h) ? -1 : qy * w + qx;
+}
+
+static inline float gauss(float t, float sigma) { return sigma > 0.0f ? expf(-0.5f * t * t / (sigma * sigma)) : 1.0f; }
+
+void fsf_tap_prefix(float sigma_px, float *cum)
+{
+    int r = fsf_radius_steps(sigma_px);
+    cum[0] = 0.0f;
+    for (int t = -r; t <= r; ++t) cum[t + r + 1] = cum[t + r] + gauss((float)t, sigma_px);
+}
+
+float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
+{
+    /* the taps t with |z - eta t| <= L, a run of integers */
+    float lo = -(float)r, hi = (float)r;
+    if (eta_m != 0.0f) {
+        float a = (z_m - half_m) / eta_m, b = (z_m + half_m) / eta_m;
+        lo = fmaxf(lo, ceilf(fminf(a, b))), hi = fminf(hi, floorf(fmaxf(a, b)));
+    } else if (!(fabsf(z_m) <= half_m)) {
+        return 0.0f;
+    }
+    if (hi < lo) return 0.0f;
+    return cum[(int)hi + r + 1] - cum[(int)lo + r];
+}
+
+/* ---- the oracle ---- */
+
+typedef struct {
+    const FsfSamples *s;
+    const FsfGrid *g;
+    const FsfPixel *px;
+    const FsfGuides *gd;
+    float *out4, *P, *G, *Q;
+    FsfTap *taps;
+    float *cum1;
+    int bin, axis;
+} Job;
+
+static void add_own(const FsfSamples *s, size_t i, float acc[4])
+{
+    for (int k = 0; k < s->count[i]; ++k) {
+        const float *v = s->value + 3 * (i * (size_t)s->capacity + (size_t)k);
+        acc[0] += v[0], acc[1] += v[1], acc[2] += v[2], acc[3] += 1.0f;
+    }
+}
+
+static void brute_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    const Job *j = ctx;
+    const FsfSamples *s = j->s;
+    int w = s->width, h = s->height;
+    for (size_t i = begin; i < end; ++i) {
+        float acc[4] = {0, 0, 0, 0};
+        const FsfPixel *pp = &j->px[i];
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        if (!j->gd->usable[i] || !(pp->sigma_px[0] > 0.0f || pp->sigma_px[1] > 0.0f)) {
+            add_own(s, i, acc);
+            memcpy(j->out4 + 4 * i, acc, sizeof acc);
+            continue;
+        }
+        int r1 = fsf_radius_steps(pp->sigma_px[0]), r2 = fsf_radius_steps(pp->sigma_px[1]);
+        float cum1[2 * FSF_RADIUS_CAP_PX + 2], cum2[2 * FSF_RADIUS_CAP_PX + 2];
+        fsf_tap_prefix(pp->sigma_px[0], cum1);
+        fsf_tap_prefix(pp->sigma_px[1], cum2);
+        for (int t2 = -r2; t2 <= r2; ++t2) {
+            float w2 = gauss((float)t2, pp->sigma_px[1]);
+            for (int t1 = -r1; t1 <= r1; ++t1) {
+                /* the neighbour at t1 dir1 + t2 dir2, rounded once */
+                float fx = (float)t1 * pp->dir[0][0] + (float)t2 * pp->dir[1][0];
+                float fy = (float)t1 * pp->dir[0][1] + (float)t2 * pp->dir[1][1];
+                int qx = x + (int)floorf(fx + 0.5f), qy = y + (int)floorf(fy + 0.5f);
+                if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                int q = qy * w + qx;
+                if (!accept(j->gd, w, (int)i, q)) continue;
+                float wx = w2 * gauss((float)t1, pp->sigma_px[0]);
+                for (int k = 0; k < s->count[q]; ++k) {
+                    size_t slot = (size_t)q * (size_t)s->capacity + (size_t)k;
+                    /* the light coordinate the sample has seen from this pixel (y' + eta t) */
+                    float z1 = s->y_m[2 * slot] + pp->eta_m[0] * (float)t1;
+                    float z2 = s->y_m[2 * slot + 1] + pp->eta_m[1] * (float)t2;
+                    if (box(j->g, 0, z1) == 0.0f || box(j->g, 1, z2) == 0.0f) continue;
+                    /* divided by the density of reprojected samples at (z1, z2) */
+                    float rho = fsf_density(z1, pp->eta_m[0], j->g->half_m[0], r1, cum1) *
+                                fsf_density(z2, pp->eta_m[1], j->g->half_m[1], r2, cum2);
+                    if (!(rho > 0.0f)) continue;
+                    float wk = wx / rho;
+                    const float *v = s->value + 3 * slot;
+                    acc[0] += wk * v[0], acc[1] += wk * v[1], acc[2] += wk * v[2], acc[3] += wk;
+                }
+            }
+        }
+        memcpy(j->out4 + 4 * i, acc, sizeof acc);
+    }
+}
+
+void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4)
+{
+    Job j = {s, g, px, gd, out4, NULL, NULL, NULL, NULL, NULL, 0, 0};
+    recon_parallel_for((size_t)s->width * (size_t)s->height, brute_range, &j);
+}
+
+/* ---- the four passes ---- */
+
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const float *cum1, int bin, float *P,
+                size_t begin, size_t end)
+{
+    int J = g->shift_nodes;
+    float dY = node_step(g, 0), L1 = g->half_m[0], mid = 0.5f * (float)(J - 1);
+    for (size_t i = begin; i < end; ++i) {
+        float *Pi = P + (size_t)J * 4 * i;
+        memset(Pi, 0, sizeof(float) * 4 * (size_t)J);
+        /* the density of reprojected samples uses this pixel's filter for its gatherers'
+         * (a smooth field: FSF section 4.2's approximation again) */
+        int r = fsf_radius_steps(px[i].sigma_px[0]);
+        const float *cum = cum1 + (size_t)FSF_CUM * i;
+        for (int k = 0; k < s->count[i]; ++k) {
+            size_t slot = i * (size_t)s->capacity + (size_t)k;
+            if (fsf_y2_bin(g, s->y_m[2 * slot + 1]) != bin) continue;
+            float y1 = s->y_m[2 * slot];
+            const float *v = s->value + 3 * slot;
+            /* the nodes Y with |y1 - Y| <= L1 (eq. 12 with the box profile) */
+            int j0 = (int)ceilf((y1 - L1) / dY + mid), j1 = (int)floorf((y1 + L1) / dY + mid);
+            if (j0 < 0) j0 = 0;
+            if (j1 > J - 1) j1 = J - 1;
+            for (int jj = j0; jj <= j1; ++jj) {
+                float z = y1 - ((float)jj - mid) * dY; /* seen from the pixel at shift Y */
+                if (box(g, 0, z) == 0.0f) continue;    /* rounding at the ends */
+                float rho = fsf_density(z, px[i].eta_m[0], L1, r, cum);
+                if (!(rho > 0.0f)) continue;
+                float wk = 1.0f / rho, *o = Pi + 4 * jj;
+                o[0] += wk * v[0], o[1] += wk * v[1], o[2] += wk * v[2], o[3] += wk;
+            }
+        }
+    }
+}
+
+void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
+              FsfTap *taps, size_t begin, size_t end)
+{
+    int J = g->shift_nodes;
+    float inv_dY = 1.0f / node_step(g, axis), mid = 0.5f * (float)(J - 1);
+    for (size_t i = begin; i < end; ++i) {
+        const FsfPixel *pp = &px[i];
+        FsfTap *ti = taps + (size_t)FSF_TAPS * i;
+        int x = (int)(i % (size_t)width), y = (int)(i / (size_t)width);
+        int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[axis]) : 0;
+        for (int t = -FSF_RADIUS_CAP_PX; t <= FSF_RADIUS_CAP_PX; ++t) {
+            FsfTap *o = &ti[t + FSF_RADIUS_CAP_PX];
+            o->node = -1, o->a0 = o->a1 = 0.0f;
+            if (t < -r || t > r) continue;
+            int q = step_pixel(width, height, x, y, pp->dir[axis], (float)t);
+            if (q < 0 || (t != 0 && !accept(gd, width, (int)i, q))) continue;
+            /* the shift Y = eta (x - x') = -eta t, between grid nodes j0 and j0 + 1 */
+            float f = -pp->eta_m[axis] * (float)t * inv_dY + mid;
+            if (!(f >= 0.0f && f <= (float)(J - 1))) continue;
+            int j0 = (int)floorf(f);
+            if (j0 > J - 2) j0 = J - 2;
+            float b = f - (float)j0, wt = gauss((float)t, pp->sigma_px[axis]);
+            o->node = q * J + j0, o->a0 = wt * (1.0f - b), o->a1 = wt * b;
+        }
+    }
+}
+
+/* One pixel's gather: the sum over its taps of the interpolated node values (4 floats). */
+static inline void gather_taps(const FsfTap *ti, const float *F, float acc[4])
+{
+    for (int t = 0; t < FSF_TAPS; ++t) {
+        if (ti[t].node < 0) continue;
+        const float *F0 = F + 4 * (size_t)ti[t].node;
+        float a0 = ti[t].a0, a1 = ti[t].a1;
+        for (int c = 0; c < 4; ++c) acc[c] += a0 * F0[c] + a1 * F0[4 + c];
+    }
+}
+
+void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end)
+{
+    for (size_t i = begin; i < end; ++i) {
+        float acc[4] = {0, 0, 0, 0};
+        gather_taps(taps1 + (size_t)FSF_TAPS * i, P, acc);
+        memcpy(G + ((size_t)g->y2_bins * i + (size_t)bin) * 4, acc, sizeof acc);
+    }
+}
+
+void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const float *G, float *Q, size_t begin, size_t end)
+{
+    int J = g->shift_nodes, B = g->y2_bins;
+    float L2 = g->half_m[1];
+    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS];
+    for (size_t i = begin; i < end; ++i) {
+        float *Qi = Q + (size_t)J * 4 * i;
+        const float *Gi = G + (size_t)B * 4 * i;
+        int r = fsf_radius_steps(px[i].sigma_px[1]);
+        fsf_tap_prefix(px[i].sigma_px[1], cum);
+        /* With B = J - 1 the light coordinate seen at shift node j from bin b's centre,
+         * z = c_b - Y_j = (2 L2 / B) (b - 2 j + B / 2 + 1/2), depends on m = b - 2 j only:
+         * 3 B densities per pixel instead of B J. */
+        for (int m = -2 * B; m < B; ++m) {
+            float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
+            float rho = box(g, 1, z) != 0.0f ? fsf_density(z, px[i].eta_m[1], L2, r, cum) : 0.0f;
+            inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
+        }
+        for (int jj = 0; jj < J; ++jj) {
+            float acc[4] = {0, 0, 0, 0};
+            for (int b = 0; b < B; ++b) {
+                float wk = inv_rho[b - 2 * jj + 2 * B];
+                if (wk == 0.0f) continue;
+                for (int k = 0; k < 4; ++k) acc[k] += Gi[4 * b + k] * wk;
+            }
+            memcpy(Qi + 4 * jj, acc, sizeof acc);
+        }
+    }
+}
+
+void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end)
+{
+    for (size_t i = begin; i < end; ++i) {
+        float acc[4] = {0, 0, 0, 0};
+        gather_taps(taps2 + (size_t)FSF_TAPS * i, Q, acc);
+        memcpy(out4 + 4 * i, acc, sizeof acc);
+    }
+}
+
+static void range_taps(void *ctx, size_t b, size_t e, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    fsf_taps(j->g, j->px, j->gd, j->s->width, j->s->height, j->axis, j->taps, b, e);
+    if (j->axis == 0)
+        for (size_t i = b; i < e; ++i) fsf_tap_prefix(j->px[i].sigma_px[0], j->cum1 + (size_t)FSF_CUM * i);
+}
+static void range_1a(void *ctx, size_t b, size_t e, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    fsf_pass1a(j->s, j->g, j->px, j->cum1, j->bin, j->P, b, e);
+}
+static void range_1b(void *ctx, size_t b, size_t e, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    fsf_pass1b(j->g, j->taps, j->bin, j->P, j->G, b, e);
+}
+static void range_2a(void *ctx, size_t b, size_t e, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    fsf_pass2a(j->g, j->px, j->G, j->Q, b, e);
+}
+static void range_2b(void *ctx, size_t b, size_t e, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    fsf_pass2b(j->taps, j->Q, j->out4, b, e);
+}
+
+bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4)
+{
+    if (g->y2_bins != g->shift_nodes - 1 || g->y2_bins > FSF_MAX_Y2_BINS) return false;
+    size_t n = (size_t)s->width * (size_t)s->height, J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
+    /* pass 1 runs one y2 bin at a time: P holds one slice (FSF's p for that bin), so the
+     * memory is n (J + B) * 4 floats rather than n J B * 4; each pixel's taps (neighbour and
+     * interpolation weights) are found once per axis, not once per slice */
+    float *P = malloc(sizeof(float) * 4 * J * n), *G = malloc(sizeof(float) * 4 * B * n);
+    FsfTap *taps = malloc(sizeof(FsfTap) * FSF_TAPS * n);
+    float *cum1 = malloc(sizeof(float) * FSF_CUM * n);
+    bool ok = P && G && taps && cum1;
+    if (ok) {
+        Job j = {s, g, px, gd, out4, P, G, NULL, taps, cum1, 0, 0};
+        recon_parallel_for(n, range_taps, &j);
+        for (j.bin = 0; j.bin < g->y2_bins; ++j.bin) {
+            recon_parallel_for(n, range_1a, &j);
+            recon_parallel_for(n, range_1b, &j);
+        }
+        j.Q = P; /* Q has P's shape; P is no longer needed */
+        recon_parallel_for(n, range_2a, &j);
+        j.axis = 1;
+        recon_parallel_for(n, range_taps, &j);
+        recon_parallel_for(n, range_2b, &j);
+    }
+    free(P);
+    free(G);
+    free(taps);
+    free(cum1);
+    return ok;
+}

@@ -1,0 +1,128 @@
+/* Fast 4D sheared filtering (FSF, seeds/000) of soft shadows: the filter itself, on the host.
+ *
+ * Coordinates (docs/algorithms.md, section "FSF"):
+ *   y = (y1, y2)   a sample's point on the light along the light's axes u, v, in metres,
+ *                  centred on the light: |y1| <= L1, |y2| <= L2 (half extents)
+ *   x              the pixel grid; gather a steps along the screen direction dir[a] (the
+ *                  screen image of light axis a on the receiver), t pixel steps at a time
+ *
+ * The shear. A sample at receiver x' with light point y' sees the same occluder point as
+ * receiver x with light point y' + k (x' - x), k = (d_light - d_occ) / d_occ (light metres
+ * per receiver metre; d_light, d_occ measured from the receiver along the shadow ray). With
+ * x' = x + t steps along axis a and eta_a = k * (receiver metres per step along u or v), the
+ * sample's light coordinate seen from x is y'_a + eta_a t, and the light's profile I (a box:
+ * our area lights are uniform) weights it by I(y'_a + eta_a t), i.e. w_y(y'_a - c) with
+ * centre c = -eta_a t = eta_a (x - x') (FSF eq. 5, primal form).
+ *
+ * The 4D filter at pixel x (FSF eq. 9, normalised by the same sum with every value 1):
+ *
+ *   h(x) = sum_{t1,t2} w(t1; s1) w(t2; s2) sum_k v_k I1(z1) I2(z2) / (rho1(z1) rho2(z2)),
+ *          z_a = y_a,k + eta_a t_a (the light coordinate the sample has seen from x)
+ *
+ * rho (fsf_density) corrects for the samples covering the light unevenly once reprojected.
+ * over the samples k of the pixel at x + t1 dir1 + t2 dir2. fsf_filter_brute evaluates that
+ * sum directly (the oracle, O(n^2 l^2) per pixel); fsf_filter_factored in four 1D passes:
+ *
+ *   1a  per pixel and y2 bin: P(Y1) = sum_k v_k I1(z) / rho1(z), z = y1_k - Y1, on a grid of shifts Y1   eq. 12
+ *   1b  per pixel and y2 bin: G = sum_t1 w(t1) P(x + t1 dir1, Y1 = -eta1 t1)            eq. 13
+ *   2a  per pixel: Q(Y2) = sum_b G_b I2(z) / rho2(z), z = c_b - Y2, c_b the centre of y2 bin b   eq. 14
+ *   2b  per pixel: H = sum_t2 w(t2) Q(x + t2 dir2, Y2 = -eta2 t2)                       eq. 15
+ *
+ * Values are 4 floats: demodulated light (rgb) and the weight (1 per sample), so that the
+ * result is H.rgb / H.w. Reading P and Q between grid nodes interpolates linearly. */
+#ifndef WEDGE_RECON_FSF_FILTER_H
+#define WEDGE_RECON_FSF_FILTER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+/* The paper's 32-pixel diameter cap (FSF section 5): taps up to 16 steps each side. */
+enum { FSF_RADIUS_CAP_PX = 16 };
+/* Taps reach 2 sigma (95% of a Gaussian's mass). */
+#define FSF_RADIUS_SIGMAS 2.0f
+
+/* One frame's samples as the filter sees them. Slot k of pixel i is index i * capacity + k. */
+typedef struct {
+    int width, height, capacity;
+    const int *count;          /* samples per pixel (<= capacity) */
+    const float *y_m;          /* 2 per slot: light coordinates (metres) along u and v */
+    const float *value;        /* 3 per slot: the sample's demodulated light */
+} FsfSamples;
+
+/* The light and the discretisation shared by all pixels. */
+typedef struct {
+    float half_m[2];           /* L1, L2: the light's half extents along u and v (metres) */
+    int shift_nodes;           /* nodes of the shift grids Y1, Y2 over [-2 L, 2 L] (odd: one
+                                * node at 0); FSF section 5: 16 bins, so 17 nodes */
+    int y2_bins;               /* bins of y2 over [-L2, L2] carried through pass 1 (FSF footnote 8);
+                                * must be shift_nodes - 1 (<= FSF_MAX_Y2_BINS): pass 2a relies on
+                                * the node spacing being twice the bin width */
+} FsfGrid;
+enum { FSF_MAX_Y2_BINS = 64 };
+
+/* Per pixel. sigma_px[a] == 0 leaves the pixel out (its input passes through). */
+typedef struct {
+    float dir[2][2];           /* unit screen directions of the gathers along axes 1, 2 */
+    float eta_m[2];            /* light metres per pixel step along dir[a] (the shear) */
+    float sigma_px[2];         /* standard deviation of w along dir[a], pixel steps */
+} FsfPixel;
+
+/* Which neighbours a pixel may take light from: same surface orientation and plane. */
+typedef struct {
+    const float *pos4;         /* mean position (world) and camera depth per pixel */
+    const float *nrm4;         /* unit normal per pixel */
+    const unsigned char *usable; /* 0: no surface, mixed, or not demodulated: never a source */
+    float cos_normal_min;      /* neighbours whose normal is further are rejected */
+    float plane_tol_rel;       /* ... or off the centre's tangent plane by more than this * depth */
+} FsfGuides;
+
+FsfGrid fsf_grid_default(float half_u_m, float half_v_m);
+FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable);
+
+/* Taps each side along one axis for a standard deviation (capped). */
+int fsf_radius_steps(float sigma_px);
+
+/* The 4D sum, directly (the oracle). out4: 4 floats per pixel (rgb, weight); pixels left
+ * out get their own samples' plain sum. */
+void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4);
+
+/* The same in four 1D passes. false when out of memory (or a grid without y2_bins = shift_nodes - 1). */
+bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
+                         float *out4);
+
+/* One tap of a gather: the node (q * shift_nodes + j0) of the neighbour q's grid below the
+ * tap's shift, and the weights of nodes j0 and j0 + 1 (Gaussian times linear
+ * interpolation); node -1: no tap (outside the radius or the image, rejected). */
+typedef struct {
+    int node;
+    float a0, a1;
+} FsfTap;
+enum { FSF_TAPS = 2 * FSF_RADIUS_CAP_PX + 1 };
+
+/* The pieces, for the OpenCL version's tests: each pixel's taps along one axis (FSF_TAPS
+ * per pixel); one y2-bin slice of pass 1a (P: shift_nodes * 4 per pixel) and pass 1b of that
+ * slice into G (y2_bins * 4 per pixel; cum1: fsf_tap_prefix of each pixel's first axis, FSF_CUM
+ * floats per pixel); pass 2a (Q: shift_nodes * 4 per pixel) and 2b (out4). */
+void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
+              FsfTap *taps, size_t begin, size_t end);
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const float *cum1, int bin, float *P,
+                size_t begin, size_t end);
+void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end);
+void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const float *G, float *Q, size_t begin, size_t end);
+void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end);
+
+/* The density of reprojected samples. Samples lie uniformly on the light, so those of the
+ * neighbour t steps away land, seen from the centre, uniformly on [-L + eta t, L + eta t]:
+ * at a light coordinate z the taps' weights overlap as rho(z) = sum_t w(t) [|z - eta t| <= L],
+ * highest mid-light and lowest at its ends. Each sample is weighted by 1 / rho so that the
+ * sum estimates the light's uniform mean rather than a profile tapered by the filter.
+ * fsf_tap_prefix fills cum (2 r + 2 floats, r = fsf_radius_steps) with the running sums
+ * of w over the taps -r .. r. */
+enum { FSF_CUM = 2 * FSF_RADIUS_CAP_PX + 2 };
+void fsf_tap_prefix(float sigma_px, float *cum);
+float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum);
+
+/* The y2 bin of a light coordinate (clamped into [0, y2_bins)). */
+int fsf_y2_bin(const FsfGrid *g, float y2_m);
+
+#endif

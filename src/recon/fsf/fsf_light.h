@@ -1,0 +1,33 @@
+/* The light FSF filters over: its two axes, extents, and the unoccluded irradiance it gives.
+ *
+ * FSF parameterises the area light with orthogonal axes u, v (section 4.1) and shears along
+ * the receiver's image of each. We take the brightest planar emitter made of triangles (an
+ * emitter shape, e.g. the two triangles of a quad light): its centre, its normal, u along the
+ * shortest edge of its first triangle (for a quad split on a diagonal, a side of the quad) and
+ * v = n x u; the half extents are the largest projections of its vertices. A sample's light
+ * coordinates are (p - centre) . u and (p - centre) . v. */
+#ifndef WEDGE_RECON_FSF_LIGHT_H
+#define WEDGE_RECON_FSF_LIGHT_H
+
+#include <stdbool.h>
+
+#include "core/diag.h"
+#include "core/vec.h"
+#include "render/renderer.h"
+
+typedef struct {
+    vec3 centre_world, normal_world, axis_world[2]; /* axis 0: u, axis 1: v (unit) */
+    float half_m[2];                                /* half extents along u, v */
+    int shape;                                      /* the emitter's SceneDesc shape */
+} FsfLight;
+
+/* false with d set when the scene has no planar area light made of triangles. */
+bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d);
+
+/* Per pixel (hit pixels of pos4 / nrm4), a quantity proportional to the unoccluded direct
+ * irradiance from every triangle area light: sum of luminance(L) times the projected solid
+ * angle (polygon_irradiance.h); 0 where no surface. */
+void fsf_unoccluded_irradiance(const Renderer *r, int n, const unsigned char *hit, const float *pos4,
+                               const float *nrm4, float *out);
+
+#endif

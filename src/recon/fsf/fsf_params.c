@@ -1,0 +1,200 @@
+/* FSF per-pixel parameters (fsf_params.h). */
+#include "recon/fsf/fsf_params.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "recon/recon_parallel.h"
+
+/* Windows over which slope ranges are gathered: radius 2 (the 5 x 5 of slope smoothing) up
+ * to the tap cap. */
+enum { LEVELS = 4 };
+static const int LEVEL_RADIUS_PX[LEVELS] = {2, 4, 8, FSF_RADIUS_CAP_PX};
+
+typedef struct {
+    const FsfParamsIn *in;
+    float *own_lo, *own_hi;             /* the pixel's own range (+inf, -inf: none) */
+    float *lvl_lo[LEVELS], *lvl_hi[LEVELS]; /* the range over the square window of each level */
+    float *tmp_lo, *tmp_hi;
+    int level;
+    FsfPixel *px;
+    float *k_lo, *k_hi;
+} Job;
+
+/* Sliding min / max of the own ranges along rows (pass 0: own -> tmp) or columns (pass 1:
+ * tmp -> level), radius LEVEL_RADIUS_PX[level]. Rows (columns) are the range's items. */
+static void window_rows(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->in->g->width, r = LEVEL_RADIUS_PX[j->level];
+    for (size_t y = begin; y < end; ++y)
+        for (int x = 0; x < w; ++x) {
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = x - r; q <= x + r; ++q) {
+                if (q < 0 || q >= w) continue;
+                lo = fminf(lo, j->own_lo[y * (size_t)w + (size_t)q]);
+                hi = fmaxf(hi, j->own_hi[y * (size_t)w + (size_t)q]);
+            }
+            j->tmp_lo[y * (size_t)w + (size_t)x] = lo, j->tmp_hi[y * (size_t)w + (size_t)x] = hi;
+        }
+}
+
+static void window_cols(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->in->g->width, h = j->in->g->height, r = LEVEL_RADIUS_PX[j->level];
+    for (size_t x = begin; x < end; ++x)
+        for (int y = 0; y < h; ++y) {
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = y - r; q <= y + r; ++q) {
+                if (q < 0 || q >= h) continue;
+                lo = fminf(lo, j->tmp_lo[(size_t)q * (size_t)w + x]);
+                hi = fmaxf(hi, j->tmp_hi[(size_t)q * (size_t)w + x]);
+            }
+            j->lvl_lo[j->level][(size_t)y * (size_t)w + x] = lo, j->lvl_hi[j->level][(size_t)y * (size_t)w + x] = hi;
+        }
+}
+
+/* FSF eq. 4 in pixel steps for a slope spread, before the cap (infinite for one slope). */
+static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float step_m)
+{
+    float sigma_m = spread > 0.0f ? 0.5f * in->light->half_m[axis] / spread : INFINITY;
+    return sigma_m / (in->mu * step_m);
+}
+
+/* The slope range of the pixel's own occluded samples. */
+static void own_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    const SampleStore *st = j->in->store;
+    const float *lf = sample_store_field(st, SAMPLE_FIELD_LIGHT);
+    int cap = sample_store_capacity(st);
+    for (size_t i = begin; i < end; ++i) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (int k = 0; k < sample_store_count(st, i); ++k) {
+            const float *s = lf + 5 * (i * (size_t)cap + (size_t)k);
+            float d_light = s[3], d_occ = s[4];
+            if (!(d_occ > 0.0f && d_occ < d_light && isfinite(d_occ))) continue;
+            float k_m = (d_light - d_occ) / d_occ;
+            lo = fminf(lo, k_m), hi = fmaxf(hi, k_m);
+        }
+        j->own_lo[i] = lo, j->own_hi[i] = hi;
+    }
+}
+
+/* A surface neighbour for the Jacobian: hit, not mixed, facing the same way. */
+static bool same_surface(const GBuffer *g, size_t i, size_t q)
+{
+    if (!g->hit[q] || g->mixed[q]) return false;
+    const float *a = g->nrm4 + 4 * i, *b = g->nrm4 + 4 * q;
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0.9f;
+}
+
+/* dP per pixel step along screen x (axis 0) or y (axis 1): central, else one-sided. */
+static bool jacobian_column(const GBuffer *g, int x, int y, int axis, vec3 *out)
+{
+    int w = g->width, h = g->height;
+    size_t i = (size_t)y * (size_t)w + (size_t)x;
+    int dx = axis == 0, dy = axis == 1;
+    bool has_p = x + dx < w && y + dy < h && same_surface(g, i, i + (size_t)(dx + dy * w));
+    bool has_m = x - dx >= 0 && y - dy >= 0 && same_surface(g, i, i - (size_t)(dx + dy * w));
+    const float *c = g->pos4 + 4 * i;
+    const float *p = has_p ? g->pos4 + 4 * (i + (size_t)(dx + dy * w)) : c;
+    const float *m = has_m ? g->pos4 + 4 * (i - (size_t)(dx + dy * w)) : c;
+    if (!has_p && !has_m) return false;
+    float scale = has_p && has_m ? 0.5f : 1.0f;
+    *out = v3((p[0] - m[0]) * scale, (p[1] - m[1]) * scale, (p[2] - m[2]) * scale);
+    return true;
+}
+
+static void params_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    const FsfParamsIn *in = j->in;
+    const GBuffer *g = in->g;
+    int w = g->width;
+    for (size_t i = begin; i < end; ++i) {
+        FsfPixel *pp = &j->px[i];
+        pp->dir[0][0] = 1.0f, pp->dir[0][1] = 0.0f, pp->dir[1][0] = 0.0f, pp->dir[1][1] = 1.0f;
+        pp->eta_m[0] = pp->eta_m[1] = 0.0f;
+        pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
+        j->k_lo[i] = j->k_hi[i] = 0.0f;
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        if (!in->usable[i]) continue;
+        vec3 jx, jy;
+        if (!jacobian_column(g, x, y, 0, &jx) || !jacobian_column(g, x, y, 1, &jy)) continue;
+        vec3 n = v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]);
+        /* J^T J for the least-squares screen direction of each light axis */
+        float a11 = v3_dot(jx, jx), a12 = v3_dot(jx, jy), a22 = v3_dot(jy, jy), det = a11 * a22 - a12 * a12;
+        if (!(det > 0.0f)) continue;
+        float step_m[2];
+        vec3 Dm[2];
+        float dir[2][2];
+        for (int a = 0; a < 2; ++a) {
+            vec3 axis = in->light->axis_world[a];
+            vec3 ut = v3_madd(axis, n, -v3_dot(axis, n));
+            float b1 = v3_dot(jx, ut), b2 = v3_dot(jy, ut);
+            float sx = (a22 * b1 - a12 * b2) / det, sy = (a11 * b2 - a12 * b1) / det, len = sqrtf(sx * sx + sy * sy);
+            if (!(len > 0.0f)) goto skip;
+            sx /= len, sy /= len;
+            Dm[a] = v3_add(v3_scale(jx, sx), v3_scale(jy, sy)); /* receiver metres per step */
+            step_m[a] = v3_length(Dm[a]);
+            if (!(step_m[a] > 0.0f)) goto skip;
+            dir[a][0] = sx, dir[a][1] = sy;
+        }
+        /* The slope range must cover the samples under the whole footprint, not only the
+         * pixel's own (a neighbour's samples reprojected with another occluder's shear land
+         * on the wrong light point). Each window (radius 2: FSF section 5's 5 x 5 slope
+         * smoothing, which also gives unoccluded pixels their neighbours' slopes; then 4, 8,
+         * 16) gives a width that is safe up to its radius: the range's width (none in a
+         * window without occluders: every sample there is lit), capped so that the taps
+         * (2 sigma) stay inside the window. The widest safe one wins, with its range. */
+        float lo = INFINITY, hi = -INFINITY, best = -1.0f, cap_px = 0.0f;
+        for (int l = 0; l < LEVELS; ++l) {
+            float ll = j->lvl_lo[l][i], hh = j->lvl_hi[l][i], r_cap = (float)LEVEL_RADIUS_PX[l] / FSF_RADIUS_SIGMAS;
+            float sl = r_cap;
+            if (ll <= hh)
+                sl = fminf(fminf(sigma_steps(in, 0, hh - ll, step_m[0]), sigma_steps(in, 1, hh - ll, step_m[1])), r_cap);
+            if (sl > best) best = sl, lo = ll, hi = hh, cap_px = r_cap;
+        }
+        bool known = lo <= hi;
+        float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
+        if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
+        for (int a = 0; a < 2; ++a) {
+            pp->dir[a][0] = dir[a][0], pp->dir[a][1] = dir[a][1];
+            pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
+            /* FSF eq. 4; one slope: no limit but the cap */
+            float sigma_px = known ? sigma_steps(in, a, spread, step_m[a]) : cap_px;
+            pp->sigma_px[a] = sigma_px < cap_px ? sigma_px : cap_px;
+        }
+        continue;
+    skip:
+        pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
+        pp->eta_m[0] = pp->eta_m[1] = 0.0f;
+    }
+}
+
+bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k_hi)
+{
+    size_t n = (size_t)in->g->width * (size_t)in->g->height;
+    Job j = {0};
+    j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
+    float *block = malloc(sizeof(float) * n * (4 + 2 * LEVELS));
+    bool ok = block != NULL;
+    if (ok) {
+        j.own_lo = block, j.own_hi = block + n, j.tmp_lo = block + 2 * n, j.tmp_hi = block + 3 * n;
+        for (int l = 0; l < LEVELS; ++l) j.lvl_lo[l] = block + (4 + 2 * (size_t)l) * n, j.lvl_hi[l] = j.lvl_lo[l] + n;
+        recon_parallel_for(n, own_range, &j);
+        for (j.level = 0; j.level < LEVELS; ++j.level) {
+            recon_parallel_for((size_t)in->g->height, window_rows, &j);
+            recon_parallel_for((size_t)in->g->width, window_cols, &j);
+        }
+        recon_parallel_for(n, params_range, &j);
+    }
+    free(block);
+    return ok;
+}

@@ -1,0 +1,43 @@
+/* FSF's per-pixel filter: slope range, shear, widths and gather directions (fsf_filter.h's
+ * FsfPixel) from the pixel's shadow-ray samples and the guides.
+ *
+ *   slopes   k = (d_light - d_occ) / d_occ per occluded sample (light metres per receiver
+ *            metre; FSF's s = d1/d2 - 1 with d2 measured from the light is 1 / k); the pixel's
+ *            range [k_lo, k_hi] is taken over a window, not over its own samples: the filter
+ *            reprojects every sample under its footprint, so the range must hold their
+ *            occluders too. Windows of radius 2 (5 x 5: FSF section 5's slope smoothing,
+ *            which also gives unoccluded pixels their neighbours' slopes), 4, 8 and 16 each
+ *            give a width (below) capped so that its taps stay inside the window; the widest
+ *            wins, with its window's range. A window without occluded samples allows its full
+ *            radius without shear (every sample in it is lit).
+ *   shear    the mean slope (k_lo + k_hi) / 2: the primal counterpart of the harmonic mean of
+ *            FSF's s_min, s_max (section 3.1), times the receiver metres along the light axis
+ *            of one pixel step (eta, light metres per step).
+ *   width    sigma_x = sigma_y / (k_hi - k_lo), sigma_y = L / 2 (FSF eq. 4: Omega_y = 4 / L for
+ *            a light of half extent L; s_min s_max / (s_max - s_min) = 1 / (k_hi - k_lo)),
+ *            divided by mu, in pixel steps, capped at 8 (taps to 2 sigma: the 32-pixel cap).
+ *   axes     the screen direction whose receiver displacement follows light axis u (v): the
+ *            least-squares solution of J a = u_t, J the pixel's world Jacobian (from its
+ *            neighbours' positions), u_t the axis projected on the receiver (FSF Fig. 5a). */
+#ifndef WEDGE_RECON_FSF_PARAMS_H
+#define WEDGE_RECON_FSF_PARAMS_H
+
+#include "recon/fsf/fsf_filter.h"
+#include "recon/fsf/fsf_light.h"
+#include "recon/gbuffer.h"
+#include "recon/sample_store.h"
+
+
+typedef struct {
+    const GBuffer *g;
+    const SampleStore *store;    /* with SAMPLE_FIELD_LIGHT */
+    const FsfLight *light;
+    const unsigned char *usable; /* pixels to filter */
+    float mu;                    /* width divisor (> 0) */
+} FsfParamsIn;
+
+/* px and the AOVs (each width * height; k_lo/k_hi are 0 where no slope is known). false when
+ * out of memory. */
+bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k_hi);
+
+#endif

@@ -1,0 +1,80 @@
+/* Synthetic FSF inputs shared by the FSF tests and benchmark: a flat receiver facing the
+ * camera (every neighbour acceptable), per-pixel samples jittered on an l x l grid over the
+ * light, and uniform per-pixel filter parameters. */
+#ifndef WEDGE_TESTS_FSF_SYNTH_H
+#define WEDGE_TESTS_FSF_SYNTH_H
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "recon/fsf/fsf_filter.h"
+
+typedef struct {
+    int w, h, cap;
+    int *count;
+    float *y, *v;
+    float *pos4, *nrm4;
+    unsigned char *usable;
+    FsfPixel *px;
+    FsfSamples s;
+} FsfSynth;
+
+static unsigned fsf_rng(unsigned *st)
+{
+    *st = *st * 1664525u + 1013904223u;
+    return *st >> 8;
+}
+static float fsf_rand01(unsigned *st) { return (float)fsf_rng(st) / 16777216.0f; }
+
+static inline void fsf_synth_free(FsfSynth *f)
+{
+    free(f->count), free(f->y), free(f->v), free(f->pos4), free(f->nrm4), free(f->usable), free(f->px);
+}
+
+/* w x h pixels of l x l samples; light half extents L (both axes); every pixel at depth 10 on
+ * the plane z = 0 with normal +z, one world unit per 100 pixels. */
+static inline void fsf_synth_init(FsfSynth *f, int w, int h, int l)
+{
+    size_t n = (size_t)w * (size_t)h;
+    f->w = w, f->h = h, f->cap = l * l;
+    f->count = malloc(n * sizeof(int));
+    f->y = malloc(n * (size_t)f->cap * 2 * sizeof(float));
+    f->v = malloc(n * (size_t)f->cap * 3 * sizeof(float));
+    f->pos4 = malloc(n * 4 * sizeof(float));
+    f->nrm4 = malloc(n * 4 * sizeof(float));
+    f->usable = malloc(n);
+    f->px = calloc(n, sizeof(FsfPixel));
+    for (size_t i = 0; i < n; ++i) {
+        f->count[i] = f->cap;
+        float *p = f->pos4 + 4 * i, *nr = f->nrm4 + 4 * i;
+        p[0] = (float)(i % (size_t)w) * 0.01f, p[1] = (float)(i / (size_t)w) * 0.01f, p[2] = 0.0f, p[3] = 10.0f;
+        nr[0] = 0.0f, nr[1] = 0.0f, nr[2] = 1.0f, nr[3] = 0.0f;
+        f->usable[i] = 1;
+        FsfPixel *pp = &f->px[i];
+        pp->dir[0][0] = 1.0f, pp->dir[0][1] = 0.0f, pp->dir[1][0] = 0.0f, pp->dir[1][1] = 1.0f;
+    }
+    f->s = (FsfSamples){w, h, f->cap, f->count, f->y, f->v};
+}
+
+/* Light coordinates: jittered l x l strata (bin_centred: y2 at the centre of its FsfGrid y2
+ * bin, y1 at the centre of its stratum, no randomness). */
+static inline void fsf_synth_light(FsfSynth *f, const FsfGrid *g, int l, bool bin_centred, unsigned seed)
+{
+    size_t n = (size_t)f->w * (size_t)f->h;
+    unsigned st = seed;
+    for (size_t i = 0; i < n; ++i)
+        for (int a = 0; a < l; ++a)
+            for (int b = 0; b < l; ++b) {
+                size_t slot = i * (size_t)f->cap + (size_t)(a * l + b);
+                float u1 = bin_centred ? 0.5f : fsf_rand01(&st), u2 = bin_centred ? 0.5f : fsf_rand01(&st);
+                float y1 = g->half_m[0] * (2.0f * ((float)a + u1) / (float)l - 1.0f);
+                float y2 = g->half_m[1] * (2.0f * ((float)b + u2) / (float)l - 1.0f);
+                if (bin_centred) { /* the centre of the y2 bin the stratum's centre falls in */
+                    int bin = fsf_y2_bin(g, y2);
+                    y2 = -g->half_m[1] + ((float)bin + 0.5f) * 2.0f * g->half_m[1] / (float)g->y2_bins;
+                }
+                f->y[2 * slot] = y1, f->y[2 * slot + 1] = y2;
+            }
+}
+
+#endif
