@@ -1,6 +1,6 @@
 /* Benchmark (not a test): LR's reconstruction on a synthetic light field (lr_scene.h: a
  * defocused, moving disk over a defocused plane) at W x H for 4, 8 and 16 spp: OpenCL device
- * time of the three kernels, host wall time of lr_cl_run (partitions, uploads included) and
+ * time of the four kernels, host wall time of lr_cl_run (partitions, uploads included) and
  * of the C version, warm (each configuration run 3 times after one untimed run; median), and
  * where lr_cl_run's time goes (host partitions, each kernel).
  * Prints the ratios to the 8-spp time, for the paper's Figure 8 (cost linear in spp).

@@ -1,7 +1,8 @@
-/* LR (layered reconstruction, seeds/004) kernels: Algorithm 1 (reprojection, eq. 16),
- * Algorithm 2 (separable screen filter along / across the layer's motion) and eq. 17
- * (front-to-back compositing). The partitions come from the host (lr_partition.c); the plain
- * C version of the same steps is lr_reconstruct.c, which the tests compare against.
+/* LR (layered reconstruction, seeds/004) kernels: the partitions' statistics (lr_tile_stats;
+ * the host turns them into filters, lr_partition.c: lr_tile_finish), Algorithm 1
+ * (reprojection, eq. 16), Algorithm 2 (separable screen filter along / across the layer's
+ * motion) and eq. 17 (front-to-back compositing). The plain C version of the same steps is
+ * lr_reconstruct.c, which the tests compare against (bit for bit on PoCL).
  *
  * Buffers (host layout in lr_cl.c):
  *   samples       12 floats per sample (LrSample), pixel-major, spp per pixel
