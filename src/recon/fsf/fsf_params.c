@@ -16,23 +16,27 @@ typedef struct {
     float *own_lo, *own_hi;             /* the pixel's own range (+inf, -inf: none) */
     float *lvl_lo[LEVELS], *lvl_hi[LEVELS]; /* the range over the square window of each level */
     float *tmp_lo, *tmp_hi;
+    float *obj;                          /* object id per pixel (gbuffer nrm4[3]) */
     int level;
     FsfPixel *px;
     float *k_lo, *k_hi;
 } Job;
 
 /* Sliding min / max of the own ranges along rows (pass 0: own -> tmp) or columns (pass 1:
- * tmp -> level), radius LEVEL_RADIUS_PX[level]. Rows (columns) are the range's items. */
+ * tmp -> level), radius LEVEL_RADIUS_PX[level]. Rows (columns) are the range's items. Only
+ * pixels of the centre's object count (the filter takes light from no other surface): in
+ * two 1D passes, those joined to the centre by a row then a column on that object. */
 static void window_rows(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     Job *j = ctx;
     int w = j->in->g->width, r = LEVEL_RADIUS_PX[j->level];
+    const float *obj = j->obj;
     for (size_t y = begin; y < end; ++y)
         for (int x = 0; x < w; ++x) {
             float lo = INFINITY, hi = -INFINITY;
             for (int q = x - r; q <= x + r; ++q) {
-                if (q < 0 || q >= w) continue;
+                if (q < 0 || q >= w || obj[y * (size_t)w + (size_t)q] != obj[y * (size_t)w + (size_t)x]) continue;
                 lo = fminf(lo, j->own_lo[y * (size_t)w + (size_t)q]);
                 hi = fmaxf(hi, j->own_hi[y * (size_t)w + (size_t)q]);
             }
@@ -45,11 +49,12 @@ static void window_cols(void *ctx, size_t begin, size_t end, int part)
     (void)part;
     Job *j = ctx;
     int w = j->in->g->width, h = j->in->g->height, r = LEVEL_RADIUS_PX[j->level];
+    const float *obj = j->obj;
     for (size_t x = begin; x < end; ++x)
         for (int y = 0; y < h; ++y) {
             float lo = INFINITY, hi = -INFINITY;
             for (int q = y - r; q <= y + r; ++q) {
-                if (q < 0 || q >= h) continue;
+                if (q < 0 || q >= h || obj[(size_t)q * (size_t)w + x] != obj[(size_t)y * (size_t)w + x]) continue;
                 lo = fminf(lo, j->tmp_lo[(size_t)q * (size_t)w + x]);
                 hi = fmaxf(hi, j->tmp_hi[(size_t)q * (size_t)w + x]);
             }
@@ -183,11 +188,13 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     size_t n = (size_t)in->g->width * (size_t)in->g->height;
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
-    float *block = malloc(sizeof(float) * n * (4 + 2 * LEVELS));
+    float *block = malloc(sizeof(float) * n * (5 + 2 * LEVELS));
     bool ok = block != NULL;
     if (ok) {
         j.own_lo = block, j.own_hi = block + n, j.tmp_lo = block + 2 * n, j.tmp_hi = block + 3 * n;
         for (int l = 0; l < LEVELS; ++l) j.lvl_lo[l] = block + (4 + 2 * (size_t)l) * n, j.lvl_hi[l] = j.lvl_lo[l] + n;
+        j.obj = block + (4 + 2 * (size_t)LEVELS) * n;
+        for (size_t i = 0; i < n; ++i) j.obj[i] = in->g->nrm4[4 * i + 3];
         recon_parallel_for(n, own_range, &j);
         for (j.level = 0; j.level < LEVELS; ++j.level) {
             recon_parallel_for((size_t)in->g->height, window_rows, &j);
