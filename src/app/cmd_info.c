@@ -195,6 +195,11 @@ int cmd_info(int argc, char **argv)
         else if (!strcmp(argv[i], "--cl")) cl = true;
         else if (!strcmp(argv[i], "--filters")) methods = true;
         else if (!strcmp(argv[i], "--filter")) {
+            char why[160];
+            if (i + 1 < argc && strchr(argv[i + 1], '=') && !recon_filter_problem(argv[i + 1], why, sizeof why)) {
+                fprintf(stderr, "wedge info: --filter %s: %s\n", argv[i + 1], why);
+                return WEDGE_EXIT_USAGE;
+            }
             if (i + 1 >= argc || !recon_filter_known(argv[i + 1])) {
                 char choices[256];
                 fprintf(stderr, "wedge info: --filter wants %s, got '%s'\n", recon_filter_choices(choices, sizeof choices),

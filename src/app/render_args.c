@@ -126,6 +126,11 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
             a->sampler_set = true;
         } else if (!strcmp(o, "--filter")) {
             NEED_VALUE();
+            char why[160];
+            if (strchr(val, '=') && !recon_filter_problem(val, why, sizeof why)) {
+                fprintf(stderr, "wedge %s: --filter %s: %s\n", command, val, why);
+                return WEDGE_EXIT_USAGE;
+            }
             if (!recon_filter_known(val)) goto bad_value;
             a->filter = val;
         } else if (!strcmp(o, "--mu")) {
@@ -175,7 +180,7 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
         }
         continue;
     bad_value:;
-        char wants[128];
+        char wants[192];
         fprintf(stderr, "wedge %s: %s wants %s, got '%s'\n", command, o, render_option_wants(o, wants, sizeof wants), val);
         return WEDGE_EXIT_USAGE;
 #undef NEED_VALUE

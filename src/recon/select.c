@@ -26,29 +26,92 @@ static const char *const NO_METHOD_REASON[EFFECT_COUNT] = {
     [EFFECT_INDIRECT] = "no registered method filters indirect light",
 };
 
+/* A per-effect request, "EFFECT=METHOD[,EFFECT=METHOD...]" (METHOD: a method's name, "auto"
+ * or "none"), into one word per effect (NULL: not named, auto decides). False when it is not
+ * one, with why set: an unknown effect or method, a method that cannot filter the effect, an
+ * effect named twice. The words point into buf (a copy of the request). */
+static bool parse_per_effect(const char *request, char *buf, size_t size, const char *word[EFFECT_COUNT], char *why,
+                             size_t why_size)
+{
+    for (int e = 0; e < EFFECT_COUNT; ++e) word[e] = NULL;
+    if (!strchr(request, '=') || strlen(request) >= size) {
+        snprintf(why, why_size, "not EFFECT=METHOD pairs");
+        return false;
+    }
+    strcpy(buf, request);
+    for (char *save = NULL, *pair = strtok_r(buf, ",", &save); pair; pair = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(pair, '=');
+        Effect e;
+        if (!eq) {
+            snprintf(why, why_size, "'%s' is not EFFECT=METHOD", pair);
+            return false;
+        }
+        *eq = 0;
+        const char *method = eq + 1;
+        if (!effect_from_name(pair, &e)) {
+            snprintf(why, why_size, "unknown effect '%s' (soft_shadows, defocus, motion or indirect)", pair);
+            return false;
+        }
+        if (word[e]) {
+            snprintf(why, why_size, "%s is named twice", pair);
+            return false;
+        }
+        const ReconMethodClass *m = recon_method_find(method);
+        if (strcmp(method, "auto") && strcmp(method, "none") && !m) {
+            snprintf(why, why_size, "unknown method '%s' for %s", method, pair);
+            return false;
+        }
+        if (m && !effect_in(m->effects, e)) {
+            snprintf(why, why_size, "%s cannot filter %s", method, pair);
+            return false;
+        }
+        word[e] = method;
+    }
+    return true;
+}
+
+/* auto's choice for effect e of the effects present. */
+static void select_auto(Effect e, ReconChoice *out)
+{
+    out->reason[e] = NO_METHOD_REASON[e];
+    for (size_t k = 0; k < sizeof AUTO_POLICY / sizeof AUTO_POLICY[0]; ++k) {
+        const ReconMethodClass *m = recon_method_find(AUTO_POLICY[k].method);
+        if (AUTO_POLICY[k].effect == e && m && effect_in(m->effects, e)) {
+            out->method[e] = m;
+            out->reason[e] = AUTO_POLICY[k].reason;
+            return;
+        }
+    }
+}
+
 void recon_select(EffectMask present, const char *request, ReconChoice *out)
 {
     memset(out, 0, sizeof *out);
+    char buf[256], why[160];
+    const char *per_effect[EFFECT_COUNT];
+    bool mapped = parse_per_effect(request, buf, sizeof buf, per_effect, why, sizeof why);
     bool none = !strcmp(request, "none"), autom = !strcmp(request, "auto");
     const ReconMethodClass *asked = (none || autom) ? NULL : recon_method_find(request);
     for (int e = 0; e < EFFECT_COUNT; ++e) {
         if (!effect_in(present, (Effect)e)) continue;
-        if (none) {
+        if (mapped) {
+            const char *w = per_effect[e];
+            if (!w || !strcmp(w, "auto")) {
+                select_auto((Effect)e, out);
+            } else if (!strcmp(w, "none")) {
+                out->reason[e] = "--filter EFFECT=none: plain Monte Carlo";
+            } else {
+                out->method[e] = recon_method_find(w);
+                out->reason[e] = "asked for with --filter EFFECT=METHOD";
+            }
+        } else if (none) {
             out->reason[e] = "--filter none: plain Monte Carlo";
         } else if (asked) {
             bool can = effect_in(asked->effects, (Effect)e);
             out->method[e] = can ? asked : NULL;
             out->reason[e] = can ? "asked for with --filter" : "the method asked for with --filter cannot filter it";
         } else if (autom) {
-            out->reason[e] = NO_METHOD_REASON[e];
-            for (size_t k = 0; k < sizeof AUTO_POLICY / sizeof AUTO_POLICY[0]; ++k) {
-                const ReconMethodClass *m = recon_method_find(AUTO_POLICY[k].method);
-                if (AUTO_POLICY[k].effect == (Effect)e && m && effect_in(m->effects, (Effect)e)) {
-                    out->method[e] = m;
-                    out->reason[e] = AUTO_POLICY[k].reason;
-                    break;
-                }
-            }
+            select_auto((Effect)e, out);
         } else {
             out->reason[e] = "unknown --filter";
         }
@@ -69,7 +132,15 @@ bool recon_choice_any(const ReconChoice *c)
 
 bool recon_filter_known(const char *request)
 {
-    return !strcmp(request, "auto") || !strcmp(request, "none") || recon_method_find(request) != NULL;
+    return recon_filter_problem(request, NULL, 0);
+}
+
+bool recon_filter_problem(const char *request, char *why, size_t why_size)
+{
+    if (!strcmp(request, "auto") || !strcmp(request, "none") || recon_method_find(request)) return true;
+    char buf[256], scratch[160];
+    const char *per_effect[EFFECT_COUNT];
+    return parse_per_effect(request, buf, sizeof buf, per_effect, why ? why : scratch, why ? why_size : sizeof scratch);
 }
 
 const char *recon_filter_choices(char *buf, size_t size)
@@ -87,5 +158,6 @@ const char *recon_filter_choices(char *buf, size_t size)
         if (w < 0) break;
         len += (size_t)w;
     }
+    if (len < size) snprintf(buf + len, size - len, " (or a method per effect, e.g. motion=lr,defocus=lr)");
     return buf;
 }

@@ -16,7 +16,7 @@ for k in killeroo-simple killeroo-moving; do
     [ -f "$f" ] && scenes+=("$f")
 done
 for scene in "${scenes[@]}"; do
-    for filter in auto aaf none; do
+    for filter in auto aaf none motion=lr,defocus=lr; do
         name=$(basename "$scene" .pbrt)-$filter
         "$WEDGE" info "$scene" --json --filter "$filter" > "$T/$name-info.json" || { echo "FAIL: info $name"; fail=1; continue; }
         args=(--res 12x9 --spp 1)

@@ -38,7 +38,7 @@ PBRT
 "$WEDGE" render "$T/small.pbrt" -o >/dev/null 2>&1; check "-o without value" 1 $?
 "$WEDGE" render --help >/dev/null 2>&1; check "--help" 0 $?
 # a bad value's message says what the option wants
-for case in "--mu|1e9|a number in (0, 1e6]" "--filter|magic|auto, aaf, lr, maaf, fsf or none" "--maaf-pairs|6|an integer in [1, 5]" "--res|10|WxH with W and H in [1, 65536] (e.g. 640x360)"; do
+for case in "--mu|1e9|a number in (0, 1e6]" "--filter|magic|auto, aaf, lr, maaf, fsf or none (or a method per effect, e.g. motion=lr,defocus=lr)" "--maaf-pairs|6|an integer in [1, 5]" "--res|10|WxH with W and H in [1, 65536] (e.g. 640x360)"; do
     IFS='|' read -r opt val wants <<<"$case"
     "$WEDGE" render "$T/small.pbrt" "$opt" "$val" 2>"$T/err.txt" >/dev/null; check "$opt $val" 1 $?
     want="wedge render: $opt wants $wants, got '$val'"
@@ -112,6 +112,17 @@ f = json.load(open(sys.argv[1]))["pixels_filtered"]; a = json.load(open(sys.argv
 ok = set(f) == {"aaf"} and set(f["aaf"]) == {"soft_shadows", "indirect"} and all(0 < n < 1200 for n in f["aaf"].values()) and a == {}
 if not ok: print("FAIL: pixels_filtered %s (filtered) / %s (none)" % (f, a)); sys.exit(1)
 PY
+# a method per effect: the named effects get theirs, the others auto's choice; a pair that
+# cannot work is refused with what is wrong
+"$WEDGE" render "$T/small.pbrt" --res 40x30 --filter indirect=none -o "$T/pe.exr" --report "$T/pe.json" --quiet; check "--filter indirect=none" 0 $?
+grep -q '"filters": {"soft_shadows": "aaf", "indirect": "none"}' "$T/pe.json" ||
+    { echo "FAIL: --filter indirect=none: $(grep '"filters"' "$T/pe.json")"; fail=1; }
+for case in "soft_shadows=lr|lr cannot filter soft_shadows" "blur=aaf|unknown effect 'blur' (soft_shadows, defocus, motion or indirect)" \
+            "motion=lr,motion=none|motion is named twice" "defocus=zzz|unknown method 'zzz' for defocus"; do
+    IFS='|' read -r val why <<<"$case"
+    "$WEDGE" render "$T/small.pbrt" --filter "$val" -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--filter $val" 1 $?
+    grep -qxF "wedge render: --filter $val: $why" "$T/err.txt" || { echo "FAIL: --filter $val message: $(cat "$T/err.txt")"; fail=1; }
+done
 # an option that does nothing in a mode is a usage error with a message, not silence
 "$WEDGE" render "$T/small.pbrt" --filter none --mu 2 -o "$T/x.exr" 2>"$T/err.txt" >/dev/null; check "--mu with --filter none" 1 $?
 grep -qx "wedge render: --mu sets a filter's knob and does nothing with --filter none (plain Monte Carlo); drop --mu, or choose a filter (--filter auto)" "$T/err.txt" ||
