@@ -170,6 +170,7 @@ static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float t
     float pmf = 0.0f;
     int li = lights_pick(sc->lights, u_pick, &pmf);
     if (li < 0) return v3s(0.0f);
+    li = lights_pick_in_mesh(sc->lights, sc->tracer, li, &u_light, &pmf);
     LightSample ls;
     if (!light_sample(sc->lights, sc->tracer, li, v->hit.p, time01, u_light, &ls)) return v3s(0.0f);
     float cos_i = 0.0f, pdf_bsdf = 0.0f;

@@ -35,6 +35,8 @@ def main(argv=None):
                    help="exit 1 unless every bias ratio is within [--lo, --hi]")
     a.add_argument("--lo", type=float, default=0.85)
     a.add_argument("--hi", type=float, default=1.15)
+    a.add_argument("--seed", type=int, default=1, help="wedge and Mitsuba use seeds SEED and SEED + 1")
+    a.add_argument("--keep", help="keep the images in this folder")
     a.add_argument("--json")
 
     t = sub.add_parser("curves", help="error against time of wedge methods, Mitsuba 3 and MC + OIDN")
@@ -42,10 +44,15 @@ def main(argv=None):
     t.add_argument("--wedge", default="build/wedge")
     t.add_argument("--res", type=_res, default=(128, 128))
     t.add_argument("--spp", default="4,16,64,256")
-    t.add_argument("--mu", default="0.5,1,2,4,8")
     t.add_argument("--ref-spp", type=int, default=4096)
     t.add_argument("--repeats", type=int, default=3, help="timed repetitions per point (median)")
     t.add_argument("--out", required=True)
+
+    n = sub.add_parser("noise", help="variance per image at equal spp: wedge binaries against Mitsuba 3")
+    n.add_argument("scene")
+    n.add_argument("--wedge", action="append", required=True, help="LABEL=BINARY (repeatable)")
+    n.add_argument("--res", type=_res, default=(64, 64))
+    n.add_argument("--spp", default="4,16,64,256,1024")
 
     rep = sub.add_parser("report", help="equal-error table (Markdown) from curves folders")
     rep.add_argument("dirs", nargs="+")
@@ -75,11 +82,12 @@ def main(argv=None):
     if args.cmd == "agree":
         from . import agree
         rows, ok = [], True
-        with tempfile.TemporaryDirectory(prefix="peer-agree-") as wd:
+        with tempfile.TemporaryDirectory(prefix="peer-agree-") as tmp:
+            wd = args.keep or tmp
             for s in args.scenes:
                 sd = os.path.join(wd, os.path.splitext(os.path.basename(s))[0])
-                os.makedirs(sd)
-                row = agree.agree(s, args.wedge, args.res, args.spp, sd)
+                os.makedirs(sd, exist_ok=True)
+                row = agree.agree(s, args.wedge, args.res, args.spp, sd, seed=args.seed)
                 rows.append(row)
                 if not (args.lo <= row["ratio"] <= args.hi):
                     print(f"FAIL {row['scene']}: bias ratio {row['ratio']:.3f} outside [{args.lo}, {args.hi}]")
@@ -88,6 +96,12 @@ def main(argv=None):
             with open(args.json, "w") as f:
                 json.dump(rows, f, indent=1)
         return 0 if (ok or not args.check) else 1
+    if args.cmd == "noise":
+        from . import agree
+        wedges = dict(w.split("=", 1) for w in args.wedge)
+        with tempfile.TemporaryDirectory(prefix="peer-noise-") as wd:
+            agree.noise(args.scene, wedges, args.res, [int(s) for s in args.spp.split(",")], wd)
+        return 0
     if args.cmd == "curves":
         from . import curves
         curves.run(args)

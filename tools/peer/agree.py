@@ -19,20 +19,21 @@ def weighted_d(x, y, w):
     return float(np.mean(w * (np.asarray(x, np.float64) - np.asarray(y, np.float64)) ** 2))
 
 
-def agree(scene, wedge, res, spp, workdir, log=print):
+def agree(scene, wedge, res, spp, workdir, seed=1, log=print):
     a_path, b_path = (os.path.join(workdir, f"wedge-{k}.exr") for k in (1, 2))
-    for seed, p in ((1, a_path), (2, b_path)):
-        runners.wedge_render(wedge, scene, p, res, spp, seed)
+    for s, p in ((seed, a_path), (seed + 1, b_path)):
+        runners.wedge_render(wedge, scene, p, res, spp, s)
     A = runners.rgb_of(runners.read_exr(a_path))
     B = runners.rgb_of(runners.read_exr(b_path))
     ms = runners.MitsubaScene(scene, res, workdir=workdir)
-    M1, _ = ms.render(spp, 1)
-    M2, _ = ms.render(spp, 2)
+    M1, _ = ms.render(spp, seed)
+    M2, _ = ms.render(spp, seed + 1)
     for name, img in (("M1", M1), ("M2", M2)):
         bad = int(np.count_nonzero(~np.isfinite(img)))
         if bad:
             raise RuntimeError(f"Mitsuba image {name}: {bad} non-finite values")
     runners.write_exr(os.path.join(workdir, "mitsuba-1.exr"), M1)
+    runners.write_exr(os.path.join(workdir, "mitsuba-2.exr"), M2)
     r = 0.5 * (A + B)
     w = 1.0 / (r * r + 0.01)
     d_ma, d_mm, d_ab = weighted_d(M1, A, w), weighted_d(M1, M2, w), weighted_d(A, B, w)
@@ -49,3 +50,34 @@ def agree(scene, wedge, res, spp, workdir, log=print):
         f"bias ratio {ratio:.3f} (1 = agreement at the noise floor; mirrored image: {mirrored:.1f}); "
         f"Mitsuba/wedge noise variance per sample {d_mm / d_ab:.2f}; mean brightness ratio {mean_ratio:.4f}")
     return res_
+
+
+def noise(scene, wedges, res, spps, workdir, seed=101, log=print):
+    """Per-sample efficiency without a reference: the relMSE-weighted variance of one image,
+    D(X1, X2) / 2 for two renders of other seeds, per renderer and spp (weights from the
+    mean of all images at the largest spp). wedges: {label: binary}."""
+    ms = runners.MitsubaScene(scene, res, workdir=workdir)
+    imgs = {}
+    for spp in spps:
+        for label, binary in wedges.items():
+            pair = []
+            for s in (seed, seed + 1):
+                p = os.path.join(workdir, f"{label}-{spp}-{s}.exr")
+                runners.wedge_render(binary, scene, p, res, spp, s)
+                pair.append(runners.rgb_of(runners.read_exr(p)))
+            imgs[(label, spp)] = pair
+        imgs[("mitsuba", spp)] = [ms.render(spp, seed)[0], ms.render(spp, seed + 1)[0]]
+    top = max(spps)
+    r = np.mean([np.mean(v, axis=0) for (lab, spp), v in imgs.items() if spp == top], axis=0)
+    w = 1.0 / (r * r + 0.01)
+    rows = []
+    labels = list(wedges) + ["mitsuba"]
+    log("| spp | " + " | ".join(f"{lab} variance" for lab in labels) + " | " +
+        " | ".join(f"{lab} / mitsuba" for lab in labels[:-1]) + " |")
+    log("|---" * (1 + 2 * len(labels) - 1) + "|")
+    for spp in spps:
+        v = {lab: 0.5 * weighted_d(*imgs[(lab, spp)], w) for lab in labels}
+        rows.append({"spp": spp, **v})
+        log(f"| {spp} | " + " | ".join(f"{v[lab]:.3e}" for lab in labels) + " | " +
+            " | ".join(f"{v[lab] / v['mitsuba']:.2f}" for lab in labels[:-1]) + " |")
+    return rows
