@@ -197,8 +197,11 @@ def report(dirs):
         times = {m: time_at(p, target) for m, p in by.items()}
         wedge_best = min((t for m, (t, _) in times.items() if m.startswith("wedge") and not math.isnan(t)),
                          default=float("nan"))
+        wedge_best = min((t for m, (t, extra) in times.items() if m.startswith("wedge") and not extra
+                          and not math.isnan(t)), default=float("nan"))
         for m, (t, extra) in times.items():
-            mark = " (extrapolated)" if extra else ""
-            ratio = wedge_best / t if t and not math.isnan(t) else float("nan")
-            lines.append(f"| {rows[0]['scene']} | {rows[0]['res']} | {target:.2e} | {m} | {t:.3f}{mark} | {ratio:.2f} |")
+            if extra or math.isnan(t):
+                lines.append(f"| {rows[0]['scene']} | {rows[0]['res']} | {target:.2e} | {m} | not reached in the sweep | - |")
+                continue
+            lines.append(f"| {rows[0]['scene']} | {rows[0]['res']} | {target:.2e} | {m} | {t:.3f} | {wedge_best / t:.2f} |")
     return "\n".join(lines)
