@@ -56,6 +56,7 @@ def main(argv=None):
 
     rep = sub.add_parser("report", help="equal-error table (Markdown) from curves folders")
     rep.add_argument("dirs", nargs="+")
+    rep.add_argument("--wide", action="store_true", help="one row per scene, ratios of each wedge filter to each peer")
 
     args = ap.parse_args(argv)
     if args.cmd == "convert":
@@ -108,7 +109,7 @@ def main(argv=None):
         return 0
     if args.cmd == "report":
         from . import curves
-        print(curves.report(args.dirs))
+        print(curves.report_wide(args.dirs) if args.wide else curves.report(args.dirs))
         return 0
     return 1
 
