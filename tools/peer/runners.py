@@ -71,7 +71,8 @@ def wedge_render(wedge, scene, out, res, spp, seed, sampler="stratified", filt="
 class MitsubaScene:
     """A bench scene converted once; renders at any spp and seed."""
 
-    MAX_LANES = 1 << 22   # samples per mi.render call (memory: one JIT lane per sample)
+    MAX_LANES = 1 << 24   # samples per mi.render call (memory: one JIT lane per sample; passes
+    # of fewer samples each are stratified on their own, which costs variance)
 
     def __init__(self, path, res, sampler="stratified", workdir=None):
         from . import to_mitsuba
