@@ -359,6 +359,7 @@ int cmd_preview(int argc, char **argv)
     RenderOptions ro = {0};
     ro.width = a.width, ro.height = a.height, ro.seed = a.seed, ro.threads = a.threads;
     ro.sampler_set = a.sampler_set, ro.sampler = a.sampler;
+    ro.pixel_filter = a.pixel_filter;
     ro.cancel = &sh.cancel;
     Renderer *r = NULL;
     ReconPipeline *pipe = NULL;

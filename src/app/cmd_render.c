@@ -43,6 +43,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: wedge render [SCENE] [-o OUT] [--spp N] [--res WxH] [--seed N] [--threads N]\n"
             "                    [--aovs] [--report FILE.json] [--quiet] [--sampler stratified|sobol]\n"
+            "                    [--pixel-filter NAME]\n"
             "                    [--filter NAME] [--mu X] [--mem-limit SIZE] [--cl-device N|NAME]\n"
             "                    [--visualize] [--view NAME]\n\n"
             "Renders a pbrt-v4 scene (without SCENE: the embedded default scene) to OUT.\n\n"
@@ -61,6 +62,8 @@ static void usage(FILE *f)
             "  --report FILE   write a JSON run report\n"
             "  --quiet         no progress bar and no warnings on stderr\n"
             "  --sampler KIND  stratified or sobol (default: mapped from the scene's Sampler)\n"
+            "  --pixel-filter NAME  box, gaussian, triangle, mitchell or sinc with pbrt-v4's\n"
+            "                  defaults (default: the scene's PixelFilter, else a box over the pixel)\n"
             "  --filter NAME   reconstruction, one of %s: auto (default) picks the\n"
             "                  measured best method for each effect the scene has ('wedge info\n"
             "                  --filters' lists the methods), none is plain Monte Carlo\n"
@@ -240,6 +243,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     ro.width = a.width, ro.height = a.height, ro.seed = a.seed, ro.threads = a.threads;
     ro.spp = a.time_budget > 0.0 || a.checkpoint > 0.0 ? 0 : a.spp; /* progressive: the target, not the first step */
     ro.sampler_set = a.sampler_set, ro.sampler = a.sampler;
+    ro.pixel_filter = a.pixel_filter;
     ro.cancel = &interrupt_flag;
     ProgressBar bar = {.out = stderr};
     if (!a.quiet && isatty(STDERR_FILENO)) ro.progress = progress_bar_update, ro.progress_ctx = &bar;

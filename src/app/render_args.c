@@ -9,6 +9,7 @@
 #include "core/diag.h"
 #include "recon/maaf/maaf_design.h"
 #include "recon/select.h"
+#include "render/pixel_filter.h"
 #include "scene/scene_desc.h"
 
 static bool parse_int(const char *s, long lo, long hi, long *out)
@@ -41,6 +42,7 @@ static const char *render_option_wants(const char *opt, char *buf, size_t size)
         {"--seed", "a non-negative integer"},
         {"--threads", "an integer in [1, " RENDER_STR(RENDER_THREADS_MAX) "]"},
         {"--sampler", "stratified or sobol"},
+        {"--pixel-filter", "box, gaussian, triangle, mitchell or sinc"},
         {"--mu", "a number in (0, " RENDER_STR(RENDER_MU_MAX) "]"},
         {"--maaf-pairs", "an integer in [1, " RENDER_STR(MAAF_PAIRS_MAX) "]"},
         {"--mem-limit", "a size in bytes with an optional K, M or G suffix (e.g. 512M)"},
@@ -124,6 +126,11 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
             else
                 goto bad_value;
             a->sampler_set = true;
+        } else if (!strcmp(o, "--pixel-filter")) {
+            NEED_VALUE();
+            PixelFilterKind kind;
+            if (!pixel_filter_kind_from_name(val, &kind)) goto bad_value;
+            a->pixel_filter = val;
         } else if (!strcmp(o, "--filter")) {
             NEED_VALUE();
             char why[160];

@@ -21,6 +21,7 @@ typedef struct {
     bool quiet;
     bool sampler_set;
     SamplerKind sampler;
+    const char *pixel_filter; /* --pixel-filter; NULL: the scene's PixelFilter, else box */
     const char *filter;       /* "auto", a method's name or "none" */
     float mu;                 /* filter knob; 0: each paper's default */
     int maaf_pairs;           /* --maaf-pairs N: MAAF's filter pairs per 2D subspace; 0: default */

@@ -170,6 +170,7 @@ static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float t
     float pmf = 0.0f;
     int li = lights_pick(sc->lights, u_pick, &pmf);
     if (li < 0) return v3s(0.0f);
+    li = lights_pick_in_mesh(sc->lights, sc->tracer, li, &u_light, &pmf);
     LightSample ls;
     if (!light_sample(sc->lights, sc->tracer, li, v->hit.p, time01, u_light, &ls)) return v3s(0.0f);
     float cos_i = 0.0f, pdf_bsdf = 0.0f;
@@ -333,7 +334,9 @@ void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px,
                    "record_reset clears one entry of each");
     record_reset(rec);
 
-    vec2 u_film = sampler_2d(s);
+    /* filter importance sampling (pixel_filter.h): the radiance fields are weighted by the
+     * renderer once the record is complete (pixel_filter_weigh_record) */
+    vec2 u_film = pixel_filter_sample(sc->pixel_filter, sampler_2d(s), &rec->filter_weight);
     rec->px_raster = (float)px + u_film.x;
     rec->py_raster = (float)py + u_film.y;
     vec2 lens = v2(0.0f, 0.0f);

@@ -12,6 +12,7 @@
 #include "render/camera.h"
 #include "render/light.h"
 #include "render/material.h"
+#include "render/pixel_filter.h"
 #include "render/sample_record.h"
 #include "render/tracer.h"
 
@@ -27,6 +28,7 @@ typedef struct {
     float xform_time_start, xform_time_end;  /* TransformTimes: scene times of the two poses */
     bool record_ray_geometry;  /* fill SampleRecord shadow/bounce arrays */
     float time01_fixed;        /* without sample_time: every ray's time (integrator_fixed_time01) */
+    const PixelFilter *pixel_filter; /* NULL: the box over the pixel (the film sample as is) */
 } IntegratorScene;
 
 typedef struct {

@@ -63,6 +63,11 @@ void lights_free(LightSet *set);
 /* Picks a light with probability proportional to power; returns -1 when there is none. */
 int lights_pick(const LightSet *set, float u, float *pmf);
 float lights_pmf(const LightSet *set, int light);
+/* Light li picked, a triangle of an emitting mesh: re-picks the triangle within that mesh
+ * from u->x (each triangle keeps its probability lights_pmf, stored in *pmf) and stretches
+ * u->x back to [0, 1), so that the strata of the position sample cover the whole mesh
+ * (light_mesh_pick.c). Other lights: li, nothing changed. */
+int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, float *pmf);
 
 /* Samples light l as seen from p_world at time time01. Returns false when the sample
  * carries no light (zero pdf, back side, ...). */

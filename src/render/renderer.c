@@ -25,6 +25,7 @@ struct Renderer {
     LightSet lights;
     MaterialTable materials;
     IntegratorScene isc;
+    PixelFilter pixel_filter;
     EffectMask effects;
     RenderStats stats;
 };
@@ -86,6 +87,12 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     if (!(isc->xform_time_end > isc->xform_time_start)) isc->xform_time_start = 0.0f, isc->xform_time_end = 1.0f;
     isc->record_ray_geometry = opt->record_ray_geometry;
     isc->time01_fixed = integrator_fixed_time01(isc);
+    /* --pixel-filter, else the scene's PixelFilter statement, else wedge's box (pbrt-v4's
+     * default would be a gaussian: docs/rendering.md, "Pixel filters") */
+    const char *pf_name = opt->pixel_filter ? opt->pixel_filter : scene->filter.loc.line > 0 ? scene->filter.type : "box";
+    const ParamSet *pf_params = opt->pixel_filter ? NULL : scene->filter.loc.line > 0 ? &scene->filter.params : NULL;
+    if (!pixel_filter_init(&r->pixel_filter, pf_name, pf_params, scene->filter.loc, err)) goto fail;
+    isc->pixel_filter = &r->pixel_filter;
 
     *out = r;
     return true;
@@ -97,6 +104,7 @@ fail:
 void renderer_destroy(Renderer *r)
 {
     if (!r) return;
+    pixel_filter_free(&r->pixel_filter);
     lights_free(&r->lights);
     tracer_free(&r->tracer);
     materials_free(&r->materials);
@@ -228,6 +236,7 @@ static int render_pixel(PassJob *job, int px, int py, int spp, IntegratorStats *
         sampler_start_sample(&s, before + i);
         SampleRecord rec;
         integrate_camera_sample(&r->isc, &s, px, py, &rec, st);
+        pixel_filter_weigh_record(&rec);
         c[0] += rec.L.x, c[1] += rec.L.y, c[2] += rec.L.z;
         di[0] += rec.direct.x, di[1] += rec.direct.y, di[2] += rec.direct.z;
         in[0] += rec.indirect.x, in[1] += rec.indirect.y, in[2] += rec.indirect.z;

@@ -40,6 +40,7 @@ typedef struct {
     int threads;              /* 0: all online cores */
     bool sampler_set;         /* false: map the scene's sampler name */
     SamplerKind sampler;
+    const char *pixel_filter;  /* NULL: the scene's PixelFilter statement, else the box */
     bool record_ray_geometry; /* fill SampleRecord shadow/bounce arrays (filters that need them) */
     volatile sig_atomic_t *cancel; /* when it becomes non-zero, passes stop after the current rows */
     RenderProgressFn progress;     /* called about 10 times a second from the calling thread */

@@ -31,7 +31,9 @@ enum { SAMPLE_RECORD_MAX_SHADOW = 1, SAMPLE_RECORD_MAX_BOUNCE = 1 };
 
 typedef struct {
     /* the sample's position in the extra dimensions */
-    float px_raster, py_raster;   /* film position, pixels (pixel (x, y) covers [x, x+1)) */
+    float px_raster, py_raster;   /* film position, pixels (pixel (x, y) covers [x, x+1); a pixel
+                                   * filter wider than the box puts it up to its radius outside) */
+    float filter_weight;          /* pixel filter weight (1 for box, triangle, gaussian; pixel_filter.h) */
     float lens_u, lens_v;         /* unit-disk lens coordinates in [-1, 1]^2 (0 for a pinhole) */
     float time;                   /* normalised shutter time in [0, 1] (shutter open when static) */
 

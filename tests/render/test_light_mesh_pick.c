@@ -1,0 +1,108 @@
+/* lights_pick_in_mesh (src/render/light_mesh_pick.c): choosing the triangle of an emitting
+ * mesh from the position sample keeps every triangle's probability, maps u.x monotonically
+ * and invertibly (so a stratum of u.x lands in one run of the mesh), and leaves other
+ * lights alone. */
+#include <math.h>
+#include <string.h>
+
+#include "check.h"
+#include "render/light.h"
+#include "render/tracer.h"
+#include "scene/scene_desc.h"
+
+/* An emitting mesh of three triangles of areas 0.5, 1 and 2 (so unequal powers) and a point
+ * light. */
+static const char *scene_text =
+    "LookAt 0 0 -5  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
+    "WorldBegin\n"
+    "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 4 0 ]\n"
+    "AttributeBegin\n"
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ 0 3 0  1 3 0  0 3 1   2 3 0  4 3 0  2 3 1   5 3 0  7 3 0  5 3 2 ]\n"
+    "        \"integer indices\" [ 0 2 1  3 5 4  6 8 7 ]\n"
+    "AttributeEnd\n";
+
+int main(void)
+{
+    SceneDesc scene;
+    Diag err = {0};
+    CHECK(scene_parse_string(scene_text, strlen(scene_text), "<test>", NULL, &scene, &err));
+    Tracer tr;
+    memset(&tr, 0, sizeof tr);
+    CHECK(tracer_build(&tr, &scene, 1, &err));
+    LightSet set;
+    CHECK(lights_build(&set, &scene, &tr, &err));
+    if (check_failures) return 1;
+
+    int first = -1, n_tri = 0, point = -1;
+    for (int i = 0; i < set.count; ++i) {
+        if (set.lights[i].kind == LIGHT_AREA) {
+            if (first < 0) first = i;
+            ++n_tri;
+        } else {
+            point = i;
+        }
+    }
+    CHECK(n_tri == 3 && point >= 0);
+    if (check_failures) return 1;
+    double mesh_pmf = 0.0;
+    for (int k = 0; k < 3; ++k) mesh_pmf += lights_pmf(&set, first + k);
+
+    /* Probabilities: u_pick and u.x on independent midpoint grids. The pick lands in the
+     * mesh with probability mesh_pmf; the final triangle k must then come up with
+     * probability lights_pmf(k) (exact up to the grid's resolution), and *pmf must say so. */
+    enum { NP = 400, NX = 2000 };
+    double count[3] = {0, 0, 0}, total = 0.0;
+    int bad_pmf = 0, bad_range = 0, outside = 0;
+    for (int a = 0; a < NP; ++a) {
+        float u_pick = (a + 0.5f) / NP, pmf = 0.0f;
+        int li = lights_pick(&set, u_pick, &pmf);
+        for (int b = 0; b < NX; ++b) {
+            vec2 u = {(b + 0.5f) / NX, 0.3f};
+            float p = pmf;
+            int k = lights_pick_in_mesh(&set, &tr, li, &u, &p);
+            total += 1.0;
+            if (li == point) {
+                /* not a mesh: nothing changes */
+                if (k != li || u.x != (b + 0.5f) / NX || p != pmf) ++bad_pmf;
+                continue;
+            }
+            if (k < first || k >= first + 3) {
+                ++outside;
+                continue;
+            }
+            count[k - first] += 1.0;
+            if (p != lights_pmf(&set, k)) ++bad_pmf;
+            if (!(u.x >= 0.0f && u.x < 1.0f) || u.y != 0.3f) ++bad_range;
+        }
+    }
+    CHECK(bad_pmf == 0);
+    CHECK(bad_range == 0);
+    CHECK(outside == 0);
+    for (int k = 0; k < 3; ++k) CHECK_NEAR(count[k] / total, lights_pmf(&set, first + k), 2.0 / NP + 2.0 / NX);
+    /* the areas are 0.5 : 1 : 2, so are the powers */
+    CHECK_NEAR(lights_pmf(&set, first + 1) / lights_pmf(&set, first), 2.0, 1e-5);
+    CHECK_NEAR(lights_pmf(&set, first + 2) / lights_pmf(&set, first), 4.0, 1e-5);
+
+    /* Stratification: for a fixed pick inside the mesh, u.x -> (k, u'.x) is the inverse CDF
+     * of the mesh's triangles: position = (cdf[k] - cdf[first] + u'.x w_k) / (mesh power)
+     * gives u.x back, so it is monotone and a stratum of u.x maps to one contiguous run. */
+    float pmf0 = 0.0f;
+    int li0 = lights_pick(&set, 0.0f, &pmf0); /* area lights come first: the mesh's first */
+    CHECK(li0 == first);
+    for (float x = 0.0f; x < 1.0f && li0 == first; x += 1.0f / 997.0f) {
+        vec2 u = {x, 0.5f};
+        float p = pmf0;
+        int k = lights_pick_in_mesh(&set, &tr, li0, &u, &p);
+        double lo = set.cdf[first], hi = set.cdf[first + 3];
+        double back = (set.cdf[k] - lo + u.x * (set.cdf[k + 1] - set.cdf[k])) / (hi - lo);
+        CHECK_NEAR(back, x, 2e-6);
+    }
+
+    lights_free(&set);
+    tracer_free(&tr);
+    scene_desc_free(&scene);
+    return check_failures ? 1 : 0;
+}
