@@ -15,6 +15,7 @@
 #include "render/integrator.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "render/warp.h"
 
@@ -159,66 +160,72 @@ static void draw_vertex_dims(PixelSampler *s, VertexDims *u)
 }
 
 /* Next-event estimation: one light sample, MIS-weighted against the BSDF (Veach 1997,
- * eq. 9.13 with beta = 2). Fills *rec when it is not NULL and the light is an area light. */
-static vec3 sample_one_light(const IntegratorScene *sc, const Vertex *v, float time01, const VertexDims *u, IntegratorStats *st,
-                             ShadowRayRecord *rec, int *rec_count)
-{
-    float u_pick = u->pick;
-    vec2 u_light = u->light;
-    /* a BSDF made of delta lobes only cannot be reached by a light sample */
-    if (v->glossy && glossy_is_delta(&v->bsdf)) return v3s(0.0f);
-    float pmf = 0.0f;
-    int li = lights_pick(sc->lights, u_pick, &pmf);
-    if (li < 0) return v3s(0.0f);
-    li = lights_pick_in_mesh(sc->lights, sc->tracer, li, &u_light, &pmf);
+ * eq. 9.13 with beta = 2), in two halves around the shadow ray, which is traced in a batch
+ * with the wave's other shadow rays. What the first half leaves for the second: */
+typedef struct {
     LightSample ls;
-    if (!light_sample(sc->lights, sc->tracer, li, v->hit.p, time01, u_light, &ls)) return v3s(0.0f);
-    float cos_i = 0.0f, pdf_bsdf = 0.0f;
-    vec3 f = vertex_f(v, ls.wi, &cos_i, &pdf_bsdf);
-    bool is_area = sc->lights->lights[li].kind == LIGHT_AREA;
+    int light;        /* index of the sampled light */
+    float pmf;        /* probability of having picked it */
+    vec3 f;           /* BSDF value for ls.wi */
+    float cos_i;      /* |cos| of ls.wi at the shading normal */
+    float pdf_bsdf;   /* BSDF sampling's solid-angle density of ls.wi */
+    bool is_area;
+} LightPending;
+
+/* First half: picks a light and a point on it and sets up the shadow ray. False when the
+ * sample contributes nothing without one (the estimate is then 0). */
+static bool light_prepare(const IntegratorScene *sc, const Vertex *v, float time01, const VertexDims *u,
+                          IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+{
+    /* a BSDF made of delta lobes only cannot be reached by a light sample */
+    if (v->glossy && glossy_is_delta(&v->bsdf)) return false;
+    lp->pmf = 0.0f;
+    lp->light = lights_pick(sc->lights, u->pick, &lp->pmf);
+    if (lp->light < 0) return false;
+    vec2 u_light = u->light;
+    lp->light = lights_pick_in_mesh(sc->lights, sc->tracer, lp->light, &u_light, &lp->pmf);
+    LightSample *ls = &lp->ls;
+    if (!light_sample(sc->lights, sc->tracer, lp->light, v->hit.p, time01, u_light, ls)) return false;
+    lp->f = vertex_f(v, ls->wi, &lp->cos_i, &lp->pdf_bsdf);
+    lp->is_area = sc->lights->lights[lp->light].kind == LIGHT_AREA;
     /* A receiver facing away from the light traces no shadow ray (and records none). */
-    if (max_component_nonpositive(f)) return v3s(0.0f);
+    if (max_component_nonpositive(lp->f)) return false;
 
     /* The shadow ray leaves the receiver and stops short of the light's surface (both
      * ends pushed off their surfaces). */
-    vec3 o = surface_offset(&v->hit, ls.wi), dir = ls.wi;
+    vec3 o = surface_offset(&v->hit, ls->wi), dir = ls->wi;
     float tmax = INFINITY;
-    if (isfinite(ls.dist)) {
-        vec3 target = ls.p_light;
-        if (ls.err_light > 0.0f && v3_length2(ls.n_light) > 0.0f) {
-            float side = v3_dot(ls.n_light, v3_sub(o, ls.p_light)) >= 0.0f ? 1.0f : -1.0f;
-            target = v3_madd(ls.p_light, ls.n_light, side * ls.err_light);
+    if (isfinite(ls->dist)) {
+        vec3 target = ls->p_light;
+        if (ls->err_light > 0.0f && v3_length2(ls->n_light) > 0.0f) {
+            float side = v3_dot(ls->n_light, v3_sub(o, ls->p_light)) >= 0.0f ? 1.0f : -1.0f;
+            target = v3_madd(ls->p_light, ls->n_light, side * ls->err_light);
         }
         vec3 d = v3_sub(target, o);
         float len = v3_length(d);
         if (!(len > 0.0f)) {
             ++st->guarded_events;
-            return v3s(0.0f);
+            return false;
         }
         dir = v3_scale(d, 1.0f / len);
         tmax = len;
     }
     ++st->rays_shadow;
-    bool occluded;
-    if (rec && is_area && *rec_count < SAMPLE_RECORD_MAX_SHADOW) {
-        SurfaceHit occ;
-        occluded = tracer_intersect_ex(sc->tracer, o, dir, tmax, time01, false, &occ);
-        ShadowRayRecord *r = &rec[(*rec_count)++];
-        r->d_light_world = ls.dist;
-        r->d_occluder_world = occluded ? occ.t : INFINITY;
-        r->light_p_world = ls.p_light;
-        r->light_index = li;
-    } else {
-        occluded = tracer_occluded(sc->tracer, o, dir, tmax, time01);
-    }
+    *shadow = (TracerRay){o, dir, tmax, time01};
+    return true;
+}
+
+/* Second half, once the shadow ray is traced: the MIS-weighted estimate. */
+static vec3 light_finish(const LightPending *lp, bool occluded, IntegratorStats *st)
+{
     if (occluded) return v3s(0.0f);
-    float denom = pmf * ls.pdf;
+    float denom = lp->pmf * lp->ls.pdf;
     if (!(denom > 0.0f)) {
         ++st->guarded_events;
         return v3s(0.0f);
     }
-    float w = ls.delta ? 1.0f : mis_power(denom, pdf_bsdf);
-    return guard3(v3_scale(v3_mul(f, ls.Li), cos_i * w / denom), st);
+    float w = lp->ls.delta ? 1.0f : mis_power(denom, lp->pdf_bsdf);
+    return guard3(v3_scale(v3_mul(lp->f, lp->ls.Li), lp->cos_i * w / denom), st);
 }
 
 /* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling (weight 1
@@ -327,104 +334,271 @@ static void first_hit_motion(const IntegratorScene *sc, const SurfaceHit *h, flo
     if (isfinite(mx) && isfinite(my)) motion_px[0] = mx, motion_px[1] = my;
 }
 
-void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px, int py, SampleRecord *rec,
-                             IntegratorStats *st)
-{
-    _Static_assert(SAMPLE_RECORD_MAX_SHADOW == 1 && SAMPLE_RECORD_MAX_BOUNCE == 1,
-                   "record_reset clears one entry of each");
-    record_reset(rec);
+/* ---- the wave ----
+ *
+ * A wave is the camera samples of a few whole pixels (at most WAVE_SAMPLES), integrated
+ * together stage by stage: all camera rays are generated and traced as one batch, every
+ * first hit is shaded, then per path vertex all shadow rays and all bounce rays go to
+ * Embree as batches (tracer_*_batch), and the results are folded in path by path. Each
+ * path does exactly the floating-point operations, in the same order, of a path traced on
+ * its own; only the order between paths changes, so images do not depend on the wave. */
 
+/* One path of the wave between stages. */
+typedef struct {
+    int pixel;         /* index into the wave's pixels */
+    int sample_index;  /* the pixel sampler's sample index */
+    int next_dim;      /* first sampler dimension of the next vertex */
+    float time01;
+    bool alive;        /* has a vertex to continue from */
+    Vertex v;
+    VertexDims u;      /* the current vertex's dimensions */
+    vec3 beta;         /* path throughput up to v */
+    bool unfiltered;   /* light from here on passes the filters unfiltered */
+    /* the current vertex's light sample and bounce, between tracing and folding in */
+    bool light_pending, light_recorded, unfiltered_light;
+    int shadow_ray;    /* index into the occlusion or the recorded batch */
+    LightPending lp;
+    bool bounce;
+    VertexSample vs;
+    vec3 beta_next;
+} WavePath;
+
+struct Wave {
+    WavePath path[WAVE_SAMPLES];
+    /* rays of one stage and what they found; *_path: the path that shot ray k */
+    TracerRay ray_occ[WAVE_SAMPLES], ray_rec[WAVE_SAMPLES], ray_hit[WAVE_SAMPLES];
+    int occ_path[WAVE_SAMPLES], rec_path[WAVE_SAMPLES], hit_path[WAVE_SAMPLES];
+    bool occluded[WAVE_SAMPLES], rec_found[WAVE_SAMPLES], hit_found[WAVE_SAMPLES];
+    SurfaceHit rec_hit[WAVE_SAMPLES], hit[WAVE_SAMPLES];
+    /* one pixel sampler, set up for sampler_pixel (-1: none) */
+    PixelSampler sampler;
+    int sampler_pixel;
+};
+
+Wave *wave_create(void) { return malloc(sizeof(Wave)); }
+void wave_free(Wave *w) { free(w); }
+
+/* The sampler of pixel k of the wave at the start of sample `sample_index`. Its values are a
+ * pure function of (pixel, sample, dimension) and its cache is per pixel, so it is set up
+ * again only when the pixel changes (the stages visit the paths in pixel order). */
+static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k, int sample_index)
+{
+    if (w->sampler_pixel != k) {
+        const WavePixel *px = &pixels[k];
+        sampler_continue_pixel(&w->sampler, ws->kind, ws->seed, px->px, px->py, ws->pass, px->spp_before, px->spp_set);
+        w->sampler_pixel = k;
+    }
+    sampler_start_sample(&w->sampler, sample_index);
+    return &w->sampler;
+}
+
+/* Camera ray of one sample, its record's sample position, and its first vertex's sampler
+ * dimensions. */
+static TracerRay wave_camera_ray(const IntegratorScene *sc, PixelSampler *s, const WavePixel *px, WavePath *p,
+                                 SampleRecord *rec)
+{
+    record_reset(rec);
     /* filter importance sampling (pixel_filter.h): the radiance fields are weighted by the
      * renderer once the record is complete (pixel_filter_weigh_record) */
     vec2 u_film = pixel_filter_sample(sc->pixel_filter, sampler_2d(s), &rec->filter_weight);
-    rec->px_raster = (float)px + u_film.x;
-    rec->py_raster = (float)py + u_film.y;
+    rec->px_raster = (float)px->px + u_film.x;
+    rec->py_raster = (float)px->py + u_film.y;
     vec2 lens = v2(0.0f, 0.0f);
     if (sc->sample_lens) lens = warp_disk_concentric(sampler_2d(s));
     rec->lens_u = lens.x, rec->lens_v = lens.y;
     float shutter_u = 0.0f;
     if (sc->sample_time) shutter_u = sampler_1d(s);
     rec->time = shutter_u;
-    float time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
-    CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, time01);
-    /* The first vertex's dimensions come next in the fixed order: drawn now, before the
-     * camera ray is traced, the sampler's independent requests overlap each other and the
-     * camera ray's square root and division instead of each waiting on the shading work
-     * around it (same values: the order is unchanged; a camera ray that misses has drawn
-     * them for nothing). */
-    VertexDims u_vertex;
-    draw_vertex_dims(s, &u_vertex);
+    p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
+    CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, p->time01);
+    /* the first vertex's dimensions come next in the fixed order (a camera ray that
+     * misses has drawn them for nothing) */
+    draw_vertex_dims(s, &p->u);
+    p->next_dim = s->dim;
+    return (TracerRay){cr.o_world, cr.d_world, INFINITY, p->time01};
+}
 
-    ++st->rays_primary;
-    SurfaceHit h;
-    if (!tracer_intersect(sc->tracer, cr.o_world, cr.d_world, INFINITY, time01, &h)) {
+/* What the camera ray found: emission seen directly, the first hit's record fields, and
+ * the path's first vertex. */
+static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world, bool found, const SurfaceHit *h,
+                           SampleRecord *rec, IntegratorStats *st)
+{
+    p->alive = false;
+    if (!found) {
         /* camera rays see infinite lights directly (no MIS: nothing else samples them) */
         vec3 env = v3s(0.0f);
         for (int k = 0; k < sc->lights->infinite_count; ++k)
-            env = v3_add(env, infinite_light_L(sc->lights, sc->lights->infinite[k], cr.d_world));
+            env = v3_add(env, infinite_light_L(sc->lights, sc->lights->infinite[k], d_world));
         rec->emission = guard3(env, st);
         rec->L = rec->emission;
         return;
     }
-    Vertex v;
-    make_vertex(sc, &h, v3_neg(cr.d_world), &v);
+    Vertex *v = &p->v;
+    make_vertex(sc, h, v3_neg(d_world), v);
     rec->hit = true;
-    record_first_hit_material(&v, rec);
-    rec->p_world = h.p;
-    rec->n_shading = v3_dot(h.ns, v.wo) < 0.0f ? v3_neg(h.ns) : h.ns; /* towards the camera, any material */
-    rec->object_id = h.object_id;
-    rec->depth_cam = camera_depth(sc->camera, h.p, time01);
-    first_hit_motion(sc, &h, time01, rec->motion_px);
-    if (h.light >= 0) rec->emission = guard3(area_light_L(sc->lights, h.light, &h, v.wo), st);
+    record_first_hit_material(v, rec);
+    rec->p_world = h->p;
+    rec->n_shading = v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns; /* towards the camera, any material */
+    rec->object_id = h->object_id;
+    rec->depth_cam = camera_depth(sc->camera, h->p, p->time01);
+    first_hit_motion(sc, h, p->time01, rec->motion_px);
+    if (h->light >= 0) rec->emission = guard3(area_light_L(sc->lights, h->light, h, v->wo), st);
+    p->beta = v3s(1.0f);
+    /* Light the filters must pass through unfiltered (sample_record.h): everything at a
+     * dielectric first hit, and whatever arrives through a delta lobe of the first hit. */
+    p->unfiltered = v->glossy && !glossy_is_filterable(&v->bsdf);
+    p->alive = true;
+}
+
+/* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
+ * (independent of each other), queued for the batches. */
+static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
+                             int depth, SampleRecord *rec, IntegratorStats *st, int *n_occ, int *n_rec, int *n_hit)
+{
+    WavePath *p = &w->path[j];
+    const Vertex *v = &p->v;
+    if (depth > 1) {
+        PixelSampler *s = wave_sampler(w, ws, pixels, p->pixel, p->sample_index);
+        s->dim = p->next_dim;
+        draw_vertex_dims(s, &p->u);
+        p->next_dim = s->dim;
+    }
+    TracerRay shadow;
+    p->light_pending = light_prepare(sc, v, p->time01, &p->u, st, &shadow, &p->lp);
+    p->light_recorded = false;
+    if (p->light_pending) {
+        /* the first hit's shadow rays to area lights are recorded for the filters, with the
+         * distance to their occluder: traced for the closest hit instead of any hit */
+        bool record = depth == 1 && sc->record_ray_geometry && p->lp.is_area && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
+        p->light_recorded = record;
+        if (record) {
+            p->shadow_ray = *n_rec;
+            w->ray_rec[*n_rec] = shadow;
+            w->rec_path[(*n_rec)++] = j;
+        } else {
+            p->shadow_ray = *n_occ;
+            w->ray_occ[*n_occ] = shadow;
+            w->occ_path[(*n_occ)++] = j;
+        }
+    }
+    p->unfiltered_light = p->unfiltered;
+    p->bounce = false;
 
     const LightSet *L = sc->lights;
     bool mis_emitters = L->has_area || L->infinite_count > 0;
-    vec3 beta = v3s(1.0f);
-    /* Light the filters must pass through unfiltered (sample_record.h): everything at a
-     * dielectric first hit, and whatever arrives through a delta lobe of the first hit. */
-    bool unfiltered = v.glossy && !glossy_is_filterable(&v.bsdf);
-    for (int depth = 1; depth <= sc->max_depth; ++depth) {
-        vec3 *bucket = depth == 1 ? &rec->direct : &rec->indirect;
-        bool first = depth == 1 && sc->record_ray_geometry;
-        if (depth > 1) draw_vertex_dims(s, &u_vertex);
-        vec3 ld = v3_mul(beta, sample_one_light(sc, &v, time01, &u_vertex, st, first ? rec->shadow : NULL, &rec->shadow_count));
-        *bucket = v3_add(*bucket, ld);
-        if (unfiltered) rec->unfiltered = v3_add(rec->unfiltered, ld);
+    if (depth == sc->max_depth && !mis_emitters) return;
+    float u_lobe = 0.5f; /* Lambert: unused */
+    if (v->glossy) u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), p->u.lobe_dim);
+    if (!vertex_sample(v, u_lobe, p->u.bsdf, &p->vs)) return;
+    p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
+    if (max_component_nonpositive(p->beta_next)) return;
+    if (depth == 1 && p->vs.delta) p->unfiltered = true;
+    /* the last ray of a path only finds emitters for MIS of direct light; the others carry
+     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray) */
+    if (depth < sc->max_depth) ++st->rays_indirect;
+    else ++st->rays_bsdf;
+    p->bounce = true;
+    w->ray_hit[*n_hit] = (TracerRay){surface_offset(&v->hit, p->vs.wi), p->vs.wi, INFINITY, p->time01};
+    w->hit_path[(*n_hit)++] = j;
+}
 
-        float u_lobe = v.glossy ? sampler_1d_at(s, u_vertex.lobe_dim) : 0.5f; /* Lambert: unused */
-        vec2 u_b = u_vertex.bsdf;
-        if (depth == sc->max_depth && !mis_emitters) break;
-        VertexSample vs;
-        if (!vertex_sample(&v, u_lobe, u_b, &vs)) break;
-        vec3 wi = vs.wi;
-        float pdf = vs.pdf;
-        vec3 beta_next = guard3(v3_mul(beta, vs.weight), st);
-        if (max_component_nonpositive(beta_next)) break;
-        if (depth == 1 && vs.delta) unfiltered = true;
-
-        vec3 o = surface_offset(&v.hit, wi);
-        /* the last ray of a path only finds emitters for MIS of direct light; the others
-         * carry the path on (reported apart: a maxdepth 1 scene traces no bounce ray) */
-        if (depth < sc->max_depth) ++st->rays_indirect;
-        else ++st->rays_bsdf;
-        SurfaceHit nh;
-        /* the last ray of the path only needs emitters shaded */
-        bool hit = tracer_intersect_ex(sc->tracer, o, wi, INFINITY, time01, depth < sc->max_depth, &nh);
-        if (first && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
-            BounceRayRecord *b = &rec->bounce[rec->bounce_count++];
-            b->d_hit_world = hit ? nh.t : INFINITY;
-            b->dir_world = wi;
+/* Stage two of a vertex, after the batches: its light and the emission its bounce ray
+ * found, added to the record, and the next vertex (or the end of the path). */
+static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, int hit_k, SampleRecord *rec,
+                             IntegratorStats *st)
+{
+    WavePath *p = &w->path[j];
+    vec3 *bucket = depth == 1 ? &rec->direct : &rec->indirect;
+    vec3 l_light = v3s(0.0f);
+    if (p->light_pending) {
+        bool occluded;
+        if (p->light_recorded) {
+            int k = p->shadow_ray;
+            occluded = w->rec_found[k];
+            ShadowRayRecord *r = &rec->shadow[rec->shadow_count++];
+            r->d_light_world = p->lp.ls.dist;
+            r->d_occluder_world = occluded ? w->rec_hit[k].t : INFINITY;
+            r->light_p_world = p->lp.ls.p_light;
+            r->light_index = p->lp.light;
+        } else {
+            occluded = w->occluded[p->shadow_ray];
         }
-        bool no_mis = vs.delta || (v.glossy && glossy_is_delta(&v.bsdf));
-        vec3 le = guard3(v3_mul(beta_next, bsdf_ray_emission(sc, v.hit.p, pdf, no_mis, hit ? &nh : NULL, wi, time01, hit)), st);
-        *bucket = v3_add(*bucket, le);
-        if (unfiltered) rec->unfiltered = v3_add(rec->unfiltered, le);
-        if (!hit || depth == sc->max_depth) break;
-        beta = beta_next;
-        make_vertex(sc, &nh, v3_neg(wi), &v);
+        l_light = light_finish(&p->lp, occluded, st);
     }
-    rec->direct = guard3(rec->direct, st);
-    rec->indirect = guard3(rec->indirect, st);
-    rec->unfiltered = guard3(rec->unfiltered, st);
-    rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
+    vec3 ld = v3_mul(p->beta, l_light);
+    *bucket = v3_add(*bucket, ld);
+    if (p->unfiltered_light) rec->unfiltered = v3_add(rec->unfiltered, ld);
+    p->alive = false;
+    if (!p->bounce) return;
+
+    bool hit = w->hit_found[hit_k];
+    const SurfaceHit *nh = &w->hit[hit_k];
+    vec3 wi = p->vs.wi;
+    if (depth == 1 && sc->record_ray_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
+        BounceRayRecord *b = &rec->bounce[rec->bounce_count++];
+        b->d_hit_world = hit ? nh->t : INFINITY;
+        b->dir_world = wi;
+    }
+    const Vertex *v = &p->v;
+    bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
+    vec3 le = guard3(v3_mul(p->beta_next, bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi,
+                                                            p->time01, hit)),
+                     st);
+    *bucket = v3_add(*bucket, le);
+    if (p->unfiltered) rec->unfiltered = v3_add(rec->unfiltered, le);
+    if (!hit || depth == sc->max_depth) return;
+    p->beta = p->beta_next;
+    make_vertex(sc, nh, v3_neg(wi), &p->v);
+    p->alive = true;
+}
+
+int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int pixel_count,
+                   SampleRecord *recs, IntegratorStats *st)
+{
+    _Static_assert(SAMPLE_RECORD_MAX_SHADOW == 1 && SAMPLE_RECORD_MAX_BOUNCE == 1,
+                   "record_reset clears one entry of each");
+    w->sampler_pixel = -1;
+    /* camera rays */
+    int n = 0;
+    for (int k = 0; k < pixel_count; ++k)
+        for (int i = 0; i < pixels[k].count && n < WAVE_SAMPLES; ++i, ++n) {
+            WavePath *p = &w->path[n];
+            p->pixel = k;
+            p->sample_index = pixels[k].index_first + i;
+            PixelSampler *s = wave_sampler(w, ws, pixels, k, p->sample_index);
+            w->ray_hit[n] = wave_camera_ray(sc, s, &pixels[k], p, &recs[n]);
+        }
+    st->rays_primary += n;
+    tracer_intersect_batch(sc->tracer, w->ray_hit, n, true, true, w->hit, w->hit_found);
+    bool any_alive = false;
+    for (int j = 0; j < n; ++j) {
+        wave_first_hit(sc, &w->path[j], w->ray_hit[j].d, w->hit_found[j], &w->hit[j], &recs[j], st);
+        any_alive |= w->path[j].alive;
+    }
+
+    /* path vertices: shadow and bounce rays in batches, then folded in path by path */
+    for (int depth = 1; depth <= sc->max_depth && any_alive; ++depth) {
+        int n_occ = 0, n_rec = 0, n_hit = 0;
+        for (int j = 0; j < n; ++j)
+            if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
+        tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
+        tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
+        tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
+        any_alive = false;
+        for (int j = 0, hit_k = 0; j < n; ++j) {
+            WavePath *p = &w->path[j];
+            if (!p->alive) continue;
+            wave_vertex_fold(sc, w, j, depth, p->bounce ? hit_k++ : -1, &recs[j], st);
+            any_alive |= p->alive;
+        }
+    }
+    for (int j = 0; j < n; ++j) {
+        SampleRecord *rec = &recs[j];
+        if (!rec->hit) continue;
+        rec->direct = guard3(rec->direct, st);
+        rec->indirect = guard3(rec->indirect, st);
+        rec->unfiltered = guard3(rec->unfiltered, st);
+        rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
+    }
+    return n;
 }

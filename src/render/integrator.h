@@ -40,9 +40,34 @@ typedef struct {
  * scene instead of per sample: store it in time01_fixed after filling the other fields. */
 float integrator_fixed_time01(const IntegratorScene *sc);
 
-/* Traces camera sample (sampler positioned at the start of a sample) of pixel (px, py) and
- * fills rec completely. */
-void integrate_camera_sample(const IntegratorScene *sc, PixelSampler *s, int px, int py, SampleRecord *rec,
-                             IntegratorStats *st);
+/* The samples of a few pixels integrated together (integrator.c, "the wave"): at most
+ * WAVE_SAMPLES, every pixel's samples in one wave (a render round gives a pixel at most
+ * 64). Scratch space for one thread. */
+enum { WAVE_SAMPLES = 256 };
+typedef struct Wave Wave;
+Wave *wave_create(void); /* NULL when out of memory */
+void wave_free(Wave *w);
+
+/* How the pixels' samplers are seeded (sampler_continue_pixel). */
+typedef struct {
+    SamplerKind kind;
+    uint64_t seed;
+    int pass;
+} WaveSampling;
+
+/* One pixel's samples in a wave: sample indices index_first .. index_first + count - 1 of
+ * the sampler set sampler_continue_pixel(..., spp_before, spp_set) gives. */
+typedef struct {
+    int px, py;
+    int spp_before, spp_set;
+    int index_first, count;
+} WavePixel;
+
+/* Integrates the samples of pixels[0 .. pixel_count) and fills recs completely, pixel by
+ * pixel and in sample order within a pixel. Each record is what tracing its sample alone
+ * would give (bit for bit: a path's arithmetic does not depend on the other paths).
+ * Returns the number of records (the sum of the counts, at most WAVE_SAMPLES). */
+int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int pixel_count,
+                   SampleRecord *recs, IntegratorStats *st);
 
 #endif

@@ -215,53 +215,71 @@ static bool cancel_requested(const PassJob *job)
     return job->r->opt.cancel && *job->r->opt.cancel;
 }
 
-/* Renders the samples of this round of a pixel that has spp samples in the pass; returns
- * how many were taken (fewer only when the render is cancelled, checked every 64 samples
- * so Ctrl-C is quick even at high spp). */
-static int render_pixel(PassJob *job, int px, int py, int spp, IntegratorStats *st)
+/* A worker's wave: the pixels queued for it and their records. */
+typedef struct {
+    Wave *wave;
+    WavePixel pixel[WAVE_SAMPLES];
+    int pixel_count, sample_count;
+    SampleRecord rec[WAVE_SAMPLES];
+} WaveQueue;
+
+/* Integrates the queued pixels and adds their samples to the frame (double sums per pixel
+ * and round, in sample order: one float add per pixel into the frame) and to the sink. */
+static long long flush_wave(PassJob *job, WaveQueue *q, IntegratorStats *st)
 {
+    if (q->pixel_count == 0) return 0;
     Renderer *r = job->r;
+    WaveSampling ws = {r->sampler, r->opt.seed, job->pass};
+    int n = integrate_wave(&r->isc, q->wave, &ws, q->pixel, q->pixel_count, q->rec, st);
+    SampleRecord *rec = q->rec;
+    for (int k = 0; k < q->pixel_count; ++k) {
+        int px = q->pixel[k].px, py = q->pixel[k].py, taken = q->pixel[k].count;
+        double c[3] = {0}, di[3] = {0}, in[3] = {0}, em[3] = {0}, al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
+        for (int i = 0; i < taken; ++i, ++rec) {
+            pixel_filter_weigh_record(rec);
+            c[0] += rec->L.x, c[1] += rec->L.y, c[2] += rec->L.z;
+            di[0] += rec->direct.x, di[1] += rec->direct.y, di[2] += rec->direct.z;
+            in[0] += rec->indirect.x, in[1] += rec->indirect.y, in[2] += rec->indirect.z;
+            em[0] += rec->emission.x, em[1] += rec->emission.y, em[2] += rec->emission.z;
+            if (rec->hit) {
+                al[0] += rec->albedo.x, al[1] += rec->albedo.y, al[2] += rec->albedo.z;
+                nn[0] += rec->n_shading.x, nn[1] += rec->n_shading.y, nn[2] += rec->n_shading.z;
+                if (isfinite(rec->depth_cam)) depth += rec->depth_cam, hits += 1.0;
+            }
+            if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, rec);
+        }
+        Frame *f = job->frame;
+        size_t i1 = (size_t)py * (size_t)f->width + (size_t)px, i3 = 3 * i1;
+        for (int ch = 0; ch < 3; ++ch) {
+            f->color[i3 + ch] += (float)c[ch];
+            f->direct[i3 + ch] += (float)di[ch];
+            f->indirect[i3 + ch] += (float)in[ch];
+            f->emission[i3 + ch] += (float)em[ch];
+            f->albedo[i3 + ch] += (float)al[ch];
+            f->normal[i3 + ch] += (float)nn[ch];
+        }
+        f->depth[i1] += (float)depth;
+        f->hits[i1] += (float)hits;
+        f->spp[i1] += (float)taken;
+    }
+    q->pixel_count = q->sample_count = 0;
+    return n;
+}
+
+/* Queues the samples of this round of a pixel that has spp samples in the pass (the
+ * sampler set covers all spp, after spp_before earlier ones when it continues them: a
+ * round takes a slice), integrating the queue first when they would not fit. Returns the
+ * samples integrated by that flush. */
+static long long queue_pixel(PassJob *job, WaveQueue *q, int px, int py, int spp, IntegratorStats *st)
+{
     int first = job->sample_begin, last = job->sample_end < spp ? job->sample_end : spp;
     if (first >= last) return 0;
-    PixelSampler s;
-    /* the sampler is set up for all spp samples of the pass (after spp_before earlier ones
-     * when it continues them): a round takes a slice */
+    long long done = 0;
+    if (q->sample_count + (last - first) > WAVE_SAMPLES) done = flush_wave(job, q, st);
     int before = job->spp_before;
-    sampler_continue_pixel(&s, r->sampler, r->opt.seed, px, py, job->pass, before, before + spp);
-    /* double sums per pixel and pass: one float add per pass into the frame */
-    double c[3] = {0}, di[3] = {0}, in[3] = {0}, em[3] = {0}, al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
-    int taken = 0;
-    for (int i = first; i < last; ++i, ++taken) {
-        if ((taken & 63) == 63 && cancel_requested(job)) break;
-        sampler_start_sample(&s, before + i);
-        SampleRecord rec;
-        integrate_camera_sample(&r->isc, &s, px, py, &rec, st);
-        pixel_filter_weigh_record(&rec);
-        c[0] += rec.L.x, c[1] += rec.L.y, c[2] += rec.L.z;
-        di[0] += rec.direct.x, di[1] += rec.direct.y, di[2] += rec.direct.z;
-        in[0] += rec.indirect.x, in[1] += rec.indirect.y, in[2] += rec.indirect.z;
-        em[0] += rec.emission.x, em[1] += rec.emission.y, em[2] += rec.emission.z;
-        if (rec.hit) {
-            al[0] += rec.albedo.x, al[1] += rec.albedo.y, al[2] += rec.albedo.z;
-            nn[0] += rec.n_shading.x, nn[1] += rec.n_shading.y, nn[2] += rec.n_shading.z;
-            if (isfinite(rec.depth_cam)) depth += rec.depth_cam, hits += 1.0;
-        }
-        if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, &rec);
-    }
-    Frame *f = job->frame;
-    size_t i1 = (size_t)py * (size_t)f->width + (size_t)px, i3 = 3 * i1;
-    for (int k = 0; k < 3; ++k) {
-        f->color[i3 + k] += (float)c[k];
-        f->direct[i3 + k] += (float)di[k];
-        f->indirect[i3 + k] += (float)in[k];
-        f->emission[i3 + k] += (float)em[k];
-        f->albedo[i3 + k] += (float)al[k];
-        f->normal[i3 + k] += (float)nn[k];
-    }
-    f->depth[i1] += (float)depth;
-    f->hits[i1] += (float)hits;
-    f->spp[i1] += (float)taken;
-    return taken;
+    q->pixel[q->pixel_count++] = (WavePixel){px, py, before, before + spp, before + first, last - first};
+    q->sample_count += last - first;
+    return done;
 }
 
 static void *pass_worker(void *arg)
@@ -269,6 +287,17 @@ static void *pass_worker(void *arg)
     PassJob *job = arg;
     Renderer *r = job->r;
     IntegratorStats st = {0};
+    WaveQueue *q = malloc(sizeof *q);
+    Wave *wave = wave_create();
+    if (!q || !wave) { /* no scratch space: the pass ends incomplete, as cancelled */
+        __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
+        free(q);
+        wave_free(wave);
+        __atomic_add_fetch(&job->workers_done, 1, __ATOMIC_RELEASE);
+        return NULL;
+    }
+    q->wave = wave;
+    q->pixel_count = q->sample_count = 0;
     for (;;) {
         if (cancel_requested(job)) {
             __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
@@ -289,13 +318,16 @@ static void *pass_worker(void *arg)
             for (int x = x0; x < x1; ++x) {
                 int spp = job->spp_pp ? job->spp_pp[(size_t)y * (size_t)r->width + (size_t)x] : job->spp_uniform;
                 if (spp <= 0) continue;
-                samples += render_pixel(job, x, y, spp, &st);
+                samples += queue_pixel(job, q, x, y, spp, &st);
             }
         }
+        samples += flush_wave(job, q, &st); /* a wave never spans two tiles */
         __atomic_add_fetch(&job->samples_done, samples, __ATOMIC_RELAXED);
         __atomic_add_fetch(&job->rays_done, st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf - rays_before,
                            __ATOMIC_RELAXED);
     }
+    wave_free(wave);
+    free(q);
     pthread_mutex_lock(&job->stats_lock);
     job->stats.rays_primary += st.rays_primary;
     job->stats.rays_shadow += st.rays_shadow;
@@ -347,6 +379,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
         /* rounds [0,4) [4,8) [8,16) ... [64,128) [128,192) ...: at least 4 consecutive
          * samples of a pixel per round keep the traversal's caches warm */
         end = begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64);
+        _Static_assert(WAVE_SAMPLES >= 64, "a pixel's slice of a round (at most 64 samples) fits in one wave");
         job.sample_begin = begin;
         job.sample_end = end;
         job.next_tile = 0;

@@ -115,7 +115,14 @@ static bool quadric_hit(const Geom *g, const double o_geom[3], const double d_ge
     double c = o[0] * o[0] + o[1] * o[1] + o[2] * o[2] - g->radius * g->radius;
     double f = b / (2.0 * a);
     double v[3] = {o[0] - f * d[0], o[1] - f * d[1], o[2] - f * d[2]};
-    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    double len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    /* A line clearly farther from the centre than the radius misses, and the test below
+     * would find disc < 0 (r - len is then exactly negative): decided here without its
+     * square root, the latency a miss waited on. The relative margin 1e-9 is far above the
+     * rounding of len2 and r^2, so only sure misses leave early and every result is the
+     * same as without the test; NaN falls through to it. */
+    if (len2 > g->radius * g->radius * (1.0 + 1e-9)) return false;
+    double len = sqrt(len2);
     double disc = 4.0 * a * (g->radius + len) * (g->radius - len);
     if (disc < 0.0) return false;
     double root = sqrt(disc);
@@ -172,32 +179,52 @@ static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
     args->bounds_o->lower_z = (float)(bmin[2] - pad), args->bounds_o->upper_z = (float)(bmax[2] + pad);
 }
 
+/* Embree hands user geometry N rays at once (N = 1 for single rays, 4/8/16 for packets and
+ * for coherent streams) as structure-of-arrays: field k of ray i is element k N + i of a
+ * float (or uint) array; the hit fields start at element 12 N (rtcore_ray.h's RTCRayN
+ * layout). Only rays with valid[i] == -1 are live. */
+enum { RAYN_ORG_X, RAYN_ORG_Y, RAYN_ORG_Z, RAYN_TNEAR, RAYN_DIR_X, RAYN_DIR_Y, RAYN_DIR_Z, RAYN_TIME, RAYN_TFAR };
+enum { HITN_NG_X = 12, HITN_NG_Y, HITN_NG_Z, HITN_U, HITN_V, HITN_PRIM, HITN_GEOM, HITN_INST };
+
+static inline float *rayn_f(void *rays, unsigned n, int field, unsigned i) { return (float *)rays + (size_t)field * n + i; }
+static inline unsigned *rayn_u(void *rays, unsigned n, int field, unsigned i)
+{
+    return (unsigned *)rays + (size_t)field * n + i;
+}
+
+static bool quadric_hit_rayn(const Geom *g, void *rays, unsigned n, unsigned i, double *t)
+{
+    double o[3] = {*rayn_f(rays, n, RAYN_ORG_X, i), *rayn_f(rays, n, RAYN_ORG_Y, i), *rayn_f(rays, n, RAYN_ORG_Z, i)};
+    double d[3] = {*rayn_f(rays, n, RAYN_DIR_X, i), *rayn_f(rays, n, RAYN_DIR_Y, i), *rayn_f(rays, n, RAYN_DIR_Z, i)};
+    return quadric_hit(g, o, d, *rayn_f(rays, n, RAYN_TNEAR, i), *rayn_f(rays, n, RAYN_TFAR, i), t);
+}
+
 static void quadric_intersect_cb(const struct RTCIntersectFunctionNArguments *args)
 {
-    if (args->N != 1 || !args->valid[0]) return; /* only single rays are traced */
-    struct RTCRayHit *rh = (struct RTCRayHit *)args->rayhit;
     const Geom *g = args->geometryUserPtr;
-    double o[3] = {rh->ray.org_x, rh->ray.org_y, rh->ray.org_z}, d[3] = {rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z};
-    double t;
-    if (!quadric_hit(g, o, d, rh->ray.tnear, rh->ray.tfar, &t)) return;
-    rh->ray.tfar = (float)t;
-    rh->hit.u = rh->hit.v = 0.0f;
-    rh->hit.Ng_x = 0.0f;
-    rh->hit.Ng_y = 0.0f;
-    rh->hit.Ng_z = 1.0f;
-    rh->hit.primID = args->primID;
-    rh->hit.geomID = args->geomID;
-    rh->hit.instID[0] = args->context->instID[0];
+    void *rh = args->rayhit;
+    unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        double t;
+        if (args->valid[i] != -1 || !quadric_hit_rayn(g, rh, n, i, &t)) continue;
+        *rayn_f(rh, n, RAYN_TFAR, i) = (float)t;
+        *rayn_f(rh, n, HITN_U, i) = *rayn_f(rh, n, HITN_V, i) = 0.0f;
+        *rayn_f(rh, n, HITN_NG_X, i) = *rayn_f(rh, n, HITN_NG_Y, i) = 0.0f;
+        *rayn_f(rh, n, HITN_NG_Z, i) = 1.0f;
+        *rayn_u(rh, n, HITN_PRIM, i) = args->primID;
+        *rayn_u(rh, n, HITN_GEOM, i) = args->geomID;
+        *rayn_u(rh, n, HITN_INST, i) = args->context->instID[0];
+    }
 }
 
 static void quadric_occluded_cb(const struct RTCOccludedFunctionNArguments *args)
 {
-    if (args->N != 1 || !args->valid[0]) return;
-    struct RTCRay *ray = (struct RTCRay *)args->ray;
     const Geom *g = args->geometryUserPtr;
-    double o[3] = {ray->org_x, ray->org_y, ray->org_z}, d[3] = {ray->dir_x, ray->dir_y, ray->dir_z};
-    double t;
-    if (quadric_hit(g, o, d, ray->tnear, ray->tfar, &t)) ray->tfar = -INFINITY;
+    unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        double t;
+        if (args->valid[i] == -1 && quadric_hit_rayn(g, args->ray, n, i, &t)) *rayn_f(args->ray, n, RAYN_TFAR, i) = -INFINITY;
+    }
 }
 
 /* ---- building ---- */
@@ -502,6 +529,11 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
 {
     *tr = (Tracer){0};
     double t0 = seconds_now();
+    /* The batch interface for benchmarks comparing them (docs/benchmarks.md); unknown
+     * names keep the default. */
+    tr->batch_mode = TRACER_BATCH_DEFAULT;
+    const char *mode = getenv("WEDGE_TRACE_BATCH");
+    if (mode) tracer_batch_mode_parse(mode, &tr->batch_mode);
     ErrorSlot *slot = NULL;
     slot = calloc(1, sizeof *slot); /* filled by Embree's error callback */
     if (!slot) goto oom;
@@ -859,31 +891,43 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
     return true;
 }
 
-bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit)
+/* The hit of a traced ray o + t d as a SurfaceHit (false on a miss). */
+static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time01, bool shade_all,
+                                   const struct RTCRayHit *rh, SurfaceHit *hit)
 {
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    struct RTCRayHit rh;
-    init_ray(&rh.ray, o, d, tmax, time01);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return shade_hit(tr, o, d, time01, shade_all, &rh, hit);
-    const Geom *g = &tr->layers[0].geoms[rh.hit.geomID];
-    if (g->kind != GEOM_TRIANGLES) return shade_hit(tr, o, d, time01, shade_all, &rh, hit);
+    if (rh->hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (rh->hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return shade_hit(tr, o, d, time01, shade_all, rh, hit);
+    const Geom *g = &tr->layers[0].geoms[rh->hit.geomID];
+    if (g->kind != GEOM_TRIANGLES) return shade_hit(tr, o, d, time01, shade_all, rh, hit);
     /* The common case, a triangle of the top level, as shade_hit does it. */
-    int prim = (int)rh.hit.primID, object_id = (int)rh.hit.geomID;
+    int prim = (int)rh->hit.primID, object_id = (int)rh->hit.geomID;
     if (!shade_all && g->light_first < 0) {
-        hit_unshaded(hit, rh.ray.tfar, g, prim, -1, object_id);
+        hit_unshaded(hit, rh->ray.tfar, g, prim, -1, object_id);
         return true;
     }
     vec3 p, ng, ns;
     vec2 uv;
     float mag;
-    shade_triangle(g, prim, rh.hit.u, rh.hit.v, &p, &ng, &ns, &uv, &mag);
-    hit_shaded(hit, rh.ray.tfar, p, ng, ns, uv, OFFSET_REL * mag, g, prim, -1, object_id);
+    shade_triangle(g, prim, rh->hit.u, rh->hit.v, &p, &ng, &ns, &uv, &mag);
+    hit_shaded(hit, rh->ray.tfar, p, ng, ns, uv, OFFSET_REL * mag, g, prim, -1, object_id);
     return true;
+}
+
+static inline void init_rayhit(struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01)
+{
+    init_ray(&rh->ray, o, d, tmax, time01);
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit rh;
+    init_rayhit(&rh, o, d, tmax, time01);
+    rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
+    return hit_from_rayhit(tr, o, d, time01, shade_all, &rh, hit);
 }
 
 bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
@@ -894,4 +938,123 @@ bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
     init_ray(&r, o, d, tmax, time01);
     rtcOccluded1(tr->layers[0].scene, &ctx, &r);
     return r.tfar == -INFINITY;
+}
+
+/* ---- batches ---- */
+
+/* Rays go to Embree in chunks of this many (on the stack). */
+enum { TRACE_CHUNK = 64 };
+
+const char *tracer_batch_mode_name(TracerBatchMode mode)
+{
+    switch (mode) {
+    case TRACER_BATCH_SINGLE: return "single";
+    case TRACER_BATCH_STREAM: return "stream";
+    case TRACER_BATCH_PACKET16: return "packet16";
+    case TRACER_BATCH_MODE_COUNT: break;
+    }
+    return "?";
+}
+
+bool tracer_batch_mode_parse(const char *name, TracerBatchMode *mode)
+{
+    for (int m = 0; m < TRACER_BATCH_MODE_COUNT; ++m)
+        if (name && strcmp(name, tracer_batch_mode_name((TracerBatchMode)m)) == 0) {
+            *mode = (TracerBatchMode)m;
+            return true;
+        }
+    return false;
+}
+
+static void context_init(const Tracer *tr, struct RTCIntersectContext *ctx, bool coherent)
+{
+    rtcInitIntersectContext(ctx);
+    /* Embree 3.13's coherent rtcOccluded16 never returned on the rays of
+     * tests/render/test_wave.c (spheres, a disk, an instance): packets go incoherent */
+    if (tr->batch_mode == TRACER_BATCH_PACKET16) coherent = false;
+    ctx->flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+}
+
+/* Packets of 16: the chunk's rays k0 .. k0 + 15 as structure-of-arrays (lanes past n off). */
+static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *rays, int n)
+{
+    for (int i = 0; i < 16; ++i) {
+        const TracerRay *r = &rays[i < n ? i : 0];
+        valid[i] = i < n ? -1 : 0;
+        p->org_x[i] = r->o.x, p->org_y[i] = r->o.y, p->org_z[i] = r->o.z;
+        p->dir_x[i] = r->d.x, p->dir_y[i] = r->d.y, p->dir_z[i] = r->d.z;
+        p->tnear[i] = 0.0f;
+        p->tfar[i] = r->tmax;
+        p->time[i] = r->time01;
+        p->mask[i] = 0xFFFFFFFFu;
+        p->id[i] = 0;
+        p->flags[i] = 0;
+    }
+}
+
+void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
+                            SurfaceHit *hits, bool *found)
+{
+    RTCScene scene = tr->layers[0].scene;
+    struct RTCIntersectContext ctx;
+    context_init(tr, &ctx, coherent);
+    struct RTCRayHit rh[TRACE_CHUNK];
+    for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
+        int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
+        const TracerRay *r = rays + k0;
+        if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+            for (int p0 = 0; p0 < m; p0 += 16) {
+                struct RTCRayHit16 pk;
+                _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
+                int c = m - p0 < 16 ? m - p0 : 16;
+                packet16_fill(&pk.ray, valid, r + p0, c);
+                for (int i = 0; i < 16; ++i) pk.hit.geomID[i] = pk.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect16(valid, scene, &ctx, &pk);
+                for (int i = 0; i < c; ++i) { /* back to one RTCRayHit per ray for the shading below */
+                    struct RTCRayHit *h = &rh[p0 + i];
+                    h->ray.tfar = pk.ray.tfar[i];
+                    h->hit.u = pk.hit.u[i], h->hit.v = pk.hit.v[i];
+                    h->hit.primID = pk.hit.primID[i], h->hit.geomID = pk.hit.geomID[i];
+                    h->hit.instID[0] = pk.hit.instID[0][i];
+                }
+            }
+        } else {
+            for (int i = 0; i < m; ++i) init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01);
+            if (tr->batch_mode == TRACER_BATCH_STREAM)
+                rtcIntersect1M(scene, &ctx, rh, (unsigned)m, sizeof rh[0]);
+            else
+                for (int i = 0; i < m; ++i) rtcIntersect1(scene, &ctx, &rh[i]);
+        }
+        for (int i = 0; i < m; ++i)
+            found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
+    }
+}
+
+void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded)
+{
+    RTCScene scene = tr->layers[0].scene;
+    struct RTCIntersectContext ctx;
+    context_init(tr, &ctx, coherent);
+    struct RTCRay ray[TRACE_CHUNK];
+    for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
+        int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
+        const TracerRay *r = rays + k0;
+        if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+            for (int p0 = 0; p0 < m; p0 += 16) {
+                struct RTCRay16 pk;
+                _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
+                int c = m - p0 < 16 ? m - p0 : 16;
+                packet16_fill(&pk, valid, r + p0, c);
+                rtcOccluded16(valid, scene, &ctx, &pk);
+                for (int i = 0; i < c; ++i) occluded[k0 + p0 + i] = pk.tfar[i] == -INFINITY;
+            }
+            continue;
+        }
+        for (int i = 0; i < m; ++i) init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01);
+        if (tr->batch_mode == TRACER_BATCH_STREAM)
+            rtcOccluded1M(scene, &ctx, ray, (unsigned)m, sizeof ray[0]);
+        else
+            for (int i = 0; i < m; ++i) rtcOccluded1(scene, &ctx, &ray[i]);
+        for (int i = 0; i < m; ++i) occluded[k0 + i] = ray[i].tfar == -INFINITY;
+    }
 }

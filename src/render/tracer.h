@@ -65,8 +65,16 @@ typedef struct {
     Mat4 inst_from_world;
 } Instance;
 
+/* How batches of rays go to Embree (tracer_*_batch): one rtcIntersect1 / rtcOccluded1 per
+ * ray, Embree's stream interface (rtcIntersect1M / rtcOccluded1M), or packets of 16
+ * (rtcIntersect16 / rtcOccluded16). Every mode finds the same hits; docs/benchmarks.md
+ * compares their speed. */
+typedef enum { TRACER_BATCH_SINGLE, TRACER_BATCH_STREAM, TRACER_BATCH_PACKET16, TRACER_BATCH_MODE_COUNT } TracerBatchMode;
+#define TRACER_BATCH_DEFAULT TRACER_BATCH_STREAM
+
 typedef struct {
     RTCDevice device;
+    TracerBatchMode batch_mode; /* TRACER_BATCH_DEFAULT, or WEDGE_TRACE_BATCH=single|stream|packet16 */
     Layer *layers;
     int layer_count;
     Instance *instances;
@@ -107,6 +115,21 @@ bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01
 bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit);
 /* Any hit along o + t d, t in (0, tmax). */
 bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01);
+
+/* One ray of a batch: o + t d for t in (0, tmax), at pose fraction time01. */
+typedef struct {
+    vec3 o, d;
+    float tmax, time01;
+} TracerRay;
+
+/* tracer_intersect_ex / tracer_occluded for n rays at once, through tr->batch_mode.
+ * coherent: the rays start close together and point the same way (camera rays of a few
+ * pixels, shadow rays to one light), a hint to Embree. */
+void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
+                            SurfaceHit *hits, bool *found);
+void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded);
+const char *tracer_batch_mode_name(TracerBatchMode mode);
+bool tracer_batch_mode_parse(const char *name, TracerBatchMode *mode);
 
 /* World-from-geometry transform of a layer geometry at a time (identity for layer 0). */
 Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01);
