@@ -5,8 +5,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "recon/pipeline.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
 
@@ -50,6 +52,38 @@ static inline bool recon_test_renderer(const char *text, unsigned seed, int spp,
         return false;
     }
     return true;
+}
+
+/* Checks a method's result beyond what recon_test_render checks itself (may be NULL). */
+typedef void (*ReconResultCheck)(const ReconResult *res, void *ctx);
+
+/* One frame of a scene given as text through the reconstruction pipeline with options o (the
+ * seed and o->spp also set up the renderer): checks that no pixel came out non-finite, calls
+ * check on the result, and returns a copy of the image (3 floats per pixel; free it), or NULL
+ * with the message on stderr. */
+static inline float *recon_test_render(const char *text, unsigned seed, const ReconOptions *o, ReconResultCheck check,
+                                       void *ctx)
+{
+    SceneDesc scene;
+    Renderer *r;
+    if (!recon_test_renderer(text, seed, o->spp, false, &scene, &r)) return NULL;
+    ReconPipeline *p = NULL;
+    Diag d = {0};
+    float *out = NULL;
+    if (recon_pipeline_create(r, o, &p, &d) && recon_pipeline_render(p, &d)) {
+        const ReconResult *res = recon_pipeline_result(p);
+        size_t n3 = 3 * (size_t)res->width * (size_t)res->height;
+        if ((out = malloc(sizeof(float) * n3))) memcpy(out, res->rgb, sizeof(float) * n3);
+        CHECK(res->nonfinite_pixels == 0);
+        if (check) check(res, ctx);
+    } else {
+        fprintf(stderr, "%s\n", d.message);
+        CHECK(false);
+    }
+    recon_pipeline_destroy(p);
+    renderer_destroy(r);
+    scene_desc_free(&scene);
+    return out;
 }
 
 /* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */

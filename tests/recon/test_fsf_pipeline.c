@@ -13,47 +13,34 @@
 #include "recon_test_util.h"
 #include "scene/scene_desc.h"
 
+/* What only an FSF frame has: the method chosen, its sample count and its AOVs. */
+static void check_fsf(const ReconResult *res, void *ctx)
+{
+    int spp = *(const int *)ctx;
+    size_t n = (size_t)res->width * (size_t)res->height;
+    CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_SOFT_SHADOWS), "fsf"));
+    CHECK(res->spp_avg == (spp > 0 ? spp : 16));
+    const float *eta = NULL, *sigma = NULL;
+    for (int k = 0; k < res->aov_count; ++k) {
+        if (!strcmp(res->aovs[k].name, "fsf.eta_m_per_px")) eta = res->aovs[k].data;
+        if (!strcmp(res->aovs[k].name, "fsf.sigma_px")) sigma = res->aovs[k].data;
+    }
+    CHECK(eta && sigma);
+    size_t bad = 0, filtered = 0;
+    for (size_t i = 0; eta && sigma && i < n; ++i) {
+        bad += !(eta[i] >= 0.0f && isfinite(eta[i])) ||
+               !(sigma[i] >= 0.0f && sigma[i] <= FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS);
+        filtered += sigma[i] > 1.0f;
+    }
+    CHECK(bad == 0);        /* shear along +u, width within the 32-pixel cap */
+    CHECK(filtered > n / 4); /* the floor is filtered, not passed through */
+}
+
+/* One render through the pipeline; returns a copy of the image and checks the result. */
 static float *render(const char *filter, unsigned seed, int spp, bool fsf_checks)
 {
-    SceneDesc scene;
-    Renderer *r;
-    if (!recon_test_renderer(SHADOW_SCENE, seed, spp, false, &scene, &r)) return NULL;
     ReconOptions o = {.filter = filter, .spp = spp};
-    ReconPipeline *p = NULL;
-    Diag d = {0};
-    float *out = NULL;
-    if (recon_pipeline_create(r, &o, &p, &d) && recon_pipeline_render(p, &d)) {
-        const ReconResult *res = recon_pipeline_result(p);
-        size_t n = (size_t)res->width * res->height;
-        out = malloc(sizeof(float) * 3 * n);
-        memcpy(out, res->rgb, sizeof(float) * 3 * n);
-        CHECK(res->nonfinite_pixels == 0);
-        if (fsf_checks) {
-            CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_SOFT_SHADOWS), "fsf"));
-            CHECK(res->spp_avg == (spp > 0 ? spp : 16));
-            const float *eta = NULL, *sigma = NULL;
-            for (int k = 0; k < res->aov_count; ++k) {
-                if (!strcmp(res->aovs[k].name, "fsf.eta_m_per_px")) eta = res->aovs[k].data;
-                if (!strcmp(res->aovs[k].name, "fsf.sigma_px")) sigma = res->aovs[k].data;
-            }
-            CHECK(eta && sigma);
-            size_t bad = 0, filtered = 0;
-            for (size_t i = 0; eta && sigma && i < n; ++i) {
-                bad += !(eta[i] >= 0.0f && isfinite(eta[i])) ||
-                       !(sigma[i] >= 0.0f && sigma[i] <= FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS);
-                filtered += sigma[i] > 1.0f;
-            }
-            CHECK(bad == 0);        /* shear along +u, width within the 32-pixel cap */
-            CHECK(filtered > n / 4); /* the floor is filtered, not passed through */
-        }
-    } else {
-        fprintf(stderr, "%s\n", d.message);
-        CHECK(false);
-    }
-    recon_pipeline_destroy(p);
-    renderer_destroy(r);
-    scene_desc_free(&scene);
-    return out;
+    return recon_test_render(SHADOW_SCENE, seed, &o, fsf_checks ? check_fsf : NULL, &spp);
 }
 
 /* A sphere light has soft shadows but no light plane with axes: a clear refusal. */

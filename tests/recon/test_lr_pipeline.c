@@ -39,48 +39,34 @@ static const char *const SCENE =
     "  Shape \"sphere\" \"float radius\" [ 0.5 ]\n"
     "AttributeEnd\n";
 
+/* What only an LR frame has: the method chosen, its sample count and its AOVs. */
+static void check_lr(const ReconResult *res, void *ctx)
+{
+    int spp = *(const int *)ctx;
+    size_t n = (size_t)res->width * (size_t)res->height;
+    CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_DEFOCUS), "lr"));
+    CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_MOTION), "lr"));
+    CHECK(res->spp_avg == spp);
+    const float *layers = NULL, *extent = NULL;
+    for (int k = 0; k < res->aov_count; ++k) {
+        if (!strcmp(res->aovs[k].name, "lr.layers")) layers = res->aovs[k].data;
+        if (!strcmp(res->aovs[k].name, "lr.extent_px")) extent = res->aovs[k].data;
+    }
+    CHECK(layers && extent);
+    int bad = 0, sharp = 0;
+    for (size_t i = 0; layers && extent && i < n; ++i) {
+        bad += !(layers[i] >= 1 && layers[i] <= 16) || !(extent[i] >= 0 && extent[i] <= 4.0f + 1e-4f);
+        sharp += extent[i] > 0 && extent[i] < 0.34f; /* the pixel filter (1/3 px) near focus */
+    }
+    CHECK(bad == 0); /* the extent is at most sigma_clamp = 4 px (Appendix C) */
+    (void)sharp;
+}
+
 /* One render through the pipeline; returns a copy of the image and checks the result. */
 static float *render(const char *filter, unsigned seed, int spp, bool lr_checks)
 {
-    SceneDesc scene;
-    Renderer *r;
-    if (!recon_test_renderer(SCENE, seed, spp, false, &scene, &r)) return NULL;
     ReconOptions o = {.filter = filter, .spp = spp};
-    ReconPipeline *p = NULL;
-    Diag d = {0};
-    float *out = NULL;
-    if (recon_pipeline_create(r, &o, &p, &d) && recon_pipeline_render(p, &d)) {
-        const ReconResult *res = recon_pipeline_result(p);
-        size_t n = (size_t)res->width * res->height;
-        out = malloc(sizeof(float) * 3 * n);
-        memcpy(out, res->rgb, sizeof(float) * 3 * n);
-        CHECK(res->nonfinite_pixels == 0);
-        if (lr_checks) {
-            CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_DEFOCUS), "lr"));
-            CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_MOTION), "lr"));
-            CHECK(res->spp_avg == spp);
-            const float *layers = NULL, *extent = NULL;
-            for (int k = 0; k < res->aov_count; ++k) {
-                if (!strcmp(res->aovs[k].name, "lr.layers")) layers = res->aovs[k].data;
-                if (!strcmp(res->aovs[k].name, "lr.extent_px")) extent = res->aovs[k].data;
-            }
-            CHECK(layers && extent);
-            int bad = 0, sharp = 0;
-            for (size_t i = 0; layers && extent && i < n; ++i) {
-                bad += !(layers[i] >= 1 && layers[i] <= 16) || !(extent[i] >= 0 && extent[i] <= 4.0f + 1e-4f);
-                sharp += extent[i] > 0 && extent[i] < 0.34f; /* the pixel filter (1/3 px) near focus */
-            }
-            CHECK(bad == 0); /* the extent is at most sigma_clamp = 4 px (Appendix C) */
-            (void)sharp;
-        }
-    } else {
-        fprintf(stderr, "%s\n", d.message);
-        CHECK(false);
-    }
-    recon_pipeline_destroy(p);
-    renderer_destroy(r);
-    scene_desc_free(&scene);
-    return out;
+    return recon_test_render(SCENE, seed, &o, lr_checks ? check_lr : NULL, &spp);
 }
 
 int main(void)
