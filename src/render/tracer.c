@@ -423,10 +423,9 @@ static bool polar_scale_is_diagonal(const Mat4 *s)
 /* Motion of an instance: pbrt-v4 AnimatedTransform poses handed to Embree as quaternion
  * decompositions. With a diagonal polar scale at both ends, two time steps reproduce pbrt's
  * interpolation (T lerp, R slerp, S lerp) exactly; otherwise 17 exact poses bound the error
- * of Embree's per-segment interpolation. */
-/* In tracer space an instance transform M (world from layer) becomes k_w M / k_l, k_w the
- * world's and k_l the layer's tracer scale: the 3x3 part times k_w / k_l, the translation
- * times k_w. */
+ * of Embree's per-segment interpolation. In tracer space an instance transform M (world
+ * from layer) becomes k_w M / k_l, k_w the world's and k_l the layer's tracer scale: the
+ * 3x3 part times k_w / k_l, the translation times k_w (as in set_instance_static). */
 static void set_instance_motion(RTCGeometry g, const AnimXform *a, double k_world, double k_layer)
 {
     int steps = (polar_scale_is_diagonal(&a->s[0]) && polar_scale_is_diagonal(&a->s[1])) ? 2 : 17;
