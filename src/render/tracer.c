@@ -174,7 +174,7 @@ static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
     /* pad by a relative epsilon so float rounding of the box never clips the surface */
     double pad = 1e-6 * fmax(fmax(fabs(bmin[0]), fabs(bmax[0])), fmax(fmax(fabs(bmin[1]), fabs(bmax[1])),
                                                                     fmax(fabs(bmin[2]), fabs(bmax[2])))) + 1e-30;
-    double k = g->tracer_from_geom; /* a power of two: exact */
+    double k = 1.0 / g->geom_from_tracer; /* a power of two: exact */
     args->bounds_o->lower_x = (float)(k * (bmin[0] - pad)), args->bounds_o->upper_x = (float)(k * (bmax[0] + pad));
     args->bounds_o->lower_y = (float)(k * (bmin[1] - pad)), args->bounds_o->upper_y = (float)(k * (bmax[1] + pad));
     args->bounds_o->lower_z = (float)(k * (bmin[2] - pad)), args->bounds_o->upper_z = (float)(k * (bmax[2] + pad));
@@ -200,7 +200,7 @@ static inline unsigned *rayn_u(void *rays, unsigned n, int field, unsigned i)
  * k = 1 this is the unscaled computation. */
 static bool quadric_hit_rayn(const Geom *g, void *rays, unsigned n, unsigned i, double *t)
 {
-    double w = 1.0 / g->tracer_from_geom;
+    double w = g->geom_from_tracer;
     double o[3] = {w * *rayn_f(rays, n, RAYN_ORG_X, i), w * *rayn_f(rays, n, RAYN_ORG_Y, i),
                    w * *rayn_f(rays, n, RAYN_ORG_Z, i)};
     double d[3] = {w * *rayn_f(rays, n, RAYN_DIR_X, i), w * *rayn_f(rays, n, RAYN_DIR_Y, i),
@@ -249,7 +249,7 @@ static Geom *layer_add(Layer *l)
     Geom *g = &l->geoms[l->geom_count++];
     memset(g, 0, sizeof *g);
     g->shape = -1, g->material = -1, g->area_light = -1, g->light_first = -1, g->instance = -1, g->owner_instance = -1;
-    g->tracer_from_geom = 1.0;
+    g->geom_from_tracer = 1.0;
     g->geom_from_object = g->object_from_geom = mat4_identity();
     return g;
 }
@@ -586,7 +586,7 @@ static bool normalise_scale(Tracer *tr, ErrorSlot *slot, Diag *err)
         float k = l->tracer_from_geom;
         for (int gi = 0; gi < l->geom_count; ++gi) {
             Geom *g = &l->geoms[gi];
-            g->tracer_from_geom = k;
+            g->geom_from_tracer = 1.0 / k;
             if (g->kind != GEOM_TRIANGLES || k == 1.0f) continue;
             size_t n = 3 * (size_t)g->vertex_count;
             float *pt = malloc(n * sizeof(float) + 16); /* Embree's 16-byte loads, as in geom_from_shape */

@@ -47,7 +47,7 @@ typedef struct {
     const uint32_t *index;   /* Embree index buffer, 3 per triangle */
     vec3 *n;                 /* shading normals in geometry space (NULL = none) */
     vec2 *uv;                /* per-vertex uv (NULL = pbrt default (0,0) (1,0) (1,1)) */
-    double tracer_from_geom; /* its Layer's tracer_from_geom, for the sphere/disk callbacks */
+    double geom_from_tracer; /* 1 / its Layer's tracer_from_geom, for the sphere/disk callbacks */
     /* spheres and disks: object-space quadric, placed by geom_from_object */
     double radius, zmin, zmax, phimax_rad, height, inner_radius;
     Mat4 geom_from_object, object_from_geom;
