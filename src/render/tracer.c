@@ -755,6 +755,16 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
                          (double)TRACER_COORD_MAX);
                 goto fail;
             }
+        /* Below this size the tracer still normalises the scene, but lights and shading work
+         * in world units in float: an area of (1e-19)^2 underflows, and nothing smaller than
+         * TRACER_EXTENT_TESTED_MIN is tested (test_robustness, tests/stress). */
+        float extent = 0.0f;
+        for (int i = 0; i < 3; ++i) extent = fmaxf(extent, tr->bounds_max[i] - tr->bounds_min[i]);
+        if (extent > 0.0f && extent < TRACER_EXTENT_TESTED_MIN)
+            scene_warn(scene, (SrcLoc){0},
+                       "the scene's geometry is %g units across, below %g, the smallest scale tested; lights and "
+                       "shading lose precision in float from about 1e-19 (areas underflow): model in larger units",
+                       (double)extent, (double)TRACER_EXTENT_TESTED_MIN);
     }
     if (!normalise_scale(tr, slot, err)) goto fail;
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);

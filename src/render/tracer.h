@@ -27,6 +27,8 @@
  * exceeds about 1.84e18 in any coordinate (an assertion, not an error), so geometry and the
  * camera must stay inside this, with room for the hit points' offsets. */
 #define TRACER_COORD_MAX 1.0e18f
+/* The smallest scene extent (world units) the scale tests cover: smaller scenes get a warning. */
+#define TRACER_EXTENT_TESTED_MIN 1.0e-12f
 
 typedef enum { GEOM_TRIANGLES, GEOM_SPHERE, GEOM_DISK, GEOM_INSTANCE } GeomKind;
 

@@ -158,4 +158,13 @@ print("%s: scale %s against scale 1: relMSE %.3g" % ("ok" if ok else "FAIL", sys
 sys.exit(0 if ok else 1)
 PY
 done
+# beyond the tested range (issue 20 item 2: "a clear warning beyond what floats can
+# represent") the render still runs and says so; a scene inside the range gets no warning
+scale_scene 1e-14 > "$T/scale-tiny.pbrt"
+"$WEDGE" render "$T/scale-tiny.pbrt" --filter none --spp 1 -o "$T/scale-tiny.exr" 2>"$T/tiny.err" ||
+    { echo "FAIL: a scene 1e-14 across did not render: $(cat "$T/tiny.err")"; fail=1; }
+grep -q "units across, below 1e-12, the smallest scale tested" "$T/tiny.err" ||
+    { echo "FAIL: no warning for a scene 1e-14 across: $(cat "$T/tiny.err")"; fail=1; }
+"$WEDGE" render "$T/scale-1e-12.pbrt" --filter none --spp 1 -o "$T/scale-small.exr" 2>"$T/small.err"
+if grep -q "smallest scale tested" "$T/small.err"; then echo "FAIL: a warning inside the tested range: $(cat "$T/small.err")"; fail=1; fi
 exit $fail
