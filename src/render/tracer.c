@@ -174,9 +174,10 @@ static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
     /* pad by a relative epsilon so float rounding of the box never clips the surface */
     double pad = 1e-6 * fmax(fmax(fabs(bmin[0]), fabs(bmax[0])), fmax(fmax(fabs(bmin[1]), fabs(bmax[1])),
                                                                     fmax(fabs(bmin[2]), fabs(bmax[2])))) + 1e-30;
-    args->bounds_o->lower_x = (float)(bmin[0] - pad), args->bounds_o->upper_x = (float)(bmax[0] + pad);
-    args->bounds_o->lower_y = (float)(bmin[1] - pad), args->bounds_o->upper_y = (float)(bmax[1] + pad);
-    args->bounds_o->lower_z = (float)(bmin[2] - pad), args->bounds_o->upper_z = (float)(bmax[2] + pad);
+    double k = 1.0 / g->geom_from_tracer; /* a power of two: exact */
+    args->bounds_o->lower_x = (float)(k * (bmin[0] - pad)), args->bounds_o->upper_x = (float)(k * (bmax[0] + pad));
+    args->bounds_o->lower_y = (float)(k * (bmin[1] - pad)), args->bounds_o->upper_y = (float)(k * (bmax[1] + pad));
+    args->bounds_o->lower_z = (float)(k * (bmin[2] - pad)), args->bounds_o->upper_z = (float)(k * (bmax[2] + pad));
 }
 
 /* Embree hands user geometry N rays at once (N = 1 for single rays, 4/8/16 for packets and
@@ -192,10 +193,18 @@ static inline unsigned *rayn_u(void *rays, unsigned n, int field, unsigned i)
     return (unsigned *)rays + (size_t)field * n + i;
 }
 
+/* Embree's ray is in the layer's tracer space, p = o + t d with p = k p_geom (k the layer's
+ * tracer_from_geom) and t in top-level tracer units. Dividing o and d by k gives the same
+ * ray in geometry space with the same parameter t, so the quadric is solved there in
+ * double and t goes back unchanged. k is a power of two: the division is exact, and at
+ * k = 1 this is the unscaled computation. */
 static bool quadric_hit_rayn(const Geom *g, void *rays, unsigned n, unsigned i, double *t)
 {
-    double o[3] = {*rayn_f(rays, n, RAYN_ORG_X, i), *rayn_f(rays, n, RAYN_ORG_Y, i), *rayn_f(rays, n, RAYN_ORG_Z, i)};
-    double d[3] = {*rayn_f(rays, n, RAYN_DIR_X, i), *rayn_f(rays, n, RAYN_DIR_Y, i), *rayn_f(rays, n, RAYN_DIR_Z, i)};
+    double w = g->geom_from_tracer;
+    double o[3] = {w * *rayn_f(rays, n, RAYN_ORG_X, i), w * *rayn_f(rays, n, RAYN_ORG_Y, i),
+                   w * *rayn_f(rays, n, RAYN_ORG_Z, i)};
+    double d[3] = {w * *rayn_f(rays, n, RAYN_DIR_X, i), w * *rayn_f(rays, n, RAYN_DIR_Y, i),
+                   w * *rayn_f(rays, n, RAYN_DIR_Z, i)};
     return quadric_hit(g, o, d, *rayn_f(rays, n, RAYN_TNEAR, i), *rayn_f(rays, n, RAYN_TFAR, i), t);
 }
 
@@ -240,6 +249,7 @@ static Geom *layer_add(Layer *l)
     Geom *g = &l->geoms[l->geom_count++];
     memset(g, 0, sizeof *g);
     g->shape = -1, g->material = -1, g->area_light = -1, g->light_first = -1, g->instance = -1, g->owner_instance = -1;
+    g->geom_from_tracer = 1.0;
     g->geom_from_object = g->object_from_geom = mat4_identity();
     return g;
 }
@@ -312,7 +322,7 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
             mesh.n[i] = s->reverse_orientation ? v3_neg(n) : n;
         }
     }
-    g->p = p;
+    g->p = g->p_tracer = p;
     g->index = mesh.index;
     g->n = mesh.n;
     g->uv = mesh.uv;
@@ -322,6 +332,7 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
 static void geom_free(Geom *g)
 {
     if (g->kind == GEOM_TRIANGLES) {
+        if (g->p_tracer != g->p) free((void *)g->p_tracer);
         free((void *)g->p);
         free((void *)g->index);
         free(g->n);
@@ -412,8 +423,10 @@ static bool polar_scale_is_diagonal(const Mat4 *s)
 /* Motion of an instance: pbrt-v4 AnimatedTransform poses handed to Embree as quaternion
  * decompositions. With a diagonal polar scale at both ends, two time steps reproduce pbrt's
  * interpolation (T lerp, R slerp, S lerp) exactly; otherwise 17 exact poses bound the error
- * of Embree's per-segment interpolation. */
-static void set_instance_motion(RTCGeometry g, const AnimXform *a)
+ * of Embree's per-segment interpolation. In tracer space an instance transform M (world
+ * from layer) becomes k_w M / k_l, k_w the world's and k_l the layer's tracer scale: the
+ * 3x3 part times k_w / k_l, the translation times k_w (as in set_instance_static). */
+static void set_instance_motion(RTCGeometry g, const AnimXform *a, double k_world, double k_layer)
 {
     int steps = (polar_scale_is_diagonal(&a->s[0]) && polar_scale_is_diagonal(&a->s[1])) ? 2 : 17;
     rtcSetGeometryTimeStepCount(g, (unsigned)steps);
@@ -428,19 +441,21 @@ static void set_instance_motion(RTCGeometry g, const AnimXform *a)
         prev = r;
         struct RTCQuaternionDecomposition qd;
         rtcInitQuaternionDecomposition(&qd);
-        rtcQuaternionDecompositionSetScale(&qd, (float)u[0][0], (float)u[1][1], (float)u[2][2]);
-        rtcQuaternionDecompositionSetSkew(&qd, (float)u[0][1], (float)u[0][2], (float)u[1][2]);
+        double r3 = k_world / k_layer; /* M = T R U: U carries the 3x3 part's scale */
+        rtcQuaternionDecompositionSetScale(&qd, (float)(r3 * u[0][0]), (float)(r3 * u[1][1]), (float)(r3 * u[2][2]));
+        rtcQuaternionDecompositionSetSkew(&qd, (float)(r3 * u[0][1]), (float)(r3 * u[0][2]), (float)(r3 * u[1][2]));
         rtcQuaternionDecompositionSetQuaternion(&qd, (float)r.w, (float)r.x, (float)r.y, (float)r.z);
-        rtcQuaternionDecompositionSetTranslation(&qd, (float)m.m[0][3], (float)m.m[1][3], (float)m.m[2][3]);
+        double s = k_world;
+        rtcQuaternionDecompositionSetTranslation(&qd, (float)(s * m.m[0][3]), (float)(s * m.m[1][3]), (float)(s * m.m[2][3]));
         rtcSetGeometryTransformQuaternion(g, (unsigned)k, &qd);
     }
 }
 
-static void set_instance_static(RTCGeometry g, const Mat4 *m)
+static void set_instance_static(RTCGeometry g, const Mat4 *m, double k_world, double k_layer)
 {
     float xf[12];
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 4; ++j) xf[i * 4 + j] = (float)m->m[i][j];
+        for (int j = 0; j < 4; ++j) xf[i * 4 + j] = (float)((j == 3 ? k_world : k_world / k_layer) * m->m[i][j]);
     rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
 }
 
@@ -467,6 +482,7 @@ static Layer *add_layer(Tracer *tr, int *cap)
     }
     Layer *l = &tr->layers[tr->layer_count++];
     memset(l, 0, sizeof *l);
+    l->tracer_from_geom = 1.0f;
     return l;
 }
 
@@ -482,7 +498,7 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
         switch (g->kind) {
         case GEOM_TRIANGLES:
             eg = rtcNewGeometry(tr->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            rtcSetSharedGeometryBuffer(eg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, g->p, 0, sizeof(vec3),
+            rtcSetSharedGeometryBuffer(eg, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, g->p_tracer, 0, sizeof(vec3),
                                        (size_t)g->vertex_count);
             rtcSetSharedGeometryBuffer(eg, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, g->index, 0, 3 * sizeof(uint32_t),
                                        (size_t)g->triangle_count);
@@ -507,10 +523,11 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
         if (!eg) break;
         if (g->kind == GEOM_INSTANCE) {
             Instance *in = &tr->instances[g->instance];
+            double k_layer = tr->layers[in->layer].tracer_from_geom;
             if (in->moving)
-                set_instance_motion(eg, &in->motion);
+                set_instance_motion(eg, &in->motion, tr->tracer_from_world, k_layer);
             else
-                set_instance_static(eg, &in->world_from_inst);
+                set_instance_static(eg, &in->world_from_inst, tr->tracer_from_world, k_layer);
         }
         rtcCommitGeometry(eg);
         rtcAttachGeometryByID(l->scene, eg, (unsigned)i);
@@ -525,9 +542,72 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
     return true;
 }
 
+/* The power of two k = 2^e that brings the largest coordinate magnitude m of the scene near
+ * 1, or 1 when m is in [2^-10, 2^20]: there Embree's float triangle test is accurate (its
+ * determinant, a product of edge lengths, neither underflows nor overflows) and images stay
+ * exactly what they were before the normalisation. */
+static float tracer_scale_for(double m)
+{
+    if (!(m > 0.0) || !isfinite(m) || (m >= 0x1p-10 && m <= 0x1p20)) return 1.0f;
+    int e = -(int)lround(log2(m));
+    e = e < -100 ? -100 : (e > 100 ? 100 : e); /* m is below TRACER_COORD_MAX and a float above 0 */
+    return ldexpf(1.0f, e);
+}
+
+/* After the first build (unscaled, which gave the bounds): when the world or an instanced
+ * layer is far from unit size, multiply what Embree sees of it by its k and build again.
+ * Triangles get a scaled copy of their vertices (the world-unit ones stay for shading and
+ * lights); spheres and disks read k in their callbacks; instance transforms are scaled
+ * when set (commit_layer). Every layer has its own k because an instanced layer is in its
+ * own units (a moving shape's layer is in object space, usually unit-size in a huge
+ * world). Powers of two multiply exactly, so only Embree's own rounding changes, and it
+ * is then the rounding of a unit-size scene. */
+static bool normalise_scale(Tracer *tr, ErrorSlot *slot, Diag *err)
+{
+    bool any = false;
+    for (int li = 0; li < tr->layer_count; ++li) {
+        Layer *l = &tr->layers[li];
+        struct RTCBounds b;
+        rtcGetSceneBounds(l->scene, &b);
+        double lo[3] = {b.lower_x, b.lower_y, b.lower_z}, hi[3] = {b.upper_x, b.upper_y, b.upper_z}, m = 0.0;
+        if (l->geom_count > 0)
+            for (int i = 0; i < 3; ++i) m = fmax(m, fmax(fabs(lo[i]), fabs(hi[i])));
+        l->tracer_from_geom = tracer_scale_for(m);
+        any |= l->tracer_from_geom != 1.0f;
+    }
+    if (!any) return true;
+    tr->tracer_from_world = tr->layers[0].tracer_from_geom;
+    tr->world_from_tracer = 1.0f / tr->tracer_from_world;
+    for (int i = 0; i < tr->instance_count; ++i)
+        if (tr->instances[i].geometry) rtcReleaseGeometry(tr->instances[i].geometry), tr->instances[i].geometry = NULL;
+    for (int li = 0; li < tr->layer_count; ++li) {
+        Layer *l = &tr->layers[li];
+        if (l->scene) rtcReleaseScene(l->scene), l->scene = NULL;
+        float k = l->tracer_from_geom;
+        for (int gi = 0; gi < l->geom_count; ++gi) {
+            Geom *g = &l->geoms[gi];
+            g->geom_from_tracer = 1.0 / k;
+            if (g->kind != GEOM_TRIANGLES || k == 1.0f) continue;
+            size_t n = 3 * (size_t)g->vertex_count;
+            float *pt = malloc(n * sizeof(float) + 16); /* Embree's 16-byte loads, as in geom_from_shape */
+            if (!pt) {
+                diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building the scene");
+                return false;
+            }
+            for (size_t j = 0; j < n; ++j) pt[j] = k * g->p[j];
+            memset(pt + n, 0, 16);
+            g->p_tracer = pt;
+        }
+    }
+    for (int li = 1; li < tr->layer_count; ++li)
+        if (!commit_layer(tr, &tr->layers[li], slot, err)) return false;
+    return commit_layer(tr, &tr->layers[0], slot, err);
+}
+
 bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
 {
     *tr = (Tracer){0};
+    tr->tracer_from_world = tr->world_from_tracer = 1.0f;
     double t0 = seconds_now();
     /* The batch interface for benchmarks comparing them (docs/benchmarks.md); unknown
      * names keep the default. */
@@ -675,7 +755,18 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
                          (double)TRACER_COORD_MAX);
                 goto fail;
             }
+        /* Below this size the tracer still normalises the scene, but lights and shading work
+         * in world units in float: an area of (1e-19)^2 underflows, and nothing smaller than
+         * TRACER_EXTENT_TESTED_MIN is tested (test_robustness, tests/stress). */
+        float extent = 0.0f;
+        for (int i = 0; i < 3; ++i) extent = fmaxf(extent, tr->bounds_max[i] - tr->bounds_min[i]);
+        if (extent > 0.0f && extent < TRACER_EXTENT_TESTED_MIN)
+            scene_warn(scene, (SrcLoc){0},
+                       "the scene's geometry is %g units across, below %g, the smallest scale tested; lights and "
+                       "shading lose precision in float from about 1e-19 (areas underflow): model in larger units",
+                       (double)extent, (double)TRACER_EXTENT_TESTED_MIN);
     }
+    if (!normalise_scale(tr, slot, err)) goto fail;
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);
     tr->seconds_build = seconds_now() - t0;
@@ -716,16 +807,20 @@ Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01)
     rtcGetGeometryTransform(in->geometry, time01, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
     Mat4 m = mat4_identity();
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 4; ++j) m.m[i][j] = xf[i * 4 + j];
+        for (int j = 0; j < 4; ++j) /* undo set_instance_motion's scaling (exact: powers of two) */
+            m.m[i][j] = (j == 3 ? tr->world_from_tracer : tr->world_from_tracer * tr->layers[in->layer].tracer_from_geom) *
+                        xf[i * 4 + j];
     return m;
 }
 
-static void init_ray(struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01)
+/* A world ray as Embree's, in tracer space: origin and tmax times k = tracer_from_world
+ * (exact, a power of two), the direction as it is. */
+static void init_ray(struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01, float k)
 {
-    r->org_x = o.x, r->org_y = o.y, r->org_z = o.z;
+    r->org_x = k * o.x, r->org_y = k * o.y, r->org_z = k * o.z;
     r->dir_x = d.x, r->dir_y = d.y, r->dir_z = d.z;
     r->tnear = 0.0f;
-    r->tfar = tmax;
+    r->tfar = k * tmax;
     r->time = time01;
     r->mask = 0xFFFFFFFFu;
     r->id = 0;
@@ -856,7 +951,7 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
         object_id = (int)rh.hit.geomID;
         g = &tr->layers[0].geoms[object_id];
     }
-    float t = rh.ray.tfar;
+    float t = tr->world_from_tracer * rh.ray.tfar;
     if (!shade_all && g->light_first < 0) {
         hit_unshaded(hit, t, g, (int)rh.hit.primID, instance, object_id);
         return true;
@@ -901,21 +996,22 @@ static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time0
     if (g->kind != GEOM_TRIANGLES) return shade_hit(tr, o, d, time01, shade_all, rh, hit);
     /* The common case, a triangle of the top level, as shade_hit does it. */
     int prim = (int)rh->hit.primID, object_id = (int)rh->hit.geomID;
+    float t = tr->world_from_tracer * rh->ray.tfar;
     if (!shade_all && g->light_first < 0) {
-        hit_unshaded(hit, rh->ray.tfar, g, prim, -1, object_id);
+        hit_unshaded(hit, t, g, prim, -1, object_id);
         return true;
     }
     vec3 p, ng, ns;
     vec2 uv;
     float mag;
     shade_triangle(g, prim, rh->hit.u, rh->hit.v, &p, &ng, &ns, &uv, &mag);
-    hit_shaded(hit, rh->ray.tfar, p, ng, ns, uv, OFFSET_REL * mag, g, prim, -1, object_id);
+    hit_shaded(hit, t, p, ng, ns, uv, OFFSET_REL * mag, g, prim, -1, object_id);
     return true;
 }
 
-static inline void init_rayhit(struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01)
+static inline void init_rayhit(struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01, float k)
 {
-    init_ray(&rh->ray, o, d, tmax, time01);
+    init_ray(&rh->ray, o, d, tmax, time01, k);
     rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
@@ -925,7 +1021,7 @@ bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float tim
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
-    init_rayhit(&rh, o, d, tmax, time01);
+    init_rayhit(&rh, o, d, tmax, time01, tr->tracer_from_world);
     rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
     return hit_from_rayhit(tr, o, d, time01, shade_all, &rh, hit);
 }
@@ -935,7 +1031,7 @@ bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay r;
-    init_ray(&r, o, d, tmax, time01);
+    init_ray(&r, o, d, tmax, time01, tr->tracer_from_world);
     rtcOccluded1(tr->layers[0].scene, &ctx, &r);
     return r.tfar == -INFINITY;
 }
@@ -976,15 +1072,15 @@ static void context_init(const Tracer *tr, struct RTCIntersectContext *ctx, bool
 }
 
 /* Packets of 16: the chunk's rays k0 .. k0 + 15 as structure-of-arrays (lanes past n off). */
-static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *rays, int n)
+static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *rays, int n, float k)
 {
     for (int i = 0; i < 16; ++i) {
         const TracerRay *r = &rays[i < n ? i : 0];
         valid[i] = i < n ? -1 : 0;
-        p->org_x[i] = r->o.x, p->org_y[i] = r->o.y, p->org_z[i] = r->o.z;
+        p->org_x[i] = k * r->o.x, p->org_y[i] = k * r->o.y, p->org_z[i] = k * r->o.z; /* as init_ray */
         p->dir_x[i] = r->d.x, p->dir_y[i] = r->d.y, p->dir_z[i] = r->d.z;
         p->tnear[i] = 0.0f;
-        p->tfar[i] = r->tmax;
+        p->tfar[i] = k * r->tmax;
         p->time[i] = r->time01;
         p->mask[i] = 0xFFFFFFFFu;
         p->id[i] = 0;
@@ -1007,7 +1103,7 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
                 struct RTCRayHit16 pk;
                 _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
                 int c = m - p0 < 16 ? m - p0 : 16;
-                packet16_fill(&pk.ray, valid, r + p0, c);
+                packet16_fill(&pk.ray, valid, r + p0, c, tr->tracer_from_world);
                 for (int i = 0; i < 16; ++i) pk.hit.geomID[i] = pk.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
                 rtcIntersect16(valid, scene, &ctx, &pk);
                 for (int i = 0; i < c; ++i) { /* back to one RTCRayHit per ray for the shading below */
@@ -1019,7 +1115,7 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
                 }
             }
         } else {
-            for (int i = 0; i < m; ++i) init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01);
+            for (int i = 0; i < m; ++i) init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world);
             if (tr->batch_mode == TRACER_BATCH_STREAM)
                 rtcIntersect1M(scene, &ctx, rh, (unsigned)m, sizeof rh[0]);
             else
@@ -1044,13 +1140,13 @@ void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool 
                 struct RTCRay16 pk;
                 _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
                 int c = m - p0 < 16 ? m - p0 : 16;
-                packet16_fill(&pk, valid, r + p0, c);
+                packet16_fill(&pk, valid, r + p0, c, tr->tracer_from_world);
                 rtcOccluded16(valid, scene, &ctx, &pk);
                 for (int i = 0; i < c; ++i) occluded[k0 + p0 + i] = pk.tfar[i] == -INFINITY;
             }
             continue;
         }
-        for (int i = 0; i < m; ++i) init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01);
+        for (int i = 0; i < m; ++i) init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world);
         if (tr->batch_mode == TRACER_BATCH_STREAM)
             rtcOccluded1M(scene, &ctx, ray, (unsigned)m, sizeof ray[0]);
         else

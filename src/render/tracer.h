@@ -6,7 +6,11 @@
  * transform). A shape whose transform moves during the shutter becomes a one-shape layer
  * instanced with Embree motion (quaternion decomposition per time step), so it moves
  * rigidly as pbrt-v4's AnimatedTransform. Each ObjectBegin/End becomes a layer instanced by
- * every ObjectInstance. Scenes without motion build no motion data. */
+ * every ObjectInstance. Scenes without motion build no motion data.
+ *
+ * Units: callers give and get world units. Embree itself sees each layer scaled by a power
+ * of two that brings it near unit size (tracer_from_world, Layer.tracer_from_geom; 1 for
+ * ordinary scenes), which keeps its float triangle test accurate at any scene scale. */
 #ifndef WEDGE_RENDER_TRACER_H
 #define WEDGE_RENDER_TRACER_H
 
@@ -23,6 +27,8 @@
  * exceeds about 1.84e18 in any coordinate (an assertion, not an error), so geometry and the
  * camera must stay inside this, with room for the hit points' offsets. */
 #define TRACER_COORD_MAX 1.0e18f
+/* The smallest scene extent (world units) the scale tests cover: smaller scenes get a warning. */
+#define TRACER_EXTENT_TESTED_MIN 1.0e-12f
 
 typedef enum { GEOM_TRIANGLES, GEOM_SPHERE, GEOM_DISK, GEOM_INSTANCE } GeomKind;
 
@@ -38,10 +44,12 @@ typedef struct {
     bool flip_normal;        /* pbrt-v4: reverse_orientation XOR transform swaps handedness */
     /* triangles, positions in geometry space */
     int vertex_count, triangle_count;
-    const float *p;          /* Embree vertex buffer, 3 floats per vertex */
+    const float *p;          /* world-unit positions, 3 floats per vertex (what shading and lights read) */
+    const float *p_tracer;   /* Embree's vertex buffer: p times tracer_from_geom (= p when that is 1) */
     const uint32_t *index;   /* Embree index buffer, 3 per triangle */
     vec3 *n;                 /* shading normals in geometry space (NULL = none) */
     vec2 *uv;                /* per-vertex uv (NULL = pbrt default (0,0) (1,0) (1,1)) */
+    double geom_from_tracer; /* 1 / its Layer's tracer_from_geom, for the sphere/disk callbacks */
     /* spheres and disks: object-space quadric, placed by geom_from_object */
     double radius, zmin, zmax, phimax_rad, height, inner_radius;
     Mat4 geom_from_object, object_from_geom;
@@ -52,6 +60,8 @@ typedef struct {
 
 typedef struct {
     RTCScene scene;
+    float tracer_from_geom;  /* Embree sees this layer's geometry space times this power of two
+                              * (layer 0: Tracer.tracer_from_world) */
     Geom *geoms;
     int geom_count, geom_cap;
 } Layer;
@@ -81,6 +91,12 @@ typedef struct {
     int instance_count;
     bool has_motion;         /* some geometry moves: rays carry time */
     float bounds_min[3], bounds_max[3]; /* world bounds (shutter open and close) */
+    /* Scale normalisation: Embree sees the world multiplied by tracer_from_world, a power of
+     * two chosen from the bounds (1 for scenes of ordinary size), so that its float
+     * triangle test neither underflows nor overflows (each instanced layer has its own
+     * factor, Layer.tracer_from_geom); every tracer_* function takes and returns world
+     * units. world_from_tracer is its exact inverse. */
+    float tracer_from_world, world_from_tracer;
     double seconds_build;
     long triangle_count;
     long long embree_bytes, embree_bytes_peak; /* from Embree's memory monitor */

@@ -163,6 +163,9 @@ static void *replay(void *arg)
 {
     ReplayJob *j = arg;
     RTCScene scene = j->tr->layers[0].scene;
+    /* Embree's scene is in tracer units (world times the tracer's power-of-two scale, 1
+     * for ordinary scenes): origins and distances go in scaled, as tracer.c does */
+    float k = j->tr->tracer_from_world;
     long long rays = 0;
     for (;;) {
     size_t begin = __atomic_fetch_add(j->next, REPLAY_BLOCK, __ATOMIC_RELAXED);
@@ -175,7 +178,7 @@ static void *replay(void *arg)
         CameraRay cr = camera_generate_ray(j->cam, s->px, s->py, v2(s->lu, s->lv), s->time);
         struct RTCRayHit rh;
         memset(&rh, 0, sizeof rh);
-        rh.ray.org_x = cr.o_world.x, rh.ray.org_y = cr.o_world.y, rh.ray.org_z = cr.o_world.z;
+        rh.ray.org_x = k * cr.o_world.x, rh.ray.org_y = k * cr.o_world.y, rh.ray.org_z = k * cr.o_world.z;
         rh.ray.dir_x = cr.d_world.x, rh.ray.dir_y = cr.d_world.y, rh.ray.dir_z = cr.d_world.z;
         rh.ray.tfar = INFINITY, rh.ray.mask = 0xFFFFFFFFu, rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(scene, &ctx, &rh);
@@ -185,17 +188,17 @@ static void *replay(void *arg)
             float len = v3_length(d);
             struct RTCRay r;
             memset(&r, 0, sizeof r);
-            r.org_x = s->p.x, r.org_y = s->p.y, r.org_z = s->p.z;
+            r.org_x = k * s->p.x, r.org_y = k * s->p.y, r.org_z = k * s->p.z;
             r.dir_x = d.x / len, r.dir_y = d.y / len, r.dir_z = d.z / len;
-            r.tnear = 1e-4f, r.tfar = len * 0.9999f, r.mask = 0xFFFFFFFFu;
+            r.tnear = k * 1e-4f, r.tfar = k * len * 0.9999f, r.mask = 0xFFFFFFFFu;
             rtcOccluded1(scene, &ctx, &r);
             ++rays;
         }
         if (s->has_bounce) {
             memset(&rh, 0, sizeof rh);
-            rh.ray.org_x = s->p.x, rh.ray.org_y = s->p.y, rh.ray.org_z = s->p.z;
+            rh.ray.org_x = k * s->p.x, rh.ray.org_y = k * s->p.y, rh.ray.org_z = k * s->p.z;
             rh.ray.dir_x = s->dir.x, rh.ray.dir_y = s->dir.y, rh.ray.dir_z = s->dir.z;
-            rh.ray.tnear = 1e-4f, rh.ray.tfar = INFINITY, rh.ray.mask = 0xFFFFFFFFu;
+            rh.ray.tnear = k * 1e-4f, rh.ray.tfar = INFINITY, rh.ray.mask = 0xFFFFFFFFu;
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(scene, &ctx, &rh);
             ++rays;
