@@ -83,8 +83,10 @@ static void set_reason(ReconChoice *out, Effect e, const char *fmt, ...)
 /* The camera effects with motion (docs/benchmarks.md, "The choice per effect (issue 18)"):
  * layered reconstruction gathers, for a pixel, the samples of every pixel whose blur reaches
  * it (docs/algorithms.md section 8), so it has more samples than a per-pixel filter only
- * where the blur spans several pixels. On the bench it beats aaf-only by 3x when the median
- * blur is 9-13 px and loses when it is 1-2 px; RECON_LR_MIN_BLUR_PX sits between. */
+ * where the blur spans several pixels. On the bench at 128x128 it beats aaf-only by 2-3x
+ * where the probe's median blur is 6.2 px (motion_defocus_hard, _soft) and loses up to 2x
+ * where it is 1.8-2.0 px (all_effects, motion_defocus); RECON_LR_MIN_BLUR_PX = 3 px sits
+ * between (a blur of 3 px reaches at least the 8 neighbours). */
 static bool select_camera_by_blur(Effect e, float blur_px, ReconChoice *out)
 {
     const ReconMethodClass *lr = recon_method_find("lr");
