@@ -100,6 +100,9 @@ static void json_choice(FILE *f, const SceneDesc *s, const ReconChoice *c)
             first = 0;
         }
     fprintf(f, "}");
+    /* the blur probe's median (px at the probed resolution), null when the choice did not read it */
+    if (c->blur_px >= 0.0f) fprintf(f, ", \"blur_probe_px\": %.3f", (double)c->blur_px);
+    else fprintf(f, ", \"blur_probe_px\": null");
 }
 
 static void print_json(const SceneDesc *s, const ReconChoice *c, long triangles, FILE *f)
