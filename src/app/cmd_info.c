@@ -7,15 +7,18 @@
 #include "app/commands.h"
 #include "core/diag.h"
 #include "geometry/mesh.h"
+#include "recon/blur_probe.h"
 #include "recon/cl/cl_runtime.h"
 #include "recon/select.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
 
+enum { INFO_RES_MAX = 65536 }; /* as wedge render --res */
+
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: wedge info [SCENE] [--json] [--filter NAME]\n"
+            "usage: wedge info [SCENE] [--json] [--filter NAME] [--res WxH]\n"
             "       wedge info --filters [--json]\n"
             "       wedge info --cl\n\n"
             "Summarises a pbrt-v4 scene (without SCENE: the embedded default scene): film, camera, sampler, counts of shapes, triangles\n"
@@ -24,6 +27,8 @@ static void usage(FILE *f)
             "and why, and the parser's warnings.\n\n"
             "  --json         print one JSON object instead of text\n"
             "  --filter NAME  the methods 'wedge render --filter NAME' would use (default auto)\n"
+            "  --res WxH      ... at this resolution (default: the film's): with motion, auto's\n"
+            "                 choice for the camera effects depends on the blur in pixels\n"
             "  --filters      list the reconstruction methods: effects, sampling, storage\n"
             "  --cl           list the OpenCL platforms and devices\n");
 }
@@ -91,10 +96,13 @@ static void json_choice(FILE *f, const SceneDesc *s, const ReconChoice *c)
     for (int e = 0, first = 1; e < EFFECT_COUNT; ++e)
         if (effect_in(s->effects, (Effect)e)) {
             fprintf(f, "%s\"%s\": ", first ? "" : ", ", effect_name((Effect)e));
-            json_string(f, c->reason[e] ? c->reason[e] : "");
+            json_string(f, c->reason[e]);
             first = 0;
         }
     fprintf(f, "}");
+    /* the blur probe's median (px at the probed resolution), null when the choice did not read it */
+    if (c->blur_px >= 0.0f) fprintf(f, ", \"blur_probe_px\": %.3f", (double)c->blur_px);
+    else fprintf(f, ", \"blur_probe_px\": null");
 }
 
 static void print_json(const SceneDesc *s, const ReconChoice *c, long triangles, FILE *f)
@@ -151,7 +159,7 @@ static void print_text(const SceneDesc *s, const ReconChoice *c, long triangles,
         if (effect_in(s->effects, (Effect)e)) fprintf(f, " %s (filter: %s)", effect_name((Effect)e), recon_choice_name(c, (Effect)e));
     fprintf(f, "%s\n", s->effects ? "" : " none");
     for (int e = 0; e < EFFECT_COUNT; ++e)
-        if (effect_in(s->effects, (Effect)e) && c->reason[e])
+        if (effect_in(s->effects, (Effect)e) && c->reason[e][0])
             fprintf(f, "  %-12s %s\n", effect_name((Effect)e), c->reason[e]);
     fprintf(f, "warnings    %d\n", s->warning_count);
     for (int i = 0; i < s->warning_count; ++i) fprintf(f, "  %s\n", s->warnings[i]);
@@ -190,10 +198,21 @@ int cmd_info(int argc, char **argv)
 {
     const char *path = NULL, *filter = "auto";
     bool json = false, cl = false, methods = false;
+    int res_w = 0, res_h = 0; /* 0: the film's */
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--json")) json = true;
         else if (!strcmp(argv[i], "--cl")) cl = true;
         else if (!strcmp(argv[i], "--filters")) methods = true;
+        else if (!strcmp(argv[i], "--res")) {
+            char tail;
+            if (i + 1 >= argc || sscanf(argv[i + 1], "%dx%d%c", &res_w, &res_h, &tail) != 2 || res_w < 1 ||
+                res_h < 1 || res_w > INFO_RES_MAX || res_h > INFO_RES_MAX) {
+                fprintf(stderr, "wedge info: --res wants WxH with W and H in [1, %d], got '%s'\n", INFO_RES_MAX,
+                        i + 1 < argc ? argv[i + 1] : "");
+                return WEDGE_EXIT_USAGE;
+            }
+            ++i;
+        }
         else if (!strcmp(argv[i], "--filter")) {
             char why[160];
             if (i + 1 < argc && strchr(argv[i + 1], '=') && !recon_filter_problem(argv[i + 1], why, sizeof why)) {
@@ -257,8 +276,12 @@ int cmd_info(int argc, char **argv)
      * geometry; one pixel, one thread): the warnings only the build finds (an unknown
      * texture, a mix naming itself, a skipped light) are shown here too, and a scene that
      * cannot be built fails here as it would there. */
+    /* With motion and auto deciding the camera effects, the blur probe at the render's
+     * resolution (--res, else the film's), the one recon_pipeline_create runs: the choice
+     * depends on it, and info must name the method render will use. */
+    bool probe = recon_select_wants_blur(scene.effects, filter);
     RenderOptions ro = {0};
-    ro.width = ro.height = 1;
+    ro.width = probe ? res_w : 1, ro.height = probe ? res_h : 1;
     ro.threads = 1;
     Renderer *r = NULL;
     if (!renderer_create(&scene, &ro, &r, &err)) {
@@ -266,9 +289,16 @@ int cmd_info(int argc, char **argv)
         scene_desc_free(&scene);
         return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
     }
+    BlurProbe blur = {.median_blur_px = -1.0f};
+    if (probe && !recon_blur_probe(r, &blur)) {
+        fprintf(stderr, "wedge info: out of memory\n");
+        renderer_destroy(r);
+        scene_desc_free(&scene);
+        return WEDGE_EXIT_RUNTIME;
+    }
     renderer_destroy(r);
     ReconChoice choice;
-    recon_select(scene.effects, filter, &choice);
+    recon_select(scene.effects, filter, blur.median_blur_px, &choice);
     if (json) print_json(&scene, &choice, triangles, stdout);
     else print_text(&scene, &choice, triangles, stdout);
     scene_desc_free(&scene);

@@ -271,7 +271,7 @@ static void make_title(const Snapshot *s, const ViewState *v, bool paused, bool 
 {
     int at = snprintf(out, size, "wedge preview - %.1f spp, %.1f s", s->res.spp_avg, s->seconds);
     for (int e = 0; e < EFFECT_COUNT && at < (int)size; ++e)
-        if (s->res.choice.reason[e])
+        if (s->res.choice.reason[e][0])
             at += snprintf(out + at, size - (size_t)at, ", %s: %s", effect_name((Effect)e),
                            recon_choice_name(&s->res.choice, (Effect)e));
     if (at < (int)size)

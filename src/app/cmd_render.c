@@ -360,6 +360,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
             rep.filters[e] = recon_choice_name(&res->choice, (Effect)e);
             rep.pixels_filtered[e] = res->pixels_filtered[e];
         }
+        rep.blur_probe_px = res->choice.blur_px;
         rep.mu = res->mu;
         rep.cl_device = res->device[0] ? res->device : NULL;
         rep.seconds_build = st.seconds_build;

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "recon/blur_probe.h"
 #include "recon/composite.h"
 
 /* A --spp budget is met by searching mu on a log scale over this range. Not below 1: mu = 1
@@ -79,7 +80,16 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
     }
     p->r = r;
     p->opt = *o;
-    recon_select(renderer_effects(r), o->filter, &p->choice);
+    /* The blur probe decides the camera effects under auto when something moves; wedge info
+     * runs the same probe (fixed samples and seed), so the two name the same methods, and so
+     * does every MPI rank without communicating. */
+    BlurProbe blur = {.median_blur_px = -1.0f};
+    if (recon_select_wants_blur(renderer_effects(r), o->filter) && !recon_blur_probe(r, &blur)) {
+        free(p);
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        return false;
+    }
+    recon_select(renderer_effects(r), o->filter, blur.median_blur_px, &p->choice);
     /* one slot per distinct method, holding every effect it filters */
     p->fixed_only = true;
     for (int e = 0; e < EFFECT_COUNT; ++e) {
@@ -451,7 +461,8 @@ static bool plain_mean(ReconPipeline *p, Diag *d)
     p->res.aov_count = 0;
     memset(p->res.pixels_filtered, 0, sizeof p->res.pixels_filtered);
     memset(&p->res.choice, 0, sizeof p->res.choice);
-    for (int e = 0; e < EFFECT_COUNT; ++e) p->res.choice.reason[e] = p->choice.reason[e];
+    memcpy(p->res.choice.reason, p->choice.reason, sizeof p->res.choice.reason);
+    p->res.choice.blur_px = p->choice.blur_px;
     return true;
 }
 

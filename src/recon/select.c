@@ -1,6 +1,8 @@
 /* The policy (see select.h). */
 #include "recon/select.h"
 
+#include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -70,23 +72,70 @@ static bool parse_per_effect(const char *request, char *buf, size_t size, const 
     return true;
 }
 
-/* auto's choice for effect e of the effects present. */
-static void select_auto(Effect e, ReconChoice *out)
+static void set_reason(ReconChoice *out, Effect e, const char *fmt, ...)
 {
-    out->reason[e] = NO_METHOD_REASON[e];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(out->reason[e], sizeof out->reason[e], fmt, ap);
+    va_end(ap);
+}
+
+/* The camera effects with motion (docs/benchmarks.md, "The choice per effect (issue 18)"):
+ * layered reconstruction gathers, for a pixel, the samples of every pixel whose blur reaches
+ * it (docs/algorithms.md section 8), so it has more samples than a per-pixel filter only
+ * where the blur spans several pixels. On the bench at 128x128 it beats aaf-only by 2-3x
+ * where the probe's median blur is 6.2 px (motion_defocus_hard, _soft) and loses up to 2x
+ * where it is 1.8-2.0 px (all_effects, motion_defocus); RECON_LR_MIN_BLUR_PX = 3 px sits
+ * between (a blur of 3 px reaches at least the 8 neighbours). */
+static bool select_camera_by_blur(Effect e, float blur_px, ReconChoice *out)
+{
+    const ReconMethodClass *lr = recon_method_find("lr");
+    if (!lr || !effect_in(lr->effects, e) || !(blur_px >= RECON_LR_MIN_BLUR_PX)) return false;
+    out->method[e] = lr;
+    set_reason(out, e, "lr: median blur %.1f px >= %.0f px, layered reconstruction shares samples across pixels "
+               "(docs/benchmarks.md, issue 18)", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
+    return true;
+}
+
+/* auto's choice for effect e of the effects present; blur_px as for recon_select. */
+static void select_auto(Effect e, EffectMask present, float blur_px, ReconChoice *out)
+{
+    bool measured = effect_in(present, EFFECT_MOTION) && blur_px >= 0.0f && isfinite(blur_px);
+    bool camera = e == EFFECT_MOTION || e == EFFECT_DEFOCUS;
+    if (measured && camera) out->blur_px = blur_px;
+    if (measured && camera && select_camera_by_blur(e, blur_px, out)) return;
+    const char *why = NO_METHOD_REASON[e];
     for (size_t k = 0; k < sizeof AUTO_POLICY / sizeof AUTO_POLICY[0]; ++k) {
         const ReconMethodClass *m = recon_method_find(AUTO_POLICY[k].method);
         if (AUTO_POLICY[k].effect == e && m && effect_in(m->effects, e)) {
             out->method[e] = m;
-            out->reason[e] = AUTO_POLICY[k].reason;
-            return;
+            why = AUTO_POLICY[k].reason;
+            break;
         }
     }
+    if (measured && camera)
+        set_reason(out, e, "%s: median blur %.1f px < %.0f px, too little for lr to pay (docs/benchmarks.md, issue 18)",
+                   out->method[e] ? out->method[e]->name : "none", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
+    else
+        set_reason(out, e, "%s", why);
 }
 
-void recon_select(EffectMask present, const char *request, ReconChoice *out)
+bool recon_select_wants_blur(EffectMask present, const char *request)
+{
+    if (!effect_in(present, EFFECT_MOTION)) return false;
+    if (!strcmp(request, "auto")) return true;
+    char buf[256], why[160];
+    const char *w[EFFECT_COUNT];
+    if (!parse_per_effect(request, buf, sizeof buf, w, why, sizeof why)) return false;
+    bool motion_auto = !w[EFFECT_MOTION] || !strcmp(w[EFFECT_MOTION], "auto");
+    bool defocus_auto = effect_in(present, EFFECT_DEFOCUS) && (!w[EFFECT_DEFOCUS] || !strcmp(w[EFFECT_DEFOCUS], "auto"));
+    return motion_auto || defocus_auto;
+}
+
+void recon_select(EffectMask present, const char *request, float blur_px, ReconChoice *out)
 {
     memset(out, 0, sizeof *out);
+    out->blur_px = -1.0f;
     char buf[256], why[160];
     const char *per_effect[EFFECT_COUNT];
     bool mapped = parse_per_effect(request, buf, sizeof buf, per_effect, why, sizeof why);
@@ -97,23 +146,23 @@ void recon_select(EffectMask present, const char *request, ReconChoice *out)
         if (mapped) {
             const char *w = per_effect[e];
             if (!w || !strcmp(w, "auto")) {
-                select_auto((Effect)e, out);
+                select_auto((Effect)e, present, blur_px, out);
             } else if (!strcmp(w, "none")) {
-                out->reason[e] = "--filter EFFECT=none: plain Monte Carlo";
+                set_reason(out, (Effect)e, "--filter EFFECT=none: plain Monte Carlo");
             } else {
                 out->method[e] = recon_method_find(w);
-                out->reason[e] = "asked for with --filter EFFECT=METHOD";
+                set_reason(out, (Effect)e, "asked for with --filter EFFECT=METHOD");
             }
         } else if (none) {
-            out->reason[e] = "--filter none: plain Monte Carlo";
+            set_reason(out, (Effect)e, "--filter none: plain Monte Carlo");
         } else if (asked) {
             bool can = effect_in(asked->effects, (Effect)e);
             out->method[e] = can ? asked : NULL;
-            out->reason[e] = can ? "asked for with --filter" : "the method asked for with --filter cannot filter it";
+            set_reason(out, (Effect)e, "%s", can ? "asked for with --filter" : "the method asked for with --filter cannot filter it");
         } else if (autom) {
-            select_auto((Effect)e, out);
+            select_auto((Effect)e, present, blur_px, out);
         } else {
-            out->reason[e] = "unknown --filter";
+            set_reason(out, (Effect)e, "unknown --filter");
         }
     }
 }

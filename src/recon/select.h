@@ -10,18 +10,35 @@
 #include "recon/method.h"
 #include "scene/effects.h"
 
+enum { RECON_REASON_SIZE = 192 };
+
 typedef struct {
     const ReconMethodClass *method[EFFECT_COUNT]; /* NULL: the effect is absent or not filtered */
-    const char *reason[EFFECT_COUNT];             /* one line: why (NULL for absent effects) */
+    char reason[EFFECT_COUNT][RECON_REASON_SIZE]; /* one line: why ("" for absent effects); an
+                                                   * array, not a pointer, so that a measured value
+                                                   * can be part of it and the choice copies whole */
+    float blur_px;                                /* the blur probe's value it read, -1: none */
 } ReconChoice;
+
+/* --filter auto sends the camera effects (motion, and defocus with it) of a scene with motion
+ * to layered reconstruction (lr) when the blur probe's median blur extent is at least this
+ * many pixels, else leaves them as before (defocus to aaf, motion unfiltered):
+ * docs/benchmarks.md, "The choice per effect (issue 18)", for the measurement and the why. */
+#define RECON_LR_MIN_BLUR_PX 3.0f
 
 /* The choice for the effects present and a --filter request: "auto" (the measured best per
  * effect), "none" (plain Monte Carlo), a method's name (that method for every effect it can
  * filter, nothing for the others), or a method per effect, "EFFECT=METHOD[,...]" with METHOD
  * a method's name, auto or none (effects not named: auto's choice), e.g. "motion=lr,defocus=lr"
  * for layered reconstruction of the camera effects beside auto's shading filters. An unknown
- * request chooses nothing. */
-void recon_select(EffectMask present, const char *request, ReconChoice *out);
+ * request chooses nothing. blur_px: the blur probe's median blur extent at the render's
+ * resolution (recon/blur_probe.h) when motion is present, read by auto's choice for motion
+ * and defocus; a negative value (or NaN) when it was not measured (scenes without motion: the
+ * choice does not depend on it). */
+void recon_select(EffectMask present, const char *request, float blur_px, ReconChoice *out);
+/* Whether recon_select's choice under this request reads blur_px: motion is present and auto
+ * decides motion or defocus. Callers run the probe only then. */
+bool recon_select_wants_blur(EffectMask present, const char *request);
 
 /* "aaf", or "none" when the effect is not filtered. */
 const char *recon_choice_name(const ReconChoice *c, Effect e);

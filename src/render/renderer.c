@@ -119,6 +119,7 @@ int renderer_max_depth(const Renderer *r) { return r->isc.max_depth; }
 SamplerKind renderer_sampler(const Renderer *r) { return r->sampler; }
 EffectMask renderer_effects(const Renderer *r) { return r->effects; }
 const Camera *renderer_camera(const Renderer *r) { return &r->camera; }
+const IntegratorScene *renderer_integrator_scene(const Renderer *r) { return &r->isc; }
 RenderStats renderer_stats(const Renderer *r) { return r->stats; }
 long renderer_triangle_count(const Renderer *r) { return r->tracer.triangle_count; }
 long long renderer_embree_peak_bytes(const Renderer *r) { return r->tracer.embree_bytes_peak; }

@@ -22,6 +22,7 @@
 #include "core/sampler.h"
 #include "render/camera.h"
 #include "render/frame.h"
+#include "render/integrator.h"
 #include "render/sample_record.h"
 #include "scene/scene_desc.h"
 
@@ -73,6 +74,9 @@ SamplerKind renderer_sampler(const Renderer *r);
 /* The scene's effects (scene_analyze_effects), which the renderer samples (DESIGN.md section 2). */
 EffectMask renderer_effects(const Renderer *r);
 const Camera *renderer_camera(const Renderer *r);
+/* What the integrator traces with (camera, tracer, lights, materials, which dimensions are
+ * sampled), for probes that trace a few samples of their own (recon/blur_probe.h). */
+const IntegratorScene *renderer_integrator_scene(const Renderer *r);
 RenderStats renderer_stats(const Renderer *r);
 /* Triangles in the Embree scene and Embree's peak memory (bytes). */
 long renderer_triangle_count(const Renderer *r);

@@ -34,6 +34,8 @@ j = json.load(open(sys.argv[1]))
 assert j["effects"] == ["soft_shadows", "defocus", "motion", "indirect"], j["effects"]
 assert j["filters"] == {"soft_shadows": "aaf", "defocus": "aaf", "motion": "none", "indirect": "aaf"}, j["filters"]
 assert (j["width"], j["height"], j["spp"]) == (64, 48, 8), j
+# motion present: auto read the blur probe, whose value is a blur in pixels
+assert isinstance(j["blur_probe_px"], float) and j["blur_probe_px"] >= 0, j["blur_probe_px"]
 assert j["triangles"] == 4, j["triangles"]
 assert j["lights"] == {"area": 1, "point": 2}, j["lights"]
 assert j["shapes"] == 3 and j["materials"] == 0, j
@@ -50,6 +52,7 @@ j = json.load(open(sys.argv[1]))
 assert j["effects"] == [], j["effects"]
 assert (j["width"], j["height"], j["spp"], j["triangles"]) == (1280, 720, 16, 0), j
 assert j["lights"] == {"point": 1} and j["warnings"] == [], j
+assert j["blur_probe_px"] is None, j["blur_probe_px"]  # nothing moves: no probe
 PY
 
 # The human summary names the same things.

@@ -1,0 +1,74 @@
+/* The blur probe (see blur_probe.h). */
+#include "recon/blur_probe.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* Independent of --seed: info and render (and every MPI rank) must measure the same value. */
+static const uint64_t BLUR_PROBE_SEED = 0x626c7572u; /* "blur" */
+/* A pass number no render uses, so the probe's samples are not the render's first ones. */
+enum { BLUR_PROBE_PASS = 977 };
+
+float blur_extent_px(const ReconCamera *cam, const SampleRecord *rec)
+{
+    if (!rec->hit) return 0.0f;
+    float motion_px = hypotf(rec->motion_px[0], rec->motion_px[1]);
+    float coc_diameter_px = 2.0f * fabsf(recon_coc_slope_px(cam, rec->depth_cam));
+    float b = fmaxf(motion_px, coc_diameter_px);
+    return isfinite(b) ? b : 0.0f; /* a hit at the lens plane: no finite blur to speak of */
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+bool recon_blur_probe(const Renderer *r, BlurProbe *out)
+{
+    *out = (BlurProbe){0};
+    /* first hits only: no bounces, no recorded ray geometry (the probe reads hit, depth and
+     * motion) */
+    IntegratorScene first_hit = *renderer_integrator_scene(r);
+    first_hit.max_depth = 1;
+    first_hit.record_ray_geometry = false;
+    const IntegratorScene *isc = &first_hit;
+    ReconCamera cam = recon_camera_from(renderer_camera(r));
+    int w = renderer_width(r), h = renderer_height(r);
+    int nx = w < BLUR_PROBE_GRID ? w : BLUR_PROBE_GRID, ny = h < BLUR_PROBE_GRID ? h : BLUR_PROBE_GRID;
+    int per_wave = WAVE_SAMPLES / BLUR_PROBE_SPP;
+    Wave *wave = wave_create();
+    SampleRecord *rec = malloc(sizeof *rec * WAVE_SAMPLES);
+    float *blur_px = malloc(sizeof *blur_px * (size_t)(nx * ny * BLUR_PROBE_SPP));
+    WavePixel *pix = malloc(sizeof *pix * (size_t)per_wave);
+    if (!wave || !rec || !blur_px || !pix) {
+        wave_free(wave), free(rec), free(blur_px), free(pix);
+        return false;
+    }
+    /* a fixed sampler kind too: the scene's or --sampler's choice must not change the choice */
+    WaveSampling ws = {SAMPLER_STRATIFIED, BLUR_PROBE_SEED, BLUR_PROBE_PASS};
+    IntegratorStats st = {0};
+    int hits = 0, traced = 0, total = nx * ny;
+    for (int first = 0; first < total; first += per_wave) {
+        int count = total - first < per_wave ? total - first : per_wave;
+        for (int k = 0; k < count; ++k) {
+            int i = first + k, gx = i % nx, gy = i / nx;
+            /* the centre pixel of each of nx x ny equal cells of the image */
+            int px = (int)(((double)gx + 0.5) * w / nx), py = (int)(((double)gy + 0.5) * h / ny);
+            pix[k] = (WavePixel){px, py, 0, BLUR_PROBE_SPP, 0, BLUR_PROBE_SPP};
+        }
+        int n = integrate_wave(isc, wave, &ws, pix, count, rec, &st);
+        for (int j = 0; j < n; ++j) {
+            ++traced;
+            if (rec[j].hit) blur_px[hits++] = blur_extent_px(&cam, &rec[j]);
+        }
+    }
+    if (hits) {
+        qsort(blur_px, (size_t)hits, sizeof *blur_px, cmp_float);
+        out->median_blur_px = hits % 2 ? blur_px[hits / 2] : 0.5f * (blur_px[hits / 2 - 1] + blur_px[hits / 2]);
+    }
+    out->samples_hit = hits;
+    out->samples = traced;
+    wave_free(wave), free(rec), free(blur_px), free(pix);
+    return true;
+}

@@ -1,0 +1,69 @@
+/* The issue-18 rule in recon/select: under --filter auto, a scene with motion sends its camera
+ * effects (motion, defocus) to lr when the blur probe's median blur is at least
+ * RECON_LR_MIN_BLUR_PX, else defocus keeps aaf and motion stays unfiltered; the measured value
+ * is in the reason line; scenes without motion and explicit requests ignore the value. */
+#include <string.h>
+
+#include "../check.h"
+#include "recon/select.h"
+
+int main(void)
+{
+    EffectMask all = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_MOTION) |
+                     EFFECT_BIT(EFFECT_INDIRECT);
+    EffectMask motion_defocus = EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_MOTION);
+    ReconChoice c;
+
+    /* above the threshold (and exactly at it): lr for both camera effects, shading keeps aaf */
+    float above[] = {RECON_LR_MIN_BLUR_PX, 9.4f};
+    for (int k = 0; k < 2; ++k) {
+        recon_select(all, "auto", above[k], &c);
+        CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+        CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
+        CHECK_STR(recon_choice_name(&c, EFFECT_SOFT_SHADOWS), "aaf");
+        CHECK_STR(recon_choice_name(&c, EFFECT_INDIRECT), "aaf");
+        CHECK(c.blur_px == above[k]);
+    }
+    recon_select(motion_defocus, "auto", 9.44f, &c);
+    CHECK_STR(c.reason[EFFECT_MOTION], "lr: median blur 9.4 px >= 3 px, layered reconstruction shares samples "
+                                       "across pixels (docs/benchmarks.md, issue 18)");
+
+    /* below: as before the probe (defocus aaf, motion unfiltered), the value in the reason */
+    recon_select(motion_defocus, "auto", 1.76f, &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "none");
+    CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: median blur 1.8 px < 3 px, too little for lr to pay (docs/benchmarks.md, issue 18)");
+    recon_select(motion_defocus, "auto", nextafterf(RECON_LR_MIN_BLUR_PX, 0.0f), &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+
+    /* not measured (negative, NaN): exactly the choice without the probe */
+    ReconChoice before;
+    recon_select(motion_defocus, "auto", -1.0f, &before);
+    recon_select(motion_defocus, "auto", NAN, &c);
+    CHECK_STR(recon_choice_name(&before, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(recon_choice_name(&before, EFFECT_MOTION), "none");
+    CHECK(before.blur_px == -1.0f && c.blur_px == -1.0f);
+    CHECK(!memcmp(before.reason, c.reason, sizeof c.reason));
+
+    /* no motion: the value is ignored, the choice is today's */
+    EffectMask defocus = EFFECT_BIT(EFFECT_DEFOCUS);
+    recon_select(defocus, "auto", 50.0f, &c);
+    recon_select(defocus, "auto", -1.0f, &before);
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK(!memcmp(before.reason, c.reason, sizeof c.reason) && c.blur_px == -1.0f);
+    CHECK(!recon_select_wants_blur(defocus, "auto"));
+
+    /* explicit requests ignore it; a per-effect request lets auto decide the rest */
+    recon_select(motion_defocus, "aaf", 50.0f, &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "none");
+    recon_select(motion_defocus, "defocus=aaf", 50.0f, &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+    CHECK(recon_select_wants_blur(motion_defocus, "auto"));
+    CHECK(recon_select_wants_blur(motion_defocus, "defocus=aaf"));
+    CHECK(!recon_select_wants_blur(motion_defocus, "motion=lr,defocus=lr"));
+    CHECK(!recon_select_wants_blur(motion_defocus, "lr"));
+    CHECK(!recon_select_wants_blur(motion_defocus, "none"));
+    return check_failures ? 1 : 0;
+}
