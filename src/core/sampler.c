@@ -37,18 +37,18 @@ static uint64_t dim_seed(const PixelSampler *s, int dim, uint64_t part, uint64_t
  * constants here are our own. */
 static inline uint32_t permute_pow2_shift(uint32_t x, uint32_t mask, int shift, uint64_t seed)
 {
+    /* Reduced modulo 2^bits only before each right shift: the low bits of a sum, an xor or
+     * a product depend only on the low bits of the operands, so the bits above the mask
+     * that the other steps leave are never read (four masks on the dependency chain
+     * instead of eight, the same values). */
     uint32_t k0 = (uint32_t)seed, k1 = (uint32_t)(seed >> 32);
-    x ^= k0 & mask;
-    x = (x * 0x9e3779b1u) & mask;
+    x = ((x ^ k0) * 0x9e3779b1u) & mask;
     x ^= x >> shift;
-    x = (x + k1) & mask;
-    x = (x * (0x2c9277b5u | (k0 >> 16) | 1u)) & mask;
+    x = ((x + k1) * (0x2c9277b5u | (k0 >> 16) | 1u)) & mask;
     x ^= x >> shift;
-    x ^= (k1 >> 8) & mask;
-    x = (x * 0x85ebca77u) & mask;
+    x = ((x ^ (k1 >> 8)) * 0x85ebca77u) & mask;
     x ^= x >> shift;
-    x = (x + (k0 >> 5)) & mask;
-    x = (x * 0xc2b2ae3du) & mask;
+    x = ((x + (k0 >> 5)) * 0xc2b2ae3du) & mask;
     x ^= x >> shift;
     return x;
 }
@@ -613,10 +613,11 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
 /* multi_jitter's sub-column and sub-row permutations of one 2D dimension (seed t->seed),
  * drawn as grid_sub_permute draws them, packed 4 bits per element (grid_packed: rows and
  * cols <= 16, so every element fits). They are the same for every sample of the pixel;
- * per sample they cost two hashes and two cache look-ups. The shared shuffles are drawn
- * here; the rotations of a column or row on its first use (grid_rotations), because a
- * render round may take only a few of a pixel's samples (4 in the first rounds), which
- * touch only a few columns and rows before the sampler is set up again. */
+ * per sample they cost two hashes and two cache look-ups. All of them are drawn here, even
+ * in a render round that takes only 4 of the pixel's samples (and so touches only a few
+ * columns and rows): drawing each rotation on first use instead was measured slower
+ * (tools/bench-sampler: a data-dependent branch per request that mispredicts, against
+ * rows + cols hashes in a loop without one). */
 static void build_grid_tables(PixelSampler *s, SamplerDimTable *t)
 {
     uint32_t rows = s->grid_rows, cols = s->grid_cols;
@@ -625,28 +626,19 @@ static void build_grid_tables(PixelSampler *s, SamplerDimTable *t)
     t->sub_x = rows > 1 ? shuffle_bits_nibbles(rows, hash_u64(seed ^ SUB_COLUMN_SALT)) : 0;
     t->sub_y = cols > 1 ? shuffle_bits_nibbles(cols, hash_u64(seed ^ SUB_ROW_SALT)) : 0;
     t->col_rot = t->row_rot = 0;
-    t->rot_ready = 0;
-}
-
-/* Draws the rotation of column c and of row r (grid_sub_permute's o) into the table. */
-static __attribute__((noinline)) void grid_rotations(const PixelSampler *s, SamplerDimTable *t, uint32_t r, uint32_t c)
-{
-    uint32_t rows = s->grid_rows, cols = s->grid_cols;
-    uint32_t col_bit = 1u << c, row_bit = 1u << (16u + r);
-    if (!(t->rot_ready & col_bit) && rows > 1)
-        t->col_rot |= (uint64_t)uniform_below(column_perm_seed(t->seed, c), rows) << (4u * c);
-    if (!(t->rot_ready & row_bit) && cols > 1)
-        t->row_rot |= (uint64_t)uniform_below(row_perm_seed(t->seed, r), cols) << (4u * r);
-    t->rot_ready |= col_bit | row_bit;
+    if (rows > 1)
+        for (uint32_t c = 0; c < cols; ++c)
+            t->col_rot |= (uint64_t)uniform_below(column_perm_seed(seed, c), rows) << (4u * c);
+    if (cols > 1)
+        for (uint32_t r = 0; r < rows; ++r)
+            t->row_rot |= (uint64_t)uniform_below(row_perm_seed(seed, r), cols) << (4u * r);
 }
 
 /* multi_jitter through the tables of build_grid_tables: the same values. */
-static inline vec2 multi_jitter_packed(const PixelSampler *s, SamplerDimTable *t, uint32_t j, uint64_t jitter_bits)
+static inline vec2 multi_jitter_packed(const PixelSampler *s, const SamplerDimTable *t, uint32_t j, uint64_t jitter_bits)
 {
     uint32_t rows = s->grid_rows, cols = s->grid_cols;
     uint32_t r = (uint32_t)(((unsigned __int128)s->cols_magic * j) >> 64), c = j - r * cols;
-    uint32_t need = (1u << c) | (1u << (16u + r));
-    if ((t->rot_ready & need) != need) grid_rotations(s, t, r, c);
     uint32_t sub_x = nibble(t->sub_x, r) + nibble(t->col_rot, c);
     uint32_t sub_y = nibble(t->sub_y, c) + nibble(t->row_rot, r);
     sub_x = sub_x >= rows ? sub_x - rows : sub_x; /* (rho(i) + o) mod m, as grid_sub_permute */

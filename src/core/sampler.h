@@ -53,10 +53,8 @@ typedef struct {
      * (grid_packed): multi_jitter's sub-column and sub-row permutations of this dimension,
      * the same for all of the pixel's samples, so drawn once here instead of per sample.
      * Nibble r of sub_x / c of sub_y: the shared shuffles rho_x(r), rho_y(c); nibble c of
-     * col_rot / r of row_rot: the per-column / per-row rotations, drawn on first use
-     * (rot_ready: bit c, column c's; bit 16 + r, row r's). */
+     * col_rot / r of row_rot: the per-column / per-row rotations. */
     uint64_t sub_x, sub_y, col_rot, row_rot;
-    uint32_t rot_ready;
 } SamplerDimTable;
 
 typedef struct {
