@@ -351,12 +351,14 @@ static inline uint32_t sobol_dim0_reversed(uint32_t i) { return i; }
  * aligned block of 2^k indices is a (0, k, 2)-net in base 2 (Sobol' 1967). */
 static inline uint32_t sobol_dim1_reversed(uint32_t i)
 {
-    /* The first four columns, v = 1, 3, 5, 15, selected without branches: the point index
-     * of a pixel's few samples is random, and a data-dependent loop mispredicts. */
+    /* The first eight columns, v = 1, 3, 5, 15, 17, 51, 85, 255, selected without branches:
+     * the (padded) point index of a pixel's samples is random, and a data-dependent loop
+     * mispredicts (up to 256 samples per pixel no loop runs at all). */
     uint32_t r = ((0u - (i & 1u)) & 1u) ^ ((0u - (i >> 1 & 1u)) & 3u) ^ ((0u - (i >> 2 & 1u)) & 5u) ^
-                 ((0u - (i >> 3 & 1u)) & 15u);
-    uint32_t v = 17u; /* v_4 */
-    for (i >>= 4; i; i >>= 1, v ^= v << 1)
+                 ((0u - (i >> 3 & 1u)) & 15u) ^ ((0u - (i >> 4 & 1u)) & 17u) ^ ((0u - (i >> 5 & 1u)) & 51u) ^
+                 ((0u - (i >> 6 & 1u)) & 85u) ^ ((0u - (i >> 7 & 1u)) & 255u);
+    uint32_t v = 257u; /* v_8 */
+    for (i >>= 8; i; i >>= 1, v ^= v << 1)
         if (i & 1u) r ^= v;
     return r;
 }
