@@ -301,6 +301,10 @@ static uint32_t grid_sub_permute(PixelSampler *s, uint32_t i, uint32_t m, uint64
     return v >= m ? v - m : v;
 }
 
+/* Keys of a 2D dimension's shared sub-column and sub-row shuffles (grid_sub_permute's rho). */
+#define SUB_COLUMN_SALT 0x243f6a8885a308d3ull
+#define SUB_ROW_SALT 0x13198a2e03707344ull
+
 /* Multi-jittered point number j of n (Chiu, Shirley, Wang 1994, "Multi-jittered
  * sampling"): the unit square is a rows x cols grid with one point per cell, and each cell
  * is further split into rows sub-columns and cols sub-rows so that the n points also fall
@@ -312,10 +316,6 @@ static uint32_t grid_sub_permute(PixelSampler *s, uint32_t i, uint32_t m, uint64
  * an integrand with a mixed term (f = x y) contains sum_c c * perm(c), which does not
  * average out and decays only as n^-0.75; independent permutations give n^-1, as a plain
  * jittered grid (measured in tests/core/test_sampler.c, about 1.5x lower error than it). */
-/* Keys of a 2D dimension's shared sub-column and sub-row shuffles (grid_sub_permute's rho). */
-#define SUB_COLUMN_SALT 0x243f6a8885a308d3ull
-#define SUB_ROW_SALT 0x13198a2e03707344ull
-
 static vec2 multi_jitter(PixelSampler *s, uint32_t j, uint64_t seed, uint64_t jitter_bits)
 {
     uint32_t rows = s->grid_rows, cols = s->grid_cols;
@@ -423,8 +423,9 @@ static void set_part_size(PixelSampler *s, int spp)
     s->perm_mask = n > 1 ? pow2_mask(n) : 0;
     s->perm_shift = n > 1 ? permute_shift(32 - __builtin_clz(s->perm_mask)) : 1;
     s->grid_packed = n > SAMPLER_SHUFFLE_MAX && s->grid_rows <= SAMPLER_SHUFFLE_MAX && s->grid_cols <= SAMPLER_SHUFFLE_MAX;
-    /* Lemire, Kaser, Kurz 2019, "Faster remainder by direct computation", sec. 3: with
-     * c = ceil(2^64 / d), floor(c j / 2^64) = floor(j / d) for every 32-bit j and d >= 2. */
+    /* Lemire, Kaser, Kurz 2019, "Faster remainder by direct computation": with
+     * c = ceil(2^64 / d), floor(c j / 2^64) = floor(j / d) for every 32-bit j and
+     * 2 <= d < 2^32 (64 fraction bits >= 32 + log2 d). */
     s->cols_magic = s->grid_cols > 1 ? UINT64_MAX / s->grid_cols + 1u : 0;
 }
 
@@ -607,11 +608,6 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
     return build_dim_table(s, dim, kind);
 }
 
-/* Past the tables (spp above SAMPLER_SHUFFLE_MAX): the seeds of scalar dimension dim for
- * requests of `kind` (1 or 2) in the current block, hashed on first use. x keys the padding
- * permutation, the per-dimension shuffle of sample indices that decorrelates dimensions;
- * seed keys the values (Sobol' scramble, stratified 2D multi-jitter). Two hashes per
- * request otherwise, on the critical path of every sample. */
 /* multi_jitter's sub-column and sub-row permutations of one 2D dimension (seed t->seed),
  * drawn as grid_sub_permute draws them, packed 4 bits per element (grid_packed: rows and
  * cols <= 16, so every element fits). They are the same for every sample of the pixel;
@@ -649,6 +645,11 @@ static inline vec2 multi_jitter_packed(const PixelSampler *s, const SamplerDimTa
               stratum_value(s, r * cols + sub_y, (uint32_t)(jitter_bits >> 32)));
 }
 
+/* Past the tables (spp above SAMPLER_SHUFFLE_MAX): the seeds of scalar dimension dim for
+ * requests of `kind` (1 or 2) in the current block, hashed on first use. x keys the padding
+ * permutation, the per-dimension shuffle of sample indices that decorrelates dimensions;
+ * seed keys the values (Sobol' scramble, stratified 2D multi-jitter). Two hashes per
+ * request otherwise, on the critical path of every sample. */
 static __attribute__((noinline)) SamplerDimTable *build_dim_seeds(PixelSampler *s, int dim, int kind)
 {
     SamplerDimTable *t = &s->dim_table[dim];
