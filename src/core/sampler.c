@@ -35,23 +35,30 @@ static uint64_t dim_seed(const PixelSampler *s, int dim, uint64_t part, uint64_t
  * different seeds look independent. The idea (cycle-walking a hash restricted to a power
  * of two) follows Kensler 2013, "Correlated Multi-Jittered Sampling", sec. 3; the steps and
  * constants here are our own. */
-static uint32_t permute_pow2(uint32_t x, uint32_t mask, int bits, uint64_t seed)
+static inline uint32_t permute_pow2_shift(uint32_t x, uint32_t mask, int shift, uint64_t seed)
 {
-    int shift = bits > 1 ? (bits + 1) / 2 : 1;
+    /* Reduced modulo 2^bits only before each right shift: the low bits of a sum, an xor or
+     * a product depend only on the low bits of the operands, so the bits above the mask
+     * that the other steps leave are never read (four masks on the dependency chain
+     * instead of eight, the same values). */
     uint32_t k0 = (uint32_t)seed, k1 = (uint32_t)(seed >> 32);
-    x ^= k0 & mask;
-    x = (x * 0x9e3779b1u) & mask;
+    x = ((x ^ k0) * 0x9e3779b1u) & mask;
     x ^= x >> shift;
-    x = (x + k1) & mask;
-    x = (x * (0x2c9277b5u | (k0 >> 16) | 1u)) & mask;
+    x = ((x + k1) * (0x2c9277b5u | (k0 >> 16) | 1u)) & mask;
     x ^= x >> shift;
-    x ^= (k1 >> 8) & mask;
-    x = (x * 0x85ebca77u) & mask;
+    x = ((x ^ (k1 >> 8)) * 0x85ebca77u) & mask;
     x ^= x >> shift;
-    x = (x + (k0 >> 5)) & mask;
-    x = (x * 0xc2b2ae3du) & mask;
+    x = ((x + (k0 >> 5)) * 0xc2b2ae3du) & mask;
     x ^= x >> shift;
     return x;
+}
+
+/* The xorshift distance of permute_pow2 on `bits` bits: about half of them. */
+static inline int permute_shift(int bits) { return bits > 1 ? (bits + 1) / 2 : 1; }
+
+static uint32_t permute_pow2(uint32_t x, uint32_t mask, int bits, uint64_t seed)
+{
+    return permute_pow2_shift(x, mask, permute_shift(bits), seed);
 }
 
 /* ---- uniform integers from one 64-bit random number ----------------------------------- */
@@ -165,18 +172,25 @@ static uint32_t permute_cached(PixelSampler *s, uint32_t i, uint32_t n, uint64_t
     return slot->perm[i];
 }
 
-uint32_t sampler_permute(uint32_t i, uint32_t n, uint64_t seed)
+/* The smallest 2^k - 1 at or above n - 1 (n >= 2): the domain of the keyed bijection. */
+static inline uint32_t pow2_mask(uint32_t n)
 {
-    if (n <= 1) return 0;
-    /* An index outside [0, n) could sit on a cycle that never enters it: fold it in. */
-    if (i >= n) i %= n;
-    if (n <= SAMPLER_SHUFFLE_MAX) return permute_small(i, n, seed);
     uint32_t mask = n - 1;
     mask |= mask >> 1;
     mask |= mask >> 2;
     mask |= mask >> 4;
     mask |= mask >> 8;
     mask |= mask >> 16;
+    return mask;
+}
+
+uint32_t sampler_permute(uint32_t i, uint32_t n, uint64_t seed)
+{
+    if (n <= 1) return 0;
+    /* An index outside [0, n) could sit on a cycle that never enters it: fold it in. */
+    if (i >= n) i %= n;
+    if (n <= SAMPLER_SHUFFLE_MAX) return permute_small(i, n, seed);
+    uint32_t mask = pow2_mask(n);
     int bits = 32 - __builtin_clz(mask); /* mask > 0 here */
     /* Cycle walking: apply the bijection until the value falls inside [0, n). Starting from
      * i < n the orbit of a permutation returns to i, so this terminates; since n > mask/2,
@@ -287,6 +301,10 @@ static uint32_t grid_sub_permute(PixelSampler *s, uint32_t i, uint32_t m, uint64
     return v >= m ? v - m : v;
 }
 
+/* Keys of a 2D dimension's shared sub-column and sub-row shuffles (grid_sub_permute's rho). */
+#define SUB_COLUMN_SALT 0x243f6a8885a308d3ull
+#define SUB_ROW_SALT 0x13198a2e03707344ull
+
 /* Multi-jittered point number j of n (Chiu, Shirley, Wang 1994, "Multi-jittered
  * sampling"): the unit square is a rows x cols grid with one point per cell, and each cell
  * is further split into rows sub-columns and cols sub-rows so that the n points also fall
@@ -302,8 +320,8 @@ static vec2 multi_jitter(PixelSampler *s, uint32_t j, uint64_t seed, uint64_t ji
 {
     uint32_t rows = s->grid_rows, cols = s->grid_cols;
     uint32_t c = j % cols, r = j / cols;
-    uint32_t sub_x = grid_sub_permute(s, r, rows, seed ^ 0x243f6a8885a308d3ull, column_perm_seed(seed, c));
-    uint32_t sub_y = grid_sub_permute(s, c, cols, seed ^ 0x13198a2e03707344ull, row_perm_seed(seed, r));
+    uint32_t sub_x = grid_sub_permute(s, r, rows, seed ^ SUB_COLUMN_SALT, column_perm_seed(seed, c));
+    uint32_t sub_y = grid_sub_permute(s, c, cols, seed ^ SUB_ROW_SALT, row_perm_seed(seed, r));
     /* x = (c + (sub_x + jx) / rows) / cols: 1D stratum c * rows + sub_x of n. */
     return v2(stratum_value(s, c * rows + sub_x, (uint32_t)jitter_bits),
               stratum_value(s, r * cols + sub_y, (uint32_t)(jitter_bits >> 32)));
@@ -333,12 +351,14 @@ static inline uint32_t sobol_dim0_reversed(uint32_t i) { return i; }
  * aligned block of 2^k indices is a (0, k, 2)-net in base 2 (Sobol' 1967). */
 static inline uint32_t sobol_dim1_reversed(uint32_t i)
 {
-    /* The first four columns, v = 1, 3, 5, 15, selected without branches: the point index
-     * of a pixel's few samples is random, and a data-dependent loop mispredicts. */
+    /* The first eight columns, v = 1, 3, 5, 15, 17, 51, 85, 255, selected without branches:
+     * the (padded) point index of a pixel's samples is random, and a data-dependent loop
+     * mispredicts (up to 256 samples per pixel no loop runs at all). */
     uint32_t r = ((0u - (i & 1u)) & 1u) ^ ((0u - (i >> 1 & 1u)) & 3u) ^ ((0u - (i >> 2 & 1u)) & 5u) ^
-                 ((0u - (i >> 3 & 1u)) & 15u);
-    uint32_t v = 17u; /* v_4 */
-    for (i >>= 4; i; i >>= 1, v ^= v << 1)
+                 ((0u - (i >> 3 & 1u)) & 15u) ^ ((0u - (i >> 4 & 1u)) & 17u) ^ ((0u - (i >> 5 & 1u)) & 51u) ^
+                 ((0u - (i >> 6 & 1u)) & 85u) ^ ((0u - (i >> 7 & 1u)) & 255u);
+    uint32_t v = 257u; /* v_8 */
+    for (i >>= 8; i; i >>= 1, v ^= v << 1)
         if (i & 1u) r ^= v;
     return r;
 }
@@ -397,6 +417,16 @@ static void set_part_size(PixelSampler *s, int spp)
     s->inv_spp_2m32 = s->inv_spp * 0x1p-32;
     s->margin_bits = (uint64_t)spp << 9; /* n 2^-23 = n 2^9 2^-32 */
     grid_shape((uint32_t)spp, &s->grid_rows, &s->grid_cols);
+    /* Past the tables: what sampler_permute and multi_jitter would derive from spp on
+     * every request. */
+    uint32_t n = (uint32_t)spp;
+    s->perm_mask = n > 1 ? pow2_mask(n) : 0;
+    s->perm_shift = n > 1 ? permute_shift(32 - __builtin_clz(s->perm_mask)) : 1;
+    s->grid_packed = n > SAMPLER_SHUFFLE_MAX && s->grid_rows <= SAMPLER_SHUFFLE_MAX && s->grid_cols <= SAMPLER_SHUFFLE_MAX;
+    /* Lemire, Kaser, Kurz 2019, "Faster remainder by direct computation": with
+     * c = ceil(2^64 / d), floor(c j / 2^64) = floor(j / d) for every 32-bit j and
+     * 2 <= d < 2^32 (64 fraction bits >= 32 + log2 d). */
+    s->cols_magic = s->grid_cols > 1 ? UINT64_MAX / s->grid_cols + 1u : 0;
 }
 
 /* Marks a set continued from its first part (a key no block number reaches). */
@@ -578,23 +608,61 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
     return build_dim_table(s, dim, kind);
 }
 
+/* multi_jitter's sub-column and sub-row permutations of one 2D dimension (seed t->seed),
+ * drawn as grid_sub_permute draws them, packed 4 bits per element (grid_packed: rows and
+ * cols <= 16, so every element fits). They are the same for every sample of the pixel;
+ * per sample they cost two hashes and two cache look-ups. All of them are drawn here, even
+ * in a render round that takes only 4 of the pixel's samples (and so touches only a few
+ * columns and rows): drawing each rotation on first use instead was measured slower
+ * (tools/bench-sampler: a data-dependent branch per request that mispredicts, against
+ * rows + cols hashes in a loop without one). */
+static void build_grid_tables(PixelSampler *s, SamplerDimTable *t)
+{
+    uint32_t rows = s->grid_rows, cols = s->grid_cols;
+    uint64_t seed = t->seed;
+    /* grid_sub_permute gives 0 on a single row (or column): shuffle and rotations 0 */
+    t->sub_x = rows > 1 ? shuffle_bits_nibbles(rows, hash_u64(seed ^ SUB_COLUMN_SALT)) : 0;
+    t->sub_y = cols > 1 ? shuffle_bits_nibbles(cols, hash_u64(seed ^ SUB_ROW_SALT)) : 0;
+    t->col_rot = t->row_rot = 0;
+    if (rows > 1)
+        for (uint32_t c = 0; c < cols; ++c)
+            t->col_rot |= (uint64_t)uniform_below(column_perm_seed(seed, c), rows) << (4u * c);
+    if (cols > 1)
+        for (uint32_t r = 0; r < rows; ++r)
+            t->row_rot |= (uint64_t)uniform_below(row_perm_seed(seed, r), cols) << (4u * r);
+}
+
+/* multi_jitter through the tables of build_grid_tables: the same values. */
+static inline vec2 multi_jitter_packed(const PixelSampler *s, const SamplerDimTable *t, uint32_t j, uint64_t jitter_bits)
+{
+    uint32_t rows = s->grid_rows, cols = s->grid_cols;
+    uint32_t r = (uint32_t)(((unsigned __int128)s->cols_magic * j) >> 64), c = j - r * cols;
+    uint32_t sub_x = nibble(t->sub_x, r) + nibble(t->col_rot, c);
+    uint32_t sub_y = nibble(t->sub_y, c) + nibble(t->row_rot, r);
+    sub_x = sub_x >= rows ? sub_x - rows : sub_x; /* (rho(i) + o) mod m, as grid_sub_permute */
+    sub_y = sub_y >= cols ? sub_y - cols : sub_y;
+    return v2(stratum_value(s, c * rows + sub_x, (uint32_t)jitter_bits),
+              stratum_value(s, r * cols + sub_y, (uint32_t)(jitter_bits >> 32)));
+}
+
 /* Past the tables (spp above SAMPLER_SHUFFLE_MAX): the seeds of scalar dimension dim for
  * requests of `kind` (1 or 2) in the current block, hashed on first use. x keys the padding
  * permutation, the per-dimension shuffle of sample indices that decorrelates dimensions;
  * seed keys the values (Sobol' scramble, stratified 2D multi-jitter). Two hashes per
  * request otherwise, on the critical path of every sample. */
-static __attribute__((noinline)) const SamplerDimTable *build_dim_seeds(PixelSampler *s, int dim, int kind)
+static __attribute__((noinline)) SamplerDimTable *build_dim_seeds(PixelSampler *s, int dim, int kind)
 {
     SamplerDimTable *t = &s->dim_table[dim];
     t->x = dim_seed(s, dim, s->perm_key, kind == 1 ? 1 : 3);
     t->seed = dim_seed(s, dim, s->value_key, kind == 1 ? 2 : 4);
+    if (kind == 2 && s->kind == SAMPLER_STRATIFIED && s->grid_packed) build_grid_tables(s, t);
     uint64_t bit = 1ull << dim;
     s->seeds_ready[kind - 1] |= bit;
     s->seeds_ready[2 - kind] &= ~bit; /* the entry now holds the other kind's seeds */
     return t;
 }
 
-static inline const SamplerDimTable *dim_seeds(PixelSampler *s, int dim, int kind)
+static inline SamplerDimTable *dim_seeds(PixelSampler *s, int dim, int kind)
 {
     if (s->seeds_ready[kind - 1] & (1ull << dim)) return &s->dim_table[dim];
     return build_dim_seeds(s, dim, kind);
@@ -604,7 +672,14 @@ static inline const SamplerDimTable *dim_seeds(PixelSampler *s, int dim, int kin
  * index), past the tables. */
 static inline uint32_t padded_index(const PixelSampler *s, const SamplerDimTable *seeds)
 {
-    return sampler_permute(s->index_in_block, (uint32_t)s->spp, seeds->x);
+    uint32_t n = (uint32_t)s->spp;
+    if (n <= SAMPLER_SHUFFLE_MAX) return sampler_permute(s->index_in_block, n, seeds->x);
+    /* sampler_permute's cycle walk with the part's mask and shift (index_in_block < n) */
+    uint32_t x = s->index_in_block;
+    do {
+        x = permute_pow2_shift(x, s->perm_mask, s->perm_shift, seeds->x);
+    } while (x >= n);
+    return x;
 }
 
 /* True when dimension dim's table for requests of `kind` is built (spp <= 16 implied). */
@@ -663,10 +738,11 @@ static __attribute__((noinline)) vec2 value_2d_untabled(PixelSampler *s, int dim
         uint64_t bits = request_bits(s, dim);
         return v2(float_of((uint32_t)bits), float_of((uint32_t)(bits >> 32)));
     }
-    const SamplerDimTable *t = dim_seeds(s, dim, 2);
+    SamplerDimTable *t = dim_seeds(s, dim, 2);
     uint32_t j = padded_index(s, t);
     uint64_t seed = t->seed;
-    if (s->kind == SAMPLER_STRATIFIED) return multi_jitter(s, j, seed, request_bits(s, dim));
+    if (s->kind == SAMPLER_STRATIFIED)
+        return s->grid_packed ? multi_jitter_packed(s, t, j, request_bits(s, dim)) : multi_jitter(s, j, seed, request_bits(s, dim));
     j += s->point_offset;
     return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)seed),
               scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(seed >> 32)));

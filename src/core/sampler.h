@@ -49,6 +49,12 @@ typedef struct {
                        * Sobol', the padded point index. Past the tables: the padding
                        * permutation's seed */
     uint64_t y;       /* nibble i: stratified 2D, the 1D stratum of y */
+    /* Stratified 2D past the tables, when the grid has at most 16 rows and 16 columns
+     * (grid_packed): multi_jitter's sub-column and sub-row permutations of this dimension,
+     * the same for all of the pixel's samples, so drawn once here instead of per sample.
+     * Nibble r of sub_x / c of sub_y: the shared shuffles rho_x(r), rho_y(c); nibble c of
+     * col_rot / r of row_rot: the per-column / per-row rotations. */
+    uint64_t sub_x, sub_y, col_rot, row_rot;
 } SamplerDimTable;
 
 typedef struct {
@@ -66,6 +72,11 @@ typedef struct {
     uint64_t part_key;    /* which part: block | (0 whole or prefix, 1 continuation) << 32 */
     uint64_t perm_key, value_key; /* key the part's padding permutations and its values */
     uint32_t point_offset;        /* Sobol': the part's first sequence index */
+    /* Past the tables (spp > SAMPLER_SHUFFLE_MAX), derived from spp once per part: */
+    uint32_t perm_mask;  /* the padding permutation's power-of-two domain minus one */
+    int perm_shift;      /* its xorshift distance */
+    bool grid_packed;    /* stratified 2D: rows and cols <= 16 (SamplerDimTable.sub_x...) */
+    uint64_t cols_magic; /* 2^64 / grid_cols rounded up: j / cols without a division */
     uint64_t pixel_seed;
     int sample_index; /* current sample, >= 0 (indices >= set_spp start further blocks) */
     uint32_t block, index_in_block; /* sample_index / set_spp, and the index within the part */

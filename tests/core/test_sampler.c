@@ -90,7 +90,10 @@ static void test_determinism(SamplerKind kind)
  * one sample and as 2D in another (the tables are per request kind). */
 static void test_cache_is_pure(SamplerKind kind)
 {
-    const int counts[] = {1, 2, 3, 4, 6, 9, 16, 17, 32};
+    /* 32, 64, 100, 256: multi-jitter's per-dimension grid tables (built by whichever
+     * sample meets the dimension first, in reverse or fresh below); 68 (a 4 x 17 grid): the
+     * per-sample path */
+    const int counts[] = {1, 2, 3, 4, 6, 9, 16, 17, 32, 64, 68, 100, 256};
     for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
         int n = counts[c];
         fill_pixel(kind, 7, 3, 4, 0, n, g_samples);
