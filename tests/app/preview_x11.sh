@@ -62,7 +62,13 @@ python3 -c "import sys; e1, e2 = $e1, $e2; sys.exit(0 if e1 < 0.05 and e2 < e1 e
     { echo "FAIL: the window does not show the scene converging (early $e1, late $e2)"; fail=1; }
 # s saves the image (EXR and PNG, atomically), q quits with exit 0
 xdotool key --window "$wid" s
-for _ in $(seq 1 100); do ls "$T"/soft_shadows-preview-*spp.exr >/dev/null 2>&1 && break; sleep 0.1; done
+# the EXR is written first and the PNG after it (each atomically): wait for both, up to 30 s
+# (under a loaded CI machine the PNG's OCIO conversion can lag the EXR by a second or more)
+for _ in $(seq 1 300); do
+    f=$(ls "$T"/soft_shadows-preview-*spp.exr 2>/dev/null | head -1)
+    [ -n "$f" ] && [ -s "${f%.exr}.png" ] && break
+    sleep 0.1
+done
 exr=$(ls "$T"/soft_shadows-preview-*spp.exr 2>/dev/null | head -1)
 if [ -z "$exr" ]; then echo "FAIL: s saved no EXR"; cat "$T/preview.txt"; fail=1
 else
