@@ -21,10 +21,13 @@ static const struct {
     {EFFECT_INDIRECT, "aaf", "aaf: 13.8x less time than Monte Carlo at equal error (indirect bench, 256x256)"},
 };
 
+/* The measurement behind lr for motion alone (docs/benchmarks.md, issue 18). */
+#define LR_MOTION_ONLY_EVIDENCE "motion_shading 128x128: 29%/18% less error than unfiltered at 8/16 spp"
+
 static const char *const NO_METHOD_REASON[EFFECT_COUNT] = {
     [EFFECT_SOFT_SHADOWS] = "no registered method filters soft shadows",
     [EFFECT_DEFOCUS] = "no registered method filters defocus",
-    [EFFECT_MOTION] = "lr filters it with --filter lr; auto leaves it: lr is 0.7x Monte Carlo's speed at equal error on the mild motion+defocus bench, 2.1x on the hard one (256x192, 8 spp)",
+    [EFFECT_MOTION] = "no registered method filters motion",
     [EFFECT_INDIRECT] = "no registered method filters indirect light",
 };
 
@@ -82,19 +85,27 @@ static void set_reason(ReconChoice *out, Effect e, const char *fmt, ...)
 
 /* The camera effects with motion (docs/benchmarks.md, "The choice per effect (issue 18)"):
  * layered reconstruction gathers, for a pixel, the samples of every pixel whose blur reaches
- * it (docs/algorithms.md section 8), so it has more samples than a per-pixel filter only
- * where the blur spans several pixels. On the bench at 128x128 it beats aaf-only by 2-3x
- * where the probe's median blur is 6.2 px (motion_defocus_hard, _soft) and loses up to 2x
- * where it is 1.8-2.0 px (all_effects, motion_defocus); RECON_LR_MIN_BLUR_PX = 3 px sits
- * between (a blur of 3 px reaches at least the 8 neighbours). */
-static bool select_camera_by_blur(Effect e, float blur_px, ReconChoice *out)
+ * it (docs/algorithms.md section 8), so for defocus it has more samples than a per-pixel
+ * filter only where the blur spans several pixels. On the bench at 128x128 it beats aaf-only
+ * by 2-3x where the probe's median blur is 6.2 px (motion_defocus_hard, _soft) and loses up
+ * to 2x where it is 1.8-2.0 px (all_effects, motion_defocus); RECON_LR_MIN_BLUR_PX = 3 px
+ * sits between (a blur of 3 px reaches at least the 8 neighbours). Motion always goes to lr:
+ * below the threshold lr filters it alone (the lens left to aaf, docs/algorithms.md 8.14),
+ * which at equal samples never lost to unfiltered motion on the bench and wins where objects
+ * move over a static background. */
+static void select_camera_by_blur(Effect e, float blur_px, ReconChoice *out)
 {
     const ReconMethodClass *lr = recon_method_find("lr");
-    if (!lr || !effect_in(lr->effects, e) || !(blur_px >= RECON_LR_MIN_BLUR_PX)) return false;
-    out->method[e] = lr;
-    set_reason(out, e, "lr: median blur %.1f px >= %.0f px, layered reconstruction shares samples across pixels "
-               "(docs/benchmarks.md, issue 18)", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
-    return true;
+    if (!lr || !effect_in(lr->effects, e)) return;
+    if (blur_px >= RECON_LR_MIN_BLUR_PX) {
+        out->method[e] = lr;
+        set_reason(out, e, "lr: median blur %.1f px >= %.0f px, layered reconstruction shares samples across pixels "
+                   "(docs/benchmarks.md, issue 18)", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
+    } else if (e == EFFECT_MOTION) {
+        out->method[e] = lr;
+        set_reason(out, e, "lr, motion only: median blur %.1f px < %.0f px; moving objects get their own layers' "
+                   "motion filter (%s)", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX, LR_MOTION_ONLY_EVIDENCE);
+    }
 }
 
 /* auto's choice for effect e of the effects present; blur_px as for recon_select. */
@@ -102,8 +113,21 @@ static void select_auto(Effect e, EffectMask present, float blur_px, ReconChoice
 {
     bool measured = effect_in(present, EFFECT_MOTION) && blur_px >= 0.0f && isfinite(blur_px);
     bool camera = e == EFFECT_MOTION || e == EFFECT_DEFOCUS;
-    if (measured && camera) out->blur_px = blur_px;
-    if (measured && camera && select_camera_by_blur(e, blur_px, out)) return;
+    if (measured && camera) {
+        out->blur_px = blur_px;
+        select_camera_by_blur(e, blur_px, out);
+        if (out->method[e]) return;
+    }
+    if (e == EFFECT_MOTION) {
+        /* not measured (a caller that did not run the probe): motion alone to lr */
+        const ReconMethodClass *lr = recon_method_find("lr");
+        if (lr && effect_in(lr->effects, e)) {
+            out->method[e] = lr;
+            set_reason(out, e, "lr, motion only: moving objects get their own layers' motion filter (%s)",
+                       LR_MOTION_ONLY_EVIDENCE);
+            return;
+        }
+    }
     const char *why = NO_METHOD_REASON[e];
     for (size_t k = 0; k < sizeof AUTO_POLICY / sizeof AUTO_POLICY[0]; ++k) {
         const ReconMethodClass *m = recon_method_find(AUTO_POLICY[k].method);

@@ -32,7 +32,7 @@ python3 - "$tmp/all.json" "$tmp/all.pbrt" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
 assert j["effects"] == ["soft_shadows", "defocus", "motion", "indirect"], j["effects"]
-assert j["filters"] == {"soft_shadows": "aaf", "defocus": "aaf", "motion": "none", "indirect": "aaf"}, j["filters"]
+assert j["filters"] == {"soft_shadows": "aaf", "defocus": "aaf", "motion": "lr", "indirect": "aaf"}, j["filters"]
 assert (j["width"], j["height"], j["spp"]) == (64, 48, 8), j
 # motion present: auto read the blur probe, whose value is a blur in pixels
 assert isinstance(j["blur_probe_px"], float) and j["blur_probe_px"] >= 0, j["blur_probe_px"]
@@ -57,7 +57,7 @@ PY
 
 # The human summary names the same things.
 "$WEDGE" info "$tmp/all.pbrt" > "$tmp/all.txt"
-grep -q '^effects     soft_shadows (filter: aaf) defocus (filter: aaf) motion (filter: none) indirect (filter: aaf)$' "$tmp/all.txt"
+grep -q '^effects     soft_shadows (filter: aaf) defocus (filter: aaf) motion (filter: lr) indirect (filter: aaf)$' "$tmp/all.txt"
 grep -q '^triangles   4$' "$tmp/all.txt"
 grep -q '^lights      area 1 point 2$' "$tmp/all.txt"
 

@@ -27,6 +27,7 @@
 #define LR_TAPS_Y 45
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
 #define LR_CH 5
+#define LR_MOVING_PX 1.0f /* lr_partition.h: moving and static samples of a slab are separate layers */
 
 typedef struct {
     int x0, y0, x1, y1;
@@ -70,15 +71,20 @@ typedef float lr_sum; /* a device without doubles: psi may differ from the C ver
 
 #define LR_ST_STRIDE 8 /* per raw layer: count, cos psi, sin psi, c_min, c_max, d_min, d_max, across */
 
-/* Same rule as lr_tile_raw_layer, on the tile's own bounds array. */
-static int lr_raw_layer(const float *tb, float depth, float coc)
+/* Same rule as lr_tile_raw_layer, on the tile's own bounds array: slab k's moving samples are
+ * raw layer 2k, its static ones 2k + 1, when 2 slabs + 1 ids fit in 17. */
+static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float my)
 {
     int n_depth = (int)tb[0], n_coc = (int)tb[1];
-    if (!(depth < INFINITY)) return n_depth + n_coc + 1;
+    int slabs = n_depth + n_coc + 1;
+    bool split = 2 * slabs + 1 <= 17;
+    if (!(depth < INFINITY)) return split ? 2 * slabs : slabs;
     int k = 0;
     for (int i = 0; i < n_depth; ++i) k += depth > tb[2 + i];
     for (int i = 0; i < n_coc; ++i) k += coc > tb[17 + i];
-    return k;
+    if (!split) return k;
+    bool moving = mx * mx + my * my >= LR_MOVING_PX * LR_MOVING_PX;
+    return 2 * k + (moving ? 0 : 1);
 }
 
 /* The partition statistics of one tile (lr_partition.c: tile_stats, the same sums in the same
@@ -115,7 +121,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     for (int i = 0; i < n_coc; ++i) tb[17 + i] = coc_bounds[i];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tile_bounds[tile * LR_TB_STRIDE + i] = tb[i];
 
-    int raw_n = n_depth + n_coc + 2;
+    int raw_n = 2 * (n_depth + n_coc + 1) + 1 <= 17 ? 2 * (n_depth + n_coc + 1) + 1 : n_depth + n_coc + 2;
     int count[17];
     lr_sum mx[17], my[17];
     float cmin[17], cmax[17], cp[17], sp[17], dmin[17], dmax[17], perp[17];
@@ -131,7 +137,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
                 __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                int r = lr_raw_layer(tb, s[5], s[6]);
+                int r = lr_raw_layer(tb, s[5], s[6], s[7], s[8]);
                 bool finite = isfinite(s[9]) && isfinite(s[10]) && isfinite(s[11]);
                 ids[i] = (uchar)(finite ? r : r | LR_SKIP); /* the reprojection skips non-finite radiance */
                 count[r]++;

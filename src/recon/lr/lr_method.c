@@ -106,6 +106,11 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
     const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
     const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    /* Motion alone (defocus is another method's, already in the corrected radiance): LR's
+     * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
+     * along the motion, not a dimension it shears). */
+    bool lens_dims = effect_in(m->effects, EFFECT_DEFOCUS);
+    if (!lens_dims) lens = NULL;
     for (size_t i = 0; i < n; ++i) {
         int count = sample_store_count(st, i);
         double mean[3] = {0, 0, 0};
@@ -127,7 +132,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
             o->v = lens ? -lens[2 * j + 1] : 0.0f;
             o->t = time ? time[j] : 0.5f;
             o->depth = depth[j];
-            o->coc_px = recon_coc_slope_px(&m->g->cam, depth[j]);
+            o->coc_px = lens_dims ? recon_coc_slope_px(&m->g->cam, depth[j]) : 0.0f;
             if (!isfinite(o->coc_px)) o->coc_px = 0.0f;
             o->motion_px[0] = motion ? motion[2 * j] : 0.0f;
             o->motion_px[1] = motion ? motion[2 * j + 1] : 0.0f;

@@ -2,7 +2,17 @@
 #include "recon/lr/lr_partition.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
+
+/* Whether a tile's slabs split into moving and static layers (they fit in the raw ids). */
+static bool splits_motion(const LrTile *t) { return 2 * (t->n_depth + t->n_coc + 1) + 1 <= LR_MAX_LAYERS + 1; }
+
+int lr_tile_raw_count(const LrTile *t)
+{
+    int slabs = t->n_depth + t->n_coc + 1;
+    return splits_motion(t) ? 2 * slabs + 1 : slabs + 1;
+}
 
 LrConfig lr_config_default(void)
 {
@@ -29,16 +39,19 @@ void lr_tile_window(const LrSamples *img, const LrConfig *cfg, int tx, int ty, i
     *y1 = ay + cfg->window_px > img->height ? img->height : ay + cfg->window_px;
 }
 
-int lr_tile_raw_layer(const LrTile *t, float depth, float coc_px)
+int lr_tile_raw_layer(const LrTile *t, float depth, float coc_px, const float motion_px[2])
 {
-    if (!(depth < INFINITY)) return t->n_depth + t->n_coc + 1; /* misses: behind everything */
+    bool split = splits_motion(t);
+    if (!(depth < INFINITY)) return lr_tile_raw_count(t) - 1; /* misses: behind everything */
     int k = 0;
     for (int i = 0; i < t->n_depth; ++i) k += depth > t->depth_bound[i];
     for (int i = 0; i < t->n_coc; ++i) k += coc_px > t->coc_bound_px[i];
-    return k;
+    if (!split) return k;
+    bool moving = motion_px[0] * motion_px[0] + motion_px[1] * motion_px[1] >= LR_MOVING_PX * LR_MOVING_PX;
+    return 2 * k + (moving ? 0 : 1);
 }
 
-int lr_tile_layer_of(const LrTile *tile, const LrSample *s) { return tile->compact[lr_tile_raw_layer(tile, s->depth, s->coc_px)]; }
+int lr_tile_layer_of(const LrTile *tile, const LrSample *s) { return tile->compact[lr_tile_raw_layer(tile, s->depth, s->coc_px, s->motion_px)]; }
 
 /* fminf / fmaxf without a libm call: the operands are finite or +-INFINITY (coc_px is made
  * finite by the caller, depth is a distance or INFINITY) */
@@ -74,7 +87,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
                 if (z < INFINITY) zmin = min_f(zmin, z), zmax = max_f(zmax, z);
             }
     lr_tile_bounds(cfg, zmin, zmax, t);
-    int raw_n = t->n_depth + t->n_coc + 2;
+    int raw_n = lr_tile_raw_count(t);
     double mx[LR_MAX_LAYERS + 1], my[LR_MAX_LAYERS + 1];
     for (int i = 0; i < raw_n; ++i) {
         st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f};
@@ -84,7 +97,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < img->spp; ++k) {
                 const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
-                int r = lr_tile_raw_layer(t, s->depth, s->coc_px);
+                int r = lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px);
                 st[r].count++;
                 mx[r] += s->motion_px[0];
                 my[r] += s->motion_px[1];
@@ -103,7 +116,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < img->spp; ++k) {
                 const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
-                LrLayerStats *a = &st[lr_tile_raw_layer(t, s->depth, s->coc_px)];
+                LrLayerStats *a = &st[lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px)];
                 float along = a->cos_psi * s->motion_px[0] + a->sin_psi * s->motion_px[1];
                 float across = -a->sin_psi * s->motion_px[0] + a->cos_psi * s->motion_px[1];
                 a->d_min_px = min_f(a->d_min_px, along);
@@ -114,7 +127,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
 
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
 {
-    int raw_n = t->n_depth + t->n_coc + 2;
+    int raw_n = lr_tile_raw_count(t);
     t->layer_count = 0;
     for (int i = 0; i < raw_n; ++i) {
         if (!st[i].count) {

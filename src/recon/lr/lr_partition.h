@@ -86,8 +86,25 @@ void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t);
 /* Compaction, motion ranges widened by the spread across psi (Figure 4), the filters. */
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *raw_stats, LrTile *t);
 
-/* The raw layer (before compaction) of a depth and CoC slope in a tile. */
-int lr_tile_raw_layer(const LrTile *tile, float depth, float coc_px);
+/* A sample moving at least this far over the shutter (screen pixels) is "moving": within one
+ * depth/CoC slab the moving and the static samples are separate layers (lr_tile_raw_layer).
+ * lr.cl has the same constant. */
+#define LR_MOVING_PX 1.0f
+
+/* The raw layer (before compaction) of a sample in a tile. The depth and CoC bounds cut the
+ * hits into slabs (k below); when the tile's 2 * slabs + 1 raw layers fit (always with the
+ * default config), slab k becomes raw layer 2k for its moving samples and 2k + 1 for its
+ * static ones, so that a moving object does not share a layer (and the motion range) with the
+ * static floor or wall at its depth: a layer whose speeds range from 0 to the object's gets
+ * no motion filter (lr_tile_finish), which left every moving object on a static background
+ * unfiltered (docs/algorithms.md 8.14). Moving first: inside a slab the moving layer's
+ * coverage, which its filter smooths over many pixels, sets how much of the static layer
+ * shows through, rather than the static layer's per-pixel coverage. Misses are the last
+ * raw layer. */
+int lr_tile_raw_layer(const LrTile *tile, float depth, float coc_px, const float motion_px[2]);
+
+/* The number of raw layers of a tile (lr_tile_raw_layer's values are below it). */
+int lr_tile_raw_count(const LrTile *tile);
 
 /* The compact layer of a sample in this tile. */
 int lr_tile_layer_of(const LrTile *tile, const LrSample *s);
