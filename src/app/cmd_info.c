@@ -103,6 +103,8 @@ static void json_choice(FILE *f, const SceneDesc *s, const ReconChoice *c)
     /* the blur probe's median (px at the probed resolution), null when the choice did not read it */
     if (c->blur_px >= 0.0f) fprintf(f, ", \"blur_probe_px\": %.3f", (double)c->blur_px);
     else fprintf(f, ", \"blur_probe_px\": null");
+    /* probe samples whose blur overflowed a float, counted at FLT_MAX px in the median */
+    fprintf(f, ", \"blur_probe_unbounded\": %d", c->blur_unbounded);
 }
 
 static void print_json(const SceneDesc *s, const ReconChoice *c, long triangles, FILE *f)
@@ -299,6 +301,7 @@ int cmd_info(int argc, char **argv)
     renderer_destroy(r);
     ReconChoice choice;
     recon_select(scene.effects, filter, blur.median_blur_px, &choice);
+    choice.blur_unbounded = blur.samples_unbounded;
     if (json) print_json(&scene, &choice, triangles, stdout);
     else print_text(&scene, &choice, triangles, stdout);
     scene_desc_free(&scene);

@@ -361,6 +361,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
             rep.pixels_filtered[e] = res->pixels_filtered[e];
         }
         rep.blur_probe_px = res->choice.blur_px;
+        rep.blur_probe_unbounded = res->choice.blur_unbounded;
         rep.mu = res->mu;
         rep.cl_device = res->device[0] ? res->device : NULL;
         rep.seconds_build = st.seconds_build;

@@ -91,7 +91,9 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
         first = 0;
     }
     fprintf(f, "}");
-    if (r->blur_probe_px >= 0.0f) fprintf(f, ",\n  \"blur_probe_px\": %.3f", (double)r->blur_probe_px);
+    if (r->blur_probe_px >= 0.0f)
+        fprintf(f, ",\n  \"blur_probe_px\": %.3f,\n  \"blur_probe_unbounded\": %d", (double)r->blur_probe_px,
+                r->blur_probe_unbounded);
     write_pixels_filtered(f, r);
     fprintf(f, ",\n  \"mu\": %.6g", finite_or_zero(r->mu));
     if (r->cl_device && r->cl_device[0]) {

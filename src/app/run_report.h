@@ -23,6 +23,7 @@ typedef struct {
     const char *filters[EFFECT_COUNT]; /* per effect (scene/effects.h order): the method used, "none" */
     long long pixels_filtered[EFFECT_COUNT]; /* per effect, pixels its method filtered (ReconResult) */
     float blur_probe_px;       /* auto's blur probe (ReconChoice.blur_px), < 0: not run */
+    int blur_probe_unbounded;  /* its samples whose blur overflowed (ReconChoice.blur_unbounded) */
     double mu;                 /* filter knob asked for (0: each paper's default) */
     const char *cl_device;     /* OpenCL device used by the filters, or NULL */
     const char *scene;         /* scene path or "<default>" */

@@ -1,6 +1,7 @@
 /* The blur probe (see blur_probe.h). */
 #include "recon/blur_probe.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -15,7 +16,9 @@ float blur_extent_px(const ReconCamera *cam, const SampleRecord *rec)
     float motion_px = hypotf(rec->motion_px[0], rec->motion_px[1]);
     float coc_diameter_px = 2.0f * fabsf(recon_coc_slope_px(cam, rec->depth_cam));
     float b = fmaxf(motion_px, coc_diameter_px);
-    return isfinite(b) ? b : 0.0f; /* a hit at the lens plane: no finite blur to speak of */
+    /* a hit at the lens plane: its circle of confusion overflows; it is blurred as much as a
+     * sample can be, so it saturates (recon_blur_probe counts these) */
+    return b < FLT_MAX ? b : FLT_MAX;
 }
 
 static int cmp_float(const void *a, const void *b)
@@ -60,7 +63,10 @@ bool recon_blur_probe(const Renderer *r, BlurProbe *out)
         int n = integrate_wave(isc, wave, &ws, pix, count, rec, &st);
         for (int j = 0; j < n; ++j) {
             ++traced;
-            if (rec[j].hit) blur_px[hits++] = blur_extent_px(&cam, &rec[j]);
+            if (!rec[j].hit) continue;
+            float b = blur_extent_px(&cam, &rec[j]);
+            out->samples_unbounded += b == FLT_MAX;
+            blur_px[hits++] = b;
         }
     }
     if (hits) {

@@ -20,12 +20,15 @@ typedef struct {
                             * extent max(|motion over the shutter|, circle-of-confusion
                             * diameter), pixels of the renderer's resolution; 0 when none hit */
     int samples_hit;       /* probe samples that hit a surface */
+    int samples_unbounded; /* of those, blurs that overflow a float (hits at the lens plane),
+                            * counted as FLT_MAX px */
     int samples;           /* probe samples traced */
 } BlurProbe;
 
 /* Blur extent of one camera sample, pixels: the longer of the first hit's screen path over
  * the shutter (|motion_px|, the film moves by motion_px from open to close) and the diameter
- * of its circle of confusion (2 |coc slope|: lens coordinates span the unit disk). */
+ * of its circle of confusion (2 |coc slope|: lens coordinates span the unit disk); FLT_MAX
+ * when that overflows (a hit at the lens plane). */
 float blur_extent_px(const ReconCamera *cam, const SampleRecord *rec);
 
 /* Traces the probe on r's scene and resolution. False only when out of memory. */

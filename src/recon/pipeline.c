@@ -90,6 +90,7 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
         return false;
     }
     recon_select(renderer_effects(r), o->filter, blur.median_blur_px, &p->choice);
+    p->choice.blur_unbounded = blur.samples_unbounded;
     /* one slot per distinct method, holding every effect it filters */
     p->fixed_only = true;
     for (int e = 0; e < EFFECT_COUNT; ++e) {
@@ -463,6 +464,7 @@ static bool plain_mean(ReconPipeline *p, Diag *d)
     memset(&p->res.choice, 0, sizeof p->res.choice);
     memcpy(p->res.choice.reason, p->choice.reason, sizeof p->res.choice.reason);
     p->res.choice.blur_px = p->choice.blur_px;
+    p->res.choice.blur_unbounded = p->choice.blur_unbounded;
     return true;
 }
 

@@ -18,6 +18,8 @@ typedef struct {
                                                    * array, not a pointer, so that a measured value
                                                    * can be part of it and the choice copies whole */
     float blur_px;                                /* the blur probe's value it read, -1: none */
+    int blur_unbounded;                           /* the probe's samples_unbounded (set by the
+                                                   * caller that ran it; 0 otherwise) */
 } ReconChoice;
 
 /* --filter auto sends the camera effects (motion, and defocus with it) of a scene with motion

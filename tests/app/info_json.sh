@@ -36,6 +36,7 @@ assert j["filters"] == {"soft_shadows": "aaf", "defocus": "aaf", "motion": "lr",
 assert (j["width"], j["height"], j["spp"]) == (64, 48, 8), j
 # motion present: auto read the blur probe, whose value is a blur in pixels
 assert isinstance(j["blur_probe_px"], float) and j["blur_probe_px"] >= 0, j["blur_probe_px"]
+assert j["blur_probe_unbounded"] == 0, j["blur_probe_unbounded"]
 assert j["triangles"] == 4, j["triangles"]
 assert j["lights"] == {"area": 1, "point": 2}, j["lights"]
 assert j["shapes"] == 3 and j["materials"] == 0, j

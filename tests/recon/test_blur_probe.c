@@ -12,6 +12,7 @@
  * Every probe sample hits the wall, so the median is that one value; the only error is float
  * rounding in projecting and differencing the two poses (and in the camera's matrices), far
  * below 0.01 px for blurs of a few pixels: the tolerance is 1e-3 relative. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -69,8 +70,28 @@ static BlurProbe probe(const char *text)
     return b;
 }
 
+/* A hit at (almost) the lens plane: its circle of confusion overflows a float; the blur
+ * saturates at FLT_MAX instead of reading as 0 px (an unblurred sample), and a hit at an
+ * ordinary depth keeps its finite value. */
+static void test_unbounded(void)
+{
+    ReconCamera cam = {0};
+    cam.lens_radius_world = 0.1f;
+    cam.focal_distance_world = 2.5f;
+    cam.pixel_angle = 1e-3f;
+    SampleRecord rec = {0};
+    rec.hit = true;
+    rec.depth_cam = 1e-38f;
+    CHECK(blur_extent_px(&cam, &rec) == FLT_MAX);
+    rec.depth_cam = 5.0f;
+    CHECK_NEAR(blur_extent_px(&cam, &rec), 2.0 * 100.0 * (1.0 / 2.5 - 1.0 / 5.0), 1e-3);
+    rec.hit = false;
+    CHECK(blur_extent_px(&cam, &rec) == 0.0f);
+}
+
 int main(void)
 {
+    test_unbounded();
     double pixel_angle = 2.0 * tan(FOV_DEG * M_PI / 360.0) / W;
 
     BlurProbe m = probe(MOVING);
@@ -82,6 +103,7 @@ int main(void)
     double R = 0.1, F = 2.5, z = D_WORLD;
     double coc_px = 2.0 * R * fabs(1.0 - F / z) / (F * pixel_angle); /* 3.52 px */
     CHECK(l.samples_hit == l.samples && l.samples > 0);
+    CHECK(m.samples_unbounded == 0 && l.samples_unbounded == 0);
     CHECK_NEAR(l.median_blur_px, coc_px, 1e-3 * coc_px);
     printf("motion: probe %.4f px, geometry %.4f px; lens: probe %.4f px, geometry %.4f px\n", m.median_blur_px,
            motion_px, l.median_blur_px, coc_px);
