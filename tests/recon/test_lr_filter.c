@@ -185,9 +185,30 @@ static void test_finite(const LrFilterConfig *cfg)
     }
 }
 
+/* Flat lens and time weights (the default) change only the sample weights: every screen
+ * parameter equals the Gaussian design's, and u, v, t weigh 1 everywhere. */
+static void test_flat_weights(void)
+{
+    LrFilterConfig flat = lr_filter_config_default(), gauss = flat;
+    CHECK(flat.flat_lens_time);
+    gauss.flat_lens_time = false;
+    LrSlopes cases[] = {{4, 6, 0, 0}, {0, 0, 5, 8}, {3, 4, 1.5f, 2.5f}, {40, 44, -20, -12}};
+    for (unsigned i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        LrFilter a = lr_filter_make(&cases[i], &flat), b = lr_filter_make(&cases[i], &gauss);
+        CHECK(a.inv_sigma_u == 0.0f && a.inv_sigma_v == 0.0f && a.inv_sigma_t == 0.0f);
+        CHECK(b.inv_sigma_u > 0.0f || b.inv_sigma_t > 0.0f);
+        CHECK(a.inv_sigma_x_px == b.inv_sigma_x_px && a.eta_px == b.eta_px && a.xi_px == b.xi_px);
+        CHECK(a.inv_sigma_y_px == b.inv_sigma_y_px && a.rho_px == b.rho_px && a.clamped == b.clamped);
+        CHECK(a.clip_x == b.clip_x && a.clip_y == b.clip_y);
+    }
+}
+
 int main(void)
 {
+    test_flat_weights();
+    /* the closed forms below describe the Gaussian design itself (sample weights included) */
     LrFilterConfig cfg = lr_filter_config_default();
+    cfg.flat_lens_time = false;
     test_no_motion_is_defocus(&cfg, 4, 6);
     test_no_motion_is_defocus(&cfg, -9, -5);
     test_no_motion_is_defocus(&cfg, 3, 3.001);

@@ -24,6 +24,9 @@ typedef struct {
     float sigma_shutter;  /* the shutter, in units of the shutter interval t in [0, 1]
                            * (LR: 2/3 on their shutter [-1, 1], i.e. 1/3 here) */
     float sigma_clamp_px; /* largest primal screen sigma: (N_s - N) / 4 (LR Appendix C) */
+    bool flat_lens_time;  /* weight samples flat in u, v, t (the renderer's uniform disk and
+                           * box shutter) instead of by the Gaussian aperture and shutter; the
+                           * Gaussians still shape the screen filter (docs/algorithms.md 8.15) */
 } LrFilterConfig;
 
 /* The paper's constants, with sigma_clamp for a 16-pixel tile in a 32-pixel window. */
@@ -58,7 +61,9 @@ LrFilter lr_filter_make_paper(const LrSlopes *s, const LrFilterConfig *cfg);
 
 /* What LR uses: lr_filter_make_paper convolved with the Gaussian aperture and shutter it does
  * not already contain (both blurs at the central slopes), the excess over sigma_clamp taken
- * back by reprojecting less (docs 8.4). Never produces NaN or Inf for finite input. */
+ * back by reprojecting less (docs 8.4); with cfg->flat_lens_time, the sample weights in u, v
+ * and t flat (inv_sigma_u = inv_sigma_v = inv_sigma_t = 0). Never produces NaN or Inf for
+ * finite input. */
 LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg);
 
 /* The Fourier-domain warp of eq. 8 (the case's scale then two shears, in the order
