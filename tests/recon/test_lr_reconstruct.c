@@ -10,6 +10,7 @@
 #include "../check.h"
 #include "lr_oracle.h"
 #include "lr_scene.h"
+#include "recon/lr/lr_share.h"
 
 enum { W = 40, H = 36 }; /* not a multiple of the 16-pixel tile: partial tiles at the edges */
 
@@ -304,9 +305,21 @@ static void test_flat_weights_lower_bias(void)
     }
 }
 
+/* lr_share_weight: all of LR's value where LR read every sample of the pixel, lr/n of it
+ * where the pixel has n > lr samples (so a pixel's value tends to its own estimate as n
+ * grows), and all of it for a count that is not a number. */
+static void test_share_weight(void)
+{
+    CHECK(lr_share_weight(16, 8.0f) == 1.0f && lr_share_weight(16, 16.0f) == 1.0f);
+    CHECK(lr_share_weight(16, 64.0f) == 0.25f && lr_share_weight(8, 100.0f) == 0.08f);
+    CHECK(lr_share_weight(16, NAN) == 1.0f && lr_share_weight(16, 0.0f) == 1.0f);
+    CHECK(lr_share_weight(16, 1e30f) > 0.0f && lr_share_weight(16, 1e30f) < 1e-28f);
+}
+
 int main(void)
 {
     test_gauss();
+    test_share_weight();
     test_flat_weights_lower_bias();
     test_moving_over_static();
     test_motion_variance_rule();

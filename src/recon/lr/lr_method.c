@@ -12,12 +12,15 @@
  * pixel means; their effect reaches LR as a per-pixel additive correction of every sample's
  * radiance (the filtered mean minus the raw mean of the pixel's stored samples), so a pixel
  * that motion or defocus mixes keeps the shading filter's result in its mean and LR moves
- * only each sample's own deviation (docs/algorithms.md 8.7). */
+ * only each sample's own deviation (docs/algorithms.md 8.7). LR reads the samples every
+ * pixel has; a pixel with more (an adaptive method's pass 2) mixes LR's value with its own
+ * by lr_share_weight (docs/algorithms.md 8.16). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "recon/lr/lr_cl.h"
+#include "recon/lr/lr_share.h"
 #include "recon/method.h"
 
 /* LR section 8: 4-8 samples per pixel; the default is 8. */
@@ -164,9 +167,13 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     } else if (ok) {
         lr_reconstruct_c(&img, &m->cfg, &out);
     }
-    if (ok)
-        for (size_t i = 0; i < n; ++i)
-            for (int c = 0; c < 3; ++c) value4[4 * i + c] = rgb[3 * i + c];
+    if (ok) {
+        const float *spp_px = m->g->frame.spp;
+        for (size_t i = 0; i < n; ++i) {
+            float w = lr_share_weight(spp, spp_px[i]);
+            for (int c = 0; c < 3; ++c) value4[4 * i + c] = w * rgb[3 * i + c] + (1.0f - w) * value4[4 * i + c];
+        }
+    }
     return ok;
 }
 
