@@ -17,7 +17,9 @@
  *   order         window_px^2 * spp uints per tile: the window's finite samples (their index in
  *                 samples) sorted by raw layer, pixel-major within a layer (lr_bucket.h)
  *   layer_start   LR_LS_STRIDE ints per tile: raw layer r is order[start[r] .. start[r + 1])
- *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer)
+ *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer) of the
+ *                 batch being filtered: reproject, along and across run on a few rows of tiles
+ *                 at a time (tile0 its first tile), so that these buffers stay small
  *
  * Launch shapes (lr_cl.c): all 2D in fixed 16x4 groups (cl_launch_2d), so that PoCL compiles
  * each kernel once whatever the image size or layer count; every kernel ignores the padding. */
@@ -214,18 +216,18 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
  * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
  * in the same order, so every cell gets the same sums. */
 __kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
-                           int max_layers, __global const float *samples, __global const uint *order,
+                           int max_layers, int tile0, __global const float *samples, __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
                            __global float *grid)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int j = get_global_id(0), tile = get_global_id(1);
+    int j = get_global_id(0), tile = tile0 + get_global_id(1);
     if (tile >= ntiles || j >= max_layers) return;
     __global const int *tl = tile_layers + tile * LR_TL_STRIDE;
     if (j >= tl[0]) return;
     int id = tile * max_layers + j;
     __global const float *lp = params + id * LR_LP_STRIDE;
-    __global float *g = grid + (size_t)id * window_px * window_px * LR_CH;
+    __global float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH; /* the batch's grids */
     __global const uint *list = order + (size_t)tile * window_px * window_px * spp;
     __global const int *start = layer_start + tile * LR_LS_STRIDE;
     __global const int *compact = tl + 1;
@@ -315,11 +317,11 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
  * reads (the tile widened by the across radius projected on x and y), not the whole window.
  * One work-item per (window row, partition). */
 __kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int ntiles, int max_layers,
-                       __global const int *tile_layers, __global const float *params, __global const float *grid,
+                       int tile0, __global const int *tile_layers, __global const float *params, __global const float *grid,
                        __global float *pass1)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int iy = get_global_id(0), id = get_global_id(1);
+    int iy = get_global_id(0), id = tile0 * max_layers + get_global_id(1); /* grid, pass1: the batch's */
     int tile = id / max_layers, j = id % max_layers;
     if (tile >= ntiles || iy >= window_px || j >= tile_layers[tile * LR_TL_STRIDE]) return;
     int tx = tile % ntx, ty = tile / ntx;
@@ -332,22 +334,22 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
     int tx0 = tx * tile_px - w.x0, ty0 = ty * tile_px - w.y0;
     if (iy >= wh || iy < ty0 - my || iy >= ty0 + tile_px + my) return;
     int ix0 = max(0, tx0 - mx), ix1 = min(ww, tx0 + tile_px + mx);
-    __global const float *g = grid + (size_t)id * window_px * window_px * LR_CH;
+    __global const float *g = grid + get_global_id(1) * window_px * window_px * LR_CH;
     float acc[LR_ROW_MAX * LR_CH];
     lr_row_pass(g, ww, wh, iy, ix0, ix1, lp[0], lp[1], (int)lp[10], lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
-    __global float *o = pass1 + (size_t)id * window_px * window_px * LR_CH + (iy * ww + ix0) * LR_CH;
+    __global float *o = pass1 + get_global_id(1) * window_px * window_px * LR_CH + (iy * ww + ix0) * LR_CH;
     for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) o[i] = acc[i];
 }
 
 /* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per
  * row of a tile (image row py, tile column tx), layer by layer front to back. */
 __kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int ntiles, int max_layers,
-                                  __global const int *tile_layers, __global const float *params,
+                                  int tile0, __global const int *tile_layers, __global const float *params,
                                   __global const float *pass1, __global float *rgb, __global float *layers_aov,
                                   __global float *extent_aov)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int py = get_global_id(0), tx = get_global_id(1);
+    int py = tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
     if (py >= height || tx >= ntx) return;
     int ty = py / tile_px, tile = ty * ntx + tx;
     int count = tile_layers[tile * LR_TL_STRIDE];
@@ -363,7 +365,7 @@ __kernel void lr_across_composite(int width, int height, int tile_px, int window
     for (int j = 0; j < count; ++j) {
         int id = tile * max_layers + j;
         __global const float *lp = params + id * LR_LP_STRIDE;
-        __global const float *p1 = pass1 + (size_t)id * window_px * window_px * LR_CH;
+        __global const float *p1 = pass1 + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
         lr_row_pass(p1, ww, wh, iy, ix0, ix0 + n, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
         for (int i = 0; i < n; ++i) {
             float *a = acc + i * LR_CH;

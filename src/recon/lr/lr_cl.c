@@ -13,7 +13,7 @@
 
 /* as in lr.cl */
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_TAPS_X = 12,
-       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18 };
+       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18, BATCH_TILES = 64 };
 
 _Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
@@ -231,7 +231,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         flatten_params(lr, cfg, ntiles, L);
     }
     double t_part = now_s() - t0;
-    size_t grid_bytes = nparts * wcells * CH * sizeof(float);
+    /* Reprojection and screen passes a batch of tile rows at a time: the two grids are per
+     * (tile, layer) of the batch only. The whole frame's (63 MB at 256x192) was fresh memory
+     * in a one-frame render, page-faulted and cleared by the kernel (docs/benchmarks.md, LR
+     * third round); a batch's is reused by the next and stays in the caches between the
+     * three kernels. About 64 tiles a batch keeps both cores busy. */
+    int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
+    int nbatches = (nty + batch_rows - 1) / batch_rows;
+    size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
     ok = ok && grow(rt, &lr->b_tl, sizeof(int) * TL_STRIDE * (size_t)ntiles, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_lp, sizeof(float) * LP_STRIDE * nparts, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
@@ -242,19 +249,34 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              cl_ok(clEnqueueWriteBuffer(q, lr->b_lp.mem, CL_FALSE, 0, sizeof(float) * LP_STRIDE * nparts, lr->lp, 0, NULL, NULL), "upload", d);
 
     cl_int LL = L;
-    if (ok) { /* Algorithm 1, one work-item per (layer, tile) */
-        cl_int ints[8] = {W, H, S, T, N, NX, NT, LL};
-        cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
-        ok = set_args(lr->reproject, ints, 8, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)ntiles, &ev[1], d);
-    }
-    cl_int ints7[7] = {W, H, T, N, NX, NT, LL};
-    if (ok) {
-        cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
-        ok = set_args(lr->along, ints7, 7, m, 4, d) && cl_launch_2d(rt, lr->along, (size_t)cfg->window_px, nparts, &ev[2], d);
-    }
-    if (ok) {
-        cl_mem m[6] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem};
-        ok = set_args(lr->across, ints7, 7, m, 6, d) && cl_launch_2d(rt, lr->across, (size_t)H, (size_t)ntx, &ev[3], d);
+    double batch_s[3] = {0.0, 0.0, 0.0};
+    for (int b = 0; ok && b < nbatches; ++b) {
+        cl_int tile0 = b * batch_tiles;
+        int tiles = ntiles - tile0 < batch_tiles ? ntiles - tile0 : batch_tiles, rows = tiles / ntx;
+        cl_event bev[3] = {NULL, NULL, NULL};
+        { /* Algorithm 1, one work-item per (layer, tile) */
+            cl_int ints[9] = {W, H, S, T, N, NX, NT, LL, tile0};
+            cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
+            ok = set_args(lr->reproject, ints, 9, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+        }
+        cl_int ints8[8] = {W, H, T, N, NX, NT, LL, tile0};
+        if (ok) {
+            cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
+            ok = set_args(lr->along, ints8, 8, m, 4, d) &&
+                 cl_launch_2d(rt, lr->along, (size_t)cfg->window_px, (size_t)tiles * L, &bev[1], d);
+        }
+        if (ok) {
+            cl_mem m[6] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem};
+            ok = set_args(lr->across, ints8, 8, m, 6, d) &&
+                 cl_launch_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
+        }
+        /* the queue is in order, so the next batch's reprojection starts after this batch's
+         * passes have read the grids; waiting here only lets the batch's times be read */
+        if (ok) ok = cl_ok(clWaitForEvents(1, &bev[2]), "kernel", d);
+        for (int i = 0; i < 3; ++i) {
+            batch_s[i] += ok ? event_seconds(bev[i]) : 0.0;
+            if (bev[i]) clReleaseEvent(bev[i]);
+        }
     }
     float *aov_l = out->layers, *aov_e = out->extent_px;
     if (ok)
@@ -262,8 +284,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              (!aov_l || cl_ok(clEnqueueReadBuffer(q, lr->b_l.mem, CL_TRUE, 0, sizeof(float) * npix, aov_l, 0, NULL, NULL), "download", d)) &&
              (!aov_e || cl_ok(clEnqueueReadBuffer(q, lr->b_e.mem, CL_TRUE, 0, sizeof(float) * npix, aov_e, 0, NULL, NULL), "download", d));
     clFinish(q);
-    double ks = 0.0;
-    for (int i = 0; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? event_seconds(ev[i]) : 0.0;
+    double ks = lr->last.kernel_s[0] = ok ? event_seconds(ev[0]) : 0.0;
+    for (int i = 1; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? batch_s[i - 1] : 0.0;
     if (ok && kernel_seconds) *kernel_seconds = ks;
     lr->last.partitions = nparts;
     lr->last.max_layers = L;
