@@ -215,14 +215,14 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
  * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
  * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
  * in the same order, so every cell gets the same sums. */
-__kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
+__kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
                            int max_layers, int tile0, __global const float *samples, __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
                            __global float *grid)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int j = get_global_id(0), tile = tile0 + get_global_id(1);
-    if (tile >= ntiles || j >= max_layers) return;
+    if (tile >= tile1 || j >= max_layers) return; /* the batch is tiles [tile0, tile1) */
     __global const int *tl = tile_layers + tile * LR_TL_STRIDE;
     if (j >= tl[0]) return;
     int id = tile * max_layers + j;
@@ -316,14 +316,14 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
 /* Algorithm 2, first pass: along the layer's motion, at the window cells the second pass
  * reads (the tile widened by the across radius projected on x and y), not the whole window.
  * One work-item per (window row, partition). */
-__kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int ntiles, int max_layers,
+__kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                        int tile0, __global const int *tile_layers, __global const float *params, __global const float *grid,
                        __global float *pass1)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int iy = get_global_id(0), id = tile0 * max_layers + get_global_id(1); /* grid, pass1: the batch's */
     int tile = id / max_layers, j = id % max_layers;
-    if (tile >= ntiles || iy >= window_px || j >= tile_layers[tile * LR_TL_STRIDE]) return;
+    if (tile >= tile1 || iy >= window_px || j >= tile_layers[tile * LR_TL_STRIDE]) return; /* batch: [tile0, tile1) */
     int tx = tile % ntx, ty = tile / ntx;
     LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
@@ -343,7 +343,7 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
 
 /* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per
  * row of a tile (image row py, tile column tx), layer by layer front to back. */
-__kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int ntiles, int max_layers,
+__kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                                   int tile0, __global const int *tile_layers, __global const float *params,
                                   __global const float *pass1, __global float *rgb, __global float *layers_aov,
                                   __global float *extent_aov)

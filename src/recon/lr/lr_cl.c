@@ -253,13 +253,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     for (int b = 0; ok && b < nbatches; ++b) {
         cl_int tile0 = b * batch_tiles;
         int tiles = ntiles - tile0 < batch_tiles ? ntiles - tile0 : batch_tiles, rows = tiles / ntx;
+        cl_int tile1 = tile0 + tiles; /* the launches are padded: the kernels stop at tile1 */
         cl_event bev[3] = {NULL, NULL, NULL};
         { /* Algorithm 1, one work-item per (layer, tile) */
-            cl_int ints[9] = {W, H, S, T, N, NX, NT, LL, tile0};
+            cl_int ints[9] = {W, H, S, T, N, NX, tile1, LL, tile0};
             cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
             ok = set_args(lr->reproject, ints, 9, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
-        cl_int ints8[8] = {W, H, T, N, NX, NT, LL, tile0};
+        cl_int ints8[8] = {W, H, T, N, NX, tile1, LL, tile0};
         if (ok) {
             cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
             ok = set_args(lr->along, ints8, 8, m, 4, d) &&
