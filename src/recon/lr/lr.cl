@@ -159,20 +159,9 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
             sp[i] = (float)(ay / len);
         }
     }
-    for (int py = w.y0, i = 0; py < w.y1; ++py)
-        for (int px = w.x0; px < w.x1; ++px)
-            for (int k = 0; k < spp; ++k, ++i) {
-                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                int r = ids[i] & ~LR_SKIP;
-                float along = cp[r] * s[7] + sp[r] * s[8];
-                float across = fabs(-sp[r] * s[7] + cp[r] * s[8]);
-                dmin[r] = along < dmin[r] ? along : dmin[r];
-                dmax[r] = along > dmax[r] ? along : dmax[r];
-                perp[r] = across > perp[r] ? across : perp[r];
-            }
     /* The window sorted by raw layer (lr_bucket.c: lr_bucket_by_layer, a stable counting
      * sort), so that a layer's reprojection reads its own samples and those behind it as one
-     * contiguous run of the list and none in front of it. */
+     * contiguous run of the list and none in front of it; written during the second sweep. */
     __global int *start = layer_start + tile * LR_LS_STRIDE;
     int next[17], total = 0;
     for (int r = 0; r < 17; ++r) {
@@ -183,8 +172,17 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     __global uint *list = order + (size_t)tile * window_px * window_px * spp;
     for (int py = w.y0, i = 0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)
-            for (int k = 0; k < spp; ++k, ++i)
-                if (!(ids[i] & LR_SKIP)) list[next[ids[i]]++] = ((uint)py * (uint)width + (uint)px) * (uint)spp + (uint)k;
+            for (int k = 0; k < spp; ++k, ++i) {
+                uint index = ((uint)py * (uint)width + (uint)px) * (uint)spp + (uint)k;
+                __global const float *s = samples + (size_t)index * LR_SAMPLE_STRIDE;
+                int id = ids[i], r = id & ~LR_SKIP;
+                if (!(id & LR_SKIP)) list[next[r]++] = index;
+                float along = cp[r] * s[7] + sp[r] * s[8];
+                float across = fabs(-sp[r] * s[7] + cp[r] * s[8]);
+                dmin[r] = along < dmin[r] ? along : dmin[r];
+                dmax[r] = along > dmax[r] ? along : dmax[r];
+                perp[r] = across > perp[r] ? across : perp[r];
+            }
     __global float *o = stats + (size_t)tile * 17 * LR_ST_STRIDE;
     for (int i = 0; i < 17; ++i) {
         bool used = i < raw_n;
