@@ -1,7 +1,8 @@
 /* LR's OpenCL kernels (lr.cl via lr_cl.c) against the plain C reconstruction
  * (lr_reconstruct_c) on small synthetic light fields: diagonal motion (rotated filters),
  * large blurs (clamped filters, many layers), a partial last tile, a non-finite sample, and a
- * smaller frame after a larger one (buffers kept between runs). The partition statistics are
+ * smaller frame after a larger one (buffers kept between runs), frames filtered in several
+ * batches of tiles (whose launches are padded past the batch's last tile). The partition statistics are
  * computed on the device and the layer counts (AOV) must equal the C partitions'. */
 #include <math.h>
 #include <stdlib.h>
@@ -66,6 +67,11 @@ int main(void)
         compare(lr, 48, 33, 8, big, 3, true);
         /* the device buffers only grow: a smaller frame after a larger one reads no stale cells */
         compare(lr, 37, 29, 4, diag, 2, false);
+        /* frames of more than one batch of tiles (lr_cl.c: BATCH_TILES): 16 x 5 tiles in
+         * batches of 4 rows (the last one short), and 65 x 2 tiles, one row a batch */
+        LrTestLayer wide[2] = {{2.0f, -4.0f, {-9.0f, 3.0f}, 130.0f, 40.0f, 30.0f, 0.8f}, {6.0f, 3.0f, {2.0f, 0.0f}, 0, 0, 0, 0.35f}};
+        compare(lr, 256, 80, 4, wide, 2, false);
+        compare(lr, 1040, 20, 2, wide, 2, true);
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

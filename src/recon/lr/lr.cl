@@ -14,7 +14,12 @@
  *                 and across (y): computed once per partition on the host, not per tap
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
  *                 (lr_tile_stats), with the flag LR_SKIP for a non-finite radiance
- *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer)
+ *   order         window_px^2 * spp uints per tile: the window's finite samples (their index in
+ *                 samples) sorted by raw layer, pixel-major within a layer (lr_bucket.h)
+ *   layer_start   LR_LS_STRIDE ints per tile: raw layer r is order[start[r] .. start[r + 1])
+ *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer) of the
+ *                 batch being filtered: reproject, along and across run on a few rows of tiles
+ *                 at a time (tile0 its first tile), so that these buffers stay small
  *
  * Launch shapes (lr_cl.c): all 2D in fixed 16x4 groups (cl_launch_2d), so that PoCL compiles
  * each kernel once whatever the image size or layer count; every kernel ignores the padding. */
@@ -28,6 +33,8 @@
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
 #define LR_CH 5
 #define LR_MOVING_PX 1.0f /* lr_partition.h: moving and static samples of a slab are separate layers */
+#define LR_CHUNK 16 /* lr_reproject: samples placed before they are summed */
+#define LR_LS_STRIDE 18 /* raw layers 0..16, and the end */
 
 typedef struct {
     int x0, y0, x1, y1;
@@ -95,7 +102,8 @@ static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float
  * uniform: the uniform depth layers (1..7); coc_bounds: n_coc bounds, the same for every tile. */
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
                             int uniform, int n_coc, __global const float *coc_bounds, __global const float *samples,
-                            __global float *tile_bounds, __global float *stats, __global uchar *layer_ids)
+                            __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
+                            __global uint *order, __global int *layer_start)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
@@ -122,11 +130,11 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     for (int i = 0; i < LR_TB_STRIDE; ++i) tile_bounds[tile * LR_TB_STRIDE + i] = tb[i];
 
     int raw_n = 2 * (n_depth + n_coc + 1) + 1 <= 17 ? 2 * (n_depth + n_coc + 1) + 1 : n_depth + n_coc + 2;
-    int count[17];
+    int count[17], finite_count[17];
     lr_sum mx[17], my[17];
     float cmin[17], cmax[17], cp[17], sp[17], dmin[17], dmax[17], perp[17];
     for (int i = 0; i < raw_n; ++i) {
-        count[i] = 0;
+        count[i] = finite_count[i] = 0;
         mx[i] = my[i] = 0;
         cmin[i] = dmin[i] = INFINITY;
         cmax[i] = dmax[i] = -INFINITY;
@@ -141,6 +149,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                 bool finite = isfinite(s[9]) && isfinite(s[10]) && isfinite(s[11]);
                 ids[i] = (uchar)(finite ? r : r | LR_SKIP); /* the reprojection skips non-finite radiance */
                 count[r]++;
+                finite_count[r] += finite;
                 mx[r] += (lr_sum)s[7];
                 my[r] += (lr_sum)s[8];
                 cmin[r] = s[6] < cmin[r] ? s[6] : cmin[r];
@@ -156,11 +165,24 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
             sp[i] = (float)(ay / len);
         }
     }
+    /* The window sorted by raw layer (lr_bucket.c: lr_bucket_by_layer, a stable counting
+     * sort), so that a layer's reprojection reads its own samples and those behind it as one
+     * contiguous run of the list and none in front of it; written during the second sweep. */
+    __global int *start = layer_start + tile * LR_LS_STRIDE;
+    int next[17], total = 0;
+    for (int r = 0; r < 17; ++r) {
+        start[r] = next[r] = total;
+        total += r < raw_n ? finite_count[r] : 0;
+    }
+    start[17] = total;
+    __global uint *list = order + (size_t)tile * window_px * window_px * spp;
     for (int py = w.y0, i = 0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
-                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                int r = ids[i] & ~LR_SKIP;
+                uint index = ((uint)py * (uint)width + (uint)px) * (uint)spp + (uint)k;
+                __global const float *s = samples + (size_t)index * LR_SAMPLE_STRIDE;
+                int id = ids[i], r = id & ~LR_SKIP;
+                if (!(id & LR_SKIP)) list[next[r]++] = index;
                 float along = cp[r] * s[7] + sp[r] * s[8];
                 float across = fabs(-sp[r] * s[7] + cp[r] * s[8]);
                 dmin[r] = along < dmin[r] ? along : dmin[r];
@@ -181,144 +203,187 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     }
 }
 
+/* The first of list[lo .. hi) (ascending) that is >= key. */
+static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
+{
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (list[mid] < key) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
  * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
- * per (layer, tile). */
-__kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
-                           int max_layers, __global const float *samples, __global const uchar *layer_ids,
-                           __global const int *tile_layers, __global const float *params, __global float *grid)
+ * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
+ * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
+ * in the same order, so every cell gets the same sums. */
+__kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
+                           int max_layers, int tile0, __global const float *samples, __global const uint *order,
+                           __global const int *layer_start, __global const int *tile_layers, __global const float *params,
+                           __global float *grid)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int j = get_global_id(0), tile = get_global_id(1);
-    if (tile >= ntiles || j >= max_layers) return;
+    int j = get_global_id(0), tile = tile0 + get_global_id(1);
+    if (tile >= tile1 || j >= max_layers) return; /* the batch is tiles [tile0, tile1) */
     __global const int *tl = tile_layers + tile * LR_TL_STRIDE;
     if (j >= tl[0]) return;
     int id = tile * max_layers + j;
     __global const float *lp = params + id * LR_LP_STRIDE;
-    __global float *g = grid + (size_t)id * window_px * window_px * LR_CH;
-    __global const uchar *ids = layer_ids + (size_t)tile * window_px * window_px * spp;
+    __global float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH; /* the batch's grids */
+    __global const uint *list = order + (size_t)tile * window_px * window_px * spp;
+    __global const int *start = layer_start + tile * LR_LS_STRIDE;
     __global const int *compact = tl + 1;
+    int raw_j = 0;
+    while (compact[raw_j] != j) ++raw_j;
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     float cp = lp[0], sp = lp[1], eta = lp[3], xi = lp[4], isu = lp[5], ist = lp[6], rho = lp[8], isv = lp[9];
     /* Only the grid cells the screen passes read matter: lr_along's box around the tile,
      * widened by the along radius. A sample moves at most |eta| + |xi|/2 + |rho| px (|u_r|,
-     * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source pixels farther than that from
-     * the box cannot land in it and are not visited: for a sharp layer that is the tile and a
-     * few pixels instead of the whole window. The cells read get exactly the C version's sums. */
+     * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source rows farther than that from
+     * the box cannot land in it and are not visited (a layer's list is pixel-major: the rows
+     * are one run of it, found by bisection): for a sharp layer that is the tile's rows and a
+     * few more instead of the whole window. The cells read get exactly the C version's sums. */
     float rx = lp[10], ry = lp[11];
     int tx0 = (tile % ntx) * tile_px - w.x0, ty0 = (tile / ntx) * tile_px - w.y0;
     int mx = (int)ceil(ry * fabs(sp)) + 1 + (int)ceil(rx * fabs(cp)) + 1;
     int my = (int)ceil(ry * fabs(cp)) + 1 + (int)ceil(rx * fabs(sp)) + 1;
     int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho))) + 2;
-    int cx0 = max(0, tx0 - mx - reach), cx1 = min(ww, tx0 + tile_px + mx + reach);
     int cy0 = max(0, ty0 - my - reach), cy1 = min(wh, ty0 + tile_px + my + reach);
     int bx0 = max(0, tx0 - mx), bx1 = min(ww, tx0 + tile_px + mx), by0 = max(0, ty0 - my), by1 = min(wh, ty0 + tile_px + my);
     for (int iy = by0; iy < by1; ++iy)
         for (int ix = bx0; ix < bx1; ++ix)
             for (int c = 0; c < LR_CH; ++c) g[(iy * ww + ix) * LR_CH + c] = 0.0f;
-    for (int cell = 0; cell < (cy1 - cy0) * (cx1 - cx0); ++cell) {
-        int sx = cx0 + cell % (cx1 - cx0), sy = cy0 + cell / (cx1 - cx0);
-        int px = w.x0 + sx, py = w.y0 + sy, first = (sy * ww + sx) * spp;
-        for (int k = 0; k < spp; ++k) {
-            int raw = ids[first + k];
-            if (raw & LR_SKIP) continue; /* non-finite radiance (counted on the host) */
-            int layer = compact[raw];
-            if (layer < j) continue;
-            __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-            float ur = cp * s[2] + sp * s[3], vr = -sp * s[2] + cp * s[3];
-            float tc = s[4] - 0.5f;
-            float along = eta * ur + xi * tc, across = rho * vr;
-            float p = s[0] + cp * along - sp * across; /* eq. 16 */
-            float q = s[1] + sp * along + cp * across;
-            int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
-            if (ix < bx0 || iy < by0 || ix >= bx1 || iy >= by1) continue; /* never read */
-            float au = isu * ur, av = isv * vr, at = ist * tc;
-            float wt = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
-            if (wt == 0.0f) continue;
-            __global float *c = g + (iy * ww + ix) * LR_CH;
-            c[1] += wt;
-            if (layer == j) {
-                c[0] += wt;
-                c[2] += wt * s[9];
-                c[3] += wt * s[10];
-                c[4] += wt * s[11];
+    uint key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
+    for (int r = raw_j; r < 17; ++r) {
+        bool own = r == raw_j;
+        int e1 = lr_lower_bound(list, start[r], start[r + 1], key1);
+        /* In chunks: first where each sample lands and its weight (independent samples, no
+         * branches: the processor overlaps them), then the sums in list order. */
+        for (int e0 = lr_lower_bound(list, start[r], e1, key0); e0 < e1; e0 += LR_CHUNK) {
+            int n = min(LR_CHUNK, e1 - e0), cell[LR_CHUNK];
+            float wt[LR_CHUNK];
+            for (int m = 0; m < n; ++m) {
+                __global const float *s = samples + (size_t)list[e0 + m] * LR_SAMPLE_STRIDE;
+                float ur = cp * s[2] + sp * s[3], vr = -sp * s[2] + cp * s[3];
+                float tc = s[4] - 0.5f;
+                float along = eta * ur + xi * tc, across = rho * vr;
+                float p = s[0] + cp * along - sp * across; /* eq. 16 */
+                float q = s[1] + sp * along + cp * across;
+                int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
+                float au = isu * ur, av = isv * vr, at = ist * tc;
+                wt[m] = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
+                bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
+                cell[m] = read && wt[m] != 0.0f ? (iy * ww + ix) * LR_CH : -1;
+            }
+            for (int m = 0; m < n; ++m) {
+                if (cell[m] < 0) continue;
+                __global float *c = g + cell[m];
+                c[1] += wt[m];
+                if (own) {
+                    __global const float *s = samples + (size_t)list[e0 + m] * LR_SAMPLE_STRIDE;
+                    c[0] += wt[m];
+                    c[2] += wt[m] * s[9];
+                    c[3] += wt[m] * s[10];
+                    c[4] += wt[m] * s[11];
+                }
             }
         }
     }
 }
 
-/* One 1D Gaussian pass of Algorithm 2 at window cell (ix, iy): the cells at k (dx, dy),
- * k in [-r, r], nearest pixel, weighted by taps[|k|] = exp(-(k / sigma)^2 / 2), summed into acc. */
-static void lr_pass_sum(__global const float *g, int ww, int wh, int ix, int iy, float dx, float dy, int r,
+/* One 1D Gaussian pass of Algorithm 2 on the cells [ix0, ix1) of window row iy: for each,
+ * the cells at k (dx, dy), k in [-r, r], nearest pixel, weighted by taps[|k|] =
+ * exp(-(k / sigma)^2 / 2), summed into acc[(ix - ix0) * LR_CH + c]. Tap by tap over the whole
+ * row (a tap's offset is the same for every cell of the row, and the cells whose tap falls
+ * outside the window are a range at either end), so that every cell gets its taps added in
+ * the order k = -r..r, exactly as one cell at a time would. */
+#define LR_ROW_MAX 64 /* window_px <= 64 (lr_cl.c) */
+static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, float dx, float dy, int r,
                         __global const float *taps, float *acc)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    for (int c = 0; c < LR_CH; ++c) acc[c] = 0.0f;
+    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) acc[i] = 0.0f;
     for (int k = -r; k <= r; ++k) {
-        int jx = ix + (int)floor((float)k * dx + 0.5f), jy = iy + (int)floor((float)k * dy + 0.5f);
-        if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
+        int ox = (int)floor((float)k * dx + 0.5f), jy = iy + (int)floor((float)k * dy + 0.5f);
+        if (jy < 0 || jy >= wh) continue;
+        int a = max(ix0, -ox), b = min(ix1, ww - ox); /* 0 <= ix + ox < ww */
         float wk = taps[k < 0 ? -k : k];
-        for (int c = 0; c < LR_CH; ++c) acc[c] += wk * g[(jy * ww + jx) * LR_CH + c];
+        __global const float *row = g + (jy * ww + ox) * LR_CH;
+        for (int ix = a; ix < b; ++ix)
+            for (int c = 0; c < LR_CH; ++c) acc[(ix - ix0) * LR_CH + c] += wk * row[ix * LR_CH + c];
     }
 }
 
 /* Algorithm 2, first pass: along the layer's motion, at the window cells the second pass
- * reads (the tile widened by the across radius projected on x and y), not the whole window. */
-__kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int ntiles, int max_layers,
-                       __global const int *tile_layers, __global const float *params, __global const float *grid,
+ * reads (the tile widened by the across radius projected on x and y), not the whole window.
+ * One work-item per (window row, partition). */
+__kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
+                       int tile0, __global const int *tile_layers, __global const float *params, __global const float *grid,
                        __global float *pass1)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int cell = get_global_id(0), id = get_global_id(1);
+    int iy = get_global_id(0), id = tile0 * max_layers + get_global_id(1); /* grid, pass1: the batch's */
     int tile = id / max_layers, j = id % max_layers;
-    if (tile >= ntiles || cell >= window_px * window_px || j >= tile_layers[tile * LR_TL_STRIDE]) return;
+    if (tile >= tile1 || iy >= window_px || j >= tile_layers[tile * LR_TL_STRIDE]) return; /* batch: [tile0, tile1) */
     int tx = tile % ntx, ty = tile / ntx;
     LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
-    if (cell >= ww * wh) return;
-    int ix = cell % ww, iy = cell / ww;
     __global const float *lp = params + id * LR_LP_STRIDE;
     /* the second pass reads tile pixel + round(k (-sin psi, cos psi)), |k| <= radius_y */
     float ry = lp[11];
     int mx = (int)ceil(ry * fabs(lp[1])) + 1, my = (int)ceil(ry * fabs(lp[0])) + 1;
     int tx0 = tx * tile_px - w.x0, ty0 = ty * tile_px - w.y0;
-    if (ix < tx0 - mx || ix >= tx0 + tile_px + mx || iy < ty0 - my || iy >= ty0 + tile_px + my) return;
-    __global const float *g = grid + (size_t)id * window_px * window_px * LR_CH;
-    float acc[LR_CH];
-    lr_pass_sum(g, ww, wh, ix, iy, lp[0], lp[1], (int)lp[10], lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
-    __global float *o = pass1 + (size_t)id * window_px * window_px * LR_CH + (iy * ww + ix) * LR_CH;
-    for (int c = 0; c < LR_CH; ++c) o[c] = acc[c];
+    if (iy >= wh || iy < ty0 - my || iy >= ty0 + tile_px + my) return;
+    int ix0 = max(0, tx0 - mx), ix1 = min(ww, tx0 + tile_px + mx);
+    __global const float *g = grid + get_global_id(1) * window_px * window_px * LR_CH;
+    float acc[LR_ROW_MAX * LR_CH];
+    lr_row_pass(g, ww, wh, iy, ix0, ix1, lp[0], lp[1], (int)lp[10], lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
+    __global float *o = pass1 + get_global_id(1) * window_px * window_px * LR_CH + (iy * ww + ix0) * LR_CH;
+    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) o[i] = acc[i];
 }
 
-/* Algorithm 2, second pass (across the motion), normalisation and eq. 17, one pixel. */
-__kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int ntiles, int max_layers,
-                                  __global const int *tile_layers, __global const float *params,
+/* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per
+ * row of a tile (image row py, tile column tx), layer by layer front to back. */
+__kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
+                                  int tile0, __global const int *tile_layers, __global const float *params,
                                   __global const float *pass1, __global float *rgb, __global float *layers_aov,
                                   __global float *extent_aov)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int px = get_global_id(0), py = get_global_id(1);
-    if (px >= width || py >= height) return;
-    int tx = px / tile_px, ty = py / tile_px, tile = ty * ntx + tx;
+    int py = tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
+    if (py >= height || tx >= ntx) return;
+    int ty = py / tile_px, tile = ty * ntx + tx;
     int count = tile_layers[tile * LR_TL_STRIDE];
     LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px);
-    int ww = w.x1 - w.x0, wh = w.y1 - w.y0, ix = px - w.x0, iy = py - w.y0;
-    float trans = 1.0f, out[3] = {0.0f, 0.0f, 0.0f}, extent = 0.0f;
+    int ww = w.x1 - w.x0, wh = w.y1 - w.y0, iy = py - w.y0;
+    int px0 = tx * tile_px, n = min(tile_px, width - px0), ix0 = px0 - w.x0;
+    float trans[LR_ROW_MAX], out[LR_ROW_MAX * 3], extent[LR_ROW_MAX], acc[LR_ROW_MAX * LR_CH];
+    for (int i = 0; i < n; ++i) {
+        trans[i] = 1.0f;
+        out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = 0.0f;
+        extent[i] = 0.0f;
+    }
     for (int j = 0; j < count; ++j) {
         int id = tile * max_layers + j;
         __global const float *lp = params + id * LR_LP_STRIDE;
-        __global const float *p1 = pass1 + (size_t)id * window_px * window_px * LR_CH;
-        float acc[LR_CH];
-        lr_pass_sum(p1, ww, wh, ix, iy, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
-        if (!(acc[1] > 0.0f)) continue;
-        float alpha = acc[0] / acc[1];
-        for (int c = 0; c < 3; ++c) out[c] += trans * acc[2 + c] / acc[1];
-        if (alpha > 0.0f && extent == 0.0f) extent = 1.0f / lp[2];
-        trans *= 1.0f - alpha;
+        __global const float *p1 = pass1 + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
+        lr_row_pass(p1, ww, wh, iy, ix0, ix0 + n, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
+        for (int i = 0; i < n; ++i) {
+            float *a = acc + i * LR_CH;
+            if (!(a[1] > 0.0f)) continue;
+            float alpha = a[0] / a[1];
+            for (int c = 0; c < 3; ++c) out[3 * i + c] += trans[i] * a[2 + c] / a[1];
+            if (alpha > 0.0f && extent[i] == 0.0f) extent[i] = 1.0f / lp[2];
+            trans[i] *= 1.0f - alpha;
+        }
     }
-    size_t i = (size_t)py * width + px;
-    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = out[c];
-    layers_aov[i] = (float)count;
-    extent_aov[i] = extent;
+    for (int i = 0; i < n; ++i) {
+        size_t p = (size_t)py * width + px0 + i;
+        for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = out[3 * i + c];
+        layers_aov[p] = (float)count;
+        extent_aov[p] = extent[i];
+    }
 }

@@ -9,16 +9,18 @@
 #include <time.h>
 
 #include "recon/cl/cl_runtime_internal.h"
+#include "recon/lr/lr_bucket.h"
 
 /* as in lr.cl */
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_TAPS_X = 12,
-       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8 };
+       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18, BATCH_TILES = 64 };
 
 _Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
                "lr.cl's tile layouts");
 _Static_assert(LP_STRIDE == 78 && LP_TAPS_Y == 45, "lr.cl's LR_LP_STRIDE and LR_TAPS_Y");
-_Static_assert(LR_MAX_LAYERS + 1 < 0x80, "lr.cl's raw layer ids are bytes, 0x80 flags a skipped sample");
+_Static_assert(LR_MAX_LAYERS + 1 < LR_LAYER_SKIP && LR_LAYER_SKIP == 0x80, "lr.cl's raw layer ids are bytes, 0x80 (LR_SKIP) flags a skipped sample");
+_Static_assert(LS_STRIDE == LR_MAX_LAYERS + 2, "lr.cl's LR_LS_STRIDE: a start per raw layer and the end");
 
 /* A device buffer that keeps its size between runs and grows when asked for more. */
 typedef struct {
@@ -34,7 +36,7 @@ struct LrCl {
     int *tl;
     LrTile *tiles;
     size_t tiles_cap, parts_cap;
-    GrowBuf b_cb, b_st, b_tb, b_tl, b_lp, b_ids, b_g, b_p1, b_rgb, b_l, b_e;
+    GrowBuf b_cb, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_g, b_p1, b_rgb, b_l, b_e;
     LrClTimes last;
 };
 
@@ -86,8 +88,9 @@ void lr_cl_destroy(LrCl *lr)
     cl_kernel k[4] = {lr->stats, lr->reproject, lr->along, lr->across};
     for (int i = 0; i < 4; ++i)
         if (k[i]) clReleaseKernel(k[i]);
-    GrowBuf *b[11] = {&lr->b_cb, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e};
-    for (int i = 0; i < 11; ++i)
+    GrowBuf *b[13] = {&lr->b_cb, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order, &lr->b_ls,
+                      &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e};
+    for (int i = 0; i < 13; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
     free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
     free(lr);
@@ -157,6 +160,10 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
 {
     ClRuntime *rt = lr->rt;
     cl_command_queue q = rt->queue;
+    if (cfg->tile_px > cfg->window_px) { /* lr.cl's rows of a tile fit a window's (LR_ROW_MAX) */
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "LR tile of %d px is larger than its window (%d px)", cfg->tile_px, cfg->window_px);
+        return false;
+    }
     if (cfg->window_px / 2 > LR_MAX_RADIUS_PX || cfg->window_px > 255) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "LR window of %d px is larger than the kernels allow (64)", cfg->window_px);
         return false;
@@ -191,7 +198,9 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     ok = ok && grow(rt, &lr->b_cb, sizeof(float) * LR_MAX_COC_BOUNDS, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_st, st_bytes, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_tb, sizeof(float) * TB_STRIDE * (size_t)ntiles, CL_MEM_READ_WRITE, d) &&
-         grow(rt, &lr->b_ids, (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d);
+         grow(rt, &lr->b_ids, (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_order, sizeof(cl_uint) * (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_ls, sizeof(cl_int) * LS_STRIDE * (size_t)ntiles, CL_MEM_READ_WRITE, d);
     /* Partition statistics on the device (one work-item per tile), the rest on the host. */
     LrTile shape;
     lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
@@ -200,9 +209,9 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     cl_event ev[4] = {NULL, NULL, NULL, NULL};
     if (ok) {
         cl_int ints[9] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc};
-        cl_mem m[5] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem};
+        cl_mem m[7] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem};
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, sizeof(float) * LR_MAX_COC_BOUNDS, shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
-             set_args(lr->stats, ints, 9, m, 5, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
+             set_args(lr->stats, ints, 9, m, 7, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
     }
@@ -222,7 +231,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         flatten_params(lr, cfg, ntiles, L);
     }
     double t_part = now_s() - t0;
-    size_t grid_bytes = nparts * wcells * CH * sizeof(float);
+    /* Reprojection and screen passes a batch of tile rows at a time: the two grids are per
+     * (tile, layer) of the batch only. The whole frame's (63 MB at 256x192) was fresh memory
+     * in a one-frame render, page-faulted and cleared by the kernel (docs/benchmarks.md, LR
+     * third round); a batch's is reused by the next and stays in the caches between the
+     * three kernels. About 64 tiles a batch keeps both cores busy. */
+    int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
+    int nbatches = (nty + batch_rows - 1) / batch_rows;
+    size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
     ok = ok && grow(rt, &lr->b_tl, sizeof(int) * TL_STRIDE * (size_t)ntiles, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_lp, sizeof(float) * LP_STRIDE * nparts, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
@@ -233,19 +249,35 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              cl_ok(clEnqueueWriteBuffer(q, lr->b_lp.mem, CL_FALSE, 0, sizeof(float) * LP_STRIDE * nparts, lr->lp, 0, NULL, NULL), "upload", d);
 
     cl_int LL = L;
-    if (ok) { /* Algorithm 1, one work-item per (layer, tile) */
-        cl_int ints[8] = {W, H, S, T, N, NX, NT, LL};
-        cl_mem m[5] = {b_s, lr->b_ids.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
-        ok = set_args(lr->reproject, ints, 8, m, 5, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)ntiles, &ev[1], d);
-    }
-    cl_int ints7[7] = {W, H, T, N, NX, NT, LL};
-    if (ok) {
-        cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
-        ok = set_args(lr->along, ints7, 7, m, 4, d) && cl_launch_2d(rt, lr->along, wcells, nparts, &ev[2], d);
-    }
-    if (ok) {
-        cl_mem m[6] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem};
-        ok = set_args(lr->across, ints7, 7, m, 6, d) && cl_launch_2d(rt, lr->across, (size_t)W, (size_t)H, &ev[3], d);
+    double batch_s[3] = {0.0, 0.0, 0.0};
+    for (int b = 0; ok && b < nbatches; ++b) {
+        cl_int tile0 = b * batch_tiles;
+        int tiles = ntiles - tile0 < batch_tiles ? ntiles - tile0 : batch_tiles, rows = tiles / ntx;
+        cl_int tile1 = tile0 + tiles; /* the launches are padded: the kernels stop at tile1 */
+        cl_event bev[3] = {NULL, NULL, NULL};
+        { /* Algorithm 1, one work-item per (layer, tile) */
+            cl_int ints[9] = {W, H, S, T, N, NX, tile1, LL, tile0};
+            cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
+            ok = set_args(lr->reproject, ints, 9, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+        }
+        cl_int ints8[8] = {W, H, T, N, NX, tile1, LL, tile0};
+        if (ok) {
+            cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
+            ok = set_args(lr->along, ints8, 8, m, 4, d) &&
+                 cl_launch_2d(rt, lr->along, (size_t)cfg->window_px, (size_t)tiles * L, &bev[1], d);
+        }
+        if (ok) {
+            cl_mem m[6] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem};
+            ok = set_args(lr->across, ints8, 8, m, 6, d) &&
+                 cl_launch_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
+        }
+        /* the queue is in order, so the next batch's reprojection starts after this batch's
+         * passes have read the grids; waiting here only lets the batch's times be read */
+        if (ok) ok = cl_ok(clWaitForEvents(1, &bev[2]), "kernel", d);
+        for (int i = 0; i < 3; ++i) {
+            batch_s[i] += ok ? event_seconds(bev[i]) : 0.0;
+            if (bev[i]) clReleaseEvent(bev[i]);
+        }
     }
     float *aov_l = out->layers, *aov_e = out->extent_px;
     if (ok)
@@ -253,8 +285,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              (!aov_l || cl_ok(clEnqueueReadBuffer(q, lr->b_l.mem, CL_TRUE, 0, sizeof(float) * npix, aov_l, 0, NULL, NULL), "download", d)) &&
              (!aov_e || cl_ok(clEnqueueReadBuffer(q, lr->b_e.mem, CL_TRUE, 0, sizeof(float) * npix, aov_e, 0, NULL, NULL), "download", d));
     clFinish(q);
-    double ks = 0.0;
-    for (int i = 0; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? event_seconds(ev[i]) : 0.0;
+    double ks = lr->last.kernel_s[0] = ok ? event_seconds(ev[0]) : 0.0;
+    for (int i = 1; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? batch_s[i - 1] : 0.0;
     if (ok && kernel_seconds) *kernel_seconds = ks;
     lr->last.partitions = nparts;
     lr->last.max_layers = L;

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/lr/lr_bucket.h"
+
 int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
 {
     int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
@@ -45,7 +47,7 @@ void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, floa
 enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
 
 static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int ty, float *grid, float *pass1,
-                        LrOutput *out)
+                        unsigned char *ids, int *order, LrOutput *out)
 {
     LrTile tile;
     lr_tile_partition(img, cfg, tx, ty, &tile);
@@ -66,30 +68,41 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
         if (out->layers) out->layers[(size_t)py * img->width + px] = (float)tile.layer_count;
         if (out->extent_px) out->extent_px[(size_t)py * img->width + px] = 0.0f;
     }
+    /* Every window sample's raw layer once, then the window sorted by layer (lr_bucket.h):
+     * layer j's own samples and those behind it are the raw layers from j's on. */
+    int spp = img->spp, nwin = ww * wh * spp, raw_n = lr_tile_raw_count(&tile);
+    for (int py = y0, i = 0; py < y1; ++py)
+        for (int px = x0; px < x1; ++px)
+            for (int k = 0; k < spp; ++k, ++i) {
+                const LrSample *s = &img->s[((size_t)py * img->width + px) * spp + k];
+                bool finite = isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]); /* counted once, by the caller */
+                ids[i] = (unsigned char)(lr_tile_raw_layer(&tile, s->depth, s->coc_px, s->motion_px) | (finite ? 0 : LR_LAYER_SKIP));
+            }
+    int start[LR_MAX_LAYERS + 2];
+    lr_bucket_by_layer(ids, nwin, raw_n, start, order);
     for (int j = 0; j < tile.layer_count; ++j) {
         const LrFilter *f = &tile.layer[j].filter;
         float cp = tile.layer[j].cos_psi, sp = tile.layer[j].sin_psi;
+        int raw_j = 0;
+        while (tile.compact[raw_j] != j) ++raw_j;
         memset(grid, 0, sizeof(float) * CH_COUNT * (size_t)ww * wh);
         /* Algorithm 1: samples of this layer add opacity and radiance, samples behind it add
-         * weight only (they saw through layer j). */
-        for (int py = y0; py < y1; ++py)
-            for (int px = x0; px < x1; ++px)
-                for (int k = 0; k < img->spp; ++k) {
-                    const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
-                    int layer = lr_tile_layer_of(&tile, s);
-                    if (layer < j) continue;
-                    if (!(isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]))) continue; /* counted once below */
-                    float p, q, w;
-                    lr_reproject(s, cp, sp, f, &p, &q, &w);
-                    int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
-                    if (ix < 0 || iy < 0 || ix >= ww || iy >= wh || w == 0.0f) continue;
-                    float *g = &grid[((size_t)iy * ww + ix) * CH_COUNT];
-                    g[CH_W] += w;
-                    if (layer == j) {
-                        g[CH_A] += w;
-                        for (int c = 0; c < 3; ++c) g[CH_R + c] += w * s->L[c];
-                    }
+         * weight only (they saw through layer j); layer by layer, pixel-major within one. */
+        for (int r = raw_j; r < raw_n; ++r)
+            for (int e = start[r]; e < start[r + 1]; ++e) {
+                int i = order[e], pix = i / spp, px = x0 + pix % ww, py = y0 + pix / ww;
+                const LrSample *s = &img->s[((size_t)py * img->width + px) * spp + i % spp];
+                float p, q, w;
+                lr_reproject(s, cp, sp, f, &p, &q, &w);
+                int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
+                if (ix < 0 || iy < 0 || ix >= ww || iy >= wh || w == 0.0f) continue;
+                float *g = &grid[((size_t)iy * ww + ix) * CH_COUNT];
+                g[CH_W] += w;
+                if (r == raw_j) {
+                    g[CH_A] += w;
+                    for (int c = 0; c < 3; ++c) g[CH_R + c] += w * s->L[c];
                 }
+            }
         /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel). */
         int rx, ry;
         lr_screen_radii_px(f, cfg, &rx, &ry);
@@ -135,12 +148,17 @@ void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out)
 {
     size_t cells = (size_t)cfg->window_px * cfg->window_px * CH_COUNT;
     float *grid = malloc(sizeof(float) * cells), *pass1 = malloc(sizeof(float) * cells);
+    size_t nwin = (size_t)cfg->window_px * cfg->window_px * img->spp;
+    unsigned char *ids = malloc(nwin);
+    int *order = malloc(sizeof(int) * nwin);
     out->nonfinite = 0;
     for (size_t i = 0; i < (size_t)img->width * img->height * img->spp; ++i)
         if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
     int ntx = (img->width + cfg->tile_px - 1) / cfg->tile_px, nty = (img->height + cfg->tile_px - 1) / cfg->tile_px;
     for (int ty = 0; ty < nty; ++ty)
-        for (int tx = 0; tx < ntx; ++tx) filter_tile(img, cfg, tx, ty, grid, pass1, out);
+        for (int tx = 0; tx < ntx; ++tx) filter_tile(img, cfg, tx, ty, grid, pass1, ids, order, out);
     free(grid);
     free(pass1);
+    free(ids);
+    free(order);
 }
