@@ -32,7 +32,7 @@
 #define LR_TAPS_Y 45
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
 #define LR_CH 5
-#define LR_CHUNK 16 /* lr_reproject: samples placed before they are summed */
+#define LR_CHUNK 32 /* lr_reproject: samples placed before they are summed */
 #define LR_LS_STRIDE 18 /* raw layers 0..16, and the end */
 
 typedef struct {
