@@ -67,6 +67,10 @@ int main(void)
         compare(lr, 48, 33, 8, big, 3, true);
         /* the device buffers only grow: a smaller frame after a larger one reads no stale cells */
         compare(lr, 37, 29, 4, diag, 2, false);
+        /* an in-focus static disk: its layer reaches a few pixels, so its reprojection reads
+         * only the rows of its sorted list near the tile (bisection) */
+        LrTestLayer sharp[2] = {{2.0f, 0.0f, {0.0f, 0.0f}, 22.0f, 19.0f, 11.0f, 0.7f}, {8.0f, 6.0f, {3.0f, 1.0f}, 0, 0, 0, 0.4f}};
+        compare(lr, 48, 40, 4, sharp, 2, false);
         /* frames of more than one batch of tiles (lr_cl.c: BATCH_TILES): 16 x 5 tiles in
          * batches of 4 rows (the last one short), and 65 x 2 tiles, one row a batch */
         LrTestLayer wide[2] = {{2.0f, -4.0f, {-9.0f, 3.0f}, 130.0f, 40.0f, 30.0f, 0.8f}, {6.0f, 3.0f, {2.0f, 0.0f}, 0, 0, 0, 0.35f}};

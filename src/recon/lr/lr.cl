@@ -33,7 +33,7 @@
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
 #define LR_CH 5
 #define LR_MOVING_PX 1.0f /* lr_partition.h: moving and static samples of a slab are separate layers */
-#define LR_CHUNK 16 /* lr_reproject: samples placed before they are summed */
+#define LR_CHUNK 32 /* lr_reproject: samples placed before they are summed */
 #define LR_LS_STRIDE 18 /* raw layers 0..16, and the end */
 
 typedef struct {
@@ -130,11 +130,11 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     for (int i = 0; i < LR_TB_STRIDE; ++i) tile_bounds[tile * LR_TB_STRIDE + i] = tb[i];
 
     int raw_n = 2 * (n_depth + n_coc + 1) + 1 <= 17 ? 2 * (n_depth + n_coc + 1) + 1 : n_depth + n_coc + 2;
-    int count[17], finite_count[17];
+    int count[17], skipped[17];
     lr_sum mx[17], my[17];
     float cmin[17], cmax[17], cp[17], sp[17], dmin[17], dmax[17], perp[17];
     for (int i = 0; i < raw_n; ++i) {
-        count[i] = finite_count[i] = 0;
+        count[i] = skipped[i] = 0;
         mx[i] = my[i] = 0;
         cmin[i] = dmin[i] = INFINITY;
         cmax[i] = dmax[i] = -INFINITY;
@@ -149,7 +149,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                 bool finite = isfinite(s[9]) && isfinite(s[10]) && isfinite(s[11]);
                 ids[i] = (uchar)(finite ? r : r | LR_SKIP); /* the reprojection skips non-finite radiance */
                 count[r]++;
-                finite_count[r] += finite;
+                if (!finite) skipped[r]++; /* rare: a branch, not a sum per sample */
                 mx[r] += (lr_sum)s[7];
                 my[r] += (lr_sum)s[8];
                 cmin[r] = s[6] < cmin[r] ? s[6] : cmin[r];
@@ -172,7 +172,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     int next[17], total = 0;
     for (int r = 0; r < 17; ++r) {
         start[r] = next[r] = total;
-        total += r < raw_n ? finite_count[r] : 0;
+        total += r < raw_n ? count[r] - skipped[r] : 0;
     }
     start[17] = total;
     __global uint *list = order + (size_t)tile * window_px * window_px * spp;

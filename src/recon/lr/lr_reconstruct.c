@@ -47,7 +47,7 @@ void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, floa
 enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
 
 static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int ty, float *grid, float *pass1,
-                        unsigned char *ids, int *order, LrOutput *out)
+                        unsigned char *ids, int *order, size_t *sample_at, LrOutput *out)
 {
     LrTile tile;
     lr_tile_partition(img, cfg, tx, ty, &tile);
@@ -74,7 +74,8 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
     for (int py = y0, i = 0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
-                const LrSample *s = &img->s[((size_t)py * img->width + px) * spp + k];
+                sample_at[i] = ((size_t)py * img->width + px) * spp + k;
+                const LrSample *s = &img->s[sample_at[i]];
                 bool finite = isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]); /* counted once, by the caller */
                 ids[i] = (unsigned char)(lr_tile_raw_layer(&tile, s->depth, s->coc_px, s->motion_px) | (finite ? 0 : LR_LAYER_SKIP));
             }
@@ -90,8 +91,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
          * weight only (they saw through layer j); layer by layer, pixel-major within one. */
         for (int r = raw_j; r < raw_n; ++r)
             for (int e = start[r]; e < start[r + 1]; ++e) {
-                int i = order[e], pix = i / spp, px = x0 + pix % ww, py = y0 + pix / ww;
-                const LrSample *s = &img->s[((size_t)py * img->width + px) * spp + i % spp];
+                const LrSample *s = &img->s[sample_at[order[e]]];
                 float p, q, w;
                 lr_reproject(s, cp, sp, f, &p, &q, &w);
                 int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
@@ -151,14 +151,16 @@ void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out)
     size_t nwin = (size_t)cfg->window_px * cfg->window_px * img->spp;
     unsigned char *ids = malloc(nwin);
     int *order = malloc(sizeof(int) * nwin);
+    size_t *sample_at = malloc(sizeof(size_t) * nwin); /* window sample -> index in img->s */
     out->nonfinite = 0;
     for (size_t i = 0; i < (size_t)img->width * img->height * img->spp; ++i)
         if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
     int ntx = (img->width + cfg->tile_px - 1) / cfg->tile_px, nty = (img->height + cfg->tile_px - 1) / cfg->tile_px;
     for (int ty = 0; ty < nty; ++ty)
-        for (int tx = 0; tx < ntx; ++tx) filter_tile(img, cfg, tx, ty, grid, pass1, ids, order, out);
+        for (int tx = 0; tx < ntx; ++tx) filter_tile(img, cfg, tx, ty, grid, pass1, ids, order, sample_at, out);
     free(grid);
     free(pass1);
     free(ids);
     free(order);
+    free(sample_at);
 }
