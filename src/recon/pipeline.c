@@ -350,7 +350,7 @@ static bool mu_for_budget(ReconPipeline *p, int budget, float *mu, Diag *d)
     return true;
 }
 
-/* ---- the OpenCL device, opened while the last pass traces ---- */
+/* ---- the OpenCL device, opened on a helper thread while pass 1 traces ---- */
 
 typedef struct {
     pthread_t thread;
@@ -521,15 +521,25 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     bool geometry = false;
     for (int s = 0; s < p->slot_count; ++s) geometry = geometry || (p->slots[s].cls->ray_geometry & p->slots[s].effects);
 
+    /* The device opens on rank 0 while pass 1 traces: a fixed-count frame (LR) has no pass 2
+     * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. */
+    DeviceOpener opener;
+    bool opened = false;
+    if (is_root(p)) {
+        opener_start(&opener, p);
+        opened = true;
+    }
+
     /* ---- pass 1 ---- */
     begin_pass(p, 0, geometry);
     double t = wall_seconds();
     int pass1 = p->res.pass1_spp;
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
-    if (!gather_pass(p, 0, &complete, d)) return false;
-    DeviceOpener opener;
-    bool opened = false;
+    if (!gather_pass(p, 0, &complete, d)) {
+        if (opened) opener_join(&opener, p, NULL);
+        return false;
+    }
     if (complete) {
         /* ---- plans (rank 0) and pass 2 (adaptive methods) ---- */
         float mu = p->opt.mu;
@@ -537,16 +547,19 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
             gbuffer_resolve_guides(&p->g);
             if (!p->fixed_only) {
                 double avg;
-                if (p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) return false;
-                if (!plan_at(p, mu, &avg, d)) return false;
+                if ((p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) || !plan_at(p, mu, &avg, d)) {
+                    opener_join(&opener, p, NULL);
+                    return false;
+                }
                 extras_from_plan(p, p->opt.spp);
             }
-            opener_start(&opener, p);
-            opened = true;
         }
         p->res.mu = mu > 0.0f ? mu : 0.0f;
         if (!p->fixed_only) {
-            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d)) return false;
+            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d)) {
+                if (opened) opener_join(&opener, p, NULL);
+                return false;
+            }
             /* plans come from pass 1; pass 2 only refines the guides, without ray geometry,
              * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
