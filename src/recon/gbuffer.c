@@ -118,11 +118,13 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
      * a mirror), per channel, so that both filtered remainders stay >= 0. */
     float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
     float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+    float ud[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
     for (int k = 0; k < 3; ++k) {
         float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
         float ui = fminf(uk, fmaxf(ind[k], 0.0f));
+        float dk = isfinite(ud[k]) && ud[k] > 0.0f ? ud[k] : 0.0f; /* direct by construction */
         s->unf_indirect_sum[k] += ui;
-        s->unf_direct_sum[k] += uk - ui;
+        s->unf_direct_sum[k] += uk - ui + dk;
     }
     s->pos_sum[0] += r->p_world.x;
     s->pos_sum[1] += r->p_world.y;

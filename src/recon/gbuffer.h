@@ -42,7 +42,8 @@ float recon_coc_slope_px(const ReconCamera *cam, float depth_cam);
  * frame's time). */
 typedef struct {
     float pos_sum[3], nrm_sum[3];
-    float unf_direct_sum[3], unf_indirect_sum[3]; /* SampleRecord.unfiltered, split */
+    float unf_direct_sum[3], unf_indirect_sum[3]; /* SampleRecord.unfiltered, split (and
+                                                   * unfiltered_direct, in the direct sum) */
     float depth_sum;
     int hits;                     /* samples that hit a surface at a finite position */
     int object_id;                /* first hit's object id, -1 until a sample hits */

@@ -295,7 +295,7 @@ static inline void record_reset(SampleRecord *rec)
 {
     const vec3 zero = v3s(0.0f);
     rec->lens_u = rec->lens_v = rec->time = 0.0f;
-    rec->L = rec->emission = rec->direct = rec->indirect = rec->unfiltered = zero;
+    rec->L = rec->emission = rec->direct = rec->indirect = rec->unfiltered = rec->unfiltered_direct = zero;
     rec->hit = false;
     rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
     rec->phong_exponent = 0.0f;
@@ -532,8 +532,9 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
      * blurred with theirs (on motion_defocus_soft, a sphere light beside a distant light,
      * AAF's shadows had 30x Monte Carlo's error at 64 spp, static and pinhole). Without
      * area lights no filter takes direct light and nothing needs to be set apart. */
-    bool delta_direct = depth == 1 && p->light_pending && p->lp.ls.delta && sc->lights->has_area;
-    if (p->unfiltered_light || delta_direct) rec->unfiltered = v3_add(rec->unfiltered, ld);
+    if (p->unfiltered_light) rec->unfiltered = v3_add(rec->unfiltered, ld);
+    else if (depth == 1 && p->light_pending && p->lp.ls.delta && sc->lights->has_area)
+        rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
     p->alive = false;
     if (!p->bounce) return;
 
@@ -604,6 +605,7 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         rec->direct = guard3(rec->direct, st);
         rec->indirect = guard3(rec->indirect, st);
         rec->unfiltered = guard3(rec->unfiltered, st);
+        rec->unfiltered_direct = guard3(rec->unfiltered_direct, st);
         rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
     }
     return n;

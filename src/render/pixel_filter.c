@@ -210,4 +210,5 @@ void pixel_filter_weigh_record(SampleRecord *rec)
     rec->direct = v3_scale(rec->direct, w);
     rec->indirect = v3_scale(rec->indirect, w);
     rec->unfiltered = v3_scale(rec->unfiltered, w);
+    rec->unfiltered_direct = v3_scale(rec->unfiltered_direct, w);
 }

@@ -47,6 +47,10 @@ typedef struct {
                                    * and whatever arrived through a delta lobe of the first hit (a
                                    * smooth mirror, a smooth coat's reflection); subtract it before
                                    * filtering and add it back after */
+    vec3 unfiltered_direct;       /* the same for a part of `direct` known to be direct (not in
+                                   * `unfiltered`): a point, spot or distant light's light in a
+                                   * scene with area lights, whose hard shadows the soft-shadow
+                                   * filters must not blur */
 
     /* first-hit surface (valid when hit) */
     bool hit;

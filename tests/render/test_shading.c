@@ -434,8 +434,8 @@ static void split_add(void *ctx, int px, int py, const SampleRecord *r)
     SplitStats *s = ctx;
     if (!r->hit) return;
     ++s->samples;
-    s->over += r->unfiltered.y > r->direct.y;
-    s->unfiltered += r->unfiltered.y;
+    s->over += r->unfiltered_direct.y > r->direct.y || r->unfiltered.y != 0.0f;
+    s->unfiltered += r->unfiltered_direct.y;
 }
 
 /* A Lambert plane (reflectance 0.5) filling the frame under a distant light straight down
@@ -473,12 +473,12 @@ static bool render_split(const char *area_light, SplitStats *s)
 }
 
 /* A point, spot or distant light's direct light is set apart from the soft-shadow filters
- * (SampleRecord.unfiltered) when the scene has an area light, whose direct light they filter:
+ * (SampleRecord.unfiltered_direct) when the scene has an area light, whose direct light they filter:
  * its shadows are hard. With a two-sided area light off to the side (not shadowing the
  * plane), the mean unfiltered light per sample is the distant light's radiance 0.5 / pi
  * (light selection makes it noisy: 1.5% at 4096 samples, hence 5%), never more than the
- * sample's direct light. Without an area light nothing filters direct light, and none is
- * set apart. */
+ * sample's direct light, and none of it in `unfiltered` (which gbuffer_add may attribute to
+ * indirect light). Without an area light nothing filters direct light, and none is set apart. */
 static void test_delta_light_unfiltered(void)
 {
     SplitStats with = {0}, without = {0};

@@ -238,9 +238,11 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     float f[4] = {r->direct.x, r->direct.y, r->direct.z, 1.0f};
     float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
     float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+    float ud[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
     for (int k = 0; k < 3; ++k) {
         float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
-        f[k] -= uk - fminf(uk, fmaxf(ind[k], 0.0f));
+        float dk = isfinite(ud[k]) && ud[k] > 0.0f ? ud[k] : 0.0f;
+        f[k] -= uk - fminf(uk, fmaxf(ind[k], 0.0f)) + dk;
     }
     float p[3] = {r->p_world.x, r->p_world.y, r->p_world.z};
     if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
