@@ -334,9 +334,53 @@ static void test_share_weight(void)
     CHECK(lr_share_weight(16, 1e30f) > 0.0f && lr_share_weight(16, 1e30f) < 1e-28f);
 }
 
+/* Seams: LR chooses layers and filters per 16x16 tile, so neighbouring tiles filter with
+ * different partitions. Averaged over seeds, the error of each image column (LR against a
+ * 1024-spp box-mean reference, over the rows the moving disk crosses) must not step at a tile
+ * border by more than it steps between columns inside tiles: the largest step across a
+ * border below 3 interior standard deviations of the column-to-column steps. */
+static void test_no_tile_seams(void)
+{
+    LrTestLayer layers[2] = {{4.0f, 2.5f, {20.0f, 6.0f}, 30.0f, 22.0f, 9.0f, 0.4f},
+                             {6.0f, -1.0f, {0.0f, 0.0f}, 0, 0, 0, 0.35f}};
+    float *ref = reference_means(layers, 2);
+    CHECK(ref != NULL);
+    if (!ref) return;
+    enum { SEEDS = 12, SPP = 8, Y0 = 8, Y1 = 40 };
+    double col[CW] = {0};
+    LrConfig cfg = lr_config_default();
+    LrSample *s = malloc(sizeof(LrSample) * CW * CH * SPP);
+    for (unsigned seed = 0; seed < SEEDS && s; ++seed) {
+        lr_test_scene(s, CW, CH, SPP, layers, 2, 900 + seed);
+        float *lr = recon(s, CW, CH, SPP, &cfg);
+        for (int py = Y0; py < Y1; ++py)
+            for (int px = 0; px < CW; ++px)
+                for (int c = 0; c < 3; ++c) {
+                    size_t i = ((size_t)py * CW + px) * 3 + c;
+                    col[px] += (lr[i] - ref[i]) / (double)(SEEDS * (Y1 - Y0) * 3);
+                }
+        free(lr);
+    }
+    double sum = 0, sum2 = 0, border = 0;
+    int n = 0;
+    for (int px = 1; px < CW; ++px) {
+        double step = fabs(col[px] - col[px - 1]);
+        if (px % 16 == 0) {
+            border = fmax(border, step);
+        } else {
+            sum += step, sum2 += step * step, ++n;
+        }
+    }
+    double mean = sum / n, sd = sqrt(fmax(sum2 / n - mean * mean, 0.0));
+    CHECK(border < mean + 3.0 * sd);
+    fprintf(stderr, "tile seams: largest border step %.3g, interior steps %.3g +- %.3g\n", border, mean, sd);
+    free(s), free(ref);
+}
+
 int main(void)
 {
     test_gauss();
+    test_no_tile_seams();
     test_share_weight();
     test_flat_weights_lower_bias();
     test_moving_over_static();
