@@ -1,21 +1,30 @@
 /* One frame rendered by several processes (MPI ranks, DESIGN.md section 8), each pixel's
- * samples taken by exactly one rank.
+ * samples in a pass taken by exactly one rank, its owner in that pass.
  *
- * Ownership: interleaved 8x8 tiles, tile t (row-major) belongs to rank t mod ranks, for
- * every pass; neighbouring tiles cost alike, so the interleave balances the ranks to within
- * a tile's cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x -> 1.71x,
- * where the costly out-of-focus pixels come in patches). A rank traces only the pixels it owns (the others get 0 samples) and feeds
- * their samples to its own sinks; after each pass every per-pixel quantity (the frame's sums,
- * the shared guides, each method's statistics, the per-sample store) is gathered to rank 0,
- * which plans the next pass, broadcasts the plan, and reconstructs. Because a pixel's sums are
- * made by one rank in the same order as by a single process (same seeds, same rounds), the
- * image is the single-process image value for value.
+ * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): the interleave,
+ * tile t (row-major) to rank t mod ranks; neighbouring tiles cost alike, so it balances to
+ * within a tile's cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x ->
+ * 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
+ * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
+ * broadcast every rank knows each pixel's count, a tile's cost is its planned samples, and
+ * dist_balance assigns the tiles so that each rank's sum is within one tile of the ideal,
+ * keeping a tile with its previous owner where that does not unbalance (deterministic: every
+ * rank computes the same owners without a message). A rank traces only the pixels it owns
+ * (the others get 0 samples) and feeds their samples to its own sinks; after each pass every
+ * per-pixel quantity (the frame's sums, the shared guides, each method's statistics, the
+ * per-sample store) is gathered to rank 0, which plans the next pass, broadcasts the plan,
+ * and reconstructs. Before a pass traces, rank 0 (which holds every pixel's state after the
+ * gather) hands the state of each tile that changed owner to its new owner, so that a pixel's
+ * sums continue from exactly the single-process values: made in the same order (same seeds,
+ * same rounds), the image is the single-process image value for value.
  *
  * Why gather to rank 0 rather than exchange halos: the plan and every filter read the whole
  * image (the light estimate of AAF-shadow, the scene size, filter footprints up to 32 px), the
  * state is a few dozen bytes per pixel (about 150 B per pixel per pass for AAF), and one
  * gather per pass is one message per rank; docs/benchmarks.md has the measured bytes and
- * times and a model of where it stops scaling.
+ * times and a model of where it stops scaling. Why a hand-over of the moved tiles rather than
+ * gathering to every rank: only the tiles that move cross (a few in ten when the owner is
+ * kept where it can be), not the whole frame to every rank.
  *
  * Without MPI (or a single rank) every call is a no-op on a "world" of one. */
 #ifndef WEDGE_RECON_DIST_H
@@ -32,6 +41,11 @@ typedef struct {
                                  * from the others, the plan broadcast to them); index 3 holds
                                  * any later pass */
     long long bytes_total;
+    /* ownership of the pass being traced (dist_tiles_reset, dist_reassign) */
+    int width, height, tiles_x, tile_count;
+    int *owner;                 /* owner[t] of tile t; NULL: the interleave */
+    int *owner_before;          /* the previous pass's owners */
+    long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
 } ReconDist;
 
 /* A per-pixel array to gather: element p of pixel i is at data + i * bytes_per_pixel. */
@@ -48,13 +62,37 @@ void dist_finish(ReconDist *d);
 /* Whether MPI support was built in. */
 bool dist_available(void);
 
-/* The rank that owns pixel (px, py) of a width-wide image. */
-int dist_owner(const ReconDist *d, int width, int px, int py);
+/* The side of an ownership tile, in pixels. */
+enum { DIST_TILE_PX = 8 };
 
-/* Gathers the owners' values of every array to rank 0 (each rank sends the pixels it owns,
- * rank 0 writes them into its arrays). pass selects the byte counter. False with e set on a
+/* Starts a width x height frame's ownership at the interleave (pass 1). False when out of
+ * memory (e set). */
+bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e);
+/* The rank that owns pixel (px, py) in the pass being traced. */
+int dist_owner(const ReconDist *d, int px, int py);
+
+/* Assigns tile_count tiles of cost tile_cost[t] to ranks (owner[t]), each rank's sum of
+ * costs within the largest tile cost of total/ranks: tiles in decreasing cost (ties: lower
+ * index first) stay with before[t] (NULL: no preference) while its sum stays within
+ * total/ranks (or it has the least sum anyway, or the tile costs 0), otherwise go to the rank
+ * with the least sum so far (ties: lower rank). The bound holds because a rank passes
+ * total/ranks only by a tile taken while it had the least sum, then at most total/ranks.
+ * Deterministic; no communication. */
+void dist_balance(const double *tile_cost, const int *before, int tile_count, int ranks, int *owner);
+
+/* The next pass's ownership, balanced by its counts (spp[i] samples at pixel i, the same on
+ * every rank): the previous owners become owner_before. False when out of memory (e set). */
+bool dist_reassign(ReconDist *d, const int *spp, Diag *e);
+
+/* Before a pass traces: rank 0 sends each rank the arrays' values of the pixels of tiles it
+ * owns now and did not own in the previous pass (rank 0 holds every pixel after a gather).
+ * pass selects the byte counter. False with e set on a communication failure (exit 3). */
+bool dist_handover(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
+
+/* Gathers the owners' values of every array to rank 0 (each rank sends the pixels it owns in
+ * this pass, all arrays in one message; rank 0 writes them into its arrays). pass selects the byte counter. False with e set on a
  * communication failure (exit 3). */
-bool dist_gather(ReconDist *d, int width, int height, const DistArray *arrays, int count, int pass, Diag *e);
+bool dist_gather(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
 
 /* Rank 0's n ints to every rank. */
 bool dist_broadcast_ints(ReconDist *d, int *data, size_t n, Diag *e);

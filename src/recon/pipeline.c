@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -19,6 +20,8 @@
 #define BUDGET_SEARCH_STEPS 24
 /* ... and progressive steps double mu from this start when none was given. */
 #define STEP_MU_START 2.0f
+/* Stages of a frame timed for WEDGE_DIST_LOG. */
+#define DIST_MARKS 16
 
 typedef struct {
     const ReconMethodClass *cls;
@@ -43,6 +46,9 @@ struct ReconPipeline {
     int *spp_total, *spp_extra;
     int *spp_mine;               /* MPI ranks: a pass's counts with 0 for the pixels of others */
     int pass;                    /* sampler passes started */
+    double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended */
+    const char *mark_name[DIST_MARKS];
+    int mark_count;
 };
 
 static double wall_seconds(void)
@@ -138,6 +144,24 @@ const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
 
 /* ---- sampling ---- */
 
+/* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine), to see where the time of
+ * several ranks goes (tools/bench-mpi --breakdown) */
+static void dist_mark(ReconPipeline *p, const char *what)
+{
+    if (p->mark_count < DIST_MARKS) p->mark_name[p->mark_count] = what, p->mark_s[p->mark_count++] = wall_seconds();
+}
+
+static void dist_marks_print(ReconPipeline *p)
+{
+    if (getenv("WEDGE_DIST_LOG") && p->opt.dist && p->opt.dist->ranks > 1) {
+        fprintf(stderr, "dist-times rank %d:", p->opt.dist->rank);
+        for (int k = 0; k < p->mark_count; ++k) fprintf(stderr, " %s %.4f", p->mark_name[k], p->mark_s[k]);
+        fprintf(stderr, "\n");
+    }
+    p->mark_count = 0;
+}
+
 static bool distributed(const ReconPipeline *p) { return p->opt.dist && p->opt.dist->ranks > 1; }
 static bool is_root(const ReconPipeline *p) { return !distributed(p) || p->opt.dist->rank == 0; }
 
@@ -150,20 +174,18 @@ static const int *counts_mine(ReconPipeline *p, const int *counts, int uniform)
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * (size_t)w + (size_t)x;
-            bool mine = dist_owner(p->opt.dist, w, x, y) == p->opt.dist->rank;
+            bool mine = dist_owner(p->opt.dist, x, y) == p->opt.dist->rank;
             p->spp_mine[i] = mine ? (counts ? counts[i] : uniform) : 0;
         }
     return p->spp_mine;
 }
 
-/* After a pass: every rank finished it (or all treat it as cancelled), and rank 0 holds every
- * per-pixel sum: the frame, the guides' sums, the store, the methods' statistics. */
-static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
+enum { MAX_STATE_ARRAYS = 64 };
+
+/* Every per-pixel array samples accumulate into: the frame, the guides' sums, the store, the
+ * methods' statistics. */
+static int state_arrays(ReconPipeline *p, DistArray *a)
 {
-    if (!distributed(p)) return true;
-    *complete = dist_all_ok(p->opt.dist, *complete);
-    enum { MAX_ARRAYS = 64 };
-    DistArray a[MAX_ARRAYS];
     int n = 0;
     Frame *f = &p->g.frame;
     float *rgb_sums[6] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
@@ -171,10 +193,39 @@ static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
     float *scalar_sums[3] = {f->depth, f->hits, f->spp};
     for (int k = 0; k < 3; ++k) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
     if (p->filtering) a[n++] = (DistArray){p->g.sums, sizeof(GBufferSums)};
-    if (p->store) n += sample_store_arrays(p->store, a + n, MAX_ARRAYS - n);
+    if (p->store) n += sample_store_arrays(p->store, a + n, MAX_STATE_ARRAYS - n);
     for (int s = 0; s < p->slot_count; ++s)
-        if (p->slots[s].cls->shared) n += p->slots[s].cls->shared(p->slots[s].m, a + n, MAX_ARRAYS - n);
-    return dist_gather(p->opt.dist, p->g.width, p->g.height, a, n, pass, d);
+        if (p->slots[s].cls->shared) n += p->slots[s].cls->shared(p->slots[s].m, a + n, MAX_STATE_ARRAYS - n);
+    return n;
+}
+
+/* After a pass: every rank finished it (or all treat it as cancelled), and rank 0 holds every
+ * pixel's state (state_arrays). */
+static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
+{
+    if (!distributed(p)) return true;
+    *complete = dist_all_ok(p->opt.dist, *complete);
+    DistArray a[MAX_STATE_ARRAYS];
+    int n = state_arrays(p, a);
+    return dist_gather(p->opt.dist, a, n, pass, d);
+}
+
+/* Before a pass after the first: ownership balanced by the pass's counts (the same on every
+ * rank), and the state of each tile that changed owner handed from rank 0 (which holds every
+ * pixel after the gather) to its new owner, whose sums then continue from the values a
+ * single process has. */
+static bool rebalance(ReconPipeline *p, const int *counts, int pass, Diag *d)
+{
+    if (!distributed(p)) return true;
+    ReconDist *dist = p->opt.dist;
+    long long moved = dist->tiles_moved;
+    if (!dist_reassign(dist, counts, d)) return false;
+    DistArray a[MAX_STATE_ARRAYS];
+    int n = state_arrays(p, a);
+    if (getenv("WEDGE_DIST_LOG") && dist->rank == 0)
+        fprintf(stderr, "dist: pass %d: %lld of %d tiles changed owner\n", p->pass + 1, dist->tiles_moved - moved,
+                dist->tile_count);
+    return dist_handover(dist, a, n, pass, d);
 }
 
 /* Every sample goes to the guides, the store and each method, in that order. */
@@ -203,6 +254,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     size_t n = pixel_count(p);
     if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) goto oom;
     p->g_ready = true;
+    if (!dist_tiles_reset(p->opt.dist, w, h, d)) return false;
     p->res.rgb = calloc(3 * n, sizeof(float));
     p->value_direct4 = malloc(4 * n * sizeof(float));
     p->value_indirect4 = malloc(4 * n * sizeof(float));
@@ -475,6 +527,7 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         return false;
     }
     p->g_ready = true;
+    if (!dist_tiles_reset(p->opt.dist, w, h, d)) return false;
     int spp = p->opt.spp > 0 ? p->opt.spp : renderer_spp(p->r);
     p->res.pass1_spp = spp;
     renderer_set_record_ray_geometry(p->r, false);
@@ -498,6 +551,7 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     if (p->res.steps > 0) return recon_pipeline_step(p, 0.0, d);
     if (!p->filtering) return render_plain(p, d);
     double t0 = wall_seconds(), t_trace = 0.0;
+    dist_mark(p, "start");
     if (!setup_filtered(p, d)) return false;
     SampleSink sink = {fan_out, p};
     bool geometry = false;
@@ -509,7 +563,9 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     int pass1 = p->res.pass1_spp;
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
+    dist_mark(p, "pass1");
     if (!gather_pass(p, 0, &complete, d)) return false;
+    dist_mark(p, "gather1");
     DeviceOpener opener;
     bool opened = false;
     if (complete) {
@@ -525,10 +581,16 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
             }
             opener_start(&opener, p);
             opened = true;
+            dist_mark(p, "plan");
         }
         p->res.mu = mu > 0.0f ? mu : 0.0f;
         if (!p->fixed_only) {
-            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d)) return false;
+            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d) ||
+                !rebalance(p, p->spp_extra, 1, d)) {
+                if (opened) opener_join(&opener, p, NULL);
+                return false;
+            }
+            dist_mark(p, "bcast");
             /* plans come from pass 1; pass 2 only refines the guides, without ray geometry,
              * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
@@ -536,10 +598,12 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
             t = wall_seconds();
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
             t_trace += wall_seconds() - t;
+            dist_mark(p, "pass2");
             if (!gather_pass(p, 1, &complete, d)) {
                 if (opened) opener_join(&opener, p, NULL);
                 return false;
             }
+            dist_mark(p, "gather2");
         }
     }
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
@@ -560,7 +624,9 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
             ok = reconstruct(p, d);
         }
         if (ok) p->res.steps = 1;
+        dist_mark(p, "recon");
     }
+    dist_marks_print(p);
     p->res.seconds_filter = wall_seconds() - t0 - t_trace;
     return ok;
 }
@@ -579,9 +645,13 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
         int doublings = p->res.steps - 1 < 24 ? p->res.steps - 1 : 24;
         double want = ldexp((double)p->res.pass1_spp, doublings);
         int spp = want < (double)SCENE_SPP_MAX ? (int)want : SCENE_SPP_MAX;
-        for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
-        double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
-        if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
+        if (is_root(p)) { /* rank 0 holds every pixel's count: the others follow its plan */
+            for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
+            double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
+            if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
+        }
+        if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
+            return false;
         double t = wall_seconds();
         bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
         t_trace += wall_seconds() - t;
@@ -615,7 +685,8 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
             if (room < want) scale_extras(p, room);
         }
     }
-    if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d)) return false;
+    if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
+        return false;
     p->res.mu = mu;
     SampleSink sink = {fan_out, p};
     begin_pass(p, p->pass, false);
