@@ -55,7 +55,10 @@ void dist_finish(ReconDist *d)
 #endif
     free(d->owner);
     free(d->owner_before);
+    free(d->tile_seconds);
+    free(d->tile_samples);
     d->owner = d->owner_before = NULL;
+    d->tile_seconds = d->tile_samples = NULL;
 }
 
 bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e)
@@ -67,16 +70,21 @@ bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e)
     d->tiles_moved = 0;
     free(d->owner);
     free(d->owner_before);
+    free(d->tile_seconds);
+    free(d->tile_samples);
     d->owner = d->owner_before = NULL;
+    d->tile_seconds = d->tile_samples = NULL;
     if (d->ranks <= 1) return true;
     d->owner = malloc((size_t)d->tile_count * sizeof(int));
     d->owner_before = malloc((size_t)d->tile_count * sizeof(int));
-    if (!d->owner || !d->owner_before) {
+    d->tile_seconds = calloc((size_t)d->tile_count, sizeof(double));
+    d->tile_samples = calloc((size_t)d->tile_count, sizeof(double));
+    if (!d->owner || !d->owner_before || !d->tile_seconds || !d->tile_samples) {
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile owners (%dx%d)", width, height);
         return false;
     }
     /* pass 1: the interleave (every pixel takes the same count) */
-    for (int t = 0; t < d->tile_count; ++t) d->owner[t] = d->owner_before[t] = t % d->ranks;
+    for (int t = 0; t < d->tile_count; ++t) d->owner[t] = d->owner_before[t] = (t % d->tiles_x + t / d->tiles_x) % d->ranks;
     return true;
 }
 
@@ -142,11 +150,21 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile costs");
         return false;
     }
-    /* a tile's predicted cost: the samples planned in it (a pixel's samples cost alike to
-     * within the spread of path lengths; docs/benchmarks.md measures what is left) */
+    /* a tile's predicted cost: the samples planned in it times its measured seconds per
+     * sample (paths differ in length and in the rays they spawn: sky, a shadowed corner) */
     for (int y = 0; y < d->height; ++y)
         for (int x = 0; x < d->width; ++x)
             cost[(y / DIST_TILE_PX) * d->tiles_x + x / DIST_TILE_PX] += spp[(size_t)y * (size_t)d->width + (size_t)x];
+    double seconds = 0.0, samples = 0.0;
+    for (int t = 0; t < d->tile_count; ++t) seconds += d->tile_seconds[t], samples += d->tile_samples[t];
+    double mean_rate = seconds > 0.0 && samples > 0.0 ? seconds / samples : 1.0;
+    /* WEDGE_DIST_COST=samples (for measuring the model): every tile at the mean rate */
+    const char *model = getenv("WEDGE_DIST_COST");
+    if (model && strcmp(model, "samples") == 0) seconds = 0.0, memset(d->tile_samples, 0, (size_t)d->tile_count * sizeof(double));
+    for (int t = 0; t < d->tile_count; ++t) {
+        bool measured = d->tile_samples[t] > 0.0 && d->tile_seconds[t] > 0.0;
+        cost[t] *= measured ? d->tile_seconds[t] / d->tile_samples[t] : mean_rate;
+    }
     int *swap = d->owner_before;
     d->owner_before = d->owner;
     d->owner = swap;
@@ -157,6 +175,43 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
     for (int t = 0; t < d->tile_count; ++t) d->tiles_moved += d->owner[t] != d->owner_before[t];
     free(cost);
     return true;
+}
+
+#ifdef WEDGE_MPI
+static bool mpi_ok(int rc, const char *what, Diag *e);
+#endif
+
+bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_uniform, Diag *e)
+{
+    if (!d || d->ranks <= 1 || !d->owner) return true;
+    /* the seconds of every tile: this rank's tiles, 0 elsewhere; the sum over ranks is every
+     * tile's (each tile has one owner, so the sum is exact and the same on every rank) */
+    size_t n = (size_t)d->tile_count;
+    double *mine = calloc(n, sizeof(double)), *all = calloc(n, sizeof(double));
+    if (!mine || !all) {
+        free(mine);
+        free(all);
+        diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile costs");
+        return false;
+    }
+    for (int y = 0; y < d->height; ++y)
+        for (int x = 0; x < d->width; ++x) {
+            int t = (y / DIST_TILE_PX) * d->tiles_x + x / DIST_TILE_PX;
+            size_t i = (size_t)y * (size_t)d->width + (size_t)x;
+            if (d->owner[t] == d->rank) mine[t] += pixel_seconds[i];
+            pixel_seconds[i] = 0.0f;
+            d->tile_samples[t] += spp ? spp[i] : spp_uniform; /* known to every rank */
+        }
+    bool ok = true;
+#ifdef WEDGE_MPI
+    ok = mpi_ok(MPI_Allreduce(mine, all, (int)n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "all-reduce", e);
+#else
+    memcpy(all, mine, n * sizeof(double));
+#endif
+    for (size_t t = 0; ok && t < n; ++t) d->tile_seconds[t] += all[t];
+    free(mine);
+    free(all);
+    return ok;
 }
 
 #ifdef WEDGE_MPI

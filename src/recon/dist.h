@@ -1,15 +1,17 @@
 /* One frame rendered by several processes (MPI ranks, DESIGN.md section 8), each pixel's
  * samples in a pass taken by exactly one rank, its owner in that pass.
  *
- * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): the interleave,
- * tile t (row-major) to rank t mod ranks; neighbouring tiles cost alike, so it balances to
- * within a tile's cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x ->
- * 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
+ * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): an interleave,
+ * tile (tx, ty) to rank (tx + ty) mod ranks; neighbouring tiles cost alike, so it balances to
+ * within a few tiles' cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x
+ * -> 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
  * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
- * broadcast every rank knows each pixel's count, a tile's cost is its planned samples, and
+ * broadcast every rank knows each pixel's count; a tile's cost is its planned samples times
+ * the seconds per sample measured in that tile so far (each rank times the samples it
+ * traces; the tiles' totals are all-reduced after each pass, 16 bytes per tile), and
  * dist_balance assigns the tiles so that each rank's sum is within one tile of the ideal,
  * keeping a tile with its previous owner where that does not unbalance (deterministic: every
- * rank computes the same owners without a message). A rank traces only the pixels it owns
+ * rank computes the same owners from the same numbers). A rank traces only the pixels it owns
  * (the others get 0 samples) and feeds their samples to its own sinks; after each pass every
  * per-pixel quantity (the frame's sums, the shared guides, each method's statistics, the
  * per-sample store) is gathered to rank 0, which plans the next pass, broadcasts the plan,
@@ -45,6 +47,8 @@ typedef struct {
     int width, height, tiles_x, tile_count;
     int *owner;                 /* owner[t] of tile t; NULL: the interleave */
     int *owner_before;          /* the previous pass's owners */
+    double *tile_seconds;       /* tracing seconds measured in each tile so far (every rank) */
+    double *tile_samples;       /* ... and the samples they took */
     long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
 } ReconDist;
 
@@ -65,8 +69,9 @@ bool dist_available(void);
 /* The side of an ownership tile, in pixels. */
 enum { DIST_TILE_PX = 8 };
 
-/* Starts a width x height frame's ownership at the interleave (pass 1). False when out of
- * memory (e set). */
+/* Starts a width x height frame's ownership at the interleave of pass 1: tile (tx, ty) to
+ * rank (tx + ty) mod ranks (diagonals: a checkerboard for 2 ranks, which unlike columns does
+ * not line up with vertical structure in the image). False when out of memory (e set). */
 bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e);
 /* The rank that owns pixel (px, py) in the pass being traced. */
 int dist_owner(const ReconDist *d, int px, int py);
@@ -80,8 +85,17 @@ int dist_owner(const ReconDist *d, int px, int py);
  * Deterministic; no communication. */
 void dist_balance(const double *tile_cost, const int *before, int tile_count, int ranks, int *owner);
 
-/* The next pass's ownership, balanced by its counts (spp[i] samples at pixel i, the same on
- * every rank): the previous owners become owner_before. False when out of memory (e set). */
+/* After a pass: adds the tracing seconds each rank measured in the pixels it owned
+ * (pixel_seconds, which it zeroes; the others' pixels are ignored) to every tile's total on
+ * every rank, and the pass's samples (spp per pixel, NULL: spp_uniform everywhere) to the
+ * tiles' sample counts. A collective (one all-reduce of two doubles per tile). False with e
+ * set on a communication failure. */
+bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_uniform, Diag *e);
+
+/* The next pass's ownership, balanced by its predicted cost (spp[i] samples at pixel i, the
+ * same on every rank, each at its tile's measured seconds per sample; the frame's mean rate
+ * for a tile not measured yet): the previous owners become owner_before. False when out of
+ * memory (e set). */
 bool dist_reassign(ReconDist *d, const int *spp, Diag *e);
 
 /* Before a pass traces: rank 0 sends each rank the arrays' values of the pixels of tiles it

@@ -20,6 +20,9 @@
 #define BUDGET_SEARCH_STEPS 24
 /* ... and progressive steps double mu from this start when none was given. */
 #define STEP_MU_START 2.0f
+/* MPI ranks time the tracing of each tile; a gap longer than this between two pixels'
+ * samples is counted as this long (see time_sample). */
+#define WAVE_GAP_MAX_S 2.0e-3
 /* Stages of a frame timed for WEDGE_DIST_LOG. */
 #define DIST_MARKS 16
 
@@ -45,8 +48,10 @@ struct ReconPipeline {
     float *value_direct4, *value_indirect4, *radiance4; /* 4 floats per pixel each */
     int *spp_total, *spp_extra;
     int *spp_mine;               /* MPI ranks: a pass's counts with 0 for the pixels of others */
+    float *trace_s;              /* MPI ranks: tracing seconds measured per pixel this pass */
     int pass;                    /* sampler passes started */
-    double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended */
+    double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended (wall, CPU) */
+    double mark_cpu_s[DIST_MARKS];
     const char *mark_name[DIST_MARKS];
     int mark_count;
 };
@@ -136,6 +141,7 @@ void recon_pipeline_destroy(ReconPipeline *p)
     free(p->spp_total);
     free(p->spp_extra);
     free(p->spp_mine);
+    free(p->trace_s);
     free(p);
 }
 
@@ -145,19 +151,29 @@ const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
 /* ---- sampling ---- */
 
 /* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
- * (CLOCK_MONOTONIC, the same clock for every rank of one machine), to see where the time of
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time), to see where the time of
  * several ranks goes (tools/bench-mpi --breakdown) */
 static void dist_mark(ReconPipeline *p, const char *what)
 {
-    if (p->mark_count < DIST_MARKS) p->mark_name[p->mark_count] = what, p->mark_s[p->mark_count++] = wall_seconds();
+    if (p->mark_count >= DIST_MARKS) return;
+    /* and the process's CPU time, which a machine shared with other jobs does not inflate
+     * (except where MPI polls while it waits) */
+    struct timespec cpu;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
+    p->mark_name[p->mark_count] = what;
+    p->mark_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
+    p->mark_s[p->mark_count++] = wall_seconds();
 }
 
 static void dist_marks_print(ReconPipeline *p)
 {
-    if (getenv("WEDGE_DIST_LOG") && p->opt.dist && p->opt.dist->ranks > 1) {
-        fprintf(stderr, "dist-times rank %d:", p->opt.dist->rank);
-        for (int k = 0; k < p->mark_count; ++k) fprintf(stderr, " %s %.4f", p->mark_name[k], p->mark_s[k]);
-        fprintf(stderr, "\n");
+    if (getenv("WEDGE_DIST_LOG") && p->opt.dist) { /* one write: mpirun interleaves the ranks' writes */
+        char line[64 * DIST_MARKS];
+        int at = snprintf(line, sizeof line, "dist-times rank %d:", p->opt.dist->rank);
+        for (int k = 0; k < p->mark_count && at > 0 && (size_t)at < sizeof line; ++k)
+            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f", p->mark_name[k], p->mark_s[k],
+                           p->mark_cpu_s[k]);
+        fprintf(stderr, "%s\n", line);
     }
     p->mark_count = 0;
 }
@@ -199,15 +215,36 @@ static int state_arrays(ReconPipeline *p, DistArray *a)
     return n;
 }
 
-/* After a pass: every rank finished it (or all treat it as cancelled), and rank 0 holds every
- * pixel's state (state_arrays). */
-static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
+/* After a pass traced with counts (NULL: uniform): every rank finished it (or all treat it
+ * as cancelled), rank 0 holds every pixel's state (state_arrays), and every rank knows the
+ * tracing seconds measured in each tile (dist_measure). */
+static bool gather_pass(ReconPipeline *p, int pass, const int *counts, int uniform, bool *complete, Diag *d)
 {
     if (!distributed(p)) return true;
     *complete = dist_all_ok(p->opt.dist, *complete);
     DistArray a[MAX_STATE_ARRAYS];
     int n = state_arrays(p, a);
-    return dist_gather(p->opt.dist, a, n, pass, d);
+    if (!dist_gather(p->opt.dist, a, n, pass, d)) return false;
+    return !p->trace_s || dist_measure(p->opt.dist, p->trace_s, counts, uniform, d);
+}
+
+/* Where a tracing thread's samples last arrived (MPI ranks): the time until its next pixel's
+ * samples arrive is the tracing of the wave that holds them (the renderer traces a few pixels'
+ * samples at once, then hands them over), charged to that next pixel; summed over an 8x8 tile
+ * it is the tile's tracing time to within a wave. */
+static _Thread_local const ReconPipeline *clock_pipe;
+static _Thread_local int clock_pass, clock_px = -1, clock_py = -1;
+static _Thread_local double clock_s;
+
+static void time_sample(ReconPipeline *p, int px, int py)
+{
+    if (clock_pipe == p && clock_pass == p->pass && clock_px == px && clock_py == py) return;
+    double now = wall_seconds();
+    /* a wave of 256 samples takes 0.05-1 ms here; a longer gap is the thread descheduled
+     * (other jobs on the cores), not the pixel's cost */
+    if (clock_pipe == p && clock_pass == p->pass)
+        p->trace_s[(size_t)py * (size_t)p->g.width + (size_t)px] += (float)fmin(now - clock_s, WAVE_GAP_MAX_S);
+    clock_pipe = p, clock_pass = p->pass, clock_px = px, clock_py = py, clock_s = now;
 }
 
 /* Before a pass after the first: ownership balanced by the pass's counts (the same on every
@@ -232,6 +269,7 @@ static bool rebalance(ReconPipeline *p, const int *counts, int pass, Diag *d)
 static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
 {
     ReconPipeline *p = ctx;
+    if (p->trace_s) time_sample(p, px, py);
     gbuffer_add(&p->g, px, py, rec);
     if (p->store) sample_store_add(p->store, px, py, rec);
     for (int s = 0; s < p->slot_count; ++s)
@@ -261,9 +299,9 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     p->radiance4 = malloc(4 * n * sizeof(float));
     p->spp_total = malloc(n * sizeof(int));
     p->spp_extra = calloc(n, sizeof(int));
-    if (distributed(p)) p->spp_mine = malloc(n * sizeof(int));
+    if (distributed(p)) p->spp_mine = malloc(n * sizeof(int)), p->trace_s = calloc(n, sizeof(float));
     if (!p->res.rgb || !p->value_direct4 || !p->value_indirect4 || !p->radiance4 || !p->spp_total || !p->spp_extra ||
-        (distributed(p) && !p->spp_mine))
+        (distributed(p) && (!p->spp_mine || !p->trace_s)))
         goto oom;
     int pass1 = 0, fixed_max = 0;
     unsigned fields = 0;
@@ -399,12 +437,19 @@ static void *opener_main(void *arg)
 {
     DeviceOpener *op = arg;
     ReconPipeline *p = op->p;
+    double t0 = wall_seconds();
     op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
     for (int s = 0; op->rt && s < p->slot_count; ++s)
         if (p->slots[s].cls->open_device && !p->slots[s].cls->open_device(p->slots[s].m, op->rt, &op->diag)) {
             cl_runtime_destroy(op->rt);
             op->rt = NULL;
         }
+    if (getenv("WEDGE_DIST_LOG")) { /* the CPU it takes from the tracing on this rank's cores */
+        struct timespec cpu;
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
+        fprintf(stderr, "dist-opener: wall %.4f cpu %.4f\n", wall_seconds() - t0,
+                (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec);
+    }
     return NULL;
 }
 
@@ -537,7 +582,7 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         return false;
     }
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
-    if (!gather_pass(p, 0, &complete, d)) return false;
+    if (!gather_pass(p, 0, NULL, spp, &complete, d)) return false;
     p->res.cancelled = !complete;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     if (!plain_mean(p, d)) return false;
@@ -564,7 +609,7 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
-    if (!gather_pass(p, 0, &complete, d)) return false;
+    if (!gather_pass(p, 0, NULL, pass1, &complete, d)) return false;
     dist_mark(p, "gather1");
     DeviceOpener opener;
     bool opened = false;
@@ -599,7 +644,7 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
             t_trace += wall_seconds() - t;
             dist_mark(p, "pass2");
-            if (!gather_pass(p, 1, &complete, d)) {
+            if (!gather_pass(p, 1, p->spp_extra, 0, &complete, d)) {
                 if (opened) opener_join(&opener, p, NULL);
                 return false;
             }
@@ -655,7 +700,7 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
         double t = wall_seconds();
         bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
         t_trace += wall_seconds() - t;
-        if (!gather_pass(p, pass_slot, &complete, d)) return false;
+        if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
         p->res.cancelled = !complete;
         p->res.spp_avg = frame_spp_avg(&p->g.frame);
         bool ok = plain_mean(p, d);
@@ -693,7 +738,7 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
     double t = wall_seconds();
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
-    if (!gather_pass(p, pass_slot, &complete, d)) return false;
+    if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     bool ok;
     if (!is_root(p)) {

@@ -139,11 +139,11 @@ static void test_reassign_frame(void)
     Diag e = {0};
     CHECK(dist_tiles_reset(&d, W, H, &e));
     CHECK(d.tiles_x == 5 && d.tile_count == 15);
-    /* pass 1: the interleave */
+    /* pass 1: the diagonal interleave */
     for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) CHECK(dist_owner(&d, x, y) == ((y / 8) * 5 + x / 8) % 3);
+        for (int x = 0; x < W; ++x) CHECK(dist_owner(&d, x, y) == (y / 8 + x / 8) % 3);
     /* pass 2: all the samples in the first tile column (tiles 0, 5, 10: interleave owners
-     * 0, 2, 1, already one each), then all in tile 0 and its right neighbour */
+     * 0, 1, 2, already one each), then all in tile 0 and its right neighbour */
     static int spp[W * H];
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) spp[y * W + x] = x < 8 ? 5 : 0;
@@ -163,6 +163,44 @@ static void test_reassign_frame(void)
         for (int x = 0; x < W; ++x) CHECK(dist_owner(&d, x, y) == d.owner[(y / 8) * 5 + x / 8]);
     free(d.owner);
     free(d.owner_before);
+    free(d.tile_seconds);
+    free(d.tile_samples);
+}
+
+/* Measured seconds per sample weigh the planned samples: four tiles of equal counts, one
+ * measured 3x dearer per sample, on 2 ranks: the dear tile alone on one rank (3 units
+ * against 1 + 1 + 1), where counts alone would split them two and two. A tile not measured
+ * yet costs the frame's mean rate. */
+static void test_reassign_measured(void)
+{
+    enum { W = 32, H = 8 };
+    ReconDist d;
+    memset(&d, 0, sizeof d);
+    d.ranks = 2;
+    Diag e = {0};
+    CHECK(dist_tiles_reset(&d, W, H, &e));
+    CHECK(d.tile_count == 4);
+    static int spp[W * H];
+    for (int i = 0; i < W * H; ++i) spp[i] = 4;
+    for (int t = 0; t < 4; ++t) d.tile_samples[t] = 64.0, d.tile_seconds[t] = t == 2 ? 0.3 : 0.1;
+    CHECK(dist_reassign(&d, spp, &e));
+    CHECK(d.owner[0] == d.owner[1] && d.owner[1] == d.owner[3] && d.owner[2] != d.owner[0]);
+    /* counts alone (no measurement yet): two tiles each */
+    for (int t = 0; t < 4; ++t) d.tile_samples[t] = 0.0, d.tile_seconds[t] = 0.0;
+    CHECK(dist_reassign(&d, spp, &e));
+    int on0 = 0;
+    for (int t = 0; t < 4; ++t) on0 += d.owner[t] == 0;
+    CHECK(on0 == 2);
+    /* tile 0 not measured: it costs the mean rate of the measured ones, (0.1 + 0.3 + 0.1) s
+     * per 192 samples, so the costs are 0.67, 0.4, 1.2, 0.4 (x 256 samples) and the best split
+     * is tile 2 against the three others */
+    for (int t = 0; t < 4; ++t) d.tile_samples[t] = t ? 64.0 : 0.0, d.tile_seconds[t] = t == 0 ? 0.0 : t == 2 ? 0.3 : 0.1;
+    CHECK(dist_reassign(&d, spp, &e));
+    CHECK(d.owner[2] != d.owner[0] && d.owner[0] == d.owner[1] && d.owner[1] == d.owner[3]);
+    free(d.owner);
+    free(d.owner_before);
+    free(d.tile_seconds);
+    free(d.tile_samples);
 }
 
 int main(void)
@@ -171,5 +209,6 @@ int main(void)
     test_against_brute_force();
     test_keeps_owners();
     test_reassign_frame();
+    test_reassign_measured();
     CHECK_DONE();
 }
