@@ -83,8 +83,12 @@ bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e)
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile owners (%dx%d)", width, height);
         return false;
     }
-    /* pass 1: the interleave (every pixel takes the same count) */
-    for (int t = 0; t < d->tile_count; ++t) d->owner[t] = d->owner_before[t] = (t % d->tiles_x + t / d->tiles_x) % d->ranks;
+    /* pass 1: the interleave (every pixel takes the same count); WEDGE_DIST_OWNERS=columns
+     * (for measuring against it): the first build's, tile t to rank t mod ranks, kept for
+     * every pass */
+    bool columns = getenv("WEDGE_DIST_OWNERS") && strcmp(getenv("WEDGE_DIST_OWNERS"), "columns") == 0;
+    for (int t = 0; t < d->tile_count; ++t)
+        d->owner[t] = d->owner_before[t] = (columns ? t : t % d->tiles_x + t / d->tiles_x) % d->ranks;
     return true;
 }
 
@@ -123,20 +127,25 @@ void dist_balance(const double *tile_cost, const int *before, int tile_count, in
     }
     for (int t = 0; t < tile_count; ++t) order[t] = (TileCost){tile_cost[t], t};
     qsort(order, (size_t)tile_count, sizeof *order, by_cost_desc);
-    /* greedy, largest first (Graham's LPT rule): the largest tiles placed first leave the
-     * small ones to even out the sums */
+    /* 1. Each rank keeps its previous tiles, cheapest first, while its sum stays within the
+     *    ideal: an overloaded rank gives away its dearest tiles, the fewest tiles (and bytes
+     *    handed over) for its excess. Free tiles always stay. */
+    for (int t = 0; t < tile_count; ++t) owner[t] = -1;
+    for (int k = tile_count - 1; before && k >= 0; --k) {
+        int t = order[k].tile, r = before[t];
+        if (r >= 0 && r < ranks && load[r] + tile_cost[t] <= ideal) owner[t] = r, load[r] += tile_cost[t];
+    }
+    /* 2. The rest, dearest first, each to the rank with the least sum so far (Graham's LPT
+     *    rule: the small tiles placed last even out the sums); ties go to the previous owner,
+     *    then the lower rank. */
     for (int k = 0; k < tile_count; ++k) {
-        int t = order[k].tile, r = before ? before[t] : -1, least = 0;
-        for (int q = 1; q < ranks; ++q)
+        int t = order[k].tile;
+        if (owner[t] >= 0) continue;
+        int least = before && before[t] >= 0 && before[t] < ranks ? before[t] : 0;
+        for (int q = 0; q < ranks; ++q)
             if (load[q] < load[least]) least = q;
-        /* a tile stays with its owner while that owner stays within the ideal, or is (one of)
-         * the least loaded anyway, or the tile is free (cost 0: moving it would only cost a
-         * hand-over); otherwise it goes to the least loaded rank */
-        bool keep = r >= 0 && r < ranks &&
-                    (load[r] + tile_cost[t] <= ideal || load[r] == load[least] || tile_cost[t] <= 0.0);
-        if (!keep) r = least;
-        owner[t] = r;
-        load[r] += tile_cost[t];
+        owner[t] = least;
+        load[least] += tile_cost[t];
     }
     free(order);
     free(load);
@@ -145,6 +154,10 @@ void dist_balance(const double *tile_cost, const int *before, int tile_count, in
 bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
 {
     if (!d || d->ranks <= 1 || !d->owner) return true;
+    if (getenv("WEDGE_DIST_OWNERS") && strcmp(getenv("WEDGE_DIST_OWNERS"), "columns") == 0) {
+        memcpy(d->owner_before, d->owner, (size_t)d->tile_count * sizeof(int)); /* nothing moves */
+        return true;
+    }
     double *cost = calloc((size_t)d->tile_count, sizeof(double));
     if (!cost) {
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile costs");

@@ -10,8 +10,9 @@
  * the seconds per sample measured in that tile so far (each rank times the samples it
  * traces; the tiles' totals are all-reduced after each pass, 16 bytes per tile), and
  * dist_balance assigns the tiles so that each rank's sum is within one tile of the ideal,
- * keeping a tile with its previous owner where that does not unbalance (deterministic: every
- * rank computes the same owners from the same numbers). A rank traces only the pixels it owns
+ * keeping tiles with their previous owner where that does not unbalance and moving the
+ * dearest ones where it must (fewest tiles to hand over; deterministic: every rank computes
+ * the same owners from the same numbers). A rank traces only the pixels it owns
  * (the others get 0 samples) and feeds their samples to its own sinks; after each pass every
  * per-pixel quantity (the frame's sums, the shared guides, each method's statistics, the
  * per-sample store) is gathered to rank 0, which plans the next pass, broadcasts the plan,
@@ -77,12 +78,12 @@ bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e);
 int dist_owner(const ReconDist *d, int px, int py);
 
 /* Assigns tile_count tiles of cost tile_cost[t] to ranks (owner[t]), each rank's sum of
- * costs within the largest tile cost of total/ranks: tiles in decreasing cost (ties: lower
- * index first) stay with before[t] (NULL: no preference) while its sum stays within
- * total/ranks (or it has the least sum anyway, or the tile costs 0), otherwise go to the rank
- * with the least sum so far (ties: lower rank). The bound holds because a rank passes
- * total/ranks only by a tile taken while it had the least sum, then at most total/ranks.
- * Deterministic; no communication. */
+ * costs within the largest tile cost of total/ranks. First every rank keeps the tiles it had
+ * (before[t]; NULL: none), cheapest first, while its sum stays within total/ranks; then the
+ * others, dearest first, go each to the rank with the least sum so far (ties: the previous
+ * owner, then the lower rank). The bound holds because a rank passes total/ranks only by a
+ * tile taken while it had the least sum, then at most total/ranks. Deterministic; no
+ * communication. */
 void dist_balance(const double *tile_cost, const int *before, int tile_count, int ranks, int *owner);
 
 /* After a pass: adds the tracing seconds each rank measured in the pixels it owned

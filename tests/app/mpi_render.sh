@@ -46,11 +46,11 @@ print("-np %d --filter %s: identical, bytes per pass %s" % (np, f, sent))
 PY
     done
 done
-# pass 2 balanced by its planned samples: tiles change owner and their state is handed over,
+# pass 2 balanced by its predicted cost: tiles change owner and their state is handed over,
 # and the image is still the single-process one. Checked on a bench scene whose plan is
-# uneven, with the owners kept where the balance allows (the default) and without keeping
-# them (WEDGE_DIST_NO_KEEP: about half the tiles move), so that the test cannot pass with no
-# tile moved.
+# uneven, with the owners kept where the balance allows (the default; how many move depends
+# on the measured times) and without keeping them (WEDGE_DIST_NO_KEEP: about half the tiles
+# move, asserted, so that the test cannot pass with no tile moved).
 scene2=${WEDGE_SOURCE_DIR:-../..}/scenes/bench/combined.pbrt
 for filter in aaf maaf; do
     args=(--res 64x48 --threads 1 --seed 3 --filter "$filter" --quiet)
@@ -63,7 +63,10 @@ for filter in aaf maaf; do
             unset WEDGE_DIST_NO_KEEP
             if [ $rc != 0 ]; then echo "FAIL: combined -np $np --filter $filter keep $keep: exit $rc"; cat "$T/out.txt"; fail=1; continue; fi
             moved=$(sed -n 's/^dist: pass 2: \([0-9]*\) of \([0-9]*\) tiles changed owner$/\1/p' "$T/out.txt")
-            if ! [ "${moved:-0}" -gt 0 ]; then echo "FAIL: combined -np $np --filter $filter keep $keep: no tile changed owner in pass 2"; cat "$T/out.txt"; fail=1; continue; fi
+            # kept owners: how many move depends on the measured times (maybe none)
+            if [ -z "$moved" ] || { [ $keep = 0 ] && ! [ "$moved" -gt 0 ]; }; then
+                echo "FAIL: combined -np $np --filter $filter keep $keep: no tile changed owner in pass 2"; cat "$T/out.txt"; fail=1; continue
+            fi
             "$WEDGE" compare "$T/one2-$filter.exr" "$T/mpi2.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; continue; }
             python3 - "$T/cmp.json" "$np $filter keep $keep, $moved tiles moved" <<'PY' || fail=1
 import json, sys

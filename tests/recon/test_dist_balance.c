@@ -167,10 +167,10 @@ static void test_reassign_frame(void)
     free(d.tile_samples);
 }
 
-/* Measured seconds per sample weigh the planned samples: four tiles of equal counts, one
- * measured 3x dearer per sample, on 2 ranks: the dear tile alone on one rank (3 units
- * against 1 + 1 + 1), where counts alone would split them two and two. A tile not measured
- * yet costs the frame's mean rate. */
+/* Measured seconds per sample weigh the planned samples: four tiles of equal counts, owned
+ * (diagonal interleave, one row) by ranks 0, 1, 0, 1, with tiles 0 and 2 measured 3x dearer
+ * per sample: one of them moves (counts alone move nothing). A tile not measured yet costs
+ * the frame's mean rate. */
 static void test_reassign_measured(void)
 {
     enum { W = 32, H = 8 };
@@ -179,24 +179,28 @@ static void test_reassign_measured(void)
     d.ranks = 2;
     Diag e = {0};
     CHECK(dist_tiles_reset(&d, W, H, &e));
-    CHECK(d.tile_count == 4);
+    CHECK(d.tile_count == 4 && d.owner[0] == 0 && d.owner[1] == 1 && d.owner[2] == 0 && d.owner[3] == 1);
     static int spp[W * H];
     for (int i = 0; i < W * H; ++i) spp[i] = 4;
-    for (int t = 0; t < 4; ++t) d.tile_samples[t] = 64.0, d.tile_seconds[t] = t == 2 ? 0.3 : 0.1;
+    /* counts alone (no measurement yet): the interleave is balanced, nothing moves */
     CHECK(dist_reassign(&d, spp, &e));
-    CHECK(d.owner[0] == d.owner[1] && d.owner[1] == d.owner[3] && d.owner[2] != d.owner[0]);
-    /* counts alone (no measurement yet): two tiles each */
-    for (int t = 0; t < 4; ++t) d.tile_samples[t] = 0.0, d.tile_seconds[t] = 0.0;
+    CHECK(d.tiles_moved == 0 && d.owner[0] == 0 && d.owner[1] == 1 && d.owner[2] == 0 && d.owner[3] == 1);
+    for (int t = 0; t < 4; ++t) d.tile_samples[t] = 64.0, d.tile_seconds[t] = t % 2 == 0 ? 0.3 : 0.1;
     CHECK(dist_reassign(&d, spp, &e));
-    int on0 = 0;
-    for (int t = 0; t < 4; ++t) on0 += d.owner[t] == 0;
-    CHECK(on0 == 2);
-    /* tile 0 not measured: it costs the mean rate of the measured ones, (0.1 + 0.3 + 0.1) s
-     * per 192 samples, so the costs are 0.67, 0.4, 1.2, 0.4 (x 256 samples) and the best split
-     * is tile 2 against the three others */
-    for (int t = 0; t < 4; ++t) d.tile_samples[t] = t ? 64.0 : 0.0, d.tile_seconds[t] = t == 0 ? 0.0 : t == 2 ? 0.3 : 0.1;
+    /* one of the dear tiles moves: 1.2 against 0.4 + 0.4 + 1.2 (the best split with one
+     * move; two moves would make 1.6 and 1.6) */
+    CHECK(d.tiles_moved == 1 && d.owner[0] != d.owner[2]);
+    /* tile 3 not measured: the mean rate of the others, (0.3 + 0.1 + 0.3) s per 192
+     * samples; the sums are within one tile of the ideal with those costs */
+    for (int t = 0; t < 4; ++t) d.tile_samples[t] = t == 3 ? 0.0 : 64.0, d.tile_seconds[t] = t == 3 ? 0.0 : t == 1 ? 0.1 : 0.3;
     CHECK(dist_reassign(&d, spp, &e));
-    CHECK(d.owner[2] != d.owner[0] && d.owner[0] == d.owner[1] && d.owner[1] == d.owner[3]);
+    double mean = 0.7 / 192.0, cost[4] = {256 * 0.3 / 64, 256 * 0.1 / 64, 256 * 0.3 / 64, 256 * mean}, load[2] = {0, 0};
+    for (int t = 0; t < 4; ++t) load[d.owner[t]] += cost[t];
+    double ideal = (cost[0] + cost[1] + cost[2] + cost[3]) / 2;
+    CHECK(load[0] <= ideal + cost[0] + 1e-12 && load[1] <= ideal + cost[0] + 1e-12);
+    /* and the unmeasured tile counts: at a rate of 0 it would stay, at the mean rate rank 1
+     * (tiles 0, 1, 3: 1.2 + 0.4 + 0.93) is over the ideal and gives tile 0 back */
+    CHECK(d.owner[0] == 0 && d.owner[2] == 0 && d.owner[1] == 1 && d.owner[3] == 1);
     free(d.owner);
     free(d.owner_before);
     free(d.tile_seconds);
