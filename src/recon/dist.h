@@ -1,8 +1,8 @@
 /* One frame rendered by several processes (MPI ranks, DESIGN.md section 8), each pixel's
  * samples in a pass taken by exactly one rank, its owner in that pass.
  *
- * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): an interleave,
- * tile (tx, ty) to rank (tx + ty) mod ranks; neighbouring tiles cost alike, so it balances to
+ * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): the interleave,
+ * tile t (row-major) to rank t mod ranks; neighbouring tiles cost alike, so it balances to
  * within a few tiles' cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x
  * -> 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
  * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
@@ -70,9 +70,8 @@ bool dist_available(void);
 /* The side of an ownership tile, in pixels. */
 enum { DIST_TILE_PX = 8 };
 
-/* Starts a width x height frame's ownership at the interleave of pass 1: tile (tx, ty) to
- * rank (tx + ty) mod ranks (diagonals: a checkerboard for 2 ranks, which unlike columns does
- * not line up with vertical structure in the image). False when out of memory (e set). */
+/* Starts a width x height frame's ownership at the interleave of pass 1: tile t (row-major)
+ * to rank t mod ranks. False when out of memory (e set). */
 bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e);
 /* The rank that owns pixel (px, py) in the pass being traced. */
 int dist_owner(const ReconDist *d, int px, int py);
