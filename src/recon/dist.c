@@ -174,9 +174,9 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
     double mean_rate = seconds > 0.0 && samples > 0.0 ? seconds / samples : 1.0;
     /* WEDGE_DIST_COST=samples (for measuring the model): every tile at the mean rate */
     const char *model = getenv("WEDGE_DIST_COST");
-    if (model && strcmp(model, "samples") == 0) seconds = 0.0, memset(d->tile_samples, 0, (size_t)d->tile_count * sizeof(double));
+    bool counts_only = model && strcmp(model, "samples") == 0;
     for (int t = 0; t < d->tile_count; ++t) {
-        bool measured = d->tile_samples[t] > 0.0 && d->tile_seconds[t] > 0.0;
+        bool measured = !counts_only && d->tile_samples[t] > 0.0 && d->tile_seconds[t] > 0.0;
         cost[t] *= measured ? d->tile_seconds[t] / d->tile_samples[t] : mean_rate;
     }
     int *swap = d->owner_before;
@@ -208,14 +208,25 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile costs");
         return false;
     }
+    double my_seconds = 0.0, my_samples = 0.0;
     for (int y = 0; y < d->height; ++y)
         for (int x = 0; x < d->width; ++x) {
             int t = (y / DIST_TILE_PX) * d->tiles_x + x / DIST_TILE_PX;
             size_t i = (size_t)y * (size_t)d->width + (size_t)x;
-            if (d->owner[t] == d->rank) mine[t] += pixel_seconds[i];
+            int samples = spp ? spp[i] : spp_uniform;
+            if (d->owner[t] == d->rank) {
+                mine[t] += pixel_seconds[i];
+                my_seconds += pixel_seconds[i];
+                my_samples += samples;
+            }
             pixel_seconds[i] = 0.0f;
-            d->tile_samples[t] += spp ? spp[i] : spp_uniform; /* known to every rank */
+            d->tile_samples[t] += samples; /* known to every rank */
         }
+    /* in units of this rank's mean time per sample this pass: a tile's cost relative to the
+     * others the rank traced, so that a rank slower than another (other jobs on its cores, an
+     * older node) does not make its tiles look dear */
+    if (my_seconds > 0.0)
+        for (size_t t = 0; t < n; ++t) mine[t] *= my_samples / my_seconds;
     bool ok = true;
 #ifdef WEDGE_MPI
     ok = mpi_ok(MPI_Allreduce(mine, all, (int)n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "all-reduce", e);
@@ -284,7 +295,8 @@ static bool layout(const ReconDist *d, bool handover, const DistArray *arrays, i
         size_t bytes = pack(d, r, handover, arrays, count, NULL, true);
         if (bytes > INT_MAX || *total > INT_MAX - bytes) {
             diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
-                     "a %dx%d frame is too large to send in one MPI message per rank (over 2 GiB)", d->width, d->height);
+                     "a %dx%d frame is too large to send in one MPI message per rank (over 2 GiB)", d->width,
+                     d->height);
             return false;
         }
         counts[r] = (int)bytes;

@@ -7,8 +7,9 @@
  * -> 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
  * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
  * broadcast every rank knows each pixel's count; a tile's cost is its planned samples times
- * the seconds per sample measured in that tile so far (each rank times the samples it
- * traces; the tiles' totals are all-reduced after each pass, 16 bytes per tile), and
+ * the time per sample measured in that tile so far, relative to its tracer's mean (each rank
+ * times the samples it traces; the tiles' totals are all-reduced after each pass, 8 bytes
+ * per tile), and
  * dist_balance assigns the tiles so that each rank's sum is within one tile of the ideal,
  * keeping tiles with their previous owner where that does not unbalance and moving the
  * dearest ones where it must (fewest tiles to hand over; deterministic: every rank computes
@@ -48,7 +49,8 @@ typedef struct {
     int width, height, tiles_x, tile_count;
     int *owner;                 /* owner[t] of tile t; NULL: the interleave */
     int *owner_before;          /* the previous pass's owners */
-    double *tile_seconds;       /* tracing seconds measured in each tile so far (every rank) */
+    double *tile_seconds;       /* tracing time measured in each tile so far (every rank), in
+                                 * its tracer's mean seconds per sample (dist_measure) */
     double *tile_samples;       /* ... and the samples they took */
     long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
 } ReconDist;
@@ -86,10 +88,11 @@ int dist_owner(const ReconDist *d, int px, int py);
 void dist_balance(const double *tile_cost, const int *before, int tile_count, int ranks, int *owner);
 
 /* After a pass: adds the tracing seconds each rank measured in the pixels it owned
- * (pixel_seconds, which it zeroes; the others' pixels are ignored) to every tile's total on
- * every rank, and the pass's samples (spp per pixel, NULL: spp_uniform everywhere) to the
- * tiles' sample counts. A collective (one all-reduce of two doubles per tile). False with e
- * set on a communication failure. */
+ * (pixel_seconds, which it zeroes; the others' pixels are ignored), in units of that rank's
+ * mean seconds per sample in the pass (so that a slower rank's tiles do not look dear), to
+ * every tile's total on every rank, and the pass's samples (spp per pixel, NULL:
+ * spp_uniform everywhere) to the tiles' sample counts. A collective (one all-reduce of a
+ * double per tile). False with e set on a communication failure. */
 bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_uniform, Diag *e);
 
 /* The next pass's ownership, balanced by its predicted cost (spp[i] samples at pixel i, the
@@ -104,8 +107,8 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e);
 bool dist_handover(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
 
 /* Gathers the owners' values of every array to rank 0 (each rank sends the pixels it owns in
- * this pass, all arrays in one message; rank 0 writes them into its arrays). pass selects the byte counter. False with e set on a
- * communication failure (exit 3). */
+ * this pass, all arrays in one message; rank 0 writes them into its arrays). pass selects
+ * the byte counter. False with e set on a communication failure (exit 3). */
 bool dist_gather(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
 
 /* Rank 0's n ints to every rank. */

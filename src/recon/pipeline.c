@@ -151,13 +151,13 @@ const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
 /* ---- sampling ---- */
 
 /* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
- * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time), to see where the time of
- * several ranks goes (tools/bench-mpi --breakdown) */
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time), to
+ * see where the time of several ranks goes (tools/bench-mpi --breakdown) */
 static void dist_mark(ReconPipeline *p, const char *what)
 {
     if (p->mark_count >= DIST_MARKS) return;
-    /* and the process's CPU time, which a machine shared with other jobs does not inflate
-     * (except where MPI polls while it waits) */
+    /* and the process's CPU time, which other jobs on the machine inflate less than the wall
+     * time (they still slow it through shared caches; MPI polling counts while it waits) */
     struct timespec cpu;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
     p->mark_name[p->mark_count] = what;

@@ -192,7 +192,10 @@ static void test_reassign_measured(void)
     CHECK(d.tiles_moved == 1 && d.owner[0] != d.owner[2]);
     /* tile 3 not measured: the mean rate of the others, (0.3 + 0.1 + 0.3) s per 192
      * samples; the sums are within one tile of the ideal with those costs */
-    for (int t = 0; t < 4; ++t) d.tile_samples[t] = t == 3 ? 0.0 : 64.0, d.tile_seconds[t] = t == 3 ? 0.0 : t == 1 ? 0.1 : 0.3;
+    for (int t = 0; t < 4; ++t) {
+        d.tile_samples[t] = t == 3 ? 0.0 : 64.0;
+        d.tile_seconds[t] = t == 3 ? 0.0 : t == 1 ? 0.1 : 0.3;
+    }
     CHECK(dist_reassign(&d, spp, &e));
     double mean = 0.7 / 192.0, cost[4] = {256 * 0.3 / 64, 256 * 0.1 / 64, 256 * 0.3 / 64, 256 * mean}, load[2] = {0, 0};
     for (int t = 0; t < 4; ++t) load[d.owner[t]] += cost[t];
