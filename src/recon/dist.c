@@ -164,8 +164,9 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile costs");
         return false;
     }
-    /* a tile's predicted cost: the samples planned in it times its measured seconds per
-     * sample (paths differ in length and in the rays they spawn: sky, a shadowed corner) */
+    /* a tile's predicted cost: the samples planned in it times its measured time per sample
+     * (dist_measure's units; paths differ in length and in the rays they spawn: sky, a
+     * shadowed corner) */
     for (int y = 0; y < d->height; ++y)
         for (int x = 0; x < d->width; ++x)
             cost[(y / DIST_TILE_PX) * d->tiles_x + x / DIST_TILE_PX] += spp[(size_t)y * (size_t)d->width + (size_t)x];

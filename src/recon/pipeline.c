@@ -50,6 +50,7 @@ struct ReconPipeline {
     int *spp_mine;               /* MPI ranks: a pass's counts with 0 for the pixels of others */
     float *trace_s;              /* MPI ranks: tracing seconds measured per pixel this pass */
     int pass;                    /* sampler passes started */
+    int traced;                  /* passes begun (begin_pass), for time_sample */
     double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended (wall, CPU) */
     double mark_cpu_s[DIST_MARKS];
     const char *mark_name[DIST_MARKS];
@@ -233,18 +234,18 @@ static bool gather_pass(ReconPipeline *p, int pass, const int *counts, int unifo
  * samples at once, then hands them over), charged to that next pixel; summed over an 8x8 tile
  * it is the tile's tracing time to within a wave. */
 static _Thread_local const ReconPipeline *clock_pipe;
-static _Thread_local int clock_pass, clock_px = -1, clock_py = -1;
+static _Thread_local int clock_traced, clock_px = -1, clock_py = -1;
 static _Thread_local double clock_s;
 
 static void time_sample(ReconPipeline *p, int px, int py)
 {
-    if (clock_pipe == p && clock_pass == p->pass && clock_px == px && clock_py == py) return;
+    if (clock_pipe == p && clock_traced == p->traced && clock_px == px && clock_py == py) return;
     double now = wall_seconds();
     /* a wave of 256 samples takes 0.05-1 ms here; a longer gap is the thread descheduled
      * (other jobs on the cores), not the pixel's cost */
-    if (clock_pipe == p && clock_pass == p->pass)
+    if (clock_pipe == p && clock_traced == p->traced)
         p->trace_s[(size_t)py * (size_t)p->g.width + (size_t)px] += (float)fmin(now - clock_s, WAVE_GAP_MAX_S);
-    clock_pipe = p, clock_pass = p->pass, clock_px = px, clock_py = py, clock_s = now;
+    clock_pipe = p, clock_traced = p->traced, clock_px = px, clock_py = py, clock_s = now;
 }
 
 /* Before a pass after the first: ownership balanced by the pass's counts (the same on every
@@ -278,6 +279,7 @@ static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
 
 static void begin_pass(ReconPipeline *p, int pass, bool ray_geometry)
 {
+    p->traced++; /* the time between passes is no tile's */
     for (int s = 0; s < p->slot_count; ++s)
         if (p->slots[s].cls->begin_pass) p->slots[s].cls->begin_pass(p->slots[s].m, pass);
     /* ray geometry only when a method reads it: otherwise shadow rays stay any-hit
