@@ -1,21 +1,34 @@
 /* One frame rendered by several processes (MPI ranks, DESIGN.md section 8), each pixel's
- * samples taken by exactly one rank.
+ * samples in a pass taken by exactly one rank, its owner in that pass.
  *
- * Ownership: interleaved 8x8 tiles, tile t (row-major) belongs to rank t mod ranks, for
- * every pass; neighbouring tiles cost alike, so the interleave balances the ranks to within
- * a tile's cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x -> 1.71x,
- * where the costly out-of-focus pixels come in patches). A rank traces only the pixels it owns (the others get 0 samples) and feeds
- * their samples to its own sinks; after each pass every per-pixel quantity (the frame's sums,
- * the shared guides, each method's statistics, the per-sample store) is gathered to rank 0,
- * which plans the next pass, broadcasts the plan, and reconstructs. Because a pixel's sums are
- * made by one rank in the same order as by a single process (same seeds, same rounds), the
- * image is the single-process image value for value.
+ * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): the interleave,
+ * tile t (row-major) to rank t mod ranks; neighbouring tiles cost alike, so it balances to
+ * within a few tiles' cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x
+ * -> 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
+ * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
+ * broadcast every rank knows each pixel's count; a tile's cost is its planned samples times
+ * the time per sample measured in that tile so far, relative to its tracer's mean (each rank
+ * times the samples it traces; the tiles' totals are all-reduced after each pass, 8 bytes
+ * per tile), and
+ * dist_balance assigns the tiles so that each rank's sum is within one tile of the ideal,
+ * keeping tiles with their previous owner where that does not unbalance and moving the
+ * dearest ones where it must (fewest tiles to hand over; deterministic: every rank computes
+ * the same owners from the same numbers). A rank traces only the pixels it owns
+ * (the others get 0 samples) and feeds their samples to its own sinks; after each pass every
+ * per-pixel quantity (the frame's sums, the shared guides, each method's statistics, the
+ * per-sample store) is gathered to rank 0, which plans the next pass, broadcasts the plan,
+ * and reconstructs. Before a pass traces, rank 0 (which holds every pixel's state after the
+ * gather) hands the state of each tile that changed owner to its new owner, so that a pixel's
+ * sums continue from exactly the single-process values: made in the same order (same seeds,
+ * same rounds), the image is the single-process image value for value.
  *
  * Why gather to rank 0 rather than exchange halos: the plan and every filter read the whole
  * image (the light estimate of AAF-shadow, the scene size, filter footprints up to 32 px), the
  * state is a few dozen bytes per pixel (about 150 B per pixel per pass for AAF), and one
  * gather per pass is one message per rank; docs/benchmarks.md has the measured bytes and
- * times and a model of where it stops scaling.
+ * times and a model of where it stops scaling. Why a hand-over of the moved tiles rather than
+ * gathering to every rank: only the tiles that move cross (a few in ten when the owner is
+ * kept where it can be), not the whole frame to every rank.
  *
  * Without MPI (or a single rank) every call is a no-op on a "world" of one. */
 #ifndef WEDGE_RECON_DIST_H
@@ -32,6 +45,14 @@ typedef struct {
                                  * from the others, the plan broadcast to them); index 3 holds
                                  * any later pass */
     long long bytes_total;
+    /* ownership of the pass being traced (dist_tiles_reset, dist_reassign) */
+    int width, height, tiles_x, tile_count;
+    int *owner;                 /* owner[t] of tile t; NULL: the interleave */
+    int *owner_before;          /* the previous pass's owners */
+    double *tile_seconds;       /* tracing time measured in each tile so far (every rank), in
+                                 * its tracer's mean seconds per sample (dist_measure) */
+    double *tile_samples;       /* ... and the samples they took */
+    long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
 } ReconDist;
 
 /* A per-pixel array to gather: element p of pixel i is at data + i * bytes_per_pixel. */
@@ -48,13 +69,47 @@ void dist_finish(ReconDist *d);
 /* Whether MPI support was built in. */
 bool dist_available(void);
 
-/* The rank that owns pixel (px, py) of a width-wide image. */
-int dist_owner(const ReconDist *d, int width, int px, int py);
+/* The side of an ownership tile, in pixels. */
+enum { DIST_TILE_PX = 8 };
 
-/* Gathers the owners' values of every array to rank 0 (each rank sends the pixels it owns,
- * rank 0 writes them into its arrays). pass selects the byte counter. False with e set on a
- * communication failure (exit 3). */
-bool dist_gather(ReconDist *d, int width, int height, const DistArray *arrays, int count, int pass, Diag *e);
+/* Starts a width x height frame's ownership at the interleave of pass 1: tile t (row-major)
+ * to rank t mod ranks. False when out of memory (e set). */
+bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e);
+/* The rank that owns pixel (px, py) in the pass being traced. */
+int dist_owner(const ReconDist *d, int px, int py);
+
+/* Assigns tile_count tiles of cost tile_cost[t] to ranks (owner[t]), each rank's sum of
+ * costs within the largest tile cost of total/ranks. First every rank keeps the tiles it had
+ * (before[t]; NULL: none), cheapest first, while its sum stays within total/ranks; then the
+ * others, dearest first, go each to the rank with the least sum so far (ties: the previous
+ * owner, then the lower rank). The bound holds because a rank passes total/ranks only by a
+ * tile taken while it had the least sum, then at most total/ranks. Deterministic; no
+ * communication. */
+void dist_balance(const double *tile_cost, const int *before, int tile_count, int ranks, int *owner);
+
+/* After a pass: adds the tracing seconds each rank measured in the pixels it owned
+ * (pixel_seconds, which it zeroes; the others' pixels are ignored), in units of that rank's
+ * mean seconds per sample in the pass (so that a slower rank's tiles do not look dear), to
+ * every tile's total on every rank, and the pass's samples (spp per pixel, NULL:
+ * spp_uniform everywhere) to the tiles' sample counts. A collective (one all-reduce of a
+ * double per tile). False with e set on a communication failure. */
+bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_uniform, Diag *e);
+
+/* The next pass's ownership, balanced by its predicted cost (spp[i] samples at pixel i, the
+ * same on every rank, each at its tile's measured seconds per sample; the frame's mean rate
+ * for a tile not measured yet): the previous owners become owner_before. False when out of
+ * memory (e set). */
+bool dist_reassign(ReconDist *d, const int *spp, Diag *e);
+
+/* Before a pass traces: rank 0 sends each rank the arrays' values of the pixels of tiles it
+ * owns now and did not own in the previous pass (rank 0 holds every pixel after a gather).
+ * pass selects the byte counter. False with e set on a communication failure (exit 3). */
+bool dist_handover(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
+
+/* Gathers the owners' values of every array to rank 0 (each rank sends the pixels it owns in
+ * this pass, all arrays in one message; rank 0 writes them into its arrays). pass selects
+ * the byte counter. False with e set on a communication failure (exit 3). */
+bool dist_gather(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
 
 /* Rank 0's n ints to every rank. */
 bool dist_broadcast_ints(ReconDist *d, int *data, size_t n, Diag *e);

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -23,6 +24,11 @@
 #define BUDGET_SEARCH_STEPS 12
 /* ... and progressive steps double mu from this start when none was given. */
 #define STEP_MU_START 2.0f
+/* MPI ranks time the tracing of each tile; a gap longer than this between two pixels'
+ * samples is counted as this long (see time_sample). */
+#define WAVE_GAP_MAX_S 2.0e-3
+/* Stages of a frame timed for WEDGE_DIST_LOG. */
+#define DIST_MARKS 16
 
 typedef struct {
     const ReconMethodClass *cls;
@@ -46,7 +52,13 @@ struct ReconPipeline {
     float *value_direct4, *value_indirect4, *radiance4; /* 4 floats per pixel each */
     int *spp_total, *spp_extra;
     int *spp_mine;               /* MPI ranks: a pass's counts with 0 for the pixels of others */
+    float *trace_s;              /* MPI ranks: tracing seconds measured per pixel this pass */
     int pass;                    /* sampler passes started */
+    int traced;                  /* passes begun (begin_pass), for time_sample */
+    double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended (wall, CPU) */
+    double mark_cpu_s[DIST_MARKS];
+    const char *mark_name[DIST_MARKS];
+    int mark_count;
 };
 
 static double wall_seconds(void)
@@ -135,6 +147,7 @@ void recon_pipeline_destroy(ReconPipeline *p)
     free(p->spp_total);
     free(p->spp_extra);
     free(p->spp_mine);
+    free(p->trace_s);
     free(p);
 }
 
@@ -142,6 +155,34 @@ const ReconResult *recon_pipeline_result(const ReconPipeline *p) { return &p->re
 const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
 
 /* ---- sampling ---- */
+
+/* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time), to
+ * see where the time of several ranks goes (tools/bench-mpi --breakdown) */
+static void dist_mark(ReconPipeline *p, const char *what)
+{
+    if (p->mark_count >= DIST_MARKS) return;
+    /* and the process's CPU time, which other jobs on the machine inflate less than the wall
+     * time (they still slow it through shared caches; MPI polling counts while it waits) */
+    struct timespec cpu;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
+    p->mark_name[p->mark_count] = what;
+    p->mark_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
+    p->mark_s[p->mark_count++] = wall_seconds();
+}
+
+static void dist_marks_print(ReconPipeline *p)
+{
+    if (getenv("WEDGE_DIST_LOG") && p->opt.dist) { /* one write: mpirun interleaves the ranks' writes */
+        char line[64 * DIST_MARKS];
+        int at = snprintf(line, sizeof line, "dist-times rank %d:", p->opt.dist->rank);
+        for (int k = 0; k < p->mark_count && at > 0 && (size_t)at < sizeof line; ++k)
+            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f", p->mark_name[k], p->mark_s[k],
+                           p->mark_cpu_s[k]);
+        fprintf(stderr, "%s\n", line);
+    }
+    p->mark_count = 0;
+}
 
 static bool distributed(const ReconPipeline *p) { return p->opt.dist && p->opt.dist->ranks > 1; }
 static bool is_root(const ReconPipeline *p) { return !distributed(p) || p->opt.dist->rank == 0; }
@@ -155,20 +196,18 @@ static const int *counts_mine(ReconPipeline *p, const int *counts, int uniform)
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * (size_t)w + (size_t)x;
-            bool mine = dist_owner(p->opt.dist, w, x, y) == p->opt.dist->rank;
+            bool mine = dist_owner(p->opt.dist, x, y) == p->opt.dist->rank;
             p->spp_mine[i] = mine ? (counts ? counts[i] : uniform) : 0;
         }
     return p->spp_mine;
 }
 
-/* After a pass: every rank finished it (or all treat it as cancelled), and rank 0 holds every
- * per-pixel sum: the frame, the guides' sums, the store, the methods' statistics. */
-static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
+enum { MAX_STATE_ARRAYS = 64 };
+
+/* Every per-pixel array samples accumulate into: the frame, the guides' sums, the store, the
+ * methods' statistics. */
+static int state_arrays(ReconPipeline *p, DistArray *a)
 {
-    if (!distributed(p)) return true;
-    *complete = dist_all_ok(p->opt.dist, *complete);
-    enum { MAX_ARRAYS = 64 };
-    DistArray a[MAX_ARRAYS];
     int n = 0;
     Frame *f = &p->g.frame;
     float *rgb_sums[6] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
@@ -176,16 +215,67 @@ static bool gather_pass(ReconPipeline *p, int pass, bool *complete, Diag *d)
     float *scalar_sums[3] = {f->depth, f->hits, f->spp};
     for (int k = 0; k < 3; ++k) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
     if (p->filtering) a[n++] = (DistArray){p->g.sums, sizeof(GBufferSums)};
-    if (p->store) n += sample_store_arrays(p->store, a + n, MAX_ARRAYS - n);
+    if (p->store) n += sample_store_arrays(p->store, a + n, MAX_STATE_ARRAYS - n);
     for (int s = 0; s < p->slot_count; ++s)
-        if (p->slots[s].cls->shared) n += p->slots[s].cls->shared(p->slots[s].m, a + n, MAX_ARRAYS - n);
-    return dist_gather(p->opt.dist, p->g.width, p->g.height, a, n, pass, d);
+        if (p->slots[s].cls->shared) n += p->slots[s].cls->shared(p->slots[s].m, a + n, MAX_STATE_ARRAYS - n);
+    return n;
+}
+
+/* After a pass traced with counts (NULL: uniform): every rank finished it (or all treat it
+ * as cancelled), rank 0 holds every pixel's state (state_arrays), and every rank knows the
+ * tracing seconds measured in each tile (dist_measure). */
+static bool gather_pass(ReconPipeline *p, int pass, const int *counts, int uniform, bool *complete, Diag *d)
+{
+    if (!distributed(p)) return true;
+    *complete = dist_all_ok(p->opt.dist, *complete);
+    DistArray a[MAX_STATE_ARRAYS];
+    int n = state_arrays(p, a);
+    if (!dist_gather(p->opt.dist, a, n, pass, d)) return false;
+    return !p->trace_s || dist_measure(p->opt.dist, p->trace_s, counts, uniform, d);
+}
+
+/* Where a tracing thread's samples last arrived (MPI ranks): the time until its next pixel's
+ * samples arrive is the tracing of the wave that holds them (the renderer traces a few pixels'
+ * samples at once, then hands them over), charged to that next pixel; summed over an 8x8 tile
+ * it is the tile's tracing time to within a wave. */
+static _Thread_local const ReconPipeline *clock_pipe;
+static _Thread_local int clock_traced, clock_px = -1, clock_py = -1;
+static _Thread_local double clock_s;
+
+static void time_sample(ReconPipeline *p, int px, int py)
+{
+    if (clock_pipe == p && clock_traced == p->traced && clock_px == px && clock_py == py) return;
+    double now = wall_seconds();
+    /* a wave of 256 samples takes 0.05-1 ms here; a longer gap is the thread descheduled
+     * (other jobs on the cores), not the pixel's cost */
+    if (clock_pipe == p && clock_traced == p->traced)
+        p->trace_s[(size_t)py * (size_t)p->g.width + (size_t)px] += (float)fmin(now - clock_s, WAVE_GAP_MAX_S);
+    clock_pipe = p, clock_traced = p->traced, clock_px = px, clock_py = py, clock_s = now;
+}
+
+/* Before a pass after the first: ownership balanced by the pass's counts (the same on every
+ * rank), and the state of each tile that changed owner handed from rank 0 (which holds every
+ * pixel after the gather) to its new owner, whose sums then continue from the values a
+ * single process has. */
+static bool rebalance(ReconPipeline *p, const int *counts, int pass, Diag *d)
+{
+    if (!distributed(p)) return true;
+    ReconDist *dist = p->opt.dist;
+    long long moved = dist->tiles_moved;
+    if (!dist_reassign(dist, counts, d)) return false;
+    DistArray a[MAX_STATE_ARRAYS];
+    int n = state_arrays(p, a);
+    if (getenv("WEDGE_DIST_LOG") && dist->rank == 0)
+        fprintf(stderr, "dist: pass %d: %lld of %d tiles changed owner\n", p->pass + 1, dist->tiles_moved - moved,
+                dist->tile_count);
+    return dist_handover(dist, a, n, pass, d);
 }
 
 /* Every sample goes to the guides, the store and each method, in that order. */
 static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
 {
     ReconPipeline *p = ctx;
+    if (p->trace_s) time_sample(p, px, py);
     gbuffer_add(&p->g, px, py, rec);
     if (p->store) sample_store_add(p->store, px, py, rec);
     for (int s = 0; s < p->slot_count; ++s)
@@ -194,6 +284,7 @@ static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
 
 static void begin_pass(ReconPipeline *p, int pass, bool ray_geometry)
 {
+    p->traced++; /* the time between passes is no tile's */
     for (int s = 0; s < p->slot_count; ++s)
         if (p->slots[s].cls->begin_pass) p->slots[s].cls->begin_pass(p->slots[s].m, pass);
     /* ray geometry only when a method reads it: otherwise shadow rays stay any-hit
@@ -208,15 +299,16 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     size_t n = pixel_count(p);
     if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) goto oom;
     p->g_ready = true;
+    if (!dist_tiles_reset(p->opt.dist, w, h, d)) return false;
     p->res.rgb = calloc(3 * n, sizeof(float));
     p->value_direct4 = malloc(4 * n * sizeof(float));
     p->value_indirect4 = malloc(4 * n * sizeof(float));
     p->radiance4 = malloc(4 * n * sizeof(float));
     p->spp_total = malloc(n * sizeof(int));
     p->spp_extra = calloc(n, sizeof(int));
-    if (distributed(p)) p->spp_mine = malloc(n * sizeof(int));
+    if (distributed(p)) p->spp_mine = malloc(n * sizeof(int)), p->trace_s = calloc(n, sizeof(float));
     if (!p->res.rgb || !p->value_direct4 || !p->value_indirect4 || !p->radiance4 || !p->spp_total || !p->spp_extra ||
-        (distributed(p) && !p->spp_mine))
+        (distributed(p) && (!p->spp_mine || !p->trace_s)))
         goto oom;
     int pass1 = 0, fixed_max = 0;
     unsigned fields = 0;
@@ -364,12 +456,19 @@ static void *opener_main(void *arg)
 {
     DeviceOpener *op = arg;
     ReconPipeline *p = op->p;
+    double t0 = wall_seconds();
     op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
     for (int s = 0; op->rt && s < p->slot_count; ++s)
         if (p->slots[s].cls->open_device && !p->slots[s].cls->open_device(p->slots[s].m, op->rt, &op->diag)) {
             cl_runtime_destroy(op->rt);
             op->rt = NULL;
         }
+    if (getenv("WEDGE_DIST_LOG")) { /* the CPU it takes from the tracing on this rank's cores */
+        struct timespec cpu;
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
+        fprintf(stderr, "dist-opener: wall %.4f cpu %.4f\n", wall_seconds() - t0,
+                (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec);
+    }
     return NULL;
 }
 
@@ -493,6 +592,7 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         return false;
     }
     p->g_ready = true;
+    if (!dist_tiles_reset(p->opt.dist, w, h, d)) return false;
     int spp = p->opt.spp > 0 ? p->opt.spp : renderer_spp(p->r);
     p->res.pass1_spp = spp;
     renderer_set_record_ray_geometry(p->r, false);
@@ -502,7 +602,7 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         return false;
     }
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
-    if (!gather_pass(p, 0, &complete, d)) return false;
+    if (!gather_pass(p, 0, NULL, spp, &complete, d)) return false;
     p->res.cancelled = !complete;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     if (!plain_mean(p, d)) return false;
@@ -516,6 +616,7 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     if (p->res.steps > 0) return recon_pipeline_step(p, 0.0, d);
     if (!p->filtering) return render_plain(p, d);
     double t0 = wall_seconds(), t_trace = 0.0;
+    dist_mark(p, "start");
     if (!setup_filtered(p, d)) return false;
     SampleSink sink = {fan_out, p};
     bool geometry = false;
@@ -536,10 +637,12 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     int pass1 = p->res.pass1_spp;
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
-    if (!gather_pass(p, 0, &complete, d)) {
+    dist_mark(p, "pass1");
+    if (!gather_pass(p, 0, NULL, pass1, &complete, d)) {
         if (opened) opener_join(&opener, p, NULL);
         return false;
     }
+    dist_mark(p, "gather1");
     if (complete) {
         /* ---- plans (rank 0) and pass 2 (adaptive methods) ---- */
         float mu = p->opt.mu;
@@ -553,13 +656,16 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
                 }
                 extras_from_plan(p, p->opt.spp);
             }
+            dist_mark(p, "plan");
         }
         p->res.mu = mu > 0.0f ? mu : 0.0f;
         if (!p->fixed_only) {
-            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d)) {
+            if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, pixel_count(p), d) ||
+                !rebalance(p, p->spp_extra, 1, d)) {
                 if (opened) opener_join(&opener, p, NULL);
                 return false;
             }
+            dist_mark(p, "bcast");
             /* plans come from pass 1; pass 2 only refines the guides, without ray geometry,
              * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
@@ -567,10 +673,12 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
             t = wall_seconds();
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
             t_trace += wall_seconds() - t;
-            if (!gather_pass(p, 1, &complete, d)) {
+            dist_mark(p, "pass2");
+            if (!gather_pass(p, 1, p->spp_extra, 0, &complete, d)) {
                 if (opened) opener_join(&opener, p, NULL);
                 return false;
             }
+            dist_mark(p, "gather2");
         }
     }
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
@@ -591,7 +699,9 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
             ok = reconstruct(p, d);
         }
         if (ok) p->res.steps = 1;
+        dist_mark(p, "recon");
     }
+    dist_marks_print(p);
     p->res.seconds_filter = wall_seconds() - t0 - t_trace;
     return ok;
 }
@@ -610,13 +720,17 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
         int doublings = p->res.steps - 1 < 24 ? p->res.steps - 1 : 24;
         double want = ldexp((double)p->res.pass1_spp, doublings);
         int spp = want < (double)SCENE_SPP_MAX ? (int)want : SCENE_SPP_MAX;
-        for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
-        double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
-        if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
+        if (is_root(p)) { /* rank 0 holds every pixel's count: the others follow its plan */
+            for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
+            double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
+            if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
+        }
+        if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
+            return false;
         double t = wall_seconds();
         bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
         t_trace += wall_seconds() - t;
-        if (!gather_pass(p, pass_slot, &complete, d)) return false;
+        if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
         p->res.cancelled = !complete;
         p->res.spp_avg = frame_spp_avg(&p->g.frame);
         bool ok = plain_mean(p, d);
@@ -646,14 +760,15 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
             if (room < want) scale_extras(p, room);
         }
     }
-    if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d)) return false;
+    if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
+        return false;
     p->res.mu = mu;
     SampleSink sink = {fan_out, p};
     begin_pass(p, p->pass, false);
     double t = wall_seconds();
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);
     t_trace += wall_seconds() - t;
-    if (!gather_pass(p, pass_slot, &complete, d)) return false;
+    if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     bool ok;
     if (!is_root(p)) {
