@@ -39,7 +39,8 @@ static void rec_add(void *ctx, int px, int py, const SampleRecord *r)
     if (s->n == 1 || r->phong_exponent < s->phong_min) s->phong_min = r->phong_exponent;
 }
 
-static bool render_with_sink(const char *text, TestRender *t, RecStats *rs)
+/* Renders text (1 thread, seed 5) with every sample record fed to sink. */
+static bool render_into(const char *text, TestRender *t, SampleSink sink)
 {
     memset(t, 0, sizeof *t);
     Diag err = {0};
@@ -57,10 +58,14 @@ static bool render_with_sink(const char *text, TestRender *t, RecStats *rs)
         return false;
     }
     if (!frame_init(&t->frame, renderer_width(t->r), renderer_height(t->r))) return false;
-    SampleSink sink = {rec_add, rs};
     render_pass(t->r, 0, NULL, renderer_spp(t->r), &t->frame, &sink);
     t->stats = renderer_stats(t->r);
     return true;
+}
+
+static bool render_with_sink(const char *text, TestRender *t, RecStats *rs)
+{
+    return render_into(text, t, (SampleSink){rec_add, rs});
 }
 
 /* ---- white furnace ---- */
@@ -456,18 +461,7 @@ static bool render_split(const char *area_light, SplitStats *s)
              "Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] \"integer indices\" [ 0 1 2  0 2 3 ]\n",
              area_light);
     TestRender t;
-    memset(&t, 0, sizeof t);
-    Diag err = {0};
-    if (!scene_parse_string(text, strlen(text), "<test>", NULL, &t.scene, &err)) return false;
-    scene_analyze_effects(&t.scene);
-    RenderOptions o = {0};
-    o.threads = 1;
-    o.seed = 7;
-    bool ok = renderer_create(&t.scene, &o, &t.r, &err) && frame_init(&t.frame, 8, 8);
-    if (ok) {
-        SampleSink sink = {split_add, s};
-        render_pass(t.r, 0, NULL, renderer_spp(t.r), &t.frame, &sink);
-    }
+    bool ok = render_into(text, &t, (SampleSink){split_add, s});
     test_render_free(&t);
     return ok;
 }
