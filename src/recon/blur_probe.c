@@ -35,6 +35,7 @@ bool recon_blur_probe(const Renderer *r, BlurProbe *out)
     IntegratorScene first_hit = *renderer_integrator_scene(r);
     first_hit.max_depth = 1;
     first_hit.record_ray_geometry = false;
+    first_hit.record_motion = true;
     const IntegratorScene *isc = &first_hit;
     ReconCamera cam = recon_camera_from(renderer_camera(r));
     int w = renderer_width(r), h = renderer_height(r);

@@ -330,6 +330,8 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         size_t limit = p->opt.mem_limit_bytes ? p->opt.mem_limit_bytes : sample_store_default_limit();
         if (!sample_store_create(fields, w, h, capacity, limit, &p->store, d)) return false;
     }
+    /* screen motion only when a method stores it (LR): the integrator skips its projections */
+    renderer_set_record_motion(p->r, (fields & SAMPLE_FIELD_MOTION) != 0);
     for (int s = 0; s < p->slot_count; ++s) {
         ReconSetup setup = {p->r, &p->g, p->slots[s].cls->sample_fields ? p->store : NULL, p->slots[s].effects,
                             p->opt.mu, {0}};

@@ -441,7 +441,7 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
     rec->n_shading = v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns; /* towards the camera, any material */
     rec->object_id = h->object_id;
     rec->depth_cam = camera_depth(sc->camera, h->p, p->time01);
-    first_hit_motion(sc, h, p->time01, rec->motion_px);
+    if (sc->record_motion) first_hit_motion(sc, h, p->time01, rec->motion_px);
     if (h->light >= 0) rec->emission = guard3(area_light_L(sc->lights, h->light, h, v->wo), st);
     p->beta = v3s(1.0f);
     /* Light the filters must pass through unfiltered (sample_record.h): everything at a

@@ -27,6 +27,8 @@ typedef struct {
     float shutter_open, shutter_close;       /* scene time */
     float xform_time_start, xform_time_end;  /* TransformTimes: scene times of the two poses */
     bool record_ray_geometry;  /* fill SampleRecord shadow/bounce arrays */
+    bool record_motion;        /* fill SampleRecord.motion_px (LR, the blur probe; two camera
+                                * projections and a matrix inverse per moving first hit) */
     float time01_fixed;        /* without sample_time: every ray's time (integrator_fixed_time01) */
     const PixelFilter *pixel_filter; /* NULL: the box over the pixel (the film sample as is) */
 } IntegratorScene;

@@ -86,6 +86,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->xform_time_end = scene->transform_end_time;
     if (!(isc->xform_time_end > isc->xform_time_start)) isc->xform_time_start = 0.0f, isc->xform_time_end = 1.0f;
     isc->record_ray_geometry = opt->record_ray_geometry;
+    isc->record_motion = opt->record_motion;
     isc->time01_fixed = integrator_fixed_time01(isc);
     /* --pixel-filter, else the scene's PixelFilter statement, else wedge's box (pbrt-v4's
      * default would be a gaussian: docs/rendering.md, "Pixel filters") */
@@ -125,6 +126,7 @@ long renderer_triangle_count(const Renderer *r) { return r->tracer.triangle_coun
 long long renderer_embree_peak_bytes(const Renderer *r) { return r->tracer.embree_bytes_peak; }
 
 void renderer_set_record_ray_geometry(Renderer *r, bool on) { r->isc.record_ray_geometry = on; }
+void renderer_set_record_motion(Renderer *r, bool on) { r->isc.record_motion = on; }
 
 int renderer_light_count(const Renderer *r) { return r->lights.count; }
 

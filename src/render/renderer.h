@@ -43,6 +43,7 @@ typedef struct {
     SamplerKind sampler;
     const char *pixel_filter;  /* NULL: the scene's PixelFilter statement, else the box */
     bool record_ray_geometry; /* fill SampleRecord shadow/bounce arrays (filters that need them) */
+    bool record_motion;       /* fill SampleRecord.motion_px (filters that need it) */
     volatile sig_atomic_t *cancel; /* when it becomes non-zero, passes stop after the current rows */
     RenderProgressFn progress;     /* called about 10 times a second from the calling thread */
     void *progress_ctx;
@@ -104,6 +105,8 @@ bool renderer_light_info(const Renderer *r, int light, RenderLightInfo *info);
  * following passes (initially RenderOptions.record_ray_geometry). A filter that needs the
  * geometry only in its first pass can turn it off for the second. Not during a pass. */
 void renderer_set_record_ray_geometry(Renderer *r, bool on);
+/* The same for SampleRecord.motion_px (initially RenderOptions.record_motion). */
+void renderer_set_record_motion(Renderer *r, bool on);
 
 /* Renders pass `pass` into frame (sums are added): spp_per_pixel[y * width + x] samples per
  * pixel, or spp_uniform everywhere when spp_per_pixel is NULL. sink (may be NULL) gets

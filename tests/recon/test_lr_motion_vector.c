@@ -49,6 +49,7 @@ static void run(const char *text, double dx_expected, double camera_dx)
     ro.seed = 3;
     ro.spp = 4;
     ro.threads = 2;
+    ro.record_motion = true;
     Renderer *r = NULL;
     CHECK(renderer_create(&scene, &ro, &r, &d));
     if (!r) {
