@@ -24,8 +24,8 @@ typedef struct {
 
 /* --filter auto sends the camera effects (motion, and defocus with it) of a scene with motion
  * to layered reconstruction (lr) when the blur probe's median blur extent is at least this
- * many pixels, else leaves them as before (defocus to aaf, motion unfiltered):
- * docs/benchmarks.md, "The choice per effect (issue 18)", for the measurement and the why. */
+ * many pixels, else defocus to aaf and motion alone to lr: docs/benchmarks.md, "The choice
+ * per effect (issue 18)", for the measurement and the why. */
 #define RECON_LR_MIN_BLUR_PX 3.0f
 
 /* The choice for the effects present and a --filter request: "auto" (the measured best per
@@ -39,7 +39,8 @@ typedef struct {
  * choice does not depend on it). */
 void recon_select(EffectMask present, const char *request, float blur_px, ReconChoice *out);
 /* Whether recon_select's choice under this request reads blur_px: motion is present and auto
- * decides motion or defocus. Callers run the probe only then. */
+ * decides motion or defocus (motion's choice is lr either way; the value is in its reason).
+ * Callers run the probe only then. */
 bool recon_select_wants_blur(EffectMask present, const char *request);
 
 /* "aaf", or "none" when the effect is not filtered. */
