@@ -73,7 +73,8 @@ typedef struct {
                                    * shutter time (the film moves from shutter open to close):
                                    * the hit's object-space point carried by its animated
                                    * transform and seen by the (possibly moving) camera at
-                                   * shutter open and close; 0 on a miss or without motion */
+                                   * shutter open and close; 0 on a miss, without motion, or
+                                   * unless RenderOptions.record_motion asks for it */
 
     /* raw ray geometry (only with RenderOptions.record_ray_geometry) */
     int shadow_count;             /* shadow rays to area lights recorded from the first hit */
