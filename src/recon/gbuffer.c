@@ -113,18 +113,11 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     if (s->object_id < 0) s->object_id = r->object_id;
     else if (s->object_id != r->object_id) s->id_mixed = 1;
     if (r->unfilterable) s->unfilterable++;
-    /* `unfiltered` is part of direct + indirect without saying which: attribute it to the
-     * indirect light first (mirror images of the scene), the rest to direct (the light seen in
-     * a mirror), per channel, so that both filtered remainders stay >= 0. */
-    float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
-    float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
-    float ud[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
+    float ud[3], ui[3];
+    gbuffer_unfiltered_split(r, ud, ui);
     for (int k = 0; k < 3; ++k) {
-        float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
-        float ui = fminf(uk, fmaxf(ind[k], 0.0f));
-        float dk = isfinite(ud[k]) && ud[k] > 0.0f ? ud[k] : 0.0f; /* direct by construction */
-        s->unf_indirect_sum[k] += ui;
-        s->unf_direct_sum[k] += uk - ui + dk;
+        s->unf_direct_sum[k] += ud[k];
+        s->unf_indirect_sum[k] += ui[k];
     }
     s->pos_sum[0] += r->p_world.x;
     s->pos_sum[1] += r->p_world.y;
@@ -135,6 +128,20 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     if (isfinite(r->depth_cam)) {
         s->depth_sum += r->depth_cam;
         s->depth_sq_sum += (double)r->depth_cam * (double)r->depth_cam;
+    }
+}
+
+void gbuffer_unfiltered_split(const SampleRecord *r, float direct[3], float indirect[3])
+{
+    float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
+    float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+    float ud[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
+    for (int k = 0; k < 3; ++k) {
+        float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
+        float ui = fminf(uk, fmaxf(ind[k], 0.0f));
+        float dk = isfinite(ud[k]) && ud[k] > 0.0f ? ud[k] : 0.0f;
+        indirect[k] = ui;
+        direct[k] = uk - ui + dk;
     }
 }
 

@@ -80,6 +80,13 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r);
 /* The guides from the sums and the frame's sample counts, after a pass. */
 void gbuffer_resolve_guides(GBuffer *g);
 
+/* One sample's light the filters must not blur, split into its direct and indirect parts:
+ * `unfiltered` (whose split the record does not give) goes to the indirect light first
+ * (mirror images of the scene), the rest to direct (the light seen in a mirror), per channel,
+ * so that both filtered remainders stay >= 0; `unfiltered_direct` is direct by construction.
+ * Negative or non-finite parts count as 0. */
+void gbuffer_unfiltered_split(const SampleRecord *r, float direct[3], float indirect[3]);
+
 /* Per-pixel, per-channel means of the unfiltered light (0 where non-finite). */
 void gbuffer_unfiltered_means(const GBuffer *g, size_t i, float direct[3], float indirect[3]);
 

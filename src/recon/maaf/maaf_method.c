@@ -236,14 +236,9 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
     /* the direct light without the part the filters must not blur (gbuffer_add's split) */
     float f[4] = {r->direct.x, r->direct.y, r->direct.z, 1.0f};
-    float u[3] = {r->unfiltered.x, r->unfiltered.y, r->unfiltered.z};
-    float ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
-    float ud[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
-    for (int k = 0; k < 3; ++k) {
-        float uk = isfinite(u[k]) && u[k] > 0.0f ? u[k] : 0.0f;
-        float dk = isfinite(ud[k]) && ud[k] > 0.0f ? ud[k] : 0.0f;
-        f[k] -= uk - fminf(uk, fmaxf(ind[k], 0.0f)) + dk;
-    }
+    float ud[3], ui[3];
+    gbuffer_unfiltered_split(r, ud, ui);
+    for (int k = 0; k < 3; ++k) f[k] -= ud[k];
     float p[3] = {r->p_world.x, r->p_world.y, r->p_world.z};
     if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
         ++m->nonfinite_samples; /* left out of the sums, reported at filter time */
