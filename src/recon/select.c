@@ -13,6 +13,9 @@
  * aaf 1.48x (lr 0.80x), indirect aaf 8.05x. At AAF's own default budget the same scenes give
  * 9.9x, 3.2x and 13.8x ("AAF against Monte Carlo"). A method that lands adds its row to
  * bench-policy's table and wins an effect only where its measured speedup is higher. */
+/* The measurement behind lr for motion alone (docs/benchmarks.md, issue 18). */
+#define LR_MOTION_ONLY_EVIDENCE "motion_shading 128x128: 29%/18% less error than unfiltered at 8/16 spp"
+
 static const struct {
     Effect effect;
     const char *method;
@@ -23,10 +26,9 @@ static const struct {
     {EFFECT_DEFOCUS, "aaf", "aaf: 1.48x Monte Carlo's speed at equal error, lr 0.80x (defocus bench, 256x256, "
                             "tools/bench-policy)"},
     {EFFECT_INDIRECT, "aaf", "aaf: 8.05x Monte Carlo's speed at equal error (indirect bench, 256x256, tools/bench-policy)"},
+    /* below the blur threshold, or without the probe (select_camera_by_blur decides above it) */
+    {EFFECT_MOTION, "lr", "lr, motion only: moving objects get their own layers' motion filter (" LR_MOTION_ONLY_EVIDENCE ")"},
 };
-
-/* The measurement behind lr for motion alone (docs/benchmarks.md, issue 18). */
-#define LR_MOTION_ONLY_EVIDENCE "motion_shading 128x128: 29%/18% less error than unfiltered at 8/16 spp"
 
 static const char *const NO_METHOD_REASON[EFFECT_COUNT] = {
     [EFFECT_SOFT_SHADOWS] = "no registered method filters soft shadows",
@@ -121,16 +123,6 @@ static void select_auto(Effect e, EffectMask present, float blur_px, ReconChoice
         out->blur_px = blur_px;
         select_camera_by_blur(e, blur_px, out);
         if (out->method[e]) return;
-    }
-    if (e == EFFECT_MOTION) {
-        /* not measured (a caller that did not run the probe): motion alone to lr */
-        const ReconMethodClass *lr = recon_method_find("lr");
-        if (lr && effect_in(lr->effects, e)) {
-            out->method[e] = lr;
-            set_reason(out, e, "lr, motion only: moving objects get their own layers' motion filter (%s)",
-                       LR_MOTION_ONLY_EVIDENCE);
-            return;
-        }
     }
     const char *why = NO_METHOD_REASON[e];
     for (size_t k = 0; k < sizeof AUTO_POLICY / sizeof AUTO_POLICY[0]; ++k) {
