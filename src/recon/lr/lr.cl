@@ -78,14 +78,22 @@ typedef float lr_sum; /* a device without doubles: psi may differ from the C ver
 
 #define LR_ST_STRIDE 8 /* per raw layer: count, cos psi, sin psi, c_min, c_max, d_min, d_max, across */
 
+/* lr_tile_raw_count: the raw layers of a tile with these bounds (the slabs split into moving
+ * and static layers when 2 slabs + 1 ids fit in 17). */
+static int lr_raw_count(int n_depth, int n_coc)
+{
+    int slabs = n_depth + n_coc + 1;
+    return 2 * slabs + 1 <= 17 ? 2 * slabs + 1 : slabs + 1;
+}
+
 /* Same rule as lr_tile_raw_layer, on the tile's own bounds array: slab k's moving samples are
- * raw layer 2k, its static ones 2k + 1, when 2 slabs + 1 ids fit in 17. */
+ * raw layer 2k, its static ones 2k + 1, when they split; misses last. */
 static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float my)
 {
     int n_depth = (int)tb[0], n_coc = (int)tb[1];
-    int slabs = n_depth + n_coc + 1;
-    bool split = 2 * slabs + 1 <= 17;
-    if (!(depth < INFINITY)) return split ? 2 * slabs : slabs;
+    int raw_n = lr_raw_count(n_depth, n_coc);
+    bool split = raw_n > n_depth + n_coc + 2;
+    if (!(depth < INFINITY)) return raw_n - 1;
     int k = 0;
     for (int i = 0; i < n_depth; ++i) k += depth > tb[2 + i];
     for (int i = 0; i < n_coc; ++i) k += coc > tb[17 + i];
@@ -129,7 +137,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     for (int i = 0; i < n_coc; ++i) tb[17 + i] = coc_bounds[i];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tile_bounds[tile * LR_TB_STRIDE + i] = tb[i];
 
-    int raw_n = 2 * (n_depth + n_coc + 1) + 1 <= 17 ? 2 * (n_depth + n_coc + 1) + 1 : n_depth + n_coc + 2;
+    int raw_n = lr_raw_count(n_depth, n_coc);
     int count[17], skipped[17];
     lr_sum mx[17], my[17];
     float cmin[17], cmax[17], cp[17], sp[17], dmin[17], dmax[17], perp[17];
