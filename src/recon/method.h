@@ -43,6 +43,17 @@ typedef struct {
     int method_options[4];      /* method-specific integer options (e.g. MAAF's pairs); 0: default */
 } ReconSetup;
 
+/* What the shading filters made of the frame, for a camera-effect filter that runs after them
+ * (LR gives each stored sample the filtered light instead of its own noisy one). Per pixel,
+ * (r, g, b, usable): the filtered light per unit albedo, usable 0 where it was passed through;
+ * the direct light's value is also multiplied by direct_factor (NULL: 1). NULL arrays: that
+ * effect was not filtered in this frame. */
+typedef struct {
+    const float *direct4;
+    const float *direct_factor;
+    const float *indirect4;
+} ReconShadingLight;
+
 /* One named per-pixel layer (EXR channel "name", false-colour PNG "-name.png"). */
 typedef struct {
     char name[64];              /* e.g. "aaf.beta_px.soft_shadows" */
@@ -80,6 +91,9 @@ typedef struct {
     /* Filters a shading effect's demodulated light in place: value4 per pixel is (r, g, b,
      * usable), usable 0 for pixels to pass through (no surface, mixed, black albedo). */
     bool (*filter_light)(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d);
+    /* Called just before filter_radiance with the shading filters' results (valid until
+     * filter_radiance returns). May be NULL. */
+    void (*shading_light)(ReconMethod *m, const ReconShadingLight *light);
     /* Filters the composite radiance in place for the camera effects in `effects` (defocus,
      * motion): value4 per pixel is (r, g, b, 1). */
     bool (*filter_radiance)(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d);

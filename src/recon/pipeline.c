@@ -312,13 +312,16 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         goto oom;
     int pass1 = 0, fixed_max = 0;
     unsigned fields = 0;
+    bool shading_filtered = false;
     for (int s = 0; s < p->slot_count; ++s) {
         const ReconMethodClass *c = p->slots[s].cls;
         int k = c->pass1_spp(p->slots[s].effects);
         if (k > pass1) pass1 = k;
         if (!c->adaptive && k > fixed_max) fixed_max = k;
         fields |= c->sample_fields;
+        shading_filtered |= (p->slots[s].effects & (EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT))) != 0;
     }
+    if (!shading_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING; /* nothing to replace the light with */
     /* a fixed-count frame takes the --spp budget in one pass */
     if (p->fixed_only && p->opt.spp > 0) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
@@ -540,9 +543,11 @@ static bool reconstruct(ReconPipeline *p, Diag *d)
     composite_image(&p->g, factor, direct4, indirect4, p->res.rgb, cam ? p->radiance4 : NULL);
     /* one method filters the camera effects together (a second one, if the policy ever
      * splits them, filters the first one's output) */
+    ReconShadingLight shading = {direct4, factor, indirect4};
     for (int s = 0; s < p->slot_count && camera; ++s) {
         EffectMask mine = p->slots[s].effects & camera;
         if (!mine) continue;
+        if (p->slots[s].cls->shading_light) p->slots[s].cls->shading_light(p->slots[s].m, &shading);
         if (!p->slots[s].cls->filter_radiance(p->slots[s].m, mine, p->radiance4, &kernel_s, d)) return false;
         p->res.seconds_kernels += kernel_s;
     }

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/zalloc.h"
+#include "recon/gbuffer.h"
 
 static const struct {
     unsigned bit;
@@ -20,6 +21,7 @@ static const struct {
     {SAMPLE_FIELD_INDIRECT, 3, "indirect"}, {SAMPLE_FIELD_POSITION, 3, "position"},
     {SAMPLE_FIELD_NORMAL, 3, "normal"},     {SAMPLE_FIELD_LIGHT, 5, "light"},
     {SAMPLE_FIELD_BOUNCE, 4, "bounce"},     {SAMPLE_FIELD_MOTION, 2, "motion"},
+    {SAMPLE_FIELD_SHADING, 9, "shading"},
 };
 
 struct SampleStore {
@@ -147,6 +149,14 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
             }
             break;
         case SAMPLE_FIELD_MOTION: dst[0] = r->motion_px[0], dst[1] = r->motion_px[1]; break;
+        case SAMPLE_FIELD_SHADING: {
+            float ud[3], ui[3]; /* what the shading filters leave alone, as the guides' sums split it */
+            gbuffer_unfiltered_split(r, ud, ui);
+            put3(dst + 6, r->albedo);
+            dst[0] = r->direct.x - ud[0], dst[1] = r->direct.y - ud[1], dst[2] = r->direct.z - ud[2];
+            dst[3] = r->indirect.x - ui[0], dst[4] = r->indirect.y - ui[1], dst[5] = r->indirect.z - ui[2];
+            break;
+        }
         case SAMPLE_FIELD_BOUNCE:
             if (r->bounce_count > 0) {
                 put3(dst, r->bounce[0].dir_world);

@@ -33,7 +33,10 @@ enum {
                                        * (world, +inf when unoccluded); needs ray geometry */
     SAMPLE_FIELD_BOUNCE = 1u << 10,   /* the bounce ray's direction and hit distance; needs ray geometry */
     SAMPLE_FIELD_MOTION = 1u << 11,   /* screen velocity of the first hit (px per unit shutter time) */
-    SAMPLE_FIELD_COUNT_ = 12
+    SAMPLE_FIELD_SHADING = 1u << 12,  /* the light a shading filter may blur, direct (rgb) and indirect
+                                       * (rgb), and the first hit's albedo (rgb); kept only in frames
+                                       * where a shading effect is filtered */
+    SAMPLE_FIELD_COUNT_ = 13
 };
 
 typedef struct SampleStore SampleStore;

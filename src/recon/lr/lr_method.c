@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "recon/lr/lr_cl.h"
+#include "recon/lr/lr_shading.h"
 #include "recon/lr/lr_share.h"
 #include "recon/method.h"
 
@@ -36,6 +37,7 @@ struct ReconMethod {
     LrSample *samples;         /* the store's samples as LR reads them, kept between frames */
     size_t samples_cap;
     float *rgb;                /* LR's output, width * height * 3 */
+    ReconShadingLight light;   /* the shading filters' results, during filter_radiance */
 };
 
 static int lr_pass1_spp(EffectMask effects)
@@ -85,8 +87,26 @@ static bool lr_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
     return (m->cl = lr_cl_create(rt, d)) != NULL;
 }
 
+/* Where sample j's point is seen through the lens centre at mid-shutter (LR's reprojection to
+ * u = v = 0, t = 1/2: lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens v,
+ * and the film moving by motion_px per unit shutter time). */
+static void centre_position(const ReconMethod *m, size_t j, bool lens_dims, float *x0, float *y0)
+{
+    const SampleStore *st = m->store;
+    const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
+    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
+    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION);
+    float c = lens_dims && lens ? recon_coc_slope_px(&m->g->cam, depth[j]) : 0.0f;
+    if (!isfinite(c)) c = 0.0f;
+    float dt = time ? time[j] - 0.5f : 0.0f;
+    *x0 = film[2 * j] - (lens ? c * lens[2 * j] : 0.0f) - (motion ? motion[2 * j] * dt : 0.0f);
+    *y0 = film[2 * j + 1] + (lens ? c * lens[2 * j + 1] : 0.0f) - (motion ? motion[2 * j + 1] * dt : 0.0f);
+}
+
 /* The store's samples as LrSamples (the smallest per-pixel count, which in a fixed-count
- * frame is every pixel's), each sample's radiance shifted by its pixel's correction. */
+ * frame is every pixel's), each sample's light as lr_pixel_light gives it: the shading
+ * filters' light in place of its own where they ran, and its pixel's samples averaging to
+ * the pixel's value in value4. */
 static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_out)
 {
     const SampleStore *st = m->store;
@@ -105,25 +125,31 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         m->samples_cap = m->samples ? n * (size_t)spp : 0;
         if (!m->samples) return NULL;
     }
+    float *light = malloc(sizeof(float) * 3 * (size_t)cap);
+    size_t *src = malloc(sizeof(size_t) * (size_t)cap);
+    if (!light || !src) {
+        free(light), free(src);
+        return NULL;
+    }
     LrSample *s = m->samples;
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
     const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
     const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    const float *shade = sample_store_field(st, SAMPLE_FIELD_SHADING); /* NULL: no shading filter in the frame */
     /* Motion alone (defocus is another method's, already in the corrected radiance): LR's
      * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
      * along the motion, not a dimension it shears). */
     bool lens_dims = effect_in(m->effects, EFFECT_DEFOCUS);
-    if (!lens_dims) lens = NULL;
     for (size_t i = 0; i < n; ++i) {
         int count = sample_store_count(st, i);
-        double mean[3] = {0, 0, 0};
-        for (int k = 0; k < count; ++k)
-            for (int c = 0; c < 3; ++c) mean[c] += rad[(i * cap + k) * 3 + c];
-        float corr[3];
-        for (int c = 0; c < 3; ++c) {
-            corr[c] = count > 0 ? (float)(value4[4 * i + c] - mean[c] / count) : 0.0f;
-            if (!isfinite(corr[c])) corr[c] = 0.0f; /* a non-finite mean: the sample counts it */
+        for (int k = 0; shade && k < count; ++k) {
+            float x0, y0;
+            centre_position(m, i * cap + k, lens_dims, &x0, &y0);
+            src[k] = lr_light_pixel(m->g, x0, y0, depth[i * cap + k], i);
         }
+        float value[3] = {value4[4 * i], value4[4 * i + 1], value4[4 * i + 2]};
+        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, value,
+                       light);
         for (int k = 0; k < spp; ++k) {
             size_t j = i * cap + k;
             LrSample *o = &s[i * spp + k];
@@ -131,18 +157,24 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
             o->y_px = film[2 * j + 1];
             /* raster y runs against camera y (pbrt's rasterFromScreen): dy/dv = -c, so the
              * lens v that LR sees is flipped to keep y = y0 + c v (lr_partition.h) */
-            o->u = lens ? lens[2 * j] : 0.0f;
-            o->v = lens ? -lens[2 * j + 1] : 0.0f;
+            o->u = lens_dims && lens ? lens[2 * j] : 0.0f;
+            o->v = lens_dims && lens ? -lens[2 * j + 1] : 0.0f;
             o->t = time ? time[j] : 0.5f;
             o->depth = depth[j];
             o->coc_px = lens_dims ? recon_coc_slope_px(&m->g->cam, depth[j]) : 0.0f;
             if (!isfinite(o->coc_px)) o->coc_px = 0.0f;
             o->motion_px[0] = motion ? motion[2 * j] : 0.0f;
             o->motion_px[1] = motion ? motion[2 * j + 1] : 0.0f;
-            for (int c = 0; c < 3; ++c) o->L[c] = rad[j * 3 + c] + corr[c];
+            for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
         }
     }
+    free(light), free(src);
     return s;
+}
+
+static void lr_shading_light(ReconMethod *m, const ReconShadingLight *light)
+{
+    m->light = *light;
 }
 
 static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
@@ -174,6 +206,7 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
             for (int c = 0; c < 3; ++c) value4[4 * i + c] = w * rgb[3 * i + c] + (1.0f - w) * value4[4 * i + c];
         }
     }
+    m->light = (ReconShadingLight){0}; /* the pipeline's arrays are valid for this call only */
     return ok;
 }
 
@@ -191,11 +224,12 @@ const ReconMethodClass recon_method_lr = {
     .effects = EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_MOTION),
     .adaptive = false,
     .sample_fields = SAMPLE_FIELD_FILM | SAMPLE_FIELD_LENS | SAMPLE_FIELD_TIME | SAMPLE_FIELD_DEPTH |
-                     SAMPLE_FIELD_RADIANCE | SAMPLE_FIELD_MOTION,
+                     SAMPLE_FIELD_RADIANCE | SAMPLE_FIELD_MOTION | SAMPLE_FIELD_SHADING,
     .ray_geometry = 0,
     .pass1_spp = lr_pass1_spp,
     .create = lr_create,
     .open_device = lr_open_device,
+    .shading_light = lr_shading_light,
     .filter_radiance = lr_filter_radiance,
     .aovs = lr_aovs,
     .destroy = lr_destroy,

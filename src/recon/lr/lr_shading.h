@@ -1,0 +1,42 @@
+/* The light each stored sample carries into LR when a shading filter (soft shadows, indirect
+ * light) ran before it (docs/algorithms.md 8.17).
+ *
+ * A sample's radiance holds the light its first hit received along one light sample and one
+ * bounce: the noise the shading filter averaged out of the pixel mean. LR moves samples
+ * across pixels by their lens and time coordinates, so whatever light a sample carries comes
+ * along. Each sample therefore carries the filtered light instead of its own, times its own
+ * albedo: its deviation from its pixel's mean keeps the texture and geometry the camera
+ * dimensions move, and loses the light sample's noise. The filtered light is taken from the
+ * pixel that sees the sample's point through the lens centre at mid-shutter (LR's reprojection
+ * to u = v = 0, t = 1/2), when that pixel is on the same surface, else from the sample's own
+ * pixel. A pixel's samples still average to its value, whatever they carry. */
+#ifndef WEDGE_RECON_LR_SHADING_H
+#define WEDGE_RECON_LR_SHADING_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "recon/gbuffer.h"
+#include "recon/method.h"
+
+/* Floats per sample of SAMPLE_FIELD_SHADING: filterable direct rgb, indirect rgb, albedo rgb. */
+#define LR_SHADING_FLOATS 9
+
+/* Pixel i's filtered light per unit albedo for one shading effect (value4 as
+ * ReconShadingLight gives it, times factor[i] when factor is not NULL) into out; false where
+ * that effect was not filtered there (value4 NULL, the pixel passed through, non-finite). */
+bool lr_filtered_light(const float *value4, const float *factor, size_t i, float out[3]);
+
+/* The pixel whose filtered light a sample takes: the one containing its reprojected centre
+ * position (x0_px, y0_px) when that pixel's mean depth is within 5% of the sample's depth,
+ * else `own`. */
+size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, size_t own);
+
+/* The light of n samples of one pixel (radiance: n x 3; shading: n x LR_SHADING_FLOATS, or
+ * NULL when no shading filter ran; src: the pixel each sample takes its filtered light from,
+ * or NULL) into out (n x 3), shifted by one per-pixel constant so that they average to
+ * value (rgb). */
+void lr_pixel_light(int n, const float *radiance, const float *shading, const size_t *src,
+                    const ReconShadingLight *light, const float value[3], float *out);
+
+#endif

@@ -1,0 +1,141 @@
+/* The light LR's samples carry beside a shading filter (src/recon/lr/lr_shading.c,
+ * docs/algorithms.md 8.17), on random inputs:
+ *   - a pixel's samples average to its value, whatever the replacement did;
+ *   - where the shading filter ran, samples of one albedo that differ only in their light
+ *     sample's noise carry the same light (the noise is gone), and samples of two albedos
+ *     differ by the albedo difference times the filtered light (the texture stays);
+ *   - where it did not run (pixel passed through, or no shading field), the samples keep
+ *     their own deviations;
+ *   - the filtered light comes from the pixel seen through the lens centre when it is on
+ *     the sample's surface, else from the sample's own pixel. */
+#include <stdlib.h>
+
+#include "../check.h"
+#include "recon/lr/lr_shading.h"
+
+static float uniform(unsigned *state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return (float)(*state >> 8) / 16777216.0f;
+}
+
+/* 4 pixels of filtered light; pixel 3 passed through (usable 0) for both effects. */
+static float direct4[16], indirect4[16], factor[4];
+
+static void make_light(unsigned *st)
+{
+    for (int i = 0; i < 4; ++i) {
+        for (int c = 0; c < 3; ++c) direct4[4 * i + c] = 0.2f + uniform(st), indirect4[4 * i + c] = 0.1f + uniform(st);
+        direct4[4 * i + 3] = indirect4[4 * i + 3] = i == 3 ? 0.0f : 1.0f;
+        factor[i] = 0.5f + uniform(st);
+    }
+}
+
+enum { N = 12 };
+
+static void test_mean_kept(void)
+{
+    unsigned st = 7;
+    make_light(&st);
+    ReconShadingLight light = {direct4, factor, indirect4};
+    int bad = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        int n = 1 + (int)(uniform(&st) * N);
+        float rad[3 * N], sh[LR_SHADING_FLOATS * N], out[3 * N], value[3];
+        size_t src[N];
+        for (int k = 0; k < n; ++k) {
+            for (int f = 0; f < LR_SHADING_FLOATS; ++f) sh[LR_SHADING_FLOATS * k + f] = uniform(&st);
+            for (int c = 0; c < 3; ++c) rad[3 * k + c] = sh[LR_SHADING_FLOATS * k + c] + sh[LR_SHADING_FLOATS * k + 3 + c] + uniform(&st);
+            src[k] = (size_t)(uniform(&st) * 4.0f);
+        }
+        for (int c = 0; c < 3; ++c) value[c] = 2.0f * uniform(&st);
+        lr_pixel_light(n, rad, trial % 2 ? sh : NULL, src, &light, value, out);
+        for (int c = 0; c < 3; ++c) {
+            double mean = 0.0;
+            for (int k = 0; k < n; ++k) mean += out[3 * k + c];
+            bad += fabs(mean / n - value[c]) > 1e-5;
+        }
+    }
+    CHECK(bad == 0);
+}
+
+/* Samples with the non-filterable part `rest`, albedo a[k], filterable light drawn at random
+ * (the noise), all taking their light from pixel `from`. */
+static void noisy_samples(unsigned *st, int n, const float *albedo_of_k, float rest, float *rad, float *sh)
+{
+    for (int k = 0; k < n; ++k) {
+        float *s = sh + LR_SHADING_FLOATS * k;
+        for (int c = 0; c < 3; ++c) {
+            s[6 + c] = albedo_of_k[k];
+            s[c] = albedo_of_k[k] * 3.0f * uniform(st) * (uniform(st) < 0.5f); /* occluded half the time */
+            s[3 + c] = albedo_of_k[k] * 2.0f * uniform(st);
+            rad[3 * k + c] = rest + s[c] + s[3 + c];
+        }
+    }
+}
+
+static void test_noise_replaced_texture_kept(void)
+{
+    unsigned st = 11;
+    make_light(&st);
+    ReconShadingLight light = {direct4, factor, indirect4};
+    float albedo[N], rad[3 * N], sh[LR_SHADING_FLOATS * N], out[3 * N], value[3] = {0.7f, 0.8f, 0.9f};
+    size_t src[N];
+    for (int k = 0; k < N; ++k) albedo[k] = k % 3 ? 0.2f : 0.75f, src[k] = 1;
+    noisy_samples(&st, N, albedo, 0.05f, rad, sh);
+    lr_pixel_light(N, rad, sh, src, &light, value, out);
+    int bad = 0;
+    for (int k = 1; k < N; ++k)
+        for (int c = 0; c < 3; ++c) {
+            /* every sample: albedo x (factor x direct + indirect) of pixel 1, plus one constant */
+            float e = factor[1] * direct4[4 + c] + indirect4[4 + c];
+            float want = (albedo[k] - albedo[0]) * e;
+            bad += fabsf((out[3 * k + c] - out[c]) - want) > 1e-5f;
+        }
+    CHECK(bad == 0);
+    /* the raw samples differ by far more than that: the check above can fail */
+    float spread = 0.0f;
+    for (int k = 1; k < N; ++k) spread = fmaxf(spread, fabsf(rad[3 * k] - rad[0]));
+    CHECK(spread > 0.5f);
+}
+
+static void test_deviations_kept_where_not_filtered(void)
+{
+    unsigned st = 13;
+    make_light(&st);
+    ReconShadingLight light = {direct4, factor, indirect4};
+    float albedo[N], rad[3 * N], sh[LR_SHADING_FLOATS * N], out[3 * N], value[3] = {0.3f, 0.2f, 0.1f};
+    size_t src[N];
+    for (int k = 0; k < N; ++k) albedo[k] = 0.5f, src[k] = 3; /* pixel 3: passed through */
+    noisy_samples(&st, N, albedo, 0.0f, rad, sh);
+    for (int pass = 0; pass < 2; ++pass) { /* a passed-through pixel, then no shading field */
+        lr_pixel_light(N, rad, pass ? NULL : sh, src, &light, value, out);
+        int bad = 0;
+        for (int k = 1; k < N; ++k)
+            for (int c = 0; c < 3; ++c) bad += fabsf((out[3 * k + c] - out[c]) - (rad[3 * k + c] - rad[c])) > 1e-5f;
+        CHECK(bad == 0);
+    }
+}
+
+static void test_light_pixel(void)
+{
+    GBuffer g = {0};
+    float pos4[4 * 6] = {0};
+    g.width = 3, g.height = 2, g.pos4 = pos4;
+    for (int i = 0; i < 6; ++i) pos4[4 * i + 3] = i == 5 ? 20.0f : 10.0f; /* pixel (2, 1) is farther */
+    CHECK(lr_light_pixel(&g, 1.5f, 0.5f, 10.3f, 4) == 1);       /* same surface: its pixel */
+    CHECK(lr_light_pixel(&g, 2.9f, 1.2f, 10.0f, 4) == 4);       /* another surface: own */
+    CHECK(lr_light_pixel(&g, 2.9f, 1.2f, 19.5f, 0) == 5);
+    CHECK(lr_light_pixel(&g, -0.1f, 0.5f, 10.0f, 2) == 2);      /* outside: own */
+    CHECK(lr_light_pixel(&g, 1.0f, 2.0f, 10.0f, 2) == 2);
+    CHECK(lr_light_pixel(&g, 1.0f, 1.0f, INFINITY, 2) == 2);    /* a miss: own */
+}
+
+int main(void)
+{
+    test_mean_kept();
+    test_noise_replaced_texture_kept();
+    test_deviations_kept_where_not_filtered();
+    test_light_pixel();
+    CHECK_DONE();
+}
