@@ -21,7 +21,7 @@ static const struct {
     {SAMPLE_FIELD_INDIRECT, 3, "indirect"}, {SAMPLE_FIELD_POSITION, 3, "position"},
     {SAMPLE_FIELD_NORMAL, 3, "normal"},     {SAMPLE_FIELD_LIGHT, 5, "light"},
     {SAMPLE_FIELD_BOUNCE, 4, "bounce"},     {SAMPLE_FIELD_MOTION, 2, "motion"},
-    {SAMPLE_FIELD_SHADING, 9, "shading"},
+    {SAMPLE_FIELD_SHADING, 10, "shading"},
 };
 
 struct SampleStore {
@@ -153,6 +153,7 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
             float ud[3], ui[3]; /* what the shading filters leave alone, as the guides' sums split it */
             gbuffer_unfiltered_split(r, ud, ui);
             put3(dst + 6, r->albedo);
+            dst[9] = r->hit ? (float)r->object_id : -1.0f;
             dst[0] = r->direct.x - ud[0], dst[1] = r->direct.y - ud[1], dst[2] = r->direct.z - ud[2];
             dst[3] = r->indirect.x - ui[0], dst[4] = r->indirect.y - ui[1], dst[5] = r->indirect.z - ui[2];
             break;

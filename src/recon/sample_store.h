@@ -34,8 +34,8 @@ enum {
     SAMPLE_FIELD_BOUNCE = 1u << 10,   /* the bounce ray's direction and hit distance; needs ray geometry */
     SAMPLE_FIELD_MOTION = 1u << 11,   /* screen velocity of the first hit (px per unit shutter time) */
     SAMPLE_FIELD_SHADING = 1u << 12,  /* the light a shading filter may blur, direct (rgb) and indirect
-                                       * (rgb), and the first hit's albedo (rgb); kept only in frames
-                                       * where a shading effect is filtered */
+                                       * (rgb), the first hit's albedo (rgb) and object id (-1: a
+                                       * miss); kept only in frames where a shading effect is filtered */
     SAMPLE_FIELD_COUNT_ = 13
 };
 

@@ -120,15 +120,20 @@ static void test_deviations_kept_where_not_filtered(void)
 static void test_light_pixel(void)
 {
     GBuffer g = {0};
-    float pos4[4 * 6] = {0};
-    g.width = 3, g.height = 2, g.pos4 = pos4;
-    for (int i = 0; i < 6; ++i) pos4[4 * i + 3] = i == 5 ? 20.0f : 10.0f; /* pixel (2, 1) is farther */
-    CHECK(lr_light_pixel(&g, 1.5f, 0.5f, 10.3f, 4) == 1);       /* same surface: its pixel */
-    CHECK(lr_light_pixel(&g, 2.9f, 1.2f, 10.0f, 4) == 4);       /* another surface: own */
-    CHECK(lr_light_pixel(&g, 2.9f, 1.2f, 19.5f, 0) == 5);
-    CHECK(lr_light_pixel(&g, -0.1f, 0.5f, 10.0f, 2) == 2);      /* outside: own */
-    CHECK(lr_light_pixel(&g, 1.0f, 2.0f, 10.0f, 2) == 2);
-    CHECK(lr_light_pixel(&g, 1.0f, 1.0f, INFINITY, 2) == 2);    /* a miss: own */
+    float pos4[4 * 6] = {0}, nrm4[4 * 6] = {0};
+    g.width = 3, g.height = 2, g.pos4 = pos4, g.nrm4 = nrm4;
+    for (int i = 0; i < 6; ++i) {
+        pos4[4 * i + 3] = i == 5 ? 20.0f : 10.0f; /* pixel (2, 1) is farther */
+        nrm4[4 * i + 3] = i == 2 ? 8.0f : 3.0f;   /* pixel (2, 0) shows object 8, the rest object 3 */
+    }
+    CHECK(lr_light_pixel(&g, 1.5f, 0.5f, 10.3f, 3.0f, 4) == 1);    /* same surface: its pixel */
+    CHECK(lr_light_pixel(&g, 2.5f, 0.5f, 10.0f, 3.0f, 4) == 4);    /* another object at that depth: own */
+    CHECK(lr_light_pixel(&g, 2.5f, 0.5f, 10.0f, 8.0f, 4) == 2);
+    CHECK(lr_light_pixel(&g, 2.9f, 1.2f, 10.0f, 3.0f, 4) == 4);    /* another depth: own */
+    CHECK(lr_light_pixel(&g, 2.9f, 1.2f, 19.5f, 3.0f, 0) == 5);
+    CHECK(lr_light_pixel(&g, -0.1f, 0.5f, 10.0f, 3.0f, 2) == 2);   /* outside: own */
+    CHECK(lr_light_pixel(&g, 1.0f, 2.0f, 10.0f, 3.0f, 2) == 2);
+    CHECK(lr_light_pixel(&g, 1.0f, 1.0f, INFINITY, -1.0f, 2) == 2); /* a miss: own */
 }
 
 int main(void)

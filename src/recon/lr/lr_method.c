@@ -145,7 +145,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         for (int k = 0; shade && k < count; ++k) {
             float x0, y0;
             centre_position(m, i * cap + k, lens_dims, &x0, &y0);
-            src[k] = lr_light_pixel(m->g, x0, y0, depth[i * cap + k], i);
+            src[k] = lr_light_pixel(m->g, x0, y0, depth[i * cap + k], shade[(i * cap + k) * LR_SHADING_FLOATS + 9], i);
         }
         float value[3] = {value4[4 * i], value4[4 * i + 1], value4[4 * i + 2]};
         lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, value,

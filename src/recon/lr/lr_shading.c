@@ -14,12 +14,13 @@ bool lr_filtered_light(const float *value4, const float *factor, size_t i, float
     return isfinite(out[0]) && isfinite(out[1]) && isfinite(out[2]);
 }
 
-size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, size_t own)
+size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, float object_id, size_t own)
 {
     if (!(depth < INFINITY) || !(x0_px >= 0.0f && y0_px >= 0.0f && x0_px < (float)g->width && y0_px < (float)g->height))
         return own;
     size_t q = (size_t)(int)y0_px * (size_t)g->width + (size_t)(int)x0_px;
-    return fabsf(g->pos4[4 * q + 3] - depth) <= LR_SAME_SURFACE_DEPTH * depth ? q : own;
+    bool same = g->nrm4[4 * q + 3] == object_id && fabsf(g->pos4[4 * q + 3] - depth) <= LR_SAME_SURFACE_DEPTH * depth;
+    return same ? q : own;
 }
 
 /* One sample's light with its filterable direct and indirect light replaced by albedo times

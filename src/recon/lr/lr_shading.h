@@ -19,8 +19,9 @@
 #include "recon/gbuffer.h"
 #include "recon/method.h"
 
-/* Floats per sample of SAMPLE_FIELD_SHADING: filterable direct rgb, indirect rgb, albedo rgb. */
-#define LR_SHADING_FLOATS 9
+/* Floats per sample of SAMPLE_FIELD_SHADING: filterable direct rgb, indirect rgb, albedo rgb,
+ * object id. */
+#define LR_SHADING_FLOATS 10
 
 /* Pixel i's filtered light per unit albedo for one shading effect (value4 as
  * ReconShadingLight gives it, times factor[i] when factor is not NULL) into out; false where
@@ -28,9 +29,9 @@
 bool lr_filtered_light(const float *value4, const float *factor, size_t i, float out[3]);
 
 /* The pixel whose filtered light a sample takes: the one containing its reprojected centre
- * position (x0_px, y0_px) when that pixel's mean depth is within 5% of the sample's depth,
- * else `own`. */
-size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, size_t own);
+ * position (x0_px, y0_px) when that pixel shows the sample's object (gbuffer object id) at a
+ * mean depth within 5% of the sample's, else `own`. */
+size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, float object_id, size_t own);
 
 /* The light of n samples of one pixel (radiance: n x 3; shading: n x LR_SHADING_FLOATS, or
  * NULL when no shading filter ran; src: the pixel each sample takes its filtered light from,
