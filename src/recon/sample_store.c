@@ -21,7 +21,7 @@ static const struct {
     {SAMPLE_FIELD_INDIRECT, 3, "indirect"}, {SAMPLE_FIELD_POSITION, 3, "position"},
     {SAMPLE_FIELD_NORMAL, 3, "normal"},     {SAMPLE_FIELD_LIGHT, 5, "light"},
     {SAMPLE_FIELD_BOUNCE, 4, "bounce"},     {SAMPLE_FIELD_MOTION, 2, "motion"},
-    {SAMPLE_FIELD_SHADING, 10, "shading"},
+    {SAMPLE_FIELD_SHADING, 13, "shading"},
 };
 
 struct SampleStore {
@@ -154,6 +154,8 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
             gbuffer_unfiltered_split(r, ud, ui);
             put3(dst + 6, r->albedo);
             dst[9] = r->hit ? (float)r->object_id : -1.0f;
+            float u[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
+            for (int c = 0; c < 3; ++c) dst[10 + c] = isfinite(u[c]) && u[c] > 0.0f ? u[c] : 0.0f; /* as the split counts it */
             dst[0] = r->direct.x - ud[0], dst[1] = r->direct.y - ud[1], dst[2] = r->direct.z - ud[2];
             dst[3] = r->indirect.x - ui[0], dst[4] = r->indirect.y - ui[1], dst[5] = r->indirect.z - ui[2];
             break;

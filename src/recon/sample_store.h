@@ -35,7 +35,9 @@ enum {
     SAMPLE_FIELD_MOTION = 1u << 11,   /* screen velocity of the first hit (px per unit shutter time) */
     SAMPLE_FIELD_SHADING = 1u << 12,  /* the light a shading filter may blur, direct (rgb) and indirect
                                        * (rgb), the first hit's albedo (rgb) and object id (-1: a
-                                       * miss); kept only in frames where a shading effect is filtered */
+                                       * miss), and the delta lights' direct light (rgb, part of the
+                                       * unfiltered light); kept only in frames where a shading
+                                       * effect is filtered */
     SAMPLE_FIELD_COUNT_ = 13
 };
 

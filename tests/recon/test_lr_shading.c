@@ -7,7 +7,8 @@
  *   - where it did not run (pixel passed through, or no shading field), the samples keep
  *     their own deviations;
  *   - the filtered light comes from the pixel seen through the lens centre when it is on
- *     the sample's surface, else from the sample's own pixel. */
+ *     the sample's surface, else from the sample's own pixel;
+ *   - a delta light's pick noise is replaced by its pixel mean per unit albedo. */
 #include <stdlib.h>
 
 #include "../check.h"
@@ -49,7 +50,7 @@ static void test_mean_kept(void)
             src[k] = (size_t)(uniform(&st) * 4.0f);
         }
         for (int c = 0; c < 3; ++c) value[c] = 2.0f * uniform(&st);
-        lr_pixel_light(n, rad, trial % 2 ? sh : NULL, src, &light, value, out);
+        lr_pixel_light(n, rad, trial % 2 ? sh : NULL, src, &light, NULL, value, out);
         for (int c = 0; c < 3; ++c) {
             double mean = 0.0;
             for (int k = 0; k < n; ++k) mean += out[3 * k + c];
@@ -65,6 +66,7 @@ static void noisy_samples(unsigned *st, int n, const float *albedo_of_k, float r
 {
     for (int k = 0; k < n; ++k) {
         float *s = sh + LR_SHADING_FLOATS * k;
+        for (int f = 0; f < LR_SHADING_FLOATS; ++f) s[f] = 0.0f;
         for (int c = 0; c < 3; ++c) {
             s[6 + c] = albedo_of_k[k];
             s[c] = albedo_of_k[k] * 3.0f * uniform(st) * (uniform(st) < 0.5f); /* occluded half the time */
@@ -83,7 +85,7 @@ static void test_noise_replaced_texture_kept(void)
     size_t src[N];
     for (int k = 0; k < N; ++k) albedo[k] = k % 3 ? 0.2f : 0.75f, src[k] = 1;
     noisy_samples(&st, N, albedo, 0.05f, rad, sh);
-    lr_pixel_light(N, rad, sh, src, &light, value, out);
+    lr_pixel_light(N, rad, sh, src, &light, NULL, value, out);
     int bad = 0;
     for (int k = 1; k < N; ++k)
         for (int c = 0; c < 3; ++c) {
@@ -109,7 +111,7 @@ static void test_deviations_kept_where_not_filtered(void)
     for (int k = 0; k < N; ++k) albedo[k] = 0.5f, src[k] = 3; /* pixel 3: passed through */
     noisy_samples(&st, N, albedo, 0.0f, rad, sh);
     for (int pass = 0; pass < 2; ++pass) { /* a passed-through pixel, then no shading field */
-        lr_pixel_light(N, rad, pass ? NULL : sh, src, &light, value, out);
+        lr_pixel_light(N, rad, pass ? NULL : sh, src, &light, NULL, value, out);
         int bad = 0;
         for (int k = 1; k < N; ++k)
             for (int c = 0; c < 3; ++c) bad += fabsf((out[3 * k + c] - out[c]) - (rad[3 * k + c] - rad[c])) > 1e-5f;
@@ -136,11 +138,56 @@ static void test_light_pixel(void)
     CHECK(lr_light_pixel(&g, 1.0f, 1.0f, INFINITY, -1.0f, 2) == 2); /* a miss: own */
 }
 
+/* A delta light picked by half the samples: each carries 0 or twice its light. With the
+ * pixel means of lr_delta_light, samples of one albedo carry the same light; the means are
+ * the albedo-divided average, and mixed or black pixels are not usable. */
+static void test_delta_light(void)
+{
+    enum { W = 3, CAP = 8 };
+    SampleStore *store = NULL;
+    Diag d = {0};
+    CHECK(sample_store_create(SAMPLE_FIELD_SHADING | SAMPLE_FIELD_RADIANCE, W, 1, CAP, (size_t)1 << 30, &store, &d));
+    if (!store) return;
+    const float albedo[W] = {0.5f, 0.5f, 0.0f}, delta_light = 0.8f; /* pixel 2 is black */
+    for (int x = 0; x < W; ++x)
+        for (int k = 0; k < CAP; ++k) {
+            SampleRecord r = {0};
+            r.hit = true;
+            r.object_id = 1;
+            r.albedo = (vec3){albedo[x], albedo[x], albedo[x]};
+            float u = k % 2 ? 2.0f * albedo[x] * delta_light : 0.0f; /* picked or not */
+            r.unfiltered_direct = r.direct = r.L = (vec3){u, u, u};
+            sample_store_add(store, x, 0, &r);
+        }
+    unsigned char hit[W] = {1, 1, 1}, mixed[W] = {0, 1, 0};
+    GBuffer g = {0};
+    g.width = W, g.height = 1, g.hit = hit, g.mixed = mixed;
+    float delta4[4 * W];
+    const float *sh = sample_store_field(store, SAMPLE_FIELD_SHADING);
+    lr_delta_light(&g, store, sh, delta4);
+    CHECK_NEAR(delta4[0], delta_light, 1e-6);
+    CHECK(delta4[3] == 1.0f);
+    CHECK(delta4[4 + 3] == 0.0f); /* mixed */
+    CHECK(delta4[8 + 3] == 0.0f); /* black */
+    float out[3 * CAP], value[3] = {0.4f, 0.4f, 0.4f};
+    size_t src[CAP];
+    for (int k = 0; k < CAP; ++k) src[k] = 0;
+    ReconShadingLight none = {NULL, NULL, NULL};
+    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, delta4, value, out);
+    float spread = 0.0f;
+    for (int k = 1; k < CAP; ++k) spread = fmaxf(spread, fabsf(out[3 * k] - out[0]));
+    CHECK(spread < 1e-6f);
+    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, NULL, value, out);
+    CHECK(fabsf(out[3] - out[0]) > 0.5f); /* without the means the pick's noise stays */
+    sample_store_destroy(store);
+}
+
 int main(void)
 {
     test_mean_kept();
     test_noise_replaced_texture_kept();
     test_deviations_kept_where_not_filtered();
     test_light_pixel();
+    test_delta_light();
     CHECK_DONE();
 }

@@ -125,17 +125,19 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         m->samples_cap = m->samples ? n * (size_t)spp : 0;
         if (!m->samples) return NULL;
     }
+    const float *shade = sample_store_field(st, SAMPLE_FIELD_SHADING); /* NULL: no shading filter in the frame */
     float *light = malloc(sizeof(float) * 3 * (size_t)cap);
     size_t *src = malloc(sizeof(size_t) * (size_t)cap);
-    if (!light || !src) {
-        free(light), free(src);
+    float *delta4 = shade ? malloc(sizeof(float) * 4 * n) : NULL;
+    if (!light || !src || (shade && !delta4)) {
+        free(light), free(src), free(delta4);
         return NULL;
     }
+    if (shade) lr_delta_light(m->g, st, shade, delta4);
     LrSample *s = m->samples;
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
     const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
     const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
-    const float *shade = sample_store_field(st, SAMPLE_FIELD_SHADING); /* NULL: no shading filter in the frame */
     /* Motion alone (defocus is another method's, already in the corrected radiance): LR's
      * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
      * along the motion, not a dimension it shears). */
@@ -148,7 +150,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
             src[k] = lr_light_pixel(m->g, x0, y0, depth[i * cap + k], shade[(i * cap + k) * LR_SHADING_FLOATS + 9], i);
         }
         float value[3] = {value4[4 * i], value4[4 * i + 1], value4[4 * i + 2]};
-        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, value,
+        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, delta4, value,
                        light);
         for (int k = 0; k < spp; ++k) {
             size_t j = i * cap + k;
@@ -168,7 +170,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
             for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
         }
     }
-    free(light), free(src);
+    free(light), free(src), free(delta4);
     return s;
 }
 

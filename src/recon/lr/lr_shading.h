@@ -18,10 +18,11 @@
 
 #include "recon/gbuffer.h"
 #include "recon/method.h"
+#include "recon/sample_store.h"
 
 /* Floats per sample of SAMPLE_FIELD_SHADING: filterable direct rgb, indirect rgb, albedo rgb,
- * object id. */
-#define LR_SHADING_FLOATS 10
+ * object id, delta lights' direct rgb. */
+#define LR_SHADING_FLOATS 13
 
 /* Pixel i's filtered light per unit albedo for one shading effect (value4 as
  * ReconShadingLight gives it, times factor[i] when factor is not NULL) into out; false where
@@ -33,11 +34,18 @@ bool lr_filtered_light(const float *value4, const float *factor, size_t i, float
  * mean depth within 5% of the sample's, else `own`. */
 size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, float object_id, size_t own);
 
+/* Per pixel, the mean direct light of the point, spot and distant lights per unit albedo
+ * over its stored samples (shading: SAMPLE_FIELD_SHADING, capacity cap per pixel), into
+ * delta4 (r, g, b, usable): usable where the pixel is one surface (not mixed) with non-black
+ * albedo. A sample picks one light, so a delta light's share of one sample is 0 or its
+ * light over the pick's probability: this mean is its light without that noise. */
+void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *shading, float *delta4);
+
 /* The light of n samples of one pixel (radiance: n x 3; shading: n x LR_SHADING_FLOATS, or
- * NULL when no shading filter ran; src: the pixel each sample takes its filtered light from,
- * or NULL) into out (n x 3), shifted by one per-pixel constant so that they average to
- * value (rgb). */
+ * NULL when no shading filter ran; src: the pixel each sample takes its light from, or NULL;
+ * delta4: lr_delta_light's, or NULL) into out (n x 3), shifted by one per-pixel constant so
+ * that they average to value (rgb). */
 void lr_pixel_light(int n, const float *radiance, const float *shading, const size_t *src,
-                    const ReconShadingLight *light, const float value[3], float *out);
+                    const ReconShadingLight *light, const float *delta4, const float value[3], float *out);
 
 #endif
