@@ -1,6 +1,8 @@
 /* The slow oracle for LR's reconstruction: per pixel and per layer, a direct gather of every
- * window sample with the 5D product of Gaussians of LR eq. 14, evaluated in the layer's
- * rotated frame at the sample's reprojected (quantised) pixel, then eq. 17. No grids, no
+ * window sample with the weight of LR eq. 14 (its lens and time factors, times the screen
+ * profile along and across the motion, lr_screen_taps: the Gaussians, or with flat weights
+ * the Gaussian, disk and box shares), evaluated in the layer's rotated frame at the sample's
+ * reprojected (quantised) pixel, then eq. 17. No grids, no
  * separable passes. Exact agreement with the separable form needs the offsets to be whole
  * pixels along both rotated axes, i.e. psi a multiple of 90 degrees. */
 #ifndef WEDGE_TESTS_LR_ORACLE_H
@@ -24,6 +26,9 @@ static void lr_oracle_pixel(const LrSamples *img, const LrConfig *cfg, int px, i
         double cp = tile.layer[j].cos_psi, sp = tile.layer[j].sin_psi;
         int rx, ry;
         lr_screen_radii_px(f, cfg, &rx, &ry);
+        float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
+        lr_screen_taps(f, cfg, false, rx, taps_x);
+        lr_screen_taps(f, cfg, true, ry, taps_y);
         double A = 0, W = 0, E[3] = {0, 0, 0};
         for (int sy = y0; sy < y1; ++sy)
             for (int sx = x0; sx < x1; ++sx)
@@ -42,8 +47,7 @@ static void lr_oracle_pixel(const LrSamples *img, const LrConfig *cfg, int px, i
                     /* the separable passes see the intermediate pixel P + k2 (across) too */
                     int mx = px + (int)floor(-k2 * sp + 0.5), my = py + (int)floor(k2 * cp + 0.5);
                     if (mx < x0 || my < y0 || mx >= x1 || my >= y1) continue;
-                    double ax = k1 * f->inv_sigma_x_px, ay = k2 * f->inv_sigma_y_px;
-                    double w = wuvt * exp(-0.5 * (ax * ax + ay * ay));
+                    double w = wuvt * taps_x[(int)fabs(k1)] * taps_y[(int)fabs(k2)];
                     W += w;
                     if (layer == j) {
                         A += w;

@@ -131,7 +131,7 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
     return max_layers;
 }
 
-/* Per (tile, layer): rotation, filter, radii and the two tap tables (lr_tap_weights). */
+/* Per (tile, layer): rotation, filter, radii and the two tap tables (lr_screen_taps). */
 static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
 {
     for (int t = 0; t < ntiles; ++t)
@@ -143,8 +143,8 @@ static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
             float v[LP_TAPS_X] = {lr->tiles[t].layer[j].cos_psi, lr->tiles[t].layer[j].sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px,
                                   f->inv_sigma_u, f->inv_sigma_t, f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, (float)rx, (float)ry};
             memcpy(p, v, sizeof v);
-            lr_tap_weights(f->inv_sigma_x_px, rx, p + LP_TAPS_X);
-            lr_tap_weights(f->inv_sigma_y_px, ry, p + LP_TAPS_Y);
+            lr_screen_taps(f, cfg, false, rx, p + LP_TAPS_X);
+            lr_screen_taps(f, cfg, true, ry, p + LP_TAPS_Y);
         }
 }
 

@@ -21,6 +21,9 @@ LrFilterConfig lr_filter_config_default(void)
      * screen filter keeps the Gaussians' blur: complete_bands). Flat weights: 17-25% lower
      * relMSE on the hard motion+defocus bench, 4-23% on the others (docs/algorithms.md 8.15). */
     c.flat_lens_time = true;
+    /* The Gaussian's tails spread each layer where the disk and the box do not reach: 2x
+     * lower relMSE on the hard motion+defocus bench at 8-64 spp (docs/algorithms.md 8.18). */
+    c.shaped_screen = true;
     return c;
 }
 
@@ -236,11 +239,85 @@ LrFilter lr_filter_make_paper(const LrSlopes *s, const LrFilterConfig *cfg)
     return f;
 }
 
+/* The renderer's lens is the uniform unit disk and its shutter a box over [0, 1]: the
+ * variance of a sample's u (or v) and t. */
+#define LR_DISK_VAR (1.0 / 4.0)
+#define LR_BOX_VAR (1.0 / 12.0)
+
+/* With flat sample weights a layer at slopes (c, d) is seen through
+ *     Gauss(sigma) (x) disk projected on the axis, radius |c + shear_u| (x) box of length |d + shear_t|
+ * (every sample lands at its own lens position's and time's residual offset, then the screen
+ * Gaussian), so its blur variance is sigma^2 + (c + shear_u)^2 / 4 + (d + shear_t)^2 / 12. */
+static double flat_blur_var(double var_x, double c, double shear_u, double d, double shear_t)
+{
+    double a = c + shear_u, b = d + shear_t;
+    return var_x + a * a * LR_DISK_VAR + b * b * LR_BOX_VAR;
+}
+
+/* With flat weights the Gaussian design's blur at the layer's central slopes (c0, d0) is no
+ * longer the renderer's: the design counted its own sample weights (8.3: a clamped layer's
+ * sigma_u exceeds the aperture's), so a strongly defocused layer came out sharper than the
+ * reference (back wall of the hard bench, c = 20.5 px: std 9.6 px against 10.25), with the
+ * Gaussian's tails where the disk has none. Restore the true variance c0^2/4 + d0^2/12: first
+ * widen sigma up to the clamp (more sharing), then reproject less (the residual disk and box
+ * carry the rest, in their own shape), scaling both shears by the same mu in [0, 1]; B(mu) is
+ * continuous with B(0) >= target, so bisection finds it. A layer already blurred more (the
+ * design covering a wide slope range) is left alone. docs/algorithms.md 8.18. */
+static void match_true_blur(double *var_x, float *shear_u, float *shear_t, double c0, double d0, double sigma_clamp)
+{
+    double want = c0 * c0 * LR_DISK_VAR + d0 * d0 * LR_BOX_VAR;
+    double su = *shear_u, st = *shear_t;
+    double have = flat_blur_var(*var_x, c0, su, d0, st);
+    if (!(have < want) || !isfinite(want)) return;
+    double room = sigma_clamp * sigma_clamp - *var_x;
+    if (room > 0.0) {
+        double grow = fmin(room, want - have);
+        *var_x += grow;
+        have += grow;
+        if (!(have < want)) return;
+    }
+    double lo = 0.0, hi = 1.0; /* B(lo) >= want > B(hi) */
+    for (int i = 0; i < 40; ++i) {
+        double mid = 0.5 * (lo + hi);
+        if (flat_blur_var(*var_x, c0, mid * su, d0, mid * st) >= want) lo = mid;
+        else hi = mid;
+    }
+    *shear_u = (float)(lo * su), *shear_t = (float)(lo * st);
+}
+
+/* What the screen filter stands in for at the central slopes (c0, d0): the reprojection took
+ * the disk's variance from c0^2/4 down to (c0 + shear_u)^2/4 and the box's from d0^2/12 to
+ * (d0 + shear_t)^2/12; the screen filter puts the difference back. Given in the shapes that
+ * were taken, a disk of radius sqrt(c0^2 - (c0 + shear_u)^2) and a box of length
+ * sqrt(d0^2 - (d0 + shear_t)^2), instead of inside the Gaussian: a full reprojection then
+ * blurs a layer exactly by the lens disk's projection and the shutter's box, without the
+ * Gaussian's tails where the disk has none (docs/algorithms.md 8.18). The shares never exceed
+ * the screen variance var_x; what is left of it stays Gaussian. */
+static void screen_shares(double var_x, double c0, float shear_u, double d0, float shear_t, float *disk_px, float *box_px)
+{
+    double a = c0 + shear_u, b = d0 + shear_t;
+    double disk2 = fmax(0.0, c0 * c0 - a * a), box2 = fmax(0.0, d0 * d0 - b * b);
+    double used = disk2 * LR_DISK_VAR + box2 * LR_BOX_VAR;
+    if (used > var_x && used > 0.0) disk2 *= var_x / used, box2 *= var_x / used;
+    *disk_px = (float)sqrt(disk2), *box_px = (float)sqrt(box2);
+}
+
 LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg)
 {
     LrFilter f = lr_filter_make_paper(s, cfg);
     complete_bands(&f, cfg);
-    if (cfg->flat_lens_time) f.inv_sigma_u = f.inv_sigma_v = f.inv_sigma_t = 0.0f;
+    if (!cfg->flat_lens_time) return f;
+    f.inv_sigma_u = f.inv_sigma_v = f.inv_sigma_t = 0.0f;
+    double c0 = 0.5 * ((double)s->c_min_px + s->c_max_px), d0 = 0.5 * ((double)s->d_min_px + s->d_max_px);
+    double vx = 1.0 / ((double)f.inv_sigma_x_px * f.inv_sigma_x_px), vy = 1.0 / ((double)f.inv_sigma_y_px * f.inv_sigma_y_px);
+    match_true_blur(&vx, &f.eta_px, &f.xi_px, c0, d0, cfg->sigma_clamp_px);
+    float no_time = 0.0f;
+    match_true_blur(&vy, &f.rho_px, &no_time, c0, 0.0, cfg->sigma_clamp_px);
+    f.inv_sigma_x_px = (float)(1.0 / sqrt(vx)), f.inv_sigma_y_px = (float)(1.0 / sqrt(vy));
+    if (!cfg->shaped_screen) return f;
+    screen_shares(vx, c0, f.eta_px, d0, f.xi_px, &f.aperture_x_px, &f.shutter_x_px);
+    float no_box;
+    screen_shares(vy, c0, f.rho_px, 0.0, 0.0f, &f.aperture_y_px, &no_box);
     return f;
 }
 

@@ -27,6 +27,9 @@ typedef struct {
     bool flat_lens_time;  /* weight samples flat in u, v, t (the renderer's uniform disk and
                            * box shutter) instead of by the Gaussian aperture and shutter; the
                            * Gaussians still shape the screen filter (docs/algorithms.md 8.15) */
+    bool shaped_screen;   /* with flat weights: the screen filter's share that stands for the
+                           * lens disk and the shutter box in their own shapes (the
+                           * aperture_* and shutter_* fields below), not Gaussian (8.18) */
 } LrFilterConfig;
 
 /* The paper's constants, with sigma_clamp for a 16-pixel tile in a 32-pixel window. */
@@ -52,6 +55,12 @@ typedef struct {
     float inv_sigma_y_px;  /* 1/sigma_y, 1/px */
     float rho_px;          /* shear of y by v, px per unit v */
     float inv_sigma_v;     /* 1/sigma_v */
+    /* In the flat-weight filter, the share of the screen filter's variance that stands for
+     * the lens disk and the shutter box (what the reprojection took out of the samples and
+     * the screen filter puts back), in their own shapes (lr_taps.h): the disk's radius along
+     * and across the motion (its projection on an axis is a semicircle, variance R^2 / 4)
+     * and the box's length along it (variance L^2 / 12). 0 in the Gaussian design. */
+    float aperture_x_px, shutter_x_px, aperture_y_px;
 } LrFilter;
 
 /* Appendix B + C as the paper has them: the filter of one partition. Its blur at the

@@ -7,31 +7,6 @@
 
 #include "recon/lr/lr_bucket.h"
 
-int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
-{
-    int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
-    if (!(inv_sigma_px > 0.0f)) return cap;
-    float r = ceilf(3.0f / inv_sigma_px);
-    return r > (float)cap ? cap : (int)r;
-}
-
-void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry)
-{
-    float pixel = 1.0f / cfg->filter.sigma_pixel_px;
-    bool neither = f->eta_px == 0.0f && f->xi_px == 0.0f && f->rho_px == 0.0f && f->inv_sigma_x_px >= pixel &&
-                   f->inv_sigma_y_px >= pixel;
-    *rx = neither ? 0 : lr_filter_radius_px(f->inv_sigma_x_px, cfg);
-    *ry = neither ? 0 : lr_filter_radius_px(f->inv_sigma_y_px, cfg);
-}
-
-void lr_tap_weights(float inv_sigma_px, int r, float *w)
-{
-    for (int k = 0; k <= r; ++k) {
-        float a = (float)k * inv_sigma_px;
-        w[k] = expf(-0.5f * a * a);
-    }
-}
-
 void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, float *p_px, float *q_px, float *weight)
 {
     /* rotated lens coordinates (the lens rotates with the screen: defocus is isotropic) */
@@ -107,8 +82,8 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
         int rx, ry;
         lr_screen_radii_px(f, cfg, &rx, &ry);
         float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
-        lr_tap_weights(f->inv_sigma_x_px, rx, taps_x);
-        lr_tap_weights(f->inv_sigma_y_px, ry, taps_y);
+        lr_screen_taps(f, cfg, false, rx, taps_x);
+        lr_screen_taps(f, cfg, true, ry, taps_y);
         for (int iy = 0; iy < wh; ++iy)
             for (int ix = 0; ix < ww; ++ix) {
                 float acc[CH_COUNT] = {0};

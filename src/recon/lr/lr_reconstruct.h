@@ -8,6 +8,7 @@
 #include <math.h>
 
 #include "recon/lr/lr_partition.h"
+#include "recon/lr/lr_taps.h"
 
 typedef struct {
     float *rgb;          /* width * height * 3, the reconstructed image */
@@ -16,23 +17,6 @@ typedef struct {
                           * opacity at the pixel (AOV), 0 where none */
     long nonfinite;      /* non-finite sample radiances skipped (counted, never propagated) */
 } LrOutput;
-
-/* Screen-filter radius for a primal sigma: 3 sigma, at least 0, at most half the window and
- * at most LR_MAX_RADIUS_PX (the kernels' tap tables). */
-enum { LR_MAX_RADIUS_PX = 32 };
-int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg);
-
-/* The screen passes' radii for a partition's filter: lr_filter_radius_px of sigma_x and
- * sigma_y, except for a layer with neither blur (no shear, both sigmas at most
- * sigma_pixel: a static layer seen through a pinhole), whose samples stay in their pixels
- * (radii 0): the pixel filter alone would only spread each pixel by 1.1% into its
- * neighbours, which around a light source is a visible ring (docs/algorithms.md 8.11). */
-void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry);
-
-/* The screen filter's tap weights w[k] = exp(-(k / sigma)^2 / 2), k = 0..r (r <=
- * LR_MAX_RADIUS_PX): once per partition, shared by the C passes and the kernels (lr.cl reads
- * them from the host), so both weight every tap with the same value. */
-void lr_tap_weights(float inv_sigma_px, int r, float *w);
 
 /* exp(-s / 2) for s >= 0, 0 beyond s = LR_GAUSS_CUT (weight 1.5e-8): 2^y with y = -s log2(e) / 2
  * split into round(y) (the exponent bits) and a remainder in [-1/2, 1/2] (Cephes' exp2f

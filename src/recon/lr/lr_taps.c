@@ -1,0 +1,145 @@
+/* LR's screen taps (see lr_taps.h; docs/algorithms.md 8.18). */
+#include "recon/lr/lr_taps.h"
+
+#include <math.h>
+
+int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
+{
+    int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
+    if (!(inv_sigma_px > 0.0f)) return cap;
+    float r = ceilf(3.0f / inv_sigma_px);
+    return r > (float)cap ? cap : (int)r;
+}
+
+#define LR_MIN_SHARE_PX 2.0
+
+/* One axis of a partition's screen filter: total std, disk radius, box length (px). */
+typedef struct {
+    double sigma, disk, box;
+} Axis;
+
+static Axis axis_of(const LrFilter *f, const LrConfig *cfg, bool across)
+{
+    Axis a = {1.0 / (across ? f->inv_sigma_y_px : f->inv_sigma_x_px), across ? f->aperture_y_px : f->aperture_x_px,
+              across ? 0.0 : f->shutter_x_px};
+    /* Binned into pixels, a disk or box under 2 px no longer has its shape, only more
+     * weight on the neighbours than its variance asks (a 1-px disk: 0.27 of the centre
+     * against the Gaussian's 0.19); such a share stays in the Gaussian. On LR's pipeline
+     * test scene (circles of confusion of about 1 px) keeping them cost 40% more error; on
+     * the hard bench scene the threshold makes no difference from 1.5 to 3 px. */
+    if (a.disk < LR_MIN_SHARE_PX) a.disk = 0.0;
+    if (a.box < LR_MIN_SHARE_PX) a.box = 0.0;
+    /* A tile's edge pixels find samples only (N_s - N) / 2 px beyond the tile (its window):
+     * shares reaching further would be cut on one side there, a step at the tile border
+     * (test_no_tile_seams); they shrink to fit, their variance going to the Gaussian. */
+    double reach = a.disk + 0.5 * a.box, margin = 0.5 * (cfg->window_px - cfg->tile_px);
+    if (reach > margin) a.disk *= margin / reach, a.box *= margin / reach;
+    return a;
+}
+
+/* The Gaussian's share: what is left of the variance after the disk (R^2 / 4) and the box
+ * (L^2 / 12); lr_filter_make keeps the shares inside the total. */
+static double rest_sigma(const Axis *a)
+{
+    double v = a->sigma * a->sigma - a->disk * a->disk * 0.25 - a->box * a->box / 12.0;
+    return v > 0.0 ? sqrt(v) : 0.0;
+}
+
+static int axis_radius(const Axis *a, const LrConfig *cfg)
+{
+    int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
+    if (a->disk == 0.0 && a->box == 0.0) return lr_filter_radius_px((float)(1.0 / a->sigma), cfg);
+    double r = ceil(a->disk + 0.5 * a->box + 3.0 * rest_sigma(a) + 0.5);
+    return r > (double)cap ? cap : (int)r;
+}
+
+void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry)
+{
+    float pixel = 1.0f / cfg->filter.sigma_pixel_px;
+    bool neither = f->eta_px == 0.0f && f->xi_px == 0.0f && f->rho_px == 0.0f && f->inv_sigma_x_px >= pixel &&
+                   f->inv_sigma_y_px >= pixel;
+    Axis along = axis_of(f, cfg, false), across = axis_of(f, cfg, true);
+    *rx = neither ? 0 : axis_radius(&along, cfg);
+    *ry = neither ? 0 : axis_radius(&across, cfg);
+}
+
+static double phi(double z) { return 0.5 * erfc(-z * M_SQRT1_2); }
+
+/* The semicircle's cumulative distribution at x (radius R > 0). */
+static double semicircle_cdf(double x, double R)
+{
+    if (x <= -R) return 0.0;
+    if (x >= R) return 1.0;
+    double q = x / R;
+    return 0.5 + (q * sqrt(1.0 - q * q) + asin(q)) / M_PI;
+}
+
+enum { SPAN = LR_MAX_RADIUS_PX, WIDTH = 2 * SPAN + 1 }; /* per-pixel tables over [-SPAN, SPAN] */
+
+/* Each share binned into pixels (exact integrals over [k - 1/2, k + 1/2]). */
+static void bin_disk(double R, double *t)
+{
+    for (int k = -SPAN; k <= SPAN; ++k)
+        t[k + SPAN] = R > 0.0 ? semicircle_cdf(k + 0.5, R) - semicircle_cdf(k - 0.5, R) : (k == 0);
+}
+
+static void bin_box(double L, double *t)
+{
+    for (int k = -SPAN; k <= SPAN; ++k) {
+        double lo = fmax(k - 0.5, -0.5 * L), hi = fmin(k + 0.5, 0.5 * L);
+        t[k + SPAN] = L > 0.0 ? fmax(0.0, hi - lo) / L : (k == 0);
+    }
+}
+
+static void bin_gauss(double s, double *t)
+{
+    for (int k = -SPAN; k <= SPAN; ++k) t[k + SPAN] = s > 0.0 ? phi((k + 0.5) / s) - phi((k - 0.5) / s) : (k == 0);
+}
+
+static void convolve(const double *a, const double *b, double *out)
+{
+    for (int k = -SPAN; k <= SPAN; ++k) {
+        double sum = 0.0;
+        for (int j = -SPAN; j <= SPAN; ++j) {
+            int i = k - j;
+            if (a[j + SPAN] == 0.0) continue;
+            if (i >= -SPAN && i <= SPAN) sum += a[j + SPAN] * b[i + SPAN];
+        }
+        out[k + SPAN] = sum;
+    }
+}
+
+void lr_screen_taps(const LrFilter *f, const LrConfig *cfg, bool across, int r, float *w)
+{
+    Axis a = axis_of(f, cfg, across);
+    if (a.disk == 0.0 && a.box == 0.0) {
+        float inv = across ? f->inv_sigma_y_px : f->inv_sigma_x_px;
+        for (int k = 0; k <= r; ++k) {
+            float q = (float)k * inv;
+            w[k] = expf(-0.5f * q * q);
+        }
+        return;
+    }
+    /* A share binned into pixels has its variance plus a pixel box's 1/12 px^2, and the
+     * convolution of m binned shares adds m/12; the point-sampled Gaussian above has none.
+     * So the shares give back m/12 of their variance, the Gaussian first: the taps' variance
+     * stays sigma^2 (it matters for small blurs: a disk of radius 1.1 px came out with 1.5
+     * times its variance). */
+    double var_d = a.disk * a.disk * 0.25, var_b = a.box * a.box / 12.0, var_g = rest_sigma(&a);
+    var_g *= var_g;
+    double need = ((var_d > 0.0) + (var_b > 0.0) + (var_g > 0.0)) / 12.0;
+    double take = fmin(var_g, need);
+    var_g -= take, need -= take;
+    if (var_g <= 0.0 && take > 0.0) need = fmax(0.0, need - 1.0 / 12.0); /* no Gaussian left to bin */
+    if (need > 0.0) {
+        double keep = fmax(0.0, (var_d + var_b - need) / (var_d + var_b));
+        var_d *= keep, var_b *= keep;
+    }
+    double disk[WIDTH], box[WIDTH], gauss[WIDTH], both[WIDTH], all[WIDTH];
+    bin_disk(sqrt(4.0 * var_d), disk);
+    bin_box(sqrt(12.0 * var_b), box);
+    bin_gauss(sqrt(var_g), gauss);
+    convolve(disk, box, both);
+    convolve(both, gauss, all);
+    for (int k = 0; k <= r; ++k) w[k] = (float)all[k + SPAN];
+}

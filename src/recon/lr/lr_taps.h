@@ -1,0 +1,36 @@
+/* LR's screen filter along one axis of a partition's rotated frame (Algorithm 2): its radius
+ * and its tap weights, computed once per partition on the host and shared by the C passes
+ * (lr_reconstruct.c) and the kernels (lr.cl reads them), so both weight every tap with the
+ * same value. */
+#ifndef WEDGE_RECON_LR_TAPS_H
+#define WEDGE_RECON_LR_TAPS_H
+
+#include <stdbool.h>
+
+#include "recon/lr/lr_partition.h"
+
+/* The kernels' tap tables hold radii up to this. */
+enum { LR_MAX_RADIUS_PX = 32 };
+
+/* Screen-filter radius for a primal sigma: 3 sigma, at least 0, at most half the window and
+ * at most LR_MAX_RADIUS_PX. */
+int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg);
+
+/* The screen passes' radii for a partition's filter (along its motion, across it): the
+ * Gaussian's 3 sigma plus the lens disk's radius and half the shutter box's length of the
+ * flat-weight filter (lr_filter.h), capped as above; 0 for a layer with neither blur (no
+ * shear, both sigmas at most sigma_pixel: a static layer seen through a pinhole), whose
+ * samples stay in their pixels: the pixel filter alone would only spread each pixel by 1.1%
+ * into its neighbours, which around a light source is a visible ring (docs 8.11). */
+void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry);
+
+/* The taps w[0..r] along (across = false) or across the motion. A filter with no disk or box
+ * share is the Gaussian exp(-(k / sigma)^2 / 2) at the taps; otherwise the profile
+ *     Gauss(sigma_rest) (x) semicircle of radius R (x) box of length L
+ * (R the disk's radius: a uniform disk projected on an axis; L the shutter's length;
+ * sigma_rest^2 = sigma^2 - R^2 / 4 - L^2 / 12, so the variance stays sigma^2) integrated over
+ * each tap's pixel; shares under 2 px, and what reaches past the window's margin, go to the
+ * Gaussian. docs/algorithms.md 8.18. */
+void lr_screen_taps(const LrFilter *f, const LrConfig *cfg, bool across, int r, float *w);
+
+#endif
