@@ -96,14 +96,22 @@ static void bin_gauss(double s, double *t)
     for (int k = -SPAN; k <= SPAN; ++k) t[k + SPAN] = s > 0.0 ? phi((k + 0.5) / s) - phi((k - 0.5) / s) : (k == 0);
 }
 
+/* Half-width of a symmetric per-pixel table: the largest |k| with a nonzero entry. */
+static int reach_of(const double *t)
+{
+    int k = SPAN;
+    while (k > 0 && t[k + SPAN] == 0.0) --k;
+    return k;
+}
+
 static void convolve(const double *a, const double *b, double *out)
 {
+    int ra = reach_of(a), rb = reach_of(b);
     for (int k = -SPAN; k <= SPAN; ++k) {
         double sum = 0.0;
-        for (int j = -SPAN; j <= SPAN; ++j) {
+        for (int j = -ra; j <= ra; ++j) {
             int i = k - j;
-            if (a[j + SPAN] == 0.0) continue;
-            if (i >= -SPAN && i <= SPAN) sum += a[j + SPAN] * b[i + SPAN];
+            if (i >= -rb && i <= rb) sum += a[j + SPAN] * b[i + SPAN];
         }
         out[k + SPAN] = sum;
     }
