@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "recon/cl/kernel_cache.h"
+#include "recon/cl/program_cache.h"
 #include "recon/cl/kernel_sources.h"
 
 #define MAX_PLATFORMS 16
@@ -154,8 +155,13 @@ static int choose_device(const DeviceList *list, const char *choice, Diag *d)
     return -1;
 }
 
+/* OpenCL C 1.2, float only, no extensions: the same kernels must build on every driver. */
+static const char BUILD_OPTIONS[] = "-cl-std=CL1.2";
+
 static bool build_program(ClRuntime *rt, const char *const *sources, int count, Diag *d)
 {
+    rt->program = program_cache_load(rt, sources, count, BUILD_OPTIONS);
+    if (rt->program) return true;
     cl_int err = CL_SUCCESS;
     rt->program = clCreateProgramWithSource(rt->context, (cl_uint)count, (const char **)sources, NULL, &err);
     if (err != CL_SUCCESS) {
@@ -163,9 +169,11 @@ static bool build_program(ClRuntime *rt, const char *const *sources, int count, 
                  cl_error_name(err));
         return false;
     }
-    /* OpenCL C 1.2, float only, no extensions: the same kernels must build on every driver. */
-    err = clBuildProgram(rt->program, 1, &rt->device, "-cl-std=CL1.2", NULL, NULL);
-    if (err == CL_SUCCESS) return true;
+    err = clBuildProgram(rt->program, 1, &rt->device, BUILD_OPTIONS, NULL, NULL);
+    if (err == CL_SUCCESS) {
+        program_cache_store(rt, rt->program, sources, count, BUILD_OPTIONS);
+        return true;
+    }
     size_t log_size = 0;
     clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &log_size);
     char *log = calloc(log_size + 1, 1);

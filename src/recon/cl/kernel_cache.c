@@ -2,6 +2,8 @@
 #define _XOPEN_SOURCE 700 /* nftw */
 #include "recon/cl/kernel_cache.h"
 
+#include "core/cache_home.h"
+
 #include <stdbool.h>
 
 #include <errno.h>
@@ -46,11 +48,8 @@ static void remove_temp_cache(void)
 static void choose_cache(void)
 {
     if (getenv("POCL_CACHE_DIR")) return; /* the user's choice */
-    const char *xdg = getenv("XDG_CACHE_HOME"), *home = getenv("HOME");
     char dir[4096];
-    if (xdg && xdg[0] == '/') snprintf(dir, sizeof dir, "%s/pocl", xdg);
-    else if (home && home[0]) snprintf(dir, sizeof dir, "%s/.cache/pocl", home);
-    else dir[0] = 0;
+    if (!cache_home("pocl", dir, sizeof dir)) dir[0] = 0;
     if (dir[0] && usable_dir(dir)) return;
     const char *tmp = getenv("TMPDIR");
     snprintf(temp_cache, sizeof temp_cache, "%s/wedge-kernels-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
