@@ -50,7 +50,7 @@ static void test_mean_kept(void)
             src[k] = (size_t)(uniform(&st) * 4.0f);
         }
         for (int c = 0; c < 3; ++c) value[c] = 2.0f * uniform(&st);
-        lr_pixel_light(n, rad, trial % 2 ? sh : NULL, src, &light, NULL, value, out);
+        lr_pixel_light(n, rad, trial % 2 ? sh : NULL, src, &light, NULL, NULL, value, out);
         for (int c = 0; c < 3; ++c) {
             double mean = 0.0;
             for (int k = 0; k < n; ++k) mean += out[3 * k + c];
@@ -85,7 +85,7 @@ static void test_noise_replaced_texture_kept(void)
     size_t src[N];
     for (int k = 0; k < N; ++k) albedo[k] = k % 3 ? 0.2f : 0.75f, src[k] = 1;
     noisy_samples(&st, N, albedo, 0.05f, rad, sh);
-    lr_pixel_light(N, rad, sh, src, &light, NULL, value, out);
+    lr_pixel_light(N, rad, sh, src, &light, NULL, NULL, value, out);
     int bad = 0;
     for (int k = 1; k < N; ++k)
         for (int c = 0; c < 3; ++c) {
@@ -111,7 +111,7 @@ static void test_deviations_kept_where_not_filtered(void)
     for (int k = 0; k < N; ++k) albedo[k] = 0.5f, src[k] = 3; /* pixel 3: passed through */
     noisy_samples(&st, N, albedo, 0.0f, rad, sh);
     for (int pass = 0; pass < 2; ++pass) { /* a passed-through pixel, then no shading field */
-        lr_pixel_light(N, rad, pass ? NULL : sh, src, &light, NULL, value, out);
+        lr_pixel_light(N, rad, pass ? NULL : sh, src, &light, NULL, NULL, value, out);
         int bad = 0;
         for (int k = 1; k < N; ++k)
             for (int c = 0; c < 3; ++c) bad += fabsf((out[3 * k + c] - out[c]) - (rad[3 * k + c] - rad[c])) > 1e-5f;
@@ -173,12 +173,80 @@ static void test_delta_light(void)
     size_t src[CAP];
     for (int k = 0; k < CAP; ++k) src[k] = 0;
     ReconShadingLight none = {NULL, NULL, NULL};
-    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, delta4, value, out);
+    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, delta4, NULL, value, out);
     float spread = 0.0f;
     for (int k = 1; k < CAP; ++k) spread = fmaxf(spread, fabsf(out[3 * k] - out[0]));
     CHECK(spread < 1e-6f);
-    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, NULL, value, out);
+    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, NULL, NULL, value, out);
     CHECK(fabsf(out[3] - out[0]) > 0.5f); /* without the means the pick's noise stays */
+    sample_store_destroy(store);
+}
+
+/* lr_centre_light (docs/algorithms.md 8.19): samples stored at their own pixels but put by
+ * their lens-centre, mid-shutter positions into the bins around pixel (5, 1), as a moving
+ * object's samples are. Object 1's direct light is its albedo times 0.6 with a +-90% light
+ * sample noise in pairs, object 2 (a floor meeting it there) has 0.2 and lands in the same
+ * bins: each gets its own mean light per unit albedo exactly, a third object in those bins
+ * and a sample outside the image get none; then lr_pixel_light gives a sample of an
+ * unfiltered pixel that light times its albedo instead of its own noise. */
+static void test_centre_light(void)
+{
+    enum { W = 8, H = 3, CAP = 8 };
+    SampleStore *store = NULL;
+    Diag d = {0};
+    CHECK(sample_store_create(SAMPLE_FIELD_SHADING | SAMPLE_FIELD_RADIANCE, W, H, CAP, (size_t)1 << 30, &store, &d));
+    if (!store) return;
+    float centre_xy[2 * W * H * CAP];
+    int object_of[W * H * CAP];
+    const float e1 = 0.6f, e2 = 0.2f;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int k = 0; k < CAP; ++k) {
+                size_t j = ((size_t)y * W + (size_t)x) * CAP + (size_t)k;
+                int object = x < 4 ? 1 : x < 7 ? 2 : 3; /* pixel order: 1 and 2 claim the slots first */
+                float albedo = object == 1 ? 0.3f + 0.1f * (float)(x % 3) : 0.5f;
+                float e = object == 1 ? e1 * (k % 2 ? 1.9f : 0.1f) : object == 2 ? e2 : 0.9f;
+                SampleRecord r = {0};
+                r.hit = true;
+                r.object_id = object;
+                r.albedo = (vec3){albedo, albedo, albedo};
+                r.direct = r.L = (vec3){albedo * e, albedo * e, albedo * e};
+                sample_store_add(store, x, y, &r);
+                object_of[j] = object;
+                centre_xy[2 * j] = 4.1f + 0.25f * (float)(k % 8); /* bins x = 4..5, y = 1 */
+                centre_xy[2 * j + 1] = 1.5f;
+            }
+    /* samples 0 and 1 of pixel (0, 0), object 1 (a pair of the noise: the rest stays exact),
+     * land outside the image */
+    const size_t outside = 0;
+    centre_xy[0] = -3.0f, centre_xy[2] = 9.5f;
+    GBuffer g = {0};
+    g.width = W, g.height = H;
+    const float *sh = sample_store_field(store, SAMPLE_FIELD_SHADING);
+    static float light9[9 * W * H * CAP];
+    lr_centre_light(&g, store, sh, centre_xy, light9);
+    int wrong = 0;
+    for (size_t j = 0; j < (size_t)W * H * CAP; ++j) {
+        float want = object_of[j] == 1 ? e1 : e2;
+        if (object_of[j] == 3 || j < 2) wrong += !isnan(light9[9 * j]); /* a third object: no slot; outside */
+        else wrong += !(fabsf(light9[9 * j] - want) < 1e-5f) || !(fabsf(light9[9 * j + 3]) < 1e-6f);
+    }
+    CHECK(wrong == 0);
+    CHECK(isnan(light9[9 * outside + 3]) && isnan(light9[9 * outside + 6]));
+    /* pixel (1, 1) of object 1, passed through by the shading filter (weight 0) */
+    size_t p = 1 * W + 1;
+    float direct4[4 * W * H] = {0}, value[3] = {0.3f, 0.3f, 0.3f}, out[3 * CAP];
+    ReconShadingLight light = {direct4, NULL, NULL};
+    size_t src[CAP];
+    for (int k = 0; k < CAP; ++k) src[k] = p;
+    const float *rad = sample_store_field(store, SAMPLE_FIELD_RADIANCE) + p * CAP * 3;
+    lr_pixel_light(CAP, rad, sh + p * CAP * LR_SHADING_FLOATS, src, &light, NULL, light9 + p * CAP * 9, value, out);
+    float spread = 0.0f, mean = 0.0f;
+    for (int k = 0; k < CAP; ++k) spread = fmaxf(spread, fabsf(out[3 * k] - out[0])), mean += out[3 * k] / CAP;
+    CHECK(spread < 1e-6f);              /* one albedo in the pixel: one light */
+    CHECK(fabsf(mean - value[0]) < 1e-6f); /* the pixel's value kept */
+    lr_pixel_light(CAP, rad, sh + p * CAP * LR_SHADING_FLOATS, src, &light, NULL, NULL, value, out);
+    CHECK(fabsf(out[3] - out[0]) > 0.2f); /* without it the sample's own noise stays */
     sample_store_destroy(store);
 }
 
@@ -189,5 +257,6 @@ int main(void)
     test_deviations_kept_where_not_filtered();
     test_light_pixel();
     test_delta_light();
+    test_centre_light();
     CHECK_DONE();
 }

@@ -129,29 +129,36 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
     float *light = malloc(sizeof(float) * 3 * (size_t)cap);
     size_t *src = malloc(sizeof(size_t) * (size_t)cap);
     float *delta4 = shade ? malloc(sizeof(float) * 4 * n) : NULL;
-    if (!light || !src || (shade && !delta4)) {
-        free(light), free(src), free(delta4);
+    float *centre_xy = shade ? malloc(sizeof(float) * 2 * n * (size_t)cap) : NULL;
+    float *centre9 = shade ? malloc(sizeof(float) * 9 * n * (size_t)cap) : NULL;
+    if (!light || !src || (shade && (!delta4 || !centre_xy || !centre9))) {
+        free(light), free(src), free(delta4), free(centre_xy), free(centre9);
         return NULL;
     }
-    if (shade) lr_delta_light(m->g, st, shade, delta4);
-    LrSample *s = m->samples;
-    const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
-    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
-    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
     /* Motion alone (defocus is another method's, already in the corrected radiance): LR's
      * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
      * along the motion, not a dimension it shears). */
     bool lens_dims = effect_in(m->effects, EFFECT_DEFOCUS);
+    if (shade) {
+        lr_delta_light(m->g, st, shade, delta4);
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < sample_store_count(st, i); ++k)
+                centre_position(m, i * cap + k, lens_dims, &centre_xy[2 * (i * cap + k)], &centre_xy[2 * (i * cap + k) + 1]);
+        lr_centre_light(m->g, st, shade, centre_xy, centre9);
+    }
+    LrSample *s = m->samples;
+    const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
+    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
+    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
     for (size_t i = 0; i < n; ++i) {
         int count = sample_store_count(st, i);
         for (int k = 0; shade && k < count; ++k) {
-            float x0, y0;
-            centre_position(m, i * cap + k, lens_dims, &x0, &y0);
-            src[k] = lr_light_pixel(m->g, x0, y0, depth[i * cap + k], shade[(i * cap + k) * LR_SHADING_FLOATS + 9], i);
+            const float *xy = &centre_xy[2 * (i * cap + k)];
+            src[k] = lr_light_pixel(m->g, xy[0], xy[1], depth[i * cap + k], shade[(i * cap + k) * LR_SHADING_FLOATS + 9], i);
         }
         float value[3] = {value4[4 * i], value4[4 * i + 1], value4[4 * i + 2]};
-        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, delta4, value,
-                       light);
+        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, delta4,
+                       shade ? centre9 + i * cap * 9 : NULL, value, light);
         for (int k = 0; k < spp; ++k) {
             size_t j = i * cap + k;
             LrSample *o = &s[i * spp + k];
@@ -170,7 +177,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
             for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
         }
     }
-    free(light), free(src), free(delta4);
+    free(light), free(src), free(delta4), free(centre_xy), free(centre9);
     return s;
 }
 

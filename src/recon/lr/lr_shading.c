@@ -2,6 +2,7 @@
 #include "recon/lr/lr_shading.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 /* Pixels whose depth differs more than this (relative) are other surfaces. */
 #define LR_SAME_SURFACE_DEPTH 0.05f
@@ -60,17 +61,32 @@ static void replaced_light(const float *radiance, const float *shading, const fl
     }
 }
 
+/* lr_centre_light's value for one part (3 floats), or NULL where it has none. */
+static const float *centre_part(const float *centre9, int k, int part)
+{
+    if (!centre9) return NULL;
+    const float *v = centre9 + 9 * k + 3 * part;
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]) ? v : NULL;
+}
+
 void lr_pixel_light(int n, const float *radiance, const float *shading, const size_t *src,
-                    const ReconShadingLight *light, const float *delta4, const float value[3], float *out)
+                    const ReconShadingLight *light, const float *delta4, const float *centre9, const float value[3],
+                    float *out)
 {
     double sum[3] = {0.0, 0.0, 0.0};
     for (int k = 0; k < n; ++k) {
         float ed_buf[3], ei_buf[3], eu_buf[3];
         const float *ed = NULL, *ei = NULL, *eu = NULL;
         if (shading && light && src) {
-            ed = lr_filtered_light(light->direct4, light->direct_factor, src[k], ed_buf) ? ed_buf : NULL;
-            ei = lr_filtered_light(light->indirect4, NULL, src[k], ei_buf) ? ei_buf : NULL;
-            eu = lr_filtered_light(delta4, NULL, src[k], eu_buf) ? eu_buf : NULL;
+            /* a part the shading filters left out keeps its own light unless the centre frame
+             * has its object's (8.19); a part no filter touched stays as it is */
+            ed = lr_filtered_light(light->direct4, light->direct_factor, src[k], ed_buf) ? ed_buf
+                 : light->direct4                                                        ? centre_part(centre9, k, 0)
+                                                                                         : NULL;
+            ei = lr_filtered_light(light->indirect4, NULL, src[k], ei_buf) ? ei_buf
+                 : light->indirect4                                      ? centre_part(centre9, k, 1)
+                                                                         : NULL;
+            eu = lr_filtered_light(delta4, NULL, src[k], eu_buf) ? eu_buf : delta4 ? centre_part(centre9, k, 2) : NULL;
         }
         replaced_light(radiance + 3 * k, shading ? shading + LR_SHADING_FLOATS * k : NULL, ed, ei, eu, out + 3 * k);
         for (int c = 0; c < 3; ++c) sum[c] += out[3 * k + c];
@@ -80,4 +96,95 @@ void lr_pixel_light(int n, const float *radiance, const float *shading, const si
         if (!isfinite(shift)) shift = 0.0f; /* a non-finite mean: the sample itself counts it */
         for (int k = 0; k < n; ++k) out[3 * k + c] += shift;
     }
+}
+
+/* Per bin of the lens-centre, mid-shutter frame and object slot: sums of the filterable
+ * direct, indirect and delta lights and of the albedo (rgb each) of one object's samples. A
+ * bin has LR_CENTRE_SLOTS slots: where two surfaces meet at mid-shutter (a moving object's
+ * edge over the floor it stands on) both keep their light. */
+enum { CL_SD = 0, CL_SI = 3, CL_SU = 6, CL_A = 9, CL_SUMS = 12, LR_CENTRE_SLOTS = 2 };
+
+static int bin_of(const GBuffer *g, float x_px, float y_px)
+{
+    if (!(x_px >= 0.0f && y_px >= 0.0f && x_px < (float)g->width && y_px < (float)g->height)) return -1;
+    return (int)y_px * g->width + (int)x_px;
+}
+
+/* The slot of bin q holding object `object`, or -1; with claim, an empty slot is taken. */
+static int slot_of(float *id, size_t q, float object, bool claim)
+{
+    for (int k = 0; k < LR_CENTRE_SLOTS; ++k) {
+        float *s = &id[q * LR_CENTRE_SLOTS + (size_t)k];
+        if (*s == object) return k;
+        if (isnan(*s)) {
+            if (!claim) return -1;
+            *s = object;
+            return k;
+        }
+    }
+    return -1;
+}
+
+void lr_centre_light(const GBuffer *g, const SampleStore *st, const float *shading, const float *centre_xy,
+                     float *light9)
+{
+    size_t n = (size_t)g->width * (size_t)g->height, bins = n * LR_CENTRE_SLOTS;
+    int cap = sample_store_capacity(st);
+    float *sums = calloc(bins * CL_SUMS, sizeof(float)), *blur = calloc(bins * CL_SUMS, sizeof(float));
+    float *id = malloc(sizeof(float) * bins);
+    if (!sums || !blur || !id) {
+        free(sums), free(blur), free(id);
+        for (size_t j = 0; j < n * (size_t)cap * 9; ++j) light9[j] = NAN;
+        return;
+    }
+    for (size_t q = 0; q < bins; ++q) id[q] = NAN; /* empty */
+    /* Each sample lands in the bin of its point's lens-centre, mid-shutter position; the first
+     * objects to land (pixel order: deterministic) get the slots, later ones are dropped. */
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < sample_store_count(st, i); ++k) {
+            size_t j = i * (size_t)cap + (size_t)k;
+            const float *sh = shading + j * LR_SHADING_FLOATS;
+            int q = bin_of(g, centre_xy[2 * j], centre_xy[2 * j + 1]);
+            int slot = q >= 0 && sh[9] >= 0.0f ? slot_of(id, (size_t)q, sh[9], true) : -1;
+            if (slot < 0) continue;
+            float *s = sums + ((size_t)q * LR_CENTRE_SLOTS + (size_t)slot) * CL_SUMS;
+            for (int c = 0; c < 3; ++c) {
+                s[CL_SD + c] += sh[c], s[CL_SI + c] += sh[3 + c], s[CL_SU + c] += sh[10 + c], s[CL_A + c] += sh[6 + c];
+            }
+        }
+    /* A box of LR_CENTRE_RADIUS_PX around each bin, over the slots of the same object. */
+    int w = g->width, h = g->height, r = LR_CENTRE_RADIUS_PX;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int a = 0; a < LR_CENTRE_SLOTS; ++a) {
+                size_t q = (size_t)y * (size_t)w + (size_t)x, qa = q * LR_CENTRE_SLOTS + (size_t)a;
+                if (isnan(id[qa])) continue;
+                float *b = blur + qa * CL_SUMS;
+                for (int dy = -r; dy <= r; ++dy)
+                    for (int dx = -r; dx <= r; ++dx) {
+                        int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                        size_t p = (size_t)yy * (size_t)w + (size_t)xx;
+                        int sp = slot_of(id, p, id[qa], false);
+                        if (sp < 0) continue;
+                        const float *src = sums + (p * LR_CENTRE_SLOTS + (size_t)sp) * CL_SUMS;
+                        for (int c = 0; c < CL_SUMS; ++c) b[c] += src[c];
+                    }
+            }
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < sample_store_count(st, i); ++k) {
+            size_t j = i * (size_t)cap + (size_t)k;
+            float *o = light9 + j * 9;
+            int q = bin_of(g, centre_xy[2 * j], centre_xy[2 * j + 1]);
+            int slot = q >= 0 ? slot_of(id, (size_t)q, shading[j * LR_SHADING_FLOATS + 9], false) : -1;
+            const float *b = slot >= 0 ? blur + ((size_t)q * LR_CENTRE_SLOTS + (size_t)slot) * CL_SUMS : NULL;
+            for (int c = 0; c < 3; ++c) {
+                float a = b ? b[CL_A + c] : 0.0f;
+                bool lit = a > LR_MIN_ALBEDO;
+                o[c] = lit ? b[CL_SD + c] / a : NAN;
+                o[3 + c] = lit ? b[CL_SI + c] / a : NAN;
+                o[6 + c] = lit ? b[CL_SU + c] / a : NAN;
+            }
+        }
+    free(sums), free(blur), free(id);
 }
