@@ -46,6 +46,17 @@ int fsf_y2_bin(const FsfGrid *g, float y2_m)
     return b < 0 ? 0 : b >= g->y2_bins ? g->y2_bins - 1 : b;
 }
 
+void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3])
+{
+    double mean[3] = {0, 0, 0};
+    for (int k = 0; k < count; ++k)
+        for (int ch = 0; ch < 3; ++ch) mean[ch] += sample_rgb[3 * (size_t)k + (size_t)ch];
+    for (int ch = 0; ch < 3; ++ch) {
+        double s = mean[ch] > 0.0 ? value4[ch] * (double)count / mean[ch] : 0.0;
+        scale[ch] = isfinite(s) ? (float)s : 0.0f;
+    }
+}
+
 /* Spacing of the shift grid along axis a: shift_nodes nodes over [-2 L, 2 L] (beyond 2 L the
  * box I(y - Y) misses every sample on the light). */
 static float node_step(const FsfGrid *g, int a) { return 4.0f * g->half_m[a] / (float)(g->shift_nodes - 1); }

@@ -122,6 +122,13 @@ enum { FSF_CUM = 2 * FSF_RADIUS_CAP_PX + 2 };
 void fsf_tap_prefix(float sigma_px, float *cum);
 float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum);
 
+/* The factors that make a pixel's samples (count of them, 3 floats each from sample_rgb)
+ * average to its value value4 (rgb): value / mean per channel, 0 where the mean is not
+ * positive or the factor not finite. The pipeline's value may differ from the samples' raw
+ * mean (demodulation, a shading filter's result); the filter then blurs samples on the
+ * pixel's own scale. */
+void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3]);
+
 /* The y2 bin of a light coordinate (clamped into [0, y2_bins)). */
 int fsf_y2_bin(const FsfGrid *g, float y2_m);
 
