@@ -51,7 +51,11 @@ typedef struct {
 
 /* The light and the discretisation shared by all pixels. */
 typedef struct {
-    float half_m[2];           /* L1, L2: the light's half extents along u and v (metres) */
+    float half_m[2];           /* L1, L2: the light's half extents along u and v (metres): where
+                                * samples lie (bins, shift grid, density) */
+    float profile_half[2];     /* the box profile I keeps |z| <= these: half_m for the light; for
+                                * the lens (a disk inside the hull half_m) the square with the
+                                * disk's variance (fsf_lens.h) */
     int shift_nodes;           /* nodes of the shift grids Y1, Y2 over [-2 L, 2 L] (odd: one
                                 * node at 0); FSF section 5: 16 bins, so 17 nodes */
     int y2_bins;               /* bins of y2 over [-L2, L2] carried through pass 1 (FSF footnote 8);

@@ -7,6 +7,13 @@
 #include "recon/fsf/fsf_slope_window.h"
 #include "recon/recon_parallel.h"
 
+FsfGrid fsf_lens_grid(void)
+{
+    FsfGrid g = fsf_grid_default(1.0f, 1.0f);
+    g.profile_half[0] = g.profile_half[1] = FSF_LENS_PROFILE_HALF;
+    return g;
+}
+
 float fsf_lens_slope(const ReconCamera *cam, float depth_cam)
 {
     float c = recon_coc_slope_px(cam, depth_cam);
@@ -106,7 +113,19 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
             eta = -0.5f * (pick.lo + pick.hi);
             sigma = sigma_of_spread(in, pick.hi - pick.lo);
         }
-        sigma = fminf(sigma, pick.cap_px);
+        /* taps stay inside the image: the density correction (fsf_density) counts every tap
+         * of the radius, and a side cut off by the border would shift the aperture the
+         * filter sees (a synthetic plane's border pixels had 10x the inside's error) */
+        int x = (int)(i % (size_t)in->g->width), y = (int)(i / (size_t)in->g->width);
+        int edge = x < y ? x : y;
+        edge = edge < in->g->width - 1 - x ? edge : in->g->width - 1 - x;
+        edge = edge < in->g->height - 1 - y ? edge : in->g->height - 1 - y;
+        sigma = fminf(fminf(sigma, pick.cap_px), (float)edge / FSF_RADIUS_SIGMAS);
+        /* Left out (its mean kept): a filter that reaches no neighbour, too narrow for its
+         * first taps to matter or sheared so far that a neighbour one step away lands off the
+         * lens (|eta| > 2: in focus, c < 1/2 px), would only drop the own samples outside the
+         * profile square */
+        if (sigma < FSF_LENS_SIGMA_MIN_PX || fabsf(eta) > 2.0f) sigma = 0.0f;
         pp->eta_m[0] = pp->eta_m[1] = eta;
         pp->sigma_px[0] = pp->sigma_px[1] = sigma;
     }

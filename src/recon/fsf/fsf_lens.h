@@ -17,7 +17,10 @@
  *   shear    eta = -(k_lo + k_hi) / 2 on both axes; width sigma = (1/2) / (k_hi - k_lo) / mu
  *            (FSF eq. 4 with the lens half extent 1), capped by the window
  *   straddle a range with k_lo < 0 < k_hi holds samples on both sides of the focal plane (k
- *            runs through +-inf there): no shear, sigma = (1/2) / max(|k_lo|, |k_hi|) / mu */
+ *            runs through +-inf there): no shear, sigma = (1/2) / max(|k_lo|, |k_hi|) / mu
+ *   border   sigma <= (distance to the image border) / 2: every tap inside the image
+ *   left out sigma < FSF_LENS_SIGMA_MIN_PX or |eta| > 2 (in focus): sigma 0, the pixel keeps
+ *            its mean */
 #ifndef WEDGE_RECON_FSF_LENS_H
 #define WEDGE_RECON_FSF_LENS_H
 
@@ -31,12 +34,24 @@
  * a neighbour one pixel away off the lens many times over. */
 #define FSF_LENS_K_MAX 1.0e4f
 
+/* The grid: samples over the disk's square hull [-1, 1]^2; the box profile over [-h, h]^2
+ * with h = sqrt(3) / 2, the square whose per-axis variance h^2 / 3 = 1/4 is the unit disk's
+ * (the separable passes cannot weight by the disk itself; the full hull would blur with a
+ * square twice the disk's area once the shear spreads samples over it; docs/algorithms.md
+ * 10.9 measures the three). */
+#define FSF_LENS_PROFILE_HALF 0.8660254f
+FsfGrid fsf_lens_grid(void);
+
 /* The filter's coordinate of a lens point (unit disk): (u, -v). */
 static inline void fsf_lens_coord(float lens_u, float lens_v, float y[2])
 {
     y[0] = lens_u;
     y[1] = -lens_v;
 }
+
+/* Narrower filters are left out (the pixel keeps its mean): at sigma 0.5 the first taps
+ * weigh exp(-2) = 0.14 of the centre. */
+#define FSF_LENS_SIGMA_MIN_PX 0.5f
 
 /* Lens slope of a sample at camera depth depth_cam (+inf: a miss), lens units per pixel. */
 float fsf_lens_slope(const ReconCamera *cam, float depth_cam);

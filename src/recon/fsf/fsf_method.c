@@ -163,9 +163,12 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
 }
 
 /* The four passes (on the device when one was opened), then each usable pixel's value4 rgb
- * replaced by its filtered one (rgb / weight); non-finite results keep the input, counted. */
+ * replaced by its filtered one (rgb / weight); non-finite results keep the input, counted.
+ * keep_left_out: pixels with both widths 0 keep value4 (for the lens, whose profile square
+ * would drop some of their own samples; the light's profile keeps them all). */
 static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid, const FsfPixel *px,
-                       const FsfGuides *gd, float *out4, float *value4, double *kernel_seconds, Diag *d)
+                       const FsfGuides *gd, bool keep_left_out, float *out4, float *value4, double *kernel_seconds,
+                       Diag *d)
 {
     bool ok = true;
     if (m->cl) {
@@ -178,6 +181,7 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     long long before = m->nonfinite;
     for (size_t i = 0; ok && i < n; ++i) {
         if (!gd->usable[i] || !(out4[4 * i + 3] > 0.0f)) continue;
+        if (keep_left_out && px[i].sigma_px[0] == 0.0f && px[i].sigma_px[1] == 0.0f) continue;
         float r[3];
         bool finite = true;
         for (int ch = 0; ch < 3; ++ch) {
@@ -245,7 +249,7 @@ static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *ke
     FsfSamples s = {w, h, cap, b.count, b.y, b.v};
     FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
-    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, b.out4, value4, kernel_seconds, d);
+    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, false, b.out4, value4, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) {
         m->eta_aov[i] = b.px[i].eta_m[0];
         m->sigma_aov[i] = b.px[i].sigma_px[0];
@@ -279,9 +283,9 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     }
     if (ok) fsf_lens_guides(n, guide, guide + 4 * n);
     FsfSamples s = {w, h, cap, b.count, b.y, b.v};
-    FsfGrid grid = fsf_grid_default(1.0f, 1.0f); /* the unit lens' square hull */
+    FsfGrid grid = fsf_lens_grid();
     FsfGuides gd = fsf_guides_default(guide, guide ? guide + 4 * n : NULL, b.usable);
-    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, b.out4, value4, kernel_seconds, d);
+    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, true, b.out4, value4, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) {
         m->lens_eta_aov[i] = b.px[i].eta_m[0];
         m->lens_sigma_aov[i] = b.px[i].sigma_px[0];
