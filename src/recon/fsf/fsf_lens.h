@@ -39,7 +39,7 @@
  * (the separable passes cannot weight by the disk itself; the full hull would blur with a
  * square twice the disk's area once the shear spreads samples over it; docs/algorithms.md
  * 10.9 measures the three). */
-#define FSF_LENS_PROFILE_HALF 0.8660254f
+#define FSF_LENS_PROFILE_HALF 0.8862269f
 FsfGrid fsf_lens_grid(void);
 
 /* The filter's coordinate of a lens point (unit disk): (u, -v). */
