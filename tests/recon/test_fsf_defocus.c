@@ -1,6 +1,6 @@
 /* FSF for defocus (fsf_lens.h) on synthetic lens samples of a textured plane, built the way
- * the camera makes them (film x = x0 + c u, y = y0 - c v, docs/algorithms.md 10.9) and fed
- * through the real store, gather and parameter code:
+ * the camera makes them (film x = x0 + c u, y = y0 - c v; docs/algorithms.md section 10,
+ * "Defocus") and fed through the real store, gather and parameter code:
  *
  *   1. constant depth (a known circle of confusion): the texture is a sinusoid, so the
  *      defocused pixel value is known in closed form (the pixel box's and the lens disk's

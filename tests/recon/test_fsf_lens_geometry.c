@@ -1,5 +1,5 @@
-/* The lens geometry FSF's defocus filter relies on (fsf_lens.h, docs/algorithms.md 10.9),
- * against the renderer's own thin-lens camera by brute force: for a fixed world point at
+/* The lens geometry FSF's defocus filter relies on (fsf_lens.h; docs/algorithms.md section
+ * 10, "Defocus"), against the renderer's own thin-lens camera by brute force: for a fixed world point at
  * several depths, the film positions through which camera_generate_ray reaches it from two
  * lens points differ by c (u - u') along x and -c (v - v') along y, c = recon_coc_slope_px;
  * so the filter's coordinate z = y' + eta t with y = fsf_lens_coord, eta = -fsf_lens_slope

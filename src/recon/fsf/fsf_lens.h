@@ -1,4 +1,5 @@
-/* FSF for defocus: the lens in place of the light (docs/algorithms.md 10.9).
+/* FSF for defocus: the lens in place of the light (docs/algorithms.md section 10,
+ * "Defocus").
  *
  * The filter (fsf_filter.h) takes per sample a 2D coordinate y and per pixel a shear eta (y
  * units per pixel step along dir[a]) and widths; for defocus:
@@ -35,10 +36,11 @@
 #define FSF_LENS_K_MAX 1.0e4f
 
 /* The grid: samples over the disk's square hull [-1, 1]^2; the box profile over [-h, h]^2
- * with h = sqrt(3) / 2, the square whose per-axis variance h^2 / 3 = 1/4 is the unit disk's
- * (the separable passes cannot weight by the disk itself; the full hull would blur with a
- * square twice the disk's area once the shear spreads samples over it; docs/algorithms.md
- * 10.9 measures the three). */
+ * with h = sqrt(pi) / 2, the square of the unit disk's area (its per-axis variance 0.26 is
+ * near the disk's 1/4, so it blurs like the disk to second order). The separable passes
+ * cannot weight by the disk itself; the full hull blurs with a square of twice the disk's
+ * variance once the shear spreads samples over it. docs/algorithms.md section 10, "Defocus",
+ * measures the hull, the equal-variance and the equal-area square. */
 #define FSF_LENS_PROFILE_HALF 0.8862269f
 FsfGrid fsf_lens_grid(void);
 
@@ -75,7 +77,7 @@ typedef struct {
 bool fsf_lens_params(const FsfLensIn *in, FsfPixel *px, float *k_lo, float *k_hi);
 
 /* Guides that accept every usable neighbour (defocus keeps no per-pixel rejection: see
- * docs/algorithms.md 10.9): pos4 (0, 0, 0, 1), nrm4 (0, 0, 1, 0) for n pixels. */
+ * docs/algorithms.md section 10, "Defocus"): pos4 (0, 0, 0, 1), nrm4 (0, 0, 1, 0) for n pixels. */
 void fsf_lens_guides(size_t n, float *pos4, float *nrm4);
 
 #endif
