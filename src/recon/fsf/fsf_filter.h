@@ -71,6 +71,13 @@ typedef struct {
     float sigma_px[2];         /* standard deviation of w along dir[a], pixel steps */
 } FsfPixel;
 
+/* A pixel left out: screen axes, no shear, width 0. */
+static inline FsfPixel fsf_pixel_left_out(void)
+{
+    FsfPixel p = {{{1.0f, 0.0f}, {0.0f, 1.0f}}, {0.0f, 0.0f}, {0.0f, 0.0f}};
+    return p;
+}
+
 /* Which neighbours a pixel may take light from: same surface orientation and plane. */
 typedef struct {
     const float *pos4;         /* mean position (world) and camera depth per pixel */

@@ -57,29 +57,16 @@ void fsf_lens_guides(size_t n, float *pos4, float *nrm4)
 
 typedef struct {
     const FsfLensIn *in;
-    float *own_lo, *own_hi;
     FsfSlopeWindows wnd;
     FsfPixel *px;
     float *k_lo, *k_hi;
 } Job;
 
-/* The range of the pixel's own samples' slopes (every sample: a miss has depth +inf and a
- * finite slope). */
-static void own_range(void *ctx, size_t begin, size_t end, int part)
+/* A sample's slope (every sample has one: a miss has depth +inf and a finite slope). */
+static float sample_slope(const void *ctx, size_t slot)
 {
-    (void)part;
-    Job *j = ctx;
-    const SampleStore *st = j->in->store;
-    const float *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
-    int cap = sample_store_capacity(st);
-    for (size_t i = begin; i < end; ++i) {
-        float lo = INFINITY, hi = -INFINITY;
-        for (int k = 0; k < sample_store_count(st, i); ++k) {
-            float s = fsf_lens_slope(&j->in->g->cam, depth[i * (size_t)cap + (size_t)k]);
-            lo = fminf(lo, s), hi = fmaxf(hi, s);
-        }
-        j->own_lo[i] = lo, j->own_hi[i] = hi;
-    }
+    const FsfLensIn *in = ctx;
+    return fsf_lens_slope(&in->g->cam, sample_store_field(in->store, SAMPLE_FIELD_DEPTH)[slot]);
 }
 
 /* FSF eq. 4 with the lens' half extent 1, in pixels (infinite for one slope). */
@@ -96,9 +83,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     const FsfLensIn *in = j->in;
     for (size_t i = begin; i < end; ++i) {
         FsfPixel *pp = &j->px[i];
-        pp->dir[0][0] = 1.0f, pp->dir[0][1] = 0.0f, pp->dir[1][0] = 0.0f, pp->dir[1][1] = 1.0f;
-        pp->eta_m[0] = pp->eta_m[1] = 0.0f;
-        pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
+        *pp = fsf_pixel_left_out();
         j->k_lo[i] = j->k_hi[i] = 0.0f;
         if (!in->usable[i]) continue;
         FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_of_spread, in);
@@ -137,15 +122,9 @@ bool fsf_lens_params(const FsfLensIn *in, FsfPixel *px, float *k_lo, float *k_hi
     size_t n = (size_t)in->g->width * (size_t)in->g->height;
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
-    float *block = malloc(sizeof(float) * n * 2);
-    bool ok = block != NULL;
-    if (ok) {
-        j.own_lo = block, j.own_hi = block + n;
-        recon_parallel_for(n, own_range, &j);
-        ok = fsf_slope_windows(in->g->width, in->g->height, j.own_lo, j.own_hi, NULL, &j.wnd);
-        if (ok) recon_parallel_for(n, params_range, &j);
-        fsf_slope_windows_free(&j.wnd);
-    }
-    free(block);
+    /* over every object: a defocused object's samples reach any neighbour */
+    bool ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope, in, NULL, &j.wnd);
+    if (ok) recon_parallel_for(n, params_range, &j);
+    fsf_slope_windows_free(&j.wnd);
     return ok;
 }

@@ -9,7 +9,6 @@
 
 typedef struct {
     const FsfParamsIn *in;
-    float *own_lo, *own_hi;             /* the pixel's own range (+inf, -inf: none) */
     FsfSlopeWindows wnd;
     FsfPixel *px;
     float *k_lo, *k_hi;
@@ -22,25 +21,13 @@ static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float st
     return sigma_m / (in->mu * step_m);
 }
 
-/* The slope range of the pixel's own occluded samples. */
-static void own_range(void *ctx, size_t begin, size_t end, int part)
+/* An occluded sample's slope k = (d_light - d_occ) / d_occ; NaN for an unoccluded one. */
+static float sample_slope(const void *ctx, size_t slot)
 {
-    (void)part;
-    Job *j = ctx;
-    const SampleStore *st = j->in->store;
-    const float *lf = sample_store_field(st, SAMPLE_FIELD_LIGHT);
-    int cap = sample_store_capacity(st);
-    for (size_t i = begin; i < end; ++i) {
-        float lo = INFINITY, hi = -INFINITY;
-        for (int k = 0; k < sample_store_count(st, i); ++k) {
-            const float *s = lf + 5 * (i * (size_t)cap + (size_t)k);
-            float d_light = s[3], d_occ = s[4];
-            if (!(d_occ > 0.0f && d_occ < d_light && isfinite(d_occ))) continue;
-            float k_m = (d_light - d_occ) / d_occ;
-            lo = fminf(lo, k_m), hi = fmaxf(hi, k_m);
-        }
-        j->own_lo[i] = lo, j->own_hi[i] = hi;
-    }
+    const float *s = sample_store_field(((const FsfParamsIn *)ctx)->store, SAMPLE_FIELD_LIGHT) + 5 * slot;
+    float d_light = s[3], d_occ = s[4];
+    if (!(d_occ > 0.0f && d_occ < d_light && isfinite(d_occ))) return NAN;
+    return (d_light - d_occ) / d_occ;
 }
 
 /* A surface neighbour for the Jacobian: hit, not mixed, facing the same way. */
@@ -88,9 +75,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     int w = g->width;
     for (size_t i = begin; i < end; ++i) {
         FsfPixel *pp = &j->px[i];
-        pp->dir[0][0] = 1.0f, pp->dir[0][1] = 0.0f, pp->dir[1][0] = 0.0f, pp->dir[1][1] = 1.0f;
-        pp->eta_m[0] = pp->eta_m[1] = 0.0f;
-        pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
+        *pp = fsf_pixel_left_out();
         j->k_lo[i] = j->k_hi[i] = 0.0f;
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
         if (!in->usable[i]) continue;
@@ -147,18 +132,15 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     size_t n = (size_t)in->g->width * (size_t)in->g->height;
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
-    float *block = malloc(sizeof(float) * n * 3);
-    bool ok = block != NULL;
+    float *obj = malloc(sizeof(float) * n); /* object id per pixel (gbuffer nrm4[3]) */
+    bool ok = obj != NULL;
     if (ok) {
-        j.own_lo = block, j.own_hi = block + n;
-        float *obj = block + 2 * n; /* object id per pixel (gbuffer nrm4[3]) */
         for (size_t i = 0; i < n; ++i) obj[i] = in->g->nrm4[4 * i + 3];
-        recon_parallel_for(n, own_range, &j);
         /* only the centre's object: the filter takes light from no other surface */
-        ok = fsf_slope_windows(in->g->width, in->g->height, j.own_lo, j.own_hi, obj, &j.wnd);
+        ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope, in, obj, &j.wnd);
         if (ok) recon_parallel_for(n, params_range, &j);
         fsf_slope_windows_free(&j.wnd);
     }
-    free(block);
+    free(obj);
     return ok;
 }

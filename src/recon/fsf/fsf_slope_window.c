@@ -16,6 +16,29 @@ typedef struct {
     FsfSlopeWindows *out;
 } Job;
 
+typedef struct {
+    const SampleStore *st;
+    float (*slope)(const void *ctx, size_t slot);
+    const void *ctx;
+    float *own_lo, *own_hi;
+} OwnJob;
+
+static void own_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    const OwnJob *j = ctx;
+    size_t cap = (size_t)sample_store_capacity(j->st);
+    for (size_t i = begin; i < end; ++i) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (int k = 0; k < sample_store_count(j->st, i); ++k) {
+            float s = j->slope(j->ctx, i * cap + (size_t)k);
+            if (isnan(s)) continue;
+            lo = fminf(lo, s), hi = fmaxf(hi, s);
+        }
+        j->own_lo[i] = lo, j->own_hi[i] = hi;
+    }
+}
+
 static inline bool same_obj(const float *obj, size_t a, size_t b) { return !obj || obj[a] == obj[b]; }
 
 /* Sliding min / max of the own ranges along rows (own -> tmp) then columns (tmp -> level).
@@ -58,13 +81,16 @@ static void window_cols(void *ctx, size_t begin, size_t end, int part)
         }
 }
 
-bool fsf_slope_windows(int width, int height, const float *own_lo, const float *own_hi, const float *obj,
-                       FsfSlopeWindows *out)
+bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slope)(const void *ctx, size_t slot),
+                       const void *ctx, const float *obj, FsfSlopeWindows *out)
 {
     size_t n = (size_t)width * (size_t)height;
-    out->block = malloc(sizeof(float) * n * (2 + 2 * FSF_LEVELS));
+    out->block = malloc(sizeof(float) * n * (4 + 2 * FSF_LEVELS));
     if (!out->block) return false;
     for (int l = 0; l < FSF_LEVELS; ++l) out->lo[l] = out->block + 2 * (size_t)l * n, out->hi[l] = out->lo[l] + n;
+    float *own_lo = out->block + (2 * FSF_LEVELS + 2) * n, *own_hi = own_lo + n;
+    OwnJob oj = {st, slope, ctx, own_lo, own_hi};
+    recon_parallel_for(n, own_range, &oj);
     Job j = {width, height, 0, own_lo, own_hi, obj, out->block + 2 * FSF_LEVELS * n, out->block + (2 * FSF_LEVELS + 1) * n,
              out};
     for (j.level = 0; j.level < FSF_LEVELS; ++j.level) {

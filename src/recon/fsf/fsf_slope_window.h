@@ -12,6 +12,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "recon/sample_store.h"
+
 enum { FSF_LEVELS = 4 };
 extern const int FSF_LEVEL_RADIUS_PX[FSF_LEVELS];
 
@@ -20,11 +22,12 @@ typedef struct {
     float *block;
 } FsfSlopeWindows;
 
-/* The ranges over the square windows of every level, from each pixel's own range own_lo,
- * own_hi (+inf, -inf: none), counting only pixels whose obj equals the centre's (obj NULL:
- * every pixel). false when out of memory. */
-bool fsf_slope_windows(int width, int height, const float *own_lo, const float *own_hi, const float *obj,
-                       FsfSlopeWindows *out);
+/* The ranges over the square windows of every level, from each pixel's own range over its
+ * stored samples (slope(ctx, slot) per sample, slot = pixel * capacity + k, NaN for a sample
+ * without one), counting only pixels whose obj equals the centre's (obj NULL: every pixel).
+ * false when out of memory. */
+bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slope)(const void *ctx, size_t slot),
+                       const void *ctx, const float *obj, FsfSlopeWindows *out);
 void fsf_slope_windows_free(FsfSlopeWindows *w);
 
 /* The widest safe level of pixel i. sigma_of_spread(ctx, spread) is the width (pixel steps,
