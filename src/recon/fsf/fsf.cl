@@ -22,6 +22,7 @@ typedef struct {
     int J, B;            /* shift nodes, y2 bins */
     float cos_normal_min, plane_tol_rel;
     int width, height;
+    float prof1, prof2;  /* the box profile's half extents (FsfGrid.profile_half) */
 } FsfArgs;
 
 static int fsf_radius(float sigma)
@@ -147,7 +148,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin, const int capacity, __g
         if (j1 > J - 1) j1 = J - 1;
         for (int jj = j0; jj <= j1; ++jj) {
             float z = y1 - ((float)jj - mid) * dY;
-            if (fsf_box(z, L1) == 0.0f) continue;
+            if (fsf_box(z, a.prof1) == 0.0f) continue;
             float rho = fsf_density(z, eta, L1, r, cum);
             if (!(rho > 0.0f)) continue;
             float wk = 1.0f / rho;
@@ -192,7 +193,7 @@ __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global con
     for (int t = -r; t <= r; ++t) cum[t + r + 1] = cum[t + r] + fsf_gauss((float)t, sigma);
     for (int m = -2 * B; m < B; ++m) {
         float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
-        float rho = fsf_box(z, L2) != 0.0f ? fsf_density_p(z, eta, L2, r, cum) : 0.0f;
+        float rho = fsf_box(z, a.prof2) != 0.0f ? fsf_density_p(z, eta, L2, r, cum) : 0.0f;
         inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
     }
     for (int jj = 0; jj < J; ++jj) {

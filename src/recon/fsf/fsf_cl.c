@@ -14,6 +14,7 @@ typedef struct {
     cl_int J, B;
     cl_float cos_normal_min, plane_tol_rel;
     cl_int width, height;
+    cl_float prof1, prof2;
 } FsfArgs;
 
 struct FsfCl {
@@ -70,7 +71,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t n = (size_t)s->width * (size_t)s->height, slots = n * (size_t)s->capacity;
     size_t J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
     FsfArgs a = {g->half_m[0], g->half_m[1], g->shift_nodes, g->y2_bins, gd->cos_normal_min, gd->plane_tol_rel,
-                 s->width, s->height};
+                 s->width, s->height, g->profile_half[0], g->profile_half[1]};
     if (g->y2_bins != g->shift_nodes - 1 || g->y2_bins > FSF_MAX_Y2_BINS) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
         return false;

@@ -12,6 +12,8 @@ FsfGrid fsf_grid_default(float half_u_m, float half_v_m)
     FsfGrid g;
     g.half_m[0] = half_u_m;
     g.half_m[1] = half_v_m;
+    g.profile_half[0] = half_u_m;
+    g.profile_half[1] = half_v_m;
     /* FSF section 5: 16 bins (about 4 l for l = 4 samples along an axis). With 8 the
      * single-occluder test scene (recon_test_util.h, 128x128) had 1.6x the error (1.59e-4
      * against 1.01e-4); the soft-shadow bench scene did not tell them apart (4.1e-4, 4.3e-4)
@@ -46,12 +48,23 @@ int fsf_y2_bin(const FsfGrid *g, float y2_m)
     return b < 0 ? 0 : b >= g->y2_bins ? g->y2_bins - 1 : b;
 }
 
+void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3])
+{
+    double mean[3] = {0, 0, 0};
+    for (int k = 0; k < count; ++k)
+        for (int ch = 0; ch < 3; ++ch) mean[ch] += sample_rgb[3 * (size_t)k + (size_t)ch];
+    for (int ch = 0; ch < 3; ++ch) {
+        double s = mean[ch] > 0.0 ? value4[ch] * (double)count / mean[ch] : 0.0;
+        scale[ch] = isfinite(s) ? (float)s : 0.0f;
+    }
+}
+
 /* Spacing of the shift grid along axis a: shift_nodes nodes over [-2 L, 2 L] (beyond 2 L the
  * box I(y - Y) misses every sample on the light). */
 static float node_step(const FsfGrid *g, int a) { return 4.0f * g->half_m[a] / (float)(g->shift_nodes - 1); }
 
-/* The box profile of the uniform light along axis a. */
-static inline float box(const FsfGrid *g, int a, float y) { return fabsf(y) <= g->half_m[a] ? 1.0f : 0.0f; }
+/* The box profile along axis a (the uniform light; the lens' equal-variance square). */
+static inline float box(const FsfGrid *g, int a, float y) { return fabsf(y) <= g->profile_half[a] ? 1.0f : 0.0f; }
 
 /* May centre pixel p take light from pixel q? */
 static bool accept(const FsfGuides *gd, int w, int p, int q)

@@ -51,7 +51,11 @@ typedef struct {
 
 /* The light and the discretisation shared by all pixels. */
 typedef struct {
-    float half_m[2];           /* L1, L2: the light's half extents along u and v (metres) */
+    float half_m[2];           /* L1, L2: the light's half extents along u and v (metres): where
+                                * samples lie (bins, shift grid, density) */
+    float profile_half[2];     /* the box profile I keeps |z| <= these: half_m for the light; for
+                                * the lens (a disk inside the hull half_m) the square with the
+                                * disk's variance (fsf_lens.h) */
     int shift_nodes;           /* nodes of the shift grids Y1, Y2 over [-2 L, 2 L] (odd: one
                                 * node at 0); FSF section 5: 16 bins, so 17 nodes */
     int y2_bins;               /* bins of y2 over [-L2, L2] carried through pass 1 (FSF footnote 8);
@@ -66,6 +70,13 @@ typedef struct {
     float eta_m[2];            /* light metres per pixel step along dir[a] (the shear) */
     float sigma_px[2];         /* standard deviation of w along dir[a], pixel steps */
 } FsfPixel;
+
+/* A pixel left out: screen axes, no shear, width 0. */
+static inline FsfPixel fsf_pixel_left_out(void)
+{
+    FsfPixel p = {{{1.0f, 0.0f}, {0.0f, 1.0f}}, {0.0f, 0.0f}, {0.0f, 0.0f}};
+    return p;
+}
 
 /* Which neighbours a pixel may take light from: same surface orientation and plane. */
 typedef struct {
@@ -121,6 +132,13 @@ void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, 
 enum { FSF_CUM = 2 * FSF_RADIUS_CAP_PX + 2 };
 void fsf_tap_prefix(float sigma_px, float *cum);
 float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum);
+
+/* The factors that make a pixel's samples (count of them, 3 floats each from sample_rgb)
+ * average to its value value4 (rgb): value / mean per channel, 0 where the mean is not
+ * positive or the factor not finite. The pipeline's value may differ from the samples' raw
+ * mean (demodulation, a shading filter's result); the filter then blurs samples on the
+ * pixel's own scale. */
+void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3]);
 
 /* The y2 bin of a light coordinate (clamped into [0, y2_bins)). */
 int fsf_y2_bin(const FsfGrid *g, float y2_m);

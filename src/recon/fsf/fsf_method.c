@@ -9,14 +9,21 @@
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
  *            with per-pixel shear and widths (fsf_params.h): parameters on the host, the four
  *            passes in OpenCL (fsf_cl.h; fsf_filter_factored when no device was opened)
+ *   defocus  the composite radiance (a camera effect, filtered after compositing): each
+ *            sample's radiance scaled to its pixel's composite value, the lens point in place
+ *            of the light point, screen axes as gather directions (fsf_lens.h); the same
+ *            four passes
  *   AOVs     fsf.eta_m_per_px (the shear along the light's first axis, light metres per pixel
- *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo) */
+ *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo); for
+ *            defocus fsf.defocus.eta_lens_per_px (the shear, unit lens per pixel step),
+ *            fsf.defocus.sigma_px, fsf.defocus.k_spread */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
+#include "recon/fsf/fsf_lens.h"
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_params.h"
 #include "recon/method.h"
@@ -35,7 +42,9 @@ struct ReconMethod {
     float mu;
     FsfCl *cl;
     float *shade;                /* unoccluded irradiance (the light factor) */
+    EffectMask effects;
     float *eta_aov, *sigma_aov, *spread_aov;
+    float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
 };
 
@@ -53,6 +62,9 @@ static void fsf_destroy(ReconMethod *m)
     free(m->eta_aov);
     free(m->sigma_aov);
     free(m->spread_aov);
+    free(m->lens_eta_aov);
+    free(m->lens_sigma_aov);
+    free(m->lens_spread_aov);
     free(m);
 }
 
@@ -70,13 +82,18 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->eta_aov = calloc(n, sizeof(float));
         m->sigma_aov = calloc(n, sizeof(float));
         m->spread_aov = calloc(n, sizeof(float));
+        m->lens_eta_aov = calloc(n, sizeof(float));
+        m->lens_sigma_aov = calloc(n, sizeof(float));
+        m->lens_spread_aov = calloc(n, sizeof(float));
     }
-    if (!m || !m->shade || !m->eta_aov || !m->sigma_aov || !m->spread_aov) {
+    if (!m || !m->shade || !m->eta_aov || !m->sigma_aov || !m->spread_aov || !m->lens_eta_aov || !m->lens_sigma_aov ||
+        !m->lens_spread_aov) {
         fsf_destroy(m);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
         return false;
     }
-    if (!fsf_light_from_renderer(s->renderer, &m->light, d)) {
+    /* the light frame only when soft shadows are filtered (a defocus-only scene may have none) */
+    if (effect_in(s->effects, EFFECT_SOFT_SHADOWS) && !fsf_light_from_renderer(s->renderer, &m->light, d)) {
         fsf_destroy(m);
         return false;
     }
@@ -84,6 +101,7 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->g = s->gbuffer;
     m->store = s->store;
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
+    m->effects = s->effects;
     *out = m;
     return true;
 }
@@ -124,14 +142,8 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
     for (size_t i = 0; i < n; ++i) {
         int cnt = sample_store_count(st, i);
         count[i] = cnt;
-        double mean[3] = {0, 0, 0};
-        for (int k = 0; k < cnt; ++k)
-            for (int ch = 0; ch < 3; ++ch) mean[ch] += dir[(i * (size_t)cap + (size_t)k) * 3 + (size_t)ch];
         float scale[3];
-        for (int ch = 0; ch < 3; ++ch) {
-            double s = mean[ch] > 0.0 ? value4[4 * i + (size_t)ch] * (double)cnt / mean[ch] : 0.0;
-            scale[ch] = isfinite(s) ? (float)s : 0.0f;
-        }
+        fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
         usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i];
         for (int k = 0; k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
@@ -150,46 +162,26 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
     return true;
 }
 
-static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+/* The four passes (on the device when one was opened), then each usable pixel's value4 rgb
+ * replaced by its filtered one (rgb / weight); non-finite results keep the input, counted.
+ * keep_left_out: pixels with both widths 0 keep value4 (for the lens, whose profile square
+ * would drop some of their own samples; the light's profile keeps them all). */
+static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid, const FsfPixel *px,
+                       const FsfGuides *gd, bool keep_left_out, float *out4, float *value4, double *kernel_seconds,
+                       Diag *d)
 {
-
-    *kernel_seconds = 0.0;
-    if (e != EFFECT_SOFT_SHADOWS) return true;
-    int w = m->g->width, h = m->g->height, cap = sample_store_capacity(m->store);
-    size_t n = (size_t)w * (size_t)h, slots = n * (size_t)cap;
-    unsigned char *usable = malloc(n);
-    int *count = malloc(n * sizeof(int));
-    /* at least one slot's floats: fsf_cl_run uploads one for an empty store */
-    float *y_m = malloc((slots + 1) * 2 * sizeof(float)), *v = malloc((slots + 1) * 3 * sizeof(float));
-    float *k_lo = malloc(n * sizeof(float)), *k_hi = malloc(n * sizeof(float)), *out4 = malloc(n * 4 * sizeof(float));
-    FsfPixel *px = malloc(n * sizeof(FsfPixel));
-    bool ok = usable && count && y_m && v && k_lo && k_hi && out4 && px;
-    if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
-    if (ok && !gather(m, value4, usable, y_m, v, count)) {
+    bool ok = true;
+    if (m->cl) {
+        ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
+    } else if (!fsf_filter_factored(s, grid, px, gd, out4)) {
         ok = false;
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the light or direct field");
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF passes");
     }
-    FsfParamsIn in = {m->g, m->store, &m->light, usable, m->mu};
-    if (ok && !fsf_pixel_params(&in, px, k_lo, k_hi)) {
-        ok = false;
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
-    }
-    FsfSamples s = {w, h, cap, count, y_m, v};
-    FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
-    FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, usable);
-    if (ok) {
-        if (m->cl) {
-            ok = fsf_cl_run(m->cl, &s, &grid, px, &gd, out4, kernel_seconds, d);
-        } else if (!fsf_filter_factored(&s, &grid, px, &gd, out4)) {
-            ok = false;
-            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF passes");
-        }
-    }
+    size_t n = (size_t)s->width * (size_t)s->height;
+    long long before = m->nonfinite;
     for (size_t i = 0; ok && i < n; ++i) {
-        m->eta_aov[i] = px[i].eta_m[0];
-        m->sigma_aov[i] = px[i].sigma_px[0];
-        m->spread_aov[i] = k_hi[i] - k_lo[i];
-        if (!usable[i] || !(out4[4 * i + 3] > 0.0f)) continue;
+        if (!gd->usable[i] || !(out4[4 * i + 3] > 0.0f)) continue;
+        if (keep_left_out && px[i].sigma_px[0] == 0.0f && px[i].sigma_px[1] == 0.0f) continue;
         float r[3];
         bool finite = true;
         for (int ch = 0; ch < 3; ++ch) {
@@ -202,34 +194,143 @@ static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *ke
         }
         for (int ch = 0; ch < 3; ++ch) value4[4 * i + (size_t)ch] = r[ch];
     }
-    if (ok && m->nonfinite > 0)
+    if (ok && m->nonfinite > before)
         fprintf(stderr, "wedge: warning: FSF: %lld pixels had a non-finite filtered value and kept their mean\n",
-                m->nonfinite);
-    free(usable), free(count), free(y_m), free(v), free(k_lo), free(k_hi), free(out4), free(px);
+                m->nonfinite - before);
+    return ok;
+}
+
+/* One filtering's per-pixel and per-slot arrays. */
+typedef struct {
+    unsigned char *usable;
+    int *count;
+    float *y, *v, *k_lo, *k_hi, *out4;
+    FsfPixel *px;
+} Buffers;
+
+static void buffers_free(Buffers *b)
+{
+    free(b->usable), free(b->count), free(b->y), free(b->v), free(b->k_lo), free(b->k_hi), free(b->out4), free(b->px);
+}
+
+static bool buffers_alloc(const ReconMethod *m, Buffers *b, Diag *d)
+{
+    size_t n = (size_t)m->g->width * (size_t)m->g->height, slots = n * (size_t)sample_store_capacity(m->store);
+    b->usable = malloc(n);
+    b->count = malloc(n * sizeof(int));
+    /* at least one slot's floats: fsf_cl_run uploads one for an empty store */
+    b->y = malloc((slots + 1) * 2 * sizeof(float)), b->v = malloc((slots + 1) * 3 * sizeof(float));
+    b->k_lo = malloc(n * sizeof(float)), b->k_hi = malloc(n * sizeof(float)), b->out4 = malloc(n * 4 * sizeof(float));
+    b->px = malloc(n * sizeof(FsfPixel));
+    if (b->usable && b->count && b->y && b->v && b->k_lo && b->k_hi && b->out4 && b->px) return true;
+    buffers_free(b);
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
+    return false;
+}
+
+static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    if (e != EFFECT_SOFT_SHADOWS) return true;
+    int w = m->g->width, h = m->g->height, cap = sample_store_capacity(m->store);
+    size_t n = (size_t)w * (size_t)h;
+    Buffers b;
+    if (!buffers_alloc(m, &b, d)) return false;
+    bool ok = true;
+    if (!gather(m, value4, b.usable, b.y, b.v, b.count)) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the light or direct field");
+    }
+    FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu};
+    if (ok && !fsf_pixel_params(&in, b.px, b.k_lo, b.k_hi)) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
+    }
+    FsfSamples s = {w, h, cap, b.count, b.y, b.v};
+    FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
+    FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
+    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, false, b.out4, value4, kernel_seconds, d);
+    for (size_t i = 0; ok && i < n; ++i) {
+        m->eta_aov[i] = b.px[i].eta_m[0];
+        m->sigma_aov[i] = b.px[i].sigma_px[0];
+        m->spread_aov[i] = b.k_hi[i] - b.k_lo[i];
+    }
+    buffers_free(&b);
+    return ok;
+}
+
+/* Defocus (fsf_lens.h): the composite radiance, the lens in place of the light. Motion, if
+ * asked for, is not filtered here (the method does not declare it). */
+static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    if (!effect_in(effects, EFFECT_DEFOCUS)) return true;
+    int w = m->g->width, h = m->g->height, cap = sample_store_capacity(m->store);
+    size_t n = (size_t)w * (size_t)h;
+    Buffers b;
+    if (!buffers_alloc(m, &b, d)) return false;
+    float *guide = malloc(n * 8 * sizeof(float));
+    bool ok = guide != NULL;
+    if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
+    if (ok && !fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count)) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
+    }
+    FsfLensIn in = {m->g, m->store, b.usable, m->mu};
+    if (ok && !fsf_lens_params(&in, b.px, b.k_lo, b.k_hi)) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF lens parameters (or no depth field)");
+    }
+    if (ok) fsf_lens_guides(n, guide, guide + 4 * n);
+    FsfSamples s = {w, h, cap, b.count, b.y, b.v};
+    FsfGrid grid = fsf_lens_grid();
+    FsfGuides gd = fsf_guides_default(guide, guide ? guide + 4 * n : NULL, b.usable);
+    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, true, b.out4, value4, kernel_seconds, d);
+    for (size_t i = 0; ok && i < n; ++i) {
+        m->lens_eta_aov[i] = b.px[i].eta_m[0];
+        m->lens_sigma_aov[i] = b.px[i].sigma_px[0];
+        m->lens_spread_aov[i] = b.k_hi[i] - b.k_lo[i];
+    }
+    free(guide);
+    buffers_free(&b);
     return ok;
 }
 
 static int fsf_aovs(ReconMethod *m, ReconAov *out, int max)
 {
     int count = 0;
-    if (count < max) out[count++] = (ReconAov){"fsf.eta_m_per_px", m->eta_aov, "light metres per pixel step"};
-    if (count < max) out[count++] = (ReconAov){"fsf.sigma_px", m->sigma_aov, "filter sigma in pixels"};
-    if (count < max) out[count++] = (ReconAov){"fsf.k_spread", m->spread_aov, "slope spread (light m per receiver m)"};
+    if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
+        if (count < max) out[count++] = (ReconAov){"fsf.eta_m_per_px", m->eta_aov, "light metres per pixel step"};
+        if (count < max) out[count++] = (ReconAov){"fsf.sigma_px", m->sigma_aov, "filter sigma in pixels"};
+        if (count < max) out[count++] = (ReconAov){"fsf.k_spread", m->spread_aov, "slope spread (light m per receiver m)"};
+    }
+    if (effect_in(m->effects, EFFECT_DEFOCUS)) {
+        if (count < max)
+            out[count++] = (ReconAov){"fsf.defocus.eta_lens_per_px", m->lens_eta_aov, "unit lens per pixel step"};
+        if (count < max) out[count++] = (ReconAov){"fsf.defocus.sigma_px", m->lens_sigma_aov, "filter sigma in pixels"};
+        if (count < max)
+            out[count++] = (ReconAov){"fsf.defocus.k_spread", m->lens_spread_aov, "slope spread (unit lens per pixel)"};
+    }
     return count;
 }
 
 const ReconMethodClass recon_method_fsf = {
     .name = "fsf",
-    .title = "fast 4D sheared filtering (FSF): soft shadows, per-sample store, four 1D passes, fixed samples (default 16)",
-    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .title = "fast 4D sheared filtering (FSF): soft shadows and defocus, per-sample store, four 1D passes, fixed "
+             "samples (default 16)",
+    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS),
     .adaptive = false,
-    .sample_fields = SAMPLE_FIELD_LIGHT | SAMPLE_FIELD_DIRECT,
+    /* the lens fields serve defocus; the store holds the union whichever effects are
+     * filtered (sample_store.h) */
+    .sample_fields = SAMPLE_FIELD_LIGHT | SAMPLE_FIELD_DIRECT | SAMPLE_FIELD_LENS | SAMPLE_FIELD_DEPTH |
+                     SAMPLE_FIELD_RADIANCE,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
     .pass1_spp = fsf_pass1_spp,
     .create = fsf_create,
     .open_device = fsf_open_device,
     .light_factor = fsf_light_factor,
     .filter_light = fsf_filter_light,
+    .filter_radiance = fsf_filter_radiance,
     .aovs = fsf_aovs,
     .destroy = fsf_destroy,
 };

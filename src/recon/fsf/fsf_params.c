@@ -4,63 +4,15 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "recon/fsf/fsf_slope_window.h"
 #include "recon/recon_parallel.h"
-
-/* Windows over which slope ranges are gathered: radius 2 (the 5 x 5 of slope smoothing) up
- * to the tap cap. */
-enum { LEVELS = 4 };
-static const int LEVEL_RADIUS_PX[LEVELS] = {2, 4, 8, FSF_RADIUS_CAP_PX};
 
 typedef struct {
     const FsfParamsIn *in;
-    float *own_lo, *own_hi;             /* the pixel's own range (+inf, -inf: none) */
-    float *lvl_lo[LEVELS], *lvl_hi[LEVELS]; /* the range over the square window of each level */
-    float *tmp_lo, *tmp_hi;
-    float *obj;                          /* object id per pixel (gbuffer nrm4[3]) */
-    int level;
+    FsfSlopeWindows wnd;
     FsfPixel *px;
     float *k_lo, *k_hi;
 } Job;
-
-/* Sliding min / max of the own ranges along rows (pass 0: own -> tmp) or columns (pass 1:
- * tmp -> level), radius LEVEL_RADIUS_PX[level]. Rows (columns) are the range's items. Only
- * pixels of the centre's object count (the filter takes light from no other surface): in
- * two 1D passes, those joined to the centre by a row then a column on that object. */
-static void window_rows(void *ctx, size_t begin, size_t end, int part)
-{
-    (void)part;
-    Job *j = ctx;
-    int w = j->in->g->width, r = LEVEL_RADIUS_PX[j->level];
-    const float *obj = j->obj;
-    for (size_t y = begin; y < end; ++y)
-        for (int x = 0; x < w; ++x) {
-            float lo = INFINITY, hi = -INFINITY;
-            for (int q = x - r; q <= x + r; ++q) {
-                if (q < 0 || q >= w || obj[y * (size_t)w + (size_t)q] != obj[y * (size_t)w + (size_t)x]) continue;
-                lo = fminf(lo, j->own_lo[y * (size_t)w + (size_t)q]);
-                hi = fmaxf(hi, j->own_hi[y * (size_t)w + (size_t)q]);
-            }
-            j->tmp_lo[y * (size_t)w + (size_t)x] = lo, j->tmp_hi[y * (size_t)w + (size_t)x] = hi;
-        }
-}
-
-static void window_cols(void *ctx, size_t begin, size_t end, int part)
-{
-    (void)part;
-    Job *j = ctx;
-    int w = j->in->g->width, h = j->in->g->height, r = LEVEL_RADIUS_PX[j->level];
-    const float *obj = j->obj;
-    for (size_t x = begin; x < end; ++x)
-        for (int y = 0; y < h; ++y) {
-            float lo = INFINITY, hi = -INFINITY;
-            for (int q = y - r; q <= y + r; ++q) {
-                if (q < 0 || q >= h || obj[(size_t)q * (size_t)w + x] != obj[(size_t)y * (size_t)w + x]) continue;
-                lo = fminf(lo, j->tmp_lo[(size_t)q * (size_t)w + x]);
-                hi = fmaxf(hi, j->tmp_hi[(size_t)q * (size_t)w + x]);
-            }
-            j->lvl_lo[j->level][(size_t)y * (size_t)w + x] = lo, j->lvl_hi[j->level][(size_t)y * (size_t)w + x] = hi;
-        }
-}
 
 /* FSF eq. 4 in pixel steps for a slope spread, before the cap (infinite for one slope). */
 static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float step_m)
@@ -69,25 +21,13 @@ static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float st
     return sigma_m / (in->mu * step_m);
 }
 
-/* The slope range of the pixel's own occluded samples. */
-static void own_range(void *ctx, size_t begin, size_t end, int part)
+/* An occluded sample's slope k = (d_light - d_occ) / d_occ; NaN for an unoccluded one. */
+static float sample_slope(const void *ctx, size_t slot)
 {
-    (void)part;
-    Job *j = ctx;
-    const SampleStore *st = j->in->store;
-    const float *lf = sample_store_field(st, SAMPLE_FIELD_LIGHT);
-    int cap = sample_store_capacity(st);
-    for (size_t i = begin; i < end; ++i) {
-        float lo = INFINITY, hi = -INFINITY;
-        for (int k = 0; k < sample_store_count(st, i); ++k) {
-            const float *s = lf + 5 * (i * (size_t)cap + (size_t)k);
-            float d_light = s[3], d_occ = s[4];
-            if (!(d_occ > 0.0f && d_occ < d_light && isfinite(d_occ))) continue;
-            float k_m = (d_light - d_occ) / d_occ;
-            lo = fminf(lo, k_m), hi = fmaxf(hi, k_m);
-        }
-        j->own_lo[i] = lo, j->own_hi[i] = hi;
-    }
+    const float *s = sample_store_field(((const FsfParamsIn *)ctx)->store, SAMPLE_FIELD_LIGHT) + 5 * slot;
+    float d_light = s[3], d_occ = s[4];
+    if (!(d_occ > 0.0f && d_occ < d_light && isfinite(d_occ))) return NAN;
+    return (d_light - d_occ) / d_occ;
 }
 
 /* A surface neighbour for the Jacobian: hit, not mixed, facing the same way. */
@@ -115,6 +55,17 @@ static bool jacobian_column(const GBuffer *g, int x, int y, int axis, vec3 *out)
     return true;
 }
 
+/* The narrower of the two axes' widths for a spread (fsf_slope_pick's measure). */
+typedef struct {
+    const FsfParamsIn *in;
+    float step_m[2];
+} StepCtx;
+static float sigma_both(const void *ctx, float spread)
+{
+    const StepCtx *c = ctx;
+    return fminf(sigma_steps(c->in, 0, spread, c->step_m[0]), sigma_steps(c->in, 1, spread, c->step_m[1]));
+}
+
 static void params_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
@@ -124,9 +75,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     int w = g->width;
     for (size_t i = begin; i < end; ++i) {
         FsfPixel *pp = &j->px[i];
-        pp->dir[0][0] = 1.0f, pp->dir[0][1] = 0.0f, pp->dir[1][0] = 0.0f, pp->dir[1][1] = 1.0f;
-        pp->eta_m[0] = pp->eta_m[1] = 0.0f;
-        pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
+        *pp = fsf_pixel_left_out();
         j->k_lo[i] = j->k_hi[i] = 0.0f;
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
         if (!in->usable[i]) continue;
@@ -158,14 +107,9 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
          * 16) gives a width that is safe up to its radius: the range's width (none in a
          * window without occluders: every sample there is lit), capped so that the taps
          * (2 sigma) stay inside the window. The widest safe one wins, with its range. */
-        float lo = INFINITY, hi = -INFINITY, best = -1.0f, cap_px = 0.0f;
-        for (int l = 0; l < LEVELS; ++l) {
-            float ll = j->lvl_lo[l][i], hh = j->lvl_hi[l][i], r_cap = (float)LEVEL_RADIUS_PX[l] / FSF_RADIUS_SIGMAS;
-            float sl = r_cap;
-            if (ll <= hh)
-                sl = fminf(fminf(sigma_steps(in, 0, hh - ll, step_m[0]), sigma_steps(in, 1, hh - ll, step_m[1])), r_cap);
-            if (sl > best) best = sl, lo = ll, hi = hh, cap_px = r_cap;
-        }
+        StepCtx sc = {in, {step_m[0], step_m[1]}};
+        FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
+        float lo = pick.lo, hi = pick.hi, cap_px = pick.cap_px;
         bool known = lo <= hi;
         float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
         if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
@@ -188,20 +132,15 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     size_t n = (size_t)in->g->width * (size_t)in->g->height;
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
-    float *block = malloc(sizeof(float) * n * (5 + 2 * LEVELS));
-    bool ok = block != NULL;
+    float *obj = malloc(sizeof(float) * n); /* object id per pixel (gbuffer nrm4[3]) */
+    bool ok = obj != NULL;
     if (ok) {
-        j.own_lo = block, j.own_hi = block + n, j.tmp_lo = block + 2 * n, j.tmp_hi = block + 3 * n;
-        for (int l = 0; l < LEVELS; ++l) j.lvl_lo[l] = block + (4 + 2 * (size_t)l) * n, j.lvl_hi[l] = j.lvl_lo[l] + n;
-        j.obj = block + (4 + 2 * (size_t)LEVELS) * n;
-        for (size_t i = 0; i < n; ++i) j.obj[i] = in->g->nrm4[4 * i + 3];
-        recon_parallel_for(n, own_range, &j);
-        for (j.level = 0; j.level < LEVELS; ++j.level) {
-            recon_parallel_for((size_t)in->g->height, window_rows, &j);
-            recon_parallel_for((size_t)in->g->width, window_cols, &j);
-        }
-        recon_parallel_for(n, params_range, &j);
+        for (size_t i = 0; i < n; ++i) obj[i] = in->g->nrm4[4 * i + 3];
+        /* only the centre's object: the filter takes light from no other surface */
+        ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope, in, obj, &j.wnd);
+        if (ok) recon_parallel_for(n, params_range, &j);
+        fsf_slope_windows_free(&j.wnd);
     }
-    free(block);
+    free(obj);
     return ok;
 }

@@ -1,0 +1,130 @@
+/* FSF's lens inputs and per-pixel parameters for defocus (fsf_lens.h). */
+#include "recon/fsf/fsf_lens.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "recon/fsf/fsf_slope_window.h"
+#include "recon/recon_parallel.h"
+
+FsfGrid fsf_lens_grid(void)
+{
+    FsfGrid g = fsf_grid_default(1.0f, 1.0f);
+    g.profile_half[0] = g.profile_half[1] = FSF_LENS_PROFILE_HALF;
+    return g;
+}
+
+float fsf_lens_slope(const ReconCamera *cam, float depth_cam)
+{
+    float c = recon_coc_slope_px(cam, depth_cam);
+    /* in the focal plane (or a pinhole) no neighbour shares a lens ray: the largest slope */
+    if (!(fabsf(c) > 1.0f / FSF_LENS_K_MAX)) return FSF_LENS_K_MAX;
+    return 1.0f / c;
+}
+
+bool fsf_lens_samples(const SampleStore *st, int width, int height, const float *value4, unsigned char *usable,
+                      float *y, float *v, int *count)
+{
+    const float *lens = sample_store_field(st, SAMPLE_FIELD_LENS), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    if (!lens || !rad) return false;
+    int cap = sample_store_capacity(st);
+    size_t n = (size_t)width * (size_t)height;
+    for (size_t i = 0; i < n; ++i) {
+        int cnt = sample_store_count(st, i);
+        count[i] = cnt;
+        usable[i] = cnt > 0 && value4[4 * i + 3] > 0.0f;
+        float scale[3];
+        fsf_match_pixel(value4 + 4 * i, rad + i * (size_t)cap * 3, cnt, scale);
+        for (int k = 0; k < cnt; ++k) {
+            size_t slot = i * (size_t)cap + (size_t)k;
+            fsf_lens_coord(lens[2 * slot], lens[2 * slot + 1], y + 2 * slot);
+            for (int ch = 0; ch < 3; ++ch) {
+                float val = rad[slot * 3 + (size_t)ch] * scale[ch];
+                v[slot * 3 + (size_t)ch] = isfinite(val) ? val : 0.0f;
+            }
+        }
+    }
+    return true;
+}
+
+void fsf_lens_guides(size_t n, float *pos4, float *nrm4)
+{
+    for (size_t i = 0; i < n; ++i) {
+        pos4[4 * i] = pos4[4 * i + 1] = pos4[4 * i + 2] = 0.0f, pos4[4 * i + 3] = 1.0f;
+        nrm4[4 * i] = nrm4[4 * i + 1] = 0.0f, nrm4[4 * i + 2] = 1.0f, nrm4[4 * i + 3] = 0.0f;
+    }
+}
+
+typedef struct {
+    const FsfLensIn *in;
+    FsfSlopeWindows wnd;
+    FsfPixel *px;
+    float *k_lo, *k_hi;
+} Job;
+
+/* A sample's slope (every sample has one: a miss has depth +inf and a finite slope). */
+static float sample_slope(const void *ctx, size_t slot)
+{
+    const FsfLensIn *in = ctx;
+    return fsf_lens_slope(&in->g->cam, sample_store_field(in->store, SAMPLE_FIELD_DEPTH)[slot]);
+}
+
+/* FSF eq. 4 with the lens' half extent 1, in pixels (infinite for one slope). */
+static float sigma_of_spread(const void *ctx, float spread)
+{
+    const FsfLensIn *in = ctx;
+    return spread > 0.0f ? 0.5f / (spread * in->mu) : INFINITY;
+}
+
+static void params_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    const FsfLensIn *in = j->in;
+    for (size_t i = begin; i < end; ++i) {
+        FsfPixel *pp = &j->px[i];
+        *pp = fsf_pixel_left_out();
+        j->k_lo[i] = j->k_hi[i] = 0.0f;
+        if (!in->usable[i]) continue;
+        FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_of_spread, in);
+        if (!(pick.lo <= pick.hi)) continue; /* no samples around: nothing to filter with */
+        j->k_lo[i] = pick.lo, j->k_hi[i] = pick.hi;
+        float eta, sigma;
+        if (pick.lo < 0.0f && pick.hi > 0.0f) {
+            /* straddles the focal plane: the axis-aligned fallback (FSF section 5) */
+            eta = 0.0f;
+            sigma = 0.5f / (fmaxf(-pick.lo, pick.hi) * in->mu);
+        } else {
+            eta = -0.5f * (pick.lo + pick.hi);
+            sigma = sigma_of_spread(in, pick.hi - pick.lo);
+        }
+        /* taps stay inside the image: the density correction (fsf_density) counts every tap
+         * of the radius, and a side cut off by the border would shift the aperture the
+         * filter sees (a synthetic plane's border pixels had 10x the inside's error) */
+        int x = (int)(i % (size_t)in->g->width), y = (int)(i / (size_t)in->g->width);
+        int edge = x < y ? x : y;
+        edge = edge < in->g->width - 1 - x ? edge : in->g->width - 1 - x;
+        edge = edge < in->g->height - 1 - y ? edge : in->g->height - 1 - y;
+        sigma = fminf(fminf(sigma, pick.cap_px), (float)edge / FSF_RADIUS_SIGMAS);
+        /* Left out (its mean kept): a filter that reaches no neighbour, too narrow for its
+         * first taps to matter or sheared so far that a neighbour one step away lands off the
+         * lens (|eta| > 2: in focus, c < 1/2 px), would only drop the own samples outside the
+         * profile square */
+        if (sigma < FSF_LENS_SIGMA_MIN_PX || fabsf(eta) > 2.0f) sigma = 0.0f;
+        pp->eta_m[0] = pp->eta_m[1] = eta;
+        pp->sigma_px[0] = pp->sigma_px[1] = sigma;
+    }
+}
+
+bool fsf_lens_params(const FsfLensIn *in, FsfPixel *px, float *k_lo, float *k_hi)
+{
+    if (!sample_store_field(in->store, SAMPLE_FIELD_DEPTH)) return false;
+    size_t n = (size_t)in->g->width * (size_t)in->g->height;
+    Job j = {0};
+    j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
+    /* over every object: a defocused object's samples reach any neighbour */
+    bool ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope, in, NULL, &j.wnd);
+    if (ok) recon_parallel_for(n, params_range, &j);
+    fsf_slope_windows_free(&j.wnd);
+    return ok;
+}

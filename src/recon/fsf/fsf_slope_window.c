@@ -1,0 +1,121 @@
+/* FSF's windowed slope ranges (fsf_slope_window.h). */
+#include "recon/fsf/fsf_slope_window.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "recon/fsf/fsf_filter.h"
+#include "recon/recon_parallel.h"
+
+const int FSF_LEVEL_RADIUS_PX[FSF_LEVELS] = {2, 4, 8, FSF_RADIUS_CAP_PX};
+
+typedef struct {
+    int w, h, level;
+    const float *own_lo, *own_hi, *obj;
+    float *tmp_lo, *tmp_hi;
+    FsfSlopeWindows *out;
+} Job;
+
+typedef struct {
+    const SampleStore *st;
+    float (*slope)(const void *ctx, size_t slot);
+    const void *ctx;
+    float *own_lo, *own_hi;
+} OwnJob;
+
+static void own_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    const OwnJob *j = ctx;
+    size_t cap = (size_t)sample_store_capacity(j->st);
+    for (size_t i = begin; i < end; ++i) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (int k = 0; k < sample_store_count(j->st, i); ++k) {
+            float s = j->slope(j->ctx, i * cap + (size_t)k);
+            if (isnan(s)) continue;
+            lo = fminf(lo, s), hi = fmaxf(hi, s);
+        }
+        j->own_lo[i] = lo, j->own_hi[i] = hi;
+    }
+}
+
+static inline bool same_obj(const float *obj, size_t a, size_t b) { return !obj || obj[a] == obj[b]; }
+
+/* Sliding min / max of the own ranges along rows (own -> tmp) then columns (tmp -> level).
+ * With obj, only pixels joined to the centre by a row then a column on its object count. */
+static void window_rows(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->w, r = FSF_LEVEL_RADIUS_PX[j->level];
+    for (size_t y = begin; y < end; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t c = y * (size_t)w + (size_t)x;
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = x - r; q <= x + r; ++q) {
+                size_t k = y * (size_t)w + (size_t)q;
+                if (q < 0 || q >= w || !same_obj(j->obj, k, c)) continue;
+                lo = fminf(lo, j->own_lo[k]);
+                hi = fmaxf(hi, j->own_hi[k]);
+            }
+            j->tmp_lo[c] = lo, j->tmp_hi[c] = hi;
+        }
+}
+
+static void window_cols(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->w, h = j->h, r = FSF_LEVEL_RADIUS_PX[j->level];
+    for (size_t x = begin; x < end; ++x)
+        for (int y = 0; y < h; ++y) {
+            size_t c = (size_t)y * (size_t)w + x;
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = y - r; q <= y + r; ++q) {
+                size_t k = (size_t)q * (size_t)w + x;
+                if (q < 0 || q >= h || !same_obj(j->obj, k, c)) continue;
+                lo = fminf(lo, j->tmp_lo[k]);
+                hi = fmaxf(hi, j->tmp_hi[k]);
+            }
+            j->out->lo[j->level][c] = lo, j->out->hi[j->level][c] = hi;
+        }
+}
+
+bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slope)(const void *ctx, size_t slot),
+                       const void *ctx, const float *obj, FsfSlopeWindows *out)
+{
+    size_t n = (size_t)width * (size_t)height;
+    out->block = malloc(sizeof(float) * n * (4 + 2 * FSF_LEVELS));
+    if (!out->block) return false;
+    for (int l = 0; l < FSF_LEVELS; ++l) out->lo[l] = out->block + 2 * (size_t)l * n, out->hi[l] = out->lo[l] + n;
+    float *own_lo = out->block + (2 * FSF_LEVELS + 2) * n, *own_hi = own_lo + n;
+    OwnJob oj = {st, slope, ctx, own_lo, own_hi};
+    recon_parallel_for(n, own_range, &oj);
+    Job j = {width, height, 0, own_lo, own_hi, obj, out->block + 2 * FSF_LEVELS * n, out->block + (2 * FSF_LEVELS + 1) * n,
+             out};
+    for (j.level = 0; j.level < FSF_LEVELS; ++j.level) {
+        recon_parallel_for((size_t)height, window_rows, &j);
+        recon_parallel_for((size_t)width, window_cols, &j);
+    }
+    return true;
+}
+
+void fsf_slope_windows_free(FsfSlopeWindows *w)
+{
+    free(w->block);
+    w->block = NULL;
+}
+
+FsfSlopePick fsf_slope_pick(const FsfSlopeWindows *w, size_t i, float (*sigma_of_spread)(const void *ctx, float spread),
+                            const void *ctx)
+{
+    FsfSlopePick p = {INFINITY, -INFINITY, 0.0f};
+    float best = -1.0f;
+    for (int l = 0; l < FSF_LEVELS; ++l) {
+        float ll = w->lo[l][i], hh = w->hi[l][i], r_cap = (float)FSF_LEVEL_RADIUS_PX[l] / FSF_RADIUS_SIGMAS;
+        float sl = r_cap;
+        if (ll <= hh) sl = fminf(sigma_of_spread(ctx, hh - ll), r_cap);
+        if (sl > best) best = sl, p.lo = ll, p.hi = hh, p.cap_px = r_cap;
+    }
+    return p;
+}
