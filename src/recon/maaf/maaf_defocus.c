@@ -98,7 +98,7 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                         acc.re += m.re;
                         acc.im += m.im;
                     }
-                    float *o = l->table + (((size_t)c * T + iu) * T + iv) * 2;
+                    float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
                     o[0] = (float)acc.re;
                     o[1] = (float)acc.im;
                 }
@@ -111,7 +111,8 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     return ok;
 }
 
-void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
+/* Table cell of (u, v) and its bilinear weights. */
+static size_t lens_cell(float u, float v, float *a, float *b)
 {
     enum { T = MAAF_LENS_TABLE };
     float fu = (u + 1.0f) * 0.5f * (T - 1), fv = (v + 1.0f) * 0.5f * (T - 1);
@@ -122,17 +123,30 @@ void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
     int iu = (int)fu, iv = (int)fv;
     if (iu > T - 2) iu = T - 2;
     if (iv > T - 2) iv = T - 2;
-    float a = fu - (float)iu, b = fv - (float)iv;
-    const float *t00 = l->table + (((size_t)c * T + iu) * T + iv) * 2, *t01 = t00 + 2, *t10 = t00 + 2 * T, *t11 = t10 + 2;
+    *a = fu - (float)iu, *b = fv - (float)iv;
+    return (size_t)iu * T + (size_t)iv;
+}
+
+void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
+{
+    float a, b;
+    size_t cell = lens_cell(u, v, &a, &b), row = (size_t)MAAF_LENS_TABLE * l->comps * 2;
+    const float *t00 = l->table + cell * l->comps * 2 + 2 * c, *t01 = t00 + l->comps * 2, *t10 = t00 + row,
+                *t11 = t10 + l->comps * 2;
     for (int k = 0; k < 2; ++k)
         out[k] = (1.0f - a) * ((1.0f - b) * t00[k] + b * t01[k]) + a * ((1.0f - b) * t10[k] + b * t11[k]);
 }
 
 void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum)
 {
+    float a, b;
+    size_t cell = lens_cell(u, v, &a, &b), step = (size_t)l->comps * 2, row = (size_t)MAAF_LENS_TABLE * step;
+    const float *t00 = l->table + cell * step, *t01 = t00 + step, *t10 = t00 + row, *t11 = t10 + step;
+    float w00 = (1.0f - a) * (1.0f - b), w01 = (1.0f - a) * b, w10 = a * (1.0f - b), w11 = a * b;
     for (int c = 0; c < l->comps; ++c) {
         float w[2];
-        maaf_lens_factor(l, c, u, v, w);
+        for (int k = 0; k < 2; ++k)
+            w[k] = w00 * t00[2 * c + k] + w01 * t01[2 * c + k] + w10 * t10[2 * c + k] + w11 * t11[2 * c + k];
         float *yr = ysum + 8 * c, *yi = yr + 4;
         for (int ch = 0; ch < 4; ++ch) {
             yr[ch] += w[0] * f4[ch];
@@ -156,6 +170,32 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
      * with C_x negated */
     float std_px = maaf_pixel_param(-s_max, -s_min, omega_u_max, pairs, 1.0f, 1.0f, param);
     for (int p = 0; p < MAAF_PAIRS_MAX; ++p) param[2 + 3 * p] = -param[2 + 3 * p];
+    return std_px;
+}
+
+float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
+                         float omega_u_max, int pairs, float *param, float *side)
+{
+    memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float));
+    *side = 0.0f;
+    size_t i = (size_t)y * (size_t)width + (size_t)x;
+    if (!(coc_min[i] * coc_max[i] > 0.0f)) return 0.0f; /* straddles (or touches) the focal plane */
+    double lo = 0.0, hi = 0.0;
+    int count = 0;
+    for (int yy = y - MAAF_DEFOCUS_WINDOW_PX; yy <= y + MAAF_DEFOCUS_WINDOW_PX; ++yy)
+        for (int xx = x - MAAF_DEFOCUS_WINDOW_PX; xx <= x + MAAF_DEFOCUS_WINDOW_PX; ++xx) {
+            if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
+            size_t j = (size_t)yy * (size_t)width + (size_t)xx;
+            if (!(coc_min[j] <= coc_max[j]) || !isfinite(coc_min[j]) || !isfinite(coc_max[j])) continue;
+            lo += coc_min[j];
+            hi += coc_max[j];
+            ++count;
+        }
+    if (!count) return 0.0f;
+    /* s = -coc: the largest coc is the smallest slope */
+    float s_min = (float)(-hi / count), s_max = (float)(-lo / count);
+    float std_px = maaf_pixel_param_signed(s_min, s_max, omega_u_max, pairs, param);
+    if (std_px > 0.0f) *side = s_max < 0.0f ? -1.0f : 1.0f;
     return std_px;
 }
 

@@ -30,12 +30,12 @@
  * band is Omega_u_max = kappa 2 / sigma_u, as the light's 2 / sigma_light (9.2). */
 #define MAAF_LENS_SIGMA 0.5f
 /* The defocus knob's default (--mu; docs/algorithms.md 9.8 has the measurement). */
-#define MAAF_DEFOCUS_KAPPA_DEFAULT 2.0f
+#define MAAF_DEFOCUS_KAPPA_DEFAULT 3.0f
 
 typedef struct {
     int pairs, comps;
     float omega_u_max;  /* radians per unit lens coordinate */
-    float *table;       /* comps x MAAF_LENS_TABLE x MAAF_LENS_TABLE x (re, im), [c][iu][iv] */
+    float *table;       /* [iu][iv][c] (re, im): a sample reads one cell for every component */
 } MaafLens;
 
 /* Fills the tables for the knob kappa (Omega_u_max = kappa 2 / MAAF_LENS_SIGMA). False when out
@@ -60,6 +60,15 @@ void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4]
  * a wedge reaching every Omega_x of the pixel band and gets no filter (returns 0, radius 0).
  * x is in pixels (pixel_world 1). Returns the central component's std in pixels. */
 float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int pairs, float *param);
+
+/* Pixel (x, y)'s filter from pass 1's circle-of-confusion ranges (coc_min, coc_max: signed px
+ * per unit lens coordinate, recon_coc_slope_px, w x h): the design slopes s = -coc averaged over
+ * the 5 x 5 window around it (seeds/003 Sec. 6.2, pre-filtering), no filter when the pixel's own
+ * range or the averaged one straddles the focal plane. *side: the sign of s (0: not filtered).
+ * Returns the central std in pixels (0: not filtered). */
+#define MAAF_DEFOCUS_WINDOW_PX 2
+float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
+                         float omega_u_max, int pairs, float *param, float *side);
 
 /* The guides of pixel (x, y) for the screen-space pass: position (x, y, 0) in pixels, normal
  * +z with the slope's side of the focal plane (side: -1, +1) as the object id (neighbours on the

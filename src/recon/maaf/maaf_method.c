@@ -1,5 +1,5 @@
-/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows, as a reconstruction method
- * (recon/method.h). docs/algorithms.md 9.
+/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows and defocus, as a
+ * reconstruction method (recon/method.h). docs/algorithms.md 9 (defocus: 9.8).
  *
  *   samples  pass 1: 9 per pixel (the paper's count), recording the shadow-ray geometry; the
  *            plan adds samples only where the filter does not reach (silhouettes, contact
@@ -10,13 +10,20 @@
  *   filter   the direct light divided by albedo and the unoccluded irradiance r(x) (as AAF),
  *            one image pass per axis with every component at once (maaf_filter.h)
  *
- * Only soft shadows: the scene's other effects stay Monte Carlo with --filter maaf. */
+ * Defocus (maaf_defocus.h): per pixel the complex sums of each sample's radiance times the
+ * lens-factor of its lens point; filter_radiance runs the same image pass on screen guides with
+ * each pixel's design from pass 1's circle-of-confusion range. With soft shadows also filtered
+ * here, a sample's filterable direct light is replaced by albedo x its pixel's filtered light
+ * (the sums of the rest and of the albedo are kept apart, section 9.8).
+ *
+ * Indirect light and motion stay Monte Carlo with --filter maaf. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_stats.h"
+#include "recon/maaf/maaf_defocus.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_shadow.h"
 #include "recon/method.h"
@@ -70,6 +77,14 @@ struct ReconMethod {
     float *std_px, *components; /* AOVs */
     MaafFilter *filter;
     long long nonfinite_samples;
+    /* defocus (maaf_defocus.h) */
+    bool defocus, split;        /* split: soft shadows filtered here too (asum kept) */
+    MaafLens lens;
+    float *dsum;                /* comps * 8 per pixel: radiance (minus the filterable direct light when split) */
+    float *asum;                /* split: the same sums of the albedo */
+    float *dpos4, *dnrm4, *daxis2; /* screen guides */
+    float *dstd_px, *dcomponents;  /* AOVs */
+    const float *direct4, *direct_factor; /* the shading filter's output (shading_light) */
 };
 
 static int maaf_pass1_spp(EffectMask effects)
@@ -96,6 +111,14 @@ static void maaf_destroy(ReconMethod *m)
     free(m->shade);
     free(m->std_px);
     free(m->components);
+    maaf_lens_free(&m->lens);
+    free(m->dsum);
+    free(m->asum);
+    free(m->dpos4);
+    free(m->dnrm4);
+    free(m->daxis2);
+    free(m->dstd_px);
+    free(m->dcomponents);
     free(m);
 }
 
@@ -203,6 +226,20 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     if (!m->stats_ok || !m->ysum || !m->ydemod || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
+    m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
+    m->split = m->defocus && effect_in(m->effects, EFFECT_SOFT_SHADOWS);
+    if (m->defocus) {
+        m->dsum = calloc(n * per, sizeof(float));
+        m->asum = m->split ? calloc(n * per, sizeof(float)) : NULL;
+        m->dpos4 = malloc(4 * n * sizeof(float));
+        m->dnrm4 = malloc(4 * n * sizeof(float));
+        m->daxis2 = malloc(4 * n * sizeof(float));
+        m->dstd_px = calloc(n, sizeof(float));
+        m->dcomponents = calloc(n, sizeof(float));
+        if (!m->dsum || (m->split && !m->asum) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+            !m->dcomponents || !maaf_lens_design(s->mu > 0.0f ? s->mu : MAAF_DEFOCUS_KAPPA_DEFAULT, m->pairs, &m->lens))
+            goto oom;
+    }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
     m->stats.light_count = m->light_count;
@@ -224,10 +261,34 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
     m->stats.collect_rays = pass == 0;
 }
 
+/* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
+ * flipped: raster y runs against the lens's v (maaf_defocus.h). */
+static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
+{
+    float f[4] = {r->L.x, r->L.y, r->L.z, 1.0f};
+    if (m->split && r->hit) { /* the direct light the shadow filter replaces (maaf_add_sample's f) */
+        float ud[3], ui[3];
+        gbuffer_unfiltered_split(r, ud, ui);
+        f[0] -= r->direct.x - ud[0], f[1] -= r->direct.y - ud[1], f[2] -= r->direct.z - ud[2];
+    }
+    if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2]) || !isfinite(r->lens_u + r->lens_v)) {
+        ++m->nonfinite_samples;
+        return;
+    }
+    size_t per = (size_t)m->comps * 8;
+    maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, f, m->dsum + i * per);
+    if (m->split) {
+        float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
+        maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, a, m->asum + i * per);
+    }
+}
+
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
 {
     aaf_stats_add(&m->stats, px, py, r);
-    if (!r->hit) return;
+    if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
+        defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
+    if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
     const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
     bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
                  m->lights[sr->light_index].omega_y_max > 0.0f;
@@ -364,18 +425,21 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
     float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
     int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
     for (int y = 0; y < g->height; ++y)
         for (int x = 0; x < g->width; ++x) {
             size_t i = (size_t)y * g->width + x;
-            spp_total[i] = pass1;
-            if (!g->hit[i]) continue;
-            if (g->mixed[i]) {
-                spp_total[i] = extra;
-                continue;
-            }
-            if (m->frame4[4 * i + 3] == 0.0f) continue; /* no direct light reaches it: no noise */
-            float comps;
-            if (pixel_filter(m, x, y, m->param + i * MAAF_PARAM_STRIDE, &comps) < UNFILTERED_STD_PX) spp_total[i] = extra;
+            float *pr = m->param + i * MAAF_PARAM_STRIDE, comps, side;
+            bool more = false;
+            /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
+            if (shadows && g->hit[i])
+                more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && pixel_filter(m, x, y, pr, &comps) < UNFILTERED_STD_PX);
+            /* defocus (seeds/003's extra samples near the focal plane): a slope range that
+             * straddles it, or a filter under half a pixel */
+            if (m->defocus && !more)
+                more = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, g->width, g->height, x, y,
+                                          m->lens.omega_u_max, m->pairs, pr, &side) < UNFILTERED_STD_PX;
+            spp_total[i] = more ? extra : pass1;
         }
     return true;
 }
@@ -435,10 +499,73 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     return true;
 }
 
+static void maaf_shading_light(ReconMethod *m, const ReconShadingLight *light)
+{
+    m->direct4 = light->direct4;
+    m->direct_factor = light->direct_factor;
+}
+
+/* Defocus: the lens-weighted radiance sums filtered on screen guides (maaf_defocus.h). When the
+ * direct light was filtered here too, each pixel's sums of the rest get its filtered direct
+ * light back through the albedo sums: sum_k c_k (L_k - D_k + a_k D_pixel) (LR's substitution,
+ * docs/algorithms.md 8.17, with the pixel's own light); where that light was passed through
+ * (value4 unusable) its raw mean, times the weight sums. */
 static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
 {
-    (void)m, (void)effects, (void)value4, (void)d;
     *kernel_seconds = 0.0;
+    if (!effect_in(effects, EFFECT_DEFOCUS) || !m->defocus) return true;
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    int w = g->width, h = g->height;
+    size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
+    const float *sums = m->dsum;
+    if (m->split && !m->direct4) { /* the pipeline filters the direct light before the radiance */
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF defocus: the direct light was not filtered before the radiance");
+        return false;
+    }
+    if (m->split) {
+        for (size_t i = 0; i < n; ++i) {
+            const float *dl = m->direct4 + 4 * i, *rest = m->dsum + i * per, *alb = m->asum + i * per;
+            float *o = m->ydemod + i * per;
+            bool usable = dl[3] != 0.0f;
+            float fac = usable && m->direct_factor ? m->direct_factor[i] : 1.0f;
+            for (size_t c = 0; c < per; ++c) {
+                int ch = (int)(c & 3);
+                /* the weight channel of each (re, im) half: c & 3 == 3 */
+                o[c] = rest[c] + (ch == 3 ? 0.0f : usable ? fac * dl[ch] * alb[c] : dl[ch] * rest[c | 3]);
+            }
+        }
+        sums = m->ydemod;
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * w + x;
+            float side = 0.0f, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            m->dstd_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, w, h, x, y, m->lens.omega_u_max,
+                                               m->pairs, pr, &side);
+            m->dcomponents[i] = m->dstd_px[i] > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+            maaf_screen_guides(x, y, side, g->frame.spp[i] > 0.0f, m->dpos4 + 4 * i, m->dnrm4 + 4 * i, m->guide4 + 4 * i,
+                               m->daxis2 + 4 * i);
+        }
+    MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->param, COS_NORMAL_MIN,
+                          DEPTH_TOL_REL};
+    if (!m->filter) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
+        return false;
+    }
+    if (!maaf_filter_run(m->filter, &in, m->out4, kernel_seconds, d)) return false;
+    long long nonfinite = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float *o = m->out4 + 4 * i;
+        if (o[3] == 0.0f) continue;
+        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
+            ++nonfinite; /* keep the pixel's own value */
+            continue;
+        }
+        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
+    }
+    if (nonfinite)
+        fprintf(stderr, "wedge: maaf: %lld non-finite defocus-filtered pixels kept their own value\n", nonfinite);
     return true;
 }
 
@@ -448,6 +575,8 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
+    if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
     return count;
 }
 
@@ -464,13 +593,24 @@ static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
         out[count].data = m->components;
         out[count++].unit = "filters";
     }
+    if (m->defocus && count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.defocus");
+        out[count].data = m->dstd_px;
+        out[count++].unit = "central filter std in pixels";
+    }
+    if (m->defocus && count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.components.defocus");
+        out[count].data = m->dcomponents;
+        out[count++].unit = "filters";
+    }
     return count;
 }
 
 const ReconMethodClass recon_method_maaf = {
     .name = "maaf",
-    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, (2N-1)^2 offset Gaussians, 9 spp + extra at silhouettes",
-    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows and defocus, (2N-1)^2 offset Gaussians, 9 spp + extra "
+             "at silhouettes and near the focal plane",
+    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS),
     .adaptive = true,
     .sample_fields = 0,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
@@ -482,6 +622,7 @@ const ReconMethodClass recon_method_maaf = {
     .open_device = maaf_open_device,
     .light_factor = maaf_method_light_factor,
     .filter_light = maaf_filter_light,
+    .shading_light = maaf_shading_light,
     .filter_radiance = maaf_filter_radiance,
     .shared = maaf_shared,
     .aovs = maaf_aovs,
