@@ -12,9 +12,9 @@
  *
  * Defocus (maaf_defocus.h): per pixel the complex sums of each sample's radiance times the
  * lens-factor of its lens point; filter_radiance runs the same image pass on screen guides with
- * each pixel's design from pass 1's circle-of-confusion range. With soft shadows also filtered
- * here, a sample's filterable direct light is replaced by albedo x its pixel's filtered light
- * (the sums of the rest and of the albedo are kept apart, section 9.8).
+ * each pixel's design from pass 1's circle-of-confusion range. In a scene with shading effects a
+ * sample's filterable direct and indirect light are replaced by albedo x its pixel's filtered
+ * light (the sums of the rest and of the albedo are kept apart, section 9.8).
  *
  * Indirect light and motion stay Monte Carlo with --filter maaf. */
 #include <math.h>
@@ -78,13 +78,15 @@ struct ReconMethod {
     MaafFilter *filter;
     long long nonfinite_samples;
     /* defocus (maaf_defocus.h) */
-    bool defocus, split;        /* split: soft shadows filtered here too (asum kept) */
+    bool defocus;
+    bool split_direct, split_indirect; /* the scene has soft shadows / indirect light: that
+                                        * filterable light is left out of dsum, asum is kept */
     MaafLens lens;
-    float *dsum;                /* comps * 8 per pixel: radiance (minus the filterable direct light when split) */
+    float *dsum;                /* comps * 8 per pixel: radiance minus the split lights */
     float *asum;                /* split: the same sums of the albedo */
     float *dpos4, *dnrm4, *daxis2; /* screen guides */
     float *dstd_px, *dcomponents;  /* AOVs */
-    const float *direct4, *direct_factor; /* the shading filter's output (shading_light) */
+    const float *direct4, *direct_factor, *indirect4; /* the shading filters' output (shading_light) */
 };
 
 static int maaf_pass1_spp(EffectMask effects)
@@ -227,16 +229,19 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
-    m->split = m->defocus && effect_in(m->effects, EFFECT_SOFT_SHADOWS);
+    EffectMask scene = renderer_effects(s->renderer);
+    m->split_direct = m->defocus && effect_in(scene, EFFECT_SOFT_SHADOWS);
+    m->split_indirect = m->defocus && effect_in(scene, EFFECT_INDIRECT);
+    bool split = m->split_direct || m->split_indirect;
     if (m->defocus) {
         m->dsum = calloc(n * per, sizeof(float));
-        m->asum = m->split ? calloc(n * per, sizeof(float)) : NULL;
+        m->asum = split ? calloc(n * per, sizeof(float)) : NULL;
         m->dpos4 = malloc(4 * n * sizeof(float));
         m->dnrm4 = malloc(4 * n * sizeof(float));
         m->daxis2 = malloc(4 * n * sizeof(float));
         m->dstd_px = calloc(n, sizeof(float));
         m->dcomponents = calloc(n, sizeof(float));
-        if (!m->dsum || (m->split && !m->asum) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+        if (!m->dsum || (split && !m->asum) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
             !m->dcomponents || !maaf_lens_design(s->mu > 0.0f ? s->mu : MAAF_DEFOCUS_KAPPA_DEFAULT, m->pairs, &m->lens))
             goto oom;
     }
@@ -266,10 +271,13 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
 static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
 {
     float f[4] = {r->L.x, r->L.y, r->L.z, 1.0f};
-    if (m->split && r->hit) { /* the direct light the shadow filter replaces (maaf_add_sample's f) */
+    if ((m->split_direct || m->split_indirect) && r->hit) {
+        /* the filterable lights, as composite.c splits them (maaf_add_sample's f for the direct) */
         float ud[3], ui[3];
         gbuffer_unfiltered_split(r, ud, ui);
-        f[0] -= r->direct.x - ud[0], f[1] -= r->direct.y - ud[1], f[2] -= r->direct.z - ud[2];
+        if (m->split_direct) f[0] -= r->direct.x - ud[0], f[1] -= r->direct.y - ud[1], f[2] -= r->direct.z - ud[2];
+        if (m->split_indirect)
+            f[0] -= r->indirect.x - ui[0], f[1] -= r->indirect.y - ui[1], f[2] -= r->indirect.z - ui[2];
     }
     if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2]) || !isfinite(r->lens_u + r->lens_v)) {
         ++m->nonfinite_samples;
@@ -277,7 +285,7 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
     }
     size_t per = (size_t)m->comps * 8;
     maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, f, m->dsum + i * per);
-    if (m->split) {
+    if (m->asum) {
         float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
         maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, a, m->asum + i * per);
     }
@@ -503,6 +511,22 @@ static void maaf_shading_light(ReconMethod *m, const ReconShadingLight *light)
 {
     m->direct4 = light->direct4;
     m->direct_factor = light->direct_factor;
+    m->indirect4 = light->indirect4;
+}
+
+/* The pixel's contribution of one split light to its sums o, from the rest's weights and the
+ * albedo sums: filtered (value4 usable): factor x value x the albedo sums; passed through:
+ * value4's raw light x the weight sums; not filtered at all (value4 NULL): the pixel's raw
+ * mean mean3 x the weight sums. */
+static void add_light(const float *value4, float factor, const float mean3[3], const float *rest, const float *alb,
+                      size_t per, float *o)
+{
+    bool filtered = value4 && value4[3] != 0.0f;
+    for (size_t c = 0; c < per; ++c) {
+        int ch = (int)(c & 3);
+        if (ch == 3) continue; /* the weight channel of each (re, im) half */
+        o[c] += filtered ? factor * value4[ch] * alb[c] : (value4 ? value4[ch] : mean3[ch]) * rest[c | 3];
+    }
 }
 
 /* Defocus: the lens-weighted radiance sums filtered on screen guides (maaf_defocus.h). When the
@@ -519,21 +543,22 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
     int w = g->width, h = g->height;
     size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
     const float *sums = m->dsum;
-    if (m->split && !m->direct4) { /* the pipeline filters the direct light before the radiance */
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF defocus: the direct light was not filtered before the radiance");
-        return false;
-    }
-    if (m->split) {
+    if (m->asum) {
         for (size_t i = 0; i < n; ++i) {
-            const float *dl = m->direct4 + 4 * i, *rest = m->dsum + i * per, *alb = m->asum + i * per;
-            float *o = m->ydemod + i * per;
-            bool usable = dl[3] != 0.0f;
-            float fac = usable && m->direct_factor ? m->direct_factor[i] : 1.0f;
-            for (size_t c = 0; c < per; ++c) {
-                int ch = (int)(c & 3);
-                /* the weight channel of each (re, im) half: c & 3 == 3 */
-                o[c] = rest[c] + (ch == 3 ? 0.0f : usable ? fac * dl[ch] * alb[c] : dl[ch] * rest[c | 3]);
+            const float *rest = m->dsum + i * per, *alb = m->asum + i * per;
+            float *o = m->ydemod + i * per, raw[3][3], ud[3], ui[3], spp = g->frame.spp[i];
+            memcpy(o, rest, per * sizeof(float));
+            gbuffer_unfiltered_means(g, i, ud, ui);
+            for (int k = 0; k < 3; ++k) { /* composite.c's raw means of the filterable lights */
+                raw[0][k] = spp > 0.0f ? g->frame.direct[3 * i + k] / spp - ud[k] : 0.0f;
+                raw[1][k] = spp > 0.0f ? g->frame.indirect[3 * i + k] / spp - ui[k] : 0.0f;
+                if (!isfinite(raw[0][k])) raw[0][k] = 0.0f;
+                if (!isfinite(raw[1][k])) raw[1][k] = 0.0f;
             }
+            if (m->split_direct)
+                add_light(m->direct4 ? m->direct4 + 4 * i : NULL, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0],
+                          rest, alb, per, o);
+            if (m->split_indirect) add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
         }
         sums = m->ydemod;
     }
