@@ -52,6 +52,9 @@
 #define EXTRA_SPP_PER_MU 8.0f
 #define UNFILTERED_STD_PX 0.5f
 #define MAAF_PLAN_MU_DEFAULT 2.0f
+/* Defocus: filters at least this wide (std, pixels) keep pass 1's count at the default knob;
+ * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
+#define DEFOCUS_FULL_STD_PX 2.0f
 
 struct ReconMethod {
     const Renderer *renderer;
@@ -434,20 +437,31 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
     int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
+
     for (int y = 0; y < g->height; ++y)
         for (int x = 0; x < g->width; ++x) {
             size_t i = (size_t)y * g->width + x;
             float *pr = m->param + i * MAAF_PARAM_STRIDE, comps, side;
             bool more = false;
+            int count = pass1;
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i])
                 more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && pixel_filter(m, x, y, pr, &comps) < UNFILTERED_STD_PX);
             /* defocus (seeds/003's extra samples near the focal plane): a slope range that
              * straddles it, or a filter under half a pixel */
-            if (m->defocus && !more)
-                more = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, g->width, g->height, x, y,
-                                          m->lens.omega_u_max, m->pairs, pr, &side) < UNFILTERED_STD_PX;
-            spp_total[i] = more ? extra : pass1;
+            if (m->defocus && !more) {
+                float std_px = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, g->width, g->height, x, y,
+                                                  m->lens.omega_u_max, m->pairs, pr, &side);
+                /* filtered: about the same samples in every filter's footprint (count ~ 1/std^2),
+                 * pass 1's from DEFOCUS_FULL_STD_PX up at the default knob, continuous with the
+                 * extra count at UNFILTERED_STD_PX. With pass 1's alone these pixels held the
+                 * error at every budget (docs/algorithms.md 9.8). */
+                float area = DEFOCUS_FULL_STD_PX / fmaxf(std_px, UNFILTERED_STD_PX);
+                more = std_px < UNFILTERED_STD_PX;
+                count = aaf_clamp_spp(mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1 * fmaxf(1.0f, area * area), pass1,
+                                      100.0f * mu_e);
+            }
+            spp_total[i] = more ? extra : count;
         }
     return true;
 }
