@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "mc_render.h"
 #include "recon_test_util.h"
 
 static char *load_scene(void)
@@ -28,24 +29,6 @@ static char *load_scene(void)
     text[len] = '\0';
     fclose(f);
     return text;
-}
-
-static float *render_mc(const char *text, unsigned seed, int spp, size_t *n3)
-{
-    SceneDesc scene;
-    Renderer *r;
-    if (!recon_test_renderer(text, seed, spp, false, &scene, &r)) return NULL;
-    int w = renderer_width(r), h = renderer_height(r);
-    Frame f;
-    frame_init(&f, w, h);
-    render_pass(r, 0, NULL, spp, &f, NULL);
-    *n3 = 3 * (size_t)w * (size_t)h;
-    float *rgb = malloc(*n3 * sizeof(float));
-    frame_resolve3(&f, f.color, rgb);
-    frame_free(&f);
-    renderer_destroy(r);
-    scene_desc_free(&scene);
-    return rgb;
 }
 
 typedef struct {
@@ -75,7 +58,7 @@ int main(void)
     CHECK(text != NULL);
     if (!text) CHECK_DONE();
     size_t n3 = 0;
-    float *ref = render_mc(text, 7, 1024, &n3), *mc = render_mc(text, 1, 8, &n3);
+    float *ref = recon_test_mc_image(text, 7, 1024, &n3), *mc = recon_test_mc_image(text, 1, 8, &n3);
     CHECK(ref && mc);
     double err_mc = rel_mse(mc, ref, n3), err[2] = {-1.0, -1.0};
     const int spp[2] = {8, 32};

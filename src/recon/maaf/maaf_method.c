@@ -466,6 +466,29 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     return true;
 }
 
+/* Runs the image pass on in and writes its filtered pixels' rgb into value4 (4 floats per
+ * pixel); non-finite results keep the pixel's own value and are counted in *nonfinite. */
+static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4, double *kernel_seconds,
+                       long long *nonfinite, Diag *d)
+{
+    if (!m->filter) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
+        return false;
+    }
+    if (!maaf_filter_run(m->filter, in, m->out4, kernel_seconds, d)) return false;
+    size_t n = (size_t)in->width * (size_t)in->height;
+    for (size_t i = 0; i < n; ++i) {
+        const float *o = m->out4 + 4 * i;
+        if (o[3] == 0.0f) continue;
+        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
+            ++*nonfinite;
+            continue;
+        }
+        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
+    }
+    return true;
+}
+
 static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
 {
     *kernel_seconds = 0.0;
@@ -473,7 +496,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     if (!ensure_derived(m, d)) return false;
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
-    size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
+    size_t per = (size_t)m->comps * 8;
     const float *factor = m->derived.light_known ? m->shade : NULL;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -500,21 +523,8 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
         }
     MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
-    if (!m->filter) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
-        return false;
-    }
-    if (!maaf_filter_run(m->filter, &in, m->out4, kernel_seconds, d)) return false;
     long long nonfinite = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const float *o = m->out4 + 4 * i;
-        if (o[3] == 0.0f) continue;
-        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
-            ++nonfinite; /* keep the pixel's own value */
-            continue;
-        }
-        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
-    }
+    if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
         fprintf(stderr, "wedge: maaf: %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
                 nonfinite, m->nonfinite_samples);
@@ -588,21 +598,8 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
         }
     MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
-    if (!m->filter) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
-        return false;
-    }
-    if (!maaf_filter_run(m->filter, &in, m->out4, kernel_seconds, d)) return false;
     long long nonfinite = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const float *o = m->out4 + 4 * i;
-        if (o[3] == 0.0f) continue;
-        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
-            ++nonfinite; /* keep the pixel's own value */
-            continue;
-        }
-        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
-    }
+    if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)
         fprintf(stderr, "wedge: maaf: %lld non-finite defocus-filtered pixels kept their own value\n", nonfinite);
     return true;
