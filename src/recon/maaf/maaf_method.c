@@ -214,8 +214,16 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->comps = maaf_component_count(m->pairs);
     size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
-    m->ysum = calloc(n * per, sizeof(float));
-    m->ydemod = malloc(n * per * sizeof(float));
+    /* the shadow sums only when shadows are filtered here; ydemod also holds the defocus sums
+     * with the shading lights put back (maaf_filter_radiance) */
+    bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
+    EffectMask scene = renderer_effects(s->renderer);
+    m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
+    m->split_direct = m->defocus && effect_in(scene, EFFECT_SOFT_SHADOWS);
+    m->split_indirect = m->defocus && effect_in(scene, EFFECT_INDIRECT);
+    bool split = m->split_direct || m->split_indirect;
+    m->ysum = shadows ? calloc(n * per, sizeof(float)) : NULL;
+    m->ydemod = shadows || split ? malloc(n * per * sizeof(float)) : NULL;
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
@@ -228,14 +236,9 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || !m->ysum || !m->ydemod || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || ((shadows || split) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
-    m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
-    EffectMask scene = renderer_effects(s->renderer);
-    m->split_direct = m->defocus && effect_in(scene, EFFECT_SOFT_SHADOWS);
-    m->split_indirect = m->defocus && effect_in(scene, EFFECT_INDIRECT);
-    bool split = m->split_direct || m->split_indirect;
     if (m->defocus) {
         m->dsum = calloc(n * per, sizeof(float));
         m->asum = split ? calloc(n * per, sizeof(float)) : NULL;
@@ -492,7 +495,7 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
 static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
 {
     *kernel_seconds = 0.0;
-    if (e != EFFECT_SOFT_SHADOWS) return true;
+    if (e != EFFECT_SOFT_SHADOWS || !m->ysum) return true;
     if (!ensure_derived(m, d)) return false;
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
@@ -608,7 +611,7 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
 static int maaf_shared(ReconMethod *m, DistArray *out, int max)
 {
     int count = aaf_stats_arrays(&m->stats, out, max);
-    if (count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->ysum && count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
