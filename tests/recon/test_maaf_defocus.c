@@ -6,7 +6,9 @@
  *     edge whose blur has a closed form) at 8 spp: MAAF is well below the pixel mean's error,
  *     and the design of the opposite slope sign (the mirrored wedge) is clearly worse;
  *   - the OpenCL pass on screen guides (negative C_x, pixels of the other side of the focal
- *     plane rejected) equals the C reference. */
+ *     plane rejected) equals the C reference;
+ *   - putting a shading light back into a pixel's lens sums (maaf_defocus_add_light) gives the
+ *     sums of the samples with that light substituted, in each of its three cases. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -201,6 +203,44 @@ int main(void)
         plane_free(&wrong);
     }
     maaf_lens_free(&paper);
+
+    /* 5. the shading substitution is linear: sums of (L - D) and of the albedo, then the light
+     * put back, equal the sums of each sample's L - D + substitute accumulated directly */
+    {
+        enum { SAMPLES = 7 };
+        size_t per = (size_t)lens.comps * 8;
+        float *rest = calloc(per, sizeof(float)), *alb = calloc(per, sizeof(float)), *got = malloc(per * sizeof(float)),
+              *want = malloc(per * sizeof(float));
+        const float filtered4[4] = {0.3f, 0.5f, 0.9f, 1.0f}, raw4[4] = {0.7f, 0.2f, 0.4f, 0.0f}, mean3[3] = {0.25f, 0.6f, 0.1f};
+        const float factor = 1.7f;
+        float su[SAMPLES], sv[SAMPLES], sl[SAMPLES][3], sa[SAMPLES][3];
+        rng_state = 4242u;
+        for (int k = 0; k < SAMPLES; ++k) {
+            su[k] = 1.4f * frand() - 0.7f, sv[k] = 1.4f * frand() - 0.7f;
+            for (int ch = 0; ch < 3; ++ch) sl[k][ch] = frand(), sa[k][ch] = frand();
+            float f[4] = {sl[k][0], sl[k][1], sl[k][2], 1.0f}, a[4] = {sa[k][0], sa[k][1], sa[k][2], 0.0f};
+            maaf_lens_accumulate(&lens, su[k], sv[k], f, rest);
+            maaf_lens_accumulate(&lens, su[k], sv[k], a, alb);
+        }
+        for (int mode = 0; mode < 3; ++mode) { /* filtered, passed through, not filtered */
+            const float *v4 = mode == 0 ? filtered4 : mode == 1 ? raw4 : NULL;
+            memcpy(got, rest, per * sizeof(float));
+            maaf_defocus_add_light(v4, factor, mean3, rest, alb, per, got);
+            memset(want, 0, per * sizeof(float));
+            for (int k = 0; k < SAMPLES; ++k) {
+                float f[4] = {0, 0, 0, 1.0f};
+                for (int ch = 0; ch < 3; ++ch)
+                    f[ch] = sl[k][ch] + (mode == 0 ? factor * filtered4[ch] * sa[k][ch] : mode == 1 ? raw4[ch] : mean3[ch]);
+                maaf_lens_accumulate(&lens, su[k], sv[k], f, want);
+            }
+            double diff = 0.0, size = 0.0;
+            for (size_t c = 0; c < per; ++c) diff = fmax(diff, fabs(got[c] - want[c])), size = fmax(size, fabs(want[c]));
+            printf("substitution case %d: max |diff| %.2e of %.3f\n", mode, diff, size);
+            CHECK(diff < 1e-5 * size);
+            CHECK(size > 0.1);
+        }
+        free(rest), free(alb), free(got), free(want);
+    }
 
     /* 4. the kernel against the C reference on screen guides, with rejected neighbours */
     Diag dg = {0};

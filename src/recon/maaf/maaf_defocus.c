@@ -199,6 +199,17 @@ float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, 
     return std_px;
 }
 
+void maaf_defocus_add_light(const float *value4, float factor, const float mean3[3], const float *rest, const float *alb,
+                            size_t per, float *o)
+{
+    bool filtered = value4 && value4[3] != 0.0f;
+    for (size_t c = 0; c < per; ++c) {
+        int ch = (int)(c & 3);
+        if (ch == 3) continue; /* the weight channel of each (re, im) half */
+        o[c] += filtered ? factor * value4[ch] * alb[c] : (value4 ? value4[ch] : mean3[ch]) * rest[c | 3];
+    }
+}
+
 void maaf_screen_guides(int x, int y, float side, bool usable, float pos4[4], float nrm4[4], float frame4[4],
                         float axis2[4])
 {

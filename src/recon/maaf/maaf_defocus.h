@@ -19,6 +19,7 @@
 #define WEDGE_RECON_MAAF_DEFOCUS_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "recon/maaf/maaf_design.h"
 #include "recon/maaf/maaf_filter.h"
@@ -69,6 +70,14 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
 #define MAAF_DEFOCUS_WINDOW_PX 2
 float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
                          float omega_u_max, int pairs, float *param, float *side);
+
+/* Scenes with shading effects (docs/algorithms.md 9.8): a pixel's lens sums hold the rest of the
+ * radiance (rest) and, with the same factors, the albedo (alb); this adds one shading light back
+ * to o (per floats, a copy of rest): where it was filtered (value4 usable) as factor x value x
+ * the albedo sums, where it was passed through as value4's raw light x the weight sums, and
+ * where no method filtered it (value4 NULL) as the pixel's raw mean mean3 x the weight sums. */
+void maaf_defocus_add_light(const float *value4, float factor, const float mean3[3], const float *rest, const float *alb,
+                            size_t per, float *o);
 
 /* The guides of pixel (x, y) for the screen-space pass: position (x, y, 0) in pixels, normal
  * +z with the slope's side of the focal plane (side: -1, +1) as the object id (neighbours on the

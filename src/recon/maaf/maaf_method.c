@@ -541,21 +541,6 @@ static void maaf_shading_light(ReconMethod *m, const ReconShadingLight *light)
     m->indirect4 = light->indirect4;
 }
 
-/* The pixel's contribution of one split light to its sums o, from the rest's weights and the
- * albedo sums: filtered (value4 usable): factor x value x the albedo sums; passed through:
- * value4's raw light x the weight sums; not filtered at all (value4 NULL): the pixel's raw
- * mean mean3 x the weight sums. */
-static void add_light(const float *value4, float factor, const float mean3[3], const float *rest, const float *alb,
-                      size_t per, float *o)
-{
-    bool filtered = value4 && value4[3] != 0.0f;
-    for (size_t c = 0; c < per; ++c) {
-        int ch = (int)(c & 3);
-        if (ch == 3) continue; /* the weight channel of each (re, im) half */
-        o[c] += filtered ? factor * value4[ch] * alb[c] : (value4 ? value4[ch] : mean3[ch]) * rest[c | 3];
-    }
-}
-
 /* Defocus: the lens-weighted radiance sums filtered on screen guides (maaf_defocus.h). When the
  * direct light was filtered here too, each pixel's sums of the rest get its filtered direct
  * light back through the albedo sums: sum_k c_k (L_k - D_k + a_k D_pixel) (LR's substitution,
@@ -583,9 +568,9 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
                 if (!isfinite(raw[1][k])) raw[1][k] = 0.0f;
             }
             if (m->split_direct)
-                add_light(m->direct4 ? m->direct4 + 4 * i : NULL, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0],
+                maaf_defocus_add_light(m->direct4 ? m->direct4 + 4 * i : NULL, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0],
                           rest, alb, per, o);
-            if (m->split_indirect) add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
+            if (m->split_indirect) maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
         }
         sums = m->ydemod;
     }
