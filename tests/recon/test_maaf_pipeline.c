@@ -7,28 +7,11 @@
 #include <string.h>
 
 #include "check.h"
+#include "mc_render.h"
 #include "recon_test_util.h"
 #include "recon/pipeline.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
-
-static float *render_mc(const char *text, unsigned seed, int spp, size_t *n3)
-{
-    SceneDesc scene;
-    Renderer *r;
-    if (!recon_test_renderer(text, seed, spp, false, &scene, &r)) return NULL;
-    int w = renderer_width(r), h = renderer_height(r);
-    Frame f;
-    frame_init(&f, w, h);
-    render_pass(r, 0, NULL, spp, &f, NULL);
-    *n3 = 3 * (size_t)w * (size_t)h;
-    float *rgb = malloc(*n3 * sizeof(float));
-    frame_resolve3(&f, f.color, rgb);
-    frame_free(&f);
-    renderer_destroy(r);
-    scene_desc_free(&scene);
-    return rgb;
-}
 
 /* relMSE of a MAAF render at spp (pairs: --maaf-pairs), -1 on failure. */
 static double maaf_error(unsigned seed, int spp, int pairs, const float *ref, size_t n3)
@@ -71,10 +54,10 @@ static double maaf_error(unsigned seed, int spp, int pairs, const float *ref, si
 int main(void)
 {
     size_t n3 = 0;
-    float *ref = render_mc(SHADOW_SCENE, 7, 1024, &n3);
+    float *ref = recon_test_mc_image(SHADOW_SCENE, 7, 1024, &n3);
     CHECK(ref != NULL);
     if (!ref) CHECK_DONE();
-    float *mc = render_mc(SHADOW_SCENE, 1, 9, &n3);
+    float *mc = recon_test_mc_image(SHADOW_SCENE, 1, 9, &n3);
     double err_mc = rel_mse(mc, ref, n3);
     double err9 = maaf_error(1, 9, 3, ref, n3), err36 = maaf_error(1, 36, 3, ref, n3);
     double err9_n1 = maaf_error(1, 9, 1, ref, n3);

@@ -51,6 +51,26 @@ bool maaf_design_2d(float s_min, float s_max, float omega_y_max, int pairs, Maaf
     return true;
 }
 
+bool maaf_design_2d_signed(float s_min, float s_max, float omega_y_max, int pairs, MaafDesign2D *out)
+{
+    if (s_min > s_max) {
+        float t = s_min;
+        s_min = s_max;
+        s_max = t;
+    }
+    if (s_min > 0.0f) return maaf_design_2d(s_min, s_max, omega_y_max, pairs, out);
+    if (!(s_max < 0.0f)) {
+        memset(out, 0, sizeof *out);
+        return false;
+    }
+    if (!maaf_design_2d(-s_max, -s_min, omega_y_max, pairs, out)) return false;
+    for (int p = 0; p < out->pairs; ++p) out->c[p].cx = -out->c[p].cx;
+    float lo = -out->s_max, hi = -out->s_min;
+    out->s_min = lo;
+    out->s_max = hi;
+    return true;
+}
+
 static double fourier_gauss(double t, double sigma) { return exp(-0.5 * (t * t) / (sigma * sigma)); }
 
 /* The inverse transform of fourier_gauss: (sigma / sqrt(2 pi)) exp(-sigma^2 x^2 / 2). */

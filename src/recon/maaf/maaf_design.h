@@ -49,6 +49,11 @@ typedef struct {
 #define MAAF_SLOPE_MIN 1.0e-4f
 #define MAAF_SLOPE_MAX 1.0e4f
 bool maaf_design_2d(float s_min, float s_max, float omega_y_max, int pairs, MaafDesign2D *out);
+/* Slopes of either sign (defocus: docs/algorithms.md 9.8): a range of negative slopes is the
+ * positive design of [-s_max, -s_min] mirrored through the Omega_y axis (every C_x negated; its
+ * s_min, s_max are stored as given). False (and a zero design) when the range straddles 0, whose
+ * wedge holds the whole Omega_x axis, or omega_y_max is not usable. */
+bool maaf_design_2d_signed(float s_min, float s_max, float omega_y_max, int pairs, MaafDesign2D *out);
 
 /* Eq. 9: W(Omega_x, Omega_y), all 2N - 1 components. */
 double maaf_fourier_2d(const MaafDesign2D *d, double omega_x, double omega_y);

@@ -1,5 +1,5 @@
-/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows, as a reconstruction method
- * (recon/method.h). docs/algorithms.md 9.
+/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows and defocus, as a
+ * reconstruction method (recon/method.h). docs/algorithms.md 9 (defocus: 9.8).
  *
  *   samples  pass 1: 9 per pixel (the paper's count), recording the shadow-ray geometry; the
  *            plan adds samples only where the filter does not reach (silhouettes, contact
@@ -10,13 +10,20 @@
  *   filter   the direct light divided by albedo and the unoccluded irradiance r(x) (as AAF),
  *            one image pass per axis with every component at once (maaf_filter.h)
  *
- * Only soft shadows: the scene's other effects stay Monte Carlo with --filter maaf. */
+ * Defocus (maaf_defocus.h): per pixel the complex sums of each sample's radiance times the
+ * lens-factor of its lens point; filter_radiance runs the same image pass on screen guides with
+ * each pixel's design from pass 1's circle-of-confusion range. In a scene with shading effects a
+ * sample's filterable direct and indirect light are replaced by albedo x its pixel's filtered
+ * light (the sums of the rest and of the albedo are kept apart, section 9.8).
+ *
+ * Indirect light and motion stay Monte Carlo with --filter maaf. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_stats.h"
+#include "recon/maaf/maaf_defocus.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_shadow.h"
 #include "recon/method.h"
@@ -45,6 +52,9 @@
 #define EXTRA_SPP_PER_MU 8.0f
 #define UNFILTERED_STD_PX 0.5f
 #define MAAF_PLAN_MU_DEFAULT 2.0f
+/* Defocus: filters at least this wide (std, pixels) keep pass 1's count at the default knob;
+ * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
+#define DEFOCUS_FULL_STD_PX 2.0f
 
 struct ReconMethod {
     const Renderer *renderer;
@@ -70,6 +80,16 @@ struct ReconMethod {
     float *std_px, *components; /* AOVs */
     MaafFilter *filter;
     long long nonfinite_samples;
+    /* defocus (maaf_defocus.h) */
+    bool defocus;
+    bool split_direct, split_indirect; /* the scene has soft shadows / indirect light: that
+                                        * filterable light is left out of dsum, asum is kept */
+    MaafLens lens;
+    float *dsum;                /* comps * 8 per pixel: radiance minus the split lights */
+    float *asum;                /* split: the same sums of the albedo */
+    float *dpos4, *dnrm4, *daxis2; /* screen guides */
+    float *dstd_px, *dcomponents;  /* AOVs */
+    const float *direct4, *direct_factor, *indirect4; /* the shading filters' output (shading_light) */
 };
 
 static int maaf_pass1_spp(EffectMask effects)
@@ -96,6 +116,14 @@ static void maaf_destroy(ReconMethod *m)
     free(m->shade);
     free(m->std_px);
     free(m->components);
+    maaf_lens_free(&m->lens);
+    free(m->dsum);
+    free(m->asum);
+    free(m->dpos4);
+    free(m->dnrm4);
+    free(m->daxis2);
+    free(m->dstd_px);
+    free(m->dcomponents);
     free(m);
 }
 
@@ -186,8 +214,16 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->comps = maaf_component_count(m->pairs);
     size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
-    m->ysum = calloc(n * per, sizeof(float));
-    m->ydemod = malloc(n * per * sizeof(float));
+    /* the shadow sums only when shadows are filtered here; ydemod also holds the defocus sums
+     * with the shading lights put back (maaf_filter_radiance) */
+    bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
+    EffectMask scene = renderer_effects(s->renderer);
+    m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
+    m->split_direct = m->defocus && effect_in(scene, EFFECT_SOFT_SHADOWS);
+    m->split_indirect = m->defocus && effect_in(scene, EFFECT_INDIRECT);
+    bool split = m->split_direct || m->split_indirect;
+    m->ysum = shadows ? calloc(n * per, sizeof(float)) : NULL;
+    m->ydemod = shadows || split ? malloc(n * per * sizeof(float)) : NULL;
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
@@ -200,9 +236,21 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || !m->ysum || !m->ydemod || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || ((shadows || split) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
+    if (m->defocus) {
+        m->dsum = calloc(n * per, sizeof(float));
+        m->asum = split ? calloc(n * per, sizeof(float)) : NULL;
+        m->dpos4 = malloc(4 * n * sizeof(float));
+        m->dnrm4 = malloc(4 * n * sizeof(float));
+        m->daxis2 = malloc(4 * n * sizeof(float));
+        m->dstd_px = calloc(n, sizeof(float));
+        m->dcomponents = calloc(n, sizeof(float));
+        if (!m->dsum || (split && !m->asum) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+            !m->dcomponents || !maaf_lens_design(s->mu > 0.0f ? s->mu : MAAF_DEFOCUS_KAPPA_DEFAULT, m->pairs, &m->lens))
+            goto oom;
+    }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
     m->stats.light_count = m->light_count;
@@ -224,10 +272,37 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
     m->stats.collect_rays = pass == 0;
 }
 
+/* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
+ * flipped: raster y runs against the lens's v (maaf_defocus.h). */
+static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
+{
+    float f[4] = {r->L.x, r->L.y, r->L.z, 1.0f};
+    if ((m->split_direct || m->split_indirect) && r->hit) {
+        /* the filterable lights, as composite.c splits them (maaf_add_sample's f for the direct) */
+        float ud[3], ui[3];
+        gbuffer_unfiltered_split(r, ud, ui);
+        if (m->split_direct) f[0] -= r->direct.x - ud[0], f[1] -= r->direct.y - ud[1], f[2] -= r->direct.z - ud[2];
+        if (m->split_indirect)
+            f[0] -= r->indirect.x - ui[0], f[1] -= r->indirect.y - ui[1], f[2] -= r->indirect.z - ui[2];
+    }
+    if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2]) || !isfinite(r->lens_u + r->lens_v)) {
+        ++m->nonfinite_samples;
+        return;
+    }
+    size_t per = (size_t)m->comps * 8;
+    maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, f, m->dsum + i * per);
+    if (m->asum) {
+        float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
+        maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, a, m->asum + i * per);
+    }
+}
+
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
 {
     aaf_stats_add(&m->stats, px, py, r);
-    if (!r->hit) return;
+    if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
+        defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
+    if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
     const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
     bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
                  m->lights[sr->light_index].omega_y_max > 0.0f;
@@ -364,30 +439,67 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
     float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
     int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
+
     for (int y = 0; y < g->height; ++y)
         for (int x = 0; x < g->width; ++x) {
             size_t i = (size_t)y * g->width + x;
-            spp_total[i] = pass1;
-            if (!g->hit[i]) continue;
-            if (g->mixed[i]) {
-                spp_total[i] = extra;
-                continue;
+            float *pr = m->param + i * MAAF_PARAM_STRIDE, comps, side;
+            bool more = false;
+            int count = pass1;
+            /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
+            if (shadows && g->hit[i])
+                more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && pixel_filter(m, x, y, pr, &comps) < UNFILTERED_STD_PX);
+            /* defocus (seeds/003's extra samples near the focal plane): a slope range that
+             * straddles it, or a filter under half a pixel */
+            if (m->defocus && !more) {
+                float std_px = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, g->width, g->height, x, y,
+                                                  m->lens.omega_u_max, m->pairs, pr, &side);
+                /* filtered: about the same samples in every filter's footprint (count ~ 1/std^2),
+                 * pass 1's from DEFOCUS_FULL_STD_PX up at the default knob, continuous with the
+                 * extra count at UNFILTERED_STD_PX. With pass 1's alone these pixels held the
+                 * error at every budget (docs/algorithms.md 9.8). */
+                float area = DEFOCUS_FULL_STD_PX / fmaxf(std_px, UNFILTERED_STD_PX);
+                more = std_px < UNFILTERED_STD_PX;
+                count = aaf_clamp_spp(mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1 * fmaxf(1.0f, area * area), pass1,
+                                      100.0f * mu_e);
             }
-            if (m->frame4[4 * i + 3] == 0.0f) continue; /* no direct light reaches it: no noise */
-            float comps;
-            if (pixel_filter(m, x, y, m->param + i * MAAF_PARAM_STRIDE, &comps) < UNFILTERED_STD_PX) spp_total[i] = extra;
+            spp_total[i] = more ? extra : count;
         }
+    return true;
+}
+
+/* Runs the image pass on in and writes its filtered pixels' rgb into value4 (4 floats per
+ * pixel); non-finite results keep the pixel's own value and are counted in *nonfinite. */
+static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4, double *kernel_seconds,
+                       long long *nonfinite, Diag *d)
+{
+    if (!m->filter) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
+        return false;
+    }
+    if (!maaf_filter_run(m->filter, in, m->out4, kernel_seconds, d)) return false;
+    size_t n = (size_t)in->width * (size_t)in->height;
+    for (size_t i = 0; i < n; ++i) {
+        const float *o = m->out4 + 4 * i;
+        if (o[3] == 0.0f) continue;
+        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
+            ++*nonfinite;
+            continue;
+        }
+        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
+    }
     return true;
 }
 
 static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
 {
     *kernel_seconds = 0.0;
-    if (e != EFFECT_SOFT_SHADOWS) return true;
+    if (e != EFFECT_SOFT_SHADOWS || !m->ysum) return true;
     if (!ensure_derived(m, d)) return false;
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
-    size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
+    size_t per = (size_t)m->comps * 8;
     const float *factor = m->derived.light_known ? m->shade : NULL;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -414,40 +526,81 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
         }
     MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
-    if (!m->filter) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
-        return false;
-    }
-    if (!maaf_filter_run(m->filter, &in, m->out4, kernel_seconds, d)) return false;
     long long nonfinite = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const float *o = m->out4 + 4 * i;
-        if (o[3] == 0.0f) continue;
-        if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
-            ++nonfinite; /* keep the pixel's own value */
-            continue;
-        }
-        memcpy(value4 + 4 * i, o, 3 * sizeof(float));
-    }
+    if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
         fprintf(stderr, "wedge: maaf: %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
                 nonfinite, m->nonfinite_samples);
     return true;
 }
 
+static void maaf_shading_light(ReconMethod *m, const ReconShadingLight *light)
+{
+    m->direct4 = light->direct4;
+    m->direct_factor = light->direct_factor;
+    m->indirect4 = light->indirect4;
+}
+
+/* Defocus: the lens-weighted radiance sums filtered on screen guides (maaf_defocus.h). When the
+ * direct light was filtered here too, each pixel's sums of the rest get its filtered direct
+ * light back through the albedo sums: sum_k c_k (L_k - D_k + a_k D_pixel) (LR's substitution,
+ * docs/algorithms.md 8.17, with the pixel's own light); where that light was passed through
+ * (value4 unusable) its raw mean, times the weight sums. */
 static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
 {
-    (void)m, (void)effects, (void)value4, (void)d;
     *kernel_seconds = 0.0;
+    if (!effect_in(effects, EFFECT_DEFOCUS) || !m->defocus) return true;
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    int w = g->width, h = g->height;
+    size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
+    const float *sums = m->dsum;
+    if (m->asum) {
+        for (size_t i = 0; i < n; ++i) {
+            const float *rest = m->dsum + i * per, *alb = m->asum + i * per;
+            float *o = m->ydemod + i * per, raw[3][3], ud[3], ui[3], spp = g->frame.spp[i];
+            memcpy(o, rest, per * sizeof(float));
+            gbuffer_unfiltered_means(g, i, ud, ui);
+            for (int k = 0; k < 3; ++k) { /* composite.c's raw means of the filterable lights */
+                raw[0][k] = spp > 0.0f ? g->frame.direct[3 * i + k] / spp - ud[k] : 0.0f;
+                raw[1][k] = spp > 0.0f ? g->frame.indirect[3 * i + k] / spp - ui[k] : 0.0f;
+                if (!isfinite(raw[0][k])) raw[0][k] = 0.0f;
+                if (!isfinite(raw[1][k])) raw[1][k] = 0.0f;
+            }
+            if (m->split_direct)
+                maaf_defocus_add_light(m->direct4 ? m->direct4 + 4 * i : NULL, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0],
+                          rest, alb, per, o);
+            if (m->split_indirect) maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
+        }
+        sums = m->ydemod;
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * w + x;
+            float side = 0.0f, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            m->dstd_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, w, h, x, y, m->lens.omega_u_max,
+                                               m->pairs, pr, &side);
+            m->dcomponents[i] = m->dstd_px[i] > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+            maaf_screen_guides(x, y, side, g->frame.spp[i] > 0.0f, m->dpos4 + 4 * i, m->dnrm4 + 4 * i, m->guide4 + 4 * i,
+                               m->daxis2 + 4 * i);
+        }
+    MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->param, COS_NORMAL_MIN,
+                          DEPTH_TOL_REL};
+    long long nonfinite = 0;
+    if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
+    if (nonfinite)
+        fprintf(stderr, "wedge: maaf: %lld non-finite defocus-filtered pixels kept their own value\n", nonfinite);
     return true;
 }
 
 static int maaf_shared(ReconMethod *m, DistArray *out, int max)
 {
     int count = aaf_stats_arrays(&m->stats, out, max);
-    if (count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->ysum && count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
+    if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
     return count;
 }
 
@@ -464,13 +617,24 @@ static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
         out[count].data = m->components;
         out[count++].unit = "filters";
     }
+    if (m->defocus && count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.defocus");
+        out[count].data = m->dstd_px;
+        out[count++].unit = "central filter std in pixels";
+    }
+    if (m->defocus && count < max) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.components.defocus");
+        out[count].data = m->dcomponents;
+        out[count++].unit = "filters";
+    }
     return count;
 }
 
 const ReconMethodClass recon_method_maaf = {
     .name = "maaf",
-    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, (2N-1)^2 offset Gaussians, 9 spp + extra at silhouettes",
-    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows and defocus, (2N-1)^2 offset Gaussians, 9 spp + extra "
+             "at silhouettes and near the focal plane",
+    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS),
     .adaptive = true,
     .sample_fields = 0,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
@@ -482,6 +646,7 @@ const ReconMethodClass recon_method_maaf = {
     .open_device = maaf_open_device,
     .light_factor = maaf_method_light_factor,
     .filter_light = maaf_filter_light,
+    .shading_light = maaf_shading_light,
     .filter_radiance = maaf_filter_radiance,
     .shared = maaf_shared,
     .aovs = maaf_aovs,

@@ -1,0 +1,220 @@
+/* Defocus MAAF: lens-factor tables for the disk aperture, signed per-pixel filters, screen
+ * guides (see maaf_defocus.h; derivation in docs/algorithms.md 9.8). */
+#include "recon/maaf/maaf_defocus.h"
+
+#include "recon/maaf/maaf_shadow.h" /* maaf_pixel_param: the x-filter of one wedge */
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI_D 3.14159265358979323846
+/* Simpson intervals over the disk's polar angle (u' = sin t, half chord cos t: smooth in t) and
+ * trapezoid steps of the antiderivative of one band's primal component over [-2, 2]. */
+#define ANGLE_STEPS 128
+#define ANTIDERIV_STEPS 8192
+
+typedef struct {
+    double re, im;
+} Cplx;
+
+static Cplx cmul(Cplx a, Cplx b) { return (Cplx){a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
+
+/* One band's primal component exp(j C t) g(t; s) (maaf_design.h's conventions). */
+static Cplx band_primal(double C, double s, double t)
+{
+    double g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
+    return (Cplx){g * cos(C * t), g * sin(C * t)};
+}
+
+float maaf_lens_band_centre(const MaafLens *l, int q) { return l->omega_u_max * 2.0f * (float)q / (2.0f * l->pairs - 1.0f); }
+float maaf_lens_band_std(const MaafLens *l) { return l->omega_u_max / (2.0f * l->pairs - 1.0f); }
+
+void maaf_lens_free(MaafLens *l)
+{
+    free(l->table);
+    memset(l, 0, sizeof *l);
+}
+
+bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
+{
+    memset(l, 0, sizeof *l);
+    int n = pairs < 1 ? 1 : pairs > MAAF_PAIRS_MAX ? MAAF_PAIRS_MAX : pairs, bands = 2 * n - 1;
+    l->pairs = n;
+    l->comps = maaf_component_count(n);
+    l->omega_u_max = 2.0f * kappa / MAAF_LENS_SIGMA;
+    enum { T = MAAF_LENS_TABLE, K = ANGLE_STEPS + 1, E = ANTIDERIV_STEPS + 1 };
+    l->table = calloc((size_t)l->comps * T * T * 2, sizeof(float));
+    Cplx *rows = malloc((size_t)n * T * K * sizeof(Cplx));         /* [p][iu][k] */
+    Cplx *chords = malloc((size_t)bands * T * K * sizeof(Cplx));   /* [q + n - 1][iv][k] */
+    Cplx *anti = malloc((size_t)E * sizeof(Cplx));
+    bool ok = l->table && rows && chords && anti;
+    double s = maaf_lens_band_std(l), dt = PI_D / ANGLE_STEPS, de = 4.0 / ANTIDERIV_STEPS;
+    for (int p = 0; ok && p < n; ++p) /* outer factor, Simpson weight and Jacobian cos t included */
+        for (int iu = 0; iu < T; ++iu)
+            for (int k = 0; k < K; ++k) {
+                double t = -0.5 * PI_D + k * dt, u = -1.0 + 2.0 * iu / (T - 1.0);
+                double wk = (k == 0 || k == K - 1 ? 1.0 : (k & 1) ? 4.0 : 2.0) * dt / 3.0 * cos(t);
+                Cplx e = band_primal(maaf_lens_band_centre(l, p), s, sin(t) - u);
+                rows[((size_t)p * T + iu) * K + k] = (Cplx){wk * e.re, wk * e.im};
+            }
+    for (int q = -(n - 1); ok && q < n; ++q) {
+        /* antiderivative A(t) = int_{-2}^{t} exp(j C t') g(t') dt' (trapezoid), then the chord
+         * integral int_{-h}^{h} e(v' - v) dv' = A(h - v) - A(-h - v) */
+        double C = maaf_lens_band_centre(l, q);
+        anti[0] = (Cplx){0.0, 0.0};
+        Cplx prev = band_primal(C, s, -2.0);
+        for (int e = 1; e < E; ++e) {
+            Cplx cur = band_primal(C, s, -2.0 + e * de);
+            anti[e] = (Cplx){anti[e - 1].re + 0.5 * de * (prev.re + cur.re), anti[e - 1].im + 0.5 * de * (prev.im + cur.im)};
+            prev = cur;
+        }
+        for (int iv = 0; iv < T; ++iv)
+            for (int k = 0; k < K; ++k) {
+                double v = -1.0 + 2.0 * iv / (T - 1.0), h = cos(-0.5 * PI_D + k * dt);
+                Cplx a[2];
+                double ends[2] = {h - v, -h - v};
+                for (int b = 0; b < 2; ++b) {
+                    double x = (ends[b] + 2.0) / de;
+                    int e = (int)x;
+                    if (e < 0) e = 0;
+                    if (e > E - 2) e = E - 2;
+                    double f = x - e;
+                    a[b] = (Cplx){anti[e].re + f * (anti[e + 1].re - anti[e].re), anti[e].im + f * (anti[e + 1].im - anti[e].im)};
+                }
+                chords[((size_t)(q + n - 1) * T + iv) * K + k] = (Cplx){a[0].re - a[1].re, a[0].im - a[1].im};
+            }
+    }
+    int c = 0;
+    for (int p = 0; ok && p < n; ++p)
+        for (int q = -(n - 1); q < n; ++q) {
+            if (p == 0 && q < 0) continue;
+            for (int iu = 0; iu < T; ++iu)
+                for (int iv = 0; iv < T; ++iv) {
+                    const Cplx *r = rows + ((size_t)p * T + iu) * K, *ch = chords + ((size_t)(q + n - 1) * T + iv) * K;
+                    Cplx acc = {0.0, 0.0};
+                    for (int k = 0; k < K; ++k) {
+                        Cplx m = cmul(r[k], ch[k]);
+                        acc.re += m.re;
+                        acc.im += m.im;
+                    }
+                    float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
+                    o[0] = (float)acc.re;
+                    o[1] = (float)acc.im;
+                }
+            ++c;
+        }
+    free(rows);
+    free(chords);
+    free(anti);
+    if (!ok) maaf_lens_free(l);
+    return ok;
+}
+
+/* Table cell of (u, v) and its bilinear weights. */
+static size_t lens_cell(float u, float v, float *a, float *b)
+{
+    enum { T = MAAF_LENS_TABLE };
+    float fu = (u + 1.0f) * 0.5f * (T - 1), fv = (v + 1.0f) * 0.5f * (T - 1);
+    if (!(fu > 0.0f)) fu = 0.0f; /* NaN too */
+    if (!(fv > 0.0f)) fv = 0.0f;
+    if (fu > T - 1) fu = T - 1;
+    if (fv > T - 1) fv = T - 1;
+    int iu = (int)fu, iv = (int)fv;
+    if (iu > T - 2) iu = T - 2;
+    if (iv > T - 2) iv = T - 2;
+    *a = fu - (float)iu, *b = fv - (float)iv;
+    return (size_t)iu * T + (size_t)iv;
+}
+
+void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
+{
+    float a, b;
+    size_t cell = lens_cell(u, v, &a, &b), row = (size_t)MAAF_LENS_TABLE * l->comps * 2;
+    const float *t00 = l->table + cell * l->comps * 2 + 2 * c, *t01 = t00 + l->comps * 2, *t10 = t00 + row,
+                *t11 = t10 + l->comps * 2;
+    for (int k = 0; k < 2; ++k)
+        out[k] = (1.0f - a) * ((1.0f - b) * t00[k] + b * t01[k]) + a * ((1.0f - b) * t10[k] + b * t11[k]);
+}
+
+void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum)
+{
+    float a, b;
+    size_t cell = lens_cell(u, v, &a, &b), step = (size_t)l->comps * 2, row = (size_t)MAAF_LENS_TABLE * step;
+    const float *t00 = l->table + cell * step, *t01 = t00 + step, *t10 = t00 + row, *t11 = t10 + step;
+    float w00 = (1.0f - a) * (1.0f - b), w01 = (1.0f - a) * b, w10 = a * (1.0f - b), w11 = a * b;
+    for (int c = 0; c < l->comps; ++c) {
+        float w[2];
+        for (int k = 0; k < 2; ++k)
+            w[k] = w00 * t00[2 * c + k] + w01 * t01[2 * c + k] + w10 * t10[2 * c + k] + w11 * t11[2 * c + k];
+        float *yr = ysum + 8 * c, *yi = yr + 4;
+        for (int ch = 0; ch < 4; ++ch) {
+            yr[ch] += w[0] * f4[ch];
+            yi[ch] += w[1] * f4[ch];
+        }
+    }
+}
+
+float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int pairs, float *param)
+{
+    memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float));
+    if (!(s_min == s_min) || !(s_max == s_max)) return 0.0f;
+    if (s_min > s_max) {
+        float t = s_min;
+        s_min = s_max;
+        s_max = t;
+    }
+    if (s_min > 0.0f) return maaf_pixel_param(s_min, s_max, omega_u_max, pairs, 1.0f, 1.0f, param);
+    if (!(s_max < 0.0f)) return 0.0f; /* straddles the focal plane: the wedge holds the Omega_x axis */
+    /* s -> -s mirrors the wedge through the Omega_u axis (Omega_x -> -Omega_x): the same boxes
+     * with C_x negated */
+    float std_px = maaf_pixel_param(-s_max, -s_min, omega_u_max, pairs, 1.0f, 1.0f, param);
+    for (int p = 0; p < MAAF_PAIRS_MAX; ++p) param[2 + 3 * p] = -param[2 + 3 * p];
+    return std_px;
+}
+
+float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
+                         float omega_u_max, int pairs, float *param, float *side)
+{
+    memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float));
+    *side = 0.0f;
+    size_t i = (size_t)y * (size_t)width + (size_t)x;
+    if (!(coc_min[i] * coc_max[i] > 0.0f)) return 0.0f; /* straddles (or touches) the focal plane */
+    double lo = 0.0, hi = 0.0;
+    int count = 0;
+    for (int yy = y - MAAF_DEFOCUS_WINDOW_PX; yy <= y + MAAF_DEFOCUS_WINDOW_PX; ++yy)
+        for (int xx = x - MAAF_DEFOCUS_WINDOW_PX; xx <= x + MAAF_DEFOCUS_WINDOW_PX; ++xx) {
+            if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
+            size_t j = (size_t)yy * (size_t)width + (size_t)xx;
+            if (!(coc_min[j] <= coc_max[j]) || !isfinite(coc_min[j]) || !isfinite(coc_max[j])) continue;
+            lo += coc_min[j];
+            hi += coc_max[j];
+            ++count;
+        }
+    if (!count) return 0.0f;
+    /* s = -coc: the largest coc is the smallest slope */
+    float s_min = (float)(-hi / count), s_max = (float)(-lo / count);
+    float std_px = maaf_pixel_param_signed(s_min, s_max, omega_u_max, pairs, param);
+    if (std_px > 0.0f) *side = s_max < 0.0f ? -1.0f : 1.0f;
+    return std_px;
+}
+
+void maaf_defocus_add_light(const float *value4, float factor, const float mean3[3], const float *rest, const float *alb,
+                            size_t per, float *o)
+{
+    bool filtered = value4 && value4[3] != 0.0f;
+    for (size_t c = 0; c < per; ++c) {
+        int ch = (int)(c & 3);
+        if (ch == 3) continue; /* the weight channel of each (re, im) half */
+        o[c] += filtered ? factor * value4[ch] * alb[c] : (value4 ? value4[ch] : mean3[ch]) * rest[c | 3];
+    }
+}
+
+void maaf_screen_guides(int x, int y, float side, bool usable, float pos4[4], float nrm4[4], float frame4[4],
+                        float axis2[4])
+{
+    pos4[0] = (float)x + 0.5f, pos4[1] = (float)y + 0.5f, pos4[2] = 0.0f, pos4[3] = 1.0f;
+    nrm4[0] = 0.0f, nrm4[1] = 0.0f, nrm4[2] = 1.0f, nrm4[3] = side;
+    frame4[0] = 1.0f, frame4[1] = 0.0f, frame4[2] = 0.0f, frame4[3] = usable ? 1.0f : 0.0f;
+    axis2[0] = 0.0f, axis2[1] = 1.0f, axis2[2] = 0.0f, axis2[3] = 0.0f;
+}

@@ -1,0 +1,88 @@
+/* The defocus side of MAAF (seeds/003 Sec. 6, the 4D (x, u) case): the lens-factors of eq. 20
+ * for a disk aperture, the per-pixel x-filter from a signed slope range, and the screen-space
+ * guides that let the soft-shadow image pass (maaf.cl) filter along pixel rows and columns.
+ * docs/algorithms.md 9.8.
+ *
+ * 4D = two 2D designs, screen x with lens u and screen y with lens v. In raster pixels a point at
+ * camera depth z is seen at x = x0 + coc u and y = y0 - coc v (coc = recon_coc_slope_px: raster y
+ * runs down, camera y up), so with v' = -v the radiance is T(x - coc u, y - coc v'): a function
+ * of x + s u with s = -coc on both axes, the shadow convention of 9.2. The caller passes
+ * (u, -v) and slopes -coc.
+ *
+ * The lens-factor of component (p, q) is the component integrated over the aperture (as the
+ * light's y-factor, 9.6):
+ *     c_pq(u, v) = int_{unit disk} exp(j (C^p (u' - u) + C^q (v' - v))) g(u' - u; su) g(v' - v; su) du' dv'
+ * with C^q = Omega_u_max 2q / (2N - 1) (negative for q < 0) and su = Omega_u_max / (2N - 1). The
+ * disk does not separate into a product of per-axis factors (the light's box does), so each
+ * component of the half set has its own 2D table over [-1, 1]^2. */
+#ifndef WEDGE_RECON_MAAF_DEFOCUS_H
+#define WEDGE_RECON_MAAF_DEFOCUS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "recon/maaf/maaf_design.h"
+#include "recon/maaf/maaf_filter.h"
+
+/* Table entries per lens axis (bilinear interpolation between them). */
+#define MAAF_LENS_TABLE 129
+
+/* The unit disk's per-axis standard deviation (docs/algorithms.md 3.2: sigma_u = 1/2); the lens
+ * band is Omega_u_max = kappa 2 / sigma_u, as the light's 2 / sigma_light (9.2). */
+#define MAAF_LENS_SIGMA 0.5f
+/* The defocus knob's default (--mu; docs/algorithms.md 9.8 has the measurement). */
+#define MAAF_DEFOCUS_KAPPA_DEFAULT 3.0f
+
+typedef struct {
+    int pairs, comps;
+    float omega_u_max;  /* radians per unit lens coordinate */
+    float *table;       /* [iu][iv][c] (re, im): a sample reads one cell for every component */
+} MaafLens;
+
+/* Fills the tables for the knob kappa (Omega_u_max = kappa 2 / MAAF_LENS_SIGMA). False when out
+ * of memory (l->table NULL). */
+bool maaf_lens_design(float kappa, int pairs, MaafLens *l);
+void maaf_lens_free(MaafLens *l);
+
+/* Band centre of band q (q may be negative) and the bands' Fourier std, radians per unit u. */
+float maaf_lens_band_centre(const MaafLens *l, int q);
+float maaf_lens_band_std(const MaafLens *l);
+
+/* c_pq(u, v) of component c (half-set order of maaf.cl), interpolated from the table. */
+void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2]);
+
+/* Adds one sample's value f4 (r, g, b, 1) at lens point (u, v) (the design's orientation:
+ * the caller flips v, see above) to a pixel's sums (8 floats per component). */
+void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum);
+
+/* A pixel's x-filter for the signed slope range [s_min, s_max] (shadow convention: the signal
+ * is a function of x + s u; for defocus s = -coc): slopes of one sign use maaf_pixel_param's
+ * design, mirrored (C_x negated) when negative; a range that straddles 0 (the focal plane) has
+ * a wedge reaching every Omega_x of the pixel band and gets no filter (returns 0, radius 0).
+ * x is in pixels (pixel_world 1). Returns the central component's std in pixels. */
+float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int pairs, float *param);
+
+/* Pixel (x, y)'s filter from pass 1's circle-of-confusion ranges (coc_min, coc_max: signed px
+ * per unit lens coordinate, recon_coc_slope_px, w x h): the design slopes s = -coc averaged over
+ * the 5 x 5 window around it (seeds/003 Sec. 6.2, pre-filtering), no filter when the pixel's own
+ * range or the averaged one straddles the focal plane. *side: the sign of s (0: not filtered).
+ * Returns the central std in pixels (0: not filtered). */
+#define MAAF_DEFOCUS_WINDOW_PX 2
+float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
+                         float omega_u_max, int pairs, float *param, float *side);
+
+/* Scenes with shading effects (docs/algorithms.md 9.8): a pixel's lens sums hold the rest of the
+ * radiance (rest) and, with the same factors, the albedo (alb); this adds one shading light back
+ * to o (per floats, a copy of rest): where it was filtered (value4 usable) as factor x value x
+ * the albedo sums, where it was passed through as value4's raw light x the weight sums, and
+ * where no method filtered it (value4 NULL) as the pixel's raw mean mean3 x the weight sums. */
+void maaf_defocus_add_light(const float *value4, float factor, const float mean3[3], const float *rest, const float *alb,
+                            size_t per, float *o);
+
+/* The guides of pixel (x, y) for the screen-space pass: position (x, y, 0) in pixels, normal
+ * +z with the slope's side of the focal plane (side: -1, +1) as the object id (neighbours on the
+ * other side are rejected as another object), axes +x and +y. usable 0: left out. */
+void maaf_screen_guides(int x, int y, float side, bool usable, float pos4[4], float nrm4[4], float frame4[4],
+                        float axis2[4]);
+
+#endif
