@@ -26,7 +26,7 @@ static const ConvergeMethod methods[] = {
     {"lr-ld", {"--sampler", "sobol", "--filter", "lr", NULL}, false,
      "layered reconstruction with Owen-scrambled Sobol' samples"},
     {"maaf", {"--sampler", "stratified", "--filter", "maaf", NULL}, true,
-     "multiple axis-aligned filters (paper 003) of soft shadows"},
+     "multiple axis-aligned filters (paper 003) of soft shadows and defocus"},
     {"maaf-ld", {"--sampler", "sobol", "--filter", "maaf", NULL}, true,
      "multiple axis-aligned filters with Owen-scrambled Sobol' samples"},
     {"fsf", {"--sampler", "stratified", "--filter", "fsf", NULL}, false,
