@@ -871,6 +871,16 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
     }
     const SamplerDimTable *t = padded_dim(s, dim, 2);
     bool jitter = s->kind == SAMPLER_STRATIFIED;
+    if (jitter && s->grid_packed && s->perm_mask + 1u == (uint32_t)s->spp) {
+        /* value_2d_padded's case at 32, 64, 128 and 256 samples: a power of two, so the
+         * padding permutation's cycle walk takes one step; without its loop the samples'
+         * chains interleave */
+        for (int k = 0; k < run->count; ++k) {
+            uint32_t j = permute_pow2_shift(run->index_in_block[k], s->perm_mask, s->perm_shift, t->x);
+            out[k] = multi_jitter_packed(s, t, j, key_bits(run->key[k], dim));
+        }
+        return;
+    }
     for (int k = 0; k < run->count; ++k)
         out[k] = value_2d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
 }
