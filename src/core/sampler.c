@@ -462,18 +462,28 @@ void sampler_start_pixel(PixelSampler *s, SamplerKind kind, uint64_t seed, int p
  * SplitMix64 stream started at this key (Steele, Lea, Flood 2014, "Fast splittable
  * pseudorandom number generators"), one hash per request, in any order, and nothing to
  * seed per sample but the key itself. */
+static inline uint64_t sample_key_of(const PixelSampler *s, int sample_index)
+{
+    return hash_u64(s->pixel_seed ^ ((uint64_t)(uint32_t)sample_index * 0xd6e8feb86659fd93ull));
+}
+
 static void set_sample_key(PixelSampler *s)
 {
-    s->sample_key = hash_u64(s->pixel_seed ^ ((uint64_t)(uint32_t)s->sample_index * 0xd6e8feb86659fd93ull));
+    s->sample_key = sample_key_of(s, s->sample_index);
     s->key_ready = true;
 }
 
 /* 64 random bits of request `dim` of the current sample (hash_u64 adds the stream's
  * increment itself). */
+static inline uint64_t key_bits(uint64_t sample_key, int dim)
+{
+    return hash_u64(sample_key + (uint64_t)(uint32_t)dim * 0x9e3779b97f4a7c15ull);
+}
+
 static inline uint64_t request_bits(PixelSampler *s, int dim)
 {
     if (!s->key_ready) set_sample_key(s);
-    return hash_u64(s->sample_key + (uint64_t)(uint32_t)dim * 0x9e3779b97f4a7c15ull);
+    return key_bits(s->sample_key, dim);
 }
 
 /* Top 24 bits of a 32-bit word as a float in [0, 1). */
@@ -668,14 +678,14 @@ static inline SamplerDimTable *dim_seeds(PixelSampler *s, int dim, int kind)
     return build_dim_seeds(s, dim, kind);
 }
 
-/* Position of the current sample inside the stratified set of spp points (its padded
- * index), past the tables. */
-static inline uint32_t padded_index(const PixelSampler *s, const SamplerDimTable *seeds)
+/* Position of sample index i (in the current part) inside the stratified set of spp points
+ * (its padded index), past the tables. */
+static inline uint32_t padded_index(const PixelSampler *s, const SamplerDimTable *seeds, uint32_t i)
 {
     uint32_t n = (uint32_t)s->spp;
-    if (n <= SAMPLER_SHUFFLE_MAX) return sampler_permute(s->index_in_block, n, seeds->x);
-    /* sampler_permute's cycle walk with the part's mask and shift (index_in_block < n) */
-    uint32_t x = s->index_in_block;
+    if (n <= SAMPLER_SHUFFLE_MAX) return sampler_permute(i, n, seeds->x);
+    /* sampler_permute's cycle walk with the part's mask and shift (i < n) */
+    uint32_t x = i;
     do {
         x = permute_pow2_shift(x, s->perm_mask, s->perm_shift, seeds->x);
     } while (x >= n);
@@ -688,22 +698,52 @@ static inline bool table_ready(const PixelSampler *s, int dim, int kind)
     return dim < SAMPLER_PADDED_DIMS - 1 && (s->tables_ready[kind - 1] >> dim & 1u);
 }
 
-/* Scalar dimension dim of the current sample as a 1D value. */
+/* What every sample of the part shares for a padded dimension of `kind` (1 or 2): its
+ * table (spp <= SAMPLER_SHUFFLE_MAX) or its seeds, built on first use. */
+static inline const SamplerDimTable *padded_dim(PixelSampler *s, int dim, int kind)
+{
+    const SamplerDimTable *t = dim_table(s, dim, kind);
+    return t ? t : dim_seeds(s, dim, kind);
+}
+
+/* A padded 1D value of the sample with index i in the current part, given its dimension's
+ * padded_dim and (stratified) the request's jitter bits. */
+static inline float value_1d_padded(PixelSampler *s, const SamplerDimTable *t, uint32_t i, uint64_t bits)
+{
+    uint32_t j = s->spp <= SAMPLER_SHUFFLE_MAX ? nibble(t->x, i) : padded_index(s, t, i);
+    if (s->kind == SAMPLER_STRATIFIED) return stratum_value(s, j, (uint32_t)bits);
+    /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
+    return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)t->seed);
+}
+
+/* The same for a padded 2D value. */
+static inline vec2 value_2d_padded(PixelSampler *s, const SamplerDimTable *t, uint32_t i, uint64_t bits)
+{
+    uint32_t j;
+    if (s->spp <= SAMPLER_SHUFFLE_MAX) {
+        if (s->kind == SAMPLER_STRATIFIED)
+            return v2(stratum_value(s, nibble(t->x, i), (uint32_t)bits),
+                      stratum_value(s, nibble(t->y, i), (uint32_t)(bits >> 32)));
+        j = nibble(t->x, i);
+    } else {
+        j = padded_index(s, t, i);
+        if (s->kind == SAMPLER_STRATIFIED)
+            return s->grid_packed ? multi_jitter_packed(s, t, j, bits) : multi_jitter(s, j, t->seed, bits);
+    }
+    j += s->point_offset;
+    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
+              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+}
+
+/* Scalar dimension dim of the current sample as a 1D value, every case. Out of line (see
+ * build_dim_table). */
 static __attribute__((noinline)) float value_1d(PixelSampler *s, int dim)
 {
     if (dim >= SAMPLER_PADDED_DIMS) return float_of((uint32_t)request_bits(s, dim));
-    const SamplerDimTable *t = dim_table(s, dim, 1);
-    uint32_t j;
-    if (t) {
-        j = nibble(t->x, s->index_in_block);
-    } else {
-        t = dim_seeds(s, dim, 1);
-        j = padded_index(s, t);
-    }
-    if (s->kind == SAMPLER_STRATIFIED)
-        return stratum_value(s, j, (uint32_t)request_bits(s, dim));
-    /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
-    return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)t->seed);
+    const SamplerDimTable *t = padded_dim(s, dim, 1);
+    /* Sobol' values take no jitter: no key, no hash */
+    uint64_t bits = s->kind == SAMPLER_STRATIFIED ? request_bits(s, dim) : 0;
+    return value_1d_padded(s, t, s->index_in_block, bits);
 }
 
 /* Inline common case as in sampler_2d; value_1d gives the same values in every case. */
@@ -730,38 +770,16 @@ void sampler_skip(PixelSampler *s, int count)
     if (count > 0) s->dim += count;
 }
 
-/* sampler_2d without tables: dimensions past the padded ones, and spp above
- * SAMPLER_SHUFFLE_MAX. Out of line (see build_dim_table). */
-static __attribute__((noinline)) vec2 value_2d_untabled(PixelSampler *s, int dim)
+/* sampler_2d for dimension dim, every case. Out of line (see build_dim_table). */
+static __attribute__((noinline)) vec2 value_2d(PixelSampler *s, int dim)
 {
     if (dim >= SAMPLER_PADDED_DIMS - 1) {
         uint64_t bits = request_bits(s, dim);
         return v2(float_of((uint32_t)bits), float_of((uint32_t)(bits >> 32)));
     }
-    SamplerDimTable *t = dim_seeds(s, dim, 2);
-    uint32_t j = padded_index(s, t);
-    uint64_t seed = t->seed;
-    if (s->kind == SAMPLER_STRATIFIED)
-        return s->grid_packed ? multi_jitter_packed(s, t, j, request_bits(s, dim)) : multi_jitter(s, j, seed, request_bits(s, dim));
-    j += s->point_offset;
-    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)seed),
-              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(seed >> 32)));
-}
-
-/* sampler_2d for dimension dim, every case. */
-static __attribute__((noinline)) vec2 value_2d(PixelSampler *s, int dim)
-{
-    const SamplerDimTable *t = dim < SAMPLER_PADDED_DIMS - 1 ? dim_table(s, dim, 2) : NULL;
-    if (!t) return value_2d_untabled(s, dim);
-    uint32_t i = s->index_in_block;
-    if (s->kind == SAMPLER_STRATIFIED) {
-        uint64_t bits = request_bits(s, dim);
-        return v2(stratum_value(s, nibble(t->x, i), (uint32_t)bits),
-                  stratum_value(s, nibble(t->y, i), (uint32_t)(bits >> 32)));
-    }
-    uint32_t j = nibble(t->x, i) + s->point_offset;
-    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
-              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+    const SamplerDimTable *t = padded_dim(s, dim, 2);
+    uint64_t bits = s->kind == SAMPLER_STRATIFIED ? request_bits(s, dim) : 0;
+    return value_2d_padded(s, t, s->index_in_block, bits);
 }
 
 /* The common case inline, without calls (so without registers to save): a built table and,
@@ -786,4 +804,83 @@ vec2 sampler_2d(PixelSampler *s)
         }
     }
     return value_2d(s, dim);
+}
+
+/* ---- runs: one dimension of several samples ---------------------------------------- */
+
+void sampler_run_begin(PixelSampler *s, SamplerRun *run, int first, int count)
+{
+    if (first < 0) first = 0;
+    run->first = first;
+    run->count = count < 0 ? 0 : count > SAMPLER_RUN_MAX ? SAMPLER_RUN_MAX : count;
+    run->one_part = false;
+    if (run->count == 0) return;
+    /* The fast path needs every sample in the part of the first (the usual case: a round's
+     * slice of a pixel lies in one part); the part of the last decides, as parts are
+     * consecutive ranges of indices. */
+    sampler_start_sample(s, first + run->count - 1);
+    uint64_t last_part = s->part_key;
+    sampler_start_sample(s, first);
+    run->part_key = s->part_key;
+    run->pixel_seed = s->pixel_seed;
+    run->one_part = last_part == run->part_key;
+    if (!run->one_part) return;
+    for (int k = 0; k < run->count; ++k) {
+        run->index_in_block[k] = s->index_in_block + (uint32_t)k;
+        /* Sobol' values past the padded dimensions only need the keys: set them always, one
+         * hash per sample and run (stratified values need them for every request) */
+        run->key[k] = sample_key_of(s, first + k);
+    }
+}
+
+/* Whether the run can be served from the part's tables: run_begin found one part, and the
+ * sampler is still in it (else the per-sample path re-enters the right part). A sampler
+ * set up for another pixel since is the caller's error: the per-sample path then gives
+ * that pixel's values, never a mix. */
+static inline bool run_fast(const PixelSampler *s, const SamplerRun *run)
+{
+    return run->one_part && s->part_key == run->part_key && s->pixel_seed == run->pixel_seed;
+}
+
+void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
+{
+    if (dim < 0) dim = 0;
+    if (!run_fast(s, run) || dim >= SAMPLER_PADDED_DIMS) {
+        for (int k = 0; k < run->count; ++k) {
+            sampler_start_sample(s, run->first + k);
+            out[k] = sampler_1d_at(s, dim);
+        }
+        return;
+    }
+    const SamplerDimTable *t = padded_dim(s, dim, 1);
+    bool jitter = s->kind == SAMPLER_STRATIFIED;
+    for (int k = 0; k < run->count; ++k)
+        out[k] = value_1d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
+}
+
+void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
+{
+    if (dim < 0) dim = 0;
+    if (!run_fast(s, run) || dim >= SAMPLER_PADDED_DIMS - 1) {
+        for (int k = 0; k < run->count; ++k) {
+            sampler_start_sample(s, run->first + k);
+            s->dim = dim;
+            out[k] = sampler_2d(s);
+        }
+        return;
+    }
+    const SamplerDimTable *t = padded_dim(s, dim, 2);
+    bool jitter = s->kind == SAMPLER_STRATIFIED;
+    if (jitter && s->grid_packed && s->perm_mask + 1u == (uint32_t)s->spp) {
+        /* value_2d_padded's case at 32, 64, 128 and 256 samples: a power of two, so the
+         * padding permutation's cycle walk takes one step; without its loop the samples'
+         * chains interleave */
+        for (int k = 0; k < run->count; ++k) {
+            uint32_t j = permute_pow2_shift(run->index_in_block[k], s->perm_mask, s->perm_shift, t->x);
+            out[k] = multi_jitter_packed(s, t, j, key_bits(run->key[k], dim));
+        }
+        return;
+    }
+    for (int k = 0; k < run->count; ++k)
+        out[k] = value_2d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
 }

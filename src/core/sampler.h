@@ -117,6 +117,27 @@ vec2 sampler_2d(PixelSampler *s);
 void sampler_skip(PixelSampler *s, int count);
 float sampler_1d_at(PixelSampler *s, int dim);
 
+/* One dimension of several consecutive samples of the pixel at once (a run): out[k] is
+ * exactly what sampler_1d / sampler_2d would return as dimension dim (dim, dim + 1) of
+ * sample first + k. Drawn dimension by dimension, the work a dimension shares between
+ * samples (its table or seeds, the part's constants) is looked up once per run, and the
+ * samples' independent hash chains overlap instead of waiting for each other. */
+#define SAMPLER_RUN_MAX 64
+typedef struct {
+    int first, count;      /* samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX) */
+    bool one_part;         /* all in one part of the set: the fast path */
+    uint64_t part_key, pixel_seed; /* the part and pixel the fast path serves */
+    uint32_t index_in_block[SAMPLER_RUN_MAX];
+    uint64_t key[SAMPLER_RUN_MAX]; /* each sample's jitter key */
+} SamplerRun;
+/* Begins a run of min(count, SAMPLER_RUN_MAX) samples from `first` (and starts sample
+ * `first`: the per-sample state is left as after sampler_start_sample(s, first)). */
+void sampler_run_begin(PixelSampler *s, SamplerRun *run, int first, int count);
+/* out has run->count entries. They may interleave with per-sample requests (which change the
+ * sampler's current sample, not the run). */
+void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out);
+void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out);
+
 /* Element i of a pseudo-random permutation of {0, ..., n-1} chosen by seed, computed without
  * storing the permutation (cycle-walking a keyed bijection on the next power of two).
  * i >= n is taken modulo n; n = 0 or 1 returns 0. */

@@ -148,15 +148,16 @@ typedef struct {
     vec2 bsdf;    /* BSDF direction (2D) */
 } VertexDims;
 
-static void draw_vertex_dims(PixelSampler *s, VertexDims *u)
+/* Scalar dimensions per vertex: pick (1), light (2), lobe (1), BSDF (2). Only glossy BSDFs
+ * choose a lobe: its index is reserved (the later dimensions keep theirs) and its value
+ * drawn when needed (sampler_1d_at). */
+enum { VERTEX_DIMS = 6 };
+
+/* The first scalar dimension of path vertex `depth` (1: the first hit), after the camera's:
+ * film (2), lens (2, with a lens), time (1, with motion). */
+static int vertex_dim0(const IntegratorScene *sc, int depth)
 {
-    u->pick = sampler_1d(s);
-    u->light = sampler_2d(s);
-    /* Only glossy BSDFs choose a lobe: the index is reserved (the later dimensions keep
-     * theirs) and the value drawn when needed (sampler_1d_at: the same value). */
-    u->lobe_dim = s->dim;
-    sampler_skip(s, 1);
-    u->bsdf = sampler_2d(s);
+    return 2 + (sc->sample_lens ? 2 : 0) + (sc->sample_time ? 1 : 0) + VERTEX_DIMS * (depth - 1);
 }
 
 /* Next-event estimation: one light sample, MIS-weighted against the BSDF (Veach 1997,
@@ -347,7 +348,6 @@ static void first_hit_motion(const IntegratorScene *sc, const SurfaceHit *h, flo
 typedef struct {
     int pixel;         /* index into the wave's pixels */
     int sample_index;  /* the pixel sampler's sample index */
-    int next_dim;      /* first sampler dimension of the next vertex */
     float time01;
     bool alive;        /* has a vertex to continue from */
     Vertex v;
@@ -370,52 +370,103 @@ struct Wave {
     int occ_path[WAVE_SAMPLES], rec_path[WAVE_SAMPLES], hit_path[WAVE_SAMPLES];
     bool occluded[WAVE_SAMPLES], rec_found[WAVE_SAMPLES], hit_found[WAVE_SAMPLES];
     SurfaceHit rec_hit[WAVE_SAMPLES], hit[WAVE_SAMPLES];
-    /* one pixel sampler, set up for sampler_pixel (-1: none) */
+    /* one pixel sampler, set up for sampler_pixel (-1: none), and a run of its samples */
     PixelSampler sampler;
     int sampler_pixel;
+    SamplerRun run;
+    /* each pixel's paths: path[path_first[k] .. path_first[k] + path_count[k]) */
+    int path_first[WAVE_SAMPLES], path_count[WAVE_SAMPLES];
+    /* one run's values of one dimension */
+    float run_1d[SAMPLER_RUN_MAX];
+    vec2 run_2d[SAMPLER_RUN_MAX], run_2d_b[SAMPLER_RUN_MAX];
 };
 
 Wave *wave_create(void) { return malloc(sizeof(Wave)); }
 void wave_free(Wave *w) { free(w); }
 
-/* The sampler of pixel k of the wave at the start of sample `sample_index`. Its values are a
- * pure function of (pixel, sample, dimension) and its cache is per pixel, so it is set up
- * again only when the pixel changes (the stages visit the paths in pixel order). */
-static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k, int sample_index)
+/* The sampler of pixel k of the wave. Its values are a pure function of (pixel, sample,
+ * dimension) and its cache is per pixel, so it is set up again only when the pixel changes
+ * (the stages visit the paths in pixel order). */
+static PixelSampler *wave_pixel_sampler(Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k)
 {
     if (w->sampler_pixel != k) {
         const WavePixel *px = &pixels[k];
         sampler_continue_pixel(&w->sampler, ws->kind, ws->seed, px->px, px->py, ws->pass, px->spp_before, px->spp_set);
         w->sampler_pixel = k;
     }
-    sampler_start_sample(&w->sampler, sample_index);
     return &w->sampler;
 }
 
-/* Camera ray of one sample, its record's sample position, and its first vertex's sampler
- * dimensions. */
-static TracerRay wave_camera_ray(const IntegratorScene *sc, PixelSampler *s, const WavePixel *px, WavePath *p,
-                                 SampleRecord *rec)
+/* The same at the start of sample `sample_index`. */
+static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k, int sample_index)
+{
+    PixelSampler *s = wave_pixel_sampler(w, ws, pixels, k);
+    sampler_start_sample(s, sample_index);
+    return s;
+}
+
+/* The dimensions of vertex `depth` for paths path[j0 .. j0 + run->count), the samples of
+ * w->run, drawn dimension by dimension (sampler_run_*: the values sampler_1d / sampler_2d
+ * give each sample on its own). */
+static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int depth)
+{
+    PixelSampler *s = &w->sampler;
+    const SamplerRun *run = &w->run;
+    int d0 = vertex_dim0(sc, depth);
+    sampler_run_1d(s, run, d0, w->run_1d);
+    sampler_run_2d(s, run, d0 + 1, w->run_2d);
+    sampler_run_2d(s, run, d0 + 4, w->run_2d_b);
+    for (int k = 0; k < run->count; ++k) {
+        VertexDims *u = &w->path[j0 + k].u;
+        u->pick = w->run_1d[k];
+        u->light = w->run_2d[k];
+        u->lobe_dim = d0 + 3;
+        u->bsdf = w->run_2d_b[k];
+    }
+}
+
+/* Camera ray of one sample from its film, lens and shutter dimensions, and its record's
+ * sample position. */
+static TracerRay wave_camera_ray(const IntegratorScene *sc, vec2 u_film01, vec2 u_lens, float shutter_u,
+                                 const WavePixel *px, WavePath *p, SampleRecord *rec)
 {
     record_reset(rec);
     /* filter importance sampling (pixel_filter.h): the radiance fields are weighted by the
      * renderer once the record is complete (pixel_filter_weigh_record) */
-    vec2 u_film = pixel_filter_sample(sc->pixel_filter, sampler_2d(s), &rec->filter_weight);
+    vec2 u_film = pixel_filter_sample(sc->pixel_filter, u_film01, &rec->filter_weight);
     rec->px_raster = (float)px->px + u_film.x;
     rec->py_raster = (float)px->py + u_film.y;
     vec2 lens = v2(0.0f, 0.0f);
-    if (sc->sample_lens) lens = warp_disk_concentric(sampler_2d(s));
+    if (sc->sample_lens) lens = warp_disk_concentric(u_lens);
     rec->lens_u = lens.x, rec->lens_v = lens.y;
-    float shutter_u = 0.0f;
-    if (sc->sample_time) shutter_u = sampler_1d(s);
+    if (!sc->sample_time) shutter_u = 0.0f;
     rec->time = shutter_u;
     p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
     CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, p->time01);
-    /* the first vertex's dimensions come next in the fixed order (a camera ray that
-     * misses has drawn them for nothing) */
-    draw_vertex_dims(s, &p->u);
-    p->next_dim = s->dim;
     return (TracerRay){cr.o_world, cr.d_world, INFINITY, p->time01};
+}
+
+/* The camera rays of pixel k's samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX),
+ * paths j0 .., with their first vertex's dimensions (a camera ray that misses has drawn them
+ * for nothing). */
+static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k,
+                             int first, int count, int j0, SampleRecord *recs)
+{
+    PixelSampler *s = wave_pixel_sampler(w, ws, pixels, k);
+    sampler_run_begin(s, &w->run, first, count);
+    vec2 *film = w->run_2d, *lens = w->run_2d_b;
+    float *shutter = w->run_1d;
+    sampler_run_2d(s, &w->run, 0, film);
+    if (sc->sample_lens) sampler_run_2d(s, &w->run, 2, lens);
+    if (sc->sample_time) sampler_run_1d(s, &w->run, sc->sample_lens ? 4 : 2, shutter);
+    for (int i = 0; i < count; ++i) {
+        WavePath *p = &w->path[j0 + i];
+        p->pixel = k;
+        p->sample_index = first + i;
+        w->ray_hit[j0 + i] = wave_camera_ray(sc, film[i], sc->sample_lens ? lens[i] : v2(0.0f, 0.0f),
+                                             sc->sample_time ? shutter[i] : 0.0f, &pixels[k], p, &recs[j0 + i]);
+    }
+    wave_vertex_dims(sc, w, j0, 1);
 }
 
 /* What the camera ray found: emission seen directly, the first hit's record fields, and
@@ -457,12 +508,6 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
 {
     WavePath *p = &w->path[j];
     const Vertex *v = &p->v;
-    if (depth > 1) {
-        PixelSampler *s = wave_sampler(w, ws, pixels, p->pixel, p->sample_index);
-        s->dim = p->next_dim;
-        draw_vertex_dims(s, &p->u);
-        p->next_dim = s->dim;
-    }
     TracerRay shadow;
     p->light_pending = light_prepare(sc, v, p->time01, &p->u, st, &shadow, &p->lp);
     p->light_recorded = false;
@@ -565,16 +610,18 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
     _Static_assert(SAMPLE_RECORD_MAX_SHADOW == 1 && SAMPLE_RECORD_MAX_BOUNCE == 1,
                    "record_reset clears one entry of each");
     w->sampler_pixel = -1;
-    /* camera rays */
+    /* camera rays, and the first vertex's dimensions */
     int n = 0;
-    for (int k = 0; k < pixel_count; ++k)
-        for (int i = 0; i < pixels[k].count && n < WAVE_SAMPLES; ++i, ++n) {
-            WavePath *p = &w->path[n];
-            p->pixel = k;
-            p->sample_index = pixels[k].index_first + i;
-            PixelSampler *s = wave_sampler(w, ws, pixels, k, p->sample_index);
-            w->ray_hit[n] = wave_camera_ray(sc, s, &pixels[k], p, &recs[n]);
+    for (int k = 0; k < pixel_count; ++k) {
+        int count = pixels[k].count < WAVE_SAMPLES - n ? pixels[k].count : WAVE_SAMPLES - n;
+        w->path_first[k] = n;
+        w->path_count[k] = count > 0 ? count : 0;
+        for (int i = 0; i < count; i += SAMPLER_RUN_MAX) {
+            int m = count - i < SAMPLER_RUN_MAX ? count - i : SAMPLER_RUN_MAX;
+            wave_camera_rays(sc, w, ws, pixels, k, pixels[k].index_first + i, m, n + i, recs);
         }
+        n += w->path_count[k];
+    }
     st->rays_primary += n;
     tracer_intersect_batch(sc->tracer, w->ray_hit, n, true, true, w->hit, w->hit_found);
     bool any_alive = false;
@@ -585,6 +632,19 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
 
     /* path vertices: shadow and bounce rays in batches, then folded in path by path */
     for (int depth = 1; depth <= sc->max_depth && any_alive; ++depth) {
+        /* the vertex's dimensions, per pixel with a path still going (the first vertex's
+         * came with the camera rays) */
+        for (int k = 0; k < pixel_count && depth > 1; ++k) {
+            int j0 = w->path_first[k], count = w->path_count[k];
+            bool alive = false;
+            for (int j = j0; j < j0 + count; ++j) alive |= w->path[j].alive;
+            if (!alive) continue;
+            PixelSampler *s = wave_pixel_sampler(w, ws, pixels, k);
+            for (int i = 0; i < count; i += SAMPLER_RUN_MAX) {
+                sampler_run_begin(s, &w->run, pixels[k].index_first + i, count - i);
+                wave_vertex_dims(sc, w, j0 + i, depth);
+            }
+        }
         int n_occ = 0, n_rec = 0, n_hit = 0;
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);

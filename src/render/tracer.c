@@ -90,8 +90,16 @@ static bool quadric_hit(const Geom *g, const double o_geom[3], const double d_ge
                         double *t_out)
 {
     double o[3], d[3];
-    apply_point_d(&g->object_from_geom, o_geom, o);
-    apply_vector_d(&g->object_from_geom, d_geom, d);
+    if (g->object_translation_only) {
+        /* A translated shape (the usual "Translate; Shape sphere"): 1 x + 0 y + 0 z + t is
+         * x + t for the finite coordinates of a ray, so the products with the 3x3 part's ones
+         * and zeros are skipped (the same values, but perhaps the sign of a zero
+         * coordinate); 21 of the callback's double operations per ray. */
+        for (int i = 0; i < 3; ++i) o[i] = o_geom[i] + g->object_from_geom.m[i][3], d[i] = d_geom[i];
+    } else {
+        apply_point_d(&g->object_from_geom, o_geom, o);
+        apply_vector_d(&g->object_from_geom, d_geom, d);
+    }
     if (g->kind == GEOM_DISK) {
         if (d[2] == 0.0) return false;
         double t = (g->height - o[2]) / d[2];
@@ -271,6 +279,10 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
         diag_set(err, WEDGE_EXIT_INPUT, s->loc, "shape transform is singular");
         return false;
     }
+    const Mat4 *ofg = &g->object_from_geom;
+    g->object_translation_only = ofg->m[0][0] == 1.0 && ofg->m[1][1] == 1.0 && ofg->m[2][2] == 1.0 && ofg->m[0][1] == 0.0 &&
+                                 ofg->m[0][2] == 0.0 && ofg->m[1][0] == 0.0 && ofg->m[1][2] == 0.0 && ofg->m[2][0] == 0.0 &&
+                                 ofg->m[2][1] == 0.0;
     if (!strcmp(s->type, "sphere")) {
         g->kind = GEOM_SPHERE;
         g->radius = fabs(params_float(&s->params, "radius", 1.0f));

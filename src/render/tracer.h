@@ -53,6 +53,7 @@ typedef struct {
     /* spheres and disks: object-space quadric, placed by geom_from_object */
     double radius, zmin, zmax, phimax_rad, height, inner_radius;
     Mat4 geom_from_object, object_from_geom;
+    bool object_translation_only; /* object_from_geom's 3x3 part is the identity (quadric_hit) */
     /* instances */
     int instance;            /* index into Tracer.instances (GEOM_INSTANCE), else -1 */
     int owner_instance;      /* for a moving shape's own layer: the instance that moves it */

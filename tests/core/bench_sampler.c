@@ -5,7 +5,10 @@
  * ...), setting the sampler up again per pixel and round as a wave does. Prints
  * nanoseconds per camera sample (best of the repeats) and a checksum of the values, which
  * must agree between builds whose samplers give the same values.
- * usage: bench_sampler SPP [stratified|sobol] [PIXELS] [REPEATS] */
+ * With `run` (a sampler that has sampler_run_*), the same values are drawn as the wave
+ * draws them: per pixel and round, dimension by dimension for all the round's samples, and
+ * summed in the same order (the checksum must not change).
+ * usage: bench_sampler SPP [stratified|sobol] [PIXELS] [REPEATS] [run] */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,6 +43,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_sampler SPP [stratified|sobol] [PIXELS] [REPEATS]\n");
         return 2;
     }
+    bool runs = argc > 5 && strcmp(argv[5], "run") == 0;
+#ifndef SAMPLER_RUN_MAX
+    if (runs) {
+        fprintf(stderr, "bench_sampler: this sampler has no runs\n");
+        return 2;
+    }
+#endif
     static PixelSampler s;
     double best_s = 1e30, checksum = 0.0;
     for (int rep = 0; rep < repeats; ++rep) {
@@ -48,6 +58,26 @@ int main(int argc, char **argv)
             int end = round_end(begin) < spp ? round_end(begin) : spp;
             for (int p = 0; p < pixels; ++p) {
                 sampler_start_pixel(&s, kind, 1, p % 256, p / 256, 0, spp);
+#ifdef SAMPLER_RUN_MAX
+                if (runs) {
+                    /* dimensions 0-1 film, 2-3 lens, 4 pick, 5-6 light, 7 lobe (skipped), 8-9 BSDF */
+                    static SamplerRun run;
+                    static vec2 film[SAMPLER_RUN_MAX], lens[SAMPLER_RUN_MAX], light[SAMPLER_RUN_MAX], bsdf[SAMPLER_RUN_MAX];
+                    static float pick[SAMPLER_RUN_MAX];
+                    for (int i0 = begin; i0 < end; i0 += SAMPLER_RUN_MAX) {
+                        sampler_run_begin(&s, &run, i0, end - i0);
+                        sampler_run_2d(&s, &run, 0, film);
+                        sampler_run_2d(&s, &run, 2, lens);
+                        sampler_run_1d(&s, &run, 4, pick);
+                        sampler_run_2d(&s, &run, 5, light);
+                        sampler_run_2d(&s, &run, 8, bsdf);
+                        for (int k = 0; k < run.count; ++k)
+                            sum += film[k].x + film[k].y + lens[k].x + lens[k].y + pick[k] + light[k].x + light[k].y +
+                                   bsdf[k].x + bsdf[k].y;
+                    }
+                    continue;
+                }
+#endif
                 for (int i = begin; i < end; ++i) {
                     sampler_start_sample(&s, i);
                     vec2 film = sampler_2d(&s), lens = sampler_2d(&s);
@@ -63,7 +93,7 @@ int main(int argc, char **argv)
         if (dt < best_s) best_s = dt;
         checksum = sum;
     }
-    printf("%s spp %d: %.2f ns per sample, checksum %.17g\n", sampler_kind_name(kind), spp,
+    printf("%s%s spp %d: %.2f ns per sample, checksum %.17g\n", sampler_kind_name(kind), runs ? " runs" : "", spp,
            best_s / ((double)pixels * spp) * 1e9, checksum);
     return 0;
 }

@@ -1,0 +1,99 @@
+/* sampler_run_*: every value of a run is bit for bit what the per-sample requests
+ * (sampler_start_sample, sampler_1d_at / sampler_2d) give that sample, for both samplers,
+ * table and untabled sample counts, continued sets whose runs straddle the prefix and the
+ * continuation, indices past the set (further blocks), dimensions past the padded ones, and
+ * runs interleaved with per-sample requests of other samples. */
+#include <stdlib.h>
+
+#include "check.h"
+#include "core/sampler.h"
+
+static bool same_bits(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+/* The per-sample reference: a fresh sampler per value, so no cache state is shared with the
+ * run under test. */
+static float ref_1d(SamplerKind kind, int px, int before, int spp, int sample, int dim)
+{
+    static PixelSampler s;
+    sampler_continue_pixel(&s, kind, 7, px, 3, 1, before, spp);
+    sampler_start_sample(&s, sample);
+    return sampler_1d_at(&s, dim);
+}
+
+static vec2 ref_2d(SamplerKind kind, int px, int before, int spp, int sample, int dim)
+{
+    static PixelSampler s;
+    sampler_continue_pixel(&s, kind, 7, px, 3, 1, before, spp);
+    sampler_start_sample(&s, sample);
+    s.dim = dim;
+    return sampler_2d(&s);
+}
+
+/* Runs of `count` samples from `first` over dimensions 0 .. 8 and two past the padding;
+ * with `interleave`, a per-sample request of another sample between the run's dimensions
+ * (as the wave's lobe draws do). Returns the number of values that differ. */
+static int compare_runs(SamplerKind kind, int px, int before, int spp, int first, int count, bool interleave)
+{
+    static PixelSampler s;
+    static SamplerRun run;
+    float v1[SAMPLER_RUN_MAX];
+    vec2 v2s[SAMPLER_RUN_MAX];
+    int dims[] = {0, 1, 2, 3, 5, 8, SAMPLER_PADDED_DIMS - 2, SAMPLER_PADDED_DIMS - 1, SAMPLER_PADDED_DIMS + 3};
+    int bad = 0;
+    sampler_continue_pixel(&s, kind, 7, px, 3, 1, before, spp);
+    sampler_run_begin(&s, &run, first, count);
+    for (size_t d = 0; d < sizeof dims / sizeof dims[0]; ++d) {
+        int dim = dims[d];
+        if (interleave) {
+            sampler_start_sample(&s, first + count + 5); /* perhaps another part */
+            (void)sampler_1d_at(&s, dim);
+        }
+        sampler_run_1d(&s, &run, dim, v1);
+        if (interleave) {
+            sampler_start_sample(&s, 0);
+            (void)sampler_2d(&s);
+        }
+        sampler_run_2d(&s, &run, dim, v2s);
+        for (int k = 0; k < run.count; ++k) {
+            float r1 = ref_1d(kind, px, before, spp, first + k, dim);
+            vec2 r2 = ref_2d(kind, px, before, spp, first + k, dim);
+            bad += !same_bits(v1[k], r1);
+            bad += !same_bits(v2s[k].x, r2.x) || !same_bits(v2s[k].y, r2.y);
+        }
+    }
+    return bad;
+}
+
+int main(void)
+{
+    static const SamplerKind kinds[] = {SAMPLER_STRATIFIED, SAMPLER_SOBOL};
+    for (int kk = 0; kk < 2; ++kk) {
+        SamplerKind kind = kinds[kk];
+        /* one set: tables (4, 9, 16), untabled grids packed (64, 100, 256) and not (17, 289) */
+        static const int spps[] = {1, 4, 9, 16, 17, 64, 100, 256, 289};
+        for (size_t i = 0; i < sizeof spps / sizeof spps[0]; ++i) {
+            int spp = spps[i];
+            int first = spp > 8 ? spp / 3 : 0, count = spp - first < SAMPLER_RUN_MAX ? spp - first : SAMPLER_RUN_MAX;
+            CHECK(compare_runs(kind, 5, 0, spp, first, count, false) == 0);
+            CHECK(compare_runs(kind, 6, 0, spp, first, count, true) == 0);
+            /* past the set: the next block, and a run straddling blocks */
+            CHECK(compare_runs(kind, 7, 0, spp, spp + 1, 3, false) == 0);
+            CHECK(compare_runs(kind, 8, 0, spp, spp > 2 ? spp - 2 : 0, 5, true) == 0);
+        }
+        /* continued sets (sampler_continue_pixel): runs inside the prefix, inside the
+         * continuation, and across the two */
+        CHECK(compare_runs(kind, 9, 16, 64, 0, 16, false) == 0);
+        CHECK(compare_runs(kind, 9, 16, 64, 16, 48, true) == 0);
+        CHECK(compare_runs(kind, 9, 16, 64, 10, 20, false) == 0);
+        CHECK(compare_runs(kind, 10, 40, 300, 30, 64, true) == 0);
+    }
+    /* count above the maximum is clipped, 0 gives an empty run */
+    static PixelSampler s;
+    static SamplerRun run;
+    sampler_start_pixel(&s, SAMPLER_STRATIFIED, 1, 0, 0, 0, 256);
+    sampler_run_begin(&s, &run, 0, 1000);
+    CHECK(run.count == SAMPLER_RUN_MAX);
+    sampler_run_begin(&s, &run, 3, 0);
+    CHECK(run.count == 0);
+    return check_failures ? 1 : 0;
+}
