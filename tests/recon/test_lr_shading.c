@@ -182,7 +182,7 @@ static void test_delta_light(void)
     sample_store_destroy(store);
 }
 
-/* lr_centre_light (docs/algorithms.md 8.19): samples stored at their own pixels but put by
+/* The centre light (lr_centre_light_build, docs/algorithms.md 8.19): samples stored at their own pixels but put by
  * their lens-centre, mid-shutter positions into the bins around pixel (5, 1), as a moving
  * object's samples are. Object 1's direct light is its albedo times 0.6 with a +-90% light
  * sample noise in pairs, object 2 (a floor meeting it there) has 0.2 and lands in the same
@@ -224,7 +224,13 @@ static void test_centre_light(void)
     g.width = W, g.height = H;
     const float *sh = sample_store_field(store, SAMPLE_FIELD_SHADING);
     static float light9[9 * W * H * CAP];
-    lr_centre_light(&g, store, sh, centre_xy, light9);
+    LrCentreLight cl = {0};
+    CHECK(lr_centre_light_build(&cl, &g, store, sh, centre_xy));
+    for (size_t j = 0; j < (size_t)W * H * CAP; ++j) {
+        const float *v = lr_centre_light_at(&cl, centre_xy[2 * j], centre_xy[2 * j + 1], (float)object_of[j]);
+        for (int c = 0; c < 9; ++c) light9[9 * j + c] = v ? v[c] : NAN;
+    }
+    lr_centre_light_free(&cl);
     int wrong = 0;
     for (size_t j = 0; j < (size_t)W * H * CAP; ++j) {
         float want = object_of[j] == 1 ? e1 : e2;

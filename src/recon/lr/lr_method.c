@@ -130,11 +130,12 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
     size_t *src = malloc(sizeof(size_t) * (size_t)cap);
     float *delta4 = shade ? malloc(sizeof(float) * 4 * n) : NULL;
     float *centre_xy = shade ? malloc(sizeof(float) * 2 * n * (size_t)cap) : NULL;
-    float *centre9 = shade ? malloc(sizeof(float) * 9 * n * (size_t)cap) : NULL;
+    float *centre9 = shade ? malloc(sizeof(float) * 9 * (size_t)cap) : NULL;
     if (!light || !src || (shade && (!delta4 || !centre_xy || !centre9))) {
         free(light), free(src), free(delta4), free(centre_xy), free(centre9);
         return NULL;
     }
+    LrCentreLight centre = {0};
     /* Motion alone (defocus is another method's, already in the corrected radiance): LR's
      * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
      * along the motion, not a dimension it shears). */
@@ -144,7 +145,8 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         for (size_t i = 0; i < n; ++i)
             for (int k = 0; k < sample_store_count(st, i); ++k)
                 centre_position(m, i * cap + k, lens_dims, &centre_xy[2 * (i * cap + k)], &centre_xy[2 * (i * cap + k) + 1]);
-        lr_centre_light(m->g, st, shade, centre_xy, centre9);
+        /* without memory for the map, the samples of pass-through pixels keep their own light */
+        lr_centre_light_build(&centre, m->g, st, shade, centre_xy);
     }
     LrSample *s = m->samples;
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
@@ -154,11 +156,14 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         int count = sample_store_count(st, i);
         for (int k = 0; shade && k < count; ++k) {
             const float *xy = &centre_xy[2 * (i * cap + k)];
-            src[k] = lr_light_pixel(m->g, xy[0], xy[1], depth[i * cap + k], shade[(i * cap + k) * LR_SHADING_FLOATS + 9], i);
+            float object = shade[(i * cap + k) * LR_SHADING_FLOATS + 9];
+            src[k] = lr_light_pixel(m->g, xy[0], xy[1], depth[i * cap + k], object, i);
+            const float *c9 = lr_centre_light_at(&centre, xy[0], xy[1], object);
+            for (int c = 0; c < 9; ++c) centre9[9 * k + c] = c9 ? c9[c] : NAN;
         }
         float value[3] = {value4[4 * i], value4[4 * i + 1], value4[4 * i + 2]};
         lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, delta4,
-                       shade ? centre9 + i * cap * 9 : NULL, value, light);
+                       centre9, value, light);
         for (int k = 0; k < spp; ++k) {
             size_t j = i * cap + k;
             LrSample *o = &s[i * spp + k];
@@ -178,6 +183,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         }
     }
     free(light), free(src), free(delta4), free(centre_xy), free(centre9);
+    lr_centre_light_free(&centre);
     return s;
 }
 

@@ -61,7 +61,7 @@ static void replaced_light(const float *radiance, const float *shading, const fl
     }
 }
 
-/* lr_centre_light's value for one part (3 floats), or NULL where it has none. */
+/* The centre light of sample k for one part (3 floats), or NULL where it has none. */
 static const float *centre_part(const float *centre9, int k, int part)
 {
     if (!centre9) return NULL;
@@ -125,18 +125,21 @@ static int slot_of(float *id, size_t q, float object, bool claim)
     return -1;
 }
 
-void lr_centre_light(const GBuffer *g, const SampleStore *st, const float *shading, const float *centre_xy,
-                     float *light9)
+bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStore *st, const float *shading,
+                           const float *centre_xy)
 {
     size_t n = (size_t)g->width * (size_t)g->height, bins = n * LR_CENTRE_SLOTS;
     int cap = sample_store_capacity(st);
-    float *sums = calloc(bins * CL_SUMS, sizeof(float)), *blur = calloc(bins * CL_SUMS, sizeof(float));
-    float *id = malloc(sizeof(float) * bins);
-    if (!sums || !blur || !id) {
-        free(sums), free(blur), free(id);
-        for (size_t j = 0; j < n * (size_t)cap * 9; ++j) light9[j] = NAN;
-        return;
+    cl->width = g->width, cl->height = g->height;
+    float *sums = calloc(bins * CL_SUMS, sizeof(float));
+    cl->id = malloc(sizeof(float) * bins);
+    cl->light = malloc(sizeof(float) * 9 * bins);
+    if (!sums || !cl->id || !cl->light) {
+        free(sums);
+        lr_centre_light_free(cl);
+        return false;
     }
+    float *id = cl->id;
     for (size_t q = 0; q < bins; ++q) id[q] = NAN; /* empty */
     /* Each sample lands in the bin of its point's lens-centre, mid-shutter position; the first
      * objects to land (pixel order: deterministic) get the slots, later ones are dropped. */
@@ -152,14 +155,16 @@ void lr_centre_light(const GBuffer *g, const SampleStore *st, const float *shadi
                 s[CL_SD + c] += sh[c], s[CL_SI + c] += sh[3 + c], s[CL_SU + c] += sh[10 + c], s[CL_A + c] += sh[6 + c];
             }
         }
-    /* A box of LR_CENTRE_RADIUS_PX around each bin, over the slots of the same object. */
+    /* A box of LR_CENTRE_RADIUS_PX around each bin, over the slots of the same object, then
+     * the light per unit albedo. */
     int w = g->width, h = g->height, r = LR_CENTRE_RADIUS_PX;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int a = 0; a < LR_CENTRE_SLOTS; ++a) {
                 size_t q = (size_t)y * (size_t)w + (size_t)x, qa = q * LR_CENTRE_SLOTS + (size_t)a;
+                float b[CL_SUMS] = {0}, *o = cl->light + qa * 9;
+                for (int c = 0; c < 9; ++c) o[c] = NAN;
                 if (isnan(id[qa])) continue;
-                float *b = blur + qa * CL_SUMS;
                 for (int dy = -r; dy <= r; ++dy)
                     for (int dx = -r; dx <= r; ++dx) {
                         int xx = x + dx, yy = y + dy;
@@ -170,21 +175,27 @@ void lr_centre_light(const GBuffer *g, const SampleStore *st, const float *shadi
                         const float *src = sums + (p * LR_CENTRE_SLOTS + (size_t)sp) * CL_SUMS;
                         for (int c = 0; c < CL_SUMS; ++c) b[c] += src[c];
                     }
+                for (int c = 0; c < 3; ++c) {
+                    float alb = b[CL_A + c];
+                    if (!(alb > LR_MIN_ALBEDO)) continue;
+                    o[c] = b[CL_SD + c] / alb, o[3 + c] = b[CL_SI + c] / alb, o[6 + c] = b[CL_SU + c] / alb;
+                }
             }
-    for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < sample_store_count(st, i); ++k) {
-            size_t j = i * (size_t)cap + (size_t)k;
-            float *o = light9 + j * 9;
-            int q = bin_of(g, centre_xy[2 * j], centre_xy[2 * j + 1]);
-            int slot = q >= 0 ? slot_of(id, (size_t)q, shading[j * LR_SHADING_FLOATS + 9], false) : -1;
-            const float *b = slot >= 0 ? blur + ((size_t)q * LR_CENTRE_SLOTS + (size_t)slot) * CL_SUMS : NULL;
-            for (int c = 0; c < 3; ++c) {
-                float a = b ? b[CL_A + c] : 0.0f;
-                bool lit = a > LR_MIN_ALBEDO;
-                o[c] = lit ? b[CL_SD + c] / a : NAN;
-                o[3 + c] = lit ? b[CL_SI + c] / a : NAN;
-                o[6 + c] = lit ? b[CL_SU + c] / a : NAN;
-            }
-        }
-    free(sums), free(blur), free(id);
+    free(sums);
+    return true;
+}
+
+const float *lr_centre_light_at(const LrCentreLight *cl, float x_px, float y_px, float object_id)
+{
+    if (!cl || !cl->light || !(x_px >= 0.0f && y_px >= 0.0f && x_px < (float)cl->width && y_px < (float)cl->height))
+        return NULL;
+    size_t q = (size_t)(int)y_px * (size_t)cl->width + (size_t)(int)x_px;
+    int slot = slot_of(cl->id, q, object_id, false);
+    return slot >= 0 ? cl->light + (q * LR_CENTRE_SLOTS + (size_t)slot) * 9 : NULL;
+}
+
+void lr_centre_light_free(LrCentreLight *cl)
+{
+    free(cl->id), free(cl->light);
+    cl->id = cl->light = NULL;
 }

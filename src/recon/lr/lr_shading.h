@@ -41,26 +41,37 @@ size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, f
  * light over the pick's probability: this mean is its light without that noise. */
 void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *shading, float *delta4);
 
-/* Half-width of lr_centre_light's box, pixels. */
+/* Half-width of the centre-light box, pixels. */
 #define LR_CENTRE_RADIUS_PX 2
 
 /* Where no shading filter's light is there to take (the pixel a sample's point is seen from
  * through the lens centre at mid-shutter passed through: motion or defocus mixed it, e.g. every
  * pixel a moving object sweeps over), the light of the sample's own object around that point:
  * every stored sample is put at its lens-centre, mid-shutter position (centre_xy, 2 floats per
- * stored sample, capacity layout), each pixel-sized bin keeps one object's sums of direct,
- * indirect and delta light and of albedo, and a box of (2 LR_CENTRE_RADIUS_PX + 1)^2 bins of
- * the same object gives the light per unit albedo. In that frame a moving object's points
- * stand still, so the box averages light over the object's surface, as the shading filters
- * do over a static one. Out: per stored sample 9 floats (direct, indirect, delta rgb per unit
- * albedo), NaN where its bin holds another object or no albedo. docs/algorithms.md 8.19. */
-void lr_centre_light(const GBuffer *g, const SampleStore *st, const float *shading, const float *centre_xy,
-                     float *light9);
+ * stored sample, capacity layout), each pixel-sized bin keeps up to LR_CENTRE_SLOTS objects'
+ * sums of direct, indirect and delta light and of albedo, and a box of
+ * (2 LR_CENTRE_RADIUS_PX + 1)^2 bins of the same object gives the light per unit albedo. In
+ * that frame a moving object's points stand still, so the box averages light over the
+ * object's surface, as the shading filters do over a static one. docs/algorithms.md 8.19. */
+typedef struct {
+    int width, height;
+    float *id;    /* per bin and slot: the object, NaN when empty */
+    float *light; /* per bin and slot: direct, indirect, delta rgb per unit albedo (NaN: none) */
+} LrCentreLight;
+
+/* Builds the map (24 floats per pixel); false when out of memory (cl then holds nothing). */
+bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStore *st, const float *shading,
+                           const float *centre_xy);
+
+/* The 9 floats of the bin at (x_px, y_px) for that object, or NULL (outside, or no slot). */
+const float *lr_centre_light_at(const LrCentreLight *cl, float x_px, float y_px, float object_id);
+
+void lr_centre_light_free(LrCentreLight *cl);
 
 /* The light of n samples of one pixel (radiance: n x 3; shading: n x LR_SHADING_FLOATS, or
  * NULL when no shading filter ran; src: the pixel each sample takes its light from, or NULL;
- * delta4: lr_delta_light's, or NULL; centre9: lr_centre_light's for these samples (n x 9), or
- * NULL, used where src's pixel has no filtered light) into out (n x 3), shifted by one
+ * delta4: lr_delta_light's, or NULL; centre9: the centre light of these samples (n x 9 floats,
+ * lr_centre_light_at's, NaN where none), or NULL, used where src's pixel has no filtered light) into out (n x 3), shifted by one
  * per-pixel constant so that they average to value (rgb). */
 void lr_pixel_light(int n, const float *radiance, const float *shading, const size_t *src,
                     const ReconShadingLight *light, const float *delta4, const float *centre9, const float value[3],
