@@ -3,9 +3,12 @@
 
 #include <math.h>
 
+/* Half the window, at most the kernels' tables. */
+static int radius_cap(const LrConfig *cfg) { return cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX; }
+
 int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg)
 {
-    int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
+    int cap = radius_cap(cfg);
     if (!(inv_sigma_px > 0.0f)) return cap;
     float r = ceilf(3.0f / inv_sigma_px);
     return r > (float)cap ? cap : (int)r;
@@ -47,7 +50,7 @@ static double rest_sigma(const Axis *a)
 
 static int axis_radius(const Axis *a, const LrConfig *cfg)
 {
-    int cap = cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX;
+    int cap = radius_cap(cfg);
     if (a->disk == 0.0 && a->box == 0.0) return lr_filter_radius_px((float)(1.0 / a->sigma), cfg);
     double r = ceil(a->disk + 0.5 * a->box + 3.0 * rest_sigma(a) + 0.5);
     return r > (double)cap ? cap : (int)r;
