@@ -15,11 +15,18 @@ bool lr_filtered_light(const float *value4, const float *factor, size_t i, float
     return isfinite(out[0]) && isfinite(out[1]) && isfinite(out[2]);
 }
 
+/* The pixel of a w x h image containing (x_px, y_px), or -1 outside it (or NaN). */
+static long pixel_at(int w, int h, float x_px, float y_px)
+{
+    if (!(x_px >= 0.0f && y_px >= 0.0f && x_px < (float)w && y_px < (float)h)) return -1;
+    return (long)(int)y_px * w + (int)x_px;
+}
+
 size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, float object_id, size_t own)
 {
-    if (!(depth < INFINITY) || !(x0_px >= 0.0f && y0_px >= 0.0f && x0_px < (float)g->width && y0_px < (float)g->height))
-        return own;
-    size_t q = (size_t)(int)y0_px * (size_t)g->width + (size_t)(int)x0_px;
+    long p = pixel_at(g->width, g->height, x0_px, y0_px);
+    if (!(depth < INFINITY) || p < 0) return own;
+    size_t q = (size_t)p;
     bool same = g->nrm4[4 * q + 3] == object_id && fabsf(g->pos4[4 * q + 3] - depth) <= LR_SAME_SURFACE_DEPTH * depth;
     return same ? q : own;
 }
@@ -104,12 +111,6 @@ void lr_pixel_light(int n, const float *radiance, const float *shading, const si
  * edge over the floor it stands on) both keep their light. */
 enum { CL_SD = 0, CL_SI = 3, CL_SU = 6, CL_A = 9, CL_SUMS = 12, LR_CENTRE_SLOTS = 2 };
 
-static int bin_of(const GBuffer *g, float x_px, float y_px)
-{
-    if (!(x_px >= 0.0f && y_px >= 0.0f && x_px < (float)g->width && y_px < (float)g->height)) return -1;
-    return (int)y_px * g->width + (int)x_px;
-}
-
 /* The slot of bin q holding object `object`, or -1; with claim, an empty slot is taken. */
 static int slot_of(float *id, size_t q, float object, bool claim)
 {
@@ -147,7 +148,7 @@ bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStor
         for (int k = 0; k < sample_store_count(st, i); ++k) {
             size_t j = i * (size_t)cap + (size_t)k;
             const float *sh = shading + j * LR_SHADING_FLOATS;
-            int q = bin_of(g, centre_xy[2 * j], centre_xy[2 * j + 1]);
+            long q = pixel_at(g->width, g->height, centre_xy[2 * j], centre_xy[2 * j + 1]);
             int slot = q >= 0 && sh[9] >= 0.0f ? slot_of(id, (size_t)q, sh[9], true) : -1;
             if (slot < 0) continue;
             float *s = sums + ((size_t)q * LR_CENTRE_SLOTS + (size_t)slot) * CL_SUMS;
@@ -187,11 +188,10 @@ bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStor
 
 const float *lr_centre_light_at(const LrCentreLight *cl, float x_px, float y_px, float object_id)
 {
-    if (!cl || !cl->light || !(x_px >= 0.0f && y_px >= 0.0f && x_px < (float)cl->width && y_px < (float)cl->height))
-        return NULL;
-    size_t q = (size_t)(int)y_px * (size_t)cl->width + (size_t)(int)x_px;
-    int slot = slot_of(cl->id, q, object_id, false);
-    return slot >= 0 ? cl->light + (q * LR_CENTRE_SLOTS + (size_t)slot) * 9 : NULL;
+    long q = cl && cl->light ? pixel_at(cl->width, cl->height, x_px, y_px) : -1;
+    if (q < 0) return NULL;
+    int slot = slot_of(cl->id, (size_t)q, object_id, false);
+    return slot >= 0 ? cl->light + ((size_t)q * LR_CENTRE_SLOTS + (size_t)slot) * 9 : NULL;
 }
 
 void lr_centre_light_free(LrCentreLight *cl)
