@@ -23,6 +23,7 @@
 #include "app/converge_methods.h"
 #include "app/converge_speedup.h"
 #include "app/ref_cache.h"
+#include "core/cache_home.h"
 #include "core/diag.h"
 #include "core/image_metrics.h"
 #include "io/image_io.h"

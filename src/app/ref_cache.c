@@ -1,11 +1,12 @@
 /* Reference cache keys and folder (see ref_cache.h). */
 #include "app/ref_cache.h"
 
+#include "core/cache_home.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 uint64_t fnv1a64(const void *data, size_t size, uint64_t state)
 {
@@ -160,23 +161,6 @@ bool ref_key_for_scene(const SceneDesc *scene, const char *embedded_text, const 
     return true;
 }
 
-bool make_dirs(const char *path)
-{
-    char buf[4096];
-    size_t n = strlen(path);
-    if (n == 0 || n >= sizeof buf) return false;
-    memcpy(buf, path, n + 1);
-    for (size_t i = 1; i <= n; ++i) {
-        if (buf[i] == '/' || buf[i] == '\0') {
-            char c = buf[i];
-            buf[i] = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST) return false;
-            buf[i] = c;
-        }
-    }
-    struct stat st;
-    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
-}
 
 bool ref_cache_dir(const char *override, char *out, size_t out_size, Diag *err)
 {

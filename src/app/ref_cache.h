@@ -57,7 +57,5 @@ bool ref_key_for_scene(const SceneDesc *scene, const char *embedded_text, const 
  * $HOME/.cache/wedge. Created (with parents) when missing. False with err (exit 3). */
 bool ref_cache_dir(const char *override, char *out, size_t out_size, Diag *err);
 
-/* Creates a folder and its parents (like mkdir -p). */
-bool make_dirs(const char *path);
 
 #endif

@@ -10,4 +10,7 @@
 /* false when neither variable gives a place, or the path does not fit in out. */
 bool cache_home(const char *name, char *out, size_t out_size);
 
+/* Creates a folder and its parents (like mkdir -p); true when it exists afterwards. */
+bool make_dirs(const char *path);
+
 #endif

@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/cache_home.h"
@@ -58,11 +57,11 @@ static bool cache_on(void)
     return !(v && strcmp(v, "0") == 0);
 }
 
-static bool file_path(const Key *k, char *out, size_t n)
+/* The cache folder into dir and the key's file in it into path. */
+static bool file_path(const Key *k, char dir[4096], char *path, size_t n)
 {
-    char dir[4096];
-    if (!cache_home("wedge", dir, sizeof dir)) return false;
-    int w = snprintf(out, n, "%s/cl-%016llx%016llx.bin", dir, (unsigned long long)k->a, (unsigned long long)k->b);
+    if (!cache_home("wedge", dir, 4096)) return false;
+    int w = snprintf(path, n, "%s/cl-%016llx%016llx.bin", dir, (unsigned long long)k->a, (unsigned long long)k->b);
     return w > 0 && (size_t)w < n;
 }
 
@@ -70,8 +69,8 @@ cl_program program_cache_load(const ClRuntime *rt, const char *const *sources, i
 {
     if (!cache_on()) return NULL;
     Key k = program_key(rt, sources, count, options);
-    char path[4200];
-    if (!file_path(&k, path, sizeof path)) return NULL;
+    char dir[4096], path[4200];
+    if (!file_path(&k, dir, path, sizeof path)) return NULL;
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;
     char magic[8];
@@ -110,7 +109,7 @@ void program_cache_store(const ClRuntime *rt, cl_program program, const char *co
     if (!cache_on()) return;
     Key k = program_key(rt, sources, count, options);
     char path[4200], dir[4096], tmp[4300];
-    if (!file_path(&k, path, sizeof path) || !cache_home("wedge", dir, sizeof dir)) return;
+    if (!file_path(&k, dir, path, sizeof path)) return;
     cl_uint devices = 0;
     size_t size = 0;
     if (clGetProgramInfo(program, CL_PROGRAM_NUM_DEVICES, sizeof devices, &devices, NULL) != CL_SUCCESS || devices != 1 ||
@@ -123,14 +122,7 @@ void program_cache_store(const ClRuntime *rt, cl_program program, const char *co
         return;
     }
     /* the folder may not exist yet (a first run that renders no reference) */
-    char part[4096];
-    for (size_t i = 1; dir[i - 1]; ++i) {
-        if (dir[i] != '/' && dir[i] != '\0') continue;
-        memcpy(part, dir, i);
-        part[i] = '\0';
-        mkdir(part, 0777);
-    }
-    int n = snprintf(tmp, sizeof tmp, "%s/.cl-XXXXXX", dir);
+    int n = make_dirs(dir) ? snprintf(tmp, sizeof tmp, "%s/.cl-XXXXXX", dir) : -1;
     int fd = n > 0 && (size_t)n < sizeof tmp ? mkstemp(tmp) : -1;
     if (fd < 0) {
         free(bin);
