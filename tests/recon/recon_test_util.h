@@ -86,6 +86,28 @@ static inline float *recon_test_render(const char *text, unsigned seed, const Re
     return out;
 }
 
+/* The text of scenes/bench/NAME.pbrt under $WEDGE_SOURCE_DIR (ctest's working directory
+ * otherwise: tests/recon), with room for extra bytes after it; NULL when it cannot be read.
+ * Free it. */
+static inline char *recon_test_bench_scene(const char *name, size_t extra)
+{
+    const char *root = getenv("WEDGE_SOURCE_DIR");
+    char path[4096];
+    snprintf(path, sizeof path, "%s/scenes/bench/%s.pbrt", root ? root : "../..", name);
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long len = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *text = len >= 0 ? calloc((size_t)len + 1 + extra, 1) : NULL;
+    if (!text || fread(text, 1, (size_t)len, f) != (size_t)len) {
+        free(text);
+        text = NULL;
+    }
+    fclose(f);
+    return text;
+}
+
 /* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */
 static inline double rel_mse(const float *img, const float *ref, size_t n3)
 {

@@ -18,14 +18,8 @@ enum { RES = 96 };
 /* The bench scene's text at RES x RES (its film is 128 x 128). */
 static char *scene_text(void)
 {
-    const char *src = getenv("WEDGE_SOURCE_DIR");
-    char path[4096];
-    snprintf(path, sizeof path, "%s/scenes/bench/defocus.pbrt", src ? src : "../..");
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    char *text = calloc(1, 1 << 16);
-    size_t len = text ? fread(text, 1, (1 << 16) - 1, f) : 0;
-    fclose(f);
+    char *text = recon_test_bench_scene("defocus", 16); /* room for a longer resolution */
+    size_t len = text ? strlen(text) : 0;
     const char *film = "\"integer xresolution\" [ 128 ] \"integer yresolution\" [ 128 ]";
     char *at = text && len ? strstr(text, film) : NULL;
     if (!at) {

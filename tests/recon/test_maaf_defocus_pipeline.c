@@ -10,27 +10,6 @@
 #include "mc_render.h"
 #include "recon_test_util.h"
 
-static char *load_scene(void)
-{
-    const char *root = getenv("WEDGE_SOURCE_DIR");
-    char path[4096];
-    snprintf(path, sizeof path, "%s/scenes/bench/defocus.pbrt", root ? root : "../..");
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *text = malloc((size_t)len + 1);
-    if (!text || fread(text, 1, (size_t)len, f) != (size_t)len) {
-        free(text);
-        fclose(f);
-        return NULL;
-    }
-    text[len] = '\0';
-    fclose(f);
-    return text;
-}
-
 typedef struct {
     int full, none, pixels;
 } AovCount;
@@ -54,7 +33,7 @@ static void check_result(const ReconResult *res, void *ctx)
 
 int main(void)
 {
-    char *text = load_scene();
+    char *text = recon_test_bench_scene("defocus", 0);
     CHECK(text != NULL);
     if (!text) CHECK_DONE();
     size_t n3 = 0;
