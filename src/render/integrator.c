@@ -2,7 +2,8 @@
  *
  * Sampler dimensions, in this fixed order per camera sample (strata line up across the
  * samples of a pixel): film position (2D); lens (2D, only with a lens); time (1D, only with
- * motion); then per path vertex: light choice (1D), light position (2D), BSDF lobe choice
+ * motion); then per path vertex: light choice (1D; among the lights not in
+ * LightSet.delta_every, which every vertex lights), light position (2D), BSDF lobe choice
  * (1D), BSDF direction (2D). Every vertex takes all of them, whatever its material (a delta
  * BSDF draws the light dimensions and does not use them; a Lambert vertex reserves the lobe
  * choice's index without drawing it), so the strata of a dimension belong to the same
@@ -160,9 +161,10 @@ static int vertex_dim0(const IntegratorScene *sc, int depth)
     return 2 + (sc->sample_lens ? 2 : 0) + (sc->sample_time ? 1 : 0) + VERTEX_DIMS * (depth - 1);
 }
 
-/* Next-event estimation: one light sample, MIS-weighted against the BSDF (Veach 1997,
- * eq. 9.13 with beta = 2), in two halves around the shadow ray, which is traced in a batch
- * with the wave's other shadow rays. What the first half leaves for the second: */
+/* Next-event estimation: one sample of a light picked by power, MIS-weighted against the
+ * BSDF (Veach 1997, eq. 9.13 with beta = 2), plus every delta light of LightSet.delta_every
+ * (those are not in the pick), in two halves around the shadow rays, which are traced in a
+ * batch with the wave's other shadow rays. What the first half leaves for the second: */
 typedef struct {
     LightSample ls;
     int light;        /* index of the sampled light */
@@ -173,27 +175,11 @@ typedef struct {
     bool is_area;
 } LightPending;
 
-/* First half: picks a light and a point on it and sets up the shadow ray. False when the
- * sample contributes nothing without one (the estimate is then 0). */
-static bool light_prepare(const IntegratorScene *sc, const Vertex *v, float time01, const VertexDims *u,
-                          IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+/* The shadow ray from vertex v to light sample ls: it leaves the receiver and stops short
+ * of the light's surface (both ends pushed off their surfaces). False (counted) when the
+ * two ends coincide. */
+static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, IntegratorStats *st, TracerRay *ray)
 {
-    /* a BSDF made of delta lobes only cannot be reached by a light sample */
-    if (v->glossy && glossy_is_delta(&v->bsdf)) return false;
-    lp->pmf = 0.0f;
-    lp->light = lights_pick(sc->lights, u->pick, &lp->pmf);
-    if (lp->light < 0) return false;
-    vec2 u_light = u->light;
-    lp->light = lights_pick_in_mesh(sc->lights, sc->tracer, lp->light, &u_light, &lp->pmf);
-    LightSample *ls = &lp->ls;
-    if (!light_sample(sc->lights, sc->tracer, lp->light, v->hit.p, time01, u_light, ls)) return false;
-    lp->f = vertex_f(v, ls->wi, &lp->cos_i, &lp->pdf_bsdf);
-    lp->is_area = sc->lights->lights[lp->light].kind == LIGHT_AREA;
-    /* A receiver facing away from the light traces no shadow ray (and records none). */
-    if (max_component_nonpositive(lp->f)) return false;
-
-    /* The shadow ray leaves the receiver and stops short of the light's surface (both
-     * ends pushed off their surfaces). */
     vec3 o = surface_offset(&v->hit, ls->wi), dir = ls->wi;
     float tmax = INFINITY;
     if (isfinite(ls->dist)) {
@@ -212,8 +198,37 @@ static bool light_prepare(const IntegratorScene *sc, const Vertex *v, float time
         tmax = len;
     }
     ++st->rays_shadow;
-    *shadow = (TracerRay){o, dir, tmax, time01};
+    *ray = (TracerRay){o, dir, tmax, time01};
     return true;
+}
+
+/* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
+ * sample contributes nothing without one (the estimate is then 0). */
+static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
+                             float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+{
+    lp->light = light;
+    lp->pmf = pmf;
+    LightSample *ls = &lp->ls;
+    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, ls)) return false;
+    lp->f = vertex_f(v, ls->wi, &lp->cos_i, &lp->pdf_bsdf);
+    lp->is_area = sc->lights->lights[light].kind == LIGHT_AREA;
+    /* A receiver facing away from the light, or a light sending nothing this way (a spot
+     * light's cone), traces no shadow ray (and records none). */
+    if (max_component_nonpositive(lp->f) || max_component_nonpositive(ls->Li)) return false;
+    return shadow_ray_to(v, ls, time01, st, shadow);
+}
+
+/* First half: picks a light and a point on it and sets up the shadow ray. */
+static bool light_prepare(const IntegratorScene *sc, const Vertex *v, float time01, const VertexDims *u,
+                          IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+{
+    float pmf = 0.0f;
+    int light = lights_pick(sc->lights, u->pick, &pmf);
+    if (light < 0) return false;
+    vec2 u_light = u->light;
+    light = lights_pick_in_mesh(sc->lights, sc->tracer, light, &u_light, &pmf);
+    return light_prepare_at(sc, v, time01, light, u_light, pmf, st, shadow, lp);
 }
 
 /* Second half, once the shadow ray is traced: the MIS-weighted estimate. */
@@ -358,17 +373,25 @@ typedef struct {
     bool light_pending, light_recorded, unfiltered_light;
     int shadow_ray;    /* index into the occlusion or the recorded batch */
     LightPending lp;
+    /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
+     * ray_occ[delta_first .. delta_first + delta_count) */
+    int delta_first, delta_count;
     bool bounce;
     VertexSample vs;
     vec3 beta_next;
 } WavePath;
 
+/* Occlusion rays of one stage: per path, the picked light's and one per delta light lit at
+ * every vertex. */
+enum { WAVE_OCC_RAYS = WAVE_SAMPLES * (1 + LIGHTS_DELTA_EVERY_MAX) };
+
 struct Wave {
     WavePath path[WAVE_SAMPLES];
-    /* rays of one stage and what they found; *_path: the path that shot ray k */
-    TracerRay ray_occ[WAVE_SAMPLES], ray_rec[WAVE_SAMPLES], ray_hit[WAVE_SAMPLES];
-    int occ_path[WAVE_SAMPLES], rec_path[WAVE_SAMPLES], hit_path[WAVE_SAMPLES];
-    bool occluded[WAVE_SAMPLES], rec_found[WAVE_SAMPLES], hit_found[WAVE_SAMPLES];
+    /* rays of one stage and what they found */
+    TracerRay ray_occ[WAVE_OCC_RAYS], ray_rec[WAVE_SAMPLES], ray_hit[WAVE_SAMPLES];
+    bool occluded[WAVE_OCC_RAYS], rec_found[WAVE_SAMPLES], hit_found[WAVE_SAMPLES];
+    /* a delta light's f * Li * |cos| at the vertex, for occlusion ray k when it is one */
+    vec3 delta_value[WAVE_OCC_RAYS];
     SurfaceHit rec_hit[WAVE_SAMPLES], hit[WAVE_SAMPLES];
     /* one pixel sampler, set up for sampler_pixel (-1: none), and a run of its samples */
     PixelSampler sampler;
@@ -508,8 +531,11 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
 {
     WavePath *p = &w->path[j];
     const Vertex *v = &p->v;
+    const LightSet *L = sc->lights;
     TracerRay shadow;
-    p->light_pending = light_prepare(sc, v, p->time01, &p->u, st, &shadow, &p->lp);
+    /* a BSDF made of delta lobes only cannot be reached by a light sample */
+    bool lit = !(v->glossy && glossy_is_delta(&v->bsdf));
+    p->light_pending = lit && light_prepare(sc, v, p->time01, &p->u, st, &shadow, &p->lp);
     p->light_recorded = false;
     if (p->light_pending) {
         /* the first hit's shadow rays to area lights are recorded for the filters, with the
@@ -517,19 +543,27 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
         bool record = depth == 1 && sc->record_ray_geometry && p->lp.is_area && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
         p->light_recorded = record;
         if (record) {
-            p->shadow_ray = *n_rec;
-            w->ray_rec[*n_rec] = shadow;
-            w->rec_path[(*n_rec)++] = j;
+            p->shadow_ray = (*n_rec)++;
+            w->ray_rec[p->shadow_ray] = shadow;
         } else {
-            p->shadow_ray = *n_occ;
-            w->ray_occ[*n_occ] = shadow;
-            w->occ_path[(*n_occ)++] = j;
+            p->shadow_ray = (*n_occ)++;
+            w->ray_occ[p->shadow_ray] = shadow;
         }
+    }
+    /* Delta lights lit at every vertex: probability 1, no MIS (BSDF sampling never finds
+     * them); the light dimensions go unused (a point has no area). */
+    p->delta_first = *n_occ;
+    p->delta_count = 0;
+    for (int k = 0; lit && k < L->delta_every_count; ++k) {
+        LightPending lp;
+        if (!light_prepare_at(sc, v, p->time01, L->delta_every[k], v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp))
+            continue;
+        w->delta_value[(*n_occ)++] = v3_scale(v3_mul(lp.f, lp.ls.Li), lp.cos_i);
+        ++p->delta_count;
     }
     p->unfiltered_light = p->unfiltered;
     p->bounce = false;
 
-    const LightSet *L = sc->lights;
     bool mis_emitters = L->has_area || L->infinite_count > 0;
     if (depth == sc->max_depth && !mis_emitters) return;
     float u_lobe = 0.5f; /* Lambert: unused */
@@ -543,8 +577,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     if (depth < sc->max_depth) ++st->rays_indirect;
     else ++st->rays_bsdf;
     p->bounce = true;
-    w->ray_hit[*n_hit] = (TracerRay){surface_offset(&v->hit, p->vs.wi), p->vs.wi, INFINITY, p->time01};
-    w->hit_path[(*n_hit)++] = j;
+    w->ray_hit[(*n_hit)++] = (TracerRay){surface_offset(&v->hit, p->vs.wi), p->vs.wi, INFINITY, p->time01};
 }
 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
@@ -570,16 +603,22 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
         }
         l_light = light_finish(&p->lp, occluded, st);
     }
-    vec3 ld = v3_mul(p->beta, l_light);
-    *bucket = v3_add(*bucket, ld);
+    vec3 l_delta = v3s(0.0f);
+    for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
+        if (!w->occluded[k]) l_delta = v3_add(l_delta, guard3(w->delta_value[k], st));
+    vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
+    *bucket = v3_add(*bucket, v3_add(ld, ld_delta));
     /* A point, spot or distant light casts hard shadows: in a scene with area lights, whose
      * direct light the soft-shadow filters take, its share of the direct light must not be
      * blurred with theirs (on motion_defocus_soft, a sphere light beside a distant light,
      * AAF's shadows had 30x Monte Carlo's error at 64 spp, static and pinhole). Without
      * area lights no filter takes direct light and nothing needs to be set apart. */
-    if (p->unfiltered_light) rec->unfiltered = v3_add(rec->unfiltered, ld);
-    else if (depth == 1 && p->light_pending && p->lp.ls.delta && sc->lights->has_area)
-        rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
+    if (p->unfiltered_light) {
+        rec->unfiltered = v3_add(rec->unfiltered, v3_add(ld, ld_delta));
+    } else if (depth == 1 && sc->lights->has_area) {
+        if (p->light_pending && p->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
+        rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld_delta);
+    }
     p->alive = false;
     if (!p->bounce) return;
 

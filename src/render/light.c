@@ -16,6 +16,9 @@ static float luminance(vec3 c)
     return y > 0.0f ? y : fmaxf(0.0f, v3_max_component(c));
 }
 
+/* Point, spot and distant lights: a single direction from each receiver. */
+static bool light_is_delta(const Light *l) { return l->kind != LIGHT_AREA && l->kind != LIGHT_INFINITE; }
+
 static float max_abs3(vec3 v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z))); }
 
 static vec3 param_point(const ParamSet *ps, const char *name, vec3 def)
@@ -263,23 +266,37 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
     set->infinite = malloc((size_t)(set->count > 0 ? set->count : 1) * sizeof(int));
     if (!set->cdf || !set->infinite) goto oom;
     double acc = 0.0, r2 = (double)set->scene_radius * set->scene_radius;
+    double *phi = malloc((size_t)(set->count > 0 ? set->count : 1) * sizeof *phi);
+    if (!phi) goto oom;
+    int delta_count = 0;
+    for (int i = 0; i < set->count; ++i) {
+        const Light *l = &set->lights[i];
+        double y = luminance(l->L);
+        phi[i] = 0.0;
+        switch (l->kind) {
+        case LIGHT_AREA: phi[i] = y * l->area_world * M_PI * (l->two_sided ? 2.0 : 1.0); break;
+        case LIGHT_POINT: phi[i] = 4.0 * M_PI * y; break;
+        case LIGHT_SPOT: phi[i] = 2.0 * M_PI * y * (1.0 - 0.5 * (l->cos_falloff_start + l->cos_falloff_end)); break;
+        case LIGHT_DISTANT: phi[i] = M_PI * r2 * y; break;
+        case LIGHT_INFINITE: phi[i] = 4.0 * M_PI * M_PI * r2 * y; break;
+        }
+        if (!(phi[i] > 0.0) || !isfinite(phi[i])) phi[i] = 0.0;
+        if (light_is_delta(l) && phi[i] > 0.0) ++delta_count;
+    }
+    set->has_delta = delta_count > 0;
+    bool every = delta_count <= LIGHTS_DELTA_EVERY_MAX;
     set->cdf[0] = 0.0f;
     for (int i = 0; i < set->count; ++i) {
-        Light *l = &set->lights[i];
-        double y = luminance(l->L), phi = 0.0;
-        switch (l->kind) {
-        case LIGHT_AREA: phi = y * l->area_world * M_PI * (l->two_sided ? 2.0 : 1.0); break;
-        case LIGHT_POINT: phi = 4.0 * M_PI * y; break;
-        case LIGHT_SPOT: phi = 2.0 * M_PI * y * (1.0 - 0.5 * (l->cos_falloff_start + l->cos_falloff_end)); break;
-        case LIGHT_DISTANT: phi = M_PI * r2 * y; break;
-        case LIGHT_INFINITE: phi = 4.0 * M_PI * M_PI * r2 * y; break;
-        }
-        if (!(phi > 0.0) || !isfinite(phi)) phi = 0.0;
-        if (l->kind != LIGHT_AREA) set->has_delta |= (l->kind != LIGHT_INFINITE && phi > 0.0);
+        const Light *l = &set->lights[i];
         if (l->kind == LIGHT_INFINITE) set->infinite[set->infinite_count++] = i;
-        acc += phi;
+        if (every && light_is_delta(l) && phi[i] > 0.0) {
+            set->delta_every[set->delta_every_count++] = i;
+            phi[i] = 0.0;
+        }
+        acc += phi[i];
         set->cdf[i + 1] = (float)acc;
     }
+    free(phi);
     set->power_total = (float)acc;
     return true;
 oom:

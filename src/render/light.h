@@ -1,7 +1,8 @@
 /* Light sources: diffuse area lights (one Light per emitting triangle, sphere or disk),
  * point, spot, distant, constant infinite and image infinite lights (pbrt-v4 semantics; the
  * image one importance sampled through envmap.h), and the light selection distribution
- * (proportional to an estimate of emitted power). */
+ * (proportional to an estimate of emitted power) over the lights a path vertex picks one of;
+ * a few point, spot and distant lights are instead lit at every vertex (delta_every). */
 #ifndef WEDGE_RENDER_LIGHT_H
 #define WEDGE_RENDER_LIGHT_H
 
@@ -31,11 +32,21 @@ typedef struct {
     Envmap *env;            /* infinite light with "filename": the image (owned); else NULL */
 } Light;
 
+/* Point, spot and distant lights of a scene that has at most this many are lit at every
+ * path vertex (a shadow ray each) instead of entering the one-light pick: picking one of
+ * them per sample adds a two-valued noise (light or nothing, scaled by 1/pmf) that
+ * nothing filters, since their hard shadows pass the filters unfiltered. More of them
+ * than this join the pick, where one shadow ray per vertex keeps the cost bounded. */
+enum { LIGHTS_DELTA_EVERY_MAX = 8 };
+
 typedef struct {
     Light *lights;
     int count;
-    float *cdf;             /* count + 1 entries: selection by power */
+    float *cdf;             /* count + 1 entries: selection by power (lights in
+                             * delta_every have none: they are never picked) */
     float power_total;
+    int delta_every[LIGHTS_DELTA_EVERY_MAX]; /* indices of the delta lights lit at every vertex */
+    int delta_every_count;
     int *infinite;          /* indices of infinite lights (seen by escaping rays) */
     int infinite_count;
     bool has_area, has_delta;
