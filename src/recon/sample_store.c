@@ -29,6 +29,8 @@ struct SampleStore {
     int width, height, capacity;
     int *count;                       /* per pixel */
     float *field[SAMPLE_FIELD_COUNT_];
+    int held[SAMPLE_FIELD_COUNT_];    /* the indices of the fields kept, held_count of them */
+    int held_count;
     long long dropped;                /* atomic */
 };
 
@@ -94,6 +96,8 @@ bool sample_store_create(unsigned fields, int width, int height, int capacity, s
         return false;
     }
     s->fields = fields;
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f)
+        if (s->field[f]) s->held[s->held_count++] = f;
     s->width = width;
     s->height = height;
     s->capacity = capacity;
@@ -126,10 +130,10 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
     }
     s->count[i] = k + 1;
     size_t j = i * (size_t)s->capacity + (size_t)k;
-    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f) {
-        float *dst = s->field[f];
-        if (!dst) continue;
-        dst += j * (size_t)FIELDS[f].components;
+    /* only the fields kept (a frame keeps 6 of 13 for LR): this runs for every sample */
+    for (int h = 0; h < s->held_count; ++h) {
+        int f = s->held[h];
+        float *dst = s->field[f] + j * (size_t)FIELDS[f].components;
         switch (FIELDS[f].bit) {
         case SAMPLE_FIELD_FILM: dst[0] = r->px_raster, dst[1] = r->py_raster; break;
         case SAMPLE_FIELD_LENS: dst[0] = r->lens_u, dst[1] = r->lens_v; break;
