@@ -654,8 +654,10 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
         /* ---- plans (rank 0) and pass 2 (adaptive methods) ---- */
         float mu = p->opt.mu;
         if (is_root(p)) {
-            gbuffer_resolve_guides(&p->g);
             if (!p->fixed_only) {
+                /* the plans read the guides of pass 1 (a fixed-count frame resolves them once,
+                 * below, from the same sums) */
+                gbuffer_resolve_guides(&p->g);
                 double avg;
                 if ((p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) || !plan_at(p, mu, &avg, d)) {
                     opener_join(&opener, p, NULL);

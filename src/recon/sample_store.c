@@ -23,6 +23,8 @@ static const struct {
     {SAMPLE_FIELD_BOUNCE, 4, "bounce"},     {SAMPLE_FIELD_MOTION, 2, "motion"},
     {SAMPLE_FIELD_SHADING, 13, "shading"},
 };
+_Static_assert(SAMPLE_FIELD_COUNT_ == 13 && SAMPLE_FIELD_SHADING == 1u << 12 && SAMPLE_FIELD_MOTION == 1u << 11,
+               "sample_store_add writes field 1 << n at field[n]");
 
 struct SampleStore {
     unsigned fields;
@@ -126,49 +128,49 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
     }
     s->count[i] = k + 1;
     size_t j = i * (size_t)s->capacity + (size_t)k;
-    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f) {
-        float *dst = s->field[f];
-        if (!dst) continue;
-        dst += j * (size_t)FIELDS[f].components;
-        switch (FIELDS[f].bit) {
-        case SAMPLE_FIELD_FILM: dst[0] = r->px_raster, dst[1] = r->py_raster; break;
-        case SAMPLE_FIELD_LENS: dst[0] = r->lens_u, dst[1] = r->lens_v; break;
-        case SAMPLE_FIELD_TIME: dst[0] = r->time; break;
-        case SAMPLE_FIELD_DEPTH: dst[0] = r->hit ? r->depth_cam : INFINITY; break;
-        case SAMPLE_FIELD_RADIANCE: put3(dst, r->L); break;
-        case SAMPLE_FIELD_DIRECT: put3(dst, r->direct); break;
-        case SAMPLE_FIELD_INDIRECT: put3(dst, r->indirect); break;
-        case SAMPLE_FIELD_POSITION: put3(dst, r->p_world); break;
-        case SAMPLE_FIELD_NORMAL: put3(dst, r->n_shading); break;
-        case SAMPLE_FIELD_LIGHT:
-            if (r->shadow_count > 0) {
-                put3(dst, r->shadow[0].light_p_world);
-                dst[3] = r->shadow[0].d_light_world, dst[4] = r->shadow[0].d_occluder_world;
-            } else {
-                dst[0] = dst[1] = dst[2] = dst[3] = 0.0f, dst[4] = INFINITY;
-            }
-            break;
-        case SAMPLE_FIELD_MOTION: dst[0] = r->motion_px[0], dst[1] = r->motion_px[1]; break;
-        case SAMPLE_FIELD_SHADING: {
-            float ud[3], ui[3]; /* what the shading filters leave alone, as the guides' sums split it */
-            gbuffer_unfiltered_split(r, ud, ui);
-            put3(dst + 6, r->albedo);
-            dst[9] = r->hit ? (float)r->object_id : -1.0f;
-            float u[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
-            for (int c = 0; c < 3; ++c) dst[10 + c] = isfinite(u[c]) && u[c] > 0.0f ? u[c] : 0.0f; /* as the split counts it */
-            dst[0] = r->direct.x - ud[0], dst[1] = r->direct.y - ud[1], dst[2] = r->direct.z - ud[2];
-            dst[3] = r->indirect.x - ui[0], dst[4] = r->indirect.y - ui[1], dst[5] = r->indirect.z - ui[2];
-            break;
+    /* Field by field in straight code, each behind the test whether it is kept (a frame of
+     * LR keeps 6 of 13): this runs for every sample, and a loop over the kept fields with a
+     * switch cost about 200 instructions per sample. F[n] is field 1 << n (FIELDS' order). */
+    float *const *F = s->field;
+    float *d;
+    if ((d = F[0])) d += 2 * j, d[0] = r->px_raster, d[1] = r->py_raster;          /* film */
+    if ((d = F[1])) d += 2 * j, d[0] = r->lens_u, d[1] = r->lens_v;                /* lens */
+    if ((d = F[2])) d[j] = r->time;                                                /* time */
+    if ((d = F[3])) d[j] = r->hit ? r->depth_cam : INFINITY;                       /* depth */
+    if ((d = F[4])) put3(d + 3 * j, r->L);                                         /* radiance */
+    if ((d = F[5])) put3(d + 3 * j, r->direct);                                    /* direct */
+    if ((d = F[6])) put3(d + 3 * j, r->indirect);                                  /* indirect */
+    if ((d = F[7])) put3(d + 3 * j, r->p_world);                                   /* position */
+    if ((d = F[8])) put3(d + 3 * j, r->n_shading);                                 /* normal */
+    if ((d = F[9])) {                                                              /* light */
+        d += 5 * j;
+        if (r->shadow_count > 0) {
+            put3(d, r->shadow[0].light_p_world);
+            d[3] = r->shadow[0].d_light_world, d[4] = r->shadow[0].d_occluder_world;
+        } else {
+            d[0] = d[1] = d[2] = d[3] = 0.0f, d[4] = INFINITY;
         }
-        case SAMPLE_FIELD_BOUNCE:
-            if (r->bounce_count > 0) {
-                put3(dst, r->bounce[0].dir_world);
-                dst[3] = r->bounce[0].d_hit_world;
-            } else {
-                dst[0] = dst[1] = dst[2] = 0.0f, dst[3] = INFINITY;
-            }
-            break;
+    }
+    if ((d = F[10])) {                                                             /* bounce */
+        d += 4 * j;
+        if (r->bounce_count > 0) {
+            put3(d, r->bounce[0].dir_world);
+            d[3] = r->bounce[0].d_hit_world;
+        } else {
+            d[0] = d[1] = d[2] = 0.0f, d[3] = INFINITY;
         }
+    }
+    if ((d = F[11])) d += 2 * j, d[0] = r->motion_px[0], d[1] = r->motion_px[1];   /* motion */
+    if ((d = F[12])) {                                                             /* shading */
+        d += 13 * j;
+        float ud[3], ui[3]; /* what the shading filters leave alone, as the guides' sums split it */
+        gbuffer_unfiltered_split(r, ud, ui);
+        put3(d + 6, r->albedo);
+        d[9] = r->hit ? (float)r->object_id : -1.0f;
+        float u[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
+        for (int c = 0; c < 3; ++c) d[10 + c] = isfinite(u[c]) && u[c] > 0.0f ? u[c] : 0.0f; /* as the split counts it */
+        d[0] = r->direct.x - ud[0], d[1] = r->direct.y - ud[1], d[2] = r->direct.z - ud[2];
+        d[3] = r->indirect.x - ui[0], d[4] = r->indirect.y - ui[1], d[5] = r->indirect.z - ui[2];
     }
 }
 

@@ -333,9 +333,13 @@ static void first_hit_motion(const IntegratorScene *sc, const SurfaceHit *h, flo
 {
     motion_px[0] = motion_px[1] = 0.0f;
     if (!sc->sample_time) return;
+    bool instance_moving = h->instance >= 0 && sc->tracer->instances[h->instance].moving;
+    /* A static point seen by a static camera projects to the same pixel at both ends: 0,
+     * exactly what the two projections below would give, without them (most hits). */
+    if (!instance_moving && !sc->camera->moving) return;
     float t0 = shutter_time01(sc, 0.0f), t1 = shutter_time01(sc, 1.0f);
     vec3 p0 = h->p, p1 = h->p;
-    if (h->instance >= 0 && sc->tracer->instances[h->instance].moving) {
+    if (instance_moving) {
         Mat4 wfi = tracer_world_from_instance(sc->tracer, h->instance, time01), ifw;
         if (!mat4_inverse(&wfi, &ifw)) return;
         vec3 p_inst = mat4_apply_point(&ifw, h->p);

@@ -779,6 +779,15 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
                        (double)extent, (double)TRACER_EXTENT_TESTED_MIN);
     }
     if (!normalise_scale(tr, slot, err)) goto fail;
+    /* the moving instances' poses at the ends of time, as Embree gives them (the same values
+     * as asking again: tracer_world_from_instance returns these from now on) */
+    for (int i = 0; i < tr->instance_count; ++i) {
+        Instance *in = &tr->instances[i];
+        if (!in->moving) continue;
+        in->pose_at_end[0] = tracer_world_from_instance(tr, i, 0.0f);
+        in->pose_at_end[1] = tracer_world_from_instance(tr, i, 1.0f);
+        in->pose_kept = true;
+    }
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);
     tr->seconds_build = seconds_now() - t0;
@@ -814,6 +823,7 @@ Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01)
 {
     const Instance *in = &tr->instances[instance];
     if (!in->moving) return in->world_from_inst;
+    if (in->pose_kept && (time01 == 0.0f || time01 == 1.0f)) return in->pose_at_end[time01 == 1.0f];
     /* Ask Embree for its own interpolated pose so shading agrees with the traversal. */
     float xf[12];
     rtcGetGeometryTransform(in->geometry, time01, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);

@@ -74,6 +74,11 @@ typedef struct {
     RTCGeometry geometry;    /* for rtcGetGeometryTransform at a ray's time */
     Mat4 world_from_inst;    /* static instances (and shutter-open pose of moving ones) */
     Mat4 inst_from_world;
+    /* moving: tracer_world_from_instance's poses at time01 = 0 and 1 (the shutter's ends in
+     * most scenes), kept once the build is done (pose_kept): LR's motion vectors ask for
+     * both at every hit, and Embree's interpolation of a quaternion decomposition is not free */
+    Mat4 pose_at_end[2];
+    bool pose_kept;
 } Instance;
 
 /* How batches of rays go to Embree (tracer_*_batch): one rtcIntersect1 / rtcOccluded1 per
