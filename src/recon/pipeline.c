@@ -44,6 +44,8 @@ struct ReconPipeline {
     int slot_count;
     bool filtering;              /* some effect has a method */
     bool fixed_only;             /* no method plans: one pass at a fixed count */
+    bool budget_in_pass1;        /* a fixed-count method beside adaptive ones, under a --spp
+                                  * budget: the whole budget in pass 1 (see setup_filtered) */
     GBuffer g;
     bool g_ready;
     SampleStore *store;
@@ -324,8 +326,16 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     if (!shading_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING; /* nothing to replace the light with */
     /* a fixed-count frame takes the --spp budget in one pass */
     if (p->fixed_only && p->opt.spp > 0) pass1 = p->opt.spp;
+    /* A fixed-count method (LR) reads the first samples of every pixel, as many as the pixel
+     * with the fewest has: beside an adaptive method it would see pass 1 only, and the plan's
+     * extra samples would reach the image through the pixel means alone (all_effects with a
+     * wider lens, 32 spp: relMSE 6.0e-4, against 4.3e-4 with the budget traced uniformly). So
+     * under a budget the frame is traced uniformly in pass 1; the adaptive methods' plans
+     * still set their filters (mu from the budget) and find the budget spent: no pass 2. */
+    p->budget_in_pass1 = !p->fixed_only && fixed_max > 0 && p->opt.spp > 0;
+    if (p->budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
-    if (!p->fixed_only && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
+    if (!p->fixed_only && !p->budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
     p->res.pass1_spp = pass1;
     if (fields) {
         /* the store keeps what the fixed-count methods take (or pass 1 of adaptive ones) */
