@@ -86,28 +86,15 @@ static BandError band_error(const float *img, const float *ref)
     return (BandError){sum[0] / (double)cnt[0], sum[1] / (double)cnt[1]};
 }
 
+static void check_frame(const ReconPipeline *p, void *ctx)
+{
+    check_visible(recon_pipeline_result(p), recon_pipeline_gbuffer(p), *(const bool *)ctx);
+}
+
 static float *render_lr(unsigned seed, bool overscan)
 {
-    SceneDesc scene;
-    Renderer *r;
-    if (!recon_test_renderer(SCENE, seed, SPP, false, &scene, &r)) return NULL;
     ReconOptions o = {.filter = "lr", .spp = SPP, .no_overscan = !overscan};
-    ReconPipeline *p = NULL;
-    Diag d = {0};
-    float *out = NULL;
-    if (recon_pipeline_create(r, &o, &p, &d) && recon_pipeline_render(p, &d)) {
-        const ReconResult *res = recon_pipeline_result(p);
-        check_visible(res, recon_pipeline_gbuffer(p), overscan);
-        CHECK(res->nonfinite_pixels == 0);
-        if ((out = malloc(3 * sizeof(float) * W * H))) memcpy(out, res->rgb, 3 * sizeof(float) * W * H);
-    } else {
-        fprintf(stderr, "%s\n", d.message);
-        CHECK(false);
-    }
-    recon_pipeline_destroy(p);
-    renderer_destroy(r);
-    scene_desc_free(&scene);
-    return out;
+    return recon_test_render_pipeline(SCENE, seed, &o, check_frame, &overscan);
 }
 
 static void mean_se(const double *v, int k, double *mean, double *se)
