@@ -131,6 +131,11 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * runs the same probe (fixed samples and seed), so the two name the same methods, and so
      * does every MPI rank without communicating. */
     BlurProbe blur = {.median_blur_px = -1.0f};
+    /* a renderer that served a pipeline with a band probes (and is chosen for) the plain image */
+    if (renderer_overscan_px(r) && !renderer_set_overscan(r, 0, d)) {
+        free(p);
+        return false;
+    }
     if (recon_select_wants_blur(renderer_effects(r), o->filter) && !recon_blur_probe(r, &blur)) {
         free(p);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
