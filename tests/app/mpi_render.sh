@@ -107,7 +107,16 @@ timeout 200 mpirun -np 2 "$WEDGE" render "$scene" --res 200x150 --spp 4096 --fil
     -o "$T/int.exr" --report "$T/int.json" --quiet >"$T/out.txt" 2>&1 &
 job=$!
 for _ in $(seq 1 100); do [ "$(ranks_of "$T/int.exr" | wc -l)" = 2 ] && break; sleep 0.2; done
-sleep 2
+# Ctrl-C once both ranks have rendered for a while: 1.5 s of CPU time each (utime + stime in
+# /proc, clock ticks), not a fixed wall time, which a loaded machine can spend on anything
+cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$1/stat" 2>/dev/null || echo 0; }
+tck=$(getconf CLK_TCK)
+for _ in $(seq 1 600); do
+    busy=0
+    for pid in $(ranks_of "$T/int.exr"); do [ "$(cpu_ticks "$pid")" -ge $((tck * 3 / 2)) ] && busy=$((busy + 1)); done
+    [ $busy = 2 ] && break
+    sleep 0.2
+done
 pkill -INT -P $job mpirun # mpirun itself, not the timeout around it
 wait $job
 python3 - "$T/int.json" <<'PY' || { cat "$T/out.txt"; fail=1; }

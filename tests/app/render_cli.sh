@@ -250,7 +250,13 @@ done
 # Ctrl-C: stop early, write the image with the real spp, exit 0
 "$WEDGE" render "$T/small.pbrt" --filter none --spp 100000 --res 64x48 --threads 2 -o "$T/i.exr" --report "$T/i.json" --quiet &
 pid=$!
-sleep 1
+# Ctrl-C once it has rendered for 0.5 s of CPU time (utime + stime, clock ticks), not after a
+# fixed wall time, which a loaded machine may spend before the first sample
+tck=$(getconf CLK_TCK)
+for _ in $(seq 1 600); do
+    [ "$(awk '{ print $14 + $15 }' "/proc/$pid/stat" 2>/dev/null || echo 0)" -ge $((tck / 2)) ] && break
+    sleep 0.1
+done
 kill -INT $pid
 wait $pid; check "interrupted render" 0 $?
 [ -s "$T/i.exr" ] || { echo "FAIL: interrupted render wrote no EXR"; fail=1; }
