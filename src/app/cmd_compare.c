@@ -5,7 +5,8 @@
  * from sRGB to linear, alpha ignored). --diff writes the false-colour relative-error map:
  * as PNG the colours themselves; as EXR the same colours in linear light in R, G, B plus
  * the raw per-pixel relative error in a channel "relerr". --by splits relMSE by the value of
- * one of TEST's EXR channels (a filter width, the spp layer): which pixels carry the error. */
+ * one of TEST's EXR channels (a filter width, the spp layer): which pixels carry the error;
+ * --by edge_px by each pixel's distance to the image's edge (the border's share). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,7 +37,10 @@ static void usage(FILE *f)
             "                 magenta where TEST is NaN or infinite)\n"
             "  --by CHANNEL   split relMSE by the value of TEST's EXR channel CHANNEL (e.g.\n"
             "                 aaf.beta_px.shadow or spp from 'wedge render --aovs'): per bin\n"
-            "                 the share of pixels, the mean value, relMSE and share of relMSE\n"
+            "                 the share of pixels, the mean value, relMSE and share of relMSE;\n"
+            "                 edge_px (not a channel): each pixel's distance in pixels to the\n"
+            "                 image's nearest edge (0 on the outermost rows and columns), e.g.\n"
+            "                 --by edge_px --bins 8 for the 8-pixel border's share\n"
             "  --bins LIST    increasing bin edges for --by (default 0.5,1,2,4,...,256);\n"
             "                 the first bin is open below, the last open above\n"
             "\n"
@@ -99,6 +103,18 @@ static bool parse_edges(const char *list, double *edges, int *count)
 static int read_key(const char *test_path, const char *channel, int width, int height, float **key, Diag *err)
 {
     SrcLoc loc = {test_path, 0, 0};
+    if (!strcmp(channel, "edge_px")) { /* computed: how far inside the frame a pixel is */
+        if (!(*key = malloc((size_t)width * (size_t)height * sizeof(float)))) {
+            diag_set(err, WEDGE_EXIT_RUNTIME, loc, "out of memory for --by edge_px");
+            return err->exit_code;
+        }
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                int dx = x < width - 1 - x ? x : width - 1 - x, dy = y < height - 1 - y ? y : height - 1 - y;
+                (*key)[(size_t)y * (size_t)width + (size_t)x] = (float)(dx < dy ? dx : dy);
+            }
+        return WEDGE_EXIT_OK;
+    }
     if (path_is_png(test_path)) {
         diag_set(err, WEDGE_EXIT_INPUT, loc, "--by needs an EXR test image (a PNG has no other channels)");
         return err->exit_code;

@@ -373,9 +373,11 @@ int cmd_preview(int argc, char **argv)
     if (!a.quiet)
         for (int i = 0; i < scene.warning_count; ++i) fprintf(stderr, "%s\n", scene.warnings[i]);
     ReconOptions po = {.filter = a.filter, .mu = a.mu, .cl_device = a.cl_device,
-                       .mem_limit_bytes = (size_t)a.mem_limit, .method_options = {a.maaf_pairs}};
+                       .mem_limit_bytes = (size_t)a.mem_limit, .method_options = {a.maaf_pairs},
+                       .no_overscan = a.no_overscan};
     if (!recon_pipeline_create(r, &po, &pipe, &err)) goto fail;
-    int w = renderer_width(r), h = renderer_height(r);
+    /* the visible image (without an overscan band) */
+    int w = recon_pipeline_result(pipe)->width, h = recon_pipeline_result(pipe)->height;
     size_t n = (size_t)w * (size_t)h;
     if (!snapshot_init(&sh.snap, w, h) || !(rgb8 = malloc(3 * n)) || !(disp = malloc(3 * n * sizeof(float)))) {
         diag_set(&err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d preview", w, h);

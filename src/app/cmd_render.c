@@ -73,6 +73,9 @@ static void usage(FILE *f)
             "                  with --spp, --mu shapes the filters and --spp sets the samples\n"
             "  --maaf-pairs N  --filter maaf: filter pairs per 2D subspace, 2N-1 filters each,\n"
             "                  (2N-1)^2 in 4D (1..5, default 3)\n"
+            "  --overscan X    auto (default): when a filter reads samples beyond a pixel (lr),\n"
+            "                  also trace a band that wide around the image and crop it, so the\n"
+            "                  border is not biased; off: no band (to measure what it does)\n"
             "  --mem-limit S   memory for per-sample storage (filters that keep samples), e.g.\n"
             "                  512M or 8G (default: half the physical memory); a frame that needs\n"
             "                  more is refused before rendering\n"
@@ -162,7 +165,9 @@ static bool render_progressive(const Progressive *pr, Diag *err)
     ReconDist *dist = (ReconDist *)pr->dist;
     if (!recon_pipeline_step(pr->pipe, 0.0, err)) return false; /* the ordinary frame */
     double t_render0 = pr->t_start, last_checkpoint = seconds_now();
-    double pixels = (double)renderer_width(pr->r) * (double)renderer_height(pr->r);
+    /* the visible image's pixels: spp_avg and the caps count samples per visible pixel */
+    const ReconResult *first = recon_pipeline_result(pr->pipe);
+    double pixels = (double)first->width * (double)first->height;
     for (;;) {
         const ReconResult *res = recon_pipeline_result(pr->pipe);
         int decision[2] = {0, 0}; /* continue?, the step's cap in 1/1024 samples per pixel */
@@ -279,6 +284,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     po.cl_device = a.cl_device;
     po.mem_limit_bytes = (size_t)a.mem_limit;
     po.dist = dist;
+    po.no_overscan = a.no_overscan;
     ReconPipeline *pipe = NULL;
     bool ok = recon_pipeline_create(r, &po, &pipe, &err);
     if (!ok) print_error(&err, dist);
@@ -352,6 +358,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
         RunReport rep = {0};
         rep.width = frame->width, rep.height = frame->height;
         rep.spp_avg = res->spp_avg;
+        rep.overscan_px = res->overscan_px;
         rep.seconds_total = seconds_total;
         rep.seconds_trace = st.seconds_trace;
         rep.seconds_filter = res->seconds_filter;

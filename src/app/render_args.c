@@ -48,6 +48,7 @@ static const char *render_option_wants(const char *opt, char *buf, size_t size)
         {"--mem-limit", "a size in bytes with an optional K, M or G suffix (e.g. 512M)"},
         {"--time", "a number of seconds in (0, 1e7]"},
         {"--checkpoint", "a number of seconds in (0, 1e7]"},
+        {"--overscan", "auto or off"},
     };
     for (size_t i = 0; i < sizeof wants / sizeof wants[0]; ++i)
         if (!strcmp(opt, wants[i].opt)) return wants[i].wants;
@@ -147,6 +148,10 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
             double mu = strtod(val, &end);
             if (errno || end == val || *end || !(mu > 0.0) || !(mu <= RENDER_MU_MAX)) goto bad_value;
             a->mu = (float)mu;
+        } else if (!strcmp(o, "--overscan")) {
+            NEED_VALUE();
+            if (strcmp(val, "auto") != 0 && strcmp(val, "off") != 0) goto bad_value;
+            a->no_overscan = !strcmp(val, "off");
         } else if (!strcmp(o, "--maaf-pairs")) {
             NEED_VALUE();
             char *end;
@@ -207,6 +212,8 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
          "--maaf-pairs sets MAAF's number of filter pairs and needs --filter maaf"},
         {plain && a->cl_device, "--cl-device picks the device the filters run on and does nothing with --filter "
                                 "none; drop it, or choose a filter"},
+        {plain && a->no_overscan, "--overscan off turns off the band a filter traces around the image and does "
+                                  "nothing with --filter none; drop it, or choose a filter"},
         {plain && a->mem_limit > 0.0, "--mem-limit caps a filter's per-sample storage and does nothing with --filter "
                                       "none; drop it, or choose a filter"},
     };

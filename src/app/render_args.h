@@ -31,6 +31,7 @@ typedef struct {
     double time_budget;       /* --time: seconds of progressive rendering; 0: one frame */
     double checkpoint;        /* --checkpoint: seconds between checkpoint writes; 0: none */
     const char *view;         /* OCIO view for PNG output; NULL: the display's default */
+    bool no_overscan;         /* --overscan off: no band traced around the image (LR) */
     bool help;
 } RenderArgs;
 

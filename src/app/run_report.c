@@ -66,6 +66,7 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     fprintf(f, "{\n");
     fprintf(f, "  \"width\": %d,\n  \"height\": %d,\n", r->width, r->height);
     fprintf(f, "  \"spp_avg\": %.6g,\n", finite_or_zero(r->spp_avg));
+    fprintf(f, "  \"overscan_px\": %d,\n", r->overscan_px);
     fprintf(f, "  \"seconds_total\": %.6f,\n", finite_or_zero(r->seconds_total));
     fprintf(f, "  \"seconds_trace\": %.6f,\n", finite_or_zero(r->seconds_trace));
     fprintf(f, "  \"seconds_filter\": %.6f,\n", finite_or_zero(r->seconds_filter));

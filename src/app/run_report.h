@@ -10,7 +10,8 @@
 
 typedef struct {
     int width, height;
-    double spp_avg;
+    double spp_avg;            /* samples traced per visible pixel (the overscan band's included) */
+    int overscan_px;           /* the band traced around the image and cropped (0: none) */
     double seconds_total, seconds_trace, seconds_filter, seconds_build;
     long long rays_primary, rays_shadow, rays_indirect, rays_bsdf; /* RenderStats */
     long long guarded_events;  /* guarded divisions / non-finite values replaced, all stages */

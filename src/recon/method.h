@@ -102,6 +102,10 @@ typedef struct {
      * (dist.h). Every array the sink writes must be listed, or ranks disagree. May be NULL
      * for a method without a sink. */
     int (*shared)(ReconMethod *m, DistArray *out, int max);
+    /* How far beyond a pixel (px) its reconstruction reads samples: the pipeline traces a
+     * band that wide around the image and crops it, so that the image border has the
+     * samples the interior has (overscan.h). NULL: none. */
+    int (*overscan_px)(void);
     /* Its AOV layers after reconstruction (up to max); returns how many. May be NULL. */
     int (*aovs)(ReconMethod *m, ReconAov *out, int max);
     void (*destroy)(ReconMethod *m);

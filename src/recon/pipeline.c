@@ -10,6 +10,7 @@
 
 #include "recon/blur_probe.h"
 #include "recon/composite.h"
+#include "recon/overscan.h"
 
 /* A --spp budget is met by searching mu on a log scale over this range. Not below 1: mu = 1
  * is the critical band (001 eq. 8, 002 eq. 15); a smaller mu widens the filter past it and
@@ -61,6 +62,13 @@ struct ReconPipeline {
     double mark_cpu_s[DIST_MARKS];
     const char *mark_name[DIST_MARKS];
     int mark_count;
+    /* overscan (overscan.h): the band traced around the image, and what the caller sees
+     * when there is one (the visible window of res and g); without one, res and g */
+    int margin_px;
+    ReconResult out;
+    GBuffer g_out;
+    bool g_out_ready;
+    float *aov_out[RECON_AOV_MAX];
 };
 
 static double wall_seconds(void)
@@ -75,11 +83,34 @@ static size_t pixel_count(const ReconPipeline *p)
     return (size_t)renderer_width(p->r) * (size_t)renderer_height(p->r);
 }
 
+/* The pixels the caller sees: the frame without the overscan band. */
+static size_t visible_count(const ReconPipeline *p)
+{
+    return (size_t)(renderer_width(p->r) - 2 * p->margin_px) * (size_t)(renderer_height(p->r) - 2 * p->margin_px);
+}
+
 static MethodSlot *slot_for(ReconPipeline *p, Effect e)
 {
     for (int s = 0; s < p->slot_count; ++s)
         if (effect_in(p->slots[s].effects, e)) return &p->slots[s];
     return NULL;
+}
+
+/* The band a frame is traced with: the widest reach beyond a pixel among the chosen methods
+ * (LR: its window margin), none with ReconOptions.no_overscan. Set on the renderer after the
+ * choice (the blur probe, like `wedge info`'s, sees the plain image) and before any pass. */
+static bool overscan_begin(ReconPipeline *p, Diag *d)
+{
+    int margin = 0;
+    for (int s = 0; s < p->slot_count && !p->opt.no_overscan; ++s)
+        if (p->slots[s].cls->overscan_px && p->slots[s].cls->overscan_px() > margin) margin = p->slots[s].cls->overscan_px();
+    if (margin == renderer_overscan_px(p->r)) {
+        p->margin_px = margin;
+        return true;
+    }
+    if (!renderer_set_overscan(p->r, margin, d)) return false;
+    p->margin_px = margin;
+    return true;
 }
 
 bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **out, Diag *d)
@@ -102,6 +133,11 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * runs the same probe (fixed samples and seed), so the two name the same methods, and so
      * does every MPI rank without communicating. */
     BlurProbe blur = {.median_blur_px = -1.0f};
+    /* a renderer that served a pipeline with a band probes (and is chosen for) the plain image */
+    if (renderer_overscan_px(r) && !renderer_set_overscan(r, 0, d)) {
+        free(p);
+        return false;
+    }
     if (recon_select_wants_blur(renderer_effects(r), o->filter) && !recon_blur_probe(r, &blur)) {
         free(p);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
@@ -127,9 +163,17 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
         free(p);
         return false;
     }
+    if (!overscan_begin(p, d)) {
+        free(p);
+        return false;
+    }
     p->res.width = renderer_width(r);
     p->res.height = renderer_height(r);
     p->res.choice = p->choice;
+    /* what the caller sees before the first frame: the visible size */
+    p->out = p->res;
+    p->out.width = renderer_width(r) - 2 * p->margin_px, p->out.height = renderer_height(r) - 2 * p->margin_px;
+    p->out.overscan_px = p->margin_px;
     *out = p;
     return true;
 }
@@ -142,6 +186,9 @@ void recon_pipeline_destroy(ReconPipeline *p)
     cl_runtime_destroy(p->rt);
     sample_store_destroy(p->store);
     if (p->g_ready) gbuffer_free(&p->g);
+    if (p->g_out_ready) gbuffer_free(&p->g_out);
+    free(p->out.rgb);
+    for (int k = 0; k < RECON_AOV_MAX; ++k) free(p->aov_out[k]);
     free(p->res.rgb);
     free(p->value_direct4);
     free(p->value_indirect4);
@@ -153,8 +200,8 @@ void recon_pipeline_destroy(ReconPipeline *p)
     free(p);
 }
 
-const ReconResult *recon_pipeline_result(const ReconPipeline *p) { return &p->res; }
-const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return &p->g; }
+const ReconResult *recon_pipeline_result(const ReconPipeline *p) { return p->margin_px ? &p->out : &p->res; }
+const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return p->margin_px ? &p->g_out : &p->g; }
 
 /* ---- sampling ---- */
 
@@ -509,11 +556,13 @@ static bool opener_join(DeviceOpener *op, ReconPipeline *p, Diag *d)
     return true;
 }
 
-/* Pixels of a demodulated light (4 floats per pixel, NULL: none) flagged usable. */
-static long long usable_pixels(const float *value4, size_t pixels)
+/* Visible pixels of a demodulated light (4 floats per pixel, NULL: none) flagged usable. */
+static long long usable_pixels(const ReconPipeline *p, const float *value4)
 {
     long long n = 0;
-    for (size_t i = 0; value4 && i < pixels; ++i) n += value4[4 * i + 3] > 0.0f;
+    int w = renderer_width(p->r), h = renderer_height(p->r), m = p->margin_px;
+    for (int y = m; value4 && y < h - m; ++y)
+        for (int x = m; x < w - m; ++x) n += value4[4 * ((size_t)y * (size_t)w + (size_t)x) + 3] > 0.0f;
     return n;
 }
 
@@ -531,8 +580,8 @@ static bool reconstruct(ReconPipeline *p, Diag *d)
 
     double kernel_s = 0.0;
     memset(p->res.pixels_filtered, 0, sizeof p->res.pixels_filtered);
-    p->res.pixels_filtered[EFFECT_SOFT_SHADOWS] = usable_pixels(direct4, pixel_count(p));
-    p->res.pixels_filtered[EFFECT_INDIRECT] = usable_pixels(indirect4, pixel_count(p));
+    p->res.pixels_filtered[EFFECT_SOFT_SHADOWS] = usable_pixels(p, direct4);
+    p->res.pixels_filtered[EFFECT_INDIRECT] = usable_pixels(p, indirect4);
     if (direct4) {
         if (!sh->cls->filter_light(sh->m, EFFECT_SOFT_SHADOWS, direct4, &kernel_s, d)) return false;
         p->res.seconds_kernels += kernel_s;
@@ -548,7 +597,7 @@ static bool reconstruct(ReconPipeline *p, Diag *d)
         if (!s) continue;
         camera |= EFFECT_BIT(e);
         cam = s;
-        p->res.pixels_filtered[e] = (long long)pixel_count(p);
+        p->res.pixels_filtered[e] = (long long)visible_count(p);
     }
     composite_image(&p->g, factor, direct4, indirect4, p->res.rgb, cam ? p->radiance4 : NULL);
     /* one method filters the camera effects together (a second one, if the policy ever
@@ -628,9 +677,11 @@ static bool render_plain(ReconPipeline *p, Diag *d)
     return true;
 }
 
-bool recon_pipeline_render(ReconPipeline *p, Diag *d)
+static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d);
+
+static bool render_frame(ReconPipeline *p, Diag *d)
 {
-    if (p->res.steps > 0) return recon_pipeline_step(p, 0.0, d);
+    if (p->res.steps > 0) return step_frame(p, 0.0, d);
     if (!p->filtering) return render_plain(p, d);
     double t0 = wall_seconds(), t_trace = 0.0;
     dist_mark(p, "start");
@@ -725,9 +776,9 @@ bool recon_pipeline_render(ReconPipeline *p, Diag *d)
     return ok;
 }
 
-bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
+static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
 {
-    if (p->res.steps == 0) return recon_pipeline_render(p, d);
+    if (p->res.steps == 0) return render_frame(p, d);
     if (p->res.cancelled) return true;
     size_t n = pixel_count(p);
     /* at the cap (less than one sample of room left): nothing to add */
@@ -804,4 +855,45 @@ bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
     }
     p->res.seconds_filter += wall_seconds() - t0 - t_trace;
     return ok;
+}
+
+/* With overscan, what the caller sees: the visible window of the image, the AOV layers and the
+ * guides, and spp_avg as the samples traced (the band's too) per visible pixel. */
+static bool overscan_publish(ReconPipeline *p, Diag *d)
+{
+    if (!p->margin_px) return true;
+    int w = renderer_width(p->r), h = renderer_height(p->r), m = p->margin_px;
+    size_t n = visible_count(p);
+    float *rgb = p->out.rgb;
+    p->out = p->res;
+    p->out.width = w - 2 * m, p->out.height = h - 2 * m;
+    p->out.rgb = rgb ? rgb : malloc(3 * n * sizeof(float));
+    if (!p->g_out_ready && gbuffer_init(&p->g_out, p->out.width, p->out.height, p->g.cam)) p->g_out_ready = true;
+    for (int k = 0; k < p->res.aov_count; ++k)
+        if (!p->aov_out[k]) p->aov_out[k] = malloc(n * sizeof(float));
+    bool oom = !p->out.rgb || !p->g_out_ready;
+    for (int k = 0; k < p->res.aov_count; ++k) oom = oom || !p->aov_out[k];
+    if (oom) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the visible %dx%d image", p->out.width, p->out.height);
+        return false;
+    }
+    if (p->res.rgb) overscan_crop(p->out.rgb, p->res.rgb, w, h, m, 3 * sizeof(float));
+    for (int k = 0; k < p->res.aov_count; ++k) {
+        overscan_crop(p->aov_out[k], p->res.aovs[k].data, w, h, m, sizeof(float));
+        p->out.aovs[k].data = p->aov_out[k];
+    }
+    if (p->g_ready) overscan_crop_gbuffer(&p->g_out, &p->g, m);
+    p->out.spp_avg = frame_samples(p) / (double)n;
+    p->out.overscan_px = m;
+    return true;
+}
+
+bool recon_pipeline_render(ReconPipeline *p, Diag *d) { return render_frame(p, d) && overscan_publish(p, d); }
+
+bool recon_pipeline_step(ReconPipeline *p, double spp_cap, Diag *d)
+{
+    /* the cap counts samples per visible pixel (the caller's spp_avg); the steps count per
+     * traced pixel */
+    if (p->margin_px && spp_cap > 0.0) spp_cap *= (double)visible_count(p) / (double)pixel_count(p);
+    return step_frame(p, spp_cap, d) && overscan_publish(p, d);
 }

@@ -21,6 +21,11 @@
  * Each step is its own sampler pass (seeded from seed, pixel and step), because a stratified
  * set can be continued once but not extended again.
  *
+ * Overscan: when a chosen method reads samples beyond a pixel (ReconMethodClass.overscan_px:
+ * LR), the renderer traces a band of that many pixels around the image (renderer_set_overscan),
+ * everything above runs on the enlarged frame (a --spp budget is per traced pixel), and the
+ * result and the guides handed out are the visible image (overscan.h).
+ *
  * Several MPI ranks (ReconOptions.dist): each traces the pixels it owns, the pipeline gathers
  * every per-pixel sum to rank 0 after each pass (and each step), rank 0 plans and broadcasts
  * the plan, and reconstructs; the image equals the single-process one (dist.h). Every rank
@@ -49,6 +54,9 @@ typedef struct {
     int method_options[4];     /* passed to the methods (ReconSetup.method_options) */
     ReconDist *dist;           /* ranks sharing the frame (dist.h); NULL: this process alone.
                                 * Only rank 0's result holds the image. */
+    bool no_overscan;          /* true: no band around the image even when a method reads
+                                * beyond its pixels (LR); its border is then biased. For
+                                * measuring the band's effect (--overscan off). */
 } ReconOptions;
 
 enum { RECON_AOV_MAX = 16 };
@@ -59,7 +67,8 @@ typedef struct {
     ReconChoice choice;        /* the method per effect that filtered this image */
     ReconAov aovs[RECON_AOV_MAX]; /* the methods' layers (valid until the next step or destroy) */
     int aov_count;
-    double spp_avg;
+    double spp_avg;            /* samples traced per visible pixel (the overscan band's
+                                * included: the frame's cost per pixel of the image) */
     int pass1_spp;
     float mu;                  /* the knob of the last reconstruction (0: the methods' defaults) */
     int steps;                 /* reconstructions done (recon_pipeline_step calls that completed) */
@@ -73,6 +82,7 @@ typedef struct {
                                 * for the camera effects every pixel */
     bool cancelled;            /* a pass was cancelled: rgb is the unfiltered mean of what was taken */
     char device[600];          /* OpenCL device used ("" when none was needed) */
+    int overscan_px;           /* the band traced around the image and cropped (0: none) */
 } ReconResult;
 
 typedef struct ReconPipeline ReconPipeline;

@@ -19,6 +19,7 @@ struct Renderer {
     SceneDesc *scene;
     RenderOptions opt;
     int width, height, spp, threads;
+    int overscan_px;              /* renderer_set_overscan: width, height include 2 of it */
     SamplerKind sampler;
     Camera camera;
     Tracer tracer;
@@ -124,6 +125,42 @@ const IntegratorScene *renderer_integrator_scene(const Renderer *r) { return &r-
 RenderStats renderer_stats(const Renderer *r) { return r->stats; }
 long renderer_triangle_count(const Renderer *r) { return r->tracer.triangle_count; }
 long long renderer_embree_peak_bytes(const Renderer *r) { return r->tracer.embree_bytes_peak; }
+
+int renderer_overscan_px(const Renderer *r) { return r->overscan_px; }
+
+bool renderer_set_overscan(Renderer *r, int margin_px, Diag *err)
+{
+    if (margin_px < 0) {
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "overscan must be >= 0 pixels, got %d", margin_px);
+        return false;
+    }
+    int w = r->width - 2 * r->overscan_px, h = r->height - 2 * r->overscan_px;
+    const SceneDesc *s = r->scene;
+    /* the visible image's camera, as renderer_create built it: its screen window */
+    Camera base;
+    if (!camera_init_times(&base, &s->camera, w, h, s->transform_start_time, s->transform_end_time, err)) return false;
+    Camera cam = base;
+    if (margin_px > 0) {
+        /* M pixels' worth of screen on each side (in double: the window's ends are then
+         * within an ulp of the visible one's plus M pixel steps) */
+        CameraDesc d = s->camera;
+        double dx = ((double)base.screen_max[0] - (double)base.screen_min[0]) / (double)w;
+        double dy = ((double)base.screen_max[1] - (double)base.screen_min[1]) / (double)h;
+        d.has_screen_window = true;
+        d.screen_window[0] = (float)((double)base.screen_min[0] - margin_px * dx);
+        d.screen_window[1] = (float)((double)base.screen_max[0] + margin_px * dx);
+        d.screen_window[2] = (float)((double)base.screen_min[1] - margin_px * dy);
+        d.screen_window[3] = (float)((double)base.screen_max[1] + margin_px * dy);
+        if (!camera_init_times(&cam, &d, w + 2 * margin_px, h + 2 * margin_px, s->transform_start_time,
+                               s->transform_end_time, err))
+            return false;
+    }
+    r->camera = cam; /* isc.camera points here */
+    r->overscan_px = margin_px;
+    r->width = w + 2 * margin_px;
+    r->height = h + 2 * margin_px;
+    return true;
+}
 
 void renderer_set_record_ray_geometry(Renderer *r, bool on) { r->isc.record_ray_geometry = on; }
 void renderer_set_record_motion(Renderer *r, bool on) { r->isc.record_motion = on; }

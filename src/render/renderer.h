@@ -108,6 +108,19 @@ void renderer_set_record_ray_geometry(Renderer *r, bool on);
 /* The same for SampleRecord.motion_px (initially RenderOptions.record_motion). */
 void renderer_set_record_motion(Renderer *r, bool on);
 
+/* Overscan: traces a band of margin_px pixels around the image, for filters that read
+ * samples beyond a pixel (LR reprojects from up to its window margin; at the image border
+ * those sources would be missing). Afterwards the raster is (W + 2M) x (H + 2M)
+ * (renderer_width/height) and pixel (x + M, y + M) shoots the rays pixel (x, y) shot before:
+ * the screen window grows by M pixels' worth on each side, the camera is rebuilt from a copy
+ * of the scene's CameraDesc. Samplers are seeded from the enlarged pixel index, so a pixel's
+ * samples change (statistically the same). Call before any pass; margin_px 0 restores the
+ * plain raster. False (err) when the camera cannot be rebuilt or margin_px < 0. */
+bool renderer_set_overscan(Renderer *r, int margin_px, Diag *err);
+/* The band traced around the visible image (0: none). The visible image is
+ * renderer_width - 2M by renderer_height - 2M pixels. */
+int renderer_overscan_px(const Renderer *r);
+
 /* Renders pass `pass` into frame (sums are added): spp_per_pixel[y * width + x] samples per
  * pixel, or spp_uniform everywhere when spp_per_pixel is NULL. sink (may be NULL) gets
  * every SampleRecord. Returns false when cancelled (the frame holds what was done) or when

@@ -58,6 +58,11 @@ write_exr(d + '/ref.exr', 2, 1, rgb_planes(ref))
 write_exr(d + '/test.exr', 2, 1, rgb_planes(test))
 # Same test image, data window at (-3, 5): only the pixels matter.
 write_exr(d + '/test_offset.exr', 2, 1, rgb_planes(test), origin=(-3, 5))
+# --by edge_px (section 7): a 5x4 pair equal to 1 but for pixels (0, 2) and (2, 1)
+edge = [1.0] * 20
+write_exr(d + '/edge_ref.exr', 5, 4, {'R': edge, 'G': edge, 'B': edge})
+edge[2 * 5 + 0], edge[1 * 5 + 2] = 2.0, 3.0
+write_exr(d + '/edge_test.exr', 5, 4, {'R': edge, 'G': edge, 'B': edge})
 # NaN and infinity in a reference: counted as 0 in the metrics, and said.
 write_exr(d + '/bad_ref.exr', 2, 1, rgb_planes([(float('nan'), 0.5, 1.0), (0.1, float('inf'), 2.0)]))
 # A luminance-only EXR is grey.
@@ -145,6 +150,23 @@ check_json "$T/out.json" 'assert j["mse"] > 0' || { echo "FAIL: --json with --di
 "$WEDGE" compare "$T/one_black.png" "$T/black.png" --json > "$T/out.json" 2>&1 || { echo "FAIL: black.png unreadable"; fail=1; }
 # black.png is all zeros: against one_black (three white pixels), MSE = 9/12.
 check_json "$T/out.json" 'assert near(j["mse"], 0.75), j' || { echo "FAIL: identical images should give a black map"; fail=1; }
+
+# 7. --by edge_px (computed, not a channel): a 5x4 pair equal to 1 but for an edge pixel (0, 2)
+#    at 2 and an inner one (2, 1) at 3. Bins < 1 (the outermost ring: 20 - 3x2 = 14 pixels, all at
+#    distance 0) and >= 1 (the 6 inner ones, all at distance 1); errors 1/1.01 and 4/1.01 per
+#    channel, so the ring holds 1/5 of relMSE.
+"$WEDGE" compare "$T/edge_ref.exr" "$T/edge_test.exr" --json --by edge_px --bins 1 > "$T/out.json" \
+  || { echo "FAIL: --by edge_px exit"; fail=1; }
+python3 - "$T/out.json" <<'PY' || { echo "FAIL: --by edge_px"; fail=1; }
+import json, sys
+j = json.load(open(sys.argv[1]))
+near = lambda a, b, tol=1e-6: abs(a - b) <= tol
+b = j["by"]["bins"]
+assert j["by"]["channel"] == "edge_px" and len(b) == 2, j
+assert b[0]["pixels"] == 14 and b[0]["mean"] == 0 and near(b[0]["relmse_share"], 0.2), j
+assert b[1]["pixels"] == 6 and b[1]["mean"] == 1 and near(b[1]["relmse_share"], 0.8), j
+assert near(b[0]["relmse"], 1 / 1.01 / 14) and near(b[1]["relmse"], 4 / 1.01 / 6), j
+PY
 
 [ $fail -eq 0 ] && echo "compare_metrics: all passed"
 exit $fail

@@ -56,13 +56,15 @@ static inline bool recon_test_renderer(const char *text, unsigned seed, int spp,
 
 /* Checks a method's result beyond what recon_test_render checks itself (may be NULL). */
 typedef void (*ReconResultCheck)(const ReconResult *res, void *ctx);
+/* The same with the whole pipeline after the frame (its result and guides). */
+typedef void (*ReconPipelineCheck)(const ReconPipeline *p, void *ctx);
 
 /* One frame of a scene given as text through the reconstruction pipeline with options o (the
  * seed and o->spp also set up the renderer): checks that no pixel came out non-finite, calls
- * check on the result, and returns a copy of the image (3 floats per pixel; free it), or NULL
+ * check on the pipeline, and returns a copy of the image (3 floats per pixel; free it), or NULL
  * with the message on stderr. */
-static inline float *recon_test_render(const char *text, unsigned seed, const ReconOptions *o, ReconResultCheck check,
-                                       void *ctx)
+static inline float *recon_test_render_pipeline(const char *text, unsigned seed, const ReconOptions *o,
+                                                ReconPipelineCheck check, void *ctx)
 {
     SceneDesc scene;
     Renderer *r;
@@ -75,7 +77,7 @@ static inline float *recon_test_render(const char *text, unsigned seed, const Re
         size_t n3 = 3 * (size_t)res->width * (size_t)res->height;
         if ((out = malloc(sizeof(float) * n3))) memcpy(out, res->rgb, sizeof(float) * n3);
         CHECK(res->nonfinite_pixels == 0);
-        if (check) check(res, ctx);
+        if (check) check(p, ctx);
     } else {
         fprintf(stderr, "%s\n", d.message);
         CHECK(false);
@@ -84,6 +86,25 @@ static inline float *recon_test_render(const char *text, unsigned seed, const Re
     renderer_destroy(r);
     scene_desc_free(&scene);
     return out;
+}
+
+typedef struct {
+    ReconResultCheck check;
+    void *ctx;
+} ReconTestResultCheck;
+
+static inline void recon_test_check_result(const ReconPipeline *p, void *ctx)
+{
+    const ReconTestResultCheck *c = ctx;
+    if (c->check) c->check(recon_pipeline_result(p), c->ctx);
+}
+
+/* recon_test_render_pipeline with a check of the result alone (may be NULL). */
+static inline float *recon_test_render(const char *text, unsigned seed, const ReconOptions *o, ReconResultCheck check,
+                                       void *ctx)
+{
+    ReconTestResultCheck c = {check, ctx};
+    return recon_test_render_pipeline(text, seed, o, recon_test_check_result, &c);
 }
 
 /* The text of scenes/bench/NAME.pbrt under $WEDGE_SOURCE_DIR (ctest's working directory

@@ -46,7 +46,12 @@ static void check_lr(const ReconResult *res, void *ctx)
     size_t n = (size_t)res->width * (size_t)res->height;
     CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_DEFOCUS), "lr"));
     CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_MOTION), "lr"));
-    CHECK(res->spp_avg == spp);
+    /* LR reads samples up to its window margin (N_s - N) / 2 = 8 px beyond a pixel: the frame
+     * is traced with that band (overscan), so spp_avg, the samples traced per visible pixel,
+     * is spp (W + 16)(H + 16) / (W H) */
+    CHECK(res->overscan_px == 8);
+    double traced = (double)(res->width + 16) * (double)(res->height + 16);
+    CHECK_NEAR(res->spp_avg, spp * traced / ((double)res->width * (double)res->height), 1e-9 * spp);
     const float *layers = NULL, *extent = NULL;
     for (int k = 0; k < res->aov_count; ++k) {
         if (!strcmp(res->aovs[k].name, "lr.layers")) layers = res->aovs[k].data;

@@ -233,6 +233,14 @@ static int lr_aovs(ReconMethod *m, ReconAov *out, int max)
     return count;
 }
 
+/* A tile's edge pixels read samples up to the window's margin (N_s - N) / 2 beyond it
+ * (section 7, lr_tile_window): at the image border those must be traced (overscan). */
+static int lr_overscan_px(void)
+{
+    LrConfig cfg = lr_config_default();
+    return (cfg.window_px - cfg.tile_px) / 2;
+}
+
 const ReconMethodClass recon_method_lr = {
     .name = "lr",
     .title = "layered reconstruction (LR): sheared 5D filter per tile and depth layer, fixed samples (default 8)",
@@ -246,6 +254,7 @@ const ReconMethodClass recon_method_lr = {
     .open_device = lr_open_device,
     .shading_light = lr_shading_light,
     .filter_radiance = lr_filter_radiance,
+    .overscan_px = lr_overscan_px,
     .aovs = lr_aovs,
     .destroy = lr_destroy,
 };

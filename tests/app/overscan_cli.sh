@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# --overscan: with LR (motion_defocus_hard at 40x30, 4 spp) the outputs are the visible 40x30
+# image: the EXR (compared against an --overscan off render of the same size; compare refuses
+# a size mismatch), its AOV layers, and the report: width, height, overscan_px 8 (LR's window
+# margin), spp_avg the samples traced per visible pixel, 4 (40+16)(30+16)/(40x30); with
+# --overscan off, overscan_px 0 and spp_avg 4. Plain Monte Carlo has no band. Bad values and
+# --overscan with --filter none are usage errors with their messages.
+set -u
+if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+src=${WEDGE_SOURCE_DIR:-../..}
+scene="$src/scenes/bench/motion_defocus_hard.pbrt"
+fail=0
+for ov in auto off; do
+    "$WEDGE" render "$scene" --res 40x30 --spp 4 --filter lr --overscan $ov --aovs --quiet -o "$T/$ov.exr" \
+        --report "$T/$ov.json" || { echo "FAIL: render --overscan $ov"; fail=1; }
+done
+"$WEDGE" render "$scene" --res 40x30 --spp 4 --filter none --quiet -o "$T/mc.exr" --report "$T/mc.json" ||
+    { echo "FAIL: render --filter none"; fail=1; }
+python3 - "$T" <<'PY' || fail=1
+import json, sys
+d = sys.argv[1]
+on, off, mc = (json.load(open("%s/%s.json" % (d, k))) for k in ("auto", "off", "mc"))
+ok = True
+for name, r, band in (("auto", on, 8), ("off", off, 0), ("none", mc, 0)):
+    spp = 4 * (40 + 2 * band) * (30 + 2 * band) / (40 * 30)
+    if (r["width"], r["height"]) != (40, 30) or r["overscan_px"] != band or abs(r["spp_avg"] - spp) > 1e-4:
+        print("FAIL: --overscan %s: %s (want 40x30, overscan_px %d, spp_avg %g)" %
+              (name, {k: r[k] for k in ("width", "height", "overscan_px", "spp_avg")}, band, spp))
+        ok = False
+sys.exit(0 if ok else 1)
+PY
+# the same size as a plain render, for the image and for a layer of the method and of the frame
+for ch in "" "--by lr.layers" "--by spp"; do
+    "$WEDGE" compare "$T/off.exr" "$T/auto.exr" $ch --json > /dev/null || { echo "FAIL: auto vs off ($ch)"; fail=1; }
+done
+"$WEDGE" compare "$T/mc.exr" "$T/auto.exr" --json > /dev/null || { echo "FAIL: size differs from Monte Carlo's"; fail=1; }
+"$WEDGE" render "$scene" --res 8x8 --overscan on -o "$T/x.exr" 2> "$T/err.txt"
+[ $? -eq 1 ] && grep -q "auto or off" "$T/err.txt" || { echo "FAIL: --overscan on: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$scene" --res 8x8 --filter none --overscan off -o "$T/x.exr" 2> "$T/err.txt"
+[ $? -eq 1 ] && grep -q "^wedge render: --overscan off turns off the band a filter traces around the image and does nothing with --filter none; drop it, or choose a filter$" "$T/err.txt" ||
+    { echo "FAIL: --overscan off with --filter none: $(cat "$T/err.txt")"; fail=1; }
+[ $fail -eq 0 ] && echo "overscan_cli: all passed"
+exit $fail
