@@ -18,57 +18,49 @@ static const char *const MOVING_OCCLUDER =
     " \"integer indices\" [ 0 1 2 0 2 3 ]\n"
     "AttributeEnd\n";
 
-/* Renders with `spp` (0: the methods' own counts); stores the smallest and largest samples
- * per pixel and the pixels AAF filtered. */
-static void render(int spp, int *spp_min, int *spp_max, long long *aaf_pixels)
+/* What a frame left: the smallest and largest samples per pixel, the pixels AAF filtered. */
+typedef struct {
+    int spp_min, spp_max;
+    long long aaf_pixels;
+} FrameCounts;
+
+static void count_samples(const ReconPipeline *p, void *ctx)
+{
+    FrameCounts *fc = ctx;
+    const ReconResult *res = recon_pipeline_result(p);
+    CHECK(res->choice.method[EFFECT_SOFT_SHADOWS] && !strcmp(res->choice.method[EFFECT_SOFT_SHADOWS]->name, "aaf"));
+    CHECK(res->choice.method[EFFECT_MOTION] && !strcmp(res->choice.method[EFFECT_MOTION]->name, "lr"));
+    fc->aaf_pixels = res->pixels_filtered[EFFECT_SOFT_SHADOWS];
+    const GBuffer *g = recon_pipeline_gbuffer(p);
+    size_t n = (size_t)g->frame.width * (size_t)g->frame.height;
+    for (size_t i = 0; i < n; ++i) {
+        int k = (int)g->frame.spp[i];
+        if (fc->spp_min < 0 || k < fc->spp_min) fc->spp_min = k;
+        if (k > fc->spp_max) fc->spp_max = k;
+    }
+}
+
+/* Renders with `spp` (0: the methods' own counts). */
+static FrameCounts render(int spp)
 {
     char text[8192];
-    snprintf(text, sizeof text, "%s%s", SHADOW_SCENE, MOVING_OCCLUDER);
-    /* the shutter: pbrt's default [0, 1] */
-    SceneDesc scene;
-    Renderer *r;
-    *spp_min = *spp_max = -1;
-    *aaf_pixels = 0;
-    if (!recon_test_renderer(text, 5, spp, false, &scene, &r)) {
-        CHECK(false);
-        return;
-    }
+    snprintf(text, sizeof text, "%s%s", SHADOW_SCENE, MOVING_OCCLUDER); /* shutter: pbrt's [0, 1] */
+    FrameCounts fc = {-1, -1, 0};
     ReconOptions o = {.filter = "auto", .spp = spp};
-    ReconPipeline *p = NULL;
-    Diag d = {0};
-    if (recon_pipeline_create(r, &o, &p, &d) && recon_pipeline_render(p, &d)) {
-        const ReconResult *res = recon_pipeline_result(p);
-        CHECK(res->choice.method[EFFECT_SOFT_SHADOWS] && !strcmp(res->choice.method[EFFECT_SOFT_SHADOWS]->name, "aaf"));
-        CHECK(res->choice.method[EFFECT_MOTION] && !strcmp(res->choice.method[EFFECT_MOTION]->name, "lr"));
-        *aaf_pixels = res->pixels_filtered[EFFECT_SOFT_SHADOWS];
-        const GBuffer *g = recon_pipeline_gbuffer(p);
-        size_t n = (size_t)g->frame.width * (size_t)g->frame.height;
-        for (size_t i = 0; i < n; ++i) {
-            int k = (int)g->frame.spp[i];
-            if (*spp_min < 0 || k < *spp_min) *spp_min = k;
-            if (k > *spp_max) *spp_max = k;
-        }
-    } else {
-        fprintf(stderr, "%s\n", d.message);
-        CHECK(false);
-    }
-    recon_pipeline_destroy(p);
-    renderer_destroy(r);
-    scene_desc_free(&scene);
+    free(recon_test_render_pipeline(text, 5, &o, count_samples, &fc));
+    return fc;
 }
 
 int main(void)
 {
-    int lo, hi;
-    long long aaf;
-    render(24, &lo, &hi, &aaf);
-    fprintf(stderr, "--spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", lo, hi, aaf);
-    CHECK(lo == 24 && hi == 24);
-    CHECK(aaf > 0);
+    FrameCounts fc = render(24);
+    fprintf(stderr, "--spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max, fc.aaf_pixels);
+    CHECK(fc.spp_min == 24 && fc.spp_max == 24);
+    CHECK(fc.aaf_pixels > 0);
     /* no budget: the plan decides, unevenly (the penumbrae want more than the open floor) */
-    render(0, &lo, &hi, &aaf);
-    fprintf(stderr, "own counts: samples per pixel %d..%d, AAF filtered %lld pixels\n", lo, hi, aaf);
-    CHECK(hi > lo);
-    CHECK(aaf > 0);
+    fc = render(0);
+    fprintf(stderr, "own counts: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max, fc.aaf_pixels);
+    CHECK(fc.spp_max > fc.spp_min);
+    CHECK(fc.aaf_pixels > 0);
     CHECK_DONE();
 }
