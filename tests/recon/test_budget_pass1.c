@@ -1,9 +1,10 @@
 /* A fixed-count method beside an adaptive one under a --spp budget (pipeline.c,
- * budget_in_pass1): the soft shadows of a moving occluder go to AAF (adaptive) and its motion
- * to LR (fixed count, reads as many samples per pixel as the pixel with the fewest has). The
- * whole budget must be traced uniformly in pass 1, so every pixel has exactly the budget and
- * LR reads all of it, while AAF still filters. Without a budget (the methods' own counts),
- * AAF's plan still adds samples where it wants them. */
+ * budget_in_pass1): the soft shadows of a moving occluder go to AAF (adaptive) and, seen
+ * through a wide lens, its defocus and motion to LR (fixed count, reads as many samples per
+ * pixel as the pixel with the fewest has). The whole budget must be traced uniformly in pass
+ * 1, so every pixel has exactly the budget and LR reads all of it, while AAF still filters.
+ * Without a budget (the methods' own counts), and through a pinhole (LR takes the motion
+ * alone), AAF's plan adds samples where it wants them. */
 #include "check.h"
 #include "recon_test_util.h"
 
@@ -22,6 +23,7 @@ static const char *const MOVING_OCCLUDER =
 typedef struct {
     int spp_min, spp_max;
     long long aaf_pixels;
+    const char *defocus_method; /* expected method for defocus, NULL: no defocus */
 } FrameCounts;
 
 static void count_samples(const ReconPipeline *p, void *ctx)
@@ -30,6 +32,8 @@ static void count_samples(const ReconPipeline *p, void *ctx)
     const ReconResult *res = recon_pipeline_result(p);
     CHECK(res->choice.method[EFFECT_SOFT_SHADOWS] && !strcmp(res->choice.method[EFFECT_SOFT_SHADOWS]->name, "aaf"));
     CHECK(res->choice.method[EFFECT_MOTION] && !strcmp(res->choice.method[EFFECT_MOTION]->name, "lr"));
+    const ReconMethodClass *dof = res->choice.method[EFFECT_DEFOCUS];
+    CHECK(fc->defocus_method ? dof && !strcmp(dof->name, fc->defocus_method) : !dof);
     fc->aaf_pixels = res->pixels_filtered[EFFECT_SOFT_SHADOWS];
     const GBuffer *g = recon_pipeline_gbuffer(p);
     size_t n = (size_t)g->frame.width * (size_t)g->frame.height;
@@ -40,12 +44,20 @@ static void count_samples(const ReconPipeline *p, void *ctx)
     }
 }
 
-/* Renders with `spp` (0: the methods' own counts). */
-static FrameCounts render(int spp)
+/* Renders with `spp` (0: the methods' own counts), through a lens of radius 0.3 focused at
+ * 1 unit (the floor ~3.4 units away blurs ~16 px) or a pinhole. */
+static FrameCounts render(int spp, bool lens, const char *defocus_method)
 {
+    const char *camera = "Camera \"perspective\" \"float fov\" [ 30 ]\n";
+    const char *at = strstr(SHADOW_SCENE, camera);
+    CHECK(at != NULL);
     char text[8192];
-    snprintf(text, sizeof text, "%s%s", SHADOW_SCENE, MOVING_OCCLUDER); /* shutter: pbrt's [0, 1] */
-    FrameCounts fc = {-1, -1, 0};
+    int head = at ? (int)(at - SHADOW_SCENE) : 0;
+    snprintf(text, sizeof text, "%.*s%s%s%s", head, SHADOW_SCENE,
+             lens ? "Camera \"perspective\" \"float fov\" [ 30 ] \"float lensradius\" [ 0.3 ] \"float focaldistance\" [ 1 ]\n"
+                  : camera,
+             at ? at + strlen(camera) : "", MOVING_OCCLUDER); /* shutter: pbrt's [0, 1] */
+    FrameCounts fc = {-1, -1, 0, defocus_method};
     ReconOptions o = {.filter = "auto", .spp = spp};
     free(recon_test_render_pipeline(text, 5, &o, count_samples, &fc));
     return fc;
@@ -53,13 +65,21 @@ static FrameCounts render(int spp)
 
 int main(void)
 {
-    FrameCounts fc = render(24);
-    fprintf(stderr, "--spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max, fc.aaf_pixels);
+    FrameCounts fc = render(24, true, "lr");
+    fprintf(stderr, "lens, --spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max,
+            fc.aaf_pixels);
     CHECK(fc.spp_min == 24 && fc.spp_max == 24);
     CHECK(fc.aaf_pixels > 0);
     /* no budget: the plan decides, unevenly (the penumbrae want more than the open floor) */
-    fc = render(0);
-    fprintf(stderr, "own counts: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max, fc.aaf_pixels);
+    fc = render(0, true, "lr");
+    fprintf(stderr, "lens, own counts: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max,
+            fc.aaf_pixels);
+    CHECK(fc.spp_max > fc.spp_min);
+    CHECK(fc.aaf_pixels > 0);
+    /* a pinhole: LR takes the motion alone, and the plan keeps the budget */
+    fc = render(24, false, NULL);
+    fprintf(stderr, "pinhole, --spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max,
+            fc.aaf_pixels);
     CHECK(fc.spp_max > fc.spp_min);
     CHECK(fc.aaf_pixels > 0);
     CHECK_DONE();
