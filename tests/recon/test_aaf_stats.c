@@ -299,7 +299,27 @@ static void test_exact_irradiance(void)
     sphere.radius_world = 1.0f;
     sphere.center[0] = 1.0f, sphere.center[1] = 4.0f, sphere.center[2] = 2.0f;
     sphere.radiance_mean = 1.0f;
-    CHECK_NEAR(r_for_lights(&sphere, 1), 1.0 / 16.0, 2e-3 / 16.0);
+    CHECK_NEAR(r_for_lights(&sphere, 1), 1.0 / 16.0, 1e-5 / 16.0); /* closed form above the horizon */
+    /* off to the side, 60 degrees from the normal (still wholly above the horizon): Phi = pi
+     * (R/D)^2 cos 60 */
+    AafLightGeom oblique = sphere;
+    oblique.center[0] = 1.0f + 4.0f * (float)sin(M_PI / 3.0), oblique.center[1] = 4.0f * (float)cos(M_PI / 3.0);
+    CHECK_NEAR(r_for_lights(&oblique, 1), 0.5 / 16.0, 1e-5 / 16.0);
+    /* cut by the horizon, its centre on it: more than nothing and less than the cap that just
+     * touches the horizon from above (every direction of it higher); and the polygon of a cap
+     * just cut agrees with the closed form of the cap just touching, to the 16-gon's accuracy */
+    AafLightGeom cut = sphere;
+    cut.center[0] = 5.0f, cut.center[1] = 0.0f;
+    double r_cut = r_for_lights(&cut, 1);
+    CHECK(r_cut > 0.0 && r_cut < 0.25 / 16.0);
+    AafLightGeom edge = sphere; /* tangent to the horizon from above: cos t = sin a = 1/4 */
+    double t_edge = acos(0.25);
+    edge.center[0] = 1.0f + 4.0f * (float)sin(t_edge), edge.center[1] = 4.0f * (float)cos(t_edge);
+    double r_above = r_for_lights(&edge, 1);
+    edge.center[0] = 1.0f + 4.0f * (float)sin(t_edge + 1e-4), edge.center[1] = 4.0f * (float)cos(t_edge + 1e-4);
+    double r_below = r_for_lights(&edge, 1); /* the polygon, just cut */
+    CHECK_NEAR(r_above, 0.25 / 16.0, 1e-5 / 16.0);
+    CHECK_NEAR(r_below / r_above, 1.0, 4e-3);
     /* both: the radiance-weighted mix, sum L Phi / sum L A */
     AafLightGeom both[2] = {disk, sphere};
     double want = (3.0 * M_PI / 5.0 + M_PI / 16.0) / (3.0 * M_PI + M_PI);

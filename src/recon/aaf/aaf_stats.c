@@ -447,6 +447,13 @@ static double emitter_phi(const AafLightGeom *L, const double p[3], const double
     double D = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]), rad = L->radius_world;
     if (!(D > rad)) return 0.0; /* inside the light */
     for (int k = 0; k < 3; ++k) u[k] /= D;
+    /* The silhouette's cone has half-angle a, sin a = rad / D. Wholly above the receiver's
+     * horizon (the angle t between n and the centre at most 90 degrees - a: cos t >= sin a) its
+     * projected solid angle is exactly pi sin^2 a cos t (the cosine-weighted cap integrates to
+     * its axis' cosine); wholly below, 0. Only a cone the horizon cuts needs the polygon. */
+    double cos_t = n[0] * u[0] + n[1] * u[1] + n[2] * u[2], sin_a = rad / D;
+    if (cos_t >= sin_a) return M_PI * sin_a * sin_a * cos_t;
+    if (cos_t <= -sin_a) return 0.0;
     double cc[3];
     for (int k = 0; k < 3; ++k) cc[k] = c[k] - u[k] * (rad * rad / D);
     round_polygon(cc, u, rad * sqrt(D * D - rad * rad) / D, v);
