@@ -132,6 +132,12 @@ static float disk_area(const Geom *g, const Mat4 *m, vec3 *n_unit)
     return (float)(a_obj * stretch);
 }
 
+/* A whole sphere, not cut by zmin, zmax or phimax. */
+static bool sphere_is_full(const Geom *g)
+{
+    return !(g->zmin > -g->radius || g->zmax < g->radius || g->phimax_rad < 2.0 * M_PI);
+}
+
 /* Sphere centre and radius in world space (uniform scale assumed; see docs/rendering.md). */
 static void sphere_world(const Geom *g, const Mat4 *m, vec3 *c, float *r)
 {
@@ -186,10 +192,8 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
                     l->area_world = disk_area(g, &m, &n);
                 } else {
                     Mat4 m = emitter_world_from_object(g, &x);
-                    vec3 c;
-                    float r;
-                    sphere_world(g, &m, &c, &r);
-                    l->area_world = 4.0f * WEDGE_PI * r * r;
+                    sphere_world(g, &m, &l->sphere_c, &l->sphere_r);
+                    l->area_world = 4.0f * WEDGE_PI * l->sphere_r * l->sphere_r;
                 }
                 set->has_area = true;
             }
@@ -366,11 +370,9 @@ static bool finish_area_sample(const Light *l, vec3 p_ref, vec3 p, vec3 n, float
 }
 
 /* Cone sampling of a sphere seen from outside (pbrt-v4 Sphere::Sample with a reference point). */
-static bool sample_sphere(const Light *l, const Geom *g, const Mat4 *m, vec3 p_ref, vec2 u, LightSample *ls)
+static bool sample_sphere(const Light *l, const Geom *g, const Mat4 *m, vec3 c, float r, vec3 p_ref, vec2 u,
+                          LightSample *ls)
 {
-    vec3 c;
-    float r;
-    sphere_world(g, m, &c, &r);
     float err = LIGHT_OFFSET_REL * (max_abs3(c) + r);
     vec3 to_c = v3_sub(c, p_ref);
     float dc2 = v3_length2(to_c);
@@ -401,7 +403,7 @@ static bool sample_sphere(const Light *l, const Geom *g, const Mat4 *m, vec3 p_r
     /* outward normal at the point: -(sin_a cos phi t1 + sin_a sin phi t2 + cos_a wc) */
     vec3 nn = v3_neg(v3_add(v3_add(v3_scale(t1, sin_a * cosf(phi)), v3_scale(t2, sin_a * sinf(phi))), v3_scale(wc, cos_a)));
     vec3 p = v3_madd(c, nn, r);
-    if (g->zmin > -g->radius || g->zmax < g->radius || g->phimax_rad < 2.0 * M_PI) {
+    if (!sphere_is_full(g)) {
         /* partial sphere: points of the full cap that are not on the surface carry no light */
         Mat4 inv;
         if (mat4_inverse(m, &inv)) {
@@ -441,6 +443,9 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
             vec3 p = v3_add(l->tri_p0, v3_add(v3_scale(l->tri_e1, b.y), v3_scale(l->tri_e2, 1.0f - b.x - b.y)));
             return finish_area_sample(l, p_ref, p, l->tri_n, 1.0f / l->area_world, l->tri_err, ls);
         }
+        /* a static whole sphere's centre and radius were found once (lights_build) */
+        if (g->kind == GEOM_SPHERE && l->instance < 0 && sphere_is_full(g))
+            return sample_sphere(l, g, NULL, l->sphere_c, l->sphere_r, p_ref, u, ls);
         EmitterXform x = emitter_xform(tr, l->instance, time01);
         if (g->kind == GEOM_TRIANGLES) {
             vec3 P[3], n;
@@ -453,7 +458,12 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
             return finish_area_sample(l, p_ref, p, n, 1.0f / area, err, ls);
         }
         Mat4 m = emitter_world_from_object(g, &x);
-        if (g->kind == GEOM_SPHERE) return sample_sphere(l, g, &m, p_ref, u, ls);
+        if (g->kind == GEOM_SPHERE) {
+            vec3 c;
+            float r;
+            sphere_world(g, &m, &c, &r);
+            return sample_sphere(l, g, &m, c, r, p_ref, u, ls);
+        }
         /* disk: uniform in area (radius by the square-root map, angle up to phimax) */
         vec3 n;
         float area = disk_area(g, &m, &n);
@@ -546,12 +556,13 @@ float area_light_pdf(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, 
         vec3 P[3], n;
         emitter_triangle(g, l->prim, &x, P, &n, &area);
     } else {
+        bool fixed_sphere = g->kind == GEOM_SPHERE && l->instance < 0;
         EmitterXform x = emitter_xform(tr, l->instance, time01);
-        Mat4 m = emitter_world_from_object(g, &x);
+        Mat4 m = fixed_sphere ? mat4_identity() : emitter_world_from_object(g, &x);
         if (g->kind == GEOM_SPHERE) {
-            vec3 c;
-            float r;
-            sphere_world(g, &m, &c, &r);
+            vec3 c = l->sphere_c;
+            float r = l->sphere_r;
+            if (!fixed_sphere) sphere_world(g, &m, &c, &r);
             float dc2 = v3_length2(v3_sub(c, p_ref));
             if (dc2 > r * r * 1.0001f) {
                 /* cone sampling only reaches the cap facing p_ref (matters for partial spheres) */

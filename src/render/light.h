@@ -29,6 +29,8 @@ typedef struct {
     float area_world;       /* area lights, at shutter open */
     vec3 tri_p0, tri_e1, tri_e2, tri_n; /* static triangle lights: world vertex 0, edges, normal */
     float tri_err;          /* static triangle lights: surface offset */
+    vec3 sphere_c;          /* static sphere lights: world centre and radius (sphere_world) */
+    float sphere_r;
     Envmap *env;            /* infinite light with "filename": the image (owned); else NULL */
 } Light;
 
