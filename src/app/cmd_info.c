@@ -14,11 +14,12 @@
 #include "scene/scene_desc.h"
 
 enum { INFO_RES_MAX = 65536 }; /* as wedge render --res */
+enum { INFO_SPP_MAX = SCENE_SPP_MAX }; /* as wedge render --spp */
 
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: wedge info [SCENE] [--json] [--filter NAME] [--res WxH]\n"
+            "usage: wedge info [SCENE] [--json] [--filter NAME] [--res WxH] [--spp N]\n"
             "       wedge info --filters [--json]\n"
             "       wedge info --cl\n\n"
             "Summarises a pbrt-v4 scene (without SCENE: the embedded default scene): film, camera, sampler, counts of shapes, triangles\n"
@@ -29,6 +30,8 @@ static void usage(FILE *f)
             "  --filter NAME  the methods 'wedge render --filter NAME' would use (default auto)\n"
             "  --res WxH      ... at this resolution (default: the film's): with motion, auto's\n"
             "                 choice for the camera effects depends on the blur in pixels\n"
+            "  --spp N        ... for a budget of N samples per pixel (as 'wedge render --spp N';\n"
+            "                 default: none): with a large one auto leaves the lens to aaf\n"
             "  --filters      list the reconstruction methods: effects, sampling, storage\n"
             "  --cl           list the OpenCL platforms and devices\n");
 }
@@ -201,6 +204,7 @@ int cmd_info(int argc, char **argv)
     const char *path = NULL, *filter = "auto";
     bool json = false, cl = false, methods = false;
     int res_w = 0, res_h = 0; /* 0: the film's */
+    int budget_spp = 0;       /* 0: no --spp budget */
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--json")) json = true;
         else if (!strcmp(argv[i], "--cl")) cl = true;
@@ -210,6 +214,16 @@ int cmd_info(int argc, char **argv)
             if (i + 1 >= argc || sscanf(argv[i + 1], "%dx%d%c", &res_w, &res_h, &tail) != 2 || res_w < 1 ||
                 res_h < 1 || res_w > INFO_RES_MAX || res_h > INFO_RES_MAX) {
                 fprintf(stderr, "wedge info: --res wants WxH with W and H in [1, %d], got '%s'\n", INFO_RES_MAX,
+                        i + 1 < argc ? argv[i + 1] : "");
+                return WEDGE_EXIT_USAGE;
+            }
+            ++i;
+        }
+        else if (!strcmp(argv[i], "--spp")) {
+            char tail;
+            if (i + 1 >= argc || sscanf(argv[i + 1], "%d%c", &budget_spp, &tail) != 1 || budget_spp < 1 ||
+                budget_spp > INFO_SPP_MAX) {
+                fprintf(stderr, "wedge info: --spp wants a whole number in [1, %d], got '%s'\n", INFO_SPP_MAX,
                         i + 1 < argc ? argv[i + 1] : "");
                 return WEDGE_EXIT_USAGE;
             }
@@ -300,7 +314,7 @@ int cmd_info(int argc, char **argv)
     }
     renderer_destroy(r);
     ReconChoice choice;
-    recon_select(scene.effects, filter, blur.median_blur_px, &choice);
+    recon_select_budget(scene.effects, filter, blur.median_blur_px, budget_spp, &choice);
     choice.blur_unbounded = blur.samples_unbounded;
     if (json) print_json(&scene, &choice, triangles, stdout);
     else print_text(&scene, &choice, triangles, stdout);

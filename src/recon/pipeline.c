@@ -143,7 +143,7 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
         return false;
     }
-    recon_select(renderer_effects(r), o->filter, blur.median_blur_px, &p->choice);
+    recon_select_budget(renderer_effects(r), o->filter, blur.median_blur_px, o->spp, &p->choice);
     p->choice.blur_unbounded = blur.samples_unbounded;
     /* one slot per distinct method, holding every effect it filters */
     p->fixed_only = true;

@@ -99,11 +99,16 @@ static void set_reason(ReconChoice *out, Effect e, const char *fmt, ...)
  * below the threshold lr filters it alone (the lens left to aaf, docs/algorithms.md 8.14),
  * which at equal samples never lost to unfiltered motion on the bench and wins where objects
  * move over a static background. */
-static void select_camera_by_blur(Effect e, float blur_px, ReconChoice *out)
+static void select_camera_by_blur(Effect e, float blur_px, int budget_spp, ReconChoice *out)
 {
     const ReconMethodClass *lr = recon_method_find("lr");
     if (!lr || !effect_in(lr->effects, e)) return;
-    if (blur_px >= RECON_LR_MIN_BLUR_PX) {
+    if (blur_px >= RECON_LR_MIN_BLUR_PX && budget_spp >= RECON_LR_MAX_BUDGET_SPP) {
+        if (e != EFFECT_MOTION) return; /* defocus: the per-pixel filter's choice, below */
+        out->method[e] = lr;
+        set_reason(out, e, "lr, motion only: a budget of %d spp >= %d, where lr's bias outweighs its gain for the lens "
+                   "(docs/benchmarks.md, issue 18)", budget_spp, RECON_LR_MAX_BUDGET_SPP);
+    } else if (blur_px >= RECON_LR_MIN_BLUR_PX) {
         out->method[e] = lr;
         set_reason(out, e, "lr: median blur %.1f px >= %.0f px, layered reconstruction shares samples across pixels "
                    "(docs/benchmarks.md, issue 18)", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
@@ -115,13 +120,13 @@ static void select_camera_by_blur(Effect e, float blur_px, ReconChoice *out)
 }
 
 /* auto's choice for effect e of the effects present; blur_px as for recon_select. */
-static void select_auto(Effect e, EffectMask present, float blur_px, ReconChoice *out)
+static void select_auto(Effect e, EffectMask present, float blur_px, int budget_spp, ReconChoice *out)
 {
     bool measured = effect_in(present, EFFECT_MOTION) && blur_px >= 0.0f && isfinite(blur_px);
     bool camera = e == EFFECT_MOTION || e == EFFECT_DEFOCUS;
     if (measured && camera) {
         out->blur_px = blur_px;
-        select_camera_by_blur(e, blur_px, out);
+        select_camera_by_blur(e, blur_px, budget_spp, out);
         if (out->method[e]) return;
     }
     const char *why = NO_METHOD_REASON[e];
@@ -133,7 +138,10 @@ static void select_auto(Effect e, EffectMask present, float blur_px, ReconChoice
             break;
         }
     }
-    if (measured && camera)
+    if (measured && camera && blur_px >= RECON_LR_MIN_BLUR_PX)
+        set_reason(out, e, "%s: a budget of %d spp >= %d, where lr's bias outweighs its gain (docs/benchmarks.md, issue 18)",
+                   out->method[e] ? out->method[e]->name : "none", budget_spp, RECON_LR_MAX_BUDGET_SPP);
+    else if (measured && camera)
         set_reason(out, e, "%s: median blur %.1f px < %.0f px, too little for lr to pay (docs/benchmarks.md, issue 18)",
                    out->method[e] ? out->method[e]->name : "none", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
     else
@@ -154,6 +162,11 @@ bool recon_select_wants_blur(EffectMask present, const char *request)
 
 void recon_select(EffectMask present, const char *request, float blur_px, ReconChoice *out)
 {
+    recon_select_budget(present, request, blur_px, 0, out);
+}
+
+void recon_select_budget(EffectMask present, const char *request, float blur_px, int budget_spp, ReconChoice *out)
+{
     memset(out, 0, sizeof *out);
     out->blur_px = -1.0f;
     char buf[256], why[160];
@@ -166,7 +179,7 @@ void recon_select(EffectMask present, const char *request, float blur_px, ReconC
         if (mapped) {
             const char *w = per_effect[e];
             if (!w || !strcmp(w, "auto")) {
-                select_auto((Effect)e, present, blur_px, out);
+                select_auto((Effect)e, present, blur_px, budget_spp, out);
             } else if (!strcmp(w, "none")) {
                 set_reason(out, (Effect)e, "--filter EFFECT=none: plain Monte Carlo");
             } else {
@@ -180,7 +193,7 @@ void recon_select(EffectMask present, const char *request, float blur_px, ReconC
             out->method[e] = can ? asked : NULL;
             set_reason(out, (Effect)e, "%s", can ? "asked for with --filter" : "the method asked for with --filter cannot filter it");
         } else if (autom) {
-            select_auto((Effect)e, present, blur_px, out);
+            select_auto((Effect)e, present, blur_px, budget_spp, out);
         } else {
             set_reason(out, (Effect)e, "unknown --filter");
         }

@@ -27,6 +27,11 @@ typedef struct {
  * many pixels, else defocus to aaf and motion alone to lr: docs/benchmarks.md, "The choice
  * per effect (issue 18)", for the measurement and the why. */
 #define RECON_LR_MIN_BLUR_PX 3.0f
+/* ... unless the frame's --spp budget is at least this: there layered reconstruction's bias
+ * (its disk approximation, a floor near relMSE 2.5e-4 on the hard bench scenes) outweighs its
+ * noise reduction, and defocus goes to aaf, motion alone to lr (docs/benchmarks.md, "LR's
+ * floor and the budget"). */
+#define RECON_LR_MAX_BUDGET_SPP 48
 
 /* The choice for the effects present and a --filter request: "auto" (the measured best per
  * effect), "none" (plain Monte Carlo), a method's name (that method for every effect it can
@@ -38,6 +43,9 @@ typedef struct {
  * and defocus; a negative value (or NaN) when it was not measured (scenes without motion: the
  * choice does not depend on it). */
 void recon_select(EffectMask present, const char *request, float blur_px, ReconChoice *out);
+/* The same for a frame with an average budget of budget_spp samples per pixel (--spp; 0: none,
+ * the methods' own counts), which auto's choice of the camera effects reads. */
+void recon_select_budget(EffectMask present, const char *request, float blur_px, int budget_spp, ReconChoice *out);
 /* Whether recon_select's choice under this request reads blur_px: motion is present and auto
  * decides motion or defocus (motion's choice is lr either way; the value is in its reason).
  * Callers run the probe only then. */

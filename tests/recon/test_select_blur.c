@@ -1,7 +1,8 @@
 /* The issue-18 rule in recon/select: under --filter auto, a scene with motion sends its camera
  * effects (motion, defocus) to lr when the blur probe's median blur is at least
  * RECON_LR_MIN_BLUR_PX, else defocus keeps aaf and motion alone goes to lr; the measured value
- * is in the reason line; scenes without motion and explicit requests ignore the value. */
+ * is in the reason line; scenes without motion and explicit requests ignore the value. With a
+ * --spp budget of RECON_LR_MAX_BUDGET_SPP or more, lr keeps only the motion. */
 #include <string.h>
 
 #include "../check.h"
@@ -27,6 +28,28 @@ int main(void)
     recon_select(motion_defocus, "auto", 9.44f, &c);
     CHECK_STR(c.reason[EFFECT_MOTION], "lr: median blur 9.4 px >= 3 px, layered reconstruction shares samples "
                                        "across pixels (docs/benchmarks.md, issue 18)");
+
+    /* a large --spp budget: lr keeps the motion alone, defocus goes to aaf; just under it, or
+     * without a budget, lr takes both; below the blur threshold the budget changes nothing */
+    recon_select_budget(all, "auto", 9.4f, RECON_LR_MAX_BUDGET_SPP, &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(recon_choice_name(&c, EFFECT_SOFT_SHADOWS), "aaf");
+    CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: a budget of 48 spp >= 48, where lr's bias outweighs its gain "
+                                        "(docs/benchmarks.md, issue 18)");
+    CHECK_STR(c.reason[EFFECT_MOTION], "lr, motion only: a budget of 48 spp >= 48, where lr's bias outweighs its gain "
+                                       "for the lens (docs/benchmarks.md, issue 18)");
+    int under[] = {0, RECON_LR_MAX_BUDGET_SPP - 1};
+    for (int k = 0; k < 2; ++k) {
+        recon_select_budget(all, "auto", 9.4f, under[k], &c);
+        CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
+        CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+    }
+    recon_select_budget(motion_defocus, "auto", 1.76f, 4096, &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: median blur 1.8 px < 3 px, too little for lr to pay (docs/benchmarks.md, issue 18)");
+    recon_select_budget(motion_defocus, "lr", 9.4f, 4096, &c); /* asked for: the budget does not matter */
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
 
     /* below: defocus aaf, motion alone to lr (every effect filtered), the value in the reasons */
     recon_select(motion_defocus, "auto", 1.76f, &c);
