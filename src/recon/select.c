@@ -98,7 +98,9 @@ static void set_reason(ReconChoice *out, Effect e, const char *fmt, ...)
  * sits between (a blur of 3 px reaches at least the 8 neighbours). Motion always goes to lr:
  * below the threshold lr filters it alone (the lens left to aaf, docs/algorithms.md 8.14),
  * which at equal samples never lost to unfiltered motion on the bench and wins where objects
- * move over a static background. */
+ * move over a static background. A --spp budget of RECON_LR_MAX_BUDGET_SPP or more leaves lr
+ * the motion alone at any blur: there its bias costs more than its gain for the lens
+ * (docs/benchmarks.md, "LR's floor and the budget"). */
 static void select_camera_by_blur(Effect e, float blur_px, int budget_spp, ReconChoice *out)
 {
     const ReconMethodClass *lr = recon_method_find("lr");
@@ -119,7 +121,8 @@ static void select_camera_by_blur(Effect e, float blur_px, int budget_spp, Recon
     }
 }
 
-/* auto's choice for effect e of the effects present; blur_px as for recon_select. */
+/* auto's choice for effect e of the effects present; blur_px and budget_spp as for
+ * recon_select_budget. */
 static void select_auto(Effect e, EffectMask present, float blur_px, int budget_spp, ReconChoice *out)
 {
     bool measured = effect_in(present, EFFECT_MOTION) && blur_px >= 0.0f && isfinite(blur_px);
