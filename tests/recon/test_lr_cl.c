@@ -11,12 +11,20 @@
 #include "lr_scene.h"
 #include "recon/lr/lr_cl.h"
 
-static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, int nl, bool poison)
+/* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
+ * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
+static void compare_spread(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, int nl, bool poison,
+                           float film_spread_px)
 {
     LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
     lr_test_scene(s, w, h, spp, layers, nl, 31);
     unsigned seed = 5;
     for (int i = 0; i < w * h * spp; ++i) s[i].coc_px += 0.6f * (lr_test_unit(&seed) - 0.5f);
+    for (int i = 0; i < w * h * spp && film_spread_px > 0.0f; ++i) {
+        int pixel = i / spp;
+        s[i].x_px = (float)(pixel % w) + 0.5f + film_spread_px * (2.0f * lr_test_unit(&seed) - 1.0f);
+        s[i].y_px = (float)(pixel / w) + 0.5f + film_spread_px * (2.0f * lr_test_unit(&seed) - 1.0f);
+    }
     if (poison) s[(size_t)(h / 2 * w + w / 2) * spp].L[1] = NAN;
     LrSamples img = {w, h, spp, s};
     LrConfig cfg = lr_config_default();
@@ -45,6 +53,11 @@ static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, 
     if (!(worst <= 1e-6)) fprintf(stderr, "worst %g\n", worst);
     CHECK(aov_diff == 0 && nonfinite == 0);
     free(a), free(b), free(la), free(lb), free(ea), free(eb), free(s);
+}
+
+static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, int nl, bool poison)
+{
+    compare_spread(lr, w, h, spp, layers, nl, poison, 0.0f);
 }
 
 int main(void)
@@ -76,6 +89,12 @@ int main(void)
         LrTestLayer wide[2] = {{2.0f, -4.0f, {-9.0f, 3.0f}, 130.0f, 40.0f, 30.0f, 0.8f}, {6.0f, 3.0f, {2.0f, 0.0f}, 0, 0, 0, 0.35f}};
         compare(lr, 256, 80, 4, wide, 2, false);
         compare(lr, 1040, 20, 2, wide, 2, true);
+        /* film positions up to 4 px from their pixel's centre (pbrt's sinc pixel filter) and 9
+         * px (a wider one): the reprojection must still visit every source row that can land
+         * in a tile's box (with the old fixed slack of 2 rows the 9-px case differs by 0.16) */
+        compare_spread(lr, 48, 40, 4, sharp, 2, false, 4.0f);
+        compare_spread(lr, 48, 40, 4, sharp, 2, false, 9.0f);
+        compare_spread(lr, 48, 33, 8, big, 3, false, 4.0f);
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

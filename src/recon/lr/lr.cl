@@ -228,7 +228,8 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
  * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
  * in the same order, so every cell gets the same sums. */
 __kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
-                           int max_layers, int tile0, __global const float *samples, __global const uint *order,
+                           int max_layers, int tile0, int film_slack_px, __global const float *samples,
+                           __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
                            __global float *grid)
 {
@@ -258,7 +259,10 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     int tx0 = (tile % ntx) * tile_px - w.x0, ty0 = (tile / ntx) * tile_px - w.y0;
     int mx = (int)ceil(ry * fabs(sp)) + 1 + (int)ceil(rx * fabs(cp)) + 1;
     int my = (int)ceil(ry * fabs(cp)) + 1 + (int)ceil(rx * fabs(sp)) + 1;
-    int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho))) + 2;
+    /* film_slack_px: how far (past its own half) a sample's film position lies from its pixel's
+     * centre, at least 2 (the host measures it: a wide pixel filter, pbrt's sinc, places
+     * samples up to its radius away) */
+    int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho))) + film_slack_px;
     int cy0 = max(0, ty0 - my - reach), cy1 = min(wh, ty0 + tile_px + my + reach);
     int bx0 = max(0, tx0 - mx), bx1 = min(ww, tx0 + tile_px + mx), by0 = max(0, ty0 - my), by1 = min(wh, ty0 + tile_px + my);
     for (int iy = by0; iy < by1; ++iy)

@@ -185,8 +185,20 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         }
     }
     out->nonfinite = 0;
-    for (size_t i = 0; i < nsamples; ++i)
-        if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
+    float film_dev_px = 0.0f; /* the farthest a sample's film position lies from its pixel's centre */
+    for (size_t i = 0; i < nsamples; ++i) {
+        const LrSample *si = &img->s[i];
+        if (!(isfinite(si->L[0]) && isfinite(si->L[1]) && isfinite(si->L[2]))) out->nonfinite++;
+        size_t pixel = i / (size_t)img->spp;
+        float dx = fabsf(si->x_px - ((float)(pixel % (size_t)img->width) + 0.5f));
+        float dy = fabsf(si->y_px - ((float)(pixel / (size_t)img->width) + 0.5f));
+        if (dx > film_dev_px) film_dev_px = dx; /* NaN positions compare false: ignored */
+        if (dy > film_dev_px) film_dev_px = dy;
+    }
+    /* the reprojection's slack on the source rows beyond a sample's own half pixel: 2 covers
+     * the box and pbrt's gaussian, mitchell and triangle filters; a sinc of radius 4 needs 4 */
+    float slack = ceilf(film_dev_px - 0.5f);
+    cl_int film_slack_px = slack > 2.0f ? (slack < (float)img->height ? (cl_int)slack : (cl_int)img->height) : 2;
 
     /* The samples are read in place (on a CPU device PoCL uses the host memory); the rest
      * lives in the grow-only buffers. */
@@ -256,9 +268,9 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         cl_int tile1 = tile0 + tiles; /* the launches are padded: the kernels stop at tile1 */
         cl_event bev[3] = {NULL, NULL, NULL};
         { /* Algorithm 1, one work-item per (layer, tile) */
-            cl_int ints[9] = {W, H, S, T, N, NX, tile1, LL, tile0};
+            cl_int ints[10] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px};
             cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
-            ok = set_args(lr->reproject, ints, 9, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            ok = set_args(lr->reproject, ints, 10, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints8[8] = {W, H, T, N, NX, tile1, LL, tile0};
         if (ok) {
