@@ -45,8 +45,6 @@ struct ReconPipeline {
     int slot_count;
     bool filtering;              /* some effect has a method */
     bool fixed_only;             /* no method plans: one pass at a fixed count */
-    bool budget_in_pass1;        /* a fixed-count method beside adaptive ones, under a --spp
-                                  * budget: the whole budget in pass 1 (see setup_filtered) */
     GBuffer g;
     bool g_ready;
     SampleStore *store;
@@ -102,13 +100,11 @@ static MethodSlot *slot_for(ReconPipeline *p, Effect e)
 static bool overscan_begin(ReconPipeline *p, Diag *d)
 {
     int margin = 0;
-    for (int s = 0; s < p->slot_count && !p->opt.no_overscan; ++s)
-        if (p->slots[s].cls->overscan_px && p->slots[s].cls->overscan_px() > margin) margin = p->slots[s].cls->overscan_px();
-    if (margin == renderer_overscan_px(p->r)) {
-        p->margin_px = margin;
-        return true;
+    for (int s = 0; s < p->slot_count && !p->opt.no_overscan; ++s) {
+        int reach = p->slots[s].cls->overscan_px ? p->slots[s].cls->overscan_px() : 0;
+        if (reach > margin) margin = reach;
     }
-    if (!renderer_set_overscan(p->r, margin, d)) return false;
+    if (margin != renderer_overscan_px(p->r) && !renderer_set_overscan(p->r, margin, d)) return false;
     p->margin_px = margin;
     return true;
 }
@@ -382,13 +378,12 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * budget) and find the budget spent: no pass 2. Where it takes motion alone (moving objects
      * over a static frame the adaptive filters serve) the plan keeps the budget: traced
      * uniformly, motion_shading at 32 spp lost 30% (4.4e-4 -> 5.8e-4). */
-    p->budget_in_pass1 = false;
+    bool budget_in_pass1 = false;
     for (int s = 0; s < p->slot_count && !p->fixed_only && p->opt.spp > 0; ++s)
-        if (!p->slots[s].cls->adaptive && (p->slots[s].effects & EFFECT_BIT(EFFECT_DEFOCUS)))
-            p->budget_in_pass1 = true;
-    if (p->budget_in_pass1) pass1 = p->opt.spp;
+        if (!p->slots[s].cls->adaptive && (p->slots[s].effects & EFFECT_BIT(EFFECT_DEFOCUS))) budget_in_pass1 = true;
+    if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
-    if (!p->fixed_only && !p->budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
+    if (!p->fixed_only && !budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
     p->res.pass1_spp = pass1;
     if (fields) {
         /* the store keeps what the fixed-count methods take (or pass 1 of adaptive ones) */
