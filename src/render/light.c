@@ -555,27 +555,29 @@ float area_light_pdf(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, 
         EmitterXform x = emitter_xform(tr, l->instance, time01);
         vec3 P[3], n;
         emitter_triangle(g, l->prim, &x, P, &n, &area);
-    } else {
-        bool fixed_sphere = g->kind == GEOM_SPHERE && l->instance < 0;
-        EmitterXform x = emitter_xform(tr, l->instance, time01);
-        Mat4 m = fixed_sphere ? mat4_identity() : emitter_world_from_object(g, &x);
-        if (g->kind == GEOM_SPHERE) {
-            vec3 c = l->sphere_c;
-            float r = l->sphere_r;
-            if (!fixed_sphere) sphere_world(g, &m, &c, &r);
-            float dc2 = v3_length2(v3_sub(c, p_ref));
-            if (dc2 > r * r * 1.0001f) {
-                /* cone sampling only reaches the cap facing p_ref (matters for partial spheres) */
-                if (v3_dot(v3_sub(h->p, c), v3_sub(p_ref, h->p)) < 0.0f) return 0.0f;
-                float sin2_max = r * r / dc2;
-                float one_minus_cos_max = sin2_max < 0.00068523f ? sin2_max / 2.0f : 1.0f - sqrtf(fmaxf(0.0f, 1.0f - sin2_max));
-                return 1.0f / (2.0f * WEDGE_PI * one_minus_cos_max);
-            }
-            area = 4.0f * WEDGE_PI * r * r;
-        } else {
-            vec3 n;
-            area = disk_area(g, &m, &n);
+    } else if (g->kind == GEOM_SPHERE) {
+        /* a static sphere's centre and radius were found once (lights_build) */
+        vec3 c = l->sphere_c;
+        float r = l->sphere_r;
+        if (l->instance >= 0) {
+            EmitterXform x = emitter_xform(tr, l->instance, time01);
+            Mat4 m = emitter_world_from_object(g, &x);
+            sphere_world(g, &m, &c, &r);
         }
+        float dc2 = v3_length2(v3_sub(c, p_ref));
+        if (dc2 > r * r * 1.0001f) {
+            /* cone sampling only reaches the cap facing p_ref (matters for partial spheres) */
+            if (v3_dot(v3_sub(h->p, c), v3_sub(p_ref, h->p)) < 0.0f) return 0.0f;
+            float sin2_max = r * r / dc2;
+            float one_minus_cos_max = sin2_max < 0.00068523f ? sin2_max / 2.0f : 1.0f - sqrtf(fmaxf(0.0f, 1.0f - sin2_max));
+            return 1.0f / (2.0f * WEDGE_PI * one_minus_cos_max);
+        }
+        area = 4.0f * WEDGE_PI * r * r;
+    } else {
+        EmitterXform x = emitter_xform(tr, l->instance, time01);
+        Mat4 m = emitter_world_from_object(g, &x);
+        vec3 n;
+        area = disk_area(g, &m, &n);
     }
     float cos_l = fabsf(v3_dot(h->ng, wi));
     if (!(area > 0.0f) || !(cos_l > 0.0f)) return 0.0f;
