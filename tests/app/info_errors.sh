@@ -26,5 +26,9 @@ for i in $(seq 0 255); do printf "\\$(printf %03o "$i")"; done > "$tmp/binary.pb
 expect 2 "$tmp/binary.pbrt:1:1: error: unexpected byte 0x00" -- info "$tmp/binary.pbrt"
 expect 1 "" -- info --nope "$tmp/bad.pbrt"
 expect 1 "" -- info a.pbrt b.pbrt
+for bad in 0 -3 12x ""; do
+    expect 1 "wedge info: --spp wants a whole number in [1, 16777216], got '$bad'" -- info --spp "$bad"
+done
+expect 1 "wedge info: --spp wants a whole number in [1, 16777216], got ''" -- info --spp
 expect 0 "" -- info --help
 exit $fail

@@ -81,6 +81,20 @@ fi
 # without SCENE: the embedded default scene, which shows all four effects
 "$WEDGE" info --json > "$tmp/default.json"
 python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["scene"] == "<default>" and len(j["effects"]) == 4, j' "$tmp/default.json"
+# a --spp budget of 48 or more leaves the lens to aaf where the blur alone gives lr both camera
+# effects (select.h, RECON_LR_MAX_BUDGET_SPP; at the film's 256x192 its median blur is about
+# 12 px); below it, lr keeps both
+hard="${WEDGE_SOURCE_DIR:-../..}/scenes/bench/motion_defocus_hard.pbrt"
+for spp in 47 48; do
+    "$WEDGE" info "$hard" --spp $spp --json > "$tmp/budget$spp.json" || { echo "FAIL: info --spp $spp"; exit 1; }
+done
+python3 - "$tmp/budget47.json" "$tmp/budget48.json" <<'PY'
+import json, sys
+below, above = (json.load(open(p)) for p in sys.argv[1:3])
+assert below["filters"] == {"defocus": "lr", "motion": "lr"}, below["filters"]
+assert above["filters"] == {"defocus": "aaf", "motion": "lr"}, above["filters"]
+assert above["reasons"]["defocus"].startswith("aaf: a budget of 48 spp >= 48"), above["reasons"]
+PY
 echo ok
 
 # Warnings the scene build finds (not the parser) are shown by info as by render (issue 20
