@@ -41,6 +41,8 @@ typedef struct {
     EffectMask effects;         /* the effects this method filters in this frame */
     float mu;                   /* the filter knob; <= 0: the method's default */
     int method_options[4];      /* method-specific integer options (e.g. MAAF's pairs); 0: default */
+    int band_px;                /* the overscan band around the image (overscan.h), which the
+                                 * pipeline crops: its pixels need no reconstruction */
 } ReconSetup;
 
 /* What the shading filters made of the frame, for a camera-effect filter that runs after them

@@ -40,10 +40,11 @@ typedef struct {
     int x0, y0, x1, y1;
 } LrWindow;
 
-static LrWindow lr_window(int tx, int ty, int width, int height, int tile_px, int window_px)
+/* inset: LrConfig.inset_px, the band read but not reconstructed; tiles start past it */
+static LrWindow lr_window(int tx, int ty, int width, int height, int tile_px, int window_px, int inset)
 {
     int margin = (window_px - tile_px) / 2;
-    int ax = tx * tile_px - margin, ay = ty * tile_px - margin;
+    int ax = inset + tx * tile_px - margin, ay = inset + ty * tile_px - margin;
     LrWindow w;
     w.x0 = ax < 0 ? 0 : ax;
     w.y0 = ay < 0 ? 0 : ay;
@@ -109,14 +110,14 @@ static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float
  * raw layer of every window sample is kept for the reprojection (layer_ids).
  * uniform: the uniform depth layers (1..7); coc_bounds: n_coc bounds, the same for every tile. */
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
-                            int uniform, int n_coc, __global const float *coc_bounds, __global const float *samples,
+                            int uniform, int n_coc, int inset, __global const float *coc_bounds, __global const float *samples,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
                             __global uint *order, __global int *layer_start)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
     if (tile >= ntiles || get_global_id(1) != 0) return;
-    LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px);
+    LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     float zmin = INFINITY, zmax = -INFINITY;
     for (int py = w.y0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)
@@ -228,7 +229,7 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
  * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
  * in the same order, so every cell gets the same sums. */
 __kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
-                           int max_layers, int tile0, int film_slack_px, __global const float *samples,
+                           int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples,
                            __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
                            __global float *grid)
@@ -246,7 +247,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     __global const int *compact = tl + 1;
     int raw_j = 0;
     while (compact[raw_j] != j) ++raw_j;
-    LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px);
+    LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     float cp = lp[0], sp = lp[1], eta = lp[3], xi = lp[4], isu = lp[5], ist = lp[6], rho = lp[8], isv = lp[9];
     /* Only the grid cells the screen passes read matter: lr_along's box around the tile,
@@ -256,7 +257,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
      * are one run of it, found by bisection): for a sharp layer that is the tile's rows and a
      * few more instead of the whole window. The cells read get exactly the C version's sums. */
     float rx = lp[10], ry = lp[11];
-    int tx0 = (tile % ntx) * tile_px - w.x0, ty0 = (tile / ntx) * tile_px - w.y0;
+    int tx0 = inset + (tile % ntx) * tile_px - w.x0, ty0 = inset + (tile / ntx) * tile_px - w.y0;
     int mx = (int)ceil(ry * fabs(sp)) + 1 + (int)ceil(rx * fabs(cp)) + 1;
     int my = (int)ceil(ry * fabs(cp)) + 1 + (int)ceil(rx * fabs(sp)) + 1;
     /* film_slack_px: how far (past its own half) a sample's film position lies from its pixel's
@@ -333,7 +334,7 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
  * reads (the tile widened by the across radius projected on x and y), not the whole window.
  * One work-item per (window row, partition). */
 __kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
-                       int tile0, __global const int *tile_layers, __global const float *params, __global const float *grid,
+                       int tile0, int inset, __global const int *tile_layers, __global const float *params, __global const float *grid,
                        __global float *pass1)
 {
 #pragma OPENCL FP_CONTRACT OFF
@@ -341,13 +342,13 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
     int tile = id / max_layers, j = id % max_layers;
     if (tile >= tile1 || iy >= window_px || j >= tile_layers[tile * LR_TL_STRIDE]) return; /* batch: [tile0, tile1) */
     int tx = tile % ntx, ty = tile / ntx;
-    LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px);
+    LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     __global const float *lp = params + id * LR_LP_STRIDE;
     /* the second pass reads tile pixel + round(k (-sin psi, cos psi)), |k| <= radius_y */
     float ry = lp[11];
     int mx = (int)ceil(ry * fabs(lp[1])) + 1, my = (int)ceil(ry * fabs(lp[0])) + 1;
-    int tx0 = tx * tile_px - w.x0, ty0 = ty * tile_px - w.y0;
+    int tx0 = inset + tx * tile_px - w.x0, ty0 = inset + ty * tile_px - w.y0;
     if (iy >= wh || iy < ty0 - my || iy >= ty0 + tile_px + my) return;
     int ix0 = max(0, tx0 - mx), ix1 = min(ww, tx0 + tile_px + mx);
     __global const float *g = grid + get_global_id(1) * window_px * window_px * LR_CH;
@@ -360,18 +361,18 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
 /* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per
  * row of a tile (image row py, tile column tx), layer by layer front to back. */
 __kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
-                                  int tile0, __global const int *tile_layers, __global const float *params,
+                                  int tile0, int inset, __global const int *tile_layers, __global const float *params,
                                   __global const float *pass1, __global float *rgb, __global float *layers_aov,
                                   __global float *extent_aov)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int py = tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
-    if (py >= height || tx >= ntx) return;
-    int ty = py / tile_px, tile = ty * ntx + tx;
+    int py = inset + tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
+    if (py >= height - inset || tx >= ntx) return;
+    int ty = (py - inset) / tile_px, tile = ty * ntx + tx;
     int count = tile_layers[tile * LR_TL_STRIDE];
-    LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px);
+    LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0, iy = py - w.y0;
-    int px0 = tx * tile_px, n = min(tile_px, width - px0), ix0 = px0 - w.x0;
+    int px0 = inset + tx * tile_px, n = min(tile_px, width - inset - px0), ix0 = px0 - w.x0;
     float trans[LR_ROW_MAX], out[LR_ROW_MAX * 3], extent[LR_ROW_MAX], acc[LR_ROW_MAX * LR_CH];
     for (int i = 0; i < n; ++i) {
         trans[i] = 1.0f;

@@ -156,6 +156,16 @@ static bool set_args(cl_kernel k, const cl_int *ints, int nints, const cl_mem *m
     return cl_ok(err, "arguments", d);
 }
 
+/* Downloads the pixels inside the band (lr_reconstruct.h: the band keeps what the caller has)
+ * of an image of `floats` per pixel. */
+static bool read_inner(cl_command_queue q, cl_mem buf, float *host, int floats, const LrSamples *img, int band, Diag *d)
+{
+    size_t px_bytes = sizeof(float) * (size_t)floats, pitch = px_bytes * (size_t)img->width;
+    size_t origin[3] = {px_bytes * (size_t)band, (size_t)band, 0};
+    size_t region[3] = {px_bytes * (size_t)(img->width - 2 * band), (size_t)(img->height - 2 * band), 1};
+    return cl_ok(clEnqueueReadBufferRect(q, buf, CL_TRUE, origin, origin, region, pitch, 0, pitch, 0, host, 0, NULL, NULL), "download", d);
+}
+
 bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *out, double *kernel_seconds, Diag *d)
 {
     ClRuntime *rt = lr->rt;
@@ -168,8 +178,11 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "LR window of %d px is larger than the kernels allow (64)", cfg->window_px);
         return false;
     }
-    int ntx = (img->width + cfg->tile_px - 1) / cfg->tile_px, nty = (img->height + cfg->tile_px - 1) / cfg->tile_px;
+    int ntx, nty;
+    lr_tile_count(img, cfg, &ntx, &nty);
     int ntiles = ntx * nty;
+    out->nonfinite = 0;
+    if (ntiles <= 0) return true; /* nothing inside the band */
     size_t npix = (size_t)img->width * img->height, nsamples = npix * (size_t)img->spp;
     size_t wcells = (size_t)cfg->window_px * cfg->window_px;
     if ((size_t)ntiles > lr->tiles_cap) {
@@ -218,12 +231,13 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
     cl_int uniform = cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
     cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NT = ntiles;
+    cl_int inset = cfg->inset_px;
     cl_event ev[4] = {NULL, NULL, NULL, NULL};
     if (ok) {
-        cl_int ints[9] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc};
+        cl_int ints[10] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset};
         cl_mem m[7] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem};
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, sizeof(float) * LR_MAX_COC_BOUNDS, shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
-             set_args(lr->stats, ints, 9, m, 7, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
+             set_args(lr->stats, ints, 10, m, 7, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
     }
@@ -268,19 +282,19 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         cl_int tile1 = tile0 + tiles; /* the launches are padded: the kernels stop at tile1 */
         cl_event bev[3] = {NULL, NULL, NULL};
         { /* Algorithm 1, one work-item per (layer, tile) */
-            cl_int ints[10] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px};
+            cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
             cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
-            ok = set_args(lr->reproject, ints, 10, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            ok = set_args(lr->reproject, ints, 11, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
-        cl_int ints8[8] = {W, H, T, N, NX, tile1, LL, tile0};
+        cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
             cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
-            ok = set_args(lr->along, ints8, 8, m, 4, d) &&
+            ok = set_args(lr->along, ints9, 9, m, 4, d) &&
                  cl_launch_2d(rt, lr->along, (size_t)cfg->window_px, (size_t)tiles * L, &bev[1], d);
         }
         if (ok) {
             cl_mem m[6] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem};
-            ok = set_args(lr->across, ints8, 8, m, 6, d) &&
+            ok = set_args(lr->across, ints9, 9, m, 6, d) &&
                  cl_launch_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
         }
         /* the queue is in order, so the next batch's reprojection starts after this batch's
@@ -293,9 +307,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     }
     float *aov_l = out->layers, *aov_e = out->extent_px;
     if (ok)
-        ok = cl_ok(clEnqueueReadBuffer(q, lr->b_rgb.mem, CL_TRUE, 0, sizeof(float) * 3 * npix, out->rgb, 0, NULL, NULL), "download", d) &&
-             (!aov_l || cl_ok(clEnqueueReadBuffer(q, lr->b_l.mem, CL_TRUE, 0, sizeof(float) * npix, aov_l, 0, NULL, NULL), "download", d)) &&
-             (!aov_e || cl_ok(clEnqueueReadBuffer(q, lr->b_e.mem, CL_TRUE, 0, sizeof(float) * npix, aov_e, 0, NULL, NULL), "download", d));
+        ok = read_inner(q, lr->b_rgb.mem, out->rgb, 3, img, cfg->inset_px, d) && (!aov_l || read_inner(q, lr->b_l.mem, aov_l, 1, img, cfg->inset_px, d)) &&
+             (!aov_e || read_inner(q, lr->b_e.mem, aov_e, 1, img, cfg->inset_px, d));
     clFinish(q);
     double ks = lr->last.kernel_s[0] = ok ? event_seconds(ev[0]) : 0.0;
     for (int i = 1; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? batch_s[i - 1] : 0.0;

@@ -77,6 +77,9 @@ static bool lr_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->store = s->store;
     m->effects = s->effects;
     m->cfg = lr_config_default();
+    /* the band's pixels only lend their samples: tiles start at the visible corner, as
+     * without a band, and the band's tiles are not filtered */
+    m->cfg.inset_px = s->band_px;
     *out = m;
     return true;
 }
@@ -204,7 +207,6 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
         return false;
     }
     int w = m->g->width, h = m->g->height;
-    size_t n = (size_t)w * (size_t)h;
     float *rgb = m->rgb;
     bool ok = true;
     LrSamples img = {w, h, spp, s};
@@ -216,10 +218,13 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     }
     if (ok) {
         const float *spp_px = m->g->frame.spp;
-        for (size_t i = 0; i < n; ++i) {
-            float w = lr_share_weight(spp, spp_px[i]);
-            for (int c = 0; c < 3; ++c) value4[4 * i + c] = w * rgb[3 * i + c] + (1.0f - w) * value4[4 * i + c];
-        }
+        int b = m->cfg.inset_px; /* the band keeps its means (lr_reconstruct.h) */
+        for (int y = b; y < h - b; ++y)
+            for (int x = b; x < w - b; ++x) {
+                size_t i = (size_t)y * (size_t)w + (size_t)x;
+                float share = lr_share_weight(spp, spp_px[i]);
+                for (int c = 0; c < 3; ++c) value4[4 * i + c] = share * rgb[3 * i + c] + (1.0f - share) * value4[4 * i + c];
+            }
     }
     m->light = (ReconShadingLight){0}; /* the pipeline's arrays are valid for this call only */
     return ok;

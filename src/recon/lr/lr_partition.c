@@ -20,6 +20,7 @@ LrConfig lr_config_default(void)
     c.filter = lr_filter_config_default();
     c.tile_px = 16;
     c.window_px = 32;
+    c.inset_px = 0;
     c.uniform_layers = 4;
     c.focus_bounds = 4;
     c.focus_step_px = 1.0f;
@@ -29,10 +30,26 @@ LrConfig lr_config_default(void)
     return c;
 }
 
+void lr_tile_count(const LrSamples *img, const LrConfig *cfg, int *ntx, int *nty)
+{
+    int w = img->width - 2 * cfg->inset_px, h = img->height - 2 * cfg->inset_px;
+    *ntx = w > 0 ? (w + cfg->tile_px - 1) / cfg->tile_px : 0;
+    *nty = h > 0 ? (h + cfg->tile_px - 1) / cfg->tile_px : 0;
+}
+
+void lr_tile_pixels(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *x0, int *y0, int *x1, int *y1)
+{
+    int xe = img->width - cfg->inset_px, ye = img->height - cfg->inset_px;
+    *x0 = cfg->inset_px + tx * cfg->tile_px;
+    *y0 = cfg->inset_px + ty * cfg->tile_px;
+    *x1 = *x0 + cfg->tile_px > xe ? xe : *x0 + cfg->tile_px;
+    *y1 = *y0 + cfg->tile_px > ye ? ye : *y0 + cfg->tile_px;
+}
+
 void lr_tile_window(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *x0, int *y0, int *x1, int *y1)
 {
     int margin = (cfg->window_px - cfg->tile_px) / 2;
-    int ax = tx * cfg->tile_px - margin, ay = ty * cfg->tile_px - margin;
+    int ax = cfg->inset_px + tx * cfg->tile_px - margin, ay = cfg->inset_px + ty * cfg->tile_px - margin;
     *x0 = ax < 0 ? 0 : ax;
     *y0 = ay < 0 ? 0 : ay;
     *x1 = ax + cfg->window_px > img->width ? img->width : ax + cfg->window_px;

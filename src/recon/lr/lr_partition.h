@@ -31,6 +31,10 @@ typedef struct {
     LrFilterConfig filter;
     int tile_px;              /* N: 16 */
     int window_px;            /* N_s: 32 (tile plus (N_s - N)/2 on each side) */
+    int inset_px;             /* a band this wide along every border is read for its samples
+                               * but not reconstructed (the overscan band, cropped by the
+                               * pipeline): the tiles start at (inset_px, inset_px), the visible
+                               * image's corner. 0: the whole image */
     int uniform_layers;       /* layers uniform in depth over the window's depth range */
     int focus_bounds;         /* extra boundaries at c = +-focus_step_px * k^2, k = 1..n/2 */
     float focus_step_px;
@@ -61,7 +65,13 @@ typedef struct {
     } layer[LR_MAX_LAYERS];
 } LrTile;
 
-/* Window of tile (tx, ty) in pixels, clipped to the image: [x0, x1) x [y0, y1). */
+/* The tiles covering the reconstructed image (the image less cfg->inset_px on every side). */
+void lr_tile_count(const LrSamples *img, const LrConfig *cfg, int *ntx, int *nty);
+
+/* Pixels of tile (tx, ty), clipped to the reconstructed image: [x0, x1) x [y0, y1). */
+void lr_tile_pixels(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *x0, int *y0, int *x1, int *y1);
+
+/* Window of tile (tx, ty) in pixels, clipped to the image (the band included): [x0, x1) x [y0, y1). */
 void lr_tile_window(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *x0, int *y0, int *x1, int *y1);
 
 /* Partitions the window of tile (tx, ty) (LR sections 5, 7): lr_tile_bounds from the window's

@@ -29,9 +29,8 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
     int x0, y0, x1, y1;
     lr_tile_window(img, cfg, tx, ty, &x0, &y0, &x1, &y1);
     int ww = x1 - x0, wh = y1 - y0;
-    int tx0 = tx * cfg->tile_px, ty0 = ty * cfg->tile_px;
-    int tx1 = tx0 + cfg->tile_px > img->width ? img->width : tx0 + cfg->tile_px;
-    int ty1 = ty0 + cfg->tile_px > img->height ? img->height : ty0 + cfg->tile_px;
+    int tx0, ty0, tx1, ty1;
+    lr_tile_pixels(img, cfg, tx, ty, &tx0, &ty0, &tx1, &ty1);
     int tw = tx1 - tx0;
     int npix = tw * (ty1 - ty0);
     float *trans = malloc(sizeof(float) * (size_t)npix); /* transmittance so far (eq. 17) */
@@ -130,7 +129,8 @@ void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out)
     out->nonfinite = 0;
     for (size_t i = 0; i < (size_t)img->width * img->height * img->spp; ++i)
         if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
-    int ntx = (img->width + cfg->tile_px - 1) / cfg->tile_px, nty = (img->height + cfg->tile_px - 1) / cfg->tile_px;
+    int ntx, nty;
+    lr_tile_count(img, cfg, &ntx, &nty);
     for (int ty = 0; ty < nty; ++ty)
         for (int tx = 0; tx < ntx; ++tx) filter_tile(img, cfg, tx, ty, grid, pass1, ids, order, sample_at, out);
     free(grid);

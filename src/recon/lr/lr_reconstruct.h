@@ -10,6 +10,7 @@
 #include "recon/lr/lr_partition.h"
 #include "recon/lr/lr_taps.h"
 
+/* Pixels in the band of LrConfig.inset_px are left as they were (not reconstructed). */
 typedef struct {
     float *rgb;          /* width * height * 3, the reconstructed image */
     float *layers;       /* width * height or NULL: non-empty layers of the pixel's tile (AOV) */
