@@ -115,6 +115,7 @@ static bool aaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->defocus_cfg.black_background = !has_light_at_infinity(s->renderer);
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
+    m->stats.collect_coc = effect_in(m->effects, EFFECT_DEFOCUS);
     m->spp_effect = malloc(n * sizeof(int));
     m->param = malloc(2 * n * sizeof(float));
     m->shade = malloc(n * sizeof(float));

@@ -35,6 +35,7 @@ bool aaf_stats_init(AafStats *s, const GBuffer *g)
     s->height = g->height;
     s->g = g;
     s->collect_rays = true;
+    s->collect_coc = true;
     size_t n = (size_t)g->width * (size_t)g->height;
     if (n == 0) return false;
     bool ok = true;
@@ -132,7 +133,7 @@ void aaf_stats_add(void *ctx, int px, int py, const SampleRecord *r)
     AafStats *s = ctx;
     if (px < 0 || py < 0 || px >= s->width || py >= s->height) return;
     size_t i = (size_t)py * (size_t)s->width + (size_t)px;
-    if (s->collect_rays && s->g->cam.lens_radius_world > 0.0f) {
+    if (s->collect_rays && s->collect_coc && s->g->cam.lens_radius_world > 0.0f) {
         float slope = recon_coc_slope_px(&s->g->cam, r->hit ? r->depth_cam : INFINITY);
         s->coc_min[i] = fminf(s->coc_min[i], slope);
         s->coc_max[i] = fmaxf(s->coc_max[i], slope);

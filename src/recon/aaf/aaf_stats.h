@@ -39,6 +39,8 @@ typedef struct {
     int width, height;
     const GBuffer *g;            /* the shared guides (not owned): camera, hits, positions */
     bool collect_rays;           /* true during pass 1: ray geometry feeds the statistics */
+    bool collect_coc;            /* the samples' CoC range (coc_min, coc_max): read only by the
+                                  * defocus filter, so off when AAF does not filter defocus */
     const AafLightGeom *lights;  /* exact lights (not owned; NULL: estimate from light samples) */
     int light_count;
 

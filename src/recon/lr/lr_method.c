@@ -90,20 +90,37 @@ static bool lr_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
     return (m->cl = lr_cl_create(rt, d)) != NULL;
 }
 
-/* Where sample j's point is seen through the lens centre at mid-shutter (LR's reprojection to
- * u = v = 0, t = 1/2: lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens v,
- * and the film moving by motion_px per unit shutter time). */
-static void centre_position(const ReconMethod *m, size_t j, bool lens_dims, float *x0, float *y0)
+/* Each stored sample's CoC slope (px per unit lens; 0 without the lens dimensions or where it
+ * is not finite), computed once for the centre positions and the LR records. */
+static void sample_coc(const ReconMethod *m, bool lens_dims, float *coc_px)
+{
+    const SampleStore *st = m->store;
+    const float *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
+    size_t n = (size_t)m->g->width * (size_t)m->g->height, cap = (size_t)sample_store_capacity(st);
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < sample_store_count(st, i); ++k) {
+            size_t j = i * cap + (size_t)k;
+            float c = lens_dims ? recon_coc_slope_px(&m->g->cam, depth[j]) : 0.0f;
+            coc_px[j] = isfinite(c) ? c : 0.0f;
+        }
+}
+
+/* Where each sample's point is seen through the lens centre at mid-shutter (LR's reprojection
+ * to u = v = 0, t = 1/2: lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens
+ * v, and the film moving by motion_px per unit shutter time), into centre_xy (2 per sample). */
+static void centre_positions(const ReconMethod *m, const float *coc_px, float *centre_xy)
 {
     const SampleStore *st = m->store;
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
-    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
-    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION);
-    float c = lens_dims && lens ? recon_coc_slope_px(&m->g->cam, depth[j]) : 0.0f;
-    if (!isfinite(c)) c = 0.0f;
-    float dt = time ? time[j] - 0.5f : 0.0f;
-    *x0 = film[2 * j] - (lens ? c * lens[2 * j] : 0.0f) - (motion ? motion[2 * j] * dt : 0.0f);
-    *y0 = film[2 * j + 1] + (lens ? c * lens[2 * j + 1] : 0.0f) - (motion ? motion[2 * j + 1] * dt : 0.0f);
+    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *motion = sample_store_field(st, SAMPLE_FIELD_MOTION);
+    size_t n = (size_t)m->g->width * (size_t)m->g->height, cap = (size_t)sample_store_capacity(st);
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < sample_store_count(st, i); ++k) {
+            size_t j = i * cap + (size_t)k;
+            float c = coc_px[j], dt = time ? time[j] - 0.5f : 0.0f;
+            centre_xy[2 * j] = film[2 * j] - (lens ? c * lens[2 * j] : 0.0f) - (motion ? motion[2 * j] * dt : 0.0f);
+            centre_xy[2 * j + 1] = film[2 * j + 1] + (lens ? c * lens[2 * j + 1] : 0.0f) - (motion ? motion[2 * j + 1] * dt : 0.0f);
+        }
 }
 
 /* The store's samples as LrSamples (the smallest per-pixel count, which in a fixed-count
@@ -134,8 +151,9 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
     float *delta4 = shade ? malloc(sizeof(float) * 4 * n) : NULL;
     float *centre_xy = shade ? malloc(sizeof(float) * 2 * n * (size_t)cap) : NULL;
     float *centre9 = shade ? malloc(sizeof(float) * 9 * (size_t)cap) : NULL;
-    if (!light || !src || (shade && (!delta4 || !centre_xy || !centre9))) {
-        free(light), free(src), free(delta4), free(centre_xy), free(centre9);
+    float *coc_px = malloc(sizeof(float) * n * (size_t)cap);
+    if (!light || !src || !coc_px || (shade && (!delta4 || !centre_xy || !centre9))) {
+        free(light), free(src), free(delta4), free(centre_xy), free(centre9), free(coc_px);
         return NULL;
     }
     LrCentreLight centre = {0};
@@ -143,11 +161,10 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
      * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
      * along the motion, not a dimension it shears). */
     bool lens_dims = effect_in(m->effects, EFFECT_DEFOCUS);
+    sample_coc(m, lens_dims, coc_px);
     if (shade) {
         lr_delta_light(m->g, st, shade, delta4);
-        for (size_t i = 0; i < n; ++i)
-            for (int k = 0; k < sample_store_count(st, i); ++k)
-                centre_position(m, i * cap + k, lens_dims, &centre_xy[2 * (i * cap + k)], &centre_xy[2 * (i * cap + k) + 1]);
+        centre_positions(m, coc_px, centre_xy);
         /* without memory for the map, the samples of pass-through pixels keep their own light */
         lr_centre_light_build(&centre, m->g, st, shade, centre_xy);
     }
@@ -178,14 +195,13 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
             o->v = lens_dims && lens ? -lens[2 * j + 1] : 0.0f;
             o->t = time ? time[j] : 0.5f;
             o->depth = depth[j];
-            o->coc_px = lens_dims ? recon_coc_slope_px(&m->g->cam, depth[j]) : 0.0f;
-            if (!isfinite(o->coc_px)) o->coc_px = 0.0f;
+            o->coc_px = coc_px[j];
             o->motion_px[0] = motion ? motion[2 * j] : 0.0f;
             o->motion_px[1] = motion ? motion[2 * j + 1] : 0.0f;
             for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
         }
     }
-    free(light), free(src), free(delta4), free(centre_xy), free(centre9);
+    free(light), free(src), free(delta4), free(centre_xy), free(centre9), free(coc_px);
     lr_centre_light_free(&centre);
     return s;
 }
