@@ -150,6 +150,31 @@ static void test_indirect_hand_values(void)
         }
 }
 
+/* The indirect cap (aaf_indirect_spp_cap): 16 mu up to the default mu 2, as measured before;
+ * beyond it the samples under a capped pixel's filter, cap * beta^2 with beta from eq. 16, must
+ * grow with mu, or a larger budget (which raises mu) leaves each filtered pixel fewer samples
+ * and more variance. With the paper's linear cap, cap * beta^2 falls like 1/mu. */
+static void test_indirect_cap_grows_under_the_filter(void)
+{
+    AafIndirectConfig c = aaf_indirect_config_default();
+    for (float mu = 0.5f; mu <= 2.0f; mu += 0.5f) {
+        c.mu = mu;
+        CHECK_NEAR(aaf_indirect_spp_cap(&c), 16.0 * mu, 1e-4);
+    }
+    double prev = 0.0;
+    const float mus[] = {2.0f, 2.5f, 3.0f, 4.0f, 8.0f, 16.0f, 64.0f};
+    for (size_t k = 0; k < sizeof mus / sizeof mus[0]; ++k) {
+        c.mu = mus[k];
+        double beta = aaf_indirect_beta_world(1.0f, 2.8f, 0.01f, &c); /* zmin 1: the reflector sets the band */
+        double under = aaf_indirect_spp_cap(&c) * beta * beta;
+        CHECK(under > prev * 1.1);
+        if (!(under > prev * 1.1)) fprintf(stderr, "mu %g: cap * beta^2 %g after %g\n", (double)mus[k], under, prev);
+        prev = under;
+    }
+    c.mu = INFINITY;
+    CHECK(aaf_indirect_spp_cap(&c) == FLT_MAX);
+}
+
 static void test_defocus_hand_values(void)
 {
     AafDefocusConfig c = aaf_defocus_config_default();
@@ -263,6 +288,7 @@ static void test_defocus_image_black_background(void)
 
 int main(void)
 {
+    test_indirect_cap_grows_under_the_filter();
     test_shadow_hand_values();
     test_shadow_degenerate();
     test_consistency_in_mu();

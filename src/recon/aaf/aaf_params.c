@@ -146,6 +146,13 @@ float aaf_indirect_beta_world(float zmin_world, float omega_h, float pixel_world
     return finite_or(2.0f / omega_r, FLT_MAX);
 }
 
+float aaf_indirect_spp_cap(const AafIndirectConfig *c)
+{
+    float mu = sane_mu(c->mu), grow = mu > 2.0f ? 0.5f * mu : 1.0f;
+    float cap = c->spp_cap_per_mu * mu * grow * grow;
+    return isfinite(cap) ? cap : FLT_MAX;
+}
+
 /* AAF-GI eqs. 19-21. */
 float aaf_indirect_spp(float zmin_world, float zmax_world, float omega_h, float gamma,
                        float pixel_world, const AafIndirectConfig *c)

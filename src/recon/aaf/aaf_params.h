@@ -57,7 +57,8 @@ typedef struct {
     float alpha;            /* Omega_x^max = alpha/d, eq. 15 (paper: 0.3) */
     float mu;               /* eq. 15 and 21 (paper: 0.9 in their renders; we default to 2) */
     float zmin_clamp_frac;  /* zmin >= this * scene size, Sec. 5 (paper: 2%) */
-    float spp_cap_per_mu;   /* n <= this * mu, Sec. 5 (paper: 100; we use 16, measured) */
+    float spp_cap_per_mu;   /* n <= this * mu up to mu 2, Sec. 5 (paper: 100; we use 16,
+                             * measured); faster beyond (aaf_indirect_spp_cap) */
 } AafIndirectConfig;
 
 AafIndirectConfig aaf_indirect_config_default(void);
@@ -84,6 +85,13 @@ float aaf_indirect_beta_world(float zmin_world, float omega_h, float pixel_world
 /* Eqs. 19-21 (general form): Omega_x^* = Omega_x^r + alpha/d, Omega_v^* = Omega_h + zmax Omega_x^r,
  * n = gamma (Omega_x^* d)^2 (Omega_v^*)^2, which is eq. 21 when Omega_h/zmin <= alpha/d.
  * Not clamped (see aaf_clamp_spp). */
+/* The most samples a pixel gets (Sec. 5's cap, our form): spp_cap_per_mu * mu up to the default
+ * mu = 2, then growing as mu^3, so that the samples under a capped pixel's filter (n beta^2,
+ * beta ~ 1/mu by eq. 16) grow like mu and its filtered variance falls as a budget raises mu.
+ * With the paper's linear cap they fell like 1/mu, and a larger --spp budget gave a larger
+ * error (docs/algorithms.md, "Indirect light at large budgets"). */
+float aaf_indirect_spp_cap(const AafIndirectConfig *c);
+
 float aaf_indirect_spp(float zmin_world, float zmax_world, float omega_h, float gamma,
                        float pixel_world, const AafIndirectConfig *c);
 

@@ -266,9 +266,8 @@ static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
             float gamma = m > 0.0f ? aaf_indirect_gamma_glossy(m) : aaf_indirect_gamma_diffuse();
             float d = at_or(st->pixel_world, i, 0.0f);
             pr->beta_world[i] = aaf_indirect_beta_world(zmin, omega_h, d, c); /* eqs. 15, 16 */
-            float cap = c->spp_cap_per_mu * c->mu;
-            if (ic->spp_cap > 0.0f && ic->spp_cap < cap) cap = ic->spp_cap;
-            pr->spp[i] = aaf_clamp_spp(aaf_indirect_spp(zmin, zmax, omega_h, gamma, d, c), ic->spp_min, cap); /* eq. 21 */
+            /* eq. 21, under our cap (its own, not the image's 100 mu: aaf_params.h) */
+            pr->spp[i] = aaf_clamp_spp(aaf_indirect_spp(zmin, zmax, omega_h, gamma, d, c), ic->spp_min, aaf_indirect_spp_cap(c));
             if (pr->beta_world[i] > 0.0f) ++filtered;
         }
     }
