@@ -52,7 +52,8 @@ def run(args):
     ref = reference(args, out)
     spps = [int(s) for s in args.spp.split(",")]
     effects = _effects(args.wedge, args.scene)
-    points = [("wedge mc", s) for s in spps] + [("wedge aaf", s) for s in spps]
+    # wedge auto: the default a user gets (the choice per effect, issue 18)
+    points = [("wedge mc", s) for s in spps] + [("wedge auto", s) for s in spps] + [("wedge aaf", s) for s in spps]
     if "defocus" in effects or "motion" in effects:
         points += [("wedge lr", s) for s in spps]
     points += [("mitsuba path", s) for s in spps] + [("mc + oidn", s) for s in spps] + \
@@ -77,9 +78,9 @@ def run(args):
                 filt = "none" if method == "wedge mc" else "lr"
                 rep_ = runners.wedge_render(args.wedge, args.scene, img_path, args.res, int(x), seed, filt=filt)
                 img, secs = runners.rgb_of(runners.read_exr(img_path)), rep_["seconds_total"]
-            elif method == "wedge aaf":
+            elif method in ("wedge aaf", "wedge auto"):
                 # --spp under a filter is the frame's average budget (default mu)
-                rep_ = runners.wedge_render(args.wedge, args.scene, img_path, args.res, int(x), seed, filt="aaf")
+                rep_ = runners.wedge_render(args.wedge, args.scene, img_path, args.res, int(x), seed, filt=method.split()[1])
                 img, secs, spp_avg = runners.rgb_of(runners.read_exr(img_path)), rep_["seconds_total"], rep_["spp_avg"]
             elif method == "mitsuba path":
                 img, secs = ms.render_warm(int(x), seed)
@@ -228,7 +229,7 @@ def _time_cell(pts, target):
 def report_wide(dirs):
     """One row per scene: seconds to the 64-spp Monte Carlo error per method, and each wedge
     filter's time over each peer's (< 1: the wedge filter is faster)."""
-    wedge_methods = ["wedge mc", "wedge aaf", "wedge lr"]
+    wedge_methods = ["wedge mc", "wedge auto", "wedge aaf", "wedge lr"]
     peers = ["mitsuba path", "mc + oidn", "mc + oidn (albedo, normal)"]
     head = ["scene", "res", "target relMSE"] + [f"{m} s" for m in wedge_methods + peers] + \
            [f"{w.split()[1]} / {p}" for w in wedge_methods[1:] for p in peers]
