@@ -20,7 +20,19 @@ typedef struct {
 struct FsfCl {
     ClRuntime *rt;
     cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
+    FsfClProfile prof; /* the last run's */
 };
+
+/* Adds an event's device time to *acc (seconds) and releases it. */
+static void add_time(cl_event ev, double *acc)
+{
+    if (!ev) return;
+    cl_ulong t0 = 0, t1 = 0;
+    if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) == CL_SUCCESS &&
+        clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) == CL_SUCCESS && t1 > t0)
+        *acc += (double)(t1 - t0) * 1e-9;
+    clReleaseEvent(ev);
+}
 
 static bool cl_ok(cl_int err, const char *what, Diag *d)
 {
@@ -51,6 +63,15 @@ void fsf_cl_destroy(FsfCl *f)
     for (int i = 0; i < 6; ++i)
         if (k[i]) clReleaseKernel(k[i]);
     free(f);
+}
+
+/* A 1D launch over n work items in groups of a fixed size (see cl_launch_2d: a size PoCL
+ * picks itself is compiled anew per global size). */
+static cl_int launch1(FsfCl *f, cl_kernel k, size_t n, cl_event *ev)
+{
+    size_t local = 64;
+    size_t global = (n + local - 1) / local * local;
+    return clEnqueueNDRangeKernel(f->rt->queue, k, 1, NULL, &global, &local, 0, NULL, ev);
 }
 
 /* Sets a kernel's arguments: the FsfArgs, then ints (as cl_int), then buffers. */
@@ -98,19 +119,21 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[Q] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
     if (!err) b[OUT] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 4 * n, NULL, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
-    size_t global = n;
-    cl_event first = NULL, last = NULL;
+    enum { K_TAPS, K_BINS, K_1A, K_1B, K_2A, K_2B, K_N };
+    cl_event evs[64] = {0};
+    int evk[64], nev = 0;
+#define EV(k) (evk[nev] = (k), &evs[nev++])
     if (ok) { /* taps along the first axis (and cum1) */
         cl_int ints[1] = {0};
         cl_mem m[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
         ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 7), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->taps, 1, NULL, &global, NULL, 0, NULL, &first), "taps", d);
+             cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     if (ok) {
         cl_int ints[1] = {s->capacity};
         cl_mem m[3] = {b[COUNT], b[YS], b[BIN2]};
         ok = cl_ok(set_args(f->bins, &a, ints, 1, m, 3), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->bins, 1, NULL, &global, NULL, 0, NULL, NULL), "bins", d);
+             cl_ok(launch1(f, f->bins, n, EV(K_BINS)), "bins", d);
     }
     for (int bin = 0; ok && bin < g->y2_bins; ++bin) {
         cl_int i1a[2] = {bin, s->capacity};
@@ -118,9 +141,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         cl_int i1b[1] = {bin};
         cl_mem m1b[4] = {b[NODE], b[TW], b[P], b[G]};
         ok = cl_ok(set_args(f->pass1a, &a, i1a, 2, m1a, 7), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass1a, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1a", d) &&
+             cl_ok(launch1(f, f->pass1a, n, EV(K_1A)), "pass 1a", d) &&
              cl_ok(set_args(f->pass1b, &a, i1b, 1, m1b, 4), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass1b, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1b", d);
+             cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
     }
     if (ok) {
         cl_mem m2a[3] = {b[PX], b[G], b[Q]};
@@ -128,23 +151,22 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         cl_mem mt[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
         cl_mem m2b[4] = {b[NODE], b[TW], b[Q], b[OUT]};
         ok = cl_ok(set_args(f->pass2a, &a, NULL, 0, m2a, 3), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass2a, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 2a", d) &&
+             cl_ok(launch1(f, f->pass2a, n, EV(K_2A)), "pass 2a", d) &&
              cl_ok(set_args(f->taps, &a, ints, 1, mt, 7), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->taps, 1, NULL, &global, NULL, 0, NULL, NULL), "taps", d) &&
+             cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d) &&
              cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 4), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass2b, 1, NULL, &global, NULL, 0, NULL, &last), "pass 2b", d);
+             cl_ok(launch1(f, f->pass2b, n, EV(K_2B)), "pass 2b", d);
     }
     if (ok) ok = cl_ok(clEnqueueReadBuffer(q, b[OUT], CL_TRUE, 0, sizeof(float) * 4 * n, out4, 0, NULL, NULL), "download", d);
     clFinish(q);
-    if (ok && kernel_seconds) {
-        cl_ulong t0 = 0, t1 = 0;
-        if (clGetEventProfilingInfo(first, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) == CL_SUCCESS &&
-            clGetEventProfilingInfo(last, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) == CL_SUCCESS && t1 > t0)
-            *kernel_seconds = (double)(t1 - t0) * 1e-9;
-    }
-    if (first) clReleaseEvent(first);
-    if (last) clReleaseEvent(last);
+#undef EV
+    double kt[K_N] = {0};
+    for (int e = 0; e < nev; ++e) add_time(evs[e], &kt[evk[e]]);
+    f->prof = (FsfClProfile){kt[K_TAPS], kt[K_BINS], kt[K_1A], kt[K_1B], kt[K_2A], kt[K_2B]};
+    if (ok && kernel_seconds) *kernel_seconds = kt[K_TAPS] + kt[K_BINS] + kt[K_1A] + kt[K_1B] + kt[K_2A] + kt[K_2B];
     for (int i = 0; i < NBUF; ++i)
         if (b[i]) clReleaseMemObject(b[i]);
     return ok;
 }
+
+FsfClProfile fsf_cl_profile(const FsfCl *f) { return f->prof; }

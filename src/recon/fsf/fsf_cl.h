@@ -9,6 +9,13 @@
 
 typedef struct FsfCl FsfCl;
 
+/* Device seconds of each kernel in the last fsf_cl_run (PoCL event profiling), summed over
+ * its launches. */
+typedef struct {
+    double taps, bins, pass1a, pass1b, pass2a, pass2b;
+} FsfClProfile;
+FsfClProfile fsf_cl_profile(const FsfCl *f);
+
 FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d);
 void fsf_cl_destroy(FsfCl *f);
 
