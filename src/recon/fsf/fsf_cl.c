@@ -17,6 +17,10 @@ typedef struct {
     cl_float prof1, prof2;
 } FsfArgs;
 
+/* fsf.cl's tap tables: FSF_TAPS rounded up to whole float8 */
+enum { FSF_TAP_SLOTS = 40 };
+_Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_TAPS && FSF_TAP_SLOTS % 8 == 0, "fsf.cl writes taps 8 at a time");
+
 struct FsfCl {
     ClRuntime *rt;
     cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
@@ -98,7 +102,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         return false;
     }
     cl_int err = CL_SUCCESS;
-    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NODE, TW, CUM, P, G, Q, OUT, NBUF };
+    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NTAP, NODE, TA0, TA1, CUM, P, G, Q, OUT, NBUF };
     cl_mem b[NBUF] = {0};
     const cl_mem_flags ro = CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR;
     /* a store without slots (capacity 0) still gets a buffer of one float */
@@ -111,8 +115,10 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[POS] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err);
     if (!err) b[NRM] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
-    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * FSF_TAPS * n, NULL, &err);
-    if (!err) b[TW] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 2 * FSF_TAPS * n, NULL, &err);
+    if (!err) b[NTAP] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * n, NULL, &err);
+    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * FSF_TAP_SLOTS * n, NULL, &err);
+    if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
+    if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
     if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_CUM * n, NULL, &err);
     if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
     if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
@@ -125,8 +131,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
 #define EV(k) (evk[nev] = (k), &evs[nev++])
     if (ok) { /* taps along the first axis (and cum1) */
         cl_int ints[1] = {0};
-        cl_mem m[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 7), "arguments", d) &&
+        cl_mem m[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
+        ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 9), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     if (ok) {
@@ -139,22 +145,22 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         cl_int i1a[2] = {bin, s->capacity};
         cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
         cl_int i1b[1] = {bin};
-        cl_mem m1b[4] = {b[NODE], b[TW], b[P], b[G]};
+        cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
         ok = cl_ok(set_args(f->pass1a, &a, i1a, 2, m1a, 7), "arguments", d) &&
              cl_ok(launch1(f, f->pass1a, n, EV(K_1A)), "pass 1a", d) &&
-             cl_ok(set_args(f->pass1b, &a, i1b, 1, m1b, 4), "arguments", d) &&
+             cl_ok(set_args(f->pass1b, &a, i1b, 1, m1b, 6), "arguments", d) &&
              cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
     }
     if (ok) {
         cl_mem m2a[3] = {b[PX], b[G], b[Q]};
         cl_int ints[1] = {1};
-        cl_mem mt[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
-        cl_mem m2b[4] = {b[NODE], b[TW], b[Q], b[OUT]};
+        cl_mem mt[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
+        cl_mem m2b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[Q], b[OUT]};
         ok = cl_ok(set_args(f->pass2a, &a, NULL, 0, m2a, 3), "arguments", d) &&
              cl_ok(launch1(f, f->pass2a, n, EV(K_2A)), "pass 2a", d) &&
-             cl_ok(set_args(f->taps, &a, ints, 1, mt, 7), "arguments", d) &&
+             cl_ok(set_args(f->taps, &a, ints, 1, mt, 9), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d) &&
-             cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 4), "arguments", d) &&
+             cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 6), "arguments", d) &&
              cl_ok(launch1(f, f->pass2b, n, EV(K_2B)), "pass 2b", d);
     }
     if (ok) ok = cl_ok(clEnqueueReadBuffer(q, b[OUT], CL_TRUE, 0, sizeof(float) * 4 * n, out4, 0, NULL, NULL), "download", d);
