@@ -34,10 +34,6 @@ static int fsf_radius(float sigma)
     return r < (float)FSF_RADIUS_CAP_PX ? (int)r : FSF_RADIUS_CAP_PX;
 }
 
-static float fsf_gauss(float t, float sigma) { return sigma > 0.0f ? exp(-0.5f * t * t / (sigma * sigma)) : 1.0f; }
-
-static float fsf_box(float y, float half_m) { return fabs(y) <= half_m ? 1.0f : 0.0f; }
-
 static int fsf_bin2(float y2, float half2, int B)
 {
     int b = (int)floor((y2 + half2) / (2.0f * half2) * (float)B);
@@ -45,19 +41,6 @@ static int fsf_bin2(float y2, float half2, int B)
 }
 
 static float fsf_density(float z, float eta, float half_m, int r, __global const float *cum)
-{
-    float lo = -(float)r, hi = (float)r;
-    if (eta != 0.0f) {
-        float a = (z - half_m) / eta, b = (z + half_m) / eta;
-        lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));
-    } else if (!(fabs(z) <= half_m)) {
-        return 0.0f;
-    }
-    if (hi < lo) return 0.0f;
-    return cum[(int)hi + r + 1] - cum[(int)lo + r];
-}
-
-static float fsf_density_p(float z, float eta, float half_m, int r, const float *cum)
 {
     float lo = -(float)r, hi = (float)r;
     if (eta != 0.0f) {
@@ -159,7 +142,7 @@ __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *
 
 /* fsf_density at 8 light coordinates at once (PoCL runs one work item's scalar code on one
  * SIMD lane; a float8 fills the vector unit): the same arithmetic lane by lane. */
-static float8 fsf_density8(float8 z, float eta, float half_m, int r, __global const float *cum)
+static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float *cum)
 {
     float8 lo = (float8)(-(float)r), hi = (float8)((float)r);
     if (eta != 0.0f) {
@@ -189,7 +172,8 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin, const int capacity, __g
     for (int jj = 0; jj < J; ++jj) vstore4((float4)(0.0f), jj, Pi);
     int r = fsf_radius(px[8 * i + 6]);
     float eta = px[8 * i + 4];
-    __global const float *cum = cum1 + FSF_CUM * i;
+    float cum[FSF_CUM];
+    for (int e = 0; e < 2 * r + 2; ++e) cum[e] = cum1[FSF_CUM * i + e];
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     int n_k = count[i];
     for (int k = 0; k < n_k; ++k) {
@@ -238,7 +222,8 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin, __global const int *n_t
     vstore4(fsf_gather(i, n_taps, tap_node, tap_a0, tap_a1, P), a.B * i + bin, G);
 }
 
-/* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only). */
+/* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
+ * densities 8 at a time. */
 __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global const float *G, __global float *Q)
 {
     int i = get_global_id(0);
@@ -247,20 +232,25 @@ __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global con
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
     int r = fsf_radius(sigma);
-    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS];
-    cum[0] = 0.0f;
-    for (int t = -r; t <= r; ++t) cum[t + r + 1] = cum[t + r] + fsf_gauss((float)t, sigma);
-    for (int m = -2 * B; m < B; ++m) {
-        float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
-        float rho = fsf_box(z, a.prof2) != 0.0f ? fsf_density_p(z, eta, L2, r, cum) : 0.0f;
-        inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
+    float cum[FSF_CUM], g[FSF_TAP_SLOTS], inv_rho[3 * FSF_MAX_Y2_BINS + 8];
+    for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - r) + FSF_LANES8), sigma), 0, g + e0);
+    float c = 0.0f;
+    cum[0] = c;
+    for (int e = 0; e < 2 * r + 1; ++e) cum[e + 1] = c = c + g[e];
+    for (int m0 = -2 * B; m0 < B; m0 += 8) {
+        float8 z = 2.0f * L2 / (float)B * (convert_float8((int8)(m0) + FSF_LANES8) + 0.5f * (float)B + 0.5f);
+        float8 rho = fsf_density8(z, eta, L2, r, cum);
+        float8 w = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof2) & (rho > 0.0f));
+        vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): never read */
     }
+    float4 gi[FSF_MAX_Y2_BINS];
+    for (int b = 0; b < B; ++b) gi[b] = vload4(B * i + b, G);
     for (int jj = 0; jj < J; ++jj) {
         float4 acc = (float4)(0.0f);
         for (int b = 0; b < B; ++b) {
             float wk = inv_rho[b - 2 * jj + 2 * B];
             if (wk == 0.0f) continue;
-            acc += vload4(B * i + b, G) * wk;
+            acc += gi[b] * wk;
         }
         vstore4(acc, J * i + jj, Q);
     }
