@@ -40,30 +40,6 @@ static int fsf_bin2(float y2, float half2, int B)
     return b < 0 ? 0 : b >= B ? B - 1 : b;
 }
 
-static float fsf_density(float z, float eta, float half_m, int r, __global const float *cum)
-{
-    float lo = -(float)r, hi = (float)r;
-    if (eta != 0.0f) {
-        float a = (z - half_m) / eta, b = (z + half_m) / eta;
-        lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));
-    } else if (!(fabs(z) <= half_m)) {
-        return 0.0f;
-    }
-    if (hi < lo) return 0.0f;
-    return cum[(int)hi + r + 1] - cum[(int)lo + r];
-}
-
-static bool fsf_accept(const FsfArgs a, __global const float *pos4, __global const float *nrm4,
-                       __global const uchar *usable, int p, int q)
-{
-    if (!usable[q]) return false;
-    if (q == p) return true;
-    float3 np = vload3(0, nrm4 + 4 * p), nq = vload3(0, nrm4 + 4 * q);
-    if (dot(np, nq) < a.cos_normal_min) return false;
-    float3 pp = vload3(0, pos4 + 4 * p), pq = vload3(0, pos4 + 4 * q);
-    return fabs(dot(np, pq - pp)) <= a.plane_tol_rel * pos4[4 * p + 3];
-}
-
 #define FSF_LANES8 (int8)(0, 1, 2, 3, 4, 5, 6, 7)
 /* p[k.s0], ..., p[k.s7] */
 #define FSF_GATHER8(p, k)                                                                                  \
