@@ -135,17 +135,21 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
     return select(rho, (float8)(0.0f), none);
 }
 
-/* Pass 1a for one y2 bin (fsf_pass1a, eq. 12): a sample's shift nodes 8 at a time. */
-__kernel void fsf_pass1a(const FsfArgs a, const int bin, const int capacity, __global const int *count,
-                         __global const float *ys, __global const uchar *bin2, __global const float *value,
-                         __global const float *px, __global const float *cum1, __global float *P)
+/* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12), one slice of P each
+ * (slice c at c * N * J float4, N pixels), a sample's shift nodes 8 at a time. Several bins
+ * per launch share each work item's set-up (radius, running sums, the scan of its slots). */
+__kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity,
+                         __global const int *count, __global const float *ys, __global const uchar *bin2,
+                         __global const float *value, __global const float *px, __global const float *cum1,
+                         __global float *P)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
-    __global float *Pi = P + J * 4 * i;
-    for (int jj = 0; jj < J; ++jj) vstore4((float4)(0.0f), jj, Pi);
+    size_t slice = (size_t)a.width * (size_t)a.height * (size_t)J * 4;
+    for (int c = 0; c < C; ++c)
+        for (int jj = 0; jj < J; ++jj) vstore4((float4)(0.0f), J * i + jj, P + c * slice);
     int r = fsf_radius(px[8 * i + 6]);
     float eta = px[8 * i + 4];
     float cum[FSF_CUM];
@@ -153,8 +157,9 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin, const int capacity, __g
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     int n_k = count[i];
     for (int k = 0; k < n_k; ++k) {
-        int slot = i * capacity + k;
-        if (bin2[slot] != bin) continue;
+        int slot = i * capacity + k, c = (int)bin2[slot] - bin0;
+        if (c < 0 || c >= C) continue;
+        __global float *Pi = P + c * slice + J * 4 * i;
         float y1 = ys[2 * slot];
         float4 v = (float4)(value[3 * slot], value[3 * slot + 1], value[3 * slot + 2], 1.0f);
         int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);
@@ -189,13 +194,14 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
 }
 
 /* Pass 1b for one y2 bin (fsf_pass1b, eq. 13). */
-__kernel void fsf_pass1b(const FsfArgs a, const int bin, __global const int *n_taps, __global const int *tap_node,
-                         __global const float *tap_a0, __global const float *tap_a1, __global const float *P,
-                         __global float *G)
+__kernel void fsf_pass1b(const FsfArgs a, const int bin, const int c, __global const int *n_taps,
+                         __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
+                         __global const float *P, __global float *G)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
-    vstore4(fsf_gather(i, n_taps, tap_node, tap_a0, tap_a1, P), a.B * i + bin, G);
+    __global const float *Pc = P + (size_t)c * (size_t)a.width * (size_t)a.height * (size_t)a.J * 4;
+    vstore4(fsf_gather(i, n_taps, tap_node, tap_a0, tap_a1, Pc), a.B * i + bin, G);
 }
 
 /* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B

@@ -17,6 +17,10 @@ typedef struct {
     cl_float prof1, prof2;
 } FsfArgs;
 
+/* Memory for several slices of P at once (pass 1a fills them in one launch); 4 slices of a
+ * 256x256 frame */
+#define FSF_P_BYTES ((size_t)72 << 20)
+
 /* fsf.cl's tap tables: FSF_TAPS rounded up to whole float8 */
 enum { FSF_TAP_SLOTS = 40 };
 _Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_TAPS && FSF_TAP_SLOTS % 8 == 0, "fsf.cl writes taps 8 at a time");
@@ -101,6 +105,12 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
         return false;
     }
+    /* y2 bins per launch of pass 1a (one slice of P each): up to 4, as many as fit in
+     * FSF_P_BYTES (docs/benchmarks.md, "FSF's passes, faster": 4 slices take 25% less time
+     * in 1a than 1; more were slower) */
+    size_t slice_bytes = sizeof(float) * 4 * J * n;
+    int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
+    chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
     cl_int err = CL_SUCCESS;
     enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NTAP, NODE, TA0, TA1, CUM, P, G, Q, OUT, NBUF };
     cl_mem b[NBUF] = {0};
@@ -120,14 +130,15 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
     if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
     if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_CUM * n, NULL, &err);
-    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
+    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slice_bytes * (size_t)chunk, NULL, &err);
     if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
     if (!err) b[Q] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
     if (!err) b[OUT] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 4 * n, NULL, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
     enum { K_TAPS, K_BINS, K_1A, K_1B, K_2A, K_2B, K_N };
-    cl_event evs[64] = {0};
-    int evk[64], nev = 0;
+    /* one event per launch: taps twice, bins, 1a and 1b at most once per bin, 2a, 2b */
+    cl_event evs[2 * FSF_MAX_Y2_BINS + 5] = {0};
+    int evk[2 * FSF_MAX_Y2_BINS + 5], nev = 0;
 #define EV(k) (evk[nev] = (k), &evs[nev++])
     if (ok) { /* taps along the first axis (and cum1) */
         cl_int ints[1] = {0};
@@ -141,15 +152,18 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         ok = cl_ok(set_args(f->bins, &a, ints, 1, m, 3), "arguments", d) &&
              cl_ok(launch1(f, f->bins, n, EV(K_BINS)), "bins", d);
     }
-    for (int bin = 0; ok && bin < g->y2_bins; ++bin) {
-        cl_int i1a[2] = {bin, s->capacity};
+    for (int bin0 = 0; ok && bin0 < g->y2_bins; bin0 += chunk) {
+        cl_int c_n = g->y2_bins - bin0 < chunk ? g->y2_bins - bin0 : chunk;
+        cl_int i1a[3] = {bin0, c_n, s->capacity};
         cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
-        cl_int i1b[1] = {bin};
-        cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
-        ok = cl_ok(set_args(f->pass1a, &a, i1a, 2, m1a, 7), "arguments", d) &&
-             cl_ok(launch1(f, f->pass1a, n, EV(K_1A)), "pass 1a", d) &&
-             cl_ok(set_args(f->pass1b, &a, i1b, 1, m1b, 6), "arguments", d) &&
-             cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
+        ok = cl_ok(set_args(f->pass1a, &a, i1a, 3, m1a, 7), "arguments", d) &&
+             cl_ok(launch1(f, f->pass1a, n, EV(K_1A)), "pass 1a", d);
+        for (cl_int c = 0; ok && c < c_n; ++c) {
+            cl_int i1b[2] = {bin0 + c, c};
+            cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
+            ok = cl_ok(set_args(f->pass1b, &a, i1b, 2, m1b, 6), "arguments", d) &&
+                 cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
+        }
     }
     if (ok) {
         cl_mem m2a[3] = {b[PX], b[G], b[Q]};
