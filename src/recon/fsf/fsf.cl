@@ -193,15 +193,30 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
     return acc;
 }
 
-/* Pass 1b for one y2 bin (fsf_pass1b, eq. 13). */
-__kernel void fsf_pass1b(const FsfArgs a, const int bin, const int c, __global const int *n_taps,
+/* Pass 1b for the C <= 4 bins of pass 1a's launch (fsf_pass1b, eq. 13): each tap read once
+ * for all of them. */
+__kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, __global const int *n_taps,
                          __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
                          __global const float *P, __global float *G)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
-    __global const float *Pc = P + (size_t)c * (size_t)a.width * (size_t)a.height * (size_t)a.J * 4;
-    vstore4(fsf_gather(i, n_taps, tap_node, tap_a0, tap_a1, Pc), a.B * i + bin, G);
+    int slice = a.width * a.height * a.J; /* float4 per slice */
+    float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
+    int n = n_taps[i];
+    for (int e = 0; e < n; ++e) {
+        int o = FSF_TAP_SLOTS * i + e, node = tap_node[o];
+        if (node < 0) continue;
+        float a0 = tap_a0[o], a1 = tap_a1[o];
+        acc0 += a0 * vload4(node, P) + a1 * vload4(node + 1, P);
+        if (C > 1) acc1 += a0 * vload4(slice + node, P) + a1 * vload4(slice + node + 1, P);
+        if (C > 2) acc2 += a0 * vload4(2 * slice + node, P) + a1 * vload4(2 * slice + node + 1, P);
+        if (C > 3) acc3 += a0 * vload4(3 * slice + node, P) + a1 * vload4(3 * slice + node + 1, P);
+    }
+    vstore4(acc0, a.B * i + bin0, G);
+    if (C > 1) vstore4(acc1, a.B * i + bin0 + 1, G);
+    if (C > 2) vstore4(acc2, a.B * i + bin0 + 2, G);
+    if (C > 3) vstore4(acc3, a.B * i + bin0 + 3, G);
 }
 
 /* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B

@@ -158,12 +158,10 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
         ok = cl_ok(set_args(f->pass1a, &a, i1a, 3, m1a, 7), "arguments", d) &&
              cl_ok(launch1(f, f->pass1a, n, EV(K_1A)), "pass 1a", d);
-        for (cl_int c = 0; ok && c < c_n; ++c) {
-            cl_int i1b[2] = {bin0 + c, c};
-            cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
-            ok = cl_ok(set_args(f->pass1b, &a, i1b, 2, m1b, 6), "arguments", d) &&
-                 cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
-        }
+        cl_int i1b[2] = {bin0, c_n};
+        cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
+        ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 2, m1b, 6), "arguments", d) &&
+             cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
     }
     if (ok) {
         cl_mem m2a[3] = {b[PX], b[G], b[Q]};
