@@ -128,7 +128,8 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
         hi = select(hi, (float8)(-1.0f - (float)r), fabs(z) > half_m);
     }
     int8 none = isless(hi, lo);
-    int8 ih = clamp(convert_int8(hi) + (r + 1), 0, 2 * r + 1), il = clamp(convert_int8(lo) + r, 0, 2 * r + 1);
+    /* clamped before the conversion: a lane left out may hold +-inf (eta near 0) */
+    int8 ih = convert_int8(clamp(hi, -(float)r, (float)r)) + (r + 1), il = convert_int8(clamp(lo, -(float)r, (float)r)) + r;
     float8 rho = (float8)(cum[ih.s0] - cum[il.s0], cum[ih.s1] - cum[il.s1], cum[ih.s2] - cum[il.s2],
                           cum[ih.s3] - cum[il.s3], cum[ih.s4] - cum[il.s4], cum[ih.s5] - cum[il.s5],
                           cum[ih.s6] - cum[il.s6], cum[ih.s7] - cum[il.s7]);
