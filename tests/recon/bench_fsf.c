@@ -2,7 +2,9 @@
  * 4D sum on the same synthetic samples (fsf_synth.h), W x H pixels, 16 samples per pixel,
  * a 33-pixel footprint (sigma 8, the paper's cap) on both axes, the default grid (17 shift
  * nodes, 16 y2 bins). Warm: one untimed run, then the median of 3. Both use recon_parallel_for (2 cores).
- * FSF section 6 reports 40-50x for its GPU implementation. Usage: bench_fsf [W H [factored]] */
+ * FSF section 6 reports 40-50x for its GPU implementation. Then the OpenCL passes: the median
+ * of 7 warm runs of fsf_cl_run and, per kernel (fsf_cl_profile), the median and the fastest.
+ * Usage: bench_fsf [W H [factored|cl]] (factored: the C passes alone; cl: the OpenCL alone) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
