@@ -112,7 +112,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
     chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
     cl_int err = CL_SUCCESS;
-    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NTAP, NODE, TA0, TA1, CUM, P, G, Q, OUT, NBUF };
+    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NTAP, NODE, TA0, TA1, CUM, P, G, OUT, NBUF };
     cl_mem b[NBUF] = {0};
     const cl_mem_flags ro = CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR;
     /* a store without slots (capacity 0) still gets a buffer of one float */
@@ -132,7 +132,6 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_CUM * n, NULL, &err);
     if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slice_bytes * (size_t)chunk, NULL, &err);
     if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
-    if (!err) b[Q] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
     if (!err) b[OUT] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 4 * n, NULL, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
     enum { K_TAPS, K_BINS, K_1A, K_1B, K_2A, K_2B, K_N };
@@ -164,10 +163,11 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
              cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
     }
     if (ok) {
-        cl_mem m2a[3] = {b[PX], b[G], b[Q]};
+        /* Q in P's memory (Q has one slice's shape; pass 1 is done with P): fewer fresh pages */
+        cl_mem m2a[3] = {b[PX], b[G], b[P]};
         cl_int ints[1] = {1};
         cl_mem mt[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        cl_mem m2b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[Q], b[OUT]};
+        cl_mem m2b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[OUT]};
         ok = cl_ok(set_args(f->pass2a, &a, NULL, 0, m2a, 3), "arguments", d) &&
              cl_ok(launch1(f, f->pass2a, n, EV(K_2A)), "pass 2a", d) &&
              cl_ok(set_args(f->taps, &a, ints, 1, mt, 9), "arguments", d) &&
