@@ -7,12 +7,14 @@
  *   count       samples per pixel; y: 2 floats per slot (light metres along u, v); value: 3
  *   px          8 floats per pixel (FsfPixel): dir1 (2), dir2 (2), eta (2), sigma (2)
  *   pos4, nrm4  the guides; usable: 1 byte per pixel
- *   tap_node    FSF_TAPS ints per pixel (-1: no tap); tap_w: 2 floats per tap
+ *   n_taps      taps per pixel; tap_node: FSF_TAP_SLOTS ints per pixel (-1: no tap); tap_a0, tap_a1:
+ *               the weights of nodes j0 and j0 + 1, FSF_TAP_SLOTS floats per pixel each
  *   cum1        FSF_CUM floats per pixel: running sums of the first axis' tap weights
  *   P, Q        J * 4 floats per pixel (J shift nodes); G: B * 4 floats per pixel (B y2 bins) */
 
 #define FSF_RADIUS_CAP_PX 16
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
+#define FSF_TAP_SLOTS 40 /* FSF_TAPS rounded up to whole float8 */
 #define FSF_CUM (2 * FSF_RADIUS_CAP_PX + 2)
 #define FSF_RADIUS_SIGMAS 2.0f
 #define FSF_MAX_Y2_BINS 64
@@ -32,57 +34,30 @@ static int fsf_radius(float sigma)
     return r < (float)FSF_RADIUS_CAP_PX ? (int)r : FSF_RADIUS_CAP_PX;
 }
 
-static float fsf_gauss(float t, float sigma) { return sigma > 0.0f ? exp(-0.5f * t * t / (sigma * sigma)) : 1.0f; }
-
-static float fsf_box(float y, float half_m) { return fabs(y) <= half_m ? 1.0f : 0.0f; }
-
 static int fsf_bin2(float y2, float half2, int B)
 {
     int b = (int)floor((y2 + half2) / (2.0f * half2) * (float)B);
     return b < 0 ? 0 : b >= B ? B - 1 : b;
 }
 
-static float fsf_density(float z, float eta, float half_m, int r, __global const float *cum)
+#define FSF_LANES8 (int8)(0, 1, 2, 3, 4, 5, 6, 7)
+/* p[k.s0], ..., p[k.s7] */
+#define FSF_GATHER8(p, k)                                                                                  \
+    (float8)((p)[(k).s0], (p)[(k).s1], (p)[(k).s2], (p)[(k).s3], (p)[(k).s4], (p)[(k).s5], (p)[(k).s6], \
+             (p)[(k).s7])
+
+/* fsf_gauss at 8 taps */
+static float8 fsf_gauss8(float8 t, float sigma)
 {
-    float lo = -(float)r, hi = (float)r;
-    if (eta != 0.0f) {
-        float a = (z - half_m) / eta, b = (z + half_m) / eta;
-        lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));
-    } else if (!(fabs(z) <= half_m)) {
-        return 0.0f;
-    }
-    if (hi < lo) return 0.0f;
-    return cum[(int)hi + r + 1] - cum[(int)lo + r];
+    return sigma > 0.0f ? exp(-0.5f * t * t / (sigma * sigma)) : (float8)(1.0f);
 }
 
-static float fsf_density_p(float z, float eta, float half_m, int r, const float *cum)
-{
-    float lo = -(float)r, hi = (float)r;
-    if (eta != 0.0f) {
-        float a = (z - half_m) / eta, b = (z + half_m) / eta;
-        lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));
-    } else if (!(fabs(z) <= half_m)) {
-        return 0.0f;
-    }
-    if (hi < lo) return 0.0f;
-    return cum[(int)hi + r + 1] - cum[(int)lo + r];
-}
-
-static bool fsf_accept(const FsfArgs a, __global const float *pos4, __global const float *nrm4,
-                       __global const uchar *usable, int p, int q)
-{
-    if (!usable[q]) return false;
-    if (q == p) return true;
-    float3 np = vload3(0, nrm4 + 4 * p), nq = vload3(0, nrm4 + 4 * q);
-    if (dot(np, nq) < a.cos_normal_min) return false;
-    float3 pp = vload3(0, pos4 + 4 * p), pq = vload3(0, pos4 + 4 * q);
-    return fabs(dot(np, pq - pp)) <= a.plane_tol_rel * pos4[4 * p + 3];
-}
-
-/* Each pixel's taps along one axis (fsf_taps); along axis 0 also its cum1 (fsf_tap_prefix). */
+/* Each pixel's taps along one axis (fsf_taps, fsf_filter.c), 8 at a time (PoCL gives one work
+ * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, at most
+ * FSF_TAP_SLOTS per pixel (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix). */
 __kernel void fsf_taps(const FsfArgs a, const int axis, __global const float *px, __global const float *pos4,
-                       __global const float *nrm4, __global const uchar *usable, __global int *tap_node,
-                       __global float *tap_w, __global float *cum1)
+                       __global const float *nrm4, __global const uchar *usable, __global int *n_taps,
+                       __global int *tap_node, __global float *tap_a0, __global float *tap_a1, __global float *cum1)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
@@ -92,26 +67,43 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, __global const float *px
     float half_m = axis == 0 ? a.half1 : a.half2;
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
     int r = usable[i] ? fsf_radius(sigma) : 0;
-    for (int t = -FSF_RADIUS_CAP_PX; t <= FSF_RADIUS_CAP_PX; ++t) {
-        int o = FSF_TAPS * i + t + FSF_RADIUS_CAP_PX;
-        tap_node[o] = -1, tap_w[2 * o] = 0.0f, tap_w[2 * o + 1] = 0.0f;
-        if (t < -r || t > r) continue;
-        int qx = x + (int)floor((float)t * dx + 0.5f), qy = y + (int)floor((float)t * dy + 0.5f);
-        if (qx < 0 || qy < 0 || qx >= a.width || qy >= a.height) continue;
-        int q = qy * a.width + qx;
-        if (t != 0 && !fsf_accept(a, pos4, nrm4, usable, i, q)) continue;
-        float f = -eta * (float)t * inv_dY + mid;
-        if (!(f >= 0.0f && f <= (float)(J - 1))) continue;
-        int j0 = (int)floor(f);
-        if (j0 > J - 2) j0 = J - 2;
-        float b = f - (float)j0, wt = fsf_gauss((float)t, sigma);
-        tap_node[o] = q * J + j0, tap_w[2 * o] = wt * (1.0f - b), tap_w[2 * o + 1] = wt * b;
+    n_taps[i] = 2 * r + 1;
+    /* the centre's guides (fsf_accept) */
+    float c_nx = nrm4[4 * i], c_ny = nrm4[4 * i + 1], c_nz = nrm4[4 * i + 2];
+    float c_px = pos4[4 * i], c_py = pos4[4 * i + 1], c_pz = pos4[4 * i + 2];
+    float c_tol = a.plane_tol_rel * pos4[4 * i + 3];
+    for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) {
+        int8 ti = (int8)(e0 - r) + FSF_LANES8;
+        float8 tf = convert_float8(ti);
+        int8 qx = x + convert_int8(floor(tf * dx + 0.5f)), qy = y + convert_int8(floor(tf * dy + 0.5f));
+        int8 ok = (ti <= r) & (qx >= 0) & (qy >= 0) & (qx < a.width) & (qy < a.height);
+        int8 q = select((int8)(i), qy * a.width + qx, ok);
+        /* fsf_accept for t != 0: usable, normal within the cone, on the centre's plane */
+        int8 q4 = 4 * q;
+        int8 use = (int8)(usable[q.s0], usable[q.s1], usable[q.s2], usable[q.s3], usable[q.s4], usable[q.s5],
+                          usable[q.s6], usable[q.s7]);
+        float8 cosn = c_nx * FSF_GATHER8(nrm4, q4) + c_ny * FSF_GATHER8(nrm4, q4 + 1) + c_nz * FSF_GATHER8(nrm4, q4 + 2);
+        float8 off = c_nx * (FSF_GATHER8(pos4, q4) - c_px) + c_ny * (FSF_GATHER8(pos4, q4 + 1) - c_py) +
+                     c_nz * (FSF_GATHER8(pos4, q4 + 2) - c_pz);
+        ok &= (ti == 0) | ((use != 0) & ((q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol))));
+        float8 f = -eta * tf * inv_dY + mid;
+        ok &= (f >= 0.0f) & (f <= (float)(J - 1));
+        f = select((float8)(0.0f), f, ok);
+        int8 j0 = min(convert_int8(floor(f)), J - 2);
+        float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma);
+        int o = FSF_TAP_SLOTS * i + e0;
+        vstore8(select((int8)(-1), q * J + j0, ok), 0, tap_node + o);
+        vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
+        vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
     }
-    if (axis == 0) {
+    if (axis == 0) { /* the running sums of the weights, over the taps of the unmasked radius */
         int rr = fsf_radius(pp[6]);
+        float g[FSF_TAP_SLOTS];
+        for (int e0 = 0; e0 < 2 * rr + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - rr) + FSF_LANES8), pp[6]), 0, g + e0);
         __global float *cum = cum1 + FSF_CUM * i;
-        cum[0] = 0.0f;
-        for (int t = -rr; t <= rr; ++t) cum[t + rr + 1] = cum[t + rr] + fsf_gauss((float)t, pp[6]);
+        float c = 0.0f;
+        cum[0] = c;
+        for (int e = 0; e < 2 * rr + 1; ++e) cum[e + 1] = c = c + g[e];
     }
 }
 
@@ -124,62 +116,112 @@ __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *
     for (int k = 0; k < count[i]; ++k) bin2[i * capacity + k] = (uchar)fsf_bin2(ys[2 * (i * capacity + k) + 1], a.half2, a.B);
 }
 
-/* Pass 1a for one y2 bin (fsf_pass1a, eq. 12). */
-__kernel void fsf_pass1a(const FsfArgs a, const int bin, const int capacity, __global const int *count,
-                         __global const float *ys, __global const uchar *bin2, __global const float *value,
-                         __global const float *px, __global const float *cum1, __global float *P)
+/* fsf_density at 8 light coordinates at once (PoCL runs one work item's scalar code on one
+ * SIMD lane; a float8 fills the vector unit): the same arithmetic lane by lane. */
+static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float *cum)
+{
+    float8 lo = (float8)(-(float)r), hi = (float8)((float)r);
+    if (eta != 0.0f) {
+        float8 a = (z - half_m) / eta, b = (z + half_m) / eta;
+        lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));
+    } else { /* no shear: every tap or none */
+        hi = select(hi, (float8)(-1.0f - (float)r), fabs(z) > half_m);
+    }
+    int8 none = isless(hi, lo);
+    /* clamped before the conversion: a lane left out may hold +-inf (eta near 0) */
+    int8 ih = convert_int8(clamp(hi, -(float)r, (float)r)) + (r + 1), il = convert_int8(clamp(lo, -(float)r, (float)r)) + r;
+    float8 rho = (float8)(cum[ih.s0] - cum[il.s0], cum[ih.s1] - cum[il.s1], cum[ih.s2] - cum[il.s2],
+                          cum[ih.s3] - cum[il.s3], cum[ih.s4] - cum[il.s4], cum[ih.s5] - cum[il.s5],
+                          cum[ih.s6] - cum[il.s6], cum[ih.s7] - cum[il.s7]);
+    return select(rho, (float8)(0.0f), none);
+}
+
+/* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12), one slice of P each
+ * (slice c at c * N * J float4, N pixels), a sample's shift nodes 8 at a time. Several bins
+ * per launch share each work item's set-up (radius, running sums, the scan of its slots). */
+__kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity,
+                         __global const int *count, __global const float *ys, __global const uchar *bin2,
+                         __global const float *value, __global const float *px, __global const float *cum1,
+                         __global float *P)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
-    __global float *Pi = P + J * 4 * i;
-    for (int k = 0; k < 4 * J; ++k) Pi[k] = 0.0f;
+    size_t slice = (size_t)a.width * (size_t)a.height * (size_t)J * 4;
+    for (int c = 0; c < C; ++c)
+        for (int jj = 0; jj < J; ++jj) vstore4((float4)(0.0f), J * i + jj, P + c * slice);
     int r = fsf_radius(px[8 * i + 6]);
     float eta = px[8 * i + 4];
-    __global const float *cum = cum1 + FSF_CUM * i;
-    for (int k = 0; k < count[i]; ++k) {
-        int slot = i * capacity + k;
-        if (bin2[slot] != bin) continue;
+    float cum[FSF_CUM];
+    for (int e = 0; e < 2 * r + 2; ++e) cum[e] = cum1[FSF_CUM * i + e];
+    const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
+    int n_k = count[i];
+    for (int k = 0; k < n_k; ++k) {
+        int slot = i * capacity + k, c = (int)bin2[slot] - bin0;
+        if (c < 0 || c >= C) continue;
+        __global float *Pi = P + c * slice + J * 4 * i;
         float y1 = ys[2 * slot];
-        float v0 = value[3 * slot], v1 = value[3 * slot + 1], v2 = value[3 * slot + 2];
+        float4 v = (float4)(value[3 * slot], value[3 * slot + 1], value[3 * slot + 2], 1.0f);
         int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);
         if (j0 < 0) j0 = 0;
         if (j1 > J - 1) j1 = J - 1;
-        for (int jj = j0; jj <= j1; ++jj) {
-            float z = y1 - ((float)jj - mid) * dY;
-            if (fsf_box(z, a.prof1) == 0.0f) continue;
-            float rho = fsf_density(z, eta, L1, r, cum);
-            if (!(rho > 0.0f)) continue;
-            float wk = 1.0f / rho;
-            __global float *o = Pi + 4 * jj;
-            o[0] += wk * v0, o[1] += wk * v1, o[2] += wk * v2, o[3] += wk;
+        for (int s0 = j0; s0 <= j1; s0 += 8) {
+            float8 z = y1 - ((float8)((float)s0) + lane - mid) * dY;
+            float8 rho = fsf_density8(z, eta, L1, r, cum);
+            /* the box (rounding at the light's ends) and an empty density leave a node out */
+            float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
+            float w[8];
+            vstore8(wk, 0, w);
+            int nl = min(8, j1 - s0 + 1);
+            for (int l = 0; l < nl; ++l)
+                if (w[l] != 0.0f) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
         }
     }
 }
 
-/* One pixel's gather through its taps (passes 1b and 2b). */
-static float4 fsf_gather(int i, __global const int *tap_node, __global const float *tap_w, __global const float *F)
+/* One pixel's gather through its taps (passes 1b and 2b), in the order of t. */
+static float4 fsf_gather(int i, __global const int *n_taps, __global const int *tap_node,
+                         __global const float *tap_a0, __global const float *tap_a1, __global const float *F)
 {
     float4 acc = (float4)(0.0f);
-    for (int t = 0; t < FSF_TAPS; ++t) {
-        int o = FSF_TAPS * i + t, node = tap_node[o];
+    int n = n_taps[i];
+    for (int e = 0; e < n; ++e) {
+        int o = FSF_TAP_SLOTS * i + e, node = tap_node[o];
         if (node < 0) continue;
-        acc += tap_w[2 * o] * vload4(node, F) + tap_w[2 * o + 1] * vload4(node + 1, F);
+        acc += tap_a0[o] * vload4(node, F) + tap_a1[o] * vload4(node + 1, F);
     }
     return acc;
 }
 
-/* Pass 1b for one y2 bin (fsf_pass1b, eq. 13). */
-__kernel void fsf_pass1b(const FsfArgs a, const int bin, __global const int *tap_node, __global const float *tap_w,
+/* Pass 1b for the C <= 4 bins of pass 1a's launch (fsf_pass1b, eq. 13): each tap read once
+ * for all of them. */
+__kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, __global const int *n_taps,
+                         __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
                          __global const float *P, __global float *G)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
-    vstore4(fsf_gather(i, tap_node, tap_w, P), a.B * i + bin, G);
+    int slice = a.width * a.height * a.J; /* float4 per slice */
+    float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
+    int n = n_taps[i];
+    for (int e = 0; e < n; ++e) {
+        int o = FSF_TAP_SLOTS * i + e, node = tap_node[o];
+        if (node < 0) continue;
+        float a0 = tap_a0[o], a1 = tap_a1[o];
+        acc0 += a0 * vload4(node, P) + a1 * vload4(node + 1, P);
+        if (C > 1) acc1 += a0 * vload4(slice + node, P) + a1 * vload4(slice + node + 1, P);
+        if (C > 2) acc2 += a0 * vload4(2 * slice + node, P) + a1 * vload4(2 * slice + node + 1, P);
+        if (C > 3) acc3 += a0 * vload4(3 * slice + node, P) + a1 * vload4(3 * slice + node + 1, P);
+    }
+    vstore4(acc0, a.B * i + bin0, G);
+    if (C > 1) vstore4(acc1, a.B * i + bin0 + 1, G);
+    if (C > 2) vstore4(acc2, a.B * i + bin0 + 2, G);
+    if (C > 3) vstore4(acc3, a.B * i + bin0 + 3, G);
 }
 
-/* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only). */
+/* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
+ * densities 8 at a time. */
 __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global const float *G, __global float *Q)
 {
     int i = get_global_id(0);
@@ -188,30 +230,36 @@ __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global con
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
     int r = fsf_radius(sigma);
-    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS];
-    cum[0] = 0.0f;
-    for (int t = -r; t <= r; ++t) cum[t + r + 1] = cum[t + r] + fsf_gauss((float)t, sigma);
-    for (int m = -2 * B; m < B; ++m) {
-        float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
-        float rho = fsf_box(z, a.prof2) != 0.0f ? fsf_density_p(z, eta, L2, r, cum) : 0.0f;
-        inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
+    float cum[FSF_CUM], g[FSF_TAP_SLOTS], inv_rho[3 * FSF_MAX_Y2_BINS + 8];
+    for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - r) + FSF_LANES8), sigma), 0, g + e0);
+    float c = 0.0f;
+    cum[0] = c;
+    for (int e = 0; e < 2 * r + 1; ++e) cum[e + 1] = c = c + g[e];
+    for (int m0 = -2 * B; m0 < B; m0 += 8) {
+        float8 z = 2.0f * L2 / (float)B * (convert_float8((int8)(m0) + FSF_LANES8) + 0.5f * (float)B + 0.5f);
+        float8 rho = fsf_density8(z, eta, L2, r, cum);
+        float8 w = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof2) & (rho > 0.0f));
+        vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): never read */
     }
+    float4 gi[FSF_MAX_Y2_BINS];
+    for (int b = 0; b < B; ++b) gi[b] = vload4(B * i + b, G);
     for (int jj = 0; jj < J; ++jj) {
         float4 acc = (float4)(0.0f);
         for (int b = 0; b < B; ++b) {
             float wk = inv_rho[b - 2 * jj + 2 * B];
             if (wk == 0.0f) continue;
-            acc += vload4(B * i + b, G) * wk;
+            acc += gi[b] * wk;
         }
         vstore4(acc, J * i + jj, Q);
     }
 }
 
 /* Pass 2b (fsf_pass2b, eq. 15). */
-__kernel void fsf_pass2b(const FsfArgs a, __global const int *tap_node, __global const float *tap_w,
-                         __global const float *Q, __global float *out4)
+__kernel void fsf_pass2b(const FsfArgs a, __global const int *n_taps, __global const int *tap_node,
+                         __global const float *tap_a0, __global const float *tap_a1, __global const float *Q,
+                         __global float *out4)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
-    vstore4(fsf_gather(i, tap_node, tap_w, Q), i, out4);
+    vstore4(fsf_gather(i, n_taps, tap_node, tap_a0, tap_a1, Q), i, out4);
 }

@@ -17,10 +17,30 @@ typedef struct {
     cl_float prof1, prof2;
 } FsfArgs;
 
+/* Memory for several slices of P at once (pass 1a fills them in one launch); 4 slices of a
+ * 256x256 frame */
+#define FSF_P_BYTES ((size_t)72 << 20)
+
+/* fsf.cl's tap tables: FSF_TAPS rounded up to whole float8 */
+enum { FSF_TAP_SLOTS = 40 };
+_Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_TAPS && FSF_TAP_SLOTS % 8 == 0, "fsf.cl writes taps 8 at a time");
+
 struct FsfCl {
     ClRuntime *rt;
     cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
+    FsfClProfile prof; /* the last run's */
 };
+
+/* Adds an event's device time to *acc (seconds) and releases it. */
+static void add_time(cl_event ev, double *acc)
+{
+    if (!ev) return;
+    cl_ulong t0 = 0, t1 = 0;
+    if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) == CL_SUCCESS &&
+        clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) == CL_SUCCESS && t1 > t0)
+        *acc += (double)(t1 - t0) * 1e-9;
+    clReleaseEvent(ev);
+}
 
 static bool cl_ok(cl_int err, const char *what, Diag *d)
 {
@@ -53,6 +73,15 @@ void fsf_cl_destroy(FsfCl *f)
     free(f);
 }
 
+/* A 1D launch over n work items in groups of a fixed size (see cl_launch_2d: a size PoCL
+ * picks itself is compiled anew per global size). */
+static cl_int launch1(FsfCl *f, cl_kernel k, size_t n, cl_event *ev)
+{
+    size_t local = 64;
+    size_t global = (n + local - 1) / local * local;
+    return clEnqueueNDRangeKernel(f->rt->queue, k, 1, NULL, &global, &local, 0, NULL, ev);
+}
+
 /* Sets a kernel's arguments: the FsfArgs, then ints (as cl_int), then buffers. */
 static cl_int set_args(cl_kernel k, const FsfArgs *a, const cl_int *ints, int ni, const cl_mem *mems, int nm)
 {
@@ -76,8 +105,14 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
         return false;
     }
+    /* y2 bins per launch of pass 1a (one slice of P each): up to 4, as many as fit in
+     * FSF_P_BYTES (docs/benchmarks.md, "FSF's passes, faster": 4 slices take 25% less time
+     * in 1a than 1; more were slower) */
+    size_t slice_bytes = sizeof(float) * 4 * J * n;
+    int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
+    chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
     cl_int err = CL_SUCCESS;
-    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NODE, TW, CUM, P, G, Q, OUT, NBUF };
+    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NTAP, NODE, TA0, TA1, CUM, P, G, OUT, NBUF };
     cl_mem b[NBUF] = {0};
     const cl_mem_flags ro = CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR;
     /* a store without slots (capacity 0) still gets a buffer of one float */
@@ -90,61 +125,66 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[POS] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err);
     if (!err) b[NRM] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
-    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * FSF_TAPS * n, NULL, &err);
-    if (!err) b[TW] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 2 * FSF_TAPS * n, NULL, &err);
+    if (!err) b[NTAP] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * n, NULL, &err);
+    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * FSF_TAP_SLOTS * n, NULL, &err);
+    if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
+    if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
     if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_CUM * n, NULL, &err);
-    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
+    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slice_bytes * (size_t)chunk, NULL, &err);
     if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
-    if (!err) b[Q] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * J * n, NULL, &err);
     if (!err) b[OUT] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 4 * n, NULL, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
-    size_t global = n;
-    cl_event first = NULL, last = NULL;
+    enum { K_TAPS, K_BINS, K_1A, K_1B, K_2A, K_2B, K_N };
+    /* one event per launch: taps twice, bins, 1a and 1b at most once per bin, 2a, 2b */
+    cl_event evs[2 * FSF_MAX_Y2_BINS + 5] = {0};
+    int evk[2 * FSF_MAX_Y2_BINS + 5], nev = 0;
+#define EV(k) (evk[nev] = (k), &evs[nev++])
     if (ok) { /* taps along the first axis (and cum1) */
         cl_int ints[1] = {0};
-        cl_mem m[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 7), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->taps, 1, NULL, &global, NULL, 0, NULL, &first), "taps", d);
+        cl_mem m[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
+        ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 9), "arguments", d) &&
+             cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     if (ok) {
         cl_int ints[1] = {s->capacity};
         cl_mem m[3] = {b[COUNT], b[YS], b[BIN2]};
         ok = cl_ok(set_args(f->bins, &a, ints, 1, m, 3), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->bins, 1, NULL, &global, NULL, 0, NULL, NULL), "bins", d);
+             cl_ok(launch1(f, f->bins, n, EV(K_BINS)), "bins", d);
     }
-    for (int bin = 0; ok && bin < g->y2_bins; ++bin) {
-        cl_int i1a[2] = {bin, s->capacity};
+    for (int bin0 = 0; ok && bin0 < g->y2_bins; bin0 += chunk) {
+        cl_int c_n = g->y2_bins - bin0 < chunk ? g->y2_bins - bin0 : chunk;
+        cl_int i1a[3] = {bin0, c_n, s->capacity};
         cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
-        cl_int i1b[1] = {bin};
-        cl_mem m1b[4] = {b[NODE], b[TW], b[P], b[G]};
-        ok = cl_ok(set_args(f->pass1a, &a, i1a, 2, m1a, 7), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass1a, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1a", d) &&
-             cl_ok(set_args(f->pass1b, &a, i1b, 1, m1b, 4), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass1b, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 1b", d);
+        ok = cl_ok(set_args(f->pass1a, &a, i1a, 3, m1a, 7), "arguments", d) &&
+             cl_ok(launch1(f, f->pass1a, n, EV(K_1A)), "pass 1a", d);
+        cl_int i1b[2] = {bin0, c_n};
+        cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
+        ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 2, m1b, 6), "arguments", d) &&
+             cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
     }
     if (ok) {
-        cl_mem m2a[3] = {b[PX], b[G], b[Q]};
+        /* Q in P's memory (Q has one slice's shape; pass 1 is done with P): fewer fresh pages */
+        cl_mem m2a[3] = {b[PX], b[G], b[P]};
         cl_int ints[1] = {1};
-        cl_mem mt[7] = {b[PX], b[POS], b[NRM], b[USE], b[NODE], b[TW], b[CUM]};
-        cl_mem m2b[4] = {b[NODE], b[TW], b[Q], b[OUT]};
+        cl_mem mt[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
+        cl_mem m2b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[OUT]};
         ok = cl_ok(set_args(f->pass2a, &a, NULL, 0, m2a, 3), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass2a, 1, NULL, &global, NULL, 0, NULL, NULL), "pass 2a", d) &&
-             cl_ok(set_args(f->taps, &a, ints, 1, mt, 7), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->taps, 1, NULL, &global, NULL, 0, NULL, NULL), "taps", d) &&
-             cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 4), "arguments", d) &&
-             cl_ok(clEnqueueNDRangeKernel(q, f->pass2b, 1, NULL, &global, NULL, 0, NULL, &last), "pass 2b", d);
+             cl_ok(launch1(f, f->pass2a, n, EV(K_2A)), "pass 2a", d) &&
+             cl_ok(set_args(f->taps, &a, ints, 1, mt, 9), "arguments", d) &&
+             cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d) &&
+             cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 6), "arguments", d) &&
+             cl_ok(launch1(f, f->pass2b, n, EV(K_2B)), "pass 2b", d);
     }
     if (ok) ok = cl_ok(clEnqueueReadBuffer(q, b[OUT], CL_TRUE, 0, sizeof(float) * 4 * n, out4, 0, NULL, NULL), "download", d);
     clFinish(q);
-    if (ok && kernel_seconds) {
-        cl_ulong t0 = 0, t1 = 0;
-        if (clGetEventProfilingInfo(first, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) == CL_SUCCESS &&
-            clGetEventProfilingInfo(last, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) == CL_SUCCESS && t1 > t0)
-            *kernel_seconds = (double)(t1 - t0) * 1e-9;
-    }
-    if (first) clReleaseEvent(first);
-    if (last) clReleaseEvent(last);
+#undef EV
+    double kt[K_N] = {0};
+    for (int e = 0; e < nev; ++e) add_time(evs[e], &kt[evk[e]]);
+    f->prof = (FsfClProfile){kt[K_TAPS], kt[K_BINS], kt[K_1A], kt[K_1B], kt[K_2A], kt[K_2B]};
+    if (ok && kernel_seconds) *kernel_seconds = kt[K_TAPS] + kt[K_BINS] + kt[K_1A] + kt[K_1B] + kt[K_2A] + kt[K_2B];
     for (int i = 0; i < NBUF; ++i)
         if (b[i]) clReleaseMemObject(b[i]);
     return ok;
 }
+
+FsfClProfile fsf_cl_profile(const FsfCl *f) { return f->prof; }

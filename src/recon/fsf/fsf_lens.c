@@ -62,11 +62,17 @@ typedef struct {
     float *k_lo, *k_hi;
 } Job;
 
+/* sample_slope's context: the store's depth field found once, not per sample */
+typedef struct {
+    const ReconCamera *cam;
+    const float *depth;
+} SlopeCtx;
+
 /* A sample's slope (every sample has one: a miss has depth +inf and a finite slope). */
 static float sample_slope(const void *ctx, size_t slot)
 {
-    const FsfLensIn *in = ctx;
-    return fsf_lens_slope(&in->g->cam, sample_store_field(in->store, SAMPLE_FIELD_DEPTH)[slot]);
+    const SlopeCtx *c = ctx;
+    return fsf_lens_slope(c->cam, c->depth[slot]);
 }
 
 /* FSF eq. 4 with the lens' half extent 1, in pixels (infinite for one slope). */
@@ -123,7 +129,8 @@ bool fsf_lens_params(const FsfLensIn *in, FsfPixel *px, float *k_lo, float *k_hi
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
     /* over every object: a defocused object's samples reach any neighbour */
-    bool ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope, in, NULL, &j.wnd);
+    SlopeCtx sc = {&in->g->cam, sample_store_field(in->store, SAMPLE_FIELD_DEPTH)};
+    bool ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope, &sc, NULL, &j.wnd);
     if (ok) recon_parallel_for(n, params_range, &j);
     fsf_slope_windows_free(&j.wnd);
     return ok;

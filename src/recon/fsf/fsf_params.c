@@ -21,10 +21,11 @@ static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float st
     return sigma_m / (in->mu * step_m);
 }
 
-/* An occluded sample's slope k = (d_light - d_occ) / d_occ; NaN for an unoccluded one. */
+/* An occluded sample's slope k = (d_light - d_occ) / d_occ; NaN for an unoccluded one. ctx:
+ * the store's light field (found once, not per sample). */
 static float sample_slope(const void *ctx, size_t slot)
 {
-    const float *s = sample_store_field(((const FsfParamsIn *)ctx)->store, SAMPLE_FIELD_LIGHT) + 5 * slot;
+    const float *s = (const float *)ctx + 5 * slot;
     float d_light = s[3], d_occ = s[4];
     if (!(d_occ > 0.0f && d_occ < d_light && isfinite(d_occ))) return NAN;
     return (d_light - d_occ) / d_occ;
@@ -137,7 +138,8 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     if (ok) {
         for (size_t i = 0; i < n; ++i) obj[i] = in->g->nrm4[4 * i + 3];
         /* only the centre's object: the filter takes light from no other surface */
-        ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope, in, obj, &j.wnd);
+        ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope,
+                               sample_store_field(in->store, SAMPLE_FIELD_LIGHT), obj, &j.wnd);
         if (ok) recon_parallel_for(n, params_range, &j);
         fsf_slope_windows_free(&j.wnd);
     }
