@@ -2,6 +2,7 @@
 #include "recon/maaf/maaf_filter.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -129,6 +130,21 @@ void maaf_filter_reference(const MaafFilterInput *in, float *out4)
         }
     free(tmp);
     free(acc);
+}
+
+bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
+{
+    FILE *fp = fopen(path, "wb");
+    if (!fp) return false;
+    size_t n = (size_t)in->width * (size_t)in->height, per = (size_t)maaf_component_count(in->pairs) * 8;
+    int dims[3] = {in->width, in->height, in->pairs};
+    float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
+    bool ok = fwrite(MAAF_DUMP_MAGIC, 1, 8, fp) == 8 && fwrite(dims, sizeof(int), 3, fp) == 3 &&
+              fwrite(rules, sizeof(float), 2, fp) == 2 && fwrite(in->ysum, sizeof(float), n * per, fp) == n * per &&
+              fwrite(in->pos4, sizeof(float), 4 * n, fp) == 4 * n && fwrite(in->nrm4, sizeof(float), 4 * n, fp) == 4 * n &&
+              fwrite(in->frame4, sizeof(float), 4 * n, fp) == 4 * n && fwrite(in->axis2_4, sizeof(float), 4 * n, fp) == 4 * n &&
+              fwrite(in->param, sizeof(float), n * MAAF_PARAM_STRIDE, fp) == n * MAAF_PARAM_STRIDE;
+    return fclose(fp) == 0 && ok;
 }
 
 /* ---- OpenCL ---- */

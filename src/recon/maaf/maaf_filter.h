@@ -37,6 +37,13 @@ void maaf_basis(const float n[3], float t1[3], float t2[3]);
 /* out4: filtered rgb and a flag per pixel (0: unchanged, 1: filtered, 2: central component only). */
 void maaf_filter_reference(const MaafFilterInput *in, float *out4);
 
+/* Writes in to path for tests/recon/bench_maaf_filter.c: the magic, width, height, pairs (int32),
+ * cos_normal_min, depth_tol_rel (float), then ysum, pos4, nrm4, frame4, axis2_4 and param. The
+ * method writes one file per image pass when WEDGE_MAAF_DUMP is set (its value the prefix). */
+#define MAAF_DUMP_MAGIC "MAAFDMP1"
+#define MAAF_DUMP_ENV "WEDGE_MAAF_DUMP"
+bool maaf_filter_dump(const MaafFilterInput *in, const char *path);
+
 typedef struct MaafFilter MaafFilter;
 MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d);
 void maaf_filter_destroy(MaafFilter *f);

@@ -478,6 +478,13 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
         return false;
     }
+    const char *dump = getenv(MAAF_DUMP_ENV); /* the input of tests/recon/bench_maaf_filter.c */
+    if (dump && *dump) {
+        static int dumps = 0;
+        char path[4096];
+        snprintf(path, sizeof path, "%s.%d", dump, dumps++);
+        if (!maaf_filter_dump(in, path)) fprintf(stderr, "wedge: maaf: cannot write %s\n", path);
+    }
     if (!maaf_filter_run(m->filter, in, m->out4, kernel_seconds, d)) return false;
     size_t n = (size_t)in->width * (size_t)in->height;
     for (size_t i = 0; i < n; ++i) {
