@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -149,11 +150,19 @@ bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
 
 /* ---- OpenCL ---- */
 
-enum { BUF_IN, BUF_TMP, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_OUT, BUF_COUNT };
+/* maaf.cl's layout: 8 pixels per work item, MAAF_GUIDES padded guide planes (MAAF_GUIDES and
+ * MAAF_PAD there). */
+#define LANES 8
+#define GUIDES 11
+#define PAD MAAF_RADIUS_CAP_PX
+
+enum { BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_COUNT };
+enum { K_UNPACK, K_ROWS, K_COLS, K_COUNT };
+static const char *const KERNEL_NAMES[K_COUNT] = {"maaf_unpack", "maaf_rows", "maaf_cols"};
 
 struct MaafFilter {
     ClRuntime *rt;
-    cl_kernel pass;
+    cl_kernel k[K_COUNT];
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
 };
@@ -166,10 +175,11 @@ MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
         return NULL;
     }
     f->rt = rt;
-    if (!(f->pass = cl_runtime_kernel(rt, "maaf_pass", d))) {
-        maaf_filter_destroy(f);
-        return NULL;
-    }
+    for (int k = 0; k < K_COUNT; ++k)
+        if (!(f->k[k] = cl_runtime_kernel(rt, KERNEL_NAMES[k], d))) {
+            maaf_filter_destroy(f);
+            return NULL;
+        }
     return f;
 }
 
@@ -178,7 +188,8 @@ void maaf_filter_destroy(MaafFilter *f)
     if (!f) return;
     for (int b = 0; b < BUF_COUNT; ++b)
         if (f->buf[b]) clReleaseMemObject(f->buf[b]);
-    if (f->pass) clReleaseKernel(f->pass);
+    for (int k = 0; k < K_COUNT; ++k)
+        if (f->k[k]) clReleaseKernel(f->k[k]);
     free(f);
 }
 
@@ -212,36 +223,74 @@ static double event_seconds(cl_event e)
     return t1 > t0 ? (double)(t1 - t0) * 1e-9 : 0.0;
 }
 
+/* Floats between one plane and the next: whole 4 KiB pages plus one cache line, so that a
+ * tap's reads of the same pixel in 100 planes fall into different cache sets (a whole number
+ * of pages apart they all map to one set of an 8-way L1 and evict each other: measured 2x). */
+static size_t plane_stride(size_t floats) { return (floats + 1023) / 1024 * 1024 + 16; }
+
+/* Sets kernel k's arguments: ints, then floats, then buffers, in that order. */
+static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const float *floats, int nf, const int *bufs,
+                     int nb, const cl_int *ints2, int ni2, Diag *d)
+{
+    cl_int err = CL_SUCCESS;
+    cl_uint a = 0;
+    for (int i = 0; i < ni; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(cl_int), &ints[i]);
+    for (int i = 0; i < nf; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(float), &floats[i]);
+    for (int i = 0; i < ni2; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(cl_int), &ints2[i]);
+    for (int i = 0; i < nb; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(cl_mem), &f->buf[bufs[i]]);
+    return cl_ok(err, KERNEL_NAMES[k], d);
+}
+
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d)
 {
     if (kernel_seconds) *kernel_seconds = 0.0;
     size_t n = (size_t)in->width * (size_t)in->height;
-    int comps = maaf_component_count(in->pairs);
-    size_t ybytes = n * (size_t)comps * 8 * sizeof(float);
-    bool ok = buffer(f, BUF_IN, ybytes, in->ysum, d) && buffer(f, BUF_TMP, ybytes, NULL, d) &&
-              buffer(f, BUF_POS, n * 16, in->pos4, d) && buffer(f, BUF_NRM, n * 16, in->nrm4, d) &&
-              buffer(f, BUF_FRAME, n * 16, in->frame4, d) && buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
+    int comps = maaf_component_count(in->pairs), per = 8 * comps;
+    size_t ybytes = n * (size_t)per * sizeof(float);
+    /* maaf.cl's planes: the width rounded up to whole work items, guides padded on every side,
+     * the sums along x, the row pass's output along y; one flag plane after the sums */
+    size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height + 2 * PAD;
+    size_t gplane = plane_stride(gpitch * rows), yplane = plane_stride(gpitch * (size_t)in->height),
+           tplane = plane_stride(w8 * rows);
+    if ((size_t)(per + 1) * (yplane > tplane ? yplane : tplane) > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", in->width,
+                 in->height);
+        return false;
+    }
+    bool ok = buffer(f, BUF_IN, ybytes, in->ysum, d) && buffer(f, BUF_POS, n * 16, in->pos4, d) &&
+              buffer(f, BUF_NRM, n * 16, in->nrm4, d) && buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
+              buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
-              buffer(f, BUF_OUT, n * 16, NULL, d);
-    cl_event ev[2] = {NULL, NULL};
-    for (int axis = 0; axis < 2 && ok; ++axis) {
-        cl_int ints[5] = {in->width, in->height, axis, in->pairs, comps}, err = CL_SUCCESS;
-        cl_uint a = 0;
-        for (int k = 0; k < 5; ++k) err |= clSetKernelArg(f->pass, a++, sizeof(cl_int), &ints[k]);
-        err |= clSetKernelArg(f->pass, a++, sizeof(float), &in->cos_normal_min);
-        err |= clSetKernelArg(f->pass, a++, sizeof(float), &in->depth_tol_rel);
-        err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[axis == 0 ? BUF_IN : BUF_TMP]);
-        for (int b = BUF_POS; b <= BUF_PARAM; ++b) err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[b]);
-        err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[BUF_TMP]);
-        err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[BUF_OUT]);
-        ok = cl_ok(err, "maaf_pass arguments", d) &&
-             cl_launch_2d(f->rt, f->pass, (size_t)in->width, (size_t)in->height, &ev[axis], d);
+              buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), NULL, d) &&
+              buffer(f, BUF_YP, yplane * (size_t)(per + 1) * sizeof(float), NULL, d) &&
+              buffer(f, BUF_TP, tplane * (size_t)(per + 1) * sizeof(float), NULL, d) && buffer(f, BUF_OUT, n * 16, NULL, d);
+    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)yplane, tp = (cl_int)w8, tpl = (cl_int)tplane;
+    float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
+    cl_event ev[K_COUNT] = {NULL, NULL, NULL};
+    if (ok) {
+        cl_int ints[8] = {w, h, comps, gp, gpl, yp, tp, tpl};
+        int bufs[8] = {BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP};
+        ok = set_args(f, K_UNPACK, ints, 8, NULL, 0, bufs, 8, NULL, 0, d) &&
+             cl_launch_2d(f->rt, f->k[K_UNPACK], gpitch, rows, &ev[K_UNPACK], d);
+    }
+    if (ok) {
+        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[5] = {gp, gpl, yp, tp, tpl};
+        int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP};
+        ok = set_args(f, K_ROWS, ints, 4, rules, 2, bufs, 6, ints2, 5, d) &&
+             cl_launch_2d(f->rt, f->k[K_ROWS], w8 / LANES, (size_t)h, &ev[K_ROWS], d);
+    }
+    if (ok) {
+        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[4] = {gp, gpl, tp, tpl};
+        int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
+        ok = set_args(f, K_COLS, ints, 4, rules, 2, bufs, 6, ints2, 4, d) &&
+             cl_launch_2d(f->rt, f->k[K_COLS], w8 / LANES, (size_t)h, &ev[K_COLS], d);
     }
     ok = ok && cl_ok(clEnqueueReadBuffer(f->rt->queue, f->buf[BUF_OUT], CL_TRUE, 0, n * 16, out4, 0, NULL, NULL),
                      "download", d);
     if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any copy still queued */
-    if (kernel_seconds && ok) *kernel_seconds = event_seconds(ev[0]) + event_seconds(ev[1]);
-    for (int i = 0; i < 2; ++i)
-        if (ev[i]) clReleaseEvent(ev[i]);
+    for (int k = 0; k < K_COUNT; ++k) {
+        if (kernel_seconds && ok) *kernel_seconds += event_seconds(ev[k]);
+        if (ev[k]) clReleaseEvent(ev[k]);
+    }
     return ok;
 }
