@@ -23,8 +23,9 @@
  *   yp     the sums, 8 planes per component (re r g b w, im r g b w: the host's float order)
  *          and a flag plane (1: a usable pixel with a non-finite sum); padded along x only
  *          (the row pass), pitch gpitch
- *   tp     the row pass's output in the same planes, padded along y only (the column pass),
- *          pitch tpitch = the width rounded up to 8
+ *   tp     the row pass's output, padded along y only (the column pass), in blocks: for each
+ *          row and 8 pixels, every plane's 8 floats one after the other, so that a column
+ *          tap reads one contiguous block (in planes, its 100 streams ran into cache misses)
  * A rejected neighbour gets weight 0 by select, and its sums are read only through select when
  * one of them is not finite (0 * NaN would poison a lane that does not use it).
  *
@@ -58,7 +59,7 @@
 #define G_HV0 10
 #define MAAF_GUIDES 11
 
-__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int yplane, int tpitch, int tplane,
+__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int yplane, int tblocks,
                           __global const float *in, __global const float4 *pos4, __global const float4 *nrm4,
                           __global const float4 *frame4, __global const float *param, __global float *guide,
                           __global float *yp, __global float *tp)
@@ -93,9 +94,9 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
             o[k * yplane] = v;
         }
         o[per * yplane] = bad ? 1.0f : 0.0f;
-    } else if (x >= 0 && x < tpitch) { /* the row pass's output: its padding rows */
-        __global float *o = tp + gy * tpitch + x;
-        for (int k = 0; k <= per; ++k) o[k * tplane] = 0.0f;
+    } else if (x >= 0 && x < 8 * tblocks) { /* the row pass's output: its padding rows */
+        __global float *o = tp + (size_t)(gy * tblocks + x / 8) * (per + 1) * 8 + x % 8;
+        for (int k = 0; k <= per; ++k) o[8 * k] = 0.0f;
     }
 }
 
@@ -203,7 +204,7 @@ static void tap_factors(int pairs, const float8 *cx, const float8 *hv, float8 d1
 /* The row pass: every component's complex sums into tp (unfiltered lanes: zeros, never read:
  * the column pass rejects them as neighbours). */
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
-                        int gpitch, int gplane, int yplane, int tpitch, int tplane, __global const float *guide,
+                        int gpitch, int gplane, int yplane, int tblocks, __global const float *guide,
                         __global const float *frame4, __global const float *axis2, __global const float *param,
                         __global const float *yp, __global float *tp)
 {
@@ -243,27 +244,28 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
                 ++ci;
             }
     }
-    __global float *o = tp + (y + MAAF_PAD) * tpitch + x0;
+    __global float *o = tp + ((y + MAAF_PAD) * tblocks + x0 / 8) * (per + 1) * 8;
     int8 bad = (int8)(0);
     for (int k = 0; k < per; ++k) {
-        vstore8(acc[k], 0, o + k * tplane);
+        vstore8(acc[k], k, o);
         bad |= !isfinite(acc[k]);
     }
-    vstore8(select((float8)(0.0f), (float8)(1.0f), bad), 0, o + per * tplane);
+    vstore8(select((float8)(0.0f), (float8)(1.0f), bad), per, o);
 }
 
 /* The column pass on the row pass's sums, and eq. 21: the real part of the sum over
  * components, each with its amplitude; the conjugate half doubles every component but the
  * central one. Only the real parts of the column sums are needed. */
 __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
-                        int gpitch, int gplane, int tpitch, int tplane, __global const float *guide, __global const float *frame4,
+                        int gpitch, int gplane, int tblocks, __global const float *guide, __global const float *frame4,
                         __global const float *axis2, __global const float *param, __global const float *tp,
                         __global float4 *out4)
 {
     int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
     if (x0 >= width || y >= height) return;
     int go = (y + MAAF_PAD) * gpitch + x0 + MAAF_PAD;
-    int to = (y + MAAF_PAD) * tpitch + x0, per = 8 * comps, i0 = y * width + x0, lanes = min(8, width - x0);
+    int per = 8 * comps, tb = (per + 1) * 8, to = ((y + MAAF_PAD) * tblocks + x0 / 8) * tb, i0 = y * width + x0,
+        lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
     float8 acc[4 * MAAF_COMPS_MAX];
@@ -274,8 +276,8 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
         if (!any(ok)) continue;
         float8 e1r[MAAF_PAIRS_MAX], e1i[MAAF_PAIRS_MAX], e2r[MAAF_PAIRS_MAX], e2i[MAAF_PAIRS_MAX];
         tap_factors(pairs, cx, hv, d1, d2, ok, e1r, e1i, e2r, e2i);
-        __global const float *src = tp + to + k * tpitch;
-        bool guard = any((vload8(0, src + per * tplane) != 0.0f) & ~ok);
+        __global const float *src = tp + to + k * tblocks * tb;
+        bool guard = any((vload8(per, src) != 0.0f) & ~ok);
         int ci = 0;
         for (int p = 0; p < pairs; ++p)
             for (int q = -(pairs - 1); q < pairs; ++q) {
@@ -283,9 +285,9 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
                 int aq = q < 0 ? -q : q;
                 float8 br = e2r[aq], bi = q < 0 ? -e2i[aq] : e2i[aq];
                 float8 wr = e1r[p] * br - e1i[p] * bi, wi = e1r[p] * bi + e1i[p] * br;
-                __global const float *s = src + 8 * ci * tplane;
+                __global const float *s = src + 64 * ci;
                 for (int h = 0; h < 4; ++h) {
-                    float8 yr = vload8(0, s + h * tplane), yi = vload8(0, s + (4 + h) * tplane);
+                    float8 yr = vload8(h, s), yi = vload8(4 + h, s);
                     if (guard) {
                         yr = select((float8)(0.0f), yr, ok);
                         yi = select((float8)(0.0f), yi, ok);

@@ -248,11 +248,12 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     int comps = maaf_component_count(in->pairs), per = 8 * comps;
     size_t ybytes = n * (size_t)per * sizeof(float);
     /* maaf.cl's planes: the width rounded up to whole work items, guides padded on every side,
-     * the sums along x, the row pass's output along y; one flag plane after the sums */
+     * the sums along x, the row pass's output (in blocks of 8 pixels) along y; one flag plane
+     * after the sums */
     size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height + 2 * PAD;
     size_t gplane = plane_stride(gpitch * rows), yplane = plane_stride(gpitch * (size_t)in->height),
-           tplane = plane_stride(w8 * rows);
-    if ((size_t)(per + 1) * (yplane > tplane ? yplane : tplane) > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
+           tfloats = rows * w8 * (size_t)(per + 1);
+    if ((size_t)(per + 1) * yplane > (size_t)INT32_MAX || tfloats > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", in->width,
                  in->height);
         return false;
@@ -263,26 +264,26 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
               buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
               buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), NULL, d) &&
               buffer(f, BUF_YP, yplane * (size_t)(per + 1) * sizeof(float), NULL, d) &&
-              buffer(f, BUF_TP, tplane * (size_t)(per + 1) * sizeof(float), NULL, d) && buffer(f, BUF_OUT, n * 16, NULL, d);
-    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)yplane, tp = (cl_int)w8, tpl = (cl_int)tplane;
+              buffer(f, BUF_TP, tfloats * sizeof(float), NULL, d) && buffer(f, BUF_OUT, n * 16, NULL, d);
+    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)yplane, tb = (cl_int)(w8 / LANES);
     float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
     cl_event ev[K_COUNT] = {NULL, NULL, NULL};
     if (ok) {
-        cl_int ints[8] = {w, h, comps, gp, gpl, yp, tp, tpl};
+        cl_int ints[7] = {w, h, comps, gp, gpl, yp, tb};
         int bufs[8] = {BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP};
-        ok = set_args(f, K_UNPACK, ints, 8, NULL, 0, bufs, 8, NULL, 0, d) &&
+        ok = set_args(f, K_UNPACK, ints, 7, NULL, 0, bufs, 8, NULL, 0, d) &&
              cl_launch_2d(f->rt, f->k[K_UNPACK], gpitch, rows, &ev[K_UNPACK], d);
     }
     if (ok) {
-        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[5] = {gp, gpl, yp, tp, tpl};
+        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[4] = {gp, gpl, yp, tb};
         int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP};
-        ok = set_args(f, K_ROWS, ints, 4, rules, 2, bufs, 6, ints2, 5, d) &&
+        ok = set_args(f, K_ROWS, ints, 4, rules, 2, bufs, 6, ints2, 4, d) &&
              cl_launch_2d(f->rt, f->k[K_ROWS], w8 / LANES, (size_t)h, &ev[K_ROWS], d);
     }
     if (ok) {
-        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[4] = {gp, gpl, tp, tpl};
+        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[3] = {gp, gpl, tb};
         int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
-        ok = set_args(f, K_COLS, ints, 4, rules, 2, bufs, 6, ints2, 4, d) &&
+        ok = set_args(f, K_COLS, ints, 4, rules, 2, bufs, 6, ints2, 3, d) &&
              cl_launch_2d(f->rt, f->k[K_COLS], w8 / LANES, (size_t)h, &ev[K_COLS], d);
     }
     ok = ok && cl_ok(clEnqueueReadBuffer(f->rt->queue, f->buf[BUF_OUT], CL_TRUE, 0, n * 16, out4, 0, NULL, NULL),
