@@ -22,7 +22,8 @@
  *          needs a bounds check while the radius is at most MAAF_PAD); pitch gpitch
  *   yp     the sums, 8 planes per component (re r g b w, im r g b w: the host's float order)
  *          and a flag plane (1: a usable pixel with a non-finite sum); padded along x only
- *          (the row pass), pitch gpitch
+ *          (the row pass); stored row by row, each image row holding every plane's row
+ *          ystride floats apart, so that a tap's ~100 reads lie in a few pages
  *   tp     the row pass's output, padded along y only (the column pass), in blocks: for each
  *          row and 8 pixels, every plane's 8 floats one after the other, so that a column
  *          tap reads one contiguous block (in planes, its 100 streams ran into cache misses)
@@ -59,7 +60,7 @@
 #define G_HV0 10
 #define MAAF_GUIDES 11
 
-__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int yplane, int tblocks,
+__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int ystride, int tblocks,
                           __global const float *in, __global const float4 *pos4, __global const float4 *nrm4,
                           __global const float4 *frame4, __global const float *param, __global float *guide,
                           __global float *yp, __global float *tp)
@@ -85,15 +86,15 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
     g[G_RAD * gplane] = inside ? pr[0] : 0.0f;
     g[G_HV0 * gplane] = inside ? pr[3] : 0.0f;
     if (y >= 0 && y < height) { /* the sums: image rows, padded columns */
-        __global float *o = yp + y * gpitch + gx;
+        __global float *o = yp + y * (per + 1) * ystride + gx;
         __global const float *src = in + (size_t)i * per;
         bool bad = false;
         for (int k = 0; k < per; ++k) {
             float v = use ? src[k] : 0.0f;
             bad = bad || !isfinite(v);
-            o[k * yplane] = v;
+            o[k * ystride] = v;
         }
-        o[per * yplane] = bad ? 1.0f : 0.0f;
+        o[per * ystride] = bad ? 1.0f : 0.0f;
     } else if (x >= 0 && x < 8 * tblocks) { /* the row pass's output: its padding rows */
         __global float *o = tp + (size_t)(gy * tblocks + x / 8) * (per + 1) * 8 + x % 8;
         for (int k = 0; k <= per; ++k) o[8 * k] = 0.0f;
@@ -204,14 +205,14 @@ static void tap_factors(int pairs, const float8 *cx, const float8 *hv, float8 d1
 /* The row pass: every component's complex sums into tp (unfiltered lanes: zeros, never read:
  * the column pass rejects them as neighbours). */
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
-                        int gpitch, int gplane, int yplane, int tblocks, __global const float *guide,
+                        int gpitch, int gplane, int ystride, int tblocks, __global const float *guide,
                         __global const float *frame4, __global const float *axis2, __global const float *param,
                         __global const float *yp, __global float *tp)
 {
     int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
     if (x0 >= width || y >= height) return;
     int go = (y + MAAF_PAD) * gpitch + x0 + MAAF_PAD;
-    int yo = y * gpitch + x0 + MAAF_PAD, per = 8 * comps, i0 = y * width + x0, lanes = min(8, width - x0);
+    int per = 8 * comps, yo = y * (per + 1) * ystride + x0 + MAAF_PAD, i0 = y * width + x0, lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
     float8 acc[8 * MAAF_COMPS_MAX];
@@ -223,7 +224,7 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
         float8 e1r[MAAF_PAIRS_MAX], e1i[MAAF_PAIRS_MAX], e2r[MAAF_PAIRS_MAX], e2i[MAAF_PAIRS_MAX];
         tap_factors(pairs, cx, hv, d1, d2, ok, e1r, e1i, e2r, e2i);
         __global const float *src = yp + yo + k;
-        bool guard = any((vload8(0, src + per * yplane) != 0.0f) & ~ok);
+        bool guard = any((vload8(0, src + per * ystride) != 0.0f) & ~ok);
         int ci = 0;
         for (int p = 0; p < pairs; ++p)
             for (int q = -(pairs - 1); q < pairs; ++q) {
@@ -231,9 +232,9 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
                 int aq = q < 0 ? -q : q;
                 float8 br = e2r[aq], bi = q < 0 ? -e2i[aq] : e2i[aq]; /* band -q: conjugate */
                 float8 wr = e1r[p] * br - e1i[p] * bi, wi = e1r[p] * bi + e1i[p] * br;
-                __global const float *s = src + 8 * ci * yplane;
+                __global const float *s = src + 8 * ci * ystride;
                 for (int h = 0; h < 4; ++h) {
-                    float8 yr = vload8(0, s + h * yplane), yi = vload8(0, s + (4 + h) * yplane);
+                    float8 yr = vload8(0, s + h * ystride), yi = vload8(0, s + (4 + h) * ystride);
                     if (guard) {
                         yr = select((float8)(0.0f), yr, ok);
                         yi = select((float8)(0.0f), yi, ok);

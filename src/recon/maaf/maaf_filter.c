@@ -227,6 +227,8 @@ static double event_seconds(cl_event e)
  * tap's reads of the same pixel in 100 planes fall into different cache sets (a whole number
  * of pages apart they all map to one set of an 8-way L1 and evict each other: measured 2x). */
 static size_t plane_stride(size_t floats) { return (floats + 1023) / 1024 * 1024 + 16; }
+/* The same within a row of the sums: an odd number of cache lines. */
+static size_t line_stride(size_t floats) { return ((floats + 15) / 16 | 1) * 16; }
 
 /* Sets kernel k's arguments: ints, then floats, then buffers, in that order. */
 static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const float *floats, int nf, const int *bufs,
@@ -251,9 +253,9 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
      * the sums along x, the row pass's output (in blocks of 8 pixels) along y; one flag plane
      * after the sums */
     size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height + 2 * PAD;
-    size_t gplane = plane_stride(gpitch * rows), yplane = plane_stride(gpitch * (size_t)in->height),
+    size_t gplane = plane_stride(gpitch * rows), ystride = line_stride(gpitch), yfloats = ystride * (size_t)(per + 1) * (size_t)in->height,
            tfloats = rows * w8 * (size_t)(per + 1);
-    if ((size_t)(per + 1) * yplane > (size_t)INT32_MAX || tfloats > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
+    if (yfloats > (size_t)INT32_MAX || tfloats > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", in->width,
                  in->height);
         return false;
@@ -263,9 +265,9 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
               buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
               buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), NULL, d) &&
-              buffer(f, BUF_YP, yplane * (size_t)(per + 1) * sizeof(float), NULL, d) &&
+              buffer(f, BUF_YP, yfloats * sizeof(float), NULL, d) &&
               buffer(f, BUF_TP, tfloats * sizeof(float), NULL, d) && buffer(f, BUF_OUT, n * 16, NULL, d);
-    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)yplane, tb = (cl_int)(w8 / LANES);
+    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)ystride, tb = (cl_int)(w8 / LANES);
     float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
     cl_event ev[K_COUNT] = {NULL, NULL, NULL};
     if (ok) {
