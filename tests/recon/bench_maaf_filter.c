@@ -94,7 +94,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s\n", d.message);
         return 3;
     }
-    double ks[100], wall[100];
+    double ks[100], wall[100], each[3][100] = {{0}};
     for (int r = -1; r < reps; ++r) { /* one warm-up run */
         double k = 0.0, t0 = now();
         if (!maaf_filter_run(f, &in, out_dev, &k, &d)) {
@@ -102,8 +102,16 @@ int main(int argc, char **argv)
             return 3;
         }
         if (r >= 0) ks[r] = k, wall[r] = now() - t0;
-        else printf("first run (kernels loaded in this process): kernels %.4f s, wall %.4f s\n", k, now() - t0);
+#ifdef MAAF_FILTER_KERNELS
+        double s3[MAAF_FILTER_KERNELS];
+        maaf_filter_kernel_seconds(f, s3);
+        for (int j = 0; j < 3 && r >= 0; ++j) each[j][r] = s3[j];
+#endif
+        if (r < 0) printf("first run (kernels loaded in this process): kernels %.4f s, wall %.4f s\n", k, now() - t0);
     }
+    for (int j = 0; j < 3; ++j) qsort(each[j], (size_t)reps, sizeof each[j][0], cmp_double);
+    if (each[1][0] > 0.0)
+        printf("each kernel, best: unpack %.4f s, rows %.4f s, cols %.4f s\n", each[0][0], each[1][0], each[2][0]);
     qsort(ks, (size_t)reps, sizeof ks[0], cmp_double);
     qsort(wall, (size_t)reps, sizeof wall[0], cmp_double);
     printf("kernels: best %.4f s, median %.4f s; maaf_filter_run wall: best %.4f s, median %.4f s (%d runs)\n", ks[0],

@@ -165,6 +165,7 @@ struct MaafFilter {
     cl_kernel k[K_COUNT];
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
+    double seconds[K_COUNT]; /* the last run's */
 };
 
 MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
@@ -230,6 +231,11 @@ static size_t plane_stride(size_t floats) { return (floats + 1023) / 1024 * 1024
 /* The same within a row of the sums: an odd number of cache lines. */
 static size_t line_stride(size_t floats) { return ((floats + 15) / 16 | 1) * 16; }
 
+void maaf_filter_kernel_seconds(const MaafFilter *f, double seconds[MAAF_FILTER_KERNELS])
+{
+    for (int k = 0; k < K_COUNT; ++k) seconds[k] = f->seconds[k];
+}
+
 /* Sets kernel k's arguments: ints, then floats, then buffers, in that order. */
 static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const float *floats, int nf, const int *bufs,
                      int nb, const cl_int *ints2, int ni2, Diag *d)
@@ -292,7 +298,8 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
                      "download", d);
     if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any copy still queued */
     for (int k = 0; k < K_COUNT; ++k) {
-        if (kernel_seconds && ok) *kernel_seconds += event_seconds(ev[k]);
+        f->seconds[k] = ok ? event_seconds(ev[k]) : 0.0;
+        if (kernel_seconds) *kernel_seconds += f->seconds[k];
         if (ev[k]) clReleaseEvent(ev[k]);
     }
     return ok;

@@ -50,5 +50,8 @@ void maaf_filter_destroy(MaafFilter *f);
 /* Same as maaf_filter_reference, on the device; kernel_seconds (may be NULL): both passes'
  * device time. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d);
+/* The last run's device seconds of each kernel: maaf_unpack, maaf_rows, maaf_cols (benchmarks). */
+#define MAAF_FILTER_KERNELS 3
+void maaf_filter_kernel_seconds(const MaafFilter *f, double seconds[MAAF_FILTER_KERNELS]);
 
 #endif
