@@ -202,6 +202,47 @@ static void tap_factors(int pairs, const float8 *cx, const float8 *hv, float8 d1
     }
 }
 
+/* The taps that some lane uses, and their factors per band (tap t, band p at t * pairs + p):
+ * computed once per work item, then every component sweeps them with its sums in registers
+ * (components outer, taps inner: each component's sum still adds its taps in k order). */
+#define MAAF_TAPS_MAX (2 * MAAF_PAD + 1)
+typedef struct {
+    int count;
+    int offset[MAAF_TAPS_MAX]; /* k */
+    int8 ok[MAAF_TAPS_MAX];    /* the lanes that use it */
+    bool guard[MAAF_TAPS_MAX]; /* a lane that does not use it would read a non-finite sum */
+    float8 e1r[MAAF_TAPS_MAX * MAAF_PAIRS_MAX], e1i[MAAF_TAPS_MAX * MAAF_PAIRS_MAX];
+    float8 e2r[MAAF_TAPS_MAX * MAAF_PAIRS_MAX], e2i[MAAF_TAPS_MAX * MAAF_PAIRS_MAX];
+} Taps;
+
+static void taps_collect(Taps *t, const Centre *c, int pairs, const float8 *cx, const float8 *hv, float cos_normal_min,
+                         __global const float *guide, int gplane, int go, int gstep, __global const float *flags,
+                         int fstep)
+{
+    t->count = 0;
+    for (int k = -c->reach; k <= c->reach; ++k) {
+        float8 d1, d2;
+        int8 ok = tap_lanes(c, guide, gplane, go + k * gstep, k, cos_normal_min, &d1, &d2);
+        if (!any(ok)) continue;
+        int n = t->count++;
+        tap_factors(pairs, cx, hv, d1, d2, ok, t->e1r + n * pairs, t->e1i + n * pairs, t->e2r + n * pairs,
+                    t->e2i + n * pairs);
+        t->offset[n] = k;
+        t->ok[n] = ok;
+        t->guard[n] = any((vload8(0, flags + k * fstep) != 0.0f) & ~ok);
+    }
+}
+
+/* Component (p, q)'s weight at tap n: e1_p times e2_q, band -q the conjugate of band q. */
+static void tap_weight(const Taps *t, int n, int pairs, int p, int q, float8 *wr, float8 *wi)
+{
+    int aq = q < 0 ? -q : q;
+    float8 ar = t->e1r[n * pairs + p], ai = t->e1i[n * pairs + p];
+    float8 br = t->e2r[n * pairs + aq], bi = q < 0 ? -t->e2i[n * pairs + aq] : t->e2i[n * pairs + aq];
+    *wr = ar * br - ai * bi;
+    *wi = ar * bi + ai * br;
+}
+
 /* The row pass: every component's complex sums into tp (unfiltered lanes: zeros, never read:
  * the column pass rejects them as neighbours). */
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
@@ -215,42 +256,42 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
     int per = 8 * comps, yo = y * (per + 1) * ystride + x0 + MAAF_PAD, i0 = y * width + x0, lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
-    float8 acc[8 * MAAF_COMPS_MAX];
-    for (int k = 0; k < per; ++k) acc[k] = (float8)(0.0f);
-    for (int k = -c.reach; k <= c.reach; ++k) {
-        float8 d1, d2;
-        int8 ok = tap_lanes(&c, guide, gplane, go + k, k, cos_normal_min, &d1, &d2);
-        if (!any(ok)) continue;
-        float8 e1r[MAAF_PAIRS_MAX], e1i[MAAF_PAIRS_MAX], e2r[MAAF_PAIRS_MAX], e2i[MAAF_PAIRS_MAX];
-        tap_factors(pairs, cx, hv, d1, d2, ok, e1r, e1i, e2r, e2i);
-        __global const float *src = yp + yo + k;
-        bool guard = any((vload8(0, src + per * ystride) != 0.0f) & ~ok);
-        int ci = 0;
-        for (int p = 0; p < pairs; ++p)
-            for (int q = -(pairs - 1); q < pairs; ++q) {
-                if (p == 0 && q < 0) continue;
-                int aq = q < 0 ? -q : q;
-                float8 br = e2r[aq], bi = q < 0 ? -e2i[aq] : e2i[aq]; /* band -q: conjugate */
-                float8 wr = e1r[p] * br - e1i[p] * bi, wi = e1r[p] * bi + e1i[p] * br;
-                __global const float *s = src + 8 * ci * ystride;
-                for (int h = 0; h < 4; ++h) {
-                    float8 yr = vload8(0, s + h * ystride), yi = vload8(0, s + (4 + h) * ystride);
-                    if (guard) {
-                        yr = select((float8)(0.0f), yr, ok);
-                        yi = select((float8)(0.0f), yi, ok);
-                    }
-                    acc[8 * ci + h] += wr * yr - wi * yi;
-                    acc[8 * ci + 4 + h] += wr * yi + wi * yr;
-                }
-                ++ci;
-            }
-    }
+    Taps t;
+    taps_collect(&t, &c, pairs, cx, hv, cos_normal_min, guide, gplane, go, 1, yp + yo + per * ystride, 1);
     __global float *o = tp + ((y + MAAF_PAD) * tblocks + x0 / 8) * (per + 1) * 8;
     int8 bad = (int8)(0);
-    for (int k = 0; k < per; ++k) {
-        vstore8(acc[k], k, o);
-        bad |= !isfinite(acc[k]);
-    }
+    int ci = 0;
+    for (int p = 0; p < pairs; ++p)
+        for (int q = -(pairs - 1); q < pairs; ++q) {
+            if (p == 0 && q < 0) continue;
+            /* one register per (channel, re/im): written out, the compiler keeps them in
+             * registers (as an array it kept them in memory) */
+            float8 r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, r3 = 0.0f, i0 = 0.0f, i1 = 0.0f, i2 = 0.0f, i3 = 0.0f;
+            for (int n = 0; n < t.count; ++n) {
+                float8 wr, wi;
+                tap_weight(&t, n, pairs, p, q, &wr, &wi);
+                __global const float *s = yp + yo + t.offset[n] + 8 * ci * ystride;
+                float8 y0 = vload8(0, s), y1 = vload8(0, s + ystride), y2 = vload8(0, s + 2 * ystride),
+                       y3 = vload8(0, s + 3 * ystride), z0 = vload8(0, s + 4 * ystride),
+                       z1 = vload8(0, s + 5 * ystride), z2 = vload8(0, s + 6 * ystride),
+                       z3 = vload8(0, s + 7 * ystride);
+                if (t.guard[n]) {
+                    int8 ok = t.ok[n];
+                    y0 = select(0.0f, y0, ok), y1 = select(0.0f, y1, ok), y2 = select(0.0f, y2, ok);
+                    y3 = select(0.0f, y3, ok), z0 = select(0.0f, z0, ok), z1 = select(0.0f, z1, ok);
+                    z2 = select(0.0f, z2, ok), z3 = select(0.0f, z3, ok);
+                }
+                r0 += wr * y0 - wi * z0, i0 += wr * z0 + wi * y0;
+                r1 += wr * y1 - wi * z1, i1 += wr * z1 + wi * y1;
+                r2 += wr * y2 - wi * z2, i2 += wr * z2 + wi * y2;
+                r3 += wr * y3 - wi * z3, i3 += wr * z3 + wi * y3;
+            }
+            vstore8(r0, 8 * ci, o), vstore8(r1, 8 * ci + 1, o), vstore8(r2, 8 * ci + 2, o), vstore8(r3, 8 * ci + 3, o);
+            vstore8(i0, 8 * ci + 4, o), vstore8(i1, 8 * ci + 5, o), vstore8(i2, 8 * ci + 6, o), vstore8(i3, 8 * ci + 7, o);
+            bad |= !isfinite(r0) | !isfinite(r1) | !isfinite(r2) | !isfinite(r3) | !isfinite(i0) | !isfinite(i1) |
+                   !isfinite(i2) | !isfinite(i3);
+            ++ci;
+        }
     vstore8(select((float8)(0.0f), (float8)(1.0f), bad), per, o);
 }
 
@@ -269,42 +310,34 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
         lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
-    float8 acc[4 * MAAF_COMPS_MAX];
-    for (int k = 0; k < 4 * comps; ++k) acc[k] = (float8)(0.0f);
-    for (int k = -c.reach; k <= c.reach; ++k) {
-        float8 d1, d2;
-        int8 ok = tap_lanes(&c, guide, gplane, go + k * gpitch, k, cos_normal_min, &d1, &d2);
-        if (!any(ok)) continue;
-        float8 e1r[MAAF_PAIRS_MAX], e1i[MAAF_PAIRS_MAX], e2r[MAAF_PAIRS_MAX], e2i[MAAF_PAIRS_MAX];
-        tap_factors(pairs, cx, hv, d1, d2, ok, e1r, e1i, e2r, e2i);
-        __global const float *src = tp + to + k * tblocks * tb;
-        bool guard = any((vload8(per, src) != 0.0f) & ~ok);
-        int ci = 0;
-        for (int p = 0; p < pairs; ++p)
-            for (int q = -(pairs - 1); q < pairs; ++q) {
-                if (p == 0 && q < 0) continue;
-                int aq = q < 0 ? -q : q;
-                float8 br = e2r[aq], bi = q < 0 ? -e2i[aq] : e2i[aq];
-                float8 wr = e1r[p] * br - e1i[p] * bi, wi = e1r[p] * bi + e1i[p] * br;
-                __global const float *s = src + 64 * ci;
-                for (int h = 0; h < 4; ++h) {
-                    float8 yr = vload8(h, s), yi = vload8(4 + h, s);
-                    if (guard) {
-                        yr = select((float8)(0.0f), yr, ok);
-                        yi = select((float8)(0.0f), yi, ok);
-                    }
-                    acc[4 * ci + h] += wr * yr - wi * yi;
-                }
-                ++ci;
-            }
-    }
-    float8 sum[4] = {(float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)};
+    Taps t;
+    taps_collect(&t, &c, pairs, cx, hv, cos_normal_min, guide, gplane, go, gpitch, tp + to + per * 8, tblocks * tb);
+    float8 sum[4] = {(float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)}, central[4];
     int ci = 0;
     for (int p = 0; p < pairs; ++p)
         for (int q = -(pairs - 1); q < pairs; ++q) {
             if (p == 0 && q < 0) continue;
+            float8 r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, r3 = 0.0f; /* as maaf_rows: registers */
+            for (int n = 0; n < t.count; ++n) {
+                float8 wr, wi;
+                tap_weight(&t, n, pairs, p, q, &wr, &wi);
+                __global const float *s = tp + to + t.offset[n] * tblocks * tb + 64 * ci;
+                float8 y0 = vload8(0, s), y1 = vload8(1, s), y2 = vload8(2, s), y3 = vload8(3, s), z0 = vload8(4, s),
+                       z1 = vload8(5, s), z2 = vload8(6, s), z3 = vload8(7, s);
+                if (t.guard[n]) {
+                    int8 ok = t.ok[n];
+                    y0 = select(0.0f, y0, ok), y1 = select(0.0f, y1, ok), y2 = select(0.0f, y2, ok);
+                    y3 = select(0.0f, y3, ok), z0 = select(0.0f, z0, ok), z1 = select(0.0f, z1, ok);
+                    z2 = select(0.0f, z2, ok), z3 = select(0.0f, z3, ok);
+                }
+                r0 += wr * y0 - wi * z0;
+                r1 += wr * y1 - wi * z1;
+                r2 += wr * y2 - wi * z2;
+                r3 += wr * y3 - wi * z3;
+            }
             float8 m = (ci == 0 ? 1.0f : 2.0f) * amp[p] * amp[q < 0 ? -q : q];
-            for (int h = 0; h < 4; ++h) sum[h] += m * acc[4 * ci + h];
+            sum[0] += m * r0, sum[1] += m * r1, sum[2] += m * r2, sum[3] += m * r3;
+            if (ci == 0) central[0] = r0, central[1] = r1, central[2] = r2, central[3] = r3;
             ++ci;
         }
     float sr[8], sg[8], sb[8], sw[8], cr[8], cg[8], cb[8], cw[8], a0[8], rad[8];
@@ -312,10 +345,10 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
     vstore8(sum[1], 0, sg);
     vstore8(sum[2], 0, sb);
     vstore8(sum[3], 0, sw);
-    vstore8(acc[0], 0, cr);
-    vstore8(acc[1], 0, cg);
-    vstore8(acc[2], 0, cb);
-    vstore8(acc[3], 0, cw);
+    vstore8(central[0], 0, cr);
+    vstore8(central[1], 0, cg);
+    vstore8(central[2], 0, cb);
+    vstore8(central[3], 0, cw);
     vstore8(amp[0], 0, a0);
     vstore8(c.rad, 0, rad);
     for (int l = 0; l < lanes; ++l) {

@@ -215,6 +215,28 @@ static bool buffer(MaafFilter *f, int b, size_t bytes, const void *src, Diag *d)
     return cl_ok(err, "upload", d);
 }
 
+/* Buffer b on the caller's array for this run (CL_MEM_USE_HOST_PTR): a CPU device reads it in
+ * place, where an upload copied 27 MB at 256x256 into memory touched for the first time; other
+ * devices copy it as before. release_inputs drops it before the array can go away. */
+static bool host_buffer(MaafFilter *f, int b, size_t bytes, const void *src, Diag *d)
+{
+    cl_int err = CL_SUCCESS;
+    if (f->buf[b]) clReleaseMemObject(f->buf[b]);
+    f->buf[b] = clCreateBuffer(f->rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, (void *)src, &err);
+    f->bytes[b] = 0; /* never reused by buffer() */
+    if (err != CL_SUCCESS) f->buf[b] = NULL;
+    return cl_ok(err, "input buffer", d);
+}
+
+static void release_inputs(MaafFilter *f)
+{
+    for (int b = BUF_IN; b <= BUF_PARAM; ++b)
+        if (f->buf[b]) {
+            clReleaseMemObject(f->buf[b]);
+            f->buf[b] = NULL;
+        }
+}
+
 static double event_seconds(cl_event e)
 {
     cl_ulong t0 = 0, t1 = 0;
@@ -266,10 +288,10 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
                  in->height);
         return false;
     }
-    bool ok = buffer(f, BUF_IN, ybytes, in->ysum, d) && buffer(f, BUF_POS, n * 16, in->pos4, d) &&
-              buffer(f, BUF_NRM, n * 16, in->nrm4, d) && buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
-              buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
-              buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
+    bool ok = host_buffer(f, BUF_IN, ybytes, in->ysum, d) && host_buffer(f, BUF_POS, n * 16, in->pos4, d) &&
+              host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) && host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
+              host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
+              host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
               buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), NULL, d) &&
               buffer(f, BUF_YP, yfloats * sizeof(float), NULL, d) &&
               buffer(f, BUF_TP, tfloats * sizeof(float), NULL, d) && buffer(f, BUF_OUT, n * 16, NULL, d);
@@ -296,7 +318,8 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     }
     ok = ok && cl_ok(clEnqueueReadBuffer(f->rt->queue, f->buf[BUF_OUT], CL_TRUE, 0, n * 16, out4, 0, NULL, NULL),
                      "download", d);
-    if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any copy still queued */
+    if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any command still queued */
+    release_inputs(f);
     for (int k = 0; k < K_COUNT; ++k) {
         f->seconds[k] = ok ? event_seconds(ev[k]) : 0.0;
         if (kernel_seconds) *kernel_seconds += f->seconds[k];
