@@ -86,7 +86,7 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     }
     /* table(iu, iv) = sum_k rows(iu, k) chords(iv, k): per iu, the sums of all iv at once with
      * the chords transposed to [k][iv] (each cell still adds its terms in k order, as one sum
-     * per cell did; the loop over iv vectorises: 0.036 s -> see docs/benchmarks.md) */
+     * per cell did; the loop over iv vectorises), half of the rows by symmetry (below) */
     double *ct_re = malloc((size_t)K * T * sizeof(double)), *ct_im = malloc((size_t)K * T * sizeof(double));
     double *acc_re = malloc((size_t)T * sizeof(double)), *acc_im = malloc((size_t)T * sizeof(double));
     ok = ok && ct_re && ct_im && acc_re && acc_im;
@@ -100,7 +100,7 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                     ct_re[(size_t)k * T + iv] = ch.re;
                     ct_im[(size_t)k * T + iv] = ch.im;
                 }
-            for (int iu = 0; iu < T; ++iu) {
+            for (int iu = 0; iu <= (T - 1) / 2; ++iu) {
                 const Cplx *r = rows + ((size_t)p * T + iu) * K;
                 for (int iv = 0; iv < T; ++iv) acc_re[iv] = acc_im[iv] = 0.0;
                 for (int k = 0; k < K; ++k) {
@@ -113,8 +113,12 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                 }
                 for (int iv = 0; iv < T; ++iv) {
                     float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
+                    float *mirror = l->table + (((size_t)(T - 1 - iu) * T + (T - 1 - iv)) * l->comps + c) * 2;
                     o[0] = (float)acc_re[iv];
                     o[1] = (float)acc_im[iv];
+                    /* c_pq(-u, -v) = conj(c_pq(u, v)): the disk is point-symmetric and each
+                     * band's primal component at -t is the conjugate of that at t */
+                    if (T - 1 - iu != iu) mirror[0] = o[0], mirror[1] = -o[1];
                 }
             }
             ++c;
