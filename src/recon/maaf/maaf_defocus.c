@@ -187,12 +187,17 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
         s_min = s_max;
         s_max = t;
     }
-    if (s_min > 0.0f) return maaf_pixel_param(s_min, s_max, omega_u_max, pairs, 1.0f, 1.0f, param);
-    if (!(s_max < 0.0f)) return 0.0f; /* straddles the focal plane: the wedge holds the Omega_x axis */
-    /* s -> -s mirrors the wedge through the Omega_u axis (Omega_x -> -Omega_x): the same boxes
-     * with C_x negated */
-    float std_px = maaf_pixel_param(-s_max, -s_min, omega_u_max, pairs, 1.0f, 1.0f, param);
-    for (int p = 0; p < MAAF_PAIRS_MAX; ++p) param[2 + 3 * p] = -param[2 + 3 * p];
+    float std_px;
+    if (s_min > 0.0f) {
+        std_px = maaf_pixel_param(s_min, s_max, omega_u_max, pairs, 1.0f, 1.0f, param);
+    } else {
+        if (!(s_max < 0.0f)) return 0.0f; /* straddles the focal plane: the wedge holds the Omega_x axis */
+        /* s -> -s mirrors the wedge through the Omega_u axis (Omega_x -> -Omega_x): the same
+         * boxes with C_x negated */
+        std_px = maaf_pixel_param(-s_max, -s_min, omega_u_max, pairs, 1.0f, 1.0f, param);
+        for (int p = 0; p < MAAF_PAIRS_MAX; ++p) param[2 + 3 * p] = -param[2 + 3 * p];
+    }
+    if (std_px > 0.0f) param[0] = fminf(ceilf(MAAF_DEFOCUS_RADIUS_STD * std_px), (float)MAAF_RADIUS_CAP_PX);
     return std_px;
 }
 
