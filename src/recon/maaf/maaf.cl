@@ -2,7 +2,7 @@
  * filter (a product of two orthogonal 2D designs, Sec. 6.1), run twice: along pixel rows
  * (maaf_rows), then along pixel columns (maaf_cols). OpenCL C 1.2, float only. The C reference
  * is maaf_filter_reference (maaf_filter.c), which computes the same sums in the same order;
- * docs/algorithms.md 9.6 has the derivation, 9.9 this layout.
+ * docs/algorithms.md 9.6 has the derivation, 9.10 this layout.
  *
  * Components are indexed c = (p, q), p the band along light axis 1, q along axis 2, over the
  * half set {p > 0, or p = 0 and q >= 0}: the other half are complex conjugates and fold into a
