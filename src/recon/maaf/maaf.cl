@@ -18,13 +18,15 @@
  * consecutive floats (vload8) along rows and along columns alike; PoCL turns the float8
  * arithmetic, sincos and exp included, into SIMD code. maaf_unpack builds the planes from the
  * host's interleaved arrays:
- *   guide  MAAF_GUIDES planes with MAAF_PAD pixels of zeros on every side (usable 0: no tap
- *          needs a bounds check while the radius is at most MAAF_PAD); pitch gpitch
+ *   guide  MAAF_GUIDES planes, each row with MAAF_PAD pixels of zeros on either side (usable
+ *          0); pitch gpitch. The row pass takes only taps that reach the image with one of
+ *          its 8 lanes (the others read the padding), the column pass only rows inside it,
+ *          so no plane needs more padding or any bounds check
  *   yp     the sums, 8 planes per component (re r g b w, im r g b w: the host's float order)
- *          and a flag plane (1: a usable pixel with a non-finite sum); padded along x only
- *          (the row pass); stored row by row, each image row holding every plane's row
- *          ystride floats apart, so that a tap's ~100 reads lie in a few pages
- *   tp     the row pass's output, padded along y only (the column pass), in blocks: for each
+ *          and a flag plane (1: a usable pixel with a non-finite sum), padded as the guides;
+ *          stored row by row, each image row holding every plane's row ystride floats apart,
+ *          so that a tap's ~100 reads lie in a few pages
+ *   tp     the row pass's output (no padding: the column pass reads image rows), in blocks: for each
  *          row and 8 pixels, every plane's 8 floats one after the other, so that a column
  *          tap reads one contiguous block (in planes, its 100 streams ran into cache misses)
  * A rejected neighbour gets weight 0 by select, and its sums are read only through select when
@@ -39,8 +41,10 @@
 #define MAAF_PAIRS_MAX 5
 #define MAAF_COMPS_MAX 41
 #define MAAF_PARAM_STRIDE 16
-/* MAAF_RADIUS_CAP_PX (maaf_filter.h): the padding every tap relies on */
-#define MAAF_PAD 32
+/* MAAF_RADIUS_CAP_PX (maaf_filter.h) */
+#define MAAF_RADIUS_CAP 32
+/* padding of every row: a row tap's lanes reach at most 7 pixels past the image */
+#define MAAF_PAD 8
 /* below this fraction of the central component's weight the full sum is not trusted */
 #define MAAF_MIN_WEIGHT_FRACTION 0.2f
 /* sx^2 ratio of the sharpness rule: a neighbour's std under 1/2 of the centre's */
@@ -60,14 +64,14 @@
 #define G_HV0 10
 #define MAAF_GUIDES 11
 
-__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int ystride, int tblocks,
+__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int ystride,
                           __global const float *in, __global const float4 *pos4, __global const float4 *nrm4,
                           __global const float4 *frame4, __global const float *param, __global float *guide,
-                          __global float *yp, __global float *tp)
+                          __global float *yp)
 {
-    int gx = (int)get_global_id(0), gy = (int)get_global_id(1);
-    if (gx >= gpitch || gy >= height + 2 * MAAF_PAD) return;
-    int x = gx - MAAF_PAD, y = gy - MAAF_PAD, per = 8 * comps;
+    int gx = (int)get_global_id(0), y = (int)get_global_id(1);
+    if (gx >= gpitch || y >= height) return;
+    int x = gx - MAAF_PAD, gy = y, per = 8 * comps;
     bool inside = x >= 0 && y >= 0 && x < width && y < height;
     int i = inside ? y * width + x : 0;
     float4 p = inside ? pos4[i] : (float4)(0.0f), n = inside ? nrm4[i] : (float4)(0.0f);
@@ -85,7 +89,7 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
     g[G_USE * gplane] = use ? 1.0f : 0.0f;
     g[G_RAD * gplane] = inside ? pr[0] : 0.0f;
     g[G_HV0 * gplane] = inside ? pr[3] : 0.0f;
-    if (y >= 0 && y < height) { /* the sums: image rows, padded columns */
+    { /* the sums */
         __global float *o = yp + y * (per + 1) * ystride + gx;
         __global const float *src = in + (size_t)i * per;
         bool bad = false;
@@ -95,9 +99,6 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
             o[k * ystride] = v;
         }
         o[per * ystride] = bad ? 1.0f : 0.0f;
-    } else if (x >= 0 && x < 8 * tblocks) { /* the row pass's output: its padding rows */
-        __global float *o = tp + (size_t)(gy * tblocks + x / 8) * (per + 1) * 8 + x % 8;
-        for (int k = 0; k <= per; ++k) o[8 * k] = 0.0f;
     }
 }
 
@@ -142,7 +143,7 @@ static Centre centre_load(__global const float *guide, int gplane, int go, __glo
     }
     c.hv0 = hv[0];
     /* the reference's integer radius; a lane is filtered when usable with a radius > 0 */
-    float8 rad = fmin(trunc(vload8(0, guide + G_RAD * gplane + go)), (float8)MAAF_PAD);
+    float8 rad = fmin(trunc(vload8(0, guide + G_RAD * gplane + go)), (float8)MAAF_RADIUS_CAP);
     int8 filtered = (vload8(0, guide + G_USE * gplane + go) != 0.0f) & (rad > 0.0f);
     c.rad = select((float8)(-1.0f), rad, filtered);
     float4 m4 = fmax(c.rad.lo, c.rad.hi);
@@ -210,7 +211,7 @@ static void tap_factors(int pairs, const float8 *cx, const float8 *hv, float8 d1
 /* The taps that some lane uses, and their factors per band (tap t, band p at t * pairs + p):
  * computed once per work item, then every component sweeps them with its sums in registers
  * (components outer, taps inner: each component's sum still adds its taps in k order). */
-#define MAAF_TAPS_MAX (2 * MAAF_PAD + 1)
+#define MAAF_TAPS_MAX (2 * MAAF_RADIUS_CAP + 1)
 typedef struct {
     int count;
     int offset[MAAF_TAPS_MAX]; /* k */
@@ -220,12 +221,12 @@ typedef struct {
     float8 e2r[MAAF_TAPS_MAX * MAAF_PAIRS_MAX], e2i[MAAF_TAPS_MAX * MAAF_PAIRS_MAX];
 } Taps;
 
-static void taps_collect(Taps *t, const Centre *c, int pairs, const float8 *cx, const float8 *hv, float cos_normal_min,
-                         __global const float *guide, int gplane, int go, int gstep, __global const float *flags,
-                         int fstep)
+static void taps_collect(Taps *t, const Centre *c, int kmin, int kmax, int pairs, const float8 *cx, const float8 *hv,
+                         float cos_normal_min, __global const float *guide, int gplane, int go, int gstep,
+                         __global const float *flags, int fstep)
 {
     t->count = 0;
-    for (int k = -c->reach; k <= c->reach; ++k) {
+    for (int k = max(-c->reach, kmin); k <= min(c->reach, kmax); ++k) {
         float8 d1, d2;
         int8 ok = tap_lanes(c, guide, gplane, go + k * gstep, k, cos_normal_min, &d1, &d2);
         if (!any(ok)) continue;
@@ -257,13 +258,15 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
 {
     int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
     if (x0 >= width || y >= height) return;
-    int go = (y + MAAF_PAD) * gpitch + x0 + MAAF_PAD;
+    int go = y * gpitch + x0 + MAAF_PAD;
     int per = 8 * comps, yo = y * (per + 1) * ystride + x0 + MAAF_PAD, i0 = y * width + x0, lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
     Taps t;
-    taps_collect(&t, &c, pairs, cx, hv, cos_normal_min, guide, gplane, go, 1, yp + yo + per * ystride, 1);
-    __global float *o = tp + ((y + MAAF_PAD) * tblocks + x0 / 8) * (per + 1) * 8;
+    /* taps whose 8 neighbours include an image pixel */
+    taps_collect(&t, &c, -(x0 + 7), width - 1 - x0, pairs, cx, hv, cos_normal_min, guide, gplane, go, 1,
+                 yp + yo + per * ystride, 1);
+    __global float *o = tp + (y * tblocks + x0 / 8) * (per + 1) * 8;
     int8 bad = (int8)(0);
     int ci = 0;
     for (int p = 0; p < pairs; ++p)
@@ -310,13 +313,15 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
 {
     int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
     if (x0 >= width || y >= height) return;
-    int go = (y + MAAF_PAD) * gpitch + x0 + MAAF_PAD;
-    int per = 8 * comps, tb = (per + 1) * 8, to = ((y + MAAF_PAD) * tblocks + x0 / 8) * tb, i0 = y * width + x0,
+    int go = y * gpitch + x0 + MAAF_PAD;
+    int per = 8 * comps, tb = (per + 1) * 8, to = (y * tblocks + x0 / 8) * tb, i0 = y * width + x0,
         lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
     Taps t;
-    taps_collect(&t, &c, pairs, cx, hv, cos_normal_min, guide, gplane, go, gpitch, tp + to + per * 8, tblocks * tb);
+    /* taps on image rows */
+    taps_collect(&t, &c, -y, height - 1 - y, pairs, cx, hv, cos_normal_min, guide, gplane, go, gpitch, tp + to + per * 8,
+                 tblocks * tb);
     float8 sum[4] = {(float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)}, central[4];
     int ci = 0;
     for (int p = 0; p < pairs; ++p)

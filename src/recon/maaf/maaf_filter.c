@@ -150,11 +150,11 @@ bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
 
 /* ---- OpenCL ---- */
 
-/* maaf.cl's layout: 8 pixels per work item, MAAF_GUIDES padded guide planes (MAAF_GUIDES and
- * MAAF_PAD there). */
+/* maaf.cl's layout: 8 pixels per work item, GUIDES guide planes, rows padded by PAD pixels
+ * (MAAF_GUIDES and MAAF_PAD there). */
 #define LANES 8
 #define GUIDES 11
-#define PAD MAAF_RADIUS_CAP_PX
+#define PAD 8
 
 enum { BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_COUNT };
 enum { K_UNPACK, K_ROWS, K_COLS, K_COUNT };
@@ -277,10 +277,9 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     size_t n = (size_t)in->width * (size_t)in->height;
     int comps = maaf_component_count(in->pairs), per = 8 * comps;
     size_t ybytes = n * (size_t)per * sizeof(float);
-    /* maaf.cl's planes: the width rounded up to whole work items, guides padded on every side,
-     * the sums along x, the row pass's output (in blocks of 8 pixels) along y; one flag plane
-     * after the sums */
-    size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height + 2 * PAD;
+    /* maaf.cl's planes: the width rounded up to whole work items, the guides' and the sums' rows
+     * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums */
+    size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height;
     size_t gplane = plane_stride(gpitch * rows), ystride = line_stride(gpitch), yfloats = ystride * (size_t)(per + 1) * (size_t)in->height,
            tfloats = rows * w8 * (size_t)(per + 1);
     if (yfloats > (size_t)INT32_MAX || tfloats > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
@@ -299,9 +298,9 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
     cl_event ev[K_COUNT] = {NULL, NULL, NULL};
     if (ok) {
-        cl_int ints[7] = {w, h, comps, gp, gpl, yp, tb};
-        int bufs[8] = {BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP};
-        ok = set_args(f, K_UNPACK, ints, 7, NULL, 0, bufs, 8, NULL, 0, d) &&
+        cl_int ints[6] = {w, h, comps, gp, gpl, yp};
+        int bufs[7] = {BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE, BUF_YP};
+        ok = set_args(f, K_UNPACK, ints, 6, NULL, 0, bufs, 7, NULL, 0, d) &&
              cl_launch_2d(f->rt, f->k[K_UNPACK], gpitch, rows, &ev[K_UNPACK], d);
     }
     if (ok) {
