@@ -34,7 +34,8 @@ void maaf_basis(const float n_in[3], float t1[3], float t2[3])
     t2[2] = n[0] * t1[1] - n[1] * t1[0];
 }
 
-/* One 1D pass of maaf.cl's maaf_pass for pixel (x, y); acc receives 8 floats per component. */
+/* One 1D pass (maaf.cl's maaf_rows for axis 0, maaf_cols for axis 1) for pixel (x, y); acc
+ * receives 8 floats per component. */
 static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, int x, int y, float *acc)
 {
     int w = in->width, h = in->height, pairs = in->pairs, comps = maaf_component_count(pairs);

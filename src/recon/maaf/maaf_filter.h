@@ -1,7 +1,8 @@
 /* The MAAF image-space pass (seeds/003 eq. 21, 4D soft-shadow filter as the product of two 2D
- * designs): OpenCL kernel maaf_pass in maaf/maaf.cl, and its plain C reference, which computes
- * the same thing (tests/recon/test_maaf_filter.c checks they agree). Layouts are those of
- * maaf.cl; every array is row-major, width x height, no padding. */
+ * designs): OpenCL kernels maaf_unpack, maaf_rows and maaf_cols in maaf/maaf.cl, and its plain C
+ * reference, which computes the same sums in the same order (tests/recon/test_maaf_filter.c and
+ * test_maaf_filter_lanes.c check they agree). The host arrays below are row-major, width x
+ * height, no padding; maaf.cl describes its own planes. */
 #ifndef WEDGE_RECON_MAAF_FILTER_H
 #define WEDGE_RECON_MAAF_FILTER_H
 
