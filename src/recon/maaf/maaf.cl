@@ -16,7 +16,7 @@
  * Layout (as AAF's aaf.cl): one work item filters 8 consecutive pixels of a row in float8 lanes,
  * reading every per-pixel quantity from its own float plane, so that a tap's 8 neighbours are 8
  * consecutive floats (vload8) along rows and along columns alike; PoCL turns the float8
- * arithmetic, sincos and exp included, into SIMD code. maaf_unpack builds the planes from the
+ * arithmetic, sin, cos and exp included, into SIMD code. maaf_unpack builds the planes from the
  * host's interleaved arrays:
  *   guide  MAAF_GUIDES planes, each row with MAAF_PAD pixels of zeros on either side (usable
  *          0); pitch gpitch. The row pass takes only taps that reach the image with one of
@@ -26,9 +26,9 @@
  *          and a flag plane (1: a usable pixel with a non-finite sum), padded as the guides;
  *          stored row by row, each image row holding every plane's row ystride floats apart,
  *          so that a tap's ~100 reads lie in a few pages
- *   tp     the row pass's output (no padding: the column pass reads image rows), in blocks: for each
- *          row and 8 pixels, every plane's 8 floats one after the other, so that a column
- *          tap reads one contiguous block (in planes, its 100 streams ran into cache misses)
+ *   tp     the row pass's output (no padding: the column pass reads image rows), in blocks:
+ *          for each row and 8 pixels, every plane's 8 floats one after the other, so that a
+ *          column tap reads one contiguous block (in planes, its 100 streams missed the cache)
  * A rejected neighbour gets weight 0 by select, and its sums are read only through select when
  * one of them is not finite (0 * NaN would poison a lane that does not use it).
  *
@@ -71,13 +71,13 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
 {
     int gx = (int)get_global_id(0), y = (int)get_global_id(1);
     if (gx >= gpitch || y >= height) return;
-    int x = gx - MAAF_PAD, gy = y, per = 8 * comps;
-    bool inside = x >= 0 && y >= 0 && x < width && y < height;
+    int x = gx - MAAF_PAD, per = 8 * comps;
+    bool inside = x >= 0 && x < width;
     int i = inside ? y * width + x : 0;
     float4 p = inside ? pos4[i] : (float4)(0.0f), n = inside ? nrm4[i] : (float4)(0.0f);
     bool use = inside && frame4[i].w != 0.0f;
     __global const float *pr = param + i * MAAF_PARAM_STRIDE;
-    __global float *g = guide + gy * gpitch + gx;
+    __global float *g = guide + y * gpitch + gx;
     g[G_PX * gplane] = p.x;
     g[G_PY * gplane] = p.y;
     g[G_PZ * gplane] = p.z;

@@ -141,11 +141,11 @@ bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
     size_t n = (size_t)in->width * (size_t)in->height, per = (size_t)maaf_component_count(in->pairs) * 8;
     int dims[3] = {in->width, in->height, in->pairs};
     float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
+    const float *part[6] = {in->ysum, in->pos4, in->nrm4, in->frame4, in->axis2_4, in->param};
+    size_t count[6] = {n * per, 4 * n, 4 * n, 4 * n, 4 * n, n * MAAF_PARAM_STRIDE};
     bool ok = fwrite(MAAF_DUMP_MAGIC, 1, 8, fp) == 8 && fwrite(dims, sizeof(int), 3, fp) == 3 &&
-              fwrite(rules, sizeof(float), 2, fp) == 2 && fwrite(in->ysum, sizeof(float), n * per, fp) == n * per &&
-              fwrite(in->pos4, sizeof(float), 4 * n, fp) == 4 * n && fwrite(in->nrm4, sizeof(float), 4 * n, fp) == 4 * n &&
-              fwrite(in->frame4, sizeof(float), 4 * n, fp) == 4 * n && fwrite(in->axis2_4, sizeof(float), 4 * n, fp) == 4 * n &&
-              fwrite(in->param, sizeof(float), n * MAAF_PARAM_STRIDE, fp) == n * MAAF_PARAM_STRIDE;
+              fwrite(rules, sizeof(float), 2, fp) == 2;
+    for (int k = 0; k < 6 && ok; ++k) ok = fwrite(part[k], sizeof(float), count[k], fp) == count[k];
     return fclose(fp) == 0 && ok;
 }
 
@@ -202,18 +202,16 @@ static bool cl_ok(cl_int err, const char *what, Diag *d)
     return false;
 }
 
-/* (Re)creates buffer b with at least bytes and, when src is given, queues its upload. */
-static bool buffer(MaafFilter *f, int b, size_t bytes, const void *src, Diag *d)
+/* (Re)creates work buffer b with at least bytes (kept for the next run). */
+static bool buffer(MaafFilter *f, int b, size_t bytes, Diag *d)
 {
     cl_int err = CL_SUCCESS;
     if (f->bytes[b] < bytes) {
         if (f->buf[b]) clReleaseMemObject(f->buf[b]);
         f->buf[b] = clCreateBuffer(f->rt->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
         f->bytes[b] = err == CL_SUCCESS ? bytes : 0;
-        if (!cl_ok(err, "buffer allocation", d)) return false;
     }
-    if (src) err = clEnqueueWriteBuffer(f->rt->queue, f->buf[b], CL_FALSE, 0, bytes, src, 0, NULL, NULL);
-    return cl_ok(err, "upload", d);
+    return cl_ok(err, "buffer allocation", d);
 }
 
 /* Buffer b on the caller's array for this run (CL_MEM_USE_HOST_PTR): a CPU device reads it in
@@ -281,8 +279,8 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     /* maaf.cl's planes: the width rounded up to whole work items, the guides' and the sums' rows
      * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums */
     size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height;
-    size_t gplane = plane_stride(gpitch * rows), ystride = line_stride(gpitch), yfloats = ystride * (size_t)(per + 1) * (size_t)in->height,
-           tfloats = rows * w8 * (size_t)(per + 1);
+    size_t gplane = plane_stride(gpitch * rows), ystride = line_stride(gpitch);
+    size_t yfloats = ystride * (size_t)(per + 1) * rows, tfloats = rows * w8 * (size_t)(per + 1);
     if (yfloats > (size_t)INT32_MAX || tfloats > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", in->width,
                  in->height);
@@ -292,10 +290,10 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
               host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) && host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
               host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
-              buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), NULL, d) &&
-              buffer(f, BUF_YP, yfloats * sizeof(float), NULL, d) &&
-              buffer(f, BUF_TP, tfloats * sizeof(float), NULL, d) && buffer(f, BUF_OUT, n * 16, NULL, d);
-    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)ystride, tb = (cl_int)(w8 / LANES);
+              buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, yfloats * sizeof(float), d) &&
+              buffer(f, BUF_TP, tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d);
+    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)ystride;
+    cl_int tb = (cl_int)(w8 / LANES);
     float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
     cl_event ev[K_COUNT] = {NULL, NULL, NULL};
     if (ok) {
