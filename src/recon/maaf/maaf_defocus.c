@@ -18,7 +18,6 @@ typedef struct {
     double re, im;
 } Cplx;
 
-static Cplx cmul(Cplx a, Cplx b) { return (Cplx){a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
 
 /* One band's primal component exp(j C t) g(t; s) (maaf_design.h's conventions). */
 static Cplx band_primal(double C, double s, double t)
@@ -85,25 +84,49 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                 chords[((size_t)(q + n - 1) * T + iv) * K + k] = (Cplx){a[0].re - a[1].re, a[0].im - a[1].im};
             }
     }
+    /* table(iu, iv) = sum_k rows(iu, k) chords(iv, k): per iu, the sums of all iv at once with
+     * the chords transposed to [k][iv] (each cell still adds its terms in k order, as one sum
+     * per cell did; the loop over iv vectorises), half of the rows by symmetry (below) */
+    double *ct_re = malloc((size_t)K * T * sizeof(double)), *ct_im = malloc((size_t)K * T * sizeof(double));
+    double *acc_re = malloc((size_t)T * sizeof(double)), *acc_im = malloc((size_t)T * sizeof(double));
+    ok = ok && ct_re && ct_im && acc_re && acc_im;
     int c = 0;
     for (int p = 0; ok && p < n; ++p)
         for (int q = -(n - 1); q < n; ++q) {
             if (p == 0 && q < 0) continue;
-            for (int iu = 0; iu < T; ++iu)
-                for (int iv = 0; iv < T; ++iv) {
-                    const Cplx *r = rows + ((size_t)p * T + iu) * K, *ch = chords + ((size_t)(q + n - 1) * T + iv) * K;
-                    Cplx acc = {0.0, 0.0};
-                    for (int k = 0; k < K; ++k) {
-                        Cplx m = cmul(r[k], ch[k]);
-                        acc.re += m.re;
-                        acc.im += m.im;
-                    }
-                    float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
-                    o[0] = (float)acc.re;
-                    o[1] = (float)acc.im;
+            for (int iv = 0; iv < T; ++iv)
+                for (int k = 0; k < K; ++k) {
+                    Cplx ch = chords[((size_t)(q + n - 1) * T + iv) * K + k];
+                    ct_re[(size_t)k * T + iv] = ch.re;
+                    ct_im[(size_t)k * T + iv] = ch.im;
                 }
+            for (int iu = 0; iu <= (T - 1) / 2; ++iu) {
+                const Cplx *r = rows + ((size_t)p * T + iu) * K;
+                for (int iv = 0; iv < T; ++iv) acc_re[iv] = acc_im[iv] = 0.0;
+                for (int k = 0; k < K; ++k) {
+                    double rr = r[k].re, ri = r[k].im;
+                    const double *cr = ct_re + (size_t)k * T, *ci = ct_im + (size_t)k * T;
+                    for (int iv = 0; iv < T; ++iv) {
+                        acc_re[iv] += rr * cr[iv] - ri * ci[iv];
+                        acc_im[iv] += rr * ci[iv] + ri * cr[iv];
+                    }
+                }
+                for (int iv = 0; iv < T; ++iv) {
+                    float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
+                    float *mirror = l->table + (((size_t)(T - 1 - iu) * T + (T - 1 - iv)) * l->comps + c) * 2;
+                    o[0] = (float)acc_re[iv];
+                    o[1] = (float)acc_im[iv];
+                    /* c_pq(-u, -v) = conj(c_pq(u, v)): the disk is point-symmetric and each
+                     * band's primal component at -t is the conjugate of that at t */
+                    if (T - 1 - iu != iu) mirror[0] = o[0], mirror[1] = -o[1];
+                }
+            }
             ++c;
         }
+    free(ct_re);
+    free(ct_im);
+    free(acc_re);
+    free(acc_im);
     free(rows);
     free(chords);
     free(anti);
@@ -164,12 +187,17 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
         s_min = s_max;
         s_max = t;
     }
-    if (s_min > 0.0f) return maaf_pixel_param(s_min, s_max, omega_u_max, pairs, 1.0f, 1.0f, param);
-    if (!(s_max < 0.0f)) return 0.0f; /* straddles the focal plane: the wedge holds the Omega_x axis */
-    /* s -> -s mirrors the wedge through the Omega_u axis (Omega_x -> -Omega_x): the same boxes
-     * with C_x negated */
-    float std_px = maaf_pixel_param(-s_max, -s_min, omega_u_max, pairs, 1.0f, 1.0f, param);
-    for (int p = 0; p < MAAF_PAIRS_MAX; ++p) param[2 + 3 * p] = -param[2 + 3 * p];
+    float std_px;
+    if (s_min > 0.0f) {
+        std_px = maaf_pixel_param(s_min, s_max, omega_u_max, pairs, 1.0f, 1.0f, param);
+    } else {
+        if (!(s_max < 0.0f)) return 0.0f; /* straddles the focal plane: the wedge holds the Omega_x axis */
+        /* s -> -s mirrors the wedge through the Omega_u axis (Omega_x -> -Omega_x): the same
+         * boxes with C_x negated */
+        std_px = maaf_pixel_param(-s_max, -s_min, omega_u_max, pairs, 1.0f, 1.0f, param);
+        for (int p = 0; p < MAAF_PAIRS_MAX; ++p) param[2 + 3 * p] = -param[2 + 3 * p];
+    }
+    if (std_px > 0.0f) param[0] = fminf(ceilf(MAAF_DEFOCUS_RADIUS_STD * std_px), (float)MAAF_RADIUS_CAP_PX);
     return std_px;
 }
 

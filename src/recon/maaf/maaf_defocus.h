@@ -61,6 +61,11 @@ void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4]
  * a wedge reaching every Omega_x of the pixel band and gets no filter (returns 0, radius 0).
  * x is in pixels (pixel_world 1). Returns the central component's std in pixels. */
 float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int pairs, float *param);
+/* Its truncation radius, in central stds (maaf_pixel_param's is 2): on the defocus bench at
+ * 256x256 (equal samples, 2 seeds, 8-32 spp) 1.5 and 1.25 had 5-10% lower relMSE than 2 (the
+ * filter blurs less), 1 about 2's; the soft shadows' error rose at 1.5, so they keep 2
+ * (docs/benchmarks.md, "MAAF's image pass, faster"). The pass's cost is about linear in it. */
+#define MAAF_DEFOCUS_RADIUS_STD 1.5f
 
 /* Pixel (x, y)'s filter from pass 1's circle-of-confusion ranges (coc_min, coc_max: signed px
  * per unit lens coordinate, recon_coc_slope_px, w x h): the design slopes s = -coc averaged over

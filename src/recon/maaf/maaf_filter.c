@@ -2,6 +2,8 @@
 #include "recon/maaf/maaf_filter.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,7 +34,8 @@ void maaf_basis(const float n_in[3], float t1[3], float t2[3])
     t2[2] = n[0] * t1[1] - n[1] * t1[0];
 }
 
-/* One 1D pass of maaf.cl's maaf_pass for pixel (x, y); acc receives 8 floats per component. */
+/* One 1D pass (maaf.cl's maaf_rows for axis 0, maaf_cols for axis 1) for pixel (x, y); acc
+ * receives 8 floats per component. */
 static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, int x, int y, float *acc)
 {
     int w = in->width, h = in->height, pairs = in->pairs, comps = maaf_component_count(pairs);
@@ -131,15 +134,39 @@ void maaf_filter_reference(const MaafFilterInput *in, float *out4)
     free(acc);
 }
 
+bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
+{
+    FILE *fp = fopen(path, "wb");
+    if (!fp) return false;
+    size_t n = (size_t)in->width * (size_t)in->height, per = (size_t)maaf_component_count(in->pairs) * 8;
+    int dims[3] = {in->width, in->height, in->pairs};
+    float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
+    const float *part[6] = {in->ysum, in->pos4, in->nrm4, in->frame4, in->axis2_4, in->param};
+    size_t count[6] = {n * per, 4 * n, 4 * n, 4 * n, 4 * n, n * MAAF_PARAM_STRIDE};
+    bool ok = fwrite(MAAF_DUMP_MAGIC, 1, 8, fp) == 8 && fwrite(dims, sizeof(int), 3, fp) == 3 &&
+              fwrite(rules, sizeof(float), 2, fp) == 2;
+    for (int k = 0; k < 6 && ok; ++k) ok = fwrite(part[k], sizeof(float), count[k], fp) == count[k];
+    return fclose(fp) == 0 && ok;
+}
+
 /* ---- OpenCL ---- */
 
-enum { BUF_IN, BUF_TMP, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_OUT, BUF_COUNT };
+/* maaf.cl's layout: 8 pixels per work item, GUIDES guide planes, rows padded by PAD pixels
+ * (MAAF_GUIDES and MAAF_PAD there). */
+#define LANES 8
+#define GUIDES 11
+#define PAD 8
+
+enum { BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_COUNT };
+enum { K_UNPACK, K_ROWS, K_COLS, K_COUNT };
+static const char *const KERNEL_NAMES[K_COUNT] = {"maaf_unpack", "maaf_rows", "maaf_cols"};
 
 struct MaafFilter {
     ClRuntime *rt;
-    cl_kernel pass;
+    cl_kernel k[K_COUNT];
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
+    double seconds[K_COUNT]; /* the last run's */
 };
 
 MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
@@ -150,10 +177,11 @@ MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
         return NULL;
     }
     f->rt = rt;
-    if (!(f->pass = cl_runtime_kernel(rt, "maaf_pass", d))) {
-        maaf_filter_destroy(f);
-        return NULL;
-    }
+    for (int k = 0; k < K_COUNT; ++k)
+        if (!(f->k[k] = cl_runtime_kernel(rt, KERNEL_NAMES[k], d))) {
+            maaf_filter_destroy(f);
+            return NULL;
+        }
     return f;
 }
 
@@ -162,7 +190,8 @@ void maaf_filter_destroy(MaafFilter *f)
     if (!f) return;
     for (int b = 0; b < BUF_COUNT; ++b)
         if (f->buf[b]) clReleaseMemObject(f->buf[b]);
-    if (f->pass) clReleaseKernel(f->pass);
+    for (int k = 0; k < K_COUNT; ++k)
+        if (f->k[k]) clReleaseKernel(f->k[k]);
     free(f);
 }
 
@@ -173,18 +202,38 @@ static bool cl_ok(cl_int err, const char *what, Diag *d)
     return false;
 }
 
-/* (Re)creates buffer b with at least bytes and, when src is given, queues its upload. */
-static bool buffer(MaafFilter *f, int b, size_t bytes, const void *src, Diag *d)
+/* (Re)creates work buffer b with at least bytes (kept for the next run). */
+static bool buffer(MaafFilter *f, int b, size_t bytes, Diag *d)
 {
     cl_int err = CL_SUCCESS;
     if (f->bytes[b] < bytes) {
         if (f->buf[b]) clReleaseMemObject(f->buf[b]);
         f->buf[b] = clCreateBuffer(f->rt->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
         f->bytes[b] = err == CL_SUCCESS ? bytes : 0;
-        if (!cl_ok(err, "buffer allocation", d)) return false;
     }
-    if (src) err = clEnqueueWriteBuffer(f->rt->queue, f->buf[b], CL_FALSE, 0, bytes, src, 0, NULL, NULL);
-    return cl_ok(err, "upload", d);
+    return cl_ok(err, "buffer allocation", d);
+}
+
+/* Buffer b on the caller's array for this run (CL_MEM_USE_HOST_PTR): a CPU device reads it in
+ * place, where an upload copied 27 MB at 256x256 into memory touched for the first time; other
+ * devices copy it as before. release_inputs drops it before the array can go away. */
+static bool host_buffer(MaafFilter *f, int b, size_t bytes, const void *src, Diag *d)
+{
+    cl_int err = CL_SUCCESS;
+    if (f->buf[b]) clReleaseMemObject(f->buf[b]);
+    f->buf[b] = clCreateBuffer(f->rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, (void *)src, &err);
+    f->bytes[b] = 0; /* never reused by buffer() */
+    if (err != CL_SUCCESS) f->buf[b] = NULL;
+    return cl_ok(err, "input buffer", d);
+}
+
+static void release_inputs(MaafFilter *f)
+{
+    for (int b = BUF_IN; b <= BUF_PARAM; ++b)
+        if (f->buf[b]) {
+            clReleaseMemObject(f->buf[b]);
+            f->buf[b] = NULL;
+        }
 }
 
 static double event_seconds(cl_event e)
@@ -196,36 +245,83 @@ static double event_seconds(cl_event e)
     return t1 > t0 ? (double)(t1 - t0) * 1e-9 : 0.0;
 }
 
+/* Floats between one plane and the next: whole 4 KiB pages plus one cache line, so that a
+ * tap's reads of the same pixel in 100 planes fall into different cache sets (a whole number
+ * of pages apart they all map to one set of an 8-way L1 and evict each other: measured 2x). */
+static size_t plane_stride(size_t floats) { return (floats + 1023) / 1024 * 1024 + 16; }
+/* The same within a row of the sums: an odd number of cache lines. */
+static size_t line_stride(size_t floats) { return ((floats + 15) / 16 | 1) * 16; }
+
+void maaf_filter_kernel_seconds(const MaafFilter *f, double seconds[MAAF_FILTER_KERNELS])
+{
+    for (int k = 0; k < K_COUNT; ++k) seconds[k] = f->seconds[k];
+}
+
+/* Sets kernel k's arguments: ints, then floats, then buffers, in that order. */
+static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const float *floats, int nf, const int *bufs,
+                     int nb, const cl_int *ints2, int ni2, Diag *d)
+{
+    cl_int err = CL_SUCCESS;
+    cl_uint a = 0;
+    for (int i = 0; i < ni; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(cl_int), &ints[i]);
+    for (int i = 0; i < nf; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(float), &floats[i]);
+    for (int i = 0; i < ni2; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(cl_int), &ints2[i]);
+    for (int i = 0; i < nb; ++i) err |= clSetKernelArg(f->k[k], a++, sizeof(cl_mem), &f->buf[bufs[i]]);
+    return cl_ok(err, KERNEL_NAMES[k], d);
+}
+
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d)
 {
     if (kernel_seconds) *kernel_seconds = 0.0;
     size_t n = (size_t)in->width * (size_t)in->height;
-    int comps = maaf_component_count(in->pairs);
-    size_t ybytes = n * (size_t)comps * 8 * sizeof(float);
-    bool ok = buffer(f, BUF_IN, ybytes, in->ysum, d) && buffer(f, BUF_TMP, ybytes, NULL, d) &&
-              buffer(f, BUF_POS, n * 16, in->pos4, d) && buffer(f, BUF_NRM, n * 16, in->nrm4, d) &&
-              buffer(f, BUF_FRAME, n * 16, in->frame4, d) && buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
-              buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
-              buffer(f, BUF_OUT, n * 16, NULL, d);
-    cl_event ev[2] = {NULL, NULL};
-    for (int axis = 0; axis < 2 && ok; ++axis) {
-        cl_int ints[5] = {in->width, in->height, axis, in->pairs, comps}, err = CL_SUCCESS;
-        cl_uint a = 0;
-        for (int k = 0; k < 5; ++k) err |= clSetKernelArg(f->pass, a++, sizeof(cl_int), &ints[k]);
-        err |= clSetKernelArg(f->pass, a++, sizeof(float), &in->cos_normal_min);
-        err |= clSetKernelArg(f->pass, a++, sizeof(float), &in->depth_tol_rel);
-        err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[axis == 0 ? BUF_IN : BUF_TMP]);
-        for (int b = BUF_POS; b <= BUF_PARAM; ++b) err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[b]);
-        err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[BUF_TMP]);
-        err |= clSetKernelArg(f->pass, a++, sizeof(cl_mem), &f->buf[BUF_OUT]);
-        ok = cl_ok(err, "maaf_pass arguments", d) &&
-             cl_launch_2d(f->rt, f->pass, (size_t)in->width, (size_t)in->height, &ev[axis], d);
+    int comps = maaf_component_count(in->pairs), per = 8 * comps;
+    size_t ybytes = n * (size_t)per * sizeof(float);
+    /* maaf.cl's planes: the width rounded up to whole work items, the guides' and the sums' rows
+     * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums */
+    size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height;
+    size_t gplane = plane_stride(gpitch * rows), ystride = line_stride(gpitch);
+    size_t yfloats = ystride * (size_t)(per + 1) * rows, tfloats = rows * w8 * (size_t)(per + 1);
+    if (yfloats > (size_t)INT32_MAX || tfloats > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", in->width,
+                 in->height);
+        return false;
+    }
+    bool ok = host_buffer(f, BUF_IN, ybytes, in->ysum, d) && host_buffer(f, BUF_POS, n * 16, in->pos4, d) &&
+              host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) && host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
+              host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
+              host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
+              buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, yfloats * sizeof(float), d) &&
+              buffer(f, BUF_TP, tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d);
+    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)ystride;
+    cl_int tb = (cl_int)(w8 / LANES);
+    float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
+    cl_event ev[K_COUNT] = {NULL, NULL, NULL};
+    if (ok) {
+        cl_int ints[6] = {w, h, comps, gp, gpl, yp};
+        int bufs[7] = {BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE, BUF_YP};
+        ok = set_args(f, K_UNPACK, ints, 6, NULL, 0, bufs, 7, NULL, 0, d) &&
+             cl_launch_2d(f->rt, f->k[K_UNPACK], gpitch, rows, &ev[K_UNPACK], d);
+    }
+    if (ok) {
+        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[4] = {gp, gpl, yp, tb};
+        int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP};
+        ok = set_args(f, K_ROWS, ints, 4, rules, 2, bufs, 6, ints2, 4, d) &&
+             cl_launch_2d(f->rt, f->k[K_ROWS], w8 / LANES, (size_t)h, &ev[K_ROWS], d);
+    }
+    if (ok) {
+        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[3] = {gp, gpl, tb};
+        int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
+        ok = set_args(f, K_COLS, ints, 4, rules, 2, bufs, 6, ints2, 3, d) &&
+             cl_launch_2d(f->rt, f->k[K_COLS], w8 / LANES, (size_t)h, &ev[K_COLS], d);
     }
     ok = ok && cl_ok(clEnqueueReadBuffer(f->rt->queue, f->buf[BUF_OUT], CL_TRUE, 0, n * 16, out4, 0, NULL, NULL),
                      "download", d);
-    if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any copy still queued */
-    if (kernel_seconds && ok) *kernel_seconds = event_seconds(ev[0]) + event_seconds(ev[1]);
-    for (int i = 0; i < 2; ++i)
-        if (ev[i]) clReleaseEvent(ev[i]);
+    if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any command still queued */
+    release_inputs(f);
+    for (int k = 0; k < K_COUNT; ++k) {
+        f->seconds[k] = ok ? event_seconds(ev[k]) : 0.0;
+        if (kernel_seconds) *kernel_seconds += f->seconds[k];
+        if (ev[k]) clReleaseEvent(ev[k]);
+    }
     return ok;
 }

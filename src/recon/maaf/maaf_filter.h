@@ -1,7 +1,8 @@
 /* The MAAF image-space pass (seeds/003 eq. 21, 4D soft-shadow filter as the product of two 2D
- * designs): OpenCL kernel maaf_pass in maaf/maaf.cl, and its plain C reference, which computes
- * the same thing (tests/recon/test_maaf_filter.c checks they agree). Layouts are those of
- * maaf.cl; every array is row-major, width x height, no padding. */
+ * designs): OpenCL kernels maaf_unpack, maaf_rows and maaf_cols in maaf/maaf.cl, and its plain C
+ * reference, which computes the same sums in the same order (tests/recon/test_maaf_filter.c and
+ * test_maaf_filter_lanes.c check they agree). The host arrays below are row-major, width x
+ * height, no padding; maaf.cl describes its own planes. */
 #ifndef WEDGE_RECON_MAAF_FILTER_H
 #define WEDGE_RECON_MAAF_FILTER_H
 
@@ -37,11 +38,21 @@ void maaf_basis(const float n[3], float t1[3], float t2[3]);
 /* out4: filtered rgb and a flag per pixel (0: unchanged, 1: filtered, 2: central component only). */
 void maaf_filter_reference(const MaafFilterInput *in, float *out4);
 
+/* Writes in to path for tests/recon/bench_maaf_filter.c: the magic, width, height, pairs (int32),
+ * cos_normal_min, depth_tol_rel (float), then ysum, pos4, nrm4, frame4, axis2_4 and param. The
+ * method writes one file per image pass when WEDGE_MAAF_DUMP is set (its value the prefix). */
+#define MAAF_DUMP_MAGIC "MAAFDMP1"
+#define MAAF_DUMP_ENV "WEDGE_MAAF_DUMP"
+bool maaf_filter_dump(const MaafFilterInput *in, const char *path);
+
 typedef struct MaafFilter MaafFilter;
 MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d);
 void maaf_filter_destroy(MaafFilter *f);
 /* Same as maaf_filter_reference, on the device; kernel_seconds (may be NULL): both passes'
  * device time. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d);
+/* The last run's device seconds of each kernel: maaf_unpack, maaf_rows, maaf_cols (benchmarks). */
+#define MAAF_FILTER_KERNELS 3
+void maaf_filter_kernel_seconds(const MaafFilter *f, double seconds[MAAF_FILTER_KERNELS]);
 
 #endif

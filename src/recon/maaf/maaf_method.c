@@ -56,6 +56,16 @@
  * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
 #define DEFOCUS_FULL_STD_PX 2.0f
 
+/* Per-pixel x-filters kept between calls: the plan runs once per mu of the budget search
+ * (pipeline.c's mu_for_budget: up to 14 times) and the filter once more, and a pixel's filter
+ * does not depend on mu, only on pass 1's statistics (derived once) and, for shadows, on the
+ * guides (pixel_world), which pass 2 refines: maaf_begin_pass forgets the shadows' filters. */
+typedef struct {
+    float *param;          /* MAAF_PARAM_STRIDE per pixel */
+    float *std_px, *aux;   /* the central std in pixels; shadows: components, defocus: side */
+    unsigned char *known;  /* 1: the pixel's entries are set */
+} FilterCache;
+
 struct ReconMethod {
     const Renderer *renderer;
     const GBuffer *g;
@@ -78,6 +88,7 @@ struct ReconMethod {
     float *guide4;              /* frame4 with w = usable, per filter run */
     float *param, *out4, *shade;
     float *std_px, *components; /* AOVs */
+    FilterCache shadow_cache, defocus_cache;
     MaafFilter *filter;
     long long nonfinite_samples;
     /* defocus (maaf_defocus.h) */
@@ -98,9 +109,28 @@ static int maaf_pass1_spp(EffectMask effects)
     return MAAF_SPP_DEFAULT;
 }
 
+static bool cache_init(FilterCache *c, size_t n)
+{
+    c->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
+    c->std_px = malloc(n * sizeof(float));
+    c->aux = malloc(n * sizeof(float));
+    c->known = calloc(n, 1);
+    return c->param && c->std_px && c->aux && c->known;
+}
+
+static void cache_free(FilterCache *c)
+{
+    free(c->param);
+    free(c->std_px);
+    free(c->aux);
+    free(c->known);
+}
+
 static void maaf_destroy(ReconMethod *m)
 {
     if (!m) return;
+    cache_free(&m->shadow_cache);
+    cache_free(&m->defocus_cache);
     maaf_filter_destroy(m->filter);
     if (m->derived_ok) aaf_derived_free(&m->derived);
     if (m->stats_ok) aaf_stats_free(&m->stats);
@@ -236,7 +266,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || (shadows && !m->ysum) || ((shadows || split) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || ((shadows || split) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     if (m->defocus) {
@@ -247,7 +277,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->daxis2 = malloc(4 * n * sizeof(float));
         m->dstd_px = calloc(n, sizeof(float));
         m->dcomponents = calloc(n, sizeof(float));
-        if (!m->dsum || (split && !m->asum) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+        if (!m->dsum || (split && !m->asum) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
             !m->dcomponents || !maaf_lens_design(s->mu > 0.0f ? s->mu : MAAF_DEFOCUS_KAPPA_DEFAULT, m->pairs, &m->lens))
             goto oom;
     }
@@ -270,6 +300,8 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
 {
     /* the wedge comes from pass 1, the pass that records ray geometry */
     m->stats.collect_rays = pass == 0;
+    /* later passes refine the guides the shadows' filters read */
+    if (pass > 0 && m->shadow_cache.known) memset(m->shadow_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
 }
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
@@ -424,6 +456,33 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
     return std_px;
 }
 
+/* pixel_filter and maaf_defocus_pixel through the caches: *pr points at the cached parameters. */
+static float shadow_filter(ReconMethod *m, int x, int y, const float **pr, float *components)
+{
+    FilterCache *c = &m->shadow_cache;
+    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
+    if (!c->known[i]) {
+        c->std_px[i] = pixel_filter(m, x, y, c->param + i * MAAF_PARAM_STRIDE, &c->aux[i]);
+        c->known[i] = 1;
+    }
+    *pr = c->param + i * MAAF_PARAM_STRIDE;
+    *components = c->aux[i];
+    return c->std_px[i];
+}
+
+static float defocus_filter(ReconMethod *m, int x, int y, float *side)
+{
+    FilterCache *c = &m->defocus_cache;
+    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
+    if (!c->known[i]) {
+        c->std_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, m->g->width, m->g->height, x, y,
+                                          m->lens.omega_u_max, m->pairs, c->param + i * MAAF_PARAM_STRIDE, &c->aux[i]);
+        c->known[i] = 1;
+    }
+    *side = c->aux[i];
+    return c->std_px[i];
+}
+
 /* Where the filter cannot help, samples can (as AAF, aaf_method.c): pixels whose samples saw
  * different surfaces (silhouettes: left out of the filter) and surface pixels whose filter is
  * under UNFILTERED_STD_PX wide (contact shadows) get EXTRA_SPP_PER_MU times mu times pass 1's
@@ -444,17 +503,17 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     for (int y = 0; y < g->height; ++y)
         for (int x = 0; x < g->width; ++x) {
             size_t i = (size_t)y * g->width + x;
-            float *pr = m->param + i * MAAF_PARAM_STRIDE, comps, side;
+            const float *pr;
+            float comps, side;
             bool more = false;
             int count = pass1;
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i])
-                more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && pixel_filter(m, x, y, pr, &comps) < UNFILTERED_STD_PX);
+                more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
             /* defocus (seeds/003's extra samples near the focal plane): a slope range that
              * straddles it, or a filter under half a pixel */
             if (m->defocus && !more) {
-                float std_px = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, g->width, g->height, x, y,
-                                                  m->lens.omega_u_max, m->pairs, pr, &side);
+                float std_px = defocus_filter(m, x, y, &side);
                 /* filtered: about the same samples in every filter's footprint (count ~ 1/std^2),
                  * pass 1's from DEFOCUS_FULL_STD_PX up at the default knob, continuous with the
                  * extra count at UNFILTERED_STD_PX. With pass 1's alone these pixels held the
@@ -477,6 +536,13 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
     if (!m->filter) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
         return false;
+    }
+    const char *dump = getenv(MAAF_DUMP_ENV); /* the input of tests/recon/bench_maaf_filter.c */
+    if (dump && *dump) {
+        static int dumps = 0;
+        char path[4096];
+        snprintf(path, sizeof path, "%s.%d", dump, dumps++);
+        if (!maaf_filter_dump(in, path)) fprintf(stderr, "wedge: maaf: cannot write %s\n", path);
     }
     if (!maaf_filter_run(m->filter, in, m->out4, kernel_seconds, d)) return false;
     size_t n = (size_t)in->width * (size_t)in->height;
@@ -522,7 +588,9 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
             const float *ys = m->ysum + i * per;
             for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
-            m->std_px[i] = pixel_filter(m, x, y, pr, &m->components[i]);
+            const float *cached;
+            m->std_px[i] = shadow_filter(m, x, y, &cached, &m->components[i]);
+            memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
     MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
@@ -577,15 +645,14 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
-            float side = 0.0f, *pr = m->param + i * MAAF_PARAM_STRIDE;
-            m->dstd_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, w, h, x, y, m->lens.omega_u_max,
-                                               m->pairs, pr, &side);
+            float side = 0.0f;
+            m->dstd_px[i] = defocus_filter(m, x, y, &side);
             m->dcomponents[i] = m->dstd_px[i] > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
             maaf_screen_guides(x, y, side, g->frame.spp[i] > 0.0f, m->dpos4 + 4 * i, m->dnrm4 + 4 * i, m->guide4 + 4 * i,
                                m->daxis2 + 4 * i);
         }
-    MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->param, COS_NORMAL_MIN,
-                          DEPTH_TOL_REL};
+    MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
+                          COS_NORMAL_MIN, DEPTH_TOL_REL};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)
