@@ -8,11 +8,12 @@
 
 /* --filter auto: per effect, the method with the best equal-error time against Monte Carlo
  * on the bench scene of that effect: tools/bench-policy at 256x256, --spp 4-64, on a quiet
- * machine (docs/benchmarks.md, "The policy at 256x256 ... quiet run"): soft shadows aaf
- * 1.42x (fsf 0.74x, maaf 0.47x; thin_occluders aaf 1.23x, fsf 0.63x, maaf 0.32x), defocus
- * aaf 1.48x (lr 0.80x), indirect aaf 8.05x. At AAF's own default budget the same scenes give
- * 9.9x, 3.2x and 13.8x ("AAF against Monte Carlo"). A method that lands adds its row to
- * bench-policy's table and wins an effect only where its measured speedup is higher. */
+ * machine (docs/benchmarks.md, "The choice per effect after the faster MAAF and FSF"): soft
+ * shadows aaf 1.85x (fsf 1.01x, maaf 0.94x; thin_occluders aaf 1.64x, fsf 0.96x, maaf
+ * 0.76x), defocus aaf 1.56x (maaf 1.43x, lr 1.24x, fsf 1.13x), indirect aaf 8.85x. At AAF's
+ * own default budget the same scenes give 9.9x, 3.2x and 13.8x ("AAF against Monte Carlo").
+ * A method that lands adds its row to bench-policy's table and wins an effect only where its
+ * measured speedup is higher. */
 /* The measurement behind lr for motion alone (docs/benchmarks.md, issue 18). */
 #define LR_MOTION_ONLY_EVIDENCE "motion_shading 128x128: 29%/18% less error than unfiltered at 8/16 spp"
 
@@ -21,11 +22,11 @@ static const struct {
     const char *method;
     const char *reason;
 } AUTO_POLICY[] = {
-    {EFFECT_SOFT_SHADOWS, "aaf", "aaf: 1.42x Monte Carlo's speed at equal error, fsf 0.74x, maaf 0.47x (soft-shadow bench, "
+    {EFFECT_SOFT_SHADOWS, "aaf", "aaf: 1.85x Monte Carlo's speed at equal error, fsf 1.01x, maaf 0.94x (soft-shadow bench, "
                                  "256x256, tools/bench-policy)"},
-    {EFFECT_DEFOCUS, "aaf", "aaf: 1.48x Monte Carlo's speed at equal error, lr 0.80x (defocus bench, 256x256, "
+    {EFFECT_DEFOCUS, "aaf", "aaf: 1.56x Monte Carlo's speed at equal error, maaf 1.43x, lr 1.24x, fsf 1.13x (defocus bench, 256x256, "
                             "tools/bench-policy)"},
-    {EFFECT_INDIRECT, "aaf", "aaf: 8.05x Monte Carlo's speed at equal error (indirect bench, 256x256, tools/bench-policy)"},
+    {EFFECT_INDIRECT, "aaf", "aaf: 8.85x Monte Carlo's speed at equal error (indirect bench, 256x256, tools/bench-policy)"},
     /* below the blur threshold, or without the probe (select_camera_by_blur decides above it) */
     {EFFECT_MOTION, "lr", "lr, motion only: moving objects get their own layers' motion filter (" LR_MOTION_ONLY_EVIDENCE ")"},
 };
