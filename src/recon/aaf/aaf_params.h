@@ -82,9 +82,6 @@ float aaf_indirect_omega_x_r(float zmin_world, float omega_h, float pixel_world,
 /* Eq. 16: beta = 2/Omega_x^r (the Fourier filter's standard deviation is Omega_x^r/2). */
 float aaf_indirect_beta_world(float zmin_world, float omega_h, float pixel_world, const AafIndirectConfig *c);
 
-/* Eqs. 19-21 (general form): Omega_x^* = Omega_x^r + alpha/d, Omega_v^* = Omega_h + zmax Omega_x^r,
- * n = gamma (Omega_x^* d)^2 (Omega_v^*)^2, which is eq. 21 when Omega_h/zmin <= alpha/d.
- * Not clamped (see aaf_clamp_spp). */
 /* The most samples a pixel gets (Sec. 5's cap, our form): spp_cap_per_mu * mu up to the default
  * mu = 2, then growing as mu^3, so that the samples under a capped pixel's filter (n beta^2,
  * beta ~ 1/mu by eq. 16) grow like mu and its filtered variance falls as a budget raises mu.
@@ -92,6 +89,9 @@ float aaf_indirect_beta_world(float zmin_world, float omega_h, float pixel_world
  * error (docs/algorithms.md, "Indirect light at large budgets"). */
 float aaf_indirect_spp_cap(const AafIndirectConfig *c);
 
+/* Eqs. 19-21 (general form): Omega_x^* = Omega_x^r + alpha/d, Omega_v^* = Omega_h + zmax Omega_x^r,
+ * n = gamma (Omega_x^* d)^2 (Omega_v^*)^2, which is eq. 21 when Omega_h/zmin <= alpha/d.
+ * Not clamped (see aaf_clamp_spp). */
 float aaf_indirect_spp(float zmin_world, float zmax_world, float omega_h, float gamma,
                        float pixel_world, const AafIndirectConfig *c);
 
