@@ -1,6 +1,7 @@
 /* AAF parameter math (aaf_params.c, aaf_pixel_params.c) against values derived by hand from
  * the papers' equations, consistency in mu, and finiteness on degenerate inputs. */
 #include <float.h>
+#include <math.h>
 #include <stdlib.h>
 
 #include "check.h"
@@ -175,6 +176,24 @@ static void test_indirect_cap_grows_under_the_filter(void)
     CHECK(aaf_indirect_spp_cap(&c) == FLT_MAX);
 }
 
+/* Pixels with no occluder nearby (aaf_far_spp): pass 1's count up to mu 2, then enough that
+ * the samples under their filter (width ~ 1/mu, aaf_method.c) grow with mu; with the old
+ * pass1 * mu/2 they fell like 1/mu and the test fails. */
+static void test_far_samples_grow_under_the_filter(void)
+{
+    for (float mu = 0.5f; mu <= 2.0f; mu += 0.5f) CHECK(aaf_far_spp(9, mu) == 9);
+    double prev = 0.0;
+    const float mus[] = {2.0f, 2.5f, 3.0f, 4.0f, 8.0f, 16.0f};
+    for (size_t k = 0; k < sizeof mus / sizeof mus[0]; ++k) {
+        double width = 1.0 / mus[k];
+        double under = aaf_far_spp(9, mus[k]) * width * width;
+        CHECK(under > prev * 1.1);
+        if (!(under > prev * 1.1)) fprintf(stderr, "mu %g: far spp * width^2 %g after %g\n", (double)mus[k], under, prev);
+        prev = under;
+    }
+    CHECK(aaf_far_spp(9, NAN) == 9);
+}
+
 static void test_defocus_hand_values(void)
 {
     AafDefocusConfig c = aaf_defocus_config_default();
@@ -289,6 +308,7 @@ static void test_defocus_image_black_background(void)
 int main(void)
 {
     test_indirect_cap_grows_under_the_filter();
+    test_far_samples_grow_under_the_filter();
     test_shadow_hand_values();
     test_shadow_degenerate();
     test_consistency_in_mu();

@@ -181,10 +181,10 @@ static bool aaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
          * aaf_pixel_params.h), shrinking with mu like every other width. */
         float far_beta_px = (float)FAR_RADIUS_PX / fmaxf(mu_e, 2.0f);
         /* Their light is still Monte Carlo (the unoccluded direct light of an area light,
-         * indirect light from far away): from mu 2 on their samples grow with mu like the
+         * indirect light from far away): from mu 2 on their samples grow faster than the
          * width shrinks, so that they too converge (the paper's fixed pass-1 count made them
          * the error floor of a mu sweep on the soft-shadow bench scene). */
-        int far_spp = aaf_clamp_spp((float)pass1 * fmaxf(1.0f, 0.5f * mu_e), pass1, 100.0f * mu_e);
+        int far_spp = aaf_far_spp(pass1, mu_e);
         AafImageConfig ic = {BORROW_RADIUS_PX, pass1, 100.0f * mu_e, far_beta_px, far_spp};
         if (e == EFFECT_SOFT_SHADOWS) {
             AafShadowConfig c = m->shadow_cfg;

@@ -1,6 +1,7 @@
 /* Per-pixel AAF parameter maps (see aaf_pixel_params.h). */
 #include "recon/aaf/aaf_pixel_params.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -272,6 +273,12 @@ static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
         }
     }
     pr->filtered[part] = filtered;
+}
+
+int aaf_far_spp(int pass1, float mu)
+{
+    float grow = mu > 2.0f ? 0.5f * mu : 1.0f; /* also NaN -> 1 */
+    return aaf_clamp_spp((float)pass1 * grow * grow * grow, pass1, FLT_MAX);
 }
 
 int aaf_indirect_params_image(const AafPixelStats *st, const AafIndirectConfig *c, const AafImageConfig *ic,

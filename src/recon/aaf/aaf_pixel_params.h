@@ -42,6 +42,12 @@ typedef struct {
     int far_spp;             /* their sample count (<= spp_min: spp_min) */
 } AafImageConfig;
 
+/* The sample count of a pixel with no occluder (reflector) nearby, filtered at a width that
+ * shrinks like 1/mu past mu 2: pass1 * max(1, mu/2)^3, so that the samples under its filter
+ * grow like mu and its filtered variance falls as a budget raises mu (with mu/2 they fell like
+ * 1/mu, as the indirect cap's did: docs/algorithms.md 2.6). At mu <= 2: pass1. */
+int aaf_far_spp(int pass1, float mu);
+
 /* Output maps: beta in world units (shadows, indirect) or pixels (defocus); spp per pixel.
  * Each returns the number of pixels that were filtered (beta > 0). */
 int aaf_shadow_params_image(const AafPixelStats *st, const AafShadowConfig *c, const AafImageConfig *ic,
