@@ -793,7 +793,7 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
         int spp = want < (double)SCENE_SPP_MAX ? (int)want : SCENE_SPP_MAX;
         if (is_root(p)) { /* rank 0 holds every pixel's count: the others follow its plan */
             for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
-            double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
+            double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : frame_samples(p);
             if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
         }
         if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
@@ -825,11 +825,12 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
             if (p->spp_extra[i] < p->res.pass1_spp) p->spp_extra[i] = p->res.pass1_spp;
             want += p->spp_extra[i];
         }
-        /* ... but not past the cap: the plan scaled down to what is left */
-        if (spp_cap > 0.0) {
-            double room = floor(spp_cap * (double)n - frame_samples(p));
-            if (room < want) scale_extras(p, room);
-        }
+        /* ... but not past the cap: the plan scaled down to what is left. Without a cap a step
+         * at most doubles the frame's samples: where a plan's count grows faster than mu (AAF's
+         * indirect cap and far pixels grow as mu^3 past mu 2, docs/algorithms.md 2.6), doubling
+         * mu would ask 8x the samples, and a preview's steps would lengthen 8-fold each */
+        double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : frame_samples(p);
+        if (room < want) scale_extras(p, room);
     }
     if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
         return false;

@@ -69,6 +69,9 @@ int main(void)
         CHECK(res->steps == step + 1);
         CHECK(err < prev_err);            /* converging */
         CHECK(res->spp_avg > prev_avg);
+        /* an uncapped step at most doubles the frame (a preview's steps do not lengthen
+         * 8-fold when mu doubles and a plan grows as mu^3) */
+        if (step > 0) CHECK(res->spp_avg <= 2.0 * prev_avg + 1e-9);
         for (int i = 0; i < N; ++i) CHECK(spp[i] > prev_spp[i]); /* every pixel gets more */
         for (int i = 0; i < 3 * N; ++i) CHECK(isfinite(res->rgb[i]));
         memcpy(prev_spp, spp, N * sizeof(float));
