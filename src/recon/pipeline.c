@@ -793,7 +793,7 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
         int spp = want < (double)SCENE_SPP_MAX ? (int)want : SCENE_SPP_MAX;
         if (is_root(p)) { /* rank 0 holds every pixel's count: the others follow its plan */
             for (size_t i = 0; i < n; ++i) p->spp_extra[i] = spp;
-            double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : frame_samples(p);
+            double room = spp_cap > 0.0 ? floor(spp_cap * (double)n - frame_samples(p)) : INFINITY;
             if (room < (double)spp * (double)n) scale_extras(p, room); /* the cap, spread evenly */
         }
         if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
