@@ -193,15 +193,6 @@ bool aaf_filter_set_guides(AafFilter *f, int width, int height, const float *pos
     return ok;
 }
 
-static double event_seconds(cl_event e)
-{
-    cl_ulong t0 = 0, t1 = 0;
-    if (!e || clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) != CL_SUCCESS ||
-        clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) != CL_SUCCESS)
-        return 0.0;
-    return t1 > t0 ? (double)(t1 - t0) * 1e-9 : 0.0;
-}
-
 static bool run_pass(AafFilter *f, int axis, const AafFilterRules *rules, bool plane_given, int in0, int out0,
                      cl_event *ev, Diag *d)
 {
@@ -255,7 +246,7 @@ bool aaf_filter_run(AafFilter *f, const float *value4, const float *plane_normal
              cl_check(clEnqueueReadBuffer(f->rt->queue, f->raw4, CL_TRUE, 0, n * 16, out4, 0, NULL, NULL), "download", d);
     }
     if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any copy still queued */
-    if (kernel_seconds && ok) *kernel_seconds = event_seconds(ev[0]) + event_seconds(ev[1]);
+    if (kernel_seconds && ok) *kernel_seconds = cl_event_seconds(ev[0]) + cl_event_seconds(ev[1]);
     for (int i = 0; i < 2; ++i)
         if (ev[i]) clReleaseEvent(ev[i]);
     return ok;

@@ -34,4 +34,8 @@ cl_kernel cl_runtime_kernel(ClRuntime *rt, const char *name, Diag *d);
 enum { CL_LAUNCH_LOCAL_X = 16, CL_LAUNCH_LOCAL_Y = 4 };
 bool cl_launch_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d);
 
+/* A finished command's device time in seconds (the queue profiles); 0 for NULL, an event
+ * without profiling data, or an end before its start. */
+double cl_event_seconds(cl_event ev);
+
 #endif

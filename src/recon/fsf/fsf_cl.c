@@ -35,10 +35,7 @@ struct FsfCl {
 static void add_time(cl_event ev, double *acc)
 {
     if (!ev) return;
-    cl_ulong t0 = 0, t1 = 0;
-    if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) == CL_SUCCESS &&
-        clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) == CL_SUCCESS && t1 > t0)
-        *acc += (double)(t1 - t0) * 1e-9;
+    *acc += cl_event_seconds(ev);
     clReleaseEvent(ev);
 }
 

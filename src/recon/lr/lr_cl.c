@@ -96,15 +96,6 @@ void lr_cl_destroy(LrCl *lr)
     free(lr);
 }
 
-static double event_seconds(cl_event ev)
-{
-    cl_ulong t0 = 0, t1 = 0;
-    if (!ev || clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) != CL_SUCCESS ||
-        clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) != CL_SUCCESS)
-        return 0.0;
-    return (double)(t1 - t0) * 1e-9;
-}
-
 /* The partitions from the device's statistics (lr_tile_stats), flattened into the kernel
  * layouts; returns the most layers of a tile. */
 static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
@@ -301,7 +292,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
          * passes have read the grids; waiting here only lets the batch's times be read */
         if (ok) ok = cl_ok(clWaitForEvents(1, &bev[2]), "kernel", d);
         for (int i = 0; i < 3; ++i) {
-            batch_s[i] += ok ? event_seconds(bev[i]) : 0.0;
+            batch_s[i] += ok ? cl_event_seconds(bev[i]) : 0.0;
             if (bev[i]) clReleaseEvent(bev[i]);
         }
     }
@@ -310,7 +301,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         ok = read_inner(q, lr->b_rgb.mem, out->rgb, 3, img, cfg->inset_px, d) && (!aov_l || read_inner(q, lr->b_l.mem, aov_l, 1, img, cfg->inset_px, d)) &&
              (!aov_e || read_inner(q, lr->b_e.mem, aov_e, 1, img, cfg->inset_px, d));
     clFinish(q);
-    double ks = lr->last.kernel_s[0] = ok ? event_seconds(ev[0]) : 0.0;
+    double ks = lr->last.kernel_s[0] = ok ? cl_event_seconds(ev[0]) : 0.0;
     for (int i = 1; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? batch_s[i - 1] : 0.0;
     if (ok && kernel_seconds) *kernel_seconds = ks;
     lr->last.partitions = nparts;

@@ -236,15 +236,6 @@ static void release_inputs(MaafFilter *f)
         }
 }
 
-static double event_seconds(cl_event e)
-{
-    cl_ulong t0 = 0, t1 = 0;
-    if (!e || clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof t0, &t0, NULL) != CL_SUCCESS ||
-        clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof t1, &t1, NULL) != CL_SUCCESS)
-        return 0.0;
-    return t1 > t0 ? (double)(t1 - t0) * 1e-9 : 0.0;
-}
-
 /* Floats between one plane and the next: whole 4 KiB pages plus one cache line, so that a
  * tap's reads of the same pixel in 100 planes fall into different cache sets (a whole number
  * of pages apart they all map to one set of an 8-way L1 and evict each other: measured 2x). */
@@ -319,7 +310,7 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any command still queued */
     release_inputs(f);
     for (int k = 0; k < K_COUNT; ++k) {
-        f->seconds[k] = ok ? event_seconds(ev[k]) : 0.0;
+        f->seconds[k] = ok ? cl_event_seconds(ev[k]) : 0.0;
         if (kernel_seconds) *kernel_seconds += f->seconds[k];
         if (ev[k]) clReleaseEvent(ev[k]);
     }
