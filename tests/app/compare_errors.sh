@@ -3,10 +3,10 @@
 # 'error:' line naming the file, write failures exit 3, non-finite pixels are counted and
 # never reach the JSON.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 if ! command -v python3 >/dev/null; then echo "skip: python3 is needed to write test images"; exit 77; fi
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 fail=0
 
 python3 - "$T" <<'PY' || exit 1

@@ -3,11 +3,10 @@
 # OpenColorIO view), EXR -> EXR keeps the pixels, and bad input fails with the documented
 # exit codes and messages.
 set -uo pipefail
-: "${WEDGE:?}"
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/../lib.sh"
+require_wedge
+make_temp_dir
 fail=0
-check() { [ "$2" = "$3" ] || { echo "FAIL: $1: exit $3, expected $2"; fail=1; }; }
 
 cat > "$T/s.pbrt" <<'PBRT'
 LookAt 0 1 -3  0 0 0  0 1 0

@@ -6,10 +6,10 @@
 # error). Scene: combined.pbrt (soft shadows, defocus, indirect) at 32x32 against a 512-spp
 # reference; two seeds each, so one lucky image cannot decide.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 src=${WEDGE_SOURCE_DIR:-../..}
 scene="$src/scenes/bench/combined.pbrt"
 fail=0

@@ -4,10 +4,10 @@
 # and the run report name the same method for every effect, for each --filter value; the
 # report's effects are info's; `wedge info --filters --json` lists the registered methods.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 src=${WEDGE_SOURCE_DIR:-../..}
 fail=0
 scenes=("$src"/scenes/bench/*.pbrt "$src/scenes/default.pbrt")

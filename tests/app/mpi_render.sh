@@ -7,7 +7,8 @@
 # that dies makes the job fail, not hang. Skipped for a build without MPI; a build with MPI
 # and no mpirun fails (tools/setup installs Open MPI).
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 if ! "$WEDGE" --version | grep -q "MPI: yes"; then echo "skip: wedge was built without MPI (-DWEDGE_MPI=OFF)"; exit 77; fi
 command -v mpirun >/dev/null || { echo "FAIL: wedge has MPI but mpirun is missing (tools/setup installs openmpi-bin)"; exit 1; }
 command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
@@ -15,8 +16,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 # Open MPI's own start-up state is never freed; LeakSanitizer would report it at exit of every
 # rank. wedge's leaks are checked by every other test, which runs the same code without MPI.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 scene=${WEDGE_SOURCE_DIR:-../..}/scenes/default.pbrt
 fail=0
 for filter in none aaf auto; do

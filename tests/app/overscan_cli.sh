@@ -6,10 +6,10 @@
 # --overscan off, overscan_px 0 and spp_avg 4. Plain Monte Carlo has no band. Bad values and
 # --overscan with --filter none are usage errors with their messages.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 src=${WEDGE_SOURCE_DIR:-../..}
 scene="$src/scenes/bench/motion_defocus_hard.pbrt"
 fail=0

@@ -5,7 +5,8 @@
 # PNG, `q` quits cleanly (exit 0), and with no display the command says what to do (exit 3).
 # Xvfb, xdotool, xwd and ImageMagick come from tools/setup; without them the test fails.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 for tool in Xvfb xdotool xwd convert python3; do
     command -v $tool >/dev/null || { echo "FAIL: $tool is missing (tools/setup installs xvfb xdotool x11-apps imagemagick)"; exit 1; }
 done

@@ -3,13 +3,10 @@
 # override the scene, --report JSON keys, --aovs layers, the embedded default scene, and
 # Ctrl-C (SIGINT) writing the image of the samples taken so far with its real spp.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/../lib.sh"
+require_wedge
+make_temp_dir
 fail=0
-check() { # check DESCRIPTION EXPECTED_RC ACTUAL_RC
-    if [ "$2" != "$3" ]; then echo "FAIL: $1: exit $3, expected $2"; fail=1; fi
-}
 
 cat > "$T/small.pbrt" <<'PBRT'
 LookAt 0 1 -4  0 0.5 0  0 1 0

@@ -3,14 +3,11 @@
 # is a usage error (exit 1) with the OCIO message naming the available views, reported before
 # any rendering; --help lists the views; EXR header attributes carry the wedge.* names.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/../lib.sh"
+require_wedge
+make_temp_dir
 unset OCIO # the built-in config: display sRGB with views Standard, Filmic, Raw
 fail=0
-check() { # check DESCRIPTION EXPECTED_RC ACTUAL_RC
-    if [ "$2" != "$3" ]; then echo "FAIL: $1: exit $3, expected $2"; fail=1; fi
-}
 
 # --help lists the views of the active config
 "$WEDGE" render --help >"$T/help.txt" 2>&1; check "--help" 0 $?

@@ -5,10 +5,10 @@
 # maxdepth 1 and point lights only, and stores no per-sample records; a scene with an effect
 # does need the device (so the switch that hides the driver is shown to work).
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 fail=0
 cat > "$T/plain.pbrt" <<'PBRT'
 LookAt 0 1 -4  0 0.5 0  0 1 0

@@ -4,10 +4,10 @@
 # it and gives the same image value for value; a damaged file is not used (the render is
 # still right) and is replaced by a good one; $WEDGE_CL_PROGRAM_CACHE=0 stores nothing.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 if ! "$WEDGE" info --cl 2>/dev/null | grep -q "device 0"; then echo "skip: no OpenCL device"; exit 77; fi
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 export XDG_CACHE_HOME="$T/xdg"
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-${HOME:-$T}/.cache/pocl}" # the driver's own cache stays warm
 scene=${WEDGE_SOURCE_DIR:-../..}/scenes/bench/defocus.pbrt

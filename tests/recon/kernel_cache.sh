@@ -5,12 +5,12 @@
 # a work-group size dividing each image size and compiled every kernel again per size, about
 # 0.5 s per new size.) Needs PoCL, whose cache this reads; other drivers are skipped.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 if ! "$WEDGE" info --cl 2>/dev/null | grep -q "Portable Computing Language"; then
     echo "skip: the OpenCL device is not PoCL's"; exit 77
 fi
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 export POCL_CACHE_DIR="$T/cache"
 scene=${WEDGE_SOURCE_DIR:-../..}/scenes/bench/defocus.pbrt
 compiled() { find "$POCL_CACHE_DIR" -name '*.so' | wc -l; }

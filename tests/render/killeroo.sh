@@ -5,14 +5,14 @@
 # (docs/materials.md "Warnings you may see"; the list below must match it).
 # Skips (77) when ../shared/pbrt-v4-scenes is absent next to the source tree.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 SCENES="${WEDGE_SOURCE_DIR:-.}/../shared/pbrt-v4-scenes/killeroos"
 if [ ! -f "$SCENES/killeroo-simple.pbrt" ] || [ ! -f "$SCENES/killeroo-moving.pbrt" ]; then
     echo "skip: $SCENES not found (the pbrt-v4-scenes checkout lives in ../shared next to the source tree)"
     exit 77
 fi
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 fail=0
 
 # Warnings allowed on these scenes (extended regular expressions). Both scenes currently

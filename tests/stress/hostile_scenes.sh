@@ -10,10 +10,10 @@
 # test_shading's (scale, zero-area lights, furnace); the scale sweep below renders a lit
 # scene from 1e-12 to 1e15 (WEDGE_STRESS_SCALES overrides the list) against scale 1.
 set -u
-if [ -z "${WEDGE:-}" ] || [ ! -x "$WEDGE" ]; then echo "skip: no wedge binary (WEDGE='${WEDGE:-}')"; exit 77; fi
+. "$(dirname "$0")/../lib.sh"
+require_wedge
 command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+make_temp_dir
 fail=0
 
 # header CAMERA-LINE FILM-W FILM-H MAXDEPTH: the common header
