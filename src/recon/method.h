@@ -40,6 +40,9 @@ typedef struct {
                                  * NULL when it declared none */
     EffectMask effects;         /* the effects this method filters in this frame */
     float mu;                   /* the filter knob; <= 0: the method's default */
+    int spp_budget;             /* > 0: the frame's average samples per pixel (--spp), known
+                                 * before pass 1 so that a method whose filter design is fixed
+                                 * by then (MAAF) can suit it to the budget; 0: none */
     int method_options[4];      /* method-specific integer options (e.g. MAAF's pairs); 0: default */
     int band_px;                /* the overscan band around the image (overscan.h), which the
                                  * pipeline crops: its pixels need no reconstruction */

@@ -395,7 +395,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     renderer_set_record_motion(p->r, (fields & SAMPLE_FIELD_MOTION) != 0);
     for (int s = 0; s < p->slot_count; ++s) {
         ReconSetup setup = {p->r, &p->g, p->slots[s].cls->sample_fields ? p->store : NULL, p->slots[s].effects,
-                            p->opt.mu, {0}, p->margin_px};
+                            p->opt.mu, p->opt.spp, {0}, p->margin_px};
         memcpy(setup.method_options, p->opt.method_options, sizeof setup.method_options);
         if (!p->slots[s].cls->create(&setup, &p->slots[s].m, d)) return false;
     }

@@ -60,12 +60,15 @@ int main(void)
     float *mc = recon_test_mc_image(SHADOW_SCENE, 1, 9, &n3);
     double err_mc = rel_mse(mc, ref, n3);
     double err9 = maaf_error(1, 9, 3, ref, n3), err36 = maaf_error(1, 36, 3, ref, n3);
-    double err9_n1 = maaf_error(1, 9, 1, ref, n3);
-    printf("relMSE at 9 spp: Monte Carlo %.3g, MAAF %.3g (N = 1: %.3g); MAAF at 36 spp %.3g\n", err_mc, err9, err9_n1,
-           err36);
-    CHECK(err9 > 0.0 && err36 > 0.0 && err9_n1 > 0.0);
+    double err9_n1 = maaf_error(1, 9, 1, ref, n3), err144 = maaf_error(1, 144, 3, ref, n3);
+    printf("relMSE at 9 spp: Monte Carlo %.3g, MAAF %.3g (N = 1: %.3g); MAAF at 36 spp %.3g, 144 spp %.3g\n", err_mc, err9,
+           err9_n1, err36, err144);
+    CHECK(err9 > 0.0 && err36 > 0.0 && err144 > 0.0 && err9_n1 > 0.0);
     CHECK(2.0 * err9 <= err_mc); /* the filter removes most of the noise */
-    CHECK(err36 < err9);         /* and converges with more samples */
+    /* and converges as the budget grows, at least half Monte Carlo's rate per 4x (a design
+     * fixed at the default held both at 1.27e-3: its bias; kappa_for_budget) */
+    CHECK(2.0 * err36 <= err9);
+    CHECK(2.0 * err144 <= err36);
     free(mc);
     free(ref);
     CHECK_DONE();

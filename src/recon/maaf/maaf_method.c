@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "recon/aaf/aaf_params.h"
+#include "recon/aaf/aaf_pixel_params.h"
 #include "recon/aaf/aaf_stats.h"
 #include "recon/maaf/maaf_defocus.h"
 #include "recon/maaf/maaf_filter.h"
@@ -55,6 +56,23 @@
 /* Defocus: filters at least this wide (std, pixels) keep pass 1's count at the default knob;
  * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
 #define DEFOCUS_FULL_STD_PX 2.0f
+
+/* The knob for a --spp budget (docs/algorithms.md 9.11). The design is fixed before pass 1
+ * (eq. 20's sums are taken with it) and cannot follow the budget search's mu, so a budget sets
+ * it up front. With the default design a budget only lowered the variance and the design's
+ * bias held the error from 16 spp up (soft_shadows 256x256: 4.0e-4 at 16, 4.1e-4 at 32 and
+ * 128). kappa stays at the default up to base_spp, then grows as the square root of the
+ * budget: the band widens while the samples under a filter stay about constant. */
+static float kappa_for_budget(float kappa_default, int spp_budget, int base_spp)
+{
+    if (spp_budget <= base_spp) return kappa_default;
+    return kappa_default * sqrtf((float)spp_budget / (float)base_spp);
+}
+
+/* With shading effects the lens filter sees their filtered light (split sums), and its design
+ * kept its best to higher budgets: on combined.pbrt lens kappa 3 was best at 64 spp and 6-12 at
+ * 256; alone, on defocus.pbrt, 3-4 at 16, 8 at 64 and 12-16 at 256 (docs/algorithms.md 9.11). */
+#define LENS_SPLIT_BASE_SPP 36
 
 /* Per-pixel x-filters kept between calls: the plan runs once per mu of the budget search
  * (pipeline.c's mu_for_budget: up to 14 times) and the filter once more, and a pixel's filter
@@ -238,7 +256,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->renderer = s->renderer;
     m->g = s->gbuffer;
     m->effects = s->effects;
-    m->kappa = s->mu > 0.0f ? s->mu : MAAF_KAPPA_DEFAULT;
+    m->kappa = s->mu > 0.0f ? s->mu : kappa_for_budget(MAAF_KAPPA_DEFAULT, s->spp_budget, MAAF_SPP_DEFAULT);
     m->pairs = s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT;
     if (m->pairs > MAAF_PAIRS_MAX) m->pairs = MAAF_PAIRS_MAX;
     m->comps = maaf_component_count(m->pairs);
@@ -278,8 +296,11 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->dstd_px = calloc(n, sizeof(float));
         m->dcomponents = calloc(n, sizeof(float));
         if (!m->dsum || (split && !m->asum) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
-            !m->dcomponents || !maaf_lens_design(s->mu > 0.0f ? s->mu : MAAF_DEFOCUS_KAPPA_DEFAULT, m->pairs, &m->lens))
+            !m->dcomponents)
             goto oom;
+        int lens_base_spp = split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT;
+        float lens_kappa = s->mu > 0.0f ? s->mu : kappa_for_budget(MAAF_DEFOCUS_KAPPA_DEFAULT, s->spp_budget, lens_base_spp);
+        if (!maaf_lens_design(lens_kappa, m->pairs, &m->lens)) goto oom;
     }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
@@ -508,8 +529,12 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
             bool more = false;
             int count = pass1;
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
-            if (shadows && g->hit[i])
+            if (shadows && g->hit[i]) {
                 more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
+                /* filtered: more samples as mu grows (AAF's rule for its far pixels), or a
+                 * budget reached only the silhouettes and the rest kept pass 1's noise */
+                count = aaf_far_spp(pass1, mu_e);
+            }
             /* defocus (seeds/003's extra samples near the focal plane): a slope range that
              * straddles it, or a filter under half a pixel */
             if (m->defocus && !more) {
