@@ -472,7 +472,10 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
         std_px = maaf_pixel_param(s_min, s_max, wy, m->pairs, 1.0f, pw, pr);
         *components = std_px > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
     } else {
-        float far_px = FAR_STD_PX * MAAF_KAPPA_DEFAULT / m->kappa;
+        /* 1/sqrt(kappa), not 1/kappa: the budget raises these pixels' counts about as
+         * kappa^2, so the samples under the filter still grow (as kappa), as AAF's far rule
+         * has them grow with mu; with 1/kappa they stayed constant and so did the noise */
+        float far_px = FAR_STD_PX * sqrtf(MAAF_KAPPA_DEFAULT / m->kappa);
         maaf_pixel_param_plain(far_px, pw, m->pairs, pr);
         std_px = pr[0] > 0.0f ? far_px : 0.0f;
         *components = pr[0] > 0.0f ? 1.0f : 0.0f;
