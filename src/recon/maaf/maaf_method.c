@@ -43,6 +43,13 @@
 /* No occluder within BORROW_RADIUS_PX: visibility is 1 there; the unshadowed light is filtered
  * with a plain Gaussian of this std (pixels, at the default knob; measured: 2 and 4 alike). */
 #define FAR_STD_PX 2.0f
+/* The reach of a shadow filter (pixels), below the design's 2 central stds (MAAF_RADIUS_CAP_PX
+ * for defocus): the wedge is measured over a 5 x 5 window, and a filter reaching much further
+ * assumes it holds where it was not measured. At 64 spp the central std was 9 px (AAF's beta
+ * 3.7): caps of 32 / 20 / 12 / 8 / 4 px gave 5.7 / 5.5 / 5.0 / 4.8 / 4.5e-5 on soft_shadows, 8
+ * was the best over 16-256 spp there and on thin_occluders (docs/algorithms.md 9.11). The
+ * weights are normalised (the 4th channel), so a truncated filter stays unbiased on a constant. */
+#define SHADOW_RADIUS_CAP_PX 8.0f
 /* Pixels whose unoccluded irradiance is below this fraction of the frame's largest keep their
  * own direct light (as AAF: dividing by it is unstable). */
 #define MIN_SHADE_REL 1.0e-3f
@@ -470,6 +477,7 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
     float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
     if (pixel_wedge(m, x, y, &s_min, &s_max)) {
         std_px = maaf_pixel_param(s_min, s_max, wy, m->pairs, 1.0f, pw, pr);
+        pr[0] = fminf(pr[0], SHADOW_RADIUS_CAP_PX);
         *components = std_px > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
     } else {
         /* 1/sqrt(kappa), not 1/kappa: the budget raises these pixels' counts about as
