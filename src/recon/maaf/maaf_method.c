@@ -2,8 +2,9 @@
  * reconstruction method (recon/method.h). docs/algorithms.md 9 (defocus: 9.8).
  *
  *   samples  pass 1: 9 per pixel (the paper's count), recording the shadow-ray geometry; the
- *            plan adds samples only where the filter does not reach (silhouettes, contact
- *            shadows: maaf_plan), the rest keep pass 1's 9
+ *            plan adds most where the filter does not reach (silhouettes, contact shadows:
+ *            maaf_plan), filtered pixels keep 9 at the default knob and grow with a budget;
+ *            under a --spp budget the design itself is chosen from it (kappa_for_budget)
  *   sink     per pixel: AAF's shadow statistics (the wedge: d1, d2min, d2max, aaf_stats.h) and
  *            the complex sums of eq. 20 for each of the ((2N-1)^2 + 1)/2 components of the 4D
  *            filter (maaf_shadow.h), the light sample's position on the light giving the phase
