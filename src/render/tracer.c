@@ -291,6 +291,9 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
         g->zmin = fmax(-g->radius, fmin(zmin, zmax));
         g->zmax = fmin(g->radius, fmax(zmin, zmax));
         g->phimax_rad = fmin(360.0, fmax(0.0, params_float(&s->params, "phimax", 360.0f))) * M_PI / 180.0;
+        double r = g->radius > 0.0 ? g->radius : 1.0;
+        g->theta_zmin_rad = acos(fmax(-1.0, fmin(1.0, g->zmin / r)));
+        g->theta_zmax_rad = acos(fmax(-1.0, fmin(1.0, g->zmax / r)));
         return true;
     }
     if (!strcmp(s->type, "disk")) {
@@ -900,8 +903,7 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
         if (phi < 0.0) phi += 2.0 * M_PI;
         double r = g->radius > 0.0 ? g->radius : 1.0;
         double theta = acos(fmax(-1.0, fmin(1.0, po[2] / r)));
-        double th_min = acos(fmax(-1.0, fmin(1.0, g->zmin / r))), th_max = acos(fmax(-1.0, fmin(1.0, g->zmax / r)));
-        double dv = th_max - th_min;
+        double th_min = g->theta_zmin_rad, dv = g->theta_zmax_rad - th_min;
         *uv = v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f, dv != 0.0 ? (float)((theta - th_min) / dv) : 0.0f);
     } else {
         po[2] = g->height;

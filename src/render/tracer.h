@@ -54,6 +54,9 @@ typedef struct {
     double radius, zmin, zmax, phimax_rad, height, inner_radius;
     Mat4 geom_from_object, object_from_geom;
     bool object_translation_only; /* object_from_geom's 3x3 part is the identity (quadric_hit) */
+    /* spheres: the polar angles of zmin and zmax (acos(z / radius)), which shading's v
+     * coordinate is measured between: per shape, so not recomputed at every hit */
+    double theta_zmin_rad, theta_zmax_rad;
     /* instances */
     int instance;            /* index into Tracer.instances (GEOM_INSTANCE), else -1 */
     int owner_instance;      /* for a moving shape's own layer: the instance that moves it */
