@@ -169,6 +169,16 @@ static void quadric_object_bounds(const Geom *g, double lo[3], double hi[3])
     }
 }
 
+/* Embree keeps all of a scene's user primitives in one BVH. With a single one, the root of
+ * that BVH is a leaf, and traversal enters a leaf root without a box test: every ray of the
+ * scene calls the quadric's callback (on soft_shadows.pbrt, 95% of the callback's calls
+ * were rays that did not pass the sphere's box). So a layer's only sphere or disk is given
+ * a second primitive, this one: a point at the centre of the shape's box, which the
+ * callbacks ignore. The BVH then has an inner root, and Embree tests each ray against the
+ * shape's box before calling back. (A ray through exactly that point costs a call that
+ * reports nothing; results are unchanged.) */
+enum { QUADRIC_PRIM_SHAPE = 0, QUADRIC_PRIM_ANCHOR = 1 };
+
 static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
 {
     const Geom *g = args->geometryUserPtr;
@@ -186,6 +196,12 @@ static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
     args->bounds_o->lower_x = (float)(k * (bmin[0] - pad)), args->bounds_o->upper_x = (float)(k * (bmax[0] + pad));
     args->bounds_o->lower_y = (float)(k * (bmin[1] - pad)), args->bounds_o->upper_y = (float)(k * (bmax[1] + pad));
     args->bounds_o->lower_z = (float)(k * (bmin[2] - pad)), args->bounds_o->upper_z = (float)(k * (bmax[2] + pad));
+    if (args->primID == QUADRIC_PRIM_ANCHOR) {
+        struct RTCBounds *b = args->bounds_o;
+        b->lower_x = b->upper_x = 0.5f * (b->lower_x + b->upper_x);
+        b->lower_y = b->upper_y = 0.5f * (b->lower_y + b->upper_y);
+        b->lower_z = b->upper_z = 0.5f * (b->lower_z + b->upper_z);
+    }
 }
 
 /* Embree hands user geometry N rays at once (N = 1 for single rays, 4/8/16 for packets and
@@ -221,6 +237,7 @@ static void quadric_intersect_cb(const struct RTCIntersectFunctionNArguments *ar
     const Geom *g = args->geometryUserPtr;
     void *rh = args->rayhit;
     unsigned n = args->N;
+    if (args->primID == QUADRIC_PRIM_ANCHOR) return;
     for (unsigned i = 0; i < n; ++i) {
         double t;
         if (args->valid[i] != -1 || !quadric_hit_rayn(g, rh, n, i, &t)) continue;
@@ -238,6 +255,7 @@ static void quadric_occluded_cb(const struct RTCOccludedFunctionNArguments *args
 {
     const Geom *g = args->geometryUserPtr;
     unsigned n = args->N;
+    if (args->primID == QUADRIC_PRIM_ANCHOR) return;
     for (unsigned i = 0; i < n; ++i) {
         double t;
         if (args->valid[i] == -1 && quadric_hit_rayn(g, args->ray, n, i, &t)) *rayn_f(args->ray, n, RAYN_TFAR, i) = -INFINITY;
@@ -507,6 +525,9 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
 {
     l->scene = rtcNewScene(tr->device);
     rtcSetSceneFlags(l->scene, RTC_SCENE_FLAG_ROBUST);
+    /* A lone sphere or disk gets a second, empty primitive (QUADRIC_PRIM_ANCHOR) */
+    int quadrics = 0;
+    for (int i = 0; i < l->geom_count; ++i) quadrics += l->geoms[i].kind == GEOM_SPHERE || l->geoms[i].kind == GEOM_DISK;
     for (int i = 0; i < l->geom_count; ++i) {
         Geom *g = &l->geoms[i];
         RTCGeometry eg = NULL;
@@ -521,7 +542,7 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
         case GEOM_SPHERE:
         case GEOM_DISK:
             eg = rtcNewGeometry(tr->device, RTC_GEOMETRY_TYPE_USER);
-            rtcSetGeometryUserPrimitiveCount(eg, 1);
+            rtcSetGeometryUserPrimitiveCount(eg, quadrics == 1 ? 2 : 1);
             rtcSetGeometryUserData(eg, g);
             rtcSetGeometryBoundsFunction(eg, quadric_bounds_cb, g);
             rtcSetGeometryIntersectFunction(eg, quadric_intersect_cb);
