@@ -59,15 +59,9 @@ static void apply_vector_d(const Mat4 *m, const double v[3], double out[3])
     for (int i = 0; i < 3; ++i) out[i] = m->m[i][0] * v[0] + m->m[i][1] * v[1] + m->m[i][2] * v[2];
 }
 
-/* fmaxf for operands that are never -0 (absolute values): the same result, but inline
- * (without -ffinite-math-only fmaxf is a library call, eight of them per shaded hit). */
-static inline float fmax_abs(float a, float b) { return (a > b || b != b) ? a : b; }
-
-static float max_abs3(vec3 v) { return fmax_abs(fabsf(v.x), fmax_abs(fabsf(v.y), fabsf(v.z))); }
-
-/* max_abs3 over a triangle's three vertices for vertices without NaN (Embree builds no
+/* v3_max_abs over a triangle's three vertices for vertices without NaN (Embree builds no
  * triangle with a non-finite vertex, so every hit triangle qualifies): `a > b ? a : b` is
- * one maxss, where fmax_abs's NaN test costs a compare and a blend more per operand. */
+ * one maxss, where fmax_nonneg's NaN test costs a compare and a blend more per operand. */
 static inline float max_abs_vertices(vec3 p0, vec3 p1, vec3 p2)
 {
     float v[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, m = fabsf(v[0]);
@@ -940,7 +934,7 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
     vec3 n = v3_normalize(mat4_apply_normal(&g->object_from_geom, v3((float)n_obj[0], (float)n_obj[1], (float)n_obj[2])));
     if (g->flip_normal) n = v3_neg(n);
     *ng = *ns = n;
-    *mag = max_abs3(*p) + (float)(g->radius * max_stretch(&g->geom_from_object));
+    *mag = v3_max_abs(*p) + (float)(g->radius * max_stretch(&g->geom_from_object));
 }
 
 bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, SurfaceHit *hit)
@@ -1024,7 +1018,7 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
         vec3 pw_f = mat4_apply_point(&wfi, p);
         ng = v3_normalize(mat4_apply_normal(&ifw, ng));
         ns = v3_normalize(mat4_apply_normal(&ifw, ns));
-        err = OFFSET_REL * (max_abs3(pw_f) + (float)max_stretch(&wfi) * mag);
+        err = OFFSET_REL * (v3_max_abs(pw_f) + (float)max_stretch(&wfi) * mag);
         p = pw_f;
     }
     hit_shaded(hit, t, p, ng, ns, uv, err, g, (int)rh.hit.primID, instance, object_id);
