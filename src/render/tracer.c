@@ -73,7 +73,10 @@ static inline float max_abs_vertices(vec3 p0, vec3 p1, vec3 p2)
 static double max_stretch(const Mat4 *m)
 {
     double s = 0.0;
-    for (int i = 0; i < 3; ++i) s = fmax(s, fabs(m->m[i][0]) + fabs(m->m[i][1]) + fabs(m->m[i][2]));
+    for (int i = 0; i < 3; ++i) {
+        double row = fabs(m->m[i][0]) + fabs(m->m[i][1]) + fabs(m->m[i][2]);
+        s = (row > s || s != s) ? row : s; /* fmax(s, row) inline (never -0; a moving instance's hits ask) */
+    }
     return s;
 }
 
@@ -306,6 +309,7 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
         double r = g->radius > 0.0 ? g->radius : 1.0;
         g->theta_zmin_rad = acos(fmax(-1.0, fmin(1.0, g->zmin / r)));
         g->theta_zmax_rad = acos(fmax(-1.0, fmin(1.0, g->zmax / r)));
+        g->quadric_reach = g->radius * max_stretch(&g->geom_from_object);
         return true;
     }
     if (!strcmp(s->type, "disk")) {
@@ -314,6 +318,7 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
         g->radius = fabs(params_float(&s->params, "radius", 1.0f));
         g->inner_radius = fabs(params_float(&s->params, "innerradius", 0.0f));
         g->phimax_rad = fmin(360.0, fmax(0.0, params_float(&s->params, "phimax", 360.0f))) * M_PI / 180.0;
+        g->quadric_reach = g->radius * max_stretch(&g->geom_from_object);
         return true;
     }
     TriMesh mesh = {0};
@@ -934,7 +939,7 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
     vec3 n = v3_normalize(mat4_apply_normal(&g->object_from_geom, v3((float)n_obj[0], (float)n_obj[1], (float)n_obj[2])));
     if (g->flip_normal) n = v3_neg(n);
     *ng = *ns = n;
-    *mag = v3_max_abs(*p) + (float)(g->radius * max_stretch(&g->geom_from_object));
+    *mag = v3_max_abs(*p) + (float)g->quadric_reach;
 }
 
 bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, SurfaceHit *hit)

@@ -57,6 +57,9 @@ typedef struct {
     /* spheres: the polar angles of zmin and zmax (acos(z / radius)), which shading's v
      * coordinate is measured between: per shape, so not recomputed at every hit */
     double theta_zmin_rad, theta_zmax_rad;
+    /* spheres and disks: radius times the largest stretch of geom_from_object, the shape's
+     * share of a hit point's error bound (per shape: found once, not at every hit) */
+    double quadric_reach;
     /* instances */
     int instance;            /* index into Tracer.instances (GEOM_INSTANCE), else -1 */
     int owner_instance;      /* for a moving shape's own layer: the instance that moves it */
