@@ -45,19 +45,26 @@ static void make_rays(TracerRay *rays, int n)
     }
 }
 
-static void test_quadric_batches(void)
+/* Parses scene text and builds its tracer; on failure reports it, frees the scene and
+ * returns false. */
+static bool build_scene(const char *text, SceneDesc *scene, Tracer *tr)
 {
-    SceneDesc scene;
     Diag err = {0};
-    CHECK(scene_parse_string(QUADRICS, strlen(QUADRICS), "<test>", NULL, &scene, &err));
-    Tracer tr;
-    bool built = tracer_build(&tr, &scene, 1, &err);
+    CHECK(scene_parse_string(text, strlen(text), "<test>", NULL, scene, &err));
+    bool built = tracer_build(tr, scene, 1, &err);
     CHECK(built);
     if (!built) {
         fprintf(stderr, "%s\n", err.message);
-        scene_desc_free(&scene);
-        return;
+        scene_desc_free(scene);
     }
+    return built;
+}
+
+static void test_quadric_batches(void)
+{
+    SceneDesc scene;
+    Tracer tr;
+    if (!build_scene(QUADRICS, &scene, &tr)) return;
     TracerRay rays[RAYS];
     make_rays(rays, RAYS);
     SurfaceHit ref[RAYS];
@@ -116,15 +123,8 @@ static void test_lone_sphere(void)
     static const char *LONE = "LookAt 0 0 -6  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
                               "AttributeBegin Translate 0.25 0.5 0.75 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n";
     SceneDesc scene;
-    Diag err = {0};
-    CHECK(scene_parse_string(LONE, strlen(LONE), "<test>", NULL, &scene, &err));
     Tracer tr;
-    bool built = tracer_build(&tr, &scene, 1, &err);
-    CHECK(built);
-    if (!built) {
-        scene_desc_free(&scene);
-        return;
-    }
+    if (!build_scene(LONE, &scene, &tr)) return;
     const vec3 z = v3(0.0f, 0.0f, 1.0f);
     TracerRay rays[4] = {
         {v3(0.25f, 0.5f, -3.0f), z, INFINITY, 0.0f}, /* through the centre from outside: t 3.25 */
