@@ -3,6 +3,7 @@
 #define WEDGE_CORE_VEC_H
 
 #include <math.h>
+#include <stdbool.h>
 
 typedef struct { float x, y; } vec2;
 typedef struct { float x, y, z; } vec3;
@@ -28,7 +29,10 @@ static inline float v3_length2(vec3 a) { return v3_dot(a, a); }
  * square over- or underflows (which made such scenes render black). */
 #define V3_LENGTH_PLAIN_MIN 1.0e-18f
 #define V3_LENGTH_PLAIN_MAX 1.0e18f
-static inline float v3_max_abs(vec3 a) { return fmaxf(fabsf(a.x), fmaxf(fabsf(a.y), fabsf(a.z))); }
+/* fmaxf for operands that are never -0 (absolute values, lengths): fmaxf's result (a NaN
+ * operand is skipped), but inline; without -ffinite-math-only fmaxf is a library call. */
+static inline float fmax_nonneg(float a, float b) { return (a > b || b != b) ? a : b; }
+static inline float v3_max_abs(vec3 a) { return fmax_nonneg(fabsf(a.x), fmax_nonneg(fabsf(a.y), fabsf(a.z))); }
 static inline float v3_length(vec3 a)
 {
     float l = sqrtf(v3_dot(a, a));
@@ -49,6 +53,9 @@ static inline vec3 v3_normalize(vec3 a)
     return v3_scale(b, 1.0f / sqrtf(v3_dot(b, b)));
 }
 static inline float v3_max_component(vec3 a) { return fmaxf(a.x, fmaxf(a.y, a.z)); }
+/* v3_max_component(a) > 0 without its two library calls: fmaxf skips NaN operands, so the
+ * maximum is > 0 exactly when some component is. */
+static inline bool v3_any_positive(vec3 a) { return a.x > 0.0f || a.y > 0.0f || a.z > 0.0f; }
 static inline float v3_get(vec3 a, int i) { return i == 0 ? a.x : (i == 1 ? a.y : a.z); }
 static inline vec3 v3_lerp(vec3 a, vec3 b, float t) { return v3_add(v3_scale(a, 1.0f - t), v3_scale(b, t)); }
 

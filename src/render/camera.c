@@ -40,6 +40,9 @@ bool camera_init_times(Camera *cam, const CameraDesc *desc, int width_px, int he
         cam->screen_min[0] = desc->screen_window[0], cam->screen_max[0] = desc->screen_window[1];
         cam->screen_min[1] = desc->screen_window[2], cam->screen_max[1] = desc->screen_window[3];
     }
+    /* per pixel, not per sample: off every camera ray's dependency chain */
+    cam->x_per_px = (cam->screen_max[0] - cam->screen_min[0]) / (float)cam->width_px;
+    cam->y_per_px = (cam->screen_max[1] - cam->screen_min[1]) / (float)cam->height_px;
     cam->tan_half_fov = tanf(desc->fov_deg * (WEDGE_PI / 180.0f) * 0.5f);
     cam->lens_radius_world = desc->lens_radius;
     cam->focal_distance_world = desc->focal_distance;
@@ -129,13 +132,10 @@ static __attribute__((noinline)) CameraRay moving_camera_ray(const Camera *cam, 
 
 CameraRay camera_generate_ray(const Camera *cam, float px_raster, float py_raster, vec2 lens_uv, float time01)
 {
-    /* raster -> screen (pbrt-v4 rasterFromScreen inverted) -> camera-space point at z = 1.
-     * The screen extent per pixel does not depend on the sample: its divisions run off the
-     * sample's dependency chain (one multiply-add per axis on it). */
-    float x_per_px = (cam->screen_max[0] - cam->screen_min[0]) / (float)cam->width_px;
-    float y_per_px = (cam->screen_max[1] - cam->screen_min[1]) / (float)cam->height_px;
-    float sx = cam->screen_min[0] + px_raster * x_per_px;
-    float sy = cam->screen_max[1] - py_raster * y_per_px;
+    /* raster -> screen (pbrt-v4 rasterFromScreen inverted) -> camera-space point at z = 1:
+     * one multiply-add per axis with the pixel's screen extent found by camera_init */
+    float sx = cam->screen_min[0] + px_raster * cam->x_per_px;
+    float sy = cam->screen_max[1] - py_raster * cam->y_per_px;
     /* not normalised: the lens construction is scale-invariant and the world direction
      * is normalised once at the end */
     vec3 d_cam = v3(sx * cam->tan_half_fov, sy * cam->tan_half_fov, 1.0f);

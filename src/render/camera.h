@@ -18,6 +18,7 @@ typedef struct {
     int width_px, height_px;
     float screen_min[2], screen_max[2]; /* screen window: x then y */
     float tan_half_fov;
+    float x_per_px, y_per_px;           /* screen extent of a pixel (camera_generate_ray) */
     float lens_radius_world;            /* 0: pinhole, no lens dimension sampled */
     float focal_distance_world;
     float shutter_open, shutter_close;

@@ -19,8 +19,6 @@ static float luminance(vec3 c)
 /* Point, spot and distant lights: a single direction from each receiver. */
 static bool light_is_delta(const Light *l) { return l->kind != LIGHT_AREA && l->kind != LIGHT_INFINITE; }
 
-static float max_abs3(vec3 v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z))); }
-
 static vec3 param_point(const ParamSet *ps, const char *name, vec3 def)
 {
     int n = 0;
@@ -185,7 +183,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
                     /* static triangles: cache the world-space geometry for sampling */
                     l->tri_p0 = P[0], l->tri_e1 = v3_sub(P[1], P[0]), l->tri_e2 = v3_sub(P[2], P[0]);
                     l->tri_n = n;
-                    l->tri_err = LIGHT_OFFSET_REL * fmaxf(max_abs3(P[0]), fmaxf(max_abs3(P[1]), max_abs3(P[2])));
+                    l->tri_err = LIGHT_OFFSET_REL * fmax_nonneg(v3_max_abs(P[0]), fmax_nonneg(v3_max_abs(P[1]), v3_max_abs(P[2])));
                 } else if (g->kind == GEOM_DISK) {
                     Mat4 m = emitter_world_from_object(g, &x);
                     vec3 n;
@@ -373,7 +371,7 @@ static bool finish_area_sample(const Light *l, vec3 p_ref, vec3 p, vec3 n, float
 static bool sample_sphere(const Light *l, const Geom *g, const Mat4 *m, vec3 c, float r, vec3 p_ref, vec2 u,
                           LightSample *ls)
 {
-    float err = LIGHT_OFFSET_REL * (max_abs3(c) + r);
+    float err = LIGHT_OFFSET_REL * (v3_max_abs(c) + r);
     vec3 to_c = v3_sub(c, p_ref);
     float dc2 = v3_length2(to_c);
     if (dc2 <= r * r * 1.0001f) {
@@ -454,7 +452,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
             if (!(area > 0.0f)) return false;
             vec2 b = warp_triangle(u);
             vec3 p = v3_add(v3_add(v3_scale(P[0], b.x), v3_scale(P[1], b.y)), v3_scale(P[2], 1.0f - b.x - b.y));
-            float err = LIGHT_OFFSET_REL * fmaxf(max_abs3(P[0]), fmaxf(max_abs3(P[1]), max_abs3(P[2])));
+            float err = LIGHT_OFFSET_REL * fmax_nonneg(v3_max_abs(P[0]), fmax_nonneg(v3_max_abs(P[1]), v3_max_abs(P[2])));
             return finish_area_sample(l, p_ref, p, n, 1.0f / area, err, ls);
         }
         Mat4 m = emitter_world_from_object(g, &x);
@@ -471,7 +469,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         double r = sqrt(g->inner_radius * g->inner_radius + u.x * (g->radius * g->radius - g->inner_radius * g->inner_radius));
         double phi = u.y * g->phimax_rad;
         vec3 p = mat4_apply_point(&m, v3((float)(r * cos(phi)), (float)(r * sin(phi)), (float)g->height));
-        float err = LIGHT_OFFSET_REL * (max_abs3(p) + (float)g->radius);
+        float err = LIGHT_OFFSET_REL * (v3_max_abs(p) + (float)g->radius);
         return finish_area_sample(l, p_ref, p, n, 1.0f / area, err, ls);
     }
     case LIGHT_POINT:
@@ -484,7 +482,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         ls->dist = dist;
         ls->p_light = l->p_world;
         ls->n_light = v3s(0.0f);
-        ls->err_light = LIGHT_OFFSET_REL * max_abs3(l->p_world);
+        ls->err_light = LIGHT_OFFSET_REL * v3_max_abs(l->p_world);
         vec3 I = l->L;
         if (l->kind == LIGHT_SPOT) {
             float cos_t = -v3_dot(ls->wi, l->w_world);
@@ -501,7 +499,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         ls->Li = v3_scale(I, 1.0f / dist2);
         ls->pdf = 1.0f;
         ls->delta = true;
-        return v3_max_component(ls->Li) > 0.0f;
+        return v3_any_positive(ls->Li);
     }
     case LIGHT_DISTANT:
         ls->wi = l->w_world;
@@ -512,7 +510,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         ls->Li = l->L;
         ls->pdf = 1.0f;
         ls->delta = true;
-        return v3_max_component(ls->Li) > 0.0f;
+        return v3_any_positive(ls->Li);
     case LIGHT_INFINITE:
         if (l->env) {
             if (!envmap_sample(l->env, u, &ls->wi, &ls->Li, &ls->pdf)) return false;
@@ -526,7 +524,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         ls->n_light = v3_neg(ls->wi);
         ls->err_light = 0.0f;
         ls->delta = false;
-        return v3_max_component(ls->Li) > 0.0f;
+        return v3_any_positive(ls->Li);
     }
     return false;
 }

@@ -30,21 +30,27 @@ int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, 
     float lo = set->cdf[first], hi = set->cdf[end];
     if (!(hi > lo)) return li;
     float target = lo + u->x * (hi - lo);
-    /* first k in [first, end) with cdf[k + 1] > target */
-    int a = first, b = end - 1;
-    while (a < b) {
-        int mid = (a + b) / 2;
-        if (set->cdf[mid + 1] > target)
-            b = mid;
-        else
-            a = mid + 1;
+    /* The first k in [first, end - 1) with cdf[k + 1] > target, else end - 1. The answer
+     * stays in [a, a + len - 1]; each step halves len whatever the comparison says, so the
+     * loop's branch depends on the mesh only and the comparison becomes a conditional move
+     * (u->x is random: as a branch it mispredicted half the time, a visible cost on a
+     * two-triangle quad light). NaN cannot occur (target is finite), and the comparison is
+     * the one of a plain bisection, so the same k results. */
+    int a = first;
+    for (int len = end - first; len > 1;) {
+        int half = len / 2;
+        a = set->cdf[a + half] > target ? a : a + half;
+        len -= half;
     }
     while (a < end - 1 && !(set->cdf[a + 1] > set->cdf[a])) ++a; /* skip zero-power triangles */
     float w = set->cdf[a + 1] - set->cdf[a];
     if (!(w > 0.0f)) return li;
     float x = (target - set->cdf[a]) / w;
     /* rounding can put target a hair outside the chosen interval */
-    u->x = fminf(fmaxf(x, 0.0f), 0x1.fffffep-1f);
+    /* fminf(fmaxf(x, 0), 1 - 2^-24) inline (x is finite and never -0: (target - cdf[a])
+     * is +0 when the two are equal) */
+    x = x > 0.0f ? x : 0.0f;
+    u->x = x < 0x1.fffffep-1f ? x : 0x1.fffffep-1f;
     *pmf = lights_pmf(set, a);
     return a;
 }

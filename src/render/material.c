@@ -266,6 +266,15 @@ vec3 texref_eval(const MaterialTable *table, TexRef r, vec2 uv, vec3 p_world, in
     return texture_eval(table, r.tex, uv, p_world, depth + 1);
 }
 
+/* (long)floorf(x) without floorf's library call (it is one without SSE4.1): truncation
+ * rounds towards zero, one step down below zero when it moved x. The same integer for every
+ * x the conversion holds (beyond them both are the same out-of-range conversion). */
+static inline long floor_to_long(float x)
+{
+    long k = (long)x;
+    return (float)k > x ? k - 1 : k;
+}
+
 vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int depth)
 {
     if (i < 0 || i >= table->texture_count || depth > TEXTURE_MAX_DEPTH) return v3s(0.5f);
@@ -274,12 +283,12 @@ vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int 
     case TEX_CONSTANT: return t->value;
     case TEX_CHECKERBOARD_2D: {
         float s = uv.x * t->uscale + t->udelta, tt = uv.y * t->vscale + t->vdelta;
-        long k = (long)floorf(s) + (long)floorf(tt);
+        long k = floor_to_long(s) + floor_to_long(tt);
         return texref_eval(table, t->arg[(k & 1) == 0 ? 0 : 1], uv, p_world, depth);
     }
     case TEX_CHECKERBOARD_3D: {
         vec3 p = mat4_apply_point(&t->texture_from_world, p_world);
-        long k = (long)floorf(p.x) + (long)floorf(p.y) + (long)floorf(p.z);
+        long k = floor_to_long(p.x) + floor_to_long(p.y) + floor_to_long(p.z);
         return texref_eval(table, t->arg[(k & 1) == 0 ? 0 : 1], uv, p_world, depth);
     }
     case TEX_IMAGEMAP:

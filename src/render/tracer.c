@@ -59,15 +59,9 @@ static void apply_vector_d(const Mat4 *m, const double v[3], double out[3])
     for (int i = 0; i < 3; ++i) out[i] = m->m[i][0] * v[0] + m->m[i][1] * v[1] + m->m[i][2] * v[2];
 }
 
-/* fmaxf for operands that are never -0 (absolute values): the same result, but inline
- * (without -ffinite-math-only fmaxf is a library call, eight of them per shaded hit). */
-static inline float fmax_abs(float a, float b) { return (a > b || b != b) ? a : b; }
-
-static float max_abs3(vec3 v) { return fmax_abs(fabsf(v.x), fmax_abs(fabsf(v.y), fabsf(v.z))); }
-
-/* max_abs3 over a triangle's three vertices for vertices without NaN (Embree builds no
+/* v3_max_abs over a triangle's three vertices for vertices without NaN (Embree builds no
  * triangle with a non-finite vertex, so every hit triangle qualifies): `a > b ? a : b` is
- * one maxss, where fmax_abs's NaN test costs a compare and a blend more per operand. */
+ * one maxss, where fmax_nonneg's NaN test costs a compare and a blend more per operand. */
 static inline float max_abs_vertices(vec3 p0, vec3 p1, vec3 p2)
 {
     float v[9] = {p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z}, m = fabsf(v[0]);
@@ -79,7 +73,10 @@ static inline float max_abs_vertices(vec3 p0, vec3 p1, vec3 p2)
 static double max_stretch(const Mat4 *m)
 {
     double s = 0.0;
-    for (int i = 0; i < 3; ++i) s = fmax(s, fabs(m->m[i][0]) + fabs(m->m[i][1]) + fabs(m->m[i][2]));
+    for (int i = 0; i < 3; ++i) {
+        double row = fabs(m->m[i][0]) + fabs(m->m[i][1]) + fabs(m->m[i][2]);
+        s = (row > s || s != s) ? row : s; /* fmax(s, row) inline (never -0; a moving instance's hits ask) */
+    }
     return s;
 }
 
@@ -169,6 +166,16 @@ static void quadric_object_bounds(const Geom *g, double lo[3], double hi[3])
     }
 }
 
+/* Embree keeps all of a scene's user primitives in one BVH. With a single one, the root of
+ * that BVH is a leaf, and traversal enters a leaf root without a box test: every ray of the
+ * scene calls the quadric's callback (on soft_shadows.pbrt, 95% of the callback's calls
+ * were rays that did not pass the sphere's box). So a layer's only sphere or disk is given
+ * a second primitive, this one: a point at the centre of the shape's box, which the
+ * callbacks ignore. The BVH then has an inner root, and Embree tests each ray against the
+ * shape's box before calling back. (A ray through exactly that point costs a call that
+ * reports nothing; results are unchanged.) */
+enum { QUADRIC_PRIM_SHAPE = 0, QUADRIC_PRIM_ANCHOR = 1 };
+
 static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
 {
     const Geom *g = args->geometryUserPtr;
@@ -186,6 +193,12 @@ static void quadric_bounds_cb(const struct RTCBoundsFunctionArguments *args)
     args->bounds_o->lower_x = (float)(k * (bmin[0] - pad)), args->bounds_o->upper_x = (float)(k * (bmax[0] + pad));
     args->bounds_o->lower_y = (float)(k * (bmin[1] - pad)), args->bounds_o->upper_y = (float)(k * (bmax[1] + pad));
     args->bounds_o->lower_z = (float)(k * (bmin[2] - pad)), args->bounds_o->upper_z = (float)(k * (bmax[2] + pad));
+    if (args->primID == QUADRIC_PRIM_ANCHOR) {
+        struct RTCBounds *b = args->bounds_o;
+        b->lower_x = b->upper_x = 0.5f * (b->lower_x + b->upper_x);
+        b->lower_y = b->upper_y = 0.5f * (b->lower_y + b->upper_y);
+        b->lower_z = b->upper_z = 0.5f * (b->lower_z + b->upper_z);
+    }
 }
 
 /* Embree hands user geometry N rays at once (N = 1 for single rays, 4/8/16 for packets and
@@ -221,6 +234,7 @@ static void quadric_intersect_cb(const struct RTCIntersectFunctionNArguments *ar
     const Geom *g = args->geometryUserPtr;
     void *rh = args->rayhit;
     unsigned n = args->N;
+    if (args->primID == QUADRIC_PRIM_ANCHOR) return;
     for (unsigned i = 0; i < n; ++i) {
         double t;
         if (args->valid[i] != -1 || !quadric_hit_rayn(g, rh, n, i, &t)) continue;
@@ -238,6 +252,7 @@ static void quadric_occluded_cb(const struct RTCOccludedFunctionNArguments *args
 {
     const Geom *g = args->geometryUserPtr;
     unsigned n = args->N;
+    if (args->primID == QUADRIC_PRIM_ANCHOR) return;
     for (unsigned i = 0; i < n; ++i) {
         double t;
         if (args->valid[i] == -1 && quadric_hit_rayn(g, args->ray, n, i, &t)) *rayn_f(args->ray, n, RAYN_TFAR, i) = -INFINITY;
@@ -291,6 +306,10 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
         g->zmin = fmax(-g->radius, fmin(zmin, zmax));
         g->zmax = fmin(g->radius, fmax(zmin, zmax));
         g->phimax_rad = fmin(360.0, fmax(0.0, params_float(&s->params, "phimax", 360.0f))) * M_PI / 180.0;
+        double r = g->radius > 0.0 ? g->radius : 1.0;
+        g->theta_zmin_rad = acos(fmax(-1.0, fmin(1.0, g->zmin / r)));
+        g->theta_zmax_rad = acos(fmax(-1.0, fmin(1.0, g->zmax / r)));
+        g->quadric_reach = g->radius * max_stretch(&g->geom_from_object);
         return true;
     }
     if (!strcmp(s->type, "disk")) {
@@ -299,6 +318,7 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
         g->radius = fabs(params_float(&s->params, "radius", 1.0f));
         g->inner_radius = fabs(params_float(&s->params, "innerradius", 0.0f));
         g->phimax_rad = fmin(360.0, fmax(0.0, params_float(&s->params, "phimax", 360.0f))) * M_PI / 180.0;
+        g->quadric_reach = g->radius * max_stretch(&g->geom_from_object);
         return true;
     }
     TriMesh mesh = {0};
@@ -338,6 +358,19 @@ static bool geom_from_shape(Geom *g, SceneDesc *scene, int shape_index, const Ma
     g->index = mesh.index;
     g->n = mesh.n;
     g->uv = mesh.uv;
+    /* A hit's geometric normal and error bound are the triangle's: computed here once (16
+     * bytes a triangle) instead of a normalisation and a nine-way maximum at every hit. */
+    g->tri_shading = malloc((size_t)(g->triangle_count > 0 ? g->triangle_count : 1) * sizeof *g->tri_shading);
+    if (!g->tri_shading) {
+        diag_set(err, WEDGE_EXIT_RUNTIME, s->loc, "out of memory loading mesh");
+        return false;
+    }
+    for (int t = 0; t < g->triangle_count; ++t) {
+        const uint32_t *ix = g->index + 3 * (size_t)t;
+        vec3 p0 = ((const vec3 *)p)[ix[0]], p1 = ((const vec3 *)p)[ix[1]], p2 = ((const vec3 *)p)[ix[2]];
+        g->tri_shading[t].n = v3_normalize(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
+        g->tri_shading[t].mag = max_abs_vertices(p0, p1, p2);
+    }
     return true;
 }
 
@@ -349,6 +382,7 @@ static void geom_free(Geom *g)
         free((void *)g->index);
         free(g->n);
         free(g->uv);
+        free(g->tri_shading);
     }
 }
 
@@ -504,6 +538,9 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
 {
     l->scene = rtcNewScene(tr->device);
     rtcSetSceneFlags(l->scene, RTC_SCENE_FLAG_ROBUST);
+    /* A lone sphere or disk gets a second, empty primitive (QUADRIC_PRIM_ANCHOR) */
+    int quadrics = 0;
+    for (int i = 0; i < l->geom_count; ++i) quadrics += l->geoms[i].kind == GEOM_SPHERE || l->geoms[i].kind == GEOM_DISK;
     for (int i = 0; i < l->geom_count; ++i) {
         Geom *g = &l->geoms[i];
         RTCGeometry eg = NULL;
@@ -518,7 +555,7 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
         case GEOM_SPHERE:
         case GEOM_DISK:
             eg = rtcNewGeometry(tr->device, RTC_GEOMETRY_TYPE_USER);
-            rtcSetGeometryUserPrimitiveCount(eg, 1);
+            rtcSetGeometryUserPrimitiveCount(eg, quadrics == 1 ? 2 : 1);
             rtcSetGeometryUserData(eg, g);
             rtcSetGeometryBoundsFunction(eg, quadric_bounds_cb, g);
             rtcSetGeometryIntersectFunction(eg, quadric_intersect_cb);
@@ -859,8 +896,9 @@ static inline void shade_triangle(const Geom *g, int prim, float bu, float bv, v
     float b0 = 1.0f - bu - bv;
     /* barycentric reconstruction: lies on the triangle up to rounding, unlike o + t d */
     *p = v3_add(v3_add(v3_scale(p0, b0), v3_scale(p1, bu)), v3_scale(p2, bv));
-    *mag = max_abs_vertices(p0, p1, p2);
-    vec3 n = v3_normalize(v3_cross(v3_sub(p1, p0), v3_sub(p2, p0)));
+    const TriangleShading *ts = &g->tri_shading[prim];
+    *mag = ts->mag;
+    vec3 n = ts->n;
     if (g->n) {
         vec3 s = v3_add(v3_add(v3_scale(g->n[ix[0]], b0), v3_scale(g->n[ix[1]], bu)), v3_scale(g->n[ix[2]], bv));
         s = v3_normalize(s);
@@ -900,8 +938,7 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
         if (phi < 0.0) phi += 2.0 * M_PI;
         double r = g->radius > 0.0 ? g->radius : 1.0;
         double theta = acos(fmax(-1.0, fmin(1.0, po[2] / r)));
-        double th_min = acos(fmax(-1.0, fmin(1.0, g->zmin / r))), th_max = acos(fmax(-1.0, fmin(1.0, g->zmax / r)));
-        double dv = th_max - th_min;
+        double th_min = g->theta_zmin_rad, dv = g->theta_zmax_rad - th_min;
         *uv = v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f, dv != 0.0 ? (float)((theta - th_min) / dv) : 0.0f);
     } else {
         po[2] = g->height;
@@ -917,7 +954,7 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
     vec3 n = v3_normalize(mat4_apply_normal(&g->object_from_geom, v3((float)n_obj[0], (float)n_obj[1], (float)n_obj[2])));
     if (g->flip_normal) n = v3_neg(n);
     *ng = *ns = n;
-    *mag = max_abs3(*p) + (float)(g->radius * max_stretch(&g->geom_from_object));
+    *mag = v3_max_abs(*p) + (float)g->quadric_reach;
 }
 
 bool tracer_intersect(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, SurfaceHit *hit)
@@ -1001,7 +1038,7 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
         vec3 pw_f = mat4_apply_point(&wfi, p);
         ng = v3_normalize(mat4_apply_normal(&ifw, ng));
         ns = v3_normalize(mat4_apply_normal(&ifw, ns));
-        err = OFFSET_REL * (max_abs3(pw_f) + (float)max_stretch(&wfi) * mag);
+        err = OFFSET_REL * (v3_max_abs(pw_f) + (float)max_stretch(&wfi) * mag);
         p = pw_f;
     }
     hit_shaded(hit, t, p, ng, ns, uv, err, g, (int)rh.hit.primID, instance, object_id);

@@ -32,6 +32,13 @@
 
 typedef enum { GEOM_TRIANGLES, GEOM_SPHERE, GEOM_DISK, GEOM_INSTANCE } GeomKind;
 
+/* What shading a hit on a triangle needs that does not depend on where the triangle was
+ * hit, found once per triangle (shade_triangle). */
+typedef struct {
+    vec3 n;    /* unit geometric normal, (p1 - p0) x (p2 - p0) normalised */
+    float mag; /* largest |coordinate| of its vertices (the hit point's error bound) */
+} TriangleShading;
+
 /* One Embree geometry. "Geometry space" is world space for layer 0 and instance space for
  * the other layers. */
 typedef struct {
@@ -49,11 +56,18 @@ typedef struct {
     const uint32_t *index;   /* Embree index buffer, 3 per triangle */
     vec3 *n;                 /* shading normals in geometry space (NULL = none) */
     vec2 *uv;                /* per-vertex uv (NULL = pbrt default (0,0) (1,0) (1,1)) */
+    TriangleShading *tri_shading; /* per triangle */
     double geom_from_tracer; /* 1 / its Layer's tracer_from_geom, for the sphere/disk callbacks */
     /* spheres and disks: object-space quadric, placed by geom_from_object */
     double radius, zmin, zmax, phimax_rad, height, inner_radius;
     Mat4 geom_from_object, object_from_geom;
     bool object_translation_only; /* object_from_geom's 3x3 part is the identity (quadric_hit) */
+    /* spheres: the polar angles of zmin and zmax (acos(z / radius)), which shading's v
+     * coordinate is measured between: per shape, so not recomputed at every hit */
+    double theta_zmin_rad, theta_zmax_rad;
+    /* spheres and disks: radius times the largest stretch of geom_from_object, the shape's
+     * share of a hit point's error bound (per shape: found once, not at every hit) */
+    double quadric_reach;
     /* instances */
     int instance;            /* index into Tracer.instances (GEOM_INSTANCE), else -1 */
     int owner_instance;      /* for a moving shape's own layer: the instance that moves it */

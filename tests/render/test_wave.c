@@ -45,19 +45,26 @@ static void make_rays(TracerRay *rays, int n)
     }
 }
 
-static void test_quadric_batches(void)
+/* Parses scene text and builds its tracer; on failure reports it, frees the scene and
+ * returns false. */
+static bool build_scene(const char *text, SceneDesc *scene, Tracer *tr)
 {
-    SceneDesc scene;
     Diag err = {0};
-    CHECK(scene_parse_string(QUADRICS, strlen(QUADRICS), "<test>", NULL, &scene, &err));
-    Tracer tr;
-    bool built = tracer_build(&tr, &scene, 1, &err);
+    CHECK(scene_parse_string(text, strlen(text), "<test>", NULL, scene, &err));
+    bool built = tracer_build(tr, scene, 1, &err);
     CHECK(built);
     if (!built) {
         fprintf(stderr, "%s\n", err.message);
-        scene_desc_free(&scene);
-        return;
+        scene_desc_free(scene);
     }
+    return built;
+}
+
+static void test_quadric_batches(void)
+{
+    SceneDesc scene;
+    Tracer tr;
+    if (!build_scene(QUADRICS, &scene, &tr)) return;
     TracerRay rays[RAYS];
     make_rays(rays, RAYS);
     SurfaceHit ref[RAYS];
@@ -103,6 +110,41 @@ static void test_quadric_batches(void)
     /* an empty batch traces nothing */
     tracer_intersect_batch(&tr, rays, 0, true, true, ref, ref_found);
     tracer_occluded_batch(&tr, rays, 0, true, ref_occ);
+    tracer_free(&tr);
+    scene_desc_free(&scene);
+}
+
+/* A layer's only sphere has a second, empty Embree primitive at the centre of its box (so
+ * that Embree tests rays against the box before calling back; tracer.c,
+ * QUADRIC_PRIM_ANCHOR): rays through that point, from outside and from inside, find the
+ * sphere where it is and nothing else, in every batch mode; rays beside it find nothing. */
+static void test_lone_sphere(void)
+{
+    static const char *LONE = "LookAt 0 0 -6  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+                              "AttributeBegin Translate 0.25 0.5 0.75 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n";
+    SceneDesc scene;
+    Tracer tr;
+    if (!build_scene(LONE, &scene, &tr)) return;
+    const vec3 z = v3(0.0f, 0.0f, 1.0f);
+    TracerRay rays[4] = {
+        {v3(0.25f, 0.5f, -3.0f), z, INFINITY, 0.0f}, /* through the centre from outside: t 3.25 */
+        {v3(0.25f, 0.5f, 0.5f), z, INFINITY, 0.0f},  /* from inside, through the centre: t 0.75 */
+        {v3(0.25f, 1.1f, -3.0f), z, INFINITY, 0.0f}, /* beside the sphere, through its box's corner region */
+        {v3(0.25f, 0.5f, -3.0f), z, 3.0f, 0.0f},     /* stops short of it */
+    };
+    const float t_expect[4] = {3.25f, 0.75f, -1.0f, -1.0f};
+    for (int m = 0; m < TRACER_BATCH_MODE_COUNT; ++m) {
+        tr.batch_mode = (TracerBatchMode)m;
+        SurfaceHit hit[4];
+        bool found[4], occ[4];
+        tracer_intersect_batch(&tr, rays, 4, true, false, hit, found);
+        tracer_occluded_batch(&tr, rays, 4, false, occ);
+        for (int i = 0; i < 4; ++i) {
+            bool expect = t_expect[i] > 0.0f;
+            CHECK(found[i] == expect && occ[i] == expect);
+            if (found[i] && expect) CHECK_NEAR(hit[i].t, t_expect[i], 1e-5);
+        }
+    }
     tracer_free(&tr);
     scene_desc_free(&scene);
 }
@@ -158,6 +200,7 @@ static void test_wave_images(void)
 int main(void)
 {
     test_quadric_batches();
+    test_lone_sphere();
     test_wave_images();
     CHECK_DONE();
 }
