@@ -430,14 +430,50 @@ static void test_atomic_failures(void)
 }
 
 /* A 1.2 KB file found by tools/fuzz-readers exr whose chunk claims to unpack to 1.3 GB: refused
- * as corrupt before anything that large is allocated (the fuzz smoke run, which seeds from
- * this folder, would also stop at its 1 GB memory limit). */
+ * before anything that large is allocated (the fuzz smoke run, which seeds from this folder,
+ * would also stop at its 1 GB memory limit). Its header's image is already more than 1.2 KB
+ * could unpack to, so the whole-file bound refuses it first (read_chunk's own bound, the
+ * first to catch it, stays for chunks that lie within a plausible header). */
 static void test_chunk_claiming_too_much(void)
 {
     ExrImage img;
     Diag err = {0};
     CHECK(!exr_read("data/fuzz-oom-chunk.exr", &img, &err));
-    CHECK(strstr(err.message, "EXR_ERR_CORRUPT_CHUNK") != NULL);
+    CHECK(strstr(err.message, "larger than the file's data could hold") != NULL);
+    CHECK(err.exit_code == WEDGE_EXIT_INPUT);
+}
+
+/* A valid 2x2 file whose data window is then rewritten to 4096 x 4096: the header asks for
+ * more pixels than the file's bytes could unpack to, and the reader says so before it
+ * allocates the planes (the message is only this check's; without it the read fails later,
+ * as corrupt chunk data, after allocating 16.8M pixels per channel). */
+static void test_header_larger_than_file(void)
+{
+    char path[512];
+    path_in_tmp(path, sizeof path, "huge_window.exr");
+    float px[4] = {1, 2, 3, 4};
+    ExrChannel ch[1] = {{"Y", px, 1}};
+    Diag err = {0};
+    CHECK(exr_write(path, 2, 2, ch, 1, NULL, 0, &err));
+    FILE *f = fopen(path, "r+b");
+    CHECK(f != NULL);
+    if (!f) return;
+    char buf[4096];
+    size_t n = fread(buf, 1, sizeof buf, f);
+    const char key[] = "dataWindow\0box2i";
+    size_t at = 0;
+    for (size_t i = 0; i + sizeof key + 24 < n && !at; ++i)
+        if (!memcmp(buf + i, key, sizeof key)) at = i + sizeof key + 4; /* past the type and the size */
+    CHECK(at > 0);
+    int32_t box[4] = {0, 0, 4095, 4095}; /* min x, min y, max x, max y (little-endian, as EXR) */
+    if (at) {
+        fseek(f, (long)at, SEEK_SET);
+        fwrite(box, sizeof box, 1, f);
+    }
+    fclose(f);
+    ExrImage img;
+    CHECK(!exr_read(path, &img, &err));
+    CHECK(strstr(err.message, "larger than the file's data could hold") != NULL);
     CHECK(err.exit_code == WEDGE_EXIT_INPUT);
 }
 
@@ -457,6 +493,7 @@ int main(void)
     test_grey_and_missing_rgb();
     test_bad_inputs();
     test_atomic_failures();
+    test_header_larger_than_file();
     clean_tmp();
     rmdir(tmpdir);
     CHECK_DONE();
