@@ -71,12 +71,13 @@
  * (eq. 20's sums are taken with it) and cannot follow the budget search's mu, so a budget sets
  * it up front. With the default design a budget only lowered the variance and the design's
  * bias held the error from 16 spp up (soft_shadows 256x256: 4.0e-4 at 16, 4.1e-4 at 32 and
- * 128). kappa stays at the default up to base_spp, then grows as the square root of the
+ * 128). Without --mu, kappa stays at the default up to base_spp, then grows as the square root of the
  * budget: the band widens while the samples under a filter stay about constant. */
-static float kappa_for_budget(float kappa_default, int spp_budget, int base_spp)
+static float kappa_for_budget(const ReconSetup *s, float kappa_default, int base_spp)
 {
-    if (spp_budget <= base_spp) return kappa_default;
-    return kappa_default * sqrtf((float)spp_budget / (float)base_spp);
+    if (s->mu > 0.0f) return s->mu; /* --mu is kappa itself */
+    if (s->spp_budget <= base_spp) return kappa_default;
+    return kappa_default * sqrtf((float)s->spp_budget / (float)base_spp);
 }
 
 /* With shading effects the lens filter sees their filtered light (split sums), and its design
@@ -280,7 +281,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->renderer = s->renderer;
     m->g = s->gbuffer;
     m->effects = s->effects;
-    m->kappa = s->mu > 0.0f ? s->mu : kappa_for_budget(MAAF_KAPPA_DEFAULT, s->spp_budget, MAAF_SPP_DEFAULT);
+    m->kappa = kappa_for_budget(s, MAAF_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
     m->pairs = s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT;
     if (m->pairs > MAAF_PAIRS_MAX) m->pairs = MAAF_PAIRS_MAX;
     m->comps = maaf_component_count(m->pairs);
@@ -322,8 +323,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         if (!m->dsum || (split && !m->asum) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
             !m->dcomponents)
             goto oom;
-        int lens_base_spp = split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT;
-        float lens_kappa = s->mu > 0.0f ? s->mu : kappa_for_budget(MAAF_DEFOCUS_KAPPA_DEFAULT, s->spp_budget, lens_base_spp);
+        float lens_kappa = kappa_for_budget(s, MAAF_DEFOCUS_KAPPA_DEFAULT, split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
         if (!maaf_lens_design(lens_kappa, m->pairs, &m->lens)) goto oom;
     }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
@@ -550,6 +550,9 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
     float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
     int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
+     * budget reached only the silhouettes and the rest kept pass 1's noise */
+    int filtered = aaf_far_spp(pass1, mu_e);
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
 
     for (int y = 0; y < g->height; ++y)
@@ -562,9 +565,7 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i]) {
                 more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
-                /* filtered: more samples as mu grows (AAF's rule for its far pixels), or a
-                 * budget reached only the silhouettes and the rest kept pass 1's noise */
-                count = aaf_far_spp(pass1, mu_e);
+                count = filtered;
             }
             /* defocus (seeds/003's extra samples near the focal plane): a slope range that
              * straddles it, or a filter under half a pixel */
