@@ -90,6 +90,11 @@ static void set_reason(ReconChoice *out, Effect e, const char *fmt, ...)
     va_end(ap);
 }
 
+int recon_lr_max_budget_spp(EffectMask present)
+{
+    return effect_in(present, EFFECT_INDIRECT) ? RECON_LR_MAX_BUDGET_SPP_INDIRECT : RECON_LR_MAX_BUDGET_SPP;
+}
+
 /* The camera effects with motion (docs/benchmarks.md, "The choice per effect (issue 18)"):
  * layered reconstruction gathers, for a pixel, the samples of every pixel whose blur reaches
  * it (docs/algorithms.md section 8), so for defocus it has more samples than a per-pixel
@@ -99,18 +104,19 @@ static void set_reason(ReconChoice *out, Effect e, const char *fmt, ...)
  * sits between (a blur of 3 px reaches at least the 8 neighbours). Motion always goes to lr:
  * below the threshold lr filters it alone (the lens left to aaf, docs/algorithms.md 8.14),
  * which at equal samples never lost to unfiltered motion on the bench and wins where objects
- * move over a static background. A --spp budget of RECON_LR_MAX_BUDGET_SPP or more leaves lr
+ * move over a static background. A --spp budget of recon_lr_max_budget_spp or more leaves lr
  * the motion alone at any blur: there its bias costs more than its gain for the lens
  * (docs/benchmarks.md, "LR's floor and the budget"). */
-static void select_camera_by_blur(Effect e, float blur_px, int budget_spp, ReconChoice *out)
+static void select_camera_by_blur(Effect e, EffectMask present, float blur_px, int budget_spp, ReconChoice *out)
 {
     const ReconMethodClass *lr = recon_method_find("lr");
     if (!lr || !effect_in(lr->effects, e)) return;
-    if (blur_px >= RECON_LR_MIN_BLUR_PX && budget_spp >= RECON_LR_MAX_BUDGET_SPP) {
+    int max_budget = recon_lr_max_budget_spp(present);
+    if (blur_px >= RECON_LR_MIN_BLUR_PX && budget_spp >= max_budget) {
         if (e != EFFECT_MOTION) return; /* defocus: the per-pixel filter's choice, below */
         out->method[e] = lr;
         set_reason(out, e, "lr, motion only: a budget of %d spp >= %d, where lr's bias outweighs its gain for the lens "
-                   "(docs/benchmarks.md, issue 18)", budget_spp, RECON_LR_MAX_BUDGET_SPP);
+                   "(docs/benchmarks.md, issue 18)", budget_spp, max_budget);
     } else if (blur_px >= RECON_LR_MIN_BLUR_PX) {
         out->method[e] = lr;
         set_reason(out, e, "lr: median blur %.1f px >= %.0f px, layered reconstruction shares samples across pixels "
@@ -130,7 +136,7 @@ static void select_auto(Effect e, EffectMask present, float blur_px, int budget_
     bool camera = e == EFFECT_MOTION || e == EFFECT_DEFOCUS;
     if (measured && camera) {
         out->blur_px = blur_px;
-        select_camera_by_blur(e, blur_px, budget_spp, out);
+        select_camera_by_blur(e, present, blur_px, budget_spp, out);
         if (out->method[e]) return;
     }
     const char *why = NO_METHOD_REASON[e];
@@ -144,7 +150,7 @@ static void select_auto(Effect e, EffectMask present, float blur_px, int budget_
     }
     if (measured && camera && blur_px >= RECON_LR_MIN_BLUR_PX)
         set_reason(out, e, "%s: a budget of %d spp >= %d, where lr's bias outweighs its gain (docs/benchmarks.md, issue 18)",
-                   out->method[e] ? out->method[e]->name : "none", budget_spp, RECON_LR_MAX_BUDGET_SPP);
+                   out->method[e] ? out->method[e]->name : "none", budget_spp, recon_lr_max_budget_spp(present));
     else if (measured && camera)
         set_reason(out, e, "%s: median blur %.1f px < %.0f px, too little for lr to pay (docs/benchmarks.md, issue 18)",
                    out->method[e] ? out->method[e]->name : "none", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);

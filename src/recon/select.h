@@ -32,6 +32,14 @@ typedef struct {
  * noise reduction, and defocus goes to aaf, motion alone to lr (docs/benchmarks.md, "LR's
  * floor and the budget"). */
 #define RECON_LR_MAX_BUDGET_SPP 48
+/* The same threshold in a frame that also has indirect light: the lens filter of aaf then runs
+ * on a composite that still carries the bounce's residual noise, which lr's reprojection
+ * averages further, so aaf needs about twice the samples to pass lr's floor (crossovers 59-150
+ * spp with indirect light against 40-62 spp without, docs/benchmarks.md, "The budget rule
+ * with indirect light"). */
+#define RECON_LR_MAX_BUDGET_SPP_INDIRECT 96
+/* Which of the two applies to the effects present. */
+int recon_lr_max_budget_spp(EffectMask present);
 
 /* The choice for the effects present and a --filter request: "auto" (the measured best per
  * effect), "none" (plain Monte Carlo), a method's name (that method for every effect it can

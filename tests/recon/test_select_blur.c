@@ -2,7 +2,8 @@
  * effects (motion, defocus) to lr when the blur probe's median blur is at least
  * RECON_LR_MIN_BLUR_PX, else defocus keeps aaf and motion alone goes to lr; the measured value
  * is in the reason line; scenes without motion and explicit requests ignore the value. With a
- * --spp budget of RECON_LR_MAX_BUDGET_SPP or more, lr keeps only the motion. */
+ * --spp budget of recon_lr_max_budget_spp or more (higher with indirect light), lr keeps only
+ * the motion. */
 #include <string.h>
 
 #include "../check.h"
@@ -30,8 +31,15 @@ int main(void)
                                        "across pixels (docs/benchmarks.md, issue 18)");
 
     /* a large --spp budget: lr keeps the motion alone, defocus goes to aaf; just under it, or
-     * without a budget, lr takes both; below the blur threshold the budget changes nothing */
-    recon_select_budget(all, "auto", 9.4f, RECON_LR_MAX_BUDGET_SPP, &c);
+     * without a budget, lr takes both; below the blur threshold the budget changes nothing.
+     * Without indirect light the threshold is RECON_LR_MAX_BUDGET_SPP, with it
+     * RECON_LR_MAX_BUDGET_SPP_INDIRECT (aaf's lens filter then sees the bounce's noise too). */
+    EffectMask direct_only = all & ~EFFECT_BIT(EFFECT_INDIRECT);
+    CHECK(recon_lr_max_budget_spp(direct_only) == RECON_LR_MAX_BUDGET_SPP);
+    CHECK(recon_lr_max_budget_spp(motion_defocus) == RECON_LR_MAX_BUDGET_SPP);
+    CHECK(recon_lr_max_budget_spp(all) == RECON_LR_MAX_BUDGET_SPP_INDIRECT);
+    CHECK(RECON_LR_MAX_BUDGET_SPP_INDIRECT > RECON_LR_MAX_BUDGET_SPP);
+    recon_select_budget(direct_only, "auto", 9.4f, RECON_LR_MAX_BUDGET_SPP, &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
     CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
     CHECK_STR(recon_choice_name(&c, EFFECT_SOFT_SHADOWS), "aaf");
@@ -39,9 +47,22 @@ int main(void)
                                         "(docs/benchmarks.md, issue 18)");
     CHECK_STR(c.reason[EFFECT_MOTION], "lr, motion only: a budget of 48 spp >= 48, where lr's bias outweighs its gain "
                                        "for the lens (docs/benchmarks.md, issue 18)");
+    /* with indirect light the same budget keeps lr for both, up to the higher threshold */
+    int under_indirect[] = {RECON_LR_MAX_BUDGET_SPP, RECON_LR_MAX_BUDGET_SPP_INDIRECT - 1};
+    for (int k = 0; k < 2; ++k) {
+        recon_select_budget(all, "auto", 9.4f, under_indirect[k], &c);
+        CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
+        CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+    }
+    recon_select_budget(all, "auto", 9.4f, RECON_LR_MAX_BUDGET_SPP_INDIRECT, &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+    CHECK_STR(recon_choice_name(&c, EFFECT_INDIRECT), "aaf");
+    CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: a budget of 96 spp >= 96, where lr's bias outweighs its gain "
+                                        "(docs/benchmarks.md, issue 18)");
     int under[] = {0, RECON_LR_MAX_BUDGET_SPP - 1};
     for (int k = 0; k < 2; ++k) {
-        recon_select_budget(all, "auto", 9.4f, under[k], &c);
+        recon_select_budget(direct_only, "auto", 9.4f, under[k], &c);
         CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
         CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
     }
