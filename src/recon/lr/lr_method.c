@@ -23,6 +23,7 @@
 #include "recon/lr/lr_shading.h"
 #include "recon/lr/lr_share.h"
 #include "recon/method.h"
+#include "recon/recon_parallel.h"
 
 /* LR section 8: 4-8 samples per pixel; the default is 8. */
 #define LR_DEFAULT_SPP 8
@@ -90,43 +91,107 @@ static bool lr_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
     return (m->cl = lr_cl_create(rt, d)) != NULL;
 }
 
-/* Each stored sample's CoC slope (px per unit lens; 0 without the lens dimensions or where it
- * is not finite), computed once for the centre positions and the LR records. */
-static void sample_coc(const ReconMethod *m, bool lens_dims, float *coc_px)
+/* What the per-pixel passes of gather_samples read and write. */
+typedef struct {
+    const ReconMethod *m;
+    const SampleStore *st;
+    int cap, spp;
+    bool lens_dims;          /* the lens is LR's dimension (else its pinhole reduction) */
+    const float *shade;      /* SAMPLE_FIELD_SHADING, NULL: no shading filter in the frame */
+    const float *value4;     /* the pixels' values (the shading filters' results in them) */
+    float *coc_px;           /* per stored sample */
+    float *centre_xy;        /* per stored sample, 2 floats (NULL without shade) */
+    const float *delta4;     /* lr_delta_light's (NULL without shade) */
+    const LrCentreLight *centre;
+    LrSample *out;           /* spp per pixel */
+    bool failed[RECON_PARTS]; /* a part without memory for its scratch */
+} GatherJob;
+
+/* Pixels [begin, end): each stored sample's CoC slope (px per unit lens; 0 without the lens
+ * dimensions or where it is not finite) and, beside a shading filter, where its point is seen
+ * through the lens centre at mid-shutter (LR's reprojection to u = v = 0, t = 1/2:
+ * lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens v, and the film moving
+ * by motion_px per unit shutter time). */
+static void coc_and_centre_range(void *ctx, size_t begin, size_t end, int part)
 {
-    const SampleStore *st = m->store;
-    const float *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
-    size_t n = (size_t)m->g->width * (size_t)m->g->height, cap = (size_t)sample_store_capacity(st);
-    for (size_t i = 0; i < n; ++i)
+    (void)part;
+    GatherJob *j = ctx;
+    const SampleStore *st = j->st;
+    const float *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH), *film = sample_store_field(st, SAMPLE_FIELD_FILM);
+    const float *lens = sample_store_field(st, SAMPLE_FIELD_LENS), *time = sample_store_field(st, SAMPLE_FIELD_TIME);
+    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION);
+    size_t cap = (size_t)j->cap;
+    for (size_t i = begin; i < end; ++i)
         for (int k = 0; k < sample_store_count(st, i); ++k) {
-            size_t j = i * cap + (size_t)k;
-            float c = lens_dims ? recon_coc_slope_px(&m->g->cam, depth[j]) : 0.0f;
-            coc_px[j] = isfinite(c) ? c : 0.0f;
+            size_t q = i * cap + (size_t)k;
+            float c = j->lens_dims ? recon_coc_slope_px(&j->m->g->cam, depth[q]) : 0.0f;
+            c = isfinite(c) ? c : 0.0f;
+            j->coc_px[q] = c;
+            if (!j->centre_xy) continue;
+            float dt = time ? time[q] - 0.5f : 0.0f;
+            j->centre_xy[2 * q] = film[2 * q] - (lens ? c * lens[2 * q] : 0.0f) - (motion ? motion[2 * q] * dt : 0.0f);
+            j->centre_xy[2 * q + 1] = film[2 * q + 1] + (lens ? c * lens[2 * q + 1] : 0.0f) - (motion ? motion[2 * q + 1] * dt : 0.0f);
         }
 }
 
-/* Where each sample's point is seen through the lens centre at mid-shutter (LR's reprojection
- * to u = v = 0, t = 1/2: lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens
- * v, and the film moving by motion_px per unit shutter time), into centre_xy (2 per sample). */
-static void centre_positions(const ReconMethod *m, const float *coc_px, float *centre_xy)
+/* Pixels [begin, end): their first spp samples as LrSamples, each with its light as
+ * lr_pixel_light gives it. */
+static void gather_range(void *ctx, size_t begin, size_t end, int part)
 {
-    const SampleStore *st = m->store;
+    GatherJob *j = ctx;
+    const ReconMethod *m = j->m;
+    const SampleStore *st = j->st;
+    size_t cap = (size_t)j->cap;
+    const float *shade = j->shade;
+    float *light = malloc(sizeof(float) * 3 * cap);
+    size_t *src = malloc(sizeof(size_t) * cap);
+    float *centre9 = shade ? malloc(sizeof(float) * 9 * cap) : NULL;
+    if (!light || !src || (shade && !centre9)) {
+        free(light), free(src), free(centre9);
+        j->failed[part] = true;
+        return;
+    }
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
-    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *motion = sample_store_field(st, SAMPLE_FIELD_MOTION);
-    size_t n = (size_t)m->g->width * (size_t)m->g->height, cap = (size_t)sample_store_capacity(st);
-    for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < sample_store_count(st, i); ++k) {
-            size_t j = i * cap + (size_t)k;
-            float c = coc_px[j], dt = time ? time[j] - 0.5f : 0.0f;
-            centre_xy[2 * j] = film[2 * j] - (lens ? c * lens[2 * j] : 0.0f) - (motion ? motion[2 * j] * dt : 0.0f);
-            centre_xy[2 * j + 1] = film[2 * j + 1] + (lens ? c * lens[2 * j + 1] : 0.0f) - (motion ? motion[2 * j + 1] * dt : 0.0f);
+    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
+    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    for (size_t i = begin; i < end; ++i) {
+        int count = sample_store_count(st, i);
+        for (int k = 0; shade && k < count; ++k) {
+            const float *xy = &j->centre_xy[2 * (i * cap + k)];
+            float object = shade[(i * cap + k) * LR_SHADING_FLOATS + 9];
+            src[k] = lr_light_pixel(m->g, xy[0], xy[1], depth[i * cap + k], object, i);
+            const float *c9 = lr_centre_light_at(j->centre, xy[0], xy[1], object);
+            for (int c = 0; c < 9; ++c) centre9[9 * k + c] = c9 ? c9[c] : NAN;
         }
+        float value[3] = {j->value4[4 * i], j->value4[4 * i + 1], j->value4[4 * i + 2]};
+        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light,
+                       j->delta4, centre9, value, light);
+        for (int k = 0; k < j->spp; ++k) {
+            size_t q = i * cap + k;
+            LrSample *o = &j->out[i * (size_t)j->spp + k];
+            o->x_px = film[2 * q];
+            o->y_px = film[2 * q + 1];
+            /* raster y runs against camera y (pbrt's rasterFromScreen): dy/dv = -c, so the
+             * lens v that LR sees is flipped to keep y = y0 + c v (lr_partition.h) */
+            o->u = j->lens_dims && lens ? lens[2 * q] : 0.0f;
+            o->v = j->lens_dims && lens ? -lens[2 * q + 1] : 0.0f;
+            o->t = time ? time[q] : 0.5f;
+            o->depth = depth[q];
+            o->coc_px = j->coc_px[q];
+            o->motion_px[0] = motion ? motion[2 * q] : 0.0f;
+            o->motion_px[1] = motion ? motion[2 * q + 1] : 0.0f;
+            for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
+        }
+    }
+    free(light), free(src), free(centre9);
 }
 
 /* The store's samples as LrSamples (the smallest per-pixel count, which in a fixed-count
  * frame is every pixel's), each sample's light as lr_pixel_light gives it: the shading
  * filters' light in place of its own where they ran, and its pixel's samples averaging to
- * the pixel's value in value4. */
+ * the pixel's value in value4. Pixels are independent in every pass but the centre light's
+ * sums (lr_centre_light_build), so they split between the cores (recon_parallel.h) with the
+ * same result. */
 static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_out)
 {
     const SampleStore *st = m->store;
@@ -146,64 +211,33 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         if (!m->samples) return NULL;
     }
     const float *shade = sample_store_field(st, SAMPLE_FIELD_SHADING); /* NULL: no shading filter in the frame */
-    float *light = malloc(sizeof(float) * 3 * (size_t)cap);
-    size_t *src = malloc(sizeof(size_t) * (size_t)cap);
     float *delta4 = shade ? malloc(sizeof(float) * 4 * n) : NULL;
     float *centre_xy = shade ? malloc(sizeof(float) * 2 * n * (size_t)cap) : NULL;
-    float *centre9 = shade ? malloc(sizeof(float) * 9 * (size_t)cap) : NULL;
     float *coc_px = malloc(sizeof(float) * n * (size_t)cap);
-    if (!light || !src || !coc_px || (shade && (!delta4 || !centre_xy || !centre9))) {
-        free(light), free(src), free(delta4), free(centre_xy), free(centre9), free(coc_px);
+    if (!coc_px || (shade && (!delta4 || !centre_xy))) {
+        free(delta4), free(centre_xy), free(coc_px);
         return NULL;
     }
     LrCentreLight centre = {0};
     /* Motion alone (defocus is another method's, already in the corrected radiance): LR's
      * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
      * along the motion, not a dimension it shears). */
-    bool lens_dims = effect_in(m->effects, EFFECT_DEFOCUS);
-    sample_coc(m, lens_dims, coc_px);
+    GatherJob job = {.m = m, .st = st, .cap = cap, .spp = spp, .lens_dims = effect_in(m->effects, EFFECT_DEFOCUS),
+                     .shade = shade, .value4 = value4, .coc_px = coc_px, .centre_xy = centre_xy, .delta4 = delta4,
+                     .centre = &centre, .out = m->samples};
+    size_t work = n * (size_t)cap;
+    recon_parallel_for_work(n, work, coc_and_centre_range, &job);
     if (shade) {
         lr_delta_light(m->g, st, shade, delta4);
-        centre_positions(m, coc_px, centre_xy);
         /* without memory for the map, the samples of pass-through pixels keep their own light */
         lr_centre_light_build(&centre, m->g, st, shade, centre_xy);
     }
-    LrSample *s = m->samples;
-    const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
-    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
-    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
-    for (size_t i = 0; i < n; ++i) {
-        int count = sample_store_count(st, i);
-        for (int k = 0; shade && k < count; ++k) {
-            const float *xy = &centre_xy[2 * (i * cap + k)];
-            float object = shade[(i * cap + k) * LR_SHADING_FLOATS + 9];
-            src[k] = lr_light_pixel(m->g, xy[0], xy[1], depth[i * cap + k], object, i);
-            const float *c9 = lr_centre_light_at(&centre, xy[0], xy[1], object);
-            for (int c = 0; c < 9; ++c) centre9[9 * k + c] = c9 ? c9[c] : NAN;
-        }
-        float value[3] = {value4[4 * i], value4[4 * i + 1], value4[4 * i + 2]};
-        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light, delta4,
-                       centre9, value, light);
-        for (int k = 0; k < spp; ++k) {
-            size_t j = i * cap + k;
-            LrSample *o = &s[i * spp + k];
-            o->x_px = film[2 * j];
-            o->y_px = film[2 * j + 1];
-            /* raster y runs against camera y (pbrt's rasterFromScreen): dy/dv = -c, so the
-             * lens v that LR sees is flipped to keep y = y0 + c v (lr_partition.h) */
-            o->u = lens_dims && lens ? lens[2 * j] : 0.0f;
-            o->v = lens_dims && lens ? -lens[2 * j + 1] : 0.0f;
-            o->t = time ? time[j] : 0.5f;
-            o->depth = depth[j];
-            o->coc_px = coc_px[j];
-            o->motion_px[0] = motion ? motion[2 * j] : 0.0f;
-            o->motion_px[1] = motion ? motion[2 * j + 1] : 0.0f;
-            for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
-        }
-    }
-    free(light), free(src), free(delta4), free(centre_xy), free(centre9), free(coc_px);
+    recon_parallel_for_work(n, work, gather_range, &job);
+    free(delta4), free(centre_xy), free(coc_px);
     lr_centre_light_free(&centre);
-    return s;
+    for (int p = 0; p < RECON_PARTS; ++p)
+        if (job.failed[p]) return NULL;
+    return m->samples;
 }
 
 static void lr_shading_light(ReconMethod *m, const ReconShadingLight *light)

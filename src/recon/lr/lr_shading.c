@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "recon/recon_parallel.h"
+
 /* Pixels whose depth differs more than this (relative) are other surfaces. */
 #define LR_SAME_SURFACE_DEPTH 0.05f
 
@@ -34,24 +36,41 @@ size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, f
 /* Albedo below this is black: no light per unit albedo (composite.c's MIN_ALBEDO). */
 #define LR_MIN_ALBEDO 1.0e-4f
 
-void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *shading, float *delta4)
+typedef struct {
+    const GBuffer *g;
+    const SampleStore *st;
+    const float *shading;
+    float *delta4;
+} DeltaJob;
+
+/* Pixels [begin, end) of lr_delta_light: each pixel reads only its own samples. */
+static void delta_range(void *ctx, size_t begin, size_t end, int part)
 {
-    size_t n = (size_t)g->width * (size_t)g->height;
-    int cap = sample_store_capacity(st);
-    for (size_t q = 0; q < n; ++q) {
-        int count = sample_store_count(st, q);
+    (void)part;
+    const DeltaJob *j = ctx;
+    const GBuffer *g = j->g;
+    int cap = sample_store_capacity(j->st);
+    for (size_t q = begin; q < end; ++q) {
+        int count = sample_store_count(j->st, q);
         double a[3] = {0, 0, 0}, u[3] = {0, 0, 0};
         for (int k = 0; k < count; ++k) {
-            const float *sh = shading + (q * (size_t)cap + (size_t)k) * LR_SHADING_FLOATS;
+            const float *sh = j->shading + (q * (size_t)cap + (size_t)k) * LR_SHADING_FLOATS;
             for (int c = 0; c < 3; ++c) a[c] += sh[6 + c], u[c] += sh[10 + c];
         }
+        float *d4 = j->delta4 + 4 * q;
         bool ok = count > 0 && g->hit[q] && !g->mixed[q];
         for (int c = 0; c < 3; ++c) {
             ok = ok && a[c] > LR_MIN_ALBEDO * count;
-            delta4[4 * q + c] = ok ? (float)(u[c] / a[c]) : 0.0f;
+            d4[c] = ok ? (float)(u[c] / a[c]) : 0.0f;
         }
-        delta4[4 * q + 3] = ok && isfinite(delta4[4 * q]) && isfinite(delta4[4 * q + 1]) && isfinite(delta4[4 * q + 2]);
+        d4[3] = ok && isfinite(d4[0]) && isfinite(d4[1]) && isfinite(d4[2]);
     }
+}
+
+void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *shading, float *delta4)
+{
+    DeltaJob j = {g, st, shading, delta4};
+    recon_parallel_for((size_t)g->width * (size_t)g->height, delta_range, &j);
 }
 
 /* One sample's light with its filterable direct and indirect light replaced by albedo times
@@ -126,6 +145,44 @@ static int slot_of(float *id, size_t q, float object, bool claim)
     return -1;
 }
 
+typedef struct {
+    LrCentreLight *cl;
+    const float *sums; /* per bin and slot, CL_SUMS floats */
+} BoxJob;
+
+/* Rows [begin, end) of the centre light's box (lr_centre_light_build). */
+static void box_rows(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    const BoxJob *j = ctx;
+    LrCentreLight *cl = j->cl;
+    float *id = cl->id;
+    int w = cl->width, h = cl->height, r = LR_CENTRE_RADIUS_PX;
+    for (int y = (int)begin; y < (int)end; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int a = 0; a < LR_CENTRE_SLOTS; ++a) {
+                size_t q = (size_t)y * (size_t)w + (size_t)x, qa = q * LR_CENTRE_SLOTS + (size_t)a;
+                float b[CL_SUMS] = {0}, *o = cl->light + qa * 9;
+                for (int c = 0; c < 9; ++c) o[c] = NAN;
+                if (isnan(id[qa])) continue;
+                for (int dy = -r; dy <= r; ++dy)
+                    for (int dx = -r; dx <= r; ++dx) {
+                        int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                        size_t p = (size_t)yy * (size_t)w + (size_t)xx;
+                        int sp = slot_of(id, p, id[qa], false);
+                        if (sp < 0) continue;
+                        const float *src = j->sums + (p * LR_CENTRE_SLOTS + (size_t)sp) * CL_SUMS;
+                        for (int c = 0; c < CL_SUMS; ++c) b[c] += src[c];
+                    }
+                for (int c = 0; c < 3; ++c) {
+                    float alb = b[CL_A + c];
+                    if (!(alb > LR_MIN_ALBEDO)) continue;
+                    o[c] = b[CL_SD + c] / alb, o[3 + c] = b[CL_SI + c] / alb, o[6 + c] = b[CL_SU + c] / alb;
+                }
+            }
+}
+
 bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStore *st, const float *shading,
                            const float *centre_xy)
 {
@@ -157,31 +214,9 @@ bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStor
             }
         }
     /* A box of LR_CENTRE_RADIUS_PX around each bin, over the slots of the same object, then
-     * the light per unit albedo. */
-    int w = g->width, h = g->height, r = LR_CENTRE_RADIUS_PX;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int a = 0; a < LR_CENTRE_SLOTS; ++a) {
-                size_t q = (size_t)y * (size_t)w + (size_t)x, qa = q * LR_CENTRE_SLOTS + (size_t)a;
-                float b[CL_SUMS] = {0}, *o = cl->light + qa * 9;
-                for (int c = 0; c < 9; ++c) o[c] = NAN;
-                if (isnan(id[qa])) continue;
-                for (int dy = -r; dy <= r; ++dy)
-                    for (int dx = -r; dx <= r; ++dx) {
-                        int xx = x + dx, yy = y + dy;
-                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                        size_t p = (size_t)yy * (size_t)w + (size_t)xx;
-                        int sp = slot_of(id, p, id[qa], false);
-                        if (sp < 0) continue;
-                        const float *src = sums + (p * LR_CENTRE_SLOTS + (size_t)sp) * CL_SUMS;
-                        for (int c = 0; c < CL_SUMS; ++c) b[c] += src[c];
-                    }
-                for (int c = 0; c < 3; ++c) {
-                    float alb = b[CL_A + c];
-                    if (!(alb > LR_MIN_ALBEDO)) continue;
-                    o[c] = b[CL_SD + c] / alb, o[3 + c] = b[CL_SI + c] / alb, o[6 + c] = b[CL_SU + c] / alb;
-                }
-            }
+     * the light per unit albedo: each bin's own sum in a fixed order, so rows split freely. */
+    BoxJob j = {cl, sums};
+    recon_parallel_for_work((size_t)g->height, n, box_rows, &j);
     free(sums);
     return true;
 }
