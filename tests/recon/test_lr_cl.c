@@ -3,7 +3,7 @@
  * large blurs (clamped filters, many layers), a partial last tile, a non-finite sample, and a
  * smaller frame after a larger one (buffers kept between runs), frames filtered in several
  * batches of tiles (whose launches are padded past the batch's last tile), and frames with an
- * overscan band (LrConfig.inset_px). The partition statistics are
+ * overscan band (LrConfig.inset_px), and tiles left out (LrConfig.still_tiles). The partition statistics are
  * computed on the device and the layer counts (AOV) must equal the C partitions'. */
 #include <math.h>
 #include <stdlib.h>
@@ -79,6 +79,46 @@ static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, 
     compare_spread(lr, w, h, spp, layers, nl, poison, 0.0f);
 }
 
+/* LrConfig.still_tiles: every other tile marked still. Those tiles get no layers and 0 in
+ * the image and AOVs, in the kernels as in the C passes; every other tile is exactly what it
+ * is without the mask (a still tile's samples are still read by its neighbours' windows). */
+static void compare_still(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, int nl)
+{
+    LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
+    lr_test_scene(s, w, h, spp, layers, nl, 31);
+    LrSamples img = {w, h, spp, s};
+    LrConfig cfg = lr_config_default();
+    int ntx, nty;
+    lr_tile_count(&img, &cfg, &ntx, &nty);
+    unsigned char *still = malloc((size_t)ntx * nty);
+    for (int t = 0; t < ntx * nty; ++t) still[t] = (unsigned char)((t % ntx + t / ntx) % 2);
+    size_t n = (size_t)w * h;
+    float *full = malloc(sizeof(float) * 3 * n), *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
+    float *la = malloc(sizeof(float) * n), *lb = malloc(sizeof(float) * n);
+    LrOutput of = {full, NULL, NULL, 0}, oc = {a, la, NULL, 0}, ok = {b, lb, NULL, 0};
+    lr_reconstruct_c(&img, &cfg, &of);
+    cfg.still_tiles = still;
+    lr_reconstruct_c(&img, &cfg, &oc);
+    Diag d = {0};
+    CHECK(lr_cl_run(lr, &img, &cfg, &ok, NULL, &d));
+    int still_nonzero = 0, moved = 0, cl_diff = 0, marked = 0;
+    for (size_t i = 0; i < n; ++i) {
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        bool in_still = still[(y / cfg.tile_px) * ntx + x / cfg.tile_px];
+        marked += in_still;
+        for (int c = 0; c < 3; ++c) {
+            if (in_still) still_nonzero += a[3 * i + c] != 0.0f || b[3 * i + c] != 0.0f;
+            else moved += a[3 * i + c] != full[3 * i + c];
+            cl_diff += fabsf(a[3 * i + c] - b[3 * i + c]) > 1e-6f;
+        }
+        if (in_still) still_nonzero += la[i] != 0.0f || lb[i] != 0.0f;
+    }
+    CHECK(marked > 0 && marked < (int)n);
+    CHECK(still_nonzero == 0 && moved == 0 && cl_diff == 0);
+    if (still_nonzero || moved || cl_diff) fprintf(stderr, "still tiles: nonzero %d, others changed %d, C/CL differ %d\n", still_nonzero, moved, cl_diff);
+    free(full), free(a), free(b), free(la), free(lb), free(still), free(s);
+}
+
 int main(void)
 {
     Diag d = {0};
@@ -119,6 +159,9 @@ int main(void)
         compare_band(lr, 53, 45, 4, big, 3, true, 0.0f, 8);
         compare_band(lr, 256, 80, 4, wide, 2, false, 0.0f, 8);
         compare_band(lr, 60, 50, 4, diag, 2, false, 0.0f, 19);
+        /* still tiles left out (lr_partition.h: LrConfig.still_tiles) */
+        compare_still(lr, 48, 33, 8, big, 3);
+        compare_still(lr, 256, 80, 4, wide, 2);
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

@@ -112,12 +112,13 @@ static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
                             int uniform, int n_coc, int inset, __global const float *coc_bounds, __global const float *samples,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
-                            __global uint *order, __global int *layer_start)
+                            __global uint *order, __global int *layer_start, __global const uchar *still_tiles)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
     if (tile >= ntiles || get_global_id(1) != 0) return;
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
+    if (still_tiles[tile]) w.x1 = w.x0, w.y1 = w.y0; /* nothing to partition: no layers (lr_partition.c) */
     float zmin = INFINITY, zmax = -INFINITY;
     for (int py = w.y0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)

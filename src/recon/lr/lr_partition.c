@@ -26,6 +26,7 @@ LrConfig lr_config_default(void)
     c.focus_step_px = 1.0f;
     c.motion_spread_max = 0.5f;
     c.motion_range_px = 4.0f;
+    c.still_tiles = NULL;
     c.filter.sigma_clamp_px = (float)(c.window_px - c.tile_px) / 4.0f; /* Appendix C */
     return c;
 }
@@ -95,6 +96,11 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
 {
     int x0, y0, x1, y1;
     lr_tile_window(img, cfg, tx, ty, &x0, &y0, &x1, &y1);
+    if (cfg->still_tiles) { /* a still tile has no samples to partition: no layers */
+        int ntx, nty;
+        lr_tile_count(img, cfg, &ntx, &nty);
+        if (cfg->still_tiles[ty * ntx + tx]) x1 = x0, y1 = y0;
+    }
     /* depth range of the window's hits */
     float zmin = INFINITY, zmax = -INFINITY;
     for (int py = y0; py < y1; ++py)

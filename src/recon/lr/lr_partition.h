@@ -43,6 +43,9 @@ typedef struct {
                                * range of speeds along the mean direction exceeds this share
                                * of it and motion_range_px */
     float motion_range_px;
+    const unsigned char *still_tiles; /* per tile (row-major, lr_tile_count's), non-zero: a
+                                       * tile with nothing to move, left out (no layers, its
+                                       * pixels 0 in the output); NULL: none */
 } LrConfig;
 
 LrConfig lr_config_default(void);

@@ -42,6 +42,10 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
         if (out->layers) out->layers[(size_t)py * img->width + px] = (float)tile.layer_count;
         if (out->extent_px) out->extent_px[(size_t)py * img->width + px] = 0.0f;
     }
+    if (tile.layer_count == 0) { /* nothing to reproject (a still tile: lr_partition.h) */
+        free(trans);
+        return;
+    }
     /* Every window sample's raw layer once, then the window sorted by layer (lr_bucket.h):
      * layer j's own samples and those behind it are the raw layers from j's on. */
     int spp = img->spp, nwin = ww * wh * spp, raw_n = lr_tile_raw_count(&tile);
