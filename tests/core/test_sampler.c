@@ -211,6 +211,32 @@ static void test_stratified(void)
     CHECK(same_order == 0);
 }
 
+/* Chi-square over `pixels` pixels of n = rows x cols stratified samples (2D dimension 1-2)
+ * against the uniform distribution of the difference, modulo the side, between the
+ * sub-strata of two neighbours: with `across_rows` = 0 the sub-columns of columns 0 and 1 in
+ * row 0 (rows - 1 degrees of freedom), else the sub-rows of rows 0 and 1 in column 0
+ * (cols - 1). A permutation shared by the columns (rows) and not rotated makes the
+ * difference constant. */
+static double neighbour_offset_chi2(int n, int rows, int cols, uint64_t seed, int pixels, int across_rows)
+{
+    int side = across_rows ? cols : rows, hist[MAX_N] = {0};
+    for (int p = 0; p < pixels; ++p) {
+        fill_pixel(SAMPLER_STRATIFIED, seed, p % 100, p / 100, 0, n, g_samples);
+        int sub[2] = {-1, -1};
+        for (int i = 0; i < n; ++i) {
+            int x_stratum = (int)(g_samples[i][1] * n), y_stratum = (int)(g_samples[i][2] * n);
+            int column = x_stratum / rows, row = y_stratum / cols;
+            int which = across_rows ? row : column, other = across_rows ? column : row;
+            if (other == 0 && which < 2) sub[which] = across_rows ? y_stratum % cols : x_stratum % rows;
+        }
+        CHECK(sub[0] >= 0 && sub[1] >= 0);
+        if (sub[0] >= 0 && sub[1] >= 0) hist[(sub[1] - sub[0] + side) % side]++;
+    }
+    double chi2 = 0.0, expected = (double)pixels / side;
+    for (int v = 0; v < side; ++v) chi2 += (hist[v] - expected) * (hist[v] - expected) / expected;
+    return chi2;
+}
+
 /* Past the tables (spp > 16) the multi-jitter structure still holds: one point per stratum
  * of width 1/n in every scalar dimension and one per cell of the rows x cols grid of every 2D
  * dimension. And neighbouring grid columns are not correlated: over pixels, the difference
@@ -229,21 +255,7 @@ static void test_multi_jitter_past_tables(void)
                 if (is_2d_x(d)) CHECK(stratified_grid(g_samples, n, d, cols, rows));
         }
     }
-    enum { N = 36, ROWS = 6, COLS = 6, PIXELS = 3000 };
-    int hist[ROWS] = {0};
-    for (int p = 0; p < PIXELS; ++p) {
-        fill_pixel(SAMPLER_STRATIFIED, 9, p % 100, p / 100, 0, N, g_samples);
-        int sub[2] = {-1, -1};
-        for (int i = 0; i < N; ++i) {
-            int x_stratum = (int)(g_samples[i][1] * N), y_stratum = (int)(g_samples[i][2] * N);
-            int column = x_stratum / ROWS, row = y_stratum / COLS;
-            if (row == 0 && column < 2) sub[column] = x_stratum % ROWS;
-        }
-        CHECK(sub[0] >= 0 && sub[1] >= 0);
-        if (sub[0] >= 0 && sub[1] >= 0) hist[(sub[1] - sub[0] + ROWS) % ROWS]++;
-    }
-    double chi2 = 0.0, expected = (double)PIXELS / ROWS;
-    for (int v = 0; v < ROWS; ++v) chi2 += (hist[v] - expected) * (hist[v] - expected) / expected;
+    double chi2 = neighbour_offset_chi2(36, 6, 6, 9, 3000, 0);
     printf("multi-jitter past the tables: column offset chi-square %.1f (5 dof)\n", chi2);
     CHECK(chi2 < 35.0);
 }
@@ -286,22 +298,8 @@ static void test_multi_jitter_large_sides(void)
      * the difference (mod cols) between the sub-rows that rows 0 and 1 give their column-0
      * points is uniform over pixels; one permutation shared unrotated would make it always
      * the same. Chi-square with cols - 1 = 19 degrees of freedom: mean 19, sd 6.2; bound at
-     * 10 sd above the mean, far beyond chance, far below a constant (chi2 = 19 PIXELS). */
-    enum { N = 300, ROWS = 15, COLS = 20, PIXELS = 2000 };
-    int hist[COLS] = {0};
-    for (int p = 0; p < PIXELS; ++p) {
-        fill_pixel(SAMPLER_STRATIFIED, 17, p % 100, p / 100, 0, N, g_samples);
-        int sub[2] = {-1, -1};
-        for (int i = 0; i < N; ++i) {
-            int x_stratum = (int)(g_samples[i][1] * N), y_stratum = (int)(g_samples[i][2] * N);
-            int column = x_stratum / ROWS, row = y_stratum / COLS;
-            if (column == 0 && row < 2) sub[row] = y_stratum % COLS;
-        }
-        CHECK(sub[0] >= 0 && sub[1] >= 0);
-        if (sub[0] >= 0 && sub[1] >= 0) hist[(sub[1] - sub[0] + COLS) % COLS]++;
-    }
-    double chi2 = 0.0, expected = (double)PIXELS / COLS;
-    for (int v = 0; v < COLS; ++v) chi2 += (hist[v] - expected) * (hist[v] - expected) / expected;
+     * 10 sd above the mean, far beyond chance, far below a constant (chi2 = 19 pixels). */
+    double chi2 = neighbour_offset_chi2(300, 15, 20, 17, 2000, 1);
     printf("multi-jitter 15 x 20: row offset chi-square %.1f (19 dof)\n", chi2);
     CHECK(chi2 < 19.0 + 10.0 * sqrt(2.0 * 19.0));
 }
@@ -438,24 +436,25 @@ static double error_slope(SamplerKind kind, int skip)
 /* Multi-jitter as Chiu, Shirley and Wang build it, with an independent uniform permutation
  * per column and per row (Fisher-Yates), the sampler's construction before the rotated
  * shared permutations: the estimate of f_smooth from one pixel's n points. */
+static void random_permutation(int *perm, int m, Pcg32 *rng)
+{
+    for (int k = 0; k < m; ++k) perm[k] = k;
+    for (int k = m - 1; k > 0; --k) {
+        int j = (int)pcg32_below(rng, (uint32_t)k + 1u), t = perm[k];
+        perm[k] = perm[j], perm[j] = t;
+    }
+}
+
 static double independent_mj_estimate(int n, int rows, int cols, Pcg32 *rng)
 {
     static int sub_x[MAX_N], sub_y[MAX_N]; /* cell r cols + c */
     int perm[MAX_N];
     for (int c = 0; c < cols; ++c) {
-        for (int k = 0; k < rows; ++k) perm[k] = k;
-        for (int k = rows - 1; k > 0; --k) {
-            int j = (int)pcg32_below(rng, (uint32_t)k + 1u), t = perm[k];
-            perm[k] = perm[j], perm[j] = t;
-        }
+        random_permutation(perm, rows, rng);
         for (int r = 0; r < rows; ++r) sub_x[r * cols + c] = perm[r];
     }
     for (int r = 0; r < rows; ++r) {
-        for (int k = 0; k < cols; ++k) perm[k] = k;
-        for (int k = cols - 1; k > 0; --k) {
-            int j = (int)pcg32_below(rng, (uint32_t)k + 1u), t = perm[k];
-            perm[k] = perm[j], perm[j] = t;
-        }
+        random_permutation(perm, cols, rng);
         for (int c = 0; c < cols; ++c) sub_y[r * cols + c] = perm[c];
     }
     double est = 0.0;
