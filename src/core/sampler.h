@@ -95,8 +95,9 @@ typedef struct {
     bool grid_packed;    /* stratified 2D: rows and cols <= 16 (SamplerDimTable.sub_x...) */
     bool grid_tabled;    /* stratified 2D, not packed: rows + cols <= SAMPLER_GRID_ENTRIES */
     uint64_t cols_magic; /* 2^64 / grid_cols rounded up: j / cols without a division */
-    uint64_t rows_magic; /* the same for grid_rows (remainders modulo rows) */
+    uint64_t rows_magic; /* the same for grid_rows (remainders modulo rows; need_grid_steps) */
     uint32_t grid_step_x, grid_step_y; /* sides above 16: the lattice steps of rho (multi_jitter) */
+    bool grid_steps_ready;             /* grid_step_x and _y are set for this part */
     uint64_t pixel_seed;
     int sample_index; /* current sample, >= 0 (indices >= set_spp start further blocks) */
     uint32_t block, index_in_block; /* sample_index / set_spp, and the index within the part */
