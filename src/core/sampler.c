@@ -371,11 +371,13 @@ static uint32_t grid_sub_permute(PixelSampler *s, uint32_t i, uint32_t m, uint32
  * one per stratum of width 1/n in x and in y. Point j sits in cell (c = j % cols,
  * r = j / cols); within column c the sub-columns of its rows are a permutation of [0, rows),
  * and within row r the sub-rows of its columns a permutation of [0, cols).
- * We deliberately use an independent permutation per column (and per row), not the single
- * shared one of Kensler 2013's "correlated" variant: with a shared permutation the error of
- * an integrand with a mixed term (f = x y) contains sum_c c * perm(c), which does not
- * average out and decays only as n^-0.75; independent permutations give n^-1, as a plain
- * jittered grid (measured in tests/core/test_sampler.c, about 1.5x lower error than it). */
+ * The columns' permutations must not be one shared permutation, as in Kensler 2013's
+ * "correlated" variant: then the error of an integrand with a mixed term (f = x y) contains
+ * sum_c c * perm(c), which does not average out and decays only as n^-0.75. Independent
+ * permutations give n^-1, as a plain jittered grid (measured in tests/core/test_sampler.c,
+ * about 1.5x lower error than it); so do the rotated shared ones of grid_sub_permute, which
+ * this function draws. multi_jitter_packed and multi_jitter_tabled give the same values
+ * from tables; this path serves the grids past SAMPLER_GRID_ENTRIES. */
 static vec2 multi_jitter(PixelSampler *s, uint32_t j, uint64_t seed, uint64_t jitter_bits)
 {
     uint32_t rows = s->grid_rows, cols = s->grid_cols;
