@@ -57,6 +57,23 @@ typedef struct {
     uint64_t sub_x, sub_y, col_rot, row_rot;
 } SamplerDimTable;
 
+/* Stratified 2D past the tables when a grid side exceeds SAMPLER_SHUFFLE_MAX (not
+ * grid_packed): one 2D dimension's multi-jitter sub-stratum permutations, the shared
+ * permutations rho and the per-row and per-column rotations o, filled entry by entry on first
+ * use (a render round may use 4 samples of a 1 x 1009 grid). A pixel's sampler keeps a few,
+ * direct-mapped by dimension; a pure cache like SamplerDimTable. */
+#define SAMPLER_GRID_SLOTS 4
+#define SAMPLER_GRID_ENTRIES 1024 /* rows + cols of the largest grid tabulated (beyond: per sample) */
+typedef struct {
+    int dim;        /* the 2D dimension it serves (its SamplerDimTable seed) */
+    uint64_t seed;  /* that dimension's multi-jitter seed */
+    uint64_t rho_x_small, rho_y_small; /* a side of 2..16: its exact shared shuffle, nibbles */
+    uint64_t filled[SAMPLER_GRID_ENTRIES / 64]; /* bit e: entry[e] is computed */
+    /* entry r < rows: rho_x(r) | o_r << 16 (row r's sub-row rotation); entry rows + c:
+     * rho_y(c) | o_c << 16 (column c's sub-column rotation) */
+    uint32_t entry[SAMPLER_GRID_ENTRIES];
+} SamplerGridTable;
+
 typedef struct {
     SamplerKind kind;
     uint64_t seed;
@@ -76,7 +93,11 @@ typedef struct {
     uint32_t perm_mask;  /* the padding permutation's power-of-two domain minus one */
     int perm_shift;      /* its xorshift distance */
     bool grid_packed;    /* stratified 2D: rows and cols <= 16 (SamplerDimTable.sub_x...) */
+    bool grid_tabled;    /* stratified 2D, not packed: rows + cols <= SAMPLER_GRID_ENTRIES */
     uint64_t cols_magic; /* 2^64 / grid_cols rounded up: j / cols without a division */
+    uint64_t rows_magic; /* the same for grid_rows (remainders modulo rows; need_grid_steps) */
+    uint32_t grid_step_x, grid_step_y; /* sides above 16: the lattice steps of rho (multi_jitter) */
+    bool grid_steps_ready;             /* grid_step_x and _y are set for this part */
     uint64_t pixel_seed;
     int sample_index; /* current sample, >= 0 (indices >= set_spp start further blocks) */
     uint32_t block, index_in_block; /* sample_index / set_spp, and the index within the part */
@@ -89,6 +110,7 @@ typedef struct {
     /* Direct-mapped by seed (spp > SAMPLER_SHUFFLE_MAX only); a pure cache. */
     SamplerPermSlot perm_cache[SAMPLER_PERM_CACHE_SLOTS];
     SamplerDimTable dim_table[SAMPLER_PADDED_DIMS];
+    SamplerGridTable grid[SAMPLER_GRID_SLOTS]; /* grid_tabled: see SamplerGridTable */
 } PixelSampler;
 
 /* Starts pixel (px, py) of pass `pass` with spp samples. */

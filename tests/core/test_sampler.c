@@ -6,7 +6,7 @@
 #include "check.h"
 #include "core/sampler.h"
 
-#define MAX_N 256
+#define MAX_N 2112 /* up to a 2 x 1031 grid: rows + cols past the sampler's grid tables */
 #define DIMS 12 /* scalar dimensions tested per sample: 1D, 2D, 1D, 2D, ... */
 
 /* Generates all n samples of one pixel, requesting a fixed pattern of dimensions
@@ -91,9 +91,10 @@ static void test_determinism(SamplerKind kind)
 static void test_cache_is_pure(SamplerKind kind)
 {
     /* 32, 64, 100, 256: multi-jitter's per-dimension grid tables (built by whichever
-     * sample meets the dimension first, in reverse or fresh below); 68 (a 4 x 17 grid): the
-     * per-sample path */
-    const int counts[] = {1, 2, 3, 4, 6, 9, 16, 17, 32, 64, 68, 100, 256};
+     * sample meets the dimension first, in reverse or fresh below); 37, 68 (a 4 x 17 grid),
+     * 300, 1000: the lazily filled tables of grids with a side past 16; 2062 (2 x 1031):
+     * past those, per sample */
+    const int counts[] = {1, 2, 3, 4, 6, 9, 16, 17, 32, 37, 64, 68, 100, 256, 300, 1000, 2062};
     for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
         int n = counts[c];
         fill_pixel(kind, 7, 3, 4, 0, n, g_samples);
@@ -210,6 +211,32 @@ static void test_stratified(void)
     CHECK(same_order == 0);
 }
 
+/* Chi-square over `pixels` pixels of n = rows x cols stratified samples (2D dimension 1-2)
+ * against the uniform distribution of the difference, modulo the side, between the
+ * sub-strata of two neighbours: with `across_rows` = 0 the sub-columns of columns 0 and 1 in
+ * row 0 (rows - 1 degrees of freedom), else the sub-rows of rows 0 and 1 in column 0
+ * (cols - 1). A permutation shared by the columns (rows) and not rotated makes the
+ * difference constant. */
+static double neighbour_offset_chi2(int n, int rows, int cols, uint64_t seed, int pixels, int across_rows)
+{
+    int side = across_rows ? cols : rows, hist[MAX_N] = {0};
+    for (int p = 0; p < pixels; ++p) {
+        fill_pixel(SAMPLER_STRATIFIED, seed, p % 100, p / 100, 0, n, g_samples);
+        int sub[2] = {-1, -1};
+        for (int i = 0; i < n; ++i) {
+            int x_stratum = (int)(g_samples[i][1] * n), y_stratum = (int)(g_samples[i][2] * n);
+            int column = x_stratum / rows, row = y_stratum / cols;
+            int which = across_rows ? row : column, other = across_rows ? column : row;
+            if (other == 0 && which < 2) sub[which] = across_rows ? y_stratum % cols : x_stratum % rows;
+        }
+        CHECK(sub[0] >= 0 && sub[1] >= 0);
+        if (sub[0] >= 0 && sub[1] >= 0) hist[(sub[1] - sub[0] + side) % side]++;
+    }
+    double chi2 = 0.0, expected = (double)pixels / side;
+    for (int v = 0; v < side; ++v) chi2 += (hist[v] - expected) * (hist[v] - expected) / expected;
+    return chi2;
+}
+
 /* Past the tables (spp > 16) the multi-jitter structure still holds: one point per stratum
  * of width 1/n in every scalar dimension and one per cell of the rows x cols grid of every 2D
  * dimension. And neighbouring grid columns are not correlated: over pixels, the difference
@@ -228,23 +255,92 @@ static void test_multi_jitter_past_tables(void)
                 if (is_2d_x(d)) CHECK(stratified_grid(g_samples, n, d, cols, rows));
         }
     }
-    enum { N = 36, ROWS = 6, COLS = 6, PIXELS = 3000 };
-    int hist[ROWS] = {0};
-    for (int p = 0; p < PIXELS; ++p) {
-        fill_pixel(SAMPLER_STRATIFIED, 9, p % 100, p / 100, 0, N, g_samples);
-        int sub[2] = {-1, -1};
-        for (int i = 0; i < N; ++i) {
-            int x_stratum = (int)(g_samples[i][1] * N), y_stratum = (int)(g_samples[i][2] * N);
-            int column = x_stratum / ROWS, row = y_stratum / COLS;
-            if (row == 0 && column < 2) sub[column] = x_stratum % ROWS;
-        }
-        CHECK(sub[0] >= 0 && sub[1] >= 0);
-        if (sub[0] >= 0 && sub[1] >= 0) hist[(sub[1] - sub[0] + ROWS) % ROWS]++;
-    }
-    double chi2 = 0.0, expected = (double)PIXELS / ROWS;
-    for (int v = 0; v < ROWS; ++v) chi2 += (hist[v] - expected) * (hist[v] - expected) / expected;
+    double chi2 = neighbour_offset_chi2(36, 6, 6, 9, 3000, 0);
     printf("multi-jitter past the tables: column offset chi-square %.1f (5 dof)\n", chi2);
     CHECK(chi2 < 35.0);
+}
+
+/* The grid of n points: rows the largest divisor of n not above sqrt(n). */
+static void grid_of(int n, int *rows, int *cols)
+{
+    int r = 1;
+    for (int k = 1; k * k <= n; ++k)
+        if (n % k == 0) r = k;
+    *rows = r, *cols = n / r;
+}
+
+/* Grids with a side above 16 (the AAF counts: primes, 2 p, and everything above 256):
+ * 1 x 37, 2 x 17, 15 x 20, 25 x 40, and 2 x 1031, whose rows + cols exceed the sampler's
+ * lazily filled grid tables (computed per sample instead). In every pixel and 2D dimension
+ * each 1D x stratum and each y stratum holds exactly one of the n samples and each grid cell
+ * exactly one (so sub-columns in a column and sub-rows in a row are distinct); the 1D
+ * dimensions stay stratified too. */
+static void test_multi_jitter_large_sides(void)
+{
+    const int counts[] = {37, 34, 300, 1000, 2062};
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; ++k) {
+        int n = counts[k], rows, cols;
+        grid_of(n, &rows, &cols);
+        CHECK(rows > 16 || cols > 16);
+        int bad_1d = 0, bad_grid = 0;
+        for (int pixel = 0; pixel < 6; ++pixel) {
+            fill_pixel(SAMPLER_STRATIFIED, 13, pixel, 7 * pixel, 0, n, g_samples);
+            for (int d = 0; d < DIMS; ++d) bad_1d += !stratified_1d(g_samples, n, d);
+            for (int d = 0; d < DIMS; ++d)
+                if (is_2d_x(d)) bad_grid += !stratified_grid(g_samples, n, d, cols, rows);
+        }
+        printf("multi-jitter %d = %d x %d: %d unstratified dimensions, %d unstratified grids\n", n, rows, cols,
+               bad_1d, bad_grid);
+        CHECK(bad_1d == 0 && bad_grid == 0);
+    }
+
+    /* The rows' sub-row permutations are rotated apart: in a 15 x 20 grid (sides past 16)
+     * the difference (mod cols) between the sub-rows that rows 0 and 1 give their column-0
+     * points is uniform over pixels; one permutation shared unrotated would make it always
+     * the same. Chi-square with cols - 1 = 19 degrees of freedom: mean 19, sd 6.2; bound at
+     * 10 sd above the mean, far beyond chance, far below a constant (chi2 = 19 pixels). */
+    double chi2 = neighbour_offset_chi2(300, 15, 20, 17, 2000, 1);
+    printf("multi-jitter 15 x 20: row offset chi-square %.1f (19 dof)\n", chi2);
+    CHECK(chi2 < 19.0 + 10.0 * sqrt(2.0 * 19.0));
+}
+
+/* Each sample is uniform on the unit square, whatever its index, on grids with a side past
+ * 16: over many pixels the x and y strata of sample 0 of a 2D dimension are uniform over
+ * [0, n) (chi-square with n - 1 degrees of freedom, bound at 6 sd above its mean), and the
+ * mean over all samples of f(x, y) = x y is 1/4 within 5 standard errors, the standard
+ * error measured from the pixels' estimates. */
+static void test_large_sides_uniform(void)
+{
+    const int counts[] = {37, 34, 300, 1000};
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; ++k) {
+        int n = counts[k], pixels = n < 100 ? 40 * n : 4000;
+        static int hist_x[MAX_N], hist_y[MAX_N];
+        memset(hist_x, 0, sizeof hist_x);
+        memset(hist_y, 0, sizeof hist_y);
+        double sum = 0.0, sum_sq = 0.0;
+        for (int p = 0; p < pixels; ++p) {
+            fill_pixel(SAMPLER_STRATIFIED, 23, p % 128, p / 128, 0, n, g_samples);
+            hist_x[(int)(g_samples[0][4] * n)]++;
+            hist_y[(int)(g_samples[0][5] * n)]++;
+            double est = 0.0;
+            for (int i = 0; i < n; ++i) est += (double)g_samples[i][4] * g_samples[i][5];
+            est /= n;
+            sum += est;
+            sum_sq += est * est;
+        }
+        double chi_x = 0.0, chi_y = 0.0, expected = (double)pixels / n;
+        for (int v = 0; v < n; ++v) {
+            chi_x += (hist_x[v] - expected) * (hist_x[v] - expected) / expected;
+            chi_y += (hist_y[v] - expected) * (hist_y[v] - expected) / expected;
+        }
+        double dof = n - 1, chi_bound = dof + 6.0 * sqrt(2.0 * dof);
+        double mean = sum / pixels, se = sqrt(fmax(sum_sq / pixels - mean * mean, 0.0) / (pixels - 1));
+        printf("uniform %d spp: chi-square of sample 0's strata x %.1f, y %.1f (%d dof); E[xy] - 1/4 = %.2g "
+               "(standard error %.2g)\n",
+               n, chi_x, chi_y, n - 1, mean - 0.25, se);
+        CHECK(chi_x < chi_bound && chi_y < chi_bound);
+        CHECK(se > 0.0 && fabs(mean - 0.25) < 5.0 * se);
+    }
 }
 
 /* (0, k, 2)-net in base 2: for every split a + b = k, each elementary interval
@@ -335,6 +431,95 @@ static double error_slope(SamplerKind kind, int skip)
         sxy += x * y;
     }
     return (m * sxy - sx * sy) / (m * sxx - sx * sx);
+}
+
+/* Multi-jitter as Chiu, Shirley and Wang build it, with an independent uniform permutation
+ * per column and per row (Fisher-Yates), the sampler's construction before the rotated
+ * shared permutations: the estimate of f_smooth from one pixel's n points. */
+static void random_permutation(int *perm, int m, Pcg32 *rng)
+{
+    for (int k = 0; k < m; ++k) perm[k] = k;
+    for (int k = m - 1; k > 0; --k) {
+        int j = (int)pcg32_below(rng, (uint32_t)k + 1u), t = perm[k];
+        perm[k] = perm[j], perm[j] = t;
+    }
+}
+
+static double independent_mj_estimate(int n, int rows, int cols, Pcg32 *rng)
+{
+    static int sub_x[MAX_N], sub_y[MAX_N]; /* cell r cols + c */
+    int perm[MAX_N];
+    for (int c = 0; c < cols; ++c) {
+        random_permutation(perm, rows, rng);
+        for (int r = 0; r < rows; ++r) sub_x[r * cols + c] = perm[r];
+    }
+    for (int r = 0; r < rows; ++r) {
+        random_permutation(perm, cols, rng);
+        for (int c = 0; c < cols; ++c) sub_y[r * cols + c] = perm[c];
+    }
+    double est = 0.0;
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols; ++c) {
+            double x = (c * rows + sub_x[r * cols + c] + pcg32_float(rng)) / n;
+            double y = (r * cols + sub_y[r * cols + c] + pcg32_float(rng)) / n;
+            est += f_smooth(x, y);
+        }
+    return est / n;
+}
+
+/* Mean squared error of f_smooth over `pixels` pixels and its standard error: the sampler's
+ * 2D dimension after one 1D (reference = 0), or independent_mj_estimate (reference = 1). */
+static void mse_large(int n, int reference, int pixels, double *mse, double *se)
+{
+    int rows, cols;
+    grid_of(n, &rows, &cols);
+    Pcg32 rng;
+    pcg32_seed(&rng, 1234u + (uint64_t)n, 7u);
+    double sum = 0.0, sum_sq = 0.0;
+    for (int p = 0; p < pixels; ++p) {
+        double est;
+        if (reference) {
+            est = independent_mj_estimate(n, rows, cols, &rng);
+        } else {
+            PixelSampler s;
+            sampler_start_pixel(&s, SAMPLER_STRATIFIED, 31, p % 64, p / 64, 0, n);
+            est = 0.0;
+            for (int i = 0; i < n; ++i) {
+                sampler_start_sample(&s, i);
+                (void)sampler_1d(&s);
+                vec2 u = sampler_2d(&s);
+                est += f_smooth(u.x, u.y);
+            }
+            est /= n;
+        }
+        double e2 = (est - 1.0) * (est - 1.0);
+        sum += e2;
+        sum_sq += e2 * e2;
+    }
+    *mse = sum / pixels;
+    *se = sqrt(fmax(sum_sq / pixels - *mse * *mse, 0.0) / (pixels - 1));
+}
+
+/* On grids with a side past 16 the shared rotated permutations integrate a smooth function
+ * no worse than independent random permutations per column and row (the mean squared
+ * errors differ by less than 4 standard errors of their difference, or ours is lower), and
+ * the error falls with n. */
+static void test_large_sides_integrate(void)
+{
+    const int counts[] = {34, 37, 300, 1000};
+    double mse[4];
+    for (size_t k = 0; k < 4; ++k) {
+        int n = counts[k], pixels = n < 100 ? 4096 : 1024;
+        double ours_se, ref, ref_se;
+        mse_large(n, 0, pixels, &mse[k], &ours_se);
+        mse_large(n, 1, pixels, &ref, &ref_se);
+        printf("f_smooth at %d spp: rms error %.3g (independent permutations per column and row %.3g, "
+               "ratio %.3f)\n",
+               n, sqrt(mse[k]), sqrt(ref), sqrt(mse[k] / ref));
+        CHECK(mse[k] < ref + 4.0 * sqrt(ours_se * ours_se + ref_se * ref_se));
+    }
+    CHECK(mse[2] < fmin(mse[0], mse[1]));
+    CHECK(mse[3] < mse[2]);
 }
 
 /* Expected rates for a smooth (C^1) integrand in 2D:
@@ -743,6 +928,9 @@ int main(void)
     }
     test_stratified();
     test_multi_jitter_past_tables();
+    test_multi_jitter_large_sides();
+    test_large_sides_uniform();
+    test_large_sides_integrate();
     test_small_permutations_uniform();
     test_stratified_every_small_count();
     test_multi_jitter_assignments_uniform();

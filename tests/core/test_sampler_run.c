@@ -69,8 +69,10 @@ int main(void)
     static const SamplerKind kinds[] = {SAMPLER_STRATIFIED, SAMPLER_SOBOL};
     for (int kk = 0; kk < 2; ++kk) {
         SamplerKind kind = kinds[kk];
-        /* one set: tables (4, 9, 16), untabled grids packed (64, 100, 256) and not (17, 289) */
-        static const int spps[] = {1, 4, 9, 16, 17, 64, 100, 256, 289};
+        /* one set: tables (4, 9, 16), untabled grids packed (64, 100, 256), grids with a side
+         * past 16 in the lazily filled grid tables (17, 37, 289, 300, 1000) and past them
+         * (2062 = 2 x 1031) */
+        static const int spps[] = {1, 4, 9, 16, 17, 37, 64, 100, 256, 289, 300, 1000, 2062};
         for (size_t i = 0; i < sizeof spps / sizeof spps[0]; ++i) {
             int spp = spps[i];
             int first = spp > 8 ? spp / 3 : 0, count = spp - first < SAMPLER_RUN_MAX ? spp - first : SAMPLER_RUN_MAX;
