@@ -9,6 +9,15 @@
 #include "../check.h"
 #include "recon/select.h"
 
+/* auto's camera choice at a blur of 9.4 px (above RECON_LR_MIN_BLUR_PX) under a budget: motion
+ * always lr, defocus the method named. */
+static void check_camera(EffectMask present, int budget_spp, const char *defocus, ReconChoice *c)
+{
+    recon_select_budget(present, "auto", 9.4f, budget_spp, c);
+    CHECK_STR(recon_choice_name(c, EFFECT_DEFOCUS), defocus);
+    CHECK_STR(recon_choice_name(c, EFFECT_MOTION), "lr");
+}
+
 int main(void)
 {
     EffectMask all = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_MOTION) |
@@ -39,9 +48,7 @@ int main(void)
     CHECK(recon_lr_max_budget_spp(motion_defocus) == RECON_LR_MAX_BUDGET_SPP);
     CHECK(recon_lr_max_budget_spp(all) == RECON_LR_MAX_BUDGET_SPP_INDIRECT);
     CHECK(RECON_LR_MAX_BUDGET_SPP_INDIRECT > RECON_LR_MAX_BUDGET_SPP);
-    recon_select_budget(direct_only, "auto", 9.4f, RECON_LR_MAX_BUDGET_SPP, &c);
-    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
-    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    check_camera(direct_only, RECON_LR_MAX_BUDGET_SPP, "aaf", &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_SOFT_SHADOWS), "aaf");
     CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: a budget of 48 spp >= 48, where lr's bias outweighs its gain "
                                         "(docs/benchmarks.md, issue 18)");
@@ -49,23 +56,13 @@ int main(void)
                                        "for the lens (docs/benchmarks.md, issue 18)");
     /* with indirect light the same budget keeps lr for both, up to the higher threshold */
     int under_indirect[] = {RECON_LR_MAX_BUDGET_SPP, RECON_LR_MAX_BUDGET_SPP_INDIRECT - 1};
-    for (int k = 0; k < 2; ++k) {
-        recon_select_budget(all, "auto", 9.4f, under_indirect[k], &c);
-        CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
-        CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
-    }
-    recon_select_budget(all, "auto", 9.4f, RECON_LR_MAX_BUDGET_SPP_INDIRECT, &c);
-    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
-    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+    for (int k = 0; k < 2; ++k) check_camera(all, under_indirect[k], "lr", &c);
+    check_camera(all, RECON_LR_MAX_BUDGET_SPP_INDIRECT, "aaf", &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_INDIRECT), "aaf");
     CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: a budget of 96 spp >= 96, where lr's bias outweighs its gain "
                                         "(docs/benchmarks.md, issue 18)");
     int under[] = {0, RECON_LR_MAX_BUDGET_SPP - 1};
-    for (int k = 0; k < 2; ++k) {
-        recon_select_budget(direct_only, "auto", 9.4f, under[k], &c);
-        CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
-        CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
-    }
+    for (int k = 0; k < 2; ++k) check_camera(direct_only, under[k], "lr", &c);
     recon_select_budget(motion_defocus, "auto", 1.76f, 4096, &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
     CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: median blur 1.8 px < 3 px, too little for lr to pay (docs/benchmarks.md, issue 18)");
