@@ -53,6 +53,9 @@ typedef struct {
                                  * its tracer's mean seconds per sample (dist_measure) */
     double *tile_samples;       /* ... and the samples they took */
     long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
+    unsigned char *xbuf;        /* the exchanges' message buffer, kept between passes (fresh
+                                 * pages per gather cost more than the copies) */
+    size_t xbuf_bytes;
 } ReconDist;
 
 /* A per-pixel array to gather: element p of pixel i is at data + i * bytes_per_pixel. */
