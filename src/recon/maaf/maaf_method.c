@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/zalloc.h"
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_pixel_params.h"
 #include "recon/aaf/aaf_stats.h"
@@ -64,8 +65,6 @@
 /* Defocus: filters at least this wide (std, pixels) keep pass 1's count at the default knob;
  * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
 #define DEFOCUS_FULL_STD_PX 2.0f
-/* floats per page of the smallest page size in use (4 KiB) */
-#define PAGE_FLOATS 1024
 
 /* The knob for a --spp budget (docs/algorithms.md 9.11). The design is fixed before pass 1
  * (eq. 20's sums are taken with it) and cannot follow the budget search's mu, so a budget sets
@@ -136,20 +135,6 @@ static int maaf_pass1_spp(EffectMask effects)
 {
     (void)effects;
     return MAAF_SPP_DEFAULT;
-}
-
-/* The sums of eq. 20, each page touched by a write here. Large callocs are fresh mappings, so
- * the sampling threads' first += read-faulted each page onto the shared zero page and then
- * write-faulted it again, and each of those copy-on-write faults flushed the page from the
- * other cores' TLBs (perf, combined.pbrt at 16 spp: 14% of the frame in the kernel under
- * maaf_lens_accumulate and accumulate). A first write allocates the page in one fault. (A
- * memset would do, but the compiler turns malloc + memset into calloc.) */
-static float *zeroed_floats(size_t count)
-{
-    float *p = calloc(count, sizeof(float));
-    if (p)
-        for (size_t i = 0; i < count; i += PAGE_FLOATS) ((volatile float *)p)[i] = 0.0f;
-    return p;
 }
 
 static bool cache_init(FilterCache *c, size_t n)
@@ -295,7 +280,10 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->split_direct = m->defocus && effect_in(scene, EFFECT_SOFT_SHADOWS);
     m->split_indirect = m->defocus && effect_in(scene, EFFECT_INDIRECT);
     bool split = m->split_direct || m->split_indirect;
-    m->ysum = shadows ? zeroed_floats(n * per) : NULL;
+    /* the sums of eq. 20, accumulated by the sampling threads: zalloc's pages are written
+     * before they start (zalloc.h; as callocs, 14% of a combined.pbrt frame at 16 spp went to
+     * copy-on-write faults under maaf_lens_accumulate and accumulate) */
+    m->ysum = shadows ? zalloc(n * per, sizeof(float)) : NULL;
     m->ydemod = shadows || split ? malloc(n * per * sizeof(float)) : NULL;
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
@@ -313,8 +301,8 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     if (m->defocus) {
-        m->dsum = zeroed_floats(n * per);
-        m->asum = split ? zeroed_floats(n * per) : NULL;
+        m->dsum = zalloc(n * per, sizeof(float));
+        m->asum = split ? zalloc(n * per, sizeof(float)) : NULL;
         m->dpos4 = malloc(4 * n * sizeof(float));
         m->dnrm4 = malloc(4 * n * sizeof(float));
         m->daxis2 = malloc(4 * n * sizeof(float));
