@@ -37,8 +37,6 @@ struct LrCl {
     LrTile *tiles;
     size_t tiles_cap, parts_cap;
     GrowBuf b_cb, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_g, b_p1, b_rgb, b_l, b_e, b_still;
-    unsigned char *no_still; /* ntiles zeros, when the config has no still tiles */
-    size_t no_still_cap;
     LrClTimes last;
 };
 
@@ -94,7 +92,7 @@ void lr_cl_destroy(LrCl *lr)
                       &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
     for (int i = 0; i < 14; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
-    free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles), free(lr->no_still);
+    free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
     free(lr);
 }
 
@@ -220,19 +218,6 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
          grow(rt, &lr->b_order, sizeof(cl_uint) * (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_ls, sizeof(cl_int) * LS_STRIDE * (size_t)ntiles, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_still, (size_t)ntiles, CL_MEM_READ_ONLY, d);
-    const unsigned char *still = cfg->still_tiles;
-    if (ok && !still) {
-        if ((size_t)ntiles > lr->no_still_cap) {
-            free(lr->no_still);
-            lr->no_still = calloc((size_t)ntiles, 1);
-            lr->no_still_cap = lr->no_still ? (size_t)ntiles : 0;
-        }
-        still = lr->no_still;
-        if (!still) {
-            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory (LR partitions)");
-            ok = false;
-        }
-    }
     /* Partition statistics on the device (one work-item per tile), the rest on the host. */
     LrTile shape;
     lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
@@ -244,7 +229,9 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         cl_int ints[10] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset};
         cl_mem m[8] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, sizeof(float) * LR_MAX_COC_BOUNDS, shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
-             cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, still, 0, NULL, NULL), "upload", d) &&
+             /* the still-tile mask, or zeros when the config has none */
+             (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)
+                               : cl_ok(clEnqueueFillBuffer(q, lr->b_still.mem, &(cl_uchar){0}, 1, 0, (size_t)ntiles, 0, NULL, NULL), "fill", d)) &&
              set_args(lr->stats, ints, 10, m, 8, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
