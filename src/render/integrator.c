@@ -198,7 +198,7 @@ static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, 
         tmax = len;
     }
     ++st->rays_shadow;
-    *ray = (TracerRay){o, dir, tmax, time01};
+    *ray = (TracerRay){o, dir, tmax, time01, 0u};
     return true;
 }
 
@@ -216,7 +216,9 @@ static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float t
     /* A receiver facing away from the light, or a light sending nothing this way (a spot
      * light's cone), traces no shadow ray (and records none). */
     if (max_component_nonpositive(lp->f) || max_component_nonpositive(ls->Li)) return false;
-    return shadow_ray_to(v, ls, time01, st, shadow);
+    if (!shadow_ray_to(v, ls, time01, st, shadow)) return false;
+    shadow->skip_mask = sc->lights->lights[light].shadow_skip_mask;
+    return true;
 }
 
 /* First half: picks a light and a point on it and sets up the shadow ray. */
@@ -470,7 +472,7 @@ static TracerRay wave_camera_ray(const IntegratorScene *sc, vec2 u_film01, vec2 
     rec->time = shutter_u;
     p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
     CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, p->time01);
-    return (TracerRay){cr.o_world, cr.d_world, INFINITY, p->time01};
+    return (TracerRay){cr.o_world, cr.d_world, INFINITY, p->time01, 0u};
 }
 
 /* The camera rays of pixel k's samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX),
@@ -581,7 +583,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     if (depth < sc->max_depth) ++st->rays_indirect;
     else ++st->rays_bsdf;
     p->bounce = true;
-    w->ray_hit[(*n_hit)++] = (TracerRay){surface_offset(&v->hit, p->vs.wi), p->vs.wi, INFINITY, p->time01};
+    w->ray_hit[(*n_hit)++] = (TracerRay){surface_offset(&v->hit, p->vs.wi), p->vs.wi, INFINITY, p->time01, 0u};
 }
 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray

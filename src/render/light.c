@@ -177,6 +177,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
                 l->two_sided = two_sided;
                 l->layer = li, l->geom = gi, l->prim = p;
                 l->instance = g->owner_instance;
+                l->shadow_skip_mask = g->mask_bit;
                 if (g->kind == GEOM_TRIANGLES) {
                     vec3 P[3], n;
                     emitter_triangle(g, p, &x, P, &n, &l->area_world);

@@ -23,6 +23,8 @@ typedef struct {
     bool two_sided;         /* area lights */
     int layer, geom, prim;  /* area lights: the emitting geometry */
     int instance;           /* area light on a moving shape: its instance, else -1 */
+    unsigned shadow_skip_mask; /* area lights: the emitter's Geom.mask_bit, which its own
+                                * shadow rays need not test (0: test it) */
     vec3 p_world;           /* point, spot */
     vec3 w_world;           /* spot: unit axis; distant: unit direction towards the light */
     float cos_falloff_end, cos_falloff_start; /* spot */

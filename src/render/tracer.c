@@ -539,7 +539,8 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
     l->scene = rtcNewScene(tr->device);
     rtcSetSceneFlags(l->scene, RTC_SCENE_FLAG_ROBUST);
     /* A lone sphere or disk gets a second, empty primitive (QUADRIC_PRIM_ANCHOR) */
-    int quadrics = 0;
+    int quadrics = 0, mask_bits = 0;
+    bool masks = l == &tr->layers[0] && rtcGetDeviceProperty(tr->device, RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED);
     for (int i = 0; i < l->geom_count; ++i) quadrics += l->geoms[i].kind == GEOM_SPHERE || l->geoms[i].kind == GEOM_DISK;
     for (int i = 0; i < l->geom_count; ++i) {
         Geom *g = &l->geoms[i];
@@ -560,6 +561,16 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
             rtcSetGeometryBoundsFunction(eg, quadric_bounds_cb, g);
             rtcSetGeometryIntersectFunction(eg, quadric_intersect_cb);
             rtcSetGeometryOccludedFunction(eg, quadric_occluded_cb);
+            /* A shadow ray ends just short of the point it sampled on this emitter, and a
+             * sphere or a disk cannot cover that segment (the point is the segment's first
+             * crossing of the convex full shape, a partial shape being part of it): the
+             * emitter need not be tested at all, which sphere lights otherwise cost on every
+             * shadow ray aimed at them (docs/design.md 12.2). 31 bits, one per emitter;
+             * further emitters keep every bit and are always tested. */
+            if (masks && g->area_light >= 0 && mask_bits < 31) {
+                g->mask_bit = 1u << ++mask_bits;
+                rtcSetGeometryMask(eg, g->mask_bit);
+            }
             break;
         case GEOM_INSTANCE: {
             Instance *in = &tr->instances[g->instance];
@@ -874,14 +885,14 @@ Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01)
 
 /* A world ray as Embree's, in tracer space: origin and tmax times k = tracer_from_world
  * (exact, a power of two), the direction as it is. */
-static void init_ray(struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01, float k)
+static void init_ray(struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01, float k, unsigned skip_mask)
 {
     r->org_x = k * o.x, r->org_y = k * o.y, r->org_z = k * o.z;
     r->dir_x = d.x, r->dir_y = d.y, r->dir_z = d.z;
     r->tnear = 0.0f;
     r->tfar = k * tmax;
     r->time = time01;
-    r->mask = 0xFFFFFFFFu;
+    r->mask = ~skip_mask;
     r->id = 0;
     r->flags = 0;
 }
@@ -1070,7 +1081,7 @@ static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time0
 
 static inline void init_rayhit(struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01, float k)
 {
-    init_ray(&rh->ray, o, d, tmax, time01, k);
+    init_ray(&rh->ray, o, d, tmax, time01, k, 0u);
     rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
@@ -1090,7 +1101,7 @@ bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay r;
-    init_ray(&r, o, d, tmax, time01, tr->tracer_from_world);
+    init_ray(&r, o, d, tmax, time01, tr->tracer_from_world, 0u);
     rtcOccluded1(tr->layers[0].scene, &ctx, &r);
     return r.tfar == -INFINITY;
 }
@@ -1141,7 +1152,7 @@ static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *ra
         p->tnear[i] = 0.0f;
         p->tfar[i] = k * r->tmax;
         p->time[i] = r->time01;
-        p->mask[i] = 0xFFFFFFFFu;
+        p->mask[i] = ~r->skip_mask;
         p->id[i] = 0;
         p->flags[i] = 0;
     }
@@ -1205,7 +1216,7 @@ void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool 
             }
             continue;
         }
-        for (int i = 0; i < m; ++i) init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world);
+        for (int i = 0; i < m; ++i) init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
         if (tr->batch_mode == TRACER_BATCH_STREAM)
             rtcOccluded1M(scene, &ctx, ray, (unsigned)m, sizeof ray[0]);
         else

@@ -46,6 +46,8 @@ typedef struct {
     int shape;               /* index into SceneDesc.shapes (-1 for instances) */
     int material;            /* SceneDesc material index, -1 = default */
     int area_light;          /* SceneDesc area light index, -1 = none (always -1 inside ObjectBegin) */
+    unsigned mask_bit;       /* a static sphere or disk emitter: its own Embree geometry mask bit,
+                              * which shadow rays aimed at it skip (commit_layer); 0: none */
     int light_first;         /* first Light of this geometry (+ primID for triangles), -1 = none;
                               * set by lights_build */
     bool flip_normal;        /* pbrt-v4: reverse_orientation XOR transform swaps handedness */
@@ -156,6 +158,7 @@ bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
 typedef struct {
     vec3 o, d;
     float tmax, time01;
+    unsigned skip_mask;      /* geometry mask bits the ray ignores (Geom.mask_bit); 0: none */
 } TracerRay;
 
 /* tracer_intersect_ex / tracer_occluded for n rays at once, through tr->batch_mode.

@@ -41,7 +41,7 @@ static void make_rays(TracerRay *rays, int n)
         vec3 target = v3(4.0f * (pcg32_float(&rng) - 0.5f), 4.0f * (pcg32_float(&rng) - 0.5f), 2.0f * pcg32_float(&rng) - 0.5f);
         vec3 d = v3_normalize(v3_sub(target, o));
         float tmax = (i % 3 == 0) ? 4.0f + 4.0f * pcg32_float(&rng) : INFINITY;
-        rays[i] = (TracerRay){o, d, tmax, 0.0f};
+        rays[i] = (TracerRay){o, d, tmax, 0.0f, 0u};
     }
 }
 
@@ -127,10 +127,10 @@ static void test_lone_sphere(void)
     if (!build_scene(LONE, &scene, &tr)) return;
     const vec3 z = v3(0.0f, 0.0f, 1.0f);
     TracerRay rays[4] = {
-        {v3(0.25f, 0.5f, -3.0f), z, INFINITY, 0.0f}, /* through the centre from outside: t 3.25 */
-        {v3(0.25f, 0.5f, 0.5f), z, INFINITY, 0.0f},  /* from inside, through the centre: t 0.75 */
-        {v3(0.25f, 1.1f, -3.0f), z, INFINITY, 0.0f}, /* beside the sphere, through its box's corner region */
-        {v3(0.25f, 0.5f, -3.0f), z, 3.0f, 0.0f},     /* stops short of it */
+        {v3(0.25f, 0.5f, -3.0f), z, INFINITY, 0.0f, 0u}, /* through the centre from outside: t 3.25 */
+        {v3(0.25f, 0.5f, 0.5f), z, INFINITY, 0.0f, 0u},  /* from inside, through the centre: t 0.75 */
+        {v3(0.25f, 1.1f, -3.0f), z, INFINITY, 0.0f, 0u}, /* beside the sphere, through its box's corner region */
+        {v3(0.25f, 0.5f, -3.0f), z, 3.0f, 0.0f, 0u},     /* stops short of it */
     };
     const float t_expect[4] = {3.25f, 0.75f, -1.0f, -1.0f};
     for (int m = 0; m < TRACER_BATCH_MODE_COUNT; ++m) {
@@ -143,6 +143,60 @@ static void test_lone_sphere(void)
             bool expect = t_expect[i] > 0.0f;
             CHECK(found[i] == expect && occ[i] == expect);
             if (found[i] && expect) CHECK_NEAR(hit[i].t, t_expect[i], 1e-5);
+        }
+    }
+    tracer_free(&tr);
+    scene_desc_free(&scene);
+}
+
+/* Shadow rays aimed at a sphere or disk emitter skip it (Geom.mask_bit): two sphere lights
+ * and a plain sphere in a row along z; rays along z through all three. A ray skipping light
+ * A's bit is not stopped by A, but still by B and by the plain sphere; with no skip mask A
+ * stops it, in every batch mode. */
+static const char *TWO_LIGHTS =
+    "LookAt 0 0 -6  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "WorldBegin\n"
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] Translate 0 0 0 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n"
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] Translate 0 0 2 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n"
+    "AttributeBegin Translate 0 0 4 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n";
+
+static void test_shadow_rays_skip_their_light(void)
+{
+    SceneDesc scene;
+    Tracer tr;
+    if (!build_scene(TWO_LIGHTS, &scene, &tr)) return;
+    const Layer *l = &tr.layers[0];
+    unsigned bit[3] = {0, 0, 0};
+    int spheres = 0;
+    for (int i = 0; i < l->geom_count && spheres < 3; ++i)
+        if (l->geoms[i].kind == GEOM_SPHERE) bit[spheres++] = l->geoms[i].mask_bit;
+    CHECK(spheres == 3);
+    if (!rtcGetDeviceProperty(tr.device, RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED)) {
+        fprintf(stderr, "this Embree has no ray masks: emitters keep no bit, shadow rays test them\n");
+        CHECK(bit[0] == 0 && bit[1] == 0 && bit[2] == 0);
+        tracer_free(&tr);
+        scene_desc_free(&scene);
+        return;
+    }
+    CHECK(bit[0] != 0 && bit[1] != 0 && bit[0] != bit[1] && bit[2] == 0); /* the plain sphere has none */
+    const vec3 z = v3(0.0f, 0.0f, 1.0f), o = v3(0.0f, 0.0f, -3.0f);
+    TracerRay rays[6] = {
+        {o, z, 3.0f, 0.0f, 0u},     /* into light A (front at t 2.5): stopped by A */
+        {o, z, 3.0f, 0.0f, bit[0]}, /* the same, skipping A: free */
+        {o, z, 5.0f, 0.0f, bit[0]}, /* through A into light B (t 4.5), skipping A: stopped by B */
+        {o, z, 5.0f, 0.0f, bit[1]}, /* skipping B: stopped by A */
+        {v3(0.0f, 0.0f, 3.0f), z, 1.0f, 0.0f, bit[0] | bit[1]}, /* into the plain sphere: stopped */
+        {v3(0.0f, 0.0f, 1.0f), z, 1.0f, 0.0f, bit[1]},          /* between the lights into B, skipping B */
+    };
+    const bool expect[6] = {true, false, true, true, true, false};
+    for (int m = 0; m < TRACER_BATCH_MODE_COUNT; ++m) {
+        tr.batch_mode = (TracerBatchMode)m;
+        bool occ[6];
+        tracer_occluded_batch(&tr, rays, 6, false, occ);
+        for (int i = 0; i < 6; ++i) {
+            CHECK(occ[i] == expect[i]);
+            if (occ[i] != expect[i]) fprintf(stderr, "mode %d ray %d: occluded %d\n", m, i, occ[i]);
         }
     }
     tracer_free(&tr);
@@ -201,6 +255,7 @@ int main(void)
 {
     test_quadric_batches();
     test_lone_sphere();
+    test_shadow_rays_skip_their_light();
     test_wave_images();
     CHECK_DONE();
 }
