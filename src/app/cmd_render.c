@@ -288,12 +288,13 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     ReconPipeline *pipe = NULL;
     bool ok = recon_pipeline_create(r, &po, &pipe, &err);
     if (!ok) print_error(&err, dist);
-    bool all = dist_all_ok(dist, ok);
-    if (ok && !all) { /* this rank is fine; another one says why it is not */
+    /* every rank exits with the failing rank's code (only rank 0 checks the OpenCL device) */
+    int create_code = dist_max_int(dist, ok ? 0 : (err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME));
+    if (ok && create_code != 0) { /* this rank is fine; another one says why it is not */
         recon_pipeline_destroy(pipe);
         renderer_destroy(r);
         scene_desc_free(&scene);
-        return WEDGE_EXIT_RUNTIME;
+        return create_code;
     }
     if (ok && !a.quiet) {
         const ReconChoice *c = &recon_pipeline_result(pipe)->choice;

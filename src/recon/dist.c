@@ -422,6 +422,20 @@ long long dist_sum_ll(const ReconDist *d, long long v)
     return v;
 }
 
+int dist_max_int(const ReconDist *d, int v)
+{
+#ifdef WEDGE_MPI
+    if (d && d->ranks > 1) {
+        int max = v;
+        if (MPI_Allreduce(&v, &max, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) == MPI_SUCCESS) return max;
+        return v != 0 ? v : WEDGE_EXIT_RUNTIME;
+    }
+#else
+    (void)d;
+#endif
+    return v;
+}
+
 bool dist_all_ok(const ReconDist *d, bool ok)
 {
 #ifdef WEDGE_MPI

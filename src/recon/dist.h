@@ -119,6 +119,9 @@ bool dist_broadcast_ints(ReconDist *d, int *data, size_t n, Diag *e);
 
 /* The sum over ranks of v (every rank gets it). */
 long long dist_sum_ll(const ReconDist *d, long long v);
+/* The largest v over ranks (every rank gets it): e.g. an exit code, so that a step only rank 0
+ * does (the OpenCL device check) fails every rank with its code. */
+int dist_max_int(const ReconDist *d, int v);
 /* Whether every rank says ok (a collective: a failing rank's error stops all, none hangs in
  * a later collective). */
 bool dist_all_ok(const ReconDist *d, bool ok);

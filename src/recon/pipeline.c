@@ -109,6 +109,9 @@ static bool overscan_begin(ReconPipeline *p, Diag *d)
     return true;
 }
 
+static bool distributed(const ReconPipeline *p) { return p->opt.dist && p->opt.dist->ranks > 1; }
+static bool is_root(const ReconPipeline *p) { return !distributed(p) || p->opt.dist->rank == 0; }
+
 bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **out, Diag *d)
 {
     *out = NULL;
@@ -158,8 +161,11 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
     /* On the main thread, before anything is traced, although loading the driver takes 30-40
      * ms here (PoCL with LLVM): moved beside pass 1 (measured: pass 1 began 29 ms sooner), the
      * first load installed LLVM's alternate signal stack on the helper thread, and
-     * AddressSanitizer aborted when that thread exited ("unable to unmap"). */
-    if (p->filtering && !cl_runtime_check_device(o->cl_device, d)) {
+     * AddressSanitizer aborted when that thread exited ("unable to unmap"). Only rank 0
+     * reconstructs, so only it loads the driver: the other ranks would spend the same 30-40
+     * ms of CPU before their first sample, which rank 0's first gather then waits for (a bad
+     * --cl-device still stops every rank: the caller's dist_all_ok). */
+    if (p->filtering && is_root(p) && !cl_runtime_check_device(o->cl_device, d)) {
         free(p);
         return false;
     }
@@ -233,8 +239,6 @@ static void dist_marks_print(ReconPipeline *p)
     p->mark_count = 0;
 }
 
-static bool distributed(const ReconPipeline *p) { return p->opt.dist && p->opt.dist->ranks > 1; }
-static bool is_root(const ReconPipeline *p) { return !distributed(p) || p->opt.dist->rank == 0; }
 
 /* The counts this rank traces: counts (or uniform where counts is NULL) for the pixels it
  * owns, 0 for the others; without ranks, counts itself (NULL: uniform). */

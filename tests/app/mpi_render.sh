@@ -100,6 +100,16 @@ rc=$?
 [ $rc = 2 ] || { echo "FAIL: bad scene under mpirun: exit $rc, expected 2"; cat "$T/out.txt"; fail=1; }
 n=$(grep -c "bad.pbrt:2:" "$T/out.txt")
 [ "$n" = 1 ] || { echo "FAIL: the bad scene was reported $n times, expected once:"; cat "$T/out.txt"; fail=1; }
+# a bad OpenCL device: only rank 0 loads the driver, yet every rank stops with one process's
+# exit code and one message
+"$WEDGE" render "$scene" --res 16x16 --filter aaf --cl-device no-such-device -o "$T/dev1.exr" --quiet >"$T/out.txt" 2>&1
+rc1=$?
+timeout 120 mpirun -np 3 "$WEDGE" render "$scene" --res 16x16 --filter aaf --cl-device no-such-device -o "$T/dev.exr" \
+    --quiet >"$T/out.txt" 2>&1
+rc=$?
+[ $rc1 != 0 ] && [ $rc = $rc1 ] || { echo "FAIL: bad --cl-device under mpirun: exit $rc, one process $rc1"; cat "$T/out.txt"; fail=1; }
+n=$(grep -c "no OpenCL device matches" "$T/out.txt")
+[ "$n" = 1 ] || { echo "FAIL: the bad device was reported $n times, expected once:"; cat "$T/out.txt"; fail=1; }
 # Ctrl-C: mpirun passes it on (as SIGTERM), the ranks stop together and rank 0 writes the
 # samples taken, as one process does
 ranks_of() { pgrep -f -- "-o $1" | while read -r pid; do [ "$(cat /proc/$pid/comm 2>/dev/null)" = wedge ] && echo "$pid"; done; }
