@@ -20,21 +20,21 @@ bool fsf_bounce_frame(vec3 jx, vec3 n, FsfBounceFrame *f)
     return true;
 }
 
-static float clamp_half(float v)
+static float clamp_rim(float v)
 {
-    return v > FSF_BOUNCE_V_HALF ? FSF_BOUNCE_V_HALF : v < -FSF_BOUNCE_V_HALF ? -FSF_BOUNCE_V_HALF : v;
+    return v > FSF_BOUNCE_V_RIM ? FSF_BOUNCE_V_RIM : v < -FSF_BOUNCE_V_RIM ? -FSF_BOUNCE_V_RIM : v;
 }
 
 void fsf_bounce_coord(const FsfBounceFrame *f, vec3 d, float v[2])
 {
     float dn = v3_dot(d, f->n), d1 = v3_dot(d, f->t[0]), d2 = v3_dot(d, f->t[1]);
-    if (!(dn > 0.0f)) { /* no direction (0), or at or below the tangent plane: the box's rim */
+    if (!(dn > 0.0f)) { /* no direction (0), or at or below the tangent plane: the rim */
         float m = fmaxf(fabsf(d1), fabsf(d2));
-        v[0] = m > 0.0f ? clamp_half(FSF_BOUNCE_V_HALF * d1 / m) : 0.0f;
-        v[1] = m > 0.0f ? clamp_half(FSF_BOUNCE_V_HALF * d2 / m) : 0.0f;
+        v[0] = m > 0.0f ? clamp_rim(FSF_BOUNCE_V_RIM * d1 / m) : 0.0f;
+        v[1] = m > 0.0f ? clamp_rim(FSF_BOUNCE_V_RIM * d2 / m) : 0.0f;
         return;
     }
-    v[0] = clamp_half(d1 / dn), v[1] = clamp_half(d2 / dn); /* clamp_half(inf) is finite */
+    v[0] = clamp_rim(d1 / dn), v[1] = clamp_rim(d2 / dn); /* clamp_rim(inf) is finite */
 }
 
 float fsf_bounce_slope(vec3 n, vec3 d, float t_hit_m)
@@ -96,7 +96,7 @@ static float sample_slope(const void *ctx, size_t slot)
 {
     const SlopeCtx *c = ctx;
     const float *b = c->bounce + 4 * slot, *nr = c->nrm4 + 4 * (slot / c->cap), *y = c->y + 2 * slot;
-    if (!(fabsf(y[0]) < FSF_BOUNCE_V_HALF && fabsf(y[1]) < FSF_BOUNCE_V_HALF)) return NAN; /* on the rim */
+    if (!(fabsf(y[0]) < FSF_BOUNCE_V_RIM && fabsf(y[1]) < FSF_BOUNCE_V_RIM)) return NAN; /* on the rim */
     float k = fsf_bounce_slope(v3(nr[0], nr[1], nr[2]), v3(b[0], b[1], b[2]), b[3]);
     return k > c->k_max ? c->k_max : k; /* NaN stays NaN */
 }

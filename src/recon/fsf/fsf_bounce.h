@@ -10,8 +10,8 @@
  *            surface share it to first order), t2 = n x t1
  *   coord    v_a = (d . t_a) / (d . n) for a bounce direction d: the point where the bounce
  *            ray pierces the plane at unit height above the receiver, parallel to it (FSF's
- *            v-plane), clamped into the truncated plane [-5, 5]^2 (FSF section 5): every
- *            cosine-sampled direction keeps counting (see FSF_BOUNCE_V_HALF)
+ *            v-plane), clamped into [-3.7, 3.7]^2 inside the truncated plane [-5, 5]^2 (FSF
+ *            section 5): every cosine-sampled direction keeps counting (FSF_BOUNCE_V_RIM)
  *   slope    a bounce hit H at height h = t_hit (d . n) over the tangent plane, seen at v' from
  *            the neighbour x' = x + D (D in the tangent plane), is seen from x at
  *            v = v' + D / h: an exact linear shear with k = 1 / h (v units per receiver metre;
@@ -38,11 +38,20 @@
 #include "recon/gbuffer.h"
 #include "recon/sample_store.h"
 
-/* The truncated v-plane's half extent (FSF section 5). A cosine-sampled direction lies outside
- * it along an axis with probability ~3% (1/26 beyond |v| = 5 radially): dropping those would
- * lose their light (the irradiance is the mean over all directions), so they are clamped to
- * the box's edge, where fsf_density's 1 / rho restores the share a shear pushes out. */
+/* The truncated v-plane's half extent (FSF section 5): the box profile and the grid. */
 #define FSF_BOUNCE_V_HALF 5.0f
+/* Where samples are clamped. The v-plane is infinite (every direction of the hemisphere is
+ * part of the irradiance); the box is a truncation, not a boundary like a light's edge, so a
+ * sample the shear moves past it is light lost, not a ray that misses. A cosine-sampled
+ * direction lies beyond |v_a| = 5 with probability ~3% (1/26 beyond |v| = 5 radially), and
+ * the taps shift samples by up to FSF_BOUNCE_PARALLAX_V plus one step's shear: clamped onto the
+ * box's edge, samples were dropped by half the taps and fsf_density's correction (made for
+ * uniform samples) did not restore them (-0.014 on test_fsf_bounce_factored's disk, whose
+ * view factor is 0.96; dropping them outright: +0.018). Clamped 1.3 v inside the edge (into a
+ * y2 bin whose centre plus one shift node, 1.25 v, stays in the box) no tap drops any sample
+ * (-0.0012 there, within the 4 seeds' noise of 0.0008), which makes the box flat over every
+ * sample: docs/algorithms.md, "FSF", "Indirect light". */
+#define FSF_BOUNCE_V_RIM 3.7f
 /* The diffuse transfer's band limit in v (Mehta 2013; AAF-GI eq. 18), radians per v unit. */
 #define FSF_BOUNCE_OMEGA_V_MAX 2.8f
 
@@ -55,7 +64,7 @@ typedef struct {
  * (nearly) along n. */
 bool fsf_bounce_frame(vec3 jx, vec3 n, FsfBounceFrame *f);
 
-/* v (2 floats) of a bounce direction d in frame f, clamped into [-5, 5]^2; (0, 0) for no
+/* v (2 floats) of a bounce direction d in frame f, clamped into the rim's square; (0, 0) for no
  * direction (a sample without a bounce: it still counts, with its value). */
 void fsf_bounce_coord(const FsfBounceFrame *f, vec3 d, float v[2]);
 
@@ -77,7 +86,7 @@ typedef struct {
     const GBuffer *g;
     const SampleStore *store;    /* with SAMPLE_FIELD_BOUNCE */
     const float *y;              /* the samples' v (fsf_bounce_samples): those clamped onto the
-                                  * box's rim have no slope (see fsf_bounce_params) */
+                                  * rim have no slope (see fsf_bounce_params) */
     const unsigned char *usable;
     float mu;                    /* width divisor (> 0) */
     float parallax_v;            /* the parallax bound, v units (INFINITY: none) */
@@ -95,9 +104,10 @@ typedef struct {
  * widths of FSF eq. 4 at a small slope spread blur irradiance detail (docs/algorithms.md,
  * "FSF", "Indirect light": measured). */
 #define FSF_BOUNCE_PARALLAX_V 1.0f
+_Static_assert(FSF_BOUNCE_PARALLAX_V < FSF_BOUNCE_V_HALF - FSF_BOUNCE_V_RIM, "the taps must not push a sample off the box");
 
 /* px and the AOVs k_lo, k_hi (0 where unknown) per pixel. The slope range holds only the
- * samples inside the truncated v-plane: FSF's v-plane ends there (section 5), and beyond it the
+ * samples inside the rim's square (FSF's v-plane is truncated, section 5), and beyond it the
  * slope has no bound (a floor point sees the foot of a wall at height h -> 0, k -> inf at
  * |v| -> inf; inside the box k <= 5 / D for a wall at distance D), which would make every
  * width 0. false when out of memory or the
