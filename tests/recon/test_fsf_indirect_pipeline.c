@@ -14,32 +14,13 @@
 
 enum { RES = 48 };
 
-/* The bench scene NAME at RES x RES. */
-static char *scene_text(const char *name)
-{
-    char *text = recon_test_bench_scene(name, 16);
-    const char *film = "\"integer xresolution\" [ 128 ] \"integer yresolution\" [ 128 ]";
-    char *at = text ? strstr(text, film) : NULL;
-    CHECK(at != NULL);
-    if (!at) return text;
-    char small[128];
-    snprintf(small, sizeof small, "\"integer xresolution\" [ %d ] \"integer yresolution\" [ %d ]", RES, RES);
-    memmove(at + strlen(small), at + strlen(film), strlen(at + strlen(film)) + 1);
-    memcpy(at, small, strlen(small));
-    return text;
-}
-
 /* fsf filtered the indirect light: its choice and width layer, widths > 0 on most pixels. */
 static void check_indirect(const ReconResult *res, void *ctx)
 {
     (void)ctx;
     size_t n = (size_t)res->width * (size_t)res->height;
     CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_INDIRECT), "fsf"));
-    const float *sigma = NULL, *shear = NULL;
-    for (int k = 0; k < res->aov_count; ++k) {
-        if (!strcmp(res->aovs[k].name, "fsf.indirect.sigma_px")) sigma = res->aovs[k].data;
-        if (!strcmp(res->aovs[k].name, "fsf.indirect.shear")) shear = res->aovs[k].data;
-    }
+    const float *sigma = recon_test_aov(res, "fsf.indirect.sigma_px"), *shear = recon_test_aov(res, "fsf.indirect.shear");
     CHECK(sigma && shear);
     size_t filtered = 0, bad = 0;
     for (size_t i = 0; sigma && shear && i < n; ++i) {
@@ -59,7 +40,8 @@ static float *render(const char *text, const char *filter, unsigned seed, int sp
 
 int main(void)
 {
-    char *text = scene_text("indirect");
+    char *text = recon_test_bench_scene_at("indirect", RES);
+    CHECK(text != NULL);
     if (!text) CHECK_DONE();
     size_t n3 = (size_t)RES * RES * 3;
     float *ref = render(text, "none", 99, 1024, false);
@@ -78,7 +60,8 @@ int main(void)
     free(text);
 
     /* combined: shadows and indirect light both fsf's, filtered apart */
-    text = scene_text("combined");
+    text = recon_test_bench_scene_at("combined", RES);
+    CHECK(text != NULL);
     if (text) free(render(text, "fsf", 1, 16, true));
     free(text);
     CHECK_DONE();
