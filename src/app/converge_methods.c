@@ -30,7 +30,7 @@ static const ConvergeMethod methods[] = {
     {"maaf-ld", {"--sampler", "sobol", "--filter", "maaf", NULL}, true,
      "multiple axis-aligned filters with Owen-scrambled Sobol' samples"},
     {"fsf", {"--sampler", "stratified", "--filter", "fsf", NULL}, false,
-     "fast 4D sheared filtering (paper 000) of soft shadows and defocus"},
+     "fast 4D sheared filtering (paper 000) of soft shadows, indirect light and defocus"},
     {"fsf-ld", {"--sampler", "sobol", "--filter", "fsf", NULL}, false,
      "fast 4D sheared filtering with Owen-scrambled Sobol' samples"},
 };

@@ -26,6 +26,7 @@ static const struct {
                                  "256x256, tools/bench-policy)"},
     {EFFECT_DEFOCUS, "aaf", "aaf: 1.56x Monte Carlo's speed at equal error, maaf 1.43x, lr 1.24x, fsf 1.13x (defocus bench, 256x256, "
                             "tools/bench-policy)"},
+    /* fsf indirect (issue 15): 1.14-1.60x aaf's relMSE at equal spp 8-64 and 1.48x its frame time (indirect bench, 256x256; docs/benchmarks.md 2026-11-28) */
     {EFFECT_INDIRECT, "aaf", "aaf: 8.85x Monte Carlo's speed at equal error (indirect bench, 256x256, tools/bench-policy)"},
     /* below the blur threshold, or without the probe (select_camera_by_blur decides above it) */
     {EFFECT_MOTION, "lr", "lr, motion only: moving objects get their own layers' motion filter (" LR_MOTION_ONLY_EVIDENCE ")"},

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "recon/fsf/fsf_bounce.h"
 #include "recon/fsf/fsf_filter.h"
 
 typedef struct {
@@ -75,6 +76,44 @@ static inline void fsf_synth_light(FsfSynth *f, const FsfGrid *g, int l, bool bi
                 }
                 f->y[2 * slot] = y1, f->y[2 * slot + 1] = y2;
             }
+}
+
+/* Indirect-light samples (fsf_bounce.h) over fsf_synth_init's receiver (the plane z = 0, 0.01 m
+ * per pixel; frame t1 = x, t2 = y, n = z): l x l stratified cosine-distributed bounce
+ * directions per pixel; a sample is lit (rgb 1, 0.5, 0.75; else 0, 0, 0.25) where its ray
+ * hits the disk of radius r_m at height h_m centred above the point (cx_m, cy_m) of the
+ * receiver, dark where it passes it. y: v clamped into the box (fsf_bounce_coord), or with
+ * clamp false the raw v (samples beyond the box then fall outside the profile: dropped). */
+static inline void fsf_synth_bounce_disk(FsfSynth *f, int l, float h_m, float r_m, float cx_m, float cy_m, bool clamp,
+                                         unsigned seed)
+{
+    size_t n = (size_t)f->w * (size_t)f->h;
+    unsigned st = seed;
+    FsfBounceFrame fr = {{v3(1.0f, 0.0f, 0.0f), v3(0.0f, 1.0f, 0.0f)}, v3(0.0f, 0.0f, 1.0f)};
+    for (size_t i = 0; i < n; ++i)
+        for (int a = 0; a < l; ++a)
+            for (int b = 0; b < l; ++b) {
+                size_t slot = i * (size_t)f->cap + (size_t)(a * l + b);
+                float u1 = ((float)a + fsf_rand01(&st)) / (float)l, u2 = ((float)b + fsf_rand01(&st)) / (float)l;
+                float rad = sqrtf(u1), phi = 6.2831853f * u2, dz = sqrtf(fmaxf(1.0f - u1, 1e-12f));
+                vec3 d = v3(rad * cosf(phi), rad * sinf(phi), dz);
+                if (clamp) fsf_bounce_coord(&fr, d, f->y + 2 * slot);
+                else f->y[2 * slot] = d.x / d.z, f->y[2 * slot + 1] = d.y / d.z;
+                /* where the ray pierces the disk's plane, relative to its centre */
+                float px = (float)(i % (size_t)f->w) * 0.01f + h_m * d.x / d.z - cx_m;
+                float py = (float)(i / (size_t)f->w) * 0.01f + h_m * d.y / d.z - cy_m;
+                float lit = px * px + py * py <= r_m * r_m ? 1.0f : 0.0f;
+                f->v[3 * slot] = lit, f->v[3 * slot + 1] = 0.5f * lit, f->v[3 * slot + 2] = 0.25f + 0.5f * lit;
+            }
+}
+
+/* The closed form: the cosine-weighted fraction of the hemisphere that the disk of radius r_m
+ * at height h_m covers, seen from a point at horizontal distance d_m from its axis (the view
+ * factor of a parallel disk to a differential area). */
+static inline double fsf_disk_view_factor(double h_m, double r_m, double d_m)
+{
+    double a = h_m * h_m + d_m * d_m + r_m * r_m;
+    return 0.5 * (1.0 - (h_m * h_m + d_m * d_m - r_m * r_m) / sqrt(a * a - 4.0 * d_m * d_m * r_m * r_m));
 }
 
 #endif

@@ -129,6 +129,32 @@ static inline char *recon_test_bench_scene(const char *name, size_t extra)
     return text;
 }
 
+/* recon_test_bench_scene with its 128 x 128 film made res x res; NULL when it cannot be read
+ * or its film is not 128 x 128. Free it. */
+static inline char *recon_test_bench_scene_at(const char *name, int res)
+{
+    char *text = recon_test_bench_scene(name, 16); /* room for a longer resolution */
+    const char *film = "\"integer xresolution\" [ 128 ] \"integer yresolution\" [ 128 ]";
+    char *at = text ? strstr(text, film) : NULL;
+    if (!at) {
+        free(text);
+        return NULL;
+    }
+    char repl[128];
+    int n = snprintf(repl, sizeof repl, "\"integer xresolution\" [ %d ] \"integer yresolution\" [ %d ]", res, res);
+    memmove(at + n, at + strlen(film), strlen(at + strlen(film)) + 1);
+    memcpy(at, repl, (size_t)n);
+    return text;
+}
+
+/* The result's AOV layer called name, or NULL. */
+static inline const float *recon_test_aov(const ReconResult *res, const char *name)
+{
+    for (int k = 0; k < res->aov_count; ++k)
+        if (!strcmp(res->aovs[k].name, name)) return res->aovs[k].data;
+    return NULL;
+}
+
 /* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */
 static inline double rel_mse(const float *img, const float *ref, size_t n3)
 {

@@ -15,35 +15,13 @@
 
 enum { RES = 96 };
 
-/* The bench scene's text at RES x RES (its film is 128 x 128). */
-static char *scene_text(void)
-{
-    char *text = recon_test_bench_scene("defocus", 16); /* room for a longer resolution */
-    size_t len = text ? strlen(text) : 0;
-    const char *film = "\"integer xresolution\" [ 128 ] \"integer yresolution\" [ 128 ]";
-    char *at = text && len ? strstr(text, film) : NULL;
-    if (!at) {
-        free(text);
-        return NULL;
-    }
-    char repl[128];
-    int n = snprintf(repl, sizeof repl, "\"integer xresolution\" [ %d ] \"integer yresolution\" [ %d ]", RES, RES);
-    memmove(at + n, at + strlen(film), strlen(at + strlen(film)) + 1);
-    memcpy(at, repl, (size_t)n);
-    return text;
-}
-
 /* What only an FSF defocus frame has: the method chosen and its AOVs. */
 static void check_fsf(const ReconResult *res, void *ctx)
 {
     (void)ctx;
     size_t n = (size_t)res->width * (size_t)res->height;
     CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_DEFOCUS), "fsf"));
-    const float *eta = NULL, *sigma = NULL;
-    for (int k = 0; k < res->aov_count; ++k) {
-        if (!strcmp(res->aovs[k].name, "fsf.defocus.eta_lens_per_px")) eta = res->aovs[k].data;
-        if (!strcmp(res->aovs[k].name, "fsf.defocus.sigma_px")) sigma = res->aovs[k].data;
-    }
+    const float *eta = recon_test_aov(res, "fsf.defocus.eta_lens_per_px"), *sigma = recon_test_aov(res, "fsf.defocus.sigma_px");
     CHECK(eta && sigma);
     size_t bad = 0, filtered = 0;
     for (size_t i = 0; eta && sigma && i < n; ++i) {
@@ -63,7 +41,7 @@ static float *render(const char *text, const char *filter, unsigned seed, int sp
 
 int main(void)
 {
-    char *text = scene_text();
+    char *text = recon_test_bench_scene_at("defocus", RES);
     CHECK(text != NULL);
     if (!text) CHECK_DONE();
     size_t n3 = 3 * (size_t)RES * RES;

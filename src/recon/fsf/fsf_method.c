@@ -13,14 +13,22 @@
  *            sample's radiance scaled to its pixel's composite value, the lens point in place
  *            of the light point, screen axes as gather directions (fsf_lens.h); the same
  *            four passes
+ *   indirect the demodulated indirect light (divided by the albedo only, as AAF-GI's): each
+ *            sample's indirect light scaled by its pixel's demodulation, the bounce
+ *            direction's v-plane coordinate in place of the light point (fsf_bounce.h); the
+ *            same four passes. The pipeline filters it apart from the direct light and adds
+ *            the two (FSF appendix)
  *   AOVs     fsf.eta_m_per_px (the shear along the light's first axis, light metres per pixel
  *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo); for
  *            defocus fsf.defocus.eta_lens_per_px (the shear, unit lens per pixel step),
- *            fsf.defocus.sigma_px, fsf.defocus.k_spread */
+ *            fsf.defocus.sigma_px, fsf.defocus.k_spread; for indirect light
+ *            fsf.indirect.shear (v units per pixel step along t1), fsf.indirect.sigma_px,
+ *            fsf.indirect.k_spread (k_hi - k_lo, v units per receiver metre) */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/fsf/fsf_bounce.h"
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_lens.h"
@@ -45,6 +53,7 @@ struct ReconMethod {
     EffectMask effects;
     float *eta_aov, *sigma_aov, *spread_aov;
     float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
+    float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
 };
 
@@ -65,6 +74,9 @@ static void fsf_destroy(ReconMethod *m)
     free(m->lens_eta_aov);
     free(m->lens_sigma_aov);
     free(m->lens_spread_aov);
+    free(m->ind_eta_aov);
+    free(m->ind_sigma_aov);
+    free(m->ind_spread_aov);
     free(m);
 }
 
@@ -85,9 +97,12 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->lens_eta_aov = calloc(n, sizeof(float));
         m->lens_sigma_aov = calloc(n, sizeof(float));
         m->lens_spread_aov = calloc(n, sizeof(float));
+        m->ind_eta_aov = calloc(n, sizeof(float));
+        m->ind_sigma_aov = calloc(n, sizeof(float));
+        m->ind_spread_aov = calloc(n, sizeof(float));
     }
     if (!m || !m->shade || !m->eta_aov || !m->sigma_aov || !m->spread_aov || !m->lens_eta_aov || !m->lens_sigma_aov ||
-        !m->lens_spread_aov) {
+        !m->lens_spread_aov || !m->ind_eta_aov || !m->ind_sigma_aov || !m->ind_spread_aov) {
         fsf_destroy(m);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
         return false;
@@ -113,7 +128,8 @@ static bool fsf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
 }
 
 /* AAF-shadow eq. 1, as for AAF: only the visibility is smooth enough to filter, so the
- * direct light is divided by the unoccluded irradiance r(x) too. */
+ * direct light is divided by the unoccluded irradiance r(x) too. Indirect light: no factor
+ * besides the albedo (as AAF-GI's): it is the irradiance itself that is filtered. */
 static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, float *min_factor, Diag *d)
 {
     (void)d;
@@ -228,12 +244,25 @@ static bool buffers_alloc(const ReconMethod *m, Buffers *b, Diag *d)
     return false;
 }
 
-static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+/* The passes on one effect's inputs, then its AOVs: the shear and the width along the first
+ * axis, the slope spread. */
+static bool filter_and_record(ReconMethod *m, const Buffers *b, const FsfGrid *grid, const FsfGuides *gd,
+                              bool keep_left_out, float *value4, float *eta_aov, float *sigma_aov, float *spread_aov,
+                              double *kernel_seconds, Diag *d)
 {
-    *kernel_seconds = 0.0;
-    if (e != EFFECT_SOFT_SHADOWS) return true;
-    int w = m->g->width, h = m->g->height, cap = sample_store_capacity(m->store);
-    size_t n = (size_t)w * (size_t)h;
+    int w = m->g->width, h = m->g->height;
+    FsfSamples s = {w, h, sample_store_capacity(m->store), b->count, b->y, b->v};
+    bool ok = run_filter(m, &s, grid, b->px, gd, keep_left_out, b->out4, value4, kernel_seconds, d);
+    for (size_t i = 0; ok && i < (size_t)w * (size_t)h; ++i) {
+        eta_aov[i] = b->px[i].eta_m[0];
+        sigma_aov[i] = b->px[i].sigma_px[0];
+        spread_aov[i] = b->k_hi[i] - b->k_lo[i];
+    }
+    return ok;
+}
+
+static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
+{
     Buffers b;
     if (!buffers_alloc(m, &b, d)) return false;
     bool ok = true;
@@ -246,17 +275,45 @@ static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *ke
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
     }
-    FsfSamples s = {w, h, cap, b.count, b.y, b.v};
     FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
-    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, false, b.out4, value4, kernel_seconds, d);
-    for (size_t i = 0; ok && i < n; ++i) {
-        m->eta_aov[i] = b.px[i].eta_m[0];
-        m->sigma_aov[i] = b.px[i].sigma_px[0];
-        m->spread_aov[i] = b.k_hi[i] - b.k_lo[i];
-    }
+    if (ok)
+        ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
+                               kernel_seconds, d);
     buffers_free(&b);
     return ok;
+}
+
+/* Indirect light (fsf_bounce.h): the bounce direction's v-plane in place of the light. */
+static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
+{
+    Buffers b;
+    if (!buffers_alloc(m, &b, d)) return false;
+    bool ok = true;
+    if (!fsf_bounce_samples(m->g, m->store, value4, b.usable, b.y, b.v, b.count)) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce or indirect field");
+    }
+    FsfBounceIn in = {m->g, m->store, b.y, b.usable, m->mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
+    if (ok && !fsf_bounce_params(&in, b.px, b.k_lo, b.k_hi)) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF indirect parameters");
+    }
+    FsfGrid grid = fsf_bounce_grid();
+    FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
+    if (ok)
+        ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
+                               kernel_seconds, d);
+    buffers_free(&b);
+    return ok;
+}
+
+static bool fsf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    if (e == EFFECT_SOFT_SHADOWS) return filter_shadows(m, value4, kernel_seconds, d);
+    if (e == EFFECT_INDIRECT) return filter_indirect(m, value4, kernel_seconds, d);
+    return true;
 }
 
 /* Defocus (fsf_lens.h): the composite radiance, the lens in place of the light. Motion, if
@@ -265,7 +322,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
 {
     *kernel_seconds = 0.0;
     if (!effect_in(effects, EFFECT_DEFOCUS)) return true;
-    int w = m->g->width, h = m->g->height, cap = sample_store_capacity(m->store);
+    int w = m->g->width, h = m->g->height;
     size_t n = (size_t)w * (size_t)h;
     Buffers b;
     if (!buffers_alloc(m, &b, d)) return false;
@@ -282,15 +339,11 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF lens parameters (or no depth field)");
     }
     if (ok) fsf_lens_guides(n, guide, guide + 4 * n);
-    FsfSamples s = {w, h, cap, b.count, b.y, b.v};
     FsfGrid grid = fsf_lens_grid();
     FsfGuides gd = fsf_guides_default(guide, guide ? guide + 4 * n : NULL, b.usable);
-    if (ok) ok = run_filter(m, &s, &grid, b.px, &gd, true, b.out4, value4, kernel_seconds, d);
-    for (size_t i = 0; ok && i < n; ++i) {
-        m->lens_eta_aov[i] = b.px[i].eta_m[0];
-        m->lens_sigma_aov[i] = b.px[i].sigma_px[0];
-        m->lens_spread_aov[i] = b.k_hi[i] - b.k_lo[i];
-    }
+    if (ok)
+        ok = filter_and_record(m, &b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
+                               m->lens_spread_aov, kernel_seconds, d);
     free(guide);
     buffers_free(&b);
     return ok;
@@ -311,20 +364,26 @@ static int fsf_aovs(ReconMethod *m, ReconAov *out, int max)
         if (count < max)
             out[count++] = (ReconAov){"fsf.defocus.k_spread", m->lens_spread_aov, "slope spread (unit lens per pixel)"};
     }
+    if (effect_in(m->effects, EFFECT_INDIRECT)) {
+        if (count < max) out[count++] = (ReconAov){"fsf.indirect.shear", m->ind_eta_aov, "v units per pixel step"};
+        if (count < max) out[count++] = (ReconAov){"fsf.indirect.sigma_px", m->ind_sigma_aov, "filter sigma in pixels"};
+        if (count < max)
+            out[count++] = (ReconAov){"fsf.indirect.k_spread", m->ind_spread_aov, "slope spread (v per receiver m)"};
+    }
     return count;
 }
 
 const ReconMethodClass recon_method_fsf = {
     .name = "fsf",
-    .title = "fast 4D sheared filtering (FSF): soft shadows and defocus, per-sample store, four 1D passes, fixed "
-             "samples (default 16)",
-    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS),
+    .title = "fast 4D sheared filtering (FSF): soft shadows, one-bounce diffuse indirect light and defocus, "
+             "per-sample store, four 1D passes, fixed samples (default 16)",
+    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_INDIRECT),
     .adaptive = false,
-    /* the lens fields serve defocus; the store holds the union whichever effects are
-     * filtered (sample_store.h) */
+    /* the lens fields serve defocus, bounce and indirect the indirect light; the store holds
+     * the union whichever effects are filtered (sample_store.h) */
     .sample_fields = SAMPLE_FIELD_LIGHT | SAMPLE_FIELD_DIRECT | SAMPLE_FIELD_LENS | SAMPLE_FIELD_DEPTH |
-                     SAMPLE_FIELD_RADIANCE,
-    .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+                     SAMPLE_FIELD_RADIANCE | SAMPLE_FIELD_BOUNCE | SAMPLE_FIELD_INDIRECT,
+    .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
     .pass1_spp = fsf_pass1_spp,
     .create = fsf_create,
     .open_device = fsf_open_device,

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "recon/fsf/fsf_screen_axes.h"
 #include "recon/fsf/fsf_slope_window.h"
 #include "recon/recon_parallel.h"
 
@@ -31,31 +32,6 @@ static float sample_slope(const void *ctx, size_t slot)
     return (d_light - d_occ) / d_occ;
 }
 
-/* A surface neighbour for the Jacobian: hit, not mixed, facing the same way. */
-static bool same_surface(const GBuffer *g, size_t i, size_t q)
-{
-    if (!g->hit[q] || g->mixed[q]) return false;
-    const float *a = g->nrm4 + 4 * i, *b = g->nrm4 + 4 * q;
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0.9f;
-}
-
-/* dP per pixel step along screen x (axis 0) or y (axis 1): central, else one-sided. */
-static bool jacobian_column(const GBuffer *g, int x, int y, int axis, vec3 *out)
-{
-    int w = g->width, h = g->height;
-    size_t i = (size_t)y * (size_t)w + (size_t)x;
-    int dx = axis == 0, dy = axis == 1;
-    bool has_p = x + dx < w && y + dy < h && same_surface(g, i, i + (size_t)(dx + dy * w));
-    bool has_m = x - dx >= 0 && y - dy >= 0 && same_surface(g, i, i - (size_t)(dx + dy * w));
-    const float *c = g->pos4 + 4 * i;
-    const float *p = has_p ? g->pos4 + 4 * (i + (size_t)(dx + dy * w)) : c;
-    const float *m = has_m ? g->pos4 + 4 * (i - (size_t)(dx + dy * w)) : c;
-    if (!has_p && !has_m) return false;
-    float scale = has_p && has_m ? 0.5f : 1.0f;
-    *out = v3((p[0] - m[0]) * scale, (p[1] - m[1]) * scale, (p[2] - m[2]) * scale);
-    return true;
-}
-
 /* The narrower of the two axes' widths for a spread (fsf_slope_pick's measure). */
 typedef struct {
     const FsfParamsIn *in;
@@ -81,26 +57,12 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
         if (!in->usable[i]) continue;
         vec3 jx, jy;
-        if (!jacobian_column(g, x, y, 0, &jx) || !jacobian_column(g, x, y, 1, &jy)) continue;
+        if (!fsf_pixel_jacobian(g, x, y, &jx, &jy)) continue;
         vec3 n = v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]);
-        /* J^T J for the least-squares screen direction of each light axis */
-        float a11 = v3_dot(jx, jx), a12 = v3_dot(jx, jy), a22 = v3_dot(jy, jy), det = a11 * a22 - a12 * a12;
-        if (!(det > 0.0f)) continue;
-        float step_m[2];
-        vec3 Dm[2];
-        float dir[2][2];
-        for (int a = 0; a < 2; ++a) {
-            vec3 axis = in->light->axis_world[a];
-            vec3 ut = v3_madd(axis, n, -v3_dot(axis, n));
-            float b1 = v3_dot(jx, ut), b2 = v3_dot(jy, ut);
-            float sx = (a22 * b1 - a12 * b2) / det, sy = (a11 * b2 - a12 * b1) / det, len = sqrtf(sx * sx + sy * sy);
-            if (!(len > 0.0f)) goto skip;
-            sx /= len, sy /= len;
-            Dm[a] = v3_add(v3_scale(jx, sx), v3_scale(jy, sy)); /* receiver metres per step */
-            step_m[a] = v3_length(Dm[a]);
-            if (!(step_m[a] > 0.0f)) goto skip;
-            dir[a][0] = sx, dir[a][1] = sy;
-        }
+        FsfScreenAxes ax;
+        if (!fsf_screen_axes(jx, jy, n, in->light->axis_world, &ax)) goto skip;
+        const float *step_m = ax.step_m;
+        const vec3 *Dm = ax.step_world; /* receiver metres per step */
         /* The slope range must cover the samples under the whole footprint, not only the
          * pixel's own (a neighbour's samples reprojected with another occluder's shear land
          * on the wrong light point). Each window (radius 2: FSF section 5's 5 x 5 slope
@@ -115,7 +77,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
         if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
         for (int a = 0; a < 2; ++a) {
-            pp->dir[a][0] = dir[a][0], pp->dir[a][1] = dir[a][1];
+            pp->dir[a][0] = ax.dir[a][0], pp->dir[a][1] = ax.dir[a][1];
             pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
             /* FSF eq. 4; one slope: no limit but the cap */
             float sigma_px = known ? sigma_steps(in, a, spread, step_m[a]) : cap_px;
@@ -133,16 +95,10 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     size_t n = (size_t)in->g->width * (size_t)in->g->height;
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
-    float *obj = malloc(sizeof(float) * n); /* object id per pixel (gbuffer nrm4[3]) */
-    bool ok = obj != NULL;
-    if (ok) {
-        for (size_t i = 0; i < n; ++i) obj[i] = in->g->nrm4[4 * i + 3];
-        /* only the centre's object: the filter takes light from no other surface */
-        ok = fsf_slope_windows(in->store, in->g->width, in->g->height, sample_slope,
-                               sample_store_field(in->store, SAMPLE_FIELD_LIGHT), obj, &j.wnd);
-        if (ok) recon_parallel_for(n, params_range, &j);
-        fsf_slope_windows_free(&j.wnd);
-    }
-    free(obj);
+    /* only the centre's object: the filter takes light from no other surface */
+    bool ok = fsf_slope_windows_per_object(in->store, in->g, sample_slope, sample_store_field(in->store, SAMPLE_FIELD_LIGHT),
+                                           &j.wnd);
+    if (ok) recon_parallel_for(n, params_range, &j);
+    fsf_slope_windows_free(&j.wnd);
     return ok;
 }

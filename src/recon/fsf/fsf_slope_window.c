@@ -105,6 +105,18 @@ bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slo
     return true;
 }
 
+bool fsf_slope_windows_per_object(const SampleStore *st, const GBuffer *g, float (*slope)(const void *ctx, size_t slot),
+                                  const void *ctx, FsfSlopeWindows *out)
+{
+    size_t n = (size_t)g->width * (size_t)g->height;
+    float *obj = malloc(sizeof(float) * n); /* object id per pixel (gbuffer nrm4[3]) */
+    if (!obj) return false;
+    for (size_t i = 0; i < n; ++i) obj[i] = g->nrm4[4 * i + 3];
+    bool ok = fsf_slope_windows(st, g->width, g->height, slope, ctx, obj, out);
+    free(obj);
+    return ok;
+}
+
 void fsf_slope_windows_free(FsfSlopeWindows *w)
 {
     free(w->block);

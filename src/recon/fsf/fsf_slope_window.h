@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "recon/gbuffer.h"
 #include "recon/sample_store.h"
 
 enum { FSF_LEVELS = 4 };
@@ -28,6 +29,10 @@ typedef struct {
  * false when out of memory. */
 bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slope)(const void *ctx, size_t slot),
                        const void *ctx, const float *obj, FsfSlopeWindows *out);
+/* The same counting only the centre's object (the guides' object id, nrm4[3]): a filter that
+ * takes light from no other surface needs no other surface's slopes. */
+bool fsf_slope_windows_per_object(const SampleStore *st, const GBuffer *g, float (*slope)(const void *ctx, size_t slot),
+                                  const void *ctx, FsfSlopeWindows *out);
 void fsf_slope_windows_free(FsfSlopeWindows *w);
 
 /* The widest safe level of pixel i. sigma_of_spread(ctx, spread) is the width (pixel steps,

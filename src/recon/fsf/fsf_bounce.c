@@ -1,0 +1,177 @@
+/* FSF's v-plane coordinates, slopes and per-pixel parameters for indirect light (fsf_bounce.h). */
+#include "recon/fsf/fsf_bounce.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "recon/fsf/fsf_screen_axes.h"
+#include "recon/fsf/fsf_slope_window.h"
+#include "recon/recon_parallel.h"
+
+bool fsf_bounce_frame(vec3 jx, vec3 n, FsfBounceFrame *f)
+{
+    vec3 t1 = v3_madd(jx, n, -v3_dot(jx, n));
+    float len = v3_length(t1);
+    /* a Jacobian column along the normal: a surface seen edge-on */
+    if (!(len > 1e-6f * v3_length(jx))) return false;
+    f->t[0] = v3_scale(t1, 1.0f / len);
+    f->t[1] = v3_cross(n, f->t[0]);
+    f->n = n;
+    return true;
+}
+
+static float clamp_rim(float v)
+{
+    return v > FSF_BOUNCE_V_RIM ? FSF_BOUNCE_V_RIM : v < -FSF_BOUNCE_V_RIM ? -FSF_BOUNCE_V_RIM : v;
+}
+
+void fsf_bounce_coord(const FsfBounceFrame *f, vec3 d, float v[2])
+{
+    float dn = v3_dot(d, f->n), d1 = v3_dot(d, f->t[0]), d2 = v3_dot(d, f->t[1]);
+    if (!(dn > 0.0f)) { /* no direction (0), or at or below the tangent plane: the rim */
+        float m = fmaxf(fabsf(d1), fabsf(d2));
+        v[0] = m > 0.0f ? clamp_rim(FSF_BOUNCE_V_RIM * d1 / m) : 0.0f;
+        v[1] = m > 0.0f ? clamp_rim(FSF_BOUNCE_V_RIM * d2 / m) : 0.0f;
+        return;
+    }
+    v[0] = clamp_rim(d1 / dn), v[1] = clamp_rim(d2 / dn); /* clamp_rim(inf) is finite */
+}
+
+float fsf_bounce_slope(vec3 n, vec3 d, float t_hit_m)
+{
+    float dn = v3_dot(d, n);
+    if (!(dn > 0.0f) || !(t_hit_m > 0.0f)) return NAN;
+    if (isinf(t_hit_m)) return 0.0f; /* a miss: the environment at infinity, no parallax */
+    return 1.0f / (t_hit_m * dn);
+}
+
+FsfGrid fsf_bounce_grid(void) { return fsf_grid_default(FSF_BOUNCE_V_HALF, FSF_BOUNCE_V_HALF); }
+
+/* Pixel i's frame from its guides. */
+static bool pixel_frame(const GBuffer *g, size_t i, FsfBounceFrame *f)
+{
+    int x = (int)(i % (size_t)g->width), y = (int)(i / (size_t)g->width);
+    vec3 jx, jy;
+    if (!g->hit[i] || !fsf_pixel_jacobian(g, x, y, &jx, &jy)) return false;
+    return fsf_bounce_frame(jx, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]), f);
+}
+
+bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
+                        float *v, int *count)
+{
+    const float *bounce = sample_store_field(st, SAMPLE_FIELD_BOUNCE), *ind = sample_store_field(st, SAMPLE_FIELD_INDIRECT);
+    if (!bounce || !ind) return false;
+    int cap = sample_store_capacity(st);
+    size_t n = (size_t)g->width * (size_t)g->height;
+    for (size_t i = 0; i < n; ++i) {
+        int cnt = sample_store_count(st, i);
+        count[i] = cnt;
+        FsfBounceFrame f;
+        bool framed = pixel_frame(g, i, &f);
+        usable[i] = framed && cnt > 0 && value4[4 * i + 3] > 0.0f && !g->mixed[i];
+        float scale[3];
+        fsf_match_pixel(value4 + 4 * i, ind + i * (size_t)cap * 3, cnt, scale);
+        for (int k = 0; k < cnt; ++k) {
+            size_t slot = i * (size_t)cap + (size_t)k;
+            const float *b = bounce + 4 * slot;
+            if (framed) fsf_bounce_coord(&f, v3(b[0], b[1], b[2]), y + 2 * slot);
+            else y[2 * slot] = y[2 * slot + 1] = 0.0f;
+            for (int ch = 0; ch < 3; ++ch) {
+                float val = ind[slot * 3 + (size_t)ch] * scale[ch];
+                v[slot * 3 + (size_t)ch] = isfinite(val) ? val : 0.0f;
+            }
+        }
+    }
+    return true;
+}
+
+/* sample_slope's context: the bounce field, the samples' v and the pixels' normals, found once. */
+typedef struct {
+    const float *bounce, *y, *nrm4;
+    size_t cap;
+    float k_max;
+} SlopeCtx;
+
+static float sample_slope(const void *ctx, size_t slot)
+{
+    const SlopeCtx *c = ctx;
+    const float *b = c->bounce + 4 * slot, *nr = c->nrm4 + 4 * (slot / c->cap), *y = c->y + 2 * slot;
+    if (!(fabsf(y[0]) < FSF_BOUNCE_V_RIM && fabsf(y[1]) < FSF_BOUNCE_V_RIM)) return NAN; /* on the rim */
+    float k = fsf_bounce_slope(v3(nr[0], nr[1], nr[2]), v3(b[0], b[1], b[2]), b[3]);
+    return k > c->k_max ? c->k_max : k; /* NaN stays NaN */
+}
+
+typedef struct {
+    const FsfBounceIn *in;
+    FsfSlopeWindows wnd;
+    FsfPixel *px;
+    float *k_lo, *k_hi;
+} Job;
+
+/* FSF eq. 4 in pixel steps for a slope spread (infinite for one slope). */
+static float sigma_steps(float mu, float spread, float step_m)
+{
+    const float sigma_v = 2.0f / FSF_BOUNCE_OMEGA_V_MAX;
+    float sigma_m = spread > 0.0f ? sigma_v / spread : INFINITY;
+    return sigma_m / (mu * step_m);
+}
+
+typedef struct {
+    float mu, step_m[2];
+} StepCtx;
+static float sigma_both(const void *ctx, float spread)
+{
+    const StepCtx *c = ctx;
+    return fminf(sigma_steps(c->mu, spread, c->step_m[0]), sigma_steps(c->mu, spread, c->step_m[1]));
+}
+
+static void params_range(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    const FsfBounceIn *in = j->in;
+    const GBuffer *g = in->g;
+    for (size_t i = begin; i < end; ++i) {
+        FsfPixel *pp = &j->px[i];
+        *pp = fsf_pixel_left_out();
+        j->k_lo[i] = j->k_hi[i] = 0.0f;
+        FsfBounceFrame f;
+        if (!in->usable[i] || !pixel_frame(g, i, &f)) continue;
+        int x = (int)(i % (size_t)g->width), y = (int)(i / (size_t)g->width);
+        vec3 jx, jy;
+        FsfScreenAxes ax;
+        if (!fsf_pixel_jacobian(g, x, y, &jx, &jy) || !fsf_screen_axes(jx, jy, f.n, f.t, &ax)) continue;
+        StepCtx sc = {in->mu, {ax.step_m[0], ax.step_m[1]}};
+        FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
+        bool known = pick.lo <= pick.hi;
+        float k_mean = known ? 0.5f * (pick.lo + pick.hi) : 0.0f, spread = known ? pick.hi - pick.lo : 0.0f;
+        if (known) j->k_lo[i] = pick.lo, j->k_hi[i] = pick.hi;
+        for (int a = 0; a < 2; ++a) {
+            pp->dir[a][0] = ax.dir[a][0], pp->dir[a][1] = ax.dir[a][1];
+            /* fsf_filter.h: seen from x, the neighbour t steps away has v' + eta t */
+            pp->eta_m[a] = k_mean * v3_dot(ax.step_world[a], f.t[a]);
+            float sigma_px = known ? sigma_steps(in->mu, spread, ax.step_m[a]) : pick.cap_px;
+            /* the parallax bound: taps (2 sigma) move the nearest hits by at most parallax_v */
+            if (known && pick.hi > 0.0f)
+                sigma_px = fminf(sigma_px, in->parallax_v / (FSF_RADIUS_SIGMAS * pick.hi * ax.step_m[a]));
+            pp->sigma_px[a] = sigma_px < pick.cap_px ? sigma_px : pick.cap_px;
+        }
+    }
+}
+
+bool fsf_bounce_params(const FsfBounceIn *in, FsfPixel *px, float *k_lo, float *k_hi)
+{
+    const float *bounce = sample_store_field(in->store, SAMPLE_FIELD_BOUNCE);
+    if (!bounce) return false;
+    size_t n = (size_t)in->g->width * (size_t)in->g->height;
+    Job j = {0};
+    j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
+    float h_floor_m = in->h_min_frac * in->g->scene_size_world;
+    SlopeCtx sc = {bounce, in->y, in->g->nrm4, (size_t)sample_store_capacity(in->store),
+                   h_floor_m > 0.0f ? 1.0f / h_floor_m : INFINITY};
+    /* only the centre's object: the filter takes light from no other surface */
+    bool ok = sc.cap > 0 && fsf_slope_windows_per_object(in->store, in->g, sample_slope, &sc, &j.wnd);
+    if (ok) recon_parallel_for(n, params_range, &j);
+    fsf_slope_windows_free(&j.wnd);
+    return ok;
+}

@@ -1,0 +1,32 @@
+/* FSF's gather directions (shared by the soft-shadow and the indirect parameters): for two
+ * axes in a receiver's tangent plane, the screen direction along which one pixel step moves
+ * the receiver point along each axis (FSF Fig. 5a).
+ *
+ * With J = [dP/dx dP/dy] the pixel's world Jacobian (from its neighbours' mean positions,
+ * receiver metres per pixel step), the direction for a tangent axis u_t is the least-squares
+ * solution a of J a = u_t, normalised to one pixel step; the receiver then moves by J a
+ * (step_world) per step. */
+#ifndef WEDGE_RECON_FSF_SCREEN_AXES_H
+#define WEDGE_RECON_FSF_SCREEN_AXES_H
+
+#include <stdbool.h>
+
+#include "core/vec.h"
+#include "recon/gbuffer.h"
+
+/* dP per pixel step along screen x (jx) and y (jy) of pixel (x, y): central differences
+ * over neighbours on the same surface (hit, not mixed, normals within ~25 deg), else one-sided;
+ * false when a column has neither neighbour. */
+bool fsf_pixel_jacobian(const GBuffer *g, int x, int y, vec3 *jx, vec3 *jy);
+
+typedef struct {
+    float dir[2][2];        /* unit screen direction per axis (pixel steps along x, y) */
+    vec3 step_world[2];     /* receiver displacement per step along dir[a] (metres) */
+    float step_m[2];        /* |step_world[a]| */
+} FsfScreenAxes;
+
+/* The gather directions of axes axis[0], axis[1] (world; projected onto the tangent plane of
+ * normal n first). false where J is singular or an axis is normal to the surface. */
+bool fsf_screen_axes(vec3 jx, vec3 jy, vec3 n, const vec3 axis[2], FsfScreenAxes *out);
+
+#endif
