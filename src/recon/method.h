@@ -72,6 +72,9 @@ typedef struct {
     EffectMask effects;         /* the effects it can filter */
     bool adaptive;              /* has a plan: pass 1, then per-pixel counts; else a fixed count */
     unsigned sample_fields;     /* per-sample store fields it reads (SAMPLE_FIELD_*); 0: per-pixel only */
+    /* Optional: the part of sample_fields the given effects read (the store keeps only the
+     * frame's); NULL: all of sample_fields whatever the effects. */
+    unsigned (*sample_fields_for)(EffectMask effects);
     EffectMask ray_geometry;    /* pass 1 records SampleRecord's shadow/bounce ray geometry when
                                  * the method filters one of these effects */
 

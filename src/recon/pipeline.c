@@ -371,7 +371,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         int k = c->pass1_spp(p->slots[s].effects);
         if (k > pass1) pass1 = k;
         if (!c->adaptive && k > fixed_max) fixed_max = k;
-        fields |= c->sample_fields;
+        fields |= c->sample_fields_for ? c->sample_fields_for(p->slots[s].effects) : c->sample_fields;
         shading_filtered |= (p->slots[s].effects & (EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT))) != 0;
     }
     if (!shading_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING; /* nothing to replace the light with */
