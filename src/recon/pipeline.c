@@ -385,10 +385,13 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * 6.0e-4 -> 4.3e-4); the adaptive methods' plans still set their filters (mu from the
      * budget) and find the budget spent: no pass 2. Where it takes motion alone (moving objects
      * over a static frame the adaptive filters serve) the plan keeps the budget: traced
-     * uniformly, motion_shading at 32 spp lost 30% (4.4e-4 -> 5.8e-4). */
+     * uniformly, motion_shading at 32 spp lost 30% (4.4e-4 -> 5.8e-4). An adaptive method may
+     * ask the same (budget_in_pass1: FSF, whose filter reads only the store's pass-1 samples). */
     bool budget_in_pass1 = false;
     for (int s = 0; s < p->slot_count && !p->fixed_only && p->opt.spp > 0; ++s)
-        if (!p->slots[s].cls->adaptive && (p->slots[s].effects & EFFECT_BIT(EFFECT_DEFOCUS))) budget_in_pass1 = true;
+        if ((!p->slots[s].cls->adaptive && (p->slots[s].effects & EFFECT_BIT(EFFECT_DEFOCUS))) ||
+            p->slots[s].cls->budget_in_pass1)
+            budget_in_pass1 = true;
     if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
     if (!p->fixed_only && !budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;

@@ -1,0 +1,35 @@
+/* FSF's extra samples for defocus (FSF section 5, "Adaptive Sampling for Depth of Field"):
+ * a pixel whose lens-slope range straddles the focal plane (fsf_lens_straddles) cannot be
+ * sheared, is filtered axis-aligned and narrowly (often not at all: it keeps its mean), so
+ * it gets a fixed number of samples more in a second pass; every other pixel keeps pass 1's.
+ *
+ * The decision is fsf_lens_params' own (same windows, same pick, same store: the store keeps
+ * pass 1's samples only, so the filter later sees the ranges the plan saw). The extra samples
+ * reach the image through the pixel's mean (the composite value4 its stored samples are
+ * scaled to, fsf_match_pixel); the store does not keep them (sample_store.h counts them as
+ * dropped): a neighbour's taps see pass 1's samples as before. */
+#ifndef WEDGE_RECON_FSF_LENS_PLAN_H
+#define WEDGE_RECON_FSF_LENS_PLAN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "recon/gbuffer.h"
+#include "recon/sample_store.h"
+
+/* FSF section 5 adds 36 samples to such pixels (about 2.2 more per pixel on average in the
+ * paper's scene). Measured here over 0/16/36/64 (docs/benchmarks.md, "FSF: extra samples where
+ * defocus straddles the focal plane"). */
+#define FSF_LENS_STRADDLE_EXTRA_SPP 36
+
+/* straddle[i] = 1 where pixel i's slope range (over the store's samples, knob mu as the
+ * filter's) straddles the focal plane, else 0. false when out of memory or the store lacks
+ * the depth field. */
+bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, unsigned char *straddle);
+
+/* The plan: spp_total[i] = max(spp_now[i], pass1_spp + extra_spp) at straddling pixels,
+ * spp_now[i] elsewhere. */
+void fsf_lens_plan(const unsigned char *straddle, size_t n, int pass1_spp, int extra_spp, const float *spp_now,
+                   int *spp_total);
+
+#endif
