@@ -8,6 +8,8 @@
  *   budget    with --spp N the frame is the fixed-count FSF: N samples everywhere (at 16:
  *             the frame before the plan existed; at 24: no extras bought with the budget)
  *   error     at the straddling pixels the relMSE falls against the fixed-count frame
+ *   beside    with AAF on the soft shadows of the combined bench scene (64x64), the frame takes
+ *             the per-pixel maximum of the two plans: FSF's straddlers have at least 16 + 36
  *   identity  pixels that neither straddle nor lie within two tap radii of a straddler are
  *             bit-identical to the fixed-count frame's (the extra samples reach the image
  *             through the straddlers' own means only) */
@@ -71,6 +73,25 @@ static double rel_mse_where(const float *img, const float *ref, const unsigned c
     return count ? sum / (3.0 * count) : 0.0;
 }
 
+/* The combined scene's soft shadows to AAF, its defocus to FSF: every straddler has FSF's count
+ * (or more, from AAF's plan), every pixel at least pass 1's. */
+static void check_beside(const ReconPipeline *p, void *ctx)
+{
+    long *short_pixels = ctx;
+    const ReconResult *res = recon_pipeline_result(p);
+    const GBuffer *g = recon_pipeline_gbuffer(p);
+    const float *straddle = recon_test_aov(res, "fsf.defocus.straddle");
+    CHECK(straddle != NULL && g->width == res->width && g->height == res->height);
+    CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_SOFT_SHADOWS), "aaf"));
+    long straddlers = 0;
+    for (size_t i = 0; straddle && i < (size_t)res->width * (size_t)res->height; ++i) {
+        int want = PASS1 + (straddle[i] > 0.5f ? FSF_LENS_STRADDLE_EXTRA_SPP : 0);
+        straddlers += straddle[i] > 0.5f;
+        *short_pixels += g->frame.spp[i] < (float)want;
+    }
+    CHECK(straddlers > 0);
+}
+
 /* far[i] = 1 where no straddler lies within REACH_PX (Chebyshev) of pixel i */
 static void far_from_straddlers(const unsigned char *straddle, unsigned char *far)
 {
@@ -121,6 +142,13 @@ int main(void)
     float *c = render(text, "fsf", 1, 24, &fixed);
     CHECK(c != NULL && fixed.wrong_counts == 0);
     free(c);
+    char *combined = recon_test_bench_scene_at("combined", 64);
+    CHECK(combined != NULL);
+    long short_pixels = 0;
+    ReconOptions beside = {.filter = "soft_shadows=aaf,defocus=fsf"};
+    free(combined ? recon_test_render_pipeline(combined, 1, &beside, check_beside, &short_pixels) : NULL);
+    CHECK(short_pixels == 0);
+    free(combined);
     fprintf(stderr, "straddling pixels' relMSE (%d seeds): fixed %d spp %.4g, with %d more %.4g; far pixels differing %ld of %ld\n",
             SEEDS, PASS1, e_fixed, FSF_LENS_STRADDLE_EXTRA_SPP, e_extra, far_differ, far_pixels);
     CHECK(e_extra < 0.6 * e_fixed);

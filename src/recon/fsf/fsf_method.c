@@ -426,7 +426,8 @@ static int fsf_aovs(ReconMethod *m, ReconAov *out, int max)
 const ReconMethodClass recon_method_fsf = {
     .name = "fsf",
     .title = "fast 4D sheared filtering (FSF): soft shadows, one-bounce diffuse indirect light and defocus, "
-             "per-sample store, four 1D passes, 16 samples (or --spp) plus 36 where defocus straddles the focal plane",
+             "per-sample store, four 1D passes, 16 samples plus 36 where defocus straddles the focal plane (--spp N: N "
+             "everywhere)",
     .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_INDIRECT),
     .adaptive = true,
     .budget_in_pass1 = true,
