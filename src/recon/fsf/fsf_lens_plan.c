@@ -5,19 +5,17 @@
 
 #include "recon/fsf/fsf_lens.h"
 
-bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, unsigned char *straddle)
+bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, FsfPixel *px, float *k_lo, float *k_hi,
+                         unsigned char *straddle)
 {
     size_t n = (size_t)g->width * (size_t)g->height;
     unsigned char *usable = malloc(n);
-    float *k_lo = malloc(n * sizeof(float)), *k_hi = malloc(n * sizeof(float));
-    FsfPixel *px = malloc(n * sizeof(FsfPixel));
-    bool ok = usable && k_lo && k_hi && px;
-    /* usable as fsf_lens_samples has it for the composite radiance (whose weight is 1) */
+    bool ok = usable != NULL;
     for (size_t i = 0; ok && i < n; ++i) usable[i] = sample_store_count(st, i) > 0;
     FsfLensIn in = {g, st, usable, mu};
     ok = ok && fsf_lens_params(&in, px, k_lo, k_hi);
     for (size_t i = 0; ok && i < n; ++i) straddle[i] = fsf_lens_straddles(k_lo[i], k_hi[i]);
-    free(usable), free(k_lo), free(k_hi), free(px);
+    free(usable);
     return ok;
 }
 

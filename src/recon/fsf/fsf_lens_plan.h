@@ -3,8 +3,9 @@
  * sheared, is filtered axis-aligned and narrowly (often not at all: it keeps its mean), so
  * it gets a fixed number of samples more in a second pass; every other pixel keeps pass 1's.
  *
- * The decision is fsf_lens_params' own (same windows, same pick, same store: the store keeps
- * pass 1's samples only, so the filter later sees the ranges the plan saw). The extra samples
+ * The decision is fsf_lens_params' own: the plan computes the lens parameters from the store,
+ * which keeps pass 1's samples only, and the filter reuses them (fsf_method.c), so the pixels
+ * given samples are the pixels filtered axis-aligned. The extra samples
  * reach the image through the pixel's mean (the composite value4 its stored samples are
  * scaled to, fsf_match_pixel); the store does not keep them (sample_store.h counts them as
  * dropped): a neighbour's taps see pass 1's samples as before. */
@@ -14,6 +15,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "recon/fsf/fsf_filter.h"
 #include "recon/gbuffer.h"
 #include "recon/sample_store.h"
 
@@ -22,10 +24,12 @@
  * defocus straddles the focal plane"). */
 #define FSF_LENS_STRADDLE_EXTRA_SPP 36
 
-/* straddle[i] = 1 where pixel i's slope range (over the store's samples, knob mu as the
- * filter's) straddles the focal plane, else 0. false when out of memory or the store lacks
- * the depth field. */
-bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, unsigned char *straddle);
+/* fsf_lens_params over the store's samples with every pixel that has one usable (as
+ * fsf_lens_samples has it for the composite radiance, whose weight is 1), and straddle[i] = 1
+ * where pixel i's range straddles the focal plane, else 0. false when out of memory or the
+ * store lacks the depth field. */
+bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, FsfPixel *px, float *k_lo, float *k_hi,
+                         unsigned char *straddle);
 
 /* The plan: spp_total[i] = max(spp_now[i], pass1_spp + extra_spp) at straddling pixels,
  * spp_now[i] elsewhere. */

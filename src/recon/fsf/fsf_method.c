@@ -61,8 +61,12 @@ struct ReconMethod {
     float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
     float *straddle_aov;         /* defocus: 1 where the lens slopes straddle the focal plane */
     unsigned char *straddle;     /* the plan's straddlers, found at the first plan */
+    FsfPixel *lens_px;           /* the plan's lens parameters, which the filter reuses ... */
+    float *lens_k_lo, *lens_k_hi;
+    bool lens_planned;           /* ... when set */
     bool planned;                /* straddle and pass1_spp are set */
     int pass1_spp;               /* the samples every pixel had at the first plan */
+    int spp_budget;              /* --spp (0: none): traced in pass 1, nothing to plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
 };
@@ -99,6 +103,9 @@ static void fsf_destroy(ReconMethod *m)
     free(m->lens_spread_aov);
     free(m->straddle_aov);
     free(m->straddle);
+    free(m->lens_px);
+    free(m->lens_k_lo);
+    free(m->lens_k_hi);
     free(m->ind_eta_aov);
     free(m->ind_sigma_aov);
     free(m->ind_spread_aov);
@@ -144,21 +151,35 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->store = s->store;
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
     m->effects = s->effects;
+    m->spp_budget = s->spp_budget;
     *out = m;
     return true;
+}
+
+/* The plan's lens parameters (fsf_lens_straddlers), kept for the filter. */
+static bool plan_lens(ReconMethod *m)
+{
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    m->lens_px = malloc(n * sizeof(FsfPixel));
+    m->lens_k_lo = malloc(n * sizeof(float)), m->lens_k_hi = malloc(n * sizeof(float));
+    return m->lens_px && m->lens_k_lo && m->lens_k_hi &&
+           (m->lens_planned = fsf_lens_straddlers(m->g, m->store, m->mu, m->lens_px, m->lens_k_lo, m->lens_k_hi,
+                                                  m->straddle));
 }
 
 /* FSF section 5: pass 1's count everywhere, FSF_LENS_STRADDLE_EXTRA_SPP more where the lens
  * slopes straddle the focal plane. The straddlers depend on pass 1's stored samples and FSF's
  * own knob only, so they are found once (the pipeline may plan several times: a budget search,
- * progressive steps); the search's mu does not change FSF's filter (m->mu) and so not the plan. */
+ * progressive steps); the search's mu does not change FSF's filter (m->mu) and so not the plan.
+ * Under a budget the pipeline traces it all in pass 1 (budget_in_pass1) and has no room for
+ * extras: nothing to find (the filter then computes its parameters itself). */
 static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
 {
     (void)mu;
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     if (!m->planned) {
         m->pass1_spp = n ? (int)spp_now[0] : 0;
-        if (effect_in(m->effects, EFFECT_DEFOCUS) && !fsf_lens_straddlers(m->g, m->store, m->mu, m->straddle)) {
+        if (effect_in(m->effects, EFFECT_DEFOCUS) && m->spp_budget <= 0 && !plan_lens(m)) {
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
             return false;
         }
@@ -381,7 +402,10 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
     FsfLensIn in = {m->g, m->store, b.usable, m->mu};
-    if (ok && !fsf_lens_params(&in, b.px, b.k_lo, b.k_hi)) {
+    if (ok && m->lens_planned) { /* the plan's, from the same store: the same ranges */
+        memcpy(b.px, m->lens_px, n * sizeof(FsfPixel));
+        memcpy(b.k_lo, m->lens_k_lo, n * sizeof(float)), memcpy(b.k_hi, m->lens_k_hi, n * sizeof(float));
+    } else if (ok && !fsf_lens_params(&in, b.px, b.k_lo, b.k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF lens parameters (or no depth field)");
     }
