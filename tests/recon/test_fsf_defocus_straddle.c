@@ -5,8 +5,9 @@
  *   plan      without a budget every pixel has 16 samples, 16 + FSF_LENS_STRADDLE_EXTRA_SPP
  *             exactly where the filter found a straddling range (AOV fsf.defocus.straddle),
  *             and some pixels but not most straddle
- *   budget    with --spp N the frame is the fixed-count FSF: N samples everywhere (at 16:
- *             the frame before the plan existed; at 24: no extras bought with the budget)
+ *   budget    with --spp N the frame is the fixed-count FSF: N samples everywhere, all in
+ *             pass 1 (at 16: the frame before the plan existed; at 24: no extras bought with
+ *             the budget, and none left out of the store)
  *   error     at the straddling pixels the relMSE falls against the fixed-count frame
  *   beside    with AAF on the soft shadows of the combined bench scene (64x64), the frame takes
  *             the per-pixel maximum of the two plans: FSF's straddlers have at least 16 + 36
@@ -42,6 +43,8 @@ static void check_frame(const ReconPipeline *p, void *ctx)
     CHECK(straddle != NULL && res->width == RES && res->height == RES && g->width == RES);
     if (!straddle || res->width != RES || g->width != RES) return;
     f->straddlers = f->wrong_counts = 0;
+    /* under a budget, one pass: the store (which keeps pass 1's samples) holds them all */
+    f->wrong_counts += f->budget && res->pass1_spp != f->budget;
     for (size_t i = 0; i < (size_t)RES * RES; ++i) {
         f->straddle[i] = straddle[i] > 0.5f;
         f->straddlers += f->straddle[i];

@@ -5,9 +5,9 @@
  *            per-sample store keeps each sample's shadow-ray geometry (light point, d_light,
  *            d_occ) and its direct light. The plan adds FSF_LENS_STRADDLE_EXTRA_SPP at defocus
  *            pixels whose lens slopes straddle the focal plane (fsf_lens_plan.h), nothing
- *            elsewhere or for the other effects. Under a --spp budget pass 1 takes the whole
- *            budget (budget_in_pass1: the store keeps pass 1's samples only) and no pixel gets
- *            more
+ *            elsewhere or for the other effects. Under a --spp budget FSF is the fixed-count
+ *            method it was (fixed_under_budget: the store keeps pass 1's samples only): the
+ *            budget in one pass, no plan
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
@@ -171,8 +171,8 @@ static bool plan_lens(ReconMethod *m)
  * slopes straddle the focal plane. The straddlers depend on pass 1's stored samples and FSF's
  * own knob only, so they are found once (the pipeline may plan several times: a budget search,
  * progressive steps); the search's mu does not change FSF's filter (m->mu) and so not the plan.
- * Under a budget the pipeline traces it all in pass 1 (budget_in_pass1) and has no room for
- * extras: nothing to find (the filter then computes its parameters itself). */
+ * Under a budget FSF does not plan (fixed_under_budget); should a pipeline ask anyway, it finds
+ * nothing (the filter then computes its parameters itself). */
 static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
 {
     (void)mu;
@@ -454,7 +454,7 @@ const ReconMethodClass recon_method_fsf = {
              "everywhere)",
     .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_INDIRECT),
     .adaptive = true,
-    .budget_in_pass1 = true,
+    .fixed_under_budget = true,
     .sample_fields = FSF_FIELDS_SHADOWS | FSF_FIELDS_DEFOCUS | FSF_FIELDS_INDIRECT,
     .sample_fields_for = fsf_sample_fields_for,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
