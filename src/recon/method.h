@@ -71,6 +71,9 @@ typedef struct {
     const char *title;          /* one line for `wedge info --filters` */
     EffectMask effects;         /* the effects it can filter */
     bool adaptive;              /* has a plan: pass 1, then per-pixel counts; else a fixed count */
+    bool fixed_under_budget;    /* adaptive, but a fixed-count method (the whole --spp budget in
+                                 * one pass) when a budget is given: its filter reads the
+                                 * per-sample store, which keeps pass 1's samples only (FSF) */
     unsigned sample_fields;     /* per-sample store fields it reads (SAMPLE_FIELD_*); 0: per-pixel only */
     /* Optional: the part of sample_fields the given effects read (the store keeps only the
      * frame's); NULL: all of sample_fields whatever the effects. */

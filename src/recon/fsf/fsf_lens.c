@@ -96,7 +96,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         if (!(pick.lo <= pick.hi)) continue; /* no samples around: nothing to filter with */
         j->k_lo[i] = pick.lo, j->k_hi[i] = pick.hi;
         float eta, sigma;
-        if (pick.lo < 0.0f && pick.hi > 0.0f) {
+        if (fsf_lens_straddles(pick.lo, pick.hi)) {
             /* straddles the focal plane: the axis-aligned fallback (FSF section 5) */
             eta = 0.0f;
             sigma = 0.5f / (fmaxf(-pick.lo, pick.hi) * in->mu);

@@ -44,6 +44,15 @@
 #define FSF_LENS_PROFILE_HALF 0.8862269f
 FsfGrid fsf_lens_grid(void);
 
+/* A slope range with samples on both sides of the focal plane (k runs through +-inf there):
+ * no single shear fits it, so the filter falls back to axis-aligned and the plan gives the
+ * pixel extra samples (FSF section 5, fsf_lens_plan.h). One test for both, so that the
+ * pixels given samples are exactly the pixels filtered axis-aligned. */
+static inline bool fsf_lens_straddles(float k_lo, float k_hi)
+{
+    return k_lo < 0.0f && k_hi > 0.0f;
+}
+
 /* The filter's coordinate of a lens point (unit disk): (u, -v). */
 static inline void fsf_lens_coord(float lens_u, float lens_v, float y[2])
 {

@@ -1,9 +1,13 @@
 /* Fast 4D sheared filtering (FSF, seeds/000) of soft shadows as a reconstruction method
  * (recon/method.h).
  *
- *   samples  a fixed count for the whole frame (16 per pixel, or --spp; FSF section 5 uses
- *            4-16 in one pass); the pipeline's per-sample store keeps each sample's shadow-ray
- *            geometry (light point, d_light, d_occ) and its direct light
+ *   samples  a fixed count in pass 1 (16 per pixel; FSF section 5 uses 4-16); the pipeline's
+ *            per-sample store keeps each sample's shadow-ray geometry (light point, d_light,
+ *            d_occ) and its direct light. The plan adds FSF_LENS_STRADDLE_EXTRA_SPP at defocus
+ *            pixels whose lens slopes straddle the focal plane (fsf_lens_plan.h), nothing
+ *            elsewhere or for the other effects. Under a --spp budget FSF is the fixed-count
+ *            method it was (fixed_under_budget: the store keeps pass 1's samples only): the
+ *            budget in one pass, no plan
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
@@ -21,7 +25,8 @@
  *   AOVs     fsf.eta_m_per_px (the shear along the light's first axis, light metres per pixel
  *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo); for
  *            defocus fsf.defocus.eta_lens_per_px (the shear, unit lens per pixel step),
- *            fsf.defocus.sigma_px, fsf.defocus.k_spread; for indirect light
+ *            fsf.defocus.sigma_px, fsf.defocus.k_spread, fsf.defocus.straddle (1: the
+ *            slope range straddles the focal plane); for indirect light
  *            fsf.indirect.shear (v units per pixel step along t1), fsf.indirect.sigma_px,
  *            fsf.indirect.k_spread (k_hi - k_lo, v units per receiver metre) */
 #include <math.h>
@@ -32,6 +37,7 @@
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_lens.h"
+#include "recon/fsf/fsf_lens_plan.h"
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_params.h"
 #include "recon/method.h"
@@ -53,6 +59,14 @@ struct ReconMethod {
     EffectMask effects;
     float *eta_aov, *sigma_aov, *spread_aov;
     float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
+    float *straddle_aov;         /* defocus: 1 where the lens slopes straddle the focal plane */
+    unsigned char *straddle;     /* the plan's straddlers, found at the first plan */
+    FsfPixel *lens_px;           /* the plan's lens parameters, which the filter reuses ... */
+    float *lens_k_lo, *lens_k_hi;
+    bool lens_planned;           /* ... when set */
+    bool planned;                /* straddle and pass1_spp are set */
+    int pass1_spp;               /* the samples every pixel had at the first plan */
+    int spp_budget;              /* --spp (0: none): traced in pass 1, nothing to plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
 };
@@ -87,6 +101,11 @@ static void fsf_destroy(ReconMethod *m)
     free(m->lens_eta_aov);
     free(m->lens_sigma_aov);
     free(m->lens_spread_aov);
+    free(m->straddle_aov);
+    free(m->straddle);
+    free(m->lens_px);
+    free(m->lens_k_lo);
+    free(m->lens_k_hi);
     free(m->ind_eta_aov);
     free(m->ind_sigma_aov);
     free(m->ind_spread_aov);
@@ -110,12 +129,14 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->lens_eta_aov = calloc(n, sizeof(float));
         m->lens_sigma_aov = calloc(n, sizeof(float));
         m->lens_spread_aov = calloc(n, sizeof(float));
+        m->straddle_aov = calloc(n, sizeof(float));
+        m->straddle = calloc(n, 1);
         m->ind_eta_aov = calloc(n, sizeof(float));
         m->ind_sigma_aov = calloc(n, sizeof(float));
         m->ind_spread_aov = calloc(n, sizeof(float));
     }
     if (!m || !m->shade || !m->eta_aov || !m->sigma_aov || !m->spread_aov || !m->lens_eta_aov || !m->lens_sigma_aov ||
-        !m->lens_spread_aov || !m->ind_eta_aov || !m->ind_sigma_aov || !m->ind_spread_aov) {
+        !m->lens_spread_aov || !m->straddle_aov || !m->straddle || !m->ind_eta_aov || !m->ind_sigma_aov || !m->ind_spread_aov) {
         fsf_destroy(m);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
         return false;
@@ -130,7 +151,41 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->store = s->store;
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
     m->effects = s->effects;
+    m->spp_budget = s->spp_budget;
     *out = m;
+    return true;
+}
+
+/* The plan's lens parameters (fsf_lens_straddlers), kept for the filter. */
+static bool plan_lens(ReconMethod *m)
+{
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    m->lens_px = malloc(n * sizeof(FsfPixel));
+    m->lens_k_lo = malloc(n * sizeof(float)), m->lens_k_hi = malloc(n * sizeof(float));
+    return m->lens_px && m->lens_k_lo && m->lens_k_hi &&
+           (m->lens_planned = fsf_lens_straddlers(m->g, m->store, m->mu, m->lens_px, m->lens_k_lo, m->lens_k_hi,
+                                                  m->straddle));
+}
+
+/* FSF section 5: pass 1's count everywhere, FSF_LENS_STRADDLE_EXTRA_SPP more where the lens
+ * slopes straddle the focal plane. The straddlers depend on pass 1's stored samples and FSF's
+ * own knob only, so they are found once (the pipeline may plan several times: a budget search,
+ * progressive steps); the search's mu does not change FSF's filter (m->mu) and so not the plan.
+ * Under a budget FSF does not plan (fixed_under_budget); should a pipeline ask anyway, it finds
+ * nothing (the filter then computes its parameters itself). */
+static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
+{
+    (void)mu;
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    if (!m->planned) {
+        m->pass1_spp = n ? (int)spp_now[0] : 0;
+        if (effect_in(m->effects, EFFECT_DEFOCUS) && m->spp_budget <= 0 && !plan_lens(m)) {
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
+            return false;
+        }
+        m->planned = true;
+    }
+    fsf_lens_plan(m->straddle, n, m->pass1_spp, FSF_LENS_STRADDLE_EXTRA_SPP, spp_now, spp_total);
     return true;
 }
 
@@ -347,7 +402,10 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
     FsfLensIn in = {m->g, m->store, b.usable, m->mu};
-    if (ok && !fsf_lens_params(&in, b.px, b.k_lo, b.k_hi)) {
+    if (ok && m->lens_planned) { /* the plan's, from the same store: the same ranges */
+        memcpy(b.px, m->lens_px, n * sizeof(FsfPixel));
+        memcpy(b.k_lo, m->lens_k_lo, n * sizeof(float)), memcpy(b.k_hi, m->lens_k_hi, n * sizeof(float));
+    } else if (ok && !fsf_lens_params(&in, b.px, b.k_lo, b.k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF lens parameters (or no depth field)");
     }
@@ -357,6 +415,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
+    for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b.k_lo[i], b.k_hi[i]) ? 1.0f : 0.0f;
     free(guide);
     buffers_free(&b);
     return ok;
@@ -376,6 +435,8 @@ static int fsf_aovs(ReconMethod *m, ReconAov *out, int max)
         if (count < max) out[count++] = (ReconAov){"fsf.defocus.sigma_px", m->lens_sigma_aov, "filter sigma in pixels"};
         if (count < max)
             out[count++] = (ReconAov){"fsf.defocus.k_spread", m->lens_spread_aov, "slope spread (unit lens per pixel)"};
+        if (count < max)
+            out[count++] = (ReconAov){"fsf.defocus.straddle", m->straddle_aov, "1: slopes straddle the focal plane"};
     }
     if (effect_in(m->effects, EFFECT_INDIRECT)) {
         if (count < max) out[count++] = (ReconAov){"fsf.indirect.shear", m->ind_eta_aov, "v units per pixel step"};
@@ -389,14 +450,17 @@ static int fsf_aovs(ReconMethod *m, ReconAov *out, int max)
 const ReconMethodClass recon_method_fsf = {
     .name = "fsf",
     .title = "fast 4D sheared filtering (FSF): soft shadows, one-bounce diffuse indirect light and defocus, "
-             "per-sample store, four 1D passes, fixed samples (default 16)",
+             "per-sample store, four 1D passes, 16 samples plus 36 where defocus straddles the focal plane (--spp N: N "
+             "everywhere)",
     .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_INDIRECT),
-    .adaptive = false,
+    .adaptive = true,
+    .fixed_under_budget = true,
     .sample_fields = FSF_FIELDS_SHADOWS | FSF_FIELDS_DEFOCUS | FSF_FIELDS_INDIRECT,
     .sample_fields_for = fsf_sample_fields_for,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
     .pass1_spp = fsf_pass1_spp,
     .create = fsf_create,
+    .plan = fsf_plan,
     .open_device = fsf_open_device,
     .light_factor = fsf_light_factor,
     .filter_light = fsf_filter_light,
