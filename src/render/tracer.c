@@ -1079,9 +1079,10 @@ static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time0
     return true;
 }
 
-static inline void init_rayhit(struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01, float k)
+static inline void init_rayhit(struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01, float k,
+                               unsigned skip_mask)
 {
-    init_ray(&rh->ray, o, d, tmax, time01, k, 0u);
+    init_ray(&rh->ray, o, d, tmax, time01, k, skip_mask);
     rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
@@ -1091,7 +1092,7 @@ bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float tim
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
-    init_rayhit(&rh, o, d, tmax, time01, tr->tracer_from_world);
+    init_rayhit(&rh, o, d, tmax, time01, tr->tracer_from_world, 0u);
     rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
     return hit_from_rayhit(tr, o, d, time01, shade_all, &rh, hit);
 }
@@ -1185,7 +1186,8 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
                 }
             }
         } else {
-            for (int i = 0; i < m; ++i) init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world);
+            for (int i = 0; i < m; ++i)
+                init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
             if (tr->batch_mode == TRACER_BATCH_STREAM)
                 rtcIntersect1M(scene, &ctx, rh, (unsigned)m, sizeof rh[0]);
             else

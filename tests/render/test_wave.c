@@ -198,6 +198,15 @@ static void test_shadow_rays_skip_their_light(void)
             CHECK(occ[i] == expect[i]);
             if (occ[i] != expect[i]) fprintf(stderr, "mode %d ray %d: occluded %d\n", m, i, occ[i]);
         }
+        /* the closest hit of a recorded shadow ray (the occluder's distance) skips the same */
+        SurfaceHit hit[4];
+        bool found[4];
+        tracer_intersect_batch(&tr, rays, 4, false, false, hit, found);
+        const float t_expect[4] = {2.5f, -1.0f, 4.5f, 2.5f};
+        for (int i = 0; i < 4; ++i) {
+            CHECK(found[i] == (t_expect[i] > 0.0f));
+            if (found[i] && t_expect[i] > 0.0f) CHECK_NEAR(hit[i].t, t_expect[i], 1e-5);
+        }
     }
     tracer_free(&tr);
     scene_desc_free(&scene);
