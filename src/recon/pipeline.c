@@ -171,7 +171,7 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * AddressSanitizer aborted when that thread exited ("unable to unmap"). Only rank 0
      * reconstructs, so only it loads the driver: the other ranks would spend the same 30-40
      * ms of CPU before their first sample, which rank 0's first gather then waits for (a bad
-     * --cl-device still stops every rank: the caller's dist_all_ok). */
+     * --cl-device still stops every rank: the caller's dist_max_int). */
     if (p->filtering && is_root(p) && !cl_runtime_check_device(o->cl_device, d)) {
         free(p);
         return false;
@@ -245,7 +245,6 @@ static void dist_marks_print(ReconPipeline *p)
     }
     p->mark_count = 0;
 }
-
 
 /* The counts this rank traces: counts (or uniform where counts is NULL) for the pixels it
  * owns, 0 for the others; without ranks, counts itself (NULL: uniform). */
