@@ -47,13 +47,12 @@ float fsf_bounce_slope(vec3 n, vec3 d, float t_hit_m)
 
 FsfGrid fsf_bounce_grid(void) { return fsf_grid_default(FSF_BOUNCE_V_HALF, FSF_BOUNCE_V_HALF); }
 
-/* Pixel i's frame from its guides. */
-static bool pixel_frame(const GBuffer *g, size_t i, FsfBounceFrame *f)
+/* Pixel i's frame from its guides, and the screen Jacobian it was built from. */
+static bool pixel_frame(const GBuffer *g, size_t i, FsfBounceFrame *f, vec3 *jx, vec3 *jy)
 {
     int x = (int)(i % (size_t)g->width), y = (int)(i / (size_t)g->width);
-    vec3 jx, jy;
-    if (!g->hit[i] || !fsf_pixel_jacobian(g, x, y, &jx, &jy)) return false;
-    return fsf_bounce_frame(jx, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]), f);
+    if (!g->hit[i] || !fsf_pixel_jacobian(g, x, y, jx, jy)) return false;
+    return fsf_bounce_frame(*jx, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]), f);
 }
 
 bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
@@ -67,7 +66,8 @@ bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *va
         int cnt = sample_store_count(st, i);
         count[i] = cnt;
         FsfBounceFrame f;
-        bool framed = pixel_frame(g, i, &f);
+        vec3 jx, jy;
+        bool framed = pixel_frame(g, i, &f, &jx, &jy);
         usable[i] = framed && cnt > 0 && value4[4 * i + 3] > 0.0f && !g->mixed[i];
         float scale[3];
         fsf_match_pixel(value4 + 4 * i, ind + i * (size_t)cap * 3, cnt, scale);
@@ -136,11 +136,9 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         *pp = fsf_pixel_left_out();
         j->k_lo[i] = j->k_hi[i] = 0.0f;
         FsfBounceFrame f;
-        if (!in->usable[i] || !pixel_frame(g, i, &f)) continue;
-        int x = (int)(i % (size_t)g->width), y = (int)(i / (size_t)g->width);
         vec3 jx, jy;
         FsfScreenAxes ax;
-        if (!fsf_pixel_jacobian(g, x, y, &jx, &jy) || !fsf_screen_axes(jx, jy, f.n, f.t, &ax)) continue;
+        if (!in->usable[i] || !pixel_frame(g, i, &f, &jx, &jy) || !fsf_screen_axes(jx, jy, f.n, f.t, &ax)) continue;
         StepCtx sc = {in->mu, {ax.step_m[0], ax.step_m[1]}};
         FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
         bool known = pick.lo <= pick.hi;
