@@ -66,7 +66,6 @@ struct ReconMethod {
     bool lens_planned;           /* ... when set */
     bool planned;                /* straddle and pass1_spp are set */
     int pass1_spp;               /* the samples every pixel had at the first plan */
-    int spp_budget;              /* --spp (0: none): traced in pass 1, nothing to plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
 };
@@ -151,7 +150,6 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->store = s->store;
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
     m->effects = s->effects;
-    m->spp_budget = s->spp_budget;
     *out = m;
     return true;
 }
@@ -171,15 +169,15 @@ static bool plan_lens(ReconMethod *m)
  * slopes straddle the focal plane. The straddlers depend on pass 1's stored samples and FSF's
  * own knob only, so they are found once (the pipeline may plan several times: a budget search,
  * progressive steps); the search's mu does not change FSF's filter (m->mu) and so not the plan.
- * Under a budget FSF does not plan (fixed_under_budget); should a pipeline ask anyway, it finds
- * nothing (the filter then computes its parameters itself). */
+ * Under a budget the pipeline does not call it (fixed_under_budget), and the filter computes its
+ * parameters itself. */
 static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
 {
     (void)mu;
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     if (!m->planned) {
         m->pass1_spp = n ? (int)spp_now[0] : 0;
-        if (effect_in(m->effects, EFFECT_DEFOCUS) && m->spp_budget <= 0 && !plan_lens(m)) {
+        if (effect_in(m->effects, EFFECT_DEFOCUS) && !plan_lens(m)) {
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
             return false;
         }
