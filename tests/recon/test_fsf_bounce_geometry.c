@@ -73,7 +73,9 @@ int main(void)
     unsigned char *usable = malloc(n_px);
     FsfPixel *px = malloc(n_px * sizeof(FsfPixel));
     for (size_t i = 0; i < n_px; ++i) value4[4 * i] = value4[4 * i + 1] = value4[4 * i + 2] = value4[4 * i + 3] = 1.0f;
-    CHECK(fsf_bounce_samples(&g, st, value4, usable, yv, v, count));
+    long long nonfinite = 0;
+    CHECK(fsf_bounce_samples(&g, st, value4, usable, yv, v, count, &nonfinite));
+    CHECK(nonfinite == 0);
     FsfBounceIn in = {&g, st, yv, usable, 1.0f, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
     CHECK(fsf_bounce_params(&in, px, k_lo, k_hi));
 

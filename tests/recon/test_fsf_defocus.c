@@ -116,7 +116,9 @@ static void inputs_make(Inputs *in, const Plane *f)
     in->k_lo = malloc(n * sizeof(float)), in->k_hi = malloc(n * sizeof(float));
     in->guide = malloc(n * 8 * sizeof(float));
     in->px = malloc(n * sizeof(FsfPixel));
-    CHECK(fsf_lens_samples(f->st, W, H, f->value4, in->usable, in->y, in->v, in->count));
+    long long nonfinite = 0;
+    CHECK(fsf_lens_samples(f->st, W, H, f->value4, in->usable, in->y, in->v, in->count, &nonfinite));
+    CHECK(nonfinite == 0);
     FsfLensIn li = {&f->g, f->st, in->usable, 1.0f};
     CHECK(fsf_lens_params(&li, in->px, in->k_lo, in->k_hi));
     fsf_lens_guides(n, in->guide, in->guide + 4 * n);

@@ -83,6 +83,17 @@ int main(void)
     uniform_params(&f, dY1, dY2, 0.0f, 0.0f);
     CHECK(max_rel_diff(&f, &g) < 1e-6);
 
+    /* fsf_scale_samples: the scaled values, and a product that overflows or is NaN written as
+     * 0 and counted, never passed on or dropped unsaid */
+    {
+        const float rgb[6] = {1.0f, 2.0f, 3.0f, 3.0e38f, NAN, 0.5f}, scale[3] = {2.0f, 4.0f, 0.5f};
+        float out[6];
+        long long bad = fsf_scale_samples(rgb, 2, scale, out);
+        CHECK(bad == 2);
+        CHECK(out[0] == 2.0f && out[1] == 8.0f && out[2] == 1.5f);
+        CHECK(out[3] == 0.0f && out[4] == 0.0f && out[5] == 0.25f);
+    }
+
     /* 2. Jittered samples and a shear between nodes: the factored filter discretises y1 (the
      * shift grid, linear between nodes) and y2 (bin centres); its difference from the brute
      * force shrinks as the grids refine. */

@@ -56,7 +56,7 @@ static bool pixel_frame(const GBuffer *g, size_t i, FsfBounceFrame *f, vec3 *jx,
 }
 
 bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
-                        float *v, int *count)
+                        float *v, int *count, long long *nonfinite)
 {
     const float *bounce = sample_store_field(st, SAMPLE_FIELD_BOUNCE), *ind = sample_store_field(st, SAMPLE_FIELD_INDIRECT);
     if (!bounce || !ind) return false;
@@ -76,11 +76,8 @@ bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *va
             const float *b = bounce + 4 * slot;
             if (framed) fsf_bounce_coord(&f, v3(b[0], b[1], b[2]), y + 2 * slot);
             else y[2 * slot] = y[2 * slot + 1] = 0.0f;
-            for (int ch = 0; ch < 3; ++ch) {
-                float val = ind[slot * 3 + (size_t)ch] * scale[ch];
-                v[slot * 3 + (size_t)ch] = isfinite(val) ? val : 0.0f;
-            }
         }
+        *nonfinite += fsf_scale_samples(ind + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
     }
     return true;
 }

@@ -77,10 +77,11 @@ FsfGrid fsf_bounce_grid(void);
 
 /* The store's samples as the filter's input (slots as FsfSamples): y the clamped v of each
  * sample in its pixel's frame, v its indirect light scaled so that the pixel's samples average
- * to its demodulated value4 (fsf_match_pixel); usable: value4 usable, samples, a frame.
- * false when the store lacks the bounce or indirect field. */
+ * to its demodulated value4 (fsf_match_pixel); usable: value4 usable, samples, a frame;
+ * *nonfinite gains the values written as 0 (fsf_scale_samples). false when the store lacks the
+ * bounce or indirect field. */
 bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
-                        float *v, int *count);
+                        float *v, int *count, long long *nonfinite);
 
 typedef struct {
     const GBuffer *g;

@@ -59,6 +59,18 @@ void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, fl
     }
 }
 
+long long fsf_scale_samples(const float *sample_rgb, int count, const float scale[3], float *out)
+{
+    long long nonfinite = 0;
+    for (size_t e = 0; e < 3 * (size_t)(count > 0 ? count : 0); ++e) {
+        float val = sample_rgb[e] * scale[e % 3];
+        bool finite = isfinite(val);
+        nonfinite += !finite;
+        out[e] = finite ? val : 0.0f;
+    }
+    return nonfinite;
+}
+
 /* Spacing of the shift grid along axis a: shift_nodes nodes over [-2 L, 2 L] (beyond 2 L the
  * box I(y - Y) misses every sample on the light). */
 static float node_step(const FsfGrid *g, int a) { return 4.0f * g->half_m[a] / (float)(g->shift_nodes - 1); }

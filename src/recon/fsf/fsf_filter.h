@@ -139,6 +139,10 @@ float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
  * mean (demodulation, a shading filter's result); the filter then blurs samples on the
  * pixel's own scale. */
 void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3]);
+/* out (3 floats per sample) = each of count samples' rgb times scale (fsf_match_pixel's); a
+ * product that is not finite is written as 0 and counted: the return value, which the method
+ * reports (a value cleaned up is never hidden). */
+long long fsf_scale_samples(const float *sample_rgb, int count, const float scale[3], float *out);
 
 /* The y2 bin of a light coordinate (clamped into [0, y2_bins)). */
 int fsf_y2_bin(const FsfGrid *g, float y2_m);

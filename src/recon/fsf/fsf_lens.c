@@ -23,7 +23,7 @@ float fsf_lens_slope(const ReconCamera *cam, float depth_cam)
 }
 
 bool fsf_lens_samples(const SampleStore *st, int width, int height, const float *value4, unsigned char *usable,
-                      float *y, float *v, int *count)
+                      float *y, float *v, int *count, long long *nonfinite)
 {
     const float *lens = sample_store_field(st, SAMPLE_FIELD_LENS), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
     if (!lens || !rad) return false;
@@ -38,11 +38,8 @@ bool fsf_lens_samples(const SampleStore *st, int width, int height, const float 
         for (int k = 0; k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
             fsf_lens_coord(lens[2 * slot], lens[2 * slot + 1], y + 2 * slot);
-            for (int ch = 0; ch < 3; ++ch) {
-                float val = rad[slot * 3 + (size_t)ch] * scale[ch];
-                v[slot * 3 + (size_t)ch] = isfinite(val) ? val : 0.0f;
-            }
         }
+        *nonfinite += fsf_scale_samples(rad + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
     }
     return true;
 }

@@ -69,10 +69,11 @@ float fsf_lens_slope(const ReconCamera *cam, float depth_cam);
 
 /* The store's samples as the filter's input (slots as FsfSamples): y (2 per slot) the lens
  * point (u, -v), v (3 per slot) the sample's radiance scaled so that the pixel's samples
- * average to its composite value4 (fsf_match_pixel); usable: pixels with samples. false when
- * the store lacks the lens or radiance field. */
+ * average to its composite value4 (fsf_match_pixel); usable: pixels with samples; *nonfinite
+ * gains the values written as 0 (fsf_scale_samples). false when the store lacks the lens or
+ * radiance field. */
 bool fsf_lens_samples(const SampleStore *st, int width, int height, const float *value4, unsigned char *usable,
-                      float *y, float *v, int *count);
+                      float *y, float *v, int *count, long long *nonfinite);
 
 typedef struct {
     const GBuffer *g;            /* size and camera */

@@ -213,7 +213,8 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
 
 /* The store's samples as the filter's input: light coordinates along the light's axes and
  * each sample's direct light demodulated like its pixel's mean (value4 / raw mean). */
-static bool gather(const ReconMethod *m, const float *value4, unsigned char *usable, float *y_m, float *v, int *count)
+static bool gather(const ReconMethod *m, const float *value4, unsigned char *usable, float *y_m, float *v, int *count,
+                   long long *nonfinite)
 {
     const SampleStore *st = m->store;
     const float *lf = sample_store_field(st, SAMPLE_FIELD_LIGHT), *dir = sample_store_field(st, SAMPLE_FIELD_DIRECT);
@@ -235,11 +236,8 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
             bool has = s[3] > 0.0f;
             y_m[2 * slot] = has ? v3_dot(q, u) : 0.0f;
             y_m[2 * slot + 1] = has ? v3_dot(q, w) : 0.0f;
-            for (int ch = 0; ch < 3; ++ch) {
-                float val = dir[slot * 3 + (size_t)ch] * scale[ch];
-                v[slot * 3 + (size_t)ch] = isfinite(val) ? val : 0.0f;
-            }
         }
+        *nonfinite += fsf_scale_samples(dir + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
     }
     return true;
 }
@@ -310,6 +308,15 @@ static bool buffers_alloc(const ReconMethod *m, Buffers *b, Diag *d)
     return false;
 }
 
+/* Sample values that came out NaN or infinite once scaled to their pixel (fsf_scale_samples)
+ * enter the filter as 0: said, with their count. */
+static void warn_nonfinite_samples(const char *what, long long nonfinite)
+{
+    if (nonfinite > 0)
+        fprintf(stderr, "wedge: warning: FSF: %lld %s sample values were NaN or infinite and were filtered as 0\n",
+                nonfinite, what);
+}
+
 /* The passes on one effect's inputs, then its AOVs: the shear and the width along the first
  * axis, the slope spread. */
 static bool filter_and_record(ReconMethod *m, const Buffers *b, const FsfGrid *grid, const FsfGuides *gd,
@@ -332,10 +339,12 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
     Buffers b;
     if (!buffers_alloc(m, &b, d)) return false;
     bool ok = true;
-    if (!gather(m, value4, b.usable, b.y, b.v, b.count)) {
+    long long nonfinite = 0;
+    if (!gather(m, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the light or direct field");
     }
+    warn_nonfinite_samples("direct-light", nonfinite);
     FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu};
     if (ok && !fsf_pixel_params(&in, b.px, b.k_lo, b.k_hi)) {
         ok = false;
@@ -356,10 +365,12 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     Buffers b;
     if (!buffers_alloc(m, &b, d)) return false;
     bool ok = true;
-    if (!fsf_bounce_samples(m->g, m->store, value4, b.usable, b.y, b.v, b.count)) {
+    long long nonfinite = 0;
+    if (!fsf_bounce_samples(m->g, m->store, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce or indirect field");
     }
+    warn_nonfinite_samples("indirect-light", nonfinite);
     FsfBounceIn in = {m->g, m->store, b.y, b.usable, m->mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
     if (ok && !fsf_bounce_params(&in, b.px, b.k_lo, b.k_hi)) {
         ok = false;
@@ -395,10 +406,12 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     float *guide = malloc(n * 8 * sizeof(float));
     bool ok = guide != NULL;
     if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
-    if (ok && !fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count)) {
+    long long nonfinite = 0;
+    if (ok && !fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
+    warn_nonfinite_samples("radiance", nonfinite);
     FsfLensIn in = {m->g, m->store, b.usable, m->mu};
     if (ok && m->lens_planned) { /* the plan's, from the same store: the same ranges */
         memcpy(b.px, m->lens_px, n * sizeof(FsfPixel));
