@@ -47,6 +47,8 @@ typedef struct {
     const char *cache_dir;
     int spp[MAX_LIST];
     int spp_count;
+    int baseline_spp[MAX_LIST]; /* --baseline-spp: the Monte Carlo baselines' counts (0 values: --spp) */
+    int baseline_spp_count;
     const ConvergeMethod *methods[MAX_LIST];
     int method_count;
     const char *mu[MAX_LIST]; /* kept as typed: used verbatim in file names and the CSV */
@@ -71,14 +73,17 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: wedge converge [SCENE] --spp LIST --methods LIST [--mu LIST] [--ref-spp N]\n"
-            "                      [--res WxH] [--cache DIR] [--seed N] [--threads N] [--no-plots]\n"
-            "                      --out DIR\n"
+            "                      [--baseline-spp LIST] [--res WxH] [--cache DIR] [--seed N]\n"
+            "                      [--threads N] [--no-plots] --out DIR\n"
             "       wedge converge [SCENE] --ref-key [--ref-spp N] [--res WxH] [--seed N]\n"
             "\n"
             "Renders a reference once (cached; default ref spp 4096), then every (method, mu, spp)\n"
             "with a fresh seed, and writes DIR/results.csv, DIR/speedup.csv, DIR/images/ and the\n"
             "plots DIR/error_vs_spp.png and DIR/error_vs_seconds.png. Without SCENE the scene\n"
             "embedded in the binary is used. LIST is comma-separated (e.g. 4,16,64).\n"
+            "--baseline-spp LIST runs the Monte Carlo baselines (mc, mc-ld) at these counts instead\n"
+            "of --spp, so that their error curve brackets the filters' errors (a filter at 8 spp often\n"
+            "has the error of Monte Carlo at 100 or more; outside the curve a speedup is extrapolated).\n"
             "\n"
             "methods:\n");
     for (int i = 0; i < converge_method_count(); ++i) {
@@ -109,6 +114,36 @@ static int split_list(char *s, const char **items, int max)
     return n;
 }
 
+/* Parses a sample-count list ("4,16,64") into out[]; prints the reason and returns false if bad. */
+static bool parse_spp_list(const char *list, const char *option, int *out, int *count)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", list);
+    const char *items[MAX_LIST];
+    int n = split_list(buf, items, MAX_LIST);
+    if (n <= 0) {
+        fprintf(stderr, "wedge converge: %s wants a list like 4,16,64\n", option);
+        return false;
+    }
+    *count = 0;
+    for (int i = 0; i < n; ++i) {
+        long long v;
+        if (!parse_int(items[i], 1, 1 << 24, &v)) {
+            fprintf(stderr, "wedge converge: bad spp '%s' in %s\n", items[i], option);
+            return false;
+        }
+        out[(*count)++] = (int)v;
+    }
+    return true;
+}
+
+static bool is_baseline(const ConvergeMethod *m)
+{
+    for (int b = 0; b < converge_baseline_method_count; ++b)
+        if (!strcmp(m->name, converge_baseline_methods[b])) return true;
+    return false;
+}
+
 /* Returned by parse_args after --help: nothing more to do. */
 #define HELP_SHOWN (-1)
 
@@ -118,7 +153,7 @@ static int parse_args(int argc, char **argv, ConvergeOptions *o)
     memset(o, 0, sizeof *o);
     o->ref_spp = 4096;
     o->seed = 1;
-    const char *spp_list = NULL, *method_list = NULL, *mu_list = NULL;
+    const char *spp_list = NULL, *baseline_spp_list = NULL, *method_list = NULL, *mu_list = NULL;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -138,6 +173,8 @@ static int parse_args(int argc, char **argv, ConvergeOptions *o)
             return WEDGE_EXIT_USAGE;
         } else if (!strcmp(a, "--spp")) {
             spp_list = v;
+        } else if (!strcmp(a, "--baseline-spp")) {
+            baseline_spp_list = v;
         } else if (!strcmp(a, "--methods")) {
             method_list = v;
         } else if (!strcmp(a, "--mu")) {
@@ -197,23 +234,13 @@ static int parse_args(int argc, char **argv, ConvergeOptions *o)
         return WEDGE_EXIT_USAGE;
     }
     /* The option strings are copied so that strtok can cut them. */
-    static char spp_buf[1024], method_buf[1024], mu_buf[1024];
-    snprintf(spp_buf, sizeof spp_buf, "%s", spp_list);
+    static char method_buf[1024], mu_buf[1024];
     snprintf(method_buf, sizeof method_buf, "%s", method_list);
-    const char *items[MAX_LIST];
-    int count = split_list(spp_buf, items, MAX_LIST);
-    if (count <= 0) {
-        fprintf(stderr, "wedge converge: --spp wants a list like 4,16,64\n");
+    if (!parse_spp_list(spp_list, "--spp", o->spp, &o->spp_count) ||
+        (baseline_spp_list && !parse_spp_list(baseline_spp_list, "--baseline-spp", o->baseline_spp, &o->baseline_spp_count)))
         return WEDGE_EXIT_USAGE;
-    }
-    for (int i = 0; i < count; ++i) {
-        long long n;
-        if (!parse_int(items[i], 1, 1 << 24, &n)) {
-            fprintf(stderr, "wedge converge: bad spp '%s' in --spp\n", items[i]);
-            return WEDGE_EXIT_USAGE;
-        }
-        o->spp[o->spp_count++] = (int)n;
-    }
+    const char *items[MAX_LIST];
+    int count;
     count = split_list(method_buf, items, MAX_LIST);
     if (count <= 0) {
         fprintf(stderr, "wedge converge: --methods wants a list like mc,mc-ld\n");
@@ -671,7 +698,8 @@ int cmd_converge(int argc, char **argv)
     char name_buf[256];
     const char *name = scene_name(&o, name_buf, sizeof name_buf);
 
-    int max_rows = o.method_count * (o.mu_count > 0 ? o.mu_count : 1) * o.spp_count; /* an upper bound */
+    int most_spp = o.spp_count > o.baseline_spp_count ? o.spp_count : o.baseline_spp_count;
+    int max_rows = o.method_count * (o.mu_count > 0 ? o.mu_count : 1) * most_spp; /* an upper bound */
     ConvergeRow *rows = calloc((size_t)max_rows, sizeof *rows);
     int row_count = 0, run_index = 0;
     rc = rows ? WEDGE_EXIT_OK : WEDGE_EXIT_RUNTIME;
@@ -684,10 +712,12 @@ int cmd_converge(int argc, char **argv)
             /* A filter with --mu sets each pixel's samples itself from mu: one run per mu. Without
              * --mu, each --spp value is the filter's average budget (wedge render --spp). */
             bool by_mu = m->takes_mu && mu;
-            int spp_runs = by_mu ? 1 : o.spp_count;
+            bool baseline = o.baseline_spp_count > 0 && is_baseline(m);
+            const int *spp = baseline ? o.baseline_spp : o.spp;
+            int spp_runs = by_mu ? 1 : baseline ? o.baseline_spp_count : o.spp_count;
             for (int si = 0; si < spp_runs && rc == WEDGE_EXIT_OK; ++si) {
                 char stem[4400], image[4500], report[4500], spp_label[32] = "";
-                if (!by_mu) snprintf(spp_label, sizeof spp_label, "-spp%d", o.spp[si]);
+                if (!by_mu) snprintf(spp_label, sizeof spp_label, "-spp%d", spp[si]);
                 if (!fmt_path(stem, sizeof stem, "%s/%s-%s%s%s%s", images, name, m->name, mu ? "-mu" : "",
                               mu ? mu : "", spp_label) ||
                     !fmt_path(image, sizeof image, "%s.exr", stem) || !fmt_path(report, sizeof report, "%s.json", stem)) {
@@ -698,7 +728,7 @@ int cmd_converge(int argc, char **argv)
                 /* A fresh seed per run (the reference used o.seed itself): runs are independent
                  * of each other and of the reference, so errors do not correlate. */
                 long long seed = o.seed + 1 + run_index++;
-                base_render_args(&l, &o, image, by_mu ? 0 : o.spp[si], seed, report);
+                base_render_args(&l, &o, image, by_mu ? 0 : spp[si], seed, report);
                 for (int k = 0; m->render_args[k]; ++k) arg_add(&l, m->render_args[k]);
                 if (mu) {
                     arg_add(&l, "--mu");
@@ -745,7 +775,7 @@ int cmd_converge(int argc, char **argv)
                 free(img);
                 rows[row_count++] = r;
                 csv_row(csv, name, &r);
-                printf("%-8s %-6s %6d %9.2f %9.3f %12.5g %12.5g %8.3f %7.4f\n", m->name, mu ? mu : "-", o.spp[si],
+                printf("%-8s %-6s %6d %9.2f %9.3f %12.5g %12.5g %8.3f %7.4f\n", m->name, mu ? mu : "-", spp[si],
                        r.spp_avg, r.seconds_total, r.relmse, r.mse, r.psnr, r.ssim);
                 fflush(stdout);
             }

@@ -16,6 +16,8 @@ expect_exit 1 "$WEDGE" converge --spp 4 --methods mc
 expect_exit 1 "$WEDGE" converge --spp 4 --methods nosuch --out "$tmp/x"
 grep -q "unknown method 'nosuch'; known: mc mc-ld auto auto-ld aaf aaf-ld" "$tmp/out.txt" || fail "unknown-method message"
 expect_exit 1 "$WEDGE" converge --spp 4,x --methods mc --out "$tmp/x"
+expect_exit 1 "$WEDGE" converge --spp 4 --baseline-spp 16,0 --methods mc --out "$tmp/x"
+grep -qx "wedge converge: bad spp '0' in --baseline-spp" "$tmp/out.txt" || fail "--baseline-spp message: $(cat "$tmp/out.txt")"
 expect_exit 1 "$WEDGE" converge --spp 4 --methods mc --out "$tmp/x" --res 12
 expect_exit 0 "$WEDGE" converge --help
 expect_exit 2 "$WEDGE" converge "$tmp/missing.pbrt" --spp 4 --methods mc --out "$tmp/x"
@@ -79,4 +81,13 @@ csv2="$tmp/sweep2/results.csv"
 # Only mc in that sweep: the speedups are against mc alone (2 aaf + 3 mc runs).
 sp2="$tmp/sweep2/speedup.csv"
 [ "$(awk -F, 'NR > 1 { printf "%s ", $4 }' "$sp2")" = "mc mc mc mc mc " ] || fail "sweep2 baselines: $(cat "$sp2")"
+# --baseline-spp: the baselines run at their own counts (bracketing a filter's error), the
+# filters at --spp; the speedup rows compare every run with the baselines' curve.
+"$WEDGE" converge "$tmp/tiny.pbrt" --spp 2 --baseline-spp 4,16 --methods mc,aaf --ref-spp 64 --cache "$tmp/cache" \
+  --out "$tmp/sweep3" --no-plots > "$tmp/log3" 2>&1 || { cat "$tmp/log3"; fail "sweep with --baseline-spp failed"; }
+csv3="$tmp/sweep3/results.csv"
+[ "$(awk -F, '$2 == "mc" { printf "%s ", $4 }' "$csv3")" = "4 16 " ] || fail "mc rows with --baseline-spp: $(cat "$csv3")"
+[ "$(awk -F, '$2 == "aaf"' "$csv3" | wc -l)" = 1 ] || fail "aaf rows with --baseline-spp: $(cat "$csv3")"
+[ -f "$tmp/sweep3/images/tiny-mc-spp16.exr" ] && [ -f "$tmp/sweep3/images/tiny-aaf-spp2.exr" ] ||
+  fail "images with --baseline-spp: $(ls "$tmp/sweep3/images")"
 echo "converge_cli: ok"
