@@ -34,7 +34,7 @@ bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
     t->table = calloc((size_t)t->comps * T * T * 2, sizeof(float));
     double *kre = malloc((size_t)bands * (2 * r + 1) * sizeof(double)), *kim = malloc((size_t)bands * (2 * r + 1) * sizeof(double));
     double *tr = malloc((size_t)M * M * sizeof(double));
-    double *are = malloc((size_t)bands * M * T * sizeof(double)), *aim = malloc((size_t)bands * M * T * sizeof(double));
+    double *are = malloc((size_t)n * M * T * sizeof(double)), *aim = malloc((size_t)n * M * T * sizeof(double)); /* q >= 0 */
     bool ok = t->table && kre && kim && tr && are && aim;
     /* kernel of band q at offset o steps: exp(j C^q o de) g(o de; s) de (the integration weight
      * included; the ends are 5 stds out, so the plain sum is the trapezoid rule) */
@@ -46,42 +46,56 @@ bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
         }
     for (int a = 0; ok && a < M; ++a)
         for (int b = 0; b < M; ++b) tr[(size_t)a * M + b] = transfer(v0 + a * de, v0 + b * de);
-    /* pass A, along v2: A_q(v1 = grid a, v2 = node i2) = sum_o k_q(o) T(v1, node i2 + o) */
-    for (int qb = 0; ok && qb < bands; ++qb)
-        for (int a = 0; a < M; ++a)
-            for (int i2 = 0; i2 < T; ++i2) {
-                const double *row = tr + (size_t)a * M + (size_t)i2 * m + r; /* grid index of node i2 */
-                const double *kr = kre + (size_t)qb * (2 * r + 1) + r, *ki = kim + (size_t)qb * (2 * r + 1) + r;
-                double sr = 0.0, si = 0.0;
-                for (int o = -r; o <= r; ++o) sr += kr[o] * row[o], si += ki[o] * row[o];
-                are[((size_t)qb * M + a) * T + i2] = sr;
-                aim[((size_t)qb * M + a) * T + i2] = si;
-            }
+    /* pass A, along v2: A_q(v1 = grid a, v2 = node i2) = sum_o k_q(o) T(v1, node i2 + o), for
+     * q >= 0 only (k_{-q} = conj k_q and T is real: A_{-q} = conj A_q). The loops run over i2
+     * innermost, so that they vectorise. */
+    for (int q = 0; ok && q < n; ++q) {
+        const double *kr = kre + (size_t)(q + n - 1) * (2 * r + 1) + r, *ki = kim + (size_t)(q + n - 1) * (2 * r + 1) + r;
+        for (int a = 0; a < M; ++a) {
+            double *sr = are + ((size_t)q * M + a) * T, *si = aim + ((size_t)q * M + a) * T;
+            for (int i2 = 0; i2 < T; ++i2) sr[i2] = si[i2] = 0.0;
+            const double *row = tr + (size_t)a * M + r; /* grid index of node 0 */
+            for (int o = -r; o <= r; ++o)
+                for (int i2 = 0; i2 < T; ++i2) {
+                    double x = row[(size_t)i2 * m + o];
+                    sr[i2] += kr[o] * x;
+                    si[i2] += ki[o] * x;
+                }
+        }
+    }
     /* pass B, along v1, per component; c(-v) = conj c(v) (T is even, and each band's kernel
      * at -t is the conjugate of that at t), so half the rows are mirrored */
+    double *acc_re = malloc(T * sizeof(double)), *acc_im = malloc(T * sizeof(double));
+    ok = ok && acc_re && acc_im;
     int c = 0;
     for (int p = 0; ok && p < n; ++p)
         for (int q = -(n - 1); q < n; ++q) {
             if (p == 0 && q < 0) continue;
             const double *kr = kre + (size_t)(p + n - 1) * (2 * r + 1) + r, *ki = kim + (size_t)(p + n - 1) * (2 * r + 1) + r;
-            const double *ar = are + (size_t)(q + n - 1) * M * T, *ai = aim + (size_t)(q + n - 1) * M * T;
-            for (int i1 = 0; i1 <= (T - 1) / 2; ++i1)
-                for (int i2 = 0; i2 < T; ++i2) {
-                    size_t a0 = (size_t)i1 * m + r;
-                    double sr = 0.0, si = 0.0;
-                    for (int o = -r; o <= r; ++o) {
-                        double xr = ar[(a0 + o) * T + i2], xi = ai[(a0 + o) * T + i2];
-                        sr += kr[o] * xr - ki[o] * xi;
-                        si += kr[o] * xi + ki[o] * xr;
+            const double *ar = are + (size_t)abs(q) * M * T, *ai = aim + (size_t)abs(q) * M * T;
+            double conj = q < 0 ? -1.0 : 1.0;
+            for (int i1 = 0; i1 <= (T - 1) / 2; ++i1) {
+                for (int i2 = 0; i2 < T; ++i2) acc_re[i2] = acc_im[i2] = 0.0;
+                for (int o = -r; o <= r; ++o) {
+                    const double *xr = ar + ((size_t)i1 * m + r + o) * T, *xi = ai + ((size_t)i1 * m + r + o) * T;
+                    double wr = kr[o], wi = ki[o];
+                    for (int i2 = 0; i2 < T; ++i2) {
+                        double yi = conj * xi[i2];
+                        acc_re[i2] += wr * xr[i2] - wi * yi;
+                        acc_im[i2] += wr * yi + wi * xr[i2];
                     }
+                }
+                for (int i2 = 0; i2 < T; ++i2) {
                     double inv = 1.0 / transfer(-MAAF_INDIRECT_V_HALF + i1 * node, -MAAF_INDIRECT_V_HALF + i2 * node);
                     float *o = t->table + (((size_t)i1 * T + i2) * t->comps + c) * 2;
                     float *mirror = t->table + (((size_t)(T - 1 - i1) * T + (T - 1 - i2)) * t->comps + c) * 2;
-                    o[0] = (float)(sr * inv), o[1] = (float)(si * inv);
+                    o[0] = (float)(acc_re[i2] * inv), o[1] = (float)(acc_im[i2] * inv);
                     if (T - 1 - i1 != i1) mirror[0] = o[0], mirror[1] = -o[1];
                 }
+            }
             ++c;
         }
+    free(acc_re), free(acc_im);
     free(kre), free(kim), free(tr), free(are), free(aim);
     if (!ok) maaf_lens_free(t);
     return ok;
