@@ -774,8 +774,8 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
-        fprintf(stderr, "wedge: maaf: %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
-                nonfinite, m->nonfinite_samples);
+        fprintf(stderr, "wedge: maaf (%s): %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
+                ind ? "indirect" : "soft shadows", nonfinite, m->nonfinite_samples);
     return true;
 }
 
@@ -851,39 +851,25 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     return count;
 }
 
+/* One effect's two layers: the central std and the component count. */
+static int effect_aovs(const char *effect, const float *std_px, const float *components, ReconAov *out, int count, int max)
+{
+    const char *names[2] = {"std_px", "components"};
+    const char *units[2] = {"central filter std in pixels", "filters"};
+    const float *data[2] = {std_px, components};
+    for (int k = 0; k < 2 && count < max; ++k, ++count) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.%s.%s", names[k], effect);
+        out[count].data = data[k];
+        out[count].unit = units[k];
+    }
+    return count;
+}
+
 static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
 {
-    int count = 0;
-    if (count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.soft_shadows");
-        out[count].data = m->std_px;
-        out[count++].unit = "central filter std in pixels";
-    }
-    if (count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.components.soft_shadows");
-        out[count].data = m->components;
-        out[count++].unit = "filters";
-    }
-    if (m->indirect && count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.indirect");
-        out[count].data = m->istd_px;
-        out[count++].unit = "central filter std in pixels";
-    }
-    if (m->indirect && count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.components.indirect");
-        out[count].data = m->icomponents;
-        out[count++].unit = "filters";
-    }
-    if (m->defocus && count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.defocus");
-        out[count].data = m->dstd_px;
-        out[count++].unit = "central filter std in pixels";
-    }
-    if (m->defocus && count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.components.defocus");
-        out[count].data = m->dcomponents;
-        out[count++].unit = "filters";
-    }
+    int count = effect_aovs("soft_shadows", m->std_px, m->components, out, 0, max);
+    if (m->indirect) count = effect_aovs("indirect", m->istd_px, m->icomponents, out, count, max);
+    if (m->defocus) count = effect_aovs("defocus", m->dstd_px, m->dcomponents, out, count, max);
     return count;
 }
 
