@@ -13,8 +13,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "recon/cl/cl_runtime.h"
 #include "recon/maaf/maaf_defocus.h"
+#include "maaf_test_plane.h"
 
 enum { W = 36, H = 28, SPP = 8 };
 #define COC_PX 6.0f   /* circle-of-confusion radius: px per unit lens coordinate */
@@ -68,22 +68,12 @@ static double exact_pixel(int x, int y)
     return acc / (SUB * SUB);
 }
 
-typedef struct {
-    float *ysum, *pos4, *nrm4, *frame4, *axis2, *param, *mean, *exact;
-} Plane;
+typedef MaafTestPlane Plane;
 
 /* slope_sign -1: the design for s = -coc (right); +1: the mirrored wedge */
 static void plane_build(Plane *s, const MaafLens *lens, float slope_sign)
 {
-    size_t n = (size_t)W * H;
-    s->ysum = calloc(n * lens->comps * 8, sizeof(float));
-    s->pos4 = calloc(4 * n, sizeof(float));
-    s->nrm4 = calloc(4 * n, sizeof(float));
-    s->frame4 = calloc(4 * n, sizeof(float));
-    s->axis2 = calloc(4 * n, sizeof(float));
-    s->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
-    s->mean = calloc(n, sizeof(float));
-    s->exact = calloc(n, sizeof(float));
+    maaf_test_plane_alloc(s, W, H, lens->pairs);
     rng_state = 12345u;
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
@@ -107,25 +97,6 @@ static void plane_build(Plane *s, const MaafLens *lens, float slope_sign)
             }
             s->mean[i] = sum / SPP;
         }
-}
-
-static void plane_free(Plane *s)
-{
-    free(s->ysum), free(s->pos4), free(s->nrm4), free(s->frame4), free(s->axis2), free(s->param), free(s->mean),
-        free(s->exact);
-}
-
-static MaafFilterInput plane_input(const Plane *s, int pairs)
-{
-    MaafFilterInput in = {W, H, pairs, s->ysum, s->pos4, s->nrm4, s->frame4, s->axis2, s->param, 0.93969262f, 0.05f};
-    return in;
-}
-
-static double rmse(const float *v, int stride, const float *exact)
-{
-    double e2 = 0.0;
-    for (int i = 0; i < W * H; ++i) e2 += (v[stride * i] - exact[i]) * (v[stride * i] - exact[i]);
-    return sqrt(e2 / (W * H));
 }
 
 int main(void)
@@ -179,28 +150,28 @@ int main(void)
     /* 3. the defocused plane, at the default knob and at the paper's design (kappa 1: the
      * widest filters, whose offset components carry the most: the sign matters most there) */
     Plane right, wrong;
-    float *out = malloc(4 * W * H * sizeof(float)), *dev = malloc(4 * W * H * sizeof(float));
+    float *out = malloc(4 * W * H * sizeof(float));
     MaafLens paper;
     CHECK(maaf_lens_design(1.0f, 3, &paper));
     const MaafLens *designs[2] = {&lens, &paper};
     for (int k = 0; k < 2; ++k) {
         plane_build(&right, designs[k], -1.0f);
         plane_build(&wrong, designs[k], 1.0f);
-        MaafFilterInput in = plane_input(&right, 3);
+        MaafFilterInput in = maaf_test_plane_input(&right, 0.93969262f);
         maaf_filter_reference(&in, out);
-        double e_mean = rmse(right.mean, 1, right.exact), e_maaf = rmse(out, 4, right.exact);
+        double e_mean = maaf_test_plane_rmse(&right, right.mean, 1), e_maaf = maaf_test_plane_rmse(&right, out, 4);
         int filtered = 0;
         for (int i = 0; i < W * H; ++i) filtered += out[4 * i + 3] != 0.0f;
-        in = plane_input(&wrong, 3);
+        in = maaf_test_plane_input(&wrong, 0.93969262f);
         maaf_filter_reference(&in, out);
-        double e_wrong = rmse(out, 4, wrong.exact);
+        double e_wrong = maaf_test_plane_rmse(&wrong, out, 4);
         printf("defocused plane (coc %.0f px, %d spp, kappa %s): rmse pixel mean %.4f, MAAF %.4f, mirrored slope %.4f\n",
                (double)COC_PX, SPP, k == 0 ? "default" : "1", e_mean, e_maaf, e_wrong);
         CHECK(filtered == W * H);
         CHECK(e_maaf < 0.5 * e_mean);
         CHECK(e_wrong > (k == 0 ? 1.2 : 2.0) * e_maaf);
-        plane_free(&right);
-        plane_free(&wrong);
+        maaf_test_plane_free(&right);
+        maaf_test_plane_free(&wrong);
     }
     maaf_lens_free(&paper);
 
@@ -243,37 +214,15 @@ int main(void)
     }
 
     /* 4. the kernel against the C reference on screen guides, with rejected neighbours */
-    Diag dg = {0};
-    ClRuntime *rt = cl_runtime_create(NULL, &dg);
-    CHECK(rt != NULL);
-    MaafFilter *f = rt ? maaf_filter_create(rt, &dg) : NULL;
-    CHECK(f != NULL);
     plane_build(&right, &lens, -1.0f);
-    for (int i = 0; i < W * H && f; ++i) {
+    for (int i = 0; i < W * H; ++i) {
         if (i % 13 == 4) right.nrm4[4 * i + 3] = 1.0f;              /* the other side of the focal plane */
         if (i % 19 == 2) right.frame4[4 * i + 3] = 0.0f;            /* unusable */
         if (i % 23 == 9) right.param[i * MAAF_PARAM_STRIDE] = 0.0f; /* not filtered */
     }
-    MaafFilterInput in = plane_input(&right, 3);
-    maaf_filter_reference(&in, out);
-    double ks = 0.0;
-    if (f) {
-        CHECK(maaf_filter_run(f, &in, dev, &ks, &dg));
-        double diff = 0.0;
-        int flags = 0;
-        for (int i = 0; i < W * H; ++i) {
-            flags += out[4 * i + 3] != dev[4 * i + 3];
-            for (int k = 0; k < 3; ++k) diff = fmax(diff, fabs(out[4 * i + k] - dev[4 * i + k]));
-        }
-        printf("screen guides: kernel vs reference max |diff| %.2e\n", diff);
-        CHECK(flags == 0);
-        CHECK(diff < 2e-4);
-    }
-    maaf_filter_destroy(f);
-    if (rt) cl_runtime_destroy(rt);
-    plane_free(&right);
+    maaf_test_plane_kernel_check(&right, 0.93969262f, "screen guides");
+    maaf_test_plane_free(&right);
     free(out);
-    free(dev);
     maaf_lens_free(&lens);
     CHECK_DONE();
 }

@@ -12,6 +12,7 @@
 #include "recon/cl/cl_runtime.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_shadow.h"
+#include "maaf_test_plane.h"
 
 enum { W = 24, H = 20, SPP_SIDE = 2 };
 #define PIXEL_WORLD 0.06f
@@ -27,10 +28,7 @@ static float frand(void)
     return (float)(rng_state >> 8) / 16777216.0f;
 }
 
-typedef struct {
-    int pairs;
-    float *ysum, *pos4, *nrm4, *frame4, *axis2, *param, *mean, *exact;
-} Scene;
+typedef MaafTestPlane Scene;
 
 static float receiver_x(int x) { return -0.3f + (x + 0.5f) * PIXEL_WORLD; }
 static float receiver_y(int y) { return (y + 0.5f) * PIXEL_WORLD; }
@@ -41,17 +39,8 @@ static float visible(float px, float lx) { return 0.5f * (px + lx) >= EDGE_X ? 1
 
 static void scene_build(Scene *s, int pairs, float phase_sign, bool constant)
 {
-    size_t n = (size_t)W * H;
     int comps = maaf_component_count(pairs);
-    s->pairs = pairs;
-    s->ysum = calloc(n * comps * 8, sizeof(float));
-    s->pos4 = calloc(4 * n, sizeof(float));
-    s->nrm4 = calloc(4 * n, sizeof(float));
-    s->frame4 = calloc(4 * n, sizeof(float));
-    s->axis2 = calloc(4 * n, sizeof(float));
-    s->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
-    s->mean = calloc(n, sizeof(float));
-    s->exact = calloc(n, sizeof(float));
+    maaf_test_plane_alloc(s, W, H, pairs);
     static MaafLight light; /* the unit square along x and y, centred at (0.5, 0.5) */
     memset(&light, 0, sizeof light);
     light.center[0] = light.center[1] = 0.5f;
@@ -91,22 +80,11 @@ static void scene_build(Scene *s, int pairs, float phase_sign, bool constant)
         }
 }
 
-static void scene_free(Scene *s)
-{
-    free(s->ysum);
-    free(s->pos4);
-    free(s->nrm4);
-    free(s->frame4);
-    free(s->axis2);
-    free(s->param);
-    free(s->mean);
-    free(s->exact);
-}
+static void scene_free(Scene *s) { maaf_test_plane_free(s); }
 
 static MaafFilterInput scene_input(const Scene *s)
 {
-    MaafFilterInput in = {W, H, s->pairs, s->ysum, s->pos4, s->nrm4, s->frame4, s->axis2, s->param, 0.96592583f, 0.05f};
-    return in;
+    return maaf_test_plane_input(s, 0.96592583f);
 }
 
 static double rmse(const float *out4, const float *exact, int channel_stride)

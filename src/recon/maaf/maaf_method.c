@@ -1,5 +1,6 @@
-/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows and defocus, as a
- * reconstruction method (recon/method.h). docs/algorithms.md 9 (defocus: 9.8).
+/* Multiple axis-aligned filters (MAAF, seeds/003) for soft shadows, indirect light and defocus,
+ * as a reconstruction method (recon/method.h). docs/algorithms.md 9 (defocus: 9.8, indirect
+ * light: 9.12).
  *
  *   samples  pass 1: 9 per pixel (the paper's count), recording the shadow-ray geometry; the
  *            plan adds most where the filter does not reach (silhouettes, contact shadows:
@@ -17,7 +18,12 @@
  * sample's filterable direct and indirect light are replaced by albedo x its pixel's filtered
  * light (the sums of the rest and of the albedo are kept apart, section 9.8).
  *
- * Indirect light and motion stay Monte Carlo with --filter maaf. */
+ * Indirect light (maaf_indirect.h): per pixel the complex sums of each sample's indirect light
+ * times the direction-factor of its bounce direction on the pixel's v-plane; filter_light runs
+ * the same image pass with the receiver guides and each pixel's design from its reflector
+ * heights (the wedge [h_min, h_max], AAF-GI's z).
+ *
+ * Motion stays Monte Carlo with --filter maaf. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +34,7 @@
 #include "recon/aaf/aaf_stats.h"
 #include "recon/maaf/maaf_defocus.h"
 #include "recon/maaf/maaf_filter.h"
+#include "recon/maaf/maaf_indirect.h"
 #include "recon/maaf/maaf_shadow.h"
 #include "recon/method.h"
 
@@ -52,6 +59,8 @@
  * was the best over 16-256 spp there and on thin_occluders (docs/algorithms.md 9.11). The
  * weights are normalised (the 4th channel), so a truncated filter stays unbiased on a constant. */
 #define SHADOW_RADIUS_CAP_PX 8.0f
+/* The same for the indirect filter (its wedge is measured over the same window). */
+#define INDIRECT_RADIUS_CAP_PX 8.0f
 /* Pixels whose unoccluded irradiance is below this fraction of the frame's largest keep their
  * own direct light (as AAF: dividing by it is unstable). */
 #define MIN_SHADE_REL 1.0e-3f
@@ -116,7 +125,7 @@ struct ReconMethod {
     float *guide4;              /* frame4 with w = usable, per filter run */
     float *param, *out4, *shade;
     float *std_px, *components; /* AOVs */
-    FilterCache shadow_cache, defocus_cache;
+    FilterCache shadow_cache, defocus_cache, indirect_cache;
     MaafFilter *filter;
     long long nonfinite_samples;
     /* defocus (maaf_defocus.h) */
@@ -129,6 +138,13 @@ struct ReconMethod {
     float *dpos4, *dnrm4, *daxis2; /* screen guides */
     float *dstd_px, *dcomponents;  /* AOVs */
     const float *direct4, *direct_factor, *indirect4; /* the shading filters' output (shading_light) */
+    /* indirect light (maaf_indirect.h) */
+    bool indirect;
+    float ikappa;               /* its knob: Omega_v_max = ikappa MAAF_INDIRECT_OMEGA_V */
+    MaafLens dirs;              /* the direction-factor tables */
+    float *isum;                /* comps * 8 per pixel: indirect light x direction-factors */
+    float *iframe4, *iaxis2;    /* the pixel's tangent axes t1 (w: 1 once set) and t2 (n = t1 x t2) */
+    float *istd_px, *icomponents; /* AOVs */
 };
 
 static int maaf_pass1_spp(EffectMask effects)
@@ -159,6 +175,13 @@ static void maaf_destroy(ReconMethod *m)
     if (!m) return;
     cache_free(&m->shadow_cache);
     cache_free(&m->defocus_cache);
+    cache_free(&m->indirect_cache);
+    maaf_lens_free(&m->dirs);
+    free(m->isum);
+    free(m->iframe4);
+    free(m->iaxis2);
+    free(m->istd_px);
+    free(m->icomponents);
     maaf_filter_destroy(m->filter);
     if (m->derived_ok) aaf_derived_free(&m->derived);
     if (m->stats_ok) aaf_stats_free(&m->stats);
@@ -280,11 +303,12 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->split_direct = m->defocus && effect_in(scene, EFFECT_SOFT_SHADOWS);
     m->split_indirect = m->defocus && effect_in(scene, EFFECT_INDIRECT);
     bool split = m->split_direct || m->split_indirect;
+    m->indirect = effect_in(m->effects, EFFECT_INDIRECT);
     /* the sums of eq. 20, accumulated by the sampling threads: zalloc's pages are written
      * before they start (zalloc.h; as callocs, 14% of a combined.pbrt frame at 16 spp went to
      * copy-on-write faults under maaf_lens_accumulate and accumulate) */
     m->ysum = shadows ? zalloc(n * per, sizeof(float)) : NULL;
-    m->ydemod = shadows || split ? malloc(n * per * sizeof(float)) : NULL;
+    m->ydemod = shadows || split || m->indirect ? malloc(n * per * sizeof(float)) : NULL;
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
@@ -297,7 +321,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || ((shadows || split) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || ((shadows || split || m->indirect) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     if (m->defocus) {
@@ -313,6 +337,17 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
             goto oom;
         float lens_kappa = kappa_for_budget(s, MAAF_DEFOCUS_KAPPA_DEFAULT, split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
         if (!maaf_lens_design(lens_kappa, m->pairs, &m->lens)) goto oom;
+    }
+    if (m->indirect) {
+        m->isum = zalloc(n * per, sizeof(float));
+        m->iframe4 = calloc(4 * n, sizeof(float));
+        m->iaxis2 = calloc(4 * n, sizeof(float));
+        m->istd_px = calloc(n, sizeof(float));
+        m->icomponents = calloc(n, sizeof(float));
+        if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !cache_init(&m->indirect_cache, n))
+            goto oom;
+        m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
+        if (!maaf_direction_design(m->ikappa, m->pairs, &m->dirs)) goto oom;
     }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
@@ -335,6 +370,7 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
     m->stats.collect_rays = pass == 0;
     /* later passes refine the guides the shadows' filters read */
     if (pass > 0 && m->shadow_cache.known) memset(m->shadow_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
+    if (pass > 0 && m->indirect_cache.known) memset(m->indirect_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
 }
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
@@ -362,11 +398,38 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
     }
 }
 
+/* Indirect sums (eq. 20 with the bounce direction, maaf_indirect.h): every sample that hit a
+ * surface, its filterable indirect light (composite.c's split) times the direction-factors of
+ * its bounce direction in the pixel's frame; samples traced without ray geometry (pass 2) or
+ * without a bounce ray get the factors' expectation. */
+static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r)
+{
+    float ud[3], ui[3];
+    gbuffer_unfiltered_split(r, ud, ui);
+    float f[4] = {r->indirect.x - ui[0], r->indirect.y - ui[1], r->indirect.z - ui[2], 1.0f};
+    if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
+        ++m->nonfinite_samples;
+        return;
+    }
+    float *t1 = m->iframe4 + 4 * i, *t2 = m->iaxis2 + 4 * i;
+    if (t1[3] == 0.0f) { /* the pixel's frame: its first hit's normal (a plane's pixels share it) */
+        float nr[3] = {r->n_shading.x, r->n_shading.y, r->n_shading.z};
+        maaf_basis(nr, t1, t2);
+        t1[3] = 1.0f;
+    }
+    float n[3] = {t1[1] * t2[2] - t1[2] * t2[1], t1[2] * t2[0] - t1[0] * t2[2], t1[0] * t2[1] - t1[1] * t2[0]};
+    float d[3] = {r->bounce[0].dir_world.x, r->bounce[0].dir_world.y, r->bounce[0].dir_world.z};
+    bool known = r->bounce_count > 0 && isfinite(d[0] + d[1] + d[2]);
+    maaf_direction_accumulate(&m->dirs, t1, t2, n, known ? d : NULL, f, m->isum + i * (size_t)m->comps * 8);
+}
+
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
 {
     aaf_stats_add(&m->stats, px, py, r);
     if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
         defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
+    if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
+        indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
     if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
     const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
     bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
@@ -496,6 +559,65 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
     return std_px;
 }
 
+/* The pixel's reflector heights [h_min, h_max] (AAF-GI's z along the normal, from pass 1's bounce
+ * rays): the means over the pixels of the shadows' window (pixel_wedge) that saw a reflector,
+ * each h_min clamped to MAAF_INDIRECT_H_MIN_FRAC of the scene; false when none did. The means,
+ * as seeds/003 Sec. 6.2 pre-filters, not the window's extremes that the shadows take: the
+ * lowest of 25 pixels' 9 bounce heights is far below a pixel's typical nearest reflector, and
+ * the filters came out 2-3x narrower than AAF-GI's (indirect bench, 16 spp: relMSE 9.6e-4 with
+ * the extremes at the best kappa, 4.3e-4 with the means; docs/algorithms.md 9.12). */
+static bool pixel_heights(const ReconMethod *m, int x, int y, float *h_min, float *h_max)
+{
+    const AafDerived *dv = &m->derived;
+    int w = m->g->width, h = m->g->height;
+    float size = m->g->scene_size_world;
+    for (int r = SLOPE_WINDOW_PX; r <= BORROW_RADIUS_PX; r += BORROW_RADIUS_PX - SLOPE_WINDOW_PX) {
+        double lo = 0.0, hi = 0.0;
+        int count = 0;
+        for (int yy = y - r; yy <= y + r; ++yy)
+            for (int xx = x - r; xx <= x + r; ++xx) {
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                size_t j = (size_t)yy * w + xx;
+                if (!(dv->zmax[j] >= dv->zmin[j]) || !isfinite(dv->zmax[j])) continue; /* no reflector */
+                float zlo = aaf_indirect_clamp_zmin(dv->zmin[j], size, MAAF_INDIRECT_H_MIN_FRAC);
+                lo += zlo;
+                hi += fmaxf(dv->zmax[j], zlo);
+                ++count;
+            }
+        if (count) {
+            *h_min = (float)(lo / count);
+            *h_max = (float)(hi / count);
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Pixel (x, y)'s indirect x-filter (as pixel_filter for the shadows): the design of its height
+ * wedge with Omega_v_max = ikappa 2.8, or a plain Gaussian where no reflector is near. */
+static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, float *components)
+{
+    FilterCache *c = &m->indirect_cache;
+    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
+    if (!c->known[i]) {
+        float h_min, h_max, pw = m->g->pixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
+        if (pixel_heights(m, x, y, &h_min, &h_max)) {
+            c->std_px[i] = maaf_pixel_param(h_min, h_max, m->dirs.omega_u_max, m->pairs, 1.0f, pw, param);
+            param[0] = fminf(param[0], INDIRECT_RADIUS_CAP_PX);
+            c->aux[i] = c->std_px[i] > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+        } else {
+            float far_px = FAR_STD_PX * sqrtf(MAAF_INDIRECT_KAPPA_DEFAULT / m->ikappa);
+            maaf_pixel_param_plain(far_px, pw, m->pairs, param);
+            c->std_px[i] = param[0] > 0.0f ? far_px : 0.0f;
+            c->aux[i] = param[0] > 0.0f ? 1.0f : 0.0f;
+        }
+        c->known[i] = 1;
+    }
+    *pr = c->param + i * MAAF_PARAM_STRIDE;
+    *components = c->aux[i];
+    return c->std_px[i];
+}
+
 /* pixel_filter and maaf_defocus_pixel through the caches: *pr points at the cached parameters. */
 static float shadow_filter(ReconMethod *m, int x, int y, const float **pr, float *components)
 {
@@ -555,6 +677,11 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
                 more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
                 count = filtered;
             }
+            /* indirect light: the same rule with its own filter */
+            if (m->indirect && g->hit[i] && !more) {
+                more = g->mixed[i] || (m->iframe4[4 * i + 3] != 0.0f && indirect_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
+                count = filtered;
+            }
             /* defocus (seeds/003's extra samples near the focal plane): a slope range that
              * straddles it, or a filter under half a pixel */
             if (m->defocus && !more) {
@@ -603,25 +730,30 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
     return true;
 }
 
+/* Soft shadows (the direct light over albedo and r(x), the light's axes) or indirect light (over
+ * albedo, the pixel's tangent axes): the same image pass on the receiver guides. */
 static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
 {
     *kernel_seconds = 0.0;
-    if (e != EFFECT_SOFT_SHADOWS || !m->ysum) return true;
+    bool ind = e == EFFECT_INDIRECT;
+    if (ind ? !m->isum : e != EFFECT_SOFT_SHADOWS || !m->ysum) return true;
     if (!ensure_derived(m, d)) return false;
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
     size_t per = (size_t)m->comps * 8;
-    const float *factor = m->derived.light_known ? m->shade : NULL;
+    const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
+    const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
+    float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
             float spp = g->frame.spp[i];
-            bool usable = value4[4 * i + 3] != 0.0f && m->frame4[4 * i + 3] != 0.0f && spp > 0.0f;
+            bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
             float *yd = m->ydemod + i * per, *pr = m->param + i * MAAF_PARAM_STRIDE;
-            memcpy(m->guide4 + 4 * i, m->frame4 + 4 * i, 3 * sizeof(float));
+            memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
             m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
-            m->std_px[i] = 0.0f;
-            m->components[i] = 0.0f;
+            std_px[i] = 0.0f;
+            components[i] = 0.0f;
             if (!usable) {
                 memset(yd, 0, per * sizeof(float));
                 memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
@@ -631,19 +763,19 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
              * each pixel's sums divided by its own albedo and r(x) */
             float inv[3];
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
-            const float *ys = m->ysum + i * per;
+            const float *ys = sums + i * per;
             for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
             const float *cached;
-            m->std_px[i] = shadow_filter(m, x, y, &cached, &m->components[i]);
+            std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
             memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
-    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, m->axis2, m->param, COS_NORMAL_MIN,
+    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
-        fprintf(stderr, "wedge: maaf: %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
-                nonfinite, m->nonfinite_samples);
+        fprintf(stderr, "wedge: maaf (%s): %lld non-finite filtered pixels kept their own value, %lld non-finite samples left out\n",
+                ind ? "indirect" : "soft shadows", nonfinite, m->nonfinite_samples);
     return true;
 }
 
@@ -713,43 +845,42 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
     if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->isum && count < max) out[count++] = (DistArray){m->isum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->iframe4 && count < max) out[count++] = (DistArray){m->iframe4, 4 * sizeof(float)};
+    if (m->iaxis2 && count < max) out[count++] = (DistArray){m->iaxis2, 4 * sizeof(float)};
+    return count;
+}
+
+/* One effect's two layers: the central std and the component count. */
+static int effect_aovs(const char *effect, const float *std_px, const float *components, ReconAov *out, int count, int max)
+{
+    const char *names[2] = {"std_px", "components"};
+    const char *units[2] = {"central filter std in pixels", "filters"};
+    const float *data[2] = {std_px, components};
+    for (int k = 0; k < 2 && count < max; ++k, ++count) {
+        snprintf(out[count].name, sizeof out[count].name, "maaf.%s.%s", names[k], effect);
+        out[count].data = data[k];
+        out[count].unit = units[k];
+    }
     return count;
 }
 
 static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
 {
-    int count = 0;
-    if (count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.soft_shadows");
-        out[count].data = m->std_px;
-        out[count++].unit = "central filter std in pixels";
-    }
-    if (count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.components.soft_shadows");
-        out[count].data = m->components;
-        out[count++].unit = "filters";
-    }
-    if (m->defocus && count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.std_px.defocus");
-        out[count].data = m->dstd_px;
-        out[count++].unit = "central filter std in pixels";
-    }
-    if (m->defocus && count < max) {
-        snprintf(out[count].name, sizeof out[count].name, "maaf.components.defocus");
-        out[count].data = m->dcomponents;
-        out[count++].unit = "filters";
-    }
+    int count = effect_aovs("soft_shadows", m->std_px, m->components, out, 0, max);
+    if (m->indirect) count = effect_aovs("indirect", m->istd_px, m->icomponents, out, count, max);
+    if (m->defocus) count = effect_aovs("defocus", m->dstd_px, m->dcomponents, out, count, max);
     return count;
 }
 
 const ReconMethodClass recon_method_maaf = {
     .name = "maaf",
-    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows and defocus, (2N-1)^2 offset Gaussians, 9 spp + extra "
-             "at silhouettes and near the focal plane",
-    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS),
+    .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, indirect light and defocus, (2N-1)^2 offset "
+             "Gaussians, 9 spp + extra at silhouettes and near the focal plane",
+    .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT) | EFFECT_BIT(EFFECT_DEFOCUS),
     .adaptive = true,
     .sample_fields = 0,
-    .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS),
+    .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
     .pass1_spp = maaf_pass1_spp,
     .create = maaf_create,
     .begin_pass = maaf_begin_pass,

@@ -1,0 +1,88 @@
+/* The arrays of a synthetic frame for the MAAF image-pass tests (test_maaf_filter,
+ * test_maaf_defocus, test_maaf_indirect): per pixel the component sums, the guides, the filter
+ * parameters, the pixel's own mean and the exact value, and the error of a result against it. */
+#ifndef WEDGE_TESTS_MAAF_TEST_PLANE_H
+#define WEDGE_TESTS_MAAF_TEST_PLANE_H
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "check.h"
+#include "recon/cl/cl_runtime.h"
+#include "recon/maaf/maaf_filter.h"
+
+typedef struct {
+    int width, height, pairs;
+    float *ysum, *pos4, *nrm4, *frame4, *axis2, *param, *mean, *exact;
+} MaafTestPlane;
+
+/* Zeroed arrays for w x h pixels and N = pairs. */
+static inline void maaf_test_plane_alloc(MaafTestPlane *s, int w, int h, int pairs)
+{
+    size_t n = (size_t)w * (size_t)h;
+    s->width = w, s->height = h, s->pairs = pairs;
+    s->ysum = calloc(n * (size_t)maaf_component_count(pairs) * 8, sizeof(float));
+    s->pos4 = calloc(4 * n, sizeof(float));
+    s->nrm4 = calloc(4 * n, sizeof(float));
+    s->frame4 = calloc(4 * n, sizeof(float));
+    s->axis2 = calloc(4 * n, sizeof(float));
+    s->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
+    s->mean = calloc(n, sizeof(float));
+    s->exact = calloc(n, sizeof(float));
+}
+
+static inline void maaf_test_plane_free(MaafTestPlane *s)
+{
+    free(s->ysum), free(s->pos4), free(s->nrm4), free(s->frame4), free(s->axis2), free(s->param), free(s->mean),
+        free(s->exact);
+}
+
+/* The image pass's input (depth tolerance 5%, as the method's). */
+static inline MaafFilterInput maaf_test_plane_input(const MaafTestPlane *s, float cos_normal_min)
+{
+    MaafFilterInput in = {s->width,  s->height, s->pairs,        s->ysum, s->pos4, s->nrm4,
+                          s->frame4, s->axis2,  s->param, cos_normal_min, 0.05f};
+    return in;
+}
+
+/* RMS difference of v (every stride-th float) from exact over the plane's pixels. */
+static inline double maaf_test_plane_rmse(const MaafTestPlane *s, const float *v, int stride)
+{
+    size_t n = (size_t)s->width * (size_t)s->height;
+    double e2 = 0.0;
+    for (size_t i = 0; i < n; ++i) e2 += (v[stride * i] - s->exact[i]) * (v[stride * i] - s->exact[i]);
+    return sqrt(e2 / (double)n);
+}
+
+/* The OpenCL image pass on the plane against maaf_filter_reference: the same flag on every pixel
+ * and rgb within 2e-4 (label names the case in the output). */
+static inline void maaf_test_plane_kernel_check(const MaafTestPlane *s, float cos_normal_min, const char *label)
+{
+    size_t n = (size_t)s->width * (size_t)s->height;
+    float *ref = malloc(4 * n * sizeof(float)), *dev = malloc(4 * n * sizeof(float));
+    Diag dg = {0};
+    ClRuntime *rt = cl_runtime_create(NULL, &dg);
+    CHECK(rt != NULL);
+    MaafFilter *f = rt ? maaf_filter_create(rt, &dg) : NULL;
+    CHECK(f != NULL);
+    MaafFilterInput in = maaf_test_plane_input(s, cos_normal_min);
+    if (f && ref && dev) {
+        maaf_filter_reference(&in, ref);
+        double ks = 0.0, diff = 0.0;
+        CHECK(maaf_filter_run(f, &in, dev, &ks, &dg));
+        int flags = 0;
+        for (size_t i = 0; i < n; ++i) {
+            flags += ref[4 * i + 3] != dev[4 * i + 3];
+            for (int k = 0; k < 3; ++k) diff = fmax(diff, fabs(ref[4 * i + k] - dev[4 * i + k]));
+        }
+        printf("%s: kernel vs reference max |diff| %.2e\n", label, diff);
+        CHECK(flags == 0);
+        CHECK(diff < 2e-4);
+    }
+    maaf_filter_destroy(f);
+    if (rt) cl_runtime_destroy(rt);
+    free(ref);
+    free(dev);
+}
+
+#endif
