@@ -10,6 +10,19 @@
 #include <stddef.h>
 #include <string.h>
 
+/* The hot loops of runs and of the grid tables are written as loops over arrays (one value
+ * per sample or entry, no calls, no early exits) that GCC vectorises, and compiled three
+ * times: for baseline x86-64 and for the x86-64-v3 (AVX2) and x86-64-v4 (AVX-512) levels,
+ * the copy the CPU can run picked when the program is loaded (GCC's target_clones). Each
+ * loop does only integer arithmetic and exactly rounded conversions and products, so every
+ * copy, vectorised or not, gives the values of the scalar path bit for bit
+ * (tools/bench-sampler's checksums, test_sampler_run). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__)
+#define RUN_KERNEL __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"), noinline))
+#else
+#define RUN_KERNEL __attribute__((noinline))
+#endif
+
 /* ---- seeds ----------------------------------------------------------------------------- */
 
 /* Seed of one scalar dimension of one pixel. `part` is the part's perm_key or value_key:
@@ -685,6 +698,43 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
     return build_dim_table(s, dim, kind);
 }
 
+/* uniform_below(bits, m) for m <= 16 in 32-bit pieces (a 64 x 64-bit high product does not
+ * vectorise): bits m = (hi 2^32 + lo) m, whose high word is (hi m + (lo m >> 32)) >> 32 and
+ * whose low word tells Lemire's test. Sets *maybe_rejected when that word is below m (the
+ * only case the test can reject; the caller then asks uniform_below). */
+static inline uint32_t uniform_below_small(uint64_t bits, uint32_t m, uint32_t *maybe_rejected)
+{
+    uint64_t lo = (uint64_t)(uint32_t)bits * m, mid = (bits >> 32) * m + (lo >> 32);
+    uint64_t low_word = mid << 32 | (uint32_t)lo;
+    *maybe_rejected |= (uint32_t)(low_word < m);
+    return (uint32_t)(mid >> 32);
+}
+
+/* The rotations of a packed grid's sub-columns and sub-rows (grid_sub_permute's o: per
+ * column a uniform draw below rows, per row one below cols; 0 on a single row or column),
+ * both loops vectorised (see RUN_KERNEL). */
+static RUN_KERNEL void grid_rotations_vec(uint64_t seed, uint32_t rows, uint32_t cols, uint32_t *col_rot,
+                                          uint32_t *row_rot, uint32_t *maybe_rejected)
+{
+    uint32_t rejected = 0;
+    for (uint32_t c = 0; c < cols; ++c) col_rot[c] = uniform_below_small(column_perm_seed(seed, c), rows, &rejected);
+    for (uint32_t r = 0; r < rows; ++r) row_rot[r] = uniform_below_small(row_perm_seed(seed, r), cols, &rejected);
+    *maybe_rejected = rejected;
+}
+
+static void grid_rotations(uint64_t seed, uint32_t rows, uint32_t cols, uint32_t *col_rot, uint32_t *row_rot)
+{
+    uint32_t maybe_rejected;
+    grid_rotations_vec(seed, rows, cols, col_rot, row_rot, &maybe_rejected);
+    if (maybe_rejected) { /* about 16 in 2^64: the exact draws */
+        for (uint32_t c = 0; c < cols; ++c) col_rot[c] = uniform_below(column_perm_seed(seed, c), rows);
+        for (uint32_t r = 0; r < rows; ++r) row_rot[r] = uniform_below(row_perm_seed(seed, r), cols);
+    }
+    /* grid_sub_permute gives 0 on a single row (or column) */
+    if (rows == 1) memset(col_rot, 0, cols * sizeof *col_rot);
+    if (cols == 1) memset(row_rot, 0, rows * sizeof *row_rot);
+}
+
 /* multi_jitter's sub-column and sub-row permutations of one 2D dimension (seed t->seed),
  * drawn as grid_sub_permute draws them, packed 4 bits per element (grid_packed: rows and
  * cols <= 16, so every element fits). They are the same for every sample of the pixel;
@@ -700,13 +750,11 @@ static void build_grid_tables(PixelSampler *s, SamplerDimTable *t)
     /* grid_sub_permute gives 0 on a single row (or column): shuffle and rotations 0 */
     t->sub_x = rows > 1 ? shuffle_bits_nibbles(rows, hash_u64(seed ^ SUB_COLUMN_SALT)) : 0;
     t->sub_y = cols > 1 ? shuffle_bits_nibbles(cols, hash_u64(seed ^ SUB_ROW_SALT)) : 0;
+    uint32_t col_rot[SAMPLER_SHUFFLE_MAX], row_rot[SAMPLER_SHUFFLE_MAX];
+    grid_rotations(seed, rows, cols, col_rot, row_rot);
     t->col_rot = t->row_rot = 0;
-    if (rows > 1)
-        for (uint32_t c = 0; c < cols; ++c)
-            t->col_rot |= (uint64_t)uniform_below(column_perm_seed(seed, c), rows) << (4u * c);
-    if (cols > 1)
-        for (uint32_t r = 0; r < rows; ++r)
-            t->row_rot |= (uint64_t)uniform_below(row_perm_seed(seed, r), cols) << (4u * r);
+    for (uint32_t c = 0; c < cols; ++c) t->col_rot |= (uint64_t)col_rot[c] << (4u * c);
+    for (uint32_t r = 0; r < rows; ++r) t->row_rot |= (uint64_t)row_rot[r] << (4u * r);
 }
 
 /* multi_jitter through the tables of build_grid_tables: the same values. */
@@ -956,17 +1004,6 @@ vec2 sampler_2d(PixelSampler *s)
 
 /* ---- runs: one dimension of several samples ---------------------------------------- */
 
-/* The runs' hot loops are written as loops over arrays (one value per sample, no calls, no
- * early exits) that GCC vectorises, and compiled three times: for baseline x86-64 and for
- * the x86-64-v3 (AVX2) and x86-64-v4 (AVX-512) levels, the copy the CPU can run picked when
- * the program is loaded (GCC's target_clones). Each loop does only integer arithmetic and
- * exactly rounded conversions and products, so every copy, vectorised or not, gives the
- * values of the scalar path bit for bit (tools/bench-sampler's checksums, test_sampler_run). */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__)
-#define RUN_KERNEL __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"), noinline))
-#else
-#define RUN_KERNEL __attribute__((noinline))
-#endif
 
 /* The jitter keys of samples first .. first + count - 1 (sample_key_of). */
 static RUN_KERNEL void run_keys(uint64_t pixel_seed, uint32_t first, int count, uint64_t *key)
