@@ -10,18 +10,14 @@
 #include <stddef.h>
 #include <string.h>
 
-/* The hot loops of runs and of the grid tables are written as loops over arrays (one value
- * per sample or entry, no calls, no early exits) that GCC vectorises, and compiled three
- * times: for baseline x86-64 and for the x86-64-v3 (AVX2) and x86-64-v4 (AVX-512) levels,
- * the copy the CPU can run picked when the program is loaded (GCC's target_clones). Each
- * loop does only integer arithmetic and exactly rounded conversions and products, so every
- * copy, vectorised or not, gives the values of the scalar path bit for bit
- * (tools/bench-sampler's checksums, test_sampler_run). */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__)
-#define RUN_KERNEL __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4"), noinline))
-#else
-#define RUN_KERNEL __attribute__((noinline))
-#endif
+#include "core/vectorise.h"
+
+/* The hot loops of runs and of the grid tables are loops over arrays (one value per sample
+ * or entry, no calls, no early exits) that GCC vectorises (core/vectorise.h). Each does only
+ * integer arithmetic and exactly rounded conversions and products, so every compiled copy
+ * gives the values of the scalar path bit for bit (tools/bench-sampler's checksums,
+ * test_sampler_run). */
+#define RUN_KERNEL WEDGE_VECTORISED
 
 /* ---- seeds ----------------------------------------------------------------------------- */
 

@@ -387,6 +387,13 @@ typedef struct {
     vec3 beta_next;
 } WavePath;
 
+/* One run's camera rays, in and out as arrays (camera_generate_rays). */
+typedef struct {
+    float px[SAMPLER_RUN_MAX], py[SAMPLER_RUN_MAX], lens_u[SAMPLER_RUN_MAX], lens_v[SAMPLER_RUN_MAX];
+    float time01[SAMPLER_RUN_MAX];
+    float o[3][SAMPLER_RUN_MAX], d[3][SAMPLER_RUN_MAX];
+} CameraBatch;
+
 /* Occlusion rays of one stage: per path, the picked light's and one per delta light lit at
  * every vertex. */
 enum { WAVE_OCC_RAYS = WAVE_SAMPLES * (1 + LIGHTS_DELTA_EVERY_MAX) };
@@ -408,6 +415,7 @@ struct Wave {
     /* one run's values of one dimension */
     float run_1d[SAMPLER_RUN_MAX];
     vec2 run_2d[SAMPLER_RUN_MAX], run_2d_b[SAMPLER_RUN_MAX];
+    CameraBatch camera;
 };
 
 Wave *wave_create(void) { return malloc(sizeof(Wave)); }
@@ -454,10 +462,10 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
     }
 }
 
-/* Camera ray of one sample from its film, lens and shutter dimensions, and its record's
- * sample position. */
-static TracerRay wave_camera_ray(const IntegratorScene *sc, vec2 u_film01, vec2 u_lens, float shutter_u,
-                                 const WavePixel *px, WavePath *p, SampleRecord *rec)
+/* The record's sample position of one camera sample from its film, lens and shutter
+ * dimensions, and its path's time; the camera ray through it comes later, in a batch. */
+static void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 u_lens, float shutter_u,
+                               const WavePixel *px, WavePath *p, SampleRecord *rec)
 {
     record_reset(rec);
     /* filter importance sampling (pixel_filter.h): the radiance fields are weighted by the
@@ -471,13 +479,11 @@ static TracerRay wave_camera_ray(const IntegratorScene *sc, vec2 u_film01, vec2 
     if (!sc->sample_time) shutter_u = 0.0f;
     rec->time = shutter_u;
     p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
-    CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, p->time01);
-    return (TracerRay){cr.o_world, cr.d_world, INFINITY, p->time01, 0u};
 }
 
 /* The camera rays of pixel k's samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX),
  * paths j0 .., with their first vertex's dimensions (a camera ray that misses has drawn them
- * for nothing). */
+ * for nothing). The rays themselves are one batch (camera_generate_rays). */
 static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k,
                              int first, int count, int j0, SampleRecord *recs)
 {
@@ -488,13 +494,23 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     sampler_run_2d(s, &w->run, 0, film);
     if (sc->sample_lens) sampler_run_2d(s, &w->run, 2, lens);
     if (sc->sample_time) sampler_run_1d(s, &w->run, sc->sample_lens ? 4 : 2, shutter);
+    CameraBatch *cb = &w->camera;
     for (int i = 0; i < count; ++i) {
         WavePath *p = &w->path[j0 + i];
+        SampleRecord *rec = &recs[j0 + i];
         p->pixel = k;
         p->sample_index = first + i;
-        w->ray_hit[j0 + i] = wave_camera_ray(sc, film[i], sc->sample_lens ? lens[i] : v2(0.0f, 0.0f),
-                                             sc->sample_time ? shutter[i] : 0.0f, &pixels[k], p, &recs[j0 + i]);
+        wave_camera_sample(sc, film[i], sc->sample_lens ? lens[i] : v2(0.0f, 0.0f), sc->sample_time ? shutter[i] : 0.0f,
+                           &pixels[k], p, rec);
+        cb->px[i] = rec->px_raster, cb->py[i] = rec->py_raster;
+        cb->lens_u[i] = rec->lens_u, cb->lens_v[i] = rec->lens_v;
+        cb->time01[i] = p->time01;
     }
+    float *o[3] = {cb->o[0], cb->o[1], cb->o[2]}, *d[3] = {cb->d[0], cb->d[1], cb->d[2]};
+    camera_generate_rays(sc->camera, count, cb->px, cb->py, cb->lens_u, cb->lens_v, cb->time01, o, d);
+    for (int i = 0; i < count; ++i)
+        w->ray_hit[j0 + i] = (TracerRay){v3(o[0][i], o[1][i], o[2][i]), v3(d[0][i], d[1][i], d[2][i]), INFINITY,
+                                         cb->time01[i], 0u};
     wave_vertex_dims(sc, w, j0, 1);
 }
 
