@@ -326,13 +326,15 @@ int lights_pick(const LightSet *set, float u, float *pmf)
 {
     if (!(set->power_total > 0.0f)) return -1;
     float target = u * set->power_total;
-    int lo = 0, hi = set->count - 1; /* first i with cdf[i+1] > target */
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (set->cdf[mid + 1] > target)
-            hi = mid;
-        else
-            lo = mid + 1;
+    /* The first i with cdf[i + 1] > target, else count - 1, by the bisection of
+     * lights_pick_in_mesh: the answer stays in [lo, lo + len - 1] and each step halves len
+     * whatever the comparison says (cdf is non-decreasing), so the comparison is a
+     * conditional move, not a branch on the random u that mispredicts half the time. */
+    int lo = 0;
+    for (int len = set->count; len > 1;) {
+        int half = len / 2;
+        lo = set->cdf[lo + half] > target ? lo : lo + half;
+        len -= half;
     }
     while (lo < set->count - 1 && set->cdf[lo + 1] - set->cdf[lo] <= 0.0f) ++lo; /* skip empty lights */
     *pmf = (set->cdf[lo + 1] - set->cdf[lo]) / set->power_total;
