@@ -204,13 +204,23 @@ static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, 
 
 /* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
  * sample contributes nothing without one (the estimate is then 0). */
+static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, float time01, int light, float pmf,
+                                  IntegratorStats *st, TracerRay *shadow, LightPending *lp);
+
 static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
                              float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
 {
+    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
+    return light_prepare_sampled(sc, v, time01, light, pmf, st, shadow, lp);
+}
+
+/* light_prepare_at once lp->ls holds light `light`'s sample (light_sample returned true). */
+static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, float time01, int light, float pmf,
+                                  IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+{
     lp->light = light;
     lp->pmf = pmf;
-    LightSample *ls = &lp->ls;
-    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, ls)) return false;
+    const LightSample *ls = &lp->ls;
     lp->f = vertex_f(v, ls->wi, &lp->cos_i, &lp->pdf_bsdf);
     lp->is_area = sc->lights->lights[light].kind == LIGHT_AREA;
     /* A receiver facing away from the light, or a light sending nothing this way (a spot
@@ -382,6 +392,7 @@ typedef struct {
     /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
      * ray_occ[delta_first .. delta_first + delta_count) */
     int delta_first, delta_count;
+    int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
     bool bounce;
     VertexSample vs;
     vec3 beta_next;
@@ -393,6 +404,12 @@ typedef struct {
     float time01[SAMPLER_RUN_MAX];
     float o[3][SAMPLER_RUN_MAX], d[3][SAMPLER_RUN_MAX];
 } CameraBatch;
+
+/* One point or spot light's samples for the live, lit paths of a stage (light_sample_point_batch). */
+typedef struct {
+    float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], Li[3][WAVE_SAMPLES];
+    int ok[WAVE_SAMPLES];
+} WavePointSamples;
 
 /* Occlusion rays of one stage: per path, the picked light's and one per delta light lit at
  * every vertex. */
@@ -416,6 +433,9 @@ struct Wave {
     float run_1d[SAMPLER_RUN_MAX];
     vec2 run_2d[SAMPLER_RUN_MAX], run_2d_b[SAMPLER_RUN_MAX];
     CameraBatch camera;
+    /* the stage's live, lit paths' positions and their delta lights' samples */
+    float lit_p[3][WAVE_SAMPLES];
+    WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
 };
 
 Wave *wave_create(void) { return malloc(sizeof(Wave)); }
@@ -546,6 +566,40 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
     p->alive = true;
 }
 
+/* A BSDF made of delta lobes only cannot be reached by a light sample: its vertex takes none. */
+static inline bool vertex_lit(const Vertex *v) { return !(v->glossy && glossy_is_delta(&v->bsdf)); }
+
+/* The samples of the point and spot lights lit at every vertex (LightSet.delta_every) for
+ * every live, lit path of the stage, light by light in one vectorised loop each
+ * (light_sample_point_batch): the same values light_sample gives path by path, whose
+ * square roots and divisions then waited on each other. Path j's are entry lit_slot. */
+static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
+{
+    const LightSet *L = sc->lights;
+    bool any = false;
+    for (int k = 0; k < L->delta_every_count; ++k) {
+        LightKind kind = L->lights[L->delta_every[k]].kind;
+        any |= kind == LIGHT_POINT || kind == LIGHT_SPOT;
+    }
+    if (!any) return;
+    int m = 0;
+    for (int j = 0; j < n; ++j) {
+        WavePath *p = &w->path[j];
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        p->lit_slot = m;
+        w->lit_p[0][m] = p->v.hit.p.x, w->lit_p[1][m] = p->v.hit.p.y, w->lit_p[2][m] = p->v.hit.p.z;
+        ++m;
+    }
+    const float *pos[3] = {w->lit_p[0], w->lit_p[1], w->lit_p[2]};
+    for (int k = 0; k < L->delta_every_count; ++k) {
+        const Light *light = &L->lights[L->delta_every[k]];
+        if (light->kind != LIGHT_POINT && light->kind != LIGHT_SPOT) continue;
+        WavePointSamples *ps = &w->point[k];
+        LightSampleBatch out = {{ps->wi[0], ps->wi[1], ps->wi[2]}, ps->dist, {ps->Li[0], ps->Li[1], ps->Li[2]}, ps->ok};
+        light_sample_point_batch(light, m, pos, &out);
+    }
+}
+
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. */
 static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
@@ -555,8 +609,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     const Vertex *v = &p->v;
     const LightSet *L = sc->lights;
     TracerRay shadow;
-    /* a BSDF made of delta lobes only cannot be reached by a light sample */
-    bool lit = !(v->glossy && glossy_is_delta(&v->bsdf));
+    bool lit = vertex_lit(v);
     p->light_pending = lit && light_prepare(sc, v, p->time01, &p->u, st, &shadow, &p->lp);
     p->light_recorded = false;
     if (p->light_pending) {
@@ -578,8 +631,21 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     p->delta_count = 0;
     for (int k = 0; lit && k < L->delta_every_count; ++k) {
         LightPending lp;
-        if (!light_prepare_at(sc, v, p->time01, L->delta_every[k], v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp))
-            continue;
+        int li = L->delta_every[k];
+        const Light *light = &L->lights[li];
+        bool prepared;
+        if (light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) {
+            /* sampled for the whole stage by wave_point_light_samples */
+            const WavePointSamples *ps = &w->point[k];
+            int m = p->lit_slot;
+            if (!ps->ok[m]) continue;
+            lp.ls = (LightSample){v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), ps->dist[m], light->p_world, v3s(0.0f),
+                                  light_delta_offset(light), v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
+            prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, st, &w->ray_occ[*n_occ], &lp);
+        } else {
+            prepared = light_prepare_at(sc, v, p->time01, li, v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp);
+        }
+        if (!prepared) continue;
         w->delta_value[(*n_occ)++] = v3_scale(v3_mul(lp.f, lp.ls.Li), lp.cos_i);
         ++p->delta_count;
     }
@@ -707,6 +773,7 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
             }
         }
         int n_occ = 0, n_rec = 0, n_hit = 0;
+        wave_point_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);

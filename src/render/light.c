@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vectorise.h"
 #include "render/warp.h"
 
 static const float LIGHT_OFFSET_REL = 1e-5f; /* as tracer.c: scales with the coordinates */
@@ -431,6 +432,61 @@ static bool sample_sphere(const Light *l, const Geom *g, const Mat4 *m, vec3 c, 
     return isfinite(ls->pdf) && ls->pdf > 0.0f;
 }
 
+float light_delta_offset(const Light *l) { return LIGHT_OFFSET_REL * v3_max_abs(l->p_world); }
+
+/* pbrt-v4's SmoothStep falloff of a spot light at cos_t (light_sample's case LIGHT_SPOT),
+ * as selects rather than branches, for the vectorised loop below: the same value in every
+ * case (t is computed in all of them and used only where the branchy form computes it). */
+static inline float spot_falloff(float cos_t, float lo, float hi)
+{
+    float t = (cos_t - lo) / (hi - lo);
+    float s = t * t * (3.0f - 2.0f * t);
+    s = (cos_t >= hi) | (hi <= lo) ? 1.0f : s;
+    return cos_t <= lo ? 0.0f : s;
+}
+
+/* light_sample_point_batch's loop; `spot` is a constant where it is inlined. */
+static inline void point_light_loop(const Light *l, bool spot, int count, const float *restrict px,
+                                    const float *restrict py, const float *restrict pz, float *restrict wx,
+                                    float *restrict wy, float *restrict wz, float *restrict dist_out,
+                                    float *restrict lr, float *restrict lg, float *restrict lb, int *restrict ok)
+{
+    float cx = l->p_world.x, cy = l->p_world.y, cz = l->p_world.z, ix = l->L.x, iy = l->L.y, iz = l->L.z;
+    float ax = l->w_world.x, ay = l->w_world.y, az = l->w_world.z, lo = l->cos_falloff_end, hi = l->cos_falloff_start;
+    for (int k = 0; k < count; ++k) {
+        float dx = cx - px[k], dy = cy - py[k], dz = cz - pz[k];
+        float dist2 = dx * dx + dy * dy + dz * dz;
+        float dist = sqrtf(dist2), inv = 1.0f / dist;
+        float x = dx * inv, y = dy * inv, z = dz * inv;
+        float sx = ix, sy = iy, sz = iz;
+        if (spot) {
+            float s = spot_falloff(-(x * ax + y * ay + z * az), lo, hi);
+            sx = ix * s, sy = iy * s, sz = iz * s;
+        }
+        float inv2 = 1.0f / dist2;
+        float r = sx * inv2, g = sy * inv2, b = sz * inv2;
+        wx[k] = x, wy[k] = y, wz[k] = z, dist_out[k] = dist;
+        lr[k] = r, lg[k] = g, lb[k] = b;
+        ok[k] = (dist2 > 0.0f) & ((r > 0.0f) | (g > 0.0f) | (b > 0.0f));
+    }
+}
+
+static WEDGE_VECTORISED void point_light_batch(const Light *l, int count, const float *const p[3],
+                                               const LightSampleBatch *out)
+{
+    if (l->kind == LIGHT_SPOT)
+        point_light_loop(l, true, count, p[0], p[1], p[2], out->wi[0], out->wi[1], out->wi[2], out->dist, out->Li[0],
+                         out->Li[1], out->Li[2], out->ok);
+    else
+        point_light_loop(l, false, count, p[0], p[1], p[2], out->wi[0], out->wi[1], out->wi[2], out->dist, out->Li[0],
+                         out->Li[1], out->Li[2], out->ok);
+}
+
+void light_sample_point_batch(const Light *l, int count, const float *const p[3], const LightSampleBatch *out)
+{
+    point_light_batch(l, count, p, out);
+}
+
 bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, float time01, vec2 u, LightSample *ls)
 {
     const Light *l = &set->lights[li];
@@ -485,19 +541,12 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         ls->dist = dist;
         ls->p_light = l->p_world;
         ls->n_light = v3s(0.0f);
-        ls->err_light = LIGHT_OFFSET_REL * v3_max_abs(l->p_world);
+        ls->err_light = light_delta_offset(l);
         vec3 I = l->L;
         if (l->kind == LIGHT_SPOT) {
             float cos_t = -v3_dot(ls->wi, l->w_world);
             float lo = l->cos_falloff_end, hi = l->cos_falloff_start;
-            float s;
-            if (cos_t <= lo) s = 0.0f;
-            else if (cos_t >= hi || hi <= lo) s = 1.0f;
-            else {
-                float t = (cos_t - lo) / (hi - lo);
-                s = t * t * (3.0f - 2.0f * t); /* pbrt-v4 SmoothStep falloff */
-            }
-            I = v3_scale(I, s);
+            I = v3_scale(I, spot_falloff(cos_t, lo, hi));
         }
         ls->Li = v3_scale(I, 1.0f / dist2);
         ls->pdf = 1.0f;
