@@ -18,6 +18,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/vectorise.h"
 #include "render/warp.h"
 
 /* All three components finite, without a test and branch per component: x * 0 is 0 for a
@@ -204,19 +205,43 @@ static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, 
 
 /* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
  * sample contributes nothing without one (the estimate is then 0). */
+/* A shadow ray computed ahead for shadow_ray_to (wave_point_light_samples): origin,
+ * direction and length, or `redo` where shadow_ray_to must compute it itself. */
+typedef struct {
+    vec3 o, dir;
+    float len;
+    bool redo;
+} ShadowRayAhead;
+
 static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, float time01, int light, float pmf,
-                                  IntegratorStats *st, TracerRay *shadow, LightPending *lp);
+                                  const ShadowRayAhead *ahead, IntegratorStats *st, TracerRay *shadow,
+                                  LightPending *lp);
 
 static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
                              float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
 {
     if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
-    return light_prepare_sampled(sc, v, time01, light, pmf, st, shadow, lp);
+    return light_prepare_sampled(sc, v, time01, light, pmf, NULL, st, shadow, lp);
 }
 
-/* light_prepare_at once lp->ls holds light `light`'s sample (light_sample returned true). */
+/* The shadow ray of a finite-distance sample without an offset at the light, as computed
+ * ahead: shadow_ray_to's outcome. */
+static bool shadow_ray_ahead(const ShadowRayAhead *a, float time01, IntegratorStats *st, TracerRay *ray)
+{
+    if (!(a->len > 0.0f)) {
+        ++st->guarded_events;
+        return false;
+    }
+    ++st->rays_shadow;
+    *ray = (TracerRay){a->o, a->dir, a->len, time01, 0u};
+    return true;
+}
+
+/* light_prepare_at once lp->ls holds light `light`'s sample (light_sample returned true), and
+ * perhaps its shadow ray (ahead; NULL: computed here). */
 static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, float time01, int light, float pmf,
-                                  IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+                                  const ShadowRayAhead *ahead, IntegratorStats *st, TracerRay *shadow,
+                                  LightPending *lp)
 {
     lp->light = light;
     lp->pmf = pmf;
@@ -226,7 +251,9 @@ static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, fl
     /* A receiver facing away from the light, or a light sending nothing this way (a spot
      * light's cone), traces no shadow ray (and records none). */
     if (max_component_nonpositive(lp->f) || max_component_nonpositive(ls->Li)) return false;
-    if (!shadow_ray_to(v, ls, time01, st, shadow)) return false;
+    bool traced = ahead && !ahead->redo ? shadow_ray_ahead(ahead, time01, st, shadow)
+                                        : shadow_ray_to(v, ls, time01, st, shadow);
+    if (!traced) return false;
     shadow->skip_mask = sc->lights->lights[light].shadow_skip_mask;
     return true;
 }
@@ -409,6 +436,9 @@ typedef struct {
 typedef struct {
     float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], Li[3][WAVE_SAMPLES];
     int ok[WAVE_SAMPLES];
+    /* their shadow rays (ShadowRayAhead) */
+    float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
+    int redo[WAVE_SAMPLES];
 } WavePointSamples;
 
 /* Occlusion rays of one stage: per path, the picked light's and one per delta light lit at
@@ -434,7 +464,7 @@ struct Wave {
     vec2 run_2d[SAMPLER_RUN_MAX], run_2d_b[SAMPLER_RUN_MAX];
     CameraBatch camera;
     /* the stage's live, lit paths' positions and their delta lights' samples */
-    float lit_p[3][WAVE_SAMPLES];
+    float lit_p[3][WAVE_SAMPLES], lit_ng[3][WAVE_SAMPLES], lit_err[WAVE_SAMPLES];
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
 };
 
@@ -569,6 +599,29 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
 /* A BSDF made of delta lobes only cannot be reached by a light sample: its vertex takes none. */
 static inline bool vertex_lit(const Vertex *v) { return !(v->glossy && glossy_is_delta(&v->bsdf)); }
 
+/* shadow_ray_to for count samples of a point or spot light at target (a finite distance,
+ * no offset at the light, as its samples have) from receivers p (geometric normals ng,
+ * offsets err), written out per coordinate so that GCC vectorises the loop: the same
+ * operations in the same order. redo[k]: the length is outside v3_length's plain range or
+ * the distance not finite, and shadow_ray_to must compute that ray itself. */
+static WEDGE_VECTORISED void point_shadow_rays(int count, const float (*restrict p)[WAVE_SAMPLES],
+                                               const float (*restrict ng)[WAVE_SAMPLES], const float *restrict err,
+                                               vec3 target, WavePointSamples *restrict ps)
+{
+    for (int k = 0; k < count; ++k) {
+        float nx = ng[0][k], ny = ng[1][k], nz = ng[2][k];
+        /* surface_offset */
+        float side = nx * ps->wi[0][k] + ny * ps->wi[1][k] + nz * ps->wi[2][k] >= 0.0f ? err[k] : -err[k];
+        float ox = p[0][k] + nx * side, oy = p[1][k] + ny * side, oz = p[2][k] + nz * side;
+        float dx = target.x - ox, dy = target.y - oy, dz = target.z - oz;
+        float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
+        ps->o[0][k] = ox, ps->o[1][k] = oy, ps->o[2][k] = oz;
+        ps->dir[0][k] = dx * inv, ps->dir[1][k] = dy * inv, ps->dir[2][k] = dz * inv;
+        ps->len[k] = len;
+        ps->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (ps->dist[k] < INFINITY));
+    }
+}
+
 /* The samples of the point and spot lights lit at every vertex (LightSet.delta_every) for
  * every live, lit path of the stage, light by light in one vectorised loop each
  * (light_sample_point_batch): the same values light_sample gives path by path, whose
@@ -586,8 +639,11 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
     for (int j = 0; j < n; ++j) {
         WavePath *p = &w->path[j];
         if (!p->alive || !vertex_lit(&p->v)) continue;
+        const SurfaceHit *h = &p->v.hit;
         p->lit_slot = m;
-        w->lit_p[0][m] = p->v.hit.p.x, w->lit_p[1][m] = p->v.hit.p.y, w->lit_p[2][m] = p->v.hit.p.z;
+        w->lit_p[0][m] = h->p.x, w->lit_p[1][m] = h->p.y, w->lit_p[2][m] = h->p.z;
+        w->lit_ng[0][m] = h->ng.x, w->lit_ng[1][m] = h->ng.y, w->lit_ng[2][m] = h->ng.z;
+        w->lit_err[m] = h->err;
         ++m;
     }
     const float *pos[3] = {w->lit_p[0], w->lit_p[1], w->lit_p[2]};
@@ -597,6 +653,7 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
         WavePointSamples *ps = &w->point[k];
         LightSampleBatch out = {{ps->wi[0], ps->wi[1], ps->wi[2]}, ps->dist, {ps->Li[0], ps->Li[1], ps->Li[2]}, ps->ok};
         light_sample_point_batch(light, m, pos, &out);
+        point_shadow_rays(m, w->lit_p, w->lit_ng, w->lit_err, light->p_world, ps);
     }
 }
 
@@ -641,7 +698,9 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
             if (!ps->ok[m]) continue;
             lp.ls = (LightSample){v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), ps->dist[m], light->p_world, v3s(0.0f),
                                   light_delta_offset(light), v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
-            prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, st, &w->ray_occ[*n_occ], &lp);
+            ShadowRayAhead ahead = {v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]),
+                                    v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]), ps->len[m], ps->redo[m] != 0};
+            prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, &ahead, st, &w->ray_occ[*n_occ], &lp);
         } else {
             prepared = light_prepare_at(sc, v, p->time01, li, v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp);
         }
