@@ -436,6 +436,7 @@ typedef struct {
 typedef struct {
     float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], Li[3][WAVE_SAMPLES];
     int ok[WAVE_SAMPLES];
+    float err_light; /* the light's LightSample.err_light (light_delta_offset), the same for all */
     /* their shadow rays (ShadowRayAhead) */
     float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
     int redo[WAVE_SAMPLES];
@@ -653,6 +654,7 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
         WavePointSamples *ps = &w->point[k];
         LightSampleBatch out = {{ps->wi[0], ps->wi[1], ps->wi[2]}, ps->dist, {ps->Li[0], ps->Li[1], ps->Li[2]}, ps->ok};
         light_sample_point_batch(light, m, pos, &out);
+        ps->err_light = light_delta_offset(light);
         point_shadow_rays(m, w->lit_p, w->lit_ng, w->lit_err, light->p_world, ps);
     }
 }
@@ -697,7 +699,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
             int m = p->lit_slot;
             if (!ps->ok[m]) continue;
             lp.ls = (LightSample){v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), ps->dist[m], light->p_world, v3s(0.0f),
-                                  light_delta_offset(light), v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
+                                  ps->err_light, v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
             ShadowRayAhead ahead = {v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]),
                                     v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]), ps->len[m], ps->redo[m] != 0};
             prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, &ahead, st, &w->ray_occ[*n_occ], &lp);
