@@ -148,6 +148,11 @@ typedef struct {
     vec2 light;   /* position on the light (2D) */
     int lobe_dim; /* BSDF lobe choice (1D): its index, drawn only by a glossy vertex */
     vec2 bsdf;    /* BSDF direction (2D) */
+    /* the light they choose (lights_pick, then lights_pick_in_mesh; wave_light_samples): its
+     * index (-1: none), probability, and the position sample as that leaves it */
+    int light_index;
+    float light_pmf;
+    vec2 light_uv;
 } VertexDims;
 
 /* Scalar dimensions per vertex: pick (1), light (2), lobe (1), BSDF (2). Only glossy BSDFs
@@ -256,18 +261,6 @@ static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, fl
     if (!traced) return false;
     shadow->skip_mask = sc->lights->lights[light].shadow_skip_mask;
     return true;
-}
-
-/* First half: picks a light and a point on it and sets up the shadow ray. */
-static bool light_prepare(const IntegratorScene *sc, const Vertex *v, float time01, const VertexDims *u,
-                          IntegratorStats *st, TracerRay *shadow, LightPending *lp)
-{
-    float pmf = 0.0f;
-    int light = lights_pick(sc->lights, u->pick, &pmf);
-    if (light < 0) return false;
-    vec2 u_light = u->light;
-    light = lights_pick_in_mesh(sc->lights, sc->tracer, light, &u_light, &pmf);
-    return light_prepare_at(sc, v, time01, light, u_light, pmf, st, shadow, lp);
 }
 
 /* Second half, once the shadow ray is traced: the MIS-weighted estimate. */
@@ -420,6 +413,7 @@ typedef struct {
      * ray_occ[delta_first .. delta_first + delta_count) */
     int delta_first, delta_count;
     int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
+    int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
     bool bounce;
     VertexSample vs;
     vec3 beta_next;
@@ -441,6 +435,20 @@ typedef struct {
     float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
     int redo[WAVE_SAMPLES];
 } WavePointSamples;
+
+/* The samples of one static triangle light picked by some of a stage's paths, one lane per
+ * path: its receiver (position, geometric normal, offset) and position sample, the sample
+ * (light_sample_triangle_batch) and its shadow ray (ShadowRayAhead). */
+typedef struct {
+    int light, count;
+    float p[3][WAVE_SAMPLES], ng[3][WAVE_SAMPLES], err[WAVE_SAMPLES], u[2][WAVE_SAMPLES];
+    float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], pl[3][WAVE_SAMPLES], pdf[WAVE_SAMPLES];
+    int ok[WAVE_SAMPLES];
+    float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
+    int redo[WAVE_SAMPLES];
+} WaveTriangleSamples;
+/* Triangle lights batched per stage; paths that pick others sample them one by one. */
+enum { WAVE_TRIANGLE_GROUPS = 8 };
 
 /* Occlusion rays of one stage: per path, the picked light's and one per delta light lit at
  * every vertex. */
@@ -467,6 +475,8 @@ struct Wave {
     /* the stage's live, lit paths' positions and their delta lights' samples */
     float lit_p[3][WAVE_SAMPLES], lit_ng[3][WAVE_SAMPLES], lit_err[WAVE_SAMPLES];
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
+    WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
+    int tri_groups;
 };
 
 Wave *wave_create(void) { return malloc(sizeof(Wave)); }
@@ -623,6 +633,74 @@ static WEDGE_VECTORISED void point_shadow_rays(int count, const float (*restrict
     }
 }
 
+/* shadow_ray_to for the samples of a triangle light (normal n_light, offset err_light > 0)
+ * in g: as point_shadow_rays, with the end pushed off the light's surface to the
+ * receiver's side. */
+static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light, WaveTriangleSamples *restrict g)
+{
+    float nx = n_light.x, ny = n_light.y, nz = n_light.z;
+    for (int k = 0; k < g->count; ++k) {
+        float gx = g->ng[0][k], gy = g->ng[1][k], gz = g->ng[2][k];
+        float side = gx * g->wi[0][k] + gy * g->wi[1][k] + gz * g->wi[2][k] >= 0.0f ? g->err[k] : -g->err[k];
+        float ox = g->p[0][k] + gx * side, oy = g->p[1][k] + gy * side, oz = g->p[2][k] + gz * side;
+        float lx = g->pl[0][k], ly = g->pl[1][k], lz = g->pl[2][k];
+        float to_side = nx * (ox - lx) + ny * (oy - ly) + nz * (oz - lz) >= 0.0f ? 1.0f : -1.0f;
+        float push = to_side * err_light;
+        float dx = (lx + nx * push) - ox, dy = (ly + ny * push) - oy, dz = (lz + nz * push) - oz;
+        float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
+        g->o[0][k] = ox, g->o[1][k] = oy, g->o[2][k] = oz;
+        g->dir[0][k] = dx * inv, g->dir[1][k] = dy * inv, g->dir[2][k] = dz * inv;
+        g->len[k] = len;
+        g->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (g->dist[k] < INFINITY));
+    }
+}
+
+/* The picks of the stage's live, lit paths (what light_prepare would find), and the samples
+ * of the picked static triangle lights, per light in one vectorised loop each (up to
+ * WAVE_TRIANGLE_GROUPS lights; a path that picks another samples it on its own). */
+static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
+{
+    const LightSet *L = sc->lights;
+    w->tri_groups = 0;
+    for (int j = 0; j < n; ++j) {
+        WavePath *p = &w->path[j];
+        p->tri_group = -1;
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        VertexDims *u = &p->u;
+        float pmf = 0.0f;
+        u->light_index = lights_pick(L, u->pick, &pmf);
+        u->light_uv = u->light;
+        if (u->light_index >= 0) u->light_index = lights_pick_in_mesh(L, sc->tracer, u->light_index, &u->light_uv, &pmf);
+        u->light_pmf = pmf;
+        if (u->light_index < 0 || !L->has_area || !light_is_static_triangle(L, sc->tracer, u->light_index)) continue;
+        int g = 0;
+        while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
+        if (g == w->tri_groups) {
+            if (g == WAVE_TRIANGLE_GROUPS) continue;
+            w->tri[g].light = u->light_index, w->tri[g].count = 0;
+            ++w->tri_groups;
+        }
+        WaveTriangleSamples *t = &w->tri[g];
+        int k = t->count++;
+        const SurfaceHit *h = &p->v.hit;
+        t->p[0][k] = h->p.x, t->p[1][k] = h->p.y, t->p[2][k] = h->p.z;
+        t->ng[0][k] = h->ng.x, t->ng[1][k] = h->ng.y, t->ng[2][k] = h->ng.z;
+        t->err[k] = h->err;
+        t->u[0][k] = u->light_uv.x, t->u[1][k] = u->light_uv.y;
+        p->tri_group = g, p->tri_lane = k;
+    }
+    for (int g = 0; g < w->tri_groups; ++g) {
+        WaveTriangleSamples *t = &w->tri[g];
+        const Light *l = &L->lights[t->light];
+        const float *pos[3] = {t->p[0], t->p[1], t->p[2]}, *uv[2] = {t->u[0], t->u[1]};
+        TriangleSampleBatch out = {{t->wi[0], t->wi[1], t->wi[2]}, t->dist, {t->pl[0], t->pl[1], t->pl[2]}, t->pdf, t->ok};
+        light_sample_triangle_batch(l, t->count, pos, uv, &out);
+        if (l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f) triangle_shadow_rays(l->tri_n, l->tri_err, t);
+        else
+            for (int k = 0; k < t->count; ++k) t->redo[k] = 1; /* no offset at the light: shadow_ray_to */
+    }
+}
+
 /* The samples of the point and spot lights lit at every vertex (LightSet.delta_every) for
  * every live, lit path of the stage, light by light in one vectorised loop each
  * (light_sample_point_batch): the same values light_sample gives path by path, whose
@@ -659,6 +737,27 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
     }
 }
 
+/* First half of next-event estimation for path p: a point on the light its dimensions
+ * picked (wave_light_samples; a static triangle's was sampled there) and the shadow ray,
+ * into p->lp. */
+static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
+                          TracerRay *shadow)
+{
+    const VertexDims *u = &p->u;
+    if (u->light_index < 0) return false;
+    if (p->tri_group < 0)
+        return light_prepare_at(sc, &p->v, p->time01, u->light_index, u->light_uv, u->light_pmf, st, shadow, &p->lp);
+    const WaveTriangleSamples *g = &w->tri[p->tri_group];
+    int k = p->tri_lane;
+    if (!g->ok[k]) return false;
+    const Light *l = &sc->lights->lights[u->light_index];
+    p->lp.ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k],
+                             v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]), l->tri_n, l->tri_err, l->L, g->pdf[k], false};
+    ShadowRayAhead ahead = {v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]),
+                            g->len[k], g->redo[k] != 0};
+    return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
+}
+
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. */
 static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
@@ -669,7 +768,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     const LightSet *L = sc->lights;
     TracerRay shadow;
     bool lit = vertex_lit(v);
-    p->light_pending = lit && light_prepare(sc, v, p->time01, &p->u, st, &shadow, &p->lp);
+    p->light_pending = lit && light_prepare(sc, w, p, st, &shadow);
     p->light_recorded = false;
     if (p->light_pending) {
         /* the first hit's shadow rays to area lights are recorded for the filters, with the
@@ -835,6 +934,7 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         }
         int n_occ = 0, n_rec = 0, n_hit = 0;
         wave_point_light_samples(sc, w, n);
+        wave_triangle_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);

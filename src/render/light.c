@@ -487,6 +487,54 @@ void light_sample_point_batch(const Light *l, int count, const float *const p[3]
     point_light_batch(l, count, p, out);
 }
 
+bool light_is_static_triangle(const LightSet *set, const Tracer *tr, int li)
+{
+    const Light *l = &set->lights[li];
+    return l->kind == LIGHT_AREA && l->instance < 0 && tr->layers[l->layer].geoms[l->geom].kind == GEOM_TRIANGLES &&
+           l->area_world > 0.0f;
+}
+
+/* light_sample's static-triangle case and finish_area_sample, per coordinate (the same
+ * operations in the same order), for GCC's vectoriser. */
+static inline void triangle_light_loop(const Light *l, int count, const float *restrict px, const float *restrict py,
+                                       const float *restrict pz, const float *restrict u0, const float *restrict u1,
+                                       float *restrict wx, float *restrict wy, float *restrict wz,
+                                       float *restrict dist_out, float *restrict lx, float *restrict ly,
+                                       float *restrict lz, float *restrict pdf_out, int *restrict ok)
+{
+    vec3 p0 = l->tri_p0, e1 = l->tri_e1, e2 = l->tri_e2, n = l->tri_n;
+    float pdf_area = 1.0f / l->area_world;
+    int two_sided = l->two_sided;
+    for (int k = 0; k < count; ++k) {
+        float su = sqrtf(u0[k]);
+        float b0 = 1.0f - su, b1 = u1[k] * su, b2 = 1.0f - b0 - b1; /* warp_triangle */
+        float qx = p0.x + (e1.x * b1 + e2.x * b2), qy = p0.y + (e1.y * b1 + e2.y * b2), qz = p0.z + (e1.z * b1 + e2.z * b2);
+        float dx = qx - px[k], dy = qy - py[k], dz = qz - pz[k];
+        float dist2 = dx * dx + dy * dy + dz * dz;
+        float dist = sqrtf(dist2), inv = 1.0f / dist;
+        float x = dx * inv, y = dy * inv, z = dz * inv;
+        float cos_l = -(n.x * x + n.y * y + n.z * z);
+        float pdf = pdf_area * dist2 / fabsf(cos_l);
+        int facing = two_sided | !(cos_l <= 0.0f);
+        ok[k] = (dist2 > 0.0f) & (pdf_area > 0.0f) & facing & !(fabsf(cos_l) < 1e-7f) & (fabsf(pdf) < INFINITY);
+        wx[k] = x, wy[k] = y, wz[k] = z, dist_out[k] = dist;
+        lx[k] = qx, ly[k] = qy, lz[k] = qz, pdf_out[k] = pdf;
+    }
+}
+
+static WEDGE_VECTORISED void triangle_light_batch(const Light *l, int count, const float *const p[3],
+                                                  const float *const u[2], const TriangleSampleBatch *out)
+{
+    triangle_light_loop(l, count, p[0], p[1], p[2], u[0], u[1], out->wi[0], out->wi[1], out->wi[2], out->dist,
+                        out->p_light[0], out->p_light[1], out->p_light[2], out->pdf, out->ok);
+}
+
+void light_sample_triangle_batch(const Light *l, int count, const float *const p[3], const float *const u[2],
+                                 const TriangleSampleBatch *out)
+{
+    triangle_light_batch(l, count, p, u, out);
+}
+
 bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, float time01, vec2 u, LightSample *ls)
 {
     const Light *l = &set->lights[li];

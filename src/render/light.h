@@ -99,6 +99,19 @@ typedef struct {
     int *ok;
 } LightSampleBatch;
 void light_sample_point_batch(const Light *l, int count, const float *const p[3], const LightSampleBatch *out);
+/* light_sample of a static triangle light l (light_is_static_triangle) for count receivers
+ * p (x, y, z arrays) at the position samples u (u[0][k], u[1][k]): for receiver k, ok[k] is
+ * what light_sample returns and, where it is true, wi, dist, p_light and pdf are its fields,
+ * bit for bit (the others are the light's: n_light tri_n, err_light tri_err, Li L, not
+ * delta). One vectorised loop (core/vectorise.h). */
+typedef struct {
+    float *wi[3], *dist, *p_light[3], *pdf;
+    int *ok;
+} TriangleSampleBatch;
+void light_sample_triangle_batch(const Light *l, int count, const float *const p[3], const float *const u[2],
+                                 const TriangleSampleBatch *out);
+/* Whether light_sample of light l takes the static-triangle case (light_sample_triangle_batch). */
+bool light_is_static_triangle(const LightSet *set, const Tracer *tr, int l);
 /* The shadow-ray offset of a point or spot light's samples (LightSample.err_light). */
 float light_delta_offset(const Light *l);
 
