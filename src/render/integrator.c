@@ -148,8 +148,9 @@ typedef struct {
     vec2 light;   /* position on the light (2D) */
     int lobe_dim; /* BSDF lobe choice (1D): its index, drawn only by a glossy vertex */
     vec2 bsdf;    /* BSDF direction (2D) */
-    /* the light they choose (lights_pick, then lights_pick_in_mesh; wave_light_samples): its
-     * index (-1: none), probability, and the position sample as that leaves it */
+    /* the light they choose (lights_pick, then lights_pick_in_mesh, made by
+     * wave_triangle_light_samples): its index (-1: none), probability, and the position
+     * sample as that leaves it */
     int light_index;
     float light_pmf;
     vec2 light_uv;
@@ -210,7 +211,7 @@ static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, 
 
 /* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
  * sample contributes nothing without one (the estimate is then 0). */
-/* A shadow ray computed ahead for shadow_ray_to (wave_point_light_samples): origin,
+/* A shadow ray computed ahead for shadow_ray_to (wave_*_light_samples): origin,
  * direction and length, or `redo` where shadow_ray_to must compute it itself. */
 typedef struct {
     vec3 o, dir;
@@ -738,8 +739,8 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
 }
 
 /* First half of next-event estimation for path p: a point on the light its dimensions
- * picked (wave_light_samples; a static triangle's was sampled there) and the shadow ray,
- * into p->lp. */
+ * picked (wave_triangle_light_samples, which also sampled a static triangle) and the
+ * shadow ray, into p->lp. */
 static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
                           TracerRay *shadow)
 {
