@@ -209,8 +209,6 @@ static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, 
     return true;
 }
 
-/* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
- * sample contributes nothing without one (the estimate is then 0). */
 /* A shadow ray computed ahead for shadow_ray_to (wave_*_light_samples): origin,
  * direction and length, or `redo` where shadow_ray_to must compute it itself. */
 typedef struct {
@@ -219,19 +217,7 @@ typedef struct {
     bool redo;
 } ShadowRayAhead;
 
-static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, float time01, int light, float pmf,
-                                  const ShadowRayAhead *ahead, IntegratorStats *st, TracerRay *shadow,
-                                  LightPending *lp);
-
-static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
-                             float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
-{
-    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
-    return light_prepare_sampled(sc, v, time01, light, pmf, NULL, st, shadow, lp);
-}
-
-/* The shadow ray of a finite-distance sample without an offset at the light, as computed
- * ahead: shadow_ray_to's outcome. */
+/* shadow_ray_to's outcome for a ray computed ahead (not `redo`: a finite distance). */
 static bool shadow_ray_ahead(const ShadowRayAhead *a, float time01, IntegratorStats *st, TracerRay *ray)
 {
     if (!(a->len > 0.0f)) {
@@ -243,8 +229,8 @@ static bool shadow_ray_ahead(const ShadowRayAhead *a, float time01, IntegratorSt
     return true;
 }
 
-/* light_prepare_at once lp->ls holds light `light`'s sample (light_sample returned true), and
- * perhaps its shadow ray (ahead; NULL: computed here). */
+/* What light_prepare_at does once lp->ls holds light `light`'s sample (light_sample
+ * returned true), perhaps with its shadow ray (ahead; NULL: computed here). */
 static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, float time01, int light, float pmf,
                                   const ShadowRayAhead *ahead, IntegratorStats *st, TracerRay *shadow,
                                   LightPending *lp)
@@ -262,6 +248,15 @@ static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, fl
     if (!traced) return false;
     shadow->skip_mask = sc->lights->lights[light].shadow_skip_mask;
     return true;
+}
+
+/* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
+ * sample contributes nothing without one (the estimate is then 0). */
+static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
+                             float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+{
+    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
+    return light_prepare_sampled(sc, v, time01, light, pmf, NULL, st, shadow, lp);
 }
 
 /* Second half, once the shadow ray is traced: the MIS-weighted estimate. */
