@@ -10,6 +10,15 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "core/vectorise.h"
+
+/* The hot loops of runs and of the grid tables are loops over arrays (one value per sample
+ * or entry, no calls, no early exits) that GCC vectorises (core/vectorise.h). Each does only
+ * integer arithmetic and exactly rounded conversions and products, so every compiled copy
+ * gives the values of the scalar path bit for bit (tools/bench-sampler's checksums,
+ * test_sampler_run). */
+#define RUN_KERNEL WEDGE_VECTORISED
+
 /* ---- seeds ----------------------------------------------------------------------------- */
 
 /* Seed of one scalar dimension of one pixel. `part` is the part's perm_key or value_key:
@@ -685,6 +694,43 @@ static inline const SamplerDimTable *dim_table(PixelSampler *s, int dim, int kin
     return build_dim_table(s, dim, kind);
 }
 
+/* uniform_below(bits, m) for m <= 16 in 32-bit pieces (a 64 x 64-bit high product does not
+ * vectorise): bits m = (hi 2^32 + lo) m, whose high word is (hi m + (lo m >> 32)) >> 32 and
+ * whose low word tells Lemire's test. Sets *maybe_rejected when that word is below m (the
+ * only case the test can reject; the caller then asks uniform_below). */
+static inline uint32_t uniform_below_small(uint64_t bits, uint32_t m, uint32_t *maybe_rejected)
+{
+    uint64_t lo = (uint64_t)(uint32_t)bits * m, mid = (bits >> 32) * m + (lo >> 32);
+    uint64_t low_word = mid << 32 | (uint32_t)lo;
+    *maybe_rejected |= (uint32_t)(low_word < m);
+    return (uint32_t)(mid >> 32);
+}
+
+/* The rotations of a packed grid's sub-columns and sub-rows (grid_sub_permute's o: per
+ * column a uniform draw below rows, per row one below cols; 0 on a single row or column),
+ * both loops vectorised (see RUN_KERNEL). */
+static RUN_KERNEL void grid_rotations_vec(uint64_t seed, uint32_t rows, uint32_t cols, uint32_t *col_rot,
+                                          uint32_t *row_rot, uint32_t *maybe_rejected)
+{
+    uint32_t rejected = 0;
+    for (uint32_t c = 0; c < cols; ++c) col_rot[c] = uniform_below_small(column_perm_seed(seed, c), rows, &rejected);
+    for (uint32_t r = 0; r < rows; ++r) row_rot[r] = uniform_below_small(row_perm_seed(seed, r), cols, &rejected);
+    *maybe_rejected = rejected;
+}
+
+static void grid_rotations(uint64_t seed, uint32_t rows, uint32_t cols, uint32_t *col_rot, uint32_t *row_rot)
+{
+    uint32_t maybe_rejected;
+    grid_rotations_vec(seed, rows, cols, col_rot, row_rot, &maybe_rejected);
+    if (maybe_rejected) { /* about 16 in 2^64: the exact draws */
+        for (uint32_t c = 0; c < cols; ++c) col_rot[c] = uniform_below(column_perm_seed(seed, c), rows);
+        for (uint32_t r = 0; r < rows; ++r) row_rot[r] = uniform_below(row_perm_seed(seed, r), cols);
+    }
+    /* grid_sub_permute gives 0 on a single row (or column) */
+    if (rows == 1) memset(col_rot, 0, cols * sizeof *col_rot);
+    if (cols == 1) memset(row_rot, 0, rows * sizeof *row_rot);
+}
+
 /* multi_jitter's sub-column and sub-row permutations of one 2D dimension (seed t->seed),
  * drawn as grid_sub_permute draws them, packed 4 bits per element (grid_packed: rows and
  * cols <= 16, so every element fits). They are the same for every sample of the pixel;
@@ -700,13 +746,11 @@ static void build_grid_tables(PixelSampler *s, SamplerDimTable *t)
     /* grid_sub_permute gives 0 on a single row (or column): shuffle and rotations 0 */
     t->sub_x = rows > 1 ? shuffle_bits_nibbles(rows, hash_u64(seed ^ SUB_COLUMN_SALT)) : 0;
     t->sub_y = cols > 1 ? shuffle_bits_nibbles(cols, hash_u64(seed ^ SUB_ROW_SALT)) : 0;
+    uint32_t col_rot[SAMPLER_SHUFFLE_MAX], row_rot[SAMPLER_SHUFFLE_MAX];
+    grid_rotations(seed, rows, cols, col_rot, row_rot);
     t->col_rot = t->row_rot = 0;
-    if (rows > 1)
-        for (uint32_t c = 0; c < cols; ++c)
-            t->col_rot |= (uint64_t)uniform_below(column_perm_seed(seed, c), rows) << (4u * c);
-    if (cols > 1)
-        for (uint32_t r = 0; r < rows; ++r)
-            t->row_rot |= (uint64_t)uniform_below(row_perm_seed(seed, r), cols) << (4u * r);
+    for (uint32_t c = 0; c < cols; ++c) t->col_rot |= (uint64_t)col_rot[c] << (4u * c);
+    for (uint32_t r = 0; r < rows; ++r) t->row_rot |= (uint64_t)row_rot[r] << (4u * r);
 }
 
 /* multi_jitter through the tables of build_grid_tables: the same values. */
@@ -956,6 +1000,14 @@ vec2 sampler_2d(PixelSampler *s)
 
 /* ---- runs: one dimension of several samples ---------------------------------------- */
 
+
+/* The jitter keys of samples first .. first + count - 1 (sample_key_of). */
+static RUN_KERNEL void run_keys(uint64_t pixel_seed, uint32_t first, int count, uint64_t *key)
+{
+    for (int k = 0; k < count; ++k)
+        key[k] = hash_u64(pixel_seed ^ ((uint64_t)(first + (uint32_t)k) * 0xd6e8feb86659fd93ull));
+}
+
 void sampler_run_begin(PixelSampler *s, SamplerRun *run, int first, int count)
 {
     if (first < 0) first = 0;
@@ -973,12 +1025,10 @@ void sampler_run_begin(PixelSampler *s, SamplerRun *run, int first, int count)
     run->pixel_seed = s->pixel_seed;
     run->one_part = last_part == run->part_key;
     if (!run->one_part) return;
-    for (int k = 0; k < run->count; ++k) {
-        run->index_in_block[k] = s->index_in_block + (uint32_t)k;
-        /* Sobol' values past the padded dimensions only need the keys: set them always, one
-         * hash per sample and run (stratified values need them for every request) */
-        run->key[k] = sample_key_of(s, first + k);
-    }
+    for (int k = 0; k < run->count; ++k) run->index_in_block[k] = s->index_in_block + (uint32_t)k;
+    /* Sobol' values past the padded dimensions only need the keys: set them always, one
+     * hash per sample and run (stratified values need them for every request) */
+    run_keys(s->pixel_seed, (uint32_t)first, run->count, run->key);
 }
 
 /* Whether the run can be served from the part's tables: run_begin found one part, and the
@@ -988,6 +1038,109 @@ void sampler_run_begin(PixelSampler *s, SamplerRun *run, int first, int count)
 static inline bool run_fast(const PixelSampler *s, const SamplerRun *run)
 {
     return run->one_part && s->part_key == run->part_key && s->pixel_seed == run->pixel_seed;
+}
+
+/* The padded indices of a run past the tables (padded_index for each sample): the
+ * bijection's first step for all samples in one vectorised loop, then the rare further
+ * steps of the cycle walk (none when spp is a power of two) sample by sample. */
+static RUN_KERNEL void run_padded_first_step(const uint32_t *index, int count, uint32_t mask, int shift, uint64_t seed,
+                                             uint32_t *j)
+{
+    for (int k = 0; k < count; ++k) j[k] = permute_pow2_shift(index[k], mask, shift, seed);
+}
+
+static void run_padded_indices(const PixelSampler *s, const SamplerDimTable *t, const SamplerRun *run, uint32_t *j)
+{
+    uint32_t n = (uint32_t)s->spp;
+    run_padded_first_step(run->index_in_block, run->count, s->perm_mask, s->perm_shift, t->x, j);
+    if (s->perm_mask + 1u == n) return;
+    for (int k = 0; k < run->count; ++k)
+        while (j[k] >= n) j[k] = permute_pow2_shift(j[k], s->perm_mask, s->perm_shift, t->x);
+}
+
+/* The jitter bits of dimension dim of a run's samples (key_bits), as x's low and y's high
+ * 32 bits (in lanes of 32 bits the value loops vectorise). */
+static RUN_KERNEL void run_jitter_bits(const uint64_t *key, int count, int dim, uint32_t *jx, uint32_t *jy)
+{
+    uint64_t step = (uint64_t)(uint32_t)dim * 0x9e3779b97f4a7c15ull;
+    for (int k = 0; k < count; ++k) {
+        uint64_t bits = hash_u64(key[k] + step);
+        jx[k] = (uint32_t)bits, jy[k] = (uint32_t)(bits >> 32);
+    }
+}
+
+/* What the vectorised stratum conversion needs of the part (stratum_value). */
+typedef struct {
+    double scale;    /* inv_spp_2m32 */
+    uint32_t lo, hi; /* jitter_clear_of_edges: lo < jitter < hi */
+} StratumScale;
+
+static inline StratumScale stratum_scale(const PixelSampler *s)
+{
+    /* margin_bits = spp 2^9 < 2^32: UINT32_MAX + 1 - margin as a 32-bit number */
+    return (StratumScale){s->inv_spp_2m32, (uint32_t)s->margin_bits, (uint32_t)(0u - (uint32_t)s->margin_bits)};
+}
+
+/* stratum_value_raw without a 64-bit integer conversion (which x86 vectorises only with
+ * AVX-512): stratum 2^32 + bits is below 2^53 (stratum < 2^21), so it is the exact sum of
+ * the exactly converted stratum 2^32 and bits (bits converted as a signed number offset by
+ * 2^31), the same double, hence the same product and the same float. */
+static inline float stratum_value_vec(uint32_t stratum, uint32_t bits, double scale)
+{
+    double jitter = (double)(int32_t)(bits ^ 0x80000000u) + 2147483648.0;
+    return (float)(((double)stratum * 4294967296.0 + jitter) * scale);
+}
+
+/* Element i < 16 of a table of nibbles given as its two 32-bit halves (a 32-bit shift per
+ * lane, which vectorises where the 64-bit one does not as well). */
+static inline uint32_t nibble32(uint32_t lo, uint32_t hi, uint32_t i)
+{
+    uint32_t half = i < 8u ? lo : hi;
+    return (half >> (4u * (i & 7u))) & 15u;
+}
+
+/* multi_jitter_packed for a run: padded indices j, jitter bits; the values go to out_xy
+ * as x, y pairs (a vec2 array: two floats each, no padding), their strata to stratum_x
+ * and _y. Returns whether some jitter lies within rounding of a stratum edge (those
+ * samples' values are then corrected by the caller). */
+static RUN_KERNEL bool run_packed_values(const uint32_t *j, const uint32_t *jitter_x, const uint32_t *jitter_y, int count, uint32_t rows, uint32_t cols,
+                                         uint64_t sub_x, uint64_t sub_y, uint64_t col_rot, uint64_t row_rot,
+                                         StratumScale sc, uint32_t *stratum_x, uint32_t *stratum_y, float *out_xy)
+{
+    /* r = j / cols by a 16-bit reciprocal: packed grids have j < 256 and cols <= 16, and
+     * 16 fraction bits >= 8 + 4 make it exact (Lemire, Kaser, Kurz 2019) */
+    uint32_t magic = 65536u / cols + 1u;
+    uint32_t sxl = (uint32_t)sub_x, sxh = (uint32_t)(sub_x >> 32), syl = (uint32_t)sub_y, syh = (uint32_t)(sub_y >> 32);
+    uint32_t crl = (uint32_t)col_rot, crh = (uint32_t)(col_rot >> 32), rrl = (uint32_t)row_rot, rrh = (uint32_t)(row_rot >> 32);
+    uint32_t near_edge = 0;
+    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
+    for (int k = 0; k < count; ++k) {
+        uint32_t r = (j[k] * magic) >> 16, c = j[k] - r * cols;
+        uint32_t ax = nibble32(sxl, sxh, r) + nibble32(crl, crh, c);
+        uint32_t ay = nibble32(syl, syh, c) + nibble32(rrl, rrh, r);
+        ax = ax >= rows ? ax - rows : ax; /* (rho(i) + o) mod m, as grid_sub_permute */
+        ay = ay >= cols ? ay - cols : ay;
+        uint32_t x = c * rows + ax, y = r * cols + ay;
+        uint32_t jx = jitter_x[k], jy = jitter_y[k];
+        stratum_x[k] = x, stratum_y[k] = y;
+        fx[k] = stratum_value_vec(x, jx, sc.scale);
+        fy[k] = stratum_value_vec(y, jy, sc.scale);
+        near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
+    }
+    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
+    return near_edge != 0;
+}
+
+/* 1D stratified values of a run past the tables: stratum j[k], jitter bits[k]. */
+static RUN_KERNEL bool run_strata_1d(const uint32_t *j, const uint32_t *jitter, int count, StratumScale sc, float *out)
+{
+    uint32_t near_edge = 0;
+    for (int k = 0; k < count; ++k) {
+        uint32_t jx = jitter[k];
+        out[k] = stratum_value_vec(j[k], jx, sc.scale);
+        near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi);
+    }
+    return near_edge != 0;
 }
 
 void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
@@ -1002,6 +1155,15 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
     }
     const SamplerDimTable *t = padded_dim(s, dim, 1);
     bool jitter = s->kind == SAMPLER_STRATIFIED;
+    if (jitter && s->spp > SAMPLER_SHUFFLE_MAX) {
+        /* value_1d_padded's case in the loops above */
+        uint32_t j[SAMPLER_RUN_MAX], jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
+        run_padded_indices(s, t, run, j);
+        run_jitter_bits(run->key, run->count, dim, jx, jy);
+        if (run_strata_1d(j, jx, run->count, stratum_scale(s), out))
+            for (int k = 0; k < run->count; ++k) out[k] = stratum_value(s, j[k], jx[k]);
+        return;
+    }
     for (int k = 0; k < run->count; ++k)
         out[k] = value_1d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
 }
@@ -1012,15 +1174,20 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
 static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const SamplerRun *run,
                                                           const SamplerDimTable *t, int dim, vec2 *out)
 {
-    /* value_2d_padded's cases in loops of their own (tools/bench-sampler:
-     * 1.05x at 100 and 144 spp, 1.2x at 418 and 1000): first the padding walks, so their
-     * mispredicted exits do not stall the look-ups; past 16 x 16, the grid entries in one
-     * pass when the run touches most of them (each sample two of rows + cols), so that
-     * the value loop finds them all */
+    /* value_2d_padded's cases in loops of their own: first the padding walks, so their
+     * mispredicted exits do not stall the look-ups (tools/bench-sampler: 1.05x at 100 and
+     * 144 spp, 1.2x at 418 and 1000); packed grids then in the vectorised loop; past
+     * 16 x 16, the grid entries in one pass when the run touches most of them (each sample
+     * two of rows + cols), so that the value loop finds them all */
     uint32_t j[SAMPLER_RUN_MAX];
-    for (int k = 0; k < run->count; ++k) j[k] = padded_index(s, t, run->index_in_block[k]);
+    run_padded_indices(s, t, run, j);
     if (s->grid_packed) {
-        for (int k = 0; k < run->count; ++k) out[k] = multi_jitter_packed(s, t, j[k], key_bits(run->key[k], dim));
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        run_jitter_bits(run->key, run->count, dim, jx, jy);
+        if (run_packed_values(j, jx, jy, run->count, s->grid_rows, s->grid_cols, t->sub_x, t->sub_y, t->col_rot,
+                              t->row_rot, stratum_scale(s), sx, sy, &out[0].x))
+            for (int k = 0; k < run->count; ++k)
+                out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
         return;
     }
     SamplerGridTable *g = grid_table(s, t, dim);
@@ -1043,16 +1210,6 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
     }
     const SamplerDimTable *t = padded_dim(s, dim, 2);
     bool jitter = s->kind == SAMPLER_STRATIFIED;
-    if (jitter && s->grid_packed && s->perm_mask + 1u == (uint32_t)s->spp) {
-        /* value_2d_padded's case at 32, 64, 128 and 256 samples: a power of two, so the
-         * padding permutation's cycle walk takes one step; without its loop the samples'
-         * chains interleave */
-        for (int k = 0; k < run->count; ++k) {
-            uint32_t j = permute_pow2_shift(run->index_in_block[k], s->perm_mask, s->perm_shift, t->x);
-            out[k] = multi_jitter_packed(s, t, j, key_bits(run->key[k], dim));
-        }
-        return;
-    }
     if (jitter && (s->grid_packed || s->grid_tabled)) {
         run_2d_multi_jitter(s, run, t, dim, out);
         return;

@@ -46,6 +46,15 @@ bool camera_init_times(Camera *cam, const CameraDesc *desc, int width_px, int he
 /* The ray through film position (px_raster, py_raster) for lens point lens_uv (unit disk)
  * at normalised shutter time time01 in [0, 1]. */
 CameraRay camera_generate_ray(const Camera *cam, float px_raster, float py_raster, vec2 lens_uv, float time01);
+/* camera_generate_ray for count samples at once, in and out as arrays (one per coordinate):
+ * ray k starts at (o[0][k], o[1][k], o[2][k]) and goes along unit (d[0][k], d[1][k],
+ * d[2][k]), bit for bit what camera_generate_ray(cam, px_raster[k], py_raster[k],
+ * (lens_u[k], lens_v[k]), time01[k]) gives. A static camera's rays are computed in one
+ * vectorised loop (core/vectorise.h), a moving camera's one by one. lens_u and lens_v are
+ * read only with a lens, time01 only for a moving camera (else they may be NULL). */
+void camera_generate_rays(const Camera *cam, int count, const float *px_raster, const float *py_raster,
+                          const float *lens_u, const float *lens_v, const float *time01, float *const o[3],
+                          float *const d[3]);
 /* (time01 everywhere: the fraction between the two transform poses, 0 = start, 1 = end.) */
 
 /* World -> camera at normalised time (for camera depth and projections in tests). */

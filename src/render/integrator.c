@@ -18,6 +18,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/vectorise.h"
 #include "render/warp.h"
 
 /* All three components finite, without a test and branch per component: x * 0 is 0 for a
@@ -147,6 +148,12 @@ typedef struct {
     vec2 light;   /* position on the light (2D) */
     int lobe_dim; /* BSDF lobe choice (1D): its index, drawn only by a glossy vertex */
     vec2 bsdf;    /* BSDF direction (2D) */
+    /* the light they choose (lights_pick, then lights_pick_in_mesh, made by
+     * wave_triangle_light_samples): its index (-1: none), probability, and the position
+     * sample as that leaves it */
+    int light_index;
+    float light_pmf;
+    vec2 light_uv;
 } VertexDims;
 
 /* Scalar dimensions per vertex: pick (1), light (2), lobe (1), BSDF (2). Only glossy BSDFs
@@ -202,35 +209,54 @@ static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, 
     return true;
 }
 
-/* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
- * sample contributes nothing without one (the estimate is then 0). */
-static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
-                             float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+/* A shadow ray computed ahead for shadow_ray_to (wave_*_light_samples): origin,
+ * direction and length, or `redo` where shadow_ray_to must compute it itself. */
+typedef struct {
+    vec3 o, dir;
+    float len;
+    bool redo;
+} ShadowRayAhead;
+
+/* shadow_ray_to's outcome for a ray computed ahead (not `redo`: a finite distance). */
+static bool shadow_ray_ahead(const ShadowRayAhead *a, float time01, IntegratorStats *st, TracerRay *ray)
+{
+    if (!(a->len > 0.0f)) {
+        ++st->guarded_events;
+        return false;
+    }
+    ++st->rays_shadow;
+    *ray = (TracerRay){a->o, a->dir, a->len, time01, 0u};
+    return true;
+}
+
+/* What light_prepare_at does once lp->ls holds light `light`'s sample (light_sample
+ * returned true), perhaps with its shadow ray (ahead; NULL: computed here). */
+static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, float time01, int light, float pmf,
+                                  const ShadowRayAhead *ahead, IntegratorStats *st, TracerRay *shadow,
+                                  LightPending *lp)
 {
     lp->light = light;
     lp->pmf = pmf;
-    LightSample *ls = &lp->ls;
-    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, ls)) return false;
+    const LightSample *ls = &lp->ls;
     lp->f = vertex_f(v, ls->wi, &lp->cos_i, &lp->pdf_bsdf);
     lp->is_area = sc->lights->lights[light].kind == LIGHT_AREA;
     /* A receiver facing away from the light, or a light sending nothing this way (a spot
      * light's cone), traces no shadow ray (and records none). */
     if (max_component_nonpositive(lp->f) || max_component_nonpositive(ls->Li)) return false;
-    if (!shadow_ray_to(v, ls, time01, st, shadow)) return false;
+    bool traced = ahead && !ahead->redo ? shadow_ray_ahead(ahead, time01, st, shadow)
+                                        : shadow_ray_to(v, ls, time01, st, shadow);
+    if (!traced) return false;
     shadow->skip_mask = sc->lights->lights[light].shadow_skip_mask;
     return true;
 }
 
-/* First half: picks a light and a point on it and sets up the shadow ray. */
-static bool light_prepare(const IntegratorScene *sc, const Vertex *v, float time01, const VertexDims *u,
-                          IntegratorStats *st, TracerRay *shadow, LightPending *lp)
+/* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
+ * sample contributes nothing without one (the estimate is then 0). */
+static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
+                             float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
 {
-    float pmf = 0.0f;
-    int light = lights_pick(sc->lights, u->pick, &pmf);
-    if (light < 0) return false;
-    vec2 u_light = u->light;
-    light = lights_pick_in_mesh(sc->lights, sc->tracer, light, &u_light, &pmf);
-    return light_prepare_at(sc, v, time01, light, u_light, pmf, st, shadow, lp);
+    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
+    return light_prepare_sampled(sc, v, time01, light, pmf, NULL, st, shadow, lp);
 }
 
 /* Second half, once the shadow ray is traced: the MIS-weighted estimate. */
@@ -382,10 +408,43 @@ typedef struct {
     /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
      * ray_occ[delta_first .. delta_first + delta_count) */
     int delta_first, delta_count;
+    int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
+    int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
     bool bounce;
     VertexSample vs;
     vec3 beta_next;
 } WavePath;
+
+/* One run's camera rays, in and out as arrays (camera_generate_rays). */
+typedef struct {
+    float px[SAMPLER_RUN_MAX], py[SAMPLER_RUN_MAX], lens_u[SAMPLER_RUN_MAX], lens_v[SAMPLER_RUN_MAX];
+    float time01[SAMPLER_RUN_MAX];
+    float o[3][SAMPLER_RUN_MAX], d[3][SAMPLER_RUN_MAX];
+} CameraBatch;
+
+/* One point or spot light's samples for the live, lit paths of a stage (light_sample_point_batch). */
+typedef struct {
+    float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], Li[3][WAVE_SAMPLES];
+    int ok[WAVE_SAMPLES];
+    float err_light; /* the light's LightSample.err_light (light_delta_offset), the same for all */
+    /* their shadow rays (ShadowRayAhead) */
+    float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
+    int redo[WAVE_SAMPLES];
+} WavePointSamples;
+
+/* The samples of one static triangle light picked by some of a stage's paths, one lane per
+ * path: its receiver (position, geometric normal, offset) and position sample, the sample
+ * (light_sample_triangle_batch) and its shadow ray (ShadowRayAhead). */
+typedef struct {
+    int light, count;
+    float p[3][WAVE_SAMPLES], ng[3][WAVE_SAMPLES], err[WAVE_SAMPLES], u[2][WAVE_SAMPLES];
+    float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], pl[3][WAVE_SAMPLES], pdf[WAVE_SAMPLES];
+    int ok[WAVE_SAMPLES];
+    float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
+    int redo[WAVE_SAMPLES];
+} WaveTriangleSamples;
+/* Triangle lights batched per stage; paths that pick others sample them one by one. */
+enum { WAVE_TRIANGLE_GROUPS = 8 };
 
 /* Occlusion rays of one stage: per path, the picked light's and one per delta light lit at
  * every vertex. */
@@ -408,6 +467,12 @@ struct Wave {
     /* one run's values of one dimension */
     float run_1d[SAMPLER_RUN_MAX];
     vec2 run_2d[SAMPLER_RUN_MAX], run_2d_b[SAMPLER_RUN_MAX];
+    CameraBatch camera;
+    /* the stage's live, lit paths' positions and their delta lights' samples */
+    float lit_p[3][WAVE_SAMPLES], lit_ng[3][WAVE_SAMPLES], lit_err[WAVE_SAMPLES];
+    WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
+    WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
+    int tri_groups;
 };
 
 Wave *wave_create(void) { return malloc(sizeof(Wave)); }
@@ -454,10 +519,10 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
     }
 }
 
-/* Camera ray of one sample from its film, lens and shutter dimensions, and its record's
- * sample position. */
-static TracerRay wave_camera_ray(const IntegratorScene *sc, vec2 u_film01, vec2 u_lens, float shutter_u,
-                                 const WavePixel *px, WavePath *p, SampleRecord *rec)
+/* The record's sample position of one camera sample from its film, lens and shutter
+ * dimensions, and its path's time; the camera ray through it comes later, in a batch. */
+static void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 u_lens, float shutter_u,
+                               const WavePixel *px, WavePath *p, SampleRecord *rec)
 {
     record_reset(rec);
     /* filter importance sampling (pixel_filter.h): the radiance fields are weighted by the
@@ -471,13 +536,11 @@ static TracerRay wave_camera_ray(const IntegratorScene *sc, vec2 u_film01, vec2 
     if (!sc->sample_time) shutter_u = 0.0f;
     rec->time = shutter_u;
     p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
-    CameraRay cr = camera_generate_ray(sc->camera, rec->px_raster, rec->py_raster, lens, p->time01);
-    return (TracerRay){cr.o_world, cr.d_world, INFINITY, p->time01, 0u};
 }
 
 /* The camera rays of pixel k's samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX),
  * paths j0 .., with their first vertex's dimensions (a camera ray that misses has drawn them
- * for nothing). */
+ * for nothing). The rays themselves are one batch (camera_generate_rays). */
 static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k,
                              int first, int count, int j0, SampleRecord *recs)
 {
@@ -488,13 +551,23 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     sampler_run_2d(s, &w->run, 0, film);
     if (sc->sample_lens) sampler_run_2d(s, &w->run, 2, lens);
     if (sc->sample_time) sampler_run_1d(s, &w->run, sc->sample_lens ? 4 : 2, shutter);
+    CameraBatch *cb = &w->camera;
     for (int i = 0; i < count; ++i) {
         WavePath *p = &w->path[j0 + i];
+        SampleRecord *rec = &recs[j0 + i];
         p->pixel = k;
         p->sample_index = first + i;
-        w->ray_hit[j0 + i] = wave_camera_ray(sc, film[i], sc->sample_lens ? lens[i] : v2(0.0f, 0.0f),
-                                             sc->sample_time ? shutter[i] : 0.0f, &pixels[k], p, &recs[j0 + i]);
+        wave_camera_sample(sc, film[i], sc->sample_lens ? lens[i] : v2(0.0f, 0.0f), sc->sample_time ? shutter[i] : 0.0f,
+                           &pixels[k], p, rec);
+        cb->px[i] = rec->px_raster, cb->py[i] = rec->py_raster;
+        cb->lens_u[i] = rec->lens_u, cb->lens_v[i] = rec->lens_v;
+        cb->time01[i] = p->time01;
     }
+    float *o[3] = {cb->o[0], cb->o[1], cb->o[2]}, *d[3] = {cb->d[0], cb->d[1], cb->d[2]};
+    camera_generate_rays(sc->camera, count, cb->px, cb->py, cb->lens_u, cb->lens_v, cb->time01, o, d);
+    for (int i = 0; i < count; ++i)
+        w->ray_hit[j0 + i] = (TracerRay){v3(o[0][i], o[1][i], o[2][i]), v3(d[0][i], d[1][i], d[2][i]), INFINITY,
+                                         cb->time01[i], 0u};
     wave_vertex_dims(sc, w, j0, 1);
 }
 
@@ -530,6 +603,157 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
     p->alive = true;
 }
 
+/* A BSDF made of delta lobes only cannot be reached by a light sample: its vertex takes none. */
+static inline bool vertex_lit(const Vertex *v) { return !(v->glossy && glossy_is_delta(&v->bsdf)); }
+
+/* shadow_ray_to for count samples of a point or spot light at target (a finite distance,
+ * no offset at the light, as its samples have) from receivers p (geometric normals ng,
+ * offsets err), written out per coordinate so that GCC vectorises the loop: the same
+ * operations in the same order. redo[k]: the length is outside v3_length's plain range or
+ * the distance not finite, and shadow_ray_to must compute that ray itself. */
+static WEDGE_VECTORISED void point_shadow_rays(int count, const float (*restrict p)[WAVE_SAMPLES],
+                                               const float (*restrict ng)[WAVE_SAMPLES], const float *restrict err,
+                                               vec3 target, WavePointSamples *restrict ps)
+{
+    for (int k = 0; k < count; ++k) {
+        float nx = ng[0][k], ny = ng[1][k], nz = ng[2][k];
+        /* surface_offset */
+        float side = nx * ps->wi[0][k] + ny * ps->wi[1][k] + nz * ps->wi[2][k] >= 0.0f ? err[k] : -err[k];
+        float ox = p[0][k] + nx * side, oy = p[1][k] + ny * side, oz = p[2][k] + nz * side;
+        float dx = target.x - ox, dy = target.y - oy, dz = target.z - oz;
+        float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
+        ps->o[0][k] = ox, ps->o[1][k] = oy, ps->o[2][k] = oz;
+        ps->dir[0][k] = dx * inv, ps->dir[1][k] = dy * inv, ps->dir[2][k] = dz * inv;
+        ps->len[k] = len;
+        ps->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (ps->dist[k] < INFINITY));
+    }
+}
+
+/* shadow_ray_to for the samples of a triangle light (normal n_light, offset err_light > 0)
+ * in g: as point_shadow_rays, with the end pushed off the light's surface to the
+ * receiver's side. */
+static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light, WaveTriangleSamples *restrict g)
+{
+    float nx = n_light.x, ny = n_light.y, nz = n_light.z;
+    for (int k = 0; k < g->count; ++k) {
+        float gx = g->ng[0][k], gy = g->ng[1][k], gz = g->ng[2][k];
+        float side = gx * g->wi[0][k] + gy * g->wi[1][k] + gz * g->wi[2][k] >= 0.0f ? g->err[k] : -g->err[k];
+        float ox = g->p[0][k] + gx * side, oy = g->p[1][k] + gy * side, oz = g->p[2][k] + gz * side;
+        float lx = g->pl[0][k], ly = g->pl[1][k], lz = g->pl[2][k];
+        float to_side = nx * (ox - lx) + ny * (oy - ly) + nz * (oz - lz) >= 0.0f ? 1.0f : -1.0f;
+        float push = to_side * err_light;
+        float dx = (lx + nx * push) - ox, dy = (ly + ny * push) - oy, dz = (lz + nz * push) - oz;
+        float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
+        g->o[0][k] = ox, g->o[1][k] = oy, g->o[2][k] = oz;
+        g->dir[0][k] = dx * inv, g->dir[1][k] = dy * inv, g->dir[2][k] = dz * inv;
+        g->len[k] = len;
+        g->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (g->dist[k] < INFINITY));
+    }
+}
+
+/* The picks of the stage's live, lit paths (what light_prepare would find), and the samples
+ * of the picked static triangle lights, per light in one vectorised loop each (up to
+ * WAVE_TRIANGLE_GROUPS lights; a path that picks another samples it on its own). */
+static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
+{
+    const LightSet *L = sc->lights;
+    w->tri_groups = 0;
+    for (int j = 0; j < n; ++j) {
+        WavePath *p = &w->path[j];
+        p->tri_group = -1;
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        VertexDims *u = &p->u;
+        float pmf = 0.0f;
+        u->light_index = lights_pick(L, u->pick, &pmf);
+        u->light_uv = u->light;
+        if (u->light_index >= 0) u->light_index = lights_pick_in_mesh(L, sc->tracer, u->light_index, &u->light_uv, &pmf);
+        u->light_pmf = pmf;
+        if (u->light_index < 0 || !L->has_area || !light_is_static_triangle(L, sc->tracer, u->light_index)) continue;
+        int g = 0;
+        while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
+        if (g == w->tri_groups) {
+            if (g == WAVE_TRIANGLE_GROUPS) continue;
+            w->tri[g].light = u->light_index, w->tri[g].count = 0;
+            ++w->tri_groups;
+        }
+        WaveTriangleSamples *t = &w->tri[g];
+        int k = t->count++;
+        const SurfaceHit *h = &p->v.hit;
+        t->p[0][k] = h->p.x, t->p[1][k] = h->p.y, t->p[2][k] = h->p.z;
+        t->ng[0][k] = h->ng.x, t->ng[1][k] = h->ng.y, t->ng[2][k] = h->ng.z;
+        t->err[k] = h->err;
+        t->u[0][k] = u->light_uv.x, t->u[1][k] = u->light_uv.y;
+        p->tri_group = g, p->tri_lane = k;
+    }
+    for (int g = 0; g < w->tri_groups; ++g) {
+        WaveTriangleSamples *t = &w->tri[g];
+        const Light *l = &L->lights[t->light];
+        const float *pos[3] = {t->p[0], t->p[1], t->p[2]}, *uv[2] = {t->u[0], t->u[1]};
+        TriangleSampleBatch out = {{t->wi[0], t->wi[1], t->wi[2]}, t->dist, {t->pl[0], t->pl[1], t->pl[2]}, t->pdf, t->ok};
+        light_sample_triangle_batch(l, t->count, pos, uv, &out);
+        if (l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f) triangle_shadow_rays(l->tri_n, l->tri_err, t);
+        else
+            for (int k = 0; k < t->count; ++k) t->redo[k] = 1; /* no offset at the light: shadow_ray_to */
+    }
+}
+
+/* The samples of the point and spot lights lit at every vertex (LightSet.delta_every) for
+ * every live, lit path of the stage, light by light in one vectorised loop each
+ * (light_sample_point_batch): the same values light_sample gives path by path, whose
+ * square roots and divisions then waited on each other. Path j's are entry lit_slot. */
+static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
+{
+    const LightSet *L = sc->lights;
+    bool any = false;
+    for (int k = 0; k < L->delta_every_count; ++k) {
+        LightKind kind = L->lights[L->delta_every[k]].kind;
+        any |= kind == LIGHT_POINT || kind == LIGHT_SPOT;
+    }
+    if (!any) return;
+    int m = 0;
+    for (int j = 0; j < n; ++j) {
+        WavePath *p = &w->path[j];
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        const SurfaceHit *h = &p->v.hit;
+        p->lit_slot = m;
+        w->lit_p[0][m] = h->p.x, w->lit_p[1][m] = h->p.y, w->lit_p[2][m] = h->p.z;
+        w->lit_ng[0][m] = h->ng.x, w->lit_ng[1][m] = h->ng.y, w->lit_ng[2][m] = h->ng.z;
+        w->lit_err[m] = h->err;
+        ++m;
+    }
+    const float *pos[3] = {w->lit_p[0], w->lit_p[1], w->lit_p[2]};
+    for (int k = 0; k < L->delta_every_count; ++k) {
+        const Light *light = &L->lights[L->delta_every[k]];
+        if (light->kind != LIGHT_POINT && light->kind != LIGHT_SPOT) continue;
+        WavePointSamples *ps = &w->point[k];
+        LightSampleBatch out = {{ps->wi[0], ps->wi[1], ps->wi[2]}, ps->dist, {ps->Li[0], ps->Li[1], ps->Li[2]}, ps->ok};
+        light_sample_point_batch(light, m, pos, &out);
+        ps->err_light = light_delta_offset(light);
+        point_shadow_rays(m, w->lit_p, w->lit_ng, w->lit_err, light->p_world, ps);
+    }
+}
+
+/* First half of next-event estimation for path p: a point on the light its dimensions
+ * picked (wave_triangle_light_samples, which also sampled a static triangle) and the
+ * shadow ray, into p->lp. */
+static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
+                          TracerRay *shadow)
+{
+    const VertexDims *u = &p->u;
+    if (u->light_index < 0) return false;
+    if (p->tri_group < 0)
+        return light_prepare_at(sc, &p->v, p->time01, u->light_index, u->light_uv, u->light_pmf, st, shadow, &p->lp);
+    const WaveTriangleSamples *g = &w->tri[p->tri_group];
+    int k = p->tri_lane;
+    if (!g->ok[k]) return false;
+    const Light *l = &sc->lights->lights[u->light_index];
+    p->lp.ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k],
+                             v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]), l->tri_n, l->tri_err, l->L, g->pdf[k], false};
+    ShadowRayAhead ahead = {v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]),
+                            g->len[k], g->redo[k] != 0};
+    return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
+}
+
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. */
 static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
@@ -539,9 +763,8 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     const Vertex *v = &p->v;
     const LightSet *L = sc->lights;
     TracerRay shadow;
-    /* a BSDF made of delta lobes only cannot be reached by a light sample */
-    bool lit = !(v->glossy && glossy_is_delta(&v->bsdf));
-    p->light_pending = lit && light_prepare(sc, v, p->time01, &p->u, st, &shadow, &p->lp);
+    bool lit = vertex_lit(v);
+    p->light_pending = lit && light_prepare(sc, w, p, st, &shadow);
     p->light_recorded = false;
     if (p->light_pending) {
         /* the first hit's shadow rays to area lights are recorded for the filters, with the
@@ -562,8 +785,23 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     p->delta_count = 0;
     for (int k = 0; lit && k < L->delta_every_count; ++k) {
         LightPending lp;
-        if (!light_prepare_at(sc, v, p->time01, L->delta_every[k], v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp))
-            continue;
+        int li = L->delta_every[k];
+        const Light *light = &L->lights[li];
+        bool prepared;
+        if (light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) {
+            /* sampled for the whole stage by wave_point_light_samples */
+            const WavePointSamples *ps = &w->point[k];
+            int m = p->lit_slot;
+            if (!ps->ok[m]) continue;
+            lp.ls = (LightSample){v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), ps->dist[m], light->p_world, v3s(0.0f),
+                                  ps->err_light, v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
+            ShadowRayAhead ahead = {v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]),
+                                    v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]), ps->len[m], ps->redo[m] != 0};
+            prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, &ahead, st, &w->ray_occ[*n_occ], &lp);
+        } else {
+            prepared = light_prepare_at(sc, v, p->time01, li, v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp);
+        }
+        if (!prepared) continue;
         w->delta_value[(*n_occ)++] = v3_scale(v3_mul(lp.f, lp.ls.Li), lp.cos_i);
         ++p->delta_count;
     }
@@ -691,6 +929,8 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
             }
         }
         int n_occ = 0, n_rec = 0, n_hit = 0;
+        wave_point_light_samples(sc, w, n);
+        wave_triangle_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vectorise.h"
 #include "render/warp.h"
 
 static const float LIGHT_OFFSET_REL = 1e-5f; /* as tracer.c: scales with the coordinates */
@@ -326,13 +327,15 @@ int lights_pick(const LightSet *set, float u, float *pmf)
 {
     if (!(set->power_total > 0.0f)) return -1;
     float target = u * set->power_total;
-    int lo = 0, hi = set->count - 1; /* first i with cdf[i+1] > target */
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (set->cdf[mid + 1] > target)
-            hi = mid;
-        else
-            lo = mid + 1;
+    /* The first i with cdf[i + 1] > target, else count - 1, by the bisection of
+     * lights_pick_in_mesh: the answer stays in [lo, lo + len - 1] and each step halves len
+     * whatever the comparison says (cdf is non-decreasing), so the comparison is a
+     * conditional move, not a branch on the random u that mispredicts half the time. */
+    int lo = 0;
+    for (int len = set->count; len > 1;) {
+        int half = len / 2;
+        lo = set->cdf[lo + half] > target ? lo : lo + half;
+        len -= half;
     }
     while (lo < set->count - 1 && set->cdf[lo + 1] - set->cdf[lo] <= 0.0f) ++lo; /* skip empty lights */
     *pmf = (set->cdf[lo + 1] - set->cdf[lo]) / set->power_total;
@@ -429,6 +432,109 @@ static bool sample_sphere(const Light *l, const Geom *g, const Mat4 *m, vec3 c, 
     return isfinite(ls->pdf) && ls->pdf > 0.0f;
 }
 
+float light_delta_offset(const Light *l) { return LIGHT_OFFSET_REL * v3_max_abs(l->p_world); }
+
+/* pbrt-v4's SmoothStep falloff of a spot light at cos_t (light_sample's case LIGHT_SPOT),
+ * as selects rather than branches, for the vectorised loop below: the same value in every
+ * case (t is computed in all of them and used only where the branchy form computes it). */
+static inline float spot_falloff(float cos_t, float lo, float hi)
+{
+    float t = (cos_t - lo) / (hi - lo);
+    float s = t * t * (3.0f - 2.0f * t);
+    s = (cos_t >= hi) | (hi <= lo) ? 1.0f : s;
+    return cos_t <= lo ? 0.0f : s;
+}
+
+/* light_sample_point_batch's loop; `spot` is a constant where it is inlined. */
+static inline void point_light_loop(const Light *l, bool spot, int count, const float *restrict px,
+                                    const float *restrict py, const float *restrict pz, float *restrict wx,
+                                    float *restrict wy, float *restrict wz, float *restrict dist_out,
+                                    float *restrict lr, float *restrict lg, float *restrict lb, int *restrict ok)
+{
+    float cx = l->p_world.x, cy = l->p_world.y, cz = l->p_world.z, ix = l->L.x, iy = l->L.y, iz = l->L.z;
+    float ax = l->w_world.x, ay = l->w_world.y, az = l->w_world.z, lo = l->cos_falloff_end, hi = l->cos_falloff_start;
+    for (int k = 0; k < count; ++k) {
+        float dx = cx - px[k], dy = cy - py[k], dz = cz - pz[k];
+        float dist2 = dx * dx + dy * dy + dz * dz;
+        float dist = sqrtf(dist2), inv = 1.0f / dist;
+        float x = dx * inv, y = dy * inv, z = dz * inv;
+        float sx = ix, sy = iy, sz = iz;
+        if (spot) {
+            float s = spot_falloff(-(x * ax + y * ay + z * az), lo, hi);
+            sx = ix * s, sy = iy * s, sz = iz * s;
+        }
+        float inv2 = 1.0f / dist2;
+        float r = sx * inv2, g = sy * inv2, b = sz * inv2;
+        wx[k] = x, wy[k] = y, wz[k] = z, dist_out[k] = dist;
+        lr[k] = r, lg[k] = g, lb[k] = b;
+        ok[k] = (dist2 > 0.0f) & ((r > 0.0f) | (g > 0.0f) | (b > 0.0f));
+    }
+}
+
+static WEDGE_VECTORISED void point_light_batch(const Light *l, int count, const float *const p[3],
+                                               const LightSampleBatch *out)
+{
+    if (l->kind == LIGHT_SPOT)
+        point_light_loop(l, true, count, p[0], p[1], p[2], out->wi[0], out->wi[1], out->wi[2], out->dist, out->Li[0],
+                         out->Li[1], out->Li[2], out->ok);
+    else
+        point_light_loop(l, false, count, p[0], p[1], p[2], out->wi[0], out->wi[1], out->wi[2], out->dist, out->Li[0],
+                         out->Li[1], out->Li[2], out->ok);
+}
+
+void light_sample_point_batch(const Light *l, int count, const float *const p[3], const LightSampleBatch *out)
+{
+    point_light_batch(l, count, p, out);
+}
+
+bool light_is_static_triangle(const LightSet *set, const Tracer *tr, int li)
+{
+    const Light *l = &set->lights[li];
+    return l->kind == LIGHT_AREA && l->instance < 0 && tr->layers[l->layer].geoms[l->geom].kind == GEOM_TRIANGLES &&
+           l->area_world > 0.0f;
+}
+
+/* light_sample's static-triangle case and finish_area_sample, per coordinate (the same
+ * operations in the same order), for GCC's vectoriser. */
+static inline void triangle_light_loop(const Light *l, int count, const float *restrict px, const float *restrict py,
+                                       const float *restrict pz, const float *restrict u0, const float *restrict u1,
+                                       float *restrict wx, float *restrict wy, float *restrict wz,
+                                       float *restrict dist_out, float *restrict lx, float *restrict ly,
+                                       float *restrict lz, float *restrict pdf_out, int *restrict ok)
+{
+    vec3 p0 = l->tri_p0, e1 = l->tri_e1, e2 = l->tri_e2, n = l->tri_n;
+    float pdf_area = 1.0f / l->area_world;
+    int two_sided = l->two_sided;
+    for (int k = 0; k < count; ++k) {
+        float su = sqrtf(u0[k]);
+        float b0 = 1.0f - su, b1 = u1[k] * su, b2 = 1.0f - b0 - b1; /* warp_triangle */
+        float qx = p0.x + (e1.x * b1 + e2.x * b2), qy = p0.y + (e1.y * b1 + e2.y * b2), qz = p0.z + (e1.z * b1 + e2.z * b2);
+        float dx = qx - px[k], dy = qy - py[k], dz = qz - pz[k];
+        float dist2 = dx * dx + dy * dy + dz * dz;
+        float dist = sqrtf(dist2), inv = 1.0f / dist;
+        float x = dx * inv, y = dy * inv, z = dz * inv;
+        float cos_l = -(n.x * x + n.y * y + n.z * z);
+        float pdf = pdf_area * dist2 / fabsf(cos_l);
+        int facing = two_sided | !(cos_l <= 0.0f);
+        ok[k] = (dist2 > 0.0f) & (pdf_area > 0.0f) & facing & !(fabsf(cos_l) < 1e-7f) & (fabsf(pdf) < INFINITY);
+        wx[k] = x, wy[k] = y, wz[k] = z, dist_out[k] = dist;
+        lx[k] = qx, ly[k] = qy, lz[k] = qz, pdf_out[k] = pdf;
+    }
+}
+
+static WEDGE_VECTORISED void triangle_light_batch(const Light *l, int count, const float *const p[3],
+                                                  const float *const u[2], const TriangleSampleBatch *out)
+{
+    triangle_light_loop(l, count, p[0], p[1], p[2], u[0], u[1], out->wi[0], out->wi[1], out->wi[2], out->dist,
+                        out->p_light[0], out->p_light[1], out->p_light[2], out->pdf, out->ok);
+}
+
+void light_sample_triangle_batch(const Light *l, int count, const float *const p[3], const float *const u[2],
+                                 const TriangleSampleBatch *out)
+{
+    triangle_light_batch(l, count, p, u, out);
+}
+
 bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, float time01, vec2 u, LightSample *ls)
 {
     const Light *l = &set->lights[li];
@@ -483,19 +589,12 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         ls->dist = dist;
         ls->p_light = l->p_world;
         ls->n_light = v3s(0.0f);
-        ls->err_light = LIGHT_OFFSET_REL * v3_max_abs(l->p_world);
+        ls->err_light = light_delta_offset(l);
         vec3 I = l->L;
         if (l->kind == LIGHT_SPOT) {
             float cos_t = -v3_dot(ls->wi, l->w_world);
             float lo = l->cos_falloff_end, hi = l->cos_falloff_start;
-            float s;
-            if (cos_t <= lo) s = 0.0f;
-            else if (cos_t >= hi || hi <= lo) s = 1.0f;
-            else {
-                float t = (cos_t - lo) / (hi - lo);
-                s = t * t * (3.0f - 2.0f * t); /* pbrt-v4 SmoothStep falloff */
-            }
-            I = v3_scale(I, s);
+            I = v3_scale(I, spot_falloff(cos_t, lo, hi));
         }
         ls->Li = v3_scale(I, 1.0f / dist2);
         ls->pdf = 1.0f;

@@ -88,6 +88,33 @@ int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, 
  * carries no light (zero pdf, back side, ...). */
 bool light_sample(const LightSet *set, const Tracer *tr, int l, vec3 p_world, float time01, vec2 u, LightSample *ls);
 
+/* light_sample of a point or spot light l (LIGHT_POINT or LIGHT_SPOT) for count receivers at
+ * once, arrays in and out (one per coordinate; `p` holds the receivers' x, y, z): for
+ * receiver k, ok[k] is what light_sample returns and, where it is true, wi, dist and Li are
+ * its sample's fields, bit for bit (the other fields are the light's own: p_light is
+ * l->p_world, n_light 0, err_light light_delta_offset(l), pdf 1, delta). One vectorised
+ * loop (core/vectorise.h): the square roots and divisions of the receivers overlap. */
+typedef struct {
+    float *wi[3], *dist, *Li[3];
+    int *ok;
+} LightSampleBatch;
+void light_sample_point_batch(const Light *l, int count, const float *const p[3], const LightSampleBatch *out);
+/* light_sample of a static triangle light l (light_is_static_triangle) for count receivers
+ * p (x, y, z arrays) at the position samples u (u[0][k], u[1][k]): for receiver k, ok[k] is
+ * what light_sample returns and, where it is true, wi, dist, p_light and pdf are its fields,
+ * bit for bit (the others are the light's: n_light tri_n, err_light tri_err, Li L, not
+ * delta). One vectorised loop (core/vectorise.h). */
+typedef struct {
+    float *wi[3], *dist, *p_light[3], *pdf;
+    int *ok;
+} TriangleSampleBatch;
+void light_sample_triangle_batch(const Light *l, int count, const float *const p[3], const float *const u[2],
+                                 const TriangleSampleBatch *out);
+/* Whether light_sample of light l takes the static-triangle case (light_sample_triangle_batch). */
+bool light_is_static_triangle(const LightSet *set, const Tracer *tr, int l);
+/* The shadow-ray offset of a point or spot light's samples (LightSample.err_light). */
+float light_delta_offset(const Light *l);
+
 /* Radiance leaving area light l at hit h towards direction w (unit, away from the surface). */
 vec3 area_light_L(const LightSet *set, int l, const SurfaceHit *h, vec3 w);
 /* Solid-angle pdf with which light_sample would produce the point h seen from p_ref. */

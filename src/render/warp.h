@@ -5,6 +5,7 @@
 #define WEDGE_RENDER_WARP_H
 
 #include <math.h>
+#include <stdbool.h>
 
 #include "core/vec.h"
 
@@ -23,20 +24,21 @@ static inline void sincos_quarter_pi(float x, float *s, float *c)
     *c = 1.0f + x2 * (-0.5f + x2 * (1.0f / 24.0f + x2 * (-1.0f / 720.0f + x2 * (1.0f / 40320.0f + x2 * (-1.0f / 3628800.0f)))));
 }
 
-/* Concentric map of [0,1)^2 onto the unit disk: preserves stratification and area ratios. */
+/* Concentric map of [0,1)^2 onto the unit disk: preserves stratification and area ratios.
+ * In the wedges |x| > |y|, theta = (pi/4) (y/x) and the point is x (cos theta, sin theta);
+ * in the others theta = pi/2 - phi with phi = (pi/4) (x/y), so cos theta = sin phi and
+ * sin theta = cos phi, and the point is y (sin phi, cos phi). The two cases share their
+ * arithmetic and differ in which operands go where: selected without a branch (the wedge
+ * of a random u is a coin toss that a branch mispredicts half the time). */
 static inline vec2 warp_disk_concentric(vec2 u)
 {
     float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
     if (ox == 0.0f && oy == 0.0f) return v2(0.0f, 0.0f);
+    bool x_wedge = fabsf(ox) > fabsf(oy);
+    float r = x_wedge ? ox : oy, other = x_wedge ? oy : ox;
     float s, c;
-    if (fabsf(ox) > fabsf(oy)) {
-        /* theta = (pi/4) (oy/ox) */
-        sincos_quarter_pi((WEDGE_PI / 4.0f) * (oy / ox), &s, &c);
-        return v2(ox * c, ox * s);
-    }
-    /* theta = pi/2 - phi with phi = (pi/4) (ox/oy): cos theta = sin phi, sin theta = cos phi */
-    sincos_quarter_pi((WEDGE_PI / 4.0f) * (ox / oy), &s, &c);
-    return v2(oy * s, oy * c);
+    sincos_quarter_pi((WEDGE_PI / 4.0f) * (other / r), &s, &c);
+    return x_wedge ? v2(r * c, r * s) : v2(r * s, r * c);
 }
 
 /* Cosine-weighted direction about +z (Malley: project the disk up); pdf = cos(theta)/pi. */

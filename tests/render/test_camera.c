@@ -1,7 +1,9 @@
 /* Camera: a pinhole and a thin lens with lensradius 0 give identical images; image
  * orientation as pbrt-v4 (world +x to the right and +y up for LookAt along +z with up +y,
  * raster (0,0) at the top-left); fov spans the shorter image axis; generate_ray and
- * project are inverse maps (screen window and frame aspect included). */
+ * project are inverse maps (screen window and frame aspect included); the batched
+ * camera_generate_rays gives camera_generate_ray's rays bit for bit (pinhole, thin lens,
+ * moving camera; counts that are not a multiple of any vector width). */
 #include "check.h"
 #include "render/camera.h"
 #include "render_test_util.h"
@@ -68,6 +70,36 @@ static void check_roundtrip(const CameraDesc *cd, int w, int h)
     }
 }
 
+/* camera_generate_rays against camera_generate_ray, ray by ray, every bit. */
+static void check_batch(const CameraDesc *cd, int w, int h)
+{
+    enum { N = 61 };
+    Camera cam;
+    Diag err;
+    CHECK(camera_init(&cam, cd, w, h, &err));
+    float px[N], py[N], lu[N], lv[N], t[N], o[3][N], d[3][N];
+    for (int k = 0; k < N; ++k) {
+        /* film positions over the whole raster and a little beyond, lens points over the disk */
+        px[k] = (float)(w + 2) * (float)((k * 37) % N) / N - 1.0f;
+        py[k] = (float)(h + 2) * (float)((k * 17) % N) / N - 1.0f;
+        lu[k] = (float)cos(0.7 * k) * (float)((k % 7) + 1) / 7.0f;
+        lv[k] = (float)sin(0.7 * k) * (float)((k % 7) + 1) / 7.0f;
+        t[k] = (float)k / (N - 1);
+    }
+    float *op[3] = {o[0], o[1], o[2]}, *dp[3] = {d[0], d[1], d[2]};
+    for (int count = N; count >= N - 8; count -= 4) {
+        camera_generate_rays(&cam, count, px, py, lu, lv, t, op, dp);
+        int same = 0;
+        for (int k = 0; k < count; ++k) {
+            CameraRay r = camera_generate_ray(&cam, px[k], py[k], v2(lu[k], lv[k]), t[k]);
+            float got[6] = {o[0][k], o[1][k], o[2][k], d[0][k], d[1][k], d[2][k]};
+            float want[6] = {r.o_world.x, r.o_world.y, r.o_world.z, r.d_world.x, r.d_world.y, r.d_world.z};
+            same += !memcmp(got, want, sizeof got);
+        }
+        CHECK(same == count);
+    }
+}
+
 int main(void)
 {
     /* pinhole vs lensradius 0 (with a focal distance that would matter for a lens) */
@@ -112,6 +144,23 @@ int main(void)
     CHECK(camera_project(&cam, v3(t, 0.0f, 1.0f), 0.0f, &px, &py));
     CHECK_NEAR(px, 100.0, 1e-3);
     CHECK_NEAR(py, 100.0, 1e-3);
+
+    /* the batch: pinhole, thin lens, a turned camera, a moving one */
+    check_batch(&cd, 100, 200);
+    cd.lens_radius = 0.3f;
+    cd.focal_distance = 2.5f;
+    check_batch(&cd, 64, 48);
+    const double eye[3] = {1.0, 2.0, -4.0}, look[3] = {0.2, 0.1, 0.3}, up[3] = {0.1, 1.0, 0.0};
+    CHECK(mat4_lookat(eye, look, up, &cd.camera_from_world.m[0]));
+    cd.camera_from_world.m[1] = cd.camera_from_world.m[0];
+    check_batch(&cd, 64, 48);
+    cd.lens_radius = 0.0f;
+    check_batch(&cd, 64, 48);
+    Mat4 shift = mat4_translate(0.5, 0.0, 0.2);
+    cd.camera_from_world.m[1] = mat4_mul(&shift, &cd.camera_from_world.m[0]);
+    check_batch(&cd, 64, 48);
+    cd.camera_from_world.m[0] = cd.camera_from_world.m[1] = mat4_identity();
+    cd.focal_distance = 1e6f;
 
     check_roundtrip(&cd, 100, 200);
     cd.frame_aspect = 1.5f;
