@@ -391,10 +391,12 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
         return;
     }
     size_t per = (size_t)m->comps * 8;
-    maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, f, m->dsum + i * per);
+    float w[2 * MAAF_COMPS_MAX];
+    maaf_lens_factors(&m->lens, r->lens_u, -r->lens_v, w);
+    maaf_factors_accumulate(m->comps, w, f, m->dsum + i * per);
     if (m->asum) {
         float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
-        maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, a, m->asum + i * per);
+        maaf_factors_accumulate(m->comps, w, a, m->asum + i * per);
     }
 }
 
