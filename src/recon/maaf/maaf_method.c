@@ -142,7 +142,8 @@ struct ReconMethod {
     bool indirect;
     float ikappa;               /* its knob: Omega_v_max = ikappa MAAF_INDIRECT_OMEGA_V */
     MaafLens dirs;              /* the direction-factor tables */
-    float *isum;                /* comps * 8 per pixel: indirect light x direction-factors */
+    float *isum;                /* iper per pixel: indirect light x direction-factors */
+    size_t iper;                /* comps * 8, or 4 without directions (indirect_add) */
     float *iframe4, *iaxis2;    /* the pixel's tangent axes t1 (w: 1 once set) and t2 (n = t1 x t2) */
     float *istd_px, *icomponents; /* AOVs */
 };
@@ -339,7 +340,8 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         if (!maaf_lens_design(lens_kappa, m->pairs, &m->lens)) goto oom;
     }
     if (m->indirect) {
-        m->isum = zalloc(n * per, sizeof(float));
+        m->iper = MAAF_INDIRECT_DIRECTIONS ? per : 4;
+        m->isum = zalloc(n * m->iper, sizeof(float));
         m->iframe4 = calloc(4 * n, sizeof(float));
         m->iaxis2 = calloc(4 * n, sizeof(float));
         m->istd_px = calloc(n, sizeof(float));
@@ -347,7 +349,11 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !cache_init(&m->indirect_cache, n))
             goto oom;
         m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
-        if (!maaf_direction_design(m->ikappa, m->pairs, &m->dirs)) goto oom;
+        if (MAAF_INDIRECT_DIRECTIONS) {
+            if (!maaf_direction_design(m->ikappa, m->pairs, &m->dirs)) goto oom;
+        } else {
+            maaf_direction_means(m->ikappa, m->pairs, &m->dirs);
+        }
     }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
@@ -375,13 +381,11 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
  * flipped: raster y runs against the lens's v (maaf_defocus.h). */
-static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
+static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r, const float ud[3], const float ui[3])
 {
     float f[4] = {r->L.x, r->L.y, r->L.z, 1.0f};
     if ((m->split_direct || m->split_indirect) && r->hit) {
         /* the filterable lights, as composite.c splits them (maaf_add_sample's f for the direct) */
-        float ud[3], ui[3];
-        gbuffer_unfiltered_split(r, ud, ui);
         if (m->split_direct) f[0] -= r->direct.x - ud[0], f[1] -= r->direct.y - ud[1], f[2] -= r->direct.z - ud[2];
         if (m->split_indirect)
             f[0] -= r->indirect.x - ui[0], f[1] -= r->indirect.y - ui[1], f[2] -= r->indirect.z - ui[2];
@@ -403,11 +407,12 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
 /* Indirect sums (eq. 20 with the bounce direction, maaf_indirect.h): every sample that hit a
  * surface, its filterable indirect light (composite.c's split) times the direction-factors of
  * its bounce direction in the pixel's frame; samples traced without ray geometry (pass 2) or
- * without a bounce ray get the factors' expectation. */
-static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r)
+ * without a bounce ray get the factors' expectation. Without directions
+ * (MAAF_INDIRECT_DIRECTIONS 0) every component's sum is its expectation times the plain sum of
+ * the samples: only that sum is kept (4 floats per pixel instead of comps x 8), and the
+ * components are made from it at filter time (maaf_filter_light). */
+static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r, const float ui[3])
 {
-    float ud[3], ui[3];
-    gbuffer_unfiltered_split(r, ud, ui);
     float f[4] = {r->indirect.x - ui[0], r->indirect.y - ui[1], r->indirect.z - ui[2], 1.0f};
     if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
         ++m->nonfinite_samples;
@@ -419,19 +424,28 @@ static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r)
         maaf_basis(nr, t1, t2);
         t1[3] = 1.0f;
     }
+    if (!MAAF_INDIRECT_DIRECTIONS) {
+        float *sum = m->isum + 4 * i;
+        for (int ch = 0; ch < 4; ++ch) sum[ch] += f[ch];
+        return;
+    }
     float n[3] = {t1[1] * t2[2] - t1[2] * t2[1], t1[2] * t2[0] - t1[0] * t2[2], t1[0] * t2[1] - t1[1] * t2[0]};
     float d[3] = {r->bounce[0].dir_world.x, r->bounce[0].dir_world.y, r->bounce[0].dir_world.z};
     bool known = r->bounce_count > 0 && isfinite(d[0] + d[1] + d[2]);
-    maaf_direction_accumulate(&m->dirs, t1, t2, n, known ? d : NULL, f, m->isum + i * (size_t)m->comps * 8);
+    maaf_direction_accumulate(&m->dirs, t1, t2, n, known ? d : NULL, f, m->isum + i * m->iper);
 }
 
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
 {
     aaf_stats_add(&m->stats, px, py, r);
+    /* the parts of the direct and indirect light the filters must not blur (gbuffer_add's
+     * split), once for the three sums */
+    float ud[3] = {0.0f, 0.0f, 0.0f}, ui[3] = {0.0f, 0.0f, 0.0f};
+    if (r->hit) gbuffer_unfiltered_split(r, ud, ui);
     if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
-        defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
+        defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ud, ui);
     if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
-        indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
+        indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ui);
     if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
     const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
     bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
@@ -441,8 +455,6 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
     /* the direct light without the part the filters must not blur (gbuffer_add's split) */
     float f[4] = {r->direct.x, r->direct.y, r->direct.z, 1.0f};
-    float ud[3], ui[3];
-    gbuffer_unfiltered_split(r, ud, ui);
     for (int k = 0; k < 3; ++k) f[k] -= ud[k];
     float p[3] = {r->p_world.x, r->p_world.y, r->p_world.z};
     if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
@@ -765,8 +777,18 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
              * each pixel's sums divided by its own albedo and r(x) */
             float inv[3];
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
-            const float *ys = sums + i * per;
-            for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
+            if (ind && !MAAF_INDIRECT_DIRECTIONS) { /* component c: its expectation x the plain sum */
+                const float *ys = sums + 4 * i;
+                for (int c = 0; c < m->comps; ++c)
+                    for (int ch = 0; ch < 4; ++ch) {
+                        float re = m->dirs.mean[c] * ys[ch];
+                        yd[8 * c + ch] = ch == 3 ? re : re * inv[ch];
+                        yd[8 * c + 4 + ch] = 0.0f;
+                    }
+            } else {
+                const float *ys = sums + i * per;
+                for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
+            }
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
             memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
@@ -847,7 +869,7 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
     if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
-    if (m->isum && count < max) out[count++] = (DistArray){m->isum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->isum && count < max) out[count++] = (DistArray){m->isum, m->iper * sizeof(float)};
     if (m->iframe4 && count < max) out[count++] = (DistArray){m->iframe4, 4 * sizeof(float)};
     if (m->iaxis2 && count < max) out[count++] = (DistArray){m->iaxis2, 4 * sizeof(float)};
     return count;
