@@ -744,6 +744,15 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
     return true;
 }
 
+/* The indirect image pass's bands. Without directions component (p, q)'s sums are its
+ * expectation exp(-2 (p^2 + q^2)) times the plain sum (indirect_add), at most e^-8 = 3.4e-4 for
+ * the components with |p| or |q| >= 2: the pass runs the sub-design of bands |p|, |q| <= 1 of
+ * the pixel's design (its first two bands' parameters; 5 components of 13 at N = 3). */
+static int indirect_pass_pairs(const ReconMethod *m)
+{
+    return MAAF_INDIRECT_DIRECTIONS || m->pairs < 2 ? m->pairs : 2;
+}
+
 /* Soft shadows (the direct light over albedo and r(x), the light's axes) or indirect light (over
  * albedo, the pixel's tangent axes): the same image pass on the receiver guides. */
 static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
@@ -755,6 +764,9 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
     size_t per = (size_t)m->comps * 8;
+    /* without directions the indirect pass runs the bands |p| <= 1 only (indirect_pass_pairs) */
+    int pass_pairs = ind ? indirect_pass_pairs(m) : m->pairs, pass_comps = maaf_component_count(pass_pairs);
+    size_t pass_per = (size_t)pass_comps * 8;
     const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
     const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
     float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
@@ -763,13 +775,13 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             size_t i = (size_t)y * w + x;
             float spp = g->frame.spp[i];
             bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
-            float *yd = m->ydemod + i * per, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            float *yd = m->ydemod + i * pass_per, *pr = m->param + i * MAAF_PARAM_STRIDE;
             memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
             m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
             std_px[i] = 0.0f;
             components[i] = 0.0f;
             if (!usable) {
-                memset(yd, 0, per * sizeof(float));
+                memset(yd, 0, pass_per * sizeof(float));
                 memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
                 continue;
             }
@@ -779,9 +791,9 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
             if (ind && !MAAF_INDIRECT_DIRECTIONS) { /* component c: its expectation x the plain sum */
                 const float *ys = sums + 4 * i;
-                for (int c = 0; c < m->comps; ++c)
+                for (int c = 0; c < pass_comps; ++c)
                     for (int ch = 0; ch < 4; ++ch) {
-                        float re = m->dirs.mean[c] * ys[ch];
+                        float re = maaf_direction_mean(pass_pairs, c) * ys[ch];
                         yd[8 * c + ch] = ch == 3 ? re : re * inv[ch];
                         yd[8 * c + 4 + ch] = 0.0f;
                     }
@@ -791,9 +803,10 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             }
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
+            if (components[i] > (float)(2 * pass_comps - 1)) components[i] = (float)(2 * pass_comps - 1);
             memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
-    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
+    MaafFilterInput in = {w, h, pass_pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
