@@ -171,17 +171,6 @@ void maaf_lens_factors(const MaafLens *l, float u, float v, float *w)
     for (size_t k = 0; k < step; ++k) w[k] = w00 * t00[k] + w01 * t01[k] + w10 * t10[k] + w11 * t11[k];
 }
 
-void maaf_factors_accumulate(int comps, const float *w, const float f4[4], float *ysum)
-{
-    for (int c = 0; c < comps; ++c) {
-        float *yr = ysum + 8 * c, *yi = yr + 4;
-        for (int ch = 0; ch < 4; ++ch) {
-            yr[ch] += w[2 * c] * f4[ch];
-            yi[ch] += w[2 * c + 1] * f4[ch];
-        }
-    }
-}
-
 void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum)
 {
     float w[2 * MAAF_COMPS_MAX];

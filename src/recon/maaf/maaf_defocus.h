@@ -57,9 +57,8 @@ void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2]);
 void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum);
 /* The same in two steps, for a caller that adds several values with one lens point's factors:
  * w (2 comps floats: every component's c_pq (re, im), maaf_lens_factor's values) once, then
- * f4 x w into a pixel's sums per value. */
+ * maaf_factors_accumulate (maaf_filter.h) per value. */
 void maaf_lens_factors(const MaafLens *l, float u, float v, float *w);
-void maaf_factors_accumulate(int comps, const float *w, const float f4[4], float *ysum);
 
 /* A pixel's x-filter for the signed slope range [s_min, s_max] (shadow convention: the signal
  * is a function of x + s u; for defocus s = -coc): slopes of one sign use maaf_pixel_param's
