@@ -92,6 +92,13 @@ static float kappa_for_budget(const ReconSetup *s, float kappa_default, int base
  * kept its best to higher budgets: on combined.pbrt lens kappa 3 was best at 64 spp and 6-12 at
  * 256; alone, on defocus.pbrt, 3-4 at 16, 8 at 64 and 12-16 at 256 (docs/algorithms.md 9.11). */
 #define LENS_SPLIT_BASE_SPP 36
+/* The indirect design's base when the lens filter blurs its output again (the split sums of
+ * 9.8): it narrows sooner. combined.pbrt, 256x256, 16 / 32 spp: relMSE -5% / -4% against base 9
+ * (kappa 6 / 8.5 instead of 4 / 5.7); all_effects (not used for the choice) within 0.5%.
+ * Alone the base stays 9: on indirect.pbrt base 36 had 10-20% less error at 16-64 spp, but
+ * on motion_shading (held out) 9% more at 64 (docs/benchmarks.md, "MAAF on the combined scene,
+ * cheaper"). */
+#define INDIRECT_SPLIT_BASE_SPP 4
 
 /* Per-pixel x-filters kept between calls: the plan runs once per mu of the budget search
  * (pipeline.c's mu_for_budget: up to 14 times) and the filter once more, and a pixel's filter
@@ -348,7 +355,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->icomponents = calloc(n, sizeof(float));
         if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !cache_init(&m->indirect_cache, n))
             goto oom;
-        m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
+        m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, m->split_indirect ? INDIRECT_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
         if (MAAF_INDIRECT_DIRECTIONS) {
             if (!maaf_direction_design(m->ikappa, m->pairs, &m->dirs)) goto oom;
         } else {
