@@ -670,7 +670,12 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
  * different surfaces (silhouettes: left out of the filter) and surface pixels whose filter is
  * under UNFILTERED_STD_PX wide (contact shadows) get EXTRA_SPP_PER_MU times mu times pass 1's
  * count, at most 100 mu. Their extra samples come without ray geometry; they are Monte Carlo
- * pixels, and the filter leaves them out as neighbours (sharpness rule). */
+ * pixels, and the filter leaves them out as neighbours (sharpness rule). With the split sums
+ * (defocus after the shading filters, 9.8) a silhouette's raw shading light enters the lens
+ * filter and spreads into its neighbours, so there silhouettes get the cap, 100 mu: relMSE
+ * combined.pbrt 16 / 32 spp -10% / -3.5%, all_effects (held out) -6% / -11% at 16 / 64
+ * (docs/benchmarks.md, "MAAF on the combined scene, cheaper"; without defocus the cap was
+ * worse: soft_shadows +20% and thin_occluders +12% at 16 spp). */
 static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
 {
     if (!ensure_derived(m, d)) return false;
@@ -681,6 +686,7 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
     float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
     int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    int silhouette = m->split_direct || m->split_indirect ? aaf_clamp_spp(100.0f * mu_e, pass1, 100.0f * mu_e) : extra;
     /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
      * budget reached only the silhouettes and the rest kept pass 1's noise */
     int filtered = aaf_far_spp(pass1, mu_e);
@@ -716,7 +722,7 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
                 count = aaf_clamp_spp(mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1 * fmaxf(1.0f, area * area), pass1,
                                       100.0f * mu_e);
             }
-            spp_total[i] = more ? extra : count;
+            spp_total[i] = more ? (g->hit[i] && g->mixed[i] ? silhouette : extra) : count;
         }
     return true;
 }
