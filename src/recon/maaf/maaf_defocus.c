@@ -160,22 +160,22 @@ void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
         out[k] = (1.0f - a) * ((1.0f - b) * t00[k] + b * t01[k]) + a * ((1.0f - b) * t10[k] + b * t11[k]);
 }
 
-void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum)
+void maaf_lens_factors(const MaafLens *l, float u, float v, float *w)
 {
     float a, b;
     size_t cell = lens_cell(u, v, &a, &b), step = (size_t)l->comps * 2, row = (size_t)MAAF_LENS_TABLE * step;
     const float *t00 = l->table + cell * step, *t01 = t00 + step, *t10 = t00 + row, *t11 = t10 + step;
     float w00 = (1.0f - a) * (1.0f - b), w01 = (1.0f - a) * b, w10 = a * (1.0f - b), w11 = a * b;
-    for (int c = 0; c < l->comps; ++c) {
-        float w[2];
-        for (int k = 0; k < 2; ++k)
-            w[k] = w00 * t00[2 * c + k] + w01 * t01[2 * c + k] + w10 * t10[2 * c + k] + w11 * t11[2 * c + k];
-        float *yr = ysum + 8 * c, *yi = yr + 4;
-        for (int ch = 0; ch < 4; ++ch) {
-            yr[ch] += w[0] * f4[ch];
-            yi[ch] += w[1] * f4[ch];
-        }
-    }
+    /* one contiguous loop over every component's (re, im): it vectorises, and the per-component
+     * loop of the sums below then needs no shuffles */
+    for (size_t k = 0; k < step; ++k) w[k] = w00 * t00[k] + w01 * t01[k] + w10 * t10[k] + w11 * t11[k];
+}
+
+void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum)
+{
+    float w[2 * MAAF_COMPS_MAX];
+    maaf_lens_factors(l, u, v, w);
+    maaf_factors_accumulate(l->comps, w, f4, ysum);
 }
 
 float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int pairs, float *param)

@@ -37,6 +37,7 @@ typedef struct {
     int pairs, comps;
     float omega_u_max;  /* radians per unit lens coordinate */
     float *table;       /* [iu][iv][c] (re, im): a sample reads one cell for every component */
+    float mean[MAAF_COMPS_MAX]; /* direction tables only: maaf_direction_mean per component */
 } MaafLens;
 
 /* Fills the tables for the knob kappa (Omega_u_max = kappa 2 / MAAF_LENS_SIGMA). False when out
@@ -54,6 +55,10 @@ void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2]);
 /* Adds one sample's value f4 (r, g, b, 1) at lens point (u, v) (the design's orientation:
  * the caller flips v, see above) to a pixel's sums (8 floats per component). */
 void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum);
+/* The same in two steps, for a caller that adds several values with one lens point's factors:
+ * w (2 comps floats: every component's c_pq (re, im), maaf_lens_factor's values) once, then
+ * maaf_factors_accumulate (maaf_filter.h) per value. */
+void maaf_lens_factors(const MaafLens *l, float u, float v, float *w);
 
 /* A pixel's x-filter for the signed slope range [s_min, s_max] (shadow convention: the signal
  * is a function of x + s u; for defocus s = -coc): slopes of one sign use maaf_pixel_param's

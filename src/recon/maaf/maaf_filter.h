@@ -15,6 +15,10 @@
 /* Components of the half set (p > 0, or p = 0 and q >= 0) of (2N - 1)^2: ((2N-1)^2 + 1) / 2. */
 #define MAAF_COMPS_MAX (((2 * MAAF_PAIRS_MAX - 1) * (2 * MAAF_PAIRS_MAX - 1) + 1) / 2)
 int maaf_component_count(int pairs);
+/* Eq. 20's sums of one sample: ysum (8 floats per component, the layout of MaafFilterInput's
+ * ysum) += f4 (r, g, b, w) x w_c for each component c, w (2 comps floats) its complex factor
+ * (re, im). */
+void maaf_factors_accumulate(int comps, const float *w, const float f4[4], float *ysum);
 /* Per pixel parameters: radius (pixels), then per band p: amplitude, C_x, sx^2 / 2. */
 #define MAAF_PARAM_STRIDE (1 + 3 * MAAF_PAIRS_MAX)
 /* Largest radius in pixels (the kernel's cost grows with it). */

@@ -13,13 +13,20 @@ static double transfer(double v1, double v2)
     return 1.0 / (r * r);
 }
 
-bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
+void maaf_direction_means(float kappa, int pairs, MaafLens *t)
 {
     memset(t, 0, sizeof *t);
-    int n = pairs < 1 ? 1 : pairs > MAAF_PAIRS_MAX ? MAAF_PAIRS_MAX : pairs, bands = 2 * n - 1;
+    int n = pairs < 1 ? 1 : pairs > MAAF_PAIRS_MAX ? MAAF_PAIRS_MAX : pairs;
     t->pairs = n;
     t->comps = maaf_component_count(n);
     t->omega_u_max = kappa * MAAF_INDIRECT_OMEGA_V;
+    for (int c = 0; c < t->comps; ++c) t->mean[c] = maaf_direction_mean(n, c); /* an expf per sample otherwise */
+}
+
+bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
+{
+    maaf_direction_means(kappa, pairs, t);
+    int n = t->pairs, bands = 2 * n - 1;
     enum { T = MAAF_LENS_TABLE };
     double s = maaf_lens_band_std(t), std = 1.0 / s, node = 2.0 * MAAF_INDIRECT_V_HALF / (T - 1);
     /* The convolution's grid: a whole number m of steps per table step (so every table node
@@ -136,7 +143,7 @@ void maaf_direction_accumulate(const MaafLens *t, const float t1[3], const float
         return;
     }
     for (int c = 0; c < t->comps; ++c) {
-        float w = maaf_direction_mean(t->pairs, c), *yr = ysum + 8 * c;
+        float w = t->mean[c], *yr = ysum + 8 * c;
         for (int ch = 0; ch < 4; ++ch) yr[ch] += w * f4[ch];
     }
 }

@@ -37,6 +37,12 @@
 #define MAAF_INDIRECT_V_HALF 8.0f
 /* The indirect knob's default (--mu; docs/algorithms.md 9.12 has the measurement). */
 #define MAAF_INDIRECT_KAPPA_DEFAULT 3.0f
+/* Whether the method weights indirect samples by their bounce directions (the factors c_pq
+ * of the table) or gives every sample the factors' expectation (maaf_direction_mean: the
+ * filter is then the design's x-kernel alone). 0: on the indirect and combined bench scenes the
+ * directional factors added bias (docs/algorithms.md 9.12, "No directions at all"), and the
+ * table and its per-sample look-ups cost time. */
+#define MAAF_INDIRECT_DIRECTIONS 0
 /* Reflector heights below this fraction of the scene's size count as it (AAF-GI Sec. 5's 2% on
  * z_min): at a contact line h -> 0 and the filter would vanish. */
 #define MAAF_INDIRECT_H_MIN_FRAC 0.02f
@@ -44,6 +50,10 @@
 /* Fills t (MaafLens layout, coordinates v / MAAF_INDIRECT_V_HALF) with c_pq for the knob kappa
  * (Omega_v_max = kappa MAAF_INDIRECT_OMEGA_V). False when out of memory (t->table NULL). */
 bool maaf_direction_design(float kappa, int pairs, MaafLens *t);
+/* The design without the table (t->table NULL): pairs, band and the expectations
+ * maaf_direction_mean, all that maaf_direction_accumulate reads for samples without a
+ * direction. */
+void maaf_direction_means(float kappa, int pairs, MaafLens *t);
 
 /* c_pq (component c, half-set order) at v, interpolated from the table. */
 void maaf_direction_factor(const MaafLens *t, int c, const float v[2], float out[2]);

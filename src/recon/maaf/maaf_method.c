@@ -92,6 +92,13 @@ static float kappa_for_budget(const ReconSetup *s, float kappa_default, int base
  * kept its best to higher budgets: on combined.pbrt lens kappa 3 was best at 64 spp and 6-12 at
  * 256; alone, on defocus.pbrt, 3-4 at 16, 8 at 64 and 12-16 at 256 (docs/algorithms.md 9.11). */
 #define LENS_SPLIT_BASE_SPP 36
+/* The indirect design's base when the lens filter blurs its output again (the split sums of
+ * 9.8): it narrows sooner. combined.pbrt, 256x256, 16 / 32 spp: relMSE -5% / -4% against base 9
+ * (kappa 6 / 8.5 instead of 4 / 5.7); all_effects (not used for the choice) within 0.5%.
+ * Alone the base stays 9: on indirect.pbrt base 36 had 10-20% less error at 16-64 spp, but
+ * on motion_shading (held out) 9% more at 64 (docs/benchmarks.md, "MAAF on the combined scene,
+ * cheaper"). */
+#define INDIRECT_SPLIT_BASE_SPP 4
 
 /* Per-pixel x-filters kept between calls: the plan runs once per mu of the budget search
  * (pipeline.c's mu_for_budget: up to 14 times) and the filter once more, and a pixel's filter
@@ -142,7 +149,8 @@ struct ReconMethod {
     bool indirect;
     float ikappa;               /* its knob: Omega_v_max = ikappa MAAF_INDIRECT_OMEGA_V */
     MaafLens dirs;              /* the direction-factor tables */
-    float *isum;                /* comps * 8 per pixel: indirect light x direction-factors */
+    float *isum;                /* iper per pixel: indirect light x direction-factors */
+    size_t iper;                /* comps * 8, or 4 without directions (indirect_add) */
     float *iframe4, *iaxis2;    /* the pixel's tangent axes t1 (w: 1 once set) and t2 (n = t1 x t2) */
     float *istd_px, *icomponents; /* AOVs */
 };
@@ -339,15 +347,20 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         if (!maaf_lens_design(lens_kappa, m->pairs, &m->lens)) goto oom;
     }
     if (m->indirect) {
-        m->isum = zalloc(n * per, sizeof(float));
+        m->iper = MAAF_INDIRECT_DIRECTIONS ? per : 4;
+        m->isum = zalloc(n * m->iper, sizeof(float));
         m->iframe4 = calloc(4 * n, sizeof(float));
         m->iaxis2 = calloc(4 * n, sizeof(float));
         m->istd_px = calloc(n, sizeof(float));
         m->icomponents = calloc(n, sizeof(float));
         if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !cache_init(&m->indirect_cache, n))
             goto oom;
-        m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
-        if (!maaf_direction_design(m->ikappa, m->pairs, &m->dirs)) goto oom;
+        m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, m->split_indirect ? INDIRECT_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
+        if (MAAF_INDIRECT_DIRECTIONS) {
+            if (!maaf_direction_design(m->ikappa, m->pairs, &m->dirs)) goto oom;
+        } else {
+            maaf_direction_means(m->ikappa, m->pairs, &m->dirs);
+        }
     }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
@@ -375,13 +388,11 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
  * flipped: raster y runs against the lens's v (maaf_defocus.h). */
-static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
+static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r, const float ud[3], const float ui[3])
 {
     float f[4] = {r->L.x, r->L.y, r->L.z, 1.0f};
     if ((m->split_direct || m->split_indirect) && r->hit) {
         /* the filterable lights, as composite.c splits them (maaf_add_sample's f for the direct) */
-        float ud[3], ui[3];
-        gbuffer_unfiltered_split(r, ud, ui);
         if (m->split_direct) f[0] -= r->direct.x - ud[0], f[1] -= r->direct.y - ud[1], f[2] -= r->direct.z - ud[2];
         if (m->split_indirect)
             f[0] -= r->indirect.x - ui[0], f[1] -= r->indirect.y - ui[1], f[2] -= r->indirect.z - ui[2];
@@ -391,21 +402,24 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r)
         return;
     }
     size_t per = (size_t)m->comps * 8;
-    maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, f, m->dsum + i * per);
+    float w[2 * MAAF_COMPS_MAX];
+    maaf_lens_factors(&m->lens, r->lens_u, -r->lens_v, w);
+    maaf_factors_accumulate(m->comps, w, f, m->dsum + i * per);
     if (m->asum) {
         float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
-        maaf_lens_accumulate(&m->lens, r->lens_u, -r->lens_v, a, m->asum + i * per);
+        maaf_factors_accumulate(m->comps, w, a, m->asum + i * per);
     }
 }
 
 /* Indirect sums (eq. 20 with the bounce direction, maaf_indirect.h): every sample that hit a
  * surface, its filterable indirect light (composite.c's split) times the direction-factors of
  * its bounce direction in the pixel's frame; samples traced without ray geometry (pass 2) or
- * without a bounce ray get the factors' expectation. */
-static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r)
+ * without a bounce ray get the factors' expectation. Without directions
+ * (MAAF_INDIRECT_DIRECTIONS 0) every component's sum is its expectation times the plain sum of
+ * the samples: only that sum is kept (4 floats per pixel instead of comps x 8), and the
+ * components are made from it at filter time (maaf_filter_light). */
+static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r, const float ui[3])
 {
-    float ud[3], ui[3];
-    gbuffer_unfiltered_split(r, ud, ui);
     float f[4] = {r->indirect.x - ui[0], r->indirect.y - ui[1], r->indirect.z - ui[2], 1.0f};
     if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
         ++m->nonfinite_samples;
@@ -417,19 +431,28 @@ static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r)
         maaf_basis(nr, t1, t2);
         t1[3] = 1.0f;
     }
+    if (!MAAF_INDIRECT_DIRECTIONS) {
+        float *sum = m->isum + 4 * i;
+        for (int ch = 0; ch < 4; ++ch) sum[ch] += f[ch];
+        return;
+    }
     float n[3] = {t1[1] * t2[2] - t1[2] * t2[1], t1[2] * t2[0] - t1[0] * t2[2], t1[0] * t2[1] - t1[1] * t2[0]};
     float d[3] = {r->bounce[0].dir_world.x, r->bounce[0].dir_world.y, r->bounce[0].dir_world.z};
     bool known = r->bounce_count > 0 && isfinite(d[0] + d[1] + d[2]);
-    maaf_direction_accumulate(&m->dirs, t1, t2, n, known ? d : NULL, f, m->isum + i * (size_t)m->comps * 8);
+    maaf_direction_accumulate(&m->dirs, t1, t2, n, known ? d : NULL, f, m->isum + i * m->iper);
 }
 
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
 {
     aaf_stats_add(&m->stats, px, py, r);
+    /* the parts of the direct and indirect light the filters must not blur (gbuffer_add's
+     * split), once for the three sums */
+    float ud[3] = {0.0f, 0.0f, 0.0f}, ui[3] = {0.0f, 0.0f, 0.0f};
+    if (r->hit) gbuffer_unfiltered_split(r, ud, ui);
     if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
-        defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
+        defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ud, ui);
     if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
-        indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r);
+        indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ui);
     if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
     const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
     bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
@@ -439,8 +462,6 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
     /* the direct light without the part the filters must not blur (gbuffer_add's split) */
     float f[4] = {r->direct.x, r->direct.y, r->direct.z, 1.0f};
-    float ud[3], ui[3];
-    gbuffer_unfiltered_split(r, ud, ui);
     for (int k = 0; k < 3; ++k) f[k] -= ud[k];
     float p[3] = {r->p_world.x, r->p_world.y, r->p_world.z};
     if (!isfinite(f[0]) || !isfinite(f[1]) || !isfinite(f[2])) {
@@ -649,7 +670,12 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
  * different surfaces (silhouettes: left out of the filter) and surface pixels whose filter is
  * under UNFILTERED_STD_PX wide (contact shadows) get EXTRA_SPP_PER_MU times mu times pass 1's
  * count, at most 100 mu. Their extra samples come without ray geometry; they are Monte Carlo
- * pixels, and the filter leaves them out as neighbours (sharpness rule). */
+ * pixels, and the filter leaves them out as neighbours (sharpness rule). With the split sums
+ * (defocus after the shading filters, 9.8) a silhouette's raw shading light enters the lens
+ * filter and spreads into its neighbours, so there silhouettes get the cap, 100 mu: relMSE
+ * combined.pbrt 16 / 32 spp -10% / -3.5%, all_effects (held out) -6% / -11% at 16 / 64
+ * (docs/benchmarks.md, "MAAF on the combined scene, cheaper"; without defocus the cap was
+ * worse: soft_shadows +20% and thin_occluders +12% at 16 spp). */
 static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
 {
     if (!ensure_derived(m, d)) return false;
@@ -660,6 +686,7 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
     float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
     int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    int silhouette = m->split_direct || m->split_indirect ? aaf_clamp_spp(100.0f * mu_e, pass1, 100.0f * mu_e) : extra;
     /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
      * budget reached only the silhouettes and the rest kept pass 1's noise */
     int filtered = aaf_far_spp(pass1, mu_e);
@@ -695,7 +722,7 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
                 count = aaf_clamp_spp(mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1 * fmaxf(1.0f, area * area), pass1,
                                       100.0f * mu_e);
             }
-            spp_total[i] = more ? extra : count;
+            spp_total[i] = more ? (g->hit[i] && g->mixed[i] ? silhouette : extra) : count;
         }
     return true;
 }
@@ -730,6 +757,15 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
     return true;
 }
 
+/* The indirect image pass's bands. Without directions component (p, q)'s sums are its
+ * expectation exp(-2 (p^2 + q^2)) times the plain sum (indirect_add), at most e^-8 = 3.4e-4 for
+ * the components with |p| or |q| >= 2: the pass runs the sub-design of bands |p|, |q| <= 1 of
+ * the pixel's design (its first two bands' parameters; 5 components of 13 at N = 3). */
+static int indirect_pass_pairs(const ReconMethod *m)
+{
+    return MAAF_INDIRECT_DIRECTIONS || m->pairs < 2 ? m->pairs : 2;
+}
+
 /* Soft shadows (the direct light over albedo and r(x), the light's axes) or indirect light (over
  * albedo, the pixel's tangent axes): the same image pass on the receiver guides. */
 static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
@@ -741,6 +777,9 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
     size_t per = (size_t)m->comps * 8;
+    /* without directions the indirect pass runs the bands |p| <= 1 only (indirect_pass_pairs) */
+    int pass_pairs = ind ? indirect_pass_pairs(m) : m->pairs, pass_comps = maaf_component_count(pass_pairs);
+    size_t pass_per = (size_t)pass_comps * 8;
     const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
     const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
     float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
@@ -749,13 +788,13 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             size_t i = (size_t)y * w + x;
             float spp = g->frame.spp[i];
             bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
-            float *yd = m->ydemod + i * per, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            float *yd = m->ydemod + i * pass_per, *pr = m->param + i * MAAF_PARAM_STRIDE;
             memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
             m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
             std_px[i] = 0.0f;
             components[i] = 0.0f;
             if (!usable) {
-                memset(yd, 0, per * sizeof(float));
+                memset(yd, 0, pass_per * sizeof(float));
                 memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
                 continue;
             }
@@ -763,13 +802,24 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
              * each pixel's sums divided by its own albedo and r(x) */
             float inv[3];
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
-            const float *ys = sums + i * per;
-            for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
+            if (ind && !MAAF_INDIRECT_DIRECTIONS) { /* component c: its expectation x the plain sum */
+                const float *ys = sums + 4 * i;
+                for (int c = 0; c < pass_comps; ++c)
+                    for (int ch = 0; ch < 4; ++ch) {
+                        float re = maaf_direction_mean(pass_pairs, c) * ys[ch];
+                        yd[8 * c + ch] = ch == 3 ? re : re * inv[ch];
+                        yd[8 * c + 4 + ch] = 0.0f;
+                    }
+            } else {
+                const float *ys = sums + i * per;
+                for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
+            }
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
+            if (components[i] > (float)(2 * pass_comps - 1)) components[i] = (float)(2 * pass_comps - 1);
             memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
-    MaafFilterInput in = {w, h, m->pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
+    MaafFilterInput in = {w, h, pass_pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
@@ -845,7 +895,7 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
     if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
-    if (m->isum && count < max) out[count++] = (DistArray){m->isum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->isum && count < max) out[count++] = (DistArray){m->isum, m->iper * sizeof(float)};
     if (m->iframe4 && count < max) out[count++] = (DistArray){m->iframe4, 4 * sizeof(float)};
     if (m->iaxis2 && count < max) out[count++] = (DistArray){m->iaxis2, 4 * sizeof(float)};
     return count;

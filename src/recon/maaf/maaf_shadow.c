@@ -108,20 +108,18 @@ void maaf_accumulate_unknown(int pairs, const MaafLight *l, const float f4[4], f
 
 static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4], float *ysum)
 {
+    float w[2 * MAAF_COMPS_MAX];
     int c = 0;
     for (int p = 0; p < pairs; ++p)
         for (int q = -(pairs - 1); q < pairs; ++q) {
             if (p == 0 && q < 0) continue;
             /* band -q along axis 2 has centre -C_y^q: the conjugate factor */
             float br = q >= 0 ? b2[q][0] : b2[-q][0], bi = q >= 0 ? b2[q][1] : -b2[-q][1];
-            float wr = b1[p][0] * br - b1[p][1] * bi, wi = b1[p][0] * bi + b1[p][1] * br;
-            float *yr = ysum + 8 * c, *yi = yr + 4;
-            for (int ch = 0; ch < 4; ++ch) {
-                yr[ch] += wr * f4[ch];
-                yi[ch] += wi * f4[ch];
-            }
+            w[2 * c] = b1[p][0] * br - b1[p][1] * bi;
+            w[2 * c + 1] = b1[p][0] * bi + b1[p][1] * br;
             ++c;
         }
+    maaf_factors_accumulate(c, w, f4, ysum);
 }
 
 static void clear_param(float *param) { memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float)); }
