@@ -18,6 +18,7 @@ import math
 import os
 import statistics
 import subprocess
+import tempfile
 
 import numpy as np
 
@@ -25,6 +26,7 @@ from . import runners
 
 METHOD_STYLE = {
     "wedge mc": ("tab:gray", "o"), "wedge aaf": ("tab:blue", "s"), "wedge lr": ("tab:cyan", "v"),
+    "wedge maaf": ("tab:purple", "<"), "wedge fsf": ("tab:brown", ">"),
     "mitsuba path": ("tab:red", "^"), "mc + oidn": ("tab:green", "D"), "mc + oidn (albedo, normal)": ("tab:olive", "P"),
 }
 
@@ -36,6 +38,30 @@ def _effects(wedge, scene):
     if isinstance(eff, dict):
         return [k for k, v in eff.items() if v]
     return list(eff)
+
+
+# Every wedge filter beside Monte Carlo and auto, in the wide table's column order.
+WEDGE_FILTERS = ("aaf", "lr", "maaf", "fsf")
+
+
+def _filters(wedge, scene, effects):
+    """The filters that take at least one of the scene's effects (`wedge info --filters`) and
+    accept the scene (FSF refuses scenes without a planar area light: a 4x4 probe render)."""
+    out = subprocess.run([wedge, "info", "--filters", "--json"], check=True, capture_output=True, text=True).stdout
+    takes = {m["name"]: set(m["effects"]) for m in json.loads(out)["methods"]}
+    names = []
+    for name in WEDGE_FILTERS:
+        if not takes.get(name, set()) & set(effects):
+            continue
+        with tempfile.TemporaryDirectory() as tmp:
+            r = subprocess.run([wedge, "render", scene, "--filter", name, "--res", "4x4", "--spp", "1", "--quiet",
+                                "-o", os.path.join(tmp, "probe.exr")], capture_output=True, text=True)
+        if r.returncode == 0:
+            names.append(name)
+        else:
+            last = r.stderr.strip().splitlines()[-1] if r.stderr.strip() else f"exit {r.returncode}"
+            print(f"curves: wedge {name} left out: {last}", flush=True)
+    return names
 
 
 def reference(args, out):
@@ -53,9 +79,9 @@ def run(args):
     spps = [int(s) for s in args.spp.split(",")]
     effects = _effects(args.wedge, args.scene)
     # wedge auto: the default a user gets (the choice per effect, issue 18)
-    points = [("wedge mc", s) for s in spps] + [("wedge auto", s) for s in spps] + [("wedge aaf", s) for s in spps]
-    if "defocus" in effects or "motion" in effects:
-        points += [("wedge lr", s) for s in spps]
+    points = [("wedge mc", s) for s in spps] + [("wedge auto", s) for s in spps]
+    for name in _filters(args.wedge, args.scene, effects):
+        points += [("wedge " + name, s) for s in spps]
     points += [("mitsuba path", s) for s in spps] + [("mc + oidn", s) for s in spps] + \
               [("mc + oidn (albedo, normal)", s) for s in spps]
     ms = None
@@ -74,13 +100,10 @@ def run(args):
             seed = 1 + rep * 1000 + k
             img_path = os.path.join(out, "images", f"{method.replace(' ', '_').replace('(', '').replace(')', '').replace(',', '')}-{x:g}.exr")
             spp_avg = x
-            if method in ("wedge mc", "wedge lr"):
-                filt = "none" if method == "wedge mc" else "lr"
+            if method.startswith("wedge "):
+                # --spp under a filter is the frame's average budget (default mu); mc: --filter none
+                filt = "none" if method == "wedge mc" else method.split()[1]
                 rep_ = runners.wedge_render(args.wedge, args.scene, img_path, args.res, int(x), seed, filt=filt)
-                img, secs = runners.rgb_of(runners.read_exr(img_path)), rep_["seconds_total"]
-            elif method in ("wedge aaf", "wedge auto"):
-                # --spp under a filter is the frame's average budget (default mu)
-                rep_ = runners.wedge_render(args.wedge, args.scene, img_path, args.res, int(x), seed, filt=method.split()[1])
                 img, secs, spp_avg = runners.rgb_of(runners.read_exr(img_path)), rep_["seconds_total"], rep_["spp_avg"]
             elif method == "mitsuba path":
                 img, secs = ms.render_warm(int(x), seed)
@@ -229,7 +252,7 @@ def _time_cell(pts, target):
 def report_wide(dirs):
     """One row per scene: seconds to the 64-spp Monte Carlo error per method, and each wedge
     filter's time over each peer's (< 1: the wedge filter is faster)."""
-    wedge_methods = ["wedge mc", "wedge auto", "wedge aaf", "wedge lr"]
+    wedge_methods = ["wedge mc", "wedge auto"] + ["wedge " + f for f in WEDGE_FILTERS]
     peers = ["mitsuba path", "mc + oidn", "mc + oidn (albedo, normal)"]
     head = ["scene", "res", "target relMSE"] + [f"{m} s" for m in wedge_methods + peers] + \
            [f"{w.split()[1]} / {p}" for w in wedge_methods[1:] for p in peers]
