@@ -264,7 +264,7 @@ static void tap_weight(const Taps *t, int n, int pairs, int p, int q, float8 *wr
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
                         int gpitch, int gplane, int ystride, int tblocks, __global const float *guide,
                         __global const float *frame4, __global const float *axis2, __global const float *param,
-                        __global const float *yp, __global float *tp)
+                        __global const float *yp, __global float *tp, __global const int *need)
 {
     int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
     if (x0 >= width || y >= height) return;
@@ -278,10 +278,14 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
                  yp + yo + per * ystride, 1);
     __global float *o = tp + (y * tblocks + x0 / 8) * (per + 1) * 8;
     int8 bad = (int8)(0);
+    /* every component, or the central one where no column reader has amplitude in another
+     * (row_needs in maaf_filter.c); the others' blocks in tp are then not written (nor read) */
+    int row_comps = need[y * tblocks + x0 / 8] ? comps : 1;
     int ci = 0;
     for (int p = 0; p < pairs; ++p)
         for (int q = -(pairs - 1); q < pairs; ++q) {
             if (p == 0 && q < 0) continue;
+            if (ci >= row_comps) break;
             /* one register per (channel, re/im): written out, the compiler keeps them in
              * registers (as an array it kept them in memory) */
             float8 r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, r3 = 0.0f, i0 = 0.0f, i1 = 0.0f, i2 = 0.0f, i3 = 0.0f;
