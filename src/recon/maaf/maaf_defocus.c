@@ -2,7 +2,6 @@
  * guides (see maaf_defocus.h; derivation in docs/algorithms.md 9.8). */
 #include "recon/maaf/maaf_defocus.h"
 
-#include "core/vectorise.h"
 #include "recon/maaf/maaf_shadow.h" /* maaf_pixel_param: the x-filter of one wedge */
 
 #include <math.h>
@@ -171,7 +170,7 @@ void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
     if (conj) out[1] = -out[1];
 }
 
-WEDGE_VECTORISED void maaf_lens_factors(const MaafLens *l, float u, float v, float *w)
+void maaf_lens_factors(const MaafLens *l, float u, float v, float *w)
 {
     bool conj = u > 0.0f; /* the stored half: c(u, v) = conj c(-u, -v) */
     if (conj) u = -u, v = -v;
