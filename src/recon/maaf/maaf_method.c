@@ -552,6 +552,29 @@ static bool pixel_wedge(const ReconMethod *m, int x, int y, float *s_min, float 
     return false;
 }
 
+/* One axis of a window's extremes: per pixel the smallest lo and largest hi of the pixels within
+ * r along rows (or columns) that have found set, and whether any has. */
+static void extremes_along(int w, int h, int r, bool rows, const float *lo_in, const float *hi_in,
+                           const unsigned char *found_in, float *lo_out, float *hi_out, unsigned char *found_out)
+{
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float lo = INFINITY, hi = -INFINITY;
+            bool found = false;
+            int c = rows ? x : y, end = rows ? w : h;
+            for (int k = c - r; k <= c + r; ++k) {
+                if (k < 0 || k >= end) continue;
+                size_t j = rows ? (size_t)y * w + k : (size_t)k * w + x;
+                if (!found_in[j]) continue;
+                lo = fminf(lo, lo_in[j]);
+                hi = fmaxf(hi, hi_in[j]);
+                found = true;
+            }
+            size_t i = (size_t)y * w + x;
+            lo_out[i] = lo, hi_out[i] = hi, found_out[i] = found;
+        }
+}
+
 /* pixel_wedge's windows for every pixel, separably: the extremes over a square are the
  * extremes over its rows' extremes (min and max do not depend on the order; the first version
  * scanned both squares per pixel and call, 1.7% of a combined frame). */
@@ -562,8 +585,8 @@ static bool wedge_windows(ReconMethod *m)
     size_t n = (size_t)w * (size_t)h;
     float *s1 = malloc(n * sizeof(float)), *s2 = malloc(n * sizeof(float)), *row_lo = malloc(n * sizeof(float)),
           *row_hi = malloc(n * sizeof(float));
-    unsigned char *row_found = malloc(n);
-    bool ok = s1 && s2 && row_lo && row_hi && row_found;
+    unsigned char *seen = malloc(n), *row_found = malloc(n);
+    bool ok = s1 && s2 && row_lo && row_hi && seen && row_found;
     float *lo_k[2] = {NULL, NULL}, *hi_k[2] = {NULL, NULL};
     unsigned char *found_k[2] = {NULL, NULL};
     for (int k = 0; k < 2 && ok; ++k) {
@@ -572,45 +595,16 @@ static bool wedge_windows(ReconMethod *m)
         found_k[k] = malloc(n);
         ok = lo_k[k] && hi_k[k] && found_k[k];
     }
-    for (size_t j = 0; j < n && ok; ++j) {
-        s1[j] = -INFINITY, s2[j] = INFINITY; /* no occluder seen: neutral for min and max */
-        if (dv->d2min[j] > 0.0f && dv->d1[j] > 0.0f) /* s1 steepest (occluder nearest the light), s2 shallowest */
-            aaf_shadow_slopes(dv->d1[j], dv->d2min[j], dv->d2max[j], &s1[j], &s2[j]);
+    for (size_t j = 0; j < n && ok; ++j) { /* s1 steepest (occluder nearest the light), s2 shallowest */
+        seen[j] = dv->d2min[j] > 0.0f && dv->d1[j] > 0.0f; /* an occluder */
+        if (seen[j]) aaf_shadow_slopes(dv->d1[j], dv->d2min[j], dv->d2max[j], &s1[j], &s2[j]);
     }
     for (int k = 0; k < 2 && ok; ++k) {
         int r = k == 0 ? SLOPE_WINDOW_PX : BORROW_RADIUS_PX;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                float lo = INFINITY, hi = -INFINITY;
-                bool found = false;
-                for (int xx = x - r; xx <= x + r; ++xx) {
-                    if (xx < 0 || xx >= w) continue;
-                    size_t j = (size_t)y * w + xx;
-                    if (!(dv->d2min[j] > 0.0f) || !(dv->d1[j] > 0.0f)) continue;
-                    lo = fminf(lo, s2[j]);
-                    hi = fmaxf(hi, s1[j]);
-                    found = true;
-                }
-                size_t i = (size_t)y * w + x;
-                row_lo[i] = lo, row_hi[i] = hi, row_found[i] = found;
-            }
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                float lo = INFINITY, hi = -INFINITY;
-                bool found = false;
-                for (int yy = y - r; yy <= y + r; ++yy) {
-                    if (yy < 0 || yy >= h) continue;
-                    size_t j = (size_t)yy * w + x;
-                    if (!row_found[j]) continue;
-                    lo = fminf(lo, row_lo[j]);
-                    hi = fmaxf(hi, row_hi[j]);
-                    found = true;
-                }
-                size_t i = (size_t)y * w + x;
-                lo_k[k][i] = lo, hi_k[k][i] = hi, found_k[k][i] = found;
-            }
+        extremes_along(w, h, r, true, s2, s1, seen, row_lo, row_hi, row_found);
+        extremes_along(w, h, r, false, row_lo, row_hi, row_found, lo_k[k], hi_k[k], found_k[k]);
     }
-    free(s1), free(s2), free(row_lo), free(row_hi), free(row_found);
+    free(s1), free(s2), free(row_lo), free(row_hi), free(seen), free(row_found);
     for (int k = 0; k < 2; ++k) {
         if (!ok) { /* all or nothing: ensure_derived asks again */
             free(lo_k[k]), free(hi_k[k]), free(found_k[k]);
