@@ -29,7 +29,7 @@
 /* Rows stored (u index 0 .. 65 of 129): c(-u, -v) = conj c(u, v) gives the rest, so a lookup at
  * u > 0 reads the conjugate at (-u, -v). The row past the middle keeps the interpolation of
  * u = 0 inside the stored rows. Half the table (0.9 MB instead of 1.7 at N = 3) stays in a 2 MB
- * L2 cache next to the sums: docs/benchmarks.md "MAAF's lens table, halved". */
+ * L2 cache next to the sums (docs/benchmarks.md, "MAAF frames, cheaper again"). */
 #define MAAF_LENS_ROWS ((MAAF_LENS_TABLE + 1) / 2 + 1)
 
 /* The unit disk's per-axis standard deviation (docs/algorithms.md 3.2: sigma_u = 1/2); the lens
