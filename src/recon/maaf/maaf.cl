@@ -193,11 +193,16 @@ static void axis_factor(float8 cx, float8 hv, float8 d, float8 *c, float8 *s, fl
     if (any(arg != 0.0f)) *g = exp(arg);
 }
 
-/* Per band p the complex x-factors along both axes, 0 in the lanes that do not use the tap. */
-static void tap_factors(int pairs, const float8 *cx, const float8 *hv, float8 d1, float8 d2, int8 ok, float8 *e1r,
-                        float8 *e1i, float8 *e2r, float8 *e2i)
+/* Per band p < pairs the complex x-factors along both axes, 0 in the lanes that do not use the
+ * tap. A band whose C_x and sx in every lane are band 0's (copy[p]) has band 0's factors. */
+static void tap_factors(int pairs, const bool *copy, const float8 *cx, const float8 *hv, float8 d1, float8 d2, int8 ok,
+                        float8 *e1r, float8 *e1i, float8 *e2r, float8 *e2i)
 {
     for (int p = 0; p < pairs; ++p) {
+        if (copy[p]) {
+            e1r[p] = e1r[0], e1i[p] = e1i[0], e2r[p] = e2r[0], e2i[p] = e2i[0];
+            continue;
+        }
         float8 c1, c2, s1, s2, g1, g2;
         axis_factor(cx[p], hv[p], d1, &c1, &s1, &g1);
         axis_factor(cx[p], hv[p], d2, &c2, &s2, &g2);
@@ -221,18 +226,23 @@ typedef struct {
     float8 e2r[MAAF_TAPS_MAX * MAAF_PAIRS_MAX], e2i[MAAF_TAPS_MAX * MAAF_PAIRS_MAX];
 } Taps;
 
-static void taps_collect(Taps *t, const Centre *c, int kmin, int kmax, int pairs, const float8 *cx, const float8 *hv,
-                         float cos_normal_min, __global const float *guide, int gplane, int go, int gstep,
-                         __global const float *flags, int fstep)
+/* Bands p >= factor_pairs get no factors (the column pass: bands without amplitude in any lane,
+ * whose components it skips). The shadows' plain pixels (maaf_pixel_param_plain: C_x 0 and
+ * band 0's sx in every band) need one band's exp per axis instead of one per band. */
+static void taps_collect(Taps *t, const Centre *c, int kmin, int kmax, int pairs, int factor_pairs, const float8 *cx,
+                         const float8 *hv, float cos_normal_min, __global const float *guide, int gplane, int go,
+                         int gstep, __global const float *flags, int fstep)
 {
+    bool copy[MAAF_PAIRS_MAX];
+    for (int p = 0; p < factor_pairs; ++p) copy[p] = p > 0 && all(cx[p] == cx[0]) && all(hv[p] == hv[0]);
     t->count = 0;
     for (int k = max(-c->reach, kmin); k <= min(c->reach, kmax); ++k) {
         float8 d1, d2;
         int8 ok = tap_lanes(c, guide, gplane, go + k * gstep, k, cos_normal_min, &d1, &d2);
         if (!any(ok)) continue;
         int n = t->count++;
-        tap_factors(pairs, cx, hv, d1, d2, ok, t->e1r + n * pairs, t->e1i + n * pairs, t->e2r + n * pairs,
-                    t->e2i + n * pairs);
+        tap_factors(factor_pairs, copy, cx, hv, d1, d2, ok, t->e1r + n * pairs, t->e1i + n * pairs,
+                    t->e2r + n * pairs, t->e2i + n * pairs);
         t->offset[n] = k;
         t->ok[n] = ok;
         t->guard[n] = any((vload8(0, flags + k * fstep) != 0.0f) & ~ok);
@@ -254,7 +264,7 @@ static void tap_weight(const Taps *t, int n, int pairs, int p, int q, float8 *wr
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
                         int gpitch, int gplane, int ystride, int tblocks, __global const float *guide,
                         __global const float *frame4, __global const float *axis2, __global const float *param,
-                        __global const float *yp, __global float *tp)
+                        __global const float *yp, __global float *tp, __global const int *need)
 {
     int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
     if (x0 >= width || y >= height) return;
@@ -264,14 +274,18 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
     Taps t;
     /* taps whose 8 neighbours include an image pixel */
-    taps_collect(&t, &c, -(x0 + 7), width - 1 - x0, pairs, cx, hv, cos_normal_min, guide, gplane, go, 1,
+    taps_collect(&t, &c, -(x0 + 7), width - 1 - x0, pairs, pairs, cx, hv, cos_normal_min, guide, gplane, go, 1,
                  yp + yo + per * ystride, 1);
     __global float *o = tp + (y * tblocks + x0 / 8) * (per + 1) * 8;
     int8 bad = (int8)(0);
+    /* every component, or the central one where no column reader has amplitude in another
+     * (row_needs in maaf_filter.c); the others' blocks in tp are then not written (nor read) */
+    int row_comps = need[y * tblocks + x0 / 8] ? comps : 1;
     int ci = 0;
     for (int p = 0; p < pairs; ++p)
         for (int q = -(pairs - 1); q < pairs; ++q) {
             if (p == 0 && q < 0) continue;
+            if (ci >= row_comps) break;
             /* one register per (channel, re/im): written out, the compiler keeps them in
              * registers (as an array it kept them in memory) */
             float8 r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, r3 = 0.0f, i0 = 0.0f, i1 = 0.0f, i2 = 0.0f, i3 = 0.0f;
@@ -319,14 +333,28 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
     Taps t;
+    /* the bands with amplitude in some lane: the components of the others are skipped below */
+    int amp_pairs = 1;
+    for (int p = 1; p < pairs; ++p)
+        if (any(amp[p] != 0.0f)) amp_pairs = p + 1;
     /* taps on image rows */
-    taps_collect(&t, &c, -y, height - 1 - y, pairs, cx, hv, cos_normal_min, guide, gplane, go, gpitch, tp + to + per * 8,
-                 tblocks * tb);
+    taps_collect(&t, &c, -y, height - 1 - y, pairs, amp_pairs, cx, hv, cos_normal_min, guide, gplane, go, gpitch,
+                 tp + to + per * 8, tblocks * tb);
     float8 sum[4] = {(float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)}, central[4];
     int ci = 0;
     for (int p = 0; p < pairs; ++p)
         for (int q = -(pairs - 1); q < pairs; ++q) {
             if (p == 0 && q < 0) continue;
+            /* a component without amplitude adds nothing: skipped where no lane has one (the
+             * shadows' plain pixels, AAF's far rule, have amplitude in the central one only:
+             * 90% of the combined bench's work items), and its lanes left out by select
+             * elsewhere, so that a non-finite sum of it is not read, as in the reference */
+            float8 m = (ci == 0 ? 1.0f : 2.0f) * amp[p] * amp[q < 0 ? -q : q];
+            int8 used = m != 0.0f;
+            if (ci != 0 && !any(used)) {
+                ++ci;
+                continue;
+            }
             float8 r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, r3 = 0.0f; /* as maaf_rows: registers */
             for (int n = 0; n < t.count; ++n) {
                 float8 wr, wi;
@@ -345,8 +373,8 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
                 r2 += wr * y2 - wi * z2;
                 r3 += wr * y3 - wi * z3;
             }
-            float8 m = (ci == 0 ? 1.0f : 2.0f) * amp[p] * amp[q < 0 ? -q : q];
-            sum[0] += m * r0, sum[1] += m * r1, sum[2] += m * r2, sum[3] += m * r3;
+            sum[0] += select(0.0f, m * r0, used), sum[1] += select(0.0f, m * r1, used);
+            sum[2] += select(0.0f, m * r2, used), sum[3] += select(0.0f, m * r3, used);
             if (ci == 0) central[0] = r0, central[1] = r1, central[2] = r2, central[3] = r3;
             ++ci;
         }

@@ -43,7 +43,7 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     l->comps = maaf_component_count(n);
     l->omega_u_max = 2.0f * kappa / MAAF_LENS_SIGMA;
     enum { T = MAAF_LENS_TABLE, K = ANGLE_STEPS + 1, E = ANTIDERIV_STEPS + 1 };
-    l->table = calloc((size_t)l->comps * T * T * 2, sizeof(float));
+    l->table = calloc((size_t)l->comps * MAAF_LENS_ROWS * T * 2, sizeof(float));
     Cplx *rows = malloc((size_t)n * T * K * sizeof(Cplx));         /* [p][iu][k] */
     Cplx *chords = malloc((size_t)bands * T * K * sizeof(Cplx));   /* [q + n - 1][iv][k] */
     Cplx *anti = malloc((size_t)E * sizeof(Cplx));
@@ -111,15 +111,9 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                         acc_im[iv] += rr * ci[iv] + ri * cr[iv];
                     }
                 }
-                for (int iv = 0; iv < T; ++iv) {
-                    float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
-                    float *mirror = l->table + (((size_t)(T - 1 - iu) * T + (T - 1 - iv)) * l->comps + c) * 2;
-                    o[0] = (float)acc_re[iv];
-                    o[1] = (float)acc_im[iv];
-                    /* c_pq(-u, -v) = conj(c_pq(u, v)): the disk is point-symmetric and each
-                     * band's primal component at -t is the conjugate of that at t */
-                    if (T - 1 - iu != iu) mirror[0] = o[0], mirror[1] = -o[1];
-                }
+                /* c_pq(-u, -v) = conj(c_pq(u, v)): the disk is point-symmetric and each band's
+                 * primal component at -t is the conjugate of that at t */
+                for (int iv = 0; iv < T; ++iv) maaf_lens_store(l, c, iu, iv, (float)acc_re[iv], (float)acc_im[iv]);
             }
             ++c;
         }
@@ -134,7 +128,20 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     return ok;
 }
 
-/* Table cell of (u, v) and its bilinear weights. */
+void maaf_lens_store(MaafLens *l, int c, int iu, int iv, float re, float im)
+{
+    enum { T = MAAF_LENS_TABLE };
+    float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
+    o[0] = re, o[1] = im;
+    int mu = T - 1 - iu, mv = T - 1 - iv;
+    if (mu != iu && mu < MAAF_LENS_ROWS) {
+        float *mirror = l->table + (((size_t)mu * T + mv) * l->comps + c) * 2;
+        mirror[0] = re, mirror[1] = -im;
+    }
+}
+
+/* Table cell of (u, v) and its bilinear weights, for u <= 0 (the stored rows; the callers fold
+ * u > 0 onto (-u, -v)). */
 static size_t lens_cell(float u, float v, float *a, float *b)
 {
     enum { T = MAAF_LENS_TABLE };
@@ -152,16 +159,21 @@ static size_t lens_cell(float u, float v, float *a, float *b)
 
 void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
 {
+    bool conj = u > 0.0f;
+    if (conj) u = -u, v = -v;
     float a, b;
     size_t cell = lens_cell(u, v, &a, &b), row = (size_t)MAAF_LENS_TABLE * l->comps * 2;
     const float *t00 = l->table + cell * l->comps * 2 + 2 * c, *t01 = t00 + l->comps * 2, *t10 = t00 + row,
                 *t11 = t10 + l->comps * 2;
     for (int k = 0; k < 2; ++k)
         out[k] = (1.0f - a) * ((1.0f - b) * t00[k] + b * t01[k]) + a * ((1.0f - b) * t10[k] + b * t11[k]);
+    if (conj) out[1] = -out[1];
 }
 
 void maaf_lens_factors(const MaafLens *l, float u, float v, float *w)
 {
+    bool conj = u > 0.0f; /* the stored half: c(u, v) = conj c(-u, -v) */
+    if (conj) u = -u, v = -v;
     float a, b;
     size_t cell = lens_cell(u, v, &a, &b), step = (size_t)l->comps * 2, row = (size_t)MAAF_LENS_TABLE * step;
     const float *t00 = l->table + cell * step, *t01 = t00 + step, *t10 = t00 + row, *t11 = t10 + step;
@@ -169,6 +181,8 @@ void maaf_lens_factors(const MaafLens *l, float u, float v, float *w)
     /* one contiguous loop over every component's (re, im): it vectorises, and the per-component
      * loop of the sums below then needs no shuffles */
     for (size_t k = 0; k < step; ++k) w[k] = w00 * t00[k] + w01 * t01[k] + w10 * t10[k] + w11 * t11[k];
+    if (conj)
+        for (size_t k = 1; k < step; k += 2) w[k] = -w[k];
 }
 
 void maaf_lens_accumulate(const MaafLens *l, float u, float v, const float f4[4], float *ysum)

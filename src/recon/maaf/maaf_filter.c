@@ -131,7 +131,9 @@ void maaf_filter_reference(const MaafFilterInput *in, float *out4)
                 for (int q = -(pairs - 1); q < pairs; ++q) {
                     if (p == 0 && q < 0) continue;
                     float m = (c == 0 ? 1.0f : 2.0f) * pr[1 + 3 * p] * pr[1 + 3 * (q < 0 ? -q : q)];
-                    for (int ch = 0; ch < 4; ++ch) sum[ch] += m * acc[8 * c + ch];
+                    /* without amplitude it adds nothing, non-finite sums included (maaf_cols) */
+                    if (m != 0.0f)
+                        for (int ch = 0; ch < 4; ++ch) sum[ch] += m * acc[8 * c + ch];
                     ++c;
                 }
             float amp0 = pr[1];
@@ -170,12 +172,14 @@ bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
 #define GUIDES 11
 #define PAD 8
 
-enum { BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_COUNT };
+enum { BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_NEED, BUF_COUNT };
 enum { K_UNPACK, K_ROWS, K_COLS, K_COUNT };
 static const char *const KERNEL_NAMES[K_COUNT] = {"maaf_unpack", "maaf_rows", "maaf_cols"};
 
 struct MaafFilter {
     ClRuntime *rt;
+    cl_int *need; /* row_needs's flags, host side */
+    size_t need_count;
     cl_kernel k[K_COUNT];
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
@@ -205,6 +209,7 @@ void maaf_filter_destroy(MaafFilter *f)
         if (f->buf[b]) clReleaseMemObject(f->buf[b]);
     for (int k = 0; k < K_COUNT; ++k)
         if (f->k[k]) clReleaseKernel(f->k[k]);
+    free(f->need);
     free(f);
 }
 
@@ -274,6 +279,44 @@ static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const flo
     return cl_ok(err, KERNEL_NAMES[k], d);
 }
 
+/* Which row-pass work items (8 pixels of a row, need[y * tblocks + x / 8]) must sum every
+ * component: those that a column-pass work item with amplitude beyond band 0 in some lane
+ * reads, i.e. one in the same 8 columns within MAAF_RADIUS_CAP_PX rows. The others' column
+ * readers use the central component alone (maaf_cols skips components without amplitude), so
+ * the row pass sums only that one: the shadows' plain pixels (AAF's far rule), 90% of the
+ * work items on the combined bench. */
+static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
+{
+    int w = in->width, h = in->height;
+    size_t count = (size_t)h * (size_t)tblocks;
+    if (f->need_count < count) {
+        free(f->need);
+        f->need_count = 0;
+        if (!(f->need = malloc(count * sizeof(cl_int)))) return false;
+        f->need_count = count;
+    }
+    unsigned char *amp = calloc(count, 1);
+    if (!amp) return false;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float *pr = in->param + ((size_t)y * w + x) * MAAF_PARAM_STRIDE;
+            for (int p = 1; p < in->pairs; ++p)
+                if (pr[1 + 3 * p] != 0.0f) amp[(size_t)y * tblocks + x / LANES] = 1;
+        }
+    for (int b = 0; b < tblocks; ++b) { /* a sliding window of 2 cap + 1 rows per column of blocks */
+        int inside = 0;
+        for (int y = 0; y < MAAF_RADIUS_CAP_PX && y < h; ++y) inside += amp[(size_t)y * tblocks + b];
+        for (int y = 0; y < h; ++y) {
+            int enter = y + MAAF_RADIUS_CAP_PX, leave = y - MAAF_RADIUS_CAP_PX - 1;
+            if (enter < h) inside += amp[(size_t)enter * tblocks + b];
+            if (leave >= 0) inside -= amp[(size_t)leave * tblocks + b];
+            f->need[(size_t)y * tblocks + b] = inside > 0;
+        }
+    }
+    free(amp);
+    return true;
+}
+
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d)
 {
     if (kernel_seconds) *kernel_seconds = 0.0;
@@ -295,9 +338,17 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
               host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
               buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, yfloats * sizeof(float), d) &&
-              buffer(f, BUF_TP, tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d);
+              buffer(f, BUF_TP, tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
+              buffer(f, BUF_NEED, rows * (w8 / LANES) * sizeof(cl_int), d);
     cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)ystride;
     cl_int tb = (cl_int)(w8 / LANES);
+    if (ok && !row_needs(f, in, tb)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        ok = false;
+    }
+    ok = ok && cl_ok(clEnqueueWriteBuffer(f->rt->queue, f->buf[BUF_NEED], CL_FALSE, 0, rows * (size_t)tb * sizeof(cl_int),
+                                          f->need, 0, NULL, NULL),
+                     "upload", d);
     float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
     cl_event ev[K_COUNT] = {NULL, NULL, NULL};
     if (ok) {
@@ -308,8 +359,8 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     }
     if (ok) {
         cl_int ints[4] = {w, h, in->pairs, comps}, ints2[4] = {gp, gpl, yp, tb};
-        int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP};
-        ok = set_args(f, K_ROWS, ints, 4, rules, 2, bufs, 6, ints2, 4, d) &&
+        int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};
+        ok = set_args(f, K_ROWS, ints, 4, rules, 2, bufs, 7, ints2, 4, d) &&
              cl_launch_2d(f->rt, f->k[K_ROWS], w8 / LANES, (size_t)h, &ev[K_ROWS], d);
     }
     if (ok) {

@@ -38,7 +38,7 @@ bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
     double de = node / m;
     int r = (int)ceil(5.0 * std / de), M = (T - 1) * m + 1 + 2 * r; /* grid j: v = -V - r de + j de */
     double v0 = -MAAF_INDIRECT_V_HALF - r * de;
-    t->table = calloc((size_t)t->comps * T * T * 2, sizeof(float));
+    t->table = calloc((size_t)t->comps * MAAF_LENS_ROWS * T * 2, sizeof(float));
     double *kre = malloc((size_t)bands * (2 * r + 1) * sizeof(double)), *kim = malloc((size_t)bands * (2 * r + 1) * sizeof(double));
     double *tr = malloc((size_t)M * M * sizeof(double));
     double *are = malloc((size_t)n * M * T * sizeof(double)), *aim = malloc((size_t)n * M * T * sizeof(double)); /* q >= 0 */
@@ -94,10 +94,7 @@ bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
                 }
                 for (int i2 = 0; i2 < T; ++i2) {
                     double inv = 1.0 / transfer(-MAAF_INDIRECT_V_HALF + i1 * node, -MAAF_INDIRECT_V_HALF + i2 * node);
-                    float *o = t->table + (((size_t)i1 * T + i2) * t->comps + c) * 2;
-                    float *mirror = t->table + (((size_t)(T - 1 - i1) * T + (T - 1 - i2)) * t->comps + c) * 2;
-                    o[0] = (float)(acc_re[i2] * inv), o[1] = (float)(acc_im[i2] * inv);
-                    if (T - 1 - i1 != i1) mirror[0] = o[0], mirror[1] = -o[1];
+                    maaf_lens_store(t, c, i1, i2, (float)(acc_re[i2] * inv), (float)(acc_im[i2] * inv));
                 }
             }
             ++c;
