@@ -37,12 +37,11 @@
 #define MAAF_INDIRECT_V_HALF 8.0f
 /* The indirect knob's default (--mu; docs/algorithms.md 9.12 has the measurement). */
 #define MAAF_INDIRECT_KAPPA_DEFAULT 3.0f
-/* Whether the method weights indirect samples by their bounce directions (the factors c_pq
- * of the table) or gives every sample the factors' expectation (maaf_direction_mean: the
- * filter is then the design's x-kernel alone). 0: on the indirect and combined bench scenes the
- * directional factors added bias (docs/algorithms.md 9.12, "No directions at all"), and the
- * table and its per-sample look-ups cost time. */
-#define MAAF_INDIRECT_DIRECTIONS 0
+/* The method gives every indirect sample the factors' expectation (maaf_direction_mean: the
+ * filter is then the design's x-kernel alone): on the indirect and combined bench scenes the
+ * directional factors of the table added bias (docs/algorithms.md 9.12, "No directions at
+ * all"). The table and maaf_direction_accumulate below are that measured design, kept with
+ * their tests (the table against brute force, the wedge's sign). */
 /* Reflector heights below this fraction of the scene's size count as it (AAF-GI Sec. 5's 2% on
  * z_min): at a contact line h -> 0 and the filter would vanish. */
 #define MAAF_INDIRECT_H_MIN_FRAC 0.02f

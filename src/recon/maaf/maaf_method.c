@@ -153,9 +153,8 @@ struct ReconMethod {
     /* indirect light (maaf_indirect.h) */
     bool indirect;
     float ikappa;               /* its knob: Omega_v_max = ikappa MAAF_INDIRECT_OMEGA_V */
-    MaafLens dirs;              /* the direction-factor tables */
-    float *isum;                /* iper per pixel: indirect light x direction-factors */
-    size_t iper;                /* comps * 8, or 4 without directions (indirect_add) */
+    MaafLens dirs;              /* the design's band and expectations (no table: indirect_add) */
+    float *isum;                /* 4 per pixel: the plain sum of the filterable indirect light */
     float *iframe4, *iaxis2;    /* the pixel's tangent axes t1 (w: 1 once set) and t2 (n = t1 x t2) */
     float *istd_px, *icomponents; /* AOVs */
 };
@@ -353,8 +352,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         if (!maaf_lens_design(lens_kappa, m->pairs, &m->lens)) goto oom;
     }
     if (m->indirect) {
-        m->iper = MAAF_INDIRECT_DIRECTIONS ? per : 4;
-        m->isum = zalloc(n * m->iper, sizeof(float));
+        m->isum = zalloc(n * 4, sizeof(float));
         m->iframe4 = calloc(4 * n, sizeof(float));
         m->iaxis2 = calloc(4 * n, sizeof(float));
         m->istd_px = calloc(n, sizeof(float));
@@ -362,11 +360,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !cache_init(&m->indirect_cache, n))
             goto oom;
         m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, m->split_indirect ? INDIRECT_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
-        if (MAAF_INDIRECT_DIRECTIONS) {
-            if (!maaf_direction_design(m->ikappa, m->pairs, &m->dirs)) goto oom;
-        } else {
-            maaf_direction_means(m->ikappa, m->pairs, &m->dirs);
-        }
+        maaf_direction_means(m->ikappa, m->pairs, &m->dirs);
     }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
@@ -417,13 +411,12 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r, const f
     }
 }
 
-/* Indirect sums (eq. 20 with the bounce direction, maaf_indirect.h): every sample that hit a
- * surface, its filterable indirect light (composite.c's split) times the direction-factors of
- * its bounce direction in the pixel's frame; samples traced without ray geometry (pass 2) or
- * without a bounce ray get the factors' expectation. Without directions
- * (MAAF_INDIRECT_DIRECTIONS 0) every component's sum is its expectation times the plain sum of
- * the samples: only that sum is kept (4 floats per pixel instead of comps x 8), and the
- * components are made from it at filter time (maaf_filter_light). */
+/* Indirect sums (eq. 20 without the bounce direction, docs/algorithms.md 9.12 "The method
+ * without directions"): every sample that hit a surface contributes its filterable indirect
+ * light (composite.c's split) with the factors' expectation, so every component's sum is its
+ * expectation times the plain sum of the samples: only that sum is kept (4 floats per pixel),
+ * and the components are made from it at filter time (maaf_filter_light). The directional
+ * factors (maaf_direction_accumulate) added bias on the bench scenes and are not used here. */
 static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r, const float ui[3])
 {
     float f[4] = {r->indirect.x - ui[0], r->indirect.y - ui[1], r->indirect.z - ui[2], 1.0f};
@@ -437,15 +430,8 @@ static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r, const 
         maaf_basis(nr, t1, t2);
         t1[3] = 1.0f;
     }
-    if (!MAAF_INDIRECT_DIRECTIONS) {
-        float *sum = m->isum + 4 * i;
-        for (int ch = 0; ch < 4; ++ch) sum[ch] += f[ch];
-        return;
-    }
-    float n[3] = {t1[1] * t2[2] - t1[2] * t2[1], t1[2] * t2[0] - t1[0] * t2[2], t1[0] * t2[1] - t1[1] * t2[0]};
-    float d[3] = {r->bounce[0].dir_world.x, r->bounce[0].dir_world.y, r->bounce[0].dir_world.z};
-    bool known = r->bounce_count > 0 && isfinite(d[0] + d[1] + d[2]);
-    maaf_direction_accumulate(&m->dirs, t1, t2, n, known ? d : NULL, f, m->isum + i * m->iper);
+    float *sum = m->isum + 4 * i;
+    for (int ch = 0; ch < 4; ++ch) sum[ch] += f[ch];
 }
 
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
@@ -818,13 +804,13 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
     return true;
 }
 
-/* The indirect image pass's bands. Without directions component (p, q)'s sums are its
+/* The indirect image pass's bands. Component (p, q)'s sums are its
  * expectation exp(-2 (p^2 + q^2)) times the plain sum (indirect_add), at most e^-8 = 3.4e-4 for
  * the components with |p| or |q| >= 2: the pass runs the sub-design of bands |p|, |q| <= 1 of
  * the pixel's design (its first two bands' parameters; 5 components of 13 at N = 3). */
 static int indirect_pass_pairs(const ReconMethod *m)
 {
-    return MAAF_INDIRECT_DIRECTIONS || m->pairs < 2 ? m->pairs : 2;
+    return m->pairs < 2 ? m->pairs : 2;
 }
 
 /* Soft shadows (the direct light over albedo and r(x), the light's axes) or indirect light (over
@@ -863,7 +849,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
              * each pixel's sums divided by its own albedo and r(x) */
             float inv[3];
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
-            if (ind && !MAAF_INDIRECT_DIRECTIONS) { /* component c: its expectation x the plain sum */
+            if (ind) { /* component c: its expectation x the plain sum */
                 const float *ys = sums + 4 * i;
                 for (int c = 0; c < pass_comps; ++c)
                     for (int ch = 0; ch < 4; ++ch) {
@@ -956,7 +942,7 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
     if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
-    if (m->isum && count < max) out[count++] = (DistArray){m->isum, m->iper * sizeof(float)};
+    if (m->isum && count < max) out[count++] = (DistArray){m->isum, 4 * sizeof(float)};
     if (m->iframe4 && count < max) out[count++] = (DistArray){m->iframe4, 4 * sizeof(float)};
     if (m->iaxis2 && count < max) out[count++] = (DistArray){m->iaxis2, 4 * sizeof(float)};
     return count;
