@@ -9,6 +9,7 @@
 
 #include "check.h"
 #include "recon/cl/cl_runtime.h"
+#include "recon/maaf/maaf_defocus.h" /* MaafLens: a table of complex factors per component */
 #include "recon/maaf/maaf_filter.h"
 
 typedef struct {
@@ -83,6 +84,31 @@ static inline void maaf_test_plane_kernel_check(const MaafTestPlane *s, float co
     if (rt) cl_runtime_destroy(rt);
     free(ref);
     free(dev);
+}
+
+/* A factor table against its brute-force integral: every component (p, q) of the half set (N = 3)
+ * at every probe point; the largest |table - brute| and the largest |brute| over them. */
+typedef void (*MaafBruteFactor)(const MaafLens *t, int p, int q, double a, double b, double out[2]);
+typedef void (*MaafTableFactor)(const MaafLens *t, int c, float a, float b, float out[2]);
+static inline void maaf_test_table_vs_brute(const MaafLens *t, const float (*probes)[2], size_t probe_count,
+                                            MaafBruteFactor brute, MaafTableFactor table, double *worst,
+                                            double *biggest)
+{
+    *worst = 0.0, *biggest = 0.0;
+    int c = 0;
+    for (int p = 0; p < 3; ++p)
+        for (int q = -2; q < 3; ++q) {
+            if (p == 0 && q < 0) continue;
+            for (size_t k = 0; k < probe_count; ++k) {
+                double b[2];
+                float v[2];
+                brute(t, p, q, probes[k][0], probes[k][1], b);
+                table(t, c, probes[k][0], probes[k][1], v);
+                *worst = fmax(*worst, hypot(v[0] - b[0], v[1] - b[1]));
+                *biggest = fmax(*biggest, hypot(b[0], b[1]));
+            }
+            ++c;
+        }
 }
 
 #endif

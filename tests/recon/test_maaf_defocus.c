@@ -109,21 +109,9 @@ int main(void)
      * test its ends */
     const float probes[][2] = {{0.0f, 0.0f},      {0.3f, -0.2f}, {-0.71f, 0.55f}, {0.93f, 0.1f},
                                {0.013f, -0.987f}, {1.0f, -0.6f}, {-1.0f, 0.45f},  {0.0f, 0.77f}};
-    double worst = 0.0, biggest = 0.0;
-    int c = 0;
-    for (int p = 0; p < 3; ++p)
-        for (int q = -2; q < 3; ++q) {
-            if (p == 0 && q < 0) continue;
-            for (size_t k = 0; k < sizeof probes / sizeof probes[0]; ++k) {
-                double b[2];
-                float t[2];
-                brute_factor(&lens, p, q, probes[k][0], probes[k][1], b);
-                maaf_lens_factor(&lens, c, probes[k][0], probes[k][1], t);
-                worst = fmax(worst, hypot(t[0] - b[0], t[1] - b[1]));
-                biggest = fmax(biggest, hypot(b[0], b[1]));
-            }
-            ++c;
-        }
+    double worst, biggest;
+    maaf_test_table_vs_brute(&lens, probes, sizeof probes / sizeof probes[0], brute_factor, maaf_lens_factor, &worst,
+                             &biggest);
     /* every component's factors at once (the sums' lookup) equal the one-component lookup */
     bool same = true;
     for (size_t k = 0; k < sizeof probes / sizeof probes[0]; ++k) {
