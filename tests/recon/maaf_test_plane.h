@@ -111,4 +111,21 @@ static inline void maaf_test_table_vs_brute(const MaafLens *t, const float (*pro
         }
 }
 
+/* The reference filter on a plane built with the right wedge and on one built with the mirrored
+ * wedge: rmse of the pixel means, of MAAF and of the mirrored MAAF against the exact values, and
+ * how many pixels MAAF filtered. out: 4 floats per pixel of scratch. */
+static inline int maaf_test_plane_right_wrong(const MaafTestPlane *right, const MaafTestPlane *wrong, float *out,
+                                              double *e_mean, double *e_maaf, double *e_wrong)
+{
+    MaafFilterInput in = maaf_test_plane_input(right, 0.93969262f);
+    maaf_filter_reference(&in, out);
+    *e_mean = maaf_test_plane_rmse(right, right->mean, 1), *e_maaf = maaf_test_plane_rmse(right, out, 4);
+    int filtered = 0;
+    for (int i = 0; i < right->width * right->height; ++i) filtered += out[4 * i + 3] != 0.0f;
+    in = maaf_test_plane_input(wrong, 0.93969262f);
+    maaf_filter_reference(&in, out);
+    *e_wrong = maaf_test_plane_rmse(wrong, out, 4);
+    return filtered;
+}
+
 #endif

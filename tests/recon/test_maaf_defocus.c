@@ -159,14 +159,8 @@ int main(void)
     for (int k = 0; k < 2; ++k) {
         plane_build(&right, designs[k], -1.0f);
         plane_build(&wrong, designs[k], 1.0f);
-        MaafFilterInput in = maaf_test_plane_input(&right, 0.93969262f);
-        maaf_filter_reference(&in, out);
-        double e_mean = maaf_test_plane_rmse(&right, right.mean, 1), e_maaf = maaf_test_plane_rmse(&right, out, 4);
-        int filtered = 0;
-        for (int i = 0; i < W * H; ++i) filtered += out[4 * i + 3] != 0.0f;
-        in = maaf_test_plane_input(&wrong, 0.93969262f);
-        maaf_filter_reference(&in, out);
-        double e_wrong = maaf_test_plane_rmse(&wrong, out, 4);
+        double e_mean, e_maaf, e_wrong;
+        int filtered = maaf_test_plane_right_wrong(&right, &wrong, out, &e_mean, &e_maaf, &e_wrong);
         printf("defocused plane (coc %.0f px, %d spp, kappa %s): rmse pixel mean %.4f, MAAF %.4f, mirrored slope %.4f\n",
                (double)COC_PX, SPP, k == 0 ? "default" : "1", e_mean, e_maaf, e_wrong);
         CHECK(filtered == W * H);

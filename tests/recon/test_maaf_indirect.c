@@ -165,14 +165,8 @@ int main(void)
     for (int k = 0; k < 2; ++k) {
         plane_build(&right, designs[k], false);
         plane_build(&wrong, designs[k], true);
-        MaafFilterInput in = maaf_test_plane_input(&right, 0.93969262f);
-        maaf_filter_reference(&in, out);
-        double e_mean = maaf_test_plane_rmse(&right, right.mean, 1), e_maaf = maaf_test_plane_rmse(&right, out, 4);
-        int filtered = 0;
-        for (int i = 0; i < W * H; ++i) filtered += out[4 * i + 3] != 0.0f;
-        in = maaf_test_plane_input(&wrong, 0.93969262f);
-        maaf_filter_reference(&in, out);
-        double e_wrong = maaf_test_plane_rmse(&wrong, out, 4);
+        double e_mean, e_maaf, e_wrong;
+        int filtered = maaf_test_plane_right_wrong(&right, &wrong, out, &e_mean, &e_maaf, &e_wrong);
         printf("plane under an edge (h %.2f, %d spp, kappa %s): rmse pixel mean %.4f, MAAF %.4f, mirrored wedge %.4f\n",
                (double)HEIGHT, SPP, k == 0 ? "default" : "1", e_mean, e_maaf, e_wrong);
         CHECK(filtered == W * H);
