@@ -35,13 +35,22 @@ export DISPLAY=":$(head -1 "$T/displayfd")"
 "$WEDGE" preview "$scene" --res 96x96 --spp 900 --outdir "$T" >"$T/preview.txt" 2>&1 &
 pv=$!
 wid=""
-for _ in $(seq 1 600); do # the window, once its first image is up (its title gives the spp)
+for _ in $(seq 1 1200); do # the window, once its first image is up (its title gives the spp)
     wid=$(xdotool search --name "wedge preview - [0-9.]+ spp" 2>/dev/null | head -1)
     [ -n "$wid" ] && break
     kill -0 $pv 2>/dev/null || break
     sleep 0.1
 done
-if [ -z "$wid" ]; then echo "FAIL: no preview window with an image:"; cat "$T/preview.txt"; xdotool search --name "wedge" getwindowname %@ 2>&1; exit 1; fi
+if [ -z "$wid" ]; then
+    echo "FAIL: no preview window with an image after 120 s:"; cat "$T/preview.txt"
+    xdotool search --name "wedge" getwindowname %@ 2>&1
+    # still running: where each thread waits, so that a rare stall can be diagnosed from the log
+    if kill -0 $pv 2>/dev/null && command -v gdb >/dev/null; then
+        gdb -p $pv -batch -ex 'thread apply all bt' 2>/dev/null | grep -E '^(#|Thread)'
+    fi
+    kill $pv 2>/dev/null
+    exit 1
+fi
 spp_of() { xdotool getwindowname "$wid" | sed -n 's/^wedge preview - \([0-9.]*\) spp.*/\1/p'; }
 shot() { xwd -id "$wid" -silent > "$T/$1.xwd" && convert "xwd:$T/$1.xwd" "$T/$1.png"; }
 first=$(spp_of)
