@@ -410,7 +410,9 @@ typedef struct {
     int delta_first, delta_count;
     int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
     int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
-    bool bounce;
+    bool bounce;       /* a bounce was sampled (vs, beta_next) */
+    int hit_slot;      /* its ray's entry in the closest-hit batch; -1: not traced, as it
+                        * cannot reach an emitter (lights_ray_may_reach_emitter) */
     VertexSample vs;
     vec3 beta_next;
 } WavePath;
@@ -816,17 +818,28 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
     if (max_component_nonpositive(p->beta_next)) return;
     if (depth == 1 && p->vs.delta) p->unfiltered = true;
-    /* the last ray of a path only finds emitters for MIS of direct light; the others carry
-     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray) */
+    p->bounce = true;
+    p->hit_slot = -1;
+    vec3 o = surface_offset(&v->hit, p->vs.wi);
+    /* The last ray of a path only finds emitters for MIS of direct light; the others carry
+     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Without
+     * infinite lights, and unless the filters record where it ends, a last ray that misses
+     * the emitters' box finds no emission: its estimate is 0 without tracing it, exactly
+     * as wave_vertex_fold computes it for a miss (light_bounds.c). */
+    if (depth == sc->max_depth && L->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
+        !lights_ray_may_reach_emitter(L, o, p->vs.wi)) {
+        ++st->rays_bsdf_skipped;
+        return;
+    }
     if (depth < sc->max_depth) ++st->rays_indirect;
     else ++st->rays_bsdf;
-    p->bounce = true;
-    w->ray_hit[(*n_hit)++] = (TracerRay){surface_offset(&v->hit, p->vs.wi), p->vs.wi, INFINITY, p->time01, 0u};
+    p->hit_slot = (*n_hit)++;
+    w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
 }
 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
  * found, added to the record, and the next vertex (or the end of the path). */
-static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, int hit_k, SampleRecord *rec,
+static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
                              IntegratorStats *st)
 {
     WavePath *p = &w->path[j];
@@ -866,8 +879,8 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
     p->alive = false;
     if (!p->bounce) return;
 
-    bool hit = w->hit_found[hit_k];
-    const SurfaceHit *nh = &w->hit[hit_k];
+    bool hit = p->hit_slot >= 0 && w->hit_found[p->hit_slot];
+    const SurfaceHit *nh = hit ? &w->hit[p->hit_slot] : NULL;
     vec3 wi = p->vs.wi;
     if (depth == 1 && sc->record_ray_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
         BounceRayRecord *b = &rec->bounce[rec->bounce_count++];
@@ -937,10 +950,10 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
         any_alive = false;
-        for (int j = 0, hit_k = 0; j < n; ++j) {
+        for (int j = 0; j < n; ++j) {
             WavePath *p = &w->path[j];
             if (!p->alive) continue;
-            wave_vertex_fold(sc, w, j, depth, p->bounce ? hit_k++ : -1, &recs[j], st);
+            wave_vertex_fold(sc, w, j, depth, &recs[j], st);
             any_alive |= p->alive;
         }
     }
