@@ -35,29 +35,40 @@ static const char *EMITTERS =
 
 enum { RANDOM_RAYS = 20000, AIMED_PER_LIGHT = 2000 };
 
-static bool build(const char *text, SceneDesc *scene, Tracer *tr, LightSet *lights)
+/* A scene's tracer and lights. */
+typedef struct {
+    SceneDesc scene;
+    Tracer tr;
+    LightSet L;
+} Built;
+
+static bool build(const char *text, Built *b)
 {
+    if (!test_build_tracer(text, &b->scene, &b->tr)) return false;
     Diag err = {0};
-    if (!scene_parse_string(text, strlen(text), "<test>", NULL, scene, &err)) {
-        fprintf(stderr, "parse: %s\n", err.message);
-        return false;
-    }
-    if (!tracer_build(tr, scene, 1, &err) || !lights_build(lights, scene, tr, &err)) {
-        fprintf(stderr, "build: %s\n", err.message);
-        return false;
-    }
-    return true;
+    if (lights_build(&b->L, &b->scene, &b->tr, &err)) return true;
+    fprintf(stderr, "lights_build: %s\n", err.message);
+    tracer_free(&b->tr);
+    scene_desc_free(&b->scene);
+    return false;
+}
+
+static void built_free(Built *b)
+{
+    lights_free(&b->L);
+    tracer_free(&b->tr);
+    scene_desc_free(&b->scene);
 }
 
 static void test_box_oracle(void)
 {
-    SceneDesc scene;
-    Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    LightSet L;
-    CHECK(build(EMITTERS, &scene, &tr, &L));
-    if (check_failures) return;
-    CHECK(L.emitters_bounded);
+    Built b;
+    bool built = build(EMITTERS, &b);
+    CHECK(built);
+    if (!built) return;
+    const LightSet *L = &b.L;
+    Tracer *tr = &b.tr;
+    CHECK(L->emitters_bounded);
     Pcg32 rng;
     pcg32_seed(&rng, 11, 5);
     static TracerRay rays[RANDOM_RAYS];
@@ -68,10 +79,10 @@ static void test_box_oracle(void)
         vec3 d = warp_uniform_sphere(v2(pcg32_float(&rng), pcg32_float(&rng)));
         rays[i] = (TracerRay){o, d, INFINITY, 0.0f, 0u};
     }
-    tracer_intersect_batch(&tr, rays, RANDOM_RAYS, true, false, hit, found);
+    tracer_intersect_batch(tr, rays, RANDOM_RAYS, true, false, hit, found);
     int emitter_hits = 0, wrong = 0, judged_miss = 0;
     for (int i = 0; i < RANDOM_RAYS; ++i) {
-        bool may = lights_ray_may_reach_emitter(&L, rays[i].o, rays[i].d);
+        bool may = lights_ray_may_reach_emitter(L, rays[i].o, rays[i].d);
         judged_miss += !may;
         if (found[i] && hit[i].light >= 0) {
             ++emitter_hits;
@@ -86,28 +97,26 @@ static void test_box_oracle(void)
      * emitter's edges (0 and just below 1) as well as its inside */
     int aimed = 0;
     wrong = 0;
-    for (int li = 0; li < L.count; ++li) {
-        if (L.lights[li].kind != LIGHT_AREA) continue;
+    for (int li = 0; li < L->count; ++li) {
+        if (L->lights[li].kind != LIGHT_AREA) continue;
         for (int k = 0; k < AIMED_PER_LIGHT; ++k) {
             vec3 o = v3(12.0f * pcg32_float(&rng) - 6.0f, 6.0f * pcg32_float(&rng) - 0.5f, 12.0f * pcg32_float(&rng) - 6.0f);
             float ux = pcg32_float(&rng), uy = pcg32_float(&rng);
             if (k % 4 == 1) ux = 0.0f;
             if (k % 4 == 2) uy = 0x1.fffffep-1f;
             LightSample ls;
-            if (!light_sample(&L, &tr, li, o, 0.0f, v2(ux, uy), &ls)) continue;
+            if (!light_sample(L, tr, li, o, 0.0f, v2(ux, uy), &ls)) continue;
             ++aimed;
-            wrong += !lights_ray_may_reach_emitter(&L, o, ls.wi);
+            wrong += !lights_ray_may_reach_emitter(L, o, ls.wi);
         }
     }
     printf("aimed rays: %d, %d judged to miss\n", aimed, wrong);
     CHECK(aimed > 2 * AIMED_PER_LIGHT && wrong == 0);
     /* straight down from under the floor, away from every emitter */
-    CHECK(!lights_ray_may_reach_emitter(&L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
+    CHECK(!lights_ray_may_reach_emitter(L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
     /* from inside the box every ray may reach */
-    CHECK(lights_ray_may_reach_emitter(&L, v3(0.0f, 2.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
-    lights_free(&L);
-    tracer_free(&tr);
-    scene_desc_free(&scene);
+    CHECK(lights_ray_may_reach_emitter(L, v3(0.0f, 2.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
+    built_free(&b);
 }
 
 static const char *MOVING =
@@ -122,33 +131,32 @@ static const char *MOVING =
 
 static void test_moving_emitter(void)
 {
-    SceneDesc scene;
-    Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    LightSet L;
-    CHECK(build(MOVING, &scene, &tr, &L));
-    if (check_failures) return;
-    CHECK(L.has_area && !L.emitters_bounded);
-    CHECK(lights_ray_may_reach_emitter(&L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
-    lights_free(&L);
-    tracer_free(&tr);
-    scene_desc_free(&scene);
+    Built b;
+    bool built = build(MOVING, &b);
+    CHECK(built);
+    if (!built) return;
+    CHECK(b.L.has_area && !b.L.emitters_bounded);
+    CHECK(lights_ray_may_reach_emitter(&b.L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
+    built_free(&b);
 }
 
-/* maxdepth 1: every bounce ray is a last ray */
+/* maxdepth 1: every bounce ray is a last ray. A quad light over a floor, a diffuse and a
+ * conductor sphere. */
 static const char *LIT =
-    "LookAt 0 2 -5  0 0.3 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "LookAt 1 2.5 -5  0 0.5 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
     "Sampler \"stratified\"\n"
     "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
     "WorldBegin\n"
     "%s"
-    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 6 6 6 ]\n"
-    "  Translate 0 3 0 Rotate 90 1 0 0 Shape \"disk\" \"float radius\" [ 0.8 ] AttributeEnd\n"
-    "Material \"diffuse\" \"rgb reflectance\" [ 0.6 0.6 0.6 ]\n"
-    "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1  0 3 2 ]\n"
-    "AttributeBegin Translate -0.7 0.6 0 Shape \"sphere\" \"float radius\" [ 0.6 ] AttributeEnd\n"
-    "AttributeBegin Material \"conductor\" Translate 0.8 0.5 0.3 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n";
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 5 5 5 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -0.6 2.5 -0.6  0.6 2.5 -0.6  0.6 2.5 0.6  -0.6 2.5 0.6 ]\n"
+    "        \"integer indices\" [ 0 1 2  0 2 3 ]\n"
+    "AttributeEnd\n"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.6 0.7 ]\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] \"integer indices\" [ 0 2 1  0 3 2 ]\n"
+    "AttributeBegin Translate -0.9 0.5 0.2 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n"
+    "AttributeBegin Material \"conductor\" Translate 0.9 0.7 -0.1 Shape \"sphere\" \"float radius\" [ 0.7 ] AttributeEnd\n";
 
 static void test_skipped_rays_change_nothing(const char *extra, bool expect_skips)
 {

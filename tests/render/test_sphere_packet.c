@@ -11,7 +11,7 @@
 #include "render/sphere_packet.h"
 #include "render/tracer.h"
 #include "render/warp.h"
-#include "scene/scene_desc.h"
+#include "render_test_util.h"
 
 enum { RAYN_ORG_X, RAYN_ORG_Y, RAYN_ORG_Z, RAYN_TNEAR, RAYN_DIR_X, RAYN_DIR_Y, RAYN_DIR_Z, RAYN_TIME, RAYN_TFAR };
 enum { LANES = 16, PACKETS = 4000 };
@@ -43,12 +43,10 @@ static void make_lane(float *rays, unsigned n, unsigned i, Pcg32 *rng, vec3 c, f
 static void check_scene(const char *text, vec3 c, float r)
 {
     SceneDesc scene;
-    Diag err = {0};
-    CHECK(scene_parse_string(text, strlen(text), "<test>", NULL, &scene, &err));
     Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    CHECK(tracer_build(&tr, &scene, 1, &err));
-    if (check_failures) return;
+    bool built = test_build_tracer(text, &scene, &tr);
+    CHECK(built);
+    if (!built) return;
     const Geom *g = NULL;
     for (int i = 0; i < tr.layers[0].geom_count; ++i)
         if (tr.layers[0].geoms[i].kind == GEOM_SPHERE) g = &tr.layers[0].geoms[i];
