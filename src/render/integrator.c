@@ -117,9 +117,10 @@ typedef struct {
     bool delta;
 } VertexSample;
 
-/* BSDF sampling: Lambert draws a cosine-weighted direction about n; glossy BSDFs choose a
- * lobe with u_lobe and sample it (bsdf_glossy.h). False when nothing was sampled. */
-static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, VertexSample *vs)
+/* BSDF sampling: Lambert takes the cosine-weighted direction about n, lambert_local =
+ * warp_cosine_hemisphere(u) (drawn for a whole run by wave_vertex_dims); glossy BSDFs choose
+ * a lobe with u_lobe and sample it with u (bsdf_glossy.h). False when nothing was sampled. */
+static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lambert_local, VertexSample *vs)
 {
     if (v->glossy) {
         GlossySample gs;
@@ -130,7 +131,7 @@ static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, VertexSample *v
         vs->weight = v3_scale(gs.f, fabsf(gs.wi.z) / gs.pdf);
         return true;
     }
-    vec3 local = warp_cosine_hemisphere(u);
+    vec3 local = lambert_local;
     /* A unit vector in an orthonormal frame is unit to rounding (a few 1e-7): no
      * normalisation (a square root and a division on the way to the bounce ray). */
     vs->wi = v3_add(v3_add(v3_scale(v->t1, local.x), v3_scale(v->t2, local.y)), v3_scale(v->n, local.z));
@@ -148,6 +149,7 @@ typedef struct {
     vec2 light;   /* position on the light (2D) */
     int lobe_dim; /* BSDF lobe choice (1D): its index, drawn only by a glossy vertex */
     vec2 bsdf;    /* BSDF direction (2D) */
+    vec3 bsdf_cosine; /* warp_cosine_hemisphere(bsdf), Lambert's direction in the local frame */
     /* the light they choose (lights_pick, then lights_pick_in_mesh, made by
      * wave_triangle_light_samples): its index (-1: none), probability, and the position
      * sample as that leaves it */
@@ -410,7 +412,9 @@ typedef struct {
     int delta_first, delta_count;
     int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
     int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
-    bool bounce;
+    bool bounce;       /* a bounce was sampled (vs, beta_next) */
+    int hit_slot;      /* its ray's entry in the closest-hit batch; -1: not traced, as it
+                        * cannot reach an emitter (lights_ray_may_reach_emitter) */
     VertexSample vs;
     vec3 beta_next;
 } WavePath;
@@ -467,6 +471,7 @@ struct Wave {
     /* one run's values of one dimension */
     float run_1d[SAMPLER_RUN_MAX];
     vec2 run_2d[SAMPLER_RUN_MAX], run_2d_b[SAMPLER_RUN_MAX];
+    float run_cosine[3][SAMPLER_RUN_MAX]; /* the run's cosine-weighted BSDF directions */
     CameraBatch camera;
     /* the stage's live, lit paths' positions and their delta lights' samples */
     float lit_p[3][WAVE_SAMPLES], lit_ng[3][WAVE_SAMPLES], lit_err[WAVE_SAMPLES];
@@ -510,18 +515,21 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
     sampler_run_1d(s, run, d0, w->run_1d);
     sampler_run_2d(s, run, d0 + 1, w->run_2d);
     sampler_run_2d(s, run, d0 + 4, w->run_2d_b);
+    warp_cosine_hemisphere_run(run->count, w->run_2d_b, w->run_cosine[0], w->run_cosine[1], w->run_cosine[2]);
     for (int k = 0; k < run->count; ++k) {
         VertexDims *u = &w->path[j0 + k].u;
         u->pick = w->run_1d[k];
         u->light = w->run_2d[k];
         u->lobe_dim = d0 + 3;
         u->bsdf = w->run_2d_b[k];
+        u->bsdf_cosine = v3(w->run_cosine[0][k], w->run_cosine[1][k], w->run_cosine[2][k]);
     }
 }
 
-/* The record's sample position of one camera sample from its film, lens and shutter
- * dimensions, and its path's time; the camera ray through it comes later, in a batch. */
-static void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 u_lens, float shutter_u,
+/* The record's sample position of one camera sample from its film and shutter dimensions
+ * and its point on the lens (the unit disk), and its path's time; the camera ray through it
+ * comes later, in a batch. */
+static void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 lens, float shutter_u,
                                const WavePixel *px, WavePath *p, SampleRecord *rec)
 {
     record_reset(rec);
@@ -530,8 +538,6 @@ static void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 u_
     vec2 u_film = pixel_filter_sample(sc->pixel_filter, u_film01, &rec->filter_weight);
     rec->px_raster = (float)px->px + u_film.x;
     rec->py_raster = (float)px->py + u_film.y;
-    vec2 lens = v2(0.0f, 0.0f);
-    if (sc->sample_lens) lens = warp_disk_concentric(u_lens);
     rec->lens_u = lens.x, rec->lens_v = lens.y;
     if (!sc->sample_time) shutter_u = 0.0f;
     rec->time = shutter_u;
@@ -552,15 +558,17 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     if (sc->sample_lens) sampler_run_2d(s, &w->run, 2, lens);
     if (sc->sample_time) sampler_run_1d(s, &w->run, sc->sample_lens ? 4 : 2, shutter);
     CameraBatch *cb = &w->camera;
+    if (sc->sample_lens) warp_disk_concentric_run(count, lens, cb->lens_u, cb->lens_v);
+    else
+        for (int i = 0; i < count; ++i) cb->lens_u[i] = cb->lens_v[i] = 0.0f;
     for (int i = 0; i < count; ++i) {
         WavePath *p = &w->path[j0 + i];
         SampleRecord *rec = &recs[j0 + i];
         p->pixel = k;
         p->sample_index = first + i;
-        wave_camera_sample(sc, film[i], sc->sample_lens ? lens[i] : v2(0.0f, 0.0f), sc->sample_time ? shutter[i] : 0.0f,
+        wave_camera_sample(sc, film[i], v2(cb->lens_u[i], cb->lens_v[i]), sc->sample_time ? shutter[i] : 0.0f,
                            &pixels[k], p, rec);
         cb->px[i] = rec->px_raster, cb->py[i] = rec->py_raster;
-        cb->lens_u[i] = rec->lens_u, cb->lens_v[i] = rec->lens_v;
         cb->time01[i] = p->time01;
     }
     float *o[3] = {cb->o[0], cb->o[1], cb->o[2]}, *d[3] = {cb->d[0], cb->d[1], cb->d[2]};
@@ -812,21 +820,32 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     if (depth == sc->max_depth && !mis_emitters) return;
     float u_lobe = 0.5f; /* Lambert: unused */
     if (v->glossy) u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), p->u.lobe_dim);
-    if (!vertex_sample(v, u_lobe, p->u.bsdf, &p->vs)) return;
+    if (!vertex_sample(v, u_lobe, p->u.bsdf, p->u.bsdf_cosine, &p->vs)) return;
     p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
     if (max_component_nonpositive(p->beta_next)) return;
     if (depth == 1 && p->vs.delta) p->unfiltered = true;
-    /* the last ray of a path only finds emitters for MIS of direct light; the others carry
-     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray) */
+    p->bounce = true;
+    p->hit_slot = -1;
+    vec3 o = surface_offset(&v->hit, p->vs.wi);
+    /* The last ray of a path only finds emitters for MIS of direct light; the others carry
+     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Without
+     * infinite lights, and unless the filters record where it ends, a last ray that misses
+     * the emitters' box finds no emission: its estimate is 0 without tracing it, exactly
+     * as wave_vertex_fold computes it for a miss (light_bounds.c). */
+    if (depth == sc->max_depth && L->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
+        !lights_ray_may_reach_emitter(L, o, p->vs.wi)) {
+        ++st->rays_bsdf_skipped;
+        return;
+    }
     if (depth < sc->max_depth) ++st->rays_indirect;
     else ++st->rays_bsdf;
-    p->bounce = true;
-    w->ray_hit[(*n_hit)++] = (TracerRay){surface_offset(&v->hit, p->vs.wi), p->vs.wi, INFINITY, p->time01, 0u};
+    p->hit_slot = (*n_hit)++;
+    w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
 }
 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
  * found, added to the record, and the next vertex (or the end of the path). */
-static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, int hit_k, SampleRecord *rec,
+static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
                              IntegratorStats *st)
 {
     WavePath *p = &w->path[j];
@@ -866,8 +885,8 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
     p->alive = false;
     if (!p->bounce) return;
 
-    bool hit = w->hit_found[hit_k];
-    const SurfaceHit *nh = &w->hit[hit_k];
+    bool hit = p->hit_slot >= 0 && w->hit_found[p->hit_slot];
+    const SurfaceHit *nh = hit ? &w->hit[p->hit_slot] : NULL;
     vec3 wi = p->vs.wi;
     if (depth == 1 && sc->record_ray_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
         BounceRayRecord *b = &rec->bounce[rec->bounce_count++];
@@ -937,10 +956,10 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
         any_alive = false;
-        for (int j = 0, hit_k = 0; j < n; ++j) {
+        for (int j = 0; j < n; ++j) {
             WavePath *p = &w->path[j];
             if (!p->alive) continue;
-            wave_vertex_fold(sc, w, j, depth, p->bounce ? hit_k++ : -1, &recs[j], st);
+            wave_vertex_fold(sc, w, j, depth, &recs[j], st);
             any_alive |= p->alive;
         }
     }

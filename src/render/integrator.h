@@ -35,6 +35,7 @@ typedef struct {
 
 typedef struct {
     long long rays_primary, rays_shadow, rays_indirect, rays_bsdf;
+    long long rays_bsdf_skipped; /* last rays not traced: they cannot reach an emitter */
     long long guarded_events;  /* non-finite values replaced, degenerate divisions skipped */
 } IntegratorStats;
 

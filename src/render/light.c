@@ -302,6 +302,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
     }
     free(phi);
     set->power_total = (float)acc;
+    lights_bound_emitters(set, tr);
     return true;
 oom:
     diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building lights");

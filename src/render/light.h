@@ -56,6 +56,10 @@ typedef struct {
     bool has_area, has_delta;
     float scene_radius;     /* bounding sphere of the geometry (distant/infinite power) */
     vec3 scene_center;
+    /* a padded world box around every area light (light_bounds.c); emitters_bounded is
+     * false when there is none or one moves (then every ray may reach an emitter) */
+    bool emitters_bounded;
+    vec3 emitter_lo, emitter_hi;
 } LightSet;
 
 /* A sampled point on a light as seen from a receiver. */
@@ -74,6 +78,12 @@ typedef struct {
  * Unsupported light types become warnings. */
 bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err);
 void lights_free(LightSet *set);
+
+/* The box around the area lights (light_bounds.c; called by lights_build). */
+void lights_bound_emitters(LightSet *set, const Tracer *tr);
+/* False when the ray o + t d (t >= 0, world units) cannot hit any area light: it misses
+ * their box. True when it may (or when the box is unbounded). */
+bool lights_ray_may_reach_emitter(const LightSet *set, vec3 o, vec3 d);
 
 /* Picks a light with probability proportional to power; returns -1 when there is none. */
 int lights_pick(const LightSet *set, float u, float *pmf);

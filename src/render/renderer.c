@@ -373,6 +373,7 @@ static void *pass_worker(void *arg)
     job->stats.rays_shadow += st.rays_shadow;
     job->stats.rays_indirect += st.rays_indirect;
     job->stats.rays_bsdf += st.rays_bsdf;
+    job->stats.rays_bsdf_skipped += st.rays_bsdf_skipped;
     job->stats.guarded_events += st.guarded_events;
     pthread_mutex_unlock(&job->stats_lock);
     __atomic_add_fetch(&job->workers_done, 1, __ATOMIC_RELEASE);
@@ -450,6 +451,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     r->stats.rays_shadow += job.stats.rays_shadow;
     r->stats.rays_indirect += job.stats.rays_indirect;
     r->stats.rays_bsdf += job.stats.rays_bsdf;
+    r->stats.rays_bsdf_skipped += job.stats.rays_bsdf_skipped;
     r->stats.guarded_events += job.stats.guarded_events;
     r->stats.samples += job.samples_done;
     r->stats.seconds_trace += seconds_now() - t0;

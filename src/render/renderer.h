@@ -53,6 +53,7 @@ typedef struct {
     long long rays_primary, rays_shadow;
     long long rays_indirect;  /* bounce rays that continue a path */
     long long rays_bsdf;      /* a path's last, BSDF-sampled ray: emitters found for MIS of direct light */
+    long long rays_bsdf_skipped; /* such rays not traced: they miss the emitters' box (light_bounds.c) */
     long long guarded_events;
     long long samples;
     double seconds_trace;     /* wall time inside render_pass */

@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include "geometry/mesh.h"
+#include "render/sphere_packet.h"
 
 /* Relative size of the offset that lifts a new ray's origin off the surface it starts on.
  * Float rounding in a hit point is a few ulps (~1e-7) of the coordinates involved; 1e-5
@@ -83,8 +84,8 @@ static double max_stretch(const Mat4 *m)
 /* ---- exact spheres and disks (pbrt-v4 Sphere / Disk, intersected in object space) ---- */
 
 /* Nearest object-space hit in (tnear, tfar) of the ray o + t d given in geometry space. */
-static bool quadric_hit(const Geom *g, const double o_geom[3], const double d_geom[3], double tnear, double tfar,
-                        double *t_out)
+bool tracer_quadric_hit(const Geom *g, const double o_geom[3], const double d_geom[3], double tnear, double tfar,
+                       double *t_out)
 {
     double o[3], d[3];
     if (g->object_translation_only) {
@@ -226,7 +227,30 @@ static bool quadric_hit_rayn(const Geom *g, void *rays, unsigned n, unsigned i, 
                    w * *rayn_f(rays, n, RAYN_ORG_Z, i)};
     double d[3] = {w * *rayn_f(rays, n, RAYN_DIR_X, i), w * *rayn_f(rays, n, RAYN_DIR_Y, i),
                    w * *rayn_f(rays, n, RAYN_DIR_Z, i)};
-    return quadric_hit(g, o, d, *rayn_f(rays, n, RAYN_TNEAR, i), *rayn_f(rays, n, RAYN_TFAR, i), t);
+    return tracer_quadric_hit(g, o, d, *rayn_f(rays, n, RAYN_TNEAR, i), *rayn_f(rays, n, RAYN_TFAR, i), t);
+}
+
+/* The usual sphere, whole and only translated, takes sphere_packet_hits: a packet's lanes
+ * in one vectorised loop, with tracer_quadric_hit's results. Embree 3 packets hold at most 16
+ * rays; larger N (none today) would go lane by lane. */
+enum { PACKET_MAX = 16 };
+static bool packet_sphere(const Geom *g)
+{
+    return g->kind == GEOM_SPHERE && g->object_translation_only && !(g->zmin > -g->radius || g->zmax < g->radius) &&
+           !(g->phimax_rad < 2.0 * M_PI);
+}
+
+/* Lanes first .. first + count - 1 (count <= PACKET_MAX) of an N-ray packet: whether each
+ * live one hits (hit[i - first]) and where (t[i - first]). */
+static void quadric_hits_rayn(const Geom *g, void *rays, const int *valid, unsigned n, unsigned first, unsigned count,
+                              int *hit, double *t)
+{
+    if (first == 0 && count == n && packet_sphere(g)) {
+        const double translation[3] = {g->object_from_geom.m[0][3], g->object_from_geom.m[1][3], g->object_from_geom.m[2][3]};
+        sphere_packet_hits(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t);
+        return;
+    }
+    for (unsigned k = 0; k < count; ++k) hit[k] = valid[first + k] == -1 && quadric_hit_rayn(g, rays, n, first + k, &t[k]);
 }
 
 static void quadric_intersect_cb(const struct RTCIntersectFunctionNArguments *args)
@@ -235,16 +259,22 @@ static void quadric_intersect_cb(const struct RTCIntersectFunctionNArguments *ar
     void *rh = args->rayhit;
     unsigned n = args->N;
     if (args->primID == QUADRIC_PRIM_ANCHOR) return;
-    for (unsigned i = 0; i < n; ++i) {
-        double t;
-        if (args->valid[i] != -1 || !quadric_hit_rayn(g, rh, n, i, &t)) continue;
-        *rayn_f(rh, n, RAYN_TFAR, i) = (float)t;
-        *rayn_f(rh, n, HITN_U, i) = *rayn_f(rh, n, HITN_V, i) = 0.0f;
-        *rayn_f(rh, n, HITN_NG_X, i) = *rayn_f(rh, n, HITN_NG_Y, i) = 0.0f;
-        *rayn_f(rh, n, HITN_NG_Z, i) = 1.0f;
-        *rayn_u(rh, n, HITN_PRIM, i) = args->primID;
-        *rayn_u(rh, n, HITN_GEOM, i) = args->geomID;
-        *rayn_u(rh, n, HITN_INST, i) = args->context->instID[0];
+    for (unsigned first = 0; first < n; first += PACKET_MAX) {
+        unsigned count = n - first < PACKET_MAX ? n - first : PACKET_MAX;
+        int hit[PACKET_MAX];
+        double t_hit[PACKET_MAX];
+        quadric_hits_rayn(g, rh, args->valid, n, first, count, hit, t_hit);
+        for (unsigned k = 0; k < count; ++k) {
+            if (!hit[k]) continue;
+            unsigned i = first + k;
+            *rayn_f(rh, n, RAYN_TFAR, i) = (float)t_hit[k];
+            *rayn_f(rh, n, HITN_U, i) = *rayn_f(rh, n, HITN_V, i) = 0.0f;
+            *rayn_f(rh, n, HITN_NG_X, i) = *rayn_f(rh, n, HITN_NG_Y, i) = 0.0f;
+            *rayn_f(rh, n, HITN_NG_Z, i) = 1.0f;
+            *rayn_u(rh, n, HITN_PRIM, i) = args->primID;
+            *rayn_u(rh, n, HITN_GEOM, i) = args->geomID;
+            *rayn_u(rh, n, HITN_INST, i) = args->context->instID[0];
+        }
     }
 }
 
@@ -253,9 +283,13 @@ static void quadric_occluded_cb(const struct RTCOccludedFunctionNArguments *args
     const Geom *g = args->geometryUserPtr;
     unsigned n = args->N;
     if (args->primID == QUADRIC_PRIM_ANCHOR) return;
-    for (unsigned i = 0; i < n; ++i) {
-        double t;
-        if (args->valid[i] == -1 && quadric_hit_rayn(g, args->ray, n, i, &t)) *rayn_f(args->ray, n, RAYN_TFAR, i) = -INFINITY;
+    for (unsigned first = 0; first < n; first += PACKET_MAX) {
+        unsigned count = n - first < PACKET_MAX ? n - first : PACKET_MAX;
+        int hit[PACKET_MAX];
+        double t_hit[PACKET_MAX];
+        quadric_hits_rayn(g, args->ray, args->valid, n, first, count, hit, t_hit);
+        for (unsigned k = 0; k < count; ++k)
+            if (hit[k]) *rayn_f(args->ray, n, RAYN_TFAR, first + k) = -INFINITY;
     }
 }
 

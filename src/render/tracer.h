@@ -63,7 +63,7 @@ typedef struct {
     /* spheres and disks: object-space quadric, placed by geom_from_object */
     double radius, zmin, zmax, phimax_rad, height, inner_radius;
     Mat4 geom_from_object, object_from_geom;
-    bool object_translation_only; /* object_from_geom's 3x3 part is the identity (quadric_hit) */
+    bool object_translation_only; /* object_from_geom's 3x3 part is the identity (tracer_quadric_hit) */
     /* spheres: the polar angles of zmin and zmax (acos(z / radius)), which shading's v
      * coordinate is measured between: per shape, so not recomputed at every hit */
     double theta_zmin_rad, theta_zmax_rad;
@@ -169,6 +169,12 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
 void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded);
 const char *tracer_batch_mode_name(TracerBatchMode mode);
 bool tracer_batch_mode_parse(const char *name, TracerBatchMode *mode);
+
+/* The nearest hit in (tnear, tfar) of the ray o + t d (geometry space, double) on sphere or
+ * disk g, solved in its object space (pbrt-v4's Sphere and Disk): the callbacks' test, and
+ * the oracle of sphere_packet_hits (test_sphere_packet). */
+bool tracer_quadric_hit(const Geom *g, const double o_geom[3], const double d_geom[3], double tnear, double tfar,
+                        double *t_out);
 
 /* World-from-geometry transform of a layer geometry at a time (identity for layer 0). */
 Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01);

@@ -49,6 +49,11 @@ static inline vec3 warp_cosine_hemisphere(vec2 u)
     return v3(d.x, d.y, sqrtf(z2 > 0.0f ? z2 : 0.0f)); /* fmaxf(0, z2) without the library call */
 }
 
+/* warp_disk_concentric and warp_cosine_hemisphere of u[0 .. count), as arrays (vectorised
+ * loops, warp_batch.c; the same values). */
+void warp_disk_concentric_run(int count, const vec2 *u, float *x, float *y);
+void warp_cosine_hemisphere_run(int count, const vec2 *u, float *x, float *y, float *z);
+
 /* Uniform direction on the unit sphere; pdf = 1/(4 pi). */
 static inline vec3 warp_uniform_sphere(vec2 u)
 {

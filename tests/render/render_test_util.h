@@ -9,6 +9,7 @@
 
 #include "render/frame.h"
 #include "render/renderer.h"
+#include "render/tracer.h"
 #include "scene/scene_desc.h"
 
 typedef struct {
@@ -47,6 +48,24 @@ static inline void test_render_free(TestRender *t)
     frame_free(&t->frame);
     renderer_destroy(t->r);
     scene_desc_free(&t->scene);
+}
+
+/* Parses text and builds its tracer (tr zeroed first); false (message printed) on failure,
+ * with the scene freed. */
+static inline bool test_build_tracer(const char *text, SceneDesc *scene, Tracer *tr)
+{
+    Diag err = {0};
+    memset(tr, 0, sizeof *tr);
+    if (!scene_parse_string(text, strlen(text), "<test>", NULL, scene, &err)) {
+        fprintf(stderr, "parse failed: %s\n", err.message);
+        return false;
+    }
+    if (!tracer_build(tr, scene, 1, &err)) {
+        fprintf(stderr, "tracer_build failed: %s\n", err.message);
+        scene_desc_free(scene);
+        return false;
+    }
+    return true;
 }
 
 /* Mean colour of pixel (x, y). */

@@ -2,7 +2,8 @@
  * lights_pick's bisection against a linear scan of the CDF (zero-power lights, ties, every
  * count from 1 to 13, targets on and between the CDF's steps), and the concentric disk map
  * against its two-branch textbook form (Shirley and Chiu 1997) on a grid that hits both
- * wedges, their boundaries and the centre; the map's points lie in the unit disk. */
+ * wedges, their boundaries and the centre; the map's points lie in the unit disk. The run
+ * forms of the concentric and cosine-hemisphere maps (warp_batch.c) against the inline ones. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -93,5 +94,36 @@ int main(void)
     }
     CHECK(differ == 0);
     CHECK(outside == 0);
+
+    /* the run forms (warp_batch.c, vectorised in the copy this CPU runs) against the inline
+     * maps, every bit, for run lengths that leave vector remainders */
+    enum { RUN = 67 };
+    vec2 u[RUN];
+    float x[RUN], y[RUN], z[RUN];
+    int run_differ = 0, runs = 0;
+    for (int len = 0; len <= RUN; len += 1 + len / 3) {
+        for (int k = 0; k < 200; ++k) {
+            for (int i = 0; i < len; ++i) {
+                u[i] = v2((float)(rand() >> 7) * 0x1p-24f, (float)(rand() >> 7) * 0x1p-24f);
+                if ((i + k) % 11 == 0) u[i] = v2(0.5f, 0.5f);     /* the centre */
+                if ((i + k) % 13 == 0) u[i].x = u[i].y;           /* a wedge boundary */
+                if ((i + k) % 17 == 0) u[i].y = 0x1.fffffep-1f;   /* the edge */
+            }
+            warp_disk_concentric_run(len, u, x, y);
+            for (int i = 0; i < len; ++i) {
+                vec2 a = warp_disk_concentric(u[i]);
+                run_differ += memcmp(&a.x, &x[i], sizeof x[i]) != 0 || memcmp(&a.y, &y[i], sizeof y[i]) != 0;
+            }
+            warp_cosine_hemisphere_run(len, u, x, y, z);
+            for (int i = 0; i < len; ++i) {
+                vec3 a = warp_cosine_hemisphere(u[i]);
+                run_differ += memcmp(&a.x, &x[i], sizeof x[i]) != 0 || memcmp(&a.y, &y[i], sizeof y[i]) != 0 ||
+                              memcmp(&a.z, &z[i], sizeof z[i]) != 0;
+            }
+            runs += len;
+        }
+    }
+    printf("runs: %d values, %d differ\n", runs, run_differ);
+    CHECK(runs > 40000 && run_differ == 0);
     CHECK_DONE();
 }

@@ -1,0 +1,196 @@
+/* The emitters' box (src/render/light_bounds.c) and the last rays it lets the integrator
+ * skip (issue 22).
+ *  - Oracle: every ray that Embree finds hitting an area light (a quad, a rotated and
+ *    scaled sphere, a tilted disk) is one lights_ray_may_reach_emitter lets through: rays
+ *    from random origins in random directions, and rays aimed at points sampled on each
+ *    emitter (light_sample, edges and all). Teeth: most random rays miss the box and are
+ *    judged so, and a ray leaving the box is.
+ *  - A moving emitter leaves the box unbounded: every ray may reach it.
+ *  - The integrator: a render that skips the rays (no records) equals, value for value, one
+ *    that traces every first vertex's last ray (records on, so none is skipped), and the
+ *    skipped and traced rays add up to the same count. With an infinite light none is
+ *    skipped. */
+#include <stdint.h>
+
+#include "check.h"
+#include "core/rng.h"
+#include "render/light.h"
+#include "render/tracer.h"
+#include "render/warp.h"
+#include "render_test_util.h"
+
+static const char *EMITTERS =
+    "LookAt 0 2 -5  0 0.3 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "WorldBegin\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1  0 3 2 ]\n"
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 4 4 4 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -0.5 3 -0.5  0.5 3 -0.5  0.5 3 0.5  -0.5 3 0.5 ] \"integer indices\" [ 0 1 2  0 2 3 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
+    "  Translate -2 1.5 1 Rotate 35 0 1 1 Scale 1.5 1.5 1.5 Shape \"sphere\" \"float radius\" [ 0.3 ] AttributeEnd\n"
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ] \"bool twosided\" true\n"
+    "  Translate 2 1 -1 Rotate 60 1 0.2 0 Shape \"disk\" \"float radius\" [ 0.4 ] AttributeEnd\n"
+    "AttributeBegin Translate 0 0.7 0 Shape \"sphere\" \"float radius\" [ 0.6 ] AttributeEnd\n";
+
+enum { RANDOM_RAYS = 20000, AIMED_PER_LIGHT = 2000 };
+
+/* A scene's tracer and lights. */
+typedef struct {
+    SceneDesc scene;
+    Tracer tr;
+    LightSet L;
+} Built;
+
+static bool build(const char *text, Built *b)
+{
+    if (!test_build_tracer(text, &b->scene, &b->tr)) return false;
+    Diag err = {0};
+    if (lights_build(&b->L, &b->scene, &b->tr, &err)) return true;
+    fprintf(stderr, "lights_build: %s\n", err.message);
+    tracer_free(&b->tr);
+    scene_desc_free(&b->scene);
+    return false;
+}
+
+static void built_free(Built *b)
+{
+    lights_free(&b->L);
+    tracer_free(&b->tr);
+    scene_desc_free(&b->scene);
+}
+
+static void test_box_oracle(void)
+{
+    Built b;
+    bool built = build(EMITTERS, &b);
+    CHECK(built);
+    if (!built) return;
+    const LightSet *L = &b.L;
+    Tracer *tr = &b.tr;
+    CHECK(L->emitters_bounded);
+    Pcg32 rng;
+    pcg32_seed(&rng, 11, 5);
+    static TracerRay rays[RANDOM_RAYS];
+    static SurfaceHit hit[RANDOM_RAYS];
+    static bool found[RANDOM_RAYS];
+    for (int i = 0; i < RANDOM_RAYS; ++i) {
+        vec3 o = v3(12.0f * pcg32_float(&rng) - 6.0f, 6.0f * pcg32_float(&rng) - 0.5f, 12.0f * pcg32_float(&rng) - 6.0f);
+        vec3 d = warp_uniform_sphere(v2(pcg32_float(&rng), pcg32_float(&rng)));
+        rays[i] = (TracerRay){o, d, INFINITY, 0.0f, 0u};
+    }
+    tracer_intersect_batch(tr, rays, RANDOM_RAYS, true, false, hit, found);
+    int emitter_hits = 0, wrong = 0, judged_miss = 0;
+    for (int i = 0; i < RANDOM_RAYS; ++i) {
+        bool may = lights_ray_may_reach_emitter(L, rays[i].o, rays[i].d);
+        judged_miss += !may;
+        if (found[i] && hit[i].light >= 0) {
+            ++emitter_hits;
+            wrong += !may;
+        }
+    }
+    printf("random rays: %d hit an emitter, %d judged to miss the box, %d wrongly\n", emitter_hits, judged_miss, wrong);
+    CHECK(emitter_hits > 100 && wrong == 0);
+    CHECK(judged_miss > RANDOM_RAYS / 2);
+
+    /* rays aimed at points on each emitter, from anywhere around it; u covers the
+     * emitter's edges (0 and just below 1) as well as its inside */
+    int aimed = 0;
+    wrong = 0;
+    for (int li = 0; li < L->count; ++li) {
+        if (L->lights[li].kind != LIGHT_AREA) continue;
+        for (int k = 0; k < AIMED_PER_LIGHT; ++k) {
+            vec3 o = v3(12.0f * pcg32_float(&rng) - 6.0f, 6.0f * pcg32_float(&rng) - 0.5f, 12.0f * pcg32_float(&rng) - 6.0f);
+            float ux = pcg32_float(&rng), uy = pcg32_float(&rng);
+            if (k % 4 == 1) ux = 0.0f;
+            if (k % 4 == 2) uy = 0x1.fffffep-1f;
+            LightSample ls;
+            if (!light_sample(L, tr, li, o, 0.0f, v2(ux, uy), &ls)) continue;
+            ++aimed;
+            wrong += !lights_ray_may_reach_emitter(L, o, ls.wi);
+        }
+    }
+    printf("aimed rays: %d, %d judged to miss\n", aimed, wrong);
+    CHECK(aimed > 2 * AIMED_PER_LIGHT && wrong == 0);
+    /* straight down from under the floor, away from every emitter */
+    CHECK(!lights_ray_may_reach_emitter(L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
+    /* from inside the box every ray may reach */
+    CHECK(lights_ray_may_reach_emitter(L, v3(0.0f, 2.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
+    built_free(&b);
+}
+
+static const char *MOVING =
+    "LookAt 0 2 -5  0 0.3 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "WorldBegin\n"
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 4 4 4 ]\n"
+    "  ActiveTransform StartTime Translate 0 3 0 ActiveTransform EndTime Translate 1 3 0 ActiveTransform All\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.3 ]\n"
+    "AttributeEnd\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1  0 3 2 ]\n";
+
+static void test_moving_emitter(void)
+{
+    Built b;
+    bool built = build(MOVING, &b);
+    CHECK(built);
+    if (!built) return;
+    CHECK(b.L.has_area && !b.L.emitters_bounded);
+    CHECK(lights_ray_may_reach_emitter(&b.L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
+    built_free(&b);
+}
+
+/* maxdepth 1: every bounce ray is a last ray. A quad light over a floor, a diffuse and a
+ * conductor sphere. */
+static const char *LIT =
+    "LookAt 1 2.5 -5  0 0.5 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
+    "Sampler \"stratified\"\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+    "WorldBegin\n"
+    "%s"
+    "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 5 5 5 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ -0.6 2.5 -0.6  0.6 2.5 -0.6  0.6 2.5 0.6  -0.6 2.5 0.6 ]\n"
+    "        \"integer indices\" [ 0 1 2  0 2 3 ]\n"
+    "AttributeEnd\n"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.6 0.7 ]\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] \"integer indices\" [ 0 2 1  0 3 2 ]\n"
+    "AttributeBegin Translate -0.9 0.5 0.2 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n"
+    "AttributeBegin Material \"conductor\" Translate 0.9 0.7 -0.1 Shape \"sphere\" \"float radius\" [ 0.7 ] AttributeEnd\n";
+
+static void test_skipped_rays_change_nothing(const char *extra, bool expect_skips)
+{
+    char text[4096];
+    snprintf(text, sizeof text, LIT, extra);
+    TestRender t[2];
+    RenderOptions o = {0};
+    o.width = 24, o.height = 18, o.threads = 2, o.seed = 3, o.spp = 16;
+    bool ok = test_render(text, &o, &t[0]);
+    o.record_ray_geometry = true; /* the first vertex's last rays are traced for the records */
+    ok = test_render(text, &o, &t[1]) && ok;
+    CHECK(ok);
+    if (!ok) return;
+    size_t n = (size_t)o.width * (size_t)o.height;
+    int bad = 0;
+    double sum = 0.0;
+    for (size_t i = 0; i < 3 * n; ++i) {
+        bad += memcmp(&t[0].frame.color[i], &t[1].frame.color[i], sizeof(float)) != 0;
+        sum += t[0].frame.color[i];
+    }
+    printf("skipped %lld of %lld last rays, %d values differ\n", t[0].stats.rays_bsdf_skipped,
+           t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped, bad);
+    CHECK(bad == 0 && sum > 0.0);
+    CHECK(t[1].stats.rays_bsdf_skipped == 0);
+    CHECK(t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped == t[1].stats.rays_bsdf);
+    CHECK(expect_skips ? t[0].stats.rays_bsdf_skipped > t[0].stats.rays_bsdf : t[0].stats.rays_bsdf_skipped == 0);
+    for (int k = 0; k < 2; ++k) test_render_free(&t[k]);
+}
+
+int main(void)
+{
+    test_box_oracle();
+    test_moving_emitter();
+    test_skipped_rays_change_nothing("", true);
+    test_skipped_rays_change_nothing("LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n", false);
+    CHECK_DONE();
+}
