@@ -78,6 +78,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
 
 typedef struct {
     const Renderer *r;
+    int shape; /* only this emitter shape's triangles, or -1: every area light's */
     const unsigned char *hit;
     const float *pos4, *nrm4;
     float *out;
@@ -97,6 +98,7 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         for (int l = 0; l < count; ++l) {
             RenderLightInfo b;
             if (!renderer_light_info(j->r, l, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle) continue;
+            if (j->shape >= 0 && b.shape != j->shape) continue;
             vec3 to = v3_sub(v3((float)p[0], (float)p[1], (float)p[2]), b.center_world);
             if (!b.two_sided && !(v3_dot(to, b.normal_world) > 0.0f)) continue; /* behind a one-sided emitter */
             double v[3][3];
@@ -111,6 +113,21 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
 void fsf_unoccluded_irradiance(const Renderer *r, int n, const unsigned char *hit, const float *pos4,
                                const float *nrm4, float *out)
 {
-    ShadeJob j = {r, hit, pos4, nrm4, out};
+    ShadeJob j = {r, -1, hit, pos4, nrm4, out};
     recon_parallel_for((size_t)n, shade_range, &j);
+}
+
+void fsf_unoccluded_irradiance_of(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
+                                  const float *nrm4, float *out)
+{
+    ShadeJob j = {r, shape < 0 ? -2 : shape, hit, pos4, nrm4, out}; /* -2 matches no shape */
+    recon_parallel_for((size_t)n, shade_range, &j);
+}
+
+void fsf_light_share(int n, const float *own, const float *all, float *share)
+{
+    for (int i = 0; i < n; ++i) {
+        float s = all[i] > 0.0f ? own[i] / all[i] : 0.0f;
+        share[i] = isfinite(s) ? fminf(s, 1.0f) : 0.0f;
+    }
 }
