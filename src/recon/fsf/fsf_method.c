@@ -215,8 +215,7 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's light share");
         return false;
     }
-    fsf_unoccluded_irradiance_of(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->share);
-    fsf_light_share(n, m->share, m->shade, m->share);
+    fsf_light_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->share);
     return true;
 }
 
