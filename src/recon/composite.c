@@ -64,7 +64,8 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
         bool surface = g->hit[i] && !g->mixed[i];
         if (pp->value_direct4) {
             float sh = pp->factor ? pp->factor[i] : 1.0f;
-            demodulate_pixel(dir, a, sh, surface && sh > pp->factor_min, pp->value_direct4 + 4 * i);
+            /* a glossy receiver's direct light is not visibility x r(x) (gbuffer.h) */
+            demodulate_pixel(dir, a, sh, surface && !g->glossy[i] && sh > pp->factor_min, pp->value_direct4 + 4 * i);
         }
         if (pp->value_indirect4) demodulate_pixel(ind, a, 1.0f, surface, pp->value_indirect4 + 4 * i);
     }

@@ -39,12 +39,12 @@ typedef struct {
     size_t offset, size, per_pixel;
 } Slot;
 
-enum { S_SUMS, S_HIT, S_MIXED, S_POS4, S_NRM4, S_PIXEL_WORLD, S_COUNT };
+enum { S_SUMS, S_HIT, S_MIXED, S_GLOSSY, S_ALBEDO_VARIES, S_POS4, S_NRM4, S_PIXEL_WORLD, S_COUNT };
 
 static const struct {
     size_t size, per_pixel;
 } SLOT_SHAPE[S_COUNT] = {
-    [S_SUMS] = {sizeof(GBufferSums), 1}, [S_HIT] = {1, 1}, [S_MIXED] = {1, 1},
+    [S_SUMS] = {sizeof(GBufferSums), 1}, [S_HIT] = {1, 1}, [S_MIXED] = {1, 1}, [S_GLOSSY] = {1, 1}, [S_ALBEDO_VARIES] = {1, 1},
     [S_POS4] = {sizeof(float), 4},       [S_NRM4] = {sizeof(float), 4}, [S_PIXEL_WORLD] = {sizeof(float), 1},
 };
 
@@ -88,6 +88,8 @@ bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam)
     g->sums = (GBufferSums *)(b + off[S_SUMS]);
     g->hit = b + off[S_HIT];
     g->mixed = b + off[S_MIXED];
+    g->glossy = b + off[S_GLOSSY];
+    g->albedo_varies = b + off[S_ALBEDO_VARIES];
     g->pos4 = (float *)(b + off[S_POS4]);
     g->nrm4 = (float *)(b + off[S_NRM4]);
     g->pixel_world = (float *)(b + off[S_PIXEL_WORLD]);
@@ -102,6 +104,14 @@ void gbuffer_free(GBuffer *g)
     memset(g, 0, sizeof *g);
 }
 
+static inline float luminance3(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+bool gbuffer_sample_glossy(const SampleRecord *r)
+{
+    return r->hit && r->phong_exponent > GLOSSY_DIRECT_MIN_EXPONENT &&
+           luminance3(r->albedo_glossy) > GLOSSY_DIRECT_SHARE * luminance3(r->albedo);
+}
+
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
 {
     GBuffer *g = ctx;
@@ -113,6 +123,9 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     if (s->object_id < 0) s->object_id = r->object_id;
     else if (s->object_id != r->object_id) s->id_mixed = 1;
     if (r->unfilterable) s->unfilterable++;
+    if (gbuffer_sample_glossy(r)) s->glossy++;
+    float a = luminance3(r->albedo);
+    if (isfinite(a)) s->albedo_sum += a, s->albedo_sq_sum += a * a;
     float ud[3], ui[3];
     gbuffer_unfiltered_split(r, ud, ui);
     for (int k = 0; k < 3; ++k) {
@@ -189,8 +202,12 @@ static void guides_range(void *ctx, size_t begin, size_t end, int part)
         g->nrm4[4 * i + 3] = -1.0f;
         g->pixel_world[i] = 0.0f;
         g->mixed[i] = 0;
+        g->glossy[i] = s->glossy > 0;
+        g->albedo_varies[i] = 0;
         if (hits == 0) continue;
         float inv = 1.0f / (float)hits;
+        float a_mean = s->albedo_sum * inv, a_var = s->albedo_sq_sum * inv - a_mean * a_mean;
+        g->albedo_varies[i] = a_mean > 0.0f && a_var > ALBEDO_VARIES_REL_STD * ALBEDO_VARIES_REL_STD * a_mean * a_mean;
         float nl = 0;
         for (int k = 0; k < 3; ++k) {
             float p = s->pos_sum[k] * inv;

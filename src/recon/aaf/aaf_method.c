@@ -204,9 +204,16 @@ static bool aaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
         for (size_t i = 0; i < n; ++i) /* the pixel takes the most demanding effect's count */
             if (m->spp_effect[i] > spp_total[i]) spp_total[i] = m->spp_effect[i];
     }
+    bool shadows_filtered = m->beta[EFFECT_SOFT_SHADOWS] != NULL;
     int mixed_spp = aaf_clamp_spp(MIXED_SPP_PER_MU * mu_max * (float)pass1, pass1, 100.0f * mu_max);
-    for (size_t i = 0; i < n; ++i)
-        if (m->g->mixed[i] && mixed_spp > spp_total[i]) spp_total[i] = mixed_spp;
+    /* glossy receivers keep their own direct light, and a texture edge's antialiasing is no
+     * filter's (gbuffer.h): plain Monte Carlo, as mixed pixels */
+    const float *lens_beta_px = m->beta[EFFECT_DEFOCUS];
+    for (size_t i = 0; i < n; ++i) {
+        bool texture_aa = m->g->albedo_varies[i] && !(lens_beta_px && lens_beta_px[i] >= ALBEDO_VARIES_DEFOCUS_STD_PX);
+        if ((m->g->mixed[i] || texture_aa || (shadows_filtered && m->g->glossy[i])) && mixed_spp > spp_total[i])
+            spp_total[i] = mixed_spp;
+    }
     return true;
 }
 

@@ -78,10 +78,31 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
 
 typedef struct {
     const Renderer *r;
+    int shape; /* fsf_light_share's: the share of this emitter shape; -1: the plain sum */
     const unsigned char *hit;
     const float *pos4, *nrm4;
     float *out;
 } ShadeJob;
+
+/* Projected solid angle of a sphere or disk emitter seen from p (normal nr), as a small
+ * source: the sphere's cap pi sin^2(a) cos(t) while it is above the horizon (0 below: the cap
+ * that straddles it is rare and only moves a threshold), a disk as area cos cos / D^2. */
+static double round_phi(const RenderLightInfo *b, vec3 p, vec3 nr)
+{
+    vec3 to = v3_sub(b->center_world, p);
+    double D2 = v3_length2(to), D = sqrt(D2);
+    if (!(D > 0.0)) return 0.0;
+    double cos_t = v3_dot(nr, to) / D;
+    if (!(cos_t > 0.0)) return 0.0;
+    if (v3_length2(b->normal_world) < 0.5f) { /* a sphere: no normal */
+        double rad = sqrt(b->area_world / (4.0 * M_PI));
+        double sin_a = D > rad ? rad / D : 1.0;
+        return M_PI * sin_a * sin_a * cos_t;
+    }
+    double cos_e = -v3_dot(b->normal_world, to) / D;
+    if (b->two_sided) cos_e = fabs(cos_e);
+    return cos_e > 0.0 ? b->area_world * cos_e * cos_t / D2 : 0.0;
+}
 
 static void shade_range(void *ctx, size_t begin, size_t end, int part)
 {
@@ -93,24 +114,39 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         if (!j->hit[i]) continue;
         double p[3] = {j->pos4[4 * i], j->pos4[4 * i + 1], j->pos4[4 * i + 2]};
         double nr[3] = {j->nrm4[4 * i], j->nrm4[4 * i + 1], j->nrm4[4 * i + 2]};
-        double sum = 0.0;
+        vec3 pv = v3((float)p[0], (float)p[1], (float)p[2]), nv = v3((float)nr[0], (float)nr[1], (float)nr[2]);
+        double sum = 0.0, own = 0.0;
         for (int l = 0; l < count; ++l) {
             RenderLightInfo b;
-            if (!renderer_light_info(j->r, l, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle) continue;
-            vec3 to = v3_sub(v3((float)p[0], (float)p[1], (float)p[2]), b.center_world);
+            if (!renderer_light_info(j->r, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
+            if (!b.is_triangle) { /* only the share counts what FSF cannot filter along */
+                if (j->shape >= 0) sum += (double)luminance(b.radiance) * round_phi(&b, pv, nv);
+                continue;
+            }
+            vec3 to = v3_sub(pv, b.center_world);
             if (!b.two_sided && !(v3_dot(to, b.normal_world) > 0.0f)) continue; /* behind a one-sided emitter */
             double v[3][3];
             for (int k = 0; k < 3; ++k)
                 v[k][0] = b.tri_world[k].x, v[k][1] = b.tri_world[k].y, v[k][2] = b.tri_world[k].z;
-            sum += (double)luminance(b.radiance) * polygon_projected_solid_angle(p, nr, v, 3);
+            double phi = (double)luminance(b.radiance) * polygon_projected_solid_angle(p, nr, v, 3);
+            sum += phi;
+            if (b.shape == j->shape) own += phi;
         }
-        j->out[i] = isfinite(sum) ? (float)sum : 0.0f;
+        double out = j->shape >= 0 ? (sum > 0.0 ? fmin(own / sum, 1.0) : 0.0) : sum;
+        j->out[i] = isfinite(out) ? (float)out : 0.0f;
     }
 }
 
 void fsf_unoccluded_irradiance(const Renderer *r, int n, const unsigned char *hit, const float *pos4,
                                const float *nrm4, float *out)
 {
-    ShadeJob j = {r, hit, pos4, nrm4, out};
+    ShadeJob j = {r, -1, hit, pos4, nrm4, out};
+    recon_parallel_for((size_t)n, shade_range, &j);
+}
+
+void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
+                     const float *nrm4, float *share)
+{
+    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, share};
     recon_parallel_for((size_t)n, shade_range, &j);
 }

@@ -30,4 +30,17 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d);
 void fsf_unoccluded_irradiance(const Renderer *r, int n, const unsigned char *hit, const float *pos4,
                                const float *nrm4, float *out);
 
+/* FSF's shear is the geometry of its one light (the light coordinates of a sample aimed at
+ * another emitter mean nothing on this light's plane): a pixel is filtered only where at
+ * least this share of its unoccluded irradiance comes from FSF's light. Below it the pixel
+ * keeps its Monte Carlo mean and is nobody's neighbour. */
+#define FSF_MIN_LIGHT_SHARE 0.9f
+
+/* Per pixel, the share of the unoccluded irradiance from every area light (triangles exactly;
+ * spheres and disks, which FSF cannot shear along but which light the pixel all the same, as
+ * small sources: a sphere's cap above the horizon, a disk as a point of its area) that the
+ * emitter shape `shape` (FsfLight.shape) gives; 0 where none reaches the pixel. */
+void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
+                     const float *nrm4, float *share);
+
 #endif

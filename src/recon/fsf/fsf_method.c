@@ -56,6 +56,7 @@ struct ReconMethod {
     float mu;
     FsfCl *cl;
     float *shade;                /* unoccluded irradiance (the light factor) */
+    float *share;                /* FSF's light's share of it (FSF_MIN_LIGHT_SHARE), NULL until computed */
     EffectMask effects;
     float *eta_aov, *sigma_aov, *spread_aov;
     float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
@@ -94,6 +95,7 @@ static void fsf_destroy(ReconMethod *m)
     if (!m) return;
     fsf_cl_destroy(m->cl);
     free(m->shade);
+    free(m->share);
     free(m->eta_aov);
     free(m->sigma_aov);
     free(m->spread_aov);
@@ -198,7 +200,6 @@ static bool fsf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
  * besides the albedo (as AAF-GI's): it is the irradiance itself that is filtered. */
 static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, float *min_factor, Diag *d)
 {
-    (void)d;
     *factor = NULL;
     *min_factor = 0.0f;
     if (e != EFFECT_SOFT_SHADOWS) return true;
@@ -208,6 +209,13 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
     for (int i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
     *factor = m->shade;
     *min_factor = MIN_SHADE_REL * shade_max;
+    /* several area lights: where FSF's light is not (almost) all of a pixel's light, the
+     * pixel is left out (fsf_light.h) */
+    if (!m->share && !(m->share = malloc((size_t)n * sizeof(float)))) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's light share");
+        return false;
+    }
+    fsf_light_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->share);
     return true;
 }
 
@@ -227,7 +235,8 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
         count[i] = cnt;
         float scale[3];
         fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
-        usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i];
+        usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
+                    (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE);
         for (int k = 0; k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
             const float *s = lf + 5 * slot;

@@ -744,11 +744,14 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
             size_t i = (size_t)y * g->width + x;
             const float *pr;
             float comps, side;
-            bool more = false;
+            bool more = false, texture_aa = g->hit[i] && g->albedo_varies[i];
             int count = pass1;
+            float std_lens_px = 0.0f; /* the lens filter's width, where it was asked */
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i]) {
-                more = g->mixed[i] || (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
+                /* glossy receivers keep their own direct light (gbuffer.h): extra samples */
+                more = g->mixed[i] || g->glossy[i] ||
+                       (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
                 count = filtered;
             }
             /* indirect light: the same rule with its own filter */
@@ -760,6 +763,7 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
              * straddles it, or a filter under half a pixel */
             if (m->defocus && !more) {
                 float std_px = defocus_filter(m, x, y, &side);
+                std_lens_px = std_px;
                 /* filtered: about the same samples in every filter's footprint (count ~ 1/std^2),
                  * pass 1's from DEFOCUS_FULL_STD_PX up at the default knob, continuous with the
                  * extra count at UNFILTERED_STD_PX. With pass 1's alone these pixels held the
@@ -769,6 +773,9 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
                 count = aaf_clamp_spp(mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1 * fmaxf(1.0f, area * area), pass1,
                                       100.0f * mu_e);
             }
+            /* a texture edge's antialiasing is no shading filter's (gbuffer.h): extra samples
+             * too, unless the lens filter averages it */
+            more = more || (texture_aa && std_lens_px < ALBEDO_VARIES_DEFOCUS_STD_PX);
             spp_total[i] = more ? (g->hit[i] && g->mixed[i] ? silhouette : extra) : count;
         }
     return true;
