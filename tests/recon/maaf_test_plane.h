@@ -42,7 +42,8 @@ static inline void maaf_test_plane_free(MaafTestPlane *s)
 static inline MaafFilterInput maaf_test_plane_input(const MaafTestPlane *s, float cos_normal_min)
 {
     MaafFilterInput in = {s->width,  s->height, s->pairs,        s->ysum, s->pos4, s->nrm4,
-                          s->frame4, s->axis2,  s->param, cos_normal_min, 0.05f};
+                          s->frame4, s->axis2,  s->param, cos_normal_min, 0.05f,
+                          MAAF_SHARP_FACTOR_DEFAULT};
     return in;
 }
 
