@@ -1,5 +1,5 @@
 /* MAAF's lens filter around small bright emitters far out of focus (scenes/bench/bokeh_bright.pbrt
- * at 64 x 64): the light it puts on pixels that a 256-spp Monte Carlo image sees as black (the
+ * at 128 x 128): the light it puts on pixels that a 256-spp Monte Carlo image sees as black (the
  * sky beyond every bokeh disk, where every lens sample of the pixel misses everything) must stay
  * a small fraction of the image's mean, and must not grow with the sample count.
  *
@@ -17,23 +17,6 @@
 #include "recon_test_util.h"
 
 #define RES 128
-
-/* scenes/bench/bokeh_bright.pbrt with its 256 x 256 film made RES x RES (NULL if unreadable). */
-static char *bokeh_scene(void)
-{
-    char *text = recon_test_bench_scene("bokeh_bright", 16);
-    const char *film = "\"integer xresolution\" [ 256 ] \"integer yresolution\" [ 256 ]";
-    char *at = text ? strstr(text, film) : NULL;
-    if (!at) {
-        free(text);
-        return NULL;
-    }
-    char repl[128];
-    int n = snprintf(repl, sizeof repl, "\"integer xresolution\" [ %d ] \"integer yresolution\" [ %d ]", RES, RES);
-    memmove(at + n, at + strlen(film), strlen(at + strlen(film)) + 1);
-    memcpy(at, repl, (size_t)n);
-    return text;
-}
 
 static double image_mean(const float *rgb, size_t n3)
 {
@@ -57,7 +40,7 @@ static double mean_where_black(const float *rgb, const float *ref, size_t n3, in
 
 int main(void)
 {
-    char *text = bokeh_scene();
+    char *text = recon_test_bench_scene_resized("bokeh_bright", 256, RES);
     CHECK(text != NULL);
     if (!text) CHECK_DONE();
     size_t n3 = 0;
