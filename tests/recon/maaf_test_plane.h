@@ -42,7 +42,8 @@ static inline void maaf_test_plane_free(MaafTestPlane *s)
 static inline MaafFilterInput maaf_test_plane_input(const MaafTestPlane *s, float cos_normal_min)
 {
     MaafFilterInput in = {s->width,  s->height, s->pairs,        s->ysum, s->pos4, s->nrm4,
-                          s->frame4, s->axis2,  s->param, cos_normal_min, 0.05f};
+                          s->frame4, s->axis2,  s->param, cos_normal_min, 0.05f,
+                          MAAF_SHARP_FACTOR_DEFAULT};
     return in;
 }
 
@@ -55,9 +56,11 @@ static inline double maaf_test_plane_rmse(const MaafTestPlane *s, const float *v
     return sqrt(e2 / (double)n);
 }
 
-/* The OpenCL image pass on the plane against maaf_filter_reference: the same flag on every pixel
- * and rgb within 2e-4 (label names the case in the output). */
-static inline void maaf_test_plane_kernel_check(const MaafTestPlane *s, float cos_normal_min, const char *label)
+/* The OpenCL image pass on the plane against maaf_filter_reference, with the sharpness rule's
+ * factor sharp_factor: the same flag on every pixel and rgb within 2e-4 (label names the case
+ * in the output). */
+static inline void maaf_test_plane_kernel_check_sharp(const MaafTestPlane *s, float cos_normal_min, float sharp_factor,
+                                                      const char *label)
 {
     size_t n = (size_t)s->width * (size_t)s->height;
     float *ref = malloc(4 * n * sizeof(float)), *dev = malloc(4 * n * sizeof(float));
@@ -67,6 +70,7 @@ static inline void maaf_test_plane_kernel_check(const MaafTestPlane *s, float co
     MaafFilter *f = rt ? maaf_filter_create(rt, &dg) : NULL;
     CHECK(f != NULL);
     MaafFilterInput in = maaf_test_plane_input(s, cos_normal_min);
+    in.sharp_factor = sharp_factor;
     if (f && ref && dev) {
         maaf_filter_reference(&in, ref);
         double ks = 0.0, diff = 0.0;
@@ -84,6 +88,12 @@ static inline void maaf_test_plane_kernel_check(const MaafTestPlane *s, float co
     if (rt) cl_runtime_destroy(rt);
     free(ref);
     free(dev);
+}
+
+/* The same with the light filter's factor (MAAF_SHARP_FACTOR_DEFAULT). */
+static inline void maaf_test_plane_kernel_check(const MaafTestPlane *s, float cos_normal_min, const char *label)
+{
+    maaf_test_plane_kernel_check_sharp(s, cos_normal_min, MAAF_SHARP_FACTOR_DEFAULT, label);
 }
 
 /* A factor table against its brute-force integral: every component (p, q) of the half set (N = 3)

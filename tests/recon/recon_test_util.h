@@ -129,22 +129,29 @@ static inline char *recon_test_bench_scene(const char *name, size_t extra)
     return text;
 }
 
-/* recon_test_bench_scene with its 128 x 128 film made res x res; NULL when it cannot be read
- * or its film is not 128 x 128. Free it. */
-static inline char *recon_test_bench_scene_at(const char *name, int res)
+/* recon_test_bench_scene with its film of film x film pixels made res x res; NULL when it
+ * cannot be read or its film is not film x film. Free it. */
+static inline char *recon_test_bench_scene_resized(const char *name, int film, int res)
 {
     char *text = recon_test_bench_scene(name, 16); /* room for a longer resolution */
-    const char *film = "\"integer xresolution\" [ 128 ] \"integer yresolution\" [ 128 ]";
-    char *at = text ? strstr(text, film) : NULL;
+    char from[128];
+    snprintf(from, sizeof from, "\"integer xresolution\" [ %d ] \"integer yresolution\" [ %d ]", film, film);
+    char *at = text ? strstr(text, from) : NULL;
     if (!at) {
         free(text);
         return NULL;
     }
     char repl[128];
     int n = snprintf(repl, sizeof repl, "\"integer xresolution\" [ %d ] \"integer yresolution\" [ %d ]", res, res);
-    memmove(at + n, at + strlen(film), strlen(at + strlen(film)) + 1);
+    memmove(at + n, at + strlen(from), strlen(at + strlen(from)) + 1);
     memcpy(at, repl, (size_t)n);
     return text;
+}
+
+/* The same for the bench scenes with a 128 x 128 film. */
+static inline char *recon_test_bench_scene_at(const char *name, int res)
+{
+    return recon_test_bench_scene_resized(name, 128, res);
 }
 
 /* The result's AOV layer called name, or NULL. */

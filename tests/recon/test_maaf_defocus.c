@@ -217,6 +217,20 @@ int main(void)
         if (i % 23 == 9) right.param[i * MAAF_PARAM_STRIDE] = 0.0f; /* not filtered */
     }
     maaf_test_plane_kernel_check(&right, 0.93969262f, "screen guides");
+    /* the lens filter's own sharpness rule: neighbours a little sharper (std 0.88 of the
+     * others': kept by both rules) and much sharper (0.71: kept by the light filter's 0.5,
+     * left out by the lens filter's 0.8); the kernel must decide as the reference does */
+    int sharper = 0, rejected = 0;
+    for (int i = 0; i < W * H; ++i) {
+        float *pr = right.param + i * MAAF_PARAM_STRIDE;
+        if (i % 17 == 5) pr[3] *= 1.3f;
+        if (i % 11 == 3) pr[3] *= 2.0f, ++sharper;
+    }
+    for (int i = 0; i < W * H; ++i) rejected += right.param[i * MAAF_PARAM_STRIDE + 3] > MAAF_LENS_SHARP_FACTOR * right.param[3];
+    CHECK(sharper > 0 && rejected > 0);
+    maaf_test_plane_kernel_check(&right, 0.93969262f, "screen guides, sharper neighbours, light filter's rule");
+    maaf_test_plane_kernel_check_sharp(&right, 0.93969262f, MAAF_LENS_SHARP_FACTOR,
+                                       "screen guides, sharper neighbours, lens filter's rule");
     maaf_test_plane_free(&right);
     free(out);
     maaf_lens_free(&lens);

@@ -47,9 +47,6 @@
 #define MAAF_PAD 8
 /* below this fraction of the central component's weight the full sum is not trusted */
 #define MAAF_MIN_WEIGHT_FRACTION 0.2f
-/* sx^2 ratio of the sharpness rule: a neighbour's std under 1/2 of the centre's */
-#define MAAF_SHARP_FACTOR 4.0f
-
 /* guide planes (MAAF_GUIDES in maaf_filter.c) */
 #define G_PX 0
 #define G_PY 1
@@ -106,7 +103,7 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
 typedef struct {
     float8 px, py, pz, nx, ny, nz, id, tol, t1x, t1y, t1z, t2x, t2y, t2z;
     float8 rad;  /* taps |k| <= rad; -1: the lane is not filtered */
-    float8 hv0;  /* its central component's sx^2/2 (the sharpness rule) */
+    float8 hv0;  /* its central component's sx^2/2 times the run's sharpness factor (the rule) */
     int reach;   /* the largest radius of the 8 lanes */
 } Centre;
 
@@ -119,7 +116,7 @@ static float8 lane_gather(__global const float *a, int stride, int i0, int lanes
 
 static Centre centre_load(__global const float *guide, int gplane, int go, __global const float *frame4,
                           __global const float *axis2, __global const float *param, int pairs, int i0, int lanes,
-                          float depth_tol_rel, float8 *amp, float8 *cx, float8 *hv)
+                          float depth_tol_rel, float sharp_factor, float8 *amp, float8 *cx, float8 *hv)
 {
     Centre c;
     c.px = vload8(0, guide + G_PX * gplane + go);
@@ -141,7 +138,7 @@ static Centre centre_load(__global const float *guide, int gplane, int go, __glo
         cx[p] = lane_gather(param + 2 + 3 * p, MAAF_PARAM_STRIDE, i0, lanes);
         hv[p] = lane_gather(param + 3 + 3 * p, MAAF_PARAM_STRIDE, i0, lanes);
     }
-    c.hv0 = hv[0];
+    c.hv0 = sharp_factor * hv[0];
     /* the reference's integer radius; a lane is filtered when usable with a radius > 0 */
     float8 rad = fmin(trunc(vload8(0, guide + G_RAD * gplane + go)), (float8)MAAF_RADIUS_CAP);
     int8 filtered = (vload8(0, guide + G_USE * gplane + go) != 0.0f) & (rad > 0.0f);
@@ -169,7 +166,7 @@ static int8 tap_lanes(const Centre *c, __global const float *guide, int gplane, 
     int8 ok = (fabs((float8)((float)k)) <= c->rad) & (vload8(0, guide + G_USE * gplane + go) != 0.0f) &
               (vload8(0, guide + G_ID * gplane + go) == c->id) & ~(cosn < cos_normal_min) & ~(off > c->tol) &
               ~(vload8(0, guide + G_RAD * gplane + go) <= 0.0f) &
-              ~(vload8(0, guide + G_HV0 * gplane + go) > MAAF_SHARP_FACTOR * c->hv0);
+              ~(vload8(0, guide + G_HV0 * gplane + go) > c->hv0);
     *d1 = dx * c->t1x + dy * c->t1y + dz * c->t1z;
     *d2 = dx * c->t2x + dy * c->t2y + dz * c->t2z;
     return ok;
@@ -262,7 +259,7 @@ static void tap_weight(const Taps *t, int n, int pairs, int p, int q, float8 *wr
 /* The row pass: every component's complex sums into tp (unfiltered lanes: zeros, never read:
  * the column pass rejects them as neighbours). */
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
-                        int gpitch, int gplane, int ystride, int tblocks, __global const float *guide,
+                        float sharp_factor, int gpitch, int gplane, int ystride, int tblocks, __global const float *guide,
                         __global const float *frame4, __global const float *axis2, __global const float *param,
                         __global const float *yp, __global float *tp, __global const int *need)
 {
@@ -271,7 +268,7 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
     int go = y * gpitch + x0 + MAAF_PAD;
     int per = 8 * comps, yo = y * (per + 1) * ystride + x0 + MAAF_PAD, i0 = y * width + x0, lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
-    Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
+    Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, sharp_factor, amp, cx, hv);
     Taps t;
     /* taps whose 8 neighbours include an image pixel */
     taps_collect(&t, &c, -(x0 + 7), width - 1 - x0, pairs, pairs, cx, hv, cos_normal_min, guide, gplane, go, 1,
@@ -321,7 +318,7 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
  * components, each with its amplitude; the conjugate half doubles every component but the
  * central one. Only the real parts of the column sums are needed. */
 __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
-                        int gpitch, int gplane, int tblocks, __global const float *guide, __global const float *frame4,
+                        float sharp_factor, int gpitch, int gplane, int tblocks, __global const float *guide, __global const float *frame4,
                         __global const float *axis2, __global const float *param, __global const float *tp,
                         __global float4 *out4)
 {
@@ -331,7 +328,7 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
     int per = 8 * comps, tb = (per + 1) * 8, to = (y * tblocks + x0 / 8) * tb, i0 = y * width + x0,
         lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
-    Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, amp, cx, hv);
+    Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, sharp_factor, amp, cx, hv);
     Taps t;
     /* the bands with amplitude in some lane: the components of the others are skipped below */
     int amp_pairs = 1;

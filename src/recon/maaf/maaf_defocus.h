@@ -86,6 +86,16 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
  * range or the averaged one straddles the focal plane. *side: the sign of s (0: not filtered).
  * Returns the central std in pixels (0: not filtered). */
 #define MAAF_DEFOCUS_WINDOW_PX 2
+/* The lens filter's sharpness rule (MaafFilterInput.sharp_factor): a neighbour takes part only
+ * if its central std is at least 0.8 of the centre's (sx^2 ratio 1/0.8^2), i.e. its sharpest
+ * slope is at least 0.8 of the centre's. The filter reprojects every neighbour's lens samples
+ * along the centre's slope (seeds/003 assumes the centre's wedge holds over the footprint), but
+ * the wedge is measured over 5 x 5 pixels and the footprint reaches 2 stds (18 px on
+ * bokeh_bright): a small emitter's samples, at a slope 0.7 of the black background's, were
+ * moved up to 0.3 coc past its disk (halos). Measured (docs/algorithms.md 9.8): 0.5 (the light
+ * filter's rule) / 0.7 / 0.8 / 0.9 gave bokeh_bright 7.1 / 1.6 / 0.49 / 0.28 and the defocus
+ * bench 1.91e-4 / 1.90e-4 / 1.94e-4 / 2.17e-4 at 16 spp; 0.8 keeps the bench. */
+#define MAAF_LENS_SHARP_FACTOR 1.5625f
 float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
                          float omega_u_max, int pairs, float *param, float *side);
 

@@ -10,7 +10,6 @@
 #include "recon/cl/cl_runtime_internal.h"
 
 #define MIN_WEIGHT_FRACTION 0.2f /* MAAF_MIN_WEIGHT_FRACTION in maaf.cl */
-#define SHARP_FACTOR 4.0f        /* MAAF_SHARP_FACTOR */
 
 int maaf_component_count(int pairs)
 {
@@ -47,6 +46,8 @@ void maaf_factors_accumulate(int comps, const float *w, const float f4[4], float
     }
 }
 
+float maaf_sharp_factor(const MaafFilterInput *in) { return in->sharp_factor > 0.0f ? in->sharp_factor : MAAF_SHARP_FACTOR_DEFAULT; }
+
 /* One 1D pass (maaf.cl's maaf_rows for axis 0, maaf_cols for axis 1) for pixel (x, y); acc
  * receives 8 floats per component. */
 static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, int x, int y, float *acc)
@@ -58,7 +59,7 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
     memset(acc, 0, (size_t)comps * 8 * sizeof(float));
     const float *t1 = in->frame4 + 4 * i, *t2 = in->axis2_4 + 4 * i;
     const float *cp = in->pos4 + 4 * i, *cn = in->nrm4 + 4 * i;
-    float tol = in->depth_tol_rel * cp[3];
+    float tol = in->depth_tol_rel * cp[3], sharp = maaf_sharp_factor(in);
     for (int k = -radius; k <= radius; ++k) {
         int nx = axis == 0 ? x + k : x, ny = axis == 0 ? y : y + k;
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
@@ -68,7 +69,7 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
         float dlt[3] = {cp[0] - np[0], cp[1] - np[1], cp[2] - np[2]};
         if (nn[3] != cn[3] || dot3(cn, nn) < in->cos_normal_min || fabsf(dot3(cn, dlt)) > tol) continue;
         const float *pn = in->param + (size_t)j * MAAF_PARAM_STRIDE;
-        if (pn[0] <= 0.0f || pn[3] > SHARP_FACTOR * pr[3]) continue; /* maaf.cl's sharpness rule */
+        if (pn[0] <= 0.0f || pn[3] > sharp * pr[3]) continue; /* maaf.cl's sharpness rule */
         float d1 = dot3(dlt, t1), d2 = dot3(dlt, t2);
         float e1[MAAF_PAIRS_MAX][2], e2[MAAF_PAIRS_MAX][2];
         for (int p = 0; p < pairs; ++p) {
@@ -349,7 +350,7 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     ok = ok && cl_ok(clEnqueueWriteBuffer(f->rt->queue, f->buf[BUF_NEED], CL_FALSE, 0, rows * (size_t)tb * sizeof(cl_int),
                                           f->need, 0, NULL, NULL),
                      "upload", d);
-    float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
+    float rules[3] = {in->cos_normal_min, in->depth_tol_rel, maaf_sharp_factor(in)};
     cl_event ev[K_COUNT] = {NULL, NULL, NULL};
     if (ok) {
         cl_int ints[6] = {w, h, comps, gp, gpl, yp};
@@ -360,13 +361,13 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     if (ok) {
         cl_int ints[4] = {w, h, in->pairs, comps}, ints2[4] = {gp, gpl, yp, tb};
         int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};
-        ok = set_args(f, K_ROWS, ints, 4, rules, 2, bufs, 7, ints2, 4, d) &&
+        ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 4, d) &&
              cl_launch_2d(f->rt, f->k[K_ROWS], w8 / LANES, (size_t)h, &ev[K_ROWS], d);
     }
     if (ok) {
         cl_int ints[4] = {w, h, in->pairs, comps}, ints2[3] = {gp, gpl, tb};
         int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
-        ok = set_args(f, K_COLS, ints, 4, rules, 2, bufs, 6, ints2, 3, d) &&
+        ok = set_args(f, K_COLS, ints, 4, rules, 3, bufs, 6, ints2, 3, d) &&
              cl_launch_2d(f->rt, f->k[K_COLS], w8 / LANES, (size_t)h, &ev[K_COLS], d);
     }
     ok = ok && cl_ok(clEnqueueReadBuffer(f->rt->queue, f->buf[BUF_OUT], CL_TRUE, 0, n * 16, out4, 0, NULL, NULL),

@@ -34,10 +34,21 @@ typedef struct {
     const float *param;    /* MAAF_PARAM_STRIDE per pixel */
     float cos_normal_min;  /* neighbour rejection, as AAF's */
     float depth_tol_rel;
+    /* the sharpness rule: a neighbour whose central sx^2 is above this times the centre's
+     * (its std under 1/sqrt(this) of the centre's) holds detail the centre's filter would
+     * smear and is left out; 0 means MAAF_SHARP_FACTOR_DEFAULT */
+    float sharp_factor;
 } MaafFilterInput;
+
+/* The sharpness rule's factor for the light and bounce filters: a neighbour's std under half
+ * the centre's (AAF's rule of docs/algorithms.md 3.3). */
+#define MAAF_SHARP_FACTOR_DEFAULT 4.0f
 
 /* The light-plane axes of a unit normal (zero normal: +z), as the kernel builds them. */
 void maaf_basis(const float n[3], float t1[3], float t2[3]);
+
+/* in's sharpness factor, its default where it is 0. */
+float maaf_sharp_factor(const MaafFilterInput *in);
 
 /* out4: filtered rgb and a flag per pixel (0: unchanged, 1: filtered, 2: central component only). */
 void maaf_filter_reference(const MaafFilterInput *in, float *out4);

@@ -321,7 +321,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
      * before they start (zalloc.h; as callocs, 14% of a combined.pbrt frame at 16 spp went to
      * copy-on-write faults under maaf_lens_accumulate and accumulate) */
     m->ysum = shadows ? zalloc(n * per, sizeof(float)) : NULL;
-    m->ydemod = shadows || split || m->indirect ? malloc(n * per * sizeof(float)) : NULL;
+    m->ydemod = shadows || m->defocus || m->indirect ? malloc(n * per * sizeof(float)) : NULL;
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
@@ -334,7 +334,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || ((shadows || split || m->indirect) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || ((shadows || m->defocus || m->indirect) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     if (m->defocus) {
@@ -874,7 +874,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
     MaafFilterInput in = {w, h, pass_pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
-                          DEPTH_TOL_REL};
+                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
@@ -923,6 +923,21 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
         }
         sums = m->ydemod;
     }
+    /* Each pixel's sums become means over its own samples: eq. 20's integrals over the lens
+     * are Monte Carlo estimates per pixel (seeds/003 Sec. 6.1), so every pixel enters eq. 3's
+     * image filter with the same weight whatever its count. With raw sums a pixel weighed by
+     * its count, and the plan chose the counts from pass 1's samples, which the sums include:
+     * pixels whose first 9 samples hit a small bright emitter got 3-8x the samples of their
+     * neighbours that missed it, so the filter over-weighted the lucky ones, more so the
+     * larger the budget (bokeh_bright: disks 15% too bright with halos, relMSE 39 at 16 spp
+     * and 87 at 32; docs/algorithms.md 9.8). */
+    for (size_t i = 0; i < n; ++i) {
+        float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
+        const float *src = sums + i * per;
+        float *o = m->ydemod + i * per;
+        for (size_t c = 0; c < per; ++c) o[c] = src[c] * inv;
+    }
+    sums = m->ydemod;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
@@ -933,7 +948,7 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
                                m->daxis2 + 4 * i);
         }
     MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
-                          COS_NORMAL_MIN, DEPTH_TOL_REL};
+                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)
