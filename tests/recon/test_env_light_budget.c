@@ -46,13 +46,7 @@ static void count_samples(const ReconPipeline *p, void *ctx)
     CHECK(res->choice.method[EFFECT_INDIRECT] && !strcmp(res->choice.method[EFFECT_INDIRECT]->name, "aaf"));
     fc->filtered_indirect = res->pixels_filtered[EFFECT_INDIRECT];
     fc->filtered_defocus = res->pixels_filtered[EFFECT_DEFOCUS];
-    const GBuffer *g = recon_pipeline_gbuffer(p);
-    size_t n = (size_t)g->frame.width * (size_t)g->frame.height;
-    for (size_t i = 0; i < n; ++i) {
-        int k = (int)g->frame.spp[i];
-        if (fc->spp_min < 0 || k < fc->spp_min) fc->spp_min = k;
-        if (k > fc->spp_max) fc->spp_max = k;
-    }
+    recon_test_spp_range(p, &fc->spp_min, &fc->spp_max);
 }
 
 static FrameCounts render(const char *light, int spp)
