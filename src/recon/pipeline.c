@@ -415,8 +415,14 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * filtered surfaces few samples, where the sky's noise then stays, and spend the rest
      * where each sample costs more rays. Traced uniformly instead (the filters still at the
      * budget's mu), envlight.pbrt at 64 spp went from 6.2e-4 to 5.3e-4 relMSE for 27% less
-     * CPU time (docs/benchmarks.md, "auto on an environment light"). */
-    if (p->opt.spp > 0 && !p->fixed_only && renderer_has_environment_light(p->r)) budget_in_pass1 = true;
+     * CPU time (docs/benchmarks.md, "auto on an environment light"). Measured for AAF's plans
+     * only: MAAF's (a 4D lens filter that gains more from its extra samples) lost by it at 16
+     * and 32 spp (1.0e-3 -> 1.4e-3, 6.5e-4 -> 7.2e-4), so a frame with another planning
+     * method keeps the plans. */
+    bool aaf_plans_only = true;
+    for (int s = 0; s < p->slot_count; ++s)
+        if (method_plans(p->slots[s].cls, p->opt.spp) && strcmp(p->slots[s].cls->name, "aaf")) aaf_plans_only = false;
+    if (p->opt.spp > 0 && !p->fixed_only && aaf_plans_only && renderer_has_environment_light(p->r)) budget_in_pass1 = true;
     if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
     if (!p->fixed_only && !budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;

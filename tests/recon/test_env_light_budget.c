@@ -3,7 +3,8 @@
  * filters leave) must not decide where the budget goes: every pixel gets exactly the budget,
  * traced in pass 1, while AAF still filters the lens and the bounce. The same scene lit by an
  * area light instead keeps the plan's uneven counts (the rule must not trigger there), and
- * so does the sky without a budget (the methods' own counts). */
+ * so does the sky without a budget (the methods' own counts) and the sky under MAAF (whose
+ * plans were measured better than uniform counts there). */
 #include "check.h"
 #include "recon_test_util.h"
 
@@ -36,45 +37,50 @@ static const char *const AREA = "AttributeBegin\n"
 typedef struct {
     int spp_min, spp_max;
     long long filtered_indirect, filtered_defocus;
+    const char *method; /* the method expected for both effects */
 } FrameCounts;
 
 static void count_samples(const ReconPipeline *p, void *ctx)
 {
     FrameCounts *fc = ctx;
     const ReconResult *res = recon_pipeline_result(p);
-    CHECK(res->choice.method[EFFECT_DEFOCUS] && !strcmp(res->choice.method[EFFECT_DEFOCUS]->name, "aaf"));
-    CHECK(res->choice.method[EFFECT_INDIRECT] && !strcmp(res->choice.method[EFFECT_INDIRECT]->name, "aaf"));
+    CHECK(res->choice.method[EFFECT_DEFOCUS] && !strcmp(res->choice.method[EFFECT_DEFOCUS]->name, fc->method));
+    CHECK(res->choice.method[EFFECT_INDIRECT] && !strcmp(res->choice.method[EFFECT_INDIRECT]->name, fc->method));
     fc->filtered_indirect = res->pixels_filtered[EFFECT_INDIRECT];
     fc->filtered_defocus = res->pixels_filtered[EFFECT_DEFOCUS];
     recon_test_spp_range(p, &fc->spp_min, &fc->spp_max);
 }
 
-static FrameCounts render(const char *light, int spp)
+/* filter: "auto" (AAF here) or a method's name */
+static FrameCounts render(const char *light, int spp, const char *filter)
 {
     char text[4096];
     scene_text(text, sizeof text, light);
-    FrameCounts fc = {-1, -1, 0, 0};
-    ReconOptions o = {.filter = "auto", .spp = spp};
+    FrameCounts fc = {-1, -1, 0, 0, strcmp(filter, "auto") ? filter : "aaf"};
+    ReconOptions o = {.filter = filter, .spp = spp};
     float *rgb = recon_test_render_pipeline(text, 7, &o, count_samples, &fc);
     CHECK(rgb != NULL);
     free(rgb);
-    fprintf(stderr, "%s, --spp %d: samples per pixel %d..%d, AAF filtered %lld (indirect) %lld (defocus) pixels\n",
-            light == SKY ? "sky" : "area light", spp, fc.spp_min, fc.spp_max, fc.filtered_indirect, fc.filtered_defocus);
+    fprintf(stderr, "%s, %s, --spp %d: samples per pixel %d..%d, filtered %lld (indirect) %lld (defocus) pixels\n",
+            light == SKY ? "sky" : "area light", filter, spp, fc.spp_min, fc.spp_max, fc.filtered_indirect, fc.filtered_defocus);
     return fc;
 }
 
 int main(void)
 {
     /* the sky, a budget above AAF's pass 1 (16): all of it in pass 1, every pixel alike */
-    FrameCounts fc = render(SKY, 40);
+    FrameCounts fc = render(SKY, 40, "auto");
     CHECK(fc.spp_min == 40 && fc.spp_max == 40);
     CHECK(fc.filtered_indirect > 0 && fc.filtered_defocus > 0);
     /* an area light instead: the plan spreads the same budget unevenly */
-    fc = render(AREA, 40);
+    fc = render(AREA, 40, "auto");
     CHECK(fc.spp_max > fc.spp_min);
     CHECK(fc.filtered_indirect > 0 && fc.filtered_defocus > 0);
     /* the sky without a budget: the methods' own counts, uneven */
-    fc = render(SKY, 0);
+    fc = render(SKY, 0, "auto");
+    CHECK(fc.spp_max > fc.spp_min);
+    /* MAAF's plans were measured better than uniform counts under a sky: kept */
+    fc = render(SKY, 40, "maaf");
     CHECK(fc.spp_max > fc.spp_min);
     CHECK_DONE();
 }
