@@ -351,9 +351,8 @@ static void begin_pass(ReconPipeline *p, int pass, bool ray_geometry)
     renderer_set_record_ray_geometry(p->r, ray_geometry);
 }
 
-/* Buffers, guides, store and methods for a filtered frame. */
-/* Whether the scene has an `infinite` light that emits. */
-static bool renderer_has_environment_light(const Renderer *r)
+/* Whether the scene has an `infinite` light that emits (constant, or an image's mean). */
+static bool scene_has_environment_light(const Renderer *r)
 {
     for (int i = 0, n = renderer_light_count(r); i < n; ++i) {
         RenderLightInfo info;
@@ -364,6 +363,7 @@ static bool renderer_has_environment_light(const Renderer *r)
     return false;
 }
 
+/* Buffers, guides, store and methods for a filtered frame. */
 static bool setup_filtered(ReconPipeline *p, Diag *d)
 {
     int w = renderer_width(p->r), h = renderer_height(p->r);
@@ -411,7 +411,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     /* An environment light's direct light reaches the image unfiltered (no shading filter
      * takes it: the soft-shadow filters are built around area lights), with Monte Carlo's
      * noise on every surface that sees the sky. The plans set each pixel's count from the
-     * noise their filters leave (001 eq. 11), blind to that part: they give the open, easily
+     * noise their filters leave (001 eqs. 14-21), blind to that part: they give the open, easily
      * filtered surfaces few samples, where the sky's noise then stays, and spend the rest
      * where each sample costs more rays. Traced uniformly instead (the filters still at the
      * budget's mu), envlight.pbrt at 64 spp went from 6.2e-4 to 5.3e-4 relMSE for 27% less
@@ -422,7 +422,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     bool aaf_plans_only = true;
     for (int s = 0; s < p->slot_count; ++s)
         if (method_plans(p->slots[s].cls, p->opt.spp) && strcmp(p->slots[s].cls->name, "aaf")) aaf_plans_only = false;
-    if (p->opt.spp > 0 && !p->fixed_only && aaf_plans_only && renderer_has_environment_light(p->r)) budget_in_pass1 = true;
+    if (p->opt.spp > 0 && !p->fixed_only && aaf_plans_only && scene_has_environment_light(p->r)) budget_in_pass1 = true;
     if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
     if (!p->fixed_only && !budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
