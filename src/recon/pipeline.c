@@ -351,6 +351,18 @@ static void begin_pass(ReconPipeline *p, int pass, bool ray_geometry)
     renderer_set_record_ray_geometry(p->r, ray_geometry);
 }
 
+/* Whether the scene has an `infinite` light that emits (constant, or an image's mean). */
+static bool scene_has_environment_light(const Renderer *r)
+{
+    for (int i = 0, n = renderer_light_count(r); i < n; ++i) {
+        RenderLightInfo info;
+        if (renderer_light_info(r, i, &info) && info.kind == RENDER_LIGHT_INFINITE &&
+            (info.radiance.x > 0.0f || info.radiance.y > 0.0f || info.radiance.z > 0.0f))
+            return true;
+    }
+    return false;
+}
+
 /* Buffers, guides, store and methods for a filtered frame. */
 static bool setup_filtered(ReconPipeline *p, Diag *d)
 {
@@ -396,6 +408,21 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     for (int s = 0; s < p->slot_count && !p->fixed_only && p->opt.spp > 0; ++s)
         if (!method_plans(p->slots[s].cls, p->opt.spp) && (p->slots[s].effects & EFFECT_BIT(EFFECT_DEFOCUS)))
             budget_in_pass1 = true;
+    /* An environment light's direct light reaches the image unfiltered (no shading filter
+     * takes it: the soft-shadow filters are built around area lights), with Monte Carlo's
+     * noise on every surface that sees the sky. The plans set each pixel's count from the
+     * noise their filters leave (001 eqs. 14-21), blind to that part: they give the open, easily
+     * filtered surfaces few samples, where the sky's noise then stays, and spend the rest
+     * where each sample costs more rays. Traced uniformly instead (the filters still at the
+     * budget's mu), envlight.pbrt at 64 spp went from 6.2e-4 to 5.3e-4 relMSE for 27% less
+     * CPU time (docs/benchmarks.md, "auto on an environment light"). Measured for AAF's plans
+     * only: MAAF's (a 4D lens filter that gains more from its extra samples) lost by it at 16
+     * and 32 spp (1.0e-3 -> 1.4e-3, 6.5e-4 -> 7.2e-4), so a frame with another planning
+     * method keeps the plans. */
+    bool aaf_plans_only = true;
+    for (int s = 0; s < p->slot_count; ++s)
+        if (method_plans(p->slots[s].cls, p->opt.spp) && strcmp(p->slots[s].cls->name, "aaf")) aaf_plans_only = false;
+    if (p->opt.spp > 0 && !p->fixed_only && aaf_plans_only && scene_has_environment_light(p->r)) budget_in_pass1 = true;
     if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
     if (!p->fixed_only && !budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;

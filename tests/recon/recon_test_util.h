@@ -163,6 +163,20 @@ static inline const float *recon_test_aov(const ReconResult *res, const char *na
 }
 
 /* relMSE as in the benchmarks: mean of (x - ref)^2 / (ref^2 + 0.01). */
+/* The smallest and largest samples per pixel of a frame's pipeline (its visible image). */
+static inline void recon_test_spp_range(const ReconPipeline *p, int *spp_min, int *spp_max)
+{
+    const GBuffer *g = recon_pipeline_gbuffer(p);
+    size_t n = (size_t)g->frame.width * (size_t)g->frame.height;
+    *spp_min = -1;
+    *spp_max = -1;
+    for (size_t i = 0; i < n; ++i) {
+        int k = (int)g->frame.spp[i];
+        if (*spp_min < 0 || k < *spp_min) *spp_min = k;
+        if (k > *spp_max) *spp_max = k;
+    }
+}
+
 static inline double rel_mse(const float *img, const float *ref, size_t n3)
 {
     double s = 0;

@@ -35,13 +35,7 @@ static void count_samples(const ReconPipeline *p, void *ctx)
     const ReconMethodClass *dof = res->choice.method[EFFECT_DEFOCUS];
     CHECK(fc->defocus_method ? dof && !strcmp(dof->name, fc->defocus_method) : !dof);
     fc->aaf_pixels = res->pixels_filtered[EFFECT_SOFT_SHADOWS];
-    const GBuffer *g = recon_pipeline_gbuffer(p);
-    size_t n = (size_t)g->frame.width * (size_t)g->frame.height;
-    for (size_t i = 0; i < n; ++i) {
-        int k = (int)g->frame.spp[i];
-        if (fc->spp_min < 0 || k < fc->spp_min) fc->spp_min = k;
-        if (k > fc->spp_max) fc->spp_max = k;
-    }
+    recon_test_spp_range(p, &fc->spp_min, &fc->spp_max);
 }
 
 /* Renders with `spp` (0: the methods' own counts), through a lens of radius 0.3 focused at
