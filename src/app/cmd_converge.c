@@ -584,6 +584,130 @@ static bool compute_errors(const float *ref, const float *img, int w, int h, Con
     return true;
 }
 
+/* ---- the sweep's runs ---- */
+
+/* One render of the sweep. */
+typedef struct {
+    const ConvergeMethod *method;
+    const char *mu;  /* NULL: no --mu */
+    int spp;         /* the --spp budget; 0 when the filter sets its samples from mu */
+    long long seed;
+    int step;        /* its place in its (method, mu) list: the round it runs in */
+} ConvergeRun;
+
+/* Every run, method by method (each mu of a method in turn, then its budgets): the order of
+ * the rows in results.csv. A fresh seed per run (the reference used o->seed itself): runs are
+ * independent of each other and of the reference, so errors do not correlate. */
+static ConvergeRun *plan_runs(const ConvergeOptions *o, int *count)
+{
+    int most_spp = o->spp_count > o->baseline_spp_count ? o->spp_count : o->baseline_spp_count;
+    int max_runs = o->method_count * (o->mu_count > 0 ? o->mu_count : 1) * (most_spp > 0 ? most_spp : 1);
+    ConvergeRun *runs = calloc((size_t)(max_runs ? max_runs : 1), sizeof *runs);
+    *count = 0;
+    if (!runs) return NULL;
+    for (int mi = 0; mi < o->method_count; ++mi) {
+        const ConvergeMethod *m = o->methods[mi];
+        int mu_runs = m->takes_mu && o->mu_count > 0 ? o->mu_count : 1;
+        for (int ui = 0; ui < mu_runs; ++ui) {
+            const char *mu = m->takes_mu && o->mu_count > 0 ? o->mu[ui] : NULL;
+            /* A filter with --mu sets each pixel's samples itself from mu: one run per mu. Without
+             * --mu, each --spp value is the filter's average budget (wedge render --spp). */
+            bool baseline = o->baseline_spp_count > 0 && is_baseline(m);
+            const int *spp = baseline ? o->baseline_spp : o->spp;
+            int spp_runs = mu ? 1 : baseline ? o->baseline_spp_count : o->spp_count;
+            for (int si = 0; si < spp_runs; ++si) {
+                ConvergeRun *r = &runs[(*count)++];
+                *r = (ConvergeRun){m, mu, mu ? 0 : spp[si], o->seed + *count, si};
+            }
+        }
+    }
+    return runs;
+}
+
+/* Renders one run, reads its report and image, and fills row. Returns an exit code. */
+static int run_one(const ConvergeOptions *o, const ConvergeRun *run, const char *name, const char *images,
+                   const float *ref, ConvergeRow *row)
+{
+    const ConvergeMethod *m = run->method;
+    const char *mu = run->mu;
+    char stem[4400], image[4500], report[4500], spp_label[32] = "";
+    if (!mu) snprintf(spp_label, sizeof spp_label, "-spp%d", run->spp);
+    if (!fmt_path(stem, sizeof stem, "%s/%s-%s%s%s%s", images, name, m->name, mu ? "-mu" : "", mu ? mu : "",
+                  spp_label) ||
+        !fmt_path(image, sizeof image, "%s.exr", stem) || !fmt_path(report, sizeof report, "%s.json", stem)) {
+        fprintf(stderr, "wedge converge: error: output path too long\n");
+        return WEDGE_EXIT_RUNTIME;
+    }
+    ArgList l;
+    base_render_args(&l, o, image, run->spp, run->seed, report);
+    for (int k = 0; m->render_args[k]; ++k) arg_add(&l, m->render_args[k]);
+    if (mu) {
+        arg_add(&l, "--mu");
+        arg_add(&l, mu);
+    }
+    int code = run_render(&l);
+    if (code != WEDGE_EXIT_OK) {
+        fprintf(stderr, "wedge converge: error: render failed (exit %d):\n", code);
+        print_command(stderr, &l);
+        return code;
+    }
+    if (report_interrupted(report)) {
+        fprintf(stderr, "wedge converge: interrupted; the results so far are in %s/results.csv\n", o->out_dir);
+        return WEDGE_EXIT_RUNTIME;
+    }
+    ConvergeRow r = {.method = m, .mu = mu};
+    char *json = read_text_file(report);
+    bool have = json && json_number(json, "spp_avg", &r.spp_avg) && json_number(json, "seconds_total", &r.seconds_total) &&
+                json_number(json, "seconds_trace", &r.seconds_trace) &&
+                json_number(json, "seconds_filter", &r.seconds_filter);
+    free(json);
+    if (!have) {
+        fprintf(stderr, "wedge converge: error: %s lacks spp_avg/seconds_total/seconds_trace/seconds_filter\n", report);
+        return WEDGE_EXIT_RUNTIME;
+    }
+    int w, h;
+    float *img = NULL;
+    Diag err = {0};
+    if (!exr_read_rgb(image, &w, &h, &img, &err)) {
+        diag_print(&err);
+        return WEDGE_EXIT_RUNTIME;
+    }
+    bool same = w == o->width && h == o->height;
+    if (!same || !compute_errors(ref, img, w, h, &r)) {
+        fprintf(stderr, "wedge converge: error: cannot compare %s with the reference\n", image);
+        free(img);
+        return WEDGE_EXIT_RUNTIME;
+    }
+    free(img);
+    *row = r;
+    printf("%-8s %-6s %6d %9.2f %9.3f %12.5g %12.5g %8.3f %7.4f\n", m->name, mu ? mu : "-", run->spp, r.spp_avg,
+           r.seconds_total, r.relmse, r.mse, r.psnr, r.ssim);
+    fflush(stdout);
+    return WEDGE_EXIT_OK;
+}
+
+/* results.csv with the finished runs, in the plan's order; rewritten whole after every run
+ * (a temporary file renamed over it), so that an interrupted sweep leaves a complete file. */
+static bool write_results(const char *path, const char *scene, const ConvergeRow *rows, const bool *done, int count)
+{
+    char tmp[4500];
+    snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid());
+    FILE *csv = fopen(tmp, "w");
+    if (!csv) {
+        fprintf(stderr, "wedge converge: error: cannot write %s: %s\n", tmp, strerror(errno));
+        return false;
+    }
+    fprintf(csv, "scene,method,mu,spp_avg,seconds_total,seconds_trace,seconds_filter,relmse,mse,psnr,ssim\n");
+    for (int i = 0; i < count; ++i)
+        if (done[i]) csv_row(csv, scene, &rows[i]);
+    bool ok = fclose(csv) == 0 && rename(tmp, path) == 0;
+    if (!ok) {
+        fprintf(stderr, "wedge converge: error: cannot write %s: %s\n", path, strerror(errno));
+        unlink(tmp);
+    }
+    return ok;
+}
+
 int cmd_converge(int argc, char **argv)
 {
     ConvergeOptions o;
@@ -687,107 +811,43 @@ int cmd_converge(int argc, char **argv)
     }
     snprintf(path, sizeof path, "%s/reference.exr", o.out_dir);
     if (!copy_file(ref_path, path)) fprintf(stderr, "wedge converge: warning: cannot copy the reference to %s\n", path);
-    snprintf(path, sizeof path, "%s/results.csv", o.out_dir);
-    FILE *csv = fopen(path, "w");
-    if (!csv) {
-        fprintf(stderr, "wedge converge: error: cannot write %s: %s\n", path, strerror(errno));
-        free(ref);
-        return WEDGE_EXIT_RUNTIME;
-    }
-    fprintf(csv, "scene,method,mu,spp_avg,seconds_total,seconds_trace,seconds_filter,relmse,mse,psnr,ssim\n");
     char name_buf[256];
     const char *name = scene_name(&o, name_buf, sizeof name_buf);
+    snprintf(path, sizeof path, "%s/results.csv", o.out_dir);
 
-    int most_spp = o.spp_count > o.baseline_spp_count ? o.spp_count : o.baseline_spp_count;
-    int max_rows = o.method_count * (o.mu_count > 0 ? o.mu_count : 1) * most_spp; /* an upper bound */
-    ConvergeRow *rows = calloc((size_t)max_rows, sizeof *rows);
-    int row_count = 0, run_index = 0;
-    rc = rows ? WEDGE_EXIT_OK : WEDGE_EXIT_RUNTIME;
+    int run_count = 0;
+    ConvergeRun *runs = plan_runs(&o, &run_count);
+    ConvergeRow *rows = calloc((size_t)(run_count ? run_count : 1), sizeof *rows);
+    bool *done = calloc((size_t)(run_count ? run_count : 1), sizeof *done);
+    rc = runs && rows && done ? WEDGE_EXIT_OK : WEDGE_EXIT_RUNTIME;
+    if (rc == WEDGE_EXIT_OK && !write_results(path, name, rows, done, run_count)) rc = WEDGE_EXIT_RUNTIME; /* the header */
     printf("%-8s %-6s %6s %9s %9s %12s %12s %8s %7s\n", "method", "mu", "spp", "spp_avg", "seconds", "relMSE", "MSE", "PSNR", "SSIM");
-    for (int mi = 0; mi < o.method_count && rc == WEDGE_EXIT_OK; ++mi) {
-        const ConvergeMethod *m = o.methods[mi];
-        int mu_runs = m->takes_mu && o.mu_count > 0 ? o.mu_count : 1;
-        for (int ui = 0; ui < mu_runs && rc == WEDGE_EXIT_OK; ++ui) {
-            const char *mu = m->takes_mu && o.mu_count > 0 ? o.mu[ui] : NULL;
-            /* A filter with --mu sets each pixel's samples itself from mu: one run per mu. Without
-             * --mu, each --spp value is the filter's average budget (wedge render --spp). */
-            bool by_mu = m->takes_mu && mu;
-            bool baseline = o.baseline_spp_count > 0 && is_baseline(m);
-            const int *spp = baseline ? o.baseline_spp : o.spp;
-            int spp_runs = by_mu ? 1 : baseline ? o.baseline_spp_count : o.spp_count;
-            for (int si = 0; si < spp_runs && rc == WEDGE_EXIT_OK; ++si) {
-                char stem[4400], image[4500], report[4500], spp_label[32] = "";
-                if (!by_mu) snprintf(spp_label, sizeof spp_label, "-spp%d", spp[si]);
-                if (!fmt_path(stem, sizeof stem, "%s/%s-%s%s%s%s", images, name, m->name, mu ? "-mu" : "",
-                              mu ? mu : "", spp_label) ||
-                    !fmt_path(image, sizeof image, "%s.exr", stem) || !fmt_path(report, sizeof report, "%s.json", stem)) {
-                    fprintf(stderr, "wedge converge: error: output path too long\n");
-                    rc = WEDGE_EXIT_RUNTIME;
-                    break;
-                }
-                /* A fresh seed per run (the reference used o.seed itself): runs are independent
-                 * of each other and of the reference, so errors do not correlate. */
-                long long seed = o.seed + 1 + run_index++;
-                base_render_args(&l, &o, image, by_mu ? 0 : spp[si], seed, report);
-                for (int k = 0; m->render_args[k]; ++k) arg_add(&l, m->render_args[k]);
-                if (mu) {
-                    arg_add(&l, "--mu");
-                    arg_add(&l, mu);
-                }
-                int code = run_render(&l);
-                if (code != WEDGE_EXIT_OK) {
-                    fprintf(stderr, "wedge converge: error: render failed (exit %d):\n", code);
-                    print_command(stderr, &l);
-                    rc = code;
-                    break;
-                }
-                if (report_interrupted(report)) {
-                    fprintf(stderr, "wedge converge: interrupted; the results so far are in %s/results.csv\n", o.out_dir);
-                    rc = WEDGE_EXIT_RUNTIME;
-                    break;
-                }
-                ConvergeRow r = {.method = m, .mu = mu};
-                char *json = read_text_file(report);
-                bool have = json && json_number(json, "spp_avg", &r.spp_avg) &&
-                            json_number(json, "seconds_total", &r.seconds_total) &&
-                            json_number(json, "seconds_trace", &r.seconds_trace) &&
-                            json_number(json, "seconds_filter", &r.seconds_filter);
-                free(json);
-                if (!have) {
-                    fprintf(stderr, "wedge converge: error: %s lacks spp_avg/seconds_total/seconds_trace/seconds_filter\n", report);
-                    rc = WEDGE_EXIT_RUNTIME;
-                    break;
-                }
-                int w, h;
-                float *img = NULL;
-                if (!exr_read_rgb(image, &w, &h, &img, &err)) {
-                    diag_print(&err);
-                    rc = WEDGE_EXIT_RUNTIME;
-                    break;
-                }
-                bool same = w == o.width && h == o.height;
-                if (!same || !compute_errors(ref, img, w, h, &r)) {
-                    fprintf(stderr, "wedge converge: error: cannot compare %s with the reference\n", image);
-                    free(img);
-                    rc = WEDGE_EXIT_RUNTIME;
-                    break;
-                }
-                free(img);
-                rows[row_count++] = r;
-                csv_row(csv, name, &r);
-                printf("%-8s %-6s %6d %9.2f %9.3f %12.5g %12.5g %8.3f %7.4f\n", m->name, mu ? mu : "-", spp[si],
-                       r.spp_avg, r.seconds_total, r.relmse, r.mse, r.psnr, r.ssim);
-                fflush(stdout);
-            }
+    /* The runs go in rounds, every method's k-th run in round k, rather than one method's
+     * whole list after another: a machine whose load drifts during the sweep then slows
+     * every method alike instead of whichever method ran during the busy minutes (the
+     * equal-error time ratios are the point of the sweep). The seeds and the rows' order
+     * in results.csv and speedup.csv are those of the method-by-method plan. */
+    int rounds = 0;
+    for (int i = 0; i < run_count; ++i) rounds = runs[i].step + 1 > rounds ? runs[i].step + 1 : rounds;
+    for (int k = 0; k < rounds && rc == WEDGE_EXIT_OK; ++k)
+        for (int i = 0; i < run_count && rc == WEDGE_EXIT_OK; ++i) {
+            if (runs[i].step != k) continue;
+            rc = run_one(&o, &runs[i], name, images, ref, &rows[i]);
+            if (rc != WEDGE_EXIT_OK) break;
+            done[i] = true;
+            if (!write_results(path, name, rows, done, run_count)) rc = WEDGE_EXIT_RUNTIME;
         }
-    }
-    fclose(csv);
     free(ref);
+    int row_count = 0;
+    for (int i = 0; i < run_count; ++i)
+        if (done[i]) rows[row_count++] = rows[i];
     if (row_count > 0) {
         write_speedup(o.out_dir, name, rows, row_count);
         if (!o.no_plots) make_plots(o.out_dir);
     }
     free(rows);
+    free(done);
+    free(runs);
     if (rc == WEDGE_EXIT_OK) printf("\nwrote %s/results.csv, %s/speedup.csv\n", o.out_dir, o.out_dir);
     return rc;
 }

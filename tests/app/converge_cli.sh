@@ -53,6 +53,10 @@ awk -F, 'NR > 1 && (NF != 11 || $1 != "tiny" || $3 != "" || $8 <= 0 || $9 <= 0 |
   fail "malformed rows: $(cat "$csv")"
 # spp_avg is what the renderer reports: uniform sampling gives exactly the requested spp.
 [ "$(awk -F, 'NR > 1 { printf "%s ", $4 }' "$csv")" = "2 8 32 2 8 32 " ] || fail "spp_avg column"
+# The runs alternate between the methods, budget by budget (so that a load that drifts during the
+# sweep slows every method alike); results.csv keeps the method-by-method order checked above.
+[ "$(awk '$1 == "mc" || $1 == "mc-ld" { if ($3 ~ /^[0-9]+$/) printf "%s:%s ", $1, $3 }' "$tmp/log")" = "mc:2 mc-ld:2 mc:8 mc-ld:8 mc:32 mc-ld:32 " ] ||
+  fail "run order: $(cat "$tmp/log")"
 # The metrics are those of wedge compare on the same images.
 img="$tmp/sweep/images/tiny-mc-spp8.exr"
 [ -f "$img" ] && [ -f "$tmp/sweep/images/tiny-mc-spp8.json" ] && [ -f "$tmp/sweep/reference.exr" ] || fail "images missing"
