@@ -160,7 +160,9 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
  * motion sum, CoC range, and in the mean motion's frame the motion ranges. The host finishes
  * the partitions (lr_tile_finish) from these few numbers instead of sweeping the samples. The
  * raw layer of every window sample is kept for the reprojection (layer_ids).
- * uniform: the uniform depth layers (1..7); coc_bounds: n_coc bounds, the same for every tile. */
+ * uniform: the uniform depth layers (1..7). gap_slabs 0: coc_bounds holds n_coc fixed bounds,
+ * the same for every tile; gap_slabs > 0: it holds the LR_GAP_BINS - 1 edges of the CoC
+ * histogram, and each tile's bounds are chosen in its gaps (lr_gap_bounds). */
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
                             int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float *samples,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
