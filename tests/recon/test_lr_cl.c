@@ -12,6 +12,13 @@
 #include "lr_scene.h"
 #include "recon/lr/lr_cl.h"
 
+/* LrConfig.gap_slabs of every comparison (0: the fixed focus bounds; 8: the bounds in each
+ * window's CoC histogram gaps, chosen by the kernel and by lr_partition.c alike) */
+static int gap_slabs = 0;
+/* each sample's CoC slope is jittered by up to half this (a tilted surface's spread of slopes):
+ * wide enough, a window's histogram has more occupied bins than slabs */
+static float coc_jitter_px = 0.6f;
+
 /* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
  * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
 /* inset_px > 0: a band that wide is read but not reconstructed (LrConfig.inset_px, the
@@ -22,7 +29,7 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
     lr_test_scene(s, w, h, spp, layers, nl, 31);
     unsigned seed = 5;
-    for (int i = 0; i < w * h * spp; ++i) s[i].coc_px += 0.6f * (lr_test_unit(&seed) - 0.5f);
+    for (int i = 0; i < w * h * spp; ++i) s[i].coc_px += coc_jitter_px * (lr_test_unit(&seed) - 0.5f);
     for (int i = 0; i < w * h * spp && film_spread_px > 0.0f; ++i) {
         int pixel = i / spp;
         s[i].x_px = (float)(pixel % w) + 0.5f + film_spread_px * (2.0f * lr_test_unit(&seed) - 1.0f);
@@ -32,6 +39,7 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     LrSamples img = {w, h, spp, s};
     LrConfig cfg = lr_config_default();
     cfg.inset_px = inset_px;
+    cfg.gap_slabs = gap_slabs;
     size_t n = (size_t)w * h;
     float *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
     float *la = malloc(sizeof(float) * n), *lb = malloc(sizeof(float) * n), *ea = malloc(sizeof(float) * n), *eb = malloc(sizeof(float) * n);
@@ -162,6 +170,17 @@ int main(void)
         /* still tiles left out (lr_partition.h: LrConfig.still_tiles) */
         compare_still(lr, 48, 33, 8, big, 3);
         compare_still(lr, 256, 80, 4, wide, 2);
+        /* the histogram-gap bounds: the device's choice must equal the C partition's */
+        for (int g = 0; g <= 8; g += 8) {
+            gap_slabs = g;
+            coc_jitter_px = 6.0f; /* many occupied bins: the programme's choice matters */
+            compare(lr, 37, 29, 4, diag, 2, false);
+            compare(lr, 48, 33, 8, big, 3, false);
+            coc_jitter_px = 0.6f;
+            compare(lr, 48, 33, 8, big, 3, true);
+            compare_band(lr, 53, 45, 4, big, 3, false, 0.0f, 8);
+            compare(lr, 256, 80, 4, wide, 2, false);
+        }
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

@@ -103,14 +103,68 @@ static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float
     return 2 * k + (moving ? 0 : 1);
 }
 
+/* lr_partition.c: lr_gap_bin, lr_gap_bounds (the same integer dynamic programme, so the same
+ * bounds): the histogram-gap CoC bounds of a window (docs/algorithms.md 8.22). */
+#define LR_GAP_BINS 48
+static int lr_gap_bin(__global const float *edges, float c)
+{
+    int lo = 0, hi = LR_GAP_BINS - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (c > edges[mid]) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+static int lr_gap_bounds(const int *hist, __global const float *edges, int max_bounds, float *bounds)
+{
+    int occ[LR_GAP_BINS], m = 0;
+    long pre[LR_GAP_BINS + 1];
+    pre[0] = 0;
+    for (int b = 0; b < LR_GAP_BINS; ++b)
+        if (hist[b] > 0) {
+            occ[m] = b;
+            pre[m + 1] = pre[m] + hist[b];
+            ++m;
+        }
+    int groups = max_bounds + 1 < m ? max_bounds + 1 : m;
+    if (groups <= 1) return 0;
+    long best[8][LR_GAP_BINS];
+    int from[8][LR_GAP_BINS];
+    for (int j = 0; j < m; ++j) {
+        long w = occ[j] - occ[0] + 1;
+        best[0][j] = pre[j + 1] * w * w;
+    }
+    for (int g = 1; g < groups; ++g)
+        for (int j = g; j < m; ++j) {
+            best[g][j] = LONG_MAX;
+            from[g][j] = g - 1;
+            for (int i = g - 1; i < j; ++i) {
+                long w = occ[j] - occ[i + 1] + 1, c = best[g - 1][i] + (pre[j + 1] - pre[i + 1]) * w * w;
+                if (c < best[g][j]) {
+                    best[g][j] = c;
+                    from[g][j] = i;
+                }
+            }
+        }
+    for (int g = groups - 1, j = m - 1; g >= 1; --g) {
+        j = from[g][j];
+        bounds[g - 1] = edges[occ[j]];
+    }
+    return groups - 1;
+}
+
 /* The partition statistics of one tile (lr_partition.c: tile_stats, the same sums in the same
  * order): depth range -> layer bounds (written to tile_bounds), then per raw layer the count,
  * motion sum, CoC range, and in the mean motion's frame the motion ranges. The host finishes
  * the partitions (lr_tile_finish) from these few numbers instead of sweeping the samples. The
  * raw layer of every window sample is kept for the reprojection (layer_ids).
- * uniform: the uniform depth layers (1..7); coc_bounds: n_coc bounds, the same for every tile. */
+ * uniform: the uniform depth layers (1..7). gap_slabs 0: coc_bounds holds n_coc fixed bounds,
+ * the same for every tile; gap_slabs > 0: it holds the LR_GAP_BINS - 1 edges of the CoC
+ * histogram, and each tile's bounds are chosen in its gaps (lr_gap_bounds). */
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
-                            int uniform, int n_coc, int inset, __global const float *coc_bounds, __global const float *samples,
+                            int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float *samples,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
                             __global uint *order, __global int *layer_start, __global const uchar *still_tiles)
 {
@@ -120,23 +174,37 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     if (still_tiles[tile]) w.x1 = w.x0, w.y1 = w.y0; /* nothing to partition: no layers (lr_partition.c) */
     float zmin = INFINITY, zmax = -INFINITY;
+    int hist[LR_GAP_BINS];
+    for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     for (int py = w.y0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k) {
-                float z = samples[((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE + 5];
+                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
+                float z = s[5];
                 if (z < INFINITY) {
                     zmin = z < zmin ? z : zmin;
                     zmax = z > zmax ? z : zmax;
+                    if (gap_slabs > 0) hist[lr_gap_bin(coc_bounds, s[6])]++;
                 }
             }
     float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
-    if (zmin < zmax)
-        for (int i = 1; i < uniform; ++i) tb[2 + n_depth++] = zmin + (zmax - zmin) * (float)i / (float)uniform;
+    if (gap_slabs > 0) {
+        /* lr_partition.c: lr_tile_bounds_gaps; coc_bounds holds the histogram's edges */
+        float gb[8];
+        n_coc = lr_gap_bounds(hist, coc_bounds, gap_slabs - 1, gb);
+        for (int i = 0; i < n_coc; ++i) tb[17 + i] = gb[i];
+        int n = uniform - 1 < gap_slabs - 1 - n_coc ? uniform - 1 : gap_slabs - 1 - n_coc;
+        if (zmin < zmax)
+            for (int i = 1; i <= n; ++i) tb[2 + n_depth++] = zmin + (zmax - zmin) * (float)i / (float)(n + 1);
+    } else {
+        if (zmin < zmax)
+            for (int i = 1; i < uniform; ++i) tb[2 + n_depth++] = zmin + (zmax - zmin) * (float)i / (float)uniform;
+        for (int i = 0; i < n_coc; ++i) tb[17 + i] = coc_bounds[i];
+    }
     tb[0] = (float)n_depth;
     tb[1] = (float)n_coc;
-    for (int i = 0; i < n_coc; ++i) tb[17 + i] = coc_bounds[i];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tile_bounds[tile * LR_TB_STRIDE + i] = tb[i];
 
     int raw_n = lr_raw_count(n_depth, n_coc);

@@ -211,7 +211,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     cl_mem b_s = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(LrSample) * nsamples, (void *)img->s, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
     size_t st_bytes = sizeof(float) * ST_STRIDE * (LR_MAX_LAYERS + 1) * (size_t)ntiles;
-    ok = ok && grow(rt, &lr->b_cb, sizeof(float) * LR_MAX_COC_BOUNDS, CL_MEM_READ_ONLY, d) &&
+    ok = ok && grow(rt, &lr->b_cb, sizeof(float) * (LR_GAP_BINS - 1), CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_st, st_bytes, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_tb, sizeof(float) * TB_STRIDE * (size_t)ntiles, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_ids, (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d) &&
@@ -221,18 +221,21 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     /* Partition statistics on the device (one work-item per tile), the rest on the host. */
     LrTile shape;
     lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
+    float edges[LR_GAP_BINS - 1];
+    lr_gap_edges(edges); /* with cfg->gap_slabs: the histogram's bins instead */
+    cl_int gap_slabs = cfg->gap_slabs > LR_MAX_COC_BOUNDS ? LR_MAX_COC_BOUNDS : cfg->gap_slabs;
     cl_int uniform = cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
     cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NT = ntiles;
     cl_int inset = cfg->inset_px;
     cl_event ev[4] = {NULL, NULL, NULL, NULL};
     if (ok) {
-        cl_int ints[10] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset};
+        cl_int ints[11] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset, gap_slabs};
         cl_mem m[8] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
-        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, sizeof(float) * LR_MAX_COC_BOUNDS, shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
+        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)
                                : cl_ok(clEnqueueFillBuffer(q, lr->b_still.mem, &(cl_uchar){0}, 1, 0, (size_t)ntiles, 0, NULL, NULL), "fill", d)) &&
-             set_args(lr->stats, ints, 10, m, 8, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
+             set_args(lr->stats, ints, 11, m, 8, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
     }

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 #include <string.h>
 
 /* Whether a tile's slabs split into moving and static layers (they fit in the raw ids). */
@@ -24,6 +25,7 @@ LrConfig lr_config_default(void)
     c.uniform_layers = 4;
     c.focus_bounds = 4;
     c.focus_step_px = 1.0f;
+    c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
     c.motion_spread_max = 0.5f;
     c.motion_range_px = 4.0f;
     c.still_tiles = NULL;
@@ -90,6 +92,69 @@ void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t)
     for (int k = 1; k <= half; ++k) t->coc_bound_px[t->n_coc++] = cfg->focus_step_px * (float)(k * k);
 }
 
+void lr_gap_edges(float *edges)
+{
+    double s_max = asinh(LR_GAP_CMAX_PX / LR_GAP_C0_PX);
+    for (int i = 0; i < LR_GAP_BINS - 1; ++i) edges[i] = (float)(LR_GAP_C0_PX * sinh(s_max * (2.0 * (i + 1) / LR_GAP_BINS - 1.0)));
+}
+
+int lr_gap_bin(const float *edges, float coc_px)
+{
+    int lo = 0, hi = LR_GAP_BINS - 1; /* answer in [lo, hi]: binary search on "edge < c" */
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (coc_px > edges[mid]) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bounds)
+{
+    int occ[LR_GAP_BINS], m = 0;
+    int64_t pre[LR_GAP_BINS + 1];
+    pre[0] = 0;
+    for (int b = 0; b < LR_GAP_BINS; ++b)
+        if (hist[b] > 0) occ[m] = b, pre[m + 1] = pre[m] + hist[b], ++m;
+    int groups = max_bounds + 1 < m ? max_bounds + 1 : m;
+    if (groups <= 1) return 0;
+    /* best[g][j]: least cost of occupied bins 0..j in g + 1 groups; from[g][j]: the last bin
+     * of the previous group (ties: the smallest) */
+    int64_t best[LR_MAX_COC_BOUNDS][LR_GAP_BINS];
+    int from[LR_MAX_COC_BOUNDS][LR_GAP_BINS];
+    for (int j = 0; j < m; ++j) {
+        int64_t w = occ[j] - occ[0] + 1;
+        best[0][j] = pre[j + 1] * w * w;
+    }
+    for (int g = 1; g < groups; ++g)
+        for (int j = g; j < m; ++j) {
+            best[g][j] = INT64_MAX;
+            from[g][j] = g - 1;
+            for (int i = g - 1; i < j; ++i) {
+                int64_t w = occ[j] - occ[i + 1] + 1, c = best[g - 1][i] + (pre[j + 1] - pre[i + 1]) * w * w;
+                if (c < best[g][j]) best[g][j] = c, from[g][j] = i;
+            }
+        }
+    for (int g = groups - 1, j = m - 1; g >= 1; --g) {
+        j = from[g][j];
+        bounds[g - 1] = edges[occ[j]];
+    }
+    return groups - 1;
+}
+
+void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t)
+{
+    memset(t, 0, sizeof *t);
+    int slabs = cfg->gap_slabs > LR_MAX_COC_BOUNDS ? LR_MAX_COC_BOUNDS : cfg->gap_slabs;
+    t->n_coc = lr_gap_bounds(hist, edges, slabs - 1, t->coc_bound_px);
+    /* a window with fewer occupied CoC bins than slabs (a pinhole: every c = 0) spends the
+     * rest on uniform depth layers, as without the histogram */
+    int uniform = cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
+    int n = uniform - 1 < slabs - 1 - t->n_coc ? uniform - 1 : slabs - 1 - t->n_coc;
+    if (zmin < zmax)
+        for (int i = 1; i <= n; ++i) t->depth_bound[t->n_depth++] = zmin + (zmax - zmin) * (float)i / (float)(n + 1);
+}
+
 /* The statistics of lr_tile_finish, the C version of lr.cl's lr_tile_stats (same sums in the
  * same order, so that both give the same partitions). */
 static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *t, LrLayerStats *st)
@@ -102,14 +167,22 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
         if (cfg->still_tiles[ty * ntx + tx]) x1 = x0, y1 = y0;
     }
     /* depth range of the window's hits */
-    float zmin = INFINITY, zmax = -INFINITY;
+    float zmin = INFINITY, zmax = -INFINITY, edges[LR_GAP_BINS - 1];
+    int hist[LR_GAP_BINS] = {0};
+    bool gaps = cfg->gap_slabs > 0;
+    if (gaps) lr_gap_edges(edges);
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < img->spp; ++k) {
-                float z = img->s[((size_t)py * img->width + px) * img->spp + k].depth;
-                if (z < INFINITY) zmin = min_f(zmin, z), zmax = max_f(zmax, z);
+                const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
+                float z = s->depth;
+                if (z < INFINITY) {
+                    zmin = min_f(zmin, z), zmax = max_f(zmax, z);
+                    if (gaps) hist[lr_gap_bin(edges, s->coc_px)]++;
+                }
             }
-    lr_tile_bounds(cfg, zmin, zmax, t);
+    if (gaps) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, t);
+    else lr_tile_bounds(cfg, zmin, zmax, t);
     int raw_n = lr_tile_raw_count(t);
     double mx[LR_MAX_LAYERS + 1], my[LR_MAX_LAYERS + 1];
     for (int i = 0; i < raw_n; ++i) {

@@ -38,6 +38,10 @@ typedef struct {
     int uniform_layers;       /* layers uniform in depth over the window's depth range */
     int focus_bounds;         /* extra boundaries at c = +-focus_step_px * k^2, k = 1..n/2 */
     float focus_step_px;
+    int gap_slabs;            /* > 0: the CoC bounds are chosen per window in the gaps of its
+                               * samples' CoC histogram (lr_gap_bounds), at most gap_slabs - 1
+                               * of them, and focus_bounds / focus_step_px are not used; 0: the
+                               * fixed focus bounds */
     float motion_spread_max;  /* no motion filter when the directions' spread exceeds this
                                * share of the mean motion (and half a pixel), or when the
                                * range of speeds along the mean direction exceeds this share
@@ -95,6 +99,35 @@ typedef struct {
 
 /* The tile's layer bounds from its window's depth range (zmin > zmax: no hits); clears t. */
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t);
+
+/* Histogram-gap bounds (docs/algorithms.md 8.22). The window's hit samples are counted in
+ * LR_GAP_BINS bins of CoC slope whose edges are c = LR_GAP_C0_PX sinh(s), s uniform over
+ * |c| <= LR_GAP_CMAX_PX (wider slopes fall in the end bins): linear (bins ~0.2 px wide) within
+ * a pixel or so of focus, where the lens blur is below the pixel filter's, geometric (~1.22 a
+ * bin) away from it, so that a bin's width is a bounded share of its slopes. c0 = 1 px
+ * measured better than 0.5 px on every bench scene with LR (docs/benchmarks.md, 2026-11-28). */
+enum { LR_GAP_BINS = 48 };
+#define LR_GAP_C0_PX 1.0
+#define LR_GAP_CMAX_PX 64.0
+
+/* The LR_GAP_BINS - 1 ascending bin edges (px per unit lens). */
+void lr_gap_edges(float *edges);
+
+/* The bin of a CoC slope: the number of edges below it (the layers' "c > bound" rule). */
+int lr_gap_bin(const float *edges, float coc_px);
+
+/* At most max_bounds CoC bounds, ascending, written to bounds (returns how many): the split of
+ * the histogram's occupied bins into contiguous groups that minimises the sum over groups of
+ * (samples) x (bins from its first occupied bin to its last)^2, a group's width in bins being
+ * the log of its c_max / c_min away from focus (the blur error of a layer grows with it,
+ * 8.20). A bound sits at the upper edge of its group's last occupied bin, so every bound is
+ * in a gap of the histogram when one is there to take. Integer costs, exact dynamic
+ * programme: lr.cl's lr_gap_bounds gives the same bounds. */
+int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bounds);
+
+/* lr_tile_bounds with cfg->gap_slabs > 0: CoC bounds from the window's histogram hist (bins of
+ * lr_gap_edges' edges); clears t. */
+void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t);
 
 /* Compaction, motion ranges widened by the spread across psi (Figure 4), the filters. */
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *raw_stats, LrTile *t);

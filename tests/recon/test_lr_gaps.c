@@ -1,0 +1,119 @@
+/* LR's histogram-gap layer bounds (lr_partition.h: lr_gap_bounds, LrConfig.gap_slabs;
+ * docs/algorithms.md 8.22): the dynamic programme against a brute-force search over every
+ * choice of split points on small histograms, and on a synthetic window of two surfaces (a
+ * disk in front of a plane, each with its own CoC slope) the bounds fall in the histogram's
+ * gap: no layer holds samples of both surfaces, and a single bound lies between them.
+ * (C vs OpenCL with these bounds: test_lr_cl.c.) */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "../check.h"
+#include "lr_scene.h"
+
+/* The cost lr_gap_bounds minimises, of the groups that the given bounds cut the occupied bins into. */
+static int64_t cost_of(const int *hist, const float *edges, const float *bounds, int nb)
+{
+    int64_t total = 0;
+    for (int g = 0; g <= nb; ++g) {
+        int first = -1, last = -1;
+        int64_t n = 0;
+        for (int b = 0; b < LR_GAP_BINS; ++b) {
+            if (!hist[b]) continue;
+            /* a bin's samples lie in (edges[b-1], edges[b]]: its group is the bounds below its upper edge */
+            float upper = b < LR_GAP_BINS - 1 ? edges[b] : INFINITY;
+            int k = 0;
+            for (int i = 0; i < nb; ++i) k += upper > bounds[i];
+            if (k != g) continue;
+            if (first < 0) first = b;
+            last = b, n += hist[b];
+        }
+        if (first >= 0) total += n * (int64_t)(last - first + 1) * (last - first + 1);
+    }
+    return total;
+}
+
+/* Least cost over every set of at most max_bounds split points between consecutive occupied
+ * bins (bitmask enumeration). */
+static int64_t brute_force(const int *hist, const float *edges, int max_bounds)
+{
+    int occ[LR_GAP_BINS], m = 0;
+    for (int b = 0; b < LR_GAP_BINS; ++b)
+        if (hist[b]) occ[m++] = b;
+    int64_t best = INT64_MAX;
+    for (unsigned mask = 0; mask < (1u << (m > 1 ? m - 1 : 0)); ++mask) {
+        float bounds[LR_GAP_BINS];
+        int nb = 0;
+        for (int i = 0; i + 1 < m; ++i)
+            if (mask & (1u << i)) bounds[nb++] = edges[occ[i]];
+        if (nb > max_bounds) continue;
+        int64_t c = cost_of(hist, edges, bounds, nb);
+        if (c < best) best = c;
+    }
+    return best;
+}
+
+static void test_dp_is_optimal(void)
+{
+    float edges[LR_GAP_BINS - 1];
+    lr_gap_edges(edges);
+    for (int i = 0; i + 1 < LR_GAP_BINS - 1; ++i) CHECK(edges[i] < edges[i + 1]);
+    CHECK(edges[LR_GAP_BINS / 2 - 1] == 0.0f); /* a bin edge at focus */
+    unsigned seed = 11;
+    int worse = 0, not_ascending = 0, too_many = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        int hist[LR_GAP_BINS] = {0};
+        int occupied = 1 + (int)(lr_test_rand(&seed) % 12); /* up to 11 split points: 2048 masks */
+        for (int i = 0; i < occupied; ++i) hist[lr_test_rand(&seed) % LR_GAP_BINS] += 1 + (int)(lr_test_rand(&seed) % 500);
+        int max_bounds = (int)(lr_test_rand(&seed) % 8);
+        float bounds[LR_MAX_COC_BOUNDS];
+        int nb = lr_gap_bounds(hist, edges, max_bounds, bounds);
+        too_many += nb > max_bounds;
+        for (int i = 0; i + 1 < nb; ++i) not_ascending += !(bounds[i] < bounds[i + 1]);
+        worse += cost_of(hist, edges, bounds, nb) != brute_force(hist, edges, max_bounds);
+    }
+    CHECK(worse == 0 && not_ascending == 0 && too_many == 0);
+    if (worse) fprintf(stderr, "dynamic programme above the brute-force optimum in %d of 300\n", worse);
+}
+
+/* A disk (c = -3 px) over a plane (c = +5 px), c jittered by +-0.6 px as a tilted surface
+ * spreads it: the window of tile (1, 1) sees both. */
+static void test_two_surfaces(int gap_slabs)
+{
+    enum { w = 48, h = 40, spp = 8 };
+    LrTestLayer layers[2] = {{2.0f, -3.0f, {0.0f, 0.0f}, 22.0f, 19.0f, 11.0f, 0.7f}, {8.0f, 5.0f, {0.0f, 0.0f}, 0, 0, 0, 0.4f}};
+    LrSample *s = malloc(sizeof(LrSample) * w * h * spp);
+    lr_test_scene(s, w, h, spp, layers, 2, 7);
+    unsigned seed = 3;
+    for (int i = 0; i < w * h * spp; ++i) s[i].coc_px += 1.2f * (lr_test_unit(&seed) - 0.5f);
+    LrSamples img = {w, h, spp, s};
+    LrConfig cfg = lr_config_default();
+    cfg.gap_slabs = gap_slabs;
+    LrTile t;
+    lr_tile_partition(&img, &cfg, 1, 1, &t);
+    /* the gap is (-2.4, 4.4): one bound there, none cutting a surface when only one is allowed */
+    int in_gap = 0;
+    for (int i = 0; i < t.n_coc; ++i) in_gap += t.coc_bound_px[i] > -2.4f && t.coc_bound_px[i] < 4.4f;
+    CHECK(gap_slabs == 2 ? t.n_coc == 1 : t.n_coc > 1);
+    CHECK(in_gap == 1);
+    int mixed = 0, disk = 0, plane = 0;
+    for (int j = 0; j < t.layer_count; ++j) {
+        mixed += t.layer[j].slopes.c_min_px < 0.0f && t.layer[j].slopes.c_max_px > 0.0f;
+        disk += t.layer[j].slopes.c_max_px < 0.0f;
+        plane += t.layer[j].slopes.c_min_px > 0.0f;
+    }
+    CHECK(mixed == 0 && disk >= 1 && plane >= 1);
+    /* with more slabs than one per surface the rest split the surfaces' own slope ranges:
+     * each layer then spans less than the surface's 1.2 px */
+    if (gap_slabs > 2)
+        for (int j = 0; j < t.layer_count; ++j) CHECK(t.layer[j].slopes.c_max_px - t.layer[j].slopes.c_min_px < 1.2f);
+    free(s);
+}
+
+int main(void)
+{
+    test_dp_is_optimal();
+    test_two_surfaces(2);
+    test_two_surfaces(8);
+    CHECK_DONE();
+}
