@@ -223,8 +223,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
     float edges[LR_GAP_BINS - 1];
     lr_gap_edges(edges); /* with cfg->gap_slabs: the histogram's bins instead */
-    cl_int gap_slabs = cfg->gap_slabs > LR_MAX_COC_BOUNDS ? LR_MAX_COC_BOUNDS : cfg->gap_slabs;
-    cl_int uniform = cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
+    cl_int gap_slabs = lr_config_gap_slabs(cfg);
+    cl_int uniform = lr_config_uniform_layers(cfg);
     cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NT = ntiles;
     cl_int inset = cfg->inset_px;
     cl_event ev[4] = {NULL, NULL, NULL, NULL};

@@ -78,13 +78,23 @@ int lr_tile_layer_of(const LrTile *tile, const LrSample *s) { return tile->compa
 static inline float min_f(float a, float b) { return b < a ? b : a; }
 static inline float max_f(float a, float b) { return b > a ? b : a; }
 
+int lr_config_uniform_layers(const LrConfig *cfg)
+{
+    return cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
+}
+
+int lr_config_gap_slabs(const LrConfig *cfg)
+{
+    return cfg->gap_slabs > LR_MAX_COC_BOUNDS ? LR_MAX_COC_BOUNDS : cfg->gap_slabs;
+}
+
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t)
 {
     memset(t, 0, sizeof *t);
     /* Uniform depth layers, plus boundaries symmetric about the focal plane (c = 0) at
      * c = +-step, +-4 step, ... so that the slopes near focus, where the filter is most
      * sensitive to the slope range (1/c), share a layer only with similar slopes. */
-    int uniform = cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
+    int uniform = lr_config_uniform_layers(cfg);
     if (zmin < zmax)
         for (int i = 1; i < uniform; ++i) t->depth_bound[t->n_depth++] = zmin + (zmax - zmin) * (float)i / (float)uniform;
     int half = cfg->focus_bounds / 2 > LR_MAX_COC_BOUNDS / 2 ? LR_MAX_COC_BOUNDS / 2 : cfg->focus_bounds / 2;
@@ -145,11 +155,11 @@ int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bo
 void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t)
 {
     memset(t, 0, sizeof *t);
-    int slabs = cfg->gap_slabs > LR_MAX_COC_BOUNDS ? LR_MAX_COC_BOUNDS : cfg->gap_slabs;
+    int slabs = lr_config_gap_slabs(cfg);
     t->n_coc = lr_gap_bounds(hist, edges, slabs - 1, t->coc_bound_px);
     /* a window with fewer occupied CoC bins than slabs (a pinhole: every c = 0) spends the
      * rest on uniform depth layers, as without the histogram */
-    int uniform = cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
+    int uniform = lr_config_uniform_layers(cfg);
     int n = uniform - 1 < slabs - 1 - t->n_coc ? uniform - 1 : slabs - 1 - t->n_coc;
     if (zmin < zmax)
         for (int i = 1; i <= n; ++i) t->depth_bound[t->n_depth++] = zmin + (zmax - zmin) * (float)i / (float)(n + 1);

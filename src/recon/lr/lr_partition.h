@@ -97,6 +97,11 @@ typedef struct {
     float across_px;
 } LrLayerStats;
 
+/* cfg->uniform_layers within [1, 7] and cfg->gap_slabs within [0, LR_MAX_COC_BOUNDS]: the
+ * counts the partition (C and lr.cl alike) works with. */
+int lr_config_uniform_layers(const LrConfig *cfg);
+int lr_config_gap_slabs(const LrConfig *cfg);
+
 /* The tile's layer bounds from its window's depth range (zmin > zmax: no hits); clears t. */
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t);
 
