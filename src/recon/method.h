@@ -71,9 +71,6 @@ typedef struct {
     const char *title;          /* one line for `wedge info --filters` */
     EffectMask effects;         /* the effects it can filter */
     bool adaptive;              /* has a plan: pass 1, then per-pixel counts; else a fixed count */
-    bool fixed_under_budget;    /* adaptive, but a fixed-count method (the whole --spp budget in
-                                 * one pass) when a budget is given: its filter reads the
-                                 * per-sample store, which keeps pass 1's samples only (FSF) */
     unsigned sample_fields;     /* per-sample store fields it reads (SAMPLE_FIELD_*); 0: per-pixel only */
     /* Optional: the part of sample_fields the given effects read (the store keeps only the
      * frame's); NULL: all of sample_fields whatever the effects. */
@@ -83,6 +80,10 @@ typedef struct {
 
     /* Samples per pixel of pass 1 (adaptive) or of the whole frame (fixed), for these effects. */
     int (*pass1_spp)(EffectMask effects);
+    /* Optional, adaptive methods: under a --spp budget pass 1 takes this share of it (for these
+     * effects) instead of pass1_spp, and the plan spends the rest (FSF: its store keeps pass
+     * 1's samples, its plan sends the rest where its filters collapse). NULL: pass1_spp. */
+    float (*budget_pass1_share)(EffectMask effects);
     bool (*create)(const ReconSetup *setup, ReconMethod **out, Diag *d);
     /* Called before each pass: pass 0 is pass 1 (sparse), later passes add samples. */
     void (*begin_pass)(ReconMethod *m, int pass);

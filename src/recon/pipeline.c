@@ -31,13 +31,6 @@
 /* Stages of a frame timed for WEDGE_DIST_LOG. */
 #define DIST_MARKS 16
 
-/* Whether a method plans in this frame: adaptive, and not one that takes a --spp budget as a
- * fixed count (fixed_under_budget). */
-static bool method_plans(const ReconMethodClass *c, int spp_budget)
-{
-    return c->adaptive && !(spp_budget > 0 && c->fixed_under_budget);
-}
-
 typedef struct {
     const ReconMethodClass *cls;
     ReconMethod *m;
@@ -161,7 +154,7 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
         while (s < p->slot_count && p->slots[s].cls != c) ++s;
         if (s == p->slot_count) {
             p->slots[p->slot_count++].cls = c;
-            if (method_plans(c, o->spp)) p->fixed_only = false;
+            if (c->adaptive) p->fixed_only = false;
         }
         p->slots[s].effects |= EFFECT_BIT(e);
     }
@@ -387,8 +380,13 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     for (int s = 0; s < p->slot_count; ++s) {
         const ReconMethodClass *c = p->slots[s].cls;
         int k = c->pass1_spp(p->slots[s].effects);
+        /* a method that sizes pass 1 from the budget (FSF: the share its store keeps) */
+        if (p->opt.spp > 0 && c->adaptive && c->budget_pass1_share) {
+            k = (int)lroundf(c->budget_pass1_share(p->slots[s].effects) * (float)p->opt.spp);
+            if (k < 1) k = 1;
+        }
         if (k > pass1) pass1 = k;
-        if (!method_plans(c, p->opt.spp) && k > fixed_max) fixed_max = k;
+        if (!c->adaptive && k > fixed_max) fixed_max = k;
         fields |= c->sample_fields_for ? c->sample_fields_for(p->slots[s].effects) : c->sample_fields;
         shading_filtered |= (p->slots[s].effects & (EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT))) != 0;
     }
@@ -406,7 +404,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * uniformly, motion_shading at 32 spp lost 30% (4.4e-4 -> 5.8e-4). */
     bool budget_in_pass1 = false;
     for (int s = 0; s < p->slot_count && !p->fixed_only && p->opt.spp > 0; ++s)
-        if (!method_plans(p->slots[s].cls, p->opt.spp) && (p->slots[s].effects & EFFECT_BIT(EFFECT_DEFOCUS)))
+        if (!p->slots[s].cls->adaptive && (p->slots[s].effects & EFFECT_BIT(EFFECT_DEFOCUS)))
             budget_in_pass1 = true;
     /* An environment light's direct light reaches the image unfiltered (no shading filter
      * takes it: the soft-shadow filters are built around area lights), with Monte Carlo's
@@ -421,7 +419,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * method keeps the plans. */
     bool aaf_plans_only = true;
     for (int s = 0; s < p->slot_count; ++s)
-        if (method_plans(p->slots[s].cls, p->opt.spp) && strcmp(p->slots[s].cls->name, "aaf")) aaf_plans_only = false;
+        if (p->slots[s].cls->adaptive && strcmp(p->slots[s].cls->name, "aaf")) aaf_plans_only = false;
     if (p->opt.spp > 0 && !p->fixed_only && aaf_plans_only && scene_has_environment_light(p->r)) budget_in_pass1 = true;
     if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
@@ -461,7 +459,7 @@ static bool plan_at(ReconPipeline *p, float mu, double *avg, Diag *d)
     }
     for (int s = 0; s < p->slot_count; ++s) {
         const ReconMethodClass *c = p->slots[s].cls;
-        if (!c->plan || !method_plans(c, p->opt.spp)) continue;
+        if (!c->plan || !c->adaptive) continue;
         if (!c->plan(p->slots[s].m, mu, spp_now, one, d)) {
             free(one);
             return false;

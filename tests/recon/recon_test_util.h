@@ -187,4 +187,17 @@ static inline double rel_mse(const float *img, const float *ref, size_t n3)
     return s / (double)n3;
 }
 
+/* The same over the n pixels (3 floats each) with mask[i] == want. */
+static inline double rel_mse_where(const float *img, const float *ref, const unsigned char *mask, int want, size_t n)
+{
+    double s = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (mask[i] != want) continue;
+        s += rel_mse(img + 3 * i, ref + 3 * i, 3);
+        ++count;
+    }
+    return count ? s / (double)count : 0.0;
+}
+
 #endif

@@ -5,9 +5,9 @@
  *            per-sample store keeps each sample's shadow-ray geometry (light point, d_light,
  *            d_occ) and its direct light. The plan adds FSF_LENS_STRADDLE_EXTRA_SPP at defocus
  *            pixels whose lens slopes straddle the focal plane (fsf_lens_plan.h), nothing
- *            elsewhere or for the other effects. Under a --spp budget FSF is the fixed-count
- *            method it was (fixed_under_budget: the store keeps pass 1's samples only): the
- *            budget in one pass, no plan
+ *            elsewhere or for the other effects. Under a --spp budget pass 1 takes
+ *            FSF_BUDGET_PASS1_SHARE of it (the store keeps those samples) and the plan sends
+ *            the rest to the pixels whose filter collapses (fsf_budget_plan.h)
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
@@ -34,6 +34,7 @@
 #include <string.h>
 
 #include "recon/fsf/fsf_bounce.h"
+#include "recon/fsf/fsf_budget_plan.h"
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_lens.h"
@@ -65,7 +66,9 @@ struct ReconMethod {
     FsfPixel *lens_px;           /* the plan's lens parameters, which the filter reuses ... */
     float *lens_k_lo, *lens_k_hi;
     bool lens_planned;           /* ... when set */
-    bool planned;                /* straddle and pass1_spp are set */
+    bool planned;                /* straddle (and collapsed) and pass1_spp are set */
+    int budget_spp;              /* --spp (0: none) */
+    unsigned char *collapsed;    /* under a budget: the pixels some filter leaves unfiltered */
     int pass1_spp;               /* the samples every pixel had at the first plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
@@ -75,6 +78,13 @@ static int fsf_pass1_spp(EffectMask effects)
 {
     (void)effects;
     return FSF_DEFAULT_SPP;
+}
+
+/* Under a budget (fsf_budget_plan.h): the lens filter reads every pixel's stored samples,
+ * the shading filters those of the pixels they filter. */
+static float fsf_budget_pass1_share(EffectMask effects)
+{
+    return effect_in(effects, EFFECT_DEFOCUS) ? FSF_BUDGET_PASS1_SHARE_LENS : FSF_BUDGET_PASS1_SHARE;
 }
 
 /* The store fields each effect's filter reads: a frame keeps only its effects' (the union of
@@ -104,6 +114,7 @@ static void fsf_destroy(ReconMethod *m)
     free(m->lens_spread_aov);
     free(m->straddle_aov);
     free(m->straddle);
+    free(m->collapsed);
     free(m->lens_px);
     free(m->lens_k_lo);
     free(m->lens_k_hi);
@@ -152,6 +163,7 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->store = s->store;
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
     m->effects = s->effects;
+    m->budget_spp = s->spp_budget;
     *out = m;
     return true;
 }
@@ -167,12 +179,39 @@ static bool plan_lens(ReconMethod *m)
                                                   m->straddle));
 }
 
+/* Under a budget: the pixels the frame leaves unfiltered (fsf_budget_plan.h), from pass 1's
+ * samples: the defocus straddlers (found by plan_lens), and the pixels whose shadow or
+ * indirect-light filter collapses, unless the lens filter, which runs after them on the
+ * composite radiance, filters them (in combined.pbrt 57% of the pixels are mixed for the
+ * shading filters, defocus filters most of them: sending the budget there lost 20%). */
+static bool plan_collapsed(ReconMethod *m, Diag *d)
+{
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    if (!(m->collapsed = calloc(n, 1))) goto oom;
+    if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
+        if (!m->share && !(m->share = malloc(n * sizeof(float)))) goto oom;
+        fsf_light_share(m->renderer, m->light.shape, (int)n, m->g->hit, m->g->pos4, m->g->nrm4, m->share);
+        if (!fsf_shadow_collapsed(m->g, m->store, &m->light, m->share, m->mu, m->collapsed)) goto oom;
+    }
+    if (effect_in(m->effects, EFFECT_INDIRECT) && !fsf_bounce_collapsed(m->g, m->store, m->mu, m->collapsed)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no bounce field)");
+        return false;
+    }
+    if (m->lens_planned)
+        for (size_t i = 0; i < n; ++i)
+            m->collapsed[i] = m->straddle[i] || (m->collapsed[i] && fsf_pixel_collapsed(&m->lens_px[i]));
+    return true;
+oom:
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan");
+    return false;
+}
+
 /* FSF section 5: pass 1's count everywhere, FSF_LENS_STRADDLE_EXTRA_SPP more where the lens
- * slopes straddle the focal plane. The straddlers depend on pass 1's stored samples and FSF's
- * own knob only, so they are found once (the pipeline may plan several times: a budget search,
- * progressive steps); the search's mu does not change FSF's filter (m->mu) and so not the plan.
- * Under a budget the pipeline does not call it (fixed_under_budget), and the filter computes its
- * parameters itself. */
+ * slopes straddle the focal plane. Under a --spp budget pass 1 had FSF_BUDGET_PASS1_SHARE of
+ * it, and the rest goes to the pixels whose filter collapses (fsf_budget_plan.h). Both depend
+ * on pass 1's stored samples and FSF's own knob only, so they are found once (the pipeline may
+ * plan several times: a budget search, progressive steps); the search's mu does not change
+ * FSF's filter (m->mu) and so not the plan. */
 static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
 {
     (void)mu;
@@ -183,9 +222,13 @@ static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
             return false;
         }
+        if (m->budget_spp > 0 && !plan_collapsed(m, d)) return false;
         m->planned = true;
     }
-    fsf_lens_plan(m->straddle, n, m->pass1_spp, FSF_LENS_STRADDLE_EXTRA_SPP, spp_now, spp_total);
+    if (m->budget_spp > 0)
+        fsf_budget_plan(m->collapsed, n, m->pass1_spp, m->budget_spp, FSF_BUDGET_COLLAPSED_RATIO, spp_now, spp_total);
+    else
+        fsf_lens_plan(m->straddle, n, m->pass1_spp, FSF_LENS_STRADDLE_EXTRA_SPP, spp_now, spp_total);
     return true;
 }
 
@@ -470,15 +513,15 @@ static int fsf_aovs(ReconMethod *m, ReconAov *out, int max)
 const ReconMethodClass recon_method_fsf = {
     .name = "fsf",
     .title = "fast 4D sheared filtering (FSF): soft shadows, one-bounce diffuse indirect light and defocus, "
-             "per-sample store, four 1D passes, 16 samples plus 36 where defocus straddles the focal plane (--spp N: N "
-             "everywhere)",
+             "per-sample store, four 1D passes, 16 samples plus 36 where defocus straddles the focal plane (--spp N: "
+             "3/4 N in pass 1, the rest where the filters collapse)",
     .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_INDIRECT),
     .adaptive = true,
-    .fixed_under_budget = true,
     .sample_fields = FSF_FIELDS_SHADOWS | FSF_FIELDS_DEFOCUS | FSF_FIELDS_INDIRECT,
     .sample_fields_for = fsf_sample_fields_for,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
     .pass1_spp = fsf_pass1_spp,
+    .budget_pass1_share = fsf_budget_pass1_share,
     .create = fsf_create,
     .plan = fsf_plan,
     .open_device = fsf_open_device,
