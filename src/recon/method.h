@@ -83,7 +83,7 @@ typedef struct {
     /* Optional, adaptive methods: under a --spp budget pass 1 takes this share of it (for these
      * effects) instead of pass1_spp, and the plan spends the rest (FSF: its store keeps pass
      * 1's samples, its plan sends the rest where its filters collapse). NULL: pass1_spp. */
-    float (*budget_pass1_share)(EffectMask effects);
+    float (*budget_pass1_share)(const Renderer *r, EffectMask effects);
     bool (*create)(const ReconSetup *setup, ReconMethod **out, Diag *d);
     /* Called before each pass: pass 0 is pass 1 (sparse), later passes add samples. */
     void (*begin_pass)(ReconMethod *m, int pass);

@@ -382,7 +382,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         int k = c->pass1_spp(p->slots[s].effects);
         /* a method that sizes pass 1 from the budget (FSF: the share its store keeps) */
         if (p->opt.spp > 0 && c->adaptive && c->budget_pass1_share) {
-            k = (int)lroundf(c->budget_pass1_share(p->slots[s].effects) * (float)p->opt.spp);
+            k = (int)lroundf(c->budget_pass1_share(p->r, p->slots[s].effects) * (float)p->opt.spp);
             if (k < 1) k = 1;
         }
         if (k > pass1) pass1 = k;

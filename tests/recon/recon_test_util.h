@@ -2,6 +2,7 @@
 #ifndef WEDGE_TESTS_RECON_TEST_UTIL_H
 #define WEDGE_TESTS_RECON_TEST_UTIL_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -185,6 +186,30 @@ static inline double rel_mse(const float *img, const float *ref, size_t n3)
         s += e * e / ((double)ref[i] * ref[i] + 0.01);
     }
     return s / (double)n3;
+}
+
+/* The AOV called name of a res_px x res_px frame (checked: NULL when it is missing or the
+ * frame has another size). */
+static inline const float *recon_test_frame_aov(const ReconPipeline *p, const char *name, int res_px)
+{
+    const ReconResult *res = recon_pipeline_result(p);
+    const GBuffer *g = recon_pipeline_gbuffer(p);
+    const float *aov = recon_test_aov(res, name);
+    bool ok = aov && res->width == res_px && res->height == res_px && g->width == res_px && g->height == res_px;
+    CHECK(ok);
+    return ok ? aov : NULL;
+}
+
+/* Under a --spp budget with pass 1 at share of it: 1 if pass 1's count or the frame's average
+ * (the budget) is wrong, plus the pixels with fewer samples than pass 1. */
+static inline long recon_test_budget_wrong(const ReconPipeline *p, float share, int budget)
+{
+    const ReconResult *res = recon_pipeline_result(p);
+    const GBuffer *g = recon_pipeline_gbuffer(p);
+    int pass1 = (int)lroundf(share * (float)budget);
+    long wrong = res->pass1_spp != pass1 || fabs(res->spp_avg - budget) > 1e-3;
+    for (size_t i = 0; i < (size_t)res->width * (size_t)res->height; ++i) wrong += g->frame.spp[i] < (float)pass1;
+    return wrong;
 }
 
 /* The same over the n pixels (3 floats each) with mask[i] == want. */

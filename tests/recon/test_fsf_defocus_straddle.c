@@ -38,20 +38,17 @@ typedef struct {
 static void check_frame(const ReconPipeline *p, void *ctx)
 {
     Run *f = ctx;
-    const ReconResult *res = recon_pipeline_result(p);
     const GBuffer *g = recon_pipeline_gbuffer(p);
-    const float *straddle = recon_test_aov(res, "fsf.defocus.straddle");
-    CHECK(straddle != NULL && res->width == RES && res->height == RES && g->width == RES);
-    if (!straddle || res->width != RES || g->width != RES) return;
+    const float *straddle = recon_test_frame_aov(p, "fsf.defocus.straddle", RES);
+    if (!straddle) return;
     f->straddlers = f->wrong_counts = f->straddlers_short = 0;
     if (f->budget) {
         /* pass 1 takes its share of the budget, the plan the rest: the average is the budget */
         int pass1 = (int)lroundf(FSF_BUDGET_PASS1_SHARE_LENS * (float)f->budget);
-        f->wrong_counts += res->pass1_spp != pass1 || fabs(res->spp_avg - f->budget) > 1e-3;
+        f->wrong_counts = recon_test_budget_wrong(p, FSF_BUDGET_PASS1_SHARE_LENS, f->budget);
         for (size_t i = 0; i < (size_t)RES * RES; ++i) {
             f->straddle[i] = straddle[i] > 0.5f;
             f->straddlers += f->straddle[i];
-            f->wrong_counts += g->frame.spp[i] < (float)pass1;
             f->straddlers_short += f->straddle[i] && g->frame.spp[i] <= (float)pass1;
         }
         return;

@@ -33,13 +33,20 @@
 /* sqrt(F), F the effective footprint of a filtered pixel at the width cap (sigma = 8 px on
  * both axes): a 2D Gaussian of sigma px averages about 4 pi sigma^2 pixels' samples, so
  * sqrt(F) = 2 sqrt(pi) sigma = 28. It binds only where few pixels collapse (c < 1.3% at
- * 16 spp); a ratio of 4 (F = 16) was measured and lost 10-35% (docs/benchmarks.md). */
+ * 16 spp); a ratio of 4 (F = 16) was measured and lost 8-25% (docs/benchmarks.md). */
 #define FSF_BUDGET_COLLAPSED_RATIO (2.0f * 1.7724539f * (float)FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS)
+/* FSF's light's share of the scene's power (fsf_light_power_share) below FSF_MIN_LIGHT_SHARE:
+ * the shadow filter leaves the pixels another light dominates to Monte Carlo, often most of
+ * the frame (c near 1), and a pixel's samples in two stratified sets (pass 1's and pass 2's
+ * are drawn apart, docs/sampling.md) are worth fewer than one set of as many: on
+ * test_filter_assumptions' two lights, 12 + 4 had 1.78x the error of 16 in one pass. There
+ * pass 1 takes the whole budget (fsf_method.c's budget_pass1_share). */
+
 /* Pass 1's share of the budget. The variance model's own optimum, n_1 = budget / (1 - c +
  * c sqrt(F)), would be 0.35 of it at c = 7%, but a filtered pixel's error is not only its
  * variance (the slope windows and the widths come from pass 1's samples too): measured over
  * 0.5 to 0.875 on soft_shadows and thin_occluders at 8, 16 and 32 spp, 0.75 was the best
- * everywhere (docs/benchmarks.md). Pass 1 counts with a balanced rows x cols grid
+ * but once, within 2% (docs/benchmarks.md). Pass 1 counts with a balanced rows x cols grid
  * (6 = 2 x 3, 12 = 3 x 4, 24 = 4 x 6) stratify the light better than primes (11, 13). */
 #define FSF_BUDGET_PASS1_SHARE 0.75f
 /* ... and where FSF filters defocus: the lens filter, after the shading filters, filters

@@ -9,6 +9,23 @@
 
 static float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
+float fsf_light_power_share(const Renderer *r)
+{
+    FsfLight light;
+    Diag quiet = {0};
+    if (!fsf_light_from_renderer(r, &light, &quiet)) return 0.0f;
+    double mine = 0.0, all = 0.0;
+    for (int l = 0; l < renderer_light_count(r); ++l) {
+        RenderLightInfo b;
+        if (!renderer_light_info(r, l, &b)) continue;
+        if (b.kind != RENDER_LIGHT_AREA) return 0.0f;
+        double power = (double)luminance(b.radiance) * b.area_world;
+        all += power;
+        if (b.is_triangle && b.shape == light.shape) mine += power;
+    }
+    return all > 0.0 ? (float)(mine / all) : 0.0f;
+}
+
 bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
 {
     int count = renderer_light_count(r), best = -1;

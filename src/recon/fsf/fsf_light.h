@@ -36,6 +36,12 @@ void fsf_unoccluded_irradiance(const Renderer *r, int n, const unsigned char *hi
  * keeps its Monte Carlo mean and is nobody's neighbour. */
 #define FSF_MIN_LIGHT_SHARE 0.9f
 
+/* The share of the scene's emitted power (luminance times area) that FSF's light (the
+ * brightest triangle emitter) has among the area lights; 0 when the scene also has a light of
+ * another kind (point, spot, distant, infinite), whose light FSF's shadow filter leaves to
+ * Monte Carlo wherever it dominates. Known before any sample: fsf_budget_plan.h uses it. */
+float fsf_light_power_share(const Renderer *r);
+
 /* Per pixel, the share of the unoccluded irradiance from every area light (triangles exactly;
  * spheres and disks, which FSF cannot shear along but which light the pixel all the same, as
  * small sources: a sphere's cap above the horizon, a disk as a point of its area) that the

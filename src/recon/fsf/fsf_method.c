@@ -6,8 +6,9 @@
  *            d_occ) and its direct light. The plan adds FSF_LENS_STRADDLE_EXTRA_SPP at defocus
  *            pixels whose lens slopes straddle the focal plane (fsf_lens_plan.h), nothing
  *            elsewhere or for the other effects. Under a --spp budget pass 1 takes
- *            FSF_BUDGET_PASS1_SHARE of it (the store keeps those samples) and the plan sends
- *            the rest to the pixels whose filter collapses (fsf_budget_plan.h)
+ *            FSF_BUDGET_PASS1_SHARE of it (_LENS where FSF filters defocus; the store keeps
+ *            those samples) and the plan sends the rest to the pixels whose filters collapse
+ *            (fsf_budget_plan.h)
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
@@ -81,9 +82,12 @@ static int fsf_pass1_spp(EffectMask effects)
 }
 
 /* Under a budget (fsf_budget_plan.h): the lens filter reads every pixel's stored samples,
- * the shading filters those of the pixels they filter. */
-static float fsf_budget_pass1_share(EffectMask effects)
+ * the shading filters those of the pixels they filter; and where other lights than FSF's
+ * have a sizeable share of the power, the shadow filter leaves much of the frame to Monte
+ * Carlo, which one stratified pass serves best: all of the budget in pass 1. */
+static float fsf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
+    if (effect_in(effects, EFFECT_SOFT_SHADOWS) && fsf_light_power_share(r) < FSF_MIN_LIGHT_SHARE) return 1.0f;
     return effect_in(effects, EFFECT_DEFOCUS) ? FSF_BUDGET_PASS1_SHARE_LENS : FSF_BUDGET_PASS1_SHARE;
 }
 
@@ -207,7 +211,7 @@ oom:
 }
 
 /* FSF section 5: pass 1's count everywhere, FSF_LENS_STRADDLE_EXTRA_SPP more where the lens
- * slopes straddle the focal plane. Under a --spp budget pass 1 had FSF_BUDGET_PASS1_SHARE of
+ * slopes straddle the focal plane. Under a --spp budget pass 1 had fsf_budget_pass1_share of
  * it, and the rest goes to the pixels whose filter collapses (fsf_budget_plan.h). Both depend
  * on pass 1's stored samples and FSF's own knob only, so they are found once (the pipeline may
  * plan several times: a budget search, progressive steps); the search's mu does not change
@@ -514,7 +518,7 @@ const ReconMethodClass recon_method_fsf = {
     .name = "fsf",
     .title = "fast 4D sheared filtering (FSF): soft shadows, one-bounce diffuse indirect light and defocus, "
              "per-sample store, four 1D passes, 16 samples plus 36 where defocus straddles the focal plane (--spp N: "
-             "3/4 N in pass 1, the rest where the filters collapse)",
+             "3/4 of N in pass 1, 7/8 with defocus, the rest where the filters collapse)",
     .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_INDIRECT),
     .adaptive = true,
     .sample_fields = FSF_FIELDS_SHADOWS | FSF_FIELDS_DEFOCUS | FSF_FIELDS_INDIRECT,
