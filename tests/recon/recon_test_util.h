@@ -188,6 +188,14 @@ static inline double rel_mse(const float *img, const float *ref, size_t n3)
     return s / (double)n3;
 }
 
+/* recon_test_render_pipeline with --filter filter and --spp spp (0: none) as the only options. */
+static inline float *recon_test_render_spp(const char *text, const char *filter, unsigned seed, int spp,
+                                           ReconPipelineCheck check, void *ctx)
+{
+    ReconOptions o = {.filter = filter, .spp = spp};
+    return recon_test_render_pipeline(text, seed, &o, check, ctx);
+}
+
 /* The AOV called name of a res_px x res_px frame (checked: NULL when it is missing or the
  * frame has another size). */
 static inline const float *recon_test_frame_aov(const ReconPipeline *p, const char *name, int res_px)

@@ -85,9 +85,8 @@ static void check_frame(const ReconPipeline *p, void *ctx)
 
 static float *render(const char *text, const char *filter, unsigned seed, int spp, BudgetFrame *f)
 {
-    ReconOptions o = {.filter = filter, .spp = spp};
     if (f) f->budget = spp;
-    return recon_test_render_pipeline(text, seed, &o, f ? check_frame : NULL, f);
+    return recon_test_render_spp(text, filter, seed, spp, f ? check_frame : NULL, f);
 }
 
 /* The extras go to the collapsed pixels, most of those get some, and many more than pass 1.

@@ -63,9 +63,8 @@ static void check_frame(const ReconPipeline *p, void *ctx)
 
 static float *render(const char *text, const char *filter, unsigned seed, int spp, Run *f)
 {
-    ReconOptions o = {.filter = filter, .spp = spp};
     if (f) f->budget = spp;
-    return recon_test_render_pipeline(text, seed, &o, f ? check_frame : NULL, f);
+    return recon_test_render_spp(text, filter, seed, spp, f ? check_frame : NULL, f);
 }
 
 /* The combined scene's soft shadows to AAF, its defocus to FSF: every straddler has FSF's count
