@@ -5,8 +5,10 @@
  * pixel's own mean (the value its stored samples are scaled to, fsf_match_pixel). That is all
  * a pixel needs where the filter has collapsed: a width under FSF_COLLAPSED_SIGMA_PX along
  * either axis (near a contact line the slope range explodes, FSF eq. 4 goes to 0), a defocus
- * range straddling the focal plane (fsf_lens_straddles), or a pixel the light-share test
- * leaves out (FSF_MIN_LIGHT_SHARE). Such a pixel is Monte Carlo: its variance is sigma^2 / n.
+ * range straddling the focal plane (fsf_lens_straddles), a mixed pixel (several surfaces:
+ * passed through), or a pixel the light-share test leaves out (FSF_MIN_LIGHT_SHARE); with
+ * defocus filtered too, only where the lens filter leaves the pixel out as well. Such a pixel
+ * is Monte Carlo: its variance is sigma^2 / n.
  *
  * The allocation (derived in docs/algorithms.md): minimising the frame's summed variance
  * c sigma^2 / n_c + (1 - c) sigma^2 / (F n_1) under (1 - c) n_1 + c n_c = budget (c the
@@ -52,8 +54,8 @@
 /* ... and where FSF filters defocus: the lens filter, after the shading filters, filters
  * nearly every pixel from its stored samples (its collapsed share, the straddlers, is 5-8%
  * and holds 15-22% of the error, against 57% on soft_shadows), so pass 1 keeps more. On
- * defocus and combined at 8, 16 and 32 spp, 0.875 beat 0.75 by 0-12% (combined at 16:
- * 8.6e-4 with 0.75, 8.0e-4 with 0.875, fixed count 8.4e-4). */
+ * defocus and combined at 8, 16 and 32 spp, 0.875 was up to 12% better than 0.75, at worst
+ * 0.5% worse (combined at 16: 8.6e-4 with 0.75, 8.0e-4 with 0.875, fixed count 8.4e-4). */
 #define FSF_BUDGET_PASS1_SHARE_LENS 0.875f
 
 /* Whether a pixel's filter (FsfPixel) has collapsed. */
