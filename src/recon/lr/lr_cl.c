@@ -259,7 +259,9 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
      * (tile, layer) of the batch only. The whole frame's (63 MB at 256x192) was fresh memory
      * in a one-frame render, page-faulted and cleared by the kernel (docs/benchmarks.md, LR
      * third round); a batch's is reused by the next and stays in the caches between the
-     * three kernels. About 64 tiles a batch keeps both cores busy. */
+     * three kernels. About 32 tiles a batch still keeps both cores busy; 64 page-faulted 3k
+     * more pages (12 MB) per one-frame render for nothing (docs/benchmarks.md, "LR's
+     * reconstruction cost"). */
     int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
     int nbatches = (nty + batch_rows - 1) / batch_rows;
     size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
