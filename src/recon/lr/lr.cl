@@ -17,6 +17,8 @@
  *   order         window_px^2 * spp uints per tile: the window's finite samples (their index in
  *                 samples) sorted by raw layer, pixel-major within a layer (lr_bucket.h)
  *   layer_start   LR_LS_STRIDE ints per tile: raw layer r is order[start[r] .. start[r + 1])
+ *   packed        per tile of the batch, 5 arrays of window_px^2 * spp floats: x, y, u, v, t of
+ *                 the samples of order, in its order (lr_pack)
  *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer) of the
  *                 batch being filtered: reproject, along and across run on a few rows of tiles
  *                 at a time (tile0 its first tile), so that these buffers stay small
@@ -301,13 +303,45 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
     return lo;
 }
 
+/* The batch's windows in list order (lr_tile_stats' order), as five arrays per tile: x, y,
+ * u, v, t, what lr_reproject needs of every sample it places. It places each window sample
+ * once per layer at or in front of the sample's own (4 to 5 times a sample at 7-8 layers a
+ * tile); through the list every placement was a gather of 48-byte records spread over the
+ * window, about half of the kernel's time. Copied here once, the layers read them as
+ * contiguous runs (the same floats: the sums are unchanged). The radiance is read once per
+ * sample (by its own layer), so it stays in samples: copying it too cost more than it saved
+ * (docs/benchmarks.md, "LR's reconstruction cost"). One work-item per (sixteenth of a list,
+ * tile). */
+#define LR_PACK_FIELDS 5
+#define LR_PACK_PARTS 16
+__kernel void lr_pack(int spp, int window_px, int tile1, int tile0, __global const float *samples, __global const uint *order,
+                      __global const int *layer_start, __global float *packed)
+{
+    int part = get_global_id(0), tile = tile0 + get_global_id(1);
+    if (tile >= tile1 || part >= LR_PACK_PARTS) return;
+    size_t cap = (size_t)window_px * window_px * spp;
+    int n = layer_start[tile * LR_LS_STRIDE + 17]; /* the list's length: its finite samples */
+    int e0 = (int)((long)n * part / LR_PACK_PARTS), e1 = (int)((long)n * (part + 1) / LR_PACK_PARTS);
+    __global const uint *list = order + (size_t)tile * cap;
+    __global float *p = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap;
+    for (int e = e0; e < e1; ++e) {
+        __global const float *s = samples + (size_t)list[e] * LR_SAMPLE_STRIDE;
+        p[e] = s[0];
+        p[cap + e] = s[1];
+        p[2 * cap + e] = s[2];
+        p[3 * cap + e] = s[3];
+        p[4 * cap + e] = s[4];
+    }
+}
+
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
  * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
  * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
  * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
- * in the same order, so every cell gets the same sums. */
+ * in the same order, so every cell gets the same sums. Positions and lens/time coordinates
+ * come from lr_pack's copy of the list, the radiance of the layer's own samples from samples. */
 __kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
-                           int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples,
+                           int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples, __global const float *packed,
                            __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
                            __global float *grid)
@@ -320,7 +354,9 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     int id = tile * max_layers + j;
     __global const float *lp = params + id * LR_LP_STRIDE;
     __global float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH; /* the batch's grids */
-    __global const uint *list = order + (size_t)tile * window_px * window_px * spp;
+    size_t cap = (size_t)window_px * window_px * spp;
+    __global const uint *list = order + (size_t)tile * cap;
+    __global const float *P = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap; /* lr_pack's copy of the list */
     __global const int *start = layer_start + tile * LR_LS_STRIDE;
     __global const int *compact = tl + 1;
     int raw_j = 0;
@@ -357,12 +393,13 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             int n = min(LR_CHUNK, e1 - e0), cell[LR_CHUNK];
             float wt[LR_CHUNK];
             for (int m = 0; m < n; ++m) {
-                __global const float *s = samples + (size_t)list[e0 + m] * LR_SAMPLE_STRIDE;
-                float ur = cp * s[2] + sp * s[3], vr = -sp * s[2] + cp * s[3];
-                float tc = s[4] - 0.5f;
+                int e = e0 + m;
+                float su = P[2 * cap + e], sv = P[3 * cap + e];
+                float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
+                float tc = P[4 * cap + e] - 0.5f;
                 float along = eta * ur + xi * tc, across = rho * vr;
-                float p = s[0] + cp * along - sp * across; /* eq. 16 */
-                float q = s[1] + sp * along + cp * across;
+                float p = P[e] + cp * along - sp * across; /* eq. 16 */
+                float q = P[cap + e] + sp * along + cp * across;
                 int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
                 float au = isu * ur, av = isv * vr, at = ist * tc;
                 wt[m] = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */

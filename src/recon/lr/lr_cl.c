@@ -13,7 +13,8 @@
 
 /* as in lr.cl */
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_TAPS_X = 12,
-       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18, BATCH_TILES = 32 };
+       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18, BATCH_TILES = 32,
+       PACK_FIELDS = 5, PACK_PARTS = 16 };
 
 _Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
@@ -30,13 +31,13 @@ typedef struct {
 
 struct LrCl {
     ClRuntime *rt;
-    cl_kernel stats, reproject, along, across;
+    cl_kernel stats, pack, reproject, along, across;
     /* host partitions, flattened into the kernel layouts; capacities in tiles / partitions */
     float *tb, *st, *lp;
     int *tl;
     LrTile *tiles;
     size_t tiles_cap, parts_cap;
-    GrowBuf b_cb, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_g, b_p1, b_rgb, b_l, b_e, b_still;
+    GrowBuf b_cb, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_rgb, b_l, b_e, b_still;
     LrClTimes last;
 };
 
@@ -74,7 +75,8 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
     LrCl *lr = calloc(1, sizeof *lr);
     if (!lr) return NULL;
     lr->rt = rt;
-    if (!(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) || !(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) ||
+    if (!(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) || !(lr->pack = cl_runtime_kernel(rt, "lr_pack", d)) ||
+        !(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) ||
         !(lr->along = cl_runtime_kernel(rt, "lr_along", d)) || !(lr->across = cl_runtime_kernel(rt, "lr_across_composite", d))) {
         lr_cl_destroy(lr);
         return NULL;
@@ -85,12 +87,12 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
 void lr_cl_destroy(LrCl *lr)
 {
     if (!lr) return;
-    cl_kernel k[4] = {lr->stats, lr->reproject, lr->along, lr->across};
-    for (int i = 0; i < 4; ++i)
+    cl_kernel k[5] = {lr->stats, lr->pack, lr->reproject, lr->along, lr->across};
+    for (int i = 0; i < 5; ++i)
         if (k[i]) clReleaseKernel(k[i]);
-    GrowBuf *b[14] = {&lr->b_cb, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order, &lr->b_ls,
-                      &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
-    for (int i = 0; i < 14; ++i)
+    GrowBuf *b[15] = {&lr->b_cb, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order, &lr->b_ls,
+                      &lr->b_pack, &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
+    for (int i = 0; i < 15; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
     free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
     free(lr);
@@ -267,6 +269,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
     ok = ok && grow(rt, &lr->b_tl, sizeof(int) * TL_STRIDE * (size_t)ntiles, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_lp, sizeof(float) * LP_STRIDE * nparts, CL_MEM_READ_ONLY, d) &&
+         grow(rt, &lr->b_pack, sizeof(float) * PACK_FIELDS * (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * wcells * (size_t)img->spp,
+              CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_rgb, sizeof(float) * 3 * npix, CL_MEM_WRITE_ONLY, d) &&
          grow(rt, &lr->b_l, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d) && grow(rt, &lr->b_e, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d);
@@ -280,11 +284,16 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         cl_int tile0 = b * batch_tiles;
         int tiles = ntiles - tile0 < batch_tiles ? ntiles - tile0 : batch_tiles, rows = tiles / ntx;
         cl_int tile1 = tile0 + tiles; /* the launches are padded: the kernels stop at tile1 */
-        cl_event bev[3] = {NULL, NULL, NULL};
-        { /* Algorithm 1, one work-item per (layer, tile) */
+        cl_event bev[4] = {NULL, NULL, NULL, NULL};
+        { /* the batch's windows copied in list order (lr_pack) */
+            cl_int ints[4] = {S, N, tile1, tile0};
+            cl_mem m[4] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_pack.mem};
+            ok = set_args(lr->pack, ints, 4, m, 4, d) && cl_launch_2d(rt, lr->pack, PACK_PARTS, (size_t)tiles, &bev[3], d);
+        }
+        if (ok) { /* Algorithm 1, one work-item per (layer, tile) */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
-            cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
-            ok = set_args(lr->reproject, ints, 11, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            cl_mem m[7] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
+            ok = set_args(lr->reproject, ints, 11, m, 7, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
@@ -300,8 +309,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         /* the queue is in order, so the next batch's reprojection starts after this batch's
          * passes have read the grids; waiting here only lets the batch's times be read */
         if (ok) ok = cl_ok(clWaitForEvents(1, &bev[2]), "kernel", d);
-        for (int i = 0; i < 3; ++i) {
-            batch_s[i] += ok ? cl_event_seconds(bev[i]) : 0.0;
+        for (int i = 0; i < 4; ++i) {
+            batch_s[i < 3 ? i : 0] += ok ? cl_event_seconds(bev[i]) : 0.0; /* the copy counts as reprojection */
             if (bev[i]) clReleaseEvent(bev[i]);
         }
     }
