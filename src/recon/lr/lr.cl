@@ -380,9 +380,10 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho))) + film_slack_px;
     int cy0 = max(0, ty0 - my - reach), cy1 = min(wh, ty0 + tile_px + my + reach);
     int bx0 = max(0, tx0 - mx), bx1 = min(ww, tx0 + tile_px + mx), by0 = max(0, ty0 - my), by1 = min(wh, ty0 + tile_px + my);
-    for (int iy = by0; iy < by1; ++iy)
-        for (int ix = bx0; ix < bx1; ++ix)
-            for (int c = 0; c < LR_CH; ++c) g[(iy * ww + ix) * LR_CH + c] = 0.0f;
+    for (int iy = by0; iy < by1; ++iy) { /* a row's cells are one run of floats: cleared as one */
+        __global float *row = g + (iy * ww + bx0) * LR_CH;
+        for (int i = 0; i < (bx1 - bx0) * LR_CH; ++i) row[i] = 0.0f;
+    }
     uint key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
     for (int r = raw_j; r < 17; ++r) {
         bool own = r == raw_j;
