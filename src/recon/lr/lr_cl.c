@@ -192,15 +192,17 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     }
     out->nonfinite = 0;
     float film_dev_px = 0.0f; /* the farthest a sample's film position lies from its pixel's centre */
-    for (size_t i = 0; i < nsamples; ++i) {
-        const LrSample *si = &img->s[i];
-        if (!(isfinite(si->L[0]) && isfinite(si->L[1]) && isfinite(si->L[2]))) out->nonfinite++;
-        size_t pixel = i / (size_t)img->spp;
-        float dx = fabsf(si->x_px - ((float)(pixel % (size_t)img->width) + 0.5f));
-        float dy = fabsf(si->y_px - ((float)(pixel / (size_t)img->width) + 0.5f));
-        if (dx > film_dev_px) film_dev_px = dx; /* NaN positions compare false: ignored */
-        if (dy > film_dev_px) film_dev_px = dy;
-    }
+    const LrSample *si = img->s; /* pixel by pixel: no division per sample */
+    for (int py = 0; py < img->height; ++py)
+        for (int px = 0; px < img->width; ++px) {
+            float cx = (float)px + 0.5f, cy = (float)py + 0.5f;
+            for (int k = 0; k < img->spp; ++k, ++si) {
+                if (!(isfinite(si->L[0]) && isfinite(si->L[1]) && isfinite(si->L[2]))) out->nonfinite++;
+                float dx = fabsf(si->x_px - cx), dy = fabsf(si->y_px - cy);
+                if (dx > film_dev_px) film_dev_px = dx; /* NaN positions compare false: ignored */
+                if (dy > film_dev_px) film_dev_px = dy;
+            }
+        }
     /* the reprojection's slack on the source rows beyond a sample's own half pixel: 2 covers
      * the box and pbrt's gaussian, mitchell and triangle filters; a sinc of radius 4 needs 4 */
     float slack = ceilf(film_dev_px - 0.5f);
