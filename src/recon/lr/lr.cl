@@ -164,6 +164,42 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
     return groups - 1;
 }
 
+/* Per block of LR_BLOCK_PX x LR_BLOCK_PX pixels (clipped at the image's edges): the CoC
+ * histogram (lr_gap_bin) and the depth range of its hits. Where every window is a union of
+ * whole blocks (lr_cl.c checks the alignment), lr_tile_stats adds its 16 blocks' histograms
+ * and ranges instead of binning its 8192 samples: each sample is binned once, not once per
+ * window that holds it (four). Counts are integers and a range's ends are a minimum and a
+ * maximum, so the bounds are the same as sample by sample. One work-item per block. */
+#define LR_BLOCK_PX 8
+__kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, int gap_slabs, __global const float *coc_edges,
+                             __global const float *samples, __global int *block_hist, __global float *block_z)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    int bx = get_global_id(0), by = get_global_id(1);
+    if (bx >= nbx || by >= nby) return;
+    float edges64[64];
+    for (int b = 0; b < 64; ++b) edges64[b] = gap_slabs > 0 && b < LR_GAP_BINS - 1 ? coc_edges[b] : INFINITY;
+    int hist[LR_GAP_BINS];
+    for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
+    float zmin = INFINITY, zmax = -INFINITY;
+    int x1 = min(width, (bx + 1) * LR_BLOCK_PX), y1 = min(height, (by + 1) * LR_BLOCK_PX);
+    for (int py = by * LR_BLOCK_PX; py < y1; ++py)
+        for (int px = bx * LR_BLOCK_PX; px < x1; ++px)
+            for (int k = 0; k < spp; ++k) {
+                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
+                float z = s[5];
+                if (z < INFINITY) {
+                    zmin = z < zmin ? z : zmin;
+                    zmax = z > zmax ? z : zmax;
+                    if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
+                }
+            }
+    int b0 = by * nbx + bx;
+    for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = hist[b];
+    block_z[2 * b0] = zmin;
+    block_z[2 * b0 + 1] = zmax;
+}
+
 /* The partition statistics of one tile (lr_partition.c: tile_stats, the same sums in the same
  * order): depth range -> layer bounds (written to tile_bounds), then per raw layer the count,
  * motion sum, CoC range, and in the mean motion's frame the motion ranges. The host finishes
@@ -175,7 +211,8 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
                             int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float *samples,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
-                            __global uint *order, __global int *layer_start, __global const uchar *still_tiles)
+                            __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
+                            int blocks, int nbx, __global const int *block_hist, __global const float *block_z)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
@@ -187,17 +224,29 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     float edges64[64]; /* the histogram's edges in private memory, padded for lr_gap_bin */
     for (int b = 0; b < 64; ++b) edges64[b] = gap_slabs > 0 && b < LR_GAP_BINS - 1 ? coc_bounds[b] : INFINITY;
-    for (int py = w.y0; py < w.y1; ++py)
-        for (int px = w.x0; px < w.x1; ++px)
-            for (int k = 0; k < spp; ++k) {
-                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                float z = s[5];
-                if (z < INFINITY) {
-                    zmin = z < zmin ? z : zmin;
-                    zmax = z > zmax ? z : zmax;
-                    if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
+    if (blocks) { /* the window is whole blocks (lr_block_stats) */
+        if (w.x1 > w.x0 && w.y1 > w.y0)
+            for (int by = w.y0 / LR_BLOCK_PX; by < (w.y1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++by)
+                for (int bx = w.x0 / LR_BLOCK_PX; bx < (w.x1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++bx) {
+                    int b0 = by * nbx + bx;
+                    float z0 = block_z[2 * b0], z1 = block_z[2 * b0 + 1];
+                    zmin = z0 < zmin ? z0 : zmin;
+                    zmax = z1 > zmax ? z1 : zmax;
+                    if (gap_slabs > 0)
+                        for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_GAP_BINS + b];
                 }
-            }
+    } else
+        for (int py = w.y0; py < w.y1; ++py)
+            for (int px = w.x0; px < w.x1; ++px)
+                for (int k = 0; k < spp; ++k) {
+                    __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
+                    float z = s[5];
+                    if (z < INFINITY) {
+                        zmin = z < zmin ? z : zmin;
+                        zmax = z > zmax ? z : zmax;
+                        if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
+                    }
+                }
     float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
