@@ -12,6 +12,8 @@
  *                 1/sigma_u, 1/sigma_t, 1/sigma_y, rho, 1/sigma_v, radius_x, radius_y, then the
  *                 screen filter's tap weights exp(-(k / sigma)^2 / 2), k = 0..32, along (x)
  *                 and across (y): computed once per partition on the host, not per tap
+ *   block_hist    LR_GAP_BINS ints per 8x8 block of pixels (row-major, nbx per row): the CoC
+ *                 histogram of its hits (lr_block_stats); block_z: their depth range, 2 floats
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
  *                 (lr_tile_stats), with the flag LR_SKIP for a non-finite radiance
  *   order         window_px^2 * spp uints per tile: the window's finite samples (their index in
