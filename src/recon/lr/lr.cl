@@ -166,6 +166,30 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
     return groups - 1;
 }
 
+/* The hits among the samples of pixels [x0, x1) x [y0, y1): their depth range into *zmin,
+ * *zmax and, with gap_slabs > 0, their CoC bins counted into hist (edges: the histogram's
+ * LR_GAP_BINS - 1 edges). Window order, as lr_partition.c. */
+static void lr_bin_rect(__global const float *samples, int width, int spp, int x0, int y0, int x1, int y1, int gap_slabs,
+                        __global const float *edges, int *hist, float *zmin, float *zmax)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    float edges64[64]; /* the edges in private memory, padded for lr_gap_bin */
+    for (int b = 0; b < 64; ++b) edges64[b] = gap_slabs > 0 && b < LR_GAP_BINS - 1 ? edges[b] : INFINITY;
+    float lo = *zmin, hi = *zmax;
+    for (int py = y0; py < y1; ++py)
+        for (int px = x0; px < x1; ++px)
+            for (int k = 0; k < spp; ++k) {
+                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
+                float z = s[5];
+                if (z < INFINITY) {
+                    lo = z < lo ? z : lo;
+                    hi = z > hi ? z : hi;
+                    if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
+                }
+            }
+    *zmin = lo, *zmax = hi;
+}
+
 /* Per block of LR_BLOCK_PX x LR_BLOCK_PX pixels (clipped at the image's edges): the CoC
  * histogram (lr_gap_bin) and the depth range of its hits. Where every window is a union of
  * whole blocks (lr_cl.c checks the alignment), lr_tile_stats adds its 16 blocks' histograms
@@ -179,23 +203,11 @@ __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, i
 #pragma OPENCL FP_CONTRACT OFF
     int bx = get_global_id(0), by = get_global_id(1);
     if (bx >= nbx || by >= nby) return;
-    float edges64[64];
-    for (int b = 0; b < 64; ++b) edges64[b] = gap_slabs > 0 && b < LR_GAP_BINS - 1 ? coc_edges[b] : INFINITY;
     int hist[LR_GAP_BINS];
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     float zmin = INFINITY, zmax = -INFINITY;
-    int x1 = min(width, (bx + 1) * LR_BLOCK_PX), y1 = min(height, (by + 1) * LR_BLOCK_PX);
-    for (int py = by * LR_BLOCK_PX; py < y1; ++py)
-        for (int px = bx * LR_BLOCK_PX; px < x1; ++px)
-            for (int k = 0; k < spp; ++k) {
-                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                float z = s[5];
-                if (z < INFINITY) {
-                    zmin = z < zmin ? z : zmin;
-                    zmax = z > zmax ? z : zmax;
-                    if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
-                }
-            }
+    lr_bin_rect(samples, width, spp, bx * LR_BLOCK_PX, by * LR_BLOCK_PX, min(width, (bx + 1) * LR_BLOCK_PX),
+                min(height, (by + 1) * LR_BLOCK_PX), gap_slabs, coc_edges, hist, &zmin, &zmax);
     int b0 = by * nbx + bx;
     for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = hist[b];
     block_z[2 * b0] = zmin;
@@ -224,8 +236,6 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     float zmin = INFINITY, zmax = -INFINITY;
     int hist[LR_GAP_BINS];
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
-    float edges64[64]; /* the histogram's edges in private memory, padded for lr_gap_bin */
-    for (int b = 0; b < 64; ++b) edges64[b] = gap_slabs > 0 && b < LR_GAP_BINS - 1 ? coc_bounds[b] : INFINITY;
     if (blocks) { /* the window is whole blocks (lr_block_stats) */
         if (w.x1 > w.x0 && w.y1 > w.y0)
             for (int by = w.y0 / LR_BLOCK_PX; by < (w.y1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++by)
@@ -238,17 +248,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                         for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_GAP_BINS + b];
                 }
     } else
-        for (int py = w.y0; py < w.y1; ++py)
-            for (int px = w.x0; px < w.x1; ++px)
-                for (int k = 0; k < spp; ++k) {
-                    __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                    float z = s[5];
-                    if (z < INFINITY) {
-                        zmin = z < zmin ? z : zmin;
-                        zmax = z > zmax ? z : zmax;
-                        if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
-                    }
-                }
+        lr_bin_rect(samples, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &zmin, &zmax);
     float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
