@@ -4,7 +4,10 @@
  * smaller frame after a larger one (buffers kept between runs), frames filtered in several
  * batches of tiles (whose launches are padded past the batch's last tile), and frames with an
  * overscan band (LrConfig.inset_px), and tiles left out (LrConfig.still_tiles). The partition statistics are
- * computed on the device and the layer counts (AOV) must equal the C partitions'. */
+ * computed on the device and the layer counts (AOV) must equal the C partitions'; their first
+ * sweep adds 8x8 blocks' histograms where every window is whole blocks (bands of 0 and 8 px,
+ * widths and heights not multiples of 8: partial blocks at the edges) and bins sample by
+ * sample where not (the 19-px band). Dropping a window's partial blocks, or one block, fails. */
 #include <math.h>
 #include <stdlib.h>
 

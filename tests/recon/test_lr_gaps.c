@@ -110,8 +110,34 @@ static void test_two_surfaces(int gap_slabs)
     free(s);
 }
 
+/* lr_gap_bin (binary lifting, the form lr.cl runs) gives every slope the number of edges
+ * below it: at each edge, a float either side of it, between edges, beyond both ends, at
+ * +-infinity (47, 0) and NaN (0, as "c > edge" is false for every edge). */
+static void test_bin_counts_edges_below(void)
+{
+    float edges[LR_GAP_BINS - 1];
+    lr_gap_edges(edges);
+    float probe[8 * LR_GAP_BINS];
+    int n = 0;
+    for (int i = 0; i < LR_GAP_BINS - 1; ++i) {
+        probe[n++] = edges[i];
+        probe[n++] = nextafterf(edges[i], -INFINITY);
+        probe[n++] = nextafterf(edges[i], INFINITY);
+        if (i + 1 < LR_GAP_BINS - 1) probe[n++] = 0.5f * (edges[i] + edges[i + 1]);
+    }
+    float ends[] = {-1e6f, 1e6f, -INFINITY, INFINITY, NAN, 0.0f, -0.0f};
+    for (int i = 0; i < (int)(sizeof ends / sizeof ends[0]); ++i) probe[n++] = ends[i];
+    for (int p = 0; p < n; ++p) {
+        int below = 0;
+        for (int i = 0; i < LR_GAP_BINS - 1; ++i) below += probe[p] > edges[i];
+        CHECK(lr_gap_bin(edges, probe[p]) == below);
+    }
+    CHECK(lr_gap_bin(edges, INFINITY) == LR_GAP_BINS - 1 && lr_gap_bin(edges, -INFINITY) == 0 && lr_gap_bin(edges, NAN) == 0);
+}
+
 int main(void)
 {
+    test_bin_counts_edges_below();
     test_dp_is_optimal();
     test_two_surfaces(2);
     test_two_surfaces(8);

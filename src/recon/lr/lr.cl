@@ -12,11 +12,15 @@
  *                 1/sigma_u, 1/sigma_t, 1/sigma_y, rho, 1/sigma_v, radius_x, radius_y, then the
  *                 screen filter's tap weights exp(-(k / sigma)^2 / 2), k = 0..32, along (x)
  *                 and across (y): computed once per partition on the host, not per tap
+ *   block_hist    LR_GAP_BINS ints per 8x8 block of pixels (row-major, nbx per row): the CoC
+ *                 histogram of its hits (lr_block_stats); block_z: their depth range, 2 floats
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
  *                 (lr_tile_stats), with the flag LR_SKIP for a non-finite radiance
  *   order         window_px^2 * spp uints per tile: the window's finite samples (their index in
  *                 samples) sorted by raw layer, pixel-major within a layer (lr_bucket.h)
  *   layer_start   LR_LS_STRIDE ints per tile: raw layer r is order[start[r] .. start[r + 1])
+ *   packed        per tile of the batch, 5 arrays of window_px^2 * spp floats: x, y, u, v, t of
+ *                 the samples of order, in its order (lr_pack)
  *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer) of the
  *                 batch being filtered: reproject, along and across run on a few rows of tiles
  *                 at a time (tile0 its first tile), so that these buffers stay small
@@ -106,15 +110,22 @@ static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float
 /* lr_partition.c: lr_gap_bin, lr_gap_bounds (the same integer dynamic programme, so the same
  * bounds): the histogram-gap CoC bounds of a window (docs/algorithms.md 8.22). */
 #define LR_GAP_BINS 48
-static int lr_gap_bin(__global const float *edges, float c)
+/* The number of edges below c (edges ascending, padded with +infinity to 64 entries, which no
+ * c exceeds), found by binary lifting: six compares whose results are added, no branch. The
+ * binary search it replaces mispredicted about one branch in two on every window sample and
+ * was half of lr_tile_stats' time (docs/benchmarks.md, "LR's reconstruction cost"); the
+ * answer is the same (lr_partition.c: lr_gap_bin, written the same way), also for c = +-inf
+ * (47, 0) and NaN (0). */
+static int lr_gap_bin(const float *edges64, float c)
 {
-    int lo = 0, hi = LR_GAP_BINS - 1;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (c > edges[mid]) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo;
+    int b = 0;
+    b += (c > edges64[b + 31]) ? 32 : 0;
+    b += (c > edges64[b + 15]) ? 16 : 0;
+    b += (c > edges64[b + 7]) ? 8 : 0;
+    b += (c > edges64[b + 3]) ? 4 : 0;
+    b += (c > edges64[b + 1]) ? 2 : 0;
+    b += (c > edges64[b]) ? 1 : 0;
+    return b;
 }
 
 static int lr_gap_bounds(const int *hist, __global const float *edges, int max_bounds, float *bounds)
@@ -155,6 +166,54 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
     return groups - 1;
 }
 
+/* The hits among the samples of pixels [x0, x1) x [y0, y1): their depth range into *zmin,
+ * *zmax and, with gap_slabs > 0, their CoC bins counted into hist (edges: the histogram's
+ * LR_GAP_BINS - 1 edges). Window order, as lr_partition.c. */
+static void lr_bin_rect(__global const float *samples, int width, int spp, int x0, int y0, int x1, int y1, int gap_slabs,
+                        __global const float *edges, int *hist, float *zmin, float *zmax)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    float edges64[64]; /* the edges in private memory, padded for lr_gap_bin */
+    for (int b = 0; b < 64; ++b) edges64[b] = gap_slabs > 0 && b < LR_GAP_BINS - 1 ? edges[b] : INFINITY;
+    float lo = *zmin, hi = *zmax;
+    for (int py = y0; py < y1; ++py)
+        for (int px = x0; px < x1; ++px)
+            for (int k = 0; k < spp; ++k) {
+                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
+                float z = s[5];
+                if (z < INFINITY) {
+                    lo = z < lo ? z : lo;
+                    hi = z > hi ? z : hi;
+                    if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
+                }
+            }
+    *zmin = lo, *zmax = hi;
+}
+
+/* Per block of LR_BLOCK_PX x LR_BLOCK_PX pixels (clipped at the image's edges): the CoC
+ * histogram (lr_gap_bin) and the depth range of its hits. Where every window is a union of
+ * whole blocks (lr_cl.c checks the alignment), lr_tile_stats adds its 16 blocks' histograms
+ * and ranges instead of binning its 8192 samples: each sample is binned once, not once per
+ * window that holds it (four). Counts are integers and a range's ends are a minimum and a
+ * maximum, so the bounds are the same as sample by sample. One work-item per block. */
+#define LR_BLOCK_PX 8
+__kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, int gap_slabs, __global const float *coc_edges,
+                             __global const float *samples, __global int *block_hist, __global float *block_z)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    int bx = get_global_id(0), by = get_global_id(1);
+    if (bx >= nbx || by >= nby) return;
+    int hist[LR_GAP_BINS];
+    for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
+    float zmin = INFINITY, zmax = -INFINITY;
+    lr_bin_rect(samples, width, spp, bx * LR_BLOCK_PX, by * LR_BLOCK_PX, min(width, (bx + 1) * LR_BLOCK_PX),
+                min(height, (by + 1) * LR_BLOCK_PX), gap_slabs, coc_edges, hist, &zmin, &zmax);
+    int b0 = by * nbx + bx;
+    for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = hist[b];
+    block_z[2 * b0] = zmin;
+    block_z[2 * b0 + 1] = zmax;
+}
+
 /* The partition statistics of one tile (lr_partition.c: tile_stats, the same sums in the same
  * order): depth range -> layer bounds (written to tile_bounds), then per raw layer the count,
  * motion sum, CoC range, and in the mean motion's frame the motion ranges. The host finishes
@@ -166,7 +225,8 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
                             int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float *samples,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
-                            __global uint *order, __global int *layer_start, __global const uchar *still_tiles)
+                            __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
+                            int blocks, int nbx, __global const int *block_hist, __global const float *block_z)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
@@ -176,17 +236,19 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     float zmin = INFINITY, zmax = -INFINITY;
     int hist[LR_GAP_BINS];
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
-    for (int py = w.y0; py < w.y1; ++py)
-        for (int px = w.x0; px < w.x1; ++px)
-            for (int k = 0; k < spp; ++k) {
-                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                float z = s[5];
-                if (z < INFINITY) {
-                    zmin = z < zmin ? z : zmin;
-                    zmax = z > zmax ? z : zmax;
-                    if (gap_slabs > 0) hist[lr_gap_bin(coc_bounds, s[6])]++;
+    if (blocks) { /* the window is whole blocks (lr_block_stats) */
+        if (w.x1 > w.x0 && w.y1 > w.y0)
+            for (int by = w.y0 / LR_BLOCK_PX; by < (w.y1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++by)
+                for (int bx = w.x0 / LR_BLOCK_PX; bx < (w.x1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++bx) {
+                    int b0 = by * nbx + bx;
+                    float z0 = block_z[2 * b0], z1 = block_z[2 * b0 + 1];
+                    zmin = z0 < zmin ? z0 : zmin;
+                    zmax = z1 > zmax ? z1 : zmax;
+                    if (gap_slabs > 0)
+                        for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_GAP_BINS + b];
                 }
-            }
+    } else
+        lr_bin_rect(samples, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &zmin, &zmax);
     float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
@@ -292,13 +354,45 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
     return lo;
 }
 
+/* The batch's windows in list order (lr_tile_stats' order), as five arrays per tile: x, y,
+ * u, v, t, what lr_reproject needs of every sample it places. It places each window sample
+ * once per layer at or in front of the sample's own (4 to 5 times a sample at 7-8 layers a
+ * tile); through the list every placement was a gather of 48-byte records spread over the
+ * window, about half of the kernel's time. Copied here once, the layers read them as
+ * contiguous runs (the same floats: the sums are unchanged). The radiance is read once per
+ * sample (by its own layer), so it stays in samples: copying it too cost more than it saved
+ * (docs/benchmarks.md, "LR's reconstruction cost"). One work-item per (sixteenth of a list,
+ * tile). */
+#define LR_PACK_FIELDS 5
+#define LR_PACK_PARTS 16
+__kernel void lr_pack(int spp, int window_px, int tile1, int tile0, __global const float *samples, __global const uint *order,
+                      __global const int *layer_start, __global float *packed)
+{
+    int part = get_global_id(0), tile = tile0 + get_global_id(1);
+    if (tile >= tile1 || part >= LR_PACK_PARTS) return;
+    size_t cap = (size_t)window_px * window_px * spp;
+    int n = layer_start[tile * LR_LS_STRIDE + 17]; /* the list's length: its finite samples */
+    int e0 = (int)((long)n * part / LR_PACK_PARTS), e1 = (int)((long)n * (part + 1) / LR_PACK_PARTS);
+    __global const uint *list = order + (size_t)tile * cap;
+    __global float *p = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap;
+    for (int e = e0; e < e1; ++e) {
+        __global const float *s = samples + (size_t)list[e] * LR_SAMPLE_STRIDE;
+        p[e] = s[0];
+        p[cap + e] = s[1];
+        p[2 * cap + e] = s[2];
+        p[3 * cap + e] = s[3];
+        p[4 * cap + e] = s[4];
+    }
+}
+
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
  * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
  * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
  * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
- * in the same order, so every cell gets the same sums. */
+ * in the same order, so every cell gets the same sums. Positions and lens/time coordinates
+ * come from lr_pack's copy of the list, the radiance of the layer's own samples from samples. */
 __kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
-                           int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples,
+                           int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples, __global const float *packed,
                            __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
                            __global float *grid)
@@ -311,7 +405,9 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     int id = tile * max_layers + j;
     __global const float *lp = params + id * LR_LP_STRIDE;
     __global float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH; /* the batch's grids */
-    __global const uint *list = order + (size_t)tile * window_px * window_px * spp;
+    size_t cap = (size_t)window_px * window_px * spp;
+    __global const uint *list = order + (size_t)tile * cap;
+    __global const float *P = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap; /* lr_pack's copy of the list */
     __global const int *start = layer_start + tile * LR_LS_STRIDE;
     __global const int *compact = tl + 1;
     int raw_j = 0;
@@ -335,9 +431,10 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho))) + film_slack_px;
     int cy0 = max(0, ty0 - my - reach), cy1 = min(wh, ty0 + tile_px + my + reach);
     int bx0 = max(0, tx0 - mx), bx1 = min(ww, tx0 + tile_px + mx), by0 = max(0, ty0 - my), by1 = min(wh, ty0 + tile_px + my);
-    for (int iy = by0; iy < by1; ++iy)
-        for (int ix = bx0; ix < bx1; ++ix)
-            for (int c = 0; c < LR_CH; ++c) g[(iy * ww + ix) * LR_CH + c] = 0.0f;
+    for (int iy = by0; iy < by1; ++iy) { /* a row's cells are one run of floats: cleared as one */
+        __global float *row = g + (iy * ww + bx0) * LR_CH;
+        for (int i = 0; i < (bx1 - bx0) * LR_CH; ++i) row[i] = 0.0f;
+    }
     uint key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
     for (int r = raw_j; r < 17; ++r) {
         bool own = r == raw_j;
@@ -348,12 +445,13 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             int n = min(LR_CHUNK, e1 - e0), cell[LR_CHUNK];
             float wt[LR_CHUNK];
             for (int m = 0; m < n; ++m) {
-                __global const float *s = samples + (size_t)list[e0 + m] * LR_SAMPLE_STRIDE;
-                float ur = cp * s[2] + sp * s[3], vr = -sp * s[2] + cp * s[3];
-                float tc = s[4] - 0.5f;
+                int e = e0 + m;
+                float su = P[2 * cap + e], sv = P[3 * cap + e];
+                float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
+                float tc = P[4 * cap + e] - 0.5f;
                 float along = eta * ur + xi * tc, across = rho * vr;
-                float p = s[0] + cp * along - sp * across; /* eq. 16 */
-                float q = s[1] + sp * along + cp * across;
+                float p = P[e] + cp * along - sp * across; /* eq. 16 */
+                float q = P[cap + e] + sp * along + cp * across;
                 int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
                 float au = isu * ur, av = isv * vr, at = ist * tc;
                 wt[m] = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
@@ -393,9 +491,12 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
         if (jy < 0 || jy >= wh) continue;
         int a = max(ix0, -ox), b = min(ix1, ww - ox); /* 0 <= ix + ox < ww */
         float wk = taps[k < 0 ? -k : k];
-        __global const float *row = g + (jy * ww + ox) * LR_CH;
-        for (int ix = a; ix < b; ++ix)
-            for (int c = 0; c < LR_CH; ++c) acc[(ix - ix0) * LR_CH + c] += wk * row[ix * LR_CH + c];
+        /* the cells' channels are contiguous in the row and in acc: one flat loop over
+         * (b - a) * LR_CH floats, which the compiler runs 8 or 16 wide (the loop over cells
+         * and then channels ran 4 + 1 wide); the same products and sums */
+        __global const float *row = g + (jy * ww + ox + a) * LR_CH;
+        float *dst = acc + (a - ix0) * LR_CH;
+        for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
     }
 }
 

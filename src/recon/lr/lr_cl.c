@@ -13,7 +13,8 @@
 
 /* as in lr.cl */
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_TAPS_X = 12,
-       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18, BATCH_TILES = 64 };
+       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18, BATCH_TILES = 32,
+       PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
 
 _Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
@@ -30,13 +31,13 @@ typedef struct {
 
 struct LrCl {
     ClRuntime *rt;
-    cl_kernel stats, reproject, along, across;
+    cl_kernel blocks, stats, pack, reproject, along, across;
     /* host partitions, flattened into the kernel layouts; capacities in tiles / partitions */
     float *tb, *st, *lp;
     int *tl;
     LrTile *tiles;
     size_t tiles_cap, parts_cap;
-    GrowBuf b_cb, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_g, b_p1, b_rgb, b_l, b_e, b_still;
+    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_rgb, b_l, b_e, b_still;
     LrClTimes last;
 };
 
@@ -74,7 +75,9 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
     LrCl *lr = calloc(1, sizeof *lr);
     if (!lr) return NULL;
     lr->rt = rt;
-    if (!(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) || !(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) ||
+    if (!(lr->blocks = cl_runtime_kernel(rt, "lr_block_stats", d)) || !(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) ||
+        !(lr->pack = cl_runtime_kernel(rt, "lr_pack", d)) ||
+        !(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) ||
         !(lr->along = cl_runtime_kernel(rt, "lr_along", d)) || !(lr->across = cl_runtime_kernel(rt, "lr_across_composite", d))) {
         lr_cl_destroy(lr);
         return NULL;
@@ -85,12 +88,12 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
 void lr_cl_destroy(LrCl *lr)
 {
     if (!lr) return;
-    cl_kernel k[4] = {lr->stats, lr->reproject, lr->along, lr->across};
-    for (int i = 0; i < 4; ++i)
+    cl_kernel k[6] = {lr->blocks, lr->stats, lr->pack, lr->reproject, lr->along, lr->across};
+    for (int i = 0; i < 6; ++i)
         if (k[i]) clReleaseKernel(k[i]);
-    GrowBuf *b[14] = {&lr->b_cb, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order, &lr->b_ls,
-                      &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
-    for (int i = 0; i < 14; ++i)
+    GrowBuf *b[17] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order,
+                      &lr->b_ls, &lr->b_pack, &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
+    for (int i = 0; i < 17; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
     free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
     free(lr);
@@ -190,15 +193,17 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     }
     out->nonfinite = 0;
     float film_dev_px = 0.0f; /* the farthest a sample's film position lies from its pixel's centre */
-    for (size_t i = 0; i < nsamples; ++i) {
-        const LrSample *si = &img->s[i];
-        if (!(isfinite(si->L[0]) && isfinite(si->L[1]) && isfinite(si->L[2]))) out->nonfinite++;
-        size_t pixel = i / (size_t)img->spp;
-        float dx = fabsf(si->x_px - ((float)(pixel % (size_t)img->width) + 0.5f));
-        float dy = fabsf(si->y_px - ((float)(pixel / (size_t)img->width) + 0.5f));
-        if (dx > film_dev_px) film_dev_px = dx; /* NaN positions compare false: ignored */
-        if (dy > film_dev_px) film_dev_px = dy;
-    }
+    const LrSample *si = img->s; /* pixel by pixel: no division per sample */
+    for (int py = 0; py < img->height; ++py)
+        for (int px = 0; px < img->width; ++px) {
+            float cx = (float)px + 0.5f, cy = (float)py + 0.5f;
+            for (int k = 0; k < img->spp; ++k, ++si) {
+                if (!(isfinite(si->L[0]) && isfinite(si->L[1]) && isfinite(si->L[2]))) out->nonfinite++;
+                float dx = fabsf(si->x_px - cx), dy = fabsf(si->y_px - cy);
+                if (dx > film_dev_px) film_dev_px = dx; /* NaN positions compare false: ignored */
+                if (dy > film_dev_px) film_dev_px = dy;
+            }
+        }
     /* the reprojection's slack on the source rows beyond a sample's own half pixel: 2 covers
      * the box and pbrt's gaussian, mitchell and triangle filters; a sinc of radius 4 needs 4 */
     float slack = ceilf(film_dev_px - 0.5f);
@@ -228,10 +233,23 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NT = ntiles;
     cl_int inset = cfg->inset_px;
     cl_event ev[4] = {NULL, NULL, NULL, NULL};
+    /* Every window a union of whole 8x8 blocks (its corner, or the image's edge, on the block
+     * grid): lr_block_stats bins each sample once and lr_tile_stats adds the blocks. */
+    int margin = (cfg->window_px - cfg->tile_px) / 2;
+    cl_int blocks = (cfg->inset_px - margin) % BLOCK_PX == 0 && cfg->tile_px % BLOCK_PX == 0 && cfg->window_px % BLOCK_PX == 0;
+    cl_int NBX = (W + BLOCK_PX - 1) / BLOCK_PX, NBY = (H + BLOCK_PX - 1) / BLOCK_PX;
+    ok = ok && grow(rt, &lr->b_bh, blocks ? sizeof(cl_int) * LR_GAP_BINS * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_bz, blocks ? sizeof(float) * 2 * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d);
     if (ok) {
         cl_int ints[11] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset, gap_slabs};
         cl_mem m[8] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
+        cl_int bints[6] = {W, H, S, NBX, NBY, gap_slabs};
+        cl_mem bm[4] = {lr->b_cb.mem, b_s, lr->b_bh.mem, lr->b_bz.mem};
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
+             (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
+             cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
+                       clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem),
+                   "arguments", d) &&
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)
                                : cl_ok(clEnqueueFillBuffer(q, lr->b_still.mem, &(cl_uchar){0}, 1, 0, (size_t)ntiles, 0, NULL, NULL), "fill", d)) &&
@@ -259,12 +277,16 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
      * (tile, layer) of the batch only. The whole frame's (63 MB at 256x192) was fresh memory
      * in a one-frame render, page-faulted and cleared by the kernel (docs/benchmarks.md, LR
      * third round); a batch's is reused by the next and stays in the caches between the
-     * three kernels. About 64 tiles a batch keeps both cores busy. */
+     * three kernels. About 32 tiles a batch still keeps both cores busy; 64 page-faulted 3k
+     * more pages (12 MB) per one-frame render for nothing (docs/benchmarks.md, "LR's
+     * reconstruction cost"). */
     int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
     int nbatches = (nty + batch_rows - 1) / batch_rows;
     size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
     ok = ok && grow(rt, &lr->b_tl, sizeof(int) * TL_STRIDE * (size_t)ntiles, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_lp, sizeof(float) * LP_STRIDE * nparts, CL_MEM_READ_ONLY, d) &&
+         grow(rt, &lr->b_pack, sizeof(float) * PACK_FIELDS * (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * wcells * (size_t)img->spp,
+              CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_rgb, sizeof(float) * 3 * npix, CL_MEM_WRITE_ONLY, d) &&
          grow(rt, &lr->b_l, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d) && grow(rt, &lr->b_e, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d);
@@ -278,11 +300,16 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         cl_int tile0 = b * batch_tiles;
         int tiles = ntiles - tile0 < batch_tiles ? ntiles - tile0 : batch_tiles, rows = tiles / ntx;
         cl_int tile1 = tile0 + tiles; /* the launches are padded: the kernels stop at tile1 */
-        cl_event bev[3] = {NULL, NULL, NULL};
-        { /* Algorithm 1, one work-item per (layer, tile) */
+        cl_event bev[4] = {NULL, NULL, NULL, NULL};
+        { /* the batch's windows copied in list order (lr_pack) */
+            cl_int ints[4] = {S, N, tile1, tile0};
+            cl_mem m[4] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_pack.mem};
+            ok = set_args(lr->pack, ints, 4, m, 4, d) && cl_launch_2d(rt, lr->pack, PACK_PARTS, (size_t)tiles, &bev[3], d);
+        }
+        if (ok) { /* Algorithm 1, one work-item per (layer, tile) */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
-            cl_mem m[6] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
-            ok = set_args(lr->reproject, ints, 11, m, 6, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            cl_mem m[7] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
+            ok = set_args(lr->reproject, ints, 11, m, 7, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
@@ -298,8 +325,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         /* the queue is in order, so the next batch's reprojection starts after this batch's
          * passes have read the grids; waiting here only lets the batch's times be read */
         if (ok) ok = cl_ok(clWaitForEvents(1, &bev[2]), "kernel", d);
-        for (int i = 0; i < 3; ++i) {
-            batch_s[i] += ok ? cl_event_seconds(bev[i]) : 0.0;
+        for (int i = 0; i < 4; ++i) {
+            batch_s[i < 3 ? i : 0] += ok ? cl_event_seconds(bev[i]) : 0.0; /* the copy counts as reprojection */
             if (bev[i]) clReleaseEvent(bev[i]);
         }
     }
@@ -308,7 +335,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         ok = read_inner(q, lr->b_rgb.mem, out->rgb, 3, img, cfg->inset_px, d) && (!aov_l || read_inner(q, lr->b_l.mem, aov_l, 1, img, cfg->inset_px, d)) &&
              (!aov_e || read_inner(q, lr->b_e.mem, aov_e, 1, img, cfg->inset_px, d));
     clFinish(q);
-    double ks = lr->last.kernel_s[0] = ok ? cl_event_seconds(ev[0]) : 0.0;
+    /* the statistics' time includes the blocks' (lr_block_stats) */
+    double ks = lr->last.kernel_s[0] = ok ? cl_event_seconds(ev[0]) + (ev[1] ? cl_event_seconds(ev[1]) : 0.0) : 0.0;
     for (int i = 1; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? batch_s[i - 1] : 0.0;
     if (ok && kernel_seconds) *kernel_seconds = ks;
     lr->last.partitions = nparts;

@@ -110,13 +110,13 @@ void lr_gap_edges(float *edges)
 
 int lr_gap_bin(const float *edges, float coc_px)
 {
-    int lo = 0, hi = LR_GAP_BINS - 1; /* answer in [lo, hi]: binary search on "edge < c" */
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (coc_px > edges[mid]) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo;
+    /* Binary lifting, as lr.cl does without the bounds test (its edges are padded with
+     * +infinity): "c > edge" holds for a prefix of the ascending edges, and b grows to that
+     * prefix's length by steps of 32, 16, ..., 1 (none of c = NaN, 0; all of +inf, 47). */
+    int b = 0;
+    for (int step = 32; step >= 1; step /= 2)
+        if (b + step <= LR_GAP_BINS - 1 && coc_px > edges[b + step - 1]) b += step;
+    return b;
 }
 
 int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bounds)

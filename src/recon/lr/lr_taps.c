@@ -107,15 +107,17 @@ static int reach_of(const double *t)
     return k;
 }
 
-static void convolve(const double *a, const double *b, double *out)
+/* out[k] = sum over j of a[j] b[k - j] for k in [k0, SPAN] (a and b within their reaches),
+ * j ascending. Only the j whose k - j lies within b's reach are visited: the same terms in the
+ * same order as testing every j of a's reach (the taps of a frame's partitions cost 2% of a
+ * warm LR frame's CPU that way). */
+static void convolve(const double *a, const double *b, int k0, double *out)
 {
     int ra = reach_of(a), rb = reach_of(b);
-    for (int k = -SPAN; k <= SPAN; ++k) {
+    for (int k = k0; k <= SPAN; ++k) {
         double sum = 0.0;
-        for (int j = -ra; j <= ra; ++j) {
-            int i = k - j;
-            if (i >= -rb && i <= rb) sum += a[j + SPAN] * b[i + SPAN];
-        }
+        int j0 = k - rb > -ra ? k - rb : -ra, j1 = k + rb < ra ? k + rb : ra;
+        for (int j = j0; j <= j1; ++j) sum += a[j + SPAN] * b[k - j + SPAN];
         out[k + SPAN] = sum;
     }
 }
@@ -150,7 +152,7 @@ void lr_screen_taps(const LrFilter *f, const LrConfig *cfg, bool across, int r, 
     bin_disk(sqrt(4.0 * var_d), disk);
     bin_box(sqrt(12.0 * var_b), box);
     bin_gauss(sqrt(var_g), gauss);
-    convolve(disk, box, both);
-    convolve(both, gauss, all);
+    convolve(disk, box, -SPAN, both);
+    convolve(both, gauss, 0, all); /* the taps are its k >= 0 */
     for (int k = 0; k <= r; ++k) w[k] = (float)all[k + SPAN];
 }
