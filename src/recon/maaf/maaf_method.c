@@ -75,6 +75,10 @@
  * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
 #define DEFOCUS_FULL_STD_PX 2.0f
 
+/* Set (to anything but "0"): every sample goes into every sum, none skipped as unread and the
+ * albedo sums accumulated everywhere, as before these savings; test_maaf_sums compares. */
+#define MAAF_ALL_SUMS_ENV "WEDGE_MAAF_ALL_SUMS"
+
 /* The knob for a --spp budget (docs/algorithms.md 9.11). The design is fixed before pass 1
  * (eq. 20's sums are taken with it) and cannot follow the budget search's mu, so a budget sets
  * it up front. With the default design a budget only lowered the variance and the design's
@@ -140,13 +144,20 @@ struct ReconMethod {
     unsigned char *wedge_found[2];
     MaafFilter *filter;
     long long nonfinite_samples;
+    /* per pixel, after the first plan: which of its sums no filter will read (UNREAD_*), so
+     * that later passes' samples skip them (mark_unread_sums) */
+    unsigned char *unread;
+    bool all_sums;              /* MAAF_ALL_SUMS_ENV: every sum accumulated (the tests' reference) */
     /* defocus (maaf_defocus.h) */
     bool defocus;
     bool split_direct, split_indirect; /* the scene has soft shadows / indirect light: that
                                         * filterable light is left out of dsum, asum is kept */
     MaafLens lens;
     float *dsum;                /* comps * 8 per pixel: radiance minus the split lights */
-    float *asum;                /* split: the same sums of the albedo */
+    float *asum;                /* split: the same sums of the albedo, only where it varies
+                                 * inside the pixel (ALBEDO_SUMS_*; unwritten elsewhere) */
+    float *albedo4;             /* split: the pixel's first sample's albedo (0 for a miss) and
+                                 * its state (w: ALBEDO_SUMS_*) */
     float *dpos4, *dnrm4, *daxis2; /* screen guides */
     float *dstd_px, *dcomponents;  /* AOVs */
     const float *direct4, *direct_factor, *indirect4; /* the shading filters' output (shading_light) */
@@ -200,6 +211,7 @@ static void maaf_destroy(ReconMethod *m)
     for (int k = 0; k < 2; ++k) free(m->wedge_lo[k]), free(m->wedge_hi[k]), free(m->wedge_found[k]);
     free(m->geoms);
     free(m->lights);
+    free(m->unread);
     free(m->ysum);
     free(m->frame4);
     free(m->axis2);
@@ -213,6 +225,7 @@ static void maaf_destroy(ReconMethod *m)
     maaf_lens_free(&m->lens);
     free(m->dsum);
     free(m->asum);
+    free(m->albedo4);
     free(m->dpos4);
     free(m->dnrm4);
     free(m->daxis2);
@@ -303,6 +316,8 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->g = s->gbuffer;
     m->effects = s->effects;
     m->kappa = kappa_for_budget(s, MAAF_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
+    const char *all = getenv(MAAF_ALL_SUMS_ENV);
+    m->all_sums = all && *all && strcmp(all, "0") != 0;
     m->pairs = s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT;
     if (m->pairs > MAAF_PAIRS_MAX) m->pairs = MAAF_PAIRS_MAX;
     m->comps = maaf_component_count(m->pairs);
@@ -339,13 +354,16 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         goto oom;
     if (m->defocus) {
         m->dsum = zalloc(n * per, sizeof(float));
-        m->asum = split ? zalloc(n * per, sizeof(float)) : NULL;
+        /* asum's rows are written whole when a pixel's albedo first varies (albedo_add): not
+         * zeroed, and the pages of pixels of one albedo are never touched */
+        m->asum = split ? malloc(n * per * sizeof(float)) : NULL;
+        m->albedo4 = split ? zalloc(4 * n, sizeof(float)) : NULL;
         m->dpos4 = malloc(4 * n * sizeof(float));
         m->dnrm4 = malloc(4 * n * sizeof(float));
         m->daxis2 = malloc(4 * n * sizeof(float));
         m->dstd_px = calloc(n, sizeof(float));
         m->dcomponents = calloc(n, sizeof(float));
-        if (!m->dsum || (split && !m->asum) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+        if (!m->dsum || (split && (!m->asum || !m->albedo4)) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
             !m->dcomponents)
             goto oom;
         float lens_kappa = kappa_for_budget(s, MAAF_DEFOCUS_KAPPA_DEFAULT, split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
@@ -377,6 +395,42 @@ oom:
     return false;
 }
 
+static float defocus_filter(ReconMethod *m, int x, int y, float *side);
+
+/* Sums that no filter reads (bits of ReconMethod.unread) */
+#define UNREAD_LENS 1u   /* dsum, asum: the pixel has no lens filter */
+#define UNREAD_LIGHT 2u  /* ysum: the pixel's direct light is passed through unfiltered */
+
+/* After the first plan (pass 1's statistics, on the rank that planned): the pixels whose sums
+ * the image passes will never read, so that the later passes' samples (the plan's extra ones,
+ * most of them at silhouettes and near the focal plane) skip their 13 complex components.
+ * The pass reads a pixel's sums only where it is the centre of a filter or a neighbour in
+ * one, and both need a radius > 0 and the pixel's usable flag (maaf.cl: centre_load, tap_lanes;
+ * the C reference alike). A lens filter depends on pass 1's circle-of-confusion ranges alone
+ * (derived once, cached): radius 0 there stays 0. The light filter's usable flag is composite.c's
+ * (value4): never set on a pixel whose samples saw another object, missed all geometry,
+ * hit an unfilterable or a glossy surface, and each of those, once seen, stays true with more
+ * samples (gbuffer.c's mixed and glossy rules; its normal and depth spreads can change back,
+ * and are left out here). So the images are the same as with every sum accumulated. */
+static void mark_unread_sums(ReconMethod *m)
+{
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    if (m->all_sums || !m->derived_ok || (!m->unread && !(m->unread = malloc(n)))) return;
+    for (int y = 0; y < g->height; ++y)
+        for (int x = 0; x < g->width; ++x) {
+            size_t i = (size_t)y * g->width + x;
+            const GBufferSums *s = &g->sums[i];
+            unsigned char u = 0;
+            float side;
+            if (m->defocus && (defocus_filter(m, x, y, &side), m->defocus_cache.param[i * MAAF_PARAM_STRIDE] <= 0.0f))
+                u |= UNREAD_LENS;
+            if (m->ysum && (s->id_mixed || s->unfilterable > 0 || s->glossy > 0 || (float)s->hits < g->frame.spp[i]))
+                u |= UNREAD_LIGHT;
+            m->unread[i] = u;
+        }
+}
+
 static void maaf_begin_pass(ReconMethod *m, int pass)
 {
     /* the wedge comes from pass 1, the pass that records ray geometry */
@@ -384,6 +438,48 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
     /* later passes refine the guides the shadows' filters read */
     if (pass > 0 && m->shadow_cache.known) memset(m->shadow_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
     if (pass > 0 && m->indirect_cache.known) memset(m->indirect_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
+    if (pass > 0 && !m->unread) mark_unread_sums(m);
+}
+
+/* The albedo sums of the split (docs/algorithms.md 9.8): sum_k c_k a_k per component. Where
+ * every sample of a pixel has the same albedo A (one surface, untextured there: most pixels)
+ * that is A times the weight channel of dsum, sum_k c_k, so nothing is accumulated: the pixel
+ * keeps A (albedo4) and the filter makes the sums from dsum (albedo_sums). Only when a sample
+ * brings another albedo are the sums written, A times the earlier samples' weight sums, and
+ * accumulated from then on. Equal to accumulating every sample to float rounding (A sum c_k
+ * against sum A c_k); it saves half the per-sample sums of a combined frame and the pages of
+ * 27 MB. */
+#define ALBEDO_SUMS_NONE 0.0f   /* no sample yet */
+#define ALBEDO_SUMS_ONE 1.0f    /* every sample so far had albedo4's albedo */
+#define ALBEDO_SUMS_KEPT 2.0f   /* asum holds the pixel's sums */
+
+static void albedo_add(ReconMethod *m, size_t i, const float *w, const float a[4])
+{
+    size_t per = (size_t)m->comps * 8;
+    float *st = m->albedo4 + 4 * i, *as = m->asum + i * per;
+    if (st[3] == ALBEDO_SUMS_NONE) {
+        memcpy(st, a, 3 * sizeof(float));
+        st[3] = ALBEDO_SUMS_ONE;
+        if (!m->all_sums) return;
+    }
+    if (st[3] == ALBEDO_SUMS_ONE) {
+        if (!m->all_sums && a[0] == st[0] && a[1] == st[1] && a[2] == st[2]) return;
+        const float *ds = m->dsum + i * per;
+        for (size_t c = 0; c < per; ++c) as[c] = (c & 3) == 3 ? 0.0f : st[c & 3] * ds[c | 3];
+        st[3] = ALBEDO_SUMS_KEPT;
+    }
+    maaf_factors_accumulate(m->comps, w, a, as);
+}
+
+/* Pixel i's albedo sums: asum's where kept, else albedo4's albedo times dsum's weight sums,
+ * written to tmp (per floats). */
+static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
+{
+    size_t per = (size_t)m->comps * 8;
+    const float *st = m->albedo4 + 4 * i, *ds = m->dsum + i * per;
+    if (st[3] == ALBEDO_SUMS_KEPT) return m->asum + i * per;
+    for (size_t c = 0; c < per; ++c) tmp[c] = (c & 3) == 3 || st[3] == ALBEDO_SUMS_NONE ? 0.0f : st[c & 3] * ds[c | 3];
+    return tmp;
 }
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
@@ -401,14 +497,15 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r, const f
         ++m->nonfinite_samples;
         return;
     }
+    if (m->unread && (m->unread[i] & UNREAD_LENS)) return;
     size_t per = (size_t)m->comps * 8;
     float w[2 * MAAF_COMPS_MAX];
     maaf_lens_factors(&m->lens, r->lens_u, -r->lens_v, w);
-    maaf_factors_accumulate(m->comps, w, f, m->dsum + i * per);
     if (m->asum) {
         float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
-        maaf_factors_accumulate(m->comps, w, a, m->asum + i * per);
+        albedo_add(m, i, w, a); /* before dsum: it may read dsum's sums of the earlier samples */
     }
+    maaf_factors_accumulate(m->comps, w, f, m->dsum + i * per);
 }
 
 /* Indirect sums (eq. 20 without the bounce direction, docs/algorithms.md 9.12 "The method
@@ -460,6 +557,7 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
         ++m->nonfinite_samples; /* left out of the sums, reported at filter time */
         return;
     }
+    if (m->unread && (m->unread[i] & UNREAD_LIGHT)) return;
     if (!known) { /* no shadow ray: its light point is unknown (maaf_shadow.h) */
         maaf_accumulate_unknown(m->pairs, l, f, m->ysum + i * (size_t)m->comps * 8);
         return;
@@ -906,7 +1004,8 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
     const float *sums = m->dsum;
     if (m->asum) {
         for (size_t i = 0; i < n; ++i) {
-            const float *rest = m->dsum + i * per, *alb = m->asum + i * per;
+            float alb_tmp[8 * MAAF_COMPS_MAX];
+            const float *rest = m->dsum + i * per, *alb = albedo_sums(m, i, alb_tmp);
             float *o = m->ydemod + i * per, raw[3][3], ud[3], ui[3], spp = g->frame.spp[i];
             memcpy(o, rest, per * sizeof(float));
             gbuffer_unfiltered_means(g, i, ud, ui);
@@ -964,6 +1063,7 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
     if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->albedo4 && count < max) out[count++] = (DistArray){m->albedo4, 4 * sizeof(float)};
     if (m->isum && count < max) out[count++] = (DistArray){m->isum, 4 * sizeof(float)};
     if (m->iframe4 && count < max) out[count++] = (DistArray){m->iframe4, 4 * sizeof(float)};
     if (m->iaxis2 && count < max) out[count++] = (DistArray){m->iaxis2, 4 * sizeof(float)};
