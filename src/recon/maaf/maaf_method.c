@@ -147,6 +147,11 @@ struct ReconMethod {
     /* per pixel, after the first plan: which of its sums no filter will read (UNREAD_*), so
      * that later passes' samples skip them (mark_unread_sums) */
     unsigned char *unread;
+    /* the plan's rule per pixel, without mu (plan_classes), kept across the budget search's
+     * plans and forgotten by every later pass */
+    unsigned char *plan_class;
+    float *plan_area2;          /* PLAN_DEFOCUS: the count's factor max(1, (2 px / std)^2) */
+    bool plan_known;
     bool all_sums;              /* MAAF_ALL_SUMS_ENV: every sum accumulated (the tests' reference) */
     /* defocus (maaf_defocus.h) */
     bool defocus;
@@ -212,6 +217,8 @@ static void maaf_destroy(ReconMethod *m)
     free(m->geoms);
     free(m->lights);
     free(m->unread);
+    free(m->plan_class);
+    free(m->plan_area2);
     free(m->ysum);
     free(m->frame4);
     free(m->axis2);
@@ -439,6 +446,7 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
     if (pass > 0 && m->shadow_cache.known) memset(m->shadow_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
     if (pass > 0 && m->indirect_cache.known) memset(m->indirect_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
     if (pass > 0 && !m->unread) mark_unread_sums(m);
+    if (pass > 0) m->plan_known = false;
 }
 
 /* The albedo sums of the split (docs/algorithms.md 9.8): sum_k c_k a_k per component. Where
@@ -821,41 +829,41 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
  * combined.pbrt 16 / 32 spp -10% / -3.5%, all_effects (held out) -6% / -11% at 16 / 64
  * (docs/benchmarks.md, "MAAF on the combined scene, cheaper"; without defocus the cap was
  * worse: soft_shadows +20% and thin_occluders +12% at 16 spp). */
-static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
+/* The plan's rule per pixel (plan_class): pass 1's count, the filtered count of the shadow and
+ * indirect filters, the lens filter's count (plan_area2), or the extra count, at silhouettes
+ * the silhouette count. */
+enum { PLAN_PASS1, PLAN_FILTERED, PLAN_DEFOCUS, PLAN_EXTRA, PLAN_SILHOUETTE };
+
+/* Which rule each pixel follows: it depends on the filters, not on mu, so the budget search's
+ * plans (up to 14 per frame, pipeline.c's mu_for_budget) classify the pixels once. */
+static bool plan_classes(ReconMethod *m)
 {
-    if (!ensure_derived(m, d)) return false;
     const GBuffer *g = m->g;
     size_t n = (size_t)g->width * (size_t)g->height;
-    if (!m->pass1_spp) m->pass1_spp = n ? (int)spp_now[0] : 0;
-    int pass1 = m->pass1_spp;
-    /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
-    float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
-    int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
-    int silhouette = m->split_direct || m->split_indirect ? aaf_clamp_spp(100.0f * mu_e, pass1, 100.0f * mu_e) : extra;
-    /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
-     * budget reached only the silhouettes and the rest kept pass 1's noise */
-    int filtered = aaf_far_spp(pass1, mu_e);
+    if ((!m->plan_class && !(m->plan_class = malloc(n))) ||
+        (!m->plan_area2 && !(m->plan_area2 = malloc(n * sizeof(float)))))
+        return false;
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
-
     for (int y = 0; y < g->height; ++y)
         for (int x = 0; x < g->width; ++x) {
             size_t i = (size_t)y * g->width + x;
             const float *pr;
             float comps, side;
             bool more = false, texture_aa = g->hit[i] && g->albedo_varies[i];
-            int count = pass1;
+            int cls = PLAN_PASS1;
             float std_lens_px = 0.0f; /* the lens filter's width, where it was asked */
+            m->plan_area2[i] = 1.0f;
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i]) {
                 /* glossy receivers keep their own direct light (gbuffer.h): extra samples */
                 more = g->mixed[i] || g->glossy[i] ||
                        (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
-                count = filtered;
+                cls = PLAN_FILTERED;
             }
             /* indirect light: the same rule with its own filter */
             if (m->indirect && g->hit[i] && !more) {
                 more = g->mixed[i] || (m->iframe4[4 * i + 3] != 0.0f && indirect_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
-                count = filtered;
+                cls = PLAN_FILTERED;
             }
             /* defocus (seeds/003's extra samples near the focal plane): a slope range that
              * straddles it, or a filter under half a pixel */
@@ -868,14 +876,44 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
                  * error at every budget (docs/algorithms.md 9.8). */
                 float area = DEFOCUS_FULL_STD_PX / fmaxf(std_px, UNFILTERED_STD_PX);
                 more = std_px < UNFILTERED_STD_PX;
-                count = aaf_clamp_spp(mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1 * fmaxf(1.0f, area * area), pass1,
-                                      100.0f * mu_e);
+                cls = PLAN_DEFOCUS;
+                m->plan_area2[i] = fmaxf(1.0f, area * area);
             }
             /* a texture edge's antialiasing is no shading filter's (gbuffer.h): extra samples
              * too, unless the lens filter averages it */
             more = more || (texture_aa && std_lens_px < ALBEDO_VARIES_DEFOCUS_STD_PX);
-            spp_total[i] = more ? (g->hit[i] && g->mixed[i] ? silhouette : extra) : count;
+            m->plan_class[i] = more ? (g->hit[i] && g->mixed[i] ? PLAN_SILHOUETTE : PLAN_EXTRA) : cls;
         }
+    m->plan_known = true;
+    return true;
+}
+
+static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
+{
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    if (!m->pass1_spp) m->pass1_spp = n ? (int)spp_now[0] : 0;
+    int pass1 = m->pass1_spp;
+    if (!m->plan_known && !plan_classes(m)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MAAF plan");
+        return false;
+    }
+    /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
+    float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
+    int count[PLAN_SILHOUETTE + 1];
+    count[PLAN_PASS1] = pass1;
+    count[PLAN_EXTRA] = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    count[PLAN_SILHOUETTE] =
+        m->split_direct || m->split_indirect ? aaf_clamp_spp(100.0f * mu_e, pass1, 100.0f * mu_e) : count[PLAN_EXTRA];
+    /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
+     * budget reached only the silhouettes and the rest kept pass 1's noise */
+    count[PLAN_FILTERED] = aaf_far_spp(pass1, mu_e);
+    float defocus_base = mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1;
+    for (size_t i = 0; i < n; ++i) {
+        int cls = m->plan_class[i];
+        spp_total[i] = cls == PLAN_DEFOCUS ? aaf_clamp_spp(defocus_base * m->plan_area2[i], pass1, 100.0f * mu_e) : count[cls];
+    }
     return true;
 }
 
@@ -1001,12 +1039,27 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
     size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
-    const float *sums = m->dsum;
-    if (m->asum) {
-        for (size_t i = 0; i < n; ++i) {
-            float alb_tmp[8 * MAAF_COMPS_MAX];
-            const float *rest = m->dsum + i * per, *alb = albedo_sums(m, i, alb_tmp);
-            float *o = m->ydemod + i * per, raw[3][3], ud[3], ui[3], spp = g->frame.spp[i];
+    /* Per pixel: the rest's sums with the shading lights put back (the split), then divided by
+     * the pixel's count. Each pixel's sums become means over its own samples: eq. 20's
+     * integrals over the lens are Monte Carlo estimates per pixel (seeds/003 Sec. 6.1), so
+     * every pixel enters eq. 3's image filter with the same weight whatever its count. With
+     * raw sums a pixel weighed by its count, and the plan chose the counts from pass 1's
+     * samples, which the sums include: pixels whose first 9 samples hit a small bright
+     * emitter got 3-8x the samples of their neighbours that missed it, so the filter
+     * over-weighted the lucky ones, more so the larger the budget (bokeh_bright: disks 15% too
+     * bright with halos, relMSE 39 at 16 spp and 87 at 32; docs/algorithms.md 9.8). Pixels
+     * without a lens filter are read by no pass (mark_unread_sums): zeros. */
+    for (size_t i = 0; i < n; ++i) {
+        float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
+        const float *src = m->dsum + i * per;
+        float *o = m->ydemod + i * per;
+        if (m->unread && (m->unread[i] & UNREAD_LENS)) {
+            memset(o, 0, per * sizeof(float));
+            continue;
+        }
+        if (m->asum) {
+            float alb_tmp[8 * MAAF_COMPS_MAX], raw[3][3], ud[3], ui[3];
+            const float *rest = src, *alb = albedo_sums(m, i, alb_tmp);
             memcpy(o, rest, per * sizeof(float));
             gbuffer_unfiltered_means(g, i, ud, ui);
             for (int k = 0; k < 3; ++k) { /* composite.c's raw means of the filterable lights */
@@ -1019,24 +1072,11 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
                 maaf_defocus_add_light(m->direct4 ? m->direct4 + 4 * i : NULL, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0],
                           rest, alb, per, o);
             if (m->split_indirect) maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
+            src = o;
         }
-        sums = m->ydemod;
-    }
-    /* Each pixel's sums become means over its own samples: eq. 20's integrals over the lens
-     * are Monte Carlo estimates per pixel (seeds/003 Sec. 6.1), so every pixel enters eq. 3's
-     * image filter with the same weight whatever its count. With raw sums a pixel weighed by
-     * its count, and the plan chose the counts from pass 1's samples, which the sums include:
-     * pixels whose first 9 samples hit a small bright emitter got 3-8x the samples of their
-     * neighbours that missed it, so the filter over-weighted the lucky ones, more so the
-     * larger the budget (bokeh_bright: disks 15% too bright with halos, relMSE 39 at 16 spp
-     * and 87 at 32; docs/algorithms.md 9.8). */
-    for (size_t i = 0; i < n; ++i) {
-        float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
-        const float *src = sums + i * per;
-        float *o = m->ydemod + i * per;
         for (size_t c = 0; c < per; ++c) o[c] = src[c] * inv;
     }
-    sums = m->ydemod;
+    const float *sums = m->ydemod;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
