@@ -149,7 +149,7 @@ void maaf_lens_flips(MaafLens *l)
 
 /* Table cell of (u, v) and its bilinear weights, for u, v <= 0 (the stored quadrant; the callers
  * fold the others onto it). */
-static size_t lens_cell(float u, float v, float *a, float *b)
+static inline size_t lens_cell(float u, float v, float *a, float *b)
 {
     enum { T = MAAF_LENS_TABLE };
     float fu = (u + 1.0f) * 0.5f * (T - 1), fv = (v + 1.0f) * 0.5f * (T - 1);
@@ -175,7 +175,7 @@ typedef struct {
     float a, b;
 } LensFold;
 
-static LensFold lens_fold(float u, float v)
+static inline LensFold lens_fold(float u, float v)
 {
     LensFold f = {u > 0.0f, false, 0, 0.0f, 0.0f};
     if (f.conj) u = -u, v = -v;

@@ -132,7 +132,6 @@ struct ReconMethod {
     float *ysum;                /* comps * 8 per pixel (eq. 20) */
     float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
     float *axis2;               /* and t2 */
-    float *ydemod;              /* ysum with the albedo and r(x) divided out, per filter run */
     float *guide4;              /* frame4 with w = usable, per filter run */
     float *param, *out4, *shade;
     float *std_px, *components; /* AOVs */
@@ -222,7 +221,6 @@ static void maaf_destroy(ReconMethod *m)
     free(m->ysum);
     free(m->frame4);
     free(m->axis2);
-    free(m->ydemod);
     free(m->guide4);
     free(m->param);
     free(m->out4);
@@ -330,8 +328,8 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->comps = maaf_component_count(m->pairs);
     size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
-    /* the shadow sums only when shadows are filtered here; ydemod also holds the defocus sums
-     * with the shading lights put back (maaf_filter_radiance) */
+    /* the shadow sums only when shadows are filtered here (each image pass's input is written
+     * into the pass's own planes: maaf_filter_planes) */
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
     EffectMask scene = renderer_effects(s->renderer);
     m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
@@ -343,7 +341,6 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
      * before they start (zalloc.h; as callocs, 14% of a combined.pbrt frame at 16 spp went to
      * copy-on-write faults under maaf_lens_accumulate and accumulate) */
     m->ysum = shadows ? zalloc(n * per, sizeof(float)) : NULL;
-    m->ydemod = shadows || m->defocus || m->indirect ? malloc(n * per * sizeof(float)) : NULL;
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
@@ -356,7 +353,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || ((shadows || m->defocus || m->indirect) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     if (m->defocus) {
@@ -919,13 +916,16 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
 
 /* Runs the image pass on in and writes its filtered pixels' rgb into value4 (4 floats per
  * pixel); non-finite results keep the pixel's own value and are counted in *nonfinite. */
+static bool have_filter(const ReconMethod *m, Diag *d)
+{
+    if (!m->filter) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
+    return m->filter != NULL;
+}
+
 static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4, double *kernel_seconds,
                        long long *nonfinite, Diag *d)
 {
-    if (!m->filter) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
-        return false;
-    }
+    if (!have_filter(m, d)) return false;
     const char *dump = getenv(MAAF_DUMP_ENV); /* the input of tests/recon/bench_maaf_filter.c */
     if (dump && *dump) {
         static int dumps = 0;
@@ -969,22 +969,23 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     size_t per = (size_t)m->comps * 8;
     /* without directions the indirect pass runs the bands |p| <= 1 only (indirect_pass_pairs) */
     int pass_pairs = ind ? indirect_pass_pairs(m) : m->pairs, pass_comps = maaf_component_count(pass_pairs);
-    size_t pass_per = (size_t)pass_comps * 8;
     const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
     const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
     float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
+    MaafPlanes planes;
+    if (!have_filter(m, d) || !maaf_filter_planes(m->filter, w, h, pass_pairs, &planes, d)) return false;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
             float spp = g->frame.spp[i];
             bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
-            float *yd = m->ydemod + i * pass_per, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            float yd[8 * MAAF_COMPS_MAX], *pr = m->param + i * MAAF_PARAM_STRIDE;
             memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
             m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
             std_px[i] = 0.0f;
             components[i] = 0.0f;
             if (!usable) {
-                memset(yd, 0, pass_per * sizeof(float));
+                maaf_planes_put(&planes, x, y, NULL);
                 memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
                 continue;
             }
@@ -1004,13 +1005,14 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
                 const float *ys = sums + i * per;
                 for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
             }
+            maaf_planes_put(&planes, x, y, yd);
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
             if (components[i] > (float)(2 * pass_comps - 1)) components[i] = (float)(2 * pass_comps - 1);
             memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
-    MaafFilterInput in = {w, h, pass_pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
-                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT};
+    MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
+                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, &planes};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
@@ -1049,12 +1051,15 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
      * over-weighted the lucky ones, more so the larger the budget (bokeh_bright: disks 15% too
      * bright with halos, relMSE 39 at 16 spp and 87 at 32; docs/algorithms.md 9.8). Pixels
      * without a lens filter are read by no pass (mark_unread_sums): zeros. */
+    MaafPlanes planes;
+    if (!have_filter(m, d) || !maaf_filter_planes(m->filter, w, h, m->pairs, &planes, d)) return false;
     for (size_t i = 0; i < n; ++i) {
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
         float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
         const float *src = m->dsum + i * per;
-        float *o = m->ydemod + i * per;
-        if (m->unread && (m->unread[i] & UNREAD_LENS)) {
-            memset(o, 0, per * sizeof(float));
+        float o[8 * MAAF_COMPS_MAX];
+        if (!(spp > 0.0f) || (m->unread && (m->unread[i] & UNREAD_LENS))) { /* not usable (screen guides), or unread */
+            maaf_planes_put(&planes, x, y, NULL);
             continue;
         }
         if (m->asum) {
@@ -1075,8 +1080,8 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
             src = o;
         }
         for (size_t c = 0; c < per; ++c) o[c] = src[c] * inv;
+        maaf_planes_put(&planes, x, y, o);
     }
-    const float *sums = m->ydemod;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
@@ -1086,8 +1091,8 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
             maaf_screen_guides(x, y, side, g->frame.spp[i] > 0.0f, m->dpos4 + 4 * i, m->dnrm4 + 4 * i, m->guide4 + 4 * i,
                                m->daxis2 + 4 * i);
         }
-    MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
-                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR};
+    MaafFilterInput in = {w, h, m->pairs, NULL, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
+                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, &planes};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)
