@@ -399,13 +399,22 @@ bool maaf_filter_planes(MaafFilter *f, int width, int height, int pairs, MaafPla
 void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
 {
     float *o = pl->base + (size_t)y * pl->row + PAD + (size_t)x;
-    bool bad = false;
-    for (int k = 0; k < pl->per; ++k) {
-        float val = v ? v[k] : 0.0f;
-        bad = bad || !isfinite(val);
-        o[(size_t)k * pl->plane] = val;
+    size_t plane = pl->plane;
+    int per = pl->per;
+    if (!v) {
+        for (int k = 0; k <= per; ++k) o[(size_t)k * plane] = 0.0f;
+        return;
     }
-    o[(size_t)pl->per * pl->plane] = bad ? 1.0f : 0.0f;
+    /* a non-finite float has every exponent bit set: one test over all of them (vectorised),
+     * not a branch per float */
+    uint32_t bad = 0;
+    for (int k = 0; k < per; ++k) {
+        uint32_t bits;
+        memcpy(&bits, &v[k], sizeof bits);
+        bad |= (bits & 0x7f800000u) == 0x7f800000u;
+    }
+    for (int k = 0; k < per; ++k) o[(size_t)k * plane] = v[k];
+    o[(size_t)per * plane] = bad ? 1.0f : 0.0f;
 }
 
 void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v)

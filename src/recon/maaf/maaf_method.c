@@ -133,7 +133,7 @@ struct ReconMethod {
     float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
     float *axis2;               /* and t2 */
     float *guide4;              /* frame4 with w = usable, per filter run */
-    float *param, *out4, *shade;
+    float *out4, *shade;
     float *std_px, *components; /* AOVs */
     FilterCache shadow_cache, defocus_cache, indirect_cache;
     /* pixel_wedge's windows, from pass 1's statistics once (wedge_windows): per window radius
@@ -182,7 +182,9 @@ static int maaf_pass1_spp(EffectMask effects)
 
 static bool cache_init(FilterCache *c, size_t n)
 {
-    c->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
+    /* zeros where no filter was asked: the light passes read every pixel's entry (an unusable
+     * pixel's is read but not used), and calloc's pages that are only read cost no fault */
+    c->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
     c->std_px = malloc(n * sizeof(float));
     c->aux = malloc(n * sizeof(float));
     c->known = calloc(n, 1);
@@ -222,7 +224,6 @@ static void maaf_destroy(ReconMethod *m)
     free(m->frame4);
     free(m->axis2);
     free(m->guide4);
-    free(m->param);
     free(m->out4);
     free(m->shade);
     free(m->std_px);
@@ -344,7 +345,6 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
-    m->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
     m->out4 = malloc(4 * n * sizeof(float));
     m->shade = malloc(n * sizeof(float));
     m->std_px = calloc(n, sizeof(float));
@@ -353,7 +353,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || !m->frame4 || !m->axis2 || !m->guide4 || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     if (m->defocus) {
@@ -979,14 +979,13 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             size_t i = (size_t)y * w + x;
             float spp = g->frame.spp[i];
             bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
-            float yd[8 * MAAF_COMPS_MAX], *pr = m->param + i * MAAF_PARAM_STRIDE;
+            float yd[8 * MAAF_COMPS_MAX];
             memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
             m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
             std_px[i] = 0.0f;
             components[i] = 0.0f;
-            if (!usable) {
+            if (!usable) { /* its parameters (the filter cache's) are not read: usable 0 */
                 maaf_planes_put(&planes, x, y, NULL);
-                memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
                 continue;
             }
             /* composite.c's demodulation (value4 was made usable only where it is stable):
@@ -1008,10 +1007,11 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
             maaf_planes_put(&planes, x, y, yd);
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
+            (void)cached;
             if (components[i] > (float)(2 * pass_comps - 1)) components[i] = (float)(2 * pass_comps - 1);
-            memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
-    MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
+    const float *param = (ind ? &m->indirect_cache : &m->shadow_cache)->param;
+    MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, &planes};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
