@@ -140,7 +140,7 @@ int main(void)
             Input in;
             input_build(&in, sz[0], sz[1], pairs, screen);
             MaafFilterInput fi = {in.w, in.h, pairs, in.ysum, in.pos4, in.nrm4, in.frame4, in.axis2, in.param,
-                                  0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT};
+                                  0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT, NULL};
             size_t n = (size_t)in.w * in.h;
             float *ref = malloc(4 * n * sizeof(float)), *dev = malloc(4 * n * sizeof(float));
             maaf_filter_reference(&fi, ref);

@@ -61,7 +61,7 @@
 #define G_HV0 10
 #define MAAF_GUIDES 11
 
-__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int ystride,
+__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int ystride, int copy_sums,
                           __global const float *in, __global const float4 *pos4, __global const float4 *nrm4,
                           __global const float4 *frame4, __global const float *param, __global float *guide,
                           __global float *yp)
@@ -86,7 +86,7 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
     g[G_USE * gplane] = use ? 1.0f : 0.0f;
     g[G_RAD * gplane] = inside ? pr[0] : 0.0f;
     g[G_HV0 * gplane] = inside ? pr[3] : 0.0f;
-    { /* the sums */
+    if (copy_sums) { /* the sums (else the host wrote the planes: maaf_filter_planes) */
         __global float *o = yp + y * (per + 1) * ystride + gx;
         __global const float *src = in + (size_t)i * per;
         bool bad = false;

@@ -43,7 +43,8 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     l->comps = maaf_component_count(n);
     l->omega_u_max = 2.0f * kappa / MAAF_LENS_SIGMA;
     enum { T = MAAF_LENS_TABLE, K = ANGLE_STEPS + 1, E = ANTIDERIV_STEPS + 1 };
-    l->table = calloc((size_t)l->comps * MAAF_LENS_ROWS * T * 2, sizeof(float));
+    l->table = calloc((size_t)l->comps * MAAF_LENS_ROWS * MAAF_LENS_ROWS * 2, sizeof(float));
+    maaf_lens_flips(l);
     Cplx *rows = malloc((size_t)n * T * K * sizeof(Cplx));         /* [p][iu][k] */
     Cplx *chords = malloc((size_t)bands * T * K * sizeof(Cplx));   /* [q + n - 1][iv][k] */
     Cplx *anti = malloc((size_t)E * sizeof(Cplx));
@@ -86,7 +87,7 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     }
     /* table(iu, iv) = sum_k rows(iu, k) chords(iv, k): per iu, the sums of all iv at once with
      * the chords transposed to [k][iv] (each cell still adds its terms in k order, as one sum
-     * per cell did; the loop over iv vectorises), half of the rows by symmetry (below) */
+     * per cell did; the loop over iv vectorises), over the stored quadrant only (below) */
     double *ct_re = malloc((size_t)K * T * sizeof(double)), *ct_im = malloc((size_t)K * T * sizeof(double));
     double *acc_re = malloc((size_t)T * sizeof(double)), *acc_im = malloc((size_t)T * sizeof(double));
     ok = ok && ct_re && ct_im && acc_re && acc_im;
@@ -100,20 +101,18 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                     ct_re[(size_t)k * T + iv] = ch.re;
                     ct_im[(size_t)k * T + iv] = ch.im;
                 }
-            for (int iu = 0; iu <= (T - 1) / 2; ++iu) {
+            for (int iu = 0; iu < MAAF_LENS_ROWS; ++iu) {
                 const Cplx *r = rows + ((size_t)p * T + iu) * K;
-                for (int iv = 0; iv < T; ++iv) acc_re[iv] = acc_im[iv] = 0.0;
+                for (int iv = 0; iv < MAAF_LENS_ROWS; ++iv) acc_re[iv] = acc_im[iv] = 0.0;
                 for (int k = 0; k < K; ++k) {
                     double rr = r[k].re, ri = r[k].im;
                     const double *cr = ct_re + (size_t)k * T, *ci = ct_im + (size_t)k * T;
-                    for (int iv = 0; iv < T; ++iv) {
+                    for (int iv = 0; iv < MAAF_LENS_ROWS; ++iv) {
                         acc_re[iv] += rr * cr[iv] - ri * ci[iv];
                         acc_im[iv] += rr * ci[iv] + ri * cr[iv];
                     }
                 }
-                /* c_pq(-u, -v) = conj(c_pq(u, v)): the disk is point-symmetric and each band's
-                 * primal component at -t is the conjugate of that at t */
-                for (int iv = 0; iv < T; ++iv) maaf_lens_store(l, c, iu, iv, (float)acc_re[iv], (float)acc_im[iv]);
+                for (int iv = 0; iv < MAAF_LENS_ROWS; ++iv) maaf_lens_store(l, c, iu, iv, (float)acc_re[iv], (float)acc_im[iv]);
             }
             ++c;
         }
@@ -130,19 +129,27 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
 
 void maaf_lens_store(MaafLens *l, int c, int iu, int iv, float re, float im)
 {
-    enum { T = MAAF_LENS_TABLE };
-    float *o = l->table + (((size_t)iu * T + iv) * l->comps + c) * 2;
+    if (iu >= MAAF_LENS_ROWS || iv >= MAAF_LENS_ROWS) return;
+    float *o = l->table + (((size_t)iu * MAAF_LENS_ROWS + iv) * l->comps + c) * 2;
     o[0] = re, o[1] = im;
-    int mu = T - 1 - iu, mv = T - 1 - iv;
-    if (mu != iu && mu < MAAF_LENS_ROWS) {
-        float *mirror = l->table + (((size_t)mu * T + mv) * l->comps + c) * 2;
-        mirror[0] = re, mirror[1] = -im;
-    }
 }
 
-/* Table cell of (u, v) and its bilinear weights, for u <= 0 (the stored rows; the callers fold
- * u > 0 onto (-u, -v)). */
-static size_t lens_cell(float u, float v, float *a, float *b)
+void maaf_lens_flips(MaafLens *l)
+{
+    int n = l->pairs, c = 0;
+    for (int p = 0; p < n; ++p)
+        for (int q = -(n - 1); q < n; ++q) {
+            if (p == 0 && q < 0) continue;
+            /* (p, -q) in the half set's order: p = 0 holds q >= 0 (n of them), each p > 0 all
+             * 2n - 1 values of q from -(n - 1) */
+            l->vflip[c] = p == 0 ? (signed char)(-1 - c) : (signed char)(n + (p - 1) * (2 * n - 1) + (-q + n - 1));
+            ++c;
+        }
+}
+
+/* Table cell of (u, v) and its bilinear weights, for u, v <= 0 (the stored quadrant; the callers
+ * fold the others onto it). */
+static inline size_t lens_cell(float u, float v, float *a, float *b)
 {
     enum { T = MAAF_LENS_TABLE };
     float fu = (u + 1.0f) * 0.5f * (T - 1), fv = (v + 1.0f) * 0.5f * (T - 1);
@@ -154,34 +161,60 @@ static size_t lens_cell(float u, float v, float *a, float *b)
     if (iu > T - 2) iu = T - 2;
     if (iv > T - 2) iv = T - 2;
     *a = fu - (float)iu, *b = fv - (float)iv;
-    return (size_t)iu * T + (size_t)iv;
+    return (size_t)iu * MAAF_LENS_ROWS + (size_t)iv;
+}
+
+/* The quadrant's values of (u, v) for every component (2 comps floats) after the folds: u > 0
+ * reads (-u, -v) conjugated (the disk is point-symmetric and each band's primal component at -t
+ * is the conjugate of that at t), then v > 0 reads (u, -v) of component (p, -q) (the disk is
+ * symmetric in v and band -q's component at -t is band q's at t; at p = 0, (0, -q) is the
+ * conjugate of (0, q)). */
+typedef struct {
+    bool conj, flip;
+    size_t cell;
+    float a, b;
+} LensFold;
+
+static inline LensFold lens_fold(float u, float v)
+{
+    LensFold f = {u > 0.0f, false, 0, 0.0f, 0.0f};
+    if (f.conj) u = -u, v = -v;
+    f.flip = v > 0.0f;
+    if (f.flip) v = -v;
+    f.cell = lens_cell(u, v, &f.a, &f.b);
+    return f;
 }
 
 void maaf_lens_factor(const MaafLens *l, int c, float u, float v, float out[2])
 {
-    bool conj = u > 0.0f;
-    if (conj) u = -u, v = -v;
-    float a, b;
-    size_t cell = lens_cell(u, v, &a, &b), row = (size_t)MAAF_LENS_TABLE * l->comps * 2;
-    const float *t00 = l->table + cell * l->comps * 2 + 2 * c, *t01 = t00 + l->comps * 2, *t10 = t00 + row,
-                *t11 = t10 + l->comps * 2;
+    LensFold f = lens_fold(u, v);
+    int src = c, sign = 1;
+    if (f.flip) src = l->vflip[c] >= 0 ? l->vflip[c] : c, sign = l->vflip[c] >= 0 ? 1 : -1;
+    size_t step = (size_t)l->comps * 2, row = (size_t)MAAF_LENS_ROWS * step;
+    const float *t00 = l->table + f.cell * step + 2 * src, *t01 = t00 + step, *t10 = t00 + row, *t11 = t10 + step;
     for (int k = 0; k < 2; ++k)
-        out[k] = (1.0f - a) * ((1.0f - b) * t00[k] + b * t01[k]) + a * ((1.0f - b) * t10[k] + b * t11[k]);
-    if (conj) out[1] = -out[1];
+        out[k] = (1.0f - f.a) * ((1.0f - f.b) * t00[k] + f.b * t01[k]) + f.a * ((1.0f - f.b) * t10[k] + f.b * t11[k]);
+    if (sign < 0) out[1] = -out[1];
+    if (f.conj) out[1] = -out[1];
 }
 
 void maaf_lens_factors(const MaafLens *l, float u, float v, float *w)
 {
-    bool conj = u > 0.0f; /* the stored half: c(u, v) = conj c(-u, -v) */
-    if (conj) u = -u, v = -v;
-    float a, b;
-    size_t cell = lens_cell(u, v, &a, &b), step = (size_t)l->comps * 2, row = (size_t)MAAF_LENS_TABLE * step;
-    const float *t00 = l->table + cell * step, *t01 = t00 + step, *t10 = t00 + row, *t11 = t10 + step;
-    float w00 = (1.0f - a) * (1.0f - b), w01 = (1.0f - a) * b, w10 = a * (1.0f - b), w11 = a * b;
+    LensFold f = lens_fold(u, v);
+    size_t step = (size_t)l->comps * 2, row = (size_t)MAAF_LENS_ROWS * step;
+    const float *t00 = l->table + f.cell * step, *t01 = t00 + step, *t10 = t00 + row, *t11 = t10 + step;
+    float w00 = (1.0f - f.a) * (1.0f - f.b), w01 = (1.0f - f.a) * f.b, w10 = f.a * (1.0f - f.b), w11 = f.a * f.b;
+    float q[2 * MAAF_COMPS_MAX], *o = f.flip ? q : w;
     /* one contiguous loop over every component's (re, im): it vectorises, and the per-component
-     * loop of the sums below then needs no shuffles */
-    for (size_t k = 0; k < step; ++k) w[k] = w00 * t00[k] + w01 * t01[k] + w10 * t10[k] + w11 * t11[k];
-    if (conj)
+     * loop of the sums then needs no shuffles */
+    for (size_t k = 0; k < step; ++k) o[k] = w00 * t00[k] + w01 * t01[k] + w10 * t10[k] + w11 * t11[k];
+    if (f.flip)
+        for (int c = 0; c < l->comps; ++c) {
+            int src = l->vflip[c];
+            w[2 * c] = src >= 0 ? q[2 * src] : q[2 * c];
+            w[2 * c + 1] = src >= 0 ? q[2 * src + 1] : -q[2 * c + 1];
+        }
+    if (f.conj)
         for (size_t k = 1; k < step; k += 2) w[k] = -w[k];
 }
 

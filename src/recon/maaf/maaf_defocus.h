@@ -26,10 +26,11 @@
 
 /* Table entries per lens axis (bilinear interpolation between them). */
 #define MAAF_LENS_TABLE 129
-/* Rows stored (u index 0 .. 65 of 129): c(-u, -v) = conj c(u, v) gives the rest, so a lookup at
- * u > 0 reads the conjugate at (-u, -v). The row past the middle keeps the interpolation of
- * u = 0 inside the stored rows. Half the table (0.9 MB instead of 1.7 at N = 3) stays in a 2 MB
- * L2 cache next to the sums (docs/benchmarks.md, "MAAF frames, cheaper again"). */
+/* Entries stored per axis (index 0 .. 65 of 129, the quadrant u, v <= 0): c_pq(-u, -v) =
+ * conj c_pq(u, v) and c_pq(u, -v) = c_{p,-q}(u, v) give the rest (maaf_lens_factors). The entry
+ * past the middle keeps the interpolation of u = 0 and v = 0 inside the quadrant. A quarter of
+ * the table (0.45 MB at N = 3 instead of 1.7; the half of "MAAF frames, cheaper again" in
+ * docs/benchmarks.md was 0.9 MB) leaves most of a 1 MB L2 cache to the sums. */
 #define MAAF_LENS_ROWS ((MAAF_LENS_TABLE + 1) / 2 + 1)
 
 /* The unit disk's per-axis standard deviation (docs/algorithms.md 3.2: sigma_u = 1/2); the lens
@@ -41,7 +42,9 @@
 typedef struct {
     int pairs, comps;
     float omega_u_max;  /* radians per unit lens coordinate */
-    float *table;       /* [iu < MAAF_LENS_ROWS][iv][c] (re, im): a sample reads one cell for every component */
+    float *table;       /* [iu < MAAF_LENS_ROWS][iv < MAAF_LENS_ROWS][c] (re, im): a sample reads one cell for
+                         * every component */
+    signed char vflip[MAAF_COMPS_MAX]; /* component (p, -q)'s index; -1 - c at p = 0: conj of c itself */
     float mean[MAAF_COMPS_MAX]; /* direction tables only: maaf_direction_mean per component */
 } MaafLens;
 
@@ -49,9 +52,10 @@ typedef struct {
  * of memory (l->table NULL). */
 bool maaf_lens_design(float kappa, int pairs, MaafLens *l);
 void maaf_lens_free(MaafLens *l);
-/* The table's builders store cell (iu, iv) of component c, iu <= (MAAF_LENS_TABLE - 1) / 2, with
- * this: it writes the mirror cell (T-1-iu, T-1-iv) too where that row is stored. */
+/* The table's builders store cell (iu, iv) of component c with this (cells outside the stored
+ * quadrant are dropped), and fill vflip with maaf_lens_flips. */
 void maaf_lens_store(MaafLens *l, int c, int iu, int iv, float re, float im);
+void maaf_lens_flips(MaafLens *l);
 
 /* Band centre of band q (q may be negative) and the bands' Fourier std, radians per unit u. */
 float maaf_lens_band_centre(const MaafLens *l, int q);

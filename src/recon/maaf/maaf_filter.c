@@ -98,25 +98,40 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
     }
 }
 
+/* in's sums as one interleaved array: in->ysum, or gathered from its planes into *owned. */
+static const float *input_sums(const MaafFilterInput *in, float **owned)
+{
+    *owned = NULL;
+    if (in->ysum || !in->planes) return in->ysum;
+    size_t per = (size_t)in->planes->per;
+    if (!(*owned = malloc((size_t)in->width * in->height * per * sizeof(float)))) return NULL;
+    for (int y = 0; y < in->height; ++y)
+        for (int x = 0; x < in->width; ++x) maaf_planes_get(in->planes, x, y, *owned + ((size_t)y * in->width + x) * per);
+    return *owned;
+}
+
 void maaf_filter_reference(const MaafFilterInput *in, float *out4)
 {
     int w = in->width, h = in->height, pairs = in->pairs, comps = maaf_component_count(pairs);
     size_t n = (size_t)w * h, per = (size_t)comps * 8;
     float *tmp = malloc(n * per * sizeof(float));
     float *acc = malloc(per * sizeof(float));
-    if (!tmp || !acc) {
+    float *owned;
+    const float *ysum = input_sums(in, &owned);
+    if (!tmp || !acc || !ysum) {
         memset(out4, 0, 4 * n * sizeof(float)); /* nothing filtered */
         free(tmp);
         free(acc);
+        free(owned);
         return;
     }
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
             if (in->frame4[4 * i + 3] == 0.0f || (int)in->param[i * MAAF_PARAM_STRIDE] <= 0)
-                memcpy(tmp + i * per, in->ysum + i * per, per * sizeof(float));
+                memcpy(tmp + i * per, ysum + i * per, per * sizeof(float));
             else
-                pass_pixel(in, in->ysum, 0, x, y, tmp + i * per);
+                pass_pixel(in, ysum, 0, x, y, tmp + i * per);
         }
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -148,20 +163,27 @@ void maaf_filter_reference(const MaafFilterInput *in, float *out4)
         }
     free(tmp);
     free(acc);
+    free(owned);
 }
 
 bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
 {
-    FILE *fp = fopen(path, "wb");
-    if (!fp) return false;
+    float *owned;
+    const float *ysum = input_sums(in, &owned);
+    FILE *fp = ysum ? fopen(path, "wb") : NULL;
+    if (!fp) {
+        free(owned);
+        return false;
+    }
     size_t n = (size_t)in->width * (size_t)in->height, per = (size_t)maaf_component_count(in->pairs) * 8;
     int dims[3] = {in->width, in->height, in->pairs};
     float rules[2] = {in->cos_normal_min, in->depth_tol_rel};
-    const float *part[6] = {in->ysum, in->pos4, in->nrm4, in->frame4, in->axis2_4, in->param};
+    const float *part[6] = {ysum, in->pos4, in->nrm4, in->frame4, in->axis2_4, in->param};
     size_t count[6] = {n * per, 4 * n, 4 * n, 4 * n, 4 * n, n * MAAF_PARAM_STRIDE};
     bool ok = fwrite(MAAF_DUMP_MAGIC, 1, 8, fp) == 8 && fwrite(dims, sizeof(int), 3, fp) == 3 &&
               fwrite(rules, sizeof(float), 2, fp) == 2;
     for (int k = 0; k < 6 && ok; ++k) ok = fwrite(part[k], sizeof(float), count[k], fp) == count[k];
+    free(owned);
     return fclose(fp) == 0 && ok;
 }
 
@@ -171,7 +193,7 @@ bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
  * (MAAF_GUIDES and MAAF_PAD there). */
 #define LANES 8
 #define GUIDES 11
-#define PAD 8
+#define PAD MAAF_PLANES_PAD
 
 enum { BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_NEED, BUF_COUNT };
 enum { K_UNPACK, K_ROWS, K_COLS, K_COUNT };
@@ -185,6 +207,7 @@ struct MaafFilter {
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
     double seconds[K_COUNT]; /* the last run's */
+    float *yp_mapped;        /* maaf_filter_planes's mapping of BUF_YP, until the run unmaps it */
 };
 
 MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
@@ -203,9 +226,20 @@ MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
     return f;
 }
 
+static void unmap_planes(MaafFilter *f)
+{
+    if (!f->yp_mapped) return;
+    clEnqueueUnmapMemObject(f->rt->queue, f->buf[BUF_YP], f->yp_mapped, 0, NULL, NULL);
+    f->yp_mapped = NULL;
+}
+
 void maaf_filter_destroy(MaafFilter *f)
 {
     if (!f) return;
+    if (f->yp_mapped) {
+        unmap_planes(f);
+        clFinish(f->rt->queue);
+    }
     for (int b = 0; b < BUF_COUNT; ++b)
         if (f->buf[b]) clReleaseMemObject(f->buf[b]);
     for (int k = 0; k < K_COUNT; ++k)
@@ -318,27 +352,101 @@ static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
     return true;
 }
 
+/* maaf.cl's planes: the width rounded up to whole work items, the guides' and the sums' rows
+ * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums */
+typedef struct {
+    size_t w8, gpitch, rows, gplane, ystride, yfloats, tfloats;
+    int per;
+} Layout;
+
+static bool layout(int width, int height, int pairs, Layout *o, Diag *d)
+{
+    o->per = 8 * maaf_component_count(pairs);
+    o->w8 = ((size_t)width + LANES - 1) / LANES * LANES, o->gpitch = o->w8 + 2 * PAD, o->rows = (size_t)height;
+    o->gplane = plane_stride(o->gpitch * o->rows), o->ystride = line_stride(o->gpitch);
+    o->yfloats = o->ystride * (size_t)(o->per + 1) * o->rows, o->tfloats = o->rows * o->w8 * (size_t)(o->per + 1);
+    if (o->yfloats > (size_t)INT32_MAX || o->tfloats > (size_t)INT32_MAX || o->gplane * GUIDES > (size_t)INT32_MAX) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", width, height);
+        return false;
+    }
+    return true;
+}
+
+bool maaf_filter_planes(MaafFilter *f, int width, int height, int pairs, MaafPlanes *pl, Diag *d)
+{
+    Layout L;
+    if (!layout(width, height, pairs, &L, d)) return false;
+    unmap_planes(f); /* a mapping no run took */
+    if (!buffer(f, BUF_YP, L.yfloats * sizeof(float), d)) return false;
+    cl_int err = CL_SUCCESS;
+    /* the whole buffer is written below and by maaf_planes_put: its old contents need not be
+     * read back (a copy on devices with their own memory, nothing on a CPU) */
+    f->yp_mapped = clEnqueueMapBuffer(f->rt->queue, f->buf[BUF_YP], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0,
+                                      L.yfloats * sizeof(float), 0, NULL, NULL, &err);
+    if (err != CL_SUCCESS) f->yp_mapped = NULL;
+    if (!cl_ok(err, "map of the sums' planes", d)) return false;
+    *pl = (MaafPlanes){f->yp_mapped, L.ystride * (size_t)(L.per + 1), L.ystride, width, height, L.per};
+    /* what maaf_unpack writes outside the image: zeros in every plane's padding (the flag 0) */
+    for (size_t y = 0; y < L.rows; ++y)
+        for (int k = 0; k <= L.per; ++k) {
+            float *r = pl->base + y * pl->row + (size_t)k * pl->plane;
+            memset(r, 0, PAD * sizeof(float));
+            memset(r + PAD + width, 0, (L.gpitch - PAD - (size_t)width) * sizeof(float));
+        }
+    return true;
+}
+
+void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
+{
+    float *o = pl->base + (size_t)y * pl->row + PAD + (size_t)x;
+    size_t plane = pl->plane;
+    int per = pl->per;
+    if (!v) {
+        for (int k = 0; k <= per; ++k) o[(size_t)k * plane] = 0.0f;
+        return;
+    }
+    /* a non-finite float has every exponent bit set: one test over all of them (vectorised),
+     * not a branch per float */
+    uint32_t bad = 0;
+    for (int k = 0; k < per; ++k) {
+        uint32_t bits;
+        memcpy(&bits, &v[k], sizeof bits);
+        bad |= (bits & 0x7f800000u) == 0x7f800000u;
+    }
+    for (int k = 0; k < per; ++k) o[(size_t)k * plane] = v[k];
+    o[(size_t)per * plane] = bad ? 1.0f : 0.0f;
+}
+
+void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v)
+{
+    const float *o = pl->base + (size_t)y * pl->row + PAD + (size_t)x;
+    for (int k = 0; k < pl->per; ++k) v[k] = o[(size_t)k * pl->plane];
+}
+
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d)
 {
     if (kernel_seconds) *kernel_seconds = 0.0;
     size_t n = (size_t)in->width * (size_t)in->height;
     int comps = maaf_component_count(in->pairs), per = 8 * comps;
     size_t ybytes = n * (size_t)per * sizeof(float);
-    /* maaf.cl's planes: the width rounded up to whole work items, the guides' and the sums' rows
-     * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums */
-    size_t w8 = ((size_t)in->width + LANES - 1) / LANES * LANES, gpitch = w8 + 2 * PAD, rows = (size_t)in->height;
-    size_t gplane = plane_stride(gpitch * rows), ystride = line_stride(gpitch);
-    size_t yfloats = ystride * (size_t)(per + 1) * rows, tfloats = rows * w8 * (size_t)(per + 1);
-    if (yfloats > (size_t)INT32_MAX || tfloats > (size_t)INT32_MAX || gplane * GUIDES > (size_t)INT32_MAX) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", in->width,
-                 in->height);
+    Layout L;
+    if (!layout(in->width, in->height, in->pairs, &L, d)) return false;
+    size_t w8 = L.w8, gpitch = L.gpitch, rows = L.rows, gplane = L.gplane, ystride = L.ystride, yfloats = L.yfloats,
+           tfloats = L.tfloats;
+    bool packed = in->planes != NULL;
+    if (packed && (!f->yp_mapped || in->planes->base != f->yp_mapped || in->planes->per != per ||
+                   in->planes->width != in->width || in->planes->height != in->height)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: planes not from maaf_filter_planes for this frame");
         return false;
     }
-    bool ok = host_buffer(f, BUF_IN, ybytes, in->ysum, d) && host_buffer(f, BUF_POS, n * 16, in->pos4, d) &&
+    if (!packed) unmap_planes(f);
+    bool ok = (packed ? host_buffer(f, BUF_IN, n * 16, in->pos4, d) : host_buffer(f, BUF_IN, ybytes, in->ysum, d)) &&
+              host_buffer(f, BUF_POS, n * 16, in->pos4, d) &&
               host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) && host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
               host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
-              buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, yfloats * sizeof(float), d) &&
+              buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), d) &&
+              (packed || buffer(f, BUF_YP, yfloats * sizeof(float), d)) &&
               buffer(f, BUF_TP, tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
               buffer(f, BUF_NEED, rows * (w8 / LANES) * sizeof(cl_int), d);
     cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)ystride;
@@ -352,10 +460,11 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
                      "upload", d);
     float rules[3] = {in->cos_normal_min, in->depth_tol_rel, maaf_sharp_factor(in)};
     cl_event ev[K_COUNT] = {NULL, NULL, NULL};
+    unmap_planes(f); /* the host's writes reach the device before the kernels run */
     if (ok) {
-        cl_int ints[6] = {w, h, comps, gp, gpl, yp};
+        cl_int ints[7] = {w, h, comps, gp, gpl, yp, packed ? 0 : 1};
         int bufs[7] = {BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE, BUF_YP};
-        ok = set_args(f, K_UNPACK, ints, 6, NULL, 0, bufs, 7, NULL, 0, d) &&
+        ok = set_args(f, K_UNPACK, ints, 7, NULL, 0, bufs, 7, NULL, 0, d) &&
              cl_launch_2d(f->rt, f->k[K_UNPACK], gpitch, rows, &ev[K_UNPACK], d);
     }
     if (ok) {

@@ -24,9 +24,22 @@ void maaf_factors_accumulate(int comps, const float *w, const float f4[4], float
 /* Largest radius in pixels (the kernel's cost grows with it). */
 #define MAAF_RADIUS_CAP_PX 32
 
+/* The sums in the image pass's own layout (maaf.cl's yp planes), written by the host in place of
+ * an interleaved ysum that maaf_unpack would copy there: maaf_filter_planes hands them out
+ * (mapped from the device buffer: on a CPU device the pass's own memory), maaf_planes_put fills
+ * one pixel, and maaf_filter_run with MaafFilterInput.planes set runs on them. This saves the
+ * per-pixel array of the sums (27 MB at 256x256 and N = 3, touched for the first time every
+ * frame) and the copy (docs/algorithms.md 9.10). */
+typedef struct {
+    float *base;           /* pixel (x, y)'s float k at base[y row + k plane + MAAF_PLANES_PAD + x] */
+    size_t row, plane;
+    int width, height, per; /* per: 8 floats per component, then the flag plane */
+} MaafPlanes;
+
 typedef struct {
     int width, height, pairs;
-    const float *ysum;     /* 8 floats per component per pixel: Y_c re (r, g, b, w), im (r, g, b, w) */
+    const float *ysum;     /* 8 floats per component per pixel: Y_c re (r, g, b, w), im (r, g, b, w);
+                            * NULL when planes holds them */
     const float *pos4;     /* world position, camera depth */
     const float *nrm4;     /* unit normal, object id */
     const float *frame4;   /* the light's first axis t1 (unit), usable flag (0: not filtered, not used) */
@@ -38,6 +51,7 @@ typedef struct {
      * (its std under 1/sqrt(this) of the centre's) holds detail the centre's filter would
      * smear and is left out; 0 means MAAF_SHARP_FACTOR_DEFAULT */
     float sharp_factor;
+    const MaafPlanes *planes; /* the sums already in the pass's planes (maaf_filter_planes), or NULL */
 } MaafFilterInput;
 
 /* The sharpness rule's factor for the light and bounce filters: a neighbour's std under half
@@ -66,6 +80,16 @@ void maaf_filter_destroy(MaafFilter *f);
 /* Same as maaf_filter_reference, on the device; kernel_seconds (may be NULL): both passes'
  * device time. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d);
+/* The planes for the next maaf_filter_run on a width x height frame with this many pairs (their
+ * padding already zero); every pixel must then be written once with maaf_planes_put before the
+ * run. Valid until that run. */
+#define MAAF_PLANES_PAD 8
+bool maaf_filter_planes(MaafFilter *f, int width, int height, int pairs, MaafPlanes *pl, Diag *d);
+/* Pixel (x, y)'s sums (per floats as one pixel of MaafFilterInput.ysum), NULL for a pixel that is
+ * not usable (zeros, as maaf_unpack writes them), and its flag (a non-finite sum). */
+void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v);
+/* The sums of pixel (x, y) back (per floats, the flag left out). */
+void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v);
 /* The last run's device seconds of each kernel: maaf_unpack, maaf_rows, maaf_cols (benchmarks). */
 #define MAAF_FILTER_KERNELS 3
 void maaf_filter_kernel_seconds(const MaafFilter *f, double seconds[MAAF_FILTER_KERNELS]);

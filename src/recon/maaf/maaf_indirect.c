@@ -26,6 +26,7 @@ void maaf_direction_means(float kappa, int pairs, MaafLens *t)
 bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
 {
     maaf_direction_means(kappa, pairs, t);
+    maaf_lens_flips(t);
     int n = t->pairs, bands = 2 * n - 1;
     enum { T = MAAF_LENS_TABLE };
     double s = maaf_lens_band_std(t), std = 1.0 / s, node = 2.0 * MAAF_INDIRECT_V_HALF / (T - 1);
@@ -38,7 +39,7 @@ bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
     double de = node / m;
     int r = (int)ceil(5.0 * std / de), M = (T - 1) * m + 1 + 2 * r; /* grid j: v = -V - r de + j de */
     double v0 = -MAAF_INDIRECT_V_HALF - r * de;
-    t->table = calloc((size_t)t->comps * MAAF_LENS_ROWS * T * 2, sizeof(float));
+    t->table = calloc((size_t)t->comps * MAAF_LENS_ROWS * MAAF_LENS_ROWS * 2, sizeof(float));
     double *kre = malloc((size_t)bands * (2 * r + 1) * sizeof(double)), *kim = malloc((size_t)bands * (2 * r + 1) * sizeof(double));
     double *tr = malloc((size_t)M * M * sizeof(double));
     double *are = malloc((size_t)n * M * T * sizeof(double)), *aim = malloc((size_t)n * M * T * sizeof(double)); /* q >= 0 */
@@ -70,8 +71,9 @@ bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
                 }
         }
     }
-    /* pass B, along v1, per component; c(-v) = conj c(v) (T is even, and each band's kernel
-     * at -t is the conjugate of that at t), so half the rows are mirrored */
+    /* pass B, along v1, per component, over the stored quadrant (maaf_lens_factors folds the
+     * rest onto it: T is even in v1 and in v2, and each band's kernel at -t is the conjugate of
+     * that at t) */
     double *acc_re = malloc(T * sizeof(double)), *acc_im = malloc(T * sizeof(double));
     ok = ok && acc_re && acc_im;
     int c = 0;
@@ -81,7 +83,7 @@ bool maaf_direction_design(float kappa, int pairs, MaafLens *t)
             const double *kr = kre + (size_t)(p + n - 1) * (2 * r + 1) + r, *ki = kim + (size_t)(p + n - 1) * (2 * r + 1) + r;
             const double *ar = are + (size_t)abs(q) * M * T, *ai = aim + (size_t)abs(q) * M * T;
             double conj = q < 0 ? -1.0 : 1.0;
-            for (int i1 = 0; i1 <= (T - 1) / 2; ++i1) {
+            for (int i1 = 0; i1 < MAAF_LENS_ROWS; ++i1) {
                 for (int i2 = 0; i2 < T; ++i2) acc_re[i2] = acc_im[i2] = 0.0;
                 for (int o = -r; o <= r; ++o) {
                     const double *xr = ar + ((size_t)i1 * m + r + o) * T, *xi = ai + ((size_t)i1 * m + r + o) * T;

@@ -75,6 +75,10 @@
  * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
 #define DEFOCUS_FULL_STD_PX 2.0f
 
+/* Set (to anything but "0"): every sample goes into every sum, none skipped as unread and the
+ * albedo sums accumulated everywhere, as before these savings; test_maaf_sums compares. */
+#define MAAF_ALL_SUMS_ENV "WEDGE_MAAF_ALL_SUMS"
+
 /* The knob for a --spp budget (docs/algorithms.md 9.11). The design is fixed before pass 1
  * (eq. 20's sums are taken with it) and cannot follow the budget search's mu, so a budget sets
  * it up front. With the default design a budget only lowered the variance and the design's
@@ -128,9 +132,8 @@ struct ReconMethod {
     float *ysum;                /* comps * 8 per pixel (eq. 20) */
     float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
     float *axis2;               /* and t2 */
-    float *ydemod;              /* ysum with the albedo and r(x) divided out, per filter run */
     float *guide4;              /* frame4 with w = usable, per filter run */
-    float *param, *out4, *shade;
+    float *out4, *shade;
     float *std_px, *components; /* AOVs */
     FilterCache shadow_cache, defocus_cache, indirect_cache;
     /* pixel_wedge's windows, from pass 1's statistics once (wedge_windows): per window radius
@@ -140,13 +143,25 @@ struct ReconMethod {
     unsigned char *wedge_found[2];
     MaafFilter *filter;
     long long nonfinite_samples;
+    /* per pixel, after the first plan: which of its sums no filter will read (UNREAD_*), so
+     * that later passes' samples skip them (mark_unread_sums) */
+    unsigned char *unread;
+    /* the plan's rule per pixel, without mu (plan_classes), kept across the budget search's
+     * plans and forgotten by every later pass */
+    unsigned char *plan_class;
+    float *plan_area2;          /* PLAN_DEFOCUS: the count's factor max(1, (2 px / std)^2) */
+    bool plan_known;
+    bool all_sums;              /* MAAF_ALL_SUMS_ENV: every sum accumulated (the tests' reference) */
     /* defocus (maaf_defocus.h) */
     bool defocus;
     bool split_direct, split_indirect; /* the scene has soft shadows / indirect light: that
                                         * filterable light is left out of dsum, asum is kept */
     MaafLens lens;
     float *dsum;                /* comps * 8 per pixel: radiance minus the split lights */
-    float *asum;                /* split: the same sums of the albedo */
+    float *asum;                /* split: the same sums of the albedo, only where it varies
+                                 * inside the pixel (ALBEDO_SUMS_*; unwritten elsewhere) */
+    float *albedo4;             /* split: the pixel's first sample's albedo (0 for a miss) and
+                                 * its state (w: ALBEDO_SUMS_*) */
     float *dpos4, *dnrm4, *daxis2; /* screen guides */
     float *dstd_px, *dcomponents;  /* AOVs */
     const float *direct4, *direct_factor, *indirect4; /* the shading filters' output (shading_light) */
@@ -167,7 +182,9 @@ static int maaf_pass1_spp(EffectMask effects)
 
 static bool cache_init(FilterCache *c, size_t n)
 {
-    c->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
+    /* zeros where no filter was asked: the light passes read every pixel's entry (an unusable
+     * pixel's is read but not used), and calloc's pages that are only read cost no fault */
+    c->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
     c->std_px = malloc(n * sizeof(float));
     c->aux = malloc(n * sizeof(float));
     c->known = calloc(n, 1);
@@ -200,12 +217,13 @@ static void maaf_destroy(ReconMethod *m)
     for (int k = 0; k < 2; ++k) free(m->wedge_lo[k]), free(m->wedge_hi[k]), free(m->wedge_found[k]);
     free(m->geoms);
     free(m->lights);
+    free(m->unread);
+    free(m->plan_class);
+    free(m->plan_area2);
     free(m->ysum);
     free(m->frame4);
     free(m->axis2);
-    free(m->ydemod);
     free(m->guide4);
-    free(m->param);
     free(m->out4);
     free(m->shade);
     free(m->std_px);
@@ -213,6 +231,7 @@ static void maaf_destroy(ReconMethod *m)
     maaf_lens_free(&m->lens);
     free(m->dsum);
     free(m->asum);
+    free(m->albedo4);
     free(m->dpos4);
     free(m->dnrm4);
     free(m->daxis2);
@@ -303,13 +322,15 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->g = s->gbuffer;
     m->effects = s->effects;
     m->kappa = kappa_for_budget(s, MAAF_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
+    const char *all = getenv(MAAF_ALL_SUMS_ENV);
+    m->all_sums = all && *all && strcmp(all, "0") != 0;
     m->pairs = s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT;
     if (m->pairs > MAAF_PAIRS_MAX) m->pairs = MAAF_PAIRS_MAX;
     m->comps = maaf_component_count(m->pairs);
     size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
-    /* the shadow sums only when shadows are filtered here; ydemod also holds the defocus sums
-     * with the shading lights put back (maaf_filter_radiance) */
+    /* the shadow sums only when shadows are filtered here (each image pass's input is written
+     * into the pass's own planes: maaf_filter_planes) */
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
     EffectMask scene = renderer_effects(s->renderer);
     m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
@@ -321,11 +342,9 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
      * before they start (zalloc.h; as callocs, 14% of a combined.pbrt frame at 16 spp went to
      * copy-on-write faults under maaf_lens_accumulate and accumulate) */
     m->ysum = shadows ? zalloc(n * per, sizeof(float)) : NULL;
-    m->ydemod = shadows || m->defocus || m->indirect ? malloc(n * per * sizeof(float)) : NULL;
     m->frame4 = calloc(4 * n, sizeof(float));
     m->axis2 = calloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
-    m->param = malloc(n * MAAF_PARAM_STRIDE * sizeof(float));
     m->out4 = malloc(4 * n * sizeof(float));
     m->shade = malloc(n * sizeof(float));
     m->std_px = calloc(n, sizeof(float));
@@ -334,18 +353,21 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t lights = m->light_count > 0 ? (size_t)m->light_count : 1;
     m->geoms = calloc(lights, sizeof *m->geoms);
     m->lights = calloc(lights, sizeof *m->lights);
-    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || ((shadows || m->defocus || m->indirect) && !m->ydemod) || !m->frame4 || !m->axis2 || !m->guide4 || !m->param || !m->out4 || !m->shade ||
+    if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || !m->frame4 || !m->axis2 || !m->guide4 || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
     if (m->defocus) {
         m->dsum = zalloc(n * per, sizeof(float));
-        m->asum = split ? zalloc(n * per, sizeof(float)) : NULL;
+        /* asum's rows are written whole when a pixel's albedo first varies (albedo_add): not
+         * zeroed, and the pages of pixels of one albedo are never touched */
+        m->asum = split ? malloc(n * per * sizeof(float)) : NULL;
+        m->albedo4 = split ? zalloc(4 * n, sizeof(float)) : NULL;
         m->dpos4 = malloc(4 * n * sizeof(float));
         m->dnrm4 = malloc(4 * n * sizeof(float));
         m->daxis2 = malloc(4 * n * sizeof(float));
         m->dstd_px = calloc(n, sizeof(float));
         m->dcomponents = calloc(n, sizeof(float));
-        if (!m->dsum || (split && !m->asum) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+        if (!m->dsum || (split && (!m->asum || !m->albedo4)) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
             !m->dcomponents)
             goto oom;
         float lens_kappa = kappa_for_budget(s, MAAF_DEFOCUS_KAPPA_DEFAULT, split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
@@ -377,6 +399,42 @@ oom:
     return false;
 }
 
+static float defocus_filter(ReconMethod *m, int x, int y, float *side);
+
+/* Sums that no filter reads (bits of ReconMethod.unread) */
+#define UNREAD_LENS 1u   /* dsum, asum: the pixel has no lens filter */
+#define UNREAD_LIGHT 2u  /* ysum: the pixel's direct light is passed through unfiltered */
+
+/* After the first plan (pass 1's statistics, on the rank that planned): the pixels whose sums
+ * the image passes will never read, so that the later passes' samples (the plan's extra ones,
+ * most of them at silhouettes and near the focal plane) skip their 13 complex components.
+ * The pass reads a pixel's sums only where it is the centre of a filter or a neighbour in
+ * one, and both need a radius > 0 and the pixel's usable flag (maaf.cl: centre_load, tap_lanes;
+ * the C reference alike). A lens filter depends on pass 1's circle-of-confusion ranges alone
+ * (derived once, cached): radius 0 there stays 0. The light filter's usable flag is composite.c's
+ * (value4): never set on a pixel whose samples saw another object, missed all geometry,
+ * hit an unfilterable or a glossy surface, and each of those, once seen, stays true with more
+ * samples (gbuffer.c's mixed and glossy rules; its normal and depth spreads can change back,
+ * and are left out here). So the images are the same as with every sum accumulated. */
+static void mark_unread_sums(ReconMethod *m)
+{
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    if (m->all_sums || !m->derived_ok || (!m->unread && !(m->unread = malloc(n)))) return;
+    for (int y = 0; y < g->height; ++y)
+        for (int x = 0; x < g->width; ++x) {
+            size_t i = (size_t)y * g->width + x;
+            const GBufferSums *s = &g->sums[i];
+            unsigned char u = 0;
+            float side;
+            if (m->defocus && (defocus_filter(m, x, y, &side), m->defocus_cache.param[i * MAAF_PARAM_STRIDE] <= 0.0f))
+                u |= UNREAD_LENS;
+            if (m->ysum && (s->id_mixed || s->unfilterable > 0 || s->glossy > 0 || (float)s->hits < g->frame.spp[i]))
+                u |= UNREAD_LIGHT;
+            m->unread[i] = u;
+        }
+}
+
 static void maaf_begin_pass(ReconMethod *m, int pass)
 {
     /* the wedge comes from pass 1, the pass that records ray geometry */
@@ -384,6 +442,49 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
     /* later passes refine the guides the shadows' filters read */
     if (pass > 0 && m->shadow_cache.known) memset(m->shadow_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
     if (pass > 0 && m->indirect_cache.known) memset(m->indirect_cache.known, 0, (size_t)m->g->width * (size_t)m->g->height);
+    if (pass > 0 && !m->unread) mark_unread_sums(m);
+    if (pass > 0) m->plan_known = false;
+}
+
+/* The albedo sums of the split (docs/algorithms.md 9.8): sum_k c_k a_k per component. Where
+ * every sample of a pixel has the same albedo A (one surface, untextured there: most pixels)
+ * that is A times the weight channel of dsum, sum_k c_k, so nothing is accumulated: the pixel
+ * keeps A (albedo4) and the filter makes the sums from dsum (albedo_sums). Only when a sample
+ * brings another albedo are the sums written, A times the earlier samples' weight sums, and
+ * accumulated from then on. Equal to accumulating every sample to float rounding (A sum c_k
+ * against sum A c_k); it saves half the per-sample sums of a combined frame and the pages of
+ * 27 MB. */
+#define ALBEDO_SUMS_NONE 0.0f   /* no sample yet */
+#define ALBEDO_SUMS_ONE 1.0f    /* every sample so far had albedo4's albedo */
+#define ALBEDO_SUMS_KEPT 2.0f   /* asum holds the pixel's sums */
+
+static void albedo_add(ReconMethod *m, size_t i, const float *w, const float a[4])
+{
+    size_t per = (size_t)m->comps * 8;
+    float *st = m->albedo4 + 4 * i, *as = m->asum + i * per;
+    if (st[3] == ALBEDO_SUMS_NONE) {
+        memcpy(st, a, 3 * sizeof(float));
+        st[3] = ALBEDO_SUMS_ONE;
+        if (!m->all_sums) return;
+    }
+    if (st[3] == ALBEDO_SUMS_ONE) {
+        if (!m->all_sums && a[0] == st[0] && a[1] == st[1] && a[2] == st[2]) return;
+        const float *ds = m->dsum + i * per;
+        for (size_t c = 0; c < per; ++c) as[c] = (c & 3) == 3 ? 0.0f : st[c & 3] * ds[c | 3];
+        st[3] = ALBEDO_SUMS_KEPT;
+    }
+    maaf_factors_accumulate(m->comps, w, a, as);
+}
+
+/* Pixel i's albedo sums: asum's where kept, else albedo4's albedo times dsum's weight sums,
+ * written to tmp (per floats). */
+static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
+{
+    size_t per = (size_t)m->comps * 8;
+    const float *st = m->albedo4 + 4 * i, *ds = m->dsum + i * per;
+    if (st[3] == ALBEDO_SUMS_KEPT) return m->asum + i * per;
+    for (size_t c = 0; c < per; ++c) tmp[c] = (c & 3) == 3 || st[3] == ALBEDO_SUMS_NONE ? 0.0f : st[c & 3] * ds[c | 3];
+    return tmp;
 }
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
@@ -401,14 +502,15 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r, const f
         ++m->nonfinite_samples;
         return;
     }
+    if (m->unread && (m->unread[i] & UNREAD_LENS)) return;
     size_t per = (size_t)m->comps * 8;
     float w[2 * MAAF_COMPS_MAX];
     maaf_lens_factors(&m->lens, r->lens_u, -r->lens_v, w);
-    maaf_factors_accumulate(m->comps, w, f, m->dsum + i * per);
     if (m->asum) {
         float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
-        maaf_factors_accumulate(m->comps, w, a, m->asum + i * per);
+        albedo_add(m, i, w, a); /* before dsum: it may read dsum's sums of the earlier samples */
     }
+    maaf_factors_accumulate(m->comps, w, f, m->dsum + i * per);
 }
 
 /* Indirect sums (eq. 20 without the bounce direction, docs/algorithms.md 9.12 "The method
@@ -460,6 +562,7 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
         ++m->nonfinite_samples; /* left out of the sums, reported at filter time */
         return;
     }
+    if (m->unread && (m->unread[i] & UNREAD_LIGHT)) return;
     if (!known) { /* no shadow ray: its light point is unknown (maaf_shadow.h) */
         maaf_accumulate_unknown(m->pairs, l, f, m->ysum + i * (size_t)m->comps * 8);
         return;
@@ -723,41 +826,41 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
  * combined.pbrt 16 / 32 spp -10% / -3.5%, all_effects (held out) -6% / -11% at 16 / 64
  * (docs/benchmarks.md, "MAAF on the combined scene, cheaper"; without defocus the cap was
  * worse: soft_shadows +20% and thin_occluders +12% at 16 spp). */
-static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
+/* The plan's rule per pixel (plan_class): pass 1's count, the filtered count of the shadow and
+ * indirect filters, the lens filter's count (plan_area2), or the extra count, at silhouettes
+ * the silhouette count. */
+enum { PLAN_PASS1, PLAN_FILTERED, PLAN_DEFOCUS, PLAN_EXTRA, PLAN_SILHOUETTE };
+
+/* Which rule each pixel follows: it depends on the filters, not on mu, so the budget search's
+ * plans (up to 14 per frame, pipeline.c's mu_for_budget) classify the pixels once. */
+static bool plan_classes(ReconMethod *m)
 {
-    if (!ensure_derived(m, d)) return false;
     const GBuffer *g = m->g;
     size_t n = (size_t)g->width * (size_t)g->height;
-    if (!m->pass1_spp) m->pass1_spp = n ? (int)spp_now[0] : 0;
-    int pass1 = m->pass1_spp;
-    /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
-    float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
-    int extra = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
-    int silhouette = m->split_direct || m->split_indirect ? aaf_clamp_spp(100.0f * mu_e, pass1, 100.0f * mu_e) : extra;
-    /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
-     * budget reached only the silhouettes and the rest kept pass 1's noise */
-    int filtered = aaf_far_spp(pass1, mu_e);
+    if ((!m->plan_class && !(m->plan_class = malloc(n))) ||
+        (!m->plan_area2 && !(m->plan_area2 = malloc(n * sizeof(float)))))
+        return false;
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
-
     for (int y = 0; y < g->height; ++y)
         for (int x = 0; x < g->width; ++x) {
             size_t i = (size_t)y * g->width + x;
             const float *pr;
             float comps, side;
             bool more = false, texture_aa = g->hit[i] && g->albedo_varies[i];
-            int count = pass1;
+            int cls = PLAN_PASS1;
             float std_lens_px = 0.0f; /* the lens filter's width, where it was asked */
+            m->plan_area2[i] = 1.0f;
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i]) {
                 /* glossy receivers keep their own direct light (gbuffer.h): extra samples */
                 more = g->mixed[i] || g->glossy[i] ||
                        (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
-                count = filtered;
+                cls = PLAN_FILTERED;
             }
             /* indirect light: the same rule with its own filter */
             if (m->indirect && g->hit[i] && !more) {
                 more = g->mixed[i] || (m->iframe4[4 * i + 3] != 0.0f && indirect_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
-                count = filtered;
+                cls = PLAN_FILTERED;
             }
             /* defocus (seeds/003's extra samples near the focal plane): a slope range that
              * straddles it, or a filter under half a pixel */
@@ -770,26 +873,59 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
                  * error at every budget (docs/algorithms.md 9.8). */
                 float area = DEFOCUS_FULL_STD_PX / fmaxf(std_px, UNFILTERED_STD_PX);
                 more = std_px < UNFILTERED_STD_PX;
-                count = aaf_clamp_spp(mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1 * fmaxf(1.0f, area * area), pass1,
-                                      100.0f * mu_e);
+                cls = PLAN_DEFOCUS;
+                m->plan_area2[i] = fmaxf(1.0f, area * area);
             }
             /* a texture edge's antialiasing is no shading filter's (gbuffer.h): extra samples
              * too, unless the lens filter averages it */
             more = more || (texture_aa && std_lens_px < ALBEDO_VARIES_DEFOCUS_STD_PX);
-            spp_total[i] = more ? (g->hit[i] && g->mixed[i] ? silhouette : extra) : count;
+            m->plan_class[i] = more ? (g->hit[i] && g->mixed[i] ? PLAN_SILHOUETTE : PLAN_EXTRA) : cls;
         }
+    m->plan_known = true;
+    return true;
+}
+
+static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
+{
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    if (!m->pass1_spp) m->pass1_spp = n ? (int)spp_now[0] : 0;
+    int pass1 = m->pass1_spp;
+    if (!m->plan_known && !plan_classes(m)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MAAF plan");
+        return false;
+    }
+    /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
+    float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
+    int count[PLAN_SILHOUETTE + 1];
+    count[PLAN_PASS1] = pass1;
+    count[PLAN_EXTRA] = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
+    count[PLAN_SILHOUETTE] =
+        m->split_direct || m->split_indirect ? aaf_clamp_spp(100.0f * mu_e, pass1, 100.0f * mu_e) : count[PLAN_EXTRA];
+    /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
+     * budget reached only the silhouettes and the rest kept pass 1's noise */
+    count[PLAN_FILTERED] = aaf_far_spp(pass1, mu_e);
+    float defocus_base = mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1;
+    for (size_t i = 0; i < n; ++i) {
+        int cls = m->plan_class[i];
+        spp_total[i] = cls == PLAN_DEFOCUS ? aaf_clamp_spp(defocus_base * m->plan_area2[i], pass1, 100.0f * mu_e) : count[cls];
+    }
     return true;
 }
 
 /* Runs the image pass on in and writes its filtered pixels' rgb into value4 (4 floats per
  * pixel); non-finite results keep the pixel's own value and are counted in *nonfinite. */
+static bool have_filter(const ReconMethod *m, Diag *d)
+{
+    if (!m->filter) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
+    return m->filter != NULL;
+}
+
 static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4, double *kernel_seconds,
                        long long *nonfinite, Diag *d)
 {
-    if (!m->filter) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: the OpenCL device was not opened");
-        return false;
-    }
+    if (!have_filter(m, d)) return false;
     const char *dump = getenv(MAAF_DUMP_ENV); /* the input of tests/recon/bench_maaf_filter.c */
     if (dump && *dump) {
         static int dumps = 0;
@@ -833,23 +969,23 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     size_t per = (size_t)m->comps * 8;
     /* without directions the indirect pass runs the bands |p| <= 1 only (indirect_pass_pairs) */
     int pass_pairs = ind ? indirect_pass_pairs(m) : m->pairs, pass_comps = maaf_component_count(pass_pairs);
-    size_t pass_per = (size_t)pass_comps * 8;
     const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
     const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
     float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
+    MaafPlanes planes;
+    if (!have_filter(m, d) || !maaf_filter_planes(m->filter, w, h, pass_pairs, &planes, d)) return false;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
             float spp = g->frame.spp[i];
             bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
-            float *yd = m->ydemod + i * pass_per, *pr = m->param + i * MAAF_PARAM_STRIDE;
+            float yd[8 * MAAF_COMPS_MAX];
             memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
             m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
             std_px[i] = 0.0f;
             components[i] = 0.0f;
-            if (!usable) {
-                memset(yd, 0, pass_per * sizeof(float));
-                memset(pr, 0, MAAF_PARAM_STRIDE * sizeof(float));
+            if (!usable) { /* its parameters (the filter cache's) are not read: usable 0 */
+                maaf_planes_put(&planes, x, y, NULL);
                 continue;
             }
             /* composite.c's demodulation (value4 was made usable only where it is stable):
@@ -868,13 +1004,15 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
                 const float *ys = sums + i * per;
                 for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
             }
+            maaf_planes_put(&planes, x, y, yd);
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
+            (void)cached;
             if (components[i] > (float)(2 * pass_comps - 1)) components[i] = (float)(2 * pass_comps - 1);
-            memcpy(pr, cached, MAAF_PARAM_STRIDE * sizeof(float));
         }
-    MaafFilterInput in = {w, h, pass_pairs, m->ydemod, g->pos4, g->nrm4, m->guide4, axis2, m->param, COS_NORMAL_MIN,
-                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT};
+    const float *param = (ind ? &m->indirect_cache : &m->shadow_cache)->param;
+    MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, param, COS_NORMAL_MIN,
+                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, &planes};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
@@ -903,11 +1041,30 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
     size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
-    const float *sums = m->dsum;
-    if (m->asum) {
-        for (size_t i = 0; i < n; ++i) {
-            const float *rest = m->dsum + i * per, *alb = m->asum + i * per;
-            float *o = m->ydemod + i * per, raw[3][3], ud[3], ui[3], spp = g->frame.spp[i];
+    /* Per pixel: the rest's sums with the shading lights put back (the split), then divided by
+     * the pixel's count. Each pixel's sums become means over its own samples: eq. 20's
+     * integrals over the lens are Monte Carlo estimates per pixel (seeds/003 Sec. 6.1), so
+     * every pixel enters eq. 3's image filter with the same weight whatever its count. With
+     * raw sums a pixel weighed by its count, and the plan chose the counts from pass 1's
+     * samples, which the sums include: pixels whose first 9 samples hit a small bright
+     * emitter got 3-8x the samples of their neighbours that missed it, so the filter
+     * over-weighted the lucky ones, more so the larger the budget (bokeh_bright: disks 15% too
+     * bright with halos, relMSE 39 at 16 spp and 87 at 32; docs/algorithms.md 9.8). Pixels
+     * without a lens filter are read by no pass (mark_unread_sums): zeros. */
+    MaafPlanes planes;
+    if (!have_filter(m, d) || !maaf_filter_planes(m->filter, w, h, m->pairs, &planes, d)) return false;
+    for (size_t i = 0; i < n; ++i) {
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
+        const float *src = m->dsum + i * per;
+        float o[8 * MAAF_COMPS_MAX];
+        if (!(spp > 0.0f) || (m->unread && (m->unread[i] & UNREAD_LENS))) { /* not usable (screen guides), or unread */
+            maaf_planes_put(&planes, x, y, NULL);
+            continue;
+        }
+        if (m->asum) {
+            float alb_tmp[8 * MAAF_COMPS_MAX], raw[3][3], ud[3], ui[3];
+            const float *rest = src, *alb = albedo_sums(m, i, alb_tmp);
             memcpy(o, rest, per * sizeof(float));
             gbuffer_unfiltered_means(g, i, ud, ui);
             for (int k = 0; k < 3; ++k) { /* composite.c's raw means of the filterable lights */
@@ -920,24 +1077,11 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
                 maaf_defocus_add_light(m->direct4 ? m->direct4 + 4 * i : NULL, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0],
                           rest, alb, per, o);
             if (m->split_indirect) maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
+            src = o;
         }
-        sums = m->ydemod;
-    }
-    /* Each pixel's sums become means over its own samples: eq. 20's integrals over the lens
-     * are Monte Carlo estimates per pixel (seeds/003 Sec. 6.1), so every pixel enters eq. 3's
-     * image filter with the same weight whatever its count. With raw sums a pixel weighed by
-     * its count, and the plan chose the counts from pass 1's samples, which the sums include:
-     * pixels whose first 9 samples hit a small bright emitter got 3-8x the samples of their
-     * neighbours that missed it, so the filter over-weighted the lucky ones, more so the
-     * larger the budget (bokeh_bright: disks 15% too bright with halos, relMSE 39 at 16 spp
-     * and 87 at 32; docs/algorithms.md 9.8). */
-    for (size_t i = 0; i < n; ++i) {
-        float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
-        const float *src = sums + i * per;
-        float *o = m->ydemod + i * per;
         for (size_t c = 0; c < per; ++c) o[c] = src[c] * inv;
+        maaf_planes_put(&planes, x, y, o);
     }
-    sums = m->ydemod;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
@@ -947,8 +1091,8 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
             maaf_screen_guides(x, y, side, g->frame.spp[i] > 0.0f, m->dpos4 + 4 * i, m->dnrm4 + 4 * i, m->guide4 + 4 * i,
                                m->daxis2 + 4 * i);
         }
-    MaafFilterInput in = {w, h, m->pairs, sums, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
-                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR};
+    MaafFilterInput in = {w, h, m->pairs, NULL, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
+                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, &planes};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)
@@ -964,6 +1108,7 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
     if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->albedo4 && count < max) out[count++] = (DistArray){m->albedo4, 4 * sizeof(float)};
     if (m->isum && count < max) out[count++] = (DistArray){m->isum, 4 * sizeof(float)};
     if (m->iframe4 && count < max) out[count++] = (DistArray){m->iframe4, 4 * sizeof(float)};
     if (m->iaxis2 && count < max) out[count++] = (DistArray){m->iaxis2, 4 * sizeof(float)};
