@@ -105,6 +105,14 @@ bool gbuffer_sample_glossy(const SampleRecord *r);
  * neighbours: the lens filter blurs the composite, texture and its noise included. */
 #define ALBEDO_VARIES_DEFOCUS_STD_PX 1.0f
 
+/* Whether pixel i's texture edge needs the mixed pixels' count: its albedo varies and no lens
+ * filter at least ALBEDO_VARIES_DEFOCUS_STD_PX wide averages it (lens_std_px: that filter's
+ * width; 0 without one; NaN counts as none, so an unknown width asks for the samples). */
+static inline bool gbuffer_texture_needs_samples(const GBuffer *g, size_t i, float lens_std_px)
+{
+    return g->albedo_varies[i] && !(lens_std_px >= ALBEDO_VARIES_DEFOCUS_STD_PX);
+}
+
 /* The SampleSink callback (ctx = GBuffer *). */
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r);
 

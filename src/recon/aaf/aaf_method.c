@@ -210,7 +210,7 @@ static bool aaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
      * filter's (gbuffer.h): plain Monte Carlo, as mixed pixels */
     const float *lens_beta_px = m->beta[EFFECT_DEFOCUS];
     for (size_t i = 0; i < n; ++i) {
-        bool texture_aa = m->g->albedo_varies[i] && !(lens_beta_px && lens_beta_px[i] >= ALBEDO_VARIES_DEFOCUS_STD_PX);
+        bool texture_aa = gbuffer_texture_needs_samples(m->g, i, lens_beta_px ? lens_beta_px[i] : 0.0f);
         if ((m->g->mixed[i] || texture_aa || (shadows_filtered && m->g->glossy[i])) && mixed_spp > spp_total[i])
             spp_total[i] = mixed_spp;
     }

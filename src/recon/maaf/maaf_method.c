@@ -846,7 +846,7 @@ static bool plan_classes(ReconMethod *m)
             size_t i = (size_t)y * g->width + x;
             const float *pr;
             float comps, side;
-            bool more = false, texture_aa = g->hit[i] && g->albedo_varies[i];
+            bool more = false;
             int cls = PLAN_PASS1;
             float std_lens_px = 0.0f; /* the lens filter's width, where it was asked */
             m->plan_area2[i] = 1.0f;
@@ -878,7 +878,7 @@ static bool plan_classes(ReconMethod *m)
             }
             /* a texture edge's antialiasing is no shading filter's (gbuffer.h): extra samples
              * too, unless the lens filter averages it */
-            more = more || (texture_aa && std_lens_px < ALBEDO_VARIES_DEFOCUS_STD_PX);
+            more = more || (g->hit[i] && gbuffer_texture_needs_samples(g, i, std_lens_px));
             m->plan_class[i] = more ? (g->hit[i] && g->mixed[i] ? PLAN_SILHOUETTE : PLAN_EXTRA) : cls;
         }
     m->plan_known = true;
