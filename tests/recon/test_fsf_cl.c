@@ -57,18 +57,15 @@ static void indirect_samples(FsfCl *cl)
  * unfilled ring row would differ by a whole sample's weight. */
 static void tall_frame(FsfCl *cl)
 {
-    const int W = 23, H = 150, l = 4;
+    const int W = 23, H = 150;
     FsfSynth f;
-    fsf_synth_init(&f, W, H, l);
+    fsf_synth_init(&f, W, H, 4);
     FsfGrid g = fsf_grid_default(0.6f, 0.6f);
-    fsf_synth_light(&f, &g, l, false, 7);
+    fsf_synth_light(&f, &g, 4, false, 7);
     unsigned st = 9;
+    for (size_t v = 0; v < 3 * (size_t)W * H * (size_t)f.cap; ++v) f.v[v] = fsf_rand01(&st); /* noise */
     for (int i = 0; i < W * H; ++i) {
         float x = (float)(i % W) / W, y = (float)(i / W) / H;
-        for (int k = 0; k < f.cap; ++k) {
-            size_t slot = (size_t)i * f.cap + (size_t)k;
-            f.v[3 * slot] = fsf_rand01(&st), f.v[3 * slot + 1] = y, f.v[3 * slot + 2] = x;
-        }
         float ang = 1.5707964f * (0.5f + 0.5f * sinf(7.0f * y + 3.0f * x));
         f.px[i].dir[0][0] = cosf(ang), f.px[i].dir[0][1] = sinf(ang);
         f.px[i].dir[1][0] = -sinf(ang), f.px[i].dir[1][1] = cosf(ang);
