@@ -183,10 +183,14 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
             /* the box (rounding at the light's ends) and an empty density leave a node out */
             float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
             float w[8];
-            vstore8(wk, 0, w);
             int nl = min(8, j1 - s0 + 1);
-            for (int l = 0; l < nl; ++l)
-                if (w[l] != 0.0f) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+            vstore8(select((float8)(0.0f), wk, lane < (float)nl), 0, w);
+            if (s0 + 8 <= J) { /* all eight nodes inside the pixel's: no branch (a weight 0 adds an exact 0) */
+                for (int l = 0; l < 8; ++l) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+            } else {
+                for (int l = 0; l < nl; ++l)
+                    if (w[l] != 0.0f) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+            }
         }
     }
 }
