@@ -50,6 +50,36 @@ static void indirect_samples(FsfCl *cl)
     fsf_synth_free(&f);
 }
 
+/* A frame taller than pass 1's ring of P rows (fsf_cl.c: bands of 32 rows, 16-row halos, a
+ * 64-row ring), 23 px wide so that no band is a whole number of 64-item work groups, with
+ * first-axis gathers turning from horizontal to vertical (taps reaching the full 16 rows up
+ * and down, across band and ring boundaries) at the widest width. A tap read from a stale or
+ * unfilled ring row would differ by a whole sample's weight. */
+static void tall_frame(FsfCl *cl)
+{
+    const int W = 23, H = 150;
+    FsfSynth f;
+    fsf_synth_init(&f, W, H, 4);
+    FsfGrid g = fsf_grid_default(0.6f, 0.6f);
+    fsf_synth_light(&f, &g, 4, false, 7);
+    unsigned st = 9;
+    for (size_t v = 0; v < 3 * (size_t)W * H * (size_t)f.cap; ++v) f.v[v] = fsf_rand01(&st); /* noise */
+    for (int i = 0; i < W * H; ++i) {
+        float x = (float)(i % W) / W, y = (float)(i / W) / H;
+        float ang = 1.5707964f * (0.5f + 0.5f * sinf(7.0f * y + 3.0f * x));
+        f.px[i].dir[0][0] = cosf(ang), f.px[i].dir[0][1] = sinf(ang);
+        f.px[i].dir[1][0] = -sinf(ang), f.px[i].dir[1][1] = cosf(ang);
+        f.px[i].eta_m[0] = (i % 2 ? 0.03f : -0.02f) * (0.5f + y), f.px[i].eta_m[1] = 0.02f * x;
+        f.px[i].sigma_px[0] = i % 19 == 0 ? 0.0f : 8.0f - 4.0f * x;
+        f.px[i].sigma_px[1] = 3.0f;
+        if (i % 23 == 11) f.usable[i] = 0;
+    }
+    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, &secs);
+    printf("150 rows (pass 1 in bands): OpenCL against C: largest difference %.3g of the pixel's weight\n", worst);
+    CHECK(worst < 1e-5);
+    fsf_synth_free(&f);
+}
+
 int main(void)
 {
     Diag d = {0};
@@ -102,6 +132,7 @@ int main(void)
     }
     fsf_synth_free(&f);
     indirect_samples(cl);
+    tall_frame(cl);
     fsf_cl_destroy(cl);
     cl_runtime_destroy(rt);
     return check_failures ? 1 : 0;

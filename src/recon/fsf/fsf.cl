@@ -10,7 +10,9 @@
  *   n_taps      taps per pixel; tap_node: FSF_TAP_SLOTS ints per pixel (-1: no tap); tap_a0, tap_a1:
  *               the weights of nodes j0 and j0 + 1, FSF_TAP_SLOTS floats per pixel each
  *   cum1        FSF_CUM floats per pixel: running sums of the first axis' tap weights
- *   P, Q        J * 4 floats per pixel (J shift nodes); G: B * 4 floats per pixel (B y2 bins) */
+ *   P           J * 4 floats per pixel (J shift nodes) of a ring of `ring` image rows (row y at
+ *               y % ring): pass 1 runs in bands of rows, so P never holds the whole frame
+ *   Q           J * 4 floats per pixel (whole frame); G: B * 4 floats per pixel (B y2 bins) */
 
 #define FSF_RADIUS_CAP_PX 16
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
@@ -54,8 +56,12 @@ static float8 fsf_gauss8(float8 t, float sigma)
 
 /* Each pixel's taps along one axis (fsf_taps, fsf_filter.c), 8 at a time (PoCL gives one work
  * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, at most
- * FSF_TAP_SLOTS per pixel (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix). */
-__kernel void fsf_taps(const FsfArgs a, const int axis, __global const float *px, __global const float *pos4,
+ * FSF_TAP_SLOTS per pixel (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix).
+ * ring > 0: the nodes index P's ring of rows (neighbour row qy at qy % ring); a unit direction
+ * reaches at most FSF_RADIUS_CAP_PX rows, the halo the host keeps (a tap beyond it, which only
+ * a longer direction could make, is dropped rather than read from a stale row). ring 0: the
+ * whole frame (pass 2b's Q). */
+__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, __global const float *px, __global const float *pos4,
                        __global const float *nrm4, __global const uchar *usable, __global int *n_taps,
                        __global int *tap_node, __global float *tap_a0, __global float *tap_a1, __global float *cum1)
 {
@@ -88,11 +94,13 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, __global const float *px
         ok &= (ti == 0) | ((use != 0) & ((q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol))));
         float8 f = -eta * tf * inv_dY + mid;
         ok &= (f >= 0.0f) & (f <= (float)(J - 1));
+        if (ring > 0) ok &= abs(qy - y) <= FSF_RADIUS_CAP_PX;
         f = select((float8)(0.0f), f, ok);
         int8 j0 = min(convert_int8(floor(f)), J - 2);
         float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma);
         int o = FSF_TAP_SLOTS * i + e0;
-        vstore8(select((int8)(-1), q * J + j0, ok), 0, tap_node + o);
+        int8 qp = ring > 0 ? (q / a.width % ring) * a.width + q % a.width : q; /* q's pixel in P */
+        vstore8(select((int8)(-1), qp * J + j0, ok), 0, tap_node + o);
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
     }
@@ -136,21 +144,24 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
     return select(rho, (float8)(0.0f), none);
 }
 
-/* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12), one slice of P each
- * (slice c at c * N * J float4, N pixels), a sample's shift nodes 8 at a time. Several bins
- * per launch share each work item's set-up (radius, running sums, the scan of its slots). */
-__kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity,
-                         __global const int *count, __global const float *ys, __global const uchar *bin2,
-                         __global const float *value, __global const float *px, __global const float *cum1,
-                         __global float *P)
+/* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12) over the image rows
+ * row0 .. row1 - 1 (one work item per pixel of the launch), one slice of P each (slice c at
+ * c * ring * width * J float4; pixel (x, y) at row y % ring), a sample's shift nodes 8 at a
+ * time. Several bins per launch share each work item's set-up (radius, running sums, the scan
+ * of its slots). */
+__kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity, const int row0,
+                         const int row1, const int ring, __global const int *count, __global const float *ys,
+                         __global const uchar *bin2, __global const float *value, __global const float *px,
+                         __global const float *cum1, __global float *P)
 {
-    int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
+    int i = row0 * a.width + get_global_id(0);
+    if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
-    size_t slice = (size_t)a.width * (size_t)a.height * (size_t)J * 4;
+    size_t slice = (size_t)a.width * (size_t)ring * (size_t)J * 4;
+    int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
     for (int c = 0; c < C; ++c)
-        for (int jj = 0; jj < J; ++jj) vstore4((float4)(0.0f), J * i + jj, P + c * slice);
+        for (int jj = 0; jj < J; ++jj) vstore4((float4)(0.0f), J * ip + jj, P + c * slice);
     int r = fsf_radius(px[8 * i + 6]);
     float eta = px[8 * i + 4];
     float cum[FSF_CUM];
@@ -160,7 +171,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     for (int k = 0; k < n_k; ++k) {
         int slot = i * capacity + k, c = (int)bin2[slot] - bin0;
         if (c < 0 || c >= C) continue;
-        __global float *Pi = P + c * slice + J * 4 * i;
+        __global float *Pi = P + c * slice + J * 4 * ip;
         float y1 = ys[2 * slot];
         float4 v = (float4)(value[3 * slot], value[3 * slot + 1], value[3 * slot + 2], 1.0f);
         int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);
@@ -172,10 +183,14 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
             /* the box (rounding at the light's ends) and an empty density leave a node out */
             float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
             float w[8];
-            vstore8(wk, 0, w);
             int nl = min(8, j1 - s0 + 1);
-            for (int l = 0; l < nl; ++l)
-                if (w[l] != 0.0f) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+            vstore8(select((float8)(0.0f), wk, lane < (float)nl), 0, w);
+            if (s0 + 8 <= J) { /* all eight nodes inside the pixel's: no branch (a weight 0 adds an exact 0) */
+                for (int l = 0; l < 8; ++l) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+            } else {
+                for (int l = 0; l < nl; ++l)
+                    if (w[l] != 0.0f) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+            }
         }
     }
 }
@@ -194,15 +209,15 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
     return acc;
 }
 
-/* Pass 1b for the C <= 4 bins of pass 1a's launch (fsf_pass1b, eq. 13): each tap read once
- * for all of them. */
-__kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, __global const int *n_taps,
-                         __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
-                         __global const float *P, __global float *G)
+/* Pass 1b for the C <= 4 bins of pass 1a's launches (fsf_pass1b, eq. 13) over the image rows
+ * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring. */
+__kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int row0, const int row1, const int ring,
+                         __global const int *n_taps, __global const int *tap_node, __global const float *tap_a0,
+                         __global const float *tap_a1, __global const float *P, __global float *G)
 {
-    int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
-    int slice = a.width * a.height * a.J; /* float4 per slice */
+    int i = row0 * a.width + get_global_id(0);
+    if (i >= row1 * a.width) return;
+    int slice = a.width * ring * a.J; /* float4 per slice */
     float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
     int n = n_taps[i];
     for (int e = 0; e < n; ++e) {

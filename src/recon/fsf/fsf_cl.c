@@ -1,4 +1,5 @@
-/* Host side of fsf.cl (see fsf_cl.h). Buffers are created per run. */
+/* Host side of fsf.cl (see fsf_cl.h). Buffers are created per run; pass 1 runs in bands of
+ * image rows through a ring of P's rows (below). */
 #include "recon/fsf/fsf_cl.h"
 
 #include <stdlib.h>
@@ -17,9 +18,16 @@ typedef struct {
     cl_float prof1, prof2;
 } FsfArgs;
 
-/* Memory for several slices of P at once (pass 1a fills them in one launch); 4 slices of a
- * 256x256 frame */
+/* Memory for several slices of P at once (pass 1a fills them in one launch) */
 #define FSF_P_BYTES ((size_t)72 << 20)
+
+/* Pass 1 in bands of FSF_BAND_ROWS image rows: pass 1a fills P's rows up to the band's last
+ * row plus the taps' reach (FSF_RADIUS_CAP_PX rows: unit gather directions), pass 1b gathers
+ * the band. P is a ring of the band plus both halos, so it never holds the whole frame: at
+ * 256x256 its four slices take 18 MB instead of 71 (fresh pages, each faulted in and zeroed by
+ * the kernel; docs/benchmarks.md "FSF's filter cost"). The same floats are summed in the same
+ * order: the images do not change. */
+enum { FSF_BAND_ROWS = 32, FSF_RING_ROWS = FSF_BAND_ROWS + 2 * FSF_RADIUS_CAP_PX };
 
 /* fsf.cl's tap tables: FSF_TAPS rounded up to whole float8 */
 enum { FSF_TAP_SLOTS = 40 };
@@ -102,12 +110,16 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
         return false;
     }
+    /* P's ring of rows (the whole frame when it is no taller) */
+    int ring = s->height < FSF_RING_ROWS ? s->height : FSF_RING_ROWS;
     /* y2 bins per launch of pass 1a (one slice of P each): up to 4, as many as fit in
      * FSF_P_BYTES (docs/benchmarks.md, "FSF's passes, faster": 4 slices take 25% less time
      * in 1a than 1; more were slower) */
-    size_t slice_bytes = sizeof(float) * 4 * J * n;
+    size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring;
     int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
     chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
+    /* pass 2a's Q (one whole-frame slice) lives in P's memory once pass 1 is done */
+    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * 4 * J * n;
     cl_int err = CL_SUCCESS;
     enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NTAP, NODE, TA0, TA1, CUM, P, G, OUT, NBUF };
     cl_mem b[NBUF] = {0};
@@ -127,19 +139,26 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
     if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
     if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_CUM * n, NULL, &err);
-    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slice_bytes * (size_t)chunk, NULL, &err);
+    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, p_bytes > q_bytes ? p_bytes : q_bytes, NULL, &err);
     if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
     if (!err) b[OUT] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 4 * n, NULL, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
     enum { K_TAPS, K_BINS, K_1A, K_1B, K_2A, K_2B, K_N };
-    /* one event per launch: taps twice, bins, 1a and 1b at most once per bin, 2a, 2b */
-    cl_event evs[2 * FSF_MAX_Y2_BINS + 5] = {0};
-    int evk[2 * FSF_MAX_Y2_BINS + 5], nev = 0;
+    /* one event per launch: taps twice, bins, 1a and 1b at most once per band and bin chunk,
+     * 2a, 2b */
+    size_t max_ev = 5 + 2 * (size_t)((g->y2_bins + chunk - 1) / chunk) * (size_t)((s->height + FSF_BAND_ROWS - 1) / FSF_BAND_ROWS);
+    cl_event *evs = calloc(max_ev, sizeof *evs);
+    int *evk = calloc(max_ev, sizeof *evk);
+    size_t nev = 0;
+    if (ok && !(evs && evk)) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's OpenCL events");
+    }
 #define EV(k) (evk[nev] = (k), &evs[nev++])
-    if (ok) { /* taps along the first axis (and cum1) */
-        cl_int ints[1] = {0};
+    if (ok) { /* taps along the first axis (and cum1), their nodes in P's ring */
+        cl_int ints[2] = {0, ring};
         cl_mem m[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 1, m, 9), "arguments", d) &&
+        ok = cl_ok(set_args(f->taps, &a, ints, 2, m, 9), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     if (ok) {
@@ -150,24 +169,34 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     }
     for (int bin0 = 0; ok && bin0 < g->y2_bins; bin0 += chunk) {
         cl_int c_n = g->y2_bins - bin0 < chunk ? g->y2_bins - bin0 : chunk;
-        cl_int i1a[3] = {bin0, c_n, s->capacity};
-        cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
-        ok = cl_ok(set_args(f->pass1a, &a, i1a, 3, m1a, 7), "arguments", d) &&
-             cl_ok(launch1(f, f->pass1a, n, EV(K_1A)), "pass 1a", d);
-        cl_int i1b[2] = {bin0, c_n};
-        cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
-        ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 2, m1b, 6), "arguments", d) &&
-             cl_ok(launch1(f, f->pass1b, n, EV(K_1B)), "pass 1b", d);
+        /* rows [0, filled) of P hold this chunk's bins; the ring keeps the last `ring` of them,
+         * which cover the band and its halos: filled - ring <= band_start - FSF_RADIUS_CAP_PX */
+        int filled = 0;
+        for (int y0 = 0; ok && y0 < s->height; y0 += FSF_BAND_ROWS) {
+            int y1 = y0 + FSF_BAND_ROWS < s->height ? y0 + FSF_BAND_ROWS : s->height;
+            int fill = y1 + FSF_RADIUS_CAP_PX < s->height ? y1 + FSF_RADIUS_CAP_PX : s->height;
+            if (fill > filled) {
+                cl_int i1a[6] = {bin0, c_n, s->capacity, filled, fill, ring};
+                cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
+                ok = cl_ok(set_args(f->pass1a, &a, i1a, 6, m1a, 7), "arguments", d) &&
+                     cl_ok(launch1(f, f->pass1a, (size_t)(fill - filled) * (size_t)s->width, EV(K_1A)), "pass 1a", d);
+                filled = fill;
+            }
+            cl_int i1b[5] = {bin0, c_n, y0, y1, ring};
+            cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
+            ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 5, m1b, 6), "arguments", d) &&
+                 cl_ok(launch1(f, f->pass1b, (size_t)(y1 - y0) * (size_t)s->width, EV(K_1B)), "pass 1b", d);
+        }
     }
     if (ok) {
         /* Q in P's memory (Q has one slice's shape; pass 1 is done with P): fewer fresh pages */
         cl_mem m2a[3] = {b[PX], b[G], b[P]};
-        cl_int ints[1] = {1};
+        cl_int ints[2] = {1, 0};
         cl_mem mt[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
         cl_mem m2b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[OUT]};
         ok = cl_ok(set_args(f->pass2a, &a, NULL, 0, m2a, 3), "arguments", d) &&
              cl_ok(launch1(f, f->pass2a, n, EV(K_2A)), "pass 2a", d) &&
-             cl_ok(set_args(f->taps, &a, ints, 1, mt, 9), "arguments", d) &&
+             cl_ok(set_args(f->taps, &a, ints, 2, mt, 9), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d) &&
              cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 6), "arguments", d) &&
              cl_ok(launch1(f, f->pass2b, n, EV(K_2B)), "pass 2b", d);
@@ -176,7 +205,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     clFinish(q);
 #undef EV
     double kt[K_N] = {0};
-    for (int e = 0; e < nev; ++e) add_time(evs[e], &kt[evk[e]]);
+    for (size_t e = 0; e < nev; ++e) add_time(evs[e], &kt[evk[e]]);
+    free(evs), free(evk);
     f->prof = (FsfClProfile){kt[K_TAPS], kt[K_BINS], kt[K_1A], kt[K_1B], kt[K_2A], kt[K_2B]};
     if (ok && kernel_seconds) *kernel_seconds = kt[K_TAPS] + kt[K_BINS] + kt[K_1A] + kt[K_1B] + kt[K_2A] + kt[K_2B];
     for (int i = 0; i < NBUF; ++i)
