@@ -68,6 +68,13 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     if (!tracer_build(&r->tracer, scene, r->threads, err)) goto fail;
     if (!lights_build(&r->lights, scene, &r->tracer, err)) goto fail;
     r->stats.seconds_build = r->tracer.seconds_build;
+    /* Shading finds a sphere's or disk's uv (an atan2 and an acos per hit) only where its
+     * material reads it. */
+    for (int l = 0; l < r->tracer.layer_count; ++l)
+        for (int g = 0; g < r->tracer.layers[l].geom_count; ++g) {
+            Geom *geom = &r->tracer.layers[l].geoms[g];
+            geom->uv_unread = geom->kind != GEOM_INSTANCE && !material_reads_uv(&r->materials, geom->material);
+        }
 
     IntegratorScene *isc = &r->isc;
     isc->camera = &r->camera;
