@@ -273,8 +273,9 @@ typedef struct {
 /* The frame's slices of a pixel's sample indices in a pass: [0,4) [4,8) [8,16) [16,32)
  * [32,64), then 64 at a time. Each slice of a pixel is summed in double and added to the
  * frame with one float addition per sum, so the slices fix the frame's rounding; they were
- * the render rounds before these grew to 64 samples (run_pass), and keeping them keeps
- * every image bit for bit. The end of the slice that starts at `begin`: */
+ * the render rounds before [4,64) became one (run_pass), and keeping them keeps every image
+ * bit for bit. A round's bounds are slice bounds. The end of the slice that starts at
+ * `begin`: */
 static int frame_slice_end(int begin) { return begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64); }
 
 /* Adds records rec[0 .. count) of pixel (px, py), one frame slice, to the frame (their sums
@@ -436,19 +437,20 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
         total = (long long)r->width * r->height * (spp_uniform > 0 ? spp_uniform : 0);
     }
 
-    /* The pass runs in rounds over the whole image, each taking the next 64 of every
-     * pixel's sample indices: an interrupted render has a complete image at a lower sample
-     * count, and the progress bar moves evenly. The rounds depend only on the sample
-     * counts, so images stay identical for any number of threads; within a round a pixel
-     * belongs to one thread. Rounds of 4, 4, 8, 16 and 32 samples first (as before
-     * 2026-11-28) set a pixel's sampler up and built its per-dimension tables five times
-     * for its first 64 samples, in runs too short to fill the vectorised loops: 8-15% of
-     * a 64-spp render (docs/benchmarks.md, "Issue 22, seventh round"). Those rounds remain
-     * as the frame's slices (frame_slice_end), which is all the images depend on. */
+    /* The pass runs in rounds over the whole image, each taking the next slice of every
+     * pixel's sample indices: [0,4), [4,64), then 64 at a time. After the first round an
+     * interrupted render has a complete image at a lower sample count, and the progress
+     * bar moves evenly. The rounds depend only on the sample counts, so images stay
+     * identical for any number of threads; within a round a pixel belongs to one thread.
+     * Until 2026-11-28 the second round was cut into [4,8) [8,16) [16,32) [32,64): each
+     * round sets a pixel's sampler up and builds its per-dimension tables again, in runs
+     * too short to fill the vectorised loops (7-8% of a 64-spp render, docs/benchmarks.md,
+     * "Issue 22, seventh round"). Those cuts remain as the frame's slices
+     * (frame_slice_end), which is all the images depend on. */
     int n = r->threads > 0 ? r->threads : 1;
     pthread_t *tid = calloc((size_t)n, sizeof *tid);
     for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
-        end = begin + 64; /* rounds [0,64) [64,128) ... */
+        end = begin == 0 ? 4 : (begin < 64 ? 64 : begin + 64);
         _Static_assert(WAVE_SAMPLES >= 64, "a pixel's slice of a round (at most 64 samples) fits in one wave");
         job.sample_begin = begin;
         job.sample_end = end;
