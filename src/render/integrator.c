@@ -504,25 +504,48 @@ static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePix
     return s;
 }
 
+/* Whether a vertex reads its light choice and position dimensions: lights_pick reads u
+ * only when some light can be picked (the delta lights of LightSet.delta_every never are). */
+static inline bool vertex_uses_light_dims(const IntegratorScene *sc) { return sc->lights->power_total > 0.0f; }
+
+/* Whether vertex `depth` samples its BSDF: to carry the path on, or, at the last vertex,
+ * to look for emission that MIS weighs against the light sample (area or infinite lights
+ * only: no BSDF-sampled ray can find a point, spot or distant light). */
+static inline bool vertex_uses_bsdf_dims(const IntegratorScene *sc, int depth)
+{
+    return depth < sc->max_depth || sc->lights->has_area || sc->lights->infinite_count > 0;
+}
+
 /* The dimensions of vertex `depth` for paths path[j0 .. j0 + run->count), the samples of
  * w->run, drawn dimension by dimension (sampler_run_*: the values sampler_1d / sampler_2d
- * give each sample on its own). */
+ * give each sample on its own). Dimensions the vertex will not read are not drawn (their
+ * indices stay reserved, so every other dimension keeps its value): on a scene lit only by
+ * delta lights at maxdepth 1 (defocus.pbrt) that is every vertex dimension. */
 static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int depth)
 {
     PixelSampler *s = &w->sampler;
     const SamplerRun *run = &w->run;
     int d0 = vertex_dim0(sc, depth);
-    sampler_run_1d(s, run, d0, w->run_1d);
-    sampler_run_2d(s, run, d0 + 1, w->run_2d);
-    sampler_run_2d(s, run, d0 + 4, w->run_2d_b);
-    warp_cosine_hemisphere_run(run->count, w->run_2d_b, w->run_cosine[0], w->run_cosine[1], w->run_cosine[2]);
+    bool light_dims = vertex_uses_light_dims(sc), bsdf_dims = vertex_uses_bsdf_dims(sc, depth);
+    if (light_dims) {
+        sampler_run_1d(s, run, d0, w->run_1d);
+        sampler_run_2d(s, run, d0 + 1, w->run_2d);
+    }
+    if (bsdf_dims) {
+        sampler_run_2d(s, run, d0 + 4, w->run_2d_b);
+        warp_cosine_hemisphere_run(run->count, w->run_2d_b, w->run_cosine[0], w->run_cosine[1], w->run_cosine[2]);
+    }
     for (int k = 0; k < run->count; ++k) {
         VertexDims *u = &w->path[j0 + k].u;
-        u->pick = w->run_1d[k];
-        u->light = w->run_2d[k];
         u->lobe_dim = d0 + 3;
-        u->bsdf = w->run_2d_b[k];
-        u->bsdf_cosine = v3(w->run_cosine[0][k], w->run_cosine[1][k], w->run_cosine[2][k]);
+        if (light_dims) {
+            u->pick = w->run_1d[k];
+            u->light = w->run_2d[k];
+        }
+        if (bsdf_dims) {
+            u->bsdf = w->run_2d_b[k];
+            u->bsdf_cosine = v3(w->run_cosine[0][k], w->run_cosine[1][k], w->run_cosine[2][k]);
+        }
     }
 }
 
@@ -672,6 +695,11 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
         if (!p->alive || !vertex_lit(&p->v)) continue;
         VertexDims *u = &p->u;
         float pmf = 0.0f;
+        if (!vertex_uses_light_dims(sc)) { /* nothing to pick (wave_vertex_dims drew no pick) */
+            u->light_index = -1;
+            u->light_pmf = 0.0f;
+            continue;
+        }
         u->light_index = lights_pick(L, u->pick, &pmf);
         u->light_uv = u->light;
         if (u->light_index >= 0) u->light_index = lights_pick_in_mesh(L, sc->tracer, u->light_index, &u->light_uv, &pmf);
@@ -816,8 +844,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     p->unfiltered_light = p->unfiltered;
     p->bounce = false;
 
-    bool mis_emitters = L->has_area || L->infinite_count > 0;
-    if (depth == sc->max_depth && !mis_emitters) return;
+    if (!vertex_uses_bsdf_dims(sc, depth)) return;
     float u_lobe = 0.5f; /* Lambert: unused */
     if (v->glossy) u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), p->u.lobe_dim);
     if (!vertex_sample(v, u_lobe, p->u.bsdf, p->u.bsdf_cosine, &p->vs)) return;
@@ -936,7 +963,8 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
     for (int depth = 1; depth <= sc->max_depth && any_alive; ++depth) {
         /* the vertex's dimensions, per pixel with a path still going (the first vertex's
          * came with the camera rays) */
-        for (int k = 0; k < pixel_count && depth > 1; ++k) {
+        bool any_dims = vertex_uses_light_dims(sc) || vertex_uses_bsdf_dims(sc, depth);
+        for (int k = 0; k < pixel_count && depth > 1 && any_dims; ++k) {
             int j0 = w->path_first[k], count = w->path_count[k];
             bool alive = false;
             for (int j = j0; j < j0 + count; ++j) alive |= w->path[j].alive;

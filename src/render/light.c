@@ -338,7 +338,8 @@ int lights_pick(const LightSet *set, float u, float *pmf)
         lo = set->cdf[lo + half] > target ? lo : lo + half;
         len -= half;
     }
-    while (lo < set->count - 1 && set->cdf[lo + 1] - set->cdf[lo] <= 0.0f) ++lo; /* skip empty lights */
+    /* skip empty lights; the power test first, as in lights_pick_in_mesh (lo + 1 <= count) */
+    while (set->cdf[lo + 1] - set->cdf[lo] <= 0.0f && lo < set->count - 1) ++lo;
     *pmf = (set->cdf[lo + 1] - set->cdf[lo]) / set->power_total;
     return *pmf > 0.0f ? lo : -1;
 }

@@ -42,7 +42,10 @@ int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, 
         a = set->cdf[a + half] > target ? a : a + half;
         len -= half;
     }
-    while (a < end - 1 && !(set->cdf[a + 1] > set->cdf[a])) ++a; /* skip zero-power triangles */
+    /* Skip zero-power triangles. The power test comes first: the bound's test alone depends
+     * on the random a (on a two-triangle quad light a mispredicted branch every other
+     * sample), the power test is nearly always false. (cdf[a + 1] exists: end <= count.) */
+    while (!(set->cdf[a + 1] > set->cdf[a]) && a < end - 1) ++a;
     float w = set->cdf[a + 1] - set->cdf[a];
     if (!(w > 0.0f)) return li;
     float x = (target - set->cdf[a]) / w;

@@ -356,6 +356,16 @@ GlossyBsdf material_glossy_bsdf(const MaterialTable *table, const Material *m, v
     return glossy_params_bsdf(gp, ur, vr, color);
 }
 
+bool material_reads_uv(const MaterialTable *table, int m)
+{
+    const Material *mat = material_get(table, m);
+    switch (mat->kind) {
+    case MATERIAL_DIFFUSE: return material_textured(table, mat);
+    case MATERIAL_GLOSSY: return mat->color_tex >= 0 || mat->urough_tex >= 0 || mat->vrough_tex >= 0;
+    default: return true; /* a mix's amount or parts may be textured */
+    }
+}
+
 vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world)
 {
     const Material *mat = material_get(table, m);

@@ -91,6 +91,10 @@ static inline bool material_textured(const MaterialTable *table, const Material 
     return m->texture >= 0 && m->texture < table->texture_count;
 }
 
+/* Whether shading material m (material_get's index) may read a hit's uv: a texture
+ * anywhere in it (a mix always, conservatively). False: the hit's uv can be left 0. */
+bool material_reads_uv(const MaterialTable *table, int m);
+
 /* Texture i (or the constant of r) at uv / p_world. */
 vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int depth);
 vec3 texref_eval(const MaterialTable *table, TexRef r, vec2 uv, vec3 p_world, int depth);

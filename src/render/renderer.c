@@ -68,6 +68,13 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     if (!tracer_build(&r->tracer, scene, r->threads, err)) goto fail;
     if (!lights_build(&r->lights, scene, &r->tracer, err)) goto fail;
     r->stats.seconds_build = r->tracer.seconds_build;
+    /* Shading finds a sphere's or disk's uv (an atan2 and an acos per hit) only where its
+     * material reads it. */
+    for (int l = 0; l < r->tracer.layer_count; ++l)
+        for (int g = 0; g < r->tracer.layers[l].geom_count; ++g) {
+            Geom *geom = &r->tracer.layers[l].geoms[g];
+            geom->uv_unread = geom->kind != GEOM_INSTANCE && !material_reads_uv(&r->materials, geom->material);
+        }
 
     IntegratorScene *isc = &r->isc;
     isc->camera = &r->camera;
@@ -263,8 +270,49 @@ typedef struct {
     SampleRecord rec[WAVE_SAMPLES];
 } WaveQueue;
 
-/* Integrates the queued pixels and adds their samples to the frame (double sums per pixel
- * and round, in sample order: one float add per pixel into the frame) and to the sink. */
+/* The frame's slices of a pixel's sample indices in a pass: [0,4) [4,8) [8,16) [16,32)
+ * [32,64), then 64 at a time. Each slice of a pixel is summed in double and added to the
+ * frame with one float addition per sum, so the slices fix the frame's rounding; they were
+ * the render rounds before [4,64) became one (run_pass), and keeping them keeps every image
+ * bit for bit. A round's bounds are slice bounds. The end of the slice that starts at
+ * `begin`: */
+static int frame_slice_end(int begin) { return begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64); }
+
+/* Adds records rec[0 .. count) of pixel (px, py), one frame slice, to the frame (their sums
+ * in sample order) and hands them to the sink in that order. */
+static void add_slice(PassJob *job, int px, int py, SampleRecord *rec, int count)
+{
+    double c[3] = {0}, di[3] = {0}, in[3] = {0}, em[3] = {0}, al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
+    for (int i = 0; i < count; ++i, ++rec) {
+        pixel_filter_weigh_record(rec);
+        c[0] += rec->L.x, c[1] += rec->L.y, c[2] += rec->L.z;
+        di[0] += rec->direct.x, di[1] += rec->direct.y, di[2] += rec->direct.z;
+        in[0] += rec->indirect.x, in[1] += rec->indirect.y, in[2] += rec->indirect.z;
+        em[0] += rec->emission.x, em[1] += rec->emission.y, em[2] += rec->emission.z;
+        if (rec->hit) {
+            al[0] += rec->albedo.x, al[1] += rec->albedo.y, al[2] += rec->albedo.z;
+            nn[0] += rec->n_shading.x, nn[1] += rec->n_shading.y, nn[2] += rec->n_shading.z;
+            if (isfinite(rec->depth_cam)) depth += rec->depth_cam, hits += 1.0;
+        }
+        if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, rec);
+    }
+    Frame *f = job->frame;
+    size_t i1 = (size_t)py * (size_t)f->width + (size_t)px, i3 = 3 * i1;
+    for (int ch = 0; ch < 3; ++ch) {
+        f->color[i3 + ch] += (float)c[ch];
+        f->direct[i3 + ch] += (float)di[ch];
+        f->indirect[i3 + ch] += (float)in[ch];
+        f->emission[i3 + ch] += (float)em[ch];
+        f->albedo[i3 + ch] += (float)al[ch];
+        f->normal[i3 + ch] += (float)nn[ch];
+    }
+    f->depth[i1] += (float)depth;
+    f->hits[i1] += (float)hits;
+    f->spp[i1] += (float)count;
+}
+
+/* Integrates the queued pixels and adds their samples to the frame, slice by slice
+ * (frame_slice_end), and to the sink in sample order. */
 static long long flush_wave(PassJob *job, WaveQueue *q, IntegratorStats *st)
 {
     if (q->pixel_count == 0) return 0;
@@ -273,34 +321,14 @@ static long long flush_wave(PassJob *job, WaveQueue *q, IntegratorStats *st)
     int n = integrate_wave(&r->isc, q->wave, &ws, q->pixel, q->pixel_count, q->rec, st);
     SampleRecord *rec = q->rec;
     for (int k = 0; k < q->pixel_count; ++k) {
-        int px = q->pixel[k].px, py = q->pixel[k].py, taken = q->pixel[k].count;
-        double c[3] = {0}, di[3] = {0}, in[3] = {0}, em[3] = {0}, al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
-        for (int i = 0; i < taken; ++i, ++rec) {
-            pixel_filter_weigh_record(rec);
-            c[0] += rec->L.x, c[1] += rec->L.y, c[2] += rec->L.z;
-            di[0] += rec->direct.x, di[1] += rec->direct.y, di[2] += rec->direct.z;
-            in[0] += rec->indirect.x, in[1] += rec->indirect.y, in[2] += rec->indirect.z;
-            em[0] += rec->emission.x, em[1] += rec->emission.y, em[2] += rec->emission.z;
-            if (rec->hit) {
-                al[0] += rec->albedo.x, al[1] += rec->albedo.y, al[2] += rec->albedo.z;
-                nn[0] += rec->n_shading.x, nn[1] += rec->n_shading.y, nn[2] += rec->n_shading.z;
-                if (isfinite(rec->depth_cam)) depth += rec->depth_cam, hits += 1.0;
-            }
-            if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, rec);
+        const WavePixel *wp = &q->pixel[k];
+        /* the pass's sample indices of this pixel's records: [s, end) */
+        for (int s = wp->index_first - wp->spp_before, end = s + wp->count; s < end;) {
+            int e = frame_slice_end(s) < end ? frame_slice_end(s) : end;
+            add_slice(job, wp->px, wp->py, rec, e - s);
+            rec += e - s;
+            s = e;
         }
-        Frame *f = job->frame;
-        size_t i1 = (size_t)py * (size_t)f->width + (size_t)px, i3 = 3 * i1;
-        for (int ch = 0; ch < 3; ++ch) {
-            f->color[i3 + ch] += (float)c[ch];
-            f->direct[i3 + ch] += (float)di[ch];
-            f->indirect[i3 + ch] += (float)in[ch];
-            f->emission[i3 + ch] += (float)em[ch];
-            f->albedo[i3 + ch] += (float)al[ch];
-            f->normal[i3 + ch] += (float)nn[ch];
-        }
-        f->depth[i1] += (float)depth;
-        f->hits[i1] += (float)hits;
-        f->spp[i1] += (float)taken;
     }
     q->pixel_count = q->sample_count = 0;
     return n;
@@ -410,16 +438,19 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     }
 
     /* The pass runs in rounds over the whole image, each taking the next slice of every
-     * pixel's sample indices (4, 4, 8, 16, ... up to 64 samples): an interrupted render
-     * has a complete image at a lower sample count, and the progress bar moves evenly.
-     * The rounds depend only on the sample counts, so images stay identical for any
-     * number of threads; within a round a pixel belongs to one thread. */
+     * pixel's sample indices: [0,4), [4,64), then 64 at a time. After the first round an
+     * interrupted render has a complete image at a lower sample count, and the progress
+     * bar moves evenly. The rounds depend only on the sample counts, so images stay
+     * identical for any number of threads; within a round a pixel belongs to one thread.
+     * Until 2026-11-28 the second round was cut into [4,8) [8,16) [16,32) [32,64): each
+     * round sets a pixel's sampler up and builds its per-dimension tables again, in runs
+     * too short to fill the vectorised loops (7-8% of a 64-spp render, docs/benchmarks.md,
+     * "Issue 22, seventh round"). Those cuts remain as the frame's slices
+     * (frame_slice_end), which is all the images depend on. */
     int n = r->threads > 0 ? r->threads : 1;
     pthread_t *tid = calloc((size_t)n, sizeof *tid);
     for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
-        /* rounds [0,4) [4,8) [8,16) ... [64,128) [128,192) ...: at least 4 consecutive
-         * samples of a pixel per round keep the traversal's caches warm */
-        end = begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64);
+        end = begin == 0 ? 4 : (begin < 64 ? 64 : begin + 64);
         _Static_assert(WAVE_SAMPLES >= 64, "a pixel's slice of a round (at most 64 samples) fits in one wave");
         job.sample_begin = begin;
         job.sample_end = end;

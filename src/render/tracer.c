@@ -979,12 +979,20 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
         if (len > 0.0)
             for (int i = 0; i < 3; ++i) po[i] *= g->radius / len; /* reproject onto the surface */
         for (int i = 0; i < 3; ++i) n_obj[i] = po[i];
-        double phi = atan2(po[1], po[0]);
-        if (phi < 0.0) phi += 2.0 * M_PI;
-        double r = g->radius > 0.0 ? g->radius : 1.0;
-        double theta = acos(fmax(-1.0, fmin(1.0, po[2] / r)));
-        double th_min = g->theta_zmin_rad, dv = g->theta_zmax_rad - th_min;
-        *uv = v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f, dv != 0.0 ? (float)((theta - th_min) / dv) : 0.0f);
+        if (g->uv_unread) {
+            *uv = v2(0.0f, 0.0f);
+        } else {
+            double phi = atan2(po[1], po[0]);
+            if (phi < 0.0) phi += 2.0 * M_PI;
+            double r = g->radius > 0.0 ? g->radius : 1.0;
+            double theta = acos(fmax(-1.0, fmin(1.0, po[2] / r)));
+            double th_min = g->theta_zmin_rad, dv = g->theta_zmax_rad - th_min;
+            *uv = v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f,
+                     dv != 0.0 ? (float)((theta - th_min) / dv) : 0.0f);
+        }
+    } else if (g->uv_unread) {
+        po[2] = g->height;
+        *uv = v2(0.0f, 0.0f);
     } else {
         po[2] = g->height;
         double rh = sqrt(po[0] * po[0] + po[1] * po[1]);

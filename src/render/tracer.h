@@ -51,6 +51,9 @@ typedef struct {
     int light_first;         /* first Light of this geometry (+ primID for triangles), -1 = none;
                               * set by lights_build */
     bool flip_normal;        /* pbrt-v4: reverse_orientation XOR transform swaps handedness */
+    bool uv_unread;          /* nothing reads a hit's uv (its material has no texture): spheres
+                              * and disks leave SurfaceHit.uv 0 instead of computing it (an
+                              * atan2 and an acos); set by the renderer, false after tracer_build */
     /* triangles, positions in geometry space */
     int vertex_count, triangle_count;
     const float *p;          /* world-unit positions, 3 floats per vertex (what shading and lights read) */

@@ -157,7 +157,7 @@ int main(void)
         free(in_flight);
         test_render_free(&t);
     }
-    /* cancelled during the second round ([4, 8)): the first round covered every pixel */
+    /* cancelled during the second round ([4, 64)): the first round covered every pixel */
     {
         enum { W = 40, H = 30, SPP = 64 };
         char text[4096];
