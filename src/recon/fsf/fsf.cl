@@ -256,11 +256,18 @@ __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global con
         float8 w = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof2) & (rho > 0.0f));
         vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): never read */
     }
+    /* the span of m with a nonzero weight (the box |z| <= prof2 keeps about B of the 3 B): each
+     * node sums only the bins in it, in the same order; the bins left out had weight 0, which
+     * the sum skips anyway */
+    int m_lo = 3 * B, m_hi = -1;
+    for (int m = 0; m < 3 * B; ++m)
+        if (inv_rho[m] != 0.0f) m_lo = min(m_lo, m), m_hi = m;
     float4 gi[FSF_MAX_Y2_BINS];
     for (int b = 0; b < B; ++b) gi[b] = vload4(B * i + b, G);
     for (int jj = 0; jj < J; ++jj) {
         float4 acc = (float4)(0.0f);
-        for (int b = 0; b < B; ++b) {
+        int b_lo = max(0, m_lo - 2 * B + 2 * jj), b_hi = min(B - 1, m_hi - 2 * B + 2 * jj);
+        for (int b = b_lo; b <= b_hi; ++b) {
             float wk = inv_rho[b - 2 * jj + 2 * B];
             if (wk == 0.0f) continue;
             acc += gi[b] * wk;
