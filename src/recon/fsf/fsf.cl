@@ -10,8 +10,9 @@
  *   n_taps      taps per pixel; tap_node: FSF_TAP_SLOTS ints per pixel (-1: no tap); tap_a0, tap_a1:
  *               the weights of nodes j0 and j0 + 1, FSF_TAP_SLOTS floats per pixel each
  *   cum1        FSF_CUM floats per pixel: running sums of the first axis' tap weights
- *   P           J * 4 floats per pixel (J shift nodes) of a ring of `ring` image rows (row y at
- *               y % ring): pass 1 runs in bands of rows, so P never holds the whole frame
+ *   P           J * 4 floats per pixel (J shift nodes) and y2 bin of the launch (C of them,
+ *               interleaved: see fsf_pass1a) of a ring of `ring` image rows (row y at y % ring):
+ *               pass 1 runs in bands of rows, so P never holds the whole frame
  *   Q           J * 4 floats per pixel (whole frame); G: B * 4 floats per pixel (B y2 bins) */
 
 #define FSF_RADIUS_CAP_PX 16
@@ -145,9 +146,10 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
 }
 
 /* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12) over the image rows
- * row0 .. row1 - 1 (one work item per pixel of the launch), one slice of P each (slice c at
- * c * ring * width * J float4; pixel (x, y) at row y % ring), a sample's shift nodes 8 at a
- * time. Several bins per launch share each work item's set-up (radius, running sums, the scan
+ * row0 .. row1 - 1 (one work item per pixel of the launch), one slice of P each, interleaved:
+ * node n of slice c at float4 n * C + c (node n = J * pixel + j, pixel (x, y) at row y % ring),
+ * so that pass 1b's tap reads the C slices' values of a node from one or two cache lines
+ * instead of C places a slice apart. A sample's shift nodes 8 at a time. Several bins per launch share each work item's set-up (radius, running sums, the scan
  * of its slots). */
 __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity, const int row0,
                          const int row1, const int ring, __global const int *count, __global const float *ys,
@@ -158,10 +160,8 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
-    size_t slice = (size_t)a.width * (size_t)ring * (size_t)J * 4;
     int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
-    for (int c = 0; c < C; ++c)
-        for (int jj = 0; jj < J; ++jj) vstore4((float4)(0.0f), J * ip + jj, P + c * slice);
+    for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
     int r = fsf_radius(px[8 * i + 6]);
     float eta = px[8 * i + 4];
     float cum[FSF_CUM];
@@ -171,7 +171,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     for (int k = 0; k < n_k; ++k) {
         int slot = i * capacity + k, c = (int)bin2[slot] - bin0;
         if (c < 0 || c >= C) continue;
-        __global float *Pi = P + c * slice + J * 4 * ip;
+        __global float *Pi = P + 4 * (J * C * ip + c); /* node s at Pi + 4 C s */
         float y1 = ys[2 * slot];
         float4 v = (float4)(value[3 * slot], value[3 * slot + 1], value[3 * slot + 2], 1.0f);
         int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);
@@ -186,10 +186,10 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
             int nl = min(8, j1 - s0 + 1);
             vstore8(select((float8)(0.0f), wk, lane < (float)nl), 0, w);
             if (s0 + 8 <= J) { /* all eight nodes inside the pixel's: no branch (a weight 0 adds an exact 0) */
-                for (int l = 0; l < 8; ++l) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+                for (int l = 0; l < 8; ++l) vstore4(vload4(C * (s0 + l), Pi) + w[l] * v, C * (s0 + l), Pi);
             } else {
                 for (int l = 0; l < nl; ++l)
-                    if (w[l] != 0.0f) vstore4(vload4(s0 + l, Pi) + w[l] * v, s0 + l, Pi);
+                    if (w[l] != 0.0f) vstore4(vload4(C * (s0 + l), Pi) + w[l] * v, C * (s0 + l), Pi);
             }
         }
     }
@@ -210,24 +210,25 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
 }
 
 /* Pass 1b for the C <= 4 bins of pass 1a's launches (fsf_pass1b, eq. 13) over the image rows
- * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring. */
+ * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring; the C
+ * slices' values of node n are the float4 n * C .. n * C + C - 1 (pass 1a). */
 __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int row0, const int row1, const int ring,
                          __global const int *n_taps, __global const int *tap_node, __global const float *tap_a0,
                          __global const float *tap_a1, __global const float *P, __global float *G)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return;
-    int slice = a.width * ring * a.J; /* float4 per slice */
     float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
     int n = n_taps[i];
     for (int e = 0; e < n; ++e) {
         int o = FSF_TAP_SLOTS * i + e, node = tap_node[o];
         if (node < 0) continue;
         float a0 = tap_a0[o], a1 = tap_a1[o];
-        acc0 += a0 * vload4(node, P) + a1 * vload4(node + 1, P);
-        if (C > 1) acc1 += a0 * vload4(slice + node, P) + a1 * vload4(slice + node + 1, P);
-        if (C > 2) acc2 += a0 * vload4(2 * slice + node, P) + a1 * vload4(2 * slice + node + 1, P);
-        if (C > 3) acc3 += a0 * vload4(3 * slice + node, P) + a1 * vload4(3 * slice + node + 1, P);
+        int n0 = C * node, n1 = C * (node + 1);
+        acc0 += a0 * vload4(n0, P) + a1 * vload4(n1, P);
+        if (C > 1) acc1 += a0 * vload4(n0 + 1, P) + a1 * vload4(n1 + 1, P);
+        if (C > 2) acc2 += a0 * vload4(n0 + 2, P) + a1 * vload4(n1 + 2, P);
+        if (C > 3) acc3 += a0 * vload4(n0 + 3, P) + a1 * vload4(n1 + 3, P);
     }
     vstore4(acc0, a.B * i + bin0, G);
     if (C > 1) vstore4(acc1, a.B * i + bin0 + 1, G);
