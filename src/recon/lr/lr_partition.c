@@ -28,7 +28,7 @@ LrConfig lr_config_default(void)
     c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
     c.motion_spread_max = 0.5f;
     c.motion_range_px = 4.0f;
-    c.bright_contrast = 32.0f; /* 1 / the halo's share of the layer's light, 8.24 */
+    c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
     c.bright_clamp_px = 1.0f;
     c.still_tiles = NULL;
     c.filter.sigma_clamp_px = (float)(c.window_px - c.tile_px) / 4.0f; /* Appendix C */

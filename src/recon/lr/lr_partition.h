@@ -52,7 +52,7 @@ typedef struct {
      * at most bright_clamp_px of screen sigma instead of filter.sigma_clamp_px: its blur stays
      * in the samples' own lens and shutter offsets, the lens disk's and the shutter box's
      * shape, rather than in a screen share whose shape is right only in variance (a bright
-     * cone, with a halo past the disk's rim on the dark pixels around it). Defaults 32 and
+     * cone, with a halo past the disk's rim on the dark pixels around it). Defaults 8 and
      * 1 px; bright_contrast 0: off. docs/algorithms.md 8.24. */
     float bright_contrast;
     float bright_clamp_px;
