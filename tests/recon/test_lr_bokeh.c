@@ -14,38 +14,24 @@
 #include <stdlib.h>
 
 #include "../check.h"
+#include "lr_scene.h"
 #include "recon/lr/lr_reconstruct.h"
 
 enum { W = 64, H = 64, SPP = 256 };
 static const float CX = 32.0f, CY = 32.0f, R_E = 5.0f, COC = 14.0f, L_E = 300.0f;
 
-static float unit(unsigned *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return (float)(*s >> 8) / 16777216.0f;
-}
-
-/* Jittered film positions, uniform lens disk and shutter; a sample sees the light where its
- * lens-centre position x - c u falls inside the light's disk, else misses (black). */
+/* lr_test_scene's disk and plane, made a light over misses: the disk's samples (those whose
+ * lens-centre position x - c u falls inside it) get the light's radiance, the plane's become
+ * misses (black, depth infinite). */
 static void bokeh_scene(LrSample *s)
 {
-    unsigned seed = 7;
-    for (int py = 0; py < H; ++py)
-        for (int px = 0; px < W; ++px)
-            for (int k = 0; k < SPP; ++k) {
-                LrSample *q = &s[((size_t)py * W + px) * SPP + k];
-                q->x_px = (float)px + unit(&seed);
-                q->y_px = (float)py + unit(&seed);
-                float r = sqrtf(unit(&seed)), phi = 6.2831853f * unit(&seed);
-                q->u = r * cosf(phi), q->v = r * sinf(phi);
-                q->t = unit(&seed);
-                q->motion_px[0] = q->motion_px[1] = 0.0f;
-                float ox = q->x_px - COC * q->u - CX, oy = q->y_px - COC * q->v - CY;
-                bool hit = ox * ox + oy * oy < R_E * R_E;
-                q->depth = hit ? 10.0f : INFINITY;
-                q->coc_px = hit ? COC : 0.0f;
-                for (int c = 0; c < 3; ++c) q->L[c] = hit ? L_E : 0.0f;
-            }
+    LrTestLayer layers[2] = {{10.0f, COC, {0.0f, 0.0f}, CX, CY, R_E, 0.0f}, {20.0f, 0.0f, {0.0f, 0.0f}, 0, 0, 0, 0.0f}};
+    lr_test_scene(s, W, H, SPP, layers, 2, 7);
+    for (int i = 0; i < W * H * SPP; ++i) {
+        bool light = s[i].depth == layers[0].depth;
+        if (!light) s[i].depth = INFINITY, s[i].coc_px = 0.0f;
+        for (int c = 0; c < 3; ++c) s[i].L[c] = light ? L_E : 0.0f;
+    }
 }
 
 typedef struct {
