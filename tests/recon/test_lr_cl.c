@@ -21,6 +21,10 @@ static int gap_slabs = 0;
 /* each sample's CoC slope is jittered by up to half this (a tilted surface's spread of slopes):
  * wide enough, a window's histogram has more occupied bins than slabs */
 static float coc_jitter_px = 0.6f;
+/* the radiance of the front layer's samples is scaled by this: at 300 it is a light far
+ * brighter than the rest of its windows, whose layers take the bright clamp (8.24) from the
+ * brightness sums the kernel adds up and the C partition alike */
+static float front_gain = 1.0f;
 
 /* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
  * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
@@ -32,7 +36,11 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
     lr_test_scene(s, w, h, spp, layers, nl, 31);
     unsigned seed = 5;
-    for (int i = 0; i < w * h * spp; ++i) s[i].coc_px += coc_jitter_px * (lr_test_unit(&seed) - 0.5f);
+    for (int i = 0; i < w * h * spp; ++i) {
+        if (s[i].depth == layers[0].depth)
+            for (int c = 0; c < 3; ++c) s[i].L[c] *= front_gain;
+        s[i].coc_px += coc_jitter_px * (lr_test_unit(&seed) - 0.5f);
+    }
     for (int i = 0; i < w * h * spp && film_spread_px > 0.0f; ++i) {
         int pixel = i / spp;
         s[i].x_px = (float)(pixel % w) + 0.5f + film_spread_px * (2.0f * lr_test_unit(&seed) - 1.0f);
@@ -88,6 +96,29 @@ static void compare_spread(LrCl *lr, int w, int h, int spp, const LrTestLayer *l
 static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, int nl, bool poison)
 {
     compare_spread(lr, w, h, spp, layers, nl, poison, 0.0f);
+}
+
+/* The bright front layer of compare's frames is bright in some partitions (so that the
+ * comparisons above exercise the bright clamp), and only with front_gain. */
+static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl, float gain)
+{
+    LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
+    lr_test_scene(s, w, h, spp, layers, nl, 31);
+    for (int i = 0; i < w * h * spp; ++i)
+        if (s[i].depth == layers[0].depth)
+            for (int c = 0; c < 3; ++c) s[i].L[c] *= gain;
+    LrSamples img = {w, h, spp, s};
+    LrConfig cfg = lr_config_default();
+    int ntx, nty, bright = 0;
+    lr_tile_count(&img, &cfg, &ntx, &nty);
+    for (int ty = 0; ty < nty; ++ty)
+        for (int tx = 0; tx < ntx; ++tx) {
+            LrTile t;
+            lr_tile_partition(&img, &cfg, tx, ty, &t);
+            for (int j = 0; j < t.layer_count; ++j) bright += t.layer[j].contrast >= cfg.bright_contrast;
+        }
+    free(s);
+    return bright;
 }
 
 /* LrConfig.still_tiles: every other tile marked still. Those tiles get no layers and 0 in
@@ -157,6 +188,8 @@ int main(void)
         /* frames of more than one batch of tiles (lr_cl.c: BATCH_TILES): 16 x 5 tiles in
          * batches of 4 rows (the last one short), and 65 x 2 tiles, one row a batch */
         LrTestLayer wide[2] = {{2.0f, -4.0f, {-9.0f, 3.0f}, 130.0f, 40.0f, 30.0f, 0.8f}, {6.0f, 3.0f, {2.0f, 0.0f}, 0, 0, 0, 0.35f}};
+        CHECK(bright_partitions(48, 33, 8, big, 3, 300.0f) > 0 && bright_partitions(256, 80, 4, wide, 2, 300.0f) > 0);
+        CHECK(bright_partitions(48, 33, 8, big, 3, 1.0f) == 0 && bright_partitions(256, 80, 4, wide, 2, 1.0f) == 0);
         compare(lr, 256, 80, 4, wide, 2, false);
         compare(lr, 1040, 20, 2, wide, 2, true);
         /* film positions up to 4 px from their pixel's centre (pbrt's sinc pixel filter) and 9
@@ -183,6 +216,11 @@ int main(void)
             compare(lr, 48, 33, 8, big, 3, true);
             compare_band(lr, 53, 45, 4, big, 3, false, 0.0f, 8);
             compare(lr, 256, 80, 4, wide, 2, false);
+            /* a bright front layer: its partitions take the bright clamp (checked below) */
+            front_gain = 300.0f;
+            compare(lr, 48, 33, 8, big, 3, true);
+            compare(lr, 256, 80, 4, wide, 2, false);
+            front_gain = 1.0f;
         }
         lr_cl_destroy(lr);
     }

@@ -81,7 +81,7 @@ typedef double lr_sum; /* as lr_partition.c sums the motion: the same psi, bit f
 typedef float lr_sum; /* a device without doubles: psi may differ from the C version's in the last bits */
 #endif
 
-#define LR_ST_STRIDE 8 /* per raw layer: count, cos psi, sin psi, c_min, c_max, d_min, d_max, across */
+#define LR_ST_STRIDE 9 /* per raw layer: count, cos psi, sin psi, c_min, c_max, d_min, d_max, across, brightness sum */
 
 /* lr_tile_raw_count: the raw layers of a tile with these bounds (the slabs split into moving
  * and static layers when 2 slabs + 1 ids fit in 17). */
@@ -271,11 +271,11 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
 
     int raw_n = lr_raw_count(n_depth, n_coc);
     int count[17], skipped[17];
-    lr_sum mx[17], my[17];
+    lr_sum mx[17], my[17], bright[17];
     float cmin[17], cmax[17], cp[17], sp[17], dmin[17], dmax[17], perp[17];
     for (int i = 0; i < raw_n; ++i) {
         count[i] = skipped[i] = 0;
-        mx[i] = my[i] = 0;
+        mx[i] = my[i] = bright[i] = 0;
         cmin[i] = dmin[i] = INFINITY;
         cmax[i] = dmax[i] = -INFINITY;
         perp[i] = 0.0f;
@@ -292,6 +292,8 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                 if (!finite) skipped[r]++; /* rare: a branch, not a sum per sample */
                 mx[r] += (lr_sum)s[7];
                 my[r] += (lr_sum)s[8];
+                float b = s[9] + s[10] + s[11]; /* lr_partition.c: the layer's brightness, 8.24 */
+                bright[r] += (lr_sum)(isfinite(b) ? b : 0.0f);
                 cmin[r] = s[6] < cmin[r] ? s[6] : cmin[r];
                 cmax[r] = s[6] > cmax[r] ? s[6] : cmax[r];
             }
@@ -340,6 +342,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
         o[i * LR_ST_STRIDE + 5] = used ? dmin[i] : INFINITY;
         o[i * LR_ST_STRIDE + 6] = used ? dmax[i] : -INFINITY;
         o[i * LR_ST_STRIDE + 7] = used ? perp[i] : 0.0f;
+        o[i * LR_ST_STRIDE + 8] = used ? (float)bright[i] : 0.0f;
     }
 }
 

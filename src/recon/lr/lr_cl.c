@@ -13,7 +13,7 @@
 
 /* as in lr.cl */
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_TAPS_X = 12,
-       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 8, LS_STRIDE = 18, BATCH_TILES = 32,
+       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 9, LS_STRIDE = 18, BATCH_TILES = 32,
        PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
 
 _Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
@@ -115,7 +115,7 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
         LrLayerStats st[LR_MAX_LAYERS + 1];
         const float *o = lr->st + (size_t)t * (LR_MAX_LAYERS + 1) * ST_STRIDE;
         for (int i = 0; i < LR_MAX_LAYERS + 1; ++i, o += ST_STRIDE)
-            st[i] = (LrLayerStats){(int)o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7]};
+            st[i] = (LrLayerStats){(int)o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7], o[8]};
         lr_tile_finish(cfg, st, T);
         int *l = lr->tl + (size_t)t * TL_STRIDE;
         l[0] = T->layer_count;

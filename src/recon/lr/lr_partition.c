@@ -28,6 +28,8 @@ LrConfig lr_config_default(void)
     c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
     c.motion_spread_max = 0.5f;
     c.motion_range_px = 4.0f;
+    c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
+    c.bright_clamp_px = 1.0f;
     c.still_tiles = NULL;
     c.filter.sigma_clamp_px = (float)(c.window_px - c.tile_px) / 4.0f; /* Appendix C */
     return c;
@@ -194,10 +196,10 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     if (gaps) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, t);
     else lr_tile_bounds(cfg, zmin, zmax, t);
     int raw_n = lr_tile_raw_count(t);
-    double mx[LR_MAX_LAYERS + 1], my[LR_MAX_LAYERS + 1];
+    double mx[LR_MAX_LAYERS + 1], my[LR_MAX_LAYERS + 1], bright[LR_MAX_LAYERS + 1];
     for (int i = 0; i < raw_n; ++i) {
-        st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f};
-        mx[i] = my[i] = 0.0;
+        st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f};
+        mx[i] = my[i] = bright[i] = 0.0;
     }
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
@@ -207,9 +209,12 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
                 st[r].count++;
                 mx[r] += s->motion_px[0];
                 my[r] += s->motion_px[1];
+                float b = s->L[0] + s->L[1] + s->L[2];
+                bright[r] += isfinite(b) ? b : 0.0f;
                 st[r].c_min_px = min_f(st[r].c_min_px, s->coc_px);
                 st[r].c_max_px = max_f(st[r].c_max_px, s->coc_px);
             }
+    for (int i = 0; i < raw_n; ++i) st[i].bright_sum = (float)bright[i];
     /* Figure 4: the mean motion sets psi */
     for (int i = 0; i < raw_n; ++i) {
         if (!st[i].count) continue;
@@ -229,6 +234,16 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
                 a->d_max_px = max_f(a->d_max_px, along);
                 a->across_px = max_f(a->across_px, fabsf(across));
             }
+}
+
+float lr_layer_contrast(const LrLayerStats *st, int raw_n, int i)
+{
+    double n_rest = 0.0, b_rest = 0.0;
+    for (int k = 0; k < raw_n; ++k)
+        if (k != i) n_rest += st[k].count, b_rest += st[k].bright_sum;
+    if (!(st[i].count > 0) || !(st[i].bright_sum > 0.0f) || !(n_rest > 0.0)) return 1.0f;
+    double mean = st[i].bright_sum / (double)st[i].count, rest = b_rest / n_rest;
+    return rest > 0.0 ? (float)(mean / rest) : INFINITY;
 }
 
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
@@ -265,7 +280,14 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
             t->layer[j].cos_psi = 1.0f;
             t->layer[j].sin_psi = 0.0f;
         }
-        t->layer[j].filter = lr_filter_make(&t->layer[j].slopes, &cfg->filter);
+        /* A light far brighter than what surrounds it: the screen share's shape error (a
+         * few percent of the layer's light past the disk's rim, docs/algorithms.md 8.24)
+         * would outshine the background, so the layer keeps its blur in its samples. */
+        LrFilterConfig fc = cfg->filter;
+        t->layer[j].contrast = lr_layer_contrast(st, raw_n, i);
+        if (cfg->bright_contrast > 0.0f && t->layer[j].contrast >= cfg->bright_contrast && fc.sigma_clamp_px > cfg->bright_clamp_px)
+            fc.sigma_clamp_px = cfg->bright_clamp_px;
+        t->layer[j].filter = lr_filter_make(&t->layer[j].slopes, &fc);
     }
 }
 

@@ -47,6 +47,15 @@ typedef struct {
                                * range of speeds along the mean direction exceeds this share
                                * of it and motion_range_px */
     float motion_range_px;
+    /* A layer whose mean brightness is at least bright_contrast times the rest of its
+     * window's (lr_layer_contrast: a light source out of focus over a dark background) takes
+     * at most bright_clamp_px of screen sigma instead of filter.sigma_clamp_px: its blur stays
+     * in the samples' own lens and shutter offsets, the lens disk's and the shutter box's
+     * shape, rather than in a screen share whose shape is right only in variance (a bright
+     * cone, with a halo past the disk's rim on the dark pixels around it). Defaults 8 and
+     * 1 px; bright_contrast 0: off. docs/algorithms.md 8.24. */
+    float bright_contrast;
+    float bright_clamp_px;
     const unsigned char *still_tiles; /* per tile (row-major, lr_tile_count's), non-zero: a
                                        * tile with nothing to move, left out (no layers, its
                                        * pixels 0 in the output); NULL: none */
@@ -67,6 +76,8 @@ typedef struct {
         int count;                  /* samples of the window in the layer */
         float cos_psi, sin_psi;     /* mean motion direction (the rotated frame's x axis) */
         bool motion_filter;         /* false when the directions spread too much */
+        float contrast;             /* the layer's mean brightness over the rest of the
+                                     * window's (lr_layer_contrast) */
         LrSlopes slopes;
         LrFilter filter;
     } layer[LR_MAX_LAYERS];
@@ -86,8 +97,9 @@ void lr_tile_window(const LrSamples *img, const LrConfig *cfg, int tx, int ty, i
 void lr_tile_partition(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *tile);
 
 /* What a partition needs from its samples, per raw layer (before compaction): the sample
- * count, the mean motion's direction, the CoC range, and in that direction's frame the range
- * of motion along it and the largest motion across it. OpenCL computes the same
+ * count, the mean motion's direction, the CoC range, in that direction's frame the range
+ * of motion along it and the largest motion across it, and the sum of its samples'
+ * brightness (r + g + b; 0 for a non-finite radiance). OpenCL computes the same
  * (lr.cl: lr_tile_stats), the host finishes the partition from it. */
 typedef struct {
     int count;
@@ -95,6 +107,7 @@ typedef struct {
     float c_min_px, c_max_px;
     float d_min_px, d_max_px;
     float across_px;
+    float bright_sum;
 } LrLayerStats;
 
 /* cfg->uniform_layers within [1, 7] and cfg->gap_slabs within [0, LR_MAX_COC_BOUNDS]: the
@@ -136,6 +149,11 @@ void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int 
 
 /* Compaction, motion ranges widened by the spread across psi (Figure 4), the filters. */
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *raw_stats, LrTile *t);
+
+/* Raw layer i's mean brightness over the mean of the window's other samples (all raw layers,
+ * misses included); INFINITY when the others are black and the layer is not; 1 when the layer
+ * is the whole window or black. */
+float lr_layer_contrast(const LrLayerStats *raw_stats, int raw_n, int i);
 
 /* A sample moving at least this far over the shutter (screen pixels) is "moving": within one
  * depth/CoC slab the moving and the static samples are separate layers (lr_tile_raw_layer).
