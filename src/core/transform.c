@@ -183,13 +183,6 @@ vec3 mat4_apply_vector(const Mat4 *m, vec3 v)
               (float)(m->m[2][0] * x + m->m[2][1] * y + m->m[2][2] * z));
 }
 
-vec3 mat4_apply_normal(const Mat4 *inv, vec3 n)
-{
-    double x = n.x, y = n.y, z = n.z;
-    return v3((float)(inv->m[0][0] * x + inv->m[1][0] * y + inv->m[2][0] * z),
-              (float)(inv->m[0][1] * x + inv->m[1][1] * y + inv->m[2][1] * z),
-              (float)(inv->m[0][2] * x + inv->m[1][2] * y + inv->m[2][2] * z));
-}
 
 bool mat4_swaps_handedness(const Mat4 *m)
 {

@@ -27,7 +27,13 @@ bool mat4_lookat(const double eye[3], const double look[3], const double up[3], 
 vec3 mat4_apply_point(const Mat4 *m, vec3 p);   /* divides by w when w != 1 */
 vec3 mat4_apply_vector(const Mat4 *m, vec3 v);
 /* Normals transform by the inverse transpose: pass the inverse of the object's matrix. */
-vec3 mat4_apply_normal(const Mat4 *inverse, vec3 n);
+static inline vec3 mat4_apply_normal(const Mat4 *inv, vec3 n)
+{
+    double x = n.x, y = n.y, z = n.z;
+    return v3((float)(inv->m[0][0] * x + inv->m[1][0] * y + inv->m[2][0] * z),
+              (float)(inv->m[0][1] * x + inv->m[1][1] * y + inv->m[2][1] * z),
+              (float)(inv->m[0][2] * x + inv->m[1][2] * y + inv->m[2][2] * z));
+}
 /* True when the transform flips handedness (negative determinant of the 3x3 part). */
 bool mat4_swaps_handedness(const Mat4 *m);
 

@@ -104,10 +104,8 @@ static Mat4 world_from_camera_at(const Camera *cam, float time01)
     return anim_xform_at(&cam->world_from_camera, time01);
 }
 
-float camera_depth(const Camera *cam, vec3 p_world, float time01)
+float camera_depth_moving(const Camera *cam, vec3 p_world, float time01)
 {
-    if (!cam->moving)
-        return cam->cfw_z_f[0] * p_world.x + cam->cfw_z_f[1] * p_world.y + cam->cfw_z_f[2] * p_world.z + cam->cfw_z_f[3];
     Mat4 cfw = camera_from_world_at(cam, time01);
     return mat4_apply_point(&cfw, p_world).z;
 }

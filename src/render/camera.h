@@ -61,7 +61,14 @@ void camera_generate_rays(const Camera *cam, int count, const float *px_raster, 
 Mat4 camera_from_world_at(const Camera *cam, float time01);
 
 /* Camera-space z (depth along the view axis, world units) of a world point at a time. */
-float camera_depth(const Camera *cam, vec3 p_world, float time01);
+float camera_depth_moving(const Camera *cam, vec3 p_world, float time01);
+/* Inline for a static camera (one dot product; every first hit asks) */
+static inline float camera_depth(const Camera *cam, vec3 p_world, float time01)
+{
+    if (!cam->moving)
+        return cam->cfw_z_f[0] * p_world.x + cam->cfw_z_f[1] * p_world.y + cam->cfw_z_f[2] * p_world.z + cam->cfw_z_f[3];
+    return camera_depth_moving(cam, p_world, time01);
+}
 
 /* Projects a world point to raster coordinates (pinhole model) at time time01. False when
  * the point is behind the camera. */

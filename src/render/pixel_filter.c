@@ -176,17 +176,22 @@ static float sample_axis(const PixelFilter *pf, int a, float u, float *w)
     default: break;
     }
     const PixelFilterAxis *ax = &pf->axis[a];
-    int lo = 0, hi = ax->cells - 1; /* first cell i with cdf[i + 1] > u */
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (ax->cdf[mid + 1] > u)
-            hi = mid;
-        else
-            lo = mid + 1;
+    /* The first cell i in [0, cells - 1) with cdf[i + 1] > u, else cells - 1 (cdf does not
+     * decrease). The answer stays in [lo, lo + len - 1]; each step halves len whatever the
+     * comparison says, so the loop's branch depends on the table only and the comparison
+     * becomes a conditional move (u is random: as a branch it mispredicted about half the
+     * time, twice per sample with the default Gaussian). For a non-decreasing table this
+     * is the partition point a plain bisection finds, so the same cell results. */
+    int lo = 0;
+    for (int len = ax->cells; len > 1;) {
+        int half = len / 2;
+        lo = ax->cdf[lo + half] > u ? lo : lo + half;
+        len -= half;
     }
     float width = ax->cdf[lo + 1] - ax->cdf[lo];
     float t = width > 0.0f ? (u - ax->cdf[lo]) / width : 0.5f;
-    t = fminf(fmaxf(t, 0.0f), 1.0f);
+    /* fminf(fmaxf(t, 0), 1) without two library calls (NaN -> 0 as there) */
+    t = t > 0.0f ? (t < 1.0f ? t : 1.0f) : 0.0f;
     *w *= (float)ax->sign[lo] * ax->abs_over_sum;
     return -r + 2.0f * r * ((float)lo + t) / (float)ax->cells;
 }
@@ -199,16 +204,4 @@ vec2 pixel_filter_sample(const PixelFilter *pf, vec2 u, float *weight)
     float dx = sample_axis(pf, 0, u.x, &w), dy = sample_axis(pf, 1, u.y, &w);
     *weight = w;
     return v2(0.5f + dx, 0.5f + dy);
-}
-
-void pixel_filter_weigh_record(SampleRecord *rec)
-{
-    float w = rec->filter_weight;
-    if (w == 1.0f) return;
-    rec->L = v3_scale(rec->L, w);
-    rec->emission = v3_scale(rec->emission, w);
-    rec->direct = v3_scale(rec->direct, w);
-    rec->indirect = v3_scale(rec->indirect, w);
-    rec->unfiltered = v3_scale(rec->unfiltered, w);
-    rec->unfiltered_direct = v3_scale(rec->unfiltered_direct, w);
 }

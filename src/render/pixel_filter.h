@@ -62,7 +62,18 @@ float pixel_filter_eval(const PixelFilter *pf, float x, float y);
 vec2 pixel_filter_sample(const PixelFilter *pf, vec2 u, float *weight);
 
 /* Multiplies the radiance fields of a complete record (L, emission, direct, indirect,
- * unfiltered) by its filter_weight; nothing to do when the weight is 1. */
-void pixel_filter_weigh_record(SampleRecord *rec);
+ * unfiltered) by its filter_weight; nothing to do when the weight is 1. Inline: the
+ * renderer calls it for every record. */
+static inline void pixel_filter_weigh_record(SampleRecord *rec)
+{
+    float w = rec->filter_weight;
+    if (w == 1.0f) return;
+    rec->L = v3_scale(rec->L, w);
+    rec->emission = v3_scale(rec->emission, w);
+    rec->direct = v3_scale(rec->direct, w);
+    rec->indirect = v3_scale(rec->indirect, w);
+    rec->unfiltered = v3_scale(rec->unfiltered, w);
+    rec->unfiltered_direct = v3_scale(rec->unfiltered_direct, w);
+}
 
 #endif

@@ -6,8 +6,12 @@
  *    for positive filters and +-c averaging 1 for mitchell and sinc;
  *  - end to end: the image of a step edge (an emitter covering the right half of the view)
  *    is the step convolved with the normalised filter, column by column;
+ *  - the tabulated filters' cell search (a bisection by conditional moves) finds the cell a
+ *    plain linear scan of the CDF finds, for random u and for u at and next to every CDF
+ *    entry, so the offsets and weights are those of the scan bit for bit;
  *  - bad parameters are errors with exact messages. */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "check.h"
@@ -145,6 +149,59 @@ static void test_step_edge(const char *name)
     test_render_free(&t);
 }
 
+/* pixel_filter_sample's offset along axis 0 and weight for u = (x, 0.5), recomputed with a
+ * linear scan for the first cell i with cdf[i + 1] > x (else the last cell) as the oracle. */
+static void scan_sample(const PixelFilter *pf, float x, float *offset, float *weight)
+{
+    const PixelFilterAxis *ax = &pf->axis[0];
+    int lo = 0;
+    while (lo < ax->cells - 1 && !(ax->cdf[lo + 1] > x)) ++lo;
+    float width = ax->cdf[lo + 1] - ax->cdf[lo];
+    float t = width > 0.0f ? (x - ax->cdf[lo]) / width : 0.5f;
+    t = fminf(fmaxf(t, 0.0f), 1.0f);
+    float r = pf->radius[0];
+    *offset = 0.5f + (-r + 2.0f * r * ((float)lo + t) / (float)ax->cells);
+    /* the weight: the x cell's factor, then the y cell's (u.y = 0.5), in the library's order */
+    float w = 1.0f;
+    w *= (float)ax->sign[lo] * ax->abs_over_sum;
+    const PixelFilterAxis *ay = &pf->axis[1];
+    int ly = 0;
+    while (ly < ay->cells - 1 && !(ay->cdf[ly + 1] > 0.5f)) ++ly;
+    w *= (float)ay->sign[ly] * ay->abs_over_sum;
+    *weight = w;
+}
+
+static void test_cell_search(const char *name)
+{
+    PixelFilter pf;
+    Diag err = {0};
+    CHECK(pixel_filter_init(&pf, name, NULL, (SrcLoc){0}, &err));
+    const PixelFilterAxis *ax = &pf.axis[0];
+    int n_u = 0, bad = 0;
+    uint32_t state = 12345u;
+    for (int k = 0; k < 20000 + 3 * (ax->cells + 1); ++k) {
+        float x;
+        if (k < 20000) {
+            state = state * 1664525u + 1013904223u;
+            x = (float)(state >> 8) * 0x1p-24f;
+        } else { /* at and next to every CDF entry, kept in [0, 1) */
+            int i = (k - 20000) / 3, side = (k - 20000) % 3;
+            x = ax->cdf[i];
+            if (side == 1) x = nextafterf(x, 0.0f);
+            if (side == 2) x = nextafterf(x, 1.0f);
+            if (!(x < 1.0f)) x = 0x1.fffffep-1f;
+        }
+        float w = 0.0f, w_scan = 0.0f, off_scan = 0.0f;
+        vec2 p = pixel_filter_sample(&pf, v2(x, 0.5f), &w);
+        scan_sample(&pf, x, &off_scan, &w_scan);
+        ++n_u;
+        if (memcmp(&p.x, &off_scan, sizeof p.x) != 0 || memcmp(&w, &w_scan, sizeof w) != 0) ++bad;
+    }
+    CHECK(n_u > 20000);
+    CHECK(bad == 0);
+    pixel_filter_free(&pf);
+}
+
 static void test_errors(void)
 {
     PixelFilter pf;
@@ -168,6 +225,9 @@ int main(void)
         test_distribution(names[i]);
         test_step_edge(names[i]);
     }
+    test_cell_search("gaussian"); /* 48 cells a side: not a power of two */
+    test_cell_search("mitchell");
+    test_cell_search("sinc");
     test_errors();
     return check_failures ? 1 : 0;
 }
