@@ -398,7 +398,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
                            int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples, __global const float *packed,
                            __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
-                           __global float *grid)
+                           __global float *grid, __global int *reach_box)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int j = get_global_id(0), tile = tile0 + get_global_id(1);
@@ -426,8 +426,10 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
      * few more instead of the whole window. The cells read get exactly the C version's sums. */
     float rx = lp[10], ry = lp[11];
     int tx0 = inset + (tile % ntx) * tile_px - w.x0, ty0 = inset + (tile / ntx) * tile_px - w.y0;
-    int mx = (int)ceil(ry * fabs(sp)) + 1 + (int)ceil(rx * fabs(cp)) + 1;
-    int my = (int)ceil(ry * fabs(cp)) + 1 + (int)ceil(rx * fabs(sp)) + 1;
+    /* how far the along pass (ax, ay) and the across pass (cx, cy) reach in x and y */
+    int ax = (int)ceil(rx * fabs(cp)) + 1, ay = (int)ceil(rx * fabs(sp)) + 1;
+    int cx = (int)ceil(ry * fabs(sp)) + 1, cy = (int)ceil(ry * fabs(cp)) + 1;
+    int mx = cx + ax, my = cy + ay;
     /* film_slack_px: how far (past its own half) a sample's film position lies from its pixel's
      * centre, at least 2 (the host measures it: a wide pixel filter, pbrt's sinc, places
      * samples up to its radius away) */
@@ -439,8 +441,33 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
         for (int i = 0; i < (bx1 - bx0) * LR_CH; ++i) row[i] = 0.0f;
     }
     uint key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
-    for (int r = raw_j; r < 17; ++r) {
+    int ox0 = INT_MAX, oy0 = INT_MAX, ox1 = INT_MIN, oy1 = INT_MIN; /* the cells the own samples reach */
+    for (int r = raw_j; r <= 17; ++r) {
         bool own = r == raw_j;
+        if (r == raw_j + 1) {
+            /* The layer's opacity and light come from its own samples only: a tile pixel whose
+             * screen filter (along, then across) reaches no cell of theirs gets alpha = 0 and
+             * no light from this layer, whatever the weights, and eq. 17 leaves it as it was.
+             * So the passes need only the tile pixels within (ax + cx, ay + cy) of the own
+             * cells (box P, for lr_along and lr_across_composite), the along pass only P
+             * widened by (cx, cy), which reads the grid within P widened by (ax + cx, ay + cy)
+             * (box G): the samples behind are placed only into G, and only source rows within
+             * reach of G are visited. G's cells get the same sums in the same order as before;
+             * the cells outside it are never read (docs/algorithms.md 8.25). */
+            int p0x = max(tx0, ox0 - ax - cx), p1x = min(tx0 + tile_px, ox1 + 1 + ax + cx);
+            int p0y = max(ty0, oy0 - ay - cy), p1y = min(ty0 + tile_px, oy1 + 1 + ay + cy);
+            __global int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
+            box[0] = p0x, box[1] = p0y, box[2] = p1x, box[3] = p1y;
+            if (p0x >= p1x || p0y >= p1y) { /* the layer shows nowhere in the tile */
+                box[0] = box[1] = box[2] = box[3] = 0;
+                return;
+            }
+            bx0 = max(bx0, p0x - ax - cx), bx1 = min(bx1, p1x + ax + cx);
+            by0 = max(by0, p0y - ay - cy), by1 = min(by1, p1y + ay + cy);
+            cy0 = max(0, by0 - reach), cy1 = min(wh, by1 + reach);
+            key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
+        }
+        if (r == 17) break; /* (the loop's last step only writes the box when raw_j is the last layer) */
         int e1 = lr_lower_bound(list, start[r], start[r + 1], key1);
         /* In chunks: first where each sample lands and its weight (independent samples, no
          * branches: the processor overlaps them), then the sums in list order. */
@@ -466,6 +493,8 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
                 __global float *c = g + cell[m];
                 c[1] += wt[m];
                 if (own) {
+                    int ix = cell[m] / LR_CH % ww, iy = cell[m] / LR_CH / ww;
+                    ox0 = min(ox0, ix), ox1 = max(ox1, ix), oy0 = min(oy0, iy), oy1 = max(oy1, iy);
                     __global const float *s = samples + (size_t)list[e0 + m] * LR_SAMPLE_STRIDE;
                     c[0] += wt[m];
                     c[2] += wt[m] * s[9];
@@ -508,7 +537,7 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
  * One work-item per (window row, partition). */
 __kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                        int tile0, int inset, __global const int *tile_layers, __global const float *params, __global const float *grid,
-                       __global float *pass1)
+                       __global float *pass1, __global const int *reach_box)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int iy = get_global_id(0), id = tile0 * max_layers + get_global_id(1); /* grid, pass1: the batch's */
@@ -521,9 +550,10 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
     /* the second pass reads tile pixel + round(k (-sin psi, cos psi)), |k| <= radius_y */
     float ry = lp[11];
     int mx = (int)ceil(ry * fabs(lp[1])) + 1, my = (int)ceil(ry * fabs(lp[0])) + 1;
-    int tx0 = inset + tx * tile_px - w.x0, ty0 = inset + ty * tile_px - w.y0;
-    if (iy >= wh || iy < ty0 - my || iy >= ty0 + tile_px + my) return;
-    int ix0 = max(0, tx0 - mx), ix1 = min(ww, tx0 + tile_px + mx);
+    /* only the tile pixels the layer can reach (box P, lr_reproject) widened by that */
+    __global const int *box = reach_box + get_global_id(1) * 4;
+    if (box[0] >= box[2] || box[1] >= box[3] || iy >= wh || iy < box[1] - my || iy >= box[3] + my) return;
+    int ix0 = max(0, box[0] - mx), ix1 = min(ww, box[2] + mx);
     __global const float *g = grid + get_global_id(1) * window_px * window_px * LR_CH;
     float acc[LR_ROW_MAX * LR_CH];
     lr_row_pass(g, ww, wh, iy, ix0, ix1, lp[0], lp[1], (int)lp[10], lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
@@ -536,7 +566,7 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
 __kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                                   int tile0, int inset, __global const int *tile_layers, __global const float *params,
                                   __global const float *pass1, __global float *rgb, __global float *layers_aov,
-                                  __global float *extent_aov)
+                                  __global float *extent_aov, __global const int *reach_box)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int py = inset + tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
@@ -556,9 +586,14 @@ __kernel void lr_across_composite(int width, int height, int tile_px, int window
         int id = tile * max_layers + j;
         __global const float *lp = params + id * LR_LP_STRIDE;
         __global const float *p1 = pass1 + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
-        lr_row_pass(p1, ww, wh, iy, ix0, ix0 + n, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
-        for (int i = 0; i < n; ++i) {
-            float *a = acc + i * LR_CH;
+        /* the pixels outside the layer's box P (lr_reproject) get no opacity and no light
+         * from it: eq. 17 would leave them as they are */
+        __global const int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
+        int i0 = max(ix0, box[0]) - ix0, i1 = min(ix0 + n, box[2]) - ix0;
+        if (iy < box[1] || iy >= box[3] || i0 >= i1) continue;
+        lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
+        for (int i = i0; i < i1; ++i) {
+            float *a = acc + (i - i0) * LR_CH;
             if (!(a[1] > 0.0f)) continue;
             float alpha = a[0] / a[1];
             for (int c = 0; c < 3; ++c) out[3 * i + c] += trans[i] * a[2 + c] / a[1];

@@ -37,7 +37,7 @@ struct LrCl {
     int *tl;
     LrTile *tiles;
     size_t tiles_cap, parts_cap;
-    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_rgb, b_l, b_e, b_still;
+    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_box, b_rgb, b_l, b_e, b_still;
     LrClTimes last;
 };
 
@@ -91,9 +91,9 @@ void lr_cl_destroy(LrCl *lr)
     cl_kernel k[6] = {lr->blocks, lr->stats, lr->pack, lr->reproject, lr->along, lr->across};
     for (int i = 0; i < 6; ++i)
         if (k[i]) clReleaseKernel(k[i]);
-    GrowBuf *b[17] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order,
-                      &lr->b_ls, &lr->b_pack, &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
-    for (int i = 0; i < 17; ++i)
+    GrowBuf *b[18] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order,
+                      &lr->b_ls, &lr->b_pack, &lr->b_g, &lr->b_p1, &lr->b_box, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
+    for (int i = 0; i < 18; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
     free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
     free(lr);
@@ -288,6 +288,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
          grow(rt, &lr->b_pack, sizeof(float) * PACK_FIELDS * (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * wcells * (size_t)img->spp,
               CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_box, grid_bytes / (wcells * CH * sizeof(float)) * 4 * sizeof(cl_int), CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_rgb, sizeof(float) * 3 * npix, CL_MEM_WRITE_ONLY, d) &&
          grow(rt, &lr->b_l, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d) && grow(rt, &lr->b_e, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d);
     if (ok)
@@ -308,18 +309,18 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         }
         if (ok) { /* Algorithm 1, one work-item per (layer, tile) */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
-            cl_mem m[7] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem};
-            ok = set_args(lr->reproject, ints, 11, m, 7, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            cl_mem m[8] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_box.mem};
+            ok = set_args(lr->reproject, ints, 11, m, 8, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
-            cl_mem m[4] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem};
-            ok = set_args(lr->along, ints9, 9, m, 4, d) &&
+            cl_mem m[5] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem};
+            ok = set_args(lr->along, ints9, 9, m, 5, d) &&
                  cl_launch_2d(rt, lr->along, (size_t)cfg->window_px, (size_t)tiles * L, &bev[1], d);
         }
         if (ok) {
-            cl_mem m[6] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem};
-            ok = set_args(lr->across, ints9, 9, m, 6, d) &&
+            cl_mem m[7] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem};
+            ok = set_args(lr->across, ints9, 9, m, 7, d) &&
                  cl_launch_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
         }
         /* the queue is in order, so the next batch's reprojection starts after this batch's
