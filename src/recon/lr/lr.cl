@@ -426,9 +426,12 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
      * few more instead of the whole window. The cells read get exactly the C version's sums. */
     float rx = lp[10], ry = lp[11];
     int tx0 = inset + (tile % ntx) * tile_px - w.x0, ty0 = inset + (tile / ntx) * tile_px - w.y0;
-    /* how far the along pass (ax, ay) and the across pass (cx, cy) reach in x and y */
-    int ax = (int)ceil(rx * fabs(cp)) + 1, ay = (int)ceil(rx * fabs(sp)) + 1;
-    int cx = (int)ceil(ry * fabs(sp)) + 1, cy = (int)ceil(ry * fabs(cp)) + 1;
+    /* how far the along pass (ax, ay) and the across pass (cx, cy) reach in x and y: a tap's
+     * offset is the nearest integer to k cos psi or k sin psi, |k| <= r, at most ceil(r |cos|)
+     * (lr_row_pass rounds with floor(x + 0.5); r is an integer, so k x <= r x in floats, and
+     * floor(ceil(r x) + 0.5) = ceil(r x)) */
+    int ax = (int)ceil(rx * fabs(cp)), ay = (int)ceil(rx * fabs(sp));
+    int cx = (int)ceil(ry * fabs(sp)), cy = (int)ceil(ry * fabs(cp));
     int mx = cx + ax, my = cy + ay;
     /* film_slack_px: how far (past its own half) a sample's film position lies from its pixel's
      * centre, at least 2 (the host measures it: a wide pixel filter, pbrt's sinc, places
@@ -474,6 +477,9 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
         for (int e0 = lr_lower_bound(list, start[r], e1, key0); e0 < e1; e0 += LR_CHUNK) {
             int n = min(LR_CHUNK, e1 - e0), cell[LR_CHUNK];
             float wt[LR_CHUNK];
+            if (own) /* the next chunk's radiance, which its sums read: fetched while this chunk is placed */
+                for (int m = e0 + LR_CHUNK; m < min(e0 + 2 * LR_CHUNK, e1); ++m)
+                    __builtin_prefetch(samples + (size_t)list[m] * LR_SAMPLE_STRIDE + 9);
             for (int m = 0; m < n; ++m) {
                 int e = e0 + m;
                 float su = P[2 * cap + e], sv = P[3 * cap + e];
@@ -549,7 +555,7 @@ __kernel void lr_along(int width, int height, int tile_px, int window_px, int nt
     __global const float *lp = params + id * LR_LP_STRIDE;
     /* the second pass reads tile pixel + round(k (-sin psi, cos psi)), |k| <= radius_y */
     float ry = lp[11];
-    int mx = (int)ceil(ry * fabs(lp[1])) + 1, my = (int)ceil(ry * fabs(lp[0])) + 1;
+    int mx = (int)ceil(ry * fabs(lp[1])), my = (int)ceil(ry * fabs(lp[0])); /* (lr_reproject: cx, cy) */
     /* only the tile pixels the layer can reach (box P, lr_reproject) widened by that */
     __global const int *box = reach_box + get_global_id(1) * 4;
     if (box[0] >= box[2] || box[1] >= box[3] || iy >= wh || iy < box[1] - my || iy >= box[3] + my) return;
