@@ -191,19 +191,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
             return false;
         }
     }
-    out->nonfinite = 0;
-    float film_dev_px = 0.0f; /* the farthest a sample's film position lies from its pixel's centre */
+    /* the farthest a sample's film position lies from its pixel's centre, and the non-finite
+     * radiances: measured by the caller while it wrote the samples, or here */
+    float film_dev_px = cfg->samples_scanned ? cfg->film_dev_px : 0.0f;
+    out->nonfinite = cfg->samples_scanned ? cfg->samples_nonfinite : 0;
     const LrSample *si = img->s; /* pixel by pixel: no division per sample */
-    for (int py = 0; py < img->height; ++py)
-        for (int px = 0; px < img->width; ++px) {
-            float cx = (float)px + 0.5f, cy = (float)py + 0.5f;
-            for (int k = 0; k < img->spp; ++k, ++si) {
-                if (!(isfinite(si->L[0]) && isfinite(si->L[1]) && isfinite(si->L[2]))) out->nonfinite++;
-                float dx = fabsf(si->x_px - cx), dy = fabsf(si->y_px - cy);
-                if (dx > film_dev_px) film_dev_px = dx; /* NaN positions compare false: ignored */
-                if (dy > film_dev_px) film_dev_px = dy;
-            }
-        }
+    for (int py = 0; !cfg->samples_scanned && py < img->height; ++py)
+        for (int px = 0; px < img->width; ++px)
+            for (int k = 0; k < img->spp; ++k, ++si) lr_scan_sample(si, px, py, &out->nonfinite, &film_dev_px);
     /* the reprojection's slack on the source rows beyond a sample's own half pixel: 2 covers
      * the box and pbrt's gaussian, mitchell and triangle filters; a sinc of radius 4 needs 4 */
     float slack = ceilf(film_dev_px - 0.5f);

@@ -106,6 +106,8 @@ typedef struct {
     const LrCentreLight *centre;
     LrSample *out;           /* spp per pixel */
     bool failed[RECON_PARTS]; /* a part without memory for its scratch */
+    long nonfinite[RECON_PARTS];    /* per part: samples whose light is not finite */
+    float film_dev_px[RECON_PARTS]; /* per part: the farthest film position from its pixel's centre */
 } GatherJob;
 
 /* Pixels [begin, end): each stored sample's CoC slope (px per unit lens; 0 without the lens
@@ -155,6 +157,9 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
     const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
     const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
     const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    long nonfinite = 0;
+    float film_dev_px = 0.0f;
+    size_t width = (size_t)m->g->width;
     for (size_t i = begin; i < end; ++i) {
         int count = sample_store_count(st, i);
         for (int k = 0; shade && k < count; ++k) {
@@ -182,8 +187,12 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
             o->motion_px[0] = motion ? motion[2 * q] : 0.0f;
             o->motion_px[1] = motion ? motion[2 * q + 1] : 0.0f;
             for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
+            /* what lr_cl_run would otherwise measure in a pass of its own over the samples */
+            lr_scan_sample(o, (int)(i % width), (int)(i / width), &nonfinite, &film_dev_px);
         }
     }
+    j->nonfinite[part] = nonfinite;
+    j->film_dev_px[part] = film_dev_px;
     free(light), free(src), free(centre9);
 }
 
@@ -193,7 +202,7 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
  * the pixel's value in value4. Pixels are independent in every pass but the centre light's
  * sums (lr_centre_light_build), so they split between the cores (recon_parallel.h) with the
  * same result. */
-static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_out)
+static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_out, long *nonfinite, float *film_dev_px)
 {
     const SampleStore *st = m->store;
     int w = m->g->width, h = m->g->height, cap = sample_store_capacity(st);
@@ -236,8 +245,13 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
     recon_parallel_for_work(n, work, gather_range, &job);
     free(delta4), free(centre_xy), free(coc_px);
     lr_centre_light_free(&centre);
-    for (int p = 0; p < RECON_PARTS; ++p)
+    *nonfinite = 0;
+    *film_dev_px = 0.0f;
+    for (int p = 0; p < RECON_PARTS; ++p) {
         if (job.failed[p]) return NULL;
+        *nonfinite += job.nonfinite[p];
+        if (job.film_dev_px[p] > *film_dev_px) *film_dev_px = job.film_dev_px[p];
+    }
     return m->samples;
 }
 
@@ -299,7 +313,9 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     *kernel_seconds = 0.0;
     (void)effects;
     int spp = 0;
-    LrSample *s = gather_samples(m, value4, &spp);
+    long nonfinite = 0;
+    float film_dev_px = 0.0f;
+    LrSample *s = gather_samples(m, value4, &spp, &nonfinite, &film_dev_px);
     if (!s) {
         if (spp <= 0) return true; /* nothing stored (a cancelled frame): leave the means */
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for LR samples");
@@ -311,6 +327,9 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     LrSamples img = {w, h, spp, s};
     LrOutput out = {rgb, m->layers, m->extent_px, 0};
     LrConfig cfg = m->cfg;
+    cfg.samples_scanned = true; /* the gather measured them (gather_range) */
+    cfg.samples_nonfinite = nonfinite;
+    cfg.film_dev_px = film_dev_px;
     unsigned char *still = still_tiles(&img, &cfg, effect_in(m->effects, EFFECT_DEFOCUS));
     cfg.still_tiles = still;
     int ntx, nty;

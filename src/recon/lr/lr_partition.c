@@ -31,6 +31,9 @@ LrConfig lr_config_default(void)
     c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
     c.bright_clamp_px = 1.0f;
     c.still_tiles = NULL;
+    c.samples_scanned = false; /* lr_cl_run measures the samples itself */
+    c.samples_nonfinite = 0;
+    c.film_dev_px = 0.0f;
     c.filter.sigma_clamp_px = (float)(c.window_px - c.tile_px) / 4.0f; /* Appendix C */
     return c;
 }

@@ -5,6 +5,9 @@
 #ifndef WEDGE_RECON_LR_PARTITION_H
 #define WEDGE_RECON_LR_PARTITION_H
 
+#include <math.h>
+#include <stdbool.h>
+
 #include "recon/lr/lr_filter.h"
 
 /* One camera sample as LR reads it (LR section 3: (x, y, u, v, t) -> (z, d, l)). */
@@ -59,9 +62,26 @@ typedef struct {
     const unsigned char *still_tiles; /* per tile (row-major, lr_tile_count's), non-zero: a
                                        * tile with nothing to move, left out (no layers, its
                                        * pixels 0 in the output); NULL: none */
+    /* What the frame's producer measured while writing the samples (samples_scanned; else
+     * lr_cl_run measures it in a pass of its own): the samples with a non-finite radiance,
+     * and the farthest a film position lies from its pixel's centre along x or y, px. */
+    bool samples_scanned;
+    long samples_nonfinite;
+    float film_dev_px;
 } LrConfig;
 
 LrConfig lr_config_default(void);
+
+/* Sample s of pixel (px, py) into LrConfig's samples_nonfinite and film_dev_px: counts a
+ * non-finite radiance, and keeps the larger of film_dev_px and its film position's distance
+ * from the pixel's centre along x and along y (a NaN position is ignored). */
+static inline void lr_scan_sample(const LrSample *s, int px, int py, long *nonfinite, float *film_dev_px)
+{
+    if (!(isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]))) ++*nonfinite;
+    float dx = fabsf(s->x_px - ((float)px + 0.5f)), dy = fabsf(s->y_px - ((float)py + 0.5f));
+    if (dx > *film_dev_px) *film_dev_px = dx;
+    if (dy > *film_dev_px) *film_dev_px = dy;
+}
 
 /* The layers of one tile: a sample's layer is the number of depth bounds below its depth plus
  * the number of CoC bounds below its c (both orders agree: c grows with depth), compacted to
