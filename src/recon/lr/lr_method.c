@@ -39,6 +39,7 @@ struct ReconMethod {
     LrSample *samples;         /* the store's samples as LR reads them, kept between frames */
     size_t samples_cap;
     float *rgb;                /* LR's output, width * height * 3 */
+    unsigned char *moving;     /* per pixel, from the gather: a sample of it moves or is blurred (still_tiles) */
     ReconShadingLight light;   /* the shading filters' results, during filter_radiance */
 };
 
@@ -56,6 +57,7 @@ static void lr_destroy(ReconMethod *m)
     free(m->extent_px);
     free(m->samples);
     free(m->rgb);
+    free(m->moving);
     free(m);
 }
 
@@ -68,8 +70,9 @@ static bool lr_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->layers = calloc(n, sizeof(float));
         m->extent_px = calloc(n, sizeof(float));
         m->rgb = malloc(sizeof(float) * 3 * n);
+        m->moving = malloc(n);
     }
-    if (!m || !m->layers || !m->extent_px || !m->rgb || !s->store) {
+    if (!m || !m->layers || !m->extent_px || !m->rgb || !m->moving || !s->store) {
         lr_destroy(m);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
                  s->store ? "out of memory for LR buffers" : "LR needs the per-sample store (none was given)");
@@ -92,6 +95,19 @@ static bool lr_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
     return (m->cl = lr_cl_create(rt, d)) != NULL;
 }
 
+/* A sample blurred by less than this by the lens (its circle of confusion's radius, px) is
+ * "still" for still_tiles, as one moving less than LR_MOVING_PX over the shutter. */
+#define LR_STILL_COC_PX 0.5f
+
+/* Not still: moving by LR_MOVING_PX or more, or (lens_dims: the lens is LR's dimension)
+ * blurred by the lens by LR_STILL_COC_PX or more. */
+static bool lr_sample_moves(const LrSample *o, bool lens_dims)
+{
+    float m2 = o->motion_px[0] * o->motion_px[0] + o->motion_px[1] * o->motion_px[1];
+    bool blurred = lens_dims && !(fabsf(o->coc_px) < LR_STILL_COC_PX);
+    return !(m2 < LR_MOVING_PX * LR_MOVING_PX) || blurred;
+}
+
 /* What the per-pixel passes of gather_samples read and write. */
 typedef struct {
     const ReconMethod *m;
@@ -105,6 +121,7 @@ typedef struct {
     const float *delta4;     /* lr_delta_light's (NULL without shade) */
     const LrCentreLight *centre;
     LrSample *out;           /* spp per pixel */
+    unsigned char *moving;   /* per pixel: lr_sample_moves of any of its samples */
     bool failed[RECON_PARTS]; /* a part without memory for its scratch */
     long nonfinite[RECON_PARTS];    /* per part: samples whose light is not finite */
     float film_dev_px[RECON_PARTS]; /* per part: the farthest film position from its pixel's centre */
@@ -170,6 +187,7 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
             for (int c = 0; c < 9; ++c) centre9[9 * k + c] = c9 ? c9[c] : NAN;
         }
         float value[3] = {j->value4[4 * i], j->value4[4 * i + 1], j->value4[4 * i + 2]};
+        bool moves = false;
         lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light,
                        j->delta4, centre9, value, light);
         for (int k = 0; k < j->spp; ++k) {
@@ -189,7 +207,9 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
             for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
             /* what lr_cl_run would otherwise measure in a pass of its own over the samples */
             lr_scan_sample(o, (int)(i % width), (int)(i / width), &nonfinite, &film_dev_px);
+            moves = moves || lr_sample_moves(o, j->lens_dims); /* still_tiles' */
         }
+        j->moving[i] = moves;
     }
     j->nonfinite[part] = nonfinite;
     j->film_dev_px[part] = film_dev_px;
@@ -234,7 +254,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
      * along the motion, not a dimension it shears). */
     GatherJob job = {.m = m, .st = st, .cap = cap, .spp = spp, .lens_dims = effect_in(m->effects, EFFECT_DEFOCUS),
                      .shade = shade, .value4 = value4, .coc_px = coc_px, .centre_xy = centre_xy, .delta4 = delta4,
-                     .centre = &centre, .out = m->samples};
+                     .centre = &centre, .out = m->samples, .moving = m->moving};
     size_t work = n * (size_t)cap;
     recon_parallel_for_work(n, work, coc_and_centre_range, &job);
     if (shade) {
@@ -260,10 +280,6 @@ static void lr_shading_light(ReconMethod *m, const ReconShadingLight *light)
     m->light = *light;
 }
 
-/* A sample blurred by less than this by the lens (its circle of confusion's radius, px) is
- * "still" for still_tiles, as one moving less than LR_MOVING_PX over the shutter. */
-#define LR_STILL_COC_PX 0.5f
-
 /* Per tile (lr_tile_count's order), 1 where the tile's window holds only still samples (no
  * motion and, with the lens as LR's dimension, no blur by it): LR has nothing to move there,
  * and its static layers' screen filter (sigma_pixel 1/3 px) gives back the pixel means within
@@ -271,24 +287,14 @@ static void lr_shading_light(ReconMethod *m, const ReconShadingLight *light)
  * so such tiles are left out of the reconstruction and keep their means: the reduction
  * "neither motion nor lens: the unfiltered image", made exact, and half the tiles of a frame
  * where a few objects move over a still background skip LR's kernels. NULL when out of
- * memory (every tile is then reconstructed). */
-static unsigned char *still_tiles(const LrSamples *img, const LrConfig *cfg, bool lens_dims)
+ * memory (every tile is then reconstructed). moving: per pixel, the gather's lr_sample_moves of
+ * any of its samples. */
+static unsigned char *still_tiles(const LrSamples *img, const LrConfig *cfg, const unsigned char *moving)
 {
-    size_t n = (size_t)img->width * (size_t)img->height;
     int ntx, nty;
     lr_tile_count(img, cfg, &ntx, &nty);
-    unsigned char *moving = calloc(n, 1), *still = calloc((size_t)ntx * (size_t)nty + 1, 1);
-    if (!moving || !still) {
-        free(moving), free(still);
-        return NULL;
-    }
-    for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < img->spp && !moving[i]; ++k) {
-            const LrSample *o = &img->s[i * (size_t)img->spp + (size_t)k];
-            float m2 = o->motion_px[0] * o->motion_px[0] + o->motion_px[1] * o->motion_px[1];
-            bool blurred = lens_dims && !(fabsf(o->coc_px) < LR_STILL_COC_PX);
-            moving[i] = !(m2 < LR_MOVING_PX * LR_MOVING_PX) || blurred;
-        }
+    unsigned char *still = calloc((size_t)ntx * (size_t)nty + 1, 1);
+    if (!still) return NULL;
     for (int ty = 0; ty < nty; ++ty)
         for (int tx = 0; tx < ntx; ++tx) {
             int x0, y0, x1, y1;
@@ -298,7 +304,6 @@ static unsigned char *still_tiles(const LrSamples *img, const LrConfig *cfg, boo
                 for (int x = x0; x < x1 && !any; ++x) any = moving[(size_t)y * (size_t)img->width + (size_t)x];
             still[ty * ntx + tx] = !any;
         }
-    free(moving);
     return still;
 }
 
@@ -330,7 +335,7 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     cfg.samples_scanned = true; /* the gather measured them (gather_range) */
     cfg.samples_nonfinite = nonfinite;
     cfg.film_dev_px = film_dev_px;
-    unsigned char *still = still_tiles(&img, &cfg, effect_in(m->effects, EFFECT_DEFOCUS));
+    unsigned char *still = still_tiles(&img, &cfg, m->moving);
     cfg.still_tiles = still;
     int ntx, nty;
     lr_tile_count(&img, &cfg, &ntx, &nty);
