@@ -24,6 +24,9 @@
  *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer) of the
  *                 batch being filtered: reproject, along and across run on a few rows of tiles
  *                 at a time (tile0 its first tile), so that these buffers stay small
+ *   reach_box     4 ints per (tile, layer) of the batch: the tile pixels [x0, x1) x [y0, y1) (window
+ *                 coordinates) the layer can change (lr_reproject writes it, the screen passes
+ *                 work only there; all 0 when it changes none)
  *
  * Launch shapes (lr_cl.c): all 2D in fixed 16x4 groups (cl_launch_2d), so that PoCL compiles
  * each kernel once whatever the image size or layer count; every kernel ignores the padding. */
