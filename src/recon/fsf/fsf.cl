@@ -13,7 +13,8 @@
  *   P           J * 4 floats per pixel (J shift nodes) and y2 bin of the launch (C of them,
  *               interleaved: see fsf_pass1a) of a ring of `ring` image rows (row y at y % ring):
  *               pass 1 runs in bands of rows, so P never holds the whole frame
- *   Q           J * 4 floats per pixel (whole frame); G: B * 4 floats per pixel (B y2 bins) */
+ *   Q           J * 4 floats per pixel of a ring of image rows (pass 2 runs in bands too); G: B * 4
+ *               floats per pixel (B y2 bins, whole frame) */
 
 #define FSF_RADIUS_CAP_PX 16
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
@@ -58,11 +59,11 @@ static float8 fsf_gauss8(float8 t, float sigma)
 /* Each pixel's taps along one axis (fsf_taps, fsf_filter.c), 8 at a time (PoCL gives one work
  * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, at most
  * FSF_TAP_SLOTS per pixel (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix).
- * ring > 0: the nodes index P's ring of rows (neighbour row qy at qy % ring); a unit direction
- * reaches at most FSF_RADIUS_CAP_PX rows, the halo the host keeps (a tap beyond it, which only
- * a longer direction could make, is dropped rather than read from a stale row). ring 0: the
- * whole frame (pass 2b's Q). */
-__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, __global const float *px, __global const float *pos4,
+ * The nodes index a ring of `ring` image rows (neighbour row qy at qy % ring: P's for axis 0,
+ * Q's for axis 1; ring = height: the whole frame); a tap more than `halo` rows away, which the
+ * host's halo (band_halo_rows) rules out up to FSF_RADIUS_CAP_PX, the most a unit direction
+ * reaches, is dropped rather than read from a stale row. */
+__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const int halo, __global const float *px, __global const float *pos4,
                        __global const float *nrm4, __global const uchar *usable, __global int *n_taps,
                        __global int *tap_node, __global float *tap_a0, __global float *tap_a1, __global float *cum1)
 {
@@ -95,12 +96,12 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, __global
         ok &= (ti == 0) | ((use != 0) & ((q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol))));
         float8 f = -eta * tf * inv_dY + mid;
         ok &= (f >= 0.0f) & (f <= (float)(J - 1));
-        if (ring > 0) ok &= abs(qy - y) <= FSF_RADIUS_CAP_PX;
+        ok &= abs(qy - y) <= halo;
         f = select((float8)(0.0f), f, ok);
         int8 j0 = min(convert_int8(floor(f)), J - 2);
         float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma);
         int o = FSF_TAP_SLOTS * i + e0;
-        int8 qp = ring > 0 ? (q / a.width % ring) * a.width + q % a.width : q; /* q's pixel in P */
+        int8 qp = (q / a.width % ring) * a.width + q % a.width; /* q's pixel in the ring */
         vstore8(select((int8)(-1), qp * J + j0, ok), 0, tap_node + o);
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
@@ -237,11 +238,13 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 }
 
 /* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
- * densities 8 at a time. */
-__kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global const float *G, __global float *Q)
+ * densities 8 at a time, over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows. */
+__kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const float *px,
+                         __global const float *G, __global float *Q)
 {
-    int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
+    int i = row0 * a.width + get_global_id(0);
+    if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
+    int iq = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in Q's ring */
     int J = a.J, B = a.B;
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
@@ -273,16 +276,16 @@ __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global con
             if (wk == 0.0f) continue;
             acc += gi[b] * wk;
         }
-        vstore4(acc, J * i + jj, Q);
+        vstore4(acc, J * iq + jj, Q);
     }
 }
 
-/* Pass 2b (fsf_pass2b, eq. 15). */
-__kernel void fsf_pass2b(const FsfArgs a, __global const int *n_taps, __global const int *tap_node,
-                         __global const float *tap_a0, __global const float *tap_a1, __global const float *Q,
-                         __global float *out4)
+/* Pass 2b (fsf_pass2b, eq. 15) over the image rows row0 .. row1 - 1 (the taps index Q's ring). */
+__kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __global const int *n_taps,
+                         __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
+                         __global const float *Q, __global float *out4)
 {
-    int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
+    int i = row0 * a.width + get_global_id(0);
+    if (i >= row1 * a.width) return;
     vstore4(fsf_gather(i, n_taps, tap_node, tap_a0, tap_a1, Q), i, out4);
 }
