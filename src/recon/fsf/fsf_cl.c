@@ -112,8 +112,10 @@ static int band_halo_rows(int width, int y0, int y1, int axis, const FsfPixel *p
     int reach = 0;
     for (size_t i = (size_t)y0 * (size_t)width; i < (size_t)y1 * (size_t)width && reach < FSF_RADIUS_CAP_PX; ++i) {
         int r = usable[i] ? fsf_radius_steps(px[i].sigma_px[axis]) : 0;
-        float dy = fabsf(px[i].dir[axis][1]);
-        int rows = r == 0 || dy == 0.0f ? 0 : (int)floorf((float)r * dy + 0.5f) + 1;
+        float dy = fabsf(px[i].dir[axis][1]), reach_rows = (float)r * dy; /* NaN: the cap */
+        int rows = r == 0 || dy == 0.0f ? 0
+                   : reach_rows < (float)FSF_RADIUS_CAP_PX ? (int)floorf(reach_rows + 0.5f) + 1
+                                                         : FSF_RADIUS_CAP_PX;
         if (rows > reach) reach = rows;
     }
     return reach < FSF_RADIUS_CAP_PX ? reach : FSF_RADIUS_CAP_PX;
