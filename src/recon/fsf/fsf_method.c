@@ -251,18 +251,17 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
     *min_factor = 0.0f;
     if (e != EFFECT_SOFT_SHADOWS) return true;
     int n = m->g->width * m->g->height;
-    fsf_unoccluded_irradiance(m->renderer, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade);
-    float shade_max = 0.0f;
-    for (int i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
-    *factor = m->shade;
-    *min_factor = MIN_SHADE_REL * shade_max;
     /* several area lights: where FSF's light is not (almost) all of a pixel's light, the
-     * pixel is left out (fsf_light.h) */
+     * pixel is left out (fsf_light.h); the share comes with r(x) in one pass */
     if (!m->share && !(m->share = malloc((size_t)n * sizeof(float)))) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's light share");
         return false;
     }
-    fsf_light_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->share);
+    fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
+    float shade_max = 0.0f;
+    for (int i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
+    *factor = m->shade;
+    *min_factor = MIN_SHADE_REL * shade_max;
     return true;
 }
 
