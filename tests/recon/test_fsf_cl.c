@@ -50,6 +50,18 @@ static void indirect_samples(FsfCl *cl)
     fsf_synth_free(&f);
 }
 
+/* A W x H frame of 4 x 4 light samples per pixel (light_seed) with noisy values (noise_seed),
+ * on a light of half extents 0.6 m: the directions, shears and widths are the caller's. */
+static FsfGrid noisy_frame(FsfSynth *f, int W, int H, unsigned light_seed, unsigned noise_seed)
+{
+    fsf_synth_init(f, W, H, 4);
+    FsfGrid g = fsf_grid_default(0.6f, 0.6f);
+    fsf_synth_light(f, &g, 4, false, light_seed);
+    unsigned st = noise_seed;
+    for (size_t v = 0; v < 3 * (size_t)W * H * (size_t)f->cap; ++v) f->v[v] = fsf_rand01(&st);
+    return g;
+}
+
 /* A frame taller than pass 1's ring of P rows (fsf_cl.c: bands of 8 rows, a ring of the band
  * and twice the largest halo, here 16 rows), 23 px wide so that no band is a whole number of 64-item work groups, with
  * first-axis gathers turning from horizontal to vertical (taps reaching the full 16 rows up
@@ -59,11 +71,7 @@ static void tall_frame(FsfCl *cl)
 {
     const int W = 23, H = 150;
     FsfSynth f;
-    fsf_synth_init(&f, W, H, 4);
-    FsfGrid g = fsf_grid_default(0.6f, 0.6f);
-    fsf_synth_light(&f, &g, 4, false, 7);
-    unsigned st = 9;
-    for (size_t v = 0; v < 3 * (size_t)W * H * (size_t)f.cap; ++v) f.v[v] = fsf_rand01(&st); /* noise */
+    FsfGrid g = noisy_frame(&f, W, H, 7, 9);
     for (int i = 0; i < W * H; ++i) {
         float x = (float)(i % W) / W, y = (float)(i / W) / H;
         float ang = 1.5707964f * (0.5f + 0.5f * sinf(7.0f * y + 3.0f * x));
@@ -91,11 +99,7 @@ static void mixed_halos(FsfCl *cl)
 {
     const int W = 31, H = 90;
     FsfSynth f;
-    fsf_synth_init(&f, W, H, 4);
-    FsfGrid g = fsf_grid_default(0.6f, 0.6f);
-    fsf_synth_light(&f, &g, 4, false, 13);
-    unsigned st = 17;
-    for (size_t v = 0; v < 3 * (size_t)W * H * (size_t)f.cap; ++v) f.v[v] = fsf_rand01(&st);
+    FsfGrid g = noisy_frame(&f, W, H, 13, 17);
     for (int i = 0; i < W * H; ++i) {
         int x = i % W, y = i / W;
         float ang = y < 30 ? 0.0f : y < 60 ? 0.05f : 1.5707964f;
