@@ -29,9 +29,9 @@ typedef struct {
  * either side, so neither holds the whole frame, and a band's gathers read rows written a
  * halo before, still in cache: where the taps run along the rows (defocus' first axis, and
  * most of soft_shadows') that is the band itself. Bands of 8 rows: 32 took 4-8% more CPU on
- * a defocus frame at 256x256 and at 720x720, 4 the same as 8 (docs/benchmarks.md "FSF's
- * filter cost, third round"). The same floats are summed in the same order: the images do
- * not change. */
+ * a defocus frame at 256x256, 4 and 2 the same as 8 with more launches, and 8 was no slower at
+ * 720x720 (docs/benchmarks.md "FSF's filter cost, third round"). The same floats are summed
+ * in the same order: the images do not change. */
 enum { FSF_BAND_ROWS = 8 };
 
 /* fsf.cl's tap tables: a pixel's slots hold its taps (2 r + 1) and, along the first axis, its
