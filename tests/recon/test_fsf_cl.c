@@ -50,8 +50,20 @@ static void indirect_samples(FsfCl *cl)
     fsf_synth_free(&f);
 }
 
-/* A frame taller than pass 1's ring of P rows (fsf_cl.c: bands of 32 rows, 16-row halos, a
- * 64-row ring), 23 px wide so that no band is a whole number of 64-item work groups, with
+/* A W x H frame of 4 x 4 light samples per pixel (light_seed) with noisy values (noise_seed),
+ * on a light of half extents 0.6 m: the directions, shears and widths are the caller's. */
+static FsfGrid noisy_frame(FsfSynth *f, int W, int H, unsigned light_seed, unsigned noise_seed)
+{
+    fsf_synth_init(f, W, H, 4);
+    FsfGrid g = fsf_grid_default(0.6f, 0.6f);
+    fsf_synth_light(f, &g, 4, false, light_seed);
+    unsigned st = noise_seed;
+    for (size_t v = 0; v < 3 * (size_t)W * H * (size_t)f->cap; ++v) f->v[v] = fsf_rand01(&st);
+    return g;
+}
+
+/* A frame taller than pass 1's ring of P rows (fsf_cl.c: bands of 8 rows, a ring of the band
+ * and twice the largest halo, here 16 rows), 23 px wide so that no band is a whole number of 64-item work groups, with
  * first-axis gathers turning from horizontal to vertical (taps reaching the full 16 rows up
  * and down, across band and ring boundaries) at the widest width. A tap read from a stale or
  * unfilled ring row would differ by a whole sample's weight. */
@@ -59,11 +71,7 @@ static void tall_frame(FsfCl *cl)
 {
     const int W = 23, H = 150;
     FsfSynth f;
-    fsf_synth_init(&f, W, H, 4);
-    FsfGrid g = fsf_grid_default(0.6f, 0.6f);
-    fsf_synth_light(&f, &g, 4, false, 7);
-    unsigned st = 9;
-    for (size_t v = 0; v < 3 * (size_t)W * H * (size_t)f.cap; ++v) f.v[v] = fsf_rand01(&st); /* noise */
+    FsfGrid g = noisy_frame(&f, W, H, 7, 9);
     for (int i = 0; i < W * H; ++i) {
         float x = (float)(i % W) / W, y = (float)(i / W) / H;
         float ang = 1.5707964f * (0.5f + 0.5f * sinf(7.0f * y + 3.0f * x));
@@ -76,6 +84,34 @@ static void tall_frame(FsfCl *cl)
     }
     double secs = 0.0, worst = cl_vs_c(cl, &f, &g, &secs);
     printf("150 rows (pass 1 in bands): OpenCL against C: largest difference %.3g of the pixel's weight\n", worst);
+    CHECK(worst < 1e-5);
+    fsf_synth_free(&f);
+}
+
+/* Bands whose halos differ (fsf_cl.c's band_halo_rows): rows 0-29 gather exactly along the
+ * rows on the first axis (defocus' screen axes: halo 0, P's ring is the band alone), rows
+ * 30-59 nearly so (one row of reach), rows 60-89 along the columns (16 rows, reaching back
+ * into the bands without a halo); the second axis turns the other way. Widths from 0 (a
+ * pixel left out: 8 slots in the packed tap tables) to the cap (40) side by side. A halo too
+ * small reads a stale ring row, a packed table too short overwrites the next pixel's taps:
+ * either differs by a whole sample's weight. */
+static void mixed_halos(FsfCl *cl)
+{
+    const int W = 31, H = 90;
+    FsfSynth f;
+    FsfGrid g = noisy_frame(&f, W, H, 13, 17);
+    for (int i = 0; i < W * H; ++i) {
+        int x = i % W, y = i / W;
+        float ang = y < 30 ? 0.0f : y < 60 ? 0.05f : 1.5707964f;
+        f.px[i].dir[0][0] = y < 30 ? 1.0f : cosf(ang), f.px[i].dir[0][1] = y < 30 ? 0.0f : sinf(ang);
+        f.px[i].dir[1][0] = -f.px[i].dir[0][1], f.px[i].dir[1][1] = f.px[i].dir[0][0];
+        f.px[i].eta_m[0] = (i % 2 ? 0.03f : -0.02f), f.px[i].eta_m[1] = 0.01f * (float)(x % 5);
+        f.px[i].sigma_px[0] = x % 3 == 0 ? 0.0f : x % 3 == 1 ? 8.0f : 1.5f;
+        f.px[i].sigma_px[1] = y % 4 == 0 ? 0.0f : 0.5f + 0.25f * (float)(x % 31);
+        if (i % 37 == 7) f.usable[i] = 0;
+    }
+    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, &secs);
+    printf("bands with halos 0, 1 and 16, packed taps: OpenCL against C: largest difference %.3g\n", worst);
     CHECK(worst < 1e-5);
     fsf_synth_free(&f);
 }
@@ -133,6 +169,7 @@ int main(void)
     fsf_synth_free(&f);
     indirect_samples(cl);
     tall_frame(cl);
+    mixed_halos(cl);
     fsf_cl_destroy(cl);
     cl_runtime_destroy(rt);
     return check_failures ? 1 : 0;

@@ -7,17 +7,20 @@
  *   count       samples per pixel; y: 2 floats per slot (light metres along u, v); value: 3
  *   px          8 floats per pixel (FsfPixel): dir1 (2), dir2 (2), eta (2), sigma (2)
  *   pos4, nrm4  the guides; usable: 1 byte per pixel
- *   n_taps      taps per pixel; tap_node: FSF_TAP_SLOTS ints per pixel (-1: no tap); tap_a0, tap_a1:
- *               the weights of nodes j0 and j0 + 1, FSF_TAP_SLOTS floats per pixel each
- *   cum1        FSF_CUM floats per pixel: running sums of the first axis' tap weights
+ *   n_taps      taps per pixel; tap_off: the pixel's first slot in the tables below (its slots:
+ *               2 r + 2 rounded up to whole float8, r its unmasked radius, fsf_cl.c tap_offsets);
+ *               tap_node: an int per slot (-1: no tap); tap_a0, tap_a1: the weights of nodes j0
+ *               and j0 + 1, a float per slot each
+ *   cum1        along the first axis, the running sums of its tap weights at the same slots
  *   P           J * 4 floats per pixel (J shift nodes) and y2 bin of the launch (C of them,
  *               interleaved: see fsf_pass1a) of a ring of `ring` image rows (row y at y % ring):
  *               pass 1 runs in bands of rows, so P never holds the whole frame
- *   Q           J * 4 floats per pixel (whole frame); G: B * 4 floats per pixel (B y2 bins) */
+ *   Q           J * 4 floats per pixel of a ring of image rows (pass 2 runs in bands too); G: B * 4
+ *               floats per pixel (B y2 bins, whole frame) */
 
 #define FSF_RADIUS_CAP_PX 16
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
-#define FSF_TAP_SLOTS 40 /* FSF_TAPS rounded up to whole float8 */
+#define FSF_TAP_SLOTS 40 /* FSF_TAPS rounded up to whole float8: the most slots a pixel has */
 #define FSF_CUM (2 * FSF_RADIUS_CAP_PX + 2)
 #define FSF_RADIUS_SIGMAS 2.0f
 #define FSF_MAX_Y2_BINS 64
@@ -56,14 +59,14 @@ static float8 fsf_gauss8(float8 t, float sigma)
 }
 
 /* Each pixel's taps along one axis (fsf_taps, fsf_filter.c), 8 at a time (PoCL gives one work
- * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, at most
- * FSF_TAP_SLOTS per pixel (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix).
- * ring > 0: the nodes index P's ring of rows (neighbour row qy at qy % ring); a unit direction
- * reaches at most FSF_RADIUS_CAP_PX rows, the halo the host keeps (a tap beyond it, which only
- * a longer direction could make, is dropped rather than read from a stale row). ring 0: the
- * whole frame (pass 2b's Q). */
-__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, __global const float *px, __global const float *pos4,
-                       __global const float *nrm4, __global const uchar *usable, __global int *n_taps,
+ * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, from the
+ * pixel's slot tap_off on (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix).
+ * The nodes index a ring of `ring` image rows (neighbour row qy at qy % ring: P's for axis 0,
+ * Q's for axis 1; ring = height: the whole frame); a tap more than `halo` rows away, which the
+ * host's halo (band_halo_rows) rules out up to FSF_RADIUS_CAP_PX, the most a unit direction
+ * reaches, is dropped rather than read from a stale row. */
+__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const int halo, __global const float *px, __global const float *pos4,
+                       __global const float *nrm4, __global const uchar *usable, __global const int *tap_off, __global int *n_taps,
                        __global int *tap_node, __global float *tap_a0, __global float *tap_a1, __global float *cum1)
 {
     int i = get_global_id(0);
@@ -95,12 +98,12 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, __global
         ok &= (ti == 0) | ((use != 0) & ((q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol))));
         float8 f = -eta * tf * inv_dY + mid;
         ok &= (f >= 0.0f) & (f <= (float)(J - 1));
-        if (ring > 0) ok &= abs(qy - y) <= FSF_RADIUS_CAP_PX;
+        ok &= abs(qy - y) <= halo;
         f = select((float8)(0.0f), f, ok);
         int8 j0 = min(convert_int8(floor(f)), J - 2);
         float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma);
-        int o = FSF_TAP_SLOTS * i + e0;
-        int8 qp = ring > 0 ? (q / a.width % ring) * a.width + q % a.width : q; /* q's pixel in P */
+        int o = tap_off[i] + e0;
+        int8 qp = (q / a.width % ring) * a.width + q % a.width; /* q's pixel in the ring */
         vstore8(select((int8)(-1), qp * J + j0, ok), 0, tap_node + o);
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
@@ -109,7 +112,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, __global
         int rr = fsf_radius(pp[6]);
         float g[FSF_TAP_SLOTS];
         for (int e0 = 0; e0 < 2 * rr + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - rr) + FSF_LANES8), pp[6]), 0, g + e0);
-        __global float *cum = cum1 + FSF_CUM * i;
+        __global float *cum = cum1 + tap_off[i];
         float c = 0.0f;
         cum[0] = c;
         for (int e = 0; e < 2 * rr + 1; ++e) cum[e + 1] = c = c + g[e];
@@ -154,7 +157,7 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
 __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity, const int row0,
                          const int row1, const int ring, __global const int *count, __global const float *ys,
                          __global const uchar *bin2, __global const float *value, __global const float *px,
-                         __global const float *cum1, __global float *P)
+                         __global const int *tap_off, __global const float *cum1, __global float *P)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
@@ -165,7 +168,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     int r = fsf_radius(px[8 * i + 6]);
     float eta = px[8 * i + 4];
     float cum[FSF_CUM];
-    for (int e = 0; e < 2 * r + 2; ++e) cum[e] = cum1[FSF_CUM * i + e];
+    for (int e = 0; e < 2 * r + 2; ++e) cum[e] = cum1[tap_off[i] + e];
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     int n_k = count[i];
     for (int k = 0; k < n_k; ++k) {
@@ -196,13 +199,13 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
 }
 
 /* One pixel's gather through its taps (passes 1b and 2b), in the order of t. */
-static float4 fsf_gather(int i, __global const int *n_taps, __global const int *tap_node,
+static float4 fsf_gather(int i, __global const int *n_taps, __global const int *tap_off, __global const int *tap_node,
                          __global const float *tap_a0, __global const float *tap_a1, __global const float *F)
 {
     float4 acc = (float4)(0.0f);
-    int n = n_taps[i];
+    int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
-        int o = FSF_TAP_SLOTS * i + e, node = tap_node[o];
+        int o = o0 + e, node = tap_node[o];
         if (node < 0) continue;
         acc += tap_a0[o] * vload4(node, F) + tap_a1[o] * vload4(node + 1, F);
     }
@@ -213,15 +216,16 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
  * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring; the C
  * slices' values of node n are the float4 n * C .. n * C + C - 1 (pass 1a). */
 __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int row0, const int row1, const int ring,
-                         __global const int *n_taps, __global const int *tap_node, __global const float *tap_a0,
-                         __global const float *tap_a1, __global const float *P, __global float *G)
+                         __global const int *n_taps, __global const int *tap_off, __global const int *tap_node,
+                         __global const float *tap_a0, __global const float *tap_a1, __global const float *P,
+                         __global float *G)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return;
     float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
-    int n = n_taps[i];
+    int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
-        int o = FSF_TAP_SLOTS * i + e, node = tap_node[o];
+        int o = o0 + e, node = tap_node[o];
         if (node < 0) continue;
         float a0 = tap_a0[o], a1 = tap_a1[o];
         int n0 = C * node, n1 = C * (node + 1);
@@ -237,11 +241,13 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 }
 
 /* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
- * densities 8 at a time. */
-__kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global const float *G, __global float *Q)
+ * densities 8 at a time, over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows. */
+__kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const float *px,
+                         __global const float *G, __global float *Q)
 {
-    int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
+    int i = row0 * a.width + get_global_id(0);
+    if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
+    int iq = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in Q's ring */
     int J = a.J, B = a.B;
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
@@ -273,16 +279,16 @@ __kernel void fsf_pass2a(const FsfArgs a, __global const float *px, __global con
             if (wk == 0.0f) continue;
             acc += gi[b] * wk;
         }
-        vstore4(acc, J * i + jj, Q);
+        vstore4(acc, J * iq + jj, Q);
     }
 }
 
-/* Pass 2b (fsf_pass2b, eq. 15). */
-__kernel void fsf_pass2b(const FsfArgs a, __global const int *n_taps, __global const int *tap_node,
-                         __global const float *tap_a0, __global const float *tap_a1, __global const float *Q,
-                         __global float *out4)
+/* Pass 2b (fsf_pass2b, eq. 15) over the image rows row0 .. row1 - 1 (the taps index Q's ring). */
+__kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __global const int *n_taps,
+                         __global const int *tap_off, __global const int *tap_node, __global const float *tap_a0,
+                         __global const float *tap_a1, __global const float *Q, __global float *out4)
 {
-    int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
-    vstore4(fsf_gather(i, n_taps, tap_node, tap_a0, tap_a1, Q), i, out4);
+    int i = row0 * a.width + get_global_id(0);
+    if (i >= row1 * a.width) return;
+    vstore4(fsf_gather(i, n_taps, tap_off, tap_node, tap_a0, tap_a1, Q), i, out4);
 }

@@ -1,7 +1,9 @@
-/* Host side of fsf.cl (see fsf_cl.h). Buffers are created per run; pass 1 runs in bands of
- * image rows through a ring of P's rows (below). */
+/* Host side of fsf.cl (see fsf_cl.h). Buffers are created per run; both passes run in bands
+ * of image rows through rings of P's and Q's rows (below). */
 #include "recon/fsf/fsf_cl.h"
 
+#include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,17 +23,21 @@ typedef struct {
 /* Memory for several slices of P at once (pass 1a fills them in one launch) */
 #define FSF_P_BYTES ((size_t)72 << 20)
 
-/* Pass 1 in bands of FSF_BAND_ROWS image rows: pass 1a fills P's rows up to the band's last
- * row plus the taps' reach (FSF_RADIUS_CAP_PX rows: unit gather directions), pass 1b gathers
- * the band. P is a ring of the band plus both halos, so it never holds the whole frame: at
- * 256x256 its four slices take 18 MB instead of 71 (fresh pages, each faulted in and zeroed by
- * the kernel; docs/benchmarks.md "FSF's filter cost"). The same floats are summed in the same
- * order: the images do not change. */
-enum { FSF_BAND_ROWS = 32, FSF_RING_ROWS = FSF_BAND_ROWS + 2 * FSF_RADIUS_CAP_PX };
+/* Both passes run in bands of FSF_BAND_ROWS image rows: pass 1a (2a) fills P's (Q's) rows up
+ * to the band's last row plus the rows its gathers reach (the band's halo, band_halo_rows),
+ * then pass 1b (2b) gathers the band. P and Q are rings of the band plus the largest halo on
+ * either side, so neither holds the whole frame, and a band's gathers read rows written a
+ * halo before, still in cache: where the taps run along the rows (defocus' first axis, and
+ * most of soft_shadows') that is the band itself. Bands of 8 rows: 32 took 4-8% more CPU on
+ * a defocus frame at 256x256, 4 and 2 the same as 8 with more launches, and 8 was no slower at
+ * 720x720 (docs/benchmarks.md "FSF's filter cost, third round"). The same floats are summed
+ * in the same order: the images do not change. */
+enum { FSF_BAND_ROWS = 8 };
 
-/* fsf.cl's tap tables: FSF_TAPS rounded up to whole float8 */
+/* fsf.cl's tap tables: a pixel's slots hold its taps (2 r + 1) and, along the first axis, its
+ * running sums (2 r + 2), rounded up to whole float8; FSF_TAP_SLOTS at most */
 enum { FSF_TAP_SLOTS = 40 };
-_Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_TAPS && FSF_TAP_SLOTS % 8 == 0, "fsf.cl writes taps 8 at a time");
+_Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_CUM && FSF_TAP_SLOTS % 8 == 0, "fsf.cl writes taps 8 at a time");
 
 struct FsfCl {
     ClRuntime *rt;
@@ -97,6 +103,54 @@ static cl_int set_args(cl_kernel k, const FsfArgs *a, const cl_int *ints, int ni
     return err;
 }
 
+/* The rows that the taps along `axis` of the pixels in rows [y0, y1) reach above and below
+ * them (at most FSF_RADIUS_CAP_PX: unit directions): the largest |round(t dy)| over their taps
+ * as fsf_taps finds them, plus one row against a different rounding of t dy on the device (a
+ * direction along the rows, dy = 0, reaches no other row whatever the rounding). */
+static int band_halo_rows(int width, int y0, int y1, int axis, const FsfPixel *px, const unsigned char *usable)
+{
+    int reach = 0;
+    for (size_t i = (size_t)y0 * (size_t)width; i < (size_t)y1 * (size_t)width && reach < FSF_RADIUS_CAP_PX; ++i) {
+        int r = usable[i] ? fsf_radius_steps(px[i].sigma_px[axis]) : 0;
+        float dy = fabsf(px[i].dir[axis][1]), reach_rows = (float)r * dy; /* NaN: the cap */
+        int rows = r == 0 || dy == 0.0f ? 0
+                   : reach_rows < (float)FSF_RADIUS_CAP_PX ? (int)floorf(reach_rows + 0.5f) + 1
+                                                         : FSF_RADIUS_CAP_PX;
+        if (rows > reach) reach = rows;
+    }
+    return reach < FSF_RADIUS_CAP_PX ? reach : FSF_RADIUS_CAP_PX;
+}
+
+/* Each band's halo along `axis` (halo[b] for rows [b band_rows, (b + 1) band_rows)); returns
+ * the largest. */
+static int band_halos(int width, int height, int band_rows, int axis, const FsfPixel *px, const unsigned char *usable,
+                      int *halo)
+{
+    int most = 0;
+    for (int b = 0, y0 = 0; y0 < height; ++b, y0 += band_rows) {
+        int y1 = y0 + band_rows < height ? y0 + band_rows : height;
+        halo[b] = band_halo_rows(width, y0, y1, axis, px, usable);
+        most = halo[b] > most ? halo[b] : most;
+    }
+    return most;
+}
+
+/* Each pixel's first slot in the tap tables along `axis` (off[i]), packed: a pixel's slots are
+ * 2 r + 2 rounded up to whole float8 for its radius r without the usable mask (the running
+ * sums' length; its taps, 2 r + 1 at most, fit too), instead of FSF_TAP_SLOTS for every pixel.
+ * A pixel left out (r = 0) takes 8 slots, not 40: the tables, fresh memory every run, shrink
+ * by a third to a half on the bench scenes. Returns the slots in all, or -1 past INT_MAX. */
+static long long tap_offsets(size_t n, int axis, const FsfPixel *px, cl_int *off)
+{
+    long long total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        off[i] = (cl_int)total;
+        total += (2 * fsf_radius_steps(px[i].sigma_px[axis]) + 2 + 7) / 8 * 8;
+        if (total > INT_MAX) return -1;
+    }
+    return total;
+}
+
 bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 float *out4, double *kernel_seconds, Diag *d)
 {
@@ -110,20 +164,38 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
         return false;
     }
-    /* P's ring of rows (the whole frame when it is no taller) */
-    int ring = s->height < FSF_RING_ROWS ? s->height : FSF_RING_ROWS;
+    int band_rows = FSF_BAND_ROWS;
+    int n_bands = (s->height + band_rows - 1) / band_rows;
+    int *halo1 = malloc(sizeof(int) * (size_t)n_bands * 2), *halo2 = halo1 ? halo1 + n_bands : NULL;
+    cl_int *off = malloc(sizeof(cl_int) * 2 * n);
+    long long slots0 = off ? tap_offsets(n, 0, px, off) : -1, slots1t = off ? tap_offsets(n, 1, px, off + n) : -1;
+    if (!halo1 || slots0 < 0 || slots1t < 0) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's bands and tap tables");
+        free(halo1), free(off);
+        return false;
+    }
+    size_t tap_slots = (size_t)(slots0 > slots1t ? slots0 : slots1t);
+    /* each band's rows of P (pass 1) and Q (pass 2) that its gathers reach */
+    int most1 = band_halos(s->width, s->height, band_rows, 0, px, gd->usable, halo1);
+    int most2 = band_halos(s->width, s->height, band_rows, 1, px, gd->usable, halo2);
+    /* P's and Q's rings of rows (the whole frame when it is no taller): the band and both
+     * halos */
+    int ring1 = s->height < band_rows + 2 * most1 ? s->height : band_rows + 2 * most1;
+    int ring2 = s->height < band_rows + 2 * most2 ? s->height : band_rows + 2 * most2;
     /* y2 bins per launch of pass 1a (one slice of P each): up to 4, as many as fit in
      * FSF_P_BYTES (docs/benchmarks.md, "FSF's passes, faster": 4 slices take 25% less time
      * in 1a than 1; more were slower) */
-    size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring;
+    size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring1;
     int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
     chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
-    /* pass 2a's Q (one whole-frame slice) lives in P's memory once pass 1 is done */
-    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * 4 * J * n;
+    /* pass 2a's Q (one slice's ring) lives in P's memory once pass 1 is done */
+    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring2;
     cl_int err = CL_SUCCESS;
-    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, NTAP, NODE, TA0, TA1, CUM, P, G, OUT, NBUF };
+    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, OFF0, OFF1, NTAP, NODE, TA0, TA1, CUM, P, G, NBUF };
     cl_mem b[NBUF] = {0};
-    const cl_mem_flags ro = CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR;
+    /* the inputs read in place (a CPU device uses the host memory when it is aligned to its
+     * base address alignment, fsf_method.c allocates them so; otherwise PoCL copies them) */
+    const cl_mem_flags ro = CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR;
     /* a store without slots (capacity 0) still gets a buffer of one float */
     size_t slots1 = slots ? slots : 1;
     b[COUNT] = clCreateBuffer(ctx, ro, sizeof(int) * n, (void *)s->count, &err);
@@ -134,19 +206,21 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[POS] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err);
     if (!err) b[NRM] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
+    if (!err) b[OFF0] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off, &err);
+    if (!err) b[OFF1] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off + n, &err);
     if (!err) b[NTAP] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * n, NULL, &err);
-    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * FSF_TAP_SLOTS * n, NULL, &err);
-    if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
-    if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_TAP_SLOTS * n, NULL, &err);
-    if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * FSF_CUM * n, NULL, &err);
+    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * tap_slots, NULL, &err);
+    if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * tap_slots, NULL, &err);
+    if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * tap_slots, NULL, &err);
+    /* cum1 (pass 1), then pass 2b's output (4 floats per pixel, at least 8 slots each) */
+    if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * (size_t)slots0, NULL, &err);
     if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, p_bytes > q_bytes ? p_bytes : q_bytes, NULL, &err);
     if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
-    if (!err) b[OUT] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof(float) * 4 * n, NULL, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
     enum { K_TAPS, K_BINS, K_1A, K_1B, K_2A, K_2B, K_N };
     /* one event per launch: taps twice, bins, 1a and 1b at most once per band and bin chunk,
-     * 2a, 2b */
-    size_t max_ev = 5 + 2 * (size_t)((g->y2_bins + chunk - 1) / chunk) * (size_t)((s->height + FSF_BAND_ROWS - 1) / FSF_BAND_ROWS);
+     * 2a and 2b at most once per band */
+    size_t max_ev = 3 + 2 * (size_t)((g->y2_bins + chunk - 1) / chunk + 1) * (size_t)n_bands;
     cl_event *evs = calloc(max_ev, sizeof *evs);
     int *evk = calloc(max_ev, sizeof *evk);
     size_t nev = 0;
@@ -156,9 +230,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     }
 #define EV(k) (evk[nev] = (k), &evs[nev++])
     if (ok) { /* taps along the first axis (and cum1), their nodes in P's ring */
-        cl_int ints[2] = {0, ring};
-        cl_mem m[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 2, m, 9), "arguments", d) &&
+        cl_int ints[3] = {0, ring1, most1};
+        cl_mem m[10] = {b[PX], b[POS], b[NRM], b[USE], b[OFF0], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
+        ok = cl_ok(set_args(f->taps, &a, ints, 3, m, 10), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     if (ok) {
@@ -169,39 +243,49 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     }
     for (int bin0 = 0; ok && bin0 < g->y2_bins; bin0 += chunk) {
         cl_int c_n = g->y2_bins - bin0 < chunk ? g->y2_bins - bin0 : chunk;
-        /* rows [0, filled) of P hold this chunk's bins; the ring keeps the last `ring` of them,
-         * which cover the band and its halos: filled - ring <= band_start - FSF_RADIUS_CAP_PX */
+        /* rows [0, filled) of P hold this chunk's bins; the ring keeps the last ring1 of them,
+         * which cover the band and its halos: filled <= y1 + most1 and ring1 = band + 2 most1 */
         int filled = 0;
-        for (int y0 = 0; ok && y0 < s->height; y0 += FSF_BAND_ROWS) {
-            int y1 = y0 + FSF_BAND_ROWS < s->height ? y0 + FSF_BAND_ROWS : s->height;
-            int fill = y1 + FSF_RADIUS_CAP_PX < s->height ? y1 + FSF_RADIUS_CAP_PX : s->height;
+        for (int y0 = 0, band = 0; ok && y0 < s->height; y0 += band_rows, ++band) {
+            int y1 = y0 + band_rows < s->height ? y0 + band_rows : s->height;
+            int fill = y1 + halo1[band] < s->height ? y1 + halo1[band] : s->height;
             if (fill > filled) {
-                cl_int i1a[6] = {bin0, c_n, s->capacity, filled, fill, ring};
-                cl_mem m1a[7] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[CUM], b[P]};
-                ok = cl_ok(set_args(f->pass1a, &a, i1a, 6, m1a, 7), "arguments", d) &&
+                cl_int i1a[6] = {bin0, c_n, s->capacity, filled, fill, ring1};
+                cl_mem m1a[8] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[OFF0], b[CUM], b[P]};
+                ok = cl_ok(set_args(f->pass1a, &a, i1a, 6, m1a, 8), "arguments", d) &&
                      cl_ok(launch1(f, f->pass1a, (size_t)(fill - filled) * (size_t)s->width, EV(K_1A)), "pass 1a", d);
                 filled = fill;
             }
-            cl_int i1b[5] = {bin0, c_n, y0, y1, ring};
-            cl_mem m1b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[G]};
-            ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 5, m1b, 6), "arguments", d) &&
+            cl_int i1b[5] = {bin0, c_n, y0, y1, ring1};
+            cl_mem m1b[7] = {b[NTAP], b[OFF0], b[NODE], b[TA0], b[TA1], b[P], b[G]};
+            ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 5, m1b, 7), "arguments", d) &&
                  cl_ok(launch1(f, f->pass1b, (size_t)(y1 - y0) * (size_t)s->width, EV(K_1B)), "pass 1b", d);
         }
     }
-    if (ok) {
-        /* Q in P's memory (Q has one slice's shape; pass 1 is done with P): fewer fresh pages */
-        cl_mem m2a[3] = {b[PX], b[G], b[P]};
-        cl_int ints[2] = {1, 0};
-        cl_mem mt[9] = {b[PX], b[POS], b[NRM], b[USE], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        cl_mem m2b[6] = {b[NTAP], b[NODE], b[TA0], b[TA1], b[P], b[OUT]};
-        ok = cl_ok(set_args(f->pass2a, &a, NULL, 0, m2a, 3), "arguments", d) &&
-             cl_ok(launch1(f, f->pass2a, n, EV(K_2A)), "pass 2a", d) &&
-             cl_ok(set_args(f->taps, &a, ints, 2, mt, 9), "arguments", d) &&
-             cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d) &&
-             cl_ok(set_args(f->pass2b, &a, NULL, 0, m2b, 6), "arguments", d) &&
-             cl_ok(launch1(f, f->pass2b, n, EV(K_2B)), "pass 2b", d);
+    if (ok) { /* taps along the second axis, their nodes in Q's ring (in P's memory: pass 1 is done with it) */
+        cl_int ints[3] = {1, ring2, most2};
+        cl_mem mt[10] = {b[PX], b[POS], b[NRM], b[USE], b[OFF1], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
+        ok = cl_ok(set_args(f->taps, &a, ints, 3, mt, 10), "arguments", d) &&
+             cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
-    if (ok) ok = cl_ok(clEnqueueReadBuffer(q, b[OUT], CL_TRUE, 0, sizeof(float) * 4 * n, out4, 0, NULL, NULL), "download", d);
+    /* pass 2 in the same bands: 2a fills Q's rows up to the band's end plus its halo, 2b
+     * gathers the band */
+    for (int y0 = 0, band = 0, filled = 0; ok && y0 < s->height; y0 += band_rows, ++band) {
+        int y1 = y0 + band_rows < s->height ? y0 + band_rows : s->height;
+        int fill = y1 + halo2[band] < s->height ? y1 + halo2[band] : s->height;
+        if (fill > filled) {
+            cl_int i2a[3] = {filled, fill, ring2};
+            cl_mem m2a[3] = {b[PX], b[G], b[P]};
+            ok = cl_ok(set_args(f->pass2a, &a, i2a, 3, m2a, 3), "arguments", d) &&
+                 cl_ok(launch1(f, f->pass2a, (size_t)(fill - filled) * (size_t)s->width, EV(K_2A)), "pass 2a", d);
+            filled = fill;
+        }
+        cl_int i2b[2] = {y0, y1};
+        cl_mem m2b[7] = {b[NTAP], b[OFF1], b[NODE], b[TA0], b[TA1], b[P], b[CUM]};
+        ok = ok && cl_ok(set_args(f->pass2b, &a, i2b, 2, m2b, 7), "arguments", d) &&
+             cl_ok(launch1(f, f->pass2b, (size_t)(y1 - y0) * (size_t)s->width, EV(K_2B)), "pass 2b", d);
+    }
+    if (ok) ok = cl_ok(clEnqueueReadBuffer(q, b[CUM], CL_TRUE, 0, sizeof(float) * 4 * n, out4, 0, NULL, NULL), "download", d);
     clFinish(q);
 #undef EV
     double kt[K_N] = {0};
@@ -211,6 +295,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (ok && kernel_seconds) *kernel_seconds = kt[K_TAPS] + kt[K_BINS] + kt[K_1A] + kt[K_1B] + kt[K_2A] + kt[K_2B];
     for (int i = 0; i < NBUF; ++i)
         if (b[i]) clReleaseMemObject(b[i]);
+    free(halo1), free(off);
     return ok;
 }
 

@@ -21,7 +21,9 @@ void fsf_cl_destroy(FsfCl *f);
 
 /* fsf_filter_factored on the device: out4 gets (rgb, weight) per pixel. kernel_seconds (may
  * be NULL) receives the kernels' device time, summed over every launch (fsf_cl_profile has
- * it per kernel). */
+ * it per kernel). The inputs (s's arrays, px, gd's) are read in place (CL_MEM_USE_HOST_PTR:
+ * on a CPU device no copy when they are aligned to the device's base address alignment, a
+ * page is enough); s's sample arrays hold at least one slot even when s->capacity is 0. */
 bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 float *out4, double *kernel_seconds, Diag *d);
 

@@ -95,10 +95,10 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
 
 typedef struct {
     const Renderer *r;
-    int shape; /* fsf_light_share's: the share of this emitter shape; -1: the plain sum */
+    int shape; /* the share's emitter shape (>= 0) */
     const unsigned char *hit;
     const float *pos4, *nrm4;
-    float *out;
+    float *irradiance, *share; /* either may be NULL */
 } ShadeJob;
 
 /* Projected solid angle of a sphere or disk emitter seen from p (normal nr), as a small
@@ -121,23 +121,27 @@ static double round_phi(const RenderLightInfo *b, vec3 p, vec3 nr)
     return cos_e > 0.0 ? b->area_world * cos_e * cos_t / D2 : 0.0;
 }
 
+/* Both sums over the emitters at once: every triangle's projected solid angle (the cost: an
+ * atan2 per edge) is computed once for the irradiance and the share, each summed in the
+ * emitters' order as alone. */
 static void shade_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     const ShadeJob *j = ctx;
     int count = renderer_light_count(j->r);
     for (size_t i = begin; i < end; ++i) {
-        j->out[i] = 0.0f;
+        if (j->irradiance) j->irradiance[i] = 0.0f;
+        if (j->share) j->share[i] = 0.0f;
         if (!j->hit[i]) continue;
         double p[3] = {j->pos4[4 * i], j->pos4[4 * i + 1], j->pos4[4 * i + 2]};
         double nr[3] = {j->nrm4[4 * i], j->nrm4[4 * i + 1], j->nrm4[4 * i + 2]};
         vec3 pv = v3((float)p[0], (float)p[1], (float)p[2]), nv = v3((float)nr[0], (float)nr[1], (float)nr[2]);
-        double sum = 0.0, own = 0.0;
+        double irr = 0.0, sum = 0.0, own = 0.0;
         for (int l = 0; l < count; ++l) {
             RenderLightInfo b;
             if (!renderer_light_info(j->r, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
             if (!b.is_triangle) { /* only the share counts what FSF cannot filter along */
-                if (j->shape >= 0) sum += (double)luminance(b.radiance) * round_phi(&b, pv, nv);
+                if (j->share) sum += (double)luminance(b.radiance) * round_phi(&b, pv, nv);
                 continue;
             }
             vec3 to = v3_sub(pv, b.center_world);
@@ -146,24 +150,24 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
             for (int k = 0; k < 3; ++k)
                 v[k][0] = b.tri_world[k].x, v[k][1] = b.tri_world[k].y, v[k][2] = b.tri_world[k].z;
             double phi = (double)luminance(b.radiance) * polygon_projected_solid_angle(p, nr, v, 3);
-            sum += phi;
+            irr += phi, sum += phi;
             if (b.shape == j->shape) own += phi;
         }
-        double out = j->shape >= 0 ? (sum > 0.0 ? fmin(own / sum, 1.0) : 0.0) : sum;
-        j->out[i] = isfinite(out) ? (float)out : 0.0f;
+        if (j->irradiance) j->irradiance[i] = isfinite(irr) ? (float)irr : 0.0f;
+        double frac = sum > 0.0 ? fmin(own / sum, 1.0) : 0.0;
+        if (j->share) j->share[i] = isfinite(frac) ? (float)frac : 0.0f;
     }
 }
 
-void fsf_unoccluded_irradiance(const Renderer *r, int n, const unsigned char *hit, const float *pos4,
-                               const float *nrm4, float *out)
+void fsf_irradiance_and_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
+                              const float *nrm4, float *irradiance, float *share)
 {
-    ShadeJob j = {r, -1, hit, pos4, nrm4, out};
+    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share};
     recon_parallel_for((size_t)n, shade_range, &j);
 }
 
 void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                      const float *nrm4, float *share)
 {
-    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, share};
-    recon_parallel_for((size_t)n, shade_range, &j);
+    fsf_irradiance_and_share(r, shape, n, hit, pos4, nrm4, NULL, share);
 }

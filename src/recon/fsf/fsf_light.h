@@ -24,12 +24,6 @@ typedef struct {
 /* false with d set when the scene has no planar area light made of triangles. */
 bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d);
 
-/* Per pixel (hit pixels of pos4 / nrm4), a quantity proportional to the unoccluded direct
- * irradiance from every triangle area light: sum of luminance(L) times the projected solid
- * angle (polygon_irradiance.h); 0 where no surface. */
-void fsf_unoccluded_irradiance(const Renderer *r, int n, const unsigned char *hit, const float *pos4,
-                               const float *nrm4, float *out);
-
 /* FSF's shear is the geometry of its one light (the light coordinates of a sample aimed at
  * another emitter mean nothing on this light's plane): a pixel is filtered only where at
  * least this share of its unoccluded irradiance comes from FSF's light. Below it the pixel
@@ -48,5 +42,13 @@ float fsf_light_power_share(const Renderer *r);
  * emitter shape `shape` (FsfLight.shape) gives; 0 where none reaches the pixel. */
 void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                      const float *nrm4, float *share);
+
+/* Per pixel (hit pixels of pos4 / nrm4): `irradiance`, a quantity proportional to the
+ * unoccluded direct irradiance from every triangle area light (sum of luminance(L) times the
+ * projected solid angle, polygon_irradiance.h; 0 where no surface), and `share`, as
+ * fsf_light_share, in one pass (each triangle's projected solid angle found once for both,
+ * each sum in the emitters' order); either output may be NULL. */
+void fsf_irradiance_and_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
+                              const float *nrm4, float *irradiance, float *share);
 
 #endif

@@ -251,18 +251,17 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
     *min_factor = 0.0f;
     if (e != EFFECT_SOFT_SHADOWS) return true;
     int n = m->g->width * m->g->height;
-    fsf_unoccluded_irradiance(m->renderer, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade);
-    float shade_max = 0.0f;
-    for (int i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
-    *factor = m->shade;
-    *min_factor = MIN_SHADE_REL * shade_max;
     /* several area lights: where FSF's light is not (almost) all of a pixel's light, the
-     * pixel is left out (fsf_light.h) */
+     * pixel is left out (fsf_light.h); the share comes with r(x) in one pass */
     if (!m->share && !(m->share = malloc((size_t)n * sizeof(float)))) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's light share");
         return false;
     }
-    fsf_light_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->share);
+    fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
+    float shade_max = 0.0f;
+    for (int i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
+    *factor = m->shade;
+    *min_factor = MIN_SHADE_REL * shade_max;
     return true;
 }
 
@@ -349,15 +348,24 @@ static void buffers_free(Buffers *b)
     free(b->usable), free(b->count), free(b->y), free(b->v), free(b->k_lo), free(b->k_hi), free(b->out4), free(b->px);
 }
 
+/* An array the OpenCL passes read in place (fsf_cl_run's CL_MEM_USE_HOST_PTR): aligned to
+ * PoCL's base address alignment (128 bytes on this machine; a page is safe for any device),
+ * else PoCL would copy it into fresh memory. Freed with free(). */
+static void *alloc_device_input(size_t bytes)
+{
+    const size_t align = 4096;
+    return aligned_alloc(align, (bytes + align - 1) / align * align);
+}
+
 static bool buffers_alloc(const ReconMethod *m, Buffers *b, Diag *d)
 {
     size_t n = (size_t)m->g->width * (size_t)m->g->height, slots = n * (size_t)sample_store_capacity(m->store);
-    b->usable = malloc(n);
-    b->count = malloc(n * sizeof(int));
+    b->usable = alloc_device_input(n);
+    b->count = alloc_device_input(n * sizeof(int));
     /* at least one slot's floats: fsf_cl_run uploads one for an empty store */
-    b->y = malloc((slots + 1) * 2 * sizeof(float)), b->v = malloc((slots + 1) * 3 * sizeof(float));
+    b->y = alloc_device_input((slots + 1) * 2 * sizeof(float)), b->v = alloc_device_input((slots + 1) * 3 * sizeof(float));
     b->k_lo = malloc(n * sizeof(float)), b->k_hi = malloc(n * sizeof(float)), b->out4 = malloc(n * 4 * sizeof(float));
-    b->px = malloc(n * sizeof(FsfPixel));
+    b->px = alloc_device_input(n * sizeof(FsfPixel));
     if (b->usable && b->count && b->y && b->v && b->k_lo && b->k_hi && b->out4 && b->px) return true;
     buffers_free(b);
     diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
