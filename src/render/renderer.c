@@ -279,7 +279,7 @@ typedef struct {
 /* The frame's slices of a pixel's sample indices in a pass: [0,4) [4,8) [8,16) [16,32)
  * [32,64), then 64 at a time. Each slice of a pixel is summed in double and added to the
  * frame with one float addition per sum, so the slices fix the frame's rounding; they were
- * the render rounds before [4,64) became one (run_pass), and keeping them keeps every image
+ * the render rounds before [0,64) became one (run_pass), and keeping them keeps every image
  * bit for bit. A round's bounds are slice bounds. The end of the slice that starts at
  * `begin`: */
 static int frame_slice_end(int begin) { return begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64); }
