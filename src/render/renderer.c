@@ -455,7 +455,8 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
      * render must still have at least 4 samples in every pixel (a complete image at a lower
      * sample count): when the pass is cancelled during its first round, a completion round
      * gives the rows that round did not reach their samples [0,4), whatever the cancel
-     * flag says (a second Ctrl-C kills wedge render). The old cuts remain as the frame's
+     * flag says (a second Ctrl-C kills wedge render); that makes a cancel in the first
+     * round slower to take effect, by up to about a fifth of the round. The old cuts remain as the frame's
      * slices (frame_slice_end), which is all the images depend on, so images do not depend
      * on the rounds; the rounds depend only on the sample counts, so images stay identical
      * for any number of threads; within a round a pixel belongs to one thread. Without
