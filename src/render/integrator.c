@@ -824,6 +824,42 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
         int li = L->delta_every[k];
         const Light *light = &L->lights[li];
         bool prepared;
+        if (!v->glossy && (light->kind == LIGHT_DISTANT ||
+                           ((light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) && !w->point[k].redo[p->lit_slot]))) {
+            /* A Lambert receiver and a shadow ray known without light_prepare_sampled's
+             * shadow_ray_to: its outcome as a value, the ray and the value written whether
+             * or not they are kept, so that which side of the receiver the light is on (a
+             * coin toss on a sphere) is not a branch. The same tests, values and counts. */
+            vec3 wi, Li, o, dir;
+            float len;
+            if (light->kind == LIGHT_DISTANT) {
+                wi = light->w_world, Li = light->L;
+                if (!v3_any_positive(Li)) continue; /* light_sample's answer */
+                o = surface_offset(&v->hit, wi), dir = wi, len = INFINITY;
+            } else {
+                const WavePointSamples *ps = &w->point[k];
+                int m = p->lit_slot;
+                if (!ps->ok[m]) continue;
+                wi = v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), Li = v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]);
+                o = v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]), dir = v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]);
+                len = ps->len[m];
+            }
+            float cos_i = v3_dot(v->n, wi), cos_o = v3_dot(v->n, v->wo);
+            bool same_side = !(cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
+            vec3 f_lit = v3_scale(v->albedo, 0.318309886f);
+            vec3 f = same_side ? f_lit : v3s(0.0f);
+            /* max_component_nonpositive(f) is same_side's negation or f_lit's test */
+            bool sends = same_side & !max_component_nonpositive(f_lit) & !max_component_nonpositive(Li);
+            bool len_ok = len > 0.0f;
+            w->ray_occ[*n_occ] = (TracerRay){o, dir, len, p->time01, light->shadow_skip_mask};
+            w->delta_value[*n_occ] = v3_scale(v3_mul(f, Li), fabsf(cos_i));
+            int kept = sends & len_ok;
+            st->guarded_events += sends & !len_ok;
+            st->rays_shadow += kept;
+            *n_occ += kept;
+            p->delta_count += kept;
+            continue;
+        }
         if (light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) {
             /* sampled for the whole stage by wave_point_light_samples */
             const WavePointSamples *ps = &w->point[k];

@@ -248,6 +248,12 @@ typedef struct {
     const SampleSink *sink;
     int tiles_x, tile_count;
     int sample_begin, sample_end; /* the round: sample indices [begin, end) of every pixel */
+    /* The first round ([0,64)) of an interruptible pass: per tile, how many of its rows the
+     * round has finished (NULL: the first round is [0,4)). When the pass is cancelled in
+     * that round, a completion round gives the rows it did not reach samples [0,4), and
+     * ignores the cancel (run_pass). */
+    int *tile_rows_done;
+    bool completing;
     int next_tile;              /* atomic */
     long long samples_done;     /* atomic */
     long long rays_done;        /* atomic */
@@ -259,7 +265,7 @@ typedef struct {
 
 static bool cancel_requested(const PassJob *job)
 {
-    return job->r->opt.cancel && *job->r->opt.cancel;
+    return !job->completing && job->r->opt.cancel && *job->r->opt.cancel;
 }
 
 /* A worker's wave: the pixels queued for it and their records. */
@@ -273,7 +279,7 @@ typedef struct {
 /* The frame's slices of a pixel's sample indices in a pass: [0,4) [4,8) [8,16) [16,32)
  * [32,64), then 64 at a time. Each slice of a pixel is summed in double and added to the
  * frame with one float addition per sum, so the slices fix the frame's rounding; they were
- * the render rounds before [4,64) became one (run_pass), and keeping them keeps every image
+ * the render rounds before [0,64) became one (run_pass), and keeping them keeps every image
  * bit for bit. A round's bounds are slice bounds. The end of the slice that starts at
  * `begin`: */
 static int frame_slice_end(int begin) { return begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64); }
@@ -378,7 +384,9 @@ static void *pass_worker(void *arg)
         int y1 = y0 + TILE_PX < r->height ? y0 + TILE_PX : r->height;
         long long samples = 0;
         long long rays_before = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
-        for (int y = y0; y < y1; ++y) {
+        /* a completion round starts below the rows the first round finished */
+        int y = job->completing ? y0 + job->tile_rows_done[tile] : y0;
+        for (; y < y1; ++y) {
             if (cancel_requested(job)) { /* Ctrl-C: stop after the current row */
                 __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
                 break;
@@ -390,6 +398,7 @@ static void *pass_worker(void *arg)
             }
         }
         samples += flush_wave(job, q, &st); /* a wave never spans two tiles */
+        if (job->tile_rows_done && !job->completing) job->tile_rows_done[tile] = y - y0; /* rows y0 .. y-1 done */
         __atomic_add_fetch(&job->samples_done, samples, __ATOMIC_RELAXED);
         __atomic_add_fetch(&job->rays_done, st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf - rays_before,
                            __ATOMIC_RELAXED);
@@ -438,19 +447,26 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     }
 
     /* The pass runs in rounds over the whole image, each taking the next slice of every
-     * pixel's sample indices: [0,4), [4,64), then 64 at a time. After the first round an
-     * interrupted render has a complete image at a lower sample count, and the progress
-     * bar moves evenly. The rounds depend only on the sample counts, so images stay
-     * identical for any number of threads; within a round a pixel belongs to one thread.
-     * Until 2026-11-28 the second round was cut into [4,8) [8,16) [16,32) [32,64): each
-     * round sets a pixel's sampler up and builds its per-dimension tables again, in runs
-     * too short to fill the vectorised loops (7-8% of a 64-spp render, docs/benchmarks.md,
-     * "Issue 22, seventh round"). Those cuts remain as the frame's slices
-     * (frame_slice_end), which is all the images depend on. */
+     * pixel's sample indices: [0,64), then 64 at a time. Each round sets a pixel's sampler
+     * up and builds its per-dimension tables again, so a round should be long: a first
+     * round of [0,4) then [4,64) (until 2026-11-28 also [4,8) [8,16) [16,32) [32,64)) cost
+     * 5-9% of a 64-spp render in set-ups and in runs too short to fill the vectorised loops
+     * (docs/benchmarks.md, "Issue 22, seventh round" and "ninth round"). An interrupted
+     * render must still have at least 4 samples in every pixel (a complete image at a lower
+     * sample count): when the pass is cancelled during its first round, a completion round
+     * gives the rows that round did not reach their samples [0,4), whatever the cancel
+     * flag says (a second Ctrl-C kills wedge render); that makes a cancel in the first
+     * round slower to take effect, by up to about a fifth of the round. The old cuts remain as the frame's
+     * slices (frame_slice_end), which is all the images depend on, so images do not depend
+     * on the rounds; the rounds depend only on the sample counts, so images stay identical
+     * for any number of threads; within a round a pixel belongs to one thread. Without
+     * memory for the rows' counts the first round is [0,4), as before. */
     int n = r->threads > 0 ? r->threads : 1;
     pthread_t *tid = calloc((size_t)n, sizeof *tid);
-    for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
-        end = begin == 0 ? 4 : (begin < 64 ? 64 : begin + 64);
+    if (spp_max > 4) job.tile_rows_done = calloc((size_t)job.tile_count, sizeof *job.tile_rows_done);
+    for (int begin = 0, end; begin < spp_max && (!job.cancelled || job.completing); begin = end) {
+        end = begin == 0 ? (job.tile_rows_done ? 64 : 4) : (begin < 64 ? 64 : begin + 64);
+        if (job.completing) end = 4; /* after a cancelled first round: [0,4) where it did not reach */
         _Static_assert(WAVE_SAMPLES >= 64, "a pixel's slice of a round (at most 64 samples) fits in one wave");
         job.sample_begin = begin;
         job.sample_end = end;
@@ -471,8 +487,14 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
             nanosleep(&ts, NULL);
         }
         for (int i = 0; i < started; ++i) pthread_join(tid[i], NULL);
+        if (job.completing) break;
+        if (begin == 0 && job.cancelled && job.tile_rows_done) {
+            job.completing = true; /* the next round completes [0,4) */
+            end = 0;
+        }
     }
     free(tid);
+    free(job.tile_rows_done);
     if (r->opt.progress) {
         RenderProgress p = {job.samples_done, total, job.rays_done, seconds_now() - t0};
         r->opt.progress(r->opt.progress_ctx, &p);

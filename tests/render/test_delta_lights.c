@@ -99,6 +99,46 @@ int main(void)
     fprintf(stderr, "%d distant lights, 1024 spp: mean %.6f want %.6f\n", LIGHTS_DELTA_EVERY_MAX + 1, mean, want);
     CHECK_NEAR(mean / want, 1.0, 0.01);
 
+    /* lights on both sides of the plane, one sample per pixel: those below it send nothing
+     * and get no shadow ray (the wave decides this without a branch for a Lambert receiver
+     * of a distant or point light: integrator.c, wave_vertex_rays), those above give the
+     * closed form, and a point light above its own closed form rho I cos / (pi d^2) */
+    {
+        lights[0] = '\0';
+        want = add_distant_lights(lights, sizeof lights, 2);
+        size_t used = strlen(lights);
+        double I = 2.0, h = 3.0; /* a point light of intensity I straight above the origin */
+        snprintf(lights + used, sizeof lights - used,
+                 "LightSource \"distant\" \"rgb L\" [ 5 5 5 ] \"point3 from\" [ 0.3 -1 0.2 ] \"point3 to\" [ 0 0 0 ]\n"
+                 "LightSource \"point\" \"rgb I\" [ 7 7 7 ] \"point3 from\" [ 0 -0.5 0 ]\n"
+                 "LightSource \"point\" \"rgb I\" [ %g %g %g ] \"point3 from\" [ 0 %g 0 ]\n"
+                 "LightSource \"distant\" \"rgb L\" [ 0 0 0 ] \"point3 from\" [ 0 1 0 ] \"point3 to\" [ 0 0 0 ]\n",
+                 I, I, I, h);
+        want += RHO * I / (h * h) / PI; /* the pixels see points within 1e-3 of the origin */
+        static char text[16384];
+        int n = snprintf(text, sizeof text, HEADER, 1, 1);
+        snprintf(text + n, sizeof text - (size_t)n, "%s", lights);
+        TestRender t;
+        RenderOptions o = {0};
+        o.threads = 2, o.seed = 5;
+        CHECK(test_render(text, &o, &t));
+        double worst = 0.0;
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x) {
+                double rgb[3];
+                test_pixel(&t, x, y, rgb);
+                double d = fabs(rgb[0] / want - 1.0);
+                if (!(d <= worst)) worst = d;
+            }
+        fprintf(stderr, "lights on both sides, 1 spp: worst pixel %.2e off; %lld shadow rays for %lld camera rays\n", worst,
+                t.stats.rays_shadow, t.stats.rays_primary);
+        CHECK(worst < 1e-5);
+        /* the two distant lights and the point light above; none for those below or the dark one */
+        CHECK(t.stats.rays_primary == 16 && t.stats.rays_shadow == 3 * 16);
+        CHECK(t.stats.guarded_events == 0);
+        test_render_free(&t);
+    }
+
     /* a sphere light straight above (radius r at height d) beside two distant lights */
     {
         double Ls = 4.0, r = 0.3, d = 1.5;

@@ -67,6 +67,21 @@ static void sink_add(void *ctx, int px, int py, const SampleRecord *r)
     }
 }
 
+/* A sink that keeps, per pixel, the sum of its first 4 records' weighed radiance (red), in
+ * sample order and in double, as the frame's first slice sums it. */
+typedef struct {
+    int width;
+    int *seen;
+    double *first4;
+} First4Sink;
+
+static void first4_add(void *ctx, int px, int py, const SampleRecord *r)
+{
+    First4Sink *f = ctx;
+    size_t i = (size_t)py * (size_t)f->width + (size_t)px;
+    if (f->seen[i]++ < 4) f->first4[i] += r->L.x;
+}
+
 /* A sink that raises the cancel flag after a number of samples (Ctrl-C in a test). */
 typedef struct {
     volatile sig_atomic_t *cancel;
@@ -157,7 +172,53 @@ int main(void)
         free(in_flight);
         test_render_free(&t);
     }
-    /* cancelled during the second round ([4, 64)): the first round covered every pixel */
+    /* cancelled during the first round ([0, 64)): the rows it did not reach get samples
+     * [0, 4) in a completion round, so every pixel has 4 or 64 samples, and a pixel with 4
+     * holds exactly the first 4 samples of the uninterrupted render */
+    {
+        enum { W = 40, H = 30, SPP = 64 };
+        char text[4096];
+        snprintf(text, sizeof text, SCENE, "40", W, H, 1);
+        RenderOptions o = {0};
+        o.seed = 5, o.threads = 2;
+        TestRender full;
+        CHECK(test_render(text, &o, &full));
+        frame_clear(&full.frame);
+        int *seen = calloc(W * H, sizeof(int));
+        double *first4 = calloc(W * H, sizeof(double));
+        First4Sink fs = {W, seen, first4};
+        SampleSink sink4 = {first4_add, &fs};
+        CHECK(render_pass(full.r, 0, NULL, SPP, &full.frame, &sink4));
+        volatile sig_atomic_t cancel = 0;
+        o.cancel = &cancel;
+        TestRender t;
+        CHECK(test_render(text, &o, &t));
+        frame_clear(&t.frame);
+        CancelSink cs = {&cancel, 0, 2 * W * H}; /* about a thirtieth of the first round */
+        SampleSink sink = {cancel_add, &cs};
+        CHECK(!render_pass(t.r, 0, NULL, SPP, &t.frame, &sink));
+        int with4 = 0, with64 = 0, same = 0;
+        for (int i = 0; i < W * H; ++i) {
+            if (t.frame.spp[i] == 4.0f) {
+                with4++;
+                same += t.frame.color[3 * i] == (float)first4[i];
+            }
+            if (t.frame.spp[i] == (float)SPP) {
+                with64++;
+                same += t.frame.color[3 * i] == full.frame.color[3 * i];
+            }
+        }
+        fprintf(stderr, "cancelled in the first round: %d pixels with 4 samples, %d with %d\n", with4, with64, SPP);
+        CHECK(with4 + with64 == W * H);
+        CHECK(with4 > W * H / 2 && with64 > 0);
+        CHECK(same == W * H);
+        CHECK(test_frame_finite(&t.frame));
+        free(seen);
+        free(first4);
+        test_render_free(&t);
+        test_render_free(&full);
+    }
+    /* cancelled later in the first round: every pixel still has at least 4 samples */
     {
         enum { W = 40, H = 30, SPP = 64 };
         char text[4096];
