@@ -5,10 +5,15 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #ifdef WEDGE_MPI
 #include <mpi.h>
 #endif
+
+/* The longest nap between two looks at a collective a rank waits in (quiet_arrival): the
+ * latency it can add to a collective, per round of the barrier's messages. */
+#define QUIET_NAP_MAX_NS 200000L
 
 bool dist_available(void)
 {
@@ -197,6 +202,7 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
 
 #ifdef WEDGE_MPI
 static bool mpi_ok(int rc, const char *what, Diag *e);
+static bool quiet_arrival(Diag *e);
 #endif
 
 bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_uniform, Diag *e)
@@ -233,7 +239,7 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
         for (size_t t = 0; t < n; ++t) mine[t] *= my_samples / my_seconds;
     bool ok = true;
 #ifdef WEDGE_MPI
-    ok = mpi_ok(MPI_Allreduce(mine, all, (int)n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "all-reduce", e);
+    ok = quiet_arrival(e) && mpi_ok(MPI_Allreduce(mine, all, (int)n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "all-reduce", e);
 #else
     memcpy(all, mine, n * sizeof(double));
 #endif
@@ -252,6 +258,33 @@ static bool mpi_ok(int rc, const char *what, Diag *e)
     MPI_Error_string(rc, msg, &len);
     diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MPI %s failed: %s (another rank may have died)", what, msg);
     return false;
+}
+
+/* Waits until every rank has reached this collective, napping rather than spinning. Open MPI
+ * waits in a blocking call by polling, a core at 100%: a rank that has finished its part of
+ * a pass (or rank 1 while rank 0 plans, reconstructs and writes the image) took a core from
+ * rank 0, whose plan and OpenCL reconstruction use both (docs/benchmarks.md: AAF's
+ * reconstruction at 720x720 took 0.217 s with 2 ranks against 0.145 s with one). A
+ * nonblocking barrier tested between naps that double from 1 us to QUIET_NAP_MAX_NS frees
+ * the core and costs at most a nap per round of the barrier; the collective that follows
+ * then finds every rank there and spins only while its data moves.
+ * WEDGE_DIST_WAIT=spin (for measuring against it): the plain blocking call. */
+static bool quiet_arrival(Diag *e)
+{
+    static int spin = -1;
+    if (spin < 0) spin = getenv("WEDGE_DIST_WAIT") && strcmp(getenv("WEDGE_DIST_WAIT"), "spin") == 0;
+    if (spin) return true;
+    MPI_Request req;
+    int rc = MPI_Ibarrier(MPI_COMM_WORLD, &req);
+    for (long nap_ns = 1000; rc == MPI_SUCCESS;) {
+        int done = 0;
+        rc = MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+        if (rc != MPI_SUCCESS || done) break;
+        struct timespec ts = {0, nap_ns};
+        nanosleep(&ts, NULL);
+        nap_ns = nap_ns * 2 < QUIET_NAP_MAX_NS ? nap_ns * 2 : QUIET_NAP_MAX_NS;
+    }
+    return e ? mpi_ok(rc, "barrier", e) : rc == MPI_SUCCESS;
 }
 
 /* Whether tile t travels for rank r: in a gather, the tiles r owns; in a hand-over, the tiles
@@ -343,7 +376,7 @@ static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int c
     }
     if (ok && !handover) {
         if (!root) pack(d, d->rank, false, arrays, count, buf, true);
-        ok = mpi_ok(root ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_BYTE, buf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD)
+        ok = quiet_arrival(e) && mpi_ok(root ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_BYTE, buf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD)
                          : MPI_Gatherv(buf, counts[d->rank], MPI_BYTE, NULL, NULL, NULL, MPI_BYTE, 0, MPI_COMM_WORLD),
                     "gather", e);
         if (ok && root)
@@ -351,7 +384,7 @@ static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int c
     } else if (ok) {
         if (root)
             for (int r = 1; r < d->ranks; ++r) pack(d, r, true, arrays, count, buf + displs[r], true);
-        ok = mpi_ok(root ? MPI_Scatterv(buf, counts, displs, MPI_BYTE, MPI_IN_PLACE, 0, MPI_BYTE, 0, MPI_COMM_WORLD)
+        ok = quiet_arrival(e) && mpi_ok(root ? MPI_Scatterv(buf, counts, displs, MPI_BYTE, MPI_IN_PLACE, 0, MPI_BYTE, 0, MPI_COMM_WORLD)
                          : MPI_Scatterv(NULL, NULL, NULL, MPI_BYTE, buf, counts[d->rank], MPI_BYTE, 0, MPI_COMM_WORLD),
                     "hand-over", e);
         if (ok && !root) pack(d, d->rank, true, arrays, count, buf, false);
@@ -393,6 +426,7 @@ bool dist_broadcast_ints(ReconDist *d, int *data, size_t n, Diag *e)
 {
     if (!d || d->ranks <= 1) return true;
 #ifdef WEDGE_MPI
+    if (!quiet_arrival(e)) return false;
     for (size_t at = 0; at < n;) { /* in chunks an int count can say */
         size_t chunk = n - at < (size_t)INT_MAX / 4 ? n - at : (size_t)INT_MAX / 4;
         if (!mpi_ok(MPI_Bcast(data + at, (int)chunk, MPI_INT, 0, MPI_COMM_WORLD), "broadcast", e)) return false;
@@ -414,7 +448,7 @@ long long dist_sum_ll(const ReconDist *d, long long v)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         long long sum = 0;
-        if (MPI_Allreduce(&v, &sum, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD) == MPI_SUCCESS) return sum;
+        if (quiet_arrival(NULL) && MPI_Allreduce(&v, &sum, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD) == MPI_SUCCESS) return sum;
     }
 #else
     (void)d;
@@ -427,7 +461,7 @@ int dist_max_int(const ReconDist *d, int v)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         int max = v;
-        if (MPI_Allreduce(&v, &max, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) == MPI_SUCCESS) return max;
+        if (quiet_arrival(NULL) && MPI_Allreduce(&v, &max, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) == MPI_SUCCESS) return max;
         return v != 0 ? v : WEDGE_EXIT_RUNTIME;
     }
 #else
@@ -441,7 +475,7 @@ bool dist_all_ok(const ReconDist *d, bool ok)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         int mine = ok ? 1 : 0, all = 0;
-        if (MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) != MPI_SUCCESS) return false;
+        if (!quiet_arrival(NULL) || MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) != MPI_SUCCESS) return false;
         return all == 1;
     }
 #else
