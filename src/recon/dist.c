@@ -14,6 +14,8 @@
 /* The longest nap between two looks at a collective a rank waits in (quiet_arrival): the
  * latency it can add to a collective, per round of the barrier's messages. */
 #define QUIET_NAP_MAX_NS 200000L
+/* The most bytes a rank sends to or receives from rank 0 in one round of an exchange. */
+#define DIST_CHUNK_BYTES ((size_t)4 << 20)
 
 bool dist_available(void)
 {
@@ -294,51 +296,63 @@ static bool travels(const ReconDist *d, int t, int r, bool handover)
     return d->owner[t] == r && (!handover || d->owner_before[t] != r);
 }
 
-/* Copies rank r's travelling pixels of every array, array by array, tile by tile in index
- * order, row by row, out of (to_buf) or into (!to_buf) buf; buf NULL: only counts. Returns
- * the bytes. */
+/* Copies the bytes [lo, hi) of rank r's stream of travelling pixels (every array, array by
+ * array, tile by tile in index order, row by row) out of (to_buf) or into (!to_buf) buf,
+ * whose byte 0 is the stream's byte lo; buf NULL: only counts. Returns the stream's length. */
 static size_t pack(const ReconDist *d, int r, bool handover, const DistArray *arrays, int count, unsigned char *buf,
-                   bool to_buf)
+                   bool to_buf, size_t lo, size_t hi)
 {
+    size_t pixels = 0; /* of the travelling tiles: each array's part of the stream is pixels * bpp */
+    for (int t = 0; t < d->tile_count; ++t) {
+        if (!travels(d, t, r, handover)) continue;
+        int x0 = (t % d->tiles_x) * DIST_TILE_PX, y0 = (t / d->tiles_x) * DIST_TILE_PX;
+        int x1 = x0 + DIST_TILE_PX < d->width ? x0 + DIST_TILE_PX : d->width;
+        int y1 = y0 + DIST_TILE_PX < d->height ? y0 + DIST_TILE_PX : d->height;
+        pixels += (size_t)(x1 - x0) * (size_t)(y1 - y0);
+    }
     size_t at = 0;
     for (int k = 0; k < count; ++k) {
         size_t bpp = arrays[k].bytes_per_pixel;
         unsigned char *data = arrays[k].data;
-        for (int t = 0; t < d->tile_count; ++t) {
+        if (!buf || at + pixels * bpp <= lo || at >= hi) { /* the array lies outside the window */
+            at += pixels * bpp;
+            continue;
+        }
+        size_t start = at;
+        for (int t = 0; t < d->tile_count && at < hi; ++t) {
             if (!travels(d, t, r, handover)) continue;
             int x0 = (t % d->tiles_x) * DIST_TILE_PX, y0 = (t / d->tiles_x) * DIST_TILE_PX;
             int x1 = x0 + DIST_TILE_PX < d->width ? x0 + DIST_TILE_PX : d->width;
             int y1 = y0 + DIST_TILE_PX < d->height ? y0 + DIST_TILE_PX : d->height;
             size_t bytes = (size_t)(x1 - x0) * bpp;
-            for (int y = y0; y < y1; ++y) {
-                size_t off = ((size_t)y * (size_t)d->width + (size_t)x0) * bpp;
-                if (buf) {
-                    if (to_buf) memcpy(buf + at, data + off, bytes);
-                    else memcpy(data + off, buf + at, bytes);
-                }
-                at += bytes;
+            if (at + bytes * (size_t)(y1 - y0) <= lo) { /* the tile lies before the window */
+                at += bytes * (size_t)(y1 - y0);
+                continue;
+            }
+            for (int y = y0; y < y1; ++y, at += bytes) {
+                size_t from = at > lo ? at : lo, to = at + bytes < hi ? at + bytes : hi;
+                if (from >= to) continue;
+                unsigned char *row = data + ((size_t)y * (size_t)d->width + (size_t)x0) * bpp + (from - at);
+                if (to_buf) memcpy(buf + (from - lo), row, to - from);
+                else memcpy(row, buf + (from - lo), to - from);
             }
         }
+        at = start + pixels * bpp; /* past the tiles after the window too */
     }
     return at;
 }
 
-/* Every rank's byte count and offset in one buffer; false (e set) past what an int says. */
-static bool layout(const ReconDist *d, bool handover, const DistArray *arrays, int count, int *counts, int *displs,
-                   size_t *total, Diag *e)
+/* Every rank's stream length in bytes (counts[r]); false (e set) past what an int says. */
+static bool layout(const ReconDist *d, bool handover, const DistArray *arrays, int count, size_t *counts, Diag *e)
 {
-    *total = 0;
     for (int r = 0; r < d->ranks; ++r) {
-        size_t bytes = pack(d, r, handover, arrays, count, NULL, true);
-        if (bytes > INT_MAX || *total > INT_MAX - bytes) {
+        counts[r] = pack(d, r, handover, arrays, count, NULL, true, 0, 0);
+        if (counts[r] > (size_t)INT_MAX) {
             diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
                      "a %dx%d frame is too large to send in one MPI message per rank (over 2 GiB)", d->width,
                      d->height);
             return false;
         }
-        counts[r] = (int)bytes;
-        displs[r] = (int)*total;
-        *total += bytes;
     }
     return true;
 }
@@ -355,45 +369,68 @@ static unsigned char *exchange_buffer(ReconDist *d, size_t bytes)
 }
 
 /* The gather (rank 0 receives every rank's tiles) or the hand-over (rank 0 sends each rank
- * its new tiles), all arrays in one message per rank. Rank 0's own tiles stay where they are
- * (MPI_IN_PLACE): its part of the buffer is laid out but never written or read, so its pages
- * are never touched. One buffer serves every exchange of the frame: at 720x720 a fresh one
- * per gather page-faulted about 100 MB. */
+ * its new tiles), every array in one stream per rank, sent in rounds of at most
+ * DIST_CHUNK_BYTES per rank through one small buffer (rank 0: a chunk per rank). A buffer
+ * for the whole stream (70 MB from rank 1 at 720x720 under AAF) cost a first-touch fault per
+ * page on both sides in the first gather of each frame and a copy that left the caches; a
+ * chunk is faulted once per process, stays in the caches between its packing, the sending and
+ * the unpacking, and costs a collective (tens of microseconds) per round. Rank 0's own tiles
+ * stay where they are (MPI_IN_PLACE). */
 static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int count, int pass, Diag *e)
 {
+    size_t *length = calloc((size_t)d->ranks, sizeof(size_t));
     int *counts = calloc((size_t)d->ranks, sizeof(int)), *displs = calloc((size_t)d->ranks, sizeof(int));
-    unsigned char *buf = NULL;
-    size_t total = 0;
-    bool ok = counts && displs;
+    bool ok = length && counts && displs;
     if (!ok) diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI exchange");
-    ok = ok && layout(d, handover, arrays, count, counts, displs, &total, e);
+    ok = ok && layout(d, handover, arrays, count, length, e);
     bool root = d->rank == 0;
+    size_t longest = 0, total = 0;
+    for (int r = 1; ok && r < d->ranks; ++r) {
+        longest = length[r] > longest ? length[r] : longest;
+        total += length[r];
+    }
+    /* WEDGE_DIST_CHUNK=bytes (for tests): smaller rounds, which cut rows and arrays anywhere */
+    size_t most = getenv("WEDGE_DIST_CHUNK") ? (size_t)strtoull(getenv("WEDGE_DIST_CHUNK"), NULL, 10) : 0;
+    most = most > 0 && most < DIST_CHUNK_BYTES ? most : DIST_CHUNK_BYTES;
+    size_t chunk = longest < most ? longest : most;
+    unsigned char *buf = NULL;
     if (ok) {
-        /* rank 0: every rank's part at its offset; the others: their own part only */
-        buf = exchange_buffer(d, root ? (total ? total : 1) : (counts[d->rank] ? (size_t)counts[d->rank] : 1));
+        /* rank 0: a chunk per rank at offset r * chunk (its own part never used); the others: one */
+        buf = exchange_buffer(d, (root ? (size_t)d->ranks : 1) * (chunk ? chunk : 1));
         ok = buf != NULL;
         if (!ok) diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI exchange");
     }
-    if (ok && !handover) {
-        if (!root) pack(d, d->rank, false, arrays, count, buf, true);
-        ok = quiet_arrival(e) && mpi_ok(root ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_BYTE, buf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD)
-                         : MPI_Gatherv(buf, counts[d->rank], MPI_BYTE, NULL, NULL, NULL, MPI_BYTE, 0, MPI_COMM_WORLD),
-                    "gather", e);
-        if (ok && root)
-            for (int r = 1; r < d->ranks; ++r) pack(d, r, false, arrays, count, buf + displs[r], false);
-    } else if (ok) {
-        if (root)
-            for (int r = 1; r < d->ranks; ++r) pack(d, r, true, arrays, count, buf + displs[r], true);
-        ok = quiet_arrival(e) && mpi_ok(root ? MPI_Scatterv(buf, counts, displs, MPI_BYTE, MPI_IN_PLACE, 0, MPI_BYTE, 0, MPI_COMM_WORLD)
-                         : MPI_Scatterv(NULL, NULL, NULL, MPI_BYTE, buf, counts[d->rank], MPI_BYTE, 0, MPI_COMM_WORLD),
-                    "hand-over", e);
-        if (ok && !root) pack(d, d->rank, true, arrays, count, buf, false);
+    ok = ok && quiet_arrival(e);
+    /* every rank counts the same rounds: the longest stream's */
+    for (size_t lo = 0; ok && lo < longest; lo += chunk) {
+        size_t hi = lo + chunk;
+        for (int r = 0; r < d->ranks; ++r) {
+            size_t end = r > 0 && length[r] > lo ? (length[r] < hi ? length[r] : hi) : lo;
+            counts[r] = (int)(end - lo);
+            displs[r] = (int)((size_t)r * chunk);
+        }
+        unsigned char *mine = root ? NULL : buf;
+        if (!handover) {
+            if (!root) pack(d, d->rank, false, arrays, count, mine, true, lo, hi);
+            ok = mpi_ok(root ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_BYTE, buf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD)
+                             : MPI_Gatherv(mine, counts[d->rank], MPI_BYTE, NULL, NULL, NULL, MPI_BYTE, 0, MPI_COMM_WORLD),
+                        "gather", e);
+            if (ok && root)
+                for (int r = 1; r < d->ranks; ++r) pack(d, r, false, arrays, count, buf + displs[r], false, lo, hi);
+        } else {
+            if (root)
+                for (int r = 1; r < d->ranks; ++r) pack(d, r, true, arrays, count, buf + displs[r], true, lo, hi);
+            ok = mpi_ok(root ? MPI_Scatterv(buf, counts, displs, MPI_BYTE, MPI_IN_PLACE, 0, MPI_BYTE, 0, MPI_COMM_WORLD)
+                             : MPI_Scatterv(NULL, NULL, NULL, MPI_BYTE, mine, counts[d->rank], MPI_BYTE, 0, MPI_COMM_WORLD),
+                        "hand-over", e);
+            if (ok && !root) pack(d, d->rank, true, arrays, count, mine, false, lo, hi);
+        }
     }
     if (ok && root) { /* what crossed between ranks: everything but rank 0's own part */
-        long long crossed = (long long)(total - (size_t)counts[0]);
-        d->bytes_sent[pass < 3 ? pass : 3] += crossed;
-        d->bytes_total += crossed;
+        d->bytes_sent[pass < 3 ? pass : 3] += (long long)total;
+        d->bytes_total += (long long)total;
     }
+    free(length);
     free(counts);
     free(displs);
     return ok;
