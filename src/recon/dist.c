@@ -296,6 +296,14 @@ static bool travels(const ReconDist *d, int t, int r, bool handover)
     return d->owner[t] == r && (!handover || d->owner_before[t] != r);
 }
 
+/* The pixels [x0, x1) x [y0, y1) of tile t (clipped at the frame's edge). */
+static void tile_rect(const ReconDist *d, int t, int *x0, int *y0, int *x1, int *y1)
+{
+    *x0 = (t % d->tiles_x) * DIST_TILE_PX, *y0 = (t / d->tiles_x) * DIST_TILE_PX;
+    *x1 = *x0 + DIST_TILE_PX < d->width ? *x0 + DIST_TILE_PX : d->width;
+    *y1 = *y0 + DIST_TILE_PX < d->height ? *y0 + DIST_TILE_PX : d->height;
+}
+
 /* Copies the bytes [lo, hi) of rank r's stream of travelling pixels (every array, array by
  * array, tile by tile in index order, row by row) out of (to_buf) or into (!to_buf) buf,
  * whose byte 0 is the stream's byte lo; buf NULL: only counts. Returns the stream's length. */
@@ -305,9 +313,8 @@ static size_t pack(const ReconDist *d, int r, bool handover, const DistArray *ar
     size_t pixels = 0; /* of the travelling tiles: each array's part of the stream is pixels * bpp */
     for (int t = 0; t < d->tile_count; ++t) {
         if (!travels(d, t, r, handover)) continue;
-        int x0 = (t % d->tiles_x) * DIST_TILE_PX, y0 = (t / d->tiles_x) * DIST_TILE_PX;
-        int x1 = x0 + DIST_TILE_PX < d->width ? x0 + DIST_TILE_PX : d->width;
-        int y1 = y0 + DIST_TILE_PX < d->height ? y0 + DIST_TILE_PX : d->height;
+        int x0, y0, x1, y1;
+        tile_rect(d, t, &x0, &y0, &x1, &y1);
         pixels += (size_t)(x1 - x0) * (size_t)(y1 - y0);
     }
     size_t at = 0;
@@ -321,9 +328,8 @@ static size_t pack(const ReconDist *d, int r, bool handover, const DistArray *ar
         size_t start = at;
         for (int t = 0; t < d->tile_count && at < hi; ++t) {
             if (!travels(d, t, r, handover)) continue;
-            int x0 = (t % d->tiles_x) * DIST_TILE_PX, y0 = (t / d->tiles_x) * DIST_TILE_PX;
-            int x1 = x0 + DIST_TILE_PX < d->width ? x0 + DIST_TILE_PX : d->width;
-            int y1 = y0 + DIST_TILE_PX < d->height ? y0 + DIST_TILE_PX : d->height;
+            int x0, y0, x1, y1;
+            tile_rect(d, t, &x0, &y0, &x1, &y1);
             size_t bytes = (size_t)(x1 - x0) * bpp;
             if (at + bytes * (size_t)(y1 - y0) <= lo) { /* the tile lies before the window */
                 at += bytes * (size_t)(y1 - y0);
