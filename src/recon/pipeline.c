@@ -214,8 +214,9 @@ const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return p->margin
 /* ---- sampling ---- */
 
 /* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
- * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time), to
- * see where the time of several ranks goes (tools/bench-mpi --breakdown) */
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time and its
+ * minor page faults so far), to see where the time of several ranks goes and what memory
+ * each touches first (tools/bench-mpi --breakdown) */
 static void dist_mark(ReconPipeline *p, const char *what)
 {
     if (p->mark_count >= DIST_MARKS) return;
