@@ -14,8 +14,10 @@
 /* The longest nap between two looks at a collective a rank waits in (quiet_arrival): the
  * latency it can add to a collective, per round of the barrier's messages. */
 #define QUIET_NAP_MAX_NS 200000L
-/* The most bytes a rank sends to or receives from rank 0 in one round of an exchange. */
+/* The most bytes a rank sends to or receives from rank 0 in one round of an exchange, and
+ * the most rank 0 receives or sends in one round from all of them together. */
 #define DIST_CHUNK_BYTES ((size_t)4 << 20)
+#define DIST_ROUND_BYTES ((size_t)64 << 20)
 
 bool dist_available(void)
 {
@@ -348,19 +350,10 @@ static size_t pack(const ReconDist *d, int r, bool handover, const DistArray *ar
     return at;
 }
 
-/* Every rank's stream length in bytes (counts[r]); false (e set) past what an int says. */
-static bool layout(const ReconDist *d, bool handover, const DistArray *arrays, int count, size_t *counts, Diag *e)
+/* Every rank's stream length in bytes (length[r]). */
+static void layout(const ReconDist *d, bool handover, const DistArray *arrays, int count, size_t *length)
 {
-    for (int r = 0; r < d->ranks; ++r) {
-        counts[r] = pack(d, r, handover, arrays, count, NULL, true, 0, 0);
-        if (counts[r] > (size_t)INT_MAX) {
-            diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
-                     "a %dx%d frame is too large to send in one MPI message per rank (over 2 GiB)", d->width,
-                     d->height);
-            return false;
-        }
-    }
-    return true;
+    for (int r = 0; r < d->ranks; ++r) length[r] = pack(d, r, handover, arrays, count, NULL, true, 0, 0);
 }
 
 /* d->xbuf with room for bytes (grow-only); NULL when out of memory. */
@@ -388,7 +381,7 @@ static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int c
     int *counts = calloc((size_t)d->ranks, sizeof(int)), *displs = calloc((size_t)d->ranks, sizeof(int));
     bool ok = length && counts && displs;
     if (!ok) diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI exchange");
-    ok = ok && layout(d, handover, arrays, count, length, e);
+    if (ok) layout(d, handover, arrays, count, length);
     bool root = d->rank == 0;
     size_t longest = 0, total = 0;
     for (int r = 1; ok && r < d->ranks; ++r) {
@@ -397,7 +390,11 @@ static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int c
     }
     /* WEDGE_DIST_CHUNK=bytes (for tests): smaller rounds, which cut rows and arrays anywhere */
     size_t most = getenv("WEDGE_DIST_CHUNK") ? (size_t)strtoull(getenv("WEDGE_DIST_CHUNK"), NULL, 10) : 0;
-    most = most > 0 && most < DIST_CHUNK_BYTES ? most : DIST_CHUNK_BYTES;
+    /* rank 0 holds a chunk per rank: on many ranks the chunks shrink so that a round stays
+     * within DIST_ROUND_BYTES (and its offsets within an int) */
+    size_t fair = DIST_ROUND_BYTES / (size_t)d->ranks;
+    size_t cap = DIST_CHUNK_BYTES < fair ? DIST_CHUNK_BYTES : fair > 4096 ? fair : 4096;
+    most = most > 0 && most < cap ? most : cap;
     size_t chunk = longest < most ? longest : most;
     unsigned char *buf = NULL;
     if (ok) {
