@@ -5,10 +5,19 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #ifdef WEDGE_MPI
 #include <mpi.h>
 #endif
+
+/* The longest nap between two looks at a collective a rank waits in (quiet_arrival): the
+ * latency it can add to a collective, per round of the barrier's messages. */
+#define QUIET_NAP_MAX_NS 200000L
+/* The most bytes a rank sends to or receives from rank 0 in one round of an exchange, and
+ * the most rank 0 receives or sends in one round from all of them together. */
+#define DIST_CHUNK_BYTES ((size_t)4 << 20)
+#define DIST_ROUND_BYTES ((size_t)64 << 20)
 
 bool dist_available(void)
 {
@@ -197,6 +206,7 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
 
 #ifdef WEDGE_MPI
 static bool mpi_ok(int rc, const char *what, Diag *e);
+static bool quiet_arrival(Diag *e);
 #endif
 
 bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_uniform, Diag *e)
@@ -233,7 +243,7 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
         for (size_t t = 0; t < n; ++t) mine[t] *= my_samples / my_seconds;
     bool ok = true;
 #ifdef WEDGE_MPI
-    ok = mpi_ok(MPI_Allreduce(mine, all, (int)n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "all-reduce", e);
+    ok = quiet_arrival(e) && mpi_ok(MPI_Allreduce(mine, all, (int)n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "all-reduce", e);
 #else
     memcpy(all, mine, n * sizeof(double));
 #endif
@@ -254,6 +264,33 @@ static bool mpi_ok(int rc, const char *what, Diag *e)
     return false;
 }
 
+/* Waits until every rank has reached this collective, napping rather than spinning. Open MPI
+ * waits in a blocking call by polling, a core at 100%: a rank that has finished its part of
+ * a pass (or rank 1 while rank 0 plans, reconstructs and writes the image) took a core from
+ * rank 0, whose plan and OpenCL reconstruction use both (docs/benchmarks.md: AAF's
+ * reconstruction at 720x720 took 0.217 s with 2 ranks against 0.145 s with one). A
+ * nonblocking barrier tested between naps that double from 1 us to QUIET_NAP_MAX_NS frees
+ * the core and costs at most a nap per round of the barrier; the collective that follows
+ * then finds every rank there and spins only while its data moves.
+ * WEDGE_DIST_WAIT=spin (for measuring against it): the plain blocking call. */
+static bool quiet_arrival(Diag *e)
+{
+    static int spin = -1;
+    if (spin < 0) spin = getenv("WEDGE_DIST_WAIT") && strcmp(getenv("WEDGE_DIST_WAIT"), "spin") == 0;
+    if (spin) return true;
+    MPI_Request req;
+    int rc = MPI_Ibarrier(MPI_COMM_WORLD, &req);
+    for (long nap_ns = 1000; rc == MPI_SUCCESS;) {
+        int done = 0;
+        rc = MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+        if (rc != MPI_SUCCESS || done) break;
+        struct timespec ts = {0, nap_ns};
+        nanosleep(&ts, NULL);
+        nap_ns = nap_ns * 2 < QUIET_NAP_MAX_NS ? nap_ns * 2 : QUIET_NAP_MAX_NS;
+    }
+    return e ? mpi_ok(rc, "barrier", e) : rc == MPI_SUCCESS;
+}
+
 /* Whether tile t travels for rank r: in a gather, the tiles r owns; in a hand-over, the tiles
  * r owns now and did not before. */
 static bool travels(const ReconDist *d, int t, int r, bool handover)
@@ -261,53 +298,62 @@ static bool travels(const ReconDist *d, int t, int r, bool handover)
     return d->owner[t] == r && (!handover || d->owner_before[t] != r);
 }
 
-/* Copies rank r's travelling pixels of every array, array by array, tile by tile in index
- * order, row by row, out of (to_buf) or into (!to_buf) buf; buf NULL: only counts. Returns
- * the bytes. */
-static size_t pack(const ReconDist *d, int r, bool handover, const DistArray *arrays, int count, unsigned char *buf,
-                   bool to_buf)
+/* The pixels [x0, x1) x [y0, y1) of tile t (clipped at the frame's edge). */
+static void tile_rect(const ReconDist *d, int t, int *x0, int *y0, int *x1, int *y1)
 {
+    *x0 = (t % d->tiles_x) * DIST_TILE_PX, *y0 = (t / d->tiles_x) * DIST_TILE_PX;
+    *x1 = *x0 + DIST_TILE_PX < d->width ? *x0 + DIST_TILE_PX : d->width;
+    *y1 = *y0 + DIST_TILE_PX < d->height ? *y0 + DIST_TILE_PX : d->height;
+}
+
+/* Copies the bytes [lo, hi) of rank r's stream of travelling pixels (every array, array by
+ * array, tile by tile in index order, row by row) out of (to_buf) or into (!to_buf) buf,
+ * whose byte 0 is the stream's byte lo; buf NULL: only counts. Returns the stream's length. */
+static size_t pack(const ReconDist *d, int r, bool handover, const DistArray *arrays, int count, unsigned char *buf,
+                   bool to_buf, size_t lo, size_t hi)
+{
+    size_t pixels = 0; /* of the travelling tiles: each array's part of the stream is pixels * bpp */
+    for (int t = 0; t < d->tile_count; ++t) {
+        if (!travels(d, t, r, handover)) continue;
+        int x0, y0, x1, y1;
+        tile_rect(d, t, &x0, &y0, &x1, &y1);
+        pixels += (size_t)(x1 - x0) * (size_t)(y1 - y0);
+    }
     size_t at = 0;
     for (int k = 0; k < count; ++k) {
         size_t bpp = arrays[k].bytes_per_pixel;
         unsigned char *data = arrays[k].data;
-        for (int t = 0; t < d->tile_count; ++t) {
+        if (!buf || at + pixels * bpp <= lo || at >= hi) { /* the array lies outside the window */
+            at += pixels * bpp;
+            continue;
+        }
+        size_t start = at;
+        for (int t = 0; t < d->tile_count && at < hi; ++t) {
             if (!travels(d, t, r, handover)) continue;
-            int x0 = (t % d->tiles_x) * DIST_TILE_PX, y0 = (t / d->tiles_x) * DIST_TILE_PX;
-            int x1 = x0 + DIST_TILE_PX < d->width ? x0 + DIST_TILE_PX : d->width;
-            int y1 = y0 + DIST_TILE_PX < d->height ? y0 + DIST_TILE_PX : d->height;
+            int x0, y0, x1, y1;
+            tile_rect(d, t, &x0, &y0, &x1, &y1);
             size_t bytes = (size_t)(x1 - x0) * bpp;
-            for (int y = y0; y < y1; ++y) {
-                size_t off = ((size_t)y * (size_t)d->width + (size_t)x0) * bpp;
-                if (buf) {
-                    if (to_buf) memcpy(buf + at, data + off, bytes);
-                    else memcpy(data + off, buf + at, bytes);
-                }
-                at += bytes;
+            if (at + bytes * (size_t)(y1 - y0) <= lo) { /* the tile lies before the window */
+                at += bytes * (size_t)(y1 - y0);
+                continue;
+            }
+            for (int y = y0; y < y1; ++y, at += bytes) {
+                size_t from = at > lo ? at : lo, to = at + bytes < hi ? at + bytes : hi;
+                if (from >= to) continue;
+                unsigned char *row = data + ((size_t)y * (size_t)d->width + (size_t)x0) * bpp + (from - at);
+                if (to_buf) memcpy(buf + (from - lo), row, to - from);
+                else memcpy(row, buf + (from - lo), to - from);
             }
         }
+        at = start + pixels * bpp; /* past the tiles after the window too */
     }
     return at;
 }
 
-/* Every rank's byte count and offset in one buffer; false (e set) past what an int says. */
-static bool layout(const ReconDist *d, bool handover, const DistArray *arrays, int count, int *counts, int *displs,
-                   size_t *total, Diag *e)
+/* Every rank's stream length in bytes (length[r]). */
+static void layout(const ReconDist *d, bool handover, const DistArray *arrays, int count, size_t *length)
 {
-    *total = 0;
-    for (int r = 0; r < d->ranks; ++r) {
-        size_t bytes = pack(d, r, handover, arrays, count, NULL, true);
-        if (bytes > INT_MAX || *total > INT_MAX - bytes) {
-            diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
-                     "a %dx%d frame is too large to send in one MPI message per rank (over 2 GiB)", d->width,
-                     d->height);
-            return false;
-        }
-        counts[r] = (int)bytes;
-        displs[r] = (int)*total;
-        *total += bytes;
-    }
-    return true;
+    for (int r = 0; r < d->ranks; ++r) length[r] = pack(d, r, handover, arrays, count, NULL, true, 0, 0);
 }
 
 /* d->xbuf with room for bytes (grow-only); NULL when out of memory. */
@@ -322,45 +368,72 @@ static unsigned char *exchange_buffer(ReconDist *d, size_t bytes)
 }
 
 /* The gather (rank 0 receives every rank's tiles) or the hand-over (rank 0 sends each rank
- * its new tiles), all arrays in one message per rank. Rank 0's own tiles stay where they are
- * (MPI_IN_PLACE): its part of the buffer is laid out but never written or read, so its pages
- * are never touched. One buffer serves every exchange of the frame: at 720x720 a fresh one
- * per gather page-faulted about 100 MB. */
+ * its new tiles), every array in one stream per rank, sent in rounds of at most
+ * DIST_CHUNK_BYTES per rank through one small buffer (rank 0: a chunk per rank). A buffer
+ * for the whole stream (70 MB from rank 1 at 720x720 under AAF) cost a first-touch fault per
+ * page on both sides in the first gather of each frame and a copy that left the caches; a
+ * chunk is faulted once per process, stays in the caches between its packing, the sending and
+ * the unpacking, and costs a collective (tens of microseconds) per round. Rank 0's own tiles
+ * stay where they are (MPI_IN_PLACE). */
 static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int count, int pass, Diag *e)
 {
+    size_t *length = calloc((size_t)d->ranks, sizeof(size_t));
     int *counts = calloc((size_t)d->ranks, sizeof(int)), *displs = calloc((size_t)d->ranks, sizeof(int));
-    unsigned char *buf = NULL;
-    size_t total = 0;
-    bool ok = counts && displs;
+    bool ok = length && counts && displs;
     if (!ok) diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI exchange");
-    ok = ok && layout(d, handover, arrays, count, counts, displs, &total, e);
+    if (ok) layout(d, handover, arrays, count, length);
     bool root = d->rank == 0;
+    size_t longest = 0, total = 0;
+    for (int r = 1; ok && r < d->ranks; ++r) {
+        longest = length[r] > longest ? length[r] : longest;
+        total += length[r];
+    }
+    /* WEDGE_DIST_CHUNK=bytes (for tests): smaller rounds, which cut rows and arrays anywhere */
+    size_t most = getenv("WEDGE_DIST_CHUNK") ? (size_t)strtoull(getenv("WEDGE_DIST_CHUNK"), NULL, 10) : 0;
+    /* rank 0 holds a chunk per rank: on many ranks the chunks shrink so that a round stays
+     * within DIST_ROUND_BYTES (and its offsets within an int) */
+    size_t fair = DIST_ROUND_BYTES / (size_t)d->ranks;
+    size_t cap = DIST_CHUNK_BYTES < fair ? DIST_CHUNK_BYTES : fair > 4096 ? fair : 4096;
+    most = most > 0 && most < cap ? most : cap;
+    size_t chunk = longest < most ? longest : most;
+    unsigned char *buf = NULL;
     if (ok) {
-        /* rank 0: every rank's part at its offset; the others: their own part only */
-        buf = exchange_buffer(d, root ? (total ? total : 1) : (counts[d->rank] ? (size_t)counts[d->rank] : 1));
+        /* rank 0: a chunk per rank at offset r * chunk (its own part never used); the others: one */
+        buf = exchange_buffer(d, (root ? (size_t)d->ranks : 1) * (chunk ? chunk : 1));
         ok = buf != NULL;
         if (!ok) diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI exchange");
     }
-    if (ok && !handover) {
-        if (!root) pack(d, d->rank, false, arrays, count, buf, true);
-        ok = mpi_ok(root ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_BYTE, buf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD)
-                         : MPI_Gatherv(buf, counts[d->rank], MPI_BYTE, NULL, NULL, NULL, MPI_BYTE, 0, MPI_COMM_WORLD),
-                    "gather", e);
-        if (ok && root)
-            for (int r = 1; r < d->ranks; ++r) pack(d, r, false, arrays, count, buf + displs[r], false);
-    } else if (ok) {
-        if (root)
-            for (int r = 1; r < d->ranks; ++r) pack(d, r, true, arrays, count, buf + displs[r], true);
-        ok = mpi_ok(root ? MPI_Scatterv(buf, counts, displs, MPI_BYTE, MPI_IN_PLACE, 0, MPI_BYTE, 0, MPI_COMM_WORLD)
-                         : MPI_Scatterv(NULL, NULL, NULL, MPI_BYTE, buf, counts[d->rank], MPI_BYTE, 0, MPI_COMM_WORLD),
-                    "hand-over", e);
-        if (ok && !root) pack(d, d->rank, true, arrays, count, buf, false);
+    ok = ok && quiet_arrival(e);
+    /* every rank counts the same rounds: the longest stream's */
+    for (size_t lo = 0; ok && lo < longest; lo += chunk) {
+        size_t hi = lo + chunk;
+        for (int r = 0; r < d->ranks; ++r) {
+            size_t end = r > 0 && length[r] > lo ? (length[r] < hi ? length[r] : hi) : lo;
+            counts[r] = (int)(end - lo);
+            displs[r] = (int)((size_t)r * chunk);
+        }
+        unsigned char *mine = root ? NULL : buf;
+        if (!handover) {
+            if (!root) pack(d, d->rank, false, arrays, count, mine, true, lo, hi);
+            ok = mpi_ok(root ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_BYTE, buf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD)
+                             : MPI_Gatherv(mine, counts[d->rank], MPI_BYTE, NULL, NULL, NULL, MPI_BYTE, 0, MPI_COMM_WORLD),
+                        "gather", e);
+            if (ok && root)
+                for (int r = 1; r < d->ranks; ++r) pack(d, r, false, arrays, count, buf + displs[r], false, lo, hi);
+        } else {
+            if (root)
+                for (int r = 1; r < d->ranks; ++r) pack(d, r, true, arrays, count, buf + displs[r], true, lo, hi);
+            ok = mpi_ok(root ? MPI_Scatterv(buf, counts, displs, MPI_BYTE, MPI_IN_PLACE, 0, MPI_BYTE, 0, MPI_COMM_WORLD)
+                             : MPI_Scatterv(NULL, NULL, NULL, MPI_BYTE, mine, counts[d->rank], MPI_BYTE, 0, MPI_COMM_WORLD),
+                        "hand-over", e);
+            if (ok && !root) pack(d, d->rank, true, arrays, count, mine, false, lo, hi);
+        }
     }
     if (ok && root) { /* what crossed between ranks: everything but rank 0's own part */
-        long long crossed = (long long)(total - (size_t)counts[0]);
-        d->bytes_sent[pass < 3 ? pass : 3] += crossed;
-        d->bytes_total += crossed;
+        d->bytes_sent[pass < 3 ? pass : 3] += (long long)total;
+        d->bytes_total += (long long)total;
     }
+    free(length);
     free(counts);
     free(displs);
     return ok;
@@ -393,6 +466,7 @@ bool dist_broadcast_ints(ReconDist *d, int *data, size_t n, Diag *e)
 {
     if (!d || d->ranks <= 1) return true;
 #ifdef WEDGE_MPI
+    if (!quiet_arrival(e)) return false;
     for (size_t at = 0; at < n;) { /* in chunks an int count can say */
         size_t chunk = n - at < (size_t)INT_MAX / 4 ? n - at : (size_t)INT_MAX / 4;
         if (!mpi_ok(MPI_Bcast(data + at, (int)chunk, MPI_INT, 0, MPI_COMM_WORLD), "broadcast", e)) return false;
@@ -414,7 +488,7 @@ long long dist_sum_ll(const ReconDist *d, long long v)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         long long sum = 0;
-        if (MPI_Allreduce(&v, &sum, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD) == MPI_SUCCESS) return sum;
+        if (quiet_arrival(NULL) && MPI_Allreduce(&v, &sum, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD) == MPI_SUCCESS) return sum;
     }
 #else
     (void)d;
@@ -427,7 +501,7 @@ int dist_max_int(const ReconDist *d, int v)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         int max = v;
-        if (MPI_Allreduce(&v, &max, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) == MPI_SUCCESS) return max;
+        if (quiet_arrival(NULL) && MPI_Allreduce(&v, &max, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) == MPI_SUCCESS) return max;
         return v != 0 ? v : WEDGE_EXIT_RUNTIME;
     }
 #else
@@ -441,7 +515,7 @@ bool dist_all_ok(const ReconDist *d, bool ok)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         int mine = ok ? 1 : 0, all = 0;
-        if (MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) != MPI_SUCCESS) return false;
+        if (!quiet_arrival(NULL) || MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) != MPI_SUCCESS) return false;
         return all == 1;
     }
 #else

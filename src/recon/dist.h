@@ -25,10 +25,16 @@
  * Why gather to rank 0 rather than exchange halos: the plan and every filter read the whole
  * image (the light estimate of AAF-shadow, the scene size, filter footprints up to 32 px), the
  * state is a few dozen bytes per pixel (about 150 B per pixel per pass for AAF), and one
- * gather per pass is one message per rank; docs/benchmarks.md has the measured bytes and
+ * gather per pass is one stream per rank; docs/benchmarks.md has the measured bytes and
  * times and a model of where it stops scaling. Why a hand-over of the moved tiles rather than
  * gathering to every rank: only the tiles that move cross (a few in ten when the owner is
  * kept where it can be), not the whole frame to every rank.
+ *
+ * Each exchange streams a rank's tiles in rounds of at most 4 MiB through one small buffer
+ * (no frame-sized buffer to fault in on either side), and a rank that reaches a collective
+ * before the others naps until they arrive instead of spinning in MPI's poll, so that rank 0's
+ * plan and reconstruction, which use both cores of a node, get them (docs/benchmarks.md,
+ * "Two ranks without spinning").
  *
  * Without MPI (or a single rank) every call is a no-op on a "world" of one. */
 #ifndef WEDGE_RECON_DIST_H
@@ -53,8 +59,8 @@ typedef struct {
                                  * its tracer's mean seconds per sample (dist_measure) */
     double *tile_samples;       /* ... and the samples they took */
     long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
-    unsigned char *xbuf;        /* the exchanges' message buffer, kept between passes (fresh
-                                 * pages per gather cost more than the copies) */
+    unsigned char *xbuf;        /* the exchanges' message buffer (a round's chunk per rank on
+                                 * rank 0, one elsewhere), kept between exchanges */
     size_t xbuf_bytes;
 } ReconDist;
 
@@ -110,8 +116,8 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e);
 bool dist_handover(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
 
 /* Gathers the owners' values of every array to rank 0 (each rank sends the pixels it owns in
- * this pass, all arrays in one message; rank 0 writes them into its arrays). pass selects
- * the byte counter. False with e set on a communication failure (exit 3). */
+ * this pass, all arrays in one stream sent in rounds of at most 4 MiB; rank 0 writes them
+ * into its arrays). pass selects the byte counter. False with e set on a communication failure (exit 3). */
 bool dist_gather(ReconDist *d, const DistArray *arrays, int count, int pass, Diag *e);
 
 /* Rank 0's n ints to every rank. */

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 
 #include "recon/blur_probe.h"
@@ -58,6 +59,7 @@ struct ReconPipeline {
     int traced;                  /* passes begun (begin_pass), for time_sample */
     double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended (wall, CPU) */
     double mark_cpu_s[DIST_MARKS];
+    long mark_faults[DIST_MARKS]; /* the process's minor page faults: the pages it touched first */
     const char *mark_name[DIST_MARKS];
     int mark_count;
     /* overscan (overscan.h): the band traced around the image, and what the caller sees
@@ -212,8 +214,9 @@ const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return p->margin
 /* ---- sampling ---- */
 
 /* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
- * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time), to
- * see where the time of several ranks goes (tools/bench-mpi --breakdown) */
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time and its
+ * minor page faults so far), to see where the time of several ranks goes and what memory
+ * each touches first (tools/bench-mpi --breakdown) */
 static void dist_mark(ReconPipeline *p, const char *what)
 {
     if (p->mark_count >= DIST_MARKS) return;
@@ -221,6 +224,9 @@ static void dist_mark(ReconPipeline *p, const char *what)
      * time (they still slow it through shared caches; MPI polling counts while it waits) */
     struct timespec cpu;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
+    struct rusage use;
+    getrusage(RUSAGE_SELF, &use);
+    p->mark_faults[p->mark_count] = use.ru_minflt;
     p->mark_name[p->mark_count] = what;
     p->mark_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
     p->mark_s[p->mark_count++] = wall_seconds();
@@ -232,8 +238,8 @@ static void dist_marks_print(ReconPipeline *p)
         char line[64 * DIST_MARKS];
         int at = snprintf(line, sizeof line, "dist-times rank %d:", p->opt.dist->rank);
         for (int k = 0; k < p->mark_count && at > 0 && (size_t)at < sizeof line; ++k)
-            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f", p->mark_name[k], p->mark_s[k],
-                           p->mark_cpu_s[k]);
+            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f %ld", p->mark_name[k], p->mark_s[k],
+                           p->mark_cpu_s[k], p->mark_faults[k]);
         fprintf(stderr, "%s\n", line);
     }
     p->mark_count = 0;
@@ -727,6 +733,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     double t0 = wall_seconds(), t_trace = 0.0;
     dist_mark(p, "start");
     if (!setup_filtered(p, d)) return false;
+    dist_mark(p, "setup");
     SampleSink sink = {fan_out, p};
     bool geometry = false;
     for (int s = 0; s < p->slot_count; ++s) geometry = geometry || (p->slots[s].cls->ray_geometry & p->slots[s].effects);
