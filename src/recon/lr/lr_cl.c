@@ -156,7 +156,9 @@ static bool set_args(cl_kernel k, const cl_int *ints, int nints, const cl_mem *m
  * in a loop it puts around the kernel; with several items per group, its compiled loop kept
  * each item's private arrays (a tile's per-layer sums) in that item's slot of a per-group
  * array, addressed afresh at every access (docs/benchmarks.md, "LR's reconstruction cost,
- * sixth round"). The other kernels keep cl_launch_2d's groups: they were no faster so. */
+ * sixth round": the statistics' CPU fell by a fifth; the other two were no slower). The other
+ * kernels keep cl_launch_2d's groups: lr_block_stats was slower in groups of one, lr_pack no
+ * faster. */
 static bool launch_serial(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
 {
     size_t global[2] = {gx, gy}, local[2] = {1, 1};
