@@ -408,6 +408,32 @@ __kernel void lr_pack(int spp, int window_px, int tile1, int tile0, __global con
     }
 }
 
+/* One 1D Gaussian pass of Algorithm 2 on the cells [ix0, ix1) of window row iy: for each,
+ * the cells at k (dx, dy), k in [-r, r], nearest pixel, weighted by taps[|k|] =
+ * exp(-(k / sigma)^2 / 2), summed into acc[(ix - ix0) * LR_CH + c]. Tap by tap over the whole
+ * row (a tap's offset is the same for every cell of the row, and the cells whose tap falls
+ * outside the window are a range at either end), so that every cell gets its taps added in
+ * the order k = -r..r, exactly as one cell at a time would. */
+#define LR_ROW_MAX 64 /* window_px <= 64 (lr_cl.c) */
+static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, float dx, float dy, int r,
+                        __global const float *taps, float *acc)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) acc[i] = 0.0f;
+    for (int k = -r; k <= r; ++k) {
+        int ox = (int)floor((float)k * dx + 0.5f), jy = iy + (int)floor((float)k * dy + 0.5f);
+        if (jy < 0 || jy >= wh) continue;
+        int a = max(ix0, -ox), b = min(ix1, ww - ox); /* 0 <= ix + ox < ww */
+        float wk = taps[k < 0 ? -k : k];
+        /* the cells' channels are contiguous in the row and in acc: one flat loop over
+         * (b - a) * LR_CH floats, which the compiler runs 8 or 16 wide (the loop over cells
+         * and then channels ran 4 + 1 wide); the same products and sums */
+        __global const float *row = g + (jy * ww + ox + a) * LR_CH;
+        float *dst = acc + (a - ix0) * LR_CH;
+        for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
+    }
+}
+
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
  * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
  * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
@@ -418,7 +444,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
                            int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples, __global const float *packed,
                            __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
-                           __global float *grid, __global int *reach_box)
+                           __global float *grid, __global float *pass1, __global int *reach_box)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int j = get_global_id(0), tile = tile0 + get_global_id(1);
@@ -438,7 +464,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     float cp = lp[0], sp = lp[1], eta = lp[3], xi = lp[4], isu = lp[5], ist = lp[6], rho = lp[8], isv = lp[9];
-    /* Only the grid cells the screen passes read matter: lr_along's box around the tile,
+    /* Only the grid cells the screen passes read matter: the along pass's box around the tile,
      * widened by the along radius. A sample moves at most |eta| + |xi|/2 + |rho| px (|u_r|,
      * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source rows farther than that from
      * the box cannot land in it and are not visited (a layer's list is pixel-major: the rows
@@ -465,6 +491,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     }
     uint key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
     int ox0 = INT_MAX, oy0 = INT_MAX, ox1 = INT_MIN, oy1 = INT_MIN; /* the cells the own samples reach */
+    int p0x = 0, p0y = 0, p1x = 0, p1y = 0; /* box P */
     for (int r = raw_j; r <= 17; ++r) {
         bool own = r == raw_j;
         if (r == raw_j + 1) {
@@ -472,13 +499,13 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
              * screen filter (along, then across) reaches no cell of theirs gets alpha = 0 and
              * no light from this layer, whatever the weights, and eq. 17 leaves it as it was.
              * So the passes need only the tile pixels within (ax + cx, ay + cy) of the own
-             * cells (box P, for lr_along and lr_across_composite), the along pass only P
+             * cells (box P, for the along pass below and lr_across_composite), the along pass only P
              * widened by (cx, cy), which reads the grid within P widened by (ax + cx, ay + cy)
              * (box G): the samples behind are placed only into G, and only source rows within
              * reach of G are visited. G's cells get the same sums in the same order as before;
              * the cells outside it are never read (docs/algorithms.md 8.25). */
-            int p0x = max(tx0, ox0 - ax - cx), p1x = min(tx0 + tile_px, ox1 + 1 + ax + cx);
-            int p0y = max(ty0, oy0 - ay - cy), p1y = min(ty0 + tile_px, oy1 + 1 + ay + cy);
+            p0x = max(tx0, ox0 - ax - cx), p1x = min(tx0 + tile_px, ox1 + 1 + ax + cx);
+            p0y = max(ty0, oy0 - ay - cy), p1y = min(ty0 + tile_px, oy1 + 1 + ay + cy);
             __global int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
             box[0] = p0x, box[1] = p0y, box[2] = p1x, box[3] = p1y;
             if (p0x >= p1x || p0y >= p1y) { /* the layer shows nowhere in the tile */
@@ -530,61 +557,17 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             }
         }
     }
-}
-
-/* One 1D Gaussian pass of Algorithm 2 on the cells [ix0, ix1) of window row iy: for each,
- * the cells at k (dx, dy), k in [-r, r], nearest pixel, weighted by taps[|k|] =
- * exp(-(k / sigma)^2 / 2), summed into acc[(ix - ix0) * LR_CH + c]. Tap by tap over the whole
- * row (a tap's offset is the same for every cell of the row, and the cells whose tap falls
- * outside the window are a range at either end), so that every cell gets its taps added in
- * the order k = -r..r, exactly as one cell at a time would. */
-#define LR_ROW_MAX 64 /* window_px <= 64 (lr_cl.c) */
-static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, float dx, float dy, int r,
-                        __global const float *taps, float *acc)
-{
-#pragma OPENCL FP_CONTRACT OFF
-    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) acc[i] = 0.0f;
-    for (int k = -r; k <= r; ++k) {
-        int ox = (int)floor((float)k * dx + 0.5f), jy = iy + (int)floor((float)k * dy + 0.5f);
-        if (jy < 0 || jy >= wh) continue;
-        int a = max(ix0, -ox), b = min(ix1, ww - ox); /* 0 <= ix + ox < ww */
-        float wk = taps[k < 0 ? -k : k];
-        /* the cells' channels are contiguous in the row and in acc: one flat loop over
-         * (b - a) * LR_CH floats, which the compiler runs 8 or 16 wide (the loop over cells
-         * and then channels ran 4 + 1 wide); the same products and sums */
-        __global const float *row = g + (jy * ww + ox + a) * LR_CH;
-        float *dst = acc + (a - ix0) * LR_CH;
-        for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
-    }
-}
-
-/* Algorithm 2, first pass: along the layer's motion, at the window cells the second pass
- * reads (the tile widened by the across radius projected on x and y), not the whole window.
- * One work-item per (window row, partition). */
-__kernel void lr_along(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
-                       int tile0, int inset, __global const int *tile_layers, __global const float *params, __global const float *grid,
-                       __global float *pass1, __global const int *reach_box)
-{
-#pragma OPENCL FP_CONTRACT OFF
-    int iy = get_global_id(0), id = tile0 * max_layers + get_global_id(1); /* grid, pass1: the batch's */
-    int tile = id / max_layers, j = id % max_layers;
-    if (tile >= tile1 || iy >= window_px || j >= tile_layers[tile * LR_TL_STRIDE]) return; /* batch: [tile0, tile1) */
-    int tx = tile % ntx, ty = tile / ntx;
-    LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px, inset);
-    int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
-    __global const float *lp = params + id * LR_LP_STRIDE;
-    /* the second pass reads tile pixel + round(k (-sin psi, cos psi)), |k| <= radius_y */
-    float ry = lp[11];
-    int mx = (int)ceil(ry * fabs(lp[1])), my = (int)ceil(ry * fabs(lp[0])); /* (lr_reproject: cx, cy) */
-    /* only the tile pixels the layer can reach (box P, lr_reproject) widened by that */
-    __global const int *box = reach_box + get_global_id(1) * 4;
-    if (box[0] >= box[2] || box[1] >= box[3] || iy >= wh || iy < box[1] - my || iy >= box[3] + my) return;
-    int ix0 = max(0, box[0] - mx), ix1 = min(ww, box[2] + mx);
-    __global const float *g = grid + get_global_id(1) * window_px * window_px * LR_CH;
+    /* Algorithm 2, first pass, along the layer's motion, while the grid is still in this
+     * processor's caches: at the window cells the second pass reads, box P widened by the
+     * across pass's reach (cx, cy), not the whole window. */
     float acc[LR_ROW_MAX * LR_CH];
-    lr_row_pass(g, ww, wh, iy, ix0, ix1, lp[0], lp[1], (int)lp[10], lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
-    __global float *o = pass1 + get_global_id(1) * window_px * window_px * LR_CH + (iy * ww + ix0) * LR_CH;
-    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) o[i] = acc[i];
+    int ix0 = max(0, p0x - cx), ix1 = min(ww, p1x + cx);
+    __global float *p1 = pass1 + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
+    for (int iy = max(0, p0y - cy); iy < min(wh, p1y + cy); ++iy) {
+        lr_row_pass(g, ww, wh, iy, ix0, ix1, cp, sp, (int)rx, lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
+        __global float *o = p1 + (iy * ww + ix0) * LR_CH;
+        for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) o[i] = acc[i];
+    }
 }
 
 /* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per

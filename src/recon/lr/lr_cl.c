@@ -31,7 +31,7 @@ typedef struct {
 
 struct LrCl {
     ClRuntime *rt;
-    cl_kernel blocks, stats, pack, reproject, along, across;
+    cl_kernel blocks, stats, pack, reproject, across;
     /* host partitions, flattened into the kernel layouts; capacities in tiles / partitions */
     float *tb, *st, *lp;
     int *tl;
@@ -78,7 +78,7 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
     if (!(lr->blocks = cl_runtime_kernel(rt, "lr_block_stats", d)) || !(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) ||
         !(lr->pack = cl_runtime_kernel(rt, "lr_pack", d)) ||
         !(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) ||
-        !(lr->along = cl_runtime_kernel(rt, "lr_along", d)) || !(lr->across = cl_runtime_kernel(rt, "lr_across_composite", d))) {
+        !(lr->across = cl_runtime_kernel(rt, "lr_across_composite", d))) {
         lr_cl_destroy(lr);
         return NULL;
     }
@@ -88,8 +88,8 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
 void lr_cl_destroy(LrCl *lr)
 {
     if (!lr) return;
-    cl_kernel k[6] = {lr->blocks, lr->stats, lr->pack, lr->reproject, lr->along, lr->across};
-    for (int i = 0; i < 6; ++i)
+    cl_kernel k[5] = {lr->blocks, lr->stats, lr->pack, lr->reproject, lr->across};
+    for (int i = 0; i < 5; ++i)
         if (k[i]) clReleaseKernel(k[i]);
     GrowBuf *b[18] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order,
                       &lr->b_ls, &lr->b_pack, &lr->b_g, &lr->b_p1, &lr->b_box, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
@@ -148,6 +148,21 @@ static bool set_args(cl_kernel k, const cl_int *ints, int nints, const cl_mem *m
     for (int i = 0; i < nints; ++i) err |= clSetKernelArg(k, (cl_uint)i, sizeof(cl_int), &ints[i]);
     for (int i = 0; i < nmems; ++i) err |= clSetKernelArg(k, (cl_uint)(nints + i), sizeof(cl_mem), &mems[i]);
     return cl_ok(err, "arguments", d);
+}
+
+/* A launch in work-groups of one work-item, for the kernels whose work-items each run a long
+ * serial loop over samples (lr_tile_stats: one per tile; lr_reproject: one per partition;
+ * lr_across_composite: one per tile row). PoCL runs a work-group's items one after the other
+ * in a loop it puts around the kernel; with several items per group, its compiled loop kept
+ * each item's private arrays (a tile's per-layer sums) in that item's slot of a per-group
+ * array, addressed afresh at every access (docs/benchmarks.md, "LR's reconstruction cost,
+ * sixth round": the statistics' CPU fell by a fifth; the other two were no slower). The other
+ * kernels keep cl_launch_2d's groups: lr_block_stats was slower in groups of one, lr_pack no
+ * faster. */
+static bool launch_serial(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
+{
+    size_t global[2] = {gx, gy}, local[2] = {1, 1};
+    return cl_ok(clEnqueueNDRangeKernel(rt->queue, k, 2, NULL, global, local, 0, NULL, ev), "kernel launch", d);
 }
 
 /* Downloads the pixels inside the band (lr_reconstruct.h: the band keeps what the caller has)
@@ -248,7 +263,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)
                                : cl_ok(clEnqueueFillBuffer(q, lr->b_still.mem, &(cl_uchar){0}, 1, 0, (size_t)ntiles, 0, NULL, NULL), "fill", d)) &&
-             set_args(lr->stats, ints, 11, m, 8, d) && cl_launch_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
+             set_args(lr->stats, ints, 11, m, 8, d) && launch_serial(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
     }
@@ -302,21 +317,16 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
             cl_mem m[4] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_pack.mem};
             ok = set_args(lr->pack, ints, 4, m, 4, d) && cl_launch_2d(rt, lr->pack, PACK_PARTS, (size_t)tiles, &bev[3], d);
         }
-        if (ok) { /* Algorithm 1, one work-item per (layer, tile) */
+        if (ok) { /* Algorithm 1 and the along pass, one work-item per (layer, tile) */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
-            cl_mem m[8] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_box.mem};
-            ok = set_args(lr->reproject, ints, 11, m, 8, d) && cl_launch_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            cl_mem m[9] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem};
+            ok = set_args(lr->reproject, ints, 11, m, 9, d) && launch_serial(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
-            cl_mem m[5] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem};
-            ok = set_args(lr->along, ints9, 9, m, 5, d) &&
-                 cl_launch_2d(rt, lr->along, (size_t)cfg->window_px, (size_t)tiles * L, &bev[1], d);
-        }
-        if (ok) {
             cl_mem m[7] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem};
             ok = set_args(lr->across, ints9, 9, m, 7, d) &&
-                 cl_launch_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
+                 launch_serial(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
         }
         /* the queue is in order, so the next batch's reprojection starts after this batch's
          * passes have read the grids; waiting here only lets the batch's times be read */

@@ -14,7 +14,8 @@ typedef struct LrCl LrCl;
 
 /* Where the last lr_cl_run spent its time (for benchmarks): the partitions (wall seconds:
  * statistics on the device, filters on the host) and the device time of the kernels
- * tile_stats, reproject, along, across. */
+ * tile_stats, reproject, along, across (the along pass runs inside the reprojection's kernel,
+ * so its time is counted there and kernel_s[2] is 0). */
 typedef struct {
     double partition_s;
     double kernel_s[4];
