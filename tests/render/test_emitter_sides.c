@@ -50,22 +50,8 @@ static double render_counted(const char *light, bool record, long long *shadow, 
 
 static double render(const char *light)
 {
-    char text[4096];
-    snprintf(text, sizeof text, "%s%s", HEADER, light);
-    TestRender t;
-    RenderOptions o = {0};
-    o.seed = 3;
-    o.sampler_set = true;
-    o.sampler = SAMPLER_STRATIFIED;
-    if (!test_render(text, &o, &t)) {
-        CHECK(false);
-        return -1.0;
-    }
-    double rgb[3];
-    test_pixel(&t, 0, 0, rgb);
-    CHECK(test_frame_finite(&t.frame));
-    test_render_free(&t);
-    return rgb[0];
+    long long shadow, primary;
+    return render_counted(light, false, &shadow, &primary);
 }
 
 /* quad of half sides 0.5 at height 1: "down" winding has normal -y, "up" winding +y */
