@@ -5,7 +5,9 @@
  * one also flushes the page from every core's TLB (an inter-processor interrupt). Per-pixel
  * sums (`sum[i] += x`) read before they write, so every page of every such buffer took that
  * path inside the render threads: measured 8-10% of an AAF frame's CPU time in the kernel.
- * zalloc writes the zeros itself, on the calling thread, before any worker starts. */
+ * zalloc backs every page with a written one on the calling thread, before any worker
+ * starts: calloc's zeros, then madvise(MADV_POPULATE_WRITE) over its pages (one system call;
+ * a memset of the zeros where the kernel lacks it, before Linux 5.14). */
 #ifndef WEDGE_CORE_ZALLOC_H
 #define WEDGE_CORE_ZALLOC_H
 

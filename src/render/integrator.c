@@ -790,6 +790,44 @@ static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p,
     return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
 }
 
+/* light_prepare for a Lambert receiver of a picked static triangle whose shadow ray was
+ * computed ahead (not `redo`), with its outcome as a value: p->lp and *shadow are written
+ * whether or not the sample is kept, so that whether the receiver faces the light and the
+ * light faces it (one-sided emitters; on a receiver beside the light a coin toss) is not a
+ * branch. The same tests, values and counters as light_prepare_sampled. */
+static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
+                                          TracerRay *shadow)
+{
+    const VertexDims *u = &p->u;
+    const WaveTriangleSamples *g = &w->tri[p->tri_group];
+    int k = p->tri_lane;
+    const Light *l = &sc->lights->lights[u->light_index];
+    const Vertex *v = &p->v;
+    LightPending *lp = &p->lp;
+    lp->ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k], v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]),
+                           l->tri_n, l->tri_err, l->L, g->pdf[k], false};
+    lp->light = u->light_index;
+    lp->pmf = u->light_pmf;
+    lp->is_area = true;
+    /* vertex_f's Lambert case (bsdf_diffuse_f and bsdf_diffuse_pdf), both sides as values */
+    float cos_i = v3_dot(v->n, lp->ls.wi), cos_o = v3_dot(v->n, v->wo);
+    bool same_side = !(cos_o * cos_i <= 0.0f);
+    vec3 f_lit = v3_scale(v->albedo, 0.318309886f);
+    lp->f = same_side ? f_lit : v3s(0.0f);
+    lp->cos_i = fabsf(cos_i);
+    lp->pdf_bsdf = same_side ? fabsf(cos_i) * 0.318309886f : 0.0f;
+    /* g->ok: the sample exists and the light faces the receiver; then light_prepare_sampled's
+     * test (max_component_nonpositive(f) is same_side's negation or f_lit's test) and
+     * shadow_ray_ahead's */
+    int sends = (g->ok[k] != 0) & same_side & !max_component_nonpositive(f_lit) & !max_component_nonpositive(l->L);
+    int len_ok = g->len[k] > 0.0f;
+    *shadow = (TracerRay){v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]), g->len[k],
+                          p->time01, l->shadow_skip_mask};
+    st->guarded_events += sends & !len_ok;
+    st->rays_shadow += sends & len_ok;
+    return sends & len_ok;
+}
+
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. */
 static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
@@ -800,9 +838,22 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     const LightSet *L = sc->lights;
     TracerRay shadow;
     bool lit = vertex_lit(v);
-    p->light_pending = lit && light_prepare(sc, w, p, st, &shadow);
     p->light_recorded = false;
-    if (p->light_pending) {
+    bool valued = lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
+    if (valued) {
+        /* the ray is written to the slot it would take and the count moves by the outcome */
+        int kept = light_prepare_lambert_triangle(sc, w, p, st, &shadow);
+        bool record = depth == 1 && sc->record_ray_geometry && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
+        int *count = record ? n_rec : n_occ;
+        p->shadow_ray = *count;
+        (record ? w->ray_rec : w->ray_occ)[p->shadow_ray] = shadow;
+        *count += kept;
+        p->light_pending = kept;
+        p->light_recorded = record & kept;
+    } else {
+        p->light_pending = lit && light_prepare(sc, w, p, st, &shadow);
+    }
+    if (p->light_pending && !valued) {
         /* the first hit's shadow rays to area lights are recorded for the filters, with the
          * distance to their occluder: traced for the closest hit instead of any hit */
         bool record = depth == 1 && sc->record_ray_geometry && p->lp.is_area && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;

@@ -3,7 +3,10 @@
  * winding (counter-clockwise = right-handed cross product), ReverseOrientation flips it;
  * spheres emit outwards, disks along +z of their object space.
  * A plane under the light must see exactly 0 when the light faces away, and the closed-form
- * radiance rho E / pi (test_closed_forms.c) when it faces the plane. */
+ * radiance rho E / pi (test_closed_forms.c) when it faces the plane.
+ * A light sample the receiver or the light faces away from casts no shadow ray (the wave
+ * decides this without a branch for a Lambert receiver of a triangle light: integrator.c,
+ * light_prepare_lambert_triangle): counted with a light behind the plane. */
 #include "check.h"
 #include "render_test_util.h"
 
@@ -21,7 +24,8 @@ static const char *HEADER =
     "  Shape \"trianglemesh\" \"point3 P\" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
     "AttributeEnd\n";
 
-static double render(const char *light)
+/* Renders light's scene; the pixel's red value, and its shadow and camera ray counts. */
+static double render_counted(const char *light, bool record, long long *shadow, long long *primary)
 {
     char text[4096];
     snprintf(text, sizeof text, "%s%s", HEADER, light);
@@ -30,6 +34,7 @@ static double render(const char *light)
     o.seed = 3;
     o.sampler_set = true;
     o.sampler = SAMPLER_STRATIFIED;
+    o.record_ray_geometry = record; /* the first hit's area-light shadow rays go to the recorded batch */
     if (!test_render(text, &o, &t)) {
         CHECK(false);
         return -1.0;
@@ -37,8 +42,16 @@ static double render(const char *light)
     double rgb[3];
     test_pixel(&t, 0, 0, rgb);
     CHECK(test_frame_finite(&t.frame));
+    CHECK(t.stats.guarded_events == 0);
+    *shadow = t.stats.rays_shadow, *primary = t.stats.rays_primary;
     test_render_free(&t);
     return rgb[0];
+}
+
+static double render(const char *light)
+{
+    long long shadow, primary;
+    return render_counted(light, false, &shadow, &primary);
 }
 
 /* quad of half sides 0.5 at height 1: "down" winding has normal -y, "up" winding +y */
@@ -68,6 +81,32 @@ int main(void)
     CHECK_NEAR(up_rev / want, 1.0, 0.01);
     CHECK(down_rev == 0.0);
     CHECK_NEAR(down_mirror / want, 1.0, 0.01);
+
+    /* Shadow rays: one per camera ray for the light facing the plane, none for a light
+     * facing away or one below the plane (facing its underside: the receiver, lit from the
+     * camera's side, faces away from it); beside each other the light below takes half the
+     * picks (equal power) and none of the shadow rays, and the image keeps the closed form.
+     * With the first hit's shadow rays recorded for the filters, the same. */
+    const char *below = "AttributeBegin\nTranslate 0 -2 0\n" LIGHT QUAD_UP "AttributeEnd\n";
+    char both[2048];
+    snprintf(both, sizeof both, "AttributeBegin\n" LIGHT QUAD_DOWN "AttributeEnd\n%s", below);
+    for (int record = 0; record < 2; ++record) {
+        long long s_down, p_down, s_up, p_up, s_below, p_below, s_both, p_both;
+        double v_down = render_counted("AttributeBegin\n" LIGHT QUAD_DOWN "AttributeEnd\n", record, &s_down, &p_down);
+        double v_up = render_counted("AttributeBegin\n" LIGHT QUAD_UP "AttributeEnd\n", record, &s_up, &p_up);
+        double v_below = render_counted(below, record, &s_below, &p_below);
+        double v_both = render_counted(both, record, &s_both, &p_both);
+        fprintf(stderr,
+                "record %d: shadow rays / camera rays: facing %lld / %lld, facing away %lld / %lld, below %lld / %lld, "
+                "both %lld / %lld (%.5f, want %.5f)\n",
+                record, s_down, p_down, s_up, p_up, s_below, p_below, s_both, p_both, v_both, want);
+        CHECK_NEAR(v_down / want, 1.0, 0.01);
+        CHECK(p_down > 0 && s_down == p_down);
+        CHECK(v_up == 0.0 && s_up == 0);
+        CHECK(v_below == 0.0 && s_below == 0);
+        CHECK_NEAR(v_both / want, 1.0, 0.02);
+        CHECK(s_both > 0.45 * (double)p_both && s_both < 0.55 * (double)p_both);
+    }
 
     /* disk at height 1 radius 0.6: +z normal rotated to -y (faces the plane), or to +y */
     double R = 0.6, h = 1.0;
