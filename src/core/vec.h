@@ -29,6 +29,9 @@ static inline float v3_length2(vec3 a) { return v3_dot(a, a); }
  * square over- or underflows (which made such scenes render black). */
 #define V3_LENGTH_PLAIN_MIN 1.0e-18f
 #define V3_LENGTH_PLAIN_MAX 1.0e18f
+/* x clamped to [0, 1], NaN -> 0 and -0 -> +0 (what fminf(fmaxf(x, 0), 1) gives), without the two
+ * library calls GCC emits for those without -ffinite-math-only. */
+static inline float clamp01f(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
 /* fmaxf for operands that are never -0 (absolute values, lengths): fmaxf's result (a NaN
  * operand is skipped), but inline; without -ffinite-math-only fmaxf is a library call. */
 static inline float fmax_nonneg(float a, float b) { return (a > b || b != b) ? a : b; }

@@ -327,8 +327,7 @@ static float shutter_time01(const IntegratorScene *sc, float shutter_u)
     float t_scene = sc->shutter_open + shutter_u * (sc->shutter_close - sc->shutter_open);
     float span = sc->xform_time_end - sc->xform_time_start;
     float time01 = span > 0.0f ? (t_scene - sc->xform_time_start) / span : 0.0f;
-    /* fminf(1, fmaxf(0, time01)) without two library calls (NaN -> 0 as there) */
-    return time01 > 0.0f ? (time01 < 1.0f ? time01 : 1.0f) : 0.0f;
+    return clamp01f(time01);
 }
 
 float integrator_fixed_time01(const IntegratorScene *sc) { return shutter_time01(sc, 0.0f); }
@@ -790,6 +789,29 @@ static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p,
     return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
 }
 
+/* A Lambert receiver's response to light arriving from wi with radiance Li, computed for
+ * either side of the receiver so that the side is a value, not a branch: bsdf_diffuse_f and
+ * bsdf_diffuse_pdf, |cos_i|, and whether light_prepare_sampled would send the shadow ray
+ * (its max_component_nonpositive(f) test is the side test's negation or f_lit's own). */
+typedef struct {
+    vec3 f;
+    float cos_i_abs, pdf;
+    bool sends;
+} LambertLight;
+
+static inline LambertLight lambert_light(const Vertex *v, vec3 wi, vec3 Li)
+{
+    float cos_i = v3_dot(v->n, wi), cos_o = v3_dot(v->n, v->wo);
+    bool same_side = !(cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
+    vec3 f_lit = v3_scale(v->albedo, 0.318309886f);
+    LambertLight r;
+    r.f = same_side ? f_lit : v3s(0.0f);
+    r.cos_i_abs = fabsf(cos_i);
+    r.pdf = same_side ? r.cos_i_abs * 0.318309886f : 0.0f;
+    r.sends = same_side & !max_component_nonpositive(f_lit) & !max_component_nonpositive(Li);
+    return r;
+}
+
 /* light_prepare for a Lambert receiver of a picked static triangle whose shadow ray was
  * computed ahead (not `redo`), with its outcome as a value: p->lp and *shadow are written
  * whether or not the sample is kept, so that whether the receiver faces the light and the
@@ -809,17 +831,12 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     lp->light = u->light_index;
     lp->pmf = u->light_pmf;
     lp->is_area = true;
-    /* vertex_f's Lambert case (bsdf_diffuse_f and bsdf_diffuse_pdf), both sides as values */
-    float cos_i = v3_dot(v->n, lp->ls.wi), cos_o = v3_dot(v->n, v->wo);
-    bool same_side = !(cos_o * cos_i <= 0.0f);
-    vec3 f_lit = v3_scale(v->albedo, 0.318309886f);
-    lp->f = same_side ? f_lit : v3s(0.0f);
-    lp->cos_i = fabsf(cos_i);
-    lp->pdf_bsdf = same_side ? fabsf(cos_i) * 0.318309886f : 0.0f;
-    /* g->ok: the sample exists and the light faces the receiver; then light_prepare_sampled's
-     * test (max_component_nonpositive(f) is same_side's negation or f_lit's test) and
-     * shadow_ray_ahead's */
-    int sends = (g->ok[k] != 0) & same_side & !max_component_nonpositive(f_lit) & !max_component_nonpositive(l->L);
+    /* vertex_f's Lambert case; g->ok: the sample exists and the light faces the receiver */
+    LambertLight resp = lambert_light(v, lp->ls.wi, l->L);
+    lp->f = resp.f;
+    lp->cos_i = resp.cos_i_abs;
+    lp->pdf_bsdf = resp.pdf;
+    int sends = (g->ok[k] != 0) & resp.sends;
     int len_ok = g->len[k] > 0.0f;
     *shadow = (TracerRay){v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]), g->len[k],
                           p->time01, l->shadow_skip_mask};
@@ -895,17 +912,12 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
                 o = v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]), dir = v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]);
                 len = ps->len[m];
             }
-            float cos_i = v3_dot(v->n, wi), cos_o = v3_dot(v->n, v->wo);
-            bool same_side = !(cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
-            vec3 f_lit = v3_scale(v->albedo, 0.318309886f);
-            vec3 f = same_side ? f_lit : v3s(0.0f);
-            /* max_component_nonpositive(f) is same_side's negation or f_lit's test */
-            bool sends = same_side & !max_component_nonpositive(f_lit) & !max_component_nonpositive(Li);
+            LambertLight resp = lambert_light(v, wi, Li);
             bool len_ok = len > 0.0f;
             w->ray_occ[*n_occ] = (TracerRay){o, dir, len, p->time01, light->shadow_skip_mask};
-            w->delta_value[*n_occ] = v3_scale(v3_mul(f, Li), fabsf(cos_i));
-            int kept = sends & len_ok;
-            st->guarded_events += sends & !len_ok;
+            w->delta_value[*n_occ] = v3_scale(v3_mul(resp.f, Li), resp.cos_i_abs);
+            int kept = resp.sends & len_ok;
+            st->guarded_events += resp.sends & !len_ok;
             st->rays_shadow += kept;
             *n_occ += kept;
             p->delta_count += kept;

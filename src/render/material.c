@@ -7,11 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* fminf(fmaxf(x, 0), 1) without two library calls per channel (GCC calls them without
- * -ffinite-math-only): NaN -> 0 and -0 -> +0, as glibc's fmaxf(x, 0) gives. */
-static inline float clamp01_1(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
-
-static vec3 clamp01(vec3 c) { return v3(clamp01_1(c.x), clamp01_1(c.y), clamp01_1(c.z)); }
+static vec3 clamp01(vec3 c) { return v3(clamp01f(c.x), clamp01f(c.y), clamp01f(c.z)); }
 
 /* The latest texture called name declared before texture index `before` (pbrt-v4 only
  * lets a texture refer to ones already declared; that also rules out cycles). */

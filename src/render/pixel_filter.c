@@ -190,8 +190,7 @@ static float sample_axis(const PixelFilter *pf, int a, float u, float *w)
     }
     float width = ax->cdf[lo + 1] - ax->cdf[lo];
     float t = width > 0.0f ? (u - ax->cdf[lo]) / width : 0.5f;
-    /* fminf(fmaxf(t, 0), 1) without two library calls (NaN -> 0 as there) */
-    t = t > 0.0f ? (t < 1.0f ? t : 1.0f) : 0.0f;
+    t = clamp01f(t);
     *w *= (float)ax->sign[lo] * ax->abs_over_sum;
     return -r + 2.0f * r * ((float)lo + t) / (float)ax->cells;
 }

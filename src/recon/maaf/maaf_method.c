@@ -458,6 +458,17 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
 #define ALBEDO_SUMS_ONE 1.0f    /* every sample so far had albedo4's albedo */
 #define ALBEDO_SUMS_KEPT 2.0f   /* asum holds the pixel's sums */
 
+/* Pixel i's albedo sums: asum's where kept, else albedo4's albedo times dsum's weight sums,
+ * written to tmp (per floats). */
+static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
+{
+    size_t per = (size_t)m->comps * 8;
+    const float *st = m->albedo4 + 4 * i, *ds = m->dsum + i * per;
+    if (st[3] == ALBEDO_SUMS_KEPT) return m->asum + i * per;
+    for (size_t c = 0; c < per; ++c) tmp[c] = (c & 3) == 3 || st[3] == ALBEDO_SUMS_NONE ? 0.0f : st[c & 3] * ds[c | 3];
+    return tmp;
+}
+
 static void albedo_add(ReconMethod *m, size_t i, const float *w, const float a[4])
 {
     size_t per = (size_t)m->comps * 8;
@@ -469,22 +480,10 @@ static void albedo_add(ReconMethod *m, size_t i, const float *w, const float a[4
     }
     if (st[3] == ALBEDO_SUMS_ONE) {
         if (!m->all_sums && a[0] == st[0] && a[1] == st[1] && a[2] == st[2]) return;
-        const float *ds = m->dsum + i * per;
-        for (size_t c = 0; c < per; ++c) as[c] = (c & 3) == 3 ? 0.0f : st[c & 3] * ds[c | 3];
+        albedo_sums(m, i, as); /* the earlier samples' sums, A times their weight sums */
         st[3] = ALBEDO_SUMS_KEPT;
     }
     maaf_factors_accumulate(m->comps, w, a, as);
-}
-
-/* Pixel i's albedo sums: asum's where kept, else albedo4's albedo times dsum's weight sums,
- * written to tmp (per floats). */
-static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
-{
-    size_t per = (size_t)m->comps * 8;
-    const float *st = m->albedo4 + 4 * i, *ds = m->dsum + i * per;
-    if (st[3] == ALBEDO_SUMS_KEPT) return m->asum + i * per;
-    for (size_t c = 0; c < per; ++c) tmp[c] = (c & 3) == 3 || st[3] == ALBEDO_SUMS_NONE ? 0.0f : st[c & 3] * ds[c | 3];
-    return tmp;
 }
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
