@@ -13,11 +13,13 @@ struct PreviewWindow {
     int width, height;
 };
 
-bool preview_display_available(void)
+static bool env_set(const char *name)
 {
-    const char *x = getenv("DISPLAY"), *wl = getenv("WAYLAND_DISPLAY");
-    return (x && *x) || (wl && *wl);
+    const char *v = getenv(name);
+    return v && *v;
 }
+
+bool preview_display_available(void) { return env_set("DISPLAY") || env_set("WAYLAND_DISPLAY"); }
 
 bool preview_window_open(int width, int height, const char *title, PreviewWindow **out, Diag *d)
 {
@@ -34,12 +36,18 @@ bool preview_window_open(int width, int height, const char *title, PreviewWindow
      * rasteriser (slow to start, and its JIT deadlocks AddressSanitizer's unwinder). */
     SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
     SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
+    /* Only drivers that show a window: when the display cannot be reached, SDL would
+     * otherwise fall back to its offscreen driver and the preview would render into a
+     * window nobody can see, forever. ($SDL_VIDEODRIVER still overrides this.) */
+    bool x11 = env_set("DISPLAY"), wayland = env_set("WAYLAND_DISPLAY");
+    SDL_SetHint(SDL_HINT_VIDEODRIVER, x11 && wayland ? "x11,wayland" : x11 ? "x11" : "wayland");
     /* Ctrl-C in the terminal arrives as SDL_QUIT: a clean quit, like closing the window */
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
-                 "cannot open the display (%s): check $DISPLAY, or render without a window: wedge render SCENE "
-                 "--time SECONDS --checkpoint 10 -o out.exr",
-                 SDL_GetError());
+                 "cannot open the display %s (%s): check that its server is running and $DISPLAY or "
+                 "$WAYLAND_DISPLAY names it, or render without a window: wedge render SCENE --time SECONDS "
+                 "--checkpoint 10 -o out.exr",
+                 x11 ? getenv("DISPLAY") : getenv("WAYLAND_DISPLAY"), SDL_GetError());
         return false;
     }
     PreviewWindow *w = calloc(1, sizeof *w);
@@ -90,11 +98,21 @@ bool preview_window_show(PreviewWindow *w, const uint8_t *rgb8, Diag *d)
 
 void preview_window_set_title(PreviewWindow *w, const char *title) { SDL_SetWindowTitle(w->window, title); }
 
+/* Polls in short naps rather than SDL_WaitEventTimeout: while a thread waits there, SDL's
+ * X11 driver records the window to wake, and an event pushed later (while the window is
+ * being destroyed) is sent to it from a second connection; the BadWindow error that follows
+ * reaches Xlib's default handler, which exits the process with status 1 after a clean quit. */
 PreviewEvent preview_window_wait(PreviewWindow *w, int timeout_ms)
 {
+    enum { NAP_MS = 5 };
     PreviewEvent pe = {PREVIEW_EVENT_NONE, 0, -1, -1};
     SDL_Event ev;
-    if (!SDL_WaitEventTimeout(&ev, timeout_ms)) return pe;
+    int waited_ms = 0;
+    while (!SDL_PollEvent(&ev)) {
+        if (waited_ms >= timeout_ms) return pe;
+        SDL_Delay(NAP_MS);
+        waited_ms += NAP_MS;
+    }
     switch (ev.type) {
     case SDL_QUIT: pe.kind = PREVIEW_EVENT_QUIT; break;
     case SDL_WINDOWEVENT:

@@ -2,7 +2,8 @@
 # wedge preview in a real X server (Xvfb): the window shows the scene at the right size, the
 # image gets better as steps add samples (two screenshots of the window, some seconds apart,
 # against a 1024-spp reference: the later one has the lower error), `s` writes the EXR and
-# PNG, `q` quits cleanly (exit 0), and with no display the command says what to do (exit 3).
+# PNG, `q` quits cleanly (exit 0), and with no display, or one that cannot be reached, the
+# command says what to do (exit 3).
 # Xvfb, xdotool, xwd and ImageMagick come from tools/setup; without them the test fails.
 set -u
 . "$(dirname "$0")/../lib.sh"
@@ -20,6 +21,14 @@ rc=$?
 [ $rc = 3 ] || { echo "FAIL: no display: exit $rc, expected 3"; fail=1; }
 grep -q "no display .*wedge render SCENE --time SECONDS --checkpoint 10" "$T/err.txt" ||
     { echo "FAIL: no-display message: $(cat "$T/err.txt")"; fail=1; }
+
+# a display that cannot be reached: the same exit 3 at once (SDL would otherwise fall back to
+# its offscreen driver and render, unseen, forever)
+DISPLAY=:9753 WAYLAND_DISPLAY= timeout 60 "$WEDGE" preview "$scene" --res 32x32 2>"$T/err.txt"
+rc=$?
+[ $rc = 3 ] || { echo "FAIL: unreachable display: exit $rc, expected 3"; fail=1; }
+grep -q "cannot open the display :9753 .*check that its server is running" "$T/err.txt" ||
+    { echo "FAIL: unreachable-display message: $(cat "$T/err.txt")"; fail=1; }
 
 # an X server of our own on a free display number
 exec 3>"$T/displayfd"
