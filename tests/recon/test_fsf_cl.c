@@ -3,6 +3,8 @@
  * that every branch of the kernels runs; then the same on indirect-light samples
  * (fsf_bounce.h's grid, v-plane coordinates clamped inside the box). Skipped (77) without an
  * OpenCL device. */
+#include <string.h>
+
 #include "check.h"
 #include "fsf_synth.h"
 #include "recon/fsf/fsf_cl.h"
@@ -165,6 +167,25 @@ int main(void)
         /* the same float arithmetic in another order and exp vs expf: rounding only (3e-7
          * measured; a node or tap lost or shifted would show as a whole sample's weight, ~1e-2) */
         CHECK(worst < 1e-5);
+    }
+    /* pixels that are not usable are skipped by every kernel: NaN in their samples changes no
+     * usable pixel's result (bit for bit) and theirs stay 0 */
+    {
+        size_t n = (size_t)W * H;
+        float *clean = malloc(4 * n * sizeof(float)), *poisoned = malloc(4 * n * sizeof(float));
+        FsfGuides gd = fsf_guides_default(f.pos4, f.nrm4, f.usable);
+        CHECK(fsf_cl_run(cl, &f.s, &g, f.px, &gd, clean, NULL, &d));
+        fsf_synth_poison_unusable(&f);
+        CHECK(fsf_cl_run(cl, &f.s, &g, f.px, &gd, poisoned, NULL, &d));
+        long long changed = 0, nonzero = 0;
+        for (size_t e = 0; e < 4 * n; ++e) {
+            if (f.usable[e / 4]) changed += memcmp(&clean[e], &poisoned[e], sizeof(float)) != 0;
+            else nonzero += poisoned[e] != 0.0f;
+        }
+        printf("unusable pixels' samples set to NaN: %lld usable values changed, %lld unusable values not 0\n", changed,
+               nonzero);
+        CHECK(changed == 0 && nonzero == 0);
+        free(clean), free(poisoned);
     }
     fsf_synth_free(&f);
     indirect_samples(cl);

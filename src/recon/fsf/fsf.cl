@@ -6,7 +6,10 @@
  * Buffers (host layout in fsf_cl.c):
  *   count       samples per pixel; y: 2 floats per slot (light metres along u, v); value: 3
  *   px          8 floats per pixel (FsfPixel): dir1 (2), dir2 (2), eta (2), sigma (2)
- *   pos4, nrm4  the guides; usable: 1 byte per pixel
+ *   pos4, nrm4  the guides; usable: 1 byte per pixel. A pixel that is not usable is nobody's
+ *               neighbour and its result is discarded by the host, so every pass skips it: no
+ *               taps, no slots in the tables, nothing in P, G or Q; its output is 0 (the C
+ *               passes and the oracle give the same)
  *   n_taps      taps per pixel; tap_off: the pixel's first slot in the tables below (its slots:
  *               2 r + 2 rounded up to whole float8, r its unmasked radius, fsf_cl.c tap_offsets);
  *               tap_node: an int per slot (-1: no tap); tap_a0, tap_a1: the weights of nodes j0
@@ -60,7 +63,8 @@ static float8 fsf_gauss8(float8 t, float sigma)
 
 /* Each pixel's taps along one axis (fsf_taps, fsf_filter.c), 8 at a time (PoCL gives one work
  * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, from the
- * pixel's slot tap_off on (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix).
+ * pixel's slot tap_off on (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix). A pixel
+ * that is not usable gets no taps (n_taps 0) and has no slots.
  * The nodes index a ring of `ring` image rows (neighbour row qy at qy % ring: P's for axis 0,
  * Q's for axis 1; ring = height: the whole frame); a tap more than `halo` rows away, which the
  * host's halo (band_halo_rows) rules out up to FSF_RADIUS_CAP_PX, the most a unit direction
@@ -71,12 +75,16 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
+    if (!usable[i]) { /* skipped by every pass: see the buffers above */
+        n_taps[i] = 0;
+        return;
+    }
     __global const float *pp = px + 8 * i;
     float dx = pp[2 * axis], dy = pp[2 * axis + 1], eta = pp[4 + axis], sigma = pp[6 + axis];
     int x = i % a.width, y = i / a.width, J = a.J;
     float half_m = axis == 0 ? a.half1 : a.half2;
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
-    int r = usable[i] ? fsf_radius(sigma) : 0;
+    int r = fsf_radius(sigma);
     n_taps[i] = 2 * r + 1;
     /* the centre's guides (fsf_accept) */
     float c_nx = nrm4[4 * i], c_ny = nrm4[4 * i + 1], c_nz = nrm4[4 * i + 2];
@@ -119,12 +127,12 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     }
 }
 
-/* Each sample slot's y2 bin, once for the 16 slices of pass 1a. */
+/* Each sample slot's y2 bin, once for the 16 slices of pass 1a (usable pixels only). */
 __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *count, __global const float *ys,
-                       __global uchar *bin2)
+                       __global const uchar *usable, __global uchar *bin2)
 {
     int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
+    if (i >= a.width * a.height || !usable[i]) return;
     for (int k = 0; k < count[i]; ++k) bin2[i * capacity + k] = (uchar)fsf_bin2(ys[2 * (i * capacity + k) + 1], a.half2, a.B);
 }
 
@@ -157,10 +165,12 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
 __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity, const int row0,
                          const int row1, const int ring, __global const int *count, __global const float *ys,
                          __global const uchar *bin2, __global const float *value, __global const float *px,
-                         __global const int *tap_off, __global const float *cum1, __global float *P)
+                         __global const uchar *usable, __global const int *tap_off, __global const float *cum1,
+                         __global float *P)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
+    if (!usable[i]) return;          /* no tap reads its nodes (fsf_taps) */
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
     int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
@@ -216,12 +226,12 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
  * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring; the C
  * slices' values of node n are the float4 n * C .. n * C + C - 1 (pass 1a). */
 __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int row0, const int row1, const int ring,
-                         __global const int *n_taps, __global const int *tap_off, __global const int *tap_node,
-                         __global const float *tap_a0, __global const float *tap_a1, __global const float *P,
-                         __global float *G)
+                         __global const uchar *usable, __global const int *n_taps, __global const int *tap_off,
+                         __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
+                         __global const float *P, __global float *G)
 {
     int i = row0 * a.width + get_global_id(0);
-    if (i >= row1 * a.width) return;
+    if (i >= row1 * a.width || !usable[i]) return; /* its G is never read (pass 2a skips it) */
     float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
     int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
@@ -243,10 +253,11 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 /* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
  * densities 8 at a time, over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows. */
 __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const float *px,
-                         __global const float *G, __global float *Q)
+                         __global const uchar *usable, __global const float *G, __global float *Q)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
+    if (!usable[i]) return;          /* no tap reads its nodes (fsf_taps) */
     int iq = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in Q's ring */
     int J = a.J, B = a.B;
     float L2 = a.half2;
@@ -283,7 +294,8 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     }
 }
 
-/* Pass 2b (fsf_pass2b, eq. 15) over the image rows row0 .. row1 - 1 (the taps index Q's ring). */
+/* Pass 2b (fsf_pass2b, eq. 15) over the image rows row0 .. row1 - 1 (the taps index Q's ring; a
+ * pixel that is not usable has none: 0). */
 __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __global const int *n_taps,
                          __global const int *tap_off, __global const int *tap_node, __global const float *tap_a0,
                          __global const float *tap_a1, __global const float *Q, __global float *out4)

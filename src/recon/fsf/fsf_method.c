@@ -279,10 +279,11 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
     for (size_t i = 0; i < n; ++i) {
         int cnt = sample_store_count(st, i);
         count[i] = cnt;
-        float scale[3];
-        fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
         usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
                     (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE);
+        if (!usable[i]) continue; /* no pass reads its samples (fsf_filter.h) */
+        float scale[3];
+        fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
         for (int k = 0; k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
             const float *s = lf + 5 * slot;
