@@ -49,6 +49,22 @@ static void indirect_samples(FsfCl *cl)
     printf("indirect samples: OpenCL against C: largest difference %.3g of the pixel's weight (kernels %.4f s)\n", worst,
            secs);
     CHECK(worst < 1e-5); /* rounding only, as below (4e-7 measured) */
+    /* a flat receiver's guides accept every usable neighbour, so guides that are not read
+     * (fsf_guides_unguided, defocus') give the same floats, on the device and in C */
+    {
+        size_t n = (size_t)W * H;
+        float *out[4];
+        FsfGuides gd[2] = {fsf_guides_default(f.pos4, f.nrm4, f.usable), fsf_guides_unguided(f.usable)};
+        Diag d = {0};
+        for (int k = 0; k < 4; ++k) out[k] = malloc(4 * n * sizeof(float));
+        for (int k = 0; k < 2; ++k) {
+            CHECK(fsf_cl_run(cl, &f.s, &g, f.px, &gd[k], out[k], NULL, &d));
+            CHECK(fsf_filter_factored(&f.s, &g, f.px, &gd[k], out[2 + k]));
+        }
+        CHECK(memcmp(out[0], out[1], 4 * n * sizeof(float)) == 0);
+        CHECK(memcmp(out[2], out[3], 4 * n * sizeof(float)) == 0);
+        for (int k = 0; k < 4; ++k) free(out[k]);
+    }
     fsf_synth_free(&f);
 }
 

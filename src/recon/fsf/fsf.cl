@@ -69,7 +69,7 @@ static float8 fsf_gauss8(float8 t, float sigma)
  * Q's for axis 1; ring = height: the whole frame); a tap more than `halo` rows away, which the
  * host's halo (band_halo_rows) rules out up to FSF_RADIUS_CAP_PX, the most a unit direction
  * reaches, is dropped rather than read from a stale row. */
-__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const int halo, __global const float *px, __global const float *pos4,
+__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const int halo, const int guided, __global const float *px, __global const float *pos4,
                        __global const float *nrm4, __global const uchar *usable, __global const int *tap_off, __global int *n_taps,
                        __global int *tap_node, __global float *tap_a0, __global float *tap_a1, __global float *cum1)
 {
@@ -86,10 +86,14 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
     int r = fsf_radius(sigma);
     n_taps[i] = 2 * r + 1;
-    /* the centre's guides (fsf_accept) */
-    float c_nx = nrm4[4 * i], c_ny = nrm4[4 * i + 1], c_nz = nrm4[4 * i + 2];
-    float c_px = pos4[4 * i], c_py = pos4[4 * i + 1], c_pz = pos4[4 * i + 2];
-    float c_tol = a.plane_tol_rel * pos4[4 * i + 3];
+    /* the centre's guides (fsf_accept); without guides (guided 0: FsfGuides' NULL pos4, nrm4)
+     * every usable neighbour is accepted and pos4, nrm4 are not read */
+    float c_nx = 0.0f, c_ny = 0.0f, c_nz = 0.0f, c_px = 0.0f, c_py = 0.0f, c_pz = 0.0f, c_tol = 0.0f;
+    if (guided) {
+        c_nx = nrm4[4 * i], c_ny = nrm4[4 * i + 1], c_nz = nrm4[4 * i + 2];
+        c_px = pos4[4 * i], c_py = pos4[4 * i + 1], c_pz = pos4[4 * i + 2];
+        c_tol = a.plane_tol_rel * pos4[4 * i + 3];
+    }
     for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) {
         int8 ti = (int8)(e0 - r) + FSF_LANES8;
         float8 tf = convert_float8(ti);
@@ -97,13 +101,17 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 ok = (ti <= r) & (qx >= 0) & (qy >= 0) & (qx < a.width) & (qy < a.height);
         int8 q = select((int8)(i), qy * a.width + qx, ok);
         /* fsf_accept for t != 0: usable, normal within the cone, on the centre's plane */
-        int8 q4 = 4 * q;
         int8 use = (int8)(usable[q.s0], usable[q.s1], usable[q.s2], usable[q.s3], usable[q.s4], usable[q.s5],
                           usable[q.s6], usable[q.s7]);
-        float8 cosn = c_nx * FSF_GATHER8(nrm4, q4) + c_ny * FSF_GATHER8(nrm4, q4 + 1) + c_nz * FSF_GATHER8(nrm4, q4 + 2);
-        float8 off = c_nx * (FSF_GATHER8(pos4, q4) - c_px) + c_ny * (FSF_GATHER8(pos4, q4 + 1) - c_py) +
-                     c_nz * (FSF_GATHER8(pos4, q4 + 2) - c_pz);
-        ok &= (ti == 0) | ((use != 0) & ((q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol))));
+        int8 near = (int8)(-1);
+        if (guided) {
+            int8 q4 = 4 * q;
+            float8 cosn = c_nx * FSF_GATHER8(nrm4, q4) + c_ny * FSF_GATHER8(nrm4, q4 + 1) + c_nz * FSF_GATHER8(nrm4, q4 + 2);
+            float8 off = c_nx * (FSF_GATHER8(pos4, q4) - c_px) + c_ny * (FSF_GATHER8(pos4, q4 + 1) - c_py) +
+                         c_nz * (FSF_GATHER8(pos4, q4 + 2) - c_pz);
+            near = (q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol));
+        }
+        ok &= (ti == 0) | ((use != 0) & near);
         float8 f = -eta * tf * inv_dY + mid;
         ok &= (f >= 0.0f) & (f <= (float)(J - 1));
         ok &= abs(qy - y) <= halo;

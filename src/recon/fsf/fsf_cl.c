@@ -207,8 +207,12 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[BIN2] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slots1, NULL, &err);
     if (!err) b[VAL] = clCreateBuffer(ctx, ro, sizeof(float) * 3 * slots1, (void *)s->value, &err);
     if (!err) b[PX] = clCreateBuffer(ctx, ro, sizeof(FsfPixel) * n, (void *)px, &err);
-    if (!err) b[POS] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err);
-    if (!err) b[NRM] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err);
+    /* without guides (every usable neighbour accepted) fsf_taps reads neither: a float4 each */
+    cl_int guided = gd->pos4 && gd->nrm4;
+    if (!err) b[POS] = guided ? clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err)
+                              : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
+    if (!err) b[NRM] = guided ? clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err)
+                              : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
     if (!err) b[OFF0] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off, &err);
     if (!err) b[OFF1] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off + n, &err);
@@ -236,9 +240,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     }
 #define EV(k) (evk[nev] = (k), &evs[nev++])
     if (ok) { /* taps along the first axis (and cum1), their nodes in P's ring */
-        cl_int ints[3] = {0, ring1, most1};
+        cl_int ints[4] = {0, ring1, most1, guided};
         cl_mem m[10] = {b[PX], b[POS], b[NRM], b[USE], b[OFF0], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 3, m, 10), "arguments", d) &&
+        ok = cl_ok(set_args(f->taps, &a, ints, 4, m, 10), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     if (ok) {
@@ -269,9 +273,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         }
     }
     if (ok) { /* taps along the second axis, their nodes in Q's ring (in P's memory: pass 1 is done with it) */
-        cl_int ints[3] = {1, ring2, most2};
+        cl_int ints[4] = {1, ring2, most2, guided};
         cl_mem mt[10] = {b[PX], b[POS], b[NRM], b[USE], b[OFF1], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 3, mt, 10), "arguments", d) &&
+        ok = cl_ok(set_args(f->taps, &a, ints, 4, mt, 10), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     /* pass 2 in the same bands: 2a fills Q's rows up to the band's end plus its halo, 2b

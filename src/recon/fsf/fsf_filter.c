@@ -23,6 +23,8 @@ FsfGrid fsf_grid_default(float half_u_m, float half_v_m)
     return g;
 }
 
+FsfGuides fsf_guides_unguided(const unsigned char *usable) { return fsf_guides_default(NULL, NULL, usable); }
+
 FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable)
 {
     FsfGuides gd;
@@ -83,7 +85,7 @@ static bool accept(const FsfGuides *gd, int w, int p, int q)
 {
     (void)w;
     if (!gd->usable[q]) return false;
-    if (q == p) return true;
+    if (q == p || !gd->nrm4) return true; /* no guides: every usable neighbour */
     const float *np = gd->nrm4 + 4 * (size_t)p, *nq = gd->nrm4 + 4 * (size_t)q;
     if (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < gd->cos_normal_min) return false;
     const float *pp = gd->pos4 + 4 * (size_t)p, *pq = gd->pos4 + 4 * (size_t)q;

@@ -80,8 +80,9 @@ static inline FsfPixel fsf_pixel_left_out(void)
 
 /* Which neighbours a pixel may take light from: same surface orientation and plane. */
 typedef struct {
-    const float *pos4;         /* mean position (world) and camera depth per pixel */
-    const float *nrm4;         /* unit normal per pixel */
+    const float *pos4;         /* mean position (world) and camera depth per pixel; NULL (with
+                                * nrm4): no geometric test, every usable neighbour */
+    const float *nrm4;         /* unit normal per pixel (or NULL, with pos4) */
     const unsigned char *usable; /* 0: no surface, mixed, or not demodulated: never a source,
                                   * and its own result is 0 (the host keeps its input): no pass
                                   * reads its samples */
@@ -91,6 +92,9 @@ typedef struct {
 
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m);
 FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable);
+/* Guides that accept every usable neighbour (defocus: docs/algorithms.md section 10,
+ * "Defocus"): nothing per pixel to read or compare. */
+FsfGuides fsf_guides_unguided(const unsigned char *usable);
 
 /* Taps each side along one axis for a standard deviation (capped). */
 int fsf_radius_steps(float sigma_px);

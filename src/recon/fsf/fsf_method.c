@@ -468,11 +468,9 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     size_t n = (size_t)w * (size_t)h;
     Buffers b;
     if (!buffers_alloc(m, &b, d)) return false;
-    float *guide = malloc(n * 8 * sizeof(float));
-    bool ok = guide != NULL;
-    if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
+    bool ok = true;
     long long nonfinite = 0;
-    if (ok && !fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
+    if (!fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
@@ -485,14 +483,12 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF lens parameters (or no depth field)");
     }
-    if (ok) fsf_lens_guides(n, guide, guide + 4 * n);
     FsfGrid grid = fsf_lens_grid();
-    FsfGuides gd = fsf_guides_default(guide, guide ? guide + 4 * n : NULL, b.usable);
+    FsfGuides gd = fsf_guides_unguided(b.usable); /* defocus rejects no neighbour */
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b.k_lo[i], b.k_hi[i]) ? 1.0f : 0.0f;
-    free(guide);
     buffers_free(&b);
     return ok;
 }
