@@ -278,8 +278,14 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     for (int e = 0; e < 2 * r + 1; ++e) cum[e + 1] = c = c + g[e];
     for (int m0 = -2 * B; m0 < B; m0 += 8) {
         float8 z = 2.0f * L2 / (float)B * (convert_float8((int8)(m0) + FSF_LANES8) + 0.5f * (float)B + 0.5f);
-        float8 rho = fsf_density8(z, eta, L2, r, cum);
-        float8 w = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof2) & (rho > 0.0f));
+        int8 inbox = fabs(z) <= a.prof2;
+        float8 w = (float8)(0.0f);
+        /* the box keeps about B of the 3 B coordinates (|m + B/2 + 1/2| <= B/2 for the light):
+         * the densities of the eight outside it are not needed, their weight is 0 anyway */
+        if (any(inbox)) {
+            float8 rho = fsf_density8(z, eta, L2, r, cum);
+            w = select((float8)(0.0f), 1.0f / rho, inbox & (rho > 0.0f));
+        }
         vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): never read */
     }
     /* the span of m with a nonzero weight (the box |z| <= prof2 keeps about B of the 3 B): each
