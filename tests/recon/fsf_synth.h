@@ -57,6 +57,16 @@ static inline void fsf_synth_init(FsfSynth *f, int w, int h, int l)
     f->s = (FsfSamples){w, h, f->cap, f->count, f->y, f->v};
 }
 
+/* NaN in the values of every sample of the pixels that are not usable: the filter never reads
+ * them (fsf_filter.h), so a usable pixel's result must not change and an unusable one's must
+ * be exactly 0. The light coordinates stay on the light, so that a pass that did read such a
+ * pixel would add the NaN somewhere (a NaN coordinate lands on no node and would hide it). */
+static inline void fsf_synth_poison_unusable(FsfSynth *f)
+{
+    for (size_t i = 0; i < (size_t)f->w * (size_t)f->h; ++i)
+        for (size_t e = 0; !f->usable[i] && e < 3 * (size_t)f->cap; ++e) f->v[3 * i * (size_t)f->cap + e] = NAN;
+}
+
 /* Light coordinates: jittered l x l strata (bin_centred: y2 at the centre of its FsfGrid y2
  * bin, y1 at the centre of its stratum, no randomness). */
 static inline void fsf_synth_light(FsfSynth *f, const FsfGrid *g, int l, bool bin_centred, unsigned seed)

@@ -3,6 +3,8 @@
  * that every branch of the kernels runs; then the same on indirect-light samples
  * (fsf_bounce.h's grid, v-plane coordinates clamped inside the box). Skipped (77) without an
  * OpenCL device. */
+#include <string.h>
+
 #include "check.h"
 #include "fsf_synth.h"
 #include "recon/fsf/fsf_cl.h"
@@ -47,6 +49,22 @@ static void indirect_samples(FsfCl *cl)
     printf("indirect samples: OpenCL against C: largest difference %.3g of the pixel's weight (kernels %.4f s)\n", worst,
            secs);
     CHECK(worst < 1e-5); /* rounding only, as below (4e-7 measured) */
+    /* a flat receiver's guides accept every usable neighbour, so guides that are not read
+     * (fsf_guides_unguided, defocus') give the same floats, on the device and in C */
+    {
+        size_t n = (size_t)W * H;
+        float *out[4];
+        FsfGuides gd[2] = {fsf_guides_default(f.pos4, f.nrm4, f.usable), fsf_guides_unguided(f.usable)};
+        Diag d = {0};
+        for (int k = 0; k < 4; ++k) out[k] = malloc(4 * n * sizeof(float));
+        for (int k = 0; k < 2; ++k) {
+            CHECK(fsf_cl_run(cl, &f.s, &g, f.px, &gd[k], out[k], NULL, &d));
+            CHECK(fsf_filter_factored(&f.s, &g, f.px, &gd[k], out[2 + k]));
+        }
+        CHECK(memcmp(out[0], out[1], 4 * n * sizeof(float)) == 0);
+        CHECK(memcmp(out[2], out[3], 4 * n * sizeof(float)) == 0);
+        for (int k = 0; k < 4; ++k) free(out[k]);
+    }
     fsf_synth_free(&f);
 }
 
@@ -165,6 +183,25 @@ int main(void)
         /* the same float arithmetic in another order and exp vs expf: rounding only (3e-7
          * measured; a node or tap lost or shifted would show as a whole sample's weight, ~1e-2) */
         CHECK(worst < 1e-5);
+    }
+    /* pixels that are not usable are skipped by every kernel: NaN in their samples changes no
+     * usable pixel's result (bit for bit) and theirs stay 0 */
+    {
+        size_t n = (size_t)W * H;
+        float *clean = malloc(4 * n * sizeof(float)), *poisoned = malloc(4 * n * sizeof(float));
+        FsfGuides gd = fsf_guides_default(f.pos4, f.nrm4, f.usable);
+        CHECK(fsf_cl_run(cl, &f.s, &g, f.px, &gd, clean, NULL, &d));
+        fsf_synth_poison_unusable(&f);
+        CHECK(fsf_cl_run(cl, &f.s, &g, f.px, &gd, poisoned, NULL, &d));
+        long long changed = 0, nonzero = 0;
+        for (size_t e = 0; e < 4 * n; ++e) {
+            if (f.usable[e / 4]) changed += memcmp(&clean[e], &poisoned[e], sizeof(float)) != 0;
+            else nonzero += poisoned[e] != 0.0f;
+        }
+        printf("unusable pixels' samples set to NaN: %lld usable values changed, %lld unusable values not 0\n", changed,
+               nonzero);
+        CHECK(changed == 0 && nonzero == 0);
+        free(clean), free(poisoned);
     }
     fsf_synth_free(&f);
     indirect_samples(cl);

@@ -101,7 +101,7 @@ static void plane_free(Plane *f)
 typedef struct {
     unsigned char *usable;
     int *count;
-    float *y, *v, *k_lo, *k_hi, *guide;
+    float *y, *v, *k_lo, *k_hi;
     FsfPixel *px;
     FsfSamples s;
     FsfGuides gd;
@@ -114,22 +114,20 @@ static void inputs_make(Inputs *in, const Plane *f)
     in->usable = malloc(n), in->count = malloc(n * sizeof(int));
     in->y = malloc(slots * 2 * sizeof(float)), in->v = malloc(slots * 3 * sizeof(float));
     in->k_lo = malloc(n * sizeof(float)), in->k_hi = malloc(n * sizeof(float));
-    in->guide = malloc(n * 8 * sizeof(float));
     in->px = malloc(n * sizeof(FsfPixel));
     long long nonfinite = 0;
     CHECK(fsf_lens_samples(f->st, W, H, f->value4, in->usable, in->y, in->v, in->count, &nonfinite));
     CHECK(nonfinite == 0);
     FsfLensIn li = {&f->g, f->st, in->usable, 1.0f};
     CHECK(fsf_lens_params(&li, in->px, in->k_lo, in->k_hi));
-    fsf_lens_guides(n, in->guide, in->guide + 4 * n);
     in->s = (FsfSamples){W, H, f->spp, in->count, in->y, in->v};
-    in->gd = fsf_guides_default(in->guide, in->guide + 4 * n, in->usable);
+    in->gd = fsf_guides_unguided(in->usable);
     in->grid = fsf_lens_grid();
 }
 
 static void inputs_free(Inputs *in)
 {
-    free(in->usable), free(in->count), free(in->y), free(in->v), free(in->k_lo), free(in->k_hi), free(in->guide);
+    free(in->usable), free(in->count), free(in->y), free(in->v), free(in->k_lo), free(in->k_hi);
     free(in->px);
 }
 

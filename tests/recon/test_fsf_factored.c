@@ -1,6 +1,8 @@
 /* The factored FSF filter (four 1D passes, FSF eqs. 12-15) against the brute-force 4D sum
  * (FSF eq. 9): equal where the factoring loses nothing, converging with the bin count where
  * it discretises, and close where only the separation into two 2D filters differs. */
+#include <string.h>
+
 #include "check.h"
 #include "fsf_synth.h"
 
@@ -130,6 +132,36 @@ int main(void)
     double sep = rms_normalised(&f, &g);
     printf("smoothly varying width: rms separation difference %.5f\n", sep);
     CHECK(sep > 0.0 && sep < 0.01); /* > 0: the case does exercise the separation */
+
+    /* 4. Pixels that are not usable (no surface, mixed, another light's): nobody's neighbour
+     * and their result unused, so no pass reads their samples: with NaN in those samples the
+     * usable pixels' results are bit for bit the same, and theirs are 0, in both filters. */
+    fsf_synth_light(&f, &g, l, true, 1);
+    values_edge(&f, 0.02f);
+    uniform_params(&f, dY1, -2.0f * dY2, 3.0f, 5.0f);
+    for (int i = 0; i < W * H; ++i) f.usable[i] = i % 7 != 3 && !(i / W > 30 && i % W < 12);
+    {
+        size_t n = (size_t)W * H;
+        float *out[2][2];
+        FsfGuides gd = fsf_guides_default(f.pos4, f.nrm4, f.usable);
+        for (int pass = 0; pass < 2; ++pass) {
+            if (pass == 1) fsf_synth_poison_unusable(&f);
+            out[pass][0] = malloc(4 * n * sizeof(float)), out[pass][1] = malloc(4 * n * sizeof(float));
+            fsf_filter_brute(&f.s, &g, f.px, &gd, out[pass][0]);
+            CHECK(fsf_filter_factored(&f.s, &g, f.px, &gd, out[pass][1]));
+        }
+        long long changed = 0, nonzero = 0;
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 4; ++c)
+                for (int m = 0; m < 2; ++m) {
+                    if (f.usable[i]) changed += memcmp(&out[0][m][4 * i + c], &out[1][m][4 * i + c], sizeof(float)) != 0;
+                    else nonzero += out[1][m][4 * i + c] != 0.0f;
+                }
+        printf("unusable pixels' samples set to NaN: %lld usable values changed, %lld unusable values not 0\n", changed,
+               nonzero);
+        CHECK(changed == 0 && nonzero == 0);
+        for (int pass = 0; pass < 2; ++pass) free(out[pass][0]), free(out[pass][1]);
+    }
 
     fsf_synth_free(&f);
     return check_failures ? 1 : 0;

@@ -6,7 +6,10 @@
  * Buffers (host layout in fsf_cl.c):
  *   count       samples per pixel; y: 2 floats per slot (light metres along u, v); value: 3
  *   px          8 floats per pixel (FsfPixel): dir1 (2), dir2 (2), eta (2), sigma (2)
- *   pos4, nrm4  the guides; usable: 1 byte per pixel
+ *   pos4, nrm4  the guides; usable: 1 byte per pixel. A pixel that is not usable is nobody's
+ *               neighbour and its result is discarded by the host, so every pass skips it: no
+ *               taps, no slots in the tables, nothing in P, G or Q; its output is 0 (the C
+ *               passes and the oracle give the same)
  *   n_taps      taps per pixel; tap_off: the pixel's first slot in the tables below (its slots:
  *               2 r + 2 rounded up to whole float8, r its unmasked radius, fsf_cl.c tap_offsets);
  *               tap_node: an int per slot (-1: no tap); tap_a0, tap_a1: the weights of nodes j0
@@ -60,28 +63,37 @@ static float8 fsf_gauss8(float8 t, float sigma)
 
 /* Each pixel's taps along one axis (fsf_taps, fsf_filter.c), 8 at a time (PoCL gives one work
  * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, from the
- * pixel's slot tap_off on (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix).
+ * pixel's slot tap_off on (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix). A pixel
+ * that is not usable gets no taps (n_taps 0) and has no slots.
  * The nodes index a ring of `ring` image rows (neighbour row qy at qy % ring: P's for axis 0,
  * Q's for axis 1; ring = height: the whole frame); a tap more than `halo` rows away, which the
  * host's halo (band_halo_rows) rules out up to FSF_RADIUS_CAP_PX, the most a unit direction
  * reaches, is dropped rather than read from a stale row. */
-__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const int halo, __global const float *px, __global const float *pos4,
+__kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const int halo, const int guided, __global const float *px, __global const float *pos4,
                        __global const float *nrm4, __global const uchar *usable, __global const int *tap_off, __global int *n_taps,
                        __global int *tap_node, __global float *tap_a0, __global float *tap_a1, __global float *cum1)
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height) return;
+    if (!usable[i]) { /* skipped by every pass: see the buffers above */
+        n_taps[i] = 0;
+        return;
+    }
     __global const float *pp = px + 8 * i;
     float dx = pp[2 * axis], dy = pp[2 * axis + 1], eta = pp[4 + axis], sigma = pp[6 + axis];
     int x = i % a.width, y = i / a.width, J = a.J;
     float half_m = axis == 0 ? a.half1 : a.half2;
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
-    int r = usable[i] ? fsf_radius(sigma) : 0;
+    int r = fsf_radius(sigma);
     n_taps[i] = 2 * r + 1;
-    /* the centre's guides (fsf_accept) */
-    float c_nx = nrm4[4 * i], c_ny = nrm4[4 * i + 1], c_nz = nrm4[4 * i + 2];
-    float c_px = pos4[4 * i], c_py = pos4[4 * i + 1], c_pz = pos4[4 * i + 2];
-    float c_tol = a.plane_tol_rel * pos4[4 * i + 3];
+    /* the centre's guides (fsf_accept); without guides (guided 0: FsfGuides' NULL pos4, nrm4)
+     * every usable neighbour is accepted and pos4, nrm4 are not read */
+    float c_nx = 0.0f, c_ny = 0.0f, c_nz = 0.0f, c_px = 0.0f, c_py = 0.0f, c_pz = 0.0f, c_tol = 0.0f;
+    if (guided) {
+        c_nx = nrm4[4 * i], c_ny = nrm4[4 * i + 1], c_nz = nrm4[4 * i + 2];
+        c_px = pos4[4 * i], c_py = pos4[4 * i + 1], c_pz = pos4[4 * i + 2];
+        c_tol = a.plane_tol_rel * pos4[4 * i + 3];
+    }
     for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) {
         int8 ti = (int8)(e0 - r) + FSF_LANES8;
         float8 tf = convert_float8(ti);
@@ -89,13 +101,17 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 ok = (ti <= r) & (qx >= 0) & (qy >= 0) & (qx < a.width) & (qy < a.height);
         int8 q = select((int8)(i), qy * a.width + qx, ok);
         /* fsf_accept for t != 0: usable, normal within the cone, on the centre's plane */
-        int8 q4 = 4 * q;
         int8 use = (int8)(usable[q.s0], usable[q.s1], usable[q.s2], usable[q.s3], usable[q.s4], usable[q.s5],
                           usable[q.s6], usable[q.s7]);
-        float8 cosn = c_nx * FSF_GATHER8(nrm4, q4) + c_ny * FSF_GATHER8(nrm4, q4 + 1) + c_nz * FSF_GATHER8(nrm4, q4 + 2);
-        float8 off = c_nx * (FSF_GATHER8(pos4, q4) - c_px) + c_ny * (FSF_GATHER8(pos4, q4 + 1) - c_py) +
-                     c_nz * (FSF_GATHER8(pos4, q4 + 2) - c_pz);
-        ok &= (ti == 0) | ((use != 0) & ((q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol))));
+        int8 near = (int8)(-1);
+        if (guided) {
+            int8 q4 = 4 * q;
+            float8 cosn = c_nx * FSF_GATHER8(nrm4, q4) + c_ny * FSF_GATHER8(nrm4, q4 + 1) + c_nz * FSF_GATHER8(nrm4, q4 + 2);
+            float8 off = c_nx * (FSF_GATHER8(pos4, q4) - c_px) + c_ny * (FSF_GATHER8(pos4, q4 + 1) - c_py) +
+                         c_nz * (FSF_GATHER8(pos4, q4 + 2) - c_pz);
+            near = (q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol));
+        }
+        ok &= (ti == 0) | ((use != 0) & near);
         float8 f = -eta * tf * inv_dY + mid;
         ok &= (f >= 0.0f) & (f <= (float)(J - 1));
         ok &= abs(qy - y) <= halo;
@@ -119,12 +135,12 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     }
 }
 
-/* Each sample slot's y2 bin, once for the 16 slices of pass 1a. */
+/* Each sample slot's y2 bin, once for the 16 slices of pass 1a (usable pixels only). */
 __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *count, __global const float *ys,
-                       __global uchar *bin2)
+                       __global const uchar *usable, __global uchar *bin2)
 {
     int i = get_global_id(0);
-    if (i >= a.width * a.height) return;
+    if (i >= a.width * a.height || !usable[i]) return;
     for (int k = 0; k < count[i]; ++k) bin2[i * capacity + k] = (uchar)fsf_bin2(ys[2 * (i * capacity + k) + 1], a.half2, a.B);
 }
 
@@ -157,10 +173,12 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
 __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int capacity, const int row0,
                          const int row1, const int ring, __global const int *count, __global const float *ys,
                          __global const uchar *bin2, __global const float *value, __global const float *px,
-                         __global const int *tap_off, __global const float *cum1, __global float *P)
+                         __global const uchar *usable, __global const int *tap_off, __global const float *cum1,
+                         __global float *P)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
+    if (!usable[i]) return;          /* no tap reads its nodes (fsf_taps) */
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
     int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
@@ -216,12 +234,12 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
  * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring; the C
  * slices' values of node n are the float4 n * C .. n * C + C - 1 (pass 1a). */
 __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int row0, const int row1, const int ring,
-                         __global const int *n_taps, __global const int *tap_off, __global const int *tap_node,
-                         __global const float *tap_a0, __global const float *tap_a1, __global const float *P,
-                         __global float *G)
+                         __global const uchar *usable, __global const int *n_taps, __global const int *tap_off,
+                         __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
+                         __global const float *P, __global float *G)
 {
     int i = row0 * a.width + get_global_id(0);
-    if (i >= row1 * a.width) return;
+    if (i >= row1 * a.width || !usable[i]) return; /* its G is never read (pass 2a skips it) */
     float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
     int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
@@ -243,10 +261,11 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 /* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
  * densities 8 at a time, over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows. */
 __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const float *px,
-                         __global const float *G, __global float *Q)
+                         __global const uchar *usable, __global const float *G, __global float *Q)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
+    if (!usable[i]) return;          /* no tap reads its nodes (fsf_taps) */
     int iq = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in Q's ring */
     int J = a.J, B = a.B;
     float L2 = a.half2;
@@ -259,8 +278,14 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     for (int e = 0; e < 2 * r + 1; ++e) cum[e + 1] = c = c + g[e];
     for (int m0 = -2 * B; m0 < B; m0 += 8) {
         float8 z = 2.0f * L2 / (float)B * (convert_float8((int8)(m0) + FSF_LANES8) + 0.5f * (float)B + 0.5f);
-        float8 rho = fsf_density8(z, eta, L2, r, cum);
-        float8 w = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof2) & (rho > 0.0f));
+        int8 inbox = fabs(z) <= a.prof2;
+        float8 w = (float8)(0.0f);
+        /* the box keeps about B of the 3 B coordinates (|m + B/2 + 1/2| <= B/2 for the light):
+         * the densities of the eight outside it are not needed, their weight is 0 anyway */
+        if (any(inbox)) {
+            float8 rho = fsf_density8(z, eta, L2, r, cum);
+            w = select((float8)(0.0f), 1.0f / rho, inbox & (rho > 0.0f));
+        }
         vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): never read */
     }
     /* the span of m with a nonzero weight (the box |z| <= prof2 keeps about B of the 3 B): each
@@ -283,7 +308,8 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     }
 }
 
-/* Pass 2b (fsf_pass2b, eq. 15) over the image rows row0 .. row1 - 1 (the taps index Q's ring). */
+/* Pass 2b (fsf_pass2b, eq. 15) over the image rows row0 .. row1 - 1 (the taps index Q's ring; a
+ * pixel that is not usable has none: 0). */
 __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __global const int *n_taps,
                          __global const int *tap_off, __global const int *tap_node, __global const float *tap_a0,
                          __global const float *tap_a1, __global const float *Q, __global float *out4)

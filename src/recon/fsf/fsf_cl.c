@@ -136,16 +136,17 @@ static int band_halos(int width, int height, int band_rows, int axis, const FsfP
 }
 
 /* Each pixel's first slot in the tap tables along `axis` (off[i]), packed: a pixel's slots are
- * 2 r + 2 rounded up to whole float8 for its radius r without the usable mask (the running
- * sums' length; its taps, 2 r + 1 at most, fit too), instead of FSF_TAP_SLOTS for every pixel.
- * A pixel left out (r = 0) takes 8 slots, not 40: the tables, fresh memory every run, shrink
- * by a third to a half on the bench scenes. Returns the slots in all, or -1 past INT_MAX. */
-static long long tap_offsets(size_t n, int axis, const FsfPixel *px, cl_int *off)
+ * 2 r + 2 rounded up to whole float8 for its radius r (the running sums' length; its taps,
+ * 2 r + 1 at most, fit too), instead of FSF_TAP_SLOTS for every pixel. A pixel left out (r =
+ * 0) takes 8 slots, not 40, and one that is not usable none (no pass reads its taps): the
+ * tables, fresh memory every run, shrink by a third to a half on the bench scenes. Returns the
+ * slots in all, or -1 past INT_MAX. */
+static long long tap_offsets(size_t n, int axis, const FsfPixel *px, const unsigned char *usable, cl_int *off)
 {
     long long total = 0;
     for (size_t i = 0; i < n; ++i) {
         off[i] = (cl_int)total;
-        total += (2 * fsf_radius_steps(px[i].sigma_px[axis]) + 2 + 7) / 8 * 8;
+        total += usable[i] ? (2 * fsf_radius_steps(px[i].sigma_px[axis]) + 2 + 7) / 8 * 8 : 0;
         if (total > INT_MAX) return -1;
     }
     return total;
@@ -168,13 +169,16 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     int n_bands = (s->height + band_rows - 1) / band_rows;
     int *halo1 = malloc(sizeof(int) * (size_t)n_bands * 2), *halo2 = halo1 ? halo1 + n_bands : NULL;
     cl_int *off = malloc(sizeof(cl_int) * 2 * n);
-    long long slots0 = off ? tap_offsets(n, 0, px, off) : -1, slots1t = off ? tap_offsets(n, 1, px, off + n) : -1;
+    long long slots0 = off ? tap_offsets(n, 0, px, gd->usable, off) : -1,
+              slots1t = off ? tap_offsets(n, 1, px, gd->usable, off + n) : -1;
     if (!halo1 || slots0 < 0 || slots1t < 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's bands and tap tables");
         free(halo1), free(off);
         return false;
     }
-    size_t tap_slots = (size_t)(slots0 > slots1t ? slots0 : slots1t);
+    /* at least one slot: a frame without a usable pixel still gets its buffers */
+    long long most_slots = slots0 > slots1t ? slots0 : slots1t;
+    size_t tap_slots = most_slots > 0 ? (size_t)most_slots : 1;
     /* each band's rows of P (pass 1) and Q (pass 2) that its gathers reach */
     int most1 = band_halos(s->width, s->height, band_rows, 0, px, gd->usable, halo1);
     int most2 = band_halos(s->width, s->height, band_rows, 1, px, gd->usable, halo2);
@@ -203,8 +207,12 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[BIN2] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slots1, NULL, &err);
     if (!err) b[VAL] = clCreateBuffer(ctx, ro, sizeof(float) * 3 * slots1, (void *)s->value, &err);
     if (!err) b[PX] = clCreateBuffer(ctx, ro, sizeof(FsfPixel) * n, (void *)px, &err);
-    if (!err) b[POS] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err);
-    if (!err) b[NRM] = clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err);
+    /* without guides (every usable neighbour accepted) fsf_taps reads neither: a float4 each */
+    cl_int guided = gd->pos4 && gd->nrm4;
+    if (!err) b[POS] = guided ? clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->pos4, &err)
+                              : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
+    if (!err) b[NRM] = guided ? clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err)
+                              : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
     if (!err) b[OFF0] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off, &err);
     if (!err) b[OFF1] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off + n, &err);
@@ -212,8 +220,10 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * tap_slots, NULL, &err);
     if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * tap_slots, NULL, &err);
     if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * tap_slots, NULL, &err);
-    /* cum1 (pass 1), then pass 2b's output (4 floats per pixel, at least 8 slots each) */
-    if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * (size_t)slots0, NULL, &err);
+    /* cum1 (pass 1), then pass 2b's output (4 floats per pixel: more than cum1 when few pixels
+     * are usable) */
+    size_t cum_floats = (size_t)slots0 > 4 * n ? (size_t)slots0 : 4 * n;
+    if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * cum_floats, NULL, &err);
     if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, p_bytes > q_bytes ? p_bytes : q_bytes, NULL, &err);
     if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
@@ -230,15 +240,15 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     }
 #define EV(k) (evk[nev] = (k), &evs[nev++])
     if (ok) { /* taps along the first axis (and cum1), their nodes in P's ring */
-        cl_int ints[3] = {0, ring1, most1};
+        cl_int ints[4] = {0, ring1, most1, guided};
         cl_mem m[10] = {b[PX], b[POS], b[NRM], b[USE], b[OFF0], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 3, m, 10), "arguments", d) &&
+        ok = cl_ok(set_args(f->taps, &a, ints, 4, m, 10), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     if (ok) {
         cl_int ints[1] = {s->capacity};
-        cl_mem m[3] = {b[COUNT], b[YS], b[BIN2]};
-        ok = cl_ok(set_args(f->bins, &a, ints, 1, m, 3), "arguments", d) &&
+        cl_mem m[4] = {b[COUNT], b[YS], b[USE], b[BIN2]};
+        ok = cl_ok(set_args(f->bins, &a, ints, 1, m, 4), "arguments", d) &&
              cl_ok(launch1(f, f->bins, n, EV(K_BINS)), "bins", d);
     }
     for (int bin0 = 0; ok && bin0 < g->y2_bins; bin0 += chunk) {
@@ -251,21 +261,21 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
             int fill = y1 + halo1[band] < s->height ? y1 + halo1[band] : s->height;
             if (fill > filled) {
                 cl_int i1a[6] = {bin0, c_n, s->capacity, filled, fill, ring1};
-                cl_mem m1a[8] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[OFF0], b[CUM], b[P]};
-                ok = cl_ok(set_args(f->pass1a, &a, i1a, 6, m1a, 8), "arguments", d) &&
+                cl_mem m1a[9] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[USE], b[OFF0], b[CUM], b[P]};
+                ok = cl_ok(set_args(f->pass1a, &a, i1a, 6, m1a, 9), "arguments", d) &&
                      cl_ok(launch1(f, f->pass1a, (size_t)(fill - filled) * (size_t)s->width, EV(K_1A)), "pass 1a", d);
                 filled = fill;
             }
             cl_int i1b[5] = {bin0, c_n, y0, y1, ring1};
-            cl_mem m1b[7] = {b[NTAP], b[OFF0], b[NODE], b[TA0], b[TA1], b[P], b[G]};
-            ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 5, m1b, 7), "arguments", d) &&
+            cl_mem m1b[8] = {b[USE], b[NTAP], b[OFF0], b[NODE], b[TA0], b[TA1], b[P], b[G]};
+            ok = ok && cl_ok(set_args(f->pass1b, &a, i1b, 5, m1b, 8), "arguments", d) &&
                  cl_ok(launch1(f, f->pass1b, (size_t)(y1 - y0) * (size_t)s->width, EV(K_1B)), "pass 1b", d);
         }
     }
     if (ok) { /* taps along the second axis, their nodes in Q's ring (in P's memory: pass 1 is done with it) */
-        cl_int ints[3] = {1, ring2, most2};
+        cl_int ints[4] = {1, ring2, most2, guided};
         cl_mem mt[10] = {b[PX], b[POS], b[NRM], b[USE], b[OFF1], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
-        ok = cl_ok(set_args(f->taps, &a, ints, 3, mt, 10), "arguments", d) &&
+        ok = cl_ok(set_args(f->taps, &a, ints, 4, mt, 10), "arguments", d) &&
              cl_ok(launch1(f, f->taps, n, EV(K_TAPS)), "taps", d);
     }
     /* pass 2 in the same bands: 2a fills Q's rows up to the band's end plus its halo, 2b
@@ -275,8 +285,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         int fill = y1 + halo2[band] < s->height ? y1 + halo2[band] : s->height;
         if (fill > filled) {
             cl_int i2a[3] = {filled, fill, ring2};
-            cl_mem m2a[3] = {b[PX], b[G], b[P]};
-            ok = cl_ok(set_args(f->pass2a, &a, i2a, 3, m2a, 3), "arguments", d) &&
+            cl_mem m2a[4] = {b[PX], b[USE], b[G], b[P]};
+            ok = cl_ok(set_args(f->pass2a, &a, i2a, 3, m2a, 4), "arguments", d) &&
                  cl_ok(launch1(f, f->pass2a, (size_t)(fill - filled) * (size_t)s->width, EV(K_2A)), "pass 2a", d);
             filled = fill;
         }

@@ -23,6 +23,8 @@ FsfGrid fsf_grid_default(float half_u_m, float half_v_m)
     return g;
 }
 
+FsfGuides fsf_guides_unguided(const unsigned char *usable) { return fsf_guides_default(NULL, NULL, usable); }
+
 FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable)
 {
     FsfGuides gd;
@@ -83,7 +85,7 @@ static bool accept(const FsfGuides *gd, int w, int p, int q)
 {
     (void)w;
     if (!gd->usable[q]) return false;
-    if (q == p) return true;
+    if (q == p || !gd->nrm4) return true; /* no guides: every usable neighbour */
     const float *np = gd->nrm4 + 4 * (size_t)p, *nq = gd->nrm4 + 4 * (size_t)q;
     if (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < gd->cos_normal_min) return false;
     const float *pp = gd->pos4 + 4 * (size_t)p, *pq = gd->pos4 + 4 * (size_t)q;
@@ -152,7 +154,11 @@ static void brute_range(void *ctx, size_t begin, size_t end, int part)
         float acc[4] = {0, 0, 0, 0};
         const FsfPixel *pp = &j->px[i];
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
-        if (!j->gd->usable[i] || !(pp->sigma_px[0] > 0.0f || pp->sigma_px[1] > 0.0f)) {
+        if (!j->gd->usable[i]) { /* nobody's neighbour, its result unused: 0 (fsf_filter.h) */
+            memcpy(j->out4 + 4 * i, acc, sizeof acc);
+            continue;
+        }
+        if (!(pp->sigma_px[0] > 0.0f || pp->sigma_px[1] > 0.0f)) {
             add_own(s, i, acc);
             memcpy(j->out4 + 4 * i, acc, sizeof acc);
             continue;
@@ -200,14 +206,15 @@ void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px,
 
 /* ---- the four passes ---- */
 
-void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const float *cum1, int bin, float *P,
-                size_t begin, size_t end)
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const unsigned char *usable,
+                const float *cum1, int bin, float *P, size_t begin, size_t end)
 {
     int J = g->shift_nodes;
     float dY = node_step(g, 0), L1 = g->half_m[0], mid = 0.5f * (float)(J - 1);
     for (size_t i = begin; i < end; ++i) {
         float *Pi = P + (size_t)J * 4 * i;
         memset(Pi, 0, sizeof(float) * 4 * (size_t)J);
+        if (!usable[i]) continue; /* no tap reads its nodes (fsf_taps) */
         /* the density of reprojected samples uses this pixel's filter for its gatherers'
          * (a smooth field: FSF section 4.2's approximation again) */
         int r = fsf_radius_steps(px[i].sigma_px[0]);
@@ -242,7 +249,8 @@ void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int wid
         const FsfPixel *pp = &px[i];
         FsfTap *ti = taps + (size_t)FSF_TAPS * i;
         int x = (int)(i % (size_t)width), y = (int)(i / (size_t)width);
-        int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[axis]) : 0;
+        /* a pixel that is not usable gets no taps, not even its own: its result is 0 */
+        int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[axis]) : -1;
         for (int t = -FSF_RADIUS_CAP_PX; t <= FSF_RADIUS_CAP_PX; ++t) {
             FsfTap *o = &ti[t + FSF_RADIUS_CAP_PX];
             o->node = -1, o->a0 = o->a1 = 0.0f;
@@ -280,7 +288,8 @@ void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, 
     }
 }
 
-void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const float *G, float *Q, size_t begin, size_t end)
+void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const unsigned char *usable, const float *G, float *Q,
+                size_t begin, size_t end)
 {
     int J = g->shift_nodes, B = g->y2_bins;
     float L2 = g->half_m[1];
@@ -288,6 +297,10 @@ void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const float *G, float *Q, 
     for (size_t i = begin; i < end; ++i) {
         float *Qi = Q + (size_t)J * 4 * i;
         const float *Gi = G + (size_t)B * 4 * i;
+        if (!usable[i]) { /* no tap reads its nodes (fsf_taps) */
+            memset(Qi, 0, sizeof(float) * 4 * (size_t)J);
+            continue;
+        }
         int r = fsf_radius_steps(px[i].sigma_px[1]);
         fsf_tap_prefix(px[i].sigma_px[1], cum);
         /* With B = J - 1 the light coordinate seen at shift node j from bin b's centre,
@@ -331,7 +344,7 @@ static void range_1a(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass1a(j->s, j->g, j->px, j->cum1, j->bin, j->P, b, e);
+    fsf_pass1a(j->s, j->g, j->px, j->gd->usable, j->cum1, j->bin, j->P, b, e);
 }
 static void range_1b(void *ctx, size_t b, size_t e, int part)
 {
@@ -343,7 +356,7 @@ static void range_2a(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass2a(j->g, j->px, j->G, j->Q, b, e);
+    fsf_pass2a(j->g, j->px, j->gd->usable, j->G, j->Q, b, e);
 }
 static void range_2b(void *ctx, size_t b, size_t e, int part)
 {

@@ -80,21 +80,27 @@ static inline FsfPixel fsf_pixel_left_out(void)
 
 /* Which neighbours a pixel may take light from: same surface orientation and plane. */
 typedef struct {
-    const float *pos4;         /* mean position (world) and camera depth per pixel */
-    const float *nrm4;         /* unit normal per pixel */
-    const unsigned char *usable; /* 0: no surface, mixed, or not demodulated: never a source */
+    const float *pos4;         /* mean position (world) and camera depth per pixel; NULL (with
+                                * nrm4): no geometric test, every usable neighbour */
+    const float *nrm4;         /* unit normal per pixel (or NULL, with pos4) */
+    const unsigned char *usable; /* 0: no surface, mixed, or not demodulated: never a source,
+                                  * and its own result is 0 (the host keeps its input): no pass
+                                  * reads its samples */
     float cos_normal_min;      /* neighbours whose normal is further are rejected */
     float plane_tol_rel;       /* ... or off the centre's tangent plane by more than this * depth */
 } FsfGuides;
 
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m);
 FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable);
+/* Guides that accept every usable neighbour (defocus: docs/algorithms.md section 10,
+ * "Defocus"): nothing per pixel to read or compare. */
+FsfGuides fsf_guides_unguided(const unsigned char *usable);
 
 /* Taps each side along one axis for a standard deviation (capped). */
 int fsf_radius_steps(float sigma_px);
 
 /* The 4D sum, directly (the oracle). out4: 4 floats per pixel (rgb, weight); pixels left
- * out get their own samples' plain sum. */
+ * out (both widths 0) get their own samples' plain sum, pixels that are not usable 0. */
 void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4);
 
 /* The same in four 1D passes. false when out of memory (or a grid without y2_bins = shift_nodes - 1). */
@@ -116,10 +122,11 @@ enum { FSF_TAPS = 2 * FSF_RADIUS_CAP_PX + 1 };
  * floats per pixel); pass 2a (Q: shift_nodes * 4 per pixel) and 2b (out4). */
 void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
               FsfTap *taps, size_t begin, size_t end);
-void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const float *cum1, int bin, float *P,
-                size_t begin, size_t end);
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const unsigned char *usable,
+                const float *cum1, int bin, float *P, size_t begin, size_t end);
 void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end);
-void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const float *G, float *Q, size_t begin, size_t end);
+void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const unsigned char *usable, const float *G, float *Q,
+                size_t begin, size_t end);
 void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end);
 
 /* The density of reprojected samples. Samples lie uniformly on the light, so those of the

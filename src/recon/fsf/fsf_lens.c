@@ -44,14 +44,6 @@ bool fsf_lens_samples(const SampleStore *st, int width, int height, const float 
     return true;
 }
 
-void fsf_lens_guides(size_t n, float *pos4, float *nrm4)
-{
-    for (size_t i = 0; i < n; ++i) {
-        pos4[4 * i] = pos4[4 * i + 1] = pos4[4 * i + 2] = 0.0f, pos4[4 * i + 3] = 1.0f;
-        nrm4[4 * i] = nrm4[4 * i + 1] = 0.0f, nrm4[4 * i + 2] = 1.0f, nrm4[4 * i + 3] = 0.0f;
-    }
-}
-
 typedef struct {
     const FsfLensIn *in;
     FsfSlopeWindows wnd;

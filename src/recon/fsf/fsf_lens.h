@@ -86,8 +86,4 @@ typedef struct {
  * store lacks depth. */
 bool fsf_lens_params(const FsfLensIn *in, FsfPixel *px, float *k_lo, float *k_hi);
 
-/* Guides that accept every usable neighbour (defocus keeps no per-pixel rejection: see
- * docs/algorithms.md section 10, "Defocus"): pos4 (0, 0, 0, 1), nrm4 (0, 0, 1, 0) for n pixels. */
-void fsf_lens_guides(size_t n, float *pos4, float *nrm4);
-
 #endif

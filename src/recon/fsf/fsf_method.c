@@ -279,10 +279,11 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
     for (size_t i = 0; i < n; ++i) {
         int cnt = sample_store_count(st, i);
         count[i] = cnt;
-        float scale[3];
-        fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
         usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
                     (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE);
+        if (!usable[i]) continue; /* no pass reads its samples (fsf_filter.h) */
+        float scale[3];
+        fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
         for (int k = 0; k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
             const float *s = lf + 5 * slot;
@@ -467,11 +468,9 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     size_t n = (size_t)w * (size_t)h;
     Buffers b;
     if (!buffers_alloc(m, &b, d)) return false;
-    float *guide = malloc(n * 8 * sizeof(float));
-    bool ok = guide != NULL;
-    if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
+    bool ok = true;
     long long nonfinite = 0;
-    if (ok && !fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
+    if (!fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
@@ -484,14 +483,12 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF lens parameters (or no depth field)");
     }
-    if (ok) fsf_lens_guides(n, guide, guide + 4 * n);
     FsfGrid grid = fsf_lens_grid();
-    FsfGuides gd = fsf_guides_default(guide, guide ? guide + 4 * n : NULL, b.usable);
+    FsfGuides gd = fsf_guides_unguided(b.usable); /* defocus rejects no neighbour */
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b.k_lo[i], b.k_hi[i]) ? 1.0f : 0.0f;
-    free(guide);
     buffers_free(&b);
     return ok;
 }
