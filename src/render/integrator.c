@@ -335,19 +335,14 @@ float integrator_fixed_time01(const IntegratorScene *sc) { return shutter_time01
 /* The record of a sample that has seen nothing yet. Field by field rather than
  * `*rec = (SampleRecord){0}`: the compiler turns that into a `rep stos` over the whole
  * record, whose start-up cost was a visible part of a sample; these are a few vector
- * stores. The ray geometry arrays are cleared too (the record is filled completely). */
+ * stores. The ray geometry arrays are cleared too. Fields that are always written later
+ * are left alone: the lens and time (wave_camera_sample) and the first hit's fields
+ * (wave_first_hit, on a hit and on a miss), so the record is still filled completely. */
 static inline void record_reset(SampleRecord *rec)
 {
     const vec3 zero = v3s(0.0f);
-    rec->lens_u = rec->lens_v = rec->time = 0.0f;
     rec->L = rec->emission = rec->direct = rec->indirect = rec->unfiltered = rec->unfiltered_direct = zero;
     rec->hit = false;
-    rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
-    rec->phong_exponent = 0.0f;
-    rec->unfilterable = false;
-    rec->p_world = rec->n_shading = zero;
-    rec->depth_cam = INFINITY;
-    rec->object_id = -1;
     rec->motion_px[0] = rec->motion_px[1] = 0.0f;
     rec->shadow_count = rec->bounce_count = 0;
     rec->shadow[0] = (ShadowRayRecord){0};
@@ -608,6 +603,14 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
 {
     p->alive = false;
     if (!found) {
+        /* what record_reset leaves to this function: a miss's first-hit fields */
+        const vec3 zero = v3s(0.0f);
+        rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
+        rec->phong_exponent = 0.0f;
+        rec->unfilterable = false;
+        rec->p_world = rec->n_shading = zero;
+        rec->depth_cam = INFINITY;
+        rec->object_id = -1;
         /* camera rays see infinite lights directly (no MIS: nothing else samples them) */
         vec3 env = v3s(0.0f);
         for (int k = 0; k < sc->lights->infinite_count; ++k)
@@ -621,7 +624,8 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
     rec->hit = true;
     record_first_hit_material(v, rec);
     rec->p_world = h->p;
-    rec->n_shading = v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns; /* towards the camera, any material */
+    /* towards the camera, any material (a Lambert vertex's n is already that) */
+    rec->n_shading = v->glossy ? (v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns) : v->n;
     rec->object_id = h->object_id;
     rec->depth_cam = camera_depth(sc->camera, h->p, p->time01);
     if (sc->record_motion) first_hit_motion(sc, h, p->time01, rec->motion_px);
@@ -789,6 +793,26 @@ static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p,
     return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
 }
 
+/* What a Lambert receiver's response to a light needs of the receiver alone: the same for
+ * every light lit at the vertex (the picked light and the delta lights of
+ * LightSet.delta_every), so found once per vertex instead of once per light. */
+typedef struct {
+    vec3 n;
+    float cos_o;       /* cos of wo at n (bsdf_diffuse_f's cos_wo) */
+    vec3 f_lit;        /* bsdf_diffuse_f on the lit side: albedo / pi */
+    bool f_lit_sends;  /* !max_component_nonpositive(f_lit) */
+} LambertReceiver;
+
+static inline LambertReceiver lambert_receiver(const Vertex *v)
+{
+    LambertReceiver r;
+    r.n = v->n;
+    r.cos_o = v3_dot(v->n, v->wo);
+    r.f_lit = v3_scale(v->albedo, 0.318309886f);
+    r.f_lit_sends = !max_component_nonpositive(r.f_lit);
+    return r;
+}
+
 /* A Lambert receiver's response to light arriving from wi with radiance Li, computed for
  * either side of the receiver so that the side is a value, not a branch: bsdf_diffuse_f and
  * bsdf_diffuse_pdf, |cos_i|, and whether light_prepare_sampled would send the shadow ray
@@ -799,16 +823,15 @@ typedef struct {
     bool sends;
 } LambertLight;
 
-static inline LambertLight lambert_light(const Vertex *v, vec3 wi, vec3 Li)
+static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec3 Li)
 {
-    float cos_i = v3_dot(v->n, wi), cos_o = v3_dot(v->n, v->wo);
-    bool same_side = !(cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
-    vec3 f_lit = v3_scale(v->albedo, 0.318309886f);
+    float cos_i = v3_dot(rv->n, wi);
+    bool same_side = !(rv->cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
     LambertLight r;
-    r.f = same_side ? f_lit : v3s(0.0f);
+    r.f = same_side ? rv->f_lit : v3s(0.0f);
     r.cos_i_abs = fabsf(cos_i);
     r.pdf = same_side ? r.cos_i_abs * 0.318309886f : 0.0f;
-    r.sends = same_side & !max_component_nonpositive(f_lit) & !max_component_nonpositive(Li);
+    r.sends = same_side & rv->f_lit_sends & !max_component_nonpositive(Li);
     return r;
 }
 
@@ -824,7 +847,6 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     const WaveTriangleSamples *g = &w->tri[p->tri_group];
     int k = p->tri_lane;
     const Light *l = &sc->lights->lights[u->light_index];
-    const Vertex *v = &p->v;
     LightPending *lp = &p->lp;
     lp->ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k], v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]),
                            l->tri_n, l->tri_err, l->L, g->pdf[k], false};
@@ -832,7 +854,8 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     lp->pmf = u->light_pmf;
     lp->is_area = true;
     /* vertex_f's Lambert case; g->ok: the sample exists and the light faces the receiver */
-    LambertLight resp = lambert_light(v, lp->ls.wi, l->L);
+    LambertReceiver rv = lambert_receiver(&p->v);
+    LambertLight resp = lambert_light(&rv, lp->ls.wi, l->L);
     lp->f = resp.f;
     lp->cos_i = resp.cos_i_abs;
     lp->pdf_bsdf = resp.pdf;
@@ -887,6 +910,8 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
      * them); the light dimensions go unused (a point has no area). */
     p->delta_first = *n_occ;
     p->delta_count = 0;
+    LambertReceiver rv; /* the Lambert receiver's part of every delta light's response */
+    if (lit && !v->glossy && L->delta_every_count > 0) rv = lambert_receiver(v);
     for (int k = 0; lit && k < L->delta_every_count; ++k) {
         LightPending lp;
         int li = L->delta_every[k];
@@ -912,7 +937,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
                 o = v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]), dir = v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]);
                 len = ps->len[m];
             }
-            LambertLight resp = lambert_light(v, wi, Li);
+            LambertLight resp = lambert_light(&rv, wi, Li);
             bool len_ok = len > 0.0f;
             w->ray_occ[*n_occ] = (TracerRay){o, dir, len, p->time01, light->shadow_skip_mask};
             w->delta_value[*n_occ] = v3_scale(v3_mul(resp.f, Li), resp.cos_i_abs);
