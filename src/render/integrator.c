@@ -994,6 +994,19 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
 }
 
+/* The sum of path p's unoccluded delta-light values, each guarded (guard3). Its caller adds
+ * them unguarded and comes here only when that sum is not finite: a non-finite value makes
+ * the sum non-finite (inf and NaN absorb finite terms), and a sum of finite values equals
+ * the guarded sum, so the result and the count of guarded events are the same either way
+ * (one finite test a vertex instead of one per value). */
+static vec3 delta_sum_guarded(const Wave *w, const WavePath *p, IntegratorStats *st)
+{
+    vec3 sum = v3s(0.0f);
+    for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
+        if (!w->occluded[k]) sum = v3_add(sum, guard3(w->delta_value[k], st));
+    return sum;
+}
+
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
  * found, added to the record, and the next vertex (or the end of the path). */
 static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
@@ -1019,7 +1032,8 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
     }
     vec3 l_delta = v3s(0.0f);
     for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
-        if (!w->occluded[k]) l_delta = v3_add(l_delta, guard3(w->delta_value[k], st));
+        if (!w->occluded[k]) l_delta = v3_add(l_delta, w->delta_value[k]);
+    if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, p, st);
     vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
     *bucket = v3_add(*bucket, v3_add(ld, ld_delta));
     /* A point, spot or distant light casts hard shadows: in a scene with area lights, whose
@@ -1118,10 +1132,16 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
     for (int j = 0; j < n; ++j) {
         SampleRecord *rec = &recs[j];
         if (!rec->hit) continue;
-        rec->direct = guard3(rec->direct, st);
-        rec->indirect = guard3(rec->indirect, st);
-        rec->unfiltered = guard3(rec->unfiltered, st);
-        rec->unfiltered_direct = guard3(rec->unfiltered_direct, st);
+        /* guard3 of each sum, tested at once: a non-finite component makes the total
+         * non-finite, and when the total is finite so is every term (an overflowing total
+         * of finite terms only sends them to the test one by one) */
+        vec3 all = v3_add(v3_add(rec->direct, rec->indirect), v3_add(rec->unfiltered, rec->unfiltered_direct));
+        if (!finite3(all)) {
+            rec->direct = guard3(rec->direct, st);
+            rec->indirect = guard3(rec->indirect, st);
+            rec->unfiltered = guard3(rec->unfiltered, st);
+            rec->unfiltered_direct = guard3(rec->unfiltered_direct, st);
+        }
         rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
     }
     return n;
