@@ -472,6 +472,10 @@ struct Wave {
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
     WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
     int tri_groups;
+    /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
+     * closest-hit slot its origin, direction, path and answer */
+    float box_o[3][WAVE_SAMPLES], box_d[3][WAVE_SAMPLES];
+    int box_path[WAVE_SAMPLES], box_may[WAVE_SAMPLES];
 };
 
 Wave *wave_create(void) { return malloc(sizeof(Wave)); }
@@ -868,6 +872,16 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     return sends & len_ok;
 }
 
+/* Without infinite lights, and unless the filters record where it ends, a path's last ray
+ * that misses the emitters' box finds no emission: its estimate is 0 without tracing it,
+ * exactly as wave_vertex_fold computes it for a miss (light_bounds.c). Whether the stage at
+ * `depth` asks that of its closest-hit rays (all of them are then last rays): */
+static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
+{
+    return depth == sc->max_depth && sc->lights->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
+           sc->lights->emitters_bounded;
+}
+
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. */
 static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
@@ -979,19 +993,43 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     p->hit_slot = -1;
     vec3 o = surface_offset(&v->hit, p->vs.wi);
     /* The last ray of a path only finds emitters for MIS of direct light; the others carry
-     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Without
-     * infinite lights, and unless the filters record where it ends, a last ray that misses
-     * the emitters' box finds no emission: its estimate is 0 without tracing it, exactly
-     * as wave_vertex_fold computes it for a miss (light_bounds.c). */
-    if (depth == sc->max_depth && L->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
-        !lights_ray_may_reach_emitter(L, o, p->vs.wi)) {
-        ++st->rays_bsdf_skipped;
-        return;
-    }
+     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Rays that
+     * wave_emitter_box_test may drop are counted there. */
+    bool box_test = emitter_box_test(sc, depth);
     if (depth < sc->max_depth) ++st->rays_indirect;
-    else ++st->rays_bsdf;
+    else if (!box_test) ++st->rays_bsdf;
     p->hit_slot = (*n_hit)++;
     w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
+    if (box_test) {
+        int k = p->hit_slot;
+        w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
+        w->box_d[0][k] = p->vs.wi.x, w->box_d[1][k] = p->vs.wi.y, w->box_d[2][k] = p->vs.wi.z;
+        w->box_path[k] = j;
+    }
+}
+
+/* The box test for the stage's n_hit queued last rays at once (lights_rays_may_reach_emitter,
+ * one vectorised loop, instead of a call per ray): the rays that may reach an emitter keep
+ * their order and move down to [0, count), their paths' hit_slot follows them, the others'
+ * becomes -1 (not traced). Returns count. The same rays are traced and skipped as by a test
+ * per ray, and the same counts reported. */
+static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, IntegratorStats *st)
+{
+    const float *o[3] = {w->box_o[0], w->box_o[1], w->box_o[2]}, *d[3] = {w->box_d[0], w->box_d[1], w->box_d[2]};
+    lights_rays_may_reach_emitter(sc->lights, n_hit, o, d, w->box_may);
+    int count = 0;
+    for (int k = 0; k < n_hit; ++k) {
+        WavePath *p = &w->path[w->box_path[k]];
+        if (!w->box_may[k]) {
+            p->hit_slot = -1;
+            continue;
+        }
+        w->ray_hit[count] = w->ray_hit[k];
+        p->hit_slot = count++;
+    }
+    st->rays_bsdf += count;
+    st->rays_bsdf_skipped += n_hit - count;
+    return count;
 }
 
 /* The sum of path p's unoccluded delta-light values, each guarded (guard3). Its caller adds
@@ -1118,6 +1156,7 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         wave_triangle_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
+        if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
