@@ -87,8 +87,10 @@ static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
         v->wo_l = to_local(v, wo);
         v->albedo = v3s(0.0f);
     } else {
-        /* an untextured diffuse material's albedo is its reflectance, without the call */
-        v->albedo = material_textured(mt, mat) ? material_albedo(mt, m, h->uv, h->p) : mat->reflectance;
+        /* an untextured diffuse material's albedo is its reflectance, without the call; a
+         * textured one's is material_albedo's, without its look-up of mat (mat is diffuse:
+         * material_resolve leaves a diffuse or a glossy material) */
+        v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
         v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
         v3_basis(v->n, &v->t1, &v->t2);
     }

@@ -371,7 +371,11 @@ vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world)
         return mat->color_tex >= 0 ? clamp01(texture_eval(table, mat->color_tex, uv, p_world, 0)) : mat->glossy.color;
     }
     if (mat->kind == MATERIAL_MIX) return v3s(0.5f);
-    if (material_textured(table, mat))
-        return clamp01(texture_eval(table, mat->texture, uv, p_world, 0));
+    if (material_textured(table, mat)) return material_diffuse_albedo(table, mat, uv, p_world);
     return mat->reflectance;
+}
+
+vec3 material_diffuse_albedo(const MaterialTable *table, const Material *mat, vec2 uv, vec3 p_world)
+{
+    return clamp01(texture_eval(table, mat->texture, uv, p_world, 0));
 }
