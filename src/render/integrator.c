@@ -87,8 +87,10 @@ static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
         v->wo_l = to_local(v, wo);
         v->albedo = v3s(0.0f);
     } else {
-        /* an untextured diffuse material's albedo is its reflectance, without the call */
-        v->albedo = material_textured(mt, mat) ? material_albedo(mt, m, h->uv, h->p) : mat->reflectance;
+        /* an untextured diffuse material's albedo is its reflectance, without the call; a
+         * textured one's is material_albedo's, without its look-up of mat (mat is diffuse:
+         * material_resolve leaves a diffuse or a glossy material) */
+        v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
         v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
         v3_basis(v->n, &v->t1, &v->t2);
     }
@@ -335,19 +337,14 @@ float integrator_fixed_time01(const IntegratorScene *sc) { return shutter_time01
 /* The record of a sample that has seen nothing yet. Field by field rather than
  * `*rec = (SampleRecord){0}`: the compiler turns that into a `rep stos` over the whole
  * record, whose start-up cost was a visible part of a sample; these are a few vector
- * stores. The ray geometry arrays are cleared too (the record is filled completely). */
+ * stores. The ray geometry arrays are cleared too. Fields that are always written later
+ * are left alone: the lens and time (wave_camera_sample) and the first hit's fields
+ * (wave_first_hit, on a hit and on a miss), so the record is still filled completely. */
 static inline void record_reset(SampleRecord *rec)
 {
     const vec3 zero = v3s(0.0f);
-    rec->lens_u = rec->lens_v = rec->time = 0.0f;
     rec->L = rec->emission = rec->direct = rec->indirect = rec->unfiltered = rec->unfiltered_direct = zero;
     rec->hit = false;
-    rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
-    rec->phong_exponent = 0.0f;
-    rec->unfilterable = false;
-    rec->p_world = rec->n_shading = zero;
-    rec->depth_cam = INFINITY;
-    rec->object_id = -1;
     rec->motion_px[0] = rec->motion_px[1] = 0.0f;
     rec->shadow_count = rec->bounce_count = 0;
     rec->shadow[0] = (ShadowRayRecord){0};
@@ -477,6 +474,10 @@ struct Wave {
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
     WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
     int tri_groups;
+    /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
+     * closest-hit slot its origin, direction, path and answer */
+    float box_o[3][WAVE_SAMPLES], box_d[3][WAVE_SAMPLES];
+    int box_path[WAVE_SAMPLES], box_may[WAVE_SAMPLES];
 };
 
 Wave *wave_create(void) { return malloc(sizeof(Wave)); }
@@ -608,6 +609,14 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
 {
     p->alive = false;
     if (!found) {
+        /* what record_reset leaves to this function: a miss's first-hit fields */
+        const vec3 zero = v3s(0.0f);
+        rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
+        rec->phong_exponent = 0.0f;
+        rec->unfilterable = false;
+        rec->p_world = rec->n_shading = zero;
+        rec->depth_cam = INFINITY;
+        rec->object_id = -1;
         /* camera rays see infinite lights directly (no MIS: nothing else samples them) */
         vec3 env = v3s(0.0f);
         for (int k = 0; k < sc->lights->infinite_count; ++k)
@@ -621,7 +630,8 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
     rec->hit = true;
     record_first_hit_material(v, rec);
     rec->p_world = h->p;
-    rec->n_shading = v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns; /* towards the camera, any material */
+    /* towards the camera, any material (a Lambert vertex's n is already that) */
+    rec->n_shading = v->glossy ? (v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns) : v->n;
     rec->object_id = h->object_id;
     rec->depth_cam = camera_depth(sc->camera, h->p, p->time01);
     if (sc->record_motion) first_hit_motion(sc, h, p->time01, rec->motion_px);
@@ -789,6 +799,26 @@ static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p,
     return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
 }
 
+/* What a Lambert receiver's response to a light needs of the receiver alone: the same for
+ * every light lit at the vertex (the picked light and the delta lights of
+ * LightSet.delta_every), so found once per vertex instead of once per light. */
+typedef struct {
+    vec3 n;
+    float cos_o;       /* cos of wo at n (bsdf_diffuse_f's cos_wo) */
+    vec3 f_lit;        /* bsdf_diffuse_f on the lit side: albedo / pi */
+    bool f_lit_sends;  /* !max_component_nonpositive(f_lit) */
+} LambertReceiver;
+
+static inline LambertReceiver lambert_receiver(const Vertex *v)
+{
+    LambertReceiver r;
+    r.n = v->n;
+    r.cos_o = v3_dot(v->n, v->wo);
+    r.f_lit = v3_scale(v->albedo, 0.318309886f);
+    r.f_lit_sends = !max_component_nonpositive(r.f_lit);
+    return r;
+}
+
 /* A Lambert receiver's response to light arriving from wi with radiance Li, computed for
  * either side of the receiver so that the side is a value, not a branch: bsdf_diffuse_f and
  * bsdf_diffuse_pdf, |cos_i|, and whether light_prepare_sampled would send the shadow ray
@@ -799,16 +829,15 @@ typedef struct {
     bool sends;
 } LambertLight;
 
-static inline LambertLight lambert_light(const Vertex *v, vec3 wi, vec3 Li)
+static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec3 Li)
 {
-    float cos_i = v3_dot(v->n, wi), cos_o = v3_dot(v->n, v->wo);
-    bool same_side = !(cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
-    vec3 f_lit = v3_scale(v->albedo, 0.318309886f);
+    float cos_i = v3_dot(rv->n, wi);
+    bool same_side = !(rv->cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
     LambertLight r;
-    r.f = same_side ? f_lit : v3s(0.0f);
+    r.f = same_side ? rv->f_lit : v3s(0.0f);
     r.cos_i_abs = fabsf(cos_i);
     r.pdf = same_side ? r.cos_i_abs * 0.318309886f : 0.0f;
-    r.sends = same_side & !max_component_nonpositive(f_lit) & !max_component_nonpositive(Li);
+    r.sends = same_side & rv->f_lit_sends & !max_component_nonpositive(Li);
     return r;
 }
 
@@ -824,7 +853,6 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     const WaveTriangleSamples *g = &w->tri[p->tri_group];
     int k = p->tri_lane;
     const Light *l = &sc->lights->lights[u->light_index];
-    const Vertex *v = &p->v;
     LightPending *lp = &p->lp;
     lp->ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k], v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]),
                            l->tri_n, l->tri_err, l->L, g->pdf[k], false};
@@ -832,7 +860,8 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     lp->pmf = u->light_pmf;
     lp->is_area = true;
     /* vertex_f's Lambert case; g->ok: the sample exists and the light faces the receiver */
-    LambertLight resp = lambert_light(v, lp->ls.wi, l->L);
+    LambertReceiver rv = lambert_receiver(&p->v);
+    LambertLight resp = lambert_light(&rv, lp->ls.wi, l->L);
     lp->f = resp.f;
     lp->cos_i = resp.cos_i_abs;
     lp->pdf_bsdf = resp.pdf;
@@ -843,6 +872,16 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     st->guarded_events += sends & !len_ok;
     st->rays_shadow += sends & len_ok;
     return sends & len_ok;
+}
+
+/* Without infinite lights, and unless the filters record where it ends, a path's last ray
+ * that misses the emitters' box finds no emission: its estimate is 0 without tracing it,
+ * exactly as wave_vertex_fold computes it for a miss (light_bounds.c). Whether the stage at
+ * `depth` asks that of its closest-hit rays (all of them are then last rays): */
+static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
+{
+    return depth == sc->max_depth && sc->lights->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
+           sc->lights->emitters_bounded;
 }
 
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
@@ -887,6 +926,8 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
      * them); the light dimensions go unused (a point has no area). */
     p->delta_first = *n_occ;
     p->delta_count = 0;
+    LambertReceiver rv; /* the Lambert receiver's part of every delta light's response */
+    if (lit && !v->glossy && L->delta_every_count > 0) rv = lambert_receiver(v);
     for (int k = 0; lit && k < L->delta_every_count; ++k) {
         LightPending lp;
         int li = L->delta_every[k];
@@ -912,7 +953,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
                 o = v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]), dir = v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]);
                 len = ps->len[m];
             }
-            LambertLight resp = lambert_light(v, wi, Li);
+            LambertLight resp = lambert_light(&rv, wi, Li);
             bool len_ok = len > 0.0f;
             w->ray_occ[*n_occ] = (TracerRay){o, dir, len, p->time01, light->shadow_skip_mask};
             w->delta_value[*n_occ] = v3_scale(v3_mul(resp.f, Li), resp.cos_i_abs);
@@ -954,19 +995,56 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     p->hit_slot = -1;
     vec3 o = surface_offset(&v->hit, p->vs.wi);
     /* The last ray of a path only finds emitters for MIS of direct light; the others carry
-     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Without
-     * infinite lights, and unless the filters record where it ends, a last ray that misses
-     * the emitters' box finds no emission: its estimate is 0 without tracing it, exactly
-     * as wave_vertex_fold computes it for a miss (light_bounds.c). */
-    if (depth == sc->max_depth && L->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
-        !lights_ray_may_reach_emitter(L, o, p->vs.wi)) {
-        ++st->rays_bsdf_skipped;
-        return;
-    }
+     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Rays that
+     * wave_emitter_box_test may drop are counted there. */
+    bool box_test = emitter_box_test(sc, depth);
     if (depth < sc->max_depth) ++st->rays_indirect;
-    else ++st->rays_bsdf;
+    else if (!box_test) ++st->rays_bsdf;
     p->hit_slot = (*n_hit)++;
     w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
+    if (box_test) {
+        int k = p->hit_slot;
+        w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
+        w->box_d[0][k] = p->vs.wi.x, w->box_d[1][k] = p->vs.wi.y, w->box_d[2][k] = p->vs.wi.z;
+        w->box_path[k] = j;
+    }
+}
+
+/* The box test for the stage's n_hit queued last rays at once (lights_rays_may_reach_emitter,
+ * one vectorised loop, instead of a call per ray): the rays that may reach an emitter keep
+ * their order and move down to [0, count), their paths' hit_slot follows them, the others'
+ * becomes -1 (not traced). Returns count. The same rays are traced and skipped as by a test
+ * per ray, and the same counts reported. */
+static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, IntegratorStats *st)
+{
+    const float *o[3] = {w->box_o[0], w->box_o[1], w->box_o[2]}, *d[3] = {w->box_d[0], w->box_d[1], w->box_d[2]};
+    lights_rays_may_reach_emitter(sc->lights, n_hit, o, d, w->box_may);
+    int count = 0;
+    for (int k = 0; k < n_hit; ++k) {
+        WavePath *p = &w->path[w->box_path[k]];
+        if (!w->box_may[k]) {
+            p->hit_slot = -1;
+            continue;
+        }
+        w->ray_hit[count] = w->ray_hit[k];
+        p->hit_slot = count++;
+    }
+    st->rays_bsdf += count;
+    st->rays_bsdf_skipped += n_hit - count;
+    return count;
+}
+
+/* The sum of path p's unoccluded delta-light values, each guarded (guard3). Its caller adds
+ * them unguarded and comes here only when that sum is not finite: a non-finite value makes
+ * the sum non-finite (inf and NaN absorb finite terms), and a sum of finite values equals
+ * the guarded sum, so the result and the count of guarded events are the same either way
+ * (one finite test a vertex instead of one per value). */
+static vec3 delta_sum_guarded(const Wave *w, const WavePath *p, IntegratorStats *st)
+{
+    vec3 sum = v3s(0.0f);
+    for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
+        if (!w->occluded[k]) sum = v3_add(sum, guard3(w->delta_value[k], st));
+    return sum;
 }
 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
@@ -994,7 +1072,8 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
     }
     vec3 l_delta = v3s(0.0f);
     for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
-        if (!w->occluded[k]) l_delta = v3_add(l_delta, guard3(w->delta_value[k], st));
+        if (!w->occluded[k]) l_delta = v3_add(l_delta, w->delta_value[k]);
+    if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, p, st);
     vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
     *bucket = v3_add(*bucket, v3_add(ld, ld_delta));
     /* A point, spot or distant light casts hard shadows: in a scene with area lights, whose
@@ -1079,6 +1158,7 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         wave_triangle_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
+        if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
@@ -1093,10 +1173,16 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
     for (int j = 0; j < n; ++j) {
         SampleRecord *rec = &recs[j];
         if (!rec->hit) continue;
-        rec->direct = guard3(rec->direct, st);
-        rec->indirect = guard3(rec->indirect, st);
-        rec->unfiltered = guard3(rec->unfiltered, st);
-        rec->unfiltered_direct = guard3(rec->unfiltered_direct, st);
+        /* guard3 of each sum, tested at once: a non-finite component makes the total
+         * non-finite, and when the total is finite so is every term (an overflowing total
+         * of finite terms only sends them to the test one by one) */
+        vec3 all = v3_add(v3_add(rec->direct, rec->indirect), v3_add(rec->unfiltered, rec->unfiltered_direct));
+        if (!finite3(all)) {
+            rec->direct = guard3(rec->direct, st);
+            rec->indirect = guard3(rec->indirect, st);
+            rec->unfiltered = guard3(rec->unfiltered, st);
+            rec->unfiltered_direct = guard3(rec->unfiltered_direct, st);
+        }
         rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
     }
     return n;

@@ -84,6 +84,9 @@ void lights_bound_emitters(LightSet *set, const Tracer *tr);
 /* False when the ray o + t d (t >= 0, world units) cannot hit any area light: it misses
  * their box. True when it may (or when the box is unbounded). */
 bool lights_ray_may_reach_emitter(const LightSet *set, vec3 o, vec3 d);
+/* The same for n rays given per coordinate (o[axis][k], d[axis][k]): may[k] is 1 exactly
+ * when lights_ray_may_reach_emitter says true for ray k (one vectorised loop). */
+void lights_rays_may_reach_emitter(const LightSet *set, int n, const float *const o[3], const float *const d[3], int *may);
 
 /* Picks a light with probability proportional to power; returns -1 when there is none. */
 int lights_pick(const LightSet *set, float u, float *pmf);

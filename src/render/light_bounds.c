@@ -17,6 +17,7 @@
 #include <math.h>
 
 #include "core/transform.h"
+#include "core/vectorise.h"
 
 /* the padding, relative to the box's largest |coordinate| (1e4 times float rounding) */
 #define LIGHT_BOUND_PAD_REL 1e-3f
@@ -62,6 +63,44 @@ void lights_bound_emitters(LightSet *set, const Tracer *tr)
     float pad = LIGHT_BOUND_PAD_REL * fmax_nonneg(v3_max_abs(lo), v3_max_abs(hi));
     set->emitter_lo = v3_sub(lo, v3s(pad));
     set->emitter_hi = v3_add(hi, v3s(pad));
+}
+
+/* The slab test of lights_ray_may_reach_emitter for n rays at once (o[axis][k], d[axis][k]),
+ * written per lane so that GCC vectorises it: the same operations in the same order (the
+ * selections `a < b ? a : b` are IEEE minimum and maximum instructions with the same
+ * operand for an unordered pair), so may[k] is its answer for ray k bit for bit. */
+static WEDGE_VECTORISED void rays_may_reach_box(int n, const float *const restrict o[3], const float *const restrict d[3],
+                                                 vec3 lo, vec3 hi, int *restrict may)
+{
+    const float *ox = o[0], *oy = o[1], *oz = o[2], *dx = d[0], *dy = d[1], *dz = d[2];
+    for (int k = 0; k < n; ++k) {
+        float t_near = 0.0f, t_far = INFINITY;
+        float inv = 1.0f / dx[k];
+        float t0 = (lo.x - ox[k]) * inv, t1 = (hi.x - ox[k]) * inv;
+        float tn = t0 < t1 ? t0 : t1, tf = t0 < t1 ? t1 : t0;
+        t_near = tn > t_near ? tn : t_near;
+        t_far = tf < t_far ? tf : t_far;
+        inv = 1.0f / dy[k];
+        t0 = (lo.y - oy[k]) * inv, t1 = (hi.y - oy[k]) * inv;
+        tn = t0 < t1 ? t0 : t1, tf = t0 < t1 ? t1 : t0;
+        t_near = tn > t_near ? tn : t_near;
+        t_far = tf < t_far ? tf : t_far;
+        inv = 1.0f / dz[k];
+        t0 = (lo.z - oz[k]) * inv, t1 = (hi.z - oz[k]) * inv;
+        tn = t0 < t1 ? t0 : t1, tf = t0 < t1 ? t1 : t0;
+        t_near = tn > t_near ? tn : t_near;
+        t_far = tf < t_far ? tf : t_far;
+        may[k] = t_near <= t_far;
+    }
+}
+
+void lights_rays_may_reach_emitter(const LightSet *set, int n, const float *const o[3], const float *const d[3], int *may)
+{
+    if (!set->emitters_bounded) {
+        for (int k = 0; k < n; ++k) may[k] = 1;
+        return;
+    }
+    rays_may_reach_box(n, o, d, set->emitter_lo, set->emitter_hi, may);
 }
 
 bool lights_ray_may_reach_emitter(const LightSet *set, vec3 o, vec3 d)

@@ -272,17 +272,37 @@ static inline long floor_to_long(float x)
     return (float)k > x ? k - 1 : k;
 }
 
+static vec3 texture_eval_nested(const MaterialTable *table, const Texture *t, vec2 uv, vec3 p_world, int depth);
+
+/* The argument (tex1 or tex2) a 2D checkerboard shows at uv. */
+static inline TexRef checkerboard_2d_arg(const Texture *t, vec2 uv)
+{
+    float s = uv.x * t->uscale + t->udelta, tt = uv.y * t->vscale + t->vdelta;
+    long k = floor_to_long(s) + floor_to_long(tt);
+    return t->arg[(k & 1) == 0 ? 0 : 1];
+}
+
+/* The common cases (a constant, a 2D checkerboard of two constants) are answered here, in a
+ * function small enough to need no stack frame; the others, which evaluate further textures,
+ * in texture_eval_nested (the same operations either way). */
 vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int depth)
 {
     if (i < 0 || i >= table->texture_count || depth > TEXTURE_MAX_DEPTH) return v3s(0.5f);
     const Texture *t = &table->textures[i];
+    if (t->kind == TEX_CONSTANT) return t->value;
+    if (t->kind == TEX_CHECKERBOARD_2D) {
+        TexRef r = checkerboard_2d_arg(t, uv);
+        if (r.tex < 0) return r.value; /* texref_eval's constant */
+    }
+    return texture_eval_nested(table, t, uv, p_world, depth);
+}
+
+static __attribute__((noinline)) vec3 texture_eval_nested(const MaterialTable *table, const Texture *t, vec2 uv,
+                                                         vec3 p_world, int depth)
+{
     switch (t->kind) {
     case TEX_CONSTANT: return t->value;
-    case TEX_CHECKERBOARD_2D: {
-        float s = uv.x * t->uscale + t->udelta, tt = uv.y * t->vscale + t->vdelta;
-        long k = floor_to_long(s) + floor_to_long(tt);
-        return texref_eval(table, t->arg[(k & 1) == 0 ? 0 : 1], uv, p_world, depth);
-    }
+    case TEX_CHECKERBOARD_2D: return texref_eval(table, checkerboard_2d_arg(t, uv), uv, p_world, depth);
     case TEX_CHECKERBOARD_3D: {
         vec3 p = mat4_apply_point(&t->texture_from_world, p_world);
         long k = floor_to_long(p.x) + floor_to_long(p.y) + floor_to_long(p.z);
@@ -371,7 +391,11 @@ vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world)
         return mat->color_tex >= 0 ? clamp01(texture_eval(table, mat->color_tex, uv, p_world, 0)) : mat->glossy.color;
     }
     if (mat->kind == MATERIAL_MIX) return v3s(0.5f);
-    if (material_textured(table, mat))
-        return clamp01(texture_eval(table, mat->texture, uv, p_world, 0));
+    if (material_textured(table, mat)) return material_diffuse_albedo(table, mat, uv, p_world);
     return mat->reflectance;
+}
+
+vec3 material_diffuse_albedo(const MaterialTable *table, const Material *mat, vec2 uv, vec3 p_world)
+{
+    return clamp01(texture_eval(table, mat->texture, uv, p_world, 0));
 }

@@ -106,6 +106,10 @@ int material_resolve(const MaterialTable *table, int m, vec2 uv, vec3 p_world, v
 /* Diffuse reflectance of concrete material index m (-1 = default) at uv / p_world, clamped
  * to [0,1]. For a glossy material: its diffuse base (coateddiffuse) or 0. */
 vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world);
+/* The same for a diffuse material mat whose reflectance is a texture (material_textured),
+ * given by pointer: its texture at uv / p_world clamped to [0,1], without material_albedo's
+ * look-up and tests of the material's kind (make_vertex knows both). */
+vec3 material_diffuse_albedo(const MaterialTable *table, const Material *mat, vec2 uv, vec3 p_world);
 
 /* The glossy BSDF of material m (kind MATERIAL_GLOSSY) with its textures evaluated. */
 GlossyBsdf material_glossy_bsdf(const MaterialTable *table, const Material *m, vec2 uv, vec3 p_world);

@@ -9,7 +9,12 @@
  *  - The integrator: a render that skips the rays (no records) equals, value for value, one
  *    that traces every first vertex's last ray (records on, so none is skipped), and the
  *    skipped and traced rays add up to the same count. With an infinite light none is
- *    skipped. */
+ *    skipped.
+ *  - The batched test (lights_rays_may_reach_emitter, one vectorised loop) answers as the
+ *    test per ray on every ray: random ones, and the edge cases of the slab test (direction
+ *    components of +-0, origins on the box's faces, a zero direction, NaN and infinite
+ *    components), in odd counts so that the vector loop's remainder runs too. */
+#include <math.h>
 #include <stdint.h>
 
 #include "check.h"
@@ -186,9 +191,58 @@ static void test_skipped_rays_change_nothing(const char *extra, bool expect_skip
     for (int k = 0; k < 2; ++k) test_render_free(&t[k]);
 }
 
+static void test_batch_equals_single(void)
+{
+    Built b;
+    bool built = build(EMITTERS, &b);
+    CHECK(built);
+    if (!built) return;
+    const LightSet *L = &b.L;
+    enum { N = 4099 };
+    static float o[3][N], d[3][N];
+    static int may[N];
+    Pcg32 rng;
+    pcg32_seed(&rng, 7, 3);
+    vec3 lo = L->emitter_lo, hi = L->emitter_hi;
+    const float special[] = {0.0f, -0.0f, INFINITY, -INFINITY, NAN, 1.0f, -1.0f};
+    for (int k = 0; k < N; ++k) {
+        vec3 oo = v3(12.0f * pcg32_float(&rng) - 6.0f, 6.0f * pcg32_float(&rng) - 0.5f, 12.0f * pcg32_float(&rng) - 6.0f);
+        vec3 dd = warp_uniform_sphere(v2(pcg32_float(&rng), pcg32_float(&rng)));
+        float oc[3] = {oo.x, oo.y, oo.z}, dc[3] = {dd.x, dd.y, dd.z};
+        float loc[3] = {lo.x, lo.y, lo.z}, hic[3] = {hi.x, hi.y, hi.z};
+        int axis = k % 3;
+        switch (k % 5) {
+        case 1: dc[axis] = special[(k / 5) % 7]; break;               /* axis-parallel and odd directions */
+        case 2: oc[axis] = (k / 5) % 2 ? loc[axis] : hic[axis];     /* on a face's plane ... */
+                dc[axis] = (k / 10) % 3 == 0 ? 0.0f : dc[axis];       /* ... sometimes parallel to it */
+                break;
+        case 3: dc[0] = dc[1] = dc[2] = 0.0f; break;                  /* no direction */
+        case 4: oc[axis] = special[(k / 5) % 7]; break;               /* odd origins */
+        default: break;
+        }
+        for (int a = 0; a < 3; ++a) o[a][k] = oc[a], d[a][k] = dc[a];
+    }
+    const float *op[3] = {o[0], o[1], o[2]}, *dp[3] = {d[0], d[1], d[2]};
+    int counts[] = {N, 1, 15, 17, 255};
+    int wrong = 0, reach = 0;
+    for (int c = 0; c < 5; ++c) {
+        lights_rays_may_reach_emitter(L, counts[c], op, dp, may);
+        for (int k = 0; k < counts[c]; ++k) {
+            bool single = lights_ray_may_reach_emitter(L, v3(o[0][k], o[1][k], o[2][k]), v3(d[0][k], d[1][k], d[2][k]));
+            wrong += (may[k] != 0) != single;
+            reach += c == 0 && single;
+        }
+    }
+    printf("batched box test: %d of %d rays may reach, %d answers differ\n", reach, N, wrong);
+    CHECK(wrong == 0);
+    CHECK(reach > N / 10 && reach < N - N / 10); /* both answers occur */
+    built_free(&b);
+}
+
 int main(void)
 {
     test_box_oracle();
+    test_batch_equals_single();
     test_moving_emitter();
     test_skipped_rays_change_nothing("", true);
     test_skipped_rays_change_nothing("LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n", false);
