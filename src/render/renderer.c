@@ -438,6 +438,33 @@ static void *pass_worker(void *arg)
     return NULL;
 }
 
+/* One round of a pass: every pixel's sample indices [begin, end), tiles handed out to n
+ * threads (or done here when no thread starts), progress reported while they run. */
+static void run_round(PassJob *job, int begin, int end, pthread_t *tid, int n, long long total, double t0)
+{
+    _Static_assert(WAVE_SAMPLES >= 64, "a pixel's slice of a round (at most 64 samples) fits in one wave");
+    const Renderer *r = job->r;
+    job->sample_begin = begin;
+    job->sample_end = end;
+    job->next_tile = 0;
+    job->workers_done = 0;
+    int started = 0;
+    if (tid)
+        for (; started < n; ++started)
+            if (pthread_create(&tid[started], NULL, pass_worker, job) != 0) break;
+    if (started == 0) pass_worker(job); /* no threads available: do it here */
+    /* Only a progress display needs the calling thread to wake up; poll often enough
+     * that the end of a short round is noticed quickly. */
+    while (r->opt.progress && started > 0 && __atomic_load_n(&job->workers_done, __ATOMIC_ACQUIRE) < started) {
+        RenderProgress p = {__atomic_load_n(&job->samples_done, __ATOMIC_RELAXED), total,
+                            __atomic_load_n(&job->rays_done, __ATOMIC_RELAXED), seconds_now() - t0};
+        r->opt.progress(r->opt.progress_ctx, &p);
+        struct timespec ts = {0, 10 * 1000 * 1000};
+        nanosleep(&ts, NULL);
+    }
+    for (int i = 0; i < started; ++i) pthread_join(tid[i], NULL);
+}
+
 static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_pixel, int spp_uniform, Frame *frame,
                      const SampleSink *sink)
 {
@@ -485,33 +512,12 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     int n = r->threads > 0 ? r->threads : 1;
     pthread_t *tid = calloc((size_t)n, sizeof *tid);
     if (spp_max > 4) job.tile_rows_done = calloc((size_t)job.tile_count, sizeof *job.tile_rows_done);
-    for (int begin = 0, end; begin < spp_max && (!job.cancelled || job.completing); begin = end) {
+    for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
         end = begin == 0 ? (job.tile_rows_done ? 64 : 4) : (begin < 64 ? 64 : begin + 64);
-        if (job.completing) end = 4; /* after a cancelled first round: [0,4) where it did not reach */
-        _Static_assert(WAVE_SAMPLES >= 64, "a pixel's slice of a round (at most 64 samples) fits in one wave");
-        job.sample_begin = begin;
-        job.sample_end = end;
-        job.next_tile = 0;
-        job.workers_done = 0;
-        int started = 0;
-        if (tid)
-            for (; started < n; ++started)
-                if (pthread_create(&tid[started], NULL, pass_worker, &job) != 0) break;
-        if (started == 0) pass_worker(&job); /* no threads available: do it here */
-        /* Only a progress display needs the calling thread to wake up; poll often enough
-         * that the end of a short round is noticed quickly. */
-        while (r->opt.progress && started > 0 && __atomic_load_n(&job.workers_done, __ATOMIC_ACQUIRE) < started) {
-            RenderProgress p = {__atomic_load_n(&job.samples_done, __ATOMIC_RELAXED), total,
-                                __atomic_load_n(&job.rays_done, __ATOMIC_RELAXED), seconds_now() - t0};
-            r->opt.progress(r->opt.progress_ctx, &p);
-            struct timespec ts = {0, 10 * 1000 * 1000};
-            nanosleep(&ts, NULL);
-        }
-        for (int i = 0; i < started; ++i) pthread_join(tid[i], NULL);
-        if (job.completing) break;
+        run_round(&job, begin, end, tid, n, total, t0);
         if (begin == 0 && job.cancelled && job.tile_rows_done) {
-            job.completing = true; /* the next round completes [0,4) */
-            end = 0;
+            job.completing = true; /* [0,4) where the cancelled first round did not reach */
+            run_round(&job, 0, 4, tid, n, total, t0);
         }
     }
     free(tid);
