@@ -167,9 +167,19 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * reconstructs, so only it loads the driver: the other ranks would spend the same 30-40
      * ms of CPU before their first sample, which rank 0's first gather then waits for (a bad
      * --cl-device still stops every rank: the caller's dist_max_int). */
-    if (p->filtering && is_root(p) && !cl_runtime_check_device(o->cl_device, d)) {
-        free(p);
-        return false;
+    if (p->filtering && is_root(p)) {
+        /* the driver starts its worker threads here (PoCL: one per core of the machine), and
+         * they inherit this thread's cores: with several ranks, every core of the node's
+         * ranks, which wait while rank 0 reconstructs (dist_node_cpus) */
+        int before[256], before_count = getenv("WEDGE_DIST_LOG") ? dist_thread_ids(before, 256) : 0;
+        dist_node_cpus(o->dist, true);
+        bool ok = cl_runtime_check_device(o->cl_device, d);
+        dist_node_cpus(o->dist, false);
+        if (before_count > 0 && distributed(p)) dist_log_new_threads(o->dist, before, before_count, "driver");
+        if (!ok) {
+            free(p);
+            return false;
+        }
     }
     if (!overscan_begin(p, d)) {
         free(p);
@@ -327,6 +337,14 @@ static bool rebalance(ReconPipeline *p, const int *counts, int pass, Diag *d)
         fprintf(stderr, "dist: pass %d: %lld of %d tiles changed owner\n", p->pass + 1, dist->tiles_moved - moved,
                 dist->tile_count);
     return dist_handover(dist, a, n, pass, d);
+}
+
+/* Rank 0's cores: its own while it traces (the other ranks trace on theirs), the node's
+ * otherwise (they wait for its plan and reconstruction, whose threads it starts; see
+ * dist_node_cpus). Its render threads, started by the pass, inherit the calling thread's. */
+static void rank0_tracing(ReconPipeline *p, bool tracing)
+{
+    if (distributed(p) && is_root(p)) dist_node_cpus(p->opt.dist, !tracing);
 }
 
 /* Every sample goes to the guides, the store and each method, in that order. */
@@ -565,6 +583,10 @@ static void *opener_main(void *arg)
 {
     DeviceOpener *op = arg;
     ReconPipeline *p = op->p;
+    /* it builds the kernels beside pass 1's tracing: on any core of the node, so that its
+     * 50 ms of CPU fall on whichever rank's core the system finds free, not all on rank 0's
+     * (whose tiles would finish last) */
+    dist_node_cpus(p->opt.dist, true);
     double t0 = wall_seconds();
     op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
     for (int s = 0; op->rt && s < p->slot_count; ++s)
@@ -714,7 +736,9 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
         return false;
     }
+    rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
+    rank0_tracing(p, false);
     if (!gather_pass(p, 0, NULL, spp, &complete, d)) return false;
     p->res.cancelled = !complete;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
@@ -751,7 +775,9 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     begin_pass(p, 0, geometry);
     double t = wall_seconds();
     int pass1 = p->res.pass1_spp;
+    rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
+    rank0_tracing(p, false);
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
     if (!gather_pass(p, 0, NULL, pass1, &complete, d)) {
@@ -789,7 +815,9 @@ static bool render_frame(ReconPipeline *p, Diag *d)
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
             begin_pass(p, 1, false);
             t = wall_seconds();
+            rank0_tracing(p, true);
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
+            rank0_tracing(p, false);
             t_trace += wall_seconds() - t;
             dist_mark(p, "pass2");
             if (!gather_pass(p, 1, p->spp_extra, 0, &complete, d)) {
@@ -846,7 +874,9 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
         if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
             return false;
         double t = wall_seconds();
+        rank0_tracing(p, true);
         bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
+        rank0_tracing(p, false);
         t_trace += wall_seconds() - t;
         if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
         p->res.cancelled = !complete;
@@ -885,7 +915,9 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
     SampleSink sink = {fan_out, p};
     begin_pass(p, p->pass, false);
     double t = wall_seconds();
+    rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);
+    rank0_tracing(p, false);
     t_trace += wall_seconds() - t;
     if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
