@@ -79,6 +79,10 @@ void dist_node_cpus(const ReconDist *d, bool on)
 {
 #ifdef __linux__
     if (!d || !d->cpus_known || memcmp(d->own_cpus, d->node_cpus, DIST_CPU_BYTES) == 0) return;
+    /* WEDGE_DIST_CORES=own (for measuring against it): every thread on its rank's cores */
+    static int own_only = -1;
+    if (own_only < 0) own_only = getenv("WEDGE_DIST_CORES") && strcmp(getenv("WEDGE_DIST_CORES"), "own") == 0;
+    if (own_only) return;
     cpu_set_t set;
     memcpy(&set, on ? d->node_cpus : d->own_cpus, sizeof set);
     sched_setaffinity(0, sizeof set, &set); /* the calling thread; a failure leaves it as it was */

@@ -60,6 +60,8 @@ struct ReconPipeline {
     double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended (wall, CPU) */
     double mark_cpu_s[DIST_MARKS];
     long mark_faults[DIST_MARKS]; /* the process's minor page faults: the pages it touched first */
+    double mark_main_cpu_s[DIST_MARKS]; /* the calling (main) thread's CPU: what cannot spread
+                                         * over the node's cores */
     const char *mark_name[DIST_MARKS];
     int mark_count;
     /* overscan (overscan.h): the band traced around the image, and what the caller sees
@@ -224,9 +226,9 @@ const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return p->margin
 /* ---- sampling ---- */
 
 /* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
- * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time and its
- * minor page faults so far), to see where the time of several ranks goes and what memory
- * each touches first (tools/bench-mpi --breakdown) */
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time, its
+ * minor page faults so far and its main thread's CPU time), to see where the time of several
+ * ranks goes and what memory each touches first (tools/bench-mpi --breakdown) */
 static void dist_mark(ReconPipeline *p, const char *what)
 {
     if (p->mark_count >= DIST_MARKS) return;
@@ -239,17 +241,19 @@ static void dist_mark(ReconPipeline *p, const char *what)
     p->mark_faults[p->mark_count] = use.ru_minflt;
     p->mark_name[p->mark_count] = what;
     p->mark_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
+    p->mark_main_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
     p->mark_s[p->mark_count++] = wall_seconds();
 }
 
 static void dist_marks_print(ReconPipeline *p)
 {
     if (getenv("WEDGE_DIST_LOG") && p->opt.dist) { /* one write: mpirun interleaves the ranks' writes */
-        char line[64 * DIST_MARKS];
+        char line[80 * DIST_MARKS];
         int at = snprintf(line, sizeof line, "dist-times rank %d:", p->opt.dist->rank);
         for (int k = 0; k < p->mark_count && at > 0 && (size_t)at < sizeof line; ++k)
-            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f %ld", p->mark_name[k], p->mark_s[k],
-                           p->mark_cpu_s[k], p->mark_faults[k]);
+            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f %ld %.4f", p->mark_name[k], p->mark_s[k],
+                           p->mark_cpu_s[k], p->mark_faults[k], p->mark_main_cpu_s[k]);
         fprintf(stderr, "%s\n", line);
     }
     p->mark_count = 0;
@@ -763,10 +767,17 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     for (int s = 0; s < p->slot_count; ++s) geometry = geometry || (p->slots[s].cls->ray_geometry & p->slots[s].effects);
 
     /* The device opens on rank 0 while pass 1 traces: a fixed-count frame (LR) has no pass 2
-     * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. */
+     * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. With several ranks
+     * and a pass 2, once rank 0's pass-1 tiles are traced instead: beside its tracing it made
+     * rank 0 the last to reach the first gather (the opening's CPU on top of an equal share
+     * of tiles, 0.02-0.06 s), whereas after it the opening overlaps rank 0's gather and plan
+     * on the node's other cores, where the other ranks wait (dist_node_cpus).
+     * WEDGE_DIST_OPEN=pass1 (for measuring against it): beside pass 1 on every frame. */
     DeviceOpener opener;
     bool opened = false;
-    if (is_root(p)) {
+    bool open_late = distributed(p) && !p->fixed_only &&
+                     !(getenv("WEDGE_DIST_OPEN") && strcmp(getenv("WEDGE_DIST_OPEN"), "pass1") == 0);
+    if (is_root(p) && !open_late) {
         opener_start(&opener, p);
         opened = true;
     }
@@ -778,6 +789,10 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     rank0_tracing(p, false);
+    if (is_root(p) && open_late) {
+        opener_start(&opener, p);
+        opened = true;
+    }
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
     if (!gather_pass(p, 0, NULL, pass1, &complete, d)) {
