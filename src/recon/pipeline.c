@@ -789,12 +789,12 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     rank0_tracing(p, false);
+    t_trace += wall_seconds() - t;
+    dist_mark(p, "pass1");
     if (is_root(p) && open_late) {
         opener_start(&opener, p);
         opened = true;
     }
-    t_trace += wall_seconds() - t;
-    dist_mark(p, "pass1");
     if (!gather_pass(p, 0, NULL, pass1, &complete, d)) {
         if (opened) opener_join(&opener, p, NULL);
         return false;
