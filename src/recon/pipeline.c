@@ -587,9 +587,10 @@ static void *opener_main(void *arg)
 {
     DeviceOpener *op = arg;
     ReconPipeline *p = op->p;
-    /* it builds the kernels beside pass 1's tracing: on any core of the node, so that its
-     * 50 ms of CPU fall on whichever rank's core the system finds free, not all on rank 0's
-     * (whose tiles would finish last) */
+    /* on any core of the node's ranks: after rank 0's pass-1 tiles (several ranks and a pass
+     * 2), those of the ranks that wait for rank 0's gather and plan; beside pass 1 (a
+     * fixed-count frame), whichever the system finds free rather than only rank 0's, whose
+     * tiles would finish last (its 10-60 ms of CPU) */
     dist_node_cpus(p->opt.dist, true);
     double t0 = wall_seconds();
     op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
