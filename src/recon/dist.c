@@ -91,6 +91,19 @@ void dist_node_cpus(const ReconDist *d, bool on)
 #endif
 }
 
+int dist_own_cores(const ReconDist *d)
+{
+#ifdef __linux__
+    if (!d || !d->cpus_known) return 0;
+    cpu_set_t set;
+    memcpy(&set, d->own_cpus, sizeof set);
+    return CPU_COUNT(&set);
+#else
+    (void)d;
+    return 0;
+#endif
+}
+
 int dist_thread_ids(int *tid, int max)
 {
     DIR *dir = opendir("/proc/self/task");

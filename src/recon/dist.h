@@ -96,6 +96,10 @@ bool dist_available(void);
  * starts) and off for tracing, so that its render threads keep to its core while the others
  * trace. No-op when the masks are not known (no MPI, not Linux) or equal (not bound). */
 void dist_node_cpus(const ReconDist *d, bool on);
+/* The cores this rank was bound to at start (0: not known, e.g. without MPI): the default
+ * count of render threads under mpirun, rather than every core of the node, which ranks
+ * bound to a core each would crowd onto that core. */
+int dist_own_cores(const ReconDist *d);
 /* The calling process's thread ids (up to max, from /proc/self/task); their count, 0 when
  * unknown. For dist_log_new_threads. */
 int dist_thread_ids(int *tid, int max);

@@ -5,7 +5,8 @@
 # change owner (balanced by their planned samples); the report says how many
 # ranks and how many bytes each pass sent; a bad scene is reported once with exit 2; a rank
 # that dies makes the job fail, not hang; the exchanges in small rounds give the same image;
-# with each rank bound to a core, rank 0's OpenCL driver threads may use the node's cores. Skipped for a build without MPI; a build with MPI
+# with each rank bound to a core, rank 0's OpenCL driver threads may use the node's cores and
+# a rank starts one render thread per core it is bound to. Skipped for a build without MPI; a build with MPI
 # and no mpirun fails (tools/setup installs Open MPI).
 set -u
 . "$(dirname "$0")/../lib.sh"
@@ -154,6 +155,18 @@ if json.load(open(sys.argv[2]))["mse"] != 0: bad.append("image differs")
 if bad:
     print("FAIL: --bind-to core: " + "; ".join(bad)); sys.exit(1)
 print("--bind-to core: rank 0 on %s, its %d driver threads on %s, identical" % (sorted(own), len(driver), sorted(node)))
+PY
+    # without --threads a bound rank starts one render thread per core it is bound to (here
+    # one), not one per core of the machine on that core; the image is the same
+    timeout 300 mpirun -np 2 --bind-to core "$WEDGE" render "$scene" --res 40x30 --seed 7 --filter aaf --quiet \
+        -o "$T/bind-threads.exr" --report "$T/bind-threads.json" >"$T/out.txt" 2>&1 || { echo "FAIL: mpirun --bind-to core without --threads"; cat "$T/out.txt"; fail=1; }
+    "$WEDGE" compare "$T/one-aaf.exr" "$T/bind-threads.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; }
+    python3 - "$T/bind-threads.json" "$T/cmp.json" <<'PY' || fail=1
+import json, sys
+r, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+if r["threads"] != 1 or c["mse"] != 0:
+    print("FAIL: --bind-to core without --threads: %s render threads (expected 1), mse %g" % (r["threads"], c["mse"])); sys.exit(1)
+print("--bind-to core without --threads: 1 render thread, identical")
 PY
 fi
 # a bad scene: one message (rank 0's), exit 2
