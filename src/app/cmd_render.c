@@ -57,7 +57,7 @@ static void usage(FILE *f)
             "                  filter's own, set by --mu)\n"
             "  --res WxH       image size in pixels (default: the scene's film)\n"
             "  --seed N        random seed (default 0); the image depends only on the seed\n"
-            "  --threads N     worker threads (default: all cores)\n"
+            "  --threads N     worker threads (default: all cores; under mpirun, the rank's bound cores)\n"
             "  --aovs          add EXR layers albedo, N, Z, direct, indirect, emission, spp\n"
             "  --report FILE   write a JSON run report\n"
             "  --quiet         no progress bar and no warnings on stderr\n"
@@ -246,6 +246,9 @@ static int render_command(int argc, char **argv, ReconDist *dist)
 
     RenderOptions ro = {0};
     ro.width = a.width, ro.height = a.height, ro.seed = a.seed, ro.threads = a.threads;
+    /* under mpirun, by default as many render threads as cores the rank is bound to (one with
+     * Open MPI's default for up to 2 ranks), not one per core of the node on that one core */
+    if (ro.threads <= 0 && dist->ranks > 1) ro.threads = dist_own_cores(dist);
     ro.spp = a.time_budget > 0.0 || a.checkpoint > 0.0 ? 0 : a.spp; /* progressive: the target, not the first step */
     ro.sampler_set = a.sampler_set, ro.sampler = a.sampler;
     ro.pixel_filter = a.pixel_filter;

@@ -1,11 +1,19 @@
 /* Several ranks, one frame (see dist.h). */
+#define _GNU_SOURCE /* sched_setaffinity, cpu_set_t (Linux) */
 #include "recon/dist.h"
 
+#include <dirent.h>
 #include <limits.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+#ifdef __linux__
+#include <sched.h>
+_Static_assert(sizeof(cpu_set_t) == DIST_CPU_BYTES, "a core mask is the C library's cpu_set_t");
+#endif
 
 #ifdef WEDGE_MPI
 #include <mpi.h>
@@ -35,6 +43,121 @@ static bool launched_by_mpirun(void)
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMIX_RANK");
 }
 
+#ifdef WEDGE_MPI
+/* The union of the core masks of the ranks that share this rank's node (a communicator of
+ * the ranks that can share memory: one node), gathered once at start. */
+static void node_cpus_init(ReconDist *d)
+{
+#ifdef __linux__
+    cpu_set_t own;
+    CPU_ZERO(&own);
+    if (sched_getaffinity(0, sizeof own, &own) != 0) CPU_ZERO(&own); /* unknown: still take part */
+    MPI_Comm node;
+    if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) != MPI_SUCCESS) return;
+    MPI_Comm_set_errhandler(node, MPI_ERRORS_RETURN);
+    int n = 0;
+    MPI_Comm_size(node, &n);
+    cpu_set_t *all = malloc((size_t)n * sizeof *all);
+    if (all && MPI_Allgather(&own, (int)sizeof own, MPI_BYTE, all, (int)sizeof own, MPI_BYTE, node) == MPI_SUCCESS &&
+        CPU_COUNT(&own) > 0) {
+        cpu_set_t any;
+        CPU_ZERO(&any);
+        for (int k = 0; k < n; ++k) CPU_OR(&any, &any, &all[k]);
+        memcpy(d->own_cpus, &own, sizeof own);
+        memcpy(d->node_cpus, &any, sizeof any);
+        d->cpus_known = true;
+    }
+    free(all);
+    MPI_Comm_free(&node);
+#else
+    (void)d;
+#endif
+}
+#endif
+
+void dist_node_cpus(const ReconDist *d, bool on)
+{
+#ifdef __linux__
+    if (!d || !d->cpus_known || memcmp(d->own_cpus, d->node_cpus, DIST_CPU_BYTES) == 0) return;
+    /* WEDGE_DIST_CORES=own (for measuring against it): every thread on its rank's cores */
+    static int own_only = -1;
+    if (own_only < 0) own_only = getenv("WEDGE_DIST_CORES") && strcmp(getenv("WEDGE_DIST_CORES"), "own") == 0;
+    if (own_only) return;
+    cpu_set_t set;
+    memcpy(&set, on ? d->node_cpus : d->own_cpus, sizeof set);
+    sched_setaffinity(0, sizeof set, &set); /* the calling thread; a failure leaves it as it was */
+#else
+    (void)d, (void)on;
+#endif
+}
+
+int dist_own_cores(const ReconDist *d)
+{
+#ifdef __linux__
+    if (!d || !d->cpus_known) return 0;
+    cpu_set_t set;
+    memcpy(&set, d->own_cpus, sizeof set);
+    return CPU_COUNT(&set);
+#else
+    (void)d;
+    return 0;
+#endif
+}
+
+int dist_thread_ids(int *tid, int max)
+{
+    DIR *dir = opendir("/proc/self/task");
+    int n = 0;
+    for (struct dirent *e; dir && n < max && (e = readdir(dir));)
+        if (e->d_name[0] != '.') tid[n++] = atoi(e->d_name);
+    if (dir) closedir(dir);
+    return n;
+}
+
+#ifdef __linux__
+/* Appends " " and the cores of mask (a cpu_set_t's bytes) as a list ("0-3,6", "-" for none)
+ * to out (n bytes, at *at). */
+static void append_cpus(const unsigned char *mask, char *out, size_t n, int *at)
+{
+    cpu_set_t set;
+    memcpy(&set, mask, sizeof set);
+    const char *sep = " ";
+    for (int c = 0; c < CPU_SETSIZE && *at >= 0 && (size_t)*at < n; ++c) {
+        if (!CPU_ISSET(c, &set) || (c > 0 && CPU_ISSET(c - 1, &set))) continue; /* not a run's first */
+        int last = c;
+        while (last + 1 < CPU_SETSIZE && CPU_ISSET(last + 1, &set)) ++last;
+        *at += last > c ? snprintf(out + *at, n - (size_t)*at, "%s%d-%d", sep, c, last)
+                        : snprintf(out + *at, n - (size_t)*at, "%s%d", sep, c);
+        sep = ",";
+    }
+    if (*sep == ' ' && *at >= 0 && (size_t)*at < n) *at += snprintf(out + *at, n - (size_t)*at, " -");
+}
+#endif
+
+void dist_log_new_threads(const ReconDist *d, const int *before, int before_count, const char *what)
+{
+#ifdef __linux__
+    if (!d || !getenv("WEDGE_DIST_LOG")) return;
+    char line[2048];
+    int at = snprintf(line, sizeof line, "dist-cpus rank %d: own", d->rank);
+    append_cpus(d->own_cpus, line, sizeof line, &at);
+    at += snprintf(line + at, sizeof line - (size_t)at, " node");
+    append_cpus(d->node_cpus, line, sizeof line, &at);
+    at += snprintf(line + at, sizeof line - (size_t)at, " %s", what);
+    int now[256], n = dist_thread_ids(now, 256);
+    for (int k = 0; k < n && at > 0 && (size_t)at < sizeof line; ++k) {
+        bool old = false;
+        for (int j = 0; j < before_count && !old; ++j) old = before[j] == now[k];
+        cpu_set_t set;
+        if (old || sched_getaffinity(now[k], sizeof set, &set) != 0) continue;
+        append_cpus((const unsigned char *)&set, line, sizeof line, &at);
+    }
+    fprintf(stderr, "%s\n", line); /* one write: mpirun interleaves the ranks' writes */
+#else
+    (void)d, (void)before, (void)before_count, (void)what;
+#endif
+}
+
 void dist_init(int *argc, char ***argv, ReconDist *d)
 {
     memset(d, 0, sizeof *d);
@@ -49,6 +172,7 @@ void dist_init(int *argc, char ***argv, ReconDist *d)
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
     MPI_Comm_rank(MPI_COMM_WORLD, &d->rank);
     MPI_Comm_size(MPI_COMM_WORLD, &d->ranks);
+    node_cpus_init(d);
 #else
     (void)argc, (void)argv;
 #endif

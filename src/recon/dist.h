@@ -45,6 +45,9 @@
 
 #include "core/diag.h"
 
+/* Room for a core mask: 1024 cores, the C library's cpu_set_t. */
+enum { DIST_CPU_BYTES = 128 };
+
 typedef struct {
     int rank, ranks;
     long long bytes_sent[4];    /* rank 0: bytes that crossed between ranks per pass (gathered
@@ -62,6 +65,11 @@ typedef struct {
     unsigned char *xbuf;        /* the exchanges' message buffer (a round's chunk per rank on
                                  * rank 0, one elsewhere), kept between exchanges */
     size_t xbuf_bytes;
+    /* the cores this rank may run on as launched (mpirun binds each rank to a core by default)
+     * and those of every rank on its node, as the bytes of a cpu_set_t; set by
+     * dist_init on Linux, cpus_known false otherwise */
+    unsigned char own_cpus[DIST_CPU_BYTES], node_cpus[DIST_CPU_BYTES];
+    bool cpus_known;
 } ReconDist;
 
 /* A per-pixel array to gather: element p of pixel i is at data + i * bytes_per_pixel. */
@@ -77,6 +85,29 @@ void dist_init(int *argc, char ***argv, ReconDist *d);
 void dist_finish(ReconDist *d);
 /* Whether MPI support was built in. */
 bool dist_available(void);
+
+/* The node's cores (docs/rendering.md, "Several machines"). mpirun binds each rank to its own
+ * core(s) (Open MPI: to a core for up to two ranks, to a socket beyond), and a thread a rank
+ * starts inherits its starter's binding: rank 0's OpenCL driver threads and its plan's and
+ * reconstruction's helper threads would all run on rank 0's core while the other ranks on
+ * the node wait for it, their cores idle. on: the calling thread may run on every core bound
+ * to a rank of its node (the union of their masks, gathered by dist_init); off: back to its
+ * own rank's cores. Rank 0 turns it on outside its tracing (and for the threads the driver
+ * starts) and off for tracing, so that its render threads keep to its core while the others
+ * trace. No-op when the masks are not known (no MPI, not Linux) or equal (not bound). */
+void dist_node_cpus(const ReconDist *d, bool on);
+/* The cores this rank was bound to at start (0: not known, e.g. without MPI): the default
+ * count of render threads under mpirun, rather than every core of the node, which ranks
+ * bound to a core each would crowd onto that core. */
+int dist_own_cores(const ReconDist *d);
+/* The calling process's thread ids (up to max, from /proc/self/task); their count, 0 when
+ * unknown. For dist_log_new_threads. */
+int dist_thread_ids(int *tid, int max);
+/* WEDGE_DIST_LOG (tests/app/mpi_render.sh): prints "dist-cpus rank R: own LIST node LIST
+ * WHAT LIST LIST ...", the cores this rank was bound to, its node's, and those each thread
+ * that is not among before[0..before_count) may use (the threads started since the
+ * snapshot, e.g. the OpenCL driver's). */
+void dist_log_new_threads(const ReconDist *d, const int *before, int before_count, const char *what);
 
 /* The side of an ownership tile, in pixels. */
 enum { DIST_TILE_PX = 8 };

@@ -60,6 +60,8 @@ struct ReconPipeline {
     double mark_s[DIST_MARKS];   /* WEDGE_DIST_LOG: when each stage ended (wall, CPU) */
     double mark_cpu_s[DIST_MARKS];
     long mark_faults[DIST_MARKS]; /* the process's minor page faults: the pages it touched first */
+    double mark_main_cpu_s[DIST_MARKS]; /* the calling (main) thread's CPU: what cannot spread
+                                         * over the node's cores */
     const char *mark_name[DIST_MARKS];
     int mark_count;
     /* overscan (overscan.h): the band traced around the image, and what the caller sees
@@ -167,9 +169,19 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * reconstructs, so only it loads the driver: the other ranks would spend the same 30-40
      * ms of CPU before their first sample, which rank 0's first gather then waits for (a bad
      * --cl-device still stops every rank: the caller's dist_max_int). */
-    if (p->filtering && is_root(p) && !cl_runtime_check_device(o->cl_device, d)) {
-        free(p);
-        return false;
+    if (p->filtering && is_root(p)) {
+        /* the driver starts its worker threads here (PoCL: one per core of the machine), and
+         * they inherit this thread's cores: with several ranks, every core of the node's
+         * ranks, which wait while rank 0 reconstructs (dist_node_cpus) */
+        int before[256], before_count = getenv("WEDGE_DIST_LOG") ? dist_thread_ids(before, 256) : 0;
+        dist_node_cpus(o->dist, true);
+        bool ok = cl_runtime_check_device(o->cl_device, d);
+        dist_node_cpus(o->dist, false);
+        if (before_count > 0 && distributed(p)) dist_log_new_threads(o->dist, before, before_count, "driver");
+        if (!ok) {
+            free(p);
+            return false;
+        }
     }
     if (!overscan_begin(p, d)) {
         free(p);
@@ -214,9 +226,9 @@ const GBuffer *recon_pipeline_gbuffer(const ReconPipeline *p) { return p->margin
 /* ---- sampling ---- */
 
 /* WEDGE_DIST_LOG=1: each rank prints when each stage of a filtered frame ended
- * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time and its
- * minor page faults so far), to see where the time of several ranks goes and what memory
- * each touches first (tools/bench-mpi --breakdown) */
+ * (CLOCK_MONOTONIC, the same clock for every rank of one machine, then its CPU time, its
+ * minor page faults so far and its main thread's CPU time), to see where the time of several
+ * ranks goes and what memory each touches first (tools/bench-mpi --breakdown) */
 static void dist_mark(ReconPipeline *p, const char *what)
 {
     if (p->mark_count >= DIST_MARKS) return;
@@ -229,17 +241,19 @@ static void dist_mark(ReconPipeline *p, const char *what)
     p->mark_faults[p->mark_count] = use.ru_minflt;
     p->mark_name[p->mark_count] = what;
     p->mark_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
+    p->mark_main_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
     p->mark_s[p->mark_count++] = wall_seconds();
 }
 
 static void dist_marks_print(ReconPipeline *p)
 {
     if (getenv("WEDGE_DIST_LOG") && p->opt.dist) { /* one write: mpirun interleaves the ranks' writes */
-        char line[64 * DIST_MARKS];
+        char line[80 * DIST_MARKS];
         int at = snprintf(line, sizeof line, "dist-times rank %d:", p->opt.dist->rank);
         for (int k = 0; k < p->mark_count && at > 0 && (size_t)at < sizeof line; ++k)
-            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f %ld", p->mark_name[k], p->mark_s[k],
-                           p->mark_cpu_s[k], p->mark_faults[k]);
+            at += snprintf(line + at, sizeof line - (size_t)at, " %s %.4f %.4f %ld %.4f", p->mark_name[k], p->mark_s[k],
+                           p->mark_cpu_s[k], p->mark_faults[k], p->mark_main_cpu_s[k]);
         fprintf(stderr, "%s\n", line);
     }
     p->mark_count = 0;
@@ -327,6 +341,14 @@ static bool rebalance(ReconPipeline *p, const int *counts, int pass, Diag *d)
         fprintf(stderr, "dist: pass %d: %lld of %d tiles changed owner\n", p->pass + 1, dist->tiles_moved - moved,
                 dist->tile_count);
     return dist_handover(dist, a, n, pass, d);
+}
+
+/* Rank 0's cores: its own while it traces (the other ranks trace on theirs), the node's
+ * otherwise (they wait for its plan and reconstruction, whose threads it starts; see
+ * dist_node_cpus). Its render threads, started by the pass, inherit the calling thread's. */
+static void rank0_tracing(ReconPipeline *p, bool tracing)
+{
+    if (distributed(p) && is_root(p)) dist_node_cpus(p->opt.dist, !tracing);
 }
 
 /* Every sample goes to the guides, the store and each method, in that order. */
@@ -565,6 +587,11 @@ static void *opener_main(void *arg)
 {
     DeviceOpener *op = arg;
     ReconPipeline *p = op->p;
+    /* on any core of the node's ranks: after rank 0's pass-1 tiles (several ranks and a pass
+     * 2), those of the ranks that wait for rank 0's gather and plan; beside pass 1 (a
+     * fixed-count frame), whichever the system finds free rather than only rank 0's, whose
+     * tiles would finish last (its 10-60 ms of CPU) */
+    dist_node_cpus(p->opt.dist, true);
     double t0 = wall_seconds();
     op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
     for (int s = 0; op->rt && s < p->slot_count; ++s)
@@ -714,7 +741,9 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
         return false;
     }
+    rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
+    rank0_tracing(p, false);
     if (!gather_pass(p, 0, NULL, spp, &complete, d)) return false;
     p->res.cancelled = !complete;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
@@ -739,10 +768,17 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     for (int s = 0; s < p->slot_count; ++s) geometry = geometry || (p->slots[s].cls->ray_geometry & p->slots[s].effects);
 
     /* The device opens on rank 0 while pass 1 traces: a fixed-count frame (LR) has no pass 2
-     * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. */
+     * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. With several ranks
+     * and a pass 2, once rank 0's pass-1 tiles are traced instead: beside its tracing it made
+     * rank 0 the last to reach the first gather (the opening's CPU on top of an equal share
+     * of tiles, 0.02-0.06 s), whereas after it the opening overlaps rank 0's gather and plan
+     * on the node's other cores, where the other ranks wait (dist_node_cpus).
+     * WEDGE_DIST_OPEN=pass1 (for measuring against it): beside pass 1 on every frame. */
     DeviceOpener opener;
     bool opened = false;
-    if (is_root(p)) {
+    bool open_late = distributed(p) && !p->fixed_only &&
+                     !(getenv("WEDGE_DIST_OPEN") && strcmp(getenv("WEDGE_DIST_OPEN"), "pass1") == 0);
+    if (is_root(p) && !open_late) {
         opener_start(&opener, p);
         opened = true;
     }
@@ -751,9 +787,15 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     begin_pass(p, 0, geometry);
     double t = wall_seconds();
     int pass1 = p->res.pass1_spp;
+    rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
+    rank0_tracing(p, false);
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
+    if (is_root(p) && open_late) {
+        opener_start(&opener, p);
+        opened = true;
+    }
     if (!gather_pass(p, 0, NULL, pass1, &complete, d)) {
         if (opened) opener_join(&opener, p, NULL);
         return false;
@@ -789,7 +831,9 @@ static bool render_frame(ReconPipeline *p, Diag *d)
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
             begin_pass(p, 1, false);
             t = wall_seconds();
+            rank0_tracing(p, true);
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
+            rank0_tracing(p, false);
             t_trace += wall_seconds() - t;
             dist_mark(p, "pass2");
             if (!gather_pass(p, 1, p->spp_extra, 0, &complete, d)) {
@@ -846,7 +890,9 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
         if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
             return false;
         double t = wall_seconds();
+        rank0_tracing(p, true);
         bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
+        rank0_tracing(p, false);
         t_trace += wall_seconds() - t;
         if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
         p->res.cancelled = !complete;
@@ -885,7 +931,9 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
     SampleSink sink = {fan_out, p};
     begin_pass(p, p->pass, false);
     double t = wall_seconds();
+    rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);
+    rank0_tracing(p, false);
     t_trace += wall_seconds() - t;
     if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);

@@ -4,7 +4,9 @@
 # --filter none, aaf and auto, on the default scene (every effect), and when pass 2's tiles
 # change owner (balanced by their planned samples); the report says how many
 # ranks and how many bytes each pass sent; a bad scene is reported once with exit 2; a rank
-# that dies makes the job fail, not hang; the exchanges in small rounds give the same image. Skipped for a build without MPI; a build with MPI
+# that dies makes the job fail, not hang; the exchanges in small rounds give the same image;
+# with each rank bound to a core, rank 0's OpenCL driver threads may use the node's cores and
+# a rank starts one render thread per core it is bound to. Skipped for a build without MPI; a build with MPI
 # and no mpirun fails (tools/setup installs Open MPI).
 set -u
 . "$(dirname "$0")/../lib.sh"
@@ -122,6 +124,49 @@ import json, sys
 r = json.load(open(sys.argv[1]))
 if abs(r["spp_avg"] - 200) > 1.0 / 1200 or r["steps"] < 2 or r["ranks"] != 2:
     print("FAIL: progressive under mpirun: %s" % {k: r[k] for k in ("spp_avg", "steps", "ranks")}); sys.exit(1)
+PY
+fi
+# mpirun binds each rank to a core: rank 0's OpenCL driver threads (started while it checks
+# the device) may still use every core of the node's ranks, which wait while it reconstructs,
+# and its own thread keeps to its core; the image is the same. Needs two cores to bind to.
+if [ "$(nproc)" -ge 2 ]; then
+    args=(--res 40x30 --threads 1 --seed 7 --filter aaf --quiet)
+    WEDGE_DIST_LOG=1 timeout 300 mpirun -np 2 --bind-to core "$WEDGE" render "$scene" "${args[@]}" -o "$T/bind.exr" \
+        >"$T/out.txt" 2>&1 || { echo "FAIL: mpirun --bind-to core"; cat "$T/out.txt"; fail=1; }
+    "$WEDGE" compare "$T/one-aaf.exr" "$T/bind.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; }
+    python3 - "$T/out.txt" "$T/cmp.json" <<'PY' || { cat "$T/out.txt"; fail=1; }
+import json, re, sys
+def cores(text):  # "0-2,5" -> {0, 1, 2, 5}
+    out = set()
+    for part in text.split(","):
+        lo, _, hi = part.partition("-")
+        out |= set(range(int(lo), int(hi or lo) + 1))
+    return out
+lines = [l for l in open(sys.argv[1]) if l.startswith("dist-cpus rank 0:")]
+m = re.match(r"dist-cpus rank 0: own (\S+) node (\S+) driver(( \S+)*)$", lines[0].strip()) if lines else None
+if not m:
+    print("FAIL: --bind-to core: no dist-cpus line of rank 0"); sys.exit(1)
+own, node, driver = cores(m.group(1)), cores(m.group(2)), [cores(t) for t in m.group(3).split()]
+bad = []
+if not (own < node): bad.append("the node's cores %s do not extend rank 0's own %s" % (sorted(node), sorted(own)))
+if not driver: bad.append("no driver thread seen")
+if any(t != node for t in driver): bad.append("driver threads on %s, not the node's %s" % ([sorted(t) for t in driver], sorted(node)))
+if json.load(open(sys.argv[2]))["mse"] != 0: bad.append("image differs")
+if bad:
+    print("FAIL: --bind-to core: " + "; ".join(bad)); sys.exit(1)
+print("--bind-to core: rank 0 on %s, its %d driver threads on %s, identical" % (sorted(own), len(driver), sorted(node)))
+PY
+    # without --threads a bound rank starts one render thread per core it is bound to (here
+    # one), not one per core of the machine on that core; the image is the same
+    timeout 300 mpirun -np 2 --bind-to core "$WEDGE" render "$scene" --res 40x30 --seed 7 --filter aaf --quiet \
+        -o "$T/bind-threads.exr" --report "$T/bind-threads.json" >"$T/out.txt" 2>&1 || { echo "FAIL: mpirun --bind-to core without --threads"; cat "$T/out.txt"; fail=1; }
+    "$WEDGE" compare "$T/one-aaf.exr" "$T/bind-threads.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; }
+    python3 - "$T/bind-threads.json" "$T/cmp.json" <<'PY' || fail=1
+import json, sys
+r, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+if r["threads"] != 1 or c["mse"] != 0:
+    print("FAIL: --bind-to core without --threads: %s render threads (expected 1), mse %g" % (r["threads"], c["mse"])); sys.exit(1)
+print("--bind-to core without --threads: 1 render thread, identical")
 PY
 fi
 # a bad scene: one message (rank 0's), exit 2
