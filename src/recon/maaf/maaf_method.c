@@ -342,8 +342,10 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
      * before they start (zalloc.h; as callocs, 14% of a combined.pbrt frame at 16 spp went to
      * copy-on-write faults under maaf_lens_accumulate and accumulate) */
     m->ysum = shadows ? zalloc(n * per, sizeof(float)) : NULL;
-    m->frame4 = calloc(4 * n, sizeof(float));
-    m->axis2 = calloc(4 * n, sizeof(float));
+    /* written by the sampling threads too (each pixel's axes, at its first shadow ray), after a
+     * read of the flag: as callocs each page took a read fault and then a copy-on-write one */
+    m->frame4 = zalloc(4 * n, sizeof(float));
+    m->axis2 = zalloc(4 * n, sizeof(float));
     m->guide4 = malloc(4 * n * sizeof(float));
     m->out4 = malloc(4 * n * sizeof(float));
     m->shade = malloc(n * sizeof(float));
@@ -375,8 +377,8 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     }
     if (m->indirect) {
         m->isum = zalloc(n * 4, sizeof(float));
-        m->iframe4 = calloc(4 * n, sizeof(float));
-        m->iaxis2 = calloc(4 * n, sizeof(float));
+        m->iframe4 = zalloc(4 * n, sizeof(float)); /* as frame4 */
+        m->iaxis2 = zalloc(4 * n, sizeof(float));
         m->istd_px = calloc(n, sizeof(float));
         m->icomponents = calloc(n, sizeof(float));
         if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !cache_init(&m->indirect_cache, n))
