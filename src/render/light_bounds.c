@@ -65,10 +65,11 @@ void lights_bound_emitters(LightSet *set, const Tracer *tr)
     set->emitter_hi = v3_add(hi, v3s(pad));
 }
 
-/* The slab test of lights_ray_may_reach_emitter for n rays at once (o[axis][k], d[axis][k]),
- * written per lane so that GCC vectorises it: the same operations in the same order (the
- * selections `a < b ? a : b` are IEEE minimum and maximum instructions with the same
- * operand for an unordered pair), so may[k] is its answer for ray k bit for bit. */
+/* The slab test over t in [0, inf) for n rays at once (o[axis][k], d[axis][k]), written per
+ * lane so that GCC vectorises it (the selections `a < b ? a : b` are IEEE minimum and maximum
+ * instructions, with the same operand for an unordered pair). A direction component of 0
+ * gives infinite slab distances, and an origin on a slab's plane with it a NaN, which the
+ * comparisons pass over (such a ray does not enter the padded box's interior). */
 static WEDGE_VECTORISED void rays_may_reach_box(int n, const float *const restrict o[3], const float *const restrict d[3],
                                                  vec3 lo, vec3 hi, int *restrict may)
 {
@@ -105,20 +106,9 @@ void lights_rays_may_reach_emitter(const LightSet *set, int n, const float *cons
 
 bool lights_ray_may_reach_emitter(const LightSet *set, vec3 o, vec3 d)
 {
-    if (!set->emitters_bounded) return true;
-    /* slab test over t in [0, inf): a direction component of 0 gives infinite slab
-     * distances, and an origin on a slab's plane with it a NaN, which the comparisons
-     * below pass over (such a ray does not enter the padded box's interior) */
-    float o3[3] = {o.x, o.y, o.z}, d3[3] = {d.x, d.y, d.z};
-    float lo3[3] = {set->emitter_lo.x, set->emitter_lo.y, set->emitter_lo.z};
-    float hi3[3] = {set->emitter_hi.x, set->emitter_hi.y, set->emitter_hi.z};
-    float t_near = 0.0f, t_far = INFINITY;
-    for (int a = 0; a < 3; ++a) {
-        float inv = 1.0f / d3[a];
-        float t0 = (lo3[a] - o3[a]) * inv, t1 = (hi3[a] - o3[a]) * inv;
-        float tn = t0 < t1 ? t0 : t1, tf = t0 < t1 ? t1 : t0;
-        t_near = tn > t_near ? tn : t_near;
-        t_far = tf < t_far ? tf : t_far;
-    }
-    return t_near <= t_far;
+    const float ox = o.x, oy = o.y, oz = o.z, dx = d.x, dy = d.y, dz = d.z;
+    const float *const o3[3] = {&ox, &oy, &oz}, *const d3[3] = {&dx, &dy, &dz};
+    int may;
+    lights_rays_may_reach_emitter(set, 1, o3, d3, &may);
+    return may != 0;
 }

@@ -285,8 +285,6 @@ typedef struct {
  * `begin`: */
 static int frame_slice_end(int begin) { return begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64); }
 
-/* Adds records rec[0 .. count) of pixel (px, py), one frame slice, to the frame (their sums
- * in sample order) and hands them to the sink in that order. */
 /* SampleRecord's L, emission, direct and indirect follow each other without padding:
  * add_slice sums them as one run of 12 floats. */
 _Static_assert(offsetof(SampleRecord, emission) == offsetof(SampleRecord, L) + sizeof(vec3) &&
@@ -298,6 +296,8 @@ enum { SLICE_RADIANCE = 12 };
 typedef float v2sf __attribute__((vector_size(2 * sizeof(float))));
 typedef double v2df __attribute__((vector_size(2 * sizeof(double))));
 
+/* Adds records rec[0 .. count) of pixel (px, py), one frame slice, to the frame (their sums
+ * in sample order) and hands them to the sink in that order. */
 static void add_slice(PassJob *job, int px, int py, SampleRecord *rec, int count)
 {
     /* Radiance sums, per component in sample order as before (the same doubles): the run
