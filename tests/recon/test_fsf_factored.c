@@ -64,8 +64,48 @@ static void uniform_params(FsfSynth *f, float eta1, float eta2, float sigma1, fl
     }
 }
 
+/* fsf_density's run of taps (|z - eta t| <= L, its ends (z -+ L) / eta rounded inwards) against
+ * the taps counted one by one in double: over many coordinates and shears the run may differ
+ * only by an end tap, and only where that tap's bound is within a few float ulps of the
+ * integer (the float quotient's rounding); with no shear it keeps every tap or none. */
+static void density_run(void)
+{
+    const float L = 0.6f, sigma = 5.0f;
+    int r = fsf_radius_steps(sigma);
+    float cum[FSF_CUM];
+    fsf_tap_prefix(sigma, cum);
+    unsigned st = 5;
+    long long tried = 0, moved = 0, far = 0, moved_random = 0;
+    for (int k = 0; k < 200000; ++k) {
+        float eta = (fsf_rand01(&st) - 0.5f) * 0.4f, z = (fsf_rand01(&st) * 2.0f - 1.0f) * 2.0f * L;
+        if (k % 4 == 0) /* a bound on an integer, the quotient's rounding at stake */
+            z = (float)((int)(fsf_rand01(&st) * 2.0f * (float)r) - r) * eta + L;
+        if (eta == 0.0f) continue;
+        double lo = ((double)z - L) / eta, hi = ((double)z + L) / eta, a = lo < hi ? lo : hi, b = lo < hi ? hi : lo;
+        double near_tol = 8.0 * 1.2e-7 * (fabs(a) + fabs(b) + 1.0), exact = 0.0;
+        int near = 0;
+        for (int t = -r; t <= r; ++t) {
+            if ((double)t >= a && (double)t <= b) exact += cum[t + r + 1] - cum[t + r];
+            near |= fabs(t - a) <= near_tol || fabs(t - b) <= near_tol;
+        }
+        double diff = fabs(fsf_density(z, eta, L, r, cum) - exact);
+        ++tried;
+        if (diff > 1e-5) ++moved, far += !near, moved_random += k % 4 != 0;
+    }
+    printf("density: %lld of %lld runs differ from the exact count (%lld of the random ones), %lld of them not at a "
+           "bound within 8 ulp of a tap\n",
+           moved, tried, moved_random, far);
+    CHECK(far == 0);
+    CHECK(moved_random * 1000 < tried); /* away from the constructed bounds a run end almost never sits on a tap */
+    /* no shear: every tap or none */
+    CHECK(fsf_density(0.1f, 0.0f, L, r, cum) == cum[2 * r + 1] - cum[0]);
+    CHECK(fsf_density(0.7f, 0.0f, L, r, cum) == 0.0f);
+}
+
 int main(void)
 {
+    density_run();
+
     const int W = 48, H = 40, l = 4;
     FsfSynth f;
     fsf_synth_init(&f, W, H, l);
