@@ -390,8 +390,12 @@ int main(int argc, char **argv)
            "known to miss the emitters)\n", rays_full, st.seconds_trace, rate_full / 1e6, st.rays_primary, st.rays_shadow,
            st.rays_bsdf, st.rays_bsdf_skipped);
     printf("raw embree, same rays:  %lld rays in %.3f s = %.2f Mrays/s\n", rays_raw, t_raw, rate_raw / 1e6);
-    printf("renderer/raw = %.2f (target >= 0.7); median of %d alternating pairs %.2f (range %.2f-%.2f)\n", rate_full / rate_raw,
-           REPEATS, pair_ratio[REPEATS / 2], pair_ratio[0], pair_ratio[REPEATS - 1]);
+    printf("renderer/raw = %.2f (issue 22's target >= 1.0); median of %d alternating pairs %.2f (range %.2f-%.2f)\n",
+           rate_full / rate_raw, REPEATS, pair_ratio[REPEATS / 2], pair_ratio[0], pair_ratio[REPEATS - 1]);
+    /* The renderer answers the rays known to miss the emitters without tracing them, the
+     * replay traces them: per ray that reaches Embree the renderer is this much slower. */
+    printf("renderer/raw per traced ray = %.2f (the %lld rays known to miss not counted)\n",
+           (double)(rays_full - st.rays_bsdf_skipped) / st.seconds_trace / rate_raw, st.rays_bsdf_skipped);
     printf("sampler share: %.3f s of the renderer's %.3f s (%s, 7 dimensions per sample); "
            "renderer/raw without it = %.2f\n", t_sampler, st.seconds_trace, sampler_name,
            rays_full / (st.seconds_trace - t_sampler) / rate_raw);
