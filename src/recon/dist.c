@@ -191,6 +191,8 @@ void dist_finish(ReconDist *d)
     free(d->tile_seconds);
     free(d->tile_samples);
     free(d->xbuf);
+    free(d->band_start);
+    d->band_start = NULL;
     d->owner = d->owner_before = NULL;
     d->tile_seconds = d->tile_samples = NULL;
     d->xbuf = NULL;
@@ -646,4 +648,133 @@ bool dist_all_ok(const ReconDist *d, bool ok)
     (void)d;
 #endif
     return ok;
+}
+
+int dist_claim_bands(int rows, int ranks, int *start)
+{
+    int count = 0, parts = DIST_CLAIM_SHARE * (ranks > 0 ? ranks : 1);
+    for (int row = 0; row < rows; ++count) {
+        start[count] = row;
+        int size = (rows - row) / parts; /* guided: a share of what is left, the last bands one row */
+        row += size > 1 ? size : 1;
+    }
+    start[count] = rows;
+    return count;
+}
+
+bool dist_claims_wanted(const ReconDist *d)
+{
+    if (!d || d->ranks <= 1 || !dist_available()) return false;
+    return !(getenv("WEDGE_DIST_PASS1") && strcmp(getenv("WEDGE_DIST_PASS1"), "interleave") == 0);
+}
+
+int dist_claims_begin(ReconDist *d, Diag *e)
+{
+    if (!dist_claims_wanted(d) || !d->owner) return 0;
+#ifdef WEDGE_MPI
+    int rows = (d->height + DIST_TILE_PX - 1) / DIST_TILE_PX;
+    free(d->band_start);
+    d->band_start = malloc(((size_t)rows + 1) * sizeof(int));
+    MPI_Win *win = malloc(sizeof *win);
+    if (!d->band_start || !win) {
+        free(win);
+        diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI bands");
+        return -1;
+    }
+    d->band_count = dist_claim_bands(rows, d->ranks, d->band_start);
+    for (int t = 0; t < d->tile_count; ++t) d->owner[t] = -1;
+    /* the counter: one int on rank 0, read and added to atomically by every rank
+     * (MPI_Fetch_and_op in a passive-target epoch: rank 0 need not take part while the
+     * others claim; on one node Open MPI does it in shared memory) */
+    int *counter = NULL;
+    bool ok = quiet_arrival(e) &&
+              mpi_ok(MPI_Win_allocate(d->rank == 0 ? (MPI_Aint)sizeof(int) : 0, sizeof(int), MPI_INFO_NULL,
+                                      MPI_COMM_WORLD, &counter, win),
+                     "window", e);
+    if (!ok) {
+        free(win);
+        return -1;
+    }
+    d->claim_window = win;
+    d->claiming = true;
+    ok = mpi_ok(MPI_Win_lock_all(0, *win), "window lock", e);
+    if (ok && d->rank == 0) { /* zero, through the window: then every access is MPI's */
+        int zero = 0, old = 0;
+        ok = mpi_ok(MPI_Fetch_and_op(&zero, &old, MPI_INT, 0, 0, MPI_REPLACE, *win), "fetch-and-op", e) &&
+             mpi_ok(MPI_Win_flush(0, *win), "flush", e);
+    }
+    /* nobody claims before the counter is zero */
+    ok = dist_all_ok(d, ok) && ok;
+    if (!ok && e && !e->message[0]) diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MPI window failed on another rank");
+    /* WEDGE_DIST_CLAIM_DELAY=R:MS (tests/app/mpi_render.sh): rank R starts claiming MS ms late,
+     * as if something else held its core; the others then take its share */
+    const char *delay = getenv("WEDGE_DIST_CLAIM_DELAY");
+    if (ok && delay && atoi(delay) == d->rank && strchr(delay, ':')) {
+        long ms = atol(strchr(delay, ':') + 1);
+        struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+        nanosleep(&ts, NULL);
+    }
+    return ok ? 1 : -1;
+#else
+    (void)e;
+    return 0;
+#endif
+}
+
+int dist_claim(ReconDist *d, int *row0, int *row1, Diag *e)
+{
+#ifdef WEDGE_MPI
+    if (!d || !d->claiming) return 0;
+    int one = 1, band = 0;
+    MPI_Win win = *(MPI_Win *)d->claim_window;
+    if (!mpi_ok(MPI_Fetch_and_op(&one, &band, MPI_INT, 0, 0, MPI_SUM, win), "fetch-and-op", e) ||
+        !mpi_ok(MPI_Win_flush(0, win), "flush", e))
+        return -1;
+    if (band < 0 || band >= d->band_count) return 0;
+    *row0 = d->band_start[band], *row1 = d->band_start[band + 1];
+    for (int t = *row0 * d->tiles_x; t < *row1 * d->tiles_x && t < d->tile_count; ++t) d->owner[t] = d->rank;
+    return 1;
+#else
+    (void)d, (void)row0, (void)row1, (void)e;
+    return 0;
+#endif
+}
+
+bool dist_claims_end(ReconDist *d, Diag *e)
+{
+#ifdef WEDGE_MPI
+    if (!d || !d->claiming) return true;
+    MPI_Win *win = d->claim_window;
+    /* the window's end is a collective: wait for the others quietly first */
+    bool ok = mpi_ok(MPI_Win_unlock_all(*win), "window unlock", e);
+    ok = quiet_arrival(e) && ok;
+    ok = mpi_ok(MPI_Win_free(win), "window", e) && ok;
+    free(win);
+    d->claim_window = NULL;
+    d->claiming = false;
+    /* every tile's owner: each rank knows its own bands (-1 elsewhere), the largest over
+     * ranks is the owner; a band nobody claimed (a failure) stays -1 and makes the gather fail */
+    ok = ok && mpi_ok(MPI_Allreduce(MPI_IN_PLACE, d->owner, d->tile_count, MPI_INT, MPI_MAX, MPI_COMM_WORLD),
+                      "all-reduce", e);
+    for (int t = 0; ok && t < d->tile_count; ++t)
+        if (d->owner[t] < 0) {
+            diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MPI: tile %d of pass 1 was claimed by no rank", t);
+            ok = false;
+        }
+    if (ok) memcpy(d->owner_before, d->owner, (size_t)d->tile_count * sizeof(int));
+    if (ok && getenv("WEDGE_DIST_LOG") && d->rank == 0) { /* the tiles each rank took */
+        char line[1024];
+        int at = snprintf(line, sizeof line, "dist-claims: %d bands;", d->band_count);
+        for (int r = 0; r < d->ranks && at > 0 && (size_t)at < sizeof line; ++r) {
+            int tiles = 0;
+            for (int t = 0; t < d->tile_count; ++t) tiles += d->owner[t] == r;
+            at += snprintf(line + at, sizeof line - (size_t)at, " rank %d %d tiles", r, tiles);
+        }
+        fprintf(stderr, "%s\n", line);
+    }
+    return ok;
+#else
+    (void)d, (void)e;
+    return true;
+#endif
 }

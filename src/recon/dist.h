@@ -62,6 +62,10 @@ typedef struct {
                                  * its tracer's mean seconds per sample (dist_measure) */
     double *tile_samples;       /* ... and the samples they took */
     long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
+    int *band_start;            /* pass 1 claimed on demand: the bands' first tile rows */
+    int band_count;
+    bool claiming;              /* between dist_claims_begin and dist_claims_end */
+    void *claim_window;         /* the counter's MPI window (an MPI_Win), when claiming */
     unsigned char *xbuf;        /* the exchanges' message buffer (a round's chunk per rank on
                                  * rank 0, one elsewhere), kept between exchanges */
     size_t xbuf_bytes;
@@ -117,6 +121,30 @@ enum { DIST_TILE_PX = 8 };
 bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e);
 /* The rank that owns pixel (px, py) in the pass being traced. */
 int dist_owner(const ReconDist *d, int px, int py);
+
+/* Pass 1 claimed on demand (docs/benchmarks.md, "Pass 1 claimed on demand"). The frame's
+ * rows of tiles are cut into bands, large first and shrinking to one row of tiles (the same
+ * cut on every rank: dist_claim_bands), and each rank, while it traces, takes the next band
+ * from a counter on rank 0 (an MPI atomic fetch-and-add on a one-int window), so that a rank
+ * slowed by anything (rank 0's OpenCL device opening, another job on its core, dearer
+ * pixels) traces fewer bands and every rank ends pass 1 within about one band of the
+ * others. Who traced a pixel changes nothing in it (each pixel's samples come from (seed,
+ * pixel, pass) and are summed by one rank in one order), so images stay value for value.
+ * dist_claims_begin (a collective) starts the count with every tile unowned; dist_claim
+ * gives the next band's tile rows [row0, row1) and makes its tiles this rank's; dist_claims_end (a collective) tells every
+ * rank every tile's owner (owner and owner_before), as after dist_tiles_reset's interleave.
+ * Without MPI or with one rank every tile row is one band of rank 0.
+ * WEDGE_DIST_PASS1=interleave (for measuring against it): dist_claims_begin returns 0 and
+ * pass 1 keeps the interleave. Failures set e (exit 3). */
+bool dist_claims_wanted(const ReconDist *d); /* several ranks, and not WEDGE_DIST_PASS1=interleave */
+int dist_claims_begin(ReconDist *d, Diag *e); /* 1: claiming; 0: the interleave; -1: failed */
+int dist_claim(ReconDist *d, int *row0, int *row1, Diag *e); /* 1: a band; 0: none left; -1: failed */
+bool dist_claims_end(ReconDist *d, Diag *e);
+/* The cut of rows tile rows into bands for ranks claimers: the first row of band k in
+ * start[k] (start[count] = rows); each band holds about 1 / (DIST_CLAIM_SHARE * ranks) of the rows not yet cut, at
+ * least one. Returns the count (at most rows). */
+enum { DIST_CLAIM_SHARE = 3 };
+int dist_claim_bands(int rows, int ranks, int *start);
 
 /* Assigns tile_count tiles of cost tile_cost[t] to ranks (owner[t]), each rank's sum of
  * costs within the largest tile cost of total/ranks. First every rank keeps the tiles it had

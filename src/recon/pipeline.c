@@ -351,6 +351,38 @@ static void rank0_tracing(ReconPipeline *p, bool tracing)
     if (distributed(p) && is_root(p)) dist_node_cpus(p->opt.dist, !tracing);
 }
 
+/* The first pass of a frame, `uniform` samples in every pixel. With several ranks each
+ * traces the bands of tile rows it claims while it is free (dist_claims_begin), so that the
+ * ranks end it together whatever slows one of them; WEDGE_DIST_PASS1=interleave: the
+ * interleave's tiles. *complete: not cancelled. False on an MPI failure (d set). */
+static bool trace_first_pass(ReconPipeline *p, int uniform, const SampleSink *sink, bool *complete, Diag *d)
+{
+    int pass = p->pass++;
+    ReconDist *dist = p->opt.dist;
+    int claims = distributed(p) ? dist_claims_begin(dist, d) : 0;
+    if (claims < 0) return false;
+    rank0_tracing(p, true);
+    if (claims == 0) {
+        *complete = render_pass(p->r, pass, counts_mine(p, NULL, uniform), uniform, &p->g.frame, sink);
+        rank0_tracing(p, false);
+        return true;
+    }
+    int w = renderer_width(p->r), h = renderer_height(p->r), row0, row1, got;
+    memset(p->spp_mine, 0, pixel_count(p) * sizeof(int));
+    *complete = true;
+    /* after a cancel the bands still come: the renderer gives a band's pixels their first
+     * samples whatever the flag says (an interrupted image has every pixel) */
+    while ((got = dist_claim(dist, &row0, &row1, d)) > 0) {
+        size_t lo = (size_t)row0 * DIST_TILE_PX * (size_t)w;
+        size_t hi = (size_t)(row1 * DIST_TILE_PX < h ? row1 * DIST_TILE_PX : h) * (size_t)w;
+        for (size_t i = lo; i < hi; ++i) p->spp_mine[i] = uniform;
+        *complete = render_pass(p->r, pass, p->spp_mine, 0, &p->g.frame, sink) && *complete;
+        memset(p->spp_mine + lo, 0, (hi - lo) * sizeof(int));
+    }
+    rank0_tracing(p, false);
+    return got == 0 && dist_claims_end(dist, d);
+}
+
 /* Every sample goes to the guides, the store and each method, in that order. */
 static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
 {
@@ -741,10 +773,8 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
         return false;
     }
-    rank0_tracing(p, true);
-    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
-    rank0_tracing(p, false);
-    if (!gather_pass(p, 0, NULL, spp, &complete, d)) return false;
+    bool complete = true;
+    if (!trace_first_pass(p, spp, NULL, &complete, d) || !gather_pass(p, 0, NULL, spp, &complete, d)) return false;
     p->res.cancelled = !complete;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     if (!plain_mean(p, d)) return false;
@@ -769,15 +799,19 @@ static bool render_frame(ReconPipeline *p, Diag *d)
 
     /* The device opens on rank 0 while pass 1 traces: a fixed-count frame (LR) has no pass 2
      * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. With several ranks
-     * and a pass 2, once rank 0's pass-1 tiles are traced instead: beside its tracing it made
-     * rank 0 the last to reach the first gather (the opening's CPU on top of an equal share
-     * of tiles, 0.02-0.06 s), whereas after it the opening overlaps rank 0's gather and plan
-     * on the node's other cores, where the other ranks wait (dist_node_cpus).
-     * WEDGE_DIST_OPEN=pass1 (for measuring against it): beside pass 1 on every frame. */
+     * the bands of pass 1 are claimed on demand (trace_first_pass), so the opening's CPU on
+     * rank 0's core makes rank 0 take fewer bands, not end later. Only with pass 1's fixed
+     * interleave (WEDGE_DIST_PASS1=interleave) and a pass 2 does it wait until rank 0's
+     * tiles are traced: beside them it made rank 0 the last to reach the first gather (0.02-0.06
+     * s), after them it overlaps rank 0's gather and plan, slowing the gather (the opening
+     * faults in about 70 MB at 720x720 while both ranks pack and unpack).
+     * WEDGE_DIST_OPEN=pass1 or late (for measuring): that placement on every frame. */
     DeviceOpener opener;
     bool opened = false;
-    bool open_late = distributed(p) && !p->fixed_only &&
-                     !(getenv("WEDGE_DIST_OPEN") && strcmp(getenv("WEDGE_DIST_OPEN"), "pass1") == 0);
+    const char *open_at = getenv("WEDGE_DIST_OPEN");
+    bool open_late = distributed(p) && !p->fixed_only && !dist_claims_wanted(p->opt.dist);
+    if (open_at && strcmp(open_at, "pass1") == 0) open_late = false;
+    if (open_at && strcmp(open_at, "late") == 0) open_late = distributed(p);
     if (is_root(p) && !open_late) {
         opener_start(&opener, p);
         opened = true;
@@ -787,16 +821,15 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     begin_pass(p, 0, geometry);
     double t = wall_seconds();
     int pass1 = p->res.pass1_spp;
-    rank0_tracing(p, true);
-    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
-    rank0_tracing(p, false);
+    bool complete = true;
+    bool traced = trace_first_pass(p, pass1, &sink, &complete, d);
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
     if (is_root(p) && open_late) {
         opener_start(&opener, p);
         opened = true;
     }
-    if (!gather_pass(p, 0, NULL, pass1, &complete, d)) {
+    if (!traced || !gather_pass(p, 0, NULL, pass1, &complete, d)) {
         if (opened) opener_join(&opener, p, NULL);
         return false;
     }

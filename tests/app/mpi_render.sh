@@ -82,8 +82,11 @@ PY
 done
 # the exchanges stream each rank's tiles in rounds (4 MiB each; WEDGE_DIST_CHUNK makes them tiny,
 # so that rounds cut rows, tiles and arrays anywhere): the gathers and the hand-over of moved
-# tiles still give the single-process image, and the report still counts every byte once
+# tiles still give the single-process image, and the report still counts every byte once.
+# Pass 1's tiles as the fixed interleave (WEDGE_DIST_PASS1): claimed on demand, which rank traces
+# what, and so the bytes gathered, depends on timing.
 for np in 2 3; do
+    export WEDGE_DIST_PASS1=interleave
     WEDGE_DIST_CHUNK=997 WEDGE_DIST_NO_KEEP=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x48 --threads 1 \
         --seed 3 --filter aaf --quiet -o "$T/chunk.exr" --report "$T/chunk.json" >"$T/out.txt" 2>&1
     rc=$?
@@ -102,6 +105,37 @@ if r["bytes_communicated"][0] != w["bytes_communicated"][0] or not r["bytes_comm
     sys.exit(1)
 print("small rounds -np %s: identical, %d bytes in pass 1" % (np, r["bytes_communicated"][0]))
 PY
+    unset WEDGE_DIST_PASS1
+done
+# pass 1 claimed on demand: a rank that starts late (WEDGE_DIST_CLAIM_DELAY: rank 0 naps 1 s
+# first, far longer than the others need for all of this frame's pass 1) traces fewer tiles
+# than each of the others, every tile is traced by one rank, and the image is still the
+# single-process one; the fixed interleave (WEDGE_DIST_PASS1=interleave) gives it too
+for np in 2 3; do
+    for how in claims interleave; do
+        if [ $how = claims ]; then export WEDGE_DIST_CLAIM_DELAY=0:1000; else export WEDGE_DIST_PASS1=interleave; fi
+        WEDGE_DIST_LOG=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x48 --threads 1 --seed 3 \
+            --filter aaf --quiet -o "$T/claim.exr" >"$T/out.txt" 2>&1
+        rc=$?
+        unset WEDGE_DIST_CLAIM_DELAY WEDGE_DIST_PASS1
+        if [ $rc != 0 ]; then echo "FAIL: pass 1 $how -np $np: exit $rc"; cat "$T/out.txt"; fail=1; continue; fi
+        "$WEDGE" compare "$T/one2-aaf.exr" "$T/claim.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; continue; }
+        python3 - "$T/cmp.json" "$T/out.txt" $np $how <<'PY' || { cat "$T/out.txt"; fail=1; }
+import json, re, sys
+c, out, np, how = json.load(open(sys.argv[1])), open(sys.argv[2]).read(), int(sys.argv[3]), sys.argv[4]
+if c["mse"] != 0 or c["relmse"] != 0:
+    print("FAIL: pass 1 %s -np %d: image differs: mse %g" % (how, np, c["mse"])); sys.exit(1)
+m = re.search(r"dist-claims: (\d+) bands;(.*)", out)
+if how == "interleave":
+    if m: print("FAIL: pass 1 interleave -np %d: bands were claimed" % np); sys.exit(1)
+    print("pass 1 interleave -np %d: identical" % np); sys.exit(0)
+if not m: print("FAIL: pass 1 claims -np %d: no dist-claims line" % np); sys.exit(1)
+tiles = [int(t) for t in re.findall(r"rank \d+ (\d+) tiles", m.group(2))]
+if len(tiles) != np or sum(tiles) != 8 * 6 or not all(tiles[0] < t for t in tiles[1:]):
+    print("FAIL: pass 1 claims -np %d, rank 0 late: tiles per rank %s (48 in all, rank 0 fewest)" % (np, tiles)); sys.exit(1)
+print("pass 1 claims -np %d, rank 0 1 s late: tiles per rank %s, identical" % (np, tiles))
+PY
+    done
 done
 # the ranks wait for each other in a nonblocking barrier with naps (every run above); MPI's
 # own blocking wait (WEDGE_DIST_WAIT=spin, kept for measuring) gives the same image
