@@ -348,7 +348,7 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile costs");
         return false;
     }
-    double my_seconds = 0.0, my_samples = 0.0;
+    double my_seconds = 0.0, my_samples = 0.0, pass_samples = 0.0;
     for (int y = 0; y < d->height; ++y)
         for (int x = 0; x < d->width; ++x) {
             int t = (y / DIST_TILE_PX) * d->tiles_x + x / DIST_TILE_PX;
@@ -361,11 +361,17 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
             }
             pixel_seconds[i] = 0.0f;
             d->tile_samples[t] += samples; /* known to every rank */
+            pass_samples += samples;
         }
     /* in units of this rank's mean time per sample this pass: a tile's cost relative to the
      * others the rank traced, so that a rank slower than another (other jobs on its cores, an
-     * older node) does not make its tiles look dear */
-    if (my_seconds > 0.0)
+     * older node) does not make its tiles look dear. Not after a claimed pass 1: there a rank
+     * traced bands of rows, not a sample of the whole frame (one may have taken the sky's
+     * cheap rows), and the seconds are scaled by the frame's mean rate instead (below); the
+     * claims already gave a slower rank fewer bands. */
+    bool claimed = d->pass_claimed;
+    d->pass_claimed = false;
+    if (my_seconds > 0.0 && !claimed)
         for (size_t t = 0; t < n; ++t) mine[t] *= my_samples / my_seconds;
     bool ok = true;
 #ifdef WEDGE_MPI
@@ -373,7 +379,10 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
 #else
     memcpy(all, mine, n * sizeof(double));
 #endif
-    for (size_t t = 0; ok && t < n; ++t) d->tile_seconds[t] += all[t];
+    double seconds = 0.0;
+    for (size_t t = 0; claimed && t < n; ++t) seconds += all[t];
+    double rate = claimed && seconds > 0.0 ? pass_samples / seconds : 1.0; /* the same on every rank */
+    for (size_t t = 0; ok && t < n; ++t) d->tile_seconds[t] += all[t] * rate;
     free(mine);
     free(all);
     return ok;
@@ -762,6 +771,7 @@ bool dist_claims_end(ReconDist *d, Diag *e)
             ok = false;
         }
     if (ok) memcpy(d->owner_before, d->owner, (size_t)d->tile_count * sizeof(int));
+    d->pass_claimed = ok;
     if (ok && getenv("WEDGE_DIST_LOG") && d->rank == 0) { /* the tiles each rank took */
         char line[1024];
         int at = snprintf(line, sizeof line, "dist-claims: %d bands;", d->band_count);

@@ -65,6 +65,7 @@ typedef struct {
     int *band_start;            /* pass 1 claimed on demand: the bands' first tile rows */
     int band_count;
     bool claiming;              /* between dist_claims_begin and dist_claims_end */
+    bool pass_claimed;          /* the pass dist_measure measures next was claimed */
     void *claim_window;         /* the counter's MPI window (an MPI_Win), when claiming */
     unsigned char *xbuf;        /* the exchanges' message buffer (a round's chunk per rank on
                                  * rank 0, one elsewhere), kept between exchanges */
