@@ -66,7 +66,8 @@ typedef struct {
     int band_count;
     bool claiming;              /* between dist_claims_begin and dist_claims_end */
     bool pass_claimed;          /* the pass dist_measure measures next was claimed */
-    void *claim_window;         /* the counter's MPI window (an MPI_Win), when claiming */
+    void *claim_window;         /* the bands' counter's MPI window (an MPI_Win *), made by dist_init */
+    long long claims_base;      /* the counter's value where this frame's bands begin */
     unsigned char *xbuf;        /* the exchanges' message buffer (a round's chunk per rank on
                                  * rank 0, one elsewhere), kept between exchanges */
     size_t xbuf_bytes;

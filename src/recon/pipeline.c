@@ -812,6 +812,8 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     bool open_late = distributed(p) && !p->fixed_only && !dist_claims_wanted(p->opt.dist);
     if (open_at && strcmp(open_at, "pass1") == 0) open_late = false;
     if (open_at && strcmp(open_at, "late") == 0) open_late = distributed(p);
+    bool open_at_plan = open_late && !(open_at && strcmp(open_at, "late") == 0);
+    if (open_at && strcmp(open_at, "plan") == 0) open_late = open_at_plan = distributed(p);
     if (is_root(p) && !open_late) {
         opener_start(&opener, p);
         opened = true;
@@ -825,7 +827,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     bool traced = trace_first_pass(p, pass1, &sink, &complete, d);
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
-    if (is_root(p) && open_late) {
+    if (is_root(p) && open_late && !open_at_plan) {
         opener_start(&opener, p);
         opened = true;
     }
@@ -834,6 +836,10 @@ static bool render_frame(ReconPipeline *p, Diag *d)
         return false;
     }
     dist_mark(p, "gather1");
+    if (is_root(p) && open_at_plan) {
+        opener_start(&opener, p);
+        opened = true;
+    }
     if (complete) {
         /* ---- plans (rank 0) and pass 2 (adaptive methods) ---- */
         float mu = p->opt.mu;

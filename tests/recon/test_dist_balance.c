@@ -210,8 +210,35 @@ static void test_reassign_measured(void)
     free(d.tile_samples);
 }
 
+/* Pass 1's bands (dist_claim_bands): every tile row in exactly one band, in order; no band
+ * larger than a DIST_CLAIM_SHARE * ranks-th of the rows not yet cut before it (so no rank can
+ * hold more than that share of the rest when the others run dry), sizes never growing, and
+ * the last bands one row each (a claimer that ends late ends at most one row of tiles late). */
+static void test_claim_bands(void)
+{
+    for (int ranks = 1; ranks <= 9; ++ranks)
+        for (int rows = 1; rows <= 400; rows += rows < 40 ? 1 : 37) {
+            int start[401];
+            int count = dist_claim_bands(rows, ranks, start);
+            CHECK(count >= 1 && count <= rows);
+            CHECK(start[0] == 0 && start[count] == rows);
+            int parts = DIST_CLAIM_SHARE * ranks, previous = rows;
+            for (int k = 0; k < count; ++k) {
+                int size = start[k + 1] - start[k], left = rows - start[k];
+                CHECK(size >= 1);
+                CHECK(size <= previous);
+                CHECK(size == 1 || size * parts <= left);
+                previous = size;
+            }
+            CHECK(start[count] - start[count - 1] == 1);
+            /* guided: far fewer claims than rows once the rows outnumber the claimers */
+            if (rows >= 100 * ranks) CHECK(count < rows / 2);
+        }
+}
+
 int main(void)
 {
+    test_claim_bands();
     test_bound_and_determinism();
     test_against_brute_force();
     test_keeps_owners();
