@@ -1,10 +1,13 @@
 /* One frame rendered by several processes (MPI ranks, DESIGN.md section 8), each pixel's
  * samples in a pass taken by exactly one rank, its owner in that pass.
  *
- * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): the interleave,
- * tile t (row-major) to rank t mod ranks; neighbouring tiles cost alike, so it balances to
- * within a few tiles' cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x
- * -> 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
+ * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): bands of tile rows
+ * claimed on demand (dist_claims_begin), so that a rank slowed by anything (rank 0's OpenCL
+ * device opening beside it, another job on its core) takes fewer; with
+ * WEDGE_DIST_PASS1=interleave the fixed interleave, tile t (row-major) to rank t mod ranks
+ * (neighbouring tiles cost alike, so it balances the work to within a few tiles' cost, but not
+ * the ranks' speeds; 8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x -> 1.71x,
+ * where the costly out-of-focus pixels come in patches). Every later pass (the
  * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
  * broadcast every rank knows each pixel's count; a tile's cost is its planned samples times
  * the time per sample measured in that tile so far, relative to its tracer's mean (each rank
@@ -159,7 +162,8 @@ void dist_balance(const double *tile_cost, const int *before, int tile_count, in
 
 /* After a pass: adds the tracing seconds each rank measured in the pixels it owned
  * (pixel_seconds, which it zeroes; the others' pixels are ignored), in units of that rank's
- * mean seconds per sample in the pass (so that a slower rank's tiles do not look dear), to
+ * mean seconds per sample in the pass (so that a slower rank's tiles do not look dear; after
+ * a claimed pass 1, whose bands are no sample of the frame, of the frame's mean), to
  * every tile's total on every rank, and the pass's samples (spp per pixel, NULL:
  * spp_uniform everywhere) to the tiles' sample counts. A collective (one all-reduce of a
  * double per tile). False with e set on a communication failure. */

@@ -799,22 +799,23 @@ static bool render_frame(ReconPipeline *p, Diag *d)
 
     /* The device opens on rank 0 while pass 1 traces: a fixed-count frame (LR) has no pass 2
      * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. With several ranks
-     * the bands of pass 1 are claimed on demand (trace_first_pass), so the opening's CPU on
-     * rank 0's core makes rank 0 take fewer bands, not end later. Only with pass 1's fixed
-     * interleave (WEDGE_DIST_PASS1=interleave) and a pass 2 does it wait until rank 0's
-     * tiles are traced: beside them it made rank 0 the last to reach the first gather (0.02-0.06
-     * s), after them it overlaps rank 0's gather and plan, slowing the gather (the opening
-     * faults in about 70 MB at 720x720 while both ranks pack and unpack).
-     * WEDGE_DIST_OPEN=pass1 or late (for measuring): that placement on every frame. */
+     * the bands of pass 1 are claimed on demand (trace_first_pass), so the opening's CPU
+     * (about 70 MB of buffers faulted in at 720x720, besides the kernels) makes rank 0 take
+     * fewer bands instead of ending pass 1 later. With pass 1's fixed interleave
+     * (WEDGE_DIST_PASS1=interleave) and a pass 2 it starts once rank 0's tiles are traced:
+     * beside them it made rank 0 the last to reach the first gather (0.02-0.06 s); after them
+     * it overlaps rank 0's gather and plan (and slows the gather: rank 1 packs on the other
+     * core meanwhile). WEDGE_DIST_OPEN=pass1, late or plan (after the first gather; for
+     * measuring): that placement on every frame of several ranks. */
+    enum { OPEN_BESIDE_PASS1, OPEN_AFTER_PASS1, OPEN_AFTER_GATHER1 } open_when = OPEN_BESIDE_PASS1;
+    if (distributed(p) && !p->fixed_only && !dist_claims_wanted(p->opt.dist)) open_when = OPEN_AFTER_PASS1;
+    const char *open_at = distributed(p) ? getenv("WEDGE_DIST_OPEN") : NULL;
+    if (open_at && strcmp(open_at, "pass1") == 0) open_when = OPEN_BESIDE_PASS1;
+    if (open_at && strcmp(open_at, "late") == 0) open_when = OPEN_AFTER_PASS1;
+    if (open_at && strcmp(open_at, "plan") == 0) open_when = OPEN_AFTER_GATHER1;
     DeviceOpener opener;
     bool opened = false;
-    const char *open_at = getenv("WEDGE_DIST_OPEN");
-    bool open_late = distributed(p) && !p->fixed_only && !dist_claims_wanted(p->opt.dist);
-    if (open_at && strcmp(open_at, "pass1") == 0) open_late = false;
-    if (open_at && strcmp(open_at, "late") == 0) open_late = distributed(p);
-    bool open_at_plan = open_late && !(open_at && strcmp(open_at, "late") == 0);
-    if (open_at && strcmp(open_at, "plan") == 0) open_late = open_at_plan = distributed(p);
-    if (is_root(p) && !open_late) {
+    if (is_root(p) && open_when == OPEN_BESIDE_PASS1) {
         opener_start(&opener, p);
         opened = true;
     }
@@ -827,7 +828,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     bool traced = trace_first_pass(p, pass1, &sink, &complete, d);
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
-    if (is_root(p) && open_late && !open_at_plan) {
+    if (is_root(p) && open_when == OPEN_AFTER_PASS1) {
         opener_start(&opener, p);
         opened = true;
     }
@@ -836,7 +837,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
         return false;
     }
     dist_mark(p, "gather1");
-    if (is_root(p) && open_at_plan) {
+    if (is_root(p) && open_when == OPEN_AFTER_GATHER1) {
         opener_start(&opener, p);
         opened = true;
     }
@@ -850,7 +851,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
                 gbuffer_resolve_guides(&p->g);
                 double avg;
                 if ((p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) || !plan_at(p, mu, &avg, d)) {
-                    opener_join(&opener, p, NULL);
+                    if (opened) opener_join(&opener, p, NULL);
                     return false;
                 }
                 extras_from_plan(p, p->opt.spp);
