@@ -719,6 +719,11 @@ int dist_claim_bands(int rows, int ranks, int *start)
 bool dist_claims_wanted(const ReconDist *d)
 {
     if (!d || d->ranks <= 1 || !dist_available()) return false;
+    /* bands are whole rows of tiles: with fewer than DIST_CLAIM_ROWS_PER_RANK of them per
+     * rank the last ones (a row each) would be a large part of a rank's share, and past one
+     * per rank some ranks would get none; the interleave deals out single tiles */
+    int rows = (d->height + DIST_TILE_PX - 1) / DIST_TILE_PX;
+    if (rows < DIST_CLAIM_ROWS_PER_RANK * d->ranks) return false;
     return !(getenv("WEDGE_DIST_PASS1") && strcmp(getenv("WEDGE_DIST_PASS1"), "interleave") == 0);
 }
 

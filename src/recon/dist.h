@@ -141,7 +141,10 @@ int dist_owner(const ReconDist *d, int px, int py);
  * Without MPI or with one rank every tile row is one band of rank 0.
  * WEDGE_DIST_PASS1=interleave (for measuring against it): dist_claims_begin returns 0 and
  * pass 1 keeps the interleave. Failures set e (exit 3). */
-bool dist_claims_wanted(const ReconDist *d); /* several ranks, and not WEDGE_DIST_PASS1=interleave */
+/* Whether pass 1 is claimed: several ranks, at least DIST_CLAIM_ROWS_PER_RANK rows of tiles
+ * per rank in the frame (dist_tiles_reset), and not WEDGE_DIST_PASS1=interleave. */
+enum { DIST_CLAIM_ROWS_PER_RANK = 8 };
+bool dist_claims_wanted(const ReconDist *d);
 int dist_claims_begin(ReconDist *d, Diag *e); /* 1: claiming; 0: the interleave; -1: failed */
 int dist_claim(ReconDist *d, int *row0, int *row1, Diag *e); /* 1: a band; 0: none left; -1: failed */
 bool dist_claims_end(ReconDist *d, Diag *e);

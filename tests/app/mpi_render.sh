@@ -7,7 +7,8 @@
 # that dies makes the job fail, not hang; the exchanges in small rounds give the same image;
 # with each rank bound to a core, rank 0's OpenCL driver threads may use the node's cores and
 # a rank starts one render thread per core it is bound to. Skipped for a build without MPI; a build with MPI
-# and no mpirun fails (tools/setup installs Open MPI).
+# and no mpirun fails (tools/setup installs Open MPI). Pass 1's bands claimed on demand: a rank
+# that starts late takes fewer, the image is the same.
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
@@ -107,36 +108,47 @@ print("small rounds -np %s: identical, %d bytes in pass 1" % (np, r["bytes_commu
 PY
     unset WEDGE_DIST_PASS1
 done
-# pass 1 claimed on demand: a rank that starts late (WEDGE_DIST_CLAIM_DELAY: rank 0 naps 1 s
-# first, far longer than the others need for all of this frame's pass 1) traces fewer tiles
-# than each of the others, every tile is traced by one rank, and the image is still the
-# single-process one; the fixed interleave (WEDGE_DIST_PASS1=interleave) gives it too
-for np in 2 3; do
-    for how in claims interleave; do
-        if [ $how = claims ]; then export WEDGE_DIST_CLAIM_DELAY=0:1000; else export WEDGE_DIST_PASS1=interleave; fi
-        WEDGE_DIST_LOG=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x48 --threads 1 --seed 3 \
-            --filter aaf --quiet -o "$T/claim.exr" >"$T/out.txt" 2>&1
-        rc=$?
-        unset WEDGE_DIST_CLAIM_DELAY WEDGE_DIST_PASS1
-        if [ $rc != 0 ]; then echo "FAIL: pass 1 $how -np $np: exit $rc"; cat "$T/out.txt"; fail=1; continue; fi
-        "$WEDGE" compare "$T/one2-aaf.exr" "$T/claim.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; continue; }
-        python3 - "$T/cmp.json" "$T/out.txt" $np $how <<'PY' || { cat "$T/out.txt"; fail=1; }
+# pass 1 claimed on demand (a frame of at least 8 rows of tiles per rank: 24 here): a rank that
+# starts late (WEDGE_DIST_CLAIM_DELAY: rank 0 naps 1 s first, far longer than the others need
+# for all of this frame's pass 1) traces fewer tiles than each of the others, every tile is
+# traced by one rank, and the image is still the single-process one, for --filter aaf (pass 2
+# follows, balanced from the bands' measured times) and none (one pass); the fixed
+# interleave (WEDGE_DIST_PASS1=interleave) gives it too
+for filter in aaf none; do
+    "$WEDGE" render "$scene2" --res 64x192 --threads 1 --seed 3 --filter $filter --quiet -o "$T/one3-$filter.exr" ||
+        { echo "FAIL: single process 64x192 $filter"; fail=1; continue; }
+    for np in 2 3; do
+        for how in claims interleave; do
+            if [ $how = claims ]; then export WEDGE_DIST_CLAIM_DELAY=0:1000; else export WEDGE_DIST_PASS1=interleave; fi
+            WEDGE_DIST_LOG=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x192 --threads 1 --seed 3 \
+                --filter $filter --quiet -o "$T/claim.exr" >"$T/out.txt" 2>&1
+            rc=$?
+            unset WEDGE_DIST_CLAIM_DELAY WEDGE_DIST_PASS1
+            if [ $rc != 0 ]; then echo "FAIL: pass 1 $how -np $np $filter: exit $rc"; cat "$T/out.txt"; fail=1; continue; fi
+            "$WEDGE" compare "$T/one3-$filter.exr" "$T/claim.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; continue; }
+            python3 - "$T/cmp.json" "$T/out.txt" $np $how $filter <<'PY' || { cat "$T/out.txt"; fail=1; }
 import json, re, sys
-c, out, np, how = json.load(open(sys.argv[1])), open(sys.argv[2]).read(), int(sys.argv[3]), sys.argv[4]
+c, out, np, how, f = json.load(open(sys.argv[1])), open(sys.argv[2]).read(), int(sys.argv[3]), sys.argv[4], sys.argv[5]
 if c["mse"] != 0 or c["relmse"] != 0:
-    print("FAIL: pass 1 %s -np %d: image differs: mse %g" % (how, np, c["mse"])); sys.exit(1)
+    print("FAIL: pass 1 %s -np %d %s: image differs: mse %g" % (how, np, f, c["mse"])); sys.exit(1)
 m = re.search(r"dist-claims: (\d+) bands;(.*)", out)
 if how == "interleave":
-    if m: print("FAIL: pass 1 interleave -np %d: bands were claimed" % np); sys.exit(1)
-    print("pass 1 interleave -np %d: identical" % np); sys.exit(0)
-if not m: print("FAIL: pass 1 claims -np %d: no dist-claims line" % np); sys.exit(1)
+    if m: print("FAIL: pass 1 interleave -np %d %s: bands were claimed" % (np, f)); sys.exit(1)
+    print("pass 1 interleave -np %d %s: identical" % (np, f)); sys.exit(0)
+if not m: print("FAIL: pass 1 claims -np %d %s: no dist-claims line" % (np, f)); sys.exit(1)
 tiles = [int(t) for t in re.findall(r"rank \d+ (\d+) tiles", m.group(2))]
-if len(tiles) != np or sum(tiles) != 8 * 6 or not all(tiles[0] < t for t in tiles[1:]):
-    print("FAIL: pass 1 claims -np %d, rank 0 late: tiles per rank %s (48 in all, rank 0 fewest)" % (np, tiles)); sys.exit(1)
-print("pass 1 claims -np %d, rank 0 1 s late: tiles per rank %s, identical" % (np, tiles))
+if len(tiles) != np or sum(tiles) != 8 * 24 or not all(tiles[0] < t for t in tiles[1:]):
+    print("FAIL: pass 1 claims -np %d %s, rank 0 late: tiles per rank %s (192 in all, rank 0 fewest)" % (np, f, tiles)); sys.exit(1)
+print("pass 1 claims -np %d %s, rank 0 1 s late: tiles per rank %s, identical" % (np, f, tiles))
 PY
+        done
     done
 done
+# a frame with fewer than 8 rows of tiles per rank keeps the interleave (no band would be
+# left for some ranks at the end)
+WEDGE_DIST_LOG=1 timeout 300 mpirun -np 2 "$WEDGE" render "$scene2" --res 64x120 --threads 1 --seed 3 --filter aaf \
+    --quiet -o "$T/few.exr" >"$T/out.txt" 2>&1 || { echo "FAIL: 64x120 -np 2"; cat "$T/out.txt"; fail=1; }
+if grep -q "dist-claims" "$T/out.txt"; then echo "FAIL: 15 rows of tiles on 2 ranks were claimed"; fail=1; fi
 # the ranks wait for each other in a nonblocking barrier with naps (every run above); MPI's
 # own blocking wait (WEDGE_DIST_WAIT=spin, kept for measuring) gives the same image
 WEDGE_DIST_WAIT=spin timeout 300 mpirun -np 2 "$WEDGE" render "$scene2" --res 64x48 --threads 1 --seed 3 --filter aaf \

@@ -1,8 +1,8 @@
 /* The tile assignment of MPI ranks after pass 1 (dist_balance, dist_reassign, issue 21):
  * every tile goes to exactly one rank, the same on every call, each rank's predicted cost
  * within one tile's cost of the ideal (total / ranks), Graham's largest-first bound against
- * the brute-force optimum, and tiles stay with their owner where that keeps the balance.
- * No MPI is needed: the assignment is computed alike by every rank, without messages. */
+ * the brute-force optimum, and tiles stay with their owner where that keeps the balance;
+ * pass 1's bands (dist_claim_bands) cover every row once, shrinking. No MPI is needed: the assignment is computed alike by every rank, without messages. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -234,6 +234,16 @@ static void test_claim_bands(void)
             /* guided: far fewer claims than rows once the rows outnumber the claimers */
             if (rows >= 100 * ranks) CHECK(count < rows / 2);
         }
+    /* bands only where every rank has DIST_CLAIM_ROWS_PER_RANK rows of tiles, and with MPI */
+    ReconDist d;
+    memset(&d, 0, sizeof d);
+    d.ranks = 2, d.width = 64;
+    d.height = DIST_TILE_PX * (2 * DIST_CLAIM_ROWS_PER_RANK - 1); /* one row of tiles short */
+    CHECK(!dist_claims_wanted(&d));
+    d.height += 1; /* a part-row of pixels makes a row of tiles */
+    CHECK(dist_claims_wanted(&d) == dist_available());
+    d.ranks = 1;
+    CHECK(!dist_claims_wanted(&d));
 }
 
 int main(void)
