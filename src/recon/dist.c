@@ -704,6 +704,9 @@ bool dist_all_ok(const ReconDist *d, bool ok)
     return ok;
 }
 
+/* Guided self-scheduling (Polychronopoulos and Kuck, IEEE Trans. Computers 1987): a chunk of
+ * the work left over the claimers, here a third of it, so that a rank that takes a large early
+ * band while another is slowed still leaves enough for the others to even out with. */
 int dist_claim_bands(int rows, int ranks, int *start)
 {
     int count = 0, parts = DIST_CLAIM_SHARE * (ranks > 0 ? ranks : 1);
