@@ -237,7 +237,8 @@ void dist_finish(ReconDist *d)
     free(d->tile_samples);
     free(d->xbuf);
     free(d->band_start);
-    d->band_start = NULL;
+    free(d->row_order);
+    d->band_start = d->row_order = NULL;
     d->owner = d->owner_before = NULL;
     d->tile_seconds = d->tile_samples = NULL;
     d->xbuf = NULL;
@@ -393,7 +394,7 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI tile costs");
         return false;
     }
-    double my_seconds = 0.0, my_samples = 0.0, pass_samples = 0.0;
+    double my_seconds = 0.0, my_samples = 0.0;
     for (int y = 0; y < d->height; ++y)
         for (int x = 0; x < d->width; ++x) {
             int t = (y / DIST_TILE_PX) * d->tiles_x + x / DIST_TILE_PX;
@@ -406,17 +407,13 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
             }
             pixel_seconds[i] = 0.0f;
             d->tile_samples[t] += samples; /* known to every rank */
-            pass_samples += samples;
         }
     /* in units of this rank's mean time per sample this pass: a tile's cost relative to the
      * others the rank traced, so that a rank slower than another (other jobs on its cores, an
-     * older node) does not make its tiles look dear. Not after a claimed pass 1: there a rank
-     * traced bands of rows, not a sample of the whole frame (one may have taken the sky's
-     * cheap rows), and the seconds are scaled by the frame's mean rate instead (below); the
-     * claims already gave a slower rank fewer bands. */
-    bool claimed = d->pass_claimed;
-    d->pass_claimed = false;
-    if (my_seconds > 0.0 && !claimed)
+     * older node) does not make its tiles look dear. Each rank's tiles sample the whole frame
+     * (the interleave, or a claimed pass 1's rows spread over it: dist_claim_row), so their
+     * mean is the frame's */
+    if (my_seconds > 0.0)
         for (size_t t = 0; t < n; ++t) mine[t] *= my_samples / my_seconds;
     bool ok = true;
 #ifdef WEDGE_MPI
@@ -424,10 +421,7 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
 #else
     memcpy(all, mine, n * sizeof(double));
 #endif
-    double seconds = 0.0;
-    for (size_t t = 0; claimed && t < n; ++t) seconds += all[t];
-    double rate = claimed && seconds > 0.0 ? pass_samples / seconds : 1.0; /* the same on every rank */
-    for (size_t t = 0; ok && t < n; ++t) d->tile_seconds[t] += all[t] * rate;
+    for (size_t t = 0; ok && t < n; ++t) d->tile_seconds[t] += all[t];
     free(mine);
     free(all);
     return ok;
@@ -730,6 +724,25 @@ bool dist_claims_wanted(const ReconDist *d)
     return !(getenv("WEDGE_DIST_PASS1") && strcmp(getenv("WEDGE_DIST_PASS1"), "interleave") == 0);
 }
 
+int dist_claim_row(const ReconDist *d, int k) { return d->row_order ? d->row_order[k] : k; }
+
+void dist_claim_order(int rows, int *order)
+{
+    /* the bit-reversal permutation (van der Corput's sequence in base 2) of the powers of two
+     * past rows, keeping the rows that exist: the first m rows claimed leave no gap wider than
+     * 2 rows / m, so a band's rows, and each rank's, lie spread over the frame; the tiles a
+     * rank traced then sample all of it (dist_measure's per-rank mean is the frame's) and a
+     * slow spell of one rank does not make one region look dear */
+    int bits = 0;
+    while ((1 << bits) < rows) ++bits;
+    int n = 0;
+    for (int k = 0; k < (1 << bits) && n < rows; ++k) {
+        int r = 0;
+        for (int b = 0; b < bits; ++b) r |= ((k >> b) & 1) << (bits - 1 - b);
+        if (r < rows) order[n++] = r;
+    }
+}
+
 int dist_claims_begin(ReconDist *d, Diag *e)
 {
     if (!dist_claims_wanted(d) || !d->owner || !d->claim_window) return 0;
@@ -741,7 +754,14 @@ int dist_claims_begin(ReconDist *d, Diag *e)
         diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI bands");
         return -1;
     }
+    free(d->row_order);
+    d->row_order = malloc((size_t)rows * sizeof(int));
+    if (!d->row_order) {
+        diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI bands");
+        return -1;
+    }
     d->band_count = dist_claim_bands(rows, d->ranks, d->band_start);
+    dist_claim_order(rows, d->row_order);
     for (int t = 0; t < d->tile_count; ++t) d->owner[t] = -1;
     d->claiming = true;
     /* WEDGE_DIST_CLAIM_DELAY=R:MS (tests/app/mpi_render.sh): rank R starts claiming MS ms late,
@@ -772,7 +792,9 @@ int dist_claim(ReconDist *d, int *row0, int *row1, Diag *e)
     long long band = count - d->claims_base;
     if (band < 0 || band >= d->band_count) return 0;
     *row0 = d->band_start[band], *row1 = d->band_start[band + 1];
-    for (int t = *row0 * d->tiles_x; t < *row1 * d->tiles_x && t < d->tile_count; ++t) d->owner[t] = d->rank;
+    for (int k = *row0; k < *row1; ++k)
+        for (int t = d->row_order[k] * d->tiles_x; t < (d->row_order[k] + 1) * d->tiles_x && t < d->tile_count; ++t)
+            d->owner[t] = d->rank;
     return 1;
 #else
     (void)d, (void)row0, (void)row1, (void)e;
@@ -801,7 +823,6 @@ bool dist_claims_end(ReconDist *d, Diag *e)
             ok = false;
         }
     if (ok) memcpy(d->owner_before, d->owner, (size_t)d->tile_count * sizeof(int));
-    d->pass_claimed = ok;
     if (ok && getenv("WEDGE_DIST_LOG") && d->rank == 0) { /* the tiles each rank took */
         char line[1024];
         int at = snprintf(line, sizeof line, "dist-claims: %d bands;", d->band_count);

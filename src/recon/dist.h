@@ -65,10 +65,10 @@ typedef struct {
                                  * its tracer's mean seconds per sample (dist_measure) */
     double *tile_samples;       /* ... and the samples they took */
     long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
-    int *band_start;            /* pass 1 claimed on demand: the bands' first tile rows */
+    int *band_start;            /* pass 1 claimed on demand: the bands' first positions in */
+    int *row_order;             /* ... the order the tile rows are claimed in */
     int band_count;
     bool claiming;              /* between dist_claims_begin and dist_claims_end */
-    bool pass_claimed;          /* the pass dist_measure measures next was claimed */
     void *claim_window;         /* the bands' counter's MPI window (an MPI_Win *), made by dist_init */
     long long claims_base;      /* the counter's value where this frame's bands begin */
     unsigned char *xbuf;        /* the exchanges' message buffer (a round's chunk per rank on
@@ -136,7 +136,8 @@ int dist_owner(const ReconDist *d, int px, int py);
  * others. Who traced a pixel changes nothing in it (each pixel's samples come from (seed,
  * pixel, pass) and are summed by one rank in one order), so images stay value for value.
  * dist_claims_begin (a collective) starts the count with every tile unowned; dist_claim
- * gives the next band's tile rows [row0, row1) and makes its tiles this rank's; dist_claims_end (a collective) tells every
+ * gives the next band's positions [row0, row1) in the claim order (dist_claim_row: rows spread
+ * over the frame) and makes their tiles this rank's; dist_claims_end (a collective) tells every
  * rank every tile's owner (owner and owner_before), as after dist_tiles_reset's interleave.
  * Without MPI or with one rank every tile row is one band of rank 0.
  * WEDGE_DIST_PASS1=interleave (for measuring against it): dist_claims_begin returns 0 and
@@ -147,6 +148,12 @@ enum { DIST_CLAIM_ROWS_PER_RANK = 8 };
 bool dist_claims_wanted(const ReconDist *d);
 int dist_claims_begin(ReconDist *d, Diag *e); /* 1: claiming; 0: the interleave; -1: failed */
 int dist_claim(ReconDist *d, int *row0, int *row1, Diag *e); /* 1: a band; 0: none left; -1: failed */
+/* The tile row at position k of the claim order: a band [row0, row1) holds the rows
+ * dist_claim_row(d, row0) .. dist_claim_row(d, row1 - 1), spread over the frame. */
+int dist_claim_row(const ReconDist *d, int k);
+/* The claim order of rows tile rows (order[k]: the row at position k): bit-reversed, so that
+ * the first m positions leave no gap wider than 2 rows / m. */
+void dist_claim_order(int rows, int *order);
 bool dist_claims_end(ReconDist *d, Diag *e);
 /* The cut of rows tile rows into bands for ranks claimers: the first row of band k in
  * start[k] (start[count] = rows); each band holds about 1 / (DIST_CLAIM_SHARE * ranks) of the rows not yet cut, at
@@ -165,8 +172,7 @@ void dist_balance(const double *tile_cost, const int *before, int tile_count, in
 
 /* After a pass: adds the tracing seconds each rank measured in the pixels it owned
  * (pixel_seconds, which it zeroes; the others' pixels are ignored), in units of that rank's
- * mean seconds per sample in the pass (so that a slower rank's tiles do not look dear; after
- * a claimed pass 1, whose bands are no sample of the frame, of the frame's mean), to
+ * mean seconds per sample in the pass (so that a slower rank's tiles do not look dear), to
  * every tile's total on every rank, and the pass's samples (spp per pixel, NULL:
  * spp_uniform everywhere) to the tiles' sample counts. A collective (one all-reduce of a
  * double per tile). False with e set on a communication failure. */

@@ -351,6 +351,16 @@ static void rank0_tracing(ReconPipeline *p, bool tracing)
     if (distributed(p) && is_root(p)) dist_node_cpus(p->opt.dist, !tracing);
 }
 
+/* spp_mine = count in the pixels of the tile rows at claim positions [row0, row1). */
+static void band_counts(ReconPipeline *p, int row0, int row1, int count)
+{
+    int w = renderer_width(p->r), h = renderer_height(p->r);
+    for (int k = row0; k < row1; ++k) {
+        int y0 = dist_claim_row(p->opt.dist, k) * DIST_TILE_PX, y1 = y0 + DIST_TILE_PX < h ? y0 + DIST_TILE_PX : h;
+        for (size_t i = (size_t)y0 * (size_t)w; i < (size_t)y1 * (size_t)w; ++i) p->spp_mine[i] = count;
+    }
+}
+
 /* The first pass of a frame, `uniform` samples in every pixel. With several ranks each
  * traces the bands of tile rows it claims while it is free (dist_claims_begin), so that the
  * ranks end it together whatever slows one of them; WEDGE_DIST_PASS1=interleave: the
@@ -367,17 +377,15 @@ static bool trace_first_pass(ReconPipeline *p, int uniform, const SampleSink *si
         rank0_tracing(p, false);
         return true;
     }
-    int w = renderer_width(p->r), h = renderer_height(p->r), row0, row1, got;
+    int row0, row1, got;
     memset(p->spp_mine, 0, pixel_count(p) * sizeof(int));
     *complete = true;
     /* after a cancel the bands still come: the renderer gives a band's pixels their first
      * samples whatever the flag says (an interrupted image has every pixel) */
     while ((got = dist_claim(dist, &row0, &row1, d)) > 0) {
-        size_t lo = (size_t)row0 * DIST_TILE_PX * (size_t)w;
-        size_t hi = (size_t)(row1 * DIST_TILE_PX < h ? row1 * DIST_TILE_PX : h) * (size_t)w;
-        for (size_t i = lo; i < hi; ++i) p->spp_mine[i] = uniform;
+        band_counts(p, row0, row1, uniform);
         *complete = render_pass(p->r, pass, p->spp_mine, 0, &p->g.frame, sink) && *complete;
-        memset(p->spp_mine + lo, 0, (hi - lo) * sizeof(int));
+        band_counts(p, row0, row1, 0);
     }
     rank0_tracing(p, false);
     return got == 0 && dist_claims_end(dist, d);

@@ -234,6 +234,28 @@ static void test_claim_bands(void)
             /* guided: far fewer claims than rows once the rows outnumber the claimers */
             if (rows >= 100 * ranks) CHECK(count < rows / 2);
         }
+    /* the claim order: every row once, and the first m rows claimed spread over the frame:
+     * no gap between them (or before the last row) wider than 2 rows / m, for every m (the
+     * bit-reversal permutation: the first 2^j positions take every (2^bits / 2^j)-th row) */
+    for (int rows = 1; rows <= 300; ++rows) {
+        int order[300], seen[300] = {0};
+        dist_claim_order(rows, order);
+        for (int k = 0; k < rows; ++k) {
+            CHECK(order[k] >= 0 && order[k] < rows);
+            if (order[k] >= 0 && order[k] < rows) seen[order[k]]++;
+        }
+        for (int r = 0; r < rows; ++r) CHECK(seen[r] == 1);
+        for (int m = 1; m <= rows; ++m) {
+            bool taken[300] = {false};
+            for (int k = 0; k < m; ++k) taken[order[k]] = true;
+            int gap = 0, widest = 0;
+            for (int r = 0; r < rows; ++r) {
+                gap = taken[r] ? 0 : gap + 1;
+                widest = gap > widest ? gap : widest;
+            }
+            CHECK(widest * m <= 2 * rows);
+        }
+    }
     /* bands only where every rank has DIST_CLAIM_ROWS_PER_RANK rows of tiles, and with MPI */
     ReconDist d;
     memset(&d, 0, sizeof d);
