@@ -721,7 +721,7 @@ bool dist_claims_wanted(const ReconDist *d)
      * per rank some ranks would get none; the interleave deals out single tiles */
     int rows = (d->height + DIST_TILE_PX - 1) / DIST_TILE_PX;
     if (rows < DIST_CLAIM_ROWS_PER_RANK * d->ranks) return false;
-    return !(getenv("WEDGE_DIST_PASS1") && strcmp(getenv("WEDGE_DIST_PASS1"), "interleave") == 0);
+    return getenv("WEDGE_DIST_PASS1") && strcmp(getenv("WEDGE_DIST_PASS1"), "claims") == 0;
 }
 
 int dist_claim_row(const ReconDist *d, int k) { return d->row_order ? d->row_order[k] : k; }

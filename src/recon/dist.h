@@ -1,13 +1,15 @@
 /* One frame rendered by several processes (MPI ranks, DESIGN.md section 8), each pixel's
  * samples in a pass taken by exactly one rank, its owner in that pass.
  *
- * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): bands of tile rows
- * claimed on demand (dist_claims_begin), so that a rank slowed by anything (rank 0's OpenCL
- * device opening beside it, another job on its core) takes fewer; with
- * WEDGE_DIST_PASS1=interleave the fixed interleave, tile t (row-major) to rank t mod ranks
- * (neighbouring tiles cost alike, so it balances the work to within a few tiles' cost, but not
- * the ranks' speeds; 8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x -> 1.71x,
- * where the costly out-of-focus pixels come in patches). Every later pass (the
+ * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): the interleave,
+ * tile t (row-major) to rank t mod ranks (neighbouring tiles cost alike, so it balances the
+ * work to within a few tiles' cost, though not the ranks' speeds; 8x8 rather than 16x16
+ * tiles: defocus bench scene, 2 ranks, 1.45x -> 1.71x, where the costly out-of-focus pixels
+ * come in patches); with WEDGE_DIST_PASS1=claims, bands of tile rows claimed on demand
+ * (dist_claims_begin), so that a rank slowed by anything (rank 0's OpenCL device opening,
+ * another job on its core) takes fewer: not the default, since on a quiet node it cost
+ * defocus and combined more than it gave soft_shadows (docs/benchmarks.md, "Pass 1 claimed
+ * on demand"). Every later pass (the
  * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
  * broadcast every rank knows each pixel's count; a tile's cost is its planned samples times
  * the time per sample measured in that tile so far, relative to its tracer's mean (each rank
@@ -140,10 +142,10 @@ int dist_owner(const ReconDist *d, int px, int py);
  * over the frame) and makes their tiles this rank's; dist_claims_end (a collective) tells every
  * rank every tile's owner (owner and owner_before), as after dist_tiles_reset's interleave.
  * Without MPI or with one rank every tile row is one band of rank 0.
- * WEDGE_DIST_PASS1=interleave (for measuring against it): dist_claims_begin returns 0 and
- * pass 1 keeps the interleave. Failures set e (exit 3). */
-/* Whether pass 1 is claimed: several ranks, at least DIST_CLAIM_ROWS_PER_RANK rows of tiles
- * per rank in the frame (dist_tiles_reset), and not WEDGE_DIST_PASS1=interleave. */
+ * Only under WEDGE_DIST_PASS1=claims (otherwise dist_claims_begin returns 0 and pass 1 keeps
+ * the interleave). Failures set e (exit 3). */
+/* Whether pass 1 is claimed: WEDGE_DIST_PASS1=claims, several ranks, and at least
+ * DIST_CLAIM_ROWS_PER_RANK rows of tiles per rank in the frame (dist_tiles_reset). */
 enum { DIST_CLAIM_ROWS_PER_RANK = 8 };
 bool dist_claims_wanted(const ReconDist *d);
 int dist_claims_begin(ReconDist *d, Diag *e); /* 1: claiming; 0: the interleave; -1: failed */

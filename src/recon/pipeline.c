@@ -361,10 +361,10 @@ static void band_counts(ReconPipeline *p, int row0, int row1, int count)
     }
 }
 
-/* The first pass of a frame, `uniform` samples in every pixel. With several ranks each
- * traces the bands of tile rows it claims while it is free (dist_claims_begin), so that the
- * ranks end it together whatever slows one of them; WEDGE_DIST_PASS1=interleave: the
- * interleave's tiles. *complete: not cancelled. False on an MPI failure (d set). */
+/* The first pass of a frame, `uniform` samples in every pixel. With several ranks, the
+ * interleave's tiles, or under WEDGE_DIST_PASS1=claims the bands of tile rows each rank claims
+ * while it is free (dist_claims_begin), so that the ranks end it together whatever slows one
+ * of them. *complete: not cancelled. False on an MPI failure (d set). */
 static bool trace_first_pass(ReconPipeline *p, int uniform, const SampleSink *sink, bool *complete, Diag *d)
 {
     int pass = p->pass++;
@@ -807,14 +807,14 @@ static bool render_frame(ReconPipeline *p, Diag *d)
 
     /* The device opens on rank 0 while pass 1 traces: a fixed-count frame (LR) has no pass 2
      * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. With several ranks
-     * the bands of pass 1 are claimed on demand (trace_first_pass), so the opening's CPU
-     * (about 70 MB of buffers faulted in at 720x720, besides the kernels) makes rank 0 take
-     * fewer bands instead of ending pass 1 later. With pass 1's fixed interleave
-     * (WEDGE_DIST_PASS1=interleave) and a pass 2 it starts once rank 0's tiles are traced:
-     * beside them it made rank 0 the last to reach the first gather (0.02-0.06 s); after them
-     * it overlaps rank 0's gather and plan (and slows the gather: rank 1 packs on the other
-     * core meanwhile). WEDGE_DIST_OPEN=pass1, late or plan (after the first gather; for
-     * measuring): that placement on every frame of several ranks. */
+     * and a pass 2, once rank 0's pass-1 tiles are traced instead: beside its tracing it made
+     * rank 0 the last to reach the first gather (the opening's CPU on top of an equal share
+     * of tiles, 0.02-0.06 s), whereas after it the opening overlaps rank 0's gather and plan
+     * on the node's other cores, where the other ranks wait (dist_node_cpus), though it slows
+     * the gather (about 70 MB of buffers faulted in at 720x720 while rank 1 packs on the other
+     * core). With pass 1 claimed (WEDGE_DIST_PASS1=claims) beside it again: the claims absorb
+     * it. WEDGE_DIST_OPEN=pass1, late or plan (after the first gather; for measuring): that
+     * placement on every frame of several ranks. */
     enum { OPEN_BESIDE_PASS1, OPEN_AFTER_PASS1, OPEN_AFTER_GATHER1 } open_when = OPEN_BESIDE_PASS1;
     if (distributed(p) && !p->fixed_only && !dist_claims_wanted(p->opt.dist)) open_when = OPEN_AFTER_PASS1;
     const char *open_at = distributed(p) ? getenv("WEDGE_DIST_OPEN") : NULL;

@@ -7,8 +7,8 @@
 # that dies makes the job fail, not hang; the exchanges in small rounds give the same image;
 # with each rank bound to a core, rank 0's OpenCL driver threads may use the node's cores and
 # a rank starts one render thread per core it is bound to. Skipped for a build without MPI; a build with MPI
-# and no mpirun fails (tools/setup installs Open MPI). Pass 1's bands claimed on demand: a rank
-# that starts late takes fewer, the image is the same.
+# and no mpirun fails (tools/setup installs Open MPI). Pass 1's bands claimed on demand
+# (WEDGE_DIST_PASS1=claims): a rank that starts late takes fewer, the image is the same.
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
@@ -83,11 +83,10 @@ PY
 done
 # the exchanges stream each rank's tiles in rounds (4 MiB each; WEDGE_DIST_CHUNK makes them tiny,
 # so that rounds cut rows, tiles and arrays anywhere): the gathers and the hand-over of moved
-# tiles still give the single-process image, and the report still counts every byte once.
-# Pass 1's tiles as the fixed interleave (WEDGE_DIST_PASS1): claimed on demand, which rank traces
-# what, and so the bytes gathered, depends on timing.
+# tiles still give the single-process image, and the report still counts every byte once
+# (pass 1's tiles interleaved, the default: claimed, which rank traces what, and so the bytes
+# gathered, would depend on timing)
 for np in 2 3; do
-    export WEDGE_DIST_PASS1=interleave
     WEDGE_DIST_CHUNK=997 WEDGE_DIST_NO_KEEP=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x48 --threads 1 \
         --seed 3 --filter aaf --quiet -o "$T/chunk.exr" --report "$T/chunk.json" >"$T/out.txt" 2>&1
     rc=$?
@@ -106,20 +105,20 @@ if r["bytes_communicated"][0] != w["bytes_communicated"][0] or not r["bytes_comm
     sys.exit(1)
 print("small rounds -np %s: identical, %d bytes in pass 1" % (np, r["bytes_communicated"][0]))
 PY
-    unset WEDGE_DIST_PASS1
 done
-# pass 1 claimed on demand (a frame of at least 8 rows of tiles per rank: 24 here): a rank that
+# pass 1 claimed on demand (WEDGE_DIST_PASS1=claims; a frame of at least 8 rows of tiles per
+# rank: 24 here): a rank that
 # starts late (WEDGE_DIST_CLAIM_DELAY: rank 0 naps 1 s first, far longer than the others need
 # for all of this frame's pass 1) traces fewer tiles than each of the others, every tile is
 # traced by one rank, and the image is still the single-process one, for --filter aaf (pass 2
-# follows, balanced from the bands' measured times) and none (one pass); the fixed
-# interleave (WEDGE_DIST_PASS1=interleave) gives it too
+# follows, balanced from the bands' measured times) and none (one pass); the default
+# interleave gives it too
 for filter in aaf none; do
     "$WEDGE" render "$scene2" --res 64x192 --threads 1 --seed 3 --filter $filter --quiet -o "$T/one3-$filter.exr" ||
         { echo "FAIL: single process 64x192 $filter"; fail=1; continue; }
     for np in 2 3; do
         for how in claims interleave; do
-            if [ $how = claims ]; then export WEDGE_DIST_CLAIM_DELAY=0:1000; else export WEDGE_DIST_PASS1=interleave; fi
+            if [ $how = claims ]; then export WEDGE_DIST_PASS1=claims WEDGE_DIST_CLAIM_DELAY=0:1000; fi
             WEDGE_DIST_LOG=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x192 --threads 1 --seed 3 \
                 --filter $filter --quiet -o "$T/claim.exr" >"$T/out.txt" 2>&1
             rc=$?
@@ -146,7 +145,7 @@ PY
 done
 # a frame with fewer than 8 rows of tiles per rank keeps the interleave (no band would be
 # left for some ranks at the end)
-WEDGE_DIST_LOG=1 timeout 300 mpirun -np 2 "$WEDGE" render "$scene2" --res 64x120 --threads 1 --seed 3 --filter aaf \
+WEDGE_DIST_PASS1=claims WEDGE_DIST_LOG=1 timeout 300 mpirun -np 2 "$WEDGE" render "$scene2" --res 64x120 --threads 1 --seed 3 --filter aaf \
     --quiet -o "$T/few.exr" >"$T/out.txt" 2>&1 || { echo "FAIL: 64x120 -np 2"; cat "$T/out.txt"; fail=1; }
 if grep -q "dist-claims" "$T/out.txt"; then echo "FAIL: 15 rows of tiles on 2 ranks were claimed"; fail=1; fi
 # the ranks wait for each other in a nonblocking barrier with naps (every run above); MPI's

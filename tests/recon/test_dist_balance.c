@@ -3,6 +3,7 @@
  * within one tile's cost of the ideal (total / ranks), Graham's largest-first bound against
  * the brute-force optimum, and tiles stay with their owner where that keeps the balance;
  * pass 1's bands (dist_claim_bands) cover every row once, shrinking. No MPI is needed: the assignment is computed alike by every rank, without messages. */
+#define _POSIX_C_SOURCE 200112L /* setenv */
 #include <stdlib.h>
 #include <string.h>
 
@@ -261,11 +262,16 @@ static void test_claim_bands(void)
     memset(&d, 0, sizeof d);
     d.ranks = 2, d.width = 64;
     d.height = DIST_TILE_PX * (2 * DIST_CLAIM_ROWS_PER_RANK - 1); /* one row of tiles short */
+    setenv("WEDGE_DIST_PASS1", "claims", 1);
     CHECK(!dist_claims_wanted(&d));
     d.height += 1; /* a part-row of pixels makes a row of tiles */
     CHECK(dist_claims_wanted(&d) == dist_available());
+    unsetenv("WEDGE_DIST_PASS1"); /* the default: the interleave */
+    CHECK(!dist_claims_wanted(&d));
+    setenv("WEDGE_DIST_PASS1", "claims", 1);
     d.ranks = 1;
     CHECK(!dist_claims_wanted(&d));
+    unsetenv("WEDGE_DIST_PASS1");
 }
 
 int main(void)
