@@ -75,43 +75,6 @@ static void node_cpus_init(ReconDist *d)
 }
 #endif
 
-#ifdef WEDGE_MPI
-/* The counter of pass 1's bands (dist_claims_begin): one long long on rank 0 in a window of
- * every rank, read and added to atomically (MPI_Fetch_and_op in one passive-target epoch
- * for the whole run, so rank 0 need not take part while the others claim; on one node Open
- * MPI does it in shared memory). Made once at start: creating a window is a collective of a
- * few milliseconds (its shared memory), which a frame would wait for. Without it (a
- * failure) pass 1 keeps the interleave. */
-static void claim_window_init(ReconDist *d)
-{
-    if (d->ranks <= 1) return;
-    MPI_Win *win = malloc(sizeof *win);
-    long long *counter = NULL;
-    int rc = win ? MPI_Win_allocate(d->rank == 0 ? (MPI_Aint)sizeof(long long) : 0, sizeof(long long), MPI_INFO_NULL,
-                                    MPI_COMM_WORLD, &counter, win)
-                 : MPI_ERR_NO_MEM;
-    if (rc != MPI_SUCCESS) {
-        free(win);
-        return;
-    }
-    int ok = MPI_Win_lock_all(0, *win) == MPI_SUCCESS;
-    if (ok && d->rank == 0) { /* zero, through the window: then every access is MPI's */
-        long long zero = 0, old = 0;
-        ok = MPI_Fetch_and_op(&zero, &old, MPI_LONG_LONG, 0, 0, MPI_REPLACE, *win) == MPI_SUCCESS &&
-             MPI_Win_flush(0, *win) == MPI_SUCCESS;
-    }
-    /* nobody claims before the counter is zero, and every rank has the window or none */
-    int all = 0;
-    if (MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) == MPI_SUCCESS && all) {
-        d->claim_window = win;
-        return;
-    }
-    if (ok) MPI_Win_unlock_all(*win);
-    MPI_Win_free(win);
-    free(win);
-}
-#endif
-
 void dist_node_cpus(const ReconDist *d, bool on)
 {
 #ifdef __linux__
@@ -210,7 +173,6 @@ void dist_init(int *argc, char ***argv, ReconDist *d)
     MPI_Comm_rank(MPI_COMM_WORLD, &d->rank);
     MPI_Comm_size(MPI_COMM_WORLD, &d->ranks);
     node_cpus_init(d);
-    claim_window_init(d);
 #else
     (void)argc, (void)argv;
 #endif
@@ -222,13 +184,6 @@ void dist_finish(ReconDist *d)
     int inited = 0, done = 0;
     MPI_Initialized(&inited);
     MPI_Finalized(&done);
-    if (inited && !done && d->claim_window) { /* a collective, as its creation */
-        MPI_Win *win = d->claim_window;
-        MPI_Win_unlock_all(*win);
-        MPI_Win_free(win);
-    }
-    free(d->claim_window);
-    d->claim_window = NULL;
     if (inited && !done) MPI_Finalize();
 #endif
     free(d->owner);
@@ -236,9 +191,6 @@ void dist_finish(ReconDist *d)
     free(d->tile_seconds);
     free(d->tile_samples);
     free(d->xbuf);
-    free(d->band_start);
-    free(d->row_order);
-    d->band_start = d->row_order = NULL;
     d->owner = d->owner_before = NULL;
     d->tile_seconds = d->tile_samples = NULL;
     d->xbuf = NULL;
@@ -410,9 +362,7 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
         }
     /* in units of this rank's mean time per sample this pass: a tile's cost relative to the
      * others the rank traced, so that a rank slower than another (other jobs on its cores, an
-     * older node) does not make its tiles look dear. Each rank's tiles sample the whole frame
-     * (the interleave, or a claimed pass 1's rows spread over it: dist_claim_row), so their
-     * mean is the frame's */
+     * older node) does not make its tiles look dear */
     if (my_seconds > 0.0)
         for (size_t t = 0; t < n; ++t) mine[t] *= my_samples / my_seconds;
     bool ok = true;
@@ -696,146 +646,4 @@ bool dist_all_ok(const ReconDist *d, bool ok)
     (void)d;
 #endif
     return ok;
-}
-
-/* Guided self-scheduling (Polychronopoulos and Kuck, IEEE Trans. Computers 1987): a chunk of
- * the work left over the claimers, here a third of it, so that a rank that takes a large early
- * band while another is slowed still leaves enough for the others to even out with. */
-int dist_claim_bands(int rows, int ranks, int *start)
-{
-    int count = 0, parts = DIST_CLAIM_SHARE * (ranks > 0 ? ranks : 1);
-    for (int row = 0; row < rows; ++count) {
-        start[count] = row;
-        int size = (rows - row) / parts; /* guided: a share of what is left, the last bands one row */
-        row += size > 1 ? size : 1;
-    }
-    start[count] = rows;
-    return count;
-}
-
-bool dist_claims_wanted(const ReconDist *d)
-{
-    if (!d || d->ranks <= 1 || !dist_available()) return false;
-    /* bands are whole rows of tiles: with fewer than DIST_CLAIM_ROWS_PER_RANK of them per
-     * rank the last ones (a row each) would be a large part of a rank's share, and past one
-     * per rank some ranks would get none; the interleave deals out single tiles */
-    int rows = (d->height + DIST_TILE_PX - 1) / DIST_TILE_PX;
-    if (rows < DIST_CLAIM_ROWS_PER_RANK * d->ranks) return false;
-    return getenv("WEDGE_DIST_PASS1") && strcmp(getenv("WEDGE_DIST_PASS1"), "claims") == 0;
-}
-
-int dist_claim_row(const ReconDist *d, int k) { return d->row_order ? d->row_order[k] : k; }
-
-void dist_claim_order(int rows, int *order)
-{
-    /* the bit-reversal permutation (van der Corput's sequence in base 2) of the powers of two
-     * past rows, keeping the rows that exist: the first m rows claimed leave no gap wider than
-     * 2 rows / m, so a band's rows, and each rank's, lie spread over the frame; the tiles a
-     * rank traced then sample all of it (dist_measure's per-rank mean is the frame's) and a
-     * slow spell of one rank does not make one region look dear */
-    int bits = 0;
-    while ((1 << bits) < rows) ++bits;
-    int n = 0;
-    for (int k = 0; k < (1 << bits) && n < rows; ++k) {
-        int r = 0;
-        for (int b = 0; b < bits; ++b) r |= ((k >> b) & 1) << (bits - 1 - b);
-        if (r < rows) order[n++] = r;
-    }
-}
-
-int dist_claims_begin(ReconDist *d, Diag *e)
-{
-    if (!dist_claims_wanted(d) || !d->owner || !d->claim_window) return 0;
-#ifdef WEDGE_MPI
-    int rows = (d->height + DIST_TILE_PX - 1) / DIST_TILE_PX;
-    free(d->band_start);
-    d->band_start = malloc(((size_t)rows + 1) * sizeof(int));
-    if (!d->band_start) {
-        diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI bands");
-        return -1;
-    }
-    free(d->row_order);
-    d->row_order = malloc((size_t)rows * sizeof(int));
-    if (!d->row_order) {
-        diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI bands");
-        return -1;
-    }
-    d->band_count = dist_claim_bands(rows, d->ranks, d->band_start);
-    dist_claim_order(rows, d->row_order);
-    for (int t = 0; t < d->tile_count; ++t) d->owner[t] = -1;
-    d->claiming = true;
-    /* WEDGE_DIST_CLAIM_DELAY=R:MS (tests/app/mpi_render.sh): rank R starts claiming MS ms late,
-     * as if something else held its core; the others then take its share */
-    const char *delay = getenv("WEDGE_DIST_CLAIM_DELAY");
-    if (delay && atoi(delay) == d->rank && strchr(delay, ':')) {
-        long ms = atol(strchr(delay, ':') + 1);
-        struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-        nanosleep(&ts, NULL);
-    }
-    return 1;
-#else
-    (void)e;
-    return 0;
-#endif
-}
-
-int dist_claim(ReconDist *d, int *row0, int *row1, Diag *e)
-{
-#ifdef WEDGE_MPI
-    if (!d || !d->claiming) return 0;
-    long long one = 1, count = 0;
-    MPI_Win win = *(MPI_Win *)d->claim_window;
-    if (!mpi_ok(MPI_Fetch_and_op(&one, &count, MPI_LONG_LONG, 0, 0, MPI_SUM, win), "fetch-and-op", e) ||
-        !mpi_ok(MPI_Win_flush(0, win), "flush", e))
-        return -1;
-    /* the counter runs on over frames: this frame's bands are those after claims_base */
-    long long band = count - d->claims_base;
-    if (band < 0 || band >= d->band_count) return 0;
-    *row0 = d->band_start[band], *row1 = d->band_start[band + 1];
-    for (int k = *row0; k < *row1; ++k)
-        for (int t = d->row_order[k] * d->tiles_x; t < (d->row_order[k] + 1) * d->tiles_x && t < d->tile_count; ++t)
-            d->owner[t] = d->rank;
-    return 1;
-#else
-    (void)d, (void)row0, (void)row1, (void)e;
-    return 0;
-#endif
-}
-
-bool dist_claims_end(ReconDist *d, Diag *e)
-{
-#ifdef WEDGE_MPI
-    if (!d || !d->claiming) return true;
-    d->claiming = false;
-    /* every rank has taken each band once and asked once more in vain: the next frame's
-     * bands start that many counts on. Every rank's last claim precedes the all-reduce
-     * below, which no rank leaves before all have reached it, so no claim of the next frame
-     * can come before them. */
-    d->claims_base += d->band_count + d->ranks;
-    /* every tile's owner: each rank knows its own bands (-1 elsewhere), the largest over
-     * ranks is the owner; a band nobody claimed (a failure) stays -1 and makes the gather fail */
-    bool ok = quiet_arrival(e) &&
-              mpi_ok(MPI_Allreduce(MPI_IN_PLACE, d->owner, d->tile_count, MPI_INT, MPI_MAX, MPI_COMM_WORLD),
-                     "all-reduce", e);
-    for (int t = 0; ok && t < d->tile_count; ++t)
-        if (d->owner[t] < 0) {
-            diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MPI: tile %d of pass 1 was claimed by no rank", t);
-            ok = false;
-        }
-    if (ok) memcpy(d->owner_before, d->owner, (size_t)d->tile_count * sizeof(int));
-    if (ok && getenv("WEDGE_DIST_LOG") && d->rank == 0) { /* the tiles each rank took */
-        char line[1024];
-        int at = snprintf(line, sizeof line, "dist-claims: %d bands;", d->band_count);
-        for (int r = 0; r < d->ranks && at > 0 && (size_t)at < sizeof line; ++r) {
-            int tiles = 0;
-            for (int t = 0; t < d->tile_count; ++t) tiles += d->owner[t] == r;
-            at += snprintf(line + at, sizeof line - (size_t)at, " rank %d %d tiles", r, tiles);
-        }
-        fprintf(stderr, "%s\n", line);
-    }
-    return ok;
-#else
-    (void)d, (void)e;
-    return true;
-#endif
 }

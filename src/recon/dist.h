@@ -2,14 +2,9 @@
  * samples in a pass taken by exactly one rank, its owner in that pass.
  *
  * Ownership, per pass, in 8x8 tiles. Pass 1 (the same count everywhere): the interleave,
- * tile t (row-major) to rank t mod ranks (neighbouring tiles cost alike, so it balances the
- * work to within a few tiles' cost, though not the ranks' speeds; 8x8 rather than 16x16
- * tiles: defocus bench scene, 2 ranks, 1.45x -> 1.71x, where the costly out-of-focus pixels
- * come in patches); with WEDGE_DIST_PASS1=claims, bands of tile rows claimed on demand
- * (dist_claims_begin), so that a rank slowed by anything (rank 0's OpenCL device opening,
- * another job on its core) takes fewer: not the default, since on a quiet node it cost
- * defocus and combined more than it gave soft_shadows (docs/benchmarks.md, "Pass 1 claimed
- * on demand"). Every later pass (the
+ * tile t (row-major) to rank t mod ranks; neighbouring tiles cost alike, so it balances to
+ * within a few tiles' cost (8x8 rather than 16x16 tiles: defocus bench scene, 2 ranks, 1.45x
+ * -> 1.71x, where the costly out-of-focus pixels come in patches). Every later pass (the
  * adaptive pass 2, progressive steps) is balanced by its predicted cost: once the plan is
  * broadcast every rank knows each pixel's count; a tile's cost is its planned samples times
  * the time per sample measured in that tile so far, relative to its tracer's mean (each rank
@@ -67,12 +62,6 @@ typedef struct {
                                  * its tracer's mean seconds per sample (dist_measure) */
     double *tile_samples;       /* ... and the samples they took */
     long long tiles_moved;      /* tiles that changed owner between passes, over the frame */
-    int *band_start;            /* pass 1 claimed on demand: the bands' first positions in */
-    int *row_order;             /* ... the order the tile rows are claimed in */
-    int band_count;
-    bool claiming;              /* between dist_claims_begin and dist_claims_end */
-    void *claim_window;         /* the bands' counter's MPI window (an MPI_Win *), made by dist_init */
-    long long claims_base;      /* the counter's value where this frame's bands begin */
     unsigned char *xbuf;        /* the exchanges' message buffer (a round's chunk per rank on
                                  * rank 0, one elsewhere), kept between exchanges */
     size_t xbuf_bytes;
@@ -128,40 +117,6 @@ enum { DIST_TILE_PX = 8 };
 bool dist_tiles_reset(ReconDist *d, int width, int height, Diag *e);
 /* The rank that owns pixel (px, py) in the pass being traced. */
 int dist_owner(const ReconDist *d, int px, int py);
-
-/* Pass 1 claimed on demand (docs/benchmarks.md, "Pass 1 claimed on demand"). The frame's
- * rows of tiles are cut into bands, large first and shrinking to one row of tiles (the same
- * cut on every rank: dist_claim_bands), and each rank, while it traces, takes the next band
- * from a counter on rank 0 (an MPI atomic fetch-and-add on a one-int window), so that a rank
- * slowed by anything (rank 0's OpenCL device opening, another job on its core, dearer
- * pixels) traces fewer bands and every rank ends pass 1 within about one band of the
- * others. Who traced a pixel changes nothing in it (each pixel's samples come from (seed,
- * pixel, pass) and are summed by one rank in one order), so images stay value for value.
- * dist_claims_begin (a collective) starts the count with every tile unowned; dist_claim
- * gives the next band's positions [row0, row1) in the claim order (dist_claim_row: rows spread
- * over the frame) and makes their tiles this rank's; dist_claims_end (a collective) tells every
- * rank every tile's owner (owner and owner_before), as after dist_tiles_reset's interleave.
- * Without MPI or with one rank every tile row is one band of rank 0.
- * Only under WEDGE_DIST_PASS1=claims (otherwise dist_claims_begin returns 0 and pass 1 keeps
- * the interleave). Failures set e (exit 3). */
-/* Whether pass 1 is claimed: WEDGE_DIST_PASS1=claims, several ranks, and at least
- * DIST_CLAIM_ROWS_PER_RANK rows of tiles per rank in the frame (dist_tiles_reset). */
-enum { DIST_CLAIM_ROWS_PER_RANK = 8 };
-bool dist_claims_wanted(const ReconDist *d);
-int dist_claims_begin(ReconDist *d, Diag *e); /* 1: claiming; 0: the interleave; -1: failed */
-int dist_claim(ReconDist *d, int *row0, int *row1, Diag *e); /* 1: a band; 0: none left; -1: failed */
-/* The tile row at position k of the claim order: a band [row0, row1) holds the rows
- * dist_claim_row(d, row0) .. dist_claim_row(d, row1 - 1), spread over the frame. */
-int dist_claim_row(const ReconDist *d, int k);
-/* The claim order of rows tile rows (order[k]: the row at position k): bit-reversed, so that
- * the first m positions leave no gap wider than 2 rows / m. */
-void dist_claim_order(int rows, int *order);
-bool dist_claims_end(ReconDist *d, Diag *e);
-/* The cut of rows tile rows into bands for ranks claimers: the first row of band k in
- * start[k] (start[count] = rows); each band holds about 1 / (DIST_CLAIM_SHARE * ranks) of the rows not yet cut, at
- * least one. Returns the count (at most rows). */
-enum { DIST_CLAIM_SHARE = 3 };
-int dist_claim_bands(int rows, int ranks, int *start);
 
 /* Assigns tile_count tiles of cost tile_cost[t] to ranks (owner[t]), each rank's sum of
  * costs within the largest tile cost of total/ranks. First every rank keeps the tiles it had

@@ -351,46 +351,6 @@ static void rank0_tracing(ReconPipeline *p, bool tracing)
     if (distributed(p) && is_root(p)) dist_node_cpus(p->opt.dist, !tracing);
 }
 
-/* spp_mine = count in the pixels of the tile rows at claim positions [row0, row1). */
-static void band_counts(ReconPipeline *p, int row0, int row1, int count)
-{
-    int w = renderer_width(p->r), h = renderer_height(p->r);
-    for (int k = row0; k < row1; ++k) {
-        int y0 = dist_claim_row(p->opt.dist, k) * DIST_TILE_PX, y1 = y0 + DIST_TILE_PX < h ? y0 + DIST_TILE_PX : h;
-        for (size_t i = (size_t)y0 * (size_t)w; i < (size_t)y1 * (size_t)w; ++i) p->spp_mine[i] = count;
-    }
-}
-
-/* The first pass of a frame, `uniform` samples in every pixel. With several ranks, the
- * interleave's tiles, or under WEDGE_DIST_PASS1=claims the bands of tile rows each rank claims
- * while it is free (dist_claims_begin), so that the ranks end it together whatever slows one
- * of them. *complete: not cancelled. False on an MPI failure (d set). */
-static bool trace_first_pass(ReconPipeline *p, int uniform, const SampleSink *sink, bool *complete, Diag *d)
-{
-    int pass = p->pass++;
-    ReconDist *dist = p->opt.dist;
-    int claims = distributed(p) ? dist_claims_begin(dist, d) : 0;
-    if (claims < 0) return false;
-    rank0_tracing(p, true);
-    if (claims == 0) {
-        *complete = render_pass(p->r, pass, counts_mine(p, NULL, uniform), uniform, &p->g.frame, sink);
-        rank0_tracing(p, false);
-        return true;
-    }
-    int row0, row1, got;
-    memset(p->spp_mine, 0, pixel_count(p) * sizeof(int));
-    *complete = true;
-    /* after a cancel the bands still come: the renderer gives a band's pixels their first
-     * samples whatever the flag says (an interrupted image has every pixel) */
-    while ((got = dist_claim(dist, &row0, &row1, d)) > 0) {
-        band_counts(p, row0, row1, uniform);
-        *complete = render_pass(p->r, pass, p->spp_mine, 0, &p->g.frame, sink) && *complete;
-        band_counts(p, row0, row1, 0);
-    }
-    rank0_tracing(p, false);
-    return got == 0 && dist_claims_end(dist, d);
-}
-
 /* Every sample goes to the guides, the store and each method, in that order. */
 static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
 {
@@ -781,8 +741,10 @@ static bool render_plain(ReconPipeline *p, Diag *d)
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
         return false;
     }
-    bool complete = true;
-    if (!trace_first_pass(p, spp, NULL, &complete, d) || !gather_pass(p, 0, NULL, spp, &complete, d)) return false;
+    rank0_tracing(p, true);
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, spp), spp, &p->g.frame, NULL);
+    rank0_tracing(p, false);
+    if (!gather_pass(p, 0, NULL, spp, &complete, d)) return false;
     p->res.cancelled = !complete;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     if (!plain_mean(p, d)) return false;
@@ -810,20 +772,13 @@ static bool render_frame(ReconPipeline *p, Diag *d)
      * and a pass 2, once rank 0's pass-1 tiles are traced instead: beside its tracing it made
      * rank 0 the last to reach the first gather (the opening's CPU on top of an equal share
      * of tiles, 0.02-0.06 s), whereas after it the opening overlaps rank 0's gather and plan
-     * on the node's other cores, where the other ranks wait (dist_node_cpus), though it slows
-     * the gather (about 70 MB of buffers faulted in at 720x720 while rank 1 packs on the other
-     * core). With pass 1 claimed (WEDGE_DIST_PASS1=claims) beside it again: the claims absorb
-     * it. WEDGE_DIST_OPEN=pass1, late or plan (after the first gather; for measuring): that
-     * placement on every frame of several ranks. */
-    enum { OPEN_BESIDE_PASS1, OPEN_AFTER_PASS1, OPEN_AFTER_GATHER1 } open_when = OPEN_BESIDE_PASS1;
-    if (distributed(p) && !p->fixed_only && !dist_claims_wanted(p->opt.dist)) open_when = OPEN_AFTER_PASS1;
-    const char *open_at = distributed(p) ? getenv("WEDGE_DIST_OPEN") : NULL;
-    if (open_at && strcmp(open_at, "pass1") == 0) open_when = OPEN_BESIDE_PASS1;
-    if (open_at && strcmp(open_at, "late") == 0) open_when = OPEN_AFTER_PASS1;
-    if (open_at && strcmp(open_at, "plan") == 0) open_when = OPEN_AFTER_GATHER1;
+     * on the node's other cores, where the other ranks wait (dist_node_cpus).
+     * WEDGE_DIST_OPEN=pass1 (for measuring against it): beside pass 1 on every frame. */
     DeviceOpener opener;
     bool opened = false;
-    if (is_root(p) && open_when == OPEN_BESIDE_PASS1) {
+    bool open_late = distributed(p) && !p->fixed_only &&
+                     !(getenv("WEDGE_DIST_OPEN") && strcmp(getenv("WEDGE_DIST_OPEN"), "pass1") == 0);
+    if (is_root(p) && !open_late) {
         opener_start(&opener, p);
         opened = true;
     }
@@ -832,23 +787,20 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     begin_pass(p, 0, geometry);
     double t = wall_seconds();
     int pass1 = p->res.pass1_spp;
-    bool complete = true;
-    bool traced = trace_first_pass(p, pass1, &sink, &complete, d);
+    rank0_tracing(p, true);
+    bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
+    rank0_tracing(p, false);
     t_trace += wall_seconds() - t;
     dist_mark(p, "pass1");
-    if (is_root(p) && open_when == OPEN_AFTER_PASS1) {
+    if (is_root(p) && open_late) {
         opener_start(&opener, p);
         opened = true;
     }
-    if (!traced || !gather_pass(p, 0, NULL, pass1, &complete, d)) {
+    if (!gather_pass(p, 0, NULL, pass1, &complete, d)) {
         if (opened) opener_join(&opener, p, NULL);
         return false;
     }
     dist_mark(p, "gather1");
-    if (is_root(p) && open_when == OPEN_AFTER_GATHER1) {
-        opener_start(&opener, p);
-        opened = true;
-    }
     if (complete) {
         /* ---- plans (rank 0) and pass 2 (adaptive methods) ---- */
         float mu = p->opt.mu;
@@ -859,7 +811,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
                 gbuffer_resolve_guides(&p->g);
                 double avg;
                 if ((p->opt.spp > 0 && !(mu > 0.0f) && !mu_for_budget(p, p->opt.spp, &mu, d)) || !plan_at(p, mu, &avg, d)) {
-                    if (opened) opener_join(&opener, p, NULL);
+                    opener_join(&opener, p, NULL);
                     return false;
                 }
                 extras_from_plan(p, p->opt.spp);

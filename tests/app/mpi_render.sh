@@ -7,8 +7,8 @@
 # that dies makes the job fail, not hang; the exchanges in small rounds give the same image;
 # with each rank bound to a core, rank 0's OpenCL driver threads may use the node's cores and
 # a rank starts one render thread per core it is bound to. Skipped for a build without MPI; a build with MPI
-# and no mpirun fails (tools/setup installs Open MPI). Pass 1's bands claimed on demand
-# (WEDGE_DIST_PASS1=claims): a rank that starts late takes fewer, the image is the same.
+# and no mpirun fails (tools/setup installs Open MPI). WEDGE_DIST_LOG's per-rank rays add up to
+# the report's.
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
@@ -84,8 +84,6 @@ done
 # the exchanges stream each rank's tiles in rounds (4 MiB each; WEDGE_DIST_CHUNK makes them tiny,
 # so that rounds cut rows, tiles and arrays anywhere): the gathers and the hand-over of moved
 # tiles still give the single-process image, and the report still counts every byte once
-# (pass 1's tiles interleaved, the default: claimed, which rank traces what, and so the bytes
-# gathered, would depend on timing)
 for np in 2 3; do
     WEDGE_DIST_CHUNK=997 WEDGE_DIST_NO_KEEP=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x48 --threads 1 \
         --seed 3 --filter aaf --quiet -o "$T/chunk.exr" --report "$T/chunk.json" >"$T/out.txt" 2>&1
@@ -106,48 +104,24 @@ if r["bytes_communicated"][0] != w["bytes_communicated"][0] or not r["bytes_comm
 print("small rounds -np %s: identical, %d bytes in pass 1" % (np, r["bytes_communicated"][0]))
 PY
 done
-# pass 1 claimed on demand (WEDGE_DIST_PASS1=claims; a frame of at least 8 rows of tiles per
-# rank: 24 here): a rank that
-# starts late (WEDGE_DIST_CLAIM_DELAY: rank 0 naps 1 s first, far longer than the others need
-# for all of this frame's pass 1) traces fewer tiles than each of the others, every tile is
-# traced by one rank, and the image is still the single-process one, for --filter aaf (pass 2
-# follows, balanced from the bands' measured times) and none (one pass); the default
-# interleave gives it too
-for filter in aaf none; do
-    "$WEDGE" render "$scene2" --res 64x192 --threads 1 --seed 3 --filter $filter --quiet -o "$T/one3-$filter.exr" ||
-        { echo "FAIL: single process 64x192 $filter"; fail=1; continue; }
-    for np in 2 3; do
-        for how in claims interleave; do
-            if [ $how = claims ]; then export WEDGE_DIST_PASS1=claims WEDGE_DIST_CLAIM_DELAY=0:1000; fi
-            WEDGE_DIST_LOG=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x192 --threads 1 --seed 3 \
-                --filter $filter --quiet -o "$T/claim.exr" >"$T/out.txt" 2>&1
-            rc=$?
-            unset WEDGE_DIST_CLAIM_DELAY WEDGE_DIST_PASS1
-            if [ $rc != 0 ]; then echo "FAIL: pass 1 $how -np $np $filter: exit $rc"; cat "$T/out.txt"; fail=1; continue; fi
-            "$WEDGE" compare "$T/one3-$filter.exr" "$T/claim.exr" --json > "$T/cmp.json" || { echo "FAIL: compare"; fail=1; continue; }
-            python3 - "$T/cmp.json" "$T/out.txt" $np $how $filter <<'PY' || { cat "$T/out.txt"; fail=1; }
+# WEDGE_DIST_LOG prints each rank's own rays (the work its tiles took, tools/bench-mpi): every
+# rank traced some, and over the ranks they add up to the report's totals, once each
+for np in 2 3; do
+    WEDGE_DIST_LOG=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x48 --threads 1 --seed 3 --filter aaf \
+        --quiet -o "$T/rays.exr" --report "$T/rays.json" >"$T/out.txt" 2>&1 || { echo "FAIL: rays -np $np"; cat "$T/out.txt"; fail=1; continue; }
+    python3 - "$T/out.txt" "$T/rays.json" $np <<'PY' || { cat "$T/out.txt"; fail=1; }
 import json, re, sys
-c, out, np, how, f = json.load(open(sys.argv[1])), open(sys.argv[2]).read(), int(sys.argv[3]), sys.argv[4], sys.argv[5]
-if c["mse"] != 0 or c["relmse"] != 0:
-    print("FAIL: pass 1 %s -np %d %s: image differs: mse %g" % (how, np, f, c["mse"])); sys.exit(1)
-m = re.search(r"dist-claims: (\d+) bands;(.*)", out)
-if how == "interleave":
-    if m: print("FAIL: pass 1 interleave -np %d %s: bands were claimed" % (np, f)); sys.exit(1)
-    print("pass 1 interleave -np %d %s: identical" % (np, f)); sys.exit(0)
-if not m: print("FAIL: pass 1 claims -np %d %s: no dist-claims line" % (np, f)); sys.exit(1)
-tiles = [int(t) for t in re.findall(r"rank \d+ (\d+) tiles", m.group(2))]
-if len(tiles) != np or sum(tiles) != 8 * 24 or not all(tiles[0] < t for t in tiles[1:]):
-    print("FAIL: pass 1 claims -np %d %s, rank 0 late: tiles per rank %s (192 in all, rank 0 fewest)" % (np, f, tiles)); sys.exit(1)
-print("pass 1 claims -np %d %s, rank 0 1 s late: tiles per rank %s, identical" % (np, f, tiles))
+out, rep, np = open(sys.argv[1]).read(), json.load(open(sys.argv[2])), int(sys.argv[3])
+ranks = {int(m.group(1)): [int(v) for v in m.groups()[1:]] for m in
+         re.finditer(r"dist-rays rank (\d+): primary (\d+) shadow (\d+) indirect (\d+) bsdf (\d+)", out)}
+if sorted(ranks) != list(range(np)) or any(r[0] <= 0 for r in ranks.values()):
+    print("FAIL: rays -np %d: per-rank lines %s" % (np, ranks)); sys.exit(1)
+for k, name in enumerate(["rays_primary", "rays_shadow", "rays_indirect", "rays_bsdf"]):
+    if sum(r[k] for r in ranks.values()) != rep[name]:
+        print("FAIL: rays -np %d: %s per rank %s, report %d" % (np, name, [r[k] for r in ranks.values()], rep[name])); sys.exit(1)
+print("rays -np %d: per rank %s, summing to the report's" % (np, [r[0] for r in ranks.values()]))
 PY
-        done
-    done
 done
-# a frame with fewer than 8 rows of tiles per rank keeps the interleave (no band would be
-# left for some ranks at the end)
-WEDGE_DIST_PASS1=claims WEDGE_DIST_LOG=1 timeout 300 mpirun -np 2 "$WEDGE" render "$scene2" --res 64x120 --threads 1 --seed 3 --filter aaf \
-    --quiet -o "$T/few.exr" >"$T/out.txt" 2>&1 || { echo "FAIL: 64x120 -np 2"; cat "$T/out.txt"; fail=1; }
-if grep -q "dist-claims" "$T/out.txt"; then echo "FAIL: 15 rows of tiles on 2 ranks were claimed"; fail=1; fi
 # the ranks wait for each other in a nonblocking barrier with naps (every run above); MPI's
 # own blocking wait (WEDGE_DIST_WAIT=spin, kept for measuring) gives the same image
 WEDGE_DIST_WAIT=spin timeout 300 mpirun -np 2 "$WEDGE" render "$scene2" --res 64x48 --threads 1 --seed 3 --filter aaf \

@@ -1,9 +1,8 @@
 /* The tile assignment of MPI ranks after pass 1 (dist_balance, dist_reassign, issue 21):
  * every tile goes to exactly one rank, the same on every call, each rank's predicted cost
  * within one tile's cost of the ideal (total / ranks), Graham's largest-first bound against
- * the brute-force optimum, and tiles stay with their owner where that keeps the balance;
- * pass 1's bands (dist_claim_bands) cover every row once, shrinking. No MPI is needed: the assignment is computed alike by every rank, without messages. */
-#define _POSIX_C_SOURCE 200112L /* setenv */
+ * the brute-force optimum, and tiles stay with their owner where that keeps the balance.
+ * No MPI is needed: the assignment is computed alike by every rank, without messages. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -211,72 +210,8 @@ static void test_reassign_measured(void)
     free(d.tile_samples);
 }
 
-/* Pass 1's bands (dist_claim_bands): every tile row in exactly one band, in order; no band
- * larger than a DIST_CLAIM_SHARE * ranks-th of the rows not yet cut before it (so no rank can
- * hold more than that share of the rest when the others run dry), sizes never growing, and
- * the last bands one row each (a claimer that ends late ends at most one row of tiles late). */
-static void test_claim_bands(void)
-{
-    for (int ranks = 1; ranks <= 9; ++ranks)
-        for (int rows = 1; rows <= 400; rows += rows < 40 ? 1 : 37) {
-            int start[401];
-            int count = dist_claim_bands(rows, ranks, start);
-            CHECK(count >= 1 && count <= rows);
-            CHECK(start[0] == 0 && start[count] == rows);
-            int parts = DIST_CLAIM_SHARE * ranks, previous = rows;
-            for (int k = 0; k < count; ++k) {
-                int size = start[k + 1] - start[k], left = rows - start[k];
-                CHECK(size >= 1);
-                CHECK(size <= previous);
-                CHECK(size == 1 || size * parts <= left);
-                previous = size;
-            }
-            CHECK(start[count] - start[count - 1] == 1);
-            /* guided: far fewer claims than rows once the rows outnumber the claimers */
-            if (rows >= 100 * ranks) CHECK(count < rows / 2);
-        }
-    /* the claim order: every row once, and the first m rows claimed spread over the frame:
-     * no gap between them (or before the last row) wider than 2 rows / m, for every m (the
-     * bit-reversal permutation: the first 2^j positions take every (2^bits / 2^j)-th row) */
-    for (int rows = 1; rows <= 300; ++rows) {
-        int order[300], seen[300] = {0};
-        dist_claim_order(rows, order);
-        for (int k = 0; k < rows; ++k) {
-            CHECK(order[k] >= 0 && order[k] < rows);
-            if (order[k] >= 0 && order[k] < rows) seen[order[k]]++;
-        }
-        for (int r = 0; r < rows; ++r) CHECK(seen[r] == 1);
-        for (int m = 1; m <= rows; ++m) {
-            bool taken[300] = {false};
-            for (int k = 0; k < m; ++k) taken[order[k]] = true;
-            int gap = 0, widest = 0;
-            for (int r = 0; r < rows; ++r) {
-                gap = taken[r] ? 0 : gap + 1;
-                widest = gap > widest ? gap : widest;
-            }
-            CHECK(widest * m <= 2 * rows);
-        }
-    }
-    /* bands only where every rank has DIST_CLAIM_ROWS_PER_RANK rows of tiles, and with MPI */
-    ReconDist d;
-    memset(&d, 0, sizeof d);
-    d.ranks = 2, d.width = 64;
-    d.height = DIST_TILE_PX * (2 * DIST_CLAIM_ROWS_PER_RANK - 1); /* one row of tiles short */
-    setenv("WEDGE_DIST_PASS1", "claims", 1);
-    CHECK(!dist_claims_wanted(&d));
-    d.height += 1; /* a part-row of pixels makes a row of tiles */
-    CHECK(dist_claims_wanted(&d) == dist_available());
-    unsetenv("WEDGE_DIST_PASS1"); /* the default: the interleave */
-    CHECK(!dist_claims_wanted(&d));
-    setenv("WEDGE_DIST_PASS1", "claims", 1);
-    d.ranks = 1;
-    CHECK(!dist_claims_wanted(&d));
-    unsetenv("WEDGE_DIST_PASS1");
-}
-
 int main(void)
 {
-    test_claim_bands();
     test_bound_and_determinism();
     test_against_brute_force();
     test_keeps_owners();
