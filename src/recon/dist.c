@@ -491,57 +491,6 @@ static unsigned char *exchange_buffer(ReconDist *d, size_t bytes)
     return d->xbuf;
 }
 
-/* The gather's rounds, two in flight (MPI_Igatherv into the two halves of buf): a rank packs
- * round k + 2 while rank 0 unpacks round k, where with one blocking round at a time each
- * waited for the other (rank 0 while a rank packed, the ranks while rank 0 unpacked). Every
- * rank starts the rounds in the same order, as nonblocking collectives require; a half is
- * refilled only after its round was waited for (and, on rank 0, unpacked). length: each
- * rank's stream; buf: 2 * ranks * chunk bytes on rank 0, 2 * chunk elsewhere. */
-static bool gather_rounds(ReconDist *d, const DistArray *arrays, int count, const size_t *length, size_t longest,
-                          size_t chunk, unsigned char *buf, Diag *e)
-{
-    bool root = d->rank == 0, ok = true;
-    size_t rounds = (longest + chunk - 1) / chunk, half = (root ? (size_t)d->ranks : 1) * chunk;
-    int *counts = calloc(2 * (size_t)d->ranks, sizeof(int)), *displs = calloc(2 * (size_t)d->ranks, sizeof(int));
-    MPI_Request req[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL};
-    if (!counts || !displs) {
-        free(counts);
-        free(displs);
-        diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI exchange");
-        return false;
-    }
-    for (size_t k = 0; ok && k <= rounds; ++k) {
-        if (k < rounds) { /* start round k in half k % 2 */
-            int h = (int)(k % 2), *cnt = counts + h * d->ranks, *dsp = displs + h * d->ranks;
-            size_t lo = k * chunk, hi = lo + chunk;
-            for (int r = 0; r < d->ranks; ++r) {
-                size_t end = r > 0 && length[r] > lo ? (length[r] < hi ? length[r] : hi) : lo;
-                cnt[r] = (int)(end - lo);
-                dsp[r] = (int)((size_t)r * chunk);
-            }
-            unsigned char *part = buf + (size_t)h * half;
-            if (!root) pack(d, d->rank, false, arrays, count, part, true, lo, hi);
-            ok = mpi_ok(root ? MPI_Igatherv(MPI_IN_PLACE, 0, MPI_BYTE, part, cnt, dsp, MPI_BYTE, 0, MPI_COMM_WORLD, &req[h])
-                             : MPI_Igatherv(part, cnt[d->rank], MPI_BYTE, NULL, NULL, NULL, MPI_BYTE, 0, MPI_COMM_WORLD,
-                                            &req[h]),
-                        "gather", e);
-        }
-        if (ok && k > 0) { /* finish round k - 1 (rank 0: unpack it) */
-            size_t j = k - 1;
-            int h = (int)(j % 2);
-            ok = mpi_ok(MPI_Wait(&req[h], MPI_STATUS_IGNORE), "gather", e);
-            for (int r = 1; ok && root && r < d->ranks; ++r)
-                pack(d, r, false, arrays, count, buf + (size_t)h * half + displs[h * d->ranks + r], false, j * chunk,
-                     j * chunk + chunk);
-        }
-    }
-    /* after a failure a round may stay in flight: a nonblocking collective's request cannot be
-     * freed or cancelled (MPI 3.1, 5.12), and the job ends with exit 3 */
-    free(counts);
-    free(displs);
-    return ok;
-}
-
 /* The gather (rank 0 receives every rank's tiles) or the hand-over (rank 0 sends each rank
  * its new tiles), every array in one stream per rank, sent in rounds of at most
  * DIST_CHUNK_BYTES per rank through one small buffer (rank 0: a chunk per rank). A buffer
@@ -574,15 +523,13 @@ static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int c
     unsigned char *buf = NULL;
     if (ok) {
         /* rank 0: a chunk per rank at offset r * chunk (its own part never used); the others: one */
-        /* a gather keeps two rounds in flight (gather_rounds): twice the room */
-        buf = exchange_buffer(d, (root ? (size_t)d->ranks : 1) * (chunk ? chunk : 1) * (handover ? 1 : 2));
+        buf = exchange_buffer(d, (root ? (size_t)d->ranks : 1) * (chunk ? chunk : 1));
         ok = buf != NULL;
         if (!ok) diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the MPI exchange");
     }
     ok = ok && quiet_arrival(e);
-    if (ok && !handover && longest > 0) ok = gather_rounds(d, arrays, count, length, longest, chunk, buf, e);
     /* every rank counts the same rounds: the longest stream's */
-    for (size_t lo = 0; ok && handover && lo < longest; lo += chunk) {
+    for (size_t lo = 0; ok && lo < longest; lo += chunk) {
         size_t hi = lo + chunk;
         for (int r = 0; r < d->ranks; ++r) {
             size_t end = r > 0 && length[r] > lo ? (length[r] < hi ? length[r] : hi) : lo;
