@@ -334,6 +334,10 @@ static int render_command(int argc, char **argv, ReconDist *dist)
                 res->nonfinite_pixels, res->nonfinite_pixels == 1 ? "" : "s", res->nonfinite_pixels == 1 ? "was" : "were");
 
     RenderStats st = renderer_stats(r);
+    /* WEDGE_DIST_LOG: each rank's own rays, the work its tiles took (tools/bench-mpi) */
+    if (getenv("WEDGE_DIST_LOG") && dist->ranks > 1)
+        fprintf(stderr, "dist-rays rank %d: primary %lld shadow %lld indirect %lld bsdf %lld\n", dist->rank,
+                st.rays_primary, st.rays_shadow, st.rays_indirect, st.rays_bsdf);
     /* the ranks' rays and guards, all of them (collectives: every rank takes part) */
     st.rays_primary = dist_sum_ll(dist, st.rays_primary), st.rays_shadow = dist_sum_ll(dist, st.rays_shadow);
     st.rays_indirect = dist_sum_ll(dist, st.rays_indirect), st.rays_bsdf = dist_sum_ll(dist, st.rays_bsdf);

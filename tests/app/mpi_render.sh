@@ -7,7 +7,8 @@
 # that dies makes the job fail, not hang; the exchanges in small rounds give the same image;
 # with each rank bound to a core, rank 0's OpenCL driver threads may use the node's cores and
 # a rank starts one render thread per core it is bound to. Skipped for a build without MPI; a build with MPI
-# and no mpirun fails (tools/setup installs Open MPI).
+# and no mpirun fails (tools/setup installs Open MPI). WEDGE_DIST_LOG's per-rank rays add up to
+# the report's.
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
@@ -101,6 +102,24 @@ if r["bytes_communicated"][0] != w["bytes_communicated"][0] or not r["bytes_comm
     print("FAIL: small rounds -np %s: pass 1 sent %s bytes, in one round %s" % (np, r["bytes_communicated"], w["bytes_communicated"]))
     sys.exit(1)
 print("small rounds -np %s: identical, %d bytes in pass 1" % (np, r["bytes_communicated"][0]))
+PY
+done
+# WEDGE_DIST_LOG prints each rank's own rays (the work its tiles took, tools/bench-mpi): every
+# rank traced some, and over the ranks they add up to the report's totals, once each
+for np in 2 3; do
+    WEDGE_DIST_LOG=1 timeout 300 mpirun -np $np "$WEDGE" render "$scene2" --res 64x48 --threads 1 --seed 3 --filter aaf \
+        --quiet -o "$T/rays.exr" --report "$T/rays.json" >"$T/out.txt" 2>&1 || { echo "FAIL: rays -np $np"; cat "$T/out.txt"; fail=1; continue; }
+    python3 - "$T/out.txt" "$T/rays.json" $np <<'PY' || { cat "$T/out.txt"; fail=1; }
+import json, re, sys
+out, rep, np = open(sys.argv[1]).read(), json.load(open(sys.argv[2])), int(sys.argv[3])
+ranks = {int(m.group(1)): [int(v) for v in m.groups()[1:]] for m in
+         re.finditer(r"dist-rays rank (\d+): primary (\d+) shadow (\d+) indirect (\d+) bsdf (\d+)", out)}
+if sorted(ranks) != list(range(np)) or any(r[0] <= 0 for r in ranks.values()):
+    print("FAIL: rays -np %d: per-rank lines %s" % (np, ranks)); sys.exit(1)
+for k, name in enumerate(["rays_primary", "rays_shadow", "rays_indirect", "rays_bsdf"]):
+    if sum(r[k] for r in ranks.values()) != rep[name]:
+        print("FAIL: rays -np %d: %s per rank %s, report %d" % (np, name, [r[k] for r in ranks.values()], rep[name])); sys.exit(1)
+print("rays -np %d: per rank %s, summing to the report's" % (np, [r[0] for r in ranks.values()]))
 PY
 done
 # the ranks wait for each other in a nonblocking barrier with naps (every run above); MPI's
