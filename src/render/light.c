@@ -438,13 +438,33 @@ float light_delta_offset(const Light *l) { return LIGHT_OFFSET_REL * v3_max_abs(
 
 /* pbrt-v4's SmoothStep falloff of a spot light at cos_t (light_sample's case LIGHT_SPOT),
  * as selects rather than branches, for the vectorised loop below: the same value in every
- * case (t is computed in all of them and used only where the branchy form computes it). */
+ * case (t is computed in all of them and used only where the branchy form computes it).
+ * The selects are bitwise on the values' bits: with ?: GCC moved the division and the
+ * polynomial into the branch that uses them (it may not run a division the source would
+ * skip, which could raise a floating-point exception) and then could not vectorise the
+ * loop ("control flow in loop"); in this form every lane computes s, as the source says. */
+static inline uint32_t float_bits(float x)
+{
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+static inline float bits_float(uint32_t b)
+{
+    float x;
+    memcpy(&x, &b, sizeof x);
+    return x;
+}
+
 static inline float spot_falloff(float cos_t, float lo, float hi)
 {
     float t = (cos_t - lo) / (hi - lo);
     float s = t * t * (3.0f - 2.0f * t);
-    s = (cos_t >= hi) | (hi <= lo) ? 1.0f : s;
-    return cos_t <= lo ? 0.0f : s;
+    uint32_t full = -(uint32_t)((cos_t >= hi) | (hi <= lo)); /* all ones where the value is 1 */
+    uint32_t dark = -(uint32_t)(cos_t <= lo);                 /* all ones where it is 0 */
+    uint32_t b = (float_bits(s) & ~full) | (float_bits(1.0f) & full);
+    return bits_float(b & ~dark);
 }
 
 /* light_sample_point_batch's loop; `spot` is a constant where it is inlined. */
