@@ -711,11 +711,11 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
         if (!p->alive || !vertex_lit(&p->v)) continue;
         VertexDims *u = &p->u;
         float pmf = 0.0f;
-        u->light_index = lights_pick(L, u->pick, &pmf);
+        bool static_triangle = false;
         u->light_uv = u->light;
-        if (u->light_index >= 0) u->light_index = lights_pick_in_mesh(L, sc->tracer, u->light_index, &u->light_uv, &pmf);
+        u->light_index = lights_choose(L, u->pick, &u->light_uv, &pmf, &static_triangle);
         u->light_pmf = pmf;
-        if (u->light_index < 0 || !L->has_area || !light_is_static_triangle(L, sc->tracer, u->light_index)) continue;
+        if (u->light_index < 0 || !static_triangle) continue;
         int g = 0;
         while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
         if (g == w->tri_groups) {

@@ -303,6 +303,14 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
     free(phi);
     set->power_total = (float)acc;
     lights_bound_emitters(set, tr);
+    set->choice = malloc((size_t)(set->count > 0 ? set->count : 1) * sizeof *set->choice);
+    if (!set->choice) goto oom;
+    for (int i = 0; i < set->count; ++i) {
+        LightChoice *c = &set->choice[i];
+        c->pmf = lights_pmf(set, i);
+        if (!lights_mesh_run(set, tr, i, &c->mesh_first, &c->mesh_end)) c->mesh_first = c->mesh_end = 0;
+        c->static_triangle = light_is_static_triangle(set, tr, i);
+    }
     return true;
 oom:
     diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building lights");
@@ -321,25 +329,14 @@ void lights_free(LightSet *set)
     free(set->lights);
     free(set->cdf);
     free(set->infinite);
+    free(set->choice);
     *set = (LightSet){0};
 }
 
 int lights_pick(const LightSet *set, float u, float *pmf)
 {
     if (!(set->power_total > 0.0f)) return -1;
-    float target = u * set->power_total;
-    /* The first i with cdf[i + 1] > target, else count - 1, by the bisection of
-     * lights_pick_in_mesh: the answer stays in [lo, lo + len - 1] and each step halves len
-     * whatever the comparison says (cdf is non-decreasing), so the comparison is a
-     * conditional move, not a branch on the random u that mispredicts half the time. */
-    int lo = 0;
-    for (int len = set->count; len > 1;) {
-        int half = len / 2;
-        lo = set->cdf[lo + half] > target ? lo : lo + half;
-        len -= half;
-    }
-    /* skip empty lights; the power test first, as in lights_pick_in_mesh (lo + 1 <= count) */
-    while (set->cdf[lo + 1] - set->cdf[lo] <= 0.0f && lo < set->count - 1) ++lo;
+    int lo = lights_cdf_cell(set, u * set->power_total);
     *pmf = (set->cdf[lo + 1] - set->cdf[lo]) / set->power_total;
     return *pmf > 0.0f ? lo : -1;
 }

@@ -19,16 +19,21 @@
 
 #include <math.h>
 
-int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, float *pmf)
+bool lights_mesh_run(const LightSet *set, const Tracer *tr, int li, int *first, int *end)
 {
     const Light *l = &set->lights[li];
-    if (l->kind != LIGHT_AREA || l->layer < 0 || l->layer >= tr->layer_count) return li;
+    if (l->kind != LIGHT_AREA || l->layer < 0 || l->layer >= tr->layer_count) return false;
     const Geom *g = &tr->layers[l->layer].geoms[l->geom];
-    if (g->kind != GEOM_TRIANGLES || g->light_first < 0 || g->triangle_count < 2) return li;
-    int first = g->light_first, end = g->light_first + g->triangle_count;
-    if (end > set->count) return li;
+    if (g->kind != GEOM_TRIANGLES || g->light_first < 0 || g->triangle_count < 2) return false;
+    *first = g->light_first, *end = g->light_first + g->triangle_count;
+    if (*end > set->count) return false;
+    return set->cdf[*end] > set->cdf[*first];
+}
+
+/* The re-pick within the run [first, end) of light li's mesh. */
+static inline int pick_in_run(const LightSet *set, int first, int end, int li, vec2 *u, float *pmf)
+{
     float lo = set->cdf[first], hi = set->cdf[end];
-    if (!(hi > lo)) return li;
     float target = lo + u->x * (hi - lo);
     /* The first k in [first, end - 1) with cdf[k + 1] > target, else end - 1. The answer
      * stays in [a, a + len - 1]; each step halves len whatever the comparison says, so the
@@ -54,6 +59,24 @@ int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, 
      * is +0 when the two are equal) */
     x = x > 0.0f ? x : 0.0f;
     u->x = x < 0x1.fffffep-1f ? x : 0x1.fffffep-1f;
-    *pmf = lights_pmf(set, a);
+    *pmf = set->choice ? set->choice[a].pmf : lights_pmf(set, a); /* the same value */
     return a;
+}
+
+int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, float *pmf)
+{
+    int first, end;
+    return lights_mesh_run(set, tr, li, &first, &end) ? pick_in_run(set, first, end, li, u, pmf) : li;
+}
+
+int lights_choose(const LightSet *set, float u_pick, vec2 *u, float *pmf, bool *static_triangle)
+{
+    if (!(set->power_total > 0.0f)) return -1;
+    int lo = lights_cdf_cell(set, u_pick * set->power_total);
+    const LightChoice *c = &set->choice[lo];
+    *pmf = c->pmf; /* lights_pick's quotient: lights_pmf is the same expression */
+    if (!(c->pmf > 0.0f)) return -1;
+    if (c->mesh_end > 0) lo = pick_in_run(set, c->mesh_first, c->mesh_end, lo, u, pmf);
+    *static_triangle = set->choice[lo].static_triangle;
+    return lo;
 }
