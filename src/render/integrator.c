@@ -19,6 +19,7 @@
 #include <stdlib.h>
 
 #include "core/vectorise.h"
+#include "render/light_choose.h"
 #include "render/warp.h"
 
 /* All three components finite, without a test and branch per component: x * 0 is 0 for a

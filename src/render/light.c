@@ -1,5 +1,5 @@
 /* Light sources and their sampling (pbrt-v4 semantics; see light.h). */
-#include "render/light.h"
+#include "render/light_choose.h"
 
 #include <math.h>
 #include <stdio.h>

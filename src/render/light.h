@@ -43,7 +43,7 @@ typedef struct {
  * than this join the pick, where one shadow ray per vertex keeps the cost bounded. */
 enum { LIGHTS_DELTA_EVERY_MAX = 8 };
 
-/* Per light, what the per-sample choice (lights_choose) needs, fixed when the set is built:
+/* Per light, what the per-sample choice (lights_choose, light_choose.h) needs, fixed when the set is built:
  * its probability lights_pmf, the run [mesh_first, mesh_end) of the emitting mesh whose
  * triangle lights_pick_in_mesh re-picks (0, 0: it keeps the light as picked), and
  * light_is_static_triangle. Read per sample instead of a chain of loads through the
@@ -100,23 +100,6 @@ bool lights_ray_may_reach_emitter(const LightSet *set, vec3 o, vec3 d);
  * when lights_ray_may_reach_emitter says true for ray k (one vectorised loop). */
 void lights_rays_may_reach_emitter(const LightSet *set, int n, const float *const o[3], const float *const d[3], int *may);
 
-/* The first i with cdf[i + 1] > target, else count - 1, skipping empty lights. The answer
- * stays in [lo, lo + len - 1] and each step halves len whatever the comparison says (cdf is
- * non-decreasing), as in lights_pick_in_mesh, so the comparison is a conditional move, not a
- * branch on the random u that mispredicts half the time. */
-static inline int lights_cdf_cell(const LightSet *set, float target)
-{
-    int lo = 0;
-    for (int len = set->count; len > 1;) {
-        int half = len / 2;
-        lo = set->cdf[lo + half] > target ? lo : lo + half;
-        len -= half;
-    }
-    /* skip empty lights; the power test first, as in lights_pick_in_mesh (lo + 1 <= count) */
-    while (set->cdf[lo + 1] - set->cdf[lo] <= 0.0f && lo < set->count - 1) ++lo;
-    return lo;
-}
-
 /* Picks a light with probability proportional to power; returns -1 when there is none. */
 int lights_pick(const LightSet *set, float u, float *pmf);
 float lights_pmf(const LightSet *set, int light);
@@ -128,11 +111,6 @@ int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, 
 /* The run [*first, *end) of light li's emitting mesh in which lights_pick_in_mesh re-picks,
  * false when it keeps li as picked. */
 bool lights_mesh_run(const LightSet *set, const Tracer *tr, int li, int *first, int *end);
-/* lights_pick, then lights_pick_in_mesh on the light it picked, with the same results bit
- * for bit (*pmf written as they write it, u->x stretched as they do), and *static_triangle
- * = light_is_static_triangle of the answer when it is >= 0; through set->choice, so only
- * for a set from lights_build. */
-int lights_choose(const LightSet *set, float u_pick, vec2 *u, float *pmf, bool *static_triangle);
 
 /* Samples light l as seen from p_world at time time01. Returns false when the sample
  * carries no light (zero pdf, back side, ...). */

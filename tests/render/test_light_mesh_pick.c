@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "render/light.h"
+#include "render/light_choose.h"
 #include "render/tracer.h"
 #include "scene/scene_desc.h"
 
