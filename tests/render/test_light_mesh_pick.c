@@ -52,20 +52,26 @@ static const char *mixed_text =
     "  Shape \"bilinearmesh\" \"point3 P\" [ -1 -3 0  1 -3 0  -1 -3 1  1 -3 1 ] \"integer indices\" [ 0 1 2 3 ]\n"
     "AttributeEnd\n";
 
+/* The scene of text with its tracer and lights; false (and a failed check) when one fails. */
+static bool build(const char *text, SceneDesc *scene, Tracer *tr, LightSet *set)
+{
+    Diag err = {0};
+    CHECK(scene_parse_string(text, strlen(text), "<test>", NULL, scene, &err));
+    memset(tr, 0, sizeof *tr);
+    CHECK(check_failures == 0 && tracer_build(tr, scene, 1, &err));
+    CHECK(check_failures == 0 && lights_build(set, scene, tr, &err));
+    return check_failures == 0;
+}
+
 /* lights_choose against the chain it replaces, on a grid of u_pick x u.x with both ends:
  * the same light, the same bits of *pmf and u->x, and static_triangle as
  * light_is_static_triangle. Returns how many lights of each kind were chosen. */
 static void check_choose(const char *text, int chosen[3])
 {
     SceneDesc scene;
-    Diag err = {0};
-    CHECK(scene_parse_string(text, strlen(text), "<test>", NULL, &scene, &err));
     Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    CHECK(tracer_build(&tr, &scene, 1, &err));
     LightSet set;
-    CHECK(lights_build(&set, &scene, &tr, &err));
-    if (check_failures) return;
+    if (!build(text, &scene, &tr, &set)) return;
     enum { NP = 301, NX = 97 };
     int bad = 0;
     for (int a = 0; a <= NP; ++a) {
@@ -97,14 +103,9 @@ int main(void)
     CHECK(chosen[0] > 0 && chosen[1] > 0 && chosen[2] > 0);
 
     SceneDesc scene;
-    Diag err = {0};
-    CHECK(scene_parse_string(scene_text, strlen(scene_text), "<test>", NULL, &scene, &err));
     Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    CHECK(tracer_build(&tr, &scene, 1, &err));
     LightSet set;
-    CHECK(lights_build(&set, &scene, &tr, &err));
-    if (check_failures) return 1;
+    if (!build(scene_text, &scene, &tr, &set)) return 1;
 
     int first = -1, n_tri = 0, point = -1;
     for (int i = 0; i < set.count; ++i) {
