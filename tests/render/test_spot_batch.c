@@ -20,13 +20,8 @@
 
 enum { RECEIVERS = 4099 };
 
-typedef struct {
-    SceneDesc scene;
-    Tracer tr;
-    LightSet L;
-} Built;
-
-static bool build(const char *light, Built *b)
+/* The test scene (a floor) lit by `light` alone. */
+static bool build(const char *light, TestLights *b)
 {
     char text[1024];
     snprintf(text, sizeof text,
@@ -35,20 +30,7 @@ static bool build(const char *light, Built *b)
              "WorldBegin\n%s\n"
              "Shape \"trianglemesh\" \"point3 P\" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] \"integer indices\" [ 0 2 1  0 3 2 ]\n",
              light);
-    if (!test_build_tracer(text, &b->scene, &b->tr)) return false;
-    Diag err = {0};
-    if (lights_build(&b->L, &b->scene, &b->tr, &err)) return true;
-    fprintf(stderr, "lights_build: %s\n", err.message);
-    tracer_free(&b->tr);
-    scene_desc_free(&b->scene);
-    return false;
-}
-
-static void unbuild(Built *b)
-{
-    lights_free(&b->L);
-    tracer_free(&b->tr);
-    scene_desc_free(&b->scene);
+    return test_build_lights(text, b);
 }
 
 static bool same_bits(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
@@ -93,7 +75,7 @@ static int receivers(const Light *l, float p[3][RECEIVERS], double cone_deg, dou
 /* The batch against light_sample, receiver by receiver, in counts that leave remainders. */
 static void test_batch_equals_single(const char *light, double cone_deg, double delta_deg)
 {
-    Built b;
+    TestLights b;
     CHECK(build(light, &b));
     int li = b.L.delta_every_count > 0 ? b.L.delta_every[0] : -1;
     CHECK(li >= 0);
@@ -129,7 +111,7 @@ static void test_batch_equals_single(const char *light, double cone_deg, double 
     CHECK(mismatches == 0);
     CHECK(lit > 100);
     if (l->kind == LIGHT_SPOT) CHECK(dark > 100); /* the cone leaves receivers unlit */
-    unbuild(&b);
+    test_lights_free(&b);
 }
 
 /* pbrt-v4's SmoothStep of the spot, in double. */
@@ -146,7 +128,7 @@ static double smoothstep_d(double x, double a, double b)
 static void test_closed_form(void)
 {
     const double cone = 30.0, delta = 10.0, I = 5.0;
-    Built b;
+    TestLights b;
     CHECK(build("LightSource \"spot\" \"rgb I\" [ 5 5 5 ] \"point3 from\" [ 0.3 2 -0.2 ] \"point3 to\" [ -0.1 0 0.4 ]"
                 " \"float coneangle\" [ 30 ] \"float conedeltaangle\" [ 10 ]",
                 &b));
@@ -184,7 +166,7 @@ static void test_closed_form(void)
     }
     CHECK(wrong == 0);
     CHECK(in_band > 200);
-    unbuild(&b);
+    test_lights_free(&b);
 }
 
 int main(void)
