@@ -19,6 +19,7 @@
 #include <stdlib.h>
 
 #include "core/vectorise.h"
+#include "render/light_choose.h"
 #include "render/warp.h"
 
 /* All three components finite, without a test and branch per component: x * 0 is 0 for a
@@ -52,7 +53,8 @@ typedef struct {
     vec3 wo;      /* unit, towards where the path came from */
     vec3 n;       /* Lambert: shading normal flipped to wo's side (the lobe's axis);
                    * glossy: the shading normal as is (dielectrics need inside / outside) */
-    vec3 t1, t2;  /* glossy: tangents completing the local frame (t1, t2, n) */
+    vec3 t1, t2;  /* tangents completing the local frame (t1, t2, n); a Lambert vertex that
+                   * samples no direction (make_vertex's `sampled`) leaves them unset */
     bool glossy;
     vec3 albedo;  /* Lambert reflectance */
     GlossyBsdf bsdf;
@@ -66,7 +68,10 @@ static vec3 from_local(const Vertex *v, vec3 l)
     return v3_normalize(v3_add(v3_add(v3_scale(v->t1, l.x), v3_scale(v->t2, l.y)), v3_scale(v->n, l.z)));
 }
 
-static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo, Vertex *v)
+/* `sampled`: whether the vertex may sample its BSDF (vertex_uses_bsdf_dims); a Lambert
+ * vertex needs its tangents only for that (from_local), a glossy one for every f. */
+static inline __attribute__((always_inline)) void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
+                                                               bool sampled, Vertex *v)
 {
     const MaterialTable *mt = sc->materials;
     v->hit = *h;
@@ -92,7 +97,7 @@ static void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
          * material_resolve leaves a diffuse or a glossy material) */
         v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
         v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
-        v3_basis(v->n, &v->t1, &v->t2);
+        if (sampled) v3_basis(v->n, &v->t1, &v->t2);
     }
 }
 
@@ -626,7 +631,7 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
         return;
     }
     Vertex *v = &p->v;
-    make_vertex(sc, h, v3_neg(d_world), v);
+    make_vertex(sc, h, v3_neg(d_world), vertex_uses_bsdf_dims(sc, 1), v);
     rec->hit = true;
     record_first_hit_material(v, rec);
     rec->p_world = h->p;
@@ -698,22 +703,20 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
 {
     const LightSet *L = sc->lights;
     w->tri_groups = 0;
+    /* Nothing to pick (wave_vertex_dims drew no pick): wave_vertex_rays then reads neither
+     * the pick nor tri_group, so the pass over the paths is skipped. */
+    if (!vertex_uses_light_dims(sc)) return;
     for (int j = 0; j < n; ++j) {
         WavePath *p = &w->path[j];
         p->tri_group = -1;
         if (!p->alive || !vertex_lit(&p->v)) continue;
         VertexDims *u = &p->u;
         float pmf = 0.0f;
-        if (!vertex_uses_light_dims(sc)) { /* nothing to pick (wave_vertex_dims drew no pick) */
-            u->light_index = -1;
-            u->light_pmf = 0.0f;
-            continue;
-        }
-        u->light_index = lights_pick(L, u->pick, &pmf);
+        bool static_triangle = false;
         u->light_uv = u->light;
-        if (u->light_index >= 0) u->light_index = lights_pick_in_mesh(L, sc->tracer, u->light_index, &u->light_uv, &pmf);
+        u->light_index = lights_choose(L, u->pick, &u->light_uv, &pmf, &static_triangle);
         u->light_pmf = pmf;
-        if (u->light_index < 0 || !L->has_area || !light_is_static_triangle(L, sc->tracer, u->light_index)) continue;
+        if (u->light_index < 0 || !static_triangle) continue;
         int g = 0;
         while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
         if (g == w->tri_groups) {
@@ -886,7 +889,7 @@ static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
 
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. */
-static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
+static inline __attribute__((always_inline)) void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int j,
                              int depth, SampleRecord *rec, IntegratorStats *st, int *n_occ, int *n_rec, int *n_hit)
 {
     WavePath *p = &w->path[j];
@@ -895,7 +898,10 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     TracerRay shadow;
     bool lit = vertex_lit(v);
     p->light_recorded = false;
-    bool valued = lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
+    /* with nothing to pick, the vertex takes no picked light's sample (its pick and
+     * tri_group were not set: wave_triangle_light_samples) */
+    bool picks = vertex_uses_light_dims(sc);
+    bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     if (valued) {
         /* the ray is written to the slot it would take and the count moves by the outcome */
         int kept = light_prepare_lambert_triangle(sc, w, p, st, &shadow);
@@ -907,7 +913,7 @@ static void wave_vertex_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
         p->light_pending = kept;
         p->light_recorded = record & kept;
     } else {
-        p->light_pending = lit && light_prepare(sc, w, p, st, &shadow);
+        p->light_pending = picks && lit && light_prepare(sc, w, p, st, &shadow);
     }
     if (p->light_pending && !valued) {
         /* the first hit's shadow rays to area lights are recorded for the filters, with the
@@ -1107,7 +1113,7 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
     if (p->unfiltered) rec->unfiltered = v3_add(rec->unfiltered, le);
     if (!hit || depth == sc->max_depth) return;
     p->beta = p->beta_next;
-    make_vertex(sc, nh, v3_neg(wi), &p->v);
+    make_vertex(sc, nh, v3_neg(wi), vertex_uses_bsdf_dims(sc, depth + 1), &p->v);
     p->alive = true;
 }
 

@@ -1,5 +1,5 @@
 /* Light sources and their sampling (pbrt-v4 semantics; see light.h). */
-#include "render/light.h"
+#include "render/light_choose.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -303,6 +303,14 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
     free(phi);
     set->power_total = (float)acc;
     lights_bound_emitters(set, tr);
+    set->choice = malloc((size_t)(set->count > 0 ? set->count : 1) * sizeof *set->choice);
+    if (!set->choice) goto oom;
+    for (int i = 0; i < set->count; ++i) {
+        LightChoice *c = &set->choice[i];
+        c->pmf = lights_pmf(set, i);
+        if (!lights_mesh_run(set, tr, i, &c->mesh_first, &c->mesh_end)) c->mesh_first = c->mesh_end = 0;
+        c->static_triangle = light_is_static_triangle(set, tr, i);
+    }
     return true;
 oom:
     diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building lights");
@@ -321,25 +329,14 @@ void lights_free(LightSet *set)
     free(set->lights);
     free(set->cdf);
     free(set->infinite);
+    free(set->choice);
     *set = (LightSet){0};
 }
 
 int lights_pick(const LightSet *set, float u, float *pmf)
 {
     if (!(set->power_total > 0.0f)) return -1;
-    float target = u * set->power_total;
-    /* The first i with cdf[i + 1] > target, else count - 1, by the bisection of
-     * lights_pick_in_mesh: the answer stays in [lo, lo + len - 1] and each step halves len
-     * whatever the comparison says (cdf is non-decreasing), so the comparison is a
-     * conditional move, not a branch on the random u that mispredicts half the time. */
-    int lo = 0;
-    for (int len = set->count; len > 1;) {
-        int half = len / 2;
-        lo = set->cdf[lo + half] > target ? lo : lo + half;
-        len -= half;
-    }
-    /* skip empty lights; the power test first, as in lights_pick_in_mesh (lo + 1 <= count) */
-    while (set->cdf[lo + 1] - set->cdf[lo] <= 0.0f && lo < set->count - 1) ++lo;
+    int lo = lights_cdf_cell(set, u * set->power_total);
     *pmf = (set->cdf[lo + 1] - set->cdf[lo]) / set->power_total;
     return *pmf > 0.0f ? lo : -1;
 }
@@ -438,13 +435,33 @@ float light_delta_offset(const Light *l) { return LIGHT_OFFSET_REL * v3_max_abs(
 
 /* pbrt-v4's SmoothStep falloff of a spot light at cos_t (light_sample's case LIGHT_SPOT),
  * as selects rather than branches, for the vectorised loop below: the same value in every
- * case (t is computed in all of them and used only where the branchy form computes it). */
+ * case (t is computed in all of them and used only where the branchy form computes it).
+ * The selects are bitwise on the values' bits: with ?: GCC moved the division and the
+ * polynomial into the branch that uses them (it may not run a division the source would
+ * skip, which could raise a floating-point exception) and then could not vectorise the
+ * loop ("control flow in loop"); in this form every lane computes s, as the source says. */
+static inline uint32_t float_bits(float x)
+{
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+static inline float bits_float(uint32_t b)
+{
+    float x;
+    memcpy(&x, &b, sizeof x);
+    return x;
+}
+
 static inline float spot_falloff(float cos_t, float lo, float hi)
 {
     float t = (cos_t - lo) / (hi - lo);
     float s = t * t * (3.0f - 2.0f * t);
-    s = (cos_t >= hi) | (hi <= lo) ? 1.0f : s;
-    return cos_t <= lo ? 0.0f : s;
+    uint32_t full = -(uint32_t)((cos_t >= hi) | (hi <= lo)); /* all ones where the value is 1 */
+    uint32_t dark = -(uint32_t)(cos_t <= lo);                 /* all ones where it is 0 */
+    uint32_t b = (float_bits(s) & ~full) | (float_bits(1.0f) & full);
+    return bits_float(b & ~dark);
 }
 
 /* light_sample_point_batch's loop; `spot` is a constant where it is inlined. */

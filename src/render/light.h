@@ -43,6 +43,17 @@ typedef struct {
  * than this join the pick, where one shadow ray per vertex keeps the cost bounded. */
 enum { LIGHTS_DELTA_EVERY_MAX = 8 };
 
+/* Per light, what the per-sample choice (lights_choose, light_choose.h) needs, fixed when the set is built:
+ * its probability lights_pmf, the run [mesh_first, mesh_end) of the emitting mesh whose
+ * triangle lights_pick_in_mesh re-picks (0, 0: it keeps the light as picked), and
+ * light_is_static_triangle. Read per sample instead of a chain of loads through the
+ * tracer's layer and geometry and a division. */
+typedef struct {
+    float pmf;
+    int mesh_first, mesh_end;
+    bool static_triangle;
+} LightChoice;
+
 typedef struct {
     Light *lights;
     int count;
@@ -60,6 +71,7 @@ typedef struct {
      * false when there is none or one moves (then every ray may reach an emitter) */
     bool emitters_bounded;
     vec3 emitter_lo, emitter_hi;
+    LightChoice *choice;    /* count entries (lights_build; NULL in a set made by hand) */
 } LightSet;
 
 /* A sampled point on a light as seen from a receiver. */
@@ -96,6 +108,9 @@ float lights_pmf(const LightSet *set, int light);
  * u->x back to [0, 1), so that the strata of the position sample cover the whole mesh
  * (light_mesh_pick.c). Other lights: li, nothing changed. */
 int lights_pick_in_mesh(const LightSet *set, const Tracer *tr, int li, vec2 *u, float *pmf);
+/* The run [*first, *end) of light li's emitting mesh in which lights_pick_in_mesh re-picks,
+ * false when it keeps li as picked. */
+bool lights_mesh_run(const LightSet *set, const Tracer *tr, int li, int *first, int *end);
 
 /* Samples light l as seen from p_world at time time01. Returns false when the sample
  * carries no light (zero pdf, back side, ...). */

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "render/frame.h"
+#include "render/light.h"
 #include "render/renderer.h"
 #include "render/tracer.h"
 #include "scene/scene_desc.h"
@@ -66,6 +67,33 @@ static inline bool test_build_tracer(const char *text, SceneDesc *scene, Tracer 
         return false;
     }
     return true;
+}
+
+/* A scene's tracer and lights (test_build_lights). */
+typedef struct {
+    SceneDesc scene;
+    Tracer tr;
+    LightSet L;
+} TestLights;
+
+/* Parses text and builds its tracer and lights; false (message printed) on failure, with
+ * everything freed. */
+static inline bool test_build_lights(const char *text, TestLights *b)
+{
+    if (!test_build_tracer(text, &b->scene, &b->tr)) return false;
+    Diag err = {0};
+    if (lights_build(&b->L, &b->scene, &b->tr, &err)) return true;
+    fprintf(stderr, "lights_build: %s\n", err.message);
+    tracer_free(&b->tr);
+    scene_desc_free(&b->scene);
+    return false;
+}
+
+static inline void test_lights_free(TestLights *b)
+{
+    lights_free(&b->L);
+    tracer_free(&b->tr);
+    scene_desc_free(&b->scene);
 }
 
 /* Mean colour of pixel (x, y). */

@@ -40,35 +40,10 @@ static const char *EMITTERS =
 
 enum { RANDOM_RAYS = 20000, AIMED_PER_LIGHT = 2000 };
 
-/* A scene's tracer and lights. */
-typedef struct {
-    SceneDesc scene;
-    Tracer tr;
-    LightSet L;
-} Built;
-
-static bool build(const char *text, Built *b)
-{
-    if (!test_build_tracer(text, &b->scene, &b->tr)) return false;
-    Diag err = {0};
-    if (lights_build(&b->L, &b->scene, &b->tr, &err)) return true;
-    fprintf(stderr, "lights_build: %s\n", err.message);
-    tracer_free(&b->tr);
-    scene_desc_free(&b->scene);
-    return false;
-}
-
-static void built_free(Built *b)
-{
-    lights_free(&b->L);
-    tracer_free(&b->tr);
-    scene_desc_free(&b->scene);
-}
-
 static void test_box_oracle(void)
 {
-    Built b;
-    bool built = build(EMITTERS, &b);
+    TestLights b;
+    bool built = test_build_lights(EMITTERS, &b);
     CHECK(built);
     if (!built) return;
     const LightSet *L = &b.L;
@@ -121,7 +96,7 @@ static void test_box_oracle(void)
     CHECK(!lights_ray_may_reach_emitter(L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
     /* from inside the box every ray may reach */
     CHECK(lights_ray_may_reach_emitter(L, v3(0.0f, 2.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
-    built_free(&b);
+    test_lights_free(&b);
 }
 
 static const char *MOVING =
@@ -136,13 +111,13 @@ static const char *MOVING =
 
 static void test_moving_emitter(void)
 {
-    Built b;
-    bool built = build(MOVING, &b);
+    TestLights b;
+    bool built = test_build_lights(MOVING, &b);
     CHECK(built);
     if (!built) return;
     CHECK(b.L.has_area && !b.L.emitters_bounded);
     CHECK(lights_ray_may_reach_emitter(&b.L, v3(0.0f, -1.0f, 0.0f), v3(0.0f, -1.0f, 0.0f)));
-    built_free(&b);
+    test_lights_free(&b);
 }
 
 /* maxdepth 1: every bounce ray is a last ray. A quad light over a floor, a diffuse and a
@@ -209,8 +184,8 @@ static bool slab_test_reference(vec3 lo, vec3 hi, vec3 o, vec3 d)
 
 static void test_batch_equals_single(void)
 {
-    Built b;
-    bool built = build(EMITTERS, &b);
+    TestLights b;
+    bool built = test_build_lights(EMITTERS, &b);
     CHECK(built);
     if (!built) return;
     const LightSet *L = &b.L;
@@ -252,7 +227,7 @@ static void test_batch_equals_single(void)
     printf("batched box test: %d of %d rays may reach, %d answers differ\n", reach, N, wrong);
     CHECK(wrong == 0);
     CHECK(reach > N / 10 && reach < N - N / 10); /* both answers occur */
-    built_free(&b);
+    test_lights_free(&b);
 }
 
 int main(void)

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "render/light.h"
+#include "render/light_choose.h"
 #include "render/tracer.h"
 #include "scene/scene_desc.h"
 
@@ -24,17 +24,88 @@ static const char *scene_text =
     "        \"integer indices\" [ 0 2 1  3 5 4  6 8 7 ]\n"
     "AttributeEnd\n";
 
-int main(void)
+/* An infinite light, a sphere light, a point light (lit at every vertex, never picked), a mesh of four triangles whose second has no area (no
+ * power: the pick skips it) and a moving quad (triangles, not static). */
+static const char *mixed_text =
+    "LookAt 0 0 -5  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
+    "WorldBegin\n"
+    "LightSource \"infinite\" \"rgb L\" [ 0.1 0.1 0.1 ]\n"
+    "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 4 0 ]\n"
+    "AttributeBegin\n"
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 1 2 3 ]\n"
+    "  Translate 0 -2 0\n"
+    "  Shape \"sphere\" \"float radius\" [ 0.5 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n"
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ 0 3 0  1 3 0  0 3 1   2 3 0  3 3 0  4 3 0   5 3 0  7 3 0  5 3 2"
+    "                                        8 3 0  9 3 0  8 3 3 ]\n"
+    "        \"integer indices\" [ 0 2 1  3 5 4  6 8 7  9 11 10 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n"
+    "  ActiveTransform EndTime\n"
+    "  Translate 0.5 0 0\n"
+    "  ActiveTransform All\n"
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 4 4 4 ]\n"
+    "  Shape \"bilinearmesh\" \"point3 P\" [ -1 -3 0  1 -3 0  -1 -3 1  1 -3 1 ] \"integer indices\" [ 0 1 2 3 ]\n"
+    "AttributeEnd\n";
+
+/* The scene of text with its tracer and lights; false (and a failed check) when one fails. */
+static bool build(const char *text, SceneDesc *scene, Tracer *tr, LightSet *set)
+{
+    Diag err = {0};
+    CHECK(scene_parse_string(text, strlen(text), "<test>", NULL, scene, &err));
+    memset(tr, 0, sizeof *tr);
+    CHECK(check_failures == 0 && tracer_build(tr, scene, 1, &err));
+    CHECK(check_failures == 0 && lights_build(set, scene, tr, &err));
+    return check_failures == 0;
+}
+
+/* lights_choose against the chain it replaces, on a grid of u_pick x u.x with both ends:
+ * the same light, the same bits of *pmf and u->x, and static_triangle as
+ * light_is_static_triangle. Returns how many lights of each kind were chosen. */
+static void check_choose(const char *text, int chosen[3])
 {
     SceneDesc scene;
-    Diag err = {0};
-    CHECK(scene_parse_string(scene_text, strlen(scene_text), "<test>", NULL, &scene, &err));
     Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    CHECK(tracer_build(&tr, &scene, 1, &err));
     LightSet set;
-    CHECK(lights_build(&set, &scene, &tr, &err));
-    if (check_failures) return 1;
+    if (!build(text, &scene, &tr, &set)) return;
+    enum { NP = 301, NX = 97 };
+    int bad = 0;
+    for (int a = 0; a <= NP; ++a) {
+        float u_pick = a == NP ? 0x1.fffffep-1f : (float)a / NP;
+        for (int b = 0; b <= NX; ++b) {
+            float ux = b == NX ? 0x1.fffffep-1f : (float)b / NX;
+            float pmf_ref = -1.0f, pmf = -1.0f;
+            vec2 u_ref = {ux, 0.25f}, u = u_ref;
+            int ref = lights_pick(&set, u_pick, &pmf_ref);
+            if (ref >= 0) ref = lights_pick_in_mesh(&set, &tr, ref, &u_ref, &pmf_ref);
+            bool tri = true;
+            int got = lights_choose(&set, u_pick, &u, &pmf, &tri);
+            if (got != ref || memcmp(&pmf, &pmf_ref, sizeof pmf) != 0 || memcmp(&u, &u_ref, sizeof u) != 0) ++bad;
+            if (got >= 0 && tri != light_is_static_triangle(&set, &tr, got)) ++bad;
+            if (got >= 0) ++chosen[set.lights[got].kind == LIGHT_AREA ? (tri ? 1 : 2) : 0];
+        }
+    }
+    CHECK(bad == 0);
+    lights_free(&set);
+    tracer_free(&tr);
+    scene_desc_free(&scene);
+}
+
+int main(void)
+{
+    int chosen[3] = {0, 0, 0}; /* other lights, static triangles, other area lights */
+    check_choose(scene_text, chosen);
+    check_choose(mixed_text, chosen);
+    CHECK(chosen[0] > 0 && chosen[1] > 0 && chosen[2] > 0);
+
+    SceneDesc scene;
+    Tracer tr;
+    LightSet set;
+    if (!build(scene_text, &scene, &tr, &set)) return 1;
 
     int first = -1, n_tri = 0, point = -1;
     for (int i = 0; i < set.count; ++i) {
