@@ -69,7 +69,8 @@ static vec3 from_local(const Vertex *v, vec3 l)
 }
 
 /* `sampled`: whether the vertex may sample its BSDF (vertex_uses_bsdf_dims); a Lambert
- * vertex needs its tangents only for that (from_local), a glossy one for every f. */
+ * vertex needs its tangents only for that (vertex_sample's direction, which runs under the
+ * same test), a glossy one for every f. */
 static inline __attribute__((always_inline)) void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
                                                                bool sampled, Vertex *v)
 {
