@@ -100,6 +100,10 @@ bool lights_ray_may_reach_emitter(const LightSet *set, vec3 o, vec3 d);
  * when lights_ray_may_reach_emitter says true for ray k (one vectorised loop). */
 void lights_rays_may_reach_emitter(const LightSet *set, int n, const float *const o[3], const float *const d[3], int *may);
 
+/* The light choice in two steps without lights_build's per-light table: lights_pick, then
+ * lights_pick_in_mesh. The integrator makes both at once through the table (lights_choose,
+ * light_choose.h) with the same bisections; test_light_mesh_pick checks the table's answers
+ * against these two. */
 /* Picks a light with probability proportional to power; returns -1 when there is none. */
 int lights_pick(const LightSet *set, float u, float *pmf);
 float lights_pmf(const LightSet *set, int light);
