@@ -30,28 +30,58 @@ rc=$?
 grep -q "cannot open the display :9753 .*check that its server is running" "$T/err.txt" ||
     { echo "FAIL: unreachable-display message: $(cat "$T/err.txt")"; fail=1; }
 
-# an X server of our own on a free display number
-exec 3>"$T/displayfd"
-Xvfb -displayfd 3 -screen 0 320x240x24 -nolisten tcp >"$T/xvfb.txt" 2>&1 &
-xvfb=$!
+# an X server of our own. A display number is only taken once an X client (xdotool, which
+# opens the display through libX11 as SDL does) can reach it: on a machine whose abstract
+# socket namespace is shared (a container on the host's network), a number that looks free
+# to Xvfb can answer with another server, so a few random high numbers are tried in turn.
 trap 'kill $xvfb 2>/dev/null; rm -rf "$T"' EXIT
-for _ in $(seq 1 50); do [ -s "$T/displayfd" ] && break; sleep 0.1; done
-export DISPLAY=":$(head -1 "$T/displayfd")"
-[ "$DISPLAY" != ":" ] || { echo "FAIL: Xvfb did not start: $(cat "$T/xvfb.txt")"; exit 1; }
+xvfb=""
+for attempt in 1 2 3 4 5; do
+    if [ $attempt = 1 ]; then want=""; else want=":$((200 + RANDOM % 30000))"; fi
+    : >"$T/displayfd"
+    exec 3>"$T/displayfd"
+    Xvfb $want -displayfd 3 -screen 0 320x240x24 -nolisten tcp -noreset >"$T/xvfb.txt" 2>&1 &
+    xvfb=$!
+    exec 3>&-
+    for _ in $(seq 1 100); do [ -s "$T/displayfd" ] && break; kill -0 $xvfb 2>/dev/null || break; sleep 0.1; done
+    export DISPLAY=":$(head -1 "$T/displayfd")"
+    if [ "$DISPLAY" != ":" ] && xdotool getdisplaygeometry >/dev/null 2>"$T/xdotool.txt"; then break; fi
+    echo "note: Xvfb attempt $attempt (display '${want:-any}' -> '$DISPLAY') not reachable by an X client:"
+    sed 's/^/  /' "$T/xvfb.txt" "$T/xdotool.txt" | tail -8
+    kill $xvfb 2>/dev/null; wait $xvfb 2>/dev/null
+    xvfb=""; DISPLAY=":"
+done
+[ "$DISPLAY" != ":" ] || { echo "FAIL: no Xvfb display an X client could reach in 5 attempts"; exit 1; }
 
 "$WEDGE" render "$scene" --res 96x96 --filter none --spp 1024 --seed 9 -o "$T/ref.png" --quiet ||
     { echo "FAIL: reference render"; exit 1; }
-"$WEDGE" preview "$scene" --res 96x96 --spp 900 --outdir "$T" >"$T/preview.txt" 2>&1 &
-pv=$!
+start_preview() {
+    "$WEDGE" preview "$scene" --res 96x96 --spp 900 --outdir "$T" >"$T/preview.txt" 2>&1 &
+    pv=$!
+}
+start_preview
 wid=""
 for _ in $(seq 1 1200); do # the window, once its first image is up (its title gives the spp)
     wid=$(xdotool search --name "wedge preview - [0-9.]+ spp" 2>/dev/null | head -1)
     [ -n "$wid" ] && break
-    kill -0 $pv 2>/dev/null || break
+    if ! kill -0 $pv 2>/dev/null; then
+        # the display refused the preview although xdotool reached it a moment ago: say so, and
+        # give the preview one more start (the window test itself is unchanged)
+        if [ -z "${retried:-}" ] && grep -q "cannot open the display" "$T/preview.txt"; then
+            retried=1
+            echo "note: the preview could not open $DISPLAY at once; a second start follows. Its message:"
+            sed 's/^/  /' "$T/preview.txt"
+            xdotool getdisplaygeometry >/dev/null 2>&1 && echo "  (xdotool still reaches $DISPLAY)" ||
+                echo "  (xdotool cannot reach $DISPLAY now either)"
+            sleep 1; start_preview; continue
+        fi
+        break
+    fi
     sleep 0.1
 done
 if [ -z "$wid" ]; then
     echo "FAIL: no preview window with an image after 120 s:"; cat "$T/preview.txt"
+    echo "Xvfb's log:"; sed 's/^/  /' "$T/xvfb.txt"
     xdotool search --name "wedge" getwindowname %@ 2>&1
     # still running: where each thread waits, so that a rare stall can be diagnosed from the log
     if kill -0 $pv 2>/dev/null && command -v gdb >/dev/null; then
