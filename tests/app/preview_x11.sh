@@ -33,14 +33,15 @@ grep -q "cannot open the display :9753 .*check that its server is running" "$T/e
 # an X server of our own. A display number is only taken once an X client (xdotool, which
 # opens the display through libX11 as SDL does) can reach it: on a machine whose abstract
 # socket namespace is shared (a container on the host's network), a number that looks free
-# to Xvfb can answer with another server, so a few random high numbers are tried in turn.
+# to Xvfb can answer with another server, so a few random high numbers are tried in turn. The
+# server listens on its Unix socket only and takes any local client (-ac): no cookie can refuse it.
 trap 'kill $xvfb 2>/dev/null; rm -rf "$T"' EXIT
 xvfb=""
 for attempt in 1 2 3 4 5; do
     if [ $attempt = 1 ]; then want=""; else want=":$((200 + RANDOM % 30000))"; fi
     : >"$T/displayfd"
     exec 3>"$T/displayfd"
-    Xvfb $want -displayfd 3 -screen 0 320x240x24 -nolisten tcp -noreset >"$T/xvfb.txt" 2>&1 &
+    Xvfb $want -displayfd 3 -screen 0 320x240x24 -nolisten tcp -noreset -ac >"$T/xvfb.txt" 2>&1 &
     xvfb=$!
     exec 3>&-
     for _ in $(seq 1 100); do [ -s "$T/displayfd" ] && break; kill -0 $xvfb 2>/dev/null || break; sleep 0.1; done
