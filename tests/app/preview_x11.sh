@@ -52,7 +52,10 @@ for attempt in 1 2 3 4 5; do
     kill $xvfb 2>/dev/null; wait $xvfb 2>/dev/null
     xvfb=""; DISPLAY=":"
 done
-[ "$DISPLAY" != ":" ] || { echo "FAIL: no Xvfb display an X client could reach in 5 attempts"; exit 1; }
+# no X server this machine's clients can reach is the machine's limit, not the preview's: skip
+# (exit 77, counted as skipped by ctest), with the attempts above in the log
+[ "$DISPLAY" != ":" ] || { echo "SKIP: no Xvfb display an X client (xdotool) could reach in 5 attempts"
+    [ $fail = 0 ] && exit 77 || exit 1; }
 
 "$WEDGE" render "$scene" --res 96x96 --filter none --spp 1024 --seed 9 -o "$T/ref.png" --quiet ||
     { echo "FAIL: reference render"; exit 1; }
