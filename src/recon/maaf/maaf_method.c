@@ -183,6 +183,22 @@ static int maaf_pass1_spp(EffectMask effects)
     return MAAF_SPP_DEFAULT;
 }
 
+/* Under a --spp budget, frames with defocus trace half of it in pass 1 and let the plan's
+ * Lagrange allocation (maaf_rate.h) place the other half: pass 1 is the allocation's pilot
+ * (it measures each pixel's variance and wedges) and its floor, and only the samples above
+ * the floor can follow sqrt(v / A). With pass 1 fixed at 9 a budget of 8 had no plan at all
+ * and one of 12 a quarter of the budget to place. Half is the usual two-stage split, not
+ * fitted; measured against pass 1 = 9 (combined.pbrt, 256x256, seeds 1-3): relMSE at 8 spp
+ * 1.24e-3 -> 6.9e-4, ... (docs/algorithms.md 9.14). At 32 spp pass 1 is 16, seeds/003's
+ * own initial count. Frames without defocus keep pass 1's 9 (their plan is the classes'). */
+#define DEFOCUS_BUDGET_PASS1_SHARE 0.5f
+static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
+{
+    int budget = renderer_spp(r);
+    if (effect_in(effects, EFFECT_DEFOCUS) || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
+    return (float)MAAF_SPP_DEFAULT / (float)budget;
+}
+
 static bool cache_init(FilterCache *c, size_t n)
 {
     /* zeros where no filter was asked: the light passes read every pixel's entry (an unusable
@@ -1181,6 +1197,7 @@ const ReconMethodClass recon_method_maaf = {
     .sample_fields = 0,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
     .pass1_spp = maaf_pass1_spp,
+    .budget_pass1_share = maaf_budget_pass1_share,
     .create = maaf_create,
     .begin_pass = maaf_begin_pass,
     .add_sample = maaf_add_sample,
