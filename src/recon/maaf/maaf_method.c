@@ -188,9 +188,11 @@ static int maaf_pass1_spp(EffectMask effects)
  * (it measures each pixel's variance and wedges) and its floor, and only the samples above
  * the floor can follow sqrt(v / A). With pass 1 fixed at 9 a budget of 8 had no plan at all
  * and one of 12 a quarter of the budget to place. Half is the usual two-stage split, not
- * fitted; measured against pass 1 = 9 (combined.pbrt, 256x256, seeds 1-3): relMSE at 8 spp
- * 1.24e-3 -> 6.9e-4, ... (docs/algorithms.md 9.14). At 32 spp pass 1 is 16, seeds/003's
- * own initial count. Frames without defocus keep pass 1's 9 (their plan is the classes'). */
+ * fitted (0.4 and 0.7 were each worse at some budgets); against pass 1 = 9 (256x256, seeds
+ * 1-3, relMSE): combined 8 / 16 / 32 spp 1.24e-3 / 3.30e-4 / 2.12e-4 -> 6.9e-4 / 3.23e-4 /
+ * 1.98e-4 (12 spp +3%), defocus 4.06e-4 / 1.18e-4 / 6.9e-5 -> 2.37e-4 / 1.13e-4 / 7.1e-5
+ * (docs/algorithms.md 9.14). At 32 spp pass 1 is 16, seeds/003's own initial count. Frames
+ * without defocus keep pass 1's 9 (their plan is the classes'). */
 #define DEFOCUS_BUDGET_PASS1_SHARE 0.5f
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
