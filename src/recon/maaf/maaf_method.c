@@ -72,10 +72,6 @@
 #define EXTRA_SPP_PER_MU 8.0f
 #define UNFILTERED_STD_PX 0.5f
 #define MAAF_PLAN_MU_DEFAULT 2.0f
-/* Frames with defocus: a pixel of typical variance whose light is averaged by a filter of
- * this std (pixels) keeps pass 1's count at the default knob (maaf_rate.h's reference; the
- * earlier rule's, whose count fell as 1/std^2 from the extra count at UNFILTERED_STD_PX). */
-#define DEFOCUS_FULL_STD_PX 2.0f
 
 /* Set (to anything but "0"): every sample goes into every sum, none skipped as unread and the
  * albedo sums accumulated everywhere, as before these savings; test_maaf_sums compares. */
@@ -857,8 +853,8 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
 enum { PLAN_PASS1, PLAN_FILTERED, PLAN_RATE, PLAN_EXTRA };
 
 /* Frames with defocus: plan_factor holds each pixel's filter area (pixels); it becomes the
- * Lagrange allocation's count factor against a typical pixel under a DEFOCUS_FULL_STD_PX
- * filter, which gets pass 1's count at the default knob. */
+ * Lagrange allocation's count factor against a pixel of typical variance that no filter
+ * covers (A = 1), which gets the extra count of frames without defocus. */
 static bool rate_factors(ReconMethod *m)
 {
     const GBuffer *g = m->g;
@@ -868,8 +864,7 @@ static bool rate_factors(ReconMethod *m)
         free(rel_var);
         return false;
     }
-    float ref_area = maaf_rate_area_px(DEFOCUS_FULL_STD_PX, 0.0f);
-    for (size_t i = 0; i < n; ++i) m->plan_factor[i] = maaf_rate_factor(rel_var[i], m->plan_factor[i], ref_area);
+    for (size_t i = 0; i < n; ++i) m->plan_factor[i] = maaf_rate_factor(rel_var[i], m->plan_factor[i], 1.0f);
     free(rel_var);
     return true;
 }
@@ -949,8 +944,10 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
      * budget reached only the silhouettes and the rest kept pass 1's noise */
     count[PLAN_FILTERED] = aaf_far_spp(pass1, mu_e);
-    /* the rate's typical pixel: pass 1's count at the default knob, growing with mu */
-    float rate_base = mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1;
+    /* the rate's reference, a typical pixel no filter covers: the extra count (uncapped; the
+     * cap applies per pixel), so default frames keep the old rule's count there. Under a
+     * budget mu scales it. */
+    float rate_base = EXTRA_SPP_PER_MU * mu_e * (float)pass1;
     for (size_t i = 0; i < n; ++i) {
         int cls = m->plan_class[i];
         spp_total[i] = cls == PLAN_RATE ? aaf_clamp_spp(rate_base * m->plan_factor[i], pass1, 100.0f * mu_e) : count[cls];
