@@ -2,7 +2,7 @@
  * budget pass 1 takes half of it and the frame's average is the budget; the Lagrange
  * allocation gives the pixels that every filter passes through (A = 1) several times the
  * samples of those all three filters cover (A >= 4 pi s^2, tens of pixels). combined.pbrt at
- * 64x64, 16 spp, seeds 1 and 2: 38.4 and 39.0 against 11.0 and 10.9 spp (at 256x256 78.8
+ * 64x64, 16 spp, seeds 1 and 2: 38.3 and 38.7 against 11.2 and 11.1 spp (at 256x256 78.8
  * against 10.7; uniform counts would give 1). A frame without defocus
  * keeps pass 1's 9 (soft_shadows.pbrt). */
 #include <stdlib.h>
