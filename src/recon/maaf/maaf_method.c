@@ -35,6 +35,7 @@
 #include "recon/maaf/maaf_defocus.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_indirect.h"
+#include "recon/maaf/maaf_rate.h"
 #include "recon/maaf/maaf_shadow.h"
 #include "recon/method.h"
 
@@ -71,9 +72,6 @@
 #define EXTRA_SPP_PER_MU 8.0f
 #define UNFILTERED_STD_PX 0.5f
 #define MAAF_PLAN_MU_DEFAULT 2.0f
-/* Defocus: filters at least this wide (std, pixels) keep pass 1's count at the default knob;
- * 4 x UNFILTERED_STD_PX makes the count continuous at UNFILTERED_STD_PX with EXTRA_SPP_PER_MU. */
-#define DEFOCUS_FULL_STD_PX 2.0f
 
 /* Set (to anything but "0"): every sample goes into every sum, none skipped as unread and the
  * albedo sums accumulated everywhere, as before these savings; test_maaf_sums compares. */
@@ -149,7 +147,8 @@ struct ReconMethod {
     /* the plan's rule per pixel, without mu (plan_classes), kept across the budget search's
      * plans and forgotten by every later pass */
     unsigned char *plan_class;
-    float *plan_area2;          /* PLAN_DEFOCUS: the count's factor max(1, (2 px / std)^2) */
+    float *plan_factor;         /* PLAN_RATE: the count's factor against pass 1's (maaf_rate.h) */
+    float *lum4;                /* frames with defocus: pass 1's luminance moments per pixel (maaf_rate_add) */
     bool plan_known;
     bool all_sums;              /* MAAF_ALL_SUMS_ENV: every sum accumulated (the tests' reference) */
     /* defocus (maaf_defocus.h) */
@@ -178,6 +177,24 @@ static int maaf_pass1_spp(EffectMask effects)
 {
     (void)effects;
     return MAAF_SPP_DEFAULT;
+}
+
+/* Under a --spp budget, frames with defocus trace half of it in pass 1 and let the plan's
+ * Lagrange allocation (maaf_rate.h) place the other half: pass 1 is the allocation's pilot
+ * (it measures each pixel's variance and wedges) and its floor, and only the samples above
+ * the floor can follow sqrt(v / A). With pass 1 fixed at 9 a budget of 8 had no plan at all
+ * and one of 12 a quarter of the budget to place. Half is the usual two-stage split, not
+ * fitted (0.4 and 0.7 were each worse at some budgets); against pass 1 = 9 (256x256, seeds
+ * 1-3, relMSE): combined 8 / 16 / 32 spp 1.24e-3 / 3.30e-4 / 2.12e-4 -> 6.9e-4 / 3.23e-4 /
+ * 1.98e-4 (12 spp +3%), defocus 4.06e-4 / 1.18e-4 / 6.9e-5 -> 2.37e-4 / 1.13e-4 / 7.1e-5
+ * (docs/algorithms.md 9.14). At 32 spp pass 1 is 16, seeds/003's own initial count. Frames
+ * without defocus keep pass 1's 9 (their plan is the classes'). */
+#define DEFOCUS_BUDGET_PASS1_SHARE 0.5f
+static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
+{
+    int budget = renderer_spp(r);
+    if (effect_in(effects, EFFECT_DEFOCUS) || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
+    return (float)MAAF_SPP_DEFAULT / (float)budget;
 }
 
 static bool cache_init(FilterCache *c, size_t n)
@@ -219,7 +236,8 @@ static void maaf_destroy(ReconMethod *m)
     free(m->lights);
     free(m->unread);
     free(m->plan_class);
-    free(m->plan_area2);
+    free(m->plan_factor);
+    free(m->lum4);
     free(m->ysum);
     free(m->frame4);
     free(m->axis2);
@@ -360,6 +378,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         goto oom;
     if (m->defocus) {
         m->dsum = zalloc(n * per, sizeof(float));
+        m->lum4 = zalloc(4 * n, sizeof(float));
         /* asum's rows are written whole when a pixel's albedo first varies (albedo_add): not
          * zeroed, and the pages of pixels of one albedo are never touched */
         m->asum = split ? malloc(n * per * sizeof(float)) : NULL;
@@ -369,7 +388,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->daxis2 = malloc(4 * n * sizeof(float));
         m->dstd_px = calloc(n, sizeof(float));
         m->dcomponents = calloc(n, sizeof(float));
-        if (!m->dsum || (split && (!m->asum || !m->albedo4)) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+        if (!m->dsum || !m->lum4 || (split && (!m->asum || !m->albedo4)) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
             !m->dcomponents)
             goto oom;
         float lens_kappa = kappa_for_budget(s, MAAF_DEFOCUS_KAPPA_DEFAULT, split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
@@ -544,8 +563,12 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
      * split), once for the three sums */
     float ud[3] = {0.0f, 0.0f, 0.0f}, ui[3] = {0.0f, 0.0f, 0.0f};
     if (r->hit) gbuffer_unfiltered_split(r, ud, ui);
-    if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
-        defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ud, ui);
+    if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height) {
+        size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
+        /* pass 1's samples measure each pixel's variance for the plan */
+        if (m->stats.collect_rays) maaf_rate_add(m->lum4 + 4 * i, 0.2126f * r->L.x + 0.7152f * r->L.y + 0.0722f * r->L.z);
+        defocus_add(m, i, r, ud, ui);
+    }
     if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
         indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ui);
     if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
@@ -817,20 +840,34 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
     return c->std_px[i];
 }
 
-/* Where the filter cannot help, samples can (as AAF, aaf_method.c): pixels whose samples saw
- * different surfaces (silhouettes: left out of the filter) and surface pixels whose filter is
- * under UNFILTERED_STD_PX wide (contact shadows) get EXTRA_SPP_PER_MU times mu times pass 1's
- * count, at most 100 mu. Their extra samples come without ray geometry; they are Monte Carlo
- * pixels, and the filter leaves them out as neighbours (sharpness rule). With the split sums
- * (defocus after the shading filters, 9.8) a silhouette's raw shading light enters the lens
- * filter and spreads into its neighbours, so there silhouettes get the cap, 100 mu: relMSE
- * combined.pbrt 16 / 32 spp -10% / -3.5%, all_effects (held out) -6% / -11% at 16 / 64
- * (docs/benchmarks.md, "MAAF on the combined scene, cheaper"; without defocus the cap was
- * worse: soft_shadows +20% and thin_occluders +12% at 16 spp). */
+/* Where the filter cannot help, samples can (as AAF, aaf_method.c). Frames without defocus:
+ * pixels whose samples saw different surfaces (silhouettes: left out of the filter) and
+ * surface pixels whose filter is under UNFILTERED_STD_PX wide (contact shadows) get
+ * EXTRA_SPP_PER_MU times mu times pass 1's count, at most 100 mu. Their extra samples come
+ * without ray geometry; they are Monte Carlo pixels, and the filter leaves them out as
+ * neighbours (sharpness rule). Frames with defocus: every pixel's count from the Lagrange
+ * allocation of maaf_rate.h, its variance over the area of the filters its light goes through
+ * (docs/algorithms.md 9.14). */
 /* The plan's rule per pixel (plan_class): pass 1's count, the filtered count of the shadow and
- * indirect filters, the lens filter's count (plan_area2), or the extra count, at silhouettes
- * the silhouette count. */
-enum { PLAN_PASS1, PLAN_FILTERED, PLAN_DEFOCUS, PLAN_EXTRA, PLAN_SILHOUETTE };
+ * indirect filters, the rate's count (plan_factor), or the extra count. */
+enum { PLAN_PASS1, PLAN_FILTERED, PLAN_RATE, PLAN_EXTRA };
+
+/* Frames with defocus: plan_factor holds each pixel's filter area (pixels); it becomes the
+ * Lagrange allocation's count factor against a pixel of typical variance that no filter
+ * covers (A = 1), which gets the extra count of frames without defocus. */
+static bool rate_factors(ReconMethod *m)
+{
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    float *rel_var = malloc(n * sizeof(float));
+    if (!rel_var || !maaf_rate_rel_var(m->lum4, g->width, g->height, rel_var)) {
+        free(rel_var);
+        return false;
+    }
+    for (size_t i = 0; i < n; ++i) m->plan_factor[i] = maaf_rate_factor(rel_var[i], m->plan_factor[i], 1.0f);
+    free(rel_var);
+    return true;
+}
 
 /* Which rule each pixel follows: it depends on the filters, not on mu, so the budget search's
  * plans (up to 14 per frame, pipeline.c's mu_for_budget) classify the pixels once. */
@@ -839,7 +876,7 @@ static bool plan_classes(ReconMethod *m)
     const GBuffer *g = m->g;
     size_t n = (size_t)g->width * (size_t)g->height;
     if ((!m->plan_class && !(m->plan_class = malloc(n))) ||
-        (!m->plan_area2 && !(m->plan_area2 = malloc(n * sizeof(float)))))
+        (!m->plan_factor && !(m->plan_factor = malloc(n * sizeof(float)))))
         return false;
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
     for (int y = 0; y < g->height; ++y)
@@ -849,39 +886,40 @@ static bool plan_classes(ReconMethod *m)
             float comps, side;
             bool more = false;
             int cls = PLAN_PASS1;
-            float std_lens_px = 0.0f; /* the lens filter's width, where it was asked */
-            m->plan_area2[i] = 1.0f;
+            float shade_px = INFINITY; /* the narrowest shading filter's std; 0: one passes the pixel through */
+            m->plan_factor[i] = 1.0f;
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i]) {
                 /* glossy receivers keep their own direct light (gbuffer.h): extra samples */
-                more = g->mixed[i] || g->glossy[i] ||
-                       (m->frame4[4 * i + 3] != 0.0f && shadow_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
+                float std_px = m->frame4[4 * i + 3] != 0.0f ? shadow_filter(m, x, y, &pr, &comps) : INFINITY;
+                more = g->mixed[i] || g->glossy[i] || std_px < UNFILTERED_STD_PX;
+                shade_px = g->mixed[i] || g->glossy[i] ? 0.0f : std_px;
                 cls = PLAN_FILTERED;
             }
             /* indirect light: the same rule with its own filter */
             if (m->indirect && g->hit[i] && !more) {
-                more = g->mixed[i] || (m->iframe4[4 * i + 3] != 0.0f && indirect_filter(m, x, y, &pr, &comps) < UNFILTERED_STD_PX);
+                float std_px = m->iframe4[4 * i + 3] != 0.0f ? indirect_filter(m, x, y, &pr, &comps) : INFINITY;
+                more = g->mixed[i] || std_px < UNFILTERED_STD_PX;
+                shade_px = fminf(shade_px, g->mixed[i] ? 0.0f : std_px);
                 cls = PLAN_FILTERED;
             }
-            /* defocus (seeds/003's extra samples near the focal plane): a slope range that
-             * straddles it, or a filter under half a pixel */
-            if (m->defocus && !more) {
-                float std_px = defocus_filter(m, x, y, &side);
-                std_lens_px = std_px;
-                /* filtered: about the same samples in every filter's footprint (count ~ 1/std^2),
-                 * pass 1's from DEFOCUS_FULL_STD_PX up at the default knob, continuous with the
-                 * extra count at UNFILTERED_STD_PX. With pass 1's alone these pixels held the
-                 * error at every budget (docs/algorithms.md 9.8). */
-                float area = DEFOCUS_FULL_STD_PX / fmaxf(std_px, UNFILTERED_STD_PX);
-                more = std_px < UNFILTERED_STD_PX;
-                cls = PLAN_DEFOCUS;
-                m->plan_area2[i] = fmaxf(1.0f, area * area);
+            if (m->defocus) {
+                /* the area the pixel's light is averaged over: the lens filter's (0 where the
+                 * range straddles the focal plane), after the shading filter's unless that
+                 * passes the pixel through (a texture edge's antialiasing is no shading
+                 * filter's either, gbuffer.h); INFINITY: no shading filter asked (a miss, no
+                 * shading effect), the lens filter's alone */
+                float lens_px = defocus_filter(m, x, y, &side);
+                bool passed = g->hit[i] && (more || shade_px == 0.0f || gbuffer_texture_needs_samples(g, i, lens_px));
+                m->plan_factor[i] = maaf_rate_area_px(lens_px, passed || shade_px == INFINITY ? 0.0f : shade_px);
+                m->plan_class[i] = PLAN_RATE;
+                continue;
             }
-            /* a texture edge's antialiasing is no shading filter's (gbuffer.h): extra samples
-             * too, unless the lens filter averages it */
-            more = more || (g->hit[i] && gbuffer_texture_needs_samples(g, i, std_lens_px));
-            m->plan_class[i] = more ? (g->hit[i] && g->mixed[i] ? PLAN_SILHOUETTE : PLAN_EXTRA) : cls;
+            /* a texture edge's antialiasing is no shading filter's (gbuffer.h): extra samples */
+            more = more || (g->hit[i] && gbuffer_texture_needs_samples(g, i, 0.0f));
+            m->plan_class[i] = more ? PLAN_EXTRA : cls;
         }
+    if (m->defocus && !rate_factors(m)) return false;
     m->plan_known = true;
     return true;
 }
@@ -899,18 +937,20 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
     }
     /* one knob: --mu is kappa, and the plan's mu is AAF's scale (2 at the default kappa) */
     float mu_e = (mu > 0.0f ? mu : m->kappa) * (MAAF_PLAN_MU_DEFAULT / MAAF_KAPPA_DEFAULT);
-    int count[PLAN_SILHOUETTE + 1];
+    int count[PLAN_EXTRA + 1];
     count[PLAN_PASS1] = pass1;
+    count[PLAN_RATE] = pass1; /* unused: per pixel below */
     count[PLAN_EXTRA] = aaf_clamp_spp(EXTRA_SPP_PER_MU * mu_e * (float)pass1, pass1, 100.0f * mu_e);
-    count[PLAN_SILHOUETTE] =
-        m->split_direct || m->split_indirect ? aaf_clamp_spp(100.0f * mu_e, pass1, 100.0f * mu_e) : count[PLAN_EXTRA];
     /* filtered shadow pixels: more samples as mu grows (AAF's rule for its far pixels), or a
      * budget reached only the silhouettes and the rest kept pass 1's noise */
     count[PLAN_FILTERED] = aaf_far_spp(pass1, mu_e);
-    float defocus_base = mu_e / MAAF_PLAN_MU_DEFAULT * (float)pass1;
+    /* the rate's reference, a typical pixel no filter covers: the extra count (uncapped; the
+     * cap applies per pixel), so default frames keep the old rule's count there. Under a
+     * budget mu scales it. */
+    float rate_base = EXTRA_SPP_PER_MU * mu_e * (float)pass1;
     for (size_t i = 0; i < n; ++i) {
         int cls = m->plan_class[i];
-        spp_total[i] = cls == PLAN_DEFOCUS ? aaf_clamp_spp(defocus_base * m->plan_area2[i], pass1, 100.0f * mu_e) : count[cls];
+        spp_total[i] = cls == PLAN_RATE ? aaf_clamp_spp(rate_base * m->plan_factor[i], pass1, 100.0f * mu_e) : count[cls];
     }
     return true;
 }
@@ -1005,6 +1045,14 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
                 const float *ys = sums + i * per;
                 for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
             }
+            /* with defocus, per-pixel means (eq. 20 per pixel, as the lens sums: 9.8): the
+             * plan's counts there vary by 10x between neighbours (maaf_rate.h), and with raw
+             * sums a pixel's weight in its filters would follow its count, not the design
+             * (docs/algorithms.md 9.14). Without defocus the sums stay raw: the extra-sample
+             * pixels' own samples are meant to dominate their filter there (means: soft_shadows
+             * relMSE +5% at 16 spp). */
+            if (m->defocus)
+                for (int c = 0; c < 8 * pass_comps; ++c) yd[c] /= spp;
             maaf_planes_put(&planes, x, y, yd);
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
@@ -1108,6 +1156,7 @@ static int maaf_shared(ReconMethod *m, DistArray *out, int max)
     if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
     if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->lum4 && count < max) out[count++] = (DistArray){m->lum4, 4 * sizeof(float)};
     if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
     if (m->albedo4 && count < max) out[count++] = (DistArray){m->albedo4, 4 * sizeof(float)};
     if (m->isum && count < max) out[count++] = (DistArray){m->isum, 4 * sizeof(float)};
@@ -1147,6 +1196,7 @@ const ReconMethodClass recon_method_maaf = {
     .sample_fields = 0,
     .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
     .pass1_spp = maaf_pass1_spp,
+    .budget_pass1_share = maaf_budget_pass1_share,
     .create = maaf_create,
     .begin_pass = maaf_begin_pass,
     .add_sample = maaf_add_sample,
