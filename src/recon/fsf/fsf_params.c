@@ -15,10 +15,18 @@ typedef struct {
     float *k_lo, *k_hi;
 } Job;
 
-/* FSF eq. 4 in pixel steps for a slope spread, before the cap (infinite for one slope). */
-static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float step_m)
+float fsf_light_sigma_y_m(float half_m, int samples)
 {
-    float sigma_m = spread > 0.0f ? 0.5f * in->light->half_m[axis] / spread : INFINITY;
+    /* the band's edge where the box's spectrum envelope 1 / (W L) meets the threshold
+     * e^-2 sqrt(16 / n): Omega_y = e^2 sqrt(n / 16) / L, sigma_y = 2 / Omega_y */
+    float n = samples > 1 ? (float)samples : 1.0f;
+    return 2.0f * expf(-2.0f) * sqrtf((float)FSF_BAND_REF_SPP / n) * half_m;
+}
+
+/* FSF eq. 4 in pixel steps for a slope spread, before the cap (infinite for one slope). */
+static float sigma_steps(const FsfParamsIn *in, int axis, float spread, float step_m, int samples)
+{
+    float sigma_m = spread > 0.0f ? fsf_light_sigma_y_m(in->light->half_m[axis], samples) / spread : INFINITY;
     return sigma_m / (in->mu * step_m);
 }
 
@@ -36,11 +44,13 @@ static float sample_slope(const void *ctx, size_t slot)
 typedef struct {
     const FsfParamsIn *in;
     float step_m[2];
+    int samples;
 } StepCtx;
 static float sigma_both(const void *ctx, float spread)
 {
     const StepCtx *c = ctx;
-    return fminf(sigma_steps(c->in, 0, spread, c->step_m[0]), sigma_steps(c->in, 1, spread, c->step_m[1]));
+    return fminf(sigma_steps(c->in, 0, spread, c->step_m[0], c->samples),
+                 sigma_steps(c->in, 1, spread, c->step_m[1], c->samples));
 }
 
 static void params_range(void *ctx, size_t begin, size_t end, int part)
@@ -70,7 +80,8 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
          * 16) gives a width that is safe up to its radius: the range's width (none in a
          * window without occluders: every sample there is lit), capped so that the taps
          * (2 sigma) stay inside the window. The widest safe one wins, with its range. */
-        StepCtx sc = {in, {step_m[0], step_m[1]}};
+        /* the band narrows the filter as the pixel's samples grow (fsf_light_sigma_y_m) */
+        StepCtx sc = {in, {step_m[0], step_m[1]}, sample_store_count(in->store, i)};
         FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
         float lo = pick.lo, hi = pick.hi, cap_px = pick.cap_px;
         bool known = lo <= hi;
@@ -80,7 +91,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
             pp->dir[a][0] = ax.dir[a][0], pp->dir[a][1] = ax.dir[a][1];
             pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
             /* FSF eq. 4; one slope: no limit but the cap */
-            float sigma_px = known ? sigma_steps(in, a, spread, step_m[a]) : cap_px;
+            float sigma_px = known ? sigma_steps(in, a, spread, step_m[a], sc.samples) : cap_px;
             pp->sigma_px[a] = sigma_px < cap_px ? sigma_px : cap_px;
         }
         continue;

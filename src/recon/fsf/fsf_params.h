@@ -13,9 +13,10 @@
  *   shear    the mean slope (k_lo + k_hi) / 2: the primal counterpart of the harmonic mean of
  *            FSF's s_min, s_max (section 3.1), times the receiver metres along the light axis
  *            of one pixel step (eta, light metres per step).
- *   width    sigma_x = sigma_y / (k_hi - k_lo), sigma_y = L / 2 (FSF eq. 4: Omega_y = 4 / L for
- *            a light of half extent L; s_min s_max / (s_max - s_min) = 1 / (k_hi - k_lo)),
- *            divided by mu, in pixel steps, capped at 8 (taps to 2 sigma: the 32-pixel cap).
+ *   width    sigma_x = sigma_y / (k_hi - k_lo) (FSF eq. 4: s_min s_max / (s_max - s_min) =
+ *            1 / (k_hi - k_lo)), divided by mu, in pixel steps, capped at 8 (taps to 2 sigma:
+ *            the 32-pixel cap); sigma_y = 2 / Omega_y from our light's band
+ *            (fsf_light_sigma_y_m), which narrows as the pixel's samples grow.
  *   axes     the screen direction whose receiver displacement follows light axis u (v): the
  *            least-squares solution of J a = u_t, J the pixel's world Jacobian (from its
  *            neighbours' positions), u_t the axis projected on the receiver (FSF Fig. 5a). */
@@ -27,6 +28,20 @@
 #include "recon/gbuffer.h"
 #include "recon/sample_store.h"
 
+
+/* sigma_y = 2 / Omega_y (metres) for FSF eq. 4, for a uniform light of half extent half_m seen
+ * through `samples` samples per pixel. FSF assumes a Gaussian light (sigma_y = L / 2) and cuts
+ * its spectrum exp(-sigma_y^2 W^2 / 2) at Omega_y = 2 / sigma_y, where it has fallen to e^-2;
+ * the paper's counts are 4-16 samples. Our lights are uniform: the spectrum sin(W L) / (W L)
+ * has no band, only the envelope 1 / (W L), so the cut is where the envelope falls to the
+ * level the filter may discard, and that level is the noise's: e^-2 at FSF's 16 samples, and
+ * a Monte Carlo amplitude falls as 1 / sqrt(n), so e^-2 sqrt(16 / n). Omega_y = e^2 sqrt(n /
+ * 16) / L: sigma_y = 0.27 L at 16 samples, halving when they quadruple. With a fixed band the
+ * filter's bias (the shear's misplacement of slopes other than the mean, growing with the
+ * width) is a floor no sample count lowers (docs/algorithms.md 10, "The width for a uniform
+ * light"). */
+#define FSF_BAND_REF_SPP 16
+float fsf_light_sigma_y_m(float half_m, int samples);
 
 typedef struct {
     const GBuffer *g;
