@@ -29,7 +29,7 @@ PY
         checked=$((checked + 1))
     done
 done
-# the bench folder has its eighteen scenes, each with the default scene at two resolutions (a
-# glob that matched nothing would pass vacuously)
+# the eighteen bench scenes and the default scene, each at two resolutions (a glob that matched
+# nothing would pass vacuously)
 [ "$checked" -ge 38 ] || { echo "only $checked scene/resolution pairs checked"; exit 1; }
 echo "every effect filtered in $checked scene/resolution pairs"
