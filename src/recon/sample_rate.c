@@ -1,5 +1,5 @@
-/* The sample allocation of maaf_rate.h (docs/algorithms.md 9.14). */
-#include "recon/maaf/maaf_rate.h"
+/* The sample allocation of sample_rate.h (docs/algorithms.md 9.14). */
+#include "recon/sample_rate.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -8,10 +8,10 @@
 #define REL_EPS 0.01
 /* The variance is averaged over (2 R + 1)^2 pixels: nine samples alone give a variance whose
  * square root is off by a quarter; on combined.pbrt at 16 spp 3 x 3 was 2% better than 1 x 1
- * and 5 x 5. */
+ * and 5 x 5 (MAAF). */
 #define WINDOW_R 1
 
-void maaf_rate_add(float *moments4, float luminance)
+void sample_rate_add(float *moments4, float luminance)
 {
     if (!isfinite(luminance)) return;
     moments4[0] += 1.0f;
@@ -19,13 +19,14 @@ void maaf_rate_add(float *moments4, float luminance)
     moments4[2] += luminance * luminance;
 }
 
-float maaf_rate_area_px(float lens_px, float shade_px)
+float sample_rate_area_px(float var_a_px2, float var_b_px2)
 {
-    float a = 4.0f * (float)M_PI * (lens_px * lens_px + shade_px * shade_px);
+    /* per axis sum w^2 = 1 / (2 sqrt(pi) s) for a unit-sum Gaussian of std s (the integral) */
+    float a = 4.0f * (float)M_PI * sqrtf(var_a_px2 * var_b_px2);
     return a > 1.0f ? a : 1.0f;
 }
 
-bool maaf_rate_rel_var(const float *moments4, int width, int height, float *rel_var)
+bool sample_rate_rel_var(const float *moments4, int width, int height, float *rel_var)
 {
     size_t n = (size_t)width * (size_t)height;
     float *v = malloc(n * sizeof(float));
@@ -54,7 +55,35 @@ bool maaf_rate_rel_var(const float *moments4, int width, int height, float *rel_
     return true;
 }
 
-float maaf_rate_factor(float rel_var, float area, float ref_area)
+float sample_rate_factor(float rel_var, float area, float ref_area)
 {
     return sqrtf(fmaxf(rel_var, 0.0f) * ref_area / fmaxf(area, 1.0f));
+}
+
+/* sum_i clamp(lambda f_i, lo, hi) */
+static double spent(const float *factor, size_t n, double lambda, double lo, double hi)
+{
+    double s = 0.0;
+    for (size_t i = 0; i < n; ++i) s += fmin(fmax(lambda * factor[i], lo), hi);
+    return s;
+}
+
+void sample_rate_counts(const float *factor, size_t n, float floor_spp, float cap_spp, double total_spp,
+                        float *spp_out)
+{
+    double lo = floor_spp, hi = fmax(cap_spp, floor_spp), goal = total_spp * (double)n;
+    double l0 = 0.0, l1 = 1.0;
+    /* grow the bracket until it spends the total (or every factor-carrying pixel is capped) */
+    for (int k = 0; k < 200 && spent(factor, n, l1, lo, hi) < goal; ++k) l1 *= 2.0;
+    for (int k = 0; k < 60; ++k) {
+        double mid = 0.5 * (l0 + l1);
+        if (spent(factor, n, mid, lo, hi) < goal) l0 = mid;
+        else l1 = mid;
+    }
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += spp_out[i] = (float)fmin(fmax(l1 * factor[i], lo), hi);
+    /* nothing left to follow the factors: the rest evenly */
+    double rest = n ? (goal - sum) / (double)n : 0.0;
+    if (rest > 1e-6)
+        for (size_t i = 0; i < n; ++i) spp_out[i] += (float)rest;
 }
