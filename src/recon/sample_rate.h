@@ -46,7 +46,7 @@ float sample_rate_factor(float rel_var, float area, float ref_area);
  * is n_i = clamp(lambda factor_i, floor_spp, cap_spp), lambda the one that spends
  * total_spp * n (found by bisection; the sum is monotone in lambda). spp_out[i] gets that
  * real count; where even lambda = infinity cannot spend the total (every pixel capped or of
- * factor 0) the rest is spread evenly over the pixels. */
+ * factor 0) the rest is spread evenly over the pixels. spp_out may be factor itself. */
 void sample_rate_counts(const float *factor, size_t n, float floor_spp, float cap_spp, double total_spp,
                         float *spp_out);
 

@@ -84,28 +84,16 @@ bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *a
     return ok;
 }
 
-bool fsf_budget_plan(const float *factor, size_t n, int pass1_spp, int budget_spp, float ratio, const float *spp_now,
-                     int *spp_total)
+void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int *spp_total)
 {
-    double room = (double)budget_spp * (double)n;
-    for (size_t i = 0; i < n; ++i) {
-        spp_total[i] = (int)spp_now[i];
-        room -= spp_now[i];
-    }
-    if (!(room > 0.0)) return true;
-    float *want = malloc(n * sizeof(float));
-    if (!want) return false;
-    /* pass 1's count is every pixel's floor; ratio times it its cap */
-    sample_rate_counts(factor, n, (float)pass1_spp, ratio * (float)pass1_spp, (double)budget_spp, want);
     double carry = 0.0;
     for (size_t i = 0; i < n; ++i) {
-        double extra = (double)want[i] - (double)spp_now[i] + carry;
+        spp_total[i] = (int)spp_now[i];
+        double extra = (double)want_spp[i] - (double)spp_now[i] + carry;
         int k = (int)floor(extra + 0.5);
         /* a pixel above its share (an earlier plan's) keeps it and lends nothing to the next */
         if (k < 0) k = 0, extra = 0.0;
         carry = extra - k;
         spp_total[i] += k;
     }
-    free(want);
-    return true;
 }

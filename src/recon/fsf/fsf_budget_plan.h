@@ -76,12 +76,10 @@ bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *li
  * bounce or indirect field. */
 bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *area_px);
 
-/* The totals: the Lagrange allocation of budget_spp * n samples by the count factors
- * (sample_rate_factor), at least pass1_spp and at most ratio * pass1_spp each
- * (sample_rate_counts), and never below spp_now[i]; integers by error diffusion in scan
- * order, within a sample of the room in all (the pipeline scales the extras to the budget
- * exactly). No room: spp_total = spp_now. false when out of memory. */
-bool fsf_budget_plan(const float *factor, size_t n, int pass1_spp, int budget_spp, float ratio, const float *spp_now,
-                     int *spp_total);
+/* The totals: want_spp[i] (the real counts of the Lagrange allocation, sample_rate_counts with
+ * pass 1's count as the floor and FSF_BUDGET_CAP_RATIO times it as the cap), never below
+ * spp_now[i]; integers by error diffusion in scan order, within a sample of the room in all
+ * (the pipeline scales the extras to the budget exactly). */
+void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int *spp_total);
 
 #endif

@@ -69,11 +69,11 @@ struct ReconMethod {
     FsfPixel *lens_px;           /* the plan's lens parameters, which the filter reuses ... */
     float *lens_k_lo, *lens_k_hi;
     bool lens_planned;           /* ... when set */
-    bool planned;                /* straddle (and rate_factor) and pass1_spp are set */
+    bool planned;                /* straddle (and want_spp) and pass1_spp are set */
     int budget_spp;              /* --spp (0: none) */
     float *lum4;                 /* under a budget: pass 1's luminance moments per pixel (sample_rate_add) */
     int pass;                    /* the pass being traced (begin_pass) */
-    float *rate_factor;          /* under a budget: each pixel's count factor sqrt(v / A) (sample_rate_factor) */
+    float *want_spp;             /* under a budget: each pixel's count by the allocation (real; found once) */
     int pass1_spp;               /* the samples every pixel had at the first plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
@@ -123,7 +123,7 @@ static void fsf_destroy(ReconMethod *m)
     free(m->straddle_aov);
     free(m->straddle);
     free(m->lum4);
-    free(m->rate_factor);
+    free(m->want_spp);
     free(m->lens_px);
     free(m->lens_k_lo);
     free(m->lens_k_hi);
@@ -214,19 +214,20 @@ static int fsf_shared(ReconMethod *m, DistArray *out, int max)
     return count;
 }
 
-/* Under a budget: each pixel's count factor (fsf_budget_plan.h), from pass 1's samples. A: the
+/* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
+ * allocation of the budget by the count factors sqrt(v / A). A: the
  * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
  * where one passes the pixel through), and where FSF filters defocus the lens filter's added
  * (it blurs the shading filters' output: the composed Gaussian's area is at least the sum,
  * docs/algorithms.md 10), except at the straddlers, which it leaves to Monte Carlo. */
-static bool plan_factors(ReconMethod *m, Diag *d)
+static bool plan_counts(ReconMethod *m, Diag *d)
 {
     const GBuffer *g = m->g;
     size_t n = (size_t)g->width * (size_t)g->height;
     bool indirect = effect_in(m->effects, EFFECT_INDIRECT);
     float *rel_var = malloc(n * sizeof(float)), *bounce = NULL;
-    if (!rel_var || !(m->rate_factor = malloc(n * sizeof(float)))) goto oom;
-    float *area = m->rate_factor; /* the areas first, then the factors in place */
+    if (!rel_var || !(m->want_spp = malloc(n * sizeof(float)))) goto oom;
+    float *area = m->want_spp; /* the areas first, then the factors in place, then the counts */
     for (size_t i = 0; i < n; ++i) area[i] = INFINITY; /* INFINITY: no shading filter reads the pixel */
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
         if (!m->share && !(m->share = malloc(n * sizeof(float)))) goto oom;
@@ -248,7 +249,8 @@ static bool plan_factors(ReconMethod *m, Diag *d)
         else area[i] = shade;
     }
     if (!sample_rate_rel_var(m->lum4, g->width, g->height, rel_var)) goto oom;
-    for (size_t i = 0; i < n; ++i) m->rate_factor[i] = sample_rate_factor(rel_var[i], area[i], 1.0f);
+    float *factor = m->want_spp;
+    for (size_t i = 0; i < n; ++i) factor[i] = sample_rate_factor(rel_var[i], area[i], 1.0f);
     /* Pixels the indirect filter filters keep pass 1's count where no lens filter follows: their
      * extras reach the filter through fsf_match_pixel's scale, the full mean over the mean of
      * the few stored samples, and v-plane samples are heavy tailed (a few see the bright
@@ -256,7 +258,10 @@ static bool plan_factors(ReconMethod *m, Diag *d)
      * allocation there gave 1.71x / 1.05x the relMSE at 8 / 16 spp (0.84x / 0.89x at 32 / 64;
      * docs/benchmarks.md). */
     for (size_t i = 0; indirect && !m->lens_planned && i < n; ++i)
-        if (bounce[i] > 0.0f && bounce[i] != INFINITY) m->rate_factor[i] = 0.0f;
+        if (bounce[i] > 0.0f && bounce[i] != INFINITY) factor[i] = 0.0f;
+    /* in place: each count reads its own factor only once the search is over */
+    sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
+                       (double)m->budget_spp, m->want_spp);
     free(rel_var), free(bounce);
     return true;
 oom:
@@ -281,16 +286,12 @@ static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
             return false;
         }
-        if (m->budget_spp > 0 && !plan_factors(m, d)) return false;
+        if (m->budget_spp > 0 && !plan_counts(m, d)) return false;
         m->planned = true;
     }
-    if (m->budget_spp > 0) {
-        if (!fsf_budget_plan(m->rate_factor, n, m->pass1_spp, m->budget_spp, FSF_BUDGET_CAP_RATIO, spp_now,
-                             spp_total)) {
-            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan");
-            return false;
-        }
-    } else
+    if (m->budget_spp > 0)
+        fsf_budget_plan(m->want_spp, n, spp_now, spp_total);
+    else
         fsf_lens_plan(m->straddle, n, m->pass1_spp, FSF_LENS_STRADDLE_EXTRA_SPP, spp_now, spp_total);
     return true;
 }
