@@ -75,7 +75,9 @@ void sample_rate_counts(const float *factor, size_t n, float floor_spp, float ca
     double l0 = 0.0, l1 = 1.0;
     /* grow the bracket until it spends the total (or every factor-carrying pixel is capped) */
     for (int k = 0; k < 200 && spent(factor, n, l1, lo, hi) < goal; ++k) l1 *= 2.0;
-    for (int k = 0; k < 60; ++k) {
+    /* to a relative 1e-6 of lambda: the counts within 1e-6 of theirs (~20 halvings; each is a
+     * pass over the frame) */
+    for (int k = 0; k < 60 && l1 - l0 > 1e-6 * l1; ++k) {
         double mid = 0.5 * (l0 + l1);
         if (spent(factor, n, mid, lo, hi) < goal) l0 = mid;
         else l1 = mid;
