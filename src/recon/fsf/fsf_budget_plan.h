@@ -49,13 +49,16 @@
  * variance (the slope windows and the widths come from pass 1's samples too): measured over
  * 0.5 to 0.875 on soft_shadows and thin_occluders at 8, 16 and 32 spp, 0.75 was the best
  * but once, within 2% (docs/benchmarks.md). Pass 1 counts with a balanced rows x cols grid
- * (6 = 2 x 3, 12 = 3 x 4, 24 = 4 x 6) stratify the light better than primes (11, 13). */
+ * (6 = 2 x 3, 12 = 3 x 4, 24 = 4 x 6) stratify the light better than primes (11, 13). Under
+ * the Lagrange allocation again (seeds 1-2): 0.75 best on soft_shadows at 8, 16 and 32 spp (the
+ * others 3-62% worse); on thin_occluders 0.5 was 5-11% better at 16 and 32 but 45% worse at 8. */
 #define FSF_BUDGET_PASS1_SHARE 0.75f
 /* ... and where FSF filters defocus: the lens filter, after the shading filters, filters
  * nearly every pixel from its stored samples (its collapsed share, the straddlers, is 5-8%
  * and holds 15-22% of the error, against 57% on soft_shadows), so pass 1 keeps more. On
  * defocus and combined at 8, 16 and 32 spp, 0.875 was up to 12% better than 0.75, at worst
- * 0.5% worse (combined at 16: 8.6e-4 with 0.75, 8.0e-4 with 0.875, fixed count 8.4e-4). */
+ * 0.5% worse (combined at 16: 8.6e-4 with 0.75, 8.0e-4 with 0.875, fixed count 8.4e-4). Under
+ * the Lagrange allocation 0.75 was 2-7% better on defocus and 2-6% worse on combined. */
 #define FSF_BUDGET_PASS1_SHARE_LENS 0.875f
 
 /* Whether a pixel's filter (FsfPixel) has collapsed. */
