@@ -206,7 +206,7 @@ static void fsf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r
     sample_rate_add(m->lum4 + 4 * i, 0.2126f * r->L.x + 0.7152f * r->L.y + 0.0722f * r->L.z);
 }
 
-/* The moments, summed over the ranks of a distributed frame. */
+/* The moments, gathered from the ranks that own the pixels in a distributed frame (dist.h). */
 static int fsf_shared(ReconMethod *m, DistArray *out, int max)
 {
     int count = 0;
