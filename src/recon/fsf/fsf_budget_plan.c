@@ -6,10 +6,17 @@
 
 #include "recon/fsf/fsf_bounce.h"
 #include "recon/fsf/fsf_params.h"
+#include "recon/sample_rate.h"
 
 bool fsf_pixel_collapsed(const FsfPixel *px)
 {
     return px->sigma_px[0] < FSF_COLLAPSED_SIGMA_PX || px->sigma_px[1] < FSF_COLLAPSED_SIGMA_PX;
+}
+
+float fsf_pixel_area_px(const FsfPixel *px)
+{
+    if (fsf_pixel_collapsed(px)) return 0.0f;
+    return sample_rate_area_px(px->sigma_px[0] * px->sigma_px[0], px->sigma_px[1] * px->sigma_px[1]);
 }
 
 /* Per-pixel parameters and slope ranges of one effect's filter, for the plan only. */
@@ -32,8 +39,8 @@ static void params_free(PlanParams *p)
     free(p->px), free(p->k_lo), free(p->k_hi), free(p->usable);
 }
 
-bool fsf_shadow_collapsed(const GBuffer *g, const SampleStore *st, const FsfLight *light, const float *share, float mu,
-                          unsigned char *collapsed)
+bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *light, const float *share, float mu,
+                     float *area_px)
 {
     size_t n = (size_t)g->width * (size_t)g->height;
     PlanParams p;
@@ -48,13 +55,14 @@ bool fsf_shadow_collapsed(const GBuffer *g, const SampleStore *st, const FsfLigh
         /* a surface the filter passes through: mixed (several surfaces), or most of its light
          * from another emitter */
         bool left = g->mixed[i] || (share && !(share[i] >= FSF_MIN_LIGHT_SHARE));
-        if (sample_store_count(st, i) > 0 && g->hit[i] && (left || fsf_pixel_collapsed(&p.px[i]))) collapsed[i] = 1;
+        if (sample_store_count(st, i) > 0 && g->hit[i])
+            area_px[i] = fminf(area_px[i], left ? 0.0f : fsf_pixel_area_px(&p.px[i]));
     }
     params_free(&p);
     return ok;
 }
 
-bool fsf_bounce_collapsed(const GBuffer *g, const SampleStore *st, float mu, unsigned char *collapsed)
+bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *area_px)
 {
     size_t n = (size_t)g->width * (size_t)g->height, slots = n * (size_t)sample_store_capacity(st);
     PlanParams p;
@@ -69,37 +77,23 @@ bool fsf_bounce_collapsed(const GBuffer *g, const SampleStore *st, float mu, uns
     FsfBounceIn in = {g, st, y, p.usable, mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
     ok = ok && fsf_bounce_params(&in, p.px, p.k_lo, p.k_hi);
     for (size_t i = 0; ok && i < n; ++i)
-        if (sample_store_count(st, i) > 0 && g->hit[i] && (g->mixed[i] || fsf_pixel_collapsed(&p.px[i])))
-            collapsed[i] = 1;
+        if (sample_store_count(st, i) > 0 && g->hit[i])
+            area_px[i] = fminf(area_px[i], g->mixed[i] ? 0.0f : fsf_pixel_area_px(&p.px[i]));
     free(ones), free(y), free(v), free(count);
     params_free(&p);
     return ok;
 }
 
-void fsf_budget_plan(const unsigned char *collapsed, size_t n, int pass1_spp, int budget_spp, float ratio,
-                     const float *spp_now, int *spp_total)
+void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int *spp_total)
 {
-    double room = (double)budget_spp * (double)n;
-    size_t n_collapsed = 0;
+    double carry = 0.0;
     for (size_t i = 0; i < n; ++i) {
         spp_total[i] = (int)spp_now[i];
-        room -= spp_now[i];
-        n_collapsed += collapsed[i] != 0;
-    }
-    if (!(room > 0.0)) return;
-    /* n_c / n_1 = ratio at most (the equal-variance optimum); the rest evenly elsewhere */
-    double per_collapsed = 0.0, cap = ((double)ratio - 1.0) * (double)pass1_spp;
-    if (n_collapsed > 0) per_collapsed = fmin(cap > 0.0 ? cap : 0.0, room / (double)n_collapsed);
-    size_t n_other = n - n_collapsed;
-    double per_other = n_other > 0 ? (room - per_collapsed * (double)n_collapsed) / (double)n_other : 0.0;
-    if (n_other == 0) per_collapsed = room / (double)n; /* every pixel collapsed: all of it evenly */
-    double carry[2] = {0.0, 0.0}; /* per class, so that neither lends samples to the other */
-    for (size_t i = 0; i < n; ++i) {
-        int c = collapsed[i] != 0;
-        double want = (c ? per_collapsed : per_other) + carry[c];
-        int k = (int)floor(want + 0.5);
-        if (k < 0) k = 0;
-        carry[c] = want - k;
+        double extra = (double)want_spp[i] - (double)spp_now[i] + carry;
+        int k = (int)floor(extra + 0.5);
+        /* a pixel above its share (an earlier plan's) keeps it and lends nothing to the next */
+        if (k < 0) k = 0, extra = 0.0;
+        carry = extra - k;
         spp_total[i] += k;
     }
 }

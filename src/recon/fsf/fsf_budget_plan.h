@@ -1,22 +1,20 @@
-/* FSF under a --spp budget: a reduced pass 1 and the rest of the budget at the pixels the
- * filter leaves unfiltered (docs/algorithms.md section 10, "Under a budget").
+/* FSF under a --spp budget: a reduced pass 1, and the rest of the budget by the Lagrange
+ * allocation of recon/sample_rate.h (docs/algorithms.md section 10, "Under a budget").
  *
- * FSF's store keeps pass 1's samples only, so extra samples reach the image through the
- * pixel's own mean (the value its stored samples are scaled to, fsf_match_pixel). That is all
- * a pixel needs where the filter has collapsed: a width under FSF_COLLAPSED_SIGMA_PX along
- * either axis (near a contact line the slope range explodes, FSF eq. 4 goes to 0), a defocus
- * range straddling the focal plane (fsf_lens_straddles), a mixed pixel (several surfaces:
- * passed through), or a pixel the light-share test leaves out (FSF_MIN_LIGHT_SHARE); with
- * defocus filtered too, only where the lens filter leaves the pixel out as well. Such a pixel
- * is Monte Carlo: its variance is sigma^2 / n.
- *
- * The allocation (derived in docs/algorithms.md): minimising the frame's summed variance
- * c sigma^2 / n_c + (1 - c) sigma^2 / (F n_1) under (1 - c) n_1 + c n_c = budget (c the
- * collapsed share, F the filtered pixels' effective footprint, in Monte Carlo samples per
- * sample) gives n_c / n_1 = sqrt(F): FSF_BUDGET_COLLAPSED_RATIO. c is known only after pass 1,
- * so pass 1 takes a fixed share of the budget (FSF_BUDGET_PASS1_SHARE, or _LENS with defocus)
- * and the collapsed pixels get up to ratio * pass 1; what they cannot take is spread over the
- * others. */
+ * FSF's store keeps pass 1's samples only, so extra samples reach the image through each
+ * pixel's own mean (the value its stored samples are scaled to, fsf_match_pixel), which the
+ * pixel's filter and its neighbours' read. A pixel whose filter averages the samples of A
+ * pixels then has the variance v / (n A) of recon/sample_rate.h when the counts vary slowly
+ * over the filter, and the allocation n ~ sqrt(v / A) minimises the frame's summed variance.
+ * A is the effective pixel count of FSF's filter at the pixel: 4 pi sigma_1 sigma_2 from its
+ * two screen-space widths (fsf_pixel_area_px); 1 where FSF leaves the pixel to Monte Carlo: a
+ * width under FSF_COLLAPSED_SIGMA_PX along either axis (near a contact line the slope range
+ * explodes, FSF eq. 4 goes to 0), a mixed pixel (several surfaces: passed through), a pixel
+ * the light-share test leaves out (FSF_MIN_LIGHT_SHARE), a defocus range straddling the focal
+ * plane (fsf_lens_straddles). Where FSF filters defocus, the lens filter blurs the shading
+ * filters' output and the areas add (docs/algorithms.md). v is the relative variance of one
+ * pass-1 sample over the pixel's 3 x 3 window. Pass 1 takes a fixed share of the budget
+ * (FSF_BUDGET_PASS1_SHARE, or _LENS with defocus): it is every pixel's floor. */
 #ifndef WEDGE_RECON_FSF_BUDGET_PLAN_H
 #define WEDGE_RECON_FSF_BUDGET_PLAN_H
 
@@ -32,11 +30,13 @@
  * either axis, not both: on soft_shadows and thin_occluders at 16 spp the two tests gave the
  * same error within 1.5% (2 seeds), and either is what the AOV fsf.sigma_px shows. */
 #define FSF_COLLAPSED_SIGMA_PX 0.5f
-/* sqrt(F), F the effective footprint of a filtered pixel at the width cap (sigma = 8 px on
- * both axes): a 2D Gaussian of sigma px averages about 4 pi sigma^2 pixels' samples, so
- * sqrt(F) = 2 sqrt(pi) sigma = 28. It binds only where few pixels collapse (c < 1.3% at
- * 16 spp); a ratio of 4 (F = 16) was measured and lost 8-25% (docs/benchmarks.md). */
-#define FSF_BUDGET_COLLAPSED_RATIO (2.0f * 1.7724539f * (float)FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS)
+/* A pixel's cap, in pass-1 counts: sqrt(F), F the effective footprint of a filtered pixel at
+ * the width cap (sigma = 8 px on both axes), 4 pi sigma^2, so sqrt(F) = 2 sqrt(pi) sigma = 28:
+ * the allocation's own ratio between a Monte Carlo pixel and one at the cap of equal variance.
+ * It keeps a window whose variance is one outlier's (a firefly in pass 1) from taking the
+ * frame's budget. (Under the earlier even share per collapsed pixel a cap of 4 lost 8-25%,
+ * docs/benchmarks.md.) */
+#define FSF_BUDGET_CAP_RATIO (2.0f * 1.7724539f * (float)FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS)
 /* FSF's light's share of the scene's power (fsf_light_power_share) below FSF_MIN_LIGHT_SHARE:
  * the shadow filter leaves the pixels another light dominates to Monte Carlo, often most of
  * the frame (c near 1), and a pixel's samples in two stratified sets (pass 1's and pass 2's
@@ -49,34 +49,40 @@
  * variance (the slope windows and the widths come from pass 1's samples too): measured over
  * 0.5 to 0.875 on soft_shadows and thin_occluders at 8, 16 and 32 spp, 0.75 was the best
  * but once, within 2% (docs/benchmarks.md). Pass 1 counts with a balanced rows x cols grid
- * (6 = 2 x 3, 12 = 3 x 4, 24 = 4 x 6) stratify the light better than primes (11, 13). */
+ * (6 = 2 x 3, 12 = 3 x 4, 24 = 4 x 6) stratify the light better than primes (11, 13). Under
+ * the Lagrange allocation again (seeds 1-2): 0.75 best on soft_shadows at 8, 16 and 32 spp (the
+ * others 3-62% worse); on thin_occluders 0.5 was 5-11% better at 16 and 32 but 45% worse at 8. */
 #define FSF_BUDGET_PASS1_SHARE 0.75f
 /* ... and where FSF filters defocus: the lens filter, after the shading filters, filters
  * nearly every pixel from its stored samples (its collapsed share, the straddlers, is 5-8%
  * and holds 15-22% of the error, against 57% on soft_shadows), so pass 1 keeps more. On
  * defocus and combined at 8, 16 and 32 spp, 0.875 was up to 12% better than 0.75, at worst
- * 0.5% worse (combined at 16: 8.6e-4 with 0.75, 8.0e-4 with 0.875, fixed count 8.4e-4). */
+ * 0.5% worse (combined at 16: 8.6e-4 with 0.75, 8.0e-4 with 0.875, fixed count 8.4e-4). Under
+ * the Lagrange allocation 0.75 was 2-7% better on defocus and 2-6% worse on combined. */
 #define FSF_BUDGET_PASS1_SHARE_LENS 0.875f
 
 /* Whether a pixel's filter (FsfPixel) has collapsed. */
 bool fsf_pixel_collapsed(const FsfPixel *px);
+/* The effective pixel count of a pixel's filter (1 / sum of its squared normalised screen
+ * weights): 4 pi sigma_1 sigma_2 (recon/sample_rate.h), its two gathers' widths in pixel steps
+ * (each step a neighbouring pixel, whatever the axes' directions); 0 where it has collapsed. */
+float fsf_pixel_area_px(const FsfPixel *px);
 
-/* collapsed[i] |= 1 where the soft-shadow filter leaves pixel i unfiltered, from the store's
- * pass-1 samples and the guides as the filter will see them (usable: samples, a surface, not
- * mixed; share: FSF's light's share of the pixel's light, NULL: all). false when out of
- * memory. */
-bool fsf_shadow_collapsed(const GBuffer *g, const SampleStore *st, const FsfLight *light, const float *share, float mu,
-                          unsigned char *collapsed);
+/* area_px[i] = min(area_px[i], the soft-shadow filter's fsf_pixel_area_px at pixel i, 0 where
+ * it passes the pixel through: mixed, or FSF's light's share below FSF_MIN_LIGHT_SHARE), at
+ * the pixels with samples on a surface, from the store's pass-1 samples and the guides as the
+ * filter will see them (share: FSF's light's share of the pixel's light, NULL: all). false
+ * when out of memory. */
+bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *light, const float *share, float mu,
+                     float *area_px);
 /* The same for the indirect light's filter. false when out of memory or the store lacks the
  * bounce or indirect field. */
-bool fsf_bounce_collapsed(const GBuffer *g, const SampleStore *st, float mu, unsigned char *collapsed);
+bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *area_px);
 
-/* The totals: spp_now[i] plus an even share of the room (budget * n minus the samples so far)
- * at the collapsed pixels, at most (ratio - 1) * pass1_spp each, the rest spread evenly over
- * the others; integers by error diffusion in scan order (per class), within a sample of the
- * room in all (the pipeline scales the extras to the budget exactly). No room: spp_total =
- * spp_now. */
-void fsf_budget_plan(const unsigned char *collapsed, size_t n, int pass1_spp, int budget_spp, float ratio,
-                     const float *spp_now, int *spp_total);
+/* The totals: want_spp[i] (the real counts of the Lagrange allocation, sample_rate_counts with
+ * pass 1's count as the floor and FSF_BUDGET_CAP_RATIO times it as the cap), never below
+ * spp_now[i]; integers by error diffusion in scan order, within a sample of the room in all
+ * (the pipeline scales the extras to the budget exactly). */
+void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int *spp_total);
 
 #endif

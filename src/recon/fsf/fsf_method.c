@@ -7,8 +7,9 @@
  *            pixels whose lens slopes straddle the focal plane (fsf_lens_plan.h), nothing
  *            elsewhere or for the other effects. Under a --spp budget pass 1 takes
  *            FSF_BUDGET_PASS1_SHARE of it (_LENS where FSF filters defocus; the store keeps
- *            those samples) and the plan sends the rest to the pixels whose filters collapse
- *            (fsf_budget_plan.h)
+ *            those samples) and the plan places the rest by the Lagrange allocation
+ *            n ~ sqrt(v / A), v a pixel's pass-1 variance, A its filter's effective pixel
+ *            count (fsf_budget_plan.h, recon/sample_rate.h)
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
@@ -43,6 +44,7 @@
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_params.h"
 #include "recon/method.h"
+#include "recon/sample_rate.h"
 
 /* FSF section 5: 4 to 16 samples per pixel; 16 = a 4 x 4 grid over the light. */
 #define FSF_DEFAULT_SPP 16
@@ -67,9 +69,11 @@ struct ReconMethod {
     FsfPixel *lens_px;           /* the plan's lens parameters, which the filter reuses ... */
     float *lens_k_lo, *lens_k_hi;
     bool lens_planned;           /* ... when set */
-    bool planned;                /* straddle (and collapsed) and pass1_spp are set */
+    bool planned;                /* straddle (and want_spp) and pass1_spp are set */
     int budget_spp;              /* --spp (0: none) */
-    unsigned char *collapsed;    /* under a budget: the pixels some filter leaves unfiltered */
+    float *lum4;                 /* under a budget: pass 1's luminance moments per pixel (sample_rate_add) */
+    int pass;                    /* the pass being traced (begin_pass) */
+    float *want_spp;             /* under a budget: each pixel's count by the allocation (real; found once) */
     int pass1_spp;               /* the samples every pixel had at the first plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
@@ -118,7 +122,8 @@ static void fsf_destroy(ReconMethod *m)
     free(m->lens_spread_aov);
     free(m->straddle_aov);
     free(m->straddle);
-    free(m->collapsed);
+    free(m->lum4);
+    free(m->want_spp);
     free(m->lens_px);
     free(m->lens_k_lo);
     free(m->lens_k_hi);
@@ -168,6 +173,11 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
     m->effects = s->effects;
     m->budget_spp = s->spp_budget;
+    if (m->budget_spp > 0 && !(m->lum4 = calloc(4 * n, sizeof(float)))) {
+        fsf_destroy(m);
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
+        return false;
+    }
     *out = m;
     return true;
 }
@@ -183,36 +193,86 @@ static bool plan_lens(ReconMethod *m)
                                                   m->straddle));
 }
 
-/* Under a budget: the pixels the frame leaves unfiltered (fsf_budget_plan.h), from pass 1's
- * samples: the defocus straddlers (found by plan_lens), and the pixels whose shadow or
- * indirect-light filter collapses, unless the lens filter, which runs after them on the
- * composite radiance, filters them (in combined.pbrt 57% of the pixels are mixed for the
- * shading filters, defocus filters most of them: sending the budget there lost 20%). */
-static bool plan_collapsed(ReconMethod *m, Diag *d)
+static void fsf_begin_pass(ReconMethod *m, int pass)
 {
-    size_t n = (size_t)m->g->width * (size_t)m->g->height;
-    if (!(m->collapsed = calloc(n, 1))) goto oom;
+    m->pass = pass;
+}
+
+/* Under a budget, pass 1's samples measure each pixel's variance for the plan. */
+static void fsf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
+{
+    if (!m->lum4 || m->pass != 0 || px < 0 || py < 0 || px >= m->g->width || py >= m->g->height) return;
+    size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
+    sample_rate_add(m->lum4 + 4 * i, 0.2126f * r->L.x + 0.7152f * r->L.y + 0.0722f * r->L.z);
+}
+
+/* The moments, gathered from the ranks that own the pixels in a distributed frame (dist.h). */
+static int fsf_shared(ReconMethod *m, DistArray *out, int max)
+{
+    int count = 0;
+    if (m->lum4 && count < max) out[count++] = (DistArray){m->lum4, 4 * sizeof(float)};
+    return count;
+}
+
+/* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
+ * allocation of the budget by the count factors sqrt(v / A). A: the
+ * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
+ * where one passes the pixel through), and where FSF filters defocus the lens filter's added
+ * (it blurs the shading filters' output: the composed Gaussian's area is at least the sum,
+ * docs/algorithms.md 10), except at the straddlers, which it leaves to Monte Carlo. */
+static bool plan_counts(ReconMethod *m, Diag *d)
+{
+    const GBuffer *g = m->g;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    bool indirect = effect_in(m->effects, EFFECT_INDIRECT);
+    float *rel_var = malloc(n * sizeof(float)), *bounce = NULL;
+    if (!rel_var || !(m->want_spp = malloc(n * sizeof(float)))) goto oom;
+    float *area = m->want_spp; /* the areas first, then the factors in place, then the counts */
+    for (size_t i = 0; i < n; ++i) area[i] = INFINITY; /* INFINITY: no shading filter reads the pixel */
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
         if (!m->share && !(m->share = malloc(n * sizeof(float)))) goto oom;
-        fsf_light_share(m->renderer, m->light.shape, (int)n, m->g->hit, m->g->pos4, m->g->nrm4, m->share);
-        if (!fsf_shadow_collapsed(m->g, m->store, &m->light, m->share, m->mu, m->collapsed)) goto oom;
+        fsf_light_share(m->renderer, m->light.shape, (int)n, g->hit, g->pos4, g->nrm4, m->share);
+        if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, area)) goto oom;
     }
-    if (effect_in(m->effects, EFFECT_INDIRECT) && !fsf_bounce_collapsed(m->g, m->store, m->mu, m->collapsed)) {
+    /* the indirect filter's own areas, kept apart for the rule below */
+    if (indirect && !(bounce = malloc(n * sizeof(float)))) goto oom;
+    for (size_t i = 0; indirect && i < n; ++i) bounce[i] = INFINITY;
+    if (indirect && !fsf_bounce_area(g, m->store, m->mu, bounce)) {
+        free(rel_var), free(bounce);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no bounce field)");
         return false;
     }
-    if (m->lens_planned)
-        for (size_t i = 0; i < n; ++i)
-            m->collapsed[i] = m->straddle[i] || (m->collapsed[i] && fsf_pixel_collapsed(&m->lens_px[i]));
+    for (size_t i = 0; i < n; ++i) {
+        float shade = indirect ? fminf(area[i], bounce[i]) : area[i];
+        shade = shade == INFINITY ? 0.0f : shade;
+        if (m->lens_planned) area[i] = m->straddle[i] ? 0.0f : shade + fsf_pixel_area_px(&m->lens_px[i]);
+        else area[i] = shade;
+    }
+    if (!sample_rate_rel_var(m->lum4, g->width, g->height, rel_var)) goto oom;
+    float *factor = m->want_spp;
+    for (size_t i = 0; i < n; ++i) factor[i] = sample_rate_factor(rel_var[i], area[i], 1.0f);
+    /* Pixels the indirect filter filters keep pass 1's count where no lens filter follows: their
+     * extras reach the filter through fsf_match_pixel's scale, the full mean over the mean of
+     * the few stored samples, and v-plane samples are heavy tailed (a few see the bright
+     * reflector), so that ratio adds more noise than the extras remove: on indirect.pbrt the
+     * allocation there gave 1.71x / 1.05x the relMSE at 8 / 16 spp (0.84x / 0.89x at 32 / 64;
+     * docs/benchmarks.md). */
+    for (size_t i = 0; indirect && !m->lens_planned && i < n; ++i)
+        if (bounce[i] > 0.0f && bounce[i] != INFINITY) factor[i] = 0.0f;
+    /* in place: each count reads its own factor only once the search is over */
+    sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
+                       (double)m->budget_spp, m->want_spp);
+    free(rel_var), free(bounce);
     return true;
 oom:
+    free(rel_var), free(bounce);
     diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan");
     return false;
 }
 
 /* FSF section 5: pass 1's count everywhere, FSF_LENS_STRADDLE_EXTRA_SPP more where the lens
  * slopes straddle the focal plane. Under a --spp budget pass 1 had fsf_budget_pass1_share of
- * it, and the rest goes to the pixels whose filter collapses (fsf_budget_plan.h). Both depend
+ * it, and the rest follows each pixel's count factor (fsf_budget_plan.h). Both depend
  * on pass 1's stored samples and FSF's own knob only, so they are found once (the pipeline may
  * plan several times: a budget search, progressive steps); the search's mu does not change
  * FSF's filter (m->mu) and so not the plan. */
@@ -226,11 +286,11 @@ static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
             return false;
         }
-        if (m->budget_spp > 0 && !plan_collapsed(m, d)) return false;
+        if (m->budget_spp > 0 && !plan_counts(m, d)) return false;
         m->planned = true;
     }
     if (m->budget_spp > 0)
-        fsf_budget_plan(m->collapsed, n, m->pass1_spp, m->budget_spp, FSF_BUDGET_COLLAPSED_RATIO, spp_now, spp_total);
+        fsf_budget_plan(m->want_spp, n, spp_now, spp_total);
     else
         fsf_lens_plan(m->straddle, n, m->pass1_spp, FSF_LENS_STRADDLE_EXTRA_SPP, spp_now, spp_total);
     return true;
@@ -532,11 +592,14 @@ const ReconMethodClass recon_method_fsf = {
     .pass1_spp = fsf_pass1_spp,
     .budget_pass1_share = fsf_budget_pass1_share,
     .create = fsf_create,
+    .begin_pass = fsf_begin_pass,
+    .add_sample = fsf_add_sample,
     .plan = fsf_plan,
     .open_device = fsf_open_device,
     .light_factor = fsf_light_factor,
     .filter_light = fsf_filter_light,
     .filter_radiance = fsf_filter_radiance,
+    .shared = fsf_shared,
     .aovs = fsf_aovs,
     .destroy = fsf_destroy,
 };

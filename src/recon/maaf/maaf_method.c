@@ -35,9 +35,9 @@
 #include "recon/maaf/maaf_defocus.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_indirect.h"
-#include "recon/maaf/maaf_rate.h"
 #include "recon/maaf/maaf_shadow.h"
 #include "recon/method.h"
+#include "recon/sample_rate.h"
 
 /* seeds/003 Sec. 6.1 and Fig. 9: 9 samples per pixel for soft shadows. */
 #define MAAF_SPP_DEFAULT 9
@@ -147,8 +147,8 @@ struct ReconMethod {
     /* the plan's rule per pixel, without mu (plan_classes), kept across the budget search's
      * plans and forgotten by every later pass */
     unsigned char *plan_class;
-    float *plan_factor;         /* PLAN_RATE: the count's factor against pass 1's (maaf_rate.h) */
-    float *lum4;                /* frames with defocus: pass 1's luminance moments per pixel (maaf_rate_add) */
+    float *plan_factor;         /* PLAN_RATE: the count's factor against pass 1's (recon/sample_rate.h) */
+    float *lum4;                /* frames with defocus: pass 1's luminance moments per pixel (sample_rate_add) */
     bool plan_known;
     bool all_sums;              /* MAAF_ALL_SUMS_ENV: every sum accumulated (the tests' reference) */
     /* defocus (maaf_defocus.h) */
@@ -180,7 +180,7 @@ static int maaf_pass1_spp(EffectMask effects)
 }
 
 /* Under a --spp budget, frames with defocus trace half of it in pass 1 and let the plan's
- * Lagrange allocation (maaf_rate.h) place the other half: pass 1 is the allocation's pilot
+ * Lagrange allocation (recon/sample_rate.h) place the other half: pass 1 is the allocation's pilot
  * (it measures each pixel's variance and wedges) and its floor, and only the samples above
  * the floor can follow sqrt(v / A). With pass 1 fixed at 9 a budget of 8 had no plan at all
  * and one of 12 a quarter of the budget to place. Half is the usual two-stage split, not
@@ -566,7 +566,7 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height) {
         size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
         /* pass 1's samples measure each pixel's variance for the plan */
-        if (m->stats.collect_rays) maaf_rate_add(m->lum4 + 4 * i, 0.2126f * r->L.x + 0.7152f * r->L.y + 0.0722f * r->L.z);
+        if (m->stats.collect_rays) sample_rate_add(m->lum4 + 4 * i, 0.2126f * r->L.x + 0.7152f * r->L.y + 0.0722f * r->L.z);
         defocus_add(m, i, r, ud, ui);
     }
     if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
@@ -846,7 +846,7 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
  * EXTRA_SPP_PER_MU times mu times pass 1's count, at most 100 mu. Their extra samples come
  * without ray geometry; they are Monte Carlo pixels, and the filter leaves them out as
  * neighbours (sharpness rule). Frames with defocus: every pixel's count from the Lagrange
- * allocation of maaf_rate.h, its variance over the area of the filters its light goes through
+ * allocation of recon/sample_rate.h, its variance over the area of the filters its light goes through
  * (docs/algorithms.md 9.14). */
 /* The plan's rule per pixel (plan_class): pass 1's count, the filtered count of the shadow and
  * indirect filters, the rate's count (plan_factor), or the extra count. */
@@ -860,11 +860,11 @@ static bool rate_factors(ReconMethod *m)
     const GBuffer *g = m->g;
     size_t n = (size_t)g->width * (size_t)g->height;
     float *rel_var = malloc(n * sizeof(float));
-    if (!rel_var || !maaf_rate_rel_var(m->lum4, g->width, g->height, rel_var)) {
+    if (!rel_var || !sample_rate_rel_var(m->lum4, g->width, g->height, rel_var)) {
         free(rel_var);
         return false;
     }
-    for (size_t i = 0; i < n; ++i) m->plan_factor[i] = maaf_rate_factor(rel_var[i], m->plan_factor[i], 1.0f);
+    for (size_t i = 0; i < n; ++i) m->plan_factor[i] = sample_rate_factor(rel_var[i], m->plan_factor[i], 1.0f);
     free(rel_var);
     return true;
 }
@@ -911,7 +911,10 @@ static bool plan_classes(ReconMethod *m)
                  * shading effect), the lens filter's alone */
                 float lens_px = defocus_filter(m, x, y, &side);
                 bool passed = g->hit[i] && (more || shade_px == 0.0f || gbuffer_texture_needs_samples(g, i, lens_px));
-                m->plan_factor[i] = maaf_rate_area_px(lens_px, passed || shade_px == INFINITY ? 0.0f : shade_px);
+                float shade_used_px = passed || shade_px == INFINITY ? 0.0f : shade_px;
+                /* the two isotropic blurs compose: their variances add */
+                float var_px2 = lens_px * lens_px + shade_used_px * shade_used_px;
+                m->plan_factor[i] = sample_rate_area_px(var_px2, var_px2);
                 m->plan_class[i] = PLAN_RATE;
                 continue;
             }
@@ -1046,7 +1049,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
                 for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
             }
             /* with defocus, per-pixel means (eq. 20 per pixel, as the lens sums: 9.8): the
-             * plan's counts there vary by 10x between neighbours (maaf_rate.h), and with raw
+             * plan's counts there vary by 10x between neighbours (recon/sample_rate.h), and with raw
              * sums a pixel's weight in its filters would follow its count, not the design
              * (docs/algorithms.md 9.14). Without defocus the sums stay raw: the extra-sample
              * pixels' own samples are meant to dominate their filter there (means: soft_shadows
