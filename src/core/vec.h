@@ -56,6 +56,8 @@ static inline vec3 v3_normalize(vec3 a)
     return v3_scale(b, 1.0f / sqrtf(v3_dot(b, b)));
 }
 static inline float v3_max_component(vec3 a) { return fmaxf(a.x, fmaxf(a.y, a.z)); }
+/* Linear-RGB luminance Y, Rec. 709 / sRGB primaries (the weights of the working space). */
+static inline float v3_luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 /* v3_max_component(a) > 0 without its two library calls: fmaxf skips NaN operands, so the
  * maximum is > 0 exactly when some component is. */
 static inline bool v3_any_positive(vec3 a) { return a.x > 0.0f || a.y > 0.0f || a.z > 0.0f; }

@@ -104,12 +104,10 @@ void gbuffer_free(GBuffer *g)
     memset(g, 0, sizeof *g);
 }
 
-static inline float luminance3(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 bool gbuffer_sample_glossy(const SampleRecord *r)
 {
     return r->hit && r->phong_exponent > GLOSSY_DIRECT_MIN_EXPONENT &&
-           luminance3(r->albedo_glossy) > GLOSSY_DIRECT_SHARE * luminance3(r->albedo);
+           v3_luminance(r->albedo_glossy) > GLOSSY_DIRECT_SHARE * v3_luminance(r->albedo);
 }
 
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
@@ -124,7 +122,7 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     else if (s->object_id != r->object_id) s->id_mixed = 1;
     if (r->unfilterable) s->unfilterable++;
     if (gbuffer_sample_glossy(r)) s->glossy++;
-    float a = luminance3(r->albedo);
+    float a = v3_luminance(r->albedo);
     if (isfinite(a)) s->albedo_sum += a, s->albedo_sq_sum += a * a;
     float ud[3], ui[3];
     gbuffer_unfiltered_split(r, ud, ui);

@@ -13,7 +13,7 @@ static const float LIGHT_OFFSET_REL = 1e-5f; /* as tracer.c: scales with the coo
 
 static float luminance(vec3 c)
 {
-    float y = 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+    float y = v3_luminance(c);
     return y > 0.0f ? y : fmaxf(0.0f, v3_max_component(c));
 }
 

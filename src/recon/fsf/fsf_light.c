@@ -7,8 +7,6 @@
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
 
-static float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 float fsf_light_power_share(const Renderer *r)
 {
     FsfLight light;
@@ -19,7 +17,7 @@ float fsf_light_power_share(const Renderer *r)
         RenderLightInfo b;
         if (!renderer_light_info(r, l, &b)) continue;
         if (b.kind != RENDER_LIGHT_AREA) return 0.0f;
-        double power = (double)luminance(b.radiance) * b.area_world;
+        double power = (double)v3_luminance(b.radiance) * b.area_world;
         all += power;
         if (b.is_triangle && b.shape == light.shape) mine += power;
     }
@@ -38,7 +36,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
         for (int m = 0; m < count; ++m) {
             RenderLightInfo b;
             if (renderer_light_info(r, m, &b) && b.kind == RENDER_LIGHT_AREA && b.is_triangle && b.shape == a.shape)
-                power += luminance(b.radiance) * b.area_world;
+                power += v3_luminance(b.radiance) * b.area_world;
         }
         if (power > best_power) best_power = power, best = l;
     }
@@ -141,7 +139,7 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
             RenderLightInfo b;
             if (!renderer_light_info(j->r, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
             if (!b.is_triangle) { /* only the share counts what FSF cannot filter along */
-                if (j->share) sum += (double)luminance(b.radiance) * round_phi(&b, pv, nv);
+                if (j->share) sum += (double)v3_luminance(b.radiance) * round_phi(&b, pv, nv);
                 continue;
             }
             vec3 to = v3_sub(pv, b.center_world);
@@ -149,7 +147,7 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
             double v[3][3];
             for (int k = 0; k < 3; ++k)
                 v[k][0] = b.tri_world[k].x, v[k][1] = b.tri_world[k].y, v[k][2] = b.tri_world[k].z;
-            double phi = (double)luminance(b.radiance) * polygon_projected_solid_angle(p, nr, v, 3);
+            double phi = (double)v3_luminance(b.radiance) * polygon_projected_solid_angle(p, nr, v, 3);
             irr += phi, sum += phi;
             if (b.shape == j->shape) own += phi;
         }

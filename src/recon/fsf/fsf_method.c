@@ -203,7 +203,7 @@ static void fsf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r
 {
     if (!m->lum4 || m->pass != 0 || px < 0 || py < 0 || px >= m->g->width || py >= m->g->height) return;
     size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
-    sample_rate_add(m->lum4 + 4 * i, 0.2126f * r->L.x + 0.7152f * r->L.y + 0.0722f * r->L.z);
+    sample_rate_add(m->lum4 + 4 * i, v3_luminance(r->L));
 }
 
 /* The moments, gathered from the ranks that own the pixels in a distributed frame (dist.h). */

@@ -566,7 +566,7 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height) {
         size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
         /* pass 1's samples measure each pixel's variance for the plan */
-        if (m->stats.collect_rays) sample_rate_add(m->lum4 + 4 * i, 0.2126f * r->L.x + 0.7152f * r->L.y + 0.0722f * r->L.z);
+        if (m->stats.collect_rays) sample_rate_add(m->lum4 + 4 * i, v3_luminance(r->L));
         defocus_add(m, i, r, ud, ui);
     }
     if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
