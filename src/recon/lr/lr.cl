@@ -575,22 +575,27 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     }
 }
 
-/* The round screen filter at window cell (ix, iy) into acc[0 .. LR_CH): the grid's cells within
- * r, weighted by table[dx^2 + dy^2], rows then columns ascending (lr_reconstruct.c: the same
- * sums in the same order). */
-static void lr_round_sum(__global const float *g, int ww, int wh, int ix, int iy, int r, __global const float *table, float *acc)
+/* The round screen filter on the cells [ix0, ix1) of window row iy, summed into
+ * acc[(ix - ix0) * LR_CH + c]: the grid's cells within r of each, weighted by
+ * table[dx^2 + dy^2]. Tap by tap over the whole row, as lr_row_pass does (a tap's offset is the
+ * same for every cell of the row, one flat loop the compiler runs wide), taps in rows then
+ * columns ascending: every cell gets exactly the sums of lr_reconstruct.c's lr_round_sum. */
+static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, int r, __global const float *table,
+                         float *acc)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    for (int c = 0; c < LR_CH; ++c) acc[c] = 0.0f;
+    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) acc[i] = 0.0f;
     for (int dy = -r; dy <= r; ++dy) {
         int jy = iy + dy;
         if (jy < 0 || jy >= wh) continue;
-        for (int dx = -r; dx <= r; ++dx) {
-            int jx = ix + dx, d2 = dx * dx + dy * dy;
-            if (jx < 0 || jx >= ww || d2 > r * r) continue;
-            float w = table[d2];
-            __global const float *c = g + (jy * ww + jx) * LR_CH;
-            for (int k = 0; k < LR_CH; ++k) acc[k] += w * c[k];
+        int w = r;
+        while (w * w + dy * dy > r * r) --w; /* the row's taps: dx^2 + dy^2 <= r^2 */
+        for (int dx = -w; dx <= w; ++dx) {
+            int a = max(ix0, -dx), b = min(ix1, ww - dx); /* 0 <= ix + dx < ww */
+            float wk = table[dx * dx + dy * dy];
+            __global const float *row = g + (jy * ww + dx + a) * LR_CH;
+            float *dst = acc + (a - ix0) * LR_CH;
+            for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
         }
     }
 }
@@ -627,7 +632,7 @@ __kernel void lr_across_composite(int width, int height, int tile_px, int window
         if (iy < box[1] || iy >= box[3] || i0 >= i1) continue;
         if (lp[LR_ROUND] != 0.0f) {
             __global const float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
-            for (int i = i0; i < i1; ++i) lr_round_sum(g, ww, wh, ix0 + i, iy, (int)lp[11], lp + LR_ROUND_T, acc + (i - i0) * LR_CH);
+            lr_round_row(g, ww, wh, iy, ix0 + i0, ix0 + i1, (int)lp[11], lp + LR_ROUND_T, acc);
         } else {
             lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
         }

@@ -22,7 +22,7 @@ void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, floa
 enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
 
 /* The round screen filter at window cell (ix, iy): the grid's cells within r, weighted by
- * table[dx^2 + dy^2], rows then columns ascending (lr.cl's lr_round_sum: the same sums). */
+ * table[dx^2 + dy^2], rows then columns ascending (lr.cl's lr_round_row: the same sums). */
 static void lr_round_sum(const float *grid, int ww, int wh, int ix, int iy, int r, const float *table, float *acc)
 {
     for (int dy = -r; dy <= r; ++dy) {
