@@ -99,9 +99,13 @@ static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, 
     compare_spread(lr, w, h, spp, layers, nl, poison, 0.0f);
 }
 
-/* The bright front layer of compare's frames is bright in some partitions (so that the
- * comparisons above exercise the bright clamp), and only with front_gain. */
-static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl, float gain)
+/* Which partitions count (count_partitions). */
+typedef enum { COUNT_BRIGHT, COUNT_ROUND } PartitionKind;
+
+/* The partitions of compare's frame (its front layer's radiance scaled by gain) that are bright
+ * (the bright clamp, 8.24) or take the round screen filter (lr_screen_round, 8.28): the
+ * comparisons must exercise both, and a partition is bright only with front_gain. */
+static int count_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl, float gain, PartitionKind kind)
 {
     LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
     lr_test_scene(s, w, h, spp, layers, nl, 31);
@@ -110,27 +114,7 @@ static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, i
             for (int c = 0; c < 3; ++c) s[i].L[c] *= gain;
     LrSamples img = {w, h, spp, s};
     LrConfig cfg = lr_config_default();
-    int ntx, nty, bright = 0;
-    lr_tile_count(&img, &cfg, &ntx, &nty);
-    for (int ty = 0; ty < nty; ++ty)
-        for (int tx = 0; tx < ntx; ++tx) {
-            LrTile t;
-            lr_tile_partition(&img, &cfg, tx, ty, &t);
-            for (int j = 0; j < t.layer_count; ++j) bright += t.layer[j].contrast >= cfg.bright_contrast;
-        }
-    free(s);
-    return bright;
-}
-
-/* The partitions of a frame that take the round screen filter (lr_screen_round): a static
- * defocused layer does; the comparisons below must cover them. */
-static int round_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl)
-{
-    LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
-    lr_test_scene(s, w, h, spp, layers, nl, 31);
-    LrSamples img = {w, h, spp, s};
-    LrConfig cfg = lr_config_default();
-    int ntx, nty, round = 0;
+    int ntx, nty, count = 0;
     lr_tile_count(&img, &cfg, &ntx, &nty);
     for (int ty = 0; ty < nty; ++ty)
         for (int tx = 0; tx < ntx; ++tx) {
@@ -139,11 +123,22 @@ static int round_partitions(int w, int h, int spp, const LrTestLayer *layers, in
             for (int j = 0; j < t.layer_count; ++j) {
                 int r;
                 float table[LR_ROUND_TABLE];
-                round += lr_screen_round(&t.layer[j].filter, &cfg, t.layer[j].cos_psi, t.layer[j].sin_psi, &r, table);
+                count += kind == COUNT_BRIGHT ? t.layer[j].contrast >= cfg.bright_contrast
+                                              : lr_screen_round(&t.layer[j].filter, &cfg, t.layer[j].cos_psi, t.layer[j].sin_psi, &r, table);
             }
         }
     free(s);
-    return round;
+    return count;
+}
+
+static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl, float gain)
+{
+    return count_partitions(w, h, spp, layers, nl, gain, COUNT_BRIGHT);
+}
+
+static int round_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl)
+{
+    return count_partitions(w, h, spp, layers, nl, 1.0f, COUNT_ROUND);
 }
 
 /* LrConfig.still_tiles: every other tile marked still. Those tiles get no layers and 0 in
