@@ -1,7 +1,8 @@
 /* The slow oracle for LR's reconstruction: per pixel and per layer, a direct gather of every
  * window sample with the weight of LR eq. 14 (its lens and time factors, times the screen
  * profile along and across the motion, lr_screen_taps: the Gaussians, or with flat weights
- * the Gaussian, disk and box shares), evaluated in the layer's rotated frame at the sample's
+ * the Gaussian, disk and box shares; or the round filter's 2D table, lr_screen_round),
+ * evaluated in the layer's rotated frame at the sample's
  * reprojected (quantised) pixel, then eq. 17. No grids, no
  * separable passes. Exact agreement with the separable form needs the offsets to be whole
  * pixels along both rotated axes, i.e. psi a multiple of 90 degrees. */
@@ -29,6 +30,9 @@ static void lr_oracle_pixel(const LrSamples *img, const LrConfig *cfg, int px, i
         float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
         lr_screen_taps(f, cfg, false, rx, taps_x);
         lr_screen_taps(f, cfg, true, ry, taps_y);
+        int rr = 0;
+        float round[LR_ROUND_TABLE];
+        bool is_round = lr_screen_round(f, cfg, (float)cp, (float)sp, &rr, round);
         double A = 0, W = 0, E[3] = {0, 0, 0};
         for (int sy = y0; sy < y1; ++sy)
             for (int sx = x0; sx < x1; ++sx)
@@ -43,6 +47,17 @@ static void lr_oracle_pixel(const LrSamples *img, const LrConfig *cfg, int px, i
                     /* offsets along (k1) and across (k2) the motion, whole pixels here */
                     double dx = cx - px, dy = cy - py;
                     double k1 = floor(cp * dx + sp * dy + 0.5), k2 = floor(-sp * dx + cp * dy + 0.5);
+                    if (is_round) { /* one 2D weight over the squared offset (lr_screen_round) */
+                        int d2 = (int)(dx * dx + dy * dy);
+                        if (d2 > rr * rr) continue;
+                        double w = wuvt * round[d2];
+                        W += w;
+                        if (layer == j) {
+                            A += w;
+                            for (int c = 0; c < 3; ++c) E[c] += w * s->L[c];
+                        }
+                        continue;
+                    }
                     if (fabs(k1) > rx || fabs(k2) > ry) continue;
                     /* the separable passes see the intermediate pixel P + k2 (across) too */
                     int mx = px + (int)floor(-k2 * sp + 0.5), my = py + (int)floor(k2 * cp + 0.5);

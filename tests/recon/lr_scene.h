@@ -22,20 +22,27 @@ static unsigned lr_test_rand(unsigned *s)
 }
 static float lr_test_unit(unsigned *s) { return (float)lr_test_rand(s) / 16777216.0f; }
 
+/* A sample's film position jittered in pixel (px, py), lens position uniform on the unit disk,
+ * time uniform in [0, 1]. */
+static void lr_test_place(LrSample *s, int px, int py, unsigned *seed)
+{
+    s->x_px = (float)px + lr_test_unit(seed);
+    s->y_px = (float)py + lr_test_unit(seed);
+    float r = sqrtf(lr_test_unit(seed)), phi = 6.2831853f * lr_test_unit(seed);
+    s->u = r * cosf(phi);
+    s->v = r * sinf(phi);
+    s->t = lr_test_unit(seed);
+}
+
 /* Fills w*h*spp samples: jittered in the pixel, uniform on the unit disk and in time.
  * Layers are listed front to back; the last should be a plane (radius <= 0). */
-static void lr_test_scene(LrSample *out, int w, int h, int spp, const LrTestLayer *layers, int nl, unsigned seed)
+static inline void lr_test_scene(LrSample *out, int w, int h, int spp, const LrTestLayer *layers, int nl, unsigned seed)
 {
     for (int py = 0; py < h; ++py)
         for (int px = 0; px < w; ++px)
             for (int k = 0; k < spp; ++k) {
                 LrSample *s = &out[((size_t)py * w + px) * spp + k];
-                s->x_px = (float)px + lr_test_unit(&seed);
-                s->y_px = (float)py + lr_test_unit(&seed);
-                float r = sqrtf(lr_test_unit(&seed)), phi = 6.2831853f * lr_test_unit(&seed);
-                s->u = r * cosf(phi);
-                s->v = r * sinf(phi);
-                s->t = lr_test_unit(&seed);
+                lr_test_place(s, px, py, &seed);
                 for (int l = 0; l < nl; ++l) {
                     const LrTestLayer *L = &layers[l];
                     /* the surface point seen: undo defocus and motion */
@@ -54,6 +61,24 @@ static void lr_test_scene(LrSample *out, int w, int h, int spp, const LrTestLaye
                     break;
                 }
             }
+}
+
+/* A static textured plane tilted in depth, as a floor is: the circle-of-confusion slope of
+ * the point seen through the lens centre at row y0 is c(y0) = c_top + dc_dy y0 (linear in y0,
+ * as both the slope and a floor's screen row are linear in 1/depth). A sample at film row y
+ * and lens v sees the point with y = y0 + c(y0) v, i.e. y0 = (y - c_top v) / (1 + dc_dy v)
+ * (|dc_dy| < 1: every film row sees the plane), and x0 = x - c(y0) u. Texture of period
+ * 2 pi / freq px along both axes of the plane's screen image. */
+static inline void lr_test_tilted_sample(LrSample *s, int px, int py, float c_top, float dc_dy, float freq, unsigned *seed)
+{
+    lr_test_place(s, px, py, seed);
+    float y0 = (s->y_px - c_top * s->v) / (1.0f + dc_dy * s->v), c = c_top + dc_dy * y0;
+    float x0 = s->x_px - c * s->u;
+    float tex = 0.5f + 0.4f * sinf(freq * x0) * cosf(freq * y0);
+    s->depth = 10.0f + c; /* c grows with depth, as the layers' bounds assume */
+    s->coc_px = c;
+    s->motion_px[0] = s->motion_px[1] = 0.0f;
+    s->L[0] = tex, s->L[1] = 0.5f * tex + 0.2f, s->L[2] = 1.0f - tex;
 }
 
 #endif

@@ -3,7 +3,8 @@
  * large blurs (clamped filters, many layers), a partial last tile, a non-finite sample, and a
  * smaller frame after a larger one (buffers kept between runs), frames filtered in several
  * batches of tiles (whose launches are padded past the batch's last tile), and frames with an
- * overscan band (LrConfig.inset_px), and tiles left out (LrConfig.still_tiles). The partition statistics are
+ * overscan band (LrConfig.inset_px), tiles left out (LrConfig.still_tiles), and static
+ * defocused layers (the round screen filter, lr_screen_round). The partition statistics are
  * computed on the device and the layer counts (AOV) must equal the C partitions'; their first
  * sweep adds 8x8 blocks' histograms where every window is whole blocks (bands of 0 and 8 px,
  * widths and heights not multiples of 8: partial blocks at the edges) and bins sample by
@@ -98,9 +99,13 @@ static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, 
     compare_spread(lr, w, h, spp, layers, nl, poison, 0.0f);
 }
 
-/* The bright front layer of compare's frames is bright in some partitions (so that the
- * comparisons above exercise the bright clamp), and only with front_gain. */
-static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl, float gain)
+/* Which partitions count (count_partitions). */
+typedef enum { COUNT_BRIGHT, COUNT_ROUND } PartitionKind;
+
+/* The partitions of compare's frame (its front layer's radiance scaled by gain) that are bright
+ * (the bright clamp, 8.24) or take the round screen filter (lr_screen_round, 8.28): the
+ * comparisons must exercise both, and a partition is bright only with front_gain. */
+static int count_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl, float gain, PartitionKind kind)
 {
     LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
     lr_test_scene(s, w, h, spp, layers, nl, 31);
@@ -109,16 +114,31 @@ static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, i
             for (int c = 0; c < 3; ++c) s[i].L[c] *= gain;
     LrSamples img = {w, h, spp, s};
     LrConfig cfg = lr_config_default();
-    int ntx, nty, bright = 0;
+    int ntx, nty, count = 0;
     lr_tile_count(&img, &cfg, &ntx, &nty);
     for (int ty = 0; ty < nty; ++ty)
         for (int tx = 0; tx < ntx; ++tx) {
             LrTile t;
             lr_tile_partition(&img, &cfg, tx, ty, &t);
-            for (int j = 0; j < t.layer_count; ++j) bright += t.layer[j].contrast >= cfg.bright_contrast;
+            for (int j = 0; j < t.layer_count; ++j) {
+                int r;
+                float table[LR_ROUND_TABLE];
+                count += kind == COUNT_BRIGHT ? t.layer[j].contrast >= cfg.bright_contrast
+                                              : lr_screen_round(&t.layer[j].filter, &cfg, t.layer[j].cos_psi, t.layer[j].sin_psi, &r, table);
+            }
         }
     free(s);
-    return bright;
+    return count;
+}
+
+static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl, float gain)
+{
+    return count_partitions(w, h, spp, layers, nl, gain, COUNT_BRIGHT);
+}
+
+static int round_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl)
+{
+    return count_partitions(w, h, spp, layers, nl, 1.0f, COUNT_ROUND);
 }
 
 /* LrConfig.still_tiles: every other tile marked still. Those tiles get no layers and 0 in
@@ -203,6 +223,12 @@ int main(void)
         compare_band(lr, 53, 45, 4, big, 3, true, 0.0f, 8);
         compare_band(lr, 256, 80, 4, wide, 2, false, 0.0f, 8);
         compare_band(lr, 60, 50, 4, diag, 2, false, 0.0f, 19);
+        /* static defocused layers in front of and behind focus: the round screen filter
+         * (lr_screen_round) reads the grid in lr_across_composite, with no along pass */
+        LrTestLayer still[2] = {{2.0f, -5.0f, {0.0f, 0.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {8.0f, 7.0f, {0.0f, 0.0f}, 0, 0, 0, 0.4f}};
+        CHECK(round_partitions(48, 40, 4, still, 2) > 0 && round_partitions(48, 33, 8, big, 3) > 0);
+        compare(lr, 48, 40, 4, still, 2, false);
+        compare_band(lr, 53, 45, 4, still, 2, false, 0.0f, 8);
         /* still tiles left out (lr_partition.h: LrConfig.still_tiles) */
         compare_still(lr, 48, 33, 8, big, 3);
         compare_still(lr, 256, 80, 4, wide, 2);

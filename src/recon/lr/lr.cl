@@ -11,7 +11,9 @@
  *   params        LR_LP_STRIDE floats per (tile, layer): cos psi, sin psi, 1/sigma_x, eta, xi,
  *                 1/sigma_u, 1/sigma_t, 1/sigma_y, rho, 1/sigma_v, radius_x, radius_y, then the
  *                 screen filter's tap weights exp(-(k / sigma)^2 / 2), k = 0..32, along (x)
- *                 and across (y): computed once per partition on the host, not per tap
+ *                 and across (y): computed once per partition on the host, not per tap; then
+ *                 the round filter's flag (LR_ROUND: 1 for a layer filtered by one 2D table,
+ *                 lr_taps.h: lr_screen_round) and its table over dx^2 + dy^2 (LR_ROUND_T)
  *   block_hist    LR_GAP_BINS ints per 8x8 block of pixels (row-major, nbx per row): the CoC
  *                 histogram of its hits (lr_block_stats); block_z: their depth range, 2 floats
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
@@ -34,7 +36,9 @@
 #define LR_SAMPLE_STRIDE 12
 #define LR_TB_STRIDE 25
 #define LR_TL_STRIDE 18
-#define LR_LP_STRIDE 78
+#define LR_LP_STRIDE 336
+#define LR_ROUND 78
+#define LR_ROUND_T 79
 #define LR_TAPS_X 12
 #define LR_TAPS_Y 45
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
@@ -557,6 +561,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             }
         }
     }
+    if (lp[LR_ROUND] != 0.0f) return; /* the round filter reads the grid itself (lr_across_composite) */
     /* Algorithm 2, first pass, along the layer's motion, while the grid is still in this
      * processor's caches: at the window cells the second pass reads, box P widened by the
      * across pass's reach (cx, cy), not the whole window. */
@@ -570,12 +575,37 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     }
 }
 
+/* The round screen filter on the cells [ix0, ix1) of window row iy, summed into
+ * acc[(ix - ix0) * LR_CH + c]: the grid's cells within r of each, weighted by
+ * table[dx^2 + dy^2]. Tap by tap over the whole row, as lr_row_pass does (a tap's offset is the
+ * same for every cell of the row, one flat loop the compiler runs wide), taps in rows then
+ * columns ascending: every cell gets exactly the sums of lr_reconstruct.c's lr_round_sum. */
+static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, int r, __global const float *table,
+                         float *acc)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) acc[i] = 0.0f;
+    for (int dy = -r; dy <= r; ++dy) {
+        int jy = iy + dy;
+        if (jy < 0 || jy >= wh) continue;
+        int w = r;
+        while (w * w + dy * dy > r * r) --w; /* the row's taps: dx^2 + dy^2 <= r^2 */
+        for (int dx = -w; dx <= w; ++dx) {
+            int a = max(ix0, -dx), b = min(ix1, ww - dx); /* 0 <= ix + dx < ww */
+            float wk = table[dx * dx + dy * dy];
+            __global const float *row = g + (jy * ww + dx + a) * LR_CH;
+            float *dst = acc + (a - ix0) * LR_CH;
+            for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
+        }
+    }
+}
+
 /* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per
  * row of a tile (image row py, tile column tx), layer by layer front to back. */
 __kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                                   int tile0, int inset, __global const int *tile_layers, __global const float *params,
                                   __global const float *pass1, __global float *rgb, __global float *layers_aov,
-                                  __global float *extent_aov, __global const int *reach_box)
+                                  __global float *extent_aov, __global const int *reach_box, __global const float *grid)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int py = inset + tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
@@ -600,7 +630,12 @@ __kernel void lr_across_composite(int width, int height, int tile_px, int window
         __global const int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
         int i0 = max(ix0, box[0]) - ix0, i1 = min(ix0 + n, box[2]) - ix0;
         if (iy < box[1] || iy >= box[3] || i0 >= i1) continue;
-        lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
+        if (lp[LR_ROUND] != 0.0f) {
+            __global const float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
+            lr_round_row(g, ww, wh, iy, ix0 + i0, ix0 + i1, (int)lp[11], lp + LR_ROUND_T, acc);
+        } else {
+            lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
+        }
         for (int i = i0; i < i1; ++i) {
             float *a = acc + (i - i0) * LR_CH;
             if (!(a[1] > 0.0f)) continue;

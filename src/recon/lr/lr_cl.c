@@ -12,14 +12,14 @@
 #include "recon/lr/lr_bucket.h"
 
 /* as in lr.cl */
-enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_STRIDE = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_TAPS_X = 12,
-       LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1, CH = 5, ST_STRIDE = 9, LS_STRIDE = 18, BATCH_TILES = 32,
+enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_TAPS_X = 12, LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1,
+       LP_ROUND = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_STRIDE = LP_ROUND_T + LR_ROUND_TABLE, CH = 5, ST_STRIDE = 9, LS_STRIDE = 18, BATCH_TILES = 32,
        PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
 
 _Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
                "lr.cl's tile layouts");
-_Static_assert(LP_STRIDE == 78 && LP_TAPS_Y == 45, "lr.cl's LR_LP_STRIDE and LR_TAPS_Y");
+_Static_assert(LP_STRIDE == 336 && LP_TAPS_Y == 45 && LP_ROUND == 78, "lr.cl's LR_LP_STRIDE, LR_TAPS_Y and LR_ROUND");
 _Static_assert(LR_MAX_LAYERS + 1 < LR_LAYER_SKIP && LR_LAYER_SKIP == 0x80, "lr.cl's raw layer ids are bytes, 0x80 (LR_SKIP) flags a skipped sample");
 _Static_assert(LS_STRIDE == LR_MAX_LAYERS + 2, "lr.cl's LR_LS_STRIDE: a start per raw layer and the end");
 
@@ -125,7 +125,8 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
     return max_layers;
 }
 
-/* Per (tile, layer): rotation, filter, radii and the two tap tables (lr_screen_taps). */
+/* Per (tile, layer): rotation, filter, radii, the two tap tables (lr_screen_taps) and, for a
+ * layer with the round filter, its flag and table (lr_screen_round). */
 static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
 {
     for (int t = 0; t < ntiles; ++t)
@@ -139,6 +140,9 @@ static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
             memcpy(p, v, sizeof v);
             lr_screen_taps(f, cfg, false, rx, p + LP_TAPS_X);
             lr_screen_taps(f, cfg, true, ry, p + LP_TAPS_Y);
+            int rr;
+            if (lr_screen_round(f, cfg, v[0], v[1], &rr, p + LP_ROUND_T)) /* one 2D sum, no passes */
+                p[LP_ROUND] = 1.0f, p[10] = p[11] = (float)rr;
         }
 }
 
@@ -324,8 +328,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
-            cl_mem m[7] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem};
-            ok = set_args(lr->across, ints9, 9, m, 7, d) &&
+            cl_mem m[8] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem, lr->b_g.mem};
+            ok = set_args(lr->across, ints9, 9, m, 8, d) &&
                  launch_serial(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
         }
         /* the queue is in order, so the next batch's reprojection starts after this batch's

@@ -25,6 +25,7 @@ LrFilterConfig lr_filter_config_default(void)
      * (8 spp) to 1.9x (64 spp) lower relMSE on the hard motion+defocus bench (docs/algorithms.md
      * 8.18). */
     c.shaped_screen = true;
+    c.round_screen = true;
     return c;
 }
 

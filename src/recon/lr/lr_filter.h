@@ -30,6 +30,10 @@ typedef struct {
     bool shaped_screen;   /* with flat weights: the screen filter's share that stands for the
                            * lens disk and the shutter box in their own shapes (the
                            * aperture_* and shutter_* fields below), not Gaussian (8.18) */
+    bool round_screen;    /* with shaped_screen: a layer blurred by the lens alone (no motion
+                           * share) gets one isotropic 2D screen filter, the lens disk itself,
+                           * instead of the separable product of its two projections, a rounded
+                           * square (lr_taps.h: lr_screen_round; docs/algorithms.md 8.28) */
 } LrFilterConfig;
 
 /* The paper's constants, with sigma_clamp for a 16-pixel tile in a 32-pixel window. */

@@ -21,6 +21,23 @@ void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, floa
 
 enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
 
+/* The round screen filter at window cell (ix, iy): the grid's cells within r, weighted by
+ * table[dx^2 + dy^2], rows then columns ascending (lr.cl's lr_round_row: the same sums). */
+static void lr_round_sum(const float *grid, int ww, int wh, int ix, int iy, int r, const float *table, float *acc)
+{
+    for (int dy = -r; dy <= r; ++dy) {
+        int jy = iy + dy;
+        if (jy < 0 || jy >= wh) continue;
+        for (int dx = -r; dx <= r; ++dx) {
+            int jx = ix + dx, d2 = dx * dx + dy * dy;
+            if (jx < 0 || jx >= ww || d2 > r * r) continue;
+            float w = table[d2];
+            const float *g = &grid[((size_t)jy * ww + jx) * CH_COUNT];
+            for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
+        }
+    }
+}
+
 static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int ty, float *grid, float *pass1,
                         unsigned char *ids, int *order, size_t *sample_at, LrOutput *out)
 {
@@ -81,13 +98,15 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                     for (int c = 0; c < 3; ++c) g[CH_R + c] += w * s->L[c];
                 }
             }
-        /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel). */
-        int rx, ry;
+        /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel); a
+         * layer with the round filter (lr_screen_round) has no passes, one 2D sum below. */
+        int rx, ry, rr = 0;
         lr_screen_radii_px(f, cfg, &rx, &ry);
-        float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
+        float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1], round[LR_ROUND_TABLE];
         lr_screen_taps(f, cfg, false, rx, taps_x);
         lr_screen_taps(f, cfg, true, ry, taps_y);
-        for (int iy = 0; iy < wh; ++iy)
+        bool is_round = lr_screen_round(f, cfg, cp, sp, &rr, round);
+        for (int iy = 0; iy < wh && !is_round; ++iy)
             for (int ix = 0; ix < ww; ++ix) {
                 float acc[CH_COUNT] = {0};
                 for (int k = -rx; k <= rx; ++k) {
@@ -103,13 +122,16 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
         for (int i = 0; i < npix; ++i) {
             int px = tx0 + i % tw, py = ty0 + i / tw, ix = px - x0, iy = py - y0;
             float acc[CH_COUNT] = {0};
-            for (int k = -ry; k <= ry; ++k) {
-                int jx = ix + (int)floorf(-(float)k * sp + 0.5f), jy = iy + (int)floorf((float)k * cp + 0.5f);
-                if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-                float w = taps_y[k < 0 ? -k : k];
-                const float *g = &pass1[((size_t)jy * ww + jx) * CH_COUNT];
-                for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
-            }
+            if (is_round)
+                lr_round_sum(grid, ww, wh, ix, iy, rr, round, acc);
+            else
+                for (int k = -ry; k <= ry; ++k) {
+                    int jx = ix + (int)floorf(-(float)k * sp + 0.5f), jy = iy + (int)floorf((float)k * cp + 0.5f);
+                    if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
+                    float w = taps_y[k < 0 ? -k : k];
+                    const float *g = &pass1[((size_t)jy * ww + jx) * CH_COUNT];
+                    for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
+                }
             if (!(acc[CH_W] > 0.0f)) continue; /* nothing of this layer or behind reached here */
             float alpha = acc[CH_A] / acc[CH_W];
             float *o = &out->rgb[((size_t)py * img->width + px) * 3];

@@ -156,3 +156,50 @@ void lr_screen_taps(const LrFilter *f, const LrConfig *cfg, bool across, int r, 
     convolve(both, gauss, 0, all); /* the taps are its k >= 0 */
     for (int k = 0; k <= r; ++k) w[k] = (float)all[k + SPAN];
 }
+
+/* Per-axis variance of a round table of radius r (the cells with d2 <= r^2). */
+static double round_variance(const double *t, int r, double *sum)
+{
+    double s = 0.0, m2 = 0.0;
+    for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+            int d2 = dx * dx + dy * dy;
+            if (d2 > r * r) continue;
+            s += t[d2], m2 += t[d2] * dx * dx;
+        }
+    *sum = s;
+    return s > 0.0 ? m2 / s : 0.0;
+}
+
+static void round_fill(double R, double s, int r, double *t)
+{
+    for (int d2 = 0; d2 <= r * r; ++d2) t[d2] = 0.5 * erfc((sqrt((double)d2) - R) / (s * M_SQRT2));
+}
+
+bool lr_screen_round(const LrFilter *f, const LrConfig *cfg, float cos_psi, float sin_psi, int *r, float *table)
+{
+    if (!cfg->filter.round_screen || !cfg->filter.shaped_screen || sin_psi != 0.0f || cos_psi != 1.0f || f->xi_px != 0.0f ||
+        f->shutter_x_px != 0.0f)
+        return false;
+    Axis a = axis_of(f, cfg, false), b = axis_of(f, cfg, true);
+    if (a.disk == 0.0 || b.disk == 0.0) return false;
+    int rx = axis_radius(&a, cfg), ry = axis_radius(&b, cfg);
+    int rr = rx > ry ? rx : ry;
+    if (rr > LR_ROUND_MAX_PX) return false;
+    /* the target: the larger of the two axes' screen variances (they differ only through the
+     * clamp's rounding); the rim's softness: the Gaussian rest, at least half a pixel so that
+     * the table is not a bare step sampled at whole pixels */
+    double var = fmax(a.sigma * a.sigma, b.sigma * b.sigma);
+    double R = fmin(a.disk, b.disk), s = fmax(0.5, rest_sigma(&a));
+    double t[LR_ROUND_TABLE], sum = 0.0;
+    for (int it = 0; it < 4; ++it) { /* R^2 / 4 is the disk's part of the variance: move it by the miss */
+        round_fill(R, s, rr, t);
+        double v = round_variance(t, rr, &sum);
+        R = sqrt(fmax(0.0, R * R + 4.0 * (var - v)));
+    }
+    round_fill(R, s, rr, t);
+    round_variance(t, rr, &sum);
+    for (int d2 = 0; d2 <= rr * rr; ++d2) table[d2] = (float)(t[d2] / sum);
+    *r = rr;
+    return true;
+}

@@ -33,4 +33,17 @@ void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry
  * Gaussian. docs/algorithms.md 8.18. */
 void lr_screen_taps(const LrFilter *f, const LrConfig *cfg, bool across, int r, float *w);
 
+/* The round screen filter (docs/algorithms.md 8.28). A uniform disk is not separable: the product
+ * of its two projections (the semicircles of lr_screen_taps) is a rounded square, whose spectrum
+ * differs from the disk's along the diagonals, where a checkerboard's fundamental lies. A layer
+ * blurred by the lens alone (psi = 0, no shutter share) whose disk share survives along both axes
+ * is therefore filtered by one 2D table over the squared offset d2 = dx^2 + dy^2 of a grid cell
+ * from the pixel, |d| <= r: the disk of radius R with its rim softened by the Gaussian rest,
+ * 0.5 erfc((|d| - R) / (s sqrt 2)), with R set so that the table's variance along an axis is the
+ * screen variance sigma^2 of the separable filter it replaces. Returns false (table untouched)
+ * for any other layer; else r (both screen radii) and table[0 .. r^2], normalised to sum 1 over
+ * the disk of radius r. */
+enum { LR_ROUND_MAX_PX = 16, LR_ROUND_TABLE = LR_ROUND_MAX_PX * LR_ROUND_MAX_PX + 1 };
+bool lr_screen_round(const LrFilter *f, const LrConfig *cfg, float cos_psi, float sin_psi, int *r, float *table);
+
 #endif
