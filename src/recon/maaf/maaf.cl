@@ -16,19 +16,24 @@
  * Layout (as AAF's aaf.cl): one work item filters 8 consecutive pixels of a row in float8 lanes,
  * reading every per-pixel quantity from its own float plane, so that a tap's 8 neighbours are 8
  * consecutive floats (vload8) along rows and along columns alike; PoCL turns the float8
- * arithmetic, sin, cos and exp included, into SIMD code. maaf_unpack builds the planes from the
- * host's interleaved arrays:
+ * arithmetic, sin, cos and exp included, into SIMD code. maaf_unpack builds the guide planes
+ * from the host's interleaved arrays; the host writes the sums' planes itself. The pass runs
+ * per band of image rows [y0, y1) (maaf_filter_run): the host writes a band's sums, maaf_rows
+ * filters them, and maaf_cols then filters the rows whose column reach the row output covers.
  *   guide  MAAF_GUIDES planes, each row with MAAF_PAD pixels of zeros on either side (usable
  *          0); pitch gpitch. The row pass takes only taps that reach the image with one of
  *          its 8 lanes (the others read the padding), the column pass only rows inside it,
  *          so no plane needs more padding or any bounds check
- *   yp     the sums, 8 planes per component (re r g b w, im r g b w: the host's float order)
- *          and a flag plane (1: a usable pixel with a non-finite sum), padded as the guides;
- *          stored row by row, each image row holding every plane's row ystride floats apart,
- *          so that a tap's ~100 reads lie in a few pages
- *   tp     the row pass's output (no padding: the column pass reads image rows), in blocks:
- *          for each row and 8 pixels, every plane's 8 floats one after the other, so that a
- *          column tap reads one contiguous block (in planes, its 100 streams missed the cache)
+ *   yp     one band of the sums (image row y in row y mod yrows), 8 planes per component
+ *          (re r g b w, im r g b w: the host's float order) and a flag plane (1: a usable
+ *          pixel with a non-finite sum), padded as the guides; stored row by row, each image
+ *          row holding every plane's row ystride floats apart, so that a tap's ~100 reads lie
+ *          in a few pages
+ *   tp     the row pass's output (no padding: the column pass reads image rows), a ring of
+ *          trows rows (image row y in row y mod trows: a band and the column reach on either
+ *          side), in blocks: for each row and 8 pixels, every plane's 8 floats one after the
+ *          other, so that a column tap reads one contiguous block (in planes, its 100 streams
+ *          missed the cache)
  * A rejected neighbour gets weight 0 by select, and its sums are read only through select when
  * one of them is not finite (0 * NaN would poison a lane that does not use it).
  *

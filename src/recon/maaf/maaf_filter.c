@@ -313,8 +313,9 @@ static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const flo
  * reads, i.e. one in the same 8 columns within MAAF_RADIUS_CAP_PX rows. The others' column
  * readers use the central component alone (maaf_cols skips components without amplitude), so
  * the row pass sums only that one: the shadows' plain pixels (AAF's far rule), 90% of the
- * work items on the combined bench. */
-static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
+ * work items on the combined bench. *reach: the largest radius a work item of either pass can
+ * take (the kernels' integer radius, capped), which bounds the column pass's taps. */
+static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks, int *reach)
 {
     int w = in->width, h = in->height;
     size_t count = (size_t)h * (size_t)tblocks;
@@ -326,12 +327,17 @@ static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
     }
     unsigned char *amp = calloc(count, 1);
     if (!amp) return false;
+    float most = 0.0f;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const float *pr = in->param + ((size_t)y * w + x) * MAAF_PARAM_STRIDE;
             for (int p = 1; p < in->pairs; ++p)
                 if (pr[1 + 3 * p] != 0.0f) amp[(size_t)y * tblocks + x / LANES] = 1;
+            /* as centre_load: fmin(trunc(radius), cap), NaN reads as the cap */
+            float r = pr[0] < (float)MAAF_RADIUS_CAP_PX ? truncf(pr[0]) : (float)MAAF_RADIUS_CAP_PX;
+            if (r > most) most = r;
         }
+    *reach = (int)most;
     for (int b = 0; b < tblocks; ++b) { /* a sliding window of 2 cap + 1 rows per column of blocks */
         int inside = 0;
         for (int y = 0; y < MAAF_RADIUS_CAP_PX && y < h; ++y) inside += amp[(size_t)y * tblocks + b];
@@ -349,18 +355,20 @@ static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
 /* maaf.cl's planes: the width rounded up to whole work items, the guides' and the sums' rows
  * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums. The sums
  * hold one band of yrows image rows (image row y in row y mod yrows), the row pass's output a
- * ring of trows: a band and the column pass's reach on either side (9.16). */
+ * ring of trows: a band and the column pass's reach (the run's largest radius) on either side
+ * (9.16). */
 typedef struct {
     size_t w8, gpitch, rows, gplane, ystride, yfloats, tfloats, yrows, trows;
     int per;
 } Layout;
 
-static bool layout(int width, int height, int pairs, Layout *o, Diag *d)
+static bool layout(int width, int height, int pairs, int reach, Layout *o, Diag *d)
 {
     o->per = 8 * maaf_component_count(pairs);
     o->w8 = ((size_t)width + LANES - 1) / LANES * LANES, o->gpitch = o->w8 + 2 * PAD, o->rows = (size_t)height;
+    size_t ring = MAAF_BAND_ROWS + 2 * (size_t)reach;
     o->yrows = o->rows < MAAF_BAND_ROWS ? o->rows : MAAF_BAND_ROWS;
-    o->trows = o->rows < MAAF_BAND_ROWS + 2 * MAAF_RADIUS_CAP_PX ? o->rows : MAAF_BAND_ROWS + 2 * MAAF_RADIUS_CAP_PX;
+    o->trows = o->rows < ring ? o->rows : ring;
     o->gplane = plane_stride(o->gpitch * o->rows), o->ystride = line_stride(o->gpitch);
     o->yfloats = o->ystride * (size_t)(o->per + 1) * o->yrows, o->tfloats = o->trows * o->w8 * (size_t)(o->per + 1);
     if (o->yfloats > (size_t)INT32_MAX || o->tfloats > (size_t)INT32_MAX || o->gplane * GUIDES > (size_t)INT32_MAX) {
@@ -429,7 +437,7 @@ void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v)
 
 /* The image pass band by band (9.16): per band of MAAF_BAND_ROWS rows the host writes its sums,
  * the row pass filters them into the ring of row-pass output, and the column pass then filters
- * every row whose column reach (MAAF_RADIUS_CAP_PX rows) that output now covers. The queue runs
+ * every row whose column reach (the run's largest radius) that output now covers. The queue runs
  * in order: a band's sums are rewritten only after the row pass of the band before has read
  * them, and a ring row only after the column pass that read it. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d)
@@ -437,13 +445,18 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     if (kernel_seconds) *kernel_seconds = 0.0;
     for (int k = 0; k < K_COUNT; ++k) f->seconds[k] = 0.0;
     size_t n = (size_t)in->width * (size_t)in->height;
-    int comps = maaf_component_count(in->pairs);
+    int comps = maaf_component_count(in->pairs), reach = MAAF_RADIUS_CAP_PX;
     Layout L;
-    if (!layout(in->width, in->height, in->pairs, &L, d)) return false;
+    if (!layout(in->width, in->height, in->pairs, reach, &L, d)) return false;
     if (!in->ysum && !in->fill) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: no sums");
         return false;
     }
+    if (!row_needs(f, in, (int)(L.w8 / LANES), &reach)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        return false;
+    }
+    layout(in->width, in->height, in->pairs, reach, &L, d); /* the ring for this run's reach */
     bool ok = host_buffer(f, BUF_POS, n * 16, in->pos4, d) && host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) &&
               host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) && host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
@@ -452,10 +465,6 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
               buffer(f, BUF_NEED, L.rows * (L.w8 / LANES) * sizeof(cl_int), d);
     cl_int w = in->width, h = in->height, gp = (cl_int)L.gpitch, gpl = (cl_int)L.gplane, ys = (cl_int)L.ystride;
     cl_int tb = (cl_int)(L.w8 / LANES), yrows = (cl_int)L.yrows, trows = (cl_int)L.trows;
-    if (ok && !row_needs(f, in, tb)) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
-        ok = false;
-    }
     ok = ok && cl_ok(clEnqueueWriteBuffer(f->rt->queue, f->buf[BUF_NEED], CL_FALSE, 0, L.rows * (size_t)tb * sizeof(cl_int),
                                           f->need, 0, NULL, NULL),
                      "upload", d);
@@ -486,8 +495,8 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
             ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 8, d) &&
                  cl_launch_2d(f->rt, f->k[K_ROWS], L.w8 / LANES, (size_t)(y1 - y0), &ev[events++], d);
         }
-        /* the rows whose column taps (up to the cap away) now all have their row-pass output */
-        int ready = y1 == h ? h : y1 - MAAF_RADIUS_CAP_PX;
+        /* the rows whose column taps (up to reach away) now all have their row-pass output */
+        int ready = y1 == h ? h : y1 - reach;
         if (ok && ready > done) {
             cl_int ints[4] = {w, h, in->pairs, comps}, ints2[6] = {gp, gpl, tb, done, ready, trows};
             int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
