@@ -28,7 +28,7 @@ void maaf_factors_accumulate(int comps, const float *w, const float f4[4], float
  * maaf_filter_run runs the pass one band of MAAF_BAND_ROWS rows at a time and hands each band's
  * planes (mapped from the device buffer: on a CPU device the pass's own memory) to the input's
  * fill, which writes every pixel of those rows once with maaf_planes_put. Only a band of the
- * sums exists at a time (3.4 MB instead of 27 MB at 256x256 and N = 3, memory touched for the
+ * sums exists at a time (3.7 MB instead of 27 MB at 256x256 and N = 3, memory touched for the
  * first time every frame), and no per-pixel array of the sums nor a copy of it is needed
  * (docs/algorithms.md 9.10, 9.16). */
 typedef struct {
