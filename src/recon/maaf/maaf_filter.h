@@ -39,8 +39,8 @@ typedef struct {
 } MaafPlanes;
 /* Writes the sums of image rows [y0, y1) into pl (maaf_planes_put, every pixel once). */
 typedef void (*MaafPlanesFill)(void *ctx, const MaafPlanes *pl, int y0, int y1);
-/* Rows per band of the image pass (the row pass's output is kept for this many rows plus the
- * column pass's reach, 2 MAAF_RADIUS_CAP_PX, as a ring). */
+/* Rows per band of the image pass (the row pass's output is kept as a ring of this many rows
+ * plus the run's largest radius on either side). */
 #define MAAF_BAND_ROWS 32
 
 typedef struct {

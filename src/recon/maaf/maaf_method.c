@@ -348,7 +348,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
     /* the shadow sums only when shadows are filtered here (each image pass's input is written
-     * into the pass's own planes: maaf_filter_planes) */
+     * into the pass's own planes, band by band: light_fill, radiance_fill) */
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
     EffectMask scene = renderer_effects(s->renderer);
     m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
