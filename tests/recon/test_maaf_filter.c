@@ -97,6 +97,18 @@ static double rmse(const float *out4, const float *exact, int channel_stride)
     return sqrt(e2 / (W * H));
 }
 
+/* A MaafPlanesFill from an input's ysum (ctx: that MaafFilterInput), usable pixels only. */
+static void fill_from_sums(void *ctx, const MaafPlanes *pl, int y0, int y1)
+{
+    const MaafFilterInput *in = ctx;
+    size_t per = (size_t)maaf_component_count(in->pairs) * 8;
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t i = (size_t)y * W + x;
+            maaf_planes_put(pl, x, y, in->frame4[4 * i + 3] != 0.0f ? in->ysum + i * per : NULL);
+        }
+}
+
 int main(void)
 {
     float *ref = malloc(4 * W * H * sizeof(float)), *dev = malloc(4 * W * H * sizeof(float));
@@ -175,18 +187,14 @@ int main(void)
         printf("pairs %d%s: kernel vs reference max |diff| %.2e\n", pairs, variant ? ", plain filters" : "", diff);
         CHECK(flags_differ == 0);
         CHECK(diff < 2e-4);
-        /* the same sums written by the host into the pass's planes (maaf_filter_planes, as the
-         * method does) instead of copied there by maaf_unpack: the same image, bit for bit;
-         * runs with 1, 2 and 3 pairs in turn reuse the planes at other strides, so stale sums
-         * in the padding would show; the reference reads them back through maaf_planes_get */
-        MaafPlanes pl;
-        CHECK(maaf_filter_planes(f, W, H, pairs, &pl, &d));
-        size_t per = (size_t)maaf_component_count(pairs) * 8;
-        for (int i = 0; i < W * H; ++i)
-            maaf_planes_put(&pl, i % W, i / W, in.frame4[4 * i + 3] != 0.0f ? in.ysum + (size_t)i * per : NULL);
+        /* the same sums written by the host into the pass's planes band by band (a fill, as the
+         * method does) instead of from ysum: the same image, bit for bit; runs with 1, 2 and 3
+         * pairs in turn reuse the planes at other strides, so stale sums in the padding would
+         * show; the reference gets them through the same fill */
         MaafFilterInput packed = in;
         packed.ysum = NULL;
-        packed.planes = &pl;
+        packed.fill = fill_from_sums;
+        packed.fill_ctx = &in;
         float *ref2 = malloc(4 * W * H * sizeof(float)), *dev2 = malloc(4 * W * H * sizeof(float));
         maaf_filter_reference(&packed, ref2);
         CHECK(maaf_filter_run(f, &packed, dev2, NULL, &d));

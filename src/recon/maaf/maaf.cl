@@ -16,19 +16,24 @@
  * Layout (as AAF's aaf.cl): one work item filters 8 consecutive pixels of a row in float8 lanes,
  * reading every per-pixel quantity from its own float plane, so that a tap's 8 neighbours are 8
  * consecutive floats (vload8) along rows and along columns alike; PoCL turns the float8
- * arithmetic, sin, cos and exp included, into SIMD code. maaf_unpack builds the planes from the
- * host's interleaved arrays:
+ * arithmetic, sin, cos and exp included, into SIMD code. maaf_unpack builds the guide planes
+ * from the host's interleaved arrays; the host writes the sums' planes itself. The pass runs
+ * per band of image rows [y0, y1) (maaf_filter_run): the host writes a band's sums, maaf_rows
+ * filters them, and maaf_cols then filters the rows whose column reach the row output covers.
  *   guide  MAAF_GUIDES planes, each row with MAAF_PAD pixels of zeros on either side (usable
  *          0); pitch gpitch. The row pass takes only taps that reach the image with one of
  *          its 8 lanes (the others read the padding), the column pass only rows inside it,
  *          so no plane needs more padding or any bounds check
- *   yp     the sums, 8 planes per component (re r g b w, im r g b w: the host's float order)
- *          and a flag plane (1: a usable pixel with a non-finite sum), padded as the guides;
- *          stored row by row, each image row holding every plane's row ystride floats apart,
- *          so that a tap's ~100 reads lie in a few pages
- *   tp     the row pass's output (no padding: the column pass reads image rows), in blocks:
- *          for each row and 8 pixels, every plane's 8 floats one after the other, so that a
- *          column tap reads one contiguous block (in planes, its 100 streams missed the cache)
+ *   yp     one band of the sums (image row y in row y mod yrows), 8 planes per component
+ *          (re r g b w, im r g b w: the host's float order) and a flag plane (1: a usable
+ *          pixel with a non-finite sum), padded as the guides; stored row by row, each image
+ *          row holding every plane's row ystride floats apart, so that a tap's ~100 reads lie
+ *          in a few pages
+ *   tp     the row pass's output (no padding: the column pass reads image rows), a ring of
+ *          trows rows (image row y in row y mod trows: a band and the column reach on either
+ *          side), in blocks: for each row and 8 pixels, every plane's 8 floats one after the
+ *          other, so that a column tap reads one contiguous block (in planes, its 100 streams
+ *          missed the cache)
  * A rejected neighbour gets weight 0 by select, and its sums are read only through select when
  * one of them is not finite (0 * NaN would poison a lane that does not use it).
  *
@@ -61,14 +66,13 @@
 #define G_HV0 10
 #define MAAF_GUIDES 11
 
-__kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gplane, int ystride, int copy_sums,
-                          __global const float *in, __global const float4 *pos4, __global const float4 *nrm4,
-                          __global const float4 *frame4, __global const float *param, __global float *guide,
-                          __global float *yp)
+__kernel void maaf_unpack(int width, int height, int gpitch, int gplane, __global const float4 *pos4,
+                          __global const float4 *nrm4, __global const float4 *frame4, __global const float *param,
+                          __global float *guide)
 {
     int gx = (int)get_global_id(0), y = (int)get_global_id(1);
     if (gx >= gpitch || y >= height) return;
-    int x = gx - MAAF_PAD, per = 8 * comps;
+    int x = gx - MAAF_PAD;
     bool inside = x >= 0 && x < width;
     int i = inside ? y * width + x : 0;
     float4 p = inside ? pos4[i] : (float4)(0.0f), n = inside ? nrm4[i] : (float4)(0.0f);
@@ -86,17 +90,6 @@ __kernel void maaf_unpack(int width, int height, int comps, int gpitch, int gpla
     g[G_USE * gplane] = use ? 1.0f : 0.0f;
     g[G_RAD * gplane] = inside ? pr[0] : 0.0f;
     g[G_HV0 * gplane] = inside ? pr[3] : 0.0f;
-    if (copy_sums) { /* the sums (else the host wrote the planes: maaf_filter_planes) */
-        __global float *o = yp + y * (per + 1) * ystride + gx;
-        __global const float *src = in + (size_t)i * per;
-        bool bad = false;
-        for (int k = 0; k < per; ++k) {
-            float v = use ? src[k] : 0.0f;
-            bad = bad || !isfinite(v);
-            o[k * ystride] = v;
-        }
-        o[per * ystride] = bad ? 1.0f : 0.0f;
-    }
 }
 
 /* The centre lanes' guides, axes and filter parameters. */
@@ -228,7 +221,7 @@ typedef struct {
  * band 0's sx in every band) need one band's exp per axis instead of one per band. */
 static void taps_collect(Taps *t, const Centre *c, int kmin, int kmax, int pairs, int factor_pairs, const float8 *cx,
                          const float8 *hv, float cos_normal_min, __global const float *guide, int gplane, int go,
-                         int gstep, __global const float *flags, int fstep)
+                         int gstep, __global const float *flags, int fstep, int fy, int fring)
 {
     bool copy[MAAF_PAIRS_MAX];
     for (int p = 0; p < factor_pairs; ++p) copy[p] = p > 0 && all(cx[p] == cx[0]) && all(hv[p] == hv[0]);
@@ -242,7 +235,10 @@ static void taps_collect(Taps *t, const Centre *c, int kmin, int kmax, int pairs
                     t->e2r + n * pairs, t->e2i + n * pairs);
         t->offset[n] = k;
         t->ok[n] = ok;
-        t->guard[n] = any((vload8(0, flags + k * fstep) != 0.0f) & ~ok);
+        /* the flag of the neighbour's block: k blocks on, or (the column pass's ring of row
+         * pass output) on ring row (fy + k) mod fring */
+        int f = fring > 0 ? (fy + k) % fring : k;
+        t->guard[n] = any((vload8(0, flags + f * fstep) != 0.0f) & ~ok);
     }
 }
 
@@ -259,21 +255,23 @@ static void tap_weight(const Taps *t, int n, int pairs, int p, int q, float8 *wr
 /* The row pass: every component's complex sums into tp (unfiltered lanes: zeros, never read:
  * the column pass rejects them as neighbours). */
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
-                        float sharp_factor, int gpitch, int gplane, int ystride, int tblocks, __global const float *guide,
-                        __global const float *frame4, __global const float *axis2, __global const float *param,
-                        __global const float *yp, __global float *tp, __global const int *need)
+                        float sharp_factor, int gpitch, int gplane, int ystride, int tblocks, int y0, int y1, int yrows,
+                        int trows, __global const float *guide, __global const float *frame4, __global const float *axis2,
+                        __global const float *param, __global const float *yp, __global float *tp,
+                        __global const int *need)
 {
-    int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
-    if (x0 >= width || y >= height) return;
+    int x0 = (int)get_global_id(0) * 8, y = y0 + (int)get_global_id(1);
+    if (x0 >= width || y >= y1) return;
     int go = y * gpitch + x0 + MAAF_PAD;
-    int per = 8 * comps, yo = y * (per + 1) * ystride + x0 + MAAF_PAD, i0 = y * width + x0, lanes = min(8, width - x0);
+    int per = 8 * comps, yo = (y % yrows) * (per + 1) * ystride + x0 + MAAF_PAD, i0 = y * width + x0,
+        lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, sharp_factor, amp, cx, hv);
     Taps t;
     /* taps whose 8 neighbours include an image pixel */
     taps_collect(&t, &c, -(x0 + 7), width - 1 - x0, pairs, pairs, cx, hv, cos_normal_min, guide, gplane, go, 1,
-                 yp + yo + per * ystride, 1);
-    __global float *o = tp + (y * tblocks + x0 / 8) * (per + 1) * 8;
+                 yp + yo + per * ystride, 1, 0, 0);
+    __global float *o = tp + ((y % trows) * tblocks + x0 / 8) * (per + 1) * 8;
     int8 bad = (int8)(0);
     /* every component, or the central one where no column reader has amplitude in another
      * (row_needs in maaf_filter.c); the others' blocks in tp are then not written (nor read) */
@@ -318,15 +316,14 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
  * components, each with its amplitude; the conjugate half doubles every component but the
  * central one. Only the real parts of the column sums are needed. */
 __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
-                        float sharp_factor, int gpitch, int gplane, int tblocks, __global const float *guide, __global const float *frame4,
-                        __global const float *axis2, __global const float *param, __global const float *tp,
-                        __global float4 *out4)
+                        float sharp_factor, int gpitch, int gplane, int tblocks, int y0, int y1, int trows,
+                        __global const float *guide, __global const float *frame4, __global const float *axis2,
+                        __global const float *param, __global const float *tp, __global float4 *out4)
 {
-    int x0 = (int)get_global_id(0) * 8, y = (int)get_global_id(1);
-    if (x0 >= width || y >= height) return;
+    int x0 = (int)get_global_id(0) * 8, y = y0 + (int)get_global_id(1);
+    if (x0 >= width || y >= y1) return;
     int go = y * gpitch + x0 + MAAF_PAD;
-    int per = 8 * comps, tb = (per + 1) * 8, to = (y * tblocks + x0 / 8) * tb, i0 = y * width + x0,
-        lanes = min(8, width - x0);
+    int per = 8 * comps, tb = (per + 1) * 8, to = (x0 / 8) * tb, i0 = y * width + x0, lanes = min(8, width - x0);
     float8 amp[MAAF_PAIRS_MAX], cx[MAAF_PAIRS_MAX], hv[MAAF_PAIRS_MAX];
     Centre c = centre_load(guide, gplane, go, frame4, axis2, param, pairs, i0, lanes, depth_tol_rel, sharp_factor, amp, cx, hv);
     Taps t;
@@ -336,7 +333,10 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
         if (any(amp[p] != 0.0f)) amp_pairs = p + 1;
     /* taps on image rows */
     taps_collect(&t, &c, -y, height - 1 - y, pairs, amp_pairs, cx, hv, cos_normal_min, guide, gplane, go, gpitch,
-                 tp + to + per * 8, tblocks * tb);
+                 tp + to + per * 8, tblocks * tb, y, trows);
+    /* each tap's block in the ring of row pass output (image row y + k at ring row (y + k) mod trows) */
+    int tap_block[MAAF_TAPS_MAX];
+    for (int n = 0; n < t.count; ++n) tap_block[n] = to + ((y + t.offset[n]) % trows) * tblocks * tb;
     float8 sum[4] = {(float8)(0.0f), (float8)(0.0f), (float8)(0.0f), (float8)(0.0f)}, central[4];
     int ci = 0;
     for (int p = 0; p < pairs; ++p)
@@ -356,7 +356,7 @@ __kernel void maaf_cols(int width, int height, int pairs, int comps, float cos_n
             for (int n = 0; n < t.count; ++n) {
                 float8 wr, wi;
                 tap_weight(&t, n, pairs, p, q, &wr, &wi);
-                __global const float *s = tp + to + t.offset[n] * tblocks * tb + 64 * ci;
+                __global const float *s = tp + tap_block[n] + 64 * ci;
                 float8 y0 = vload8(0, s), y1 = vload8(1, s), y2 = vload8(2, s), y3 = vload8(3, s), z0 = vload8(4, s),
                        z1 = vload8(5, s), z2 = vload8(6, s), z3 = vload8(7, s);
                 if (t.guard[n]) {

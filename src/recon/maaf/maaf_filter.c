@@ -98,15 +98,21 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
     }
 }
 
-/* in's sums as one interleaved array: in->ysum, or gathered from its planes into *owned. */
+/* in's sums as one interleaved array: in->ysum, or written by in->fill into host planes of the
+ * whole frame and gathered from them into *owned. */
 static const float *input_sums(const MaafFilterInput *in, float **owned)
 {
     *owned = NULL;
-    if (in->ysum || !in->planes) return in->ysum;
-    size_t per = (size_t)in->planes->per;
-    if (!(*owned = malloc((size_t)in->width * in->height * per * sizeof(float)))) return NULL;
-    for (int y = 0; y < in->height; ++y)
-        for (int x = 0; x < in->width; ++x) maaf_planes_get(in->planes, x, y, *owned + ((size_t)y * in->width + x) * per);
+    if (in->ysum || !in->fill) return in->ysum;
+    int per = 8 * maaf_component_count(in->pairs);
+    size_t plane = (size_t)in->width + 2 * MAAF_PLANES_PAD, row = plane * (size_t)(per + 1);
+    MaafPlanes pl = {calloc(row * (size_t)in->height, sizeof(float)), row, plane, in->width, in->height, per, 0};
+    if (pl.base && (*owned = malloc((size_t)in->width * in->height * (size_t)per * sizeof(float)))) {
+        in->fill(in->fill_ctx, &pl, 0, in->height);
+        for (int y = 0; y < in->height; ++y)
+            for (int x = 0; x < in->width; ++x) maaf_planes_get(&pl, x, y, *owned + ((size_t)y * in->width + x) * per);
+    }
+    free(pl.base);
     return *owned;
 }
 
@@ -195,7 +201,7 @@ bool maaf_filter_dump(const MaafFilterInput *in, const char *path)
 #define GUIDES 11
 #define PAD MAAF_PLANES_PAD
 
-enum { BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_NEED, BUF_COUNT };
+enum { BUF_POS, BUF_NRM, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_GUIDE, BUF_YP, BUF_TP, BUF_OUT, BUF_NEED, BUF_COUNT };
 enum { K_UNPACK, K_ROWS, K_COLS, K_COUNT };
 static const char *const KERNEL_NAMES[K_COUNT] = {"maaf_unpack", "maaf_rows", "maaf_cols"};
 
@@ -207,7 +213,6 @@ struct MaafFilter {
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
     double seconds[K_COUNT]; /* the last run's */
-    float *yp_mapped;        /* maaf_filter_planes's mapping of BUF_YP, until the run unmaps it */
 };
 
 MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
@@ -226,20 +231,9 @@ MaafFilter *maaf_filter_create(ClRuntime *rt, Diag *d)
     return f;
 }
 
-static void unmap_planes(MaafFilter *f)
-{
-    if (!f->yp_mapped) return;
-    clEnqueueUnmapMemObject(f->rt->queue, f->buf[BUF_YP], f->yp_mapped, 0, NULL, NULL);
-    f->yp_mapped = NULL;
-}
-
 void maaf_filter_destroy(MaafFilter *f)
 {
     if (!f) return;
-    if (f->yp_mapped) {
-        unmap_planes(f);
-        clFinish(f->rt->queue);
-    }
     for (int b = 0; b < BUF_COUNT; ++b)
         if (f->buf[b]) clReleaseMemObject(f->buf[b]);
     for (int k = 0; k < K_COUNT; ++k)
@@ -282,7 +276,7 @@ static bool host_buffer(MaafFilter *f, int b, size_t bytes, const void *src, Dia
 
 static void release_inputs(MaafFilter *f)
 {
-    for (int b = BUF_IN; b <= BUF_PARAM; ++b)
+    for (int b = BUF_POS; b <= BUF_PARAM; ++b)
         if (f->buf[b]) {
             clReleaseMemObject(f->buf[b]);
             f->buf[b] = NULL;
@@ -319,8 +313,9 @@ static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const flo
  * reads, i.e. one in the same 8 columns within MAAF_RADIUS_CAP_PX rows. The others' column
  * readers use the central component alone (maaf_cols skips components without amplitude), so
  * the row pass sums only that one: the shadows' plain pixels (AAF's far rule), 90% of the
- * work items on the combined bench. */
-static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
+ * work items on the combined bench. *reach: the largest radius a work item of either pass can
+ * take (the kernels' integer radius, capped), which bounds the column pass's taps. */
+static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks, int *reach)
 {
     int w = in->width, h = in->height;
     size_t count = (size_t)h * (size_t)tblocks;
@@ -332,12 +327,17 @@ static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
     }
     unsigned char *amp = calloc(count, 1);
     if (!amp) return false;
+    float most = 0.0f;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const float *pr = in->param + ((size_t)y * w + x) * MAAF_PARAM_STRIDE;
             for (int p = 1; p < in->pairs; ++p)
                 if (pr[1 + 3 * p] != 0.0f) amp[(size_t)y * tblocks + x / LANES] = 1;
+            /* as centre_load: fmin(trunc(radius), cap), NaN reads as the cap */
+            float r = pr[0] < (float)MAAF_RADIUS_CAP_PX ? truncf(pr[0]) : (float)MAAF_RADIUS_CAP_PX;
+            if (r > most) most = r;
         }
+    *reach = (int)most;
     for (int b = 0; b < tblocks; ++b) { /* a sliding window of 2 cap + 1 rows per column of blocks */
         int inside = 0;
         for (int y = 0; y < MAAF_RADIUS_CAP_PX && y < h; ++y) inside += amp[(size_t)y * tblocks + b];
@@ -353,18 +353,24 @@ static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks)
 }
 
 /* maaf.cl's planes: the width rounded up to whole work items, the guides' and the sums' rows
- * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums */
+ * padded, the row pass's output in blocks of 8 pixels; one flag plane after the sums. The sums
+ * hold one band of yrows image rows (image row y in row y mod yrows), the row pass's output a
+ * ring of trows: a band and the column pass's reach (the run's largest radius) on either side
+ * (9.16). */
 typedef struct {
-    size_t w8, gpitch, rows, gplane, ystride, yfloats, tfloats;
+    size_t w8, gpitch, rows, gplane, ystride, yfloats, tfloats, yrows, trows;
     int per;
 } Layout;
 
-static bool layout(int width, int height, int pairs, Layout *o, Diag *d)
+static bool layout(int width, int height, int pairs, int reach, Layout *o, Diag *d)
 {
     o->per = 8 * maaf_component_count(pairs);
     o->w8 = ((size_t)width + LANES - 1) / LANES * LANES, o->gpitch = o->w8 + 2 * PAD, o->rows = (size_t)height;
+    size_t ring = MAAF_BAND_ROWS + 2 * (size_t)reach;
+    o->yrows = o->rows < MAAF_BAND_ROWS ? o->rows : MAAF_BAND_ROWS;
+    o->trows = o->rows < ring ? o->rows : ring;
     o->gplane = plane_stride(o->gpitch * o->rows), o->ystride = line_stride(o->gpitch);
-    o->yfloats = o->ystride * (size_t)(o->per + 1) * o->rows, o->tfloats = o->rows * o->w8 * (size_t)(o->per + 1);
+    o->yfloats = o->ystride * (size_t)(o->per + 1) * o->yrows, o->tfloats = o->trows * o->w8 * (size_t)(o->per + 1);
     if (o->yfloats > (size_t)INT32_MAX || o->tfloats > (size_t)INT32_MAX || o->gplane * GUIDES > (size_t)INT32_MAX) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: a %dx%d image is too large for its planes", width, height);
         return false;
@@ -372,33 +378,39 @@ static bool layout(int width, int height, int pairs, Layout *o, Diag *d)
     return true;
 }
 
-bool maaf_filter_planes(MaafFilter *f, int width, int height, int pairs, MaafPlanes *pl, Diag *d)
+/* Image rows [y0, y1) of the sums into BUF_YP (mapped: on a CPU device its own memory, no
+ * copy), each plane's row padded with zeros; from in->fill, or from in->ysum where a pixel is
+ * usable (zeros elsewhere). The blocking map waits for the row pass of the band before. */
+static bool write_band(MaafFilter *f, const MaafFilterInput *in, const Layout *L, int y0, int y1, Diag *d)
 {
-    Layout L;
-    if (!layout(width, height, pairs, &L, d)) return false;
-    unmap_planes(f); /* a mapping no run took */
-    if (!buffer(f, BUF_YP, L.yfloats * sizeof(float), d)) return false;
+    size_t row = L->ystride * (size_t)(L->per + 1), bytes = row * (size_t)(y1 - y0) * sizeof(float);
     cl_int err = CL_SUCCESS;
-    /* the whole buffer is written below and by maaf_planes_put: its old contents need not be
-     * read back (a copy on devices with their own memory, nothing on a CPU) */
-    f->yp_mapped = clEnqueueMapBuffer(f->rt->queue, f->buf[BUF_YP], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0,
-                                      L.yfloats * sizeof(float), 0, NULL, NULL, &err);
-    if (err != CL_SUCCESS) f->yp_mapped = NULL;
+    /* every float of the rows is written below: the old contents need not be read back (a copy
+     * on devices with their own memory, nothing on a CPU) */
+    float *base = clEnqueueMapBuffer(f->rt->queue, f->buf[BUF_YP], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, bytes, 0,
+                                     NULL, NULL, &err);
     if (!cl_ok(err, "map of the sums' planes", d)) return false;
-    *pl = (MaafPlanes){f->yp_mapped, L.ystride * (size_t)(L.per + 1), L.ystride, width, height, L.per};
-    /* what maaf_unpack writes outside the image: zeros in every plane's padding (the flag 0) */
-    for (size_t y = 0; y < L.rows; ++y)
-        for (int k = 0; k <= L.per; ++k) {
-            float *r = pl->base + y * pl->row + (size_t)k * pl->plane;
+    MaafPlanes pl = {base, row, L->ystride, in->width, in->height, L->per, y0};
+    for (int y = y0; y < y1; ++y)
+        for (int k = 0; k <= L->per; ++k) {
+            float *r = base + (size_t)(y - y0) * row + (size_t)k * L->ystride;
             memset(r, 0, PAD * sizeof(float));
-            memset(r + PAD + width, 0, (L.gpitch - PAD - (size_t)width) * sizeof(float));
+            memset(r + PAD + in->width, 0, (L->gpitch - PAD - (size_t)in->width) * sizeof(float));
         }
-    return true;
+    if (in->fill)
+        in->fill(in->fill_ctx, &pl, y0, y1);
+    else
+        for (int y = y0; y < y1; ++y)
+            for (int x = 0; x < in->width; ++x) {
+                size_t i = (size_t)y * in->width + x;
+                maaf_planes_put(&pl, x, y, in->frame4[4 * i + 3] != 0.0f ? in->ysum + i * (size_t)L->per : NULL);
+            }
+    return cl_ok(clEnqueueUnmapMemObject(f->rt->queue, f->buf[BUF_YP], base, 0, NULL, NULL), "unmap of the sums' planes", d);
 }
 
 void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
 {
-    float *o = pl->base + (size_t)y * pl->row + PAD + (size_t)x;
+    float *o = pl->base + (size_t)(y - pl->y0) * pl->row + PAD + (size_t)x;
     size_t plane = pl->plane;
     int per = pl->per;
     if (!v) {
@@ -419,74 +431,93 @@ void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
 
 void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v)
 {
-    const float *o = pl->base + (size_t)y * pl->row + PAD + (size_t)x;
+    const float *o = pl->base + (size_t)(y - pl->y0) * pl->row + PAD + (size_t)x;
     for (int k = 0; k < pl->per; ++k) v[k] = o[(size_t)k * pl->plane];
 }
 
+/* The image pass band by band (9.16): per band of MAAF_BAND_ROWS rows the host writes its sums,
+ * the row pass filters them into the ring of row-pass output, and the column pass then filters
+ * every row whose column reach (the run's largest radius) that output now covers. The queue runs
+ * in order: a band's sums are rewritten only after the row pass of the band before has read
+ * them, and a ring row only after the column pass that read it. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d)
 {
     if (kernel_seconds) *kernel_seconds = 0.0;
+    for (int k = 0; k < K_COUNT; ++k) f->seconds[k] = 0.0;
     size_t n = (size_t)in->width * (size_t)in->height;
-    int comps = maaf_component_count(in->pairs), per = 8 * comps;
-    size_t ybytes = n * (size_t)per * sizeof(float);
+    int comps = maaf_component_count(in->pairs), reach = MAAF_RADIUS_CAP_PX;
     Layout L;
-    if (!layout(in->width, in->height, in->pairs, &L, d)) return false;
-    size_t w8 = L.w8, gpitch = L.gpitch, rows = L.rows, gplane = L.gplane, ystride = L.ystride, yfloats = L.yfloats,
-           tfloats = L.tfloats;
-    bool packed = in->planes != NULL;
-    if (packed && (!f->yp_mapped || in->planes->base != f->yp_mapped || in->planes->per != per ||
-                   in->planes->width != in->width || in->planes->height != in->height)) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: planes not from maaf_filter_planes for this frame");
+    if (!layout(in->width, in->height, in->pairs, reach, &L, d)) return false;
+    if (!in->ysum && !in->fill) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MAAF filter: no sums");
         return false;
     }
-    if (!packed) unmap_planes(f);
-    bool ok = (packed ? host_buffer(f, BUF_IN, n * 16, in->pos4, d) : host_buffer(f, BUF_IN, ybytes, in->ysum, d)) &&
-              host_buffer(f, BUF_POS, n * 16, in->pos4, d) &&
-              host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) && host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) &&
-              host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
-              host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
-              buffer(f, BUF_GUIDE, gplane * GUIDES * sizeof(float), d) &&
-              (packed || buffer(f, BUF_YP, yfloats * sizeof(float), d)) &&
-              buffer(f, BUF_TP, tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
-              buffer(f, BUF_NEED, rows * (w8 / LANES) * sizeof(cl_int), d);
-    cl_int w = in->width, h = in->height, gp = (cl_int)gpitch, gpl = (cl_int)gplane, yp = (cl_int)ystride;
-    cl_int tb = (cl_int)(w8 / LANES);
-    if (ok && !row_needs(f, in, tb)) {
+    if (!row_needs(f, in, (int)(L.w8 / LANES), &reach)) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
-        ok = false;
+        return false;
     }
-    ok = ok && cl_ok(clEnqueueWriteBuffer(f->rt->queue, f->buf[BUF_NEED], CL_FALSE, 0, rows * (size_t)tb * sizeof(cl_int),
+    layout(in->width, in->height, in->pairs, reach, &L, d); /* the ring for this run's reach */
+    bool ok = host_buffer(f, BUF_POS, n * 16, in->pos4, d) && host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) &&
+              host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) && host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
+              host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
+              buffer(f, BUF_GUIDE, L.gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, L.yfloats * sizeof(float), d) &&
+              buffer(f, BUF_TP, L.tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
+              buffer(f, BUF_NEED, L.rows * (L.w8 / LANES) * sizeof(cl_int), d);
+    cl_int w = in->width, h = in->height, gp = (cl_int)L.gpitch, gpl = (cl_int)L.gplane, ys = (cl_int)L.ystride;
+    cl_int tb = (cl_int)(L.w8 / LANES), yrows = (cl_int)L.yrows, trows = (cl_int)L.trows;
+    ok = ok && cl_ok(clEnqueueWriteBuffer(f->rt->queue, f->buf[BUF_NEED], CL_FALSE, 0, L.rows * (size_t)tb * sizeof(cl_int),
                                           f->need, 0, NULL, NULL),
                      "upload", d);
     float rules[3] = {in->cos_normal_min, in->depth_tol_rel, maaf_sharp_factor(in)};
-    cl_event ev[K_COUNT] = {NULL, NULL, NULL};
-    unmap_planes(f); /* the host's writes reach the device before the kernels run */
-    if (ok) {
-        cl_int ints[7] = {w, h, comps, gp, gpl, yp, packed ? 0 : 1};
-        int bufs[7] = {BUF_IN, BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE, BUF_YP};
-        ok = set_args(f, K_UNPACK, ints, 7, NULL, 0, bufs, 7, NULL, 0, d) &&
-             cl_launch_2d(f->rt, f->k[K_UNPACK], gpitch, rows, &ev[K_UNPACK], d);
+    /* one event per launch: the guides, and a row and a column pass per band */
+    int bands = (h + MAAF_BAND_ROWS - 1) / MAAF_BAND_ROWS, events = 0;
+    cl_event *ev = calloc((size_t)(1 + 2 * bands), sizeof *ev);
+    int *ev_kernel = calloc((size_t)(1 + 2 * bands), sizeof *ev_kernel);
+    if (ok && (!ev || !ev_kernel)) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        ok = false;
     }
     if (ok) {
-        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[4] = {gp, gpl, yp, tb};
-        int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};
-        ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 4, d) &&
-             cl_launch_2d(f->rt, f->k[K_ROWS], w8 / LANES, (size_t)h, &ev[K_ROWS], d);
+        cl_int ints[4] = {w, h, gp, gpl};
+        int bufs[5] = {BUF_POS, BUF_NRM, BUF_FRAME, BUF_PARAM, BUF_GUIDE};
+        ev_kernel[events] = K_UNPACK;
+        ok = set_args(f, K_UNPACK, ints, 4, NULL, 0, bufs, 5, NULL, 0, d) &&
+             cl_launch_2d(f->rt, f->k[K_UNPACK], L.gpitch, L.rows, &ev[events++], d);
     }
-    if (ok) {
-        cl_int ints[4] = {w, h, in->pairs, comps}, ints2[3] = {gp, gpl, tb};
-        int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
-        ok = set_args(f, K_COLS, ints, 4, rules, 3, bufs, 6, ints2, 3, d) &&
-             cl_launch_2d(f->rt, f->k[K_COLS], w8 / LANES, (size_t)h, &ev[K_COLS], d);
+    int done = 0; /* rows [0, done) are filtered */
+    for (int y0 = 0; ok && y0 < h; y0 += MAAF_BAND_ROWS) {
+        int y1 = y0 + MAAF_BAND_ROWS < h ? y0 + MAAF_BAND_ROWS : h;
+        ok = write_band(f, in, &L, y0, y1, d);
+        if (ok) {
+            cl_int ints[4] = {w, h, in->pairs, comps}, ints2[8] = {gp, gpl, ys, tb, y0, y1, yrows, trows};
+            int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};
+            ev_kernel[events] = K_ROWS;
+            ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 8, d) &&
+                 cl_launch_2d(f->rt, f->k[K_ROWS], L.w8 / LANES, (size_t)(y1 - y0), &ev[events++], d);
+        }
+        /* the rows whose column taps (up to reach away) now all have their row-pass output */
+        int ready = y1 == h ? h : y1 - reach;
+        if (ok && ready > done) {
+            cl_int ints[4] = {w, h, in->pairs, comps}, ints2[6] = {gp, gpl, tb, done, ready, trows};
+            int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
+            ev_kernel[events] = K_COLS;
+            ok = set_args(f, K_COLS, ints, 4, rules, 3, bufs, 6, ints2, 6, d) &&
+                 cl_launch_2d(f->rt, f->k[K_COLS], L.w8 / LANES, (size_t)(ready - done), &ev[events++], d);
+            done = ready;
+        }
     }
     ok = ok && cl_ok(clEnqueueReadBuffer(f->rt->queue, f->buf[BUF_OUT], CL_TRUE, 0, n * 16, out4, 0, NULL, NULL),
                      "download", d);
     if (!ok) clFinish(f->rt->queue); /* the host arrays must outlive any command still queued */
     release_inputs(f);
-    for (int k = 0; k < K_COUNT; ++k) {
-        f->seconds[k] = ok ? cl_event_seconds(ev[k]) : 0.0;
-        if (kernel_seconds) *kernel_seconds += f->seconds[k];
-        if (ev[k]) clReleaseEvent(ev[k]);
+    for (int e = 0; e < events; ++e) {
+        if (!ev[e]) continue;
+        double s = ok ? cl_event_seconds(ev[e]) : 0.0;
+        f->seconds[ev_kernel[e]] += s;
+        if (kernel_seconds) *kernel_seconds += s;
+        clReleaseEvent(ev[e]);
     }
+    free(ev);
+    free(ev_kernel);
     return ok;
 }

@@ -24,22 +24,29 @@ void maaf_factors_accumulate(int comps, const float *w, const float f4[4], float
 /* Largest radius in pixels (the kernel's cost grows with it). */
 #define MAAF_RADIUS_CAP_PX 32
 
-/* The sums in the image pass's own layout (maaf.cl's yp planes), written by the host in place of
- * an interleaved ysum that maaf_unpack would copy there: maaf_filter_planes hands them out
- * (mapped from the device buffer: on a CPU device the pass's own memory), maaf_planes_put fills
- * one pixel, and maaf_filter_run with MaafFilterInput.planes set runs on them. This saves the
- * per-pixel array of the sums (27 MB at 256x256 and N = 3, touched for the first time every
- * frame) and the copy (docs/algorithms.md 9.10). */
+/* A band of image rows of the sums in the image pass's own layout (maaf.cl's yp planes):
+ * maaf_filter_run runs the pass one band of MAAF_BAND_ROWS rows at a time and hands each band's
+ * planes (mapped from the device buffer: on a CPU device the pass's own memory) to the input's
+ * fill, which writes every pixel of those rows once with maaf_planes_put. Only a band of the
+ * sums exists at a time (3.7 MB instead of 27 MB at 256x256 and N = 3, memory touched for the
+ * first time every frame), and no per-pixel array of the sums nor a copy of it is needed
+ * (docs/algorithms.md 9.10, 9.16). */
 typedef struct {
-    float *base;           /* pixel (x, y)'s float k at base[y row + k plane + MAAF_PLANES_PAD + x] */
+    float *base;           /* pixel (x, y)'s float k at base[(y - y0) row + k plane + MAAF_PLANES_PAD + x] */
     size_t row, plane;
     int width, height, per; /* per: 8 floats per component, then the flag plane */
+    int y0;                 /* the band's first image row */
 } MaafPlanes;
+/* Writes the sums of image rows [y0, y1) into pl (maaf_planes_put, every pixel once). */
+typedef void (*MaafPlanesFill)(void *ctx, const MaafPlanes *pl, int y0, int y1);
+/* Rows per band of the image pass (the row pass's output is kept as a ring of this many rows
+ * plus the run's largest radius on either side). */
+#define MAAF_BAND_ROWS 32
 
 typedef struct {
     int width, height, pairs;
     const float *ysum;     /* 8 floats per component per pixel: Y_c re (r, g, b, w), im (r, g, b, w);
-                            * NULL when planes holds them */
+                            * NULL when fill writes them */
     const float *pos4;     /* world position, camera depth */
     const float *nrm4;     /* unit normal, object id */
     const float *frame4;   /* the light's first axis t1 (unit), usable flag (0: not filtered, not used) */
@@ -51,7 +58,8 @@ typedef struct {
      * (its std under 1/sqrt(this) of the centre's) holds detail the centre's filter would
      * smear and is left out; 0 means MAAF_SHARP_FACTOR_DEFAULT */
     float sharp_factor;
-    const MaafPlanes *planes; /* the sums already in the pass's planes (maaf_filter_planes), or NULL */
+    MaafPlanesFill fill;   /* writes the sums band by band (ysum NULL), or NULL */
+    void *fill_ctx;
 } MaafFilterInput;
 
 /* The sharpness rule's factor for the light and bounce filters: a neighbour's std under half
@@ -80,13 +88,10 @@ void maaf_filter_destroy(MaafFilter *f);
 /* Same as maaf_filter_reference, on the device; kernel_seconds (may be NULL): both passes'
  * device time. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d);
-/* The planes for the next maaf_filter_run on a width x height frame with this many pairs (their
- * padding already zero); every pixel must then be written once with maaf_planes_put before the
- * run. Valid until that run. */
+/* Zero floats on either side of each row of a plane. */
 #define MAAF_PLANES_PAD 8
-bool maaf_filter_planes(MaafFilter *f, int width, int height, int pairs, MaafPlanes *pl, Diag *d);
 /* Pixel (x, y)'s sums (per floats as one pixel of MaafFilterInput.ysum), NULL for a pixel that is
- * not usable (zeros, as maaf_unpack writes them), and its flag (a non-finite sum). */
+ * not usable (zeros), and its flag (a non-finite sum). */
 void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v);
 /* The sums of pixel (x, y) back (per floats, the flag left out). */
 void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v);

@@ -348,7 +348,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
     /* the shadow sums only when shadows are filtered here (each image pass's input is written
-     * into the pass's own planes: maaf_filter_planes) */
+     * into the pass's own planes, band by band: light_fill, radiance_fill) */
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
     EffectMask scene = renderer_effects(s->renderer);
     m->defocus = effect_in(m->effects, EFFECT_DEFOCUS);
@@ -1000,52 +1000,46 @@ static int indirect_pass_pairs(const ReconMethod *m)
     return m->pairs < 2 ? m->pairs : 2;
 }
 
-/* Soft shadows (the direct light over albedo and r(x), the light's axes) or indirect light (over
- * albedo, the pixel's tangent axes): the same image pass on the receiver guides. */
-static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+/* What light_fill needs of maaf_filter_light's pass. */
+typedef struct {
+    const ReconMethod *m;
+    bool ind;
+    int pass_pairs, pass_comps;
+    const float *factor, *sums;
+} LightFill;
+
+/* The light pass's sums of image rows [y0, y1) into the pass's planes (MaafPlanesFill): each
+ * usable pixel's (maaf_filter_light marked them in guide4) demodulated. */
+static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
 {
-    *kernel_seconds = 0.0;
-    bool ind = e == EFFECT_INDIRECT;
-    if (ind ? !m->isum : e != EFFECT_SOFT_SHADOWS || !m->ysum) return true;
-    if (!ensure_derived(m, d)) return false;
+    const LightFill *lf = ctx;
+    const ReconMethod *m = lf->m;
     const GBuffer *g = m->g;
-    int w = g->width, h = g->height;
+    int w = g->width, pass_comps = lf->pass_comps;
     size_t per = (size_t)m->comps * 8;
-    /* without directions the indirect pass runs the bands |p| <= 1 only (indirect_pass_pairs) */
-    int pass_pairs = ind ? indirect_pass_pairs(m) : m->pairs, pass_comps = maaf_component_count(pass_pairs);
-    const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
-    const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
-    float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
-    MaafPlanes planes;
-    if (!have_filter(m, d) || !maaf_filter_planes(m->filter, w, h, pass_pairs, &planes, d)) return false;
-    for (int y = 0; y < h; ++y)
+    for (int y = y0; y < y1; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
             float spp = g->frame.spp[i];
-            bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
             float yd[8 * MAAF_COMPS_MAX];
-            memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
-            m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
-            std_px[i] = 0.0f;
-            components[i] = 0.0f;
-            if (!usable) { /* its parameters (the filter cache's) are not read: usable 0 */
-                maaf_planes_put(&planes, x, y, NULL);
+            if (m->guide4[4 * i + 3] == 0.0f) { /* not usable */
+                maaf_planes_put(planes, x, y, NULL);
                 continue;
             }
             /* composite.c's demodulation (value4 was made usable only where it is stable):
              * each pixel's sums divided by its own albedo and r(x) */
             float inv[3];
-            for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (factor ? factor[i] : 1.0f));
-            if (ind) { /* component c: its expectation x the plain sum */
-                const float *ys = sums + 4 * i;
+            for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (lf->factor ? lf->factor[i] : 1.0f));
+            if (lf->ind) { /* component c: its expectation x the plain sum */
+                const float *ys = lf->sums + 4 * i;
                 for (int c = 0; c < pass_comps; ++c)
                     for (int ch = 0; ch < 4; ++ch) {
-                        float re = maaf_direction_mean(pass_pairs, c) * ys[ch];
+                        float re = maaf_direction_mean(lf->pass_pairs, c) * ys[ch];
                         yd[8 * c + ch] = ch == 3 ? re : re * inv[ch];
                         yd[8 * c + 4 + ch] = 0.0f;
                     }
             } else {
-                const float *ys = sums + i * per;
+                const float *ys = lf->sums + i * per;
                 for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
             }
             /* with defocus, per-pixel means (eq. 20 per pixel, as the lens sums: 9.8): the
@@ -1056,15 +1050,46 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
              * relMSE +5% at 16 spp). */
             if (m->defocus)
                 for (int c = 0; c < 8 * pass_comps; ++c) yd[c] /= spp;
-            maaf_planes_put(&planes, x, y, yd);
+            maaf_planes_put(planes, x, y, yd);
+        }
+}
+
+/* Soft shadows (the direct light over albedo and r(x), the light's axes) or indirect light (over
+ * albedo, the pixel's tangent axes): the same image pass on the receiver guides. The pixels'
+ * guides and filters first, then the pass, which takes the sums band by band (light_fill). */
+static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    bool ind = e == EFFECT_INDIRECT;
+    if (ind ? !m->isum : e != EFFECT_SOFT_SHADOWS || !m->ysum) return true;
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    int w = g->width, h = g->height;
+    /* without directions the indirect pass runs the bands |p| <= 1 only (indirect_pass_pairs) */
+    int pass_pairs = ind ? indirect_pass_pairs(m) : m->pairs, pass_comps = maaf_component_count(pass_pairs);
+    const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
+    const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
+    float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
+    if (!have_filter(m, d)) return false;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * w + x;
+            float spp = g->frame.spp[i];
+            bool usable = value4[4 * i + 3] != 0.0f && frame4[4 * i + 3] != 0.0f && spp > 0.0f;
+            memcpy(m->guide4 + 4 * i, frame4 + 4 * i, 3 * sizeof(float));
+            m->guide4[4 * i + 3] = usable ? 1.0f : 0.0f;
+            std_px[i] = 0.0f;
+            components[i] = 0.0f;
+            if (!usable) continue; /* its parameters (the filter cache's) are not read: usable 0 */
             const float *cached;
             std_px[i] = ind ? indirect_filter(m, x, y, &cached, &components[i]) : shadow_filter(m, x, y, &cached, &components[i]);
             (void)cached;
             if (components[i] > (float)(2 * pass_comps - 1)) components[i] = (float)(2 * pass_comps - 1);
         }
     const float *param = (ind ? &m->indirect_cache : &m->shadow_cache)->param;
+    LightFill fill = {m, ind, pass_pairs, pass_comps, factor, sums};
     MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, param, COS_NORMAL_MIN,
-                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, &planes};
+                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, light_fill, &fill};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
@@ -1080,38 +1105,20 @@ static void maaf_shading_light(ReconMethod *m, const ReconShadingLight *light)
     m->indirect4 = light->indirect4;
 }
 
-/* Defocus: the lens-weighted radiance sums filtered on screen guides (maaf_defocus.h). When the
- * direct light was filtered here too, each pixel's sums of the rest get its filtered direct
- * light back through the albedo sums: sum_k c_k (L_k - D_k + a_k D_pixel) (LR's substitution,
- * docs/algorithms.md 8.17, with the pixel's own light); where that light was passed through
- * (value4 unusable) its raw mean, times the weight sums. */
-static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
+/* The lens sums of image rows [y0, y1) into the defocus pass's planes (MaafPlanesFill), as
+ * maaf_filter_radiance describes. */
+static void radiance_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
 {
-    *kernel_seconds = 0.0;
-    if (!effect_in(effects, EFFECT_DEFOCUS) || !m->defocus) return true;
-    if (!ensure_derived(m, d)) return false;
+    ReconMethod *m = ctx;
     const GBuffer *g = m->g;
-    int w = g->width, h = g->height;
-    size_t n = (size_t)w * h, per = (size_t)m->comps * 8;
-    /* Per pixel: the rest's sums with the shading lights put back (the split), then divided by
-     * the pixel's count. Each pixel's sums become means over its own samples: eq. 20's
-     * integrals over the lens are Monte Carlo estimates per pixel (seeds/003 Sec. 6.1), so
-     * every pixel enters eq. 3's image filter with the same weight whatever its count. With
-     * raw sums a pixel weighed by its count, and the plan chose the counts from pass 1's
-     * samples, which the sums include: pixels whose first 9 samples hit a small bright
-     * emitter got 3-8x the samples of their neighbours that missed it, so the filter
-     * over-weighted the lucky ones, more so the larger the budget (bokeh_bright: disks 15% too
-     * bright with halos, relMSE 39 at 16 spp and 87 at 32; docs/algorithms.md 9.8). Pixels
-     * without a lens filter are read by no pass (mark_unread_sums): zeros. */
-    MaafPlanes planes;
-    if (!have_filter(m, d) || !maaf_filter_planes(m->filter, w, h, m->pairs, &planes, d)) return false;
-    for (size_t i = 0; i < n; ++i) {
+    size_t w = (size_t)g->width, per = (size_t)m->comps * 8;
+    for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; ++i) {
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
         float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
         const float *src = m->dsum + i * per;
         float o[8 * MAAF_COMPS_MAX];
         if (!(spp > 0.0f) || (m->unread && (m->unread[i] & UNREAD_LENS))) { /* not usable (screen guides), or unread */
-            maaf_planes_put(&planes, x, y, NULL);
+            maaf_planes_put(planes, x, y, NULL);
             continue;
         }
         if (m->asum) {
@@ -1132,8 +1139,33 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
             src = o;
         }
         for (size_t c = 0; c < per; ++c) o[c] = src[c] * inv;
-        maaf_planes_put(&planes, x, y, o);
+        maaf_planes_put(planes, x, y, o);
     }
+}
+
+/* Defocus: the lens-weighted radiance sums filtered on screen guides (maaf_defocus.h). When the
+ * direct light was filtered here too, each pixel's sums of the rest get its filtered direct
+ * light back through the albedo sums: sum_k c_k (L_k - D_k + a_k D_pixel) (LR's substitution,
+ * docs/algorithms.md 8.17, with the pixel's own light); where that light was passed through
+ * (value4 unusable) its raw mean, times the weight sums. */
+static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value4, double *kernel_seconds, Diag *d)
+{
+    *kernel_seconds = 0.0;
+    if (!effect_in(effects, EFFECT_DEFOCUS) || !m->defocus) return true;
+    if (!ensure_derived(m, d)) return false;
+    const GBuffer *g = m->g;
+    int w = g->width, h = g->height;
+    /* Per pixel (radiance_fill): the rest's sums with the shading lights put back (the split), then divided by
+     * the pixel's count. Each pixel's sums become means over its own samples: eq. 20's
+     * integrals over the lens are Monte Carlo estimates per pixel (seeds/003 Sec. 6.1), so
+     * every pixel enters eq. 3's image filter with the same weight whatever its count. With
+     * raw sums a pixel weighed by its count, and the plan chose the counts from pass 1's
+     * samples, which the sums include: pixels whose first 9 samples hit a small bright
+     * emitter got 3-8x the samples of their neighbours that missed it, so the filter
+     * over-weighted the lucky ones, more so the larger the budget (bokeh_bright: disks 15% too
+     * bright with halos, relMSE 39 at 16 spp and 87 at 32; docs/algorithms.md 9.8). Pixels
+     * without a lens filter are read by no pass (mark_unread_sums): zeros. First the pixels'
+     * screen guides and filters, then the pass, which takes the sums band by band. */
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
@@ -1143,8 +1175,9 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
             maaf_screen_guides(x, y, side, g->frame.spp[i] > 0.0f, m->dpos4 + 4 * i, m->dnrm4 + 4 * i, m->guide4 + 4 * i,
                                m->daxis2 + 4 * i);
         }
+    if (!have_filter(m, d)) return false;
     MaafFilterInput in = {w, h, m->pairs, NULL, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
-                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, &planes};
+                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, radiance_fill, m};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)
