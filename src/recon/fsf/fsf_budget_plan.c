@@ -92,8 +92,7 @@ bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *li
          * from another emitter */
         bool left = g->mixed[i] || (share && !(share[i] >= FSF_MIN_LIGHT_SHARE));
         if (sample_store_count(st, i) > 0 && g->hit[i])
-            area_px[i] = fminf(area_px[i], left || fsf_pixel_collapsed(&p.px[i]) ? 0.0f
-                                                 : fsf_pixel_area_sheared_px(&p.px[i], light->half_m));
+            area_px[i] = fminf(area_px[i], left ? 0.0f : fsf_pixel_area_px(&p.px[i]));
     }
     params_free(&p);
     return ok;
