@@ -102,9 +102,9 @@ bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *a
  * and 1 / rho reweights the rest, so its value stays about as noisy as pass 1's samples while
  * the plan gave the pixel a Monte Carlo pixel's count. Two estimates of the same pixel: the
  * filter's f, worth the n1 A samples of its effective count (n1 stored samples,
- * A = fsf_pixel_area_sheared_px), and the pixel's mean m, whose extra - n1 samples the filter
- * has not read; with equal per-sample variance their inverse-variance combination is
- * f + (m - f) extra / (n1 A + extra). value4 (rgb of 4 floats per pixel) holds f, mean4 m;
+ * A = fsf_pixel_area_sheared_px), and the pixel's mean m over all its n samples, whose
+ * extra = n - n1 the filter has not read; with equal per-sample variance their inverse-variance
+ * combination is f + (m - f) extra / (n1 A + extra). value4 (rgb of 4 floats per pixel) holds f, mean4 m;
  * stored: the filter's samples per pixel; g->sums[].hits: all of them. Pixels that are not
  * collapsed, have no extras or were passed through keep value4. */
 void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const int *stored, const GBuffer *g,
