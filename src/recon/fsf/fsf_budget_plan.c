@@ -19,6 +19,42 @@ float fsf_pixel_area_px(const FsfPixel *px)
     return sample_rate_area_px(px->sigma_px[0] * px->sigma_px[0], px->sigma_px[1] * px->sigma_px[1]);
 }
 
+/* fsf_budget_plan.h */
+float fsf_shear_overlap(float sigma_px, float eta_m, float half_m)
+{
+    int r = fsf_radius_steps(sigma_px);
+    if (r == 0 || eta_m == 0.0f || !(half_m > 0.0f)) return 1.0f;
+    /* running sums of w and w^2 over the taps -r .. r (fsf_tap_prefix's w) */
+    float cum1[FSF_CUM], cum2[FSF_CUM];
+    cum1[0] = cum2[0] = 0.0f;
+    for (int t = -r; t <= r; ++t) {
+        float w = expf(-0.5f * (float)(t * t) / (sigma_px * sigma_px));
+        cum1[t + r + 1] = cum1[t + r] + w, cum2[t + r + 1] = cum2[t + r] + w * w;
+    }
+    /* the mean over the light of sum_run w^2 / (sum_run w)^2, the run being the taps that cover
+     * z (fsf_density's); midpoints of FSF_OVERLAP_NODES cells over [-L, L] */
+    double mean_inv = 0.0;
+    for (int c = 0; c < FSF_OVERLAP_NODES; ++c) {
+        float z = ((float)c + 0.5f) / (float)FSF_OVERLAP_NODES * 2.0f * half_m - half_m;
+        float a = (z - half_m) / eta_m, b = (z + half_m) / eta_m;
+        int lo = (int)fmaxf(-(float)r, ceilf(fminf(a, b))), hi = (int)fminf((float)r, floorf(fmaxf(a, b)));
+        float s1 = cum1[hi + r + 1] - cum1[lo + r], s2 = cum2[hi + r + 1] - cum2[lo + r];
+        mean_inv += s1 > 0.0f ? (double)s2 / ((double)s1 * s1) : 1.0;
+    }
+    mean_inv /= FSF_OVERLAP_NODES;
+    float unsheared = cum1[2 * r + 1] * cum1[2 * r + 1] / cum2[2 * r + 1];
+    float ratio = (float)(1.0 / mean_inv) / unsheared;
+    return ratio < 1.0f ? ratio : 1.0f;
+}
+
+float fsf_pixel_area_sheared_px(const FsfPixel *px, const float half_m[2])
+{
+    float a = sample_rate_area_px(px->sigma_px[0] * px->sigma_px[0], px->sigma_px[1] * px->sigma_px[1]);
+    a *= fsf_shear_overlap(px->sigma_px[0], px->eta_m[0], half_m[0]) *
+         fsf_shear_overlap(px->sigma_px[1], px->eta_m[1], half_m[1]);
+    return a > 1.0f ? a : 1.0f;
+}
+
 /* Per-pixel parameters and slope ranges of one effect's filter, for the plan only. */
 typedef struct {
     FsfPixel *px;
@@ -95,5 +131,24 @@ void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int 
         if (k < 0) k = 0, extra = 0.0;
         carry = extra - k;
         spp_total[i] += k;
+    }
+}
+
+void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const int *stored, const GBuffer *g,
+                         const float half_m[2], const float *mean4, float *value4)
+{
+    size_t n = (size_t)g->width * (size_t)g->height;
+    for (size_t i = 0; i < n; ++i) {
+        if (!usable[i] || !fsf_pixel_collapsed(&px[i])) continue;
+        if (!(px[i].sigma_px[0] > 0.0f || px[i].sigma_px[1] > 0.0f)) continue; /* passed through */
+        /* the samples beyond the stored ones: the pixel's own (hits counts every pass's) */
+        float n1 = (float)stored[i], extra = (float)g->sums[i].hits - n1;
+        if (!(extra > 0.0f)) continue;
+        /* inverse-variance weights: the filter as n1 A samples, the extras as themselves */
+        float w_mean = extra / (n1 * fsf_pixel_area_sheared_px(&px[i], half_m) + extra);
+        for (int ch = 0; ch < 3; ++ch) {
+            float *v = value4 + 4 * i + (size_t)ch;
+            *v += w_mean * (mean4[4 * i + (size_t)ch] - *v);
+        }
     }
 }

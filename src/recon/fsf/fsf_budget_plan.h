@@ -7,7 +7,9 @@
  * pixels then has the variance v / (n A) of recon/sample_rate.h when the counts vary slowly
  * over the filter, and the allocation n ~ sqrt(v / A) minimises the frame's summed variance.
  * A is the effective pixel count of FSF's filter at the pixel: 4 pi sigma_1 sigma_2 from its
- * two screen-space widths (fsf_pixel_area_px); 1 where FSF leaves the pixel to Monte Carlo: a
+ * two screen-space widths (fsf_pixel_area_px; what the shear leaves of it,
+ * fsf_pixel_area_sheared_px, changed the errors by 1-1.4% either way and cost a plan of 65k
+ * pixels 0.1-0.2 s of CPU: not used here); 1 where FSF leaves the pixel to Monte Carlo: a
  * width under FSF_COLLAPSED_SIGMA_PX along either axis (near a contact line the slope range
  * explodes, FSF eq. 4 goes to 0), a mixed pixel (several surfaces: passed through), a pixel
  * the light-share test leaves out (FSF_MIN_LIGHT_SHARE), a defocus range straddling the focal
@@ -68,6 +70,20 @@ bool fsf_pixel_collapsed(const FsfPixel *px);
  * (each step a neighbouring pixel, whatever the axes' directions); 0 where it has collapsed. */
 float fsf_pixel_area_px(const FsfPixel *px);
 
+/* Under a shear the taps no longer all weigh every light coordinate: the samples of the
+ * neighbour t steps away cover [-L + eta t, L + eta t] seen from the centre, so at a light
+ * coordinate z only the run of taps that covers it averages (fsf_density's run). A sample's
+ * weight is w(t) / rho(z), and with n samples spread evenly over each neighbour's light the
+ * filter's effective count along the axis is 1 / mean_z(sum_run w^2 / (sum_run w)^2) taps
+ * (at eta = 0: (sum w)^2 / sum w^2). This is the ratio of that count to the unsheared one,
+ * in (0, 1]: near 1 while eta r << L, about (2 L / |eta|) / (2 sqrt(pi) sigma) once a tap
+ * moves the light by more than its length. */
+#define FSF_OVERLAP_NODES 32
+float fsf_shear_overlap(float sigma_px, float eta_m, float half_m);
+/* fsf_pixel_area_px times both axes' fsf_shear_overlap (half_m: the light's half extents),
+ * at least 1, also where the filter has collapsed (what the taps that remain average). */
+float fsf_pixel_area_sheared_px(const FsfPixel *px, const float half_m[2]);
+
 /* area_px[i] = min(area_px[i], the soft-shadow filter's fsf_pixel_area_px at pixel i, 0 where
  * it passes the pixel through: mixed, or FSF's light's share below FSF_MIN_LIGHT_SHARE), at
  * the pixels with samples on a surface, from the store's pass-1 samples and the guides as the
@@ -78,6 +94,21 @@ bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *li
 /* The same for the indirect light's filter. false when out of memory or the store lacks the
  * bounce or indirect field. */
 bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *area_px);
+
+/* The extra samples of a collapsed pixel (fsf_pixel_collapsed) in its own image. The filter
+ * reads pass 1's stored samples only; the extras reach it through each pixel's mean, which
+ * fsf_match_pixel scales the stored samples to. A wide, unsheared filter averages those means,
+ * but a collapsed one keeps few taps, the box drops the samples its shear moves off the light
+ * and 1 / rho reweights the rest, so its value stays about as noisy as pass 1's samples while
+ * the plan gave the pixel a Monte Carlo pixel's count. Two estimates of the same pixel: the
+ * filter's f, worth the n1 A samples of its effective count (n1 stored samples,
+ * A = fsf_pixel_area_sheared_px), and the pixel's mean m over all its n samples, whose
+ * extra = n - n1 the filter has not read; with equal per-sample variance their inverse-variance
+ * combination is f + (m - f) extra / (n1 A + extra). value4 (rgb of 4 floats per pixel) holds f, mean4 m;
+ * stored: the filter's samples per pixel; g->sums[].hits: all of them. Pixels that are not
+ * collapsed, have no extras or were passed through keep value4. */
+void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const int *stored, const GBuffer *g,
+                         const float half_m[2], const float *mean4, float *value4);
 
 /* The totals: want_spp[i] (the real counts of the Lagrange allocation, sample_rate_counts with
  * pass 1's count as the floor and FSF_BUDGET_CAP_RATIO times it as the cap), never below

@@ -477,9 +477,19 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
     }
     FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
+    /* under a budget the collapsed pixels' extras enter their own image (fsf_budget_plan.h) */
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    float *mean4 = NULL;
+    if (ok && m->budget_spp > 0 && !(mean4 = malloc(n * 4 * sizeof(float)))) {
+        ok = false;
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's pixel means");
+    }
+    if (mean4) memcpy(mean4, value4, n * 4 * sizeof(float));
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
+    if (ok && mean4) fsf_blend_collapsed(b.px, b.usable, b.count, m->g, grid.half_m, mean4, value4);
+    free(mean4);
     buffers_free(&b);
     return ok;
 }
