@@ -39,27 +39,12 @@ static void tally_add(void *ctx, int px, int py, const SampleRecord *r)
 /* Renders text (1 thread, seed 7) with every record tallied. */
 static bool render_tally(const char *text, TestRender *t, Tally *tally)
 {
-    memset(t, 0, sizeof *t);
     memset(tally, 0, sizeof *tally);
-    Diag err = {0};
-    if (!scene_parse_string(text, strlen(text), "<test>", NULL, &t->scene, &err)) {
-        fprintf(stderr, "parse failed: %s\n", err.message);
-        return false;
-    }
-    scene_analyze_effects(&t->scene);
     RenderOptions o = {0};
     o.threads = 1;
     o.seed = 7;
-    if (!renderer_create(&t->scene, &o, &t->r, &err)) {
-        fprintf(stderr, "renderer_create failed: %s\n", err.message);
-        scene_desc_free(&t->scene);
-        return false;
-    }
-    if (!frame_init(&t->frame, renderer_width(t->r), renderer_height(t->r))) return false;
     SampleSink sink = {tally_add, tally};
-    render_pass(t->r, 0, NULL, renderer_spp(t->r), &t->frame, &sink);
-    t->stats = renderer_stats(t->r);
-    return true;
+    return test_render_sink(text, &o, &sink, t);
 }
 
 /* A camera looking straight down at the point (0, 0, 0) from height 1 with a 90 degree field
