@@ -16,7 +16,9 @@
 #include "render/integrator.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/vectorise.h"
 #include "render/light_choose.h"
@@ -312,19 +314,24 @@ static inline float min1(float a) { return a < 1.0f ? a : 1.0f; }
 /* The first hit's reflectance split for the filters' demodulation (sample_record.h). */
 static void record_first_hit_material(const Vertex *v, SampleRecord *rec)
 {
+    /* the split in locals, summed from them: read back from the record, the sum waited on
+     * its own stores */
+    vec3 diffuse, glossy;
     if (v->glossy) {
         GlossyAlbedo a = glossy_albedo(&v->bsdf, v->wo_l);
-        rec->albedo_diffuse = a.diffuse;
-        rec->albedo_glossy = a.glossy;
+        diffuse = a.diffuse;
+        glossy = a.glossy;
         rec->phong_exponent = glossy_phong_exponent(&v->bsdf);
         rec->unfilterable = !glossy_is_filterable(&v->bsdf) || glossy_is_delta(&v->bsdf);
     } else {
-        rec->albedo_diffuse = v->albedo;
-        rec->albedo_glossy = v3s(0.0f);
+        diffuse = v->albedo;
+        glossy = v3s(0.0f);
         rec->phong_exponent = 0.0f;
         rec->unfilterable = false;
     }
-    vec3 sum = v3_add(rec->albedo_diffuse, rec->albedo_glossy);
+    rec->albedo_diffuse = diffuse;
+    rec->albedo_glossy = glossy;
+    vec3 sum = v3_add(diffuse, glossy);
     rec->albedo = v3(min1(sum.x), min1(sum.y), min1(sum.z));
 }
 
@@ -348,8 +355,11 @@ float integrator_fixed_time01(const IntegratorScene *sc) { return shutter_time01
  * (wave_first_hit, on a hit and on a miss), so the record is still filled completely. */
 static inline void record_reset(SampleRecord *rec)
 {
-    const vec3 zero = v3s(0.0f);
-    rec->L = rec->emission = rec->direct = rec->indirect = rec->unfiltered = rec->unfiltered_direct = zero;
+    /* L .. unfiltered_direct are one run of 18 floats: one fixed-size clear (a few vector
+     * stores) instead of 18 scalar ones. +0.0f is all zero bits. */
+    _Static_assert(offsetof(SampleRecord, unfiltered_direct) == offsetof(SampleRecord, L) + 5 * sizeof(vec3),
+                   "the radiance fields are one run");
+    memset((char *)rec + offsetof(SampleRecord, L), 0, 6 * sizeof(vec3));
     rec->hit = false;
     rec->motion_px[0] = rec->motion_px[1] = 0.0f;
     rec->shadow_count = rec->bounce_count = 0;
@@ -611,7 +621,7 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
 /* What the camera ray found: emission seen directly, the first hit's record fields, and
  * the path's first vertex. */
 static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world, bool found, const SurfaceHit *h,
-                           SampleRecord *rec, IntegratorStats *st)
+                           bool sampled, SampleRecord *rec, IntegratorStats *st)
 {
     p->alive = false;
     if (!found) {
@@ -623,6 +633,9 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
         rec->p_world = rec->n_shading = zero;
         rec->depth_cam = INFINITY;
         rec->object_id = -1;
+        /* without infinite lights the emission and L stay record_reset's +0 (the sum below
+         * would be +0 and pass its guard) */
+        if (sc->lights->infinite_count == 0) return;
         /* camera rays see infinite lights directly (no MIS: nothing else samples them) */
         vec3 env = v3s(0.0f);
         for (int k = 0; k < sc->lights->infinite_count; ++k)
@@ -632,7 +645,7 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
         return;
     }
     Vertex *v = &p->v;
-    make_vertex(sc, h, v3_neg(d_world), vertex_uses_bsdf_dims(sc, 1), v);
+    make_vertex(sc, h, v3_neg(d_world), sampled, v);
     rec->hit = true;
     record_first_hit_material(v, rec);
     rec->p_world = h->p;
@@ -871,8 +884,13 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave 
     lp->pdf_bsdf = resp.pdf;
     int sends = (g->ok[k] != 0) & resp.sends;
     int len_ok = g->len[k] > 0.0f;
-    *shadow = (TracerRay){v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]), g->len[k],
-                          p->time01, l->shadow_skip_mask};
+    /* field by field into the batch's slot: a TracerRay built on the stack and copied was
+     * read back as 16-byte words over narrower stores, a stalled store forward per ray */
+    shadow->o = v3(g->o[0][k], g->o[1][k], g->o[2][k]);
+    shadow->d = v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]);
+    shadow->tmax = g->len[k];
+    shadow->time01 = p->time01;
+    shadow->skip_mask = l->shadow_skip_mask;
     st->guarded_events += sends & !len_ok;
     st->rays_shadow += sends & len_ok;
     return sends & len_ok;
@@ -909,11 +927,10 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     if (valued) {
         /* the ray is written to the slot it would take and the count moves by the outcome */
-        int kept = light_prepare_lambert_triangle(sc, w, p, st, &shadow);
         bool record = depth == 1 && sc->record_ray_geometry && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
         int *count = record ? n_rec : n_occ;
         p->shadow_ray = *count;
-        (record ? w->ray_rec : w->ray_occ)[p->shadow_ray] = shadow;
+        int kept = light_prepare_lambert_triangle(sc, w, p, st, &(record ? w->ray_rec : w->ray_occ)[p->shadow_ray]);
         *count += kept;
         p->light_pending = kept;
         p->light_recorded = record & kept;
@@ -1109,6 +1126,11 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
         b->d_hit_world = hit ? nh->t : INFINITY;
         b->dir_world = wi;
     }
+    /* A ray that found nothing, without infinite lights (on soft_shadows nearly every last
+     * ray, dropped by the emitter-box test): bsdf_ray_emission is +0, so le is a zero
+     * (beta_next is finite, guarded above) and adding it changes no sum (a sum begun at +0
+     * is never -0). Nothing to add, no guard, and such a path ends here either way. */
+    if (!hit && sc->lights->infinite_count == 0) return;
     const Vertex *v = &p->v;
     bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
     vec3 le = guard3(v3_mul(p->beta_next, bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi,
@@ -1143,8 +1165,11 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
     st->rays_primary += n;
     tracer_intersect_batch(sc->tracer, w->ray_hit, n, true, true, w->hit, w->hit_found);
     bool any_alive = false;
+    /* whether the first vertex samples its BSDF: the same for every path, so found once
+     * (its loads through sc->lights were a part of every hit) */
+    bool sampled_first = vertex_uses_bsdf_dims(sc, 1);
     for (int j = 0; j < n; ++j) {
-        wave_first_hit(sc, &w->path[j], w->ray_hit[j].d, w->hit_found[j], &w->hit[j], &recs[j], st);
+        wave_first_hit(sc, &w->path[j], w->ray_hit[j].d, w->hit_found[j], &w->hit[j], sampled_first, &recs[j], st);
         any_alive |= w->path[j].alive;
     }
 

@@ -195,10 +195,8 @@ static float sample_axis(const PixelFilter *pf, int a, float u, float *w)
     return -r + 2.0f * r * ((float)lo + t) / (float)ax->cells;
 }
 
-vec2 pixel_filter_sample(const PixelFilter *pf, vec2 u, float *weight)
+vec2 pixel_filter_sample_shaped(const PixelFilter *pf, vec2 u, float *weight)
 {
-    *weight = 1.0f;
-    if (!pf || pf->unit_box) return u;
     float w = 1.0f;
     float dx = sample_axis(pf, 0, u.x, &w), dy = sample_axis(pf, 1, u.y, &w);
     *weight = w;

@@ -56,10 +56,21 @@ void pixel_filter_free(PixelFilter *pf);
 /* pbrt-v4's Evaluate: the unnormalised filter at offset (x, y) from the pixel centre. */
 float pixel_filter_eval(const PixelFilter *pf, float x, float y);
 
+/* The tabulated and wider filters' part of pixel_filter_sample (pixel_filter.c). */
+vec2 pixel_filter_sample_shaped(const PixelFilter *pf, vec2 u, float *weight);
+
 /* Maps a film sample u in [0, 1)^2 to a position relative to the pixel's corner (the pixel
  * covers [0, 1)^2; the position lies in [0.5 - r, 0.5 + r]) and the sample's weight. The
- * unit box returns u itself and weight 1. */
-vec2 pixel_filter_sample(const PixelFilter *pf, vec2 u, float *weight);
+ * unit box (and no filter, NULL) returns u itself and weight 1. Inline: every camera sample
+ * asks, and the bench scenes' box needs no call. */
+static inline vec2 pixel_filter_sample(const PixelFilter *pf, vec2 u, float *weight)
+{
+    if (!pf || pf->unit_box) {
+        *weight = 1.0f;
+        return u;
+    }
+    return pixel_filter_sample_shaped(pf, u, weight);
+}
 
 /* Multiplies the radiance fields of a complete record (L, emission, direct, indirect,
  * unfiltered) by its filter_weight; nothing to do when the weight is 1. Inline: the

@@ -1028,11 +1028,14 @@ static inline void hit_unshaded(SurfaceHit *hit, float t, const Geom *g, int pri
     hit->light = -1;
 }
 
-/* A shaded hit from its world-space point, normals, uv and offset error. */
+/* A shaded hit from its world-space point, normals, uv and offset error. ns is never a zero
+ * vector unless ng is the same one: shade_geom_space gives a quadric ns = ng and a triangle
+ * its face normal, or an interpolated normal that is unit or replaced by the face normal
+ * (shade_triangle); only an instance's transform (shade_hit) can take a unit ns to zero, and
+ * it replaces that by ng itself. */
 static inline void hit_shaded(SurfaceHit *hit, float t, vec3 p, vec3 ng, vec3 ns, vec2 uv, float err, const Geom *g,
                               int prim, int instance, int object_id)
 {
-    if (v3_length2(ns) == 0.0f) ns = ng;
     hit->t = t;
     hit->p = p;
     hit->ng = ng;
@@ -1091,6 +1094,7 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
         vec3 pw_f = mat4_apply_point(&wfi, p);
         ng = v3_normalize(mat4_apply_normal(&ifw, ng));
         ns = v3_normalize(mat4_apply_normal(&ifw, ns));
+        if (v3_length2(ns) == 0.0f) ns = ng;
         err = OFFSET_REL * (v3_max_abs(pw_f) + (float)max_stretch(&wfi) * mag);
         p = pw_f;
     }

@@ -20,9 +20,9 @@ typedef struct {
     RenderStats stats;
 } TestRender;
 
-/* Parses text and renders it (1 pass). opt may be NULL. Returns false (message printed) on
- * any failure. */
-static inline bool test_render(const char *text, const RenderOptions *opt, TestRender *t)
+/* Parses text and renders it (1 pass), every sample record fed to sink (may be NULL). opt
+ * may be NULL. Returns false (message printed) on any failure. */
+static inline bool test_render_sink(const char *text, const RenderOptions *opt, SampleSink *sink, TestRender *t)
 {
     memset(t, 0, sizeof *t);
     Diag err = {0};
@@ -39,9 +39,15 @@ static inline bool test_render(const char *text, const RenderOptions *opt, TestR
         return false;
     }
     if (!frame_init(&t->frame, renderer_width(t->r), renderer_height(t->r))) return false;
-    render_pass(t->r, 0, NULL, renderer_spp(t->r), &t->frame, NULL);
+    render_pass(t->r, 0, NULL, renderer_spp(t->r), &t->frame, sink);
     t->stats = renderer_stats(t->r);
     return true;
+}
+
+/* test_render_sink without a sink. */
+static inline bool test_render(const char *text, const RenderOptions *opt, TestRender *t)
+{
+    return test_render_sink(text, opt, NULL, t);
 }
 
 static inline void test_render_free(TestRender *t)

@@ -42,25 +42,10 @@ static void rec_add(void *ctx, int px, int py, const SampleRecord *r)
 /* Renders text (1 thread, seed 5) with every sample record fed to sink. */
 static bool render_into(const char *text, TestRender *t, SampleSink sink)
 {
-    memset(t, 0, sizeof *t);
-    Diag err = {0};
-    if (!scene_parse_string(text, strlen(text), "<test>", NULL, &t->scene, &err)) {
-        fprintf(stderr, "parse failed: %s\n", err.message);
-        return false;
-    }
-    scene_analyze_effects(&t->scene);
     RenderOptions o = {0};
     o.threads = 1;
     o.seed = 5;
-    if (!renderer_create(&t->scene, &o, &t->r, &err)) {
-        fprintf(stderr, "renderer_create failed: %s\n", err.message);
-        scene_desc_free(&t->scene);
-        return false;
-    }
-    if (!frame_init(&t->frame, renderer_width(t->r), renderer_height(t->r))) return false;
-    render_pass(t->r, 0, NULL, renderer_spp(t->r), &t->frame, &sink);
-    t->stats = renderer_stats(t->r);
-    return true;
+    return test_render_sink(text, &o, &sink, t);
 }
 
 static bool render_with_sink(const char *text, TestRender *t, RecStats *rs)
