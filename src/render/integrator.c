@@ -490,6 +490,10 @@ struct Wave {
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
     WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
     int tri_groups;
+    /* the stage's light picks (lights_choose_batch) */
+    float pick_u[WAVE_SAMPLES], pick_ux[WAVE_SAMPLES], pick_pmf[WAVE_SAMPLES];
+    int pick_index[WAVE_SAMPLES];
+    bool pick_static[WAVE_SAMPLES];
     /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
      * closest-hit slot its origin, direction, path and answer */
     float box_o[3][WAVE_SAMPLES], box_d[3][WAVE_SAMPLES];
@@ -720,17 +724,23 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
     /* Nothing to pick (wave_vertex_dims drew no pick): wave_vertex_rays then reads neither
      * the pick nor tri_group, so the pass over the paths is skipped. */
     if (!vertex_uses_light_dims(sc)) return;
+    /* The picks of all lit paths in one batch (vector steps), then the groups. */
+    int lit[WAVE_SAMPLES], n_lit = 0;
     for (int j = 0; j < n; ++j) {
         WavePath *p = &w->path[j];
         p->tri_group = -1;
         if (!p->alive || !vertex_lit(&p->v)) continue;
+        w->pick_u[n_lit] = p->u.pick, w->pick_ux[n_lit] = p->u.light.x;
+        lit[n_lit++] = j;
+    }
+    lights_choose_batch(L, n_lit, w->pick_u, w->pick_ux, w->pick_index, w->pick_pmf, w->pick_static);
+    for (int i = 0; i < n_lit; ++i) {
+        WavePath *p = &w->path[lit[i]];
         VertexDims *u = &p->u;
-        float pmf = 0.0f;
-        bool static_triangle = false;
-        u->light_uv = u->light;
-        u->light_index = lights_choose(L, u->pick, &u->light_uv, &pmf, &static_triangle);
-        u->light_pmf = pmf;
-        if (u->light_index < 0 || !static_triangle) continue;
+        u->light_uv = v2(w->pick_ux[i], u->light.y);
+        u->light_index = w->pick_index[i];
+        u->light_pmf = w->pick_pmf[i];
+        if (u->light_index < 0 || !w->pick_static[i]) continue;
         int g = 0;
         while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
         if (g == w->tri_groups) {
