@@ -1109,8 +1109,10 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
         l_light = light_finish(&p->lp, occluded, st);
     }
     vec3 l_delta = v3s(0.0f);
+    /* an occluded light adds +0 instead of a branch on the occlusion: the same sum (it
+     * starts at +0, so it is never -0, and x + (+0) is x, also for an infinite or NaN x) */
     for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
-        if (!w->occluded[k]) l_delta = v3_add(l_delta, w->delta_value[k]);
+        l_delta = v3_add(l_delta, w->occluded[k] ? v3s(0.0f) : w->delta_value[k]);
     if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, p, st);
     vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
     *bucket = v3_add(*bucket, v3_add(ld, ld_delta));
