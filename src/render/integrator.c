@@ -160,6 +160,12 @@ typedef struct {
     int lobe_dim; /* BSDF lobe choice (1D): its index, drawn only by a glossy vertex */
     vec2 bsdf;    /* BSDF direction (2D) */
     vec3 bsdf_cosine; /* warp_cosine_hemisphere(bsdf), Lambert's direction in the local frame */
+    /* the light they choose (lights_pick, then lights_pick_in_mesh, made by
+     * wave_triangle_light_samples): its index (-1: none), probability, and the position
+     * sample as that leaves it */
+    int light_index;
+    float light_pmf;
+    vec2 light_uv;
 } VertexDims;
 
 /* Scalar dimensions per vertex: pick (1), light (2), lobe (1), BSDF (2). Only glossy BSDFs
@@ -416,8 +422,8 @@ typedef struct {
     /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
      * ray_occ[delta_first .. delta_first + delta_count) */
     int delta_first, delta_count;
-    int lit_slot;      /* its entry in the stage's lit arrays (Wave.lit_*, Wave.pick_*,
-                        * WavePointSamples): set for a live, lit path (wave_lit_paths) */
+    int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
+    int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
     bool bounce;       /* a bounce was sampled (vs, beta_next) */
     int hit_slot;      /* its ray's entry in the closest-hit batch; -1: not traced, as it
                         * cannot reach an emitter (lights_ray_may_reach_emitter) */
@@ -484,13 +490,6 @@ struct Wave {
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
     WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
     int tri_groups;
-    /* per lit slot, the light its dimensions pick (lights_choose_batch, in
-     * wave_triangle_light_samples): u.pick and u.light in, then its index (-1: none), pmf,
-     * the position sample as the pick leaves it (pick_ux, pick_uy), and its picked static
-     * triangle's samples (tri[pick_group], lane pick_lane; pick_group -1: none) */
-    float pick_u[WAVE_SAMPLES], pick_ux[WAVE_SAMPLES], pick_uy[WAVE_SAMPLES], pick_pmf[WAVE_SAMPLES];
-    int pick_index[WAVE_SAMPLES], pick_group[WAVE_SAMPLES], pick_lane[WAVE_SAMPLES];
-    bool pick_static[WAVE_SAMPLES];
     /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
      * closest-hit slot its origin, direction, path and answer */
     float box_o[3][WAVE_SAMPLES], box_d[3][WAVE_SAMPLES];
@@ -711,65 +710,42 @@ static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light,
     }
 }
 
-/* The stage's live, lit paths in one pass over the wave: each one's lit slot, and per slot
- * its position, geometric normal and offset and its pick dimensions, which the light
- * samples below read instead of walking the paths again (a WavePath is some 470 bytes: a
- * wave of them does not stay in L1). Returns the number of slots (0, and no pass, when
- * neither a pick nor a point or spot light reads them). */
-static int wave_lit_paths(const IntegratorScene *sc, Wave *w, int n)
-{
-    const LightSet *L = sc->lights;
-    bool picks = vertex_uses_light_dims(sc), points = false;
-    for (int k = 0; k < L->delta_every_count; ++k) {
-        LightKind kind = L->lights[L->delta_every[k]].kind;
-        points |= kind == LIGHT_POINT || kind == LIGHT_SPOT;
-    }
-    /* no reader of the slots: the pass is skipped */
-    if (!picks && !points) return 0;
-    int m = 0;
-    for (int j = 0; j < n; ++j) {
-        WavePath *p = &w->path[j];
-        if (!p->alive || !vertex_lit(&p->v)) continue;
-        const SurfaceHit *h = &p->v.hit;
-        p->lit_slot = m;
-        w->lit_p[0][m] = h->p.x, w->lit_p[1][m] = h->p.y, w->lit_p[2][m] = h->p.z;
-        w->lit_ng[0][m] = h->ng.x, w->lit_ng[1][m] = h->ng.y, w->lit_ng[2][m] = h->ng.z;
-        w->lit_err[m] = h->err;
-        if (picks) w->pick_u[m] = p->u.pick, w->pick_ux[m] = p->u.light.x, w->pick_uy[m] = p->u.light.y;
-        ++m;
-    }
-    return m;
-}
-
-/* The picks of the stage's m lit slots (what light_prepare would find), and the samples of
- * the picked static triangle lights, per light in one vectorised loop each (up to
+/* The picks of the stage's live, lit paths (what light_prepare would find), and the samples
+ * of the picked static triangle lights, per light in one vectorised loop each (up to
  * WAVE_TRIANGLE_GROUPS lights; a path that picks another samples it on its own). */
-static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int m)
+static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
 {
     const LightSet *L = sc->lights;
     w->tri_groups = 0;
     /* Nothing to pick (wave_vertex_dims drew no pick): wave_vertex_rays then reads neither
-     * the pick nor its group, so the picks are skipped. */
+     * the pick nor tri_group, so the pass over the paths is skipped. */
     if (!vertex_uses_light_dims(sc)) return;
-    lights_choose_batch(L, m, w->pick_u, w->pick_ux, w->pick_index, w->pick_pmf, w->pick_static);
-    for (int i = 0; i < m; ++i) {
-        w->pick_group[i] = -1;
-        int light = w->pick_index[i];
-        if (light < 0 || !w->pick_static[i]) continue;
+    for (int j = 0; j < n; ++j) {
+        WavePath *p = &w->path[j];
+        p->tri_group = -1;
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        VertexDims *u = &p->u;
+        float pmf = 0.0f;
+        bool static_triangle = false;
+        u->light_uv = u->light;
+        u->light_index = lights_choose(L, u->pick, &u->light_uv, &pmf, &static_triangle);
+        u->light_pmf = pmf;
+        if (u->light_index < 0 || !static_triangle) continue;
         int g = 0;
-        while (g < w->tri_groups && w->tri[g].light != light) ++g;
+        while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
         if (g == w->tri_groups) {
             if (g == WAVE_TRIANGLE_GROUPS) continue;
-            w->tri[g].light = light, w->tri[g].count = 0;
+            w->tri[g].light = u->light_index, w->tri[g].count = 0;
             ++w->tri_groups;
         }
         WaveTriangleSamples *t = &w->tri[g];
         int k = t->count++;
-        t->p[0][k] = w->lit_p[0][i], t->p[1][k] = w->lit_p[1][i], t->p[2][k] = w->lit_p[2][i];
-        t->ng[0][k] = w->lit_ng[0][i], t->ng[1][k] = w->lit_ng[1][i], t->ng[2][k] = w->lit_ng[2][i];
-        t->err[k] = w->lit_err[i];
-        t->u[0][k] = w->pick_ux[i], t->u[1][k] = w->pick_uy[i];
-        w->pick_group[i] = g, w->pick_lane[i] = k;
+        const SurfaceHit *h = &p->v.hit;
+        t->p[0][k] = h->p.x, t->p[1][k] = h->p.y, t->p[2][k] = h->p.z;
+        t->ng[0][k] = h->ng.x, t->ng[1][k] = h->ng.y, t->ng[2][k] = h->ng.z;
+        t->err[k] = h->err;
+        t->u[0][k] = u->light_uv.x, t->u[1][k] = u->light_uv.y;
+        p->tri_group = g, p->tri_lane = k;
     }
     for (int g = 0; g < w->tri_groups; ++g) {
         WaveTriangleSamples *t = &w->tri[g];
@@ -784,12 +760,29 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
 }
 
 /* The samples of the point and spot lights lit at every vertex (LightSet.delta_every) for
- * the stage's m lit slots, light by light in one vectorised loop each
+ * every live, lit path of the stage, light by light in one vectorised loop each
  * (light_sample_point_batch): the same values light_sample gives path by path, whose
  * square roots and divisions then waited on each other. Path j's are entry lit_slot. */
-static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int m)
+static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
 {
     const LightSet *L = sc->lights;
+    bool any = false;
+    for (int k = 0; k < L->delta_every_count; ++k) {
+        LightKind kind = L->lights[L->delta_every[k]].kind;
+        any |= kind == LIGHT_POINT || kind == LIGHT_SPOT;
+    }
+    if (!any) return;
+    int m = 0;
+    for (int j = 0; j < n; ++j) {
+        WavePath *p = &w->path[j];
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        const SurfaceHit *h = &p->v.hit;
+        p->lit_slot = m;
+        w->lit_p[0][m] = h->p.x, w->lit_p[1][m] = h->p.y, w->lit_p[2][m] = h->p.z;
+        w->lit_ng[0][m] = h->ng.x, w->lit_ng[1][m] = h->ng.y, w->lit_ng[2][m] = h->ng.z;
+        w->lit_err[m] = h->err;
+        ++m;
+    }
     const float *pos[3] = {w->lit_p[0], w->lit_p[1], w->lit_p[2]};
     for (int k = 0; k < L->delta_every_count; ++k) {
         const Light *light = &L->lights[L->delta_every[k]];
@@ -808,21 +801,19 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int m)
 static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
                           TracerRay *shadow)
 {
-    int slot = p->lit_slot, light = w->pick_index[slot];
-    float pmf = w->pick_pmf[slot];
-    if (light < 0) return false;
-    if (w->pick_group[slot] < 0)
-        return light_prepare_at(sc, &p->v, p->time01, light, v2(w->pick_ux[slot], w->pick_uy[slot]), pmf, st, shadow,
-                                &p->lp);
-    const WaveTriangleSamples *g = &w->tri[w->pick_group[slot]];
-    int k = w->pick_lane[slot];
+    const VertexDims *u = &p->u;
+    if (u->light_index < 0) return false;
+    if (p->tri_group < 0)
+        return light_prepare_at(sc, &p->v, p->time01, u->light_index, u->light_uv, u->light_pmf, st, shadow, &p->lp);
+    const WaveTriangleSamples *g = &w->tri[p->tri_group];
+    int k = p->tri_lane;
     if (!g->ok[k]) return false;
-    const Light *l = &sc->lights->lights[light];
+    const Light *l = &sc->lights->lights[u->light_index];
     p->lp.ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k],
                              v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]), l->tri_n, l->tri_err, l->L, g->pdf[k], false};
     ShadowRayAhead ahead = {v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]),
                             g->len[k], g->redo[k] != 0};
-    return light_prepare_sampled(sc, &p->v, p->time01, light, pmf, &ahead, st, shadow, &p->lp);
+    return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
 }
 
 /* What a Lambert receiver's response to a light needs of the receiver alone: the same for
@@ -875,15 +866,15 @@ static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec
 static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
                                           TracerRay *shadow)
 {
-    int slot = p->lit_slot;
-    const WaveTriangleSamples *g = &w->tri[w->pick_group[slot]];
-    int k = w->pick_lane[slot];
-    const Light *l = &sc->lights->lights[w->pick_index[slot]];
+    const VertexDims *u = &p->u;
+    const WaveTriangleSamples *g = &w->tri[p->tri_group];
+    int k = p->tri_lane;
+    const Light *l = &sc->lights->lights[u->light_index];
     LightPending *lp = &p->lp;
     lp->ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k], v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]),
                            l->tri_n, l->tri_err, l->L, g->pdf[k], false};
-    lp->light = w->pick_index[slot];
-    lp->pmf = w->pick_pmf[slot];
+    lp->light = u->light_index;
+    lp->pmf = u->light_pmf;
     lp->is_area = true;
     /* vertex_f's Lambert case; g->ok: the sample exists and the light faces the receiver */
     LambertReceiver rv = lambert_receiver(&p->v);
@@ -931,10 +922,9 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     bool lit = vertex_lit(v);
     p->light_recorded = false;
     /* with nothing to pick, the vertex takes no picked light's sample (its pick and
-     * group were not set: wave_triangle_light_samples) */
+     * tri_group were not set: wave_triangle_light_samples) */
     bool picks = vertex_uses_light_dims(sc);
-    bool valued = picks && lit && !v->glossy && w->pick_group[p->lit_slot] >= 0 &&
-                  !w->tri[w->pick_group[p->lit_slot]].redo[w->pick_lane[p->lit_slot]];
+    bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     if (valued) {
         /* the ray is written to the slot it would take and the count moves by the outcome */
         bool record = depth == 1 && sc->record_ray_geometry && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
@@ -1109,10 +1099,8 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
         l_light = light_finish(&p->lp, occluded, st);
     }
     vec3 l_delta = v3s(0.0f);
-    /* an occluded light adds +0 instead of a branch on the occlusion: the same sum (it
-     * starts at +0, so it is never -0, and x + (+0) is x, also for an infinite or NaN x) */
     for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
-        l_delta = v3_add(l_delta, w->occluded[k] ? v3s(0.0f) : w->delta_value[k]);
+        if (!w->occluded[k]) l_delta = v3_add(l_delta, w->delta_value[k]);
     if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, p, st);
     vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
     *bucket = v3_add(*bucket, v3_add(ld, ld_delta));
@@ -1202,9 +1190,8 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
             }
         }
         int n_occ = 0, n_rec = 0, n_hit = 0;
-        int m = wave_lit_paths(sc, w, n);
-        wave_point_light_samples(sc, w, m);
-        wave_triangle_light_samples(sc, w, m);
+        wave_point_light_samples(sc, w, n);
+        wave_triangle_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);

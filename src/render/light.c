@@ -302,8 +302,6 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
     }
     free(phi);
     set->power_total = (float)acc;
-    set->cdf_increasing = true;
-    for (int i = 0; i < set->count; ++i) set->cdf_increasing &= set->cdf[i + 1] > set->cdf[i];
     lights_bound_emitters(set, tr);
     set->choice = malloc((size_t)(set->count > 0 ? set->count : 1) * sizeof *set->choice);
     if (!set->choice) goto oom;

@@ -72,8 +72,6 @@ typedef struct {
     bool emitters_bounded;
     vec3 emitter_lo, emitter_hi;
     LightChoice *choice;    /* count entries (lights_build; NULL in a set made by hand) */
-    bool cdf_increasing;    /* cdf[i + 1] > cdf[i] for every light (no empty one): the
-                             * choice's skips of empty cells never move (lights_build) */
 } LightSet;
 
 /* A sampled point on a light as seen from a receiver. */

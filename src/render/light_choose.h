@@ -73,12 +73,4 @@ static inline int lights_choose(const LightSet *set, float u_pick, vec2 *u, floa
     return lo;
 }
 
-/* lights_choose for picks k = 0 .. n - 1 (u_pick[k], u_x[k] the pick's u.x, stretched in
- * place as lights_choose stretches u->x): index[k] its answer, pmf[k] and static_triangle[k]
- * as it writes them (pmf 0 and static_triangle false where it returns -1 at once). The same
- * bits as n calls, in vector steps (light_choose.c). */
-enum { LIGHTS_CHOOSE_CHUNK = 64 };
-void lights_choose_batch(const LightSet *set, int n, const float *u_pick, float *u_x, int *index, float *pmf,
-                         bool *static_triangle);
-
 #endif

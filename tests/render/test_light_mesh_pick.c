@@ -24,18 +24,6 @@ static const char *scene_text =
     "        \"integer indices\" [ 0 2 1  3 5 4  6 8 7 ]\n"
     "AttributeEnd\n";
 
-/* The same mesh alone: no light without power, so no empty cell in the cdf. */
-static const char *mesh_text =
-    "LookAt 0 0 -5  0 0 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
-    "WorldBegin\n"
-    "AttributeBegin\n"
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
-    "  Shape \"trianglemesh\" \"point3 P\" [ 0 3 0  1 3 0  0 3 1   2 3 0  4 3 0  2 3 1   5 3 0  7 3 0  5 3 2 ]\n"
-    "        \"integer indices\" [ 0 2 1  3 5 4  6 8 7 ]\n"
-    "AttributeEnd\n";
-
 /* An infinite light, a sphere light, a point light (lit at every vertex, never picked), a mesh of four triangles whose second has no area (no
  * power: the pick skips it) and a moving quad (triangles, not static). */
 static const char *mixed_text =
@@ -77,27 +65,17 @@ static bool build(const char *text, SceneDesc *scene, Tracer *tr, LightSet *set)
 
 /* lights_choose against the chain it replaces, on a grid of u_pick x u.x with both ends:
  * the same light, the same bits of *pmf and u->x, and static_triangle as
- * light_is_static_triangle; and lights_choose_batch against lights_choose, a row of the grid
- * (more picks than a chunk) per call: the same light, the same bits of pmf and u.x, the same
- * static_triangle. Returns how many lights of each kind were chosen, and counts the sets
- * with and without empty cells (the batch's two ways) in with_empty[0 / 1]. */
-static void check_choose(const char *text, int chosen[3], int with_empty[2])
+ * light_is_static_triangle. Returns how many lights of each kind were chosen. */
+static void check_choose(const char *text, int chosen[3])
 {
     SceneDesc scene;
     Tracer tr;
     LightSet set;
     if (!build(text, &scene, &tr, &set)) return;
     enum { NP = 301, NX = 97 };
-    _Static_assert(NX + 1 > LIGHTS_CHOOSE_CHUNK, "a row spans more than one chunk");
-    ++with_empty[set.cdf_increasing ? 0 : 1];
-    int bad = 0, bad_batch = 0;
+    int bad = 0;
     for (int a = 0; a <= NP; ++a) {
         float u_pick = a == NP ? 0x1.fffffep-1f : (float)a / NP;
-        float picks[NX + 1], ux_batch[NX + 1], pmf_batch[NX + 1];
-        int index_batch[NX + 1];
-        bool tri_batch[NX + 1];
-        for (int b = 0; b <= NX; ++b) picks[b] = u_pick, ux_batch[b] = b == NX ? 0x1.fffffep-1f : (float)b / NX;
-        lights_choose_batch(&set, NX + 1, picks, ux_batch, index_batch, pmf_batch, tri_batch);
         for (int b = 0; b <= NX; ++b) {
             float ux = b == NX ? 0x1.fffffep-1f : (float)b / NX;
             float pmf_ref = -1.0f, pmf = -1.0f;
@@ -105,13 +83,6 @@ static void check_choose(const char *text, int chosen[3], int with_empty[2])
             int ref = lights_pick(&set, u_pick, &pmf_ref);
             if (ref >= 0) ref = lights_pick_in_mesh(&set, &tr, ref, &u_ref, &pmf_ref);
             bool tri = true;
-            float pmf_scalar = 0.0f;
-            vec2 u_scalar = {ux, 0.25f};
-            bool tri_scalar = false;
-            int got_scalar = lights_choose(&set, u_pick, &u_scalar, &pmf_scalar, &tri_scalar);
-            if (got_scalar != index_batch[b] || memcmp(&pmf_scalar, &pmf_batch[b], sizeof pmf_scalar) != 0 ||
-                memcmp(&u_scalar.x, &ux_batch[b], sizeof u_scalar.x) != 0 || tri_scalar != tri_batch[b])
-                ++bad_batch;
             int got = lights_choose(&set, u_pick, &u, &pmf, &tri);
             if (got != ref || memcmp(&pmf, &pmf_ref, sizeof pmf) != 0 || memcmp(&u, &u_ref, sizeof u) != 0) ++bad;
             if (got >= 0 && tri != light_is_static_triangle(&set, &tr, got)) ++bad;
@@ -119,7 +90,6 @@ static void check_choose(const char *text, int chosen[3], int with_empty[2])
         }
     }
     CHECK(bad == 0);
-    CHECK(bad_batch == 0);
     lights_free(&set);
     tracer_free(&tr);
     scene_desc_free(&scene);
@@ -128,12 +98,9 @@ static void check_choose(const char *text, int chosen[3], int with_empty[2])
 int main(void)
 {
     int chosen[3] = {0, 0, 0}; /* other lights, static triangles, other area lights */
-    int with_empty[2] = {0, 0};
-    check_choose(scene_text, chosen, with_empty);
-    check_choose(mixed_text, chosen, with_empty);
-    check_choose(mesh_text, chosen, with_empty);
+    check_choose(scene_text, chosen);
+    check_choose(mixed_text, chosen);
     CHECK(chosen[0] > 0 && chosen[1] > 0 && chosen[2] > 0);
-    CHECK(with_empty[0] > 0 && with_empty[1] > 0);
 
     SceneDesc scene;
     Tracer tr;
