@@ -88,6 +88,18 @@ static inline void fsf_synth_light(FsfSynth *f, const FsfGrid *g, int l, bool bi
             }
 }
 
+/* The light's geometric term (fsf_geo_term.h) for fsf_synth_init's receiver: the light of
+ * g's extents parallel to the plane z = 0, facing it from height h_m above the point
+ * (cx_m, cy_m), its axes along x and y. mean_g (one float per pixel, the caller's) gets each
+ * pixel's mean term (0 where a normal turns away from the light). */
+static inline FsfGeoTerm fsf_synth_geo(const FsfSynth *f, const FsfGrid *g, float cx_m, float cy_m, float h_m,
+                                       float *mean_g)
+{
+    FsfGeoTerm t = {{cx_m, cy_m, h_m}, {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}, {0.0f, 0.0f, -1.0f}, mean_g};
+    fsf_geo_mean(&t, f->pos4, f->nrm4, f->usable, g->half_m, (size_t)f->w * (size_t)f->h, mean_g);
+    return t;
+}
+
 /* Indirect-light samples (fsf_bounce.h) over fsf_synth_init's receiver (the plane z = 0, 0.01 m
  * per pixel; frame t1 = x, t2 = y, n = z): l x l stratified cosine-distributed bounce
  * directions per pixel; a sample is lit (rgb 1, 0.5, 0.75; else 0, 0, 0.25) where its ray

@@ -9,10 +9,12 @@
 #include "fsf_synth.h"
 #include "recon/fsf/fsf_cl.h"
 
-/* The largest |OpenCL - C| over f's pixels relative to the pixel's weight (rgb and weight). */
-static double cl_vs_c(FsfCl *cl, const FsfSynth *f, const FsfGrid *g, double *secs)
+/* The largest |OpenCL - C| over f's pixels relative to the pixel's weight (rgb and weight);
+ * geo: the light's geometric term (form 4 in pass 1a) or NULL. */
+static double cl_vs_c(FsfCl *cl, const FsfSynth *f, const FsfGrid *g, const FsfGeoTerm *geo, double *secs)
 {
     FsfGuides gd = fsf_guides_default(f->pos4, f->nrm4, f->usable);
+    gd.geo = geo;
     size_t n = (size_t)f->w * (size_t)f->h;
     float *c_out = malloc(4 * n * sizeof(float)), *cl_out = malloc(4 * n * sizeof(float));
     Diag d = {0};
@@ -45,7 +47,7 @@ static void indirect_samples(FsfCl *cl)
         f.px[i].sigma_px[1] = 1.0f + 6.0f * x;
     }
     FsfGrid g = fsf_bounce_grid();
-    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, &secs);
+    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, NULL, &secs);
     printf("indirect samples: OpenCL against C: largest difference %.3g of the pixel's weight (kernels %.4f s)\n", worst,
            secs);
     CHECK(worst < 1e-5); /* rounding only, as below (4e-7 measured) */
@@ -100,7 +102,7 @@ static void tall_frame(FsfCl *cl)
         f.px[i].sigma_px[1] = 3.0f;
         if (i % 23 == 11) f.usable[i] = 0;
     }
-    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, &secs);
+    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, NULL, &secs);
     printf("150 rows (pass 1 in bands): OpenCL against C: largest difference %.3g of the pixel's weight\n", worst);
     CHECK(worst < 1e-5);
     fsf_synth_free(&f);
@@ -128,7 +130,7 @@ static void mixed_halos(FsfCl *cl)
         f.px[i].sigma_px[1] = y % 4 == 0 ? 0.0f : 0.5f + 0.25f * (float)(x % 31);
         if (i % 37 == 7) f.usable[i] = 0;
     }
-    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, &secs);
+    double secs = 0.0, worst = cl_vs_c(cl, &f, &g, NULL, &secs);
     printf("bands with halos 0, 1 and 16, packed taps: OpenCL against C: largest difference %.3g\n", worst);
     CHECK(worst < 1e-5);
     fsf_synth_free(&f);
@@ -177,12 +179,22 @@ int main(void)
     const int nodes[3] = {17, 11, 33};
     for (int gi = 0; gi < 3; ++gi) {
         g.shift_nodes = nodes[gi], g.y2_bins = nodes[gi] - 1;
-        double secs = 0.0, worst = cl_vs_c(cl, &f, &g, &secs);
+        double secs = 0.0, worst = cl_vs_c(cl, &f, &g, NULL, &secs);
         printf("%d shift nodes: OpenCL against C: largest difference %.3g of the pixel's weight (kernels %.4f s)\n",
                nodes[gi], worst, secs);
         /* the same float arithmetic in another order and exp vs expf: rounding only (3e-7
          * measured; a node or tap lost or shifted would show as a whole sample's weight, ~1e-2) */
         CHECK(worst < 1e-5);
+        /* form 4 (fsf_geo_term.h) in pass 1a: a light as large as the frame 0.4 m above it, so
+         * that its geometric term varies about 3:1 over the light; the pixels whose normal
+         * turns away get no mean term and keep the plain weight */
+        float *mean_g = malloc((size_t)W * H * sizeof(float));
+        FsfGeoTerm geo = fsf_synth_geo(&f, &g, 0.26f, 0.18f, 0.4f, mean_g);
+        double worst_geo = cl_vs_c(cl, &f, &g, &geo, &secs);
+        printf("%d shift nodes, with the geometric term: OpenCL against C: largest difference %.3g\n", nodes[gi],
+               worst_geo);
+        CHECK(worst_geo < 1e-5);
+        free(mean_g);
     }
     /* pixels that are not usable are skipped by every kernel: NaN in their samples changes no
      * usable pixel's result (bit for bit) and theirs stay 0 */

@@ -34,6 +34,8 @@ typedef struct {
     float cos_normal_min, plane_tol_rel;
     int width, height;
     float prof1, prof2;  /* the box profile's half extents (FsfGrid.profile_half) */
+    int geo;             /* 1: pass 1a weights by the light's geometric term (form 4, fsf_geo_term.h) */
+    float lc[3], lu[3], lv[3], ln[3]; /* the light's frame (world): centre, axes u, v, normal */
 } FsfArgs;
 
 static int fsf_radius(float sigma)
@@ -164,6 +166,18 @@ static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float
     return select(rho, (float8)(0.0f), none);
 }
 
+/* fsf_geo_G (fsf_geo_term.c) at 8 light points (z1, y2) from the receiver point p, normal n */
+static float8 fsf_geo_G8(const FsfArgs *a, float3 p, float3 n, float8 z1, float y2)
+{
+    float8 l0 = a->lc[0] + z1 * a->lu[0] + y2 * a->lv[0] - p.x;
+    float8 l1 = a->lc[1] + z1 * a->lu[1] + y2 * a->lv[1] - p.y;
+    float8 l2 = a->lc[2] + z1 * a->lu[2] + y2 * a->lv[2] - p.z;
+    float8 d2 = l0 * l0 + l1 * l1 + l2 * l2, inv_d = 1.0f / sqrt(d2);
+    float8 cos_r = (l0 * n.x + l1 * n.y + l2 * n.z) * inv_d;
+    float8 cos_l = fabs(l0 * a->ln[0] + l1 * a->ln[1] + l2 * a->ln[2]) * inv_d;
+    return select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
+}
+
 /* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12) over the image rows
  * row0 .. row1 - 1 (one work item per pixel of the launch), one slice of P each, interleaved:
  * node n of slice c at float4 n * C + c (node n = J * pixel + j, pixel (x, y) at row y % ring),
@@ -174,6 +188,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
                          const int row1, const int ring, __global const int *count, __global const float *ys,
                          __global const uchar *bin2, __global const float *value, __global const float *px,
                          __global const uchar *usable, __global const int *tap_off, __global const float *cum1,
+                         __global const float *pos4, __global const float *nrm4, __global const float *mean_g,
                          __global float *P)
 {
     int i = row0 * a.width + get_global_id(0);
@@ -188,6 +203,10 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     float cum[FSF_CUM];
     for (int e = 0; e < 2 * r + 2; ++e) cum[e] = cum1[tap_off[i] + e];
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
+    /* form 4 (fsf_geo_term.h): the pixel's mean position, normal and mean term; 0: none */
+    float g_mean = a.geo ? mean_g[i] : 0.0f;
+    float3 gp = (float3)(0.0f), gn = (float3)(0.0f);
+    if (g_mean > 0.0f) gp = vload3(0, pos4 + 4 * i), gn = vload3(0, nrm4 + 4 * i);
     int n_k = count[i];
     for (int k = 0; k < n_k; ++k) {
         int slot = i * capacity + k, c = (int)bin2[slot] - bin0;
@@ -195,6 +214,9 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
         __global float *Pi = P + 4 * (J * C * ip + c); /* node s at Pi + 4 C s */
         float y1 = ys[2 * slot];
         float4 v = (float4)(value[3 * slot], value[3 * slot + 1], value[3 * slot + 2], 1.0f);
+        float y2 = ys[2 * slot + 1];
+        /* the sample's own term at y (0: form 4 leaves the sample as it is) */
+        float g_y = g_mean > 0.0f ? fsf_geo_G8(&a, gp, gn, (float8)(y1), y2).s0 : 0.0f;
         int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);
         if (j0 < 0) j0 = 0;
         if (j1 > J - 1) j1 = J - 1;
@@ -203,14 +225,22 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
             float8 rho = fsf_density8(z, eta, L1, r, cum);
             /* the box (rounding at the light's ends) and an empty density leave a node out */
             float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
-            float w[8];
+            float8 wv = wk, ww = wk;
+            if (g_y > 0.0f) { /* form 4: rgb times g(z) / g(y), weight times g(z) / mean */
+                float8 g_z = fsf_geo_G8(&a, gp, gn, z, y2);
+                wv = wk * (g_z / g_y), ww = wk * (g_z / g_mean);
+            }
+            float w[8], wd[8];
             int nl = min(8, j1 - s0 + 1);
-            vstore8(select((float8)(0.0f), wk, lane < (float)nl), 0, w);
+            vstore8(select((float8)(0.0f), wv, lane < (float)nl), 0, w);
+            vstore8(select((float8)(0.0f), ww, lane < (float)nl), 0, wd);
             if (s0 + 8 <= J) { /* all eight nodes inside the pixel's: no branch (a weight 0 adds an exact 0) */
-                for (int l = 0; l < 8; ++l) vstore4(vload4(C * (s0 + l), Pi) + w[l] * v, C * (s0 + l), Pi);
+                for (int l = 0; l < 8; ++l)
+                    vstore4(vload4(C * (s0 + l), Pi) + (float4)(w[l] * v.xyz, wd[l]), C * (s0 + l), Pi);
             } else {
                 for (int l = 0; l < nl; ++l)
-                    if (w[l] != 0.0f) vstore4(vload4(C * (s0 + l), Pi) + w[l] * v, C * (s0 + l), Pi);
+                    if (w[l] != 0.0f || wd[l] != 0.0f)
+                        vstore4(vload4(C * (s0 + l), Pi) + (float4)(w[l] * v.xyz, wd[l]), C * (s0 + l), Pi);
             }
         }
     }

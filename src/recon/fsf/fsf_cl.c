@@ -18,6 +18,8 @@ typedef struct {
     cl_float cos_normal_min, plane_tol_rel;
     cl_int width, height;
     cl_float prof1, prof2;
+    cl_int geo;
+    cl_float lc[3], lu[3], lv[3], ln[3];
 } FsfArgs;
 
 /* Memory for several slices of P at once (pass 1a fills them in one launch) */
@@ -160,7 +162,14 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t n = (size_t)s->width * (size_t)s->height, slots = n * (size_t)s->capacity;
     size_t J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
     FsfArgs a = {g->half_m[0], g->half_m[1], g->shift_nodes, g->y2_bins, gd->cos_normal_min, gd->plane_tol_rel,
-                 s->width, s->height, g->profile_half[0], g->profile_half[1]};
+                 s->width, s->height, g->profile_half[0], g->profile_half[1], 0, {0}, {0}, {0}, {0}};
+    /* form 4 (fsf_geo_term.h) reads the guides' positions and normals */
+    const FsfGeoTerm *geo = gd->geo && gd->pos4 && gd->nrm4 ? gd->geo : NULL;
+    if (geo) {
+        a.geo = 1;
+        memcpy(a.lc, geo->centre, sizeof a.lc), memcpy(a.lu, geo->axis[0], sizeof a.lu);
+        memcpy(a.lv, geo->axis[1], sizeof a.lv), memcpy(a.ln, geo->normal, sizeof a.ln);
+    }
     if (g->y2_bins != g->shift_nodes - 1 || g->y2_bins > FSF_MAX_Y2_BINS) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);
         return false;
@@ -195,7 +204,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     /* pass 2a's Q (one slice's ring) lives in P's memory once pass 1 is done */
     size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring2;
     cl_int err = CL_SUCCESS;
-    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, USE, OFF0, OFF1, NTAP, NODE, TA0, TA1, CUM, P, G, NBUF };
+    enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, MEANG, USE, OFF0, OFF1, NTAP, NODE, TA0, TA1, CUM, P, G, NBUF };
     cl_mem b[NBUF] = {0};
     /* the inputs read in place (a CPU device uses the host memory when it is aligned to its
      * base address alignment, fsf_method.c allocates them so; otherwise PoCL copies them) */
@@ -213,6 +222,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
                               : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
     if (!err) b[NRM] = guided ? clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err)
                               : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
+    /* without form 4 pass 1a does not read the mean term: one float */
+    if (!err) b[MEANG] = geo ? clCreateBuffer(ctx, ro, sizeof(float) * n, (void *)geo->mean_g, &err)
+                             : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float), NULL, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
     if (!err) b[OFF0] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off, &err);
     if (!err) b[OFF1] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off + n, &err);
@@ -261,8 +273,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
             int fill = y1 + halo1[band] < s->height ? y1 + halo1[band] : s->height;
             if (fill > filled) {
                 cl_int i1a[6] = {bin0, c_n, s->capacity, filled, fill, ring1};
-                cl_mem m1a[9] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX], b[USE], b[OFF0], b[CUM], b[P]};
-                ok = cl_ok(set_args(f->pass1a, &a, i1a, 6, m1a, 9), "arguments", d) &&
+                cl_mem m1a[12] = {b[COUNT], b[YS], b[BIN2], b[VAL], b[PX],  b[USE],
+                                  b[OFF0],  b[CUM], b[POS],  b[NRM], b[MEANG], b[P]};
+                ok = cl_ok(set_args(f->pass1a, &a, i1a, 6, m1a, 12), "arguments", d) &&
                      cl_ok(launch1(f, f->pass1a, (size_t)(fill - filled) * (size_t)s->width, EV(K_1A)), "pass 1a", d);
                 filled = fill;
             }

@@ -33,6 +33,7 @@ FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigne
     gd.usable = usable;
     gd.cos_normal_min = 0.96592583f; /* cos 15 deg, as the AAF filters (papers: 10-20 deg) */
     gd.plane_tol_rel = 0.05f;
+    gd.geo = NULL;
     return gd;
 }
 
@@ -188,9 +189,13 @@ static void brute_range(void *ctx, size_t begin, size_t end, int part)
                     float rho = fsf_density(z1, pp->eta_m[0], j->g->half_m[0], r1, cum1) *
                                 fsf_density(z2, pp->eta_m[1], j->g->half_m[1], r2, cum2);
                     if (!(rho > 0.0f)) continue;
-                    float wk = wx / rho;
+                    float wk = wx / rho, f_rgb, f_w;
+                    /* form 4 along the first axis, as pass 1a (fsf_geo_term.h) */
+                    fsf_geo_factors(j->gd->geo, j->gd->pos4, j->gd->nrm4, (size_t)q, s->y_m[2 * slot],
+                                    s->y_m[2 * slot + 1], z1, &f_rgb, &f_w);
                     const float *v = s->value + 3 * slot;
-                    acc[0] += wk * v[0], acc[1] += wk * v[1], acc[2] += wk * v[2], acc[3] += wk;
+                    float wv = wk * f_rgb;
+                    acc[0] += wv * v[0], acc[1] += wv * v[1], acc[2] += wv * v[2], acc[3] += wk * f_w;
                 }
             }
         }
@@ -206,9 +211,10 @@ void fsf_filter_brute(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px,
 
 /* ---- the four passes ---- */
 
-void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const unsigned char *usable,
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 const float *cum1, int bin, float *P, size_t begin, size_t end)
 {
+    const unsigned char *usable = gd->usable;
     int J = g->shift_nodes;
     float dY = node_step(g, 0), L1 = g->half_m[0], mid = 0.5f * (float)(J - 1);
     for (size_t i = begin; i < end; ++i) {
@@ -233,8 +239,11 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const
                 if (box(g, 0, z) == 0.0f) continue;    /* rounding at the ends */
                 float rho = fsf_density(z, px[i].eta_m[0], L1, r, cum);
                 if (!(rho > 0.0f)) continue;
-                float wk = 1.0f / rho, *o = Pi + 4 * jj;
-                o[0] += wk * v[0], o[1] += wk * v[1], o[2] += wk * v[2], o[3] += wk;
+                float wk = 1.0f / rho, *o = Pi + 4 * jj, f_rgb, f_w;
+                /* form 4: the pixel's own term read at z rather than y1 (fsf_geo_term.h) */
+                fsf_geo_factors(gd->geo, gd->pos4, gd->nrm4, i, y1, s->y_m[2 * slot + 1], z, &f_rgb, &f_w);
+                float wv = wk * f_rgb;
+                o[0] += wv * v[0], o[1] += wv * v[1], o[2] += wv * v[2], o[3] += wk * f_w;
             }
         }
     }
@@ -344,7 +353,7 @@ static void range_1a(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass1a(j->s, j->g, j->px, j->gd->usable, j->cum1, j->bin, j->P, b, e);
+    fsf_pass1a(j->s, j->g, j->px, j->gd, j->cum1, j->bin, j->P, b, e);
 }
 static void range_1b(void *ctx, size_t b, size_t e, int part)
 {

@@ -36,6 +36,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "recon/fsf/fsf_geo_term.h"
+
 /* The paper's 32-pixel diameter cap (FSF section 5): taps up to 16 steps each side. */
 enum { FSF_RADIUS_CAP_PX = 16 };
 /* Taps reach 2 sigma (95% of a Gaussian's mass). */
@@ -88,6 +90,10 @@ typedef struct {
                                   * reads its samples */
     float cos_normal_min;      /* neighbours whose normal is further are rejected */
     float plane_tol_rel;       /* ... or off the centre's tangent plane by more than this * depth */
+    const FsfGeoTerm *geo;     /* the light's geometric term (fsf_geo_term.h, form 4): pass 1a and
+                                * the oracle weight each sample by its pixel's term at the
+                                * reprojected light point; needs pos4 and nrm4. NULL: none (the
+                                * lens, indirect light; fsf_guides_default) */
 } FsfGuides;
 
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m);
@@ -122,7 +128,7 @@ enum { FSF_TAPS = 2 * FSF_RADIUS_CAP_PX + 1 };
  * floats per pixel); pass 2a (Q: shift_nodes * 4 per pixel) and 2b (out4). */
 void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
               FsfTap *taps, size_t begin, size_t end);
-void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const unsigned char *usable,
+void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 const float *cum1, int bin, float *P, size_t begin, size_t end);
 void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end);
 void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const unsigned char *usable, const float *G, float *Q,

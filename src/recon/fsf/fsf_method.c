@@ -459,6 +459,17 @@ static bool filter_and_record(ReconMethod *m, const Buffers *b, const FsfGrid *g
     return ok;
 }
 
+/* The light's frame for its geometric term (fsf_geo_term.h); mean_g: the per-pixel means. */
+static FsfGeoTerm geo_term_of(const FsfLight *l, const float *mean_g)
+{
+    FsfGeoTerm t;
+    const vec3 *v[4] = {&l->centre_world, &l->axis_world[0], &l->axis_world[1], &l->normal_world};
+    float *o[4] = {t.centre, t.axis[0], t.axis[1], t.normal};
+    for (int k = 0; k < 4; ++k) o[k][0] = v[k]->x, o[k][1] = v[k]->y, o[k][2] = v[k]->z;
+    t.mean_g = mean_g;
+    return t;
+}
+
 static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
     Buffers b;
@@ -485,11 +496,25 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's pixel means");
     }
     if (mean4) memcpy(mean4, value4, n * 4 * sizeof(float));
+    /* form 4: each sample weighted by its pixel's geometric term at the reprojected light
+     * point (fsf_geo_term.h; docs/algorithms.md section 10) */
+    float *mean_g = NULL;
+    FsfGeoTerm geo;
+    if (ok && m->g->pos4 && m->g->nrm4) {
+        if (!(mean_g = alloc_device_input(n * sizeof(float)))) {
+            ok = false;
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's geometric term");
+        } else {
+            geo = geo_term_of(&m->light, mean_g);
+            fsf_geo_mean(&geo, m->g->pos4, m->g->nrm4, b.usable, grid.half_m, n, mean_g);
+            gd.geo = &geo;
+        }
+    }
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
     if (ok && mean4) fsf_blend_collapsed(b.px, b.usable, b.count, m->g, grid.half_m, mean4, value4);
-    free(mean4);
+    free(mean4), free(mean_g);
     buffers_free(&b);
     return ok;
 }
