@@ -34,7 +34,7 @@ typedef struct {
     float cos_normal_min, plane_tol_rel;
     int width, height;
     float prof1, prof2;  /* the box profile's half extents (FsfGrid.profile_half) */
-    int geo;             /* 1: pass 1a weights by the light's geometric term (form 4, fsf_geo_term.h) */
+    int geo;             /* 1: passes 1a, 2a weight by the light's geometric term (form 4, fsf_geo_term.h) */
     float lc[3], lu[3], lv[3], ln[3]; /* the light's frame (world): centre, axes u, v, normal */
 } FsfArgs;
 
@@ -178,6 +178,14 @@ static float8 fsf_geo_G8(const FsfArgs *a, float3 p, float3 n, float8 z1, float 
     return select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
 }
 
+/* fsf_geo_marginal (fsf_geo_term.c): G's mean over 8 midpoints in z1 at y2, summed in its order */
+static float fsf_geo_marginal(const FsfArgs *a, float3 p, float3 n, float y2)
+{
+    const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
+    float8 g = fsf_geo_G8(a, p, n, a->half1 * (2.0f * (lane + 0.5f) / 8.0f - 1.0f), y2);
+    return (g.s0 + g.s1 + g.s2 + g.s3 + g.s4 + g.s5 + g.s6 + g.s7) / 8.0f;
+}
+
 /* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12) over the image rows
  * row0 .. row1 - 1 (one work item per pixel of the launch), one slice of P each, interleaved:
  * node n of slice c at float4 n * C + c (node n = J * pixel + j, pixel (x, y) at row y % ring),
@@ -291,7 +299,8 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 /* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
  * densities 8 at a time, over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows. */
 __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const float *px,
-                         __global const uchar *usable, __global const float *G, __global float *Q)
+                         __global const uchar *usable, __global const float *pos4, __global const float *nrm4,
+                         __global const float *mean_g, __global const float *G, __global float *Q)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
@@ -326,12 +335,24 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
         if (inv_rho[m] != 0.0f) m_lo = min(m_lo, m), m_hi = m;
     float4 gi[FSF_MAX_Y2_BINS];
     for (int b = 0; b < B; ++b) gi[b] = vload4(B * i + b, G);
+    /* form 4 along the second axis (fsf_pass2a): the z1-marginals at the bin centres */
+    float gm[FSF_MAX_Y2_BINS];
+    int geo = a.geo && mean_g[i] > 0.0f;
+    if (geo) {
+        float3 gp = vload3(0, pos4 + 4 * i), gn = vload3(0, nrm4 + 4 * i);
+        for (int b = 0; geo && b < B; ++b) {
+            gm[b] = fsf_geo_marginal(&a, gp, gn, 2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B));
+            geo = gm[b] > 0.0f;
+        }
+    }
     for (int jj = 0; jj < J; ++jj) {
         float4 acc = (float4)(0.0f);
         int b_lo = max(0, m_lo - 2 * B + 2 * jj), b_hi = min(B - 1, m_hi - 2 * B + 2 * jj);
         for (int b = b_lo; b <= b_hi; ++b) {
             float wk = inv_rho[b - 2 * jj + 2 * B];
             if (wk == 0.0f) continue;
+            int bz = b - 2 * jj + B;
+            if (geo && bz >= 0 && bz < B) wk *= gm[bz] / gm[b];
             acc += gi[b] * wk;
         }
         vstore4(acc, J * iq + jj, Q);

@@ -222,7 +222,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
                               : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
     if (!err) b[NRM] = guided ? clCreateBuffer(ctx, ro, sizeof(float) * 4 * n, (void *)gd->nrm4, &err)
                               : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
-    /* without form 4 pass 1a does not read the mean term: one float */
+    /* without form 4 passes 1a and 2a do not read the mean term: one float */
     if (!err) b[MEANG] = geo ? clCreateBuffer(ctx, ro, sizeof(float) * n, (void *)geo->mean_g, &err)
                              : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float), NULL, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
@@ -298,8 +298,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         int fill = y1 + halo2[band] < s->height ? y1 + halo2[band] : s->height;
         if (fill > filled) {
             cl_int i2a[3] = {filled, fill, ring2};
-            cl_mem m2a[4] = {b[PX], b[USE], b[G], b[P]};
-            ok = cl_ok(set_args(f->pass2a, &a, i2a, 3, m2a, 4), "arguments", d) &&
+            cl_mem m2a[7] = {b[PX], b[USE], b[POS], b[NRM], b[MEANG], b[G], b[P]};
+            ok = cl_ok(set_args(f->pass2a, &a, i2a, 3, m2a, 7), "arguments", d) &&
                  cl_ok(launch1(f, f->pass2a, (size_t)(fill - filled) * (size_t)s->width, EV(K_2A)), "pass 2a", d);
             filled = fill;
         }

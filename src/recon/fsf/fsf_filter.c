@@ -190,9 +190,12 @@ static void brute_range(void *ctx, size_t begin, size_t end, int part)
                                 fsf_density(z2, pp->eta_m[1], j->g->half_m[1], r2, cum2);
                     if (!(rho > 0.0f)) continue;
                     float wk = wx / rho, f_rgb, f_w;
-                    /* form 4 along the first axis, as pass 1a (fsf_geo_term.h) */
+                    /* form 4 along the first axis, as pass 1a, then the second, as pass 2a
+                     * (fsf_geo_term.h) */
                     fsf_geo_factors(j->gd->geo, j->gd->pos4, j->gd->nrm4, (size_t)q, s->y_m[2 * slot],
                                     s->y_m[2 * slot + 1], z1, &f_rgb, &f_w);
+                    wk *= fsf_geo_factor2(j->gd->geo, j->gd->pos4, j->gd->nrm4, (size_t)q, j->g->half_m[0],
+                                          s->y_m[2 * slot + 1], z2);
                     const float *v = s->value + 3 * slot;
                     float wv = wk * f_rgb;
                     acc[0] += wv * v[0], acc[1] += wv * v[1], acc[2] += wv * v[2], acc[3] += wk * f_w;
@@ -297,12 +300,13 @@ void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, 
     }
 }
 
-void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const unsigned char *usable, const float *G, float *Q,
-                size_t begin, size_t end)
+void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const float *G, float *Q, size_t begin,
+                size_t end)
 {
+    const unsigned char *usable = gd->usable;
     int J = g->shift_nodes, B = g->y2_bins;
     float L2 = g->half_m[1];
-    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS];
+    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS], gm[FSF_MAX_Y2_BINS];
     for (size_t i = begin; i < end; ++i) {
         float *Qi = Q + (size_t)J * 4 * i;
         const float *Gi = G + (size_t)B * 4 * i;
@@ -320,11 +324,22 @@ void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const unsigned char *usabl
             float rho = box(g, 1, z) != 0.0f ? fsf_density(z, px[i].eta_m[1], L2, r, cum) : 0.0f;
             inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
         }
+        /* form 4 along the second axis (fsf_geo_term.h): bin b's content, term at its centre c_b,
+         * seen at node j from c_{b - 2 j + B} (= z above where the box keeps it): both rgb and
+         * weight times gm[b - 2 j + B] / gm[b], the z1-marginals at the bin centres */
+        bool geo = gd->geo && gd->geo->mean_g[i] > 0.0f;
+        for (int b = 0; geo && b < B; ++b) {
+            gm[b] = fsf_geo_marginal(gd->geo, gd->pos4 + 4 * i, gd->nrm4 + 4 * i, g->half_m[0],
+                                     2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B));
+            geo = gm[b] > 0.0f;
+        }
         for (int jj = 0; jj < J; ++jj) {
             float acc[4] = {0, 0, 0, 0};
             for (int b = 0; b < B; ++b) {
                 float wk = inv_rho[b - 2 * jj + 2 * B];
                 if (wk == 0.0f) continue;
+                int bz = b - 2 * jj + B; /* inside the light wherever the box left wk nonzero */
+                if (geo && bz >= 0 && bz < B) wk *= gm[bz] / gm[b];
                 for (int k = 0; k < 4; ++k) acc[k] += Gi[4 * b + k] * wk;
             }
             memcpy(Qi + 4 * jj, acc, sizeof acc);
@@ -365,7 +380,7 @@ static void range_2a(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass2a(j->g, j->px, j->gd->usable, j->G, j->Q, b, e);
+    fsf_pass2a(j->g, j->px, j->gd, j->G, j->Q, b, e);
 }
 static void range_2b(void *ctx, size_t b, size_t e, int part)
 {

@@ -90,8 +90,8 @@ typedef struct {
                                   * reads its samples */
     float cos_normal_min;      /* neighbours whose normal is further are rejected */
     float plane_tol_rel;       /* ... or off the centre's tangent plane by more than this * depth */
-    const FsfGeoTerm *geo;     /* the light's geometric term (fsf_geo_term.h, form 4): pass 1a and
-                                * the oracle weight each sample by its pixel's term at the
+    const FsfGeoTerm *geo;     /* the light's geometric term (fsf_geo_term.h, form 4): passes 1a,
+                                * 2a and the oracle weight each sample by its pixel's term at the
                                 * reprojected light point; needs pos4 and nrm4. NULL: none (the
                                 * lens, indirect light; fsf_guides_default) */
 } FsfGuides;
@@ -131,8 +131,8 @@ void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int wid
 void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 const float *cum1, int bin, float *P, size_t begin, size_t end);
 void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end);
-void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const unsigned char *usable, const float *G, float *Q,
-                size_t begin, size_t end);
+void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const float *G, float *Q, size_t begin,
+                size_t end);
 void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end);
 
 /* The density of reprojected samples. Samples lie uniformly on the light, so those of the

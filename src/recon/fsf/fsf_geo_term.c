@@ -51,3 +51,21 @@ void fsf_geo_factors(const FsfGeoTerm *t, const float *pos4, const float *nrm4, 
     *f_rgb = g_z / g_y;
     *f_w = g_z / t->mean_g[i];
 }
+
+float fsf_geo_marginal(const FsfGeoTerm *t, const float *pos, const float *nrm, float half1_m, float z2)
+{
+    enum { M = 8 }; /* as fsf_geo_mean and fsf.cl's fsf_geo_marginal (one float8) */
+    float sum = 0.0f;
+    for (int a = 0; a < M; ++a) sum += fsf_geo_G(t, pos, nrm, half1_m * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f), z2);
+    return sum / (float)M;
+}
+
+float fsf_geo_factor2(const FsfGeoTerm *t, const float *pos4, const float *nrm4, size_t i, float half1_m, float y2,
+                      float z2)
+{
+    if (!t || !(t->mean_g[i] > 0.0f)) return 1.0f;
+    const float *p = pos4 + 4 * i, *nr = nrm4 + 4 * i;
+    float g_y = fsf_geo_marginal(t, p, nr, half1_m, y2);
+    /* rgb and weight both carry the term at y2 after pass 1a: move both to z2 */
+    return g_y > 0.0f ? fsf_geo_marginal(t, p, nr, half1_m, z2) / g_y : 1.0f;
+}

@@ -8,7 +8,12 @@
  * weights its visibility by its own term at y. Form 4 reads the source pixel's term at the
  * reprojected point instead: in pass 1a (first axis, z = (z1, y2)) the sample's rgb is
  * multiplied by g_x'(z) / g_x'(y) and its weight by g_x'(z). It needs only the source pixel's
- * geometry, so pass 1a carries it with no new channel. */
+ * geometry, so pass 1a carries it with no new channel.
+ *
+ * Along the second axis (pass 2a, z2 = y2 + eta2 t2) both rgb and weight already carry the term
+ * at (z1, y2), and pass 1b has summed z1 away: pass 2a multiplies both by the ratio of the
+ * source pixel's z1-marginals Gm(z2) / Gm(y2), Gm(y2) = mean over z1 of G(z1, y2) (exact where
+ * G separates as a(z1) b(z2)); y2 is the bin's centre there. */
 #ifndef WEDGE_RECON_FSF_GEO_TERM_H
 #define WEDGE_RECON_FSF_GEO_TERM_H
 
@@ -37,5 +42,16 @@ void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, con
  * (t NULL, or mean_g 0) or the sample's own term is 0. */
 void fsf_geo_factors(const FsfGeoTerm *t, const float *pos4, const float *nrm4, size_t i, float y1, float y2,
                      float z1, float *f_rgb, float *f_w);
+
+/* Gm (1/m^2): G's mean over z1 in [-half1_m, half1_m] (8 midpoints) at the second light
+ * coordinate z2, from the receiver point pos with normal nrm. */
+float fsf_geo_marginal(const FsfGeoTerm *t, const float *pos, const float *nrm, float half1_m, float z2);
+
+/* Form 4 along the second axis for a sample of pixel i at y2 reprojected to z2: the factor
+ * Gm(z2) / Gm(y2) on both its rgb and its weight; 1 where the pixel has no mean term (t NULL,
+ * or mean_g 0: then G > 0 over the whole light, the light being convex and above the
+ * receiver's tangent plane) or Gm(y2) is 0. */
+float fsf_geo_factor2(const FsfGeoTerm *t, const float *pos4, const float *nrm4, size_t i, float half1_m, float y2,
+                      float z2);
 
 #endif
