@@ -345,14 +345,18 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
             geo = gm[b] > 0.0f;
         }
     }
+    /* each bin divided by its own marginal once (none: gm 1, the plain sums exactly) */
+    for (int b = 0; b < B; ++b) {
+        if (!geo) gm[b] = 1.0f;
+        else gi[b] = gi[b] / gm[b];
+    }
     for (int jj = 0; jj < J; ++jj) {
         float4 acc = (float4)(0.0f);
         int b_lo = max(0, m_lo - 2 * B + 2 * jj), b_hi = min(B - 1, m_hi - 2 * B + 2 * jj);
         for (int b = b_lo; b <= b_hi; ++b) {
             float wk = inv_rho[b - 2 * jj + 2 * B];
             if (wk == 0.0f) continue;
-            int bz = b - 2 * jj + B;
-            if (geo && bz >= 0 && bz < B) wk *= gm[bz] / gm[b];
+            wk *= gm[clamp(b - 2 * jj + B, 0, B - 1)]; /* inside the light wherever wk is nonzero */
             acc += gi[b] * wk;
         }
         vstore4(acc, J * iq + jj, Q);

@@ -333,14 +333,20 @@ void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const
                                      2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B));
             geo = gm[b] > 0.0f;
         }
+        /* the bins divided by their own marginal once (none: gm 1, the plain sums exactly) */
+        float gs[4 * FSF_MAX_Y2_BINS];
+        for (int b = 0; b < B; ++b) {
+            if (!geo) gm[b] = 1.0f;
+            for (int k = 0; k < 4; ++k) gs[4 * b + k] = geo ? Gi[4 * b + k] / gm[b] : Gi[4 * b + k];
+        }
         for (int jj = 0; jj < J; ++jj) {
             float acc[4] = {0, 0, 0, 0};
             for (int b = 0; b < B; ++b) {
                 float wk = inv_rho[b - 2 * jj + 2 * B];
                 if (wk == 0.0f) continue;
                 int bz = b - 2 * jj + B; /* inside the light wherever the box left wk nonzero */
-                if (geo && bz >= 0 && bz < B) wk *= gm[bz] / gm[b];
-                for (int k = 0; k < 4; ++k) acc[k] += Gi[4 * b + k] * wk;
+                wk *= gm[bz < 0 ? 0 : bz >= B ? B - 1 : bz];
+                for (int k = 0; k < 4; ++k) acc[k] += gs[4 * b + k] * wk;
             }
             memcpy(Qi + 4 * jj, acc, sizeof acc);
         }
