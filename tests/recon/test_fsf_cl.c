@@ -10,7 +10,7 @@
 #include "recon/fsf/fsf_cl.h"
 
 /* The largest |OpenCL - C| over f's pixels relative to the pixel's weight (rgb and weight);
- * geo: the light's geometric term (form 4 in pass 1a) or NULL. */
+ * geo: the light's geometric term (form 4 in passes 1a and 2a) or NULL. */
 static double cl_vs_c(FsfCl *cl, const FsfSynth *f, const FsfGrid *g, const FsfGeoTerm *geo, double *secs)
 {
     FsfGuides gd = fsf_guides_default(f->pos4, f->nrm4, f->usable);
@@ -185,7 +185,7 @@ int main(void)
         /* the same float arithmetic in another order and exp vs expf: rounding only (3e-7
          * measured; a node or tap lost or shifted would show as a whole sample's weight, ~1e-2) */
         CHECK(worst < 1e-5);
-        /* form 4 (fsf_geo_term.h) in pass 1a: a light as large as the frame 0.4 m above it, so
+        /* form 4 (fsf_geo_term.h) in passes 1a and 2a: a light as large as the frame 0.4 m above it, so
          * that its geometric term varies about 3:1 over the light; the pixels whose normal
          * turns away get no mean term and keep the plain weight */
         float *mean_g = malloc((size_t)W * H * sizeof(float));
