@@ -56,7 +56,8 @@ float fsf_geo_marginal(const FsfGeoTerm *t, const float *pos, const float *nrm, 
 {
     enum { M = 8 }; /* as fsf_geo_mean and fsf.cl's fsf_geo_marginal (one float8) */
     float sum = 0.0f;
-    for (int a = 0; a < M; ++a) sum += fsf_geo_G(t, pos, nrm, half1_m * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f), z2);
+    for (int a = 0; a < M; ++a)
+        sum += fsf_geo_G(t, pos, nrm, half1_m * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f), z2);
     return sum / (float)M;
 }
 
