@@ -49,8 +49,8 @@ float fsf_geo_marginal(const FsfGeoTerm *t, const float *pos, const float *nrm, 
 
 /* Form 4 along the second axis for a sample of pixel i at y2 reprojected to z2: the factor
  * Gm(z2) / Gm(y2) on both its rgb and its weight; 1 where the pixel has no mean term (t NULL,
- * or mean_g 0: then G > 0 over the whole light, the light being convex and above the
- * receiver's tangent plane) or Gm(y2) is 0. */
+ * or mean_g 0) or Gm(y2) is 0. A pixel with a mean term has G > 0 over the whole light (its
+ * four corners are above the receiver's tangent plane and the light is convex), so Gm > 0. */
 float fsf_geo_factor2(const FsfGeoTerm *t, const float *pos4, const float *nrm4, size_t i, float half1_m, float y2,
                       float z2);
 
