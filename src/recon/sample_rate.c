@@ -60,6 +60,16 @@ float sample_rate_factor(float rel_var, float area, float ref_area)
     return sqrtf(fmaxf(rel_var, 0.0f) * ref_area / fmaxf(area, 1.0f));
 }
 
+bool sample_rate_factors(const float *moments4, int width, int height, float *area_factor)
+{
+    size_t n = (size_t)width * (size_t)height;
+    float *rel_var = malloc(n * sizeof(float));
+    bool ok = rel_var && sample_rate_rel_var(moments4, width, height, rel_var);
+    for (size_t i = 0; ok && i < n; ++i) area_factor[i] = sample_rate_factor(rel_var[i], area_factor[i], 1.0f);
+    free(rel_var);
+    return ok;
+}
+
 /* sum_i clamp(lambda f_i, lo, hi) */
 static double spent(const float *factor, size_t n, double lambda, double lo, double hi)
 {

@@ -41,6 +41,11 @@ bool sample_rate_rel_var(const float *moments4, int width, int height, float *re
  * ref_area (pixels): sqrt(rel_var ref_area / area), the Lagrange allocation's ratio. */
 float sample_rate_factor(float rel_var, float area, float ref_area);
 
+/* The two steps above for a frame, as both methods use them: area_factor holds each pixel's
+ * filter area (pixels) and becomes its count factor against a typical pixel that no filter
+ * covers (ref_area 1), in place. False when out of memory. */
+bool sample_rate_factors(const float *moments4, int width, int height, float *area_factor);
+
 /* Counts for a total when every pixel already has floor_spp samples (those traced) and may
  * have at most cap_spp: the optimum of sum v / (n A) under those bounds (its KKT conditions)
  * is n_i = clamp(lambda factor_i, floor_spp, cap_spp), lambda the one that spends

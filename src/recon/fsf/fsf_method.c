@@ -225,8 +225,8 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     const GBuffer *g = m->g;
     size_t n = (size_t)g->width * (size_t)g->height;
     bool indirect = effect_in(m->effects, EFFECT_INDIRECT);
-    float *rel_var = malloc(n * sizeof(float)), *bounce = NULL;
-    if (!rel_var || !(m->want_spp = malloc(n * sizeof(float)))) goto oom;
+    float *bounce = NULL;
+    if (!(m->want_spp = malloc(n * sizeof(float)))) goto oom;
     float *area = m->want_spp; /* the areas first, then the factors in place, then the counts */
     for (size_t i = 0; i < n; ++i) area[i] = INFINITY; /* INFINITY: no shading filter reads the pixel */
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
@@ -238,7 +238,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     if (indirect && !(bounce = malloc(n * sizeof(float)))) goto oom;
     for (size_t i = 0; indirect && i < n; ++i) bounce[i] = INFINITY;
     if (indirect && !fsf_bounce_area(g, m->store, m->mu, bounce)) {
-        free(rel_var), free(bounce);
+        free(bounce);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no bounce field)");
         return false;
     }
@@ -248,9 +248,8 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         if (m->lens_planned) area[i] = m->straddle[i] ? 0.0f : shade + fsf_pixel_area_px(&m->lens_px[i]);
         else area[i] = shade;
     }
-    if (!sample_rate_rel_var(m->lum4, g->width, g->height, rel_var)) goto oom;
+    if (!sample_rate_factors(m->lum4, g->width, g->height, area)) goto oom;
     float *factor = m->want_spp;
-    for (size_t i = 0; i < n; ++i) factor[i] = sample_rate_factor(rel_var[i], area[i], 1.0f);
     /* Pixels the indirect filter filters keep pass 1's count where no lens filter follows: their
      * extras reach the filter through fsf_match_pixel's scale, the full mean over the mean of
      * the few stored samples, and v-plane samples are heavy tailed (a few see the bright
@@ -262,10 +261,10 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     /* in place: each count reads its own factor only once the search is over */
     sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
                        (double)m->budget_spp, m->want_spp);
-    free(rel_var), free(bounce);
+    free(bounce);
     return true;
 oom:
-    free(rel_var), free(bounce);
+    free(bounce);
     diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan");
     return false;
 }

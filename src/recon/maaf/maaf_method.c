@@ -852,22 +852,6 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
  * indirect filters, the rate's count (plan_factor), or the extra count. */
 enum { PLAN_PASS1, PLAN_FILTERED, PLAN_RATE, PLAN_EXTRA };
 
-/* Frames with defocus: plan_factor holds each pixel's filter area (pixels); it becomes the
- * Lagrange allocation's count factor against a pixel of typical variance that no filter
- * covers (A = 1), which gets the extra count of frames without defocus. */
-static bool rate_factors(ReconMethod *m)
-{
-    const GBuffer *g = m->g;
-    size_t n = (size_t)g->width * (size_t)g->height;
-    float *rel_var = malloc(n * sizeof(float));
-    if (!rel_var || !sample_rate_rel_var(m->lum4, g->width, g->height, rel_var)) {
-        free(rel_var);
-        return false;
-    }
-    for (size_t i = 0; i < n; ++i) m->plan_factor[i] = sample_rate_factor(rel_var[i], m->plan_factor[i], 1.0f);
-    free(rel_var);
-    return true;
-}
 
 /* Which rule each pixel follows: it depends on the filters, not on mu, so the budget search's
  * plans (up to 14 per frame, pipeline.c's mu_for_budget) classify the pixels once. */
@@ -922,7 +906,10 @@ static bool plan_classes(ReconMethod *m)
             more = more || (g->hit[i] && gbuffer_texture_needs_samples(g, i, 0.0f));
             m->plan_class[i] = more ? PLAN_EXTRA : cls;
         }
-    if (m->defocus && !rate_factors(m)) return false;
+    /* frames with defocus: plan_factor's areas become the Lagrange allocation's count factors
+     * against a pixel of typical variance that no filter covers (A = 1), which gets the extra
+     * count of frames without defocus */
+    if (m->defocus && !sample_rate_factors(m->lum4, g->width, g->height, m->plan_factor)) return false;
     m->plan_known = true;
     return true;
 }
