@@ -495,7 +495,14 @@ static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
     size_t per = (size_t)m->comps * 8;
     const float *st = m->albedo4 + 4 * i, *ds = m->dsum + i * per;
     if (st[3] == ALBEDO_SUMS_KEPT) return m->asum + i * per;
-    for (size_t c = 0; c < per; ++c) tmp[c] = (c & 3) == 3 || st[3] == ALBEDO_SUMS_NONE ? 0.0f : st[c & 3] * ds[c | 3];
+    if (st[3] == ALBEDO_SUMS_NONE) {
+        memset(tmp, 0, per * sizeof(float));
+        return tmp;
+    }
+    for (size_t c = 0; c < per; c += 4) { /* per (re, im) half: A times its weight sum, weight 0 */
+        for (int ch = 0; ch < 3; ++ch) tmp[c + ch] = st[ch] * ds[c + 3];
+        tmp[c + 3] = 0.0f;
+    }
     return tmp;
 }
 
@@ -1064,7 +1071,8 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                  * and a loop without a branch per float vectorises */
                 const float *ys = lf->sums + i * per;
                 float scale[4] = {inv[0], inv[1], inv[2], 1.0f};
-                for (size_t c = 0; c < per; ++c) yd[c] = ys[c] * scale[c & 3];
+                for (size_t c = 0; c < per; c += 4)
+                    for (int ch = 0; ch < 4; ++ch) yd[c + ch] = ys[c + ch] * scale[ch];
             }
             /* with defocus, per-pixel means (eq. 20 per pixel, as the lens sums: 9.8): the
              * plan's counts there vary by 10x between neighbours (recon/sample_rate.h), and with raw
