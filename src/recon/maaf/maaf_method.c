@@ -171,6 +171,10 @@ struct ReconMethod {
     float *isum;                /* 4 per pixel: the plain sum of the filterable indirect light */
     float *iframe4, *iaxis2;    /* the pixel's tangent axes t1 (w: 1 once set) and t2 (n = t1 x t2) */
     float *istd_px, *icomponents; /* AOVs */
+    /* pixel_heights' terms per pixel (reflector_heights): the clamped h_min and the h_max, NaN
+     * where pass 1 saw no reflector; made for the scene size height_size */
+    float *height_lo, *height_hi, height_size;
+    bool height_made;
 };
 
 static int maaf_pass1_spp(EffectMask effects)
@@ -227,6 +231,8 @@ static void maaf_destroy(ReconMethod *m)
     free(m->iframe4);
     free(m->iaxis2);
     free(m->istd_px);
+    free(m->height_lo);
+    free(m->height_hi);
     free(m->icomponents);
     maaf_filter_destroy(m->filter);
     if (m->derived_ok) aaf_derived_free(&m->derived);
@@ -400,7 +406,10 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->iaxis2 = zalloc(4 * n, sizeof(float));
         m->istd_px = calloc(n, sizeof(float));
         m->icomponents = calloc(n, sizeof(float));
-        if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !cache_init(&m->indirect_cache, n))
+        m->height_lo = malloc(n * sizeof(float));
+        m->height_hi = malloc(n * sizeof(float));
+        if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !m->height_lo || !m->height_hi ||
+            !cache_init(&m->indirect_cache, n))
             goto oom;
         m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, m->split_indirect ? INDIRECT_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
         maaf_direction_means(m->ikappa, m->pairs, &m->dirs);
@@ -486,7 +495,14 @@ static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
     size_t per = (size_t)m->comps * 8;
     const float *st = m->albedo4 + 4 * i, *ds = m->dsum + i * per;
     if (st[3] == ALBEDO_SUMS_KEPT) return m->asum + i * per;
-    for (size_t c = 0; c < per; ++c) tmp[c] = (c & 3) == 3 || st[3] == ALBEDO_SUMS_NONE ? 0.0f : st[c & 3] * ds[c | 3];
+    if (st[3] == ALBEDO_SUMS_NONE) {
+        memset(tmp, 0, per * sizeof(float));
+        return tmp;
+    }
+    for (size_t c = 0; c < per; c += 4) { /* per (re, im) half: A times its weight sum, weight 0 */
+        for (int ch = 0; ch < 3; ++ch) tmp[c + ch] = st[ch] * ds[c + 3];
+        tmp[c + 3] = 0.0f;
+    }
     return tmp;
 }
 
@@ -763,20 +779,20 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
  * the extremes at the best kappa, 4.3e-4 with the means; docs/algorithms.md 9.12). */
 static bool pixel_heights(const ReconMethod *m, int x, int y, float *h_min, float *h_max)
 {
-    const AafDerived *dv = &m->derived;
     int w = m->g->width, h = m->g->height;
-    float size = m->g->scene_size_world;
     for (int r = SLOPE_WINDOW_PX; r <= BORROW_RADIUS_PX; r += BORROW_RADIUS_PX - SLOPE_WINDOW_PX) {
         double lo = 0.0, hi = 0.0;
         int count = 0;
-        for (int yy = y - r; yy <= y + r; ++yy)
-            for (int xx = x - r; xx <= x + r; ++xx) {
-                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+        /* the window inside the image, in the same order as before */
+        int x0 = x - r < 0 ? 0 : x - r, x1 = x + r >= w ? w - 1 : x + r;
+        int y0 = y - r < 0 ? 0 : y - r, y1 = y + r >= h ? h - 1 : y + r;
+        for (int yy = y0; yy <= y1; ++yy)
+            for (int xx = x0; xx <= x1; ++xx) {
                 size_t j = (size_t)yy * w + xx;
-                if (!(dv->zmax[j] >= dv->zmin[j]) || !isfinite(dv->zmax[j])) continue; /* no reflector */
-                float zlo = aaf_indirect_clamp_zmin(dv->zmin[j], size, MAAF_INDIRECT_H_MIN_FRAC);
+                float zlo = m->height_lo[j];
+                if (zlo != zlo) continue; /* no reflector */
                 lo += zlo;
-                hi += fmaxf(dv->zmax[j], zlo);
+                hi += m->height_hi[j];
                 ++count;
             }
         if (count) {
@@ -788,6 +804,28 @@ static bool pixel_heights(const ReconMethod *m, int x, int y, float *h_min, floa
     return false;
 }
 
+/* pixel_heights' terms of every pixel, for the current scene size (the clamp's floor follows it,
+ * and pass 2's guides change it): once per size, not once per window that holds the pixel (25
+ * to 121 times). */
+static void reflector_heights(ReconMethod *m)
+{
+    const AafDerived *dv = &m->derived;
+    float size = m->g->scene_size_world;
+    if (m->height_made && memcmp(&size, &m->height_size, sizeof size) == 0) return;
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    for (size_t j = 0; j < n; ++j) {
+        if (!(dv->zmax[j] >= dv->zmin[j]) || !isfinite(dv->zmax[j])) { /* no reflector */
+            m->height_lo[j] = m->height_hi[j] = NAN;
+            continue;
+        }
+        float zlo = aaf_indirect_clamp_zmin(dv->zmin[j], size, MAAF_INDIRECT_H_MIN_FRAC); /* positive, never NaN */
+        m->height_lo[j] = zlo;
+        m->height_hi[j] = fmaxf(dv->zmax[j], zlo);
+    }
+    m->height_size = size;
+    m->height_made = true;
+}
+
 /* Pixel (x, y)'s indirect x-filter (as pixel_filter for the shadows): the design of its height
  * wedge with Omega_v_max = ikappa 2.8, or a plain Gaussian where no reflector is near. */
 static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, float *components)
@@ -796,6 +834,7 @@ static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, flo
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
     if (!c->known[i]) {
         float h_min, h_max, pw = m->g->pixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
+        reflector_heights(m);
         if (pixel_heights(m, x, y, &h_min, &h_max)) {
             c->std_px[i] = maaf_pixel_param(h_min, h_max, m->dirs.omega_u_max, m->pairs, 1.0f, pw, param);
             param[0] = fminf(param[0], INDIRECT_RADIUS_CAP_PX);
@@ -1004,6 +1043,8 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
     const GBuffer *g = m->g;
     int w = g->width, pass_comps = lf->pass_comps;
     size_t per = (size_t)m->comps * 8;
+    float mean[MAAF_COMPS_MAX]; /* the indirect components' expectations: an expf each, once a band */
+    for (int c = 0; lf->ind && c < pass_comps; ++c) mean[c] = maaf_direction_mean(lf->pass_pairs, c);
     for (int y = y0; y < y1; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
@@ -1021,13 +1062,17 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                 const float *ys = lf->sums + 4 * i;
                 for (int c = 0; c < pass_comps; ++c)
                     for (int ch = 0; ch < 4; ++ch) {
-                        float re = maaf_direction_mean(lf->pass_pairs, c) * ys[ch];
+                        float re = mean[c] * ys[ch];
                         yd[8 * c + ch] = ch == 3 ? re : re * inv[ch];
                         yd[8 * c + 4 + ch] = 0.0f;
                     }
             } else {
+                /* the weight channel times 1: the same float (the sums hold no signalling NaN),
+                 * and a loop without a branch per float vectorises */
                 const float *ys = lf->sums + i * per;
-                for (size_t c = 0; c < per; ++c) yd[c] = (c & 3) == 3 ? ys[c] : ys[c] * inv[c & 3];
+                float scale[4] = {inv[0], inv[1], inv[2], 1.0f};
+                for (size_t c = 0; c < per; c += 4)
+                    for (int ch = 0; ch < 4; ++ch) yd[c + ch] = ys[c + ch] * scale[ch];
             }
             /* with defocus, per-pixel means (eq. 20 per pixel, as the lens sums: 9.8): the
              * plan's counts there vary by 10x between neighbours (recon/sample_rate.h), and with raw

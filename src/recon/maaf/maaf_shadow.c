@@ -34,8 +34,15 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
     }
     memset(l->table, 0, sizeof l->table);
     if (!(wy > 0.0f)) return;
+    /* a light as wide along t2 as along t1 (squares, disks, spheres) has the same table on both
+     * axes: the second is a copy, not 2 x 129 more integrals of 257 steps per band */
+    bool same_axes = l->lo[1] == l->lo[0] && l->hi[1] == l->hi[0];
     for (int a = 0; a < 2; ++a)
-        for (int p = 0; p < pairs; ++p)
+        for (int p = 0; p < pairs; ++p) {
+            if (a == 1 && same_axes) {
+                memcpy(l->table[1][p], l->table[0][p], sizeof l->table[0][p]);
+                continue;
+            }
             for (int e = 0; e < MAAF_YTABLE; ++e) {
                 /* c_p(y) = int_{lo - y}^{hi - y} exp(j C t) g(t) dt, t = y' - y */
                 double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0), c[2];
@@ -43,6 +50,7 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
                 l->table[a][p][e][0] = (float)c[0];
                 l->table[a][p][e][1] = (float)c[1];
             }
+        }
     for (int a = 0; a < 2; ++a)
         for (int p = 0; p < pairs; ++p)
             for (int k = 0; k < 2; ++k) { /* trapezoid rule over the uniform table */
