@@ -43,6 +43,7 @@
 #include "recon/fsf/fsf_lens_plan.h"
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_params.h"
+#include "recon/fsf/fsf_profile.h"
 #include "recon/method.h"
 #include "recon/sample_rate.h"
 
@@ -77,6 +78,7 @@ struct ReconMethod {
     int pass1_spp;               /* the samples every pixel had at the first plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
+    FsfProfile prof;             /* WEDGE_FSF_PROFILE's stage times (fsf_profile.h) */
 };
 
 static int fsf_pass1_spp(EffectMask effects)
@@ -232,7 +234,9 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
         if (!m->share && !(m->share = malloc(n * sizeof(float)))) goto oom;
         fsf_light_share(m->renderer, m->light.shape, (int)n, g->hit, g->pos4, g->nrm4, m->share);
+        fsf_profile_mark(&m->prof, "share");
         if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, area)) goto oom;
+        fsf_profile_mark(&m->prof, "area");
     }
     /* the indirect filter's own areas, kept apart for the rule below */
     if (indirect && !(bounce = malloc(n * sizeof(float)))) goto oom;
@@ -249,6 +253,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         else area[i] = shade;
     }
     if (!sample_rate_factors(m->lum4, g->width, g->height, area)) goto oom;
+    fsf_profile_mark(&m->prof, "factors");
     float *factor = m->want_spp;
     /* Pixels the indirect filter filters keep pass 1's count where no lens filter follows: their
      * extras reach the filter through fsf_match_pixel's scale, the full mean over the mean of
@@ -261,6 +266,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     /* in place: each count reads its own factor only once the search is over */
     sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
                        (double)m->budget_spp, m->want_spp);
+    fsf_profile_mark(&m->prof, "counts");
     free(bounce);
     return true;
 oom:
@@ -280,13 +286,16 @@ static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
     (void)mu;
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     if (!m->planned) {
+        fsf_profile_begin(&m->prof);
         m->pass1_spp = n ? (int)spp_now[0] : 0;
         if (effect_in(m->effects, EFFECT_DEFOCUS) && !plan_lens(m)) {
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
             return false;
         }
+        fsf_profile_mark(&m->prof, "lens");
         if (m->budget_spp > 0 && !plan_counts(m, d)) return false;
         m->planned = true;
+        fsf_profile_print(&m->prof, "plan");
     }
     if (m->budget_spp > 0)
         fsf_budget_plan(m->want_spp, n, spp_now, spp_total);
@@ -316,7 +325,10 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's light share");
         return false;
     }
+    fsf_profile_begin(&m->prof);
     fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
+    fsf_profile_mark(&m->prof, "irradiance");
+    fsf_profile_print(&m->prof, "light_factor");
     float shade_max = 0.0f;
     for (int i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
     *factor = m->shade;
@@ -368,6 +380,12 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     bool ok = true;
     if (m->cl) {
         ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
+        fsf_profile_mark(&m->prof, "cl_run");
+        FsfClProfile k = fsf_cl_profile(m->cl);
+        fsf_profile_add(&m->prof, "cl_setup", k.setup_wall), fsf_profile_add(&m->prof, "cl_queue", k.queue_wall);
+        fsf_profile_add(&m->prof, "k_taps", k.taps), fsf_profile_add(&m->prof, "k_bins", k.bins);
+        fsf_profile_add(&m->prof, "k_1a", k.pass1a), fsf_profile_add(&m->prof, "k_1b", k.pass1b);
+        fsf_profile_add(&m->prof, "k_2a", k.pass2a), fsf_profile_add(&m->prof, "k_2b", k.pass2b);
     } else if (!fsf_filter_factored(s, grid, px, gd, out4)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF passes");
@@ -392,6 +410,7 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     if (ok && m->nonfinite > before)
         fprintf(stderr, "wedge: warning: FSF: %lld pixels had a non-finite filtered value and kept their mean\n",
                 m->nonfinite - before);
+    fsf_profile_mark(&m->prof, "result");
     return ok;
 }
 
@@ -472,7 +491,9 @@ static FsfGeoTerm geo_term_of(const FsfLight *l, const float *mean_g)
 static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
     Buffers b;
+    fsf_profile_begin(&m->prof);
     if (!buffers_alloc(m, &b, d)) return false;
+    fsf_profile_mark(&m->prof, "alloc");
     bool ok = true;
     long long nonfinite = 0;
     if (!gather(m, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
@@ -480,11 +501,13 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the light or direct field");
     }
     warn_nonfinite_samples("direct-light", nonfinite);
+    fsf_profile_mark(&m->prof, "gather");
     FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu};
     if (ok && !fsf_pixel_params(&in, b.px, b.k_lo, b.k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
     }
+    fsf_profile_mark(&m->prof, "params");
     FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
     /* under a budget the collapsed pixels' extras enter their own image (fsf_budget_plan.h) */
@@ -509,12 +532,16 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
             gd.geo = &geo;
         }
     }
+    fsf_profile_mark(&m->prof, "geo_mean");
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
+    fsf_profile_mark(&m->prof, "aovs");
     if (ok && mean4) fsf_blend_collapsed(b.px, b.usable, b.count, m->g, grid.half_m, mean4, value4);
     free(mean4), free(mean_g);
     buffers_free(&b);
+    fsf_profile_mark(&m->prof, "blend_free");
+    fsf_profile_print(&m->prof, "shadows");
     return ok;
 }
 
