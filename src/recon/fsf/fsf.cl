@@ -186,6 +186,37 @@ static float fsf_geo_marginal(const FsfArgs *a, float3 p, float3 n, float y2)
     return (g.s0 + g.s1 + g.s2 + g.s3 + g.s4 + g.s5 + g.s6 + g.s7) / 8.0f;
 }
 
+/* fsf_geo_marginal at the B bin centres y2 (B <= FSF_MAX_Y2_BINS; gm holds B rounded up to 8),
+ * eight bins at once: for each z1 midpoint G over eight bins, each bin's eight terms summed in
+ * z1's order as fsf_geo_marginal's one float8 does lane by lane, so the same floats without
+ * its horizontal sum per bin. G's expressions are fsf_geo_G8's; the y2 term is its own product
+ * (in fsf_geo_G8 y2 is a scalar whose product is not fused with the vector sum: here neither) */
+static void fsf_geo_marginals(const FsfArgs *a, float3 p, float3 n, float L2, int B, float *gm)
+{
+    const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
+    float z1s[8], y2s[FSF_MAX_Y2_BINS + 8];
+    vstore8(a->half1 * (2.0f * (lane + 0.5f) / 8.0f - 1.0f), 0, z1s);
+    for (int b = 0; b < B; ++b) y2s[b] = 2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B);
+    for (int b = B; b < (B + 7) / 8 * 8; ++b) y2s[b] = 0.0f; /* lanes past B: computed, never read */
+    for (int b0 = 0; b0 < B; b0 += 8) {
+        float8 y2 = vload8(0, y2s + b0);
+        float8 v0 = y2 * a->lv[0], v1 = y2 * a->lv[1], v2 = y2 * a->lv[2];
+        float8 sum = (float8)(0.0f);
+        for (int k = 0; k < 8; ++k) {
+            float8 z1 = (float8)(z1s[k]);
+            float8 l0 = a->lc[0] + z1 * a->lu[0] + v0 - p.x;
+            float8 l1 = a->lc[1] + z1 * a->lu[1] + v1 - p.y;
+            float8 l2 = a->lc[2] + z1 * a->lu[2] + v2 - p.z;
+            float8 d2 = l0 * l0 + l1 * l1 + l2 * l2, inv_d = 1.0f / sqrt(d2);
+            float8 cos_r = (l0 * n.x + l1 * n.y + l2 * n.z) * inv_d;
+            float8 cos_l = fabs(l0 * a->ln[0] + l1 * a->ln[1] + l2 * a->ln[2]) * inv_d;
+            float8 g = select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
+            sum = k == 0 ? g : sum + g;
+        }
+        vstore8(sum / 8.0f, 0, gm + b0);
+    }
+}
+
 /* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12) over the image rows
  * row0 .. row1 - 1 (one work item per pixel of the launch), one slice of P each, interleaved:
  * node n of slice c at float4 n * C + c (node n = J * pixel + j, pixel (x, y) at row y % ring),
@@ -336,14 +367,12 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     float4 gi[FSF_MAX_Y2_BINS];
     for (int b = 0; b < B; ++b) gi[b] = vload4(B * i + b, G);
     /* form 4 along the second axis (fsf_pass2a): the z1-marginals at the bin centres */
-    float gm[FSF_MAX_Y2_BINS];
+    float gm[FSF_MAX_Y2_BINS + 8];
     int geo = a.geo && mean_g[i] > 0.0f;
     if (geo) {
         float3 gp = vload3(0, pos4 + 4 * i), gn = vload3(0, nrm4 + 4 * i);
-        for (int b = 0; geo && b < B; ++b) {
-            gm[b] = fsf_geo_marginal(&a, gp, gn, 2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B));
-            geo = gm[b] > 0.0f;
-        }
+        fsf_geo_marginals(&a, gp, gn, L2, B, gm);
+        for (int b = 0; geo && b < B; ++b) geo = gm[b] > 0.0f;
     }
     /* each bin divided by its own marginal once (none: gm 1, the plain sums exactly) */
     for (int b = 0; b < B; ++b) {
