@@ -62,6 +62,7 @@ struct ReconMethod {
     FsfCl *cl;
     float *shade;                /* unoccluded irradiance (the light factor) */
     float *share;                /* FSF's light's share of it (FSF_MIN_LIGHT_SHARE), NULL until computed */
+    FsfShadeInputs shade_from;   /* the guides shade and share were last found from (the plan's), or none */
     EffectMask effects;
     float *eta_aov, *sigma_aov, *spread_aov;
     float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
@@ -116,6 +117,7 @@ static void fsf_destroy(ReconMethod *m)
     fsf_cl_destroy(m->cl);
     free(m->shade);
     free(m->share);
+    fsf_shade_inputs_free(&m->shade_from);
     free(m->eta_aov);
     free(m->sigma_aov);
     free(m->spread_aov);
@@ -233,7 +235,11 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     for (size_t i = 0; i < n; ++i) area[i] = INFINITY; /* INFINITY: no shading filter reads the pixel */
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
         if (!m->share && !(m->share = malloc(n * sizeof(float)))) goto oom;
-        fsf_light_share(m->renderer, m->light.shape, (int)n, g->hit, g->pos4, g->nrm4, m->share);
+        /* with r(x) too (the same cost), kept with its guides: the filter recomputes only the
+         * pixels whose guides pass 2 changed */
+        fsf_irradiance_and_share(m->renderer, m->light.shape, (int)n, g->hit, g->pos4, g->nrm4, m->shade, m->share);
+        fsf_shade_inputs_free(&m->shade_from);
+        fsf_shade_inputs_keep(&m->shade_from, (int)n, g->hit, g->pos4, g->nrm4); /* out of memory: all recomputed */
         fsf_profile_mark(&m->prof, "share");
         if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, area)) goto oom;
         fsf_profile_mark(&m->prof, "area");
@@ -326,7 +332,11 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
         return false;
     }
     fsf_profile_begin(&m->prof);
-    fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
+    if (m->shade_from.hit)
+        fsf_irradiance_and_share_since(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4,
+                                       &m->shade_from, m->shade, m->share);
+    else
+        fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
     fsf_profile_mark(&m->prof, "irradiance");
     fsf_profile_print(&m->prof, "light_factor");
     float shade_max = 0.0f;
