@@ -1,7 +1,8 @@
 /* WEDGE_FSF_PROFILE=1: where an FSF frame's filter time goes. Each stage of the plan and the
  * filters (host work, the OpenCL run, each kernel's device time) is printed to stderr as one
  * line per filtering: wall milliseconds, the process's CPU milliseconds (PoCL's threads
- * included) and its minor page faults (first touches of fresh memory) during the stage. A
+ * included), the system part of them, and its minor page faults (first touches of fresh
+ * memory) during the stage. A
  * measuring aid (docs/benchmarks.md, "FSF's filter cost, sixth round"); without the variable
  * every call returns at once. */
 #ifndef WEDGE_RECON_FSF_PROFILE_H
@@ -15,9 +16,9 @@ typedef struct {
     bool on;
     int count;
     const char *name[FSF_PROFILE_STAGES];
-    double wall_ms[FSF_PROFILE_STAGES], cpu_ms[FSF_PROFILE_STAGES];
+    double wall_ms[FSF_PROFILE_STAGES], cpu_ms[FSF_PROFILE_STAGES], sys_ms[FSF_PROFILE_STAGES];
     long faults[FSF_PROFILE_STAGES];
-    double t_wall, t_cpu; /* the last mark's */
+    double t_wall, t_cpu, t_sys; /* the last mark's */
     long t_faults;
 } FsfProfile;
 
