@@ -63,6 +63,10 @@ struct ReconMethod {
     float *shade;                /* unoccluded irradiance (the light factor) */
     float *share;                /* FSF's light's share of it (FSF_MIN_LIGHT_SHARE), NULL until computed */
     FsfShadeInputs shade_from;   /* the guides shade and share were last found from (the plan's), or none */
+    FsfSlopeWindows windows;     /* the plan's slope windows (block NULL: none), valid while the store's
+                                  * counts and the guides' object ids equal these: */
+    int *windows_count;
+    float *windows_obj;
     EffectMask effects;
     float *eta_aov, *sigma_aov, *spread_aov;
     float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
@@ -118,6 +122,9 @@ static void fsf_destroy(ReconMethod *m)
     free(m->shade);
     free(m->share);
     fsf_shade_inputs_free(&m->shade_from);
+    fsf_slope_windows_free(&m->windows);
+    free(m->windows_count);
+    free(m->windows_obj);
     free(m->eta_aov);
     free(m->sigma_aov);
     free(m->spread_aov);
@@ -218,6 +225,41 @@ static int fsf_shared(ReconMethod *m, DistArray *out, int max)
     return count;
 }
 
+/* The slope windows of the shadow parameters (fsf_shadow_windows), found for the plan and kept
+ * with what they depend on: the store's samples (append-only: its counts say whether any were
+ * added) and the guides' object ids. None kept when out of memory (the filter finds its own). */
+static void keep_windows(ReconMethod *m)
+{
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    m->windows_count = malloc(n * sizeof(int)), m->windows_obj = malloc(n * sizeof(float));
+    if (!m->windows_count || !m->windows_obj || !fsf_shadow_windows(m->g, m->store, &m->windows)) {
+        free(m->windows_count), free(m->windows_obj);
+        m->windows_count = NULL, m->windows_obj = NULL;
+        return;
+    }
+    for (size_t i = 0; i < n; ++i)
+        m->windows_count[i] = sample_store_count(m->store, i), m->windows_obj[i] = m->g->nrm4[4 * i + 3];
+}
+
+/* The kept windows for the store and guides as they are now, or NULL (then fsf_pixel_params
+ * finds them anew): when the store gained samples, none; when pass 2 gave some pixels an object
+ * id (a first hit) or another one, the kept windows updated around their rows. */
+static const FsfSlopeWindows *kept_windows(ReconMethod *m)
+{
+    if (!m->windows.block) return NULL;
+    int w = m->g->width, h = m->g->height, y0 = h, y1 = -1;
+    for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) {
+        if (m->windows_count[i] != sample_store_count(m->store, i)) return NULL;
+        if (memcmp(&m->windows_obj[i], &m->g->nrm4[4 * i + 3], sizeof(float)) != 0) {
+            int y = (int)(i / (size_t)w);
+            y0 = y < y0 ? y : y0, y1 = y;
+            m->windows_obj[i] = m->g->nrm4[4 * i + 3];
+        }
+    }
+    if (y1 >= 0) fsf_slope_windows_update(&m->windows, w, h, m->windows_obj, y0, y1);
+    return &m->windows;
+}
+
 /* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
  * allocation of the budget by the count factors sqrt(v / A). A: the
  * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
@@ -241,7 +283,9 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         fsf_shade_inputs_free(&m->shade_from);
         fsf_shade_inputs_keep(&m->shade_from, (int)n, g->hit, g->pos4, g->nrm4); /* out of memory: all recomputed */
         fsf_profile_mark(&m->prof, "share");
-        if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, area)) goto oom;
+        if (!m->windows.block) keep_windows(m);
+        if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, m->windows.block ? &m->windows : NULL, area))
+            goto oom;
         fsf_profile_mark(&m->prof, "area");
     }
     /* the indirect filter's own areas, kept apart for the rule below */
@@ -514,7 +558,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
     }
     warn_nonfinite_samples("direct-light", nonfinite);
     fsf_profile_mark(&m->prof, "gather");
-    FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu};
+    FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu, kept_windows(m)};
     if (ok && !fsf_pixel_params(&in, b.px, b.k_lo, b.k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
