@@ -100,7 +100,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 ti = (int8)(e0 - r) + FSF_LANES8;
         float8 tf = convert_float8(ti);
         int8 qx = x + convert_int8(floor(tf * dx + 0.5f)), qy = y + convert_int8(floor(tf * dy + 0.5f));
-        int8 ok = (ti <= r) & (qx >= 0) & (qy >= 0) & (qx < a.width) & (qy < a.height);
+        int8 ok = (ti <= r) & (qx >= 0) & (qy >= 0) & (qx < a.width) & (qy < a.height), in_frame = ok;
         int8 q = select((int8)(i), qy * a.width + qx, ok);
         /* fsf_accept for t != 0: usable, normal within the cone, on the centre's plane */
         int8 use = (int8)(usable[q.s0], usable[q.s1], usable[q.s2], usable[q.s3], usable[q.s4], usable[q.s5],
@@ -121,7 +121,12 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 j0 = min(convert_int8(floor(f)), J - 2);
         float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma);
         int o = tap_off[i] + e0;
-        int8 qp = (q / a.width % ring) * a.width + q % a.width; /* q's pixel in the ring */
+        /* q's pixel in the ring: q's row is y + dy (|dy| <= halo < ring where the tap is kept, the
+         * node of a dropped one is not used), so its ring row is y's wrapped once; q / width %
+         * ring and q % width in integers, without a vector division (24 scalar ones) */
+        int8 dyq = select((int8)(0), qy - y, in_frame), ry = (int8)(y % ring) + dyq;
+        ry = select(ry, ry + ring, ry < 0), ry = select(ry, ry - ring, ry >= ring);
+        int8 qp = ry * a.width + select((int8)(x), qx, in_frame);
         vstore8(select((int8)(-1), qp * J + j0, ok), 0, tap_node + o);
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
