@@ -183,6 +183,21 @@ static float8 fsf_geo_G8(const FsfArgs *a, float3 p, float3 n, float8 z1, float 
     return select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
 }
 
+/* fsf_geo_G8 with y2 per lane: its products with the light's v axis on their own, as in
+ * fsf_geo_G8, where y2 is a scalar whose product is not fused into the vector sum (a vector
+ * product inside the sum would be): the same floats lane by lane */
+static float8 fsf_geo_G8y(const FsfArgs *a, float3 p, float3 n, float8 z1, float8 y2)
+{
+    float8 v0 = y2 * a->lv[0], v1 = y2 * a->lv[1], v2 = y2 * a->lv[2];
+    float8 l0 = a->lc[0] + z1 * a->lu[0] + v0 - p.x;
+    float8 l1 = a->lc[1] + z1 * a->lu[1] + v1 - p.y;
+    float8 l2 = a->lc[2] + z1 * a->lu[2] + v2 - p.z;
+    float8 d2 = l0 * l0 + l1 * l1 + l2 * l2, inv_d = 1.0f / sqrt(d2);
+    float8 cos_r = (l0 * n.x + l1 * n.y + l2 * n.z) * inv_d;
+    float8 cos_l = fabs(l0 * a->ln[0] + l1 * a->ln[1] + l2 * a->ln[2]) * inv_d;
+    return select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
+}
+
 /* fsf_geo_marginal (fsf_geo_term.c): G's mean over 8 midpoints in z1 at y2, summed in its order */
 static float fsf_geo_marginal(const FsfArgs *a, float3 p, float3 n, float y2)
 {
@@ -192,10 +207,9 @@ static float fsf_geo_marginal(const FsfArgs *a, float3 p, float3 n, float y2)
 }
 
 /* fsf_geo_marginal at the B bin centres y2 (B <= FSF_MAX_Y2_BINS; gm holds B rounded up to 8),
- * eight bins at once: for each z1 midpoint G over eight bins, each bin's eight terms summed in
- * z1's order as fsf_geo_marginal's one float8 does lane by lane, so the same floats without
- * its horizontal sum per bin. G's expressions are fsf_geo_G8's; the y2 term is its own product
- * (in fsf_geo_G8 y2 is a scalar whose product is not fused with the vector sum: here neither) */
+ * eight bins at once: for each z1 midpoint G over eight bins (fsf_geo_G8y), each bin's eight
+ * terms summed in z1's order as fsf_geo_marginal's one float8 does lane by lane, so the same
+ * floats without its horizontal sum per bin */
 static void fsf_geo_marginals(const FsfArgs *a, float3 p, float3 n, float L2, int B, float *gm)
 {
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
@@ -204,18 +218,9 @@ static void fsf_geo_marginals(const FsfArgs *a, float3 p, float3 n, float L2, in
     for (int b = 0; b < B; ++b) y2s[b] = 2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B);
     for (int b = B; b < (B + 7) / 8 * 8; ++b) y2s[b] = 0.0f; /* lanes past B: computed, never read */
     for (int b0 = 0; b0 < B; b0 += 8) {
-        float8 y2 = vload8(0, y2s + b0);
-        float8 v0 = y2 * a->lv[0], v1 = y2 * a->lv[1], v2 = y2 * a->lv[2];
-        float8 sum = (float8)(0.0f);
+        float8 y2 = vload8(0, y2s + b0), sum = (float8)(0.0f);
         for (int k = 0; k < 8; ++k) {
-            float8 z1 = (float8)(z1s[k]);
-            float8 l0 = a->lc[0] + z1 * a->lu[0] + v0 - p.x;
-            float8 l1 = a->lc[1] + z1 * a->lu[1] + v1 - p.y;
-            float8 l2 = a->lc[2] + z1 * a->lu[2] + v2 - p.z;
-            float8 d2 = l0 * l0 + l1 * l1 + l2 * l2, inv_d = 1.0f / sqrt(d2);
-            float8 cos_r = (l0 * n.x + l1 * n.y + l2 * n.z) * inv_d;
-            float8 cos_l = fabs(l0 * a->ln[0] + l1 * a->ln[1] + l2 * a->ln[2]) * inv_d;
-            float8 g = select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
+            float8 g = fsf_geo_G8y(a, p, n, (float8)(z1s[k]), y2);
             sum = k == 0 ? g : sum + g;
         }
         vstore8(sum / 8.0f, 0, gm + b0);
