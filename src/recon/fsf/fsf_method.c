@@ -434,8 +434,8 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     bool ok = true;
     if (m->cl) {
         ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
-        for (int rep = getenv("WEDGE_FSF_REPEAT") ? atoi(getenv("WEDGE_FSF_REPEAT")) : 0; rep > 0; --rep)
-            fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d); /* TEMPORARY */
+        for (int rep = fsf_profile_repeats(&m->prof); ok && rep > 0; --rep) /* a measuring aid: the same out4 */
+            ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
         fsf_profile_mark(&m->prof, "cl_run");
         FsfClProfile k = fsf_cl_profile(m->cl);
         fsf_profile_add(&m->prof, "cl_setup", k.setup_wall), fsf_profile_add(&m->prof, "cl_queue", k.queue_wall);

@@ -49,6 +49,13 @@ void fsf_profile_add(FsfProfile *p, const char *stage, double seconds)
     p->count++;
 }
 
+int fsf_profile_repeats(const FsfProfile *p)
+{
+    const char *env = getenv("WEDGE_FSF_PROFILE_REPEAT");
+    int n = p->on && env ? atoi(env) : 0;
+    return n > 0 ? n : 0;
+}
+
 void fsf_profile_print(FsfProfile *p, const char *label)
 {
     if (!p->on) return;
