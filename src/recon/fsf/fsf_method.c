@@ -296,6 +296,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no bounce field)");
         return false;
     }
+    if (indirect) fsf_profile_mark(&m->prof, "bounce_area");
     for (size_t i = 0; i < n; ++i) {
         float shade = indirect ? fminf(area[i], bounce[i]) : area[i];
         shade = shade == INFINITY ? 0.0f : shade;
@@ -605,6 +606,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
 static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
     Buffers b;
+    fsf_profile_begin(&m->prof);
     if (!buffers_alloc(m, &b, d)) return false;
     bool ok = true;
     long long nonfinite = 0;
@@ -620,10 +622,13 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     }
     FsfGrid grid = fsf_bounce_grid();
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
+    fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
                                kernel_seconds, d);
     buffers_free(&b);
+    fsf_profile_mark(&m->prof, "aovs_free");
+    fsf_profile_print(&m->prof, "indirect");
     return ok;
 }
 
@@ -644,6 +649,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     int w = m->g->width, h = m->g->height;
     size_t n = (size_t)w * (size_t)h;
     Buffers b;
+    fsf_profile_begin(&m->prof);
     if (!buffers_alloc(m, &b, d)) return false;
     bool ok = true;
     long long nonfinite = 0;
@@ -662,11 +668,14 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     }
     FsfGrid grid = fsf_lens_grid();
     FsfGuides gd = fsf_guides_unguided(b.usable); /* defocus rejects no neighbour */
+    fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b.k_lo[i], b.k_hi[i]) ? 1.0f : 0.0f;
     buffers_free(&b);
+    fsf_profile_mark(&m->prof, "aovs_free");
+    fsf_profile_print(&m->prof, "defocus");
     return ok;
 }
 
