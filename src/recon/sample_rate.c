@@ -70,11 +70,16 @@ bool sample_rate_factors(const float *moments4, int width, int height, float *ar
     return ok;
 }
 
+/* fmin(fmax(x, lo), hi) for lo <= hi, as compares: gcc calls libm for fmin and fmax, which
+ * cost the search more than its sums. The same value for every x: NaN gives lo (fmax drops
+ * it), and a tie returns a number equal to both */
+static inline double clamp_to(double x, double lo, double hi) { return x > lo ? (x < hi ? x : hi) : lo; }
+
 /* sum_i clamp(lambda f_i, lo, hi) */
 static double spent(const float *factor, size_t n, double lambda, double lo, double hi)
 {
     double s = 0.0;
-    for (size_t i = 0; i < n; ++i) s += fmin(fmax(lambda * factor[i], lo), hi);
+    for (size_t i = 0; i < n; ++i) s += clamp_to(lambda * factor[i], lo, hi);
     return s;
 }
 
@@ -93,7 +98,7 @@ void sample_rate_counts(const float *factor, size_t n, float floor_spp, float ca
         else l1 = mid;
     }
     double sum = 0.0;
-    for (size_t i = 0; i < n; ++i) sum += spp_out[i] = (float)fmin(fmax(l1 * factor[i], lo), hi);
+    for (size_t i = 0; i < n; ++i) sum += spp_out[i] = (float)clamp_to(l1 * factor[i], lo, hi);
     /* nothing left to follow the factors: the rest evenly */
     double rest = n ? (goal - sum) / (double)n : 0.0;
     if (rest > 1e-6)

@@ -9,6 +9,8 @@
  * first light axis (the penumbra along the first gather, pass 1a's factor) and across the
  * second (the penumbra along the second gather, pass 2a's factor). Also: the factored passes
  * follow the oracle with the correction as closely as without it. */
+#include <string.h>
+
 #include "check.h"
 #include "fsf_synth.h"
 
@@ -107,8 +109,64 @@ static void run(int axis, double e[4], double d[2])
     fsf_synth_free(&f);
 }
 
+/* fsf_geo_mean (vector loops over blocks of pixels) against its definition one pixel and one
+ * light point at a time through fsf_geo_G: 0 where not usable or a light corner is below the
+ * horizon, else the double sum of the 8 x 8 midpoints in a, b order over 64. Receivers above,
+ * beside and tilted under a light, some facing away, some straddling (one corner below); 600
+ * pixels, so the last block is partial. Must be equal, not close. */
+static void geo_mean_exact(void)
+{
+    enum { NP = 600, M = 8 };
+    FsfGeoTerm t = {{0.1f, 1.2f, -0.3f}, {{0.8f, 0.0f, 0.6f}, {0.0f, 1.0f, 0.0f}}, {0.6f, 0.0f, -0.8f}, NULL};
+    const float half_m[2] = {0.4f, 0.25f};
+    float *pos = malloc(sizeof(float) * 4 * NP), *nrm = malloc(sizeof(float) * 4 * NP), *got = malloc(sizeof(float) * NP);
+    unsigned char *usable = malloc(NP);
+    unsigned s = 9;
+    int kept = 0, corners = 0, only_below[4] = {0}, differ = 0;
+    float r[6];
+    for (int i = 0; i < NP; ++i) {
+        for (int k = 0; k < 6; ++k) s = s * 1664525u + 1013904223u, r[k] = (float)(s >> 8 & 65535) / 65535.0f;
+        /* within a metre of the light, below it; a normal anywhere on the sphere */
+        pos[4 * i] = 2.0f * r[0] - 0.9f, pos[4 * i + 1] = 1.5f * r[1] - 0.5f, pos[4 * i + 2] = 2.0f * r[2] - 1.3f;
+        pos[4 * i + 3] = 1.0f;
+        float nx = 2.0f * r[3] - 1.0f, ny = 2.0f * r[4] - 0.7f, nz = 2.0f * r[5] - 1.0f, len = sqrtf(nx * nx + ny * ny + nz * nz);
+        nrm[4 * i] = nx / len, nrm[4 * i + 1] = ny / len, nrm[4 * i + 2] = nz / len, nrm[4 * i + 3] = 0.0f;
+        usable[i] = i % 11 != 0;
+    }
+    fsf_geo_mean(&t, pos, nrm, usable, half_m, NP, got);
+    for (int i = 0; i < NP; ++i) {
+        const float *p = pos + 4 * i, *nr = nrm + 4 * i;
+        float want = 0.0f;
+        int above = 1, below = 0, which = 0;
+        for (int c = 0; c < 4; ++c) {
+            int up = fsf_geo_G(&t, p, nr, (c & 1 ? 1.0f : -1.0f) * half_m[0], (c & 2 ? 1.0f : -1.0f) * half_m[1]) > 0.0f;
+            above &= up, below += !up, which = up ? which : c;
+        }
+        if (usable[i] && below == 1) only_below[which]++;
+        if (usable[i] && above) {
+            double sum = 0.0;
+            for (int a = 0; a < M; ++a)
+                for (int b = 0; b < M; ++b)
+                    sum += fsf_geo_G(&t, p, nr, half_m[0] * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f),
+                                     half_m[1] * (2.0f * ((float)b + 0.5f) / (float)M - 1.0f));
+            float mean = (float)(sum / (double)(M * M));
+            want = isfinite(mean) && mean > 0.0f ? mean : 0.0f;
+        }
+        kept += want > 0.0f, corners += usable[i] && !above;
+        differ += memcmp(&want, &got[i], sizeof(float)) != 0;
+    }
+    printf("fsf_geo_mean: %d of %d pixels with a mean term, %d with a corner below the horizon (only corner 0, 1, 2, 3: "
+           "%d, %d, %d, %d), %d differ\n",
+           kept, NP, corners, only_below[0], only_below[1], only_below[2], only_below[3], differ);
+    CHECK(differ == 0);
+    CHECK(kept > 10 && corners > 10); /* the cases exercised, each corner alone below the horizon too */
+    for (int c = 0; c < 4; ++c) CHECK(only_below[c] > 0);
+    free(pos), free(nrm), free(got), free(usable);
+}
+
 int main(void)
 {
+    geo_mean_exact();
     double e[4], d[2];
     for (int axis = 0; axis < 2; ++axis) {
         run(axis, e, d);

@@ -3,13 +3,15 @@
  * it is on the object of (x, q) and (x, q) is on the centre's (a row, then a column, on the
  * centre's object). Random slopes with samples missing (NaN) and pixels without any, random
  * object patches, a frame that is not square; with and without object ids. min and max are
- * exact, so the results must be equal, not close. */
+ * exact, so the results must be equal, not close. Then fsf_slope_windows_update after some
+ * object ids change: equal to the windows found anew. */
 #include "check.h"
 #include "recon/fsf/fsf_slope_window.h"
 
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 enum { W = 41, H = 29, CAP = 3 };
 
@@ -83,6 +85,30 @@ int main(void)
                mismatches, FSF_LEVELS * W * H, empty);
         CHECK(mismatches == 0);
         CHECK(empty > 0 || !with_obj); /* the oracle's empty case is exercised (pixels without slopes) */
+        if (with_obj) { /* some object ids change in rows 9 .. 12 (pass 2's first hits): updated,
+                         * the windows must equal those found anew, bit for bit */
+            float *obj2 = malloc(sizeof(float) * W * H);
+            memcpy(obj2, obj, sizeof(float) * W * H);
+            for (int y = 9; y <= 12; ++y)
+                for (int x = y; x < W; x += 6) obj2[(size_t)y * W + (size_t)x] = (float)(x % 3 == 0 ? -1 : 5);
+            FsfSlopeWindows fresh;
+            CHECK(fsf_slope_windows(st, W, H, slope_of, slopes, obj2, &fresh));
+            fsf_slope_windows_update(&w, W, H, obj2, 9, 12);
+            long differ = 0, moved = 0;
+            for (int l = 0; l < FSF_LEVELS; ++l)
+                for (size_t i = 0; i < (size_t)W * H; ++i) {
+                    differ += memcmp(&w.lo[l][i], &fresh.lo[l][i], sizeof(float)) != 0 ||
+                              memcmp(&w.hi[l][i], &fresh.hi[l][i], sizeof(float)) != 0;
+                    float lo, hi;
+                    brute(st, slopes, obj, (int)(i % W), (int)(i / W), FSF_LEVEL_RADIUS_PX[l], &lo, &hi);
+                    moved += fresh.lo[l][i] != lo || fresh.hi[l][i] != hi;
+                }
+            printf("object ids changed in rows 9-12: %ld ranges moved, %ld differ after the update\n", moved, differ);
+            CHECK(differ == 0);
+            CHECK(moved > 0); /* the change reaches the windows */
+            fsf_slope_windows_free(&fresh);
+            free(obj2);
+        }
         fsf_slope_windows_free(&w);
     }
     free(slopes), free(obj);

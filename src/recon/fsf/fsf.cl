@@ -100,7 +100,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 ti = (int8)(e0 - r) + FSF_LANES8;
         float8 tf = convert_float8(ti);
         int8 qx = x + convert_int8(floor(tf * dx + 0.5f)), qy = y + convert_int8(floor(tf * dy + 0.5f));
-        int8 ok = (ti <= r) & (qx >= 0) & (qy >= 0) & (qx < a.width) & (qy < a.height);
+        int8 ok = (ti <= r) & (qx >= 0) & (qy >= 0) & (qx < a.width) & (qy < a.height), in_frame = ok;
         int8 q = select((int8)(i), qy * a.width + qx, ok);
         /* fsf_accept for t != 0: usable, normal within the cone, on the centre's plane */
         int8 use = (int8)(usable[q.s0], usable[q.s1], usable[q.s2], usable[q.s3], usable[q.s4], usable[q.s5],
@@ -121,7 +121,12 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 j0 = min(convert_int8(floor(f)), J - 2);
         float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma);
         int o = tap_off[i] + e0;
-        int8 qp = (q / a.width % ring) * a.width + q % a.width; /* q's pixel in the ring */
+        /* q's pixel in the ring: q's row is y + dy (|dy| <= halo < ring where the tap is kept, the
+         * node of a dropped one is not used), so its ring row is y's wrapped once; q / width %
+         * ring and q % width in integers, without a vector division (24 scalar ones) */
+        int8 dyq = select((int8)(0), qy - y, in_frame), ry = (int8)(y % ring) + dyq;
+        ry = select(ry, ry + ring, ry < 0), ry = select(ry, ry - ring, ry >= ring);
+        int8 qp = ry * a.width + select((int8)(x), qx, in_frame);
         vstore8(select((int8)(-1), qp * J + j0, ok), 0, tap_node + o);
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
@@ -178,12 +183,48 @@ static float8 fsf_geo_G8(const FsfArgs *a, float3 p, float3 n, float8 z1, float 
     return select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
 }
 
+/* fsf_geo_G8 with y2 per lane: its products with the light's v axis on their own, as in
+ * fsf_geo_G8, where y2 is a scalar whose product is not fused into the vector sum (a vector
+ * product inside the sum would be): the same floats lane by lane */
+static float8 fsf_geo_G8y(const FsfArgs *a, float3 p, float3 n, float8 z1, float8 y2)
+{
+    float8 v0 = y2 * a->lv[0], v1 = y2 * a->lv[1], v2 = y2 * a->lv[2];
+    float8 l0 = a->lc[0] + z1 * a->lu[0] + v0 - p.x;
+    float8 l1 = a->lc[1] + z1 * a->lu[1] + v1 - p.y;
+    float8 l2 = a->lc[2] + z1 * a->lu[2] + v2 - p.z;
+    float8 d2 = l0 * l0 + l1 * l1 + l2 * l2, inv_d = 1.0f / sqrt(d2);
+    float8 cos_r = (l0 * n.x + l1 * n.y + l2 * n.z) * inv_d;
+    float8 cos_l = fabs(l0 * a->ln[0] + l1 * a->ln[1] + l2 * a->ln[2]) * inv_d;
+    return select((float8)(0.0f), cos_r * cos_l / d2, (d2 > 0.0f) & (cos_r > 0.0f));
+}
+
 /* fsf_geo_marginal (fsf_geo_term.c): G's mean over 8 midpoints in z1 at y2, summed in its order */
 static float fsf_geo_marginal(const FsfArgs *a, float3 p, float3 n, float y2)
 {
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     float8 g = fsf_geo_G8(a, p, n, a->half1 * (2.0f * (lane + 0.5f) / 8.0f - 1.0f), y2);
     return (g.s0 + g.s1 + g.s2 + g.s3 + g.s4 + g.s5 + g.s6 + g.s7) / 8.0f;
+}
+
+/* fsf_geo_marginal at the B bin centres y2 (B <= FSF_MAX_Y2_BINS; gm holds B rounded up to 8),
+ * eight bins at once: for each z1 midpoint G over eight bins (fsf_geo_G8y), each bin's eight
+ * terms summed in z1's order as fsf_geo_marginal's one float8 does lane by lane, so the same
+ * floats without its horizontal sum per bin */
+static void fsf_geo_marginals(const FsfArgs *a, float3 p, float3 n, float L2, int B, float *gm)
+{
+    const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
+    float z1s[8], y2s[FSF_MAX_Y2_BINS + 8];
+    vstore8(a->half1 * (2.0f * (lane + 0.5f) / 8.0f - 1.0f), 0, z1s);
+    for (int b = 0; b < B; ++b) y2s[b] = 2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B);
+    for (int b = B; b < (B + 7) / 8 * 8; ++b) y2s[b] = 0.0f; /* lanes past B: computed, never read */
+    for (int b0 = 0; b0 < B; b0 += 8) {
+        float8 y2 = vload8(0, y2s + b0), sum = (float8)(0.0f);
+        for (int k = 0; k < 8; ++k) {
+            float8 g = fsf_geo_G8y(a, p, n, (float8)(z1s[k]), y2);
+            sum = k == 0 ? g : sum + g;
+        }
+        vstore8(sum / 8.0f, 0, gm + b0);
+    }
 }
 
 /* Pass 1a for the y2 bins bin0 .. bin0 + C - 1 (fsf_pass1a, eq. 12) over the image rows
@@ -336,14 +377,12 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     float4 gi[FSF_MAX_Y2_BINS];
     for (int b = 0; b < B; ++b) gi[b] = vload4(B * i + b, G);
     /* form 4 along the second axis (fsf_pass2a): the z1-marginals at the bin centres */
-    float gm[FSF_MAX_Y2_BINS];
+    float gm[FSF_MAX_Y2_BINS + 8];
     int geo = a.geo && mean_g[i] > 0.0f;
     if (geo) {
         float3 gp = vload3(0, pos4 + 4 * i), gn = vload3(0, nrm4 + 4 * i);
-        for (int b = 0; geo && b < B; ++b) {
-            gm[b] = fsf_geo_marginal(&a, gp, gn, 2.0f * L2 / (float)B * ((float)b + 0.5f - 0.5f * (float)B));
-            geo = gm[b] > 0.0f;
-        }
+        fsf_geo_marginals(&a, gp, gn, L2, B, gm);
+        for (int b = 0; geo && b < B; ++b) geo = gm[b] > 0.0f;
     }
     /* each bin divided by its own marginal once (none: gm 1, the plain sums exactly) */
     for (int b = 0; b < B; ++b) {

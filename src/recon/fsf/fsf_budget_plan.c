@@ -76,7 +76,7 @@ static void params_free(PlanParams *p)
 }
 
 bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *light, const float *share, float mu,
-                     float *area_px)
+                     const FsfSlopeWindows *windows, float *area_px)
 {
     size_t n = (size_t)g->width * (size_t)g->height;
     PlanParams p;
@@ -85,7 +85,7 @@ bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *li
      * a pixel whose samples are all dark is filtered there but is no less noisy here */
     for (size_t i = 0; ok && i < n; ++i)
         p.usable[i] = sample_store_count(st, i) > 0 && g->hit[i] && !g->mixed[i];
-    FsfParamsIn in = {g, st, light, p.usable, mu};
+    FsfParamsIn in = {g, st, light, p.usable, mu, windows};
     ok = ok && fsf_pixel_params(&in, p.px, p.k_lo, p.k_hi);
     for (size_t i = 0; ok && i < n; ++i) {
         /* a surface the filter passes through: mixed (several surfaces), or most of its light

@@ -10,9 +10,11 @@
 typedef struct FsfCl FsfCl;
 
 /* Device seconds of each kernel in the last fsf_cl_run (PoCL event profiling), summed over
- * its launches. */
+ * its launches; and the run's wall seconds before the first launch (halos, tap offsets, the
+ * buffers) and from it to the download's end. */
 typedef struct {
     double taps, bins, pass1a, pass1b, pass2a, pass2b;
+    double setup_wall, queue_wall;
 } FsfClProfile;
 FsfClProfile fsf_cl_profile(const FsfCl *f);
 

@@ -2,6 +2,10 @@
 #include "recon/fsf/fsf_geo_term.h"
 
 #include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+#include "core/vectorise.h"
 
 float fsf_geo_G(const FsfGeoTerm *t, const float *pos, const float *nrm, float z1, float z2)
 {
@@ -15,26 +19,76 @@ float fsf_geo_G(const FsfGeoTerm *t, const float *pos, const float *nrm, float z
     return cos_r > 0.0f ? cos_r * cos_l / d2 : 0.0f;
 }
 
+/* G as fsf_geo_G, at the light point lp (world: the centre plus z1 u plus z2 v, summed in
+ * fsf_geo_G's order) from n receivers at once, written without branches so that the loop
+ * vectorises: the same float operations lane by lane, hence the same bits. */
+static inline float geo_G_at(const FsfGeoTerm *t, const float lp[3], float px, float py, float pz, float nx, float ny,
+                             float nz)
+{
+    float l0 = lp[0] - px, l1 = lp[1] - py, l2 = lp[2] - pz;
+    float d2 = l0 * l0 + l1 * l1 + l2 * l2;
+    float inv_d = 1.0f / sqrtf(d2);
+    float cos_r = (l0 * nx + l1 * ny + l2 * nz) * inv_d;
+    float cos_l = fabsf(l0 * t->normal[0] + l1 * t->normal[1] + l2 * t->normal[2]) * inv_d;
+    float g = cos_r * cos_l / d2; /* computed in every lane, kept where fsf_geo_G would */
+    int keep = isgreater(d2, 0.0f) & isgreater(cos_r, 0.0f); /* quiet compares: nothing to keep in order */
+    return keep ? g : 0.0f;
+}
+
+enum { GEO_M = 8, GEO_BLOCK = 64 };
+
+/* fsf_geo_mean for pixels [i0, i0 + nb) (nb <= GEO_BLOCK), their guides copied to one array
+ * per component so that each light point's G over the block is one vector loop; each pixel's
+ * double sum runs over the points in the order a, b as before (one lane per pixel). */
+static WEDGE_VECTORISED void geo_mean_block(const FsfGeoTerm *t, const float (*lp)[3], const float (*corner)[3],
+                                            const float *pos4, const float *nrm4, const unsigned char *usable,
+                                            size_t i0, int nb, float *mean_g)
+{
+    float p[6][GEO_BLOCK];
+    double sum[GEO_BLOCK];
+    int above[GEO_BLOCK];
+    for (int k = 0; k < nb; ++k) {
+        for (int c = 0; c < 3; ++c) p[c][k] = pos4[4 * (i0 + (size_t)k) + (size_t)c];
+        for (int c = 0; c < 3; ++c) p[3 + c][k] = nrm4[4 * (i0 + (size_t)k) + (size_t)c];
+        sum[k] = 0.0, above[k] = 1;
+    }
+    for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < nb; ++k)
+            above[k] &= isgreater(geo_G_at(t, corner[c], p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], p[5][k]), 0.0f);
+    for (int q = 0; q < GEO_M * GEO_M; ++q) {
+        float g[GEO_BLOCK];
+        for (int k = 0; k < nb; ++k) g[k] = geo_G_at(t, lp[q], p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], p[5][k]);
+        for (int k = 0; k < nb; ++k) sum[k] += (double)g[k];
+    }
+    for (int k = 0; k < nb; ++k) {
+        float mean = (float)(sum[k] / (double)(GEO_M * GEO_M));
+        mean_g[i0 + (size_t)k] = usable[i0 + (size_t)k] && above[k] && isfinite(mean) && mean > 0.0f ? mean : 0.0f;
+    }
+}
+
 void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, const unsigned char *usable,
                   const float half_m[2], size_t n, float *mean_g)
 {
-    enum { M = 8 };
-    for (size_t i = 0; i < n; ++i) {
-        const float *p = pos4 + 4 * i, *nr = nrm4 + 4 * i;
-        mean_g[i] = 0.0f;
-        if (!usable[i]) continue;
-        /* every light corner above the horizon: G is smooth over the light */
-        int above = 1;
-        for (int c = 0; c < 4; ++c)
-            above &= fsf_geo_G(t, p, nr, (c & 1 ? 1.0f : -1.0f) * half_m[0], (c & 2 ? 1.0f : -1.0f) * half_m[1]) > 0.0f;
-        if (!above) continue;
-        double sum = 0.0;
-        for (int a = 0; a < M; ++a)
-            for (int b = 0; b < M; ++b)
-                sum += fsf_geo_G(t, p, nr, half_m[0] * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f),
-                                 half_m[1] * (2.0f * ((float)b + 0.5f) / (float)M - 1.0f));
-        float mean = (float)(sum / (double)(M * M));
-        mean_g[i] = isfinite(mean) && mean > 0.0f ? mean : 0.0f;
+    /* the light points (fsf_geo_G's sums without the receiver): an 8 x 8 midpoint grid, a
+     * outer and b inner as the mean sums them, and the four corners */
+    float lp[GEO_M * GEO_M][3], corner[4][3];
+    for (int a = 0; a < GEO_M; ++a)
+        for (int b = 0; b < GEO_M; ++b) {
+            float z1 = half_m[0] * (2.0f * ((float)a + 0.5f) / (float)GEO_M - 1.0f);
+            float z2 = half_m[1] * (2.0f * ((float)b + 0.5f) / (float)GEO_M - 1.0f);
+            for (int c = 0; c < 3; ++c) lp[a * GEO_M + b][c] = t->centre[c] + z1 * t->axis[0][c] + z2 * t->axis[1][c];
+        }
+    for (int k = 0; k < 4; ++k) {
+        float z1 = (k & 1 ? 1.0f : -1.0f) * half_m[0], z2 = (k & 2 ? 1.0f : -1.0f) * half_m[1];
+        for (int c = 0; c < 3; ++c) corner[k][c] = t->centre[c] + z1 * t->axis[0][c] + z2 * t->axis[1][c];
+    }
+    for (size_t i0 = 0; i0 < n; i0 += GEO_BLOCK) {
+        int nb = n - i0 < GEO_BLOCK ? (int)(n - i0) : GEO_BLOCK;
+        /* a block without a usable pixel (the background, the light's own rows) costs nothing */
+        bool any = false;
+        for (int k = 0; k < nb && !any; ++k) any = usable[i0 + (size_t)k];
+        if (any) geo_mean_block(t, (const float(*)[3])lp, (const float(*)[3])corner, pos4, nrm4, usable, i0, nb, mean_g);
+        else memset(mean_g + i0, 0, sizeof(float) * (size_t)nb);
     }
 }
 

@@ -51,4 +51,22 @@ void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *h
 void fsf_irradiance_and_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                               const float *nrm4, float *irradiance, float *share);
 
+/* The inputs of an earlier fsf_irradiance_and_share (copies, n pixels). */
+typedef struct {
+    unsigned char *hit;
+    float *pos4, *nrm4;
+} FsfShadeInputs;
+
+/* Copies the inputs (false: out of memory, nothing kept); fsf_shade_inputs_free releases them. */
+bool fsf_shade_inputs_keep(FsfShadeInputs *k, int n, const unsigned char *hit, const float *pos4, const float *nrm4);
+void fsf_shade_inputs_free(FsfShadeInputs *k);
+
+/* fsf_irradiance_and_share (both outputs) where a pixel's hit flag, mean position or mean
+ * normal differ by a bit from `before`'s; elsewhere irradiance and share keep the values the
+ * call with `before`'s inputs gave them: a pixel's sums depend on its own inputs only, so the
+ * result is the full call's, bit for bit. The plan's guides (after pass 1) and the filter's
+ * (after pass 2) differ only where pass 2 added samples. */
+void fsf_irradiance_and_share_since(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
+                                    const float *nrm4, const FsfShadeInputs *before, float *irradiance, float *share);
+
 #endif

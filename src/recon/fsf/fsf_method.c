@@ -43,6 +43,7 @@
 #include "recon/fsf/fsf_lens_plan.h"
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_params.h"
+#include "recon/fsf/fsf_profile.h"
 #include "recon/method.h"
 #include "recon/sample_rate.h"
 
@@ -61,6 +62,11 @@ struct ReconMethod {
     FsfCl *cl;
     float *shade;                /* unoccluded irradiance (the light factor) */
     float *share;                /* FSF's light's share of it (FSF_MIN_LIGHT_SHARE), NULL until computed */
+    FsfShadeInputs shade_from;   /* the guides shade and share were last found from (the plan's), or none */
+    FsfSlopeWindows windows;     /* the plan's slope windows (block NULL: none), valid while the store's
+                                  * counts and the guides' object ids equal these: */
+    int *windows_count;
+    float *windows_obj;
     EffectMask effects;
     float *eta_aov, *sigma_aov, *spread_aov;
     float *lens_eta_aov, *lens_sigma_aov, *lens_spread_aov; /* defocus */
@@ -77,6 +83,7 @@ struct ReconMethod {
     int pass1_spp;               /* the samples every pixel had at the first plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
+    FsfProfile prof;             /* WEDGE_FSF_PROFILE's stage times (fsf_profile.h) */
 };
 
 static int fsf_pass1_spp(EffectMask effects)
@@ -114,6 +121,10 @@ static void fsf_destroy(ReconMethod *m)
     fsf_cl_destroy(m->cl);
     free(m->shade);
     free(m->share);
+    fsf_shade_inputs_free(&m->shade_from);
+    fsf_slope_windows_free(&m->windows);
+    free(m->windows_count);
+    free(m->windows_obj);
     free(m->eta_aov);
     free(m->sigma_aov);
     free(m->spread_aov);
@@ -214,6 +225,41 @@ static int fsf_shared(ReconMethod *m, DistArray *out, int max)
     return count;
 }
 
+/* The slope windows of the shadow parameters (fsf_shadow_windows), found for the plan and kept
+ * with what they depend on: the store's samples (append-only: its counts say whether any were
+ * added) and the guides' object ids. None kept when out of memory (the filter finds its own). */
+static void keep_windows(ReconMethod *m)
+{
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    m->windows_count = malloc(n * sizeof(int)), m->windows_obj = malloc(n * sizeof(float));
+    if (!m->windows_count || !m->windows_obj || !fsf_shadow_windows(m->g, m->store, &m->windows)) {
+        free(m->windows_count), free(m->windows_obj);
+        m->windows_count = NULL, m->windows_obj = NULL;
+        return;
+    }
+    for (size_t i = 0; i < n; ++i)
+        m->windows_count[i] = sample_store_count(m->store, i), m->windows_obj[i] = m->g->nrm4[4 * i + 3];
+}
+
+/* The kept windows for the store and guides as they are now, or NULL (then fsf_pixel_params
+ * finds them anew): when the store gained samples, none; when pass 2 gave some pixels an object
+ * id (a first hit) or another one, the kept windows updated around their rows. */
+static const FsfSlopeWindows *kept_windows(ReconMethod *m)
+{
+    if (!m->windows.block) return NULL;
+    int w = m->g->width, h = m->g->height, y0 = h, y1 = -1;
+    for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) {
+        if (m->windows_count[i] != sample_store_count(m->store, i)) return NULL;
+        if (memcmp(&m->windows_obj[i], &m->g->nrm4[4 * i + 3], sizeof(float)) != 0) {
+            int y = (int)(i / (size_t)w);
+            y0 = y < y0 ? y : y0, y1 = y;
+            m->windows_obj[i] = m->g->nrm4[4 * i + 3];
+        }
+    }
+    if (y1 >= 0) fsf_slope_windows_update(&m->windows, w, h, m->windows_obj, y0, y1);
+    return &m->windows;
+}
+
 /* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
  * allocation of the budget by the count factors sqrt(v / A). A: the
  * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
@@ -231,8 +277,16 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     for (size_t i = 0; i < n; ++i) area[i] = INFINITY; /* INFINITY: no shading filter reads the pixel */
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS)) {
         if (!m->share && !(m->share = malloc(n * sizeof(float)))) goto oom;
-        fsf_light_share(m->renderer, m->light.shape, (int)n, g->hit, g->pos4, g->nrm4, m->share);
-        if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, area)) goto oom;
+        /* with r(x) too (the same cost), kept with its guides: the filter recomputes only the
+         * pixels whose guides pass 2 changed */
+        fsf_irradiance_and_share(m->renderer, m->light.shape, (int)n, g->hit, g->pos4, g->nrm4, m->shade, m->share);
+        fsf_shade_inputs_free(&m->shade_from);
+        fsf_shade_inputs_keep(&m->shade_from, (int)n, g->hit, g->pos4, g->nrm4); /* out of memory: all recomputed */
+        fsf_profile_mark(&m->prof, "share");
+        if (!m->windows.block) keep_windows(m);
+        if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, m->windows.block ? &m->windows : NULL, area))
+            goto oom;
+        fsf_profile_mark(&m->prof, "area");
     }
     /* the indirect filter's own areas, kept apart for the rule below */
     if (indirect && !(bounce = malloc(n * sizeof(float)))) goto oom;
@@ -242,6 +296,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no bounce field)");
         return false;
     }
+    if (indirect) fsf_profile_mark(&m->prof, "bounce_area");
     for (size_t i = 0; i < n; ++i) {
         float shade = indirect ? fminf(area[i], bounce[i]) : area[i];
         shade = shade == INFINITY ? 0.0f : shade;
@@ -249,6 +304,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         else area[i] = shade;
     }
     if (!sample_rate_factors(m->lum4, g->width, g->height, area)) goto oom;
+    fsf_profile_mark(&m->prof, "factors");
     float *factor = m->want_spp;
     /* Pixels the indirect filter filters keep pass 1's count where no lens filter follows: their
      * extras reach the filter through fsf_match_pixel's scale, the full mean over the mean of
@@ -261,6 +317,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     /* in place: each count reads its own factor only once the search is over */
     sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
                        (double)m->budget_spp, m->want_spp);
+    fsf_profile_mark(&m->prof, "counts");
     free(bounce);
     return true;
 oom:
@@ -280,13 +337,16 @@ static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
     (void)mu;
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     if (!m->planned) {
+        fsf_profile_begin(&m->prof);
         m->pass1_spp = n ? (int)spp_now[0] : 0;
         if (effect_in(m->effects, EFFECT_DEFOCUS) && !plan_lens(m)) {
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no depth field)");
             return false;
         }
+        fsf_profile_mark(&m->prof, "lens");
         if (m->budget_spp > 0 && !plan_counts(m, d)) return false;
         m->planned = true;
+        fsf_profile_print(&m->prof, "plan");
     }
     if (m->budget_spp > 0)
         fsf_budget_plan(m->want_spp, n, spp_now, spp_total);
@@ -316,7 +376,14 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's light share");
         return false;
     }
-    fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
+    fsf_profile_begin(&m->prof);
+    if (m->shade_from.hit)
+        fsf_irradiance_and_share_since(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4,
+                                       &m->shade_from, m->shade, m->share);
+    else
+        fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
+    fsf_profile_mark(&m->prof, "irradiance");
+    fsf_profile_print(&m->prof, "light_factor");
     float shade_max = 0.0f;
     for (int i = 0; i < n; ++i) shade_max = fmaxf(shade_max, m->shade[i]);
     *factor = m->shade;
@@ -368,6 +435,14 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     bool ok = true;
     if (m->cl) {
         ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
+        for (int rep = fsf_profile_repeats(&m->prof); ok && rep > 0; --rep) /* a measuring aid: the same out4 */
+            ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
+        fsf_profile_mark(&m->prof, "cl_run");
+        FsfClProfile k = fsf_cl_profile(m->cl);
+        fsf_profile_add(&m->prof, "cl_setup", k.setup_wall), fsf_profile_add(&m->prof, "cl_queue", k.queue_wall);
+        fsf_profile_add(&m->prof, "k_taps", k.taps), fsf_profile_add(&m->prof, "k_bins", k.bins);
+        fsf_profile_add(&m->prof, "k_1a", k.pass1a), fsf_profile_add(&m->prof, "k_1b", k.pass1b);
+        fsf_profile_add(&m->prof, "k_2a", k.pass2a), fsf_profile_add(&m->prof, "k_2b", k.pass2b);
     } else if (!fsf_filter_factored(s, grid, px, gd, out4)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF passes");
@@ -392,6 +467,7 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     if (ok && m->nonfinite > before)
         fprintf(stderr, "wedge: warning: FSF: %lld pixels had a non-finite filtered value and kept their mean\n",
                 m->nonfinite - before);
+    fsf_profile_mark(&m->prof, "result");
     return ok;
 }
 
@@ -472,7 +548,9 @@ static FsfGeoTerm geo_term_of(const FsfLight *l, const float *mean_g)
 static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
     Buffers b;
+    fsf_profile_begin(&m->prof);
     if (!buffers_alloc(m, &b, d)) return false;
+    fsf_profile_mark(&m->prof, "alloc");
     bool ok = true;
     long long nonfinite = 0;
     if (!gather(m, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
@@ -480,11 +558,13 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the light or direct field");
     }
     warn_nonfinite_samples("direct-light", nonfinite);
-    FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu};
+    fsf_profile_mark(&m->prof, "gather");
+    FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu, kept_windows(m)};
     if (ok && !fsf_pixel_params(&in, b.px, b.k_lo, b.k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
     }
+    fsf_profile_mark(&m->prof, "params");
     FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
     /* under a budget the collapsed pixels' extras enter their own image (fsf_budget_plan.h) */
@@ -509,12 +589,16 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
             gd.geo = &geo;
         }
     }
+    fsf_profile_mark(&m->prof, "geo_mean");
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
+    fsf_profile_mark(&m->prof, "aovs");
     if (ok && mean4) fsf_blend_collapsed(b.px, b.usable, b.count, m->g, grid.half_m, mean4, value4);
     free(mean4), free(mean_g);
     buffers_free(&b);
+    fsf_profile_mark(&m->prof, "blend_free");
+    fsf_profile_print(&m->prof, "shadows");
     return ok;
 }
 
@@ -522,6 +606,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
 static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
     Buffers b;
+    fsf_profile_begin(&m->prof);
     if (!buffers_alloc(m, &b, d)) return false;
     bool ok = true;
     long long nonfinite = 0;
@@ -537,10 +622,13 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     }
     FsfGrid grid = fsf_bounce_grid();
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
+    fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
                                kernel_seconds, d);
     buffers_free(&b);
+    fsf_profile_mark(&m->prof, "aovs_free");
+    fsf_profile_print(&m->prof, "indirect");
     return ok;
 }
 
@@ -561,6 +649,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     int w = m->g->width, h = m->g->height;
     size_t n = (size_t)w * (size_t)h;
     Buffers b;
+    fsf_profile_begin(&m->prof);
     if (!buffers_alloc(m, &b, d)) return false;
     bool ok = true;
     long long nonfinite = 0;
@@ -579,11 +668,14 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     }
     FsfGrid grid = fsf_lens_grid();
     FsfGuides gd = fsf_guides_unguided(b.usable); /* defocus rejects no neighbour */
+    fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
         ok = filter_and_record(m, &b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b.k_lo[i], b.k_hi[i]) ? 1.0f : 0.0f;
     buffers_free(&b);
+    fsf_profile_mark(&m->prof, "aovs_free");
+    fsf_profile_print(&m->prof, "defocus");
     return ok;
 }
 

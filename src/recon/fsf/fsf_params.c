@@ -101,15 +101,21 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     }
 }
 
+bool fsf_shadow_windows(const GBuffer *g, const SampleStore *st, FsfSlopeWindows *out)
+{
+    /* only the centre's object: the filter takes light from no other surface */
+    return fsf_slope_windows_per_object(st, g, sample_slope, sample_store_field(st, SAMPLE_FIELD_LIGHT), out);
+}
+
 bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k_hi)
 {
     size_t n = (size_t)in->g->width * (size_t)in->g->height;
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
-    /* only the centre's object: the filter takes light from no other surface */
-    bool ok = fsf_slope_windows_per_object(in->store, in->g, sample_slope, sample_store_field(in->store, SAMPLE_FIELD_LIGHT),
-                                           &j.wnd);
+    bool ok = true;
+    if (in->windows) j.wnd = *in->windows;
+    else ok = fsf_shadow_windows(in->g, in->store, &j.wnd);
     if (ok) recon_parallel_for(n, params_range, &j);
-    fsf_slope_windows_free(&j.wnd);
+    if (!in->windows) fsf_slope_windows_free(&j.wnd);
     return ok;
 }

@@ -25,6 +25,7 @@
 
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_light.h"
+#include "recon/fsf/fsf_slope_window.h"
 #include "recon/gbuffer.h"
 #include "recon/sample_store.h"
 
@@ -49,7 +50,15 @@ typedef struct {
     const FsfLight *light;
     const unsigned char *usable; /* pixels to filter */
     float mu;                    /* width divisor (> 0) */
+    const FsfSlopeWindows *windows; /* fsf_shadow_windows of this store and these guides' object
+                                     * ids (an earlier call's, e.g. the plan's), or NULL: found
+                                     * here */
 } FsfParamsIn;
+
+/* The slope windows fsf_pixel_params reads (fsf_slope_window.h): they depend on the store's
+ * samples and the guides' object ids only, so a plan and a filter that share both can share
+ * them. false when out of memory; fsf_slope_windows_free releases them. */
+bool fsf_shadow_windows(const GBuffer *g, const SampleStore *st, FsfSlopeWindows *out);
 
 /* px and the AOVs (each width * height; k_lo/k_hi are 0 where no slope is known). false when
  * out of memory. */

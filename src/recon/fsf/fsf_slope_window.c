@@ -125,6 +125,23 @@ bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slo
     return true;
 }
 
+void fsf_slope_windows_update(FsfSlopeWindows *w, int width, int height, const float *obj, int y0, int y1)
+{
+    size_t n = (size_t)width * (size_t)height;
+    float *own_lo = w->block + (2 * FSF_LEVELS + 2) * n, *own_hi = own_lo + n;
+    Job j = {width, height, 0, own_lo, own_hi, obj, w->block + 2 * FSF_LEVELS * n, w->block + (2 * FSF_LEVELS + 1) * n, w};
+    for (j.level = 0; j.level < FSF_LEVELS; ++j.level) {
+        /* a level's output row y reads the row sums of rows y - r .. y + r, and those read their own
+         * row's ids: the rows within r of a changed one change, and their row sums are needed
+         * within 2 r (the rows pass's scratch holds the last level's only) */
+        int r = FSF_LEVEL_RADIUS_PX[j.level];
+        int t0 = y0 - 2 * r < 0 ? 0 : y0 - 2 * r, t1 = y1 + 2 * r + 1 < height ? y1 + 2 * r + 1 : height;
+        int o0 = y0 - r < 0 ? 0 : y0 - r, o1 = y1 + r + 1 < height ? y1 + r + 1 : height;
+        window_rows(&j, (size_t)t0, (size_t)t1, 0);
+        window_cols(&j, (size_t)o0, (size_t)o1, 0);
+    }
+}
+
 bool fsf_slope_windows_per_object(const SampleStore *st, const GBuffer *g, float (*slope)(const void *ctx, size_t slot),
                                   const void *ctx, FsfSlopeWindows *out)
 {

@@ -35,6 +35,12 @@ bool fsf_slope_windows_per_object(const SampleStore *st, const GBuffer *g, float
                                   const void *ctx, FsfSlopeWindows *out);
 void fsf_slope_windows_free(FsfSlopeWindows *w);
 
+/* w (from fsf_slope_windows over the same store) after the object ids of some pixels in rows
+ * y0 .. y1 changed to obj's: the rows whose windows can reach those pixels found again (the own
+ * ranges depend on the store only and are kept), which gives the windows fsf_slope_windows would
+ * give with obj, bit for bit. */
+void fsf_slope_windows_update(FsfSlopeWindows *w, int width, int height, const float *obj, int y0, int y1);
+
 /* The widest safe level of pixel i. sigma_of_spread(ctx, spread) is the width (pixel steps,
  * before any cap) that a slope spread allows, the narrowest over the axes. */
 typedef struct {
