@@ -299,6 +299,15 @@ bool cl_launch_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev
     return false;
 }
 
+bool cl_launch_serial_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
+{
+    size_t global[2] = {gx, gy}, local[2] = {1, 1};
+    cl_int err = clEnqueueNDRangeKernel(rt->queue, k, 2, NULL, global, local, 0, NULL, ev);
+    if (err == CL_SUCCESS) return true;
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel launch failed: %s", cl_error_name(err));
+    return false;
+}
+
 double cl_event_seconds(cl_event ev)
 {
     cl_ulong t0 = 0, t1 = 0;

@@ -34,6 +34,14 @@ cl_kernel cl_runtime_kernel(ClRuntime *rt, const char *name, Diag *d);
 enum { CL_LAUNCH_LOCAL_X = 16, CL_LAUNCH_LOCAL_Y = 4 };
 bool cl_launch_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d);
 
+/* Launches a 2D kernel over exactly gx x gy work items in work groups of one item, for kernels
+ * whose items each run a long serial loop with private arrays. PoCL runs a group's items one
+ * after the other in a loop it wraps around the kernel, and with several items a group it keeps
+ * each item's private arrays in that item's slot of a per-group array, addressed afresh at every
+ * access; with one item a group they stay in one place in the caches (docs/benchmarks.md, "LR's
+ * reconstruction cost, sixth round" and MAAF's second cost round: the same arithmetic, faster). */
+bool cl_launch_serial_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d);
+
 /* A finished command's device time in seconds (the queue profiles); 0 for NULL, an event
  * without profiling data, or an end before its start. */
 double cl_event_seconds(cl_event ev);

@@ -154,21 +154,6 @@ static bool set_args(cl_kernel k, const cl_int *ints, int nints, const cl_mem *m
     return cl_ok(err, "arguments", d);
 }
 
-/* A launch in work-groups of one work-item, for the kernels whose work-items each run a long
- * serial loop over samples (lr_tile_stats: one per tile; lr_reproject: one per partition;
- * lr_across_composite: one per tile row). PoCL runs a work-group's items one after the other
- * in a loop it puts around the kernel; with several items per group, its compiled loop kept
- * each item's private arrays (a tile's per-layer sums) in that item's slot of a per-group
- * array, addressed afresh at every access (docs/benchmarks.md, "LR's reconstruction cost,
- * sixth round": the statistics' CPU fell by a fifth; the other two were no slower). The other
- * kernels keep cl_launch_2d's groups: lr_block_stats was slower in groups of one, lr_pack no
- * faster. */
-static bool launch_serial(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
-{
-    size_t global[2] = {gx, gy}, local[2] = {1, 1};
-    return cl_ok(clEnqueueNDRangeKernel(rt->queue, k, 2, NULL, global, local, 0, NULL, ev), "kernel launch", d);
-}
-
 /* Downloads the pixels inside the band (lr_reconstruct.h: the band keeps what the caller has)
  * of an image of `floats` per pixel. */
 static bool read_inner(cl_command_queue q, cl_mem buf, float *host, int floats, const LrSamples *img, int band, Diag *d)
@@ -267,7 +252,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)
                                : cl_ok(clEnqueueFillBuffer(q, lr->b_still.mem, &(cl_uchar){0}, 1, 0, (size_t)ntiles, 0, NULL, NULL), "fill", d)) &&
-             set_args(lr->stats, ints, 11, m, 8, d) && launch_serial(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
+             set_args(lr->stats, ints, 11, m, 8, d) && cl_launch_serial_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
     }
@@ -324,13 +309,13 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         if (ok) { /* Algorithm 1 and the along pass, one work-item per (layer, tile) */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
             cl_mem m[9] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem};
-            ok = set_args(lr->reproject, ints, 11, m, 9, d) && launch_serial(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            ok = set_args(lr->reproject, ints, 11, m, 9, d) && cl_launch_serial_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
             cl_mem m[8] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem, lr->b_g.mem};
             ok = set_args(lr->across, ints9, 9, m, 8, d) &&
-                 launch_serial(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
+                 cl_launch_serial_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
         }
         /* the queue is in order, so the next batch's reprojection starts after this batch's
          * passes have read the grids; waiting here only lets the batch's times be read */

@@ -435,18 +435,9 @@ void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v)
     for (int k = 0; k < pl->per; ++k) v[k] = o[(size_t)k * pl->plane];
 }
 
-/* The row and column passes in work-groups of one work-item. PoCL runs a group's items one
- * after the other in a loop it wraps around the kernel, and with cl_launch_2d's 64 items a
- * group it kept each item's private arrays (the taps' factors, Taps: ~44 KB) in that item's
- * slot of a per-group array (as LR's kernels, lr_cl.c's launch_serial): one item a group
- * keeps them in one place that stays in the caches. The same arithmetic per item, so the
- * same image. */
-static bool launch_serial(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
-{
-    size_t global[2] = {gx, gy}, local[2] = {1, 1};
-    return cl_ok(clEnqueueNDRangeKernel(rt->queue, k, 2, NULL, global, local, 0, NULL, ev), "kernel launch", d);
-}
-
+/* The row and column passes run in work-groups of one work-item (cl_launch_serial_2d): with
+ * cl_launch_2d's 64 items a group PoCL kept each item's taps' factors (Taps: ~44 KB) in a slot
+ * of a per-group array. The same arithmetic per item, so the same image. */
 /* The image pass band by band (9.16): per band of MAAF_BAND_ROWS rows the host writes its sums,
  * the row pass filters them into the ring of row-pass output, and the column pass then filters
  * every row whose column reach (the run's largest radius) that output now covers. The queue runs
@@ -505,7 +496,7 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
             int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};
             ev_kernel[events] = K_ROWS;
             ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 8, d) &&
-                 launch_serial(f->rt, f->k[K_ROWS], L.w8 / LANES, (size_t)(y1 - y0), &ev[events++], d);
+                 cl_launch_serial_2d(f->rt, f->k[K_ROWS], L.w8 / LANES, (size_t)(y1 - y0), &ev[events++], d);
         }
         /* the rows whose column taps (up to reach away) now all have their row-pass output */
         int ready = y1 == h ? h : y1 - reach;
@@ -514,7 +505,7 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
             int bufs[6] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_TP, BUF_OUT};
             ev_kernel[events] = K_COLS;
             ok = set_args(f, K_COLS, ints, 4, rules, 3, bufs, 6, ints2, 6, d) &&
-                 launch_serial(f->rt, f->k[K_COLS], L.w8 / LANES, (size_t)(ready - done), &ev[events++], d);
+                 cl_launch_serial_2d(f->rt, f->k[K_COLS], L.w8 / LANES, (size_t)(ready - done), &ev[events++], d);
             done = ready;
         }
     }
