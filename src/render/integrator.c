@@ -492,9 +492,8 @@ struct Wave {
     VertexOut out[WAVE_SAMPLES];
     /* whether a live vertex takes light samples (vertex_lit), set with the vertex */
     bool lit[WAVE_SAMPLES];
-    /* rays of one stage, in Embree's own structures (tracer_ray_set), and what they found */
-    struct RTCRay ray_occ[WAVE_OCC_RAYS];
-    struct RTCRayHit ray_rec[WAVE_SAMPLES], ray_hit[WAVE_SAMPLES];
+    /* rays of one stage and what they found */
+    TracerRay ray_occ[WAVE_OCC_RAYS], ray_rec[WAVE_SAMPLES], ray_hit[WAVE_SAMPLES];
     bool occluded[WAVE_OCC_RAYS], rec_found[WAVE_SAMPLES], hit_found[WAVE_SAMPLES];
     /* a delta light's f * Li * |cos| at the vertex, for occlusion ray k when it is one */
     vec3 delta_value[WAVE_OCC_RAYS];
@@ -639,8 +638,8 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     float *o[3] = {cb->o[0], cb->o[1], cb->o[2]}, *d[3] = {cb->d[0], cb->d[1], cb->d[2]};
     camera_generate_rays(sc->camera, count, cb->px, cb->py, cb->lens_u, cb->lens_v, cb->time01, o, d);
     for (int i = 0; i < count; ++i)
-        tracer_rayhit_set(sc->tracer, &w->ray_hit[j0 + i], v3(o[0][i], o[1][i], o[2][i]), v3(d[0][i], d[1][i], d[2][i]),
-                          INFINITY, cb->time01[i], 0u);
+        w->ray_hit[j0 + i] = (TracerRay){v3(o[0][i], o[1][i], o[2][i]), v3(d[0][i], d[1][i], d[2][i]), INFINITY,
+                                         cb->time01[i], 0u};
     wave_vertex_dims(sc, w, j0, 1);
 }
 
@@ -894,7 +893,7 @@ static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec
  * light faces it (one-sided emitters; on a receiver beside the light a coin toss) is not a
  * branch. The same tests, values and counters as light_prepare_sampled. */
 static int light_prepare_lambert_triangle(const IntegratorScene *sc, Wave *w, int j, IntegratorStats *st,
-                                          struct RTCRay *shadow)
+                                          TracerRay *shadow)
 {
     const VertexDims *u = &w->dims[j];
     const WaveTriangleSamples *g = &w->tri[u->tri_group];
@@ -914,11 +913,13 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, Wave *w, in
     lp->pdf_bsdf = resp.pdf;
     int sends = (g->ok[k] != 0) & resp.sends;
     int len_ok = g->len[k] > 0.0f;
-    /* straight into the batch's slot (Embree's ray): a TracerRay built on the stack and
-     * copied was read back as 16-byte words over narrower stores, a stalled store forward
-     * per ray */
-    tracer_ray_set(sc->tracer, shadow, v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]),
-                   g->len[k], w->path[j].time01, l->shadow_skip_mask);
+    /* field by field into the batch's slot: a TracerRay built on the stack and copied was
+     * read back as 16-byte words over narrower stores, a stalled store forward per ray */
+    shadow->o = v3(g->o[0][k], g->o[1][k], g->o[2][k]);
+    shadow->d = v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]);
+    shadow->tmax = g->len[k];
+    shadow->time01 = w->path[j].time01;
+    shadow->skip_mask = l->shadow_skip_mask;
     st->guarded_events += sends & !len_ok;
     st->rays_shadow += sends & len_ok;
     return sends & len_ok;
@@ -932,17 +933,6 @@ static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
 {
     return depth == sc->max_depth && sc->lights->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
            sc->lights->emitters_bounded;
-}
-
-/* A shadow ray built as a TracerRay (shadow_ray_to's paths) queued in its batch slot. */
-static inline void wave_ray_queue(const IntegratorScene *sc, struct RTCRay *slot, const TracerRay *r)
-{
-    tracer_ray_set(sc->tracer, slot, r->o, r->d, r->tmax, r->time01, r->skip_mask);
-}
-
-static inline void wave_rayhit_queue(const IntegratorScene *sc, struct RTCRayHit *slot, const TracerRay *r)
-{
-    tracer_rayhit_set(sc->tracer, slot, r->o, r->d, r->tmax, r->time01, r->skip_mask);
 }
 
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
@@ -971,9 +961,7 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         bool record = depth == 1 && sc->record_ray_geometry && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
         int *count = record ? n_rec : n_occ;
         out->shadow_ray = *count;
-        struct RTCRay *slot = record ? &w->ray_rec[out->shadow_ray].ray : &w->ray_occ[out->shadow_ray];
-        int kept = light_prepare_lambert_triangle(sc, w, j, st, slot);
-        if (record) w->ray_rec[out->shadow_ray].hit.geomID = w->ray_rec[out->shadow_ray].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        int kept = light_prepare_lambert_triangle(sc, w, j, st, &(record ? w->ray_rec : w->ray_occ)[out->shadow_ray]);
         *count += kept;
         out->light_pending = kept;
         out->light_recorded = record & kept;
@@ -987,10 +975,10 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         out->light_recorded = record;
         if (record) {
             out->shadow_ray = (*n_rec)++;
-            wave_rayhit_queue(sc, &w->ray_rec[out->shadow_ray], &shadow);
+            w->ray_rec[out->shadow_ray] = shadow;
         } else {
             out->shadow_ray = (*n_occ)++;
-            wave_ray_queue(sc, &w->ray_occ[out->shadow_ray], &shadow);
+            w->ray_occ[out->shadow_ray] = shadow;
         }
     }
     /* Delta lights lit at every vertex: probability 1, no MIS (BSDF sampling never finds
@@ -1026,7 +1014,7 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
             }
             LambertLight resp = lambert_light(&rv, wi, Li);
             bool len_ok = len > 0.0f;
-            tracer_ray_set(sc->tracer, &w->ray_occ[*n_occ], o, dir, len, p->time01, light->shadow_skip_mask);
+            w->ray_occ[*n_occ] = (TracerRay){o, dir, len, p->time01, light->shadow_skip_mask};
             w->delta_value[*n_occ] = v3_scale(v3_mul(resp.f, Li), resp.cos_i_abs);
             int kept = resp.sends & len_ok;
             st->guarded_events += resp.sends & !len_ok;
@@ -1044,12 +1032,11 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
                                   ps->err_light, v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
             ShadowRayAhead ahead = {v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]),
                                     v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]), ps->len[m], ps->redo[m] != 0};
-            prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, &ahead, st, &shadow, &lp);
+            prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, &ahead, st, &w->ray_occ[*n_occ], &lp);
         } else {
-            prepared = light_prepare_at(sc, v, p->time01, li, v2(0.5f, 0.5f), 1.0f, st, &shadow, &lp);
+            prepared = light_prepare_at(sc, v, p->time01, li, v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp);
         }
         if (!prepared) continue;
-        wave_ray_queue(sc, &w->ray_occ[*n_occ], &shadow);
         w->delta_value[(*n_occ)++] = v3_scale(v3_mul(lp.f, lp.ls.Li), lp.cos_i);
         ++out->delta_count;
     }
@@ -1073,7 +1060,7 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     if (depth < sc->max_depth) ++st->rays_indirect;
     else if (!box_test) ++st->rays_bsdf;
     out->hit_slot = (*n_hit)++;
-    tracer_rayhit_set(sc->tracer, &w->ray_hit[out->hit_slot], o, out->vs.wi, INFINITY, p->time01, 0u);
+    w->ray_hit[out->hit_slot] = (TracerRay){o, out->vs.wi, INFINITY, p->time01, 0u};
     if (box_test) {
         int k = out->hit_slot;
         w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
@@ -1209,13 +1196,13 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         n += w->path_count[k];
     }
     st->rays_primary += n;
-    tracer_intersect_rays(sc->tracer, w->ray_hit, n, true, true, w->hit, w->hit_found);
+    tracer_intersect_batch(sc->tracer, w->ray_hit, n, true, true, w->hit, w->hit_found);
     bool any_alive = false;
     /* whether the first vertex samples its BSDF: the same for every path, so found once
      * (its loads through sc->lights were a part of every hit) */
     bool sampled_first = vertex_uses_bsdf_dims(sc, 1);
     for (int j = 0; j < n; ++j) {
-        wave_first_hit(sc, w, j, tracer_ray_dir(&w->ray_hit[j].ray), w->hit_found[j], &w->hit[j], sampled_first, &recs[j], st);
+        wave_first_hit(sc, w, j, w->ray_hit[j].d, w->hit_found[j], &w->hit[j], sampled_first, &recs[j], st);
         any_alive |= w->alive[j];
     }
 
@@ -1241,9 +1228,9 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         for (int j = 0; j < n; ++j)
             if (w->alive[j]) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
-        tracer_occluded_rays(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
-        tracer_intersect_rays(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
-        tracer_intersect_rays(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
+        tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
+        tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
+        tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
         any_alive = false;
         for (int j = 0; j < n; ++j) {
             if (!w->alive[j]) continue;

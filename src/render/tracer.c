@@ -917,6 +917,20 @@ Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01)
     return m;
 }
 
+/* A world ray as Embree's, in tracer space: origin and tmax times k = tracer_from_world
+ * (exact, a power of two), the direction as it is. */
+static void init_ray(struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01, float k, unsigned skip_mask)
+{
+    r->org_x = k * o.x, r->org_y = k * o.y, r->org_z = k * o.z;
+    r->dir_x = d.x, r->dir_y = d.y, r->dir_z = d.z;
+    r->tnear = 0.0f;
+    r->tfar = k * tmax;
+    r->time = time01;
+    r->mask = ~skip_mask;
+    r->id = 0;
+    r->flags = 0;
+}
+
 /* Hit point, normals and uv of a triangle hit in geometry space (barycentrics bu, bv). */
 static inline void shade_triangle(const Geom *g, int prim, float bu, float bv, vec3 *p, vec3 *ng, vec3 *ns, vec2 *uv,
                                   float *mag)
@@ -1111,12 +1125,20 @@ static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time0
     return true;
 }
 
+static inline void init_rayhit(struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01, float k,
+                               unsigned skip_mask)
+{
+    init_ray(&rh->ray, o, d, tmax, time01, k, skip_mask);
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
 bool tracer_intersect_ex(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01, bool shade_all, SurfaceHit *hit)
 {
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
-    tracer_rayhit_set(tr, &rh, o, d, tmax, time01, 0u);
+    init_rayhit(&rh, o, d, tmax, time01, tr->tracer_from_world, 0u);
     rtcIntersect1(tr->layers[0].scene, &ctx, &rh);
     return hit_from_rayhit(tr, o, d, time01, shade_all, &rh, hit);
 }
@@ -1126,7 +1148,7 @@ bool tracer_occluded(const Tracer *tr, vec3 o, vec3 d, float tmax, float time01)
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay r;
-    tracer_ray_set(tr, &r, o, d, tmax, time01, 0u);
+    init_ray(&r, o, d, tmax, time01, tr->tracer_from_world, 0u);
     rtcOccluded1(tr->layers[0].scene, &ctx, &r);
     return r.tfar == -INFINITY;
 }
@@ -1166,127 +1188,87 @@ static void context_init(const Tracer *tr, struct RTCIntersectContext *ctx, bool
     ctx->flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
 }
 
-/* Packets of 16: rays 0 .. n - 1 (n <= 16, set by tracer_ray_set, `stride` bytes apart) as
- * structure-of-arrays (lanes past n off). */
-static void packet16_fill(struct RTCRay16 *p, int valid[16], const char *rays, size_t stride, int n)
+/* Packets of 16: the chunk's rays k0 .. k0 + 15 as structure-of-arrays (lanes past n off). */
+static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *rays, int n, float k)
 {
     for (int i = 0; i < 16; ++i) {
-        const struct RTCRay *r = (const struct RTCRay *)(rays + (size_t)(i < n ? i : 0) * stride);
+        const TracerRay *r = &rays[i < n ? i : 0];
         valid[i] = i < n ? -1 : 0;
-        p->org_x[i] = r->org_x, p->org_y[i] = r->org_y, p->org_z[i] = r->org_z;
-        p->dir_x[i] = r->dir_x, p->dir_y[i] = r->dir_y, p->dir_z[i] = r->dir_z;
-        p->tnear[i] = r->tnear;
-        p->tfar[i] = r->tfar;
-        p->time[i] = r->time;
-        p->mask[i] = r->mask;
-        p->id[i] = r->id;
-        p->flags[i] = r->flags;
+        p->org_x[i] = k * r->o.x, p->org_y[i] = k * r->o.y, p->org_z[i] = k * r->o.z; /* as init_ray */
+        p->dir_x[i] = r->d.x, p->dir_y[i] = r->d.y, p->dir_z[i] = r->d.z;
+        p->tnear[i] = 0.0f;
+        p->tfar[i] = k * r->tmax;
+        p->time[i] = r->time01;
+        p->mask[i] = ~r->skip_mask;
+        p->id[i] = 0;
+        p->flags[i] = 0;
     }
-}
-
-/* Closest hits of rays rh[0 .. m), m <= TRACE_CHUNK, in place through tr->batch_mode. */
-static void intersect_chunk(const Tracer *tr, struct RTCIntersectContext *ctx, struct RTCRayHit *rh, int m)
-{
-    RTCScene scene = tr->layers[0].scene;
-    if (tr->batch_mode == TRACER_BATCH_PACKET16) {
-        for (int p0 = 0; p0 < m; p0 += 16) {
-            struct RTCRayHit16 pk;
-            _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
-            int c = m - p0 < 16 ? m - p0 : 16;
-            packet16_fill(&pk.ray, valid, (const char *)&rh[p0].ray, sizeof rh[0], c);
-            for (int i = 0; i < 16; ++i) pk.hit.geomID[i] = pk.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect16(valid, scene, ctx, &pk);
-            for (int i = 0; i < c; ++i) { /* back to one RTCRayHit per ray for the shading */
-                struct RTCRayHit *h = &rh[p0 + i];
-                h->ray.tfar = pk.ray.tfar[i];
-                h->hit.u = pk.hit.u[i], h->hit.v = pk.hit.v[i];
-                h->hit.primID = pk.hit.primID[i], h->hit.geomID = pk.hit.geomID[i];
-                h->hit.instID[0] = pk.hit.instID[0][i];
-            }
-        }
-    } else if (tr->batch_mode == TRACER_BATCH_STREAM) {
-        rtcIntersect1M(scene, ctx, rh, (unsigned)m, sizeof rh[0]);
-    } else {
-        for (int i = 0; i < m; ++i) rtcIntersect1(scene, ctx, &rh[i]);
-    }
-}
-
-/* Occlusion of rays ray[0 .. m), m <= TRACE_CHUNK, in place through tr->batch_mode. */
-static void occluded_chunk(const Tracer *tr, struct RTCIntersectContext *ctx, struct RTCRay *ray, int m, bool *occluded)
-{
-    RTCScene scene = tr->layers[0].scene;
-    if (tr->batch_mode == TRACER_BATCH_PACKET16) {
-        for (int p0 = 0; p0 < m; p0 += 16) {
-            struct RTCRay16 pk;
-            _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
-            int c = m - p0 < 16 ? m - p0 : 16;
-            packet16_fill(&pk, valid, (const char *)&ray[p0], sizeof ray[0], c);
-            rtcOccluded16(valid, scene, ctx, &pk);
-            for (int i = 0; i < c; ++i) occluded[p0 + i] = pk.tfar[i] == -INFINITY;
-        }
-        return;
-    }
-    if (tr->batch_mode == TRACER_BATCH_STREAM)
-        rtcOccluded1M(scene, ctx, ray, (unsigned)m, sizeof ray[0]);
-    else
-        for (int i = 0; i < m; ++i) rtcOccluded1(scene, ctx, &ray[i]);
-    for (int i = 0; i < m; ++i) occluded[i] = ray[i].tfar == -INFINITY;
 }
 
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
                             SurfaceHit *hits, bool *found)
 {
+    RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
     context_init(tr, &ctx, coherent);
     struct RTCRayHit rh[TRACE_CHUNK];
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
         int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
         const TracerRay *r = rays + k0;
-        for (int i = 0; i < m; ++i) tracer_rayhit_set(tr, &rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, r[i].skip_mask);
-        intersect_chunk(tr, &ctx, rh, m);
+        if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+            for (int p0 = 0; p0 < m; p0 += 16) {
+                struct RTCRayHit16 pk;
+                _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
+                int c = m - p0 < 16 ? m - p0 : 16;
+                packet16_fill(&pk.ray, valid, r + p0, c, tr->tracer_from_world);
+                for (int i = 0; i < 16; ++i) pk.hit.geomID[i] = pk.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect16(valid, scene, &ctx, &pk);
+                for (int i = 0; i < c; ++i) { /* back to one RTCRayHit per ray for the shading below */
+                    struct RTCRayHit *h = &rh[p0 + i];
+                    h->ray.tfar = pk.ray.tfar[i];
+                    h->hit.u = pk.hit.u[i], h->hit.v = pk.hit.v[i];
+                    h->hit.primID = pk.hit.primID[i], h->hit.geomID = pk.hit.geomID[i];
+                    h->hit.instID[0] = pk.hit.instID[0][i];
+                }
+            }
+        } else {
+            for (int i = 0; i < m; ++i)
+                init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
+            if (tr->batch_mode == TRACER_BATCH_STREAM)
+                rtcIntersect1M(scene, &ctx, rh, (unsigned)m, sizeof rh[0]);
+            else
+                for (int i = 0; i < m; ++i) rtcIntersect1(scene, &ctx, &rh[i]);
+        }
         for (int i = 0; i < m; ++i)
             found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
     }
 }
 
-void tracer_intersect_rays(const Tracer *tr, struct RTCRayHit *rays, int n, bool shade_all, bool coherent,
-                           SurfaceHit *hits, bool *found)
-{
-    struct RTCIntersectContext ctx;
-    context_init(tr, &ctx, coherent);
-    for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
-        int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
-        struct RTCRayHit *rh = rays + k0;
-        intersect_chunk(tr, &ctx, rh, m);
-        /* the world origin back from tracer space: exact (a power of two) */
-        float k = tr->world_from_tracer;
-        for (int i = 0; i < m; ++i) {
-            const struct RTCRay *r = &rh[i].ray;
-            vec3 o = v3(k * r->org_x, k * r->org_y, k * r->org_z);
-            found[k0 + i] = hit_from_rayhit(tr, o, tracer_ray_dir(r), r->time, shade_all, &rh[i], &hits[k0 + i]);
-        }
-    }
-}
-
 void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded)
 {
+    RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
     context_init(tr, &ctx, coherent);
     struct RTCRay ray[TRACE_CHUNK];
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
         int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
         const TracerRay *r = rays + k0;
-        for (int i = 0; i < m; ++i) tracer_ray_set(tr, &ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, r[i].skip_mask);
-        occluded_chunk(tr, &ctx, ray, m, occluded + k0);
-    }
-}
-
-void tracer_occluded_rays(const Tracer *tr, struct RTCRay *rays, int n, bool coherent, bool *occluded)
-{
-    struct RTCIntersectContext ctx;
-    context_init(tr, &ctx, coherent);
-    for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
-        int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
-        occluded_chunk(tr, &ctx, rays + k0, m, occluded + k0);
+        if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+            for (int p0 = 0; p0 < m; p0 += 16) {
+                struct RTCRay16 pk;
+                _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
+                int c = m - p0 < 16 ? m - p0 : 16;
+                packet16_fill(&pk, valid, r + p0, c, tr->tracer_from_world);
+                rtcOccluded16(valid, scene, &ctx, &pk);
+                for (int i = 0; i < c; ++i) occluded[k0 + p0 + i] = pk.tfar[i] == -INFINITY;
+            }
+            continue;
+        }
+        for (int i = 0; i < m; ++i) init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
+        if (tr->batch_mode == TRACER_BATCH_STREAM)
+            rtcOccluded1M(scene, &ctx, ray, (unsigned)m, sizeof ray[0]);
+        else
+            for (int i = 0; i < m; ++i) rtcOccluded1(scene, &ctx, &ray[i]);
+        for (int i = 0; i < m; ++i) occluded[k0 + i] = ray[i].tfar == -INFINITY;
     }
 }

@@ -170,44 +170,6 @@ typedef struct {
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
                             SurfaceHit *hits, bool *found);
 void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded);
-
-/* The same for rays the caller writes straight into Embree's own structures
- * (tracer_ray_set, tracer_rayhit_set), traced in place: no copy from a TracerRay on the way
- * (the integrator's wave). The rays are in tracer space; Embree overwrites their tfar (and
- * the hits). Every ray finds what the TracerRay batches give it. */
-void tracer_intersect_rays(const Tracer *tr, struct RTCRayHit *rays, int n, bool shade_all, bool coherent,
-                           SurfaceHit *hits, bool *found);
-void tracer_occluded_rays(const Tracer *tr, struct RTCRay *rays, int n, bool coherent, bool *occluded);
-
-/* The world ray o + t d, t in (0, tmax), at pose fraction time01, skipping the mask bits
- * skip_mask (TracerRay's fields), as Embree's ray in tracer space: origin and tmax times
- * tracer_from_world (exact, a power of two), the direction as it is. */
-static inline void tracer_ray_set(const Tracer *tr, struct RTCRay *r, vec3 o, vec3 d, float tmax, float time01,
-                                  unsigned skip_mask)
-{
-    float k = tr->tracer_from_world;
-    r->org_x = k * o.x, r->org_y = k * o.y, r->org_z = k * o.z;
-    r->dir_x = d.x, r->dir_y = d.y, r->dir_z = d.z;
-    r->tnear = 0.0f;
-    r->tfar = k * tmax;
-    r->time = time01;
-    r->mask = ~skip_mask;
-    r->id = 0;
-    r->flags = 0;
-}
-
-/* tracer_ray_set for a closest-hit ray, its hit cleared. */
-static inline void tracer_rayhit_set(const Tracer *tr, struct RTCRayHit *rh, vec3 o, vec3 d, float tmax, float time01,
-                                     unsigned skip_mask)
-{
-    tracer_ray_set(tr, &rh->ray, o, d, tmax, time01, skip_mask);
-    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-}
-
-/* The direction of a ray set by tracer_ray_set (as given). */
-static inline vec3 tracer_ray_dir(const struct RTCRay *r) { return v3(r->dir_x, r->dir_y, r->dir_z); }
-
 const char *tracer_batch_mode_name(TracerBatchMode mode);
 bool tracer_batch_mode_parse(const char *name, TracerBatchMode *mode);
 
