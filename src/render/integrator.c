@@ -16,7 +16,6 @@
 #include "render/integrator.h"
 
 #include <math.h>
-#include <stdalign.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,26 +50,18 @@ static vec3 guard3(vec3 v, IntegratorStats *st)
     return v3s(0.0f);
 }
 
-/* A path vertex. Of its hit it keeps what rays leaving it need (surface_offset_at): the
- * point, the geometric normal and the offset, not the whole SurfaceHit. Laid out for the
- * wave's array of them (cache-line aligned): the light stages read the first 32 bytes, a
- * Lambert vertex's stage one the first two lines, the glossy BSDF comes last. */
 typedef struct {
-    alignas(64) vec3 p, ng; /* the hit's position and unit geometric normal (SurfaceHit's) */
-    float err;    /* the hit's offset along ng (SurfaceHit.err) */
-    bool glossy;
+    SurfaceHit hit;
+    vec3 wo;      /* unit, towards where the path came from */
     vec3 n;       /* Lambert: shading normal flipped to wo's side (the lobe's axis);
                    * glossy: the shading normal as is (dielectrics need inside / outside) */
-    vec3 wo;      /* unit, towards where the path came from */
-    vec3 albedo;  /* Lambert reflectance */
     vec3 t1, t2;  /* tangents completing the local frame (t1, t2, n); a Lambert vertex that
                    * samples no direction (make_vertex's `sampled`) leaves them unset */
+    bool glossy;
+    vec3 albedo;  /* Lambert reflectance */
     GlossyBsdf bsdf;
     vec3 wo_l;    /* glossy: wo in the local frame */
 } Vertex;
-
-/* The origin of a ray leaving vertex v towards w (surface_offset of its hit). */
-static inline vec3 vertex_offset(const Vertex *v, vec3 w) { return surface_offset_at(v->p, v->ng, v->err, w); }
 
 static vec3 to_local(const Vertex *v, vec3 w) { return v3(v3_dot(v->t1, w), v3_dot(v->t2, w), v3_dot(v->n, w)); }
 
@@ -86,7 +77,7 @@ static inline __attribute__((always_inline)) void make_vertex(const IntegratorSc
                                                                bool sampled, Vertex *v)
 {
     const MaterialTable *mt = sc->materials;
-    v->p = h->p, v->ng = h->ng, v->err = h->err;
+    v->hit = *h;
     v->wo = wo;
     /* mix materials pick one of their two materials per hit (deterministic hash of p, wo) */
     int m = h->geom->material;
@@ -175,11 +166,6 @@ typedef struct {
     int light_index;
     float light_pmf;
     vec2 light_uv;
-    /* where the stage's batched light samples put it: its entry in the point-light samples
-     * (WavePointSamples), and its picked static triangle's group and lane
-     * (WaveTriangleSamples; group -1: none) */
-    int lit_slot;
-    int tri_group, tri_lane;
 } VertexDims;
 
 /* Scalar dimensions per vertex: pick (1), light (2), lobe (1), BSDF (2). Only glossy BSDFs
@@ -213,7 +199,7 @@ typedef struct {
  * two ends coincide. */
 static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, IntegratorStats *st, TracerRay *ray)
 {
-    vec3 o = vertex_offset(v, ls->wi), dir = ls->wi;
+    vec3 o = surface_offset(&v->hit, ls->wi), dir = ls->wi;
     float tmax = INFINITY;
     if (isfinite(ls->dist)) {
         vec3 target = ls->p_light;
@@ -281,7 +267,7 @@ static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, fl
 static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
                              float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
 {
-    if (!light_sample(sc->lights, sc->tracer, light, v->p, time01, u_light, &lp->ls)) return false;
+    if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
     return light_prepare_sampled(sc, v, time01, light, pmf, NULL, st, shadow, lp);
 }
 
@@ -419,34 +405,31 @@ static void first_hit_motion(const IntegratorScene *sc, const SurfaceHit *h, flo
  * path does exactly the floating-point operations, in the same order, of a path traced on
  * its own; only the order between paths changes, so images do not depend on the wave. */
 
-/* A path of the wave is split by the stages that read it, one small record or array per
- * concern (Wave: path, alive, vertex, dims, lit and the receiver arrays, out), so that each
- * stage streams what it reads and writes instead of touching a few lines of one 472-byte
- * record per path (256 of them are more than L1 holds). This part is the path's own state,
- * read by the camera stage, the first hit, stage one and the fold. */
+/* One path of the wave between stages. */
 typedef struct {
     int pixel;         /* index into the wave's pixels */
     int sample_index;  /* the pixel sampler's sample index */
     float time01;
+    bool alive;        /* has a vertex to continue from */
+    Vertex v;
+    VertexDims u;      /* the current vertex's dimensions */
+    vec3 beta;         /* path throughput up to v */
     bool unfiltered;   /* light from here on passes the filters unfiltered */
-    vec3 beta;         /* path throughput up to the current vertex */
-} WavePath;
-
-/* What stage one of a vertex (wave_vertex_rays) leaves for the fold (wave_vertex_fold): the
- * vertex's light sample and bounce, between tracing and folding in. */
-typedef struct {
+    /* the current vertex's light sample and bounce, between tracing and folding in */
     bool light_pending, light_recorded, unfiltered_light;
     int shadow_ray;    /* index into the occlusion or the recorded batch */
+    LightPending lp;
     /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
      * ray_occ[delta_first .. delta_first + delta_count) */
     int delta_first, delta_count;
+    int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
+    int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
     bool bounce;       /* a bounce was sampled (vs, beta_next) */
     int hit_slot;      /* its ray's entry in the closest-hit batch; -1: not traced, as it
                         * cannot reach an emitter (lights_ray_may_reach_emitter) */
-    LightPending lp;
     VertexSample vs;
     vec3 beta_next;
-} VertexOut;
+} WavePath;
 
 /* One run's camera rays, in and out as arrays (camera_generate_rays). */
 typedef struct {
@@ -484,14 +467,7 @@ enum { WAVE_TRIANGLE_GROUPS = 8 };
 enum { WAVE_OCC_RAYS = WAVE_SAMPLES * (1 + LIGHTS_DELTA_EVERY_MAX) };
 
 struct Wave {
-    /* the paths, split by stage (WavePath) */
     WavePath path[WAVE_SAMPLES];
-    bool alive[WAVE_SAMPLES]; /* has a vertex to continue from */
-    Vertex vertex[WAVE_SAMPLES];   /* the current vertex */
-    VertexDims dims[WAVE_SAMPLES]; /* its dimensions and light choice */
-    VertexOut out[WAVE_SAMPLES];
-    /* whether a live vertex takes light samples (vertex_lit), set with the vertex */
-    bool lit[WAVE_SAMPLES];
     /* rays of one stage and what they found */
     TracerRay ray_occ[WAVE_OCC_RAYS], ray_rec[WAVE_SAMPLES], ray_hit[WAVE_SAMPLES];
     bool occluded[WAVE_OCC_RAYS], rec_found[WAVE_SAMPLES], hit_found[WAVE_SAMPLES];
@@ -520,8 +496,7 @@ struct Wave {
     int box_path[WAVE_SAMPLES], box_may[WAVE_SAMPLES];
 };
 
-/* aligned for its Vertex array (a Vertex is cache-line aligned) */
-Wave *wave_create(void) { return aligned_alloc(alignof(Wave), sizeof(Wave)); }
+Wave *wave_create(void) { return malloc(sizeof(Wave)); }
 void wave_free(Wave *w) { free(w); }
 
 /* The sampler of pixel k of the wave. Its values are a pure function of (pixel, sample,
@@ -577,7 +552,7 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
         warp_cosine_hemisphere_run(run->count, w->run_2d_b, w->run_cosine[0], w->run_cosine[1], w->run_cosine[2]);
     }
     for (int k = 0; k < run->count; ++k) {
-        VertexDims *u = &w->dims[j0 + k];
+        VertexDims *u = &w->path[j0 + k].u;
         u->lobe_dim = d0 + 3;
         if (light_dims) {
             u->pick = w->run_1d[k];
@@ -643,17 +618,12 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     wave_vertex_dims(sc, w, j0, 1);
 }
 
-/* A BSDF made of delta lobes only cannot be reached by a light sample: its vertex takes none. */
-static inline bool vertex_lit(const Vertex *v) { return !(v->glossy && glossy_is_delta(&v->bsdf)); }
-
-
 /* What the camera ray found: emission seen directly, the first hit's record fields, and
  * the path's first vertex. */
-static void wave_first_hit(const IntegratorScene *sc, Wave *w, int j, vec3 d_world, bool found, const SurfaceHit *h,
+static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world, bool found, const SurfaceHit *h,
                            bool sampled, SampleRecord *rec, IntegratorStats *st)
 {
-    WavePath *p = &w->path[j];
-    w->alive[j] = false;
+    p->alive = false;
     if (!found) {
         /* what record_reset leaves to this function: a miss's first-hit fields */
         const vec3 zero = v3s(0.0f);
@@ -674,9 +644,8 @@ static void wave_first_hit(const IntegratorScene *sc, Wave *w, int j, vec3 d_wor
         rec->L = rec->emission;
         return;
     }
-    Vertex *v = &w->vertex[j];
+    Vertex *v = &p->v;
     make_vertex(sc, h, v3_neg(d_world), sampled, v);
-    w->lit[j] = vertex_lit(v);
     rec->hit = true;
     record_first_hit_material(v, rec);
     rec->p_world = h->p;
@@ -690,9 +659,11 @@ static void wave_first_hit(const IntegratorScene *sc, Wave *w, int j, vec3 d_wor
     /* Light the filters must pass through unfiltered (sample_record.h): everything at a
      * dielectric first hit, and whatever arrives through a delta lobe of the first hit. */
     p->unfiltered = v->glossy && !glossy_is_filterable(&v->bsdf);
-    w->alive[j] = true;
+    p->alive = true;
 }
 
+/* A BSDF made of delta lobes only cannot be reached by a light sample: its vertex takes none. */
+static inline bool vertex_lit(const Vertex *v) { return !(v->glossy && glossy_is_delta(&v->bsdf)); }
 
 /* shadow_ray_to for count samples of a point or spot light at target (a finite distance,
  * no offset at the light, as its samples have) from receivers p (geometric normals ng,
@@ -750,9 +721,10 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
      * the pick nor tri_group, so the pass over the paths is skipped. */
     if (!vertex_uses_light_dims(sc)) return;
     for (int j = 0; j < n; ++j) {
-        if (!w->alive[j] || !w->lit[j]) continue;
-        VertexDims *u = &w->dims[j];
-        u->tri_group = -1;
+        WavePath *p = &w->path[j];
+        p->tri_group = -1;
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        VertexDims *u = &p->u;
         float pmf = 0.0f;
         bool static_triangle = false;
         u->light_uv = u->light;
@@ -768,12 +740,12 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
         }
         WaveTriangleSamples *t = &w->tri[g];
         int k = t->count++;
-        const Vertex *v = &w->vertex[j];
-        t->p[0][k] = v->p.x, t->p[1][k] = v->p.y, t->p[2][k] = v->p.z;
-        t->ng[0][k] = v->ng.x, t->ng[1][k] = v->ng.y, t->ng[2][k] = v->ng.z;
-        t->err[k] = v->err;
+        const SurfaceHit *h = &p->v.hit;
+        t->p[0][k] = h->p.x, t->p[1][k] = h->p.y, t->p[2][k] = h->p.z;
+        t->ng[0][k] = h->ng.x, t->ng[1][k] = h->ng.y, t->ng[2][k] = h->ng.z;
+        t->err[k] = h->err;
         t->u[0][k] = u->light_uv.x, t->u[1][k] = u->light_uv.y;
-        u->tri_group = g, u->tri_lane = k;
+        p->tri_group = g, p->tri_lane = k;
     }
     for (int g = 0; g < w->tri_groups; ++g) {
         WaveTriangleSamples *t = &w->tri[g];
@@ -802,12 +774,13 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
     if (!any) return;
     int m = 0;
     for (int j = 0; j < n; ++j) {
-        if (!w->alive[j] || !w->lit[j]) continue;
-        w->dims[j].lit_slot = m;
-        const Vertex *v = &w->vertex[j];
-        w->lit_p[0][m] = v->p.x, w->lit_p[1][m] = v->p.y, w->lit_p[2][m] = v->p.z;
-        w->lit_ng[0][m] = v->ng.x, w->lit_ng[1][m] = v->ng.y, w->lit_ng[2][m] = v->ng.z;
-        w->lit_err[m] = v->err;
+        WavePath *p = &w->path[j];
+        if (!p->alive || !vertex_lit(&p->v)) continue;
+        const SurfaceHit *h = &p->v.hit;
+        p->lit_slot = m;
+        w->lit_p[0][m] = h->p.x, w->lit_p[1][m] = h->p.y, w->lit_p[2][m] = h->p.z;
+        w->lit_ng[0][m] = h->ng.x, w->lit_ng[1][m] = h->ng.y, w->lit_ng[2][m] = h->ng.z;
+        w->lit_err[m] = h->err;
         ++m;
     }
     const float *pos[3] = {w->lit_p[0], w->lit_p[1], w->lit_p[2]};
@@ -824,25 +797,23 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
 
 /* First half of next-event estimation for path p: a point on the light its dimensions
  * picked (wave_triangle_light_samples, which also sampled a static triangle) and the
- * shadow ray, into w->out[j].lp. */
-static bool light_prepare(const IntegratorScene *sc, Wave *w, int j, IntegratorStats *st, TracerRay *shadow)
+ * shadow ray, into p->lp. */
+static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
+                          TracerRay *shadow)
 {
-    const VertexDims *u = &w->dims[j];
-    const Vertex *v = &w->vertex[j];
-    float time01 = w->path[j].time01;
-    LightPending *lp = &w->out[j].lp;
+    const VertexDims *u = &p->u;
     if (u->light_index < 0) return false;
-    if (u->tri_group < 0)
-        return light_prepare_at(sc, v, time01, u->light_index, u->light_uv, u->light_pmf, st, shadow, lp);
-    const WaveTriangleSamples *g = &w->tri[u->tri_group];
-    int k = u->tri_lane;
+    if (p->tri_group < 0)
+        return light_prepare_at(sc, &p->v, p->time01, u->light_index, u->light_uv, u->light_pmf, st, shadow, &p->lp);
+    const WaveTriangleSamples *g = &w->tri[p->tri_group];
+    int k = p->tri_lane;
     if (!g->ok[k]) return false;
     const Light *l = &sc->lights->lights[u->light_index];
-    lp->ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k],
+    p->lp.ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k],
                              v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]), l->tri_n, l->tri_err, l->L, g->pdf[k], false};
     ShadowRayAhead ahead = {v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]),
                             g->len[k], g->redo[k] != 0};
-    return light_prepare_sampled(sc, v, time01, u->light_index, u->light_pmf, &ahead, st, shadow, lp);
+    return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
 }
 
 /* What a Lambert receiver's response to a light needs of the receiver alone: the same for
@@ -888,25 +859,25 @@ static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec
 }
 
 /* light_prepare for a Lambert receiver of a picked static triangle whose shadow ray was
- * computed ahead (not `redo`), with its outcome as a value: its lp and *shadow are written
+ * computed ahead (not `redo`), with its outcome as a value: p->lp and *shadow are written
  * whether or not the sample is kept, so that whether the receiver faces the light and the
  * light faces it (one-sided emitters; on a receiver beside the light a coin toss) is not a
  * branch. The same tests, values and counters as light_prepare_sampled. */
-static int light_prepare_lambert_triangle(const IntegratorScene *sc, Wave *w, int j, IntegratorStats *st,
+static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
                                           TracerRay *shadow)
 {
-    const VertexDims *u = &w->dims[j];
-    const WaveTriangleSamples *g = &w->tri[u->tri_group];
-    int k = u->tri_lane;
+    const VertexDims *u = &p->u;
+    const WaveTriangleSamples *g = &w->tri[p->tri_group];
+    int k = p->tri_lane;
     const Light *l = &sc->lights->lights[u->light_index];
-    LightPending *lp = &w->out[j].lp;
+    LightPending *lp = &p->lp;
     lp->ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k], v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]),
                            l->tri_n, l->tri_err, l->L, g->pdf[k], false};
     lp->light = u->light_index;
     lp->pmf = u->light_pmf;
     lp->is_area = true;
     /* vertex_f's Lambert case; g->ok: the sample exists and the light faces the receiver */
-    LambertReceiver rv = lambert_receiver(&w->vertex[j]);
+    LambertReceiver rv = lambert_receiver(&p->v);
     LambertLight resp = lambert_light(&rv, lp->ls.wi, l->L);
     lp->f = resp.f;
     lp->cos_i = resp.cos_i_abs;
@@ -918,7 +889,7 @@ static int light_prepare_lambert_triangle(const IntegratorScene *sc, Wave *w, in
     shadow->o = v3(g->o[0][k], g->o[1][k], g->o[2][k]);
     shadow->d = v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]);
     shadow->tmax = g->len[k];
-    shadow->time01 = w->path[j].time01;
+    shadow->time01 = p->time01;
     shadow->skip_mask = l->shadow_skip_mask;
     st->guarded_events += sends & !len_ok;
     st->rays_shadow += sends & len_ok;
@@ -945,46 +916,44 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
                                                                    int *n_hit)
 {
     WavePath *p = &w->path[j];
-    const Vertex *v = &w->vertex[j];
-    const VertexDims *u = &w->dims[j];
-    VertexOut *out = &w->out[j];
+    const Vertex *v = &p->v;
     const LightSet *L = sc->lights;
     TracerRay shadow;
-    bool lit = w->lit[j];
-    out->light_recorded = false;
+    bool lit = vertex_lit(v);
+    p->light_recorded = false;
     /* with nothing to pick, the vertex takes no picked light's sample (its pick and
      * tri_group were not set: wave_triangle_light_samples) */
     bool picks = vertex_uses_light_dims(sc);
-    bool valued = picks && lit && !v->glossy && u->tri_group >= 0 && !w->tri[u->tri_group].redo[u->tri_lane];
+    bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     if (valued) {
         /* the ray is written to the slot it would take and the count moves by the outcome */
         bool record = depth == 1 && sc->record_ray_geometry && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
         int *count = record ? n_rec : n_occ;
-        out->shadow_ray = *count;
-        int kept = light_prepare_lambert_triangle(sc, w, j, st, &(record ? w->ray_rec : w->ray_occ)[out->shadow_ray]);
+        p->shadow_ray = *count;
+        int kept = light_prepare_lambert_triangle(sc, w, p, st, &(record ? w->ray_rec : w->ray_occ)[p->shadow_ray]);
         *count += kept;
-        out->light_pending = kept;
-        out->light_recorded = record & kept;
+        p->light_pending = kept;
+        p->light_recorded = record & kept;
     } else {
-        out->light_pending = picks && lit && light_prepare(sc, w, j, st, &shadow);
+        p->light_pending = picks && lit && light_prepare(sc, w, p, st, &shadow);
     }
-    if (out->light_pending && !valued) {
+    if (p->light_pending && !valued) {
         /* the first hit's shadow rays to area lights are recorded for the filters, with the
          * distance to their occluder: traced for the closest hit instead of any hit */
-        bool record = depth == 1 && sc->record_ray_geometry && out->lp.is_area && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
-        out->light_recorded = record;
+        bool record = depth == 1 && sc->record_ray_geometry && p->lp.is_area && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
+        p->light_recorded = record;
         if (record) {
-            out->shadow_ray = (*n_rec)++;
-            w->ray_rec[out->shadow_ray] = shadow;
+            p->shadow_ray = (*n_rec)++;
+            w->ray_rec[p->shadow_ray] = shadow;
         } else {
-            out->shadow_ray = (*n_occ)++;
-            w->ray_occ[out->shadow_ray] = shadow;
+            p->shadow_ray = (*n_occ)++;
+            w->ray_occ[p->shadow_ray] = shadow;
         }
     }
     /* Delta lights lit at every vertex: probability 1, no MIS (BSDF sampling never finds
      * them); the light dimensions go unused (a point has no area). */
-    out->delta_first = *n_occ;
-    out->delta_count = 0;
+    p->delta_first = *n_occ;
+    p->delta_count = 0;
     LambertReceiver rv; /* the Lambert receiver's part of every delta light's response */
     if (lit && !v->glossy && L->delta_every_count > 0) rv = lambert_receiver(v);
     for (int k = 0; lit && k < L->delta_every_count; ++k) {
@@ -993,7 +962,7 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         const Light *light = &L->lights[li];
         bool prepared;
         if (!v->glossy && (light->kind == LIGHT_DISTANT ||
-                           ((light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) && !w->point[k].redo[u->lit_slot]))) {
+                           ((light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) && !w->point[k].redo[p->lit_slot]))) {
             /* A Lambert receiver and a shadow ray known without light_prepare_sampled's
              * shadow_ray_to: its outcome as a value, the ray and the value written whether
              * or not they are kept, so that which side of the receiver the light is on (a
@@ -1003,10 +972,10 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
             if (light->kind == LIGHT_DISTANT) {
                 wi = light->w_world, Li = light->L;
                 if (!v3_any_positive(Li)) continue; /* light_sample's answer */
-                o = vertex_offset(v, wi), dir = wi, len = INFINITY;
+                o = surface_offset(&v->hit, wi), dir = wi, len = INFINITY;
             } else {
                 const WavePointSamples *ps = &w->point[k];
-                int m = u->lit_slot;
+                int m = p->lit_slot;
                 if (!ps->ok[m]) continue;
                 wi = v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), Li = v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]);
                 o = v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]), dir = v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]);
@@ -1020,13 +989,13 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
             st->guarded_events += resp.sends & !len_ok;
             st->rays_shadow += kept;
             *n_occ += kept;
-            out->delta_count += kept;
+            p->delta_count += kept;
             continue;
         }
         if (light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) {
             /* sampled for the whole stage by wave_point_light_samples */
             const WavePointSamples *ps = &w->point[k];
-            int m = u->lit_slot;
+            int m = p->lit_slot;
             if (!ps->ok[m]) continue;
             lp.ls = (LightSample){v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), ps->dist[m], light->p_world, v3s(0.0f),
                                   ps->err_light, v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
@@ -1038,33 +1007,33 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         }
         if (!prepared) continue;
         w->delta_value[(*n_occ)++] = v3_scale(v3_mul(lp.f, lp.ls.Li), lp.cos_i);
-        ++out->delta_count;
+        ++p->delta_count;
     }
-    out->unfiltered_light = p->unfiltered;
-    out->bounce = false;
+    p->unfiltered_light = p->unfiltered;
+    p->bounce = false;
 
     if (!vertex_uses_bsdf_dims(sc, depth)) return;
     float u_lobe = 0.5f; /* Lambert: unused */
-    if (v->glossy) u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), u->lobe_dim);
-    if (!vertex_sample(v, u_lobe, u->bsdf, u->bsdf_cosine, &out->vs)) return;
-    out->beta_next = guard3(v3_mul(p->beta, out->vs.weight), st);
-    if (max_component_nonpositive(out->beta_next)) return;
-    if (depth == 1 && out->vs.delta) p->unfiltered = true;
-    out->bounce = true;
-    out->hit_slot = -1;
-    vec3 o = vertex_offset(v, out->vs.wi);
+    if (v->glossy) u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), p->u.lobe_dim);
+    if (!vertex_sample(v, u_lobe, p->u.bsdf, p->u.bsdf_cosine, &p->vs)) return;
+    p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
+    if (max_component_nonpositive(p->beta_next)) return;
+    if (depth == 1 && p->vs.delta) p->unfiltered = true;
+    p->bounce = true;
+    p->hit_slot = -1;
+    vec3 o = surface_offset(&v->hit, p->vs.wi);
     /* The last ray of a path only finds emitters for MIS of direct light; the others carry
      * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Rays that
      * wave_emitter_box_test may drop are counted there. */
     bool box_test = emitter_box_test(sc, depth);
     if (depth < sc->max_depth) ++st->rays_indirect;
     else if (!box_test) ++st->rays_bsdf;
-    out->hit_slot = (*n_hit)++;
-    w->ray_hit[out->hit_slot] = (TracerRay){o, out->vs.wi, INFINITY, p->time01, 0u};
+    p->hit_slot = (*n_hit)++;
+    w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
     if (box_test) {
-        int k = out->hit_slot;
+        int k = p->hit_slot;
         w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
-        w->box_d[0][k] = out->vs.wi.x, w->box_d[1][k] = out->vs.wi.y, w->box_d[2][k] = out->vs.wi.z;
+        w->box_d[0][k] = p->vs.wi.x, w->box_d[1][k] = p->vs.wi.y, w->box_d[2][k] = p->vs.wi.z;
         w->box_path[k] = j;
     }
 }
@@ -1080,60 +1049,59 @@ static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, 
     lights_rays_may_reach_emitter(sc->lights, n_hit, o, d, w->box_may);
     int count = 0;
     for (int k = 0; k < n_hit; ++k) {
-        VertexOut *out = &w->out[w->box_path[k]];
+        WavePath *p = &w->path[w->box_path[k]];
         if (!w->box_may[k]) {
-            out->hit_slot = -1;
+            p->hit_slot = -1;
             continue;
         }
         w->ray_hit[count] = w->ray_hit[k];
-        out->hit_slot = count++;
+        p->hit_slot = count++;
     }
     st->rays_bsdf += count;
     st->rays_bsdf_skipped += n_hit - count;
     return count;
 }
 
-/* The sum of a path's unoccluded delta-light values, each guarded (guard3). Its caller adds
+/* The sum of path p's unoccluded delta-light values, each guarded (guard3). Its caller adds
  * them unguarded and comes here only when that sum is not finite: a non-finite value makes
  * the sum non-finite (inf and NaN absorb finite terms), and a sum of finite values equals
  * the guarded sum, so the result and the count of guarded events are the same either way
  * (one finite test a vertex instead of one per value). */
-static vec3 delta_sum_guarded(const Wave *w, const VertexOut *out, IntegratorStats *st)
+static vec3 delta_sum_guarded(const Wave *w, const WavePath *p, IntegratorStats *st)
 {
     vec3 sum = v3s(0.0f);
-    for (int k = out->delta_first; k < out->delta_first + out->delta_count; ++k)
+    for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
         if (!w->occluded[k]) sum = v3_add(sum, guard3(w->delta_value[k], st));
     return sum;
 }
 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
  * found, added to the record, and the next vertex (or the end of the path). */
-static inline __attribute__((always_inline)) void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
+static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
                              IntegratorStats *st)
 {
     WavePath *p = &w->path[j];
-    VertexOut *out = &w->out[j];
     vec3 *bucket = depth == 1 ? &rec->direct : &rec->indirect;
     vec3 l_light = v3s(0.0f);
-    if (out->light_pending) {
+    if (p->light_pending) {
         bool occluded;
-        if (out->light_recorded) {
-            int k = out->shadow_ray;
+        if (p->light_recorded) {
+            int k = p->shadow_ray;
             occluded = w->rec_found[k];
             ShadowRayRecord *r = &rec->shadow[rec->shadow_count++];
-            r->d_light_world = out->lp.ls.dist;
+            r->d_light_world = p->lp.ls.dist;
             r->d_occluder_world = occluded ? w->rec_hit[k].t : INFINITY;
-            r->light_p_world = out->lp.ls.p_light;
-            r->light_index = out->lp.light;
+            r->light_p_world = p->lp.ls.p_light;
+            r->light_index = p->lp.light;
         } else {
-            occluded = w->occluded[out->shadow_ray];
+            occluded = w->occluded[p->shadow_ray];
         }
-        l_light = light_finish(&out->lp, occluded, st);
+        l_light = light_finish(&p->lp, occluded, st);
     }
     vec3 l_delta = v3s(0.0f);
-    for (int k = out->delta_first; k < out->delta_first + out->delta_count; ++k)
+    for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
         if (!w->occluded[k]) l_delta = v3_add(l_delta, w->delta_value[k]);
-    if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, out, st);
+    if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, p, st);
     vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
     *bucket = v3_add(*bucket, v3_add(ld, ld_delta));
     /* A point, spot or distant light casts hard shadows: in a scene with area lights, whose
@@ -1141,18 +1109,18 @@ static inline __attribute__((always_inline)) void wave_vertex_fold(const Integra
      * blurred with theirs (on motion_defocus_soft, a sphere light beside a distant light,
      * AAF's shadows had 30x Monte Carlo's error at 64 spp, static and pinhole). Without
      * area lights no filter takes direct light and nothing needs to be set apart. */
-    if (out->unfiltered_light) {
+    if (p->unfiltered_light) {
         rec->unfiltered = v3_add(rec->unfiltered, v3_add(ld, ld_delta));
     } else if (depth == 1 && sc->lights->has_area) {
-        if (out->light_pending && out->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
+        if (p->light_pending && p->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
         rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld_delta);
     }
-    w->alive[j] = false;
-    if (!out->bounce) return;
+    p->alive = false;
+    if (!p->bounce) return;
 
-    bool hit = out->hit_slot >= 0 && w->hit_found[out->hit_slot];
-    const SurfaceHit *nh = hit ? &w->hit[out->hit_slot] : NULL;
-    vec3 wi = out->vs.wi;
+    bool hit = p->hit_slot >= 0 && w->hit_found[p->hit_slot];
+    const SurfaceHit *nh = hit ? &w->hit[p->hit_slot] : NULL;
+    vec3 wi = p->vs.wi;
     if (depth == 1 && sc->record_ray_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
         BounceRayRecord *b = &rec->bounce[rec->bounce_count++];
         b->d_hit_world = hit ? nh->t : INFINITY;
@@ -1163,18 +1131,17 @@ static inline __attribute__((always_inline)) void wave_vertex_fold(const Integra
      * (beta_next is finite, guarded above) and adding it changes no sum (a sum begun at +0
      * is never -0). Nothing to add, no guard, and such a path ends here either way. */
     if (!hit && sc->lights->infinite_count == 0) return;
-    Vertex *v = &w->vertex[j];
-    bool no_mis = out->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
-    vec3 le = guard3(v3_mul(out->beta_next, bsdf_ray_emission(sc, v->p, out->vs.pdf, no_mis, hit ? nh : NULL, wi,
+    const Vertex *v = &p->v;
+    bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
+    vec3 le = guard3(v3_mul(p->beta_next, bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi,
                                                             p->time01, hit)),
                      st);
     *bucket = v3_add(*bucket, le);
     if (p->unfiltered) rec->unfiltered = v3_add(rec->unfiltered, le);
     if (!hit || depth == sc->max_depth) return;
-    p->beta = out->beta_next;
-    make_vertex(sc, nh, v3_neg(wi), vertex_uses_bsdf_dims(sc, depth + 1), v);
-    w->lit[j] = vertex_lit(v);
-    w->alive[j] = true;
+    p->beta = p->beta_next;
+    make_vertex(sc, nh, v3_neg(wi), vertex_uses_bsdf_dims(sc, depth + 1), &p->v);
+    p->alive = true;
 }
 
 int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int pixel_count,
@@ -1202,8 +1169,8 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
      * (its loads through sc->lights were a part of every hit) */
     bool sampled_first = vertex_uses_bsdf_dims(sc, 1);
     for (int j = 0; j < n; ++j) {
-        wave_first_hit(sc, w, j, w->ray_hit[j].d, w->hit_found[j], &w->hit[j], sampled_first, &recs[j], st);
-        any_alive |= w->alive[j];
+        wave_first_hit(sc, &w->path[j], w->ray_hit[j].d, w->hit_found[j], &w->hit[j], sampled_first, &recs[j], st);
+        any_alive |= w->path[j].alive;
     }
 
     /* path vertices: shadow and bounce rays in batches, then folded in path by path */
@@ -1214,7 +1181,7 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         for (int k = 0; k < pixel_count && depth > 1 && any_dims; ++k) {
             int j0 = w->path_first[k], count = w->path_count[k];
             bool alive = false;
-            for (int j = j0; j < j0 + count; ++j) alive |= w->alive[j];
+            for (int j = j0; j < j0 + count; ++j) alive |= w->path[j].alive;
             if (!alive) continue;
             PixelSampler *s = wave_pixel_sampler(w, ws, pixels, k);
             for (int i = 0; i < count; i += SAMPLER_RUN_MAX) {
@@ -1226,16 +1193,17 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         wave_point_light_samples(sc, w, n);
         wave_triangle_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
-            if (w->alive[j]) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
+            if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
         any_alive = false;
         for (int j = 0; j < n; ++j) {
-            if (!w->alive[j]) continue;
+            WavePath *p = &w->path[j];
+            if (!p->alive) continue;
             wave_vertex_fold(sc, w, j, depth, &recs[j], st);
-            any_alive |= w->alive[j];
+            any_alive |= p->alive;
         }
     }
     for (int j = 0; j < n; ++j) {

@@ -182,16 +182,12 @@ bool tracer_quadric_hit(const Geom *g, const double o_geom[3], const double d_ge
 /* World-from-geometry transform of a layer geometry at a time (identity for layer 0). */
 Mat4 tracer_world_from_instance(const Tracer *tr, int instance, float time01);
 
-/* A ray origin on the surface at p (unit geometric normal ng, offset err), pushed off it to
- * the side of direction w. (Inline: two or three per camera sample, each on the way to a
- * traversal.) */
-static inline vec3 surface_offset_at(vec3 p, vec3 ng, float err, vec3 w)
+/* A ray origin on the surface, pushed off it to the side of direction w. (Inline: two or
+ * three per camera sample, each on the way to a traversal.) */
+static inline vec3 surface_offset(const SurfaceHit *h, vec3 w)
 {
-    float s = v3_dot(ng, w) >= 0.0f ? err : -err;
-    return v3_madd(p, ng, s);
+    float s = v3_dot(h->ng, w) >= 0.0f ? h->err : -h->err;
+    return v3_madd(h->p, h->ng, s);
 }
-
-/* surface_offset_at of a hit. */
-static inline vec3 surface_offset(const SurfaceHit *h, vec3 w) { return surface_offset_at(h->p, h->ng, h->err, w); }
 
 #endif
