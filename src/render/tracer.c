@@ -1049,6 +1049,26 @@ static inline void hit_shaded(SurfaceHit *hit, float t, vec3 p, vec3 ng, vec3 ns
     hit->light = g->light_first >= 0 ? g->light_first + (g->kind == GEOM_TRIANGLES ? prim : 0) : -1;
 }
 
+/* The hit point and normal of a top-level sphere placed by a translation alone (centre c,
+ * radius r) whose uv nobody reads, in float where double bought nothing: the offset from
+ * the centre, o - c, in double and then rounded (o far from the world's origin beside a
+ * nearby sphere keeps its digits), plus t d in float (t itself is a float: its rounding is
+ * the hit's own uncertainty along the ray); the normal that offset normalised in float;
+ * the point reprojected onto the surface, c + r n, in double and rounded once. What the
+ * general path (shade_geom_space: two 4x4 double transforms, a double square root and
+ * division, the normal through the inverse transform) gives to within a few float ulps. */
+static void sphere_hit_shade(const Geom *g, vec3 o, vec3 d, float t, SurfaceHit *hit, int prim, int object_id)
+{
+    const Mat4 *m = &g->geom_from_object;
+    double cx = m->m[0][3], cy = m->m[1][3], cz = m->m[2][3], r = g->radius;
+    vec3 oc = v3((float)((double)o.x - cx), (float)((double)o.y - cy), (float)((double)o.z - cz));
+    vec3 n = v3_normalize(v3_madd(oc, d, t));
+    vec3 p = v3((float)(cx + r * (double)n.x), (float)(cy + r * (double)n.y), (float)(cz + r * (double)n.z));
+    if (g->flip_normal) n = v3_neg(n);
+    float mag = v3_max_abs(p) + (float)g->quadric_reach;
+    hit_shaded(hit, t, p, n, n, v2(0.0f, 0.0f), OFFSET_REL * mag, g, prim, -1, object_id);
+}
+
 /* tracer_intersect_ex's shading of any hit rh of the ray o + t d (instances, spheres and
  * disks included). Out of line: the common case below stays small. */
 static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d, float time01, bool shade_all,
@@ -1069,6 +1089,10 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
     float t = tr->world_from_tracer * rh.ray.tfar;
     if (!shade_all && g->light_first < 0) {
         hit_unshaded(hit, t, g, (int)rh.hit.primID, instance, object_id);
+        return true;
+    }
+    if (instance < 0 && g->kind == GEOM_SPHERE && g->object_translation_only && g->uv_unread) {
+        sphere_hit_shade(g, o, d, t, hit, (int)rh.hit.primID, object_id);
         return true;
     }
     double pg[3] = {0.0, 0.0, 0.0};
