@@ -1096,10 +1096,6 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
         hit_unshaded(hit, t, g, (int)rh.hit.primID, instance, object_id);
         return true;
     }
-    if (instance < 0 && g->kind == GEOM_SPHERE && g->object_translation_only) {
-        sphere_hit_shade(g, o, d, t, hit, (int)rh.hit.primID, object_id);
-        return true;
-    }
     double pg[3] = {0.0, 0.0, 0.0};
     if (g->kind != GEOM_TRIANGLES || instance >= 0)
         for (int i = 0; i < 3; ++i) pg[i] = (double)v3_get(o, i) + (double)t * v3_get(d, i);
@@ -1138,6 +1134,13 @@ static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time0
     if (rh->hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     if (rh->hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return shade_hit(tr, o, d, time01, shade_all, rh, hit);
     const Geom *g = &tr->layers[0].geoms[rh->hit.geomID];
+    if (g->kind == GEOM_SPHERE && g->object_translation_only) {
+        /* a top-level sphere placed by a translation: here, without shade_hit's call and copy */
+        float t = tr->world_from_tracer * rh->ray.tfar;
+        if (!shade_all && g->light_first < 0) hit_unshaded(hit, t, g, (int)rh->hit.primID, -1, (int)rh->hit.geomID);
+        else sphere_hit_shade(g, o, d, t, hit, (int)rh->hit.primID, (int)rh->hit.geomID);
+        return true;
+    }
     if (g->kind != GEOM_TRIANGLES) return shade_hit(tr, o, d, time01, shade_all, rh, hit);
     /* The common case, a triangle of the top level, as shade_hit does it. */
     int prim = (int)rh->hit.primID, object_id = (int)rh->hit.geomID;
