@@ -55,52 +55,30 @@ static bool pixel_frame(const GBuffer *g, size_t i, FsfBounceFrame *f, vec3 *jx,
     return fsf_bounce_frame(*jx, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]), f);
 }
 
-/* fsf_bounce_samples over pixels [begin, end): each part writes its own pixels' entries and
- * slots, and its own count of non-finite values (recon_parallel.h). */
-typedef struct {
-    const GBuffer *g;
-    const SampleStore *st;
-    const float *value4, *bounce, *ind;
-    unsigned char *usable;
-    float *y, *v;
-    int *count;
-    long long nonfinite[RECON_PARTS];
-} SamplesJob;
-
-static void samples_range(void *ctx, size_t begin, size_t end, int part)
-{
-    SamplesJob *j = ctx;
-    const GBuffer *g = j->g;
-    int cap = sample_store_capacity(j->st);
-    long long nonfinite = 0;
-    for (size_t i = begin; i < end; ++i) {
-        int cnt = sample_store_count(j->st, i);
-        j->count[i] = cnt;
-        FsfBounceFrame f;
-        vec3 jx, jy;
-        bool framed = pixel_frame(g, i, &f, &jx, &jy);
-        j->usable[i] = framed && cnt > 0 && j->value4[4 * i + 3] > 0.0f && !g->mixed[i];
-        float scale[3];
-        fsf_match_pixel(j->value4 + 4 * i, j->ind + i * (size_t)cap * 3, cnt, scale);
-        for (int k = 0; k < cnt; ++k) {
-            size_t slot = i * (size_t)cap + (size_t)k;
-            const float *b = j->bounce + 4 * slot;
-            if (framed) fsf_bounce_coord(&f, v3(b[0], b[1], b[2]), j->y + 2 * slot);
-            else j->y[2 * slot] = j->y[2 * slot + 1] = 0.0f;
-        }
-        nonfinite += fsf_scale_samples(j->ind + i * (size_t)cap * 3, cnt, scale, j->v + i * (size_t)cap * 3);
-    }
-    j->nonfinite[part] = nonfinite;
-}
-
 bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
                         float *v, int *count, long long *nonfinite)
 {
-    SamplesJob j = {g, st, value4, sample_store_field(st, SAMPLE_FIELD_BOUNCE),
-                    sample_store_field(st, SAMPLE_FIELD_INDIRECT), usable, y, v, count, {0}};
-    if (!j.bounce || !j.ind) return false;
-    recon_parallel_for((size_t)g->width * (size_t)g->height, samples_range, &j);
-    for (int p = 0; p < RECON_PARTS; ++p) *nonfinite += j.nonfinite[p];
+    const float *bounce = sample_store_field(st, SAMPLE_FIELD_BOUNCE), *ind = sample_store_field(st, SAMPLE_FIELD_INDIRECT);
+    if (!bounce || !ind) return false;
+    int cap = sample_store_capacity(st);
+    size_t n = (size_t)g->width * (size_t)g->height;
+    for (size_t i = 0; i < n; ++i) {
+        int cnt = sample_store_count(st, i);
+        count[i] = cnt;
+        FsfBounceFrame f;
+        vec3 jx, jy;
+        bool framed = pixel_frame(g, i, &f, &jx, &jy);
+        usable[i] = framed && cnt > 0 && value4[4 * i + 3] > 0.0f && !g->mixed[i];
+        float scale[3];
+        fsf_match_pixel(value4 + 4 * i, ind + i * (size_t)cap * 3, cnt, scale);
+        for (int k = 0; k < cnt; ++k) {
+            size_t slot = i * (size_t)cap + (size_t)k;
+            const float *b = bounce + 4 * slot;
+            if (framed) fsf_bounce_coord(&f, v3(b[0], b[1], b[2]), y + 2 * slot);
+            else y[2 * slot] = y[2 * slot + 1] = 0.0f;
+        }
+        *nonfinite += fsf_scale_samples(ind + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
+    }
     return true;
 }
 

@@ -6,7 +6,6 @@
 
 #include "recon/fsf/fsf_bounce.h"
 #include "recon/fsf/fsf_params.h"
-#include "recon/recon_parallel.h"
 #include "recon/sample_rate.h"
 
 bool fsf_pixel_collapsed(const FsfPixel *px)
@@ -135,39 +134,21 @@ void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int 
     }
 }
 
-/* fsf_blend_collapsed over pixels [begin, end): each part writes its own pixels' value4. */
-typedef struct {
-    const FsfPixel *px;
-    const unsigned char *usable;
-    const int *stored;
-    const GBuffer *g;
-    const float *half_m, *mean4;
-    float *value4;
-} BlendJob;
-
-static void blend_range(void *ctx, size_t begin, size_t end, int part)
-{
-    (void)part;
-    const BlendJob *j = ctx;
-    const FsfPixel *px = j->px;
-    for (size_t i = begin; i < end; ++i) {
-        if (!j->usable[i] || !fsf_pixel_collapsed(&px[i])) continue;
-        if (!(px[i].sigma_px[0] > 0.0f || px[i].sigma_px[1] > 0.0f)) continue; /* passed through */
-        /* the samples beyond the stored ones: the pixel's own (hits counts every pass's) */
-        float n1 = (float)j->stored[i], extra = (float)j->g->sums[i].hits - n1;
-        if (!(extra > 0.0f)) continue;
-        /* inverse-variance weights: the filter as n1 A samples, the extras as themselves */
-        float w_mean = extra / (n1 * fsf_pixel_area_sheared_px(&px[i], j->half_m) + extra);
-        for (int ch = 0; ch < 3; ++ch) {
-            float *v = j->value4 + 4 * i + (size_t)ch;
-            *v += w_mean * (j->mean4[4 * i + (size_t)ch] - *v);
-        }
-    }
-}
-
 void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const int *stored, const GBuffer *g,
                          const float half_m[2], const float *mean4, float *value4)
 {
-    BlendJob j = {px, usable, stored, g, half_m, mean4, value4};
-    recon_parallel_for((size_t)g->width * (size_t)g->height, blend_range, &j);
+    size_t n = (size_t)g->width * (size_t)g->height;
+    for (size_t i = 0; i < n; ++i) {
+        if (!usable[i] || !fsf_pixel_collapsed(&px[i])) continue;
+        if (!(px[i].sigma_px[0] > 0.0f || px[i].sigma_px[1] > 0.0f)) continue; /* passed through */
+        /* the samples beyond the stored ones: the pixel's own (hits counts every pass's) */
+        float n1 = (float)stored[i], extra = (float)g->sums[i].hits - n1;
+        if (!(extra > 0.0f)) continue;
+        /* inverse-variance weights: the filter as n1 A samples, the extras as themselves */
+        float w_mean = extra / (n1 * fsf_pixel_area_sheared_px(&px[i], half_m) + extra);
+        for (int ch = 0; ch < 3; ++ch) {
+            float *v = value4 + 4 * i + (size_t)ch;
+            *v += w_mean * (mean4[4 * i + (size_t)ch] - *v);
+        }
+    }
 }

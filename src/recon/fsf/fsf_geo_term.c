@@ -6,7 +6,6 @@
 #include <string.h>
 
 #include "core/vectorise.h"
-#include "recon/recon_parallel.h"
 
 float fsf_geo_G(const FsfGeoTerm *t, const float *pos, const float *nrm, float z1, float z2)
 {
@@ -67,30 +66,6 @@ static WEDGE_VECTORISED void geo_mean_block(const FsfGeoTerm *t, const float (*l
     }
 }
 
-/* Blocks [begin, end) of fsf_geo_mean: each part writes its own blocks' pixels. */
-typedef struct {
-    const FsfGeoTerm *t;
-    const float (*lp)[3], (*corner)[3];
-    const float *pos4, *nrm4;
-    const unsigned char *usable;
-    size_t n;
-    float *mean_g;
-} GeoJob;
-
-static void geo_mean_blocks(void *ctx, size_t begin, size_t end, int part)
-{
-    (void)part;
-    const GeoJob *j = ctx;
-    for (size_t i0 = begin * GEO_BLOCK; i0 < end * GEO_BLOCK && i0 < j->n; i0 += GEO_BLOCK) {
-        int nb = j->n - i0 < GEO_BLOCK ? (int)(j->n - i0) : GEO_BLOCK;
-        /* a block without a usable pixel (the background, the light's own rows) costs nothing */
-        bool any = false;
-        for (int k = 0; k < nb && !any; ++k) any = j->usable[i0 + (size_t)k];
-        if (any) geo_mean_block(j->t, j->lp, j->corner, j->pos4, j->nrm4, j->usable, i0, nb, j->mean_g);
-        else memset(j->mean_g + i0, 0, sizeof(float) * (size_t)nb);
-    }
-}
-
 void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, const unsigned char *usable,
                   const float half_m[2], size_t n, float *mean_g)
 {
@@ -107,8 +82,14 @@ void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, con
         float z1 = (k & 1 ? 1.0f : -1.0f) * half_m[0], z2 = (k & 2 ? 1.0f : -1.0f) * half_m[1];
         for (int c = 0; c < 3; ++c) corner[k][c] = t->centre[c] + z1 * t->axis[0][c] + z2 * t->axis[1][c];
     }
-    GeoJob j = {t, (const float(*)[3])lp, (const float(*)[3])corner, pos4, nrm4, usable, n, mean_g};
-    recon_parallel_for_work((n + GEO_BLOCK - 1) / GEO_BLOCK, n, geo_mean_blocks, &j);
+    for (size_t i0 = 0; i0 < n; i0 += GEO_BLOCK) {
+        int nb = n - i0 < GEO_BLOCK ? (int)(n - i0) : GEO_BLOCK;
+        /* a block without a usable pixel (the background, the light's own rows) costs nothing */
+        bool any = false;
+        for (int k = 0; k < nb && !any; ++k) any = usable[i0 + (size_t)k];
+        if (any) geo_mean_block(t, (const float(*)[3])lp, (const float(*)[3])corner, pos4, nrm4, usable, i0, nb, mean_g);
+        else memset(mean_g + i0, 0, sizeof(float) * (size_t)nb);
+    }
 }
 
 void fsf_geo_factors(const FsfGeoTerm *t, const float *pos4, const float *nrm4, size_t i, float y1, float y2,

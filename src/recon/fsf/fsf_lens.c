@@ -22,45 +22,25 @@ float fsf_lens_slope(const ReconCamera *cam, float depth_cam)
     return 1.0f / c;
 }
 
-/* fsf_lens_samples over pixels [begin, end): each part writes its own pixels' entries and
- * slots, and its own count of non-finite values (recon_parallel.h). */
-typedef struct {
-    const SampleStore *st;
-    const float *value4, *lens, *rad;
-    unsigned char *usable;
-    float *y, *v;
-    int *count;
-    long long nonfinite[RECON_PARTS];
-} SamplesJob;
-
-static void samples_range(void *ctx, size_t begin, size_t end, int part)
-{
-    SamplesJob *j = ctx;
-    int cap = sample_store_capacity(j->st);
-    long long nonfinite = 0;
-    for (size_t i = begin; i < end; ++i) {
-        int cnt = sample_store_count(j->st, i);
-        j->count[i] = cnt;
-        j->usable[i] = cnt > 0 && j->value4[4 * i + 3] > 0.0f;
-        float scale[3];
-        fsf_match_pixel(j->value4 + 4 * i, j->rad + i * (size_t)cap * 3, cnt, scale);
-        for (int k = 0; k < cnt; ++k) {
-            size_t slot = i * (size_t)cap + (size_t)k;
-            fsf_lens_coord(j->lens[2 * slot], j->lens[2 * slot + 1], j->y + 2 * slot);
-        }
-        nonfinite += fsf_scale_samples(j->rad + i * (size_t)cap * 3, cnt, scale, j->v + i * (size_t)cap * 3);
-    }
-    j->nonfinite[part] = nonfinite;
-}
-
 bool fsf_lens_samples(const SampleStore *st, int width, int height, const float *value4, unsigned char *usable,
                       float *y, float *v, int *count, long long *nonfinite)
 {
-    SamplesJob j = {st, value4, sample_store_field(st, SAMPLE_FIELD_LENS),
-                    sample_store_field(st, SAMPLE_FIELD_RADIANCE), usable, y, v, count, {0}};
-    if (!j.lens || !j.rad) return false;
-    recon_parallel_for((size_t)width * (size_t)height, samples_range, &j);
-    for (int p = 0; p < RECON_PARTS; ++p) *nonfinite += j.nonfinite[p];
+    const float *lens = sample_store_field(st, SAMPLE_FIELD_LENS), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    if (!lens || !rad) return false;
+    int cap = sample_store_capacity(st);
+    size_t n = (size_t)width * (size_t)height;
+    for (size_t i = 0; i < n; ++i) {
+        int cnt = sample_store_count(st, i);
+        count[i] = cnt;
+        usable[i] = cnt > 0 && value4[4 * i + 3] > 0.0f;
+        float scale[3];
+        fsf_match_pixel(value4 + 4 * i, rad + i * (size_t)cap * 3, cnt, scale);
+        for (int k = 0; k < cnt; ++k) {
+            size_t slot = i * (size_t)cap + (size_t)k;
+            fsf_lens_coord(lens[2 * slot], lens[2 * slot + 1], y + 2 * slot);
+        }
+        *nonfinite += fsf_scale_samples(rad + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
+    }
     return true;
 }
 

@@ -45,7 +45,6 @@
 #include "recon/fsf/fsf_params.h"
 #include "recon/fsf/fsf_profile.h"
 #include "recon/method.h"
-#include "recon/recon_parallel.h"
 #include "recon/sample_rate.h"
 
 /* FSF section 5: 4 to 16 samples per pixel; 16 = a 4 x 4 grid over the light. */
@@ -393,57 +392,35 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
 }
 
 /* The store's samples as the filter's input: light coordinates along the light's axes and
- * each sample's direct light demodulated like its pixel's mean (value4 / raw mean). Pixels
- * are independent: each part writes its own pixels' entries and slots, and its own count of
- * non-finite values (recon_parallel.h). */
-typedef struct {
-    const ReconMethod *m;
-    const float *value4, *lf, *dir;
-    unsigned char *usable;
-    float *y_m, *v;
-    int *count;
-    long long nonfinite[RECON_PARTS];
-} GatherJob;
-
-static void gather_range(void *ctx, size_t begin, size_t end, int part)
-{
-    GatherJob *j = ctx;
-    const ReconMethod *m = j->m;
-    const SampleStore *st = m->store;
-    int cap = sample_store_capacity(st);
-    vec3 c = m->light.centre_world, u = m->light.axis_world[0], w = m->light.axis_world[1];
-    long long nonfinite = 0;
-    for (size_t i = begin; i < end; ++i) {
-        int cnt = sample_store_count(st, i);
-        j->count[i] = cnt;
-        j->usable[i] = j->value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
-                       (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE);
-        if (!j->usable[i]) continue; /* no pass reads its samples (fsf_filter.h) */
-        float scale[3];
-        fsf_match_pixel(j->value4 + 4 * i, j->dir + i * (size_t)cap * 3, cnt, scale);
-        for (int k = 0; k < cnt; ++k) {
-            size_t slot = i * (size_t)cap + (size_t)k;
-            const float *s = j->lf + 5 * slot;
-            vec3 q = v3_sub(v3(s[0], s[1], s[2]), c);
-            /* a sample without a shadow ray (no light point): mid-light */
-            bool has = s[3] > 0.0f;
-            j->y_m[2 * slot] = has ? v3_dot(q, u) : 0.0f;
-            j->y_m[2 * slot + 1] = has ? v3_dot(q, w) : 0.0f;
-        }
-        nonfinite += fsf_scale_samples(j->dir + i * (size_t)cap * 3, cnt, scale, j->v + i * (size_t)cap * 3);
-    }
-    j->nonfinite[part] = nonfinite;
-}
-
+ * each sample's direct light demodulated like its pixel's mean (value4 / raw mean). */
 static bool gather(const ReconMethod *m, const float *value4, unsigned char *usable, float *y_m, float *v, int *count,
                    long long *nonfinite)
 {
     const SampleStore *st = m->store;
-    GatherJob j = {m, value4, sample_store_field(st, SAMPLE_FIELD_LIGHT), sample_store_field(st, SAMPLE_FIELD_DIRECT),
-                   usable, y_m, v, count, {0}};
-    if (!j.lf || !j.dir) return false;
-    recon_parallel_for((size_t)m->g->width * (size_t)m->g->height, gather_range, &j);
-    for (int p = 0; p < RECON_PARTS; ++p) *nonfinite += j.nonfinite[p];
+    const float *lf = sample_store_field(st, SAMPLE_FIELD_LIGHT), *dir = sample_store_field(st, SAMPLE_FIELD_DIRECT);
+    if (!lf || !dir) return false;
+    int cap = sample_store_capacity(st);
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    vec3 c = m->light.centre_world, u = m->light.axis_world[0], w = m->light.axis_world[1];
+    for (size_t i = 0; i < n; ++i) {
+        int cnt = sample_store_count(st, i);
+        count[i] = cnt;
+        usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
+                    (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE);
+        if (!usable[i]) continue; /* no pass reads its samples (fsf_filter.h) */
+        float scale[3];
+        fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
+        for (int k = 0; k < cnt; ++k) {
+            size_t slot = i * (size_t)cap + (size_t)k;
+            const float *s = lf + 5 * slot;
+            vec3 q = v3_sub(v3(s[0], s[1], s[2]), c);
+            /* a sample without a shadow ray (no light point): mid-light */
+            bool has = s[3] > 0.0f;
+            y_m[2 * slot] = has ? v3_dot(q, u) : 0.0f;
+            y_m[2 * slot + 1] = has ? v3_dot(q, w) : 0.0f;
+        }
+        *nonfinite += fsf_scale_samples(dir + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
+    }
     return true;
 }
 
