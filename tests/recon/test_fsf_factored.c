@@ -173,6 +173,22 @@ int main(void)
     printf("smoothly varying width: rms separation difference %.5f\n", sep);
     CHECK(sep > 0.0 && sep < 0.01); /* > 0: the case does exercise the separation */
 
+    /* 3b. The second axis's density at the gathering pixel: as case 1 (exact), but the second
+     * axis's width and on-node shear vary from pixel to pixel. Pass 2b divides by the density
+     * of the gathering pixel's own filter, as the brute force does, so the two still agree to
+     * rounding (with pass 2a's density, the intermediate pixel's filter, by up to 0.95 of a
+     * pixel's weight). */
+    fsf_synth_light(&f, &g, l, true, 1);
+    values_edge(&f, 0.02f);
+    for (int i = 0; i < W * H; ++i) {
+        int x = i % W, y = i / W;
+        f.px[i].eta_m[0] = dY1, f.px[i].eta_m[1] = (float)(1 + (x / 5 + y / 7) % 3) * dY2;
+        f.px[i].sigma_px[0] = 3.0f, f.px[i].sigma_px[1] = 1.5f + 0.25f * (float)((x + 2 * y) % 13);
+    }
+    double dens2 = max_rel_diff(&f, &g);
+    printf("second axis's width and shear varying per pixel: max relative difference %.3g\n", dens2);
+    CHECK(dens2 < 1e-5);
+
     /* 4. Pixels that are not usable (no surface, mixed, another light's): nobody's neighbour
      * and their result unused, so no pass reads their samples: with NaN in those samples the
      * usable pixels' results are bit for bit the same, and theirs are 0, in both filters. */

@@ -337,16 +337,51 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
     if (C > 3) vstore4(acc3, a.B * i + bin0 + 3, G);
 }
 
-/* Pass 2a (fsf_pass2a, eq. 14; B = J - 1: the density depends on m = b - 2 j only), the 3 B
- * densities 8 at a time, over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows. */
-__kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const float *px,
-                         __global const uchar *usable, __global const float *pos4, __global const float *nrm4,
-                         __global const float *mean_g, __global const float *G, __global float *Q)
+/* Pass 2a (fsf_pass2a) over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows: each
+ * bin over its form-4 marginal, then the marginals (5 B floats per pixel); the density is pass
+ * 2b's, of the gathering pixel's filter. */
+__kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const uchar *usable,
+                         __global const float *pos4, __global const float *nrm4, __global const float *mean_g,
+                         __global const float *G, __global float *Q)
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width) return; /* the launch's rows only: the ring's others are in use */
-    if (!usable[i]) return;          /* no tap reads its nodes (fsf_taps) */
+    if (!usable[i]) return;          /* no tap reads it (fsf_taps) */
     int iq = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in Q's ring */
+    int B = a.B;
+    __global float *gs = Q + 5 * B * iq, *gmq = gs + 4 * B;
+    float gm[FSF_MAX_Y2_BINS + 8];
+    int geo = a.geo && mean_g[i] > 0.0f;
+    if (geo) {
+        float3 gp = vload3(0, pos4 + 4 * i), gn = vload3(0, nrm4 + 4 * i);
+        fsf_geo_marginals(&a, gp, gn, a.half2, B, gm);
+        for (int b = 0; geo && b < B; ++b) geo = gm[b] > 0.0f;
+    }
+    for (int b = 0; b < B; ++b) {
+        float4 gi = vload4(B * i + b, G);
+        if (!geo) gm[b] = 1.0f;
+        else gi = gi / gm[b];
+        vstore4(gi, b, gs);
+        gmq[b] = gm[b];
+    }
+}
+
+/* Pass 2b (fsf_pass2b, eqs. 14-15; B = J - 1: the density depends on m = b - 2 j only) over the
+ * image rows row0 .. row1 - 1: the gathering pixel's 3 B densities 8 at a time, then per tap
+ * its two nodes' sums over the bins of the pixel it reads in Q's ring (a pixel that is not
+ * usable has no taps: 0). */
+__kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __global const float *px,
+                         __global const uchar *usable, __global const int *n_taps, __global const int *tap_off,
+                         __global const int *tap_node, __global const float *tap_a0, __global const float *tap_a1,
+                         __global const float *Q, __global float *out4)
+{
+    int i = row0 * a.width + get_global_id(0);
+    if (i >= row1 * a.width) return;
+    float4 acc = (float4)(0.0f);
+    if (!usable[i]) {
+        vstore4(acc, i, out4);
+        return;
+    }
     int J = a.J, B = a.B;
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
@@ -360,55 +395,37 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
         float8 z = 2.0f * L2 / (float)B * (convert_float8((int8)(m0) + FSF_LANES8) + 0.5f * (float)B + 0.5f);
         int8 inbox = fabs(z) <= a.prof2;
         float8 w = (float8)(0.0f);
-        /* the box keeps about B of the 3 B coordinates (|m + B/2 + 1/2| <= B/2 for the light):
-         * the densities of the eight outside it are not needed, their weight is 0 anyway */
+        /* the box keeps about B of the 3 B coordinates: the densities of eight outside it are
+         * not needed, their weight is 0 anyway */
         if (any(inbox)) {
             float8 rho = fsf_density8(z, eta, L2, r, cum);
             w = select((float8)(0.0f), 1.0f / rho, inbox & (rho > 0.0f));
         }
         vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): never read */
     }
-    /* the span of m with a nonzero weight (the box |z| <= prof2 keeps about B of the 3 B): each
-     * node sums only the bins in it, in the same order; the bins left out had weight 0, which
-     * the sum skips anyway */
+    /* the span of m with a nonzero weight: each node sums only the bins in it, in the same
+     * order (those left out had weight 0, which the sum skips anyway) */
     int m_lo = 3 * B, m_hi = -1;
     for (int m = 0; m < 3 * B; ++m)
         if (inv_rho[m] != 0.0f) m_lo = min(m_lo, m), m_hi = m;
-    float4 gi[FSF_MAX_Y2_BINS];
-    for (int b = 0; b < B; ++b) gi[b] = vload4(B * i + b, G);
-    /* form 4 along the second axis (fsf_pass2a): the z1-marginals at the bin centres */
-    float gm[FSF_MAX_Y2_BINS + 8];
-    int geo = a.geo && mean_g[i] > 0.0f;
-    if (geo) {
-        float3 gp = vload3(0, pos4 + 4 * i), gn = vload3(0, nrm4 + 4 * i);
-        fsf_geo_marginals(&a, gp, gn, L2, B, gm);
-        for (int b = 0; geo && b < B; ++b) geo = gm[b] > 0.0f;
-    }
-    /* each bin divided by its own marginal once (none: gm 1, the plain sums exactly) */
-    for (int b = 0; b < B; ++b) {
-        if (!geo) gm[b] = 1.0f;
-        else gi[b] = gi[b] / gm[b];
-    }
-    for (int jj = 0; jj < J; ++jj) {
-        float4 acc = (float4)(0.0f);
-        int b_lo = max(0, m_lo - 2 * B + 2 * jj), b_hi = min(B - 1, m_hi - 2 * B + 2 * jj);
+    int n = n_taps[i], o0 = tap_off[i];
+    for (int e = 0; e < n; ++e) {
+        int o = o0 + e, node = tap_node[o];
+        if (node < 0) continue;
+        int q = node / J, j0 = node % J;
+        __global const float *gs = Q + 5 * B * q, *gm = gs + 4 * B;
+        float a0 = tap_a0[o], a1 = tap_a1[o];
+        /* the two nodes' sums interpolated, one weight per bin (fsf_pass2b): nodes j0 and
+         * j0 + 1 see bin b at m0 = b - 2 j0 + 2 B and m0 - 2, so the bins of either span */
+        int b_lo = max(0, m_lo - 2 * B + 2 * j0), b_hi = min(B - 1, m_hi - 2 * B + 2 * j0 + 2);
         for (int b = b_lo; b <= b_hi; ++b) {
-            float wk = inv_rho[b - 2 * jj + 2 * B];
-            if (wk == 0.0f) continue;
-            wk *= gm[clamp(b - 2 * jj + B, 0, B - 1)]; /* inside the light wherever wk is nonzero */
-            acc += gi[b] * wk;
+            int m0 = b - 2 * j0 + 2 * B, m1 = m0 - 2;
+            float w0 = inv_rho[m0], w1 = inv_rho[m1], wk = 0.0f;
+            if (w0 == 0.0f && w1 == 0.0f) continue;
+            if (w0 != 0.0f) wk += a0 * w0 * gm[clamp(m0 - B, 0, B - 1)];
+            if (w1 != 0.0f) wk += a1 * w1 * gm[clamp(m1 - B, 0, B - 1)];
+            acc += vload4(b, gs) * wk;
         }
-        vstore4(acc, J * iq + jj, Q);
     }
-}
-
-/* Pass 2b (fsf_pass2b, eq. 15) over the image rows row0 .. row1 - 1 (the taps index Q's ring; a
- * pixel that is not usable has none: 0). */
-__kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __global const int *n_taps,
-                         __global const int *tap_off, __global const int *tap_node, __global const float *tap_a0,
-                         __global const float *tap_a1, __global const float *Q, __global float *out4)
-{
-    int i = row0 * a.width + get_global_id(0);
-    if (i >= row1 * a.width) return;
-    vstore4(fsf_gather(i, n_taps, tap_off, tap_node, tap_a0, tap_a1, Q), i, out4);
+    vstore4(acc, i, out4);
 }

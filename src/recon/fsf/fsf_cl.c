@@ -210,8 +210,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring1;
     int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
     chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
-    /* pass 2a's Q (one slice's ring) lives in P's memory once pass 1 is done */
-    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring2;
+    /* pass 2a's Q (5 B floats per pixel of its ring) lives in P's memory once pass 1 is done */
+    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * FSF_Q2_FLOATS(B) * (size_t)s->width * (size_t)ring2;
     cl_int err = CL_SUCCESS;
     enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, MEANG, USE, OFF0, OFF1, NTAP, NODE, TA0, TA1, CUM, P, G, NBUF };
     cl_mem b[NBUF] = {0};
@@ -308,14 +308,14 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         int fill = y1 + halo2[band] < s->height ? y1 + halo2[band] : s->height;
         if (fill > filled) {
             cl_int i2a[3] = {filled, fill, ring2};
-            cl_mem m2a[7] = {b[PX], b[USE], b[POS], b[NRM], b[MEANG], b[G], b[P]};
-            ok = cl_ok(set_args(f->pass2a, &a, i2a, 3, m2a, 7), "arguments", d) &&
+            cl_mem m2a[6] = {b[USE], b[POS], b[NRM], b[MEANG], b[G], b[P]};
+            ok = cl_ok(set_args(f->pass2a, &a, i2a, 3, m2a, 6), "arguments", d) &&
                  cl_ok(launch1(f, f->pass2a, (size_t)(fill - filled) * (size_t)s->width, EV(K_2A)), "pass 2a", d);
             filled = fill;
         }
         cl_int i2b[2] = {y0, y1};
-        cl_mem m2b[7] = {b[NTAP], b[OFF1], b[NODE], b[TA0], b[TA1], b[P], b[CUM]};
-        ok = ok && cl_ok(set_args(f->pass2b, &a, i2b, 2, m2b, 7), "arguments", d) &&
+        cl_mem m2b[9] = {b[PX], b[USE], b[NTAP], b[OFF1], b[NODE], b[TA0], b[TA1], b[P], b[CUM]};
+        ok = ok && cl_ok(set_args(f->pass2b, &a, i2b, 2, m2b, 9), "arguments", d) &&
              cl_ok(launch1(f, f->pass2b, (size_t)(y1 - y0) * (size_t)s->width, EV(K_2B)), "pass 2b", d);
     }
     if (ok) ok = cl_ok(clEnqueueReadBuffer(q, b[CUM], CL_TRUE, 0, sizeof(float) * 4 * n, out4, 0, NULL, NULL), "download", d);

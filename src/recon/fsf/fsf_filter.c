@@ -300,33 +300,25 @@ void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, 
     }
 }
 
+/* Pass 2a's density at the gathering pixel (issue 15, 2026-11-29): rho2 of the intermediate
+ * pixel's filter is FSF section 4.2's approximation, and most of the factorisation's bias on
+ * soft_shadows (docs/algorithms.md section 10, "Pass 2a's density at the gathering pixel").
+ * So pass 2a only divides each bin by its form-4 marginal and keeps the marginals (Q: 5 B floats
+ * per pixel, FSF_Q2_FLOATS), and pass 2b weights each tap's bins with its own 1 / rho2. */
 void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const float *G, float *Q, size_t begin,
                 size_t end)
 {
-    const unsigned char *usable = gd->usable;
-    int J = g->shift_nodes, B = g->y2_bins;
+    (void)px;
+    int B = g->y2_bins;
     float L2 = g->half_m[1];
-    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS], gm[FSF_MAX_Y2_BINS];
     for (size_t i = begin; i < end; ++i) {
-        float *Qi = Q + (size_t)J * 4 * i;
+        float *gs = Q + (size_t)FSF_Q2_FLOATS(B) * i, *gm = gs + 4 * (size_t)B;
         const float *Gi = G + (size_t)B * 4 * i;
-        if (!usable[i]) { /* no tap reads its nodes (fsf_taps) */
-            memset(Qi, 0, sizeof(float) * 4 * (size_t)J);
+        if (!gd->usable[i]) { /* no tap reads it (fsf_taps) */
+            memset(gs, 0, sizeof(float) * (size_t)FSF_Q2_FLOATS(B));
             continue;
         }
-        int r = fsf_radius_steps(px[i].sigma_px[1]);
-        fsf_tap_prefix(px[i].sigma_px[1], cum);
-        /* With B = J - 1 the light coordinate seen at shift node j from bin b's centre,
-         * z = c_b - Y_j = (2 L2 / B) (b - 2 j + B / 2 + 1/2), depends on m = b - 2 j only:
-         * 3 B densities per pixel instead of B J. */
-        for (int m = -2 * B; m < B; ++m) {
-            float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
-            float rho = box(g, 1, z) != 0.0f ? fsf_density(z, px[i].eta_m[1], L2, r, cum) : 0.0f;
-            inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
-        }
-        /* form 4 along the second axis (fsf_geo_term.h): bin b's content, term at its centre c_b,
-         * seen at node j from c_{b - 2 j + B} (= z above where the box keeps it): both rgb and
-         * weight times gm[b - 2 j + B] / gm[b], the z1-marginals at the bin centres */
+        /* form 4 along the second axis (fsf_geo_term.h): the z1-marginals at the bin centres */
         bool geo = gd->geo && gd->geo->mean_g[i] > 0.0f;
         for (int b = 0; geo && b < B; ++b) {
             gm[b] = fsf_geo_marginal(gd->geo, gd->pos4 + 4 * i, gd->nrm4 + 4 * i, g->half_m[0],
@@ -334,30 +326,50 @@ void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const
             geo = gm[b] > 0.0f;
         }
         /* the bins divided by their own marginal once (none: gm 1, the plain sums exactly) */
-        float gs[4 * FSF_MAX_Y2_BINS];
         for (int b = 0; b < B; ++b) {
             if (!geo) gm[b] = 1.0f;
             for (int k = 0; k < 4; ++k) gs[4 * b + k] = geo ? Gi[4 * b + k] / gm[b] : Gi[4 * b + k];
         }
-        for (int jj = 0; jj < J; ++jj) {
-            float acc[4] = {0, 0, 0, 0};
-            for (int b = 0; b < B; ++b) {
-                float wk = inv_rho[b - 2 * jj + 2 * B];
-                if (wk == 0.0f) continue;
-                int bz = b - 2 * jj + B; /* inside the light wherever the box left wk nonzero */
-                wk *= gm[bz < 0 ? 0 : bz >= B ? B - 1 : bz];
-                for (int k = 0; k < 4; ++k) acc[k] += gs[4 * b + k] * wk;
-            }
-            memcpy(Qi + 4 * jj, acc, sizeof acc);
-        }
     }
 }
 
-void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end)
+void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const FsfTap *taps2, const float *Q,
+                float *out4, size_t begin, size_t end)
 {
+    int J = g->shift_nodes, B = g->y2_bins;
+    float L2 = g->half_m[1];
+    float cum[FSF_CUM], inv_rho[3 * FSF_MAX_Y2_BINS];
     for (size_t i = begin; i < end; ++i) {
         float acc[4] = {0, 0, 0, 0};
-        gather_taps(taps2 + (size_t)FSF_TAPS * i, Q, acc);
+        if (gd->usable[i]) {
+            int r = fsf_radius_steps(px[i].sigma_px[1]);
+            fsf_tap_prefix(px[i].sigma_px[1], cum);
+            /* With B = J - 1 the light coordinate seen at shift node j from bin b's centre,
+             * z = c_b - Y_j = (2 L2 / B) (b - 2 j + B / 2 + 1/2), depends on m = b - 2 j only:
+             * 3 B densities per pixel, of this pixel's filter */
+            for (int m = -2 * B; m < B; ++m) {
+                float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
+                float rho = box(g, 1, z) != 0.0f ? fsf_density(z, px[i].eta_m[1], L2, r, cum) : 0.0f;
+                inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
+            }
+            const FsfTap *ti = taps2 + (size_t)FSF_TAPS * i;
+            for (int t = 0; t < FSF_TAPS; ++t) {
+                if (ti[t].node < 0) continue;
+                int q = ti[t].node / J, j0 = ti[t].node % J;
+                const float *gs = Q + (size_t)FSF_Q2_FLOATS(B) * (size_t)q, *gm = gs + 4 * (size_t)B;
+                /* the two nodes' sums Q(Y_j) of eq. 14 interpolated, as one weight per bin: bin b
+                 * is seen at node j from the centre c_{b - 2 j + B} (form 4's ratio of marginals;
+                 * inside the light wherever the box leaves a nonzero 1 / rho) */
+                for (int b = 0; b < B; ++b) {
+                    int m0 = b - 2 * j0 + 2 * B, m1 = m0 - 2; /* nodes j0, j0 + 1; m1 >= b >= 0 */
+                    float w0 = inv_rho[m0], w1 = inv_rho[m1], wk = 0.0f;
+                    if (w0 == 0.0f && w1 == 0.0f) continue;
+                    if (w0 != 0.0f) wk += ti[t].a0 * w0 * gm[m0 - B < 0 ? 0 : m0 - B >= B ? B - 1 : m0 - B];
+                    if (w1 != 0.0f) wk += ti[t].a1 * w1 * gm[m1 - B < 0 ? 0 : m1 - B >= B ? B - 1 : m1 - B];
+                    for (int k = 0; k < 4; ++k) acc[k] += gs[4 * b + k] * wk;
+                }
+            }
+        }
         memcpy(out4 + 4 * i, acc, sizeof acc);
     }
 }
@@ -392,7 +404,7 @@ static void range_2b(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass2b(j->taps, j->Q, j->out4, b, e);
+    fsf_pass2b(j->g, j->px, j->gd, j->taps, j->Q, j->out4, b, e);
 }
 
 bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4)
@@ -402,7 +414,8 @@ bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *
     /* pass 1 runs one y2 bin at a time: P holds one slice (FSF's p for that bin), so the
      * memory is n (J + B) * 4 floats rather than n J B * 4; each pixel's taps (neighbour and
      * interpolation weights) are found once per axis, not once per slice */
-    float *P = malloc(sizeof(float) * 4 * J * n), *G = malloc(sizeof(float) * 4 * B * n);
+    size_t p_floats = 4 * J > (size_t)FSF_Q2_FLOATS(B) ? 4 * J : (size_t)FSF_Q2_FLOATS(B);
+    float *P = malloc(sizeof(float) * p_floats * n), *G = malloc(sizeof(float) * 4 * B * n);
     FsfTap *taps = malloc(sizeof(FsfTap) * FSF_TAPS * n);
     float *cum1 = malloc(sizeof(float) * FSF_CUM * n);
     bool ok = P && G && taps && cum1;
@@ -413,7 +426,7 @@ bool fsf_filter_factored(const FsfSamples *s, const FsfGrid *g, const FsfPixel *
             recon_parallel_for(n, range_1a, &j);
             recon_parallel_for(n, range_1b, &j);
         }
-        j.Q = P; /* Q has P's shape; P is no longer needed */
+        j.Q = P; /* Q lives in P's memory (sized for both); P is no longer needed */
         recon_parallel_for(n, range_2a, &j);
         j.axis = 1;
         recon_parallel_for(n, range_taps, &j);

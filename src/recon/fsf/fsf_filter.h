@@ -25,8 +25,10 @@
  *
  *   1a  per pixel and y2 bin: P(Y1) = sum_k v_k I1(z) / rho1(z), z = y1_k - Y1, on a grid of shifts Y1   eq. 12
  *   1b  per pixel and y2 bin: G = sum_t1 w(t1) P(x + t1 dir1, Y1 = -eta1 t1)            eq. 13
- *   2a  per pixel: Q(Y2) = sum_b G_b I2(z) / rho2(z), z = c_b - Y2, c_b the centre of y2 bin b   eq. 14
- *   2b  per pixel: H = sum_t2 w(t2) Q(x + t2 dir2, Y2 = -eta2 t2)                       eq. 15
+ *   2a  per pixel: the bins G_b (over their form-4 marginals) and the marginals
+ *   2b  per pixel: H = sum_t2 w(t2) Q(x + t2 dir2, Y2 = -eta2 t2),                       eqs. 14-15
+ *       Q(Y2) = sum_b G_b I2(z) / rho2(z), z = c_b - Y2, c_b the centre of y2 bin b, rho2 of the
+ *       gathering pixel x's filter (as the oracle's): each tap weights its bins itself
  *
  * Values are 4 floats: demodulated light (rgb) and the weight (1 per sample), so that the
  * result is H.rgb / H.w. Reading P and Q between grid nodes interpolates linearly. */
@@ -125,7 +127,10 @@ enum { FSF_TAPS = 2 * FSF_RADIUS_CAP_PX + 1 };
 /* The pieces, for the OpenCL version's tests: each pixel's taps along one axis (FSF_TAPS
  * per pixel); one y2-bin slice of pass 1a (P: shift_nodes * 4 per pixel) and pass 1b of that
  * slice into G (y2_bins * 4 per pixel; cum1: fsf_tap_prefix of each pixel's first axis, FSF_CUM
- * floats per pixel); pass 2a (Q: shift_nodes * 4 per pixel) and 2b (out4). */
+ * floats per pixel); pass 2a (Q: FSF_Q2_FLOATS per pixel, each bin's 4 sums over its form-4
+ * marginal, then the B marginals) and 2b (out4; the density of the second axis from the
+ * gathering pixel's filter, so 2b reads a tap's bins rather than two nodes). */
+#define FSF_Q2_FLOATS(bins) (5 * (bins))
 void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
               FsfTap *taps, size_t begin, size_t end);
 void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
@@ -133,7 +138,8 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const
 void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end);
 void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const float *G, float *Q, size_t begin,
                 size_t end);
-void fsf_pass2b(const FsfTap *taps2, const float *Q, float *out4, size_t begin, size_t end);
+void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const FsfTap *taps2, const float *Q,
+                float *out4, size_t begin, size_t end);
 
 /* The density of reprojected samples. Samples lie uniformly on the light, so those of the
  * neighbour t steps away land, seen from the centre, uniformly on [-L + eta t, L + eta t]:
