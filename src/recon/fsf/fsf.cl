@@ -256,40 +256,49 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     float g_mean = a.geo ? mean_g[i] : 0.0f;
     float3 gp = (float3)(0.0f), gn = (float3)(0.0f);
     if (g_mean > 0.0f) gp = vload3(0, pos4 + 4 * i), gn = vload3(0, nrm4 + 4 * i);
+    /* the launch's bins' samples, listed 64 slots at a time without a branch per slot (which
+     * of them fall in the launch's bins is unpredictable), then taken in k's order */
     int n_k = count[i];
-    for (int k = 0; k < n_k; ++k) {
-        int slot = i * capacity + k, c = (int)bin2[slot] - bin0;
-        if (c < 0 || c >= C) continue;
-        __global float *Pi = P + 4 * (J * C * ip + c); /* node s at Pi + 4 C s */
-        float y1 = ys[2 * slot];
-        float4 v = (float4)(value[3 * slot], value[3 * slot + 1], value[3 * slot + 2], 1.0f);
-        float y2 = ys[2 * slot + 1];
-        /* the sample's own term at y (0: form 4 leaves the sample as it is) */
-        float g_y = g_mean > 0.0f ? fsf_geo_G8(&a, gp, gn, (float8)(y1), y2).s0 : 0.0f;
-        int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);
-        if (j0 < 0) j0 = 0;
-        if (j1 > J - 1) j1 = J - 1;
-        for (int s0 = j0; s0 <= j1; s0 += 8) {
-            float8 z = y1 - ((float8)((float)s0) + lane - mid) * dY;
-            float8 rho = fsf_density8(z, eta, L1, r, cum);
-            /* the box (rounding at the light's ends) and an empty density leave a node out */
-            float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
-            float8 wv = wk, ww = wk;
-            if (g_y > 0.0f) { /* form 4: rgb times g(z) / g(y), weight times g(z) / mean */
-                float8 g_z = fsf_geo_G8(&a, gp, gn, z, y2);
-                wv = wk * (g_z / g_y), ww = wk * (g_z / g_mean);
-            }
-            float w[8], wd[8];
-            int nl = min(8, j1 - s0 + 1);
-            vstore8(select((float8)(0.0f), wv, lane < (float)nl), 0, w);
-            vstore8(select((float8)(0.0f), ww, lane < (float)nl), 0, wd);
-            if (s0 + 8 <= J) { /* all eight nodes inside the pixel's: no branch (a weight 0 adds an exact 0) */
-                for (int l = 0; l < 8; ++l)
-                    vstore4(vload4(C * (s0 + l), Pi) + (float4)(w[l] * v.xyz, wd[l]), C * (s0 + l), Pi);
-            } else {
-                for (int l = 0; l < nl; ++l)
-                    if (w[l] != 0.0f || wd[l] != 0.0f)
+    uchar pick[64];
+    for (int k0 = 0; k0 < n_k; k0 += 64) {
+        int n_pick = 0;
+        for (int k = k0; k < min(n_k, k0 + 64); ++k) {
+            pick[n_pick] = (uchar)(k - k0);
+            n_pick += (uint)((int)bin2[i * capacity + k] - bin0) < (uint)C;
+        }
+        for (int kp = 0; kp < n_pick; ++kp) {
+            int slot = i * capacity + k0 + pick[kp], c = (int)bin2[slot] - bin0;
+            __global float *Pi = P + 4 * (J * C * ip + c); /* node s at Pi + 4 C s */
+            float y1 = ys[2 * slot];
+            float4 v = (float4)(value[3 * slot], value[3 * slot + 1], value[3 * slot + 2], 1.0f);
+            float y2 = ys[2 * slot + 1];
+            /* the sample's own term at y (0: form 4 leaves the sample as it is) */
+            float g_y = g_mean > 0.0f ? fsf_geo_G8(&a, gp, gn, (float8)(y1), y2).s0 : 0.0f;
+            int j0 = (int)ceil((y1 - L1) / dY + mid), j1 = (int)floor((y1 + L1) / dY + mid);
+            if (j0 < 0) j0 = 0;
+            if (j1 > J - 1) j1 = J - 1;
+            for (int s0 = j0; s0 <= j1; s0 += 8) {
+                float8 z = y1 - ((float8)((float)s0) + lane - mid) * dY;
+                float8 rho = fsf_density8(z, eta, L1, r, cum);
+                /* the box (rounding at the light's ends) and an empty density leave a node out */
+                float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
+                float8 wv = wk, ww = wk;
+                if (g_y > 0.0f) { /* form 4: rgb times g(z) / g(y), weight times g(z) / mean */
+                    float8 g_z = fsf_geo_G8(&a, gp, gn, z, y2);
+                    wv = wk * (g_z / g_y), ww = wk * (g_z / g_mean);
+                }
+                float w[8], wd[8];
+                int nl = min(8, j1 - s0 + 1);
+                vstore8(select((float8)(0.0f), wv, lane < (float)nl), 0, w);
+                vstore8(select((float8)(0.0f), ww, lane < (float)nl), 0, wd);
+                if (s0 + 8 <= J) { /* all eight nodes inside the pixel's: no branch (a weight 0 adds an exact 0) */
+                    for (int l = 0; l < 8; ++l)
                         vstore4(vload4(C * (s0 + l), Pi) + (float4)(w[l] * v.xyz, wd[l]), C * (s0 + l), Pi);
+                } else {
+                    for (int l = 0; l < nl; ++l)
+                        if (w[l] != 0.0f || wd[l] != 0.0f)
+                            vstore4(vload4(C * (s0 + l), Pi) + (float4)(w[l] * v.xyz, wd[l]), C * (s0 + l), Pi);
+                }
             }
         }
     }
@@ -401,8 +410,9 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
             float8 rho = fsf_density8(z, eta, L2, r, cum);
             w = select((float8)(0.0f), 1.0f / rho, inbox & (rho > 0.0f));
         }
-        vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): never read */
+        vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): weight 0 */
     }
+    vstore8((float8)(0.0f), 0, inv_rho + 3 * B); /* the lanes past a tap's last bin read up to 3 B + 6 */
     /* the span of m with a nonzero weight: each node sums only the bins in it, in the same
      * order (those left out had weight 0, which the sum skips anyway) */
     int m_lo = 3 * B, m_hi = -1;
@@ -418,13 +428,19 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
         /* the two nodes' sums interpolated, one weight per bin (fsf_pass2b): nodes j0 and
          * j0 + 1 see bin b at m0 = b - 2 j0 + 2 B and m0 - 2, so the bins of either span */
         int b_lo = max(0, m_lo - 2 * B + 2 * j0), b_hi = min(B - 1, m_hi - 2 * B + 2 * j0 + 2);
-        for (int b = b_lo; b <= b_hi; ++b) {
-            int m0 = b - 2 * j0 + 2 * B, m1 = m0 - 2;
-            float w0 = inv_rho[m0], w1 = inv_rho[m1], wk = 0.0f;
-            if (w0 == 0.0f && w1 == 0.0f) continue;
-            if (w0 != 0.0f) wk += a0 * w0 * gm[clamp(m0 - B, 0, B - 1)];
-            if (w1 != 0.0f) wk += a1 * w1 * gm[clamp(m1 - B, 0, B - 1)];
-            acc += vload4(b, gs) * wk;
+        /* eight bins' weights at once (their m are consecutive), then summed in b's order as
+         * one bin at a time would: a zero 1 / rho makes its term an exact 0, which adds
+         * nothing, so no branch per bin (the same floats as fsf_pass2b's) */
+        for (int b0 = b_lo; b0 <= b_hi; b0 += 8) {
+            int m00 = b0 - 2 * j0 + 2 * B; /* m0 of bin b0; <= 3 B + 6 with the lanes past b_hi */
+            int8 m0 = (int8)(m00) + FSF_LANES8;
+            float8 w0 = vload8(0, inv_rho + m00), w1 = vload8(0, inv_rho + m00 - 2);
+            float8 g0 = FSF_GATHER8(gm, clamp(m0 - B, 0, B - 1)), g1 = FSF_GATHER8(gm, clamp(m0 - 2 - B, 0, B - 1));
+            float8 t0 = a0 * w0 * g0;
+            float wk[8];
+            vstore8(t0 + a1 * w1 * g1, 0, wk);
+            int nl = min(8, b_hi - b0 + 1);
+            for (int l = 0; l < nl; ++l) acc += vload4(b0 + l, gs) * wk[l];
         }
     }
     vstore4(acc, i, out4);
