@@ -305,10 +305,8 @@ void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, 
  * soft_shadows (docs/algorithms.md section 10, "Pass 2a's density at the gathering pixel").
  * So pass 2a only divides each bin by its form-4 marginal and keeps the marginals (Q: 5 B floats
  * per pixel, FSF_Q2_FLOATS), and pass 2b weights each tap's bins with its own 1 / rho2. */
-void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const float *G, float *Q, size_t begin,
-                size_t end)
+void fsf_pass2a(const FsfGrid *g, const FsfGuides *gd, const float *G, float *Q, size_t begin, size_t end)
 {
-    (void)px;
     int B = g->y2_bins;
     float L2 = g->half_m[1];
     for (size_t i = begin; i < end; ++i) {
@@ -398,7 +396,7 @@ static void range_2a(void *ctx, size_t b, size_t e, int part)
 {
     (void)part;
     Job *j = ctx;
-    fsf_pass2a(j->g, j->px, j->gd, j->G, j->Q, b, e);
+    fsf_pass2a(j->g, j->gd, j->G, j->Q, b, e);
 }
 static void range_2b(void *ctx, size_t b, size_t e, int part)
 {

@@ -136,8 +136,7 @@ void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int wid
 void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 const float *cum1, int bin, float *P, size_t begin, size_t end);
 void fsf_pass1b(const FsfGrid *g, const FsfTap *taps1, int bin, const float *P, float *G, size_t begin, size_t end);
-void fsf_pass2a(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const float *G, float *Q, size_t begin,
-                size_t end);
+void fsf_pass2a(const FsfGrid *g, const FsfGuides *gd, const float *G, float *Q, size_t begin, size_t end);
 void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const FsfTap *taps2, const float *Q,
                 float *out4, size_t begin, size_t end);
 
