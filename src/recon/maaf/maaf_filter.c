@@ -435,14 +435,13 @@ void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v)
     for (int k = 0; k < pl->per; ++k) v[k] = o[(size_t)k * pl->plane];
 }
 
-/* The row and column passes run in work-groups of one work-item (cl_launch_serial_2d): with
- * cl_launch_2d's 64 items a group PoCL kept each item's taps' factors (Taps: ~44 KB) in a slot
- * of a per-group array. The same arithmetic per item, so the same image. */
 /* The image pass band by band (9.16): per band of MAAF_BAND_ROWS rows the host writes its sums,
  * the row pass filters them into the ring of row-pass output, and the column pass then filters
  * every row whose column reach (the run's largest radius) that output now covers. The queue runs
  * in order: a band's sums are rewritten only after the row pass of the band before has read
- * them, and a ring row only after the column pass that read it. */
+ * them, and a ring row only after the column pass that read it. Both passes run in work-groups
+ * of one work-item (cl_launch_serial_2d): with cl_launch_2d's 64 items a group PoCL kept each
+ * item's taps' factors (Taps: ~44 KB) in a slot of a per-group array. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d)
 {
     if (kernel_seconds) *kernel_seconds = 0.0;
