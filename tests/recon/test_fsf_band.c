@@ -63,6 +63,22 @@ static double rms_error(int l, float sigma_y, int seeds)
     return ok ? sqrt(sum / ((double)(W - 32) * H * seeds)) : INFINITY;
 }
 
+/* W K1(W) from the series of K1 (Abramowitz and Stegun 9.6.11), for the check of fsf_bounce_sigma_v. */
+static double w_k1_series(double w)
+{
+    double x = 0.5 * w, lx = log(x), euler = 0.5772156649015329;
+    /* K1(w) = 1/w + ln(w/2) I1(w) - (w/4) sum_k (psi(k+1) + psi(k+2)) (w^2/4)^k / (k! (k+1)!) */
+    double i1 = 0.0, rest = 0.0, term = x, psi1 = -euler, psi2 = 1.0 - euler;
+    for (int k = 0; k < 40; ++k) {
+        i1 += term;
+        rest += (psi1 + psi2) * term;
+        term *= x * x / ((k + 1.0) * (k + 2.0));
+        psi1 += 1.0 / (k + 1.0), psi2 += 1.0 / (k + 2.0);
+    }
+    double k1 = 1.0 / w + lx * i1 - 0.5 * rest;
+    return w * k1;
+}
+
 int main(void)
 {
     /* the closed forms of the band: 2 L / e^2 at FSF's 16 samples, halving per 4x samples */
@@ -70,6 +86,13 @@ int main(void)
     CHECK(fabsf(fsf_light_sigma_y_m(1.0f, 64) - 0.5f * fsf_light_sigma_y_m(1.0f, 16)) < 1e-6f);
     CHECK(fabsf(fsf_light_sigma_y_m(1.0f, 4) - 2.0f * fsf_light_sigma_y_m(1.0f, 16)) < 1e-6f);
     CHECK(isfinite(fsf_light_sigma_y_m(1.0f, 0)) && fsf_light_sigma_y_m(1.0f, 0) > 0.0f);
+    /* the v-plane's band: the root of W K1(W) = e^-2 sqrt(16 / n); K1 from its series
+     * independently of fsf_band.c's integral: at 16 samples W = 2.865 (Mehta's 2.8 is where
+     * W K1(W) = 0.143), at 64 W = 3.659 */
+    CHECK(fabs(2.0 / fsf_bounce_sigma_v(16) - 2.865) < 2e-3);
+    CHECK(fabs(2.0 / fsf_bounce_sigma_v(64) - 3.659) < 2e-3);
+    CHECK(fabs(w_k1_series(2.0 / fsf_bounce_sigma_v(32)) - fsf_band_threshold(32)) < 1e-4);
+    CHECK(fsf_bounce_sigma_v(8) > fsf_bounce_sigma_v(16) && fsf_bounce_sigma_v(16) > fsf_bounce_sigma_v(1024));
 
     const int seeds = 3;
     /* l x l samples: 16 and 64 per pixel */

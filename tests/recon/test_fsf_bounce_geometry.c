@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "recon/fsf/fsf_band.h"
 #include "recon/fsf/fsf_bounce.h"
 
 enum { W = 24, H = 20, SPP = 6 };
@@ -116,7 +117,7 @@ int main(void)
         CHECK_NEAR(pc->eta_m[a], k_mean * v3_length(step), 1e-3 * k_mean * v3_length(step));
         CHECK(pc->eta_m[a] > 0.0f);
         /* the misses (k = 0) and the plane (1/h) make the spread: FSF eq. 4, then the parallax bound */
-        float sigma_eq4 = 2.0f / FSF_BOUNCE_OMEGA_V_MAX / (k_hi[c] - k_lo[c]) / v3_length(step);
+        float sigma_eq4 = fsf_bounce_sigma_v(count[c]) / (k_hi[c] - k_lo[c]) / v3_length(step);
         float sigma_par = FSF_BOUNCE_PARALLAX_V / (FSF_RADIUS_SIGMAS * k_hi[c] * v3_length(step));
         CHECK_NEAR(pc->sigma_px[a], fminf(fminf(sigma_eq4, sigma_par), (float)FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS),
                    1e-3);

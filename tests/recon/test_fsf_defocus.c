@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "recon/fsf/fsf_band.h"
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_lens.h"
 #include "render/warp.h"
@@ -45,9 +46,22 @@ typedef struct {
     int spp;
 } Plane;
 
-/* depth(x, y) of the plane at pixel (x, y); spp samples per pixel, stratified over film and
- * lens (the lens strata warped to the disk, as the renderer's sampler does). */
-static void plane_make(Plane *f, float lens_radius, int spp, float (*depth)(int x, int y), unsigned seed)
+/* What a ray through film (x, y) and lens point (u, v) sees: its radiance, and its camera depth
+ * in *depth. */
+typedef double (*SceneFn)(const ReconCamera *cam, float x, float y, float u, float v, float *depth);
+
+static float (*plane_depth)(int x, int y);
+/* the textured plane at plane_depth(pixel) */
+static double textured_plane(const ReconCamera *cam, float x, float y, float u, float v, float *depth)
+{
+    *depth = plane_depth((int)x, (int)y);
+    float c = recon_coc_slope_px(cam, *depth);
+    return texture(x - c * u, y + c * v);
+}
+
+/* spp samples per pixel of scene, stratified over film and lens (the lens strata warped to the
+ * disk, as the renderer's sampler does). */
+static void scene_make(Plane *f, float lens_radius, int spp, SceneFn scene, unsigned seed)
 {
     f->cam = (ReconCamera){lens_radius, 2.0f, 0.01f};
     f->spp = spp;
@@ -60,7 +74,6 @@ static void plane_make(Plane *f, float lens_radius, int spp, float (*depth)(int 
     unsigned s = seed;
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
-            float z = depth(x, y), c = recon_coc_slope_px(&f->cam, z);
             double sum = 0.0;
             for (int k = 0; k < spp; ++k) {
                 SampleRecord r;
@@ -78,9 +91,8 @@ static void plane_make(Plane *f, float lens_radius, int spp, float (*depth)(int 
                 r.px_raster = (float)x + j3r, r.py_raster = (float)y + j4r;
                 /* the camera records lens 0 for a pinhole */
                 r.lens_u = lens_radius > 0.0f ? lens.x : 0.0f, r.lens_v = lens_radius > 0.0f ? lens.y : 0.0f;
-                r.depth_cam = z;
+                double L = scene(&f->cam, r.px_raster, r.py_raster, r.lens_u, r.lens_v, &r.depth_cam);
                 r.hit = true;
-                double L = texture(r.px_raster - c * r.lens_u, r.py_raster + c * r.lens_v);
                 r.L = v3((float)L, (float)L, (float)L);
                 sample_store_add(f->st, x, y, &r);
                 sum += L;
@@ -88,6 +100,13 @@ static void plane_make(Plane *f, float lens_radius, int spp, float (*depth)(int 
             float *v = f->value4 + 4 * ((size_t)y * W + (size_t)x);
             v[0] = v[1] = v[2] = (float)(sum / spp), v[3] = 1.0f;
         }
+}
+
+/* depth(x, y) of the textured plane at pixel (x, y) */
+static void plane_make(Plane *f, float lens_radius, int spp, float (*depth)(int x, int y), unsigned seed)
+{
+    plane_depth = depth;
+    scene_make(f, lens_radius, spp, textured_plane, seed);
 }
 
 static void plane_free(Plane *f)
@@ -108,7 +127,7 @@ typedef struct {
     FsfGrid grid;
 } Inputs;
 
-static void inputs_make(Inputs *in, const Plane *f)
+static void inputs_make_mu(Inputs *in, const Plane *f, float mu)
 {
     size_t n = (size_t)W * H, slots = n * (size_t)f->spp;
     in->usable = malloc(n), in->count = malloc(n * sizeof(int));
@@ -118,12 +137,14 @@ static void inputs_make(Inputs *in, const Plane *f)
     long long nonfinite = 0;
     CHECK(fsf_lens_samples(f->st, W, H, f->value4, in->usable, in->y, in->v, in->count, &nonfinite));
     CHECK(nonfinite == 0);
-    FsfLensIn li = {&f->g, f->st, in->usable, 1.0f};
+    FsfLensIn li = {&f->g, f->st, in->usable, mu};
     CHECK(fsf_lens_params(&li, in->px, in->k_lo, in->k_hi));
     in->s = (FsfSamples){W, H, f->spp, in->count, in->y, in->v};
     in->gd = fsf_guides_unguided(in->usable);
     in->grid = fsf_lens_grid();
 }
+
+static void inputs_make(Inputs *in, const Plane *f) { inputs_make_mu(in, f, 1.0f); }
 
 static void inputs_free(Inputs *in)
 {
@@ -179,6 +200,81 @@ static void compare(const float *a, const float *b, int margin, double *rms, dou
             worst = fmax(worst, fabs((double)a[4 * i + c] - b[4 * i + c]) / fmax(fabs(a[4 * i + 3]), 1e-3));
     }
     *rms = sqrt(sum / count), *rel_max = worst;
+}
+
+/* 4. A bright strip of the background seen between a dark foreground edge and the strip's own
+ * far edge, both out of focus behind the focal plane: the foreground covers pinhole positions
+ * x0 < STRIP_E1 at c = STRIP_C1, the background is bright for x0 < STRIP_E2 at c = STRIP_C2. A
+ * ray through film x and lens u is lit iff x - C1 u >= E1 and x - C2 u < E2: u in ((x - E2) / C2,
+ * (x - E1) / C1]. The footprints near the strip hold both slopes, so the filter shears with their
+ * mean and misplaces each edge's samples by (k - k_mean) per step: the bias grows with the
+ * width (docs/algorithms.md section 10, "Defocus: the band of the lens"). */
+static const float STRIP_C1 = 3.5f, STRIP_C2 = 7.0f, STRIP_E1 = 24.0f, STRIP_E2 = 40.0f;
+
+/* the camera depth at which the plane_make camera's circle of confusion is c px */
+static float depth_of_coc(const ReconCamera *cam, float c)
+{
+    return 1.0f / (1.0f / cam->focal_distance_world - c * cam->pixel_angle / cam->lens_radius_world);
+}
+
+static double strip(const ReconCamera *cam, float x, float y, float u, float v, float *depth)
+{
+    (void)y, (void)v;
+    if (x - STRIP_C1 * u < STRIP_E1) {
+        *depth = depth_of_coc(cam, STRIP_C1);
+        return 0.0;
+    }
+    *depth = depth_of_coc(cam, STRIP_C2);
+    return x - STRIP_C2 * u < STRIP_E2 ? 1.0 : 0.0;
+}
+
+/* The share of the unit disk with u <= t (the semicircle's distribution). */
+static double disk_cdf(double t)
+{
+    t = fmax(-1.0, fmin(1.0, t));
+    return 0.5 + (t * sqrt(1.0 - t * t) + asin(t)) / PI;
+}
+
+/* The strip's pixel px: the box pixel's mean of the disk's share that is lit (quadrature). */
+static double strip_analytic(int px)
+{
+    const int steps = 256;
+    double sum = 0.0;
+    for (int k = 0; k < steps; ++k) {
+        double x = px + (k + 0.5) / steps;
+        sum += fmax(0.0, disk_cdf((x - STRIP_E1) / STRIP_C1) - disk_cdf((x - STRIP_E2) / STRIP_C2));
+    }
+    return sum / steps;
+}
+
+/* RMS error over the strip's pixels (away from the border) of FSF at spp samples with width
+ * divisor mu (0: the pixel means), factored or brute force, over `seeds` sample sets. */
+static double strip_rms(int spp, float mu, bool brute, int seeds)
+{
+    const int margin = 10;
+    size_t n = (size_t)W * H;
+    float *out = malloc(4 * n * sizeof(float));
+    double sum = 0.0;
+    int count = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+        Plane f;
+        scene_make(&f, 0.16f, spp, strip, 31u * (unsigned)seed);
+        Inputs in;
+        inputs_make_mu(&in, &f, mu > 0.0f ? mu : 1.0f);
+        if (mu > 0.0f && brute) fsf_filter_brute(&in.s, &in.grid, in.px, &in.gd, out);
+        else if (mu > 0.0f) CHECK(fsf_filter_factored(&in.s, &in.grid, in.px, &in.gd, out));
+        for (size_t i = 0; i < n; ++i) {
+            int x = (int)(i % W), y = (int)(i / W);
+            if (x < margin || y < margin || x >= W - margin || y >= H - margin) continue;
+            double got = mu > 0.0f ? (double)out[4 * i] / out[4 * i + 3] : f.value4[4 * i];
+            double e = got - strip_analytic(x);
+            sum += e * e, count++;
+        }
+        inputs_free(&in);
+        plane_free(&f);
+    }
+    free(out);
+    return sqrt(sum / count);
 }
 
 int main(void)
@@ -270,6 +366,33 @@ int main(void)
         CHECK(worst < 1e-6);
         inputs_free(&in);
         plane_free(&f);
+    }
+    /* 4. the strip between two depths: the band (fsf_lens_sigma_u) narrows the width as the
+     * samples grow, and the error falls; with the paper's fixed sigma_u = 1/2 (mu = 2 sigma_u
+     * gives that width) the bias of the shear stays. The 4D filter (fsf_filter_brute, on
+     * fsf_lens_params' widths) shows the model; the factored passes add a bias of their own
+     * here (about 0.02 rms at 64 and 256 spp, on the far edge where the footprint holds one
+     * slope: the separation of FSF section 4.2), so for them only the two widths are compared */
+    {
+        /* the band's closed form: 0.386 at 16 samples, falling as n^-1/3 */
+        CHECK(fabsf(fsf_lens_sigma_u(16) - 0.3861f) < 1e-3f);
+        CHECK(fabsf(fsf_lens_sigma_u(128) - 0.5f * fsf_lens_sigma_u(16)) < 1e-5f);
+        const int seeds = 2;
+        double mc16 = strip_rms(16, 0.0f, false, seeds), mc64 = strip_rms(64, 0.0f, false, seeds);
+        double band16 = strip_rms(16, 1.0f, true, seeds), band64 = strip_rms(64, 1.0f, true, seeds);
+        double fixed16 = strip_rms(16, 2.0f * fsf_lens_sigma_u(16), true, seeds);
+        double fixed64 = strip_rms(64, 2.0f * fsf_lens_sigma_u(64), true, seeds);
+        double f_band64 = strip_rms(64, 1.0f, false, seeds);
+        double f_fixed64 = strip_rms(64, 2.0f * fsf_lens_sigma_u(64), false, seeds);
+        printf("strip between two depths, rms error (16 / 64 spp): Monte Carlo %.4f / %.4f; 4D filter: band %.4f / "
+               "%.4f, fixed band (1/2) %.4f / %.4f; factored at 64 spp: band %.4f, fixed %.4f\n",
+               mc16, mc64, band16, band64, fixed16, fixed64, f_band64, f_fixed64);
+        CHECK(band16 < 0.75 * mc16);
+        /* the band's error falls with the samples (Monte Carlo's halves), the fixed band's stays */
+        CHECK(band64 < 0.6 * band16);
+        CHECK(fixed64 > 0.85 * fixed16);
+        CHECK(band64 < 0.6 * fixed64);
+        CHECK(f_band64 < 0.8 * f_fixed64);
     }
     free(out), free(brute);
     CHECK_DONE();

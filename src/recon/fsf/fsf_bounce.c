@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "recon/fsf/fsf_band.h"
 #include "recon/fsf/fsf_screen_axes.h"
 #include "recon/fsf/fsf_slope_window.h"
 #include "recon/recon_parallel.h"
@@ -103,23 +104,24 @@ typedef struct {
     FsfSlopeWindows wnd;
     FsfPixel *px;
     float *k_lo, *k_hi;
+    const float *sigma_v; /* fsf_bounce_sigma_v per sample count, 0 .. the store's capacity */
 } Job;
 
 /* FSF eq. 4 in pixel steps for a slope spread (infinite for one slope). */
-static float sigma_steps(float mu, float spread, float step_m)
+static float sigma_steps(float mu, float sigma_v, float spread, float step_m)
 {
-    const float sigma_v = 2.0f / FSF_BOUNCE_OMEGA_V_MAX;
     float sigma_m = spread > 0.0f ? sigma_v / spread : INFINITY;
     return sigma_m / (mu * step_m);
 }
 
 typedef struct {
-    float mu, step_m[2];
+    float mu, sigma_v, step_m[2];
 } StepCtx;
 static float sigma_both(const void *ctx, float spread)
 {
     const StepCtx *c = ctx;
-    return fminf(sigma_steps(c->mu, spread, c->step_m[0]), sigma_steps(c->mu, spread, c->step_m[1]));
+    return fminf(sigma_steps(c->mu, c->sigma_v, spread, c->step_m[0]),
+                 sigma_steps(c->mu, c->sigma_v, spread, c->step_m[1]));
 }
 
 static void params_range(void *ctx, size_t begin, size_t end, int part)
@@ -136,7 +138,8 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         vec3 jx, jy;
         FsfScreenAxes ax;
         if (!in->usable[i] || !pixel_frame(g, i, &f, &jx, &jy) || !fsf_screen_axes(jx, jy, f.n, f.t, &ax)) continue;
-        StepCtx sc = {in->mu, {ax.step_m[0], ax.step_m[1]}};
+        /* the band narrows the filter as the pixel's samples grow */
+        StepCtx sc = {in->mu, j->sigma_v[sample_store_count(in->store, i)], {ax.step_m[0], ax.step_m[1]}};
         FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
         bool known = pick.lo <= pick.hi;
         float k_mean = known ? 0.5f * (pick.lo + pick.hi) : 0.0f, spread = known ? pick.hi - pick.lo : 0.0f;
@@ -145,7 +148,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
             pp->dir[a][0] = ax.dir[a][0], pp->dir[a][1] = ax.dir[a][1];
             /* fsf_filter.h: seen from x, the neighbour t steps away has v' + eta t */
             pp->eta_m[a] = k_mean * v3_dot(ax.step_world[a], f.t[a]);
-            float sigma_px = known ? sigma_steps(in->mu, spread, ax.step_m[a]) : pick.cap_px;
+            float sigma_px = known ? sigma_steps(in->mu, sc.sigma_v, spread, ax.step_m[a]) : pick.cap_px;
             /* the parallax bound: taps (2 sigma) move the nearest hits by at most parallax_v */
             if (known && pick.hi > 0.0f)
                 sigma_px = fminf(sigma_px, in->parallax_v / (FSF_RADIUS_SIGMAS * pick.hi * ax.step_m[a]));
@@ -164,9 +167,14 @@ bool fsf_bounce_params(const FsfBounceIn *in, FsfPixel *px, float *k_lo, float *
     float h_floor_m = in->h_min_frac * in->g->scene_size_world;
     SlopeCtx sc = {bounce, in->y, in->g->nrm4, (size_t)sample_store_capacity(in->store),
                    h_floor_m > 0.0f ? 1.0f / h_floor_m : INFINITY};
+    /* the band per sample count, found once (a root of W K1(W) each) */
+    float *sigma_v = sc.cap > 0 ? malloc((sc.cap + 1) * sizeof *sigma_v) : NULL;
+    for (size_t c = 0; sigma_v && c <= sc.cap; ++c) sigma_v[c] = fsf_bounce_sigma_v((int)c);
+    j.sigma_v = sigma_v;
     /* only the centre's object: the filter takes light from no other surface */
-    bool ok = sc.cap > 0 && fsf_slope_windows_per_object(in->store, in->g, sample_slope, &sc, &j.wnd);
+    bool ok = sigma_v && fsf_slope_windows_per_object(in->store, in->g, sample_slope, &sc, &j.wnd);
     if (ok) recon_parallel_for(n, params_range, &j);
     fsf_slope_windows_free(&j.wnd);
+    free(sigma_v);
     return ok;
 }

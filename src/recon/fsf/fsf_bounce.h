@@ -19,9 +19,10 @@
  *   shear    eta_a = k_mean (step_world[a] . t_a), v units per pixel step along dir[a]: the
  *            sign convention of fsf_filter.h (the sample's coordinate seen from x is
  *            v'_a + eta_a t for the neighbour t steps away)
- *   width    FSF eq. 4 with the transfer's band: sigma_v = 2 / Omega_v_max (as the light's
- *            sigma_y = L / 2 with Omega_y = 4 / L), Omega_v_max = 2.8 (Mehta 2013, AAF-GI eq.
- *            18): sigma_x = sigma_v / (k_hi - k_lo) / mu metres, over windows of slopes as
+ *   width    FSF eq. 4 with the transfer's band at the pixel's samples: sigma_v = 2 / Omega_v,
+ *            Omega_v where the transfer's spectrum W K1(W) meets e^-2 sqrt(16 / n)
+ *            (fsf_bounce_sigma_v: 2.87 at 16 samples, Mehta 2013's Omega_v_max = 2.8 being
+ *            its e^-2 point): sigma_x = sigma_v / (k_hi - k_lo) / mu metres, over windows of slopes as
  *            for shadows (fsf_slope_window.h), capped at the 32-pixel diameter; then the
  *            parallax bound (FSF_BOUNCE_PARALLAX_V)
  *   profile  the box |v_a| <= 5 with the samples' own cosine density: cosine sampling draws
@@ -52,9 +53,6 @@
  * (-0.0012 there, within the 4 seeds' noise of 0.0008), which makes the box flat over every
  * sample: docs/algorithms.md, "FSF", "Indirect light". */
 #define FSF_BOUNCE_V_RIM 3.7f
-/* The diffuse transfer's band limit in v (Mehta 2013; AAF-GI eq. 18), radians per v unit. */
-#define FSF_BOUNCE_OMEGA_V_MAX 2.8f
-
 /* A receiver's tangent frame. */
 typedef struct {
     vec3 t[2], n;

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "recon/fsf/fsf_band.h"
 #include "recon/fsf/fsf_slope_window.h"
 #include "recon/recon_parallel.h"
 
@@ -64,11 +65,15 @@ static float sample_slope(const void *ctx, size_t slot)
     return fsf_lens_slope(c->cam, c->depth[slot]);
 }
 
-/* FSF eq. 4 with the lens' half extent 1, in pixels (infinite for one slope). */
+/* FSF eq. 4 for the unit disk at the pixel's sample count (fsf_lens_sigma_u), in pixels
+ * (infinite for one slope). */
+typedef struct {
+    float mu, sigma_u;
+} WidthCtx;
 static float sigma_of_spread(const void *ctx, float spread)
 {
-    const FsfLensIn *in = ctx;
-    return spread > 0.0f ? 0.5f / (spread * in->mu) : INFINITY;
+    const WidthCtx *c = ctx;
+    return spread > 0.0f ? c->sigma_u / (spread * c->mu) : INFINITY;
 }
 
 static void params_range(void *ctx, size_t begin, size_t end, int part)
@@ -81,17 +86,22 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         *pp = fsf_pixel_left_out();
         j->k_lo[i] = j->k_hi[i] = 0.0f;
         if (!in->usable[i]) continue;
-        FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_of_spread, in);
+        /* the band narrows the filter as the pixel's samples grow */
+        WidthCtx wc = {in->mu, fsf_lens_sigma_u(sample_store_count(in->store, i))};
+        FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_of_spread, &wc);
         if (!(pick.lo <= pick.hi)) continue; /* no samples around: nothing to filter with */
         j->k_lo[i] = pick.lo, j->k_hi[i] = pick.hi;
         float eta, sigma;
         if (fsf_lens_straddles(pick.lo, pick.hi)) {
-            /* straddles the focal plane: the axis-aligned fallback (FSF section 5) */
+            /* straddles the focal plane: the axis-aligned fallback (FSF section 5), with the
+             * paper's fixed sigma_u = 1/2, not the band: narrower, it left out the straddlers
+             * of a moving defocused object, whose motion noise this filter was the only one to
+             * average (docs/algorithms.md section 10, "The band of the lens") */
             eta = 0.0f;
-            sigma = 0.5f / (fmaxf(-pick.lo, pick.hi) * in->mu);
+            sigma = FSF_LENS_STRADDLE_SIGMA_U / (fmaxf(-pick.lo, pick.hi) * in->mu);
         } else {
             eta = -0.5f * (pick.lo + pick.hi);
-            sigma = sigma_of_spread(in, pick.hi - pick.lo);
+            sigma = sigma_of_spread(&wc, pick.hi - pick.lo);
         }
         /* taps stay inside the image: the density correction (fsf_density) counts every tap
          * of the radius, and a side cut off by the border would shift the aperture the

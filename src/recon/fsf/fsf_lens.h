@@ -15,10 +15,13 @@
  *   range    [k_lo, k_hi] over the footprint's samples, windowed as for shadows
  *            (fsf_slope_window.h), over every object: a defocused object's samples reach its
  *            neighbours whatever surface these show
- *   shear    eta = -(k_lo + k_hi) / 2 on both axes; width sigma = (1/2) / (k_hi - k_lo) / mu
- *            (FSF eq. 4 with the lens half extent 1), capped by the window
+ *   shear    eta = -(k_lo + k_hi) / 2 on both axes; width sigma = sigma_u / (k_hi - k_lo) / mu
+ *            (FSF eq. 4 with the disk's band at the pixel's samples, fsf_lens_sigma_u: 0.386 at
+ *            16, falling as n^-1/3; the paper's Gaussian lens had a fixed 1/2), capped by the
+ *            window
  *   straddle a range with k_lo < 0 < k_hi holds samples on both sides of the focal plane (k
  *            runs through +-inf there): no shear, sigma = (1/2) / max(|k_lo|, |k_hi|) / mu
+ *            (FSF_LENS_STRADDLE_SIGMA_U)
  *   border   sigma <= (distance to the image border) / 2: every tap inside the image
  *   left out sigma < FSF_LENS_SIGMA_MIN_PX or |eta| > 2 (in focus): sigma 0, the pixel keeps
  *            its mean */
@@ -59,6 +62,13 @@ static inline void fsf_lens_coord(float lens_u, float lens_v, float y[2])
     y[0] = lens_u;
     y[1] = -lens_v;
 }
+
+/* The straddlers' sigma_u (unit lens): the paper's Gaussian lens, A / 2, at every sample count.
+ * The band (fsf_lens_sigma_u) holds for their axis-aligned width too in a static scene, but the
+ * straddlers of a moving defocused object (FSF does not model motion) rely on this width for the
+ * only averaging they get: with the band, all_effects' error rose 10-17% (docs/algorithms.md
+ * section 10, "The band of the lens and of the v-plane"). */
+#define FSF_LENS_STRADDLE_SIGMA_U 0.5f
 
 /* Narrower filters are left out (the pixel keeps its mean): at sigma 0.5 the first taps
  * weigh exp(-2) = 0.14 of the centre. */

@@ -19,8 +19,7 @@ float fsf_light_sigma_y_m(float half_m, int samples)
 {
     /* the band's edge where the box's spectrum envelope 1 / (W L) meets the threshold
      * e^-2 sqrt(16 / n): Omega_y = e^2 sqrt(n / 16) / L, sigma_y = 2 / Omega_y */
-    float n = samples > 1 ? (float)samples : 1.0f;
-    return 2.0f * expf(-2.0f) * sqrtf((float)FSF_BAND_REF_SPP / n) * half_m;
+    return 2.0f * fsf_band_threshold(samples) * half_m;
 }
 
 /* FSF eq. 4 in pixel steps for a slope spread, before the cap (infinite for one slope). */

@@ -23,6 +23,7 @@
 #ifndef WEDGE_RECON_FSF_PARAMS_H
 #define WEDGE_RECON_FSF_PARAMS_H
 
+#include "recon/fsf/fsf_band.h"
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_slope_window.h"
@@ -41,7 +42,6 @@
  * filter's bias (the shear's misplacement of slopes other than the mean, growing with the
  * width) is a floor no sample count lowers (docs/algorithms.md 10, "The width for a uniform
  * light"). */
-#define FSF_BAND_REF_SPP 16
 float fsf_light_sigma_y_m(float half_m, int samples);
 
 typedef struct {
