@@ -208,7 +208,7 @@ static void compare(const float *a, const float *b, int margin, double *rms, dou
  * ray through film x and lens u is lit iff x - C1 u >= E1 and x - C2 u < E2: u in ((x - E2) / C2,
  * (x - E1) / C1]. The footprints near the strip hold both slopes, so the filter shears with their
  * mean and misplaces each edge's samples by (k - k_mean) per step: the bias grows with the
- * width (docs/algorithms.md section 10, "Defocus: the band of the lens"). */
+ * width (docs/algorithms.md section 10, "The band of the lens and of the v-plane"). */
 static const float STRIP_C1 = 3.5f, STRIP_C2 = 7.0f, STRIP_E1 = 24.0f, STRIP_E2 = 40.0f;
 
 /* the camera depth at which the plane_make camera's circle of confusion is c px */

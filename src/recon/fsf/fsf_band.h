@@ -1,6 +1,5 @@
 /* FSF's band per source, at the pixel's sample count (docs/algorithms.md section 10, "The
- * width for a uniform light", "Defocus: the band of the lens", "Indirect light: the band of
- * the v-plane").
+ * width for a uniform light" and "The band of the lens and of the v-plane").
  *
  * FSF eq. 4 takes sigma_x = sigma_y / (k_hi - k_lo) with sigma_y = 2 / Omega_y, Omega_y where the
  * source's spectrum falls to the level the filter may discard. The paper fixes that level at

@@ -96,7 +96,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
             /* straddles the focal plane: the axis-aligned fallback (FSF section 5), with the
              * paper's fixed sigma_u = 1/2, not the band: narrower, it left out the straddlers
              * of a moving defocused object, whose motion noise this filter was the only one to
-             * average (docs/algorithms.md section 10, "The band of the lens") */
+             * average (docs/algorithms.md section 10, "The band of the lens and of the v-plane") */
             eta = 0.0f;
             sigma = FSF_LENS_STRADDLE_SIGMA_U / (fmaxf(-pick.lo, pick.hi) * in->mu);
         } else {
