@@ -331,8 +331,12 @@ static void lights_from_renderer(ReconMethod *m)
         }
         if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
             continue; /* degenerate: omega_y_max stays 0, its samples are not used */
-        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light */
-        maaf_light_design(m->geoms[l].sigma_world / m->kappa, m->pairs, ml);
+        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light; the triangles of
+         * one mesh light have one design, made once */
+        float sigma = m->geoms[l].sigma_world / m->kappa;
+        bool copied = false;
+        for (int k = 0; k < l && !copied; ++k) copied = maaf_light_design_copy(&m->lights[k], sigma, ml);
+        if (!copied) maaf_light_design(sigma, m->pairs, ml);
     }
     free(info);
 }
