@@ -95,7 +95,10 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
             }
         }
     for (int e = 0; ok && e < E; ++e) env[e] = band_envelope(s, -2.0 + e * de);
-    for (int q = -(n - 1); ok && q < n; ++q) {
+    /* bands q >= 0; band -q's centre is -C (maaf_lens_band_centre: an exact negation), its
+     * cosines the same and its sines negated, so its antiderivative and chords are band q's
+     * conjugates, float for float: copied below */
+    for (int q = 0; ok && q < n; ++q) {
         /* antiderivative A(t) = int_{-2}^{t} exp(j C t') g(t') dt' (trapezoid), then the chord
          * integral int_{-h}^{h} e(v' - v) dv' = A(h - v) - A(-h - v) */
         double C = maaf_lens_band_centre(l, q);
@@ -122,6 +125,11 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                 chords[((size_t)(q + n - 1) * R + iv) * K + k] = (Cplx){a[0].re - a[1].re, a[0].im - a[1].im};
             }
     }
+    for (int q = -(n - 1); ok && q < 0; ++q)
+        for (size_t j = 0; j < (size_t)R * K; ++j) {
+            Cplx ch = chords[(size_t)(-q + n - 1) * R * K + j];
+            chords[(size_t)(q + n - 1) * R * K + j] = (Cplx){ch.re, -ch.im};
+        }
     /* table(iu, iv) = sum_k rows(iu, k) chords(iv, k): per iu, the sums of all iv at once with
      * the chords transposed to [k][iv] (each cell still adds its terms in k order, as one sum
      * per cell did; the loop over iv vectorises), over the stored quadrant only (below) */
