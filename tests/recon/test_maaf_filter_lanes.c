@@ -49,10 +49,8 @@ static void input_free(Input *in)
     free(in->param);
 }
 
-/* World guides: a gently curved surface of two objects, light axes along x and y, designs from
- * random wedges; screen guides: maaf_screen_guides with a random side. Some pixels unusable,
- * some unfiltered, some at the radius cap; non-finite sums planted as described above. */
-static void input_build(Input *in, int w, int h, int pairs, bool screen)
+/* in's arrays for w x h pixels (guides and parameters zero); returns the floats of sums per pixel. */
+static size_t input_alloc(Input *in, int w, int h, int pairs)
 {
     size_t n = (size_t)w * h, per = (size_t)maaf_component_count(pairs) * 8;
     in->w = w, in->h = h, in->pairs = pairs;
@@ -62,6 +60,15 @@ static void input_build(Input *in, int w, int h, int pairs, bool screen)
     in->frame4 = calloc(4 * n, sizeof(float));
     in->axis2 = calloc(4 * n, sizeof(float));
     in->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
+    return per;
+}
+
+/* World guides: a gently curved surface of two objects, light axes along x and y, designs from
+ * random wedges; screen guides: maaf_screen_guides with a random side. Some pixels unusable,
+ * some unfiltered, some at the radius cap; non-finite sums planted as described above. */
+static void input_build(Input *in, int w, int h, int pairs, bool screen)
+{
+    size_t per = input_alloc(in, w, h, pairs);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
@@ -111,14 +118,7 @@ static void input_build(Input *in, int w, int h, int pairs, bool screen)
  * e^-2, and the plain neighbours are wide enough for the sharpness rule to keep them). */
 static void input_build_plain(Input *in, int w, int h, int pairs, int y0)
 {
-    size_t n = (size_t)w * h, per = (size_t)maaf_component_count(pairs) * 8;
-    in->w = w, in->h = h, in->pairs = pairs;
-    in->ysum = malloc(n * per * sizeof(float));
-    in->pos4 = calloc(4 * n, sizeof(float));
-    in->nrm4 = calloc(4 * n, sizeof(float));
-    in->frame4 = calloc(4 * n, sizeof(float));
-    in->axis2 = calloc(4 * n, sizeof(float));
-    in->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
+    size_t per = input_alloc(in, w, h, pairs);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
