@@ -114,9 +114,10 @@ static void input_build(Input *in, int w, int h, int pairs, bool screen)
 }
 
 /* Plain pixels (maaf_pixel_param_plain, std 2 px: radius 4) on one surface, all usable, with
- * designed rows [y0, y0 + 4) whose radius is 6 (std 3 px: a tap 6 rows away still weighs
- * e^-2, and the plain neighbours are wide enough for the sharpness rule to keep them). */
-static void input_build_plain(Input *in, int w, int h, int pairs, int y0)
+ * designed pixels in rows [y0, y0 + 4) and columns [x0, x1) whose radius is 6 (std 3 px: a tap
+ * 6 pixels away still weighs e^-2, and the plain neighbours are wide enough for the sharpness
+ * rule to keep them). */
+static void input_build_plain(Input *in, int w, int h, int pairs, int y0, int x0, int x1)
 {
     size_t per = input_alloc(in, w, h, pairs);
     for (int y = 0; y < h; ++y)
@@ -127,7 +128,7 @@ static void input_build_plain(Input *in, int w, int h, int pairs, int y0)
             in->nrm4[4 * i + 2] = 1.0f;
             in->frame4[4 * i] = 1.0f, in->frame4[4 * i + 3] = 1.0f;
             in->axis2[4 * i + 1] = 1.0f;
-            if (y >= y0 && y < y0 + 4)
+            if (y >= y0 && y < y0 + 4 && x >= x0 && x < x1)
                 maaf_pixel_param(0.24f, 0.4f, 8.0f, pairs, 1.0f, PIXEL_WORLD, pr); /* std 12.5 x 0.24 px */
             else
                 maaf_pixel_param_plain(2.0f, PIXEL_WORLD, pairs, pr);
@@ -203,11 +204,15 @@ int main(void)
             free(dev);
             input_free(&in);
         }
-    /* plain pixels around designed rows, in the middle of a band and across a band's edge */
-    for (int k = 0; k < 2 && f; ++k) {
+    /* plain pixels around designed rows, in the middle of a band and across a band's edge (the
+     * row pass sums every component in the rows a designed column reader reaches: row_needs),
+     * and around a designed patch of one work item's 8 columns (the fill writes every
+     * component only of the pixels such a row-pass work item reaches: band_full) */
+    for (int k = 0; k < 3 && f; ++k) {
         Input in;
-        input_build_plain(&in, 29, 70, 3, k == 0 ? 12 : MAAF_BAND_ROWS - 2);
-        CHECK(in.param[(size_t)(k == 0 ? 12 : MAAF_BAND_ROWS - 2) * 29 * MAAF_PARAM_STRIDE] == 6.0f);
+        int y0 = k == 1 ? MAAF_BAND_ROWS - 2 : 12;
+        input_build_plain(&in, 29, 70, 3, y0, k == 2 ? 8 : 0, k == 2 ? 16 : 29);
+        CHECK(in.param[((size_t)y0 * 29 + 8) * MAAF_PARAM_STRIDE] == 6.0f);
         MaafFilterInput fi = {in.w, in.h, 3, in.ysum, in.pos4, in.nrm4, in.frame4, in.axis2, in.param,
                               0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL};
         size_t n = (size_t)in.w * in.h;
@@ -216,7 +221,8 @@ int main(void)
         CHECK(maaf_filter_run(f, &fi, dev, NULL, &d));
         double worst;
         int bad = compare(&in, ref, dev, &worst);
-        printf("plain pixels around designed rows: max rel diff %.2e, %d pixels differ\n", worst, bad);
+        printf("plain pixels around designed %s: max rel diff %.2e, %d pixels differ\n", k == 2 ? "pixels" : "rows", worst,
+               bad);
         CHECK(bad == 0);
         free(ref);
         free(dev);
