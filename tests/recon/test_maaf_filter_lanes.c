@@ -8,7 +8,10 @@
  *     that some neighbours reject (another object): a lane that rejects one must not see it
  *     (0 x NaN), a lane that uses it must (the reference's NaN), in both passes;
  *   - screen-space guides as defocus uses them (maaf_screen_guides: one offset is exactly 0,
- *     the kernel skips its sincos/exp).
+ *     the kernel skips its sincos/exp);
+ *   - plain pixels (the central component alone) around a band of designed rows: the row pass
+ *     sums every component only in the work items that a designed column reader reaches
+ *     (row_needs), and the rows exactly its radius away must be among them.
  * Oracle: same flags everywhere, the same NaN pixels, and values within float rounding. */
 #include <math.h>
 #include <stdlib.h>
@@ -46,10 +49,8 @@ static void input_free(Input *in)
     free(in->param);
 }
 
-/* World guides: a gently curved surface of two objects, light axes along x and y, designs from
- * random wedges; screen guides: maaf_screen_guides with a random side. Some pixels unusable,
- * some unfiltered, some at the radius cap; non-finite sums planted as described above. */
-static void input_build(Input *in, int w, int h, int pairs, bool screen)
+/* in's arrays for w x h pixels (guides and parameters zero); returns the floats of sums per pixel. */
+static size_t input_alloc(Input *in, int w, int h, int pairs)
 {
     size_t n = (size_t)w * h, per = (size_t)maaf_component_count(pairs) * 8;
     in->w = w, in->h = h, in->pairs = pairs;
@@ -59,6 +60,15 @@ static void input_build(Input *in, int w, int h, int pairs, bool screen)
     in->frame4 = calloc(4 * n, sizeof(float));
     in->axis2 = calloc(4 * n, sizeof(float));
     in->param = calloc(n * MAAF_PARAM_STRIDE, sizeof(float));
+    return per;
+}
+
+/* World guides: a gently curved surface of two objects, light axes along x and y, designs from
+ * random wedges; screen guides: maaf_screen_guides with a random side. Some pixels unusable,
+ * some unfiltered, some at the radius cap; non-finite sums planted as described above. */
+static void input_build(Input *in, int w, int h, int pairs, bool screen)
+{
+    size_t per = input_alloc(in, w, h, pairs);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = (size_t)y * w + x;
@@ -101,6 +111,31 @@ static void input_build(Input *in, int w, int h, int pairs, bool screen)
         if (screen) in->nrm4[4 * i + 3] = -in->nrm4[4 * i + 3];
         in->ysum[i * per + 1 + 8 * k] = k == 1 ? INFINITY : NAN;
     }
+}
+
+/* Plain pixels (maaf_pixel_param_plain, std 2 px: radius 4) on one surface, all usable, with
+ * designed pixels in rows [y0, y0 + 4) and columns [x0, x1) whose radius is 6 (std 3 px: a tap
+ * 6 pixels away still weighs e^-2, and the plain neighbours are wide enough for the sharpness
+ * rule to keep them). */
+static void input_build_plain(Input *in, int w, int h, int pairs, int y0, int x0, int x1)
+{
+    size_t per = input_alloc(in, w, h, pairs);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * w + x;
+            float *pr = in->param + i * MAAF_PARAM_STRIDE;
+            in->pos4[4 * i] = x * PIXEL_WORLD, in->pos4[4 * i + 1] = y * PIXEL_WORLD, in->pos4[4 * i + 3] = 3.0f;
+            in->nrm4[4 * i + 2] = 1.0f;
+            in->frame4[4 * i] = 1.0f, in->frame4[4 * i + 3] = 1.0f;
+            in->axis2[4 * i + 1] = 1.0f;
+            if (y >= y0 && y < y0 + 4 && x >= x0 && x < x1)
+                maaf_pixel_param(0.24f, 0.4f, 8.0f, pairs, 1.0f, PIXEL_WORLD, pr); /* std 12.5 x 0.24 px */
+            else
+                maaf_pixel_param_plain(2.0f, PIXEL_WORLD, pairs, pr);
+            float *ys = in->ysum + i * per;
+            for (size_t c = 0; c < per; ++c) ys[c] = frand() - 0.3f;
+            for (size_t c = 3; c < per; c += 4) ys[c] = 0.5f + frand();
+        }
 }
 
 /* 0: agree; else the number of pixels that do not */
@@ -169,6 +204,30 @@ int main(void)
             free(dev);
             input_free(&in);
         }
+    /* plain pixels around designed rows, in the middle of a band and across a band's edge (the
+     * row pass sums every component in the rows a designed column reader reaches: row_needs),
+     * and around a designed patch of one work item's 8 columns (the fill writes every
+     * component only of the pixels such a row-pass work item reaches: band_full) */
+    for (int k = 0; k < 3 && f; ++k) {
+        Input in;
+        int y0 = k == 1 ? MAAF_BAND_ROWS - 2 : 12;
+        input_build_plain(&in, 29, 70, 3, y0, k == 2 ? 8 : 0, k == 2 ? 16 : 29);
+        CHECK(in.param[((size_t)y0 * 29 + 8) * MAAF_PARAM_STRIDE] == 6.0f);
+        MaafFilterInput fi = {in.w, in.h, 3, in.ysum, in.pos4, in.nrm4, in.frame4, in.axis2, in.param,
+                              0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL};
+        size_t n = (size_t)in.w * in.h;
+        float *ref = malloc(4 * n * sizeof(float)), *dev = malloc(4 * n * sizeof(float));
+        maaf_filter_reference(&fi, ref);
+        CHECK(maaf_filter_run(f, &fi, dev, NULL, &d));
+        double worst;
+        int bad = compare(&in, ref, dev, &worst);
+        printf("plain pixels around designed %s: max rel diff %.2e, %d pixels differ\n", k == 2 ? "pixels" : "rows", worst,
+               bad);
+        CHECK(bad == 0);
+        free(ref);
+        free(dev);
+        input_free(&in);
+    }
     maaf_filter_destroy(f);
     cl_runtime_destroy(rt);
     CHECK_DONE();

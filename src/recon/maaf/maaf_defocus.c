@@ -20,13 +20,6 @@ typedef struct {
 } Cplx;
 
 
-/* One band's primal component exp(j C t) g(t; s) (maaf_design.h's conventions). */
-static Cplx band_primal(double C, double s, double t)
-{
-    double g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
-    return (Cplx){g * cos(C * t), g * sin(C * t)};
-}
-
 float maaf_lens_band_centre(const MaafLens *l, int q) { return l->omega_u_max * 2.0f * (float)q / (2.0f * l->pairs - 1.0f); }
 float maaf_lens_band_std(const MaafLens *l) { return l->omega_u_max / (2.0f * l->pairs - 1.0f); }
 
@@ -37,7 +30,7 @@ void maaf_lens_free(MaafLens *l)
 }
 
 /* One table row of the stored quadrant, acc(iv) = sum_k r_k ct(k, iv) (complex; ct the chords
- * transposed, MAAF_LENS_TABLE doubles a k): each cell adds its terms in k order, the loop over
+ * transposed, MAAF_LENS_ROWS doubles a k): each cell adds its terms in k order, the loop over
  * iv vectorises. Out of line in AVX copies (WEDGE_VECTORISED): 4 or 8 doubles a step instead
  * of the baseline's 2, the same products and sums per cell, so the same table; the frame's
  * table build is ~2% of a defocus frame at 6 spp. */
@@ -47,13 +40,26 @@ static WEDGE_VECTORISED void table_row(const Cplx *restrict r, int k_count, cons
     for (int iv = 0; iv < MAAF_LENS_ROWS; ++iv) acc_re[iv] = acc_im[iv] = 0.0;
     for (int k = 0; k < k_count; ++k) {
         double rr = r[k].re, ri = r[k].im;
-        const double *cr = ct_re + (size_t)k * MAAF_LENS_TABLE, *ci = ct_im + (size_t)k * MAAF_LENS_TABLE;
+        const double *cr = ct_re + (size_t)k * MAAF_LENS_ROWS, *ci = ct_im + (size_t)k * MAAF_LENS_ROWS;
         for (int iv = 0; iv < MAAF_LENS_ROWS; ++iv) {
             acc_re[iv] += rr * cr[iv] - ri * ci[iv];
             acc_im[iv] += rr * ci[iv] + ri * cr[iv];
         }
     }
 }
+
+/* One band's primal component exp(j C t) g(t; s) (maaf_design.h's conventions) from its envelope
+ * g (band_envelope: one for every band, which share s); the central band (C t = +-0) without
+ * the cosine and sine, which give exactly 1 and C t there. */
+static Cplx band_oscillate(double g, double C, double t)
+{
+    double x = C * t;
+    if (x == 0.0) return (Cplx){g, g * x};
+    return (Cplx){g * cos(x), g * sin(x)};
+}
+
+/* The envelope g(t; s) of every band's primal component. */
+static double band_envelope(double s, double t) { return s * 0.3989422804014327 * exp(-0.5 * s * s * t * t); }
 
 bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
 {
@@ -62,36 +68,50 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     l->pairs = n;
     l->comps = maaf_component_count(n);
     l->omega_u_max = 2.0f * kappa / MAAF_LENS_SIGMA;
-    enum { T = MAAF_LENS_TABLE, K = ANGLE_STEPS + 1, E = ANTIDERIV_STEPS + 1 };
+    /* only the stored quadrant's rows and columns (iu, iv < MAAF_LENS_ROWS) are made: the rest
+     * of the 129 x 129 grid is never stored (maaf_lens_store) */
+    enum { T = MAAF_LENS_TABLE, R = MAAF_LENS_ROWS, K = ANGLE_STEPS + 1, E = ANTIDERIV_STEPS + 1 };
     l->table = calloc((size_t)l->comps * MAAF_LENS_ROWS * MAAF_LENS_ROWS * 2, sizeof(float));
     maaf_lens_flips(l);
-    Cplx *rows = malloc((size_t)n * T * K * sizeof(Cplx));         /* [p][iu][k] */
-    Cplx *chords = malloc((size_t)bands * T * K * sizeof(Cplx));   /* [q + n - 1][iv][k] */
+    Cplx *rows = malloc((size_t)n * R * K * sizeof(Cplx));         /* [p][iu][k] */
+    Cplx *chords = malloc((size_t)bands * R * K * sizeof(Cplx));   /* [q + n - 1][iv][k] */
     Cplx *anti = malloc((size_t)E * sizeof(Cplx));
-    bool ok = l->table && rows && chords && anti;
+    double *env = malloc((size_t)E * sizeof(double));             /* the antiderivative's envelope */
+    double cos_t[K], sin_t[K];                                     /* the disk's polar angle steps */
+    bool ok = l->table && rows && chords && anti && env;
     double s = maaf_lens_band_std(l), dt = PI_D / ANGLE_STEPS, de = 4.0 / ANTIDERIV_STEPS;
-    for (int p = 0; ok && p < n; ++p) /* outer factor, Simpson weight and Jacobian cos t included */
-        for (int iu = 0; iu < T; ++iu)
-            for (int k = 0; k < K; ++k) {
-                double t = -0.5 * PI_D + k * dt, u = -1.0 + 2.0 * iu / (T - 1.0);
-                double wk = (k == 0 || k == K - 1 ? 1.0 : (k & 1) ? 4.0 : 2.0) * dt / 3.0 * cos(t);
-                Cplx e = band_primal(maaf_lens_band_centre(l, p), s, sin(t) - u);
-                rows[((size_t)p * T + iu) * K + k] = (Cplx){wk * e.re, wk * e.im};
+    for (int k = 0; k < K; ++k) {
+        double t = -0.5 * PI_D + k * dt;
+        cos_t[k] = cos(t), sin_t[k] = sin(t);
+    }
+    /* outer factor, Simpson weight and Jacobian cos t included; one envelope for all bands */
+    for (int iu = 0; ok && iu < R; ++iu)
+        for (int k = 0; k < K; ++k) {
+            double u = -1.0 + 2.0 * iu / (T - 1.0), x = sin_t[k] - u;
+            double wk = (k == 0 || k == K - 1 ? 1.0 : (k & 1) ? 4.0 : 2.0) * dt / 3.0 * cos_t[k], g = band_envelope(s, x);
+            for (int p = 0; p < n; ++p) {
+                Cplx e = band_oscillate(g, maaf_lens_band_centre(l, p), x);
+                rows[((size_t)p * R + iu) * K + k] = (Cplx){wk * e.re, wk * e.im};
             }
-    for (int q = -(n - 1); ok && q < n; ++q) {
+        }
+    for (int e = 0; ok && e < E; ++e) env[e] = band_envelope(s, -2.0 + e * de);
+    /* bands q >= 0; band -q's centre is -C (maaf_lens_band_centre: an exact negation), its
+     * cosines the same and its sines negated, so its antiderivative and chords are band q's
+     * conjugates, float for float: copied below */
+    for (int q = 0; ok && q < n; ++q) {
         /* antiderivative A(t) = int_{-2}^{t} exp(j C t') g(t') dt' (trapezoid), then the chord
          * integral int_{-h}^{h} e(v' - v) dv' = A(h - v) - A(-h - v) */
         double C = maaf_lens_band_centre(l, q);
         anti[0] = (Cplx){0.0, 0.0};
-        Cplx prev = band_primal(C, s, -2.0);
+        Cplx prev = band_oscillate(env[0], C, -2.0);
         for (int e = 1; e < E; ++e) {
-            Cplx cur = band_primal(C, s, -2.0 + e * de);
+            Cplx cur = band_oscillate(env[e], C, -2.0 + e * de);
             anti[e] = (Cplx){anti[e - 1].re + 0.5 * de * (prev.re + cur.re), anti[e - 1].im + 0.5 * de * (prev.im + cur.im)};
             prev = cur;
         }
-        for (int iv = 0; iv < T; ++iv)
+        for (int iv = 0; iv < R; ++iv)
             for (int k = 0; k < K; ++k) {
-                double v = -1.0 + 2.0 * iv / (T - 1.0), h = cos(-0.5 * PI_D + k * dt);
+                double v = -1.0 + 2.0 * iv / (T - 1.0), h = cos_t[k];
                 Cplx a[2];
                 double ends[2] = {h - v, -h - v};
                 for (int b = 0; b < 2; ++b) {
@@ -102,28 +122,33 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
                     double f = x - e;
                     a[b] = (Cplx){anti[e].re + f * (anti[e + 1].re - anti[e].re), anti[e].im + f * (anti[e + 1].im - anti[e].im)};
                 }
-                chords[((size_t)(q + n - 1) * T + iv) * K + k] = (Cplx){a[0].re - a[1].re, a[0].im - a[1].im};
+                chords[((size_t)(q + n - 1) * R + iv) * K + k] = (Cplx){a[0].re - a[1].re, a[0].im - a[1].im};
             }
     }
+    for (int q = -(n - 1); ok && q < 0; ++q)
+        for (size_t j = 0; j < (size_t)R * K; ++j) {
+            Cplx ch = chords[(size_t)(-q + n - 1) * R * K + j];
+            chords[(size_t)(q + n - 1) * R * K + j] = (Cplx){ch.re, -ch.im};
+        }
     /* table(iu, iv) = sum_k rows(iu, k) chords(iv, k): per iu, the sums of all iv at once with
      * the chords transposed to [k][iv] (each cell still adds its terms in k order, as one sum
      * per cell did; the loop over iv vectorises), over the stored quadrant only (below) */
-    double *ct_re = malloc((size_t)K * T * sizeof(double)), *ct_im = malloc((size_t)K * T * sizeof(double));
-    double *acc_re = malloc((size_t)T * sizeof(double)), *acc_im = malloc((size_t)T * sizeof(double));
+    double *ct_re = malloc((size_t)K * R * sizeof(double)), *ct_im = malloc((size_t)K * R * sizeof(double));
+    double *acc_re = malloc((size_t)R * sizeof(double)), *acc_im = malloc((size_t)R * sizeof(double));
     ok = ok && ct_re && ct_im && acc_re && acc_im;
     int c = 0;
     for (int p = 0; ok && p < n; ++p)
         for (int q = -(n - 1); q < n; ++q) {
             if (p == 0 && q < 0) continue;
-            for (int iv = 0; iv < T; ++iv)
+            for (int iv = 0; iv < R; ++iv)
                 for (int k = 0; k < K; ++k) {
-                    Cplx ch = chords[((size_t)(q + n - 1) * T + iv) * K + k];
-                    ct_re[(size_t)k * T + iv] = ch.re;
-                    ct_im[(size_t)k * T + iv] = ch.im;
+                    Cplx ch = chords[((size_t)(q + n - 1) * R + iv) * K + k];
+                    ct_re[(size_t)k * R + iv] = ch.re;
+                    ct_im[(size_t)k * R + iv] = ch.im;
                 }
-            for (int iu = 0; iu < MAAF_LENS_ROWS; ++iu) {
-                table_row(rows + ((size_t)p * T + iu) * K, K, ct_re, ct_im, acc_re, acc_im);
-                for (int iv = 0; iv < MAAF_LENS_ROWS; ++iv) maaf_lens_store(l, c, iu, iv, (float)acc_re[iv], (float)acc_im[iv]);
+            for (int iu = 0; iu < R; ++iu) {
+                table_row(rows + ((size_t)p * R + iu) * K, K, ct_re, ct_im, acc_re, acc_im);
+                for (int iv = 0; iv < R; ++iv) maaf_lens_store(l, c, iu, iv, (float)acc_re[iv], (float)acc_im[iv]);
             }
             ++c;
         }
@@ -134,6 +159,7 @@ bool maaf_lens_design(float kappa, int pairs, MaafLens *l)
     free(rows);
     free(chords);
     free(anti);
+    free(env);
     if (!ok) maaf_lens_free(l);
     return ok;
 }

@@ -44,9 +44,10 @@ bool maaf_design_2d(float s_min, float s_max, float omega_y_max, int pairs, Maaf
             c->cx = (float)(0.5 * (lo + hi));
             c->sx = (float)(0.5 * (hi - lo));
         }
-        /* eq. 10: a Gaussian over the whole double wedge, Omega_x std wy/s_min, Omega_y std wy */
+        /* eq. 10: a Gaussian over the whole double wedge, Omega_x std wy/s_min, Omega_y std wy;
+         * the central band sits at its peak (gx = gy = 0: exp(-0) = 1 exactly, no call) */
         double gx = c->cx * (double)s_min / wy, gy = c->cy / wy;
-        c->weight = (float)exp(-0.5 * (gx * gx + gy * gy));
+        c->weight = p == 0 ? 1.0f : (float)exp(-0.5 * (gx * gx + gy * gy));
     }
     return true;
 }

@@ -106,7 +106,7 @@ static const float *input_sums(const MaafFilterInput *in, float **owned)
     if (in->ysum || !in->fill) return in->ysum;
     int per = 8 * maaf_component_count(in->pairs);
     size_t plane = (size_t)in->width + 2 * MAAF_PLANES_PAD, row = plane * (size_t)(per + 1);
-    MaafPlanes pl = {calloc(row * (size_t)in->height, sizeof(float)), row, plane, in->width, in->height, per, 0};
+    MaafPlanes pl = {calloc(row * (size_t)in->height, sizeof(float)), row, plane, in->width, in->height, per, 0, NULL};
     if (pl.base && (*owned = malloc((size_t)in->width * in->height * (size_t)per * sizeof(float)))) {
         in->fill(in->fill_ctx, &pl, 0, in->height);
         for (int y = 0; y < in->height; ++y)
@@ -209,6 +209,8 @@ struct MaafFilter {
     ClRuntime *rt;
     cl_int *need; /* row_needs's flags, host side */
     size_t need_count;
+    unsigned char *full; /* a band's rows: which pixels have every plane read (MaafPlanes.full) */
+    size_t full_count;
     cl_kernel k[K_COUNT];
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
@@ -239,6 +241,7 @@ void maaf_filter_destroy(MaafFilter *f)
     for (int k = 0; k < K_COUNT; ++k)
         if (f->k[k]) clReleaseKernel(f->k[k]);
     free(f->need);
+    free(f->full);
     free(f);
 }
 
@@ -310,11 +313,12 @@ static bool set_args(MaafFilter *f, int k, const cl_int *ints, int ni, const flo
 
 /* Which row-pass work items (8 pixels of a row, need[y * tblocks + x / 8]) must sum every
  * component: those that a column-pass work item with amplitude beyond band 0 in some lane
- * reads, i.e. one in the same 8 columns within MAAF_RADIUS_CAP_PX rows. The others' column
- * readers use the central component alone (maaf_cols skips components without amplitude), so
- * the row pass sums only that one: the shadows' plain pixels (AAF's far rule), 90% of the
- * work items on the combined bench. *reach: the largest radius a work item of either pass can
- * take (the kernels' integer radius, capped), which bounds the column pass's taps. */
+ * reads, i.e. one in the same 8 columns within *reach rows. The others' column readers use the
+ * central component alone (maaf_cols skips components without amplitude), so the row pass sums
+ * only that one: the shadows' plain pixels (AAF's far rule). *reach: the largest radius a work
+ * item of either pass can take (the kernels' integer radius, capped), which bounds the column
+ * pass's taps; a window of the cap instead (as until 2026-11-29) marked twice the work items
+ * of the combined bench's shadow pass (34% against 17% at 7 spp; its lens pass 98% against 88%). */
 static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks, int *reach)
 {
     int w = in->width, h = in->height;
@@ -337,12 +341,12 @@ static bool row_needs(MaafFilter *f, const MaafFilterInput *in, int tblocks, int
             float r = pr[0] < (float)MAAF_RADIUS_CAP_PX ? truncf(pr[0]) : (float)MAAF_RADIUS_CAP_PX;
             if (r > most) most = r;
         }
-    *reach = (int)most;
-    for (int b = 0; b < tblocks; ++b) { /* a sliding window of 2 cap + 1 rows per column of blocks */
+    int r = *reach = (int)most;
+    for (int b = 0; b < tblocks; ++b) { /* a sliding window of 2 reach + 1 rows per column of blocks */
         int inside = 0;
-        for (int y = 0; y < MAAF_RADIUS_CAP_PX && y < h; ++y) inside += amp[(size_t)y * tblocks + b];
+        for (int y = 0; y < r && y < h; ++y) inside += amp[(size_t)y * tblocks + b];
         for (int y = 0; y < h; ++y) {
-            int enter = y + MAAF_RADIUS_CAP_PX, leave = y - MAAF_RADIUS_CAP_PX - 1;
+            int enter = y + r, leave = y - r - 1;
             if (enter < h) inside += amp[(size_t)enter * tblocks + b];
             if (leave >= 0) inside -= amp[(size_t)leave * tblocks + b];
             f->need[(size_t)y * tblocks + b] = inside > 0;
@@ -378,10 +382,36 @@ static bool layout(int width, int height, int pairs, int reach, Layout *o, Diag 
     return true;
 }
 
+/* MaafPlanes.full for image rows [y0, y1): a pixel is read in every plane only by the row-pass
+ * work items that sum every component (row_needs), and those read the pixels of their row up to
+ * reach away from their 8 (the kernels' integer radius, capped); the other work items read the
+ * central component and the flag. NULL (every pixel full) when out of memory. */
+static const unsigned char *band_full(MaafFilter *f, int width, int tblocks, int reach, int y0, int y1)
+{
+    size_t count = (size_t)width * MAAF_BAND_ROWS;
+    if (f->full_count < count) {
+        free(f->full);
+        f->full_count = (f->full = malloc(count)) ? count : 0;
+        if (!f->full) return NULL;
+    }
+    for (int y = y0; y < y1; ++y) {
+        unsigned char *row = f->full + (size_t)(y - y0) * width;
+        memset(row, 0, (size_t)width);
+        for (int b = 0; b < tblocks; ++b) {
+            if (!f->need[(size_t)y * tblocks + b]) continue;
+            int x0 = b * LANES - reach < 0 ? 0 : b * LANES - reach, x1 = b * LANES + LANES - 1 + reach;
+            if (x1 > width - 1) x1 = width - 1;
+            if (x0 <= x1) memset(row + x0, 1, (size_t)(x1 - x0 + 1));
+        }
+    }
+    return f->full;
+}
+
 /* Image rows [y0, y1) of the sums into BUF_YP (mapped: on a CPU device its own memory, no
  * copy), each plane's row padded with zeros; from in->fill, or from in->ysum where a pixel is
  * usable (zeros elsewhere). The blocking map waits for the row pass of the band before. */
-static bool write_band(MaafFilter *f, const MaafFilterInput *in, const Layout *L, int y0, int y1, Diag *d)
+static bool write_band(MaafFilter *f, const MaafFilterInput *in, const Layout *L, int tblocks, int reach, int y0, int y1,
+                       Diag *d)
 {
     size_t row = L->ystride * (size_t)(L->per + 1), bytes = row * (size_t)(y1 - y0) * sizeof(float);
     cl_int err = CL_SUCCESS;
@@ -390,7 +420,7 @@ static bool write_band(MaafFilter *f, const MaafFilterInput *in, const Layout *L
     float *base = clEnqueueMapBuffer(f->rt->queue, f->buf[BUF_YP], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, bytes, 0,
                                      NULL, NULL, &err);
     if (!cl_ok(err, "map of the sums' planes", d)) return false;
-    MaafPlanes pl = {base, row, L->ystride, in->width, in->height, L->per, y0};
+    MaafPlanes pl = {base, row, L->ystride, in->width, in->height, L->per, y0, band_full(f, in->width, tblocks, reach, y0, y1)};
     for (int y = y0; y < y1; ++y)
         for (int k = 0; k <= L->per; ++k) {
             float *r = base + (size_t)(y - y0) * row + (size_t)k * L->ystride;
@@ -408,24 +438,30 @@ static bool write_band(MaafFilter *f, const MaafFilterInput *in, const Layout *L
     return cl_ok(clEnqueueUnmapMemObject(f->rt->queue, f->buf[BUF_YP], base, 0, NULL, NULL), "unmap of the sums' planes", d);
 }
 
+bool maaf_planes_full(const MaafPlanes *pl, int x, int y)
+{
+    return !pl->full || pl->full[(size_t)(y - pl->y0) * (size_t)pl->width + (size_t)x];
+}
+
 void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
 {
     float *o = pl->base + (size_t)(y - pl->y0) * pl->row + PAD + (size_t)x;
     size_t plane = pl->plane;
-    int per = pl->per;
+    int per = pl->per, used = maaf_planes_full(pl, x, y) ? per : 8; /* else the central component's */
     if (!v) {
-        for (int k = 0; k <= per; ++k) o[(size_t)k * plane] = 0.0f;
+        for (int k = 0; k < used; ++k) o[(size_t)k * plane] = 0.0f;
+        o[(size_t)per * plane] = 0.0f;
         return;
     }
     /* a non-finite float has every exponent bit set: one test over all of them (vectorised),
      * not a branch per float */
     uint32_t bad = 0;
-    for (int k = 0; k < per; ++k) {
+    for (int k = 0; k < used; ++k) {
         uint32_t bits;
         memcpy(&bits, &v[k], sizeof bits);
         bad |= (bits & 0x7f800000u) == 0x7f800000u;
     }
-    for (int k = 0; k < per; ++k) o[(size_t)k * plane] = v[k];
+    for (int k = 0; k < used; ++k) o[(size_t)k * plane] = v[k];
     o[(size_t)per * plane] = bad ? 1.0f : 0.0f;
 }
 
@@ -489,7 +525,7 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
     int done = 0; /* rows [0, done) are filtered */
     for (int y0 = 0; ok && y0 < h; y0 += MAAF_BAND_ROWS) {
         int y1 = y0 + MAAF_BAND_ROWS < h ? y0 + MAAF_BAND_ROWS : h;
-        ok = write_band(f, in, &L, y0, y1, d);
+        ok = write_band(f, in, &L, tb, reach, y0, y1, d);
         if (ok) {
             cl_int ints[4] = {w, h, in->pairs, comps}, ints2[8] = {gp, gpl, ys, tb, y0, y1, yrows, trows};
             int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};

@@ -36,6 +36,10 @@ typedef struct {
     size_t row, plane;
     int width, height, per; /* per: 8 floats per component, then the flag plane */
     int y0;                 /* the band's first image row */
+    /* per pixel of the band's rows (width a row), NULL for all: 1 where some row-pass work item
+     * reads every plane of the pixel; 0 where only the central component's 8 planes and the flag
+     * are read (maaf_planes_put writes only those, the flag over them) */
+    const unsigned char *full;
 } MaafPlanes;
 /* Writes the sums of image rows [y0, y1) into pl (maaf_planes_put, every pixel once). */
 typedef void (*MaafPlanesFill)(void *ctx, const MaafPlanes *pl, int y0, int y1);
@@ -93,6 +97,8 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
 /* Pixel (x, y)'s sums (per floats as one pixel of MaafFilterInput.ysum), NULL for a pixel that is
  * not usable (zeros), and its flag (a non-finite sum). */
 void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v);
+/* Whether pixel (x, y) of the band needs every float of its sums (else the first 8 alone). */
+bool maaf_planes_full(const MaafPlanes *pl, int x, int y);
 /* The sums of pixel (x, y) back (per floats, the flag left out). */
 void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v);
 /* The last run's device seconds of each kernel: maaf_unpack, maaf_rows, maaf_cols (benchmarks). */

@@ -331,8 +331,12 @@ static void lights_from_renderer(ReconMethod *m)
         }
         if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
             continue; /* degenerate: omega_y_max stays 0, its samples are not used */
-        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light */
-        maaf_light_design(m->geoms[l].sigma_world / m->kappa, m->pairs, ml);
+        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light; the triangles of
+         * one mesh light have one design, made once */
+        float sigma = m->geoms[l].sigma_world / m->kappa;
+        bool copied = false;
+        for (int k = 0; k < l && !copied; ++k) copied = maaf_light_design_copy(&m->lights[k], sigma, ml);
+        if (!copied) maaf_light_design(sigma, m->pairs, ml);
     }
     free(info);
 }
@@ -1054,13 +1058,16 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                 maaf_planes_put(planes, x, y, NULL);
                 continue;
             }
+            /* a pixel whose sums no row-pass work item reads in full: the central component
+             * alone (maaf_planes_full) */
+            int used_comps = maaf_planes_full(planes, x, y) ? pass_comps : 1;
             /* composite.c's demodulation (value4 was made usable only where it is stable):
              * each pixel's sums divided by its own albedo and r(x) */
             float inv[3];
             for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (lf->factor ? lf->factor[i] : 1.0f));
             if (lf->ind) { /* component c: its expectation x the plain sum */
                 const float *ys = lf->sums + 4 * i;
-                for (int c = 0; c < pass_comps; ++c)
+                for (int c = 0; c < used_comps; ++c)
                     for (int ch = 0; ch < 4; ++ch) {
                         float re = mean[c] * ys[ch];
                         yd[8 * c + ch] = ch == 3 ? re : re * inv[ch];
@@ -1071,7 +1078,7 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                  * and a loop without a branch per float vectorises */
                 const float *ys = lf->sums + i * per;
                 float scale[4] = {inv[0], inv[1], inv[2], 1.0f};
-                for (size_t c = 0; c < per; c += 4)
+                for (size_t c = 0; c < 8 * (size_t)used_comps; c += 4)
                     for (int ch = 0; ch < 4; ++ch) yd[c + ch] = ys[c + ch] * scale[ch];
             }
             /* with defocus, per-pixel means (eq. 20 per pixel, as the lens sums: 9.8): the
@@ -1081,7 +1088,7 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
              * pixels' own samples are meant to dominate their filter there (means: soft_shadows
              * relMSE +5% at 16 spp). */
             if (m->defocus)
-                for (int c = 0; c < 8 * pass_comps; ++c) yd[c] /= spp;
+                for (int c = 0; c < 8 * used_comps; ++c) yd[c] /= spp;
             maaf_planes_put(planes, x, y, yd);
         }
 }

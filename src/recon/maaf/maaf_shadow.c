@@ -6,20 +6,31 @@
 
 #define INV_SQRT_2PI 0.39894228f
 
-/* int_{a}^{b} exp(j C t) g(t; s) dt by Simpson's rule (the integrand is smooth: a Gaussian of
- * std 1/s times an oscillation of period 2 pi / C, both wider than the step). */
-static void window_integral(double a, double b, double C, double s, double out[2])
+/* int_{a}^{b} exp(j C_p t) g(t; s) dt for the bands p < pairs by Simpson's rule (the integrand is
+ * smooth: a Gaussian of std 1/s times an oscillation of period 2 pi / C, both wider than the
+ * step). The bands share s (eq. 6: Omega_y_max / (2N - 1) for every band), so the Gaussian is
+ * one exp per step for all of them, and the central band (C t = +-0) takes no cosine or sine:
+ * they give exactly 1 and C t there. Each band's sum gets the same terms in the same order as
+ * one integral per band did. */
+static void window_integrals(double a, double b, const float *C, double s, int pairs, double out[][2])
 {
     enum { STEPS = 256 };
-    double h = (b - a) / STEPS, re = 0.0, im = 0.0;
+    double h = (b - a) / STEPS, re[MAAF_PAIRS_MAX], im[MAAF_PAIRS_MAX];
+    for (int p = 0; p < pairs; ++p) re[p] = im[p] = 0.0;
     for (int k = 0; k <= STEPS; ++k) {
         double t = a + k * h, wk = (k == 0 || k == STEPS) ? 1.0 : (k & 1) ? 4.0 : 2.0;
         double g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
-        re += wk * g * cos(C * t);
-        im += wk * g * sin(C * t);
+        for (int p = 0; p < pairs; ++p) {
+            double x = C[p] * t;
+            bool zero = x == 0.0;
+            re[p] += wk * g * (zero ? 1.0 : cos(x));
+            im[p] += wk * g * (zero ? x : sin(x));
+        }
     }
-    out[0] = re * h / 3.0;
-    out[1] = im * h / 3.0;
+    for (int p = 0; p < pairs; ++p) {
+        out[p][0] = re[p] * h / 3.0;
+        out[p][1] = im[p] * h / 3.0;
+    }
 }
 
 void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
@@ -37,20 +48,21 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
     /* a light as wide along t2 as along t1 (squares, disks, spheres) has the same table on both
      * axes: the second is a copy, not 2 x 129 more integrals of 257 steps per band */
     bool same_axes = l->lo[1] == l->lo[0] && l->hi[1] == l->hi[0];
-    for (int a = 0; a < 2; ++a)
-        for (int p = 0; p < pairs; ++p) {
-            if (a == 1 && same_axes) {
-                memcpy(l->table[1][p], l->table[0][p], sizeof l->table[0][p]);
-                continue;
-            }
-            for (int e = 0; e < MAAF_YTABLE; ++e) {
-                /* c_p(y) = int_{lo - y}^{hi - y} exp(j C t) g(t) dt, t = y' - y */
-                double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0), c[2];
-                window_integral(l->lo[a] - y, l->hi[a] - y, l->cy[p], l->sy[p], c);
-                l->table[a][p][e][0] = (float)c[0];
-                l->table[a][p][e][1] = (float)c[1];
+    for (int a = 0; a < 2; ++a) {
+        if (a == 1 && same_axes) {
+            for (int p = 0; p < pairs; ++p) memcpy(l->table[1][p], l->table[0][p], sizeof l->table[0][p]);
+            continue;
+        }
+        for (int e = 0; e < MAAF_YTABLE; ++e) {
+            /* c_p(y) = int_{lo - y}^{hi - y} exp(j C t) g(t) dt, t = y' - y */
+            double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0), c[MAAF_PAIRS_MAX][2];
+            window_integrals(l->lo[a] - y, l->hi[a] - y, l->cy, l->sy[0], pairs, c);
+            for (int p = 0; p < pairs; ++p) {
+                l->table[a][p][e][0] = (float)c[p][0];
+                l->table[a][p][e][1] = (float)c[p][1];
             }
         }
+    }
     for (int a = 0; a < 2; ++a)
         for (int p = 0; p < pairs; ++p)
             for (int k = 0; k < 2; ++k) { /* trapezoid rule over the uniform table */
@@ -59,6 +71,20 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
                     s += (e == 0 || e == MAAF_YTABLE - 1 ? 0.5 : 1.0) * l->table[a][p][e][k];
                 l->mean[a][p][k] = (float)(s / (MAAF_YTABLE - 1));
             }
+}
+
+bool maaf_light_design_copy(const MaafLight *from, float sigma_light_world, MaafLight *l)
+{
+    float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
+    if (!(wy > 0.0f) || from->omega_y_max != wy || from->lo[0] != l->lo[0] || from->hi[0] != l->hi[0] ||
+        from->lo[1] != l->lo[1] || from->hi[1] != l->hi[1])
+        return false;
+    l->omega_y_max = wy;
+    memcpy(l->cy, from->cy, sizeof l->cy);
+    memcpy(l->sy, from->sy, sizeof l->sy);
+    memcpy(l->table, from->table, sizeof l->table);
+    memcpy(l->mean, from->mean, sizeof l->mean);
+    return true;
 }
 
 void maaf_light_axes(const MaafLight *l, const float p[3], float t1[3], float t2[3])

@@ -35,6 +35,10 @@ typedef struct {
 /* Fills the y-design (Sec. 3: Omega_y_max = 2/sigma_light) and the c_p tables of a light whose
  * centre, axes and extent are set. */
 void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l);
+/* The same design copied from an earlier light (same pairs) when it is the one maaf_light_design
+ * would make: the same band and extents (a mesh light's triangles share their shape's). False,
+ * and l untouched, otherwise. */
+bool maaf_light_design_copy(const MaafLight *from, float sigma_light_world, MaafLight *l);
 
 /* The axes a receiver at p measures this light's samples along (planar: the light's; sphere:
  * a plane facing p, maaf_basis). */
