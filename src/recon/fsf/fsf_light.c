@@ -99,7 +99,19 @@ typedef struct {
     const float *pos4, *nrm4;
     float *irradiance, *share; /* either may be NULL */
     const FsfShadeInputs *before; /* NULL: every pixel */
+    int count;                    /* the renderer's lights */
+    const RenderLightInfo *info;  /* theirs (info_ok[l]: renderer_light_info's result), or NULL: asked per pixel */
+    const bool *info_ok;
 } ShadeJob;
+
+/* Light l's info, from the job's table when it has one: renderer_light_info per pixel and light
+ * took a fifth of the plan's share stage (a matrix and a cross product each time). */
+static bool light_at(const ShadeJob *j, int l, RenderLightInfo *b)
+{
+    if (!j->info) return renderer_light_info(j->r, l, b);
+    *b = j->info[l];
+    return j->info_ok[l];
+}
 
 /* the pixel's inputs to shade_range are bit-equal to before's */
 static bool same_inputs(const ShadeJob *j, size_t i)
@@ -136,7 +148,7 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     const ShadeJob *j = ctx;
-    int count = renderer_light_count(j->r);
+    int count = j->count;
     for (size_t i = begin; i < end; ++i) {
         if (j->before && same_inputs(j, i)) continue; /* both outputs hold this pixel's sums */
         if (j->irradiance) j->irradiance[i] = 0.0f;
@@ -148,7 +160,7 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         double irr = 0.0, sum = 0.0, own = 0.0;
         for (int l = 0; l < count; ++l) {
             RenderLightInfo b;
-            if (!renderer_light_info(j->r, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
+            if (!light_at(j, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
             if (!b.is_triangle) { /* only the share counts what FSF cannot filter along */
                 if (j->share) sum += (double)v3_luminance(b.radiance) * round_phi(&b, pv, nv);
                 continue;
@@ -168,11 +180,26 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
     }
 }
 
+/* shade_range over the n pixels, the lights' infos found once (per pixel if out of memory). */
+static void shade_all(ShadeJob *j, int n)
+{
+    j->count = renderer_light_count(j->r);
+    size_t count = j->count > 0 ? (size_t)j->count : 1;
+    RenderLightInfo *info = malloc(count * sizeof *info);
+    bool *ok = malloc(count * sizeof *ok);
+    if (info && ok) {
+        for (int l = 0; l < j->count; ++l) ok[l] = renderer_light_info(j->r, l, &info[l]);
+        j->info = info, j->info_ok = ok;
+    }
+    recon_parallel_for((size_t)n, shade_range, j);
+    free(info), free(ok);
+}
+
 void fsf_irradiance_and_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                               const float *nrm4, float *irradiance, float *share)
 {
-    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, NULL};
-    recon_parallel_for((size_t)n, shade_range, &j);
+    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, NULL, 0, NULL, NULL};
+    shade_all(&j, n);
 }
 
 bool fsf_shade_inputs_keep(FsfShadeInputs *k, int n, const unsigned char *hit, const float *pos4, const float *nrm4)
@@ -196,8 +223,8 @@ void fsf_shade_inputs_free(FsfShadeInputs *k)
 void fsf_irradiance_and_share_since(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                                     const float *nrm4, const FsfShadeInputs *before, float *irradiance, float *share)
 {
-    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, before};
-    recon_parallel_for((size_t)n, shade_range, &j);
+    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, before, 0, NULL, NULL};
+    shade_all(&j, n);
 }
 
 void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
