@@ -5,7 +5,9 @@
  * Jacobian (det 0, or below float's range), an axis along the normal (no tangent component:
  * length 0), a step along a tiny second column (1e-20 m: below v3_length's plain range, its
  * rescaled path), NaN guides.
- * Blocks of every size from 1 to FSF_AXES_BLOCK. */
+ * Blocks of every size from 1 to FSF_AXES_BLOCK; the light's two axes in every lane (the shadow
+ * parameters) and, in every other block, each receiver's own random axes (the indirect light's
+ * tangents). */
 #include "check.h"
 #include "recon/fsf/fsf_screen_axes.h"
 
@@ -46,23 +48,22 @@ static void receiver(uint32_t *s, int r, const vec3 axis[2], vec3 *jx, vec3 *jy,
 int main(void)
 {
     uint32_t s = 12345;
-    vec3 axis[2] = {v3_normalize(v3(0.8f, 0.1f, -0.3f)), v3_normalize(v3(-0.2f, 0.9f, 0.4f))};
+    const vec3 light_axis[2] = {v3_normalize(v3(0.8f, 0.1f, -0.3f)), v3_normalize(v3(-0.2f, 0.9f, 0.4f))};
     long compared = 0, true_both = 0, differ = 0, rescaled = 0;
-    for (int r0 = 0, count = 1; r0 < RECEIVERS; r0 += count, count = count % FSF_AXES_BLOCK + 1) {
+    for (int r0 = 0, count = 1, b = 0; r0 < RECEIVERS; r0 += count, count = count % FSF_AXES_BLOCK + 1, ++b) {
         FsfAxesIn in;
-        vec3 jx[FSF_AXES_BLOCK], jy[FSF_AXES_BLOCK], n[FSF_AXES_BLOCK];
+        vec3 jx[FSF_AXES_BLOCK], jy[FSF_AXES_BLOCK], n[FSF_AXES_BLOCK], axis[FSF_AXES_BLOCK][2];
         for (int k = 0; k < count; ++k) {
-            receiver(&s, r0 + k, axis, &jx[k], &jy[k], &n[k]);
-            const vec3 *c[3] = {&jx[k], &jy[k], &n[k]};
-            float(*dst[3])[FSF_AXES_BLOCK] = {in.jx, in.jy, in.n};
-            for (int v = 0; v < 3; ++v) dst[v][0][k] = c[v]->x, dst[v][1][k] = c[v]->y, dst[v][2][k] = c[v]->z;
+            for (int a = 0; a < 2; ++a) axis[k][a] = b % 2 ? v3_normalize(random_vec(&s, 1.0f)) : light_axis[a];
+            receiver(&s, r0 + k, axis[k], &jx[k], &jy[k], &n[k]);
+            fsf_axes_lane(&in, k, jx[k], jy[k], n[k], axis[k]);
         }
         FsfScreenAxes block[FSF_AXES_BLOCK];
         bool ok[FSF_AXES_BLOCK];
-        fsf_screen_axes_block(count, &in, axis, block, ok);
+        fsf_screen_axes_block(count, &in, block, ok);
         for (int k = 0; k < count; ++k) {
             FsfScreenAxes one;
-            bool one_ok = fsf_screen_axes(jx[k], jy[k], n[k], axis, &one);
+            bool one_ok = fsf_screen_axes(jx[k], jy[k], n[k], axis[k], &one);
             ++compared;
             if (one_ok != ok[k]) {
                 ++differ;

@@ -104,11 +104,11 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
             j->k_lo[i] = j->k_hi[i] = 0.0f;
             vec3 jx, jy;
             if (!in->usable[i] || !fsf_pixel_jacobian(g, (int)(i % (size_t)w), (int)(i / (size_t)w), &jx, &jy)) continue;
-            const float c[3][3] = {{jx.x, jx.y, jx.z}, {jy.x, jy.y, jy.z}, {g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]}};
-            for (int e = 0; e < 3; ++e) ain.jx[e][count] = c[0][e], ain.jy[e][count] = c[1][e], ain.n[e][count] = c[2][e];
+            fsf_axes_lane(&ain, count, jx, jy, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]),
+                          in->light->axis_world);
             at[count++] = i;
         }
-        fsf_screen_axes_block(count, &ain, in->light->axis_world, ax, ax_ok);
+        fsf_screen_axes_block(count, &ain, ax, ax_ok);
         for (int k = 0; k < count; ++k) {
             if (ax_ok[k]) {
                 pixel_params(j, at[k], &ax[k]);

@@ -62,16 +62,17 @@ typedef struct {
     unsigned char ok[FSF_AXES_BLOCK], odd[FSF_AXES_BLOCK];
 } AxisLanes;
 
-static WEDGE_VECTORISED void axis_lanes(int count, const FsfAxesIn *restrict in, vec3 axis, AxisLanes *restrict o)
+static WEDGE_VECTORISED void axis_lanes(int count, const FsfAxesIn *restrict in, int a, AxisLanes *restrict o)
 {
     for (int k = 0; k < count; ++k) {
+        float ax = in->axis[a][0][k], ay = in->axis[a][1][k], az = in->axis[a][2][k];
         float jx0 = in->jx[0][k], jx1 = in->jx[1][k], jx2 = in->jx[2][k];
         float jy0 = in->jy[0][k], jy1 = in->jy[1][k], jy2 = in->jy[2][k];
         float n0 = in->n[0][k], n1 = in->n[1][k], n2 = in->n[2][k];
         float a11 = jx0 * jx0 + jx1 * jx1 + jx2 * jx2, a12 = jx0 * jy0 + jx1 * jy1 + jx2 * jy2;
         float a22 = jy0 * jy0 + jy1 * jy1 + jy2 * jy2, det = a11 * a22 - a12 * a12;
-        float s = -(axis.x * n0 + axis.y * n1 + axis.z * n2);
-        float u0 = axis.x + n0 * s, u1 = axis.y + n1 * s, u2 = axis.z + n2 * s;
+        float s = -(ax * n0 + ay * n1 + az * n2);
+        float u0 = ax + n0 * s, u1 = ay + n1 * s, u2 = az + n2 * s;
         float b1 = jx0 * u0 + jx1 * u1 + jx2 * u2, b2 = jy0 * u0 + jy1 * u1 + jy2 * u2;
         float sx = (a22 * b1 - a12 * b2) / det, sy = (a11 * b2 - a12 * b1) / det, len = sqrtf(sx * sx + sy * sy);
         sx /= len, sy /= len;
@@ -85,10 +86,10 @@ static WEDGE_VECTORISED void axis_lanes(int count, const FsfAxesIn *restrict in,
     }
 }
 
-void fsf_screen_axes_block(int count, const FsfAxesIn *in, const vec3 axis[2], FsfScreenAxes *out, bool *ok)
+void fsf_screen_axes_block(int count, const FsfAxesIn *in, FsfScreenAxes *out, bool *ok)
 {
     AxisLanes lanes[2];
-    for (int a = 0; a < 2; ++a) axis_lanes(count, in, axis[a], &lanes[a]);
+    for (int a = 0; a < 2; ++a) axis_lanes(count, in, a, &lanes[a]);
     for (int k = 0; k < count; ++k) {
         ok[k] = true;
         for (int a = 0; a < 2 && ok[k]; ++a) {
