@@ -1,5 +1,6 @@
-/* Host side of fsf.cl (see fsf_cl.h). Buffers are created per run; both passes run in bands
- * of image rows through rings of P's and Q's rows (below). */
+/* Host side of fsf.cl (see fsf_cl.h). The inputs' buffers are made per run around the caller's
+ * arrays, the scratch buffers kept from run to run (below); both passes run in bands of image
+ * rows through rings of P's and Q's rows (below). */
 #include "recon/fsf/fsf_cl.h"
 
 #include <limits.h>
