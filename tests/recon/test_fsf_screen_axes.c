@@ -51,16 +51,16 @@ int main(void)
     const vec3 light_axis[2] = {v3_normalize(v3(0.8f, 0.1f, -0.3f)), v3_normalize(v3(-0.2f, 0.9f, 0.4f))};
     long compared = 0, true_both = 0, differ = 0, rescaled = 0;
     for (int r0 = 0, count = 1, b = 0; r0 < RECEIVERS; r0 += count, count = count % FSF_AXES_BLOCK + 1, ++b) {
-        FsfAxesIn in;
+        FsfAxesBlock blk = {.count = 0};
         vec3 jx[FSF_AXES_BLOCK], jy[FSF_AXES_BLOCK], n[FSF_AXES_BLOCK], axis[FSF_AXES_BLOCK][2];
         for (int k = 0; k < count; ++k) {
             for (int a = 0; a < 2; ++a) axis[k][a] = b % 2 ? v3_normalize(random_vec(&s, 1.0f)) : light_axis[a];
             receiver(&s, r0 + k, axis[k], &jx[k], &jy[k], &n[k]);
-            fsf_axes_lane(&in, k, jx[k], jy[k], n[k], axis[k]);
+            fsf_axes_lane(&blk, (size_t)k, jx[k], jy[k], n[k], axis[k]);
         }
-        FsfScreenAxes block[FSF_AXES_BLOCK];
-        bool ok[FSF_AXES_BLOCK];
-        fsf_screen_axes_block(count, &in, block, ok);
+        fsf_screen_axes_block(&blk);
+        const FsfScreenAxes *block = blk.out;
+        const bool *ok = blk.ok;
         for (int k = 0; k < count; ++k) {
             FsfScreenAxes one;
             bool one_ok = fsf_screen_axes(jx[k], jy[k], n[k], axis[k], &one);

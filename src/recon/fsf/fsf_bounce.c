@@ -151,24 +151,19 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     (void)part;
     Job *j = ctx;
     const FsfBounceIn *in = j->in;
-    FsfAxesIn ain;
-    FsfBounceFrame f[FSF_AXES_BLOCK];
-    FsfScreenAxes ax[FSF_AXES_BLOCK];
-    bool ax_ok[FSF_AXES_BLOCK];
-    size_t at[FSF_AXES_BLOCK];
+    FsfAxesBlock blk;
+    FsfBounceFrame f[FSF_AXES_BLOCK]; /* lane k's */
     for (size_t i = begin; i < end;) {
-        int count = 0;
-        for (; i < end && count < FSF_AXES_BLOCK; ++i) {
+        for (blk.count = 0; i < end && blk.count < FSF_AXES_BLOCK; ++i) {
             j->px[i] = fsf_pixel_left_out();
             j->k_lo[i] = j->k_hi[i] = 0.0f;
             vec3 jx, jy;
-            if (!in->usable[i] || !pixel_frame(in->g, i, &f[count], &jx, &jy)) continue;
-            fsf_axes_lane(&ain, count, jx, jy, f[count].n, f[count].t);
-            at[count++] = i;
+            if (in->usable[i] && pixel_frame(in->g, i, &f[blk.count], &jx, &jy))
+                fsf_axes_lane(&blk, i, jx, jy, f[blk.count].n, f[blk.count].t);
         }
-        fsf_screen_axes_block(count, &ain, ax, ax_ok);
-        for (int k = 0; k < count; ++k)
-            if (ax_ok[k]) pixel_params(j, at[k], &f[k], &ax[k]);
+        fsf_screen_axes_block(&blk);
+        for (int k = 0; k < blk.count; ++k)
+            if (blk.ok[k]) pixel_params(j, blk.at[k], &f[k], &blk.out[k]);
     }
 }
 

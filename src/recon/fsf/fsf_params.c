@@ -92,29 +92,23 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     const FsfParamsIn *in = j->in;
     const GBuffer *g = in->g;
     int w = g->width;
-    FsfAxesIn ain;
-    FsfScreenAxes ax[FSF_AXES_BLOCK];
-    bool ax_ok[FSF_AXES_BLOCK];
-    size_t at[FSF_AXES_BLOCK];
-    for (size_t b0 = begin; b0 < end;) {
-        int count = 0;
-        for (; b0 < end && count < FSF_AXES_BLOCK; ++b0) {
-            size_t i = b0;
+    FsfAxesBlock blk;
+    for (size_t i = begin; i < end;) {
+        for (blk.count = 0; i < end && blk.count < FSF_AXES_BLOCK; ++i) {
             j->px[i] = fsf_pixel_left_out();
             j->k_lo[i] = j->k_hi[i] = 0.0f;
             vec3 jx, jy;
-            if (!in->usable[i] || !fsf_pixel_jacobian(g, (int)(i % (size_t)w), (int)(i / (size_t)w), &jx, &jy)) continue;
-            fsf_axes_lane(&ain, count, jx, jy, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]),
-                          in->light->axis_world);
-            at[count++] = i;
+            if (in->usable[i] && fsf_pixel_jacobian(g, (int)(i % (size_t)w), (int)(i / (size_t)w), &jx, &jy))
+                fsf_axes_lane(&blk, i, jx, jy, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]),
+                              in->light->axis_world);
         }
-        fsf_screen_axes_block(count, &ain, ax, ax_ok);
-        for (int k = 0; k < count; ++k) {
-            if (ax_ok[k]) {
-                pixel_params(j, at[k], &ax[k]);
+        fsf_screen_axes_block(&blk);
+        for (int k = 0; k < blk.count; ++k) {
+            if (blk.ok[k]) {
+                pixel_params(j, blk.at[k], &blk.out[k]);
                 continue;
             }
-            FsfPixel *pp = &j->px[at[k]]; /* no axes: passed through */
+            FsfPixel *pp = &j->px[blk.at[k]]; /* no axes: passed through */
             pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
             pp->eta_m[0] = pp->eta_m[1] = 0.0f;
         }

@@ -86,10 +86,13 @@ static WEDGE_VECTORISED void axis_lanes(int count, const FsfAxesIn *restrict in,
     }
 }
 
-void fsf_screen_axes_block(int count, const FsfAxesIn *in, FsfScreenAxes *out, bool *ok)
+void fsf_screen_axes_block(FsfAxesBlock *b)
 {
     AxisLanes lanes[2];
-    for (int a = 0; a < 2; ++a) axis_lanes(count, in, a, &lanes[a]);
+    int count = b->count;
+    FsfScreenAxes *out = b->out;
+    bool *ok = b->ok;
+    for (int a = 0; a < 2; ++a) axis_lanes(count, &b->in, a, &lanes[a]);
     for (int k = 0; k < count; ++k) {
         ok[k] = true;
         for (int a = 0; a < 2 && ok[k]; ++a) {
