@@ -134,6 +134,20 @@ int main(void)
         CHECK(bad == 2);
         CHECK(out[0] == 2.0f && out[1] == 8.0f && out[2] == 1.5f);
         CHECK(out[3] == 0.0f && out[4] == 0.0f && out[5] == 0.25f);
+        /* a pixel's worth of samples (the vectorised body, not only its tail): each value as the
+         * product one at a time, every 7th value NaN, infinite or overflowing in turn */
+        enum { K = 37 };
+        float many[3 * K], got[3 * K];
+        long long want_bad = 0, differ = 0;
+        const float odd[4] = {NAN, 3.0e38f, INFINITY, -INFINITY};
+        for (int e = 0; e < 3 * K; ++e) many[e] = e % 7 == 3 ? odd[(e / 7) % 4] : 0.1f * (float)e - 1.0f;
+        bad = fsf_scale_samples(many, K, scale, got);
+        for (int e = 0; e < 3 * K; ++e) {
+            float v = many[e] * scale[e % 3], want = isfinite(v) ? v : 0.0f;
+            want_bad += !isfinite(v);
+            differ += memcmp(&want, &got[e], sizeof want) != 0;
+        }
+        CHECK(bad == want_bad && want_bad > 0 && differ == 0);
     }
 
     /* 2. Jittered samples and a shear between nodes: the factored filter discretises y1 (the

@@ -124,36 +124,49 @@ static float sigma_both(const void *ctx, float spread)
                  sigma_steps(c->mu, c->sigma_v, spread, c->step_m[1]));
 }
 
+/* One pixel's parameters from its frame f and screen axes ax. */
+static void pixel_params(Job *j, size_t i, const FsfBounceFrame *f, const FsfScreenAxes *ax)
+{
+    const FsfBounceIn *in = j->in;
+    FsfPixel *pp = &j->px[i];
+    /* the band narrows the filter as the pixel's samples grow */
+    StepCtx sc = {in->mu, j->sigma_v[sample_store_count(in->store, i)], {ax->step_m[0], ax->step_m[1]}};
+    FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
+    bool known = pick.lo <= pick.hi;
+    float k_mean = known ? 0.5f * (pick.lo + pick.hi) : 0.0f, spread = known ? pick.hi - pick.lo : 0.0f;
+    if (known) j->k_lo[i] = pick.lo, j->k_hi[i] = pick.hi;
+    for (int a = 0; a < 2; ++a) {
+        pp->dir[a][0] = ax->dir[a][0], pp->dir[a][1] = ax->dir[a][1];
+        /* fsf_filter.h: seen from x, the neighbour t steps away has v' + eta t */
+        pp->eta_m[a] = k_mean * v3_dot(ax->step_world[a], f->t[a]);
+        float sigma_px = known ? sigma_steps(in->mu, sc.sigma_v, spread, ax->step_m[a]) : pick.cap_px;
+        /* the parallax bound: taps (2 sigma) move the nearest hits by at most parallax_v */
+        if (known && pick.hi > 0.0f)
+            sigma_px = fminf(sigma_px, in->parallax_v / (FSF_RADIUS_SIGMAS * pick.hi * ax->step_m[a]));
+        pp->sigma_px[a] = sigma_px < pick.cap_px ? sigma_px : pick.cap_px;
+    }
+}
+
+/* The pixels in blocks: their frames, then the block's screen axes side by side
+ * (fsf_screen_axes_block), then each pixel's parameters (none where it has no axes). */
 static void params_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     Job *j = ctx;
     const FsfBounceIn *in = j->in;
-    const GBuffer *g = in->g;
-    for (size_t i = begin; i < end; ++i) {
-        FsfPixel *pp = &j->px[i];
-        *pp = fsf_pixel_left_out();
-        j->k_lo[i] = j->k_hi[i] = 0.0f;
-        FsfBounceFrame f;
-        vec3 jx, jy;
-        FsfScreenAxes ax;
-        if (!in->usable[i] || !pixel_frame(g, i, &f, &jx, &jy) || !fsf_screen_axes(jx, jy, f.n, f.t, &ax)) continue;
-        /* the band narrows the filter as the pixel's samples grow */
-        StepCtx sc = {in->mu, j->sigma_v[sample_store_count(in->store, i)], {ax.step_m[0], ax.step_m[1]}};
-        FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
-        bool known = pick.lo <= pick.hi;
-        float k_mean = known ? 0.5f * (pick.lo + pick.hi) : 0.0f, spread = known ? pick.hi - pick.lo : 0.0f;
-        if (known) j->k_lo[i] = pick.lo, j->k_hi[i] = pick.hi;
-        for (int a = 0; a < 2; ++a) {
-            pp->dir[a][0] = ax.dir[a][0], pp->dir[a][1] = ax.dir[a][1];
-            /* fsf_filter.h: seen from x, the neighbour t steps away has v' + eta t */
-            pp->eta_m[a] = k_mean * v3_dot(ax.step_world[a], f.t[a]);
-            float sigma_px = known ? sigma_steps(in->mu, sc.sigma_v, spread, ax.step_m[a]) : pick.cap_px;
-            /* the parallax bound: taps (2 sigma) move the nearest hits by at most parallax_v */
-            if (known && pick.hi > 0.0f)
-                sigma_px = fminf(sigma_px, in->parallax_v / (FSF_RADIUS_SIGMAS * pick.hi * ax.step_m[a]));
-            pp->sigma_px[a] = sigma_px < pick.cap_px ? sigma_px : pick.cap_px;
+    FsfAxesBlock blk;
+    FsfBounceFrame f[FSF_AXES_BLOCK]; /* lane k's */
+    for (size_t i = begin; i < end;) {
+        for (blk.count = 0; i < end && blk.count < FSF_AXES_BLOCK; ++i) {
+            j->px[i] = fsf_pixel_left_out();
+            j->k_lo[i] = j->k_hi[i] = 0.0f;
+            vec3 jx, jy;
+            if (in->usable[i] && pixel_frame(in->g, i, &f[blk.count], &jx, &jy))
+                fsf_axes_lane(&blk, i, jx, jy, f[blk.count].n, f[blk.count].t);
         }
+        fsf_screen_axes_block(&blk);
+        for (int k = 0; k < blk.count; ++k)
+            if (blk.ok[k]) pixel_params(j, blk.at[k], &f[k], &blk.out[k]);
     }
 }
 

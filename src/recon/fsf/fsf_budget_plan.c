@@ -55,68 +55,39 @@ float fsf_pixel_area_sheared_px(const FsfPixel *px, const float half_m[2])
     return a > 1.0f ? a : 1.0f;
 }
 
-/* Per-pixel parameters and slope ranges of one effect's filter, for the plan only. */
-typedef struct {
-    FsfPixel *px;
-    float *k_lo, *k_hi;
-    unsigned char *usable;
-} PlanParams;
-
-static bool params_alloc(size_t n, PlanParams *p)
-{
-    p->px = malloc(n * sizeof(FsfPixel));
-    p->k_lo = malloc(n * sizeof(float)), p->k_hi = malloc(n * sizeof(float));
-    p->usable = malloc(n);
-    return p->px && p->k_lo && p->k_hi && p->usable;
-}
-
-static void params_free(PlanParams *p)
-{
-    free(p->px), free(p->k_lo), free(p->k_hi), free(p->usable);
-}
-
 bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *light, const float *share, float mu,
-                     const FsfSlopeWindows *windows, float *area_px)
+                     const FsfSlopeWindows *windows, FsfScratch *p, float *area_px)
 {
     size_t n = (size_t)g->width * (size_t)g->height;
-    PlanParams p;
-    bool ok = params_alloc(n, &p);
     /* as fsf_method.c's gather, without the demodulated value (not known before compositing):
      * a pixel whose samples are all dark is filtered there but is no less noisy here */
-    for (size_t i = 0; ok && i < n; ++i)
-        p.usable[i] = sample_store_count(st, i) > 0 && g->hit[i] && !g->mixed[i];
-    FsfParamsIn in = {g, st, light, p.usable, mu, windows};
-    ok = ok && fsf_pixel_params(&in, p.px, p.k_lo, p.k_hi);
+    for (size_t i = 0; i < n; ++i)
+        p->usable[i] = sample_store_count(st, i) > 0 && g->hit[i] && !g->mixed[i];
+    FsfParamsIn in = {g, st, light, p->usable, mu, windows};
+    bool ok = fsf_pixel_params(&in, p->px, p->k_lo, p->k_hi);
     for (size_t i = 0; ok && i < n; ++i) {
         /* a surface the filter passes through: mixed (several surfaces), or most of its light
          * from another emitter */
         bool left = g->mixed[i] || (share && !(share[i] >= FSF_MIN_LIGHT_SHARE));
         if (sample_store_count(st, i) > 0 && g->hit[i])
-            area_px[i] = fminf(area_px[i], left ? 0.0f : fsf_pixel_area_px(&p.px[i]));
+            area_px[i] = fminf(area_px[i], left ? 0.0f : fsf_pixel_area_px(&p->px[i]));
     }
-    params_free(&p);
     return ok;
 }
 
-bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *area_px)
+bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, FsfScratch *p, float *area_px)
 {
-    size_t n = (size_t)g->width * (size_t)g->height, slots = n * (size_t)sample_store_capacity(st);
-    PlanParams p;
+    size_t n = (size_t)g->width * (size_t)g->height;
     /* the v-plane coordinates need a value to scale the samples to: any usable one will do */
-    float *ones = malloc(n * 4 * sizeof(float)), *y = malloc((slots + 1) * 2 * sizeof(float));
-    float *v = malloc((slots + 1) * 3 * sizeof(float));
-    int *count = malloc(n * sizeof(int));
-    bool ok = params_alloc(n, &p) && ones && y && v && count;
-    for (size_t i = 0; ok && i < 4 * n; ++i) ones[i] = 1.0f;
+    float *ones = p->out4;
+    for (size_t i = 0; i < 4 * n; ++i) ones[i] = 1.0f;
     long long nonfinite = 0;
-    ok = ok && fsf_bounce_samples(g, st, ones, p.usable, y, v, count, &nonfinite);
-    FsfBounceIn in = {g, st, y, p.usable, mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
-    ok = ok && fsf_bounce_params(&in, p.px, p.k_lo, p.k_hi);
+    bool ok = fsf_bounce_samples(g, st, ones, p->usable, p->y, p->v, p->count, &nonfinite);
+    FsfBounceIn in = {g, st, p->y, p->usable, mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
+    ok = ok && fsf_bounce_params(&in, p->px, p->k_lo, p->k_hi);
     for (size_t i = 0; ok && i < n; ++i)
         if (sample_store_count(st, i) > 0 && g->hit[i])
-            area_px[i] = fminf(area_px[i], g->mixed[i] ? 0.0f : fsf_pixel_area_px(&p.px[i]));
-    free(ones), free(y), free(v), free(count);
-    params_free(&p);
+            area_px[i] = fminf(area_px[i], g->mixed[i] ? 0.0f : fsf_pixel_area_px(&p->px[i]));
     return ok;
 }
 

@@ -25,6 +25,7 @@
 
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_light.h"
+#include "recon/fsf/fsf_scratch.h"
 #include "recon/fsf/fsf_slope_window.h"
 #include "recon/gbuffer.h"
 #include "recon/sample_store.h"
@@ -89,12 +90,14 @@ float fsf_pixel_area_sheared_px(const FsfPixel *px, const float half_m[2]);
  * it passes the pixel through: mixed, or FSF's light's share below FSF_MIN_LIGHT_SHARE), at
  * the pixels with samples on a surface, from the store's pass-1 samples and the guides as the
  * filter will see them (share: FSF's light's share of the pixel's light, NULL: all; windows:
- * fsf_shadow_windows of st and g, NULL: found here). false when out of memory. */
+ * fsf_shadow_windows of st and g, NULL: found here). The filter's parameters are found in
+ * scratch (the frame's arrays for g and st, fsf_scratch.h: its usable, px, k_lo and k_hi are
+ * overwritten). false when out of memory. */
 bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *light, const float *share, float mu,
-                     const FsfSlopeWindows *windows, float *area_px);
-/* The same for the indirect light's filter. false when out of memory or the store lacks the
- * bounce or indirect field. */
-bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, float *area_px);
+                     const FsfSlopeWindows *windows, FsfScratch *scratch, float *area_px);
+/* The same for the indirect light's filter (also overwriting scratch's count, y, v and out4).
+ * false when out of memory or the store lacks the bounce or indirect field. */
+bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, FsfScratch *scratch, float *area_px);
 
 /* The extra samples of a collapsed pixel (fsf_pixel_collapsed) in its own image. The filter
  * reads pass 1's stored samples only; the extras reach it through each pixel's mean, which

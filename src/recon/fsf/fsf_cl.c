@@ -1,5 +1,6 @@
-/* Host side of fsf.cl (see fsf_cl.h). Buffers are created per run; both passes run in bands
- * of image rows through rings of P's and Q's rows (below). */
+/* Host side of fsf.cl (see fsf_cl.h). The inputs' buffers are made per run around the caller's
+ * arrays, the scratch buffers kept from run to run (below); both passes run in bands of image
+ * rows through rings of P's and Q's rows (below). */
 #include "recon/fsf/fsf_cl.h"
 
 #include <limits.h>
@@ -42,10 +43,21 @@ enum { FSF_BAND_ROWS = 8 };
 enum { FSF_TAP_SLOTS = 40 };
 _Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_CUM && FSF_TAP_SLOTS % 8 == 0, "fsf.cl writes taps 8 at a time");
 
+/* The device buffers a run writes before it reads them (none holds anything from one run to the
+ * next): kept between runs, so that a frame's second and third filterings (combined: shadows,
+ * indirect light, defocus) and WEDGE_FSF_PROFILE_REPEAT's runs write pages touched before
+ * instead of fresh ones (12,000 page faults a run at 256x256, docs/benchmarks.md "FSF's time
+ * outside its kernels"). */
+enum { KEPT_BIN2, KEPT_NTAP, KEPT_NODE, KEPT_TA0, KEPT_TA1, KEPT_CUM, KEPT_P, KEPT_G, KEPT_N };
+
 struct FsfCl {
     ClRuntime *rt;
     cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
     FsfClProfile prof; /* the last run's */
+    cl_mem kept[KEPT_N];
+    size_t kept_bytes[KEPT_N];
+    cl_int *off;       /* the tap tables' offsets, both axes (page aligned: read in place) */
+    size_t off_count;
 };
 
 /* Adds an event's device time to *acc (seconds) and releases it. */
@@ -81,10 +93,44 @@ FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d)
 void fsf_cl_destroy(FsfCl *f)
 {
     if (!f) return;
+    for (int k = 0; k < KEPT_N; ++k)
+        if (f->kept[k]) clReleaseMemObject(f->kept[k]);
+    free(f->off);
     cl_kernel k[6] = {f->taps, f->bins, f->pass1a, f->pass1b, f->pass2a, f->pass2b};
     for (int i = 0; i < 6; ++i)
         if (k[i]) clReleaseKernel(k[i]);
     free(f);
+}
+
+/* Kept buffer k with at least `bytes` (made anew only when the kept one is smaller), retained
+ * for the caller: the run releases it as it does the buffers it creates. */
+static cl_mem kept_buffer(FsfCl *f, int k, size_t bytes, cl_int *err)
+{
+    if (!f->kept[k] || f->kept_bytes[k] < bytes) {
+        if (f->kept[k]) clReleaseMemObject(f->kept[k]);
+        f->kept[k] = clCreateBuffer(f->rt->context, CL_MEM_READ_WRITE, bytes, NULL, err);
+        f->kept_bytes[k] = f->kept[k] ? bytes : 0;
+        if (!f->kept[k]) return NULL;
+    }
+    clRetainMemObject(f->kept[k]);
+    return f->kept[k];
+}
+
+/* Offsets per page: each axis' offsets start on a page of the kept array. */
+enum { OFFSETS_PER_PAGE = 4096 / sizeof(cl_int) };
+static size_t offsets_stride(size_t n) { return (n + OFFSETS_PER_PAGE - 1) / OFFSETS_PER_PAGE * OFFSETS_PER_PAGE; }
+
+/* The kept array of n pixels' tap table offsets along both axes (the second axis' from
+ * offsets_stride(n) on), or NULL when out of memory. Page aligned, as fsf_method.c's inputs: the
+ * device reads it in place (CL_MEM_USE_HOST_PTR) rather than a copy. */
+static cl_int *kept_offsets(FsfCl *f, size_t n)
+{
+    size_t count = 2 * offsets_stride(n > 0 ? n : 1);
+    if (f->off_count >= count) return f->off;
+    free(f->off);
+    f->off_count = 0;
+    if ((f->off = aligned_alloc(4096, count * sizeof(cl_int)))) f->off_count = count;
+    return f->off;
 }
 
 /* A 1D launch over n work items in groups of a fixed size (see cl_launch_2d: a size PoCL
@@ -186,12 +232,12 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     int band_rows = FSF_BAND_ROWS;
     int n_bands = (s->height + band_rows - 1) / band_rows;
     int *halo1 = malloc(sizeof(int) * (size_t)n_bands * 2), *halo2 = halo1 ? halo1 + n_bands : NULL;
-    cl_int *off = malloc(sizeof(cl_int) * 2 * n);
+    cl_int *off = kept_offsets(f, n), *off1 = off ? off + offsets_stride(n > 0 ? n : 1) : NULL;
     long long slots0 = off ? tap_offsets(n, 0, px, gd->usable, off) : -1,
-              slots1t = off ? tap_offsets(n, 1, px, gd->usable, off + n) : -1;
+              slots1t = off ? tap_offsets(n, 1, px, gd->usable, off1) : -1;
     if (!halo1 || slots0 < 0 || slots1t < 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's bands and tap tables");
-        free(halo1), free(off);
+        free(halo1);
         return false;
     }
     /* at least one slot: a frame without a usable pixel still gets its buffers */
@@ -222,7 +268,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t slots1 = slots ? slots : 1;
     b[COUNT] = clCreateBuffer(ctx, ro, sizeof(int) * n, (void *)s->count, &err);
     if (!err) b[YS] = clCreateBuffer(ctx, ro, sizeof(float) * 2 * slots1, (void *)s->y_m, &err);
-    if (!err) b[BIN2] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, slots1, NULL, &err);
+    if (!err) b[BIN2] = kept_buffer(f, KEPT_BIN2, slots1, &err);
     if (!err) b[VAL] = clCreateBuffer(ctx, ro, sizeof(float) * 3 * slots1, (void *)s->value, &err);
     if (!err) b[PX] = clCreateBuffer(ctx, ro, sizeof(FsfPixel) * n, (void *)px, &err);
     /* without guides (every usable neighbour accepted) fsf_taps reads neither: a float4 each */
@@ -236,17 +282,17 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
                              : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float), NULL, &err);
     if (!err) b[USE] = clCreateBuffer(ctx, ro, n, (void *)gd->usable, &err);
     if (!err) b[OFF0] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off, &err);
-    if (!err) b[OFF1] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off + n, &err);
-    if (!err) b[NTAP] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * n, NULL, &err);
-    if (!err) b[NODE] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_int) * tap_slots, NULL, &err);
-    if (!err) b[TA0] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * tap_slots, NULL, &err);
-    if (!err) b[TA1] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * tap_slots, NULL, &err);
+    if (!err) b[OFF1] = clCreateBuffer(ctx, ro, sizeof(cl_int) * n, off1, &err);
+    if (!err) b[NTAP] = kept_buffer(f, KEPT_NTAP, sizeof(cl_int) * n, &err);
+    if (!err) b[NODE] = kept_buffer(f, KEPT_NODE, sizeof(cl_int) * tap_slots, &err);
+    if (!err) b[TA0] = kept_buffer(f, KEPT_TA0, sizeof(float) * tap_slots, &err);
+    if (!err) b[TA1] = kept_buffer(f, KEPT_TA1, sizeof(float) * tap_slots, &err);
     /* cum1 (pass 1), then pass 2b's output (4 floats per pixel: more than cum1 when few pixels
      * are usable) */
     size_t cum_floats = (size_t)slots0 > 4 * n ? (size_t)slots0 : 4 * n;
-    if (!err) b[CUM] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * cum_floats, NULL, &err);
-    if (!err) b[P] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, p_bytes > q_bytes ? p_bytes : q_bytes, NULL, &err);
-    if (!err) b[G] = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(float) * 4 * B * n, NULL, &err);
+    if (!err) b[CUM] = kept_buffer(f, KEPT_CUM, sizeof(float) * cum_floats, &err);
+    if (!err) b[P] = kept_buffer(f, KEPT_P, p_bytes > q_bytes ? p_bytes : q_bytes, &err);
+    if (!err) b[G] = kept_buffer(f, KEPT_G, sizeof(float) * 4 * B * n, &err);
     bool ok = cl_ok(err, "buffer allocation", d);
     enum { K_TAPS, K_BINS, K_1A, K_1B, K_2A, K_2B, K_N };
     /* one event per launch: taps twice, bins, 1a and 1b at most once per band and bin chunk,
@@ -329,7 +375,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     if (ok && kernel_seconds) *kernel_seconds = kt[K_TAPS] + kt[K_BINS] + kt[K_1A] + kt[K_1B] + kt[K_2A] + kt[K_2B];
     for (int i = 0; i < NBUF; ++i)
         if (b[i]) clReleaseMemObject(b[i]);
-    free(halo1), free(off);
+    free(halo1);
     return ok;
 }
 

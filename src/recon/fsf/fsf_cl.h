@@ -18,6 +18,8 @@ typedef struct {
 } FsfClProfile;
 FsfClProfile fsf_cl_profile(const FsfCl *f);
 
+/* An FsfCl keeps its scratch buffers from one run to the next (made anew when a run needs more),
+ * until fsf_cl_destroy. */
 FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d);
 void fsf_cl_destroy(FsfCl *f);
 

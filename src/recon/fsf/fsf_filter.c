@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vectorise.h"
 #include "recon/recon_parallel.h"
 
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m)
@@ -62,14 +63,19 @@ void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, fl
     }
 }
 
-long long fsf_scale_samples(const float *sample_rgb, int count, const float scale[3], float *out)
+/* A sample's channels side by side and quiet compares (isless: false for NaN, as isfinite),
+ * no branch: gcc vectorises it (e % 3 per element did not; 6 ns a sample before) */
+WEDGE_VECTORISED long long fsf_scale_samples(const float *restrict sample_rgb, int count, const float scale[3],
+                                             float *restrict out)
 {
     long long nonfinite = 0;
-    for (size_t e = 0; e < 3 * (size_t)(count > 0 ? count : 0); ++e) {
-        float val = sample_rgb[e] * scale[e % 3];
-        bool finite = isfinite(val);
-        nonfinite += !finite;
-        out[e] = finite ? val : 0.0f;
+    float s0 = scale[0], s1 = scale[1], s2 = scale[2];
+    for (int k = 0; k < count; ++k) {
+        const float *in = sample_rgb + 3 * (size_t)k;
+        float v0 = in[0] * s0, v1 = in[1] * s1, v2 = in[2] * s2;
+        bool f0 = isless(fabsf(v0), INFINITY), f1 = isless(fabsf(v1), INFINITY), f2 = isless(fabsf(v2), INFINITY);
+        nonfinite += !f0 + !f1 + !f2;
+        out[3 * (size_t)k] = f0 ? v0 : 0.0f, out[3 * (size_t)k + 1] = f1 ? v1 : 0.0f, out[3 * (size_t)k + 2] = f2 ? v2 : 0.0f;
     }
     return nonfinite;
 }

@@ -7,6 +7,7 @@
 
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
+#include "recon/shared_triangles.h"
 
 float fsf_light_power_share(const Renderer *r)
 {
@@ -99,7 +100,21 @@ typedef struct {
     const float *pos4, *nrm4;
     float *irradiance, *share; /* either may be NULL */
     const FsfShadeInputs *before; /* NULL: every pixel */
+    int count;                    /* the renderer's lights */
+    const RenderLightInfo *info;  /* theirs (info_ok[l]: renderer_light_info's result), or NULL: asked per pixel */
+    const bool *info_ok;
+    const SharedTriangles *tris;  /* the triangle lights, light l being triangle tri_of[l] (NULL: one at a time) */
+    const int *tri_of;
 } ShadeJob;
+
+/* Light l's info, from the job's table when it has one: renderer_light_info per pixel and light
+ * took a fifth of the plan's share stage (a matrix and a cross product each time). */
+static bool light_at(const ShadeJob *j, int l, RenderLightInfo *b)
+{
+    if (!j->info) return renderer_light_info(j->r, l, b);
+    *b = j->info[l];
+    return j->info_ok[l];
+}
 
 /* the pixel's inputs to shade_range are bit-equal to before's */
 static bool same_inputs(const ShadeJob *j, size_t i)
@@ -136,7 +151,8 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     const ShadeJob *j = ctx;
-    int count = renderer_light_count(j->r);
+    int count = j->count;
+    SharedTrianglesAt *at = j->tris ? shared_triangles_at_create(j->tris) : NULL;
     for (size_t i = begin; i < end; ++i) {
         if (j->before && same_inputs(j, i)) continue; /* both outputs hold this pixel's sums */
         if (j->irradiance) j->irradiance[i] = 0.0f;
@@ -146,9 +162,10 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         double nr[3] = {j->nrm4[4 * i], j->nrm4[4 * i + 1], j->nrm4[4 * i + 2]};
         vec3 pv = v3((float)p[0], (float)p[1], (float)p[2]), nv = v3((float)nr[0], (float)nr[1], (float)nr[2]);
         double irr = 0.0, sum = 0.0, own = 0.0;
+        if (at) shared_triangles_receiver(at, p, nr);
         for (int l = 0; l < count; ++l) {
             RenderLightInfo b;
-            if (!renderer_light_info(j->r, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
+            if (!light_at(j, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
             if (!b.is_triangle) { /* only the share counts what FSF cannot filter along */
                 if (j->share) sum += (double)v3_luminance(b.radiance) * round_phi(&b, pv, nv);
                 continue;
@@ -158,7 +175,8 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
             double v[3][3];
             for (int k = 0; k < 3; ++k)
                 v[k][0] = b.tri_world[k].x, v[k][1] = b.tri_world[k].y, v[k][2] = b.tri_world[k].z;
-            double phi = (double)v3_luminance(b.radiance) * polygon_projected_solid_angle(p, nr, v, 3);
+            double tri_phi = at ? shared_triangles_phi(j->tris, at, j->tri_of[l]) : polygon_projected_solid_angle(p, nr, v, 3);
+            double phi = (double)v3_luminance(b.radiance) * tri_phi;
             irr += phi, sum += phi;
             if (b.shape == j->shape) own += phi;
         }
@@ -166,13 +184,43 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         double frac = sum > 0.0 ? fmin(own / sum, 1.0) : 0.0;
         if (j->share) j->share[i] = isfinite(frac) ? (float)frac : 0.0f;
     }
+    shared_triangles_at_destroy(at);
+}
+
+/* shade_range over the n pixels, the lights' infos found once and the triangle lights'
+ * shared vertices and edges (shared_triangles.h); per pixel and light, one triangle at a time,
+ * if out of memory. */
+static void shade_all(ShadeJob *j, int n)
+{
+    j->count = renderer_light_count(j->r);
+    size_t count = j->count > 0 ? (size_t)j->count : 1;
+    RenderLightInfo *info = malloc(count * sizeof *info);
+    bool *ok = malloc(count * sizeof *ok);
+    int *tri_of = malloc(count * sizeof *tri_of), tris = 0;
+    double(*tri)[3][3] = malloc(count * sizeof *tri);
+    if (info && ok) {
+        for (int l = 0; l < j->count; ++l) ok[l] = renderer_light_info(j->r, l, &info[l]);
+        j->info = info, j->info_ok = ok;
+    }
+    for (int l = 0; j->info && tri_of && tri && l < j->count; ++l) {
+        const RenderLightInfo *b = &info[l];
+        tri_of[l] = ok[l] && b->kind == RENDER_LIGHT_AREA && b->is_triangle ? tris++ : -1;
+        for (int k = 0; tri_of[l] >= 0 && k < 3; ++k)
+            tri[tri_of[l]][k][0] = b->tri_world[k].x, tri[tri_of[l]][k][1] = b->tri_world[k].y,
+            tri[tri_of[l]][k][2] = b->tri_world[k].z;
+    }
+    SharedTriangles *shared = j->info && tri_of && tri ? shared_triangles_create(tris, (const double(*)[3][3])tri) : NULL;
+    if (shared) j->tris = shared, j->tri_of = tri_of;
+    recon_parallel_for((size_t)n, shade_range, j);
+    shared_triangles_destroy(shared);
+    free(info), free(ok), free(tri_of), free(tri);
 }
 
 void fsf_irradiance_and_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                               const float *nrm4, float *irradiance, float *share)
 {
-    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, NULL};
-    recon_parallel_for((size_t)n, shade_range, &j);
+    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, NULL, 0, NULL, NULL, NULL, NULL};
+    shade_all(&j, n);
 }
 
 bool fsf_shade_inputs_keep(FsfShadeInputs *k, int n, const unsigned char *hit, const float *pos4, const float *nrm4)
@@ -196,8 +244,8 @@ void fsf_shade_inputs_free(FsfShadeInputs *k)
 void fsf_irradiance_and_share_since(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                                     const float *nrm4, const FsfShadeInputs *before, float *irradiance, float *share)
 {
-    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, before};
-    recon_parallel_for((size_t)n, shade_range, &j);
+    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, before, 0, NULL, NULL, NULL, NULL};
+    shade_all(&j, n);
 }
 
 void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,

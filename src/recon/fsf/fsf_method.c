@@ -44,6 +44,7 @@
 #include "recon/fsf/fsf_light.h"
 #include "recon/fsf/fsf_params.h"
 #include "recon/fsf/fsf_profile.h"
+#include "recon/fsf/fsf_scratch.h"
 #include "recon/method.h"
 #include "recon/sample_rate.h"
 
@@ -84,6 +85,8 @@ struct ReconMethod {
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
     FsfProfile prof;             /* WEDGE_FSF_PROFILE's stage times (fsf_profile.h) */
+    FsfScratch scratch;          /* the plan's and the filterings' arrays (fsf_scratch.h) ... */
+    bool scratch_ok;             /* ... once allocated */
 };
 
 static int fsf_pass1_spp(EffectMask effects)
@@ -119,6 +122,7 @@ static void fsf_destroy(ReconMethod *m)
 {
     if (!m) return;
     fsf_cl_destroy(m->cl);
+    fsf_scratch_free(&m->scratch);
     free(m->shade);
     free(m->share);
     fsf_shade_inputs_free(&m->shade_from);
@@ -260,6 +264,17 @@ static const FsfSlopeWindows *kept_windows(ReconMethod *m)
     return &m->windows;
 }
 
+/* The frame's arrays (fsf_scratch.h), allocated at their first use; NULL (d set) when out of
+ * memory. */
+static FsfScratch *scratch(ReconMethod *m, Diag *d)
+{
+    if (m->scratch_ok) return &m->scratch;
+    size_t n = (size_t)m->g->width * (size_t)m->g->height;
+    if ((m->scratch_ok = fsf_scratch_alloc(&m->scratch, n, sample_store_capacity(m->store)))) return &m->scratch;
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
+    return NULL;
+}
+
 /* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
  * allocation of the budget by the count factors sqrt(v / A). A: the
  * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
@@ -284,14 +299,18 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         fsf_shade_inputs_keep(&m->shade_from, (int)n, g->hit, g->pos4, g->nrm4); /* out of memory: all recomputed */
         fsf_profile_mark(&m->prof, "share");
         if (!m->windows.block) keep_windows(m);
-        if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, m->windows.block ? &m->windows : NULL, area))
+        FsfScratch *sc = scratch(m, d);
+        if (!sc) goto fail;
+        if (!fsf_shadow_area(g, m->store, &m->light, m->share, m->mu, m->windows.block ? &m->windows : NULL, sc, area))
             goto oom;
         fsf_profile_mark(&m->prof, "area");
     }
     /* the indirect filter's own areas, kept apart for the rule below */
     if (indirect && !(bounce = malloc(n * sizeof(float)))) goto oom;
     for (size_t i = 0; indirect && i < n; ++i) bounce[i] = INFINITY;
-    if (indirect && !fsf_bounce_area(g, m->store, m->mu, bounce)) {
+    FsfScratch *bsc = indirect ? scratch(m, d) : NULL;
+    if (indirect && !bsc) goto fail;
+    if (indirect && !fsf_bounce_area(g, m->store, m->mu, bsc, bounce)) {
         free(bounce);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan (or no bounce field)");
         return false;
@@ -321,8 +340,9 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     free(bounce);
     return true;
 oom:
-    free(bounce);
     diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the FSF plan");
+fail:
+    free(bounce);
     return false;
 }
 
@@ -471,43 +491,6 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     return ok;
 }
 
-/* One filtering's per-pixel and per-slot arrays. */
-typedef struct {
-    unsigned char *usable;
-    int *count;
-    float *y, *v, *k_lo, *k_hi, *out4;
-    FsfPixel *px;
-} Buffers;
-
-static void buffers_free(Buffers *b)
-{
-    free(b->usable), free(b->count), free(b->y), free(b->v), free(b->k_lo), free(b->k_hi), free(b->out4), free(b->px);
-}
-
-/* An array the OpenCL passes read in place (fsf_cl_run's CL_MEM_USE_HOST_PTR): aligned to
- * PoCL's base address alignment (128 bytes on this machine; a page is safe for any device),
- * else PoCL would copy it into fresh memory. Freed with free(). */
-static void *alloc_device_input(size_t bytes)
-{
-    const size_t align = 4096;
-    return aligned_alloc(align, (bytes + align - 1) / align * align);
-}
-
-static bool buffers_alloc(const ReconMethod *m, Buffers *b, Diag *d)
-{
-    size_t n = (size_t)m->g->width * (size_t)m->g->height, slots = n * (size_t)sample_store_capacity(m->store);
-    b->usable = alloc_device_input(n);
-    b->count = alloc_device_input(n * sizeof(int));
-    /* at least one slot's floats: fsf_cl_run uploads one for an empty store */
-    b->y = alloc_device_input((slots + 1) * 2 * sizeof(float)), b->v = alloc_device_input((slots + 1) * 3 * sizeof(float));
-    b->k_lo = malloc(n * sizeof(float)), b->k_hi = malloc(n * sizeof(float)), b->out4 = malloc(n * 4 * sizeof(float));
-    b->px = alloc_device_input(n * sizeof(FsfPixel));
-    if (b->usable && b->count && b->y && b->v && b->k_lo && b->k_hi && b->out4 && b->px) return true;
-    buffers_free(b);
-    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
-    return false;
-}
-
 /* Sample values that came out NaN or infinite once scaled to their pixel (fsf_scale_samples)
  * enter the filter as 0: said, with their count. */
 static void warn_nonfinite_samples(const char *what, long long nonfinite)
@@ -519,7 +502,7 @@ static void warn_nonfinite_samples(const char *what, long long nonfinite)
 
 /* The passes on one effect's inputs, then its AOVs: the shear and the width along the first
  * axis, the slope spread. */
-static bool filter_and_record(ReconMethod *m, const Buffers *b, const FsfGrid *grid, const FsfGuides *gd,
+static bool filter_and_record(ReconMethod *m, const FsfScratch *b, const FsfGrid *grid, const FsfGuides *gd,
                               bool keep_left_out, float *value4, float *eta_aov, float *sigma_aov, float *spread_aov,
                               double *kernel_seconds, Diag *d)
 {
@@ -547,26 +530,26 @@ static FsfGeoTerm geo_term_of(const FsfLight *l, const float *mean_g)
 
 static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
-    Buffers b;
     fsf_profile_begin(&m->prof);
-    if (!buffers_alloc(m, &b, d)) return false;
+    FsfScratch *b = scratch(m, d);
+    if (!b) return false;
     fsf_profile_mark(&m->prof, "alloc");
     bool ok = true;
     long long nonfinite = 0;
-    if (!gather(m, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
+    if (!gather(m, value4, b->usable, b->y, b->v, b->count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the light or direct field");
     }
     warn_nonfinite_samples("direct-light", nonfinite);
     fsf_profile_mark(&m->prof, "gather");
-    FsfParamsIn in = {m->g, m->store, &m->light, b.usable, m->mu, kept_windows(m)};
-    if (ok && !fsf_pixel_params(&in, b.px, b.k_lo, b.k_hi)) {
+    FsfParamsIn in = {m->g, m->store, &m->light, b->usable, m->mu, kept_windows(m)};
+    if (ok && !fsf_pixel_params(&in, b->px, b->k_lo, b->k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
     }
     fsf_profile_mark(&m->prof, "params");
     FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
-    FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
+    FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b->usable);
     /* under a budget the collapsed pixels' extras enter their own image (fsf_budget_plan.h) */
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     float *mean4 = NULL;
@@ -577,26 +560,19 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
     if (mean4) memcpy(mean4, value4, n * 4 * sizeof(float));
     /* form 4: each sample weighted by its pixel's geometric term at the reprojected light
      * point (fsf_geo_term.h; docs/algorithms.md section 10) */
-    float *mean_g = NULL;
     FsfGeoTerm geo;
     if (ok && m->g->pos4 && m->g->nrm4) {
-        if (!(mean_g = alloc_device_input(n * sizeof(float)))) {
-            ok = false;
-            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's geometric term");
-        } else {
-            geo = geo_term_of(&m->light, mean_g);
-            fsf_geo_mean(&geo, m->g->pos4, m->g->nrm4, b.usable, grid.half_m, n, mean_g);
-            gd.geo = &geo;
-        }
+        geo = geo_term_of(&m->light, b->mean_g);
+        fsf_geo_mean(&geo, m->g->pos4, m->g->nrm4, b->usable, grid.half_m, n, b->mean_g);
+        gd.geo = &geo;
     }
     fsf_profile_mark(&m->prof, "geo_mean");
     if (ok)
-        ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
+        ok = filter_and_record(m, b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
     fsf_profile_mark(&m->prof, "aovs");
-    if (ok && mean4) fsf_blend_collapsed(b.px, b.usable, b.count, m->g, grid.half_m, mean4, value4);
-    free(mean4), free(mean_g);
-    buffers_free(&b);
+    if (ok && mean4) fsf_blend_collapsed(b->px, b->usable, b->count, m->g, grid.half_m, mean4, value4);
+    free(mean4);
     fsf_profile_mark(&m->prof, "blend_free");
     fsf_profile_print(&m->prof, "shadows");
     return ok;
@@ -605,28 +581,27 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
 /* Indirect light (fsf_bounce.h): the bounce direction's v-plane in place of the light. */
 static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
-    Buffers b;
     fsf_profile_begin(&m->prof);
-    if (!buffers_alloc(m, &b, d)) return false;
+    FsfScratch *b = scratch(m, d);
+    if (!b) return false;
     bool ok = true;
     long long nonfinite = 0;
-    if (!fsf_bounce_samples(m->g, m->store, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
+    if (!fsf_bounce_samples(m->g, m->store, value4, b->usable, b->y, b->v, b->count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce or indirect field");
     }
     warn_nonfinite_samples("indirect-light", nonfinite);
-    FsfBounceIn in = {m->g, m->store, b.y, b.usable, m->mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
-    if (ok && !fsf_bounce_params(&in, b.px, b.k_lo, b.k_hi)) {
+    FsfBounceIn in = {m->g, m->store, b->y, b->usable, m->mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
+    if (ok && !fsf_bounce_params(&in, b->px, b->k_lo, b->k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF indirect parameters");
     }
     FsfGrid grid = fsf_bounce_grid();
-    FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b.usable);
+    FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b->usable);
     fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
-        ok = filter_and_record(m, &b, &grid, &gd, false, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
+        ok = filter_and_record(m, b, &grid, &gd, false, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
                                kernel_seconds, d);
-    buffers_free(&b);
     fsf_profile_mark(&m->prof, "aovs_free");
     fsf_profile_print(&m->prof, "indirect");
     return ok;
@@ -648,32 +623,31 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     if (!effect_in(effects, EFFECT_DEFOCUS)) return true;
     int w = m->g->width, h = m->g->height;
     size_t n = (size_t)w * (size_t)h;
-    Buffers b;
     fsf_profile_begin(&m->prof);
-    if (!buffers_alloc(m, &b, d)) return false;
+    FsfScratch *b = scratch(m, d);
+    if (!b) return false;
     bool ok = true;
     long long nonfinite = 0;
-    if (!fsf_lens_samples(m->store, w, h, value4, b.usable, b.y, b.v, b.count, &nonfinite)) {
+    if (!fsf_lens_samples(m->store, w, h, value4, b->usable, b->y, b->v, b->count, &nonfinite)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
     warn_nonfinite_samples("radiance", nonfinite);
-    FsfLensIn in = {m->g, m->store, b.usable, m->mu};
+    FsfLensIn in = {m->g, m->store, b->usable, m->mu};
     if (ok && m->lens_planned) { /* the plan's, from the same store: the same ranges */
-        memcpy(b.px, m->lens_px, n * sizeof(FsfPixel));
-        memcpy(b.k_lo, m->lens_k_lo, n * sizeof(float)), memcpy(b.k_hi, m->lens_k_hi, n * sizeof(float));
-    } else if (ok && !fsf_lens_params(&in, b.px, b.k_lo, b.k_hi)) {
+        memcpy(b->px, m->lens_px, n * sizeof(FsfPixel));
+        memcpy(b->k_lo, m->lens_k_lo, n * sizeof(float)), memcpy(b->k_hi, m->lens_k_hi, n * sizeof(float));
+    } else if (ok && !fsf_lens_params(&in, b->px, b->k_lo, b->k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF lens parameters (or no depth field)");
     }
     FsfGrid grid = fsf_lens_grid();
-    FsfGuides gd = fsf_guides_unguided(b.usable); /* defocus rejects no neighbour */
+    FsfGuides gd = fsf_guides_unguided(b->usable); /* defocus rejects no neighbour */
     fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
-        ok = filter_and_record(m, &b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
+        ok = filter_and_record(m, b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
-    for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b.k_lo[i], b.k_hi[i]) ? 1.0f : 0.0f;
-    buffers_free(&b);
+    for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b->k_lo[i], b->k_hi[i]) ? 1.0f : 0.0f;
     fsf_profile_mark(&m->prof, "aovs_free");
     fsf_profile_print(&m->prof, "defocus");
     return ok;

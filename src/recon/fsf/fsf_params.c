@@ -52,6 +52,38 @@ static float sigma_both(const void *ctx, float spread)
                  sigma_steps(c->in, 1, spread, c->step_m[1], c->samples));
 }
 
+/* One pixel's parameters from its screen axes (pixel i usable, its Jacobian found). */
+static void pixel_params(Job *j, size_t i, const FsfScreenAxes *ax)
+{
+    const FsfParamsIn *in = j->in;
+    FsfPixel *pp = &j->px[i];
+    const float *step_m = ax->step_m;
+    const vec3 *Dm = ax->step_world; /* receiver metres per step */
+    /* The slope range must cover the samples under the whole footprint, not only the
+     * pixel's own (a neighbour's samples reprojected with another occluder's shear land
+     * on the wrong light point). Each window (radius 2: FSF section 5's 5 x 5 slope
+     * smoothing, which also gives unoccluded pixels their neighbours' slopes; then 4, 8,
+     * 16) gives a width that is safe up to its radius: the range's width (none in a
+     * window without occluders: every sample there is lit), capped so that the taps
+     * (2 sigma) stay inside the window. The widest safe one wins, with its range. */
+    /* the band narrows the filter as the pixel's samples grow (fsf_light_sigma_y_m) */
+    StepCtx sc = {in, {step_m[0], step_m[1]}, sample_store_count(in->store, i)};
+    FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
+    float lo = pick.lo, hi = pick.hi, cap_px = pick.cap_px;
+    bool known = lo <= hi;
+    float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
+    if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
+    for (int a = 0; a < 2; ++a) {
+        pp->dir[a][0] = ax->dir[a][0], pp->dir[a][1] = ax->dir[a][1];
+        pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
+        /* FSF eq. 4; one slope: no limit but the cap */
+        float sigma_px = known ? sigma_steps(in, a, spread, step_m[a], sc.samples) : cap_px;
+        pp->sigma_px[a] = sigma_px < cap_px ? sigma_px : cap_px;
+    }
+}
+
+/* The pixels in blocks: their Jacobians, then the block's screen axes side by side
+ * (fsf_screen_axes_block), then each pixel's parameters. */
 static void params_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
@@ -59,44 +91,26 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     const FsfParamsIn *in = j->in;
     const GBuffer *g = in->g;
     int w = g->width;
-    for (size_t i = begin; i < end; ++i) {
-        FsfPixel *pp = &j->px[i];
-        *pp = fsf_pixel_left_out();
-        j->k_lo[i] = j->k_hi[i] = 0.0f;
-        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
-        if (!in->usable[i]) continue;
-        vec3 jx, jy;
-        if (!fsf_pixel_jacobian(g, x, y, &jx, &jy)) continue;
-        vec3 n = v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]);
-        FsfScreenAxes ax;
-        if (!fsf_screen_axes(jx, jy, n, in->light->axis_world, &ax)) goto skip;
-        const float *step_m = ax.step_m;
-        const vec3 *Dm = ax.step_world; /* receiver metres per step */
-        /* The slope range must cover the samples under the whole footprint, not only the
-         * pixel's own (a neighbour's samples reprojected with another occluder's shear land
-         * on the wrong light point). Each window (radius 2: FSF section 5's 5 x 5 slope
-         * smoothing, which also gives unoccluded pixels their neighbours' slopes; then 4, 8,
-         * 16) gives a width that is safe up to its radius: the range's width (none in a
-         * window without occluders: every sample there is lit), capped so that the taps
-         * (2 sigma) stay inside the window. The widest safe one wins, with its range. */
-        /* the band narrows the filter as the pixel's samples grow (fsf_light_sigma_y_m) */
-        StepCtx sc = {in, {step_m[0], step_m[1]}, sample_store_count(in->store, i)};
-        FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_both, &sc);
-        float lo = pick.lo, hi = pick.hi, cap_px = pick.cap_px;
-        bool known = lo <= hi;
-        float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
-        if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
-        for (int a = 0; a < 2; ++a) {
-            pp->dir[a][0] = ax.dir[a][0], pp->dir[a][1] = ax.dir[a][1];
-            pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
-            /* FSF eq. 4; one slope: no limit but the cap */
-            float sigma_px = known ? sigma_steps(in, a, spread, step_m[a], sc.samples) : cap_px;
-            pp->sigma_px[a] = sigma_px < cap_px ? sigma_px : cap_px;
+    FsfAxesBlock blk;
+    for (size_t i = begin; i < end;) {
+        for (blk.count = 0; i < end && blk.count < FSF_AXES_BLOCK; ++i) {
+            j->px[i] = fsf_pixel_left_out();
+            j->k_lo[i] = j->k_hi[i] = 0.0f;
+            vec3 jx, jy;
+            if (in->usable[i] && fsf_pixel_jacobian(g, (int)(i % (size_t)w), (int)(i / (size_t)w), &jx, &jy))
+                fsf_axes_lane(&blk, i, jx, jy, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]),
+                              in->light->axis_world);
         }
-        continue;
-    skip:
-        pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
-        pp->eta_m[0] = pp->eta_m[1] = 0.0f;
+        fsf_screen_axes_block(&blk);
+        for (int k = 0; k < blk.count; ++k) {
+            if (blk.ok[k]) {
+                pixel_params(j, blk.at[k], &blk.out[k]);
+                continue;
+            }
+            FsfPixel *pp = &j->px[blk.at[k]]; /* no axes: passed through */
+            pp->sigma_px[0] = pp->sigma_px[1] = 0.0f;
+            pp->eta_m[0] = pp->eta_m[1] = 0.0f;
+        }
     }
 }
 

@@ -3,6 +3,8 @@
 
 #include <math.h>
 
+#include "core/vectorise.h"
+
 /* A surface neighbour for the Jacobian: hit, not mixed, facing the same way. */
 static bool same_surface(const GBuffer *g, size_t i, size_t q)
 {
@@ -50,4 +52,56 @@ bool fsf_screen_axes(vec3 jx, vec3 jy, vec3 n, const vec3 axis[2], FsfScreenAxes
         out->dir[a][0] = sx, out->dir[a][1] = sy;
     }
     return true;
+}
+
+/* One axis of fsf_screen_axes over the block, each step the scalar form's expression in its
+ * order (no contraction: C11's -ffp-contract=off), per lane; lanes whose step length leaves
+ * v3_length's plain range are flagged in `odd` for the caller to redo one at a time. */
+typedef struct {
+    float dir[2][FSF_AXES_BLOCK], step[3][FSF_AXES_BLOCK], step_m[FSF_AXES_BLOCK];
+    unsigned char ok[FSF_AXES_BLOCK], odd[FSF_AXES_BLOCK];
+} AxisLanes;
+
+static WEDGE_VECTORISED void axis_lanes(int count, const FsfAxesIn *restrict in, int a, AxisLanes *restrict o)
+{
+    for (int k = 0; k < count; ++k) {
+        float ax = in->axis[a][0][k], ay = in->axis[a][1][k], az = in->axis[a][2][k];
+        float jx0 = in->jx[0][k], jx1 = in->jx[1][k], jx2 = in->jx[2][k];
+        float jy0 = in->jy[0][k], jy1 = in->jy[1][k], jy2 = in->jy[2][k];
+        float n0 = in->n[0][k], n1 = in->n[1][k], n2 = in->n[2][k];
+        float a11 = jx0 * jx0 + jx1 * jx1 + jx2 * jx2, a12 = jx0 * jy0 + jx1 * jy1 + jx2 * jy2;
+        float a22 = jy0 * jy0 + jy1 * jy1 + jy2 * jy2, det = a11 * a22 - a12 * a12;
+        float s = -(ax * n0 + ay * n1 + az * n2);
+        float u0 = ax + n0 * s, u1 = ay + n1 * s, u2 = az + n2 * s;
+        float b1 = jx0 * u0 + jx1 * u1 + jx2 * u2, b2 = jy0 * u0 + jy1 * u1 + jy2 * u2;
+        float sx = (a22 * b1 - a12 * b2) / det, sy = (a11 * b2 - a12 * b1) / det, len = sqrtf(sx * sx + sy * sy);
+        sx /= len, sy /= len;
+        float w0 = jx0 * sx + jy0 * sy, w1 = jx1 * sx + jy1 * sy, w2 = jx2 * sx + jy2 * sy;
+        float m = sqrtf(w0 * w0 + w1 * w1 + w2 * w2);
+        o->dir[0][k] = sx, o->dir[1][k] = sy;
+        o->step[0][k] = w0, o->step[1][k] = w1, o->step[2][k] = w2, o->step_m[k] = m;
+        /* quiet compares and & rather than > and &&: no branch in the loop (gcc vectorises none) */
+        o->odd[k] = !(isgreater(m, V3_LENGTH_PLAIN_MIN) & isless(m, V3_LENGTH_PLAIN_MAX));
+        o->ok[k] = isgreater(det, 0.0f) & isgreater(len, 0.0f);
+    }
+}
+
+void fsf_screen_axes_block(FsfAxesBlock *b)
+{
+    AxisLanes lanes[2];
+    int count = b->count;
+    FsfScreenAxes *out = b->out;
+    bool *ok = b->ok;
+    for (int a = 0; a < 2; ++a) axis_lanes(count, &b->in, a, &lanes[a]);
+    for (int k = 0; k < count; ++k) {
+        ok[k] = true;
+        for (int a = 0; a < 2 && ok[k]; ++a) {
+            const AxisLanes *l = &lanes[a];
+            out[k].dir[a][0] = l->dir[0][k], out[k].dir[a][1] = l->dir[1][k];
+            out[k].step_world[a] = v3(l->step[0][k], l->step[1][k], l->step[2][k]);
+            /* outside the plain range v3_length rescales first */
+            out[k].step_m[a] = l->odd[k] ? v3_length(out[k].step_world[a]) : l->step_m[k];
+            ok[k] = l->ok[k] && out[k].step_m[a] > 0.0f;
+        }
+    }
 }
