@@ -871,6 +871,7 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
         in->pose_at_end[1] = tracer_world_from_instance(tr, i, 1.0f);
         in->pose_kept = true;
     }
+    for (int i = 0; i < tr->layers[0].geom_count; ++i) tr->top_spheres |= tr->layers[0].geoms[i].kind == GEOM_SPHERE;
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);
     tr->seconds_build = seconds_now() - t0;
@@ -1291,6 +1292,11 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
                 rtcIntersect1M(scene, &ctx, rh, (unsigned)m, sizeof rh[0]);
             else
                 for (int i = 0; i < m; ++i) rtcIntersect1(scene, &ctx, &rh[i]);
+        }
+        if (!tr->top_spheres) {
+            for (int i = 0; i < m; ++i)
+                found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
+            continue;
         }
         /* top-level sphere hits are shaded together, the others one by one */
         int spheres[TRACE_CHUNK], sphere_count = 0;
