@@ -10,6 +10,7 @@
 
 #include "geometry/mesh.h"
 #include "render/sphere_packet.h"
+#include "render/sphere_shade.h"
 
 /* Relative size of the offset that lifts a new ray's origin off the surface it starts on.
  * Float rounding in a hit point is a few ulps (~1e-7) of the coordinates involved; 1e-5
@@ -870,6 +871,7 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
         in->pose_at_end[1] = tracer_world_from_instance(tr, i, 1.0f);
         in->pose_kept = true;
     }
+    for (int i = 0; i < tr->layers[0].geom_count; ++i) tr->top_spheres |= tr->layers[0].geoms[i].kind == GEOM_SPHERE;
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);
     tr->seconds_build = seconds_now() - t0;
@@ -1205,6 +1207,58 @@ static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *ra
     }
 }
 
+/* Whether hit rh (of a batch) is one shade_sphere_hits shades: on a sphere at the top level
+ * whose uv nobody reads, to be shaded (what shade_hit would do with it otherwise). */
+static inline bool sphere_hit_batched(const Tracer *tr, const struct RTCRayHit *rh, bool shade_all)
+{
+    if (rh->hit.geomID == RTC_INVALID_GEOMETRY_ID || rh->hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return false;
+    const Geom *g = &tr->layers[0].geoms[rh->hit.geomID];
+    return g->kind == GEOM_SPHERE && g->uv_unread && (shade_all || g->light_first >= 0);
+}
+
+/* The hits rh[lane[0 .. count)] of a chunk that sphere_hit_batched chose, shaded sphere by
+ * sphere in sphere_shade_batch's vectorised loop: the SurfaceHits shade_hit would write, bit
+ * for bit (a lane whose normal fell outside v3_normalize's plain range goes to shade_hit). */
+static void shade_sphere_hits(const Tracer *tr, const TracerRay *r, const struct RTCRayHit *rh, int *lane, int count,
+                              bool shade_all, SurfaceHit *hits, bool *found)
+{
+    _Static_assert((int)TRACE_CHUNK <= (int)SPHERE_SHADE_MAX, "a chunk's sphere hits fit one batch");
+    while (count > 0) {
+        unsigned geom = rh[lane[0]].hit.geomID;
+        const Geom *g = &tr->layers[0].geoms[geom];
+        SphereShadeBatch b;
+        int of[TRACE_CHUNK], rest = 0;
+        b.count = 0;
+        for (int q = 0; q < count; ++q) {
+            int i = lane[q];
+            if (rh[i].hit.geomID != geom) {
+                lane[rest++] = i;
+                continue;
+            }
+            int k = b.count++;
+            of[k] = i;
+            b.o[0][k] = r[i].o.x, b.o[1][k] = r[i].o.y, b.o[2][k] = r[i].o.z;
+            b.d[0][k] = r[i].d.x, b.d[1][k] = r[i].d.y, b.d[2][k] = r[i].d.z;
+            b.tfar[k] = rh[i].ray.tfar;
+        }
+        count = rest;
+        sphere_shade_batch(&b, &g->object_from_geom, &g->geom_from_object, g->radius, tr->world_from_tracer,
+                           g->quadric_reach);
+        for (int k = 0; k < b.count; ++k) {
+            int i = of[k];
+            if (!b.ok[k]) {
+                found[i] = shade_hit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
+                continue;
+            }
+            vec3 n = v3(b.n[0][k], b.n[1][k], b.n[2][k]);
+            if (g->flip_normal) n = v3_neg(n);
+            hit_shaded(&hits[i], b.t[k], v3(b.p[0][k], b.p[1][k], b.p[2][k]), n, n, v2(0.0f, 0.0f),
+                       OFFSET_REL * b.mag[k], g, (int)rh[i].hit.primID, -1, (int)geom);
+            found[i] = true;
+        }
+    }
+}
+
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
                             SurfaceHit *hits, bool *found)
 {
@@ -1239,8 +1293,18 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
             else
                 for (int i = 0; i < m; ++i) rtcIntersect1(scene, &ctx, &rh[i]);
         }
-        for (int i = 0; i < m; ++i)
-            found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
+        if (!tr->top_spheres) {
+            for (int i = 0; i < m; ++i)
+                found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
+            continue;
+        }
+        /* top-level sphere hits are shaded together, the others one by one */
+        int spheres[TRACE_CHUNK], sphere_count = 0;
+        for (int i = 0; i < m; ++i) {
+            if (sphere_hit_batched(tr, &rh[i], shade_all)) spheres[sphere_count++] = i;
+            else found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
+        }
+        shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits + k0, found + k0);
     }
 }
 
