@@ -102,9 +102,38 @@ static void density_run(void)
     CHECK(fsf_density(0.7f, 0.0f, L, r, cum) == 0.0f);
 }
 
+/* fsf_density_mean against the mean of fsf_density over the profile box by quadrature, for
+ * shears and widths from none to wide, a profile narrower than the grid (the lens') and as wide
+ * (the light's); and at least 1 (the centre tap covers the box). */
+static void density_mean(void)
+{
+    double worst = 0.0;
+    for (int shape = 0; shape < 2; ++shape) {
+        FsfGrid g = fsf_grid_default(1.0f, 1.0f);
+        if (shape) g.profile_half[0] = 0.8862269f;
+        const float etas[] = {0.0f, -0.05f, 0.13f, -0.4f, 1.7f}, sigmas[] = {0.0f, 0.7f, 3.0f, 8.0f};
+        for (int a = 0; a < 5; ++a)
+            for (int b = 0; b < 4; ++b) {
+                float cum[FSF_CUM], h = g.profile_half[0];
+                int r = fsf_radius_steps(sigmas[b]);
+                fsf_tap_prefix(sigmas[b], cum);
+                const int steps = 20000;
+                double sum = 0.0;
+                for (int k = 0; k < steps; ++k)
+                    sum += fsf_density(-h + 2.0f * h * ((float)k + 0.5f) / (float)steps, etas[a], g.half_m[0], r, cum);
+                double want = sum / steps, got = fsf_density_mean(&g, 0, etas[a], sigmas[b]);
+                worst = fmax(worst, fabs(got - want) / want);
+                CHECK(got >= 1.0f - 1e-6f);
+            }
+    }
+    printf("density mean: largest relative difference from quadrature %.3g\n", worst);
+    CHECK(worst < 1e-3); /* the quadrature's steps of 1e-4 of the box against breaks in rho */
+}
+
 int main(void)
 {
     density_run();
+    density_mean();
 
     const int W = 48, H = 40, l = 4;
     FsfSynth f;

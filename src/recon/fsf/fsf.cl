@@ -63,6 +63,19 @@ static float8 fsf_gauss8(float8 t, float sigma)
     return sigma > 0.0f ? exp(-0.5f * t * t / (sigma * sigma)) : (float8)(1.0f);
 }
 
+/* fsf_density_mean (fsf_filter.c): the mean over the profile box |z| <= h of the density of
+ * the filter (eta, sigma) */
+static float fsf_density_mean(float eta, float sigma, float half_m, float prof)
+{
+    int r = fsf_radius(sigma);
+    float sum = 0.0f;
+    for (int t = -r; t <= r; ++t) {
+        float tf = (float)t, c = eta * tf, lo = fmax(-prof, c - half_m), hi = fmin(prof, c + half_m);
+        if (hi > lo) sum += (sigma > 0.0f ? exp(-0.5f * tf * tf / (sigma * sigma)) : 1.0f) * (hi - lo);
+    }
+    return sum / (2.0f * prof);
+}
+
 /* Each pixel's taps along one axis (fsf_taps, fsf_filter.c), 8 at a time (PoCL gives one work
  * item one SIMD lane; float8 fills the unit): n_taps = 2 r + 1 entries from t = -r on, from the
  * pixel's slot tap_off on (node -1: no tap). Along axis 0 also cum1 (fsf_tap_prefix). A pixel
@@ -88,6 +101,9 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
     int r = fsf_radius(sigma);
     n_taps[i] = 2 * r + 1;
+    /* along the first axis, this pixel's mean density in place of each neighbour's (cum1 below
+     * divides pass 1a's by its own): fsf_filter.h, fsf_density_mean */
+    float inv_mean = axis == 0 ? 1.0f / fsf_density_mean(eta, sigma, a.half1, a.prof1) : 1.0f;
     /* the centre's guides (fsf_accept); without guides (guided 0: FsfGuides' NULL pos4, nrm4)
      * every usable neighbour is accepted and pos4, nrm4 are not read */
     float c_nx = 0.0f, c_ny = 0.0f, c_nz = 0.0f, c_px = 0.0f, c_py = 0.0f, c_pz = 0.0f, c_tol = 0.0f;
@@ -119,7 +135,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         ok &= abs(qy - y) <= halo;
         f = select((float8)(0.0f), f, ok);
         int8 j0 = min(convert_int8(floor(f)), J - 2);
-        float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma);
+        float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma) * inv_mean;
         int o = tap_off[i] + e0;
         /* q's pixel in the ring: q's row is y + dy (|dy| <= halo < ring where the tap is kept, the
          * node of a dropped one is not used), so its ring row is y's wrapped once; q / width %
@@ -139,6 +155,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         float c = 0.0f;
         cum[0] = c;
         for (int e = 0; e < 2 * rr + 1; ++e) cum[e + 1] = c = c + g[e];
+        for (int e = 0; e < 2 * rr + 2; ++e) cum[e] *= inv_mean; /* fsf_tap_prefix_mean */
     }
 }
 

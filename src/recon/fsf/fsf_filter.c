@@ -116,6 +116,13 @@ void fsf_tap_prefix(float sigma_px, float *cum)
     for (int t = -r; t <= r; ++t) cum[t + r + 1] = cum[t + r] + gauss((float)t, sigma_px);
 }
 
+void fsf_tap_prefix_mean(const FsfGrid *g, const FsfPixel *p, float *cum)
+{
+    fsf_tap_prefix(p->sigma_px[0], cum);
+    float inv_mean = 1.0f / fsf_density_mean(g, 0, p->eta_m[0], p->sigma_px[0]);
+    for (int e = 0; e < 2 * fsf_radius_steps(p->sigma_px[0]) + 2; ++e) cum[e] *= inv_mean;
+}
+
 float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
 {
     /* the taps t with |z - eta t| <= L, a run of integers */
@@ -128,6 +135,19 @@ float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
     }
     if (hi < lo) return 0.0f;
     return cum[(int)hi + r + 1] - cum[(int)lo + r];
+}
+
+float fsf_density_mean(const FsfGrid *g, int axis, float eta_m, float sigma_px)
+{
+    /* the mean over |z| <= h of rho(z) = sum_t w(t) [|z - eta t| <= L]: each tap's weight times
+     * the share of the box its interval [eta t - L, eta t + L] covers */
+    int r = fsf_radius_steps(sigma_px);
+    float h = g->profile_half[axis], L = g->half_m[axis], sum = 0.0f;
+    for (int t = -r; t <= r; ++t) {
+        float c = eta_m * (float)t, lo = fmaxf(-h, c - L), hi = fminf(h, c + L);
+        if (hi > lo) sum += gauss((float)t, sigma_px) * (hi - lo);
+    }
+    return sum / (2.0f * h);
 }
 
 /* ---- the oracle ---- */
@@ -231,7 +251,8 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const
         memset(Pi, 0, sizeof(float) * 4 * (size_t)J);
         if (!usable[i]) continue; /* no tap reads its nodes (fsf_taps) */
         /* the density of reprojected samples uses this pixel's filter for its gatherers'
-         * (a smooth field: FSF section 4.2's approximation again) */
+         * (a smooth field: FSF section 4.2's approximation again), over its mean (cum1,
+         * fsf_tap_prefix_mean), which each gatherer's taps replace with its own */
         int r = fsf_radius_steps(px[i].sigma_px[0]);
         const float *cum = cum1 + (size_t)FSF_CUM * i;
         for (int k = 0; k < s->count[i]; ++k) {
@@ -269,6 +290,9 @@ void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int wid
         int x = (int)(i % (size_t)width), y = (int)(i / (size_t)width);
         /* a pixel that is not usable gets no taps, not even its own: its result is 0 */
         int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[axis]) : -1;
+        /* along the first axis the neighbours' nodes hold samples over their own density
+         * times its mean (pass 1a's cum1): this pixel's mean density stands in for theirs */
+        float inv_mean = axis == 0 && r >= 0 ? 1.0f / fsf_density_mean(g, 0, pp->eta_m[0], pp->sigma_px[0]) : 1.0f;
         for (int t = -FSF_RADIUS_CAP_PX; t <= FSF_RADIUS_CAP_PX; ++t) {
             FsfTap *o = &ti[t + FSF_RADIUS_CAP_PX];
             o->node = -1, o->a0 = o->a1 = 0.0f;
@@ -280,7 +304,7 @@ void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int wid
             if (!(f >= 0.0f && f <= (float)(J - 1))) continue;
             int j0 = (int)floorf(f);
             if (j0 > J - 2) j0 = J - 2;
-            float b = f - (float)j0, wt = gauss((float)t, pp->sigma_px[axis]);
+            float b = f - (float)j0, wt = gauss((float)t, pp->sigma_px[axis]) * inv_mean;
             o->node = q * J + j0, o->a0 = wt * (1.0f - b), o->a1 = wt * b;
         }
     }
@@ -384,7 +408,7 @@ static void range_taps(void *ctx, size_t b, size_t e, int part)
     Job *j = ctx;
     fsf_taps(j->g, j->px, j->gd, j->s->width, j->s->height, j->axis, j->taps, b, e);
     if (j->axis == 0)
-        for (size_t i = b; i < e; ++i) fsf_tap_prefix(j->px[i].sigma_px[0], j->cum1 + (size_t)FSF_CUM * i);
+        for (size_t i = b; i < e; ++i) fsf_tap_prefix_mean(j->g, &j->px[i], j->cum1 + (size_t)FSF_CUM * i);
 }
 static void range_1a(void *ctx, size_t b, size_t e, int part)
 {

@@ -151,6 +151,18 @@ enum { FSF_CUM = 2 * FSF_RADIUS_CAP_PX + 2 };
 void fsf_tap_prefix(float sigma_px, float *cum);
 float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum);
 
+/* Pass 1a divides a pixel's samples by the density of its own filter, as the gathering pixel's
+ * is not known there (FSF section 4.2); where the neighbours' widths differ, a narrow one's
+ * density (near 1) is a wide one's (near its taps' sum) several times over, and its samples
+ * outweigh the gatherer's. So the factored passes divide by the density over its mean over
+ * the profile box, and each tap along the first axis by the gathering pixel's mean: exact
+ * where the filters agree, the means' ratio corrected where they do not (docs/algorithms.md
+ * section 10, "Pass 1a's density over its mean"). fsf_density_mean is that mean (>= 1 for
+ * sigma >= 0: the centre tap covers the box), fsf_tap_prefix_mean the running sums of the
+ * pixel's first axis over it (pass 1a's cum1). */
+float fsf_density_mean(const FsfGrid *g, int axis, float eta_m, float sigma_px);
+void fsf_tap_prefix_mean(const FsfGrid *g, const FsfPixel *p, float *cum);
+
 /* The factors that make a pixel's samples (count of them, 3 floats each from sample_rgb)
  * average to its value value4 (rgb): value / mean per channel, 0 where the mean is not
  * positive or the factor not finite. The pipeline's value may differ from the samples' raw
