@@ -288,6 +288,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     po.mem_limit_bytes = (size_t)a.mem_limit;
     po.dist = dist;
     po.no_overscan = a.no_overscan;
+    po.reads = render_args_reads(&a); /* the outputs' declaration: --filter none skips the rest */
     ReconPipeline *pipe = NULL;
     bool ok = recon_pipeline_create(r, &po, &pipe, &err);
     if (!ok) print_error(&err, dist);

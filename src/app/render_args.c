@@ -10,6 +10,7 @@
 #include "recon/maaf/maaf_design.h"
 #include "recon/select.h"
 #include "render/pixel_filter.h"
+#include "render/render_reads.h"
 #include "scene/scene_desc.h"
 
 static bool parse_int(const char *s, long lo, long hi, long *out)
@@ -225,3 +226,10 @@ int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a)
     return WEDGE_EXIT_OK;
 }
 
+
+unsigned render_args_reads(const RenderArgs *a)
+{
+    unsigned reads = RENDER_READS_RADIANCE;
+    if (a->aovs || a->visualize) reads |= RENDER_READS_ALL;
+    return reads;
+}

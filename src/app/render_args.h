@@ -39,4 +39,11 @@ typedef struct {
  * messages. Returns WEDGE_EXIT_OK or WEDGE_EXIT_USAGE (message printed). */
 int parse_render_args(int argc, char **argv, const char *command, RenderArgs *a);
 
+/* What `wedge render`'s outputs read of the frame beyond the image (render/render_reads.h),
+ * declared for the pipeline (ReconOptions.reads): the AOV layers (--aovs, also at every
+ * checkpoint) read the frame's albedo, normal and depth sums; --visualize keeps everything
+ * too (it writes the spp map and the methods' layers, and may write more). The image, the
+ * report and the spp attribute read the radiance sums and counts alone. */
+unsigned render_args_reads(const RenderArgs *a);
+
 #endif

@@ -38,6 +38,14 @@ bool render_output_write(const char *path, const Frame *f, const ReconResult *re
     ch[nc++] = (ExrChannel){"G", rgb + 1, 3};
     ch[nc++] = (ExrChannel){"B", rgb + 2, 3};
     ch[nc++] = (ExrChannel){"A", p.alpha, 1};
+    if (a->aovs && f->guides_skipped) { /* a user that did not declare its need (render_reads.h) */
+        diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
+                 "internal error: the AOV layers of %s were asked for, but the render was told nothing reads them "
+                 "(the frame's albedo, normal and depth sums were not kept)",
+                 path);
+        free(p.alpha);
+        return false;
+    }
     if (a->aovs) {
         p.direct = malloc(3 * n * sizeof(float));
         p.indirect = malloc(3 * n * sizeof(float));

@@ -36,6 +36,7 @@ bool recon_blur_probe(const Renderer *r, BlurProbe *out)
     first_hit.max_depth = 1;
     first_hit.record_ray_geometry = false;
     first_hit.record_motion = true;
+    first_hit.skip_first_hit_fields = false; /* it reads depth_cam, whatever the render's users declared */
     const IntegratorScene *isc = &first_hit;
     ReconCamera cam = recon_camera_from(renderer_camera(r));
     int w = renderer_width(r), h = renderer_height(r);

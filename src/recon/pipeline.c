@@ -162,6 +162,11 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
         }
         p->slots[s].effects |= EFFECT_BIT(e);
     }
+    /* What the passes' users read (render_reads.h): when a method runs, the G-buffer sink, the
+     * sample store and the methods' sinks read every first-hit field and the composite the
+     * frame's albedo; without one the pipeline reads the radiance alone, and the caller's
+     * declaration says the rest. A caller that declares nothing (0) keeps everything. */
+    renderer_set_reads(r, p->filtering ? RENDER_READS_ALL : (o->reads ? o->reads | RENDER_READS_RADIANCE : 0));
     /* On the main thread, before anything is traced, although loading the driver takes 30-40
      * ms here (PoCL with LLVM): moved beside pass 1 (measured: pass 1 began 29 ms sooner), the
      * first load installed LLVM's alternate signal stack on the helper thread, and

@@ -54,6 +54,10 @@ typedef struct {
     int method_options[4];     /* passed to the methods (ReconSetup.method_options) */
     ReconDist *dist;           /* ranks sharing the frame (dist.h); NULL: this process alone.
                                 * Only rank 0's result holds the image. */
+    unsigned reads;            /* what the caller reads of the frame beyond the image
+                                * (render_reads.h: the AOV layers need RENDER_READS_FRAME_GUIDES);
+                                * 0: not declared, everything is kept. With a method running
+                                * the pipeline keeps everything anyway (its G-buffer reads it). */
     bool no_overscan;          /* true: no band around the image even when a method reads
                                 * beyond its pixels (LR); its border is then biased. For
                                 * measuring the band's effect (--overscan off). */

@@ -49,6 +49,7 @@ void frame_clear(Frame *f)
     memset(f->depth, 0, n * sizeof(float));
     memset(f->hits, 0, n * sizeof(float));
     memset(f->spp, 0, n * sizeof(float));
+    f->guides_skipped = false;
 }
 
 long frame_resolve3(const Frame *f, const float *sum3, float *out)

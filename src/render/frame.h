@@ -14,11 +14,14 @@ typedef struct {
     float *depth;   /* sum of camera depth over samples that hit */
     float *hits;    /* samples that hit a surface */
     float *spp;     /* samples taken */
+    bool guides_skipped; /* a pass left albedo, normal, depth and hits out (its users declared
+                          * that they do not read them, render_reads.h): those sums are
+                          * incomplete and must not be read (until frame_clear) */
 } Frame;
 
 bool frame_init(Frame *f, int width, int height);
 void frame_free(Frame *f);
-/* Clears all sums to zero. */
+/* Clears all sums to zero (and guides_skipped). */
 void frame_clear(Frame *f);
 
 /* Mean of a 3-channel sum (color, direct, ...) per pixel into out (3 floats per pixel);

@@ -647,12 +647,16 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
     Vertex *v = &p->v;
     make_vertex(sc, h, v3_neg(d_world), sampled, v);
     rec->hit = true;
-    record_first_hit_material(v, rec);
-    rec->p_world = h->p;
-    /* towards the camera, any material (a Lambert vertex's n is already that) */
-    rec->n_shading = v->glossy ? (v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns) : v->n;
-    rec->object_id = h->object_id;
-    rec->depth_cam = camera_depth(sc->camera, h->p, p->time01);
+    /* fields only the G-buffer, the methods and the AOVs read: skipped when none of them
+     * runs (render_reads.h; about 3% of a --filter none sample on soft_shadows) */
+    if (!sc->skip_first_hit_fields) {
+        record_first_hit_material(v, rec);
+        rec->p_world = h->p;
+        /* towards the camera, any material (a Lambert vertex's n is already that) */
+        rec->n_shading = v->glossy ? (v3_dot(h->ns, v->wo) < 0.0f ? v3_neg(h->ns) : h->ns) : v->n;
+        rec->object_id = h->object_id;
+        rec->depth_cam = camera_depth(sc->camera, h->p, p->time01);
+    }
     if (sc->record_motion) first_hit_motion(sc, h, p->time01, rec->motion_px);
     if (h->light >= 0) rec->emission = guard3(area_light_L(sc->lights, h->light, h, v->wo), st);
     p->beta = v3s(1.0f);

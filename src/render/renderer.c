@@ -96,6 +96,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     if (!(isc->xform_time_end > isc->xform_time_start)) isc->xform_time_start = 0.0f, isc->xform_time_end = 1.0f;
     isc->record_ray_geometry = opt->record_ray_geometry;
     isc->record_motion = opt->record_motion;
+    isc->skip_first_hit_fields = !render_reads_first_hit(opt->reads);
     isc->time01_fixed = integrator_fixed_time01(isc);
     /* --pixel-filter, else the scene's PixelFilter statement, else wedge's box (pbrt-v4's
      * default would be a gaussian: docs/rendering.md, "Pixel filters") */
@@ -172,6 +173,12 @@ bool renderer_set_overscan(Renderer *r, int margin_px, Diag *err)
 
 void renderer_set_record_ray_geometry(Renderer *r, bool on) { r->isc.record_ray_geometry = on; }
 void renderer_set_record_motion(Renderer *r, bool on) { r->isc.record_motion = on; }
+void renderer_set_reads(Renderer *r, unsigned reads)
+{
+    r->opt.reads = reads;
+    r->isc.skip_first_hit_fields = !render_reads_first_hit(reads);
+}
+unsigned renderer_reads(const Renderer *r) { return r->opt.reads; }
 
 int renderer_light_count(const Renderer *r) { return r->lights.count; }
 
@@ -247,6 +254,7 @@ typedef struct {
     int spp_uniform;
     Frame *frame;
     const SampleSink *sink;
+    bool sum_guides;            /* add the frame's albedo, normal, depth and hits (render_reads.h) */
     int tiles_x, tile_count;
     int sample_begin, sample_end; /* the round: sample indices [begin, end) of every pixel */
     /* The first round ([0,64)) of an interruptible pass: per tile, how many of its rows the
@@ -313,7 +321,7 @@ static void add_slice(PassJob *job, int px, int py, SampleRecord *rec, int count
             memcpy(&pair, run + c * sizeof pair, sizeof pair);
             rad2[c] += __builtin_convertvector(pair, v2df);
         }
-        if (rec->hit) {
+        if (job->sum_guides && rec->hit) {
             al[0] += rec->albedo.x, al[1] += rec->albedo.y, al[2] += rec->albedo.z;
             nn[0] += rec->n_shading.x, nn[1] += rec->n_shading.y, nn[2] += rec->n_shading.z;
             if (isfinite(rec->depth_cam)) depth += rec->depth_cam, hits += 1.0;
@@ -330,11 +338,15 @@ static void add_slice(PassJob *job, int px, int py, SampleRecord *rec, int count
         f->direct[i3 + ch] += (float)di[ch];
         f->indirect[i3 + ch] += (float)in[ch];
         f->emission[i3 + ch] += (float)em[ch];
-        f->albedo[i3 + ch] += (float)al[ch];
-        f->normal[i3 + ch] += (float)nn[ch];
     }
-    f->depth[i1] += (float)depth;
-    f->hits[i1] += (float)hits;
+    if (job->sum_guides) {
+        for (int ch = 0; ch < 3; ++ch) {
+            f->albedo[i3 + ch] += (float)al[ch];
+            f->normal[i3 + ch] += (float)nn[ch];
+        }
+        f->depth[i1] += (float)depth;
+        f->hits[i1] += (float)hits;
+    }
     f->spp[i1] += (float)count;
 }
 
@@ -480,6 +492,8 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     job.spp_uniform = spp_uniform;
     job.frame = frame;
     job.sink = sink;
+    job.sum_guides = render_reads_frame_guides(r->opt.reads);
+    if (!job.sum_guides) frame->guides_skipped = true;
     job.tiles_x = (r->width + TILE_PX - 1) / TILE_PX;
     job.tile_count = job.tiles_x * ((r->height + TILE_PX - 1) / TILE_PX);
     pthread_mutex_init(&job.stats_lock, NULL);

@@ -25,6 +25,7 @@
 #include "render/camera.h"
 #include "render/frame.h"
 #include "render/integrator.h"
+#include "render/render_reads.h"
 #include "render/sample_record.h"
 #include "scene/scene_desc.h"
 
@@ -46,6 +47,8 @@ typedef struct {
     const char *pixel_filter;  /* NULL: the scene's PixelFilter statement, else the box */
     bool record_ray_geometry; /* fill SampleRecord shadow/bounce arrays (filters that need them) */
     bool record_motion;       /* fill SampleRecord.motion_px (filters that need it) */
+    unsigned reads;           /* what the render's users read (render_reads.h); 0: not declared,
+                               * everything is filled */
     volatile sig_atomic_t *cancel; /* when it becomes non-zero, passes stop after the current rows */
     RenderProgressFn progress;     /* called about 10 times a second from the calling thread */
     void *progress_ctx;
@@ -110,6 +113,12 @@ bool renderer_light_info(const Renderer *r, int light, RenderLightInfo *info);
 void renderer_set_record_ray_geometry(Renderer *r, bool on);
 /* The same for SampleRecord.motion_px (initially RenderOptions.record_motion). */
 void renderer_set_record_motion(Renderer *r, bool on);
+/* The users' declaration of what they read of the following passes (render_reads.h; initially
+ * RenderOptions.reads, 0: everything). Without RENDER_READS_FIRST_HIT the records' first-hit
+ * fields are left unset; without RENDER_READS_FRAME_GUIDES the frame's albedo, normal, depth
+ * and hits sums are not added (and the frame says so: Frame.guides_skipped). Not during a pass. */
+void renderer_set_reads(Renderer *r, unsigned reads);
+unsigned renderer_reads(const Renderer *r);
 
 /* Overscan: traces a band of margin_px pixels around the image, for filters that read
  * samples beyond a pixel (LR reprojects from up to its window margin; at the image border

@@ -52,7 +52,8 @@ typedef struct {
                                    * scene with area lights, whose hard shadows the soft-shadow
                                    * filters must not blur */
 
-    /* first-hit surface (valid when hit) */
+    /* first-hit surface (valid when hit); albedo .. object_id are left unset when the
+     * render's users declared that none of them reads them (render/render_reads.h) */
     bool hit;
     vec3 albedo;                  /* reflectance at the first hit for demodulation: Lambert
                                    * reflectance, or albedo_diffuse + albedo_glossy (each channel

@@ -1,0 +1,37 @@
+/* What the users of a render read of it beyond the image, declared by those users so that the
+ * renderer can skip the rest (issue 22; docs/design.md section 2, "Declared reads").
+ *
+ * Every user reads the radiance: the frame's colour, direct, indirect and emission sums and
+ * its sample counts, and a record's radiance and film, lens and time coordinates. Beyond that:
+ *
+ *   RENDER_READS_FIRST_HIT     the record's first-hit fields (albedo and its diffuse / glossy
+ *                              split, phong_exponent, unfilterable, p_world, n_shading,
+ *                              depth_cam, object_id): the G-buffer sink, the sample store and
+ *                              the methods' sinks read them
+ *   RENDER_READS_FRAME_GUIDES  the frame's albedo, normal, depth and hits sums (made from the
+ *                              first-hit fields): the AOV layers, the preview, the composite
+ *
+ * A declaration is RENDER_READS_RADIANCE plus the bits above that some user needs; 0 means
+ * "not declared" and keeps everything, so a user that says nothing gets every field. */
+#ifndef WEDGE_RENDER_RENDER_READS_H
+#define WEDGE_RENDER_RENDER_READS_H
+
+enum {
+    RENDER_READS_RADIANCE = 1u << 0,
+    RENDER_READS_FIRST_HIT = 1u << 1,
+    RENDER_READS_FRAME_GUIDES = 1u << 2,
+    RENDER_READS_ALL = RENDER_READS_RADIANCE | RENDER_READS_FIRST_HIT | RENDER_READS_FRAME_GUIDES,
+};
+
+/* Whether a declaration (0: none, everything) asks for the first-hit record fields; the
+ * frame's guide sums are made from them. */
+static inline int render_reads_first_hit(unsigned reads)
+{
+    return reads == 0 || (reads & (RENDER_READS_FIRST_HIT | RENDER_READS_FRAME_GUIDES)) != 0;
+}
+static inline int render_reads_frame_guides(unsigned reads)
+{
+    return reads == 0 || (reads & RENDER_READS_FRAME_GUIDES) != 0;
+}
+
+#endif
