@@ -64,7 +64,9 @@ static float8 fsf_gauss8(float8 t, float sigma)
 }
 
 /* fsf_density_mean (fsf_filter.c): the mean over the profile box |z| <= h of the density of
- * the filter (eta, sigma) */
+ * the filter (eta, sigma). Its weights by the scalar exp, not fsf_gauss8's (the taps' weights
+ * and running sums): the vector exp differs from it in the last bit (relMSE 1e-17 against the
+ * scalar one on the bench scenes). */
 static float fsf_density_mean(float eta, float sigma, float half_m, float prof)
 {
     int r = fsf_radius(sigma);
@@ -101,6 +103,10 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
     int r = fsf_radius(sigma);
     n_taps[i] = 2 * r + 1;
+    /* the taps' Gaussian weights, t = -r .. r, once for their weights and (axis 0) the running
+     * sums (lanes past 2 r + 1: computed, never read) */
+    float g[FSF_TAP_SLOTS];
+    for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - r) + FSF_LANES8), sigma), 0, g + e0);
     /* along the first axis, this pixel's mean density in place of each neighbour's (cum1 below
      * divides pass 1a's by its own): fsf_filter.h, fsf_density_mean */
     float inv_mean = axis == 0 ? 1.0f / fsf_density_mean(eta, sigma, a.half1, a.prof1) : 1.0f;
@@ -135,7 +141,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         ok &= abs(qy - y) <= halo;
         f = select((float8)(0.0f), f, ok);
         int8 j0 = min(convert_int8(floor(f)), J - 2);
-        float8 b = f - convert_float8(j0), wt = fsf_gauss8(tf, sigma) * inv_mean;
+        float8 b = f - convert_float8(j0), wt = vload8(0, g + e0) * inv_mean;
         int o = tap_off[i] + e0;
         /* q's pixel in the ring: q's row is y + dy (|dy| <= halo < ring where the tap is kept, the
          * node of a dropped one is not used), so its ring row is y's wrapped once; q / width %
@@ -147,15 +153,12 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
     }
-    if (axis == 0) { /* the running sums of the weights, over the taps of the unmasked radius */
-        int rr = fsf_radius(pp[6]);
-        float g[FSF_TAP_SLOTS];
-        for (int e0 = 0; e0 < 2 * rr + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - rr) + FSF_LANES8), pp[6]), 0, g + e0);
+    if (axis == 0) { /* the running sums of the weights (g: sigma is pp[6] along this axis) */
         __global float *cum = cum1 + tap_off[i];
         float c = 0.0f;
         cum[0] = c;
-        for (int e = 0; e < 2 * rr + 1; ++e) cum[e + 1] = c = c + g[e];
-        for (int e = 0; e < 2 * rr + 2; ++e) cum[e] *= inv_mean; /* fsf_tap_prefix_mean */
+        for (int e = 0; e < 2 * r + 1; ++e) cum[e + 1] = c = c + g[e];
+        for (int e = 0; e < 2 * r + 2; ++e) cum[e] *= inv_mean; /* fsf_tap_prefix_mean */
     }
 }
 
@@ -169,24 +172,28 @@ __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *
 }
 
 /* fsf_density at 8 light coordinates at once (PoCL runs one work item's scalar code on one
- * SIMD lane; a float8 fills the vector unit): the same arithmetic lane by lane. */
-static float8 fsf_density8(float8 z, float eta, float half_m, int r, const float *cum)
-{
-    float8 lo = (float8)(-(float)r), hi = (float8)((float)r);
-    if (eta != 0.0f) {
-        float8 a = (z - half_m) / eta, b = (z + half_m) / eta;
-        lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));
-    } else { /* no shear: every tap or none */
-        hi = select(hi, (float8)(-1.0f - (float)r), fabs(z) > half_m);
+ * SIMD lane; a float8 fills the vector unit): the same arithmetic lane by lane. Defined for
+ * running sums in private memory (pass 2b makes its own) and in global memory (pass 1a reads
+ * fsf_taps' cum1 in place rather than copy it once per launch). */
+#define FSF_DEFINE_DENSITY8(name, space)                                                                   \
+    static float8 name(float8 z, float eta, float half_m, int r, space const float *cum)                   \
+    {                                                                                                       \
+        float8 lo = (float8)(-(float)r), hi = (float8)((float)r);                                         \
+        if (eta != 0.0f) {                                                                                  \
+            float8 a = (z - half_m) / eta, b = (z + half_m) / eta;                                          \
+            lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));                              \
+        } else { /* no shear: every tap or none */                                                          \
+            hi = select(hi, (float8)(-1.0f - (float)r), fabs(z) > half_m);                                  \
+        }                                                                                                   \
+        int8 none = isless(hi, lo);                                                                         \
+        /* clamped before the conversion: a lane left out may hold +-inf (eta near 0) */                    \
+        int8 ih = convert_int8(clamp(hi, -(float)r, (float)r)) + (r + 1),                                   \
+             il = convert_int8(clamp(lo, -(float)r, (float)r)) + r;                                         \
+        float8 rho = FSF_GATHER8(cum, ih) - FSF_GATHER8(cum, il);                                           \
+        return select(rho, (float8)(0.0f), none);                                                           \
     }
-    int8 none = isless(hi, lo);
-    /* clamped before the conversion: a lane left out may hold +-inf (eta near 0) */
-    int8 ih = convert_int8(clamp(hi, -(float)r, (float)r)) + (r + 1), il = convert_int8(clamp(lo, -(float)r, (float)r)) + r;
-    float8 rho = (float8)(cum[ih.s0] - cum[il.s0], cum[ih.s1] - cum[il.s1], cum[ih.s2] - cum[il.s2],
-                          cum[ih.s3] - cum[il.s3], cum[ih.s4] - cum[il.s4], cum[ih.s5] - cum[il.s5],
-                          cum[ih.s6] - cum[il.s6], cum[ih.s7] - cum[il.s7]);
-    return select(rho, (float8)(0.0f), none);
-}
+FSF_DEFINE_DENSITY8(fsf_density8, __private)
+FSF_DEFINE_DENSITY8(fsf_density8_global, __global)
 
 /* fsf_geo_G (fsf_geo_term.c) at 8 light points (z1, y2) from the receiver point p, normal n */
 static float8 fsf_geo_G8(const FsfArgs *a, float3 p, float3 n, float8 z1, float y2)
@@ -266,8 +273,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
     int r = fsf_radius(px[8 * i + 6]);
     float eta = px[8 * i + 4];
-    float cum[FSF_CUM];
-    for (int e = 0; e < 2 * r + 2; ++e) cum[e] = cum1[tap_off[i] + e];
+    __global const float *cum = cum1 + tap_off[i];
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     /* form 4 (fsf_geo_term.h): the pixel's mean position, normal and mean term; 0: none */
     float g_mean = a.geo ? mean_g[i] : 0.0f;
@@ -296,7 +302,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
             if (j1 > J - 1) j1 = J - 1;
             for (int s0 = j0; s0 <= j1; s0 += 8) {
                 float8 z = y1 - ((float8)((float)s0) + lane - mid) * dY;
-                float8 rho = fsf_density8(z, eta, L1, r, cum);
+                float8 rho = fsf_density8_global(z, eta, L1, r, cum);
                 /* the box (rounding at the light's ends) and an empty density leave a node out */
                 float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
                 float8 wv = wk, ww = wk;
@@ -452,10 +458,17 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
             int m00 = b0 - 2 * j0 + 2 * B; /* m0 of bin b0; <= 3 B + 6 with the lanes past b_hi */
             int8 m0 = (int8)(m00) + FSF_LANES8;
             float8 w0 = vload8(0, inv_rho + m00), w1 = vload8(0, inv_rho + m00 - 2);
-            float8 g0 = FSF_GATHER8(gm, clamp(m0 - B, 0, B - 1)), g1 = FSF_GATHER8(gm, clamp(m0 - 2 - B, 0, B - 1));
-            float8 t0 = a0 * w0 * g0;
             float wk[8];
-            vstore8(t0 + a1 * w1 * g1, 0, wk);
+            if (a.geo) {
+                float8 g0 = FSF_GATHER8(gm, clamp(m0 - B, 0, B - 1)), g1 = FSF_GATHER8(gm, clamp(m0 - 2 - B, 0, B - 1));
+                float8 t0 = a0 * w0 * g0;
+                vstore8(t0 + a1 * w1 * g1, 0, wk);
+            } else { /* without form 4 every marginal is 1 (pass 2a): the products by them are
+                      * exact, and a1 w1 is rounded before the sum as a1 w1 g1 is (no fused
+                      * multiply-add across statements): the same floats without the gathers */
+                float8 t0 = a0 * w0, t1 = a1 * w1;
+                vstore8(t0 + t1, 0, wk);
+            }
             int nl = min(8, b_hi - b0 + 1);
             for (int l = 0; l < nl; ++l) acc += vload4(b0 + l, gs) * wk[l];
         }
