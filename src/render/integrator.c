@@ -352,8 +352,9 @@ float integrator_fixed_time01(const IntegratorScene *sc) { return shutter_time01
  * record, whose start-up cost was a visible part of a sample; these are a few vector
  * stores. The ray geometry arrays are cleared too. Fields that are always written later
  * are left alone: the lens and time (wave_camera_sample) and the first hit's fields
- * (wave_first_hit, on a hit and on a miss), so the record is still filled completely. */
-static inline void record_reset(SampleRecord *rec)
+ * (wave_first_hit, on a hit and on a miss), so the record is still filled completely, but
+ * for the fields a radiance-only render's users declared they do not read (render_reads.h). */
+static inline void record_reset(SampleRecord *rec, bool radiance_only)
 {
     /* L .. unfiltered_direct are one run of 18 floats: one fixed-size clear (a few vector
      * stores) instead of 18 scalar ones. +0.0f is all zero bits. */
@@ -361,8 +362,11 @@ static inline void record_reset(SampleRecord *rec)
                    "the radiance fields are one run");
     memset((char *)rec + offsetof(SampleRecord, L), 0, 6 * sizeof(vec3));
     rec->hit = false;
-    rec->motion_px[0] = rec->motion_px[1] = 0.0f;
     rec->shadow_count = rec->bounce_count = 0;
+    /* a render whose users read the radiance alone (render_reads.h) leaves the motion and
+     * the ray geometry entries unset unless asked for them (then they are written anyway) */
+    if (radiance_only) return;
+    rec->motion_px[0] = rec->motion_px[1] = 0.0f;
     rec->shadow[0] = (ShadowRayRecord){0};
     rec->bounce[0] = (BounceRayRecord){0};
 }
@@ -571,7 +575,7 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
 static void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 lens, float shutter_u,
                                const WavePixel *px, WavePath *p, SampleRecord *rec)
 {
-    record_reset(rec);
+    record_reset(rec, sc->skip_first_hit_fields && !sc->record_motion && !sc->record_ray_geometry);
     /* filter importance sampling (pixel_filter.h): the radiance fields are weighted by the
      * renderer once the record is complete (pixel_filter_weigh_record) */
     vec2 u_film = pixel_filter_sample(sc->pixel_filter, u_film01, &rec->filter_weight);
@@ -625,14 +629,17 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
 {
     p->alive = false;
     if (!found) {
-        /* what record_reset leaves to this function: a miss's first-hit fields */
-        const vec3 zero = v3s(0.0f);
-        rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
-        rec->phong_exponent = 0.0f;
-        rec->unfilterable = false;
-        rec->p_world = rec->n_shading = zero;
-        rec->depth_cam = INFINITY;
-        rec->object_id = -1;
+        /* what record_reset leaves to this function: a miss's first-hit fields, unless
+         * nothing reads them (render_reads.h) */
+        if (!sc->skip_first_hit_fields) {
+            const vec3 zero = v3s(0.0f);
+            rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
+            rec->phong_exponent = 0.0f;
+            rec->unfilterable = false;
+            rec->p_world = rec->n_shading = zero;
+            rec->depth_cam = INFINITY;
+            rec->object_id = -1;
+        }
         /* without infinite lights the emission and L stay record_reset's +0 (the sum below
          * would be +0 and pass its guard) */
         if (sc->lights->infinite_count == 0) return;
@@ -1113,7 +1120,9 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
      * blurred with theirs (on motion_defocus_soft, a sphere light beside a distant light,
      * AAF's shadows had 30x Monte Carlo's error at 64 spp, static and pinhole). Without
      * area lights no filter takes direct light and nothing needs to be set apart. */
-    if (p->unfiltered_light) {
+    if (sc->skip_first_hit_fields) {
+        /* only the methods read the unfiltered parts (render_reads.h) */
+    } else if (p->unfiltered_light) {
         rec->unfiltered = v3_add(rec->unfiltered, v3_add(ld, ld_delta));
     } else if (depth == 1 && sc->lights->has_area) {
         if (p->light_pending && p->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
@@ -1141,7 +1150,7 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
                                                             p->time01, hit)),
                      st);
     *bucket = v3_add(*bucket, le);
-    if (p->unfiltered) rec->unfiltered = v3_add(rec->unfiltered, le);
+    if (p->unfiltered && !sc->skip_first_hit_fields) rec->unfiltered = v3_add(rec->unfiltered, le);
     if (!hit || depth == sc->max_depth) return;
     p->beta = p->beta_next;
     make_vertex(sc, nh, v3_neg(wi), vertex_uses_bsdf_dims(sc, depth + 1), &p->v);
@@ -1216,7 +1225,8 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         /* guard3 of each sum, tested at once: a non-finite component makes the total
          * non-finite, and when the total is finite so is every term (an overflowing total
          * of finite terms only sends them to the test one by one) */
-        vec3 all = v3_add(v3_add(rec->direct, rec->indirect), v3_add(rec->unfiltered, rec->unfiltered_direct));
+        vec3 all = v3_add(rec->direct, rec->indirect);
+        if (!sc->skip_first_hit_fields) all = v3_add(all, v3_add(rec->unfiltered, rec->unfiltered_direct));
         if (!finite3(all)) {
             rec->direct = guard3(rec->direct, st);
             rec->indirect = guard3(rec->indirect, st);

@@ -29,8 +29,10 @@ typedef struct {
     bool record_ray_geometry;  /* fill SampleRecord shadow/bounce arrays */
     bool record_motion;        /* fill SampleRecord.motion_px (LR, the blur probe; two camera
                                 * projections and a matrix inverse per moving first hit) */
-    bool skip_first_hit_fields; /* leave SampleRecord's first-hit fields (albedo .. object_id)
-                                * unset: no user reads them (render_reads.h; false: fill them) */
+    bool skip_first_hit_fields; /* leave SampleRecord's first-hit fields (albedo .. object_id),
+                                * its unfiltered parts (+0) and, unless recorded, its motion and
+                                * ray geometry entries unset: no user reads them (render_reads.h;
+                                * false: fill them) */
     float time01_fixed;        /* without sample_time: every ray's time (integrator_fixed_time01) */
     const PixelFilter *pixel_filter; /* NULL: the box over the pixel (the film sample as is) */
 } IntegratorScene;

@@ -2,12 +2,16 @@
  * renderer can skip the rest (issue 22; docs/design.md section 2, "Declared reads").
  *
  * Every user reads the radiance: the frame's colour, direct, indirect and emission sums and
- * its sample counts, and a record's radiance and film, lens and time coordinates. Beyond that:
+ * its sample counts, and a record's radiance (L, emission, direct, indirect) and film, lens
+ * and time coordinates. Beyond that:
  *
- *   RENDER_READS_FIRST_HIT     the record's first-hit fields (albedo and its diffuse / glossy
- *                              split, phong_exponent, unfilterable, p_world, n_shading,
- *                              depth_cam, object_id): the G-buffer sink, the sample store and
- *                              the methods' sinks read them
+ *   RENDER_READS_FIRST_HIT     the record's fields the methods read: the first-hit fields
+ *                              (albedo and its diffuse / glossy split, phong_exponent,
+ *                              unfilterable, p_world, n_shading, depth_cam, object_id, and on a
+ *                              miss their miss values), the unfiltered parts (unfiltered,
+ *                              unfiltered_direct) and the cleared motion and ray geometry
+ *                              entries: the G-buffer sink, the sample store and the methods'
+ *                              sinks read them
  *   RENDER_READS_FRAME_GUIDES  the frame's albedo, normal, depth and hits sums (made from the
  *                              first-hit fields): the AOV layers, the preview, the composite
  *

@@ -50,10 +50,13 @@ typedef struct {
     vec3 unfiltered_direct;       /* the same for a part of `direct` known to be direct (not in
                                    * `unfiltered`): a point, spot or distant light's light in a
                                    * scene with area lights, whose hard shadows the soft-shadow
-                                   * filters must not blur */
+                                   * filters must not blur; unfiltered and unfiltered_direct stay
+                                   * +0 when the render's users declared that none of them reads
+                                   * the first-hit fields (render/render_reads.h) */
 
-    /* first-hit surface (valid when hit); albedo .. object_id are left unset when the
-     * render's users declared that none of them reads them (render/render_reads.h) */
+    /* first-hit surface (valid when hit); albedo .. object_id, and motion_px and the ray
+     * geometry entries unless asked for, are left unset when the render's users declared that
+     * none of them reads them (render/render_reads.h) */
     bool hit;
     vec3 albedo;                  /* reflectance at the first hit for demodulation: Lambert
                                    * reflectance, or albedo_diffuse + albedo_glossy (each channel

@@ -90,7 +90,8 @@ static bool same_guides(const Frame *a, const Frame *b)
 {
     size_t n = (size_t)a->width * (size_t)a->height;
     return same(a->albedo, b->albedo, 3 * n) && same(a->normal, b->normal, 3 * n) && same(a->depth, b->depth, n) &&
-           same(a->hits, b->hits, n);
+           same(a->hits, b->hits, n) && same(a->direct, b->direct, 3 * n) && same(a->indirect, b->indirect, 3 * n) &&
+           same(a->emission, b->emission, 3 * n);
 }
 
 int main(void)

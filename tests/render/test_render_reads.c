@@ -1,12 +1,14 @@
 /* The users' declaration of what they read (render/render_reads.h, issue 22): a render whose
- * users read the radiance alone skips the first-hit record fields and the frame's albedo,
- * normal, depth and hits sums, and nothing else. Checked here on a scene with a lens, glossy
- * and diffuse surfaces, an area light and bounces:
+ * users read the radiance alone skips the first-hit record fields, the records' unfiltered
+ * parts and the frame's albedo, normal, depth and hits sums, and nothing else. Checked here on a scene with a lens, glossy, diffuse and dielectric surfaces,
+ * an area light beside a point light, and bounces:
  *  - declared radiance only: colour, direct, indirect, emission and spp bit for bit those of
- *    an undeclared render (which keeps everything), and the frame says its guides were
- *    skipped (albedo, normal, depth and hits left at 0: the work was really skipped);
+ *    an undeclared render (which keeps everything; the split adds up to the colour), and the
+ *    frame says its guides were skipped (albedo, normal, depth and hits left at 0: the work
+ *    was really skipped);
  *  - declared frame guides: every sum bit for bit the undeclared render's;
- *  - declared first hit: a sink sees every record field the undeclared render gives it;
+ *  - declared first hit: a sink sees every record field the undeclared render gives it
+ *    (the first-hit fields, the unfiltered parts, nonzero here, and the radiance split);
  *  - the same renderer declared everything again after a skipped pass (renderer_set_reads,
  *    frame_clear) gives the full frame: a later user that needs the AOVs gets them. */
 #include "check.h"
@@ -29,7 +31,12 @@ static const char *SCENE_TEXT =
     "AttributeBegin Material \"conductor\" \"float roughness\" [ 0.15 ]\n"
     "  Translate -0.8 0.6 0 Shape \"sphere\" \"float radius\" [ 0.6 ] AttributeEnd\n"
     "AttributeBegin Material \"coateddiffuse\" \"rgb reflectance\" [ 0.2 0.5 0.7 ] \"float roughness\" [ 0.3 ]\n"
-    "  Translate 0.9 0.5 0.5 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n";
+    "  Translate 0.9 0.5 0.5 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n"
+    /* a dielectric first hit's light and a point light's beside the area light's are the
+     * records' unfiltered parts (sample_record.h) */
+    "AttributeBegin Material \"dielectric\" \"float eta\" [ 1.5 ]\n"
+    "  Translate 0 0.35 -1.2 Shape \"sphere\" \"float radius\" [ 0.35 ] AttributeEnd\n"
+    "LightSource \"point\" \"point3 from\" [ 1.5 2 -1.5 ] \"rgb I\" [ 2 2 2 ]\n";
 
 static bool same_floats(const float *a, const float *b, size_t n) { return memcmp(a, b, n * sizeof(float)) == 0; }
 
@@ -58,10 +65,25 @@ static double guides_magnitude(const Frame *f)
     return s;
 }
 
+/* Whether the frame's split adds up to its colour (L = emission + direct + indirect per
+ * sample, sample_record.h; the sums round apart by a few float ulps) with direct and indirect
+ * light somewhere: the split was summed, not left out. */
+static bool split_adds_up(const Frame *f)
+{
+    size_t n = (size_t)f->width * (size_t)f->height;
+    double parts[2] = {0};
+    for (size_t i = 0; i < 3 * n; ++i) {
+        double split = (double)f->direct[i] + f->indirect[i] + f->emission[i];
+        if (fabs(split - f->color[i]) > 1e-5 * fabs(f->color[i]) + 1e-30) return false;
+        parts[0] += fabs(f->direct[i]), parts[1] += fabs(f->indirect[i]);
+    }
+    return parts[0] > 0.0 && parts[1] > 0.0; /* the camera sees no emitter here: emission is 0 */
+}
+
 /* A sink folding every first-hit field of the records it sees into a checksum (order
  * matters: the renders that feed it run on one thread, so the records come in one order). */
 typedef struct {
-    double sum;
+    double sum, unfiltered; /* unfiltered: the records' unfiltered parts, summed */
     long records, hits;
 } FirstHitSum;
 
@@ -71,7 +93,16 @@ static void first_hit_add(void *ctx, int px, int py, const SampleRecord *r)
 {
     FirstHitSum *s = ctx;
     ++s->records;
-    if (!r->hit) return;
+    /* the parts a method reads on a hit and on a miss */
+    const vec3 *u[] = {&r->direct, &r->indirect, &r->emission, &r->unfiltered, &r->unfiltered_direct};
+    for (size_t k = 0; k < sizeof u / sizeof u[0]; ++k) fold(s, u[k]->x), fold(s, u[k]->y), fold(s, u[k]->z);
+    s->unfiltered += fabs(r->unfiltered.x) + fabs(r->unfiltered_direct.x);
+    fold(s, r->motion_px[0]), fold(s, r->motion_px[1]), fold(s, r->shadow_count), fold(s, r->bounce_count);
+    fold(s, r->shadow[0].d_light_world), fold(s, r->bounce[0].d_hit_world);
+    if (!r->hit) {
+        fold(s, r->depth_cam), fold(s, r->object_id), fold(s, r->albedo.x), fold(s, r->n_shading.y);
+        return;
+    }
     ++s->hits;
     const vec3 *v[] = {&r->albedo, &r->albedo_diffuse, &r->albedo_glossy, &r->p_world, &r->n_shading};
     for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k) fold(s, v[k]->x), fold(s, v[k]->y), fold(s, v[k]->z);
@@ -90,6 +121,7 @@ int main(void)
     /* the scene has guides to lose: most pixels see a surface */
     CHECK(guides_magnitude(&all.frame) > 100.0);
     CHECK(!all.frame.guides_skipped);
+    CHECK(split_adds_up(&all.frame) && split_adds_up(&radiance.frame));
 
     /* radiance only: the same image, the guides skipped (and said to be) */
     CHECK(same_radiance(&all.frame, &radiance.frame));
@@ -110,7 +142,9 @@ int main(void)
     if (!test_render_sink(SCENE_TEXT, &o_one, &k_all, &a) || !test_render_sink(SCENE_TEXT, &o_first, &k_decl, &b))
         return 1;
     CHECK(s_all.records == s_decl.records && s_all.hits == s_decl.hits && s_all.hits > 0);
+    CHECK(s_all.hits < s_all.records); /* and misses, whose first-hit fields are set too */
     CHECK(s_all.sum == s_decl.sum);
+    CHECK(s_all.unfiltered > 0.0 && s_all.unfiltered == s_decl.unfiltered); /* there are unfiltered parts to lose */
     /* the first hit alone does not make the frame's sums */
     CHECK(b.frame.guides_skipped && same_radiance(&all.frame, &b.frame));
 
