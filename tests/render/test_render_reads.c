@@ -156,6 +156,17 @@ int main(void)
     render_pass(radiance.r, 0, NULL, renderer_spp(radiance.r), &radiance.frame, NULL);
     CHECK(same_radiance(&all.frame, &radiance.frame) && same_guides(&all.frame, &radiance.frame));
     CHECK(!radiance.frame.guides_skipped);
+    /* ... and by declaring every read explicitly, not only by the 0 that declares nothing;
+     * then back to the radiance alone, which skips again */
+    renderer_set_reads(radiance.r, RENDER_READS_ALL);
+    frame_clear(&radiance.frame);
+    render_pass(radiance.r, 0, NULL, renderer_spp(radiance.r), &radiance.frame, NULL);
+    CHECK(same_radiance(&all.frame, &radiance.frame) && same_guides(&all.frame, &radiance.frame));
+    CHECK(!radiance.frame.guides_skipped);
+    renderer_set_reads(radiance.r, RENDER_READS_RADIANCE);
+    frame_clear(&radiance.frame);
+    render_pass(radiance.r, 0, NULL, renderer_spp(radiance.r), &radiance.frame, NULL);
+    CHECK(same_radiance(&all.frame, &radiance.frame) && radiance.frame.guides_skipped);
 
     test_render_free(&all), test_render_free(&radiance), test_render_free(&guides);
     test_render_free(&a), test_render_free(&b);
