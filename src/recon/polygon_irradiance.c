@@ -3,8 +3,6 @@
 
 #include <math.h>
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 /* Sutherland-Hodgman against the plane h(q) = n . (q - p) >= 0, in receiver-relative
  * coordinates. Returns the clipped vertex count (0 when nothing is above the horizon). */
 static int clip_to_horizon(const double n[3], const double in[][3], int count, double out[][3])
@@ -12,7 +10,7 @@ static int clip_to_horizon(const double n[3], const double in[][3], int count, d
     int m = 0;
     for (int i = 0; i < count; ++i) {
         const double *a = in[i], *b = in[(i + 1) % count];
-        double ha = dot3(n, a), hb = dot3(n, b);
+        double ha = polygon_dot3(n, a), hb = polygon_dot3(n, b);
         if (ha >= 0.0) {
             for (int k = 0; k < 3; ++k) out[m][k] = a[k];
             ++m;
@@ -37,20 +35,17 @@ double polygon_projected_solid_angle(const double p[3], const double n[3], const
     /* unit directions to the vertices; a vertex at the receiver itself contributes nothing */
     double u[POLYGON_MAX_VERTS][3];
     for (int i = 0; i < m; ++i) {
-        double len = sqrt(dot3(clipped[i], clipped[i]));
+        double len = sqrt(polygon_dot3(clipped[i], clipped[i]));
         if (!(len > 0.0)) return 0.0;
         for (int k = 0; k < 3; ++k) u[i][k] = clipped[i][k] / len;
     }
     double sum = 0.0;
     for (int i = 0; i < m; ++i) {
         const double *a = u[i], *b = u[(i + 1) % m];
-        double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-        double s = sqrt(dot3(c, c));
+        double c[3], s = polygon_edge_cross(a, b, c);
         if (!(s > 0.0)) continue; /* coincident directions: a zero-length edge */
-        double theta = atan2(s, dot3(a, b));
-        sum += theta * dot3(c, n) / s;
+        double theta = atan2(s, polygon_dot3(a, b));
+        sum += theta * polygon_dot3(c, n) / s;
     }
-    /* the sign follows the winding; the magnitude is Phi */
-    double phi = 0.5 * fabs(sum);
-    return isfinite(phi) ? phi : 0.0;
+    return polygon_phi_of_sum(sum);
 }

@@ -13,11 +13,32 @@
 #ifndef WEDGE_RECON_POLYGON_IRRADIANCE_H
 #define WEDGE_RECON_POLYGON_IRRADIANCE_H
 
+#include <math.h>
+
 /* Most vertices a polygon may have (clipping adds at most one). */
 enum { POLYGON_MAX_VERTS = 32 };
 
 /* Phi (steradians, >= 0) of the convex polygon v[0..count-1] (world, either winding) seen
  * from p with unit normal n. count in [3, POLYGON_MAX_VERTS - 1]; else 0. */
 double polygon_projected_solid_angle(const double p[3], const double n[3], const double v[][3], int count);
+
+/* The pieces of that sum, shared with recon/shared_triangles.c so that both compute the same
+ * doubles in the same order (its results equal polygon_projected_solid_angle's bit for bit). */
+static inline double polygon_dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* An edge between the unit directions a and b: c = a x b, returns |c| = sin(theta_i) (not > 0
+ * for coincident directions, whose edge adds nothing). */
+static inline double polygon_edge_cross(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1], c[1] = a[2] * b[0] - a[0] * b[2], c[2] = a[0] * b[1] - a[1] * b[0];
+    return sqrt(polygon_dot3(c, c));
+}
+
+/* Phi from the edges' sum of theta_i (n . c) / |c|: the sign follows the winding; not finite: 0. */
+static inline double polygon_phi_of_sum(double sum)
+{
+    double phi = 0.5 * fabs(sum);
+    return isfinite(phi) ? phi : 0.0;
+}
 
 #endif

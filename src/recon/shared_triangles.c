@@ -25,9 +25,6 @@ struct SharedTrianglesAt {
     double *theta;                  /* the edge's angle */
 };
 
-/* polygon_irradiance.c's dot3, the same sum in the same order */
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 typedef struct {
     double c[3];
     int slot; /* 3 t + k */
@@ -139,8 +136,8 @@ static void vertex(const SharedTriangles *s, SharedTrianglesAt *at, int v)
     if (at->vert_stamp[v] == at->stamp) return;
     double rel[3];
     for (int k = 0; k < 3; ++k) rel[k] = s->pos[v][k] - at->p[k];
-    at->h[v] = dot3(at->n, rel);
-    at->len[v] = sqrt(dot3(rel, rel));
+    at->h[v] = polygon_dot3(at->n, rel);
+    at->len[v] = sqrt(polygon_dot3(rel, rel));
     for (int k = 0; k < 3; ++k) at->u[v][k] = rel[k] / at->len[v]; /* read only where len > 0 */
     at->vert_stamp[v] = at->stamp;
 }
@@ -156,13 +153,11 @@ double shared_triangles_phi(const SharedTriangles *s, SharedTrianglesAt *at, int
     double sum = 0.0;
     for (int i = 0; i < 3; ++i) {
         const double *a = at->u[v[i]], *b = at->u[v[(i + 1) % 3]];
-        double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-        double sn = sqrt(dot3(c, c));
+        double c[3], sn = polygon_edge_cross(a, b, c);
         if (!(sn > 0.0)) continue; /* coincident directions */
         int e = s->edge[t][i];
-        if (at->edge_stamp[e] != at->stamp) at->theta[e] = atan2(sn, dot3(a, b)), at->edge_stamp[e] = at->stamp;
-        sum += at->theta[e] * dot3(c, at->n) / sn;
+        if (at->edge_stamp[e] != at->stamp) at->theta[e] = atan2(sn, polygon_dot3(a, b)), at->edge_stamp[e] = at->stamp;
+        sum += at->theta[e] * polygon_dot3(c, at->n) / sn;
     }
-    double phi = 0.5 * fabs(sum);
-    return isfinite(phi) ? phi : 0.0;
+    return polygon_phi_of_sum(sum);
 }
