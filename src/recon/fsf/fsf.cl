@@ -70,10 +70,16 @@ static float8 fsf_gauss8(float8 t, float sigma)
 static float fsf_density_mean(float eta, float sigma, float half_m, float prof)
 {
     int r = fsf_radius(sigma);
-    float sum = 0.0f;
+    float sum = 0.0f, w[FSF_RADIUS_CAP_PX + 1];
+    /* taps t and -t have the same weight and overlap the box alike (c = eta t negates exactly,
+     * so -t's [lo, hi] is [-hi, -lo]): each exp once, at t <= 0, read again at -t; the sum in
+     * t's order as before */
     for (int t = -r; t <= r; ++t) {
         float tf = (float)t, c = eta * tf, lo = fmax(-prof, c - half_m), hi = fmin(prof, c + half_m);
-        if (hi > lo) sum += (sigma > 0.0f ? exp(-0.5f * tf * tf / (sigma * sigma)) : 1.0f) * (hi - lo);
+        if (hi > lo) {
+            if (t <= 0) w[-t] = sigma > 0.0f ? exp(-0.5f * tf * tf / (sigma * sigma)) : 1.0f;
+            sum += w[abs(t)] * (hi - lo);
+        }
     }
     return sum / (2.0f * prof);
 }
