@@ -12,7 +12,10 @@
  *               passes and the oracle give the same)
  *   n_taps      taps per pixel; tap_off: the pixel's first slot in the tables below (its slots:
  *               2 r + 2 rounded up to whole float8, r its unmasked radius, fsf_cl.c tap_offsets);
- *               tap_node: an int per slot (-1: no tap); tap_a0, tap_a1: the weights of nodes j0
+ *               tap_node: an int per slot (-1: no tap), q J + j0 along the first axis, q
+ *               FSF_NODE_STRIDE2 + j0 along the second (q the neighbour's pixel in its ring, j0 its
+ *               node: pass 2b takes them apart by a shift and a mask, not a division by J);
+ *               tap_a0, tap_a1: the weights of nodes j0
  *               and j0 + 1, a float per slot each
  *   cum1        along the first axis, the running sums of its tap weights at the same slots
  *   P           J * 4 floats per pixel (J shift nodes) and y2 bin of the launch (C of them,
@@ -27,6 +30,8 @@
 #define FSF_CUM (2 * FSF_RADIUS_CAP_PX + 2)
 #define FSF_RADIUS_SIGMAS 2.0f
 #define FSF_MAX_Y2_BINS 64
+#define FSF_NODE_SHIFT2 7 /* FSF_NODE_STRIDE2 = 128 >= J = B + 1 <= FSF_MAX_Y2_BINS + 1 */
+#define FSF_NODE_STRIDE2 (1 << FSF_NODE_SHIFT2)
 
 typedef struct {
     float half1, half2;  /* L1, L2 */
@@ -155,7 +160,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 dyq = select((int8)(0), qy - y, in_frame), ry = (int8)(y % ring) + dyq;
         ry = select(ry, ry + ring, ry < 0), ry = select(ry, ry - ring, ry >= ring);
         int8 qp = ry * a.width + select((int8)(x), qx, in_frame);
-        vstore8(select((int8)(-1), qp * J + j0, ok), 0, tap_node + o);
+        vstore8(select((int8)(-1), qp * (axis == 0 ? J : FSF_NODE_STRIDE2) + j0, ok), 0, tap_node + o);
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
     }
@@ -420,7 +425,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
         vstore4(acc, i, out4);
         return;
     }
-    int J = a.J, B = a.B;
+    int B = a.B;
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
     int r = fsf_radius(sigma);
@@ -451,7 +456,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
     for (int e = 0; e < n; ++e) {
         int o = o0 + e, node = tap_node[o];
         if (node < 0) continue;
-        int q = node / J, j0 = node % J;
+        int q = node >> FSF_NODE_SHIFT2, j0 = node & (FSF_NODE_STRIDE2 - 1); /* fsf_taps' second axis */
         __global const float *gs = Q + 5 * B * q, *gm = gs + 4 * B;
         float a0 = tap_a0[o], a1 = tap_a1[o];
         /* the two nodes' sums interpolated, one weight per bin (fsf_pass2b): nodes j0 and
