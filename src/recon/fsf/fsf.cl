@@ -12,7 +12,10 @@
  *               passes and the oracle give the same)
  *   n_taps      taps per pixel; tap_off: the pixel's first slot in the tables below (its slots:
  *               2 r + 2 rounded up to whole float8, r its unmasked radius, fsf_cl.c tap_offsets);
- *               tap_node: an int per slot (-1: no tap); tap_a0, tap_a1: the weights of nodes j0
+ *               tap_node: an int per slot (-1: no tap), q J + j0 along the first axis, q
+ *               FSF_NODE_STRIDE2 + j0 along the second (q the neighbour's pixel in its ring, j0 its
+ *               node: pass 2b takes them apart by a shift and a mask, not a division by J);
+ *               tap_a0, tap_a1: the weights of nodes j0
  *               and j0 + 1, a float per slot each
  *   cum1        along the first axis, the running sums of its tap weights at the same slots
  *   P           J * 4 floats per pixel (J shift nodes) and y2 bin of the launch (C of them,
@@ -27,6 +30,8 @@
 #define FSF_CUM (2 * FSF_RADIUS_CAP_PX + 2)
 #define FSF_RADIUS_SIGMAS 2.0f
 #define FSF_MAX_Y2_BINS 64
+#define FSF_NODE_SHIFT2 7 /* FSF_NODE_STRIDE2 = 128 >= J = B + 1 <= FSF_MAX_Y2_BINS + 1 */
+#define FSF_NODE_STRIDE2 (1 << FSF_NODE_SHIFT2)
 
 typedef struct {
     float half1, half2;  /* L1, L2 */
@@ -70,10 +75,16 @@ static float8 fsf_gauss8(float8 t, float sigma)
 static float fsf_density_mean(float eta, float sigma, float half_m, float prof)
 {
     int r = fsf_radius(sigma);
-    float sum = 0.0f;
+    float sum = 0.0f, w[FSF_RADIUS_CAP_PX + 1];
+    /* taps t and -t have the same weight and overlap the box alike (c = eta t negates exactly,
+     * so -t's [lo, hi] is [-hi, -lo]): each exp once, at t <= 0, read again at -t; the sum in
+     * t's order as before */
     for (int t = -r; t <= r; ++t) {
         float tf = (float)t, c = eta * tf, lo = fmax(-prof, c - half_m), hi = fmin(prof, c + half_m);
-        if (hi > lo) sum += (sigma > 0.0f ? exp(-0.5f * tf * tf / (sigma * sigma)) : 1.0f) * (hi - lo);
+        if (hi > lo) {
+            if (t <= 0) w[-t] = sigma > 0.0f ? exp(-0.5f * tf * tf / (sigma * sigma)) : 1.0f;
+            sum += w[abs(t)] * (hi - lo);
+        }
     }
     return sum / (2.0f * prof);
 }
@@ -149,7 +160,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
         int8 dyq = select((int8)(0), qy - y, in_frame), ry = (int8)(y % ring) + dyq;
         ry = select(ry, ry + ring, ry < 0), ry = select(ry, ry - ring, ry >= ring);
         int8 qp = ry * a.width + select((int8)(x), qx, in_frame);
-        vstore8(select((int8)(-1), qp * J + j0, ok), 0, tap_node + o);
+        vstore8(select((int8)(-1), qp * (axis == 0 ? J : FSF_NODE_STRIDE2) + j0, ok), 0, tap_node + o);
         vstore8(select((float8)(0.0f), wt * (1.0f - b), ok), 0, tap_a0 + o);
         vstore8(select((float8)(0.0f), wt * b, ok), 0, tap_a1 + o);
     }
@@ -168,7 +179,14 @@ __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *
 {
     int i = get_global_id(0);
     if (i >= a.width * a.height || !usable[i]) return;
-    for (int k = 0; k < count[i]; ++k) bin2[i * capacity + k] = (uchar)fsf_bin2(ys[2 * (i * capacity + k) + 1], a.half2, a.B);
+    int k = 0, n_k = count[i];
+    /* eight slots at a time (fsf_bin2's operations lane by lane: the same bins), then the rest */
+    for (; k + 8 <= n_k; k += 8) {
+        float8 y2 = vload16(0, ys + 2 * (i * capacity + k)).odd;
+        int8 b = convert_int8(floor((y2 + a.half2) / (2.0f * a.half2) * (float)a.B));
+        vstore8(convert_uchar8(clamp(b, 0, a.B - 1)), 0, bin2 + i * capacity + k);
+    }
+    for (; k < n_k; ++k) bin2[i * capacity + k] = (uchar)fsf_bin2(ys[2 * (i * capacity + k) + 1], a.half2, a.B);
 }
 
 /* fsf_density at 8 light coordinates at once (PoCL runs one work item's scalar code on one
@@ -414,7 +432,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
         vstore4(acc, i, out4);
         return;
     }
-    int J = a.J, B = a.B;
+    int B = a.B;
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
     int r = fsf_radius(sigma);
@@ -445,7 +463,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
     for (int e = 0; e < n; ++e) {
         int o = o0 + e, node = tap_node[o];
         if (node < 0) continue;
-        int q = node / J, j0 = node % J;
+        int q = node >> FSF_NODE_SHIFT2, j0 = node & (FSF_NODE_STRIDE2 - 1); /* fsf_taps' second axis */
         __global const float *gs = Q + 5 * B * q, *gm = gs + 4 * B;
         float a0 = tap_a0[o], a1 = tap_a1[o];
         /* the two nodes' sums interpolated, one weight per bin (fsf_pass2b): nodes j0 and

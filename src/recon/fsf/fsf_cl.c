@@ -41,6 +41,9 @@ enum { FSF_BAND_ROWS = 8 };
 /* fsf.cl's tap tables: a pixel's slots hold its taps (2 r + 1) and, along the first axis, its
  * running sums (2 r + 2), rounded up to whole float8; FSF_TAP_SLOTS at most */
 enum { FSF_TAP_SLOTS = 40 };
+/* fsf.cl's node stride along the second axis (a power of two above J <= FSF_MAX_Y2_BINS + 1) */
+enum { FSF_NODE_STRIDE2 = 128 };
+_Static_assert(FSF_NODE_STRIDE2 > FSF_MAX_Y2_BINS + 1, "fsf.cl packs j0 below q along the second axis");
 _Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_CUM && FSF_TAP_SLOTS % 8 == 0, "fsf.cl writes taps 8 at a time");
 
 /* The device buffers a run writes before it reads them (none holds anything from one run to the
@@ -250,6 +253,12 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
      * halos */
     int ring1 = s->height < band_rows + 2 * most1 ? s->height : band_rows + 2 * most1;
     int ring2 = s->height < band_rows + 2 * most2 ? s->height : band_rows + 2 * most2;
+    /* the second axis' tap nodes are q FSF_NODE_STRIDE2 + j0, q a pixel of Q's ring (fsf.cl) */
+    if ((long long)ring2 * s->width >= INT_MAX / FSF_NODE_STRIDE2) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: an image too wide for the device's tap tables");
+        free(halo1);
+        return false;
+    }
     /* y2 bins per launch of pass 1a (one slice of P each): up to 4, as many as fit in
      * FSF_P_BYTES (docs/benchmarks.md, "FSF's passes, faster": 4 slices take 25% less time
      * in 1a than 1; more were slower) */
