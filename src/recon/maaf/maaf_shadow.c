@@ -120,11 +120,19 @@ static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4
 
 void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const float f4[4], float *ysum)
 {
-    /* c_p(y) per axis (eq. 20 with the light integrated, see maaf_shadow.h) */
+    /* c_p(y) per axis (eq. 20 with the light integrated, see maaf_shadow.h), the central band's
+     * its mean over the light: c_0(y) is the part of the sample's y-window on the light (1 at
+     * the centre, about 1/2 at an edge), and as a weight it would average f over the light with
+     * c_0's profile instead of uniformly (biased wherever f varies across the light, e.g. its
+     * cosines and distance; docs/algorithms.md 9.20) */
     float b1[MAAF_PAIRS_MAX][2], b2[MAAF_PAIRS_MAX][2];
     for (int p = 0; p < pairs; ++p) {
         maaf_light_factor(l, 0, p, y1, b1[p]);
         maaf_light_factor(l, 1, p, y2, b2[p]);
+    }
+    for (int k = 0; k < 2; ++k) {
+        b1[0][k] = l->mean[0][0][k];
+        b2[0][k] = l->mean[1][0][k];
     }
     accumulate(pairs, b1, b2, f4, ysum);
 }
