@@ -3,8 +3,12 @@
  * allocation gives the pixels that every filter passes through (A = 1) several times the
  * samples of those all three filters cover (A >= 4 pi s^2, tens of pixels). combined.pbrt at
  * 64x64, 16 spp, seeds 1 and 2: 38.3 and 38.7 against 11.2 and 11.1 spp (at 256x256 78.8
- * against 10.7; uniform counts would give 1). A frame without defocus
- * keeps pass 1's 9 (soft_shadows.pbrt). */
+ * against 10.7; uniform counts would give 1). A frame with soft shadows alone
+ * (soft_shadows.pbrt, 9.20) has the same plan, pass 1 half the budget but at least 9 (here
+ * 9), and the pixels whose
+ * shadow filter is narrow (central std 0.5-2 px: contact shadows) get more than 1.3 times the
+ * samples of those whose filter is wide (8 px or more); the class plan before gave every
+ * filtered pixel the same count (ratio 1). */
 #include <stdlib.h>
 
 #include "check.h"
@@ -33,9 +37,25 @@ static void count_plan(const ReconPipeline *p, void *ctx)
     }
 }
 
-static void count_budget9(const ReconPipeline *p, void *ctx)
+typedef struct {
+    double spp_narrow, spp_wide; /* sample sums: shadow filter std in [0.5, 2) px / >= 8 px */
+    int narrow, wide;
+    long budget_wrong;
+} ShadowCount;
+
+static void count_shadows(const ReconPipeline *p, void *ctx)
 {
-    *(long *)ctx = recon_test_budget_wrong(p, 9.0f / BUDGET, BUDGET);
+    ShadowCount *c = ctx;
+    const float *light = recon_test_frame_aov(p, "maaf.std_px.soft_shadows", RES);
+    const float *comps = recon_test_frame_aov(p, "maaf.components.soft_shadows", RES);
+    const float *spp = recon_pipeline_gbuffer(p)->frame.spp;
+    c->budget_wrong = recon_test_budget_wrong(p, 9.0f / BUDGET, BUDGET);
+    if (!light || !comps) return;
+    for (int i = 0; i < RES * RES; ++i) {
+        if (comps[i] < 2.0f) continue; /* the full design only (a wedge measured) */
+        if (light[i] >= 0.5f && light[i] < 2.0f) c->spp_narrow += spp[i], ++c->narrow;
+        if (light[i] >= 8.0f) c->spp_wide += spp[i], ++c->wide;
+    }
 }
 
 int main(void)
@@ -59,9 +79,14 @@ int main(void)
     CHECK(text != NULL);
     if (text) {
         ReconOptions o = {.filter = "maaf", .spp = BUDGET};
-        long wrong = -1;
-        free(recon_test_render_pipeline(text, 1, &o, count_budget9, &wrong));
-        CHECK(wrong == 0);
+        ShadowCount c = {.budget_wrong = -1};
+        free(recon_test_render_pipeline(text, 1, &o, count_shadows, &c));
+        double narrow = c.narrow ? c.spp_narrow / c.narrow : 0.0, wide = c.wide ? c.spp_wide / c.wide : 0.0;
+        printf("soft_shadows: %d pixels with a narrow shadow filter, %.1f spp; %d with a wide one, %.1f spp\n", c.narrow,
+               narrow, c.wide, wide);
+        CHECK(c.budget_wrong == 0);
+        CHECK(c.narrow > 10 && c.wide > 10);
+        CHECK(narrow > 1.3 * wide);
     }
     free(text);
     CHECK_DONE();
