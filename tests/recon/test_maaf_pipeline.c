@@ -65,7 +65,7 @@ int main(void)
            err9_n1, err36, err144);
     CHECK(err9 > 0.0 && err36 > 0.0 && err144 > 0.0 && err9_n1 > 0.0);
     /* the filter removes most of the noise: at 9 spp what is left of MAAF's error here is the
-     * bias of a filter several pixels wide on a penumbra a few pixels wide (86% of it, two
+     * bias of a filter several pixels wide on a penumbra a few pixels wide (87% of it, two
      * seeds' cross term); with the central component's flat light factor (docs/algorithms.md
      * 9.20) 1.85e-3 against Monte Carlo's 3.43e-3, with c_0(y) as its weight 1.39e-3 (that
      * weight shrinks the light the central component sees, which sharpened this penumbra and
