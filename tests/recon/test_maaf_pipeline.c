@@ -64,7 +64,13 @@ int main(void)
     printf("relMSE at 9 spp: Monte Carlo %.3g, MAAF %.3g (N = 1: %.3g); MAAF at 36 spp %.3g, 144 spp %.3g\n", err_mc, err9,
            err9_n1, err36, err144);
     CHECK(err9 > 0.0 && err36 > 0.0 && err144 > 0.0 && err9_n1 > 0.0);
-    CHECK(2.0 * err9 <= err_mc); /* the filter removes most of the noise */
+    /* the filter removes most of the noise: at 9 spp what is left of MAAF's error here is the
+     * bias of a filter several pixels wide on a penumbra a few pixels wide (87% of it, two
+     * seeds' cross term); with the central component's flat light factor (docs/algorithms.md
+     * 9.20) 1.85e-3 against Monte Carlo's 3.43e-3, with c_0(y) as its weight 1.39e-3 (that
+     * weight shrinks the light the central component sees, which sharpened this penumbra and
+     * biased the bench scenes' smooth light) */
+    CHECK(1.5 * err9 <= err_mc);
     /* and converges as the budget grows, at least half Monte Carlo's rate per 4x (a design
      * fixed at the default held both at 1.27e-3: its bias; kappa_for_budget) */
     CHECK(2.0 * err36 <= err9);

@@ -3,8 +3,12 @@
  * allocation gives the pixels that every filter passes through (A = 1) several times the
  * samples of those all three filters cover (A >= 4 pi s^2, tens of pixels). combined.pbrt at
  * 64x64, 16 spp, seeds 1 and 2: 38.3 and 38.7 against 11.2 and 11.1 spp (at 256x256 78.8
- * against 10.7; uniform counts would give 1). A frame without defocus
- * keeps pass 1's 9 (soft_shadows.pbrt). */
+ * against 10.7; uniform counts would give 1). A frame with soft shadows alone
+ * (soft_shadows.pbrt, 9.20) has the same plan, pass 1 half the budget but at least 9 (here
+ * 9), and the pixels whose
+ * shadow filter is narrow (central std 0.5-2 px: contact shadows) get more than 1.3 times the
+ * samples of those whose filter is wide (8 px or more); the class plan before gave every
+ * filtered pixel the same count (ratio 1). */
 #include <stdlib.h>
 
 #include "check.h"
@@ -12,15 +16,20 @@
 
 enum { RES = 64, BUDGET = 16 };
 
+/* Sample sums and pixel counts of two classes of pixels, and the budget's check. */
 typedef struct {
-    double spp_open, spp_covered; /* sample sums: pixels all filters pass through / all cover */
-    int open, covered;
+    double spp[2];
+    int n[2];
     long budget_wrong;
-} PlanCount;
+} TwoClasses;
 
+static void add_to(TwoClasses *c, int k, float spp) { c->spp[k] += spp, ++c->n[k]; }
+static double mean_of(const TwoClasses *c, int k) { return c->n[k] ? c->spp[k] / c->n[k] : 0.0; }
+
+/* class 0: pixels all filters pass through (open), 1: all three cover */
 static void count_plan(const ReconPipeline *p, void *ctx)
 {
-    PlanCount *c = ctx;
+    TwoClasses *c = ctx;
     const float *lens = recon_test_frame_aov(p, "maaf.std_px.defocus", RES);
     const float *light = recon_test_frame_aov(p, "maaf.std_px.soft_shadows", RES);
     const float *bounce = recon_test_frame_aov(p, "maaf.std_px.indirect", RES);
@@ -28,14 +37,22 @@ static void count_plan(const ReconPipeline *p, void *ctx)
     c->budget_wrong = recon_test_budget_wrong(p, 0.5f, BUDGET);
     if (!lens || !light || !bounce) return;
     for (int i = 0; i < RES * RES; ++i) {
-        if (lens[i] == 0.0f && light[i] == 0.0f && bounce[i] == 0.0f) c->spp_open += spp[i], ++c->open;
-        if (lens[i] > 0.0f && light[i] > 0.0f && bounce[i] > 0.0f) c->spp_covered += spp[i], ++c->covered;
+        if (lens[i] == 0.0f && light[i] == 0.0f && bounce[i] == 0.0f) add_to(c, 0, spp[i]);
+        if (lens[i] > 0.0f && light[i] > 0.0f && bounce[i] > 0.0f) add_to(c, 1, spp[i]);
     }
 }
 
-static void count_budget9(const ReconPipeline *p, void *ctx)
+/* soft shadows alone, pixels with the full design: class 0 a central std in [0.5, 2) px, 1 >= 8 px */
+static void count_shadows(const ReconPipeline *p, void *ctx)
 {
-    *(long *)ctx = recon_test_budget_wrong(p, 9.0f / BUDGET, BUDGET);
+    TwoClasses *c = ctx;
+    const float *light = recon_test_frame_aov(p, "maaf.std_px.soft_shadows", RES);
+    const float *comps = recon_test_frame_aov(p, "maaf.components.soft_shadows", RES);
+    const float *spp = recon_pipeline_gbuffer(p)->frame.spp;
+    c->budget_wrong = recon_test_budget_wrong(p, 9.0f / BUDGET, BUDGET);
+    for (int i = 0; light && comps && i < RES * RES; ++i)
+        if (comps[i] >= 2.0f && (light[i] >= 8.0f || (light[i] >= 0.5f && light[i] < 2.0f)))
+            add_to(c, light[i] >= 8.0f, spp[i]);
 }
 
 int main(void)
@@ -45,13 +62,13 @@ int main(void)
     if (!text) CHECK_DONE();
     for (unsigned seed = 1; seed <= 2; ++seed) {
         ReconOptions o = {.filter = "maaf", .spp = BUDGET};
-        PlanCount c = {0};
+        TwoClasses c = {{0.0, 0.0}, {0, 0}, 0};
         free(recon_test_render_pipeline(text, seed, &o, count_plan, &c));
-        double open = c.open ? c.spp_open / c.open : 0.0, covered = c.covered ? c.spp_covered / c.covered : 0.0;
-        printf("seed %u: %d pixels no filter covers, %.1f spp; %d all filters cover, %.1f spp\n", seed, c.open, open,
-               c.covered, covered);
+        double open = mean_of(&c, 0), covered = mean_of(&c, 1);
+        printf("seed %u: %d pixels no filter covers, %.1f spp; %d all filters cover, %.1f spp\n", seed, c.n[0], open,
+               c.n[1], covered);
         CHECK(c.budget_wrong == 0);
-        CHECK(c.open > RES * RES / 100 && c.covered > RES * RES / 16);
+        CHECK(c.n[0] > RES * RES / 100 && c.n[1] > RES * RES / 16);
         CHECK(open > 3.0 * covered);
     }
     free(text);
@@ -59,9 +76,14 @@ int main(void)
     CHECK(text != NULL);
     if (text) {
         ReconOptions o = {.filter = "maaf", .spp = BUDGET};
-        long wrong = -1;
-        free(recon_test_render_pipeline(text, 1, &o, count_budget9, &wrong));
-        CHECK(wrong == 0);
+        TwoClasses c = {{0.0, 0.0}, {0, 0}, -1};
+        free(recon_test_render_pipeline(text, 1, &o, count_shadows, &c));
+        double narrow = mean_of(&c, 0), wide = mean_of(&c, 1);
+        printf("soft_shadows: %d pixels with a narrow shadow filter, %.1f spp; %d with a wide one, %.1f spp\n", c.n[0],
+               narrow, c.n[1], wide);
+        CHECK(c.budget_wrong == 0);
+        CHECK(c.n[0] > 10 && c.n[1] > 10);
+        CHECK(narrow > 1.3 * wide);
     }
     free(text);
     CHECK_DONE();

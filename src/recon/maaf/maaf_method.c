@@ -148,7 +148,7 @@ struct ReconMethod {
      * plans and forgotten by every later pass */
     unsigned char *plan_class;
     float *plan_factor;         /* PLAN_RATE: the count's factor against pass 1's (recon/sample_rate.h) */
-    float *lum4;                /* frames with defocus: pass 1's luminance moments per pixel (sample_rate_add) */
+    float *lum4;                /* rate_planned frames: pass 1's luminance moments per pixel (sample_rate_add) */
     bool plan_known;
     bool all_sums;              /* MAAF_ALL_SUMS_ENV: every sum accumulated (the tests' reference) */
     /* defocus (maaf_defocus.h) */
@@ -177,13 +177,24 @@ struct ReconMethod {
     bool height_made;
 };
 
+/* Frames whose plan is the Lagrange allocation (recon/sample_rate.h, docs/algorithms.md 9.14,
+ * 9.20): those with defocus, and those whose only filtered effect is soft shadows. Frames with
+ * indirect light but no defocus keep the plan's classes (their bounce filter was not measured
+ * under the allocation). */
+static bool rate_planned(EffectMask effects)
+{
+    if (effect_in(effects, EFFECT_DEFOCUS)) return true;
+    return effect_in(effects, EFFECT_SOFT_SHADOWS) && !effect_in(effects, EFFECT_INDIRECT);
+}
+
 static int maaf_pass1_spp(EffectMask effects)
 {
     (void)effects;
     return MAAF_SPP_DEFAULT;
 }
 
-/* Under a --spp budget, frames with defocus trace half of it in pass 1 and let the plan's
+/* Under a --spp budget, frames with the Lagrange allocation (rate_planned: defocus, or soft
+ * shadows alone) trace half of it in pass 1 and let the plan's
  * Lagrange allocation (recon/sample_rate.h) place the other half: pass 1 is the allocation's pilot
  * (it measures each pixel's variance and wedges) and its floor, and only the samples above
  * the floor can follow sqrt(v / A). With pass 1 fixed at 9 a budget of 8 had no plan at all
@@ -191,13 +202,18 @@ static int maaf_pass1_spp(EffectMask effects)
  * fitted (0.4 and 0.7 were each worse at some budgets); against pass 1 = 9 (256x256, seeds
  * 1-3, relMSE): combined 8 / 16 / 32 spp 1.24e-3 / 3.30e-4 / 2.12e-4 -> 6.9e-4 / 3.23e-4 /
  * 1.98e-4 (12 spp +3%), defocus 4.06e-4 / 1.18e-4 / 6.9e-5 -> 2.37e-4 / 1.13e-4 / 7.1e-5
- * (docs/algorithms.md 9.14). At 32 spp pass 1 is 16, seeds/003's own initial count. Frames
- * without defocus keep pass 1's 9 (their plan is the classes'). */
+ * (docs/algorithms.md 9.14). At 32 spp pass 1 is 16, seeds/003's own initial count. On
+ * soft_shadows (9.20) it also puts more samples under the shadow ray geometry that pass 2
+ * does not record. The other frames keep pass 1's 9 (their plan is the classes'). */
 #define DEFOCUS_BUDGET_PASS1_SHARE 0.5f
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
     int budget = renderer_spp(r);
     if (effect_in(effects, EFFECT_DEFOCUS) || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
+    /* soft shadows alone: never below the paper's 9, which the wedges and the pilot variance
+     * need (the 40-pixel scene of test_maaf_pipeline at a budget of 9: relMSE 2.5e-3 with
+     * pass 1 at 4 or 5, 1.9e-3 at 9; soft_shadows at 16 spp 2% above the plain half) */
+    if (rate_planned(effects)) return fmaxf(DEFOCUS_BUDGET_PASS1_SHARE, (float)MAAF_SPP_DEFAULT / (float)budget);
     return (float)MAAF_SPP_DEFAULT / (float)budget;
 }
 
@@ -386,9 +402,9 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     if (!m->stats_ok || (shadows && !m->ysum) || (shadows && !cache_init(&m->shadow_cache, n)) || !m->frame4 || !m->axis2 || !m->guide4 || !m->out4 || !m->shade ||
         !m->std_px || !m->components || !m->geoms || !m->lights)
         goto oom;
+    if (rate_planned(m->effects) && !(m->lum4 = zalloc(4 * n, sizeof(float)))) goto oom;
     if (m->defocus) {
         m->dsum = zalloc(n * per, sizeof(float));
-        m->lum4 = zalloc(4 * n, sizeof(float));
         /* asum's rows are written whole when a pixel's albedo first varies (albedo_add): not
          * zeroed, and the pages of pixels of one albedo are never touched */
         m->asum = split ? malloc(n * per * sizeof(float)) : NULL;
@@ -398,7 +414,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->daxis2 = malloc(4 * n * sizeof(float));
         m->dstd_px = calloc(n, sizeof(float));
         m->dcomponents = calloc(n, sizeof(float));
-        if (!m->dsum || !m->lum4 || (split && (!m->asum || !m->albedo4)) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
+        if (!m->dsum || (split && (!m->asum || !m->albedo4)) || !cache_init(&m->defocus_cache, n) || !m->dpos4 || !m->dnrm4 || !m->daxis2 || !m->dstd_px ||
             !m->dcomponents)
             goto oom;
         float lens_kappa = kappa_for_budget(s, MAAF_DEFOCUS_KAPPA_DEFAULT, split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
@@ -583,12 +599,11 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
      * split), once for the three sums */
     float ud[3] = {0.0f, 0.0f, 0.0f}, ui[3] = {0.0f, 0.0f, 0.0f};
     if (r->hit) gbuffer_unfiltered_split(r, ud, ui);
-    if (m->defocus && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height) {
-        size_t i = (size_t)py * (size_t)m->g->width + (size_t)px;
-        /* pass 1's samples measure each pixel's variance for the plan */
-        if (m->stats.collect_rays) sample_rate_add(m->lum4 + 4 * i, v3_luminance(r->L));
-        defocus_add(m, i, r, ud, ui);
-    }
+    bool inside = px >= 0 && py >= 0 && px < m->g->width && py < m->g->height;
+    /* pass 1's samples measure each pixel's variance for the plan */
+    if (m->lum4 && m->stats.collect_rays && inside)
+        sample_rate_add(m->lum4 + 4 * ((size_t)py * (size_t)m->g->width + (size_t)px), v3_luminance(r->L));
+    if (m->defocus && inside) defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ud, ui);
     if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
         indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ui);
     if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
@@ -888,9 +903,9 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
  * surface pixels whose filter is under UNFILTERED_STD_PX wide (contact shadows) get
  * EXTRA_SPP_PER_MU times mu times pass 1's count, at most 100 mu. Their extra samples come
  * without ray geometry; they are Monte Carlo pixels, and the filter leaves them out as
- * neighbours (sharpness rule). Frames with defocus: every pixel's count from the Lagrange
- * allocation of recon/sample_rate.h, its variance over the area of the filters its light goes through
- * (docs/algorithms.md 9.14). */
+ * neighbours (sharpness rule). Frames with defocus or with soft shadows alone (rate_planned):
+ * every pixel's count from the Lagrange allocation of recon/sample_rate.h, its variance over the
+ * area of the filters its light goes through (docs/algorithms.md 9.14, 9.20). */
 /* The plan's rule per pixel (plan_class): pass 1's count, the filtered count of the shadow and
  * indirect filters, the rate's count (plan_factor), or the extra count. */
 enum { PLAN_PASS1, PLAN_FILTERED, PLAN_RATE, PLAN_EXTRA };
@@ -947,12 +962,21 @@ static bool plan_classes(ReconMethod *m)
             }
             /* a texture edge's antialiasing is no shading filter's (gbuffer.h): extra samples */
             more = more || (g->hit[i] && gbuffer_texture_needs_samples(g, i, 0.0f));
+            if (m->lum4) {
+                /* soft shadows alone: the allocation over the shadow filter's area (a pixel it
+                 * passes through, or a miss, counts as the pixel alone); filters of a few
+                 * pixels (contact shadows) get more samples than wide ones, not all alike */
+                float std_used = more || !(shade_px < INFINITY) ? 0.0f : shade_px;
+                m->plan_factor[i] = sample_rate_area_px(std_used * std_used, std_used * std_used);
+                m->plan_class[i] = PLAN_RATE;
+                continue;
+            }
             m->plan_class[i] = more ? PLAN_EXTRA : cls;
         }
-    /* frames with defocus: plan_factor's areas become the Lagrange allocation's count factors
+    /* rate_planned frames: plan_factor's areas become the Lagrange allocation's count factors
      * against a pixel of typical variance that no filter covers (A = 1), which gets the extra
-     * count of frames without defocus */
-    if (m->defocus && !sample_rate_factors(m->lum4, g->width, g->height, m->plan_factor)) return false;
+     * count of the class plan */
+    if (m->lum4 && !sample_rate_factors(m->lum4, g->width, g->height, m->plan_factor)) return false;
     m->plan_known = true;
     return true;
 }
@@ -1081,13 +1105,13 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                 for (size_t c = 0; c < 8 * (size_t)used_comps; c += 4)
                     for (int ch = 0; ch < 4; ++ch) yd[c + ch] = ys[c + ch] * scale[ch];
             }
-            /* with defocus, per-pixel means (eq. 20 per pixel, as the lens sums: 9.8): the
-             * plan's counts there vary by 10x between neighbours (recon/sample_rate.h), and with raw
-             * sums a pixel's weight in its filters would follow its count, not the design
-             * (docs/algorithms.md 9.14). Without defocus the sums stay raw: the extra-sample
-             * pixels' own samples are meant to dominate their filter there (means: soft_shadows
-             * relMSE +5% at 16 spp). */
-            if (m->defocus)
+            /* under the Lagrange allocation (rate_planned), per-pixel means (eq. 20 per pixel, as
+             * the lens sums: 9.8): the plan's counts there vary by 10x between neighbours
+             * (recon/sample_rate.h), and with raw sums a pixel's weight in its filters would
+             * follow its count, not the design (docs/algorithms.md 9.14; soft_shadows at 32 spp,
+             * 9.20: bias 4.4e-5 raw, 2.5e-5 means). Under the class plan the sums stay raw: the
+             * extra-sample pixels' own samples are meant to dominate their filter there. */
+            if (m->lum4)
                 for (int c = 0; c < 8 * used_comps; ++c) yd[c] /= spp;
             maaf_planes_put(planes, x, y, yd);
         }

@@ -116,7 +116,7 @@ void maaf_light_factor(const MaafLight *l, int axis, int p, float y, float c[2])
     c[1] = row[e][1] + t * (row[e + 1][1] - row[e][1]);
 }
 
-static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4], float *ysum);
+static void accumulate(int pairs, const MaafLight *l, float b1[][2], float b2[][2], const float f4[4], float *ysum);
 
 void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const float f4[4], float *ysum)
 {
@@ -126,7 +126,7 @@ void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const fl
         maaf_light_factor(l, 0, p, y1, b1[p]);
         maaf_light_factor(l, 1, p, y2, b2[p]);
     }
-    accumulate(pairs, b1, b2, f4, ysum);
+    accumulate(pairs, l, b1, b2, f4, ysum);
 }
 
 void maaf_accumulate_unknown(int pairs, const MaafLight *l, const float f4[4], float *ysum)
@@ -137,10 +137,16 @@ void maaf_accumulate_unknown(int pairs, const MaafLight *l, const float f4[4], f
             b1[p][k] = l->mean[0][p][k];
             b2[p][k] = l->mean[1][p][k];
         }
-    accumulate(pairs, b1, b2, f4, ysum);
+    accumulate(pairs, l, b1, b2, f4, ysum);
 }
 
-static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4], float *ysum)
+/* The factors of the components (p, q) from the per-axis ones, the central component (0, 0)'s
+ * the product of c_0's means over the light: c_0(y) is the part of the sample's y-window on the
+ * light (1 at its centre, about 1/2 at an edge), and as the central component's weight it
+ * averages a pixel's samples over the light with that profile instead of uniformly, biased
+ * wherever the light arrives unevenly across it (its cosines and distances; docs/algorithms.md
+ * 9.20). The bands p or q >= 1, and c_0 where it multiplies one of them, keep y. */
+static void accumulate(int pairs, const MaafLight *l, float b1[][2], float b2[][2], const float f4[4], float *ysum)
 {
     float w[2 * MAAF_COMPS_MAX];
     int c = 0;
@@ -153,6 +159,9 @@ static void accumulate(int pairs, float b1[][2], float b2[][2], const float f4[4
             w[2 * c + 1] = b1[p][0] * bi + b1[p][1] * br;
             ++c;
         }
+    const float *m1 = l->mean[0][0], *m2 = l->mean[1][0];
+    w[0] = m1[0] * m2[0] - m1[1] * m2[1];
+    w[1] = m1[0] * m2[1] + m1[1] * m2[0];
     maaf_factors_accumulate(c, w, f4, ysum);
 }
 

@@ -48,7 +48,9 @@ void maaf_light_axes(const MaafLight *l, const float p_world[3], float t1[3], fl
 void maaf_light_factor(const MaafLight *l, int axis, int p, float y, float c[2]);
 
 /* Adds one sample's value f4 (r, g, b, 1) at light coordinates (y1, y2) (world units from the
- * light's centre along t1, t2) to the pixel's sums ysum (8 floats per component). */
+ * light's centre along t1, t2) to the pixel's sums ysum (8 floats per component): the products
+ * of the per-axis factors c_p(y), except the central component (0, 0)'s, the product of c_0's
+ * means over the light (flat: the light's samples weighted alike, docs/algorithms.md 9.20). */
 void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const float f4[4], float *ysum);
 
 /* The same for a sample whose light point is unknown (the receiver faces away from the light
