@@ -24,32 +24,6 @@ WEDGE_VECTORISED void sphere_packet_hits(const float *rays, const int *valid, un
     const float *dx = rays + RAYN_DIR_X * n, *dy = rays + RAYN_DIR_Y * n, *dz = rays + RAYN_DIR_Z * n;
     const float *tn = rays + RAYN_TNEAR * n, *tf = rays + RAYN_TFAR * n;
     double tx = translation[0], ty = translation[1], tz = translation[2];
-    /* Most packets that reach a sphere's leaf miss it with every lane (on defocus.pbrt 72% of
-     * the calls: shadow rays leaving a sphere's own surface, rays passing its box's corners).
-     * The lanes' coefficients first, with the one division the sure-miss test needs; when no
-     * lane can hit, the square roots and the two other divisions are skipped. A lane cannot
-     * hit when the loop below would give hit 0 whatever its later arithmetic rounds to: not
-     * live, no direction, the sure miss by distance, or the origin outside the sphere (c > 0)
-     * and moving away from its centre (b > 0) with tnear >= 0: then q = -0.5 (b + root) is
-     * negative or -0 (or NaN), so t0 = q / a and t1 = c / q are <= -0 (or NaN) and neither
-     * is > tnear. (Shadow rays leaving a sphere are that case.) */
-    int maybe = 0;
-    for (unsigned i = 0; i < n; ++i) {
-        double o0 = w * ox[i] + tx, o1 = w * oy[i] + ty, o2 = w * oz[i] + tz;
-        double d0 = w * dx[i], d1 = w * dy[i], d2 = w * dz[i];
-        double a = d0 * d0 + d1 * d1 + d2 * d2;
-        double b = 2.0 * (d0 * o0 + d1 * o1 + d2 * o2);
-        double c = o0 * o0 + o1 * o1 + o2 * o2 - r * r;
-        double f = b / (2.0 * a);
-        double v0 = o0 - f * d0, v1 = o1 - f * d1, v2 = o2 - f * d2;
-        double len2 = v0 * v0 + v1 * v1 + v2 * v2;
-        int leaving = (b > 0.0) & (c > 0.0) & (tn[i] >= 0.0f);
-        maybe |= (valid[i] == -1) & (a > 0.0) & !(len2 > r * r * (1.0 + 1e-9)) & !leaving;
-    }
-    if (!maybe) {
-        for (unsigned i = 0; i < n; ++i) hit[i] = 0;
-        return;
-    }
     for (unsigned i = 0; i < n; ++i) {
         /* quadric_hit_rayn's scaling, then tracer_quadric_hit's translation-only object space */
         double o0 = w * ox[i] + tx, o1 = w * oy[i] + ty, o2 = w * oz[i] + tz;
