@@ -311,6 +311,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
         if (!lights_mesh_run(set, tr, i, &c->mesh_first, &c->mesh_end)) c->mesh_first = c->mesh_end = 0;
         c->static_triangle = light_is_static_triangle(set, tr, i);
     }
+    lights_find_sole_mesh(set);
     return true;
 oom:
     diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building lights");
@@ -331,6 +332,22 @@ void lights_free(LightSet *set)
     free(set->infinite);
     free(set->choice);
     *set = (LightSet){0};
+}
+
+void lights_find_sole_mesh(LightSet *set)
+{
+    set->sole_mesh_first = set->sole_mesh_end = 0;
+    int first = 0, end = 0;
+    for (int i = 0; i < set->count; ++i) {
+        if (!(set->cdf[i + 1] > set->cdf[i])) continue; /* no power: never picked */
+        const LightChoice *c = &set->choice[i];
+        if (!(c->pmf > 0.0f) || c->mesh_end <= 0) return;
+        if (end == 0) first = c->mesh_first, end = c->mesh_end;
+        if (c->mesh_first != first || c->mesh_end != end) return;
+    }
+    for (int i = first; i < end; ++i)
+        if (!(set->cdf[i + 1] > set->cdf[i]) || !(set->choice[i].pmf > 0.0f)) return;
+    set->sole_mesh_first = first, set->sole_mesh_end = end;
 }
 
 int lights_pick(const LightSet *set, float u, float *pmf)

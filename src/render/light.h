@@ -72,6 +72,10 @@ typedef struct {
     bool emitters_bounded;
     vec3 emitter_lo, emitter_hi;
     LightChoice *choice;    /* count entries (lights_build; NULL in a set made by hand) */
+    /* When every light the pick can land on is a triangle of one emitting mesh (the lights
+     * outside its run [sole_mesh_first, sole_mesh_end) have no power, each inside has some):
+     * the run, else sole_mesh_end = 0. lights_choose then needs no pick of the light. */
+    int sole_mesh_first, sole_mesh_end;
 } LightSet;
 
 /* A sampled point on a light as seen from a receiver. */
@@ -91,6 +95,9 @@ typedef struct {
 bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err);
 void lights_free(LightSet *set);
 
+/* Sets sole_mesh_first / sole_mesh_end from the set's cdf and choice table (lights_build
+ * calls it; a test that edits the table calls it again). */
+void lights_find_sole_mesh(LightSet *set);
 /* The box around the area lights (light_bounds.c; called by lights_build). */
 void lights_bound_emitters(LightSet *set, const Tracer *tr);
 /* False when the ray o + t d (t >= 0, world units) cannot hit any area light: it misses

@@ -63,12 +63,23 @@ static inline int lights_pick_in_run(const LightSet *set, int first, int end, in
  * for a set from lights_build; inline, as the integrator calls it once a vertex. */
 static inline int lights_choose(const LightSet *set, float u_pick, vec2 *u, float *pmf, bool *static_triangle)
 {
-    if (!(set->power_total > 0.0f)) return -1;
-    int lo = lights_cdf_cell(set, u_pick * set->power_total);
-    const LightChoice *c = &set->choice[lo];
-    *pmf = c->pmf; /* lights_pick's quotient: lights_pmf is the same expression */
-    if (!(c->pmf > 0.0f)) return -1;
-    if (c->mesh_end > 0) lo = lights_pick_in_run(set, c->mesh_first, c->mesh_end, lo, u, pmf);
+    int lo, first, end;
+    /* One emitting mesh holds every light with power (sole_mesh_end > 0): any target below
+     * the total lands in its run (a light before it has no width to land in), where
+     * lights_pick_in_run re-picks from u->x whatever light was picked, so the first pick
+     * is skipped; *pmf is the one lights_pick_in_run writes either way, and its w > 0 by
+     * the run's powers. The target at or above the total, or NaN, takes the full path. */
+    if (set->sole_mesh_end > 0 && u_pick * set->power_total < set->power_total) {
+        lo = first = set->sole_mesh_first, end = set->sole_mesh_end;
+    } else {
+        if (!(set->power_total > 0.0f)) return -1;
+        lo = lights_cdf_cell(set, u_pick * set->power_total);
+        const LightChoice *c = &set->choice[lo];
+        *pmf = c->pmf; /* lights_pick's quotient: lights_pmf is the same expression */
+        if (!(c->pmf > 0.0f)) return -1;
+        first = c->mesh_first, end = c->mesh_end;
+    }
+    if (end > 0) lo = lights_pick_in_run(set, first, end, lo, u, pmf);
     *static_triangle = set->choice[lo].static_triangle;
     return lo;
 }

@@ -1207,6 +1207,34 @@ static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *ra
     }
 }
 
+/* The direction octant of a ray: the signs of d's coordinates as three bits. */
+static inline int ray_octant(vec3 d) { return (d.x < 0.0f) | (d.y < 0.0f) << 1 | (d.z < 0.0f) << 2; }
+
+/* A chunk's rays grouped by their octants key[0 .. m), each octant's rays in their order:
+ * order[0 .. m) lists the rays so (order has room for m + 1: the branch-free compaction
+ * writes one past). counts holds the rays per octant, one byte each (octant o in bits
+ * 8 o .. 8 o + 7).
+ *
+ * Why: Embree 3 traces a coherent stream in groups of consecutive rays (32 or 64), and a
+ * group takes its frustum traversal (one walk of the tree for all its packets) only when all
+ * its rays share an octant; otherwise it traces the group's packets one by one. The shadow
+ * rays of a wave's vertices to two delta lights alternate ray by ray (defocus.pbrt: the
+ * point light's, then the distant light's, for each receiver), so nearly every group mixed
+ * two octants. Occlusion is an any-hit question, whose answer per ray does not depend on the
+ * ray's neighbours; the images stay the same bit for bit (docs/benchmarks.md, issue 22,
+ * twenty-second round). Closest-hit batches are not reordered: no gain measured there. */
+static void octant_order(const int *key, uint64_t counts, int m, int *order)
+{
+    int n = 0;
+    for (int o = 0; o < 8; ++o) {
+        if (!((counts >> (8 * o)) & 255u)) continue;
+        for (int i = 0; i < m; ++i) {
+            order[n] = i;
+            n += key[i] == o;
+        }
+    }
+}
+
 /* Whether hit rh (of a batch) is one shade_sphere_hits shades: on a sphere at the top level
  * whose uv nobody reads, to be shaded (what shade_hit would do with it otherwise). */
 static inline bool sphere_hit_batched(const Tracer *tr, const struct RTCRayHit *rh, bool shade_all)
@@ -1328,7 +1356,24 @@ void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool 
             }
             continue;
         }
-        for (int i = 0; i < m; ++i) init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
+        _Static_assert(TRACE_CHUNK < 256, "a chunk's count per octant fits a byte");
+        int key[TRACE_CHUNK];
+        uint64_t counts = 0; /* rays per octant, a byte each (no chain through memory) */
+        for (int i = 0; i < m; ++i) {
+            init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
+            key[i] = ray_octant(r[i].d);
+            counts += 1ull << (8 * key[i]);
+        }
+        if (tr->batch_mode == TRACER_BATCH_STREAM && m > 0 && counts != (uint64_t)m << (8 * key[0])) {
+            /* octants mixed: the chunk's rays to Embree by octant, the answers back in place */
+            int order[TRACE_CHUNK + 1];
+            struct RTCRay sorted[TRACE_CHUNK];
+            octant_order(key, counts, m, order);
+            for (int j = 0; j < m; ++j) sorted[j] = ray[order[j]];
+            rtcOccluded1M(scene, &ctx, sorted, (unsigned)m, sizeof sorted[0]);
+            for (int j = 0; j < m; ++j) occluded[k0 + order[j]] = sorted[j].tfar == -INFINITY;
+            continue;
+        }
         if (tr->batch_mode == TRACER_BATCH_STREAM)
             rtcOccluded1M(scene, &ctx, ray, (unsigned)m, sizeof ray[0]);
         else

@@ -52,6 +52,20 @@ static const char *mixed_text =
     "  Shape \"bilinearmesh\" \"point3 P\" [ -1 -3 0  1 -3 0  -1 -3 1  1 -3 1 ] \"integer indices\" [ 0 1 2 3 ]\n"
     "AttributeEnd\n";
 
+/* The mesh of scene_text declared before the point light: the lights without power (the
+ * point light, lit at every vertex) then come after the mesh's run. */
+static const char *mesh_first_text =
+    "LookAt 0 0 -5  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
+    "WorldBegin\n"
+    "AttributeBegin\n"
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
+    "  Shape \"trianglemesh\" \"point3 P\" [ 0 3 0  1 3 0  0 3 1   2 3 0  4 3 0  2 3 1   5 3 0  7 3 0  5 3 2 ]\n"
+    "        \"integer indices\" [ 0 2 1  3 5 4  6 8 7 ]\n"
+    "AttributeEnd\n"
+    "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 4 0 ]\n";
+
 /* The scene of text with its tracer and lights; false (and a failed check) when one fails. */
 static bool build(const char *text, SceneDesc *scene, Tracer *tr, LightSet *set)
 {
@@ -63,19 +77,22 @@ static bool build(const char *text, SceneDesc *scene, Tracer *tr, LightSet *set)
     return check_failures == 0;
 }
 
-/* lights_choose against the chain it replaces, on a grid of u_pick x u.x with both ends:
+/* lights_choose against the chain it replaces, on a grid of u_pick x u.x with both ends
+ * (and u_pick past them: 1, which can put the target on the total, a negative one and NaN):
  * the same light, the same bits of *pmf and u->x, and static_triangle as
- * light_is_static_triangle. Returns how many lights of each kind were chosen. */
-static void check_choose(const char *text, int chosen[3])
+ * light_is_static_triangle. Returns how many lights of each kind were chosen; *sole says
+ * whether the set has one emitting mesh (lights_choose's shortcut). */
+static void check_choose(const char *text, int chosen[3], bool *sole)
 {
     SceneDesc scene;
     Tracer tr;
     LightSet set;
     if (!build(text, &scene, &tr, &set)) return;
+    *sole = set.sole_mesh_end > 0;
     enum { NP = 301, NX = 97 };
     int bad = 0;
-    for (int a = 0; a <= NP; ++a) {
-        float u_pick = a == NP ? 0x1.fffffep-1f : (float)a / NP;
+    for (int a = 0; a <= NP + 3; ++a) {
+        float u_pick = a == NP ? 0x1.fffffep-1f : a == NP + 1 ? 1.0f : a == NP + 2 ? -0.25f : a == NP + 3 ? NAN : (float)a / NP;
         for (int b = 0; b <= NX; ++b) {
             float ux = b == NX ? 0x1.fffffep-1f : (float)b / NX;
             float pmf_ref = -1.0f, pmf = -1.0f;
@@ -98,9 +115,13 @@ static void check_choose(const char *text, int chosen[3])
 int main(void)
 {
     int chosen[3] = {0, 0, 0}; /* other lights, static triangles, other area lights */
-    check_choose(scene_text, chosen);
-    check_choose(mixed_text, chosen);
+    bool sole[3] = {false, false, true};
+    check_choose(scene_text, chosen, &sole[0]);
+    check_choose(mesh_first_text, chosen, &sole[1]);
+    check_choose(mixed_text, chosen, &sole[2]);
     CHECK(chosen[0] > 0 && chosen[1] > 0 && chosen[2] > 0);
+    /* the shortcut is taken where one mesh holds every light with power, wherever the others are */
+    CHECK(sole[0] && sole[1] && !sole[2]);
 
     SceneDesc scene;
     Tracer tr;

@@ -31,7 +31,9 @@ static const char *QUADRICS =
 
 enum { RAYS = 203 }; /* not a multiple of 16 or of the 64-ray chunks */
 
-/* Rays from around the camera towards the shapes, some short (tmax) to test occlusion. */
+/* Rays from around the camera towards the shapes, some short (tmax) to test occlusion.
+ * Their directions' x and y signs vary, so every chunk mixes octants and the stream's
+ * occlusion rays take tracer_occluded_batch's regrouping by octant. */
 static void make_rays(TracerRay *rays, int n)
 {
     Pcg32 rng;
