@@ -24,6 +24,14 @@
 #include "render/light_choose.h"
 #include "render/warp.h"
 
+/* The wave is compiled twice, for whole records (integrate_wave) and for the radiance alone
+ * (integrate_wave_radiance): wave_integrate and every stage function it calls once are forced
+ * inline into both, so that each copy is specialised for its output and inlines what the one
+ * copy of the base build inlined (GCC inlines a large static function that has one caller,
+ * not one with two: left to it, a sample took 2-4% more instructions; docs/benchmarks.md,
+ * "Issue 22, twenty-first round"). */
+#define WAVE_STAGE static inline __attribute__((always_inline))
+
 /* All three components finite, without a test and branch per component: x * 0 is 0 for a
  * finite x and NaN for an infinite or NaN one, and a sum with a NaN term is NaN, which is
  * the one value unequal to itself. (Exact: no rounding can make a NaN of zeros or the
@@ -130,7 +138,7 @@ typedef struct {
 /* BSDF sampling: Lambert takes the cosine-weighted direction about n, lambert_local =
  * warp_cosine_hemisphere(u) (drawn for a whole run by wave_vertex_dims); glossy BSDFs choose
  * a lobe with u_lobe and sample it with u (bsdf_glossy.h). False when nothing was sampled. */
-static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lambert_local, VertexSample *vs)
+WAVE_STAGE bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lambert_local, VertexSample *vs)
 {
     if (v->glossy) {
         GlossySample gs;
@@ -286,8 +294,8 @@ static vec3 light_finish(const LightPending *lp, bool occluded, IntegratorStats 
 
 /* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling (weight 1
  * after a delta lobe or from a delta-only vertex, which light sampling never serves). */
-static vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, bool no_mis, const SurfaceHit *h,
-                              vec3 wi, float time01, bool hit)
+WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, bool no_mis,
+                                  const SurfaceHit *h, vec3 wi, float time01, bool hit)
 {
     const LightSet *L = sc->lights;
     vec3 sum = v3s(0.0f);
@@ -569,17 +577,19 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
     }
 }
 
-/* Where a wave's samples go: whole records (recs), or their radiance alone (rads, with recs
- * NULL: integrate_wave_radiance). */
+/* Where a wave's samples go: whole records (recs), or their radiance alone (rads,
+ * radiance_only: integrate_wave_radiance). A constant in each of the wave's two copies
+ * (WAVE_STAGE), so every test of it below is decided at compile time. */
 typedef struct {
     SampleRecord *recs;
     RadianceRecord *rads;
+    bool radiance_only;
 } WaveOut;
 
-static inline SampleRecord *wave_out_record(WaveOut out, int j) { return out.recs ? &out.recs[j] : NULL; }
+static inline SampleRecord *wave_out_record(WaveOut out, int j) { return out.radiance_only ? NULL : &out.recs[j]; }
 static inline SampleRadiance *wave_out_radiance(WaveOut out, int j)
 {
-    return out.recs ? &out.recs[j].radiance : &out.rads[j].radiance;
+    return out.radiance_only ? &out.rads[j].radiance : &out.recs[j].radiance;
 }
 
 /* The record's sample position of one camera sample from its film and shutter dimensions
@@ -589,9 +599,9 @@ static inline void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, 
                                       const WavePixel *px, WavePath *p, WaveOut out, int j, float *px_raster,
                                       float *py_raster)
 {
-    SampleRecord *rec = out.recs ? &out.recs[j] : NULL;
+    SampleRecord *rec = wave_out_record(out, j);
     float *filter_weight;
-    if (rec) {
+    if (!out.radiance_only) {
         record_reset(rec, sc->skip_first_hit_fields && !sc->record_motion && !sc->record_ray_geometry);
         filter_weight = &rec->filter_weight;
     } else {
@@ -605,7 +615,7 @@ static inline void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, 
     *px_raster = (float)px->px + u_film.x;
     *py_raster = (float)px->py + u_film.y;
     if (!sc->sample_time) shutter_u = 0.0f;
-    if (rec) {
+    if (!out.radiance_only) {
         rec->px_raster = *px_raster, rec->py_raster = *py_raster;
         rec->lens_u = lens.x, rec->lens_v = lens.y;
         rec->time = shutter_u;
@@ -616,8 +626,8 @@ static inline void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, 
 /* The camera rays of pixel k's samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX),
  * paths j0 .., with their first vertex's dimensions (a camera ray that misses has drawn them
  * for nothing). The rays themselves are one batch (camera_generate_rays). */
-static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k,
-                             int first, int count, int j0, WaveOut out)
+WAVE_STAGE void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
+                                 int k, int first, int count, int j0, WaveOut out)
 {
     PixelSampler *s = wave_pixel_sampler(w, ws, pixels, k);
     sampler_run_begin(s, &w->run, first, count);
@@ -647,14 +657,11 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
 }
 
 /* What the camera ray found: emission seen directly, the first hit's record fields (rec:
- * NULL for the radiance alone), and the path's first vertex. Inline in the wave, with
- * wave_vertex_fold: out of line, its call cost about 20 instructions a sample, and the
- * fourteenth round's inlining of it alone had been dearer (register pressure); both inline
- * are 1-2% fewer instructions than either alone (docs/benchmarks.md, twenty-first round). */
-static inline __attribute__((always_inline)) void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
-                                                                  bool found, const SurfaceHit *h, bool sampled,
-                                                                  SampleRecord *rec, SampleRadiance *R,
-                                                                  IntegratorStats *st)
+ * NULL for the radiance alone), and the path's first vertex. Out of line until the
+ * twenty-first round (its call cost about 20 instructions a sample; the fourteenth round had
+ * found it dearer inline, in the base build alone, which still holds: +0.4%). */
+WAVE_STAGE void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world, bool found, const SurfaceHit *h,
+                               bool sampled, SampleRecord *rec, SampleRadiance *R, IntegratorStats *st)
 {
     p->alive = false;
     if (!found) {
@@ -752,7 +759,7 @@ static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light,
 /* The picks of the stage's live, lit paths (what light_prepare would find), and the samples
  * of the picked static triangle lights, per light in one vectorised loop each (up to
  * WAVE_TRIANGLE_GROUPS lights; a path that picks another samples it on its own). */
-static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
+WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
 {
     const LightSet *L = sc->lights;
     w->tri_groups = 0;
@@ -802,7 +809,7 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
  * every live, lit path of the stage, light by light in one vectorised loop each
  * (light_sample_point_batch): the same values light_sample gives path by path, whose
  * square roots and divisions then waited on each other. Path j's are entry lit_slot. */
-static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
+WAVE_STAGE void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
 {
     const LightSet *L = sc->lights;
     bool any = false;
@@ -837,8 +844,8 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
 /* First half of next-event estimation for path p: a point on the light its dimensions
  * picked (wave_triangle_light_samples, which also sampled a static triangle) and the
  * shadow ray, into p->lp. */
-static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
-                          TracerRay *shadow)
+WAVE_STAGE bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
+                              TracerRay *shadow)
 {
     const VertexDims *u = &p->u;
     if (u->light_index < 0) return false;
@@ -902,8 +909,8 @@ static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec
  * whether or not the sample is kept, so that whether the receiver faces the light and the
  * light faces it (one-sided emitters; on a receiver beside the light a coin toss) is not a
  * branch. The same tests, values and counters as light_prepare_sampled. */
-static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
-                                          TracerRay *shadow)
+WAVE_STAGE int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p,
+                                              IntegratorStats *st, TracerRay *shadow)
 {
     const VertexDims *u = &p->u;
     const WaveTriangleSamples *g = &w->tri[p->tri_group];
@@ -1117,9 +1124,8 @@ static vec3 delta_sum_guarded(const Wave *w, const WavePath *p, IntegratorStats 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
  * found, added to the radiance R (and to the record rec, NULL for the radiance alone), and
  * the next vertex (or the end of the path). */
-static inline __attribute__((always_inline)) void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth,
-                                                                    SampleRecord *rec, SampleRadiance *R,
-                                                                    IntegratorStats *st)
+WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
+                                 SampleRadiance *R, IntegratorStats *st)
 {
     WavePath *p = &w->path[j];
     vec3 *bucket = depth == 1 ? &R->direct : &R->indirect;
@@ -1187,15 +1193,11 @@ static inline __attribute__((always_inline)) void wave_vertex_fold(const Integra
     p->alive = true;
 }
 
-/* The wave, for either kind of output (WaveOut), chosen per record by a test whose answer
- * never changes within a wave. One copy, not one per kind: two copies of this function would
- * each call the stage functions it now inlines (their second caller), 2.4% more instructions
- * per sample. A radiance-only wave runs on a scene that asks for nothing else
- * (integrate_wave_radiance), so every record field it would skip is skipped by that scene's
- * flags as well. */
-static __attribute__((noinline, noclone)) int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSampling *ws,
-                                                    const WavePixel *pixels, int pixel_count, WaveOut out,
-                                                    IntegratorStats *st)
+/* The wave, for either kind of output (WaveOut; one copy of it each, WAVE_STAGE). A
+ * radiance-only wave runs on a scene that asks for nothing else (integrate_wave_radiance), so
+ * every record field it would skip is skipped by that scene's flags as well. */
+WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
+                              int pixel_count, WaveOut out, IntegratorStats *st)
 {
     _Static_assert(SAMPLE_RECORD_MAX_SHADOW == 1 && SAMPLE_RECORD_MAX_BOUNCE == 1,
                    "record_reset clears one entry of each");
@@ -1285,7 +1287,7 @@ static __attribute__((noinline, noclone)) int wave_integrate(const IntegratorSce
 int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int pixel_count,
                    SampleRecord *recs, IntegratorStats *st)
 {
-    return wave_integrate(sc, w, ws, pixels, pixel_count, (WaveOut){recs, NULL}, st);
+    return wave_integrate(sc, w, ws, pixels, pixel_count, (WaveOut){recs, NULL, false}, st);
 }
 
 int integrate_wave_radiance(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
@@ -1295,5 +1297,5 @@ int integrate_wave_radiance(const IntegratorScene *sc, Wave *w, const WaveSampli
     IntegratorScene radiance_only = *sc;
     radiance_only.skip_first_hit_fields = true;
     radiance_only.record_motion = radiance_only.record_ray_geometry = false;
-    return wave_integrate(&radiance_only, w, ws, pixels, pixel_count, (WaveOut){NULL, rads}, st);
+    return wave_integrate(&radiance_only, w, ws, pixels, pixel_count, (WaveOut){NULL, rads, true}, st);
 }
