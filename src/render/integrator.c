@@ -24,6 +24,14 @@
 #include "render/light_choose.h"
 #include "render/warp.h"
 
+/* The wave is compiled twice, for whole records (integrate_wave) and for the radiance alone
+ * (integrate_wave_radiance): wave_integrate and every stage function it calls once are forced
+ * inline into both, so that each copy is specialised for its output and inlines what the one
+ * copy of the base build inlined (GCC inlines a large static function that has one caller,
+ * not one with two: left to it, a sample took 2-4% more instructions; docs/benchmarks.md,
+ * "Issue 22, twenty-first round"). */
+#define WAVE_STAGE static inline __attribute__((always_inline))
+
 /* All three components finite, without a test and branch per component: x * 0 is 0 for a
  * finite x and NaN for an infinite or NaN one, and a sum with a NaN term is NaN, which is
  * the one value unequal to itself. (Exact: no rounding can make a NaN of zeros or the
@@ -130,7 +138,7 @@ typedef struct {
 /* BSDF sampling: Lambert takes the cosine-weighted direction about n, lambert_local =
  * warp_cosine_hemisphere(u) (drawn for a whole run by wave_vertex_dims); glossy BSDFs choose
  * a lobe with u_lobe and sample it with u (bsdf_glossy.h). False when nothing was sampled. */
-static bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lambert_local, VertexSample *vs)
+WAVE_STAGE bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lambert_local, VertexSample *vs)
 {
     if (v->glossy) {
         GlossySample gs;
@@ -286,8 +294,8 @@ static vec3 light_finish(const LightPending *lp, bool occluded, IntegratorStats 
 
 /* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling (weight 1
  * after a delta lobe or from a delta-only vertex, which light sampling never serves). */
-static vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, bool no_mis, const SurfaceHit *h,
-                              vec3 wi, float time01, bool hit)
+WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, bool no_mis,
+                                  const SurfaceHit *h, vec3 wi, float time01, bool hit)
 {
     const LightSet *L = sc->lights;
     vec3 sum = v3s(0.0f);
@@ -569,29 +577,57 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
     }
 }
 
+/* Where a wave's samples go: whole records (recs), or their radiance alone (rads,
+ * radiance_only: integrate_wave_radiance). A constant in each of the wave's two copies
+ * (WAVE_STAGE), so every test of it below is decided at compile time. */
+typedef struct {
+    SampleRecord *recs;
+    RadianceRecord *rads;
+    bool radiance_only;
+} WaveOut;
+
+static inline SampleRecord *wave_out_record(WaveOut out, int j) { return out.radiance_only ? NULL : &out.recs[j]; }
+static inline SampleRadiance *wave_out_radiance(WaveOut out, int j)
+{
+    return out.radiance_only ? &out.rads[j].radiance : &out.recs[j].radiance;
+}
+
 /* The record's sample position of one camera sample from its film and shutter dimensions
  * and its point on the lens (the unit disk), and its path's time; the camera ray through it
  * comes later, in a batch. */
-static void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 lens, float shutter_u,
-                               const WavePixel *px, WavePath *p, SampleRecord *rec)
+static inline void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, vec2 lens, float shutter_u,
+                                      const WavePixel *px, WavePath *p, WaveOut out, int j, float *px_raster,
+                                      float *py_raster)
 {
-    record_reset(rec, sc->skip_first_hit_fields && !sc->record_motion && !sc->record_ray_geometry);
+    SampleRecord *rec = wave_out_record(out, j);
+    float *filter_weight;
+    if (!out.radiance_only) {
+        record_reset(rec, sc->skip_first_hit_fields && !sc->record_motion && !sc->record_ray_geometry);
+        filter_weight = &rec->filter_weight;
+    } else {
+        /* the radiance alone: its fields start at +0 (all zero bits) */
+        memset(&out.rads[j].radiance, 0, sizeof out.rads[j].radiance);
+        filter_weight = &out.rads[j].filter_weight;
+    }
     /* filter importance sampling (pixel_filter.h): the radiance fields are weighted by the
      * renderer once the record is complete (pixel_filter_weigh_record) */
-    vec2 u_film = pixel_filter_sample(sc->pixel_filter, u_film01, &rec->filter_weight);
-    rec->px_raster = (float)px->px + u_film.x;
-    rec->py_raster = (float)px->py + u_film.y;
-    rec->lens_u = lens.x, rec->lens_v = lens.y;
+    vec2 u_film = pixel_filter_sample(sc->pixel_filter, u_film01, filter_weight);
+    *px_raster = (float)px->px + u_film.x;
+    *py_raster = (float)px->py + u_film.y;
     if (!sc->sample_time) shutter_u = 0.0f;
-    rec->time = shutter_u;
+    if (!out.radiance_only) {
+        rec->px_raster = *px_raster, rec->py_raster = *py_raster;
+        rec->lens_u = lens.x, rec->lens_v = lens.y;
+        rec->time = shutter_u;
+    }
     p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
 }
 
 /* The camera rays of pixel k's samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX),
  * paths j0 .., with their first vertex's dimensions (a camera ray that misses has drawn them
  * for nothing). The rays themselves are one batch (camera_generate_rays). */
-static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int k,
-                             int first, int count, int j0, SampleRecord *recs)
+WAVE_STAGE void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
+                                 int k, int first, int count, int j0, WaveOut out)
 {
     PixelSampler *s = wave_pixel_sampler(w, ws, pixels, k);
     sampler_run_begin(s, &w->run, first, count);
@@ -606,12 +642,10 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
         for (int i = 0; i < count; ++i) cb->lens_u[i] = cb->lens_v[i] = 0.0f;
     for (int i = 0; i < count; ++i) {
         WavePath *p = &w->path[j0 + i];
-        SampleRecord *rec = &recs[j0 + i];
         p->pixel = k;
         p->sample_index = first + i;
         wave_camera_sample(sc, film[i], v2(cb->lens_u[i], cb->lens_v[i]), sc->sample_time ? shutter[i] : 0.0f,
-                           &pixels[k], p, rec);
-        cb->px[i] = rec->px_raster, cb->py[i] = rec->py_raster;
+                           &pixels[k], p, out, j0 + i, &cb->px[i], &cb->py[i]);
         cb->time01[i] = p->time01;
     }
     float *o[3] = {cb->o[0], cb->o[1], cb->o[2]}, *d[3] = {cb->d[0], cb->d[1], cb->d[2]};
@@ -622,16 +656,18 @@ static void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampl
     wave_vertex_dims(sc, w, j0, 1);
 }
 
-/* What the camera ray found: emission seen directly, the first hit's record fields, and
- * the path's first vertex. */
-static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world, bool found, const SurfaceHit *h,
-                           bool sampled, SampleRecord *rec, IntegratorStats *st)
+/* What the camera ray found: emission seen directly, the first hit's record fields (rec:
+ * NULL for the radiance alone), and the path's first vertex. Out of line until the
+ * twenty-first round (its call cost about 20 instructions a sample; the fourteenth round had
+ * found it dearer inline, in the base build alone, which still holds: +0.4%). */
+WAVE_STAGE void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world, bool found, const SurfaceHit *h,
+                               bool sampled, SampleRecord *rec, SampleRadiance *R, IntegratorStats *st)
 {
     p->alive = false;
     if (!found) {
         /* what record_reset leaves to this function: a miss's first-hit fields, unless
          * nothing reads them (render_reads.h) */
-        if (!sc->skip_first_hit_fields) {
+        if (rec && !sc->skip_first_hit_fields) {
             const vec3 zero = v3s(0.0f);
             rec->albedo = rec->albedo_diffuse = rec->albedo_glossy = zero;
             rec->phong_exponent = 0.0f;
@@ -647,16 +683,15 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
         vec3 env = v3s(0.0f);
         for (int k = 0; k < sc->lights->infinite_count; ++k)
             env = v3_add(env, infinite_light_L(sc->lights, sc->lights->infinite[k], d_world));
-        rec->emission = guard3(env, st);
-        rec->L = rec->emission;
+        R->emission = guard3(env, st); /* L follows at the wave's end */
         return;
     }
     Vertex *v = &p->v;
     make_vertex(sc, h, v3_neg(d_world), sampled, v);
-    rec->hit = true;
+    if (rec) rec->hit = true;
     /* fields only the G-buffer, the methods and the AOVs read: skipped when none of them
      * runs (render_reads.h; about 3% of a --filter none sample on soft_shadows) */
-    if (!sc->skip_first_hit_fields) {
+    if (rec && !sc->skip_first_hit_fields) {
         record_first_hit_material(v, rec);
         rec->p_world = h->p;
         /* towards the camera, any material (a Lambert vertex's n is already that) */
@@ -664,8 +699,8 @@ static void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world,
         rec->object_id = h->object_id;
         rec->depth_cam = camera_depth(sc->camera, h->p, p->time01);
     }
-    if (sc->record_motion) first_hit_motion(sc, h, p->time01, rec->motion_px);
-    if (h->light >= 0) rec->emission = guard3(area_light_L(sc->lights, h->light, h, v->wo), st);
+    if (rec && sc->record_motion) first_hit_motion(sc, h, p->time01, rec->motion_px);
+    if (h->light >= 0) R->emission = guard3(area_light_L(sc->lights, h->light, h, v->wo), st);
     p->beta = v3s(1.0f);
     /* Light the filters must pass through unfiltered (sample_record.h): everything at a
      * dielectric first hit, and whatever arrives through a delta lobe of the first hit. */
@@ -724,7 +759,7 @@ static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light,
 /* The picks of the stage's live, lit paths (what light_prepare would find), and the samples
  * of the picked static triangle lights, per light in one vectorised loop each (up to
  * WAVE_TRIANGLE_GROUPS lights; a path that picks another samples it on its own). */
-static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
+WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
 {
     const LightSet *L = sc->lights;
     w->tri_groups = 0;
@@ -774,7 +809,7 @@ static void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int 
  * every live, lit path of the stage, light by light in one vectorised loop each
  * (light_sample_point_batch): the same values light_sample gives path by path, whose
  * square roots and divisions then waited on each other. Path j's are entry lit_slot. */
-static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
+WAVE_STAGE void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
 {
     const LightSet *L = sc->lights;
     bool any = false;
@@ -809,8 +844,8 @@ static void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
 /* First half of next-event estimation for path p: a point on the light its dimensions
  * picked (wave_triangle_light_samples, which also sampled a static triangle) and the
  * shadow ray, into p->lp. */
-static bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
-                          TracerRay *shadow)
+WAVE_STAGE bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
+                              TracerRay *shadow)
 {
     const VertexDims *u = &p->u;
     if (u->light_index < 0) return false;
@@ -874,8 +909,8 @@ static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec
  * whether or not the sample is kept, so that whether the receiver faces the light and the
  * light faces it (one-sided emitters; on a receiver beside the light a coin toss) is not a
  * branch. The same tests, values and counters as light_prepare_sampled. */
-static int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p, IntegratorStats *st,
-                                          TracerRay *shadow)
+WAVE_STAGE int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p,
+                                              IntegratorStats *st, TracerRay *shadow)
 {
     const VertexDims *u = &p->u;
     const WaveTriangleSamples *g = &w->tri[p->tri_group];
@@ -1087,12 +1122,13 @@ static vec3 delta_sum_guarded(const Wave *w, const WavePath *p, IntegratorStats 
 }
 
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
- * found, added to the record, and the next vertex (or the end of the path). */
-static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
-                             IntegratorStats *st)
+ * found, added to the radiance R (and to the record rec, NULL for the radiance alone), and
+ * the next vertex (or the end of the path). */
+WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int depth, SampleRecord *rec,
+                                 SampleRadiance *R, IntegratorStats *st)
 {
     WavePath *p = &w->path[j];
-    vec3 *bucket = depth == 1 ? &rec->direct : &rec->indirect;
+    vec3 *bucket = depth == 1 ? &R->direct : &R->indirect;
     vec3 l_light = v3s(0.0f);
     if (p->light_pending) {
         bool occluded;
@@ -1157,8 +1193,11 @@ static void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int dept
     p->alive = true;
 }
 
-int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int pixel_count,
-                   SampleRecord *recs, IntegratorStats *st)
+/* The wave, for either kind of output (WaveOut; one copy of it each, WAVE_STAGE). A
+ * radiance-only wave runs on a scene that asks for nothing else (integrate_wave_radiance), so
+ * every record field it would skip is skipped by that scene's flags as well. */
+WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
+                              int pixel_count, WaveOut out, IntegratorStats *st)
 {
     _Static_assert(SAMPLE_RECORD_MAX_SHADOW == 1 && SAMPLE_RECORD_MAX_BOUNCE == 1,
                    "record_reset clears one entry of each");
@@ -1171,7 +1210,7 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         w->path_count[k] = count > 0 ? count : 0;
         for (int i = 0; i < count; i += SAMPLER_RUN_MAX) {
             int m = count - i < SAMPLER_RUN_MAX ? count - i : SAMPLER_RUN_MAX;
-            wave_camera_rays(sc, w, ws, pixels, k, pixels[k].index_first + i, m, n + i, recs);
+            wave_camera_rays(sc, w, ws, pixels, k, pixels[k].index_first + i, m, n + i, out);
         }
         n += w->path_count[k];
     }
@@ -1182,7 +1221,8 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
      * (its loads through sc->lights were a part of every hit) */
     bool sampled_first = vertex_uses_bsdf_dims(sc, 1);
     for (int j = 0; j < n; ++j) {
-        wave_first_hit(sc, &w->path[j], w->ray_hit[j].d, w->hit_found[j], &w->hit[j], sampled_first, &recs[j], st);
+        wave_first_hit(sc, &w->path[j], w->ray_hit[j].d, w->hit_found[j], &w->hit[j], sampled_first, wave_out_record(out, j),
+                       wave_out_radiance(out, j), st);
         any_alive |= w->path[j].alive;
     }
 
@@ -1206,7 +1246,8 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         wave_point_light_samples(sc, w, n);
         wave_triangle_light_samples(sc, w, n);
         for (int j = 0; j < n; ++j)
-            if (w->path[j].alive) wave_vertex_rays(sc, w, ws, pixels, j, depth, &recs[j], st, &n_occ, &n_rec, &n_hit);
+            if (w->path[j].alive)
+                wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
@@ -1215,25 +1256,46 @@ int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, c
         for (int j = 0; j < n; ++j) {
             WavePath *p = &w->path[j];
             if (!p->alive) continue;
-            wave_vertex_fold(sc, w, j, depth, &recs[j], st);
+            wave_vertex_fold(sc, w, j, depth, wave_out_record(out, j), wave_out_radiance(out, j), st);
             any_alive |= p->alive;
         }
     }
     for (int j = 0; j < n; ++j) {
-        SampleRecord *rec = &recs[j];
-        if (!rec->hit) continue;
+        SampleRecord *rec = wave_out_record(out, j);
+        SampleRadiance *R = wave_out_radiance(out, j);
         /* guard3 of each sum, tested at once: a non-finite component makes the total
          * non-finite, and when the total is finite so is every term (an overflowing total
-         * of finite terms only sends them to the test one by one) */
-        vec3 all = v3_add(rec->direct, rec->indirect);
-        if (!sc->skip_first_hit_fields) all = v3_add(all, v3_add(rec->unfiltered, rec->unfiltered_direct));
+         * of finite terms only sends them to the test one by one). A miss's sums are
+         * record_reset's +0 (no vertex folded into them): it passes, and its L is its
+         * emission (+0 plus a value that is never -0, being +0 or a guarded sum begun at
+         * +0), as before, when a miss set L itself and skipped this. */
+        vec3 all = v3_add(R->direct, R->indirect);
+        if (rec && !sc->skip_first_hit_fields) all = v3_add(all, v3_add(rec->unfiltered, rec->unfiltered_direct));
         if (!finite3(all)) {
-            rec->direct = guard3(rec->direct, st);
-            rec->indirect = guard3(rec->indirect, st);
-            rec->unfiltered = guard3(rec->unfiltered, st);
-            rec->unfiltered_direct = guard3(rec->unfiltered_direct, st);
+            R->direct = guard3(R->direct, st);
+            R->indirect = guard3(R->indirect, st);
+            if (rec) {
+                rec->unfiltered = guard3(rec->unfiltered, st);
+                rec->unfiltered_direct = guard3(rec->unfiltered_direct, st);
+            }
         }
-        rec->L = v3_add(rec->emission, v3_add(rec->direct, rec->indirect));
+        R->L = v3_add(R->emission, v3_add(R->direct, R->indirect));
     }
     return n;
+}
+
+int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int pixel_count,
+                   SampleRecord *recs, IntegratorStats *st)
+{
+    return wave_integrate(sc, w, ws, pixels, pixel_count, (WaveOut){recs, NULL, false}, st);
+}
+
+int integrate_wave_radiance(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
+                            int pixel_count, RadianceRecord *rads, IntegratorStats *st)
+{
+    /* what the records' users asked for is what this wave keeps: the radiance alone */
+    IntegratorScene radiance_only = *sc;
+    radiance_only.skip_first_hit_fields = true;
+    radiance_only.record_motion = radiance_only.record_ray_geometry = false;
+    return wave_integrate(&radiance_only, w, ws, pixels, pixel_count, (WaveOut){NULL, rads, true}, st);
 }

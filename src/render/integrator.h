@@ -77,4 +77,19 @@ typedef struct {
 int integrate_wave(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels, int pixel_count,
                    SampleRecord *recs, IntegratorStats *st);
 
+/* The same samples' radiance alone (RadianceRecord: the same L, emission, direct, indirect and
+ * filter_weight, bit for bit, and the same counts), for a render whose users read nothing
+ * else (render_reads.h; integrator_radiance_only): the 232-byte records are not written at
+ * all. The same integrator, with the first-hit fields, the unfiltered parts, the motion and
+ * the ray geometry skipped whatever sc says. */
+int integrate_wave_radiance(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
+                            int pixel_count, RadianceRecord *rads, IntegratorStats *st);
+
+/* Whether integrate_wave_radiance gives a scene's records' users all they asked for: they
+ * read no first-hit field, and neither the motion nor the ray geometry is recorded. */
+static inline bool integrator_radiance_only(const IntegratorScene *sc)
+{
+    return sc->skip_first_hit_fields && !sc->record_motion && !sc->record_ray_geometry;
+}
+
 #endif

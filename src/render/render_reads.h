@@ -16,7 +16,10 @@
  *                              first-hit fields): the AOV layers, the preview, the composite
  *
  * A declaration is RENDER_READS_RADIANCE plus the bits above that some user needs; 0 means
- * "not declared" and keeps everything, so a user that says nothing gets every field. */
+ * "not declared" and keeps everything, so a user that says nothing gets every field. A pass
+ * declared with neither bit, without a sink and recording neither motion nor ray geometry
+ * keeps the radiance alone, in 52-byte RadianceRecords instead of SampleRecords
+ * (integrate_wave_radiance, integrator_radiance_only). */
 #ifndef WEDGE_RENDER_RENDER_READS_H
 #define WEDGE_RENDER_RENDER_READS_H
 

@@ -282,6 +282,9 @@ typedef struct {
     Wave *wave;
     WavePixel pixel[WAVE_SAMPLES];
     int pixel_count, sample_count;
+    /* their records: rad when the render keeps the radiance alone (integrator_radiance_only
+     * and no sink), else rec */
+    RadianceRecord rad[WAVE_SAMPLES];
     SampleRecord rec[WAVE_SAMPLES];
 } WaveQueue;
 
@@ -293,53 +296,72 @@ typedef struct {
  * `begin`: */
 static int frame_slice_end(int begin) { return begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64); }
 
-/* SampleRecord's L, emission, direct and indirect follow each other without padding:
+/* SampleRadiance's L, emission, direct and indirect follow each other without padding:
  * add_slice sums them as one run of 12 floats. */
-_Static_assert(offsetof(SampleRecord, emission) == offsetof(SampleRecord, L) + sizeof(vec3) &&
-                   offsetof(SampleRecord, direct) == offsetof(SampleRecord, L) + 2 * sizeof(vec3) &&
-                   offsetof(SampleRecord, indirect) == offsetof(SampleRecord, L) + 3 * sizeof(vec3) &&
-                   sizeof(vec3) == 3 * sizeof(float),
+_Static_assert(sizeof(SampleRadiance) == 4 * sizeof(vec3) && sizeof(vec3) == 3 * sizeof(float),
                "L, emission, direct, indirect are one run of 12 floats");
 enum { SLICE_RADIANCE = 12 };
 typedef float v2sf __attribute__((vector_size(2 * sizeof(float))));
 typedef double v2df __attribute__((vector_size(2 * sizeof(double))));
 
+/* pixel_filter_weigh_record for a record of the radiance alone: the same products. */
+static inline void radiance_weigh(RadianceRecord *r)
+{
+    float w = r->filter_weight;
+    if (w == 1.0f) return;
+    SampleRadiance *R = &r->radiance;
+    R->L = v3_scale(R->L, w), R->emission = v3_scale(R->emission, w);
+    R->direct = v3_scale(R->direct, w), R->indirect = v3_scale(R->indirect, w);
+}
+
 /* Adds records rec[0 .. count) of pixel (px, py), one frame slice, to the frame (their sums
- * in sample order) and hands them to the sink in that order. */
-static void add_slice(PassJob *job, int px, int py, SampleRecord *rec, int count)
+ * in sample order) and hands them to the sink in that order; or, with rec NULL, the records
+ * of the radiance alone rad[0 .. count) (no sink, no guides: integrator_radiance_only).
+ * Inlined into flush_wave with one of them NULL. */
+static inline __attribute__((always_inline)) void add_slice(PassJob *job, int px, int py, SampleRecord *rec,
+                                                            RadianceRecord *rad, int count)
 {
     /* Radiance sums, per component in sample order as before (the same doubles): the run
      * L, emission, direct, indirect of each record, converted and added two components at
      * a time (GCC vector extensions: six cvtps2pd and addpd instead of twelve scalar pairs) */
     v2df rad2[SLICE_RADIANCE / 2] = {{0}};
     double al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
-    for (int i = 0; i < count; ++i, ++rec) {
-        pixel_filter_weigh_record(rec);
-        const char *run = (const char *)rec + offsetof(SampleRecord, L);
+    for (int i = 0; i < count; ++i) {
+        const SampleRadiance *R;
+        if (rec) {
+            pixel_filter_weigh_record(&rec[i]);
+            R = &rec[i].radiance;
+        } else {
+            radiance_weigh(&rad[i]);
+            R = &rad[i].radiance;
+        }
+        const char *run = (const char *)R;
         for (int c = 0; c < SLICE_RADIANCE / 2; ++c) {
             v2sf pair;
             memcpy(&pair, run + c * sizeof pair, sizeof pair);
             rad2[c] += __builtin_convertvector(pair, v2df);
         }
-        if (job->sum_guides && rec->hit) {
-            al[0] += rec->albedo.x, al[1] += rec->albedo.y, al[2] += rec->albedo.z;
-            nn[0] += rec->n_shading.x, nn[1] += rec->n_shading.y, nn[2] += rec->n_shading.z;
-            if (isfinite(rec->depth_cam)) depth += rec->depth_cam, hits += 1.0;
+        if (!rec) continue;
+        const SampleRecord *r = &rec[i];
+        if (job->sum_guides && r->hit) {
+            al[0] += r->albedo.x, al[1] += r->albedo.y, al[2] += r->albedo.z;
+            nn[0] += r->n_shading.x, nn[1] += r->n_shading.y, nn[2] += r->n_shading.z;
+            if (isfinite(r->depth_cam)) depth += r->depth_cam, hits += 1.0;
         }
-        if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, rec);
+        if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, r);
     }
     Frame *f = job->frame;
     size_t i1 = (size_t)py * (size_t)f->width + (size_t)px, i3 = 3 * i1;
-    double rad[SLICE_RADIANCE];
-    memcpy(rad, rad2, sizeof rad);
-    const double *c = rad, *em = rad + 3, *di = rad + 6, *in = rad + 9;
+    double sums[SLICE_RADIANCE];
+    memcpy(sums, rad2, sizeof sums);
+    const double *c = sums, *em = sums + 3, *di = sums + 6, *in = sums + 9;
     for (int ch = 0; ch < 3; ++ch) {
         f->color[i3 + ch] += (float)c[ch];
         f->direct[i3 + ch] += (float)di[ch];
         f->indirect[i3 + ch] += (float)in[ch];
         f->emission[i3 + ch] += (float)em[ch];
     }
-    if (job->sum_guides) {
+    if (rec && job->sum_guides) {
         for (int ch = 0; ch < 3; ++ch) {
             f->albedo[i3 + ch] += (float)al[ch];
             f->normal[i3 + ch] += (float)nn[ch];
@@ -357,15 +379,20 @@ static long long flush_wave(PassJob *job, WaveQueue *q, IntegratorStats *st)
     if (q->pixel_count == 0) return 0;
     Renderer *r = job->r;
     WaveSampling ws = {r->sampler, r->opt.seed, job->pass};
-    int n = integrate_wave(&r->isc, q->wave, &ws, q->pixel, q->pixel_count, q->rec, st);
-    SampleRecord *rec = q->rec;
+    /* a render whose users read the radiance alone (render_reads.h) keeps it alone: 52 bytes
+     * a sample instead of a 232-byte record */
+    bool radiance_only = !job->sink && integrator_radiance_only(&r->isc);
+    int n = radiance_only ? integrate_wave_radiance(&r->isc, q->wave, &ws, q->pixel, q->pixel_count, q->rad, st)
+                          : integrate_wave(&r->isc, q->wave, &ws, q->pixel, q->pixel_count, q->rec, st);
+    int done = 0;
     for (int k = 0; k < q->pixel_count; ++k) {
         const WavePixel *wp = &q->pixel[k];
         /* the pass's sample indices of this pixel's records: [s, end) */
         for (int s = wp->index_first - wp->spp_before, end = s + wp->count; s < end;) {
             int e = frame_slice_end(s) < end ? frame_slice_end(s) : end;
-            add_slice(job, wp->px, wp->py, rec, e - s);
-            rec += e - s;
+            if (radiance_only) add_slice(job, wp->px, wp->py, NULL, q->rad + done, e - s);
+            else add_slice(job, wp->px, wp->py, q->rec + done, NULL, e - s);
+            done += e - s;
             s = e;
         }
     }
