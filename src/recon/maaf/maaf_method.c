@@ -163,6 +163,7 @@ struct ReconMethod {
                                  * its state (w: ALBEDO_SUMS_*) */
     float *dpos4, *dnrm4, *daxis2; /* screen guides */
     float *dstd_px, *dcomponents;  /* AOVs */
+    float *coc_pool;            /* 2 per pixel (w x h minima, then maxima): maaf_coc_pool of pass 1's ranges */
     const float *direct4, *direct_factor, *indirect4; /* the shading filters' output (shading_light) */
     /* indirect light (maaf_indirect.h) */
     bool indirect;
@@ -257,6 +258,7 @@ static void maaf_destroy(ReconMethod *m)
     free(m->geoms);
     free(m->lights);
     free(m->unread);
+    free(m->coc_pool);
     free(m->plan_class);
     free(m->plan_factor);
     free(m->lum4);
@@ -652,6 +654,14 @@ static bool ensure_derived(ReconMethod *m, Diag *d)
             return false;
         }
         m->derived_ok = true;
+        if (m->defocus) {
+            size_t n = (size_t)m->g->width * (size_t)m->g->height;
+            if (!m->coc_pool && !(m->coc_pool = malloc(2 * n * sizeof(float)))) {
+                diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF statistics");
+                return false;
+            }
+            maaf_coc_pool(m->derived.coc_min, m->derived.coc_max, m->g->width, m->g->height, m->coc_pool, m->coc_pool + n);
+        }
     }
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS) && !m->wedge_found[1] && !wedge_windows(m)) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF statistics");
@@ -890,8 +900,10 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
     FilterCache *c = &m->defocus_cache;
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
     if (!c->known[i]) {
-        c->std_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, m->g->width, m->g->height, x, y,
-                                          m->lens.omega_u_max, m->pairs, c->param + i * MAAF_PARAM_STRIDE, &c->aux[i]);
+        size_t n = (size_t)m->g->width * (size_t)m->g->height;
+        c->std_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, m->coc_pool, m->coc_pool + n, m->g->width,
+                                          m->g->height, x, y, m->lens.omega_u_max, m->pairs, c->param + i * MAAF_PARAM_STRIDE,
+                                          &c->aux[i]);
         c->known[i] = 1;
     }
     *side = c->aux[i];
