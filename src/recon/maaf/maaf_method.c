@@ -207,10 +207,22 @@ static int maaf_pass1_spp(EffectMask effects)
  * soft_shadows (9.20) it also puts more samples under the shadow ray geometry that pass 2
  * does not record. The other frames keep pass 1's 9 (their plan is the classes'). */
 #define DEFOCUS_BUDGET_PASS1_SHARE 0.5f
+/* Frames whose only MAAF effect is defocus: pass 1 at most 8 samples. There its products are the
+ * pilot variance and the circle-of-confusion ranges, which the pool of 4-neighbours
+ * (maaf_coc_pool) makes hold with 8 samples; above that the half's floor kept the wide filters'
+ * pixels (46% on defocus.pbrt) at 16-32 samples where they need about 8. defocus 32 / 64 spp
+ * (256x256, seeds 1-3) 7.48e-5 / 5.78e-5 -> 6.47e-5 / 4.56e-5, motion_defocus (held out)
+ * 1.74e-4 / 1.15e-4 -> 1.56e-4 / 8.9e-5. Frames with soft shadows or indirect light keep the
+ * half: pass 1 alone records their ray geometry (combined +7%, focal_crossing +5% at 32 spp with
+ * the cap; docs/algorithms.md 9.21). */
+#define DEFOCUS_ALONE_PASS1_MAX_SPP 8.0f
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
     int budget = renderer_spp(r);
-    if (effect_in(effects, EFFECT_DEFOCUS) || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
+    bool defocus = effect_in(effects, EFFECT_DEFOCUS);
+    if (defocus && budget > 0 && !effect_in(effects, EFFECT_SOFT_SHADOWS) && !effect_in(effects, EFFECT_INDIRECT))
+        return fminf(DEFOCUS_BUDGET_PASS1_SHARE, DEFOCUS_ALONE_PASS1_MAX_SPP / (float)budget);
+    if (defocus || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
     /* soft shadows alone: never below the paper's 9, which the wedges and the pilot variance
      * need (the 40-pixel scene of test_maaf_pipeline at a budget of 9: relMSE 2.5e-3 with
      * pass 1 at 4 or 5, 1.9e-3 at 9; soft_shadows at 16 spp 2% above the plain half) */
