@@ -8,7 +8,10 @@
  * 9), and the pixels whose
  * shadow filter is narrow (central std 0.5-2 px: contact shadows) get more than 1.3 times the
  * samples of those whose filter is wide (8 px or more); the class plan before gave every
- * filtered pixel the same count (ratio 1). */
+ * filtered pixel the same count (ratio 1). A frame whose only MAAF effect is defocus
+ * (defocus.pbrt) takes at most 8 samples in pass 1 (docs/algorithms.md 9.21): at a budget of
+ * 32 pass 1 is 8, where combined.pbrt (soft shadows and indirect light beside) keeps 16; the
+ * old rule gave defocus 16 too. */
 #include <stdlib.h>
 
 #include "check.h"
@@ -40,6 +43,18 @@ static void count_plan(const ReconPipeline *p, void *ctx)
         if (lens[i] == 0.0f && light[i] == 0.0f && bounce[i] == 0.0f) add_to(c, 0, spp[i]);
         if (lens[i] > 0.0f && light[i] > 0.0f && bounce[i] > 0.0f) add_to(c, 1, spp[i]);
     }
+}
+
+/* pass 1's count and the frame's average against a budget of 32 */
+typedef struct {
+    float share;
+    long wrong;
+} Pass1;
+
+static void check_pass1(const ReconPipeline *p, void *ctx)
+{
+    Pass1 *q = ctx;
+    q->wrong = recon_test_budget_wrong(p, q->share, 32);
 }
 
 /* soft shadows alone, pixels with the full design: class 0 a central std in [0.5, 2) px, 1 >= 8 px */
@@ -86,5 +101,18 @@ int main(void)
         CHECK(narrow > 1.3 * wide);
     }
     free(text);
+    const char *scenes[2] = {"defocus", "combined"};
+    const float shares[2] = {8.0f / 32.0f, 0.5f};
+    for (int k = 0; k < 2; ++k) {
+        text = recon_test_bench_scene_at(scenes[k], RES);
+        CHECK(text != NULL);
+        if (!text) continue;
+        ReconOptions o = {.filter = "maaf", .spp = 32};
+        Pass1 q = {shares[k], -1};
+        free(recon_test_render_pipeline(text, 1, &o, check_pass1, &q));
+        printf("%s at 32 spp: pass 1 %s %.0f samples\n", scenes[k], q.wrong == 0 ? "is" : "is not", shares[k] * 32.0f);
+        CHECK(q.wrong == 0);
+        free(text);
+    }
     CHECK_DONE();
 }

@@ -285,8 +285,33 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
     return std_px;
 }
 
-float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
-                         float omega_u_max, int pairs, float *param, float *side)
+static bool has_range(const float *coc_min, const float *coc_max, size_t j)
+{
+    return coc_min[j] <= coc_max[j] && isfinite(coc_min[j]) && isfinite(coc_max[j]);
+}
+
+void maaf_coc_pool(const float *coc_min, const float *coc_max, int width, int height, float *pool_min, float *pool_max)
+{
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            size_t i = (size_t)y * (size_t)width + (size_t)x;
+            float lo = coc_min[i], hi = coc_max[i];
+            static const int step[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+            if (has_range(coc_min, coc_max, i))
+                for (int k = 0; k < 4; ++k) {
+                    int xx = x + step[k][0], yy = y + step[k][1];
+                    if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
+                    size_t j = (size_t)yy * (size_t)width + (size_t)xx;
+                    if (!has_range(coc_min, coc_max, j)) continue;
+                    lo = fminf(lo, coc_min[j]);
+                    hi = fmaxf(hi, coc_max[j]);
+                }
+            pool_min[i] = lo, pool_max[i] = hi;
+        }
+}
+
+float maaf_defocus_pixel(const float *coc_min, const float *coc_max, const float *pool_min, const float *pool_max,
+                         int width, int height, int x, int y, float omega_u_max, int pairs, float *param, float *side)
 {
     memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float));
     *side = 0.0f;
@@ -298,9 +323,9 @@ float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, 
         for (int xx = x - MAAF_DEFOCUS_WINDOW_PX; xx <= x + MAAF_DEFOCUS_WINDOW_PX; ++xx) {
             if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
             size_t j = (size_t)yy * (size_t)width + (size_t)xx;
-            if (!(coc_min[j] <= coc_max[j]) || !isfinite(coc_min[j]) || !isfinite(coc_max[j])) continue;
-            lo += coc_min[j];
-            hi += coc_max[j];
+            if (!has_range(pool_min, pool_max, j)) continue;
+            lo += pool_min[j];
+            hi += pool_max[j];
             ++count;
         }
     if (!count) return 0.0f;

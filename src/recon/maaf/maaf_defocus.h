@@ -85,10 +85,11 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
 #define MAAF_DEFOCUS_RADIUS_STD 1.5f
 
 /* Pixel (x, y)'s filter from pass 1's circle-of-confusion ranges (coc_min, coc_max: signed px
- * per unit lens coordinate, recon_coc_slope_px, w x h): the design slopes s = -coc averaged over
- * the 5 x 5 window around it (seeds/003 Sec. 6.2, pre-filtering), no filter when the pixel's own
- * range or the averaged one straddles the focal plane. *side: the sign of s (0: not filtered).
- * Returns the central std in pixels (0: not filtered). */
+ * per unit lens coordinate, recon_coc_slope_px, w x h): the design slopes s = -coc of the pooled
+ * ranges (pool_min, pool_max: maaf_coc_pool) averaged over the 5 x 5 window around it (seeds/003
+ * Sec. 6.2, pre-filtering), no filter when the pixel's own range or the averaged one straddles
+ * the focal plane. *side: the sign of s (0: not filtered). Returns the central std in pixels (0:
+ * not filtered). */
 #define MAAF_DEFOCUS_WINDOW_PX 2
 /* The lens filter's sharpness rule (MaafFilterInput.sharp_factor): a neighbour takes part only
  * if its central std is at least 0.8 of the centre's (sx^2 ratio 1/0.8^2), i.e. its sharpest
@@ -100,8 +101,20 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
  * filter's rule) / 0.7 / 0.8 / 0.9 gave bokeh_bright 7.1 / 1.6 / 0.49 / 0.28 and the defocus
  * bench 1.91e-4 / 1.90e-4 / 1.94e-4 / 2.17e-4 at 16 spp; 0.8 keeps the bench. */
 #define MAAF_LENS_SHARP_FACTOR 1.5625f
-float maaf_defocus_pixel(const float *coc_min, const float *coc_max, int width, int height, int x, int y,
-                         float omega_u_max, int pairs, float *param, float *side);
+float maaf_defocus_pixel(const float *coc_min, const float *coc_max, const float *pool_min, const float *pool_max,
+                         int width, int height, int x, int y, float omega_u_max, int pairs, float *param, float *side);
+
+/* A pixel's range as its neighbourhood's pass-1 samples see it: per pixel the least coc_min and
+ * the greatest coc_max over itself and its 4 neighbours that have a range (a pixel without one
+ * keeps its own). One pixel's few pass-1 samples miss a surface seen through a small part of the
+ * lens (a small bright emitter's bokeh: the emitter's slope is in a disk pixel's range only if
+ * one of its samples hit it); its neighbours see the same surface through nearby parts of the
+ * lens, so 5 pixels' samples find it far more often. The averaged range of maaf_defocus_pixel
+ * then holds that slope, and the filter does not spread the emitter's light along the
+ * background's slope (docs/algorithms.md 9.21: bokeh_bright at 8 / 16 spp relMSE 5.8 / 1.2 ->
+ * 0.45 / 0.20; the 3 x 3 window: 0.38 / 0.25, and 1-2% more error than the 4 neighbours on the
+ * smooth defocus scenes). pool_min, pool_max: w x h each. */
+void maaf_coc_pool(const float *coc_min, const float *coc_max, int width, int height, float *pool_min, float *pool_max);
 
 /* Scenes with shading effects (docs/algorithms.md 9.8): a pixel's lens sums hold the rest of the
  * radiance (rest) and, with the same factors, the albedo (alb); this adds one shading light back

@@ -163,6 +163,7 @@ struct ReconMethod {
                                  * its state (w: ALBEDO_SUMS_*) */
     float *dpos4, *dnrm4, *daxis2; /* screen guides */
     float *dstd_px, *dcomponents;  /* AOVs */
+    float *coc_pool;            /* 2 per pixel (w x h minima, then maxima): maaf_coc_pool of pass 1's ranges */
     const float *direct4, *direct_factor, *indirect4; /* the shading filters' output (shading_light) */
     /* indirect light (maaf_indirect.h) */
     bool indirect;
@@ -206,10 +207,22 @@ static int maaf_pass1_spp(EffectMask effects)
  * soft_shadows (9.20) it also puts more samples under the shadow ray geometry that pass 2
  * does not record. The other frames keep pass 1's 9 (their plan is the classes'). */
 #define DEFOCUS_BUDGET_PASS1_SHARE 0.5f
+/* Frames whose only MAAF effect is defocus: pass 1 at most 8 samples. There its products are the
+ * pilot variance and the circle-of-confusion ranges, which the pool of 4-neighbours
+ * (maaf_coc_pool) makes hold with 8 samples; above that the half's floor kept the wide filters'
+ * pixels (46% on defocus.pbrt) at 16-32 samples where they need about 8. defocus 32 / 64 spp
+ * (256x256, seeds 1-3) 7.48e-5 / 5.78e-5 -> 6.47e-5 / 4.56e-5, motion_defocus (held out)
+ * 1.74e-4 / 1.15e-4 -> 1.56e-4 / 8.9e-5. Frames with soft shadows or indirect light keep the
+ * half: pass 1 alone records their ray geometry (combined +7%, focal_crossing +5% at 32 spp with
+ * the cap; docs/algorithms.md 9.21). */
+#define DEFOCUS_ALONE_PASS1_MAX_SPP 8.0f
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
     int budget = renderer_spp(r);
-    if (effect_in(effects, EFFECT_DEFOCUS) || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
+    bool defocus = effect_in(effects, EFFECT_DEFOCUS);
+    if (defocus && budget > 0 && !effect_in(effects, EFFECT_SOFT_SHADOWS) && !effect_in(effects, EFFECT_INDIRECT))
+        return fminf(DEFOCUS_BUDGET_PASS1_SHARE, DEFOCUS_ALONE_PASS1_MAX_SPP / (float)budget);
+    if (defocus || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
     /* soft shadows alone: never below the paper's 9, which the wedges and the pilot variance
      * need (the 40-pixel scene of test_maaf_pipeline at a budget of 9: relMSE 2.5e-3 with
      * pass 1 at 4 or 5, 1.9e-3 at 9; soft_shadows at 16 spp 2% above the plain half) */
@@ -257,6 +270,7 @@ static void maaf_destroy(ReconMethod *m)
     free(m->geoms);
     free(m->lights);
     free(m->unread);
+    free(m->coc_pool);
     free(m->plan_class);
     free(m->plan_factor);
     free(m->lum4);
@@ -652,6 +666,14 @@ static bool ensure_derived(ReconMethod *m, Diag *d)
             return false;
         }
         m->derived_ok = true;
+        if (m->defocus) {
+            size_t n = (size_t)m->g->width * (size_t)m->g->height;
+            if (!m->coc_pool && !(m->coc_pool = malloc(2 * n * sizeof(float)))) {
+                diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF statistics");
+                return false;
+            }
+            maaf_coc_pool(m->derived.coc_min, m->derived.coc_max, m->g->width, m->g->height, m->coc_pool, m->coc_pool + n);
+        }
     }
     if (effect_in(m->effects, EFFECT_SOFT_SHADOWS) && !m->wedge_found[1] && !wedge_windows(m)) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF statistics");
@@ -890,8 +912,10 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
     FilterCache *c = &m->defocus_cache;
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
     if (!c->known[i]) {
-        c->std_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, m->g->width, m->g->height, x, y,
-                                          m->lens.omega_u_max, m->pairs, c->param + i * MAAF_PARAM_STRIDE, &c->aux[i]);
+        size_t n = (size_t)m->g->width * (size_t)m->g->height;
+        c->std_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, m->coc_pool, m->coc_pool + n, m->g->width,
+                                          m->g->height, x, y, m->lens.omega_u_max, m->pairs, c->param + i * MAAF_PARAM_STRIDE,
+                                          &c->aux[i]);
         c->known[i] = 1;
     }
     *side = c->aux[i];
