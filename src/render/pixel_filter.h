@@ -72,6 +72,16 @@ static inline vec2 pixel_filter_sample(const PixelFilter *pf, vec2 u, float *wei
     return pixel_filter_sample_shaped(pf, u, weight);
 }
 
+/* Multiplies a sample's radiance (L, emission, direct, indirect) by the filter weight w (w
+ * != 1: the callers skip the weight 1). */
+static inline void pixel_filter_weigh_radiance(SampleRadiance *R, float w)
+{
+    R->L = v3_scale(R->L, w);
+    R->emission = v3_scale(R->emission, w);
+    R->direct = v3_scale(R->direct, w);
+    R->indirect = v3_scale(R->indirect, w);
+}
+
 /* Multiplies the radiance fields of a complete record (L, emission, direct, indirect,
  * unfiltered) by its filter_weight; nothing to do when the weight is 1. Inline: the
  * renderer calls it for every record. */
@@ -79,10 +89,7 @@ static inline void pixel_filter_weigh_record(SampleRecord *rec)
 {
     float w = rec->filter_weight;
     if (w == 1.0f) return;
-    rec->L = v3_scale(rec->L, w);
-    rec->emission = v3_scale(rec->emission, w);
-    rec->direct = v3_scale(rec->direct, w);
-    rec->indirect = v3_scale(rec->indirect, w);
+    pixel_filter_weigh_radiance(&rec->radiance, w);
     rec->unfiltered = v3_scale(rec->unfiltered, w);
     rec->unfiltered_direct = v3_scale(rec->unfiltered_direct, w);
 }

@@ -304,16 +304,6 @@ enum { SLICE_RADIANCE = 12 };
 typedef float v2sf __attribute__((vector_size(2 * sizeof(float))));
 typedef double v2df __attribute__((vector_size(2 * sizeof(double))));
 
-/* pixel_filter_weigh_record for a record of the radiance alone: the same products. */
-static inline void radiance_weigh(RadianceRecord *r)
-{
-    float w = r->filter_weight;
-    if (w == 1.0f) return;
-    SampleRadiance *R = &r->radiance;
-    R->L = v3_scale(R->L, w), R->emission = v3_scale(R->emission, w);
-    R->direct = v3_scale(R->direct, w), R->indirect = v3_scale(R->indirect, w);
-}
-
 /* Adds records rec[0 .. count) of pixel (px, py), one frame slice, to the frame (their sums
  * in sample order) and hands them to the sink in that order; or, with rec NULL, the records
  * of the radiance alone rad[0 .. count) (no sink, no guides: integrator_radiance_only).
@@ -332,7 +322,7 @@ static inline __attribute__((always_inline)) void add_slice(PassJob *job, int px
             pixel_filter_weigh_record(&rec[i]);
             R = &rec[i].radiance;
         } else {
-            radiance_weigh(&rad[i]);
+            if (rad[i].filter_weight != 1.0f) pixel_filter_weigh_radiance(&rad[i].radiance, rad[i].filter_weight);
             R = &rad[i].radiance;
         }
         const char *run = (const char *)R;
