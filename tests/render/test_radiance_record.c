@@ -18,6 +18,8 @@
  * The scenes are checked to have what could be dropped: misses with and without an
  * environment's emission, emitters seen directly, direct and indirect light, weights other
  * than 1, guarded events. */
+#include <stdatomic.h>
+
 #include "check.h"
 #include "render/integrator.h"
 #include "render/render_reads.h"
@@ -151,10 +153,11 @@ static void check_waves(const Renderer *r_all, const Renderer *r_rad, Present *s
     wave_free(wave);
 }
 
+/* The render's threads call the sink for different pixels at once: an atomic count. */
 static void count_record(void *ctx, int px, int py, const SampleRecord *r)
 {
     (void)px, (void)py, (void)r;
-    ++*(long *)ctx;
+    atomic_fetch_add((atomic_long *)ctx, 1);
 }
 
 static bool same_frame_radiance(const Frame *a, const Frame *b)
@@ -169,7 +172,7 @@ static bool same_frame_radiance(const Frame *a, const Frame *b)
  * with a sink (whole records: a sink reads them) and an undeclared render; frames and counts. */
 static void check_frames(const TestRender *all, const TestRender *radiance, const char *text)
 {
-    long records = 0;
+    atomic_long records = 0;
     SampleSink sink = {count_record, &records};
     RenderOptions o_radiance = {.reads = RENDER_READS_RADIANCE};
     TestRender decl;
