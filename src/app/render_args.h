@@ -24,7 +24,7 @@ typedef struct {
     const char *pixel_filter; /* --pixel-filter; NULL: the scene's PixelFilter, else box */
     const char *filter;       /* "auto", a method's name or "none" */
     float mu;                 /* filter knob; 0: each paper's default */
-    int maaf_pairs;           /* --maaf-pairs N: MAAF's filter pairs per 2D subspace; 0: default */
+    int maaf_pairs;           /* --maaf-pairs N: MAAF's filter pairs in every 2D subspace; 0: each subspace's default */
     double mem_limit;         /* bytes for per-sample storage; 0: half the physical memory */
     const char *cl_device;    /* NULL: $WEDGE_CL_DEVICE, else the first GPU, else CPU */
     bool visualize;           /* false-colour PNG maps of filter widths and spp */

@@ -189,8 +189,9 @@ int main(void)
         CHECK(diff < 2e-4);
         /* the same sums written by the host into the pass's planes band by band (a fill, as the
          * method does) instead of from ysum: the same image, bit for bit; runs with 1, 2 and 3
-         * pairs in turn reuse the planes at other strides, so stale sums in the padding would
-         * show; the reference gets them through the same fill */
+         * pairs in turn reuse the planes at other strides (as a frame's light and lens passes
+         * do at their own N: MaafPairs), so stale sums in the padding would show; the
+         * reference gets them through the same fill */
         MaafFilterInput packed = in;
         packed.ysum = NULL;
         packed.fill = fill_from_sums;

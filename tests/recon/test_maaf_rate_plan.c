@@ -7,7 +7,8 @@
  * (soft_shadows.pbrt, 9.20) has the same plan, pass 1 half the budget but at least 9 (here
  * 9), and the pixels whose
  * shadow filter is narrow (central std 0.5-2 px: contact shadows) get more than 1.3 times the
- * samples of those whose filter is wide (8 px or more); the class plan before gave every
+ * samples of those whose filter is wide (8 px or more at N = 3, 4.8 px at the light's N = 2:
+ * 12.6 against 9.0 spp); the class plan before gave every
  * filtered pixel the same count (ratio 1). A frame whose only MAAF effect is defocus
  * (defocus.pbrt) takes at most 8 samples in pass 1 (docs/algorithms.md 9.21): at a budget of
  * 32 pass 1 is 8, where combined.pbrt (soft shadows and indirect light beside) keeps 16; the
@@ -15,6 +16,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "recon/maaf/maaf_design.h"
 #include "recon_test_util.h"
 
 enum { RES = 64, BUDGET = 16 };
@@ -57,7 +59,11 @@ static void check_pass1(const ReconPipeline *p, void *ctx)
     q->wrong = recon_test_budget_wrong(p, q->share, 32);
 }
 
-/* soft shadows alone, pixels with the full design: class 0 a central std in [0.5, 2) px, 1 >= 8 px */
+/* The wide class's floor: the central std grows as 2N - 1 with the light's N (docs/algorithms.md
+ * 9.3), 8 px at N = 3. */
+#define WIDE_STD_PX (8.0f * (2 * MAAF_PAIRS_LIGHT_DEFAULT - 1) / 5.0f)
+
+/* soft shadows alone, pixels with the full design: class 0 a central std in [0.5, 2) px, 1 >= WIDE_STD_PX */
 static void count_shadows(const ReconPipeline *p, void *ctx)
 {
     TwoClasses *c = ctx;
@@ -66,8 +72,8 @@ static void count_shadows(const ReconPipeline *p, void *ctx)
     const float *spp = recon_pipeline_gbuffer(p)->frame.spp;
     c->budget_wrong = recon_test_budget_wrong(p, 9.0f / BUDGET, BUDGET);
     for (int i = 0; light && comps && i < RES * RES; ++i)
-        if (comps[i] >= 2.0f && (light[i] >= 8.0f || (light[i] >= 0.5f && light[i] < 2.0f)))
-            add_to(c, light[i] >= 8.0f, spp[i]);
+        if (comps[i] >= 2.0f && (light[i] >= WIDE_STD_PX || (light[i] >= 0.5f && light[i] < 2.0f)))
+            add_to(c, light[i] >= WIDE_STD_PX, spp[i]);
 }
 
 int main(void)

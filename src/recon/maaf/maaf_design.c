@@ -7,6 +7,19 @@
 
 static float clampf(float v, float lo, float hi) { return v < lo ? lo : v > hi ? hi : v; }
 
+static int pairs_pick(int all, int own, int fallback)
+{
+    int n = own > 0 ? own : all > 0 ? all : fallback;
+    return n > MAAF_PAIRS_MAX ? MAAF_PAIRS_MAX : n;
+}
+
+MaafPairs maaf_pairs_choose(int all, int light, int lens, int bounce)
+{
+    MaafPairs p = {pairs_pick(all, light, MAAF_PAIRS_LIGHT_DEFAULT), pairs_pick(all, lens, MAAF_PAIRS_LENS_DEFAULT),
+                   pairs_pick(all, bounce, MAAF_PAIRS_BOUNCE_DEFAULT)};
+    return p;
+}
+
 bool maaf_design_2d(float s_min, float s_max, float omega_y_max, int pairs, MaafDesign2D *out)
 {
     memset(out, 0, sizeof *out);

@@ -27,9 +27,26 @@
 
 #include <stdbool.h>
 
-/* --maaf-pairs N: N pairs (the central filter counts as one), 2N - 1 filters per 2D subspace. */
-#define MAAF_PAIRS_DEFAULT 3
+/* N pairs (the central filter counts as one), 2N - 1 filters per 2D subspace. */
 #define MAAF_PAIRS_MAX 5
+/* The default N per subspace (docs/algorithms.md 9.22): the light's axes 2, the lens's and the
+ * bounce's 3. With fewer bands the light's central band covers the part of the wedge that the
+ * integral over the light keeps, so the offset bands' biased light factors carry less of it:
+ * half the bias at 20-25% more variance on the soft-shadow scenes, the lens the other way. */
+#define MAAF_PAIRS_LIGHT_DEFAULT 2
+#define MAAF_PAIRS_LENS_DEFAULT 3
+#define MAAF_PAIRS_BOUNCE_DEFAULT 3
+
+/* N per 2D subspace of a frame: the light's axes (soft shadows), the lens's (defocus), the
+ * bounce direction's (indirect light). */
+typedef struct {
+    int light, lens, bounce;
+} MaafPairs;
+
+/* The counts from the method's options: all > 0 (--maaf-pairs) sets every subspace, then
+ * light, lens, bounce > 0 set their own; the rest take the defaults. Each clamped to
+ * [1, MAAF_PAIRS_MAX]. */
+MaafPairs maaf_pairs_choose(int all, int light, int lens, int bounce);
 
 /* One component p >= 0 (its mirror -p has centre (-C_x, -C_y), the same widths and weight). */
 typedef struct {

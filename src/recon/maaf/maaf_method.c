@@ -117,7 +117,10 @@ struct ReconMethod {
     const GBuffer *g;
     EffectMask effects;
     float kappa;                /* the filter knob (MAAF_KAPPA_DEFAULT) */
-    int pairs, comps;
+    /* N per 2D subspace (MaafPairs) and the complex sums per pixel it takes */
+    int light_pairs, light_comps; /* the light's axes: ysum */
+    int lens_pairs, lens_comps;   /* the lens's: dsum, asum */
+    int bounce_pairs;             /* the bounce direction's (its sums are plain: isum) */
     AafLightGeom *geoms;
     MaafLight *lights;
     const MaafLight *first_light; /* the first area light: for samples without a shadow ray */
@@ -127,7 +130,7 @@ struct ReconMethod {
     AafDerived derived;
     bool derived_ok;
     int pass1_spp;              /* the samples every pixel had when the first plan was made */
-    float *ysum;                /* comps * 8 per pixel (eq. 20) */
+    float *ysum;                /* light_comps * 8 per pixel (eq. 20) */
     float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
     float *axis2;               /* and t2 */
     float *guide4;              /* frame4 with w = usable, per filter run */
@@ -156,7 +159,7 @@ struct ReconMethod {
     bool split_direct, split_indirect; /* the scene has soft shadows / indirect light: that
                                         * filterable light is left out of dsum, asum is kept */
     MaafLens lens;
-    float *dsum;                /* comps * 8 per pixel: radiance minus the split lights */
+    float *dsum;                /* lens_comps * 8 per pixel: radiance minus the split lights */
     float *asum;                /* split: the same sums of the albedo, only where it varies
                                  * inside the pixel (ALBEDO_SUMS_*; unwritten elsewhere) */
     float *albedo4;             /* split: the pixel's first sample's albedo (0 for a miss) and
@@ -366,7 +369,7 @@ static void lights_from_renderer(ReconMethod *m)
         float sigma = m->geoms[l].sigma_world / m->kappa;
         bool copied = false;
         for (int k = 0; k < l && !copied; ++k) copied = maaf_light_design_copy(&m->lights[k], sigma, ml);
-        if (!copied) maaf_light_design(sigma, m->pairs, ml);
+        if (!copied) maaf_light_design(sigma, m->light_pairs, ml);
     }
     free(info);
 }
@@ -382,10 +385,15 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->kappa = kappa_for_budget(s, MAAF_KAPPA_DEFAULT, MAAF_SPP_DEFAULT);
     const char *all = getenv(MAAF_ALL_SUMS_ENV);
     m->all_sums = all && *all && strcmp(all, "0") != 0;
-    m->pairs = s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT;
-    if (m->pairs > MAAF_PAIRS_MAX) m->pairs = MAAF_PAIRS_MAX;
-    m->comps = maaf_component_count(m->pairs);
-    size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->comps * 8;
+    /* method_options: [0] --maaf-pairs (every subspace), [1..3] the light's, lens's, bounce's */
+    const int *opt = s->method_options;
+    MaafPairs pairs = maaf_pairs_choose(opt[0], opt[1], opt[2], opt[3]);
+    m->light_pairs = pairs.light;
+    m->lens_pairs = pairs.lens;
+    m->bounce_pairs = pairs.bounce;
+    m->light_comps = maaf_component_count(m->light_pairs);
+    m->lens_comps = maaf_component_count(m->lens_pairs);
+    size_t n = (size_t)m->g->width * (size_t)m->g->height, per = (size_t)m->light_comps * 8, lens_per = (size_t)m->lens_comps * 8;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
     /* the shadow sums only when shadows are filtered here (each image pass's input is written
      * into the pass's own planes, band by band: light_fill, radiance_fill) */
@@ -418,10 +426,10 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         goto oom;
     if (rate_planned(m->effects) && !(m->lum4 = zalloc(4 * n, sizeof(float)))) goto oom;
     if (m->defocus) {
-        m->dsum = zalloc(n * per, sizeof(float));
+        m->dsum = zalloc(n * lens_per, sizeof(float));
         /* asum's rows are written whole when a pixel's albedo first varies (albedo_add): not
          * zeroed, and the pages of pixels of one albedo are never touched */
-        m->asum = split ? malloc(n * per * sizeof(float)) : NULL;
+        m->asum = split ? malloc(n * lens_per * sizeof(float)) : NULL;
         m->albedo4 = split ? zalloc(4 * n, sizeof(float)) : NULL;
         m->dpos4 = malloc(4 * n * sizeof(float));
         m->dnrm4 = malloc(4 * n * sizeof(float));
@@ -432,7 +440,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
             !m->dcomponents)
             goto oom;
         float lens_kappa = kappa_for_budget(s, MAAF_DEFOCUS_KAPPA_DEFAULT, split ? LENS_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
-        if (!maaf_lens_design(lens_kappa, m->pairs, &m->lens)) goto oom;
+        if (!maaf_lens_design(lens_kappa, m->lens_pairs, &m->lens)) goto oom;
     }
     if (m->indirect) {
         m->isum = zalloc(n * 4, sizeof(float));
@@ -446,7 +454,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
             !cache_init(&m->indirect_cache, n))
             goto oom;
         m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, m->split_indirect ? INDIRECT_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
-        maaf_direction_means(m->ikappa, m->pairs, &m->dirs);
+        maaf_direction_means(m->ikappa, m->bounce_pairs, &m->dirs);
     }
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
@@ -458,8 +466,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     return true;
 oom:
     maaf_destroy(m);
-    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF buffers (%d pairs)",
-             s->method_options[0] > 0 ? s->method_options[0] : MAAF_PAIRS_DEFAULT);
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for MAAF buffers");
     return false;
 }
 
@@ -526,7 +533,7 @@ static void maaf_begin_pass(ReconMethod *m, int pass)
  * written to tmp (per floats). */
 static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
 {
-    size_t per = (size_t)m->comps * 8;
+    size_t per = (size_t)m->lens_comps * 8;
     const float *st = m->albedo4 + 4 * i, *ds = m->dsum + i * per;
     if (st[3] == ALBEDO_SUMS_KEPT) return m->asum + i * per;
     if (st[3] == ALBEDO_SUMS_NONE) {
@@ -542,7 +549,7 @@ static const float *albedo_sums(const ReconMethod *m, size_t i, float *tmp)
 
 static void albedo_add(ReconMethod *m, size_t i, const float *w, const float a[4])
 {
-    size_t per = (size_t)m->comps * 8;
+    size_t per = (size_t)m->lens_comps * 8;
     float *st = m->albedo4 + 4 * i, *as = m->asum + i * per;
     if (st[3] == ALBEDO_SUMS_NONE) {
         memcpy(st, a, 3 * sizeof(float));
@@ -554,7 +561,7 @@ static void albedo_add(ReconMethod *m, size_t i, const float *w, const float a[4
         albedo_sums(m, i, as); /* the earlier samples' sums, A times their weight sums */
         st[3] = ALBEDO_SUMS_KEPT;
     }
-    maaf_factors_accumulate(m->comps, w, a, as);
+    maaf_factors_accumulate(m->lens_comps, w, a, as);
 }
 
 /* Defocus sums (eq. 20 with the lens point, maaf_defocus.h): every sample, hit or not. v is
@@ -573,14 +580,14 @@ static void defocus_add(ReconMethod *m, size_t i, const SampleRecord *r, const f
         return;
     }
     if (m->unread && (m->unread[i] & UNREAD_LENS)) return;
-    size_t per = (size_t)m->comps * 8;
+    size_t per = (size_t)m->lens_comps * 8;
     float w[2 * MAAF_COMPS_MAX];
     maaf_lens_factors(&m->lens, r->lens_u, -r->lens_v, w);
     if (m->asum) {
         float a[4] = {r->hit ? r->albedo.x : 0.0f, r->hit ? r->albedo.y : 0.0f, r->hit ? r->albedo.z : 0.0f, 0.0f};
         albedo_add(m, i, w, a); /* before dsum: it may read dsum's sums of the earlier samples */
     }
-    maaf_factors_accumulate(m->comps, w, f, m->dsum + i * per);
+    maaf_factors_accumulate(m->lens_comps, w, f, m->dsum + i * per);
 }
 
 /* Indirect sums (eq. 20 without the bounce direction, docs/algorithms.md 9.12 "The method
@@ -637,7 +644,7 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     }
     if (m->unread && (m->unread[i] & UNREAD_LIGHT)) return;
     if (!known) { /* no shadow ray: its light point is unknown (maaf_shadow.h) */
-        maaf_accumulate_unknown(m->pairs, l, f, m->ysum + i * (size_t)m->comps * 8);
+        maaf_accumulate_unknown(m->light_pairs, l, f, m->ysum + i * (size_t)m->light_comps * 8);
         return;
     }
     float L[3] = {sr->light_p_world.x, sr->light_p_world.y, sr->light_p_world.z};
@@ -653,7 +660,7 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     float dl[3] = {L[0] - l->center[0], L[1] - l->center[1], L[2] - l->center[2]};
     float y1 = dl[0] * t1[0] + dl[1] * t1[1] + dl[2] * t1[2];
     float y2 = dl[0] * t2[0] + dl[1] * t2[1] + dl[2] * t2[2];
-    maaf_accumulate(m->pairs, l, y1, y2, f, m->ysum + i * (size_t)m->comps * 8);
+    maaf_accumulate(m->light_pairs, l, y1, y2, f, m->ysum + i * (size_t)m->light_comps * 8);
 }
 
 static bool wedge_windows(ReconMethod *m);
@@ -796,15 +803,15 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
     float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
     float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
     if (pixel_wedge(m, x, y, &s_min, &s_max)) {
-        std_px = maaf_pixel_param(s_min, s_max, wy, m->pairs, 1.0f, pw, pr);
+        std_px = maaf_pixel_param(s_min, s_max, wy, m->light_pairs, 1.0f, pw, pr);
         pr[0] = fminf(pr[0], SHADOW_RADIUS_CAP_PX);
-        *components = std_px > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+        *components = std_px > 0.0f ? (float)((2 * m->light_pairs - 1) * (2 * m->light_pairs - 1)) : 0.0f;
     } else {
         /* 1/sqrt(kappa), not 1/kappa: the budget raises these pixels' counts about as
          * kappa^2, so the samples under the filter still grow (as kappa), as AAF's far rule
          * has them grow with mu; with 1/kappa they stayed constant and so did the noise */
         float far_px = FAR_STD_PX * sqrtf(MAAF_KAPPA_DEFAULT / m->kappa);
-        maaf_pixel_param_plain(far_px, pw, m->pairs, pr);
+        maaf_pixel_param_plain(far_px, pw, m->light_pairs, pr);
         std_px = pr[0] > 0.0f ? far_px : 0.0f;
         *components = pr[0] > 0.0f ? 1.0f : 0.0f;
     }
@@ -877,12 +884,12 @@ static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, flo
         float h_min, h_max, pw = m->g->pixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
         reflector_heights(m);
         if (pixel_heights(m, x, y, &h_min, &h_max)) {
-            c->std_px[i] = maaf_pixel_param(h_min, h_max, m->dirs.omega_u_max, m->pairs, 1.0f, pw, param);
+            c->std_px[i] = maaf_pixel_param(h_min, h_max, m->dirs.omega_u_max, m->bounce_pairs, 1.0f, pw, param);
             param[0] = fminf(param[0], INDIRECT_RADIUS_CAP_PX);
-            c->aux[i] = c->std_px[i] > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+            c->aux[i] = c->std_px[i] > 0.0f ? (float)((2 * m->bounce_pairs - 1) * (2 * m->bounce_pairs - 1)) : 0.0f;
         } else {
             float far_px = FAR_STD_PX * sqrtf(MAAF_INDIRECT_KAPPA_DEFAULT / m->ikappa);
-            maaf_pixel_param_plain(far_px, pw, m->pairs, param);
+            maaf_pixel_param_plain(far_px, pw, m->bounce_pairs, param);
             c->std_px[i] = param[0] > 0.0f ? far_px : 0.0f;
             c->aux[i] = param[0] > 0.0f ? 1.0f : 0.0f;
         }
@@ -914,7 +921,7 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
     if (!c->known[i]) {
         size_t n = (size_t)m->g->width * (size_t)m->g->height;
         c->std_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, m->coc_pool, m->coc_pool + n, m->g->width,
-                                          m->g->height, x, y, m->lens.omega_u_max, m->pairs, c->param + i * MAAF_PARAM_STRIDE,
+                                          m->g->height, x, y, m->lens.omega_u_max, m->lens_pairs, c->param + i * MAAF_PARAM_STRIDE,
                                           &c->aux[i]);
         c->known[i] = 1;
     }
@@ -1075,7 +1082,7 @@ static bool run_filter(ReconMethod *m, const MaafFilterInput *in, float *value4,
  * the pixel's design (its first two bands' parameters; 5 components of 13 at N = 3). */
 static int indirect_pass_pairs(const ReconMethod *m)
 {
-    return m->pairs < 2 ? m->pairs : 2;
+    return m->bounce_pairs < 2 ? m->bounce_pairs : 2;
 }
 
 /* What light_fill needs of maaf_filter_light's pass. */
@@ -1094,7 +1101,7 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
     const ReconMethod *m = lf->m;
     const GBuffer *g = m->g;
     int w = g->width, pass_comps = lf->pass_comps;
-    size_t per = (size_t)m->comps * 8;
+    size_t per = (size_t)m->light_comps * 8;
     float mean[MAAF_COMPS_MAX]; /* the indirect components' expectations: an expf each, once a band */
     for (int c = 0; lf->ind && c < pass_comps; ++c) mean[c] = maaf_direction_mean(lf->pass_pairs, c);
     for (int y = y0; y < y1; ++y)
@@ -1153,7 +1160,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     const GBuffer *g = m->g;
     int w = g->width, h = g->height;
     /* without directions the indirect pass runs the bands |p| <= 1 only (indirect_pass_pairs) */
-    int pass_pairs = ind ? indirect_pass_pairs(m) : m->pairs, pass_comps = maaf_component_count(pass_pairs);
+    int pass_pairs = ind ? indirect_pass_pairs(m) : m->light_pairs, pass_comps = maaf_component_count(pass_pairs);
     const float *factor = !ind && m->derived.light_known ? m->shade : NULL;
     const float *sums = ind ? m->isum : m->ysum, *frame4 = ind ? m->iframe4 : m->frame4, *axis2 = ind ? m->iaxis2 : m->axis2;
     float *std_px = ind ? m->istd_px : m->std_px, *components = ind ? m->icomponents : m->components;
@@ -1198,7 +1205,7 @@ static void radiance_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
 {
     ReconMethod *m = ctx;
     const GBuffer *g = m->g;
-    size_t w = (size_t)g->width, per = (size_t)m->comps * 8;
+    size_t w = (size_t)g->width, per = (size_t)m->lens_comps * 8;
     for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; ++i) {
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
         float spp = g->frame.spp[i], inv = spp > 0.0f ? 1.0f / spp : 0.0f;
@@ -1258,12 +1265,12 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
             size_t i = (size_t)y * w + x;
             float side = 0.0f;
             m->dstd_px[i] = defocus_filter(m, x, y, &side);
-            m->dcomponents[i] = m->dstd_px[i] > 0.0f ? (float)((2 * m->pairs - 1) * (2 * m->pairs - 1)) : 0.0f;
+            m->dcomponents[i] = m->dstd_px[i] > 0.0f ? (float)((2 * m->lens_pairs - 1) * (2 * m->lens_pairs - 1)) : 0.0f;
             maaf_screen_guides(x, y, side, g->frame.spp[i] > 0.0f, m->dpos4 + 4 * i, m->dnrm4 + 4 * i, m->guide4 + 4 * i,
                                m->daxis2 + 4 * i);
         }
     if (!have_filter(m, d)) return false;
-    MaafFilterInput in = {w, h, m->pairs, NULL, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
+    MaafFilterInput in = {w, h, m->lens_pairs, NULL, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
                           COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, radiance_fill, m};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
@@ -1275,12 +1282,12 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
 static int maaf_shared(ReconMethod *m, DistArray *out, int max)
 {
     int count = aaf_stats_arrays(&m->stats, out, max);
-    if (m->ysum && count < max) out[count++] = (DistArray){m->ysum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->ysum && count < max) out[count++] = (DistArray){m->ysum, (size_t)m->light_comps * 8 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->frame4, 4 * sizeof(float)};
     if (count < max) out[count++] = (DistArray){m->axis2, 4 * sizeof(float)};
-    if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->dsum && count < max) out[count++] = (DistArray){m->dsum, (size_t)m->lens_comps * 8 * sizeof(float)};
     if (m->lum4 && count < max) out[count++] = (DistArray){m->lum4, 4 * sizeof(float)};
-    if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->comps * 8 * sizeof(float)};
+    if (m->asum && count < max) out[count++] = (DistArray){m->asum, (size_t)m->lens_comps * 8 * sizeof(float)};
     if (m->albedo4 && count < max) out[count++] = (DistArray){m->albedo4, 4 * sizeof(float)};
     if (m->isum && count < max) out[count++] = (DistArray){m->isum, 4 * sizeof(float)};
     if (m->iframe4 && count < max) out[count++] = (DistArray){m->iframe4, 4 * sizeof(float)};
@@ -1310,10 +1317,14 @@ static int maaf_aovs(ReconMethod *m, ReconAov *out, int max)
     return count;
 }
 
+#define MAAF_STR_(x) #x
+#define MAAF_STR(x) MAAF_STR_(x)
+
 const ReconMethodClass recon_method_maaf = {
     .name = "maaf",
     .title = "multiple axis-aligned filters (MAAF, seeds/003): soft shadows, indirect light and defocus, (2N-1)^2 offset "
-             "Gaussians, 9 spp + extra at silhouettes and near the focal plane",
+             "Gaussians per effect (N = " MAAF_STR(MAAF_PAIRS_LIGHT_DEFAULT) " light, " MAAF_STR(MAAF_PAIRS_LENS_DEFAULT) " lens, "
+             MAAF_STR(MAAF_PAIRS_BOUNCE_DEFAULT) " bounce; --maaf-pairs sets all), 9 spp + extra at silhouettes and near the focal plane",
     .effects = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT) | EFFECT_BIT(EFFECT_DEFOCUS),
     .adaptive = true,
     .sample_fields = 0,
