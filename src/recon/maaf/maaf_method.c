@@ -131,7 +131,7 @@ struct ReconMethod {
     bool derived_ok;
     int pass1_spp;              /* the samples every pixel had when the first plan was made */
     float *ysum;                /* light_comps * 8 per pixel (eq. 20) */
-    float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: 1 once set */
+    float *frame4;              /* the pixel's light axis t1 (its first shadow ray's light), w: FRAME_FROM_* once set */
     float *axis2;               /* and t2 */
     float *guide4;              /* frame4 with w = usable, per filter run */
     float *out4, *shade;
@@ -219,12 +219,26 @@ static int maaf_pass1_spp(EffectMask effects)
  * half: pass 1 alone records their ray geometry (combined +7%, focal_crossing +5% at 32 spp with
  * the cap; docs/algorithms.md 9.21). */
 #define DEFOCUS_ALONE_PASS1_MAX_SPP 8.0f
+/* Frames with defocus and soft shadows or indirect light: pass 1 at least 8 samples at budgets
+ * under 16, where the half gave it 4-7. Pass 1's products (each pixel's pilot variance, the
+ * shadow wedges and the circle-of-confusion ranges) come from its samples alone, and the plan
+ * leaves most pixels at pass 1's count: on combined.pbrt at 12 spp the pixels at that count
+ * (43%) went from relMSE 2.06e-4 to 1.27e-4 with pass 1 at 8 instead of 6, bias and variance
+ * alike, more than two more samples give a plain mean (docs/algorithms.md 9.23). 8 is the
+ * defocus-alone cap's count above. The plan keeps at least a quarter of the budget: with none
+ * (pass 1 = 8 at 8 spp) the silhouettes and the focal plane's straddlers had no samples to take
+ * and the error was 1.8x. */
+#define SHADED_DEFOCUS_PASS1_MIN_SPP 8.0f
+#define PLAN_MIN_BUDGET_SHARE 0.25f
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
     int budget = renderer_spp(r);
     bool defocus = effect_in(effects, EFFECT_DEFOCUS);
     if (defocus && budget > 0 && !effect_in(effects, EFFECT_SOFT_SHADOWS) && !effect_in(effects, EFFECT_INDIRECT))
         return fminf(DEFOCUS_BUDGET_PASS1_SHARE, DEFOCUS_ALONE_PASS1_MAX_SPP / (float)budget);
+    if (defocus && budget > 0)
+        return fmaxf(DEFOCUS_BUDGET_PASS1_SHARE,
+                     fminf(SHADED_DEFOCUS_PASS1_MIN_SPP / (float)budget, 1.0f - PLAN_MIN_BUDGET_SHARE));
     if (defocus || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
     /* soft shadows alone: never below the paper's 9, which the wedges and the pilot variance
      * need (the 40-pixel scene of test_maaf_pipeline at a budget of 9: relMSE 2.5e-3 with
@@ -613,6 +627,10 @@ static void indirect_add(ReconMethod *m, size_t i, const SampleRecord *r, const 
     for (int ch = 0; ch < 4; ++ch) sum[ch] += f[ch];
 }
 
+/* frame4's w: how the pixel's light axes were set (0: not yet) */
+#define FRAME_FROM_SHADOW_RAY 1.0f /* at its first sample with a shadow ray */
+#define FRAME_FROM_UNKNOWN 2.0f    /* at a sample without one (no shadow ray in the pixel yet) */
+
 static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *r)
 {
     aaf_stats_add(&m->stats, px, py, r);
@@ -644,6 +662,14 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     }
     if (m->unread && (m->unread[i] & UNREAD_LIGHT)) return;
     if (!known) { /* no shadow ray: its light point is unknown (maaf_shadow.h) */
+        /* the pixel's axes from this sample too: a pixel whose pass-1 samples all drew light
+         * points behind its horizon (a face lit at grazing) was left out of its neighbours'
+         * filters, and those were the dark ones (docs/algorithms.md 9.23) */
+        float *t1 = m->frame4 + 4 * i;
+        if (t1[3] == 0.0f && isfinite(p[0] + p[1] + p[2])) {
+            maaf_light_axes(l, p, t1, m->axis2 + 4 * i);
+            t1[3] = FRAME_FROM_UNKNOWN;
+        }
         maaf_accumulate_unknown(m->light_pairs, l, f, m->ysum + i * (size_t)m->light_comps * 8);
         return;
     }
@@ -653,9 +679,9 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
         return;
     }
     float *t1 = m->frame4 + 4 * i, *t2 = m->axis2 + 4 * i;
-    if (t1[3] == 0.0f) { /* the pixel's axes: its first shadow ray's light's */
+    if (t1[3] != FRAME_FROM_SHADOW_RAY) { /* the pixel's axes: its first shadow ray's light's */
         maaf_light_axes(l, p, t1, t2);
-        t1[3] = 1.0f;
+        t1[3] = FRAME_FROM_SHADOW_RAY;
     }
     float dl[3] = {L[0] - l->center[0], L[1] - l->center[1], L[2] - l->center[2]};
     float y1 = dl[0] * t1[0] + dl[1] * t1[1] + dl[2] * t1[2];
@@ -964,7 +990,15 @@ static bool plan_classes(ReconMethod *m)
             /* shadows: silhouettes, and surfaces lit directly whose filter is too narrow */
             if (shadows && g->hit[i]) {
                 /* glossy receivers keep their own direct light (gbuffer.h): extra samples */
-                float std_px = m->frame4[4 * i + 3] != 0.0f ? shadow_filter(m, x, y, &pr, &comps) : INFINITY;
+                /* a pixel without a shadow ray in pass 1 (FRAME_FROM_UNKNOWN) takes its filter's
+                 * area when that is the plain far filter (no occluder near): its count then does
+                 * not depend on whether its own pass 1 found the light, which biased a grazing-lit
+                 * face +5%. Beside occluders it counts as unfiltered, as before its axes were set:
+                 * there the wedge filter's area moved thin_occluders' counts and its error rose
+                 * 5.6% at 16 spp (docs/algorithms.md 9.23). */
+                float frame = m->frame4[4 * i + 3];
+                float std_px = frame != 0.0f ? shadow_filter(m, x, y, &pr, &comps) : INFINITY;
+                if (frame == FRAME_FROM_UNKNOWN && comps > 1.0f) std_px = INFINITY;
                 more = g->mixed[i] || g->glossy[i] || std_px < UNFILTERED_STD_PX;
                 shade_px = g->mixed[i] || g->glossy[i] ? 0.0f : std_px;
                 cls = PLAN_FILTERED;
