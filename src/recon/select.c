@@ -23,9 +23,11 @@
  * paired by budget (ahead at 16-32 spp, behind at 8 and at the default budget), and beside
  * another method's filters a frame with maaf's shadows runs two filters and plans its samples
  * by the larger of two plans: 1-36% more CPU at equal spp for equal or more error. aaf stays.
- * The defocus row's numbers predate MAAF's defocus work: there maaf over the whole frame now
- * gives 1.7-4x less error than aaf at equal spp on defocus, combined and focal_crossing (1.2-1.8x
- * the equal-error speed, issue 18's check missed on those scenes); the next row to re-measure. */
+ * The defocus row (2026-11-29, "The defocus row of --filter auto to maaf"): maaf over the
+ * whole frame gives 1.3-4x less error than aaf at equal spp on defocus, combined,
+ * focal_crossing and bokeh_bright (1.16-1.80x the equal-error speed, paired by budget), so in
+ * frames without motion the lens goes to maaf and the shading with it (follow_maaf_lens);
+ * issue 18's check then passes on those four and envlight (0.95-1.05). */
 /* The measurement behind lr for motion alone (docs/benchmarks.md, issue 18). */
 #define LR_MOTION_ONLY_EVIDENCE "motion_shading 128x128: 29%/18% less error than unfiltered at 8/16 spp"
 
@@ -43,8 +45,8 @@ static const struct {
      * threshold (select_camera_by_blur) and aaf's below it: maaf was not measured there. */
     {EFFECT_DEFOCUS, true, "maaf", "maaf: 1.84x Monte Carlo's speed at equal error, aaf 1.46x; paired by budget 1.20x aaf's "
                                    "(combined 1.34x, focal_crossing 1.80x) (defocus bench, 256x256, tools/bench-policy)"},
-    {EFFECT_DEFOCUS, false, "aaf", "aaf: 1.56x Monte Carlo's speed at equal error, maaf 1.43x, lr 1.24x, fsf 1.13x (defocus bench, "
-                                   "256x256, tools/bench-policy)"},
+    {EFFECT_DEFOCUS, false, "aaf", "aaf beside motion: maaf not measured beside lr's motion filter (without motion aaf "
+                                   "1.46x Monte Carlo's speed at equal error, maaf 1.84x; tools/bench-policy)"},
     /* fsf indirect (issue 15): 1.14-1.60x aaf's relMSE at equal spp 8-64 and 1.48x its frame
      * time (indirect bench, 256x256; docs/benchmarks.md, 2026-11-28) */
     {EFFECT_INDIRECT, false, "aaf", "aaf: 8.85x Monte Carlo's speed at equal error (indirect bench, 256x256, tools/bench-policy)"},
