@@ -446,14 +446,16 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * filtered surfaces few samples, where the sky's noise then stays, and spend the rest
      * where each sample costs more rays. Traced uniformly instead (the filters still at the
      * budget's mu), envlight.pbrt at 64 spp went from 6.2e-4 to 5.3e-4 relMSE for 27% less
-     * CPU time (docs/benchmarks.md, "auto on an environment light"). Measured for AAF's plans
-     * only: MAAF's (a 4D lens filter that gains more from its extra samples) lost by it at 16
-     * and 32 spp (1.0e-3 -> 1.4e-3, 6.5e-4 -> 7.2e-4), so a frame with another planning
-     * method keeps the plans. */
-    bool aaf_plans_only = true;
+     * CPU time (docs/benchmarks.md, "auto on an environment light"). Measured for AAF's and
+     * MAAF's plans: MAAF's frame on envlight.pbrt, seeds 1-4, at 8 / 16 / 32 spp 0.72x /
+     * 0.90x / 1.31x the error for 0.83x / 0.80x / 0.79x the CPU time (at 64 spp 1.58x / 0.73x;
+     * docs/benchmarks.md, "The defocus row to maaf"). A frame planned by another method (FSF)
+     * keeps its plans, not measured here. */
+    bool plans_measured = true;
     for (int s = 0; s < p->slot_count; ++s)
-        if (p->slots[s].cls->adaptive && strcmp(p->slots[s].cls->name, "aaf")) aaf_plans_only = false;
-    if (p->opt.spp > 0 && !p->fixed_only && aaf_plans_only && scene_has_environment_light(p->r)) budget_in_pass1 = true;
+        if (p->slots[s].cls->adaptive && strcmp(p->slots[s].cls->name, "aaf") && strcmp(p->slots[s].cls->name, "maaf"))
+            plans_measured = false;
+    if (p->opt.spp > 0 && !p->fixed_only && plans_measured && scene_has_environment_light(p->r)) budget_in_pass1 = true;
     if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
     if (!p->fixed_only && !budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;

@@ -90,11 +90,11 @@ int main(void)
     CHECK(before.blur_px == -1.0f && c.blur_px == -1.0f);
     CHECK(!memcmp(before.reason, c.reason, sizeof c.reason));
 
-    /* no motion: the value is ignored, the choice is today's */
+    /* no motion: the value is ignored, the choice is the policy's row (maaf, test_select_lens.c) */
     EffectMask defocus = EFFECT_BIT(EFFECT_DEFOCUS);
     recon_select(defocus, "auto", 50.0f, &c);
     recon_select(defocus, "auto", -1.0f, &before);
-    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
+    CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "maaf");
     CHECK(!memcmp(before.reason, c.reason, sizeof c.reason) && c.blur_px == -1.0f);
     CHECK(!recon_select_wants_blur(defocus, "auto"));
 
