@@ -219,6 +219,22 @@ static int maaf_pass1_spp(EffectMask effects)
  * half: pass 1 alone records their ray geometry (combined +7%, focal_crossing +5% at 32 spp with
  * the cap; docs/algorithms.md 9.21). */
 #define DEFOCUS_ALONE_PASS1_MAX_SPP 8.0f
+/* Frames whose only MAAF effect is soft shadows: pass 1 is a power of two, the smallest at or
+ * above half the budget, and at most 8. The default sampler (zsobol) stratifies a pixel's
+ * first 2^k samples as a net over the light, so a pilot of 8 measures the variance and the
+ * wedges better than one of 9 whose ninth sample starts the next net; and above 8 a larger
+ * pilot takes samples from the allocation. It was at least the paper's 9 until issue 16's
+ * pass-1 sweep (docs/algorithms.md 9.23; soft_shadows, 256x256, seeds 1-3, relMSE): at 16 spp
+ * pass 1 of 7 / 8 / 9 / 10 gave 8.4e-5 / 6.8e-5 / 7.7e-5 / 8.3e-5; at 12 spp 4 / 6 / 7 / 8 / 9
+ * gave 1.17e-4 / 1.02e-4 / 1.18e-4 / 9.4e-5 / 1.23e-4; at 24 spp 8 / 12 / 16 gave 4.6e-5 /
+ * 5.0e-5 / 5.3e-5; at a budget of 8, 9 left no plan at all (7.9e-4), 4 gave 1.8e-4. */
+#define SHADOW_ALONE_PASS1_MAX_SPP 8
+static float shadow_alone_pass1_spp(int budget)
+{
+    int pass1 = 1;
+    while (pass1 < SHADOW_ALONE_PASS1_MAX_SPP && 2 * pass1 < budget) pass1 *= 2;
+    return (float)pass1;
+}
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
     int budget = renderer_spp(r);
@@ -226,10 +242,7 @@ static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
     if (defocus && budget > 0 && !effect_in(effects, EFFECT_SOFT_SHADOWS) && !effect_in(effects, EFFECT_INDIRECT))
         return fminf(DEFOCUS_BUDGET_PASS1_SHARE, DEFOCUS_ALONE_PASS1_MAX_SPP / (float)budget);
     if (defocus || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
-    /* soft shadows alone: never below the paper's 9, which the wedges and the pilot variance
-     * need (the 40-pixel scene of test_maaf_pipeline at a budget of 9: relMSE 2.5e-3 with
-     * pass 1 at 4 or 5, 1.9e-3 at 9; soft_shadows at 16 spp 2% above the plain half) */
-    if (rate_planned(effects)) return fmaxf(DEFOCUS_BUDGET_PASS1_SHARE, (float)MAAF_SPP_DEFAULT / (float)budget);
+    if (rate_planned(effects)) return shadow_alone_pass1_spp(budget) / (float)budget;
     return (float)MAAF_SPP_DEFAULT / (float)budget;
 }
 
