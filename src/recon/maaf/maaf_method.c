@@ -220,14 +220,16 @@ static int maaf_pass1_spp(EffectMask effects)
  * the cap; docs/algorithms.md 9.21). */
 #define DEFOCUS_ALONE_PASS1_MAX_SPP 8.0f
 /* Frames whose only MAAF effect is soft shadows: pass 1 is a power of two, the smallest at or
- * above half the budget, and at most 8. The default sampler (zsobol) stratifies a pixel's
- * first 2^k samples as a net over the light, so a pilot of 8 measures the variance and the
- * wedges better than one of 9 whose ninth sample starts the next net; and above 8 a larger
- * pilot takes samples from the allocation. It was at least the paper's 9 until issue 16's
- * pass-1 sweep (docs/algorithms.md 9.23; soft_shadows, 256x256, seeds 1-3, relMSE): at 16 spp
- * pass 1 of 7 / 8 / 9 / 10 gave 8.4e-5 / 6.8e-5 / 7.7e-5 / 8.3e-5; at 12 spp 4 / 6 / 7 / 8 / 9
- * gave 1.17e-4 / 1.02e-4 / 1.18e-4 / 9.4e-5 / 1.23e-4; at 24 spp 8 / 12 / 16 gave 4.6e-5 /
- * 5.0e-5 / 5.3e-5; at a budget of 8, 9 left no plan at all (7.9e-4), 4 gave 1.8e-4. */
+ * above half the budget, and at most 8. Beyond 8 a larger pilot only takes samples from the
+ * Lagrange allocation, which places the samples above it (the narrow shadow filters need 5-10x
+ * the wide ones' counts); below half the budget the pilot's variance and wedges are poor; odd
+ * pilots (5, 7: a 1 x n strip of the stratified sampler's rows x cols grid) and 9 lost to 8. It
+ * was at least the paper's 9 until issue 16's sweep (docs/algorithms.md 9.23; soft_shadows,
+ * 256x256, seeds 1-3, relMSE): at a budget of 8 the old floor traced 9 (over the budget, no
+ * plan: 7.9e-4), pass 1 of 4 gives 1.8e-4; at 12, 4 / 6 / 7 / 8 / 9 gave 1.17e-4 / 1.02e-4 /
+ * 1.18e-4 / 9.4e-5 / 1.23e-4; at 16, 7 / 8 / 9 / 10 gave 8.4e-5 / 6.8e-5 / 7.7e-5 / 8.3e-5; at
+ * 24, 8 / 12 / 16 gave 4.6e-5 / 5.0e-5 / 5.3e-5. At 10 spp 6 beat 8 on three bench scenes of
+ * four, but 4 + 5 at a budget of 9 lost on test_maaf_pipeline's scene (2.4e-3 against 1.9e-3). */
 #define SHADOW_ALONE_PASS1_MAX_SPP 8
 static float shadow_alone_pass1_spp(int budget)
 {
