@@ -229,7 +229,7 @@ static int maaf_pass1_spp(EffectMask effects)
  * plan: 7.9e-4), pass 1 of 4 gives 1.8e-4; at 12, 4 / 6 / 7 / 8 / 9 gave 1.17e-4 / 1.02e-4 /
  * 1.18e-4 / 9.4e-5 / 1.23e-4; at 16, 7 / 8 / 9 / 10 gave 8.4e-5 / 6.8e-5 / 7.7e-5 / 8.3e-5; at
  * 24, 8 / 12 / 16 gave 4.6e-5 / 5.0e-5 / 5.3e-5. At 10 spp 6 beat 8 on three bench scenes of
- * four, but 4 + 5 at a budget of 9 lost on test_maaf_pipeline's scene (2.4e-3 against 1.9e-3). */
+ * four, but 4 + 5 at a budget of 9 lost on test_maaf_pipeline's scene (2.4e-3 against 1.6e-3). */
 #define SHADOW_ALONE_PASS1_MAX_SPP 8
 static float shadow_alone_pass1_spp(int budget)
 {
