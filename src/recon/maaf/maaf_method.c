@@ -230,6 +230,24 @@ static int maaf_pass1_spp(EffectMask effects)
  * and the error was 1.8x. */
 #define SHADED_DEFOCUS_PASS1_MIN_SPP 8.0f
 #define PLAN_MIN_BUDGET_SHARE 0.25f
+/* Frames whose only MAAF effect is soft shadows: pass 1 is a power of two, the smallest at or
+ * above half the budget, and at most 8. Beyond 8 a larger pilot only takes samples from the
+ * Lagrange allocation, which places the samples above it (the narrow shadow filters need 5-10x
+ * the wide ones' counts); below half the budget the pilot's variance and wedges are poor; odd
+ * pilots (5, 7: a 1 x n strip of the stratified sampler's rows x cols grid) and 9 lost to 8. It
+ * was at least the paper's 9 until issue 16's sweep (docs/algorithms.md 9.24; soft_shadows,
+ * 256x256, seeds 1-3, relMSE): at a budget of 8 the old floor traced 9 (over the budget, no
+ * plan: 7.9e-4), pass 1 of 4 gives 1.8e-4; at 12, 4 / 6 / 7 / 8 / 9 gave 1.17e-4 / 1.02e-4 /
+ * 1.18e-4 / 9.4e-5 / 1.23e-4; at 16, 7 / 8 / 9 / 10 gave 8.4e-5 / 6.8e-5 / 7.7e-5 / 8.3e-5; at
+ * 24, 8 / 12 / 16 gave 4.6e-5 / 5.0e-5 / 5.3e-5. At 10 spp 6 beat 8 on three bench scenes of
+ * four, but 4 + 5 at a budget of 9 lost on test_maaf_pipeline's scene (2.4e-3 against 1.6e-3). */
+#define SHADOW_ALONE_PASS1_MAX_SPP 8
+static float shadow_alone_pass1_spp(int budget)
+{
+    int pass1 = 1;
+    while (pass1 < SHADOW_ALONE_PASS1_MAX_SPP && 2 * pass1 < budget) pass1 *= 2;
+    return (float)pass1;
+}
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
     int budget = renderer_spp(r);
@@ -240,10 +258,7 @@ static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
         return fmaxf(DEFOCUS_BUDGET_PASS1_SHARE,
                      fminf(SHADED_DEFOCUS_PASS1_MIN_SPP / (float)budget, 1.0f - PLAN_MIN_BUDGET_SHARE));
     if (defocus || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
-    /* soft shadows alone: never below the paper's 9, which the wedges and the pilot variance
-     * need (the 40-pixel scene of test_maaf_pipeline at a budget of 9: relMSE 2.5e-3 with
-     * pass 1 at 4 or 5, 1.9e-3 at 9; soft_shadows at 16 spp 2% above the plain half) */
-    if (rate_planned(effects)) return fmaxf(DEFOCUS_BUDGET_PASS1_SHARE, (float)MAAF_SPP_DEFAULT / (float)budget);
+    if (rate_planned(effects)) return shadow_alone_pass1_spp(budget) / (float)budget;
     return (float)MAAF_SPP_DEFAULT / (float)budget;
 }
 
