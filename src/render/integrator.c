@@ -433,8 +433,8 @@ typedef struct {
     int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
     int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
     bool bounce;       /* a bounce was sampled (vs, beta_next) */
-    int hit_slot;      /* its ray's entry in the closest-hit batch (a last ray that cannot
-                        * reach an emitter, lights_ray_may_reach_emitter, leaves bounce false) */
+    int hit_slot;      /* its ray's entry in the closest-hit batch; -1: not traced, as it
+                        * cannot reach an emitter (lights_ray_may_reach_emitter) */
     VertexSample vs;
     vec3 beta_next;
 } WavePath;
@@ -504,10 +504,9 @@ struct Wave {
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
     WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
     int tri_groups;
-    /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per ray
-     * its origin, direction, path and answer */
+    /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
+     * closest-hit slot its origin, direction, path and answer */
     float box_o[3][WAVE_SAMPLES], box_d[3][WAVE_SAMPLES];
-    float box_beta[3][WAVE_SAMPLES]; /* its throughput beta * weight, not yet guarded */
     int box_path[WAVE_SAMPLES], box_may[WAVE_SAMPLES];
 };
 
@@ -1057,65 +1056,49 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), vertex_dim0(sc, depth) + 3);
     vec3 lambert_local = v3(w->dim_cosine[0][j], w->dim_cosine[1][j], w->dim_cosine[2][j]);
     if (!vertex_sample(v, u_lobe, w->dim_bsdf[j], lambert_local, &p->vs)) return;
-    if (emitter_box_test(sc, depth)) {
-        /* A last ray that may be dropped (on thin_occluders 97% are): queued for the box
-         * test with its unguarded throughput; its guard, its bounce and its ray's slot are
-         * wave_emitter_box_test's, for the rays the test keeps. */
-        vec3 o = surface_offset(&v->hit, p->vs.wi), b = v3_mul(p->beta, p->vs.weight);
-        int k = (*n_hit)++;
-        w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
-        w->box_d[0][k] = p->vs.wi.x, w->box_d[1][k] = p->vs.wi.y, w->box_d[2][k] = p->vs.wi.z;
-        w->box_beta[0][k] = b.x, w->box_beta[1][k] = b.y, w->box_beta[2][k] = b.z;
-        w->box_path[k] = j;
-        return;
-    }
     p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
     if (max_component_nonpositive(p->beta_next)) return;
     if (depth == 1 && p->vs.delta) p->unfiltered = true;
     p->bounce = true;
+    p->hit_slot = -1;
     vec3 o = surface_offset(&v->hit, p->vs.wi);
     /* The last ray of a path only finds emitters for MIS of direct light; the others carry
-     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). */
+     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Rays that
+     * wave_emitter_box_test may drop are counted there. */
+    bool box_test = emitter_box_test(sc, depth);
     if (depth < sc->max_depth) ++st->rays_indirect;
-    else ++st->rays_bsdf;
+    else if (!box_test) ++st->rays_bsdf;
     p->hit_slot = (*n_hit)++;
     w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
+    if (box_test) {
+        int k = p->hit_slot;
+        w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
+        w->box_d[0][k] = p->vs.wi.x, w->box_d[1][k] = p->vs.wi.y, w->box_d[2][k] = p->vs.wi.z;
+        w->box_path[k] = j;
+    }
 }
 
 /* The box test for the stage's n_hit queued last rays at once (lights_rays_may_reach_emitter,
- * one vectorised loop, instead of a call per ray), then what wave_vertex_rays does for a
- * bounce after vertex_sample, in its order, for the rays the test keeps: the throughput's
- * guard, the test that it is positive, the bounce and the ray, written to [0, count) in
- * the paths' order. Returns count. A dropped ray's path keeps bounce false, which
- * wave_vertex_fold ends as it ended a bounce whose ray was not traced (nothing found, no
- * infinite light: nothing added). Its throughput is only tested, for the same counts: a
- * non-finite one is a guarded event (guard3), a positive one a skipped ray, as when the
- * guard and its test came before the box test. */
-static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, int depth, IntegratorStats *st)
+ * one vectorised loop, instead of a call per ray): the rays that may reach an emitter keep
+ * their order and move down to [0, count), their paths' hit_slot follows them, the others'
+ * becomes -1 (not traced). Returns count. The same rays are traced and skipped as by a test
+ * per ray, and the same counts reported. */
+static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, IntegratorStats *st)
 {
     const float *o[3] = {w->box_o[0], w->box_o[1], w->box_o[2]}, *d[3] = {w->box_d[0], w->box_d[1], w->box_d[2]};
     lights_rays_may_reach_emitter(sc->lights, n_hit, o, d, w->box_may);
     int count = 0;
-    long long skipped = 0, guarded = 0;
     for (int k = 0; k < n_hit; ++k) {
-        vec3 b = v3(w->box_beta[0][k], w->box_beta[1][k], w->box_beta[2][k]);
-        bool finite = finite3(b);
-        guarded += !finite;
-        if (!finite || max_component_nonpositive(b)) continue;
+        WavePath *p = &w->path[w->box_path[k]];
         if (!w->box_may[k]) {
-            ++skipped;
+            p->hit_slot = -1;
             continue;
         }
-        WavePath *p = &w->path[w->box_path[k]];
-        p->beta_next = b; /* guard3 of a finite value is that value */
-        if (depth == 1 && p->vs.delta) p->unfiltered = true;
-        p->bounce = true;
-        w->ray_hit[count] = (TracerRay){v3(o[0][k], o[1][k], o[2][k]), p->vs.wi, INFINITY, p->time01, 0u};
+        w->ray_hit[count] = w->ray_hit[k];
         p->hit_slot = count++;
     }
     st->rays_bsdf += count;
-    st->rays_bsdf_skipped += skipped;
-    st->guarded_events += guarded;
+    st->rays_bsdf_skipped += n_hit - count;
     return count;
 }
 
@@ -1176,11 +1159,9 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld_delta);
     }
     p->alive = false;
-    /* no bounce: none sampled, or a last ray the emitter-box test dropped, which would have
-     * found nothing (wave_emitter_box_test) and so adds nothing below */
     if (!p->bounce) return;
 
-    bool hit = w->hit_found[p->hit_slot];
+    bool hit = p->hit_slot >= 0 && w->hit_found[p->hit_slot];
     const SurfaceHit *nh = hit ? &w->hit[p->hit_slot] : NULL;
     vec3 wi = p->vs.wi;
     if (depth == 1 && sc->record_ray_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
@@ -1188,7 +1169,8 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         b->d_hit_world = hit ? nh->t : INFINITY;
         b->dir_world = wi;
     }
-    /* A ray that found nothing, without infinite lights: bsdf_ray_emission is +0, so le is a zero
+    /* A ray that found nothing, without infinite lights (on soft_shadows nearly every last
+     * ray, dropped by the emitter-box test): bsdf_ray_emission is +0, so le is a zero
      * (beta_next is finite, guarded above) and adding it changes no sum (a sum begun at +0
      * is never -0). Nothing to add, no guard, and such a path ends here either way. */
     if (!hit && sc->lights->infinite_count == 0) return;
@@ -1260,7 +1242,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive)
                 wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);
-        if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, depth, st);
+        if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
