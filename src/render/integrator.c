@@ -161,16 +161,12 @@ WAVE_STAGE bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lamber
     return true;
 }
 
-/* The sampler dimensions of one path vertex, in the order they are requested. */
+/* The light a path vertex's dimensions choose (the dimensions themselves are the wave's
+ * arrays, Wave.dim_*: wave_vertex_dims writes them there run by run). */
 typedef struct {
-    float pick;   /* light choice (1D) */
-    vec2 light;   /* position on the light (2D) */
-    int lobe_dim; /* BSDF lobe choice (1D): its index, drawn only by a glossy vertex */
-    vec2 bsdf;    /* BSDF direction (2D) */
-    vec3 bsdf_cosine; /* warp_cosine_hemisphere(bsdf), Lambert's direction in the local frame */
-    /* the light they choose (lights_pick, then lights_pick_in_mesh, made by
-     * wave_triangle_light_samples): its index (-1: none), probability, and the position
-     * sample as that leaves it */
+    /* the light its pick and light dimensions choose (lights_pick, then
+     * lights_pick_in_mesh, made by wave_triangle_light_samples): its index (-1: none),
+     * probability, and the position sample as that leaves it */
     int light_index;
     float light_pmf;
     vec2 light_uv;
@@ -424,7 +420,7 @@ typedef struct {
     float time01;
     bool alive;        /* has a vertex to continue from */
     Vertex v;
-    VertexDims u;      /* the current vertex's dimensions */
+    VertexDims u;      /* the light the current vertex's dimensions choose */
     vec3 beta;         /* path throughput up to v */
     bool unfiltered;   /* light from here on passes the filters unfiltered */
     /* the current vertex's light sample and bounce, between tracing and folding in */
@@ -495,7 +491,13 @@ struct Wave {
     /* one run's values of one dimension */
     float run_1d[SAMPLER_RUN_MAX];
     vec2 run_2d[SAMPLER_RUN_MAX], run_2d_b[SAMPLER_RUN_MAX];
-    float run_cosine[3][SAMPLER_RUN_MAX]; /* the run's cosine-weighted BSDF directions */
+    /* the current vertex's dimensions per path (wave_vertex_dims), in the order drawn:
+     * light choice (1D), position on the light (2D), BSDF direction (2D) and its
+     * warp_cosine_hemisphere (Lambert's direction in the local frame); the lobe choice (1D)
+     * is drawn by a glossy vertex alone, at vertex_dim0 + 3 */
+    float dim_pick[WAVE_SAMPLES];
+    vec2 dim_light[WAVE_SAMPLES], dim_bsdf[WAVE_SAMPLES];
+    float dim_cosine[3][WAVE_SAMPLES];
     CameraBatch camera;
     /* the stage's live, lit paths' positions and their delta lights' samples */
     float lit_p[3][WAVE_SAMPLES], lit_ng[3][WAVE_SAMPLES], lit_err[WAVE_SAMPLES];
@@ -555,25 +557,15 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
     const SamplerRun *run = &w->run;
     int d0 = vertex_dim0(sc, depth);
     bool light_dims = vertex_uses_light_dims(sc), bsdf_dims = vertex_uses_bsdf_dims(sc, depth);
+    /* straight into the wave's arrays at the run's paths (no copy into each path) */
     if (light_dims) {
-        sampler_run_1d(s, run, d0, w->run_1d);
-        sampler_run_2d(s, run, d0 + 1, w->run_2d);
+        sampler_run_1d(s, run, d0, w->dim_pick + j0);
+        sampler_run_2d(s, run, d0 + 1, w->dim_light + j0);
     }
     if (bsdf_dims) {
-        sampler_run_2d(s, run, d0 + 4, w->run_2d_b);
-        warp_cosine_hemisphere_run(run->count, w->run_2d_b, w->run_cosine[0], w->run_cosine[1], w->run_cosine[2]);
-    }
-    for (int k = 0; k < run->count; ++k) {
-        VertexDims *u = &w->path[j0 + k].u;
-        u->lobe_dim = d0 + 3;
-        if (light_dims) {
-            u->pick = w->run_1d[k];
-            u->light = w->run_2d[k];
-        }
-        if (bsdf_dims) {
-            u->bsdf = w->run_2d_b[k];
-            u->bsdf_cosine = v3(w->run_cosine[0][k], w->run_cosine[1][k], w->run_cosine[2][k]);
-        }
+        sampler_run_2d(s, run, d0 + 4, w->dim_bsdf + j0);
+        warp_cosine_hemisphere_run(run->count, w->dim_bsdf + j0, w->dim_cosine[0] + j0, w->dim_cosine[1] + j0,
+                                   w->dim_cosine[2] + j0);
     }
 }
 
@@ -773,8 +765,8 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         VertexDims *u = &p->u;
         float pmf = 0.0f;
         bool static_triangle = false;
-        u->light_uv = u->light;
-        u->light_index = lights_choose(L, u->pick, &u->light_uv, &pmf, &static_triangle);
+        u->light_uv = w->dim_light[j];
+        u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
         u->light_pmf = pmf;
         if (u->light_index < 0 || !static_triangle) continue;
         int g = 0;
@@ -1060,8 +1052,10 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
 
     if (!vertex_uses_bsdf_dims(sc, depth)) return;
     float u_lobe = 0.5f; /* Lambert: unused */
-    if (v->glossy) u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), p->u.lobe_dim);
-    if (!vertex_sample(v, u_lobe, p->u.bsdf, p->u.bsdf_cosine, &p->vs)) return;
+    if (v->glossy)
+        u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), vertex_dim0(sc, depth) + 3);
+    vec3 lambert_local = v3(w->dim_cosine[0][j], w->dim_cosine[1][j], w->dim_cosine[2][j]);
+    if (!vertex_sample(v, u_lobe, w->dim_bsdf[j], lambert_local, &p->vs)) return;
     p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
     if (max_component_nonpositive(p->beta_next)) return;
     if (depth == 1 && p->vs.delta) p->unfiltered = true;

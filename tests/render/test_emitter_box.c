@@ -7,9 +7,11 @@
  *    judged so, and a ray leaving the box is.
  *  - A moving emitter leaves the box unbounded: every ray may reach it.
  *  - The integrator: a render that skips the rays (no records) equals, value for value, one
- *    that traces every first vertex's last ray (records on, so none is skipped), and the
- *    skipped and traced rays add up to the same count. With an infinite light none is
- *    skipped.
+ *    that traces every first vertex's last ray (records on, so none is skipped), the
+ *    skipped and traced rays add up to the same count and the guarded events are the same.
+ *    With a black object, whose last rays carry no throughput and are neither traced nor
+ *    skipped (the throughput's test comes before the box test's count), too; with an
+ *    infinite light none is skipped.
  *  - The batched test (lights_rays_may_reach_emitter, one vectorised loop) answers as the
  *    test per ray on every ray: random ones, and the edge cases of the slab test (direction
  *    components of +-0, origins on the box's faces, a zero direction, NaN and infinite
@@ -160,6 +162,7 @@ static void test_skipped_rays_change_nothing(const char *extra, bool expect_skip
     printf("skipped %lld of %lld last rays, %d values differ\n", t[0].stats.rays_bsdf_skipped,
            t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped, bad);
     CHECK(bad == 0 && sum > 0.0);
+    CHECK(t[0].stats.guarded_events == t[1].stats.guarded_events);
     CHECK(t[1].stats.rays_bsdf_skipped == 0);
     CHECK(t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped == t[1].stats.rays_bsdf);
     CHECK(expect_skips ? t[0].stats.rays_bsdf_skipped > t[0].stats.rays_bsdf : t[0].stats.rays_bsdf_skipped == 0);
@@ -236,6 +239,9 @@ int main(void)
     test_batch_equals_single();
     test_moving_emitter();
     test_skipped_rays_change_nothing("", true);
+    test_skipped_rays_change_nothing("AttributeBegin Material \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n"
+                                     "  Translate 0 0.4 -1.2 Shape \"sphere\" \"float radius\" [ 0.4 ] AttributeEnd\n",
+                                     true);
     test_skipped_rays_change_nothing("LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n", false);
     CHECK_DONE();
 }
