@@ -389,9 +389,30 @@ static bool scene_has_environment_light(const Renderer *r)
     return false;
 }
 
+/* Whether MAAF plans the frame and no other adaptive method does. */
+static bool planned_by_maaf_alone(const ReconPipeline *p)
+{
+    bool maaf = false;
+    for (int s = 0; s < p->slot_count; ++s)
+        if (p->slots[s].cls->adaptive) {
+            if (strcmp(p->slots[s].cls->name, "maaf")) return false;
+            maaf = true;
+        }
+    return maaf;
+}
+
 /* Buffers, guides, store and methods for a filtered frame. */
 static bool setup_filtered(ReconPipeline *p, Diag *d)
 {
+    /* Without --spp the plans' own counts set the frame's samples. Under an environment light
+     * MAAF's plan is blind to the sky's unfiltered noise (below) and left it: envlight.pbrt,
+     * seeds 1-2, 3.3x AAF's default error for 0.48x its CPU time. Such a frame takes the
+     * scene file's sample count as its budget instead (what --filter none traces), and with it
+     * the sky's rule below: traced uniformly, MAAF's design and mu set for that budget
+     * (docs/benchmarks.md, "MAAF's default budget under a sky"). AAF's default frame keeps its
+     * plan (its error there was 0.30x MAAF's). */
+    if (p->opt.spp <= 0 && !p->fixed_only && planned_by_maaf_alone(p) && scene_has_environment_light(p->r))
+        p->opt.spp = renderer_spp(p->r);
     int w = renderer_width(p->r), h = renderer_height(p->r);
     size_t n = pixel_count(p);
     if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) goto oom;

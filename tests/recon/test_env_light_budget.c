@@ -3,9 +3,11 @@
  * filters leave) must not decide where the budget goes: every pixel gets exactly the budget,
  * traced in pass 1, while AAF still filters the lens and the bounce. The same scene lit by an
  * area light instead keeps the plan's uneven counts (the rule must not trigger there), and
- * so does the sky without a budget (the methods' own counts). The same holds for a frame
- * planned by MAAF (auto's choice here: a lens and no motion), and not for one planned by FSF,
- * whose plans were not measured against uniform counts under a sky. */
+ * so does AAF's frame of the sky without a budget (its own counts). The same holds for a
+ * frame planned by MAAF (auto's choice here: a lens and no motion), and not for one planned
+ * by FSF, whose plans were not measured against uniform counts under a sky. Without a budget
+ * MAAF's frame of the sky takes the scene file's count (12 here, neither method's pass 1)
+ * as its budget, every pixel alike. */
 #include "check.h"
 #include "recon_test_util.h"
 
@@ -17,7 +19,7 @@ static void scene_text(char *text, size_t size, const char *light)
              "LookAt -1.5 2.5 -1.5   0.8 0 0.3   0 1 0\n"
              "Camera \"perspective\" \"float fov\" [ 30 ] \"float lensradius\" [ 0.15 ] \"float focaldistance\" [ 2.2 ]\n"
              "Film \"rgb\" \"integer xresolution\" [ 40 ] \"integer yresolution\" [ 40 ] \"string filename\" [ \"t.exr\" ]\n"
-             "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"
+             "Sampler \"stratified\" \"integer xsamples\" [ 4 ] \"integer ysamples\" [ 3 ]\n"
              "Integrator \"path\" \"integer maxdepth\" [ 2 ]\n"
              "WorldBegin\n"
              "%s\n"
@@ -80,8 +82,12 @@ int main(void)
         fc = render(AREA, 40, uniform[i]);
         CHECK(fc.spp_max > fc.spp_min);
         CHECK(fc.filtered_indirect > 0 && fc.filtered_defocus > 0);
-        /* the sky without a budget: the methods' own counts, uneven */
+        /* the sky without a budget: AAF's own counts, uneven; MAAF's frame the file's 12 */
         fc = render(SKY, 0, uniform[i]);
+        if (!strcmp(uniform[i], "aaf")) CHECK(fc.spp_max > fc.spp_min);
+        else CHECK(fc.spp_min == 12 && fc.spp_max == 12);
+        /* an area light without a budget: MAAF's own counts too */
+        fc = render(AREA, 0, uniform[i]);
         CHECK(fc.spp_max > fc.spp_min);
     }
     /* FSF's plans were not measured under a sky: kept */
