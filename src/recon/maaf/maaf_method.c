@@ -210,15 +210,27 @@ static int maaf_pass1_spp(EffectMask effects)
  * soft_shadows (9.20) it also puts more samples under the shadow ray geometry that pass 2
  * does not record. The other frames keep pass 1's 9 (their plan is the classes'). */
 #define DEFOCUS_BUDGET_PASS1_SHARE 0.5f
-/* Frames whose only MAAF effect is defocus: pass 1 at most 8 samples. There its products are the
- * pilot variance and the circle-of-confusion ranges, which the pool of 4-neighbours
- * (maaf_coc_pool) makes hold with 8 samples; above that the half's floor kept the wide filters'
- * pixels (46% on defocus.pbrt) at 16-32 samples where they need about 8. defocus 32 / 64 spp
- * (256x256, seeds 1-3) 7.48e-5 / 5.78e-5 -> 6.47e-5 / 4.56e-5, motion_defocus (held out)
- * 1.74e-4 / 1.15e-4 -> 1.56e-4 / 8.9e-5. Frames with soft shadows or indirect light keep the
- * half: pass 1 alone records their ray geometry (combined +7%, focal_crossing +5% at 32 spp with
- * the cap; docs/algorithms.md 9.21). */
-#define DEFOCUS_ALONE_PASS1_MAX_SPP 8.0f
+/* Frames whose only MAAF effect is defocus: pass 1 is a third of the budget rounded to an even
+ * count, at least 4 and at most 8, and never more than the half (3 at budgets of 5 and 6). There
+ * pass 1's products are the pilot variance and the circle-of-confusion ranges, which the pool of
+ * 4-neighbours (maaf_coc_pool) makes hold with a few samples; each sample more in the uniform
+ * pilot is one the allocation does not place: in issue 16's sweep (docs/algorithms.md 9.25;
+ * defocus.pbrt, 256x256, seeds 1-3, relMSE) a larger pilot lowered bias^2 and raised the
+ * variance, and the old min(half, 8) lost at 12-16 spp: 12 / 14 / 15 / 16 spp took 6 / 7 / 8 / 8
+ * at 1.30e-4 / 1.17e-4 / 1.13e-4 / 1.07e-4, the rule's 4 / 4 / 6 / 6 give 1.23e-4 / 1.10e-4 /
+ * 1.06e-4 / 1.02e-4; at 20-32 spp 6-8 tie and 8 wins at 32 (9.21: 8 beat the half's 16 there).
+ * Even: the stratified sampler lays a pass's n samples on a rows x cols grid, and odd n is a
+ * 1 x n strip (9.24). Frames with soft shadows or indirect light keep the half: pass 1 alone
+ * records their ray geometry (9.21). */
+#define DEFOCUS_ALONE_PASS1_MIN_SPP 4
+#define DEFOCUS_ALONE_PASS1_MAX_SPP 8
+static float defocus_alone_pass1_spp(int budget)
+{
+    int pass1 = 2 * (int)lroundf((float)budget / 6.0f);
+    if (pass1 < DEFOCUS_ALONE_PASS1_MIN_SPP) pass1 = DEFOCUS_ALONE_PASS1_MIN_SPP;
+    if (pass1 > DEFOCUS_ALONE_PASS1_MAX_SPP) pass1 = DEFOCUS_ALONE_PASS1_MAX_SPP;
+    return (float)pass1;
+}
 /* Frames with defocus and soft shadows or indirect light: pass 1 at least 8 samples at budgets
  * under 16, where the half gave it 4-7. Pass 1's products (each pixel's pilot variance, the
  * shadow wedges and the circle-of-confusion ranges) come from its samples alone, and the plan
@@ -253,7 +265,7 @@ static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
     int budget = renderer_spp(r);
     bool defocus = effect_in(effects, EFFECT_DEFOCUS);
     if (defocus && budget > 0 && !effect_in(effects, EFFECT_SOFT_SHADOWS) && !effect_in(effects, EFFECT_INDIRECT))
-        return fminf(DEFOCUS_BUDGET_PASS1_SHARE, DEFOCUS_ALONE_PASS1_MAX_SPP / (float)budget);
+        return fminf(DEFOCUS_BUDGET_PASS1_SHARE, defocus_alone_pass1_spp(budget) / (float)budget);
     if (defocus && budget > 0)
         return fmaxf(DEFOCUS_BUDGET_PASS1_SHARE,
                      fminf(SHADED_DEFOCUS_PASS1_MIN_SPP / (float)budget, 1.0f - PLAN_MIN_BUDGET_SHARE));
