@@ -389,16 +389,18 @@ static bool scene_has_environment_light(const Renderer *r)
     return false;
 }
 
-/* Whether MAAF plans the frame and no other adaptive method does. */
-static bool planned_by_maaf_alone(const ReconPipeline *p)
+/* Whether some method plans the frame and every one that does is named in names (NULL-ended). */
+static bool planned_only_by(const ReconPipeline *p, const char *const *names)
 {
-    bool maaf = false;
-    for (int s = 0; s < p->slot_count; ++s)
-        if (p->slots[s].cls->adaptive) {
-            if (strcmp(p->slots[s].cls->name, "maaf")) return false;
-            maaf = true;
-        }
-    return maaf;
+    bool planned = false;
+    for (int s = 0; s < p->slot_count; ++s) {
+        if (!p->slots[s].cls->adaptive) continue;
+        bool named = false;
+        for (const char *const *n = names; *n && !named; ++n) named = !strcmp(p->slots[s].cls->name, *n);
+        if (!named) return false;
+        planned = true;
+    }
+    return planned;
 }
 
 /* Buffers, guides, store and methods for a filtered frame. */
@@ -411,7 +413,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * the sky's rule below: traced uniformly, MAAF's design and mu set for that budget
      * (docs/benchmarks.md, "MAAF's default budget under a sky"). AAF's default frame keeps its
      * plan (its error there was 0.30x MAAF's). */
-    if (p->opt.spp <= 0 && !p->fixed_only && planned_by_maaf_alone(p) && scene_has_environment_light(p->r))
+    if (p->opt.spp <= 0 && planned_only_by(p, (const char *const[]){"maaf", NULL}) && scene_has_environment_light(p->r))
         p->opt.spp = renderer_spp(p->r);
     int w = renderer_width(p->r), h = renderer_height(p->r);
     size_t n = pixel_count(p);
@@ -472,11 +474,8 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
      * 0.90x / 1.31x the error for 0.83x / 0.80x / 0.79x the CPU time (at 64 spp 1.58x / 0.73x;
      * docs/benchmarks.md, "The defocus row to maaf"). A frame planned by another method (FSF)
      * keeps its plans, not measured here. */
-    bool plans_measured = true;
-    for (int s = 0; s < p->slot_count; ++s)
-        if (p->slots[s].cls->adaptive && strcmp(p->slots[s].cls->name, "aaf") && strcmp(p->slots[s].cls->name, "maaf"))
-            plans_measured = false;
-    if (p->opt.spp > 0 && !p->fixed_only && plans_measured && scene_has_environment_light(p->r)) budget_in_pass1 = true;
+    bool plans_measured = planned_only_by(p, (const char *const[]){"aaf", "maaf", NULL});
+    if (p->opt.spp > 0 && plans_measured && scene_has_environment_light(p->r)) budget_in_pass1 = true;
     if (budget_in_pass1) pass1 = p->opt.spp;
     /* an adaptive budget below the methods' pass 1 lowers pass 1 (and leaves nothing to plan) */
     if (!p->fixed_only && !budget_in_pass1 && p->opt.spp > 0 && p->opt.spp < pass1) pass1 = p->opt.spp;
