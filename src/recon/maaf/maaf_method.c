@@ -263,13 +263,13 @@ static float shadow_alone_pass1_spp(int budget)
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
     int budget = renderer_spp(r);
-    bool defocus = effect_in(effects, EFFECT_DEFOCUS);
-    if (defocus && budget > 0 && !effect_in(effects, EFFECT_SOFT_SHADOWS) && !effect_in(effects, EFFECT_INDIRECT))
-        return fminf(DEFOCUS_BUDGET_PASS1_SHARE, defocus_alone_pass1_spp(budget) / (float)budget);
-    if (defocus && budget > 0)
+    if (budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
+    if (effect_in(effects, EFFECT_DEFOCUS)) {
+        bool shaded = effect_in(effects, EFFECT_SOFT_SHADOWS) || effect_in(effects, EFFECT_INDIRECT);
+        if (!shaded) return fminf(DEFOCUS_BUDGET_PASS1_SHARE, defocus_alone_pass1_spp(budget) / (float)budget);
         return fmaxf(DEFOCUS_BUDGET_PASS1_SHARE,
                      fminf(SHADED_DEFOCUS_PASS1_MIN_SPP / (float)budget, 1.0f - PLAN_MIN_BUDGET_SHARE));
-    if (defocus || budget <= 0) return DEFOCUS_BUDGET_PASS1_SHARE;
+    }
     if (rate_planned(effects)) return shadow_alone_pass1_spp(budget) / (float)budget;
     return (float)MAAF_SPP_DEFAULT / (float)budget;
 }
