@@ -468,6 +468,9 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     float cp = lp[0], sp = lp[1], eta = lp[3], xi = lp[4], isu = lp[5], ist = lp[6], rho = lp[8], isv = lp[9];
+    /* flat sample weights (docs/algorithms.md 8.15, the default): every w_u w_v w_t is
+     * lr_gauss(0) = 1 exactly, so the placement skips the Gaussian (a fifth of this kernel) */
+    bool flat = isu == 0.0f && isv == 0.0f && ist == 0.0f;
     /* Only the grid cells the screen passes read matter: the along pass's box around the tile,
      * widened by the along radius. A sample moves at most |eta| + |xi|/2 + |rho| px (|u_r|,
      * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source rows farther than that from
@@ -531,20 +534,35 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             if (own) /* the next chunk's radiance, which its sums read: fetched while this chunk is placed */
                 for (int m = e0 + LR_CHUNK; m < min(e0 + 2 * LR_CHUNK, e1); ++m)
                     __builtin_prefetch(samples + (size_t)list[m] * LR_SAMPLE_STRIDE + 9);
-            for (int m = 0; m < n; ++m) {
-                int e = e0 + m;
-                float su = P[2 * cap + e], sv = P[3 * cap + e];
-                float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
-                float tc = P[4 * cap + e] - 0.5f;
-                float along = eta * ur + xi * tc, across = rho * vr;
-                float p = P[e] + cp * along - sp * across; /* eq. 16 */
-                float q = P[cap + e] + sp * along + cp * across;
-                int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
-                float au = isu * ur, av = isv * vr, at = ist * tc;
-                wt[m] = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
-                bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
-                cell[m] = read && wt[m] != 0.0f ? (iy * ww + ix) * LR_CH : -1;
-            }
+            if (flat) /* the same placement with every weight 1 (lr_gauss(0) is exactly 1) */
+                for (int m = 0; m < n; ++m) {
+                    int e = e0 + m;
+                    float su = P[2 * cap + e], sv = P[3 * cap + e];
+                    float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
+                    float tc = P[4 * cap + e] - 0.5f;
+                    float along = eta * ur + xi * tc, across = rho * vr;
+                    float p = P[e] + cp * along - sp * across; /* eq. 16 */
+                    float q = P[cap + e] + sp * along + cp * across;
+                    int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
+                    wt[m] = 1.0f;
+                    bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
+                    cell[m] = read ? (iy * ww + ix) * LR_CH : -1;
+                }
+            else
+                for (int m = 0; m < n; ++m) {
+                    int e = e0 + m;
+                    float su = P[2 * cap + e], sv = P[3 * cap + e];
+                    float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
+                    float tc = P[4 * cap + e] - 0.5f;
+                    float along = eta * ur + xi * tc, across = rho * vr;
+                    float p = P[e] + cp * along - sp * across; /* eq. 16 */
+                    float q = P[cap + e] + sp * along + cp * across;
+                    int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
+                    float au = isu * ur, av = isv * vr, at = ist * tc;
+                    wt[m] = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
+                    bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
+                    cell[m] = read && wt[m] != 0.0f ? (iy * ww + ix) * LR_CH : -1;
+                }
             for (int m = 0; m < n; ++m) {
                 if (cell[m] < 0) continue;
                 __global float *c = g + cell[m];
