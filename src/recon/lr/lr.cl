@@ -419,6 +419,7 @@ __kernel void lr_pack(int spp, int window_px, int tile1, int tile0, __global con
  * outside the window are a range at either end), so that every cell gets its taps added in
  * the order k = -r..r, exactly as one cell at a time would. */
 #define LR_ROW_MAX 64 /* window_px <= 64 (lr_cl.c) */
+#define LR_ROUND_MAX 16 /* lr_taps.h: LR_ROUND_MAX_PX */
 static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, float dx, float dy, int r,
                         __global const float *taps, float *acc)
 {
@@ -595,25 +596,42 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
 
 /* The round screen filter on the cells [ix0, ix1) of window row iy, summed into
  * acc[(ix - ix0) * LR_CH + c]: the grid's cells within r of each, weighted by
- * table[dx^2 + dy^2]. Tap by tap over the whole row, as lr_row_pass does (a tap's offset is the
- * same for every cell of the row, one flat loop the compiler runs wide), taps in rows then
- * columns ascending: every cell gets exactly the sums of lr_reconstruct.c's lr_round_sum. */
+ * table[dx^2 + dy^2]. The four taps (+-dx, +-dy) share a weight, so they are added before
+ * it multiplies them: per dy >= 0 the rows iy - dy and iy + dy summed once into rs (cells
+ * outside the window count 0), then per dx >= 0 the pair rs[ix + dx] + rs[ix - dx] added to
+ * each cell (one load and one store of acc per pair of columns, where the tap-by-tap loop
+ * spent one per tap and was bound by those stores). dy, then dx ascending, exactly as
+ * lr_reconstruct.c's lr_round_sum, so every cell gets the same sums (docs/algorithms.md 8.30). */
 static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, int r, __global const float *table,
                          float *acc)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) acc[i] = 0.0f;
-    for (int dy = -r; dy <= r; ++dy) {
-        int jy = iy + dy;
-        if (jy < 0 || jy >= wh) continue;
+    int n = (ix1 - ix0) * LR_CH;
+    float rs[(LR_ROW_MAX + 2 * LR_ROUND_MAX) * LR_CH];
+    for (int i = 0; i < n; ++i) acc[i] = 0.0f;
+    for (int dy = 0; dy <= r; ++dy) {
         int w = r;
         while (w * w + dy * dy > r * r) --w; /* the row's taps: dx^2 + dy^2 <= r^2 */
-        for (int dx = -w; dx <= w; ++dx) {
-            int a = max(ix0, -dx), b = min(ix1, ww - dx); /* 0 <= ix + dx < ww */
+        int up = iy - dy, dn = iy + dy;
+        bool has_up = up >= 0 && up < wh, has_dn = dy > 0 && dn >= 0 && dn < wh;
+        if (!has_up && !has_dn) continue;
+        /* rs[(x - (ix0 - w)) * LR_CH + c] for x in [ix0 - w, ix1 + w) */
+        __global const float *row_up = g + (has_up ? up : 0) * ww * LR_CH, *row_dn = g + (has_dn ? dn : 0) * ww * LR_CH;
+        for (int x = ix0 - w; x < ix1 + w; ++x) {
+            float *o = rs + (x - ix0 + w) * LR_CH;
+            bool in = x >= 0 && x < ww;
+            int xc = clamp(x, 0, ww - 1) * LR_CH; /* a cell of the window, read but not used when !in */
+            for (int c = 0; c < LR_CH; ++c) o[c] = (in && has_up ? row_up[xc + c] : 0.0f) + (in && has_dn ? row_dn[xc + c] : 0.0f);
+        }
+        {
+            float wk = table[dy * dy];
+            const float *m = rs + w * LR_CH;
+            for (int i = 0; i < n; ++i) acc[i] += wk * m[i];
+        }
+        for (int dx = 1; dx <= w; ++dx) {
             float wk = table[dx * dx + dy * dy];
-            __global const float *row = g + (jy * ww + dx + a) * LR_CH;
-            float *dst = acc + (a - ix0) * LR_CH;
-            for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
+            const float *right = rs + (w + dx) * LR_CH, *left = rs + (w - dx) * LR_CH;
+            for (int i = 0; i < n; ++i) acc[i] += wk * (right[i] + left[i]);
         }
     }
 }
