@@ -439,6 +439,45 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
     }
 }
 
+/* A layer's shear and sample weights, as lr_reproject reads them from its parameters. */
+typedef struct {
+    float cp, sp, eta, xi, rho, isu, isv, ist;
+} LrShear;
+
+/* Where samples e0 .. e0 + n - 1 of a packed list land (eq. 16) and their weight w_u w_v w_t
+ * (eq. 14): cell[m] their grid cell's first float, or -1 where nothing reads it (outside
+ * [bx0, bx1) x [by0, by1) or weight 0). Independent samples, no branches: the processor
+ * overlaps them. flat (8.15's flat weights, all three inverse sigmas 0): every weight is
+ * lr_gauss(0), exactly 1, so the Gaussian is not evaluated (docs/algorithms.md 8.30). */
+/* (always_inline: left a call, the loops were not specialised and lr_reproject took a fifth
+ * more time) */
+static inline __attribute__((always_inline)) void lr_place(__global const float *P, size_t cap, int e0, int n,
+                                                           const LrShear *f, bool flat, int x0, int y0, int ww, int bx0,
+                                                           int by0, int bx1, int by1, float *wt, int *cell)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    /* in registers: the stores to wt and cell below could otherwise alias *f */
+    float cp = f->cp, sp = f->sp, eta = f->eta, xi = f->xi, rho = f->rho, isu = f->isu, isv = f->isv, ist = f->ist;
+    for (int m = 0; m < n; ++m) {
+        int e = e0 + m;
+        float su = P[2 * cap + e], sv = P[3 * cap + e];
+        float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
+        float tc = P[4 * cap + e] - 0.5f;
+        float along = eta * ur + xi * tc, across = rho * vr;
+        float p = P[e] + cp * along - sp * across; /* eq. 16 */
+        float q = P[cap + e] + sp * along + cp * across;
+        int ix = (int)floor(p) - x0, iy = (int)floor(q) - y0;
+        float weight = 1.0f;
+        if (!flat) {
+            float au = isu * ur, av = isv * vr, at = ist * tc;
+            weight = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
+        }
+        wt[m] = weight;
+        bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
+        cell[m] = read && weight != 0.0f ? (iy * ww + ix) * LR_CH : -1;
+    }
+}
+
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
  * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
  * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
@@ -472,6 +511,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     /* flat sample weights (docs/algorithms.md 8.15, the default): every w_u w_v w_t is
      * lr_gauss(0) = 1 exactly, so the placement skips the Gaussian (a fifth of this kernel) */
     bool flat = isu == 0.0f && isv == 0.0f && ist == 0.0f;
+    LrShear sh = {cp, sp, eta, xi, rho, isu, isv, ist};
     /* Only the grid cells the screen passes read matter: the along pass's box around the tile,
      * widened by the along radius. A sample moves at most |eta| + |xi|/2 + |rho| px (|u_r|,
      * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source rows farther than that from
@@ -535,35 +575,9 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             if (own) /* the next chunk's radiance, which its sums read: fetched while this chunk is placed */
                 for (int m = e0 + LR_CHUNK; m < min(e0 + 2 * LR_CHUNK, e1); ++m)
                     __builtin_prefetch(samples + (size_t)list[m] * LR_SAMPLE_STRIDE + 9);
-            if (flat) /* the same placement with every weight 1 (lr_gauss(0) is exactly 1) */
-                for (int m = 0; m < n; ++m) {
-                    int e = e0 + m;
-                    float su = P[2 * cap + e], sv = P[3 * cap + e];
-                    float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
-                    float tc = P[4 * cap + e] - 0.5f;
-                    float along = eta * ur + xi * tc, across = rho * vr;
-                    float p = P[e] + cp * along - sp * across; /* eq. 16 */
-                    float q = P[cap + e] + sp * along + cp * across;
-                    int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
-                    wt[m] = 1.0f;
-                    bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
-                    cell[m] = read ? (iy * ww + ix) * LR_CH : -1;
-                }
-            else
-                for (int m = 0; m < n; ++m) {
-                    int e = e0 + m;
-                    float su = P[2 * cap + e], sv = P[3 * cap + e];
-                    float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
-                    float tc = P[4 * cap + e] - 0.5f;
-                    float along = eta * ur + xi * tc, across = rho * vr;
-                    float p = P[e] + cp * along - sp * across; /* eq. 16 */
-                    float q = P[cap + e] + sp * along + cp * across;
-                    int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
-                    float au = isu * ur, av = isv * vr, at = ist * tc;
-                    wt[m] = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
-                    bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
-                    cell[m] = read && wt[m] != 0.0f ? (iy * ww + ix) * LR_CH : -1;
-                }
+            /* written out twice by the compiler: flat is a constant in each call */
+            if (flat) lr_place(P, cap, e0, n, &sh, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
+            else lr_place(P, cap, e0, n, &sh, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
             for (int m = 0; m < n; ++m) {
                 if (cell[m] < 0) continue;
                 __global float *c = g + cell[m];
