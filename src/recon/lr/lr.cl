@@ -419,6 +419,7 @@ __kernel void lr_pack(int spp, int window_px, int tile1, int tile0, __global con
  * outside the window are a range at either end), so that every cell gets its taps added in
  * the order k = -r..r, exactly as one cell at a time would. */
 #define LR_ROW_MAX 64 /* window_px <= 64 (lr_cl.c) */
+#define LR_ROUND_MAX 16 /* lr_taps.h: LR_ROUND_MAX_PX */
 static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, float dx, float dy, int r,
                         __global const float *taps, float *acc)
 {
@@ -435,6 +436,45 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
         __global const float *row = g + (jy * ww + ox + a) * LR_CH;
         float *dst = acc + (a - ix0) * LR_CH;
         for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
+    }
+}
+
+/* A layer's shear and sample weights, as lr_reproject reads them from its parameters. */
+typedef struct {
+    float cp, sp, eta, xi, rho, isu, isv, ist;
+} LrShear;
+
+/* Where samples e0 .. e0 + n - 1 of a packed list land (eq. 16) and their weight w_u w_v w_t
+ * (eq. 14): cell[m] their grid cell's first float, or -1 where nothing reads it (outside
+ * [bx0, bx1) x [by0, by1) or weight 0). Independent samples, no branches: the processor
+ * overlaps them. flat (8.15's flat weights, all three inverse sigmas 0): every weight is
+ * lr_gauss(0), exactly 1, so the Gaussian is not evaluated (docs/algorithms.md 8.30). */
+/* (always_inline: left a call, the loops were not specialised and lr_reproject took a fifth
+ * more time) */
+static inline __attribute__((always_inline)) void lr_place(__global const float *P, size_t cap, int e0, int n,
+                                                           const LrShear *f, bool flat, int x0, int y0, int ww, int bx0,
+                                                           int by0, int bx1, int by1, float *wt, int *cell)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    /* in registers: the stores to wt and cell below could otherwise alias *f */
+    float cp = f->cp, sp = f->sp, eta = f->eta, xi = f->xi, rho = f->rho, isu = f->isu, isv = f->isv, ist = f->ist;
+    for (int m = 0; m < n; ++m) {
+        int e = e0 + m;
+        float su = P[2 * cap + e], sv = P[3 * cap + e];
+        float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
+        float tc = P[4 * cap + e] - 0.5f;
+        float along = eta * ur + xi * tc, across = rho * vr;
+        float p = P[e] + cp * along - sp * across; /* eq. 16 */
+        float q = P[cap + e] + sp * along + cp * across;
+        int ix = (int)floor(p) - x0, iy = (int)floor(q) - y0;
+        float weight = 1.0f;
+        if (!flat) {
+            float au = isu * ur, av = isv * vr, at = ist * tc;
+            weight = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
+        }
+        wt[m] = weight;
+        bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
+        cell[m] = read && weight != 0.0f ? (iy * ww + ix) * LR_CH : -1;
     }
 }
 
@@ -468,6 +508,10 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     float cp = lp[0], sp = lp[1], eta = lp[3], xi = lp[4], isu = lp[5], ist = lp[6], rho = lp[8], isv = lp[9];
+    /* flat sample weights (docs/algorithms.md 8.15, the default): every w_u w_v w_t is
+     * lr_gauss(0) = 1 exactly, so the placement skips the Gaussian (a fifth of this kernel) */
+    bool flat = isu == 0.0f && isv == 0.0f && ist == 0.0f;
+    LrShear sh = {cp, sp, eta, xi, rho, isu, isv, ist};
     /* Only the grid cells the screen passes read matter: the along pass's box around the tile,
      * widened by the along radius. A sample moves at most |eta| + |xi|/2 + |rho| px (|u_r|,
      * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source rows farther than that from
@@ -531,20 +575,9 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             if (own) /* the next chunk's radiance, which its sums read: fetched while this chunk is placed */
                 for (int m = e0 + LR_CHUNK; m < min(e0 + 2 * LR_CHUNK, e1); ++m)
                     __builtin_prefetch(samples + (size_t)list[m] * LR_SAMPLE_STRIDE + 9);
-            for (int m = 0; m < n; ++m) {
-                int e = e0 + m;
-                float su = P[2 * cap + e], sv = P[3 * cap + e];
-                float ur = cp * su + sp * sv, vr = -sp * su + cp * sv;
-                float tc = P[4 * cap + e] - 0.5f;
-                float along = eta * ur + xi * tc, across = rho * vr;
-                float p = P[e] + cp * along - sp * across; /* eq. 16 */
-                float q = P[cap + e] + sp * along + cp * across;
-                int ix = (int)floor(p) - w.x0, iy = (int)floor(q) - w.y0;
-                float au = isu * ur, av = isv * vr, at = ist * tc;
-                wt[m] = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
-                bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
-                cell[m] = read && wt[m] != 0.0f ? (iy * ww + ix) * LR_CH : -1;
-            }
+            /* written out twice by the compiler: flat is a constant in each call */
+            if (flat) lr_place(P, cap, e0, n, &sh, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
+            else lr_place(P, cap, e0, n, &sh, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
             for (int m = 0; m < n; ++m) {
                 if (cell[m] < 0) continue;
                 __global float *c = g + cell[m];
@@ -577,25 +610,42 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
 
 /* The round screen filter on the cells [ix0, ix1) of window row iy, summed into
  * acc[(ix - ix0) * LR_CH + c]: the grid's cells within r of each, weighted by
- * table[dx^2 + dy^2]. Tap by tap over the whole row, as lr_row_pass does (a tap's offset is the
- * same for every cell of the row, one flat loop the compiler runs wide), taps in rows then
- * columns ascending: every cell gets exactly the sums of lr_reconstruct.c's lr_round_sum. */
+ * table[dx^2 + dy^2]. The four taps (+-dx, +-dy) share a weight, so they are added before
+ * it multiplies them: per dy >= 0 the rows iy - dy and iy + dy summed once into rs (cells
+ * outside the window count 0), then per dx >= 0 the pair rs[ix + dx] + rs[ix - dx] added to
+ * each cell (one load and one store of acc per pair of columns, where the tap-by-tap loop
+ * spent one per tap and was bound by those stores). dy, then dx ascending, exactly as
+ * lr_reconstruct.c's lr_round_sum, so every cell gets the same sums (docs/algorithms.md 8.30). */
 static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, int r, __global const float *table,
                          float *acc)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) acc[i] = 0.0f;
-    for (int dy = -r; dy <= r; ++dy) {
-        int jy = iy + dy;
-        if (jy < 0 || jy >= wh) continue;
+    int n = (ix1 - ix0) * LR_CH;
+    float rs[(LR_ROW_MAX + 2 * LR_ROUND_MAX) * LR_CH];
+    for (int i = 0; i < n; ++i) acc[i] = 0.0f;
+    for (int dy = 0; dy <= r; ++dy) {
         int w = r;
         while (w * w + dy * dy > r * r) --w; /* the row's taps: dx^2 + dy^2 <= r^2 */
-        for (int dx = -w; dx <= w; ++dx) {
-            int a = max(ix0, -dx), b = min(ix1, ww - dx); /* 0 <= ix + dx < ww */
+        int up = iy - dy, dn = iy + dy;
+        bool has_up = up >= 0 && up < wh, has_dn = dy > 0 && dn >= 0 && dn < wh;
+        if (!has_up && !has_dn) continue;
+        /* rs[(x - (ix0 - w)) * LR_CH + c] for x in [ix0 - w, ix1 + w) */
+        __global const float *row_up = g + (has_up ? up : 0) * ww * LR_CH, *row_dn = g + (has_dn ? dn : 0) * ww * LR_CH;
+        for (int x = ix0 - w; x < ix1 + w; ++x) {
+            float *o = rs + (x - ix0 + w) * LR_CH;
+            bool in = x >= 0 && x < ww;
+            int xc = clamp(x, 0, ww - 1) * LR_CH; /* a cell of the window, read but not used when !in */
+            for (int c = 0; c < LR_CH; ++c) o[c] = (in && has_up ? row_up[xc + c] : 0.0f) + (in && has_dn ? row_dn[xc + c] : 0.0f);
+        }
+        {
+            float wk = table[dy * dy];
+            const float *m = rs + w * LR_CH;
+            for (int i = 0; i < n; ++i) acc[i] += wk * m[i];
+        }
+        for (int dx = 1; dx <= w; ++dx) {
             float wk = table[dx * dx + dy * dy];
-            __global const float *row = g + (jy * ww + dx + a) * LR_CH;
-            float *dst = acc + (a - ix0) * LR_CH;
-            for (int i = 0; i < (b - a) * LR_CH; ++i) dst[i] += wk * row[i];
+            const float *right = rs + (w + dx) * LR_CH, *left = rs + (w - dx) * LR_CH;
+            for (int i = 0; i < n; ++i) acc[i] += wk * (right[i] + left[i]);
         }
     }
 }

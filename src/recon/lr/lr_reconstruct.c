@@ -2,6 +2,7 @@
 #include "recon/lr/lr_reconstruct.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,19 +22,34 @@ void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, floa
 
 enum { CH_A = 0, CH_W = 1, CH_R = 2, CH_COUNT = 5 }; /* opacity, weight, irradiance rgb */
 
+/* Channel c of grid cell (x, y), 0 outside the window. */
+static float cell_or_zero(const float *grid, int ww, int wh, int x, int y, int c)
+{
+    return x >= 0 && x < ww && y >= 0 && y < wh ? grid[((size_t)y * ww + x) * CH_COUNT + c] : 0.0f;
+}
+
 /* The round screen filter at window cell (ix, iy): the grid's cells within r, weighted by
- * table[dx^2 + dy^2], rows then columns ascending (lr.cl's lr_round_row: the same sums). */
+ * table[dx^2 + dy^2]. The four taps (+-dx, +-dy) share a weight: per dy >= 0 the cells of
+ * rows iy - dy and iy + dy are added first (row iy once), then per dx >= 0 those of columns
+ * ix + dx and ix - dx (column ix once), and the weight multiplies the sum; dy, then dx
+ * ascending. lr.cl's lr_round_row adds the same floats in the same order. */
 static void lr_round_sum(const float *grid, int ww, int wh, int ix, int iy, int r, const float *table, float *acc)
 {
-    for (int dy = -r; dy <= r; ++dy) {
-        int jy = iy + dy;
-        if (jy < 0 || jy >= wh) continue;
-        for (int dx = -r; dx <= r; ++dx) {
-            int jx = ix + dx, d2 = dx * dx + dy * dy;
-            if (jx < 0 || jx >= ww || d2 > r * r) continue;
-            float w = table[d2];
-            const float *g = &grid[((size_t)jy * ww + jx) * CH_COUNT];
-            for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
+    for (int dy = 0; dy <= r; ++dy) {
+        int w = r;
+        while (w * w + dy * dy > r * r) --w;
+        bool has_up = iy - dy >= 0 && iy - dy < wh, has_dn = dy > 0 && iy + dy >= 0 && iy + dy < wh;
+        if (!has_up && !has_dn) continue;
+        for (int dx = 0; dx <= w; ++dx) {
+            float wk = table[dx * dx + dy * dy];
+            for (int c = 0; c < CH_COUNT; ++c) {
+                /* the rows' sum at a column: 0 for a row outside the window, as lr_round_row's rs */
+                float right = (has_up ? cell_or_zero(grid, ww, wh, ix + dx, iy - dy, c) : 0.0f) +
+                              (has_dn ? cell_or_zero(grid, ww, wh, ix + dx, iy + dy, c) : 0.0f);
+                float left = (has_up ? cell_or_zero(grid, ww, wh, ix - dx, iy - dy, c) : 0.0f) +
+                             (has_dn ? cell_or_zero(grid, ww, wh, ix - dx, iy + dy, c) : 0.0f);
+                acc[c] += wk * (dx == 0 ? right : right + left);
+            }
         }
     }
 }
