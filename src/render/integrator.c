@@ -135,6 +135,28 @@ typedef struct {
     bool delta;
 } VertexSample;
 
+/* vertex_sample's Lambert direction, before its weight: wi (world) = the frame applied to
+ * lambert_local, its cosine at n and its pdf. False when the pdf is not > 0 (nothing sampled).
+ * Apart from lambert_weight so that a last ray can take the emitter-box test before its
+ * weight is computed (wave_emitter_box_test). */
+static inline bool lambert_direction(const Vertex *v, vec3 local, vec3 *wi, float *cos_i, float *pdf)
+{
+    /* A unit vector in an orthonormal frame is unit to rounding (a few 1e-7): no
+     * normalisation (a square root and a division on the way to the bounce ray). */
+    *wi = v3_add(v3_add(v3_scale(v->t1, local.x), v3_scale(v->t2, local.y)), v3_scale(v->n, local.z));
+    float ci = v3_dot(v->n, *wi), co = v3_dot(v->n, v->wo);
+    *cos_i = ci;
+    *pdf = bsdf_diffuse_pdf(co, ci);
+    return *pdf > 0.0f;
+}
+
+/* Its weight f |cos| / pdf for a pdf > 0, which implies cos_o cos_i > 0: f is albedo / pi
+ * (bsdf_diffuse_f's same-side value). */
+static inline vec3 lambert_weight(const Vertex *v, float cos_i, float pdf)
+{
+    return v3_scale(v3_scale(v->albedo, 0.318309886f), cos_i / pdf);
+}
+
 /* BSDF sampling: Lambert takes the cosine-weighted direction about n, lambert_local =
  * warp_cosine_hemisphere(u) (drawn for a whole run by wave_vertex_dims); glossy BSDFs choose
  * a lobe with u_lobe and sample it with u (bsdf_glossy.h). False when nothing was sampled. */
@@ -149,15 +171,10 @@ WAVE_STAGE bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lamber
         vs->weight = v3_scale(gs.f, fabsf(gs.wi.z) / gs.pdf);
         return true;
     }
-    vec3 local = lambert_local;
-    /* A unit vector in an orthonormal frame is unit to rounding (a few 1e-7): no
-     * normalisation (a square root and a division on the way to the bounce ray). */
-    vs->wi = v3_add(v3_add(v3_scale(v->t1, local.x), v3_scale(v->t2, local.y)), v3_scale(v->n, local.z));
-    float cos_i = v3_dot(v->n, vs->wi), cos_o = v3_dot(v->n, v->wo);
-    vs->pdf = bsdf_diffuse_pdf(cos_o, cos_i);
+    float cos_i;
     vs->delta = false;
-    if (!(vs->pdf > 0.0f)) return false;
-    vs->weight = v3_scale(bsdf_diffuse_f(v->albedo, cos_o, cos_i), cos_i / vs->pdf);
+    if (!lambert_direction(v, lambert_local, &vs->wi, &cos_i, &vs->pdf)) return false;
+    vs->weight = lambert_weight(v, cos_i, vs->pdf);
     return true;
 }
 
@@ -433,8 +450,8 @@ typedef struct {
     int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
     int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
     bool bounce;       /* a bounce was sampled (vs, beta_next) */
-    int hit_slot;      /* its ray's entry in the closest-hit batch; -1: not traced, as it
-                        * cannot reach an emitter (lights_ray_may_reach_emitter) */
+    int hit_slot;      /* its ray's entry in the closest-hit batch (a last ray that cannot
+                        * reach an emitter, lights_ray_may_reach_emitter, leaves bounce false) */
     VertexSample vs;
     vec3 beta_next;
 } WavePath;
@@ -505,8 +522,11 @@ struct Wave {
     WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
     int tri_groups;
     /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
-     * closest-hit slot its origin, direction, path and answer */
+     * queued ray its origin, direction, path and answer */
     float box_o[3][WAVE_SAMPLES], box_d[3][WAVE_SAMPLES];
+    /* a Lambert ray's cosine and pdf for its weight (lambert_weight); pdf -1: a glossy ray,
+     * weighed and guarded already */
+    float box_cos[WAVE_SAMPLES], box_pdf[WAVE_SAMPLES];
     int box_path[WAVE_SAMPLES], box_may[WAVE_SAMPLES];
 };
 
@@ -1051,54 +1071,88 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     p->bounce = false;
 
     if (!vertex_uses_bsdf_dims(sc, depth)) return;
+    vec3 lambert_local = v3(w->dim_cosine[0][j], w->dim_cosine[1][j], w->dim_cosine[2][j]);
+    bool box_test = emitter_box_test(sc, depth);
+    if (box_test && !v->glossy) {
+        /* A Lambert last ray, which the box test mostly drops (97% on thin_occluders and
+         * soft_shadows): its direction and origin queued for the test, its weight, guard,
+         * bounce and slot left to wave_emitter_box_test, for the rays the test keeps. */
+        vec3 wi;
+        float cos_i, pdf;
+        if (!lambert_direction(v, lambert_local, &wi, &cos_i, &pdf)) return;
+        vec3 o = surface_offset(&v->hit, wi);
+        int k = (*n_hit)++;
+        w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
+        w->box_d[0][k] = wi.x, w->box_d[1][k] = wi.y, w->box_d[2][k] = wi.z;
+        w->box_cos[k] = cos_i, w->box_pdf[k] = pdf;
+        w->box_path[k] = j;
+        return;
+    }
     float u_lobe = 0.5f; /* Lambert: unused */
     if (v->glossy)
         u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), vertex_dim0(sc, depth) + 3);
-    vec3 lambert_local = v3(w->dim_cosine[0][j], w->dim_cosine[1][j], w->dim_cosine[2][j]);
     if (!vertex_sample(v, u_lobe, w->dim_bsdf[j], lambert_local, &p->vs)) return;
     p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
     if (max_component_nonpositive(p->beta_next)) return;
     if (depth == 1 && p->vs.delta) p->unfiltered = true;
-    p->bounce = true;
-    p->hit_slot = -1;
     vec3 o = surface_offset(&v->hit, p->vs.wi);
-    /* The last ray of a path only finds emitters for MIS of direct light; the others carry
-     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). Rays that
-     * wave_emitter_box_test may drop are counted there. */
-    bool box_test = emitter_box_test(sc, depth);
-    if (depth < sc->max_depth) ++st->rays_indirect;
-    else if (!box_test) ++st->rays_bsdf;
-    p->hit_slot = (*n_hit)++;
-    w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
     if (box_test) {
-        int k = p->hit_slot;
+        /* a glossy last ray: sampled, weighed and guarded as ever, and queued for the test,
+         * which writes its ray if it keeps it (a negative pdf marks it as prepared) */
+        p->bounce = true;
+        int k = (*n_hit)++;
         w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
         w->box_d[0][k] = p->vs.wi.x, w->box_d[1][k] = p->vs.wi.y, w->box_d[2][k] = p->vs.wi.z;
+        w->box_pdf[k] = -1.0f;
         w->box_path[k] = j;
+        return;
     }
+    p->bounce = true;
+    /* The last ray of a path only finds emitters for MIS of direct light; the others carry
+     * the path on (reported apart: a maxdepth 1 scene traces no bounce ray). */
+    if (depth < sc->max_depth) ++st->rays_indirect;
+    else ++st->rays_bsdf;
+    p->hit_slot = (*n_hit)++;
+    w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
 }
 
 /* The box test for the stage's n_hit queued last rays at once (lights_rays_may_reach_emitter,
- * one vectorised loop, instead of a call per ray): the rays that may reach an emitter keep
- * their order and move down to [0, count), their paths' hit_slot follows them, the others'
- * becomes -1 (not traced). Returns count. The same rays are traced and skipped as by a test
- * per ray, and the same counts reported. */
+ * one vectorised loop, instead of a call per ray), then, for the rays it keeps, in the
+ * paths' order, what wave_vertex_rays leaves undone: a Lambert ray's weight (lambert_weight,
+ * the operations vertex_sample does), the throughput's guard and test that it is positive,
+ * and for every kept ray its bounce and its ray at slot [0, count). Returns count. A dropped
+ * ray's path keeps bounce false, which wave_vertex_fold ends as a traced ray that found
+ * nothing (no emission, no infinite light: nothing added); a dropped glossy ray's path had
+ * bounce set, and loses it. A dropped Lambert ray's weight is never computed: it counts as
+ * skipped whatever its throughput, and a non-finite one is no guarded event. */
 static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, IntegratorStats *st)
 {
     const float *o[3] = {w->box_o[0], w->box_o[1], w->box_o[2]}, *d[3] = {w->box_d[0], w->box_d[1], w->box_d[2]};
     lights_rays_may_reach_emitter(sc->lights, n_hit, o, d, w->box_may);
-    int count = 0;
+    int count = 0, unsent = 0;
     for (int k = 0; k < n_hit; ++k) {
         WavePath *p = &w->path[w->box_path[k]];
         if (!w->box_may[k]) {
-            p->hit_slot = -1;
+            p->bounce = false;
             continue;
         }
-        w->ray_hit[count] = w->ray_hit[k];
+        vec3 wi = v3(d[0][k], d[1][k], d[2][k]);
+        if (w->box_pdf[k] >= 0.0f) {
+            float pdf = w->box_pdf[k];
+            p->vs = (VertexSample){wi, lambert_weight(&p->v, w->box_cos[k], pdf), pdf, false};
+            p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
+            /* no throughput: neither traced nor skipped, as when the test came after this */
+            if (max_component_nonpositive(p->beta_next)) {
+                ++unsent;
+                continue;
+            }
+            p->bounce = true;
+        }
+        w->ray_hit[count] = (TracerRay){v3(o[0][k], o[1][k], o[2][k]), wi, INFINITY, p->time01, 0u};
         p->hit_slot = count++;
     }
     st->rays_bsdf += count;
-    st->rays_bsdf_skipped += n_hit - count;
+    st->rays_bsdf_skipped += n_hit - count - unsent;
     return count;
 }
 
@@ -1159,9 +1213,11 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld_delta);
     }
     p->alive = false;
+    /* no bounce: none sampled, or a last ray the emitter-box test dropped, which would have
+     * found nothing (wave_emitter_box_test) and so added nothing below */
     if (!p->bounce) return;
 
-    bool hit = p->hit_slot >= 0 && w->hit_found[p->hit_slot];
+    bool hit = w->hit_found[p->hit_slot];
     const SurfaceHit *nh = hit ? &w->hit[p->hit_slot] : NULL;
     vec3 wi = p->vs.wi;
     if (depth == 1 && sc->record_ray_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
@@ -1169,8 +1225,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         b->d_hit_world = hit ? nh->t : INFINITY;
         b->dir_world = wi;
     }
-    /* A ray that found nothing, without infinite lights (on soft_shadows nearly every last
-     * ray, dropped by the emitter-box test): bsdf_ray_emission is +0, so le is a zero
+    /* A ray that found nothing, without infinite lights: bsdf_ray_emission is +0, so le is a zero
      * (beta_next is finite, guarded above) and adding it changes no sum (a sum begun at +0
      * is never -0). Nothing to add, no guard, and such a path ends here either way. */
     if (!hit && sc->lights->infinite_count == 0) return;

@@ -39,7 +39,8 @@ typedef struct {
 
 typedef struct {
     long long rays_primary, rays_shadow, rays_indirect, rays_bsdf;
-    long long rays_bsdf_skipped; /* last rays not traced: they cannot reach an emitter */
+    long long rays_bsdf_skipped; /* last rays not traced: they cannot reach an emitter (a
+                                  * Lambert one whatever its throughput, which is not computed) */
     long long guarded_events;  /* non-finite values replaced, degenerate divisions skipped */
 } IntegratorStats;
 

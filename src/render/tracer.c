@@ -572,7 +572,7 @@ static Layer *add_layer(Tracer *tr, int *cap)
 static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
 {
     l->scene = rtcNewScene(tr->device);
-    rtcSetSceneFlags(l->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(l->scene, tr->robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     /* A lone sphere or disk gets a second, empty primitive (QUADRIC_PRIM_ANCHOR) */
     int quadrics = 0, mask_bits = 0;
     bool masks = l == &tr->layers[0] && rtcGetDeviceProperty(tr->device, RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED);
@@ -709,6 +709,10 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
     tr->batch_mode = TRACER_BATCH_DEFAULT;
     const char *mode = getenv("WEDGE_TRACE_BATCH");
     if (mode) tracer_batch_mode_parse(mode, &tr->batch_mode);
+    /* Embree's robust mode (commit_layer), on unless WEDGE_EMBREE_ROBUST=0: the knob of
+     * the leak measurements (test_watertight, docs/benchmarks.md) */
+    const char *robust = getenv("WEDGE_EMBREE_ROBUST");
+    tr->robust = !(robust && strcmp(robust, "0") == 0);
     ErrorSlot *slot = NULL;
     slot = calloc(1, sizeof *slot); /* filled by Embree's error callback */
     if (!slot) goto oom;

@@ -110,6 +110,7 @@ typedef enum { TRACER_BATCH_SINGLE, TRACER_BATCH_STREAM, TRACER_BATCH_PACKET16, 
 typedef struct {
     RTCDevice device;
     TracerBatchMode batch_mode; /* TRACER_BATCH_DEFAULT, or WEDGE_TRACE_BATCH=single|stream|packet16 */
+    bool robust;             /* RTC_SCENE_FLAG_ROBUST on every layer (WEDGE_EMBREE_ROBUST=0: off) */
     Layer *layers;
     int layer_count;
     Instance *instances;
