@@ -10,16 +10,23 @@
 
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m)
 {
+    /* FSF section 5: 16 bins (about 4 l for l = 4 samples along an axis). With 8 the
+     * single-occluder test scene (recon_test_util.h, 128x128) had 1.6x the error (1.59e-4
+     * against 1.01e-4); the soft-shadow bench scene did not tell them apart (4.1e-4, 4.3e-4)
+     * and 8 takes 0.65 of the device time. The filters of the bench scenes take their own
+     * counts (fsf_light_grid, fsf_bounce_grid; docs/algorithms.md section 10, "Coarser shift
+     * grids") */
+    return fsf_grid_nodes(half_u_m, half_v_m, 17);
+}
+
+FsfGrid fsf_grid_nodes(float half_u_m, float half_v_m, int shift_nodes)
+{
     FsfGrid g;
     g.half_m[0] = half_u_m;
     g.half_m[1] = half_v_m;
     g.profile_half[0] = half_u_m;
     g.profile_half[1] = half_v_m;
-    /* FSF section 5: 16 bins (about 4 l for l = 4 samples along an axis). With 8 the
-     * single-occluder test scene (recon_test_util.h, 128x128) had 1.6x the error (1.59e-4
-     * against 1.01e-4); the soft-shadow bench scene did not tell them apart (4.1e-4, 4.3e-4)
-     * and 8 takes 0.65 of the device time */
-    g.shift_nodes = 17;
+    g.shift_nodes = shift_nodes;
     g.y2_bins = g.shift_nodes - 1;
     return g;
 }

@@ -98,7 +98,10 @@ typedef struct {
                                 * lens, indirect light; fsf_guides_default) */
 } FsfGuides;
 
+/* The paper's grid (17 shift nodes, 16 y2 bins) over half extents u, v; fsf_grid_nodes with
+ * another odd count of nodes (3 .. FSF_MAX_Y2_BINS + 1). */
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m);
+FsfGrid fsf_grid_nodes(float half_u_m, float half_v_m, int shift_nodes);
 FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable);
 /* Guides that accept every usable neighbour (defocus: docs/algorithms.md section 10,
  * "Defocus"): nothing per pixel to read or compare. */
