@@ -28,7 +28,6 @@
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
 #define FSF_TAP_SLOTS 40 /* FSF_TAPS rounded up to whole float8: the most slots a pixel has */
 #define FSF_CUM (2 * FSF_RADIUS_CAP_PX + 2)
-#define FSF_RADIUS_SIGMAS 2.0f
 #define FSF_MAX_Y2_BINS 64
 #define FSF_NODE_SHIFT2 7 /* FSF_NODE_STRIDE2 = 128 >= J = B + 1 <= FSF_MAX_Y2_BINS + 1 */
 #define FSF_NODE_STRIDE2 (1 << FSF_NODE_SHIFT2)
@@ -41,12 +40,14 @@ typedef struct {
     float prof1, prof2;  /* the box profile's half extents (FsfGrid.profile_half) */
     int geo;             /* 1: passes 1a, 2a weight by the light's geometric term (form 4, fsf_geo_term.h) */
     float lc[3], lu[3], lv[3], ln[3]; /* the light's frame (world): centre, axes u, v, normal */
+    float reach;         /* FsfGrid.reach_sigmas */
 } FsfArgs;
 
-static int fsf_radius(float sigma)
+/* fsf_tap_radius (fsf_filter.c) */
+static int fsf_radius(float sigma, float reach)
 {
     if (!(sigma > 0.0f)) return 0;
-    float r = ceil(FSF_RADIUS_SIGMAS * sigma);
+    float r = ceil(reach * sigma);
     return r < (float)FSF_RADIUS_CAP_PX ? (int)r : FSF_RADIUS_CAP_PX;
 }
 
@@ -105,7 +106,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     int x = i % a.width, y = i / a.width, J = a.J;
     float half_m = axis == 0 ? a.half1 : a.half2;
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
-    int r = fsf_radius(sigma);
+    int r = fsf_radius(sigma, a.reach);
     n_taps[i] = 2 * r + 1;
     /* the taps' Gaussian weights, t = -r .. r, once for their weights and (axis 0) the running
      * sums (lanes past 2 r + 1: computed, never read) */
@@ -282,7 +283,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
     int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
     for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
-    int r = fsf_radius(px[8 * i + 6]);
+    int r = fsf_radius(px[8 * i + 6], a.reach);
     float eta = px[8 * i + 4];
     __global const float *cum = cum1 + tap_off[i];
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
@@ -428,7 +429,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
     int B = a.B;
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
-    int r = fsf_radius(sigma);
+    int r = fsf_radius(sigma, a.reach);
     float cum[FSF_CUM], g[FSF_TAP_SLOTS], inv_rho[3 * FSF_MAX_Y2_BINS + 8];
     for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - r) + FSF_LANES8), sigma), 0, g + e0);
     float c = 0.0f;

@@ -22,7 +22,8 @@ typedef struct {
     int shape;                                      /* the emitter's SceneDesc shape */
 } FsfLight;
 
-/* The shadows' grid over the light's half extents: 13 shift nodes (12 y2 bins), not the
+/* The shadows' grid over the light's half extents, its taps to FSF_REACH_SIGMAS_NARROW, and
+ * 13 shift nodes (12 y2 bins), not the
  * paper's 17: pass 1a's nodes per sample, passes 1b and 2b's bins go down by a quarter (the
  * kernels 0.82x on soft_shadows at 16 spp) and the error over seeds 1-3 at 8-32 spp moves
  * 0.97x on soft_shadows, 1.00-1.02x on thin_occluders, 1.01-1.06x on tilted_stack, each within
