@@ -23,12 +23,11 @@ typedef struct {
 } FsfLight;
 
 /* The shadows' grid over the light's half extents, its taps to FSF_REACH_SIGMAS_NARROW, and
- * 13 shift nodes (12 y2 bins), not the
- * paper's 17: pass 1a's nodes per sample, passes 1b and 2b's bins go down by a quarter (the
- * kernels 0.82x on soft_shadows at 16 spp) and the error over seeds 1-3 at 8-32 spp moves
- * 0.97x on soft_shadows, 1.00-1.02x on thin_occluders, 1.01-1.06x on tilted_stack, each within
- * its seeds' spread; 9 nodes cost tilted_stack 1.28x at 32 spp (docs/algorithms.md section 10,
- * "Coarser shift grids"). */
+ * 13 shift nodes (12 y2 bins), not the paper's 17: pass 1a's nodes per sample, passes 1b and
+ * 2b's bins go down by a quarter (the kernels 0.87x on soft_shadows at 16 spp) and the error
+ * over seeds 1-3 at 8-32 spp moves 0.97x on soft_shadows, 1.00-1.02x on thin_occluders,
+ * 1.01-1.06x on tilted_stack, each within its seeds' spread; 9 nodes cost tilted_stack 1.28x
+ * at 32 spp (docs/algorithms.md section 10, "Coarser shift grids, shorter taps"). */
 #define FSF_LIGHT_SHIFT_NODES 13
 FsfGrid fsf_light_grid(const FsfLight *l);
 
