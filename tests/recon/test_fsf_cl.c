@@ -8,6 +8,7 @@
 #include "check.h"
 #include "fsf_synth.h"
 #include "recon/fsf/fsf_cl.h"
+#include "recon/fsf/fsf_light.h"
 
 /* The largest |OpenCL - C| over f's pixels relative to the pixel's weight (rgb and weight);
  * geo: the light's geometric term (form 4 in passes 1a and 2a) or NULL. */
@@ -207,14 +208,19 @@ int main(void)
         f.px[i].sigma_px[1] = 2.0f + 5.0f * y;
     }
     /* the default grid (16 bins: pass 1a fills 4 slices per launch here), one whose bins do
-     * not divide into those launches (10: 4 + 4 + 2) and one whose samples reach 17 nodes
-     * (three float8 chunks in 1a, 96 densities in 2a) */
-    const int nodes[3] = {17, 11, 33};
-    for (int gi = 0; gi < 3; ++gi) {
-        g.shift_nodes = nodes[gi], g.y2_bins = nodes[gi] - 1;
+     * not divide into those launches (10: 4 + 4 + 2), one whose samples reach 17 nodes
+     * (three float8 chunks in 1a, 96 densities in 2a), and the shadows' (fsf_light_grid: 12
+     * bins, taps to 1.5 sigma, which the kernels take from FsfGrid.reach_sigmas as the C passes
+     * do: a kernel reaching 2 sigma overruns the packed tap tables, differences of hundreds of
+     * a pixel's weight) */
+    const int nodes[4] = {17, 11, 33, FSF_LIGHT_SHIFT_NODES};
+    const float reach[4] = {FSF_RADIUS_SIGMAS, FSF_RADIUS_SIGMAS, FSF_RADIUS_SIGMAS, FSF_REACH_SIGMAS_NARROW};
+    for (int gi = 0; gi < 4; ++gi) {
+        g.shift_nodes = nodes[gi], g.y2_bins = nodes[gi] - 1, g.reach_sigmas = reach[gi];
         double secs = 0.0, worst = cl_vs_c(cl, &f, &g, NULL, &secs);
-        printf("%d shift nodes: OpenCL against C: largest difference %.3g of the pixel's weight (kernels %.4f s)\n",
-               nodes[gi], worst, secs);
+        printf("%d shift nodes, taps to %.1f sigma: OpenCL against C: largest difference %.3g of the pixel's weight "
+               "(kernels %.4f s)\n",
+               nodes[gi], reach[gi], worst, secs);
         /* the same float arithmetic in another order and exp vs expf: rounding only (3e-7
          * measured; a node or tap lost or shifted would show as a whole sample's weight, ~1e-2) */
         CHECK(worst < 1e-5);

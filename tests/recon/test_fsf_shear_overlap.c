@@ -28,7 +28,7 @@ static double brute_overlap(float sigma, float eta, float half)
     enum { PER_TAP = 2000 };
     int r = fsf_radius_steps(sigma);
     float cum[FSF_CUM];
-    fsf_tap_prefix(sigma, cum);
+    fsf_tap_prefix(sigma, r, cum);
     double s1 = 0, s2 = 0, u1 = 0, u2 = 0;
     for (int t = -r; t <= r; ++t) {
         for (int k = 0; k < PER_TAP; ++k) {

@@ -28,7 +28,6 @@
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
 #define FSF_TAP_SLOTS 40 /* FSF_TAPS rounded up to whole float8: the most slots a pixel has */
 #define FSF_CUM (2 * FSF_RADIUS_CAP_PX + 2)
-#define FSF_RADIUS_SIGMAS 2.0f
 #define FSF_MAX_Y2_BINS 64
 #define FSF_NODE_SHIFT2 7 /* FSF_NODE_STRIDE2 = 128 >= J = B + 1 <= FSF_MAX_Y2_BINS + 1 */
 #define FSF_NODE_STRIDE2 (1 << FSF_NODE_SHIFT2)
@@ -41,12 +40,14 @@ typedef struct {
     float prof1, prof2;  /* the box profile's half extents (FsfGrid.profile_half) */
     int geo;             /* 1: passes 1a, 2a weight by the light's geometric term (form 4, fsf_geo_term.h) */
     float lc[3], lu[3], lv[3], ln[3]; /* the light's frame (world): centre, axes u, v, normal */
+    float reach;         /* FsfGrid.reach_sigmas */
 } FsfArgs;
 
-static int fsf_radius(float sigma)
+/* fsf_tap_radius (fsf_filter.c) */
+static int fsf_radius(float sigma, float reach)
 {
     if (!(sigma > 0.0f)) return 0;
-    float r = ceil(FSF_RADIUS_SIGMAS * sigma);
+    float r = ceil(reach * sigma);
     return r < (float)FSF_RADIUS_CAP_PX ? (int)r : FSF_RADIUS_CAP_PX;
 }
 
@@ -69,22 +70,15 @@ static float8 fsf_gauss8(float8 t, float sigma)
 }
 
 /* fsf_density_mean (fsf_filter.c): the mean over the profile box |z| <= h of the density of
- * the filter (eta, sigma). Its weights by the scalar exp, not fsf_gauss8's (the taps' weights
- * and running sums): the vector exp differs from it in the last bit (relMSE 1e-17 against the
- * scalar one on the bench scenes). */
-static float fsf_density_mean(float eta, float sigma, float half_m, float prof)
+ * the filter (eta, sigma), from the taps' weights g[t + r] that fsf_taps has already taken
+ * (fsf_gauss8's vector exp: the scalar exp per tap it once took differs from it in the last
+ * bit only, relMSE 1e-17 on the bench scenes, and was a fifth of the kernel). */
+static float fsf_density_mean(float eta, int r, const float *g, float half_m, float prof)
 {
-    int r = fsf_radius(sigma);
-    float sum = 0.0f, w[FSF_RADIUS_CAP_PX + 1];
-    /* taps t and -t have the same weight and overlap the box alike (c = eta t negates exactly,
-     * so -t's [lo, hi] is [-hi, -lo]): each exp once, at t <= 0, read again at -t; the sum in
-     * t's order as before */
+    float sum = 0.0f;
     for (int t = -r; t <= r; ++t) {
-        float tf = (float)t, c = eta * tf, lo = fmax(-prof, c - half_m), hi = fmin(prof, c + half_m);
-        if (hi > lo) {
-            if (t <= 0) w[-t] = sigma > 0.0f ? exp(-0.5f * tf * tf / (sigma * sigma)) : 1.0f;
-            sum += w[abs(t)] * (hi - lo);
-        }
+        float c = eta * (float)t, lo = fmax(-prof, c - half_m), hi = fmin(prof, c + half_m);
+        if (hi > lo) sum += g[t + r] * (hi - lo);
     }
     return sum / (2.0f * prof);
 }
@@ -112,7 +106,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     int x = i % a.width, y = i / a.width, J = a.J;
     float half_m = axis == 0 ? a.half1 : a.half2;
     float inv_dY = 1.0f / (4.0f * half_m / (float)(J - 1)), mid = 0.5f * (float)(J - 1);
-    int r = fsf_radius(sigma);
+    int r = fsf_radius(sigma, a.reach);
     n_taps[i] = 2 * r + 1;
     /* the taps' Gaussian weights, t = -r .. r, once for their weights and (axis 0) the running
      * sums (lanes past 2 r + 1: computed, never read) */
@@ -120,7 +114,7 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
     for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - r) + FSF_LANES8), sigma), 0, g + e0);
     /* along the first axis, this pixel's mean density in place of each neighbour's (cum1 below
      * divides pass 1a's by its own): fsf_filter.h, fsf_density_mean */
-    float inv_mean = axis == 0 ? 1.0f / fsf_density_mean(eta, sigma, a.half1, a.prof1) : 1.0f;
+    float inv_mean = axis == 0 ? 1.0f / fsf_density_mean(eta, r, g, a.half1, a.prof1) : 1.0f;
     /* the centre's guides (fsf_accept); without guides (guided 0: FsfGuides' NULL pos4, nrm4)
      * every usable neighbour is accepted and pos4, nrm4 are not read */
     float c_nx = 0.0f, c_ny = 0.0f, c_nz = 0.0f, c_px = 0.0f, c_py = 0.0f, c_pz = 0.0f, c_tol = 0.0f;
@@ -289,7 +283,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
     int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
     for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
-    int r = fsf_radius(px[8 * i + 6]);
+    int r = fsf_radius(px[8 * i + 6], a.reach);
     float eta = px[8 * i + 4];
     __global const float *cum = cum1 + tap_off[i];
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
@@ -435,7 +429,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
     int B = a.B;
     float L2 = a.half2;
     float sigma = px[8 * i + 7], eta = px[8 * i + 5];
-    int r = fsf_radius(sigma);
+    int r = fsf_radius(sigma, a.reach);
     float cum[FSF_CUM], g[FSF_TAP_SLOTS], inv_rho[3 * FSF_MAX_Y2_BINS + 8];
     for (int e0 = 0; e0 < 2 * r + 1; e0 += 8) vstore8(fsf_gauss8(convert_float8((int8)(e0 - r) + FSF_LANES8), sigma), 0, g + e0);
     float c = 0.0f;

@@ -46,7 +46,10 @@ float fsf_bounce_slope(vec3 n, vec3 d, float t_hit_m)
     return 1.0f / (t_hit_m * dn);
 }
 
-FsfGrid fsf_bounce_grid(void) { return fsf_grid_default(FSF_BOUNCE_V_HALF, FSF_BOUNCE_V_HALF); }
+FsfGrid fsf_bounce_grid(void)
+{
+    return fsf_grid_nodes(FSF_BOUNCE_V_HALF, FSF_BOUNCE_V_HALF, FSF_BOUNCE_SHIFT_NODES);
+}
 
 /* Pixel i's frame from its guides, and the screen Jacobian it was built from. */
 static bool pixel_frame(const GBuffer *g, size_t i, FsfBounceFrame *f, vec3 *jx, vec3 *jy)

@@ -22,6 +22,7 @@ typedef struct {
     cl_float prof1, prof2;
     cl_int geo;
     cl_float lc[3], lu[3], lv[3], ln[3];
+    cl_float reach;
 } FsfArgs;
 
 /* Memory for several slices of P at once (pass 1a fills them in one launch) */
@@ -159,11 +160,12 @@ static cl_int set_args(cl_kernel k, const FsfArgs *a, const cl_int *ints, int ni
  * them (at most FSF_RADIUS_CAP_PX: unit directions): the largest |round(t dy)| over their taps
  * as fsf_taps finds them, plus one row against a different rounding of t dy on the device (a
  * direction along the rows, dy = 0, reaches no other row whatever the rounding). */
-static int band_halo_rows(int width, int y0, int y1, int axis, const FsfPixel *px, const unsigned char *usable)
+static int band_halo_rows(const FsfGrid *g, int width, int y0, int y1, int axis, const FsfPixel *px,
+                          const unsigned char *usable)
 {
     int reach = 0;
     for (size_t i = (size_t)y0 * (size_t)width; i < (size_t)y1 * (size_t)width && reach < FSF_RADIUS_CAP_PX; ++i) {
-        int r = usable[i] ? fsf_radius_steps(px[i].sigma_px[axis]) : 0;
+        int r = usable[i] ? fsf_tap_radius(g, px[i].sigma_px[axis]) : 0;
         float dy = fabsf(px[i].dir[axis][1]), reach_rows = (float)r * dy; /* NaN: the cap */
         int rows = r == 0 || dy == 0.0f ? 0
                    : reach_rows < (float)FSF_RADIUS_CAP_PX ? (int)floorf(reach_rows + 0.5f) + 1
@@ -175,13 +177,13 @@ static int band_halo_rows(int width, int y0, int y1, int axis, const FsfPixel *p
 
 /* Each band's halo along `axis` (halo[b] for rows [b band_rows, (b + 1) band_rows)); returns
  * the largest. */
-static int band_halos(int width, int height, int band_rows, int axis, const FsfPixel *px, const unsigned char *usable,
-                      int *halo)
+static int band_halos(const FsfGrid *g, int width, int height, int band_rows, int axis, const FsfPixel *px,
+                      const unsigned char *usable, int *halo)
 {
     int most = 0;
     for (int b = 0, y0 = 0; y0 < height; ++b, y0 += band_rows) {
         int y1 = y0 + band_rows < height ? y0 + band_rows : height;
-        halo[b] = band_halo_rows(width, y0, y1, axis, px, usable);
+        halo[b] = band_halo_rows(g, width, y0, y1, axis, px, usable);
         most = halo[b] > most ? halo[b] : most;
     }
     return most;
@@ -193,12 +195,13 @@ static int band_halos(int width, int height, int band_rows, int axis, const FsfP
  * 0) takes 8 slots, not 40, and one that is not usable none (no pass reads its taps): the
  * tables, fresh memory every run, shrink by a third to a half on the bench scenes. Returns the
  * slots in all, or -1 past INT_MAX. */
-static long long tap_offsets(size_t n, int axis, const FsfPixel *px, const unsigned char *usable, cl_int *off)
+static long long tap_offsets(const FsfGrid *g, size_t n, int axis, const FsfPixel *px, const unsigned char *usable,
+                             cl_int *off)
 {
     long long total = 0;
     for (size_t i = 0; i < n; ++i) {
         off[i] = (cl_int)total;
-        total += usable[i] ? (2 * fsf_radius_steps(px[i].sigma_px[axis]) + 2 + 7) / 8 * 8 : 0;
+        total += usable[i] ? (2 * fsf_tap_radius(g, px[i].sigma_px[axis]) + 2 + 7) / 8 * 8 : 0;
         if (total > INT_MAX) return -1;
     }
     return total;
@@ -220,7 +223,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t n = (size_t)s->width * (size_t)s->height, slots = n * (size_t)s->capacity;
     size_t J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
     FsfArgs a = {g->half_m[0], g->half_m[1], g->shift_nodes, g->y2_bins, gd->cos_normal_min, gd->plane_tol_rel,
-                 s->width, s->height, g->profile_half[0], g->profile_half[1], 0, {0}, {0}, {0}, {0}};
+                 s->width, s->height, g->profile_half[0], g->profile_half[1], 0, {0}, {0}, {0}, {0}, g->reach_sigmas};
     /* form 4 (fsf_geo_term.h) reads the guides' positions and normals */
     const FsfGeoTerm *geo = gd->geo && gd->pos4 && gd->nrm4 ? gd->geo : NULL;
     if (geo) {
@@ -236,8 +239,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     int n_bands = (s->height + band_rows - 1) / band_rows;
     int *halo1 = malloc(sizeof(int) * (size_t)n_bands * 2), *halo2 = halo1 ? halo1 + n_bands : NULL;
     cl_int *off = kept_offsets(f, n), *off1 = off ? off + offsets_stride(n > 0 ? n : 1) : NULL;
-    long long slots0 = off ? tap_offsets(n, 0, px, gd->usable, off) : -1,
-              slots1t = off ? tap_offsets(n, 1, px, gd->usable, off1) : -1;
+    long long slots0 = off ? tap_offsets(g, n, 0, px, gd->usable, off) : -1,
+              slots1t = off ? tap_offsets(g, n, 1, px, gd->usable, off1) : -1;
     if (!halo1 || slots0 < 0 || slots1t < 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's bands and tap tables");
         free(halo1);
@@ -247,8 +250,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     long long most_slots = slots0 > slots1t ? slots0 : slots1t;
     size_t tap_slots = most_slots > 0 ? (size_t)most_slots : 1;
     /* each band's rows of P (pass 1) and Q (pass 2) that its gathers reach */
-    int most1 = band_halos(s->width, s->height, band_rows, 0, px, gd->usable, halo1);
-    int most2 = band_halos(s->width, s->height, band_rows, 1, px, gd->usable, halo2);
+    int most1 = band_halos(g, s->width, s->height, band_rows, 0, px, gd->usable, halo1);
+    int most2 = band_halos(g, s->width, s->height, band_rows, 1, px, gd->usable, halo2);
     /* P's and Q's rings of rows (the whole frame when it is no taller): the band and both
      * halos */
     int ring1 = s->height < band_rows + 2 * most1 ? s->height : band_rows + 2 * most1;

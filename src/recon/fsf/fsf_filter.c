@@ -10,16 +10,24 @@
 
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m)
 {
+    /* FSF section 5: 16 bins (about 4 l for l = 4 samples along an axis). With 8 the
+     * single-occluder test scene (recon_test_util.h, 128x128) had 1.6x the error (1.59e-4
+     * against 1.01e-4); the soft-shadow bench scene did not tell them apart (4.1e-4, 4.3e-4)
+     * and 8 takes 0.65 of the device time. The filters of the bench scenes take their own
+     * counts (fsf_light_grid, fsf_bounce_grid; docs/algorithms.md section 10, "Coarser shift
+     * grids") */
+    return fsf_grid_nodes(half_u_m, half_v_m, 17);
+}
+
+FsfGrid fsf_grid_nodes(float half_u_m, float half_v_m, int shift_nodes)
+{
     FsfGrid g;
     g.half_m[0] = half_u_m;
     g.half_m[1] = half_v_m;
     g.profile_half[0] = half_u_m;
     g.profile_half[1] = half_v_m;
-    /* FSF section 5: 16 bins (about 4 l for l = 4 samples along an axis). With 8 the
-     * single-occluder test scene (recon_test_util.h, 128x128) had 1.6x the error (1.59e-4
-     * against 1.01e-4); the soft-shadow bench scene did not tell them apart (4.1e-4, 4.3e-4)
-     * and 8 takes 0.65 of the device time */
-    g.shift_nodes = 17;
+    g.shift_nodes = shift_nodes;
+    g.reach_sigmas = FSF_RADIUS_SIGMAS;
     g.y2_bins = g.shift_nodes - 1;
     return g;
 }
@@ -38,12 +46,16 @@ FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigne
     return gd;
 }
 
-int fsf_radius_steps(float sigma_px)
+int fsf_radius_steps(float sigma_px) { return fsf_radius_reach(sigma_px, FSF_RADIUS_SIGMAS); }
+
+int fsf_radius_reach(float sigma_px, float reach_sigmas)
 {
     if (!(sigma_px > 0.0f)) return 0;
-    float r = ceilf(FSF_RADIUS_SIGMAS * sigma_px);
+    float r = ceilf(reach_sigmas * sigma_px);
     return r < (float)FSF_RADIUS_CAP_PX ? (int)r : FSF_RADIUS_CAP_PX;
 }
+
+int fsf_tap_radius(const FsfGrid *g, float sigma_px) { return fsf_radius_reach(sigma_px, g->reach_sigmas); }
 
 int fsf_y2_bin(const FsfGrid *g, float y2_m)
 {
@@ -109,18 +121,18 @@ static inline int step_pixel(int w, int h, int x, int y, const float dir[2], flo
 
 static inline float gauss(float t, float sigma) { return sigma > 0.0f ? expf(-0.5f * t * t / (sigma * sigma)) : 1.0f; }
 
-void fsf_tap_prefix(float sigma_px, float *cum)
+void fsf_tap_prefix(float sigma_px, int r, float *cum)
 {
-    int r = fsf_radius_steps(sigma_px);
     cum[0] = 0.0f;
     for (int t = -r; t <= r; ++t) cum[t + r + 1] = cum[t + r] + gauss((float)t, sigma_px);
 }
 
 void fsf_tap_prefix_mean(const FsfGrid *g, const FsfPixel *p, float *cum)
 {
-    fsf_tap_prefix(p->sigma_px[0], cum);
+    int r = fsf_tap_radius(g, p->sigma_px[0]);
+    fsf_tap_prefix(p->sigma_px[0], r, cum);
     float inv_mean = 1.0f / fsf_density_mean(g, 0, p->eta_m[0], p->sigma_px[0]);
-    for (int e = 0; e < 2 * fsf_radius_steps(p->sigma_px[0]) + 2; ++e) cum[e] *= inv_mean;
+    for (int e = 0; e < 2 * r + 2; ++e) cum[e] *= inv_mean;
 }
 
 float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
@@ -141,7 +153,7 @@ float fsf_density_mean(const FsfGrid *g, int axis, float eta_m, float sigma_px)
 {
     /* the mean over |z| <= h of rho(z) = sum_t w(t) [|z - eta t| <= L]: each tap's weight times
      * the share of the box its interval [eta t - L, eta t + L] covers */
-    int r = fsf_radius_steps(sigma_px);
+    int r = fsf_tap_radius(g, sigma_px);
     float h = g->profile_half[axis], L = g->half_m[axis], sum = 0.0f;
     for (int t = -r; t <= r; ++t) {
         float c = eta_m * (float)t, lo = fmaxf(-h, c - L), hi = fminf(h, c + L);
@@ -190,10 +202,10 @@ static void brute_range(void *ctx, size_t begin, size_t end, int part)
             memcpy(j->out4 + 4 * i, acc, sizeof acc);
             continue;
         }
-        int r1 = fsf_radius_steps(pp->sigma_px[0]), r2 = fsf_radius_steps(pp->sigma_px[1]);
+        int r1 = fsf_tap_radius(j->g, pp->sigma_px[0]), r2 = fsf_tap_radius(j->g, pp->sigma_px[1]);
         float cum1[2 * FSF_RADIUS_CAP_PX + 2], cum2[2 * FSF_RADIUS_CAP_PX + 2];
-        fsf_tap_prefix(pp->sigma_px[0], cum1);
-        fsf_tap_prefix(pp->sigma_px[1], cum2);
+        fsf_tap_prefix(pp->sigma_px[0], r1, cum1);
+        fsf_tap_prefix(pp->sigma_px[1], r2, cum2);
         for (int t2 = -r2; t2 <= r2; ++t2) {
             float w2 = gauss((float)t2, pp->sigma_px[1]);
             for (int t1 = -r1; t1 <= r1; ++t1) {
@@ -253,7 +265,7 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const
         /* the density of reprojected samples uses this pixel's filter for its gatherers'
          * (a smooth field: FSF section 4.2's approximation again), over its mean (cum1,
          * fsf_tap_prefix_mean), which each gatherer's taps replace with its own */
-        int r = fsf_radius_steps(px[i].sigma_px[0]);
+        int r = fsf_tap_radius(g, px[i].sigma_px[0]);
         const float *cum = cum1 + (size_t)FSF_CUM * i;
         for (int k = 0; k < s->count[i]; ++k) {
             size_t slot = i * (size_t)s->capacity + (size_t)k;
@@ -289,7 +301,7 @@ void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int wid
         FsfTap *ti = taps + (size_t)FSF_TAPS * i;
         int x = (int)(i % (size_t)width), y = (int)(i / (size_t)width);
         /* a pixel that is not usable gets no taps, not even its own: its result is 0 */
-        int r = gd->usable[i] ? fsf_radius_steps(pp->sigma_px[axis]) : -1;
+        int r = gd->usable[i] ? fsf_tap_radius(g, pp->sigma_px[axis]) : -1;
         /* along the first axis the neighbours' nodes hold samples over their own density
          * times its mean (pass 1a's cum1): this pixel's mean density stands in for theirs */
         float inv_mean = axis == 0 && r >= 0 ? 1.0f / fsf_density_mean(g, 0, pp->eta_m[0], pp->sigma_px[0]) : 1.0f;
@@ -370,8 +382,8 @@ void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const
     for (size_t i = begin; i < end; ++i) {
         float acc[4] = {0, 0, 0, 0};
         if (gd->usable[i]) {
-            int r = fsf_radius_steps(px[i].sigma_px[1]);
-            fsf_tap_prefix(px[i].sigma_px[1], cum);
+            int r = fsf_tap_radius(g, px[i].sigma_px[1]);
+            fsf_tap_prefix(px[i].sigma_px[1], r, cum);
             /* With B = J - 1 the light coordinate seen at shift node j from bin b's centre,
              * z = c_b - Y_j = (2 L2 / B) (b - 2 j + B / 2 + 1/2), depends on m = b - 2 j only:
              * 3 B densities per pixel, of this pixel's filter */

@@ -42,8 +42,17 @@
 
 /* The paper's 32-pixel diameter cap (FSF section 5): taps up to 16 steps each side. */
 enum { FSF_RADIUS_CAP_PX = 16 };
-/* Taps reach 2 sigma (95% of a Gaussian's mass). */
+/* Taps reach 2 sigma (95% of a Gaussian's mass): the widths' caps are set so that a filter of
+ * this reach stays inside its slope window (fsf_slope_window.h), and the budget plan counts a
+ * filter's taps to this reach. */
 #define FSF_RADIUS_SIGMAS 2.0f
+/* The shadows' and the lens' taps stop at 1.5 sigma (87% of the mass, the last tap at 0.32 of
+ * the centre's weight): a quarter fewer taps in the taps kernel and passes 1b and 2b, and
+ * over seeds 1-3 at 8-32 spp relMSE 0.97-1.0x on soft_shadows, defocus and tilted_stack,
+ * 1.01-1.02x on thin_occluders; the bounce's (a box of v over the rim's square) keep 2 sigma:
+ * 1.5 cost indirect 1.09-1.14x (docs/algorithms.md section 10, "Coarser shift grids, shorter
+ * taps"). */
+#define FSF_REACH_SIGMAS_NARROW 1.5f
 
 /* One frame's samples as the filter sees them. Slot k of pixel i is index i * capacity + k. */
 typedef struct {
@@ -65,6 +74,8 @@ typedef struct {
     int y2_bins;               /* bins of y2 over [-L2, L2] carried through pass 1 (FSF footnote 8);
                                 * must be shift_nodes - 1 (<= FSF_MAX_Y2_BINS): pass 2a relies on
                                 * the node spacing being twice the bin width */
+    float reach_sigmas;        /* the taps reach this many standard deviations each side (capped
+                                * at FSF_RADIUS_CAP_PX): fsf_tap_radius */
 } FsfGrid;
 enum { FSF_MAX_Y2_BINS = 64 };
 
@@ -98,14 +109,20 @@ typedef struct {
                                 * lens, indirect light; fsf_guides_default) */
 } FsfGuides;
 
+/* The paper's grid (17 shift nodes, 16 y2 bins) over half extents u, v; fsf_grid_nodes with
+ * another odd count of nodes (3 .. FSF_MAX_Y2_BINS + 1). */
 FsfGrid fsf_grid_default(float half_u_m, float half_v_m);
+FsfGrid fsf_grid_nodes(float half_u_m, float half_v_m, int shift_nodes);
 FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigned char *usable);
 /* Guides that accept every usable neighbour (defocus: docs/algorithms.md section 10,
  * "Defocus"): nothing per pixel to read or compare. */
 FsfGuides fsf_guides_unguided(const unsigned char *usable);
 
-/* Taps each side along one axis for a standard deviation (capped). */
+/* Taps each side along one axis for a standard deviation (capped): to FSF_RADIUS_SIGMAS, to
+ * reach_sigmas, to the grid's reach (the filter's own taps). */
 int fsf_radius_steps(float sigma_px);
+int fsf_radius_reach(float sigma_px, float reach_sigmas);
+int fsf_tap_radius(const FsfGrid *g, float sigma_px);
 
 /* The 4D sum, directly (the oracle). out4: 4 floats per pixel (rgb, weight); pixels left
  * out (both widths 0) get their own samples' plain sum, pixels that are not usable 0. */
@@ -145,10 +162,10 @@ void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const
  * at a light coordinate z the taps' weights overlap as rho(z) = sum_t w(t) [|z - eta t| <= L],
  * highest mid-light and lowest at its ends. Each sample is weighted by 1 / rho so that the
  * sum estimates the light's uniform mean rather than a profile tapered by the filter.
- * fsf_tap_prefix fills cum (2 r + 2 floats, r = fsf_radius_steps) with the running sums
- * of w over the taps -r .. r. */
+ * fsf_tap_prefix fills cum (2 r + 2 floats, r the filter's radius, fsf_tap_radius) with the
+ * running sums of w over the taps -r .. r. */
 enum { FSF_CUM = 2 * FSF_RADIUS_CAP_PX + 2 };
-void fsf_tap_prefix(float sigma_px, float *cum);
+void fsf_tap_prefix(float sigma_px, int r, float *cum);
 float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum);
 
 /* Pass 1a divides a pixel's samples by the density of its own filter, as the gathering pixel's

@@ -12,6 +12,7 @@ FsfGrid fsf_lens_grid(void)
 {
     FsfGrid g = fsf_grid_default(1.0f, 1.0f);
     g.profile_half[0] = g.profile_half[1] = FSF_LENS_PROFILE_HALF;
+    g.reach_sigmas = FSF_REACH_SIGMAS_NARROW;
     return g;
 }
 

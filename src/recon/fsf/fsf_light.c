@@ -9,6 +9,13 @@
 #include "recon/recon_parallel.h"
 #include "recon/shared_triangles.h"
 
+FsfGrid fsf_light_grid(const FsfLight *l)
+{
+    FsfGrid g = fsf_grid_nodes(l->half_m[0], l->half_m[1], FSF_LIGHT_SHIFT_NODES);
+    g.reach_sigmas = FSF_REACH_SIGMAS_NARROW;
+    return g;
+}
+
 float fsf_light_power_share(const Renderer *r)
 {
     FsfLight light;

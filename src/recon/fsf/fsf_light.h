@@ -13,6 +13,7 @@
 
 #include "core/diag.h"
 #include "core/vec.h"
+#include "recon/fsf/fsf_filter.h"
 #include "render/renderer.h"
 
 typedef struct {
@@ -20,6 +21,15 @@ typedef struct {
     float half_m[2];                                /* half extents along u, v */
     int shape;                                      /* the emitter's SceneDesc shape */
 } FsfLight;
+
+/* The shadows' grid over the light's half extents, its taps to FSF_REACH_SIGMAS_NARROW, and
+ * 13 shift nodes (12 y2 bins), not the paper's 17: pass 1a's nodes per sample, passes 1b and
+ * 2b's bins go down by a quarter (the kernels 0.87x on soft_shadows at 16 spp) and the error
+ * over seeds 1-3 at 8-32 spp moves 0.97x on soft_shadows, 1.00-1.02x on thin_occluders,
+ * 1.01-1.06x on tilted_stack, each within its seeds' spread; 9 nodes cost tilted_stack 1.28x
+ * at 32 spp (docs/algorithms.md section 10, "Coarser shift grids, shorter taps"). */
+#define FSF_LIGHT_SHIFT_NODES 13
+FsfGrid fsf_light_grid(const FsfLight *l);
 
 /* false with d set when the scene has no planar area light made of triangles. */
 bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d);

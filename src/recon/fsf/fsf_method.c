@@ -548,7 +548,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF parameters");
     }
     fsf_profile_mark(&m->prof, "params");
-    FsfGrid grid = fsf_grid_default(m->light.half_m[0], m->light.half_m[1]);
+    FsfGrid grid = fsf_light_grid(&m->light);
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b->usable);
     /* under a budget the collapsed pixels' extras enter their own image (fsf_budget_plan.h) */
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
