@@ -7,7 +7,10 @@
  * 1: rotated lattice c -> (g c + o) mod m on every side m >= MIN_SIDE (the sampler now: 5);
  * 2: rotated lattice on every side when rows <= 2; 3: a 1 x p grid as a Cranley-Patterson
  * rotated lattice (one shift, no jitter per cell); 4: every count as a 1 x n lattice rotated
- * per set, jittered per cell (STEP overrides g); 5: as 4 without jitter per cell.
+ * per set, jittered per cell (STEP overrides g); 5: as 4 without jitter per cell;
+ * 6: counts past 16 as the sampler builds them there (one shared permutation rho per side,
+ * rotated per column and row), rho the lattice on sides >= MIN_SIDE but 6, else a shuffle
+ * (MIN_SIDE 17: the sampler before 2026-11-29; 5: now).
  * Prints n, the RMS error of f = x y e^(x+y) (integral 1) and of the indicator of a
  * half-plane through a uniform point at a uniform angle (exact area by clipping). The
  * estimator is the set's mean; the padding permutation does not change it. */
@@ -103,6 +106,25 @@ static void make_set(unsigned n, int mode, unsigned min_side, unsigned step, dou
         }
 }
 
+/* Mode 6: one set of n <= 256 points with shared rotated sub-stratum permutations. */
+static void make_set_past_16(unsigned n, unsigned min_side, double *xs, double *ys)
+{
+    unsigned rows = (unsigned)floor(sqrt((double)n)), cols;
+    while (rows > 1 && n % rows) --rows;
+    cols = n / rows;
+    unsigned rho_x[16], rho_y[16];
+    side_permutation(rho_x, rows, rows >= min_side && rows != 6, rows > 2 ? golden(rows) : 1);
+    side_permutation(rho_y, cols, cols >= min_side && cols != 6, cols > 2 ? golden(cols) : 1);
+    unsigned o_col[16], o_row[16];
+    for (unsigned c = 0; c < cols; ++c) o_col[c] = below(rows);
+    for (unsigned r = 0; r < rows; ++r) o_row[r] = below(cols);
+    for (unsigned r = 0, k = 0; r < rows; ++r)
+        for (unsigned c = 0; c < cols; ++c, ++k) {
+            xs[k] = (c * rows + (rho_x[r] + o_col[c]) % rows + uniform()) / n;
+            ys[k] = (r * cols + (rho_y[c] + o_row[r]) % cols + uniform()) / n;
+        }
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -111,10 +133,17 @@ int main(int argc, char **argv)
     }
     int mode = atoi(argv[1]), sets = argc > 3 ? atoi(argv[3]) : 100000;
     unsigned min_side = argc > 2 ? (unsigned)atoi(argv[2]) : 5, step = argc > 4 ? (unsigned)atoi(argv[4]) : 0;
-    for (unsigned n = 2; n <= 16; ++n) {
-        double xs[16], ys[16], sum_smooth = 0.0, sum_edge = 0.0;
+    static const unsigned past_16[] = {20, 24, 25, 26, 30, 32, 35, 36, 39, 48, 64, 100, 128, 144, 256};
+    unsigned count_total = mode == 6 ? sizeof past_16 / sizeof past_16[0] : 15;
+    for (unsigned k = 0; k < count_total; ++k) {
+        unsigned n = mode == 6 ? past_16[k] : k + 2;
+        static double xs[256], ys[256];
+        double sum_smooth = 0.0, sum_edge = 0.0;
         for (int t = 0; t < sets; ++t) {
-            make_set(n, mode, min_side, step, xs, ys);
+            if (mode == 6)
+                make_set_past_16(n, min_side, xs, ys);
+            else
+                make_set(n, mode, min_side, step, xs, ys);
             double angle = 6.283185307179586 * uniform(), qx = uniform(), qy = uniform();
             double dx = cos(angle), dy = sin(angle), smooth = 0.0, edge = 0.0;
             for (unsigned i = 0; i < n; ++i) {
