@@ -46,7 +46,7 @@ int main(int argc, char **argv)
         int spp = spps[k];
         LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
         lr_test_scene(s, w, h, spp, layers, 2, 1);
-        LrSamples img = {w, h, spp, s};
+        LrSamples img = lr_samples_split(w, h, spp, s);
         LrOutput out = {rgb, NULL, NULL, 0};
         double kt[3], ht[3], ct[3];
         LrClTimes pt[3];
@@ -68,6 +68,7 @@ int main(int argc, char **argv)
         for (int r = 0; r < 3; ++r)
             if (pt[r].kernel_s[0] + pt[r].kernel_s[1] + pt[r].kernel_s[2] + pt[r].kernel_s[3] == kt[1]) parts[k] = pt[r];
         dev[k] = kt[1], host[k] = ht[1], cref[k] = ct[1];
+        lr_samples_free(&img);
         free(s);
     }
     printf("LR at %dx%d (synthetic, 2 layers), median of 3 warm runs\n", w, h);

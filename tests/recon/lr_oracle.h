@@ -37,8 +37,9 @@ static void lr_oracle_pixel(const LrSamples *img, const LrConfig *cfg, int px, i
         for (int sy = y0; sy < y1; ++sy)
             for (int sx = x0; sx < x1; ++sx)
                 for (int k = 0; k < img->spp; ++k) {
-                    const LrSample *s = &img->s[((size_t)sy * img->width + sx) * img->spp + k];
-                    int layer = lr_tile_layer_of(&tile, s);
+                    size_t si = ((size_t)sy * img->width + sx) * img->spp + k;
+                    const LrPlace *s = &img->place[si];
+                    int layer = lr_tile_layer_of(&tile, &img->key[si]);
                     if (layer < j) continue;
                     float p, q, wuvt;
                     lr_reproject(s, (float)cp, (float)sp, f, &p, &q, &wuvt);

@@ -58,13 +58,14 @@ static BokehMeasure measure(float contrast)
     LrConfig cfg = lr_config_default();
     cfg.bright_contrast = contrast;
     float *rgb = malloc(sizeof(float) * 3 * W * H);
-    LrSamples img = {W, H, SPP, s};
+    LrSamples img = lr_samples_split(W, H, SPP, s);
     LrOutput out = {rgb, NULL, NULL, 0};
     lr_reconstruct_c(&img, &cfg, &out);
     CHECK(out.nonfinite == 0);
     BokehMeasure m = {annulus_mean(rgb, 0.0, 4.5), annulus_mean(rgb, 6.0, 8.5), annulus_mean(rgb, 21.0, 27.0), 0.0};
     for (int i = 0; i < W * H; ++i) m.energy += rgb[3 * i];
     free(rgb);
+    lr_samples_free(&img);
     free(s);
     return m;
 }

@@ -48,7 +48,7 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
         s[i].y_px = (float)(pixel / w) + 0.5f + film_spread_px * (2.0f * lr_test_unit(&seed) - 1.0f);
     }
     if (poison) s[(size_t)(h / 2 * w + w / 2) * spp].L[1] = NAN;
-    LrSamples img = {w, h, spp, s};
+    LrSamples img = lr_samples_split(w, h, spp, s);
     LrConfig cfg = lr_config_default();
     cfg.inset_px = inset_px;
     cfg.gap_slabs = gap_slabs;
@@ -85,6 +85,7 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     CHECK(aov_diff == 0 && nonfinite == 0);
     CHECK(band_written == 0 && inner_unwritten == 0);
     if (band_written || inner_unwritten) fprintf(stderr, "band written %d, inner unwritten %d\n", band_written, inner_unwritten);
+    lr_samples_free(&img);
     free(a), free(b), free(la), free(lb), free(ea), free(eb), free(s);
 }
 
@@ -112,7 +113,7 @@ static int count_partitions(int w, int h, int spp, const LrTestLayer *layers, in
     for (int i = 0; i < w * h * spp; ++i)
         if (s[i].depth == layers[0].depth)
             for (int c = 0; c < 3; ++c) s[i].L[c] *= gain;
-    LrSamples img = {w, h, spp, s};
+    LrSamples img = lr_samples_split(w, h, spp, s);
     LrConfig cfg = lr_config_default();
     int ntx, nty, count = 0;
     lr_tile_count(&img, &cfg, &ntx, &nty);
@@ -127,6 +128,7 @@ static int count_partitions(int w, int h, int spp, const LrTestLayer *layers, in
                                               : lr_screen_round(&t.layer[j].filter, &cfg, t.layer[j].cos_psi, t.layer[j].sin_psi, &r, table);
             }
         }
+    lr_samples_free(&img);
     free(s);
     return count;
 }
@@ -148,7 +150,7 @@ static void compare_still(LrCl *lr, int w, int h, int spp, const LrTestLayer *la
 {
     LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
     lr_test_scene(s, w, h, spp, layers, nl, 31);
-    LrSamples img = {w, h, spp, s};
+    LrSamples img = lr_samples_split(w, h, spp, s);
     LrConfig cfg = lr_config_default();
     int ntx, nty;
     lr_tile_count(&img, &cfg, &ntx, &nty);
@@ -178,6 +180,7 @@ static void compare_still(LrCl *lr, int w, int h, int spp, const LrTestLayer *la
     CHECK(marked > 0 && marked < (int)n);
     CHECK(still_nonzero == 0 && moved == 0 && cl_diff == 0);
     if (still_nonzero || moved || cl_diff) fprintf(stderr, "still tiles: nonzero %d, others changed %d, C/CL differ %d\n", still_nonzero, moved, cl_diff);
+    lr_samples_free(&img);
     free(full), free(a), free(b), free(la), free(lb), free(still), free(s);
 }
 

@@ -86,7 +86,7 @@ static void test_two_surfaces(int gap_slabs)
     lr_test_scene(s, w, h, spp, layers, 2, 7);
     unsigned seed = 3;
     for (int i = 0; i < w * h * spp; ++i) s[i].coc_px += 1.2f * (lr_test_unit(&seed) - 0.5f);
-    LrSamples img = {w, h, spp, s};
+    LrSamples img = lr_samples_split(w, h, spp, s);
     LrConfig cfg = lr_config_default();
     cfg.gap_slabs = gap_slabs;
     LrTile t;
@@ -107,6 +107,7 @@ static void test_two_surfaces(int gap_slabs)
      * each layer then spans less than the surface's 1.2 px */
     if (gap_slabs > 2)
         for (int j = 0; j < t.layer_count; ++j) CHECK(t.layer[j].slopes.c_max_px - t.layer[j].slopes.c_min_px < 1.2f);
+    lr_samples_free(&img);
     free(s);
 }
 

@@ -17,9 +17,10 @@ enum { W = 40, H = 36 }; /* not a multiple of the 16-pixel tile: partial tiles a
 static float *recon(const LrSample *s, int w, int h, int spp, const LrConfig *cfg)
 {
     float *rgb = malloc(sizeof(float) * 3 * (size_t)w * h);
-    LrSamples img = {w, h, spp, s};
+    LrSamples img = lr_samples_split(w, h, spp, s);
     LrOutput out = {rgb, NULL, NULL, 0};
     lr_reconstruct_c(&img, cfg, &out);
+    lr_samples_free(&img);
     CHECK(out.nonfinite == 0);
     return rgb;
 }
@@ -44,7 +45,7 @@ static void test_oracle(float mx, float my)
     }
     LrConfig cfg = lr_config_default();
     float *rgb = recon(s, W, H, spp, &cfg);
-    LrSamples img = {W, H, spp, s};
+    LrSamples img = lr_samples_split(W, H, spp, s);
     double worst = 0;
     for (int py = 0; py < H; ++py)
         for (int px = 0; px < W; ++px) {
@@ -57,6 +58,7 @@ static void test_oracle(float mx, float my)
     CHECK(worst < 1e-4);
     if (!(worst < 1e-4)) fprintf(stderr, "oracle (%g, %g): worst %g\n", mx, my, worst);
     free(rgb);
+    lr_samples_free(&img);
     free(s);
 }
 
@@ -279,7 +281,7 @@ static void test_moving_over_static(void)
     LrSample *s = malloc(sizeof(LrSample) * SW * SH * spp), *r = malloc(sizeof(LrSample) * SW * SH * ref_spp);
     lr_test_scene(s, SW, SH, spp, layers, 2, 41);
     lr_test_scene(r, SW, SH, ref_spp, layers, 2, 43);
-    LrSamples img = {SW, SH, spp, s};
+    LrSamples img = lr_samples_split(SW, SH, spp, s);
     LrTile t;
     lr_tile_partition(&img, &cfg, 2, 1, &t); /* the tile under the disk's centre */
     CHECK(t.layer_count == 2);
@@ -298,6 +300,7 @@ static void test_moving_over_static(void)
             }
     CHECK(e_lr < 0.5 * e_mc);
     fprintf(stderr, "moving over static: streak squared error lr %.4g, pixel means %.4g\n", e_lr, e_mc);
+    lr_samples_free(&img);
     free(lr), free(mc), free(ref), free(s), free(r);
 }
 
@@ -433,7 +436,7 @@ static void test_band_moves_tiles(void)
     float *whole = recon(s, w, h, spp, &cfg);
     float *banded = malloc(sizeof(float) * 3 * (size_t)w * h), *half = malloc(sizeof(float) * 3 * (size_t)w * h);
     for (size_t i = 0; i < 3 * (size_t)w * h; ++i) banded[i] = half[i] = -7.0f;
-    LrSamples img = {w, h, spp, s};
+    LrSamples img = lr_samples_split(w, h, spp, s);
     LrConfig cb = cfg, ch = cfg;
     cb.inset_px = band;
     ch.inset_px = band / 2;
@@ -457,11 +460,36 @@ static void test_band_moves_tiles(void)
     CHECK(shifted > 1e-3); /* the test's scene does make tile placement visible */
     if (differ || band_written || !(shifted > 1e-3))
         fprintf(stderr, "band: %d inner values differ, %d band values written, half-tile shift %g\n", differ, band_written, shifted);
+    lr_samples_free(&img);
     free(whole), free(banded), free(half), free(s);
+}
+
+/* The split records (lr_partition.h) carry every field of the sample, and the bright sum
+ * marks exactly the non-finite radiances: NaN when a channel is NaN or infinite, the sum
+ * otherwise, also when a finite radiance's sum overflows to infinity (such a sample is
+ * reprojected; its brightness counts 0). */
+static void test_split_records(void)
+{
+    LrSample s[4] = {
+        {1.25f, 2.5f, 0.25f, -0.5f, 0.75f, 3.0f, -1.5f, {4.0f, -2.0f}, {1.0f, 2.0f, 3.0f}},
+        {0.5f, 0.5f, 0, 0, 0.5f, INFINITY, 0, {0, 0}, {INFINITY, 0.0f, 0.0f}},
+        {0.5f, 0.5f, 0, 0, 0.5f, 2.0f, 0, {0, 0}, {0.0f, NAN, 0.0f}},
+        {0.5f, 0.5f, 0, 0, 0.5f, 2.0f, 0, {0, 0}, {3e38f, 3e38f, 1.0f}},
+    };
+    LrSamples img = lr_samples_split(2, 2, 1, s);
+    CHECK(img.key && img.place && img.bright);
+    CHECK(img.key[0].depth == 3.0f && img.key[0].coc_px == -1.5f && img.key[0].motion_px[0] == 4.0f && img.key[0].motion_px[1] == -2.0f);
+    CHECK(img.place[0].x_px == 1.25f && img.place[0].y_px == 2.5f && img.place[0].u == 0.25f && img.place[0].v == -0.5f &&
+          img.place[0].t == 0.75f && img.place[0].L[2] == 3.0f && img.key[1].depth == INFINITY);
+    CHECK(img.bright[0] == 6.0f);
+    CHECK(isnan(img.bright[1]) && isnan(img.bright[2]));
+    CHECK(img.bright[3] == INFINITY);
+    lr_samples_free(&img);
 }
 
 int main(void)
 {
+    test_split_records();
     test_gauss();
     test_band_moves_tiles();
     test_no_tile_seams();

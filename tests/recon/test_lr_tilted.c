@@ -69,9 +69,10 @@ static float *frame(const Plane *p, int spp, unsigned seed, const LrConfig *cfg)
     }
     fill(p, spp, seed, s);
     if (cfg) {
-        LrSamples img = {TW, TH, spp, s};
+        LrSamples img = lr_samples_split(TW, TH, spp, s);
         LrOutput out = {rgb, NULL, NULL, 0};
         lr_reconstruct_c(&img, cfg, &out);
+        lr_samples_free(&img);
         CHECK(out.nonfinite == 0);
     } else {
         for (int i = 0; i < TW * TH; ++i)

@@ -5,7 +5,11 @@
  * lr_reconstruct.c, which the tests compare against (bit for bit on PoCL).
  *
  * Buffers (host layout in lr_cl.c):
- *   samples       12 floats per sample (LrSample), pixel-major, spp per pixel
+ *   samples       8 floats per sample (LrPlace: x, y, u, v, t, r, g, b), pixel-major, spp per
+ *                 pixel: what the reprojection reads (lr_pack, lr_reproject)
+ *   keys          a float4 per sample (LrKey: depth, CoC, motion x, y), the same order: what
+ *                 the statistics read (lr_block_stats, lr_tile_stats); bright: r + g + b per
+ *                 sample, NaN for a non-finite radiance (lr_partition.h: lr_bright)
  *   tile_bounds   LR_TB_STRIDE floats per tile: n_depth, n_coc, depth bounds, CoC bounds
  *   tile_layers   LR_TL_STRIDE ints per tile: layer_count, then raw layer -> compact layer
  *   params        LR_LP_STRIDE floats per (tile, layer): cos psi, sin psi, 1/sigma_x, eta, xi,
@@ -33,7 +37,8 @@
  * Launch shapes (lr_cl.c): all 2D in fixed 16x4 groups (cl_launch_2d), so that PoCL compiles
  * each kernel once whatever the image size or layer count; every kernel ignores the padding. */
 
-#define LR_SAMPLE_STRIDE 12
+#define LR_PLACE_STRIDE 8 /* LrPlace: x, y, u, v, t, then the radiance at LR_PLACE_L */
+#define LR_PLACE_L 5
 #define LR_TB_STRIDE 25
 #define LR_TL_STRIDE 18
 #define LR_LP_STRIDE 336
@@ -176,7 +181,7 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
 /* The hits among the samples of pixels [x0, x1) x [y0, y1): their depth range into *zmin,
  * *zmax and, with gap_slabs > 0, their CoC bins counted into hist (edges: the histogram's
  * LR_GAP_BINS - 1 edges). Window order, as lr_partition.c. */
-static void lr_bin_rect(__global const float *samples, int width, int spp, int x0, int y0, int x1, int y1, int gap_slabs,
+static void lr_bin_rect(__global const float4 *keys, int width, int spp, int x0, int y0, int x1, int y1, int gap_slabs,
                         __global const float *edges, int *hist, float *zmin, float *zmax)
 {
 #pragma OPENCL FP_CONTRACT OFF
@@ -186,12 +191,12 @@ static void lr_bin_rect(__global const float *samples, int width, int spp, int x
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < spp; ++k) {
-                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
-                float z = s[5];
+                float4 key = keys[(size_t)(py * width + px) * spp + k];
+                float z = key.x;
                 if (z < INFINITY) {
                     lo = z < lo ? z : lo;
                     hi = z > hi ? z : hi;
-                    if (gap_slabs > 0) hist[lr_gap_bin(edges64, s[6])]++;
+                    if (gap_slabs > 0) hist[lr_gap_bin(edges64, key.y)]++;
                 }
             }
     *zmin = lo, *zmax = hi;
@@ -205,16 +210,16 @@ static void lr_bin_rect(__global const float *samples, int width, int spp, int x
  * maximum, so the bounds are the same as sample by sample. One work-item per block. */
 #define LR_BLOCK_PX 8
 __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, int gap_slabs, __global const float *coc_edges,
-                             __global const float *samples, __global int *block_hist, __global float *block_z)
+                             __global const float4 *keys, __global int *block_hist, __global float *block_z)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int bx = get_global_id(0), by = get_global_id(1);
     if (bx >= nbx || by >= nby) return;
+    int x0 = bx * LR_BLOCK_PX, y0 = by * LR_BLOCK_PX, x1 = min(width, x0 + LR_BLOCK_PX), y1 = min(height, y0 + LR_BLOCK_PX);
     int hist[LR_GAP_BINS];
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     float zmin = INFINITY, zmax = -INFINITY;
-    lr_bin_rect(samples, width, spp, bx * LR_BLOCK_PX, by * LR_BLOCK_PX, min(width, (bx + 1) * LR_BLOCK_PX),
-                min(height, (by + 1) * LR_BLOCK_PX), gap_slabs, coc_edges, hist, &zmin, &zmax);
+    lr_bin_rect(keys, width, spp, x0, y0, x1, y1, gap_slabs, coc_edges, hist, &zmin, &zmax);
     int b0 = by * nbx + bx;
     for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = hist[b];
     block_z[2 * b0] = zmin;
@@ -230,10 +235,11 @@ __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, i
  * the same for every tile; gap_slabs > 0: it holds the LR_GAP_BINS - 1 edges of the CoC
  * histogram, and each tile's bounds are chosen in its gaps (lr_gap_bounds). */
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
-                            int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float *samples,
+                            int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float4 *keys,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
                             __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
-                            int blocks, int nbx, __global const int *block_hist, __global const float *block_z)
+                            int blocks, int nbx, __global const int *block_hist, __global const float *block_z,
+                            __global const float *bright_in)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
@@ -255,7 +261,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                         for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_GAP_BINS + b];
                 }
     } else
-        lr_bin_rect(samples, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &zmin, &zmax);
+        lr_bin_rect(keys, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &zmin, &zmax);
     float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
@@ -300,26 +306,27 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     for (int py = w.y0, i = 0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
-                __global const float *s = samples + ((size_t)(py * width + px) * spp + k) * LR_SAMPLE_STRIDE;
+                size_t index = (size_t)(py * width + px) * spp + k;
+                float4 key = keys[index]; /* depth, CoC, motion */
+                float b = bright_in[index]; /* r + g + b, NaN for a non-finite radiance (lr_bright) */
                 int r;
-                if (!padded) r = lr_raw_layer(tb, s[5], s[6], s[7], s[8]);
-                else if (!(s[5] < INFINITY)) r = raw_n - 1;
+                if (!padded) r = lr_raw_layer(tb, key.x, key.y, key.z, key.w);
+                else if (!(key.x < INFINITY)) r = raw_n - 1;
                 else {
                     int slab = 0;
-                    for (int b = 0; b < 8; ++b) slab += (s[5] > db[b]) + (s[6] > cb[b]);
-                    bool moving = s[7] * s[7] + s[8] * s[8] >= LR_MOVING_PX * LR_MOVING_PX;
+                    for (int j = 0; j < 8; ++j) slab += (key.x > db[j]) + (key.y > cb[j]);
+                    bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
                     r = split ? 2 * slab + (moving ? 0 : 1) : slab;
                 }
-                bool finite = isfinite(s[9]) && isfinite(s[10]) && isfinite(s[11]);
+                bool finite = !isnan(b);
                 ids[i] = (uchar)(finite ? r : r | LR_SKIP); /* the reprojection skips non-finite radiance */
                 count[r]++;
                 if (!finite) skipped[r]++; /* rare: a branch, not a sum per sample */
-                mx[r] += (lr_sum)s[7];
-                my[r] += (lr_sum)s[8];
-                float b = s[9] + s[10] + s[11]; /* lr_partition.c: the layer's brightness, 8.24 */
-                bright[r] += (lr_sum)(isfinite(b) ? b : 0.0f);
-                cmin[r] = s[6] < cmin[r] ? s[6] : cmin[r];
-                cmax[r] = s[6] > cmax[r] ? s[6] : cmax[r];
+                mx[r] += (lr_sum)key.z;
+                my[r] += (lr_sum)key.w;
+                bright[r] += (lr_sum)(isfinite(b) ? b : 0.0f); /* lr_partition.c: the layer's brightness, 8.24 */
+                cmin[r] = key.y < cmin[r] ? key.y : cmin[r];
+                cmax[r] = key.y > cmax[r] ? key.y : cmax[r];
             }
     for (int i = 0; i < raw_n; ++i) {
         cp[i] = 1.0f;
@@ -346,11 +353,11 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
                 uint index = ((uint)py * (uint)width + (uint)px) * (uint)spp + (uint)k;
-                __global const float *s = samples + (size_t)index * LR_SAMPLE_STRIDE;
+                float2 m = keys[index].zw; /* the motion */
                 int id = ids[i], r = id & ~LR_SKIP;
                 if (!(id & LR_SKIP)) list[next[r]++] = index;
-                float along = cp[r] * s[7] + sp[r] * s[8];
-                float across = fabs(-sp[r] * s[7] + cp[r] * s[8]);
+                float along = cp[r] * m.x + sp[r] * m.y;
+                float across = fabs(-sp[r] * m.x + cp[r] * m.y);
                 dmin[r] = along < dmin[r] ? along : dmin[r];
                 dmax[r] = along > dmax[r] ? along : dmax[r];
                 perp[r] = across > perp[r] ? across : perp[r];
@@ -384,9 +391,11 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
 /* The batch's windows in list order (lr_tile_stats' order), as five arrays per tile: x, y,
  * u, v, t, what lr_reproject needs of every sample it places. It places each window sample
  * once per layer at or in front of the sample's own (4 to 5 times a sample at 7-8 layers a
- * tile); through the list every placement was a gather of 48-byte records spread over the
+ * tile); through the list every placement was a gather of sample records spread over the
  * window, about half of the kernel's time. Copied here once, the layers read them as
- * contiguous runs (the same floats: the sums are unchanged). The radiance is read once per
+ * contiguous runs (the same floats: the sums are unchanged); the gather here reads 32-byte
+ * LrPlace records, two to a cache line, which hold only what the reprojection reads
+ * (docs/algorithms.md 8.31). The radiance is read once per
  * sample (by its own layer), so it stays in samples: copying it too cost more than it saved
  * (docs/benchmarks.md, "LR's reconstruction cost"). One work-item per (sixteenth of a list,
  * tile). */
@@ -403,7 +412,7 @@ __kernel void lr_pack(int spp, int window_px, int tile1, int tile0, __global con
     __global const uint *list = order + (size_t)tile * cap;
     __global float *p = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap;
     for (int e = e0; e < e1; ++e) {
-        __global const float *s = samples + (size_t)list[e] * LR_SAMPLE_STRIDE;
+        __global const float *s = samples + (size_t)list[e] * LR_PLACE_STRIDE;
         p[e] = s[0];
         p[cap + e] = s[1];
         p[2 * cap + e] = s[2];
@@ -574,7 +583,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             float wt[LR_CHUNK];
             if (own) /* the next chunk's radiance, which its sums read: fetched while this chunk is placed */
                 for (int m = e0 + LR_CHUNK; m < min(e0 + 2 * LR_CHUNK, e1); ++m)
-                    __builtin_prefetch(samples + (size_t)list[m] * LR_SAMPLE_STRIDE + 9);
+                    __builtin_prefetch(samples + (size_t)list[m] * LR_PLACE_STRIDE + LR_PLACE_L);
             /* written out twice by the compiler: flat is a constant in each call */
             if (flat) lr_place(P, cap, e0, n, &sh, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
             else lr_place(P, cap, e0, n, &sh, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
@@ -585,11 +594,11 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
                 if (own) {
                     int ix = cell[m] / LR_CH % ww, iy = cell[m] / LR_CH / ww;
                     ox0 = min(ox0, ix), ox1 = max(ox1, ix), oy0 = min(oy0, iy), oy1 = max(oy1, iy);
-                    __global const float *s = samples + (size_t)list[e0 + m] * LR_SAMPLE_STRIDE;
+                    __global const float *L = samples + (size_t)list[e0 + m] * LR_PLACE_STRIDE + LR_PLACE_L;
                     c[0] += wt[m];
-                    c[2] += wt[m] * s[9];
-                    c[3] += wt[m] * s[10];
-                    c[4] += wt[m] * s[11];
+                    c[2] += wt[m] * L[0];
+                    c[3] += wt[m] * L[1];
+                    c[4] += wt[m] * L[2];
                 }
             }
         }

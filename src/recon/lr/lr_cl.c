@@ -16,7 +16,7 @@ enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_TAPS_X = 12, LP_TAPS_Y = 12 + LR_MAX_R
        LP_ROUND = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_STRIDE = LP_ROUND_T + LR_ROUND_TABLE, CH = 5, ST_STRIDE = 9, LS_STRIDE = 18, BATCH_TILES = 32,
        PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
 
-_Static_assert(sizeof(LrSample) == 12 * sizeof(float), "lr.cl reads LrSample as 12 floats");
+_Static_assert(sizeof(LrKey) == 4 * sizeof(float) && sizeof(LrPlace) == 8 * sizeof(float), "lr.cl reads LrKey as a float4, LrPlace as 8 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
                "lr.cl's tile layouts");
 _Static_assert(LP_STRIDE == 336 && LP_TAPS_Y == 45 && LP_ROUND == 78, "lr.cl's LR_LP_STRIDE, LR_TAPS_Y and LR_ROUND");
@@ -199,7 +199,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
      * radiances: measured by the caller while it wrote the samples, or here */
     float film_dev_px = cfg->samples_scanned ? cfg->film_dev_px : 0.0f;
     out->nonfinite = cfg->samples_scanned ? cfg->samples_nonfinite : 0;
-    const LrSample *si = img->s; /* pixel by pixel: no division per sample */
+    const LrPlace *si = img->place; /* pixel by pixel: no division per sample */
     for (int py = 0; !cfg->samples_scanned && py < img->height; ++py)
         for (int px = 0; px < img->width; ++px)
             for (int k = 0; k < img->spp; ++k, ++si) lr_scan_sample(si, px, py, &out->nonfinite, &film_dev_px);
@@ -208,12 +208,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     float slack = ceilf(film_dev_px - 0.5f);
     cl_int film_slack_px = slack > 2.0f ? (slack < (float)img->height ? (cl_int)slack : (cl_int)img->height) : 2;
 
-    /* The samples are read in place (on a CPU device PoCL uses the host memory); the rest
-     * lives in the grow-only buffers. */
+    /* The samples' three arrays are read in place (on a CPU device PoCL uses the host
+     * memory); the rest lives in the grow-only buffers. */
     double t0 = now_s();
-    cl_int err = CL_SUCCESS;
-    cl_mem b_s = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(LrSample) * nsamples, (void *)img->s, &err);
-    bool ok = cl_ok(err, "buffer allocation", d);
+    cl_int err = CL_SUCCESS, err_k = CL_SUCCESS, err_b = CL_SUCCESS;
+    cl_mem b_s = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(LrPlace) * nsamples, (void *)img->place, &err);
+    cl_mem b_k = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(LrKey) * nsamples, (void *)img->key, &err_k);
+    cl_mem b_b = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(float) * nsamples, (void *)img->bright, &err_b);
+    bool ok = cl_ok(err, "buffer allocation", d) && cl_ok(err_k, "buffer allocation", d) && cl_ok(err_b, "buffer allocation", d);
     size_t st_bytes = sizeof(float) * ST_STRIDE * (LR_MAX_LAYERS + 1) * (size_t)ntiles;
     ok = ok && grow(rt, &lr->b_cb, sizeof(float) * (LR_GAP_BINS - 1), CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_st, st_bytes, CL_MEM_READ_WRITE, d) &&
@@ -241,13 +243,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
          grow(rt, &lr->b_bz, blocks ? sizeof(float) * 2 * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d);
     if (ok) {
         cl_int ints[11] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset, gap_slabs};
-        cl_mem m[8] = {lr->b_cb.mem, b_s, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
+        cl_mem m[8] = {lr->b_cb.mem, b_k, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
         cl_int bints[6] = {W, H, S, NBX, NBY, gap_slabs};
-        cl_mem bm[4] = {lr->b_cb.mem, b_s, lr->b_bh.mem, lr->b_bz.mem};
+        cl_mem bm[4] = {lr->b_cb.mem, b_k, lr->b_bh.mem, lr->b_bz.mem};
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
              (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
              cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
-                       clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem),
+                       clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem) |
+                       clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b),
                    "arguments", d) &&
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)
@@ -340,5 +343,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     for (int i = 0; i < 4; ++i)
         if (ev[i]) clReleaseEvent(ev[i]);
     if (b_s) clReleaseMemObject(b_s);
+    if (b_k) clReleaseMemObject(b_k);
+    if (b_b) clReleaseMemObject(b_b);
     return ok;
 }

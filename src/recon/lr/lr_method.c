@@ -36,7 +36,9 @@ struct ReconMethod {
     LrConfig cfg;
     LrCl *cl;
     float *layers, *extent_px; /* AOVs, width * height */
-    LrSample *samples;         /* the store's samples as LR reads them, kept between frames */
+    LrKey *key;                /* the store's samples as LR reads them (LrSamples' arrays), kept between frames */
+    LrPlace *place;
+    float *bright;
     size_t samples_cap;
     float *rgb;                /* LR's output, width * height * 3 */
     unsigned char *moving;     /* per pixel, from the gather: a sample of it moves or is blurred (still_tiles) */
@@ -55,7 +57,7 @@ static void lr_destroy(ReconMethod *m)
     lr_cl_destroy(m->cl);
     free(m->layers);
     free(m->extent_px);
-    free(m->samples);
+    free(m->key), free(m->place), free(m->bright);
     free(m->rgb);
     free(m->moving);
     free(m);
@@ -101,7 +103,7 @@ static bool lr_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
 
 /* Not still: moving by LR_MOVING_PX or more, or (lens_dims: the lens is LR's dimension)
  * blurred by the lens by LR_STILL_COC_PX or more. */
-static bool lr_sample_moves(const LrSample *o, bool lens_dims)
+static bool lr_sample_moves(const LrKey *o, bool lens_dims)
 {
     float m2 = o->motion_px[0] * o->motion_px[0] + o->motion_px[1] * o->motion_px[1];
     bool blurred = lens_dims && !(fabsf(o->coc_px) < LR_STILL_COC_PX);
@@ -120,7 +122,9 @@ typedef struct {
     float *centre_xy;        /* per stored sample, 2 floats (NULL without shade) */
     const float *delta4;     /* lr_delta_light's (NULL without shade) */
     const LrCentreLight *centre;
-    LrSample *out;           /* spp per pixel */
+    LrKey *key;              /* spp per pixel: LrSamples' arrays */
+    LrPlace *place;
+    float *bright;
     unsigned char *moving;   /* per pixel: lr_sample_moves of any of its samples */
     bool failed[RECON_PARTS]; /* a part without memory for its scratch */
     long nonfinite[RECON_PARTS];    /* per part: samples whose light is not finite */
@@ -192,7 +196,9 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
                        j->delta4, centre9, value, light);
         for (int k = 0; k < j->spp; ++k) {
             size_t q = i * cap + k;
-            LrSample *o = &j->out[i * (size_t)j->spp + k];
+            size_t oi = i * (size_t)j->spp + k;
+            LrPlace *o = &j->place[oi];
+            LrKey *key = &j->key[oi];
             o->x_px = film[2 * q];
             o->y_px = film[2 * q + 1];
             /* raster y runs against camera y (pbrt's rasterFromScreen): dy/dv = -c, so the
@@ -200,14 +206,15 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
             o->u = j->lens_dims && lens ? lens[2 * q] : 0.0f;
             o->v = j->lens_dims && lens ? -lens[2 * q + 1] : 0.0f;
             o->t = time ? time[q] : 0.5f;
-            o->depth = depth[q];
-            o->coc_px = j->coc_px[q];
-            o->motion_px[0] = motion ? motion[2 * q] : 0.0f;
-            o->motion_px[1] = motion ? motion[2 * q + 1] : 0.0f;
+            key->depth = depth[q];
+            key->coc_px = j->coc_px[q];
+            key->motion_px[0] = motion ? motion[2 * q] : 0.0f;
+            key->motion_px[1] = motion ? motion[2 * q + 1] : 0.0f;
             for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
+            j->bright[oi] = lr_bright(o->L);
             /* what lr_cl_run would otherwise measure in a pass of its own over the samples */
             lr_scan_sample(o, (int)(i % width), (int)(i / width), &nonfinite, &film_dev_px);
-            moves = moves || lr_sample_moves(o, j->lens_dims); /* still_tiles' */
+            moves = moves || lr_sample_moves(key, j->lens_dims); /* still_tiles' */
         }
         j->moving[i] = moves;
     }
@@ -221,8 +228,9 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
  * filters' light in place of its own where they ran, and its pixel's samples averaging to
  * the pixel's value in value4. Pixels are independent in every pass but the centre light's
  * sums (lr_centre_light_build), so they split between the cores (recon_parallel.h) with the
- * same result. */
-static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_out, long *nonfinite, float *film_dev_px)
+ * same result. Written into m->key, m->place and m->bright; false when there are none
+ * (*spp_out <= 0) or without memory. */
+static bool gather_samples(ReconMethod *m, const float *value4, int *spp_out, long *nonfinite, float *film_dev_px)
 {
     const SampleStore *st = m->store;
     int w = m->g->width, h = m->g->height, cap = sample_store_capacity(st);
@@ -233,12 +241,14 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
         if (c < spp) spp = c;
     }
     *spp_out = spp;
-    if (spp <= 0) return NULL;
+    if (spp <= 0) return false;
     if (n * (size_t)spp > m->samples_cap) {
-        free(m->samples);
-        m->samples = malloc(sizeof(LrSample) * n * (size_t)spp);
-        m->samples_cap = m->samples ? n * (size_t)spp : 0;
-        if (!m->samples) return NULL;
+        free(m->key), free(m->place), free(m->bright);
+        m->key = malloc(sizeof(LrKey) * n * (size_t)spp);
+        m->place = malloc(sizeof(LrPlace) * n * (size_t)spp);
+        m->bright = malloc(sizeof(float) * n * (size_t)spp);
+        m->samples_cap = m->key && m->place && m->bright ? n * (size_t)spp : 0;
+        if (!m->samples_cap) return false;
     }
     const float *shade = sample_store_field(st, SAMPLE_FIELD_SHADING); /* NULL: no shading filter in the frame */
     float *delta4 = shade ? malloc(sizeof(float) * 4 * n) : NULL;
@@ -246,7 +256,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
     float *coc_px = malloc(sizeof(float) * n * (size_t)cap);
     if (!coc_px || (shade && (!delta4 || !centre_xy))) {
         free(delta4), free(centre_xy), free(coc_px);
-        return NULL;
+        return false;
     }
     LrCentreLight centre = {0};
     /* Motion alone (defocus is another method's, already in the corrected radiance): LR's
@@ -254,7 +264,7 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
      * along the motion, not a dimension it shears). */
     GatherJob job = {.m = m, .st = st, .cap = cap, .spp = spp, .lens_dims = effect_in(m->effects, EFFECT_DEFOCUS),
                      .shade = shade, .value4 = value4, .coc_px = coc_px, .centre_xy = centre_xy, .delta4 = delta4,
-                     .centre = &centre, .out = m->samples, .moving = m->moving};
+                     .centre = &centre, .key = m->key, .place = m->place, .bright = m->bright, .moving = m->moving};
     size_t work = n * (size_t)cap;
     recon_parallel_for_work(n, work, coc_and_centre_range, &job);
     if (shade) {
@@ -268,11 +278,11 @@ static LrSample *gather_samples(ReconMethod *m, const float *value4, int *spp_ou
     *nonfinite = 0;
     *film_dev_px = 0.0f;
     for (int p = 0; p < RECON_PARTS; ++p) {
-        if (job.failed[p]) return NULL;
+        if (job.failed[p]) return false;
         *nonfinite += job.nonfinite[p];
         if (job.film_dev_px[p] > *film_dev_px) *film_dev_px = job.film_dev_px[p];
     }
-    return m->samples;
+    return true;
 }
 
 static void lr_shading_light(ReconMethod *m, const ReconShadingLight *light)
@@ -320,8 +330,7 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     int spp = 0;
     long nonfinite = 0;
     float film_dev_px = 0.0f;
-    LrSample *s = gather_samples(m, value4, &spp, &nonfinite, &film_dev_px);
-    if (!s) {
+    if (!gather_samples(m, value4, &spp, &nonfinite, &film_dev_px)) {
         if (spp <= 0) return true; /* nothing stored (a cancelled frame): leave the means */
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for LR samples");
         return false;
@@ -329,7 +338,7 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     int w = m->g->width, h = m->g->height;
     float *rgb = m->rgb;
     bool ok = true;
-    LrSamples img = {w, h, spp, s};
+    LrSamples img = {w, h, spp, m->key, m->place, m->bright};
     LrOutput out = {rgb, m->layers, m->extent_px, 0};
     LrConfig cfg = m->cfg;
     cfg.samples_scanned = true; /* the gather measured them (gather_range) */

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Whether a tile's slabs split into moving and static layers (they fit in the raw ids). */
@@ -76,7 +77,7 @@ int lr_tile_raw_layer(const LrTile *t, float depth, float coc_px, const float mo
     return 2 * k + (moving ? 0 : 1);
 }
 
-int lr_tile_layer_of(const LrTile *tile, const LrSample *s) { return tile->compact[lr_tile_raw_layer(tile, s->depth, s->coc_px, s->motion_px)]; }
+int lr_tile_layer_of(const LrTile *tile, const LrKey *s) { return tile->compact[lr_tile_raw_layer(tile, s->depth, s->coc_px, s->motion_px)]; }
 
 /* fminf / fmaxf without a libm call: the operands are finite or +-INFINITY (coc_px is made
  * finite by the caller, depth is a distance or INFINITY) */
@@ -189,7 +190,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < img->spp; ++k) {
-                const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
+                const LrKey *s = &img->key[((size_t)py * img->width + px) * img->spp + k];
                 float z = s->depth;
                 if (z < INFINITY) {
                     zmin = min_f(zmin, z), zmax = max_f(zmax, z);
@@ -207,12 +208,13 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < img->spp; ++k) {
-                const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
+                size_t i = ((size_t)py * img->width + px) * img->spp + k;
+                const LrKey *s = &img->key[i];
                 int r = lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px);
                 st[r].count++;
                 mx[r] += s->motion_px[0];
                 my[r] += s->motion_px[1];
-                float b = s->L[0] + s->L[1] + s->L[2];
+                float b = img->bright[i]; /* NaN (not finite) for a non-finite radiance */
                 bright[r] += isfinite(b) ? b : 0.0f;
                 st[r].c_min_px = min_f(st[r].c_min_px, s->coc_px);
                 st[r].c_max_px = max_f(st[r].c_max_px, s->coc_px);
@@ -229,7 +231,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < img->spp; ++k) {
-                const LrSample *s = &img->s[((size_t)py * img->width + px) * img->spp + k];
+                const LrKey *s = &img->key[((size_t)py * img->width + px) * img->spp + k];
                 LrLayerStats *a = &st[lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px)];
                 float along = a->cos_psi * s->motion_px[0] + a->sin_psi * s->motion_px[1];
                 float across = -a->sin_psi * s->motion_px[0] + a->cos_psi * s->motion_px[1];
@@ -299,4 +301,22 @@ void lr_tile_partition(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     LrLayerStats st[LR_MAX_LAYERS + 1];
     tile_stats(img, cfg, tx, ty, t, st);
     lr_tile_finish(cfg, st, t);
+}
+
+LrSamples lr_samples_split(int width, int height, int spp, const LrSample *s)
+{
+    size_t n = (size_t)width * (size_t)height * (size_t)spp;
+    LrKey *key = malloc(sizeof(LrKey) * n);
+    LrPlace *place = malloc(sizeof(LrPlace) * n);
+    float *bright = malloc(sizeof(float) * n);
+    if (key && place && bright)
+        for (size_t i = 0; i < n; ++i) lr_split_sample(&s[i], i, key, place, bright);
+    else free(key), free(place), free(bright), key = NULL, place = NULL, bright = NULL;
+    return (LrSamples){width, height, spp, key, place, bright};
+}
+
+void lr_samples_free(LrSamples *img)
+{
+    free((void *)img->key), free((void *)img->place), free((void *)img->bright);
+    img->key = NULL, img->place = NULL, img->bright = NULL;
 }

@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "recon/lr/lr_filter.h"
 
@@ -21,12 +22,48 @@ typedef struct {
     float L[3];           /* radiance */
 } LrSample;
 
-/* A fixed number of samples per pixel, pixel-major: sample k of pixel (px, py) is
- * s[(py * width + px) * spp + k]. */
+/* What the passes read of a sample, in two records and a sum, written once by the frame's
+ * producer (lr_method.c's gather; lr_samples_split for an array of LrSample): the partition
+ * statistics read only LrKey and bright, the reprojection only LrPlace. The statistics read
+ * every sample of a window (four windows hold each) twice, and the reprojection's copy
+ * (lr.cl: lr_pack) gathers every window's samples in layer order: through one 48-byte record
+ * each of them waited on memory for fields it did not use (docs/algorithms.md 8.31). */
+typedef struct {
+    float depth, coc_px, motion_px[2]; /* LrSample's; 16 bytes */
+} LrKey;
+typedef struct {
+    float x_px, y_px, u, v, t, L[3]; /* LrSample's; 32 bytes */
+} LrPlace;
+
+/* The bright sum of a radiance: r + g + b, NaN when a channel is not finite (the sum of three
+ * finite floats is never NaN, at worst +-infinity, so NaN alone marks a non-finite radiance;
+ * the statistics count such a sample in its layer and leave its light out). */
+static inline float lr_bright(const float L[3])
+{
+    return isfinite(L[0]) && isfinite(L[1]) && isfinite(L[2]) ? L[0] + L[1] + L[2] : NAN;
+}
+
+/* A fixed number of samples per pixel, pixel-major: sample k of pixel (px, py) is element
+ * (py * width + px) * spp + k of each array. */
 typedef struct {
     int width, height, spp;
-    const LrSample *s;
+    const LrKey *key;
+    const LrPlace *place;
+    const float *bright; /* lr_bright of each sample's L */
 } LrSamples;
+
+/* Sample i of s[] into the three arrays. */
+static inline void lr_split_sample(const LrSample *s, size_t i, LrKey *key, LrPlace *place, float *bright)
+{
+    key[i] = (LrKey){s->depth, s->coc_px, {s->motion_px[0], s->motion_px[1]}};
+    place[i] = (LrPlace){s->x_px, s->y_px, s->u, s->v, s->t, {s->L[0], s->L[1], s->L[2]}};
+    bright[i] = lr_bright(s->L);
+}
+
+/* The arrays of width x height x spp samples s (pixel-major), allocated (NULL arrays when out
+ * of memory); lr_samples_free releases them. */
+LrSamples lr_samples_split(int width, int height, int spp, const LrSample *s);
+void lr_samples_free(LrSamples *img);
 
 enum { LR_MAX_LAYERS = 16, LR_MAX_DEPTH_BOUNDS = 15, LR_MAX_COC_BOUNDS = 8 };
 
@@ -72,13 +109,13 @@ typedef struct {
 
 LrConfig lr_config_default(void);
 
-/* Sample s of pixel (px, py) into LrConfig's samples_nonfinite and film_dev_px: counts a
+/* Sample p of pixel (px, py) into LrConfig's samples_nonfinite and film_dev_px: counts a
  * non-finite radiance, and keeps the larger of film_dev_px and its film position's distance
  * from the pixel's centre along x and along y (a NaN position is ignored). */
-static inline void lr_scan_sample(const LrSample *s, int px, int py, long *nonfinite, float *film_dev_px)
+static inline void lr_scan_sample(const LrPlace *p, int px, int py, long *nonfinite, float *film_dev_px)
 {
-    if (!(isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]))) ++*nonfinite;
-    float dx = fabsf(s->x_px - ((float)px + 0.5f)), dy = fabsf(s->y_px - ((float)py + 0.5f));
+    if (!(isfinite(p->L[0]) && isfinite(p->L[1]) && isfinite(p->L[2]))) ++*nonfinite;
+    float dx = fabsf(p->x_px - ((float)px + 0.5f)), dy = fabsf(p->y_px - ((float)py + 0.5f));
     if (dx > *film_dev_px) *film_dev_px = dx;
     if (dy > *film_dev_px) *film_dev_px = dy;
 }
@@ -196,6 +233,6 @@ int lr_tile_raw_layer(const LrTile *tile, float depth, float coc_px, const float
 int lr_tile_raw_count(const LrTile *tile);
 
 /* The compact layer of a sample in this tile. */
-int lr_tile_layer_of(const LrTile *tile, const LrSample *s);
+int lr_tile_layer_of(const LrTile *tile, const LrKey *s);
 
 #endif

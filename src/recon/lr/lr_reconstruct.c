@@ -8,7 +8,7 @@
 
 #include "recon/lr/lr_bucket.h"
 
-void lr_reproject(const LrSample *s, float cp, float sp, const LrFilter *f, float *p_px, float *q_px, float *weight)
+void lr_reproject(const LrPlace *s, float cp, float sp, const LrFilter *f, float *p_px, float *q_px, float *weight)
 {
     /* rotated lens coordinates (the lens rotates with the screen: defocus is isotropic) */
     float ur = cp * s->u + sp * s->v, vr = -sp * s->u + cp * s->v;
@@ -86,8 +86,8 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
                 sample_at[i] = ((size_t)py * img->width + px) * spp + k;
-                const LrSample *s = &img->s[sample_at[i]];
-                bool finite = isfinite(s->L[0]) && isfinite(s->L[1]) && isfinite(s->L[2]); /* counted once, by the caller */
+                const LrKey *s = &img->key[sample_at[i]];
+                bool finite = !isnan(img->bright[sample_at[i]]); /* lr_bright; counted once, by the caller */
                 ids[i] = (unsigned char)(lr_tile_raw_layer(&tile, s->depth, s->coc_px, s->motion_px) | (finite ? 0 : LR_LAYER_SKIP));
             }
     int start[LR_MAX_LAYERS + 2];
@@ -102,7 +102,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
          * weight only (they saw through layer j); layer by layer, pixel-major within one. */
         for (int r = raw_j; r < raw_n; ++r)
             for (int e = start[r]; e < start[r + 1]; ++e) {
-                const LrSample *s = &img->s[sample_at[order[e]]];
+                const LrPlace *s = &img->place[sample_at[order[e]]];
                 float p, q, w;
                 lr_reproject(s, cp, sp, f, &p, &q, &w);
                 int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
@@ -167,10 +167,10 @@ void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out)
     size_t nwin = (size_t)cfg->window_px * cfg->window_px * img->spp;
     unsigned char *ids = malloc(nwin);
     int *order = malloc(sizeof(int) * nwin);
-    size_t *sample_at = malloc(sizeof(size_t) * nwin); /* window sample -> index in img->s */
+    size_t *sample_at = malloc(sizeof(size_t) * nwin); /* window sample -> index in img's arrays */
     out->nonfinite = 0;
     for (size_t i = 0; i < (size_t)img->width * img->height * img->spp; ++i)
-        if (!(isfinite(img->s[i].L[0]) && isfinite(img->s[i].L[1]) && isfinite(img->s[i].L[2]))) out->nonfinite++;
+        if (isnan(img->bright[i])) out->nonfinite++; /* lr_bright */
     int ntx, nty;
     lr_tile_count(img, cfg, &ntx, &nty);
     for (int ty = 0; ty < nty; ++ty)

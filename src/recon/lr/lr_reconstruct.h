@@ -44,7 +44,7 @@ static inline float lr_gauss(float s)
 }
 
 /* The reprojected pixel of a sample for a layer filter (eq. 16), in the unrotated frame. */
-void lr_reproject(const LrSample *s, float cos_psi, float sin_psi, const LrFilter *f, float *p_px, float *q_px,
+void lr_reproject(const LrPlace *s, float cos_psi, float sin_psi, const LrFilter *f, float *p_px, float *q_px,
                   float *weight);
 
 void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out);
