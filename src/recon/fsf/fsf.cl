@@ -192,7 +192,8 @@ __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *
     {                                                                                                       \
         float8 lo = (float8)(-(float)r), hi = (float8)((float)r);                                         \
         if (eta != 0.0f) {                                                                                  \
-            float8 a = (z - half_m) / eta, b = (z + half_m) / eta;                                          \
+            float inv_eta = 1.0f / eta; /* a product per lane, not a division (fsf_density) */              \
+            float8 a = (z - half_m) * inv_eta, b = (z + half_m) * inv_eta;                                  \
             lo = fmax(lo, ceil(fmin(a, b))), hi = fmin(hi, floor(fmax(a, b)));                              \
         } else { /* no shear: every tap or none */                                                          \
             hi = select(hi, (float8)(-1.0f - (float)r), fabs(z) > half_m);                                  \
@@ -286,6 +287,11 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     int r = fsf_radius(px[8 * i + 6], a.reach);
     float eta = px[8 * i + 4];
     __global const float *cum = cum1 + tap_off[i];
+    /* eta = 0 (no shear) or r = 0 (one tap): fsf_density8's range is every tap at each node
+     * the box keeps (|z| <= prof1 <= L1; for r = 0 the signs of z -+ L1 are exact), so its
+     * difference of running sums is this one, the same float, without its two gathers */
+    int rho_all = eta == 0.0f || r == 0;
+    float rho_c = rho_all ? cum[2 * r + 1] - cum[0] : 0.0f;
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     /* form 4 (fsf_geo_term.h): the pixel's mean position, normal and mean term; 0: none */
     float g_mean = a.geo ? mean_g[i] : 0.0f;
@@ -314,7 +320,8 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
             if (j1 > J - 1) j1 = J - 1;
             for (int s0 = j0; s0 <= j1; s0 += 8) {
                 float8 z = y1 - ((float8)((float)s0) + lane - mid) * dY;
-                float8 rho = fsf_density8_global(z, eta, L1, r, cum);
+                /* no shear or a single tap: every node the box keeps sees all taps */
+                float8 rho = rho_all ? (float8)(rho_c) : fsf_density8_global(z, eta, L1, r, cum);
                 /* the box (rounding at the light's ends) and an empty density leave a node out */
                 float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
                 float8 wv = wk, ww = wk;

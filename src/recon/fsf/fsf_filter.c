@@ -140,7 +140,8 @@ float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
     /* the taps t with |z - eta t| <= L, a run of integers */
     float lo = -(float)r, hi = (float)r;
     if (eta_m != 0.0f) {
-        float a = (z_m - half_m) / eta_m, b = (z_m + half_m) / eta_m;
+        float inv_eta = 1.0f / eta_m; /* the kernels' products (fsf_density8): the same floats */
+        float a = (z_m - half_m) * inv_eta, b = (z_m + half_m) * inv_eta;
         lo = fmaxf(lo, ceilf(fminf(a, b))), hi = fminf(hi, floorf(fmaxf(a, b)));
     } else if (!(fabsf(z_m) <= half_m)) {
         return 0.0f;
