@@ -71,7 +71,7 @@ static void uniform_params(FsfSynth *f, float eta1, float eta2, float sigma1, fl
 static void density_run(void)
 {
     const float L = 0.6f, sigma = 5.0f;
-    int r = fsf_radius_steps(sigma);
+    int r = fsf_radius_reach(sigma, FSF_RADIUS_SIGMAS);
     float cum[FSF_CUM];
     fsf_tap_prefix(sigma, r, cum);
     unsigned st = 5;
@@ -115,7 +115,7 @@ static void density_mean(void)
         for (int a = 0; a < 5; ++a)
             for (int b = 0; b < 4; ++b) {
                 float cum[FSF_CUM], h = g.profile_half[0];
-                int r = fsf_radius_steps(sigmas[b]);
+                int r = fsf_tap_radius(&g, sigmas[b]);
                 fsf_tap_prefix(sigmas[b], r, cum);
                 const int steps = 20000;
                 double sum = 0.0;

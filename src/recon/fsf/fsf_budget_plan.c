@@ -20,9 +20,10 @@ float fsf_pixel_area_px(const FsfPixel *px)
 }
 
 /* fsf_budget_plan.h */
-float fsf_shear_overlap(float sigma_px, float eta_m, float half_m)
+float fsf_shear_overlap(float sigma_px, float eta_m, float half_m, float reach_sigmas)
 {
-    int r = fsf_radius_steps(sigma_px);
+    /* the filter's own taps: the shadows' stop at 1.5 sigma, not 2 (FsfGrid.reach_sigmas) */
+    int r = fsf_radius_reach(sigma_px, reach_sigmas);
     if (r == 0 || eta_m == 0.0f || !(half_m > 0.0f)) return 1.0f;
     /* running sums of w and w^2 over the taps -r .. r (fsf_tap_prefix's w) */
     float cum1[FSF_CUM], cum2[FSF_CUM];
@@ -47,11 +48,11 @@ float fsf_shear_overlap(float sigma_px, float eta_m, float half_m)
     return ratio < 1.0f ? ratio : 1.0f;
 }
 
-float fsf_pixel_area_sheared_px(const FsfPixel *px, const float half_m[2])
+float fsf_pixel_area_sheared_px(const FsfPixel *px, const FsfGrid *g)
 {
     float a = sample_rate_area_px(px->sigma_px[0] * px->sigma_px[0], px->sigma_px[1] * px->sigma_px[1]);
-    a *= fsf_shear_overlap(px->sigma_px[0], px->eta_m[0], half_m[0]) *
-         fsf_shear_overlap(px->sigma_px[1], px->eta_m[1], half_m[1]);
+    a *= fsf_shear_overlap(px->sigma_px[0], px->eta_m[0], g->half_m[0], g->reach_sigmas) *
+         fsf_shear_overlap(px->sigma_px[1], px->eta_m[1], g->half_m[1], g->reach_sigmas);
     return a > 1.0f ? a : 1.0f;
 }
 
@@ -106,7 +107,7 @@ void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int 
 }
 
 void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const int *stored, const GBuffer *g,
-                         const float half_m[2], const float *mean4, float *value4)
+                         const FsfGrid *grid, const float *mean4, float *value4)
 {
     size_t n = (size_t)g->width * (size_t)g->height;
     for (size_t i = 0; i < n; ++i) {
@@ -116,7 +117,7 @@ void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const 
         float n1 = (float)stored[i], extra = (float)g->sums[i].hits - n1;
         if (!(extra > 0.0f)) continue;
         /* inverse-variance weights: the filter as n1 A samples, the extras as themselves */
-        float w_mean = extra / (n1 * fsf_pixel_area_sheared_px(&px[i], half_m) + extra);
+        float w_mean = extra / (n1 * fsf_pixel_area_sheared_px(&px[i], grid) + extra);
         for (int ch = 0; ch < 3; ++ch) {
             float *v = value4 + 4 * i + (size_t)ch;
             *v += w_mean * (mean4[4 * i + (size_t)ch] - *v);

@@ -79,12 +79,14 @@ float fsf_pixel_area_px(const FsfPixel *px);
  * filter's effective count along the axis is 1 / mean_z(sum_run w^2 / (sum_run w)^2) taps
  * (at eta = 0: (sum w)^2 / sum w^2). This is the ratio of that count to the unsheared one,
  * in (0, 1]: near 1 while eta r << L, about (2 L / |eta|) / (2 sqrt(pi) sigma) once a tap
- * moves the light by more than its length. */
+ * moves the light by more than its length. The taps are the filter's own: to reach_sigmas
+ * each side (fsf_radius_reach; FsfGrid.reach_sigmas of the filter modelled). */
 #define FSF_OVERLAP_NODES 32
-float fsf_shear_overlap(float sigma_px, float eta_m, float half_m);
-/* fsf_pixel_area_px times both axes' fsf_shear_overlap (half_m: the light's half extents),
- * at least 1, also where the filter has collapsed (what the taps that remain average). */
-float fsf_pixel_area_sheared_px(const FsfPixel *px, const float half_m[2]);
+float fsf_shear_overlap(float sigma_px, float eta_m, float half_m, float reach_sigmas);
+/* fsf_pixel_area_px times both axes' fsf_shear_overlap over the filter's grid g (its half_m,
+ * the light's half extents, and its reach), at least 1, also where the filter has collapsed
+ * (what the taps that remain average). */
+float fsf_pixel_area_sheared_px(const FsfPixel *px, const FsfGrid *g);
 
 /* area_px[i] = min(area_px[i], the soft-shadow filter's fsf_pixel_area_px at pixel i, 0 where
  * it passes the pixel through: mixed, or FSF's light's share below FSF_MIN_LIGHT_SHARE), at
@@ -106,13 +108,13 @@ bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, FsfScrat
  * and 1 / rho reweights the rest, so its value stays about as noisy as pass 1's samples while
  * the plan gave the pixel a Monte Carlo pixel's count. Two estimates of the same pixel: the
  * filter's f, worth the n1 A samples of its effective count (n1 stored samples,
- * A = fsf_pixel_area_sheared_px), and the pixel's mean m over all its n samples, whose
+ * A = fsf_pixel_area_sheared_px over the filter's grid), and the pixel's mean m over all its n samples, whose
  * extra = n - n1 the filter has not read; with equal per-sample variance their inverse-variance
  * combination is f + (m - f) extra / (n1 A + extra). value4 (rgb of 4 floats per pixel) holds f, mean4 m;
  * stored: the filter's samples per pixel; g->sums[].hits: all of them. Pixels that are not
  * collapsed, have no extras or were passed through keep value4. */
 void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const int *stored, const GBuffer *g,
-                         const float half_m[2], const float *mean4, float *value4);
+                         const FsfGrid *grid, const float *mean4, float *value4);
 
 /* The totals: want_spp[i] (the real counts of the Lagrange allocation, sample_rate_counts with
  * pass 1's count as the floor and FSF_BUDGET_CAP_RATIO times it as the cap), never below

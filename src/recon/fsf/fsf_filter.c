@@ -46,8 +46,6 @@ FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigne
     return gd;
 }
 
-int fsf_radius_steps(float sigma_px) { return fsf_radius_reach(sigma_px, FSF_RADIUS_SIGMAS); }
-
 int fsf_radius_reach(float sigma_px, float reach_sigmas)
 {
     if (!(sigma_px > 0.0f)) return 0;

@@ -42,9 +42,10 @@
 
 /* The paper's 32-pixel diameter cap (FSF section 5): taps up to 16 steps each side. */
 enum { FSF_RADIUS_CAP_PX = 16 };
-/* Taps reach 2 sigma (95% of a Gaussian's mass): the widths' caps are set so that a filter of
- * this reach stays inside its slope window (fsf_slope_window.h), and the budget plan counts a
- * filter's taps to this reach. */
+/* Taps reach 2 sigma (95% of a Gaussian's mass) on the default grid and the bounce's: the
+ * widths' caps are set so that a filter of this reach stays inside its slope window
+ * (fsf_slope_window.h). The budget plan counts each filter's taps to its own grid's reach
+ * (FsfGrid.reach_sigmas). */
 #define FSF_RADIUS_SIGMAS 2.0f
 /* The shadows' and the lens' taps stop at 1.5 sigma (87% of the mass, the last tap at 0.32 of
  * the centre's weight): a quarter fewer taps in the taps kernel and passes 1b and 2b, and
@@ -118,9 +119,8 @@ FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigne
  * "Defocus"): nothing per pixel to read or compare. */
 FsfGuides fsf_guides_unguided(const unsigned char *usable);
 
-/* Taps each side along one axis for a standard deviation (capped): to FSF_RADIUS_SIGMAS, to
- * reach_sigmas, to the grid's reach (the filter's own taps). */
-int fsf_radius_steps(float sigma_px);
+/* Taps each side along one axis for a standard deviation (capped): to reach_sigmas, to the
+ * grid's reach (the filter's own taps). */
 int fsf_radius_reach(float sigma_px, float reach_sigmas);
 int fsf_tap_radius(const FsfGrid *g, float sigma_px);
 

@@ -571,7 +571,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
         ok = filter_and_record(m, b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
     fsf_profile_mark(&m->prof, "aovs");
-    if (ok && mean4) fsf_blend_collapsed(b->px, b->usable, b->count, m->g, grid.half_m, mean4, value4);
+    if (ok && mean4) fsf_blend_collapsed(b->px, b->usable, b->count, m->g, &grid, mean4, value4);
     free(mean4);
     fsf_profile_mark(&m->prof, "blend_free");
     fsf_profile_print(&m->prof, "shadows");
