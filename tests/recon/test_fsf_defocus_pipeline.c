@@ -3,13 +3,16 @@
  * on and behind it) at 96x96: defocus goes to fsf with --filter fsf and with
  * --filter defocus=fsf, the image is finite, the defocus AOVs are there and within their
  * bounds, and at equal samples the error against a 1024-spp reference is below Monte Carlo's
- * and falls from 8 to 16 samples per pixel. */
+ * and falls from 8 to 16 samples per pixel; every pixel's taps (to the lens grid's reach) stay
+ * inside the image, and the border lets them reach it: some pixel at least 4 px from the
+ * border has taps to its edge (with the cap of 2-sigma taps they stopped at 0.75 of it). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../check.h"
 #include "recon/fsf/fsf_filter.h"
+#include "recon/fsf/fsf_lens.h"
 #include "recon/pipeline.h"
 #include "recon_test_util.h"
 
@@ -23,13 +26,23 @@ static void check_fsf(const ReconResult *res, void *ctx)
     CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_DEFOCUS), "fsf"));
     const float *eta = recon_test_aov(res, "fsf.defocus.eta_lens_per_px"), *sigma = recon_test_aov(res, "fsf.defocus.sigma_px");
     CHECK(eta && sigma);
-    size_t bad = 0, filtered = 0;
+    size_t bad = 0, filtered = 0, outside = 0, to_edge = 0;
+    FsfGrid lens = fsf_lens_grid();
     for (size_t i = 0; eta && sigma && i < n; ++i) {
         bad += !isfinite(eta[i]) || !(sigma[i] >= 0.0f && sigma[i] <= FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS);
         filtered += sigma[i] > 1.0f;
+        int x = (int)(i % (size_t)res->width), y = (int)(i / (size_t)res->width);
+        int edge = x < y ? x : y;
+        edge = edge < res->width - 1 - x ? edge : res->width - 1 - x;
+        edge = edge < res->height - 1 - y ? edge : res->height - 1 - y;
+        int r = fsf_tap_radius(&lens, sigma[i]);
+        outside += r > edge;
+        to_edge += edge >= 4 && r == edge;
     }
     CHECK(bad == 0);          /* a finite shear, a width within the 32-pixel cap */
     CHECK(filtered > n / 4);  /* the defocused floor and spheres are filtered */
+    CHECK(outside == 0);      /* no tap beyond the border */
+    CHECK(to_edge > 0);       /* the border cap lets the taps reach it */
 }
 
 static float *render(const char *text, const char *filter, unsigned seed, int spp)

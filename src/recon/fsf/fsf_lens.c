@@ -106,12 +106,14 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         }
         /* taps stay inside the image: the density correction (fsf_density) counts every tap
          * of the radius, and a side cut off by the border would shift the aperture the
-         * filter sees (a synthetic plane's border pixels had 10x the inside's error) */
+         * filter sees (a synthetic plane's border pixels had 10x the inside's error). The
+         * taps reach the lens grid's 1.5 sigma (fsf_lens_grid), so the cap is edge / 1.5: at
+         * edge / 2 (2-sigma taps) the border pixels' taps stopped at 0.75 of the room there */
         int x = (int)(i % (size_t)in->g->width), y = (int)(i / (size_t)in->g->width);
         int edge = x < y ? x : y;
         edge = edge < in->g->width - 1 - x ? edge : in->g->width - 1 - x;
         edge = edge < in->g->height - 1 - y ? edge : in->g->height - 1 - y;
-        sigma = fminf(fminf(sigma, pick.cap_px), (float)edge / FSF_RADIUS_SIGMAS);
+        sigma = fminf(fminf(sigma, pick.cap_px), (float)edge / fsf_lens_grid().reach_sigmas);
         /* Left out (its mean kept): a filter that reaches no neighbour, too narrow for its
          * first taps to matter or sheared so far that a neighbour one step away lands off the
          * lens (|eta| > 2: in focus, c < 1/2 px), would only drop the own samples outside the
