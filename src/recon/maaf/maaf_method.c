@@ -242,22 +242,36 @@ static float defocus_alone_pass1_spp(int budget)
  * and the error was 1.8x. */
 #define SHADED_DEFOCUS_PASS1_MIN_SPP 8.0f
 #define PLAN_MIN_BUDGET_SHARE 0.25f
-/* Frames whose only MAAF effect is soft shadows: pass 1 is a power of two, the smallest at or
- * above half the budget, and at most 8. Beyond 8 a larger pilot only takes samples from the
- * Lagrange allocation, which places the samples above it (the narrow shadow filters need 5-10x
- * the wide ones' counts); below half the budget the pilot's variance and wedges are poor; odd
- * pilots (5, 7: a 1 x n strip of the stratified sampler's rows x cols grid) and 9 lost to 8. It
- * was at least the paper's 9 until issue 16's sweep (docs/algorithms.md 9.24; soft_shadows,
- * 256x256, seeds 1-3, relMSE): at a budget of 8 the old floor traced 9 (over the budget, no
- * plan: 7.9e-4), pass 1 of 4 gives 1.8e-4; at 12, 4 / 6 / 7 / 8 / 9 gave 1.17e-4 / 1.02e-4 /
- * 1.18e-4 / 9.4e-5 / 1.23e-4; at 16, 7 / 8 / 9 / 10 gave 8.4e-5 / 6.8e-5 / 7.7e-5 / 8.3e-5; at
- * 24, 8 / 12 / 16 gave 4.6e-5 / 5.0e-5 / 5.3e-5. At 10 spp 6 beat 8 on three bench scenes of
- * four, but 4 + 5 at a budget of 9 lost on test_maaf_pipeline's scene (2.4e-3 against 1.6e-3). */
+/* Frames whose only MAAF effect is soft shadows: pass 1 is the largest even count that leaves the
+ * plan at least 3 samples a pixel, at most 8 and at least the power of two at or above half the
+ * budget (capped at 4: 1, 2, 4 at budgets of 1-2, 3-4, 5-8). Beyond 8 a larger pilot only takes
+ * samples from the Lagrange allocation, which places the samples above it (the narrow shadow
+ * filters need 5-10x the wide ones' counts); below half the budget the pilot's variance and
+ * wedges are poor. It was at least the paper's 9 until issue 16's sweep (docs/algorithms.md 9.24;
+ * soft_shadows, 256x256, seeds 1-3, relMSE): at a budget of 8 the old floor traced 9 (over the
+ * budget, no plan: 7.9e-4), pass 1 of 4 gives 1.8e-4; at 16, 7 / 8 / 9 / 10 gave 8.4e-5 / 6.8e-5
+ * / 7.7e-5 / 8.3e-5; at 24, 8 / 12 / 16 gave 4.6e-5 / 5.0e-5 / 5.3e-5. The power of two at or
+ * above half, at most 8, ran 9 as 8 + 1 and 10 as 8 + 2, worse than 8 spp's 4 + 4 (a higher
+ * budget, a worse image): the second sweep (after the lattice sampler, soft_shadows against
+ * 4096 spp, thin_occluders, tilted_stack, seeds 1-3, pass 1 of 4-8, mean relMSE) found 6 best
+ * at 9 and 10 but for tilted_stack at 10 (soft_shadows 1.40e-4 / 1.23e-4 against 8's 2.11e-4 /
+ * 1.43e-4, thin_occluders 7.8e-4 / 6.7e-4 against 1.10e-3 / 8.2e-4; tilted_stack 3.1e-4 /
+ * 2.7e-4 against 3.2e-4 / 2.6e-4), 8 best or within 4% from 12 and about tied at 11 (6 or 7 gain 2-8% on
+ * soft_shadows and thin_occluders, lose 5-15% on tilted_stack). Odd pilots (5, 7) lost to 6.
+ * Held out, textured_glossy at 9 / 10: 2.8e-3 / 2.4e-3 against 8's 4.0e-3 / 3.0e-3. Against it,
+ * test_maaf_pipeline's 40x40 penumbra, bias-bound, wants the larger pilot's wedges: 6 + 3 gives
+ * 2.45e-3 there, 8 + 1 1.63e-3 (both below 8 spp's 2.59e-3). */
 #define SHADOW_ALONE_PASS1_MAX_SPP 8
+#define SHADOW_ALONE_PASS1_HALF_CAP_SPP 4
+#define SHADOW_ALONE_PLAN_MIN_SPP 3
 static float shadow_alone_pass1_spp(int budget)
 {
-    int pass1 = 1;
-    while (pass1 < SHADOW_ALONE_PASS1_MAX_SPP && 2 * pass1 < budget) pass1 *= 2;
+    int half_pow2 = 1;
+    while (half_pow2 < SHADOW_ALONE_PASS1_HALF_CAP_SPP && 2 * half_pow2 < budget) half_pow2 *= 2;
+    int pass1 = budget - SHADOW_ALONE_PLAN_MIN_SPP;
+    pass1 -= pass1 > 0 ? pass1 % 2 : 0;
+    if (pass1 < half_pow2) pass1 = half_pow2;
+    if (pass1 > SHADOW_ALONE_PASS1_MAX_SPP) pass1 = SHADOW_ALONE_PASS1_MAX_SPP;
     return (float)pass1;
 }
 static float maaf_budget_pass1_share(const Renderer *r, EffectMask effects)
