@@ -82,6 +82,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     (void)part;
     Job *j = ctx;
     const FsfLensIn *in = j->in;
+    const float reach_sigmas = fsf_lens_grid().reach_sigmas; /* the lens taps' reach, for the border cap */
     for (size_t i = begin; i < end; ++i) {
         FsfPixel *pp = &j->px[i];
         *pp = fsf_pixel_left_out();
@@ -113,7 +114,7 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         int edge = x < y ? x : y;
         edge = edge < in->g->width - 1 - x ? edge : in->g->width - 1 - x;
         edge = edge < in->g->height - 1 - y ? edge : in->g->height - 1 - y;
-        sigma = fminf(fminf(sigma, pick.cap_px), (float)edge / fsf_lens_grid().reach_sigmas);
+        sigma = fminf(fminf(sigma, pick.cap_px), (float)edge / reach_sigmas);
         /* Left out (its mean kept): a filter that reaches no neighbour, too narrow for its
          * first taps to matter or sheared so far that a neighbour one step away lands off the
          * lens (|eta| > 2: in focus, c < 1/2 px), would only drop the own samples outside the

@@ -38,16 +38,16 @@ static void lr_round_sum(const float *grid, int ww, int wh, int ix, int iy, int 
     for (int dy = 0; dy <= r; ++dy) {
         int w = r;
         while (w * w + dy * dy > r * r) --w;
-        bool has_up = iy - dy >= 0 && iy - dy < wh, has_dn = dy > 0 && iy + dy >= 0 && iy + dy < wh;
-        if (!has_up && !has_dn) continue;
+        if ((iy - dy < 0 || iy - dy >= wh) && (dy == 0 || iy + dy < 0 || iy + dy >= wh)) continue;
         for (int dx = 0; dx <= w; ++dx) {
             float wk = table[dx * dx + dy * dy];
             for (int c = 0; c < CH_COUNT; ++c) {
-                /* the rows' sum at a column: 0 for a row outside the window, as lr_round_row's rs */
-                float right = (has_up ? cell_or_zero(grid, ww, wh, ix + dx, iy - dy, c) : 0.0f) +
-                              (has_dn ? cell_or_zero(grid, ww, wh, ix + dx, iy + dy, c) : 0.0f);
-                float left = (has_up ? cell_or_zero(grid, ww, wh, ix - dx, iy - dy, c) : 0.0f) +
-                             (has_dn ? cell_or_zero(grid, ww, wh, ix - dx, iy + dy, c) : 0.0f);
+                /* the rows' sum at a column (row iy once): 0 for a row outside the window, as
+                 * lr_round_row's rs */
+                float right = cell_or_zero(grid, ww, wh, ix + dx, iy - dy, c) +
+                              (dy > 0 ? cell_or_zero(grid, ww, wh, ix + dx, iy + dy, c) : 0.0f);
+                float left = cell_or_zero(grid, ww, wh, ix - dx, iy - dy, c) +
+                             (dy > 0 ? cell_or_zero(grid, ww, wh, ix - dx, iy + dy, c) : 0.0f);
                 acc[c] += wk * (dx == 0 ? right : right + left);
             }
         }
