@@ -10,6 +10,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/env_knob.h"
+
 #ifdef __linux__
 #include <sched.h>
 _Static_assert(sizeof(cpu_set_t) == DIST_CPU_BYTES, "a core mask is the C library's cpu_set_t");
@@ -81,7 +83,8 @@ void dist_node_cpus(const ReconDist *d, bool on)
     if (!d || !d->cpus_known || memcmp(d->own_cpus, d->node_cpus, DIST_CPU_BYTES) == 0) return;
     /* WEDGE_DIST_CORES=own (for measuring against it): every thread on its rank's cores */
     static int own_only = -1;
-    if (own_only < 0) own_only = getenv("WEDGE_DIST_CORES") && strcmp(getenv("WEDGE_DIST_CORES"), "own") == 0;
+    static const char *const cores_names[] = {"node", "own"};
+    if (own_only < 0) own_only = env_knob_choice("WEDGE_DIST_CORES", cores_names, 2, 0) == 1;
     if (own_only) return;
     cpu_set_t set;
     memcpy(&set, on ? d->node_cpus : d->own_cpus, sizeof set);
@@ -291,7 +294,8 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
     if (!d || d->ranks <= 1 || !d->owner) return true;
     /* WEDGE_DIST_OWNERS=interleave (for measuring against it): the first build's ownership,
      * pass 1's interleave kept for every pass */
-    if (getenv("WEDGE_DIST_OWNERS") && strcmp(getenv("WEDGE_DIST_OWNERS"), "interleave") == 0) {
+    static const char *const owners_names[] = {"balance", "interleave"};
+    if (env_knob_choice("WEDGE_DIST_OWNERS", owners_names, 2, 0) == 1) {
         memcpy(d->owner_before, d->owner, (size_t)d->tile_count * sizeof(int)); /* nothing moves */
         return true;
     }
@@ -310,8 +314,8 @@ bool dist_reassign(ReconDist *d, const int *spp, Diag *e)
     for (int t = 0; t < d->tile_count; ++t) seconds += d->tile_seconds[t], samples += d->tile_samples[t];
     double mean_rate = seconds > 0.0 && samples > 0.0 ? seconds / samples : 1.0;
     /* WEDGE_DIST_COST=samples (for measuring the model): every tile at the mean rate */
-    const char *model = getenv("WEDGE_DIST_COST");
-    bool counts_only = model && strcmp(model, "samples") == 0;
+    static const char *const cost_names[] = {"measured", "samples"};
+    bool counts_only = env_knob_choice("WEDGE_DIST_COST", cost_names, 2, 0) == 1;
     for (int t = 0; t < d->tile_count; ++t) {
         bool measured = !counts_only && d->tile_samples[t] > 0.0 && d->tile_seconds[t] > 0.0;
         cost[t] *= measured ? d->tile_seconds[t] / d->tile_samples[t] : mean_rate;
@@ -400,7 +404,8 @@ static bool mpi_ok(int rc, const char *what, Diag *e)
 static bool quiet_arrival(Diag *e)
 {
     static int spin = -1;
-    if (spin < 0) spin = getenv("WEDGE_DIST_WAIT") && strcmp(getenv("WEDGE_DIST_WAIT"), "spin") == 0;
+    static const char *const wait_names[] = {"nap", "spin"};
+    if (spin < 0) spin = env_knob_choice("WEDGE_DIST_WAIT", wait_names, 2, 0) == 1;
     if (spin) return true;
     MPI_Request req;
     int rc = MPI_Ibarrier(MPI_COMM_WORLD, &req);

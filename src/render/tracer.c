@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/env_knob.h"
 #include "geometry/mesh.h"
 #include "render/sphere_packet.h"
 #include "render/sphere_shade.h"
@@ -699,20 +700,21 @@ static bool normalise_scale(Tracer *tr, ErrorSlot *slot, Diag *err)
     return commit_layer(tr, &tr->layers[0], slot, err);
 }
 
+static const char *const batch_names[TRACER_BATCH_MODE_COUNT] = {
+    [TRACER_BATCH_SINGLE] = "single", [TRACER_BATCH_STREAM] = "stream", [TRACER_BATCH_PACKET16] = "packet16"};
+
 bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
 {
     *tr = (Tracer){0};
     tr->tracer_from_world = tr->world_from_tracer = 1.0f;
     double t0 = seconds_now();
-    /* The batch interface for benchmarks comparing them (docs/benchmarks.md); unknown
-     * names keep the default. */
-    tr->batch_mode = TRACER_BATCH_DEFAULT;
-    const char *mode = getenv("WEDGE_TRACE_BATCH");
-    if (mode) tracer_batch_mode_parse(mode, &tr->batch_mode);
+    /* The batch interface, for benchmarks comparing them (docs/benchmarks.md). */
+    tr->batch_mode = (TracerBatchMode)env_knob_choice("WEDGE_TRACE_BATCH", batch_names, TRACER_BATCH_MODE_COUNT,
+                                                      TRACER_BATCH_DEFAULT);
     /* Embree's robust mode (commit_layer), on unless WEDGE_EMBREE_ROBUST=0: the knob of
      * the leak measurements (test_watertight, docs/benchmarks.md) */
-    const char *robust = getenv("WEDGE_EMBREE_ROBUST");
-    tr->robust = !(robust && strcmp(robust, "0") == 0);
+    static const char *const robust_names[] = {"0", "1"};
+    tr->robust = env_knob_choice("WEDGE_EMBREE_ROBUST", robust_names, 2, 1) == 1;
     ErrorSlot *slot = NULL;
     slot = calloc(1, sizeof *slot); /* filled by Embree's error callback */
     if (!slot) goto oom;
@@ -1166,23 +1168,7 @@ enum { TRACE_CHUNK = 64 };
 
 const char *tracer_batch_mode_name(TracerBatchMode mode)
 {
-    switch (mode) {
-    case TRACER_BATCH_SINGLE: return "single";
-    case TRACER_BATCH_STREAM: return "stream";
-    case TRACER_BATCH_PACKET16: return "packet16";
-    case TRACER_BATCH_MODE_COUNT: break;
-    }
-    return "?";
-}
-
-bool tracer_batch_mode_parse(const char *name, TracerBatchMode *mode)
-{
-    for (int m = 0; m < TRACER_BATCH_MODE_COUNT; ++m)
-        if (name && strcmp(name, tracer_batch_mode_name((TracerBatchMode)m)) == 0) {
-            *mode = (TracerBatchMode)m;
-            return true;
-        }
-    return false;
+    return (unsigned)mode < TRACER_BATCH_MODE_COUNT ? batch_names[mode] : "?";
 }
 
 static void context_init(const Tracer *tr, struct RTCIntersectContext *ctx, bool coherent)

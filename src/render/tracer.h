@@ -173,7 +173,6 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
                             SurfaceHit *hits, bool *found);
 void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded);
 const char *tracer_batch_mode_name(TracerBatchMode mode);
-bool tracer_batch_mode_parse(const char *name, TracerBatchMode *mode);
 
 /* The nearest hit in (tnear, tfar) of the ray o + t d (geometry space, double) on sphere or
  * disk g, solved in its object space (pbrt-v4's Sphere and Disk): the callbacks' test, and

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/cache_home.h"
+#include "core/env_knob.h"
 
 /* The file: this magic, the key again (a file renamed by hand is not trusted), the binary's
  * size, the binary. */
@@ -53,8 +54,8 @@ static Key program_key(const ClRuntime *rt, const char *const *sources, int coun
 
 static bool cache_on(void)
 {
-    const char *v = getenv("WEDGE_CL_PROGRAM_CACHE");
-    return !(v && strcmp(v, "0") == 0);
+    static const char *const names[] = {"0", "1"};
+    return env_knob_choice("WEDGE_CL_PROGRAM_CACHE", names, 2, 1) == 1;
 }
 
 /* The cache folder into dir and the key's file in it into path. */
