@@ -274,6 +274,34 @@ static void test_shadow_image_borrowing(void)
     CHECK(spp[1 * W + 4] == 9);
 }
 
+/* Indirect image maps at a contact line (far_light_bounce.pbrt: the floor at a wall's foot):
+ * every pixel's reflector is 0.001 away, in a scene 100 across. Sec. 5's clamp (2%: zmin 2)
+ * bounds the sample count (eq. 21), but the width keeps the measured zmin: eq. 15's pixel term
+ * alpha / d then sets it, beta = 2 / (mu alpha / d) = 2 * 0.01 / (2 * 0.3) = 1/30. With the
+ * clamped zmin the width was 2 / (mu omega_h / 2) = 0.714 (71 pixels): a filter far wider than
+ * the gradient of the light bounced off the wall, which darkened the floor along the contact
+ * (docs/benchmarks.md, "Held-out bench scenes"). */
+static void test_indirect_image_contact(void)
+{
+    enum { W = 7, H = 1, N = W * H };
+    float zmin[N], zmax[N], pw[N], beta[N];
+    int spp[N];
+    for (int i = 0; i < N; ++i) zmin[i] = 0.001f, zmax[i] = 5.0f, pw[i] = 0.01f;
+    AafPixelStats st = {.width = W, .height = H, .pixel_world = pw, .zmin_world = zmin, .zmax_world = zmax};
+    AafIndirectConfig c = aaf_indirect_config_default();
+    AafImageConfig ic = {2, 9, 200.0f, 0.0f, 0};
+    CHECK(aaf_indirect_params_image(&st, &c, &ic, 100.0f, beta, spp) == N);
+    int want_spp = aaf_clamp_spp(aaf_indirect_spp(2.0f, 5.0f, 2.8f, 0.4f, 0.01f, &c), 9, aaf_indirect_spp_cap(&c));
+    for (int i = 0; i < N; ++i) {
+        CHECK_NEAR(beta[i], 1.0 / 30.0, 1e-6);
+        CHECK(spp[i] == want_spp);
+    }
+    /* a reflector farther than the clamp: the clamp changes nothing */
+    for (int i = 0; i < N; ++i) zmin[i] = 3.0f;
+    CHECK(aaf_indirect_params_image(&st, &c, &ic, 100.0f, beta, spp) == N);
+    CHECK_NEAR(beta[3], aaf_indirect_beta_world(3.0f, 2.8f, 0.01f, &c), 1e-6);
+}
+
 /* Defocus image maps: pixel 0 saw a surface behind the focal plane (slopes 4..10 px), pixel 1
  * only escaped rays (the background's slope, 20 px, for both ends). Over a lit background
  * the escaped pixel is sized like any other: beta = (1/(k mu)) sigma_u 20 = 10/6 px and
@@ -318,6 +346,7 @@ int main(void)
     test_defocus_hand_values();
     test_clamp_spp();
     test_shadow_image_borrowing();
+    test_indirect_image_contact();
     test_defocus_image_black_background();
     CHECK_DONE();
 }

@@ -260,13 +260,15 @@ static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
                 continue;
             }
             float zmin = avg[0], zmax = avg[1];
-            /* AAF-GI Sec. 5: zmin at least 2% of the scene, or corners would not be filtered. */
-            zmin = aaf_indirect_clamp_zmin(zmin, scene_size_world, c->zmin_clamp_frac);
             float m = at_or(st->blinn_phong_m, i, 0.0f);
             float omega_h = m > 0.0f ? aaf_indirect_omega_h_glossy(m) : aaf_indirect_omega_h_diffuse();
             float gamma = m > 0.0f ? aaf_indirect_gamma_glossy(m) : aaf_indirect_gamma_diffuse();
             float d = at_or(st->pixel_world, i, 0.0f);
-            pr->beta_world[i] = aaf_indirect_beta_world(zmin, omega_h, d, c); /* eqs. 15, 16 */
+            /* eqs. 15, 16 with the unclamped zmin: eq. 15's pixel term alpha / d already keeps
+             * the width at least 2 d / (mu alpha) as zmin -> 0 (corners stay filtered) */
+            pr->beta_world[i] = aaf_indirect_beta_world(aaf_indirect_clamp_zmin(zmin, 0.0f, 0.0f), omega_h, d, c);
+            /* AAF-GI Sec. 5: zmin at least 2% of the scene for the sample count */
+            zmin = aaf_indirect_clamp_zmin(zmin, scene_size_world, c->zmin_clamp_frac);
             /* eq. 21, under our cap (its own, not the image's 100 mu: aaf_params.h) */
             pr->spp[i] = aaf_clamp_spp(aaf_indirect_spp(zmin, zmax, omega_h, gamma, d, c), ic->spp_min, aaf_indirect_spp_cap(c));
             if (pr->beta_world[i] > 0.0f) ++filtered;
