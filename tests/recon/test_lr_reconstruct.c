@@ -227,8 +227,9 @@ static void test_gauss(void)
 }
 
 /* LR section 5's "too large variance in motion": a layer whose speeds along the mean
- * direction span more than motion_range_px and half the mean gets no motion filter; a layer
- * of similar speeds, or one whose directions agree within the rule, keeps it. */
+ * direction span more than motion_range_px and half the mean gets no motion filter, unless
+ * its slowest speed is at least motion_long_px; a layer of similar speeds, or one whose
+ * directions agree within the rule, keeps it. */
 static void test_motion_variance_rule(void)
 {
     LrConfig cfg = lr_config_default();
@@ -241,6 +242,13 @@ static void test_motion_variance_rule(void)
         {-1.0f, 2.5f, 0.2f, true},    /* slow, within motion_range_px */
         {40.0f, 60.0f, 0.0f, true},   /* 20 px range, less than half the mean (50) */
         {28.0f, 32.0f, 20.0f, false}, /* directions spread across */
+        /* speeds spanning more than half their mean: filtered only when the slowest still
+         * streaks past the 32-px window (motion_long_px) */
+        {40.0f, 200.0f, 0.0f, true},   /* long streaks of every sample */
+        {32.0f, 100.0f, 0.0f, true},   /* the slowest exactly the window's width */
+        {20.0f, 100.0f, 0.0f, false},  /* the slowest shorter than the window */
+        {-10.0f, 200.0f, 0.0f, false}, /* some samples moving back */
+        {40.0f, 200.0f, 120.0f, false}, /* long, but directions spread across */
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         LrTile t;

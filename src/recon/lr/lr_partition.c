@@ -29,6 +29,7 @@ LrConfig lr_config_default(void)
     c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
     c.motion_spread_max = 0.5f;
     c.motion_range_px = 4.0f;
+    c.motion_long_px = (float)c.window_px;
     c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
     c.bright_clamp_px = 1.0f;
     c.still_tiles = NULL;
@@ -275,7 +276,15 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
          * hard bench scene's error was 12% higher (8.11). */
         float mean_len = 0.5f * (st[i].d_min_px + st[i].d_max_px), perp = st[i].across_px;
         float along_range = st[i].d_max_px - st[i].d_min_px, share = cfg->motion_spread_max * fabsf(mean_len);
-        bool ok = (perp <= 0.5f || perp <= share) && (along_range <= cfg->motion_range_px || along_range <= share);
+        /* ...except when even the layer's slowest sample streaks past the window along psi
+         * (motion_long_px, the window's width): then every edge of the layer is a ramp at
+         * least that long, 8x the clamped screen sigma (Appendix C), so the filter's error on
+         * it stays small, while without the filter the streak keeps 8 spp of noise and the
+         * tiles on either side of one whose range is too wide differ by a 4-px blur (the
+         * tile-sized blotches of focal_motion_area, docs/algorithms.md 8.32). */
+        bool long_streaks = st[i].d_min_px >= cfg->motion_long_px;
+        bool ok = (perp <= 0.5f || perp <= share) &&
+                  (long_streaks || along_range <= cfg->motion_range_px || along_range <= share);
         t->layer[j].motion_filter = ok;
         if (ok) {
             t->layer[j].slopes.d_min_px = st[i].d_min_px - perp;

@@ -87,6 +87,9 @@ typedef struct {
                                * range of speeds along the mean direction exceeds this share
                                * of it and motion_range_px */
     float motion_range_px;
+    float motion_long_px;     /* ...but the range of speeds is no reason when the slowest
+                               * speed along the mean direction is at least this (px per
+                               * shutter; default the window's width, INFINITY: never) */
     /* A layer whose mean brightness is at least bright_contrast times the rest of its
      * window's (lr_layer_contrast: a light source out of focus over a dark background) takes
      * at most bright_clamp_px of screen sigma instead of filter.sigma_clamp_px: its blur stays
