@@ -273,6 +273,41 @@ static void box_means(const LrSample *s, int w, int h, int spp, float *rgb)
         }
 }
 
+/* The 64x48 8-spp samples of a light field (layers, seed) and the partition of tile (tx, ty). */
+static LrSample *streak_samples(const LrTestLayer *layers, int nl, unsigned seed, const LrConfig *cfg, int tx, int ty, LrTile *t)
+{
+    enum { SW = 64, SH = 48, SPP = 8 };
+    LrSample *s = malloc(sizeof(LrSample) * SW * SH * SPP);
+    lr_test_scene(s, SW, SH, SPP, layers, nl, seed);
+    LrSamples img = lr_samples_split(SW, SH, SPP, s);
+    lr_tile_partition(&img, cfg, tx, ty, t);
+    lr_samples_free(&img);
+    return s;
+}
+
+/* Squared error, summed over pixels [x0, x1) x [y0, y1) and rgb, of LR's reconstruction of the
+ * 64x48 8-spp samples s and of their pixel means, against the box means of a 1024-spp rendering
+ * of the same light field (layers, seed ref_seed). */
+static void streak_errors(const LrSample *s, const LrTestLayer *layers, int nl, unsigned ref_seed, const LrConfig *cfg,
+                          const int rect[4], double *e_lr, double *e_mc)
+{
+    enum { SW = 64, SH = 48, SPP = 8, REF_SPP = 1024 };
+    LrSample *r = malloc(sizeof(LrSample) * SW * SH * REF_SPP);
+    lr_test_scene(r, SW, SH, REF_SPP, layers, nl, ref_seed);
+    float *lr = recon(s, SW, SH, SPP, cfg), *mc = malloc(sizeof(float) * 3 * SW * SH), *ref = malloc(sizeof(float) * 3 * SW * SH);
+    box_means(s, SW, SH, SPP, mc);
+    box_means(r, SW, SH, REF_SPP, ref);
+    *e_lr = *e_mc = 0.0;
+    for (int py = rect[1]; py < rect[3]; ++py)
+        for (int px = rect[0]; px < rect[2]; ++px)
+            for (int c = 0; c < 3; ++c) {
+                size_t i = ((size_t)py * SW + px) * 3 + c;
+                *e_lr += (lr[i] - ref[i]) * (lr[i] - ref[i]);
+                *e_mc += (mc[i] - ref[i]) * (mc[i] - ref[i]);
+            }
+    free(lr), free(mc), free(ref), free(r);
+}
+
 /* A disk moving 20 px over a static plane at the same depth (an object on a floor): the
  * slab's moving and static samples are separate layers, the moving one in front with a
  * motion filter of its speed (before the split they shared a layer whose speeds spanned
@@ -281,35 +316,19 @@ static void box_means(const LrSample *s, int w, int h, int spp, float *rgb)
  * motion), against a 1024-spp box-mean reference of the same light field. */
 static void test_moving_over_static(void)
 {
-    enum { SW = 64, SH = 48 };
     LrTestLayer layers[2] = {{5.0f, 0.0f, {20.0f, 0.0f}, 32.0f, 24.0f, 7.0f, 0.8f},
                              {5.0f, 0.0f, {0.0f, 0.0f}, 0, 0, 0, 0.8f}};
     LrConfig cfg = lr_config_default();
-    int spp = 8, ref_spp = 1024;
-    LrSample *s = malloc(sizeof(LrSample) * SW * SH * spp), *r = malloc(sizeof(LrSample) * SW * SH * ref_spp);
-    lr_test_scene(s, SW, SH, spp, layers, 2, 41);
-    lr_test_scene(r, SW, SH, ref_spp, layers, 2, 43);
-    LrSamples img = lr_samples_split(SW, SH, spp, s);
     LrTile t;
-    lr_tile_partition(&img, &cfg, 2, 1, &t); /* the tile under the disk's centre */
+    LrSample *s = streak_samples(layers, 2, 41, &cfg, 2, 1, &t); /* the tile under the disk's centre */
     CHECK(t.layer_count == 2);
     CHECK(t.layer[0].motion_filter && t.layer[0].slopes.d_min_px >= 19.9f && t.layer[0].slopes.d_max_px <= 20.1f);
     CHECK(t.layer[1].slopes.d_min_px == 0.0f && t.layer[1].slopes.d_max_px == 0.0f);
-    float *lr = recon(s, SW, SH, spp, &cfg), *mc = malloc(sizeof(float) * 3 * SW * SH), *ref = malloc(sizeof(float) * 3 * SW * SH);
-    box_means(s, SW, SH, spp, mc);
-    box_means(r, SW, SH, ref_spp, ref);
-    double e_lr = 0, e_mc = 0;
-    for (int py = 18; py < 30; ++py) /* the streak: the disk's rows, x within its path */
-        for (int px = 18; px < 46; ++px)
-            for (int c = 0; c < 3; ++c) {
-                size_t i = ((size_t)py * SW + px) * 3 + c;
-                e_lr += (lr[i] - ref[i]) * (lr[i] - ref[i]);
-                e_mc += (mc[i] - ref[i]) * (mc[i] - ref[i]);
-            }
+    double e_lr, e_mc;
+    streak_errors(s, layers, 2, 43, &cfg, (const int[4]){18, 18, 46, 30}, &e_lr, &e_mc); /* the disk's rows, x within its path */
     CHECK(e_lr < 0.5 * e_mc);
     fprintf(stderr, "moving over static: streak squared error lr %.4g, pixel means %.4g\n", e_lr, e_mc);
-    lr_samples_free(&img);
-    free(lr), free(mc), free(ref), free(s), free(r);
+    free(s);
 }
 
 /* Two disks at one depth streaking 40 and 100 px over a static plane (docs/algorithms.md 8.32):
@@ -320,35 +339,19 @@ static void test_moving_over_static(void)
  * without the exception) the layer is unfiltered and both checks fail. */
 static void test_long_streaks(void)
 {
-    enum { SW = 64, SH = 48 };
     LrTestLayer layers[3] = {{5.0f, 0.0f, {40.0f, 0.0f}, 32.0f, 16.0f, 6.0f, 0.8f},
                              {5.0f, 0.0f, {100.0f, 0.0f}, 32.0f, 32.0f, 6.0f, 0.8f},
                              {8.0f, 0.0f, {0.0f, 0.0f}, 0, 0, 0, 0.8f}};
     LrConfig cfg = lr_config_default();
-    int spp = 8, ref_spp = 1024;
-    LrSample *s = malloc(sizeof(LrSample) * SW * SH * spp), *r = malloc(sizeof(LrSample) * SW * SH * ref_spp);
-    lr_test_scene(s, SW, SH, spp, layers, 3, 47);
-    lr_test_scene(r, SW, SH, ref_spp, layers, 3, 49);
-    LrSamples img = lr_samples_split(SW, SH, spp, s);
     LrTile t;
-    lr_tile_partition(&img, &cfg, 1, 1, &t); /* its window holds both streaks */
+    LrSample *s = streak_samples(layers, 3, 47, &cfg, 1, 1, &t); /* its window holds both streaks */
     CHECK(t.layer_count >= 2 && t.layer[0].motion_filter && t.layer[0].slopes.d_min_px < 41.0f &&
           t.layer[0].slopes.d_max_px > 99.0f);
-    float *lr = recon(s, SW, SH, spp, &cfg), *mc = malloc(sizeof(float) * 3 * SW * SH), *ref = malloc(sizeof(float) * 3 * SW * SH);
-    box_means(s, SW, SH, spp, mc);
-    box_means(r, SW, SH, ref_spp, ref);
-    double e_lr = 0, e_mc = 0;
-    for (int py = 10; py < 38; ++py) /* both disks' rows, inside the tiles away from the border */
-        for (int px = 16; px < 48; ++px)
-            for (int c = 0; c < 3; ++c) {
-                size_t i = ((size_t)py * SW + px) * 3 + c;
-                e_lr += (lr[i] - ref[i]) * (lr[i] - ref[i]);
-                e_mc += (mc[i] - ref[i]) * (mc[i] - ref[i]);
-            }
+    double e_lr, e_mc;
+    streak_errors(s, layers, 3, 49, &cfg, (const int[4]){16, 10, 48, 38}, &e_lr, &e_mc); /* both disks' rows */
     CHECK(e_lr < 0.5 * e_mc);
     fprintf(stderr, "long streaks: squared error lr %.4g, pixel means %.4g\n", e_lr, e_mc);
-    lr_samples_free(&img);
-    free(lr), free(mc), free(ref), free(s), free(r);
+    free(s);
 }
 
 enum { CW = 64, CH = 48 };
