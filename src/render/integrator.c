@@ -501,6 +501,7 @@ typedef struct {
      * the lane's receiver is Lambert (lambert), its path's time, whether the ray is traced
      * there (traced: a Lambert receiver, the ray computed ahead and sent) and the answer */
     int lambert[WAVE_SAMPLES], traced[WAVE_SAMPLES];
+    bool rays_ahead; /* triangle_shadow_rays made the lanes' rays (else none is traced here) */
     float time01[WAVE_SAMPLES];
     bool occluded[WAVE_SAMPLES];
 } WaveTriangleSamples;
@@ -891,11 +892,12 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         const float *pos[3] = {t->p[0], t->p[1], t->p[2]}, *uv[2] = {t->u[0], t->u[1]};
         TriangleSampleBatch out = {{t->wi[0], t->wi[1], t->wi[2]}, t->dist, {t->pl[0], t->pl[1], t->pl[2]}, t->pdf, t->ok};
         light_sample_triangle_batch(l, t->count, pos, uv, &out);
-        if (l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f) {
+        t->rays_ahead = l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f;
+        if (t->rays_ahead) {
             triangle_shadow_rays(l->tri_n, l->tri_err, t);
             lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), t);
         } else {
-            for (int k = 0; k < t->count; ++k) t->redo[k] = 1, t->traced[k] = 0; /* no offset at the light: shadow_ray_to */
+            for (int k = 0; k < t->count; ++k) t->redo[k] = 1; /* no offset at the light: shadow_ray_to */
         }
     }
 }
@@ -908,6 +910,7 @@ static void wave_triangle_occlusion(const IntegratorScene *sc, Wave *w)
 {
     for (int g = 0; g < w->tri_groups; ++g) {
         WaveTriangleSamples *t = &w->tri[g];
+        if (!t->rays_ahead) continue;
         TracerRayArrays a = {{t->o[0], t->o[1], t->o[2]},
                              {t->dir[0], t->dir[1], t->dir[2]},
                              t->len,
