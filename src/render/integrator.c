@@ -67,6 +67,7 @@ typedef struct {
                    * samples no direction (make_vertex's `sampled`) leaves them unset */
     bool glossy;
     vec3 albedo;  /* Lambert reflectance */
+    float cos_o;  /* Lambert: v3_dot(n, wo) */
     GlossyBsdf bsdf;
     vec3 wo_l;    /* glossy: wo in the local frame */
 } Vertex;
@@ -107,7 +108,12 @@ static inline __attribute__((always_inline)) void make_vertex(const IntegratorSc
          * textured one's is material_albedo's, without its look-up of mat (mat is diffuse:
          * material_resolve leaves a diffuse or a glossy material) */
         v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
-        v->n = v3_dot(h->ns, wo) < 0.0f ? v3_neg(h->ns) : h->ns;
+        float cos_ns = v3_dot(h->ns, wo);
+        bool flip = cos_ns < 0.0f;
+        v->n = flip ? v3_neg(h->ns) : h->ns;
+        /* v3_dot(v->n, wo) bit for bit: negating every term of a sum negates a nonzero sum
+         * exactly (round to nearest is symmetric), and a flipped sum is < 0 */
+        v->cos_o = flip ? -cos_ns : cos_ns;
         if (sampled) v3_basis(v->n, &v->t1, &v->t2);
     }
 }
@@ -442,6 +448,7 @@ typedef struct {
     bool unfiltered;   /* light from here on passes the filters unfiltered */
     /* the current vertex's light sample and bounce, between tracing and folding in */
     bool light_pending, light_recorded, unfiltered_light;
+    bool light_valued; /* the light's estimate is its triangle group's lane (lambert_triangle_nee), not lp */
     int shadow_ray;    /* index into the occlusion or the recorded batch */
     LightPending lp;
     /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
@@ -456,11 +463,10 @@ typedef struct {
     vec3 beta_next;
 } WavePath;
 
-/* One run's camera rays, in and out as arrays (camera_generate_rays). */
+/* One run's camera samples as arrays (camera_generate_rays' input; its rays go to the wave's
+ * camera arrays). */
 typedef struct {
     float px[SAMPLER_RUN_MAX], py[SAMPLER_RUN_MAX], lens_u[SAMPLER_RUN_MAX], lens_v[SAMPLER_RUN_MAX];
-    float time01[SAMPLER_RUN_MAX];
-    float o[3][SAMPLER_RUN_MAX], d[3][SAMPLER_RUN_MAX];
 } CameraBatch;
 
 /* One point or spot light's samples for the live, lit paths of a stage (light_sample_point_batch). */
@@ -483,6 +489,21 @@ typedef struct {
     int ok[WAVE_SAMPLES];
     float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
     int redo[WAVE_SAMPLES];
+    /* a Lambert receiver's part (lambert_triangle_nee): in, its vertex's n, cos_o, albedo
+     * and the pick's pmf; out, whether the shadow ray is sent (send) or guarded (send_guarded)
+     * and the unoccluded estimate (light_finish's value, nee_guarded where it counts a
+     * guarded event and gives 0). Lanes of glossy receivers hold values nothing reads. */
+    float n[3][WAVE_SAMPLES], cos_o[WAVE_SAMPLES], albedo[3][WAVE_SAMPLES], pmf[WAVE_SAMPLES];
+    int send[WAVE_SAMPLES], send_guarded[WAVE_SAMPLES];
+    float nee[3][WAVE_SAMPLES];
+    int nee_guarded[WAVE_SAMPLES];
+    /* a Lambert receiver's shadow ray is traced from the lanes (tracer_occluded_arrays):
+     * the lane's receiver is Lambert (lambert), its path's time, whether the ray is traced
+     * there (traced: a Lambert receiver, the ray computed ahead and sent) and the answer */
+    int lambert[WAVE_SAMPLES], traced[WAVE_SAMPLES];
+    bool rays_ahead; /* triangle_shadow_rays made the lanes' rays (else none is traced here) */
+    float time01[WAVE_SAMPLES];
+    bool occluded[WAVE_SAMPLES];
 } WaveTriangleSamples;
 /* Triangle lights batched per stage; paths that pick others sample them one by one. */
 enum { WAVE_TRIANGLE_GROUPS = 8 };
@@ -516,6 +537,9 @@ struct Wave {
     vec2 dim_light[WAVE_SAMPLES], dim_bsdf[WAVE_SAMPLES];
     float dim_cosine[3][WAVE_SAMPLES];
     CameraBatch camera;
+    /* the wave's camera rays, per path, as arrays: camera_generate_rays writes them and
+     * tracer_intersect_arrays reads them, with no TracerRay between */
+    float cam_o[3][WAVE_SAMPLES], cam_d[3][WAVE_SAMPLES], cam_time01[WAVE_SAMPLES];
     /* the stage's live, lit paths' positions and their delta lights' samples */
     float lit_p[3][WAVE_SAMPLES], lit_ng[3][WAVE_SAMPLES], lit_err[WAVE_SAMPLES];
     WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
@@ -658,14 +682,22 @@ WAVE_STAGE void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveS
         p->sample_index = first + i;
         wave_camera_sample(sc, film[i], v2(cb->lens_u[i], cb->lens_v[i]), sc->sample_time ? shutter[i] : 0.0f,
                            &pixels[k], p, out, j0 + i, &cb->px[i], &cb->py[i]);
-        cb->time01[i] = p->time01;
+        w->cam_time01[j0 + i] = p->time01;
     }
-    float *o[3] = {cb->o[0], cb->o[1], cb->o[2]}, *d[3] = {cb->d[0], cb->d[1], cb->d[2]};
-    camera_generate_rays(sc->camera, count, cb->px, cb->py, cb->lens_u, cb->lens_v, cb->time01, o, d);
-    for (int i = 0; i < count; ++i)
-        w->ray_hit[j0 + i] = (TracerRay){v3(o[0][i], o[1][i], o[2][i]), v3(d[0][i], d[1][i], d[2][i]), INFINITY,
-                                         cb->time01[i], 0u};
+    float *o[3] = {w->cam_o[0] + j0, w->cam_o[1] + j0, w->cam_o[2] + j0};
+    float *d[3] = {w->cam_d[0] + j0, w->cam_d[1] + j0, w->cam_d[2] + j0};
+    camera_generate_rays(sc->camera, count, cb->px, cb->py, cb->lens_u, cb->lens_v, w->cam_time01 + j0, o, d);
     wave_vertex_dims(sc, w, j0, 1);
+}
+
+/* Without infinite lights, and unless the filters record where it ends, a path's last ray
+ * that misses the emitters' box finds no emission: its estimate is 0 without tracing it,
+ * exactly as wave_vertex_fold computes it for a miss (light_bounds.c). Whether the stage at
+ * `depth` asks that of its closest-hit rays (all of them are then last rays): */
+static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
+{
+    return depth == sc->max_depth && sc->lights->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
+           sc->lights->emitters_bounded;
 }
 
 /* What the camera ray found: emission seen directly, the first hit's record fields (rec:
@@ -768,6 +800,48 @@ static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light,
     }
 }
 
+/* light_prepare_lambert_triangle and light_finish (unoccluded) for every lane of g, as one
+ * loop GCC vectorises: lambert_receiver, lambert_light, the shadow ray's send and guard
+ * tests, and the MIS-weighted estimate (Veach 1997, eq. 9.13, beta = 2: mis_power), with
+ * the same operations in the same order as the scalar functions, branches as selects.
+ * The estimate is read only where the ray is sent (send), so where the receiver faces the
+ * light: there lambert_light's f and pdf are the lit side's, which are taken in every lane
+ * (a select between a product and 0 could trap in one arm, which stops the vectoriser).
+ * Li: the light's radiance L, li_sends: !max_component_nonpositive(L). */
+static WEDGE_VECTORISED void lambert_triangle_nee(vec3 Li, int li_sends, WaveTriangleSamples *restrict g)
+{
+    for (int k = 0; k < g->count; ++k) {
+        float nx = g->n[0][k], ny = g->n[1][k], nz = g->n[2][k];
+        /* lambert_receiver */
+        float cos_o = g->cos_o[k];
+        float flx = g->albedo[0][k] * 0.318309886f, fly = g->albedo[1][k] * 0.318309886f,
+              flz = g->albedo[2][k] * 0.318309886f;
+        int f_nonpositive = !((flx > 0.0f) | (fly > 0.0f) | (flz > 0.0f)) & !(isnan(flx) & isnan(fly) & isnan(flz));
+        /* lambert_light */
+        float cos_i = nx * g->wi[0][k] + ny * g->wi[1][k] + nz * g->wi[2][k];
+        int same_side = !(cos_o * cos_i <= 0.0f);
+        float cos_abs = fabsf(cos_i);
+        float pdf_bsdf = cos_abs * 0.318309886f; /* the lit side's (see above) */
+        int sends = (g->ok[k] != 0) & same_side & !f_nonpositive & li_sends;
+        int len_ok = g->len[k] > 0.0f;
+        g->send[k] = sends & len_ok;
+        g->send_guarded[k] = sends & !len_ok;
+        g->traced[k] = sends & len_ok & g->lambert[k] & !g->redo[k];
+        /* light_finish: denom, mis_power(denom, pdf_bsdf), the scaled value and its guard3 */
+        float denom = g->pmf[k] * g->pdf[k];
+        float a = denom * denom, b = pdf_bsdf * pdf_bsdf;
+        int a_inf = a == INFINITY; /* isinf of a square (never -inf) */
+        int mis_trivial = a_inf | (a + b > 0.0f ? 0 : 1);
+        float q = a / (a + b); /* computed in every lane, kept where mis_power divides */
+        float w = mis_trivial ? (a_inf ? 1.0f : 0.0f) : q;
+        float scale = cos_abs * w / denom;
+        float vx = flx * Li.x * scale, vy = fly * Li.y * scale, vz = flz * Li.z * scale;
+        float z = vx * 0.0f + vy * 0.0f + vz * 0.0f; /* finite3 */
+        g->nee[0][k] = vx, g->nee[1][k] = vy, g->nee[2][k] = vz;
+        g->nee_guarded[k] = (denom > 0.0f ? 0 : 1) | (z == z ? 0 : 1);
+    }
+}
+
 /* The picks of the stage's live, lit paths (what light_prepare would find), and the samples
  * of the picked static triangle lights, per light in one vectorised loop each (up to
  * WAVE_TRIANGLE_GROUPS lights; a path that picks another samples it on its own). */
@@ -803,6 +877,13 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         t->ng[0][k] = h->ng.x, t->ng[1][k] = h->ng.y, t->ng[2][k] = h->ng.z;
         t->err[k] = h->err;
         t->u[0][k] = u->light_uv.x, t->u[1][k] = u->light_uv.y;
+        const Vertex *v = &p->v;
+        t->n[0][k] = v->n.x, t->n[1][k] = v->n.y, t->n[2][k] = v->n.z;
+        t->cos_o[k] = v->cos_o;
+        t->lambert[k] = !v->glossy;
+        t->time01[k] = p->time01;
+        t->albedo[0][k] = v->albedo.x, t->albedo[1][k] = v->albedo.y, t->albedo[2][k] = v->albedo.z;
+        t->pmf[k] = pmf;
         p->tri_group = g, p->tri_lane = k;
     }
     for (int g = 0; g < w->tri_groups; ++g) {
@@ -811,9 +892,32 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         const float *pos[3] = {t->p[0], t->p[1], t->p[2]}, *uv[2] = {t->u[0], t->u[1]};
         TriangleSampleBatch out = {{t->wi[0], t->wi[1], t->wi[2]}, t->dist, {t->pl[0], t->pl[1], t->pl[2]}, t->pdf, t->ok};
         light_sample_triangle_batch(l, t->count, pos, uv, &out);
-        if (l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f) triangle_shadow_rays(l->tri_n, l->tri_err, t);
-        else
+        t->rays_ahead = l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f;
+        if (t->rays_ahead) {
+            triangle_shadow_rays(l->tri_n, l->tri_err, t);
+            lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), t);
+        } else {
             for (int k = 0; k < t->count; ++k) t->redo[k] = 1; /* no offset at the light: shadow_ray_to */
+        }
+    }
+}
+
+/* The shadow rays of the triangle groups' Lambert receivers (WaveTriangleSamples.traced), traced
+ * from the lanes where triangle_shadow_rays made them, in the lanes' order: an occlusion
+ * answer is an any-hit question about one ray, which its place in the batch does not change
+ * (docs/design.md 12.18). */
+static void wave_triangle_occlusion(const IntegratorScene *sc, Wave *w)
+{
+    for (int g = 0; g < w->tri_groups; ++g) {
+        WaveTriangleSamples *t = &w->tri[g];
+        if (!t->rays_ahead) continue;
+        TracerRayArrays a = {{t->o[0], t->o[1], t->o[2]},
+                             {t->dir[0], t->dir[1], t->dir[2]},
+                             t->len,
+                             t->time01,
+                             t->traced,
+                             sc->lights->lights[t->light].shadow_skip_mask};
+        tracer_occluded_arrays(sc->tracer, &a, t->count, true, t->occluded);
     }
 }
 
@@ -917,51 +1021,27 @@ static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec
 }
 
 /* light_prepare for a Lambert receiver of a picked static triangle whose shadow ray was
- * computed ahead (not `redo`), with its outcome as a value: p->lp and *shadow are written
- * whether or not the sample is kept, so that whether the receiver faces the light and the
- * light faces it (one-sided emitters; on a receiver beside the light a coin toss) is not a
- * branch. The same tests, values and counters as light_prepare_sampled. */
-WAVE_STAGE int light_prepare_lambert_triangle(const IntegratorScene *sc, const Wave *w, WavePath *p,
+ * computed ahead (not `redo`) and is recorded for the filters (the others are traced from the
+ * lanes: wave_triangle_occlusion), from its lane of the group, where lambert_triangle_nee
+ * found whether it is sent and its estimate: *shadow is written whether or not the sample
+ * is kept, so that whether the receiver faces the light and the light faces it (one-sided
+ * emitters; on a receiver beside the light a coin toss) is not a branch. The same tests
+ * and counters as light_prepare_sampled; wave_vertex_fold reads the lane (light_valued). */
+static inline int light_send_lambert_triangle(const IntegratorScene *sc, const Wave *w, const WavePath *p,
                                               IntegratorStats *st, TracerRay *shadow)
 {
-    const VertexDims *u = &p->u;
     const WaveTriangleSamples *g = &w->tri[p->tri_group];
     int k = p->tri_lane;
-    const Light *l = &sc->lights->lights[u->light_index];
-    LightPending *lp = &p->lp;
-    lp->ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k], v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]),
-                           l->tri_n, l->tri_err, l->L, g->pdf[k], false};
-    lp->light = u->light_index;
-    lp->pmf = u->light_pmf;
-    lp->is_area = true;
-    /* vertex_f's Lambert case; g->ok: the sample exists and the light faces the receiver */
-    LambertReceiver rv = lambert_receiver(&p->v);
-    LambertLight resp = lambert_light(&rv, lp->ls.wi, l->L);
-    lp->f = resp.f;
-    lp->cos_i = resp.cos_i_abs;
-    lp->pdf_bsdf = resp.pdf;
-    int sends = (g->ok[k] != 0) & resp.sends;
-    int len_ok = g->len[k] > 0.0f;
     /* field by field into the batch's slot: a TracerRay built on the stack and copied was
      * read back as 16-byte words over narrower stores, a stalled store forward per ray */
     shadow->o = v3(g->o[0][k], g->o[1][k], g->o[2][k]);
     shadow->d = v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]);
     shadow->tmax = g->len[k];
     shadow->time01 = p->time01;
-    shadow->skip_mask = l->shadow_skip_mask;
-    st->guarded_events += sends & !len_ok;
-    st->rays_shadow += sends & len_ok;
-    return sends & len_ok;
-}
-
-/* Without infinite lights, and unless the filters record where it ends, a path's last ray
- * that misses the emitters' box finds no emission: its estimate is 0 without tracing it,
- * exactly as wave_vertex_fold computes it for a miss (light_bounds.c). Whether the stage at
- * `depth` asks that of its closest-hit rays (all of them are then last rays): */
-static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
-{
-    return depth == sc->max_depth && sc->lights->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
-           sc->lights->emitters_bounded;
+    shadow->skip_mask = sc->lights->lights[g->light].shadow_skip_mask;
+    st->guarded_events += g->send_guarded[k];
+    st->rays_shadow += g->send[k];
+    return g->send[k];
 }
 
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
@@ -983,15 +1063,25 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
      * tri_group were not set: wave_triangle_light_samples) */
     bool picks = vertex_uses_light_dims(sc);
     bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
+    p->light_valued = valued;
     if (valued) {
-        /* the ray is written to the slot it would take and the count moves by the outcome */
-        bool record = depth == 1 && sc->record_ray_geometry && rec->shadow_count < SAMPLE_RECORD_MAX_SHADOW;
-        int *count = record ? n_rec : n_occ;
-        p->shadow_ray = *count;
-        int kept = light_prepare_lambert_triangle(sc, w, p, st, &(record ? w->ray_rec : w->ray_occ)[p->shadow_ray]);
-        *count += kept;
-        p->light_pending = kept;
-        p->light_recorded = record & kept;
+        /* A recorded ray (the first hit's, for the filters: rec->shadow_count is 0 there) is
+         * written to the slot it would take and the count moves by the outcome; any other is
+         * traced from its group's lanes (wave_triangle_occlusion). */
+        bool record = depth == 1 && sc->record_ray_geometry;
+        if (record) {
+            p->shadow_ray = *n_rec;
+            int kept = light_send_lambert_triangle(sc, w, p, st, &w->ray_rec[p->shadow_ray]);
+            *n_rec += kept;
+            p->light_pending = kept;
+            p->light_recorded = kept;
+        } else {
+            const WaveTriangleSamples *g = &w->tri[p->tri_group];
+            int lane = p->tri_lane;
+            st->guarded_events += g->send_guarded[lane];
+            st->rays_shadow += g->send[lane];
+            p->light_pending = g->send[lane];
+        }
     } else {
         p->light_pending = picks && lit && light_prepare(sc, w, p, st, &shadow);
     }
@@ -1180,18 +1270,27 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
     vec3 l_light = v3s(0.0f);
     if (p->light_pending) {
         bool occluded;
+        /* a Lambert receiver's triangle sample: its group's lane (lambert_triangle_nee) */
+        const WaveTriangleSamples *g = p->light_valued ? &w->tri[p->tri_group] : NULL;
+        int lane = p->tri_lane;
         if (p->light_recorded) {
             int k = p->shadow_ray;
             occluded = w->rec_found[k];
             ShadowRayRecord *r = &rec->shadow[rec->shadow_count++];
-            r->d_light_world = p->lp.ls.dist;
+            r->d_light_world = g ? g->dist[lane] : p->lp.ls.dist;
             r->d_occluder_world = occluded ? w->rec_hit[k].t : INFINITY;
-            r->light_p_world = p->lp.ls.p_light;
-            r->light_index = p->lp.light;
+            r->light_p_world = g ? v3(g->pl[0][lane], g->pl[1][lane], g->pl[2][lane]) : p->lp.ls.p_light;
+            r->light_index = g ? g->light : p->lp.light;
         } else {
-            occluded = w->occluded[p->shadow_ray];
+            occluded = g ? g->occluded[lane] : w->occluded[p->shadow_ray];
         }
-        l_light = light_finish(&p->lp, occluded, st);
+        if (!g) {
+            l_light = light_finish(&p->lp, occluded, st);
+        } else if (!occluded) {
+            /* light_finish's value, or its guarded event and 0 */
+            if (g->nee_guarded[lane]) ++st->guarded_events;
+            else l_light = v3(g->nee[0][lane], g->nee[1][lane], g->nee[2][lane]);
+        }
     }
     vec3 l_delta = v3s(0.0f);
     for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
@@ -1209,7 +1308,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
     } else if (p->unfiltered_light) {
         rec->unfiltered = v3_add(rec->unfiltered, v3_add(ld, ld_delta));
     } else if (depth == 1 && sc->lights->has_area) {
-        if (p->light_pending && p->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
+        if (p->light_pending && !p->light_valued && p->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
         rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld_delta);
     }
     p->alive = false;
@@ -1264,13 +1363,19 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
         n += w->path_count[k];
     }
     st->rays_primary += n;
-    tracer_intersect_batch(sc->tracer, w->ray_hit, n, true, true, w->hit, w->hit_found);
+    TracerRayArrays camera_rays = {{w->cam_o[0], w->cam_o[1], w->cam_o[2]},
+                                   {w->cam_d[0], w->cam_d[1], w->cam_d[2]},
+                                   NULL, /* INFINITY */
+                                   w->cam_time01,
+                                   NULL,
+                                   0u};
+    tracer_intersect_arrays(sc->tracer, &camera_rays, n, true, true, w->hit, w->hit_found);
     bool any_alive = false;
     /* whether the first vertex samples its BSDF: the same for every path, so found once
      * (its loads through sc->lights were a part of every hit) */
     bool sampled_first = vertex_uses_bsdf_dims(sc, 1);
     for (int j = 0; j < n; ++j) {
-        wave_first_hit(sc, &w->path[j], w->ray_hit[j].d, w->hit_found[j], &w->hit[j], sampled_first, wave_out_record(out, j),
+        wave_first_hit(sc, &w->path[j], v3(w->cam_d[0][j], w->cam_d[1][j], w->cam_d[2][j]), w->hit_found[j], &w->hit[j], sampled_first, wave_out_record(out, j),
                        wave_out_radiance(out, j), st);
         any_alive |= w->path[j].alive;
     }
@@ -1299,6 +1404,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
                 wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
+        if (!(depth == 1 && sc->record_ray_geometry)) wave_triangle_occlusion(sc, w);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
         any_alive = false;

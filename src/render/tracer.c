@@ -1277,53 +1277,120 @@ static void shade_sphere_hits(const Tracer *tr, const TracerRay *r, const struct
     }
 }
 
+/* tracer_intersect_batch's rays r[0 .. m) (m <= TRACE_CHUNK), one chunk: hits[0 .. m), found[0 .. m). */
+static void intersect_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, const TracerRay *r, int m,
+                            bool shade_all, SurfaceHit *hits, bool *found)
+{
+    struct RTCRayHit rh[TRACE_CHUNK];
+    if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+        for (int p0 = 0; p0 < m; p0 += 16) {
+            struct RTCRayHit16 pk;
+            _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
+            int c = m - p0 < 16 ? m - p0 : 16;
+            packet16_fill(&pk.ray, valid, r + p0, c, tr->tracer_from_world);
+            for (int i = 0; i < 16; ++i) pk.hit.geomID[i] = pk.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect16(valid, scene, ctx, &pk);
+            for (int i = 0; i < c; ++i) { /* back to one RTCRayHit per ray for the shading below */
+                struct RTCRayHit *h = &rh[p0 + i];
+                h->ray.tfar = pk.ray.tfar[i];
+                h->hit.u = pk.hit.u[i], h->hit.v = pk.hit.v[i];
+                h->hit.primID = pk.hit.primID[i], h->hit.geomID = pk.hit.geomID[i];
+                h->hit.instID[0] = pk.hit.instID[0][i];
+            }
+        }
+    } else {
+        for (int i = 0; i < m; ++i)
+            init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
+        if (tr->batch_mode == TRACER_BATCH_STREAM)
+            rtcIntersect1M(scene, ctx, rh, (unsigned)m, sizeof rh[0]);
+        else
+            for (int i = 0; i < m; ++i) rtcIntersect1(scene, ctx, &rh[i]);
+    }
+    if (!tr->top_spheres) {
+        for (int i = 0; i < m; ++i)
+            found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
+        return;
+    }
+    /* top-level sphere hits are shaded together, the others one by one */
+    int spheres[TRACE_CHUNK], sphere_count = 0;
+    for (int i = 0; i < m; ++i) {
+        if (sphere_hit_batched(tr, &rh[i], shade_all)) spheres[sphere_count++] = i;
+        else found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
+    }
+    shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits, found);
+}
+
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
                             SurfaceHit *hits, bool *found)
 {
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
     context_init(tr, &ctx, coherent);
-    struct RTCRayHit rh[TRACE_CHUNK];
+    for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
+        intersect_chunk(tr, scene, &ctx, rays + k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, shade_all, hits + k0,
+                        found + k0);
+}
+
+/* Lane k of a as a TracerRay (tmax NULL: INFINITY). */
+static inline TracerRay lane_ray(const TracerRayArrays *a, int k)
+{
+    return (TracerRay){v3(a->o[0][k], a->o[1][k], a->o[2][k]), v3(a->d[0][k], a->d[1][k], a->d[2][k]),
+                       a->tmax ? a->tmax[k] : INFINITY, a->time01[k], a->skip_mask};
+}
+
+void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool shade_all, bool coherent,
+                             SurfaceHit *hits, bool *found)
+{
+    RTCScene scene = tr->layers[0].scene;
+    struct RTCIntersectContext ctx;
+    context_init(tr, &ctx, coherent);
+    TracerRay chunk[TRACE_CHUNK];
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
         int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
-        const TracerRay *r = rays + k0;
-        if (tr->batch_mode == TRACER_BATCH_PACKET16) {
-            for (int p0 = 0; p0 < m; p0 += 16) {
-                struct RTCRayHit16 pk;
-                _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
-                int c = m - p0 < 16 ? m - p0 : 16;
-                packet16_fill(&pk.ray, valid, r + p0, c, tr->tracer_from_world);
-                for (int i = 0; i < 16; ++i) pk.hit.geomID[i] = pk.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect16(valid, scene, &ctx, &pk);
-                for (int i = 0; i < c; ++i) { /* back to one RTCRayHit per ray for the shading below */
-                    struct RTCRayHit *h = &rh[p0 + i];
-                    h->ray.tfar = pk.ray.tfar[i];
-                    h->hit.u = pk.hit.u[i], h->hit.v = pk.hit.v[i];
-                    h->hit.primID = pk.hit.primID[i], h->hit.geomID = pk.hit.geomID[i];
-                    h->hit.instID[0] = pk.hit.instID[0][i];
-                }
-            }
-        } else {
-            for (int i = 0; i < m; ++i)
-                init_rayhit(&rh[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
-            if (tr->batch_mode == TRACER_BATCH_STREAM)
-                rtcIntersect1M(scene, &ctx, rh, (unsigned)m, sizeof rh[0]);
-            else
-                for (int i = 0; i < m; ++i) rtcIntersect1(scene, &ctx, &rh[i]);
-        }
-        if (!tr->top_spheres) {
-            for (int i = 0; i < m; ++i)
-                found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
-            continue;
-        }
-        /* top-level sphere hits are shaded together, the others one by one */
-        int spheres[TRACE_CHUNK], sphere_count = 0;
-        for (int i = 0; i < m; ++i) {
-            if (sphere_hit_batched(tr, &rh[i], shade_all)) spheres[sphere_count++] = i;
-            else found[k0 + i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[k0 + i]);
-        }
-        shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits + k0, found + k0);
+        for (int i = 0; i < m; ++i) chunk[i] = lane_ray(a, k0 + i);
+        intersect_chunk(tr, scene, &ctx, chunk, m, shade_all, hits + k0, found + k0);
     }
+}
+
+/* tracer_occluded_batch's rays r[0 .. m) (m <= TRACE_CHUNK), one chunk: answers to occluded[0 .. m). */
+static void occluded_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, const TracerRay *r, int m,
+                           bool *occluded)
+{
+    struct RTCRay ray[TRACE_CHUNK];
+    if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+        for (int p0 = 0; p0 < m; p0 += 16) {
+            struct RTCRay16 pk;
+            _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
+            int c = m - p0 < 16 ? m - p0 : 16;
+            packet16_fill(&pk, valid, r + p0, c, tr->tracer_from_world);
+            rtcOccluded16(valid, scene, ctx, &pk);
+            for (int i = 0; i < c; ++i) occluded[p0 + i] = pk.tfar[i] == -INFINITY;
+        }
+        return;
+    }
+    _Static_assert(TRACE_CHUNK < 256, "a chunk's count per octant fits a byte");
+    int key[TRACE_CHUNK];
+    uint64_t counts = 0; /* rays per octant, a byte each (no chain through memory) */
+    for (int i = 0; i < m; ++i) {
+        init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
+        key[i] = ray_octant(r[i].d);
+        counts += 1ull << (8 * key[i]);
+    }
+    if (tr->batch_mode == TRACER_BATCH_STREAM && m > 0 && counts != (uint64_t)m << (8 * key[0])) {
+        /* octants mixed: the chunk's rays to Embree by octant, the answers back in place */
+        int order[TRACE_CHUNK + 1];
+        struct RTCRay sorted[TRACE_CHUNK];
+        octant_order(key, counts, m, order);
+        for (int j = 0; j < m; ++j) sorted[j] = ray[order[j]];
+        rtcOccluded1M(scene, ctx, sorted, (unsigned)m, sizeof sorted[0]);
+        for (int j = 0; j < m; ++j) occluded[order[j]] = sorted[j].tfar == -INFINITY;
+        return;
+    }
+    if (tr->batch_mode == TRACER_BATCH_STREAM)
+        rtcOccluded1M(scene, ctx, ray, (unsigned)m, sizeof ray[0]);
+    else
+        for (int i = 0; i < m; ++i) rtcOccluded1(scene, ctx, &ray[i]);
+    for (int i = 0; i < m; ++i) occluded[i] = ray[i].tfar == -INFINITY;
 }
 
 void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded)
@@ -1331,43 +1398,29 @@ void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool 
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
     context_init(tr, &ctx, coherent);
-    struct RTCRay ray[TRACE_CHUNK];
-    for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
-        int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
-        const TracerRay *r = rays + k0;
-        if (tr->batch_mode == TRACER_BATCH_PACKET16) {
-            for (int p0 = 0; p0 < m; p0 += 16) {
-                struct RTCRay16 pk;
-                _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
-                int c = m - p0 < 16 ? m - p0 : 16;
-                packet16_fill(&pk, valid, r + p0, c, tr->tracer_from_world);
-                rtcOccluded16(valid, scene, &ctx, &pk);
-                for (int i = 0; i < c; ++i) occluded[k0 + p0 + i] = pk.tfar[i] == -INFINITY;
-            }
-            continue;
+    for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
+        occluded_chunk(tr, scene, &ctx, rays + k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, occluded + k0);
+}
+
+void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool coherent, bool *occluded)
+{
+    RTCScene scene = tr->layers[0].scene;
+    struct RTCIntersectContext ctx;
+    context_init(tr, &ctx, coherent);
+    TracerRay chunk[TRACE_CHUNK];
+    int lane[TRACE_CHUNK];
+    bool answer[TRACE_CHUNK];
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+        /* written for every lane, kept (m moves on) for the active ones: no branch on a
+         * lane's own flag */
+        chunk[m] = lane_ray(a, i);
+        lane[m] = i;
+        m += a->active[i] != 0;
+        if (m == TRACE_CHUNK || (i == n - 1 && m > 0)) {
+            occluded_chunk(tr, scene, &ctx, chunk, m, answer);
+            for (int j = 0; j < m; ++j) occluded[lane[j]] = answer[j];
+            m = 0;
         }
-        _Static_assert(TRACE_CHUNK < 256, "a chunk's count per octant fits a byte");
-        int key[TRACE_CHUNK];
-        uint64_t counts = 0; /* rays per octant, a byte each (no chain through memory) */
-        for (int i = 0; i < m; ++i) {
-            init_ray(&ray[i], r[i].o, r[i].d, r[i].tmax, r[i].time01, tr->tracer_from_world, r[i].skip_mask);
-            key[i] = ray_octant(r[i].d);
-            counts += 1ull << (8 * key[i]);
-        }
-        if (tr->batch_mode == TRACER_BATCH_STREAM && m > 0 && counts != (uint64_t)m << (8 * key[0])) {
-            /* octants mixed: the chunk's rays to Embree by octant, the answers back in place */
-            int order[TRACE_CHUNK + 1];
-            struct RTCRay sorted[TRACE_CHUNK];
-            octant_order(key, counts, m, order);
-            for (int j = 0; j < m; ++j) sorted[j] = ray[order[j]];
-            rtcOccluded1M(scene, &ctx, sorted, (unsigned)m, sizeof sorted[0]);
-            for (int j = 0; j < m; ++j) occluded[k0 + order[j]] = sorted[j].tfar == -INFINITY;
-            continue;
-        }
-        if (tr->batch_mode == TRACER_BATCH_STREAM)
-            rtcOccluded1M(scene, &ctx, ray, (unsigned)m, sizeof ray[0]);
-        else
-            for (int i = 0; i < m; ++i) rtcOccluded1(scene, &ctx, &ray[i]);
-        for (int i = 0; i < m; ++i) occluded[k0 + i] = ray[i].tfar == -INFINITY;
     }
 }

@@ -172,6 +172,24 @@ typedef struct {
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
                             SurfaceHit *hits, bool *found);
 void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded);
+
+/* Rays as arrays, lane i: origin o[.][i], unit direction d[.][i], length tmax[i] (tmax NULL:
+ * INFINITY in every lane), time01[i], every lane the same skip_mask; for occlusion, lanes with
+ * active[i] == 0 are not traced. */
+typedef struct {
+    const float *o[3], *d[3], *tmax, *time01;
+    const int *active;
+    unsigned skip_mask;
+} TracerRayArrays;
+
+/* tracer_intersect_batch for the n lanes of a (all traced: active is not read), in the
+ * lanes' order. */
+void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool shade_all, bool coherent,
+                             SurfaceHit *hits, bool *found);
+
+/* tracer_occluded_batch for the active lanes of a (n lanes), in the lanes' order: the answer
+ * of active lane i in occluded[i] (inactive lanes' entries are left as they are). */
+void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool coherent, bool *occluded);
 const char *tracer_batch_mode_name(TracerBatchMode mode);
 
 /* The nearest hit in (tnear, tfar) of the ray o + t d (geometry space, double) on sphere or
