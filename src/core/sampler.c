@@ -877,9 +877,22 @@ static __attribute__((noinline)) void grid_fill(const PixelSampler *s, SamplerGr
     g->filled[e >> 6] |= 1ull << (e & 63);
 }
 
+/* The entries of one side of m > 16 elements of a tabled grid: lattice_rho(i) = step i mod m
+ * and the rotations rot[i]. step i < m^2 <= 2^20 and m < 2^10, so a 32-bit reciprocal gives
+ * the quotient exactly (32 fraction bits >= 20 + 10; Lemire, Kaser, Kurz 2019). */
+static RUN_KERNEL void grid_lattice_entries(uint32_t m, uint32_t step, const uint32_t *restrict rot,
+                                            uint32_t *restrict entry)
+{
+    uint32_t magic = UINT32_MAX / m + 1u;
+    for (uint32_t i = 0; i < m; ++i) {
+        uint32_t x = step * i, q = (uint32_t)(((uint64_t)x * magic) >> 32);
+        entry[i] = (x - q * m) | rot[i] << 16;
+    }
+}
+
 /* Every entry of g at once (the values grid_fill gives one by one): the rotations by
- * grid_rotations, whose hashes vectorise, and the shared rho's lattice by adding its step
- * (step i mod m, one addition and a conditional subtraction per element). For a run that
+ * grid_rotations, whose hashes vectorise, and the shared rho's lattice in another
+ * vectorised loop (grid_lattice_entries). For a run that
  * reads most of the entries: entry by entry, a hash and a division each cost a sixth of a
  * render at 83 spp (a 1 x 83 grid; docs/benchmarks.md, "CPU per sample at counts that are
  * not whole rounds"). */
@@ -897,11 +910,7 @@ static void grid_fill_all(const PixelSampler *s, SamplerGridTable *g)
         else if (m <= SAMPLER_SHUFFLE_MAX)
             for (uint32_t i = 0; i < m; ++i) entry[i] = nibble(small, i) | rot[i] << 16;
         else
-            for (uint32_t i = 0, rho = 0; i < m; ++i) {
-                entry[i] = rho | rot[i] << 16;
-                rho += step;
-                rho = rho >= m ? rho - m : rho;
-            }
+            grid_lattice_entries(m, step, rot, entry);
     }
     for (uint32_t w = 0; w < (entries + 63u) / 64u; ++w) g->filled[w] = UINT64_MAX;
 }
@@ -988,14 +997,27 @@ static inline const SamplerDimTable *padded_dim(PixelSampler *s, int dim, int ki
     return t ? t : dim_seeds(s, dim, kind);
 }
 
+/* The Sobol' values of padded point j of the part (its dimension's seeds t). 1D: scrambled
+ * van der Corput, one point per stratum of width 1/n when n is a power of 2. */
+static inline float sobol_value_1d(const PixelSampler *s, const SamplerDimTable *t, uint32_t j)
+{
+    return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)t->seed);
+}
+
+static inline vec2 sobol_value_2d(const PixelSampler *s, const SamplerDimTable *t, uint32_t j)
+{
+    j += s->point_offset;
+    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
+              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+}
+
 /* A padded 1D value of the sample with index i in the current part, given its dimension's
  * padded_dim and (stratified) the request's jitter bits. */
 static inline float value_1d_padded(PixelSampler *s, const SamplerDimTable *t, uint32_t i, uint64_t bits)
 {
     uint32_t j = s->spp <= SAMPLER_SHUFFLE_MAX ? nibble(t->x, i) : padded_index(s, t, i);
     if (s->kind == SAMPLER_STRATIFIED) return stratum_value(s, j, (uint32_t)bits);
-    /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
-    return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)t->seed);
+    return sobol_value_1d(s, t, j);
 }
 
 /* The same for a padded 2D value of dimension dim. */
@@ -1015,9 +1037,7 @@ static inline vec2 value_2d_padded(PixelSampler *s, const SamplerDimTable *t, in
             return multi_jitter(s, j, t->seed, bits);
         }
     }
-    j += s->point_offset;
-    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
-              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+    return sobol_value_2d(s, t, j);
 }
 
 /* Scalar dimension dim of the current sample as a 1D value, every case. Out of line (see
@@ -1202,28 +1222,27 @@ static RUN_KERNEL bool run_padded_walk_step(uint32_t *j, int count, uint32_t n, 
  * past count are 0, inside, and take no step. */
 static RUN_KERNEL void run_padded_walk16(const uint32_t *index, int count, uint32_t n, Permute16 p, uint32_t *j)
 {
-    enum { LANES = 32, CHUNKS = SAMPLER_RUN_MAX / LANES };
+    enum { LANES = sizeof(v16u16) / sizeof(uint16_t), CHUNKS = SAMPLER_RUN_MAX / LANES };
     uint16_t x16[SAMPLER_RUN_MAX];
     int chunks = (count + LANES - 1) / LANES;
     for (int k = 0; k < chunks * LANES; ++k) x16[k] = k < count ? (uint16_t)index[k] : 0u;
-    v16u16 x[CHUNKS], outside = {0};
-    v16u16 last = {0};
+    v16u16 x[CHUNKS], last = {0}, lane = {0}, outside = {0};
     last += (uint16_t)(n - 1u); /* inside: x <= n - 1 */
+    for (int l = 0; l < LANES; ++l) lane[l] = (uint16_t)l;
     for (int c = 0; c < chunks; ++c) {
         memcpy(&x[c], x16 + c * LANES, sizeof x[c]);
-        v16u16 valid = (v16u16)(x[c] <= last); /* lanes past count (0) stay 0 */
         permute16(&x[c], p);
-        x[c] &= valid;
+        x[c] &= (v16u16)(lane < (uint16_t)(count - c * LANES)); /* lanes past count: 0, inside */
         outside |= (v16u16)(x[c] > last);
     }
     for (;;) {
-        uint64_t any[8];
+        uint64_t any[sizeof outside / sizeof(uint64_t)], some = 0;
         memcpy(any, &outside, sizeof any);
-        if (!(any[0] | any[1] | any[2] | any[3] | any[4] | any[5] | any[6] | any[7])) break;
+        for (size_t i = 0; i < sizeof any / sizeof any[0]; ++i) some |= any[i];
+        if (!some) break;
         outside ^= outside;
         for (int c = 0; c < chunks; ++c) {
-            v16u16 out = (v16u16)(x[c] > last);
-            v16u16 y = x[c];
+            v16u16 out = (v16u16)(x[c] > last), y = x[c];
             permute16(&y, p);
             x[c] = (y & out) | (x[c] & ~out);
             outside |= (v16u16)(x[c] > last);
@@ -1382,6 +1401,12 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
             for (int k = 0; k < run->count; ++k) out[k] = stratum_value(s, j[k], jx[k]);
         return;
     }
+    if (s->spp > SAMPLER_SHUFFLE_MAX) { /* Sobol': the padded indices in one walk (run_padded_indices) */
+        uint32_t j[SAMPLER_RUN_MAX];
+        run_padded_indices(s, t, run, j);
+        for (int k = 0; k < run->count; ++k) out[k] = sobol_value_1d(s, t, j[k]);
+        return;
+    }
     for (int k = 0; k < run->count; ++k)
         out[k] = value_1d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
 }
@@ -1438,6 +1463,12 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
     bool jitter = s->kind == SAMPLER_STRATIFIED;
     if (jitter && (s->grid_packed || s->grid_tabled)) {
         run_2d_multi_jitter(s, run, t, dim, out);
+        return;
+    }
+    if (!jitter && s->spp > SAMPLER_SHUFFLE_MAX) { /* Sobol': as in sampler_run_1d */
+        uint32_t j[SAMPLER_RUN_MAX];
+        run_padded_indices(s, t, run, j);
+        for (int k = 0; k < run->count; ++k) out[k] = sobol_value_2d(s, t, j[k]);
         return;
     }
     for (int k = 0; k < run->count; ++k)
