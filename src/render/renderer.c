@@ -585,8 +585,12 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     }
 
     /* The pass runs in rounds over the whole image, each taking the next slice of every
-     * pixel's sample indices: [0,64), then 64 at a time. Each round sets a pixel's sampler
-     * up and builds its per-dimension tables again, so a round should be long: a first
+     * pixel's sample indices: [0,64), then 64 at a time, and a remainder of fewer than 64
+     * with the round before it ([0,65), [0,64) [64,158)), so a round takes 64 to 127 of a
+     * pixel's samples: a round of 1 (65 spp) set every pixel's sampler up for one sample,
+     * in waves of 256 pixels (docs/benchmarks.md, "CPU per sample at counts that are not
+     * whole rounds"). Each round sets a pixel's sampler up and builds its per-dimension
+     * tables again, so a round should be long: a first
      * round of [0,4) then [4,64) (until 2026-11-28 also [4,8) [8,16) [16,32) [32,64)) cost
      * 5-9% of a 64-spp render in set-ups and in runs too short to fill the vectorised loops
      * (docs/benchmarks.md, "Issue 22, seventh round" and "ninth round"). An interrupted
