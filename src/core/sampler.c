@@ -1255,10 +1255,11 @@ static RUN_KERNEL void run_padded_walk16(const uint32_t *index, int count, uint3
 static void run_padded_indices(const PixelSampler *s, const SamplerDimTable *t, const SamplerRun *run, uint32_t *j)
 {
     uint32_t n = (uint32_t)s->spp;
-    if (s->perm_mask >= 31u && s->perm_mask <= 0xffffu) {
+    if (s->perm_mask + 1u != n && s->perm_mask >= 31u && s->perm_mask <= 0xffffu) {
         run_padded_walk16(run->index_in_block, run->count, n, permute16_of(s->perm_mask, s->perm_shift, t->x), j);
         return;
     }
+    /* a power of two: the first step is the permutation (as before the walk was vectorised) */
     run_padded_first_step(run->index_in_block, run->count, s->perm_mask, s->perm_shift, t->x, j);
     if (s->perm_mask + 1u == n) return;
     while (run_padded_walk_step(j, run->count, n, s->perm_mask, s->perm_shift, t->x)) {
