@@ -1307,6 +1307,23 @@ static inline uint32_t nibble32(uint32_t lo, uint32_t hi, uint32_t i)
     return (half >> (4u * (i & 7u))) & 15u;
 }
 
+/* The end of a run's multi-jittered point in cell (c, r) (run_packed_values,
+ * run_tabled_values): sub-column ax and sub-row ay, not yet reduced mod rows and cols, to
+ * its strata and values. Returns whether a jitter lies within rounding of a stratum edge. */
+static inline __attribute__((always_inline)) uint32_t mj_point(uint32_t c, uint32_t r, uint32_t ax, uint32_t ay,
+                                                               uint32_t rows, uint32_t cols, uint32_t jx, uint32_t jy,
+                                                               StratumScale sc, uint32_t *stratum_x, uint32_t *stratum_y,
+                                                               float *fx, float *fy)
+{
+    ax = ax >= rows ? ax - rows : ax; /* (rho(i) + o) mod m, as grid_sub_permute */
+    ay = ay >= cols ? ay - cols : ay;
+    uint32_t x = c * rows + ax, y = r * cols + ay;
+    *stratum_x = x, *stratum_y = y;
+    *fx = stratum_value_vec(x, jx, sc.scale);
+    *fy = stratum_value_vec(y, jy, sc.scale);
+    return (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
+}
+
 /* multi_jitter_packed for a run: padded indices j, jitter bits; the values go to out_xy
  * as x, y pairs (a vec2 array: two floats each, no padding), their strata to stratum_x
  * and _y. Returns whether some jitter lies within rounding of a stratum edge (those
@@ -1326,14 +1343,8 @@ static RUN_KERNEL bool run_packed_values(const uint32_t *j, const uint32_t *jitt
         uint32_t r = (j[k] * magic) >> 16, c = j[k] - r * cols;
         uint32_t ax = nibble32(sxl, sxh, r) + nibble32(crl, crh, c);
         uint32_t ay = nibble32(syl, syh, c) + nibble32(rrl, rrh, r);
-        ax = ax >= rows ? ax - rows : ax; /* (rho(i) + o) mod m, as grid_sub_permute */
-        ay = ay >= cols ? ay - cols : ay;
-        uint32_t x = c * rows + ax, y = r * cols + ay;
-        uint32_t jx = jitter_x[k], jy = jitter_y[k];
-        stratum_x[k] = x, stratum_y[k] = y;
-        fx[k] = stratum_value_vec(x, jx, sc.scale);
-        fy[k] = stratum_value_vec(y, jy, sc.scale);
-        near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
+        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &stratum_x[k], &stratum_y[k], &fx[k],
+                              &fy[k]);
     }
     for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
     return near_edge != 0;
@@ -1356,14 +1367,8 @@ static RUN_KERNEL bool run_tabled_values(const uint32_t *restrict j, const uint3
         /* signed indices: GCC gathers with 32-bit offsets only when they are signed */
         uint32_t row = entry[(int32_t)r], col = entry[(int32_t)(rows + c)];
         uint32_t ax = (row & 0xffffu) + (col >> 16), ay = (col & 0xffffu) + (row >> 16);
-        ax = ax >= rows ? ax - rows : ax;
-        ay = ay >= cols ? ay - cols : ay;
-        uint32_t x = c * rows + ax, y = r * cols + ay;
-        uint32_t jx = jitter_x[k], jy = jitter_y[k];
-        stratum_x[k] = x, stratum_y[k] = y;
-        fx[k] = stratum_value_vec(x, jx, sc.scale);
-        fy[k] = stratum_value_vec(y, jy, sc.scale);
-        near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
+        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &stratum_x[k], &stratum_y[k], &fx[k],
+                              &fy[k]);
     }
     for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
     return near_edge != 0;
