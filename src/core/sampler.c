@@ -877,6 +877,44 @@ static __attribute__((noinline)) void grid_fill(const PixelSampler *s, SamplerGr
     g->filled[e >> 6] |= 1ull << (e & 63);
 }
 
+/* The entries of one side of m > 16 elements of a tabled grid: lattice_rho(i) = step i mod m
+ * and the rotations rot[i]. step i < m^2 <= 2^20 and m < 2^10, so a 32-bit reciprocal gives
+ * the quotient exactly (32 fraction bits >= 20 + 10; Lemire, Kaser, Kurz 2019). */
+static RUN_KERNEL void grid_lattice_entries(uint32_t m, uint32_t step, const uint32_t *restrict rot,
+                                            uint32_t *restrict entry)
+{
+    uint32_t magic = UINT32_MAX / m + 1u;
+    for (uint32_t i = 0; i < m; ++i) {
+        uint32_t x = step * i, q = (uint32_t)(((uint64_t)x * magic) >> 32);
+        entry[i] = (x - q * m) | rot[i] << 16;
+    }
+}
+
+/* Every entry of g at once (the values grid_fill gives one by one): the rotations by
+ * grid_rotations, whose hashes vectorise, and the shared rho's lattice in another
+ * vectorised loop (grid_lattice_entries). For a run that
+ * reads most of the entries: entry by entry, a hash and a division each cost a sixth of a
+ * render at 83 spp (a 1 x 83 grid; docs/benchmarks.md, "CPU per sample at counts that are
+ * not whole rounds"). */
+static void grid_fill_all(const PixelSampler *s, SamplerGridTable *g)
+{
+    uint32_t rows = s->grid_rows, cols = s->grid_cols, entries = rows + cols;
+    uint32_t col_rot[SAMPLER_GRID_ENTRIES], row_rot[SAMPLER_GRID_ENTRIES];
+    grid_rotations(g->seed, rows, cols, col_rot, row_rot);
+    for (int side = 0; side < 2; ++side) {
+        uint32_t m = side == 0 ? rows : cols, step = side == 0 ? s->grid_step_x : s->grid_step_y;
+        uint64_t small = side == 0 ? g->rho_x_small : g->rho_y_small;
+        const uint32_t *rot = side == 0 ? row_rot : col_rot;
+        uint32_t *entry = g->entry + (side == 0 ? 0 : rows);
+        if (m <= 1) entry[0] = 0u | rot[0] << 16;
+        else if (m <= SAMPLER_SHUFFLE_MAX)
+            for (uint32_t i = 0; i < m; ++i) entry[i] = nibble(small, i) | rot[i] << 16;
+        else
+            grid_lattice_entries(m, step, rot, entry);
+    }
+    for (uint32_t w = 0; w < (entries + 63u) / 64u; ++w) g->filled[w] = UINT64_MAX;
+}
+
 static inline uint32_t grid_entry(const PixelSampler *s, SamplerGridTable *g, uint32_t e)
 {
     if (!(g->filled[e >> 6] >> (e & 63) & 1u)) grid_fill(s, g, e);
@@ -959,14 +997,27 @@ static inline const SamplerDimTable *padded_dim(PixelSampler *s, int dim, int ki
     return t ? t : dim_seeds(s, dim, kind);
 }
 
+/* The Sobol' values of padded point j of the part (its dimension's seeds t). 1D: scrambled
+ * van der Corput, one point per stratum of width 1/n when n is a power of 2. */
+static inline float sobol_value_1d(const PixelSampler *s, const SamplerDimTable *t, uint32_t j)
+{
+    return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)t->seed);
+}
+
+static inline vec2 sobol_value_2d(const PixelSampler *s, const SamplerDimTable *t, uint32_t j)
+{
+    j += s->point_offset;
+    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
+              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+}
+
 /* A padded 1D value of the sample with index i in the current part, given its dimension's
  * padded_dim and (stratified) the request's jitter bits. */
 static inline float value_1d_padded(PixelSampler *s, const SamplerDimTable *t, uint32_t i, uint64_t bits)
 {
     uint32_t j = s->spp <= SAMPLER_SHUFFLE_MAX ? nibble(t->x, i) : padded_index(s, t, i);
     if (s->kind == SAMPLER_STRATIFIED) return stratum_value(s, j, (uint32_t)bits);
-    /* Scrambled van der Corput: one point per stratum of width 1/n when n is a power of 2. */
-    return scrambled_to_float(sobol_dim0_reversed(j + s->point_offset), (uint32_t)t->seed);
+    return sobol_value_1d(s, t, j);
 }
 
 /* The same for a padded 2D value of dimension dim. */
@@ -986,9 +1037,7 @@ static inline vec2 value_2d_padded(PixelSampler *s, const SamplerDimTable *t, in
             return multi_jitter(s, j, t->seed, bits);
         }
     }
-    j += s->point_offset;
-    return v2(scrambled_to_float(sobol_dim0_reversed(j), (uint32_t)t->seed),
-              scrambled_to_float(sobol_dim1_reversed(j), (uint32_t)(t->seed >> 32)));
+    return sobol_value_2d(s, t, j);
 }
 
 /* Scalar dimension dim of the current sample as a 1D value, every case. Out of line (see
@@ -1104,22 +1153,117 @@ static inline bool run_fast(const PixelSampler *s, const SamplerRun *run)
     return run->one_part && s->part_key == run->part_key && s->pixel_seed == run->pixel_seed;
 }
 
+/* permute_pow2_shift on a domain of at most 2^16 elements, in 16-bit arithmetic: the low 16
+ * bits of a sum, an xor or a product depend only on the low 16 bits of the operands, and
+ * every right shift reads a value already reduced below 2^16, so this gives the same
+ * values. Vectorised, its lanes are half as wide, and a 16-bit multiply has half the
+ * latency of a 32-bit one on x86 (vpmullw against vpmulld), which bounds the walk below. */
+typedef struct {
+    uint16_t mask, k0, k1, m1, k1_8, k0_5;
+    int shift;
+} Permute16;
+
+static inline Permute16 permute16_of(uint32_t mask, int shift, uint64_t seed)
+{
+    uint32_t k0 = (uint32_t)seed, k1 = (uint32_t)(seed >> 32);
+    return (Permute16){(uint16_t)mask, (uint16_t)k0, (uint16_t)k1, (uint16_t)(0x2c9277b5u | (k0 >> 16) | 1u),
+                       (uint16_t)(k1 >> 8), (uint16_t)(k0 >> 5), shift};
+}
+
+/* 16 lanes of 16 bits (GCC vector extensions: written as vectors because GCC 12's
+ * vectoriser widens a 16-bit shift to 32-bit lanes). */
+typedef uint16_t v16u16 __attribute__((vector_size(64)));
+
+/* In place (a 32-byte vector is neither passed nor returned: the baseline ABI has no AVX). */
+static inline __attribute__((always_inline)) void permute16(v16u16 *xp, Permute16 p)
+{
+    v16u16 x = *xp;
+    x = (v16u16)((x ^ p.k0) * (uint16_t)0x79b1u) & p.mask;
+    x ^= x >> p.shift;
+    x = (v16u16)((x + p.k1) * p.m1) & p.mask;
+    x ^= x >> p.shift;
+    x = (v16u16)((x ^ p.k1_8) * (uint16_t)0xca77u) & p.mask;
+    x ^= x >> p.shift;
+    x = (v16u16)((x + p.k0_5) * (uint16_t)0xae3du) & p.mask;
+    x ^= x >> p.shift;
+    *xp = x;
+}
+
 /* The padded indices of a run past the tables (padded_index for each sample): the
- * bijection's first step for all samples in one vectorised loop, then the rare further
- * steps of the cycle walk (none when spp is a power of two) sample by sample. */
+ * bijection's first step for all samples in one vectorised loop, and when spp is not a power
+ * of two the rest of the cycle walk in passes over all of them, each stepping the samples
+ * still outside [0, n), until none is. Sample by sample, the walk's exit was a branch taken
+ * at random (about half the time at 65 spp) whose mispredictions cost a fifth of a 65-spp
+ * render. A pass's steps are independent, so it costs about one step's latency: the walk
+ * costs the run's longest walk (about 7 steps of 65 samples at 65 spp, 5 at 83), in 16-bit
+ * lanes up to 2^16 points (docs/benchmarks.md, "CPU per sample at counts that are not whole
+ * rounds"). */
 static RUN_KERNEL void run_padded_first_step(const uint32_t *index, int count, uint32_t mask, int shift, uint64_t seed,
                                              uint32_t *j)
 {
     for (int k = 0; k < count; ++k) j[k] = permute_pow2_shift(index[k], mask, shift, seed);
 }
 
+/* One pass of the walk in 32-bit lanes: lanes with j >= n take a step. Returns whether some
+ * lane is still outside. */
+static RUN_KERNEL bool run_padded_walk_step(uint32_t *j, int count, uint32_t n, uint32_t mask, int shift, uint64_t seed)
+{
+    uint32_t outside = 0;
+    for (int k = 0; k < count; ++k) {
+        uint32_t x = j[k];
+        uint32_t y = x >= n ? permute_pow2_shift(x, mask, shift, seed) : x;
+        j[k] = y;
+        outside |= (uint32_t)(y >= n);
+    }
+    return outside != 0;
+}
+
+/* The whole walk (first step included) in 16-bit lanes: n <= 2^16, index[k] < n. Lanes
+ * past count are 0, inside, and take no step. */
+static RUN_KERNEL void run_padded_walk16(const uint32_t *index, int count, uint32_t n, Permute16 p, uint32_t *j)
+{
+    enum { LANES = sizeof(v16u16) / sizeof(uint16_t), CHUNKS = SAMPLER_RUN_MAX / LANES };
+    uint16_t x16[SAMPLER_RUN_MAX];
+    int chunks = (count + LANES - 1) / LANES;
+    for (int k = 0; k < chunks * LANES; ++k) x16[k] = k < count ? (uint16_t)index[k] : 0u;
+    v16u16 x[CHUNKS], last = {0}, lane = {0}, outside = {0};
+    last += (uint16_t)(n - 1u); /* inside: x <= n - 1 */
+    for (int l = 0; l < LANES; ++l) lane[l] = (uint16_t)l;
+    for (int c = 0; c < chunks; ++c) {
+        memcpy(&x[c], x16 + c * LANES, sizeof x[c]);
+        permute16(&x[c], p);
+        x[c] &= (v16u16)(lane < (uint16_t)(count - c * LANES)); /* lanes past count: 0, inside */
+        outside |= (v16u16)(x[c] > last);
+    }
+    for (;;) {
+        uint64_t any[sizeof outside / sizeof(uint64_t)], some = 0;
+        memcpy(any, &outside, sizeof any);
+        for (size_t i = 0; i < sizeof any / sizeof any[0]; ++i) some |= any[i];
+        if (!some) break;
+        outside ^= outside;
+        for (int c = 0; c < chunks; ++c) {
+            v16u16 out = (v16u16)(x[c] > last), y = x[c];
+            permute16(&y, p);
+            x[c] = (y & out) | (x[c] & ~out);
+            outside |= (v16u16)(x[c] > last);
+        }
+    }
+    for (int c = 0; c < chunks; ++c) memcpy(x16 + c * LANES, &x[c], sizeof x[c]);
+    for (int k = 0; k < count; ++k) j[k] = x16[k];
+}
+
 static void run_padded_indices(const PixelSampler *s, const SamplerDimTable *t, const SamplerRun *run, uint32_t *j)
 {
     uint32_t n = (uint32_t)s->spp;
+    if (s->perm_mask + 1u != n && s->perm_mask >= 31u && s->perm_mask <= 0xffffu) {
+        run_padded_walk16(run->index_in_block, run->count, n, permute16_of(s->perm_mask, s->perm_shift, t->x), j);
+        return;
+    }
+    /* a power of two: the first step is the permutation (as before the walk was vectorised) */
     run_padded_first_step(run->index_in_block, run->count, s->perm_mask, s->perm_shift, t->x, j);
     if (s->perm_mask + 1u == n) return;
-    for (int k = 0; k < run->count; ++k)
-        while (j[k] >= n) j[k] = permute_pow2_shift(j[k], s->perm_mask, s->perm_shift, t->x);
+    while (run_padded_walk_step(j, run->count, n, s->perm_mask, s->perm_shift, t->x)) {
+    }
 }
 
 /* The jitter bits of dimension dim of a run's samples (key_bits), as x's low and y's high
@@ -1163,6 +1307,23 @@ static inline uint32_t nibble32(uint32_t lo, uint32_t hi, uint32_t i)
     return (half >> (4u * (i & 7u))) & 15u;
 }
 
+/* The end of a run's multi-jittered point in cell (c, r) (run_packed_values,
+ * run_tabled_values): sub-column ax and sub-row ay, not yet reduced mod rows and cols, to
+ * its strata and values. Returns whether a jitter lies within rounding of a stratum edge. */
+static inline __attribute__((always_inline)) uint32_t mj_point(uint32_t c, uint32_t r, uint32_t ax, uint32_t ay,
+                                                               uint32_t rows, uint32_t cols, uint32_t jx, uint32_t jy,
+                                                               StratumScale sc, uint32_t *stratum_x, uint32_t *stratum_y,
+                                                               float *fx, float *fy)
+{
+    ax = ax >= rows ? ax - rows : ax; /* (rho(i) + o) mod m, as grid_sub_permute */
+    ay = ay >= cols ? ay - cols : ay;
+    uint32_t x = c * rows + ax, y = r * cols + ay;
+    *stratum_x = x, *stratum_y = y;
+    *fx = stratum_value_vec(x, jx, sc.scale);
+    *fy = stratum_value_vec(y, jy, sc.scale);
+    return (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
+}
+
 /* multi_jitter_packed for a run: padded indices j, jitter bits; the values go to out_xy
  * as x, y pairs (a vec2 array: two floats each, no padding), their strata to stratum_x
  * and _y. Returns whether some jitter lies within rounding of a stratum edge (those
@@ -1182,14 +1343,32 @@ static RUN_KERNEL bool run_packed_values(const uint32_t *j, const uint32_t *jitt
         uint32_t r = (j[k] * magic) >> 16, c = j[k] - r * cols;
         uint32_t ax = nibble32(sxl, sxh, r) + nibble32(crl, crh, c);
         uint32_t ay = nibble32(syl, syh, c) + nibble32(rrl, rrh, r);
-        ax = ax >= rows ? ax - rows : ax; /* (rho(i) + o) mod m, as grid_sub_permute */
-        ay = ay >= cols ? ay - cols : ay;
-        uint32_t x = c * rows + ax, y = r * cols + ay;
-        uint32_t jx = jitter_x[k], jy = jitter_y[k];
-        stratum_x[k] = x, stratum_y[k] = y;
-        fx[k] = stratum_value_vec(x, jx, sc.scale);
-        fy[k] = stratum_value_vec(y, jy, sc.scale);
-        near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
+        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &stratum_x[k], &stratum_y[k], &fx[k],
+                              &fy[k]);
+    }
+    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
+    return near_edge != 0;
+}
+
+/* multi_jitter_tabled for a run, every entry of the table filled (grid_fill_all): the
+ * same outputs as run_packed_values. Tabled grids have rows + cols <= SAMPLER_GRID_ENTRIES,
+ * so j < n <= 2^18 and cols < 2^10, and a 32-bit reciprocal gives j / cols exactly (32
+ * fraction bits >= 18 + 10; Lemire, Kaser, Kurz 2019). */
+static RUN_KERNEL bool run_tabled_values(const uint32_t *restrict j, const uint32_t *restrict jitter_x,
+                                         const uint32_t *restrict jitter_y, int count, uint32_t rows, uint32_t cols,
+                                         const uint32_t *restrict entry, StratumScale sc, uint32_t *restrict stratum_x,
+                                         uint32_t *restrict stratum_y, float *restrict out_xy)
+{
+    uint32_t magic = UINT32_MAX / cols + 1u; /* cols >= 2 past 16 points (grid_shape: rows <= cols) */
+    uint32_t near_edge = 0;
+    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
+    for (int k = 0; k < count; ++k) {
+        uint32_t r = (uint32_t)(((uint64_t)j[k] * magic) >> 32), c = j[k] - r * cols;
+        /* signed indices: GCC gathers with 32-bit offsets only when they are signed */
+        uint32_t row = entry[(int32_t)r], col = entry[(int32_t)(rows + c)];
+        uint32_t ax = (row & 0xffffu) + (col >> 16), ay = (col & 0xffffu) + (row >> 16);
+        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &stratum_x[k], &stratum_y[k], &fx[k],
+                              &fy[k]);
     }
     for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
     return near_edge != 0;
@@ -1228,6 +1407,12 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
             for (int k = 0; k < run->count; ++k) out[k] = stratum_value(s, j[k], jx[k]);
         return;
     }
+    if (s->spp > SAMPLER_SHUFFLE_MAX) { /* Sobol': the padded indices in one walk (run_padded_indices) */
+        uint32_t j[SAMPLER_RUN_MAX];
+        run_padded_indices(s, t, run, j);
+        for (int k = 0; k < run->count; ++k) out[k] = sobol_value_1d(s, t, j[k]);
+        return;
+    }
     for (int k = 0; k < run->count; ++k)
         out[k] = value_1d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
 }
@@ -1256,8 +1441,16 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
     }
     SamplerGridTable *g = grid_table(s, t, dim);
     uint32_t entries = s->grid_rows + s->grid_cols;
-    if (2u * (uint32_t)run->count >= entries)
-        for (uint32_t e = 0; e < entries; ++e) (void)grid_entry(s, g, e);
+    if (2u * (uint32_t)run->count >= entries) {
+        grid_fill_all(s, g);
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        run_jitter_bits(run->key, run->count, dim, jx, jy);
+        if (run_tabled_values(j, jx, jy, run->count, s->grid_rows, s->grid_cols, g->entry, stratum_scale(s), sx, sy,
+                              &out[0].x))
+            for (int k = 0; k < run->count; ++k)
+                out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+        return;
+    }
     for (int k = 0; k < run->count; ++k) out[k] = multi_jitter_tabled(s, g, j[k], key_bits(run->key[k], dim));
 }
 
@@ -1276,6 +1469,12 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
     bool jitter = s->kind == SAMPLER_STRATIFIED;
     if (jitter && (s->grid_packed || s->grid_tabled)) {
         run_2d_multi_jitter(s, run, t, dim, out);
+        return;
+    }
+    if (!jitter && s->spp > SAMPLER_SHUFFLE_MAX) { /* Sobol': as in sampler_run_1d */
+        uint32_t j[SAMPLER_RUN_MAX];
+        run_padded_indices(s, t, run, j);
+        for (int k = 0; k < run->count; ++k) out[k] = sobol_value_2d(s, t, j[k]);
         return;
     }
     for (int k = 0; k < run->count; ++k)

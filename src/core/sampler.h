@@ -144,7 +144,7 @@ float sampler_1d_at(PixelSampler *s, int dim);
  * sample first + k. Drawn dimension by dimension, the work a dimension shares between
  * samples (its table or seeds, the part's constants) is looked up once per run, and the
  * samples' independent hash chains overlap instead of waiting for each other. */
-#define SAMPLER_RUN_MAX 64
+#define SAMPLER_RUN_MAX 128
 typedef struct {
     int first, count;      /* samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX) */
     bool one_part;         /* all in one part of the set: the fast path */

@@ -49,8 +49,8 @@ typedef struct {
 float integrator_fixed_time01(const IntegratorScene *sc);
 
 /* The samples of a few pixels integrated together (integrator.c, "the wave"): at most
- * WAVE_SAMPLES, every pixel's samples in one wave (a render round gives a pixel at most
- * 64). Scratch space for one thread. */
+ * WAVE_SAMPLES (a render round gives a pixel at most 127, which the renderer may split
+ * between two waves). Scratch space for one thread. */
 enum { WAVE_SAMPLES = 256 };
 typedef struct Wave Wave;
 Wave *wave_create(void); /* NULL when out of memory */

@@ -277,11 +277,27 @@ static bool cancel_requested(const PassJob *job)
     return !job->completing && job->r->opt.cancel && *job->r->opt.cancel;
 }
 
-/* A worker's wave: the pixels queued for it and their records. */
+typedef double v2df __attribute__((vector_size(2 * sizeof(double))));
+enum { SLICE_RADIANCE = 12 }; /* floats of SampleRadiance summed as one run (add_slice) */
+
+/* The sums of one frame slice of a pixel while its records come in (add_slice). */
+typedef struct {
+    v2df rad2[SLICE_RADIANCE / 2];
+    double al[3], nn[3], depth, hits;
+    int count;
+} SliceSums;
+
+/* A worker's wave: the pixels queued for it and their records. A pixel's samples of a round
+ * may be split between two waves (queue_pixel), so that every wave but a tile's last is full:
+ * the slice open at the split is then carried over to the next wave in double, unrounded,
+ * and added to the frame once, as if the pixel had stayed in one wave. */
 typedef struct {
     Wave *wave;
     WavePixel pixel[WAVE_SAMPLES];
     int pixel_count, sample_count;
+    bool last_continues; /* the last queued pixel has more samples in the next wave */
+    bool carrying;       /* carry holds the open slice of the first queued pixel */
+    SliceSums carry;
     /* their records: rad when the render keeps the radiance alone (integrator_radiance_only
      * and no sink), else rec */
     RadianceRecord rad[WAVE_SAMPLES];
@@ -296,26 +312,45 @@ typedef struct {
  * `begin`: */
 static int frame_slice_end(int begin) { return begin == 0 ? 4 : (begin < 64 ? 2 * begin : begin + 64); }
 
+/* The start of the slice that holds sample index i (i >= 0). */
+static int frame_slice_begin(int i)
+{
+    if (i < 4) return 0;
+    if (i >= 64) return i - i % 64;
+    int b = 4;
+    while (2 * b <= i) b *= 2;
+    return b;
+}
+
 /* SampleRadiance's L, emission, direct and indirect follow each other without padding:
  * add_slice sums them as one run of 12 floats. */
 _Static_assert(sizeof(SampleRadiance) == 4 * sizeof(vec3) && sizeof(vec3) == 3 * sizeof(float),
                "L, emission, direct, indirect are one run of 12 floats");
-enum { SLICE_RADIANCE = 12 };
 typedef float v2sf __attribute__((vector_size(2 * sizeof(float))));
-typedef double v2df __attribute__((vector_size(2 * sizeof(double))));
 
-/* Adds records rec[0 .. count) of pixel (px, py), one frame slice, to the frame (their sums
- * in sample order) and hands them to the sink in that order; or, with rec NULL, the records
- * of the radiance alone rad[0 .. count) (no sink, no guides: integrator_radiance_only).
- * Inlined into flush_wave with one of them NULL. */
+/* Adds records rec[0 .. count) of pixel (px, py), one frame slice or a part of one, to the
+ * slice's sums carry_in (NULL: the slice starts here), in sample order, and hands them to the
+ * sink in that order; or, with rec NULL, the records of the radiance alone rad[0 .. count)
+ * (no sink, no guides: integrator_radiance_only). Then adds the sums to the frame, or, with
+ * carry_out (the slice goes on in the next wave), leaves them there. Inlined into flush_wave
+ * with one of rec and rad NULL. */
 static inline __attribute__((always_inline)) void add_slice(PassJob *job, int px, int py, SampleRecord *rec,
-                                                            RadianceRecord *rad, int count)
+                                                            RadianceRecord *rad, int count, const SliceSums *carry_in,
+                                                            SliceSums *carry_out)
 {
     /* Radiance sums, per component in sample order as before (the same doubles): the run
      * L, emission, direct, indirect of each record, converted and added two components at
      * a time (GCC vector extensions: six cvtps2pd and addpd instead of twelve scalar pairs) */
     v2df rad2[SLICE_RADIANCE / 2] = {{0}};
     double al[3] = {0}, nn[3] = {0}, depth = 0.0, hits = 0.0;
+    int slice_count = count;
+    if (carry_in) {
+        memcpy(rad2, carry_in->rad2, sizeof rad2);
+        memcpy(al, carry_in->al, sizeof al);
+        memcpy(nn, carry_in->nn, sizeof nn);
+        depth = carry_in->depth, hits = carry_in->hits;
+        slice_count += carry_in->count;
+    }
     for (int i = 0; i < count; ++i) {
         const SampleRadiance *R;
         if (rec) {
@@ -340,6 +375,14 @@ static inline __attribute__((always_inline)) void add_slice(PassJob *job, int px
         }
         if (job->sink && job->sink->add) job->sink->add(job->sink->ctx, px, py, r);
     }
+    if (carry_out) {
+        memcpy(carry_out->rad2, rad2, sizeof rad2);
+        memcpy(carry_out->al, al, sizeof al);
+        memcpy(carry_out->nn, nn, sizeof nn);
+        carry_out->depth = depth, carry_out->hits = hits;
+        carry_out->count = slice_count;
+        return;
+    }
     Frame *f = job->frame;
     size_t i1 = (size_t)py * (size_t)f->width + (size_t)px, i3 = 3 * i1;
     double sums[SLICE_RADIANCE];
@@ -359,7 +402,7 @@ static inline __attribute__((always_inline)) void add_slice(PassJob *job, int px
         f->depth[i1] += (float)depth;
         f->hits[i1] += (float)hits;
     }
-    f->spp[i1] += (float)count;
+    f->spp[i1] += (float)slice_count;
 }
 
 /* Integrates the queued pixels and adds their samples to the frame, slice by slice
@@ -375,34 +418,49 @@ static long long flush_wave(PassJob *job, WaveQueue *q, IntegratorStats *st)
     int n = radiance_only ? integrate_wave_radiance(&r->isc, q->wave, &ws, q->pixel, q->pixel_count, q->rad, st)
                           : integrate_wave(&r->isc, q->wave, &ws, q->pixel, q->pixel_count, q->rec, st);
     int done = 0;
+    bool carried = q->carrying;
+    q->carrying = false;
     for (int k = 0; k < q->pixel_count; ++k) {
         const WavePixel *wp = &q->pixel[k];
+        bool continues = k == q->pixel_count - 1 && q->last_continues;
         /* the pass's sample indices of this pixel's records: [s, end) */
         for (int s = wp->index_first - wp->spp_before, end = s + wp->count; s < end;) {
-            int e = frame_slice_end(s) < end ? frame_slice_end(s) : end;
-            if (radiance_only) add_slice(job, wp->px, wp->py, NULL, q->rad + done, e - s);
-            else add_slice(job, wp->px, wp->py, q->rec + done, NULL, e - s);
+            int slice = frame_slice_begin(s), slice_end = frame_slice_end(slice);
+            int e = slice_end < end ? slice_end : end;
+            /* the open slice of a pixel split between waves: continued from the last wave
+             * (the first pixel, starting inside a slice), or carried over to the next */
+            const SliceSums *in = carried && k == 0 && s != slice ? &q->carry : NULL;
+            SliceSums *out = continues && e == end && e < slice_end ? &q->carry : NULL;
+            if (radiance_only) add_slice(job, wp->px, wp->py, NULL, q->rad + done, e - s, in, out);
+            else add_slice(job, wp->px, wp->py, q->rec + done, NULL, e - s, in, out);
+            if (out) q->carrying = true;
             done += e - s;
             s = e;
         }
     }
     q->pixel_count = q->sample_count = 0;
+    q->last_continues = false;
     return n;
 }
 
 /* Queues the samples of this round of a pixel that has spp samples in the pass (the
  * sampler set covers all spp, after spp_before earlier ones when it continues them: a
- * round takes a slice), integrating the queue first when they would not fit. Returns the
- * samples integrated by that flush. */
+ * round takes a slice): as many as the wave has room for, and when that is not all, the
+ * rest in the next wave, after integrating this one. Returns the samples integrated by
+ * that flush. */
 static long long queue_pixel(PassJob *job, WaveQueue *q, int px, int py, int spp, IntegratorStats *st)
 {
     int first = job->sample_begin, last = job->sample_end < spp ? job->sample_end : spp;
-    if (first >= last) return 0;
     long long done = 0;
-    if (q->sample_count + (last - first) > WAVE_SAMPLES) done = flush_wave(job, q, st);
     int before = job->spp_before;
-    q->pixel[q->pixel_count++] = (WavePixel){px, py, before, before + spp, before + first, last - first};
-    q->sample_count += last - first;
+    while (first < last) {
+        if (q->sample_count == WAVE_SAMPLES) done += flush_wave(job, q, st);
+        int room = WAVE_SAMPLES - q->sample_count, take = last - first < room ? last - first : room;
+        q->pixel[q->pixel_count++] = (WavePixel){px, py, before, before + spp, before + first, take};
+        q->sample_count += take;
+        q->last_continues = take < last - first;
+        first += take;
+    }
     return done;
 }
 
@@ -422,6 +480,7 @@ static void *pass_worker(void *arg)
     }
     q->wave = wave;
     q->pixel_count = q->sample_count = 0;
+    q->last_continues = q->carrying = false;
     for (;;) {
         if (cancel_requested(job)) {
             __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
@@ -471,7 +530,7 @@ static void *pass_worker(void *arg)
  * threads (or done here when no thread starts), progress reported while they run. */
 static void run_round(PassJob *job, int begin, int end, pthread_t *tid, int n, long long total, double t0)
 {
-    _Static_assert(WAVE_SAMPLES >= 64, "a pixel's slice of a round (at most 64 samples) fits in one wave");
+    _Static_assert(WAVE_SAMPLES >= 127, "a pixel's slice of a round (at most 127 samples) fits in one wave");
     const Renderer *r = job->r;
     job->sample_begin = begin;
     job->sample_end = end;
@@ -526,8 +585,12 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     }
 
     /* The pass runs in rounds over the whole image, each taking the next slice of every
-     * pixel's sample indices: [0,64), then 64 at a time. Each round sets a pixel's sampler
-     * up and builds its per-dimension tables again, so a round should be long: a first
+     * pixel's sample indices: [0,64), then 64 at a time, and a remainder of fewer than 64
+     * with the round before it ([0,65), [0,64) [64,158)), so a round takes 64 to 127 of a
+     * pixel's samples: a round of 1 (65 spp) set every pixel's sampler up for one sample,
+     * in waves of 256 pixels (docs/benchmarks.md, "CPU per sample at counts that are not
+     * whole rounds"). Each round sets a pixel's sampler up and builds its per-dimension
+     * tables again, so a round should be long: a first
      * round of [0,4) then [4,64) (until 2026-11-28 also [4,8) [8,16) [16,32) [32,64)) cost
      * 5-9% of a 64-spp render in set-ups and in runs too short to fill the vectorised loops
      * (docs/benchmarks.md, "Issue 22, seventh round" and "ninth round"). An interrupted
@@ -545,6 +608,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     if (spp_max > 4) job.tile_rows_done = calloc((size_t)job.tile_count, sizeof *job.tile_rows_done);
     for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
         end = begin == 0 ? (job.tile_rows_done ? 64 : 4) : (begin < 64 ? 64 : begin + 64);
+        if (end >= 64 && spp_max - end < 64) end = spp_max; /* a short remainder joins this round */
         run_round(&job, begin, end, tid, n, total, t0);
         if (begin == 0 && job.cancelled && job.tile_rows_done) {
             job.completing = true; /* [0,4) where the cancelled first round did not reach */

@@ -7,7 +7,8 @@
  *   render_pass_more(r, 0, 16, per_pixel_more, &f, &sink);     // or: continue pass 0's 16
  *
  * Each pixel's sampler is seeded from (seed, pixel, pass). A pass runs in rounds, each
- * taking the next slice of every pixel's sample indices ([0,64) [64,128) ...; a pass
+ * taking the next slice of every pixel's sample indices ([0,64) [64,128) ..., a remainder
+ * of fewer than 64 joined to the round before it: [0,65), [0,64) [64,158); a pass
  * cancelled in its first round then gives the pixels it did not reach samples [0,4)), so
  * an interrupted pass leaves a complete image; the rounds depend only on the sample counts and
  * a pixel's samples of a round are summed by one thread in order (in the frame's fixed

@@ -102,14 +102,20 @@ int main(void)
     CHECK(compare_pixels(256, 4096) == 0);
     CHECK(compare_pixels(100, 4096) == 0);
     CHECK(compare_pixels(418, 1024) == 0);
+    /* rounds of 64-127 samples (renderer.c): the cycle walk in 16-bit lanes at its longest
+     * (65: half the domain outside), and grids past 16 x 16 whose runs fill the whole table
+     * (83 = 1 x 83, 158 = 2 x 79: run_tabled_values) */
+    CHECK(compare_pixels(65, 1024) == 0);
+    CHECK(compare_pixels(83, 1024) == 0);
+    CHECK(compare_pixels(158, 1024) == 0);
 
     static const SamplerKind kinds[] = {SAMPLER_STRATIFIED, SAMPLER_SOBOL};
     for (int kk = 0; kk < 2; ++kk) {
         SamplerKind kind = kinds[kk];
         /* one set: tables (4, 9, 16), untabled grids packed (64, 100, 256), grids with a side
          * past 16 in the lazily filled grid tables (17, 37, 289, 300, 1000) and past them
-         * (2062 = 2 x 1031) */
-        static const int spps[] = {1, 4, 9, 16, 17, 37, 64, 100, 256, 289, 300, 1000, 2062};
+         * (2062 = 2 x 1031); 70001: a padding domain past 2^16 (the walk in 32-bit lanes) */
+        static const int spps[] = {1, 4, 9, 16, 17, 37, 64, 65, 83, 100, 256, 289, 300, 1000, 2062, 70001};
         for (size_t i = 0; i < sizeof spps / sizeof spps[0]; ++i) {
             int spp = spps[i];
             int first = spp > 8 ? spp / 3 : 0, count = spp - first < SAMPLER_RUN_MAX ? spp - first : SAMPLER_RUN_MAX;
