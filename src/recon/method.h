@@ -75,8 +75,13 @@ typedef struct {
     /* Optional: the part of sample_fields the given effects read (the store keeps only the
      * frame's); NULL: all of sample_fields whatever the effects. */
     unsigned (*sample_fields_for)(EffectMask effects);
-    EffectMask ray_geometry;    /* pass 1 records SampleRecord's shadow/bounce ray geometry when
-                                 * the method filters one of these effects */
+    /* Pass 1 records SampleRecord's ray geometry when the method filters one of these
+     * effects: shadow_geometry, the shadow rays (light point, d_light, d_occluder; closest-hit
+     * instead of any-hit traces); bounce_geometry, the first hit's bounce ray too (d_hit, its
+     * direction; every such ray traced, without the emitter-box test of a maxdepth-1 frame's
+     * last rays). A method must declare what it reads: undeclared entries stay empty. */
+    EffectMask shadow_geometry;
+    EffectMask bounce_geometry;
 
     /* Samples per pixel of pass 1 (adaptive) or of the whole frame (fixed), for these effects. */
     int (*pass1_spp)(EffectMask effects);

@@ -367,14 +367,32 @@ static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
         if (p->slots[s].cls->add_sample) p->slots[s].cls->add_sample(p->slots[s].m, px, py, rec);
 }
 
-static void begin_pass(ReconPipeline *p, int pass, bool ray_geometry)
+/* The ray geometry pass 1 records: what the frame's methods declared they read for the
+ * effects they filter (ReconMethodClass.shadow_geometry, .bounce_geometry). */
+typedef struct {
+    bool shadow, bounce;
+} RayGeometry;
+static const RayGeometry NO_RAY_GEOMETRY = {false, false};
+
+static RayGeometry frame_ray_geometry(const ReconPipeline *p)
+{
+    RayGeometry g = NO_RAY_GEOMETRY;
+    for (int s = 0; s < p->slot_count; ++s) {
+        g.shadow = g.shadow || (p->slots[s].cls->shadow_geometry & p->slots[s].effects);
+        g.bounce = g.bounce || (p->slots[s].cls->bounce_geometry & p->slots[s].effects);
+    }
+    return g;
+}
+
+static void begin_pass(ReconPipeline *p, int pass, RayGeometry geometry)
 {
     p->traced++; /* the time between passes is no tile's */
     for (int s = 0; s < p->slot_count; ++s)
         if (p->slots[s].cls->begin_pass) p->slots[s].cls->begin_pass(p->slots[s].m, pass);
     /* ray geometry only when a method reads it: otherwise shadow rays stay any-hit
      * occlusion queries, cheaper than closest-hit traces */
-    renderer_set_record_ray_geometry(p->r, ray_geometry);
+    renderer_set_record_ray_geometry(p->r, geometry.shadow || geometry.bounce);
+    renderer_set_record_bounce_geometry(p->r, geometry.bounce);
 }
 
 /* Whether the scene has an `infinite` light that emits (constant, or an image's mean). */
@@ -791,8 +809,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
     if (!setup_filtered(p, d)) return false;
     dist_mark(p, "setup");
     SampleSink sink = {fan_out, p};
-    bool geometry = false;
-    for (int s = 0; s < p->slot_count; ++s) geometry = geometry || (p->slots[s].cls->ray_geometry & p->slots[s].effects);
+    RayGeometry geometry = frame_ray_geometry(p);
 
     /* The device opens on rank 0 while pass 1 traces: a fixed-count frame (LR) has no pass 2
      * to hide its 50-150 ms behind, and it needs nothing pass 1 computes. With several ranks
@@ -856,7 +873,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
             /* plans come from pass 1; pass 2 only refines the guides, without ray geometry,
              * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
-            begin_pass(p, 1, false);
+            begin_pass(p, 1, NO_RAY_GEOMETRY);
             t = wall_seconds();
             rank0_tracing(p, true);
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
@@ -956,7 +973,7 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
         return false;
     p->res.mu = mu;
     SampleSink sink = {fan_out, p};
-    begin_pass(p, p->pass, false);
+    begin_pass(p, p->pass, NO_RAY_GEOMETRY);
     double t = wall_seconds();
     rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);

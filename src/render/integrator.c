@@ -690,14 +690,15 @@ WAVE_STAGE void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveS
     wave_vertex_dims(sc, w, j0, 1);
 }
 
-/* Without infinite lights, and unless the filters record where it ends, a path's last ray
+/* Without infinite lights, and unless the filters record where it ends (the bounce
+ * geometry: record_ray_geometry alone records only the shadow rays), a path's last ray
  * that misses the emitters' box finds no emission: its estimate is 0 without tracing it,
  * exactly as wave_vertex_fold computes it for a miss (light_bounds.c). Whether the stage at
  * `depth` asks that of its closest-hit rays (all of them are then last rays): */
 static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
 {
-    return depth == sc->max_depth && sc->lights->infinite_count == 0 && !(depth == 1 && sc->record_ray_geometry) &&
-           sc->lights->emitters_bounded;
+    return depth == sc->max_depth && sc->lights->infinite_count == 0 &&
+           !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry) && sc->lights->emitters_bounded;
 }
 
 /* What the camera ray found: emission seen directly, the first hit's record fields (rec:
@@ -1319,7 +1320,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
     bool hit = w->hit_found[p->hit_slot];
     const SurfaceHit *nh = hit ? &w->hit[p->hit_slot] : NULL;
     vec3 wi = p->vs.wi;
-    if (depth == 1 && sc->record_ray_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
+    if (depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry && rec->bounce_count < SAMPLE_RECORD_MAX_BOUNCE) {
         BounceRayRecord *b = &rec->bounce[rec->bounce_count++];
         b->d_hit_world = hit ? nh->t : INFINITY;
         b->dir_world = wi;

@@ -27,6 +27,9 @@ typedef struct {
     float shutter_open, shutter_close;       /* scene time */
     float xform_time_start, xform_time_end;  /* TransformTimes: scene times of the two poses */
     bool record_ray_geometry;  /* fill SampleRecord shadow/bounce arrays */
+    bool record_bounce_geometry; /* with record_ray_geometry: the bounce array too. Off, the
+                                * first hit's last BSDF rays keep the emitter-box test (a
+                                * maxdepth-1 frame whose filters read only the shadow rays) */
     bool record_motion;        /* fill SampleRecord.motion_px (LR, the blur probe; two camera
                                 * projections and a matrix inverse per moving first hit) */
     bool skip_first_hit_fields; /* leave SampleRecord's first-hit fields (albedo .. object_id),

@@ -94,7 +94,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->xform_time_start = scene->transform_start_time;
     isc->xform_time_end = scene->transform_end_time;
     if (!(isc->xform_time_end > isc->xform_time_start)) isc->xform_time_start = 0.0f, isc->xform_time_end = 1.0f;
-    isc->record_ray_geometry = opt->record_ray_geometry;
+    isc->record_ray_geometry = isc->record_bounce_geometry = opt->record_ray_geometry;
     isc->record_motion = opt->record_motion;
     isc->skip_first_hit_fields = !render_reads_first_hit(opt->reads);
     isc->time01_fixed = integrator_fixed_time01(isc);
@@ -171,7 +171,8 @@ bool renderer_set_overscan(Renderer *r, int margin_px, Diag *err)
     return true;
 }
 
-void renderer_set_record_ray_geometry(Renderer *r, bool on) { r->isc.record_ray_geometry = on; }
+void renderer_set_record_ray_geometry(Renderer *r, bool on) { r->isc.record_ray_geometry = r->isc.record_bounce_geometry = on; }
+void renderer_set_record_bounce_geometry(Renderer *r, bool on) { r->isc.record_bounce_geometry = on; }
 void renderer_set_record_motion(Renderer *r, bool on) { r->isc.record_motion = on; }
 void renderer_set_reads(Renderer *r, unsigned reads)
 {

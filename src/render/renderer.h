@@ -112,6 +112,10 @@ bool renderer_light_info(const Renderer *r, int light, RenderLightInfo *info);
  * following passes (initially RenderOptions.record_ray_geometry). A filter that needs the
  * geometry only in its first pass can turn it off for the second. Not during a pass. */
 void renderer_set_record_ray_geometry(Renderer *r, bool on);
+/* With the ray geometry on, whether its bounce array is filled too (on after the call
+ * above). Off, only the shadow rays are recorded, and the first hit's last BSDF rays that
+ * cannot reach an emitter are not traced (a maxdepth-1 frame: the emitter-box test). */
+void renderer_set_record_bounce_geometry(Renderer *r, bool on);
 /* The same for SampleRecord.motion_px (initially RenderOptions.record_motion). */
 void renderer_set_record_motion(Renderer *r, bool on);
 /* The users' declaration of what they read of the following passes (render_reads.h; initially

@@ -13,6 +13,10 @@
  *    only when the box test keeps it (wave_emitter_box_test), so the black object's dropped
  *    rays count as skipped, while the records' run, which weighs every ray, traces none of
  *    its rays (no throughput); with an infinite light none is skipped.
+ *  - Shadow geometry without bounce geometry (what a maxdepth-1 filtered frame records):
+ *    the box test still runs, the values and ray counts are a plain render's, the shadow
+ *    rays are recorded and no bounce ray is; with the bounce geometry, every last ray is
+ *    traced and recorded.
  *  - The batched test (lights_rays_may_reach_emitter, one vectorised loop) answers as the
  *    test per ray on every ray: random ones, and the edge cases of the slab test (direction
  *    components of +-0, origins on the box's faces, a zero direction, NaN and infinite
@@ -172,6 +176,79 @@ static void test_skipped_rays_change_nothing(const char *extra, bool expect_skip
     for (int k = 0; k < 2; ++k) test_render_free(&t[k]);
 }
 
+/* Counts the records that carry shadow and bounce ray geometry. */
+typedef struct {
+    long long shadow, bounce;
+} GeometryCount;
+
+static void count_geometry(void *ctx, int px, int py, const SampleRecord *r)
+{
+    (void)px, (void)py;
+    GeometryCount *c = ctx;
+    __atomic_add_fetch(&c->shadow, r->shadow_count > 0, __ATOMIC_RELAXED);
+    __atomic_add_fetch(&c->bounce, r->bounce_count > 0, __ATOMIC_RELAXED);
+}
+
+/* The shadow geometry alone (renderer_set_record_bounce_geometry off: a maxdepth-1 frame
+ * whose filters read only the shadow rays) keeps the box test: the same values, the same
+ * traced and skipped last rays and the same shadow rays as a render without records, with
+ * every area-light shadow ray recorded and no bounce ray; with the bounce geometry on, no
+ * last ray is skipped and the bounce rays are recorded. */
+static void test_shadow_geometry_keeps_box_test(void)
+{
+    char text[4096];
+    snprintf(text, sizeof text, LIT, "");
+    RenderOptions o = {0};
+    o.width = 24, o.height = 18, o.threads = 2, o.seed = 5, o.spp = 16;
+    TestRender plain;
+    bool ok = test_render(text, &o, &plain);
+    CHECK(ok);
+    if (!ok) return;
+    o.record_ray_geometry = true;
+    for (int bounce = 0; bounce < 2; ++bounce) {
+        SceneDesc scene;
+        Renderer *r = NULL;
+        Frame f;
+        Diag err = {0};
+        bool made = scene_parse_string(text, strlen(text), "<test>", NULL, &scene, &err);
+        CHECK(made);
+        if (!made) break;
+        scene_analyze_effects(&scene);
+        made = renderer_create(&scene, &o, &r, &err) && frame_init(&f, renderer_width(r), renderer_height(r));
+        CHECK(made);
+        if (!made) {
+            renderer_destroy(r);
+            scene_desc_free(&scene);
+            break;
+        }
+        renderer_set_record_bounce_geometry(r, bounce);
+        GeometryCount c = {0, 0};
+        SampleSink sink = {count_geometry, &c};
+        render_pass(r, 0, NULL, renderer_spp(r), &f, &sink);
+        RenderStats st = renderer_stats(r);
+        size_t n = (size_t)o.width * (size_t)o.height;
+        int bad = 0;
+        for (size_t i = 0; i < 3 * n; ++i) bad += memcmp(&plain.frame.color[i], &f.color[i], sizeof(float)) != 0;
+        printf("bounce geometry %s: %d values differ, traced %lld skipped %lld last rays (plain: %lld %lld), "
+               "records with shadow %lld bounce %lld\n",
+               bounce ? "on" : "off", bad, st.rays_bsdf, st.rays_bsdf_skipped, plain.stats.rays_bsdf,
+               plain.stats.rays_bsdf_skipped, c.shadow, c.bounce);
+        CHECK(bad == 0);
+        CHECK(st.rays_shadow == plain.stats.rays_shadow && c.shadow > 0);
+        if (bounce) {
+            CHECK(st.rays_bsdf_skipped == 0 && st.rays_bsdf == plain.stats.rays_bsdf + plain.stats.rays_bsdf_skipped);
+            CHECK(c.bounce > 0);
+        } else {
+            CHECK(st.rays_bsdf == plain.stats.rays_bsdf && st.rays_bsdf_skipped == plain.stats.rays_bsdf_skipped);
+            CHECK(st.rays_bsdf_skipped > st.rays_bsdf && c.bounce == 0);
+        }
+        frame_free(&f);
+        renderer_destroy(r);
+        scene_desc_free(&scene);
+    }
+    test_render_free(&plain);
+}
+
 /* The slab test written out independently, one ray at a time (the oracle of the batched one,
  * which lights_ray_may_reach_emitter also calls): t in [0, inf), NaNs passed over. */
 static bool slab_test_reference(vec3 lo, vec3 hi, vec3 o, vec3 d)
@@ -246,5 +323,6 @@ int main(void)
                                      "  Translate 0 0.4 -1.2 Shape \"sphere\" \"float radius\" [ 0.4 ] AttributeEnd\n",
                                      true, true);
     test_skipped_rays_change_nothing("LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n", false, false);
+    test_shadow_geometry_keeps_box_test();
     CHECK_DONE();
 }

@@ -339,7 +339,8 @@ const ReconMethodClass recon_method_aaf = {
     .sample_fields = 0,
     /* defocus needs only each sample's depth: without shadows or indirect light the shadow
      * rays stay occlusion queries */
-    .ray_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT),
+    .shadow_geometry = EFFECT_BIT(EFFECT_SOFT_SHADOWS), /* occluder distances (shadow parameters) */
+    .bounce_geometry = EFFECT_BIT(EFFECT_INDIRECT),     /* reflector distances (indirect parameters) */
     .pass1_spp = aaf_pass1_spp,
     .create = aaf_create,
     .begin_pass = aaf_begin_pass,

@@ -392,7 +392,8 @@ const ReconMethodClass recon_method_lr = {
     .adaptive = false,
     .sample_fields = SAMPLE_FIELD_FILM | SAMPLE_FIELD_LENS | SAMPLE_FIELD_TIME | SAMPLE_FIELD_DEPTH |
                      SAMPLE_FIELD_RADIANCE | SAMPLE_FIELD_MOTION | SAMPLE_FIELD_SHADING,
-    .ray_geometry = 0,
+    .shadow_geometry = 0,
+    .bounce_geometry = 0,
     .pass1_spp = lr_pass1_spp,
     .create = lr_create,
     .open_device = lr_open_device,

@@ -1,0 +1,81 @@
+/* The ray geometry a filtered frame records is what its methods declared they read
+ * (ReconMethodClass.shadow_geometry, .bounce_geometry; pipeline.c frame_ray_geometry).
+ *  - A maxdepth-1 frame has no indirect light, so AAF, MAAF and FSF read no bounce geometry
+ *    and pass 1 records only the shadow rays: the first hit's last BSDF rays keep the
+ *    emitter-box test in every pass. The share of last rays the filtered frame traces is
+ *    then a plain render's (the same box, the same kind of rays), not pass 1's every ray:
+ *    on this scene plain Monte Carlo traces about 4% of them, and a frame whose pass 1
+ *    traced all of them would trace at least pass 1's share of the frame's samples.
+ *  - With indirect light (maxdepth 2) the methods read the bounce rays: the box test runs
+ *    only at the last vertex (depth 2), and the frame's last rays are not all skipped.
+ * Small images, so that the test stays fast under the sanitizers. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "recon_test_util.h"
+#include "recon/pipeline.h"
+#include "render/renderer.h"
+#include "scene/scene_desc.h"
+
+/* The share of the frame's last rays traced (the rest skipped by the box test), and the
+ * frame's pass-1 share of its samples (-1 on failure). */
+static double traced_share(const char *text, const char *filter, double *pass1_share)
+{
+    SceneDesc scene;
+    Renderer *r;
+    *pass1_share = 0.0;
+    if (!recon_test_renderer(text, 3, 0, false, &scene, &r)) return -1.0;
+    ReconOptions o;
+    memset(&o, 0, sizeof o);
+    o.filter = filter;
+    ReconPipeline *p = NULL;
+    Diag d = {0};
+    double share = -1.0;
+    if (recon_pipeline_create(r, &o, &p, &d) && recon_pipeline_render(p, &d)) {
+        const ReconResult *res = recon_pipeline_result(p);
+        RenderStats st = renderer_stats(r);
+        long long last = st.rays_bsdf + st.rays_bsdf_skipped;
+        share = last > 0 ? (double)st.rays_bsdf / (double)last : -1.0;
+        *pass1_share = res->spp_avg > 0.0 ? res->pass1_spp / res->spp_avg : 0.0;
+        printf("%-5s traced %lld of %lld last rays (%.3f), pass 1 %d of %.1f spp\n", filter, st.rays_bsdf, last, share,
+               res->pass1_spp, res->spp_avg);
+    } else {
+        fprintf(stderr, "%s\n", d.message);
+    }
+    recon_pipeline_destroy(p);
+    renderer_destroy(r);
+    scene_desc_free(&scene);
+    return share;
+}
+
+int main(void)
+{
+    double pass1;
+    double plain = traced_share(SHADOW_SCENE, "none", &pass1);
+    CHECK(plain > 0.0 && plain < 0.1);
+    const char *methods[] = {"aaf", "maaf", "fsf"};
+    for (int m = 0; m < 3; ++m) {
+        double share = traced_share(SHADOW_SCENE, methods[m], &pass1);
+        CHECK(share > 0.0);
+        /* the same box test in every pass: the plain share up to the sampling noise (the
+         * frames' samples differ), far below pass 1's share of the samples */
+        CHECK(share < 1.5 * plain && share > plain / 1.5);
+        CHECK(pass1 > 3.0 * plain);
+    }
+
+    /* one bounce: the bounce geometry is read, the first hit's bounce rays are traced
+     * (they carry the paths on) and only the second vertex's last rays are tested */
+    size_t len = strlen(SHADOW_SCENE);
+    char *gi = malloc(len + 1);
+    CHECK(gi != NULL);
+    if (gi) {
+        memcpy(gi, SHADOW_SCENE, len + 1);
+        char *depth = strstr(gi, "\"integer maxdepth\" [ 1 ]");
+        CHECK(depth != NULL);
+        if (depth) depth[strlen("\"integer maxdepth\" [ ")] = '2';
+        for (int m = 0; depth && m < 3; ++m) CHECK(traced_share(gi, methods[m], &pass1) > 0.0);
+        free(gi);
+    }
+    CHECK_DONE();
+}
