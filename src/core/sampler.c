@@ -1170,21 +1170,21 @@ static inline Permute16 permute16_of(uint32_t mask, int shift, uint64_t seed)
                        (uint16_t)(k1 >> 8), (uint16_t)(k0 >> 5), shift};
 }
 
-/* 16 lanes of 16 bits (GCC vector extensions: written as vectors because GCC 12's
+/* 32 lanes of 16 bits, 64 bytes (GCC vector extensions: written as vectors because GCC 12's
  * vectoriser widens a 16-bit shift to 32-bit lanes). */
-typedef uint16_t v16u16 __attribute__((vector_size(64)));
+typedef uint16_t v32u16 __attribute__((vector_size(64)));
 
-/* In place (a 32-byte vector is neither passed nor returned: the baseline ABI has no AVX). */
-static inline __attribute__((always_inline)) void permute16(v16u16 *xp, Permute16 p)
+/* In place (a 64-byte vector is neither passed nor returned: the baseline ABI has no AVX-512). */
+static inline __attribute__((always_inline)) void permute16(v32u16 *xp, Permute16 p)
 {
-    v16u16 x = *xp;
-    x = (v16u16)((x ^ p.k0) * (uint16_t)0x79b1u) & p.mask;
+    v32u16 x = *xp;
+    x = (v32u16)((x ^ p.k0) * (uint16_t)0x79b1u) & p.mask;
     x ^= x >> p.shift;
-    x = (v16u16)((x + p.k1) * p.m1) & p.mask;
+    x = (v32u16)((x + p.k1) * p.m1) & p.mask;
     x ^= x >> p.shift;
-    x = (v16u16)((x ^ p.k1_8) * (uint16_t)0xca77u) & p.mask;
+    x = (v32u16)((x ^ p.k1_8) * (uint16_t)0xca77u) & p.mask;
     x ^= x >> p.shift;
-    x = (v16u16)((x + p.k0_5) * (uint16_t)0xae3du) & p.mask;
+    x = (v32u16)((x + p.k0_5) * (uint16_t)0xae3du) & p.mask;
     x ^= x >> p.shift;
     *xp = x;
 }
@@ -1222,18 +1222,18 @@ static RUN_KERNEL bool run_padded_walk_step(uint32_t *j, int count, uint32_t n, 
  * past count are 0, inside, and take no step. */
 static RUN_KERNEL void run_padded_walk16(const uint32_t *index, int count, uint32_t n, Permute16 p, uint32_t *j)
 {
-    enum { LANES = sizeof(v16u16) / sizeof(uint16_t), CHUNKS = SAMPLER_RUN_MAX / LANES };
+    enum { LANES = sizeof(v32u16) / sizeof(uint16_t), CHUNKS = SAMPLER_RUN_MAX / LANES };
     uint16_t x16[SAMPLER_RUN_MAX];
     int chunks = (count + LANES - 1) / LANES;
     for (int k = 0; k < chunks * LANES; ++k) x16[k] = k < count ? (uint16_t)index[k] : 0u;
-    v16u16 x[CHUNKS], last = {0}, lane = {0}, outside = {0};
+    v32u16 x[CHUNKS], last = {0}, lane = {0}, outside = {0};
     last += (uint16_t)(n - 1u); /* inside: x <= n - 1 */
     for (int l = 0; l < LANES; ++l) lane[l] = (uint16_t)l;
     for (int c = 0; c < chunks; ++c) {
         memcpy(&x[c], x16 + c * LANES, sizeof x[c]);
         permute16(&x[c], p);
-        x[c] &= (v16u16)(lane < (uint16_t)(count - c * LANES)); /* lanes past count: 0, inside */
-        outside |= (v16u16)(x[c] > last);
+        x[c] &= (v32u16)(lane < (uint16_t)(count - c * LANES)); /* lanes past count: 0, inside */
+        outside |= (v32u16)(x[c] > last);
     }
     for (;;) {
         uint64_t any[sizeof outside / sizeof(uint64_t)], some = 0;
@@ -1242,10 +1242,10 @@ static RUN_KERNEL void run_padded_walk16(const uint32_t *index, int count, uint3
         if (!some) break;
         outside ^= outside;
         for (int c = 0; c < chunks; ++c) {
-            v16u16 out = (v16u16)(x[c] > last), y = x[c];
+            v32u16 out = (v32u16)(x[c] > last), y = x[c];
             permute16(&y, p);
             x[c] = (y & out) | (x[c] & ~out);
-            outside |= (v16u16)(x[c] > last);
+            outside |= (v32u16)(x[c] > last);
         }
     }
     for (int c = 0; c < chunks; ++c) memcpy(x16 + c * LANES, &x[c], sizeof x[c]);
