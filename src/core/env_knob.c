@@ -31,3 +31,9 @@ int env_knob_choice(const char *var, const char *const *choices, int choice_coun
     }
     return default_choice;
 }
+
+bool env_knob_switch(const char *var, bool default_on)
+{
+    static const char *const names[] = {"0", "1"};
+    return env_knob_choice(var, names, 2, default_on ? 1 : 0) == 1;
+}

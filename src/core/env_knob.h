@@ -7,11 +7,16 @@
 #ifndef WEDGE_CORE_ENV_KNOB_H
 #define WEDGE_CORE_ENV_KNOB_H
 
+#include <stdbool.h>
+
 /* The index of value in choices[0..choice_count), or -1 (also for NULL or empty). */
 int env_knob_match(const char *value, const char *const *choices, int choice_count);
 
 /* The index of the variable's value in choices, or default_choice when it is unset, empty or
  * unknown (the last with a warning on stderr). */
 int env_knob_choice(const char *var, const char *const *choices, int choice_count, int default_choice);
+
+/* An on/off knob: "1" or "0" (env_knob_choice with those two names). */
+bool env_knob_switch(const char *var, bool default_on);
 
 #endif

@@ -713,8 +713,7 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
                                                       TRACER_BATCH_DEFAULT);
     /* Embree's robust mode (commit_layer), on unless WEDGE_EMBREE_ROBUST=0: the knob of
      * the leak measurements (test_watertight, docs/benchmarks.md) */
-    static const char *const robust_names[] = {"0", "1"};
-    tr->robust = env_knob_choice("WEDGE_EMBREE_ROBUST", robust_names, 2, 1) == 1;
+    tr->robust = env_knob_switch("WEDGE_EMBREE_ROBUST", true);
     ErrorSlot *slot = NULL;
     slot = calloc(1, sizeof *slot); /* filled by Embree's error callback */
     if (!slot) goto oom;

@@ -62,5 +62,12 @@ int main(void)
     memset(cut + 2, 'x', 64);
     strcpy(cut + 66, "\" is not");
     CHECK(strstr(said, cut) != NULL);
+    /* the on/off form: its two names, and the default otherwise */
+    setenv("WEDGE_TEST_KNOB", "0", 1);
+    CHECK(!env_knob_switch("WEDGE_TEST_KNOB", true));
+    setenv("WEDGE_TEST_KNOB", "1", 1);
+    CHECK(env_knob_switch("WEDGE_TEST_KNOB", false));
+    unsetenv("WEDGE_TEST_KNOB");
+    CHECK(env_knob_switch("WEDGE_TEST_KNOB", true) && !env_knob_switch("WEDGE_TEST_KNOB", false));
     return check_failures ? 1 : 0;
 }

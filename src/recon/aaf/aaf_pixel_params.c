@@ -264,8 +264,9 @@ static void indirect_rows(void *ctx, size_t y0, size_t y1, int part)
             float omega_h = m > 0.0f ? aaf_indirect_omega_h_glossy(m) : aaf_indirect_omega_h_diffuse();
             float gamma = m > 0.0f ? aaf_indirect_gamma_glossy(m) : aaf_indirect_gamma_diffuse();
             float d = at_or(st->pixel_world, i, 0.0f);
-            /* eqs. 15, 16 with the unclamped zmin: eq. 15's pixel term alpha / d already keeps
-             * the width at least 2 d / (mu alpha) as zmin -> 0 (corners stay filtered) */
+            /* eqs. 15, 16 with the measured zmin (a floor of 0: only a NaN or non-positive
+             * value is made tiny): eq. 15's pixel term alpha / d already keeps the width at
+             * least 2 d / (mu alpha) as zmin -> 0 (corners stay filtered) */
             pr->beta_world[i] = aaf_indirect_beta_world(aaf_indirect_clamp_zmin(zmin, 0.0f, 0.0f), omega_h, d, c);
             /* AAF-GI Sec. 5: zmin at least 2% of the scene for the sample count */
             zmin = aaf_indirect_clamp_zmin(zmin, scene_size_world, c->zmin_clamp_frac);

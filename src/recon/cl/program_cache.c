@@ -54,8 +54,7 @@ static Key program_key(const ClRuntime *rt, const char *const *sources, int coun
 
 static bool cache_on(void)
 {
-    static const char *const names[] = {"0", "1"};
-    return env_knob_choice("WEDGE_CL_PROGRAM_CACHE", names, 2, 1) == 1;
+    return env_knob_switch("WEDGE_CL_PROGRAM_CACHE", true);
 }
 
 /* The cache folder into dir and the key's file in it into path. */
