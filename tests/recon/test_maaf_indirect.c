@@ -8,7 +8,10 @@
  *     closed form): at 4 spp MAAF is well below the pixel mean's error, and the design of the
  *     mirrored wedge (C_x negated: the slope -h) is clearly worse;
  *   - the OpenCL pass on the receiver guides of that plane, with rejected neighbours, equals the
- *     C reference. */
+ *     C reference;
+ *   - at a contact line (reflector height -> 0) the central filter's std is 1/alpha(n) pixels,
+ *     alpha(n) = 0.3 (n / 16)^(1/4) (maaf_indirect_heights, docs/algorithms.md 9.26), whatever
+ *     the footprint and the knob, and a reflector above that floor keeps its own design. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -121,8 +124,43 @@ static void direction_factor_at(const MaafLens *t, int c, float v1, float v2, fl
     maaf_direction_factor(t, c, v, out);
 }
 
+/* The width at a contact line: reflectors 1e-5 above receivers of footprint d give the
+ * central band Omega_x = alpha(n) / d exactly, a std of 1/alpha(n) px: 3.33 px at AAF-GI's 16
+ * rays, 1.67 px at 256 (16 times the count, half the width), 6.67 px at 1; scene size and knob
+ * do not enter. A reflector higher than the floor keeps the design of its own heights. */
+static void test_contact_width(void)
+{
+    const float spps[] = {1.0f, 9.0f, 16.0f, 256.0f}, footprints[] = {0.001f, 0.011f, 0.3f}, kappas[] = {1.0f, 3.0f, 8.5f};
+    float param[MAAF_PARAM_STRIDE];
+    for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 3; ++b)
+            for (int k = 0; k < 3; ++k) {
+                float omega = kappas[k] * MAAF_INDIRECT_OMEGA_V, h_min, h_max, d = footprints[b];
+                maaf_indirect_heights(1e-5f, 1e-5f, omega, 3, d, spps[a], &h_min, &h_max);
+                CHECK(h_max == h_min);
+                float std_px = maaf_pixel_param(h_min, h_max, omega, 3, 1.0f, d, param);
+                double want = 1.0 / (0.3 * pow(spps[a] / 16.0, 0.25));
+                CHECK_NEAR(std_px, want, 1e-4 * want);
+            }
+    float h_min, h_max, std16, std256;
+    maaf_indirect_heights(0.0f, 2.0f, 8.4f, 3, 0.01f, 16.0f, &h_min, &h_max);
+    std16 = maaf_pixel_param(h_min, h_max, 8.4f, 3, 1.0f, 0.01f, param);
+    maaf_indirect_heights(0.0f, 2.0f, 8.4f, 3, 0.01f, 256.0f, &h_min, &h_max);
+    std256 = maaf_pixel_param(h_min, h_max, 8.4f, 3, 1.0f, 0.01f, param);
+    CHECK(h_max == 2.0f);
+    CHECK_NEAR(std16 / std256, 2.0, 1e-5);
+    /* a reflector 1.0 above, footprint 0.01: the floor at 16 spp is 8.4 0.01 / (5 0.3) = 0.056 */
+    maaf_indirect_heights(1.0f, 2.0f, 8.4f, 3, 0.01f, 16.0f, &h_min, &h_max);
+    CHECK(h_min == 1.0f && h_max == 2.0f);
+    /* no count (0 or NaN) counts as one sample: the widest floor, finite */
+    maaf_indirect_heights(0.0f, 0.0f, 8.4f, 3, 0.01f, NAN, &h_min, &h_max);
+    CHECK_NEAR(h_min, 8.4 * 0.01 / (5.0 * 0.3 * pow(1.0 / 16.0, 0.25)), 1e-6);
+    printf("contact width: %.3f px at 16 spp, %.3f px at 256\n", std16, std256);
+}
+
 int main(void)
 {
+    test_contact_width();
     /* 1. the table against brute force, on and off the grid, near the centre and far out */
     MaafLens dirs;
     CHECK(maaf_direction_design(MAAF_INDIRECT_KAPPA_DEFAULT, 3, &dirs));

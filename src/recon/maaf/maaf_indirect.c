@@ -13,6 +13,24 @@ static double transfer(double v1, double v2)
     return 1.0 / (r * r);
 }
 
+float maaf_indirect_contact_alpha(float spp)
+{
+    float n = spp >= 1.0f ? spp : 1.0f; /* also NaN */
+    /* the fourth root: the width where bias^2 (linear in the width at a kink) meets the variance
+     * (over the width's area), docs/algorithms.md 9.26 */
+    return MAAF_INDIRECT_CONTACT_ALPHA * sqrtf(sqrtf(n / MAAF_INDIRECT_CONTACT_BASE_SPP));
+}
+
+void maaf_indirect_heights(float zmin_world, float zmax_world, float omega_v_max, int pairs, float pixel_world, float spp,
+                           float *h_min, float *h_max)
+{
+    int n = pairs < 1 ? 1 : pairs > MAAF_PAIRS_MAX ? MAAF_PAIRS_MAX : pairs;
+    /* AAF-GI eq. 15's pixel term, Omega_x <= alpha / d, on the central band's Omega_x */
+    float contact = omega_v_max * pixel_world / ((float)(2 * n - 1) * maaf_indirect_contact_alpha(spp));
+    *h_min = zmin_world >= contact ? zmin_world : contact; /* also NaN */
+    *h_max = zmax_world >= *h_min ? zmax_world : *h_min;
+}
+
 void maaf_direction_means(float kappa, int pairs, MaafLens *t)
 {
     memset(t, 0, sizeof *t);

@@ -42,9 +42,23 @@
  * directional factors of the table added bias (docs/algorithms.md 9.12, "No directions at
  * all"). The table and maaf_direction_accumulate below are that measured design, kept with
  * their tests (the table against brute force, the wedge's sign). */
-/* Reflector heights below this fraction of the scene's size count as it (AAF-GI Sec. 5's 2% on
- * z_min): at a contact line h -> 0 and the filter would vanish. */
-#define MAAF_INDIRECT_H_MIN_FRAC 0.02f
+/* The filter at a contact line, where the nearest reflector's height h -> 0 and the design's
+ * width with it: AAF-GI eq. 15's pixel term bounds the central band, Omega_x <= alpha(n) / d
+ * (d the pixel's footprint, world units), so the filter's std there is 1/alpha(n) pixels, and
+ * alpha grows as the fourth root of the pixel's sample count n: the width at which the filter's
+ * variance reduction brings n samples' noise down to the bias of a filter across the light's
+ * kink at the contact (docs/algorithms.md 9.26). AAF-GI's alpha = 0.3 (seeds/002 Sec. 4.1) at
+ * its first pass's 16 rays per pixel (Sec. 5). */
+#define MAAF_INDIRECT_CONTACT_ALPHA 0.3f
+#define MAAF_INDIRECT_CONTACT_BASE_SPP 16.0f
+
+/* alpha(n) = 0.3 (n / 16)^(1/4) (dimensionless; n below 1 counts as 1). */
+float maaf_indirect_contact_alpha(float spp);
+/* A pixel's wedge [*h_min, *h_max] (world units) from its window's mean reflector heights:
+ * h_min at least the height whose central band (maaf_design_2d: Omega_x = Omega_v_max /
+ * ((2N - 1) h)) reaches alpha(spp) / pixel_world, h_max at least h_min. */
+void maaf_indirect_heights(float zmin_world, float zmax_world, float omega_v_max, int pairs, float pixel_world, float spp,
+                           float *h_min, float *h_max);
 
 /* Fills t (MaafLens layout, coordinates v / MAAF_INDIRECT_V_HALF) with c_pq for the knob kappa
  * (Omega_v_max = kappa MAAF_INDIRECT_OMEGA_V). False when out of memory (t->table NULL). */

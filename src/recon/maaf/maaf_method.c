@@ -175,10 +175,11 @@ struct ReconMethod {
     float *isum;                /* 4 per pixel: the plain sum of the filterable indirect light */
     float *iframe4, *iaxis2;    /* the pixel's tangent axes t1 (w: 1 once set) and t2 (n = t1 x t2) */
     float *istd_px, *icomponents; /* AOVs */
-    /* pixel_heights' terms per pixel (reflector_heights): the clamped h_min and the h_max, NaN
-     * where pass 1 saw no reflector; made for the scene size height_size */
-    float *height_lo, *height_hi, height_size;
+    /* pixel_heights' terms per pixel (reflector_heights): pass 1's z_min and z_max, NaN where
+     * it saw no reflector */
+    float *height_lo, *height_hi;
     bool height_made;
+    float *indirect_spp;        /* the count each indirect_cache entry was made for */
 };
 
 /* Frames whose plan is the Lagrange allocation (recon/sample_rate.h, docs/algorithms.md 9.14,
@@ -320,6 +321,7 @@ static void maaf_destroy(ReconMethod *m)
     free(m->istd_px);
     free(m->height_lo);
     free(m->height_hi);
+    free(m->indirect_spp);
     free(m->icomponents);
     maaf_filter_destroy(m->filter);
     if (m->derived_ok) aaf_derived_free(&m->derived);
@@ -505,7 +507,9 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         m->icomponents = calloc(n, sizeof(float));
         m->height_lo = malloc(n * sizeof(float));
         m->height_hi = malloc(n * sizeof(float));
+        m->indirect_spp = malloc(n * sizeof(float));
         if (!m->isum || !m->iframe4 || !m->iaxis2 || !m->istd_px || !m->icomponents || !m->height_lo || !m->height_hi ||
+            !m->indirect_spp ||
             !cache_init(&m->indirect_cache, n))
             goto oom;
         m->ikappa = kappa_for_budget(s, MAAF_INDIRECT_KAPPA_DEFAULT, m->split_indirect ? INDIRECT_SPLIT_BASE_SPP : MAAF_SPP_DEFAULT);
@@ -887,7 +891,7 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
 
 /* The pixel's reflector heights [h_min, h_max] (AAF-GI's z along the normal, from pass 1's bounce
  * rays): the means over the pixels of the shadows' window (pixel_wedge) that saw a reflector,
- * each h_min clamped to MAAF_INDIRECT_H_MIN_FRAC of the scene; false when none did. The means,
+ * before indirect_filter's floor (maaf_indirect_heights); false when none did. The means,
  * as seeds/003 Sec. 6.2 pre-filters, not the window's extremes that the shadows take: the
  * lowest of 25 pixels' 9 bounce heights is far below a pixel's typical nearest reflector, and
  * the filters came out 2-3x narrower than AAF-GI's (indirect bench, 16 spp: relMSE 9.6e-4 with
@@ -919,38 +923,39 @@ static bool pixel_heights(const ReconMethod *m, int x, int y, float *h_min, floa
     return false;
 }
 
-/* pixel_heights' terms of every pixel, for the current scene size (the clamp's floor follows it,
- * and pass 2's guides change it): once per size, not once per window that holds the pixel (25
- * to 121 times). */
+/* pixel_heights' terms of every pixel, once (not once per window that holds the pixel: 25 to
+ * 121 times). No floor here: the width's floor is the centre pixel's (maaf_indirect_heights). */
 static void reflector_heights(ReconMethod *m)
 {
     const AafDerived *dv = &m->derived;
-    float size = m->g->scene_size_world;
-    if (m->height_made && memcmp(&size, &m->height_size, sizeof size) == 0) return;
+    if (m->height_made) return;
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     for (size_t j = 0; j < n; ++j) {
         if (!(dv->zmax[j] >= dv->zmin[j]) || !isfinite(dv->zmax[j])) { /* no reflector */
             m->height_lo[j] = m->height_hi[j] = NAN;
             continue;
         }
-        float zlo = aaf_indirect_clamp_zmin(dv->zmin[j], size, MAAF_INDIRECT_H_MIN_FRAC); /* positive, never NaN */
+        float zlo = aaf_indirect_clamp_zmin(dv->zmin[j], 0.0f, 0.0f); /* positive, never NaN */
         m->height_lo[j] = zlo;
         m->height_hi[j] = fmaxf(dv->zmax[j], zlo);
     }
-    m->height_size = size;
     m->height_made = true;
 }
 
 /* Pixel (x, y)'s indirect x-filter (as pixel_filter for the shadows): the design of its height
- * wedge with Omega_v_max = ikappa 2.8, or a plain Gaussian where no reflector is near. */
+ * wedge with Omega_v_max = ikappa 2.8, or a plain Gaussian where no reflector is near. The
+ * wedge's floor follows the pixel's current count (maaf_indirect_heights: pass 1's when the
+ * plan asks, the final one when the filter runs), so an entry is remade when the count moved. */
 static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, float *components)
 {
     FilterCache *c = &m->indirect_cache;
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
-    if (!c->known[i]) {
-        float h_min, h_max, pw = m->g->pixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
+    float spp = m->g->frame.spp[i];
+    if (!c->known[i] || m->indirect_spp[i] != spp) {
+        float z_min, z_max, h_min, h_max, pw = m->g->pixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
         reflector_heights(m);
-        if (pixel_heights(m, x, y, &h_min, &h_max)) {
+        if (pixel_heights(m, x, y, &z_min, &z_max)) {
+            maaf_indirect_heights(z_min, z_max, m->dirs.omega_u_max, m->bounce_pairs, pw, spp, &h_min, &h_max);
             c->std_px[i] = maaf_pixel_param(h_min, h_max, m->dirs.omega_u_max, m->bounce_pairs, 1.0f, pw, param);
             param[0] = fminf(param[0], INDIRECT_RADIUS_CAP_PX);
             c->aux[i] = c->std_px[i] > 0.0f ? (float)((2 * m->bounce_pairs - 1) * (2 * m->bounce_pairs - 1)) : 0.0f;
@@ -961,6 +966,7 @@ static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, flo
             c->aux[i] = param[0] > 0.0f ? 1.0f : 0.0f;
         }
         c->known[i] = 1;
+        m->indirect_spp[i] = spp;
     }
     *pr = c->param + i * MAAF_PARAM_STRIDE;
     *components = c->aux[i];
