@@ -321,7 +321,9 @@ WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float 
     if (!hit) {
         for (int k = 0; k < L->infinite_count; ++k) {
             int li = L->infinite[k];
-            float pdf_light = lights_pmf(L, li) * infinite_light_pdf(L, li, wi);
+            /* the light's pick probability as lights_choose has it (LightChoice.pmf is
+             * lights_pmf's value), without the call */
+            float pdf_light = L->choice[li].pmf * infinite_light_pdf(L, li, wi);
             float w = no_mis ? 1.0f : mis_power(pdf_bsdf, pdf_light);
             sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), w));
         }
@@ -918,7 +920,7 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
             float *wi[3] = {t->wi[0], t->wi[1], t->wi[2]};
             light_sample_sky_batch(t->count, uv, wi);
             int sends = v3_any_positive(l->L);
-            for (int k = 0; k < t->count; ++k) t->pdf[k] = 1.0f / (4.0f * WEDGE_PI), t->ok[k] = sends;
+            for (int k = 0; k < t->count; ++k) t->pdf[k] = LIGHT_SKY_PDF, t->ok[k] = sends;
             t->rays_ahead = true;
             sky_shadow_rays(t);
             lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), t);

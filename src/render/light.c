@@ -679,7 +679,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         } else {
             ls->wi = warp_uniform_sphere(u);
             ls->Li = l->L;
-            ls->pdf = 1.0f / (4.0f * WEDGE_PI);
+            ls->pdf = LIGHT_SKY_PDF;
         }
         ls->dist = INFINITY;
         ls->p_light = v3_madd(p_ref, ls->wi, 2.0f * set->scene_radius);
@@ -745,14 +745,3 @@ float area_light_pdf(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, 
     return isfinite(pdf) ? pdf : 0.0f;
 }
 
-vec3 infinite_light_L(const LightSet *set, int li, vec3 w)
-{
-    const Light *l = &set->lights[li];
-    return l->env ? envmap_Le(l->env, w) : l->L;
-}
-
-float infinite_light_pdf(const LightSet *set, int li, vec3 w)
-{
-    const Light *l = &set->lights[li];
-    return l->env ? envmap_pdf(l->env, w) : 1.0f / (4.0f * WEDGE_PI);
-}

@@ -12,6 +12,7 @@
 #include "core/vec.h"
 #include "render/envmap.h"
 #include "render/tracer.h"
+#include "render/warp.h"
 #include "scene/scene_desc.h"
 
 typedef enum { LIGHT_AREA, LIGHT_POINT, LIGHT_SPOT, LIGHT_DISTANT, LIGHT_INFINITE } LightKind;
@@ -169,10 +170,22 @@ vec3 area_light_L(const LightSet *set, int l, const SurfaceHit *h, vec3 w);
 /* Solid-angle pdf with which light_sample would produce the point h seen from p_ref. */
 float area_light_pdf(const LightSet *set, const Tracer *tr, int l, vec3 p_ref, const SurfaceHit *h, float time01);
 
-/* Infinite light l's radiance from direction w (unit, pointing away from the scene). */
-vec3 infinite_light_L(const LightSet *set, int l, vec3 w);
+/* The solid-angle density of a constant sky's samples (uniform over the sphere). */
+#define LIGHT_SKY_PDF (1.0f / (4.0f * WEDGE_PI))
+
+/* Infinite light l's radiance from direction w (unit, pointing away from the scene).
+ * Inline: every escaping BSDF ray of a sky-lit scene asks (docs/design.md 12.23). */
+static inline vec3 infinite_light_L(const LightSet *set, int l, vec3 w)
+{
+    const Light *light = &set->lights[l];
+    return light->env ? envmap_Le(light->env, w) : light->L;
+}
 /* Solid-angle density with which light_sample picks direction w on infinite light l
  * (uniform 1/(4 pi) without an image; the image's importance density with one). */
-float infinite_light_pdf(const LightSet *set, int l, vec3 w);
+static inline float infinite_light_pdf(const LightSet *set, int l, vec3 w)
+{
+    const Light *light = &set->lights[l];
+    return light->env ? envmap_pdf(light->env, w) : LIGHT_SKY_PDF;
+}
 
 #endif
