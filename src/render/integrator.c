@@ -707,6 +707,18 @@ static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
            !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry) && sc->lights->emitters_bounded;
 }
 
+/* Without area lights a surface emits nothing, so a path's last ray adds light only where it
+ * escapes to the infinite lights (bsdf_ray_emission is +0 at any hit): whether it hits,
+ * not where, is all the stage at `depth` needs of its closest-hit rays (all of them last
+ * rays), unless the filters record where the first hit's bounce ends. Such rays are traced
+ * as occlusion rays (any hit: the same answer as a closest hit's found, which Embree gives
+ * for the same ray and geometry; no hit is shaded). */
+static inline bool last_rays_escape_only(const IntegratorScene *sc, int depth)
+{
+    return depth == sc->max_depth && !sc->lights->has_area &&
+           !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry);
+}
+
 /* What the camera ray found: emission seen directly, the first hit's record fields (rec:
  * NULL for the radiance alone), and the path's first vertex. Out of line until the
  * twenty-first round (its call cost about 20 instructions a sample; the fourteenth round had
@@ -1374,6 +1386,9 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
      * (beta_next is finite, guarded above) and adding it changes no sum (a sum begun at +0
      * is never -0). Nothing to add, no guard, and such a path ends here either way. */
     if (!hit && sc->lights->infinite_count == 0) return;
+    /* A hit of a last ray traced for its answer alone (last_rays_escape_only): no emitter
+     * there, so nothing to add (as above), no SurfaceHit, and the path ends. */
+    if (hit && last_rays_escape_only(sc, depth)) return;
     const Vertex *v = &p->v;
     bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
     vec3 le = guard3(v3_mul(p->beta_next, bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi,
@@ -1452,7 +1467,10 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         wave_triangle_occlusion(sc, w, depth == 1 && sc->record_ray_geometry);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
-        tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
+        if (last_rays_escape_only(sc, depth))
+            tracer_occluded_batch(sc->tracer, w->ray_hit, n_hit, false, w->hit_found);
+        else
+            tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
         any_alive = false;
         for (int j = 0; j < n; ++j) {
             WavePath *p = &w->path[j];
