@@ -450,14 +450,15 @@ typedef struct {
     bool unfiltered;   /* light from here on passes the filters unfiltered */
     /* the current vertex's light sample and bounce, between tracing and folding in */
     bool light_pending, light_recorded, unfiltered_light;
-    bool light_valued; /* the light's estimate is its triangle group's lane (lambert_triangle_nee), not lp */
+    bool light_valued; /* the light's estimate is its group's lane (lambert_triangle_nee), not lp */
     int shadow_ray;    /* index into the occlusion or the recorded batch */
     LightPending lp;
     /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
      * ray_occ[delta_first .. delta_first + delta_count) */
     int delta_first, delta_count;
     int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
-    int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
+    int tri_group, tri_lane; /* its picked static triangle's or constant sky's samples
+                              * (WaveTriangleSamples), or -1 */
     bool bounce;       /* a bounce was sampled (vs, beta_next) */
     int hit_slot;      /* its ray's entry in the closest-hit batch (a last ray that cannot
                         * reach an emitter, lights_ray_may_reach_emitter, leaves bounce false) */

@@ -150,13 +150,13 @@ typedef struct {
 } TriangleSampleBatch;
 void light_sample_triangle_batch(const Light *l, int count, const float *const p[3], const float *const u[2],
                                  const TriangleSampleBatch *out);
-/* light_sample of a constant infinite light l (LIGHT_INFINITE without an image:
- * light_is_constant_sky) for count position samples u (u[0][k], u[1][k]): wi[.][k] is its
- * sample's direction (warp_uniform_sphere), bit for bit, whatever the light; the other
- * fields are the light's (Li l->L, pdf 1 / (4 pi), dist infinite, not delta, ok
- * v3_any_positive(l->L)) but p_light and n_light, which follow from the receiver and wi.
- * The arithmetic is one vectorised loop; the sine and cosine stay libm's sincosf, lane by
- * lane. */
+/* light_sample of a constant infinite light (LIGHT_INFINITE without an image:
+ * light_is_constant_sky) for count position samples u (u[0][k], u[1][k]): wi[.][k] is the
+ * sample's direction (warp_uniform_sphere), bit for bit, the same for every such light; the
+ * other fields are the light's own (Li its L, pdf LIGHT_SKY_PDF, dist infinite, not delta,
+ * the answer v3_any_positive(L)) but p_light and n_light, which follow from the receiver
+ * and wi. The arithmetic is one vectorised loop; the sine and cosine stay libm's sincosf,
+ * lane by lane. */
 void light_sample_sky_batch(int count, const float *const u[2], float *const wi[3]);
 /* Whether light l is a constant infinite light (light_sample_sky_batch). */
 static inline bool light_is_constant_sky(const Light *l) { return l->kind == LIGHT_INFINITE && !l->env; }
