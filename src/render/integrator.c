@@ -899,13 +899,13 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
         u->light_pmf = pmf;
         if (u->light_index < 0) continue;
-        bool sky = !static_triangle && light_is_constant_sky(&L->lights[u->light_index]);
-        if (!static_triangle && !sky) continue;
+        /* a static triangle, or else a constant sky (the group's kind, below) */
+        if (!static_triangle && !light_is_constant_sky(&L->lights[u->light_index])) continue;
         int g = 0;
         while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
         if (g == w->tri_groups) {
             if (g == WAVE_TRIANGLE_GROUPS) continue;
-            w->tri[g].light = u->light_index, w->tri[g].count = 0, w->tri[g].sky = sky;
+            w->tri[g].light = u->light_index, w->tri[g].count = 0, w->tri[g].sky = !static_triangle;
             ++w->tri_groups;
         }
         WaveTriangleSamples *t = &w->tri[g];
