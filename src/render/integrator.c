@@ -321,7 +321,9 @@ WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float 
     if (!hit) {
         for (int k = 0; k < L->infinite_count; ++k) {
             int li = L->infinite[k];
-            float pdf_light = lights_pmf(L, li) * infinite_light_pdf(L, li, wi);
+            /* the light's pick probability as lights_choose has it (LightChoice.pmf is
+             * lights_pmf's value), without the call */
+            float pdf_light = L->choice[li].pmf * infinite_light_pdf(L, li, wi);
             float w = no_mis ? 1.0f : mis_power(pdf_bsdf, pdf_light);
             sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), w));
         }
@@ -448,14 +450,15 @@ typedef struct {
     bool unfiltered;   /* light from here on passes the filters unfiltered */
     /* the current vertex's light sample and bounce, between tracing and folding in */
     bool light_pending, light_recorded, unfiltered_light;
-    bool light_valued; /* the light's estimate is its triangle group's lane (lambert_triangle_nee), not lp */
+    bool light_valued; /* the light's estimate is its group's lane (lambert_triangle_nee), not lp */
     int shadow_ray;    /* index into the occlusion or the recorded batch */
     LightPending lp;
     /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
      * ray_occ[delta_first .. delta_first + delta_count) */
     int delta_first, delta_count;
     int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
-    int tri_group, tri_lane; /* its picked static triangle's samples (WaveTriangleSamples), or -1 */
+    int tri_group, tri_lane; /* its picked static triangle's or constant sky's samples
+                              * (WaveTriangleSamples), or -1 */
     bool bounce;       /* a bounce was sampled (vs, beta_next) */
     int hit_slot;      /* its ray's entry in the closest-hit batch (a last ray that cannot
                         * reach an emitter, lights_ray_may_reach_emitter, leaves bounce false) */
@@ -481,9 +484,13 @@ typedef struct {
 
 /* The samples of one static triangle light picked by some of a stage's paths, one lane per
  * path: its receiver (position, geometric normal, offset) and position sample, the sample
- * (light_sample_triangle_batch) and its shadow ray (ShadowRayAhead). */
+ * (light_sample_triangle_batch) and its shadow ray (ShadowRayAhead). A constant sky
+ * (light_is_constant_sky) is grouped the same way (sky): its sample is a direction
+ * (light_sample_sky_batch: wi, pdf 1 / (4 pi), dist infinite, no p_light) and its shadow
+ * ray leaves the receiver along it (sky_shadow_rays); every other lane is used alike. */
 typedef struct {
     int light, count;
+    bool sky;
     float p[3][WAVE_SAMPLES], ng[3][WAVE_SAMPLES], err[WAVE_SAMPLES], u[2][WAVE_SAMPLES];
     float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], pl[3][WAVE_SAMPLES], pdf[WAVE_SAMPLES];
     int ok[WAVE_SAMPLES];
@@ -701,6 +708,18 @@ static inline bool emitter_box_test(const IntegratorScene *sc, int depth)
            !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry) && sc->lights->emitters_bounded;
 }
 
+/* Without area lights a surface emits nothing, so a path's last ray adds light only where it
+ * escapes to the infinite lights (bsdf_ray_emission is +0 at any hit): whether it hits,
+ * not where, is all the stage at `depth` needs of its closest-hit rays (all of them last
+ * rays), unless the filters record where the first hit's bounce ends. Such rays are traced
+ * as occlusion rays (any hit: the same answer as a closest hit's found, which Embree gives
+ * for the same ray and geometry; no hit is shaded). */
+static inline bool last_rays_escape_only(const IntegratorScene *sc, int depth)
+{
+    return depth == sc->max_depth && !sc->lights->has_area &&
+           !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry);
+}
+
 /* What the camera ray found: emission seen directly, the first hit's record fields (rec:
  * NULL for the radiance alone), and the path's first vertex. Out of line until the
  * twenty-first round (its call cost about 20 instructions a sample; the fourteenth round had
@@ -801,6 +820,22 @@ static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light,
     }
 }
 
+/* shadow_ray_to for the samples of a constant sky in g (directions wi, an infinite
+ * distance): from the receiver pushed off its surface towards wi (surface_offset), along
+ * wi, unbounded; never redone. */
+static WEDGE_VECTORISED void sky_shadow_rays(WaveTriangleSamples *restrict g)
+{
+    for (int k = 0; k < g->count; ++k) {
+        float gx = g->ng[0][k], gy = g->ng[1][k], gz = g->ng[2][k];
+        float wx = g->wi[0][k], wy = g->wi[1][k], wz = g->wi[2][k];
+        float side = gx * wx + gy * wy + gz * wz >= 0.0f ? g->err[k] : -g->err[k];
+        g->o[0][k] = g->p[0][k] + gx * side, g->o[1][k] = g->p[1][k] + gy * side, g->o[2][k] = g->p[2][k] + gz * side;
+        g->dir[0][k] = wx, g->dir[1][k] = wy, g->dir[2][k] = wz;
+        g->len[k] = INFINITY;
+        g->redo[k] = 0;
+    }
+}
+
 /* light_prepare_lambert_triangle and light_finish (unoccluded) for every lane of g, as one
  * loop GCC vectorises: lambert_receiver, lambert_light, the shadow ray's send and guard
  * tests, and the MIS-weighted estimate (Veach 1997, eq. 9.13, beta = 2: mis_power), with
@@ -863,12 +898,14 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         u->light_uv = w->dim_light[j];
         u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
         u->light_pmf = pmf;
-        if (u->light_index < 0 || !static_triangle) continue;
+        if (u->light_index < 0) continue;
+        /* a static triangle, or else a constant sky (the group's kind, below) */
+        if (!static_triangle && !light_is_constant_sky(&L->lights[u->light_index])) continue;
         int g = 0;
         while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
         if (g == w->tri_groups) {
             if (g == WAVE_TRIANGLE_GROUPS) continue;
-            w->tri[g].light = u->light_index, w->tri[g].count = 0;
+            w->tri[g].light = u->light_index, w->tri[g].count = 0, w->tri[g].sky = !static_triangle;
             ++w->tri_groups;
         }
         WaveTriangleSamples *t = &w->tri[g];
@@ -891,6 +928,17 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         WaveTriangleSamples *t = &w->tri[g];
         const Light *l = &L->lights[t->light];
         const float *pos[3] = {t->p[0], t->p[1], t->p[2]}, *uv[2] = {t->u[0], t->u[1]};
+        if (t->sky) {
+            /* light_sample's constant sky: the same pdf and outcome in every lane */
+            float *wi[3] = {t->wi[0], t->wi[1], t->wi[2]};
+            light_sample_sky_batch(t->count, uv, wi);
+            int sends = v3_any_positive(l->L);
+            for (int k = 0; k < t->count; ++k) t->pdf[k] = LIGHT_SKY_PDF, t->ok[k] = sends;
+            t->rays_ahead = true;
+            sky_shadow_rays(t);
+            lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), t);
+            continue;
+        }
         TriangleSampleBatch out = {{t->wi[0], t->wi[1], t->wi[2]}, t->dist, {t->pl[0], t->pl[1], t->pl[2]}, t->pdf, t->ok};
         light_sample_triangle_batch(l, t->count, pos, uv, &out);
         t->rays_ahead = l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f;
@@ -903,15 +951,17 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
     }
 }
 
-/* The shadow rays of the triangle groups' Lambert receivers (WaveTriangleSamples.traced), traced
- * from the lanes where triangle_shadow_rays made them, in the lanes' order: an occlusion
- * answer is an any-hit question about one ray, which its place in the batch does not change
- * (docs/design.md 12.18). */
-static void wave_triangle_occlusion(const IntegratorScene *sc, Wave *w)
+/* The shadow rays of the groups' Lambert receivers (WaveTriangleSamples.traced), traced
+ * from the lanes where triangle_shadow_rays or sky_shadow_rays made them, in the lanes'
+ * order: an occlusion answer is an any-hit question about one ray, which its place in the
+ * batch does not change (docs/design.md 12.18). recorded: the triangle groups' rays are
+ * recorded for the filters (wave_vertex_rays put them in the recorded batch), a sky's are
+ * not. */
+static void wave_triangle_occlusion(const IntegratorScene *sc, Wave *w, bool recorded)
 {
     for (int g = 0; g < w->tri_groups; ++g) {
         WaveTriangleSamples *t = &w->tri[g];
-        if (!t->rays_ahead) continue;
+        if (!t->rays_ahead || (recorded && !t->sky)) continue;
         TracerRayArrays a = {{t->o[0], t->o[1], t->o[2]},
                              {t->dir[0], t->dir[1], t->dir[2]},
                              t->len,
@@ -972,8 +1022,15 @@ WAVE_STAGE bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath
     int k = p->tri_lane;
     if (!g->ok[k]) return false;
     const Light *l = &sc->lights->lights[u->light_index];
-    p->lp.ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k],
-                             v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]), l->tri_n, l->tri_err, l->L, g->pdf[k], false};
+    if (g->sky) {
+        /* light_sample's constant sky at the receiver */
+        vec3 wi = v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]);
+        p->lp.ls = (LightSample){wi,   INFINITY, v3_madd(p->v.hit.p, wi, 2.0f * sc->lights->scene_radius),
+                                 v3_neg(wi), 0.0f, l->L, g->pdf[k], false};
+    } else {
+        p->lp.ls = (LightSample){v3(g->wi[0][k], g->wi[1][k], g->wi[2][k]), g->dist[k],
+                                 v3(g->pl[0][k], g->pl[1][k], g->pl[2][k]), l->tri_n, l->tri_err, l->L, g->pdf[k], false};
+    }
     ShadowRayAhead ahead = {v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]),
                             g->len[k], g->redo[k] != 0};
     return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
@@ -1066,10 +1123,11 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     p->light_valued = valued;
     if (valued) {
-        /* A recorded ray (the first hit's, for the filters: rec->shadow_count is 0 there) is
-         * written to the slot it would take and the count moves by the outcome; any other is
-         * traced from its group's lanes (wave_triangle_occlusion). */
-        bool record = depth == 1 && sc->record_ray_geometry;
+        /* A recorded ray (the first hit's to an area light, for the filters:
+         * rec->shadow_count is 0 there) is written to the slot it would take and the count
+         * moves by the outcome; any other is traced from its group's lanes
+         * (wave_triangle_occlusion), a sky's always (it is no area light). */
+        bool record = depth == 1 && sc->record_ray_geometry && !w->tri[p->tri_group].sky;
         if (record) {
             p->shadow_ray = *n_rec;
             int kept = light_send_lambert_triangle(sc, w, p, st, &w->ray_rec[p->shadow_ray]);
@@ -1329,6 +1387,9 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
      * (beta_next is finite, guarded above) and adding it changes no sum (a sum begun at +0
      * is never -0). Nothing to add, no guard, and such a path ends here either way. */
     if (!hit && sc->lights->infinite_count == 0) return;
+    /* A hit of a last ray traced for its answer alone (last_rays_escape_only): no emitter
+     * there, so nothing to add (as above), no SurfaceHit, and the path ends. */
+    if (hit && last_rays_escape_only(sc, depth)) return;
     const Vertex *v = &p->v;
     bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
     vec3 le = guard3(v3_mul(p->beta_next, bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi,
@@ -1405,9 +1466,12 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
                 wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
-        if (!(depth == 1 && sc->record_ray_geometry)) wave_triangle_occlusion(sc, w);
+        wave_triangle_occlusion(sc, w, depth == 1 && sc->record_ray_geometry);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
-        tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
+        if (last_rays_escape_only(sc, depth))
+            tracer_occluded_batch(sc->tracer, w->ray_hit, n_hit, false, w->hit_found);
+        else
+            tracer_intersect_batch(sc->tracer, w->ray_hit, n_hit, depth < sc->max_depth, false, w->hit, w->hit_found);
         any_alive = false;
         for (int j = 0; j < n; ++j) {
             WavePath *p = &w->path[j];

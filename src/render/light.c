@@ -571,6 +571,32 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
     triangle_light_batch(l, count, p, u, out);
 }
 
+/* warp_uniform_sphere for a run of samples, as light_sample's constant sky takes it: z, r
+ * and phi in a loop GCC vectorises (fmaxf(0, m) as a select: m = 1 - z z is never -0, and
+ * a NaN gives 0 either way), then the sine and cosine lane by lane, as written there (GCC
+ * makes one sincosf call of the pair in both places). */
+static WEDGE_VECTORISED void sky_directions(int count, const float *restrict ux, const float *restrict uy,
+                                            float *restrict wx, float *restrict wy, float *restrict wz)
+{
+    for (int k = 0; k < count; ++k) {
+        float z = 1.0f - 2.0f * ux[k];
+        float m = 1.0f - z * z;
+        wx[k] = sqrtf(m > 0.0f ? m : 0.0f); /* r, until the loop below */
+        wy[k] = 2.0f * WEDGE_PI * uy[k];    /* phi, until the loop below */
+        wz[k] = z;
+    }
+    for (int k = 0; k < count; ++k) {
+        float r = wx[k], phi = wy[k];
+        wx[k] = r * cosf(phi);
+        wy[k] = r * sinf(phi);
+    }
+}
+
+void light_sample_sky_batch(int count, const float *const u[2], float *const wi[3])
+{
+    sky_directions(count, u[0], u[1], wi[0], wi[1], wi[2]);
+}
+
 bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, float time01, vec2 u, LightSample *ls)
 {
     const Light *l = &set->lights[li];
@@ -653,7 +679,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
         } else {
             ls->wi = warp_uniform_sphere(u);
             ls->Li = l->L;
-            ls->pdf = 1.0f / (4.0f * WEDGE_PI);
+            ls->pdf = LIGHT_SKY_PDF;
         }
         ls->dist = INFINITY;
         ls->p_light = v3_madd(p_ref, ls->wi, 2.0f * set->scene_radius);
@@ -719,14 +745,3 @@ float area_light_pdf(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, 
     return isfinite(pdf) ? pdf : 0.0f;
 }
 
-vec3 infinite_light_L(const LightSet *set, int li, vec3 w)
-{
-    const Light *l = &set->lights[li];
-    return l->env ? envmap_Le(l->env, w) : l->L;
-}
-
-float infinite_light_pdf(const LightSet *set, int li, vec3 w)
-{
-    const Light *l = &set->lights[li];
-    return l->env ? envmap_pdf(l->env, w) : 1.0f / (4.0f * WEDGE_PI);
-}

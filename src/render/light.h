@@ -12,6 +12,7 @@
 #include "core/vec.h"
 #include "render/envmap.h"
 #include "render/tracer.h"
+#include "render/warp.h"
 #include "scene/scene_desc.h"
 
 typedef enum { LIGHT_AREA, LIGHT_POINT, LIGHT_SPOT, LIGHT_DISTANT, LIGHT_INFINITE } LightKind;
@@ -149,6 +150,16 @@ typedef struct {
 } TriangleSampleBatch;
 void light_sample_triangle_batch(const Light *l, int count, const float *const p[3], const float *const u[2],
                                  const TriangleSampleBatch *out);
+/* light_sample of a constant infinite light (LIGHT_INFINITE without an image:
+ * light_is_constant_sky) for count position samples u (u[0][k], u[1][k]): wi[.][k] is the
+ * sample's direction (warp_uniform_sphere), bit for bit, the same for every such light; the
+ * other fields are the light's own (Li its L, pdf LIGHT_SKY_PDF, dist infinite, not delta,
+ * the answer v3_any_positive(L)) but p_light and n_light, which follow from the receiver
+ * and wi. The arithmetic is one vectorised loop; the sine and cosine stay libm's sincosf,
+ * lane by lane. */
+void light_sample_sky_batch(int count, const float *const u[2], float *const wi[3]);
+/* Whether light l is a constant infinite light (light_sample_sky_batch). */
+static inline bool light_is_constant_sky(const Light *l) { return l->kind == LIGHT_INFINITE && !l->env; }
 /* Whether light_sample of light l takes the static-triangle case (light_sample_triangle_batch). */
 bool light_is_static_triangle(const LightSet *set, const Tracer *tr, int l);
 /* The shadow-ray offset of a point or spot light's samples (LightSample.err_light). */
@@ -159,10 +170,22 @@ vec3 area_light_L(const LightSet *set, int l, const SurfaceHit *h, vec3 w);
 /* Solid-angle pdf with which light_sample would produce the point h seen from p_ref. */
 float area_light_pdf(const LightSet *set, const Tracer *tr, int l, vec3 p_ref, const SurfaceHit *h, float time01);
 
-/* Infinite light l's radiance from direction w (unit, pointing away from the scene). */
-vec3 infinite_light_L(const LightSet *set, int l, vec3 w);
+/* The solid-angle density of a constant sky's samples (uniform over the sphere). */
+#define LIGHT_SKY_PDF (1.0f / (4.0f * WEDGE_PI))
+
+/* Infinite light l's radiance from direction w (unit, pointing away from the scene).
+ * Inline: every escaping BSDF ray of a sky-lit scene asks (docs/design.md 12.23). */
+static inline vec3 infinite_light_L(const LightSet *set, int l, vec3 w)
+{
+    const Light *light = &set->lights[l];
+    return light->env ? envmap_Le(light->env, w) : light->L;
+}
 /* Solid-angle density with which light_sample picks direction w on infinite light l
  * (uniform 1/(4 pi) without an image; the image's importance density with one). */
-float infinite_light_pdf(const LightSet *set, int l, vec3 w);
+static inline float infinite_light_pdf(const LightSet *set, int l, vec3 w)
+{
+    const Light *light = &set->lights[l];
+    return light->env ? envmap_pdf(light->env, w) : LIGHT_SKY_PDF;
+}
 
 #endif

@@ -8,7 +8,8 @@
  *  - a disk light (radius R, height h, facing down): E = pi L R^2 / (h^2 + R^2);
  *  - a spot light on its axis: as a point light; pointing away: 0;
  *  - a distant light of radiance L arriving at angle theta: E = L cos(theta);
- *  - a constant infinite light L over the whole upper hemisphere: E = pi L.
+ *  - a constant infinite light L over the whole upper hemisphere: E = pi L; and over the
+ *    hemisphere outside a black disk of radius R at height h: E = pi L h^2 / (h^2 + R^2).
  * The plane's radiance is rho E / pi. maxdepth 1: direct light only, so the light's back
  * face or the plane cannot add interreflections. Each must match within 1%. */
 #include "check.h"
@@ -134,6 +135,27 @@ int main(void)
         double got = render_center(lights, 16384, rho);
         double want = rho * L;
         fprintf(stderr, "infinite: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
+    /* the same environment above a black disk (radius R at height h, facing the point; no
+     * light, an occluder): the point sees the sky outside the disk's cone,
+     * E = pi L (1 - R^2 / (h^2 + R^2)) = pi L h^2 / (h^2 + R^2). Its BSDF-sampled last rays
+     * that hit the disk add nothing; without area lights they are traced for their answer
+     * alone (docs/design.md 12.23), and one taken for a miss adds the sky behind the disk. */
+    {
+        double L = 0.8, R = 0.7, h = 1.0;
+        snprintf(lights, sizeof lights,
+                 "LightSource \"infinite\" \"rgb L\" [ %g %g %g ]\n"
+                 "AttributeBegin\n"
+                 "  Material \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n"
+                 "  Translate 0 %g 0\n"
+                 "  Rotate 90 1 0 0\n"
+                 "  Shape \"disk\" \"float radius\" [ %g ]\n"
+                 "AttributeEnd\n",
+                 L, L, L, h, R);
+        double got = render_center(lights, 16384, rho);
+        double want = rho * L * h * h / (h * h + R * R);
+        fprintf(stderr, "infinite over a disk: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
         CHECK_NEAR(got / want, 1.0, 0.01);
     }
     CHECK_DONE();
