@@ -16,6 +16,7 @@
 #ifndef WEDGE_RECON_GBUFFER_H
 #define WEDGE_RECON_GBUFFER_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -105,12 +106,46 @@ bool gbuffer_sample_glossy(const SampleRecord *r);
  * neighbours: the lens filter blurs the composite, texture and its noise included. */
 #define ALBEDO_VARIES_DEFOCUS_STD_PX 1.0f
 
-/* Whether pixel i's texture edge needs the mixed pixels' count: its albedo varies and no lens
- * filter at least ALBEDO_VARIES_DEFOCUS_STD_PX wide averages it (lens_std_px: that filter's
- * width; 0 without one; NaN counts as none, so an unknown width asks for the samples). */
+/* Pixel i's mean albedo (luminance) over its samples that hit; -1 when none did. */
+static inline float gbuffer_albedo_mean(const GBuffer *g, size_t i)
+{
+    int hits = g->sums[i].hits;
+    return hits > 0 ? g->sums[i].albedo_sum / (float)hits : -1.0f;
+}
+
+/* Whether an albedo edge may lie inside pixel i though its samples all fell on one side of it:
+ * pass 1's few stratified samples (3 x 3) miss an edge that clips the pixel's border (within
+ * a sixth of a pixel), and such an edge leaves the 4-neighbour on its other side with another
+ * mean albedo. The test is ALBEDO_VARIES_REL_STD's over the two pixels' samples taken together
+ * (equal counts: std |a - b| / 2 against the share of the mean, (a + b) / 2). A neighbour whose
+ * own samples straddle an edge holds it (its own test marks it), so it does not mark pixel i;
+ * only where neither pixel saw the edge inside are both marked, as either may hold it. Without
+ * this, the unmarked third of a checkerboard's edge pixels kept pass 1's count and held most
+ * of AAF's error at 32 spp (spot_area_mm: Monte Carlo's error at 32 spp, docs/benchmarks.md,
+ * "Held-out bench scenes, second round"). */
+static inline bool gbuffer_albedo_step(const GBuffer *g, size_t i)
+{
+    float a = gbuffer_albedo_mean(g, i);
+    if (!(a > 0.0f)) return false;
+    int w = g->width, h = g->height, x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+    const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
+    for (int k = 0; k < 4; ++k) {
+        int nx = x + dx[k], ny = y + dy[k];
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+        size_t j = (size_t)ny * (size_t)w + (size_t)nx;
+        float b = gbuffer_albedo_mean(g, j);
+        if (!g->albedo_varies[j] && b > 0.0f && fabsf(a - b) > ALBEDO_VARIES_REL_STD * (a + b)) return true;
+    }
+    return false;
+}
+
+/* Whether pixel i's texture edge needs the mixed pixels' count: its albedo varies, inside it
+ * or against a neighbour (gbuffer_albedo_step), and no lens filter at least
+ * ALBEDO_VARIES_DEFOCUS_STD_PX wide averages it (lens_std_px: that filter's width; 0 without
+ * one; NaN counts as none, so an unknown width asks for the samples). */
 static inline bool gbuffer_texture_needs_samples(const GBuffer *g, size_t i, float lens_std_px)
 {
-    return g->albedo_varies[i] && !(lens_std_px >= ALBEDO_VARIES_DEFOCUS_STD_PX);
+    return (g->albedo_varies[i] || gbuffer_albedo_step(g, i)) && !(lens_std_px >= ALBEDO_VARIES_DEFOCUS_STD_PX);
 }
 
 /* The SampleSink callback (ctx = GBuffer *). */
