@@ -47,7 +47,7 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
     long long guarded = 0, bad_pixels = 0;
     for (size_t i = begin; i < end; ++i) {
         float spp = f->spp[i];
-        float a[3], dir[3], ind[3], ud[3], ui[3];
+        float a[3], ad[3], dir[3], ind[3], ud[3], ui[3];
         long long before = guarded;
         for (int k = 0; k < 3; ++k) {
             dir[k] = sum_mean(f->direct[3 * i + k], spp, &guarded);
@@ -55,6 +55,7 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
             (void)sum_mean(f->emission[3 * i + k], spp, &guarded); /* counted like the others */
             a[k] = sum_mean(f->albedo[3 * i + k], spp, &guarded);
         }
+        gbuffer_direct_albedo(g, i, ad);
         bad_pixels += guarded > before;
         gbuffer_unfiltered_means(g, i, ud, ui);
         for (int k = 0; k < 3; ++k) {
@@ -64,8 +65,9 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
         bool surface = g->hit[i] && !g->mixed[i];
         if (pp->value_direct4) {
             float sh = pp->factor ? pp->factor[i] : 1.0f;
-            /* a glossy receiver's direct light is not visibility x r(x) (gbuffer.h) */
-            demodulate_pixel(dir, a, sh, surface && !g->glossy[i] && sh > pp->factor_min, pp->value_direct4 + 4 * i);
+            /* the diffuse lobe's direct light over the diffuse albedo (gbuffer.h): the glossy
+             * lobes' is in ud, taken out above */
+            demodulate_pixel(dir, ad, sh, surface && sh > pp->factor_min, pp->value_direct4 + 4 * i);
         }
         if (pp->value_indirect4) demodulate_pixel(ind, a, 1.0f, surface, pp->value_indirect4 + 4 * i);
     }
@@ -96,13 +98,14 @@ static void composite_range(void *ctx, size_t begin, size_t end, int part)
     for (size_t i = begin; i < end; ++i) {
         float spp = f->spp[i], ud[3], ui[3], v[3];
         gbuffer_unfiltered_means(cp->g, i, ud, ui);
-        float sh = cp->factor ? cp->factor[i] : 1.0f;
+        float sh = cp->factor ? cp->factor[i] : 1.0f, ad[3];
+        gbuffer_direct_albedo(cp->g, i, ad);
         for (int k = 0; k < 3; ++k) {
             size_t j = 3 * i + (size_t)k;
             float a = sum_mean(f->albedo[j], spp, &ignored);
             /* emission + direct + indirect + unfiltered, added in this order */
             v[k] = sum_mean(f->emission[j], spp, &ignored);
-            v[k] += cp->filtered_direct4 ? remodulate(cp->filtered_direct4 + 4 * i, k, a, sh)
+            v[k] += cp->filtered_direct4 ? remodulate(cp->filtered_direct4 + 4 * i, k, ad[k], sh)
                                          : sum_mean(f->direct[j], spp, &ignored) - ud[k];
             v[k] += cp->filtered_indirect4 ? remodulate(cp->filtered_indirect4 + 4 * i, k, a, 1.0f)
                                            : sum_mean(f->indirect[j], spp, &ignored) - ui[k];

@@ -39,13 +39,14 @@ typedef struct {
     size_t offset, size, per_pixel;
 } Slot;
 
-enum { S_SUMS, S_HIT, S_MIXED, S_GLOSSY, S_ALBEDO_VARIES, S_POS4, S_NRM4, S_PIXEL_WORLD, S_COUNT };
+enum { S_SUMS, S_HIT, S_MIXED, S_GLOSSY, S_ALBEDO_VARIES, S_LOBE4, S_POS4, S_NRM4, S_PIXEL_WORLD, S_COUNT };
 
 static const struct {
     size_t size, per_pixel;
 } SLOT_SHAPE[S_COUNT] = {
     [S_SUMS] = {sizeof(GBufferSums), 1}, [S_HIT] = {1, 1}, [S_MIXED] = {1, 1}, [S_GLOSSY] = {1, 1}, [S_ALBEDO_VARIES] = {1, 1},
-    [S_POS4] = {sizeof(float), 4},       [S_NRM4] = {sizeof(float), 4}, [S_PIXEL_WORLD] = {sizeof(float), 1},
+    [S_LOBE4] = {sizeof(float), 4},      [S_POS4] = {sizeof(float), 4}, [S_NRM4] = {sizeof(float), 4},
+    [S_PIXEL_WORLD] = {sizeof(float), 1},
 };
 
 /* Offsets of every slot in one block (each 16-byte aligned); returns the block's size, 0 on
@@ -90,6 +91,7 @@ bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam)
     g->mixed = b + off[S_MIXED];
     g->glossy = b + off[S_GLOSSY];
     g->albedo_varies = b + off[S_ALBEDO_VARIES];
+    g->lobe4 = (float *)(b + off[S_LOBE4]);
     g->pos4 = (float *)(b + off[S_POS4]);
     g->nrm4 = (float *)(b + off[S_NRM4]);
     g->pixel_world = (float *)(b + off[S_PIXEL_WORLD]);
@@ -124,6 +126,13 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     if (gbuffer_sample_glossy(r)) s->glossy++;
     float a = v3_luminance(r->albedo);
     if (isfinite(a)) s->albedo_sum += a, s->albedo_sq_sum += a * a;
+    if (gbuffer_sample_lobed(r)) {
+        float *l = g->lobe4 + 4 * ((size_t)py * (size_t)g->width + (size_t)px);
+        l[0] += r->albedo.x - r->albedo_diffuse.x;
+        l[1] += r->albedo.y - r->albedo_diffuse.y;
+        l[2] += r->albedo.z - r->albedo_diffuse.z;
+        l[3] += 1.0f;
+    }
     float ud[3], ui[3];
     gbuffer_unfiltered_split(r, ud, ui);
     for (int k = 0; k < 3; ++k) {
@@ -157,6 +166,20 @@ void gbuffer_unfiltered_split(const SampleRecord *r, float direct[3], float indi
         float dk = isfinite(ud[k]) && ud[k] > 0.0f ? ud[k] : 0.0f;
         indirect[k] = ui;
         direct[k] = uk - ui + dk;
+    }
+    /* the glossy lobes' direct light (+0 at a Lambert hit, which skips this) */
+    if (!gbuffer_sample_lobed(r)) return;
+    float dg[3] = {r->direct_glossy.x, r->direct_glossy.y, r->direct_glossy.z};
+    for (int k = 0; k < 3; ++k) direct[k] += dg[k] > 0.0f && dg[k] < INFINITY ? dg[k] : 0.0f;
+}
+
+void gbuffer_direct_albedo(const GBuffer *g, size_t i, float a[3])
+{
+    float spp = g->frame.spp[i], sum[3];
+    gbuffer_direct_albedo_sum(g, i, sum);
+    for (int k = 0; k < 3; ++k) {
+        float v = spp > 0.0f ? sum[k] / spp : 0.0f; /* composite.c's sum_mean */
+        a[k] = isfinite(v) ? v : 0.0f;
     }
 }
 

@@ -67,8 +67,14 @@ typedef struct {
     unsigned char *hit;           /* some sample hit a surface */
     unsigned char *mixed;         /* the samples saw different surfaces or an unfilterable one */
     unsigned char *glossy;        /* some sample's first hit was glossy (gbuffer_sample_glossy):
-                                   * its direct light is not a visibility times r(x) */
+                                   * most of its direct light passes through unfiltered, so the
+                                   * adaptive plans give it the mixed pixels' count */
     unsigned char *albedo_varies; /* the albedo varies inside the pixel (ALBEDO_VARIES_REL_STD) */
+    float *lobe4;                 /* per pixel, added by the sink (gbuffer_add) for the samples whose
+                                   * first hit has a glossy lobe (gbuffer_sample_lobed) alone: their
+                                   * albedo less albedo_diffuse (rgb), and their count. Apart from
+                                   * `sums` so that a Lambert sample never touches it (GBufferSums
+                                   * stays 96 bytes) */
     float *pos4;                  /* mean position (world), mean depth (world) */
     float *nrm4;                  /* unit mean normal, object id (-1: none) */
     float *pixel_world;           /* world length of one pixel at the receiver (0: no hit) */
@@ -83,16 +89,29 @@ void gbuffer_free(GBuffer *g);
 
 /* The soft-shadow filters (AAF-shadow eq. 1, MAAF, FSF) filter direct light / (albedo r(x)),
  * the light-weighted visibility, which holds for a diffuse receiver: its BRDF is the same for
- * every point of the light. A glossy lobe narrower than the light weights the light's points
- * by the lobe instead (the highlight), so the ratio carries the highlight's shape, which the
- * filters would blur. A sample counts as glossy when the glossy part is more than
- * GLOSSY_DIRECT_SHARE of its albedo (luminance) and the lobe is narrower than Lambert's cosine
- * (Blinn-Phong exponent above GLOSSY_DIRECT_MIN_EXPONENT: cos^m with m <= 1 is at least as
- * wide); a pixel with such a sample keeps its own direct light (composite.c). A smooth coat's
- * reflection is already unfiltered (a delta lobe), so coateddiffuse stays filterable. */
+ * every point of the light. A glossy lobe weights the light's points by the lobe instead (the
+ * highlight), and its light is not proportional to the diffuse albedo. So every sample's direct
+ * light comes split by lobe (SampleRecord.direct_glossy): the glossy lobes' part passes through
+ * unfiltered (gbuffer_unfiltered_split counts it as unfiltered direct light), the diffuse
+ * lobe's is demodulated by the diffuse albedo (gbuffer_direct_albedo) and filtered
+ * (docs/algorithms.md, "Direct light split by lobe").
+ *
+ * A sample still counts as glossy when the glossy part is more than GLOSSY_DIRECT_SHARE of its
+ * albedo (luminance) and the lobe is narrower than Lambert's cosine (Blinn-Phong exponent above
+ * GLOSSY_DIRECT_MIN_EXPONENT: cos^m with m <= 1 is at least as wide): most of such a pixel's
+ * direct light is the unfiltered glossy part, which the adaptive plans give the mixed pixels'
+ * sample count (aaf_method.c, maaf_method.c). */
 #define GLOSSY_DIRECT_SHARE 0.5f
 #define GLOSSY_DIRECT_MIN_EXPONENT 1.0f
 bool gbuffer_sample_glossy(const SampleRecord *r);
+
+/* Whether a sample's first hit has a glossy lobe (a glossy albedo; Lambert's is 0, and so is a
+ * miss's): its direct light may have a glossy part (SampleRecord.direct_glossy), and its
+ * diffuse albedo may differ from its albedo. One test for the three channels (each >= 0). */
+static inline bool gbuffer_sample_lobed(const SampleRecord *r)
+{
+    return r->albedo_glossy.x + r->albedo_glossy.y + r->albedo_glossy.z > 0.0f;
+}
 
 /* A texture edge inside a pixel (the albedo's std over the pixel's samples above this share
  * of its mean, luminance): the filters divide the light by the pixel's mean albedo and
@@ -148,6 +167,23 @@ static inline bool gbuffer_texture_needs_samples(const GBuffer *g, size_t i, flo
     return (g->albedo_varies[i] || gbuffer_albedo_step(g, i)) && !(lens_std_px >= ALBEDO_VARIES_DEFOCUS_STD_PX);
 }
 
+/* Pixel i's albedo for its filterable direct light (the diffuse lobe's, direct_glossy taken
+ * out), summed over its samples: the frame's albedo sum where no sample's first hit had a
+ * glossy lobe (Lambert: the same floats), else that sum less the glossy-lobed samples' albedo
+ * less their albedo_diffuse (lobe4), at least 0: the sum of albedo_diffuse to rounding (a
+ * conductor's is 0, and its direct light passes through). */
+static inline void gbuffer_direct_albedo_sum(const GBuffer *g, size_t i, float sum[3])
+{
+    const float *a = g->frame.albedo + 3 * i, *l = g->lobe4 + 4 * i;
+    bool lobed = l[3] > 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        float d = a[k] - l[k];
+        sum[k] = !lobed ? a[k] : d > 0.0f ? d : 0.0f;
+    }
+}
+/* Its mean over the pixel's samples (0 where not finite; composite_prepare counts the frame's). */
+void gbuffer_direct_albedo(const GBuffer *g, size_t i, float a[3]);
+
 /* The SampleSink callback (ctx = GBuffer *). */
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r);
 
@@ -157,8 +193,8 @@ void gbuffer_resolve_guides(GBuffer *g);
 /* One sample's light the filters must not blur, split into its direct and indirect parts:
  * `unfiltered` (whose split the record does not give) goes to the indirect light first
  * (mirror images of the scene), the rest to direct (the light seen in a mirror), per channel,
- * so that both filtered remainders stay >= 0; `unfiltered_direct` is direct by construction.
- * Negative or non-finite parts count as 0. */
+ * so that both filtered remainders stay >= 0; `unfiltered_direct` and `direct_glossy` are
+ * direct by construction. Negative or non-finite parts count as 0. */
 void gbuffer_unfiltered_split(const SampleRecord *r, float direct[3], float indirect[3]);
 
 /* Per-pixel, per-channel means of the unfiltered light (0 where non-finite). */

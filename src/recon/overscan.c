@@ -28,6 +28,7 @@ void overscan_crop_gbuffer(GBuffer *dst, const GBuffer *src, int margin)
     overscan_crop(dst->mixed, src->mixed, sw, sh, margin, 1);
     overscan_crop(dst->glossy, src->glossy, sw, sh, margin, 1);
     overscan_crop(dst->albedo_varies, src->albedo_varies, sw, sh, margin, 1);
+    overscan_crop(dst->lobe4, src->lobe4, sw, sh, margin, 4 * sizeof(float));
     overscan_crop(dst->pos4, src->pos4, sw, sh, margin, 4 * sizeof(float));
     overscan_crop(dst->nrm4, src->nrm4, sw, sh, margin, 4 * sizeof(float));
     overscan_crop(dst->pixel_world, src->pixel_world, sw, sh, margin, sizeof(float));

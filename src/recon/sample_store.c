@@ -21,7 +21,7 @@ static const struct {
     {SAMPLE_FIELD_INDIRECT, 3, "indirect"}, {SAMPLE_FIELD_POSITION, 3, "position"},
     {SAMPLE_FIELD_NORMAL, 3, "normal"},     {SAMPLE_FIELD_LIGHT, 5, "light"},
     {SAMPLE_FIELD_BOUNCE, 4, "bounce"},     {SAMPLE_FIELD_MOTION, 2, "motion"},
-    {SAMPLE_FIELD_SHADING, 13, "shading"},
+    {SAMPLE_FIELD_SHADING, 16, "shading"},
 };
 _Static_assert(SAMPLE_FIELD_COUNT_ == 13 && SAMPLE_FIELD_SHADING == 1u << 12 && SAMPLE_FIELD_MOTION == 1u << 11,
                "sample_store_add writes field 1 << n at field[n]");
@@ -162,10 +162,11 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
     }
     if ((d = F[11])) d += 2 * j, d[0] = r->motion_px[0], d[1] = r->motion_px[1];   /* motion */
     if ((d = F[12])) {                                                             /* shading */
-        d += 13 * j;
+        d += 16 * j;
         float ud[3], ui[3]; /* what the shading filters leave alone, as the guides' sums split it */
         gbuffer_unfiltered_split(r, ud, ui);
         put3(d + 6, r->albedo);
+        put3(d + 13, r->albedo_diffuse); /* what the filterable direct light was demodulated by */
         d[9] = r->hit ? (float)r->object_id : -1.0f;
         float u[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
         for (int c = 0; c < 3; ++c) d[10 + c] = isfinite(u[c]) && u[c] > 0.0f ? u[c] : 0.0f; /* as the split counts it */

@@ -36,7 +36,9 @@ enum {
     SAMPLE_FIELD_SHADING = 1u << 12,  /* the light a shading filter may blur, direct (rgb) and indirect
                                        * (rgb), the first hit's albedo (rgb) and object id (-1: a
                                        * miss), and the delta lights' direct light (rgb, part of the
-                                       * unfiltered light); kept only in frames where a shading
+                                       * unfiltered light), the first hit's diffuse albedo (rgb:
+                                       * the filterable direct light's, gbuffer_direct_albedo);
+                                       * kept only in frames where a shading
                                        * effect is filtered */
     SAMPLE_FIELD_COUNT_ = 13
 };

@@ -394,6 +394,13 @@ vec3 glossy_f(const GlossyBsdf *b, vec3 wo, vec3 wi)
     return sanitize_rgb(f);
 }
 
+vec3 glossy_f_diffuse(const GlossyBsdf *b, vec3 wo, vec3 wi)
+{
+    if (b->kind != GLOSSY_COATED_DIFFUSE) return v3s(0.0f);
+    if (wo.z < 0.0f) wo = mirror_z(wo), wi = mirror_z(wi); /* as coated_f */
+    return sanitize_rgb(coated_base_f(b, wo, wi));
+}
+
 float glossy_pdf(const GlossyBsdf *b, vec3 wo, vec3 wi)
 {
     float pdf = 0.0f;

@@ -83,6 +83,11 @@ GlossyBsdf glossy_dielectric(Microfacet d, float eta);
 
 /* f(wo, wi) of the non-delta lobes (delta lobes contribute 0 here). */
 vec3 glossy_f(const GlossyBsdf *b, vec3 wo, vec3 wi);
+/* The diffuse lobe's share of glossy_f(wo, wi): coateddiffuse's base as seen through the coat
+ * (its `f` without the coat's microfacet term), 0 for conductors and dielectrics. Between 0
+ * and glossy_f, so glossy_f - glossy_f_diffuse is the glossy lobes' share (the filters'
+ * per-lobe split of the first hit's direct light, SampleRecord.direct_glossy). */
+vec3 glossy_f_diffuse(const GlossyBsdf *b, vec3 wo, vec3 wi);
 /* Solid-angle density with which glossy_sample produces wi (non-delta lobes only, including
  * the probability of choosing that lobe). */
 float glossy_pdf(const GlossyBsdf *b, vec3 wo, vec3 wi);

@@ -311,6 +311,23 @@ static vec3 light_finish(const LightPending *lp, bool occluded, IntegratorStats 
     return guard3(v3_scale(v3_mul(lp->f, lp->ls.Li), lp->cos_i * w / denom), st);
 }
 
+/* The part of light_finish's (unoccluded, non-zero) estimate that BSDF value f_part (a share
+ * of lp->f) carries: the same MIS weight and densities, lp->f replaced by f_part. */
+static vec3 light_finish_part(const LightPending *lp, vec3 f_part)
+{
+    float denom = lp->pmf * lp->ls.pdf;
+    float w = lp->ls.delta ? 1.0f : mis_power(denom, lp->pdf_bsdf);
+    return v3_scale(v3_mul(f_part, lp->ls.Li), lp->cos_i * w / denom);
+}
+
+/* The glossy lobes' share of f, the value of a glossy vertex's whole BSDF for world direction
+ * wi: f less the diffuse lobe's (glossy_f_diffuse), each channel at least 0. */
+static vec3 glossy_share(const Vertex *v, vec3 wi, vec3 f)
+{
+    vec3 fd = glossy_f_diffuse(&v->bsdf, v->wo_l, to_local(v, wi));
+    return v3(fmaxf(f.x - fd.x, 0.0f), fmaxf(f.y - fd.y, 0.0f), fmaxf(f.z - fd.z, 0.0f));
+}
+
 /* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling (weight 1
  * after a delta lobe or from a delta-only vertex, which light sampling never serves). */
 WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, bool no_mis,
@@ -390,6 +407,7 @@ static inline void record_reset(SampleRecord *rec, bool radiance_only)
     _Static_assert(offsetof(SampleRecord, unfiltered_direct) == offsetof(SampleRecord, L) + 5 * sizeof(vec3),
                    "the radiance fields are one run");
     memset((char *)rec + offsetof(SampleRecord, L), 0, 6 * sizeof(vec3));
+    rec->direct_glossy = v3s(0.0f);
     rec->hit = false;
     rec->shadow_count = rec->bounce_count = 0;
     /* a render whose users read the radiance alone (render_reads.h) leaves the motion and
@@ -1318,6 +1336,26 @@ static vec3 delta_sum_guarded(const Wave *w, const WavePath *p, IntegratorStats 
     return sum;
 }
 
+/* The glossy lobes' part of a glossy first hit's unoccluded light sample (its estimate
+ * non-zero), added to SampleRecord.direct_glossy. Out of line, as record_glossy_bsdf: a
+ * Lambert hit never calls them, and inline they cost every sample of a filtered frame. */
+static __attribute__((noinline)) void record_glossy_light(const WavePath *p, SampleRecord *rec)
+{
+    vec3 part = light_finish_part(&p->lp, glossy_share(&p->v, p->lp.ls.wi, p->lp.f));
+    rec->direct_glossy = v3_add(rec->direct_glossy, v3_mul(p->beta, part));
+}
+
+/* The glossy lobes' part of a glossy first hit's BSDF sample that found emission e (MIS
+ * weighted): the sample's weight f |cos| / pdf less the diffuse lobe's f_d |cos| / pdf, times e. */
+static __attribute__((noinline)) void record_glossy_bsdf(const WavePath *p, vec3 e, SampleRecord *rec, IntegratorStats *st)
+{
+    const Vertex *v = &p->v;
+    vec3 wl = to_local(v, p->vs.wi);
+    vec3 wd = v3_scale(glossy_f_diffuse(&v->bsdf, v->wo_l, wl), fabsf(wl.z) / p->vs.pdf);
+    vec3 wg = v3(fmaxf(p->vs.weight.x - wd.x, 0.0f), fmaxf(p->vs.weight.y - wd.y, 0.0f), fmaxf(p->vs.weight.z - wd.z, 0.0f));
+    rec->direct_glossy = v3_add(rec->direct_glossy, guard3(v3_mul(v3_mul(p->beta, wg), e), st));
+}
+
 /* Stage two of a vertex, after the batches: its light and the emission its bounce ray
  * found, added to the radiance R (and to the record rec, NULL for the radiance alone), and
  * the next vertex (or the end of the path). */
@@ -1366,9 +1404,18 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         /* only the methods read the unfiltered parts (render_reads.h) */
     } else if (p->unfiltered_light) {
         rec->unfiltered = v3_add(rec->unfiltered, v3_add(ld, ld_delta));
-    } else if (depth == 1 && sc->lights->has_area) {
-        if (p->light_pending && !p->light_valued && p->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
-        rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld_delta);
+    } else if (depth == 1) {
+        if (sc->lights->has_area) {
+            if (p->light_pending && !p->light_valued && p->lp.ls.delta) rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld);
+            rec->unfiltered_direct = v3_add(rec->unfiltered_direct, ld_delta);
+        }
+        /* the light sample's glossy lobes' part (SampleRecord.direct_glossy): a glossy
+         * receiver's only (a valued triangle sample's receiver is Lambert), a delta light's
+         * being in unfiltered_direct already where a filter takes direct light. Finite: f_g is
+         * at most f, so each channel is at most l_light's (finite, guarded); the BSDF part is
+         * guarded below, so direct_glossy needs no guard of its own at the wave's end */
+        if (p->v.glossy && p->light_pending && !p->light_valued && !p->lp.ls.delta && !max_component_nonpositive(l_light))
+            record_glossy_light(p, rec);
     }
     p->alive = false;
     /* no bounce: none sampled, or a last ray the emitter-box test dropped, which would have
@@ -1392,11 +1439,14 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
     if (hit && last_rays_escape_only(sc, depth)) return;
     const Vertex *v = &p->v;
     bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
-    vec3 le = guard3(v3_mul(p->beta_next, bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi,
-                                                            p->time01, hit)),
-                     st);
+    vec3 e = bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi, p->time01, hit);
+    vec3 le = guard3(v3_mul(p->beta_next, e), st);
     *bucket = v3_add(*bucket, le);
     if (p->unfiltered && !sc->skip_first_hit_fields) rec->unfiltered = v3_add(rec->unfiltered, le);
+    /* the BSDF sample's glossy lobes' part (SampleRecord.direct_glossy): its weight f |cos| / pdf
+     * less the diffuse lobe's f_d |cos| / pdf, times the same MIS-weighted emission */
+    if (depth == 1 && v->glossy && !p->unfiltered && !sc->skip_first_hit_fields && !max_component_nonpositive(le))
+        record_glossy_bsdf(p, e, rec, st);
     if (!hit || depth == sc->max_depth) return;
     p->beta = p->beta_next;
     make_vertex(sc, nh, v3_neg(wi), vertex_uses_bsdf_dims(sc, depth + 1), &p->v);

@@ -41,8 +41,8 @@ typedef struct {
 } SampleRadiance;
 
 /* What a render whose users read the radiance alone (render_reads.h) keeps of a sample
- * instead of its SampleRecord: 52 bytes instead of 232, the records of a wave 13 KB instead
- * of 59 (integrate_wave_radiance). */
+ * instead of its SampleRecord: 52 bytes instead of 244, the records of a wave 13 KB instead
+ * of 62 (integrate_wave_radiance). */
 typedef struct {
     SampleRadiance radiance;
     float filter_weight;          /* SampleRecord.filter_weight */
@@ -107,6 +107,18 @@ typedef struct {
     ShadowRayRecord shadow[SAMPLE_RECORD_MAX_SHADOW];
     int bounce_count;             /* bounce rays recorded from the first hit */
     BounceRayRecord bounce[SAMPLE_RECORD_MAX_BOUNCE];
+
+    /* the direct light split by lobe; last, so that the fields above keep their offsets (placed
+     * after unfiltered_direct, in record_reset's cleared run, the wave took 3% more
+     * instructions on a Lambert scene under AAF) */
+    vec3 direct_glossy;           /* the glossy lobes' part of `direct` that is in neither
+                                   * `unfiltered` nor `unfiltered_direct`: a light sample's and a BSDF sample's direct light
+                                   * at a glossy first hit with the BSDF value cut to its glossy
+                                   * lobes (glossy_f - glossy_f_diffuse), MIS weights unchanged;
+                                   * direct - unfiltered parts - direct_glossy is the diffuse lobe's
+                                   * (visibility-weighted irradiance x albedo_diffuse). +0 at a
+                                   * Lambert hit, all of it at a conductor; the filters pass it
+                                   * through (recon/gbuffer.h) */
 } SampleRecord;
 
 _Static_assert(offsetof(SampleRecord, L) == offsetof(SampleRecord, radiance) + offsetof(SampleRadiance, L) &&

@@ -68,7 +68,7 @@ static void noisy_samples(unsigned *st, int n, const float *albedo_of_k, float r
         float *s = sh + LR_SHADING_FLOATS * k;
         for (int f = 0; f < LR_SHADING_FLOATS; ++f) s[f] = 0.0f;
         for (int c = 0; c < 3; ++c) {
-            s[6 + c] = albedo_of_k[k];
+            s[6 + c] = s[13 + c] = albedo_of_k[k]; /* Lambert: the diffuse albedo is the albedo */
             s[c] = albedo_of_k[k] * 3.0f * uniform(st) * (uniform(st) < 0.5f); /* occluded half the time */
             s[3 + c] = albedo_of_k[k] * 2.0f * uniform(st);
             rad[3 * k + c] = rest + s[c] + s[3 + c];
@@ -154,7 +154,7 @@ static void test_delta_light(void)
             SampleRecord r = {0};
             r.hit = true;
             r.object_id = 1;
-            r.albedo = (vec3){albedo[x], albedo[x], albedo[x]};
+            r.albedo = r.albedo_diffuse = (vec3){albedo[x], albedo[x], albedo[x]}; /* Lambert */
             float u = k % 2 ? 2.0f * albedo[x] * delta_light : 0.0f; /* picked or not */
             r.unfiltered_direct = r.direct = r.L = (vec3){u, u, u};
             sample_store_add(store, x, 0, &r);
@@ -209,7 +209,7 @@ static void test_centre_light(void)
                 SampleRecord r = {0};
                 r.hit = true;
                 r.object_id = object;
-                r.albedo = (vec3){albedo, albedo, albedo};
+                r.albedo = r.albedo_diffuse = (vec3){albedo, albedo, albedo}; /* Lambert */
                 r.direct = r.L = (vec3){albedo * e, albedo * e, albedo * e};
                 sample_store_add(store, x, y, &r);
                 object_of[j] = object;

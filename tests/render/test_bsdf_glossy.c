@@ -12,21 +12,32 @@ static vec3 dir_deg(float theta_deg, float phi_deg)
 
 /* ---- furnace: E(wo) = integral f(wo, wi) |cos_i| dwi (non-delta) + delta weights ---- */
 
-/* Independent of the sampler: stratified uniform directions on the sphere. */
-static vec3 furnace_uniform(const GlossyBsdf *b, vec3 wo, int n_side)
+/* Independent of the sampler: stratified uniform directions on the sphere. With diffuse_only,
+ * the integral of the diffuse lobe alone (glossy_f_diffuse), and *within (when not NULL) says
+ * whether every direction had 0 <= f_diffuse <= f per channel. */
+static vec3 furnace_part(const GlossyBsdf *b, vec3 wo, int n_side, bool diffuse_only, bool *within)
 {
     double s[3] = {0, 0, 0};
+    bool ok = true;
     for (int i = 0; i < n_side; ++i)
         for (int j = 0; j < n_side; ++j) {
             double z = 1.0 - 2.0 * (i + 0.5) / n_side, phi = 2.0 * MT_PI * (j + 0.37) / n_side;
             double r = sqrt(fmax(0.0, 1.0 - z * z));
             vec3 wi = v3((float)(r * cos(phi)), (float)(r * sin(phi)), (float)z);
             vec3 f = glossy_f(b, wo, wi);
+            if (diffuse_only) {
+                vec3 fd = glossy_f_diffuse(b, wo, wi);
+                ok = ok && fd.x >= 0.0f && fd.y >= 0.0f && fd.z >= 0.0f && fd.x <= f.x && fd.y <= f.y && fd.z <= f.z;
+                f = fd;
+            }
             s[0] += f.x * fabs(z), s[1] += f.y * fabs(z), s[2] += f.z * fabs(z);
         }
+    if (within) *within = ok;
     double k = 4.0 * MT_PI / ((double)n_side * n_side);
     return v3((float)(s[0] * k), (float)(s[1] * k), (float)(s[2] * k));
 }
+
+static vec3 furnace_uniform(const GlossyBsdf *b, vec3 wo, int n_side) { return furnace_part(b, wo, n_side, false, NULL); }
 
 /* Importance sampled (the sampler is validated separately by the chi-square tests). Delta
  * lobes are included through their weights. u is jittered on a sqrt(n) x sqrt(n) grid and
@@ -376,6 +387,25 @@ int main(void)
                     if (glossy_sample(&ms[m], ws[i], 0.5f, v2(0.99f, 0.01f), &s))
                         CHECK(isfinite(s.f.x) && isfinite(s.pdf) && isfinite(s.wi.z));
                 }
+    }
+    /* ---- the diffuse lobe alone (glossy_f_diffuse, the direct light's split by lobe) ----
+     * Its hemispherical integral is glossy_albedo's diffuse part, which is that integral in
+     * closed form (1 - F(cos_o)) s (1 - fdr_ext); at most glossy_f everywhere; 0 without a
+     * diffuse lobe. */
+    {
+        GlossyBsdf coat = glossy_coated_diffuse(microfacet_make(0.2f, 0.2f, false), v3(0.8f, 0.4f, 0.1f), 1.5f, -1.0f);
+        GlossyBsdf metal = glossy_conductor_reflectance(microfacet_make(0.2f, 0.2f, false), v3s(0.9f));
+        for (int t = 0; t < 3; ++t) {
+            vec3 wo = dir_deg(10.0f + 30.0f * (float)t, 40.0f);
+            bool within;
+            vec3 e = furnace_part(&coat, wo, 400, true, &within), a = glossy_albedo(&coat, wo).diffuse;
+            CHECK(within);
+            CHECK_NEAR(e.x, a.x, 2e-3);
+            CHECK_NEAR(e.y, a.y, 2e-3);
+            CHECK_NEAR(e.z, a.z, 2e-3);
+            e = furnace_part(&metal, wo, 40, true, &within);
+            CHECK(within && e.x == 0.0f && e.y == 0.0f && e.z == 0.0f);
+        }
     }
     CHECK_DONE();
 }

@@ -81,7 +81,7 @@ static void replaced_light(const float *radiance, const float *shading, const fl
 {
     for (int c = 0; c < 3; ++c) {
         out[c] = radiance[c];
-        if (ed) out[c] += shading[6 + c] * ed[c] - shading[c];
+        if (ed) out[c] += shading[13 + c] * ed[c] - shading[c];
         if (ei) out[c] += shading[6 + c] * ei[c] - shading[3 + c];
         if (eu) out[c] += shading[6 + c] * eu[c] - shading[10 + c];
     }
@@ -131,10 +131,11 @@ void lr_pixel_light(int n, const float *radiance, const float *shading, const si
 }
 
 /* Per bin of the lens-centre, mid-shutter frame and object slot: sums of the filterable
- * direct, indirect and delta lights and of the albedo (rgb each) of one object's samples. A
+ * direct, indirect and delta lights and of the albedo and the diffuse albedo (the direct
+ * light's, LR_SHADING_FLOATS) (rgb each) of one object's samples. A
  * bin has LR_CENTRE_SLOTS slots: where two surfaces meet at mid-shutter (a moving object's
  * edge over the floor it stands on) both keep their light. */
-enum { CL_SD = 0, CL_SI = 3, CL_SU = 6, CL_A = 9, CL_SUMS = 12, LR_CENTRE_SLOTS = 2 };
+enum { CL_SD = 0, CL_SI = 3, CL_SU = 6, CL_A = 9, CL_AD = 12, CL_SUMS = 15, LR_CENTRE_SLOTS = 2 };
 
 /* The slot of bin q holding object `object`, or -1; with claim, an empty slot is taken. */
 static int slot_of(float *id, size_t q, float object, bool claim)
@@ -182,9 +183,10 @@ static void box_rows(void *ctx, size_t begin, size_t end, int part)
                         for (int c = 0; c < CL_SUMS; ++c) b[c] += src[c];
                     }
                 for (int c = 0; c < 3; ++c) {
-                    float alb = b[CL_A + c];
+                    float alb = b[CL_A + c], alb_d = b[CL_AD + c];
+                    if (alb_d > LR_MIN_ALBEDO) o[c] = b[CL_SD + c] / alb_d;
                     if (!(alb > LR_MIN_ALBEDO)) continue;
-                    o[c] = b[CL_SD + c] / alb, o[3 + c] = b[CL_SI + c] / alb, o[6 + c] = b[CL_SU + c] / alb;
+                    o[3 + c] = b[CL_SI + c] / alb, o[6 + c] = b[CL_SU + c] / alb;
                 }
             }
 }
@@ -217,6 +219,7 @@ bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStor
             float *s = sums + ((size_t)q * LR_CENTRE_SLOTS + (size_t)slot) * CL_SUMS;
             for (int c = 0; c < 3; ++c) {
                 s[CL_SD + c] += sh[c], s[CL_SI + c] += sh[3 + c], s[CL_SU + c] += sh[10 + c], s[CL_A + c] += sh[6 + c];
+                s[CL_AD + c] += sh[13 + c];
             }
         }
     /* A box of LR_CENTRE_RADIUS_PX around each bin, over the slots of the same object, then

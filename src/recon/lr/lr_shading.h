@@ -21,8 +21,10 @@
 #include "recon/sample_store.h"
 
 /* Floats per sample of SAMPLE_FIELD_SHADING: filterable direct rgb, indirect rgb, albedo rgb,
- * object id, delta lights' direct rgb. */
-#define LR_SHADING_FLOATS 13
+ * object id, delta lights' direct rgb, diffuse albedo rgb. The filterable direct light is the
+ * diffuse lobe's (the glossy lobes' passes through, gbuffer.h): it takes the diffuse albedo,
+ * the indirect and delta lights the albedo. */
+#define LR_SHADING_FLOATS 16
 
 /* Pixel i's filtered light per unit albedo for one shading effect (value4 as
  * ReconShadingLight gives it, times factor[i] when factor is not NULL) into out; false where

@@ -543,8 +543,8 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side);
  * the C reference alike). A lens filter depends on pass 1's circle-of-confusion ranges alone
  * (derived once, cached): radius 0 there stays 0. The light filter's usable flag is composite.c's
  * (value4): never set on a pixel whose samples saw another object, missed all geometry,
- * hit an unfilterable or a glossy surface, and each of those, once seen, stays true with more
- * samples (gbuffer.c's mixed and glossy rules; its normal and depth spreads can change back,
+ * hit an unfilterable surface, and each of those, once seen, stays true with more samples
+ * (gbuffer.c's mixed rule; its normal and depth spreads can change back,
  * and are left out here). So the images are the same as with every sum accumulated. */
 static void mark_unread_sums(ReconMethod *m)
 {
@@ -559,7 +559,7 @@ static void mark_unread_sums(ReconMethod *m)
             float side;
             if (m->defocus && (defocus_filter(m, x, y, &side), m->defocus_cache.param[i * MAAF_PARAM_STRIDE] <= 0.0f))
                 u |= UNREAD_LENS;
-            if (m->ysum && (s->id_mixed || s->unfilterable > 0 || s->glossy > 0 || (float)s->hits < g->frame.spp[i]))
+            if (m->ysum && (s->id_mixed || s->unfilterable > 0 || (float)s->hits < g->frame.spp[i]))
                 u |= UNREAD_LIGHT;
             m->unread[i] = u;
         }
@@ -1198,9 +1198,12 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
              * alone (maaf_planes_full) */
             int used_comps = maaf_planes_full(planes, x, y) ? pass_comps : 1;
             /* composite.c's demodulation (value4 was made usable only where it is stable):
-             * each pixel's sums divided by its own albedo and r(x) */
-            float inv[3];
-            for (int k = 0; k < 3; ++k) inv[k] = spp / (g->frame.albedo[3 * i + k] * (lf->factor ? lf->factor[i] : 1.0f));
+             * each pixel's sums divided by its own albedo (the diffuse albedo for direct light,
+             * gbuffer_direct_albedo) and r(x) */
+            float inv[3], asum[3];
+            if (lf->ind) memcpy(asum, g->frame.albedo + 3 * i, sizeof asum);
+            else gbuffer_direct_albedo_sum(g, i, asum);
+            for (int k = 0; k < 3; ++k) inv[k] = spp / (asum[k] * (lf->factor ? lf->factor[i] : 1.0f));
             if (lf->ind) { /* component c: its expectation x the plain sum */
                 const float *ys = lf->sums + 4 * i;
                 for (int c = 0; c < used_comps; ++c)
@@ -1307,9 +1310,23 @@ static void radiance_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                 if (!isfinite(raw[0][k])) raw[0][k] = 0.0f;
                 if (!isfinite(raw[1][k])) raw[1][k] = 0.0f;
             }
-            if (m->split_direct)
-                maaf_defocus_add_light(m->direct4 ? m->direct4 + 4 * i : NULL, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0],
-                          rest, alb, per, o);
+            if (m->split_direct) {
+                const float *d4 = m->direct4 ? m->direct4 + 4 * i : NULL;
+                float per_total[4];
+                /* the albedo sums are the total albedo's, the filtered direct light is per unit
+                 * diffuse albedo (gbuffer_direct_albedo): where the pixel's direct light is split
+                 * by lobe, per unit total albedo, by the ratio of the pixel's mean albedos (exact
+                 * when its samples share one ratio) */
+                if (d4 && d4[3] != 0.0f && g->lobe4[4 * i + 3] > 0.0f) {
+                    const float *at = g->frame.albedo + 3 * i;
+                    float ad[3];
+                    gbuffer_direct_albedo_sum(g, i, ad);
+                    for (int k = 0; k < 3; ++k) per_total[k] = at[k] > 0.0f ? d4[k] * (ad[k] / at[k]) : 0.0f;
+                    per_total[3] = d4[3];
+                    d4 = per_total;
+                }
+                maaf_defocus_add_light(d4, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0], rest, alb, per, o);
+            }
             if (m->split_indirect) maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
             src = o;
         }
