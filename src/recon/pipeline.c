@@ -49,6 +49,7 @@ struct ReconPipeline {
     GBuffer g;
     bool g_ready;
     SampleStore *store;
+    bool store_full;             /* pass 1 filled every pixel's store: later samples skip it */
     ClRuntime *rt;
     ReconResult res;
     float *value_direct4, *value_indirect4, *radiance4; /* 4 floats per pixel each */
@@ -362,7 +363,7 @@ static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
     ReconPipeline *p = ctx;
     if (p->trace_s) time_sample(p, px, py);
     gbuffer_add(&p->g, px, py, rec);
-    if (p->store) sample_store_add(p->store, px, py, rec);
+    if (p->store && !p->store_full) sample_store_add(p->store, px, py, rec);
     for (int s = 0; s < p->slot_count; ++s)
         if (p->slots[s].cls->add_sample) p->slots[s].cls->add_sample(p->slots[s].m, px, py, rec);
 }
@@ -419,6 +420,19 @@ static bool planned_only_by(const ReconPipeline *p, const char *const *names)
         planned = true;
     }
     return planned;
+}
+
+/* Pass 1 traced pass1 samples in every pixel; when that fills the store (its capacity is
+ * pass 1's count: LR beside an adaptive method), every later sample would be dropped, after
+ * an atomic count and, per sample, the first hit's two projections that only the store reads
+ * (SampleRecord.motion_px): pass 2 then leaves the store out and the integrator skips them
+ * (auto on moving_shadow, 256x256: 0.94x / 0.91x the CPU at 16 / 32 spp, images bit for bit;
+ * docs/benchmarks.md, "LR's CPU beside the shading filters"). */
+static void store_skip_when_full(ReconPipeline *p, int pass1)
+{
+    if (!p->store || pass1 < sample_store_capacity(p->store)) return;
+    p->store_full = true;
+    renderer_set_record_motion(p->r, false);
 }
 
 /* Buffers, guides, store and methods for a filtered frame. */
@@ -503,6 +517,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         int capacity = fixed_max > pass1 ? fixed_max : pass1;
         size_t limit = p->opt.mem_limit_bytes ? p->opt.mem_limit_bytes : sample_store_default_limit();
         if (!sample_store_create(fields, w, h, capacity, limit, &p->store, d)) return false;
+        p->store_full = false;
     }
     /* screen motion only when a method stores it (LR): the integrator skips its projections */
     renderer_set_record_motion(p->r, (fields & SAMPLE_FIELD_MOTION) != 0);
@@ -874,6 +889,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
              * continuing each pixel's pass-1 sampler set (with Sobol', the first n points of
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
             begin_pass(p, 1, NO_RAY_GEOMETRY);
+            store_skip_when_full(p, pass1);
             t = wall_seconds();
             rank0_tracing(p, true);
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
