@@ -194,15 +194,7 @@ void gbuffer_unfiltered_means(const GBuffer *g, size_t i, float direct[3], float
     }
 }
 
-/* Mixed pixels: a pixel whose samples (over the shutter or the lens) land on surfaces that
- * disagree has a mean position, normal and albedo that belong to no surface; a world-space
- * filter would compare neighbours against that phantom and divide by a phantom albedo (the
- * dark speckled ring around the motion-blurred sphere of the default scene). Such a pixel is
- * detected by: another object id, some samples missing all geometry, mean unit normal
- * shorter than this (normals spread over more than about 25 degrees), or depth spread
- * (std / mean) above this. */
-#define MIXED_NORMAL_COHERENCE 0.9f
-#define MIXED_DEPTH_REL_STD 0.1f
+/* MIXED_NORMAL_COHERENCE, MIXED_DEPTH_REL_STD: gbuffer.h */
 
 /* Each core takes a range of pixels and its own bounding box of the hit points. */
 typedef struct {

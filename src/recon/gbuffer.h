@@ -158,6 +158,53 @@ static inline bool gbuffer_albedo_step(const GBuffer *g, size_t i)
     return false;
 }
 
+/* Mixed pixels (gbuffer_resolve_guides): a pixel whose samples (over the shutter or the lens) land on surfaces that
+ * disagree has a mean position, normal and albedo that belong to no surface; a world-space
+ * filter would compare neighbours against that phantom and divide by a phantom albedo (the
+ * dark speckled ring around the motion-blurred sphere of the default scene). Such a pixel is
+ * detected by: another object id, some samples missing all geometry, mean unit normal
+ * shorter than this (normals spread over more than about 25 degrees), or depth spread
+ * (std / mean) above this. */
+#define MIXED_NORMAL_COHERENCE 0.9f
+#define MIXED_DEPTH_REL_STD 0.1f
+
+/* Whether a surface edge (a silhouette, a crease, a surface against the background) may lie
+ * inside pixel i though its samples all saw one surface: the geometric twin of
+ * gbuffer_albedo_step. Pass 1's 3 x 3 stratified samples miss an edge that clips the pixel's
+ * border, and the pixel then looks like a plain surface with pass 1's count; but the
+ * 4-neighbour across the edge saw the other side. The test is the mixed rule's over the two
+ * pixels' samples taken together (equal counts, the within-pixel spreads left out): another
+ * object id or one pixel hit and one not (the mixed rule's "another object", "samples
+ * missing all geometry"), mean normal |n_i + n_j| / 2 below MIXED_NORMAL_COHERENCE, or depth
+ * std |d_i - d_j| / 2 above MIXED_DEPTH_REL_STD of the mean (d_i + d_j) / 2. As with the
+ * albedo, a mixed neighbour holds its edge (its own samples saw it) and marks nothing; pixel i
+ * mixed itself is the mixed rule's. On wire_screen these pixels were 1% of the frame and 45%
+ * of AAF's error: 40 of them, lit by a sliver of a surface pass 1 never hit, stayed black
+ * (docs/benchmarks.md, "Where auto's samples go"). */
+static inline bool gbuffer_surface_step(const GBuffer *g, size_t i)
+{
+    if (g->mixed[i]) return false;
+    int w = g->width, h = g->height, x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+    const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
+    const float *ni = g->nrm4 + 4 * i;
+    float di = g->pos4[4 * i + 3];
+    for (int k = 0; k < 4; ++k) {
+        int nx = x + dx[k], ny = y + dy[k];
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+        size_t j = (size_t)ny * (size_t)w + (size_t)nx;
+        if (g->mixed[j]) continue;
+        if (g->hit[i] != g->hit[j]) return true;
+        if (!g->hit[i]) continue;
+        const float *nj = g->nrm4 + 4 * j;
+        if (ni[3] != nj[3]) return true; /* object ids */
+        float sx = ni[0] + nj[0], sy = ni[1] + nj[1], sz = ni[2] + nj[2];
+        if (sqrtf(sx * sx + sy * sy + sz * sz) < 2.0f * MIXED_NORMAL_COHERENCE) return true;
+        float dj = g->pos4[4 * j + 3];
+        if (fabsf(di - dj) > MIXED_DEPTH_REL_STD * (di + dj)) return true;
+    }
+    return false;
+}
+
 /* Whether pixel i's texture edge needs the mixed pixels' count: its albedo varies, inside it
  * or against a neighbour (gbuffer_albedo_step), and no lens filter at least
  * ALBEDO_VARIES_DEFOCUS_STD_PX wide averages it (lens_std_px: that filter's width; 0 without

@@ -207,11 +207,12 @@ static bool aaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
     bool shadows_filtered = m->beta[EFFECT_SOFT_SHADOWS] != NULL;
     int mixed_spp = aaf_clamp_spp(MIXED_SPP_PER_MU * mu_max * (float)pass1, pass1, 100.0f * mu_max);
     /* glossy receivers keep their own direct light, and a texture edge's antialiasing is no
-     * filter's (gbuffer.h): plain Monte Carlo, as mixed pixels */
+     * filter's (gbuffer.h): plain Monte Carlo, as mixed pixels; so are pixels a surface edge
+     * may clip unseen (gbuffer_surface_step) */
     const float *lens_beta_px = m->beta[EFFECT_DEFOCUS];
     for (size_t i = 0; i < n; ++i) {
         bool texture_aa = gbuffer_texture_needs_samples(m->g, i, lens_beta_px ? lens_beta_px[i] : 0.0f);
-        if ((m->g->mixed[i] || texture_aa || (shadows_filtered && m->g->glossy[i])) && mixed_spp > spp_total[i])
+        if ((m->g->mixed[i] || gbuffer_surface_step(m->g, i) || texture_aa || (shadows_filtered && m->g->glossy[i])) && mixed_spp > spp_total[i])
             spp_total[i] = mixed_spp;
     }
     return true;

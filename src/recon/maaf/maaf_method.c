@@ -1046,8 +1046,10 @@ static bool plan_classes(ReconMethod *m)
                 float frame = m->frame4[4 * i + 3];
                 float std_px = frame != 0.0f ? shadow_filter(m, x, y, &pr, &comps) : INFINITY;
                 if (frame == FRAME_FROM_UNKNOWN && comps > 1.0f) std_px = INFINITY;
-                more = g->mixed[i] || g->glossy[i] || std_px < UNFILTERED_STD_PX;
-                shade_px = g->mixed[i] || g->glossy[i] ? 0.0f : std_px;
+                /* a surface edge pass 1 may have missed counts as mixed (gbuffer.h) */
+                bool mixed = g->mixed[i] || gbuffer_surface_step(g, i);
+                more = mixed || g->glossy[i] || std_px < UNFILTERED_STD_PX;
+                shade_px = mixed || g->glossy[i] ? 0.0f : std_px;
                 cls = PLAN_FILTERED;
             }
             /* indirect light: the same rule with its own filter */
