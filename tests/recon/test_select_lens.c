@@ -4,7 +4,8 @@
  * motion the lens keeps aaf below lr's blur threshold, and so does the frame's shading. An
  * effect named in the request keeps what was asked; a lens asked of maaf takes auto's shading
  * along, a lens asked of aaf does not. Every subset of the four effects is checked against
- * the rule written out here. */
+ * the rule written out here. Soft shadows as the frame's only effect go to maaf; beside any
+ * other effect they stay aaf's unless the lens is maaf's. */
 #include <string.h>
 
 #include "../check.h"
@@ -20,8 +21,8 @@ static const char *expected(Effect e, EffectMask present, const char *lens)
         return "lr";
     case EFFECT_DEFOCUS:
         return motion ? "aaf" : "maaf";
-    default: /* soft shadows, indirect light */
-        return !strcmp(lens, "maaf") ? "maaf" : "aaf";
+    default: /* soft shadows, indirect light; soft shadows alone go to maaf too */
+        return !strcmp(lens, "maaf") || present == EFFECT_BIT(EFFECT_SOFT_SHADOWS) ? "maaf" : "aaf";
     }
 }
 
@@ -68,5 +69,9 @@ int main(void)
     recon_select(combined, "auto", -1.0f, &c);
     CHECK(!strncmp(c.reason[EFFECT_DEFOCUS], "maaf: 1.84x Monte Carlo's speed", 31));
     CHECK(!strncmp(c.reason[EFFECT_INDIRECT], "maaf, with the lens: one adaptive filter per frame", 50));
+    recon_select(EFFECT_BIT(EFFECT_SOFT_SHADOWS), "auto", -1.0f, &c);
+    CHECK(!strncmp(c.reason[EFFECT_SOFT_SHADOWS], "maaf, soft shadows alone: 1.97x", 31));
+    recon_select(EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT), "auto", -1.0f, &c);
+    CHECK(!strncmp(c.reason[EFFECT_SOFT_SHADOWS], "aaf: 2.23x", 10));
     CHECK_DONE();
 }
