@@ -132,6 +132,18 @@ static inline float gbuffer_albedo_mean(const GBuffer *g, size_t i)
     return hits > 0 ? g->sums[i].albedo_sum / (float)hits : -1.0f;
 }
 
+/* The 4-neighbours of pixel i inside the image, in the order left, right, up, down: their
+ * indices in out[0 .. returned count). */
+static inline int gbuffer_neighbours4(const GBuffer *g, size_t i, size_t out[4])
+{
+    int w = g->width, h = g->height, x = (int)(i % (size_t)w), y = (int)(i / (size_t)w), n = 0;
+    if (x > 0) out[n++] = i - 1;
+    if (x < w - 1) out[n++] = i + 1;
+    if (y > 0) out[n++] = i - (size_t)w;
+    if (y < h - 1) out[n++] = i + (size_t)w;
+    return n;
+}
+
 /* Whether an albedo edge may lie inside pixel i though its samples all fell on one side of it:
  * pass 1's few stratified samples (3 x 3) miss an edge that clips the pixel's border (within
  * a sixth of a pixel), and such an edge leaves the 4-neighbour on its other side with another
@@ -146,12 +158,9 @@ static inline bool gbuffer_albedo_step(const GBuffer *g, size_t i)
 {
     float a = gbuffer_albedo_mean(g, i);
     if (!(a > 0.0f)) return false;
-    int w = g->width, h = g->height, x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
-    const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
-    for (int k = 0; k < 4; ++k) {
-        int nx = x + dx[k], ny = y + dy[k];
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        size_t j = (size_t)ny * (size_t)w + (size_t)nx;
+    size_t nb[4];
+    for (int k = 0, count = gbuffer_neighbours4(g, i, nb); k < count; ++k) {
+        size_t j = nb[k];
         float b = gbuffer_albedo_mean(g, j);
         if (!g->albedo_varies[j] && b > 0.0f && fabsf(a - b) > ALBEDO_VARIES_REL_STD * (a + b)) return true;
     }
@@ -184,14 +193,11 @@ static inline bool gbuffer_albedo_step(const GBuffer *g, size_t i)
 static inline bool gbuffer_surface_step(const GBuffer *g, size_t i)
 {
     if (g->mixed[i]) return false;
-    int w = g->width, h = g->height, x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
-    const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
     const float *ni = g->nrm4 + 4 * i;
     float di = g->pos4[4 * i + 3];
-    for (int k = 0; k < 4; ++k) {
-        int nx = x + dx[k], ny = y + dy[k];
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        size_t j = (size_t)ny * (size_t)w + (size_t)nx;
+    size_t nb[4];
+    for (int k = 0, count = gbuffer_neighbours4(g, i, nb); k < count; ++k) {
+        size_t j = nb[k];
         if (g->mixed[j]) continue;
         if (g->hit[i] != g->hit[j]) return true;
         if (!g->hit[i]) continue;
