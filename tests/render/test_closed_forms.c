@@ -68,6 +68,24 @@ int main(void)
         fprintf(stderr, "rectangle: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
         CHECK_NEAR(got / want, 1.0, 0.01);
     }
+    /* rectangle close to the plane: half sides a = 2, b = 1 at h = 0.3 (E near pi L; the camera
+     * ray passes under its near edge). Under
+     * MIS the BSDF-sampled rays carried about half of E here (the light's area density is
+     * low where the light is seen near grazing); a Lambert last vertex now takes it by light
+     * sampling alone (integrator.c, lambert_light_only), with weight 1. */
+    {
+        double L = 2.0, a = 2.0, b = 1.0, h = 0.3, A = a / h, B = b / h;
+        double E = 2.0 * L * (A / sqrt(1 + A * A) * atan(B / sqrt(1 + A * A)) + B / sqrt(1 + B * B) * atan(A / sqrt(1 + B * B)));
+        snprintf(lights, sizeof lights,
+                 "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ %g %g %g ]\n"
+                 " Shape \"trianglemesh\" \"point3 P\" [ %g %g %g  %g %g %g  %g %g %g  %g %g %g ]"
+                 " \"integer indices\" [ 0 1 2 0 2 3 ]\nAttributeEnd\n",
+                 L, L, L, -a, h, -b, a, h, -b, a, h, b, -a, h, b);
+        double got = render_center(lights, 16384, rho);
+        double want = rho * E / PI;
+        fprintf(stderr, "rectangle, close: got %.6f want %.6f (rel %.4f)\n", got, want, got / want - 1.0);
+        CHECK_NEAR(got / want, 1.0, 0.01);
+    }
     /* point light */
     {
         double I = 5.0, x = 0.3, h = 1.5, z = 0.2, d = sqrt(x * x + h * h + z * z);
