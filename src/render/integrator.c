@@ -12,7 +12,9 @@
  * Materials: Lambert (material.h) and the glossy BSDFs of bsdf_glossy.h, evaluated in the
  * local frame (t1, t2, ns). Delta lobes (smooth conductor / dielectric, the smooth coat of
  * coateddiffuse) are reached only by BSDF sampling, and what they see is weighted 1 (no
- * MIS: light sampling cannot produce their directions). */
+ * MIS: light sampling cannot produce their directions). A Lambert last vertex in a scene
+ * without infinite lights takes its area lights by light sampling alone (weight 1, no BSDF
+ * ray: lambert_light_only). */
 #include "render/integrator.h"
 
 #include <math.h>

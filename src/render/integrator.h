@@ -1,8 +1,9 @@
 /* The integrator: radiance of one camera sample, split the way the filters need it
  * (emission seen directly, direct light at the first hit, indirect light), by next-event
  * estimation with multiple importance sampling against BSDF sampling (Veach 1997, power
- * heuristic) and, for max_depth >= 2, BSDF-sampled bounces (direct lighting at each bounce
- * vertex). Everything after the first bounce counts as indirect. */
+ * heuristic; at a Lambert last vertex without infinite lights, light sampling alone) and, for
+ * max_depth >= 2, BSDF-sampled bounces (direct lighting at each bounce vertex). Everything
+ * after the first bounce counts as indirect. */
 #ifndef WEDGE_RENDER_INTEGRATOR_H
 #define WEDGE_RENDER_INTEGRATOR_H
 
