@@ -12,7 +12,9 @@
  * Materials: Lambert (material.h) and the glossy BSDFs of bsdf_glossy.h, evaluated in the
  * local frame (t1, t2, ns). Delta lobes (smooth conductor / dielectric, the smooth coat of
  * coateddiffuse) are reached only by BSDF sampling, and what they see is weighted 1 (no
- * MIS: light sampling cannot produce their directions). */
+ * MIS: light sampling cannot produce their directions). A Lambert last vertex in a scene
+ * without infinite lights takes its area lights by light sampling alone (weight 1, no BSDF
+ * ray: lambert_light_only). */
 #include "render/integrator.h"
 
 #include <math.h>
@@ -79,8 +81,8 @@ static vec3 from_local(const Vertex *v, vec3 l)
     return v3_normalize(v3_add(v3_add(v3_scale(v->t1, l.x), v3_scale(v->t2, l.y)), v3_scale(v->n, l.z)));
 }
 
-/* `sampled`: whether the vertex may sample its BSDF (vertex_uses_bsdf_dims); a Lambert
- * vertex needs its tangents only for that (vertex_sample's direction, which runs under the
+/* `sampled`: whether a Lambert vertex may sample its BSDF (lambert_uses_bsdf); it needs
+ * its tangents only for that (vertex_sample's direction, which runs under the
  * same test), a glossy one for every f. */
 static inline __attribute__((always_inline)) void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
                                                                bool sampled, Vertex *v)
@@ -141,28 +143,6 @@ typedef struct {
     bool delta;
 } VertexSample;
 
-/* vertex_sample's Lambert direction, before its weight: wi (world) = the frame applied to
- * lambert_local, its cosine at n and its pdf. False when the pdf is not > 0 (nothing sampled).
- * Apart from lambert_weight so that a last ray can take the emitter-box test before its
- * weight is computed (wave_emitter_box_test). */
-static inline bool lambert_direction(const Vertex *v, vec3 local, vec3 *wi, float *cos_i, float *pdf)
-{
-    /* A unit vector in an orthonormal frame is unit to rounding (a few 1e-7): no
-     * normalisation (a square root and a division on the way to the bounce ray). */
-    *wi = v3_add(v3_add(v3_scale(v->t1, local.x), v3_scale(v->t2, local.y)), v3_scale(v->n, local.z));
-    float ci = v3_dot(v->n, *wi), co = v3_dot(v->n, v->wo);
-    *cos_i = ci;
-    *pdf = bsdf_diffuse_pdf(co, ci);
-    return *pdf > 0.0f;
-}
-
-/* Its weight f |cos| / pdf for a pdf > 0, which implies cos_o cos_i > 0: f is albedo / pi
- * (bsdf_diffuse_f's same-side value). */
-static inline vec3 lambert_weight(const Vertex *v, float cos_i, float pdf)
-{
-    return v3_scale(v3_scale(v->albedo, 0.318309886f), cos_i / pdf);
-}
-
 /* BSDF sampling: Lambert takes the cosine-weighted direction about n, lambert_local =
  * warp_cosine_hemisphere(u) (drawn for a whole run by wave_vertex_dims); glossy BSDFs choose
  * a lobe with u_lobe and sample it with u (bsdf_glossy.h). False when nothing was sampled. */
@@ -177,10 +157,16 @@ WAVE_STAGE bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lamber
         vs->weight = v3_scale(gs.f, fabsf(gs.wi.z) / gs.pdf);
         return true;
     }
-    float cos_i;
+    /* A unit vector in an orthonormal frame is unit to rounding (a few 1e-7): no
+     * normalisation (a square root and a division on the way to the bounce ray). */
+    vs->wi = v3_add(v3_add(v3_scale(v->t1, lambert_local.x), v3_scale(v->t2, lambert_local.y)), v3_scale(v->n, lambert_local.z));
+    float cos_i = v3_dot(v->n, vs->wi), cos_o = v3_dot(v->n, v->wo);
     vs->delta = false;
-    if (!lambert_direction(v, lambert_local, &vs->wi, &cos_i, &vs->pdf)) return false;
-    vs->weight = lambert_weight(v, cos_i, vs->pdf);
+    vs->pdf = bsdf_diffuse_pdf(cos_o, cos_i);
+    if (!(vs->pdf > 0.0f)) return false;
+    /* f |cos| / pdf for a pdf > 0, which implies cos_o cos_i > 0: f is albedo / pi
+     * (bsdf_diffuse_f's same-side value) */
+    vs->weight = v3_scale(v3_scale(v->albedo, 0.318309886f), cos_i / vs->pdf);
     return true;
 }
 
@@ -573,9 +559,6 @@ struct Wave {
     /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
      * queued ray its origin, direction, path and answer */
     float box_o[3][WAVE_SAMPLES], box_d[3][WAVE_SAMPLES];
-    /* a Lambert ray's cosine and pdf for its weight (lambert_weight); pdf -1: a glossy ray,
-     * weighed and guarded already */
-    float box_cos[WAVE_SAMPLES], box_pdf[WAVE_SAMPLES];
     int box_path[WAVE_SAMPLES], box_may[WAVE_SAMPLES];
 };
 
@@ -607,12 +590,36 @@ static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePix
  * only when some light can be picked (the delta lights of LightSet.delta_every never are). */
 static inline bool vertex_uses_light_dims(const IntegratorScene *sc) { return sc->lights->power_total > 0.0f; }
 
+/* Whether a Lambert vertex at `depth` takes its area lights' light by light sampling alone
+ * (MIS weight 1, no BSDF-sampled ray): the last vertex, whose BSDF ray would only look for
+ * emission, in a scene without infinite lights (whose light that ray must still find), unless
+ * the filters record where the first hit's bounce ends. MIS's weights need only sum to 1
+ * wherever the integrand is not 0 (Veach 1997, ch. 9), so weights 1 and 0 (the BSDF sample
+ * not drawn) are unbiased where light sampling reaches every point of every emitter the
+ * vertex sees: the pick by power gives every emitter a probability (its power is > 0) and the
+ * triangle, disk and sphere samplers of light.c cover what the receiver can see of it
+ * (LightSet.area_sampling_complete; docs/algorithms.md, "Light sampling alone at a Lambert
+ * last vertex"). */
+static inline bool lambert_light_only(const IntegratorScene *sc, int depth)
+{
+    return depth == sc->max_depth && sc->lights->infinite_count == 0 && sc->lights->area_sampling_complete &&
+           !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry);
+}
+
 /* Whether vertex `depth` samples its BSDF: to carry the path on, or, at the last vertex,
  * to look for emission that MIS weighs against the light sample (area or infinite lights
  * only: no BSDF-sampled ray can find a point, spot or distant light). */
 static inline bool vertex_uses_bsdf_dims(const IntegratorScene *sc, int depth)
 {
+    if (sc->materials_lambert_only && lambert_light_only(sc, depth)) return false;
     return depth < sc->max_depth || sc->lights->has_area || sc->lights->infinite_count > 0;
+}
+
+/* Whether a Lambert vertex at `depth` samples a direction (make_vertex's `sampled`: its
+ * frame is needed only then). */
+static inline bool lambert_uses_bsdf(const IntegratorScene *sc, int depth)
+{
+    return vertex_uses_bsdf_dims(sc, depth) && !lambert_light_only(sc, depth);
 }
 
 /* The dimensions of vertex `depth` for paths path[j0 .. j0 + run->count), the samples of
@@ -861,8 +868,9 @@ static WEDGE_VECTORISED void sky_shadow_rays(WaveTriangleSamples *restrict g)
  * The estimate is read only where the ray is sent (send), so where the receiver faces the
  * light: there lambert_light's f and pdf are the lit side's, which are taken in every lane
  * (a select between a product and 0 could trap in one arm, which stops the vectoriser).
- * Li: the light's radiance L, li_sends: !max_component_nonpositive(L). */
-static WEDGE_VECTORISED void lambert_triangle_nee(vec3 Li, int li_sends, WaveTriangleSamples *restrict g)
+ * Li: the light's radiance L, li_sends: !max_component_nonpositive(L); bsdf_mis 1, or 0
+ * where the receivers take light sampling alone (lambert_light_only: the weight is then 1). */
+static WEDGE_VECTORISED void lambert_triangle_nee(vec3 Li, int li_sends, float bsdf_mis, WaveTriangleSamples *restrict g)
 {
     for (int k = 0; k < g->count; ++k) {
         float nx = g->n[0][k], ny = g->n[1][k], nz = g->n[2][k];
@@ -883,7 +891,8 @@ static WEDGE_VECTORISED void lambert_triangle_nee(vec3 Li, int li_sends, WaveTri
         g->traced[k] = sends & len_ok & g->lambert[k] & !g->redo[k];
         /* light_finish: denom, mis_power(denom, pdf_bsdf), the scaled value and its guard3 */
         float denom = g->pmf[k] * g->pdf[k];
-        float a = denom * denom, b = pdf_bsdf * pdf_bsdf;
+        float pdf_mis = pdf_bsdf * bsdf_mis; /* 0: light sampling alone (lambert_light_only) */
+        float a = denom * denom, b = pdf_mis * pdf_mis;
         int a_inf = a == INFINITY; /* isinf of a square (never -inf) */
         int mis_trivial = a_inf | (a + b > 0.0f ? 0 : 1);
         float q = a / (a + b); /* computed in every lane, kept where mis_power divides */
@@ -899,9 +908,10 @@ static WEDGE_VECTORISED void lambert_triangle_nee(vec3 Li, int li_sends, WaveTri
 /* The picks of the stage's live, lit paths (what light_prepare would find), and the samples
  * of the picked static triangle lights, per light in one vectorised loop each (up to
  * WAVE_TRIANGLE_GROUPS lights; a path that picks another samples it on its own). */
-WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n)
+WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, int n, int depth)
 {
     const LightSet *L = sc->lights;
+    float bsdf_mis = lambert_light_only(sc, depth) ? 0.0f : 1.0f;
     w->tri_groups = 0;
     /* Nothing to pick (wave_vertex_dims drew no pick): wave_vertex_rays then reads neither
      * the pick nor tri_group, so the pass over the paths is skipped. */
@@ -954,7 +964,7 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
             for (int k = 0; k < t->count; ++k) t->pdf[k] = LIGHT_SKY_PDF, t->ok[k] = sends;
             t->rays_ahead = true;
             sky_shadow_rays(t);
-            lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), t);
+            lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), bsdf_mis, t);
             continue;
         }
         TriangleSampleBatch out = {{t->wi[0], t->wi[1], t->wi[2]}, t->dist, {t->pl[0], t->pl[1], t->pl[2]}, t->pdf, t->ok};
@@ -962,7 +972,7 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         t->rays_ahead = l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f;
         if (t->rays_ahead) {
             triangle_shadow_rays(l->tri_n, l->tri_err, t);
-            lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), t);
+            lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), bsdf_mis, t);
         } else {
             for (int k = 0; k < t->count; ++k) t->redo[k] = 1; /* no offset at the light: shadow_ray_to */
         }
@@ -1134,6 +1144,7 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     const LightSet *L = sc->lights;
     TracerRay shadow;
     bool lit = vertex_lit(v);
+    bool light_only = lambert_light_only(sc, depth);
     p->light_recorded = false;
     /* with nothing to pick, the vertex takes no picked light's sample (its pick and
      * tri_group were not set: wave_triangle_light_samples) */
@@ -1161,6 +1172,8 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         }
     } else {
         p->light_pending = picks && lit && light_prepare(sc, w, p, st, &shadow);
+        /* light sampling alone: mis_power(denom, 0) is 1 */
+        if (light_only && !v->glossy) p->lp.pdf_bsdf = 0.0f;
     }
     if (p->light_pending && !valued) {
         /* the first hit's shadow rays to area lights are recorded for the filters, with the
@@ -1237,24 +1250,9 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     p->unfiltered_light = p->unfiltered;
     p->bounce = false;
 
-    if (!vertex_uses_bsdf_dims(sc, depth)) return;
+    if (!vertex_uses_bsdf_dims(sc, depth) || (light_only && !v->glossy)) return;
     vec3 lambert_local = v3(w->dim_cosine[0][j], w->dim_cosine[1][j], w->dim_cosine[2][j]);
-    bool box_test = emitter_box_test(sc, depth);
-    if (box_test && !v->glossy) {
-        /* A Lambert last ray, which the box test mostly drops (97% on thin_occluders and
-         * soft_shadows): its direction and origin queued for the test, its weight, guard,
-         * bounce and slot left to wave_emitter_box_test, for the rays the test keeps. */
-        vec3 wi;
-        float cos_i, pdf;
-        if (!lambert_direction(v, lambert_local, &wi, &cos_i, &pdf)) return;
-        vec3 o = surface_offset(&v->hit, wi);
-        int k = (*n_hit)++;
-        w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
-        w->box_d[0][k] = wi.x, w->box_d[1][k] = wi.y, w->box_d[2][k] = wi.z;
-        w->box_cos[k] = cos_i, w->box_pdf[k] = pdf;
-        w->box_path[k] = j;
-        return;
-    }
+    bool box_test = emitter_box_test(sc, depth); /* glossy last rays (Lambert ones: lambert_light_only) */
     float u_lobe = 0.5f; /* Lambert: unused */
     if (v->glossy)
         u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), vertex_dim0(sc, depth) + 3);
@@ -1265,12 +1263,11 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     vec3 o = surface_offset(&v->hit, p->vs.wi);
     if (box_test) {
         /* a glossy last ray: sampled, weighed and guarded as ever, and queued for the test,
-         * which writes its ray if it keeps it (a negative pdf marks it as prepared) */
+         * which writes its ray if it keeps it */
         p->bounce = true;
         int k = (*n_hit)++;
         w->box_o[0][k] = o.x, w->box_o[1][k] = o.y, w->box_o[2][k] = o.z;
         w->box_d[0][k] = p->vs.wi.x, w->box_d[1][k] = p->vs.wi.y, w->box_d[2][k] = p->vs.wi.z;
-        w->box_pdf[k] = -1.0f;
         w->box_path[k] = j;
         return;
     }
@@ -1285,18 +1282,16 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
 
 /* The box test for the stage's n_hit queued last rays at once (lights_rays_may_reach_emitter,
  * one vectorised loop, instead of a call per ray), then, for the rays it keeps, in the
- * paths' order, what wave_vertex_rays leaves undone: a Lambert ray's weight (lambert_weight,
- * the operations vertex_sample does), the throughput's guard and test that it is positive,
- * and for every kept ray its bounce and its ray at slot [0, count). Returns count. A dropped
- * ray's path keeps bounce false, which wave_vertex_fold ends as a traced ray that found
- * nothing (no emission, no infinite light: nothing added); a dropped glossy ray's path had
- * bounce set, and loses it. A dropped Lambert ray's weight is never computed: it counts as
- * skipped whatever its throughput, and a non-finite one is no guarded event. */
+ * paths' order, their ray at slot [0, count). Returns count. The queued rays were sampled,
+ * weighed and guarded, with bounce set: glossy ones, and Lambert ones only where light
+ * sampling alone does not hold (lambert_light_only: LightSet.area_sampling_complete false).
+ * A dropped ray's path loses bounce, which wave_vertex_fold ends as a traced ray that found
+ * nothing (no emission, no infinite light: nothing added). */
 static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, IntegratorStats *st)
 {
     const float *o[3] = {w->box_o[0], w->box_o[1], w->box_o[2]}, *d[3] = {w->box_d[0], w->box_d[1], w->box_d[2]};
     lights_rays_may_reach_emitter(sc->lights, n_hit, o, d, w->box_may);
-    int count = 0, unsent = 0;
+    int count = 0;
     for (int k = 0; k < n_hit; ++k) {
         WavePath *p = &w->path[w->box_path[k]];
         if (!w->box_may[k]) {
@@ -1304,22 +1299,11 @@ static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, 
             continue;
         }
         vec3 wi = v3(d[0][k], d[1][k], d[2][k]);
-        if (w->box_pdf[k] >= 0.0f) {
-            float pdf = w->box_pdf[k];
-            p->vs = (VertexSample){wi, lambert_weight(&p->v, w->box_cos[k], pdf), pdf, false};
-            p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
-            /* no throughput: neither traced nor skipped, as when the test came after this */
-            if (max_component_nonpositive(p->beta_next)) {
-                ++unsent;
-                continue;
-            }
-            p->bounce = true;
-        }
         w->ray_hit[count] = (TracerRay){v3(o[0][k], o[1][k], o[2][k]), wi, INFINITY, p->time01, 0u};
         p->hit_slot = count++;
     }
     st->rays_bsdf += count;
-    st->rays_bsdf_skipped += n_hit - count - unsent;
+    st->rays_bsdf_skipped += n_hit - count;
     return count;
 }
 
@@ -1449,7 +1433,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         record_glossy_bsdf(p, e, rec, st);
     if (!hit || depth == sc->max_depth) return;
     p->beta = p->beta_next;
-    make_vertex(sc, nh, v3_neg(wi), vertex_uses_bsdf_dims(sc, depth + 1), &p->v);
+    make_vertex(sc, nh, v3_neg(wi), lambert_uses_bsdf(sc, depth + 1), &p->v);
     p->alive = true;
 }
 
@@ -1485,7 +1469,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
     bool any_alive = false;
     /* whether the first vertex samples its BSDF: the same for every path, so found once
      * (its loads through sc->lights were a part of every hit) */
-    bool sampled_first = vertex_uses_bsdf_dims(sc, 1);
+    bool sampled_first = lambert_uses_bsdf(sc, 1);
     for (int j = 0; j < n; ++j) {
         wave_first_hit(sc, &w->path[j], v3(w->cam_d[0][j], w->cam_d[1][j], w->cam_d[2][j]), w->hit_found[j], &w->hit[j], sampled_first, wave_out_record(out, j),
                        wave_out_radiance(out, j), st);
@@ -1510,7 +1494,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
         }
         int n_occ = 0, n_rec = 0, n_hit = 0;
         wave_point_light_samples(sc, w, n);
-        wave_triangle_light_samples(sc, w, n);
+        wave_triangle_light_samples(sc, w, n, depth);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive)
                 wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);

@@ -1,8 +1,9 @@
 /* The integrator: radiance of one camera sample, split the way the filters need it
  * (emission seen directly, direct light at the first hit, indirect light), by next-event
  * estimation with multiple importance sampling against BSDF sampling (Veach 1997, power
- * heuristic) and, for max_depth >= 2, BSDF-sampled bounces (direct lighting at each bounce
- * vertex). Everything after the first bounce counts as indirect. */
+ * heuristic; at a Lambert last vertex without infinite lights, light sampling alone) and, for
+ * max_depth >= 2, BSDF-sampled bounces (direct lighting at each bounce vertex). Everything
+ * after the first bounce counts as indirect. */
 #ifndef WEDGE_RENDER_INTEGRATOR_H
 #define WEDGE_RENDER_INTEGRATOR_H
 
@@ -36,14 +37,16 @@ typedef struct {
                                 * its unfiltered parts (+0) and, unless recorded, its motion and
                                 * ray geometry entries unset: no user reads them (render_reads.h;
                                 * false: fill them) */
+    bool materials_lambert_only; /* no material is glossy (material_table_lambert_only): every
+                                * vertex is Lambert (false: some may not be) */
     float time01_fixed;        /* without sample_time: every ray's time (integrator_fixed_time01) */
     const PixelFilter *pixel_filter; /* NULL: the box over the pixel (the film sample as is) */
 } IntegratorScene;
 
 typedef struct {
     long long rays_primary, rays_shadow, rays_indirect, rays_bsdf;
-    long long rays_bsdf_skipped; /* last rays not traced: they cannot reach an emitter (a
-                                  * Lambert one whatever its throughput, which is not computed) */
+    long long rays_bsdf_skipped; /* last rays not traced: they cannot reach an emitter (glossy
+                                  * ones: a Lambert last vertex there samples no direction) */
     long long guarded_events;  /* non-finite values replaced, degenerate divisions skipped */
 } IntegratorStats;
 

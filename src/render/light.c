@@ -150,6 +150,7 @@ static void sphere_world(const Geom *g, const Mat4 *m, vec3 *c, float *r)
 bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
 {
     *set = (LightSet){0};
+    set->area_sampling_complete = true;
     int cap = 0;
     vec3 bmin = v3(tr->bounds_min[0], tr->bounds_min[1], tr->bounds_min[2]);
     vec3 bmax = v3(tr->bounds_max[0], tr->bounds_max[1], tr->bounds_max[2]);
@@ -194,6 +195,9 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
                     Mat4 m = emitter_world_from_object(g, &x);
                     sphere_world(g, &m, &l->sphere_c, &l->sphere_r);
                     l->area_world = 4.0f * WEDGE_PI * l->sphere_r * l->sphere_r;
+                    /* cone sampling reaches the cap facing the receiver alone: a cut sphere
+                     * that emits inwards or both ways shows its far cap's inside too */
+                    if (!sphere_is_full(g) && (two_sided || g->flip_normal)) set->area_sampling_complete = false;
                 }
                 set->has_area = true;
             }

@@ -66,6 +66,11 @@ typedef struct {
     int *infinite;          /* indices of infinite lights (seen by escaping rays) */
     int infinite_count;
     bool has_area, has_delta;
+    /* light_sample reaches every point of every area light that a receiver outside it can see
+     * emitting towards it (false: a cut sphere that emits inwards or both ways, whose far
+     * cap's inside cone sampling misses; and in a set made by hand). Light sampling alone is
+     * then unbiased (the integrator's lambert_light_only). */
+    bool area_sampling_complete;
     float scene_radius;     /* bounding sphere of the geometry (distant/infinite power) */
     vec3 scene_center;
     /* a padded world box around every area light (light_bounds.c); emitters_bounded is

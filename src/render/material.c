@@ -383,6 +383,14 @@ bool material_reads_uv(const MaterialTable *table, int m)
     }
 }
 
+bool material_table_lambert_only(const MaterialTable *table)
+{
+    if (table->default_material.kind == MATERIAL_GLOSSY) return false;
+    for (int m = 0; m < table->material_count; ++m)
+        if (table->materials[m].kind == MATERIAL_GLOSSY) return false;
+    return true;
+}
+
 vec3 material_albedo(const MaterialTable *table, int m, vec2 uv, vec3 p_world)
 {
     const Material *mat = material_get(table, m);

@@ -95,6 +95,10 @@ static inline bool material_textured(const MaterialTable *table, const Material 
  * anywhere in it (a mix always, conservatively). False: the hit's uv can be left 0. */
 bool material_reads_uv(const MaterialTable *table, int m);
 
+/* Whether every material of the table, the default one included, is diffuse (a mix's
+ * parts are materials of the table): then no hit is shaded by a glossy BSDF. */
+bool material_table_lambert_only(const MaterialTable *table);
+
 /* Texture i (or the constant of r) at uv / p_world. */
 vec3 texture_eval(const MaterialTable *table, int i, vec2 uv, vec3 p_world, int depth);
 vec3 texref_eval(const MaterialTable *table, TexRef r, vec2 uv, vec3 p_world, int depth);

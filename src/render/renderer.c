@@ -97,6 +97,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->record_ray_geometry = isc->record_bounce_geometry = opt->record_ray_geometry;
     isc->record_motion = opt->record_motion;
     isc->skip_first_hit_fields = !render_reads_first_hit(opt->reads);
+    isc->materials_lambert_only = material_table_lambert_only(&r->materials);
     isc->time01_fixed = integrator_fixed_time01(isc);
     /* --pixel-filter, else the scene's PixelFilter statement, else wedge's box (pbrt-v4's
      * default would be a gaussian: docs/rendering.md, "Pixel filters") */

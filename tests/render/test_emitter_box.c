@@ -6,13 +6,15 @@
  *    emitter (light_sample, edges and all). Teeth: most random rays miss the box and are
  *    judged so, and a ray leaving the box is.
  *  - A moving emitter leaves the box unbounded: every ray may reach it.
- *  - The integrator: a render that skips the rays (no records) equals, value for value, one
- *    that traces every first vertex's last ray (records on, so none is skipped), the
- *    skipped and traced rays add up to the same count and the guarded events are the same.
- *    With a black object too, except the counts: a Lambert last ray's weight is computed
- *    only when the box test keeps it (wave_emitter_box_test), so the black object's dropped
- *    rays count as skipped, while the records' run, which weighs every ray, traces none of
- *    its rays (no throughput); with an infinite light none is skipped.
+ *  - The integrator: on glossy receivers (the box test's last rays: a Lambert last vertex
+ *    samples no direction there, lambert_light_only), a render that skips the rays (no
+ *    records) equals, value for value, one that traces every first vertex's last ray
+ *    (records on, so none is skipped), the skipped and traced rays add up to the same count
+ *    and the guarded events are the same; with a black Lambert object too (no light, no ray,
+ *    either way); with an infinite light none is skipped. On Lambert receivers too where a cut
+ *    sphere emits both ways (LightSet.area_sampling_complete false: MIS and the rays stay).
+ *  - A Lambert last vertex without bounce records traces and skips no last ray at all; with
+ *    them (MIS against the BSDF sample) it traces one wherever its throughput is positive.
  *  - Shadow geometry without bounce geometry (what a maxdepth-1 filtered frame records):
  *    the box test still runs, the values and ray counts are a plain render's, the shadow
  *    rays are recorded and no bounce ray is; with the bounce geometry, every last ray is
@@ -127,8 +129,8 @@ static void test_moving_emitter(void)
     test_lights_free(&b);
 }
 
-/* maxdepth 1: every bounce ray is a last ray. A quad light over a floor, a diffuse and a
- * conductor sphere. */
+/* maxdepth 1: every bounce ray is a last ray. A quad light over a floor, a coated diffuse
+ * and a conductor sphere (glossy receivers: their last rays take the box test). */
 static const char *LIT =
     "LookAt 1 2.5 -5  0 0.5 0  0 1 0\n"
     "Camera \"perspective\" \"float fov\" [ 40 ]\n"
@@ -140,15 +142,18 @@ static const char *LIT =
     "  Shape \"trianglemesh\" \"point3 P\" [ -0.6 2.5 -0.6  0.6 2.5 -0.6  0.6 2.5 0.6  -0.6 2.5 0.6 ]\n"
     "        \"integer indices\" [ 0 1 2  0 2 3 ]\n"
     "AttributeEnd\n"
-    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.6 0.7 ]\n"
+    "Material \"%s\" \"rgb reflectance\" [ 0.5 0.6 0.7 ]%s\n"
     "Shape \"trianglemesh\" \"point3 P\" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] \"integer indices\" [ 0 2 1  0 3 2 ]\n"
     "AttributeBegin Translate -0.9 0.5 0.2 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n"
     "AttributeBegin Material \"conductor\" Translate 0.9 0.7 -0.1 Shape \"sphere\" \"float radius\" [ 0.7 ] AttributeEnd\n";
 
-static void test_skipped_rays_change_nothing(const char *extra, bool expect_skips, bool black)
+/* The receivers' material: glossy (coateddiffuse) or Lambert. */
+static const char *const GLOSSY = "coateddiffuse", *const GLOSSY_ARGS = " \"float roughness\" [ 0.3 ]";
+
+static void test_skipped_rays_change_nothing(const char *extra, const char *material, const char *args, bool expect_skips)
 {
     char text[4096];
-    snprintf(text, sizeof text, LIT, extra);
+    snprintf(text, sizeof text, LIT, extra, material, args);
     TestRender t[2];
     RenderOptions o = {0};
     o.width = 24, o.height = 18, o.threads = 2, o.seed = 3, o.spp = 16;
@@ -169,11 +174,34 @@ static void test_skipped_rays_change_nothing(const char *extra, bool expect_skip
     CHECK(bad == 0 && sum > 0.0);
     CHECK(t[0].stats.guarded_events == t[1].stats.guarded_events);
     CHECK(t[1].stats.rays_bsdf_skipped == 0);
-    /* the black object's last rays: dropped ones skipped, kept ones not traced */
-    if (black) CHECK(t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped > t[1].stats.rays_bsdf);
-    else CHECK(t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped == t[1].stats.rays_bsdf);
+    CHECK(t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped == t[1].stats.rays_bsdf);
     CHECK(expect_skips ? t[0].stats.rays_bsdf_skipped > t[0].stats.rays_bsdf : t[0].stats.rays_bsdf_skipped == 0);
     for (int k = 0; k < 2; ++k) test_render_free(&t[k]);
+}
+
+/* Lambert receivers and the conductor sphere: without records only the conductor's last rays
+ * are sampled (traced or skipped); with the bounce records every receiver's are, and traced. */
+static void test_lambert_last_rays(void)
+{
+    char text[4096], glossy[4096];
+    snprintf(text, sizeof text, LIT, "", "diffuse", "");
+    snprintf(glossy, sizeof glossy, LIT, "", GLOSSY, GLOSSY_ARGS);
+    TestRender t[3];
+    RenderOptions o = {0};
+    o.width = 24, o.height = 18, o.threads = 2, o.seed = 3, o.spp = 16;
+    bool ok = test_render(text, &o, &t[0]);
+    ok = test_render(glossy, &o, &t[2]) && ok;
+    o.record_ray_geometry = true;
+    ok = test_render(text, &o, &t[1]) && ok;
+    CHECK(ok);
+    if (!ok) return;
+    long long lambert = t[0].stats.rays_bsdf + t[0].stats.rays_bsdf_skipped;
+    long long glossy_all = t[2].stats.rays_bsdf + t[2].stats.rays_bsdf_skipped;
+    printf("Lambert receivers: %lld last rays sampled without records (all glossy: %lld), %lld traced with them\n",
+           lambert, glossy_all, t[1].stats.rays_bsdf);
+    CHECK(lambert > 0 && 4 * lambert < glossy_all); /* the conductor sphere's alone */
+    CHECK(t[1].stats.rays_bsdf > 2 * lambert && t[1].stats.rays_bsdf_skipped == 0);
+    for (int k = 0; k < 3; ++k) test_render_free(&t[k]);
 }
 
 /* Counts the records that carry shadow and bounce ray geometry. */
@@ -197,7 +225,7 @@ static void count_geometry(void *ctx, int px, int py, const SampleRecord *r)
 static void test_shadow_geometry_keeps_box_test(void)
 {
     char text[4096];
-    snprintf(text, sizeof text, LIT, "");
+    snprintf(text, sizeof text, LIT, "", GLOSSY, GLOSSY_ARGS);
     RenderOptions o = {0};
     o.width = 24, o.height = 18, o.threads = 2, o.seed = 5, o.spp = 16;
     TestRender plain;
@@ -318,11 +346,19 @@ int main(void)
     test_box_oracle();
     test_batch_equals_single();
     test_moving_emitter();
-    test_skipped_rays_change_nothing("", true, false);
+    test_skipped_rays_change_nothing("", GLOSSY, GLOSSY_ARGS, true);
     test_skipped_rays_change_nothing("AttributeBegin Material \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n"
                                      "  Translate 0 0.4 -1.2 Shape \"sphere\" \"float radius\" [ 0.4 ] AttributeEnd\n",
-                                     true, true);
-    test_skipped_rays_change_nothing("LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n", false, false);
+                                     GLOSSY, GLOSSY_ARGS, true);
+    test_skipped_rays_change_nothing("LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n", GLOSSY, GLOSSY_ARGS, false);
+    /* Lambert receivers and a cut sphere that emits both ways, its opening towards the floor
+     * (cone sampling misses its far cap's inside): light sampling alone would lose that light,
+     * so the last vertices keep MIS and their rays, which the box test still skips */
+    test_skipped_rays_change_nothing("AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [ 3 3 3 ] \"bool twosided\" true\n"
+                                     "  Translate 1.5 1.2 1 Rotate 90 1 0 0 Shape \"sphere\" \"float radius\" [ 0.35 ]"
+                                     " \"float zmax\" [ 0.1 ] AttributeEnd\n",
+                                     "diffuse", "", true);
+    test_lambert_last_rays();
     test_shadow_geometry_keeps_box_test();
     CHECK_DONE();
 }

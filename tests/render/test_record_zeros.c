@@ -62,8 +62,8 @@ static bool render_tally(const char *text, TestRender *t, Tally *tally)
 
 static void test_misses_and_quad_light(void)
 {
-    /* two small quad lights facing down, on either side of the view: most last BSDF rays
-     * from the floor miss the emitters' box (not traced), and most of the others pass
+    /* two small quad lights facing down, on either side of the view: most last BSDF rays from
+     * the (glossy) floor miss the emitters' box (not traced), and most of the others pass
      * between the two lights (traced, found nothing) */
     const char *text = HEADER
         "AttributeBegin\n"
@@ -73,7 +73,7 @@ static void test_misses_and_quad_light(void)
         "  Shape \"trianglemesh\" \"point3 P\" [ -1.55 0.5 -0.05  -1.55 0.5 0.05  -1.45 0.5 0.05  -1.45 0.5 -0.05 ]\n"
         "        \"integer indices\" [ 0 2 1  0 3 2 ]\n"
         "AttributeEnd\n"
-        "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"float roughness\" [ 0.3 ]\n"
         "Shape \"trianglemesh\" " FLOOR_P;
     TestRender t;
     Tally tl;
