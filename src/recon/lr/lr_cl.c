@@ -125,8 +125,10 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
     return max_layers;
 }
 
-/* Per (tile, layer): rotation, filter, radii, the two tap tables (lr_screen_taps) and, for a
- * layer with the round filter, its flag and table (lr_screen_round). */
+/* Per (tile, layer): rotation, filter, radii, and for a layer with the round filter its flag
+ * and table (lr_screen_round), else the two tap tables (lr_screen_taps): the kernels read
+ * the taps only in the two passes a round layer does not take (lr_reproject's along pass,
+ * lr_across_composite's row pass), and on the bench scenes most layers are round. */
 static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
 {
     for (int t = 0; t < ntiles; ++t)
@@ -138,11 +140,13 @@ static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
             float v[LP_TAPS_X] = {lr->tiles[t].layer[j].cos_psi, lr->tiles[t].layer[j].sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px,
                                   f->inv_sigma_u, f->inv_sigma_t, f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, (float)rx, (float)ry};
             memcpy(p, v, sizeof v);
+            int rr;
+            if (lr_screen_round(f, cfg, v[0], v[1], &rr, p + LP_ROUND_T)) { /* one 2D sum, no passes */
+                p[LP_ROUND] = 1.0f, p[10] = p[11] = (float)rr;
+                continue;
+            }
             lr_screen_taps(f, cfg, false, rx, p + LP_TAPS_X);
             lr_screen_taps(f, cfg, true, ry, p + LP_TAPS_Y);
-            int rr;
-            if (lr_screen_round(f, cfg, v[0], v[1], &rr, p + LP_ROUND_T)) /* one 2D sum, no passes */
-                p[LP_ROUND] = 1.0f, p[10] = p[11] = (float)rr;
         }
 }
 

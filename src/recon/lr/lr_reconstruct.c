@@ -119,9 +119,11 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
         int rx, ry, rr = 0;
         lr_screen_radii_px(f, cfg, &rx, &ry);
         float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1], round[LR_ROUND_TABLE];
-        lr_screen_taps(f, cfg, false, rx, taps_x);
-        lr_screen_taps(f, cfg, true, ry, taps_y);
         bool is_round = lr_screen_round(f, cfg, cp, sp, &rr, round);
+        if (!is_round) { /* the taps serve only the two passes */
+            lr_screen_taps(f, cfg, false, rx, taps_x);
+            lr_screen_taps(f, cfg, true, ry, taps_y);
+        }
         for (int iy = 0; iy < wh && !is_round; ++iy)
             for (int ix = 0; ix < ww; ++ix) {
                 float acc[CH_COUNT] = {0};

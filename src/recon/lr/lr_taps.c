@@ -79,11 +79,17 @@ static double semicircle_cdf(double x, double R)
 
 enum { SPAN = LR_MAX_RADIUS_PX, WIDTH = 2 * SPAN + 1 }; /* per-pixel tables over [-SPAN, SPAN] */
 
-/* Each share binned into pixels (exact integrals over [k - 1/2, k + 1/2]). */
+/* Each share binned into pixels (exact integrals over [k - 1/2, k + 1/2]). A pixel's lower
+ * edge is its left neighbour's upper edge, the same double (k - 1/2 = (k - 1) + 1/2 exactly),
+ * so each edge's cdf is taken once (WIDTH + 1 calls, not 2 WIDTH). */
 static void bin_disk(double R, double *t)
 {
-    for (int k = -SPAN; k <= SPAN; ++k)
-        t[k + SPAN] = R > 0.0 ? semicircle_cdf(k + 0.5, R) - semicircle_cdf(k - 0.5, R) : (k == 0);
+    double lo = R > 0.0 ? semicircle_cdf(-SPAN - 0.5, R) : 0.0;
+    for (int k = -SPAN; k <= SPAN; ++k) {
+        double hi = R > 0.0 ? semicircle_cdf(k + 0.5, R) : 0.0;
+        t[k + SPAN] = R > 0.0 ? hi - lo : (k == 0);
+        lo = hi;
+    }
 }
 
 static void bin_box(double L, double *t)
@@ -96,7 +102,12 @@ static void bin_box(double L, double *t)
 
 static void bin_gauss(double s, double *t)
 {
-    for (int k = -SPAN; k <= SPAN; ++k) t[k + SPAN] = s > 0.0 ? phi((k + 0.5) / s) - phi((k - 0.5) / s) : (k == 0);
+    double lo = s > 0.0 ? phi((-SPAN - 0.5) / s) : 0.0;
+    for (int k = -SPAN; k <= SPAN; ++k) {
+        double hi = s > 0.0 ? phi((k + 0.5) / s) : 0.0;
+        t[k + SPAN] = s > 0.0 ? hi - lo : (k == 0);
+        lo = hi;
+    }
 }
 
 /* Half-width of a symmetric per-pixel table: the largest |k| with a nonzero entry. */
@@ -171,9 +182,16 @@ static double round_variance(const double *t, int r, double *sum)
     return s > 0.0 ? m2 / s : 0.0;
 }
 
+/* The table at the squared offsets of the cells within r (dx^2 + dy^2 <= r^2, the only entries
+ * read: round_variance, the kernels, lr_round_sum); 0 at the others (3, 6, 7, 11, ...: 54% of
+ * the entries up to 8^2, 62% up to 16^2), which were an erfc each, five times a table. */
 static void round_fill(double R, double s, int r, double *t)
 {
-    for (int d2 = 0; d2 <= r * r; ++d2) t[d2] = 0.5 * erfc((sqrt((double)d2) - R) / (s * M_SQRT2));
+    for (int d2 = 0; d2 <= r * r; ++d2) t[d2] = 0.0;
+    for (int dy = 0; dy <= r; ++dy)
+        for (int dx = 0; dx <= dy && dx * dx + dy * dy <= r * r; ++dx) t[dx * dx + dy * dy] = 1.0;
+    for (int d2 = 0; d2 <= r * r; ++d2)
+        if (t[d2] != 0.0) t[d2] = 0.5 * erfc((sqrt((double)d2) - R) / (s * M_SQRT2));
 }
 
 bool lr_screen_round(const LrFilter *f, const LrConfig *cfg, float cos_psi, float sin_psi, int *r, float *table)
