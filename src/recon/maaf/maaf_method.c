@@ -33,6 +33,7 @@
 #include "recon/aaf/aaf_pixel_params.h"
 #include "recon/aaf/aaf_stats.h"
 #include "recon/maaf/maaf_defocus.h"
+#include "recon/maaf/maaf_far_reach.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_indirect.h"
 #include "recon/maaf/maaf_shadow.h"
@@ -50,8 +51,8 @@
  * window saw no occluder borrow from this radius (AAF-shadow Sec. 6's 5 pixels). */
 #define SLOPE_WINDOW_PX 2
 #define BORROW_RADIUS_PX 5
-/* No occluder within BORROW_RADIUS_PX: visibility is 1 there; the unshadowed light is filtered
- * with a plain Gaussian of this std (pixels, at the default knob; measured: 2 and 4 alike). */
+/* No reflector within BORROW_RADIUS_PX: the indirect light is filtered with a plain Gaussian
+ * of this std (pixels, at the default knob); the shadows' far filter never narrower. */
 #define FAR_STD_PX 2.0f
 /* The reach of a shadow filter (pixels), below the design's 2 central stds (MAAF_RADIUS_CAP_PX
  * for defocus): the wedge is measured over a 5 x 5 window, and a filter reaching much further
@@ -62,6 +63,14 @@
 #define SHADOW_RADIUS_CAP_PX 8.0f
 /* The same for the indirect filter (its wedge is measured over the same window). */
 #define INDIRECT_RADIUS_CAP_PX 8.0f
+/* No occluder within BORROW_RADIUS_PX: visibility is 1 there, and the unshadowed light is
+ * filtered with a plain Gaussian whose reach (2 stds, maaf_pixel_param_plain's radius) is the
+ * pixel's window free of occluders and of pixels whose albedo varies (maaf_far_reach.h), at most
+ * the shadow filters' reach and at least FAR_STD_PX's, at the default knob: std 2 to 4 px. Any
+ * width is unbiased over pixels that saw no occluder and whose demodulation is exact, and the
+ * widest has the least variance; the fixed 2 px std left the plain pixels' variance ~9x their
+ * bias^2 on combined.pbrt (docs/algorithms.md 9.27). */
+#define FAR_STD_PER_REACH 0.5f
 /* Pixels whose unoccluded irradiance is below this fraction of the frame's largest keep their
  * own direct light (as AAF: dividing by it is unstable). */
 #define MIN_SHADE_REL 1.0e-3f
@@ -142,6 +151,7 @@ struct ReconMethod {
      * there saw an occluder */
     float *wedge_lo[2], *wedge_hi[2];
     unsigned char *wedge_found[2];
+    unsigned char *far_reach_px; /* and the occluder-free window's radius (maaf_far_reach.h) */
     MaafFilter *filter;
     long long nonfinite_samples;
     /* per pixel, after the first plan: which of its sums no filter will read (UNREAD_*), so
@@ -327,6 +337,7 @@ static void maaf_destroy(ReconMethod *m)
     if (m->derived_ok) aaf_derived_free(&m->derived);
     if (m->stats_ok) aaf_stats_free(&m->stats);
     for (int k = 0; k < 2; ++k) free(m->wedge_lo[k]), free(m->wedge_hi[k]), free(m->wedge_found[k]);
+    free(m->far_reach_px);
     free(m->geoms);
     free(m->lights);
     free(m->unread);
@@ -852,6 +863,11 @@ static bool wedge_windows(ReconMethod *m)
         extremes_along(w, h, r, true, s2, s1, seen, row_lo, row_hi, row_found);
         extremes_along(w, h, r, false, row_lo, row_hi, row_found, lo_k[k], hi_k[k], found_k[k]);
     }
+    /* the far filter's window: no occluder, and no pixel whose albedo varies inside it (there
+     * the demodulation by the mean albedo is not exact, docs/algorithms.md 9.27) */
+    for (size_t j = 0; j < n && ok; ++j) seen[j] = seen[j] || m->g->albedo_varies[j];
+    if (ok && !m->far_reach_px) ok = (m->far_reach_px = malloc(n)) != NULL;
+    if (ok) ok = maaf_far_reach(seen, w, h, (int)SHADOW_RADIUS_CAP_PX, m->far_reach_px);
     free(s1), free(s2), free(row_lo), free(row_hi), free(seen), free(row_found);
     for (int k = 0; k < 2; ++k) {
         if (!ok) { /* all or nothing: ensure_derived asks again */
@@ -881,7 +897,8 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
         /* 1/sqrt(kappa), not 1/kappa: the budget raises these pixels' counts about as
          * kappa^2, so the samples under the filter still grow (as kappa), as AAF's far rule
          * has them grow with mu; with 1/kappa they stayed constant and so did the noise */
-        float far_px = FAR_STD_PX * sqrtf(MAAF_KAPPA_DEFAULT / m->kappa);
+        float reach_px = fmaxf((float)m->far_reach_px[i], FAR_STD_PX / FAR_STD_PER_REACH);
+        float far_px = FAR_STD_PER_REACH * reach_px * sqrtf(MAAF_KAPPA_DEFAULT / m->kappa);
         maaf_pixel_param_plain(far_px, pw, m->light_pairs, pr);
         std_px = pr[0] > 0.0f ? far_px : 0.0f;
         *components = pr[0] > 0.0f ? 1.0f : 0.0f;
