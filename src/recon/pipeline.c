@@ -593,12 +593,12 @@ static double frame_samples(const ReconPipeline *p)
     return have;
 }
 
-/* The overscan band gets no extra samples: its pixels are cropped, and what reaches the image
- * from them (LR's window reads only the store, which pass 1 fills; the shading filters'
- * taps of the border pixels) is pass 1's. Under a --spp budget the room they leave goes to the
- * visible pixels (scale_extras), so the frame's samples stay the budget's. Measured
- * (docs/benchmarks.md, "The overscan band's pass 2"): with the band's extras dropped and the
- * visible pixels' counts kept, relMSE within 0.1% on moving_shadow. */
+/* The overscan band gets no extra samples: its pixels are cropped, and they reach the image
+ * only through LR's windows (which read the store, filled by pass 1) and the shading filters'
+ * taps of the border pixels. Under a --spp budget the room they leave goes to the visible
+ * pixels (scale_extras), so the frame still traces the budget. Dropping them with the visible
+ * counts kept changed moving_shadow's relMSE by under 0.1% (docs/benchmarks.md,
+ * "moving_shadow under --filter auto: the overscan band's pass 2 and LR's share"). */
 static void band_extras_zero(ReconPipeline *p)
 {
     int w = renderer_width(p->r), h = renderer_height(p->r), m = p->margin_px;

@@ -17,12 +17,12 @@
 /* What LR's value is worth in samples, per sample it read. LR's screen filter averages each
  * pixel's samples with its neighbours', so its value is less noisy than the mean of the
  * lr_spp samples it read (> 1), but it keeps a bias that does not fall with samples (LR's
- * value alone did not converge, docs/algorithms.md 8.16), so not much more. Measured (relMSE,
- * `--filter auto`, 256 x 256, seeds 1-2, docs/benchmarks.md "The overscan band's pass 2 and
- * LR's share"): 1 (the rule before) -> 2 lowered the error 0-11% on the six motion scenes at
- * 16 spp to their default budgets and raised it on none; 3 was better still on five of them
- * but 8% worse than 2 on moving_shadow at 16 spp; LR alone (a very large worth) 1.1-3x
- * worse there. */
+ * value alone did not converge, docs/algorithms.md 8.16), so not much more. Measured under
+ * `--filter auto` at 256 x 256, seeds 1-2 (docs/benchmarks.md, "moving_shadow under --filter
+ * auto: the overscan band's pass 2 and LR's share"): 1 (the rule before) -> 2 lowered relMSE
+ * 0-11% on the six motion scenes from 16 spp to their default budgets (one point +0.9%:
+ * moving_shadow, 64 spp, one seed); 3 was better still on five of them but 8% worse than 2 on
+ * moving_shadow at 16 spp; LR alone (a very large worth) 1.1-3x worse there. */
 #define LR_SHARE_WORTH 2.0f
 
 /* LR's weight in [0, 1]: 1 when pixel_spp <= LR_SHARE_WORTH * lr_spp (or lr_spp or
