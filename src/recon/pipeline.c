@@ -593,8 +593,23 @@ static double frame_samples(const ReconPipeline *p)
     return have;
 }
 
-/* The extra samples per pixel: the plan's total minus what each pixel has. With a --spp
- * budget the extras are scaled to make the frame's average exactly the budget. */
+/* The overscan band gets no extra samples: its pixels are cropped, and they reach the image
+ * only through LR's windows (which read the store, filled by pass 1) and the shading filters'
+ * taps of the border pixels. Under a --spp budget the room they leave goes to the visible
+ * pixels (scale_extras), so the frame still traces the budget. Dropping them with the visible
+ * counts kept changed moving_shadow's relMSE by under 0.1% (docs/benchmarks.md,
+ * "moving_shadow under --filter auto: the overscan band's pass 2 and LR's share"). */
+static void band_extras_zero(ReconPipeline *p)
+{
+    int w = renderer_width(p->r), h = renderer_height(p->r), m = p->margin_px;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (x < m || y < m || x >= w - m || y >= h - m) p->spp_extra[(size_t)y * (size_t)w + (size_t)x] = 0;
+}
+
+/* The extra samples per pixel: the plan's total minus what each pixel has (none in the
+ * overscan band). With a --spp budget the extras are scaled to make the frame's average
+ * exactly the budget. */
 static void extras_from_plan(ReconPipeline *p, int budget)
 {
     size_t n = pixel_count(p);
@@ -603,6 +618,7 @@ static void extras_from_plan(ReconPipeline *p, int budget)
         int e = p->spp_total[i] - (int)now[i];
         p->spp_extra[i] = e > 0 ? e : 0;
     }
+    if (p->margin_px) band_extras_zero(p);
     if (budget > 0) scale_extras(p, (double)budget * (double)n - frame_samples(p));
 }
 

@@ -417,13 +417,14 @@ static void test_flat_weights_lower_bias(void)
     }
 }
 
-/* lr_share_weight: all of LR's value where LR read every sample of the pixel, lr/n of it
- * where the pixel has n > lr samples (so a pixel's value tends to its own estimate as n
- * grows), and all of it for a count that is not a number. */
+/* lr_share_weight: all of LR's value where the pixel has at most twice the samples LR read
+ * (LR_SHARE_WORTH 2), 2 lr/n of it where it has n > 2 lr (so a pixel's value tends to its own
+ * estimate as n grows), and all of it for a count that is not a number. */
 static void test_share_weight(void)
 {
     CHECK(lr_share_weight(16, 8.0f) == 1.0f && lr_share_weight(16, 16.0f) == 1.0f);
-    CHECK(lr_share_weight(16, 64.0f) == 0.25f && lr_share_weight(8, 100.0f) == 0.08f);
+    CHECK(lr_share_weight(16, 32.0f) == 1.0f && lr_share_weight(16, 40.0f) == 0.8f);
+    CHECK(lr_share_weight(16, 128.0f) == 0.25f && lr_share_weight(8, 100.0f) == 0.16f);
     CHECK(lr_share_weight(16, NAN) == 1.0f && lr_share_weight(16, 0.0f) == 1.0f);
     CHECK(lr_share_weight(16, 1e30f) > 0.0f && lr_share_weight(16, 1e30f) < 1e-28f);
 }
