@@ -5,7 +5,14 @@
  * 2. Brute force: random maps (densities 0.2%, 2%, 20%) on frames from 1 x 1 to 40 x 31, caps 0,
  *    1, 5, 8, 20: each pixel's reach is the largest r <= cap such that the (2r + 1)^2 window
  *    around it, clipped to the frame, holds no pixel that saw an occluder (0 where even r = 0
- *    fails: the pixel itself saw one). A frame without any gives the cap everywhere. */
+ *    fails: the pixel itself saw one). A frame without any gives the cap everywhere.
+ * 3. The marks (maaf_far_marks; 9.28): over every combination of occluder, albedo varying, hit
+ *    and shadow rays (0, 1, 9) a pixel is marked exactly when it saw an occluder, its albedo
+ *    varies, or it is a surface pixel without a shadow ray (a miss without one is not). A
+ *    surface pixel at (10, 7) that cast no shadow ray, in a frame whose other pixels are
+ *    surfaces with 9 unoccluded rays each, limits every pixel's reach to min(cap, d - 1) as
+ *    an occluder there would (on wire_screen such pixels, faces lit at grazing, took the
+ *    widest far filter and half their samples). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -58,6 +65,26 @@ int main(void)
     memset(seen, 0, sizeof seen);
     CHECK(maaf_far_reach(seen, 40, 31, 8, reach));
     for (int i = 0; i < 40 * 31; ++i) CHECK(reach[i] == 8);
+    /* 3. the marks */
+    for (int k = 0; k < 24; ++k) {
+        int rays_of[3] = {0, 1, 9}, rays = rays_of[k % 3];
+        unsigned char occ = (unsigned char)(k / 3 % 2), alb = (unsigned char)(k / 6 % 2), hit = (unsigned char)(k / 12),
+                      mark = 7;
+        maaf_far_marks(1, &occ, &alb, &hit, &rays, &mark);
+        CHECK(mark == (occ || alb || (hit && rays == 0)));
+    }
+    static unsigned char occ3[W1 * H1], alb3[W1 * H1], hit3[W1 * H1], marks3[W1 * H1];
+    static int rays3[W1 * H1];
+    for (int i = 0; i < W1 * H1; ++i) occ3[i] = 0, alb3[i] = 0, hit3[i] = 1, rays3[i] = 9;
+    rays3[7 * W1 + 10] = 0;
+    hit3[0] = 0, rays3[0] = 0; /* a miss: no shadow ray, and nothing to check */
+    maaf_far_marks(W1 * H1, occ3, alb3, hit3, rays3, marks3);
+    CHECK(maaf_far_reach(marks3, W1, H1, 8, reach));
+    for (int y = 0; y < H1; ++y)
+        for (int x = 0; x < W1; ++x) {
+            int dx = abs(x - 10), dy = abs(y - 7), d = dx > dy ? dx : dy, want = d - 1 < 0 ? 0 : d - 1;
+            CHECK(reach[y * W1 + x] == (want > 8 ? 8 : want));
+        }
     printf("%ld reaches checked against brute force\n", checked);
     CHECK_DONE();
 }

@@ -3,6 +3,12 @@
 
 #include <stdlib.h>
 
+void maaf_far_marks(size_t n, const unsigned char *occluder, const unsigned char *albedo_varies,
+                    const unsigned char *hit, const int *shadow_rays, unsigned char *marks)
+{
+    for (size_t j = 0; j < n; ++j) marks[j] = occluder[j] || albedo_varies[j] || (hit[j] && shadow_rays[j] == 0);
+}
+
 bool maaf_far_reach(const unsigned char *seen, int width, int height, int cap_px, unsigned char *reach_px)
 {
     int far = cap_px + 1; /* any distance beyond the cap counts as this */

@@ -863,9 +863,10 @@ static bool wedge_windows(ReconMethod *m)
         extremes_along(w, h, r, true, s2, s1, seen, row_lo, row_hi, row_found);
         extremes_along(w, h, r, false, row_lo, row_hi, row_found, lo_k[k], hi_k[k], found_k[k]);
     }
-    /* the far filter's window: no occluder, and no pixel whose albedo varies inside it (there
-     * the demodulation by the mean albedo is not exact, docs/algorithms.md 9.27) */
-    for (size_t j = 0; j < n && ok; ++j) seen[j] = seen[j] || m->g->albedo_varies[j];
+    /* the far filter's window: no occluder, no pixel whose albedo varies inside it (there the
+     * demodulation by the mean albedo is not exact, docs/algorithms.md 9.27), and no surface
+     * pixel whose light pass 1 did not check (no shadow ray, 9.28) */
+    if (ok) maaf_far_marks(n, seen, m->g->albedo_varies, m->g->hit, m->stats.shadow_rays, seen);
     if (ok && !m->far_reach_px) ok = (m->far_reach_px = malloc(n)) != NULL;
     if (ok) ok = maaf_far_reach(seen, w, h, (int)SHADOW_RADIUS_CAP_PX, m->far_reach_px);
     free(s1), free(s2), free(row_lo), free(row_hi), free(seen), free(row_found);
