@@ -562,9 +562,17 @@ static bool plan_at(ReconPipeline *p, float mu, double *avg, Diag *d)
     return true;
 }
 
+/* Whether pixel i lies in the overscan band (none without one). */
+static bool in_band(const ReconPipeline *p, size_t i)
+{
+    int w = renderer_width(p->r), h = renderer_height(p->r), m = p->margin_px;
+    int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+    return x < m || y < m || x >= w - m || y >= h - m;
+}
+
 /* Scales the extra samples per pixel to `room` samples in all, by error diffusion in scan
  * order (deterministic, each pixel within one sample of its share); with no extras at all,
- * the room is spread evenly. */
+ * the room is spread evenly over the visible pixels (the band's are cropped: band_extras_zero). */
 static void scale_extras(ReconPipeline *p, double room)
 {
     size_t n = pixel_count(p);
@@ -574,9 +582,14 @@ static void scale_extras(ReconPipeline *p, double room)
         memset(p->spp_extra, 0, n * sizeof(int));
         return;
     }
+    size_t visible = n;
+    if (want <= 0.0 && p->margin_px) {
+        int m2 = 2 * p->margin_px;
+        visible = (size_t)(renderer_width(p->r) - m2) * (size_t)(renderer_height(p->r) - m2);
+    }
     double scale = want > 0.0 ? room / want : 0.0, carry = 0.0;
     for (size_t i = 0; i < n; ++i) {
-        double share = want > 0.0 ? scale * p->spp_extra[i] : room / (double)n;
+        double share = want > 0.0 ? scale * p->spp_extra[i] : in_band(p, i) ? 0.0 : room / (double)visible;
         double v = share + carry;
         int k = (int)floor(v + 0.5);
         if (k < 0) k = 0;
@@ -601,10 +614,8 @@ static double frame_samples(const ReconPipeline *p)
  * "moving_shadow under --filter auto: the overscan band's pass 2 and LR's share"). */
 static void band_extras_zero(ReconPipeline *p)
 {
-    int w = renderer_width(p->r), h = renderer_height(p->r), m = p->margin_px;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (x < m || y < m || x >= w - m || y >= h - m) p->spp_extra[(size_t)y * (size_t)w + (size_t)x] = 0;
+    for (size_t i = 0; i < pixel_count(p); ++i)
+        if (in_band(p, i)) p->spp_extra[i] = 0;
 }
 
 /* The extra samples per pixel: the plan's total minus what each pixel has (none in the
