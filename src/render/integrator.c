@@ -12,9 +12,10 @@
  * Materials: Lambert (material.h) and the glossy BSDFs of bsdf_glossy.h, evaluated in the
  * local frame (t1, t2, ns). Delta lobes (smooth conductor / dielectric, the smooth coat of
  * coateddiffuse) are reached only by BSDF sampling, and what they see is weighted 1 (no
- * MIS: light sampling cannot produce their directions). A Lambert last vertex in a scene
- * without infinite lights takes its area lights by light sampling alone (weight 1, no BSDF
- * ray: lambert_light_only). */
+ * MIS: light sampling cannot produce their directions). A Lambert receiver samples a constant
+ * sky by cosine about its normal (sky_by_cosine), and a Lambert last vertex in a scene
+ * without image skies takes its lights by light sampling alone (weight 1, no BSDF ray:
+ * lambert_light_only). */
 #include "render/integrator.h"
 
 #include <math.h>
@@ -611,19 +612,20 @@ static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePix
  * only when some light can be picked (the delta lights of LightSet.delta_every never are). */
 static inline bool vertex_uses_light_dims(const IntegratorScene *sc) { return sc->lights->power_total > 0.0f; }
 
-/* Whether a Lambert vertex at `depth` takes its area lights' light by light sampling alone
- * (MIS weight 1, no BSDF-sampled ray): the last vertex, whose BSDF ray would only look for
- * emission, in a scene without infinite lights (whose light that ray must still find), unless
- * the filters record where the first hit's bounce ends. MIS's weights need only sum to 1
- * wherever the integrand is not 0 (Veach 1997, ch. 9), so weights 1 and 0 (the BSDF sample
- * not drawn) are unbiased where light sampling reaches every point of every emitter the
- * vertex sees: the pick by power gives every emitter a probability (its power is > 0) and the
- * triangle, disk and sphere samplers of light.c cover what the receiver can see of it
- * (LightSet.area_sampling_complete; docs/algorithms.md, "Light sampling alone at a Lambert
- * last vertex"). */
+/* Whether a Lambert vertex at `depth` takes its lights' light by light sampling alone (MIS
+ * weight 1, no BSDF-sampled ray): the last vertex, whose BSDF ray would only look for
+ * emission, unless the filters record where the first hit's bounce ends. MIS's weights need
+ * only sum to 1 wherever the integrand is not 0 (Veach 1997, ch. 9), so weights 1 and 0 (the
+ * BSDF sample not drawn) are unbiased where light sampling reaches every point of every
+ * emitter the vertex sees: the pick by power gives every emitter a probability (its power is
+ * > 0), the triangle, disk and sphere samplers of light.c cover what the receiver can see of
+ * it (LightSet.area_sampling_complete), and a constant sky is sampled by cosine over the
+ * receiver's whole hemisphere (LightSet.infinite_sampling_complete: an image sky keeps MIS).
+ * docs/algorithms.md, "Light sampling alone at a Lambert last vertex" and "A constant sky
+ * sampled by cosine at a Lambert receiver". */
 static inline bool lambert_light_only(const IntegratorScene *sc, int depth)
 {
-    return depth == sc->max_depth && sc->lights->infinite_count == 0 && sc->lights->area_sampling_complete &&
+    return depth == sc->max_depth && sc->lights->infinite_sampling_complete && sc->lights->area_sampling_complete &&
            !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry);
 }
 

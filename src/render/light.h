@@ -71,6 +71,10 @@ typedef struct {
      * cap's inside cone sampling misses; and in a set made by hand). Light sampling alone is
      * then unbiased (the integrator's lambert_light_only). */
     bool area_sampling_complete;
+    /* light sampling reaches every direction of a Lambert receiver's hemisphere that an
+     * infinite light lights: there is none, or each is a constant sky, which such a receiver
+     * samples by cosine (light_sky_cosine); false with an image sky and in a set made by hand */
+    bool infinite_sampling_complete;
     float scene_radius;     /* bounding sphere of the geometry (distant/infinite power) */
     vec3 scene_center;
     /* a padded world box around every area light (light_bounds.c); emitters_bounded is
