@@ -277,19 +277,21 @@ static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, fl
 }
 
 /* Whether vertex v samples light l by cosine about its normal instead of the light's own way:
- * a constant sky at a Lambert receiver. There the sky's light sample has the density of the
- * receiver's BSDF sample, whose value f cos / pdf is the albedo in every direction, so only
- * visibility varies; a uniform sample spends half its samples below the horizon and weighs
- * the rest by the cosine. MIS needs only the density each technique has at a direction,
- * which sky_pdf_at gives (docs/algorithms.md, "A constant sky sampled by cosine at a Lambert
- * receiver"). */
-static inline bool sky_by_cosine(const Vertex *v, const Light *l) { return !v->glossy && light_is_constant_sky(l); }
+ * the scene's constant sky, when it is the pick's only light (LightSet.sky_cosine_light), at
+ * a Lambert receiver. There the sky's light sample has the density of the receiver's BSDF
+ * sample, whose value f cos / pdf is the albedo in every direction, so only visibility
+ * varies; a uniform sample spends half its samples below the horizon and weighs the rest by
+ * the cosine. MIS needs only the density each technique has at a direction, which sky_pdf_at
+ * gives (docs/algorithms.md, "A constant sky sampled by cosine at a Lambert receiver"). */
+static inline bool sky_by_cosine(const LightSet *set, const Vertex *v, int l)
+{
+    return !v->glossy && l == set->sky_cosine_light;
+}
 
-/* The density of the sky sample that sky_by_cosine's light l takes at vertex v, for
- * direction wi (infinite_light_pdf elsewhere). */
+/* The density of the sample that infinite light l takes at vertex v, for direction wi. */
 static inline float sky_pdf_at(const LightSet *set, int l, const Vertex *v, vec3 wi)
 {
-    return sky_by_cosine(v, &set->lights[l]) ? warp_cosine_about_pdf(v->n, wi) : infinite_light_pdf(set, l, wi);
+    return sky_by_cosine(set, v, l) ? warp_cosine_about_pdf(v->n, wi) : infinite_light_pdf(set, l, wi);
 }
 
 /* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
@@ -298,7 +300,7 @@ static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float t
                              float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
 {
     if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
-    if (sky_by_cosine(v, &sc->lights->lights[light]) && !light_sky_cosine(sc->lights, v->n, v->hit.p, &lp->ls))
+    if (sky_by_cosine(sc->lights, v, light) && !light_sky_cosine(sc->lights, v->n, v->hit.p, &lp->ls))
         return false;
     return light_prepare_sampled(sc, v, time01, light, pmf, NULL, st, shadow, lp);
 }
@@ -618,14 +620,18 @@ static inline bool vertex_uses_light_dims(const IntegratorScene *sc) { return sc
  * only sum to 1 wherever the integrand is not 0 (Veach 1997, ch. 9), so weights 1 and 0 (the
  * BSDF sample not drawn) are unbiased where light sampling reaches every point of every
  * emitter the vertex sees: the pick by power gives every emitter a probability (its power is
- * > 0), the triangle, disk and sphere samplers of light.c cover what the receiver can see of
- * it (LightSet.area_sampling_complete), and a constant sky is sampled by cosine over the
- * receiver's whole hemisphere (LightSet.infinite_sampling_complete: an image sky keeps MIS).
- * docs/algorithms.md, "Light sampling alone at a Lambert last vertex" and "A constant sky
- * sampled by cosine at a Lambert receiver". */
+ * > 0) and the triangle, disk and sphere samplers of light.c cover what the receiver can see
+ * of it (LightSet.area_sampling_complete). With infinite lights only where the sky is sampled
+ * by cosine over the receiver's whole hemisphere (sky_by_cosine) and the vertex is not the
+ * first hit: there the BSDF sample is as good a sample of the sky as the light's, and giving
+ * it up costs more noise at the pixel's own surface than it saves (docs/algorithms.md,
+ * "Light sampling alone at a Lambert last vertex" and "A constant sky sampled by cosine at a
+ * Lambert receiver"). */
 static inline bool lambert_light_only(const IntegratorScene *sc, int depth)
 {
-    return depth == sc->max_depth && sc->lights->infinite_sampling_complete && sc->lights->area_sampling_complete &&
+    const LightSet *L = sc->lights;
+    bool infinite_ok = L->infinite_count == 0 || (L->sky_cosine_light >= 0 && depth >= 2);
+    return depth == sc->max_depth && infinite_ok && L->area_sampling_complete &&
            !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry);
 }
 
@@ -987,7 +993,7 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
             for (int k = 0; k < t->count; ++k) t->pdf[k] = LIGHT_SKY_PDF, t->ok[k] = sends;
             /* a Lambert receiver's by cosine (sky_by_cosine) */
             const float *n[3] = {t->n[0], t->n[1], t->n[2]};
-            light_sky_cosine_batch(t->count, n, t->lambert, wi, t->pdf, t->ok);
+            if (t->light == L->sky_cosine_light) light_sky_cosine_batch(t->count, n, t->lambert, wi, t->pdf, t->ok);
             t->rays_ahead = true;
             sky_shadow_rays(t);
             lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), bsdf_mis, t);

@@ -151,7 +151,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
 {
     *set = (LightSet){0};
     set->area_sampling_complete = true;
-    set->infinite_sampling_complete = true;
+    set->sky_cosine_light = -1;
     int cap = 0;
     vec3 bmin = v3(tr->bounds_min[0], tr->bounds_min[1], tr->bounds_min[2]);
     vec3 bmax = v3(tr->bounds_max[0], tr->bounds_max[1], tr->bounds_max[2]);
@@ -298,7 +298,6 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
     for (int i = 0; i < set->count; ++i) {
         const Light *l = &set->lights[i];
         if (l->kind == LIGHT_INFINITE) set->infinite[set->infinite_count++] = i;
-        if (l->kind == LIGHT_INFINITE && !light_is_constant_sky(l)) set->infinite_sampling_complete = false;
         if (every && light_is_delta(l) && phi[i] > 0.0) {
             set->delta_every[set->delta_every_count++] = i;
             phi[i] = 0.0;
@@ -306,6 +305,11 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
         acc += phi[i];
         set->cdf[i + 1] = (float)acc;
     }
+    int pickable = 0, sole = -1;
+    for (int i = 0; i < set->count; ++i)
+        if (set->cdf[i + 1] > set->cdf[i]) ++pickable, sole = i;
+    if (pickable == 1 && set->infinite_count == 1 && light_is_constant_sky(&set->lights[sole]))
+        set->sky_cosine_light = sole;
     free(phi);
     set->power_total = (float)acc;
     lights_bound_emitters(set, tr);

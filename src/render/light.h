@@ -71,10 +71,11 @@ typedef struct {
      * cap's inside cone sampling misses; and in a set made by hand). Light sampling alone is
      * then unbiased (the integrator's lambert_light_only). */
     bool area_sampling_complete;
-    /* light sampling reaches every direction of a Lambert receiver's hemisphere that an
-     * infinite light lights: there is none, or each is a constant sky, which such a receiver
-     * samples by cosine (light_sky_cosine); false with an image sky and in a set made by hand */
-    bool infinite_sampling_complete;
+    /* the light a Lambert receiver samples by cosine about its normal (light_sky_cosine): the
+     * pick's only light when that is a constant sky, the scene's only infinite light; else -1
+     * (as in a set made by hand). With other lights in the pick the sky's uniform sample stays:
+     * its MIS weight is small there and the cosine would add rays, not lower noise. */
+    int sky_cosine_light;
     float scene_radius;     /* bounding sphere of the geometry (distant/infinite power) */
     vec3 scene_center;
     /* a padded world box around every area light (light_bounds.c); emitters_bounded is
