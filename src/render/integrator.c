@@ -13,9 +13,10 @@
  * local frame (t1, t2, ns). Delta lobes (smooth conductor / dielectric, the smooth coat of
  * coateddiffuse) are reached only by BSDF sampling, and what they see is weighted 1 (no
  * MIS: light sampling cannot produce their directions). A Lambert receiver samples a constant
- * sky by cosine about its normal (sky_by_cosine), and a Lambert last vertex in a scene
- * without image skies takes its lights by light sampling alone (weight 1, no BSDF ray:
- * lambert_light_only). */
+ * sky that is the pick's only light by cosine about its normal (sky_by_cosine), and a Lambert
+ * last vertex takes its lights by light sampling alone (weight 1, no BSDF ray:
+ * lambert_light_only) in a scene without infinite lights, or beyond the first hit under such
+ * a sky. */
 #include "render/integrator.h"
 
 #include <math.h>
