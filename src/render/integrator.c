@@ -12,9 +12,11 @@
  * Materials: Lambert (material.h) and the glossy BSDFs of bsdf_glossy.h, evaluated in the
  * local frame (t1, t2, ns). Delta lobes (smooth conductor / dielectric, the smooth coat of
  * coateddiffuse) are reached only by BSDF sampling, and what they see is weighted 1 (no
- * MIS: light sampling cannot produce their directions). A Lambert last vertex in a scene
- * without infinite lights takes its area lights by light sampling alone (weight 1, no BSDF
- * ray: lambert_light_only). */
+ * MIS: light sampling cannot produce their directions). A Lambert receiver samples a constant
+ * sky that is the pick's only light by cosine about its normal (sky_by_cosine), and a Lambert
+ * last vertex takes its lights by light sampling alone (weight 1, no BSDF ray:
+ * lambert_light_only) in a scene without infinite lights, or beyond the first hit under such
+ * a sky. */
 #include "render/integrator.h"
 
 #include <math.h>
@@ -275,12 +277,32 @@ static bool light_prepare_sampled(const IntegratorScene *sc, const Vertex *v, fl
     return true;
 }
 
+/* Whether vertex v samples light l by cosine about its normal instead of the light's own way:
+ * the scene's constant sky, when it is the pick's only light (LightSet.sky_cosine_light), at
+ * a Lambert receiver. There the sky's light sample has the density of the receiver's BSDF
+ * sample, whose value f cos / pdf is the albedo in every direction, so only visibility
+ * varies; a uniform sample spends half its samples below the horizon and weighs the rest by
+ * the cosine. MIS needs only the density each technique has at a direction, which sky_pdf_at
+ * gives (docs/algorithms.md, "A constant sky sampled by cosine at a Lambert receiver"). */
+static inline bool sky_by_cosine(const LightSet *set, const Vertex *v, int l)
+{
+    return !v->glossy && l == set->sky_cosine_light;
+}
+
+/* The density of the sample that infinite light l takes at vertex v, for direction wi. */
+static inline float sky_pdf_at(const LightSet *set, int l, const Vertex *v, vec3 wi)
+{
+    return sky_by_cosine(set, v, l) ? warp_cosine_about_pdf(v->n, wi) : infinite_light_pdf(set, l, wi);
+}
+
 /* A point on light `light` (chosen with probability pmf) and its shadow ray. False when the
  * sample contributes nothing without one (the estimate is then 0). */
 static bool light_prepare_at(const IntegratorScene *sc, const Vertex *v, float time01, int light, vec2 u_light,
                              float pmf, IntegratorStats *st, TracerRay *shadow, LightPending *lp)
 {
     if (!light_sample(sc->lights, sc->tracer, light, v->hit.p, time01, u_light, &lp->ls)) return false;
+    if (sky_by_cosine(sc->lights, v, light) && !light_sky_cosine(sc->lights, v->n, v->hit.p, &lp->ls))
+        return false;
     return light_prepare_sampled(sc, v, time01, light, pmf, NULL, st, shadow, lp);
 }
 
@@ -316,9 +338,10 @@ static vec3 glossy_share(const Vertex *v, vec3 wi, vec3 f)
 
 /* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling (weight 1
  * after a delta lobe or from a delta-only vertex, which light sampling never serves). */
-WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float pdf_bsdf, bool no_mis,
+WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, const Vertex *from, float pdf_bsdf, bool no_mis,
                                   const SurfaceHit *h, vec3 wi, float time01, bool hit)
 {
+    vec3 p_from = from->hit.p;
     const LightSet *L = sc->lights;
     vec3 sum = v3s(0.0f);
     if (!hit) {
@@ -326,7 +349,7 @@ WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, vec3 p_from, float 
             int li = L->infinite[k];
             /* the light's pick probability as lights_choose has it (LightChoice.pmf is
              * lights_pmf's value), without the call */
-            float pdf_light = L->choice[li].pmf * infinite_light_pdf(L, li, wi);
+            float pdf_light = L->choice[li].pmf * sky_pdf_at(L, li, from, wi);
             float w = no_mis ? 1.0f : mis_power(pdf_bsdf, pdf_light);
             sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), w));
         }
@@ -490,8 +513,10 @@ typedef struct {
  * path: its receiver (position, geometric normal, offset) and position sample, the sample
  * (light_sample_triangle_batch) and its shadow ray (ShadowRayAhead). A constant sky
  * (light_is_constant_sky) is grouped the same way (sky): its sample is a direction
- * (light_sample_sky_batch: wi, pdf 1 / (4 pi), dist infinite, no p_light) and its shadow
- * ray leaves the receiver along it (sky_shadow_rays); every other lane is used alike. */
+ * (light_sample_sky_batch: wi, pdf 1 / (4 pi), dist infinite, no p_light; at a Lambert
+ * receiver made cosine-weighted about its normal by light_sky_cosine_batch, sky_by_cosine)
+ * and its shadow ray leaves the receiver along it (sky_shadow_rays); every other lane is
+ * used alike. */
 typedef struct {
     int light, count;
     bool sky;
@@ -590,19 +615,24 @@ static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePix
  * only when some light can be picked (the delta lights of LightSet.delta_every never are). */
 static inline bool vertex_uses_light_dims(const IntegratorScene *sc) { return sc->lights->power_total > 0.0f; }
 
-/* Whether a Lambert vertex at `depth` takes its area lights' light by light sampling alone
- * (MIS weight 1, no BSDF-sampled ray): the last vertex, whose BSDF ray would only look for
- * emission, in a scene without infinite lights (whose light that ray must still find), unless
- * the filters record where the first hit's bounce ends. MIS's weights need only sum to 1
- * wherever the integrand is not 0 (Veach 1997, ch. 9), so weights 1 and 0 (the BSDF sample
- * not drawn) are unbiased where light sampling reaches every point of every emitter the
- * vertex sees: the pick by power gives every emitter a probability (its power is > 0) and the
- * triangle, disk and sphere samplers of light.c cover what the receiver can see of it
- * (LightSet.area_sampling_complete; docs/algorithms.md, "Light sampling alone at a Lambert
- * last vertex"). */
+/* Whether a Lambert vertex at `depth` takes its lights' light by light sampling alone (MIS
+ * weight 1, no BSDF-sampled ray): the last vertex, whose BSDF ray would only look for
+ * emission, unless the filters record where the first hit's bounce ends. MIS's weights need
+ * only sum to 1 wherever the integrand is not 0 (Veach 1997, ch. 9), so weights 1 and 0 (the
+ * BSDF sample not drawn) are unbiased where light sampling reaches every point of every
+ * emitter the vertex sees: the pick by power gives every emitter a probability (its power is
+ * > 0) and the triangle, disk and sphere samplers of light.c cover what the receiver can see
+ * of it (LightSet.area_sampling_complete). With infinite lights only where the sky is sampled
+ * by cosine over the receiver's whole hemisphere (sky_by_cosine) and the vertex is not the
+ * first hit: there the BSDF sample is as good a sample of the sky as the light's, and giving
+ * it up costs more noise at the pixel's own surface than it saves (docs/algorithms.md,
+ * "Light sampling alone at a Lambert last vertex" and "A constant sky sampled by cosine at a
+ * Lambert receiver"). */
 static inline bool lambert_light_only(const IntegratorScene *sc, int depth)
 {
-    return depth == sc->max_depth && sc->lights->infinite_count == 0 && sc->lights->area_sampling_complete &&
+    const LightSet *L = sc->lights;
+    bool infinite_ok = L->infinite_count == 0 || (L->sky_cosine_light >= 0 && depth >= 2);
+    return depth == sc->max_depth && infinite_ok && L->area_sampling_complete &&
            !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry);
 }
 
@@ -962,6 +992,9 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
             light_sample_sky_batch(t->count, uv, wi);
             int sends = v3_any_positive(l->L);
             for (int k = 0; k < t->count; ++k) t->pdf[k] = LIGHT_SKY_PDF, t->ok[k] = sends;
+            /* a Lambert receiver's by cosine (sky_by_cosine) */
+            const float *n[3] = {t->n[0], t->n[1], t->n[2]};
+            if (t->light == L->sky_cosine_light) light_sky_cosine_batch(t->count, n, t->lambert, wi, t->pdf, t->ok);
             t->rays_ahead = true;
             sky_shadow_rays(t);
             lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), bsdf_mis, t);
@@ -1423,7 +1456,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
     if (hit && last_rays_escape_only(sc, depth)) return;
     const Vertex *v = &p->v;
     bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
-    vec3 e = bsdf_ray_emission(sc, v->hit.p, p->vs.pdf, no_mis, hit ? nh : NULL, wi, p->time01, hit);
+    vec3 e = bsdf_ray_emission(sc, v, p->vs.pdf, no_mis, hit ? nh : NULL, wi, p->time01, hit);
     vec3 le = guard3(v3_mul(p->beta_next, e), st);
     *bucket = v3_add(*bucket, le);
     if (p->unfiltered && !sc->skip_first_hit_fields) rec->unfiltered = v3_add(rec->unfiltered, le);

@@ -151,6 +151,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
 {
     *set = (LightSet){0};
     set->area_sampling_complete = true;
+    set->sky_cosine_light = -1;
     int cap = 0;
     vec3 bmin = v3(tr->bounds_min[0], tr->bounds_min[1], tr->bounds_min[2]);
     vec3 bmax = v3(tr->bounds_max[0], tr->bounds_max[1], tr->bounds_max[2]);
@@ -304,6 +305,11 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
         acc += phi[i];
         set->cdf[i + 1] = (float)acc;
     }
+    int pickable = 0, sole = -1;
+    for (int i = 0; i < set->count; ++i)
+        if (set->cdf[i + 1] > set->cdf[i]) ++pickable, sole = i;
+    if (pickable == 1 && set->infinite_count == 1 && light_is_constant_sky(&set->lights[sole]))
+        set->sky_cosine_light = sole;
     free(phi);
     set->power_total = (float)acc;
     lights_bound_emitters(set, tr);
@@ -599,6 +605,49 @@ static WEDGE_VECTORISED void sky_directions(int count, const float *restrict ux,
 void light_sample_sky_batch(int count, const float *const u[2], float *const wi[3])
 {
     sky_directions(count, u[0], u[1], wi[0], wi[1], wi[2]);
+}
+
+bool light_sky_cosine(const LightSet *set, vec3 n, vec3 p_ref, LightSample *ls)
+{
+    vec3 wi = warp_cosine_about(n, ls->wi);
+    float pdf = warp_cosine_about_pdf(n, wi);
+    if (!(pdf > 0.0f)) return false;
+    ls->wi = wi;
+    ls->pdf = pdf;
+    ls->p_light = v3_madd(p_ref, wi, 2.0f * set->scene_radius);
+    ls->n_light = v3_neg(wi);
+    return true;
+}
+
+/* Computed in every lane and kept by a select (a product in one arm of a select would stop
+ * the vectoriser: it could trap where the scalar code never computes it). */
+static WEDGE_VECTORISED void sky_cosine_lanes(int count, const float *restrict nx_, const float *restrict ny_,
+                                             const float *restrict nz_, const int *restrict lambert,
+                                             float *restrict wx_, float *restrict wy_, float *restrict wz_,
+                                             float *restrict pdf_, int *restrict ok)
+{
+    for (int k = 0; k < count; ++k) {
+        float nx = nx_[k], ny = ny_[k], nz = nz_[k], ux = wx_[k], uy = wy_[k], uz = wz_[k];
+        /* warp_cosine_about */
+        float sx = nx + ux, sy = ny + uy, sz = nz + uz;
+        float inv = 1.0f / sqrtf(sx * sx + sy * sy + sz * sz);
+        float wx = sx * inv, wy = sy * inv, wz = sz * inv;
+        /* warp_cosine_about_pdf */
+        float c = nx * wx + ny * wy + nz * wz, pdf = c * 0.318309886f;
+        int lam = lambert[k] != 0, above = c > 0.0f;
+        int keep = lam & above;
+        wx_[k] = keep ? wx : ux;
+        wy_[k] = keep ? wy : uy;
+        wz_[k] = keep ? wz : uz;
+        pdf_[k] = keep ? pdf : pdf_[k];
+        ok[k] &= (lam ^ 1) | above;
+    }
+}
+
+void light_sky_cosine_batch(int count, const float *const n[3], const int *lambert, float *const wi[3], float *pdf,
+                            int *ok)
+{
+    sky_cosine_lanes(count, n[0], n[1], n[2], lambert, wi[0], wi[1], wi[2], pdf, ok);
 }
 
 bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, float time01, vec2 u, LightSample *ls)

@@ -71,6 +71,11 @@ typedef struct {
      * cap's inside cone sampling misses; and in a set made by hand). Light sampling alone is
      * then unbiased (the integrator's lambert_light_only). */
     bool area_sampling_complete;
+    /* the light a Lambert receiver samples by cosine about its normal (light_sky_cosine): the
+     * pick's only light when that is a constant sky, the scene's only infinite light; else -1
+     * (as in a set made by hand). With other lights in the pick the sky's uniform sample stays:
+     * its MIS weight is small there and the cosine would add rays, not lower noise. */
+    int sky_cosine_light;
     float scene_radius;     /* bounding sphere of the geometry (distant/infinite power) */
     vec3 scene_center;
     /* a padded world box around every area light (light_bounds.c); emitters_bounded is
@@ -163,6 +168,18 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
  * and wi. The arithmetic is one vectorised loop; the sine and cosine stay libm's sincosf,
  * lane by lane. */
 void light_sample_sky_batch(int count, const float *const u[2], float *const wi[3]);
+/* A constant sky's sample at a Lambert receiver whose shading normal (on the side it is seen
+ * from) is n: light_sample's uniform direction ls->wi turned into the cosine-weighted one
+ * about n (warp_cosine_about), with that density (warp_cosine_about_pdf) and the far point
+ * and normal light_sample would give it from p_ref. False, ls unchanged, where the density
+ * is 0 (the direction of n - n). docs/algorithms.md, "A constant sky sampled by cosine at a
+ * Lambert receiver". */
+bool light_sky_cosine(const LightSet *set, vec3 n, vec3 p_ref, LightSample *ls);
+/* light_sky_cosine's direction, density and answer for the lanes k < count with lambert[k]
+ * (normals n[.][k], uniform directions wi[.][k] in, pdf[k] and ok[k] ANDed with the answer);
+ * the other lanes are left as they are. One vectorised loop, bit for bit. */
+void light_sky_cosine_batch(int count, const float *const n[3], const int *lambert, float *const wi[3], float *pdf,
+                            int *ok);
 /* Whether light l is a constant infinite light (light_sample_sky_batch). */
 static inline bool light_is_constant_sky(const Light *l) { return l->kind == LIGHT_INFINITE && !l->env; }
 /* Whether light_sample of light l takes the static-triangle case (light_sample_triangle_batch). */

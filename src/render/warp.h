@@ -63,6 +63,29 @@ static inline vec3 warp_uniform_sphere(vec2 u)
     return v3(r * cosf(phi), r * sinf(phi), z);
 }
 
+/* A cosine-weighted direction about the unit normal n from a uniform direction d on the unit
+ * sphere: the direction of n + d. The point n + d is uniform on the unit sphere centred at n,
+ * which touches the origin; seen from the origin, a sphere through it has a point of
+ * direction w at distance 2 cos(theta) whose surface meets the line of sight at angle
+ * theta, so area density 1 / (4 pi) becomes solid-angle density (2 cos)^2 / cos / (4 pi) =
+ * cos(theta) / pi (docs/algorithms.md, "A constant sky sampled by cosine at a Lambert
+ * receiver"). Not finite when d = -n (a set of measure zero: warp_cosine_about_pdf's test
+ * fails on it). */
+static inline vec3 warp_cosine_about(vec3 n, vec3 d)
+{
+    float sx = n.x + d.x, sy = n.y + d.y, sz = n.z + d.z;
+    float inv = 1.0f / sqrtf(sx * sx + sy * sy + sz * sz);
+    return v3(sx * inv, sy * inv, sz * inv);
+}
+
+/* The solid-angle density of warp_cosine_about's direction w about n: cos(theta) / pi on
+ * n's side, 0 elsewhere (and for a NaN w). */
+static inline float warp_cosine_about_pdf(vec3 n, vec3 w)
+{
+    float c = v3_dot(n, w);
+    return c > 0.0f ? c * 0.318309886f : 0.0f;
+}
+
 /* Barycentrics (b0, b1) of a uniform point on a triangle (b2 = 1 - b0 - b1). */
 static inline vec2 warp_triangle(vec2 u)
 {
