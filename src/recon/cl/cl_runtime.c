@@ -317,9 +317,11 @@ void cl_runtime_destroy(ClRuntime *rt)
 
 const char *cl_runtime_device_label(const ClRuntime *rt) { return rt ? rt->label : "(none)"; }
 
-/* The slot whose sources declare kernel name, or NULL. */
+/* The slot whose sources declare kernel name, or NULL. A runtime of given sources has one
+ * program: the driver finds the kernel there (or says it is missing). */
 static ClProgramSlot *slot_declaring(ClRuntime *rt, const char *name)
 {
+    if (rt->program_count == 1 && rt->programs[0].program) return &rt->programs[0];
     for (int j = 0; j < rt->program_count; ++j) {
         int i = (rt->last_slot + j) % rt->program_count; /* a method asks for its kernels in a row */
         for (int s = 0; s < rt->programs[i].source_count; ++s)

@@ -28,7 +28,8 @@ typedef struct ClRuntime ClRuntime;
  * order recon_print_devices lists them (0-based, across all platforms); anything else is
  * matched case-insensitively as a substring of the device name, then of the platform name.
  * On failure returns NULL and fills d (exit code WEDGE_EXIT_RUNTIME, or WEDGE_EXIT_USAGE for a
- * device choice that matches nothing); a kernel build failure includes the build log. */
+ * device choice that matches nothing). A program that does not build is reported, with the
+ * driver's build log, by the kernel lookup that builds it (cl_runtime_internal.h). */
 ClRuntime *cl_runtime_create(const char *device_choice, Diag *d);
 
 /* Same, but builds the given sources, now, into one program instead of the embedded ones
