@@ -1,4 +1,4 @@
-/* OpenCL runtime: device listing, device choice, embedded program build, build-log reporting,
+/* OpenCL runtime: device listing, device choice, a given program's build, build-log reporting,
  * and the "no platform" message. */
 #include <stdlib.h>
 #include <string.h>
@@ -19,7 +19,7 @@ int main(void)
     CHECK(strstr(buf, "device 0:") != NULL);
     CHECK(strstr(buf, "(default)") != NULL);
 
-    /* The embedded kernels build on the default device. */
+    /* The default device opens (its programs build on demand: test_cl_programs). */
     ClRuntime *rt = cl_runtime_create(NULL, &d);
     CHECK(rt != NULL);
     if (!rt) fprintf(stderr, "%s\n", d.message);

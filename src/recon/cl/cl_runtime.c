@@ -4,8 +4,11 @@
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
+#include "core/env_knob.h"
 #include "recon/cl/kernel_cache.h"
+#include "recon/cl/kernel_decl.h"
 #include "recon/cl/program_cache.h"
 #include "recon/cl/kernel_sources.h"
 
@@ -158,31 +161,51 @@ static int choose_device(const DeviceList *list, const char *choice, Diag *d)
 /* OpenCL C 1.2, float only, no extensions: the same kernels must build on every driver. */
 static const char BUILD_OPTIONS[] = "-cl-std=CL1.2";
 
-static bool build_program(ClRuntime *rt, const char *const *sources, int count, Diag *d)
+static double monotonic_seconds(void)
 {
-    rt->program = program_cache_load(rt, sources, count, BUILD_OPTIONS);
-    if (rt->program) return true;
-    cl_int err = CL_SUCCESS;
-    rt->program = clCreateProgramWithSource(rt->context, (cl_uint)count, (const char **)sources, NULL, &err);
-    if (err != CL_SUCCESS) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL program creation failed: %s",
-                 cl_error_name(err));
-        return false;
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Builds slot's program (from the cached binary when there is one); false + Diag with the
+ * build log on failure. */
+static bool build_program(ClRuntime *rt, ClProgramSlot *slot, Diag *d)
+{
+    double t0 = monotonic_seconds();
+    bool cached = true;
+    slot->program = program_cache_load(rt, slot->sources, slot->source_count, BUILD_OPTIONS);
+    if (!slot->program) {
+        cached = false;
+        cl_int err = CL_SUCCESS;
+        slot->program = clCreateProgramWithSource(rt->context, (cl_uint)slot->source_count,
+                                                  (const char **)slot->sources, NULL, &err);
+        if (err != CL_SUCCESS) {
+            slot->program = NULL;
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL program creation failed: %s", cl_error_name(err));
+            return false;
+        }
+        err = clBuildProgram(slot->program, 1, &rt->device, BUILD_OPTIONS, NULL, NULL);
+        if (err != CL_SUCCESS) {
+            size_t log_size = 0;
+            clGetProgramBuildInfo(slot->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &log_size);
+            char *log = calloc(log_size + 1, 1);
+            if (log) clGetProgramBuildInfo(slot->program, rt->device, CL_PROGRAM_BUILD_LOG, log_size, log, NULL);
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel build failed on %s (%s); build log:",
+                     rt->label, cl_error_name(err));
+            diag_append(d, "%s", log && *log ? log : "(empty build log)");
+            free(log);
+            clReleaseProgram(slot->program);
+            slot->program = NULL;
+            return false;
+        }
+        program_cache_store(rt, slot->program, slot->sources, slot->source_count, BUILD_OPTIONS);
     }
-    err = clBuildProgram(rt->program, 1, &rt->device, BUILD_OPTIONS, NULL, NULL);
-    if (err == CL_SUCCESS) {
-        program_cache_store(rt, rt->program, sources, count, BUILD_OPTIONS);
-        return true;
-    }
-    size_t log_size = 0;
-    clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &log_size);
-    char *log = calloc(log_size + 1, 1);
-    if (log) clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, log_size, log, NULL);
-    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel build failed on %s (%s); build log:",
-             rt->label, cl_error_name(err));
-    diag_append(d, "%s", log && *log ? log : "(empty build log)");
-    free(log);
-    return false;
+    ++rt->programs_built;
+    if (env_knob_switch("WEDGE_CL_LOG", false))
+        fprintf(stderr, "wedge: cl program %s built %s in %.1f ms\n", slot->name,
+                cached ? "from the cached binary" : "from source", 1e3 * (monotonic_seconds() - t0));
+    return true;
 }
 
 bool cl_runtime_check_device(const char *device_choice, Diag *d)
@@ -201,8 +224,8 @@ bool cl_runtime_check_device(const char *device_choice, Diag *d)
     return ok;
 }
 
-ClRuntime *cl_runtime_create_with_sources(const char *device_choice, const char *const *sources,
-                                          int source_count, Diag *d)
+/* The chosen device's context and queue, no program yet. */
+static ClRuntime *open_device(const char *device_choice, Diag *d)
 {
     DeviceList *list = calloc(1, sizeof *list);
     if (!list) {
@@ -247,7 +270,18 @@ ClRuntime *cl_runtime_create_with_sources(const char *device_choice, const char 
         cl_runtime_destroy(rt);
         return NULL;
     }
-    if (source_count > 0 && !build_program(rt, sources, source_count, d)) {
+    return rt;
+}
+
+ClRuntime *cl_runtime_create_with_sources(const char *device_choice, const char *const *sources,
+                                          int source_count, Diag *d)
+{
+    ClRuntime *rt = open_device(device_choice, d);
+    if (!rt || source_count <= 0) return rt;
+    /* one program of all the given sources, built now: its build errors are the caller's */
+    rt->programs[0] = (ClProgramSlot){"(given sources)", sources, source_count, NULL};
+    rt->program_count = 1;
+    if (!build_program(rt, &rt->programs[0], d)) {
         cl_runtime_destroy(rt);
         return NULL;
     }
@@ -256,17 +290,26 @@ ClRuntime *cl_runtime_create_with_sources(const char *device_choice, const char 
 
 ClRuntime *cl_runtime_create(const char *device_choice, Diag *d)
 {
-    const char *sources[64];
-    int n = 0;
-    for (const WedgeKernelSource *k = wedge_kernel_sources; k->name && n < 64; ++k)
-        sources[n++] = k->source;
-    return cl_runtime_create_with_sources(device_choice, sources, n, d);
+    ClRuntime *rt = open_device(device_choice, d);
+    if (!rt) return NULL;
+    /* one program per embedded source, each built when a kernel of it is first asked for */
+    for (const WedgeKernelSource *k = wedge_kernel_sources; k->name; ++k) {
+        if (rt->program_count == CL_RUNTIME_MAX_PROGRAMS) {
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "more than %d embedded OpenCL sources",
+                     CL_RUNTIME_MAX_PROGRAMS);
+            cl_runtime_destroy(rt);
+            return NULL;
+        }
+        rt->programs[rt->program_count++] = (ClProgramSlot){k->name, &k->source, 1, NULL};
+    }
+    return rt;
 }
 
 void cl_runtime_destroy(ClRuntime *rt)
 {
     if (!rt) return;
-    if (rt->program) clReleaseProgram(rt->program);
+    for (int i = 0; i < rt->program_count; ++i)
+        if (rt->programs[i].program) clReleaseProgram(rt->programs[i].program);
     if (rt->queue) clReleaseCommandQueue(rt->queue);
     if (rt->context) clReleaseContext(rt->context);
     free(rt);
@@ -274,17 +317,42 @@ void cl_runtime_destroy(ClRuntime *rt)
 
 const char *cl_runtime_device_label(const ClRuntime *rt) { return rt ? rt->label : "(none)"; }
 
+/* The slot whose sources declare kernel name, or NULL. A runtime of given sources has one
+ * program: the driver finds the kernel there (or says it is missing). */
+static ClProgramSlot *slot_declaring(ClRuntime *rt, const char *name)
+{
+    if (rt->program_count == 1 && rt->programs[0].program) return &rt->programs[0];
+    for (int j = 0; j < rt->program_count; ++j) {
+        int i = (rt->last_slot + j) % rt->program_count; /* a method asks for its kernels in a row */
+        for (int s = 0; s < rt->programs[i].source_count; ++s)
+            if (kernel_declared(rt->programs[i].sources[s], name)) {
+                rt->last_slot = i;
+                return &rt->programs[i];
+            }
+    }
+    return NULL;
+}
+
 cl_kernel cl_runtime_kernel(ClRuntime *rt, const char *name, Diag *d)
 {
+    ClProgramSlot *slot = slot_declaring(rt, name);
+    if (!slot) {
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel '%s' not found: no OpenCL source declares it",
+                 name);
+        return NULL;
+    }
+    if (!slot->program && !build_program(rt, slot, d)) return NULL;
     cl_int err = CL_SUCCESS;
-    cl_kernel k = clCreateKernel(rt->program, name, &err);
+    cl_kernel k = clCreateKernel(slot->program, name, &err);
     if (err != CL_SUCCESS) {
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel '%s' not found: %s", name,
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "OpenCL kernel '%s' not found in %s: %s", name, slot->name,
                  cl_error_name(err));
         return NULL;
     }
     return k;
 }
+
+int cl_runtime_programs_built(const ClRuntime *rt) { return rt ? rt->programs_built : 0; }
 
 bool cl_launch_2d(ClRuntime *rt, cl_kernel k, size_t gx, size_t gy, cl_event *ev, Diag *d)
 {

@@ -19,16 +19,21 @@ typedef struct ClRuntime ClRuntime;
 /* Environment variable consulted when no explicit device is given. */
 #define WEDGE_CL_DEVICE_ENV "WEDGE_CL_DEVICE"
 
-/* Opens a device and builds every embedded kernel source into one program.
+/* Opens a device (context and queue). Each embedded kernel source (one .cl file, one
+ * method's kernels) becomes its own program, built on the first request for one of its
+ * kernels (the pipeline's opener thread asks for its methods' kernels while pass 1 traces):
+ * the driver then parses only the kernels the frame uses.
  * device_choice: NULL or "" -> $WEDGE_CL_DEVICE if set, else the first GPU, else the first
  * CPU (else the first device of any type). A decimal number N selects the N-th device in the
  * order recon_print_devices lists them (0-based, across all platforms); anything else is
  * matched case-insensitively as a substring of the device name, then of the platform name.
  * On failure returns NULL and fills d (exit code WEDGE_EXIT_RUNTIME, or WEDGE_EXIT_USAGE for a
- * device choice that matches nothing); a kernel build failure includes the build log. */
+ * device choice that matches nothing). A program that does not build is reported, with the
+ * driver's build log, by the kernel lookup that builds it (cl_runtime_internal.h). */
 ClRuntime *cl_runtime_create(const char *device_choice, Diag *d);
 
-/* Same, but builds the given sources instead of the embedded ones (tests, tools). */
+/* Same, but builds the given sources, now, into one program instead of the embedded ones
+ * (tests, tools): a build failure is reported here. */
 ClRuntime *cl_runtime_create_with_sources(const char *device_choice, const char *const *sources,
                                           int source_count, Diag *d);
 

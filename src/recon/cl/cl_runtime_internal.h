@@ -10,20 +10,42 @@
 
 #include "recon/cl/cl_runtime.h"
 
+/* One program: the sources it is built from and, once built, the program. */
+typedef struct {
+    const char *name; /* the embedded file's ("lr.cl"), for logs and tests */
+    const char *const *sources;
+    int source_count;
+    cl_program program; /* NULL until a kernel of it is first asked for */
+} ClProgramSlot;
+
+enum { CL_RUNTIME_MAX_PROGRAMS = 16 };
+
 struct ClRuntime {
     cl_platform_id platform;
     cl_device_id device;
     cl_context context;
     cl_command_queue queue; /* in-order, with profiling enabled (kernel timings) */
-    cl_program program;
+    ClProgramSlot programs[CL_RUNTIME_MAX_PROGRAMS];
+    int program_count;
+    int last_slot;      /* the slot of the last kernel found: looked at first */
+    int programs_built; /* programs built (from source or the cached binary) so far */
     char label[600];
 };
 
 /* Human-readable name of an OpenCL error code ("CL_OUT_OF_RESOURCES"). */
 const char *cl_error_name(cl_int err);
 
-/* Creates the named kernel from rt->program; NULL + Diag on failure. */
+/* Creates the named kernel from the program of the source that declares it, building that
+ * program first if no kernel of it was asked for before (each embedded source is its own
+ * program: a frame pays the driver's parse of its methods' kernels only). NULL + Diag when
+ * no source declares the kernel, its program does not build, or the driver refuses it. Not
+ * thread-safe: a runtime's kernels are asked for on one thread (the pipeline's opener). */
 cl_kernel cl_runtime_kernel(ClRuntime *rt, const char *name, Diag *d);
+
+/* The number of programs built so far (tests: a frame builds its methods' programs and no
+ * other). With $WEDGE_CL_LOG=1 each build also says on stderr which source it built, from
+ * the cached binary or from source, and its time. */
+int cl_runtime_programs_built(const ClRuntime *rt);
 
 /* Launches a 2D kernel over at least gx x gy work items, in work groups of one fixed size
  * (CL_LAUNCH_LOCAL_X x CL_LAUNCH_LOCAL_Y, smaller if the kernel allows fewer): the global size
