@@ -1417,6 +1417,17 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
         out[k] = value_1d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
 }
 
+/* A run fills a tabled grid's rows + cols entries all at once (grid_fill_all, vectorised)
+ * rather than entry by entry on first use (grid_fill: a hash and a division each, scalar)
+ * when they number at most this many times the most it can touch, min(rows, count) +
+ * min(cols, count). The vectorised fill measured 4.5-8 times cheaper per entry
+ * (tools/bench-sampler --runs, rounds of 64: 8192 spp = 64 x 128, 0.42x the sampler's time;
+ * 32768 = 128 x 256, 0.69x; 211 = 1 x 211, 0.92x; 509 = 1 x 509 lost 1.2x at a ratio of 8,
+ * so 4; docs/benchmarks.md, "Cost per sample against resolution"). Until 2026-11-30 the rule
+ * was entries <= 2 count, which sent a 64-sample round of a 64 x 128 grid entry by entry: a
+ * render at 8192 spp cost 1.35x the CPU per sample of one at 512. */
+enum { GRID_FILL_ALL_RATIO = 4 };
+
 /* sampler_run_2d's stratified values past the per-pixel tables with a packed or a tabled grid.
  * Out of line, so that the other cases' loop stays as small as it was (Sobol' measured 2-4%
  * slower with this inlined). */
@@ -1426,8 +1437,9 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
     /* value_2d_padded's cases in loops of their own: first the padding walks, so their
      * mispredicted exits do not stall the look-ups (tools/bench-sampler: 1.05x at 100 and
      * 144 spp, 1.2x at 418 and 1000); packed grids then in the vectorised loop; past
-     * 16 x 16, the grid entries in one pass when the run touches most of them (each sample
-     * two of rows + cols), so that the value loop finds them all */
+     * 16 x 16, the grid entries in one pass when the run may touch a large share of them
+     * (each sample two of rows + cols; GRID_FILL_ALL_RATIO), so that the value loop finds
+     * them all */
     uint32_t j[SAMPLER_RUN_MAX];
     run_padded_indices(s, t, run, j);
     if (s->grid_packed) {
@@ -1440,8 +1452,9 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
         return;
     }
     SamplerGridTable *g = grid_table(s, t, dim);
-    uint32_t entries = s->grid_rows + s->grid_cols;
-    if (2u * (uint32_t)run->count >= entries) {
+    uint32_t rows = s->grid_rows, cols = s->grid_cols, count = (uint32_t)run->count;
+    uint32_t touched_max = (rows < count ? rows : count) + (cols < count ? cols : count);
+    if (rows + cols <= GRID_FILL_ALL_RATIO * touched_max) {
         grid_fill_all(s, g);
         uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
         run_jitter_bits(run->key, run->count, dim, jx, jy);

@@ -66,10 +66,10 @@ static int compare_runs(SamplerKind kind, int px, int before, int spp, int first
     return bad;
 }
 
-/* Every pixel of a strip, a whole round of 64 samples at a time, run against per-sample
- * requests on a second sampler: about spp 2^-22 of the values have a jitter within rounding
- * of a stratum edge, so 4096 pixels at 256 spp meet some hundreds of them. */
-static int compare_pixels(int spp, int pixels)
+/* Every pixel of a strip, runs of run_len samples, against per-sample requests on a second
+ * sampler: about spp 2^-22 of the values have a jitter within rounding of a stratum edge, so
+ * 4096 pixels at 256 spp meet some hundreds of them. */
+static int compare_pixels_runs(int spp, int pixels, int run_len)
 {
     static PixelSampler a, b;
     static SamplerRun run;
@@ -79,8 +79,8 @@ static int compare_pixels(int spp, int pixels)
     for (int px = 0; px < pixels; ++px) {
         sampler_start_pixel(&a, SAMPLER_STRATIFIED, 3, px, 11, 0, spp);
         sampler_start_pixel(&b, SAMPLER_STRATIFIED, 3, px, 11, 0, spp);
-        for (int first = 0; first < spp; first += SAMPLER_RUN_MAX) {
-            sampler_run_begin(&a, &run, first, spp - first);
+        for (int first = 0; first < spp; first += run_len) {
+            sampler_run_begin(&a, &run, first, spp - first < run_len ? spp - first : run_len);
             for (int dim = 0; dim < 8; dim += 3) {
                 sampler_run_2d(&a, &run, dim, out2);
                 sampler_run_1d(&a, &run, dim + 2, out1);
@@ -97,6 +97,8 @@ static int compare_pixels(int spp, int pixels)
     return bad;
 }
 
+static int compare_pixels(int spp, int pixels) { return compare_pixels_runs(spp, pixels, SAMPLER_RUN_MAX); }
+
 int main(void)
 {
     CHECK(compare_pixels(256, 4096) == 0);
@@ -108,6 +110,13 @@ int main(void)
     CHECK(compare_pixels(65, 1024) == 0);
     CHECK(compare_pixels(83, 1024) == 0);
     CHECK(compare_pixels(158, 1024) == 0);
+    /* the renderer's rounds of 64 on grids that a run fills at once or entry by entry
+     * (GRID_FILL_ALL_RATIO): 8192 = 64 x 128, 32768 = 128 x 256, 211 = 1 x 211, 509 = 1 x 509;
+     * every run of a few pixels */
+    CHECK(compare_pixels_runs(8192, 16, 64) == 0);
+    CHECK(compare_pixels_runs(32768, 4, 64) == 0);
+    CHECK(compare_pixels_runs(211, 256, 64) == 0);
+    CHECK(compare_pixels_runs(509, 128, 64) == 0);
 
     static const SamplerKind kinds[] = {SAMPLER_STRATIFIED, SAMPLER_SOBOL};
     for (int kk = 0; kk < 2; ++kk) {
