@@ -99,6 +99,16 @@ bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam)
     return true;
 }
 
+bool gbuffer_init_frame(GBuffer *g, int width, int height, ReconCamera cam)
+{
+    memset(g, 0, sizeof *g);
+    if (width <= 0 || height <= 0 || !frame_init(&g->frame, width, height)) return false;
+    g->width = width;
+    g->height = height;
+    g->cam = cam;
+    return true;
+}
+
 void gbuffer_free(GBuffer *g)
 {
     frame_free(&g->frame);

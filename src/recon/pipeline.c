@@ -810,11 +810,12 @@ static bool plain_mean(ReconPipeline *p, Diag *d)
     return true;
 }
 
-/* --filter none (or nothing to filter): one pass, no sink. */
+/* --filter none (or nothing to filter): one pass, no sink, the frame's sums alone (no guides:
+ * nothing reads them). */
 static bool render_plain(ReconPipeline *p, Diag *d)
 {
     int w = renderer_width(p->r), h = renderer_height(p->r);
-    if (!gbuffer_init(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) {
+    if (!gbuffer_init_frame(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
         return false;
     }
