@@ -102,8 +102,11 @@ typedef struct {
 
 /* How batches of rays go to Embree (tracer_*_batch): one rtcIntersect1 / rtcOccluded1 per
  * ray, Embree's stream interface (rtcIntersect1M / rtcOccluded1M), or packets of 16
- * (rtcIntersect16 / rtcOccluded16). Every mode finds the same hits; docs/benchmarks.md
- * compares their speed. */
+ * (rtcIntersect16 / rtcOccluded16). The modes find the same surfaces, but not always the same
+ * hit bit for bit: in stream mode a ray's answer can depend on the rays traced beside it (one
+ * pixel of 4096 differed at relMSE 2.7e-11 when rounds changed which pixels share a wave,
+ * docs/benchmarks.md, "Cost per sample against resolution: ..."), so a change of a wave's make-up
+ * is not bit for bit by construction. docs/benchmarks.md compares the modes' speed. */
 typedef enum { TRACER_BATCH_SINGLE, TRACER_BATCH_STREAM, TRACER_BATCH_PACKET16, TRACER_BATCH_MODE_COUNT } TracerBatchMode;
 #define TRACER_BATCH_DEFAULT TRACER_BATCH_STREAM
 
