@@ -211,6 +211,7 @@ struct MaafFilter {
     size_t need_count;
     unsigned char *full; /* a band's rows: which pixels have every plane read (MaafPlanes.full) */
     size_t full_count;
+    int pairs_max; /* maaf_filter_reserve's: the work buffers are sized for it at the first run */
     cl_kernel k[K_COUNT];
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
@@ -292,6 +293,8 @@ static void release_inputs(MaafFilter *f)
 static size_t plane_stride(size_t floats) { return (floats + 1023) / 1024 * 1024 + 16; }
 /* The same within a row of the sums: an odd number of cache lines. */
 static size_t line_stride(size_t floats) { return ((floats + 15) / 16 | 1) * 16; }
+
+void maaf_filter_reserve(MaafFilter *f, int pairs_max) { f->pairs_max = pairs_max; }
 
 void maaf_filter_kernel_seconds(const MaafFilter *f, double seconds[MAAF_FILTER_KERNELS])
 {
@@ -494,12 +497,16 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
         return false;
     }
+    /* the work buffers once for the frame's largest run (the cap's reach, pairs_max): grown run
+     * by run they were made anew and their pages faulted again (pages never written cost nothing) */
+    Layout most = L;
+    if (f->pairs_max > in->pairs && !layout(in->width, in->height, f->pairs_max, MAAF_RADIUS_CAP_PX, &most, d)) return false;
     layout(in->width, in->height, in->pairs, reach, &L, d); /* the ring for this run's reach */
     bool ok = host_buffer(f, BUF_POS, n * 16, in->pos4, d) && host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) &&
               host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) && host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
-              buffer(f, BUF_GUIDE, L.gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, L.yfloats * sizeof(float), d) &&
-              buffer(f, BUF_TP, L.tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
+              buffer(f, BUF_GUIDE, L.gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, most.yfloats * sizeof(float), d) &&
+              buffer(f, BUF_TP, most.tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
               buffer(f, BUF_NEED, L.rows * (L.w8 / LANES) * sizeof(cl_int), d);
     cl_int w = in->width, h = in->height, gp = (cl_int)L.gpitch, gpl = (cl_int)L.gplane, ys = (cl_int)L.ystride;
     cl_int tb = (cl_int)(L.w8 / LANES), yrows = (cl_int)L.yrows, trows = (cl_int)L.trows;

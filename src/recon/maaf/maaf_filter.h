@@ -92,6 +92,9 @@ void maaf_filter_destroy(MaafFilter *f);
 /* Same as maaf_filter_reference, on the device; kernel_seconds (may be NULL): both passes'
  * device time. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d);
+/* The largest pairs of the runs to come: the first run sizes the work buffers for it (and the
+ * largest radius), so that later runs reuse them rather than make larger ones. */
+void maaf_filter_reserve(MaafFilter *f, int pairs_max);
 /* Zero floats on either side of each row of a plane. */
 #define MAAF_PLANES_PAD 8
 /* Pixel (x, y)'s sums (per floats as one pixel of MaafFilterInput.ysum), NULL for a pixel that is

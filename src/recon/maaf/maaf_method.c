@@ -771,10 +771,15 @@ static bool ensure_derived(ReconMethod *m, Diag *d)
     return true;
 }
 
+static int indirect_pass_pairs(const ReconMethod *m);
+
 static bool maaf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
 {
     if (m->filter) return true;
-    return (m->filter = maaf_filter_create(rt, d)) != NULL;
+    if (!(m->filter = maaf_filter_create(rt, d))) return false;
+    int most = m->light_pairs > m->lens_pairs ? m->light_pairs : m->lens_pairs;
+    maaf_filter_reserve(m->filter, most > indirect_pass_pairs(m) ? most : indirect_pass_pairs(m));
+    return true;
 }
 
 /* AAF-shadow eq. 1, as AAF: only the visibility is smooth enough to filter. */
