@@ -60,6 +60,7 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
     const float *t1 = in->frame4 + 4 * i, *t2 = in->axis2_4 + 4 * i;
     const float *cp = in->pos4 + 4 * i, *cn = in->nrm4 + 4 * i;
     float tol = in->depth_tol_rel * cp[3], sharp = maaf_sharp_factor(in);
+    bool real = in->real_sums && axis == 0; /* the column pass's input is the row pass's, complex */
     for (int k = -radius; k <= radius; ++k) {
         int nx = axis == 0 ? x + k : x, ny = axis == 0 ? y : y + k;
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
@@ -89,7 +90,11 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
                 float wr = e1[p][0] * br - e1[p][1] * bi, wi = e1[p][0] * bi + e1[p][1] * br;
                 const float *yr = yj + 8 * c, *yi = yr + 4;
                 float *ar = acc + 8 * c, *ai = ar + 4;
-                for (int ch = 0; ch < 4; ++ch) {
+                for (int ch = 0; ch < 4 && real; ++ch) { /* yi 0: not read (maaf_rows) */
+                    ar[ch] += wr * yr[ch];
+                    ai[ch] += wi * yr[ch];
+                }
+                for (int ch = 0; ch < 4 && !real; ++ch) {
                     ar[ch] += wr * yr[ch] - wi * yi[ch];
                     ai[ch] += wr * yi[ch] + wi * yr[ch];
                 }
@@ -106,7 +111,8 @@ static const float *input_sums(const MaafFilterInput *in, float **owned)
     if (in->ysum || !in->fill) return in->ysum;
     int per = 8 * maaf_component_count(in->pairs);
     size_t plane = (size_t)in->width + 2 * MAAF_PLANES_PAD, row = plane * (size_t)(per + 1);
-    MaafPlanes pl = {calloc(row * (size_t)in->height, sizeof(float)), row, plane, in->width, in->height, per, 0, NULL};
+    MaafPlanes pl = {calloc(row * (size_t)in->height, sizeof(float)), row, plane, in->width, in->height, per, 0, NULL,
+                     in->real_sums};
     if (pl.base && (*owned = malloc((size_t)in->width * in->height * (size_t)per * sizeof(float)))) {
         in->fill(in->fill_ctx, &pl, 0, in->height);
         for (int y = 0; y < in->height; ++y)
@@ -423,7 +429,8 @@ static bool write_band(MaafFilter *f, const MaafFilterInput *in, const Layout *L
     float *base = clEnqueueMapBuffer(f->rt->queue, f->buf[BUF_YP], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, bytes, 0,
                                      NULL, NULL, &err);
     if (!cl_ok(err, "map of the sums' planes", d)) return false;
-    MaafPlanes pl = {base, row, L->ystride, in->width, in->height, L->per, y0, band_full(f, in->width, tblocks, reach, y0, y1)};
+    MaafPlanes pl = {base, row, L->ystride, in->width, in->height, L->per, y0, band_full(f, in->width, tblocks, reach, y0, y1),
+                     in->real_sums};
     for (int y = y0; y < y1; ++y)
         for (int k = 0; k <= L->per; ++k) {
             float *r = base + (size_t)(y - y0) * row + (size_t)k * L->ystride;
@@ -452,8 +459,21 @@ void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
     size_t plane = pl->plane;
     int per = pl->per, used = maaf_planes_full(pl, x, y) ? per : 8; /* else the central component's */
     if (!v) {
-        for (int k = 0; k < used; ++k) o[(size_t)k * plane] = 0.0f;
+        for (int k = 0; k < used; ++k)
+            if (!pl->real || k % 8 < 4) o[(size_t)k * plane] = 0.0f;
         o[(size_t)per * plane] = 0.0f;
+        return;
+    }
+    if (pl->real) { /* the real halves alone (maaf_rows' real_sums: the others are not read) */
+        uint32_t bad = 0;
+        for (int c = 0; c < used; c += 8)
+            for (int k = c; k < c + 4; ++k) {
+                uint32_t bits;
+                memcpy(&bits, &v[k], sizeof bits);
+                bad |= (bits & 0x7f800000u) == 0x7f800000u;
+                o[(size_t)k * plane] = v[k];
+            }
+        o[(size_t)per * plane] = bad ? 1.0f : 0.0f;
         return;
     }
     /* a non-finite float has every exponent bit set: one test over all of them (vectorised),
@@ -534,10 +554,10 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
         int y1 = y0 + MAAF_BAND_ROWS < h ? y0 + MAAF_BAND_ROWS : h;
         ok = write_band(f, in, &L, tb, reach, y0, y1, d);
         if (ok) {
-            cl_int ints[4] = {w, h, in->pairs, comps}, ints2[8] = {gp, gpl, ys, tb, y0, y1, yrows, trows};
+            cl_int ints[4] = {w, h, in->pairs, comps}, ints2[9] = {gp, gpl, ys, tb, y0, y1, yrows, trows, in->real_sums};
             int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};
             ev_kernel[events] = K_ROWS;
-            ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 8, d) &&
+            ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 9, d) &&
                  cl_launch_serial_2d(f->rt, f->k[K_ROWS], L.w8 / LANES, (size_t)(y1 - y0), &ev[events++], d);
         }
         /* the rows whose column taps (up to reach away) now all have their row-pass output */

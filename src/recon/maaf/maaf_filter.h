@@ -40,6 +40,7 @@ typedef struct {
      * reads every plane of the pixel; 0 where only the central component's 8 planes and the flag
      * are read (maaf_planes_put writes only those, the flag over them) */
     const unsigned char *full;
+    bool real;              /* MaafFilterInput.real_sums: maaf_planes_put writes the real halves alone */
 } MaafPlanes;
 /* Writes the sums of image rows [y0, y1) into pl (maaf_planes_put, every pixel once). */
 typedef void (*MaafPlanesFill)(void *ctx, const MaafPlanes *pl, int y0, int y1);
@@ -64,6 +65,9 @@ typedef struct {
     float sharp_factor;
     MaafPlanesFill fill;   /* writes the sums band by band (ysum NULL), or NULL */
     void *fill_ctx;
+    /* every sum's imaginary part is 0 (the indirect pass's real multiples of one plain sum):
+     * the row pass neither reads them nor multiplies by them */
+    bool real_sums;
 } MaafFilterInput;
 
 /* The sharpness rule's factor for the light and bounce filters: a neighbour's std under half

@@ -1335,7 +1335,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     const float *param = (ind ? &m->indirect_cache : &m->shadow_cache)->param;
     LightFill fill = {m, ind, pass_pairs, pass_comps, factor, sums};
     MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, param, COS_NORMAL_MIN,
-                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, light_fill, &fill};
+                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, light_fill, &fill, ind};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
@@ -1437,7 +1437,7 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
         }
     if (!have_filter(m, d)) return false;
     MaafFilterInput in = {w, h, m->lens_pairs, NULL, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
-                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, radiance_fill, m};
+                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, radiance_fill, m, false};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)
