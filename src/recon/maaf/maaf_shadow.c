@@ -177,8 +177,7 @@ static float central_std_px(float sx, float pixel_world)
 
 float maaf_pixel_std(float s_min, float s_max, float omega_y_max, int pairs, float kappa, float pixel_world)
 {
-    if (!(pixel_world > 0.0f) || !(kappa > 0.0f)) return 0.0f;
-    /* no design: sx 0, std infinite, 0 */
+    /* no design (sx 0), kappa or pixel_world not > 0: a std not finite or negative, 0 */
     return central_std_px(kappa * maaf_design_central_sx(s_min, s_max, omega_y_max, pairs), pixel_world);
 }
 
