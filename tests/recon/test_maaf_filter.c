@@ -109,6 +109,20 @@ static void fill_from_sums(void *ctx, const MaafPlanes *pl, int y0, int y1)
         }
 }
 
+/* The kernel's image against the reference's: the same flags, values within float rounding. */
+static void check_agree(const float *ref, const float *dev, int pairs, const char *what)
+{
+    double diff = 0.0;
+    int flags_differ = 0;
+    for (int i = 0; i < W * H; ++i) {
+        flags_differ += ref[4 * i + 3] != dev[4 * i + 3];
+        for (int k = 0; k < 3; ++k) diff = fmax(diff, fabs(ref[4 * i + k] - dev[4 * i + k]));
+    }
+    printf("pairs %d%s: kernel vs reference max |diff| %.2e\n", pairs, what, diff);
+    CHECK(flags_differ == 0);
+    CHECK(diff < 2e-4);
+}
+
 int main(void)
 {
     float *ref = malloc(4 * W * H * sizeof(float)), *dev = malloc(4 * W * H * sizeof(float));
@@ -180,15 +194,7 @@ int main(void)
         maaf_filter_reference(&in, ref);
         double ks = 0.0;
         CHECK(maaf_filter_run(f, &in, dev, &ks, &d));
-        double diff = 0.0;
-        int flags_differ = 0;
-        for (int i = 0; i < W * H; ++i) {
-            flags_differ += ref[4 * i + 3] != dev[4 * i + 3];
-            for (int k = 0; k < 3; ++k) diff = fmax(diff, fabs(ref[4 * i + k] - dev[4 * i + k]));
-        }
-        printf("pairs %d%s: kernel vs reference max |diff| %.2e\n", pairs, variant ? ", plain filters" : "", diff);
-        CHECK(flags_differ == 0);
-        CHECK(diff < 2e-4);
+        check_agree(ref, dev, pairs, variant ? ", plain filters" : "");
         /* the same sums written by the host into the pass's planes band by band (a fill, as the
          * method does) instead of from ysum: the same image, bit for bit; runs with 1, 2 and 3
          * pairs in turn reuse the planes at other strides (as a frame's light and lens passes
@@ -217,15 +223,7 @@ int main(void)
         maaf_filter_reference(&real, ref2);
         CHECK(memcmp(ref, ref2, 4 * W * H * sizeof(float)) == 0);
         CHECK(maaf_filter_run(f, &real, dev, NULL, &d));
-        double rdiff = 0.0;
-        flags_differ = 0;
-        for (int i = 0; i < W * H; ++i) {
-            flags_differ += ref[4 * i + 3] != dev[4 * i + 3];
-            for (int k = 0; k < 3; ++k) rdiff = fmax(rdiff, fabs(ref[4 * i + k] - dev[4 * i + k]));
-        }
-        printf("pairs %d%s, real sums: kernel vs reference max |diff| %.2e\n", pairs, variant ? ", plain filters" : "", rdiff);
-        CHECK(flags_differ == 0);
-        CHECK(rdiff < 2e-4);
+        check_agree(ref, dev, pairs, variant ? ", plain filters, real sums" : ", real sums");
         MaafFilterInput real_packed = packed;
         real_packed.real_sums = true;
         for (size_t k = 0; k < (size_t)W * H * per; ++k)
