@@ -51,7 +51,7 @@ static bool load(const char *path, MaafFilterInput *in, float **store)
     const float *part[6];
     size_t at = 0;
     for (int k = 0; k < 6; ++k) part[k] = s + at, at += counts[k];
-    *in = (MaafFilterInput){dims[0], dims[1], dims[2], part[0], part[1], part[2], part[3], part[4], part[5], rules[0], rules[1], 0.0f, NULL, NULL, false};
+    *in = (MaafFilterInput){dims[0], dims[1], dims[2], part[0], part[1], part[2], part[3], part[4], part[5], rules[0], rules[1], 0.0f, NULL};
     *store = s;
     return true;
 }

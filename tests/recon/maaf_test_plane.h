@@ -43,7 +43,7 @@ static inline MaafFilterInput maaf_test_plane_input(const MaafTestPlane *s, floa
 {
     MaafFilterInput in = {s->width,  s->height, s->pairs,        s->ysum, s->pos4, s->nrm4,
                           s->frame4, s->axis2,  s->param, cos_normal_min, 0.05f,
-                          MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL, false};
+                          MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL};
     return in;
 }
 

@@ -180,7 +180,7 @@ int main(void)
             Input in;
             input_build(&in, sz[0], sz[1], pairs, screen);
             MaafFilterInput fi = {in.w, in.h, pairs, in.ysum, in.pos4, in.nrm4, in.frame4, in.axis2, in.param,
-                                  0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL, false};
+                                  0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL};
             size_t n = (size_t)in.w * in.h;
             float *ref = malloc(4 * n * sizeof(float)), *dev = malloc(4 * n * sizeof(float));
             maaf_filter_reference(&fi, ref);
@@ -214,7 +214,7 @@ int main(void)
         input_build_plain(&in, 29, 70, 3, y0, k == 2 ? 8 : 0, k == 2 ? 16 : 29);
         CHECK(in.param[((size_t)y0 * 29 + 8) * MAAF_PARAM_STRIDE] == 6.0f);
         MaafFilterInput fi = {in.w, in.h, 3, in.ysum, in.pos4, in.nrm4, in.frame4, in.axis2, in.param,
-                              0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL, false};
+                              0.96592583f, 0.05f, MAAF_SHARP_FACTOR_DEFAULT, NULL, NULL};
         size_t n = (size_t)in.w * in.h;
         float *ref = malloc(4 * n * sizeof(float)), *dev = malloc(4 * n * sizeof(float));
         maaf_filter_reference(&fi, ref);

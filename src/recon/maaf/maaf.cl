@@ -253,12 +253,10 @@ static void tap_weight(const Taps *t, int n, int pairs, int p, int q, float8 *wr
 }
 
 /* The row pass: every component's complex sums into tp (unfiltered lanes: zeros, never read:
- * the column pass rejects them as neighbours). real_sums: every sum's imaginary part is 0 (the
- * indirect pass: real multiples of one plain sum), so its planes are not read and the complex
- * product w y is (wr y, wi y): half the loads and multiplies. */
+ * the column pass rejects them as neighbours). */
 __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_normal_min, float depth_tol_rel,
                         float sharp_factor, int gpitch, int gplane, int ystride, int tblocks, int y0, int y1, int yrows,
-                        int trows, int real_sums, __global const float *guide, __global const float *frame4, __global const float *axis2,
+                        int trows, __global const float *guide, __global const float *frame4, __global const float *axis2,
                         __global const float *param, __global const float *yp, __global float *tp,
                         __global const int *need)
 {
@@ -286,23 +284,7 @@ __kernel void maaf_rows(int width, int height, int pairs, int comps, float cos_n
             /* one register per (channel, re/im): written out, the compiler keeps them in
              * registers (as an array it kept them in memory) */
             float8 r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, r3 = 0.0f, i0 = 0.0f, i1 = 0.0f, i2 = 0.0f, i3 = 0.0f;
-            for (int n = 0; real_sums && n < t.count; ++n) {
-                float8 wr, wi;
-                tap_weight(&t, n, pairs, p, q, &wr, &wi);
-                __global const float *s = yp + yo + t.offset[n] + 8 * ci * ystride;
-                float8 y0 = vload8(0, s), y1 = vload8(0, s + ystride), y2 = vload8(0, s + 2 * ystride),
-                       y3 = vload8(0, s + 3 * ystride);
-                if (t.guard[n]) {
-                    int8 ok = t.ok[n];
-                    y0 = select(0.0f, y0, ok), y1 = select(0.0f, y1, ok), y2 = select(0.0f, y2, ok);
-                    y3 = select(0.0f, y3, ok);
-                }
-                r0 += wr * y0, i0 += wi * y0;
-                r1 += wr * y1, i1 += wi * y1;
-                r2 += wr * y2, i2 += wi * y2;
-                r3 += wr * y3, i3 += wi * y3;
-            }
-            for (int n = 0; !real_sums && n < t.count; ++n) {
+            for (int n = 0; n < t.count; ++n) {
                 float8 wr, wi;
                 tap_weight(&t, n, pairs, p, q, &wr, &wi);
                 __global const float *s = yp + yo + t.offset[n] + 8 * ci * ystride;

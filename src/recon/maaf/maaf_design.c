@@ -20,39 +20,20 @@ MaafPairs maaf_pairs_choose(int all, int light, int lens, int bounce)
     return p;
 }
 
-/* The slopes and pairs as the design takes them (NaN: the widest design; ordered; clamped);
- * false when omega_y_max cannot make a design. */
-static bool design_inputs(float *s_min, float *s_max, float omega_y_max, int *pairs)
-{
-    if (!(omega_y_max > 0.0f) || !isfinite(omega_y_max)) return false;
-    if (!(*s_min == *s_min)) *s_min = MAAF_SLOPE_MIN;
-    if (!(*s_max == *s_max)) *s_max = *s_min;
-    if (*s_min > *s_max) {
-        float t = *s_min;
-        *s_min = *s_max;
-        *s_max = t;
-    }
-    *s_min = clampf(*s_min, MAAF_SLOPE_MIN, MAAF_SLOPE_MAX);
-    *s_max = clampf(*s_max, *s_min, MAAF_SLOPE_MAX);
-    *pairs = *pairs < 1 ? 1 : *pairs > MAAF_PAIRS_MAX ? MAAF_PAIRS_MAX : *pairs;
-    return true;
-}
-
-/* The central band's Omega_x half width: the double wedge inside |Omega_y| <= wy/(2N-1) reaches
- * |Omega_x| <= wy / ((2N - 1) s_min). */
-static float central_sx(double wy, double bands, float s_min) { return (float)(wy / (bands * s_min)); }
-
-float maaf_design_central_sx(float s_min, float s_max, float omega_y_max, int pairs)
-{
-    if (!design_inputs(&s_min, &s_max, omega_y_max, &pairs)) return 0.0f;
-    return central_sx(omega_y_max, 2.0 * pairs - 1.0, s_min);
-}
-
 bool maaf_design_2d(float s_min, float s_max, float omega_y_max, int pairs, MaafDesign2D *out)
 {
     memset(out, 0, sizeof *out);
-    int n = pairs;
-    if (!design_inputs(&s_min, &s_max, omega_y_max, &n)) return false;
+    if (!(omega_y_max > 0.0f) || !isfinite(omega_y_max)) return false;
+    if (!(s_min == s_min)) s_min = MAAF_SLOPE_MIN; /* NaN: the widest design */
+    if (!(s_max == s_max)) s_max = s_min;
+    if (s_min > s_max) {
+        float t = s_min;
+        s_min = s_max;
+        s_max = t;
+    }
+    s_min = clampf(s_min, MAAF_SLOPE_MIN, MAAF_SLOPE_MAX);
+    s_max = clampf(s_max, s_min, MAAF_SLOPE_MAX);
+    int n = pairs < 1 ? 1 : pairs > MAAF_PAIRS_MAX ? MAAF_PAIRS_MAX : pairs;
     out->pairs = n;
     out->s_min = s_min;
     out->s_max = s_max;
@@ -64,9 +45,11 @@ bool maaf_design_2d(float s_min, float s_max, float omega_y_max, int pairs, Maaf
          * half height wy / (2N - 1) */
         c->cy = (float)(wy * 2.0 * p / bands);
         c->sy = (float)(wy / bands);
-        if (p == 0) { /* the central band straddles the origin */
+        if (p == 0) {
+            /* the central band straddles the origin: the double wedge inside |Omega_y| <= wy/(2N-1)
+             * reaches |Omega_x| <= wy / ((2N - 1) s_min) */
             c->cx = 0.0f;
-            c->sx = central_sx(wy, bands, s_min);
+            c->sx = (float)(wy / (bands * s_min));
         } else {
             /* eqs. 7, 8: inside band p (upper half plane) the wedge runs from Omega_x = Omega_y/s_max
              * at the band's bottom edge to Omega_y/s_min at its top edge */

@@ -66,9 +66,6 @@ typedef struct {
 #define MAAF_SLOPE_MIN 1.0e-4f
 #define MAAF_SLOPE_MAX 1.0e4f
 bool maaf_design_2d(float s_min, float s_max, float omega_y_max, int pairs, MaafDesign2D *out);
-/* maaf_design_2d's c[0].sx alone (0 when it makes no design): the filter's width without the
- * other bands' centres and weights (their exps), for the plan. */
-float maaf_design_central_sx(float s_min, float s_max, float omega_y_max, int pairs);
 /* Slopes of either sign (defocus: docs/algorithms.md 9.8): a range of negative slopes is the
  * positive design of [-s_max, -s_min] mirrored through the Omega_y axis (every C_x negated; its
  * s_min, s_max are stored as given). False (and a zero design) when the range straddles 0, whose

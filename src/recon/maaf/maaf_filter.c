@@ -60,7 +60,6 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
     const float *t1 = in->frame4 + 4 * i, *t2 = in->axis2_4 + 4 * i;
     const float *cp = in->pos4 + 4 * i, *cn = in->nrm4 + 4 * i;
     float tol = in->depth_tol_rel * cp[3], sharp = maaf_sharp_factor(in);
-    bool real = in->real_sums && axis == 0; /* the column pass's input is the row pass's, complex */
     for (int k = -radius; k <= radius; ++k) {
         int nx = axis == 0 ? x + k : x, ny = axis == 0 ? y : y + k;
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
@@ -90,11 +89,7 @@ static void pass_pixel(const MaafFilterInput *in, const float *src, int axis, in
                 float wr = e1[p][0] * br - e1[p][1] * bi, wi = e1[p][0] * bi + e1[p][1] * br;
                 const float *yr = yj + 8 * c, *yi = yr + 4;
                 float *ar = acc + 8 * c, *ai = ar + 4;
-                for (int ch = 0; ch < 4 && real; ++ch) { /* yi 0: not read (maaf_rows) */
-                    ar[ch] += wr * yr[ch];
-                    ai[ch] += wi * yr[ch];
-                }
-                for (int ch = 0; ch < 4 && !real; ++ch) {
+                for (int ch = 0; ch < 4; ++ch) {
                     ar[ch] += wr * yr[ch] - wi * yi[ch];
                     ai[ch] += wr * yi[ch] + wi * yr[ch];
                 }
@@ -111,8 +106,7 @@ static const float *input_sums(const MaafFilterInput *in, float **owned)
     if (in->ysum || !in->fill) return in->ysum;
     int per = 8 * maaf_component_count(in->pairs);
     size_t plane = (size_t)in->width + 2 * MAAF_PLANES_PAD, row = plane * (size_t)(per + 1);
-    MaafPlanes pl = {calloc(row * (size_t)in->height, sizeof(float)), row, plane, in->width, in->height, per, 0, NULL,
-                     in->real_sums};
+    MaafPlanes pl = {calloc(row * (size_t)in->height, sizeof(float)), row, plane, in->width, in->height, per, 0, NULL};
     if (pl.base && (*owned = malloc((size_t)in->width * in->height * (size_t)per * sizeof(float)))) {
         in->fill(in->fill_ctx, &pl, 0, in->height);
         for (int y = 0; y < in->height; ++y)
@@ -217,7 +211,6 @@ struct MaafFilter {
     size_t need_count;
     unsigned char *full; /* a band's rows: which pixels have every plane read (MaafPlanes.full) */
     size_t full_count;
-    int pairs_max; /* maaf_filter_reserve's: the work buffers are sized for it at the first run */
     cl_kernel k[K_COUNT];
     cl_mem buf[BUF_COUNT];
     size_t bytes[BUF_COUNT];
@@ -299,8 +292,6 @@ static void release_inputs(MaafFilter *f)
 static size_t plane_stride(size_t floats) { return (floats + 1023) / 1024 * 1024 + 16; }
 /* The same within a row of the sums: an odd number of cache lines. */
 static size_t line_stride(size_t floats) { return ((floats + 15) / 16 | 1) * 16; }
-
-void maaf_filter_reserve(MaafFilter *f, int pairs_max) { f->pairs_max = pairs_max; }
 
 void maaf_filter_kernel_seconds(const MaafFilter *f, double seconds[MAAF_FILTER_KERNELS])
 {
@@ -429,8 +420,7 @@ static bool write_band(MaafFilter *f, const MaafFilterInput *in, const Layout *L
     float *base = clEnqueueMapBuffer(f->rt->queue, f->buf[BUF_YP], CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, bytes, 0,
                                      NULL, NULL, &err);
     if (!cl_ok(err, "map of the sums' planes", d)) return false;
-    MaafPlanes pl = {base, row, L->ystride, in->width, in->height, L->per, y0, band_full(f, in->width, tblocks, reach, y0, y1),
-                     in->real_sums};
+    MaafPlanes pl = {base, row, L->ystride, in->width, in->height, L->per, y0, band_full(f, in->width, tblocks, reach, y0, y1)};
     for (int y = y0; y < y1; ++y)
         for (int k = 0; k <= L->per; ++k) {
             float *r = base + (size_t)(y - y0) * row + (size_t)k * L->ystride;
@@ -459,21 +449,8 @@ void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
     size_t plane = pl->plane;
     int per = pl->per, used = maaf_planes_full(pl, x, y) ? per : 8; /* else the central component's */
     if (!v) {
-        for (int k = 0; k < used; ++k)
-            if (!pl->real || k % 8 < 4) o[(size_t)k * plane] = 0.0f;
+        for (int k = 0; k < used; ++k) o[(size_t)k * plane] = 0.0f;
         o[(size_t)per * plane] = 0.0f;
-        return;
-    }
-    if (pl->real) { /* the real halves alone (maaf_rows' real_sums: the others are not read) */
-        uint32_t bad = 0;
-        for (int c = 0; c < used; c += 8)
-            for (int k = c; k < c + 4; ++k) {
-                uint32_t bits;
-                memcpy(&bits, &v[k], sizeof bits);
-                bad |= (bits & 0x7f800000u) == 0x7f800000u;
-                o[(size_t)k * plane] = v[k];
-            }
-        o[(size_t)per * plane] = bad ? 1.0f : 0.0f;
         return;
     }
     /* a non-finite float has every exponent bit set: one test over all of them (vectorised),
@@ -517,16 +494,12 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
         return false;
     }
-    /* the work buffers once for the frame's largest run (the cap's reach, pairs_max): grown run
-     * by run they were made anew and their pages faulted again (pages never written cost nothing) */
-    Layout most = L;
-    if (f->pairs_max > in->pairs && !layout(in->width, in->height, f->pairs_max, MAAF_RADIUS_CAP_PX, &most, d)) return false;
     layout(in->width, in->height, in->pairs, reach, &L, d); /* the ring for this run's reach */
     bool ok = host_buffer(f, BUF_POS, n * 16, in->pos4, d) && host_buffer(f, BUF_NRM, n * 16, in->nrm4, d) &&
               host_buffer(f, BUF_FRAME, n * 16, in->frame4, d) && host_buffer(f, BUF_AXIS2, n * 16, in->axis2_4, d) &&
               host_buffer(f, BUF_PARAM, n * MAAF_PARAM_STRIDE * sizeof(float), in->param, d) &&
-              buffer(f, BUF_GUIDE, L.gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, most.yfloats * sizeof(float), d) &&
-              buffer(f, BUF_TP, most.tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
+              buffer(f, BUF_GUIDE, L.gplane * GUIDES * sizeof(float), d) && buffer(f, BUF_YP, L.yfloats * sizeof(float), d) &&
+              buffer(f, BUF_TP, L.tfloats * sizeof(float), d) && buffer(f, BUF_OUT, n * 16, d) &&
               buffer(f, BUF_NEED, L.rows * (L.w8 / LANES) * sizeof(cl_int), d);
     cl_int w = in->width, h = in->height, gp = (cl_int)L.gpitch, gpl = (cl_int)L.gplane, ys = (cl_int)L.ystride;
     cl_int tb = (cl_int)(L.w8 / LANES), yrows = (cl_int)L.yrows, trows = (cl_int)L.trows;
@@ -554,10 +527,10 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
         int y1 = y0 + MAAF_BAND_ROWS < h ? y0 + MAAF_BAND_ROWS : h;
         ok = write_band(f, in, &L, tb, reach, y0, y1, d);
         if (ok) {
-            cl_int ints[4] = {w, h, in->pairs, comps}, ints2[9] = {gp, gpl, ys, tb, y0, y1, yrows, trows, in->real_sums};
+            cl_int ints[4] = {w, h, in->pairs, comps}, ints2[8] = {gp, gpl, ys, tb, y0, y1, yrows, trows};
             int bufs[7] = {BUF_GUIDE, BUF_FRAME, BUF_AXIS2, BUF_PARAM, BUF_YP, BUF_TP, BUF_NEED};
             ev_kernel[events] = K_ROWS;
-            ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 9, d) &&
+            ok = set_args(f, K_ROWS, ints, 4, rules, 3, bufs, 7, ints2, 8, d) &&
                  cl_launch_serial_2d(f->rt, f->k[K_ROWS], L.w8 / LANES, (size_t)(y1 - y0), &ev[events++], d);
         }
         /* the rows whose column taps (up to reach away) now all have their row-pass output */

@@ -40,7 +40,6 @@ typedef struct {
      * reads every plane of the pixel; 0 where only the central component's 8 planes and the flag
      * are read (maaf_planes_put writes only those, the flag over them) */
     const unsigned char *full;
-    bool real;              /* MaafFilterInput.real_sums: maaf_planes_put writes the real halves alone */
 } MaafPlanes;
 /* Writes the sums of image rows [y0, y1) into pl (maaf_planes_put, every pixel once). */
 typedef void (*MaafPlanesFill)(void *ctx, const MaafPlanes *pl, int y0, int y1);
@@ -65,9 +64,6 @@ typedef struct {
     float sharp_factor;
     MaafPlanesFill fill;   /* writes the sums band by band (ysum NULL), or NULL */
     void *fill_ctx;
-    /* every sum's imaginary part is 0 (the indirect pass's real multiples of one plain sum):
-     * the row pass neither reads them nor multiplies by them */
-    bool real_sums;
 } MaafFilterInput;
 
 /* The sharpness rule's factor for the light and bounce filters: a neighbour's std under half
@@ -96,9 +92,6 @@ void maaf_filter_destroy(MaafFilter *f);
 /* Same as maaf_filter_reference, on the device; kernel_seconds (may be NULL): both passes'
  * device time. */
 bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, double *kernel_seconds, Diag *d);
-/* The largest pairs of the runs to come: the first run sizes the work buffers for it (and the
- * largest radius), so that later runs reuse them rather than make larger ones. */
-void maaf_filter_reserve(MaafFilter *f, int pairs_max);
 /* Zero floats on either side of each row of a plane. */
 #define MAAF_PLANES_PAD 8
 /* Pixel (x, y)'s sums (per floats as one pixel of MaafFilterInput.ysum), NULL for a pixel that is

@@ -771,15 +771,10 @@ static bool ensure_derived(ReconMethod *m, Diag *d)
     return true;
 }
 
-static int indirect_pass_pairs(const ReconMethod *m);
-
 static bool maaf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
 {
     if (m->filter) return true;
-    if (!(m->filter = maaf_filter_create(rt, d))) return false;
-    int most = m->light_pairs > m->lens_pairs ? m->light_pairs : m->lens_pairs;
-    maaf_filter_reserve(m->filter, most > indirect_pass_pairs(m) ? most : indirect_pass_pairs(m));
-    return true;
+    return (m->filter = maaf_filter_create(rt, d)) != NULL;
 }
 
 /* AAF-shadow eq. 1, as AAF: only the visibility is smooth enough to filter. */
@@ -887,8 +882,7 @@ static bool wedge_windows(ReconMethod *m)
 
 /* Pixel (x, y)'s x-filter into pr (MAAF_PARAM_STRIDE floats): the MAAF design of its wedge, or
  * a plain Gaussian where no occluder is near. Returns the central std in pixels (0: not
- * filtered) and the number of 4D components in *components; pr NULL: those alone (the plan's
- * question), no design made. */
+ * filtered) and the number of 4D components in *components. */
 static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *components)
 {
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
@@ -897,12 +891,8 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
     float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
     float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
     if (pixel_wedge(m, x, y, &s_min, &s_max)) {
-        if (pr) {
-            std_px = maaf_pixel_param(s_min, s_max, wy, m->light_pairs, 1.0f, pw, pr);
-            pr[0] = fminf(pr[0], SHADOW_RADIUS_CAP_PX);
-        } else {
-            std_px = maaf_pixel_std(s_min, s_max, wy, m->light_pairs, 1.0f, pw);
-        }
+        std_px = maaf_pixel_param(s_min, s_max, wy, m->light_pairs, 1.0f, pw, pr);
+        pr[0] = fminf(pr[0], SHADOW_RADIUS_CAP_PX);
         *components = std_px > 0.0f ? (float)((2 * m->light_pairs - 1) * (2 * m->light_pairs - 1)) : 0.0f;
     } else {
         /* 1/sqrt(kappa), not 1/kappa: the budget raises these pixels' counts about as
@@ -910,10 +900,9 @@ static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *
          * has them grow with mu; with 1/kappa they stayed constant and so did the noise */
         float reach_px = fmaxf((float)m->far_reach_px[i], FAR_STD_PX / FAR_STD_PER_REACH);
         float far_px = FAR_STD_PER_REACH * reach_px * sqrtf(MAAF_KAPPA_DEFAULT / m->kappa);
-        if (pr) maaf_pixel_param_plain(far_px, pw, m->light_pairs, pr);
-        bool filters = pr ? pr[0] > 0.0f : maaf_pixel_plain_filters(far_px, pw);
-        std_px = filters ? far_px : 0.0f;
-        *components = filters ? 1.0f : 0.0f;
+        maaf_pixel_param_plain(far_px, pw, m->light_pairs, pr);
+        std_px = pr[0] > 0.0f ? far_px : 0.0f;
+        *components = pr[0] > 0.0f ? 1.0f : 0.0f;
     }
     return std_px;
 }
@@ -971,73 +960,35 @@ static void reflector_heights(ReconMethod *m)
     m->height_made = true;
 }
 
-/* Pixel (x, y)'s indirect x-filter (as pixel_filter for the shadows, pr NULL alike): the design
- * of its height wedge with Omega_v_max = ikappa 2.8, or a plain Gaussian where no reflector is
- * near. The wedge's floor follows the pixel's current count (maaf_indirect_heights: pass 1's
- * when the plan asks, the final one when the filter runs). */
-static float indirect_design(ReconMethod *m, int x, int y, float *pr, float *components)
-{
-    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
-    float spp = m->g->frame.spp[i], z_min, z_max, h_min, h_max, pw = m->g->pixel_world[i], std_px;
-    reflector_heights(m);
-    if (pixel_heights(m, x, y, &z_min, &z_max)) {
-        maaf_indirect_heights(z_min, z_max, m->dirs.omega_u_max, m->bounce_pairs, pw, spp, &h_min, &h_max);
-        if (pr) {
-            std_px = maaf_pixel_param(h_min, h_max, m->dirs.omega_u_max, m->bounce_pairs, 1.0f, pw, pr);
-            pr[0] = fminf(pr[0], INDIRECT_RADIUS_CAP_PX);
-        } else {
-            std_px = maaf_pixel_std(h_min, h_max, m->dirs.omega_u_max, m->bounce_pairs, 1.0f, pw);
-        }
-        *components = std_px > 0.0f ? (float)((2 * m->bounce_pairs - 1) * (2 * m->bounce_pairs - 1)) : 0.0f;
-    } else {
-        float far_px = FAR_STD_PX * sqrtf(MAAF_INDIRECT_KAPPA_DEFAULT / m->ikappa);
-        if (pr) maaf_pixel_param_plain(far_px, pw, m->bounce_pairs, pr);
-        bool filters = pr ? pr[0] > 0.0f : maaf_pixel_plain_filters(far_px, pw);
-        std_px = filters ? far_px : 0.0f;
-        *components = filters ? 1.0f : 0.0f;
-    }
-    return std_px;
-}
-
-/* indirect_design through its cache, an entry remade when the pixel's count moved. */
+/* Pixel (x, y)'s indirect x-filter (as pixel_filter for the shadows): the design of its height
+ * wedge with Omega_v_max = ikappa 2.8, or a plain Gaussian where no reflector is near. The
+ * wedge's floor follows the pixel's current count (maaf_indirect_heights: pass 1's when the
+ * plan asks, the final one when the filter runs), so an entry is remade when the count moved. */
 static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, float *components)
 {
     FilterCache *c = &m->indirect_cache;
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
     float spp = m->g->frame.spp[i];
     if (!c->known[i] || m->indirect_spp[i] != spp) {
-        c->std_px[i] = indirect_design(m, x, y, c->param + i * MAAF_PARAM_STRIDE, &c->aux[i]);
+        float z_min, z_max, h_min, h_max, pw = m->g->pixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
+        reflector_heights(m);
+        if (pixel_heights(m, x, y, &z_min, &z_max)) {
+            maaf_indirect_heights(z_min, z_max, m->dirs.omega_u_max, m->bounce_pairs, pw, spp, &h_min, &h_max);
+            c->std_px[i] = maaf_pixel_param(h_min, h_max, m->dirs.omega_u_max, m->bounce_pairs, 1.0f, pw, param);
+            param[0] = fminf(param[0], INDIRECT_RADIUS_CAP_PX);
+            c->aux[i] = c->std_px[i] > 0.0f ? (float)((2 * m->bounce_pairs - 1) * (2 * m->bounce_pairs - 1)) : 0.0f;
+        } else {
+            float far_px = FAR_STD_PX * sqrtf(MAAF_INDIRECT_KAPPA_DEFAULT / m->ikappa);
+            maaf_pixel_param_plain(far_px, pw, m->bounce_pairs, param);
+            c->std_px[i] = param[0] > 0.0f ? far_px : 0.0f;
+            c->aux[i] = param[0] > 0.0f ? 1.0f : 0.0f;
+        }
         c->known[i] = 1;
         m->indirect_spp[i] = spp;
     }
     *pr = c->param + i * MAAF_PARAM_STRIDE;
     *components = c->aux[i];
     return c->std_px[i];
-}
-
-/* The plan's question of the shading filters: the width and component count alone, from the
- * cache where it holds them, no parameters made (the plan reads none, and the caches are
- * forgotten before the filter runs: maaf_begin_pass). */
-static float indirect_width(ReconMethod *m, int x, int y, float *components)
-{
-    const FilterCache *c = &m->indirect_cache;
-    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
-    if (c->known[i] && m->indirect_spp[i] == m->g->frame.spp[i]) {
-        *components = c->aux[i];
-        return c->std_px[i];
-    }
-    return indirect_design(m, x, y, NULL, components);
-}
-
-static float shadow_width(const ReconMethod *m, int x, int y, float *components)
-{
-    const FilterCache *c = &m->shadow_cache;
-    size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
-    if (c->known[i]) {
-        *components = c->aux[i];
-        return c->std_px[i];
-    }
-    return pixel_filter(m, x, y, NULL, components);
 }
 
 /* pixel_filter and maaf_defocus_pixel through the caches: *pr points at the cached parameters. */
@@ -1095,6 +1046,7 @@ static bool plan_classes(ReconMethod *m)
     for (int y = 0; y < g->height; ++y)
         for (int x = 0; x < g->width; ++x) {
             size_t i = (size_t)y * g->width + x;
+            const float *pr;
             float comps, side;
             bool more = false;
             int cls = PLAN_PASS1;
@@ -1110,7 +1062,7 @@ static bool plan_classes(ReconMethod *m)
                  * there the wedge filter's area moved thin_occluders' counts and its error rose
                  * 5.6% at 16 spp (docs/algorithms.md 9.23). */
                 float frame = m->frame4[4 * i + 3];
-                float std_px = frame != 0.0f ? shadow_width(m, x, y, &comps) : INFINITY;
+                float std_px = frame != 0.0f ? shadow_filter(m, x, y, &pr, &comps) : INFINITY;
                 if (frame == FRAME_FROM_UNKNOWN && comps > 1.0f) std_px = INFINITY;
                 /* a surface edge pass 1 may have missed counts as mixed (gbuffer.h) */
                 bool mixed = g->mixed[i] || gbuffer_surface_step(g, i);
@@ -1120,7 +1072,7 @@ static bool plan_classes(ReconMethod *m)
             }
             /* indirect light: the same rule with its own filter */
             if (m->indirect && g->hit[i] && !more) {
-                float std_px = m->iframe4[4 * i + 3] != 0.0f ? indirect_width(m, x, y, &comps) : INFINITY;
+                float std_px = m->iframe4[4 * i + 3] != 0.0f ? indirect_filter(m, x, y, &pr, &comps) : INFINITY;
                 more = g->mixed[i] || std_px < UNFILTERED_STD_PX;
                 shade_px = fminf(shade_px, g->mixed[i] ? 0.0f : std_px);
                 cls = PLAN_FILTERED;
@@ -1335,7 +1287,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
     const float *param = (ind ? &m->indirect_cache : &m->shadow_cache)->param;
     LightFill fill = {m, ind, pass_pairs, pass_comps, factor, sums};
     MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, param, COS_NORMAL_MIN,
-                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, light_fill, &fill, ind};
+                          DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, light_fill, &fill};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite || m->nonfinite_samples)
@@ -1437,7 +1389,7 @@ static bool maaf_filter_radiance(ReconMethod *m, EffectMask effects, float *valu
         }
     if (!have_filter(m, d)) return false;
     MaafFilterInput in = {w, h, m->lens_pairs, NULL, m->dpos4, m->dnrm4, m->guide4, m->daxis2, m->defocus_cache.param,
-                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, radiance_fill, m, false};
+                          COS_NORMAL_MIN, DEPTH_TOL_REL, MAAF_LENS_SHARP_FACTOR, radiance_fill, m};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
     if (nonfinite)

@@ -167,25 +167,6 @@ static void accumulate(int pairs, const MaafLight *l, float b1[][2], float b2[][
 
 static void clear_param(float *param) { memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float)); }
 
-/* The filter's scale in pixels from its central component's Omega_x width sx: the widest
- * component's primal std, 0 below a quarter pixel (nothing changes) or not finite. */
-static float central_std_px(float sx, float pixel_world)
-{
-    float std_px = 1.0f / (sx * pixel_world);
-    return !isfinite(std_px) || std_px < 0.25f ? 0.0f : std_px;
-}
-
-float maaf_pixel_std(float s_min, float s_max, float omega_y_max, int pairs, float kappa, float pixel_world)
-{
-    /* no design (sx 0), kappa or pixel_world not > 0: a std not finite or negative, 0 */
-    return central_std_px(kappa * maaf_design_central_sx(s_min, s_max, omega_y_max, pairs), pixel_world);
-}
-
-bool maaf_pixel_plain_filters(float std_px, float pixel_world)
-{
-    return std_px >= 0.25f && pixel_world > 0.0f && isfinite(std_px);
-}
-
 float maaf_pixel_param(float s_min, float s_max, float omega_y_max, int pairs, float kappa, float pixel_world,
                        float *param)
 {
@@ -199,9 +180,9 @@ float maaf_pixel_param(float s_min, float s_max, float omega_y_max, int pairs, f
         param[1 + 3 * p] = d.c[p].weight * sx * INV_SQRT_2PI; /* mu_p g's normalisation */
         param[2 + 3 * p] = d.c[p].cx;
         param[3 + 3 * p] = 0.5f * sx * sx;
-        if (p == 0) std_px = central_std_px(sx, pixel_world);
+        if (p == 0) std_px = 1.0f / (sx * pixel_world); /* the widest component */
     }
-    if (std_px == 0.0f) {
+    if (!isfinite(std_px) || std_px < 0.25f) { /* below a quarter pixel nothing changes */
         clear_param(param);
         return 0.0f;
     }
@@ -213,7 +194,7 @@ float maaf_pixel_param(float s_min, float s_max, float omega_y_max, int pairs, f
 void maaf_pixel_param_plain(float std_px, float pixel_world, int pairs, float *param)
 {
     clear_param(param);
-    if (!maaf_pixel_plain_filters(std_px, pixel_world)) return;
+    if (!(std_px >= 0.25f) || !(pixel_world > 0.0f) || !isfinite(std_px)) return;
     float sx = 1.0f / (std_px * pixel_world);
     param[1] = sx * INV_SQRT_2PI;
     /* the other bands get amplitude 0 but the same Gaussian: their row-pass sums, which a

@@ -67,9 +67,5 @@ float maaf_pixel_param(float s_min, float s_max, float omega_y_max, int pairs, f
                        float *param);
 /* A pixel with no occluder near it: only the central component, a plain Gaussian of std_px. */
 void maaf_pixel_param_plain(float std_px, float pixel_world, int pairs, float *param);
-/* What the plan reads of the two (the same values, no parameters written): maaf_pixel_param's
- * return value, and whether maaf_pixel_param_plain filters (radius > 0). */
-float maaf_pixel_std(float s_min, float s_max, float omega_y_max, int pairs, float kappa, float pixel_world);
-bool maaf_pixel_plain_filters(float std_px, float pixel_world);
 
 #endif
