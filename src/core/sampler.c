@@ -114,24 +114,139 @@ static const uint16_t SMALL_PERMS[24] = {
     0x1230, 0x0231, 0x2130, 0x2031, 0x1032, 0x0132, 0x0213, 0x1203, 0x0123, 0x1023, 0x2013, 0x2103,
 };
 
+/* n! for n <= 16 (16! < 2^45). */
+static const uint64_t FACTORIAL[SAMPLER_SHUFFLE_MAX + 1] = {
+    1ull, 1ull, 2ull, 6ull, 24ull, 120ull, 720ull, 5040ull, 40320ull, 362880ull, 3628800ull, 39916800ull,
+    479001600ull, 6227020800ull, 87178291200ull, 1307674368000ull, 20922789888000ull,
+};
+
+/* The swap partners of a Fisher-Yates shuffle of [0, n) whose draws, bounds n, n - 1, ..., 2,
+ * are the mixed-radix digits of `code` < n! (see BatchDraw): the step at position k (bound
+ * k + 1, weight k!) swaps k with j_k = floor(code / k!) mod (k + 1). Each digit is its own
+ * division by constants, so they are independent, where the draws one by one are a chain of
+ * dependent 128-bit products. Split at 8! so that every division is a 32-bit one. Positions
+ * from n to `top` get j_k = k (no swap); returns the highest position that may swap (7 or 15). */
+static inline uint32_t fisher_yates_partners(uint64_t code, uint32_t n, uint8_t partner[SAMPLER_SHUFFLE_MAX])
+{
+    uint32_t low = (uint32_t)(code % 40320u), high = (uint32_t)(code / 40320u); /* 8! */
+    for (uint32_t k = 1; k < 8; ++k) partner[k] = (uint8_t)(k >= n ? k : low / (uint32_t)FACTORIAL[k] % (k + 1));
+    if (n <= 8) return 7;
+    for (uint32_t k = 8; k < SAMPLER_SHUFFLE_MAX; ++k)
+        partner[k] = (uint8_t)(k >= n ? k : high / (uint32_t)(FACTORIAL[k] / 40320u) % (k + 1));
+    return SAMPLER_SHUFFLE_MAX - 1;
+}
+
+/* The permutation of the swaps above applied top down (k = top .. 1) to the identity, packed
+ * in nibbles: the swap chain on a 64-bit word, dependent steps of variable shifts. */
+static uint64_t fisher_yates_scalar(const uint8_t partner[SAMPLER_SHUFFLE_MAX], uint32_t top)
+{
+    uint64_t p = 0xfedcba9876543210ull; /* the identity */
+    for (uint32_t k = top + 1; k-- > 1;) {
+        uint32_t j = partner[k];
+        uint64_t swap = ((p >> (4u * k)) ^ (p >> (4u * j))) & 15u;
+        p ^= (swap << (4u * k)) | (swap << (4u * j));
+    }
+    return p;
+}
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#include <immintrin.h>
+#define FISHER_YATES_BYTE_SHUFFLE 1
+/* Swapping positions k and j of 16 bytes is SSSE3's byte shuffle (pshufb) by the transposition
+ * (k j) of the identity. TRANSPOSITIONS[k][j] is that transposition (the identity at j = k),
+ * spelled out by the preprocessor: a load per swap, off the dependency chain of the
+ * permutation, which is then one-cycle shuffles. 4 KiB, of which a shuffle of 16 reads 2. */
+#define TRANSPOSED(i, k, j) ((i) == (k) ? (j) : (i) == (j) ? (k) : (i))
+#define TRANSPOSITION(k, j)                                                                                   \
+    {TRANSPOSED(0, k, j),  TRANSPOSED(1, k, j),  TRANSPOSED(2, k, j),  TRANSPOSED(3, k, j),                 \
+     TRANSPOSED(4, k, j),  TRANSPOSED(5, k, j),  TRANSPOSED(6, k, j),  TRANSPOSED(7, k, j),                 \
+     TRANSPOSED(8, k, j),  TRANSPOSED(9, k, j),  TRANSPOSED(10, k, j), TRANSPOSED(11, k, j),                \
+     TRANSPOSED(12, k, j), TRANSPOSED(13, k, j), TRANSPOSED(14, k, j), TRANSPOSED(15, k, j)}
+#define TRANSPOSITIONS_OF(k)                                                                                  \
+    {TRANSPOSITION(k, 0),  TRANSPOSITION(k, 1),  TRANSPOSITION(k, 2),  TRANSPOSITION(k, 3),                 \
+     TRANSPOSITION(k, 4),  TRANSPOSITION(k, 5),  TRANSPOSITION(k, 6),  TRANSPOSITION(k, 7),                 \
+     TRANSPOSITION(k, 8),  TRANSPOSITION(k, 9),  TRANSPOSITION(k, 10), TRANSPOSITION(k, 11),                \
+     TRANSPOSITION(k, 12), TRANSPOSITION(k, 13), TRANSPOSITION(k, 14), TRANSPOSITION(k, 15)}
+static const uint8_t TRANSPOSITIONS[16][16][16] __attribute__((aligned(16))) = {
+    TRANSPOSITIONS_OF(0),  TRANSPOSITIONS_OF(1),  TRANSPOSITIONS_OF(2),  TRANSPOSITIONS_OF(3),
+    TRANSPOSITIONS_OF(4),  TRANSPOSITIONS_OF(5),  TRANSPOSITIONS_OF(6),  TRANSPOSITIONS_OF(7),
+    TRANSPOSITIONS_OF(8),  TRANSPOSITIONS_OF(9),  TRANSPOSITIONS_OF(10), TRANSPOSITIONS_OF(11),
+    TRANSPOSITIONS_OF(12), TRANSPOSITIONS_OF(13), TRANSPOSITIONS_OF(14), TRANSPOSITIONS_OF(15),
+};
+
+__attribute__((target("ssse3"))) static inline __m128i swap_bytes(__m128i p, int k, int j)
+{
+    return _mm_shuffle_epi8(p, _mm_load_si128((const __m128i *)TRANSPOSITIONS[k][j]));
+}
+
+/* 16 bytes below 16 packed 4 bits each: pairs b_2i + 16 b_2i+1 (pmaddubsw), narrowed
+ * (packuswb). */
+__attribute__((target("ssse3"))) static inline uint64_t bytes_to_nibbles(__m128i b)
+{
+    __m128i pairs = _mm_maddubs_epi16(b, _mm_set1_epi16(0x1001));
+    return (uint64_t)_mm_cvtsi128_si64(_mm_packus_epi16(pairs, pairs));
+}
+
+/* The inverse: nibble i of x to byte i. */
+__attribute__((target("ssse3"))) static inline __m128i nibbles_to_bytes(uint64_t x)
+{
+    __m128i v = _mm_cvtsi64_si128((long long)x), low4 = _mm_set1_epi8(15);
+    return _mm_unpacklo_epi8(_mm_and_si128(v, low4), _mm_and_si128(_mm_srli_epi16(v, 4), low4));
+}
+
+/* fisher_yates_scalar on bytes. */
+__attribute__((target("ssse3"))) static uint64_t fisher_yates_ssse3(const uint8_t partner[SAMPLER_SHUFFLE_MAX], uint32_t top)
+{
+    __m128i p = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    if (top > 7)
+        for (int k = SAMPLER_SHUFFLE_MAX - 1; k >= 8; --k) p = swap_bytes(p, k, partner[k]);
+    for (int k = 7; k >= 1; --k) p = swap_bytes(p, k, partner[k]);
+    return bytes_to_nibbles(p);
+}
+
+/* Nibble i of the result is outer[middle[inner[i]]] for all 16 i: two byte shuffles. */
+__attribute__((target("ssse3"))) static uint64_t compose_nibbles_ssse3(uint64_t outer, uint64_t middle, uint64_t inner)
+{
+    __m128i by_middle = _mm_shuffle_epi8(nibbles_to_bytes(middle), nibbles_to_bytes(inner));
+    return bytes_to_nibbles(_mm_shuffle_epi8(nibbles_to_bytes(outer), by_middle));
+}
+#endif
+
+/* Nibble i of the result is outer[middle[inner[i]]] for i < n, 0 above. */
+static inline uint64_t compose_nibbles(uint64_t outer, uint64_t middle, uint64_t inner, uint32_t n)
+{
+#ifdef FISHER_YATES_BYTE_SHUFFLE
+    if (__builtin_cpu_supports("ssse3")) {
+        uint64_t all = compose_nibbles_ssse3(outer, middle, inner);
+        return n >= 16 ? all : all & ((1ull << (4u * n)) - 1u);
+    }
+#endif
+    uint64_t y = 0;
+    for (uint32_t i = n; i-- > 0;) y = y << 4 | nibble(outer, nibble(middle, nibble(inner, i)));
+    return y;
+}
+
 /* Fisher-Yates shuffle of [0, n), n <= 16, with the draws taken from d (n! <= 16! < 2^45),
  * on a permutation held in a register, 4 bits per element (elements n..15 stay in place and
- * are never read). Up to n = 4 (the grid's rows and columns at small spp, and spp 4 itself)
- * one draw of bound n! indexes SMALL_PERMS instead: the same uniform distribution without
- * n - 1 dependent draws and nibble swaps by variable shifts. */
+ * are never read). The n - 1 draws are one draw of bound n! (BatchDraw: the same low word,
+ * the same product) decoded into digits (fisher_yates_partners): the same values as drawing
+ * them one by one. Up to n = 4 (the grid's rows and columns at small spp, and spp 4 itself)
+ * the draw indexes SMALL_PERMS instead: no swaps at all. */
 static inline uint64_t batch_shuffle_nibbles(BatchDraw *d, uint32_t n)
 {
     if (n <= 4) {
         static const uint8_t factorial[5] = {1, 1, 2, 6, 24};
         return 0xfedcba9876540000ull | SMALL_PERMS[n > 1 ? batch_below(d, factorial[n]) : 0];
     }
-    uint64_t p = 0xfedcba9876543210ull; /* the identity */
-    for (uint32_t k = n; k-- > 1;) {
-        uint32_t j = batch_below(d, k + 1);
-        uint64_t swap = ((p >> (4u * k)) ^ (p >> (4u * j))) & 15u;
-        p ^= (swap << (4u * k)) | (swap << (4u * j));
-    }
-    return p;
+    unsigned __int128 m = (unsigned __int128)d->bits * FACTORIAL[n];
+    d->bits = (uint64_t)m;
+    d->product *= FACTORIAL[n];
+    uint8_t partner[SAMPLER_SHUFFLE_MAX];
+    uint32_t top = fisher_yates_partners((uint64_t)(m >> 64), n, partner);
+#ifdef FISHER_YATES_BYTE_SHUFFLE
+    if (__builtin_cpu_supports("ssse3")) return fisher_yates_ssse3(partner, top);
+#endif
+    return fisher_yates_scalar(partner, top);
 }
 
 /* A uniformly random permutation of [0, n), n <= SAMPLER_SHUFFLE_MAX, packed in nibbles, from
@@ -722,9 +837,7 @@ static void mj_tables(uint32_t n, uint32_t rows, uint32_t cols, uint64_t bits_pi
             if (batch_accepted(&d)) break;
         }
     }
-    uint64_t y = 0;
-    for (uint32_t i = n; i-- > 0;) y = y << 4 | nibble(y_of_cell, nibble(cell, nibble(pi, i)));
-    *x_out = pi, *y_out = y;
+    *x_out = pi, *y_out = compose_nibbles(y_of_cell, cell, pi, n);
 }
 
 /* Builds the table of scalar dimension dim for requests of `kind` (1 or 2) in the current
