@@ -120,63 +120,51 @@ static const uint64_t FACTORIAL[SAMPLER_SHUFFLE_MAX + 1] = {
     479001600ull, 6227020800ull, 87178291200ull, 1307674368000ull, 20922789888000ull,
 };
 
-/* The swap partners of a Fisher-Yates shuffle of [0, n) whose draws, bounds n, n - 1, ..., 2,
- * are the mixed-radix digits of `code` < n! (see BatchDraw): the step at position k (bound
- * k + 1, weight k!) swaps k with j_k = floor(code / k!) mod (k + 1). Each digit is its own
- * division by constants, so they are independent, where the draws one by one are a chain of
- * dependent 128-bit products. Split at 8! so that every division is a 32-bit one. Positions
- * from n to `top` get j_k = k (no swap); returns the highest position that may swap (7 or 15). */
-static inline uint32_t fisher_yates_partners(uint64_t code, uint32_t n, uint8_t partner[SAMPLER_SHUFFLE_MAX])
-{
-    uint32_t low = (uint32_t)(code % 40320u), high = (uint32_t)(code / 40320u); /* 8! */
-    for (uint32_t k = 1; k < 8; ++k) partner[k] = (uint8_t)(k >= n ? k : low / (uint32_t)FACTORIAL[k] % (k + 1));
-    if (n <= 8) return 7;
-    for (uint32_t k = 8; k < SAMPLER_SHUFFLE_MAX; ++k)
-        partner[k] = (uint8_t)(k >= n ? k : high / (uint32_t)(FACTORIAL[k] / 40320u) % (k + 1));
-    return SAMPLER_SHUFFLE_MAX - 1;
-}
-
-/* The permutation of the swaps above applied top down (k = top .. 1) to the identity, packed
- * in nibbles: the swap chain on a 64-bit word, dependent steps of variable shifts. */
-static uint64_t fisher_yates_scalar(const uint8_t partner[SAMPLER_SHUFFLE_MAX], uint32_t top)
-{
-    uint64_t p = 0xfedcba9876543210ull; /* the identity */
-    for (uint32_t k = top + 1; k-- > 1;) {
-        uint32_t j = partner[k];
-        uint64_t swap = ((p >> (4u * k)) ^ (p >> (4u * j))) & 15u;
-        p ^= (swap << (4u * k)) | (swap << (4u * j));
-    }
-    return p;
-}
-
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 #include <immintrin.h>
 #define FISHER_YATES_BYTE_SHUFFLE 1
-/* Swapping positions k and j of 16 bytes is SSSE3's byte shuffle (pshufb) by the transposition
- * (k j) of the identity. TRANSPOSITIONS[k][j] is that transposition (the identity at j = k),
- * spelled out by the preprocessor: a load per swap, off the dependency chain of the
- * permutation, which is then one-cycle shuffles. 4 KiB, of which a shuffle of 16 reads 2. */
-#define TRANSPOSED(i, k, j) ((i) == (k) ? (j) : (i) == (j) ? (k) : (i))
-#define TRANSPOSITION(k, j)                                                                                   \
-    {TRANSPOSED(0, k, j),  TRANSPOSED(1, k, j),  TRANSPOSED(2, k, j),  TRANSPOSED(3, k, j),                 \
-     TRANSPOSED(4, k, j),  TRANSPOSED(5, k, j),  TRANSPOSED(6, k, j),  TRANSPOSED(7, k, j),                 \
-     TRANSPOSED(8, k, j),  TRANSPOSED(9, k, j),  TRANSPOSED(10, k, j), TRANSPOSED(11, k, j),                \
-     TRANSPOSED(12, k, j), TRANSPOSED(13, k, j), TRANSPOSED(14, k, j), TRANSPOSED(15, k, j)}
-#define TRANSPOSITIONS_OF(k)                                                                                  \
-    {TRANSPOSITION(k, 0),  TRANSPOSITION(k, 1),  TRANSPOSITION(k, 2),  TRANSPOSITION(k, 3),                 \
-     TRANSPOSITION(k, 4),  TRANSPOSITION(k, 5),  TRANSPOSITION(k, 6),  TRANSPOSITION(k, 7),                 \
-     TRANSPOSITION(k, 8),  TRANSPOSITION(k, 9),  TRANSPOSITION(k, 10), TRANSPOSITION(k, 11),                \
-     TRANSPOSITION(k, 12), TRANSPOSITION(k, 13), TRANSPOSITION(k, 14), TRANSPOSITION(k, 15)}
-static const uint8_t TRANSPOSITIONS[16][16][16] __attribute__((aligned(16))) = {
-    TRANSPOSITIONS_OF(0),  TRANSPOSITIONS_OF(1),  TRANSPOSITIONS_OF(2),  TRANSPOSITIONS_OF(3),
-    TRANSPOSITIONS_OF(4),  TRANSPOSITIONS_OF(5),  TRANSPOSITIONS_OF(6),  TRANSPOSITIONS_OF(7),
-    TRANSPOSITIONS_OF(8),  TRANSPOSITIONS_OF(9),  TRANSPOSITIONS_OF(10), TRANSPOSITIONS_OF(11),
-    TRANSPOSITIONS_OF(12), TRANSPOSITIONS_OF(13), TRANSPOSITIONS_OF(14), TRANSPOSITIONS_OF(15),
-};
 
-__attribute__((target("ssse3"))) static inline __m128i swap_bytes(__m128i p, int k, int j)
+/* A Fisher-Yates shuffle of [0, n) drawn as BatchDraw draws (bounds n, n - 1, ..., 2) takes the
+ * mixed-radix digits of one draw `code` below n!: the step at position k (bound k + 1, weight
+ * k!) swaps k with j_k = floor(code / k!) mod (k + 1), and j_k = 0 for k >= n (code < k!).
+ * Each digit is then its own division by constants, where drawing them one by one is a chain
+ * of dependent 128-bit products.
+ * The swaps run on 16 bytes with SSSE3's byte shuffle (pshufb): swapping positions k and j is a
+ * shuffle by the identity with k and j exchanged, a table row loaded off the dependency chain,
+ * which is then one-cycle shuffles. The steps of positions 1..3, 4..5 and 6..7 go as one
+ * shuffle each: their digits together are code mod 24, floor(code / 24) mod 30 and
+ * floor(code / 720) mod 56 (the digits' own mixed radix), and the table row is the identity
+ * after those swaps. Positions 8..15 shuffle one at a time (the tables of pairs would take
+ * 11 KiB). A shuffle of 16 elements is 11 byte shuffles instead of 15 dependent swaps. */
+enum { LOW_SWAPS_1_3 = 0, LOW_SWAPS_4_5 = 24, LOW_SWAPS_6_7 = 24 + 30, LOW_SWAPS_ROWS = 24 + 30 + 56 };
+static uint8_t LOW_SWAPS[LOW_SWAPS_ROWS][16] __attribute__((aligned(16)));
+static uint8_t HIGH_SWAPS[8][16][16] __attribute__((aligned(16))); /* [k - 8][j] */
+
+/* The identity after the swaps of positions hi, hi - 1, .., lo with digits of `index`
+ * (mixed radix lo + 1, lo + 2, ..., least significant first). */
+static void swapped_identity(uint8_t row[16], uint32_t lo, uint32_t hi, uint32_t index)
 {
-    return _mm_shuffle_epi8(p, _mm_load_si128((const __m128i *)TRANSPOSITIONS[k][j]));
+    uint32_t j[16];
+    for (uint32_t k = lo; k <= hi; ++k) j[k] = index % (k + 1), index /= k + 1;
+    for (uint32_t i = 0; i < 16; ++i) row[i] = (uint8_t)i;
+    for (uint32_t k = hi + 1; k-- > lo;) {
+        uint8_t t = row[k];
+        row[k] = row[j[k]], row[j[k]] = t;
+    }
+}
+
+__attribute__((constructor)) static void build_swap_tables(void)
+{
+    for (uint32_t x = 0; x < 24; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_1_3 + x], 1, 3, x);
+    for (uint32_t x = 0; x < 30; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_4_5 + x], 4, 5, x);
+    for (uint32_t x = 0; x < 56; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_6_7 + x], 6, 7, x);
+    for (uint32_t k = 8; k < 16; ++k)
+        for (uint32_t j = 0; j <= k; ++j) swapped_identity(HIGH_SWAPS[k - 8][j], k, k, j);
+}
+
+__attribute__((target("ssse3"))) static inline __m128i shuffle_by(__m128i p, const uint8_t row[16])
+{
+    return _mm_shuffle_epi8(p, _mm_load_si128((const __m128i *)row));
 }
 
 /* 16 bytes below 16 packed 4 bits each: pairs b_2i + 16 b_2i+1 (pmaddubsw), narrowed
@@ -194,13 +182,32 @@ __attribute__((target("ssse3"))) static inline __m128i nibbles_to_bytes(uint64_t
     return _mm_unpacklo_epi8(_mm_and_si128(v, low4), _mm_and_si128(_mm_srli_epi16(v, 4), low4));
 }
 
-/* fisher_yates_scalar on bytes. */
-__attribute__((target("ssse3"))) static uint64_t fisher_yates_ssse3(const uint8_t partner[SAMPLER_SHUFFLE_MAX], uint32_t top)
+/* The shuffle of [0, n), 4 < n <= 16, whose draws are the digits of code < n!, packed in
+ * nibbles (see above). In the groups, positions k >= n take j_k = k: added to the group's
+ * index, where their digit is 0. */
+__attribute__((target("ssse3"))) static uint64_t fisher_yates_ssse3(uint64_t code, uint32_t n)
 {
     __m128i p = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    if (top > 7)
-        for (int k = SAMPLER_SHUFFLE_MAX - 1; k >= 8; --k) p = swap_bytes(p, k, partner[k]);
-    for (int k = 7; k >= 1; --k) p = swap_bytes(p, k, partner[k]);
+    uint32_t low = (uint32_t)(code % 40320u), high = (uint32_t)(code / 40320u); /* 8! */
+    /* positions n - 1 .. 8 one at a time (entering at n - 1: no idle steps, constant divisors) */
+#define HIGH_STEP(k) p = shuffle_by(p, HIGH_SWAPS[(k) - 8][high / (uint32_t)(FACTORIAL[k] / 40320u) % ((k) + 1)])
+    switch (n) {
+    case 16: HIGH_STEP(15); /* fall through */
+    case 15: HIGH_STEP(14); /* fall through */
+    case 14: HIGH_STEP(13); /* fall through */
+    case 13: HIGH_STEP(12); /* fall through */
+    case 12: HIGH_STEP(11); /* fall through */
+    case 11: HIGH_STEP(10); /* fall through */
+    case 10: HIGH_STEP(9); /* fall through */
+    case 9: HIGH_STEP(8); /* fall through */
+    default: break;
+    }
+#undef HIGH_STEP
+    /* identity digits in the groups: j_5 = 5 (weight 5), j_6 = 6 and j_7 = 7 (weights 1, 7) */
+    uint32_t idle_4_5 = n <= 5 ? 5 * 5 : 0, idle_6_7 = n <= 6 ? 6 + 7 * 7 : n == 7 ? 7 * 7 : 0;
+    p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_6_7 + low / 720u + idle_6_7]);
+    p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_4_5 + low / 24u % 30u + idle_4_5]);
+    p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_1_3 + low % 24u]);
     return bytes_to_nibbles(p);
 }
 
@@ -228,25 +235,32 @@ static inline uint64_t compose_nibbles(uint64_t outer, uint64_t middle, uint64_t
 
 /* Fisher-Yates shuffle of [0, n), n <= 16, with the draws taken from d (n! <= 16! < 2^45),
  * on a permutation held in a register, 4 bits per element (elements n..15 stay in place and
- * are never read). The n - 1 draws are one draw of bound n! (BatchDraw: the same low word,
- * the same product) decoded into digits (fisher_yates_partners): the same values as drawing
- * them one by one. Up to n = 4 (the grid's rows and columns at small spp, and spp 4 itself)
- * the draw indexes SMALL_PERMS instead: no swaps at all. */
+ * are never read). Up to n = 4 (the grid's rows and columns at small spp, and spp 4 itself)
+ * one draw of bound n! indexes SMALL_PERMS instead: the same uniform distribution without
+ * n - 1 dependent draws and nibble swaps by variable shifts. Above, with SSSE3, the n - 1 draws
+ * are one draw of bound n! (the same low word, the same product) decoded by fisher_yates_ssse3:
+ * the same values as the draws one by one here. */
 static inline uint64_t batch_shuffle_nibbles(BatchDraw *d, uint32_t n)
 {
     if (n <= 4) {
         static const uint8_t factorial[5] = {1, 1, 2, 6, 24};
         return 0xfedcba9876540000ull | SMALL_PERMS[n > 1 ? batch_below(d, factorial[n]) : 0];
     }
-    unsigned __int128 m = (unsigned __int128)d->bits * FACTORIAL[n];
-    d->bits = (uint64_t)m;
-    d->product *= FACTORIAL[n];
-    uint8_t partner[SAMPLER_SHUFFLE_MAX];
-    uint32_t top = fisher_yates_partners((uint64_t)(m >> 64), n, partner);
 #ifdef FISHER_YATES_BYTE_SHUFFLE
-    if (__builtin_cpu_supports("ssse3")) return fisher_yates_ssse3(partner, top);
+    if (__builtin_cpu_supports("ssse3")) {
+        unsigned __int128 m = (unsigned __int128)d->bits * FACTORIAL[n];
+        d->bits = (uint64_t)m;
+        d->product *= FACTORIAL[n];
+        return fisher_yates_ssse3((uint64_t)(m >> 64), n);
+    }
 #endif
-    return fisher_yates_scalar(partner, top);
+    uint64_t p = 0xfedcba9876543210ull; /* the identity */
+    for (uint32_t k = n; k-- > 1;) {
+        uint32_t j = batch_below(d, k + 1);
+        uint64_t swap = ((p >> (4u * k)) ^ (p >> (4u * j))) & 15u;
+        p ^= (swap << (4u * k)) | (swap << (4u * j));
+    }
+    return p;
 }
 
 /* A uniformly random permutation of [0, n), n <= SAMPLER_SHUFFLE_MAX, packed in nibbles, from
