@@ -114,15 +114,15 @@ static const uint16_t SMALL_PERMS[24] = {
     0x1230, 0x0231, 0x2130, 0x2031, 0x1032, 0x0132, 0x0213, 0x1203, 0x0123, 0x1023, 0x2013, 0x2103,
 };
 
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#include <immintrin.h>
+#define FISHER_YATES_BYTE_SHUFFLE 1
+
 /* n! for n <= 16 (16! < 2^45). */
 static const uint64_t FACTORIAL[SAMPLER_SHUFFLE_MAX + 1] = {
     1ull, 1ull, 2ull, 6ull, 24ull, 120ull, 720ull, 5040ull, 40320ull, 362880ull, 3628800ull, 39916800ull,
     479001600ull, 6227020800ull, 87178291200ull, 1307674368000ull, 20922789888000ull,
 };
-
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#include <immintrin.h>
-#define FISHER_YATES_BYTE_SHUFFLE 1
 
 /* A Fisher-Yates shuffle of [0, n) drawn as BatchDraw draws (bounds n, n - 1, ..., 2) takes the
  * mixed-radix digits of one draw `code` below n!: the step at position k (bound k + 1, weight
