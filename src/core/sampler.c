@@ -135,7 +135,9 @@ static const uint64_t FACTORIAL[SAMPLER_SHUFFLE_MAX + 1] = {
  * shuffle each: their digits together are code mod 24, floor(code / 24) mod 30 and
  * floor(code / 720) mod 56 (the digits' own mixed radix), and the table row is the identity
  * after those swaps. Positions 8..15 shuffle one at a time (the tables of pairs would take
- * 11 KiB). A shuffle of 16 elements is 11 byte shuffles instead of 15 dependent swaps. */
+ * 11 KiB). A shuffle of 16 elements is 11 byte shuffles instead of 15 dependent swaps.
+ * The tables (3.8 KiB) are filled once when the program is loaded (build_swap_tables).
+ * Derivation: docs/algorithms.md, "A Fisher-Yates shuffle from one draw". */
 enum { LOW_SWAPS_1_3 = 0, LOW_SWAPS_4_5 = 24, LOW_SWAPS_6_7 = 24 + 30, LOW_SWAPS_ROWS = 24 + 30 + 56 };
 static uint8_t LOW_SWAPS[LOW_SWAPS_ROWS][16] __attribute__((aligned(16)));
 static uint8_t HIGH_SWAPS[8][16][16] __attribute__((aligned(16))); /* [k - 8][j] */
