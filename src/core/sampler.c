@@ -114,17 +114,148 @@ static const uint16_t SMALL_PERMS[24] = {
     0x1230, 0x0231, 0x2130, 0x2031, 0x1032, 0x0132, 0x0213, 0x1203, 0x0123, 0x1023, 0x2013, 0x2103,
 };
 
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#include <immintrin.h>
+#define FISHER_YATES_BYTE_SHUFFLE 1
+
+/* n! for n <= 16 (16! < 2^45). */
+static const uint64_t FACTORIAL[SAMPLER_SHUFFLE_MAX + 1] = {
+    1ull, 1ull, 2ull, 6ull, 24ull, 120ull, 720ull, 5040ull, 40320ull, 362880ull, 3628800ull, 39916800ull,
+    479001600ull, 6227020800ull, 87178291200ull, 1307674368000ull, 20922789888000ull,
+};
+
+/* A Fisher-Yates shuffle of [0, n) drawn as BatchDraw draws (bounds n, n - 1, ..., 2) takes the
+ * mixed-radix digits of one draw `code` below n!: the step at position k (bound k + 1, weight
+ * k!) swaps k with j_k = floor(code / k!) mod (k + 1), and j_k = 0 for k >= n (code < k!).
+ * Each digit is then its own division by constants, where drawing them one by one is a chain
+ * of dependent 128-bit products.
+ * The swaps run on 16 bytes with SSSE3's byte shuffle (pshufb): swapping positions k and j is a
+ * shuffle by the identity with k and j exchanged, a table row loaded off the dependency chain,
+ * which is then one-cycle shuffles. The steps of positions 1..3, 4..5 and 6..7 go as one
+ * shuffle each: their digits together are code mod 24, floor(code / 24) mod 30 and
+ * floor(code / 720) mod 56 (the digits' own mixed radix), and the table row is the identity
+ * after those swaps. Positions 8..15 shuffle one at a time (the tables of pairs would take
+ * 11 KiB). A shuffle of 16 elements is 11 byte shuffles instead of 15 dependent swaps.
+ * The tables (3.8 KiB) are filled once when the program is loaded (build_swap_tables).
+ * Derivation: docs/algorithms.md, "A Fisher-Yates shuffle from one draw". */
+enum { LOW_SWAPS_1_3 = 0, LOW_SWAPS_4_5 = 24, LOW_SWAPS_6_7 = 24 + 30, LOW_SWAPS_ROWS = 24 + 30 + 56 };
+static uint8_t LOW_SWAPS[LOW_SWAPS_ROWS][16] __attribute__((aligned(16)));
+static uint8_t HIGH_SWAPS[8][16][16] __attribute__((aligned(16))); /* [k - 8][j] */
+
+/* The identity after the swaps of positions hi, hi - 1, .., lo with digits of `index`
+ * (mixed radix lo + 1, lo + 2, ..., least significant first). */
+static void swapped_identity(uint8_t row[16], uint32_t lo, uint32_t hi, uint32_t index)
+{
+    uint32_t j[16];
+    for (uint32_t k = lo; k <= hi; ++k) j[k] = index % (k + 1), index /= k + 1;
+    for (uint32_t i = 0; i < 16; ++i) row[i] = (uint8_t)i;
+    for (uint32_t k = hi + 1; k-- > lo;) {
+        uint8_t t = row[k];
+        row[k] = row[j[k]], row[j[k]] = t;
+    }
+}
+
+__attribute__((constructor)) static void build_swap_tables(void)
+{
+    for (uint32_t x = 0; x < 24; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_1_3 + x], 1, 3, x);
+    for (uint32_t x = 0; x < 30; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_4_5 + x], 4, 5, x);
+    for (uint32_t x = 0; x < 56; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_6_7 + x], 6, 7, x);
+    for (uint32_t k = 8; k < 16; ++k)
+        for (uint32_t j = 0; j <= k; ++j) swapped_identity(HIGH_SWAPS[k - 8][j], k, k, j);
+}
+
+__attribute__((target("ssse3"))) static inline __m128i shuffle_by(__m128i p, const uint8_t row[16])
+{
+    return _mm_shuffle_epi8(p, _mm_load_si128((const __m128i *)row));
+}
+
+/* 16 bytes below 16 packed 4 bits each: pairs b_2i + 16 b_2i+1 (pmaddubsw), narrowed
+ * (packuswb). */
+__attribute__((target("ssse3"))) static inline uint64_t bytes_to_nibbles(__m128i b)
+{
+    __m128i pairs = _mm_maddubs_epi16(b, _mm_set1_epi16(0x1001));
+    return (uint64_t)_mm_cvtsi128_si64(_mm_packus_epi16(pairs, pairs));
+}
+
+/* The inverse: nibble i of x to byte i. */
+__attribute__((target("ssse3"))) static inline __m128i nibbles_to_bytes(uint64_t x)
+{
+    __m128i v = _mm_cvtsi64_si128((long long)x), low4 = _mm_set1_epi8(15);
+    return _mm_unpacklo_epi8(_mm_and_si128(v, low4), _mm_and_si128(_mm_srli_epi16(v, 4), low4));
+}
+
+/* The shuffle of [0, n), 4 < n <= 16, whose draws are the digits of code < n!, packed in
+ * nibbles (see above). In the groups, positions k >= n take j_k = k: added to the group's
+ * index, where their digit is 0. */
+__attribute__((target("ssse3"))) static uint64_t fisher_yates_ssse3(uint64_t code, uint32_t n)
+{
+    __m128i p = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    uint32_t low = (uint32_t)(code % 40320u), high = (uint32_t)(code / 40320u); /* 8! */
+    /* positions n - 1 .. 8 one at a time (entering at n - 1: no idle steps, constant divisors) */
+#define HIGH_STEP(k) p = shuffle_by(p, HIGH_SWAPS[(k) - 8][high / (uint32_t)(FACTORIAL[k] / 40320u) % ((k) + 1)])
+    switch (n) {
+    case 16: HIGH_STEP(15); /* fall through */
+    case 15: HIGH_STEP(14); /* fall through */
+    case 14: HIGH_STEP(13); /* fall through */
+    case 13: HIGH_STEP(12); /* fall through */
+    case 12: HIGH_STEP(11); /* fall through */
+    case 11: HIGH_STEP(10); /* fall through */
+    case 10: HIGH_STEP(9); /* fall through */
+    case 9: HIGH_STEP(8); /* fall through */
+    default: break;
+    }
+#undef HIGH_STEP
+    /* identity digits in the groups: j_5 = 5 (weight 5), j_6 = 6 and j_7 = 7 (weights 1, 7) */
+    uint32_t idle_4_5 = n <= 5 ? 5 * 5 : 0, idle_6_7 = n <= 6 ? 6 + 7 * 7 : n == 7 ? 7 * 7 : 0;
+    p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_6_7 + low / 720u + idle_6_7]);
+    p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_4_5 + low / 24u % 30u + idle_4_5]);
+    p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_1_3 + low % 24u]);
+    return bytes_to_nibbles(p);
+}
+
+/* Nibble i of the result is outer[middle[inner[i]]] for all 16 i: two byte shuffles. */
+__attribute__((target("ssse3"))) static uint64_t compose_nibbles_ssse3(uint64_t outer, uint64_t middle, uint64_t inner)
+{
+    __m128i by_middle = _mm_shuffle_epi8(nibbles_to_bytes(middle), nibbles_to_bytes(inner));
+    return bytes_to_nibbles(_mm_shuffle_epi8(nibbles_to_bytes(outer), by_middle));
+}
+#endif
+
+/* Nibble i of the result is outer[middle[inner[i]]] for i < n, 0 above. */
+static inline uint64_t compose_nibbles(uint64_t outer, uint64_t middle, uint64_t inner, uint32_t n)
+{
+#ifdef FISHER_YATES_BYTE_SHUFFLE
+    if (__builtin_cpu_supports("ssse3")) {
+        uint64_t all = compose_nibbles_ssse3(outer, middle, inner);
+        return n >= 16 ? all : all & ((1ull << (4u * n)) - 1u);
+    }
+#endif
+    uint64_t y = 0;
+    for (uint32_t i = n; i-- > 0;) y = y << 4 | nibble(outer, nibble(middle, nibble(inner, i)));
+    return y;
+}
+
 /* Fisher-Yates shuffle of [0, n), n <= 16, with the draws taken from d (n! <= 16! < 2^45),
  * on a permutation held in a register, 4 bits per element (elements n..15 stay in place and
  * are never read). Up to n = 4 (the grid's rows and columns at small spp, and spp 4 itself)
  * one draw of bound n! indexes SMALL_PERMS instead: the same uniform distribution without
- * n - 1 dependent draws and nibble swaps by variable shifts. */
+ * n - 1 dependent draws and nibble swaps by variable shifts. Above, with SSSE3, the n - 1 draws
+ * are one draw of bound n! (the same low word, the same product) decoded by fisher_yates_ssse3:
+ * the same values as the draws one by one here. */
 static inline uint64_t batch_shuffle_nibbles(BatchDraw *d, uint32_t n)
 {
     if (n <= 4) {
         static const uint8_t factorial[5] = {1, 1, 2, 6, 24};
         return 0xfedcba9876540000ull | SMALL_PERMS[n > 1 ? batch_below(d, factorial[n]) : 0];
     }
+#ifdef FISHER_YATES_BYTE_SHUFFLE
+    if (__builtin_cpu_supports("ssse3")) {
+        unsigned __int128 m = (unsigned __int128)d->bits * FACTORIAL[n];
+        d->bits = (uint64_t)m;
+        d->product *= FACTORIAL[n];
+        return fisher_yates_ssse3((uint64_t)(m >> 64), n);
+    }
+#endif
     uint64_t p = 0xfedcba9876543210ull; /* the identity */
     for (uint32_t k = n; k-- > 1;) {
         uint32_t j = batch_below(d, k + 1);
@@ -722,9 +853,7 @@ static void mj_tables(uint32_t n, uint32_t rows, uint32_t cols, uint64_t bits_pi
             if (batch_accepted(&d)) break;
         }
     }
-    uint64_t y = 0;
-    for (uint32_t i = n; i-- > 0;) y = y << 4 | nibble(y_of_cell, nibble(cell, nibble(pi, i)));
-    *x_out = pi, *y_out = y;
+    *x_out = pi, *y_out = compose_nibbles(y_of_cell, cell, pi, n);
 }
 
 /* Builds the table of scalar dimension dim for requests of `kind` (1 or 2) in the current
