@@ -1515,6 +1515,36 @@ static RUN_KERNEL bool run_strata_1d(const uint32_t *j, const uint32_t *jitter, 
     return near_edge != 0;
 }
 
+/* The strata of a run's samples in a per-pixel table of nibbles (spp <= SAMPLER_SHUFFLE_MAX):
+ * nibble index[k] of packed, by 32-bit halves (nibble32), so that the loop vectorises. */
+static RUN_KERNEL void run_table_strata(const uint32_t *index, int count, uint64_t packed, uint32_t *j)
+{
+    uint32_t lo = (uint32_t)packed, hi = (uint32_t)(packed >> 32);
+    for (int k = 0; k < count; ++k) j[k] = nibble32(lo, hi, index[k]);
+}
+
+/* value_2d_padded's stratified case with per-pixel tables for a run: strata nibble index[k]
+ * of tx and of ty, jitter bits jx and jy; the values go to out_xy as x, y pairs, their strata
+ * to stratum_x and _y. Returns whether some jitter lies within rounding of a stratum edge
+ * (the caller then corrects those samples, as run_packed_values). */
+static RUN_KERNEL bool run_table_values_2d(const uint32_t *index, const uint32_t *jitter_x, const uint32_t *jitter_y,
+                                           int count, uint64_t tx, uint64_t ty, StratumScale sc, uint32_t *stratum_x,
+                                           uint32_t *stratum_y, float *out_xy)
+{
+    uint32_t txl = (uint32_t)tx, txh = (uint32_t)(tx >> 32), tyl = (uint32_t)ty, tyh = (uint32_t)(ty >> 32);
+    uint32_t near_edge = 0;
+    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
+    for (int k = 0; k < count; ++k) {
+        uint32_t x = nibble32(txl, txh, index[k]), y = nibble32(tyl, tyh, index[k]), jx = jitter_x[k], jy = jitter_y[k];
+        stratum_x[k] = x, stratum_y[k] = y;
+        fx[k] = stratum_value_vec(x, jx, sc.scale);
+        fy[k] = stratum_value_vec(y, jy, sc.scale);
+        near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
+    }
+    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
+    return near_edge != 0;
+}
+
 void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
 {
     if (dim < 0) dim = 0;
@@ -1542,8 +1572,15 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
         for (int k = 0; k < run->count; ++k) out[k] = sobol_value_1d(s, t, j[k]);
         return;
     }
-    for (int k = 0; k < run->count; ++k)
-        out[k] = value_1d_padded(s, t, run->index_in_block[k], jitter ? key_bits(run->key[k], dim) : 0);
+    if (jitter) { /* value_1d_padded's stratified case with a table, vectorised as above */
+        uint32_t j[SAMPLER_RUN_MAX], jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
+        run_table_strata(run->index_in_block, run->count, t->x, j);
+        run_jitter_bits(run->key, run->count, dim, jx, jy);
+        if (run_strata_1d(j, jx, run->count, stratum_scale(s), out))
+            for (int k = 0; k < run->count; ++k) out[k] = stratum_value(s, j[k], jx[k]);
+        return;
+    }
+    for (int k = 0; k < run->count; ++k) out[k] = value_1d_padded(s, t, run->index_in_block[k], 0);
 }
 
 /* A run fills a tabled grid's rows + cols entries all at once (grid_fill_all, vectorised)
@@ -1617,6 +1654,14 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
         uint32_t j[SAMPLER_RUN_MAX];
         run_padded_indices(s, t, run, j);
         for (int k = 0; k < run->count; ++k) out[k] = sobol_value_2d(s, t, j[k]);
+        return;
+    }
+    if (jitter && s->spp <= SAMPLER_SHUFFLE_MAX) { /* value_2d_padded's case with tables, vectorised */
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        run_jitter_bits(run->key, run->count, dim, jx, jy);
+        if (run_table_values_2d(run->index_in_block, jx, jy, run->count, t->x, t->y, stratum_scale(s), sx, sy, &out[0].x))
+            for (int k = 0; k < run->count; ++k)
+                out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
         return;
     }
     for (int k = 0; k < run->count; ++k)

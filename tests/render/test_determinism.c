@@ -4,6 +4,7 @@
  * to the first with different samples, and so does a continuation of the first pass; pixels
  * split between waves sum as whole ones. */
 #include "check.h"
+#include "render/render_reads.h"
 #include "render_test_util.h"
 
 
@@ -19,19 +20,22 @@ static bool frames_identical(const Frame *a, const Frame *b)
 
 /* What the frame must hold, rebuilt from the sink's records: each pixel's samples summed in
  * double per frame slice ([0,4) [4,8) [8,16) [16,32) [32,64), then 64 at a time) in sample
- * order, each slice added to the colour as one float. */
+ * order, each slice added to the frame as one float: the colour, emission, direct and
+ * indirect parts (SampleRadiance's 12 floats in order) and the albedo of the samples that
+ * hit (the guides a render that reads everything sums). */
+enum { SUMS = 15 }; /* per pixel: L, emission, direct, indirect, albedo */
 typedef struct {
     int width, spp;
     int *count;        /* records seen per pixel */
-    double *slice_sum; /* 3 per pixel: the open slice */
-    float *color;      /* 3 per pixel */
+    double *slice_sum; /* SUMS per pixel: the open slice */
+    float *frame;      /* SUMS per pixel */
 } SliceCheck;
 
 static int slice_end_after(int begin) { return begin == 0 ? 4 : begin < 64 ? 2 * begin : begin + 64; }
 
 static void slice_close(SliceCheck *c, size_t i)
 {
-    for (int ch = 0; ch < 3; ++ch) c->color[3 * i + ch] += (float)c->slice_sum[3 * i + ch], c->slice_sum[3 * i + ch] = 0.0;
+    for (int k = 0; k < SUMS; ++k) c->frame[SUMS * i + k] += (float)c->slice_sum[SUMS * i + k], c->slice_sum[SUMS * i + k] = 0.0;
 }
 
 static void slice_check_add(void *ctx, int px, int py, const SampleRecord *r)
@@ -42,41 +46,59 @@ static void slice_check_add(void *ctx, int px, int py, const SampleRecord *r)
     int begin = 0;
     while (slice_end_after(begin) <= k) begin = slice_end_after(begin);
     if (k == begin && k > 0) slice_close(c, i); /* sample k opens a new slice */
-    c->slice_sum[3 * i] += r->L.x, c->slice_sum[3 * i + 1] += r->L.y, c->slice_sum[3 * i + 2] += r->L.z;
+    const vec3 part[5] = {r->L, r->emission, r->direct, r->indirect, r->hit ? r->albedo : v3(0.0f, 0.0f, 0.0f)};
+    double *sum = &c->slice_sum[SUMS * i];
+    for (int p = 0; p < 5; ++p) sum[3 * p] += part[p].x, sum[3 * p + 1] += part[p].y, sum[3 * p + 2] += part[p].z;
 }
 
-/* Renders the default scene at spp with 1 thread and a SliceCheck sink and with 2 threads
- * without one: the counts whose rounds split pixels between waves (83: one round of 83 per
- * pixel, 3 pixels and a part of a fourth per wave of 256; 158: [0,64) then [64,158)) give the
- * same frame for both, every pixel gets spp records, and the frame's colour is the slices'
- * sums exactly, as if no pixel had been split (renderer.c, WaveQueue's carried slice). */
+/* Whether pixel i's sums in f equal the rebuilt ones, bit for bit; the albedo only if with_guides. */
+static bool slices_match(const SliceCheck *c, const Frame *f, size_t i, bool with_guides)
+{
+    const float *arrays[5] = {f->color, f->emission, f->direct, f->indirect, f->albedo};
+    for (int p = 0; p < (with_guides ? 5 : 4); ++p)
+        if (memcmp(&c->frame[SUMS * i + 3 * p], &arrays[p][3 * i], 3 * sizeof(float))) return false;
+    return true;
+}
+
+/* Renders the default scene at spp with 1 thread and a SliceCheck sink, with 2 threads
+ * without one, and with 2 threads reading the radiance alone (RadianceRecords, the other
+ * path of the frame's sums): the counts whose rounds split pixels between waves (83: one
+ * round of 83 per pixel, 3 pixels and a part of a fourth per wave of 256; 158: [0,64) then
+ * [64,158)) give the same frame for the first two, every pixel gets spp records, and the
+ * frames' sums are the slices' sums exactly, as if no pixel had been split (renderer.c,
+ * WaveQueue's carried slice). */
 static void check_split_rounds(const char *text, int spp)
 {
     RenderOptions o = {0};
     o.width = 24, o.height = 20, o.spp = spp, o.seed = 77;
     size_t n = (size_t)o.width * (size_t)o.height;
-    SliceCheck c = {o.width, spp, calloc(n, sizeof(int)), calloc(3 * n, sizeof(double)), calloc(3 * n, sizeof(float))};
+    SliceCheck c = {o.width, spp, calloc(n, sizeof(int)), calloc(SUMS * n, sizeof(double)), calloc(SUMS * n, sizeof(float))};
     SampleSink sink = {slice_check_add, &c};
-    TestRender t1, t2;
+    TestRender t1, t2, t3;
     o.threads = 1;
-    bool ok = c.count && c.slice_sum && c.color && test_render_sink(text, &o, &sink, &t1);
+    bool ok = c.count && c.slice_sum && c.frame && test_render_sink(text, &o, &sink, &t1);
     o.threads = 2;
     ok = ok && test_render(text, &o, &t2);
+    o.reads = RENDER_READS_RADIANCE;
+    ok = ok && test_render(text, &o, &t3);
     CHECK(ok);
     if (ok) {
         for (size_t i = 0; i < n; ++i) slice_close(&c, i);
         CHECK(frames_identical(&t1.frame, &t2.frame));
-        int bad_count = 0, bad_color = 0;
+        int bad_count = 0, bad_sums = 0, bad_radiance_only = 0;
         for (size_t i = 0; i < n; ++i) {
-            bad_count += c.count[i] != spp || t1.frame.spp[i] != (float)spp;
-            bad_color += memcmp(&c.color[3 * i], &t1.frame.color[3 * i], 3 * sizeof(float)) != 0;
+            bad_count += c.count[i] != spp || t1.frame.spp[i] != (float)spp || t3.frame.spp[i] != (float)spp;
+            bad_sums += !slices_match(&c, &t1.frame, i, true);
+            bad_radiance_only += !slices_match(&c, &t3.frame, i, false);
         }
         CHECK(bad_count == 0);
-        CHECK(bad_color == 0);
+        CHECK(bad_sums == 0);
+        CHECK(bad_radiance_only == 0);
         test_render_free(&t1);
         test_render_free(&t2);
+        test_render_free(&t3);
     }
-    free(c.count), free(c.slice_sum), free(c.color);
+    free(c.count), free(c.slice_sum), free(c.frame);
 }
 
 /* the default scene is linked into the app library; read it from the source tree instead */
@@ -143,6 +165,7 @@ int main(void)
         test_render_free(&t2);
         test_render_free(&t3);
     }
+    check_split_rounds(text, 13); /* low counts: slices [0,4) [4,8) [8,13), pixels split */
     check_split_rounds(text, 83);
     check_split_rounds(text, 158);
     free(text);
