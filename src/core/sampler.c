@@ -1545,6 +1545,14 @@ static RUN_KERNEL bool run_table_values_2d(const uint32_t *index, const uint32_t
     return near_edge != 0;
 }
 
+/* A run's 2D values again by the scalar stratum_value, from their strata and jitter bits: what
+ * the vectorised loops' callers do when some jitter lies within rounding of a stratum edge. */
+static void run_values_2d_exact(const PixelSampler *s, int count, const uint32_t *sx, const uint32_t *sy,
+                                const uint32_t *jx, const uint32_t *jy, vec2 *out)
+{
+    for (int k = 0; k < count; ++k) out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+}
+
 void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
 {
     if (dim < 0) dim = 0;
@@ -1557,10 +1565,11 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
     }
     const SamplerDimTable *t = padded_dim(s, dim, 1);
     bool jitter = s->kind == SAMPLER_STRATIFIED;
-    if (jitter && s->spp > SAMPLER_SHUFFLE_MAX) {
-        /* value_1d_padded's case in the loops above */
+    if (jitter) { /* value_1d_padded's stratified case in the loops above: the strata from the
+                   * padded indices, or at spp <= SAMPLER_SHUFFLE_MAX from the per-pixel table */
         uint32_t j[SAMPLER_RUN_MAX], jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
-        run_padded_indices(s, t, run, j);
+        if (s->spp > SAMPLER_SHUFFLE_MAX) run_padded_indices(s, t, run, j);
+        else run_table_strata(run->index_in_block, run->count, t->x, j);
         run_jitter_bits(run->key, run->count, dim, jx, jy);
         if (run_strata_1d(j, jx, run->count, stratum_scale(s), out))
             for (int k = 0; k < run->count; ++k) out[k] = stratum_value(s, j[k], jx[k]);
@@ -1572,15 +1581,7 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
         for (int k = 0; k < run->count; ++k) out[k] = sobol_value_1d(s, t, j[k]);
         return;
     }
-    if (jitter) { /* value_1d_padded's stratified case with a table, vectorised as above */
-        uint32_t j[SAMPLER_RUN_MAX], jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
-        run_table_strata(run->index_in_block, run->count, t->x, j);
-        run_jitter_bits(run->key, run->count, dim, jx, jy);
-        if (run_strata_1d(j, jx, run->count, stratum_scale(s), out))
-            for (int k = 0; k < run->count; ++k) out[k] = stratum_value(s, j[k], jx[k]);
-        return;
-    }
-    for (int k = 0; k < run->count; ++k) out[k] = value_1d_padded(s, t, run->index_in_block[k], 0);
+    for (int k = 0; k < run->count; ++k) out[k] = value_1d_padded(s, t, run->index_in_block[k], 0); /* Sobol' */
 }
 
 /* A run fills a tabled grid's rows + cols entries all at once (grid_fill_all, vectorised)
@@ -1613,8 +1614,7 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
         run_jitter_bits(run->key, run->count, dim, jx, jy);
         if (run_packed_values(j, jx, jy, run->count, s->grid_rows, s->grid_cols, t->sub_x, t->sub_y, t->col_rot,
                               t->row_rot, stratum_scale(s), sx, sy, &out[0].x))
-            for (int k = 0; k < run->count; ++k)
-                out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+            run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
         return;
     }
     SamplerGridTable *g = grid_table(s, t, dim);
@@ -1626,8 +1626,7 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
         run_jitter_bits(run->key, run->count, dim, jx, jy);
         if (run_tabled_values(j, jx, jy, run->count, s->grid_rows, s->grid_cols, g->entry, stratum_scale(s), sx, sy,
                               &out[0].x))
-            for (int k = 0; k < run->count; ++k)
-                out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+            run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
         return;
     }
     for (int k = 0; k < run->count; ++k) out[k] = multi_jitter_tabled(s, g, j[k], key_bits(run->key[k], dim));
@@ -1660,8 +1659,7 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
         uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
         run_jitter_bits(run->key, run->count, dim, jx, jy);
         if (run_table_values_2d(run->index_in_block, jx, jy, run->count, t->x, t->y, stratum_scale(s), sx, sy, &out[0].x))
-            for (int k = 0; k < run->count; ++k)
-                out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+            run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
         return;
     }
     for (int k = 0; k < run->count; ++k)

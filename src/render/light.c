@@ -607,6 +607,14 @@ void light_sample_sky_batch(int count, const float *const u[2], float *const wi[
     sky_directions(count, u[0], u[1], wi[0], wi[1], wi[2]);
 }
 
+/* A light at infinity (distant, sky) as a point beyond the scene along ls->wi from p_ref, facing
+ * back: what the shadow ray and the record use for its position and normal. */
+static void far_end(const LightSet *set, vec3 p_ref, LightSample *ls)
+{
+    ls->p_light = v3_madd(p_ref, ls->wi, 2.0f * set->scene_radius);
+    ls->n_light = v3_neg(ls->wi);
+}
+
 bool light_sky_cosine(const LightSet *set, vec3 n, vec3 p_ref, LightSample *ls)
 {
     vec3 wi = warp_cosine_about(n, ls->wi);
@@ -614,8 +622,7 @@ bool light_sky_cosine(const LightSet *set, vec3 n, vec3 p_ref, LightSample *ls)
     if (!(pdf > 0.0f)) return false;
     ls->wi = wi;
     ls->pdf = pdf;
-    ls->p_light = v3_madd(p_ref, wi, 2.0f * set->scene_radius);
-    ls->n_light = v3_neg(wi);
+    far_end(set, p_ref, ls);
     return true;
 }
 
@@ -719,8 +726,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
     case LIGHT_DISTANT:
         ls->wi = l->w_world;
         ls->dist = INFINITY;
-        ls->p_light = v3_madd(p_ref, l->w_world, 2.0f * set->scene_radius);
-        ls->n_light = v3_neg(l->w_world);
+        far_end(set, p_ref, ls);
         ls->err_light = 0.0f;
         ls->Li = l->L;
         ls->pdf = 1.0f;
@@ -735,8 +741,7 @@ bool light_sample(const LightSet *set, const Tracer *tr, int li, vec3 p_ref, flo
             ls->pdf = LIGHT_SKY_PDF;
         }
         ls->dist = INFINITY;
-        ls->p_light = v3_madd(p_ref, ls->wi, 2.0f * set->scene_radius);
-        ls->n_light = v3_neg(ls->wi);
+        far_end(set, p_ref, ls);
         ls->err_light = 0.0f;
         ls->delta = false;
         return v3_any_positive(ls->Li);
