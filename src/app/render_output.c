@@ -86,7 +86,7 @@ bool render_output_write(const char *path, const Frame *f, const ReconResult *re
         {"wedge.sampler", EXR_ATTR_STRING, sampler_kind_name(a->sampler), 0.0, 0},
         {"wedge.filter", EXR_ATTR_STRING, a->filter, 0.0, 0},
     };
-    ExrWriteOptions wo = {EXR_STORE_FLOAT, EXRC_ZIP, 0, 0};
+    ExrWriteOptions wo = {EXR_STORE_FLOAT, EXRC_ZIP, 0, 0, 0};
     bool ok = exr_write_with(path, f->width, f->height, ch, nc, attrs, (int)(sizeof attrs / sizeof attrs[0]), &wo, err);
     *guarded += wo.nonfinite_replaced;
     planes_free(&p);

@@ -813,6 +813,31 @@ static inline uint64_t batch_rows_packed(BatchDraw *d, uint32_t rows, uint32_t c
     return batch_shuffles_packed(d, rows, cols, 1, cols);
 }
 
+/* The grid permutations of a 4 x 4 grid (16 spp): `cell`'s four shuffles of [0, 4) (one per
+ * column) then `y_of_cell`'s four (one per row), the values batch_shuffles_packed and
+ * batch_rows_packed give. Their eight draws of bound 24 are the base-24 digits of one draw
+ * below 24^8, the first draw the most significant (BatchDraw's induction, with the same low
+ * word and product after it), so one product gives them all and each digit is a division by
+ * constants off the others' path, where drawing them one by one is a chain of eight
+ * dependent 128-bit products and table loads. */
+static inline void batch_grid_4x4(BatchDraw *d, uint64_t *cell, uint64_t *y_of_cell)
+{
+    const uint64_t draws_bound = 110075314176ull; /* 24^8 */
+    unsigned __int128 m = (unsigned __int128)d->bits * draws_bound;
+    d->bits = (uint64_t)m;
+    d->product *= draws_bound;
+    uint64_t code = (uint64_t)(m >> 64);
+    uint32_t hi = (uint32_t)(code / 331776u), lo = (uint32_t)(code % 331776u); /* 24^4 */
+    uint32_t pair[4] = {hi / 576u, hi % 576u, lo / 576u, lo % 576u}, digit[8]; /* 24^2 */
+    for (uint32_t i = 0; i < 4; ++i) digit[2 * i] = pair[i] / 24u, digit[2 * i + 1] = pair[i] % 24u;
+    uint64_t c = 0, y = 0;
+    for (uint32_t k = 0; k < 4; ++k) {
+        c |= ((uint64_t)SMALL_PERMS[digit[k]] * 4u + k * 0x1111ull) << (16u * k);
+        y |= ((uint64_t)SMALL_PERMS[digit[4 + k]] + 4u * k * 0x1111ull) << (16u * k);
+    }
+    *cell = c, *y_of_cell = y;
+}
+
 /* The two strata tables of a multi-jittered 2D dimension (multi_jitter's construction for
  * the points, padded by a uniform permutation of the sample indices), built directly per
  * sample index without materialising the points. Sample i's x stratum is pi(i) for a
@@ -848,8 +873,12 @@ static void mj_tables(uint32_t n, uint32_t rows, uint32_t cols, uint64_t bits_pi
         pi = shuffle_bits_nibbles(n, bits_pi);
         for (;; bits_grid = hash_u64(bits_grid)) {
             BatchDraw d = batch_start(bits_grid);
-            cell = batch_shuffles_packed(&d, cols, rows, cols, 1);
-            y_of_cell = batch_rows_packed(&d, rows, cols);
+            if (rows == 4 && cols == 4) {
+                batch_grid_4x4(&d, &cell, &y_of_cell);
+            } else {
+                cell = batch_shuffles_packed(&d, cols, rows, cols, 1);
+                y_of_cell = batch_rows_packed(&d, rows, cols);
+            }
             if (batch_accepted(&d)) break;
         }
     }

@@ -248,6 +248,8 @@ bool exr_write_with(const char *path, int width, int height, const ExrChannel *c
         rv = exr_add_part(ctx, "", tiled ? EXR_STORAGE_TILED : EXR_STORAGE_SCANLINE, &part);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctx, part, width, height, (exr_compression_t)opt->compression);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_set_zip_compression_level(ctx, part, opt->zip_level > 0 ? opt->zip_level : EXR_ZIP_LEVEL_DEFAULT);
     if (rv == EXR_ERR_SUCCESS && tiled)
         rv = exr_set_tile_descriptor(ctx, part, (uint32_t)opt->tile_size, (uint32_t)opt->tile_size,
                                      EXR_TILE_ONE_LEVEL, EXR_TILE_ROUND_DOWN);
@@ -319,7 +321,7 @@ bool exr_write_with(const char *path, int width, int height, const ExrChannel *c
 bool exr_write(const char *path, int width, int height, const ExrChannel *channels, int channel_count,
                const ExrAttr *attrs, int attr_count, Diag *err)
 {
-    ExrWriteOptions opt = {EXR_STORE_FLOAT, EXRC_ZIP, 0, 0};
+    ExrWriteOptions opt = {EXR_STORE_FLOAT, EXRC_ZIP, 0, 0, 0};
     return exr_write_with(path, width, height, channels, channel_count, attrs, attr_count, &opt, err);
 }
 

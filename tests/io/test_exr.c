@@ -153,7 +153,7 @@ static void test_nonfinite_replaced(void)
     char path[512];
     path_in_tmp(path, sizeof path, "nan.exr");
     Diag err = {0};
-    ExrWriteOptions opt = {EXR_STORE_FLOAT, EXRC_ZIP, 0, -1};
+    ExrWriteOptions opt = {EXR_STORE_FLOAT, EXRC_ZIP, 0, 0, -1};
     CHECK(exr_write_with(path, 2, 2, ch, 3, NULL, 0, &opt, &err));
     CHECK(opt.nonfinite_replaced == 4);
     int w, h;
@@ -203,7 +203,7 @@ static void test_types_and_compressions(void)
     path_in_tmp(path, sizeof path, "types.exr");
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         Diag err = {0};
-        ExrWriteOptions opt = {cases[k].store, cases[k].comp, cases[k].tile, 0};
+        ExrWriteOptions opt = {cases[k].store, cases[k].comp, cases[k].tile, 0, 0};
         bool lossy = cases[k].comp >= EXRC_PXR24;
         const float *src = lossy && cases[k].comp != EXRC_PXR24 ? flat : rgb;
         bool ok = exr_write_with(path, W, H, src == flat ? smooth : noisy, 3, NULL, 0, &opt, &err);
@@ -251,7 +251,7 @@ static void test_tiny_chunks(void)
                 for (int st = 0; st < 2; ++st)
                     for (int w = 1; w <= 2; ++w) {
                         ExrChannel ch[] = {{"R", px[p], 3}, {"G", px[p] + 1, 3}, {"B", px[p] + 2, 3}, {"A", alpha, 1}};
-                        ExrWriteOptions opt = {stores[st], comps[k], 0, 0};
+                        ExrWriteOptions opt = {stores[st], comps[k], 0, 0, 0};
                         Diag err = {0};
                         bool ok = exr_write_with(path, w, 1, ch, nc, NULL, 0, &opt, &err);
                         ExrImage img;
@@ -291,7 +291,7 @@ static void test_incompressible(void)
     char path[512];
     path_in_tmp(path, sizeof path, "noise.exr");
     for (size_t k = 0; k < sizeof comps / sizeof comps[0]; ++k) {
-        ExrWriteOptions opt = {EXR_STORE_FLOAT, comps[k], 0, 0};
+        ExrWriteOptions opt = {EXR_STORE_FLOAT, comps[k], 0, 0, 0};
         Diag err = {0};
         int w, h;
         float *back = NULL;
@@ -300,6 +300,61 @@ static void test_incompressible(void)
         if (!ok) fprintf(stderr, "noise, compression %d: %s\n", (int)comps[k], err.message);
         CHECK(back && !memcmp(back, px, sizeof px));
         free(back);
+    }
+    clean_tmp();
+}
+
+static long read_whole(const char *path, unsigned char *buf, long cap)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return -1;
+    long n = (long)fread(buf, 1, (size_t)cap, f);
+    fclose(f);
+    return n;
+}
+
+/* The ZIP level: level 0 (the default) must write exactly the bytes of level
+ * EXR_ZIP_LEVEL_DEFAULT, not OpenEXR's own default (zlib's 6, the writer's old behaviour), and
+ * every level must read back bit for bit through OpenEXR's reader, ZIP and ZIPS, scanline
+ * and tiled. The image is a render's kind of float plane: a ramp with a little noise. */
+static void test_zip_level(void)
+{
+    enum { W = 96, H = 64, CAP = 1 << 17 };
+    static float px[W * H * 3];
+    static unsigned char bytes[3][CAP];
+    unsigned s = 88172645u;
+    for (int i = 0; i < W * H * 3; ++i) {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        px[i] = 0.25f + (float)(i % (3 * W) / 3) / 64.0f + (float)(s & 3u) / 1024.0f;
+    }
+    ExrChannel ch[] = {{"R", px, 3}, {"G", px + 1, 3}, {"B", px + 2, 3}};
+    const struct {
+        ExrCompression comp;
+        int tile;
+    } cases[] = {{EXRC_ZIP, 0}, {EXRC_ZIPS, 0}, {EXRC_ZIP, 32}};
+    const int levels[3] = {0, EXR_ZIP_LEVEL_DEFAULT, 6};
+    char path[512];
+    path_in_tmp(path, sizeof path, "zip.exr");
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        long size[3] = {-1, -1, -1};
+        for (int l = 0; l < 3; ++l) {
+            ExrWriteOptions opt = {EXR_STORE_FLOAT, cases[k].comp, cases[k].tile, levels[l], 0};
+            Diag err = {0};
+            int w = 0, h = 0;
+            float *back = NULL;
+            bool ok = exr_write_with(path, W, H, ch, 3, NULL, 0, &opt, &err);
+            size[l] = ok ? read_whole(path, bytes[l], CAP) : -1;
+            ok = ok && exr_read_rgb(path, &w, &h, &back, &err);
+            CHECK(ok && w == W && h == H && back && !memcmp(back, px, sizeof px));
+            if (!ok) fprintf(stderr, "zip level %d, case %zu: %s\n", levels[l], k, err.message);
+            free(back);
+        }
+        CHECK(size[0] > 0 && size[0] < CAP);
+        /* the default is level 1 byte for byte, and level 6 deflates differently */
+        CHECK(size[0] == size[1] && !memcmp(bytes[0], bytes[1], (size_t)size[0]));
+        CHECK(size[2] > 0 && (size[2] != size[0] || memcmp(bytes[0], bytes[2], (size_t)size[0])));
     }
     clean_tmp();
 }
@@ -490,6 +545,7 @@ int main(void)
     test_types_and_compressions();
     test_tiny_chunks();
     test_incompressible();
+    test_zip_level();
     test_grey_and_missing_rgb();
     test_bad_inputs();
     test_atomic_failures();
