@@ -1285,6 +1285,24 @@ static void shade_sphere_hits(const Tracer *tr, const TracerRay *r, const struct
     }
 }
 
+/* The traced hits rh[0 .. m) of a chunk's rays r[0 .. m) as SurfaceHits: hits[0 .. m), found[0 .. m). */
+static void shade_chunk(const Tracer *tr, const TracerRay *r, const struct RTCRayHit *rh, int m, bool shade_all,
+                        SurfaceHit *hits, bool *found)
+{
+    if (!tr->top_spheres) {
+        for (int i = 0; i < m; ++i)
+            found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
+        return;
+    }
+    /* top-level sphere hits are shaded together, the others one by one */
+    int spheres[TRACE_CHUNK], sphere_count = 0;
+    for (int i = 0; i < m; ++i) {
+        if (sphere_hit_batched(tr, &rh[i], shade_all)) spheres[sphere_count++] = i;
+        else found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
+    }
+    shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits, found);
+}
+
 /* tracer_intersect_batch's rays r[0 .. m) (m <= TRACE_CHUNK), one chunk: hits[0 .. m), found[0 .. m). */
 static void intersect_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, const TracerRay *r, int m,
                             bool shade_all, SurfaceHit *hits, bool *found)
@@ -1314,18 +1332,7 @@ static void intersect_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersec
         else
             for (int i = 0; i < m; ++i) rtcIntersect1(scene, ctx, &rh[i]);
     }
-    if (!tr->top_spheres) {
-        for (int i = 0; i < m; ++i)
-            found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
-        return;
-    }
-    /* top-level sphere hits are shaded together, the others one by one */
-    int spheres[TRACE_CHUNK], sphere_count = 0;
-    for (int i = 0; i < m; ++i) {
-        if (sphere_hit_batched(tr, &rh[i], shade_all)) spheres[sphere_count++] = i;
-        else found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
-    }
-    shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits, found);
+    shade_chunk(tr, r, rh, m, shade_all, hits, found);
 }
 
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
@@ -1346,12 +1353,57 @@ static inline TracerRay lane_ray(const TracerRayArrays *a, int k)
                        a->tmax ? a->tmax[k] : INFINITY, a->time01[k], a->skip_mask};
 }
 
+/* Lanes k0 .. k0 + m of a (m <= TRACE_CHUNK) to Embree's stream as structure of arrays
+ * (rtcIntersectNp): the directions and times by pointer into a, the origins and lengths
+ * scaled as init_ray scales them. Embree's stream gathers the same packets in the same order
+ * from these arrays as from init_rayhit's structs (embree 3.13 kernels/bvh/
+ * bvh_intersector_stream_filters.cpp, filterSOP beside filterAOS), so the hits are the same;
+ * what goes is the copy of every ray into a 112-byte RTCRayHit and Embree's gather from
+ * it. The hits come back as RTCRayHits for shade_chunk (a few fields each). */
+static void intersect_lanes_np(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
+                               const TracerRayArrays *a, int k0, int m, bool shade_all, SurfaceHit *hits, bool *found)
+{
+    float k = tr->tracer_from_world;
+    _Alignas(64) float ox[TRACE_CHUNK], oy[TRACE_CHUNK], oz[TRACE_CHUNK], tnear[TRACE_CHUNK], tfar[TRACE_CHUNK];
+    _Alignas(64) unsigned mask[TRACE_CHUNK], id[TRACE_CHUNK], flags[TRACE_CHUNK];
+    _Alignas(64) float ng[3][TRACE_CHUNK], u[TRACE_CHUNK], v[TRACE_CHUNK];
+    _Alignas(64) unsigned prim[TRACE_CHUNK], geom[TRACE_CHUNK], inst[TRACE_CHUNK];
+    for (int i = 0; i < m; ++i) {
+        ox[i] = k * a->o[0][k0 + i], oy[i] = k * a->o[1][k0 + i], oz[i] = k * a->o[2][k0 + i];
+        tnear[i] = 0.0f;
+        tfar[i] = k * (a->tmax ? a->tmax[k0 + i] : INFINITY);
+        mask[i] = ~a->skip_mask, id[i] = 0, flags[i] = 0;
+        geom[i] = inst[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    /* Embree writes only tfar and the hit fields; the const arrays are read */
+    struct RTCRayHitNp np = {
+        {ox, oy, oz, tnear, (float *)a->d[0] + k0, (float *)a->d[1] + k0, (float *)a->d[2] + k0,
+         (float *)a->time01 + k0, tfar, mask, id, flags},
+        {ng[0], ng[1], ng[2], u, v, prim, geom, {inst}}};
+    rtcIntersectNp(scene, ctx, &np, (unsigned)m);
+    TracerRay r[TRACE_CHUNK];
+    struct RTCRayHit rh[TRACE_CHUNK];
+    for (int i = 0; i < m; ++i) {
+        r[i] = lane_ray(a, k0 + i);
+        rh[i].ray.tfar = tfar[i];
+        rh[i].hit.u = u[i], rh[i].hit.v = v[i];
+        rh[i].hit.primID = prim[i], rh[i].hit.geomID = geom[i], rh[i].hit.instID[0] = inst[i];
+    }
+    shade_chunk(tr, r, rh, m, shade_all, hits, found);
+}
+
 void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool shade_all, bool coherent,
                              SurfaceHit *hits, bool *found)
 {
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
     context_init(tr, &ctx, coherent);
+    if (tr->batch_mode == TRACER_BATCH_STREAM) {
+        for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
+            intersect_lanes_np(tr, scene, &ctx, a, k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, shade_all,
+                               hits + k0, found + k0);
+        return;
+    }
     TracerRay chunk[TRACE_CHUNK];
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
         int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
