@@ -1381,6 +1381,17 @@ static void intersect_lanes_np(const Tracer *tr, RTCScene scene, struct RTCInter
          (float *)a->time01 + k0, tfar, mask, id, flags},
         {ng[0], ng[1], ng[2], u, v, prim, geom, {inst}}};
     rtcIntersectNp(scene, ctx, &np, (unsigned)m);
+    if (!tr->top_spheres) { /* shade_chunk's first loop, the lanes read in place */
+        for (int i = 0; i < m; ++i) {
+            struct RTCRayHit h;
+            h.ray.tfar = tfar[i], h.hit.u = u[i], h.hit.v = v[i];
+            h.hit.primID = prim[i], h.hit.geomID = geom[i], h.hit.instID[0] = inst[i];
+            int q = k0 + i;
+            found[i] = hit_from_rayhit(tr, v3(a->o[0][q], a->o[1][q], a->o[2][q]), v3(a->d[0][q], a->d[1][q], a->d[2][q]),
+                                       a->time01[q], shade_all, &h, &hits[i]);
+        }
+        return;
+    }
     TracerRay r[TRACE_CHUNK];
     struct RTCRayHit rh[TRACE_CHUNK];
     for (int i = 0; i < m; ++i) {
