@@ -1381,26 +1381,26 @@ static void intersect_lanes_np(const Tracer *tr, RTCScene scene, struct RTCInter
          (float *)a->time01 + k0, tfar, mask, id, flags},
         {ng[0], ng[1], ng[2], u, v, prim, geom, {inst}}};
     rtcIntersectNp(scene, ctx, &np, (unsigned)m);
-    if (!tr->top_spheres) { /* shade_chunk's first loop, the lanes read in place */
-        for (int i = 0; i < m; ++i) {
-            struct RTCRayHit h;
-            h.ray.tfar = tfar[i], h.hit.u = u[i], h.hit.v = v[i];
-            h.hit.primID = prim[i], h.hit.geomID = geom[i], h.hit.instID[0] = inst[i];
-            int q = k0 + i;
-            found[i] = hit_from_rayhit(tr, v3(a->o[0][q], a->o[1][q], a->o[2][q]), v3(a->d[0][q], a->d[1][q], a->d[2][q]),
-                                       a->time01[q], shade_all, &h, &hits[i]);
-        }
-        return;
-    }
-    TracerRay r[TRACE_CHUNK];
+    /* shade_chunk's loops, the lanes read in place: a top-level sphere's hits (if any) are
+     * shaded together afterwards, from TracerRays of their lanes alone */
     struct RTCRayHit rh[TRACE_CHUNK];
+    int spheres[TRACE_CHUNK], sphere_count = 0;
     for (int i = 0; i < m; ++i) {
-        r[i] = lane_ray(a, k0 + i);
-        rh[i].ray.tfar = tfar[i];
-        rh[i].hit.u = u[i], rh[i].hit.v = v[i];
-        rh[i].hit.primID = prim[i], rh[i].hit.geomID = geom[i], rh[i].hit.instID[0] = inst[i];
+        struct RTCRayHit *h = &rh[i];
+        h->ray.tfar = tfar[i], h->hit.u = u[i], h->hit.v = v[i];
+        h->hit.primID = prim[i], h->hit.geomID = geom[i], h->hit.instID[0] = inst[i];
+        if (tr->top_spheres && sphere_hit_batched(tr, h, shade_all)) {
+            spheres[sphere_count++] = i;
+            continue;
+        }
+        int q = k0 + i;
+        found[i] = hit_from_rayhit(tr, v3(a->o[0][q], a->o[1][q], a->o[2][q]), v3(a->d[0][q], a->d[1][q], a->d[2][q]),
+                                   a->time01[q], shade_all, h, &hits[i]);
     }
-    shade_chunk(tr, r, rh, m, shade_all, hits, found);
+    if (sphere_count == 0) return;
+    TracerRay r[TRACE_CHUNK];
+    for (int j = 0; j < sphere_count; ++j) r[spheres[j]] = lane_ray(a, k0 + spheres[j]);
+    shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits, found);
 }
 
 void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool shade_all, bool coherent,
