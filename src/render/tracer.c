@@ -1285,24 +1285,6 @@ static void shade_sphere_hits(const Tracer *tr, const TracerRay *r, const struct
     }
 }
 
-/* The traced hits rh[0 .. m) of a chunk's rays r[0 .. m) as SurfaceHits: hits[0 .. m), found[0 .. m). */
-static void shade_chunk(const Tracer *tr, const TracerRay *r, const struct RTCRayHit *rh, int m, bool shade_all,
-                        SurfaceHit *hits, bool *found)
-{
-    if (!tr->top_spheres) {
-        for (int i = 0; i < m; ++i)
-            found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
-        return;
-    }
-    /* top-level sphere hits are shaded together, the others one by one */
-    int spheres[TRACE_CHUNK], sphere_count = 0;
-    for (int i = 0; i < m; ++i) {
-        if (sphere_hit_batched(tr, &rh[i], shade_all)) spheres[sphere_count++] = i;
-        else found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
-    }
-    shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits, found);
-}
-
 /* tracer_intersect_batch's rays r[0 .. m) (m <= TRACE_CHUNK), one chunk: hits[0 .. m), found[0 .. m). */
 static void intersect_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, const TracerRay *r, int m,
                             bool shade_all, SurfaceHit *hits, bool *found)
@@ -1332,7 +1314,18 @@ static void intersect_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersec
         else
             for (int i = 0; i < m; ++i) rtcIntersect1(scene, ctx, &rh[i]);
     }
-    shade_chunk(tr, r, rh, m, shade_all, hits, found);
+    if (!tr->top_spheres) {
+        for (int i = 0; i < m; ++i)
+            found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
+        return;
+    }
+    /* top-level sphere hits are shaded together, the others one by one */
+    int spheres[TRACE_CHUNK], sphere_count = 0;
+    for (int i = 0; i < m; ++i) {
+        if (sphere_hit_batched(tr, &rh[i], shade_all)) spheres[sphere_count++] = i;
+        else found[i] = hit_from_rayhit(tr, r[i].o, r[i].d, r[i].time01, shade_all, &rh[i], &hits[i]);
+    }
+    shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits, found);
 }
 
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
@@ -1369,9 +1362,10 @@ static void np_constants(NpConstants *c, unsigned skip_mask)
  * (rtcIntersectNp): the directions and times by pointer into a, the origins and lengths
  * scaled as init_ray scales them. Embree's stream gathers the same packets in the same order
  * from these arrays as from init_rayhit's structs (embree 3.13 kernels/bvh/
- * bvh_intersector_stream_filters.cpp, filterSOP beside filterAOS), so the hits are the same;
- * what goes is the copy of every ray into a 112-byte RTCRayHit and Embree's gather from
- * it. The hits are shaded as shade_chunk does, the lanes' rays read in place. */
+ * bvh_intersector_stream_filters.cpp, filterSOP beside filterAOS; test_wave checks it), so
+ * the hits are the same; what goes is the copy of every ray into a 112-byte RTCRayHit and
+ * Embree's gather from it. The hits are shaded as intersect_chunk does, the lanes' rays
+ * read in place. */
 static void intersect_lanes_np(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
                                const TracerRayArrays *a, const NpConstants *fixed, int k0, int m, bool shade_all,
                                SurfaceHit *hits, bool *found)
@@ -1395,8 +1389,8 @@ static void intersect_lanes_np(const Tracer *tr, RTCScene scene, struct RTCInter
          (float *)a->time01 + k0, tfar, (unsigned *)fixed->mask, (unsigned *)fixed->id, (unsigned *)fixed->flags},
         {ng[0], ng[1], ng[2], u, v, prim, geom, {inst}}};
     rtcIntersectNp(scene, ctx, &np, (unsigned)m);
-    /* shade_chunk's loops, the lanes read in place: a top-level sphere's hits (if any) are
-     * shaded together afterwards, from TracerRays of their lanes alone */
+    /* intersect_chunk's shading, the lanes read in place: a top-level sphere's hits (if any)
+     * are shaded together afterwards, from TracerRays of their lanes alone */
     struct RTCRayHit rh[TRACE_CHUNK];
     int spheres[TRACE_CHUNK], sphere_count = 0;
     for (int i = 0; i < m; ++i) {
