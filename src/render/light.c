@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/vectorise.h"
+#include "render/sincos_run.h"
 #include "render/warp.h"
 
 static const float LIGHT_OFFSET_REL = 1e-5f; /* as tracer.c: scales with the coordinates */
@@ -583,8 +584,9 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
 
 /* warp_uniform_sphere for a run of samples, as light_sample's constant sky takes it: z, r
  * and phi in a loop GCC vectorises (fmaxf(0, m) as a select: m = 1 - z z is never -0, and
- * a NaN gives 0 either way), then the sine and cosine lane by lane, as written there (GCC
- * makes one sincosf call of the pair in both places). */
+ * a NaN gives 0 either way), the sine and cosine of phi by sincos_run (the library's values
+ * where that is glibc's sincosf), then the products, in chunks on the stack. */
+enum { SKY_CHUNK = 64 };
 static WEDGE_VECTORISED void sky_directions(int count, const float *restrict ux, const float *restrict uy,
                                             float *restrict wx, float *restrict wy, float *restrict wz)
 {
@@ -595,10 +597,15 @@ static WEDGE_VECTORISED void sky_directions(int count, const float *restrict ux,
         wy[k] = 2.0f * WEDGE_PI * uy[k];    /* phi, until the loop below */
         wz[k] = z;
     }
-    for (int k = 0; k < count; ++k) {
-        float r = wx[k], phi = wy[k];
-        wx[k] = r * cosf(phi);
-        wy[k] = r * sinf(phi);
+    for (int k0 = 0; k0 < count; k0 += SKY_CHUNK) {
+        int m = count - k0 < SKY_CHUNK ? count - k0 : SKY_CHUNK;
+        float sin_phi[SKY_CHUNK], cos_phi[SKY_CHUNK];
+        sincos_run(m, wy + k0, sin_phi, cos_phi);
+        for (int i = 0; i < m; ++i) {
+            float r = wx[k0 + i];
+            wx[k0 + i] = r * cos_phi[i];
+            wy[k0 + i] = r * sin_phi[i];
+        }
     }
 }
 

@@ -1346,12 +1346,85 @@ static inline TracerRay lane_ray(const TracerRayArrays *a, int k)
                        a->tmax ? a->tmax[k] : INFINITY, a->time01[k], a->skip_mask};
 }
 
+/* The fields of intersect_lanes_np's rays that are the same in every chunk of a call (Embree
+ * only reads them). */
+typedef struct {
+    _Alignas(64) float tnear[TRACE_CHUNK];
+    _Alignas(64) unsigned mask[TRACE_CHUNK], id[TRACE_CHUNK], flags[TRACE_CHUNK];
+} NpConstants;
+
+static void np_constants(NpConstants *c, unsigned skip_mask)
+{
+    for (int i = 0; i < TRACE_CHUNK; ++i) c->tnear[i] = 0.0f, c->mask[i] = ~skip_mask, c->id[i] = 0, c->flags[i] = 0;
+}
+
+/* Lanes k0 .. k0 + m of a (m <= TRACE_CHUNK) to Embree's stream as structure of arrays
+ * (rtcIntersectNp): the directions and times by pointer into a, the origins and lengths
+ * scaled as init_ray scales them. Embree's stream gathers the same packets in the same order
+ * from these arrays as from init_rayhit's structs (embree 3.13 kernels/bvh/
+ * bvh_intersector_stream_filters.cpp, filterSOP beside filterAOS; test_wave checks it), so
+ * the hits are the same; what goes is the copy of every ray into a 112-byte RTCRayHit and
+ * Embree's gather from it. The hits are shaded as intersect_chunk does, the lanes' rays
+ * read in place. */
+static void intersect_lanes_np(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
+                               const TracerRayArrays *a, const NpConstants *fixed, int k0, int m, bool shade_all,
+                               SurfaceHit *hits, bool *found)
+{
+    float k = tr->tracer_from_world;
+    _Alignas(64) float ox[TRACE_CHUNK], oy[TRACE_CHUNK], oz[TRACE_CHUNK], tfar[TRACE_CHUNK];
+    _Alignas(64) float ng[3][TRACE_CHUNK], u[TRACE_CHUNK], v[TRACE_CHUNK];
+    _Alignas(64) unsigned prim[TRACE_CHUNK], geom[TRACE_CHUNK], inst[TRACE_CHUNK];
+    const float *restrict o0 = a->o[0] + k0, *restrict o1 = a->o[1] + k0, *restrict o2 = a->o[2] + k0;
+    for (int i = 0; i < m; ++i) ox[i] = k * o0[i], oy[i] = k * o1[i], oz[i] = k * o2[i];
+    if (a->tmax) {
+        const float *restrict tmax = a->tmax + k0;
+        for (int i = 0; i < m; ++i) tfar[i] = k * tmax[i];
+    } else {
+        for (int i = 0; i < m; ++i) tfar[i] = k * INFINITY;
+    }
+    for (int i = 0; i < m; ++i) geom[i] = inst[i] = RTC_INVALID_GEOMETRY_ID;
+    /* Embree writes only tfar and the hit fields; the const arrays are read */
+    struct RTCRayHitNp np = {
+        {ox, oy, oz, (float *)fixed->tnear, (float *)a->d[0] + k0, (float *)a->d[1] + k0, (float *)a->d[2] + k0,
+         (float *)a->time01 + k0, tfar, (unsigned *)fixed->mask, (unsigned *)fixed->id, (unsigned *)fixed->flags},
+        {ng[0], ng[1], ng[2], u, v, prim, geom, {inst}}};
+    rtcIntersectNp(scene, ctx, &np, (unsigned)m);
+    /* intersect_chunk's shading, the lanes read in place: a top-level sphere's hits (if any)
+     * are shaded together afterwards, from TracerRays of their lanes alone */
+    struct RTCRayHit rh[TRACE_CHUNK];
+    int spheres[TRACE_CHUNK], sphere_count = 0;
+    for (int i = 0; i < m; ++i) {
+        struct RTCRayHit *h = &rh[i];
+        h->ray.tfar = tfar[i], h->hit.u = u[i], h->hit.v = v[i];
+        h->hit.primID = prim[i], h->hit.geomID = geom[i], h->hit.instID[0] = inst[i];
+        if (tr->top_spheres && sphere_hit_batched(tr, h, shade_all)) {
+            spheres[sphere_count++] = i;
+            continue;
+        }
+        int q = k0 + i;
+        found[i] = hit_from_rayhit(tr, v3(a->o[0][q], a->o[1][q], a->o[2][q]), v3(a->d[0][q], a->d[1][q], a->d[2][q]),
+                                   a->time01[q], shade_all, h, &hits[i]);
+    }
+    if (sphere_count == 0) return;
+    TracerRay r[TRACE_CHUNK];
+    for (int j = 0; j < sphere_count; ++j) r[spheres[j]] = lane_ray(a, k0 + spheres[j]);
+    shade_sphere_hits(tr, r, rh, spheres, sphere_count, shade_all, hits, found);
+}
+
 void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool shade_all, bool coherent,
                              SurfaceHit *hits, bool *found)
 {
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
     context_init(tr, &ctx, coherent);
+    if (tr->batch_mode == TRACER_BATCH_STREAM) {
+        NpConstants fixed;
+        np_constants(&fixed, a->skip_mask);
+        for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
+            intersect_lanes_np(tr, scene, &ctx, a, &fixed, k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, shade_all,
+                               hits + k0, found + k0);
+        return;
+    }
     TracerRay chunk[TRACE_CHUNK];
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
         int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;

@@ -150,6 +150,71 @@ static void test_quadric_batches(void)
     scene_desc_free(&scene);
 }
 
+/* Triangles at the top level and in an instance, no top-level sphere: the camera stream's
+ * common case (tracer_intersect_arrays without sphere lanes). */
+static const char *TRIANGLES =
+    "LookAt 0 0 -6  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "WorldBegin\n"
+    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ -2 -2 1  2 -2 1  2 2 1.5  -2 2 1.5 ] \"point2 uv\" [ 0 0 1 0 1 1 0 1 ]\n"
+    "ObjectBegin \"tri\" Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ -0.5 0 0  0.5 0 0  0 0.8 0 ] ObjectEnd\n"
+    "AttributeBegin Translate -0.6 -0.4 -0.5 Rotate 20 0 1 0 ObjectInstance \"tri\" AttributeEnd\n";
+
+static bool same_hit(const SurfaceHit *a, const SurfaceHit *b)
+{
+    return memcmp(&a->t, &b->t, sizeof a->t) == 0 && memcmp(&a->p, &b->p, sizeof a->p) == 0 &&
+           memcmp(&a->ng, &b->ng, sizeof a->ng) == 0 && memcmp(&a->ns, &b->ns, sizeof a->ns) == 0 &&
+           memcmp(&a->uv, &b->uv, sizeof a->uv) == 0 && memcmp(&a->err, &b->err, sizeof a->err) == 0 &&
+           a->geom == b->geom && a->prim == b->prim && a->instance == b->instance && a->object_id == b->object_id &&
+           a->light == b->light;
+}
+
+/* tracer_intersect_arrays (the camera rays: the stream mode hands Embree the arrays
+ * themselves, rtcIntersectNp) finds what tracer_intersect_batch finds for the same rays in
+ * the same mode, bit for bit, with lengths given and with none (tmax NULL: INFINITY), in
+ * every batch mode, coherent or not; RAYS lanes fill three chunks and part of a fourth. */
+static void test_intersect_arrays(const char *text, bool top_sphere)
+{
+    SceneDesc scene;
+    Tracer tr;
+    if (!build_scene(text, &scene, &tr)) return;
+    CHECK(tr.top_spheres == top_sphere);
+    TracerRay rays[RAYS], rays_inf[RAYS];
+    make_rays(rays, RAYS);
+    float o[3][RAYS], d[3][RAYS], tmax[RAYS], time01[RAYS];
+    for (int i = 0; i < RAYS; ++i) {
+        o[0][i] = rays[i].o.x, o[1][i] = rays[i].o.y, o[2][i] = rays[i].o.z;
+        d[0][i] = rays[i].d.x, d[1][i] = rays[i].d.y, d[2][i] = rays[i].d.z;
+        tmax[i] = rays[i].tmax, time01[i] = rays[i].time01;
+        rays_inf[i] = rays[i], rays_inf[i].tmax = INFINITY;
+    }
+    for (int m = 0; m < TRACER_BATCH_MODE_COUNT; ++m) {
+        tr.batch_mode = (TracerBatchMode)m;
+        for (int coherent = 0; coherent < 2; ++coherent)
+            for (int lengths = 0; lengths < 2; ++lengths) {
+                SurfaceHit ref[RAYS], got[RAYS];
+                bool ref_found[RAYS], found[RAYS];
+                tracer_intersect_batch(&tr, lengths ? rays : rays_inf, RAYS, true, coherent, ref, ref_found);
+                TracerRayArrays a = {{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, lengths ? tmax : NULL, time01, NULL, 0u};
+                tracer_intersect_arrays(&tr, &a, RAYS, true, coherent, got, found);
+                int bad = 0, hits = 0, instanced = 0;
+                for (int i = 0; i < RAYS; ++i) {
+                    bad += found[i] != ref_found[i] || (found[i] && !same_hit(&got[i], &ref[i]));
+                    hits += ref_found[i];
+                    instanced += ref_found[i] && ref[i].instance >= 0;
+                }
+                if (bad)
+                    fprintf(stderr, "tracer_intersect_arrays, mode %s coherent %d lengths %d: %d lanes differ\n",
+                            tracer_batch_mode_name((TracerBatchMode)m), coherent, lengths, bad);
+                CHECK(bad == 0);
+                CHECK(hits > RAYS / 4 && hits < RAYS && instanced > 0);
+            }
+    }
+    tracer_free(&tr);
+    scene_desc_free(&scene);
+}
+
 /* A layer's only sphere has a second, empty Embree primitive at the centre of its box (so
  * that Embree tests rays against the box before calling back; tracer.c,
  * QUADRIC_PRIM_ANCHOR): rays through that point, from outside and from inside, find the
@@ -299,6 +364,8 @@ static void test_wave_images(void)
 int main(void)
 {
     test_quadric_batches();
+    test_intersect_arrays(QUADRICS, true);
+    test_intersect_arrays(TRIANGLES, false);
     test_lone_sphere();
     test_shadow_rays_skip_their_light();
     test_wave_images();
