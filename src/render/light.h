@@ -165,8 +165,7 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
  * sample's direction (warp_uniform_sphere), bit for bit, the same for every such light; the
  * other fields are the light's own (Li its L, pdf LIGHT_SKY_PDF, dist infinite, not delta,
  * the answer v3_any_positive(L)) but p_light and n_light, which follow from the receiver
- * and wi. The arithmetic is vectorised, the sine and cosine by sincos_run (the library's
- * sincosf values where that is glibc's). */
+ * and wi. The arithmetic is vectorised, the sine and cosine by sincos_run. */
 void light_sample_sky_batch(int count, const float *const u[2], float *const wi[3]);
 /* A constant sky's sample at a Lambert receiver whose shading normal (on the side it is seen
  * from) is n: light_sample's uniform direction ls->wi turned into the cosine-weighted one

@@ -8,6 +8,7 @@
 #include <stdbool.h>
 
 #include "core/vec.h"
+#include "render/sincos_run.h"
 
 #ifndef WEDGE_PI
 #define WEDGE_PI 3.14159265358979323846f
@@ -59,8 +60,9 @@ static inline vec3 warp_uniform_sphere(vec2 u)
 {
     float z = 1.0f - 2.0f * u.x;
     float r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
-    float phi = 2.0f * WEDGE_PI * u.y;
-    return v3(r * cosf(phi), r * sinf(phi), z);
+    float sin_phi, cos_phi;
+    sincos_lane(2.0f * WEDGE_PI * u.y, &sin_phi, &cos_phi); /* as the sky's runs (sincos_run) */
+    return v3(r * cos_phi, r * sin_phi, z);
 }
 
 /* A cosine-weighted direction about the unit normal n from a uniform direction d on the unit
