@@ -146,11 +146,19 @@ typedef struct {
     float film_dev_px[RECON_PARTS]; /* per part: the farthest film position from its pixel's centre */
 } GatherJob;
 
-/* Pixels [begin, end): each stored sample's CoC slope (px per unit lens; 0 without the lens
- * dimensions or where it is not finite), into its LR_KEY record's slot, and, beside a shading
- * filter, where its point is seen through the lens centre at mid-shutter (LR's reprojection to
- * u = v = 0, t = 1/2: lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens v, as
- * LR_PLACE holds it, and the film moving by motion_px per unit shutter time). */
+/* A sample's CoC slope at camera depth `depth` (px per unit lens): 0 without the lens
+ * dimensions or where it is not finite. */
+static float coc_slope(const GatherJob *j, float depth)
+{
+    float c = j->lens_dims ? recon_coc_slope_px(&j->m->g->cam, depth) : 0.0f;
+    return isfinite(c) ? c : 0.0f;
+}
+
+/* Beside a shading filter, pixels [begin, end): each stored sample's CoC slope (coc_slope),
+ * into its LR_KEY record's slot (gather_range reads it there), and where its point is seen
+ * through the lens centre at mid-shutter (LR's reprojection to u = v = 0, t = 1/2:
+ * lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens v, as LR_PLACE holds it,
+ * and the film moving by motion_px per unit shutter time). */
 static void coc_and_centre_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
@@ -162,10 +170,8 @@ static void coc_and_centre_range(void *ctx, size_t begin, size_t end, int part)
             size_t q = i * cap + (size_t)k;
             float *key = j->key_rec + LR_KEY_FLOATS * q;
             const float *pl = j->place_rec + LR_PLACE_FLOATS * q;
-            float c = j->lens_dims ? recon_coc_slope_px(&j->m->g->cam, key[0]) : 0.0f;
-            c = isfinite(c) ? c : 0.0f;
+            float c = coc_slope(j, key[0]);
             key[1] = c;
-            if (!j->centre_xy) continue;
             float dt = pl[4] - 0.5f;
             j->centre_xy[2 * q] = pl[0] - c * pl[2] - key[2] * dt;
             j->centre_xy[2 * q + 1] = pl[1] - c * pl[3] - key[3] * dt;
@@ -215,7 +221,9 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
              * record's lens becomes 0, which a later gather reads only times c = 0) */
             LrPlace o = {pl[0], pl[1], j->lens_dims ? pl[2] : 0.0f, j->lens_dims ? pl[3] : 0.0f, pl[4],
                          {light[3 * k], light[3 * k + 1], light[3 * k + 2]}};
-            LrKey key = {ky[0], ky[1], {ky[2], ky[3]}};
+            /* the slope: coc_and_centre_range's beside a shading filter, else taken here (one
+             * pass over the records less) */
+            LrKey key = {ky[0], shade ? ky[1] : coc_slope(j, ky[0]), {ky[2], ky[3]}};
             j->place[oi] = o;
             j->key[oi] = key;
             j->bright[oi] = lr_bright(o.L);
@@ -288,8 +296,8 @@ static bool gather_samples(ReconMethod *m, const float *value4, int *spp_out, lo
                      .key = in_place ? (LrKey *)key_rec : m->key, .place = in_place ? (LrPlace *)place_rec : m->place,
                      .bright = m->bright, .moving = m->moving};
     size_t work = n * (size_t)cap;
-    recon_parallel_for_work(n, work, coc_and_centre_range, &job);
     if (shade) {
+        recon_parallel_for_work(n, work, coc_and_centre_range, &job);
         lr_delta_light(m->g, st, shade, delta4);
         /* without memory for the map, the samples of pass-through pixels keep their own light */
         lr_centre_light_build(&centre, m->g, st, &shading, centre_xy);
