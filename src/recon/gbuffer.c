@@ -122,6 +122,28 @@ bool gbuffer_sample_glossy(const SampleRecord *r)
            v3_luminance(r->albedo_glossy) > GLOSSY_DIRECT_SHARE * v3_luminance(r->albedo);
 }
 
+/* The sample's unfiltered light, split, into the pixel's sums (gbuffer_add's and
+ * gbuffer_add_unfiltered's, the same additions in the same order). */
+static inline void unfiltered_add(GBufferSums *s, const SampleRecord *r)
+{
+    float ud[3], ui[3];
+    gbuffer_unfiltered_split(r, ud, ui);
+    for (int k = 0; k < 3; ++k) {
+        s->unf_direct_sum[k] += ud[k];
+        s->unf_indirect_sum[k] += ui[k];
+    }
+}
+
+void gbuffer_add_unfiltered(void *ctx, int px, int py, const SampleRecord *r)
+{
+    GBuffer *g = ctx;
+    /* gbuffer_add's tests: the samples it sums are these */
+    if (px < 0 || py < 0 || px >= g->width || py >= g->height) return;
+    if (!r->hit) return;
+    if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) return;
+    unfiltered_add(&g->sums[(size_t)py * (size_t)g->width + (size_t)px], r);
+}
+
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
 {
     GBuffer *g = ctx;
@@ -143,12 +165,7 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
         l[2] += r->albedo.z - r->albedo_diffuse.z;
         l[3] += 1.0f;
     }
-    float ud[3], ui[3];
-    gbuffer_unfiltered_split(r, ud, ui);
-    for (int k = 0; k < 3; ++k) {
-        s->unf_direct_sum[k] += ud[k];
-        s->unf_indirect_sum[k] += ui[k];
-    }
+    unfiltered_add(s, r);
     s->pos_sum[0] += r->p_world.x;
     s->pos_sum[1] += r->p_world.y;
     s->pos_sum[2] += r->p_world.z;

@@ -243,6 +243,11 @@ void gbuffer_direct_albedo(const GBuffer *g, size_t i, float a[3]);
 
 /* The SampleSink callback (ctx = GBuffer *). */
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r);
+/* The same sink for a frame that reads none of the guides, only the unfiltered light's sums
+ * (unf_direct_sum, unf_indirect_sum: the composite subtracts and adds them back even where
+ * nothing is filtered, so they decide the image's last bits): the samples gbuffer_add would
+ * take, split the same way; every other sum stays 0 (ReconMethodClass.guides_unread). */
+void gbuffer_add_unfiltered(void *ctx, int px, int py, const SampleRecord *r);
 
 /* The guides from the sums and the frame's sample counts, after a pass. */
 void gbuffer_resolve_guides(GBuffer *g);

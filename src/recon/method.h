@@ -82,6 +82,11 @@ typedef struct {
      * last rays). A method must declare what it reads: undeclared entries stay empty. */
     EffectMask shadow_geometry;
     EffectMask bounce_geometry;
+    /* The method reads the G-buffer's frame sums and camera alone, its guides (sums, hit,
+     * mixed, pos4, nrm4, lobe4, ...) only beside a shading filter. A frame whose methods all
+     * say so and that filters no shading effect sums the unfiltered light alone
+     * (gbuffer_add_unfiltered). */
+    bool guides_unread;
 
     /* Samples per pixel of pass 1 (adaptive) or of the whole frame (fixed), for these effects. */
     int (*pass1_spp)(EffectMask effects);

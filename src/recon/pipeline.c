@@ -50,6 +50,8 @@ struct ReconPipeline {
     bool g_ready;
     SampleStore *store;
     bool store_full;             /* pass 1 filled every pixel's store: later samples skip it */
+    bool guides_unread;          /* no method reads the guides: the sink sums the unfiltered
+                                  * light alone (gbuffer_add_unfiltered) */
     ClRuntime *rt;
     ReconResult res;
     float *value_direct4, *value_indirect4, *radiance4; /* 4 floats per pixel each */
@@ -362,7 +364,8 @@ static void fan_out(void *ctx, int px, int py, const SampleRecord *rec)
 {
     ReconPipeline *p = ctx;
     if (p->trace_s) time_sample(p, px, py);
-    gbuffer_add(&p->g, px, py, rec);
+    if (p->guides_unread) gbuffer_add_unfiltered(&p->g, px, py, rec);
+    else gbuffer_add(&p->g, px, py, rec);
     if (p->store && !p->store_full) sample_store_add(p->store, px, py, rec);
     for (int s = 0; s < p->slot_count; ++s)
         if (p->slots[s].cls->add_sample) p->slots[s].cls->add_sample(p->slots[s].m, px, py, rec);
@@ -464,7 +467,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         goto oom;
     int pass1 = 0, fixed_max = 0;
     unsigned fields = 0;
-    bool shading_filtered = false;
+    bool direct_filtered = false, indirect_filtered = false;
     for (int s = 0; s < p->slot_count; ++s) {
         const ReconMethodClass *c = p->slots[s].cls;
         int k = c->pass1_spp(p->slots[s].effects);
@@ -476,9 +479,16 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         if (k > pass1) pass1 = k;
         if (!c->adaptive && k > fixed_max) fixed_max = k;
         fields |= c->sample_fields_for ? c->sample_fields_for(p->slots[s].effects) : c->sample_fields;
-        shading_filtered |= (p->slots[s].effects & (EFFECT_BIT(EFFECT_SOFT_SHADOWS) | EFFECT_BIT(EFFECT_INDIRECT))) != 0;
+        direct_filtered |= effect_in(p->slots[s].effects, EFFECT_SOFT_SHADOWS);
+        indirect_filtered |= effect_in(p->slots[s].effects, EFFECT_INDIRECT);
     }
-    if (!shading_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING; /* nothing to replace the light with */
+    /* the shading fields only for the lights filtered in this frame: nothing else replaces them */
+    bool shading_filtered = direct_filtered || indirect_filtered;
+    if (!shading_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING;
+    if (!direct_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING_DIRECT;
+    if (!indirect_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING_INDIRECT;
+    p->guides_unread = !shading_filtered;
+    for (int s = 0; s < p->slot_count; ++s) p->guides_unread = p->guides_unread && p->slots[s].cls->guides_unread;
     /* a fixed-count frame takes the --spp budget in one pass */
     if (p->fixed_only && p->opt.spp > 0) pass1 = p->opt.spp;
     /* A fixed-count method (LR) reads the first samples of every pixel, as many as the pixel
@@ -520,7 +530,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
         p->store_full = false;
     }
     /* screen motion only when a method stores it (LR): the integrator skips its projections */
-    renderer_set_record_motion(p->r, (fields & SAMPLE_FIELD_MOTION) != 0);
+    renderer_set_record_motion(p->r, (fields & (SAMPLE_FIELD_MOTION | SAMPLE_FIELD_LR_KEY)) != 0);
     for (int s = 0; s < p->slot_count; ++s) {
         ReconSetup setup = {p->r, &p->g, p->slots[s].cls->sample_fields ? p->store : NULL, p->slots[s].effects,
                             p->opt.mu, p->opt.spp, {0}, p->margin_px};

@@ -21,9 +21,13 @@ static const struct {
     {SAMPLE_FIELD_INDIRECT, 3, "indirect"}, {SAMPLE_FIELD_POSITION, 3, "position"},
     {SAMPLE_FIELD_NORMAL, 3, "normal"},     {SAMPLE_FIELD_LIGHT, 5, "light"},
     {SAMPLE_FIELD_BOUNCE, 4, "bounce"},     {SAMPLE_FIELD_MOTION, 2, "motion"},
-    {SAMPLE_FIELD_SHADING, 16, "shading"},
+    {SAMPLE_FIELD_SHADING, 7, "shading"},   {SAMPLE_FIELD_LR_PLACE, 8, "lr_place"},
+    {SAMPLE_FIELD_LR_KEY, 4, "lr_key"},     {SAMPLE_FIELD_SHADING_DIRECT, 6, "shading_direct"},
+    {SAMPLE_FIELD_SHADING_INDIRECT, 3, "shading_indirect"},
 };
-_Static_assert(SAMPLE_FIELD_COUNT_ == 13 && SAMPLE_FIELD_SHADING == 1u << 12 && SAMPLE_FIELD_MOTION == 1u << 11,
+_Static_assert(SAMPLE_FIELD_COUNT_ == 17 && SAMPLE_FIELD_SHADING == 1u << 12 && SAMPLE_FIELD_MOTION == 1u << 11 &&
+                   SAMPLE_FIELD_LR_PLACE == 1u << 13 && SAMPLE_FIELD_LR_KEY == 1u << 14 &&
+                   SAMPLE_FIELD_SHADING_DIRECT == 1u << 15 && SAMPLE_FIELD_SHADING_INDIRECT == 1u << 16,
                "sample_store_add writes field 1 << n at field[n]");
 
 struct SampleStore {
@@ -129,7 +133,7 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
     s->count[i] = k + 1;
     size_t j = i * (size_t)s->capacity + (size_t)k;
     /* Field by field in straight code, each behind the test whether it is kept (a frame of
-     * LR keeps 6 of 13): this runs for every sample, and a loop over the kept fields with a
+     * LR keeps 3 of 17): this runs for every sample, and a loop over the kept fields with a
      * switch cost about 200 instructions per sample. F[n] is field 1 << n (FIELDS' order). */
     float *const *F = s->field;
     float *d;
@@ -162,16 +166,29 @@ void sample_store_add(void *ctx, int px, int py, const SampleRecord *r)
     }
     if ((d = F[11])) d += 2 * j, d[0] = r->motion_px[0], d[1] = r->motion_px[1];   /* motion */
     if ((d = F[12])) {                                                             /* shading */
-        d += 16 * j;
+        d += 7 * j;
+        put3(d, r->albedo);
+        d[3] = r->hit ? (float)r->object_id : -1.0f;
+        float u[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
+        for (int c = 0; c < 3; ++c) d[4 + c] = isfinite(u[c]) && u[c] > 0.0f ? u[c] : 0.0f; /* as the split counts it */
+    }
+    if (F[15] || F[16]) {
         float ud[3], ui[3]; /* what the shading filters leave alone, as the guides' sums split it */
         gbuffer_unfiltered_split(r, ud, ui);
-        put3(d + 6, r->albedo);
-        put3(d + 13, r->albedo_diffuse); /* what the filterable direct light was demodulated by */
-        d[9] = r->hit ? (float)r->object_id : -1.0f;
-        float u[3] = {r->unfiltered_direct.x, r->unfiltered_direct.y, r->unfiltered_direct.z};
-        for (int c = 0; c < 3; ++c) d[10 + c] = isfinite(u[c]) && u[c] > 0.0f ? u[c] : 0.0f; /* as the split counts it */
-        d[0] = r->direct.x - ud[0], d[1] = r->direct.y - ud[1], d[2] = r->direct.z - ud[2];
-        d[3] = r->indirect.x - ui[0], d[4] = r->indirect.y - ui[1], d[5] = r->indirect.z - ui[2];
+        if ((d = F[15])) {                                                         /* shading_direct */
+            d += 6 * j;
+            d[0] = r->direct.x - ud[0], d[1] = r->direct.y - ud[1], d[2] = r->direct.z - ud[2];
+            put3(d + 3, r->albedo_diffuse); /* what the filterable direct light was demodulated by */
+        }
+        if ((d = F[16])) d += 3 * j, d[0] = r->indirect.x - ui[0], d[1] = r->indirect.y - ui[1], d[2] = r->indirect.z - ui[2];
+    }
+    if ((d = F[13])) {                                                             /* lr_place */
+        d += 8 * j;
+        d[0] = r->px_raster, d[1] = r->py_raster, d[2] = r->lens_u, d[3] = -r->lens_v, d[4] = r->time;
+    }
+    if ((d = F[14])) {                                                             /* lr_key */
+        d += 4 * j;
+        d[0] = r->hit ? r->depth_cam : INFINITY, d[2] = r->motion_px[0], d[3] = r->motion_px[1];
     }
 }
 
@@ -189,6 +206,11 @@ unsigned sample_store_fields(const SampleStore *s) { return s->fields; }
 int sample_store_capacity(const SampleStore *s) { return s->capacity; }
 int sample_store_count(const SampleStore *s, size_t i) { return s->count[i]; }
 long long sample_store_dropped(const SampleStore *s) { return __atomic_load_n(&s->dropped, __ATOMIC_RELAXED); }
+
+float *sample_store_field_mut(SampleStore *s, unsigned field)
+{
+    return (float *)sample_store_field(s, field);
+}
 
 const float *sample_store_field(const SampleStore *s, unsigned field)
 {

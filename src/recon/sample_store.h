@@ -33,14 +33,29 @@ enum {
                                        * (world, +inf when unoccluded); needs ray geometry */
     SAMPLE_FIELD_BOUNCE = 1u << 10,   /* the bounce ray's direction and hit distance; needs ray geometry */
     SAMPLE_FIELD_MOTION = 1u << 11,   /* screen velocity of the first hit (px per unit shutter time) */
-    SAMPLE_FIELD_SHADING = 1u << 12,  /* the light a shading filter may blur, direct (rgb) and indirect
-                                       * (rgb), the first hit's albedo (rgb) and object id (-1: a
-                                       * miss), and the delta lights' direct light (rgb, part of the
-                                       * unfiltered light), the first hit's diffuse albedo (rgb:
-                                       * the filterable direct light's, gbuffer_direct_albedo);
-                                       * kept only in frames where a shading
-                                       * effect is filtered */
-    SAMPLE_FIELD_COUNT_ = 13
+    SAMPLE_FIELD_SHADING = 1u << 12,  /* beside a shading filter, what LR's samples take its light
+                                       * by (lr_shading.h): the first hit's albedo (rgb) and
+                                       * object id (-1: a miss), and the delta lights' direct
+                                       * light (rgb, part of the unfiltered light); kept only in
+                                       * frames where a shading effect is filtered */
+    /* Two records in the order a reader that moves samples across pixels (LR, lr_partition.h's
+     * LrPlace and LrKey) keeps them, so that it reads them in place instead of copying the
+     * fields above into records of its own (the copy was 23 MB of fresh memory a frame, its page
+     * faults 2.6% of the frame, at 256x192, 8 spp). The slots marked "the reader's" are left
+     * for the reader to fill and are not written by sample_store_add. */
+    SAMPLE_FIELD_LR_PLACE = 1u << 13, /* film x, y (pixels), lens u and -v (the lens v flipped:
+                                       * raster y runs against camera y), normalised shutter
+                                       * time, then 3 floats the reader's (LR: the light) */
+    SAMPLE_FIELD_LR_KEY = 1u << 14,   /* camera depth (+inf on a miss), 1 float the reader's
+                                       * (LR: the CoC slope), screen motion (2, as MOTION) */
+    /* ... and the light the frame's shading filters replace, each kept only where its effect
+     * is filtered (6 and 3 of the 16 floats the shading field had: no frame filters both in
+     * LR's scenes but motion_defocus_soft_gi) */
+    SAMPLE_FIELD_SHADING_DIRECT = 1u << 15,   /* the filterable direct light (rgb) and the first
+                                               * hit's diffuse albedo (rgb: what it is demodulated
+                                               * by, gbuffer_direct_albedo); soft shadows */
+    SAMPLE_FIELD_SHADING_INDIRECT = 1u << 16, /* the filterable indirect light (rgb); indirect */
+    SAMPLE_FIELD_COUNT_ = 17
 };
 
 typedef struct SampleStore SampleStore;
@@ -72,6 +87,8 @@ int sample_store_capacity(const SampleStore *s);
 int sample_store_count(const SampleStore *s, size_t i);
 /* The array of one field (NULL when the store does not hold it). */
 const float *sample_store_field(const SampleStore *s, unsigned field);
+/* The same, writable: for the reader's slots of SAMPLE_FIELD_LR_PLACE and SAMPLE_FIELD_LR_KEY. */
+float *sample_store_field_mut(SampleStore *s, unsigned field);
 /* The store's per-pixel arrays (the counts, then each field's), for gathering (dist.h);
  * returns how many (at most SAMPLE_FIELD_COUNT_ + 1). */
 int sample_store_arrays(SampleStore *s, DistArray *out, int max);

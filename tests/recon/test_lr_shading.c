@@ -42,15 +42,19 @@ static void test_mean_kept(void)
     int bad = 0;
     for (int trial = 0; trial < 200; ++trial) {
         int n = 1 + (int)(uniform(&st) * N);
-        float rad[3 * N], sh[LR_SHADING_FLOATS * N], out[3 * N], value[3];
+        float rad[3 * N], base[LR_SHADING_BASE_FLOATS * N], dir[LR_SHADING_DIRECT_FLOATS * N],
+            ind[LR_SHADING_INDIRECT_FLOATS * N], out[3 * N], value[3];
         size_t src[N];
         for (int k = 0; k < n; ++k) {
-            for (int f = 0; f < LR_SHADING_FLOATS; ++f) sh[LR_SHADING_FLOATS * k + f] = uniform(&st);
-            for (int c = 0; c < 3; ++c) rad[3 * k + c] = sh[LR_SHADING_FLOATS * k + c] + sh[LR_SHADING_FLOATS * k + 3 + c] + uniform(&st);
+            for (int f = 0; f < LR_SHADING_BASE_FLOATS; ++f) base[LR_SHADING_BASE_FLOATS * k + f] = uniform(&st);
+            for (int f = 0; f < LR_SHADING_DIRECT_FLOATS; ++f) dir[LR_SHADING_DIRECT_FLOATS * k + f] = uniform(&st);
+            for (int c = 0; c < 3; ++c) ind[3 * k + c] = uniform(&st);
+            for (int c = 0; c < 3; ++c) rad[3 * k + c] = dir[LR_SHADING_DIRECT_FLOATS * k + c] + ind[3 * k + c] + uniform(&st);
             src[k] = (size_t)(uniform(&st) * 4.0f);
         }
         for (int c = 0; c < 3; ++c) value[c] = 2.0f * uniform(&st);
-        lr_pixel_light(n, rad, trial % 2 ? sh : NULL, src, &light, NULL, NULL, value, out);
+        LrShading sh = {base, dir, ind};
+        lr_pixel_light(n, rad, trial % 2 ? &sh : NULL, src, &light, NULL, NULL, value, out);
         for (int c = 0; c < 3; ++c) {
             double mean = 0.0;
             for (int k = 0; k < n; ++k) mean += out[3 * k + c];
@@ -61,19 +65,22 @@ static void test_mean_kept(void)
 }
 
 /* Samples with the non-filterable part `rest`, albedo a[k], filterable light drawn at random
- * (the noise), all taking their light from pixel `from`. */
-static void noisy_samples(unsigned *st, int n, const float *albedo_of_k, float rest, float *rad, float *sh)
+ * (the noise), all taking their light from pixel `from`: their rows in base, dir and ind. */
+enum { NB = LR_SHADING_BASE_FLOATS, ND = LR_SHADING_DIRECT_FLOATS, NI = LR_SHADING_INDIRECT_FLOATS };
+static LrShading noisy_samples(unsigned *st, int n, const float *albedo_of_k, float rest, float *rad, float *base,
+                               float *dir, float *ind)
 {
     for (int k = 0; k < n; ++k) {
-        float *s = sh + LR_SHADING_FLOATS * k;
-        for (int f = 0; f < LR_SHADING_FLOATS; ++f) s[f] = 0.0f;
+        float *b = base + NB * k, *d = dir + ND * k, *i = ind + NI * k;
+        for (int f = 0; f < NB; ++f) b[f] = 0.0f;
         for (int c = 0; c < 3; ++c) {
-            s[6 + c] = s[13 + c] = albedo_of_k[k]; /* Lambert: the diffuse albedo is the albedo */
-            s[c] = albedo_of_k[k] * 3.0f * uniform(st) * (uniform(st) < 0.5f); /* occluded half the time */
-            s[3 + c] = albedo_of_k[k] * 2.0f * uniform(st);
-            rad[3 * k + c] = rest + s[c] + s[3 + c];
+            b[c] = d[3 + c] = albedo_of_k[k]; /* Lambert: the diffuse albedo is the albedo */
+            d[c] = albedo_of_k[k] * 3.0f * uniform(st) * (uniform(st) < 0.5f); /* occluded half the time */
+            i[c] = albedo_of_k[k] * 2.0f * uniform(st);
+            rad[3 * k + c] = rest + d[c] + i[c];
         }
     }
+    return (LrShading){base, dir, ind};
 }
 
 static void test_noise_replaced_texture_kept(void)
@@ -81,11 +88,11 @@ static void test_noise_replaced_texture_kept(void)
     unsigned st = 11;
     make_light(&st);
     ReconShadingLight light = {direct4, factor, indirect4};
-    float albedo[N], rad[3 * N], sh[LR_SHADING_FLOATS * N], out[3 * N], value[3] = {0.7f, 0.8f, 0.9f};
+    float albedo[N], rad[3 * N], base[NB * N], dir[ND * N], ind[NI * N], out[3 * N], value[3] = {0.7f, 0.8f, 0.9f};
     size_t src[N];
     for (int k = 0; k < N; ++k) albedo[k] = k % 3 ? 0.2f : 0.75f, src[k] = 1;
-    noisy_samples(&st, N, albedo, 0.05f, rad, sh);
-    lr_pixel_light(N, rad, sh, src, &light, NULL, NULL, value, out);
+    LrShading sh = noisy_samples(&st, N, albedo, 0.05f, rad, base, dir, ind);
+    lr_pixel_light(N, rad, &sh, src, &light, NULL, NULL, value, out);
     int bad = 0;
     for (int k = 1; k < N; ++k)
         for (int c = 0; c < 3; ++c) {
@@ -99,6 +106,18 @@ static void test_noise_replaced_texture_kept(void)
     float spread = 0.0f;
     for (int k = 1; k < N; ++k) spread = fmaxf(spread, fabsf(rad[3 * k] - rad[0]));
     CHECK(spread > 0.5f);
+    /* a light the frame does not filter: its field is not stored, and the result is the one
+     * with it stored, to the bit (the pipeline keeps only the filtered lights' fields) */
+    for (int part = 0; part < 2; ++part) {
+        ReconShadingLight one = {part ? NULL : direct4, part ? NULL : factor, part ? indirect4 : NULL};
+        LrShading without = {base, part ? NULL : dir, part ? ind : NULL};
+        float with_out[3 * N], without_out[3 * N];
+        lr_pixel_light(N, rad, &sh, src, &one, NULL, NULL, value, with_out);
+        lr_pixel_light(N, rad, &without, src, &one, NULL, NULL, value, without_out);
+        int differ = 0;
+        for (int k = 0; k < 3 * N; ++k) differ += with_out[k] != without_out[k];
+        CHECK(differ == 0);
+    }
 }
 
 static void test_deviations_kept_where_not_filtered(void)
@@ -106,12 +125,12 @@ static void test_deviations_kept_where_not_filtered(void)
     unsigned st = 13;
     make_light(&st);
     ReconShadingLight light = {direct4, factor, indirect4};
-    float albedo[N], rad[3 * N], sh[LR_SHADING_FLOATS * N], out[3 * N], value[3] = {0.3f, 0.2f, 0.1f};
+    float albedo[N], rad[3 * N], base[NB * N], dir[ND * N], ind[NI * N], out[3 * N], value[3] = {0.3f, 0.2f, 0.1f};
     size_t src[N];
     for (int k = 0; k < N; ++k) albedo[k] = 0.5f, src[k] = 3; /* pixel 3: passed through */
-    noisy_samples(&st, N, albedo, 0.0f, rad, sh);
+    LrShading sh = noisy_samples(&st, N, albedo, 0.0f, rad, base, dir, ind);
     for (int pass = 0; pass < 2; ++pass) { /* a passed-through pixel, then no shading field */
-        lr_pixel_light(N, rad, pass ? NULL : sh, src, &light, NULL, NULL, value, out);
+        lr_pixel_light(N, rad, pass ? NULL : &sh, src, &light, NULL, NULL, value, out);
         int bad = 0;
         for (int k = 1; k < N; ++k)
             for (int c = 0; c < 3; ++c) bad += fabsf((out[3 * k + c] - out[c]) - (rad[3 * k + c] - rad[c])) > 1e-5f;
@@ -163,8 +182,9 @@ static void test_delta_light(void)
     GBuffer g = {0};
     g.width = W, g.height = 1, g.hit = hit, g.mixed = mixed;
     float delta4[4 * W];
-    const float *sh = sample_store_field(store, SAMPLE_FIELD_SHADING);
-    lr_delta_light(&g, store, sh, delta4);
+    LrShading sh = lr_shading_of(store);
+    CHECK(sh.base && !sh.direct && !sh.indirect);
+    lr_delta_light(&g, store, sh.base, delta4);
     CHECK_NEAR(delta4[0], delta_light, 1e-6);
     CHECK(delta4[3] == 1.0f);
     CHECK(delta4[4 + 3] == 0.0f); /* mixed */
@@ -173,11 +193,11 @@ static void test_delta_light(void)
     size_t src[CAP];
     for (int k = 0; k < CAP; ++k) src[k] = 0;
     ReconShadingLight none = {NULL, NULL, NULL};
-    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, delta4, NULL, value, out);
+    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), &sh, src, &none, delta4, NULL, value, out);
     float spread = 0.0f;
     for (int k = 1; k < CAP; ++k) spread = fmaxf(spread, fabsf(out[3 * k] - out[0]));
     CHECK(spread < 1e-6f);
-    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), sh, src, &none, NULL, NULL, value, out);
+    lr_pixel_light(CAP, sample_store_field(store, SAMPLE_FIELD_RADIANCE), &sh, src, &none, NULL, NULL, value, out);
     CHECK(fabsf(out[3] - out[0]) > 0.5f); /* without the means the pick's noise stays */
     sample_store_destroy(store);
 }
@@ -194,7 +214,8 @@ static void test_centre_light(void)
     enum { W = 8, H = 3, CAP = 8 };
     SampleStore *store = NULL;
     Diag d = {0};
-    CHECK(sample_store_create(SAMPLE_FIELD_SHADING | SAMPLE_FIELD_RADIANCE, W, H, CAP, (size_t)1 << 30, &store, &d));
+    unsigned fields = SAMPLE_FIELD_SHADING | SAMPLE_FIELD_SHADING_DIRECT | SAMPLE_FIELD_SHADING_INDIRECT | SAMPLE_FIELD_RADIANCE;
+    CHECK(sample_store_create(fields, W, H, CAP, (size_t)1 << 30, &store, &d));
     if (!store) return;
     float centre_xy[2 * W * H * CAP];
     int object_of[W * H * CAP];
@@ -222,10 +243,10 @@ static void test_centre_light(void)
     centre_xy[0] = -3.0f, centre_xy[2] = 9.5f;
     GBuffer g = {0};
     g.width = W, g.height = H;
-    const float *sh = sample_store_field(store, SAMPLE_FIELD_SHADING);
+    LrShading sh = lr_shading_of(store);
     static float light9[9 * W * H * CAP];
     LrCentreLight cl = {0};
-    CHECK(lr_centre_light_build(&cl, &g, store, sh, centre_xy));
+    CHECK(lr_centre_light_build(&cl, &g, store, &sh, centre_xy));
     for (size_t j = 0; j < (size_t)W * H * CAP; ++j) {
         const float *v = lr_centre_light_at(&cl, centre_xy[2 * j], centre_xy[2 * j + 1], (float)object_of[j]);
         for (int c = 0; c < 9; ++c) light9[9 * j + c] = v ? v[c] : NAN;
@@ -246,12 +267,13 @@ static void test_centre_light(void)
     size_t src[CAP];
     for (int k = 0; k < CAP; ++k) src[k] = p;
     const float *rad = sample_store_field(store, SAMPLE_FIELD_RADIANCE) + p * CAP * 3;
-    lr_pixel_light(CAP, rad, sh + p * CAP * LR_SHADING_FLOATS, src, &light, NULL, light9 + p * CAP * 9, value, out);
+    LrShading rows = lr_shading_from(&sh, p * CAP);
+    lr_pixel_light(CAP, rad, &rows, src, &light, NULL, light9 + p * CAP * 9, value, out);
     float spread = 0.0f, mean = 0.0f;
     for (int k = 0; k < CAP; ++k) spread = fmaxf(spread, fabsf(out[3 * k] - out[0])), mean += out[3 * k] / CAP;
     CHECK(spread < 1e-6f);              /* one albedo in the pixel: one light */
     CHECK(fabsf(mean - value[0]) < 1e-6f); /* the pixel's value kept */
-    lr_pixel_light(CAP, rad, sh + p * CAP * LR_SHADING_FLOATS, src, &light, NULL, NULL, value, out);
+    lr_pixel_light(CAP, rad, &rows, src, &light, NULL, NULL, value, out);
     CHECK(fabsf(out[3] - out[0]) > 0.2f); /* without it the sample's own noise stays */
     sample_store_destroy(store);
 }

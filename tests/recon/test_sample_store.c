@@ -66,5 +66,37 @@ int main(void)
         CHECK(light[5 * 2 + 1] == 5.0f && light[5 * 2 + 3] == 7.0f && isinf(light[5 * 2 + 4]));
         sample_store_destroy(s);
     }
+
+    /* LR's two records: the same values as the plain fields (lens v flipped), the reader's
+     * slots left as the reader wrote them by a later sample of another pixel */
+    unsigned f3 = SAMPLE_FIELD_LR_PLACE | SAMPLE_FIELD_LR_KEY | SAMPLE_FIELD_FILM | SAMPLE_FIELD_LENS |
+                  SAMPLE_FIELD_TIME | SAMPLE_FIELD_DEPTH | SAMPLE_FIELD_MOTION;
+    CHECK(sample_field_components(SAMPLE_FIELD_LR_PLACE) == 8 && sample_field_components(SAMPLE_FIELD_LR_KEY) == 4);
+    CHECK(sample_store_bytes(SAMPLE_FIELD_LR_PLACE | SAMPLE_FIELD_LR_KEY, 4, 3, 8) ==
+          12 * sizeof(int) + 12 * 8 * 12 * sizeof(float));
+    CHECK(sample_store_create(f3, 2, 1, 2, (size_t)1 << 20, &s, &d));
+    if (s) {
+        SampleRecord a = record(1.25f, 3.0f), miss = record(1.5f, 9.0f);
+        a.motion_px[0] = 2.5f, a.motion_px[1] = -1.5f;
+        miss.hit = false;
+        sample_store_add(s, 1, 0, &a);
+        float *place = sample_store_field_mut(s, SAMPLE_FIELD_LR_PLACE), *key = sample_store_field_mut(s, SAMPLE_FIELD_LR_KEY);
+        CHECK(place && key && place == sample_store_field(s, SAMPLE_FIELD_LR_PLACE));
+        if (place && key) {
+            place[8 * 2 + 5] = 11.0f, key[4 * 2 + 1] = 12.0f; /* the reader's slots of sample 2 */
+            sample_store_add(s, 0, 0, &miss);
+            const float *film = sample_store_field(s, SAMPLE_FIELD_FILM), *lens = sample_store_field(s, SAMPLE_FIELD_LENS);
+            const float *time = sample_store_field(s, SAMPLE_FIELD_TIME), *depth = sample_store_field(s, SAMPLE_FIELD_DEPTH);
+            const float *motion = sample_store_field(s, SAMPLE_FIELD_MOTION);
+            for (int q = 0; q < 3; q += 2) { /* pixel 0's first sample (the miss), pixel 1's */
+                const float *pl = place + 8 * q, *ky = key + 4 * q;
+                CHECK(pl[0] == film[2 * q] && pl[1] == film[2 * q + 1] && pl[2] == lens[2 * q] && pl[3] == -lens[2 * q + 1]);
+                CHECK(pl[4] == time[q] && ky[0] == depth[q] && ky[2] == motion[2 * q] && ky[3] == motion[2 * q + 1]);
+            }
+            CHECK(isinf(key[0]) && key[4 * 2 + 2] == 2.5f && key[4 * 2 + 3] == -1.5f && place[8 * 2 + 3] == -0.75f);
+            CHECK(place[8 * 2 + 5] == 11.0f && key[4 * 2 + 1] == 12.0f);
+        }
+        sample_store_destroy(s);
+    }
     CHECK_DONE();
 }

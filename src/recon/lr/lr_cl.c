@@ -37,7 +37,7 @@ struct LrCl {
     int *tl;
     LrTile *tiles;
     size_t tiles_cap, parts_cap;
-    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_lp, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_box, b_rgb, b_l, b_e, b_still;
+    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_box, b_rgb, b_l, b_e, b_still;
     LrClTimes last;
 };
 
@@ -91,9 +91,9 @@ void lr_cl_destroy(LrCl *lr)
     cl_kernel k[5] = {lr->blocks, lr->stats, lr->pack, lr->reproject, lr->across};
     for (int i = 0; i < 5; ++i)
         if (k[i]) clReleaseKernel(k[i]);
-    GrowBuf *b[18] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_lp, &lr->b_ids, &lr->b_order,
+    GrowBuf *b[17] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_ids, &lr->b_order,
                       &lr->b_ls, &lr->b_pack, &lr->b_g, &lr->b_p1, &lr->b_box, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
-    for (int i = 0; i < 18; ++i)
+    for (int i = 0; i < 17; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
     free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
     free(lr);
@@ -289,8 +289,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
     int nbatches = (nty + batch_rows - 1) / batch_rows;
     size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
+    /* The parameter table is read in place as the samples are (4 MB at 256x192: uploaded, it
+     * was a copy into fresh device memory a frame) */
+    cl_int err_lp = CL_SUCCESS;
+    cl_mem b_lp = ok ? clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(float) * LP_STRIDE * nparts,
+                                      lr->lp, &err_lp)
+                     : NULL;
+    ok = ok && cl_ok(err_lp, "buffer allocation", d);
     ok = ok && grow(rt, &lr->b_tl, sizeof(int) * TL_STRIDE * (size_t)ntiles, CL_MEM_READ_ONLY, d) &&
-         grow(rt, &lr->b_lp, sizeof(float) * LP_STRIDE * nparts, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_pack, sizeof(float) * PACK_FIELDS * (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * wcells * (size_t)img->spp,
               CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
@@ -298,8 +304,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
          grow(rt, &lr->b_rgb, sizeof(float) * 3 * npix, CL_MEM_WRITE_ONLY, d) &&
          grow(rt, &lr->b_l, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d) && grow(rt, &lr->b_e, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d);
     if (ok)
-        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_tl.mem, CL_FALSE, 0, sizeof(int) * TL_STRIDE * (size_t)ntiles, lr->tl, 0, NULL, NULL), "upload", d) &&
-             cl_ok(clEnqueueWriteBuffer(q, lr->b_lp.mem, CL_FALSE, 0, sizeof(float) * LP_STRIDE * nparts, lr->lp, 0, NULL, NULL), "upload", d);
+        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_tl.mem, CL_FALSE, 0, sizeof(int) * TL_STRIDE * (size_t)ntiles, lr->tl, 0, NULL, NULL), "upload", d);
 
     cl_int LL = L;
     double batch_s[3] = {0.0, 0.0, 0.0};
@@ -315,12 +320,12 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         }
         if (ok) { /* Algorithm 1 and the along pass, one work-item per (layer, tile) */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
-            cl_mem m[9] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, lr->b_lp.mem, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem};
+            cl_mem m[9] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, b_lp, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem};
             ok = set_args(lr->reproject, ints, 11, m, 9, d) && cl_launch_serial_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
-            cl_mem m[8] = {lr->b_tl.mem, lr->b_lp.mem, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem, lr->b_g.mem};
+            cl_mem m[8] = {lr->b_tl.mem, b_lp, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem, lr->b_g.mem};
             ok = set_args(lr->across, ints9, 9, m, 8, d) &&
                  cl_launch_serial_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
         }
@@ -346,6 +351,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     lr->last.partition_s = t_part;
     for (int i = 0; i < 4; ++i)
         if (ev[i]) clReleaseEvent(ev[i]);
+    if (b_lp) clReleaseMemObject(b_lp);
     if (b_s) clReleaseMemObject(b_s);
     if (b_k) clReleaseMemObject(b_k);
     if (b_b) clReleaseMemObject(b_b);

@@ -16,6 +16,7 @@
  * pixel has; a pixel with more (an adaptive method's pass 2) mixes LR's value with its own
  * by lr_share_weight (docs/algorithms.md 8.16). */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,6 +26,14 @@
 #include "recon/lr/lr_share.h"
 #include "recon/method.h"
 #include "recon/recon_parallel.h"
+
+/* The store's records are LrPlace and LrKey (sample_store.h); floats per sample of each. */
+enum { LR_PLACE_FLOATS = 8, LR_KEY_FLOATS = 4 };
+_Static_assert(sizeof(LrPlace) == LR_PLACE_FLOATS * sizeof(float) && offsetof(LrPlace, u) == 2 * sizeof(float) &&
+                   offsetof(LrPlace, t) == 4 * sizeof(float) && offsetof(LrPlace, L) == 5 * sizeof(float) &&
+                   sizeof(LrKey) == LR_KEY_FLOATS * sizeof(float) && offsetof(LrKey, coc_px) == sizeof(float) &&
+                   offsetof(LrKey, motion_px) == 2 * sizeof(float),
+               "SAMPLE_FIELD_LR_PLACE and SAMPLE_FIELD_LR_KEY are LrPlace and LrKey");
 
 /* LR section 8: 4-8 samples per pixel; the default is 8. */
 #define LR_DEFAULT_SPP 8
@@ -36,10 +45,13 @@ struct ReconMethod {
     LrConfig cfg;
     LrCl *cl;
     float *layers, *extent_px; /* AOVs, width * height */
-    LrKey *key;                /* the store's samples as LR reads them (LrSamples' arrays), kept between frames */
-    LrPlace *place;
+    LrKey *key;                /* the store's samples as LR reads them (LrSamples' arrays), copied here where */
+    LrPlace *place;            /* the store holds more per pixel than all have (else its records are they) */
+    size_t copies_cap;         /* kept between frames */
     float *bright;
-    size_t samples_cap;
+    size_t bright_cap;
+    const LrKey *img_key;      /* the last gather's: the store's records or the copies */
+    const LrPlace *img_place;
     float *rgb;                /* LR's output, width * height * 3 */
     unsigned char *moving;     /* per pixel, from the gather: a sample of it moves or is blurred (still_tiles) */
     ReconShadingLight light;   /* the shading filters' results, during filter_radiance */
@@ -117,12 +129,15 @@ typedef struct {
     int cap, spp;
     bool lens_dims;          /* the lens is LR's dimension (else its pinhole reduction) */
     const float *shade;      /* SAMPLE_FIELD_SHADING, NULL: no shading filter in the frame */
+    LrShading shading;       /* the store's shading fields (lr_shading_of) */
     const float *value4;     /* the pixels' values (the shading filters' results in them) */
-    float *coc_px;           /* per stored sample */
+    float *place_rec, *key_rec; /* the store's SAMPLE_FIELD_LR_PLACE and _LR_KEY records (the
+                                 * CoC slope and the light are written into their slots) */
     float *centre_xy;        /* per stored sample, 2 floats (NULL without shade) */
     const float *delta4;     /* lr_delta_light's (NULL without shade) */
     const LrCentreLight *centre;
-    LrKey *key;              /* spp per pixel: LrSamples' arrays */
+    LrKey *key;              /* spp per pixel: LrSamples' arrays (the store's records themselves
+                              * when it holds spp per pixel, else copies) */
     LrPlace *place;
     float *bright;
     unsigned char *moving;   /* per pixel: lr_sample_moves of any of its samples */
@@ -131,30 +146,35 @@ typedef struct {
     float film_dev_px[RECON_PARTS]; /* per part: the farthest film position from its pixel's centre */
 } GatherJob;
 
-/* Pixels [begin, end): each stored sample's CoC slope (px per unit lens; 0 without the lens
- * dimensions or where it is not finite) and, beside a shading filter, where its point is seen
+/* A sample's CoC slope at camera depth `depth` (px per unit lens): 0 without the lens
+ * dimensions or where it is not finite. */
+static float coc_slope(const GatherJob *j, float depth)
+{
+    float c = j->lens_dims ? recon_coc_slope_px(&j->m->g->cam, depth) : 0.0f;
+    return isfinite(c) ? c : 0.0f;
+}
+
+/* Beside a shading filter, pixels [begin, end): each stored sample's CoC slope (coc_slope),
+ * into its LR_KEY record's slot (gather_range reads it there), and where its point is seen
  * through the lens centre at mid-shutter (LR's reprojection to u = v = 0, t = 1/2:
- * lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens v, and the film moving
- * by motion_px per unit shutter time). */
+ * lr_partition.h's x = x0 + c u, y = y0 + c v with v the flipped lens v, as LR_PLACE holds it,
+ * and the film moving by motion_px per unit shutter time). */
 static void coc_and_centre_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     GatherJob *j = ctx;
     const SampleStore *st = j->st;
-    const float *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH), *film = sample_store_field(st, SAMPLE_FIELD_FILM);
-    const float *lens = sample_store_field(st, SAMPLE_FIELD_LENS), *time = sample_store_field(st, SAMPLE_FIELD_TIME);
-    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION);
     size_t cap = (size_t)j->cap;
     for (size_t i = begin; i < end; ++i)
         for (int k = 0; k < sample_store_count(st, i); ++k) {
             size_t q = i * cap + (size_t)k;
-            float c = j->lens_dims ? recon_coc_slope_px(&j->m->g->cam, depth[q]) : 0.0f;
-            c = isfinite(c) ? c : 0.0f;
-            j->coc_px[q] = c;
-            if (!j->centre_xy) continue;
-            float dt = time ? time[q] - 0.5f : 0.0f;
-            j->centre_xy[2 * q] = film[2 * q] - (lens ? c * lens[2 * q] : 0.0f) - (motion ? motion[2 * q] * dt : 0.0f);
-            j->centre_xy[2 * q + 1] = film[2 * q + 1] + (lens ? c * lens[2 * q + 1] : 0.0f) - (motion ? motion[2 * q + 1] * dt : 0.0f);
+            float *key = j->key_rec + LR_KEY_FLOATS * q;
+            const float *pl = j->place_rec + LR_PLACE_FLOATS * q;
+            float c = coc_slope(j, key[0]);
+            key[1] = c;
+            float dt = pl[4] - 0.5f;
+            j->centre_xy[2 * q] = pl[0] - c * pl[2] - key[2] * dt;
+            j->centre_xy[2 * q + 1] = pl[1] - c * pl[3] - key[3] * dt;
         }
 }
 
@@ -175,9 +195,7 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
         j->failed[part] = true;
         return;
     }
-    const float *film = sample_store_field(st, SAMPLE_FIELD_FILM), *lens = sample_store_field(st, SAMPLE_FIELD_LENS);
-    const float *time = sample_store_field(st, SAMPLE_FIELD_TIME), *depth = sample_store_field(st, SAMPLE_FIELD_DEPTH);
-    const float *motion = sample_store_field(st, SAMPLE_FIELD_MOTION), *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
+    const float *rad = sample_store_field(st, SAMPLE_FIELD_RADIANCE);
     long nonfinite = 0;
     float film_dev_px = 0.0f;
     size_t width = (size_t)m->g->width;
@@ -185,36 +203,33 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
         int count = sample_store_count(st, i);
         for (int k = 0; shade && k < count; ++k) {
             const float *xy = &j->centre_xy[2 * (i * cap + k)];
-            float object = shade[(i * cap + k) * LR_SHADING_FLOATS + 9];
-            src[k] = lr_light_pixel(m->g, xy[0], xy[1], depth[i * cap + k], object, i);
+            float object = shade[(i * cap + k) * LR_SHADING_BASE_FLOATS + 3];
+            src[k] = lr_light_pixel(m->g, xy[0], xy[1], j->key_rec[LR_KEY_FLOATS * (i * cap + k)], object, i);
             const float *c9 = lr_centre_light_at(j->centre, xy[0], xy[1], object);
             for (int c = 0; c < 9; ++c) centre9[9 * k + c] = c9 ? c9[c] : NAN;
         }
         float value[3] = {j->value4[4 * i], j->value4[4 * i + 1], j->value4[4 * i + 2]};
         bool moves = false;
-        lr_pixel_light(count, rad + i * cap * 3, shade ? shade + i * cap * LR_SHADING_FLOATS : NULL, src, &m->light,
-                       j->delta4, centre9, value, light);
+        LrShading rows = lr_shading_from(&j->shading, i * cap);
+        lr_pixel_light(count, rad + i * cap * 3, shade ? &rows : NULL, src, &m->light, j->delta4, centre9, value, light);
         for (int k = 0; k < j->spp; ++k) {
             size_t q = i * cap + k;
             size_t oi = i * (size_t)j->spp + k;
-            LrPlace *o = &j->place[oi];
-            LrKey *key = &j->key[oi];
-            o->x_px = film[2 * q];
-            o->y_px = film[2 * q + 1];
-            /* raster y runs against camera y (pbrt's rasterFromScreen): dy/dv = -c, so the
-             * lens v that LR sees is flipped to keep y = y0 + c v (lr_partition.h) */
-            o->u = j->lens_dims && lens ? lens[2 * q] : 0.0f;
-            o->v = j->lens_dims && lens ? -lens[2 * q + 1] : 0.0f;
-            o->t = time ? time[q] : 0.5f;
-            key->depth = depth[q];
-            key->coc_px = j->coc_px[q];
-            key->motion_px[0] = motion ? motion[2 * q] : 0.0f;
-            key->motion_px[1] = motion ? motion[2 * q + 1] : 0.0f;
-            for (int c = 0; c < 3; ++c) o->L[c] = light[3 * k + c];
-            j->bright[oi] = lr_bright(o->L);
+            /* read whole before writing: with spp = cap the destination is the record itself */
+            const float *pl = j->place_rec + LR_PLACE_FLOATS * q, *ky = j->key_rec + LR_KEY_FLOATS * q;
+            /* the lens only where it is LR's dimension (else its pinhole reduction: in place, the
+             * record's lens becomes 0, which a later gather reads only times c = 0) */
+            LrPlace o = {pl[0], pl[1], j->lens_dims ? pl[2] : 0.0f, j->lens_dims ? pl[3] : 0.0f, pl[4],
+                         {light[3 * k], light[3 * k + 1], light[3 * k + 2]}};
+            /* the slope: coc_and_centre_range's beside a shading filter, else taken here (one
+             * pass over the records less) */
+            LrKey key = {ky[0], shade ? ky[1] : coc_slope(j, ky[0]), {ky[2], ky[3]}};
+            j->place[oi] = o;
+            j->key[oi] = key;
+            j->bright[oi] = lr_bright(o.L);
             /* what lr_cl_run would otherwise measure in a pass of its own over the samples */
-            lr_scan_sample(o, (int)(i % width), (int)(i / width), &nonfinite, &film_dev_px);
-            moves = moves || lr_sample_moves(key, j->lens_dims); /* still_tiles' */
+            lr_scan_sample(&o, (int)(i % width), (int)(i / width), &nonfinite, &film_dev_px);
+            moves = moves || lr_sample_moves(&key, j->lens_dims); /* still_tiles' */
         }
         j->moving[i] = moves;
     }
@@ -228,7 +243,7 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
  * filters' light in place of its own where they ran, and its pixel's samples averaging to
  * the pixel's value in value4. Pixels are independent in every pass but the centre light's
  * sums (lr_centre_light_build), so they split between the cores (recon_parallel.h) with the
- * same result. Written into m->key, m->place and m->bright; false when there are none
+ * same result. Written into m->img_key, m->img_place and m->bright; false when there are none
  * (*spp_out <= 0) or without memory. */
 static bool gather_samples(ReconMethod *m, const float *value4, int *spp_out, long *nonfinite, float *film_dev_px)
 {
@@ -242,20 +257,33 @@ static bool gather_samples(ReconMethod *m, const float *value4, int *spp_out, lo
     }
     *spp_out = spp;
     if (spp <= 0) return false;
-    if (n * (size_t)spp > m->samples_cap) {
-        free(m->key), free(m->place), free(m->bright);
+    /* Every pixel holds cap samples (a fixed-count frame): LR reads the store's records in
+     * place, the CoC slope and the light written into their slots; else copies of the first
+     * spp of each pixel's. */
+    float *place_rec = sample_store_field_mut(m->store, SAMPLE_FIELD_LR_PLACE);
+    float *key_rec = sample_store_field_mut(m->store, SAMPLE_FIELD_LR_KEY);
+    bool in_place = spp == cap;
+    if (!in_place && n * (size_t)spp > m->copies_cap) {
+        free(m->key), free(m->place);
         m->key = malloc(sizeof(LrKey) * n * (size_t)spp);
         m->place = malloc(sizeof(LrPlace) * n * (size_t)spp);
-        m->bright = malloc(sizeof(float) * n * (size_t)spp);
-        m->samples_cap = m->key && m->place && m->bright ? n * (size_t)spp : 0;
-        if (!m->samples_cap) return false;
+        m->copies_cap = m->key && m->place ? n * (size_t)spp : 0;
+        if (!m->copies_cap) return false;
     }
-    const float *shade = sample_store_field(st, SAMPLE_FIELD_SHADING); /* NULL: no shading filter in the frame */
+    if (n * (size_t)spp > m->bright_cap) {
+        free(m->bright);
+        m->bright = malloc(sizeof(float) * n * (size_t)spp);
+        m->bright_cap = m->bright ? n * (size_t)spp : 0;
+        if (!m->bright_cap) return false;
+    }
+    m->img_key = in_place ? (const LrKey *)key_rec : m->key;
+    m->img_place = in_place ? (const LrPlace *)place_rec : m->place;
+    LrShading shading = lr_shading_of(st);
+    const float *shade = shading.base; /* NULL: no shading filter in the frame */
     float *delta4 = shade ? malloc(sizeof(float) * 4 * n) : NULL;
     float *centre_xy = shade ? malloc(sizeof(float) * 2 * n * (size_t)cap) : NULL;
-    float *coc_px = malloc(sizeof(float) * n * (size_t)cap);
-    if (!coc_px || (shade && (!delta4 || !centre_xy))) {
-        free(delta4), free(centre_xy), free(coc_px);
+    if (shade && (!delta4 || !centre_xy)) {
+        free(delta4), free(centre_xy);
         return false;
     }
     LrCentreLight centre = {0};
@@ -263,17 +291,19 @@ static bool gather_samples(ReconMethod *m, const float *value4, int *spp_out, lo
      * pinhole reduction, the lens left out of the filter (its variance is noise LR averages
      * along the motion, not a dimension it shears). */
     GatherJob job = {.m = m, .st = st, .cap = cap, .spp = spp, .lens_dims = effect_in(m->effects, EFFECT_DEFOCUS),
-                     .shade = shade, .value4 = value4, .coc_px = coc_px, .centre_xy = centre_xy, .delta4 = delta4,
-                     .centre = &centre, .key = m->key, .place = m->place, .bright = m->bright, .moving = m->moving};
+                     .shade = shade, .shading = shading, .value4 = value4, .place_rec = place_rec, .key_rec = key_rec,
+                     .centre_xy = centre_xy, .delta4 = delta4, .centre = &centre,
+                     .key = in_place ? (LrKey *)key_rec : m->key, .place = in_place ? (LrPlace *)place_rec : m->place,
+                     .bright = m->bright, .moving = m->moving};
     size_t work = n * (size_t)cap;
-    recon_parallel_for_work(n, work, coc_and_centre_range, &job);
     if (shade) {
+        recon_parallel_for_work(n, work, coc_and_centre_range, &job);
         lr_delta_light(m->g, st, shade, delta4);
         /* without memory for the map, the samples of pass-through pixels keep their own light */
-        lr_centre_light_build(&centre, m->g, st, shade, centre_xy);
+        lr_centre_light_build(&centre, m->g, st, &shading, centre_xy);
     }
     recon_parallel_for_work(n, work, gather_range, &job);
-    free(delta4), free(centre_xy), free(coc_px);
+    free(delta4), free(centre_xy);
     lr_centre_light_free(&centre);
     *nonfinite = 0;
     *film_dev_px = 0.0f;
@@ -338,7 +368,7 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     int w = m->g->width, h = m->g->height;
     float *rgb = m->rgb;
     bool ok = true;
-    LrSamples img = {w, h, spp, m->key, m->place, m->bright};
+    LrSamples img = {w, h, spp, m->img_key, m->img_place, m->bright};
     LrOutput out = {rgb, m->layers, m->extent_px, 0};
     LrConfig cfg = m->cfg;
     cfg.samples_scanned = true; /* the gather measured them (gather_range) */
@@ -390,10 +420,11 @@ const ReconMethodClass recon_method_lr = {
     .title = "layered reconstruction (LR): sheared 5D filter per tile and depth layer, fixed samples (default 8)",
     .effects = EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_MOTION),
     .adaptive = false,
-    .sample_fields = SAMPLE_FIELD_FILM | SAMPLE_FIELD_LENS | SAMPLE_FIELD_TIME | SAMPLE_FIELD_DEPTH |
-                     SAMPLE_FIELD_RADIANCE | SAMPLE_FIELD_MOTION | SAMPLE_FIELD_SHADING,
+    .sample_fields = SAMPLE_FIELD_LR_PLACE | SAMPLE_FIELD_LR_KEY | SAMPLE_FIELD_RADIANCE | SAMPLE_FIELD_SHADING |
+                     SAMPLE_FIELD_SHADING_DIRECT | SAMPLE_FIELD_SHADING_INDIRECT,
     .shadow_geometry = 0,
     .bounce_geometry = 0,
+    .guides_unread = true, /* pos4, nrm4, hit, mixed only with SAMPLE_FIELD_SHADING (lr_shading.h) */
     .pass1_spp = lr_pass1_spp,
     .create = lr_create,
     .open_device = lr_open_device,

@@ -9,6 +9,21 @@
 /* Pixels whose depth differs more than this (relative) are other surfaces. */
 #define LR_SAME_SURFACE_DEPTH 0.05f
 
+LrShading lr_shading_of(const SampleStore *st)
+{
+    LrShading s = {sample_store_field(st, SAMPLE_FIELD_SHADING), sample_store_field(st, SAMPLE_FIELD_SHADING_DIRECT),
+                   sample_store_field(st, SAMPLE_FIELD_SHADING_INDIRECT)};
+    if (!s.base) s.direct = s.indirect = NULL;
+    return s;
+}
+
+LrShading lr_shading_from(const LrShading *s, size_t first)
+{
+    return (LrShading){s->base ? s->base + first * LR_SHADING_BASE_FLOATS : NULL,
+                       s->direct ? s->direct + first * LR_SHADING_DIRECT_FLOATS : NULL,
+                       s->indirect ? s->indirect + first * LR_SHADING_INDIRECT_FLOATS : NULL};
+}
+
 bool lr_filtered_light(const float *value4, const float *factor, size_t i, float out[3])
 {
     if (!value4 || value4[4 * i + 3] == 0.0f) return false;
@@ -39,7 +54,7 @@ size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, f
 typedef struct {
     const GBuffer *g;
     const SampleStore *st;
-    const float *shading;
+    const float *base;
     float *delta4;
 } DeltaJob;
 
@@ -54,8 +69,8 @@ static void delta_range(void *ctx, size_t begin, size_t end, int part)
         int count = sample_store_count(j->st, q);
         double a[3] = {0, 0, 0}, u[3] = {0, 0, 0};
         for (int k = 0; k < count; ++k) {
-            const float *sh = j->shading + (q * (size_t)cap + (size_t)k) * LR_SHADING_FLOATS;
-            for (int c = 0; c < 3; ++c) a[c] += sh[6 + c], u[c] += sh[10 + c];
+            const float *sh = j->base + (q * (size_t)cap + (size_t)k) * LR_SHADING_BASE_FLOATS;
+            for (int c = 0; c < 3; ++c) a[c] += sh[c], u[c] += sh[4 + c];
         }
         float *d4 = j->delta4 + 4 * q;
         bool ok = count > 0 && g->hit[q] && !g->mixed[q];
@@ -67,23 +82,26 @@ static void delta_range(void *ctx, size_t begin, size_t end, int part)
     }
 }
 
-void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *shading, float *delta4)
+void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *base, float *delta4)
 {
-    DeltaJob j = {g, st, shading, delta4};
+    DeltaJob j = {g, st, base, delta4};
     recon_parallel_for((size_t)g->width * (size_t)g->height, delta_range, &j);
 }
 
-/* One sample's light with its filterable direct and indirect light replaced by albedo times
- * the filtered light, and its delta lights' light by albedo times their pixel mean (ed, ei,
- * eu: NULL leaves that part as it is). */
-static void replaced_light(const float *radiance, const float *shading, const float *ed, const float *ei,
+/* Sample k's light with its filterable direct and indirect light replaced by albedo times the
+ * filtered light, and its delta lights' light by albedo times their pixel mean (ed, ei, eu:
+ * NULL leaves that part as it is; s: the pixel's rows, NULL for none). */
+static void replaced_light(const float *radiance, const LrShading *s, int k, const float *ed, const float *ei,
                            const float *eu, float out[3])
 {
+    const float *b = s ? s->base + LR_SHADING_BASE_FLOATS * k : NULL;
+    const float *d = s && s->direct ? s->direct + LR_SHADING_DIRECT_FLOATS * k : NULL;
+    const float *i = s && s->indirect ? s->indirect + LR_SHADING_INDIRECT_FLOATS * k : NULL;
     for (int c = 0; c < 3; ++c) {
         out[c] = radiance[c];
-        if (ed) out[c] += shading[13 + c] * ed[c] - shading[c];
-        if (ei) out[c] += shading[6 + c] * ei[c] - shading[3 + c];
-        if (eu) out[c] += shading[6 + c] * eu[c] - shading[10 + c];
+        if (ed && d) out[c] += d[3 + c] * ed[c] - d[c];
+        if (ei && i) out[c] += b[c] * ei[c] - i[c];
+        if (eu && b) out[c] += b[c] * eu[c] - b[4 + c];
     }
 }
 
@@ -95,7 +113,7 @@ static const float *centre_part(const float *centre9, int k, int part)
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]) ? v : NULL;
 }
 
-void lr_pixel_light(int n, const float *radiance, const float *shading, const size_t *src,
+void lr_pixel_light(int n, const float *radiance, const LrShading *shading, const size_t *src,
                     const ReconShadingLight *light, const float *delta4, const float *centre9, const float value[3],
                     float *out)
 {
@@ -103,7 +121,7 @@ void lr_pixel_light(int n, const float *radiance, const float *shading, const si
     for (int k = 0; k < n; ++k) {
         float ed_buf[3], ei_buf[3], eu_buf[3];
         const float *ed = NULL, *ei = NULL, *eu = NULL;
-        if (shading && light && src) {
+        if (shading && shading->base && light && src) {
             /* a part the shading filters left out keeps its own light unless the centre frame
              * has its object's (8.19); a part no filter touched stays as it is */
             ed = lr_filtered_light(light->direct4, light->direct_factor, src[k], ed_buf) ? ed_buf
@@ -117,7 +135,7 @@ void lr_pixel_light(int n, const float *radiance, const float *shading, const si
         /* into a local first: summing from out re-read floats just stored one by one, and
          * the processor could not forward them (a stall per sample, ~3% of a warm LR frame) */
         float light_k[3];
-        replaced_light(radiance + 3 * k, shading ? shading + LR_SHADING_FLOATS * k : NULL, ed, ei, eu, light_k);
+        replaced_light(radiance + 3 * k, shading && shading->base ? shading : NULL, k, ed, ei, eu, light_k);
         for (int c = 0; c < 3; ++c) {
             out[3 * k + c] = light_k[c];
             sum[c] += light_k[c];
@@ -132,7 +150,7 @@ void lr_pixel_light(int n, const float *radiance, const float *shading, const si
 
 /* Per bin of the lens-centre, mid-shutter frame and object slot: sums of the filterable
  * direct, indirect and delta lights and of the albedo and the diffuse albedo (the direct
- * light's, LR_SHADING_FLOATS) (rgb each) of one object's samples. A
+ * light's, LrShading) (rgb each) of one object's samples. A
  * bin has LR_CENTRE_SLOTS slots: where two surfaces meet at mid-shutter (a moving object's
  * edge over the floor it stands on) both keep their light. */
 enum { CL_SD = 0, CL_SI = 3, CL_SU = 6, CL_A = 9, CL_AD = 12, CL_SUMS = 15, LR_CENTRE_SLOTS = 2 };
@@ -191,7 +209,7 @@ static void box_rows(void *ctx, size_t begin, size_t end, int part)
             }
 }
 
-bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStore *st, const float *shading,
+bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStore *st, const LrShading *shading,
                            const float *centre_xy)
 {
     size_t n = (size_t)g->width * (size_t)g->height, bins = n * LR_CENTRE_SLOTS;
@@ -212,14 +230,18 @@ bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStor
     for (size_t i = 0; i < n; ++i)
         for (int k = 0; k < sample_store_count(st, i); ++k) {
             size_t j = i * (size_t)cap + (size_t)k;
-            const float *sh = shading + j * LR_SHADING_FLOATS;
+            const float *b = shading->base + j * LR_SHADING_BASE_FLOATS;
             long q = pixel_at(g->width, g->height, centre_xy[2 * j], centre_xy[2 * j + 1]);
-            int slot = q >= 0 && sh[9] >= 0.0f ? slot_of(id, (size_t)q, sh[9], true) : -1;
+            int slot = q >= 0 && b[3] >= 0.0f ? slot_of(id, (size_t)q, b[3], true) : -1;
             if (slot < 0) continue;
             float *s = sums + ((size_t)q * LR_CENTRE_SLOTS + (size_t)slot) * CL_SUMS;
+            /* a light the frame does not filter keeps 0 sums: its part is never read (lr_pixel_light) */
+            const float *d = shading->direct ? shading->direct + j * LR_SHADING_DIRECT_FLOATS : NULL;
+            const float *i = shading->indirect ? shading->indirect + j * LR_SHADING_INDIRECT_FLOATS : NULL;
             for (int c = 0; c < 3; ++c) {
-                s[CL_SD + c] += sh[c], s[CL_SI + c] += sh[3 + c], s[CL_SU + c] += sh[10 + c], s[CL_A + c] += sh[6 + c];
-                s[CL_AD + c] += sh[13 + c];
+                if (d) s[CL_SD + c] += d[c], s[CL_AD + c] += d[3 + c];
+                if (i) s[CL_SI + c] += i[c];
+                s[CL_SU + c] += b[4 + c], s[CL_A + c] += b[c];
             }
         }
     /* A box of LR_CENTRE_RADIUS_PX around each bin, over the slots of the same object, then

@@ -20,11 +20,22 @@
 #include "recon/method.h"
 #include "recon/sample_store.h"
 
-/* Floats per sample of SAMPLE_FIELD_SHADING: filterable direct rgb, indirect rgb, albedo rgb,
- * object id, delta lights' direct rgb, diffuse albedo rgb. The filterable direct light is the
- * diffuse lobe's (the glossy lobes' passes through, gbuffer.h): it takes the diffuse albedo,
- * the indirect and delta lights the albedo. */
-#define LR_SHADING_FLOATS 16
+/* The store's shading fields as LR reads them, per sample: SAMPLE_FIELD_SHADING's albedo rgb,
+ * object id and delta lights' direct rgb (base); _SHADING_DIRECT's filterable direct rgb and
+ * diffuse albedo rgb (direct: the filterable direct light is the diffuse lobe's, the glossy
+ * lobes' passes through, gbuffer.h, so it takes the diffuse albedo); _SHADING_INDIRECT's
+ * filterable indirect rgb (indirect). The indirect and delta lights take the albedo. direct
+ * and indirect are NULL where the frame does not filter that light, base where it filters
+ * neither (all three then). */
+enum { LR_SHADING_BASE_FLOATS = 7, LR_SHADING_DIRECT_FLOATS = 6, LR_SHADING_INDIRECT_FLOATS = 3 };
+typedef struct {
+    const float *base, *direct, *indirect;
+} LrShading;
+
+/* The store's shading fields (all NULL without SAMPLE_FIELD_SHADING). */
+LrShading lr_shading_of(const SampleStore *st);
+/* The same rows from stored sample `first` on (the first of a pixel's: pixel * capacity). */
+LrShading lr_shading_from(const LrShading *s, size_t first);
 
 /* Pixel i's filtered light per unit albedo for one shading effect (value4 as
  * ReconShadingLight gives it, times factor[i] when factor is not NULL) into out; false where
@@ -37,11 +48,11 @@ bool lr_filtered_light(const float *value4, const float *factor, size_t i, float
 size_t lr_light_pixel(const GBuffer *g, float x0_px, float y0_px, float depth, float object_id, size_t own);
 
 /* Per pixel, the mean direct light of the point, spot and distant lights per unit albedo
- * over its stored samples (shading: SAMPLE_FIELD_SHADING, capacity cap per pixel), into
+ * over its stored samples (base: SAMPLE_FIELD_SHADING, LrShading's base), into
  * delta4 (r, g, b, usable): usable where the pixel is one surface (not mixed) with non-black
  * albedo. A sample picks one light, so a delta light's share of one sample is 0 or its
  * light over the pick's probability: this mean is its light without that noise. */
-void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *shading, float *delta4);
+void lr_delta_light(const GBuffer *g, const SampleStore *st, const float *base, float *delta4);
 
 /* Half-width of the centre-light box, pixels. */
 #define LR_CENTRE_RADIUS_PX 2
@@ -62,7 +73,7 @@ typedef struct {
 } LrCentreLight;
 
 /* Builds the map (24 floats per pixel); false when out of memory (cl then holds nothing). */
-bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStore *st, const float *shading,
+bool lr_centre_light_build(LrCentreLight *cl, const GBuffer *g, const SampleStore *st, const LrShading *shading,
                            const float *centre_xy);
 
 /* The 9 floats of the bin at (x_px, y_px) for that object, or NULL (outside, or no slot). */
@@ -70,12 +81,12 @@ const float *lr_centre_light_at(const LrCentreLight *cl, float x_px, float y_px,
 
 void lr_centre_light_free(LrCentreLight *cl);
 
-/* The light of n samples of one pixel (radiance: n x 3; shading: n x LR_SHADING_FLOATS, or
- * NULL when no shading filter ran; src: the pixel each sample takes its light from, or NULL;
+/* The light of n samples of one pixel (radiance: n x 3; shading: their rows (lr_shading_from),
+ * or NULL when no shading filter ran; src: the pixel each sample takes its light from, or NULL;
  * delta4: lr_delta_light's, or NULL; centre9: the centre light of these samples (n x 9 floats,
  * lr_centre_light_at's, NaN where none), or NULL, used where src's pixel has no filtered light) into out (n x 3), shifted by one
  * per-pixel constant so that they average to value (rgb). */
-void lr_pixel_light(int n, const float *radiance, const float *shading, const size_t *src,
+void lr_pixel_light(int n, const float *radiance, const LrShading *shading, const size_t *src,
                     const ReconShadingLight *light, const float *delta4, const float *centre9, const float value[3],
                     float *out);
 
