@@ -44,9 +44,10 @@ static inline void sincos_lane(float x, float *s, float *c)
     cp = cp * y2 - 0.5;
     double cos_y = 1.0 + y2 * cp;
     int n = (int)nd;
+    double s_q = (n & 1) ? cos_y : sin_y, c_q = (n & 1) ? -sin_y : cos_y;
     double sign = (n & 2) ? -1.0 : 1.0;
-    *s = (float)(sign * ((n & 1) ? cos_y : sin_y));
-    *c = (float)(sign * ((n & 1) ? -sin_y : cos_y));
+    *s = (float)(s_q * sign);
+    *c = (float)(c_q * sign);
 }
 
 /* s[k], c[k] = sincos_lane(x[k]) for k < count, vectorised. */
