@@ -24,7 +24,7 @@ enum { W = 9, H = 9, N = W * H };
 static float centre_std(const float *lo, const float *hi, const float *plo, const float *phi, float omega, float *param)
 {
     float side = 0.0f;
-    return maaf_defocus_pixel(lo, hi, plo, phi, W, H, 4, 4, omega, 3, param, &side, NULL);
+    return maaf_defocus_pixel(lo, hi, plo, phi, W, H, 4, 4, omega, 3, param, &side);
 }
 
 int main(void)

@@ -311,8 +311,7 @@ void maaf_coc_pool(const float *coc_min, const float *coc_max, int width, int he
 }
 
 float maaf_defocus_pixel(const float *coc_min, const float *coc_max, const float *pool_min, const float *pool_max,
-                         int width, int height, int x, int y, float omega_u_max, int pairs, float *param, float *side,
-                         MaafLensMemo *memo)
+                         int width, int height, int x, int y, float omega_u_max, int pairs, float *param, float *side)
 {
     memset(param, 0, MAAF_PARAM_STRIDE * sizeof(float));
     *side = 0.0f;
@@ -332,19 +331,7 @@ float maaf_defocus_pixel(const float *coc_min, const float *coc_max, const float
     if (!count) return 0.0f;
     /* s = -coc: the largest coc is the smallest slope */
     float s_min = (float)(-hi / count), s_max = (float)(-lo / count);
-    float std_px;
-    /* bits compared: -0 and NaN slopes are keys like any other */
-    if (memo && memo->valid && memo->pairs == pairs && !memcmp(&memo->s_min, &s_min, sizeof s_min) &&
-        !memcmp(&memo->s_max, &s_max, sizeof s_max) && !memcmp(&memo->omega_u_max, &omega_u_max, sizeof omega_u_max)) {
-        memcpy(param, memo->param, sizeof memo->param);
-        std_px = memo->std_px;
-    } else {
-        std_px = maaf_pixel_param_signed(s_min, s_max, omega_u_max, pairs, param);
-        if (memo) {
-            *memo = (MaafLensMemo){true, s_min, s_max, omega_u_max, pairs, std_px, {0}};
-            memcpy(memo->param, param, sizeof memo->param);
-        }
-    }
+    float std_px = maaf_pixel_param_signed(s_min, s_max, omega_u_max, pairs, param);
     if (std_px > 0.0f) *side = s_max < 0.0f ? -1.0f : 1.0f;
     return std_px;
 }

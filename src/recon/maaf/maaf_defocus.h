@@ -101,21 +101,8 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
  * filter's rule) / 0.7 / 0.8 / 0.9 gave bokeh_bright 7.1 / 1.6 / 0.49 / 0.28 and the defocus
  * bench 1.91e-4 / 1.90e-4 / 1.94e-4 / 2.17e-4 at 16 spp; 0.8 keeps the bench. */
 #define MAAF_LENS_SHARP_FACTOR 1.5625f
-/* The last design maaf_defocus_pixel made: its averaged slopes (bits), omega_u_max, pairs and
- * what maaf_pixel_param_signed gave. Neighbouring pixels often average to the same slopes (a
- * third of a defocus frame's pixels), and the design is a function of those four values alone,
- * so a repeat copies it. valid false: nothing kept yet. */
-typedef struct {
-    bool valid;
-    float s_min, s_max, omega_u_max;
-    int pairs;
-    float std_px;
-    float param[MAAF_PARAM_STRIDE];
-} MaafLensMemo;
-/* memo: the last design, read and updated (NULL: none). */
 float maaf_defocus_pixel(const float *coc_min, const float *coc_max, const float *pool_min, const float *pool_max,
-                         int width, int height, int x, int y, float omega_u_max, int pairs, float *param, float *side,
-                         MaafLensMemo *memo);
+                         int width, int height, int x, int y, float omega_u_max, int pairs, float *param, float *side);
 
 /* A pixel's range as its neighbourhood's pass-1 samples see it: per pixel the least coc_min and
  * the greatest coc_max over itself and its 4 neighbours that have a range (a pixel without one

@@ -443,9 +443,7 @@ bool maaf_planes_full(const MaafPlanes *pl, int x, int y)
     return !pl->full || pl->full[(size_t)(y - pl->y0) * (size_t)pl->width + (size_t)x];
 }
 
-/* maaf_planes_put, with v times scale written when scaled (the products as a loop over v
- * would make them: the same floats, without the copy) */
-static inline void planes_put(const MaafPlanes *pl, int x, int y, const float *v, float scale, bool scaled)
+void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v)
 {
     float *o = pl->base + (size_t)(y - pl->y0) * pl->row + PAD + (size_t)x;
     size_t plane = pl->plane;
@@ -459,20 +457,12 @@ static inline void planes_put(const MaafPlanes *pl, int x, int y, const float *v
      * not a branch per float */
     uint32_t bad = 0;
     for (int k = 0; k < used; ++k) {
-        float f = scaled ? v[k] * scale : v[k];
         uint32_t bits;
-        memcpy(&bits, &f, sizeof bits);
+        memcpy(&bits, &v[k], sizeof bits);
         bad |= (bits & 0x7f800000u) == 0x7f800000u;
-        o[(size_t)k * plane] = f;
     }
+    for (int k = 0; k < used; ++k) o[(size_t)k * plane] = v[k];
     o[(size_t)per * plane] = bad ? 1.0f : 0.0f;
-}
-
-void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v) { planes_put(pl, x, y, v, 1.0f, false); }
-
-void maaf_planes_put_scaled(const MaafPlanes *pl, int x, int y, const float *v, float scale)
-{
-    planes_put(pl, x, y, v, scale, true);
 }
 
 void maaf_planes_get(const MaafPlanes *pl, int x, int y, float *v)

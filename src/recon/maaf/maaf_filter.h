@@ -97,8 +97,6 @@ bool maaf_filter_run(MaafFilter *f, const MaafFilterInput *in, float *out4, doub
 /* Pixel (x, y)'s sums (per floats as one pixel of MaafFilterInput.ysum), NULL for a pixel that is
  * not usable (zeros), and its flag (a non-finite sum). */
 void maaf_planes_put(const MaafPlanes *pl, int x, int y, const float *v);
-/* The same with every float of v times scale (v not NULL). */
-void maaf_planes_put_scaled(const MaafPlanes *pl, int x, int y, const float *v, float scale);
 /* Whether pixel (x, y) of the band needs every float of its sums (else the first 8 alone). */
 bool maaf_planes_full(const MaafPlanes *pl, int x, int y);
 /* The sums of pixel (x, y) back (per floats, the flag left out). */

@@ -28,7 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/vectorise.h"
 #include "core/zalloc.h"
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_pixel_params.h"
@@ -147,7 +146,6 @@ struct ReconMethod {
     float *out4, *shade;
     float *std_px, *components; /* AOVs */
     FilterCache shadow_cache, defocus_cache, indirect_cache;
-    MaafLensMemo lens_memo; /* defocus_cache's last design */
     /* pixel_wedge's windows, from pass 1's statistics once (wedge_windows): per window radius
      * (SLOPE_WINDOW_PX, BORROW_RADIUS_PX) and pixel the extreme slopes, and whether any pixel
      * there saw an occluder */
@@ -1015,7 +1013,7 @@ static float defocus_filter(ReconMethod *m, int x, int y, float *side)
         size_t n = (size_t)m->g->width * (size_t)m->g->height;
         c->std_px[i] = maaf_defocus_pixel(m->derived.coc_min, m->derived.coc_max, m->coc_pool, m->coc_pool + n, m->g->width,
                                           m->g->height, x, y, m->lens.omega_u_max, m->lens_pairs, c->param + i * MAAF_PARAM_STRIDE,
-                                          &c->aux[i], &m->lens_memo);
+                                          &c->aux[i]);
         c->known[i] = 1;
     }
     *side = c->aux[i];
@@ -1042,7 +1040,7 @@ static bool plan_classes(ReconMethod *m)
     const GBuffer *g = m->g;
     size_t n = (size_t)g->width * (size_t)g->height;
     if ((!m->plan_class && !(m->plan_class = malloc(n))) ||
-        (!m->plan_factor && !(m->plan_factor = calloc(n, sizeof(float)))))
+        (!m->plan_factor && !(m->plan_factor = malloc(n * sizeof(float)))))
         return false;
     bool shadows = effect_in(m->effects, EFFECT_SOFT_SHADOWS);
     for (int y = 0; y < g->height; ++y)
@@ -1115,23 +1113,6 @@ static bool plan_classes(ReconMethod *m)
     return true;
 }
 
-/* The plan's counts per pixel: count[cls], or for PLAN_RATE rate_base times its factor clamped
- * to [lo, hi] (hi >= lo, not NaN) and rounded up, as aaf_clamp_spp does. The budget search plans
- * up to 14 times a frame over every pixel: branch-free and vectorised (the rate's count made for
- * every pixel, kept where the class is the rate's; the others' factors are never used). */
-static WEDGE_VECTORISED void plan_counts(size_t n, const unsigned char *cls, const float *factor, const int count[4],
-                                         float rate_base, float lo, float hi, int *spp_total)
-{
-    for (size_t i = 0; i < n; ++i) {
-        float c = rate_base * factor[i];
-        c = c > hi || c != c ? hi : c;
-        c = c < lo ? lo : c;
-        int rate = (int)ceilf(c);
-        int k = cls[i];
-        spp_total[i] = k == PLAN_RATE ? rate : count[k];
-    }
-}
-
 static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_total, Diag *d)
 {
     if (!ensure_derived(m, d)) return false;
@@ -1156,11 +1137,10 @@ static bool maaf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_t
      * cap applies per pixel), so default frames keep the old rule's count there. Under a
      * budget mu scales it. */
     float rate_base = EXTRA_SPP_PER_MU * mu_e * (float)pass1;
-    /* aaf_clamp_spp(rate_base * factor, pass1, 100 mu_e) per pixel, its cap's clamps taken once */
-    float lo = (float)pass1, hi = 100.0f * mu_e;
-    if (!(hi <= (float)AAF_SPP_HARD_MAX)) hi = (float)AAF_SPP_HARD_MAX; /* also NaN */
-    if (hi < lo) hi = lo;
-    plan_counts(n, m->plan_class, m->plan_factor, count, rate_base, lo, hi, spp_total);
+    for (size_t i = 0; i < n; ++i) {
+        int cls = m->plan_class[i];
+        spp_total[i] = cls == PLAN_RATE ? aaf_clamp_spp(rate_base * m->plan_factor[i], pass1, 100.0f * mu_e) : count[cls];
+    }
     return true;
 }
 
@@ -1370,7 +1350,8 @@ static void radiance_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
             if (m->split_indirect) maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
             src = o;
         }
-        maaf_planes_put_scaled(planes, x, y, src, inv);
+        for (size_t c = 0; c < per; ++c) o[c] = src[c] * inv;
+        maaf_planes_put(planes, x, y, o);
     }
 }
 
