@@ -7,3 +7,8 @@ WEDGE_VECTORISED void sincos_run(int count, const float *restrict x, float *rest
 {
     for (int k = 0; k < count; ++k) sincos_lane(x[k], &s[k], &c[k]);
 }
+
+void sincos_one(float x, float *s, float *c)
+{
+    sincos_lane(x, s, c);
+}

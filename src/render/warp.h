@@ -61,7 +61,7 @@ static inline vec3 warp_uniform_sphere(vec2 u)
     float z = 1.0f - 2.0f * u.x;
     float r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
     float sin_phi, cos_phi;
-    sincos_lane(2.0f * WEDGE_PI * u.y, &sin_phi, &cos_phi); /* as the sky's runs (sincos_run) */
+    sincos_one(2.0f * WEDGE_PI * u.y, &sin_phi, &cos_phi); /* as the sky's runs (sincos_run) */
     return v3(r * cos_phi, r * sin_phi, z);
 }
 

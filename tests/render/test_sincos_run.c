@@ -7,8 +7,8 @@
  *    97th float, the floats next to each multiple of pi/4, 2 pi u on a grid of u), the floats
  *    closest to multiples of pi/2 below 120 (where the reduction cancels most), and the whole
  *    domain |x| < 120 (every 1009th float and its negative).
- *  - The run equals the lane function bit for bit (the vectorised copies of sincos_run against
- *    the inline scalar one): what keeps light_sample_sky_batch equal to light_sample.
+ *  - The run equals the one-angle call bit for bit (the vectorised copies of sincos_run against
+ *    the scalar sincos_one): what keeps light_sample_sky_batch equal to light_sample.
  * Teeth: the reduction by a double pi/2 alone (no low part) fails the accuracy near the
  * multiples of pi/2; the quadrant's swap or a sign dropped, or a Taylor term left out, fails
  * the accuracy bound. */
@@ -46,7 +46,7 @@ static void tally_run(Tally *t, const float *x, int n)
         double es = sin((double)x[i]), ec = cos((double)x[i]);
         float ls, lc, one_s, one_c;
         sincosf(x[i], &ls, &lc);
-        sincos_lane(x[i], &one_s, &one_c);
+        sincos_one(x[i], &one_s, &one_c);
         double eo = fmax(ulp_error(s[i], es), ulp_error(c[i], ec));
         double el = fmax(ulp_error(ls, es), ulp_error(lc, ec));
         if (eo > t->ours) t->ours = eo;
