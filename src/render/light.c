@@ -584,8 +584,8 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
 
 /* warp_uniform_sphere for a run of samples, as light_sample's constant sky takes it: z, r
  * and phi in a loop GCC vectorises (fmaxf(0, m) as a select: m = 1 - z z is never -0, and
- * a NaN gives 0 either way), the sine and cosine of phi by sincos_run (warp_uniform_sphere's
- * sincos_lane, the same bits), then the products, in chunks on the stack. */
+ * a NaN gives 0 either way), the sine and cosine of phi by sincos_run (the same bits as
+ * warp_uniform_sphere's sincos_one), then the products, in chunks on the stack. */
 enum { SKY_CHUNK = 64 };
 static WEDGE_VECTORISED void sky_directions(int count, const float *restrict ux, const float *restrict uy,
                                             float *restrict wx, float *restrict wy, float *restrict wz)
