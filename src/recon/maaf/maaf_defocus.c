@@ -285,26 +285,6 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
     return std_px;
 }
 
-float maaf_defocus_area_share(float std_px)
-{
-    if (!(std_px > 0.0f)) return 1.0f;
-    int radius = (int)fminf(ceilf(MAAF_DEFOCUS_RADIUS_STD * std_px), (float)MAAF_RADIUS_CAP_PX);
-    if (radius < 1) return 1.0f;
-    /* w_k = q^(k^2), q = exp(-1 / (2 std^2)): w_{k+1} = w_k q^(2k+1), one exp for the whole row */
-    double q = exp(-0.5 / ((double)std_px * (double)std_px));
-    double w = 1.0, step = q, sum = 1.0, sum2 = 1.0; /* the centre tap */
-    for (int k = 1; k <= radius; ++k) {
-        w *= step;
-        step *= q * q;
-        sum += 2.0 * w;
-        sum2 += 2.0 * w * w;
-    }
-    double taps = sum * sum / sum2;                                             /* per axis */
-    double uncut = 4.0 * M_PI * (double)std_px * (double)std_px;                /* sample_rate_area_px */
-    double share = taps * taps / (uncut > 1.0 ? uncut : 1.0);
-    return share < 1.0 ? (float)share : 1.0f;
-}
-
 static bool has_range(const float *coc_min, const float *coc_max, size_t j)
 {
     return coc_min[j] <= coc_max[j] && isfinite(coc_min[j]) && isfinite(coc_max[j]);

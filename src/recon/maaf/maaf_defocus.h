@@ -83,16 +83,6 @@ float maaf_pixel_param_signed(float s_min, float s_max, float omega_u_max, int p
  * filter blurs less), 1 about 2's; the soft shadows' error rose at 1.5, so they keep 2
  * (docs/benchmarks.md, "MAAF's image pass, faster"). The pass's cost is about linear in it. */
 #define MAAF_DEFOCUS_RADIUS_STD 1.5f
-/* The share of an uncut Gaussian's effective pixel count (sample_rate_area_px: 4 pi std^2) that
- * the lens filter of central std std_px keeps: the image pass weighs the taps |k| <= its
- * radius (min(ceil(MAAF_DEFOCUS_RADIUS_STD std_px), MAAF_RADIUS_CAP_PX), as
- * maaf_pixel_param_signed sets it) by exp(-k^2 / (2 std_px^2)), so it averages a pixel over
- * (sum w)^2 / sum w^2 taps per axis, squared for the separable pair of passes. Cut at 1.5 stds
- * that is 0.64-0.99 of 4 pi std^2 (0.74 at std 2 px, 0.71 at 5): the Lagrange allocation took
- * the lens filter for a wider average than it is and gave its pixels too few samples against
- * the unfiltered ones (docs/algorithms.md 9.29). 1 when std_px <= 0 or the filter reaches no
- * neighbour. */
-float maaf_defocus_area_share(float std_px);
 
 /* Pixel (x, y)'s filter from pass 1's circle-of-confusion ranges (coc_min, coc_max: signed px
  * per unit lens coordinate, recon_coc_slope_px, w x h): the design slopes s = -coc of the pooled

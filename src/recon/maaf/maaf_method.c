@@ -1089,9 +1089,6 @@ static bool plan_classes(ReconMethod *m)
                 /* the two isotropic blurs compose: their variances add */
                 float var_px2 = lens_px * lens_px + shade_used_px * shade_used_px;
                 m->plan_factor[i] = sample_rate_area_px(var_px2, var_px2);
-                /* the lens filter is cut at MAAF_DEFOCUS_RADIUS_STD stds: it averages fewer
-                 * pixels than the uncut Gaussian's area (docs/algorithms.md 9.29) */
-                m->plan_factor[i] = fmaxf(1.0f, m->plan_factor[i] * maaf_defocus_area_share(lens_px));
                 m->plan_class[i] = PLAN_RATE;
                 continue;
             }
