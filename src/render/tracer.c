@@ -1118,6 +1118,23 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
     return true;
 }
 
+/* The common case, a triangle prim of the top level's geometry g (object_id) hit at tracer
+ * distance tfar and barycentrics bu, bv, as shade_hit does it. */
+static inline void top_triangle_hit(const Tracer *tr, const Geom *g, int prim, int object_id, float tfar, float bu,
+                                    float bv, bool shade_all, SurfaceHit *hit)
+{
+    float t = tr->world_from_tracer * tfar;
+    if (!shade_all && g->light_first < 0) {
+        hit_unshaded(hit, t, g, prim, -1, object_id);
+        return;
+    }
+    vec3 p, ng, ns;
+    vec2 uv;
+    float mag;
+    shade_triangle(g, prim, bu, bv, &p, &ng, &ns, &uv, &mag);
+    hit_shaded(hit, t, p, ng, ns, uv, OFFSET_REL * mag, g, prim, -1, object_id);
+}
+
 /* The hit of a traced ray o + t d as a SurfaceHit (false on a miss). */
 static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time01, bool shade_all,
                                    const struct RTCRayHit *rh, SurfaceHit *hit)
@@ -1126,18 +1143,7 @@ static inline bool hit_from_rayhit(const Tracer *tr, vec3 o, vec3 d, float time0
     if (rh->hit.instID[0] != RTC_INVALID_GEOMETRY_ID) return shade_hit(tr, o, d, time01, shade_all, rh, hit);
     const Geom *g = &tr->layers[0].geoms[rh->hit.geomID];
     if (g->kind != GEOM_TRIANGLES) return shade_hit(tr, o, d, time01, shade_all, rh, hit);
-    /* The common case, a triangle of the top level, as shade_hit does it. */
-    int prim = (int)rh->hit.primID, object_id = (int)rh->hit.geomID;
-    float t = tr->world_from_tracer * rh->ray.tfar;
-    if (!shade_all && g->light_first < 0) {
-        hit_unshaded(hit, t, g, prim, -1, object_id);
-        return true;
-    }
-    vec3 p, ng, ns;
-    vec2 uv;
-    float mag;
-    shade_triangle(g, prim, rh->hit.u, rh->hit.v, &p, &ng, &ns, &uv, &mag);
-    hit_shaded(hit, t, p, ng, ns, uv, OFFSET_REL * mag, g, prim, -1, object_id);
+    top_triangle_hit(tr, g, (int)rh->hit.primID, (int)rh->hit.geomID, rh->ray.tfar, rh->hit.u, rh->hit.v, shade_all, hit);
     return true;
 }
 
@@ -1394,6 +1400,20 @@ static void intersect_lanes_np(const Tracer *tr, RTCScene scene, struct RTCInter
     struct RTCRayHit rh[TRACE_CHUNK];
     int spheres[TRACE_CHUNK], sphere_count = 0;
     for (int i = 0; i < m; ++i) {
+        /* a miss, and a triangle of the top level, from the arrays (hit_from_rayhit's first
+         * cases, with no RTCRayHit filled for them) */
+        if (geom[i] == RTC_INVALID_GEOMETRY_ID) {
+            found[i] = false;
+            continue;
+        }
+        if (inst[i] == RTC_INVALID_GEOMETRY_ID) {
+            const Geom *g = &tr->layers[0].geoms[geom[i]];
+            if (g->kind == GEOM_TRIANGLES) {
+                top_triangle_hit(tr, g, (int)prim[i], (int)geom[i], tfar[i], u[i], v[i], shade_all, &hits[i]);
+                found[i] = true;
+                continue;
+            }
+        }
         struct RTCRayHit *h = &rh[i];
         h->ray.tfar = tfar[i], h->hit.u = u[i], h->hit.v = v[i];
         h->hit.primID = prim[i], h->hit.geomID = geom[i], h->hit.instID[0] = inst[i];
@@ -1433,6 +1453,9 @@ void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, 
     }
 }
 
+static void occluded_rays(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, struct RTCRay *ray,
+                          const int *key, uint64_t counts, int m, bool *occluded);
+
 /* tracer_occluded_batch's rays r[0 .. m) (m <= TRACE_CHUNK), one chunk: answers to occluded[0 .. m). */
 static void occluded_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, const TracerRay *r, int m,
                            bool *occluded)
@@ -1449,7 +1472,6 @@ static void occluded_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersect
         }
         return;
     }
-    _Static_assert(TRACE_CHUNK < 256, "a chunk's count per octant fits a byte");
     int key[TRACE_CHUNK];
     uint64_t counts = 0; /* rays per octant, a byte each (no chain through memory) */
     for (int i = 0; i < m; ++i) {
@@ -1457,6 +1479,15 @@ static void occluded_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersect
         key[i] = ray_octant(r[i].d);
         counts += 1ull << (8 * key[i]);
     }
+    occluded_rays(tr, scene, ctx, ray, key, counts, m, occluded);
+}
+
+/* occluded_chunk's rays in Embree's layout (not a packet mode), with each one's octant key
+ * and the chunk's counts per octant: the answers. */
+static void occluded_rays(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, struct RTCRay *ray,
+                          const int *key, uint64_t counts, int m, bool *occluded)
+{
+    _Static_assert(TRACE_CHUNK < 256, "a chunk's count per octant fits a byte");
     if (tr->batch_mode == TRACER_BATCH_STREAM && m > 0 && counts != (uint64_t)m << (8 * key[0])) {
         /* octants mixed: the chunk's rays to Embree by octant, the answers back in place */
         int order[TRACE_CHUNK + 1];
@@ -1492,6 +1523,30 @@ void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, b
     int lane[TRACE_CHUNK];
     bool answer[TRACE_CHUNK];
     int m = 0;
+    if (tr->batch_mode != TRACER_BATCH_PACKET16) {
+        /* the active lanes straight into Embree's rays, as occluded_chunk fills them from
+         * TracerRays (no TracerRay between) */
+        struct RTCRay ray[TRACE_CHUNK];
+        int key[TRACE_CHUNK];
+        uint64_t counts = 0;
+        float k = tr->tracer_from_world;
+        for (int i = 0; i < n; ++i) {
+            vec3 d = v3(a->d[0][i], a->d[1][i], a->d[2][i]);
+            init_ray(&ray[m], v3(a->o[0][i], a->o[1][i], a->o[2][i]), d, a->tmax ? a->tmax[i] : INFINITY, a->time01[i],
+                     k, a->skip_mask);
+            key[m] = ray_octant(d);
+            lane[m] = i;
+            int on = a->active[i] != 0;
+            counts += (uint64_t)on << (8 * key[m]);
+            m += on;
+            if (m == TRACE_CHUNK || (i == n - 1 && m > 0)) {
+                occluded_rays(tr, scene, &ctx, ray, key, counts, m, answer);
+                for (int j = 0; j < m; ++j) occluded[lane[j]] = answer[j];
+                m = 0, counts = 0;
+            }
+        }
+        return;
+    }
     for (int i = 0; i < n; ++i) {
         /* written for every lane, kept (m moves on) for the active ones: no branch on a
          * lane's own flag */
