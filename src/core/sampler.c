@@ -641,10 +641,28 @@ const char *sampler_kind_name(SamplerKind kind)
 }
 
 /* The strata count and everything derived from it, for the part a sample is in. */
+/* 1 / n and ceil(2^64 / n) (cols_magic) for the usual small counts, folded by the compiler
+ * (the same correctly rounded quotient as at run time): a part of at most 16 samples starts
+ * every pixel at low counts, and the two divisions (a 64-bit one of tens of cycles) were on
+ * each pixel's path. */
+#define SMALL_PART_MAX SAMPLER_SHUFFLE_MAX
+#define INV(n) (1.0 / (double)(n))
+static const double INV_SMALL[SMALL_PART_MAX + 1] = {
+    0.0,     INV(1),  INV(2),  INV(3),  INV(4),  INV(5),  INV(6),  INV(7),  INV(8),
+    INV(9),  INV(10), INV(11), INV(12), INV(13), INV(14), INV(15), INV(16),
+};
+#undef INV
+#define MAGIC(d) ((d) > 1 ? UINT64_MAX / (d) + 1u : 0u)
+static const uint64_t MAGIC_SMALL[SMALL_PART_MAX + 1] = {
+    0,         MAGIC(1),  MAGIC(2),  MAGIC(3),  MAGIC(4),  MAGIC(5),  MAGIC(6),  MAGIC(7),  MAGIC(8),
+    MAGIC(9),  MAGIC(10), MAGIC(11), MAGIC(12), MAGIC(13), MAGIC(14), MAGIC(15), MAGIC(16),
+};
+#undef MAGIC
+
 static void set_part_size(PixelSampler *s, int spp)
 {
     s->spp = spp;
-    s->inv_spp = 1.0 / (double)spp;
+    s->inv_spp = spp <= SMALL_PART_MAX ? INV_SMALL[spp] : 1.0 / (double)spp;
     s->inv_spp_2m32 = s->inv_spp * 0x1p-32;
     s->margin_bits = (uint64_t)spp << 9; /* n 2^-23 = n 2^9 2^-32 */
     grid_shape((uint32_t)spp, &s->grid_rows, &s->grid_cols);
@@ -658,7 +676,8 @@ static void set_part_size(PixelSampler *s, int spp)
     /* Lemire, Kaser, Kurz 2019, "Faster remainder by direct computation": with
      * c = ceil(2^64 / d), floor(c j / 2^64) = floor(j / d) for every 32-bit j and
      * 2 <= d < 2^32 (64 fraction bits >= 32 + log2 d). */
-    s->cols_magic = s->grid_cols > 1 ? UINT64_MAX / s->grid_cols + 1u : 0;
+    s->cols_magic = s->grid_cols <= SMALL_PART_MAX ? MAGIC_SMALL[s->grid_cols]
+                    : UINT64_MAX / s->grid_cols + 1u; /* cols > 16 > 1 */
     s->grid_steps_ready = false; /* need_grid_steps */
 }
 
@@ -741,20 +760,27 @@ static __attribute__((noinline)) void enter_part(PixelSampler *s, uint64_t key)
     s->seeds_ready[0] = s->seeds_ready[1] = 0;
 }
 
+/* The key of the part sample i (>= 0) is in, its block and its index within the part. */
+static inline uint64_t part_of_sample(const PixelSampler *s, uint32_t i, uint32_t *block, uint32_t *index_in_block)
+{
+    uint32_t n = (uint32_t)s->set_spp;
+    if (i < n) { /* the usual case: no division */
+        *block = 0, *index_in_block = i;
+    } else {
+        *block = i / n, *index_in_block = i % n;
+    }
+    uint64_t key = *block;
+    if (*block == 0 && s->prefix_spp > 0 && i >= (uint32_t)s->prefix_spp) {
+        key |= CONTINUATION_KEY;
+        *index_in_block = i - (uint32_t)s->prefix_spp;
+    }
+    return key;
+}
+
 void sampler_start_sample(PixelSampler *s, int sample_index)
 {
     s->sample_index = sample_index >= 0 ? sample_index : 0;
-    uint32_t i = (uint32_t)s->sample_index, n = (uint32_t)s->set_spp;
-    if (i < n) { /* the usual case: no division */
-        s->block = 0, s->index_in_block = i;
-    } else {
-        s->block = i / n, s->index_in_block = i % n;
-    }
-    uint64_t key = s->block;
-    if (s->block == 0 && s->prefix_spp > 0 && i >= (uint32_t)s->prefix_spp) {
-        key |= CONTINUATION_KEY;
-        s->index_in_block = i - (uint32_t)s->prefix_spp;
-    }
+    uint64_t key = part_of_sample(s, (uint32_t)s->sample_index, &s->block, &s->index_in_block);
     if (key != s->part_key) enter_part(s, key);
     s->dim = 0;
     /* The Sobol' sampler needs the key only past the padded dimensions: set it on first
@@ -838,6 +864,95 @@ static inline void batch_grid_4x4(BatchDraw *d, uint64_t *cell, uint64_t *y_of_c
     *cell = c, *y_of_cell = y;
 }
 
+/* The same for the other grids up to 16 spp whose sides are all shuffles of at most 4
+ * elements: 2 (1 x 2), 3 (1 x 3), 4 (2 x 2), 6 (2 x 3), 8 (2 x 4), 9 (3 x 3) and 12 (3 x 4).
+ * The draws are, in order: pi's (bound n!) when pi shares the random number (n <= 10,
+ * pi_bound = n!; else pi_bound = 1 and pi is not made), cols draws of bound rows! (`cell`'s
+ * shuffles, batch_shuffles_packed(d, cols, rows, cols, 1)) and rows draws of bound cols!
+ * (`y_of_cell`'s, batch_rows_packed: no side here is a lattice side). A draw of bound 1 (a
+ * side of one) leaves the low word and the product as they were, so it can be counted in.
+ * As for 4 x 4 they are the mixed-radix digits of one draw J below their product, the first
+ * the most significant (docs/algorithms.md, "A Fisher-Yates shuffle from one draw"); each
+ * digit is floor(J / weight) mod bound, the weight the product of the later bounds, and
+ * rows and cols are constants at every call (mj_tables' switch), so each is a division by
+ * constants off the others' path instead of the next link of a chain of 128-bit products. */
+static inline __attribute__((always_inline)) uint64_t
+batch_grid_small(BatchDraw *d, uint64_t pi_bound, uint32_t rows, uint32_t cols, uint64_t *cell,
+                 uint64_t *y_of_cell)
+{
+    static const uint8_t factorial[5] = {1, 1, 2, 6, 24};
+    uint64_t a = factorial[rows], b = factorial[cols], grid_bound = 1;
+    for (uint32_t k = 0; k < cols; ++k) grid_bound *= a;
+    for (uint32_t r = 0; r < rows; ++r) grid_bound *= b;
+    uint64_t draws_bound = pi_bound * grid_bound;
+    unsigned __int128 m = (unsigned __int128)d->bits * draws_bound;
+    d->bits = (uint64_t)m;
+    d->product *= draws_bound;
+    /* the grid's digits below grid_bound < 2^32 (at most 6^4 24^3 here): 32-bit divisions */
+    uint64_t code = (uint64_t)(m >> 64), pi_code = code / grid_bound, c = 0, y = 0;
+    uint32_t grid_code = (uint32_t)(code - pi_code * grid_bound), weight = (uint32_t)grid_bound;
+    uint64_t keep_c = (1ull << (4u * rows)) - 1u, ones_c = keep_c / 15u;
+    uint64_t keep_y = (1ull << (4u * cols)) - 1u, ones_y = keep_y / 15u;
+    for (uint32_t k = 0; k < cols; ++k) {
+        weight /= (uint32_t)a;
+        uint64_t perm = SMALL_PERMS[grid_code / weight % (uint32_t)a] & keep_c;
+        c |= (perm * cols + k * ones_c) << (4u * rows * k);
+    }
+    for (uint32_t r = 0; r < rows; ++r) {
+        weight /= (uint32_t)b;
+        uint64_t perm = SMALL_PERMS[grid_code / weight % (uint32_t)b] & keep_y;
+        y |= (perm + r * cols * ones_y) << (4u * cols * r);
+    }
+    *cell = c, *y_of_cell = y;
+    return pi_code; /* pi's draw (0 when pi_bound = 1) */
+}
+
+/* pi, a shuffle of [0, n) (n <= 10), from its draw `code` below n!, as batch_shuffle_nibbles
+ * gives it. Only with the byte shuffle (see batch_grid_tables). */
+static inline uint64_t shuffle_of_code(uint64_t code, uint32_t n)
+{
+    if (n <= 4) return 0xfedcba9876540000ull | SMALL_PERMS[code];
+#ifdef FISHER_YATES_BYTE_SHUFFLE
+    return fisher_yates_ssse3(code, n);
+#else
+    (void)n;
+    return 0; /* unreachable: batch_grid_tables declines */
+#endif
+}
+
+/* mj_tables' draws for the counts batch_grid_small serves (n <= 10: pi and the grid from
+ * bits_pi; 12: the grid alone, from bits_grid). Returns false for the other counts (and
+ * without the byte shuffle, for n > 4), which take the draws one by one. */
+static bool batch_grid_tables(uint32_t n, uint64_t bits_pi, uint64_t bits_grid, uint64_t *pi, uint64_t *cell,
+                              uint64_t *y_of_cell)
+{
+#ifdef FISHER_YATES_BYTE_SHUFFLE
+    bool byte_shuffle = __builtin_cpu_supports("ssse3");
+#else
+    bool byte_shuffle = false;
+#endif
+    if (n > 4 && !byte_shuffle && n != 12) return false;
+    uint64_t bits = n == 12 ? bits_grid : bits_pi;
+    for (;; bits = hash_u64(bits)) {
+        BatchDraw d = batch_start(bits);
+        uint64_t code;
+        switch (n) {
+        case 2: code = batch_grid_small(&d, 2, 1, 2, cell, y_of_cell); break;
+        case 3: code = batch_grid_small(&d, 6, 1, 3, cell, y_of_cell); break;
+        case 4: code = batch_grid_small(&d, 24, 2, 2, cell, y_of_cell); break;
+        case 6: code = batch_grid_small(&d, 720, 2, 3, cell, y_of_cell); break;
+        case 8: code = batch_grid_small(&d, 40320, 2, 4, cell, y_of_cell); break;
+        case 9: code = batch_grid_small(&d, 362880, 3, 3, cell, y_of_cell); break;
+        case 12: code = batch_grid_small(&d, 1, 3, 4, cell, y_of_cell); break;
+        default: return false;
+        }
+        if (batch_accepted(&d)) {
+            if (n != 12) *pi = shuffle_of_code(code, n);
+            return true;
+        }
+    }
+}
+
 /* The two strata tables of a multi-jittered 2D dimension (multi_jitter's construction for
  * the points, padded by a uniform permutation of the sample indices), built directly per
  * sample index without materialising the points. Sample i's x stratum is pi(i) for a
@@ -861,7 +976,9 @@ static void mj_tables(uint32_t n, uint32_t rows, uint32_t cols, uint64_t bits_pi
                       uint64_t *y_out)
 {
     uint64_t pi, cell, y_of_cell;
-    if (n <= 10) {
+    if (batch_grid_tables(n, bits_pi, bits_grid, &pi, &cell, &y_of_cell)) {
+        if (n == 12) pi = shuffle_bits_nibbles(n, bits_pi);
+    } else if (n <= 10) {
         for (;; bits_pi = hash_u64(bits_pi)) {
             BatchDraw d = batch_start(bits_pi);
             pi = batch_shuffle_nibbles(&d, n);
@@ -1289,8 +1406,8 @@ void sampler_run_begin(PixelSampler *s, SamplerRun *run, int first, int count)
     /* The fast path needs every sample in the part of the first (the usual case: a round's
      * slice of a pixel lies in one part); the part of the last decides, as parts are
      * consecutive ranges of indices. */
-    sampler_start_sample(s, first + run->count - 1);
-    uint64_t last_part = s->part_key;
+    uint32_t last_block, last_index;
+    uint64_t last_part = part_of_sample(s, (uint32_t)(first + run->count - 1), &last_block, &last_index);
     sampler_start_sample(s, first);
     run->part_key = s->part_key;
     run->pixel_seed = s->pixel_seed;

@@ -5,7 +5,10 @@
  * Checked two ways: every element of sampler_permute's permutations of 5 to 16 elements over
  * many seeds against the reference, and a fingerprint of every value of whole pixels (both
  * samplers, 1D and 2D requests, small counts) against the one the sampler gave before the
- * change (main 45965ef), so the multi-jitter tables' use of the shuffles is covered too. */
+ * change (main 45965ef), so the multi-jitter tables' use of the shuffles is covered too.
+ * The fingerprints also hold the grids' draws decoded from one product (4 x 4 since lowspp3;
+ * 1 x 2, 1 x 3, 2 x 2, 2 x 3, 2 x 4, 3 x 3 and 3 x 4, with pi's draw at up to 10 spp, since
+ * lowspp4): reading the rows' digits in reverse order fails them at 4, 6, 8, 9 and 12 spp. */
 #include <string.h>
 
 #include "check.h"
