@@ -640,7 +640,6 @@ const char *sampler_kind_name(SamplerKind kind)
     return kind == SAMPLER_STRATIFIED ? "stratified" : "sobol";
 }
 
-/* The strata count and everything derived from it, for the part a sample is in. */
 /* 1 / n and ceil(2^64 / n) (cols_magic) for the usual small counts, folded by the compiler
  * (the same correctly rounded quotient as at run time): a part of at most 16 samples starts
  * every pixel at low counts, and the two divisions (a 64-bit one of tens of cycles) were on
@@ -659,6 +658,7 @@ static const uint64_t MAGIC_SMALL[SMALL_PART_MAX + 1] = {
 };
 #undef MAGIC
 
+/* The strata count and everything derived from it, for the part a sample is in. */
 static void set_part_size(PixelSampler *s, int spp)
 {
     s->spp = spp;
