@@ -54,6 +54,15 @@ def main(argv=None):
     n.add_argument("--res", type=_res, default=(64, 64))
     n.add_argument("--spp", default="4,16,64,256,1024")
 
+    sp = sub.add_parser("rate", help="samples per second of wedge --filter none against Mitsuba 3 (issue 22)")
+    sp.add_argument("scenes", nargs="+")
+    sp.add_argument("--wedge", action="append", help="LABEL=BINARY or BINARY (repeatable; default build/wedge)")
+    sp.add_argument("--res", type=_res, default=(256, 256))
+    sp.add_argument("--spp", type=int, default=256)
+    sp.add_argument("--rounds", type=int, default=3, help="interleaved timed rounds per scene (median)")
+    sp.add_argument("--threads", type=int, default=2, help="threads of both renderers")
+    sp.add_argument("--json")
+
     rep = sub.add_parser("report", help="equal-error table (Markdown) from curves folders")
     rep.add_argument("dirs", nargs="+")
     rep.add_argument("--wide", action="store_true", help="one row per scene, ratios of each wedge filter to each peer")
@@ -102,6 +111,20 @@ def main(argv=None):
         wedges = dict(w.split("=", 1) for w in args.wedge)
         with tempfile.TemporaryDirectory(prefix="peer-noise-") as wd:
             agree.noise(args.scene, wedges, args.res, [int(s) for s in args.spp.split(",")], wd)
+        return 0
+    if args.cmd == "rate":
+        from . import rate, runners
+        runners.mitsuba(args.threads)
+        wedges = {}
+        for w in args.wedge or ["build/wedge"]:
+            label, _, binary = w.rpartition("=")
+            wedges[label or "wedge"] = binary
+        with tempfile.TemporaryDirectory(prefix="peer-rate-") as wd:
+            rows = rate.rate(args.scenes, wedges, args.res, args.spp, args.rounds, wd, args.threads)
+        print(rate.table(rows))
+        if args.json:
+            with open(args.json, "w") as f:
+                json.dump(rows, f, indent=1)
         return 0
     if args.cmd == "curves":
         from . import curves
