@@ -56,6 +56,8 @@ typedef struct {
     int ref_spp;
     int width, height;        /* 0: the scene's film resolution */
     long long seed;
+    long long ref_seed;       /* the reference's seed: --ref-seed, else --seed (sweeps of several
+                               * seeds then share one reference, rendered once) */
     int threads;              /* 0: the renderer's default (all cores) */
     bool print_key;           /* --ref-key: print the reference key and stop */
     bool no_plots;
@@ -74,8 +76,8 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: wedge converge [SCENE] --spp LIST --methods LIST [--mu LIST] [--ref-spp N]\n"
             "                      [--baseline-spp LIST] [--res WxH] [--cache DIR] [--seed N]\n"
-            "                      [--threads N] [--no-plots] --out DIR\n"
-            "       wedge converge [SCENE] --ref-key [--ref-spp N] [--res WxH] [--seed N]\n"
+            "                      [--ref-seed N] [--threads N] [--no-plots] --out DIR\n"
+            "       wedge converge [SCENE] --ref-key [--ref-spp N] [--res WxH] [--seed N] [--ref-seed N]\n"
             "\n"
             "Renders a reference once (cached; default ref spp 4096), then every (method, mu, spp)\n"
             "with a fresh seed, and writes DIR/results.csv, DIR/speedup.csv, DIR/images/ and the\n"
@@ -84,6 +86,8 @@ static void usage(FILE *f)
             "--baseline-spp LIST runs the Monte Carlo baselines (mc, mc-ld) at these counts instead\n"
             "of --spp, so that their error curve brackets the filters' errors (a filter at 8 spp often\n"
             "has the error of Monte Carlo at 100 or more; outside the curve a speedup is extrapolated).\n"
+            "--seed N seeds the runs (N + 1, N + 2, ...) and the reference; --ref-seed N gives the\n"
+            "reference its own seed, so that sweeps of several seeds share one reference.\n"
             "\n"
             "methods:\n");
     for (int i = 0; i < converge_method_count(); ++i) {
@@ -153,6 +157,7 @@ static int parse_args(int argc, char **argv, ConvergeOptions *o)
     memset(o, 0, sizeof *o);
     o->ref_spp = 4096;
     o->seed = 1;
+    o->ref_seed = -1;
     const char *spp_list = NULL, *baseline_spp_list = NULL, *method_list = NULL, *mu_list = NULL;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -195,6 +200,12 @@ static int parse_args(int argc, char **argv, ConvergeOptions *o)
                 return WEDGE_EXIT_USAGE;
             }
             o->seed = n;
+        } else if (!strcmp(a, "--ref-seed")) {
+            if (!parse_int(v, 0, 1ll << 30, &n)) {
+                fprintf(stderr, "wedge converge: --ref-seed wants an integer in [0, 2^30], got '%s'\n", v);
+                return WEDGE_EXIT_USAGE;
+            }
+            o->ref_seed = n;
         } else if (!strcmp(a, "--threads")) {
             if (!parse_int(v, 1, 4096, &n)) {
                 fprintf(stderr, "wedge converge: --threads wants a positive integer, got '%s'\n", v);
@@ -596,8 +607,10 @@ typedef struct {
 } ConvergeRun;
 
 /* Every run, method by method (each mu of a method in turn, then its budgets): the order of
- * the rows in results.csv. A fresh seed per run (the reference used o->seed itself): runs are
- * independent of each other and of the reference, so errors do not correlate. */
+ * the rows in results.csv. A fresh seed per run, o->seed + 1, + 2, ... (the reference uses
+ * --ref-seed, by default o->seed itself): runs are independent of each other and of the
+ * reference, so errors do not correlate. A --ref-seed among the runs' seeds would correlate
+ * one run with the reference: the caller keeps them apart (tools/bench-summary does). */
 static ConvergeRun *plan_runs(const ConvergeOptions *o, int *count)
 {
     int most_spp = o->spp_count > o->baseline_spp_count ? o->spp_count : o->baseline_spp_count;
@@ -726,7 +739,8 @@ int cmd_converge(int argc, char **argv)
 
     /* Reference key, path and (when missing) the reference render. */
     Diag err = {0};
-    RefParams rp = {o.width, o.height, o.ref_spp, (uint64_t)o.seed, converge_reference_args,
+    if (o.ref_seed < 0) o.ref_seed = o.seed;
+    RefParams rp = {o.width, o.height, o.ref_spp, (uint64_t)o.ref_seed, converge_reference_args,
                     converge_reference_arg_count};
     char key[33];
     if (!ref_key_for_scene(&scene, o.scene_path ? NULL : wedge_default_scene, &rp, key, &err)) {
@@ -755,7 +769,7 @@ int cmd_converge(int argc, char **argv)
          * short (Ctrl-C writes the samples taken so far) must never enter the cache. */
         char ref_tmp[4300];
         snprintf(ref_tmp, sizeof ref_tmp, "%s/ref-%s.%ld.tmp.exr", cache, key, (long)getpid());
-        base_render_args(&l, &o, ref_tmp, o.ref_spp, o.seed, ref_report);
+        base_render_args(&l, &o, ref_tmp, o.ref_spp, o.ref_seed, ref_report);
         for (int i = 0; i < converge_reference_arg_count; ++i) arg_add(&l, converge_reference_args[i]);
         rc = run_render(&l);
         if (rc == WEDGE_EXIT_OK && report_interrupted(ref_report)) {

@@ -35,6 +35,11 @@ k3=$("$WEDGE" converge "$tmp/main.pbrt" --ref-key --ref-spp 4)
 [ "$("$WEDGE" converge "$tmp/main.pbrt" --ref-key --ref-spp 4 --res 9x8)" != "$k1" ] || fail "resolution not in the key"
 [ "$("$WEDGE" converge "$tmp/main.pbrt" --ref-key --ref-spp 8)" != "$k1" ] || fail "spp not in the key"
 [ "$("$WEDGE" converge "$tmp/main.pbrt" --ref-key --ref-spp 4 --seed 2)" != "$k1" ] || fail "seed not in the key"
+# --ref-seed: the reference's seed alone decides the key, so sweeps of other seeds share it.
+[ "$("$WEDGE" converge "$tmp/main.pbrt" --ref-key --ref-spp 4 --seed 7 --ref-seed 1)" = "$k1" ] ||
+  fail "--ref-seed 1 with --seed 7 does not give --seed 1's reference"
+[ "$("$WEDGE" converge "$tmp/main.pbrt" --ref-key --ref-spp 4 --ref-seed 2)" = \
+  "$("$WEDGE" converge "$tmp/main.pbrt" --ref-key --ref-spp 4 --seed 2)" ] || fail "--ref-seed 2 is not seed 2's reference"
 
 # Data files named by parameters (plymesh "filename", relative to the scene file) are in the
 # key too: editing the mesh file alone changes it.
@@ -67,6 +72,10 @@ run > "$tmp/log2" 2>&1 || { cat "$tmp/log2"; fail "second sweep failed"; }
 grep -q "^converge: reference cached: $ref" "$tmp/log2" || { cat "$tmp/log2"; fail "second sweep did not reuse the reference"; }
 [ "$(stat -c %Y.%N "$ref" 2>/dev/null || stat -c %Y "$ref")" = "$mtime1" ] && [ "$(stat -c %i "$ref")" = "$inode1" ] ||
   fail "the cached reference was rewritten"
+# A sweep of another seed with --ref-seed 1 reuses seed 1's reference.
+"$WEDGE" converge "$tmp/main.pbrt" --spp 1,2 --methods mc --ref-spp 4 --seed 5 --ref-seed 1 --cache "$tmp/cache" \
+  --out "$tmp/out5" --no-plots > "$tmp/log5" 2>&1 || { cat "$tmp/log5"; fail "--ref-seed sweep failed"; }
+grep -q "^converge: reference cached: $ref" "$tmp/log5" || { cat "$tmp/log5"; fail "--ref-seed 1 did not reuse seed 1's reference"; }
 # After an edit of the include the stale reference is not used: a new one is rendered.
 write_inc 0.6
 run > "$tmp/log3" 2>&1 || { cat "$tmp/log3"; fail "third sweep failed"; }
