@@ -4,7 +4,6 @@
  * drivers loaded (each file mapped once) and lists the same devices as a process without the
  * preload (tests/recon/icd_preload.sh compares the two processes' devices and images). */
 #define _GNU_SOURCE /* RTLD_NOLOAD, dl_iterate_phdr */
-#include <ctype.h>
 #include <dirent.h>
 #include <dlfcn.h>
 #include <link.h>
@@ -18,7 +17,8 @@
 
 #define MAX_NAMES 16
 
-/* The library names of the vendor directory's .icd files (their first line, trimmed). */
+/* The library names of the vendor directory's .icd files (their first line, trimmed: the
+ * trimming is checked on its own in library_names). */
 static int vendor_libraries(char names[MAX_NAMES][1024])
 {
     DIR *dir = opendir(CL_ICD_VENDOR_DIR);
@@ -34,11 +34,7 @@ static int vendor_libraries(char names[MAX_NAMES][1024])
         char line[1024] = "";
         bool got = fgets(line, sizeof line, f) != NULL;
         fclose(f);
-        char *s = line;
-        while (isspace((unsigned char)*s)) ++s;
-        size_t m = strlen(s);
-        while (m > 0 && isspace((unsigned char)s[m - 1])) s[--m] = '\0';
-        if (got && m > 0) snprintf(names[n++], sizeof names[0], "%s", s);
+        if (got && cl_icd_library_name(line)) snprintf(names[n++], sizeof names[0], "%s", line);
     }
     closedir(dir);
     return n;
@@ -82,11 +78,27 @@ static bool loaded_path(const char *name, char *path, size_t cap)
     return ok;
 }
 
+/* The .icd line's trimming, on the forms vendor files take. */
+static void library_names(void)
+{
+    char a[] = "libpocl.so.2\n", b[] = "  /usr/lib/x86_64-linux-gnu/libfoo.so.1 \t\r\n", c[] = "libbar.so", d[] = " \n", e[] = "";
+    CHECK(cl_icd_library_name(a));
+    CHECK_STR(a, "libpocl.so.2");
+    CHECK(cl_icd_library_name(b));
+    CHECK_STR(b, "/usr/lib/x86_64-linux-gnu/libfoo.so.1");
+    CHECK(cl_icd_library_name(c));
+    CHECK_STR(c, "libbar.so");
+    CHECK(!cl_icd_library_name(d));
+    CHECK(!cl_icd_library_name(e));
+}
+
 int main(void)
 {
+    library_names();
     static char names[MAX_NAMES][1024];
     int n = vendor_libraries(names);
-    bool elsewhere = getenv("OCL_ICD_VENDORS") || getenv("OCL_ICD_FILENAMES") || getenv("OPENCL_VENDOR_PATH");
+    bool elsewhere = getenv("OCL_ICD_VENDORS") || getenv("OCL_ICD_FILENAMES") || getenv("OPENCL_VENDOR_PATH") ||
+                     (getenv("LD_PRELOAD") && *getenv("LD_PRELOAD"));
     const char *knob = getenv("WEDGE_CL_PRELOAD");
     bool off = knob && strcmp(knob, "0") == 0;
     if (n == 0) {

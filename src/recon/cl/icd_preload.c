@@ -28,8 +28,18 @@
 static pthread_once_t preload_once = PTHREAD_ONCE_INIT;
 static int drivers_opened;
 
-/* The .icd file's first line, trimmed, into name; false when it holds none. */
-static bool icd_library_name(const char *dir, const char *file, char *name, size_t cap)
+bool cl_icd_library_name(char *line)
+{
+    size_t n = strlen(line);
+    while (n > 0 && isspace((unsigned char)line[n - 1])) line[--n] = '\0';
+    size_t lead = 0;
+    while (isspace((unsigned char)line[lead])) ++lead;
+    memmove(line, line + lead, n - lead + 1);
+    return line[0] != '\0';
+}
+
+/* The .icd file's library name (cl_icd_library_name of its first line) into name. */
+static bool icd_file_library(const char *dir, const char *file, char *name, size_t cap)
 {
     char path[4096];
     if (snprintf(path, sizeof path, "%s/%s", dir, file) >= (int)sizeof path) return false;
@@ -37,13 +47,7 @@ static bool icd_library_name(const char *dir, const char *file, char *name, size
     if (!f) return false;
     bool got = fgets(name, (int)cap, f) != NULL;
     fclose(f);
-    if (!got) return false;
-    size_t n = strlen(name);
-    while (n > 0 && isspace((unsigned char)name[n - 1])) name[--n] = '\0';
-    size_t lead = 0;
-    while (isspace((unsigned char)name[lead])) ++lead;
-    memmove(name, name + lead, n - lead + 1);
-    return name[0] != '\0';
+    return got && cl_icd_library_name(name);
 }
 
 static bool ends_with(const char *s, const char *tail)
@@ -57,12 +61,15 @@ static void preload_drivers(void)
     if (PRELOAD_REFUSED || !env_knob_switch("WEDGE_CL_PRELOAD", true)) return;
     /* a loader pointed elsewhere reads other files: leave the choice to it */
     if (getenv("OCL_ICD_VENDORS") || getenv("OCL_ICD_FILENAMES") || getenv("OPENCL_VENDOR_PATH")) return;
+    /* an interposing library (a malloc replacement, a tracing shim) would no longer see the
+     * driver's calls that its own libraries resolve first (libc's malloc among them) */
+    if (getenv("LD_PRELOAD") && *getenv("LD_PRELOAD")) return;
     DIR *dir = opendir(CL_ICD_VENDOR_DIR);
     if (!dir) return;
     struct dirent *e;
     while ((e = readdir(dir)) != NULL && drivers_opened < MAX_DRIVERS) {
         char name[1024];
-        if (!ends_with(e->d_name, ".icd") || !icd_library_name(CL_ICD_VENDOR_DIR, e->d_name, name, sizeof name)) continue;
+        if (!ends_with(e->d_name, ".icd") || !icd_file_library(CL_ICD_VENDOR_DIR, e->d_name, name, sizeof name)) continue;
         /* the handle is never closed: the driver stays for the process, and the ICD loader's
          * dlopen of the same name finds it loaded, with the scopes set here */
         if (!dlopen(name, RTLD_LAZY | RTLD_LOCAL | RTLD_DEEPBIND)) {

@@ -19,7 +19,8 @@
 
 /* Opens the drivers of the system's vendor directory once per process (later calls return
  * at once). Does nothing where the ICD loader is pointed elsewhere (OCL_ICD_VENDORS,
- * OCL_ICD_FILENAMES, OPENCL_VENDOR_PATH), in builds with AddressSanitizer or
+ * OCL_ICD_FILENAMES, OPENCL_VENDOR_PATH), where LD_PRELOAD interposes a library (the
+ * driver would bind past it to its own copies), in builds with AddressSanitizer or
  * ThreadSanitizer (their interceptors refuse RTLD_DEEPBIND), or with WEDGE_CL_PRELOAD=0.
  * A driver that fails to open is left to the ICD loader, which reports as before. */
 void cl_icd_preload(void);
@@ -27,6 +28,10 @@ void cl_icd_preload(void);
 /* How many drivers the first call opened (0 before it or where it did nothing). With
  * $WEDGE_CL_LOG=1 each one opened is also named on stderr. */
 int cl_icd_preloaded(void);
+
+/* An .icd file's first line as the library name the ICD loader opens: trimmed of white space
+ * (the newline) in place; false when nothing is left. */
+bool cl_icd_library_name(char *line);
 
 /* False in the builds whose sanitizers refuse RTLD_DEEPBIND (then cl_icd_preload is a no-op). */
 bool cl_icd_preload_built_in(void);
