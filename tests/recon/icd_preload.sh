@@ -7,7 +7,7 @@
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
-if ! "$WEDGE" info --cl 2>/dev/null | grep -q "device 0"; then echo "skip: no OpenCL device"; exit 77; fi
+require_cl_device
 make_temp_dir
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-${HOME:-$T}/.cache/pocl}"
 unset OCL_ICD_VENDORS OCL_ICD_FILENAMES OPENCL_VENDOR_PATH LD_PRELOAD
