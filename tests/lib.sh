@@ -21,3 +21,11 @@ make_temp_dir() {
 check() {
     if [ "$2" != "$3" ]; then echo "FAIL: $1: exit $3, expected $2"; fail=1; fi
 }
+
+# Skip unless wedge finds an OpenCL device (the filters' tests on a machine without a driver).
+require_cl_device() {
+    if ! "$WEDGE" info --cl 2>/dev/null | grep -q "device 0"; then
+        echo "skip: no OpenCL device"
+        exit 77
+    fi
+}

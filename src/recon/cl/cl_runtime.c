@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "core/env_knob.h"
+#include "recon/cl/icd_preload.h"
 #include "recon/cl/kernel_cache.h"
 #include "recon/cl/kernel_decl.h"
 #include "recon/cl/program_cache.h"
@@ -72,6 +73,7 @@ static bool list_devices(DeviceList *list, Diag *d)
     list->count = 0;
     list->platform_count = 0;
     kernel_cache_prepare(); /* before the driver looks for its cache */
+    cl_icd_preload();       /* the driver bound to its own libraries first */
     cl_int err = clGetPlatformIDs(MAX_PLATFORMS, platforms, &nplat);
     if (err != CL_SUCCESS || nplat == 0) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
