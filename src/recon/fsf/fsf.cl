@@ -138,10 +138,22 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
                           usable[q.s6], usable[q.s7]);
         int8 near = (int8)(-1);
         if (guided) {
-            int8 q4 = 4 * q;
-            float8 cosn = c_nx * FSF_GATHER8(nrm4, q4) + c_ny * FSF_GATHER8(nrm4, q4 + 1) + c_nz * FSF_GATHER8(nrm4, q4 + 2);
-            float8 off = c_nx * (FSF_GATHER8(pos4, q4) - c_px) + c_ny * (FSF_GATHER8(pos4, q4 + 1) - c_py) +
-                         c_nz * (FSF_GATHER8(pos4, q4 + 2) - c_pz);
+            /* each neighbour's normal and position as one float4 load each, then taken apart
+             * into lanes: the same values as six gathers of their x, y, z */
+            int qa[8];
+            vstore8(q, 0, qa);
+            float4 n0 = vload4(qa[0], nrm4), n1 = vload4(qa[1], nrm4), n2 = vload4(qa[2], nrm4), n3 = vload4(qa[3], nrm4);
+            float4 n4 = vload4(qa[4], nrm4), n5 = vload4(qa[5], nrm4), n6 = vload4(qa[6], nrm4), n7 = vload4(qa[7], nrm4);
+            float4 p0 = vload4(qa[0], pos4), p1 = vload4(qa[1], pos4), p2 = vload4(qa[2], pos4), p3 = vload4(qa[3], pos4);
+            float4 p4 = vload4(qa[4], pos4), p5 = vload4(qa[5], pos4), p6 = vload4(qa[6], pos4), p7 = vload4(qa[7], pos4);
+            float8 nx = (float8)(n0.x, n1.x, n2.x, n3.x, n4.x, n5.x, n6.x, n7.x);
+            float8 ny = (float8)(n0.y, n1.y, n2.y, n3.y, n4.y, n5.y, n6.y, n7.y);
+            float8 nz = (float8)(n0.z, n1.z, n2.z, n3.z, n4.z, n5.z, n6.z, n7.z);
+            float8 px8 = (float8)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
+            float8 py8 = (float8)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
+            float8 pz8 = (float8)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
+            float8 cosn = c_nx * nx + c_ny * ny + c_nz * nz;
+            float8 off = c_nx * (px8 - c_px) + c_ny * (py8 - c_py) + c_nz * (pz8 - c_pz);
             near = (q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol));
         }
         ok &= (ti == 0) | ((use != 0) & near);
