@@ -21,7 +21,7 @@
  *   P           J * 4 floats per pixel (J shift nodes) and y2 bin of the launch (C of them,
  *               interleaved: see fsf_pass1a) of a ring of `ring` image rows (row y at y % ring):
  *               pass 1 runs in bands of rows, so P never holds the whole frame
- *   Q           FSF_Q_FLOATS(B) floats per pixel of a ring of image rows (pass 2 runs in bands
+ *   Q           FSF_Q_FLOATS(B, geo) floats per pixel of a ring of image rows (pass 2 runs in bands
  *               too): each bin's 4 sums over its marginal, then the marginals clamped to the bins
  *               for the bin offsets -B .. 2 B + 7 (fsf_pass2a); G: B * 4 floats per pixel (B y2
  *               bins, whole frame) */
@@ -33,8 +33,10 @@
 #define FSF_MAX_Y2_BINS 64
 #define FSF_NODE_SHIFT2 7 /* FSF_NODE_STRIDE2 = 128 >= J = B + 1 <= FSF_MAX_Y2_BINS + 1 */
 #define FSF_NODE_STRIDE2 (1 << FSF_NODE_SHIFT2)
-/* Q's floats per pixel: 4 B sums, then 3 B + 8 marginals (fsf_cl.c sizes Q by the same rule) */
-#define FSF_Q_FLOATS(B) (7 * (B) + 8)
+/* Q's floats per pixel: 4 B sums, then with form 4 3 B + 8 marginals (fsf_cl.c sizes Q for
+ * them); without it pass 2b reads no marginal and a pixel's Q is its 4 B sums, 5 B apart as in
+ * the C passes */
+#define FSF_Q_FLOATS(B, geo) ((geo) ? 7 * (B) + 8 : 5 * (B))
 
 typedef struct {
     float half1, half2;  /* L1, L2 */
@@ -418,7 +420,7 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     if (!usable[i]) return;          /* no tap reads it (fsf_taps) */
     int iq = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in Q's ring */
     int B = a.B;
-    __global float *gs = Q + FSF_Q_FLOATS(B) * iq, *gmq = gs + 4 * B;
+    __global float *gs = Q + FSF_Q_FLOATS(B, a.geo) * iq, *gmq = gs + 4 * B;
     float gm[FSF_MAX_Y2_BINS + 8];
     int geo = a.geo && mean_g[i] > 0.0f;
     if (geo) {
@@ -432,7 +434,7 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
         else gi = gi / gm[b];
         vstore4(gi, b, gs);
     }
-    for (int k = 0; k < 3 * B + 8; ++k) gmq[k] = gm[clamp(k - B, 0, B - 1)];
+    for (int k = 0; a.geo && k < 3 * B + 8; ++k) gmq[k] = gm[clamp(k - B, 0, B - 1)]; /* read by 2b under form 4 only */
 }
 
 /* Pass 2b (fsf_pass2b, eqs. 14-15; B = J - 1: the density depends on m = b - 2 j only) over the
@@ -483,7 +485,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
         int o = o0 + e, node = tap_node[o];
         if (node < 0) continue;
         int q = node >> FSF_NODE_SHIFT2, j0 = node & (FSF_NODE_STRIDE2 - 1); /* fsf_taps' second axis */
-        __global const float *gs = Q + FSF_Q_FLOATS(B) * q, *gm = gs + 4 * B; /* gm[B + o]: offset o */
+        __global const float *gs = Q + FSF_Q_FLOATS(B, a.geo) * q, *gm = gs + 4 * B; /* gm[B + o]: offset o */
         float a0 = tap_a0[o], a1 = tap_a1[o];
         /* the two nodes' sums interpolated, one weight per bin (fsf_pass2b): nodes j0 and
          * j0 + 1 see bin b at m0 = b - 2 j0 + 2 B and m0 - 2, so the bins of either span */
