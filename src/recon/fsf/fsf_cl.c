@@ -52,10 +52,11 @@ _Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_CUM && FSF_TAP_SLOTS % 8 == 0, "fs
  * next): kept between runs, so that a frame's second and third filterings (combined: shadows,
  * indirect light, defocus) and WEDGE_FSF_PROFILE_REPEAT's runs write pages touched before
  * instead of fresh ones (12,000 page faults a run at 256x256, docs/benchmarks.md "FSF's time
- * outside its kernels"). Their memory is the host's (fsf_pages.h: 2 MB pages where large), used
- * in place by the device (CL_MEM_USE_HOST_PTR): a one-frame render's kernels touch 40-50 MB of
- * it for the first time, which in 4 KB pages took about 11,000 page faults (docs/benchmarks.md,
- * "FSF's fresh memory in 2 MB pages"). */
+ * outside its kernels"). Their memory is the host's, used in place by the device
+ * (CL_MEM_USE_HOST_PTR), from fsf_pages.h: 2 MB pages where large and the machine has free 2 MB
+ * blocks to spare. A one-frame render's kernels touch 40-50 MB of it for the first time, which in
+ * 4 KB pages took about 11,000 page faults (docs/benchmarks.md, "FSF's filter share, third
+ * round"). */
 enum { KEPT_BIN2, KEPT_NTAP, KEPT_NODE, KEPT_TA0, KEPT_TA1, KEPT_CUM, KEPT_P, KEPT_G, KEPT_N };
 
 struct FsfCl {

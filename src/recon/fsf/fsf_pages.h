@@ -5,7 +5,7 @@
  * coordinates and scaled values, the tap tables, P and G, the slope windows, about 50-60 MB at
  * 256x256 and 16 spp. At 4 KB a page that is 13,000-15,000 page faults (33,000 in the whole
  * process), each 2-4 us of system time on the bench machine beyond the zeroing itself
- * (docs/benchmarks.md, "FSF's fresh memory in 2 MB pages, guarded"). Where transparent huge
+ * (docs/benchmarks.md, "FSF's filter share, third round"). Where transparent huge
  * pages are available on request (/sys/kernel/mm/transparent_hugepage/enabled "madvise" or
  * "always"), the whole 2 MB pages of such an array are asked for as huge pages (madvise
  * MADV_HUGEPAGE): one fault per 2 MB.
