@@ -21,8 +21,10 @@
  *   P           J * 4 floats per pixel (J shift nodes) and y2 bin of the launch (C of them,
  *               interleaved: see fsf_pass1a) of a ring of `ring` image rows (row y at y % ring):
  *               pass 1 runs in bands of rows, so P never holds the whole frame
- *   Q           J * 4 floats per pixel of a ring of image rows (pass 2 runs in bands too); G: B * 4
- *               floats per pixel (B y2 bins, whole frame) */
+ *   Q           FSF_Q_FLOATS(B, geo) floats per pixel of a ring of image rows (pass 2 runs in bands
+ *               too): each bin's 4 sums over its marginal, then the marginals clamped to the bins
+ *               for the bin offsets -B .. 2 B + 7 (fsf_pass2a); G: B * 4 floats per pixel (B y2
+ *               bins, whole frame) */
 
 #define FSF_RADIUS_CAP_PX 16
 #define FSF_TAPS (2 * FSF_RADIUS_CAP_PX + 1)
@@ -31,6 +33,10 @@
 #define FSF_MAX_Y2_BINS 64
 #define FSF_NODE_SHIFT2 7 /* FSF_NODE_STRIDE2 = 128 >= J = B + 1 <= FSF_MAX_Y2_BINS + 1 */
 #define FSF_NODE_STRIDE2 (1 << FSF_NODE_SHIFT2)
+/* Q's floats per pixel: 4 B sums, then with form 4 3 B + 8 marginals (fsf_cl.c sizes Q for
+ * them); without it pass 2b reads no marginal and a pixel's Q is its 4 B sums, 5 B apart as in
+ * the C passes */
+#define FSF_Q_FLOATS(B, geo) ((geo) ? 7 * (B) + 8 : 5 * (B))
 
 typedef struct {
     float half1, half2;  /* L1, L2 */
@@ -134,10 +140,22 @@ __kernel void fsf_taps(const FsfArgs a, const int axis, const int ring, const in
                           usable[q.s6], usable[q.s7]);
         int8 near = (int8)(-1);
         if (guided) {
-            int8 q4 = 4 * q;
-            float8 cosn = c_nx * FSF_GATHER8(nrm4, q4) + c_ny * FSF_GATHER8(nrm4, q4 + 1) + c_nz * FSF_GATHER8(nrm4, q4 + 2);
-            float8 off = c_nx * (FSF_GATHER8(pos4, q4) - c_px) + c_ny * (FSF_GATHER8(pos4, q4 + 1) - c_py) +
-                         c_nz * (FSF_GATHER8(pos4, q4 + 2) - c_pz);
+            /* each neighbour's normal and position as one float4 load each, then taken apart
+             * into lanes: the same values as six gathers of their x, y, z */
+            int qa[8];
+            vstore8(q, 0, qa);
+            float4 n0 = vload4(qa[0], nrm4), n1 = vload4(qa[1], nrm4), n2 = vload4(qa[2], nrm4), n3 = vload4(qa[3], nrm4);
+            float4 n4 = vload4(qa[4], nrm4), n5 = vload4(qa[5], nrm4), n6 = vload4(qa[6], nrm4), n7 = vload4(qa[7], nrm4);
+            float4 p0 = vload4(qa[0], pos4), p1 = vload4(qa[1], pos4), p2 = vload4(qa[2], pos4), p3 = vload4(qa[3], pos4);
+            float4 p4 = vload4(qa[4], pos4), p5 = vload4(qa[5], pos4), p6 = vload4(qa[6], pos4), p7 = vload4(qa[7], pos4);
+            float8 nx = (float8)(n0.x, n1.x, n2.x, n3.x, n4.x, n5.x, n6.x, n7.x);
+            float8 ny = (float8)(n0.y, n1.y, n2.y, n3.y, n4.y, n5.y, n6.y, n7.y);
+            float8 nz = (float8)(n0.z, n1.z, n2.z, n3.z, n4.z, n5.z, n6.z, n7.z);
+            float8 px8 = (float8)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
+            float8 py8 = (float8)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
+            float8 pz8 = (float8)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
+            float8 cosn = c_nx * nx + c_ny * ny + c_nz * nz;
+            float8 off = c_nx * (px8 - c_px) + c_ny * (py8 - c_py) + c_nz * (pz8 - c_pz);
             near = (q == i) | ((cosn >= a.cos_normal_min) & (fabs(off) <= c_tol));
         }
         ok &= (ti == 0) | ((use != 0) & near);
@@ -389,8 +407,10 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 }
 
 /* Pass 2a (fsf_pass2a) over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows: each
- * bin over its form-4 marginal, then the marginals (5 B floats per pixel); the density is pass
- * 2b's, of the gathering pixel's filter. */
+ * bin over its form-4 marginal, then the marginals, gm[clamp(k - B, 0, B - 1)] for k = 0 .. 3 B + 7:
+ * the bin offsets pass 2b reads eight at a time (-B .. 2 B + 7) clamped here once, so that its
+ * reads are contiguous loads of the same values instead of gathers through clamped indices;
+ * the density is pass 2b's, of the gathering pixel's filter. */
 __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const int ring, __global const uchar *usable,
                          __global const float *pos4, __global const float *nrm4, __global const float *mean_g,
                          __global const float *G, __global float *Q)
@@ -400,7 +420,7 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
     if (!usable[i]) return;          /* no tap reads it (fsf_taps) */
     int iq = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in Q's ring */
     int B = a.B;
-    __global float *gs = Q + 5 * B * iq, *gmq = gs + 4 * B;
+    __global float *gs = Q + FSF_Q_FLOATS(B, a.geo) * iq, *gmq = gs + 4 * B;
     float gm[FSF_MAX_Y2_BINS + 8];
     int geo = a.geo && mean_g[i] > 0.0f;
     if (geo) {
@@ -413,8 +433,8 @@ __kernel void fsf_pass2a(const FsfArgs a, const int row0, const int row1, const 
         if (!geo) gm[b] = 1.0f;
         else gi = gi / gm[b];
         vstore4(gi, b, gs);
-        gmq[b] = gm[b];
     }
+    for (int k = 0; a.geo && k < 3 * B + 8; ++k) gmq[k] = gm[clamp(k - B, 0, B - 1)]; /* read by 2b under form 4 only */
 }
 
 /* Pass 2b (fsf_pass2b, eqs. 14-15; B = J - 1: the density depends on m = b - 2 j only) over the
@@ -465,7 +485,7 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
         int o = o0 + e, node = tap_node[o];
         if (node < 0) continue;
         int q = node >> FSF_NODE_SHIFT2, j0 = node & (FSF_NODE_STRIDE2 - 1); /* fsf_taps' second axis */
-        __global const float *gs = Q + 5 * B * q, *gm = gs + 4 * B;
+        __global const float *gs = Q + FSF_Q_FLOATS(B, a.geo) * q, *gm = gs + 4 * B; /* gm[B + o]: offset o */
         float a0 = tap_a0[o], a1 = tap_a1[o];
         /* the two nodes' sums interpolated, one weight per bin (fsf_pass2b): nodes j0 and
          * j0 + 1 see bin b at m0 = b - 2 j0 + 2 B and m0 - 2, so the bins of either span */
@@ -475,11 +495,12 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
          * nothing, so no branch per bin (the same floats as fsf_pass2b's) */
         for (int b0 = b_lo; b0 <= b_hi; b0 += 8) {
             int m00 = b0 - 2 * j0 + 2 * B; /* m0 of bin b0; <= 3 B + 6 with the lanes past b_hi */
-            int8 m0 = (int8)(m00) + FSF_LANES8;
             float8 w0 = vload8(0, inv_rho + m00), w1 = vload8(0, inv_rho + m00 - 2);
             float wk[8];
             if (a.geo) {
-                float8 g0 = FSF_GATHER8(gm, clamp(m0 - B, 0, B - 1)), g1 = FSF_GATHER8(gm, clamp(m0 - 2 - B, 0, B - 1));
+                /* the marginals of bins clamp(m - B) and clamp(m - 2 - B), m = m00 .. m00 + 7, from
+                 * pass 2a's clamped table (m00 - B in 2 - B .. 2 B - 1: 0 <= b0, j0 < B) */
+                float8 g0 = vload8(0, gm + m00), g1 = vload8(0, gm + m00 - 2);
                 float8 t0 = a0 * w0 * g0;
                 vstore8(t0 + a1 * w1 * g1, 0, wk);
             } else { /* without form 4 every marginal is 1 (pass 2a): the products by them are

@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "recon/cl/cl_runtime_internal.h"
+#include "recon/fsf/fsf_pages.h"
 
 _Static_assert(sizeof(FsfPixel) == 8 * sizeof(float), "fsf.cl reads FsfPixel as 8 floats");
 
@@ -51,7 +52,11 @@ _Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_CUM && FSF_TAP_SLOTS % 8 == 0, "fs
  * next): kept between runs, so that a frame's second and third filterings (combined: shadows,
  * indirect light, defocus) and WEDGE_FSF_PROFILE_REPEAT's runs write pages touched before
  * instead of fresh ones (12,000 page faults a run at 256x256, docs/benchmarks.md "FSF's time
- * outside its kernels"). */
+ * outside its kernels"). Their memory is the host's, used in place by the device
+ * (CL_MEM_USE_HOST_PTR), from fsf_pages.h: 2 MB pages where large and the machine has free 2 MB
+ * blocks to spare. A one-frame render's kernels touch 40-50 MB of it for the first time, which in
+ * 4 KB pages took about 11,000 page faults (docs/benchmarks.md, "FSF's filter share, third
+ * round"). */
 enum { KEPT_BIN2, KEPT_NTAP, KEPT_NODE, KEPT_TA0, KEPT_TA1, KEPT_CUM, KEPT_P, KEPT_G, KEPT_N };
 
 struct FsfCl {
@@ -59,6 +64,7 @@ struct FsfCl {
     cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
     FsfClProfile prof; /* the last run's */
     cl_mem kept[KEPT_N];
+    void *kept_host[KEPT_N]; /* kept[k]'s memory */
     size_t kept_bytes[KEPT_N];
     cl_int *off;       /* the tap tables' offsets, both axes (page aligned: read in place) */
     size_t off_count;
@@ -97,8 +103,10 @@ FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d)
 void fsf_cl_destroy(FsfCl *f)
 {
     if (!f) return;
-    for (int k = 0; k < KEPT_N; ++k)
+    for (int k = 0; k < KEPT_N; ++k) {
         if (f->kept[k]) clReleaseMemObject(f->kept[k]);
+        free(f->kept_host[k]);
+    }
     free(f->off);
     cl_kernel k[6] = {f->taps, f->bins, f->pass1a, f->pass1b, f->pass2a, f->pass2b};
     for (int i = 0; i < 6; ++i)
@@ -111,8 +119,15 @@ void fsf_cl_destroy(FsfCl *f)
 static cl_mem kept_buffer(FsfCl *f, int k, size_t bytes, cl_int *err)
 {
     if (!f->kept[k] || f->kept_bytes[k] < bytes) {
+        /* no command holds it: every run ends with clFinish and releases its own references */
         if (f->kept[k]) clReleaseMemObject(f->kept[k]);
-        f->kept[k] = clCreateBuffer(f->rt->context, CL_MEM_READ_WRITE, bytes, NULL, err);
+        free(f->kept_host[k]);
+        f->kept[k] = NULL, f->kept_bytes[k] = 0;
+        if (!(f->kept_host[k] = fsf_pages_alloc(bytes))) {
+            *err = CL_OUT_OF_HOST_MEMORY;
+            return NULL;
+        }
+        f->kept[k] = clCreateBuffer(f->rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, f->kept_host[k], err);
         f->kept_bytes[k] = f->kept[k] ? bytes : 0;
         if (!f->kept[k]) return NULL;
     }
@@ -268,8 +283,10 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring1;
     int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
     chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
-    /* pass 2a's Q (5 B floats per pixel of its ring) lives in P's memory once pass 1 is done */
-    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * FSF_Q2_FLOATS(B) * (size_t)s->width * (size_t)ring2;
+    /* pass 2a's Q (fsf.cl FSF_Q_FLOATS, 7 B + 8 floats per pixel of its ring: the C passes'
+     * 5 B and the marginals clamped for pass 2b's contiguous reads) lives in P's memory once
+     * pass 1 is done */
+    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * (7 * B + 8) * (size_t)s->width * (size_t)ring2;
     cl_int err = CL_SUCCESS;
     enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, MEANG, USE, OFF0, OFF1, NTAP, NODE, TA0, TA1, CUM, P, G, NBUF };
     cl_mem b[NBUF] = {0};

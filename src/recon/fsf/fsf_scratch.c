@@ -3,12 +3,10 @@
 
 #include <stdlib.h>
 
-/* Freed with free(). */
-static void *alloc_device_input(size_t bytes)
-{
-    const size_t align = 4096;
-    return aligned_alloc(align, (bytes + align - 1) / align * align);
-}
+#include "recon/fsf/fsf_pages.h"
+
+/* Page aligned, in 2 MB pages where large (fsf_pages.h); freed with free(). */
+static void *alloc_device_input(size_t bytes) { return fsf_pages_alloc(bytes); }
 
 bool fsf_scratch_alloc(FsfScratch *s, size_t n, int capacity)
 {
