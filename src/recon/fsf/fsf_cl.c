@@ -10,7 +10,7 @@
 #include <time.h>
 
 #include "recon/cl/cl_runtime_internal.h"
-#include "recon/fsf/fsf_pages.h"
+#include "core/huge_pages.h"
 
 _Static_assert(sizeof(FsfPixel) == 8 * sizeof(float), "fsf.cl reads FsfPixel as 8 floats");
 
@@ -53,7 +53,7 @@ _Static_assert((int)FSF_TAP_SLOTS >= (int)FSF_CUM && FSF_TAP_SLOTS % 8 == 0, "fs
  * indirect light, defocus) and WEDGE_FSF_PROFILE_REPEAT's runs write pages touched before
  * instead of fresh ones (12,000 page faults a run at 256x256, docs/benchmarks.md "FSF's time
  * outside its kernels"). Their memory is the host's, used in place by the device
- * (CL_MEM_USE_HOST_PTR), from fsf_pages.h: 2 MB pages where large and the machine has free 2 MB
+ * (CL_MEM_USE_HOST_PTR), from huge_pages.h: 2 MB pages where large and the machine has free 2 MB
  * blocks to spare. A one-frame render's kernels touch 40-50 MB of it for the first time, which in
  * 4 KB pages took about 11,000 page faults (docs/benchmarks.md, "FSF's filter share, third
  * round"). */
@@ -123,7 +123,7 @@ static cl_mem kept_buffer(FsfCl *f, int k, size_t bytes, cl_int *err)
         if (f->kept[k]) clReleaseMemObject(f->kept[k]);
         free(f->kept_host[k]);
         f->kept[k] = NULL, f->kept_bytes[k] = 0;
-        if (!(f->kept_host[k] = fsf_pages_alloc(bytes))) {
+        if (!(f->kept_host[k] = huge_pages_alloc(bytes))) {
             *err = CL_OUT_OF_HOST_MEMORY;
             return NULL;
         }

@@ -3,10 +3,10 @@
 
 #include <stdlib.h>
 
-#include "recon/fsf/fsf_pages.h"
+#include "core/huge_pages.h"
 
-/* Page aligned, in 2 MB pages where large (fsf_pages.h); freed with free(). */
-static void *alloc_device_input(size_t bytes) { return fsf_pages_alloc(bytes); }
+/* Page aligned, in 2 MB pages where large (huge_pages.h); freed with free(). */
+static void *alloc_device_input(size_t bytes) { return huge_pages_alloc(bytes); }
 
 bool fsf_scratch_alloc(FsfScratch *s, size_t n, int capacity)
 {

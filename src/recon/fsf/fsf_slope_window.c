@@ -6,7 +6,7 @@
 
 #include "core/vectorise.h"
 #include "recon/fsf/fsf_filter.h"
-#include "recon/fsf/fsf_pages.h"
+#include "core/huge_pages.h"
 #include "recon/recon_parallel.h"
 
 const int FSF_LEVEL_RADIUS_PX[FSF_LEVELS] = {2, 4, 8, FSF_RADIUS_CAP_PX};
@@ -117,8 +117,8 @@ bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slo
                        const void *ctx, const float *obj, FsfSlopeWindows *out)
 {
     size_t n = (size_t)width * (size_t)height;
-    /* written once a frame: in 2 MB pages (fsf_pages.h), freed with free() */
-    out->block = fsf_pages_alloc(sizeof(float) * n * (4 + 2 * FSF_LEVELS));
+    /* written once a frame: in 2 MB pages (huge_pages.h), freed with free() */
+    out->block = huge_pages_alloc(sizeof(float) * n * (4 + 2 * FSF_LEVELS));
     if (!out->block) return false;
     for (int l = 0; l < FSF_LEVELS; ++l) out->lo[l] = out->block + 2 * (size_t)l * n, out->hi[l] = out->lo[l] + n;
     float *own_lo = out->block + (2 * FSF_LEVELS + 2) * n, *own_hi = own_lo + n;

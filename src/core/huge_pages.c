@@ -1,5 +1,5 @@
-/* FSF's large arrays in 2 MB pages, guarded (fsf_pages.h). */
-#include "recon/fsf/fsf_pages.h"
+/* Large per-frame arrays in 2 MB pages, guarded (huge_pages.h). */
+#include "core/huge_pages.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -7,10 +7,10 @@
 #include <string.h>
 #include <sys/mman.h>
 
-enum { FSF_SMALL_PAGE = 4096, FSF_HUGE_ORDER = 9 /* 2 MB in 4 KB pages: 2^9 */ };
-#define FSF_HUGE_PAGE ((size_t)2 << 20)
+enum { SMALL_PAGE = 4096, HUGE_ORDER = 9 /* 2 MB in 4 KB pages: 2^9 */ };
+#define HUGE_PAGE ((size_t)2 << 20)
 
-long fsf_free_huge_blocks(const char *text)
+long huge_pages_free_blocks(const char *text)
 {
     long blocks = -1;
     for (const char *line = text; line && *line; line = strchr(line, '\n'), line = line ? line + 1 : NULL) {
@@ -26,7 +26,7 @@ long fsf_free_huge_blocks(const char *text)
             char *next;
             long count = strtol(p, &next, 10);
             if (next == p || (end && next > end)) break;
-            if (order >= FSF_HUGE_ORDER && count > 0) blocks += count << (order - FSF_HUGE_ORDER);
+            if (order >= HUGE_ORDER && count > 0) blocks += count << (order - HUGE_ORDER);
             p = next;
         }
     }
@@ -42,24 +42,24 @@ static long free_huge_blocks_now(void)
     size_t len = fread(text, 1, sizeof text - 1, f);
     fclose(f);
     text[len] = '\0';
-    return fsf_free_huge_blocks(text);
+    return huge_pages_free_blocks(text);
 }
 
-void *fsf_pages_alloc(size_t bytes)
+void *huge_pages_alloc(size_t bytes)
 {
     if (bytes == 0) bytes = 1;
-    size_t align = bytes >= FSF_HUGE_PAGE ? FSF_HUGE_PAGE : FSF_SMALL_PAGE;
+    size_t align = bytes >= HUGE_PAGE ? HUGE_PAGE : SMALL_PAGE;
     if (bytes > SIZE_MAX - align) return NULL;
     /* aligned_alloc wants a multiple of the alignment: the rounding is address space only, the
      * tail past `bytes` is never touched */
     void *p = aligned_alloc(align, (bytes + align - 1) / align * align);
 #ifdef MADV_HUGEPAGE
     /* the whole 2 MB pages inside [p, p + bytes) (p is 2 MB aligned here), while the machine has
-     * free 2 MB blocks to spare for them (fsf_pages.h). A refusal (EINVAL where the kernel has no
+     * free 2 MB blocks to spare for them (huge_pages.h). A refusal (EINVAL where the kernel has no
      * transparent huge pages) leaves 4 KB pages: nothing to undo */
-    size_t whole = bytes / FSF_HUGE_PAGE;
-    if (p && whole > 0 && free_huge_blocks_now() >= 2 * (long)whole + FSF_HUGE_SPARE)
-        (void)madvise(p, whole * FSF_HUGE_PAGE, MADV_HUGEPAGE);
+    size_t whole = bytes / HUGE_PAGE;
+    if (p && whole > 0 && free_huge_blocks_now() >= 2 * (long)whole + HUGE_PAGES_SPARE)
+        (void)madvise(p, whole * HUGE_PAGE, MADV_HUGEPAGE);
 #endif
     return p;
 }
