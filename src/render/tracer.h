@@ -110,10 +110,15 @@ typedef struct {
 typedef enum { TRACER_BATCH_SINGLE, TRACER_BATCH_STREAM, TRACER_BATCH_PACKET16, TRACER_BATCH_MODE_COUNT } TracerBatchMode;
 #define TRACER_BATCH_DEFAULT TRACER_BATCH_STREAM
 
+enum { TRACER_TWO_LEVEL_AUTO, TRACER_TWO_LEVEL_NEVER, TRACER_TWO_LEVEL_ALWAYS, TRACER_TWO_LEVEL_CHOICES };
+
 typedef struct {
     RTCDevice device;
     TracerBatchMode batch_mode; /* TRACER_BATCH_DEFAULT, or WEDGE_TRACE_BATCH=single|stream|packet16 */
     bool robust;             /* RTC_SCENE_FLAG_ROBUST on every layer (WEDGE_EMBREE_ROBUST=0: off) */
+    /* each layer's build (commit_layer): TRACER_TWO_LEVEL_AUTO (layer_build_two_level), or
+     * WEDGE_EMBREE_TWO_LEVEL=0|1 for measurements and tests (never / always two-level) */
+    int two_level;
     Layer *layers;
     int layer_count;
     Instance *instances;
