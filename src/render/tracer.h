@@ -116,9 +116,6 @@ typedef struct {
     RTCDevice device;
     TracerBatchMode batch_mode; /* TRACER_BATCH_DEFAULT, or WEDGE_TRACE_BATCH=single|stream|packet16 */
     bool robust;             /* RTC_SCENE_FLAG_ROBUST on every layer (WEDGE_EMBREE_ROBUST=0: off) */
-    /* each layer's build (commit_layer): TRACER_TWO_LEVEL_AUTO (layer_build_two_level), or
-     * WEDGE_EMBREE_TWO_LEVEL=0|1 for measurements and tests (never / always two-level) */
-    int two_level;
     Layer *layers;
     int layer_count;
     Instance *instances;
@@ -136,6 +133,10 @@ typedef struct {
     double seconds_build;
     long triangle_count;
     long long embree_bytes, embree_bytes_peak; /* from Embree's memory monitor */
+    /* each layer's build (commit_layer): TRACER_TWO_LEVEL_AUTO (layer_build_two_level), or
+     * WEDGE_EMBREE_TWO_LEVEL=0|1 for measurements and tests (never / always two-level); last,
+     * so that the fields the rays read keep their places */
+    int two_level;
 } Tracer;
 
 /* Where a ray hit, in world space, ready for shading. */
