@@ -10,6 +10,7 @@
 
 #include "core/env_knob.h"
 #include "geometry/mesh.h"
+#include "render/layer_build.h"
 #include "render/sphere_packet.h"
 #include "render/sphere_shade.h"
 
@@ -574,6 +575,11 @@ static bool commit_layer(Tracer *tr, Layer *l, ErrorSlot *slot, Diag *err)
 {
     l->scene = rtcNewScene(tr->device);
     rtcSetSceneFlags(l->scene, tr->robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+    /* Embree's two-level build where the layer's meshes favour it (design.md 12.27): the
+     * same triangles and tests in another tree */
+    bool two_level = tr->two_level == TRACER_TWO_LEVEL_AUTO ? layer_build_two_level(l->geoms, l->geom_count)
+                                                            : tr->two_level == TRACER_TWO_LEVEL_ALWAYS;
+    rtcSetSceneBuildQuality(l->scene, two_level ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM);
     /* A lone sphere or disk gets a second, empty primitive (QUADRIC_PRIM_ANCHOR) */
     int quadrics = 0, mask_bits = 0;
     bool masks = l == &tr->layers[0] && rtcGetDeviceProperty(tr->device, RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED);
@@ -714,6 +720,9 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
     /* Embree's robust mode (commit_layer), on unless WEDGE_EMBREE_ROBUST=0: the knob of
      * the leak measurements (test_watertight, docs/benchmarks.md) */
     tr->robust = env_knob_switch("WEDGE_EMBREE_ROBUST", true);
+    static const char *const two_level_names[TRACER_TWO_LEVEL_CHOICES] = {"auto", "0", "1"};
+    tr->two_level = env_knob_choice("WEDGE_EMBREE_TWO_LEVEL", two_level_names, TRACER_TWO_LEVEL_CHOICES,
+                                    TRACER_TWO_LEVEL_AUTO);
     ErrorSlot *slot = NULL;
     slot = calloc(1, sizeof *slot); /* filled by Embree's error callback */
     if (!slot) goto oom;

@@ -110,6 +110,8 @@ typedef struct {
 typedef enum { TRACER_BATCH_SINGLE, TRACER_BATCH_STREAM, TRACER_BATCH_PACKET16, TRACER_BATCH_MODE_COUNT } TracerBatchMode;
 #define TRACER_BATCH_DEFAULT TRACER_BATCH_STREAM
 
+enum { TRACER_TWO_LEVEL_AUTO, TRACER_TWO_LEVEL_NEVER, TRACER_TWO_LEVEL_ALWAYS, TRACER_TWO_LEVEL_CHOICES };
+
 typedef struct {
     RTCDevice device;
     TracerBatchMode batch_mode; /* TRACER_BATCH_DEFAULT, or WEDGE_TRACE_BATCH=single|stream|packet16 */
@@ -131,6 +133,10 @@ typedef struct {
     double seconds_build;
     long triangle_count;
     long long embree_bytes, embree_bytes_peak; /* from Embree's memory monitor */
+    /* each layer's build (commit_layer): TRACER_TWO_LEVEL_AUTO (layer_build_two_level), or
+     * WEDGE_EMBREE_TWO_LEVEL=0|1 for measurements and tests (never / always two-level); last,
+     * so that the fields the rays read keep their places */
+    int two_level;
 } Tracer;
 
 /* Where a ray hit, in world space, ready for shading. */
