@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "recon/blur_probe.h"
+#include "recon/budget_search.h"
 #include "recon/composite.h"
 #include "recon/overscan.h"
 
@@ -19,11 +20,13 @@
  * Monte Carlo). A budget below the plan at mu = 1 scales the extra samples down instead. */
 #define BUDGET_MU_MIN 1.0f
 #define BUDGET_MU_MAX 1.0e4f
-/* Bisection steps of log(mu) between the ends: 9.2 / 2^12, mu to 0.2%; the extras are then
- * scaled to the budget exactly (scale_extras), so a finer mu buys nothing. Each step is one
- * plan of the whole frame (about 20 ms at 256x256): 24 steps and no test of the ends cost
- * 0.35-0.8 s of a 2-12 s frame (all_effects, --spp 16 and 64). */
-#define BUDGET_SEARCH_STEPS 12
+/* The search for mu (mu_for_budget) stops at a plan within BUDGET_PLAN_TOLERANCE under the
+ * budget, or after BUDGET_SEARCH_STEPS plans between the ends; the extras are then scaled to
+ * the budget exactly (scale_extras), so a closer mu buys nothing. Each step is one plan of the
+ * whole frame (about 4 ms at 256x256 on soft_shadows, 20 ms on all_effects): 24 bisection steps
+ * and no test of the ends cost 0.35-0.8 s of a 2-12 s frame (all_effects, --spp 16 and 64). */
+#define BUDGET_SEARCH_STEPS 16
+#define BUDGET_PLAN_TOLERANCE 0.02
 /* ... and progressive steps double mu from this start when none was given. */
 #define STEP_MU_START 2.0f
 /* MPI ranks time the tracing of each tile; a gap longer than this between two pixels'
@@ -643,31 +646,23 @@ static void extras_from_plan(ReconPipeline *p, int budget)
     if (budget > 0) scale_extras(p, (double)budget * (double)n - frame_samples(p));
 }
 
-/* mu for a --spp budget without --mu: the plans' average grows with mu, so bisect log(mu). */
+/* mu for a --spp budget without --mu (budget_search.h). */
+typedef struct {
+    ReconPipeline *p;
+    Diag *d;
+} BudgetPlanCtx;
+
+static bool budget_plan(void *ctx, float mu, double *avg)
+{
+    BudgetPlanCtx *c = ctx;
+    return plan_at(c->p, mu, avg, c->d);
+}
+
 static bool mu_for_budget(ReconPipeline *p, int budget, float *mu, Diag *d)
 {
-    float lo = BUDGET_MU_MIN, hi = BUDGET_MU_MAX;
-    double avg;
-    /* the ends first: a budget at or below the plan at the smallest mu (most budgets of a
-     * fast render) or above the plan at the largest needs no search */
-    if (!plan_at(p, lo, &avg, d)) return false;
-    if (avg >= budget) {
-        *mu = lo;
-        return true;
-    }
-    if (!plan_at(p, hi, &avg, d)) return false;
-    if (avg <= budget) {
-        *mu = hi;
-        return true;
-    }
-    for (int it = 0; it < BUDGET_SEARCH_STEPS; ++it) {
-        float mid = sqrtf(lo * hi);
-        if (!plan_at(p, mid, &avg, d)) return false;
-        if (avg > budget) hi = mid;
-        else lo = mid;
-    }
-    *mu = lo;
-    return true;
+    BudgetSearch s = {BUDGET_MU_MIN, BUDGET_MU_MAX, BUDGET_PLAN_TOLERANCE, BUDGET_SEARCH_STEPS};
+    BudgetPlanCtx c = {p, d};
+    return budget_search_mu(&s, (double)budget, budget_plan, &c, mu, NULL);
 }
 
 /* ---- the OpenCL device, opened on a helper thread while pass 1 traces ---- */
