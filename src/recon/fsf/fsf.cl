@@ -33,8 +33,8 @@
 #define FSF_MAX_Y2_BINS 64
 #define FSF_NODE_SHIFT2 7 /* FSF_NODE_STRIDE2 = 128 >= J = B + 1 <= FSF_MAX_Y2_BINS + 1 */
 #define FSF_NODE_STRIDE2 (1 << FSF_NODE_SHIFT2)
-/* Q's floats per pixel: 4 B sums, then with form 4 3 B + 8 marginals (fsf_cl.c sizes Q for
- * them); without it pass 2b reads no marginal and a pixel's Q is its 4 B sums, 5 B apart as in
+/* Q's floats per pixel: 4 B sums, then with form 4 3 B + 8 marginals (fsf_filter.h's
+ * FSF_Q2_CL_FLOATS mirrors this for fsf_cl.c, which sizes Q for them); without it pass 2b reads no marginal and a pixel's Q is its 4 B sums, 5 B apart as in
  * the C passes */
 #define FSF_Q_FLOATS(B, geo) ((geo) ? 7 * (B) + 8 : 5 * (B))
 

@@ -9,8 +9,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "recon/cl/cl_runtime_internal.h"
 #include "core/huge_pages.h"
+#include "recon/cl/cl_runtime_internal.h"
 
 _Static_assert(sizeof(FsfPixel) == 8 * sizeof(float), "fsf.cl reads FsfPixel as 8 floats");
 
@@ -283,10 +283,10 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring1;
     int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
     chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
-    /* pass 2a's Q (fsf.cl FSF_Q_FLOATS, 7 B + 8 floats per pixel of its ring: the C passes'
-     * 5 B and the marginals clamped for pass 2b's contiguous reads) lives in P's memory once
-     * pass 1 is done */
-    size_t p_bytes = slice_bytes * (size_t)chunk, q_bytes = sizeof(float) * (7 * B + 8) * (size_t)s->width * (size_t)ring2;
+    /* pass 2a's Q (FSF_Q2_CL_FLOATS per pixel of its ring, sized for form 4, the larger) lives
+     * in P's memory once pass 1 is done */
+    size_t p_bytes = slice_bytes * (size_t)chunk,
+           q_bytes = sizeof(float) * (size_t)FSF_Q2_CL_FLOATS(B, 1) * (size_t)s->width * (size_t)ring2;
     cl_int err = CL_SUCCESS;
     enum { COUNT, YS, BIN2, VAL, PX, POS, NRM, MEANG, USE, OFF0, OFF1, NTAP, NODE, TA0, TA1, CUM, P, G, NBUF };
     cl_mem b[NBUF] = {0};

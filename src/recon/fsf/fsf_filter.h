@@ -148,6 +148,9 @@ enum { FSF_TAPS = 2 * FSF_RADIUS_CAP_PX + 1 };
  * marginal, then the B marginals) and 2b (out4; the density of the second axis from the
  * gathering pixel's filter, so 2b reads a tap's bins rather than two nodes). */
 #define FSF_Q2_FLOATS(bins) (5 * (bins))
+/* The OpenCL pass 2a's Q per pixel, fsf.cl's FSF_Q_FLOATS(B, geo) (keep the two equal): with
+ * form 4 (geo) the C layout's 5 B plus the marginals clamped for pass 2b's contiguous reads */
+#define FSF_Q2_CL_FLOATS(bins, geo) ((geo) ? 7 * (bins) + 8 : FSF_Q2_FLOATS(bins))
 void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int width, int height, int axis,
               FsfTap *taps, size_t begin, size_t end);
 void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
