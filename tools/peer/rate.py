@@ -9,26 +9,18 @@ the whole process (wall clock: start, parse, BVH build, render, EXR write) and t
 the ratio is Mitsuba's seconds over wedge's, i.e. wedge's samples per second over Mitsuba's at
 equal samples.
 """
-import json
 import os
 import statistics
-import subprocess
 import time
 
 from . import runners
 
 
 def _wedge_once(wedge, scene, res, spp, seed, workdir, threads):
-    out = os.path.join(workdir, "rate.exr")
-    cmd = [wedge, "render", scene, "-o", out, "--res", f"{res[0]}x{res[1]}", "--spp", str(spp),
-           "--seed", str(seed), "--filter", "none", "--threads", str(threads), "--quiet",
-           "--report", out + ".json"]
+    """(wall seconds of the whole process, the report's seconds_trace) of one render."""
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True)
-    wall_s = time.perf_counter() - t0
-    with open(out + ".json") as f:
-        rep = json.load(f)
-    return wall_s, float(rep["seconds_trace"])
+    rep = runners.wedge_render(wedge, scene, os.path.join(workdir, "rate.exr"), res, spp, seed, threads=threads)
+    return time.perf_counter() - t0, float(rep["seconds_trace"])
 
 
 def rate(scenes, wedges, res, spp, rounds, workdir, threads=2, log=print):

@@ -52,11 +52,14 @@ def relmse(test, ref):
 
 
 # ---- wedge -------------------------------------------------------------------------------
-def wedge_render(wedge, scene, out, res, spp, seed, sampler="stratified", filt="none", mu=None, aovs=False):
+def wedge_render(wedge, scene, out, res, spp, seed, sampler="stratified", filt="none", mu=None, aovs=False,
+                 threads=None):
     cmd = [wedge, "render", scene, "-o", out, "--res", f"{res[0]}x{res[1]}", "--spp", str(spp),
            "--seed", str(seed), "--sampler", sampler, "--filter", filt, "--quiet", "--report", out + ".json"]
     if mu is not None:
         cmd += ["--mu", str(mu)]
+    if threads is not None:
+        cmd += ["--threads", str(threads)]
     if aovs:
         cmd.append("--aovs")
     subprocess.run(cmd, check=True)
