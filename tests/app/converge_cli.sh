@@ -19,6 +19,8 @@ expect_exit 1 "$WEDGE" converge --spp 4,x --methods mc --out "$tmp/x"
 expect_exit 1 "$WEDGE" converge --spp 4 --baseline-spp 16,0 --methods mc --out "$tmp/x"
 grep -qx "wedge converge: bad spp '0' in --baseline-spp" "$tmp/out.txt" || fail "--baseline-spp message: $(cat "$tmp/out.txt")"
 expect_exit 1 "$WEDGE" converge --spp 4 --methods mc --out "$tmp/x" --res 12
+expect_exit 1 "$WEDGE" converge --spp 4 --methods mc --out "$tmp/x" --ref-seed -3
+grep -qx "wedge converge: --ref-seed wants an integer in \[0, 2^30\], got '-3'" "$tmp/out.txt" || fail "--ref-seed message: $(cat "$tmp/out.txt")"
 expect_exit 0 "$WEDGE" converge --help
 expect_exit 2 "$WEDGE" converge "$tmp/missing.pbrt" --spp 4 --methods mc --out "$tmp/x"
 
