@@ -35,6 +35,7 @@
 #ifndef WEDGE_RECON_FSF_FILTER_H
 #define WEDGE_RECON_FSF_FILTER_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -109,6 +110,31 @@ typedef struct {
                                 * reprojected light point; needs pos4 and nrm4. NULL: none (the
                                 * lens, indirect light; fsf_guides_default) */
 } FsfGuides;
+
+/* The guides' neighbour angle (fsf_guides_default): cos 15 deg, as the AAF filters' (papers:
+ * 10-20 deg). */
+#define FSF_NEIGHBOUR_COS_MIN 0.96592583f
+
+/* May centre pixel p take light from pixel q (usable, and unless the guides are NULL, its
+ * normal within the guides' angle and its mean position within the tolerance of p's tangent
+ * plane)? The filter's taps, the oracle's and the footprint's slope range (fsf_params.c). */
+static inline bool fsf_accept(const FsfGuides *gd, int p, int q)
+{
+    if (!gd->usable[q]) return false;
+    if (q == p || !gd->nrm4) return true; /* no guides: every usable neighbour */
+    const float *np = gd->nrm4 + 4 * (size_t)p, *nq = gd->nrm4 + 4 * (size_t)q;
+    if (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < gd->cos_normal_min) return false;
+    const float *pp = gd->pos4 + 4 * (size_t)p, *pq = gd->pos4 + 4 * (size_t)q;
+    float off = np[0] * (pq[0] - pp[0]) + np[1] * (pq[1] - pp[1]) + np[2] * (pq[2] - pp[2]);
+    return fabsf(off) <= gd->plane_tol_rel * pp[3];
+}
+
+/* The pixel t steps from (x, y) along dir, rounded to the nearest; -1 outside the image. */
+static inline int fsf_step_pixel(int w, int h, int x, int y, const float dir[2], float t)
+{
+    int qx = x + (int)floorf(t * dir[0] + 0.5f), qy = y + (int)floorf(t * dir[1] + 0.5f);
+    return (qx < 0 || qy < 0 || qx >= w || qy >= h) ? -1 : qy * w + qx;
+}
 
 /* The paper's grid (17 shift nodes, 16 y2 bins) over half extents u, v; fsf_grid_nodes with
  * another odd count of nodes (3 .. FSF_MAX_Y2_BINS + 1). */

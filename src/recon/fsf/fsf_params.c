@@ -13,6 +13,11 @@ typedef struct {
     FsfSlopeWindows wnd;
     FsfPixel *px;
     float *k_lo, *k_hi;
+    float *axis4;        /* per pixel: receiver metres per step along each light axis (the shear
+                          * per unit slope) and the metres of a step (the width's divisor) */
+    float *row_lo, *row_hi; /* the footprint's first pass: the range over each pixel's taps along dir[0] */
+    FsfGuides gd;        /* the filter's neighbour test */
+    float reach_sigmas;  /* the filter's taps (fsf_light_grid) */
 } Job;
 
 float fsf_light_sigma_y_m(float half_m, int samples)
@@ -73,7 +78,9 @@ static void pixel_params(Job *j, size_t i, const FsfScreenAxes *ax)
     bool known = lo <= hi;
     float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
     if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
+    float *a4 = j->axis4 + 4 * i;
     for (int a = 0; a < 2; ++a) {
+        a4[a] = v3_dot(Dm[a], in->light->axis_world[a]), a4[2 + a] = step_m[a];
         pp->dir[a][0] = ax->dir[a][0], pp->dir[a][1] = ax->dir[a][1];
         pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
         /* FSF eq. 4; one slope: no limit but the cap */
@@ -114,6 +121,70 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     }
 }
 
+/* The footprint's slope range (docs/algorithms.md 10, "FSF's biases on held-out scenes"). The
+ * windows are squares joined to the centre by a row then a column on its object; the filter's
+ * taps run along the light's screen directions, which may be diagonal, and take any pixel of
+ * the centre's plane, also one that another object separates from it on the screen (the ground
+ * behind a block). A sample whose slope the range missed is reprojected with no shear or the
+ * wrong one (a shadowed one placed on the lit light). So each pixel's range is also taken over
+ * the pixels its taps reach as the factored passes gather them: pass 1b's along dir[0] of each
+ * intermediate pixel, at its own radius (footprint_rows), then pass 2b's along dir[1]
+ * (footprint_cols), both to the shadows' grid's reach (fsf_light_grid: the taps the filter
+ * gathers) and through fsf_accept. Where that range is wider than the window's, the pixel's
+ * shear and width follow the union: the width only narrows, so the taps stay inside the
+ * footprint the range was taken over. */
+static void footprint_rows(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->in->g->width, h = j->in->g->height;
+    for (size_t i = begin; i < end; ++i) {
+        float lo = INFINITY, hi = -INFINITY;
+        const FsfPixel *pp = &j->px[i];
+        int r = j->in->usable[i] ? fsf_radius_reach(pp->sigma_px[0], j->reach_sigmas) : -1;
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        for (int t = -r; t <= r; ++t) {
+            int q = fsf_step_pixel(w, h, x, y, pp->dir[0], (float)t);
+            if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
+            lo = fminf(lo, j->wnd.own_lo[q]), hi = fmaxf(hi, j->wnd.own_hi[q]);
+        }
+        j->row_lo[i] = lo, j->row_hi[i] = hi;
+    }
+}
+
+static void footprint_cols(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    const FsfParamsIn *in = j->in;
+    int w = in->g->width, h = in->g->height;
+    for (size_t i = begin; i < end; ++i) {
+        FsfPixel *pp = &j->px[i];
+        if (!in->usable[i] || !(pp->sigma_px[0] > 0.0f || pp->sigma_px[1] > 0.0f)) continue;
+        int r = fsf_radius_reach(pp->sigma_px[1], j->reach_sigmas);
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        float lo = INFINITY, hi = -INFINITY;
+        for (int t = -r; t <= r; ++t) {
+            int q = fsf_step_pixel(w, h, x, y, pp->dir[1], (float)t);
+            if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
+            lo = fminf(lo, j->row_lo[q]), hi = fmaxf(hi, j->row_hi[q]);
+        }
+        if (!(lo <= hi)) continue; /* every sample reached is lit */
+        /* slopes are positive (d_occ < d_light): k_lo = k_hi = 0 is the window without any */
+        bool window_had = !(j->k_lo[i] == 0.0f && j->k_hi[i] == 0.0f);
+        if (window_had && lo >= j->k_lo[i] && hi <= j->k_hi[i]) continue; /* the window held them */
+        if (window_had) lo = fminf(lo, j->k_lo[i]), hi = fmaxf(hi, j->k_hi[i]);
+        j->k_lo[i] = lo, j->k_hi[i] = hi;
+        const float *a4 = j->axis4 + 4 * i;
+        int samples = sample_store_count(in->store, i);
+        for (int a = 0; a < 2; ++a) {
+            pp->eta_m[a] = 0.5f * (lo + hi) * a4[a];
+            float sigma_px = sigma_steps(in, a, hi - lo, a4[2 + a], samples);
+            pp->sigma_px[a] = sigma_px < pp->sigma_px[a] ? sigma_px : pp->sigma_px[a];
+        }
+    }
+}
+
 bool fsf_shadow_windows(const GBuffer *g, const SampleStore *st, FsfSlopeWindows *out)
 {
     /* only the centre's object: the filter takes light from no other surface */
@@ -128,7 +199,17 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     bool ok = true;
     if (in->windows) j.wnd = *in->windows;
     else ok = fsf_shadow_windows(in->g, in->store, &j.wnd);
-    if (ok) recon_parallel_for(n, params_range, &j);
+    float *scratch = ok ? malloc(sizeof(float) * n * 6) : NULL;
+    ok = ok && scratch;
+    if (ok) {
+        j.axis4 = scratch, j.row_lo = scratch + 4 * n, j.row_hi = scratch + 5 * n;
+        j.gd = fsf_guides_default(in->g->pos4, in->g->nrm4, in->usable);
+        j.reach_sigmas = fsf_light_grid(in->light).reach_sigmas;
+        recon_parallel_for(n, params_range, &j);
+        recon_parallel_for(n, footprint_rows, &j);
+        recon_parallel_for(n, footprint_cols, &j);
+    }
+    free(scratch);
     if (!in->windows) fsf_slope_windows_free(&j.wnd);
     return ok;
 }
