@@ -1,5 +1,5 @@
 /* FSF's biases on held-out scenes (issue 15, branch fsf9; docs/algorithms.md 10, "FSF's
- * biases on held-out scenes": the footprint's slope range).
+ * biases on held-out scenes": the footprint's slope range, pixels across a crease).
  *
  *   footprint  a ground plane seen so that the light's second axis runs diagonally on the
  *              screen (the world Jacobian is sheared), a band of another object (normals
@@ -10,7 +10,10 @@
  *              are all lit has lit fraction 1, an umbra pixel 0. With the footprint's range
  *              every lit pixel's factored filter gives 1 (the umbra's samples are sheared
  *              off the light; checked 3 px or more from the umbra's edge); without it (a
- *              mutant) the lit pixels below the band took the umbra's zeros unsheared. */
+ *              mutant) the lit pixels below the band took the umbra's zeros unsheared;
+ *   crease     fsf_pixel_creased: a pixel with a tenth of its samples on a face at right
+ *              angles is creased, a flat one and a curved one (normals 10 degrees apart) not.
+ */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -135,8 +138,31 @@ static void footprint(void)
     gbuffer_free(&g);
 }
 
+static void crease(void)
+{
+    GBuffer g;
+    ReconCamera cam = {0.0f, 10.0f, 0.002f};
+    CHECK(gbuffer_init(&g, 3, 1, cam));
+    /* 18 samples on a face of normal -z, 2 on its side (+x) */
+    g.sums[0].hits = 20;
+    g.sums[0].nrm_sum[0] = 2.0f, g.sums[0].nrm_sum[2] = -18.0f;
+    /* flat */
+    g.sums[1].hits = 20;
+    g.sums[1].nrm_sum[2] = 20.0f;
+    /* curved: half the samples 5 degrees each side of +z */
+    g.sums[2].hits = 20;
+    g.sums[2].nrm_sum[0] = 10.0f * sinf(0.0873f) - 10.0f * sinf(0.0873f), g.sums[2].nrm_sum[2] = 20.0f * cosf(0.0873f);
+    CHECK(fsf_pixel_creased(&g, 0));
+    CHECK(!fsf_pixel_creased(&g, 1));
+    CHECK(!fsf_pixel_creased(&g, 2));
+    g.sums[1].hits = 0; /* no hit: not a crease (the other tests leave it out) */
+    CHECK(!fsf_pixel_creased(&g, 1));
+    gbuffer_free(&g);
+}
+
 int main(void)
 {
     footprint();
+    crease();
     CHECK_DONE();
 }

@@ -426,7 +426,7 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
         int cnt = sample_store_count(st, i);
         count[i] = cnt;
         usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
-                    (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE);
+                    (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE) && !fsf_pixel_creased(m->g, i);
         if (!usable[i]) continue; /* no pass reads its samples (fsf_filter.h) */
         float scale[3];
         fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
