@@ -1,5 +1,6 @@
 /* FSF's biases on held-out scenes (issue 15, branch fsf9; docs/algorithms.md 10, "FSF's
- * biases on held-out scenes": the footprint's slope range, pixels across a crease).
+ * biases on held-out scenes": the footprint's slope range, pixels across a crease, light the
+ * store did not keep).
  *
  *   footprint  a ground plane seen so that the light's second axis runs diagonally on the
  *              screen (the world Jacobian is sheared), a band of another object (normals
@@ -12,8 +13,11 @@
  *              off the light; checked 3 px or more from the umbra's edge); without it (a
  *              mutant) the lit pixels below the band took the umbra's zeros unsheared;
  *   crease     fsf_pixel_creased: a pixel with a tenth of its samples on a face at right
- *              angles is creased, a flat one and a curved one (normals 10 degrees apart) not.
- */
+ *              angles is creased, a flat one and a curved one (normals 10 degrees apart) not;
+ *   dark       fsf_fill_dark_channels after fsf_match_pixel / fsf_scale_samples: a pixel's
+ *              stored samples always sum to count times its value (the ratio where their sum
+ *              is positive, the value itself where it is 0 and the value positive), channels
+ *              apart; a value of 0 or NaN leaves the zeros. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -160,9 +164,40 @@ static void crease(void)
     gbuffer_free(&g);
 }
 
+static void dark(void)
+{
+    enum { K = 6 };
+    float rgb[3 * K], out[3 * K];
+    /* channel 0: two lit samples; channel 1: all 0 with a positive value; channel 2: all 0 and
+     * a value of 0 */
+    for (int k = 0; k < K; ++k) {
+        rgb[3 * k] = k < 2 ? 0.5f * (float)(k + 1) : 0.0f;
+        rgb[3 * k + 1] = 0.0f, rgb[3 * k + 2] = 0.0f;
+    }
+    float value4[4] = {0.3f, 0.07f, 0.0f, 1.0f}, scale[3];
+    fsf_match_pixel(value4, rgb, K, scale);
+    CHECK(fsf_scale_samples(rgb, K, scale, out) == 0);
+    fsf_fill_dark_channels(value4, rgb, K, out);
+    for (int ch = 0; ch < 3; ++ch) {
+        double sum = 0.0;
+        for (int k = 0; k < K; ++k) sum += out[3 * k + ch];
+        CHECK_NEAR(sum, K * value4[ch], 1e-5);
+    }
+    for (int k = 0; k < K; ++k) {
+        CHECK(out[3 * k + 1] == value4[1]);          /* filled */
+        CHECK(out[3 * k + 2] == 0.0f);               /* nothing to carry */
+        CHECK(out[3 * k] == rgb[3 * k] * scale[0]);  /* the scale's, untouched */
+    }
+    float nan4[4] = {NAN, -1.0f, INFINITY, 1.0f};
+    fsf_scale_samples(rgb, K, (float[3]){0, 0, 0}, out);
+    fsf_fill_dark_channels(nan4, rgb, K, out);
+    for (int k = 0; k < K; ++k) CHECK(out[3 * k + 1] == 0.0f && out[3 * k + 2] == 0.0f);
+}
+
 int main(void)
 {
     footprint();
     crease();
+    dark();
     CHECK_DONE();
 }

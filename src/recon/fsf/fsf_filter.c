@@ -73,6 +73,17 @@ void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, fl
     }
 }
 
+void fsf_fill_dark_channels(const float *value4, const float *sample_rgb, int count, float *out)
+{
+    for (int ch = 0; ch < 3; ++ch) {
+        double sum = 0.0;
+        for (int k = 0; k < count; ++k) sum += sample_rgb[3 * (size_t)k + (size_t)ch];
+        float v = value4[ch];
+        if (sum > 0.0 || !(v > 0.0f) || !isfinite(v)) continue; /* the scale carried it, or nothing to carry */
+        for (int k = 0; k < count; ++k) out[3 * (size_t)k + (size_t)ch] = v;
+    }
+}
+
 /* A sample's channels side by side and quiet compares (isless: false for NaN, as isfinite),
  * no branch: gcc vectorises it (e % 3 per element did not; 6 ns a sample before) */
 WEDGE_VECTORISED long long fsf_scale_samples(const float *restrict sample_rgb, int count, const float scale[3],

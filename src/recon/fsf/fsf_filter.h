@@ -220,6 +220,16 @@ void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, fl
  * reports (a value cleaned up is never hidden). */
 long long fsf_scale_samples(const float *sample_rgb, int count, const float scale[3], float *out);
 
+/* After fsf_scale_samples: where one channel of a pixel's stored samples sums to 0 (or less)
+ * while its value4 is positive, the pixel's light is in samples the store did not keep (under
+ * a --spp budget pass 2 adds samples the store has no room for), fsf_match_pixel's scale is 0
+ * and the filter would drop that light. Each stored sample (out, count of them) then takes the
+ * value itself in that channel, so that a pixel's samples always sum to count times its value.
+ * Where light is rare (a wall lit by a small bright patch, most stored samples 0) the drop was a
+ * bias: 16% dark on hotspot_bounce's left wall at 16 spp (docs/algorithms.md 10, "FSF's
+ * biases on held-out scenes"). */
+void fsf_fill_dark_channels(const float *value4, const float *sample_rgb, int count, float *out);
+
 /* The y2 bin of a light coordinate (clamped into [0, y2_bins)). */
 int fsf_y2_bin(const FsfGrid *g, float y2_m);
 

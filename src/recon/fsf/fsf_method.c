@@ -440,6 +440,7 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
             y_m[2 * slot + 1] = has ? v3_dot(q, w) : 0.0f;
         }
         *nonfinite += fsf_scale_samples(dir + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
+        fsf_fill_dark_channels(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, v + i * (size_t)cap * 3);
     }
     return true;
 }
