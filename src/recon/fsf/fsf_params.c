@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/vectorise.h"
 #include "recon/fsf/fsf_screen_axes.h"
 #include "recon/fsf/fsf_slope_window.h"
 #include "recon/recon_parallel.h"
@@ -18,6 +19,8 @@ typedef struct {
     float *row_lo, *row_hi; /* the footprint's first pass: the range over each pixel's taps along dir[0] */
     FsfGuides gd;        /* the filter's neighbour test */
     float reach_sigmas;  /* the filter's taps (fsf_light_grid) */
+    int *sloped_sat;     /* (w + 1) x (h + 1) summed-area table of the pixels with a slope of their
+                          * own: a footprint whose bounding square holds none is skipped */
 } Job;
 
 float fsf_light_sigma_y_m(float half_m, int samples)
@@ -133,7 +136,41 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
  * gathers) and through fsf_accept. Where that range is wider than the window's, the pixel's
  * shear and width follow the union: the width only narrows, so the taps stay inside the
  * footprint the range was taken over. */
-static void footprint_rows(void *ctx, size_t begin, size_t end, int part)
+/* min and max without libm's calls (fminf, fmaxf): the ranges hold no NaN (fsf_slope_window.c) */
+static inline float min_f(float a, float b) { return b < a ? b : a; }
+static inline float max_f(float a, float b) { return b > a ? b : a; }
+
+static void sloped_table(Job *j)
+{
+    int w = j->in->g->width, h = j->in->g->height;
+    int *S = j->sloped_sat;
+    for (int x = 0; x <= w; ++x) S[x] = 0;
+    for (int y = 0; y < h; ++y) {
+        int run = 0, *row = S + (size_t)(y + 1) * (size_t)(w + 1), *above = row - (w + 1);
+        row[0] = 0;
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            run += j->wnd.own_lo[i] <= j->wnd.own_hi[i];
+            row[x + 1] = above[x + 1] + run;
+        }
+    }
+}
+
+/* Whether some pixel within r (Chebyshev) of (x, y) has a slope of its own: a tap t steps along
+ * a unit direction lands within |t| of its pixel on either axis. */
+static inline bool sloped_near(const Job *j, int x, int y, int r)
+{
+    int w = j->in->g->width, h = j->in->g->height;
+    int x0 = x - r < 0 ? 0 : x - r, y0 = y - r < 0 ? 0 : y - r;
+    int x1 = x + r >= w ? w - 1 : x + r, y1 = y + r >= h ? h - 1 : y + r;
+    const int *S = j->sloped_sat;
+    size_t W1 = (size_t)w + 1;
+    int sum = S[(size_t)(y1 + 1) * W1 + (size_t)(x1 + 1)] - S[(size_t)y0 * W1 + (size_t)(x1 + 1)] -
+              S[(size_t)(y1 + 1) * W1 + (size_t)x0] + S[(size_t)y0 * W1 + (size_t)x0];
+    return sum > 0;
+}
+
+static WEDGE_VECTORISED void footprint_rows(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     Job *j = ctx;
@@ -143,16 +180,17 @@ static void footprint_rows(void *ctx, size_t begin, size_t end, int part)
         const FsfPixel *pp = &j->px[i];
         int r = j->in->usable[i] ? fsf_radius_reach(pp->sigma_px[0], j->reach_sigmas) : -1;
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        if (r >= 0 && !sloped_near(j, x, y, r)) r = -1; /* no slope in reach: the empty range */
         for (int t = -r; t <= r; ++t) {
             int q = fsf_step_pixel(w, h, x, y, pp->dir[0], (float)t);
             if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
-            lo = fminf(lo, j->wnd.own_lo[q]), hi = fmaxf(hi, j->wnd.own_hi[q]);
+            lo = min_f(lo, j->wnd.own_lo[q]), hi = max_f(hi, j->wnd.own_hi[q]);
         }
         j->row_lo[i] = lo, j->row_hi[i] = hi;
     }
 }
 
-static void footprint_cols(void *ctx, size_t begin, size_t end, int part)
+static WEDGE_VECTORISED void footprint_cols(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     Job *j = ctx;
@@ -163,11 +201,13 @@ static void footprint_cols(void *ctx, size_t begin, size_t end, int part)
         if (!in->usable[i] || !(pp->sigma_px[0] > 0.0f || pp->sigma_px[1] > 0.0f)) continue;
         int r = fsf_radius_reach(pp->sigma_px[1], j->reach_sigmas);
         int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        /* the rows' taps reach at most FSF_RADIUS_CAP_PX further */
+        if (!sloped_near(j, x, y, r + FSF_RADIUS_CAP_PX)) continue;
         float lo = INFINITY, hi = -INFINITY;
         for (int t = -r; t <= r; ++t) {
             int q = fsf_step_pixel(w, h, x, y, pp->dir[1], (float)t);
             if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
-            lo = fminf(lo, j->row_lo[q]), hi = fmaxf(hi, j->row_hi[q]);
+            lo = min_f(lo, j->row_lo[q]), hi = max_f(hi, j->row_hi[q]);
         }
         if (!(lo <= hi)) continue; /* every sample reached is lit */
         /* slopes are positive (d_occ < d_light): k_lo = k_hi = 0 is the window without any */
@@ -200,9 +240,11 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     if (in->windows) j.wnd = *in->windows;
     else ok = fsf_shadow_windows(in->g, in->store, &j.wnd);
     float *scratch = ok ? malloc(sizeof(float) * n * 6) : NULL;
-    ok = ok && scratch;
+    int *sat = ok ? malloc(sizeof(int) * ((size_t)in->g->width + 1) * ((size_t)in->g->height + 1)) : NULL;
+    ok = ok && scratch && sat;
     if (ok) {
-        j.axis4 = scratch, j.row_lo = scratch + 4 * n, j.row_hi = scratch + 5 * n;
+        j.axis4 = scratch, j.row_lo = scratch + 4 * n, j.row_hi = scratch + 5 * n, j.sloped_sat = sat;
+        sloped_table(&j);
         j.gd = fsf_guides_default(in->g->pos4, in->g->nrm4, in->usable);
         j.reach_sigmas = fsf_light_grid(in->light).reach_sigmas;
         recon_parallel_for(n, params_range, &j);
@@ -210,6 +252,7 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
         recon_parallel_for(n, footprint_cols, &j);
     }
     free(scratch);
+    free(sat);
     if (!in->windows) fsf_slope_windows_free(&j.wnd);
     return ok;
 }
