@@ -11,7 +11,10 @@
  *              are all lit has lit fraction 1, an umbra pixel 0. With the footprint's range
  *              every lit pixel's factored filter gives 1 (the umbra's samples are sheared
  *              off the light; checked 3 px or more from the umbra's edge); without it (a
- *              mutant) the lit pixels below the band took the umbra's zeros unsheared;
+ *              mutant) the lit pixels below the band took the umbra's zeros unsheared. A
+ *              second umbra below the band (slope 24; the frame is run without and with it)
+ *              gives the windows there a range of their own, which the footprint must widen,
+ *              not replace or leave;
  *   crease     fsf_pixel_creased: a pixel with a tenth of its samples on a face at right
  *              angles is creased, a flat one and a curved one (normals 10 degrees apart) not;
  *   dark       fsf_fill_dark_channels after fsf_match_pixel / fsf_scale_samples: a pixel's
@@ -35,22 +38,28 @@ enum { W = 48, H = 48, L = 4, CAP = L * L };
 /* The band of the other object, and the umbra on the ground beyond it. */
 static bool in_band(int x, int y) { return x >= 20 && x <= 30 && y <= 24; }
 static bool in_umbra(int x, int y) { return x >= 31 && y >= 8 && y <= 24; }
+/* A second umbra below the band, with slope 24 (occluder at 0.4 m), which the windows below the band
+ * do see: their range is [24, 24] there, and the footprint must still add the first umbra's 49. */
+static bool second_umbra;
+static bool in_umbra2(int x, int y) { return second_umbra && x >= 22 && x <= 28 && y >= 40 && y <= 42; }
 
 /* Within 3 px of the umbra's edge the closed form above does not hold: an occluder at 0.2 m
  * under a 1 m light casts a penumbra (about 2 px here) that the synthetic umbra leaves out, and
  * the shear (0.98 and 0.69 light metres a step) rightly keeps part of the neighbours' light. */
 static bool near_umbra_edge(int x, int y)
 {
-    bool inside = in_umbra(x, y);
+    bool inside = in_umbra(x, y), inside2 = in_umbra2(x, y);
     for (int dy = -3; dy <= 3; ++dy)
         for (int dx = -3; dx <= 3; ++dx)
-            if (x + dx >= 0 && x + dx < W && y + dy >= 0 && y + dy < H && in_umbra(x + dx, y + dy) != inside)
+            if (x + dx >= 0 && x + dx < W && y + dy >= 0 && y + dy < H &&
+                (in_umbra(x + dx, y + dy) != inside || in_umbra2(x + dx, y + dy) != inside2))
                 return true;
     return false;
 }
 
-static void footprint(void)
+static void footprint(bool with_second_umbra)
 {
+    second_umbra = with_second_umbra;
     GBuffer g;
     ReconCamera cam = {0.0f, 10.0f, 0.002f};
     CHECK(gbuffer_init(&g, W, H, cam));
@@ -63,7 +72,7 @@ static void footprint(void)
     light.centre_world = v3(0.0f, 0.0f, 10.0f), light.normal_world = v3(0.0f, 0.0f, -1.0f);
     light.axis_world[0] = v3(1.0f, 0.0f, 0.0f), light.axis_world[1] = v3(0.0f, 1.0f, 0.0f);
     light.half_m[0] = light.half_m[1] = 0.5f;
-    const float umbra_d_occ = 0.2f, d_light = 10.0f; /* k = (10 - 0.2) / 0.2 = 49 */
+    const float umbra_d_occ = 0.2f, umbra2_d_occ = 0.4f, d_light = 10.0f; /* k = 49 and 24 */
     size_t n = (size_t)W * (size_t)H;
     unsigned char *usable = malloc(n);
     float *y = malloc(sizeof(float) * 2 * n * CAP), *v = malloc(sizeof(float) * 3 * n * CAP);
@@ -71,7 +80,7 @@ static void footprint(void)
     for (int py = 0; py < H; ++py)
         for (int px = 0; px < W; ++px) {
             size_t i = (size_t)py * W + (size_t)px;
-            bool band = in_band(px, py), umbra = in_umbra(px, py);
+            bool band = in_band(px, py), umbra = in_umbra(px, py), umbra2 = in_umbra2(px, py);
             /* the ground: one world step (0.02, 0) per pixel along x and (0.02, 0.02) along y,
              * so that light axis v's screen image is the diagonal (-1, 1) / sqrt 2 */
             vec3 p = band ? v3(0.02f * (float)(px + py), 0.02f * (float)py, 1.0f)
@@ -95,10 +104,10 @@ static void footprint(void)
                     r.shadow_count = 1;
                     r.shadow[0].light_p_world = v3(y1, y2, 10.0f);
                     r.shadow[0].d_light_world = d_light;
-                    r.shadow[0].d_occluder_world = umbra ? umbra_d_occ : INFINITY;
+                    r.shadow[0].d_occluder_world = umbra ? umbra_d_occ : umbra2 ? umbra2_d_occ : INFINITY;
                     sample_store_add(st, px, py, &r);
                     y[2 * slot] = y1, y[2 * slot + 1] = y2;
-                    for (int ch = 0; ch < 3; ++ch) v[3 * slot + (size_t)ch] = umbra ? 0.0f : 1.0f;
+                    for (int ch = 0; ch < 3; ++ch) v[3 * slot + (size_t)ch] = umbra || umbra2 ? 0.0f : 1.0f;
                 }
         }
     FsfPixel *px = malloc(sizeof(FsfPixel) * n);
@@ -110,7 +119,8 @@ static void footprint(void)
     size_t c = 30 * W + 25;
     CHECK_NEAR(fabsf(px[c].dir[1][0]), sqrtf(0.5f), 1e-3);
     CHECK_NEAR(fabsf(px[c].dir[1][1]), sqrtf(0.5f), 1e-3);
-    CHECK_NEAR(k_hi[c], 49.0f, 1e-3);
+    CHECK_NEAR(k_lo[c], second_umbra ? 24.0f : 49.0f, 1e-3); /* the window's, if any */
+    CHECK_NEAR(k_hi[c], 49.0f, 1e-3);                          /* the footprint's */
     FsfSamples s = {W, H, CAP, count, y, v};
     FsfGrid grid = fsf_light_grid(&light);
     FsfGuides gd = fsf_guides_default(g.pos4, g.nrm4, usable);
@@ -123,14 +133,14 @@ static void footprint(void)
         for (int qx = 0; qx < W; ++qx) {
             size_t i = (size_t)py * W + (size_t)qx;
             if (in_band(qx, py) || near_umbra_edge(qx, py)) continue;
-            double want = in_umbra(qx, py) ? 0.0 : 1.0;
+            double want = in_umbra(qx, py) || in_umbra2(qx, py) ? 0.0 : 1.0;
             filtered += px[i].sigma_px[0] > 0.0f && px[i].sigma_px[1] > 0.0f;
             double eb = fabs(brute[4 * i] / brute[4 * i + 3] - want), ef = fabs(fact[4 * i] / fact[4 * i + 3] - want);
             worst_brute = eb > worst_brute ? eb : worst_brute;
             worst_fact = ef > worst_fact ? ef : worst_fact;
         }
-    fprintf(stderr, "footprint: %d ground pixels filtered; worst error against the closed form: oracle %.3g, "
-                    "factored %.3g\n", filtered, worst_brute, worst_fact);
+    fprintf(stderr, "footprint (%s umbra): %d ground pixels filtered; worst error against the closed form: "
+                    "oracle %.3g, factored %.3g\n", second_umbra ? "second" : "one", filtered, worst_brute, worst_fact);
     CHECK(filtered > W * H / 2); /* the lit ground is filtered, not left out */
     /* the range is the factored passes' footprint (pass 2b's taps, then each one's pass 1b,
      * what the host passes and the kernels gather): exact there. The oracle rounds t1 dir1 +
@@ -196,7 +206,8 @@ static void dark(void)
 
 int main(void)
 {
-    footprint();
+    footprint(false);
+    footprint(true);
     crease();
     dark();
     CHECK_DONE();
