@@ -82,6 +82,7 @@ bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *va
             else y[2 * slot] = y[2 * slot + 1] = 0.0f;
         }
         *nonfinite += fsf_scale_samples(ind + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
+        fsf_fill_dark_channels(value4 + 4 * i, ind + i * (size_t)cap * 3, cnt, v + i * (size_t)cap * 3);
     }
     return true;
 }

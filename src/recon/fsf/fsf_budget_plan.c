@@ -63,13 +63,13 @@ bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *li
     /* as fsf_method.c's gather, without the demodulated value (not known before compositing):
      * a pixel whose samples are all dark is filtered there but is no less noisy here */
     for (size_t i = 0; i < n; ++i)
-        p->usable[i] = sample_store_count(st, i) > 0 && g->hit[i] && !g->mixed[i];
+        p->usable[i] = sample_store_count(st, i) > 0 && g->hit[i] && !g->mixed[i] && !fsf_pixel_creased(g, i);
     FsfParamsIn in = {g, st, light, p->usable, mu, windows};
     bool ok = fsf_pixel_params(&in, p->px, p->k_lo, p->k_hi);
     for (size_t i = 0; ok && i < n; ++i) {
         /* a surface the filter passes through: mixed (several surfaces), or most of its light
          * from another emitter */
-        bool left = g->mixed[i] || (share && !(share[i] >= FSF_MIN_LIGHT_SHARE));
+        bool left = g->mixed[i] || (share && !(share[i] >= FSF_MIN_LIGHT_SHARE)) || !p->usable[i];
         if (sample_store_count(st, i) > 0 && g->hit[i])
             area_px[i] = fminf(area_px[i], left ? 0.0f : fsf_pixel_area_px(&p->px[i]));
     }

@@ -40,7 +40,7 @@ FsfGuides fsf_guides_default(const float *pos4, const float *nrm4, const unsigne
     gd.pos4 = pos4;
     gd.nrm4 = nrm4;
     gd.usable = usable;
-    gd.cos_normal_min = 0.96592583f; /* cos 15 deg, as the AAF filters (papers: 10-20 deg) */
+    gd.cos_normal_min = FSF_NEIGHBOUR_COS_MIN;
     gd.plane_tol_rel = 0.05f;
     gd.geo = NULL;
     return gd;
@@ -73,6 +73,17 @@ void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, fl
     }
 }
 
+void fsf_fill_dark_channels(const float *value4, const float *sample_rgb, int count, float *out)
+{
+    for (int ch = 0; ch < 3; ++ch) {
+        double sum = 0.0;
+        for (int k = 0; k < count; ++k) sum += sample_rgb[3 * (size_t)k + (size_t)ch];
+        float v = value4[ch];
+        if (sum > 0.0 || !(v > 0.0f) || !isfinite(v)) continue; /* the scale carried it, or nothing to carry */
+        for (int k = 0; k < count; ++k) out[3 * (size_t)k + (size_t)ch] = v;
+    }
+}
+
 /* A sample's channels side by side and quiet compares (isless: false for NaN, as isfinite),
  * no branch: gcc vectorises it (e % 3 per element did not; 6 ns a sample before) */
 WEDGE_VECTORISED long long fsf_scale_samples(const float *restrict sample_rgb, int count, const float scale[3],
@@ -96,26 +107,6 @@ static float node_step(const FsfGrid *g, int a) { return 4.0f * g->half_m[a] / (
 
 /* The box profile along axis a (the uniform light; the lens' equal-variance square). */
 static inline float box(const FsfGrid *g, int a, float y) { return fabsf(y) <= g->profile_half[a] ? 1.0f : 0.0f; }
-
-/* May centre pixel p take light from pixel q? */
-static bool accept(const FsfGuides *gd, int w, int p, int q)
-{
-    (void)w;
-    if (!gd->usable[q]) return false;
-    if (q == p || !gd->nrm4) return true; /* no guides: every usable neighbour */
-    const float *np = gd->nrm4 + 4 * (size_t)p, *nq = gd->nrm4 + 4 * (size_t)q;
-    if (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < gd->cos_normal_min) return false;
-    const float *pp = gd->pos4 + 4 * (size_t)p, *pq = gd->pos4 + 4 * (size_t)q;
-    float off = np[0] * (pq[0] - pp[0]) + np[1] * (pq[1] - pp[1]) + np[2] * (pq[2] - pp[2]);
-    return fabsf(off) <= gd->plane_tol_rel * pp[3];
-}
-
-/* The pixel t steps from (x, y) along dir, rounded to the nearest; -1 outside the image. */
-static inline int step_pixel(int w, int h, int x, int y, const float dir[2], float t)
-{
-    int qx = x + (int)floorf(t * dir[0] + 0.5f), qy = y + (int)floorf(t * dir[1] + 0.5f);
-    return (qx < 0 || qy < 0 || qx >= w || qy >= h) ? -1 : qy * w + qx;
-}
 
 static inline float gauss(float t, float sigma) { return sigma > 0.0f ? expf(-0.5f * t * t / (sigma * sigma)) : 1.0f; }
 
@@ -214,7 +205,7 @@ static void brute_range(void *ctx, size_t begin, size_t end, int part)
                 int qx = x + (int)floorf(fx + 0.5f), qy = y + (int)floorf(fy + 0.5f);
                 if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
                 int q = qy * w + qx;
-                if (!accept(j->gd, w, (int)i, q)) continue;
+                if (!fsf_accept(j->gd, (int)i, q)) continue;
                 float wx = w2 * gauss((float)t1, pp->sigma_px[0]);
                 for (int k = 0; k < s->count[q]; ++k) {
                     size_t slot = (size_t)q * (size_t)s->capacity + (size_t)k;
@@ -308,8 +299,8 @@ void fsf_taps(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, int wid
             FsfTap *o = &ti[t + FSF_RADIUS_CAP_PX];
             o->node = -1, o->a0 = o->a1 = 0.0f;
             if (t < -r || t > r) continue;
-            int q = step_pixel(width, height, x, y, pp->dir[axis], (float)t);
-            if (q < 0 || (t != 0 && !accept(gd, width, (int)i, q))) continue;
+            int q = fsf_step_pixel(width, height, x, y, pp->dir[axis], (float)t);
+            if (q < 0 || (t != 0 && !fsf_accept(gd, (int)i, q))) continue;
             /* the shift Y = eta (x - x') = -eta t, between grid nodes j0 and j0 + 1 */
             float f = -pp->eta_m[axis] * (float)t * inv_dY + mid;
             if (!(f >= 0.0f && f <= (float)(J - 1))) continue;

@@ -35,6 +35,7 @@
 #ifndef WEDGE_RECON_FSF_FILTER_H
 #define WEDGE_RECON_FSF_FILTER_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -109,6 +110,31 @@ typedef struct {
                                 * reprojected light point; needs pos4 and nrm4. NULL: none (the
                                 * lens, indirect light; fsf_guides_default) */
 } FsfGuides;
+
+/* The guides' neighbour angle (fsf_guides_default): cos 15 deg, as the AAF filters' (papers:
+ * 10-20 deg). */
+#define FSF_NEIGHBOUR_COS_MIN 0.96592583f
+
+/* May centre pixel p take light from pixel q (usable, and unless the guides are NULL, its
+ * normal within the guides' angle and its mean position within the tolerance of p's tangent
+ * plane)? The filter's taps, the oracle's and the footprint's slope range (fsf_params.c). */
+static inline bool fsf_accept(const FsfGuides *gd, int p, int q)
+{
+    if (!gd->usable[q]) return false;
+    if (q == p || !gd->nrm4) return true; /* no guides: every usable neighbour */
+    const float *np = gd->nrm4 + 4 * (size_t)p, *nq = gd->nrm4 + 4 * (size_t)q;
+    if (np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < gd->cos_normal_min) return false;
+    const float *pp = gd->pos4 + 4 * (size_t)p, *pq = gd->pos4 + 4 * (size_t)q;
+    float off = np[0] * (pq[0] - pp[0]) + np[1] * (pq[1] - pp[1]) + np[2] * (pq[2] - pp[2]);
+    return fabsf(off) <= gd->plane_tol_rel * pp[3];
+}
+
+/* The pixel t steps from (x, y) along dir, rounded to the nearest; -1 outside the image. */
+static inline int fsf_step_pixel(int w, int h, int x, int y, const float dir[2], float t)
+{
+    int qx = x + (int)floorf(t * dir[0] + 0.5f), qy = y + (int)floorf(t * dir[1] + 0.5f);
+    return (qx < 0 || qy < 0 || qx >= w || qy >= h) ? -1 : qy * w + qx;
+}
 
 /* The paper's grid (17 shift nodes, 16 y2 bins) over half extents u, v; fsf_grid_nodes with
  * another odd count of nodes (3 .. FSF_MAX_Y2_BINS + 1). */
@@ -193,6 +219,16 @@ void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, fl
  * product that is not finite is written as 0 and counted: the return value, which the method
  * reports (a value cleaned up is never hidden). */
 long long fsf_scale_samples(const float *sample_rgb, int count, const float scale[3], float *out);
+
+/* After fsf_scale_samples: where one channel of a pixel's stored samples sums to 0 (or less)
+ * while its value4 is positive, the pixel's light is in samples the store did not keep (under
+ * a --spp budget pass 2 adds samples the store has no room for), fsf_match_pixel's scale is 0
+ * and the filter would drop that light. Each stored sample (out, count of them) then takes the
+ * value itself in that channel, so that a pixel's samples always sum to count times its value.
+ * Where light is rare (a wall lit by a small bright patch, most stored samples 0) the drop was a
+ * bias: 16% dark on hotspot_bounce's left wall at 16 spp (docs/algorithms.md 10, "FSF's
+ * biases on held-out scenes"). */
+void fsf_fill_dark_channels(const float *value4, const float *sample_rgb, int count, float *out);
 
 /* The y2 bin of a light coordinate (clamped into [0, y2_bins)). */
 int fsf_y2_bin(const FsfGrid *g, float y2_m);

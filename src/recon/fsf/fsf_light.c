@@ -16,6 +16,15 @@ FsfGrid fsf_light_grid(const FsfLight *l)
     return g;
 }
 
+bool fsf_pixel_creased(const GBuffer *g, size_t i)
+{
+    const GBufferSums *s = &g->sums[i];
+    if (s->hits <= 0) return false;
+    float len2 = s->nrm_sum[0] * s->nrm_sum[0] + s->nrm_sum[1] * s->nrm_sum[1] + s->nrm_sum[2] * s->nrm_sum[2];
+    float limit = FSF_CREASE_MEAN_NORMAL * (float)s->hits;
+    return len2 < limit * limit;
+}
+
 float fsf_light_power_share(const Renderer *r)
 {
     FsfLight light;

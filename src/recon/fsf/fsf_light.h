@@ -14,6 +14,7 @@
 #include "core/diag.h"
 #include "core/vec.h"
 #include "recon/fsf/fsf_filter.h"
+#include "recon/gbuffer.h"
 #include "render/renderer.h"
 
 typedef struct {
@@ -39,6 +40,20 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d);
  * least this share of its unoccluded irradiance comes from FSF's light. Below it the pixel
  * keeps its Monte Carlo mean and is nobody's neighbour. */
 #define FSF_MIN_LIGHT_SHARE 0.9f
+
+/* Whether pixel i's samples saw a crease of one object (its mean shading normal, the sum of
+ * its samples' unit normals over their count, shorter than FSF_CREASE_MEAN_NORMAL): the
+ * filter divides the pixel's light by r(x) at its unit mean normal, but the light of a pixel
+ * across a crease is the mean of each face's own, which r(x) does not give (a polygon's
+ * irradiance is linear in the normal while the whole light is above both faces: the mean
+ * normal's length is then the ratio; a face that sees the light below its horizon adds zeros
+ * r(x) knows nothing of). Its demodulated value is off its neighbours' lit fraction (9% above
+ * it in the one-pixel column where scale_range's block turns from its lit front to its unlit
+ * side), and the filter's average of the two is biased. Such a pixel keeps its Monte Carlo
+ * mean and is nobody's neighbour, as a mixed one (docs/algorithms.md 10, "FSF's biases on
+ * held-out scenes"). */
+#define FSF_CREASE_MEAN_NORMAL FSF_NEIGHBOUR_COS_MIN /* the guides' neighbour angle */
+bool fsf_pixel_creased(const GBuffer *g, size_t i);
 
 /* The share of the scene's emitted power (luminance times area) that FSF's light (the
  * brightest triangle emitter) has among the area lights; 0 when the scene also has a light of

@@ -426,7 +426,7 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
         int cnt = sample_store_count(st, i);
         count[i] = cnt;
         usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
-                    (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE);
+                    (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE) && !fsf_pixel_creased(m->g, i);
         if (!usable[i]) continue; /* no pass reads its samples (fsf_filter.h) */
         float scale[3];
         fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
@@ -440,6 +440,7 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
             y_m[2 * slot + 1] = has ? v3_dot(q, w) : 0.0f;
         }
         *nonfinite += fsf_scale_samples(dir + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
+        fsf_fill_dark_channels(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, v + i * (size_t)cap * 3);
     }
     return true;
 }

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/vectorise.h"
 #include "recon/fsf/fsf_screen_axes.h"
 #include "recon/fsf/fsf_slope_window.h"
 #include "recon/recon_parallel.h"
@@ -13,6 +14,13 @@ typedef struct {
     FsfSlopeWindows wnd;
     FsfPixel *px;
     float *k_lo, *k_hi;
+    float *axis4;        /* per pixel: receiver metres per step along each light axis (the shear
+                          * per unit slope) and the metres of a step (the width's divisor) */
+    float *row_lo, *row_hi; /* the footprint's first pass: the range over each pixel's taps along dir[0] */
+    FsfGuides gd;        /* the filter's neighbour test */
+    float reach_sigmas;  /* the filter's taps (fsf_light_grid) */
+    int *sloped_sat;     /* (w + 1) x (h + 1) summed-area table of the pixels with a slope of their
+                          * own: a footprint whose bounding square holds none is skipped */
 } Job;
 
 float fsf_light_sigma_y_m(float half_m, int samples)
@@ -73,7 +81,9 @@ static void pixel_params(Job *j, size_t i, const FsfScreenAxes *ax)
     bool known = lo <= hi;
     float k_mean = known ? 0.5f * (lo + hi) : 0.0f, spread = known ? hi - lo : 0.0f;
     if (known) j->k_lo[i] = lo, j->k_hi[i] = hi;
+    float *a4 = j->axis4 + 4 * i;
     for (int a = 0; a < 2; ++a) {
+        a4[a] = v3_dot(Dm[a], in->light->axis_world[a]), a4[2 + a] = step_m[a];
         pp->dir[a][0] = ax->dir[a][0], pp->dir[a][1] = ax->dir[a][1];
         pp->eta_m[a] = k_mean * v3_dot(Dm[a], in->light->axis_world[a]);
         /* FSF eq. 4; one slope: no limit but the cap */
@@ -114,6 +124,107 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
     }
 }
 
+/* The footprint's slope range (docs/algorithms.md 10, "FSF's biases on held-out scenes"). The
+ * windows are squares joined to the centre by a row then a column on its object; the filter's
+ * taps run along the light's screen directions, which may be diagonal, and take any pixel of
+ * the centre's plane, also one that another object separates from it on the screen (the ground
+ * behind a block). A sample whose slope the range missed is reprojected with no shear or the
+ * wrong one (a shadowed one placed on the lit light). So each pixel's range is also taken over
+ * the pixels its taps reach as the factored passes gather them: pass 1b's along dir[0] of each
+ * intermediate pixel, at its own radius (footprint_rows), then pass 2b's along dir[1]
+ * (footprint_cols), both to the shadows' grid's reach (fsf_light_grid: the taps the filter
+ * gathers) and through fsf_accept. Where that range is wider than the window's, the pixel's
+ * shear and width follow the union: the width only narrows, so the taps stay inside the
+ * footprint the range was taken over. */
+/* min and max without libm's calls (fminf, fmaxf): the ranges hold no NaN (fsf_slope_window.c) */
+static inline float min_f(float a, float b) { return b < a ? b : a; }
+static inline float max_f(float a, float b) { return b > a ? b : a; }
+
+static void sloped_table(Job *j)
+{
+    int w = j->in->g->width, h = j->in->g->height;
+    int *S = j->sloped_sat;
+    for (int x = 0; x <= w; ++x) S[x] = 0;
+    for (int y = 0; y < h; ++y) {
+        int run = 0, *row = S + (size_t)(y + 1) * (size_t)(w + 1), *above = row - (w + 1);
+        row[0] = 0;
+        for (int x = 0; x < w; ++x) {
+            size_t i = (size_t)y * (size_t)w + (size_t)x;
+            run += j->wnd.own_lo[i] <= j->wnd.own_hi[i];
+            row[x + 1] = above[x + 1] + run;
+        }
+    }
+}
+
+/* Whether some pixel within r (Chebyshev) of (x, y) has a slope of its own: a tap t steps along
+ * a unit direction lands within |t| of its pixel on either axis. */
+static inline bool sloped_near(const Job *j, int x, int y, int r)
+{
+    int w = j->in->g->width, h = j->in->g->height;
+    int x0 = x - r < 0 ? 0 : x - r, y0 = y - r < 0 ? 0 : y - r;
+    int x1 = x + r >= w ? w - 1 : x + r, y1 = y + r >= h ? h - 1 : y + r;
+    const int *S = j->sloped_sat;
+    size_t W1 = (size_t)w + 1;
+    int sum = S[(size_t)(y1 + 1) * W1 + (size_t)(x1 + 1)] - S[(size_t)y0 * W1 + (size_t)(x1 + 1)] -
+              S[(size_t)(y1 + 1) * W1 + (size_t)x0] + S[(size_t)y0 * W1 + (size_t)x0];
+    return sum > 0;
+}
+
+static WEDGE_VECTORISED void footprint_rows(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    int w = j->in->g->width, h = j->in->g->height;
+    for (size_t i = begin; i < end; ++i) {
+        float lo = INFINITY, hi = -INFINITY;
+        const FsfPixel *pp = &j->px[i];
+        int r = j->in->usable[i] ? fsf_radius_reach(pp->sigma_px[0], j->reach_sigmas) : -1;
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        if (r >= 0 && !sloped_near(j, x, y, r)) r = -1; /* no slope in reach: the empty range */
+        for (int t = -r; t <= r; ++t) {
+            int q = fsf_step_pixel(w, h, x, y, pp->dir[0], (float)t);
+            if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
+            lo = min_f(lo, j->wnd.own_lo[q]), hi = max_f(hi, j->wnd.own_hi[q]);
+        }
+        j->row_lo[i] = lo, j->row_hi[i] = hi;
+    }
+}
+
+static WEDGE_VECTORISED void footprint_cols(void *ctx, size_t begin, size_t end, int part)
+{
+    (void)part;
+    Job *j = ctx;
+    const FsfParamsIn *in = j->in;
+    int w = in->g->width, h = in->g->height;
+    for (size_t i = begin; i < end; ++i) {
+        FsfPixel *pp = &j->px[i];
+        if (!in->usable[i] || !(pp->sigma_px[0] > 0.0f || pp->sigma_px[1] > 0.0f)) continue;
+        int r = fsf_radius_reach(pp->sigma_px[1], j->reach_sigmas);
+        int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        /* the rows' taps reach at most FSF_RADIUS_CAP_PX further */
+        if (!sloped_near(j, x, y, r + FSF_RADIUS_CAP_PX)) continue;
+        float lo = INFINITY, hi = -INFINITY;
+        for (int t = -r; t <= r; ++t) {
+            int q = fsf_step_pixel(w, h, x, y, pp->dir[1], (float)t);
+            if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
+            lo = min_f(lo, j->row_lo[q]), hi = max_f(hi, j->row_hi[q]);
+        }
+        if (!(lo <= hi)) continue; /* every sample reached is lit */
+        /* slopes are positive (d_occ < d_light): k_lo = k_hi = 0 is the window without any */
+        bool window_had = !(j->k_lo[i] == 0.0f && j->k_hi[i] == 0.0f);
+        if (window_had && lo >= j->k_lo[i] && hi <= j->k_hi[i]) continue; /* the window held them */
+        if (window_had) lo = fminf(lo, j->k_lo[i]), hi = fmaxf(hi, j->k_hi[i]);
+        j->k_lo[i] = lo, j->k_hi[i] = hi;
+        const float *a4 = j->axis4 + 4 * i;
+        int samples = sample_store_count(in->store, i);
+        for (int a = 0; a < 2; ++a) {
+            pp->eta_m[a] = 0.5f * (lo + hi) * a4[a];
+            float sigma_px = sigma_steps(in, a, hi - lo, a4[2 + a], samples);
+            pp->sigma_px[a] = sigma_px < pp->sigma_px[a] ? sigma_px : pp->sigma_px[a];
+        }
+    }
+}
+
 bool fsf_shadow_windows(const GBuffer *g, const SampleStore *st, FsfSlopeWindows *out)
 {
     /* only the centre's object: the filter takes light from no other surface */
@@ -128,7 +239,20 @@ bool fsf_pixel_params(const FsfParamsIn *in, FsfPixel *px, float *k_lo, float *k
     bool ok = true;
     if (in->windows) j.wnd = *in->windows;
     else ok = fsf_shadow_windows(in->g, in->store, &j.wnd);
-    if (ok) recon_parallel_for(n, params_range, &j);
+    float *scratch = ok ? malloc(sizeof(float) * n * 6) : NULL;
+    int *sat = ok ? malloc(sizeof(int) * ((size_t)in->g->width + 1) * ((size_t)in->g->height + 1)) : NULL;
+    ok = ok && scratch && sat;
+    if (ok) {
+        j.axis4 = scratch, j.row_lo = scratch + 4 * n, j.row_hi = scratch + 5 * n, j.sloped_sat = sat;
+        sloped_table(&j);
+        j.gd = fsf_guides_default(in->g->pos4, in->g->nrm4, in->usable);
+        j.reach_sigmas = fsf_light_grid(in->light).reach_sigmas;
+        recon_parallel_for(n, params_range, &j);
+        recon_parallel_for(n, footprint_rows, &j);
+        recon_parallel_for(n, footprint_cols, &j);
+    }
+    free(scratch);
+    free(sat);
     if (!in->windows) fsf_slope_windows_free(&j.wnd);
     return ok;
 }

@@ -122,6 +122,7 @@ bool fsf_slope_windows(const SampleStore *st, int width, int height, float (*slo
     if (!out->block) return false;
     for (int l = 0; l < FSF_LEVELS; ++l) out->lo[l] = out->block + 2 * (size_t)l * n, out->hi[l] = out->lo[l] + n;
     float *own_lo = out->block + (2 * FSF_LEVELS + 2) * n, *own_hi = own_lo + n;
+    out->own_lo = own_lo, out->own_hi = own_hi;
     OwnJob oj = {st, slope, ctx, own_lo, own_hi};
     recon_parallel_for(n, own_range, &oj);
     Job j = {width, height, 0, own_lo, own_hi, obj, out->block + 2 * FSF_LEVELS * n, out->block + (2 * FSF_LEVELS + 1) * n,

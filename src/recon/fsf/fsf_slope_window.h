@@ -20,6 +20,7 @@ extern const int FSF_LEVEL_RADIUS_PX[FSF_LEVELS];
 
 typedef struct {
     float *lo[FSF_LEVELS], *hi[FSF_LEVELS]; /* per level and pixel (+inf, -inf: no slope) */
+    const float *own_lo, *own_hi;           /* per pixel, over its own samples (the windows' input) */
     float *block;
 } FsfSlopeWindows;
 
