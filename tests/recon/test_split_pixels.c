@@ -67,7 +67,7 @@ static void add(GBuffer *g, int px, const SampleRecord *r)
     f->spp[px] += 1.0f;
 }
 
-/* A row of `count` pixels, SAMPLES each, on A with probability P_A (rng); sums per pixel of
+/* A row of `count` pixels, SAMPLES each, on A with probability P_A (pcg32 from seed); sums per pixel of
  * each surface's samples and their direct light kept for the brute force. */
 typedef struct {
     int n_first;                  /* samples on the first sample's surface */
@@ -76,8 +76,10 @@ typedef struct {
     bool first_is_a;
 } PixelTruth;
 
-static bool make_row(GBuffer *g, int count, bool track, bool turned, Pcg32 *rng, PixelTruth *truth)
+static bool make_row(GBuffer *g, int count, bool track, bool turned, uint64_t seed, PixelTruth *truth)
 {
+    Pcg32 rng_state, *rng = &rng_state;
+    pcg32_seed(rng, seed, 0);
     ReconCamera cam = {0.0f, 1.0f, 0.001f};
     if (!gbuffer_init(g, count, 1, cam)) return false;
     if (!gbuffer_track_split(g, track, false)) return false;
@@ -104,11 +106,9 @@ static bool make_row(GBuffer *g, int count, bool track, bool turned, Pcg32 *rng,
 static void test_split_sums_and_guides(void)
 {
     enum { COUNT = 64 };
-    Pcg32 rng;
-    pcg32_seed(&rng, 11, 0);
     PixelTruth truth[COUNT];
     GBuffer g;
-    CHECK(make_row(&g, COUNT, true, false, &rng, truth));
+    CHECK(make_row(&g, COUNT, true, false, 11, truth));
     int split = 0;
     for (int px = 0; px < COUNT; ++px) {
         const PixelTruth *t = &truth[px];
@@ -144,24 +144,15 @@ static void test_split_sums_and_guides(void)
     gbuffer_free(&g);
 }
 
-/* The composite's value per pixel after a "filter" that sets each usable pixel to value(px). */
-static void composite_with(const GBuffer *g, int count, const float *filtered4, float *rgb)
-{
-    composite_image(g, NULL, filtered4, NULL, rgb, NULL);
-    (void)count;
-}
-
 static void test_identity_filter_keeps_the_mean(void)
 {
     enum { COUNT = 64 };
-    Pcg32 rng;
-    pcg32_seed(&rng, 12, 0);
     PixelTruth truth[COUNT];
     GBuffer g;
-    CHECK(make_row(&g, COUNT, true, false, &rng, truth));
+    CHECK(make_row(&g, COUNT, true, false, 12, truth));
     float value4[4 * COUNT], rgb[3 * COUNT];
     composite_prepare(&g, NULL, 0.0f, value4, NULL);
-    composite_with(&g, COUNT, value4, rgb);
+    composite_image(&g, NULL, value4, NULL, rgb, NULL);
     for (int px = 0; px < COUNT; ++px)
         for (int k = 0; k < 3; ++k) CHECK_NEAR(rgb[3 * px + k], truth[px].mean[k], 2e-5 * (1.0 + truth[px].mean[k]));
     gbuffer_free(&g);
@@ -170,12 +161,10 @@ static void test_identity_filter_keeps_the_mean(void)
 static void test_expected_value_with_an_unbiased_filter(void)
 {
     enum { COUNT = 20000 };
-    Pcg32 rng;
-    pcg32_seed(&rng, 13, 0);
     PixelTruth *truth = malloc(COUNT * sizeof *truth);
     float *value4 = malloc(4 * COUNT * sizeof(float)), *rgb = malloc(3 * COUNT * sizeof(float));
     GBuffer g;
-    CHECK(truth && value4 && rgb && make_row(&g, COUNT, true, false, &rng, truth));
+    CHECK(truth && value4 && rgb && make_row(&g, COUNT, true, false, 13, truth));
     if (!truth || !value4 || !rgb || !g.sums) return;
     composite_prepare(&g, NULL, 0.0f, value4, NULL);
     /* the filter's output: the first surface's expected demodulated light (its irradiance);
@@ -185,7 +174,7 @@ static void test_expected_value_with_an_unbiased_filter(void)
         float e = truth[px].first_is_a ? LIGHT_A : LIGHT_B;
         value4[4 * px + 0] = value4[4 * px + 1] = value4[4 * px + 2] = e;
     }
-    composite_with(&g, COUNT, value4, rgb);
+    composite_image(&g, NULL, value4, NULL, rgb, NULL);
     double sum[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
     for (int px = 0; px < COUNT; ++px)
         for (int k = 0; k < 3; ++k) sum[k] += rgb[3 * px + k], sq[k] += (double)rgb[3 * px + k] * rgb[3 * px + k];
@@ -210,12 +199,10 @@ static void test_not_split(void)
     enum { COUNT = 32 };
     PixelTruth truth[COUNT];
     for (int turned = 0; turned < 2; ++turned) {
-        Pcg32 rng;
-        pcg32_seed(&rng, 14, 0);
         GBuffer g;
         /* turned: the second "surface" is object 1 facing another way (the first surface's
          * normals disagree); else a frame that tracks nothing */
-        CHECK(make_row(&g, COUNT, turned, turned, &rng, truth));
+        CHECK(make_row(&g, COUNT, turned, turned, 14, truth));
         float value4[4 * COUNT], rgb[3 * COUNT];
         composite_prepare(&g, NULL, 0.0f, value4, NULL);
         for (int px = 0; px < COUNT; ++px) {
@@ -223,7 +210,7 @@ static void test_not_split(void)
             if (g.mixed[px]) CHECK(value4[4 * px + 3] == 0.0f); /* passed through */
             for (int k = 0; k < 3 && !turned; ++k) CHECK(g.spos4 == g.pos4);
         }
-        composite_with(&g, COUNT, value4, rgb);
+        composite_image(&g, NULL, value4, NULL, rgb, NULL);
         for (int px = 0; px < COUNT; ++px)
             if (g.mixed[px])
                 for (int k = 0; k < 3; ++k) CHECK_NEAR(rgb[3 * px + k], truth[px].mean[k], 2e-5 * (1.0 + truth[px].mean[k]));
