@@ -30,6 +30,41 @@ static inline void demodulate_pixel(const float rad[3], const float a[3], float 
     value4[3] = ok ? 1.0f : 0.0f;
 }
 
+/* A split pixel's first surface demodulated (gbuffer.h, docs/algorithms.md "Mixed pixels: the
+ * first surface filtered"): the mean of its filterable light over its samples, divided by their
+ * mean albedo times factor, into value4 flagged usable; false (value4 untouched) where that is
+ * not stable (albedo black, factor at or below its minimum, a non-finite value), and the pixel
+ * is then passed through whole as before. */
+static bool demodulate_first_surface(const GBuffer *g, size_t i, bool direct, float factor, bool factor_ok, float *value4)
+{
+    float count, light[3], albedo[3], v[3];
+    if (!factor_ok) return false;
+    gbuffer_first_surface_sums(g, i, direct, &count, light, albedo);
+    for (int k = 0; k < 3; ++k) {
+        /* the means' ratio: light / count over (albedo / count) factor */
+        if (!(albedo[k] > MIN_ALBEDO * count)) return false;
+        v[k] = light[k] / (albedo[k] * factor);
+        if (!isfinite(v[k])) return false;
+    }
+    for (int k = 0; k < 3; ++k) value4[k] = v[k];
+    value4[3] = 1.0f;
+    return true;
+}
+
+void composite_split_light(const GBuffer *g, size_t i, bool direct, const float *value4, float factor, float out[3])
+{
+    float count, light[3], albedo[3];
+    gbuffer_first_surface_sums(g, i, direct, &count, light, albedo);
+    const GBufferOtherSums *o = &g->others[i];
+    const float *o_light = direct ? o->direct_sum : o->indirect_sum;
+    float spp = g->frame.spp[i], share = g->split_share[i];
+    for (int k = 0; k < 3; ++k) {
+        /* share x (the first surface's mean albedo x factor x filtered value) + the others' sum / spp */
+        float v = share * (albedo[k] / count) * factor * value4[k] + o_light[k] / spp;
+        out[k] = isfinite(v) ? v : 0.0f;
+    }
+}
+
 typedef struct {
     const GBuffer *g;
     const float *factor;          /* direct light's extra factor (NULL: 1) */
@@ -63,13 +98,16 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
             ind[k] -= ui[k];
         }
         bool surface = g->hit[i] && !g->mixed[i];
+        bool split = g->split_share && g->split_share[i] > 0.0f;
         if (pp->value_direct4) {
             float sh = pp->factor ? pp->factor[i] : 1.0f;
             /* the diffuse lobe's direct light over the diffuse albedo (gbuffer.h): the glossy
              * lobes' is in ud, taken out above */
-            demodulate_pixel(dir, ad, sh, surface && sh > pp->factor_min, pp->value_direct4 + 4 * i);
+            if (!(split && g->split_direct && demodulate_first_surface(g, i, true, sh, sh > pp->factor_min, pp->value_direct4 + 4 * i)))
+                demodulate_pixel(dir, ad, sh, surface && sh > pp->factor_min, pp->value_direct4 + 4 * i);
         }
-        if (pp->value_indirect4) demodulate_pixel(ind, a, 1.0f, surface, pp->value_indirect4 + 4 * i);
+        if (pp->value_indirect4 && !(split && g->split_indirect && demodulate_first_surface(g, i, false, 1.0f, true, pp->value_indirect4 + 4 * i)))
+            demodulate_pixel(ind, a, 1.0f, surface, pp->value_indirect4 + 4 * i);
     }
     pp->guarded[part] = guarded;
     pp->bad_pixels[part] = bad_pixels;
@@ -100,15 +138,24 @@ static void composite_range(void *ctx, size_t begin, size_t end, int part)
         gbuffer_unfiltered_means(cp->g, i, ud, ui);
         float sh = cp->factor ? cp->factor[i] : 1.0f, ad[3];
         gbuffer_direct_albedo(cp->g, i, ad);
+        /* a split pixel whose first surface was filtered (usable): composite_split_light */
+        float split_dir[3], split_ind[3];
+        bool split = cp->g->split_share && cp->g->split_share[i] > 0.0f;
+        bool split_d = split && cp->g->split_direct && cp->filtered_direct4 && cp->filtered_direct4[4 * i + 3] != 0.0f;
+        bool split_i = split && cp->g->split_indirect && cp->filtered_indirect4 && cp->filtered_indirect4[4 * i + 3] != 0.0f;
+        if (split_d) composite_split_light(cp->g, i, true, cp->filtered_direct4 + 4 * i, sh, split_dir);
+        if (split_i) composite_split_light(cp->g, i, false, cp->filtered_indirect4 + 4 * i, 1.0f, split_ind);
         for (int k = 0; k < 3; ++k) {
             size_t j = 3 * i + (size_t)k;
             float a = sum_mean(f->albedo[j], spp, &ignored);
             /* emission + direct + indirect + unfiltered, added in this order */
             v[k] = sum_mean(f->emission[j], spp, &ignored);
-            v[k] += cp->filtered_direct4 ? remodulate(cp->filtered_direct4 + 4 * i, k, ad[k], sh)
-                                         : sum_mean(f->direct[j], spp, &ignored) - ud[k];
-            v[k] += cp->filtered_indirect4 ? remodulate(cp->filtered_indirect4 + 4 * i, k, a, 1.0f)
-                                           : sum_mean(f->indirect[j], spp, &ignored) - ui[k];
+            v[k] += split_d ? split_dir[k]
+                    : cp->filtered_direct4 ? remodulate(cp->filtered_direct4 + 4 * i, k, ad[k], sh)
+                                           : sum_mean(f->direct[j], spp, &ignored) - ud[k];
+            v[k] += split_i ? split_ind[k]
+                    : cp->filtered_indirect4 ? remodulate(cp->filtered_indirect4 + 4 * i, k, a, 1.0f)
+                                             : sum_mean(f->indirect[j], spp, &ignored) - ui[k];
             v[k] += ud[k] + ui[k];
         }
         for (int k = 0; k < 3; ++k) cp->rgb[3 * i + (size_t)k] = v[k];

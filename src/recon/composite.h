@@ -12,6 +12,7 @@
 #ifndef WEDGE_RECON_COMPOSITE_H
 #define WEDGE_RECON_COMPOSITE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "recon/gbuffer.h"
@@ -30,6 +31,12 @@ CompositeCounts composite_prepare(const GBuffer *g, const float *factor, float f
  * copy into radiance4 (4 per pixel) when a camera-effect filter follows (NULL: none). */
 void composite_image(const GBuffer *g, const float *factor, const float *direct4, const float *indirect4, float *rgb,
                      float *radiance4);
+/* A split pixel's filterable direct (direct) or indirect light after its first surface was
+ * filtered (gbuffer.h; value4: the filtered demodulated value, usable; factor: the direct
+ * light's, 1 for indirect): share x albedo x factor x value4 + the other samples' light / spp,
+ * which keeps the pixel's expectation (docs/algorithms.md, "Mixed pixels: the first surface
+ * filtered"). */
+void composite_split_light(const GBuffer *g, size_t i, bool direct, const float *value4, float factor, float out[3]);
 /* rgb from radiance4 (when a camera-effect filter ran, else rgb itself), finite. */
 CompositeCounts composite_finish(float *rgb, const float *radiance4, size_t pixels);
 

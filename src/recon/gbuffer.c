@@ -95,6 +95,8 @@ bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam)
     g->pos4 = (float *)(b + off[S_POS4]);
     g->nrm4 = (float *)(b + off[S_NRM4]);
     g->pixel_world = (float *)(b + off[S_PIXEL_WORLD]);
+    /* until gbuffer_track_split */
+    g->spos4 = g->pos4, g->snrm4 = g->nrm4, g->spixel_world = g->pixel_world, g->salbedo_varies = g->albedo_varies;
     for (size_t i = 0; i < n; ++i) g->sums[i].object_id = -1;
     return true;
 }
@@ -109,10 +111,34 @@ bool gbuffer_init_frame(GBuffer *g, int width, int height, ReconCamera cam)
     return true;
 }
 
+bool gbuffer_track_split(GBuffer *g, bool direct, bool indirect)
+{
+    g->split_direct = direct;
+    g->split_indirect = indirect;
+    if (!direct && !indirect) return true;
+    size_t n = (size_t)g->width * (size_t)g->height;
+    /* calloc, not zalloc: only the pixels that see a second surface write their others' sums */
+    if (!(g->others = calloc(n, sizeof *g->others))) return false;
+    g->split_share = calloc(n, sizeof(float));
+    g->spos4 = malloc(4 * n * sizeof(float));
+    g->snrm4 = malloc(4 * n * sizeof(float));
+    g->spixel_world = malloc(n * sizeof(float));
+    g->salbedo_varies = malloc(n);
+    return g->split_share && g->spos4 && g->snrm4 && g->spixel_world && g->salbedo_varies;
+}
+
 void gbuffer_free(GBuffer *g)
 {
     frame_free(&g->frame);
     free(g->block_);
+    if (g->others) { /* gbuffer_track_split's own arrays */
+        free(g->spos4);
+        free(g->snrm4);
+        free(g->spixel_world);
+        free(g->salbedo_varies);
+    }
+    free(g->others);
+    free(g->split_share);
     memset(g, 0, sizeof *g);
 }
 
@@ -144,16 +170,50 @@ void gbuffer_add_unfiltered(void *ctx, int px, int py, const SampleRecord *r)
     unfiltered_add(&g->sums[(size_t)py * (size_t)g->width + (size_t)px], r);
 }
 
+/* A sample off its pixel's first surface into the others' sums (GBufferOtherSums); at_hit: one
+ * GBufferSums counted (a hit at a finite position), whose guides' terms come here too. */
+static void others_add(GBufferOtherSums *o, const SampleRecord *r, bool at_hit)
+{
+    float ud[3], ui[3];
+    gbuffer_unfiltered_split(r, ud, ui);
+    const float dir[3] = {r->direct.x, r->direct.y, r->direct.z}, ind[3] = {r->indirect.x, r->indirect.y, r->indirect.z};
+    const float alb[3] = {r->albedo.x, r->albedo.y, r->albedo.z};
+    const float alb_d[3] = {r->albedo_diffuse.x, r->albedo_diffuse.y, r->albedo_diffuse.z};
+    bool lobed = gbuffer_sample_lobed(r);
+    for (int k = 0; k < 3; ++k) {
+        o->direct_sum[k] += dir[k] - ud[k];
+        o->indirect_sum[k] += ind[k] - ui[k];
+        o->albedo_sum[k] += alb[k];
+        o->albedo_direct_sum[k] += lobed ? alb_d[k] : alb[k];
+    }
+    if (!at_hit) return;
+    o->hits++;
+    float a = v3_luminance(r->albedo);
+    if (isfinite(a)) o->albedo_lum_sum += a, o->albedo_lum_sq_sum += a * a;
+    o->pos_sum[0] += r->p_world.x, o->pos_sum[1] += r->p_world.y, o->pos_sum[2] += r->p_world.z;
+    o->nrm_sum[0] += r->n_shading.x, o->nrm_sum[1] += r->n_shading.y, o->nrm_sum[2] += r->n_shading.z;
+    if (isfinite(r->depth_cam)) {
+        o->depth_sum += r->depth_cam;
+        o->depth_sq_sum += (double)r->depth_cam * (double)r->depth_cam;
+    }
+}
+
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
 {
     GBuffer *g = ctx;
     if (px < 0 || py < 0 || px >= g->width || py >= g->height) return;
     if (!r->hit) return;
-    if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) return;
-    GBufferSums *s = &g->sums[(size_t)py * (size_t)g->width + (size_t)px];
+    size_t i = (size_t)py * (size_t)g->width + (size_t)px;
+    if (!(isfinite(r->p_world.x) && isfinite(r->p_world.y) && isfinite(r->p_world.z))) {
+        /* the frame sums its light and albedo: off the first surface */
+        if (g->others) others_add(&g->others[i], r, false);
+        return;
+    }
+    GBufferSums *s = &g->sums[i];
     s->hits++;
     if (s->object_id < 0) s->object_id = r->object_id;
     else if (s->object_id != r->object_id) s->id_mixed = 1;
+    if (g->others && (r->unfilterable || r->object_id != s->object_id)) others_add(&g->others[i], r, true);
     if (r->unfilterable) s->unfilterable++;
     if (gbuffer_sample_glossy(r)) s->glossy++;
     float a = v3_luminance(r->albedo);
@@ -223,6 +283,65 @@ void gbuffer_unfiltered_means(const GBuffer *g, size_t i, float direct[3], float
 
 /* MIXED_NORMAL_COHERENCE, MIXED_DEPTH_REL_STD: gbuffer.h */
 
+/* Pixel i's split guides (gbuffer.h): a mixed pixel's first surface, the samples not in the
+ * others' sums, tested by the mixed rule's coherence terms (its samples share one object and
+ * are filterable by construction); spos4, snrm4 and spixel_world are pos4, nrm4 and
+ * pixel_world elsewhere. */
+static void resolve_split(GBuffer *g, size_t i)
+{
+    memcpy(g->spos4 + 4 * i, g->pos4 + 4 * i, 4 * sizeof(float));
+    memcpy(g->snrm4 + 4 * i, g->nrm4 + 4 * i, 4 * sizeof(float));
+    g->spixel_world[i] = g->pixel_world[i];
+    /* a mixed pixel that is not split is no shading filter's input nor any filter's neighbour */
+    g->salbedo_varies[i] = g->albedo_varies[i] && !g->mixed[i];
+    g->split_share[i] = 0.0f;
+    const GBufferSums *s = &g->sums[i];
+    const GBufferOtherSums *o = &g->others[i];
+    int hits = s->hits - o->hits;
+    float spp = g->frame.spp[i];
+    if (!g->mixed[i] || hits <= 0 || !(spp > 0.0f)) return;
+    float inv = 1.0f / (float)hits, pos[3], nrm[3], nl = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        pos[k] = (s->pos_sum[k] - o->pos_sum[k]) * inv;
+        nrm[k] = s->nrm_sum[k] - o->nrm_sum[k];
+        nl += nrm[k] * nrm[k];
+    }
+    nl = sqrtf(nl);
+    float depth = (s->depth_sum - o->depth_sum) * inv;
+    double var = (s->depth_sq_sum - o->depth_sq_sum) / hits - (double)depth * (double)depth;
+    float depth_rel_std = depth > 0.0f && var > 0.0 ? (float)(sqrt(var) / depth) : 0.0f;
+    bool coherent = nl >= MIXED_NORMAL_COHERENCE * (float)hits && depth_rel_std <= MIXED_DEPTH_REL_STD;
+    if (!coherent || !(depth > 0.0f) || !isfinite(pos[0] + pos[1] + pos[2] + depth)) return;
+    for (int k = 0; k < 3; ++k) {
+        g->spos4[4 * i + k] = pos[k];
+        g->snrm4[4 * i + k] = nrm[k] / nl;
+    }
+    g->spos4[4 * i + 3] = depth;
+    g->snrm4[4 * i + 3] = (float)s->object_id;
+    g->spixel_world[i] = depth * g->cam.pixel_angle;
+    float a_mean = (s->albedo_sum - o->albedo_lum_sum) * inv, a_var = (s->albedo_sq_sum - o->albedo_lum_sq_sum) * inv - a_mean * a_mean;
+    g->salbedo_varies[i] = a_mean > 0.0f && a_var > ALBEDO_VARIES_REL_STD * ALBEDO_VARIES_REL_STD * a_mean * a_mean;
+    g->split_share[i] = fminf((float)hits / spp, 1.0f);
+}
+
+void gbuffer_first_surface_sums(const GBuffer *g, size_t i, bool direct, float *count, float light[3], float albedo[3])
+{
+    const GBufferSums *s = &g->sums[i];
+    const GBufferOtherSums *o = &g->others[i];
+    const float *frame_light = direct ? g->frame.direct : g->frame.indirect;
+    const float *unf = direct ? s->unf_direct_sum : s->unf_indirect_sum;
+    const float *o_light = direct ? o->direct_sum : o->indirect_sum, *o_albedo = direct ? o->albedo_direct_sum : o->albedo_sum;
+    float a[3];
+    if (direct) gbuffer_direct_albedo_sum(g, i, a);
+    else memcpy(a, g->frame.albedo + 3 * i, sizeof a);
+    *count = (float)(s->hits - o->hits);
+    for (int k = 0; k < 3; ++k) {
+        light[k] = frame_light[3 * i + k] - unf[k] - o_light[k];
+        float ak = a[k] - o_albedo[k];
+        albedo[k] = ak > 0.0f ? ak : 0.0f;
+    }
+}
+
 /* Each core takes a range of pixels and its own bounding box of the hit points. */
 typedef struct {
     GBuffer *g;
@@ -269,6 +388,8 @@ static void guides_range(void *ctx, size_t begin, size_t end, int part)
          * foreshortening, which only makes d smaller and a filter more conservative). */
         g->pixel_world[i] = depth * g->cam.pixel_angle;
     }
+    if (g->split_share)
+        for (size_t i = begin; i < end; ++i) resolve_split(g, i);
     for (int k = 0; k < 3; ++k) {
         gp->lo[part][k] = lo[k];
         gp->hi[part][k] = hi[k];

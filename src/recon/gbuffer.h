@@ -56,12 +56,33 @@ typedef struct {
     unsigned char id_mixed;       /* a later hit had another object id */
 } GBufferSums;
 
+/* A mixed pixel's samples split by surface (docs/algorithms.md, "Mixed pixels: the first
+ * surface filtered"): the pixel's first surface is the object its first hit saw (sums.object_id),
+ * and the sink adds here the samples that are not on it (another object, an unfilterable hit, a
+ * hit at a non-finite position). The first surface's sums are then the pixel's sums less these,
+ * so a pixel that never sees a second surface writes nothing here (its pages stay untouched).
+ * Only while gbuffer_track_split asks for it. */
+typedef struct {
+    float direct_sum[3], indirect_sum[3]; /* the light the filters read: direct and indirect less
+                                           * gbuffer_unfiltered_split's parts */
+    float albedo_sum[3];          /* the albedo, as the frame sums it */
+    float albedo_direct_sum[3];   /* the direct light's albedo (gbuffer_direct_albedo_sum's terms:
+                                   * albedo_diffuse at a glossy-lobed hit, else the albedo) */
+    float pos_sum[3], nrm_sum[3], depth_sum; /* as GBufferSums, over the same samples */
+    float albedo_lum_sum, albedo_lum_sq_sum; /* GBufferSums.albedo_sum, albedo_sq_sum's terms */
+    int hits;                     /* the samples GBufferSums.hits counts that are here */
+    double depth_sq_sum;
+} GBufferOtherSums;
+
 typedef struct {
     int width, height;
     ReconCamera cam;
     Frame frame;
 
     GBufferSums *sums;            /* per pixel (gbuffer_add) */
+    GBufferOtherSums *others;     /* per pixel while split pixels are tracked (gbuffer_track_split),
+                                   * else NULL */
+    bool split_direct, split_indirect; /* which demodulated lights composite.c splits */
 
     /* guides (gbuffer_resolve_guides) */
     unsigned char *hit;           /* some sample hit a surface */
@@ -79,6 +100,19 @@ typedef struct {
     float *nrm4;                  /* unit mean normal, object id (-1: none) */
     float *pixel_world;           /* world length of one pixel at the receiver (0: no hit) */
     float scene_size_world;       /* diagonal of the bounding box of the pixels' positions */
+    /* split pixels (gbuffer_track_split; resolved with the guides): a mixed pixel whose first
+     * surface alone passes the mixed rule (one object, normals and depths coherent, at least
+     * one filterable hit) */
+    float *split_share;           /* the first surface's share of the pixel's samples, in (0, 1];
+                                   * 0: not split (every pixel while nothing is tracked) */
+    float *spos4, *snrm4;         /* the shading filters' guides: the first surface's mean position,
+                                   * depth, normal and id in a split pixel, pos4 and nrm4 elsewhere;
+                                   * the same arrays as pos4, nrm4 while nothing is tracked */
+    float *spixel_world;          /* pixel_world at spos4's depth (pixel_world itself untracked) */
+    unsigned char *salbedo_varies; /* albedo_varies over a split pixel's first surface (its
+                                    * demodulation is exact when that albedo is uniform), 0 in
+                                    * a mixed pixel not split (passed through, read by no
+                                    * shading filter), albedo_varies elsewhere (itself untracked) */
 
     void *block_;                 /* one allocation behind all the arrays above but frame */
 } GBuffer;
@@ -240,6 +274,25 @@ static inline void gbuffer_direct_albedo_sum(const GBuffer *g, size_t i, float s
 }
 /* Its mean over the pixel's samples (0 where not finite; composite_prepare counts the frame's). */
 void gbuffer_direct_albedo(const GBuffer *g, size_t i, float a[3]);
+
+/* Whether the shading filters' demodulated direct / indirect light take the first surface of
+ * a mixed pixel (composite.c, docs/algorithms.md "Mixed pixels: the first surface filtered"):
+ * allocates the others' sums and the split guides when either is set; false when out of
+ * memory. Before the first sample. */
+bool gbuffer_track_split(GBuffer *g, bool direct, bool indirect);
+
+/* Whether a sample of pixel i (gbuffer_add has taken it) lies on the pixel's first surface:
+ * a hit on the first hit's object, filterable, at a finite position. */
+static inline bool gbuffer_on_first_surface(const GBuffer *g, size_t i, const SampleRecord *r)
+{
+    return r->hit && !r->unfilterable && r->object_id == g->sums[i].object_id &&
+           isfinite(r->p_world.x + r->p_world.y + r->p_world.z);
+}
+
+/* Split pixel i's first surface: its sample count and the sums of its filterable light and
+ * albedo (direct: the direct light's albedo, gbuffer_direct_albedo_sum's; else the indirect
+ * light and the frame's albedo). Only where split_share[i] > 0. */
+void gbuffer_first_surface_sums(const GBuffer *g, size_t i, bool direct, float *count, float light[3], float albedo[3]);
 
 /* The SampleSink callback (ctx = GBuffer *). */
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r);

@@ -87,6 +87,11 @@ typedef struct {
      * say so and that filters no shading effect sums the unfiltered light alone
      * (gbuffer_add_unfiltered). */
     bool guides_unread;
+    /* Its shading filters filter a mixed pixel's first surface (gbuffer_track_split,
+     * composite_split_light) and its camera-effect filter, if any, reads the composite so made:
+     * the pipeline splits a light where the method filtering it and every camera-effect
+     * method say so. */
+    bool filters_split_pixels;
 
     /* Samples per pixel of pass 1 (adaptive) or of the whole frame (fixed), for these effects. */
     int (*pass1_spp)(EffectMask effects);

@@ -298,6 +298,7 @@ static int state_arrays(ReconPipeline *p, DistArray *a)
     float *scalar_sums[3] = {f->depth, f->hits, f->spp};
     for (int k = 0; k < 3; ++k) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
     if (p->filtering) a[n++] = (DistArray){p->g.sums, sizeof(GBufferSums)};
+    if (p->g.others) a[n++] = (DistArray){p->g.others, sizeof(GBufferOtherSums)};
     if (p->store) n += sample_store_arrays(p->store, a + n, MAX_STATE_ARRAYS - n);
     for (int s = 0; s < p->slot_count; ++s)
         if (p->slots[s].cls->shared) n += p->slots[s].cls->shared(p->slots[s].m, a + n, MAX_STATE_ARRAYS - n);
@@ -441,6 +442,19 @@ static void store_skip_when_full(ReconPipeline *p, int pass1)
     renderer_set_record_motion(p->r, false);
 }
 
+/* Whether the frame filters shading light e in mixed pixels' first surfaces (method.h,
+ * filters_split_pixels): its method and every camera-effect method do. */
+static bool splits_pixels(ReconPipeline *p, Effect e)
+{
+    MethodSlot *s = slot_for(p, e);
+    if (!s || !s->cls->filters_split_pixels) return false;
+    for (int c = EFFECT_DEFOCUS; c <= EFFECT_MOTION; ++c) {
+        MethodSlot *cam = slot_for(p, (Effect)c);
+        if (cam && !cam->cls->filters_split_pixels) return false;
+    }
+    return true;
+}
+
 /* Buffers, guides, store and methods for a filtered frame. */
 static bool setup_filtered(ReconPipeline *p, Diag *d)
 {
@@ -492,6 +506,7 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     if (!indirect_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING_INDIRECT;
     p->guides_unread = !shading_filtered;
     for (int s = 0; s < p->slot_count; ++s) p->guides_unread = p->guides_unread && p->slots[s].cls->guides_unread;
+    if (!gbuffer_track_split(&p->g, splits_pixels(p, EFFECT_SOFT_SHADOWS), splits_pixels(p, EFFECT_INDIRECT))) goto oom;
     /* a fixed-count frame takes the --spp budget in one pass */
     if (p->fixed_only && p->opt.spp > 0) pass1 = p->opt.spp;
     /* A fixed-count method (LR) reads the first samples of every pixel, as many as the pixel

@@ -65,6 +65,7 @@ struct ReconMethod {
     float *param, *shade, *slope4;
     AafFilter *filter;
     bool guides_uploaded;        /* this reconstruction's guides are on the device */
+    bool shading_guides;         /* those are the shading filters' (spos4, snrm4), not pos4, nrm4 */
 };
 
 static int aaf_pass1_spp(EffectMask effects)
@@ -224,10 +225,16 @@ static bool aaf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
     return m->filter && aaf_filter_reserve(m->filter, m->g->width, m->g->height, d);
 }
 
-static bool upload_guides(ReconMethod *m, Diag *d)
+/* shading: the light filters' guides (a split pixel's first surface, gbuffer.h), else the
+ * pixels' own (the lens filter's); uploaded again only when the frame has split pixels and the
+ * other set is asked for */
+static bool upload_guides(ReconMethod *m, bool shading, Diag *d)
 {
-    if (m->guides_uploaded) return true;
-    m->guides_uploaded = aaf_filter_set_guides(m->filter, m->g->width, m->g->height, m->g->pos4, m->g->nrm4, d);
+    bool same = m->g->spos4 == m->g->pos4;
+    if (m->guides_uploaded && (same || m->shading_guides == shading)) return true;
+    const float *pos4 = shading ? m->g->spos4 : m->g->pos4, *nrm4 = shading ? m->g->snrm4 : m->g->nrm4;
+    m->guides_uploaded = aaf_filter_set_guides(m->filter, m->g->width, m->g->height, pos4, nrm4, d);
+    m->shading_guides = shading;
     return m->guides_uploaded;
 }
 
@@ -271,7 +278,7 @@ static void make_params(size_t n, const float *beta, const float *pixel_world, f
 static bool aaf_filter_light(ReconMethod *m, Effect e, float *value4, double *kernel_seconds, Diag *d)
 {
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
-    if (!upload_guides(m, d)) return false;
+    if (!upload_guides(m, true, d)) return false;
     /* Direct light: distances in the plane of the light (AAF-shadow eq. 12); indirect light:
      * in each receiver's tangent plane (AAF-GI eq. 16). */
     AafFilterRules rules = aaf_filter_rules_default(AAF_DIST_WORLD);
@@ -279,7 +286,7 @@ static bool aaf_filter_light(ReconMethod *m, Effect e, float *value4, double *ke
      * the centre's filter passes: the contact shadow at a thin occluder's foot inside the wide
      * penumbra of a high one (docs/algorithms.md 4) */
     rules.sharp_beta_ratio = 0.5f;
-    make_params(n, m->beta[e], m->g->pixel_world, m->param);
+    make_params(n, m->beta[e], m->g->spixel_world, m->param);
     const float *plane4 = e == EFFECT_SOFT_SHADOWS ? m->derived.plane4 : NULL;
     return aaf_filter_run(m->filter, value4, plane4, m->param, &rules, value4, kernel_seconds, d);
 }
@@ -303,7 +310,7 @@ static bool aaf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     *kernel_seconds = 0.0;
     if (!effect_in(effects, EFFECT_DEFOCUS)) return true;
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
-    if (!upload_guides(m, d)) return false;
+    if (!upload_guides(m, false, d)) return false;
     sharpest_slopes(&m->derived, n, m->slope4);
     AafFilterRules rules = aaf_filter_rules_default(AAF_DIST_PIXEL);
     make_params(n, m->beta[EFFECT_DEFOCUS], NULL, m->param);
@@ -319,7 +326,7 @@ static int aaf_aovs(ReconMethod *m, ReconAov *out, int max)
     int count = 0;
     for (int e = 0; e < EFFECT_COUNT && count < max; ++e) {
         if (!m->beta[e]) continue;
-        const float *pw = e == EFFECT_DEFOCUS ? NULL : m->g->pixel_world;
+        const float *pw = e == EFFECT_DEFOCUS ? NULL : m->g->spixel_world;
         for (size_t i = 0; i < n; ++i) {
             float b = pw ? (pw[i] > 0.0f ? m->beta[e][i] / pw[i] : 0.0f) : m->beta[e][i];
             m->beta_px[e][i] = isfinite(b) ? b : (float)AAF_FILTER_RADIUS_CAP_PX;
@@ -354,4 +361,5 @@ const ReconMethodClass recon_method_aaf = {
     .shared = aaf_shared,
     .aovs = aaf_aovs,
     .destroy = aaf_destroy,
+    .filters_split_pixels = true,
 };

@@ -490,7 +490,9 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
     for (size_t i = begin; i < end; ++i) {
         sp->r[i] = 0.0f;
         if (!d->g->hit[i] || !known) continue;
-        float v = unoccluded_at(sp, d->g->pos4 + 4 * i, d->g->nrm4 + 4 * i);
+        /* at the shading guides: a split pixel's first surface (gbuffer.h), which its direct
+         * light is demodulated for */
+        float v = unoccluded_at(sp, d->g->spos4 + 4 * i, d->g->snrm4 + 4 * i);
         sp->r[i] = isfinite(v) ? v : 0.0f;
     }
 }

@@ -32,6 +32,7 @@
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_pixel_params.h"
 #include "recon/aaf/aaf_stats.h"
+#include "recon/composite.h"
 #include "recon/maaf/maaf_defocus.h"
 #include "recon/maaf/maaf_far_reach.h"
 #include "recon/maaf/maaf_filter.h"
@@ -570,7 +571,8 @@ static void mark_unread_sums(ReconMethod *m)
             float side;
             if (m->defocus && (defocus_filter(m, x, y, &side), m->defocus_cache.param[i * MAAF_PARAM_STRIDE] <= 0.0f))
                 u |= UNREAD_LENS;
-            if (m->ysum && (s->id_mixed || s->unfilterable > 0 || (float)s->hits < g->frame.spp[i]))
+            /* a split pixel's first surface is filtered (gbuffer.h): mixed pixels' sums are read */
+            if (m->ysum && !g->split_direct && (s->id_mixed || s->unfilterable > 0 || (float)s->hits < g->frame.spp[i]))
                 u |= UNREAD_LIGHT;
             m->unread[i] = u;
         }
@@ -699,9 +701,13 @@ static void maaf_add_sample(ReconMethod *m, int px, int py, const SampleRecord *
     if (m->lum4 && m->stats.collect_rays && inside)
         sample_rate_add(m->lum4 + 4 * ((size_t)py * (size_t)m->g->width + (size_t)px), v3_luminance(r->L));
     if (m->defocus && inside) defocus_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ud, ui);
-    if (m->indirect && r->hit && px >= 0 && py >= 0 && px < m->g->width && py < m->g->height)
-        indirect_add(m, (size_t)py * (size_t)m->g->width + (size_t)px, r, ui);
+    /* where the frame splits mixed pixels (gbuffer.h), the shading sums take the samples on
+     * each pixel's first surface alone */
+    size_t at = inside ? (size_t)py * (size_t)m->g->width + (size_t)px : 0;
+    if (m->indirect && r->hit && inside && (!m->g->split_indirect || gbuffer_on_first_surface(m->g, at, r)))
+        indirect_add(m, at, r, ui);
     if (!r->hit || !effect_in(m->effects, EFFECT_SOFT_SHADOWS)) return;
+    if (m->g->split_direct && !(inside && gbuffer_on_first_surface(m->g, at, r))) return;
     const ShadowRayRecord *sr = r->shadow_count > 0 ? &r->shadow[0] : NULL;
     bool known = sr && sr->light_index >= 0 && sr->light_index < m->light_count &&
                  m->lights[sr->light_index].omega_y_max > 0.0f;
@@ -866,7 +872,7 @@ static bool wedge_windows(ReconMethod *m)
     /* the far filter's window: no occluder, no pixel whose albedo varies inside it (there the
      * demodulation by the mean albedo is not exact, docs/algorithms.md 9.27), and no surface
      * pixel whose light pass 1 did not check (no shadow ray, 9.28) */
-    if (ok) maaf_far_marks(n, seen, m->g->albedo_varies, m->g->hit, m->stats.shadow_rays, seen);
+    if (ok) maaf_far_marks(n, seen, m->g->salbedo_varies, m->g->hit, m->stats.shadow_rays, seen);
     if (ok && !m->far_reach_px) ok = (m->far_reach_px = malloc(n)) != NULL;
     if (ok) ok = maaf_far_reach(seen, w, h, (int)SHADOW_RADIUS_CAP_PX, m->far_reach_px);
     free(s1), free(s2), free(row_lo), free(row_hi), free(seen), free(row_found);
@@ -886,7 +892,7 @@ static bool wedge_windows(ReconMethod *m)
 static float pixel_filter(const ReconMethod *m, int x, int y, float *pr, float *components)
 {
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
-    float s_min, s_max, pw = m->g->pixel_world[i], std_px;
+    float s_min, s_max, pw = m->g->spixel_world[i], std_px;
     /* the pixel's light's band (AAF's per-pixel sigma), the knob scaling the whole design */
     float sigma = m->derived.sigma_light ? m->derived.sigma_light[i] : 0.0f;
     float wy = sigma > 0.0f ? 2.0f * m->kappa / sigma : (m->first_light ? m->first_light->omega_y_max : 0.0f);
@@ -970,7 +976,7 @@ static float indirect_filter(ReconMethod *m, int x, int y, const float **pr, flo
     size_t i = (size_t)y * (size_t)m->g->width + (size_t)x;
     float spp = m->g->frame.spp[i];
     if (!c->known[i] || m->indirect_spp[i] != spp) {
-        float z_min, z_max, h_min, h_max, pw = m->g->pixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
+        float z_min, z_max, h_min, h_max, pw = m->g->spixel_world[i], *param = c->param + i * MAAF_PARAM_STRIDE;
         reflector_heights(m);
         if (pixel_heights(m, x, y, &z_min, &z_max)) {
             maaf_indirect_heights(z_min, z_max, m->dirs.omega_u_max, m->bounce_pairs, pw, spp, &h_min, &h_max);
@@ -1221,7 +1227,12 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
              * each pixel's sums divided by its own albedo (the diffuse albedo for direct light,
              * gbuffer_direct_albedo) and r(x) */
             float inv[3], asum[3];
-            if (lf->ind) memcpy(asum, g->frame.albedo + 3 * i, sizeof asum);
+            if (g->split_share && g->split_share[i] > 0.0f && (lf->ind ? g->split_indirect : g->split_direct)) {
+                /* a split pixel: its sums hold its first surface's samples alone (maaf_add_sample),
+                 * divided by their count and albedo (gbuffer.h) */
+                float light[3];
+                gbuffer_first_surface_sums(g, i, !lf->ind, &spp, light, asum);
+            } else if (lf->ind) memcpy(asum, g->frame.albedo + 3 * i, sizeof asum);
             else gbuffer_direct_albedo_sum(g, i, asum);
             for (int k = 0; k < 3; ++k) inv[k] = spp / (asum[k] * (lf->factor ? lf->factor[i] : 1.0f));
             if (lf->ind) { /* component c: its expectation x the plain sum */
@@ -1286,7 +1297,7 @@ static bool maaf_filter_light(ReconMethod *m, Effect e, float *value4, double *k
         }
     const float *param = (ind ? &m->indirect_cache : &m->shadow_cache)->param;
     LightFill fill = {m, ind, pass_pairs, pass_comps, factor, sums};
-    MaafFilterInput in = {w, h, pass_pairs, NULL, g->pos4, g->nrm4, m->guide4, axis2, param, COS_NORMAL_MIN,
+    MaafFilterInput in = {w, h, pass_pairs, NULL, g->spos4, g->snrm4, m->guide4, axis2, param, COS_NORMAL_MIN,
                           DEPTH_TOL_REL, MAAF_SHARP_FACTOR_DEFAULT, light_fill, &fill};
     long long nonfinite = 0;
     if (!run_filter(m, &in, value4, kernel_seconds, &nonfinite, d)) return false;
@@ -1330,7 +1341,14 @@ static void radiance_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                 if (!isfinite(raw[0][k])) raw[0][k] = 0.0f;
                 if (!isfinite(raw[1][k])) raw[1][k] = 0.0f;
             }
-            if (m->split_direct) {
+            /* a split pixel whose first surface was filtered: its composite light (the first
+             * surface's filtered share and the others' mean, composite_split_light) over every
+             * lens sample, as a light passed through */
+            bool split = g->split_share && g->split_share[i] > 0.0f;
+            if (split && m->split_direct && g->split_direct && m->direct4 && m->direct4[4 * i + 3] != 0.0f) {
+                composite_split_light(g, i, true, m->direct4 + 4 * i, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0]);
+                maaf_defocus_add_light(NULL, 1.0f, raw[0], rest, alb, per, o);
+            } else if (m->split_direct) {
                 const float *d4 = m->direct4 ? m->direct4 + 4 * i : NULL;
                 float per_total[4];
                 /* the albedo sums are the total albedo's, the filtered direct light is per unit
@@ -1347,7 +1365,11 @@ static void radiance_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
                 }
                 maaf_defocus_add_light(d4, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0], rest, alb, per, o);
             }
-            if (m->split_indirect) maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
+            if (split && m->split_indirect && g->split_indirect && m->indirect4 && m->indirect4[4 * i + 3] != 0.0f) {
+                composite_split_light(g, i, false, m->indirect4 + 4 * i, 1.0f, raw[1]);
+                maaf_defocus_add_light(NULL, 1.0f, raw[1], rest, alb, per, o);
+            } else if (m->split_indirect)
+                maaf_defocus_add_light(m->indirect4 ? m->indirect4 + 4 * i : NULL, 1.0f, raw[1], rest, alb, per, o);
             src = o;
         }
         for (size_t c = 0; c < per; ++c) o[c] = src[c] * inv;
@@ -1462,4 +1484,5 @@ const ReconMethodClass recon_method_maaf = {
     .shared = maaf_shared,
     .aovs = maaf_aovs,
     .destroy = maaf_destroy,
+    .filters_split_pixels = true,
 };
