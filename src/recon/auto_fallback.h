@@ -36,7 +36,7 @@
  * (docs/algorithms.md, "what the model ignores"). */
 /* The independent samples a shading filter's kernel averages, relative to one pixel's: the
  * factor by which it lowers the error it can remove. */
-#define AUTO_FILTER_FOOTPRINT 16.0
+#define AUTO_FILTER_FOOTPRINT 50.0
 
 typedef struct {
     bool direct, indirect;   /* auto chose to filter soft shadows / indirect light (candidates) */

@@ -68,7 +68,8 @@ double filter_gain_share(const FilterGainTotals *t, FilterGainConfig c)
 double filter_gain_alpha(const FilterGainTotals *t)
 {
     /* var(mean of n) = sigma^2 n^-alpha: alpha = log(sigma^2 / var(mean of n)) / log n */
-    if (t->set_spp < 2 || !(t->left[FILTER_GAIN_NONE] > 0.0) || !(t->var_mean_n > 0.0)) return 1.0;
+    if (t->set_spp < 2 || !(t->left[FILTER_GAIN_NONE] > 0.0)) return 1.0;
+    if (!(t->var_mean_n > 0.0)) return FILTER_GAIN_ALPHA_MAX; /* the two sets agree exactly */
     double a = log(t->left[FILTER_GAIN_NONE] / t->var_mean_n) / log((double)t->set_spp);
     return a < FILTER_GAIN_ALPHA_MIN ? FILTER_GAIN_ALPHA_MIN : a > FILTER_GAIN_ALPHA_MAX ? FILTER_GAIN_ALPHA_MAX : a;
 }

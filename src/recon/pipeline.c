@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "core/env_knob.h"
 #include "recon/blur_probe.h"
 #include "recon/budget_search.h"
 #include "recon/composite.h"
@@ -159,8 +160,10 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * paid (the sink, the guides, the driver): where the gain probe predicts that Monte Carlo
      * reaches a lower error in the same time, the effect is left to it, and with no filter
      * left the frame is plain Monte Carlo at the same samples (auto_fallback.h). Without
-     * --spp the frame is judged at the scene's sample count, what --filter none traces. */
-    if (recon_select_wants_fallback(&p->choice)) {
+     * --spp the frame is judged at the scene's sample count, what --filter none traces.
+     * WEDGE_AUTO_FALLBACK=0 keeps auto's static choice (tests of the filters' pipeline on tiny
+     * frames, measurements of what the fallback changes). */
+    if (recon_select_wants_fallback(&p->choice) && env_knob_switch("WEDGE_AUTO_FALLBACK", true)) {
         GainProbe probe;
         if (!recon_gain_probe(r, &probe)) {
             free(p);
