@@ -32,8 +32,13 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
     for (int k = 0; k < FILTER_GAIN_CONFIGS; ++k) {
         FilterGainConfig c = (FilterGainConfig)(out->asked & ~k); /* asked, then its subsets */
         if (out->speedup[c] > 0.0) continue;                   /* seen */
-        out->share[c] = filter_gain_share(t, c);
-        double error_ratio = filter_gain_error_ratio(t, c, AUTO_FILTER_FOOTPRINT);
+        double share = filter_gain_share(t, c);
+        if (f->camera) { /* the lens's variance is the camera filter's: see the header */
+            double asked_share = filter_gain_share(t, out->asked);
+            share = asked_share > 0.0 ? filter_gain_filterable_share(t) * share / asked_share : 0.0;
+        }
+        out->share[c] = share;
+        double error_ratio = (1.0 - share) + share / AUTO_FILTER_FOOTPRINT;
         double time_us = auto_fallback_time_us(c, f, out->sample_us);
         out->speedup[c] = time_us > 0.0 && error_ratio > 0.0 ? pow(error_ratio, -1.0 / out->alpha) * t_mc / time_us : 1.0;
         if (out->speedup[c] > best) best = out->speedup[c], out->chosen = c;

@@ -12,7 +12,13 @@
  * rays per sample times AUTO_RAY_US),
  * k(c) the filters that run, s(c) the probe's share of the error an ideal filter of c
  * removes, alpha Monte Carlo's convergence exponent (filter_gain_alpha) and F the filters'
- * footprint. The configuration of the highest S is kept. */
+ * footprint. The configuration of the highest S is kept.
+ *
+ * Beside a camera filter, the per-sample variance the probe sees is mostly the lens's or the
+ * shutter's, which that filter removes in every configuration; the shading filters' share is
+ * then taken as the variance in the pixels they may touch (filter_gain_filterable_share),
+ * split between the configurations as their ideal shares are: s(c) = q s_ideal(c) /
+ * s_ideal(asked). */
 #ifndef WEDGE_RECON_AUTO_FALLBACK_H
 #define WEDGE_RECON_AUTO_FALLBACK_H
 
@@ -42,6 +48,7 @@ typedef struct {
     bool direct, indirect;   /* auto chose to filter soft shadows / indirect light (candidates) */
     int others;              /* other effects a filter takes whatever this decides (camera
                               * effects, effects named explicitly) */
+    bool camera;             /* among them a camera effect (defocus, motion) */
     int spp;                 /* N: the frame's samples per pixel */
 } AutoFallbackFrame;
 

@@ -52,6 +52,7 @@ void filter_gain_add_pixel(FilterGainTotals *t, const FilterGainSample *s, int n
         t->left[c] += w * v;
     }
     t->var_mean_n += w * 0.5 * (mean_a - mean_b) * (mean_a - mean_b);
+    if (!mixed) t->var_filterable += w * left[FILTER_GAIN_NONE];
     t->set_spp = n;
     t->pixels++;
     t->pixels_filterable += !mixed;
@@ -63,6 +64,14 @@ double filter_gain_share(const FilterGainTotals *t, FilterGainConfig c)
     if (!(all > 0.0)) return 0.0;
     double s = 1.0 - t->left[c] / all;
     return s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+}
+
+double filter_gain_filterable_share(const FilterGainTotals *t)
+{
+    double all = t->left[FILTER_GAIN_NONE];
+    if (!(all > 0.0)) return 0.0;
+    double q = t->var_filterable / all;
+    return q < 0.0 ? 0.0 : q > 1.0 ? 1.0 : q;
 }
 
 double filter_gain_alpha(const FilterGainTotals *t)

@@ -48,6 +48,7 @@ typedef struct {
      * (left[FILTER_GAIN_NONE]: Monte Carlo's own) */
     double left[FILTER_GAIN_CONFIGS];
     double var_mean_n;   /* sum of w * (mean_A - mean_B)^2 / 2: an n-sample mean's variance */
+    double var_filterable; /* sum of w * per-sample variance over the pixels not mixed */
     int set_spp;         /* n, the samples of each of the two sets */
     int pixels;          /* pixels added */
     int pixels_filterable; /* of those, not mixed */
@@ -60,6 +61,12 @@ void filter_gain_add_pixel(FilterGainTotals *t, const FilterGainSample *samples,
 /* The share of Monte Carlo's weighted variance an ideal filter of configuration c removes
  * (0 when there is no variance). */
 double filter_gain_share(const FilterGainTotals *t, FilterGainConfig c);
+
+/* The share of Monte Carlo's weighted variance in pixels the shading filters may touch (not
+ * mixed): with a camera filter beside them, whose lens or shutter filtering removes what
+ * varies over the lens in those pixels, what the shading filters can reach there (0 when
+ * there is no variance). */
+double filter_gain_filterable_share(const FilterGainTotals *t);
 
 /* The convergence exponent alpha of Monte Carlo's error (variance of the mean ~ N^-alpha),
  * measured between 1 and n samples, clamped to [FILTER_GAIN_ALPHA_MIN, FILTER_GAIN_ALPHA_MAX];

@@ -285,8 +285,12 @@ bool recon_select_wants_fallback(const ReconChoice *c)
 
 AutoFallbackFrame recon_select_fallback_frame(const ReconChoice *c, int spp)
 {
-    AutoFallbackFrame f = {fallback_candidate(c, EFFECT_SOFT_SHADOWS), fallback_candidate(c, EFFECT_INDIRECT), 0, spp};
-    for (int e = 0; e < EFFECT_COUNT; ++e) f.others += c->method[e] && !fallback_candidate(c, (Effect)e);
+    AutoFallbackFrame f = {fallback_candidate(c, EFFECT_SOFT_SHADOWS), fallback_candidate(c, EFFECT_INDIRECT), 0, false, spp};
+    for (int e = 0; e < EFFECT_COUNT; ++e) {
+        bool other = c->method[e] && !fallback_candidate(c, (Effect)e);
+        f.others += other;
+        f.camera = f.camera || (other && (e == EFFECT_DEFOCUS || e == EFFECT_MOTION));
+    }
     return f;
 }
 

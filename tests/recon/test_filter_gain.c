@@ -139,7 +139,7 @@ int main(void)
         const double checks[COUNT] = {0.2, 0.8, 0.2, 0.8, 0.8, 0.2, 0.8, 0.2}, lit[COUNT] = {1, 1, 1, 1, 1, 1, 1, 1};
         direct_pixel(s, zero, checks, lit);
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, false, 0, 16};
+        AutoFallbackFrame f = {true, false, 0, false, 16};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.asked == FILTER_GAIN_DIRECT && fb.chosen == FILTER_GAIN_NONE);
@@ -149,7 +149,7 @@ int main(void)
         CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_DIRECT, &f, t_s), t_f, 1e-9);
         CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], 16 * t_s / t_f, 1e-9); /* no gain, only cost */
         /* beside a camera filter that runs anyway, the shading filter costs its pass alone */
-        AutoFallbackFrame g = {true, false, 1, 16};
+        AutoFallbackFrame g = {true, false, 1, true, 16};
         CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_NONE, &g, t_s), 16 * t_s + 16 * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL, 1e-9);
         auto_fallback_decide(&t, 2.0, &g, &fb);
         CHECK(fb.chosen == FILTER_GAIN_NONE);
@@ -159,7 +159,7 @@ int main(void)
         const double vis[COUNT] = {0.0, 0.3, 0.9, 0.6, 1.0, 0.1, 0.4, 0.7};
         direct_pixel(s, zero, half, vis);
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, false, 0, 16};
+        AutoFallbackFrame f = {true, false, 0, false, 16};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.chosen == FILTER_GAIN_DIRECT);
@@ -168,7 +168,7 @@ int main(void)
         CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], want, 1e-9);
         CHECK(fb.speedup[FILTER_GAIN_DIRECT] > 1.0);
         /* the same frame with no candidate (nothing auto chose): nothing to decide */
-        AutoFallbackFrame none = {false, false, 0, 16};
+        AutoFallbackFrame none = {false, false, 0, false, 16};
         auto_fallback_decide(&t, 2.0, &none, &fb);
         CHECK(fb.asked == FILTER_GAIN_NONE && fb.chosen == FILTER_GAIN_NONE);
     }
@@ -178,12 +178,46 @@ int main(void)
         const double ind[COUNT] = {0.0, 0.4, 0.1, 0.5, 0.2, 0.3, 0.6, 0.7};
         for (int i = 0; i < COUNT; ++i) s[i] = (FilterGainSample){(float)(0.25 + 0.8 * ind[i]), 0.25f, 0.5f, (float)(0.8 * ind[i]), 0.8f};
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, true, 0, 16};
+        AutoFallbackFrame f = {true, true, 0, false, 16};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.asked == FILTER_GAIN_BOTH && fb.chosen == FILTER_GAIN_INDIRECT);
         CHECK(fb.speedup[FILTER_GAIN_INDIRECT] > fb.speedup[FILTER_GAIN_BOTH]);
         CHECK(fb.speedup[FILTER_GAIN_INDIRECT] > fb.speedup[FILTER_GAIN_NONE]);
+    }
+    /* beside a camera filter: the share is the variance in the pixels the shading filters may
+     * touch (the lens's variance there is the camera filter's), split as the ideal shares are */
+    {
+        FilterGainTotals t = {0};
+        const double vis[COUNT] = {0.0, 0.3, 0.9, 0.6, 1.0, 0.1, 0.4, 0.7};
+        const double lens[COUNT] = {0.1, -0.1, 0.1, -0.1, 0.1, -0.1, 0.1, -0.1};
+        double base[COUNT];
+        for (int i = 0; i < COUNT; ++i) base[i] = 0.5 + lens[i];
+        direct_pixel(s, base, half, vis); /* light and lens */
+        filter_gain_add_pixel(&t, s, N, false);
+        double l[COUNT];
+        for (int i = 0; i < COUNT; ++i) l[i] = base[i] + 0.5 * vis[i];
+        double w1 = 1.0 / (mean_of(l) * mean_of(l) + 0.01), filterable = w1 * var_of(l);
+        direct_pixel(s, zero, half, vis); /* a mixed pixel: the shading filters pass it */
+        filter_gain_add_pixel(&t, s, N, true);
+        double all = t.left[FILTER_GAIN_NONE];
+        CHECK_NEAR(filter_gain_filterable_share(&t), filterable / all, 1e-6);
+        AutoFallbackFrame f = {true, false, 1, true, 16};
+        AutoFallback fb;
+        auto_fallback_decide(&t, 2.0, &f, &fb);
+        CHECK_NEAR(fb.share[FILTER_GAIN_DIRECT], filterable / all, 1e-6);
+        CHECK(fb.share[FILTER_GAIN_DIRECT] > filter_gain_share(&t, FILTER_GAIN_DIRECT)); /* not the ideal share */
+        double t_s = 2.0 * AUTO_RAY_US, q = filterable / all;
+        double want = pow((1.0 - q) + q / AUTO_FILTER_FOOTPRINT, -1.0 / filter_gain_alpha(&t)) * 16 * t_s /
+                      auto_fallback_time_us(FILTER_GAIN_DIRECT, &f, t_s);
+        CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], want, 1e-6);
+        /* no light variance at all: nothing for the shading filter, whatever the lens does */
+        FilterGainTotals u = {0};
+        direct_pixel(s, base, half, half);
+        filter_gain_add_pixel(&u, s, N, false);
+        auto_fallback_decide(&u, 2.0, &f, &fb);
+        CHECK_NEAR(fb.share[FILTER_GAIN_DIRECT], 0.0, 1e-12);
+        CHECK(fb.chosen == FILTER_GAIN_NONE);
     }
     return check_failures ? 1 : 0;
 }
