@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "recon/gbuffer.h"
+#include "recon/probe_grid.h"
 
 /* Independent of --seed, like the blur probe's. */
 static const uint64_t GAIN_PROBE_SEED = 0x6761696eu; /* "gain" */
@@ -58,11 +59,7 @@ bool recon_gain_probe(const Renderer *r, GainProbe *out)
         WaveSampling ws = {renderer_sampler(r), GAIN_PROBE_SEED, set ? GAIN_PROBE_PASS_B : GAIN_PROBE_PASS_A};
         for (int first = 0; first < total; first += per_wave) {
             int count = total - first < per_wave ? total - first : per_wave;
-            for (int k = 0; k < count; ++k) {
-                int i = first + k, gx = i % nx, gy = i / nx;
-                int px = (int)(((double)gx + 0.5) * w / nx), py = (int)(((double)gy + 0.5) * h / ny);
-                pix[k] = (WavePixel){px, py, 0, GAIN_PROBE_SET_SPP, 0, GAIN_PROBE_SET_SPP};
-            }
+            probe_grid_pixels(pix, first, count, nx, ny, w, h, GAIN_PROBE_SET_SPP);
             int n = integrate_wave(&isc, wave, &ws, pix, count, rec, &st);
             for (int j = 0; j < n; ++j) {
                 int i = first + j / GAIN_PROBE_SET_SPP;
