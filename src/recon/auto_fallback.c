@@ -26,9 +26,10 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
     out->sample_us = AUTO_RAY_US * rays_per_sample;
     out->spp = f->spp;
     double t_mc = (double)f->spp * out->sample_us;
-    /* the asked configuration first: it stays unless another is strictly faster */
+    /* the asked configuration first: it stays unless another is predicted faster by more than
+     * the model's error */
     out->chosen = out->asked;
-    double best = -1.0;
+    double best = -1.0, asked_speed = 0.0;
     for (int k = 0; k < FILTER_GAIN_CONFIGS; ++k) {
         FilterGainConfig c = (FilterGainConfig)(out->asked & ~k); /* asked, then its subsets */
         if (out->speedup[c] > 0.0) continue;                   /* seen */
@@ -41,6 +42,8 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
         double error_ratio = (1.0 - share) + share / AUTO_FILTER_FOOTPRINT;
         double time_us = auto_fallback_time_us(c, f, out->sample_us);
         out->speedup[c] = time_us > 0.0 && error_ratio > 0.0 ? pow(error_ratio, -1.0 / out->alpha) * t_mc / time_us : 1.0;
+        if (c == out->asked) asked_speed = out->speedup[c];
         if (out->speedup[c] > best) best = out->speedup[c], out->chosen = c;
     }
+    if (best < AUTO_FALLBACK_MIN_ADVANTAGE * asked_speed) out->chosen = out->asked;
 }

@@ -12,7 +12,8 @@
  * rays per sample times AUTO_RAY_US),
  * k(c) the filters that run, s(c) the probe's share of the error an ideal filter of c
  * removes, alpha Monte Carlo's convergence exponent (filter_gain_alpha) and F the filters'
- * footprint. The configuration of the highest S is kept.
+ * footprint. The configuration of the highest S is kept when it beats the one auto chose by
+ * AUTO_FALLBACK_MIN_ADVANTAGE; otherwise auto's choice stands.
  *
  * Beside a camera filter, the per-sample variance the probe sees is mostly the lens's or the
  * shutter's, which that filter removes in every configuration; the shading filters' share is
@@ -40,6 +41,13 @@
 /* Left out: the filtered frame's fixed CPU time (the OpenCL driver, context and kernels,
  * 0.031-0.036 s here), so that the decision does not depend on the image's size
  * (docs/algorithms.md, "what the model ignores"). */
+/* A configuration replaces the one auto chose only when its predicted speed is at least this
+ * many times the chosen one's: the model's error. On the three scenes the constants come from,
+ * predicted over measured equal-error speed ran 0.83-1.26x; 4/3 covers it. (On the check set
+ * it ran 0.34-1.6x: it underestimates the filters where the unfilterable part sits in glossy
+ * or textured pixels that the adaptive plans give more samples, wire_screen 0.77x predicted
+ * against 1.56x measured at 8 spp; docs/benchmarks.md, "auto's fallback to Monte Carlo".) */
+#define AUTO_FALLBACK_MIN_ADVANTAGE (4.0 / 3.0)
 /* The independent samples a shading filter's kernel averages, relative to one pixel's: the
  * factor by which it lowers the error it can remove. */
 #define AUTO_FILTER_FOOTPRINT 50.0

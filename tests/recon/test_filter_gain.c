@@ -152,6 +152,14 @@ int main(void)
         AutoFallbackFrame g = {true, false, 1, true, 16};
         CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_NONE, &g, t_s), 16 * t_s + 16 * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL, 1e-9);
         auto_fallback_decide(&t, 2.0, &g, &fb);
+        /* ... which at 16 spp is less than AUTO_FALLBACK_MIN_ADVANTAGE: auto's choice stands */
+        CHECK(fb.speedup[FILTER_GAIN_NONE] > fb.speedup[FILTER_GAIN_DIRECT]);
+        CHECK(fb.speedup[FILTER_GAIN_NONE] < AUTO_FALLBACK_MIN_ADVANTAGE * fb.speedup[FILTER_GAIN_DIRECT]);
+        CHECK(fb.chosen == FILTER_GAIN_DIRECT);
+        /* at 2 spp the pass costs more than the margin: Monte Carlo */
+        g.spp = 2;
+        auto_fallback_decide(&t, 2.0, &g, &fb);
+        CHECK(fb.speedup[FILTER_GAIN_NONE] > AUTO_FALLBACK_MIN_ADVANTAGE * fb.speedup[FILTER_GAIN_DIRECT]);
         CHECK(fb.chosen == FILTER_GAIN_NONE);
     }
     {
@@ -178,7 +186,7 @@ int main(void)
         const double ind[COUNT] = {0.0, 0.4, 0.1, 0.5, 0.2, 0.3, 0.6, 0.7};
         for (int i = 0; i < COUNT; ++i) s[i] = (FilterGainSample){(float)(0.25 + 0.8 * ind[i]), 0.25f, 0.5f, (float)(0.8 * ind[i]), 0.8f};
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, true, 0, false, 16};
+        AutoFallbackFrame f = {true, true, 0, false, 2};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.asked == FILTER_GAIN_BOTH && fb.chosen == FILTER_GAIN_INDIRECT);
@@ -215,6 +223,7 @@ int main(void)
         FilterGainTotals u = {0};
         direct_pixel(s, base, half, half);
         filter_gain_add_pixel(&u, s, N, false);
+        f.spp = 2; /* where the pass's cost beats the margin */
         auto_fallback_decide(&u, 2.0, &f, &fb);
         CHECK_NEAR(fb.share[FILTER_GAIN_DIRECT], 0.0, 1e-12);
         CHECK(fb.chosen == FILTER_GAIN_NONE);
