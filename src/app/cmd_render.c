@@ -305,9 +305,10 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     if (ok && !a.quiet) {
         const ReconChoice *c = &recon_pipeline_result(pipe)->choice;
         if (!recon_choice_any(c)) note_sobol_count(renderer_sampler(r), a.spp > 0 ? a.spp : renderer_spp(r));
-        /* what auto's fallback decided, and why (recon/auto_fallback.h) */
-        for (int e = 0; e < EFFECT_COUNT && root && c->fallback_decided; ++e)
-            if (c->by_auto[e] && (e == EFFECT_SOFT_SHADOWS || e == EFFECT_INDIRECT) && c->reason[e][0])
+        /* an effect auto's fallback left to Monte Carlo, and why (recon/auto_fallback.h): the image
+         * is not the filtered one `wedge info` announces; a kept filter's numbers are in --report */
+        for (int e = 0; e < EFFECT_COUNT && root; ++e)
+            if (effect_in(c->fell_back, (Effect)e))
                 fprintf(stderr, "wedge render: --filter auto: %s: %s\n", effect_name((Effect)e), c->reason[e]);
     }
     interrupt_flag = 0;

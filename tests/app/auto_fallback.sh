@@ -3,9 +3,9 @@
 # scale_range's light is all-or-nothing per pixel (a far light), so its soft-shadow filter
 # cannot pay: auto leaves the effect to Monte Carlo, says so in the report and on stderr, and
 # renders exactly --filter none's image at the same --spp and seed. indirect's bounce is
-# nearly all light noise: auto keeps aaf, with a predicted gain above 1. An explicit method
-# (or an effect named with a method) never falls back, and WEDGE_AUTO_FALLBACK=0 keeps auto's
-# static choice.
+# nearly all light noise: auto keeps aaf, with a predicted gain above 1 in the report and
+# nothing on stderr. An explicit method (or an effect named with a method) never falls back,
+# and WEDGE_AUTO_FALLBACK=0 keeps auto's static choice.
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
@@ -46,8 +46,7 @@ PY
 # the side that keeps its filter
 "$WEDGE" render "$src/scenes/bench/indirect.pbrt" "${args[@]}" --filter auto -o "$T/ind.exr" --report "$T/ind.json" \
     2>"$T/err.txt" >/dev/null; check "auto on indirect" 0 $?
-grep -q "^wedge render: --filter auto: indirect: aaf, kept: predicted [0-9.]*x" "$T/err.txt" ||
-    { echo "FAIL: no kept line on stderr: $(cat "$T/err.txt")"; fail=1; }
+[ -s "$T/err.txt" ] && { echo "FAIL: a kept filter wrote to stderr: $(cat "$T/err.txt")"; fail=1; }
 python3 - "$T/ind.json" <<'PY' || fail=1
 import json, sys
 r = json.load(open(sys.argv[1])); a = r.get("auto_fallback", {})
