@@ -305,6 +305,11 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     if (ok && !a.quiet) {
         const ReconChoice *c = &recon_pipeline_result(pipe)->choice;
         if (!recon_choice_any(c)) note_sobol_count(renderer_sampler(r), a.spp > 0 ? a.spp : renderer_spp(r));
+        /* an effect auto's fallback left to Monte Carlo, and why (recon/auto_fallback.h): the image
+         * is not the filtered one `wedge info` announces; a kept filter's numbers are in --report */
+        for (int e = 0; e < EFFECT_COUNT && root; ++e)
+            if (effect_in(c->fell_back, (Effect)e))
+                fprintf(stderr, "wedge render: --filter auto: %s: %s\n", effect_name((Effect)e), c->reason[e]);
     }
     interrupt_flag = 0;
     void (*old_handler)(int) = signal(SIGINT, on_sigint);
@@ -380,6 +385,8 @@ static int render_command(int argc, char **argv, ReconDist *dist)
         }
         rep.blur_probe_px = res->choice.blur_px;
         rep.blur_probe_unbounded = res->choice.blur_unbounded;
+        rep.auto_fallback = res->choice.fallback_decided ? &res->choice.fallback : NULL;
+        rep.auto_fell_back = res->choice.fell_back;
         rep.mu = res->mu;
         rep.cl_device = res->device[0] ? res->device : NULL;
         rep.seconds_build = st.seconds_build;

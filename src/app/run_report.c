@@ -53,6 +53,32 @@ static void write_pixels_filtered(FILE *f, const RunReport *r)
     fprintf(f, "}");
 }
 
+/* "auto_fallback": auto's decision from the gain probe (recon/auto_fallback.h): the effects it
+ * left to Monte Carlo, and per configuration of the shading filters (none, direct, indirect,
+ * both) the predicted share of the error removed and equal-error speed against Monte Carlo. */
+static void write_auto_fallback(FILE *f, const RunReport *r)
+{
+    const AutoFallback *a = r->auto_fallback;
+    if (!a) return;
+    static const char *const CONFIG[FILTER_GAIN_CONFIGS] = {"none", "soft_shadows", "indirect", "both"};
+    fprintf(f, ",\n  \"auto_fallback\": {\"fell_back\": [");
+    for (int e = 0, first = 1; e < EFFECT_COUNT; ++e)
+        if (effect_in(r->auto_fell_back, (Effect)e)) fprintf(f, "%s\"%s\"", first ? "" : ", ", effect_name((Effect)e)), first = 0;
+    fprintf(f, "], \"asked\": \"%s\", \"chosen\": \"%s\", \"spp\": %d, \"alpha\": %.4f, \"sample_us\": %.5f",
+            CONFIG[a->asked], CONFIG[a->chosen], a->spp, finite_or_zero(a->alpha), finite_or_zero(a->sample_us));
+    const char *what[2] = {"share", "speedup"};
+    for (int k = 0; k < 2; ++k) {
+        fprintf(f, ", \"%s\": {", what[k]);
+        for (int c = 0, first = 1; c < FILTER_GAIN_CONFIGS; ++c) {
+            if ((c & ~(int)a->asked) != 0) continue; /* not open to this frame */
+            fprintf(f, "%s\"%s\": %.4f", first ? "" : ", ", CONFIG[c], finite_or_zero(k ? a->speedup[c] : a->share[c]));
+            first = 0;
+        }
+        fprintf(f, "}");
+    }
+    fprintf(f, "}");
+}
+
 bool run_report_write(const char *path, const RunReport *r, Diag *err)
 {
     /* Composed in memory, then written atomically like every output file. */
@@ -95,6 +121,7 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     if (r->blur_probe_px >= 0.0f)
         fprintf(f, ",\n  \"blur_probe_px\": %.3f,\n  \"blur_probe_unbounded\": %d", (double)r->blur_probe_px,
                 r->blur_probe_unbounded);
+    write_auto_fallback(f, r);
     write_pixels_filtered(f, r);
     fprintf(f, ",\n  \"mu\": %.6g", finite_or_zero(r->mu));
     if (r->cl_device && r->cl_device[0]) {

@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "core/diag.h"
+#include "recon/auto_fallback.h"
 #include "scene/scene_desc.h"
 
 typedef struct {
@@ -25,6 +26,8 @@ typedef struct {
     long long pixels_filtered[EFFECT_COUNT]; /* per effect, pixels its method filtered (ReconResult) */
     float blur_probe_px;       /* auto's blur probe (ReconChoice.blur_px), < 0: not run */
     int blur_probe_unbounded;  /* its samples whose blur overflowed (ReconChoice.blur_unbounded) */
+    const AutoFallback *auto_fallback; /* auto's gain-probe decision (ReconChoice.fallback), NULL: none */
+    EffectMask auto_fell_back; /* the effects it left to Monte Carlo */
     double mu;                 /* filter knob asked for (0: each paper's default) */
     const char *cl_device;     /* OpenCL device used by the filters, or NULL */
     const char *scene;         /* scene path or "<default>" */

@@ -5,6 +5,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "recon/probe_grid.h"
+
 /* Independent of --seed: info and render (and every MPI rank) must measure the same value. */
 static const uint64_t BLUR_PROBE_SEED = 0x626c7572u; /* "blur" */
 /* A pass number no render uses, so the probe's samples are not the render's first ones. */
@@ -56,12 +58,7 @@ bool recon_blur_probe(const Renderer *r, BlurProbe *out)
     int hits = 0, traced = 0, total = nx * ny;
     for (int first = 0; first < total; first += per_wave) {
         int count = total - first < per_wave ? total - first : per_wave;
-        for (int k = 0; k < count; ++k) {
-            int i = first + k, gx = i % nx, gy = i / nx;
-            /* the centre pixel of each of nx x ny equal cells of the image */
-            int px = (int)(((double)gx + 0.5) * w / nx), py = (int)(((double)gy + 0.5) * h / ny);
-            pix[k] = (WavePixel){px, py, 0, BLUR_PROBE_SPP, 0, BLUR_PROBE_SPP};
-        }
+        probe_grid_pixels(pix, first, count, nx, ny, w, h, BLUR_PROBE_SPP);
         int n = integrate_wave(isc, wave, &ws, pix, count, rec, &st);
         for (int j = 0; j < n; ++j) {
             ++traced;

@@ -9,9 +9,11 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "core/env_knob.h"
 #include "recon/blur_probe.h"
 #include "recon/budget_search.h"
 #include "recon/composite.h"
+#include "recon/gain_probe.h"
 #include "recon/overscan.h"
 
 /* A --spp budget is met by searching mu on a log scale over this range. Not below 1: mu = 1
@@ -154,6 +156,25 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
     }
     recon_select_budget(renderer_effects(r), o->filter, blur.median_blur_px, o->spp, &p->choice);
     p->choice.blur_unbounded = blur.samples_unbounded;
+    /* auto's shading filters, judged on what this frame shows before any of their cost is
+     * paid (the sink, the guides, the driver): where the gain probe predicts that Monte Carlo
+     * reaches a lower error in the same time, the effect is left to it, and with no filter
+     * left the frame is plain Monte Carlo at the same samples (auto_fallback.h). Without
+     * --spp the frame is judged at the scene's sample count, what --filter none traces.
+     * WEDGE_AUTO_FALLBACK=0 keeps auto's static choice (tests of the filters' pipeline on tiny
+     * frames, measurements of what the fallback changes). */
+    if (recon_select_wants_fallback(&p->choice) && env_knob_switch("WEDGE_AUTO_FALLBACK", true)) {
+        GainProbe probe;
+        if (!recon_gain_probe(r, &probe)) {
+            free(p);
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+            return false;
+        }
+        AutoFallback fb;
+        AutoFallbackFrame frame = recon_select_fallback_frame(&p->choice, o->spp > 0 ? o->spp : renderer_spp(r));
+        auto_fallback_decide(&probe.totals, probe.rays_per_sample, &frame, &fb);
+        recon_select_fallback(&p->choice, &fb);
+    }
     /* one slot per distinct method, holding every effect it filters */
     p->fixed_only = true;
     for (int e = 0; e < EFFECT_COUNT; ++e) {

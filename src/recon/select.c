@@ -267,6 +267,59 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
         }
     }
     follow_maaf_lens(by_auto, out);
+    memcpy(out->by_auto, by_auto, sizeof out->by_auto);
+}
+
+/* The shading effects auto's fallback decides (auto_fallback.h): the filters whose gain the
+ * probe measures. The camera effects' filters are not judged (their gain is over the lens and
+ * the shutter, which the probe does not separate from the pixel's area). */
+static bool fallback_candidate(const ReconChoice *c, Effect e)
+{
+    return (e == EFFECT_SOFT_SHADOWS || e == EFFECT_INDIRECT) && c->by_auto[e] && c->method[e];
+}
+
+bool recon_select_wants_fallback(const ReconChoice *c)
+{
+    return fallback_candidate(c, EFFECT_SOFT_SHADOWS) || fallback_candidate(c, EFFECT_INDIRECT);
+}
+
+AutoFallbackFrame recon_select_fallback_frame(const ReconChoice *c, int spp)
+{
+    AutoFallbackFrame f = {fallback_candidate(c, EFFECT_SOFT_SHADOWS), fallback_candidate(c, EFFECT_INDIRECT), 0, false, spp};
+    for (int e = 0; e < EFFECT_COUNT; ++e) {
+        bool other = c->method[e] && !fallback_candidate(c, (Effect)e);
+        f.others += other;
+        f.camera = f.camera || (other && (e == EFFECT_DEFOCUS || e == EFFECT_MOTION));
+    }
+    return f;
+}
+
+void recon_select_fallback(ReconChoice *c, const AutoFallback *fb)
+{
+    c->fallback = *fb;
+    c->fallback_decided = true;
+    c->fell_back = 0;
+    static const struct {
+        Effect effect;
+        FilterGainConfig bit;
+    } SHADING[] = {{EFFECT_SOFT_SHADOWS, FILTER_GAIN_DIRECT}, {EFFECT_INDIRECT, FILTER_GAIN_INDIRECT}};
+    for (size_t k = 0; k < sizeof SHADING / sizeof SHADING[0]; ++k) {
+        Effect e = SHADING[k].effect;
+        if (!(fb->asked & SHADING[k].bit)) continue;
+        /* the prediction for this effect: the configuration with it against the one without */
+        FilterGainConfig with = fb->chosen | SHADING[k].bit, without = fb->chosen & ~SHADING[k].bit;
+        if (fb->chosen & SHADING[k].bit) {
+            set_reason(c, e, "%s, kept: predicted %.2fx Monte Carlo's equal-error speed (%.2fx without it; error share "
+                       "%.0f%%, alpha %.2f, gain probe)", c->method[e]->name, fb->speedup[with], fb->speedup[without],
+                       100.0 * fb->share[with], fb->alpha);
+        } else {
+            set_reason(c, e, "none, auto fell back to Monte Carlo: %s predicted %.2fx its equal-error speed, %.2fx "
+                       "without (error share %.0f%%, alpha %.2f, gain probe)", c->method[e]->name, fb->speedup[with],
+                       fb->speedup[without], 100.0 * fb->share[with], fb->alpha);
+            c->method[e] = NULL;
+            c->fell_back |= EFFECT_BIT(e);
+        }
+    }
 }
 
 const char *recon_choice_name(const ReconChoice *c, Effect e)

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "recon/auto_fallback.h"
 #include "recon/method.h"
 #include "scene/effects.h"
 
@@ -20,6 +21,13 @@ typedef struct {
     float blur_px;                                /* the blur probe's value it read, -1: none */
     int blur_unbounded;                           /* the probe's samples_unbounded (set by the
                                                    * caller that ran it; 0 otherwise) */
+    bool by_auto[EFFECT_COUNT];                   /* auto decided the effect (--filter auto, or
+                                                   * EFFECT=auto / not named in the per-effect form) */
+    bool fallback_decided;                        /* the gain probe ran and recon_select_fallback
+                                                   * applied its decision (fallback below) */
+    EffectMask fell_back;                         /* effects auto had chosen a filter for and then
+                                                   * left to Monte Carlo */
+    AutoFallback fallback;                        /* the decision's numbers */
 } ReconChoice;
 
 /* --filter auto sends the camera effects (motion, and defocus with it) of a scene with motion
@@ -58,6 +66,17 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
  * decides motion or defocus (motion's choice is lr either way; the value is in its reason).
  * Callers run the probe only then. */
 bool recon_select_wants_blur(EffectMask present, const char *request);
+
+/* Whether auto chose a shading filter (soft shadows, indirect light) that its fallback to
+ * Monte Carlo may take back: the caller then runs the gain probe (gain_probe.h) and applies
+ * the decision with recon_select_fallback. Explicit filters never fall back. */
+bool recon_select_wants_fallback(const ReconChoice *c);
+/* The frame auto_fallback_decide judges: auto's shading filters as candidates, every other
+ * filtered effect counted, spp the frame's samples per pixel. */
+AutoFallbackFrame recon_select_fallback_frame(const ReconChoice *c, int spp);
+/* Applies a decision: the candidates left out of fb->chosen get no method and a reason that
+ * gives the prediction; those kept get the prediction appended to their reason. */
+void recon_select_fallback(ReconChoice *c, const AutoFallback *fb);
 
 /* "aaf", or "none" when the effect is not filtered. */
 const char *recon_choice_name(const ReconChoice *c, Effect e);

@@ -5,6 +5,8 @@
  * 1, so every pixel has exactly the budget and LR reads all of it, while AAF still filters.
  * Without a budget (the methods' own counts), and through a pinhole (LR takes the motion
  * alone), AAF's plan adds samples where it wants them. */
+#include <stdlib.h>
+
 #include "check.h"
 #include "recon_test_util.h"
 
@@ -59,6 +61,9 @@ static FrameCounts render(int spp, bool lens, const char *defocus_method)
 
 int main(void)
 {
+    /* auto's static choice: this test is about the filters' pipeline on a tiny frame, where
+     * auto's fallback (recon/auto_fallback.h) would leave the shading effects to Monte Carlo */
+    setenv("WEDGE_AUTO_FALLBACK", "0", 1);
     FrameCounts fc = render(24, true, "lr");
     fprintf(stderr, "lens, --spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max,
             fc.aaf_pixels);

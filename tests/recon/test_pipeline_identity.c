@@ -88,6 +88,9 @@ static bool render_rgb(const char *path, float **rgb, int *w, int *h)
 
 int main(int argc, char **argv)
 {
+    /* auto's static choice: this test is about the filters' pipeline on a tiny frame, where
+     * auto's fallback (recon/auto_fallback.h) would leave the shading effects to Monte Carlo */
+    setenv("WEDGE_AUTO_FALLBACK", "0", 1);
     if (argc > 1 && !strcmp(argv[1], "--hash-exr")) {
         for (int i = 2; i < argc; ++i) {
             int w, h;

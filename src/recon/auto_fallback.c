@@ -1,0 +1,49 @@
+/* --filter auto's fallback to Monte Carlo (see auto_fallback.h). */
+#include "recon/auto_fallback.h"
+
+#include <math.h>
+#include <string.h>
+
+static int filters_in(FilterGainConfig c)
+{
+    return ((c & FILTER_GAIN_DIRECT) != 0) + ((c & FILTER_GAIN_INDIRECT) != 0);
+}
+
+double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, double sample_us)
+{
+    double n = (double)f->spp;
+    double t = n * sample_us;
+    int filters = filters_in(c) + f->others;
+    if (filters > 0) t += n * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL * filters;
+    return t;
+}
+
+void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, const AutoFallbackFrame *f, AutoFallback *out)
+{
+    memset(out, 0, sizeof *out);
+    out->asked = (f->direct ? FILTER_GAIN_DIRECT : 0) | (f->indirect ? FILTER_GAIN_INDIRECT : 0);
+    out->alpha = filter_gain_alpha(t);
+    out->sample_us = AUTO_RAY_US * rays_per_sample;
+    out->spp = f->spp;
+    double t_mc = (double)f->spp * out->sample_us;
+    /* the asked configuration first: it stays unless another is predicted faster by more than
+     * the model's error */
+    out->chosen = out->asked;
+    double best = -1.0, asked_speed = 0.0;
+    for (int k = 0; k < FILTER_GAIN_CONFIGS; ++k) {
+        FilterGainConfig c = (FilterGainConfig)(out->asked & ~k); /* asked, then its subsets */
+        if (out->speedup[c] > 0.0) continue;                   /* seen */
+        double share = filter_gain_share(t, c);
+        if (f->camera) { /* the lens's variance is the camera filter's: see the header */
+            double asked_share = filter_gain_share(t, out->asked);
+            share = asked_share > 0.0 ? filter_gain_filterable_share(t) * share / asked_share : 0.0;
+        }
+        out->share[c] = share;
+        double error_ratio = (1.0 - share) + share / AUTO_FILTER_FOOTPRINT;
+        double time_us = auto_fallback_time_us(c, f, out->sample_us);
+        out->speedup[c] = time_us > 0.0 && error_ratio > 0.0 ? pow(error_ratio, -1.0 / out->alpha) * t_mc / time_us : 1.0;
+        if (c == out->asked) asked_speed = out->speedup[c];
+        if (out->speedup[c] > best) best = out->speedup[c], out->chosen = c;
+    }
+    if (best < AUTO_FALLBACK_MIN_ADVANTAGE * asked_speed) out->chosen = out->asked;
+}

@@ -1,0 +1,79 @@
+/* --filter auto's fallback to Monte Carlo: from the gain probe's measurements (gain_probe.h),
+ * whether the frame's shading filters are predicted to reach a lower error than plain Monte
+ * Carlo in the same time, per configuration of the effects auto chose to filter
+ * (docs/algorithms.md, "auto's fallback to Monte Carlo", for the model and its derivation).
+ *
+ *   time per pixel   T(c) = N t_s + [a filter runs] N t_sink + t_px k(c)
+ *   error ratio      E(c) = (1 - s(c)) + s(c) / F        (filter_gain_error_ratio)
+ *   equal-error speed against Monte Carlo at N samples:
+ *                    S(c) = E(c)^(-1/alpha) * N t_s / T(c)
+ *
+ * with N the frame's samples per pixel, t_s Monte Carlo's CPU time per sample (the probe's
+ * rays per sample times AUTO_RAY_US),
+ * k(c) the filters that run, s(c) the probe's share of the error an ideal filter of c
+ * removes, alpha Monte Carlo's convergence exponent (filter_gain_alpha) and F the filters'
+ * footprint. The configuration of the highest S is kept when it beats the one auto chose by
+ * AUTO_FALLBACK_MIN_ADVANTAGE; otherwise auto's choice stands.
+ *
+ * Beside a camera filter, the per-sample variance the probe sees is mostly the lens's or the
+ * shutter's, which that filter removes in every configuration; the shading filters' share is
+ * then taken as the variance in the pixels they may touch (filter_gain_filterable_share),
+ * split between the configurations as their ideal shares are: s(c) = q s_ideal(c) /
+ * s_ideal(asked). */
+#ifndef WEDGE_RECON_AUTO_FALLBACK_H
+#define WEDGE_RECON_AUTO_FALLBACK_H
+
+#include <stdbool.h>
+
+#include "recon/filter_gain.h"
+
+/* The model's constants, measured on a subset of the bench scenes (soft_shadows, indirect,
+ * thin_occluders; 256x256 and 64x64, 8 and 16 spp, --threads 1, CPU time of --filter auto
+ * against --filter none; docs/benchmarks.md, "auto's fallback to Monte Carlo"): */
+/* CPU microseconds per ray of plain Monte Carlo (its frame's time over its rays, shading
+ * included): 0.044 (soft_shadows), 0.059 (thin_occluders), 0.084 (indirect) */
+#define AUTO_RAY_US 0.06
+/* CPU microseconds a filtered frame spends per sample beyond plain Monte Carlo's (the
+ * pipeline's sink, the guides, the methods' statistics, recorded ray geometry): 0.07-0.15 */
+#define AUTO_SINK_US_PER_SAMPLE 0.10
+/* ... per pixel and filtered effect (plans, filter passes, composite): 0.8-1.6 */
+#define AUTO_FILTER_US_PER_PIXEL 1.1
+/* Left out: the filtered frame's fixed CPU time (the OpenCL driver, context and kernels,
+ * 0.031-0.036 s here), so that the decision does not depend on the image's size
+ * (docs/algorithms.md, "what the model ignores"). */
+/* A configuration replaces the one auto chose only when its predicted speed is at least this
+ * many times the chosen one's: the model's error. On the three scenes the constants come from,
+ * predicted over measured equal-error speed ran 0.83-1.26x; 4/3 covers it. (On the check set
+ * it ran 0.34-1.6x: it underestimates the filters where the unfilterable part sits in glossy
+ * or textured pixels that the adaptive plans give more samples, wire_screen 0.77x predicted
+ * against 1.56x measured at 8 spp; docs/benchmarks.md, "auto's fallback to Monte Carlo".) */
+#define AUTO_FALLBACK_MIN_ADVANTAGE (4.0 / 3.0)
+/* The independent samples a shading filter's kernel averages, relative to one pixel's: the
+ * factor by which it lowers the error it can remove. */
+#define AUTO_FILTER_FOOTPRINT 50.0
+
+typedef struct {
+    bool direct, indirect;   /* auto chose to filter soft shadows / indirect light (candidates) */
+    int others;              /* other effects a filter takes whatever this decides (camera
+                              * effects, effects named explicitly) */
+    bool camera;             /* among them a camera effect (defocus, motion) */
+    int spp;                 /* N: the frame's samples per pixel */
+} AutoFallbackFrame;
+
+typedef struct {
+    FilterGainConfig asked;  /* the candidates' configuration */
+    FilterGainConfig chosen; /* the one kept (a subset of asked) */
+    double share[FILTER_GAIN_CONFIGS];   /* s(c) */
+    double speedup[FILTER_GAIN_CONFIGS]; /* S(c); 0 for configurations not open to the frame */
+    double alpha;
+    double sample_us;        /* t_s, microseconds */
+    int spp;
+} AutoFallback;
+
+/* The decision for a frame from the probe's totals and rays per sample. */
+void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, const AutoFallbackFrame *f, AutoFallback *out);
+
+/* T(c), microseconds per pixel. */
+double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, double sample_us);
+
+#endif

@@ -1,0 +1,81 @@
+/* The gain probe (see gain_probe.h). */
+#include "recon/gain_probe.h"
+
+#include <stdlib.h>
+
+#include "recon/gbuffer.h"
+#include "recon/probe_grid.h"
+
+/* Independent of --seed, like the blur probe's. */
+static const uint64_t GAIN_PROBE_SEED = 0x6761696eu; /* "gain" */
+/* Pass numbers no render uses, one per set: two independent sampler sets per pixel. */
+enum { GAIN_PROBE_PASS_A = 978, GAIN_PROBE_PASS_B = 979 };
+
+/* What the estimate reads of a sample: luminances of its radiance, of the direct and indirect
+ * light the shading filters would take (the G-buffer's split of the unfiltered parts
+ * subtracted) and of the albedos they demodulate by. */
+static FilterGainSample gain_sample(const SampleRecord *r)
+{
+    FilterGainSample s = {v3_luminance(r->L), 0.0f, 0.0f, 0.0f, 0.0f};
+    if (!r->hit || r->unfilterable) return s;
+    float ud[3], ui[3];
+    gbuffer_unfiltered_split(r, ud, ui);
+    vec3 unf_direct = {ud[0], ud[1], ud[2]}, unf_indirect = {ui[0], ui[1], ui[2]};
+    s.direct_filterable = v3_luminance(r->direct) - v3_luminance(unf_direct);
+    s.albedo_direct = v3_luminance(gbuffer_sample_lobed(r) ? r->albedo_diffuse : r->albedo);
+    s.indirect_filterable = v3_luminance(r->indirect) - v3_luminance(unf_indirect);
+    s.albedo_indirect = v3_luminance(r->albedo);
+    return s;
+}
+
+bool recon_gain_probe(const Renderer *r, GainProbe *out)
+{
+    *out = (GainProbe){0};
+    IntegratorScene isc = *renderer_integrator_scene(r);
+    isc.record_ray_geometry = false;
+    isc.record_bounce_geometry = false;
+    isc.record_motion = false;
+    isc.skip_first_hit_fields = false; /* the mixed rule and the albedos read them */
+    int w = renderer_width(r), h = renderer_height(r);
+    int nx = w / GAIN_PROBE_STRIDE, ny = h / GAIN_PROBE_STRIDE;
+    nx = nx < 1 ? 1 : nx > GAIN_PROBE_GRID ? GAIN_PROBE_GRID : nx;
+    ny = ny < 1 ? 1 : ny > GAIN_PROBE_GRID ? GAIN_PROBE_GRID : ny;
+    enum { PIXEL_SAMPLES = 2 * GAIN_PROBE_SET_SPP };
+    int per_wave = WAVE_SAMPLES / GAIN_PROBE_SET_SPP; /* one set of each pixel per wave */
+    /* the probe pixels as a small image of their own, whose guides say which are mixed */
+    GBuffer g;
+    if (!gbuffer_init(&g, nx, ny, recon_camera_from(renderer_camera(r)))) return false;
+    Wave *wave = wave_create();
+    SampleRecord *rec = malloc(sizeof *rec * WAVE_SAMPLES);
+    FilterGainSample *samples = malloc(sizeof *samples * (size_t)(nx * ny * PIXEL_SAMPLES));
+    WavePixel *pix = malloc(sizeof *pix * (size_t)per_wave);
+    if (!wave || !rec || !samples || !pix) {
+        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(pix);
+        return false;
+    }
+    IntegratorStats st = {0};
+    int total = nx * ny;
+    for (int set = 0; set < 2; ++set) {
+        WaveSampling ws = {renderer_sampler(r), GAIN_PROBE_SEED, set ? GAIN_PROBE_PASS_B : GAIN_PROBE_PASS_A};
+        for (int first = 0; first < total; first += per_wave) {
+            int count = total - first < per_wave ? total - first : per_wave;
+            probe_grid_pixels(pix, first, count, nx, ny, w, h, GAIN_PROBE_SET_SPP);
+            int n = integrate_wave(&isc, wave, &ws, pix, count, rec, &st);
+            for (int j = 0; j < n; ++j) {
+                int i = first + j / GAIN_PROBE_SET_SPP;
+                gbuffer_add(&g, i % nx, i / nx, &rec[j]);
+                samples[(size_t)i * PIXEL_SAMPLES + (size_t)(set * GAIN_PROBE_SET_SPP + j % GAIN_PROBE_SET_SPP)] =
+                    gain_sample(&rec[j]);
+            }
+            out->samples += n;
+        }
+    }
+    for (int i = 0; i < total; ++i) g.frame.spp[i] = (float)PIXEL_SAMPLES;
+    gbuffer_resolve_guides(&g);
+    for (int i = 0; i < total; ++i)
+        filter_gain_add_pixel(&out->totals, samples + (size_t)i * PIXEL_SAMPLES, GAIN_PROBE_SET_SPP, g.mixed[i] != 0);
+    long long rays = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
+    out->rays_per_sample = out->samples ? (double)rays / out->samples : 0.0;
+    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(pix);
+    return true;
+}

@@ -1,0 +1,32 @@
+/* The gain probe: before a frame under --filter auto is traced, a sparse grid of its pixels
+ * with two independent sets of a few samples each, read by the filter-gain estimate
+ * (filter_gain.h) and timed, so that auto can predict whether a shading filter pays on this
+ * frame (auto_fallback.h; docs/algorithms.md, "auto's fallback to Monte Carlo").
+ *
+ * Deterministic: a fixed grid and a fixed seed, independent of --seed and the thread count, and
+ * no clock (the cost it reports is rays per sample), so a frame's decision is the same on every
+ * run and every MPI rank, and the image with it. */
+#ifndef WEDGE_RECON_GAIN_PROBE_H
+#define WEDGE_RECON_GAIN_PROBE_H
+
+#include "recon/filter_gain.h"
+#include "render/renderer.h"
+
+enum {
+    GAIN_PROBE_GRID = 32,   /* probe pixels per image axis at most ... */
+    GAIN_PROBE_STRIDE = 4,  /* ... and at most one pixel in this many per axis (a small image) */
+    GAIN_PROBE_SET_SPP = 4, /* samples per pixel in each of the two sets */
+};
+
+typedef struct {
+    FilterGainTotals totals;
+    double rays_per_sample; /* rays traced per sample (primary, shadow, indirect, BSDF): the
+                             * frame's Monte Carlo cost in rays */
+    int samples;            /* samples traced */
+} GainProbe;
+
+/* Traces the probe on r's scene and resolution (one thread, the renderer's sampler kind).
+ * False only when out of memory. */
+bool recon_gain_probe(const Renderer *r, GainProbe *out);
+
+#endif

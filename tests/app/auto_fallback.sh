@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# --filter auto's fallback to Monte Carlo (recon/auto_fallback.h), both sides on real scenes:
+# scale_range's light is all-or-nothing per pixel (a far light), so its soft-shadow filter
+# cannot pay: auto leaves the effect to Monte Carlo, says so in the report and on stderr, and
+# renders exactly --filter none's image at the same --spp and seed. indirect's bounce is
+# nearly all light noise: auto keeps aaf, with a predicted gain above 1 in the report and
+# nothing on stderr. An explicit method (or an effect named with a method) never falls back,
+# and WEDGE_AUTO_FALLBACK=0 keeps auto's static choice.
+set -u
+. "$(dirname "$0")/../lib.sh"
+require_wedge
+require_cl_device
+command -v python3 >/dev/null || { echo "FAIL: python3 not found (tools/setup installs it)"; exit 1; }
+make_temp_dir
+src=${WEDGE_SOURCE_DIR:-../..}
+fail=0
+unset WEDGE_AUTO_FALLBACK
+args=(--res 64x64 --spp 8 --seed 3 --threads 2)
+
+# the side that falls back
+"$WEDGE" render "$src/scenes/bench/scale_range.pbrt" "${args[@]}" --filter auto -o "$T/auto.exr" --report "$T/auto.json" \
+    2>"$T/err.txt" >/dev/null; check "auto on scale_range" 0 $?
+"$WEDGE" render "$src/scenes/bench/scale_range.pbrt" "${args[@]}" --filter none -o "$T/none.exr" --quiet; check "none" 0 $?
+grep -q "^wedge render: --filter auto: soft_shadows: none, auto fell back to Monte Carlo: maaf predicted 0\.[0-9]*x" "$T/err.txt" ||
+    { echo "FAIL: no fallback line on stderr: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" compare "$T/none.exr" "$T/auto.exr" --json > "$T/cmp.json"; check "compare" 0 $?
+python3 - "$T/auto.json" "$T/cmp.json" <<'PY' || fail=1
+import json, sys
+r, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+a = r.get("auto_fallback", {})
+bad = []
+if r["filters"] != {"soft_shadows": "none"}: bad.append("filters %s" % r["filters"])
+if a.get("fell_back") != ["soft_shadows"] or a.get("chosen") != "none" or a.get("asked") != "soft_shadows":
+    bad.append("auto_fallback %s" % a)
+sp = a.get("speedup", {})
+if not (0 < sp.get("soft_shadows", 9) < 1 and sp.get("none") == 1): bad.append("speedups %s" % sp)
+if not (0 <= a.get("share", {}).get("soft_shadows", -1) < 0.5): bad.append("share %s" % a.get("share"))
+if not (1 <= a.get("alpha", 0) <= 2 and a.get("spp") == 8 and a.get("sample_us", 0) > 0): bad.append("model %s" % a)
+if r["spp_avg"] != 8 or r["pixels_filtered"] != {}: bad.append("spp_avg %s, pixels_filtered %s" % (r["spp_avg"], r["pixels_filtered"]))
+rel = c.get("relMSE", c.get("relmse"))
+if rel != 0: bad.append("the fallback's image is not --filter none's: relMSE %s" % rel)
+if bad: print("FAIL: scale_range, auto: " + "; ".join(bad)); sys.exit(1)
+print("scale_range: soft shadows left to Monte Carlo, predicted %.2fx; the image is --filter none's" % sp["soft_shadows"])
+PY
+
+# the side that keeps its filter
+"$WEDGE" render "$src/scenes/bench/indirect.pbrt" "${args[@]}" --filter auto -o "$T/ind.exr" --report "$T/ind.json" \
+    2>"$T/err.txt" >/dev/null; check "auto on indirect" 0 $?
+[ -s "$T/err.txt" ] && { echo "FAIL: a kept filter wrote to stderr: $(cat "$T/err.txt")"; fail=1; }
+python3 - "$T/ind.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); a = r.get("auto_fallback", {})
+ok = r["filters"] == {"indirect": "aaf"} and a.get("fell_back") == [] and a.get("chosen") == "indirect" \
+    and a["speedup"]["indirect"] > 1 and a["share"]["indirect"] > 0.5 and r["pixels_filtered"]["aaf"]["indirect"] > 0
+if not ok: print("FAIL: indirect, auto: filters %s, auto_fallback %s" % (r["filters"], a)); sys.exit(1)
+print("indirect: aaf kept, predicted %.2fx" % a["speedup"]["indirect"])
+PY
+
+# explicit methods, an effect named with a method, and the knob: no fallback
+for case in "maaf|" "soft_shadows=maaf|" "auto|WEDGE_AUTO_FALLBACK=0"; do
+    IFS='|' read -r filter knob <<<"$case"
+    env $knob "$WEDGE" render "$src/scenes/bench/scale_range.pbrt" "${args[@]}" --filter "$filter" -o "$T/x.exr" \
+        --report "$T/x.json" 2>"$T/err.txt" >/dev/null; check "--filter $filter $knob" 0 $?
+    grep -q "fell back" "$T/err.txt" && { echo "FAIL: --filter $filter $knob fell back"; fail=1; }
+    python3 - "$T/x.json" "$filter $knob" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1]))
+if r["filters"] != {"soft_shadows": "maaf"} or "auto_fallback" in r:
+    print("FAIL: %s: filters %s, auto_fallback %s" % (sys.argv[2], r["filters"], r.get("auto_fallback"))); sys.exit(1)
+PY
+done
+exit $fail
