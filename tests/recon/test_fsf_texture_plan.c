@@ -15,46 +15,22 @@
 #include <string.h>
 
 #include "../check.h"
+#include "albedo_row.h"
 #include "recon/fsf/fsf_budget_plan.h"
 #include "recon/pipeline.h"
 #include "recon_test_util.h"
 
-enum { ROW_PX = 8, PASS1_PER_PX = 3, PLAN_RES = 64 };
+enum { PLAN_RES = 64 };
 
-static SampleRecord surface_at(float x, float albedo)
-{
-    SampleRecord r = {0};
-    r.hit = true;
-    r.p_world = v3(x, 0.0f, 2.0f);
-    r.n_shading = v3(0.0f, 0.0f, -1.0f);
-    r.depth_cam = 2.0f;
-    r.object_id = 3;
-    r.albedo = v3(albedo, albedo, albedo);
-    return r;
-}
-
-/* pass 1's samples of the row at the strata centres: 0.8 left of x_edge, 0.2 right of it */
-static bool step_row(GBuffer *g, float x_edge)
-{
-    ReconCamera cam = {0.0f, 1.0f, 0.001f};
-    if (!gbuffer_init(g, ROW_PX, 1, cam)) return false;
-    for (int px = 0; px < ROW_PX; ++px)
-        for (int k = 0; k < PASS1_PER_PX; ++k) {
-            float x = (float)px + ((float)k + 0.5f) / (float)PASS1_PER_PX;
-            SampleRecord r = surface_at(x, x < x_edge ? 0.8f : 0.2f);
-            gbuffer_add(g, px, 0, &r);
-            g->frame.spp[px] += 1.0f;
-        }
-    gbuffer_resolve_guides(g);
-    return true;
-}
+/* the albedo: 0.8 left of x_edge, 0.2 right of it */
+static float step_albedo(float x, float x_edge) { return x < x_edge ? 0.8f : 0.2f; }
 
 static void texture_area(void)
 {
     int kept_at_edge = 0, far_zeroed = 0, lens_zeroed = 0, left_out_kept = 0, tried = 0;
     for (int j = 1; j < 60; ++j) {
         GBuffer g;
-        CHECK(step_row(&g, 3.0f + (float)j / 60.0f));
+        CHECK(row_gbuffer(&g, step_albedo, 3.0f + (float)j / 60.0f));
         if (!g.sums) continue;
         ++tried;
         float area[ROW_PX];
