@@ -13,7 +13,8 @@
  * width under FSF_COLLAPSED_SIGMA_PX along either axis (near a contact line the slope range
  * explodes, FSF eq. 4 goes to 0), a mixed pixel (several surfaces: passed through), a pixel
  * the light-share test leaves out (FSF_MIN_LIGHT_SHARE), a defocus range straddling the focal
- * plane (fsf_lens_straddles). Where FSF filters defocus, the lens filter blurs the shading
+ * plane (fsf_lens_straddles); at most FSF_TEXTURE_AREA_PX at a texture edge (fsf_texture_area).
+ * Where FSF filters defocus, the lens filter blurs the shading
  * filters' output and the areas add (docs/algorithms.md). v is the relative variance of one
  * pass-1 sample over the pixel's 3 x 3 window. Pass 1 takes a fixed share of the budget
  * (FSF_BUDGET_PASS1_SHARE, or _LENS with defocus): it is every pixel's floor. */
