@@ -9,38 +9,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "recon/gbuffer.h"
-
-enum { ROW_PX = 8, PASS1_PER_PX = 3 };
-
-static SampleRecord surface_at(float x, float albedo)
-{
-    SampleRecord r = {0};
-    r.hit = true;
-    r.p_world = v3(x, 0.0f, 2.0f);
-    r.n_shading = v3(0.0f, 0.0f, -1.0f);
-    r.depth_cam = 2.0f;
-    r.object_id = 3;
-    r.albedo = v3(albedo, albedo, albedo);
-    return r;
-}
-
-/* Feeds the row's pass 1: albedo(x) at the strata centres of each pixel. */
-static bool row_gbuffer(GBuffer *g, float (*albedo)(float x, float param), float param)
-{
-    ReconCamera cam = {0.0f, 1.0f, 0.001f};
-    if (!gbuffer_init(g, ROW_PX, 1, cam)) return false;
-    for (int px = 0; px < ROW_PX; ++px) {
-        for (int k = 0; k < PASS1_PER_PX; ++k) {
-            float x = (float)px + ((float)k + 0.5f) / (float)PASS1_PER_PX;
-            SampleRecord r = surface_at(x, albedo(x, param));
-            gbuffer_add(g, px, 0, &r);
-            g->frame.spp[px] += 1.0f;
-        }
-    }
-    gbuffer_resolve_guides(g);
-    return true;
-}
+#include "albedo_row.h"
 
 static float step_albedo(float x, float x_edge) { return x < x_edge ? 0.8f : 0.2f; }
 

@@ -92,6 +92,17 @@ bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, FsfScrat
     return ok;
 }
 
+void fsf_texture_area(const GBuffer *g, const FsfPixel *lens_px, float *area_px)
+{
+    size_t n = (size_t)g->width * (size_t)g->height;
+    for (size_t i = 0; i < n; ++i) {
+        /* the lens filter's width in pixels (both axes share it, fsf_lens.h); 0 when left out */
+        float lens_std_px = lens_px ? fminf(lens_px[i].sigma_px[0], lens_px[i].sigma_px[1]) : 0.0f;
+        if (g->hit[i] && gbuffer_texture_needs_samples(g, i, lens_std_px))
+            area_px[i] = fminf(area_px[i], FSF_TEXTURE_AREA_PX);
+    }
+}
+
 void fsf_budget_plan(const float *want_spp, size_t n, const float *spp_now, int *spp_total)
 {
     double carry = 0.0;

@@ -13,7 +13,8 @@
  * width under FSF_COLLAPSED_SIGMA_PX along either axis (near a contact line the slope range
  * explodes, FSF eq. 4 goes to 0), a mixed pixel (several surfaces: passed through), a pixel
  * the light-share test leaves out (FSF_MIN_LIGHT_SHARE), a defocus range straddling the focal
- * plane (fsf_lens_straddles). Where FSF filters defocus, the lens filter blurs the shading
+ * plane (fsf_lens_straddles); at most FSF_TEXTURE_AREA_PX at a texture edge (fsf_texture_area).
+ * Where FSF filters defocus, the lens filter blurs the shading
  * filters' output and the areas add (docs/algorithms.md). v is the relative variance of one
  * pass-1 sample over the pixel's 3 x 3 window. Pass 1 takes a fixed share of the budget
  * (FSF_BUDGET_PASS1_SHARE, or _LENS with defocus): it is every pixel's floor. */
@@ -115,6 +116,24 @@ bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, FsfScrat
  * collapsed, have no extras or were passed through keep value4. */
 void fsf_blend_collapsed(const FsfPixel *px, const unsigned char *usable, const int *stored, const GBuffer *g,
                          const FsfGrid *grid, const float *mean4, float *value4);
+
+/* The area (pixels) the plan counts at most for a pixel whose texture needs samples: the
+ * shading filters divide the light by the pixel's mean albedo and multiply it back, so the
+ * texture's own sampling noise (its antialiasing) stays at the pixel's count whatever the
+ * filter's area. On scale_range at 16 spp the wide-filtered ground pixels kept pass 1's 12
+ * samples and held FSF above Monte Carlo's error. AAF's and MAAF's plans give such pixels the
+ * mixed pixels' count (area 1); here that (0 in the plan: a Monte Carlo pixel) cost wire_screen
+ * 8-13% at 16 spp (seeds 100 / 200): its checks' edges took the samples of the slats' contact
+ * shadows, while pass 1 and 2 are stratified, so an edge pixel's albedo mean converges faster
+ * than the plan's v / n. Measured (relMSE against the base at 16 / 64 spp, two seeds): area 2
+ * still +5% at 16 on wire_screen, 4 within 1% of the base there and on moving_shadow, 8 kept
+ * 0.62-0.71x on scale_range where 4 kept 0.50-0.60x (docs/benchmarks.md, branch fsf10). */
+#define FSF_TEXTURE_AREA_PX 4.0f
+/* area_px[i] = min(area_px[i], FSF_TEXTURE_AREA_PX) where pixel i's texture needs samples
+ * (gbuffer_texture_needs_samples: its albedo varies inside it or against a 4-neighbour) and
+ * no lens filter ALBEDO_VARIES_DEFOCUS_STD_PX wide or more follows (lens_px: the lens filter's
+ * parameters per pixel, NULL: none; a lens filter blurs the texture and its noise). */
+void fsf_texture_area(const GBuffer *g, const FsfPixel *lens_px, float *area_px);
 
 /* The totals: want_spp[i] (the real counts of the Lagrange allocation, sample_rate_counts with
  * pass 1's count as the floor and FSF_BUDGET_CAP_RATIO times it as the cap), never below

@@ -322,6 +322,8 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         if (m->lens_planned) area[i] = m->straddle[i] ? 0.0f : shade + fsf_pixel_area_px(&m->lens_px[i]);
         else area[i] = shade;
     }
+    /* texture edges: at most FSF_TEXTURE_AREA_PX, as if their filter averaged few pixels */
+    fsf_texture_area(g, m->lens_planned ? m->lens_px : NULL, area);
     if (!sample_rate_factors(m->lum4, g->width, g->height, area)) goto oom;
     fsf_profile_mark(&m->prof, "factors");
     float *factor = m->want_spp;
