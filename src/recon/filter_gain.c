@@ -58,6 +58,14 @@ void filter_gain_add_pixel(FilterGainTotals *t, const FilterGainSample *s, int n
     t->pixels_filterable += !mixed;
 }
 
+void filter_gain_split_pixel(FilterGainSample *s, const bool *off_first, int count, bool split_direct, bool split_indirect)
+{
+    for (int k = 0; k < count; ++k) {
+        if (off_first[k] || !split_direct) s[k].direct_filterable = 0.0f, s[k].albedo_direct = 0.0f;
+        if (off_first[k] || !split_indirect) s[k].indirect_filterable = 0.0f, s[k].albedo_indirect = 0.0f;
+    }
+}
+
 double filter_gain_share(const FilterGainTotals *t, FilterGainConfig c)
 {
     double all = t->left[FILTER_GAIN_NONE];

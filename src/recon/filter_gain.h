@@ -58,6 +58,14 @@ typedef struct {
  * it alone. */
 void filter_gain_add_pixel(FilterGainTotals *t, const FilterGainSample *samples, int n, bool mixed);
 
+/* A split pixel (docs/algorithms.md 4.6: a mixed pixel whose first surface the filters take)
+ * made ready for filter_gain_add_pixel (as not mixed): a light the frame splits is kept only
+ * on the samples of the first surface (off_first[i] false), the other samples keeping their
+ * radiance as light no filter sees; a light it does not split is taken off every sample, as
+ * in any mixed pixel. count samples. */
+void filter_gain_split_pixel(FilterGainSample *samples, const bool *off_first, int count, bool split_direct,
+                             bool split_indirect);
+
 /* The share of Monte Carlo's weighted variance an ideal filter of configuration c removes
  * (0 when there is no variance). */
 double filter_gain_share(const FilterGainTotals *t, FilterGainConfig c);

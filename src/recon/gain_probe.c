@@ -28,7 +28,7 @@ static FilterGainSample gain_sample(const SampleRecord *r)
     return s;
 }
 
-bool recon_gain_probe(const Renderer *r, GainProbe *out)
+bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, GainProbe *out)
 {
     *out = (GainProbe){0};
     IntegratorScene isc = *renderer_integrator_scene(r);
@@ -48,9 +48,10 @@ bool recon_gain_probe(const Renderer *r, GainProbe *out)
     Wave *wave = wave_create();
     SampleRecord *rec = malloc(sizeof *rec * WAVE_SAMPLES);
     FilterGainSample *samples = malloc(sizeof *samples * (size_t)(nx * ny * PIXEL_SAMPLES));
+    bool *off_first = calloc((size_t)(nx * ny * PIXEL_SAMPLES), sizeof *off_first);
     WavePixel *pix = malloc(sizeof *pix * (size_t)per_wave);
-    if (!wave || !rec || !samples || !pix) {
-        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(pix);
+    if (!wave || !rec || !samples || !off_first || !pix || !gbuffer_track_split(&g, split_direct, split_indirect)) {
+        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(pix);
         return false;
     }
     IntegratorStats st = {0};
@@ -64,18 +65,24 @@ bool recon_gain_probe(const Renderer *r, GainProbe *out)
             for (int j = 0; j < n; ++j) {
                 int i = first + j / GAIN_PROBE_SET_SPP;
                 gbuffer_add(&g, i % nx, i / nx, &rec[j]);
-                samples[(size_t)i * PIXEL_SAMPLES + (size_t)(set * GAIN_PROBE_SET_SPP + j % GAIN_PROBE_SET_SPP)] =
-                    gain_sample(&rec[j]);
+                size_t k = (size_t)i * PIXEL_SAMPLES + (size_t)(set * GAIN_PROBE_SET_SPP + j % GAIN_PROBE_SET_SPP);
+                samples[k] = gain_sample(&rec[j]);
+                /* gbuffer_add's first surface: the pixel's first hit's object */
+                off_first[k] = !rec[j].hit || rec[j].unfilterable || rec[j].object_id != g.sums[i].object_id;
             }
             out->samples += n;
         }
     }
     for (int i = 0; i < total; ++i) g.frame.spp[i] = (float)PIXEL_SAMPLES;
     gbuffer_resolve_guides(&g);
-    for (int i = 0; i < total; ++i)
-        filter_gain_add_pixel(&out->totals, samples + (size_t)i * PIXEL_SAMPLES, GAIN_PROBE_SET_SPP, g.mixed[i] != 0);
+    for (int i = 0; i < total; ++i) {
+        FilterGainSample *s = samples + (size_t)i * PIXEL_SAMPLES;
+        bool split = g.split_share && g.split_share[i] > 0.0f;
+        if (split) filter_gain_split_pixel(s, off_first + (size_t)i * PIXEL_SAMPLES, PIXEL_SAMPLES, split_direct, split_indirect);
+        filter_gain_add_pixel(&out->totals, s, GAIN_PROBE_SET_SPP, g.mixed[i] != 0 && !split);
+    }
     long long rays = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
     out->rays_per_sample = out->samples ? (double)rays / out->samples : 0.0;
-    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(pix);
+    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(pix);
     return true;
 }

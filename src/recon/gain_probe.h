@@ -26,7 +26,10 @@ typedef struct {
 } GainProbe;
 
 /* Traces the probe on r's scene and resolution (one thread, the renderer's sampler kind).
- * False only when out of memory. */
-bool recon_gain_probe(const Renderer *r, GainProbe *out);
+ * split_direct, split_indirect: whether the frame's filters take that light of a mixed
+ * pixel's first surface (recon_choice_splits_pixels): the probe then splits its pixels as the
+ * G-buffer will, and such a pixel's samples off its first surface keep their light. False only
+ * when out of memory. */
+bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, GainProbe *out);
 
 #endif

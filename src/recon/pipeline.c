@@ -165,7 +165,8 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * frames, measurements of what the fallback changes). */
     if (recon_select_wants_fallback(&p->choice) && env_knob_switch("WEDGE_AUTO_FALLBACK", true)) {
         GainProbe probe;
-        if (!recon_gain_probe(r, &probe)) {
+        if (!recon_gain_probe(r, recon_choice_splits_pixels(&p->choice, EFFECT_SOFT_SHADOWS),
+                               recon_choice_splits_pixels(&p->choice, EFFECT_INDIRECT), &probe)) {
             free(p);
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
             return false;
@@ -463,18 +464,6 @@ static void store_skip_when_full(ReconPipeline *p, int pass1)
     renderer_set_record_motion(p->r, false);
 }
 
-/* Whether the frame filters shading light e in mixed pixels' first surfaces (method.h,
- * filters_split_pixels): its method and every camera-effect method do. */
-static bool splits_pixels(ReconPipeline *p, Effect e)
-{
-    MethodSlot *s = slot_for(p, e);
-    if (!s || !s->cls->filters_split_pixels) return false;
-    for (int c = EFFECT_DEFOCUS; c <= EFFECT_MOTION; ++c) {
-        MethodSlot *cam = slot_for(p, (Effect)c);
-        if (cam && !cam->cls->filters_split_pixels) return false;
-    }
-    return true;
-}
 
 /* Buffers, guides, store and methods for a filtered frame. */
 static bool setup_filtered(ReconPipeline *p, Diag *d)
@@ -527,7 +516,8 @@ static bool setup_filtered(ReconPipeline *p, Diag *d)
     if (!indirect_filtered) fields &= ~(unsigned)SAMPLE_FIELD_SHADING_INDIRECT;
     p->guides_unread = !shading_filtered;
     for (int s = 0; s < p->slot_count; ++s) p->guides_unread = p->guides_unread && p->slots[s].cls->guides_unread;
-    if (!gbuffer_track_split(&p->g, splits_pixels(p, EFFECT_SOFT_SHADOWS), splits_pixels(p, EFFECT_INDIRECT))) goto oom;
+    if (!gbuffer_track_split(&p->g, recon_choice_splits_pixels(&p->choice, EFFECT_SOFT_SHADOWS),
+                             recon_choice_splits_pixels(&p->choice, EFFECT_INDIRECT))) goto oom;
     /* a fixed-count frame takes the --spp budget in one pass */
     if (p->fixed_only && p->opt.spp > 0) pass1 = p->opt.spp;
     /* A fixed-count method (LR) reads the first samples of every pixel, as many as the pixel

@@ -334,6 +334,14 @@ bool recon_choice_any(const ReconChoice *c)
     return false;
 }
 
+bool recon_choice_splits_pixels(const ReconChoice *c, Effect e)
+{
+    if (!c->method[e] || !c->method[e]->filters_split_pixels) return false;
+    for (int k = EFFECT_DEFOCUS; k <= EFFECT_MOTION; ++k)
+        if (c->method[k] && !c->method[k]->filters_split_pixels) return false;
+    return true;
+}
+
 bool recon_filter_known(const char *request)
 {
     return recon_filter_problem(request, NULL, 0);

@@ -82,6 +82,10 @@ void recon_select_fallback(ReconChoice *c, const AutoFallback *fb);
 const char *recon_choice_name(const ReconChoice *c, Effect e);
 /* Whether any effect is filtered. */
 bool recon_choice_any(const ReconChoice *c);
+/* Whether the choice filters shading light e (soft shadows or indirect) in mixed pixels'
+ * first surfaces (method.h, filters_split_pixels; docs/algorithms.md 4.6): e's method and
+ * every camera effect's method do. */
+bool recon_choice_splits_pixels(const ReconChoice *c, Effect e);
 
 /* True for the --filter values the renderer accepts: "auto", "none", every method's name and
  * the per-effect form. */

@@ -2,12 +2,14 @@
  * (src/recon/auto_fallback.h) on synthetic pixels with closed forms: all-or-nothing
  * visibility leaves nothing for a light filter (share 0, no gain), a penumbra over an even
  * albedo is all light (share 1, the gain the footprint implies), a texture orthogonal to the
- * penumbra splits the variance as the two parts' variances say, mixed pixels keep theirs, the
+ * penumbra splits the variance as the two parts' variances say, mixed pixels keep theirs (a
+ * split one all but its first surface's light), the
  * pixels are weighted as relMSE weighs them, and the convergence exponent comes from the two
  * sets. The decision then keeps a filter exactly when its predicted equal-error speed is the
  * highest, with the speed by the model's formula. */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "check.h"
 #include "recon/auto_fallback.h"
@@ -75,6 +77,34 @@ int main(void)
         filter_gain_add_pixel(&m, s, N, true);
         CHECK_NEAR(filter_gain_share(&m, FILTER_GAIN_DIRECT), 0.0, 1e-12);
         CHECK(m.pixels_filterable == 0);
+    }
+    /* a split pixel (docs/algorithms.md 4.6): the filter takes the first surface's samples
+     * (their light becomes their albedo times the first surface's demodulated mean), the
+     * other surface's samples keep their radiance; a light the frame does not split passes
+     * through whole */
+    {
+        const double vis[COUNT] = {0.0, 0.3, 0.9, 0.6, 1.0, 0.1, 0.4, 0.7};
+        const bool off[COUNT] = {false, true, false, true, false, true, false, true};
+        double want[COUNT], v_first = 0.0, a_first = 0.0, l[COUNT];
+        direct_pixel(s, zero, half, vis);
+        for (int i = 0; i < COUNT; ++i)
+            if (!off[i]) v_first += s[i].direct_filterable, a_first += s[i].albedo_direct;
+        for (int i = 0; i < COUNT; ++i) {
+            l[i] = s[i].radiance;
+            want[i] = off[i] ? l[i] : half[i] * (v_first / a_first);
+        }
+        double w = 1.0 / (mean_of(l) * mean_of(l) + 0.01);
+        FilterGainSample split[COUNT], whole[COUNT];
+        memcpy(split, s, sizeof split), memcpy(whole, s, sizeof whole);
+        FilterGainTotals t = {0}, u = {0};
+        filter_gain_split_pixel(split, off, COUNT, true, true);
+        filter_gain_add_pixel(&t, split, N, false);
+        CHECK_NEAR(t.left[FILTER_GAIN_NONE], w * var_of(l), 1e-6);
+        CHECK_NEAR(t.left[FILTER_GAIN_DIRECT], w * var_of(want), 1e-6);
+        CHECK(t.left[FILTER_GAIN_DIRECT] > 0.1 * t.left[FILTER_GAIN_NONE]); /* the others' noise stays */
+        filter_gain_split_pixel(whole, off, COUNT, false, true);
+        filter_gain_add_pixel(&u, whole, N, false);
+        CHECK_NEAR(filter_gain_share(&u, FILTER_GAIN_DIRECT), 0.0, 1e-12);
     }
     /* a texture orthogonal to the penumbra (zero covariance over the samples): the share is the
      * light's variance over the sum, weighted by relMSE's 1 / (mean^2 + 0.01) */
