@@ -1201,6 +1201,12 @@ WAVE_STAGE void wave_delta_light_samples(const IntegratorScene *sc, Wave *w, int
             counts[2] += 1;
         }
     }
+    if (sc->delta_lights_by_path) {
+        /* the reference: no lane kept, every receiver's rays made by wave_vertex_rays */
+        for (int k = 0; k < L->delta_every_count; ++k)
+            for (int j = 0; j < n; ++j) w->delta[k].kept[j] = 0;
+        counts[0] = counts[1] = 0, counts[2] = 1;
+    }
     st->rays_shadow += (long long)counts[0];
     st->guarded_events += (long long)counts[1];
     w->delta_redo = counts[2] > 0;
@@ -1353,7 +1359,8 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         const Light *light = &L->lights[li];
         WaveDeltaSamples *ds = &w->delta[k];
         bool point = light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT;
-        if (!v->glossy && (light->kind == LIGHT_DISTANT || (point && !ds->redo[j]))) continue; /* the lane's */
+        bool lane = !v->glossy && (light->kind == LIGHT_DISTANT || (point && !ds->redo[j]));
+        if (lane && !sc->delta_lights_by_path) continue; /* the lane's */
         bool prepared;
         if (point) {
             /* sampled for the whole stage by wave_delta_light_samples */
@@ -1432,6 +1439,18 @@ static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, 
     return count;
 }
 
+/* Path j's unoccluded delta-light values summed one by one: delta_lanes_sum's reference
+ * (IntegratorScene.delta_lights_by_path). */
+static vec3 delta_sum_by_path(const Wave *w, int lights, int j)
+{
+    vec3 sum = v3s(0.0f);
+    for (int k = 0; k < lights; ++k) {
+        const WaveDeltaSamples *ds = &w->delta[k];
+        if (ds->kept[j] && !ds->occluded[j]) sum = v3_add(sum, v3(ds->value[0][j], ds->value[1][j], ds->value[2][j]));
+    }
+    return sum;
+}
+
 /* The sum of path p's unoccluded delta-light values, each guarded (guard3). Its caller adds
  * them unguarded and comes here only when that sum is not finite: a non-finite value makes
  * the sum non-finite (inf and NaN absorb finite terms), and a sum of finite values equals
@@ -1504,7 +1523,8 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
     vec3 l_delta = v3s(0.0f);
     int lights = sc->lights->delta_every_count;
     if (lights > 0) {
-        l_delta = v3(w->delta_sum[0][j], w->delta_sum[1][j], w->delta_sum[2][j]); /* delta_lanes_sum */
+        l_delta = sc->delta_lights_by_path ? delta_sum_by_path(w, lights, j)
+                                           : v3(w->delta_sum[0][j], w->delta_sum[1][j], w->delta_sum[2][j]);
         if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, lights, j, st);
     }
     vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
