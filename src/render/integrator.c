@@ -527,6 +527,7 @@ typedef struct {
     float value[3][WAVE_SAMPLES];
     int kept[WAVE_SAMPLES];
     bool occluded[WAVE_SAMPLES];
+    int kept_count; /* how many lanes the loops kept (none: nothing to trace from the lanes) */
 } WaveDeltaSamples;
 
 /* The samples of one static triangle light picked by some of a stage's paths, one lane per
@@ -1187,6 +1188,7 @@ WAVE_STAGE void wave_delta_light_samples(const IntegratorScene *sc, Wave *w, int
     for (int k = 0; k < L->delta_every_count; ++k) {
         const Light *light = &L->lights[L->delta_every[k]];
         WaveDeltaSamples *ds = &w->delta[k];
+        int kept_before = counts[0];
         if (light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) {
             LightSampleBatch out = {{ds->wi[0], ds->wi[1], ds->wi[2]}, ds->dist, {ds->Li[0], ds->Li[1], ds->Li[2]}, ds->ok};
             light_sample_point_batch(light, n, pos, &out);
@@ -1200,11 +1202,14 @@ WAVE_STAGE void wave_delta_light_samples(const IntegratorScene *sc, Wave *w, int
             for (int j = 0; j < n; ++j) ds->kept[j] = 0;
             counts[2] += 1;
         }
+        ds->kept_count = counts[0] - kept_before;
     }
     if (sc->delta_lights_by_path) {
         /* the reference: no lane kept, every receiver's rays made by wave_vertex_rays */
-        for (int k = 0; k < L->delta_every_count; ++k)
+        for (int k = 0; k < L->delta_every_count; ++k) {
             for (int j = 0; j < n; ++j) w->delta[k].kept[j] = 0;
+            w->delta[k].kept_count = 0;
+        }
         counts[0] = counts[1] = 0, counts[2] = 1;
     }
     st->rays_shadow += (long long)counts[0];
@@ -1223,7 +1228,7 @@ static void wave_delta_occlusion(const IntegratorScene *sc, Wave *w, int n)
     for (int k = 0; k < L->delta_every_count; ++k) {
         WaveDeltaSamples *ds = &w->delta[k];
         const Light *light = &L->lights[L->delta_every[k]];
-        if (light->kind != LIGHT_POINT && light->kind != LIGHT_SPOT && light->kind != LIGHT_DISTANT) continue;
+        if (ds->kept_count == 0) continue; /* (a light of another kind keeps none) */
         TracerRayArrays a = {{ds->o[0], ds->o[1], ds->o[2]}, {ds->dir[0], ds->dir[1], ds->dir[2]}, ds->len,
                              w->cam_time01, ds->kept, light->shadow_skip_mask};
         tracer_occluded_arrays(sc->tracer, &a, n, true, ds->occluded);
