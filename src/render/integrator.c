@@ -1625,10 +1625,12 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
     /* whether the first vertex samples its BSDF: the same for every path, so found once
      * (its loads through sc->lights were a part of every hit) */
     bool sampled_first = lambert_uses_bsdf(sc, 1);
+    /* the receivers' lanes are read only by the delta lights' stage */
+    bool delta_lanes = sc->lights->delta_every_count > 0;
     for (int j = 0; j < n; ++j) {
         wave_first_hit(sc, &w->path[j], v3(w->cam_d[0][j], w->cam_d[1][j], w->cam_d[2][j]), w->hit_found[j], &w->hit[j], sampled_first, wave_out_record(out, j),
                        wave_out_radiance(out, j), st);
-        receiver_to_lanes(&w->rx, j, &w->path[j]);
+        if (delta_lanes) receiver_to_lanes(&w->rx, j, &w->path[j]);
         any_alive |= w->path[j].alive;
     }
 
@@ -1672,7 +1674,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
             WavePath *p = &w->path[j];
             if (!p->alive) continue;
             wave_vertex_fold(sc, w, j, depth, wave_out_record(out, j), wave_out_radiance(out, j), st);
-            receiver_to_lanes(&w->rx, j, p);
+            if (delta_lanes) receiver_to_lanes(&w->rx, j, p);
             any_alive |= p->alive;
         }
     }
