@@ -1528,8 +1528,8 @@ void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool 
  * lanes are listed first (written for every lane, kept for the active ones: no branch on a
  * lane's flag) and only their rays filled, so that an inactive lane costs a compare, not a
  * ray. The chunks are those of the dense loop (64 active lanes in order), so Embree sees the
- * same batches; where most lanes are active the dense loop is faster (thin_occluders'
- * triangle groups: 2.5%). */
+ * same batches. Lanes mostly active (the triangle and sky groups) keep the one-pass loop, as
+ * before this form existed (docs/benchmarks.md, "Issue 22, thirty-sixth round"). */
 static void occluded_sparse_lanes(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
                                   const TracerRayArrays *a, int n, bool *occluded)
 {
