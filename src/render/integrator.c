@@ -21,6 +21,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -480,10 +481,6 @@ typedef struct {
     bool light_valued; /* the light's estimate is its group's lane (lambert_triangle_nee), not lp */
     int shadow_ray;    /* index into the occlusion or the recorded batch */
     LightPending lp;
-    /* the delta lights lit at every vertex (LightSet.delta_every): their shadow rays are
-     * ray_occ[delta_first .. delta_first + delta_count) */
-    int delta_first, delta_count;
-    int lit_slot;      /* its entry in the stage's point-light samples (WavePointSamples) */
     int tri_group, tri_lane; /* its picked static triangle's or constant sky's samples
                               * (WaveTriangleSamples), or -1 */
     bool bounce;       /* a bounce was sampled (vs, beta_next) */
@@ -499,7 +496,26 @@ typedef struct {
     float px[SAMPLER_RUN_MAX], py[SAMPLER_RUN_MAX], lens_u[SAMPLER_RUN_MAX], lens_v[SAMPLER_RUN_MAX];
 } CameraBatch;
 
-/* One point or spot light's samples for the live, lit paths of a stage (light_sample_point_batch). */
+/* Each path's current vertex as a receiver of the delta lights, one lane per path, written
+ * beside its Vertex (receiver_to_lanes): position, geometric normal and offset (every live
+ * vertex), a Lambert vertex's lobe axis n, cos_o and albedo, and whether the path is alive
+ * at a Lambert vertex (lambert: 0 for the others, whose other lanes are stale). */
+typedef struct {
+    float p[3][WAVE_SAMPLES], ng[3][WAVE_SAMPLES], err[WAVE_SAMPLES];
+    float n[3][WAVE_SAMPLES], cos_o[WAVE_SAMPLES], albedo[3][WAVE_SAMPLES];
+    int lambert[WAVE_SAMPLES];
+} WaveReceivers;
+
+/* One delta light of LightSet.delta_every at the stage's vertices, one lane per path of the
+ * wave (lane j: path j; lanes of dead or unlit paths hold values nothing keeps). A point or
+ * spot light's samples (light_sample_point_batch: wi, dist, Li, ok) and shadow rays
+ * (point_shadow_rays, ShadowRayAhead's o, dir, len and redo); a distant light's shadow rays
+ * (distant_lambert_lanes: o, dir, len). Then every lit path's share: its shadow ray is kept
+ * (kept), its unoccluded value f Li |cos| (value) and the ray's answer (occluded). A Lambert
+ * receiver's lane is computed by a vectorised loop (point_lambert_lanes,
+ * distant_lambert_lanes); a glossy receiver's, or a ray point_shadow_rays leaves to
+ * shadow_ray_to (redo), by wave_vertex_rays path by path, whose ray goes to the occlusion
+ * batch and whose answer is copied into the lane (Wave.delta_fix_*). */
 typedef struct {
     float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], Li[3][WAVE_SAMPLES];
     int ok[WAVE_SAMPLES];
@@ -507,7 +523,12 @@ typedef struct {
     /* their shadow rays (ShadowRayAhead) */
     float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
     int redo[WAVE_SAMPLES];
-} WavePointSamples;
+    /* every lit path's share (above) */
+    float value[3][WAVE_SAMPLES];
+    int kept[WAVE_SAMPLES];
+    bool occluded[WAVE_SAMPLES];
+    int kept_count; /* how many lanes the loops kept (none: nothing to trace from the lanes) */
+} WaveDeltaSamples;
 
 /* The samples of one static triangle light picked by some of a stage's paths, one lane per
  * path: its receiver (position, geometric normal, offset) and position sample, the sample
@@ -553,8 +574,6 @@ struct Wave {
     /* rays of one stage and what they found */
     TracerRay ray_occ[WAVE_OCC_RAYS], ray_rec[WAVE_SAMPLES], ray_hit[WAVE_SAMPLES];
     bool occluded[WAVE_OCC_RAYS], rec_found[WAVE_SAMPLES], hit_found[WAVE_SAMPLES];
-    /* a delta light's f * Li * |cos| at the vertex, for occlusion ray k when it is one */
-    vec3 delta_value[WAVE_OCC_RAYS];
     SurfaceHit rec_hit[WAVE_SAMPLES], hit[WAVE_SAMPLES];
     /* one pixel sampler, set up for sampler_pixel (-1: none), and a run of its samples */
     PixelSampler sampler;
@@ -576,9 +595,16 @@ struct Wave {
     /* the wave's camera rays, per path, as arrays: camera_generate_rays writes them and
      * tracer_intersect_arrays reads them, with no TracerRay between */
     float cam_o[3][WAVE_SAMPLES], cam_d[3][WAVE_SAMPLES], cam_time01[WAVE_SAMPLES];
-    /* the stage's live, lit paths' positions and their delta lights' samples */
-    float lit_p[3][WAVE_SAMPLES], lit_ng[3][WAVE_SAMPLES], lit_err[WAVE_SAMPLES];
-    WavePointSamples point[LIGHTS_DELTA_EVERY_MAX];
+    WaveReceivers rx;
+    /* the delta lights lit at every vertex, entry k for LightSet.delta_every[k] */
+    WaveDeltaSamples delta[LIGHTS_DELTA_EVERY_MAX];
+    /* the delta rays of the occlusion batch (ray_occ) made path by path: ray delta_fix_ray[i]
+     * answers light delta_fix_light[i]'s lane delta_fix_path[i] */
+    int delta_fix_ray[WAVE_OCC_RAYS], delta_fix_light[WAVE_OCC_RAYS], delta_fix_path[WAVE_OCC_RAYS];
+    int delta_fixes;
+    bool delta_redo; /* some Lambert receiver's delta ray is left to wave_vertex_rays */
+    /* per path, the sum of its unoccluded delta lights' values, in the lights' order */
+    float delta_sum[3][WAVE_SAMPLES];
     WaveTriangleSamples tri[WAVE_TRIANGLE_GROUPS];
     int tri_groups;
     /* a stage's last rays queued for the emitter-box test (wave_emitter_box_test): per
@@ -587,7 +613,9 @@ struct Wave {
     int box_path[WAVE_SAMPLES], box_may[WAVE_SAMPLES];
 };
 
-Wave *wave_create(void) { return malloc(sizeof(Wave)); }
+/* Zeroed: lanes of paths that never had a vertex hold zeros, not whatever malloc left, for
+ * the loops that compute every lane (wave_delta_light_samples). */
+Wave *wave_create(void) { return calloc(1, sizeof(Wave)); }
 void wave_free(Wave *w) { free(w); }
 
 /* The sampler of pixel k of the wave. Its values are a pure function of (pixel, sample,
@@ -775,6 +803,22 @@ static inline bool last_rays_escape_only(const IntegratorScene *sc, int depth)
            !(depth == 1 && sc->record_ray_geometry && sc->record_bounce_geometry);
 }
 
+/* Path p's lanes of the receivers (WaveReceivers), lane j, from its current vertex: written
+ * whenever the path gets a vertex or ends (after wave_first_hit and wave_vertex_fold). */
+static inline void receiver_to_lanes(WaveReceivers *rx, int j, const WavePath *p)
+{
+    rx->lambert[j] = p->alive && !p->v.glossy;
+    if (!p->alive) return;
+    const Vertex *v = &p->v;
+    rx->p[0][j] = v->hit.p.x, rx->p[1][j] = v->hit.p.y, rx->p[2][j] = v->hit.p.z;
+    rx->ng[0][j] = v->hit.ng.x, rx->ng[1][j] = v->hit.ng.y, rx->ng[2][j] = v->hit.ng.z;
+    rx->err[j] = v->hit.err;
+    if (v->glossy) return;
+    rx->n[0][j] = v->n.x, rx->n[1][j] = v->n.y, rx->n[2][j] = v->n.z;
+    rx->cos_o[j] = v->cos_o;
+    rx->albedo[0][j] = v->albedo.x, rx->albedo[1][j] = v->albedo.y, rx->albedo[2][j] = v->albedo.z;
+}
+
 /* What the camera ray found: emission seen directly, the first hit's record fields (rec:
  * NULL for the radiance alone), and the path's first vertex. Out of line until the
  * twenty-first round (its call cost about 20 instructions a sample; the fourteenth round had
@@ -837,7 +881,7 @@ static inline bool vertex_lit(const Vertex *v) { return !(v->glossy && glossy_is
  * the distance not finite, and shadow_ray_to must compute that ray itself. */
 static WEDGE_VECTORISED void point_shadow_rays(int count, const float (*restrict p)[WAVE_SAMPLES],
                                                const float (*restrict ng)[WAVE_SAMPLES], const float *restrict err,
-                                               vec3 target, WavePointSamples *restrict ps)
+                                               vec3 target, WaveDeltaSamples *restrict ps)
 {
     for (int k = 0; k < count; ++k) {
         float nx = ng[0][k], ny = ng[1][k], nz = ng[2][k];
@@ -850,6 +894,101 @@ static WEDGE_VECTORISED void point_shadow_rays(int count, const float (*restrict
         ps->dir[0][k] = dx * inv, ps->dir[1][k] = dy * inv, ps->dir[2][k] = dz * inv;
         ps->len[k] = len;
         ps->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (ps->dist[k] < INFINITY));
+    }
+}
+
+/* A Lambert receiver's response to one delta light in lane k of the loops below: what
+ * light_prepare_sampled and its caller compute path by path (bsdf_diffuse_f: albedo / pi
+ * where wi is on wo's side of n, else 0; the shadow ray sent where f and Li have a positive
+ * channel, kept where its length is > 0), the same operations in the same order, branches
+ * as selects: the value f Li |cos| (written whether or not the ray is kept) and whether the
+ * ray is kept; *guarded: sent but of no length. on: the lane is a live Lambert receiver
+ * with a sample of the light. */
+static inline int lambert_delta_lane(const WaveReceivers *restrict rx, int k, int on, float wx, float wy, float wz,
+                                     float lr, float lg, float lb, float len, WaveDeltaSamples *restrict ds,
+                                     int *guarded)
+{
+    /* f on the lit side, albedo / pi, and !max_component_nonpositive of it and of Li */
+    float fx = rx->albedo[0][k] * 0.318309886f, fy = rx->albedo[1][k] * 0.318309886f,
+          fz = rx->albedo[2][k] * 0.318309886f;
+    int f_sends = (fx > 0.0f) | (fy > 0.0f) | (fz > 0.0f) | (isnan(fx) & isnan(fy) & isnan(fz));
+    int li_sends = (lr > 0.0f) | (lg > 0.0f) | (lb > 0.0f) | (isnan(lr) & isnan(lg) & isnan(lb));
+    /* the side test of bsdf_diffuse_f (cos_o: v3_dot(n, wo), make_vertex's) */
+    float cos_i = rx->n[0][k] * wx + rx->n[1][k] * wy + rx->n[2][k] * wz;
+    int same_side = !(rx->cos_o[k] * cos_i <= 0.0f);
+    float cos_abs = fabsf(cos_i);
+    fx = same_side ? fx : 0.0f, fy = same_side ? fy : 0.0f, fz = same_side ? fz : 0.0f;
+    ds->value[0][k] = fx * lr * cos_abs, ds->value[1][k] = fy * lg * cos_abs, ds->value[2][k] = fz * lb * cos_abs;
+    int sends = on & same_side & f_sends & li_sends;
+    int len_ok = len > 0.0f;
+    *guarded = sends & !len_ok;
+    return sends & len_ok;
+}
+
+/* The Lambert receivers' shares of a point or spot light (WaveDeltaSamples) over lanes
+ * [0, count), from its samples and point_shadow_rays' rays: a ray left to shadow_ray_to
+ * (redo) is wave_vertex_rays' to make. Adds the kept rays and the guarded events to
+ * counts[0] and counts[1], and the Lambert lanes left to wave_vertex_rays to counts[2]. */
+static WEDGE_VECTORISED void point_lambert_lanes(int count, const WaveReceivers *restrict rx,
+                                                 WaveDeltaSamples *restrict ds, int counts[3])
+{
+    int rays = 0, guarded_all = 0, redone = 0;
+    for (int k = 0; k < count; ++k) {
+        int sampled = rx->lambert[k] & (ds->ok[k] != 0);
+        int guarded;
+        int kept = lambert_delta_lane(rx, k, sampled & !ds->redo[k], ds->wi[0][k], ds->wi[1][k], ds->wi[2][k],
+                                      ds->Li[0][k], ds->Li[1][k], ds->Li[2][k], ds->len[k], ds, &guarded);
+        ds->kept[k] = kept;
+        ds->occluded[k] = false;
+        rays += kept, guarded_all += guarded, redone += sampled & (ds->redo[k] != 0);
+    }
+    counts[0] += rays, counts[1] += guarded_all, counts[2] += redone;
+}
+
+/* A distant light's shadow rays from every lane [0, count) (surface_offset towards wi, along
+ * wi, unbounded) and the Lambert receivers' shares of it (point_lambert_lanes' counts[0]
+ * and [1]). sends: v3_any_positive(Li), without which light_sample gives no sample. */
+static WEDGE_VECTORISED void distant_lambert_lanes(int count, const WaveReceivers *restrict rx, vec3 wi, vec3 Li,
+                                                   int sends, WaveDeltaSamples *restrict ds, int counts[3])
+{
+    int rays = 0, guarded_all = 0;
+    for (int k = 0; k < count; ++k) {
+        float gx = rx->ng[0][k], gy = rx->ng[1][k], gz = rx->ng[2][k];
+        float side = gx * wi.x + gy * wi.y + gz * wi.z >= 0.0f ? rx->err[k] : -rx->err[k];
+        ds->o[0][k] = rx->p[0][k] + gx * side, ds->o[1][k] = rx->p[1][k] + gy * side,
+        ds->o[2][k] = rx->p[2][k] + gz * side;
+        ds->dir[0][k] = wi.x, ds->dir[1][k] = wi.y, ds->dir[2][k] = wi.z;
+        ds->len[k] = INFINITY;
+        int guarded;
+        int kept = lambert_delta_lane(rx, k, rx->lambert[k] & sends, wi.x, wi.y, wi.z, Li.x, Li.y, Li.z, INFINITY, ds,
+                                      &guarded);
+        ds->kept[k] = kept;
+        ds->occluded[k] = false;
+        rays += kept, guarded_all += guarded;
+    }
+    counts[0] += rays, counts[1] += guarded_all;
+}
+
+/* Per lane [0, count), the sum of the unoccluded kept values of lights [0, lights), in the
+ * lights' order (wave_vertex_fold's l_delta, which skipped the others): a lane not kept or
+ * occluded adds +0, which leaves the sum as it is (a sum begun at +0 is never -0). */
+static WEDGE_VECTORISED void delta_lanes_sum(int count, int lights, const WaveDeltaSamples *restrict ds,
+                                             float (*restrict sum)[WAVE_SAMPLES])
+{
+    for (int k = 0; k < count; ++k) sum[0][k] = sum[1][k] = sum[2][k] = 0.0f;
+    for (int l = 0; l < lights; ++l) {
+        const float *restrict vx = ds[l].value[0], *restrict vy = ds[l].value[1], *restrict vz = ds[l].value[2];
+        const int *restrict kept = ds[l].kept;
+        /* the answers' bytes as unsigned char: GCC 12 vectorises no load of a bool array */
+        const unsigned char *restrict occluded = (const unsigned char *)ds[l].occluded;
+        float *restrict sx = sum[0], *restrict sy = sum[1], *restrict sz = sum[2];
+        for (int k = 0; k < count; ++k) {
+            float x = vx[k], y = vy[k], z = vz[k]; /* loaded in every lane, then selected */
+            int on = kept[k] & (occluded[k] ^ 1);
+            sx[k] += on ? x : 0.0f;
+            sy[k] += on ? y : 0.0f;
+            sz[k] += on ? z : 0.0f;
+        }
     }
 }
 
@@ -892,11 +1031,11 @@ static WEDGE_VECTORISED void sky_shadow_rays(WaveTriangleSamples *restrict g)
 }
 
 /* light_prepare_lambert_triangle and light_finish (unoccluded) for every lane of g, as one
- * loop GCC vectorises: lambert_receiver, lambert_light, the shadow ray's send and guard
+ * loop GCC vectorises: bsdf_diffuse_f and bsdf_diffuse_pdf, the shadow ray's send and guard
  * tests, and the MIS-weighted estimate (Veach 1997, eq. 9.13, beta = 2: mis_power), with
  * the same operations in the same order as the scalar functions, branches as selects.
  * The estimate is read only where the ray is sent (send), so where the receiver faces the
- * light: there lambert_light's f and pdf are the lit side's, which are taken in every lane
+ * light: there f and the pdf are the lit side's, which are taken in every lane
  * (a select between a product and 0 could trap in one arm, which stops the vectoriser).
  * Li: the light's radiance L, li_sends: !max_component_nonpositive(L); bsdf_mis 1, or 0
  * where the receivers take light sampling alone (lambert_light_only: the weight is then 1). */
@@ -904,12 +1043,12 @@ static WEDGE_VECTORISED void lambert_triangle_nee(vec3 Li, int li_sends, float b
 {
     for (int k = 0; k < g->count; ++k) {
         float nx = g->n[0][k], ny = g->n[1][k], nz = g->n[2][k];
-        /* lambert_receiver */
+        /* f on the lit side */
         float cos_o = g->cos_o[k];
         float flx = g->albedo[0][k] * 0.318309886f, fly = g->albedo[1][k] * 0.318309886f,
               flz = g->albedo[2][k] * 0.318309886f;
         int f_nonpositive = !((flx > 0.0f) | (fly > 0.0f) | (flz > 0.0f)) & !(isnan(flx) & isnan(fly) & isnan(flz));
-        /* lambert_light */
+        /* the side test, f and the pdf */
         float cos_i = nx * g->wi[0][k] + ny * g->wi[1][k] + nz * g->wi[2][k];
         int same_side = !(cos_o * cos_i <= 0.0f);
         float cos_abs = fabsf(cos_i);
@@ -1033,39 +1172,72 @@ static void wave_triangle_occlusion(const IntegratorScene *sc, Wave *w, bool rec
     }
 }
 
-/* The samples of the point and spot lights lit at every vertex (LightSet.delta_every) for
- * every live, lit path of the stage, light by light in one vectorised loop each
- * (light_sample_point_batch): the same values light_sample gives path by path, whose
- * square roots and divisions then waited on each other. Path j's are entry lit_slot. */
-WAVE_STAGE void wave_point_light_samples(const IntegratorScene *sc, Wave *w, int n)
+/* The delta lights lit at every vertex (LightSet.delta_every) at the stage's n paths, light
+ * by light in vectorised loops over every path's lane (WaveDeltaSamples): a point or spot
+ * light's samples (light_sample_point_batch: the same values light_sample gives path by
+ * path) and shadow rays, a distant light's shadow rays, and the Lambert receivers' kept rays
+ * and values, with their counters. What the loops leave to wave_vertex_rays (glossy
+ * receivers, rays to redo) it does path by path; w->delta_redo says whether a Lambert
+ * receiver has such a ray. */
+WAVE_STAGE void wave_delta_light_samples(const IntegratorScene *sc, Wave *w, int n, IntegratorStats *st)
 {
     const LightSet *L = sc->lights;
-    bool any = false;
-    for (int k = 0; k < L->delta_every_count; ++k) {
-        LightKind kind = L->lights[L->delta_every[k]].kind;
-        any |= kind == LIGHT_POINT || kind == LIGHT_SPOT;
-    }
-    if (!any) return;
-    int m = 0;
-    for (int j = 0; j < n; ++j) {
-        WavePath *p = &w->path[j];
-        if (!p->alive || !vertex_lit(&p->v)) continue;
-        const SurfaceHit *h = &p->v.hit;
-        p->lit_slot = m;
-        w->lit_p[0][m] = h->p.x, w->lit_p[1][m] = h->p.y, w->lit_p[2][m] = h->p.z;
-        w->lit_ng[0][m] = h->ng.x, w->lit_ng[1][m] = h->ng.y, w->lit_ng[2][m] = h->ng.z;
-        w->lit_err[m] = h->err;
-        ++m;
-    }
-    const float *pos[3] = {w->lit_p[0], w->lit_p[1], w->lit_p[2]};
+    const WaveReceivers *rx = &w->rx;
+    const float *pos[3] = {rx->p[0], rx->p[1], rx->p[2]};
+    int counts[3] = {0, 0, 0};
     for (int k = 0; k < L->delta_every_count; ++k) {
         const Light *light = &L->lights[L->delta_every[k]];
-        if (light->kind != LIGHT_POINT && light->kind != LIGHT_SPOT) continue;
-        WavePointSamples *ps = &w->point[k];
-        LightSampleBatch out = {{ps->wi[0], ps->wi[1], ps->wi[2]}, ps->dist, {ps->Li[0], ps->Li[1], ps->Li[2]}, ps->ok};
-        light_sample_point_batch(light, m, pos, &out);
-        ps->err_light = light_delta_offset(light);
-        point_shadow_rays(m, w->lit_p, w->lit_ng, w->lit_err, light->p_world, ps);
+        WaveDeltaSamples *ds = &w->delta[k];
+        int kept_before = counts[0];
+        if (light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) {
+            LightSampleBatch out = {{ds->wi[0], ds->wi[1], ds->wi[2]}, ds->dist, {ds->Li[0], ds->Li[1], ds->Li[2]}, ds->ok};
+            light_sample_point_batch(light, n, pos, &out);
+            ds->err_light = light_delta_offset(light);
+            point_shadow_rays(n, rx->p, rx->ng, rx->err, light->p_world, ds);
+            point_lambert_lanes(n, rx, ds, counts);
+        } else if (light->kind == LIGHT_DISTANT) {
+            distant_lambert_lanes(n, rx, light->w_world, light->L, v3_any_positive(light->L), ds, counts);
+        } else {
+            /* another kind: every receiver path by path */
+            for (int j = 0; j < n; ++j) ds->kept[j] = 0;
+            counts[2] += 1;
+        }
+        ds->kept_count = counts[0] - kept_before;
+    }
+    if (sc->delta_lights_by_path) {
+        /* the reference: no lane kept, every receiver's rays made by wave_vertex_rays */
+        for (int k = 0; k < L->delta_every_count; ++k) {
+            for (int j = 0; j < n; ++j) w->delta[k].kept[j] = 0;
+            w->delta[k].kept_count = 0;
+        }
+        counts[0] = counts[1] = 0, counts[2] = 1;
+    }
+    st->rays_shadow += (long long)counts[0];
+    st->guarded_events += (long long)counts[1];
+    w->delta_redo = counts[2] > 0;
+    w->delta_fixes = 0;
+}
+
+/* The delta lights' rays kept in the lanes (WaveDeltaSamples.kept), traced from them light by
+ * light, then the answers of the rays wave_vertex_rays made path by path copied into their
+ * lanes, which are then kept: every lane's answer where wave_vertex_fold reads it. An
+ * occlusion answer does not depend on the ray's place in a batch (docs/design.md 12.18). */
+static void wave_delta_occlusion(const IntegratorScene *sc, Wave *w, int n)
+{
+    const LightSet *L = sc->lights;
+    for (int k = 0; k < L->delta_every_count; ++k) {
+        WaveDeltaSamples *ds = &w->delta[k];
+        const Light *light = &L->lights[L->delta_every[k]];
+        if (ds->kept_count == 0) continue; /* (a light of another kind keeps none) */
+        TracerRayArrays a = {{ds->o[0], ds->o[1], ds->o[2]}, {ds->dir[0], ds->dir[1], ds->dir[2]}, ds->len,
+                             w->cam_time01, ds->kept, light->shadow_skip_mask};
+        tracer_occluded_arrays(sc->tracer, &a, n, true, ds->occluded);
+    }
+    for (int i = 0; i < w->delta_fixes; ++i) {
+        WaveDeltaSamples *ds = &w->delta[w->delta_fix_light[i]];
+        int j = w->delta_fix_path[i];
+        ds->kept[j] = 1;
+        ds->occluded[j] = w->occluded[w->delta_fix_ray[i]];
     }
 }
 
@@ -1095,48 +1267,6 @@ WAVE_STAGE bool light_prepare(const IntegratorScene *sc, const Wave *w, WavePath
     ShadowRayAhead ahead = {v3(g->o[0][k], g->o[1][k], g->o[2][k]), v3(g->dir[0][k], g->dir[1][k], g->dir[2][k]),
                             g->len[k], g->redo[k] != 0};
     return light_prepare_sampled(sc, &p->v, p->time01, u->light_index, u->light_pmf, &ahead, st, shadow, &p->lp);
-}
-
-/* What a Lambert receiver's response to a light needs of the receiver alone: the same for
- * every light lit at the vertex (the picked light and the delta lights of
- * LightSet.delta_every), so found once per vertex instead of once per light. */
-typedef struct {
-    vec3 n;
-    float cos_o;       /* cos of wo at n (bsdf_diffuse_f's cos_wo) */
-    vec3 f_lit;        /* bsdf_diffuse_f on the lit side: albedo / pi */
-    bool f_lit_sends;  /* !max_component_nonpositive(f_lit) */
-} LambertReceiver;
-
-static inline LambertReceiver lambert_receiver(const Vertex *v)
-{
-    LambertReceiver r;
-    r.n = v->n;
-    r.cos_o = v3_dot(v->n, v->wo);
-    r.f_lit = v3_scale(v->albedo, 0.318309886f);
-    r.f_lit_sends = !max_component_nonpositive(r.f_lit);
-    return r;
-}
-
-/* A Lambert receiver's response to light arriving from wi with radiance Li, computed for
- * either side of the receiver so that the side is a value, not a branch: bsdf_diffuse_f and
- * bsdf_diffuse_pdf, |cos_i|, and whether light_prepare_sampled would send the shadow ray
- * (its max_component_nonpositive(f) test is the side test's negation or f_lit's own). */
-typedef struct {
-    vec3 f;
-    float cos_i_abs, pdf;
-    bool sends;
-} LambertLight;
-
-static inline LambertLight lambert_light(const LambertReceiver *rv, vec3 wi, vec3 Li)
-{
-    float cos_i = v3_dot(rv->n, wi);
-    bool same_side = !(rv->cos_o * cos_i <= 0.0f); /* bsdf_diffuse_f's test */
-    LambertLight r;
-    r.f = same_side ? rv->f_lit : v3s(0.0f);
-    r.cos_i_abs = fabsf(cos_i);
-    r.pdf = same_side ? r.cos_i_abs * 0.318309886f : 0.0f;
-    r.sends = same_side & rv->f_lit_sends & !max_component_nonpositive(Li);
-    return r;
 }
 
 /* light_prepare for a Lambert receiver of a picked static triangle whose shadow ray was
@@ -1222,63 +1352,37 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
         }
     }
     /* Delta lights lit at every vertex: probability 1, no MIS (BSDF sampling never finds
-     * them); the light dimensions go unused (a point has no area). */
-    p->delta_first = *n_occ;
-    p->delta_count = 0;
-    LambertReceiver rv; /* the Lambert receiver's part of every delta light's response */
-    if (lit && !v->glossy && L->delta_every_count > 0) rv = lambert_receiver(v);
-    for (int k = 0; lit && k < L->delta_every_count; ++k) {
+     * them); the light dimensions go unused (a point has no area). A Lambert receiver's are
+     * its lanes' (wave_delta_light_samples), unless a ray of its is left to shadow_ray_to
+     * (redo) or the light is of another kind; the others are made here, their rays queued in
+     * the occlusion batch and their values and answers put in their lanes
+     * (wave_delta_occlusion). */
+    bool by_path = lit && (v->glossy || w->delta_redo);
+    for (int k = 0; by_path && k < L->delta_every_count; ++k) {
         LightPending lp;
         int li = L->delta_every[k];
         const Light *light = &L->lights[li];
+        WaveDeltaSamples *ds = &w->delta[k];
+        bool point = light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT;
+        bool lane = !v->glossy && (light->kind == LIGHT_DISTANT || (point && !ds->redo[j]));
+        if (lane && !sc->delta_lights_by_path) continue; /* the lane's */
         bool prepared;
-        if (!v->glossy && (light->kind == LIGHT_DISTANT ||
-                           ((light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) && !w->point[k].redo[p->lit_slot]))) {
-            /* A Lambert receiver and a shadow ray known without light_prepare_sampled's
-             * shadow_ray_to: its outcome as a value, the ray and the value written whether
-             * or not they are kept, so that which side of the receiver the light is on (a
-             * coin toss on a sphere) is not a branch. The same tests, values and counts. */
-            vec3 wi, Li, o, dir;
-            float len;
-            if (light->kind == LIGHT_DISTANT) {
-                wi = light->w_world, Li = light->L;
-                if (!v3_any_positive(Li)) continue; /* light_sample's answer */
-                o = surface_offset(&v->hit, wi), dir = wi, len = INFINITY;
-            } else {
-                const WavePointSamples *ps = &w->point[k];
-                int m = p->lit_slot;
-                if (!ps->ok[m]) continue;
-                wi = v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), Li = v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]);
-                o = v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]), dir = v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]);
-                len = ps->len[m];
-            }
-            LambertLight resp = lambert_light(&rv, wi, Li);
-            bool len_ok = len > 0.0f;
-            w->ray_occ[*n_occ] = (TracerRay){o, dir, len, p->time01, light->shadow_skip_mask};
-            w->delta_value[*n_occ] = v3_scale(v3_mul(resp.f, Li), resp.cos_i_abs);
-            int kept = resp.sends & len_ok;
-            st->guarded_events += resp.sends & !len_ok;
-            st->rays_shadow += kept;
-            *n_occ += kept;
-            p->delta_count += kept;
-            continue;
-        }
-        if (light->kind == LIGHT_POINT || light->kind == LIGHT_SPOT) {
-            /* sampled for the whole stage by wave_point_light_samples */
-            const WavePointSamples *ps = &w->point[k];
-            int m = p->lit_slot;
-            if (!ps->ok[m]) continue;
-            lp.ls = (LightSample){v3(ps->wi[0][m], ps->wi[1][m], ps->wi[2][m]), ps->dist[m], light->p_world, v3s(0.0f),
-                                  ps->err_light, v3(ps->Li[0][m], ps->Li[1][m], ps->Li[2][m]), 1.0f, true};
-            ShadowRayAhead ahead = {v3(ps->o[0][m], ps->o[1][m], ps->o[2][m]),
-                                    v3(ps->dir[0][m], ps->dir[1][m], ps->dir[2][m]), ps->len[m], ps->redo[m] != 0};
+        if (point) {
+            /* sampled for the whole stage by wave_delta_light_samples */
+            if (!ds->ok[j]) continue;
+            lp.ls = (LightSample){v3(ds->wi[0][j], ds->wi[1][j], ds->wi[2][j]), ds->dist[j], light->p_world, v3s(0.0f),
+                                  ds->err_light, v3(ds->Li[0][j], ds->Li[1][j], ds->Li[2][j]), 1.0f, true};
+            ShadowRayAhead ahead = {v3(ds->o[0][j], ds->o[1][j], ds->o[2][j]),
+                                    v3(ds->dir[0][j], ds->dir[1][j], ds->dir[2][j]), ds->len[j], ds->redo[j] != 0};
             prepared = light_prepare_sampled(sc, v, p->time01, li, 1.0f, &ahead, st, &w->ray_occ[*n_occ], &lp);
         } else {
             prepared = light_prepare_at(sc, v, p->time01, li, v2(0.5f, 0.5f), 1.0f, st, &w->ray_occ[*n_occ], &lp);
         }
         if (!prepared) continue;
-        w->delta_value[(*n_occ)++] = v3_scale(v3_mul(lp.f, lp.ls.Li), lp.cos_i);
-        ++p->delta_count;
+        vec3 value = v3_scale(v3_mul(lp.f, lp.ls.Li), lp.cos_i);
+        ds->value[0][j] = value.x, ds->value[1][j] = value.y, ds->value[2][j] = value.z;
+        int f = w->delta_fixes++;
+        w->delta_fix_ray[f] = (*n_occ)++, w->delta_fix_light[f] = k, w->delta_fix_path[f] = j;
     }
     p->unfiltered_light = p->unfiltered;
     p->bounce = false;
@@ -1340,16 +1444,31 @@ static int wave_emitter_box_test(const IntegratorScene *sc, Wave *w, int n_hit, 
     return count;
 }
 
+/* Path j's unoccluded delta-light values summed one by one: delta_lanes_sum's reference
+ * (IntegratorScene.delta_lights_by_path). */
+static vec3 delta_sum_by_path(const Wave *w, int lights, int j)
+{
+    vec3 sum = v3s(0.0f);
+    for (int k = 0; k < lights; ++k) {
+        const WaveDeltaSamples *ds = &w->delta[k];
+        if (ds->kept[j] && !ds->occluded[j]) sum = v3_add(sum, v3(ds->value[0][j], ds->value[1][j], ds->value[2][j]));
+    }
+    return sum;
+}
+
 /* The sum of path p's unoccluded delta-light values, each guarded (guard3). Its caller adds
  * them unguarded and comes here only when that sum is not finite: a non-finite value makes
  * the sum non-finite (inf and NaN absorb finite terms), and a sum of finite values equals
  * the guarded sum, so the result and the count of guarded events are the same either way
  * (one finite test a vertex instead of one per value). */
-static vec3 delta_sum_guarded(const Wave *w, const WavePath *p, IntegratorStats *st)
+static vec3 delta_sum_guarded(const Wave *w, int lights, int j, IntegratorStats *st)
 {
     vec3 sum = v3s(0.0f);
-    for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
-        if (!w->occluded[k]) sum = v3_add(sum, guard3(w->delta_value[k], st));
+    for (int k = 0; k < lights; ++k) {
+        const WaveDeltaSamples *ds = &w->delta[k];
+        if (ds->kept[j] && !ds->occluded[j])
+            sum = v3_add(sum, guard3(v3(ds->value[0][j], ds->value[1][j], ds->value[2][j]), st));
+    }
     return sum;
 }
 
@@ -1407,9 +1526,12 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         }
     }
     vec3 l_delta = v3s(0.0f);
-    for (int k = p->delta_first; k < p->delta_first + p->delta_count; ++k)
-        if (!w->occluded[k]) l_delta = v3_add(l_delta, w->delta_value[k]);
-    if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, p, st);
+    int lights = sc->lights->delta_every_count;
+    if (lights > 0) {
+        l_delta = sc->delta_lights_by_path ? delta_sum_by_path(w, lights, j)
+                                           : v3(w->delta_sum[0][j], w->delta_sum[1][j], w->delta_sum[2][j]);
+        if (!finite3(l_delta)) l_delta = delta_sum_guarded(w, lights, j, st);
+    }
     vec3 ld = v3_mul(p->beta, l_light), ld_delta = v3_mul(p->beta, l_delta);
     *bucket = v3_add(*bucket, v3_add(ld, ld_delta));
     /* A point, spot or distant light casts hard shadows: in a scene with area lights, whose
@@ -1503,9 +1625,12 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
     /* whether the first vertex samples its BSDF: the same for every path, so found once
      * (its loads through sc->lights were a part of every hit) */
     bool sampled_first = lambert_uses_bsdf(sc, 1);
+    /* the receivers' lanes are read only by the delta lights' stage */
+    bool delta_lanes = sc->lights->delta_every_count > 0;
     for (int j = 0; j < n; ++j) {
         wave_first_hit(sc, &w->path[j], v3(w->cam_d[0][j], w->cam_d[1][j], w->cam_d[2][j]), w->hit_found[j], &w->hit[j], sampled_first, wave_out_record(out, j),
                        wave_out_radiance(out, j), st);
+        if (delta_lanes) receiver_to_lanes(&w->rx, j, &w->path[j]);
         any_alive |= w->path[j].alive;
     }
 
@@ -1526,13 +1651,18 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
             }
         }
         int n_occ = 0, n_rec = 0, n_hit = 0;
-        wave_point_light_samples(sc, w, n);
+        int delta_lights = sc->lights->delta_every_count;
+        if (delta_lights > 0) wave_delta_light_samples(sc, w, n, st);
         wave_triangle_light_samples(sc, w, n, depth);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive)
                 wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
+        if (delta_lights > 0) {
+            wave_delta_occlusion(sc, w, n);
+            delta_lanes_sum(n, delta_lights, w->delta, w->delta_sum);
+        }
         wave_triangle_occlusion(sc, w, depth == 1 && sc->record_ray_geometry);
         tracer_intersect_batch(sc->tracer, w->ray_rec, n_rec, false, true, w->rec_hit, w->rec_found);
         if (last_rays_escape_only(sc, depth))
@@ -1544,6 +1674,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
             WavePath *p = &w->path[j];
             if (!p->alive) continue;
             wave_vertex_fold(sc, w, j, depth, wave_out_record(out, j), wave_out_radiance(out, j), st);
+            if (delta_lanes) receiver_to_lanes(&w->rx, j, p);
             any_alive |= p->alive;
         }
     }

@@ -40,6 +40,8 @@ typedef struct {
     bool materials_lambert_only; /* no material is glossy (material_table_lambert_only): every
                                 * vertex is Lambert (false: some may not be) */
     float time01_fixed;        /* without sample_time: every ray's time (integrator_fixed_time01) */
+    bool delta_lights_by_path; /* WEDGE_DELTA_BY_PATH=1 (tests): every receiver's delta lights path by
+                                * path, the reference for the lanes (integrator.c, WaveDeltaSamples) */
     const PixelFilter *pixel_filter; /* NULL: the box over the pixel (the film sample as is) */
 } IntegratorScene;
 

@@ -12,6 +12,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "core/env_knob.h"
 #include "render/integrator.h"
 #include "render/light.h"
 #include "render/material.h"
@@ -102,6 +103,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->skip_first_hit_fields = !render_reads_first_hit(opt->reads);
     isc->materials_lambert_only = material_table_lambert_only(&r->materials);
     isc->time01_fixed = integrator_fixed_time01(isc);
+    isc->delta_lights_by_path = env_knob_switch("WEDGE_DELTA_BY_PATH", false);
     /* --pixel-filter, else the scene's PixelFilter statement, else wedge's box (pbrt-v4's
      * default would be a gaussian: docs/rendering.md, "Pixel filters") */
     const char *pf_name = opt->pixel_filter ? opt->pixel_filter : scene->filter.loc.line > 0 ? scene->filter.type : "box";

@@ -1523,6 +1523,41 @@ void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool 
         occluded_chunk(tr, scene, &ctx, rays + k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, occluded + k0);
 }
 
+/* tracer_occluded_arrays' stream for lanes mostly inactive (the delta lights' lanes of dead
+ * paths and of receivers facing away: integrator.c, WaveDeltaSamples): a chunk's active
+ * lanes are listed first (written for every lane, kept for the active ones: no branch on a
+ * lane's flag) and only their rays filled, so that an inactive lane costs a compare, not a
+ * ray. The chunks are those of the dense loop (64 active lanes in order), so Embree sees the
+ * same batches. Lanes mostly active (the triangle and sky groups) keep the one-pass loop, as
+ * before this form existed (docs/benchmarks.md, "Issue 22, thirty-sixth round"). */
+static void occluded_sparse_lanes(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
+                                  const TracerRayArrays *a, int n, bool *occluded)
+{
+    struct RTCRay ray[TRACE_CHUNK];
+    int key[TRACE_CHUNK], lane[TRACE_CHUNK];
+    bool answer[TRACE_CHUNK];
+    float k = tr->tracer_from_world;
+    for (int i = 0; i < n;) {
+        int m = 0;
+        for (; i < n && m < TRACE_CHUNK; ++i) {
+            lane[m] = i;
+            m += a->active[i] != 0;
+        }
+        if (m == 0) break;
+        uint64_t counts = 0;
+        for (int j = 0; j < m; ++j) {
+            int q = lane[j];
+            vec3 d = v3(a->d[0][q], a->d[1][q], a->d[2][q]);
+            init_ray(&ray[j], v3(a->o[0][q], a->o[1][q], a->o[2][q]), d, a->tmax ? a->tmax[q] : INFINITY, a->time01[q],
+                     k, a->skip_mask);
+            key[j] = ray_octant(d);
+            counts += 1ull << (8 * key[j]);
+        }
+        occluded_rays(tr, scene, ctx, ray, key, counts, m, answer);
+        for (int j = 0; j < m; ++j) occluded[lane[j]] = answer[j];
+    }
+}
+
 void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool coherent, bool *occluded)
 {
     RTCScene scene = tr->layers[0].scene;
@@ -1532,6 +1567,12 @@ void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, b
     int lane[TRACE_CHUNK];
     bool answer[TRACE_CHUNK];
     int m = 0;
+    int active = 0;
+    for (int i = 0; i < n; ++i) active += a->active[i] != 0;
+    if (tr->batch_mode != TRACER_BATCH_PACKET16 && 2 * active < n) {
+        occluded_sparse_lanes(tr, scene, &ctx, a, n, occluded);
+        return;
+    }
     if (tr->batch_mode != TRACER_BATCH_PACKET16) {
         /* the active lanes straight into Embree's rays, as occluded_chunk fills them from
          * TracerRays (no TracerRay between) */
