@@ -8,6 +8,7 @@
 #include "core/diag.h"
 #include "geometry/mesh.h"
 #include "recon/blur_probe.h"
+#include "recon/gain_probe.h"
 #include "recon/cl/cl_runtime.h"
 #include "recon/select.h"
 #include "render/renderer.h"
@@ -312,10 +313,29 @@ int cmd_info(int argc, char **argv)
         scene_desc_free(&scene);
         return WEDGE_EXIT_RUNTIME;
     }
-    renderer_destroy(r);
     ReconChoice choice;
     recon_select_budget(scene.effects, filter, blur.median_blur_px, budget_spp, &choice);
     choice.blur_unbounded = blur.samples_unbounded;
+    /* auto's fallback to Monte Carlo, judged as recon_pipeline_create judges it: the gain probe
+     * at the render's resolution */
+    bool judged = !recon_select_wants_fallback(&choice);
+    if (!judged && !probe) {
+        renderer_destroy(r);
+        r = NULL;
+        ro.width = res_w, ro.height = res_h;
+        if (!renderer_create(&scene, &ro, &r, &err)) {
+            fprintf(stderr, "%s\n", err.message);
+            scene_desc_free(&scene);
+            return err.exit_code ? err.exit_code : WEDGE_EXIT_INPUT;
+        }
+    }
+    if (!judged && !recon_gain_probe_judge(r, budget_spp > 0 ? budget_spp : renderer_spp(r), &choice)) {
+        fprintf(stderr, "wedge info: out of memory\n");
+        renderer_destroy(r);
+        scene_desc_free(&scene);
+        return WEDGE_EXIT_RUNTIME;
+    }
+    renderer_destroy(r);
     if (json) print_json(&scene, &choice, triangles, stdout);
     else print_text(&scene, &choice, triangles, stdout);
     scene_desc_free(&scene);

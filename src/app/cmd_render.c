@@ -305,8 +305,9 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     if (ok && !a.quiet) {
         const ReconChoice *c = &recon_pipeline_result(pipe)->choice;
         if (!recon_choice_any(c)) note_sobol_count(renderer_sampler(r), a.spp > 0 ? a.spp : renderer_spp(r));
-        /* an effect auto's fallback left to Monte Carlo, and why (recon/auto_fallback.h): the image
-         * is not the filtered one `wedge info` announces; a kept filter's numbers are in --report */
+        /* an effect auto's fallback left to Monte Carlo, and why (recon/auto_fallback.h): not the
+         * filter auto's table names (`wedge info` judges it the same way); a kept filter's numbers
+         * are in --report */
         for (int e = 0; e < EFFECT_COUNT && root; ++e)
             if (effect_in(c->fell_back, (Effect)e))
                 fprintf(stderr, "wedge render: --filter auto: %s: %s\n", effect_name((Effect)e), c->reason[e]);

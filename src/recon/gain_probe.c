@@ -3,6 +3,8 @@
 
 #include <stdlib.h>
 
+#include "core/env_knob.h"
+#include "recon/auto_fallback.h"
 #include "recon/gbuffer.h"
 #include "recon/probe_grid.h"
 
@@ -84,5 +86,19 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
     long long rays = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
     out->rays_per_sample = out->samples ? (double)rays / out->samples : 0.0;
     gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(pix);
+    return true;
+}
+
+bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
+{
+    if (!recon_select_wants_fallback(c) || !env_knob_switch("WEDGE_AUTO_FALLBACK", true)) return true;
+    GainProbe probe;
+    if (!recon_gain_probe(r, recon_choice_splits_pixels(c, EFFECT_SOFT_SHADOWS), recon_choice_splits_pixels(c, EFFECT_INDIRECT),
+                          &probe))
+        return false;
+    AutoFallback fb;
+    AutoFallbackFrame frame = recon_select_fallback_frame(c, spp);
+    auto_fallback_decide(&probe.totals, probe.rays_per_sample, &frame, &fb);
+    recon_select_fallback(c, &fb);
     return true;
 }

@@ -10,6 +10,7 @@
 #define WEDGE_RECON_GAIN_PROBE_H
 
 #include "recon/filter_gain.h"
+#include "recon/select.h"
 #include "render/renderer.h"
 
 enum {
@@ -31,5 +32,13 @@ typedef struct {
  * G-buffer will, and such a pixel's samples off its first surface keep their light. False only
  * when out of memory. */
 bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, GainProbe *out);
+
+/* auto's fallback judged on r's frame and applied to c (recon_select_fallback): the probe is
+ * traced when auto chose a shading filter the fallback may take back
+ * (recon_select_wants_fallback), unless WEDGE_AUTO_FALLBACK=0 (tests of the filters' pipeline
+ * on tiny frames, measurements of what the fallback changes). spp: the frame's samples per
+ * pixel. `wedge render` (the pipeline) and `wedge info` both call it, so they agree. False
+ * only when out of memory. */
+bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c);
 
 #endif

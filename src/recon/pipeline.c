@@ -163,18 +163,10 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
      * --spp the frame is judged at the scene's sample count, what --filter none traces.
      * WEDGE_AUTO_FALLBACK=0 keeps auto's static choice (tests of the filters' pipeline on tiny
      * frames, measurements of what the fallback changes). */
-    if (recon_select_wants_fallback(&p->choice) && env_knob_switch("WEDGE_AUTO_FALLBACK", true)) {
-        GainProbe probe;
-        if (!recon_gain_probe(r, recon_choice_splits_pixels(&p->choice, EFFECT_SOFT_SHADOWS),
-                               recon_choice_splits_pixels(&p->choice, EFFECT_INDIRECT), &probe)) {
-            free(p);
-            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
-            return false;
-        }
-        AutoFallback fb;
-        AutoFallbackFrame frame = recon_select_fallback_frame(&p->choice, o->spp > 0 ? o->spp : renderer_spp(r));
-        auto_fallback_decide(&probe.totals, probe.rays_per_sample, &frame, &fb);
-        recon_select_fallback(&p->choice, &fb);
+    if (!recon_gain_probe_judge(r, o->spp > 0 ? o->spp : renderer_spp(r), &p->choice)) {
+        free(p);
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory");
+        return false;
     }
     /* one slot per distinct method, holding every effect it filters */
     p->fixed_only = true;

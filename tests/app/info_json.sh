@@ -27,7 +27,22 @@ ActiveTransform All
 Shape "sphere"
 Shape "cylinder"
 SCENE
-"$WEDGE" info --json "$tmp/all.pbrt" > "$tmp/all.json"
+# auto's table first (the fallback's probe off), then as render judges it: on this 64x48 frame
+# the probe leaves shading effects to Monte Carlo, and info says which and why
+WEDGE_AUTO_FALLBACK=0 "$WEDGE" info --json "$tmp/all.pbrt" > "$tmp/all.json"
+"$WEDGE" info --json "$tmp/all.pbrt" > "$tmp/all-judged.json"
+python3 - "$tmp/all.json" "$tmp/all-judged.json" <<'PY'
+import json, sys
+table, judged = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+changed = [e for e in table["filters"] if table["filters"][e] != judged["filters"][e]]
+assert changed, (table["filters"], judged["filters"])  # this dim frame: nothing for a shading filter to remove
+assert set(changed) <= {"soft_shadows", "indirect"}, (table["filters"], judged["filters"])
+for e in changed:
+    assert judged["filters"][e] == "none", judged["filters"]
+    assert judged["reasons"][e].startswith("none, auto fell back to Monte Carlo: "), judged["reasons"][e]
+for e in set(judged["filters"]) & {"soft_shadows", "indirect"} - set(changed):
+    assert ", kept: predicted " in judged["reasons"][e], judged["reasons"][e]
+PY
 python3 - "$tmp/all.json" "$tmp/all.pbrt" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
@@ -57,7 +72,7 @@ assert j["blur_probe_px"] is None, j["blur_probe_px"]  # nothing moves: no probe
 PY
 
 # The human summary names the same things.
-"$WEDGE" info "$tmp/all.pbrt" > "$tmp/all.txt"
+WEDGE_AUTO_FALLBACK=0 "$WEDGE" info "$tmp/all.pbrt" > "$tmp/all.txt"
 grep -q '^effects     soft_shadows (filter: aaf) defocus (filter: aaf) motion (filter: lr) indirect (filter: aaf)$' "$tmp/all.txt"
 grep -q '^triangles   4$' "$tmp/all.txt"
 grep -q '^lights      area 1 point 2$' "$tmp/all.txt"
