@@ -59,9 +59,10 @@ void composite_split_light(const GBuffer *g, size_t i, bool direct, const float 
     const float *o_light = direct ? o->direct_sum : o->indirect_sum;
     float spp = g->frame.spp[i], share = g->split_share[i];
     for (int k = 0; k < 3; ++k) {
-        /* share x (the first surface's mean albedo x factor x filtered value) + the others' sum / spp */
-        float v = share * (albedo[k] / count) * factor * value4[k] + o_light[k] / spp;
-        out[k] = isfinite(v) ? v : 0.0f;
+        /* share x (the first surface's mean albedo x factor x filtered value) + the others' sum / spp;
+         * a value that is not finite goes on, as remodulate's does, to composite_finish, which
+         * counts it (nonfinite_pixels) and sets the pixel to 0 */
+        out[k] = share * (albedo[k] / count) * factor * value4[k] + o_light[k] / spp;
     }
 }
 
