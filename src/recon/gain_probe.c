@@ -69,8 +69,7 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
                 gbuffer_add(&g, i % nx, i / nx, &rec[j]);
                 size_t k = (size_t)i * PIXEL_SAMPLES + (size_t)(set * GAIN_PROBE_SET_SPP + j % GAIN_PROBE_SET_SPP);
                 samples[k] = gain_sample(&rec[j]);
-                /* gbuffer_add's first surface: the pixel's first hit's object */
-                off_first[k] = !rec[j].hit || rec[j].unfilterable || rec[j].object_id != g.sums[i].object_id;
+                off_first[k] = !gbuffer_on_first_surface(&g, (size_t)i, &rec[j]);
             }
             out->samples += n;
         }

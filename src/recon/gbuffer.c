@@ -213,7 +213,7 @@ void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r)
     s->hits++;
     if (s->object_id < 0) s->object_id = r->object_id;
     else if (s->object_id != r->object_id) s->id_mixed = 1;
-    if (g->others && (r->unfilterable || r->object_id != s->object_id)) others_add(&g->others[i], r, true);
+    if (g->others && !gbuffer_on_first_surface(g, i, r)) others_add(&g->others[i], r, true);
     if (r->unfilterable) s->unfilterable++;
     if (gbuffer_sample_glossy(r)) s->glossy++;
     float a = v3_luminance(r->albedo);
