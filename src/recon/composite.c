@@ -99,7 +99,7 @@ static void prepare_range(void *ctx, size_t begin, size_t end, int part)
             ind[k] -= ui[k];
         }
         bool surface = g->hit[i] && !g->mixed[i];
-        bool split = g->split_share && g->split_share[i] > 0.0f;
+        bool split = gbuffer_pixel_split(g, i);
         if (pp->value_direct4) {
             float sh = pp->factor ? pp->factor[i] : 1.0f;
             /* the diffuse lobe's direct light over the diffuse albedo (gbuffer.h): the glossy
@@ -141,7 +141,7 @@ static void composite_range(void *ctx, size_t begin, size_t end, int part)
         gbuffer_direct_albedo(cp->g, i, ad);
         /* a split pixel whose first surface was filtered (usable): composite_split_light */
         float split_dir[3], split_ind[3];
-        bool split = cp->g->split_share && cp->g->split_share[i] > 0.0f;
+        bool split = gbuffer_pixel_split(cp->g, i);
         bool split_d = split && cp->g->split_direct && cp->filtered_direct4 && cp->filtered_direct4[4 * i + 3] != 0.0f;
         bool split_i = split && cp->g->split_indirect && cp->filtered_indirect4 && cp->filtered_indirect4[4 * i + 3] != 0.0f;
         if (split_d) composite_split_light(cp->g, i, true, cp->filtered_direct4 + 4 * i, sh, split_dir);

@@ -78,7 +78,7 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
     gbuffer_resolve_guides(&g);
     for (int i = 0; i < total; ++i) {
         FilterGainSample *s = samples + (size_t)i * PIXEL_SAMPLES;
-        bool split = g.split_share && g.split_share[i] > 0.0f;
+        bool split = gbuffer_pixel_split(&g, (size_t)i);
         if (split) filter_gain_split_pixel(s, off_first + (size_t)i * PIXEL_SAMPLES, PIXEL_SAMPLES, split_direct, split_indirect);
         filter_gain_add_pixel(&out->totals, s, GAIN_PROBE_SET_SPP, g.mixed[i] != 0 && !split);
     }

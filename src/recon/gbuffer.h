@@ -281,6 +281,13 @@ void gbuffer_direct_albedo(const GBuffer *g, size_t i, float a[3]);
  * memory. Before the first sample. */
 bool gbuffer_track_split(GBuffer *g, bool direct, bool indirect);
 
+/* Whether pixel i is split (gbuffer_track_split, after gbuffer_resolve_guides): a mixed pixel
+ * whose first surface the shading filters take. */
+static inline bool gbuffer_pixel_split(const GBuffer *g, size_t i)
+{
+    return g->split_share && g->split_share[i] > 0.0f;
+}
+
 /* Whether a sample of pixel i (gbuffer_add has taken it) lies on the pixel's first surface:
  * a hit on the first hit's object, filterable, at a finite position. */
 static inline bool gbuffer_on_first_surface(const GBuffer *g, size_t i, const SampleRecord *r)

@@ -1227,7 +1227,7 @@ static void light_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
              * each pixel's sums divided by its own albedo (the diffuse albedo for direct light,
              * gbuffer_direct_albedo) and r(x) */
             float inv[3], asum[3];
-            if (g->split_share && g->split_share[i] > 0.0f && (lf->ind ? g->split_indirect : g->split_direct)) {
+            if (gbuffer_pixel_split(g, i) && (lf->ind ? g->split_indirect : g->split_direct)) {
                 /* a split pixel: its sums hold its first surface's samples alone (maaf_add_sample),
                  * divided by their count and albedo (gbuffer.h) */
                 float light[3];
@@ -1344,7 +1344,7 @@ static void radiance_fill(void *ctx, const MaafPlanes *planes, int y0, int y1)
             /* a split pixel whose first surface was filtered: its composite light (the first
              * surface's filtered share and the others' mean, composite_split_light) over every
              * lens sample, as a light passed through */
-            bool split = g->split_share && g->split_share[i] > 0.0f;
+            bool split = gbuffer_pixel_split(g, i);
             if (split && m->split_direct && g->split_direct && m->direct4 && m->direct4[4 * i + 3] != 0.0f) {
                 composite_split_light(g, i, true, m->direct4 + 4 * i, m->direct_factor ? m->direct_factor[i] : 1.0f, raw[0]);
                 maaf_defocus_add_light(NULL, 1.0f, raw[0], rest, alb, per, o);
