@@ -290,6 +290,22 @@ static inline bool sky_by_cosine(const LightSet *set, const Vertex *v, int l)
     return !v->glossy && l == set->sky_cosine_light;
 }
 
+/* Whether vertex v at `depth` takes the constant sky l (sky_by_cosine) from its BSDF-sampled
+ * ray alone, with MIS weight 1 and no light sample or shadow ray of its own: a Lambert
+ * vertex before the last, whose cosine-sampled bounce ray is traced anyway to carry the path
+ * on and is a sample of the sky with the very density the light sample would have. Weights
+ * 0 (light) and 1 (BSDF) sum to 1 wherever the integrand is not 0, since the cosine sample
+ * covers the receiver's whole hemisphere (Veach 1997, ch. 9). The last vertex takes the sky
+ * by light sampling alone (lambert_light_only), so every Lambert vertex takes one cosine
+ * sample of the sky. Only in a frame no method filters (IntegratorScene.sky_bounce_alone):
+ * there the two samples of MIS cost more CPU than their lower noise saves, while a filter
+ * that takes the indirect light's noise out leaves the first hit's direct noise, which the
+ * second sample halves (docs/algorithms.md, "One cosine sample of the sky a vertex"). */
+static inline bool sky_by_bsdf_alone(const IntegratorScene *sc, const Vertex *v, int l, int depth)
+{
+    return sc->sky_bounce_alone && depth < sc->max_depth && sky_by_cosine(sc->lights, v, l);
+}
+
 /* The density of the sample that infinite light l takes at vertex v, for direction wi. */
 static inline float sky_pdf_at(const LightSet *set, int l, const Vertex *v, vec3 wi)
 {
@@ -339,7 +355,7 @@ static vec3 glossy_share(const Vertex *v, vec3 wi, vec3 f)
 
 /* Emission reached by a BSDF-sampled ray, MIS-weighted against light sampling (weight 1
  * after a delta lobe or from a delta-only vertex, which light sampling never serves). */
-WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, const Vertex *from, float pdf_bsdf, bool no_mis,
+WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, const Vertex *from, int depth, float pdf_bsdf, bool no_mis,
                                   const SurfaceHit *h, vec3 wi, float time01, bool hit)
 {
     vec3 p_from = from->hit.p;
@@ -351,7 +367,7 @@ WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, const Vertex *from,
             /* the light's pick probability as lights_choose has it (LightChoice.pmf is
              * lights_pmf's value), without the call */
             float pdf_light = L->choice[li].pmf * sky_pdf_at(L, li, from, wi);
-            float w = no_mis ? 1.0f : mis_power(pdf_bsdf, pdf_light);
+            float w = no_mis || sky_by_bsdf_alone(sc, from, li, depth) ? 1.0f : mis_power(pdf_bsdf, pdf_light);
             sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), w));
         }
         return sum;
@@ -639,9 +655,16 @@ static PixelSampler *wave_sampler(Wave *w, const WaveSampling *ws, const WavePix
     return s;
 }
 
-/* Whether a vertex reads its light choice and position dimensions: lights_pick reads u
- * only when some light can be picked (the delta lights of LightSet.delta_every never are). */
-static inline bool vertex_uses_light_dims(const IntegratorScene *sc) { return sc->lights->power_total > 0.0f; }
+/* Whether a vertex at `depth` reads its light choice and position dimensions: lights_pick
+ * reads u only when some light can be picked (the delta lights of LightSet.delta_every never
+ * are), and none is where the pick's only light is a constant sky that every vertex at that
+ * depth, all of them Lambert, takes from its bounce ray alone (sky_by_bsdf_alone). */
+static inline bool vertex_uses_light_dims(const IntegratorScene *sc, int depth)
+{
+    bool sky_alone_everywhere = sc->materials_lambert_only && sc->sky_bounce_alone && depth < sc->max_depth &&
+                                sc->lights->sky_cosine_light >= 0;
+    return sc->lights->power_total > 0.0f && !sky_alone_everywhere;
+}
 
 /* Whether a Lambert vertex at `depth` takes its lights' light by light sampling alone (MIS
  * weight 1, no BSDF-sampled ray): the last vertex, whose BSDF ray would only look for
@@ -690,7 +713,7 @@ static void wave_vertex_dims(const IntegratorScene *sc, Wave *w, int j0, int dep
     PixelSampler *s = &w->sampler;
     const SamplerRun *run = &w->run;
     int d0 = vertex_dim0(sc, depth);
-    bool light_dims = vertex_uses_light_dims(sc), bsdf_dims = vertex_uses_bsdf_dims(sc, depth);
+    bool light_dims = vertex_uses_light_dims(sc, depth), bsdf_dims = vertex_uses_bsdf_dims(sc, depth);
     /* straight into the wave's arrays at the run's paths (no copy into each path) */
     if (light_dims) {
         sampler_run_1d(s, run, d0, w->dim_pick + j0);
@@ -1084,7 +1107,7 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
     w->tri_groups = 0;
     /* Nothing to pick (wave_vertex_dims drew no pick): wave_vertex_rays then reads neither
      * the pick nor tri_group, so the pass over the paths is skipped. */
-    if (!vertex_uses_light_dims(sc)) return;
+    if (!vertex_uses_light_dims(sc, depth)) return;
     for (int j = 0; j < n; ++j) {
         WavePath *p = &w->path[j];
         p->tri_group = -1;
@@ -1096,6 +1119,11 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
         u->light_pmf = pmf;
         if (u->light_index < 0) continue;
+        /* the sky from the bounce ray alone: no light sample here (light_prepare finds none) */
+        if (sky_by_bsdf_alone(sc, &p->v, u->light_index, depth)) {
+            u->light_index = -1;
+            continue;
+        }
         /* a static triangle, or else a constant sky (the group's kind, below) */
         if (!static_triangle && !light_is_constant_sky(&L->lights[u->light_index])) continue;
         int g = 0;
@@ -1311,7 +1339,7 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     p->light_recorded = false;
     /* with nothing to pick, the vertex takes no picked light's sample (its pick and
      * tri_group were not set: wave_triangle_light_samples) */
-    bool picks = vertex_uses_light_dims(sc);
+    bool picks = vertex_uses_light_dims(sc, depth);
     bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     p->light_valued = valued;
     if (valued) {
@@ -1578,7 +1606,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
     if (hit && last_rays_escape_only(sc, depth)) return;
     const Vertex *v = &p->v;
     bool no_mis = p->vs.delta || (v->glossy && glossy_is_delta(&v->bsdf));
-    vec3 e = bsdf_ray_emission(sc, v, p->vs.pdf, no_mis, hit ? nh : NULL, wi, p->time01, hit);
+    vec3 e = bsdf_ray_emission(sc, v, depth, p->vs.pdf, no_mis, hit ? nh : NULL, wi, p->time01, hit);
     vec3 le = guard3(v3_mul(p->beta_next, e), st);
     *bucket = v3_add(*bucket, le);
     if (p->unfiltered && !sc->skip_first_hit_fields) rec->unfiltered = v3_add(rec->unfiltered, le);
@@ -1638,7 +1666,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
     for (int depth = 1; depth <= sc->max_depth && any_alive; ++depth) {
         /* the vertex's dimensions, per pixel with a path still going (the first vertex's
          * came with the camera rays) */
-        bool any_dims = vertex_uses_light_dims(sc) || vertex_uses_bsdf_dims(sc, depth);
+        bool any_dims = vertex_uses_light_dims(sc, depth) || vertex_uses_bsdf_dims(sc, depth);
         for (int k = 0; k < pixel_count && depth > 1 && any_dims; ++k) {
             int j0 = w->path_first[k], count = w->path_count[k];
             bool alive = false;

@@ -37,6 +37,10 @@ typedef struct {
                                 * its unfiltered parts (+0) and, unless recorded, its motion and
                                 * ray geometry entries unset: no user reads them (render_reads.h;
                                 * false: fill them) */
+    bool sky_bounce_alone;     /* a Lambert vertex before the last takes a constant sky that is
+                                * the pick's only light from its bounce ray alone, without a
+                                * light sample (integrator.c, sky_by_bsdf_alone): set where no
+                                * method filters the frame (!render_reads_first_hit) */
     bool materials_lambert_only; /* no material is glossy (material_table_lambert_only): every
                                 * vertex is Lambert (false: some may not be) */
     float time01_fixed;        /* without sample_time: every ray's time (integrator_fixed_time01) */

@@ -101,6 +101,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     isc->record_ray_geometry = isc->record_bounce_geometry = opt->record_ray_geometry;
     isc->record_motion = opt->record_motion;
     isc->skip_first_hit_fields = !render_reads_first_hit(opt->reads);
+    isc->sky_bounce_alone = !render_reads_first_hit(opt->reads);
     isc->materials_lambert_only = material_table_lambert_only(&r->materials);
     isc->time01_fixed = integrator_fixed_time01(isc);
     isc->delta_lights_by_path = env_knob_switch("WEDGE_DELTA_BY_PATH", false);
@@ -184,6 +185,7 @@ void renderer_set_reads(Renderer *r, unsigned reads)
 {
     r->opt.reads = reads;
     r->isc.skip_first_hit_fields = !render_reads_first_hit(reads);
+    r->isc.sky_bounce_alone = !render_reads_first_hit(reads);
 }
 unsigned renderer_reads(const Renderer *r) { return r->opt.reads; }
 

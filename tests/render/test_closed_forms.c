@@ -17,6 +17,7 @@
 
 #include "check.h"
 #include "io/image_io.h"
+#include "render/render_reads.h"
 #include "render_test_util.h"
 
 #define PI 3.14159265358979323846
@@ -33,13 +34,18 @@ static const char *HEADER =
     "  Shape \"trianglemesh\" \"point3 P\" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n"
     "AttributeEnd\n";
 
-static double render_center_depth(const char *lights, int spp, double rho, int max_depth)
+/* The seen point's radiance, rendered for users that declared `reads` (render_reads.h; 0:
+ * undeclared, every field) at maxdepth max_depth; the frame's shadow rays in *rays_shadow
+ * (may be NULL). */
+static double render_center_reads(const char *lights, int spp, double rho, int max_depth, unsigned reads,
+                                  long long *rays_shadow)
 {
     char text[4096];
     int n = snprintf(text, sizeof text, HEADER, spp, max_depth, rho, rho, rho);
     snprintf(text + n, sizeof text - (size_t)n, "%s", lights);
     TestRender t;
     RenderOptions o = {0};
+    o.reads = reads;
     o.threads = 2;
     o.seed = 7;
     o.sampler_set = true; /* stratified jitter in every dimension */
@@ -49,8 +55,28 @@ static double render_center_depth(const char *lights, int spp, double rho, int m
     test_pixel(&t, 0, 0, rgb);
     CHECK(test_frame_finite(&t.frame));
     CHECK_NEAR(rgb[0], rgb[1], 1e-9 + 1e-6 * rgb[0]);
+    if (rays_shadow) *rays_shadow = t.stats.rays_shadow;
     test_render_free(&t);
     return rgb[0];
+}
+
+static double render_center_depth(const char *lights, int spp, double rho, int max_depth)
+{
+    return render_center_reads(lights, spp, rho, max_depth, 0, NULL);
+}
+
+/* `sky` beside a white wall (x = 0.5, facing the seen point), written into lights. */
+static const char *lights_beside_wall(char *lights, size_t size, const char *sky)
+{
+    snprintf(lights, size,
+             "%s"
+             "AttributeBegin\n"
+             "  Material \"diffuse\" \"rgb reflectance\" [ 0.8 0.8 0.8 ]\n"
+             "  Shape \"trianglemesh\" \"point3 P\" [ 0.5 0 -3  0.5 0 3  0.5 3 3  0.5 3 -3 ]"
+             " \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+             "AttributeEnd\n",
+             sky);
+    return lights;
 }
 
 static double render_center(const char *lights, int spp, double rho) { return render_center_depth(lights, spp, rho, 1); }
@@ -190,26 +216,40 @@ int main(void)
             fprintf(stderr, "infinite (%s) over a disk: got %.6f want %.6f (rel %.4f)\n", s ? "image" : "constant", got,
                     want, got / want - 1.0);
             CHECK_NEAR(got / want, 1.0, 0.01);
+            if (s > 0) continue;
+            /* At maxdepth 2 the plane's point is a vertex before the last: in a frame no method
+             * filters (the radiance alone declared) it takes the constant sky from its bounce ray
+             * alone, weight 1 and no shadow ray of its own (integrator.c, sky_by_bsdf_alone); the
+             * black disk adds nothing at depth 2, so the closed form holds. An undeclared frame
+             * keeps MIS there: it traces a sky shadow ray from the plane for every sample, the
+             * radiance-only frame only from the disk's points (about a third of the samples). */
+            long long rays_all = 0, rays_rad = 0;
+            double got_all = render_center_reads(lights, 16384, rho, 2, 0, &rays_all);
+            double got_rad = render_center_reads(lights, 16384, rho, 2, RENDER_READS_RADIANCE, &rays_rad);
+            fprintf(stderr,
+                    "infinite (constant) over a disk, maxdepth 2: MIS %.6f (%lld shadow rays), bounce ray alone %.6f "
+                    "(%lld) want %.6f\n",
+                    got_all, rays_all, got_rad, rays_rad, want);
+            CHECK_NEAR(got_all / want, 1.0, 0.01);
+            CHECK_NEAR(got_rad / want, 1.0, 0.01);
+            CHECK(rays_all >= 16384 && rays_rad < rays_all / 2);
         }
         /* No closed form, one identity: at maxdepth 2 beside a white wall, the wall's points (the
          * last vertices) take the constant sky by light sampling alone (lambert_light_only) and
          * the image sky by MIS; the two skies are the same radiance, so the same expected value
          * (the wall's bounce carries about a fifth of it). */
         double got[2];
-        for (int s = 0; s < 2; ++s) {
-            snprintf(lights, sizeof lights,
-                     "%s"
-                     "AttributeBegin\n"
-                     "  Material \"diffuse\" \"rgb reflectance\" [ 0.8 0.8 0.8 ]\n"
-                     "  Shape \"trianglemesh\" \"point3 P\" [ 0.5 0 -3  0.5 0 3  0.5 3 3  0.5 3 -3 ]"
-                     " \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-                     "AttributeEnd\n",
-                     sky[s]);
-            got[s] = render_center_depth(lights, 16384, rho, 2);
-        }
+        for (int s = 0; s < 2; ++s) got[s] = render_center_depth(lights_beside_wall(lights, sizeof lights, sky[s]), 16384, rho, 2);
         fprintf(stderr, "infinite beside a wall, maxdepth 2: constant %.6f image %.6f (rel %.4f)\n", got[0], got[1],
                 got[0] / got[1] - 1.0);
         CHECK_NEAR(got[0] / got[1], 1.0, 0.01);
+        /* and with the radiance alone declared: the plane takes the constant sky from its bounce
+         * ray alone, the wall's points by light sampling alone, one cosine sample a vertex */
+        double got_rad = render_center_reads(lights_beside_wall(lights, sizeof lights, sky[0]), 16384, rho, 2,
+                                             RENDER_READS_RADIANCE, NULL);
+        fprintf(stderr, "infinite beside a wall, maxdepth 2, radiance alone: constant %.6f (rel %.4f to the image)\n",
+                got_rad, got_rad / got[1] - 1.0);
+        CHECK_NEAR(got_rad / got[1], 1.0, 0.01);
         unlink(path);
         free(texels);
     }

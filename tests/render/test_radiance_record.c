@@ -17,7 +17,10 @@
  *    does not fill (record_reset), whatever the records held before.
  * The scenes are checked to have what could be dropped: misses with and without an
  * environment's emission, emitters seen directly, direct and indirect light, weights other
- * than 1, guarded events. */
+ * than 1, guarded events. Their environment shares the pick with a triangle light: where a
+ * constant sky is the pick's only light, a frame no method filters takes it by another
+ * estimator than an undeclared one (IntegratorScene.sky_bounce_alone, docs/design.md 12.30),
+ * which test_closed_forms checks against the closed form. */
 #include <stdatomic.h>
 
 #include "check.h"
