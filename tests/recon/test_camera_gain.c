@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "sample_moments.h"
 #include "recon/auto_fallback.h"
 #include "recon/camera_gain.h"
 #include "recon/filter_gain.h"
@@ -20,22 +21,6 @@ enum { N = 4, COUNT = 2 * N };
 static void texture_pixel(FilterGainSample *s, const double *x)
 {
     for (int i = 0; i < COUNT; ++i) s[i] = (FilterGainSample){(float)x[i], 0.0f, 0.0f, 0.0f, 0.0f};
-}
-
-static double var_of(const double *x)
-{
-    double m = 0.0, v = 0.0;
-    for (int i = 0; i < COUNT; ++i) m += x[i];
-    m /= COUNT;
-    for (int i = 0; i < COUNT; ++i) v += (x[i] - m) * (x[i] - m);
-    return v / (COUNT - 1);
-}
-
-static double mean_of(const double *x)
-{
-    double m = 0.0;
-    for (int i = 0; i < COUNT; ++i) m += x[i];
-    return m / COUNT;
 }
 
 int main(void)
@@ -63,8 +48,8 @@ int main(void)
     const double tex[COUNT] = {0.2, 0.8, 0.3, 0.7, 0.25, 0.75, 0.35, 0.65};
     const double edge[COUNT] = {0.1, 0.9, 0.1, 0.9, 0.9, 0.1, 0.9, 0.1};
     FilterGainSample s[COUNT];
-    double w1 = 1.0 / (mean_of(tex) * mean_of(tex) + 0.01), w2 = 1.0 / (mean_of(edge) * mean_of(edge) + 0.01);
-    double v1 = w1 * var_of(tex), v2 = w2 * var_of(edge);
+    double w1 = 1.0 / (sample_mean(tex, COUNT) * sample_mean(tex, COUNT) + 0.01), w2 = 1.0 / (sample_mean(edge, COUNT) * sample_mean(edge, COUNT) + 0.01);
+    double v1 = w1 * sample_variance(tex, COUNT), v2 = w2 * sample_variance(edge, COUNT);
     {
         FilterGainTotals t = {0};
         texture_pixel(s, tex);
