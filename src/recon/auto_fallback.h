@@ -19,7 +19,14 @@
  * shutter's, which that filter removes in every configuration; the shading filters' share is
  * then taken as the variance in the pixels they may touch (filter_gain_filterable_share),
  * split between the configurations as their ideal shares are: s(c) = q s_ideal(c) /
- * s_ideal(asked). */
+ * s_ideal(asked).
+ *
+ * The camera filters auto chose (defocus, motion) are judged as one candidate: kept, with the
+ * shading configuration c_k chosen beside them as above,
+ *   S_keep = E_cam(c_k)^(-1/alpha) * N t_s / T(c_k)     (filter_gain_camera_error_ratio: each
+ *            pixel's variance over its camera footprint, camera_gain.h)
+ * against S_drop, the best S of the shading judged as in a frame without a camera filter; they
+ * are left to Monte Carlo when S_drop >= AUTO_CAMERA_MIN_ADVANTAGE S_keep. */
 #ifndef WEDGE_RECON_AUTO_FALLBACK_H
 #define WEDGE_RECON_AUTO_FALLBACK_H
 
@@ -53,7 +60,8 @@
 #define AUTO_FILTER_FOOTPRINT 50.0
 /* The camera filters' footprint (camera_gain.h), F = 1 + efficiency (A - 1) at most a cap,
  * A a sample's blur area in pixels: fitted on defocus, motion and motion_defocus_hard only
- * (docs/benchmarks.md, "auto judges its camera filters"). */
+ * (256x256, 8 and 16 spp; efficiency 0.05-0.5 and caps 10-100 tried; docs/benchmarks.md, "auto
+ * judges its camera filters"). */
 #define AUTO_CAMERA_EFFICIENCY 0.2
 #define AUTO_CAMERA_FOOTPRINT_MAX 50.0
 /* The camera filters are left to Monte Carlo only when that is predicted this many times
