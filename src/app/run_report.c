@@ -54,8 +54,10 @@ static void write_pixels_filtered(FILE *f, const RunReport *r)
 }
 
 /* "auto_fallback": auto's decision from the gain probe (recon/auto_fallback.h): the effects it
- * left to Monte Carlo, and per configuration of the shading filters (none, direct, indirect,
- * both) the predicted share of the error removed and equal-error speed against Monte Carlo. */
+ * left to Monte Carlo, per configuration of the shading filters (none, direct, indirect,
+ * both) the predicted share of the error removed and equal-error speed against Monte Carlo,
+ * the camera filters' judgement when auto chose one ("camera") and the probe samples left out
+ * as non-finite. */
 static void write_auto_fallback(FILE *f, const RunReport *r)
 {
     const AutoFallback *a = r->auto_fallback;
@@ -76,6 +78,11 @@ static void write_auto_fallback(FILE *f, const RunReport *r)
         }
         fprintf(f, "}");
     }
+    if (a->camera_asked)
+        fprintf(f, ", \"camera\": {\"fell_back\": %s, \"error\": %.4f, \"footprint\": %.3f, \"speedup\": %.4f, "
+                "\"speedup_without\": %.4f}", a->camera_fell_back ? "true" : "false", finite_or_zero(a->camera_error),
+                finite_or_zero(a->camera_footprint), finite_or_zero(a->camera_speedup), finite_or_zero(a->camera_speedup_without));
+    fprintf(f, ", \"probe_nonfinite_samples\": %d", a->samples_nonfinite);
     fprintf(f, "}");
 }
 

@@ -13,23 +13,20 @@ double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, dou
 {
     double n = (double)f->spp;
     double t = n * sample_us;
-    int filters = filters_in(c) + f->others;
+    int filters = filters_in(c) + f->others + f->cameras;
     if (filters > 0) t += n * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL * filters;
     return t;
 }
 
-void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, const AutoFallbackFrame *f, AutoFallback *out)
+/* The shading filters' decision for frame f (camera filters among f->others, none judged). */
+static void decide_shading(const FilterGainTotals *t, const AutoFallbackFrame *f, AutoFallback *out)
 {
-    memset(out, 0, sizeof *out);
-    out->asked = (f->direct ? FILTER_GAIN_DIRECT : 0) | (f->indirect ? FILTER_GAIN_INDIRECT : 0);
-    out->alpha = filter_gain_alpha(t);
-    out->sample_us = AUTO_RAY_US * rays_per_sample;
-    out->spp = f->spp;
     double t_mc = (double)f->spp * out->sample_us;
     /* the asked configuration first: it stays unless another is predicted faster by more than
      * the model's error */
     out->chosen = out->asked;
     double best = -1.0, asked_speed = 0.0;
+    for (int k = 0; k < FILTER_GAIN_CONFIGS; ++k) out->share[k] = 0.0, out->speedup[k] = 0.0;
     for (int k = 0; k < FILTER_GAIN_CONFIGS; ++k) {
         FilterGainConfig c = (FilterGainConfig)(out->asked & ~k); /* asked, then its subsets */
         if (out->speedup[c] > 0.0) continue;                   /* seen */
@@ -46,4 +43,39 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
         if (out->speedup[c] > best) best = out->speedup[c], out->chosen = c;
     }
     if (best < AUTO_FALLBACK_MIN_ADVANTAGE * asked_speed) out->chosen = out->asked;
+}
+
+void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, const AutoFallbackFrame *f, AutoFallback *out)
+{
+    memset(out, 0, sizeof *out);
+    out->asked = (f->direct ? FILTER_GAIN_DIRECT : 0) | (f->indirect ? FILTER_GAIN_INDIRECT : 0);
+    out->alpha = filter_gain_alpha(t);
+    out->sample_us = AUTO_RAY_US * rays_per_sample;
+    out->spp = f->spp;
+    /* the camera filters kept: the shading judged beside them as before this judgement existed
+     * (its speeds relative, the camera filter's gain not in them) */
+    AutoFallbackFrame kept = *f;
+    kept.others += f->cameras, kept.camera = f->camera || f->cameras > 0, kept.cameras = 0;
+    decide_shading(t, &kept, out);
+    if (f->cameras == 0) return;
+    /* the camera filters judged: kept with the shading chosen beside them, against left to
+     * Monte Carlo with the shading judged alone (docs/algorithms.md, "the camera effects") */
+    double t_mc = (double)f->spp * out->sample_us;
+    out->camera_asked = true;
+    out->camera_footprint = t->pixels ? t->camera_footprint_sum / t->pixels : 1.0;
+    out->camera_error = filter_gain_camera_error_ratio(t, out->chosen, AUTO_FILTER_FOOTPRINT);
+    double time_kept = auto_fallback_time_us(out->chosen, &kept, out->sample_us);
+    out->camera_speedup = time_kept > 0.0 && out->camera_error > 0.0
+                              ? pow(out->camera_error, -1.0 / out->alpha) * t_mc / time_kept : 1.0;
+    AutoFallbackFrame without = *f;
+    without.cameras = 0;
+    AutoFallback alone = *out;
+    decide_shading(t, &without, &alone);
+    out->camera_speedup_without = alone.speedup[alone.chosen];
+    if (out->camera_speedup_without >= AUTO_CAMERA_MIN_ADVANTAGE * out->camera_speedup) {
+        memcpy(out->share, alone.share, sizeof out->share);
+        memcpy(out->speedup, alone.speedup, sizeof out->speedup);
+        out->chosen = alone.chosen;
+        out->camera_fell_back = true;
+    }
 }

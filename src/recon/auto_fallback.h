@@ -19,7 +19,14 @@
  * shutter's, which that filter removes in every configuration; the shading filters' share is
  * then taken as the variance in the pixels they may touch (filter_gain_filterable_share),
  * split between the configurations as their ideal shares are: s(c) = q s_ideal(c) /
- * s_ideal(asked). */
+ * s_ideal(asked).
+ *
+ * The camera filters auto chose (defocus, motion) are judged as one candidate: kept, with the
+ * shading configuration c_k chosen beside them as above,
+ *   S_keep = E_cam(c_k)^(-1/alpha) * N t_s / T(c_k)     (filter_gain_camera_error_ratio: each
+ *            pixel's variance over its camera footprint, camera_gain.h)
+ * against S_drop, the best S of the shading judged as in a frame without a camera filter; they
+ * are left to Monte Carlo when S_drop >= AUTO_CAMERA_MIN_ADVANTAGE S_keep. */
 #ifndef WEDGE_RECON_AUTO_FALLBACK_H
 #define WEDGE_RECON_AUTO_FALLBACK_H
 
@@ -51,6 +58,15 @@
 /* The independent samples a shading filter's kernel averages, relative to one pixel's: the
  * factor by which it lowers the error it can remove. */
 #define AUTO_FILTER_FOOTPRINT 50.0
+/* The camera filters' footprint (camera_gain.h), F = 1 + efficiency (A - 1) at most a cap,
+ * A a sample's blur area in pixels: fitted on defocus, motion and motion_defocus_hard only
+ * (256x256, 8 and 16 spp; efficiency 0.05-0.5 and caps 10-100 tried; docs/benchmarks.md, "auto
+ * judges its camera filters"). */
+#define AUTO_CAMERA_EFFICIENCY 0.2
+#define AUTO_CAMERA_FOOTPRINT_MAX 50.0
+/* The camera filters are left to Monte Carlo only when that is predicted this many times
+ * faster than keeping them (the model's error on the camera side). */
+#define AUTO_CAMERA_MIN_ADVANTAGE (4.0 / 3.0)
 
 typedef struct {
     bool direct, indirect;   /* auto chose to filter soft shadows / indirect light (candidates) */
@@ -58,6 +74,9 @@ typedef struct {
                               * effects, effects named explicitly) */
     bool camera;             /* among them a camera effect (defocus, motion) */
     int spp;                 /* N: the frame's samples per pixel */
+    int cameras;             /* camera effects auto chose to filter (candidates as one: kept or
+                              * left to Monte Carlo together); 0 when a camera filter was named
+                              * explicitly (then it is among others) */
 } AutoFallbackFrame;
 
 typedef struct {
@@ -68,12 +87,20 @@ typedef struct {
     double alpha;
     double sample_us;        /* t_s, microseconds */
     int spp;
+    /* the camera filters' judgement (cameras > 0 in the frame) */
+    bool camera_asked;       /* the frame had camera candidates */
+    bool camera_fell_back;   /* they were left to Monte Carlo */
+    double camera_error;     /* their configuration's error over Monte Carlo's at N, E_cam */
+    double camera_footprint; /* F, the probe pixels' mean */
+    double camera_speedup;   /* S with the camera filters (and the shading kept beside them) */
+    double camera_speedup_without; /* S without them (the best shading configuration alone) */
+    int samples_nonfinite;   /* probe samples left out (non-finite) */
 } AutoFallback;
 
 /* The decision for a frame from the probe's totals and rays per sample. */
 void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, const AutoFallbackFrame *f, AutoFallback *out);
 
-/* T(c), microseconds per pixel. */
+/* T(c), microseconds per pixel (the frame's camera candidates count as filters that run). */
 double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, double sample_us);
 
 #endif

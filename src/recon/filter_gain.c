@@ -20,17 +20,29 @@ enum { FILTER_GAIN_MAX_SAMPLES = 256 };
 
 void filter_gain_add_pixel(FilterGainTotals *t, const FilterGainSample *s, int n, bool mixed)
 {
-    int count = 2 * n;
-    if (n < 2 || count > FILTER_GAIN_MAX_SAMPLES) return;
+    filter_gain_add_pixel_sets(t, s, n, n, mixed, 1.0);
+}
+
+bool filter_gain_sample_finite(const FilterGainSample *s)
+{
+    return isfinite(s->radiance) && isfinite(s->direct_filterable) && isfinite(s->albedo_direct) &&
+           isfinite(s->indirect_filterable) && isfinite(s->albedo_indirect);
+}
+
+void filter_gain_add_pixel_sets(FilterGainTotals *t, const FilterGainSample *s, int n_a, int n_b, bool mixed,
+                                double footprint)
+{
+    int count = n_a + n_b;
+    if (n_a < 2 || n_b < 2 || count > FILTER_GAIN_MAX_SAMPLES) return;
     double sum_l = 0.0, sum_a = 0.0, sum_d = 0.0, sum_b = 0.0, sum_i = 0.0, mean_a = 0.0, mean_b = 0.0;
     for (int i = 0; i < count; ++i) {
         sum_l += s[i].radiance;
-        *(i < n ? &mean_a : &mean_b) += s[i].radiance;
+        *(i < n_a ? &mean_a : &mean_b) += s[i].radiance;
         sum_d += s[i].direct_filterable, sum_a += s[i].albedo_direct;
         sum_i += s[i].indirect_filterable, sum_b += s[i].albedo_indirect;
     }
     double mean = sum_l / count, w = 1.0 / (mean * mean + RELMSE_FLOOR);
-    mean_a /= n, mean_b /= n;
+    mean_a /= n_a, mean_b /= n_b;
     /* the pixel's demodulated lights, what an ideal filter gives every sample back */
     double v_direct = sum_a > 0.0 ? sum_d / sum_a : 0.0, v_indirect = sum_b > 0.0 ? sum_i / sum_b : 0.0;
     double x[FILTER_GAIN_MAX_SAMPLES];
@@ -45,15 +57,18 @@ void filter_gain_add_pixel(FilterGainTotals *t, const FilterGainSample *s, int n
         }
         left[c] = variance(x, count);
     }
+    double f = footprint >= 1.0 ? footprint : 1.0;
     for (int c = 0; c < FILTER_GAIN_CONFIGS; ++c) {
         /* a mixed pixel is passed through; an ideal filter never adds variance (the estimate
          * can, by a few samples' chance) */
         double v = mixed ? left[FILTER_GAIN_NONE] : fmin(left[c], left[FILTER_GAIN_NONE]);
         t->left[c] += w * v;
+        t->camera_left[c] += w * v / f;
     }
+    t->camera_footprint_sum += f;
     t->var_mean_n += w * 0.5 * (mean_a - mean_b) * (mean_a - mean_b);
     if (!mixed) t->var_filterable += w * left[FILTER_GAIN_NONE];
-    t->set_spp = n;
+    if (n_a > t->set_spp) t->set_spp = n_a; /* the probe's set size (a pixel that lost samples has fewer) */
     t->pixels++;
     t->pixels_filterable += !mixed;
 }
@@ -95,4 +110,13 @@ double filter_gain_error_ratio(const FilterGainTotals *t, FilterGainConfig c, do
 {
     double s = filter_gain_share(t, c);
     return (1.0 - s) + s / footprint;
+}
+
+double filter_gain_camera_error_ratio(const FilterGainTotals *t, FilterGainConfig c, double footprint)
+{
+    double all = t->left[FILTER_GAIN_NONE];
+    if (!(all > 0.0)) return 1.0;
+    double kept = t->camera_left[c], removed = t->camera_left[FILTER_GAIN_NONE] - kept;
+    if (removed < 0.0) removed = 0.0;
+    return (kept + removed / footprint) / all;
 }

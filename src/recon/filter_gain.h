@@ -52,11 +52,26 @@ typedef struct {
     int set_spp;         /* n, the samples of each of the two sets */
     int pixels;          /* pixels added */
     int pixels_filterable; /* of those, not mixed */
+    /* With the camera filters kept (auto_fallback.h): sum of w * left(c) / F, each pixel's
+     * variance left by configuration c's ideal shading filter over the camera filters'
+     * footprint F there (camera_gain.h; the camera filters take mixed pixels too, which keep
+     * left(none)); F = 1 where nothing is blurred. */
+    double camera_left[FILTER_GAIN_CONFIGS];
+    double camera_footprint_sum; /* sum of F over the pixels added (the report's mean) */
 } FilterGainTotals;
 
 /* Adds one pixel: n samples of set A then n of set B (n >= 2), mixed: whether the filters leave
- * it alone. */
+ * it alone. Its camera footprint is 1. */
 void filter_gain_add_pixel(FilterGainTotals *t, const FilterGainSample *samples, int n, bool mixed);
+
+/* The same for n_a samples of set A then n_b of set B (each >= 2: a pixel that lost samples to
+ * non-finite values; the two sets' difference is then read as an n_a-sample mean's, a small
+ * bias on one pixel) and a camera footprint F >= 1 (camera_gain.h). */
+void filter_gain_add_pixel_sets(FilterGainTotals *t, const FilterGainSample *samples, int n_a, int n_b, bool mixed,
+                                double footprint);
+
+/* Whether every value of a sample is finite: the probe skips the others (and counts them). */
+bool filter_gain_sample_finite(const FilterGainSample *s);
 
 /* A split pixel (docs/algorithms.md 4.6: a mixed pixel whose first surface the filters take)
  * made ready for filter_gain_add_pixel (as not mixed): a light the frame splits is kept only
@@ -87,5 +102,12 @@ double filter_gain_alpha(const FilterGainTotals *t);
  * filter leaves 1 / footprint of the variance it can remove (footprint: the independent
  * samples its kernel averages, relative to one pixel's): (1 - s) + s / footprint. */
 double filter_gain_error_ratio(const FilterGainTotals *t, FilterGainConfig c, double footprint);
+
+/* The same with the camera filters kept: per pixel, the variance configuration c's ideal
+ * shading filter leaves, plus 1 / footprint of what it removes, over that pixel's camera
+ * footprint F; summed with relMSE's weights over Monte Carlo's:
+ *   (sum w [left(c) + (left(none) - left(c)) / footprint] / F) / sum w sigma^2.
+ * 1 when there is no variance. */
+double filter_gain_camera_error_ratio(const FilterGainTotals *t, FilterGainConfig c, double footprint);
 
 #endif

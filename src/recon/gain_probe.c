@@ -5,6 +5,7 @@
 
 #include "core/env_knob.h"
 #include "recon/auto_fallback.h"
+#include "recon/camera_gain.h"
 #include "recon/gbuffer.h"
 #include "recon/probe_grid.h"
 
@@ -30,13 +31,14 @@ static FilterGainSample gain_sample(const SampleRecord *r)
     return s;
 }
 
-bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, GainProbe *out)
+bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, CameraBlurKinds camera, GainProbe *out)
 {
     *out = (GainProbe){0};
     IntegratorScene isc = *renderer_integrator_scene(r);
     isc.record_ray_geometry = false;
     isc.record_bounce_geometry = false;
-    isc.record_motion = false;
+    isc.record_motion = camera.motion; /* the motion's length (the radiance is the same either way) */
+    ReconCamera cam = recon_camera_from(renderer_camera(r));
     isc.skip_first_hit_fields = false; /* the mixed rule and the albedos read them */
     int w = renderer_width(r), h = renderer_height(r);
     int nx = w / GAIN_PROBE_STRIDE, ny = h / GAIN_PROBE_STRIDE;
@@ -51,9 +53,10 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
     SampleRecord *rec = malloc(sizeof *rec * WAVE_SAMPLES);
     FilterGainSample *samples = malloc(sizeof *samples * (size_t)(nx * ny * PIXEL_SAMPLES));
     bool *off_first = calloc((size_t)(nx * ny * PIXEL_SAMPLES), sizeof *off_first);
+    float *footprint_of = malloc(sizeof *footprint_of * (size_t)(nx * ny * PIXEL_SAMPLES));
     WavePixel *pix = malloc(sizeof *pix * (size_t)per_wave);
-    if (!wave || !rec || !samples || !off_first || !pix || !gbuffer_track_split(&g, split_direct, split_indirect)) {
-        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(pix);
+    if (!wave || !rec || !samples || !off_first || !footprint_of || !pix || !gbuffer_track_split(&g, split_direct, split_indirect)) {
+        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(pix);
         return false;
     }
     IntegratorStats st = {0};
@@ -70,6 +73,9 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
                 size_t k = (size_t)i * PIXEL_SAMPLES + (size_t)(set * GAIN_PROBE_SET_SPP + j % GAIN_PROBE_SET_SPP);
                 samples[k] = gain_sample(&rec[j]);
                 off_first[k] = !gbuffer_on_first_surface(&g, (size_t)i, &rec[j]);
+                /* the camera filters' footprint for this sample, 1 .. AUTO_CAMERA_FOOTPRINT_MAX */
+                footprint_of[k] = (float)camera_footprint(camera_sample_area_px(&cam, &rec[j], camera), AUTO_CAMERA_EFFICIENCY,
+                                                          AUTO_CAMERA_FOOTPRINT_MAX);
             }
             out->samples += n;
         }
@@ -78,13 +84,26 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
     gbuffer_resolve_guides(&g);
     for (int i = 0; i < total; ++i) {
         FilterGainSample *s = samples + (size_t)i * PIXEL_SAMPLES;
+        bool *off = off_first + (size_t)i * PIXEL_SAMPLES;
+        float *footprint = footprint_of + (size_t)i * PIXEL_SAMPLES;
+        /* the finite samples, set A's then set B's, in place (a NaN would make every sum NaN) */
+        int kept[2] = {0, 0}, n = 0;
+        for (int k = 0; k < PIXEL_SAMPLES; ++k) {
+            if (!filter_gain_sample_finite(&s[k])) {
+                out->samples_nonfinite++;
+                continue;
+            }
+            s[n] = s[k], off[n] = off[k], footprint[n] = footprint[k], ++n;
+            kept[k >= GAIN_PROBE_SET_SPP]++;
+        }
         bool split = gbuffer_pixel_split(&g, (size_t)i);
-        if (split) filter_gain_split_pixel(s, off_first + (size_t)i * PIXEL_SAMPLES, PIXEL_SAMPLES, split_direct, split_indirect);
-        filter_gain_add_pixel(&out->totals, s, GAIN_PROBE_SET_SPP, g.mixed[i] != 0 && !split);
+        if (split) filter_gain_split_pixel(s, off, n, split_direct, split_indirect);
+        filter_gain_add_pixel_sets(&out->totals, s, kept[0], kept[1], g.mixed[i] != 0 && !split,
+                                   camera_pixel_footprint(footprint, n));
     }
     long long rays = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
     out->rays_per_sample = out->samples ? (double)rays / out->samples : 0.0;
-    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(pix);
+    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(pix);
     return true;
 }
 
@@ -93,11 +112,12 @@ bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
     if (!recon_select_wants_fallback(c) || !env_knob_switch("WEDGE_AUTO_FALLBACK", true)) return true;
     GainProbe probe;
     if (!recon_gain_probe(r, recon_choice_splits_pixels(c, EFFECT_SOFT_SHADOWS), recon_choice_splits_pixels(c, EFFECT_INDIRECT),
-                          &probe))
+                          recon_select_fallback_blur(c), &probe))
         return false;
     AutoFallback fb;
     AutoFallbackFrame frame = recon_select_fallback_frame(c, spp);
     auto_fallback_decide(&probe.totals, probe.rays_per_sample, &frame, &fb);
+    fb.samples_nonfinite = probe.samples_nonfinite;
     recon_select_fallback(c, &fb);
     return true;
 }

@@ -24,14 +24,18 @@ typedef struct {
     double rays_per_sample; /* rays traced per sample (primary, shadow, indirect, BSDF): the
                              * frame's Monte Carlo cost in rays */
     int samples;            /* samples traced */
+    int samples_nonfinite;  /* of those, samples with a non-finite value (radiance, light or
+                             * albedo), left out of the totals */
 } GainProbe;
 
 /* Traces the probe on r's scene and resolution (one thread, the renderer's sampler kind).
  * split_direct, split_indirect: whether the frame's filters take that light of a mixed
  * pixel's first surface (recon_choice_splits_pixels): the probe then splits its pixels as the
- * G-buffer will, and such a pixel's samples off its first surface keep their light. False only
- * when out of memory. */
-bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, GainProbe *out);
+ * G-buffer will, and such a pixel's samples off its first surface keep their light. camera:
+ * the blur whose footprint each pixel's variance is divided by in the totals' camera sums (the
+ * mean of its samples' footprints). Samples with a non-finite value are skipped and counted; a
+ * set left with fewer than two samples drops its pixel. False only when out of memory. */
+bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, CameraBlurKinds camera, GainProbe *out);
 
 /* auto's fallback judged on r's frame and applied to c (recon_select_fallback): the probe is
  * traced when auto chose a shading filter the fallback may take back

@@ -271,27 +271,56 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
 }
 
 /* The shading effects auto's fallback decides (auto_fallback.h): the filters whose gain the
- * probe measures. The camera effects' filters are not judged (their gain is over the lens and
- * the shutter, which the probe does not separate from the pixel's area). */
+ * probe measures per effect. */
 static bool fallback_candidate(const ReconChoice *c, Effect e)
 {
     return (e == EFFECT_SOFT_SHADOWS || e == EFFECT_INDIRECT) && c->by_auto[e] && c->method[e];
 }
 
+static bool is_camera(Effect e)
+{
+    return e == EFFECT_DEFOCUS || e == EFFECT_MOTION;
+}
+
+/* The camera effects auto filters, judged together (kept or left to Monte Carlo as one): only
+ * when no camera filter was named explicitly (that one would run whatever auto decides, and
+ * the probe cannot tell its gain from theirs). */
+static EffectMask camera_candidates(const ReconChoice *c)
+{
+    EffectMask m = 0;
+    for (int e = 0; e < EFFECT_COUNT; ++e) {
+        if (!is_camera((Effect)e) || !c->method[e]) continue;
+        if (!c->by_auto[e]) return 0;
+        m |= EFFECT_BIT(e);
+    }
+    return m;
+}
+
 bool recon_select_wants_fallback(const ReconChoice *c)
 {
-    return fallback_candidate(c, EFFECT_SOFT_SHADOWS) || fallback_candidate(c, EFFECT_INDIRECT);
+    return fallback_candidate(c, EFFECT_SOFT_SHADOWS) || fallback_candidate(c, EFFECT_INDIRECT) || camera_candidates(c);
 }
 
 AutoFallbackFrame recon_select_fallback_frame(const ReconChoice *c, int spp)
 {
-    AutoFallbackFrame f = {fallback_candidate(c, EFFECT_SOFT_SHADOWS), fallback_candidate(c, EFFECT_INDIRECT), 0, false, spp};
+    EffectMask cameras = camera_candidates(c);
+    AutoFallbackFrame f = {fallback_candidate(c, EFFECT_SOFT_SHADOWS), fallback_candidate(c, EFFECT_INDIRECT), 0, false, spp, 0};
     for (int e = 0; e < EFFECT_COUNT; ++e) {
+        if (effect_in(cameras, (Effect)e)) {
+            f.cameras++;
+            continue;
+        }
         bool other = c->method[e] && !fallback_candidate(c, (Effect)e);
         f.others += other;
-        f.camera = f.camera || (other && (e == EFFECT_DEFOCUS || e == EFFECT_MOTION));
+        f.camera = f.camera || (other && is_camera((Effect)e));
     }
     return f;
+}
+
+CameraBlurKinds recon_select_fallback_blur(const ReconChoice *c)
+{
+    EffectMask cameras = camera_candidates(c);
+    return (CameraBlurKinds){effect_in(cameras, EFFECT_DEFOCUS), effect_in(cameras, EFFECT_MOTION)};
 }
 
 void recon_select_fallback(ReconChoice *c, const AutoFallback *fb)
@@ -299,6 +328,17 @@ void recon_select_fallback(ReconChoice *c, const AutoFallback *fb)
     c->fallback = *fb;
     c->fallback_decided = true;
     c->fell_back = 0;
+    if (fb->camera_fell_back) {
+        EffectMask cameras = camera_candidates(c);
+        for (int e = 0; e < EFFECT_COUNT; ++e) {
+            if (!effect_in(cameras, (Effect)e)) continue;
+            set_reason(c, (Effect)e, "none, auto fell back to Monte Carlo: %s predicted %.2fx its equal-error speed, %.2fx "
+                       "without (error %.2fx at equal spp, footprint %.1f pixels, alpha %.2f, gain probe)", c->method[e]->name, fb->camera_speedup, fb->camera_speedup_without, fb->camera_error,
+                       fb->camera_footprint, fb->alpha);
+            c->method[e] = NULL;
+            c->fell_back |= EFFECT_BIT(e);
+        }
+    }
     static const struct {
         Effect effect;
         FilterGainConfig bit;

@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "recon/auto_fallback.h"
+#include "recon/camera_gain.h"
 #include "recon/method.h"
 #include "scene/effects.h"
 
@@ -67,15 +68,20 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
  * Callers run the probe only then. */
 bool recon_select_wants_blur(EffectMask present, const char *request);
 
-/* Whether auto chose a shading filter (soft shadows, indirect light) that its fallback to
- * Monte Carlo may take back: the caller then runs the gain probe (gain_probe.h) and applies
- * the decision with recon_select_fallback. Explicit filters never fall back. */
+/* Whether auto chose a filter that its fallback to Monte Carlo may take back: a shading filter
+ * (soft shadows, indirect light) or its camera filters (defocus, motion; judged together, and
+ * only when no camera filter was named explicitly). The caller then runs the gain probe
+ * (gain_probe.h) and applies the decision with recon_select_fallback. Explicit filters never
+ * fall back. */
 bool recon_select_wants_fallback(const ReconChoice *c);
-/* The frame auto_fallback_decide judges: auto's shading filters as candidates, every other
- * filtered effect counted, spp the frame's samples per pixel. */
+/* The frame auto_fallback_decide judges: auto's shading filters and camera filters as
+ * candidates, every other filtered effect counted, spp the frame's samples per pixel. */
 AutoFallbackFrame recon_select_fallback_frame(const ReconChoice *c, int spp);
-/* Applies a decision: the candidates left out of fb->chosen get no method and a reason that
- * gives the prediction; those kept get the prediction appended to their reason. */
+/* Which blur the gain probe measures the camera footprint of: the camera candidates'. */
+CameraBlurKinds recon_select_fallback_blur(const ReconChoice *c);
+/* Applies a decision: the candidates left out of fb->chosen (the camera candidates when
+ * fb->camera_fell_back) get no method and a reason that gives the prediction; the shading
+ * filters kept get the prediction as their reason. */
 void recon_select_fallback(ReconChoice *c, const AutoFallback *fb);
 
 /* "aaf", or "none" when the effect is not filtered. */

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "sample_moments.h"
 #include "recon/auto_fallback.h"
 #include "recon/filter_gain.h"
 
@@ -24,22 +25,6 @@ static void direct_pixel(FilterGainSample *s, const double *texture, const doubl
         double d = albedo[i] * vis[i];
         s[i] = (FilterGainSample){(float)(texture[i] + d), (float)d, (float)albedo[i], 0.0f, 0.0f};
     }
-}
-
-static double var_of(const double *x)
-{
-    double m = 0.0, v = 0.0;
-    for (int i = 0; i < COUNT; ++i) m += x[i];
-    m /= COUNT;
-    for (int i = 0; i < COUNT; ++i) v += (x[i] - m) * (x[i] - m);
-    return v / (COUNT - 1);
-}
-
-static double mean_of(const double *x)
-{
-    double m = 0.0;
-    for (int i = 0; i < COUNT; ++i) m += x[i];
-    return m / COUNT;
 }
 
 int main(void)
@@ -93,14 +78,14 @@ int main(void)
             l[i] = s[i].radiance;
             want[i] = off[i] ? l[i] : half[i] * (v_first / a_first);
         }
-        double w = 1.0 / (mean_of(l) * mean_of(l) + 0.01);
+        double w = 1.0 / (sample_mean(l, COUNT) * sample_mean(l, COUNT) + 0.01);
         FilterGainSample split[COUNT], whole[COUNT];
         memcpy(split, s, sizeof split), memcpy(whole, s, sizeof whole);
         FilterGainTotals t = {0}, u = {0};
         filter_gain_split_pixel(split, off, COUNT, true, true);
         filter_gain_add_pixel(&t, split, N, false);
-        CHECK_NEAR(t.left[FILTER_GAIN_NONE], w * var_of(l), 1e-6);
-        CHECK_NEAR(t.left[FILTER_GAIN_DIRECT], w * var_of(want), 1e-6);
+        CHECK_NEAR(t.left[FILTER_GAIN_NONE], w * sample_variance(l, COUNT), 1e-6);
+        CHECK_NEAR(t.left[FILTER_GAIN_DIRECT], w * sample_variance(want, COUNT), 1e-6);
         CHECK(t.left[FILTER_GAIN_DIRECT] > 0.1 * t.left[FILTER_GAIN_NONE]); /* the others' noise stays */
         filter_gain_split_pixel(whole, off, COUNT, false, true);
         filter_gain_add_pixel(&u, whole, N, false);
@@ -118,18 +103,18 @@ int main(void)
         for (int i = 0; i < COUNT; ++i) base[i] = 0.3 + tex[i];
         direct_pixel(s, base, half, vis);
         filter_gain_add_pixel(&t, s, N, false);
-        double want_share = var_of(d) / var_of(l);
-        CHECK_NEAR(var_of(l), var_of(d) + var_of(base), 1e-12); /* orthogonal indeed */
+        double want_share = sample_variance(d, COUNT) / sample_variance(l, COUNT);
+        CHECK_NEAR(sample_variance(l, COUNT), sample_variance(d, COUNT) + sample_variance(base, COUNT), 1e-12); /* orthogonal indeed */
         CHECK_NEAR(filter_gain_share(&t, FILTER_GAIN_DIRECT), want_share, 1e-6);
-        double w = 1.0 / (mean_of(l) * mean_of(l) + 0.01);
-        CHECK_NEAR(t.left[FILTER_GAIN_NONE], w * var_of(l), 1e-6);
-        CHECK_NEAR(t.left[FILTER_GAIN_DIRECT], w * var_of(base), 1e-6);
+        double w = 1.0 / (sample_mean(l, COUNT) * sample_mean(l, COUNT) + 0.01);
+        CHECK_NEAR(t.left[FILTER_GAIN_NONE], w * sample_variance(l, COUNT), 1e-6);
+        CHECK_NEAR(t.left[FILTER_GAIN_DIRECT], w * sample_variance(base, COUNT), 1e-6);
         /* a second, brighter pixel of pure texture weighs in by its relMSE weight */
         const double tex2[COUNT] = {2.0, 3.0, 2.0, 3.0, 2.0, 3.0, 2.0, 3.0};
         direct_pixel(s, tex2, half, zero);
         filter_gain_add_pixel(&t, s, N, false);
         double w2 = 1.0 / (2.5 * 2.5 + 0.01);
-        double removed = w * var_of(d), all = w * var_of(l) + w2 * var_of(tex2);
+        double removed = w * sample_variance(d, COUNT), all = w * sample_variance(l, COUNT) + w2 * sample_variance(tex2, COUNT);
         CHECK_NEAR(filter_gain_share(&t, FILTER_GAIN_DIRECT), removed / all, 1e-6);
     }
     /* indirect light alone, demodulated by its own albedo; BOTH removes the two together */
@@ -148,9 +133,9 @@ int main(void)
         const double set_ab[COUNT] = {0.0, 1.0, 0.0, 1.0, 0.25, 1.25, 0.25, 1.25}; /* means 0.5 and 0.75 */
         direct_pixel(s, set_ab, half, zero);
         filter_gain_add_pixel(&t, s, N, false);
-        double w = 1.0 / (mean_of(set_ab) * mean_of(set_ab) + 0.01);
+        double w = 1.0 / (sample_mean(set_ab, COUNT) * sample_mean(set_ab, COUNT) + 0.01);
         CHECK_NEAR(t.var_mean_n, w * 0.5 * 0.25 * 0.25, 1e-9);
-        double alpha = log(var_of(set_ab) / (0.5 * 0.25 * 0.25)) / log((double)N);
+        double alpha = log(sample_variance(set_ab, COUNT) / (0.5 * 0.25 * 0.25)) / log((double)N);
         CHECK(alpha > FILTER_GAIN_ALPHA_MIN && alpha < FILTER_GAIN_ALPHA_MAX);
         CHECK_NEAR(filter_gain_alpha(&t), alpha, 1e-6);
         FilterGainTotals none = {0};
@@ -169,7 +154,7 @@ int main(void)
         const double checks[COUNT] = {0.2, 0.8, 0.2, 0.8, 0.8, 0.2, 0.8, 0.2}, lit[COUNT] = {1, 1, 1, 1, 1, 1, 1, 1};
         direct_pixel(s, zero, checks, lit);
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, false, 0, false, 16};
+        AutoFallbackFrame f = {true, false, 0, false, 16, 0};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.asked == FILTER_GAIN_DIRECT && fb.chosen == FILTER_GAIN_NONE);
@@ -179,7 +164,7 @@ int main(void)
         CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_DIRECT, &f, t_s), t_f, 1e-9);
         CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], 16 * t_s / t_f, 1e-9); /* no gain, only cost */
         /* beside a camera filter that runs anyway, the shading filter costs its pass alone */
-        AutoFallbackFrame g = {true, false, 1, true, 16};
+        AutoFallbackFrame g = {true, false, 1, true, 16, 0};
         CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_NONE, &g, t_s), 16 * t_s + 16 * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL, 1e-9);
         auto_fallback_decide(&t, 2.0, &g, &fb);
         /* ... which at 16 spp is less than AUTO_FALLBACK_MIN_ADVANTAGE: auto's choice stands */
@@ -197,7 +182,7 @@ int main(void)
         const double vis[COUNT] = {0.0, 0.3, 0.9, 0.6, 1.0, 0.1, 0.4, 0.7};
         direct_pixel(s, zero, half, vis);
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, false, 0, false, 16};
+        AutoFallbackFrame f = {true, false, 0, false, 16, 0};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.chosen == FILTER_GAIN_DIRECT);
@@ -206,7 +191,7 @@ int main(void)
         CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], want, 1e-9);
         CHECK(fb.speedup[FILTER_GAIN_DIRECT] > 1.0);
         /* the same frame with no candidate (nothing auto chose): nothing to decide */
-        AutoFallbackFrame none = {false, false, 0, false, 16};
+        AutoFallbackFrame none = {false, false, 0, false, 16, 0};
         auto_fallback_decide(&t, 2.0, &none, &fb);
         CHECK(fb.asked == FILTER_GAIN_NONE && fb.chosen == FILTER_GAIN_NONE);
     }
@@ -216,7 +201,7 @@ int main(void)
         const double ind[COUNT] = {0.0, 0.4, 0.1, 0.5, 0.2, 0.3, 0.6, 0.7};
         for (int i = 0; i < COUNT; ++i) s[i] = (FilterGainSample){(float)(0.25 + 0.8 * ind[i]), 0.25f, 0.5f, (float)(0.8 * ind[i]), 0.8f};
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, true, 0, false, 2};
+        AutoFallbackFrame f = {true, true, 0, false, 2, 0};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.asked == FILTER_GAIN_BOTH && fb.chosen == FILTER_GAIN_INDIRECT);
@@ -235,12 +220,12 @@ int main(void)
         filter_gain_add_pixel(&t, s, N, false);
         double l[COUNT];
         for (int i = 0; i < COUNT; ++i) l[i] = base[i] + 0.5 * vis[i];
-        double w1 = 1.0 / (mean_of(l) * mean_of(l) + 0.01), filterable = w1 * var_of(l);
+        double w1 = 1.0 / (sample_mean(l, COUNT) * sample_mean(l, COUNT) + 0.01), filterable = w1 * sample_variance(l, COUNT);
         direct_pixel(s, zero, half, vis); /* a mixed pixel: the shading filters pass it */
         filter_gain_add_pixel(&t, s, N, true);
         double all = t.left[FILTER_GAIN_NONE];
         CHECK_NEAR(filter_gain_filterable_share(&t), filterable / all, 1e-6);
-        AutoFallbackFrame f = {true, false, 1, true, 16};
+        AutoFallbackFrame f = {true, false, 1, true, 16, 0};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK_NEAR(fb.share[FILTER_GAIN_DIRECT], filterable / all, 1e-6);
