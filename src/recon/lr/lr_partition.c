@@ -32,7 +32,7 @@ LrConfig lr_config_default(void)
     c.motion_long_px = (float)c.window_px;
     c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
     c.bright_clamp_px = 1.0f;
-    c.merge_shift_sigmas = 0.5f; /* docs/benchmarks.md, lr16: 0.6 and more raised the error */
+    c.merge_shift_sigmas = 0.3f; /* docs/benchmarks.md, lr16: 0.5 raised motion_defocus's error, 0.6 hard's */
     c.merge_sigma_share = 0.3f;
     c.still_tiles = NULL;
     c.samples_scanned = false; /* lr_cl_run measures the samples itself */
