@@ -490,7 +490,8 @@ static inline __attribute__((always_inline)) void lr_place(__global const float 
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
  * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
  * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
- * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
+ * (raw layers raw_j .. raw_e - 1: one, or a run of merged ones, lr_layers_merge), then those
+ * behind it raw layer by raw layer; the C version visits them
  * in the same order, so every cell gets the same sums. Positions and lens/time coordinates
  * come from lr_pack's copy of the list, the radiance of the layer's own samples from samples. */
 __kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
