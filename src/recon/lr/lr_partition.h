@@ -131,9 +131,6 @@ static inline void lr_scan_sample(const LrPlace *p, int px, int py, long *nonfin
     if (dy > *film_dev_px) *film_dev_px = dy;
 }
 
-/* The layers of one tile: a sample's layer is the number of depth bounds below its depth plus
- * the number of CoC bounds below its c (both orders agree: c grows with depth), compacted to
- * the non-empty layers; misses (depth INFINITY) are the last layer. */
 /* One layer of a tile (a partition). */
 typedef struct {
     int count;                  /* samples of the window in the layer */
@@ -145,6 +142,9 @@ typedef struct {
     LrFilter filter;
 } LrLayer;
 
+/* The layers of one tile: a sample's layer is the number of depth bounds below its depth plus
+ * the number of CoC bounds below its c (both orders agree: c grows with depth), compacted to
+ * the non-empty layers; misses (depth INFINITY) are the last layer. */
 typedef struct {
     int n_depth, n_coc;
     float depth_bound[LR_MAX_DEPTH_BOUNDS];
