@@ -8,7 +8,9 @@
  * computed on the device and the layer counts (AOV) must equal the C partitions'; their first
  * sweep adds 8x8 blocks' histograms where every window is whole blocks (bands of 0 and 8 px,
  * widths and heights not multiples of 8: partial blocks at the edges) and bins sample by
- * sample where not (the 19-px band). Dropping a window's partial blocks, or one block, fails. */
+ * sample where not (the 19-px band). Dropping a window's partial blocks, or one block, fails.
+ * Neighbouring layers merged into one partition (lr_layers_merge: a convoy moving together, a
+ * pinhole's static layers) are one run of raw layers in the kernel's reprojection too. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -101,7 +103,7 @@ static void compare(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, 
 }
 
 /* Which partitions count (count_partitions). */
-typedef enum { COUNT_BRIGHT, COUNT_ROUND } PartitionKind;
+typedef enum { COUNT_BRIGHT, COUNT_ROUND, COUNT_MERGED } PartitionKind;
 
 /* The partitions of compare's frame (its front layer's radiance scaled by gain) that are bright
  * (the bright clamp, 8.24) or take the round screen filter (lr_screen_round, 8.28): the
@@ -121,6 +123,11 @@ static int count_partitions(int w, int h, int spp, const LrTestLayer *layers, in
         for (int tx = 0; tx < ntx; ++tx) {
             LrTile t;
             lr_tile_partition(&img, &cfg, tx, ty, &t);
+            if (kind == COUNT_MERGED) { /* non-empty raw layers beyond one a partition (lr_layers_merge) */
+                for (int i = 0; i < lr_tile_raw_count(&t); ++i) count += t.compact[i] >= 0;
+                count -= t.layer_count;
+                continue;
+            }
             for (int j = 0; j < t.layer_count; ++j) {
                 int r;
                 float table[LR_ROUND_TABLE];
@@ -141,6 +148,11 @@ static int bright_partitions(int w, int h, int spp, const LrTestLayer *layers, i
 static int round_partitions(int w, int h, int spp, const LrTestLayer *layers, int nl)
 {
     return count_partitions(w, h, spp, layers, nl, 1.0f, COUNT_ROUND);
+}
+
+static int merged_layers(int w, int h, int spp, const LrTestLayer *layers, int nl)
+{
+    return count_partitions(w, h, spp, layers, nl, 1.0f, COUNT_MERGED);
 }
 
 /* LrConfig.still_tiles: every other tile marked still. Those tiles get no layers and 0 in
@@ -230,6 +242,16 @@ int main(void)
          * (lr_screen_round) reads the grid in lr_across_composite, with no along pass */
         LrTestLayer still[2] = {{2.0f, -5.0f, {0.0f, 0.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {8.0f, 7.0f, {0.0f, 0.0f}, 0, 0, 0, 0.4f}};
         CHECK(round_partitions(48, 40, 4, still, 2) > 0 && round_partitions(48, 33, 8, big, 3) > 0);
+        /* layers merged (lr_layers_merge, 8.34): a partition whose own samples are several raw
+         * layers, which the kernel's reprojection must take as one run */
+        LrTestLayer convoy[3] = {{2.0f, 0.0f, {6.0f, 0.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {4.0f, 0.0f, {6.0f, 0.0f}, 28.0f, 20.0f, 8.0f, 0.5f},
+                                 {9.0f, 0.0f, {6.0f, 0.0f}, 0, 0, 0, 0.4f}};
+        LrTestLayer pinhole[3] = {{2.0f, 0.0f, {0.0f, 0.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {4.0f, 0.0f, {0.0f, 0.0f}, 28.0f, 20.0f, 8.0f, 0.5f},
+                                  {9.0f, 0.0f, {0.0f, 0.0f}, 0, 0, 0, 0.4f}};
+        CHECK(merged_layers(48, 40, 4, convoy, 3) > 0 && merged_layers(48, 40, 4, pinhole, 3) > 0);
+        compare(lr, 48, 40, 4, convoy, 3, false);
+        compare(lr, 48, 40, 4, pinhole, 3, true);
+        compare_band(lr, 53, 45, 4, convoy, 3, false, 0.0f, 8);
         compare(lr, 48, 40, 4, still, 2, false);
         compare_band(lr, 53, 45, 4, still, 2, false, 0.0f, 8);
         /* still tiles left out (lr_partition.h: LrConfig.still_tiles) */

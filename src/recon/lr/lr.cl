@@ -490,7 +490,8 @@ static inline __attribute__((always_inline)) void lr_place(__global const float 
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
  * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
  * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
- * (raw layer raw_j), then those behind it raw layer by raw layer; the C version visits them
+ * (raw layers raw_j .. raw_e - 1: one, or a run of merged ones, lr_layers_merge), then those
+ * behind it raw layer by raw layer; the C version visits them
  * in the same order, so every cell gets the same sums. Positions and lens/time coordinates
  * come from lr_pack's copy of the list, the radiance of the layer's own samples from samples. */
 __kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
@@ -512,8 +513,10 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     __global const float *P = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap; /* lr_pack's copy of the list */
     __global const int *start = layer_start + tile * LR_LS_STRIDE;
     __global const int *compact = tl + 1;
-    int raw_j = 0;
+    int raw_j = 0, raw_e = 0; /* the layer's own samples: raw layers [raw_j, raw_e) (lr_tile_layer_end) */
     while (compact[raw_j] != j) ++raw_j;
+    for (int i = raw_j; i < 17; ++i)
+        if (compact[i] == j) raw_e = i + 1;
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     float cp = lp[0], sp = lp[1], eta = lp[3], xi = lp[4], isu = lp[5], ist = lp[6], rho = lp[8], isv = lp[9];
@@ -550,8 +553,8 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     int ox0 = INT_MAX, oy0 = INT_MAX, ox1 = INT_MIN, oy1 = INT_MIN; /* the cells the own samples reach */
     int p0x = 0, p0y = 0, p1x = 0, p1y = 0; /* box P */
     for (int r = raw_j; r <= 17; ++r) {
-        bool own = r == raw_j;
-        if (r == raw_j + 1) {
+        bool own = r < raw_e;
+        if (r == raw_e) {
             /* The layer's opacity and light come from its own samples only: a tile pixel whose
              * screen filter (along, then across) reaches no cell of theirs gets alpha = 0 and
              * no light from this layer, whatever the weights, and eq. 17 leaves it as it was.
@@ -574,7 +577,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             cy0 = max(0, by0 - reach), cy1 = min(wh, by1 + reach);
             key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
         }
-        if (r == 17) break; /* (the loop's last step only writes the box when raw_j is the last layer) */
+        if (r == 17) break; /* (the loop's last step only writes the box when the layer's run ends at the last raw layer) */
         int e1 = lr_lower_bound(list, start[r], start[r + 1], key1);
         /* In chunks: first where each sample lands and its weight (independent samples, no
          * branches: the processor overlaps them), then the sums in list order. */

@@ -32,6 +32,8 @@ LrConfig lr_config_default(void)
     c.motion_long_px = (float)c.window_px;
     c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
     c.bright_clamp_px = 1.0f;
+    c.merge_shift_sigmas = 0.3f; /* docs/benchmarks.md, lr16: 0.5 raised motion_defocus's error, 0.6 hard's */
+    c.merge_sigma_share = 0.3f;
     c.still_tiles = NULL;
     c.samples_scanned = false; /* lr_cl_run measures the samples itself */
     c.samples_nonfinite = 0;
@@ -252,6 +254,27 @@ float lr_layer_contrast(const LrLayerStats *st, int raw_n, int i)
     return rest > 0.0 ? (float)(mean / rest) : INFINITY;
 }
 
+/* A layer's filter from its slopes, with the bright-layer clamp (8.24) where its contrast asks. */
+static LrFilter layer_filter(const LrConfig *cfg, const LrSlopes *slopes, float contrast)
+{
+    LrFilterConfig fc = cfg->filter;
+    if (cfg->bright_contrast > 0.0f && contrast >= cfg->bright_contrast && fc.sigma_clamp_px > cfg->bright_clamp_px)
+        fc.sigma_clamp_px = cfg->bright_clamp_px;
+    return lr_filter_make(slopes, &fc);
+}
+
+/* Layer `back` taken into `front` (lr_layers_merge allowed it): its samples counted, the slope
+ * ranges' union, the filter remade from it (the front layer's contrast kept). */
+static void merge_into(const LrConfig *cfg, LrLayer *front, const LrLayer *back)
+{
+    LrSlopes *a = &front->slopes;
+    const LrSlopes *b = &back->slopes;
+    front->count += back->count;
+    a->c_min_px = min_f(a->c_min_px, b->c_min_px), a->c_max_px = max_f(a->c_max_px, b->c_max_px);
+    a->d_min_px = min_f(a->d_min_px, b->d_min_px), a->d_max_px = max_f(a->d_max_px, b->d_max_px);
+    front->filter = layer_filter(cfg, a, front->contrast);
+}
+
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
 {
     int raw_n = lr_tile_raw_count(t);
@@ -297,12 +320,56 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
         /* A light far brighter than what surrounds it: the screen share's shape error (a
          * few percent of the layer's light past the disk's rim, docs/algorithms.md 8.24)
          * would outshine the background, so the layer keeps its blur in its samples. */
-        LrFilterConfig fc = cfg->filter;
         t->layer[j].contrast = lr_layer_contrast(st, raw_n, i);
-        if (cfg->bright_contrast > 0.0f && t->layer[j].contrast >= cfg->bright_contrast && fc.sigma_clamp_px > cfg->bright_clamp_px)
-            fc.sigma_clamp_px = cfg->bright_clamp_px;
-        t->layer[j].filter = lr_filter_make(&t->layer[j].slopes, &fc);
+        t->layer[j].filter = layer_filter(cfg, &t->layer[j].slopes, t->layer[j].contrast);
     }
+    /* Neighbours with (almost) the same filter: one partition (8.34) whose slope ranges are
+     * the union of theirs, its filter made from them as any layer's. A layer is compared with
+     * the merged layer in front of it, so a run's filter stays within the tolerances of
+     * each layer it takes. */
+    int map[LR_MAX_LAYERS], kept = 0;
+    for (int j = 0; j < t->layer_count; ++j) {
+        if (kept > 0 && lr_layers_merge(cfg, &t->layer[kept - 1].filter, t->layer[kept - 1].cos_psi, t->layer[kept - 1].sin_psi,
+                                        &t->layer[j].filter, t->layer[j].cos_psi, t->layer[j].sin_psi)) {
+            map[j] = kept - 1;
+            merge_into(cfg, &t->layer[kept - 1], &t->layer[j]);
+            continue;
+        }
+        if (kept != j) t->layer[kept] = t->layer[j];
+        map[j] = kept++;
+    }
+    for (int i = 0; i < raw_n; ++i)
+        if (t->compact[i] >= 0) t->compact[i] = map[t->compact[i]];
+    for (int i = raw_n; i < LR_MAX_LAYERS + 1; ++i) t->compact[i] = -1; /* no such raw layer (lr.cl reads all 17) */
+    t->layer_count = kept;
+}
+
+/* |a - b| within share of |a| (both 0 included) */
+static bool near_share(float a, float b, float share) { return fabsf(a - b) <= share * fabsf(a); }
+
+bool lr_layers_merge(const LrConfig *cfg, const LrFilter *a, float a_cos, float a_sin, const LrFilter *b, float b_cos,
+                     float b_sin)
+{
+    if (!(cfg->merge_shift_sigmas > 0.0f) || !(cfg->merge_sigma_share >= 0.0f)) return false;
+    if (a_cos != b_cos || a_sin != b_sin || a->inv_sigma_u != b->inv_sigma_u || a->inv_sigma_v != b->inv_sigma_v ||
+        a->inv_sigma_t != b->inv_sigma_t)
+        return false;
+    /* the farthest a sample lands from where its own layer's shear puts it: |u_r|, |v_r| <= 1,
+     * |t - 1/2| <= 1/2 (eq. 16), against the front filter's narrower screen sigma */
+    float shift_px = fabsf(a->eta_px - b->eta_px) + 0.5f * fabsf(a->xi_px - b->xi_px) + fabsf(a->rho_px - b->rho_px);
+    float sigma_px = fminf(1.0f / a->inv_sigma_x_px, 1.0f / a->inv_sigma_y_px), k = cfg->merge_sigma_share;
+    /* a share of 1/sigma is, to first order, the same share of sigma */
+    return shift_px <= cfg->merge_shift_sigmas * sigma_px && near_share(a->inv_sigma_x_px, b->inv_sigma_x_px, k) &&
+           near_share(a->inv_sigma_y_px, b->inv_sigma_y_px, k) && near_share(a->aperture_x_px, b->aperture_x_px, k) &&
+           near_share(a->aperture_y_px, b->aperture_y_px, k) && near_share(a->shutter_x_px, b->shutter_x_px, k);
+}
+
+int lr_tile_layer_end(const LrTile *t, int raw_n, int j)
+{
+    int end = 0;
+    for (int i = 0; i < raw_n; ++i)
+        if (t->compact[i] == j) end = i + 1;
+    return end;
 }
 
 void lr_tile_partition(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *t)

@@ -99,6 +99,14 @@ typedef struct {
      * 1 px; bright_contrast 0: off. docs/algorithms.md 8.24. */
     float bright_contrast;
     float bright_clamp_px;
+    /* Neighbouring layers whose filters agree (lr_layers_merge) are one partition, its
+     * filter made from the union of their slope ranges. merge_shift_sigmas: the most a sample
+     * may land elsewhere under the front layer's shear than under its own (|d eta| +
+     * |d xi| / 2 + |d rho|), in the front layer's smaller screen sigma; merge_sigma_share: the
+     * most the screen sigmas and shaped shares may differ, as a share of the front layer's.
+     * merge_shift_sigmas 0: never merged. docs/algorithms.md 8.34. */
+    float merge_shift_sigmas;
+    float merge_sigma_share;
     const unsigned char *still_tiles; /* per tile (row-major, lr_tile_count's), non-zero: a
                                        * tile with nothing to move, left out (no layers, its
                                        * pixels 0 in the output); NULL: none */
@@ -123,6 +131,17 @@ static inline void lr_scan_sample(const LrPlace *p, int px, int py, long *nonfin
     if (dy > *film_dev_px) *film_dev_px = dy;
 }
 
+/* One layer of a tile (a partition). */
+typedef struct {
+    int count;                  /* samples of the window in the layer */
+    float cos_psi, sin_psi;     /* mean motion direction (the rotated frame's x axis) */
+    bool motion_filter;         /* false when the directions spread too much */
+    float contrast;             /* the layer's mean brightness over the rest of the
+                                 * window's (lr_layer_contrast) */
+    LrSlopes slopes;
+    LrFilter filter;
+} LrLayer;
+
 /* The layers of one tile: a sample's layer is the number of depth bounds below its depth plus
  * the number of CoC bounds below its c (both orders agree: c grows with depth), compacted to
  * the non-empty layers; misses (depth INFINITY) are the last layer. */
@@ -132,15 +151,7 @@ typedef struct {
     float coc_bound_px[LR_MAX_COC_BOUNDS];
     int compact[LR_MAX_LAYERS + 1]; /* raw layer -> compact layer */
     int layer_count;                /* non-empty layers, front to back */
-    struct {
-        int count;                  /* samples of the window in the layer */
-        float cos_psi, sin_psi;     /* mean motion direction (the rotated frame's x axis) */
-        bool motion_filter;         /* false when the directions spread too much */
-        float contrast;             /* the layer's mean brightness over the rest of the
-                                     * window's (lr_layer_contrast) */
-        LrSlopes slopes;
-        LrFilter filter;
-    } layer[LR_MAX_LAYERS];
+    LrLayer layer[LR_MAX_LAYERS];
 } LrTile;
 
 /* The tiles covering the reconstructed image (the image less cfg->inset_px on every side). */
@@ -207,8 +218,22 @@ int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bo
  * lr_gap_edges' edges); clears t. */
 void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t);
 
-/* Compaction, motion ranges widened by the spread across psi (Figure 4), the filters. */
+/* Compaction, motion ranges widened by the spread across psi (Figure 4), the filters, then
+ * neighbouring layers merged where lr_layers_merge allows (a merged layer's raw layers are
+ * one run of the raw order: compact[] maps each of them, and any empty raw layer between
+ * them has -1). */
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *raw_stats, LrTile *t);
+
+/* Whether layer `back`, right behind `front` in a tile, may be filtered as part of it: the
+ * same rotation and sample weights, shears within cfg->merge_shift_sigmas, screen sigmas and
+ * shaped shares within cfg->merge_sigma_share. Two layers with the same shear and screen
+ * filter composite (eq. 17) exactly as their union does (docs/algorithms.md 8.34). */
+bool lr_layers_merge(const LrConfig *cfg, const LrFilter *front, float front_cos, float front_sin, const LrFilter *back,
+                     float back_cos, float back_sin);
+
+/* The first raw layer after layer j's run (j < t->layer_count): its own samples are raw
+ * layers [first, end) of j, those behind it the raw layers from end on. */
+int lr_tile_layer_end(const LrTile *t, int raw_n, int j);
 
 /* Raw layer i's mean brightness over the mean of the window's other samples (all raw layers,
  * misses included); INFINITY when the others are black and the layer is not; 1 when the layer

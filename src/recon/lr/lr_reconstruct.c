@@ -95,7 +95,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
     for (int j = 0; j < tile.layer_count; ++j) {
         const LrFilter *f = &tile.layer[j].filter;
         float cp = tile.layer[j].cos_psi, sp = tile.layer[j].sin_psi;
-        int raw_j = 0;
+        int raw_j = 0, raw_e = lr_tile_layer_end(&tile, raw_n, j); /* own: raw layers [raw_j, raw_e) */
         while (tile.compact[raw_j] != j) ++raw_j;
         memset(grid, 0, sizeof(float) * CH_COUNT * (size_t)ww * wh);
         /* Algorithm 1: samples of this layer add opacity and radiance, samples behind it add
@@ -109,7 +109,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                 if (ix < 0 || iy < 0 || ix >= ww || iy >= wh || w == 0.0f) continue;
                 float *g = &grid[((size_t)iy * ww + ix) * CH_COUNT];
                 g[CH_W] += w;
-                if (r == raw_j) {
+                if (r < raw_e) {
                     g[CH_A] += w;
                     for (int c = 0; c < 3; ++c) g[CH_R + c] += w * s->L[c];
                 }
