@@ -2,12 +2,11 @@
 #include "io/exr_zip.h"
 
 #include <stdlib.h>
-#include <zlib.h>
+#include <libdeflate.h>
 
 struct ZipChunkCompressor {
     int level;
-    bool stream_ready; /* stream initialised: reset it for the next chunk */
-    z_stream stream;
+    struct libdeflate_compressor *deflater;
     uint8_t *predicted; /* the transformed chunk */
     size_t predicted_capacity;
 };
@@ -15,19 +14,24 @@ struct ZipChunkCompressor {
 ZipChunkCompressor *zip_chunk_compressor_create(int level)
 {
     ZipChunkCompressor *z = calloc(1, sizeof *z);
-    if (z) z->level = level;
+    if (!z) return NULL;
+    z->level = level;
+    if (!(z->deflater = libdeflate_alloc_compressor(level))) {
+        free(z);
+        return NULL;
+    }
     return z;
 }
 
 void zip_chunk_compressor_free(ZipChunkCompressor *z)
 {
     if (!z) return;
-    if (z->stream_ready) deflateEnd(&z->stream);
+    libdeflate_free_compressor(z->deflater);
     free(z->predicted);
     free(z);
 }
 
-size_t zip_chunk_bound(size_t n) { return (size_t)compressBound((uLong)n); }
+size_t zip_chunk_bound(size_t n) { return libdeflate_zlib_compress_bound(NULL, n); }
 
 /* Position i of the split sequence holds b[2i] for i < half (half = ceil(n / 2)) and
  * b[2 (i - half) + 1] after; the byte before position i in that sequence is b[2i - 2] in the
@@ -56,17 +60,7 @@ bool zip_chunk_compress(ZipChunkCompressor *z, const uint8_t *packed, size_t n, 
         z->predicted_capacity = n;
     }
     zip_chunk_predict(packed, n, z->predicted);
-    /* compress2's parameters: deflateInit at the level (15-bit window, memory level 8,
-     * default strategy); a reset state gives the same stream as a fresh one */
-    int zr = z->stream_ready ? deflateReset(&z->stream) : deflateInit(&z->stream, z->level);
-    if (zr != Z_OK) return false;
-    z->stream_ready = true;
-    z->stream.next_in = z->predicted;
-    z->stream.avail_in = (uInt)n;
-    z->stream.next_out = out;
-    z->stream.avail_out = (uInt)out_capacity;
-    zr = deflate(&z->stream, Z_FINISH);
-    if (zr == Z_STREAM_END) *out_bytes = (size_t)z->stream.total_out;
-    else if (zr != Z_OK && zr != Z_BUF_ERROR) return false; /* Z_OK / Z_BUF_ERROR: out of room, stored raw */
+    size_t written = libdeflate_zlib_compress(z->deflater, z->predicted, n, out, out_capacity);
+    if (written > 0) *out_bytes = written; /* 0: out of room, stored raw */
     return true;
 }
