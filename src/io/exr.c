@@ -2,7 +2,8 @@
  *
  * Writing: one part, scanline (or single-level tiled on request), channels declared in
  * alphabetical order as the file format requires, header attributes, every chunk packed
- * and compressed by the library's default encode pipeline. The bytes go to a temporary
+ * by the library's default encode pipeline and compressed by it, except ZIP and ZIPS
+ * chunks, which exr_zip.c compresses (libdeflate). The bytes go to a temporary
  * file next to the destination through our own write callback (io/atomic_file.h), so
  * the destination only ever holds a complete image.
  *
@@ -115,8 +116,9 @@ static void pack_chunk(const ExrChannel *ch, int image_width, int x0, int y0, in
 /* The file format stores a chunk raw when compressing does not make it smaller, and
  * readers recognise that case by packed size == unpacked size. OpenEXR 3.1's C encoder
  * keeps a compressed chunk whose size equals the raw size, which readers then take for
- * raw data (seen with ZIP on tiny chunks). This hook runs the library's compressor and
- * falls back to the raw bytes whenever compression did not pay. */
+ * raw data (seen with ZIP on tiny chunks). This hook runs the compressor (ours for ZIP and
+ * ZIPS, the library's for the rest) and falls back to the raw bytes whenever compression
+ * did not pay. */
 typedef struct {
     exr_result_t (*library_compress)(exr_encode_pipeline_t *);
     ZipChunkCompressor *zip; /* ZIP/ZIPS chunks: ours (exr_zip.h), else NULL */
