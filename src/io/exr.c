@@ -2,7 +2,8 @@
  *
  * Writing: one part, scanline (or single-level tiled on request), channels declared in
  * alphabetical order as the file format requires, header attributes, every chunk packed
- * and compressed by the library's default encode pipeline. The bytes go to a temporary
+ * by the library's default encode pipeline and compressed by it, except ZIP and ZIPS
+ * chunks, which exr_zip.c compresses (libdeflate). The bytes go to a temporary
  * file next to the destination through our own write callback (io/atomic_file.h), so
  * the destination only ever holds a complete image.
  *
@@ -33,6 +34,7 @@ enum { OEXR_ATTR_STRING = EXR_ATTR_STRING, OEXR_ATTR_FLOAT = EXR_ATTR_FLOAT,
 #define EXR_ATTR_INT WEDGE_EXR_ATTR_INT
 
 #include "io/atomic_file.h"
+#include "io/exr_zip.h"
 #include "io/image_io.h"
 
 /* The library reports details through a callback rather than return values; keep the
@@ -114,16 +116,50 @@ static void pack_chunk(const ExrChannel *ch, int image_width, int x0, int y0, in
 /* The file format stores a chunk raw when compressing does not make it smaller, and
  * readers recognise that case by packed size == unpacked size. OpenEXR 3.1's C encoder
  * keeps a compressed chunk whose size equals the raw size, which readers then take for
- * raw data (seen with ZIP on tiny chunks). This hook runs the library's compressor and
- * falls back to the raw bytes whenever compression did not pay. */
+ * raw data (seen with ZIP on tiny chunks). This hook runs the compressor (ours for ZIP and
+ * ZIPS, the library's for the rest) and falls back to the raw bytes whenever compression
+ * did not pay. */
 typedef struct {
     exr_result_t (*library_compress)(exr_encode_pipeline_t *);
+    ZipChunkCompressor *zip; /* ZIP/ZIPS chunks: ours (exr_zip.h), else NULL */
 } CompressHook;
+
+/* The encode pipeline's buffers (ours and the library's) come from malloc and go to free. */
+static void *pipeline_alloc(exr_transcoding_pipeline_buffer_id_t id, size_t bytes)
+{
+    (void)id;
+    return malloc(bytes);
+}
+
+static void pipeline_free(exr_transcoding_pipeline_buffer_id_t id, void *p)
+{
+    (void)id;
+    free(p);
+}
+
+/* A ZIP chunk through zip_chunk_compress into the pipeline's compressed buffer, grown to
+ * deflate's bound when it is smaller. */
+static exr_result_t compress_zip_chunk(exr_encode_pipeline_t *enc, ZipChunkCompressor *zip)
+{
+    size_t bound = zip_chunk_bound(enc->packed_bytes);
+    if (!enc->compressed_buffer || enc->compressed_alloc_size < bound) {
+        free(enc->compressed_buffer);
+        enc->compressed_alloc_size = 0;
+        if (!(enc->compressed_buffer = malloc(bound))) return EXR_ERR_OUT_OF_MEMORY;
+        enc->compressed_alloc_size = bound;
+    }
+    size_t out_bytes = 0;
+    if (!zip_chunk_compress(zip, enc->packed_buffer, enc->packed_bytes, enc->compressed_buffer,
+                            enc->compressed_alloc_size, &out_bytes))
+        return EXR_ERR_OUT_OF_MEMORY;
+    enc->compressed_bytes = out_bytes;
+    return EXR_ERR_SUCCESS;
+}
 
 static exr_result_t compress_or_store_raw(exr_encode_pipeline_t *enc)
 {
     const CompressHook *hook = enc->encoding_user_data;
-    exr_result_t rv = hook->library_compress(enc);
+    exr_result_t rv = hook->zip ? compress_zip_chunk(enc, hook->zip) : hook->library_compress(enc);
     if (rv != EXR_ERR_SUCCESS) return rv;
     if (enc->compressed_bytes >= enc->packed_bytes) {
         if (!enc->compressed_buffer || enc->compressed_alloc_size < enc->packed_bytes) return EXR_ERR_OUT_OF_MEMORY;
@@ -158,6 +194,8 @@ static exr_result_t write_chunk(exr_context_t ctx, const exr_chunk_info_t *cinfo
         if (rv != EXR_ERR_SUCCESS) return rv;
         if (enc->compress_fn) {
             hook->library_compress = enc->compress_fn;
+            enc->alloc_fn = pipeline_alloc;
+            enc->free_fn = pipeline_free;
             enc->encoding_user_data = hook;
             enc->compress_fn = compress_or_store_raw;
         }
@@ -239,7 +277,9 @@ bool exr_write_with(const char *path, int width, int height, const ExrChannel *c
     exr_context_t ctx = NULL;
     exr_encode_pipeline_t enc = {0};
     bool enc_started = false, first = true;
-    CompressHook hook = {NULL};
+    CompressHook hook = {NULL, NULL};
+    bool zip = opt->compression == EXRC_ZIP || opt->compression == EXRC_ZIPS;
+    int zip_level = opt->zip_level > 0 ? opt->zip_level : EXR_ZIP_LEVEL_DEFAULT;
     int part = 0;
     bool tiled = opt->tile_size > 0;
 
@@ -249,7 +289,8 @@ bool exr_write_with(const char *path, int width, int height, const ExrChannel *c
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctx, part, width, height, (exr_compression_t)opt->compression);
     if (rv == EXR_ERR_SUCCESS)
-        rv = exr_set_zip_compression_level(ctx, part, opt->zip_level > 0 ? opt->zip_level : EXR_ZIP_LEVEL_DEFAULT);
+        rv = exr_set_zip_compression_level(ctx, part, zip_level);
+    if (rv == EXR_ERR_SUCCESS && zip && !(hook.zip = zip_chunk_compressor_create(zip_level))) rv = EXR_ERR_OUT_OF_MEMORY;
     if (rv == EXR_ERR_SUCCESS && tiled)
         rv = exr_set_tile_descriptor(ctx, part, (uint32_t)opt->tile_size, (uint32_t)opt->tile_size,
                                      EXR_TILE_ONE_LEVEL, EXR_TILE_ROUND_DOWN);
@@ -310,6 +351,7 @@ bool exr_write_with(const char *path, int width, int height, const ExrChannel *c
     for (int c = 0; c < channel_count; ++c) free(scratch[c]);
     free(scratch);
     free(sorted);
+    zip_chunk_compressor_free(hook.zip);
     if (rv != EXR_ERR_SUCCESS) {
         diag_set(err, WEDGE_EXIT_RUNTIME, loc, "cannot write EXR: %s", exr_reason(rv));
         atomic_file_abort(&af);

@@ -55,10 +55,12 @@ typedef enum {
 } ExrCompression;
 typedef enum { EXR_STORE_FLOAT, EXR_STORE_HALF, EXR_STORE_UINT } ExrStoreType;
 
-/* zlib level of ZIP and ZIPS chunks when ExrWriteOptions.zip_level is 0: the fastest. On a
- * 1080p render's RGBA it deflates ~1.5x faster than OpenEXR's default (zlib's 6) for a file
- * ~1.4% larger (docs/benchmarks.md, issue 22's low-count bundle). Lossless either way, and
- * not stored in the file: readers never see it. */
+/* Deflate level (libdeflate's, io/exr_zip.h; zlib's before) of ZIP and ZIPS chunks when
+ * ExrWriteOptions.zip_level is 0: the fastest. zlib's level 1 on a 1080p render's RGBA
+ * deflated ~1.5x faster than OpenEXR's default (zlib's 6) for a file ~1.4% larger
+ * (docs/benchmarks.md, issue 22's low-count bundle); libdeflate's level 1 takes about half
+ * of zlib's level 1 for a file ~1% smaller (wave39). Lossless either way, and not stored in
+ * the file: readers never see it. */
 enum { EXR_ZIP_LEVEL_DEFAULT = 1 };
 
 /* Knobs for exr_write_with(); exr_write() is {EXR_STORE_FLOAT, EXRC_ZIP, scanline, level 0}. */
@@ -66,7 +68,7 @@ typedef struct {
     ExrStoreType store;       /* pixel type on disk (uint: values rounded, clamped at 0) */
     ExrCompression compression;
     int tile_size;            /* 0: scanline file; > 0: single-level tiled, square tiles */
-    int zip_level;            /* zlib level 1-9 of ZIP/ZIPS; 0: EXR_ZIP_LEVEL_DEFAULT */
+    int zip_level;            /* deflate level 1-9 of ZIP/ZIPS; 0: EXR_ZIP_LEVEL_DEFAULT */
     long nonfinite_replaced;  /* out: how many NaN/Inf values were written as 0 */
 } ExrWriteOptions;
 
