@@ -1573,37 +1573,38 @@ static int lanes_octants(const TracerRayArrays *a, int n)
     return __builtin_popcount(used);
 }
 
-/* Whether p may be given to Embree as a stream's array (16-byte aligned). */
-static inline bool stream_aligned(const float *p) { return ((uintptr_t)p & 15u) == 0u; }
+/* Whether a's arrays may be given to Embree as a stream's as they are: 16-byte aligned, as
+ * Embree asks (chunks start 64 lanes apart, so a chunk's arrays are aligned with them). The
+ * delta lights' arrays are (integrator.c, WaveDeltaSamples); the triangle and sky groups'
+ * (WaveTriangleSamples) are not, and keep the sorted rays: aligned, their lanes as arrays
+ * took 2% more CPU on tilted_stack (docs/benchmarks.md, "Issue 22, thirty-eighth round"). */
+static bool lanes_stream_aligned(const TracerRayArrays *a)
+{
+    uintptr_t bits = (uintptr_t)a->time01;
+    for (int c = 0; c < 3; ++c) bits |= (uintptr_t)a->o[c] | (uintptr_t)a->d[c];
+    return (bits & 15u) == 0u;
+}
 
-/* Lanes k0 .. k0 + m (m <= TRACE_CHUNK) of a to Embree's structure-of-arrays stream
- * (rtcOccludedNp) as they are: the directions and times by pointer into a (copied where not
- * 16-byte aligned, as Embree asks of a stream's arrays), the origins too where the tracer's
- * scale is 1 (k o = o exactly), else scaled into a copy as init_ray scales them; an inactive
- * lane goes as a ray Embree skips (tnear 0 > tfar -1, "inactive" in a stream) and its answer
- * is not written. No RTCRay is filled, none copied to be sorted, and Embree gathers no
- * packet from 48-byte rays: what occluded_rays costs per ray. */
+/* Lanes k0 .. k0 + m (m <= TRACE_CHUNK) of a (lanes_stream_aligned) to Embree's
+ * structure-of-arrays stream (rtcOccludedNp) as they are: origins, directions and times by
+ * pointer into a, the origins scaled into a copy where the tracer's scale is not 1 (as
+ * init_ray scales them; k o = o exactly where k = 1); the lengths scaled into a small array in
+ * which an inactive lane gets tfar -1 < tnear 0, a ray a stream skips, and whose answer is not
+ * written. No RTCRay is filled, none copied to be sorted, and Embree gathers no packet from
+ * 48-byte rays: what occluded_rays costs per ray. */
 static void occluded_lanes_np(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
                               const TracerRayArrays *a, const NpConstants *fixed, int k0, int m, bool *occluded)
 {
     float k = tr->tracer_from_world;
-    _Alignas(64) float o_copy[3][TRACE_CHUNK], d_copy[3][TRACE_CHUNK], time_copy[TRACE_CHUNK], tfar[TRACE_CHUNK];
+    _Alignas(64) float o_copy[3][TRACE_CHUNK], tfar[TRACE_CHUNK];
     const int *restrict active = a->active + k0;
-    const float *o[3], *d[3], *time01 = a->time01 + k0;
+    const float *o[3];
     for (int c = 0; c < 3; ++c) {
-        o[c] = a->o[c] + k0, d[c] = a->d[c] + k0;
-        if (k != 1.0f || !stream_aligned(o[c])) {
+        o[c] = a->o[c] + k0;
+        if (k != 1.0f) {
             for (int i = 0; i < m; ++i) o_copy[c][i] = k * o[c][i];
             o[c] = o_copy[c];
         }
-        if (!stream_aligned(d[c])) {
-            memcpy(d_copy[c], d[c], (size_t)m * sizeof(float));
-            d[c] = d_copy[c];
-        }
-    }
-    if (!stream_aligned(time01)) {
-        memcpy(time_copy, time01, (size_t)m * sizeof(float));
-        time01 = time_copy;
     }
     if (a->tmax) {
         const float *restrict tmax = a->tmax + k0;
@@ -1612,9 +1613,18 @@ static void occluded_lanes_np(const Tracer *tr, RTCScene scene, struct RTCInters
         for (int i = 0; i < m; ++i) tfar[i] = active[i] != 0 ? k * INFINITY : -1.0f;
     }
     /* Embree writes tfar alone (-inf where occluded); the const arrays are read */
-    struct RTCRayNp np = {(float *)o[0], (float *)o[1],         (float *)o[2],       (float *)fixed->tnear,
-                          (float *)d[0], (float *)d[1],         (float *)d[2],       (float *)time01,
-                          tfar,          (unsigned *)fixed->mask, (unsigned *)fixed->id, (unsigned *)fixed->flags};
+    struct RTCRayNp np = {(float *)o[0],
+                          (float *)o[1],
+                          (float *)o[2],
+                          (float *)fixed->tnear,
+                          (float *)a->d[0] + k0,
+                          (float *)a->d[1] + k0,
+                          (float *)a->d[2] + k0,
+                          (float *)a->time01 + k0,
+                          tfar,
+                          (unsigned *)fixed->mask,
+                          (unsigned *)fixed->id,
+                          (unsigned *)fixed->flags};
     rtcOccludedNp(scene, ctx, &np, (unsigned)m);
     for (int i = 0; i < m; ++i)
         if (active[i] != 0) occluded[k0 + i] = tfar[i] == -INFINITY;
@@ -1643,7 +1653,7 @@ void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, b
         occluded_sparse_lanes(tr, scene, &ctx, a, n, occluded);
         return;
     }
-    if (tr->batch_mode == TRACER_BATCH_STREAM && lanes_octants(a, n) <= OCCLUDED_NP_OCTANTS) {
+    if (tr->batch_mode == TRACER_BATCH_STREAM && lanes_stream_aligned(a) && lanes_octants(a, n) <= OCCLUDED_NP_OCTANTS) {
         /* the lanes as Embree's arrays, chunk by chunk: an occlusion answer does not depend
          * on the order or grouping of the rays (12.18) */
         NpConstants fixed;

@@ -93,11 +93,11 @@ static void check_occluded_arrays(const Tracer *tr, const TracerRay *rays, const
 
 /* tracer_occluded_arrays in the stream mode hands lanes whose active rays use at most two
  * direction octants to Embree as the arrays themselves (rtcOccludedNp, inactive lanes as
- * rays Embree skips), and lanes of more octants as rays sorted by octant: either way each
- * active lane's answer is a single ray's and inactive lanes keep their entries. Rays in one
- * octant, in two (x's sign alternating) and as made_rays makes them (four), in a scene scaled
- * by s (s = 1e-5: the tracer's scale is not 1, so the origins are scaled into a copy), from
- * arrays 16-byte aligned and from arrays one float off (copied before Embree reads them). */
+ * rays Embree skips) where the arrays are 16-byte aligned, and other lanes as rays sorted by
+ * octant: either way each active lane's answer is a single ray's and inactive lanes keep
+ * their entries. Rays in one octant, in two (x's sign alternating) and as make_rays makes
+ * them (four), in a scene scaled by s (s = 1e-5: the tracer's scale is not 1, so the origins
+ * are scaled into a copy), from arrays 16-byte aligned and from arrays one float off. */
 static void test_occluded_octants(double s)
 {
     char text[2048];
