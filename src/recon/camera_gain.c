@@ -31,3 +31,29 @@ double camera_sample_area_px(const ReconCamera *cam, const SampleRecord *rec, Ca
     double m = kinds.motion ? hypot((double)rec->motion_px[0], (double)rec->motion_px[1]) : 0.0;
     return camera_blur_area_px(c, m);
 }
+
+double camera_lens_sharpest_diameter_px(const float *coc_slope_px, int n)
+{
+    double least = INFINITY;
+    bool positive = false, negative = false;
+    for (int k = 0; k < n; ++k) {
+        double s = (double)coc_slope_px[k];
+        if (!isfinite(s)) continue; /* a miss */
+        positive |= s > 0.0, negative |= s < 0.0;
+        least = fmin(least, fabs(s));
+    }
+    return !isfinite(least) || (positive && negative) ? 0.0 : 2.0 * least;
+}
+
+double camera_pixel_footprint_sharpest_lens(const float *coc_slope_px, const float *motion_px, int n, double efficiency,
+                                            double cap)
+{
+    double coc_px = camera_lens_sharpest_diameter_px(coc_slope_px, n);
+    double inverse_sum = 0.0;
+    for (int k = 0; k < n; ++k) {
+        /* each sample's footprint rounded to float as the probe stores per-sample ones */
+        float footprint = (float)camera_footprint(camera_blur_area_px(coc_px, motion_px[k]), efficiency, cap);
+        inverse_sum += 1.0 / footprint;
+    }
+    return n > 0 && inverse_sum > 0.0 ? n / inverse_sum : 1.0;
+}

@@ -24,9 +24,11 @@
 #include "recon/gbuffer.h"
 #include "render/sample_record.h"
 
-/* The camera effects whose blur counts (those whose filters are judged). */
+/* The camera effects whose blur counts (those whose filters are judged). sharpest_lens: the
+ * defocus filter sets a pixel's width from the sharpest circle of confusion among the pixel's
+ * samples (MAAF's lens filter: camera_lens_sharpest_diameter_px). */
 typedef struct {
-    bool defocus, motion;
+    bool defocus, motion, sharpest_lens;
 } CameraBlurKinds;
 
 /* The area, in pixels, a sample's blur covers: A(c, m) above. c: the circle of confusion's
@@ -46,5 +48,22 @@ double camera_pixel_footprint(const float *footprints, int n);
 /* The blur area of one probe sample as the camera filters of the frame see it: the circle of
  * confusion counts when kinds.defocus, the motion when kinds.motion (1 on a miss). */
 double camera_sample_area_px(const ReconCamera *cam, const SampleRecord *rec, CameraBlurKinds kinds);
+
+/* The circle of confusion, diameter in pixels, a lens filter designed from the pixel's sharpest
+ * slope averages every one of the pixel's samples over: 2 min |s| over the n samples' signed
+ * slopes s (recon_coc_slope_px, px per unit lens coordinate; NaN for a miss, skipped), and 0 when
+ * the slopes straddle the focal plane (both signs) or no sample hit. MAAF's filter
+ * (maaf_defocus_pixel; Mehta et al. 2014, "Multiple axis-aligned filters", Sec. 6) takes the
+ * pixel's slope range and its width from the smallest |slope| in it: a sharp surface in the
+ * pixel (a background in focus behind a defocused fence) narrows the filter for the blurred
+ * one too (docs/algorithms.md, "auto's fallback to Monte Carlo", the camera effects). */
+double camera_lens_sharpest_diameter_px(const float *coc_slope_px, int n);
+
+/* A pixel's footprint under such a filter from its n samples' signed slopes (as above) and
+ * motion lengths (px; 0 for a miss or without motion): the harmonic mean (camera_pixel_footprint)
+ * of camera_footprint(A(c, m_k)), c the pixel's sharpest diameter above. The width is the
+ * pixel's, so every sample of it, a miss too, is averaged over c. */
+double camera_pixel_footprint_sharpest_lens(const float *coc_slope_px, const float *motion_px, int n, double efficiency,
+                                            double cap);
 
 #endif

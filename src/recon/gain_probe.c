@@ -1,7 +1,9 @@
 /* The gain probe (see gain_probe.h). */
 #include "recon/gain_probe.h"
 
+#include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/env_knob.h"
 #include "recon/auto_fallback.h"
@@ -54,9 +56,13 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
     FilterGainSample *samples = malloc(sizeof *samples * (size_t)(nx * ny * PIXEL_SAMPLES));
     bool *off_first = calloc((size_t)(nx * ny * PIXEL_SAMPLES), sizeof *off_first);
     float *footprint_of = malloc(sizeof *footprint_of * (size_t)(nx * ny * PIXEL_SAMPLES));
+    /* for a lens filter set by the pixel's sharpest slope: each sample's signed slope (NaN on a
+     * miss) and motion length, px */
+    float *coc_slope_of = malloc(sizeof *coc_slope_of * (size_t)(nx * ny * PIXEL_SAMPLES));
+    float *motion_of = malloc(sizeof *motion_of * (size_t)(nx * ny * PIXEL_SAMPLES));
     WavePixel *pix = malloc(sizeof *pix * (size_t)per_wave);
-    if (!wave || !rec || !samples || !off_first || !footprint_of || !pix || !gbuffer_track_split(&g, split_direct, split_indirect)) {
-        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(pix);
+    if (!wave || !rec || !samples || !off_first || !footprint_of || !coc_slope_of || !motion_of || !pix || !gbuffer_track_split(&g, split_direct, split_indirect)) {
+        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(coc_slope_of), free(motion_of), free(pix);
         return false;
     }
     IntegratorStats st = {0};
@@ -76,6 +82,8 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
                 /* the camera filters' footprint for this sample, 1 .. AUTO_CAMERA_FOOTPRINT_MAX */
                 footprint_of[k] = (float)camera_footprint(camera_sample_area_px(&cam, &rec[j], camera), AUTO_CAMERA_EFFICIENCY,
                                                           AUTO_CAMERA_FOOTPRINT_MAX);
+                coc_slope_of[k] = rec[j].hit ? recon_coc_slope_px(&cam, rec[j].depth_cam) : NAN;
+                motion_of[k] = camera.motion && rec[j].hit ? (float)hypot(rec[j].motion_px[0], rec[j].motion_px[1]) : 0.0f;
             }
             out->samples += n;
         }
@@ -86,6 +94,7 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
         FilterGainSample *s = samples + (size_t)i * PIXEL_SAMPLES;
         bool *off = off_first + (size_t)i * PIXEL_SAMPLES;
         float *footprint = footprint_of + (size_t)i * PIXEL_SAMPLES;
+        float *coc_slope = coc_slope_of + (size_t)i * PIXEL_SAMPLES, *motion = motion_of + (size_t)i * PIXEL_SAMPLES;
         /* the finite samples, set A's then set B's, in place (a NaN would make every sum NaN) */
         int kept[2] = {0, 0}, n = 0;
         for (int k = 0; k < PIXEL_SAMPLES; ++k) {
@@ -93,18 +102,30 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
                 out->samples_nonfinite++;
                 continue;
             }
-            s[n] = s[k], off[n] = off[k], footprint[n] = footprint[k], ++n;
+            s[n] = s[k], off[n] = off[k], footprint[n] = footprint[k], coc_slope[n] = coc_slope[k], motion[n] = motion[k], ++n;
             kept[k >= GAIN_PROBE_SET_SPP]++;
         }
         bool split = gbuffer_pixel_split(&g, (size_t)i);
         if (split) filter_gain_split_pixel(s, off, n, split_direct, split_indirect);
         filter_gain_add_pixel_sets(&out->totals, s, kept[0], kept[1], g.mixed[i] != 0 && !split,
-                                   camera_pixel_footprint(footprint, n));
+                                   camera.defocus && camera.sharpest_lens
+                                       ? camera_pixel_footprint_sharpest_lens(coc_slope, motion, n, AUTO_CAMERA_EFFICIENCY,
+                                                                              AUTO_CAMERA_FOOTPRINT_MAX)
+                                       : camera_pixel_footprint(footprint, n));
     }
     long long rays = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
     out->rays_per_sample = out->samples ? (double)rays / out->samples : 0.0;
-    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(pix);
+    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(coc_slope_of), free(motion_of), free(pix);
     return true;
+}
+
+CameraBlurKinds recon_gain_probe_blur(const ReconChoice *c)
+{
+    CameraBlurKinds camera = recon_select_fallback_blur(c);
+    /* MAAF's lens filter takes its width from the pixel's sharpest slope (camera_gain.h) */
+    const ReconMethodClass *lens = c->method[EFFECT_DEFOCUS];
+    camera.sharpest_lens = camera.defocus && lens && strcmp(lens->name, "maaf") == 0;
+    return camera;
 }
 
 bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
@@ -112,7 +133,7 @@ bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
     if (!recon_select_wants_fallback(c) || !env_knob_switch("WEDGE_AUTO_FALLBACK", true)) return true;
     GainProbe probe;
     if (!recon_gain_probe(r, recon_choice_splits_pixels(c, EFFECT_SOFT_SHADOWS), recon_choice_splits_pixels(c, EFFECT_INDIRECT),
-                          recon_select_fallback_blur(c), &probe))
+                          recon_gain_probe_blur(c), &probe))
         return false;
     AutoFallback fb;
     AutoFallbackFrame frame = recon_select_fallback_frame(c, spp);

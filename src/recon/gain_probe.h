@@ -33,9 +33,16 @@ typedef struct {
  * pixel's first surface (recon_choice_splits_pixels): the probe then splits its pixels as the
  * G-buffer will, and such a pixel's samples off its first surface keep their light. camera:
  * the blur whose footprint each pixel's variance is divided by in the totals' camera sums (the
- * mean of its samples' footprints). Samples with a non-finite value are skipped and counted; a
- * set left with fewer than two samples drops its pixel. False only when out of memory. */
+ * harmonic mean of its samples' footprints; with camera.sharpest_lens every sample blurred by
+ * the pixel's sharpest circle of confusion, camera_pixel_footprint_sharpest_lens). Samples with
+ * a non-finite value are skipped and counted; a set left with fewer than two samples drops its
+ * pixel. False only when out of memory. */
 bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect, CameraBlurKinds camera, GainProbe *out);
+
+/* The blur the probe measures for choice c's camera filters: recon_select_fallback_blur's, and
+ * sharpest_lens when the defocus filter is MAAF's (its width from the pixel's sharpest slope,
+ * camera_gain.h). */
+CameraBlurKinds recon_gain_probe_blur(const ReconChoice *c);
 
 /* auto's fallback judged on r's frame and applied to c (recon_select_fallback): the probe is
  * traced when auto chose a shading filter the fallback may take back

@@ -320,7 +320,8 @@ AutoFallbackFrame recon_select_fallback_frame(const ReconChoice *c, int spp)
 CameraBlurKinds recon_select_fallback_blur(const ReconChoice *c)
 {
     EffectMask cameras = camera_candidates(c);
-    return (CameraBlurKinds){effect_in(cameras, EFFECT_DEFOCUS), effect_in(cameras, EFFECT_MOTION)};
+    /* sharpest_lens: set by recon_gain_probe_judge (gain_probe.c) from the defocus method */
+    return (CameraBlurKinds){effect_in(cameras, EFFECT_DEFOCUS), effect_in(cameras, EFFECT_MOTION), false};
 }
 
 void recon_select_fallback(ReconChoice *c, const AutoFallback *fb)

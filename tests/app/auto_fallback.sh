@@ -91,6 +91,28 @@ print("motion: left to Monte Carlo, lr predicted %.2fx (footprint %.2f); the ima
       % (cam["speedup"], cam["footprint"]))
 PY
 
+# MAAF's lens over partial occlusion (branch auto3): foreground_bars' defocused fence crosses a
+# background nearly in focus, and MAAF's lens filter is as narrow as the sharpest surface of the
+# pixel (docs/algorithms.md, "MAAF's lens: the pixel's sharpest slope"): auto leaves defocus (and
+# the shadows beside it) to Monte Carlo, and the image is --filter none's. At 128x128: at 96x96
+# the per-sample footprint fell back too (the blur is narrower), at 128x128 it kept maaf.
+bars_args=(--res 128x128 --spp 8 --seed 3 --threads 2)
+"$WEDGE" render "$src/scenes/bench/foreground_bars.pbrt" "${bars_args[@]}" --filter auto -o "$T/bars.exr" \
+    --report "$T/bars.json" 2>/dev/null >/dev/null; check "auto on foreground_bars" 0 $?
+"$WEDGE" render "$src/scenes/bench/foreground_bars.pbrt" "${bars_args[@]}" --filter none -o "$T/bars-none.exr" --quiet
+check "none" 0 $?
+"$WEDGE" compare "$T/bars-none.exr" "$T/bars.exr" --json > "$T/cmp.json"; check "compare" 0 $?
+python3 - "$T/bars.json" "$T/cmp.json" <<'PY' || fail=1
+import json, sys
+r, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+cam = r.get("auto_fallback", {}).get("camera", {})
+rel = c.get("relMSE", c.get("relmse"))
+ok = "defocus" in r.get("auto_fallback", {}).get("fell_back", []) and cam.get("fell_back") is True \
+    and cam.get("error", 0) > 0.25 and rel == 0
+if not ok: print("FAIL: foreground_bars, auto: filters %s, camera %s, relMSE against none %s" % (r["filters"], cam, rel)); sys.exit(1)
+print("foreground_bars: maaf's lens left to Monte Carlo, error %.2f, predicted %.2fx" % (cam["error"], cam["speedup"]))
+PY
+
 # the camera side that keeps its filter (at its own 256x192: at 96x96 its blur is a third as wide
 # and the prediction, 1.03x, is kept by the margin alone)
 "$WEDGE" render "$src/scenes/bench/motion_defocus_hard.pbrt" --res 256x192 --spp 8 --seed 3 --threads 2 --filter auto -o "$T/hard.exr" \

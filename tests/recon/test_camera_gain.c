@@ -13,6 +13,7 @@
 #include "recon/auto_fallback.h"
 #include "recon/camera_gain.h"
 #include "recon/filter_gain.h"
+#include "recon/gain_probe.h"
 #include "recon/select.h"
 
 enum { N = 4, COUNT = 2 * N };
@@ -212,6 +213,41 @@ int main(void)
         recon_select_budget(EFFECT_BIT(EFFECT_MOTION) | EFFECT_BIT(EFFECT_DEFOCUS), "motion=lr", 1.0f, 8, &d);
         CHECK(recon_select_fallback_frame(&d, 8).cameras == 0);
         CHECK(!recon_select_wants_fallback(&d));
+    }
+    {
+        /* MAAF's lens filter: its width from the pixel's sharpest slope. A defocused fence (slope
+         * 20 px) over a background nearly in focus (0.5): every sample blurred by the background's
+         * circle (diameter 1), not the fence's; a miss is skipped; both signs (the focal plane
+         * inside the pixel): no blur; no hit: none */
+        const float fence[4] = {20.0f, 0.5f, NAN, 0.75f}, behind[2] = {-4.0f, -2.0f}, straddle[2] = {3.0f, -0.25f};
+        const float misses[2] = {NAN, NAN};
+        CHECK_NEAR(camera_lens_sharpest_diameter_px(fence, 4), 1.0, 0.0);
+        CHECK_NEAR(camera_lens_sharpest_diameter_px(behind, 2), 4.0, 0.0);
+        CHECK_NEAR(camera_lens_sharpest_diameter_px(straddle, 2), 0.0, 0.0);
+        CHECK_NEAR(camera_lens_sharpest_diameter_px(misses, 2), 0.0, 0.0);
+        /* the pixel's footprint: every sample (the miss too) at A(1, 0), against the per-sample
+         * rule's harmonic mean, which the fence's 50 would lift */
+        const float still[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        double sharp = (float)camera_footprint(camera_blur_area_px(1.0, 0.0), 0.2, 50.0);
+        CHECK_NEAR(camera_pixel_footprint_sharpest_lens(fence, still, 4, 0.2, 50.0), sharp, 1e-12);
+        CHECK_NEAR(sharp, 1.0 + 0.2 * (M_PI / 4.0 + 2.0), 1e-6);
+        /* with motion each sample keeps its own segment: harmonic mean of F(A(4, 0)), F(A(4, 10)) */
+        const float moving[2] = {0.0f, 10.0f};
+        double f0 = (float)camera_footprint(camera_blur_area_px(4.0, 0.0), 0.2, 50.0);
+        double f1 = (float)camera_footprint(camera_blur_area_px(4.0, 10.0), 0.2, 50.0);
+        CHECK_NEAR(camera_pixel_footprint_sharpest_lens(behind, moving, 2, 0.2, 50.0), 2.0 / (1.0 / f0 + 1.0 / f1), 1e-12);
+        CHECK_NEAR(camera_pixel_footprint_sharpest_lens(straddle, still, 2, 0.2, 50.0), 1.0, 0.0);
+        CHECK_NEAR(camera_pixel_footprint_sharpest_lens(fence, still, 0, 0.2, 50.0), 1.0, 0.0);
+        /* the probe reads it for auto's maaf lens filter only (the others, per sample) */
+        ReconChoice c;
+        recon_select_budget(EFFECT_BIT(EFFECT_DEFOCUS), "auto", 1.0f, 8, &c);
+        CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "maaf");
+        CameraBlurKinds k = recon_gain_probe_blur(&c);
+        CHECK(k.defocus && !k.motion && k.sharpest_lens);
+        recon_select_budget(EFFECT_BIT(EFFECT_DEFOCUS) | EFFECT_BIT(EFFECT_MOTION), "auto", 1.0f, 8, &c);
+        CHECK(strcmp(recon_choice_name(&c, EFFECT_DEFOCUS), "maaf") != 0); /* aaf at this budget */
+        k = recon_gain_probe_blur(&c);
+        CHECK(k.defocus && k.motion && !k.sharpest_lens);
     }
     return check_failures ? 1 : 0;
 }
