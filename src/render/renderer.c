@@ -43,6 +43,15 @@ static double seconds_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* What the frame's readers take from a sample decides both shortcuts: a frame that reads no
+ * first-hit fields skips filling them, and only such a frame may take a Lambert vertex's constant
+ * sky from its bounce ray alone (design.md 12.30: the filters' sky terms need the light sample). */
+static void apply_frame_reads(IntegratorScene *isc, unsigned reads)
+{
+    isc->skip_first_hit_fields = !render_reads_first_hit(reads);
+    isc->sky_bounce_alone = !render_reads_first_hit(reads);
+}
+
 bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out, Diag *err)
 {
     *out = NULL;
@@ -100,8 +109,7 @@ bool renderer_create(SceneDesc *scene, const RenderOptions *opt, Renderer **out,
     if (!(isc->xform_time_end > isc->xform_time_start)) isc->xform_time_start = 0.0f, isc->xform_time_end = 1.0f;
     isc->record_ray_geometry = isc->record_bounce_geometry = opt->record_ray_geometry;
     isc->record_motion = opt->record_motion;
-    isc->skip_first_hit_fields = !render_reads_first_hit(opt->reads);
-    isc->sky_bounce_alone = !render_reads_first_hit(opt->reads);
+    apply_frame_reads(isc, opt->reads);
     isc->materials_lambert_only = material_table_lambert_only(&r->materials);
     isc->time01_fixed = integrator_fixed_time01(isc);
     isc->delta_lights_by_path = env_knob_switch("WEDGE_DELTA_BY_PATH", false);
@@ -184,8 +192,7 @@ void renderer_set_record_motion(Renderer *r, bool on) { r->isc.record_motion = o
 void renderer_set_reads(Renderer *r, unsigned reads)
 {
     r->opt.reads = reads;
-    r->isc.skip_first_hit_fields = !render_reads_first_hit(reads);
-    r->isc.sky_bounce_alone = !render_reads_first_hit(reads);
+    apply_frame_reads(&r->isc, reads);
 }
 unsigned renderer_reads(const Renderer *r) { return r->opt.reads; }
 
