@@ -40,8 +40,10 @@ static char mpi_load_error[512];
 
 static void mpi_load_once(void)
 {
-    /* RTLD_GLOBAL: the components Open MPI dlopens in MPI_Init bind to its libraries' symbols
-     * through the global scope (they are not all linked against them) */
+    /* RTLD_GLOBAL: the components Open MPI dlopens in MPI_Init may bind to its libraries'
+     * symbols through the global scope (Open MPI's advice for a dlopened libmpi; Debian's
+     * components are linked against libmpi and also ran with RTLD_LOCAL here, which is not
+     * true of every build) */
     const int flags = RTLD_NOW | RTLD_GLOBAL;
     const char *name = getenv("WEDGE_MPI_LIBRARY");
     if (name && *name) mpi_handle = dlopen(name, flags);

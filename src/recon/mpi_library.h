@@ -5,7 +5,7 @@
  * Open MPI and what it brings (open-rte, open-pal, hwloc, libevent, ...) were mapped and
  * initialised by every wedge process, launched by mpirun or not. dist_init loads it only when
  * mpirun started the process, with RTLD_GLOBAL: Open MPI's own components (mca_*.so), which it
- * dlopens in MPI_Init, bind to libmpi's and open-pal's symbols through the global scope.
+ * dlopens in MPI_Init, may bind to libmpi's and open-pal's symbols through the global scope.
  *
  * Constants that are plain numbers in the header (MPI_SUCCESS, MPI_IN_PLACE,
  * MPI_STATUS_IGNORE, MPI_COMM_TYPE_SHARED, MPI_MAX_ERROR_STRING) are used as they are. Handles
