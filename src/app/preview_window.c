@@ -1,9 +1,9 @@
 /* The preview's window on SDL2 (see preview_window.h); empty in a build without SDL2.
  *
  * SDL2 is opened at run time (dlopen), when the preview asks for it, not linked: linked, it
- * and what it brings (PulseAudio, X11, Wayland, ...: 50 of the binary's 72 libraries with
- * MPI's) were mapped and initialised by every wedge process, ~9 ms of CPU before any work
- * (docs/benchmarks.md, "A process pays only for the libraries it uses"). Its header still
+ * and what it brings (PulseAudio, X11, Wayland, ...) were mapped and initialised by every
+ * wedge process (with MPI's, 53 of the 72 shared objects, ~7 ms of CPU before any work:
+ * docs/benchmarks.md, "A process pays only for the libraries it uses"). Its header still
  * gives every type, constant and prototype; the functions come through the table below. */
 #ifdef WEDGE_SDL
 #include "app/preview_window.h"

@@ -35,8 +35,8 @@ bool preview_display_available(void);
  * soname is the one the build found; $WEDGE_SDL_LIBRARY names another file (tests). */
 bool preview_window_library_load(Diag *d);
 
-/* Opens a window for a width x height image (loading SDL2 first). No display, or SDL failing: false with d set
- * (exit 3), the message saying what to do instead. */
+/* Opens a window for a width x height image (loading SDL2 first). No display, or SDL
+ * failing: false with d set (exit 3), the message saying what to do instead. */
 bool preview_window_open(int width, int height, const char *title, PreviewWindow **out, Diag *d);
 void preview_window_close(PreviewWindow *w);
 
