@@ -337,6 +337,10 @@ int cmd_preview(int argc, char **argv)
         diag_print(&err);
         return WEDGE_EXIT_RUNTIME;
     }
+    if (!preview_window_library_load(&err)) { /* SDL2 missing: said before anything is rendered too */
+        diag_print(&err);
+        return err.exit_code;
+    }
     OcioView *ocio = NULL;
     if (!ocio_view_open(a.view, &ocio, &err)) {
         diag_print(&err);

@@ -421,7 +421,12 @@ static int render_command(int argc, char **argv, ReconDist *dist)
 int cmd_render(int argc, char **argv)
 {
     ReconDist dist;
-    dist_init(&argc, &argv, &dist);
+    Diag err = {0};
+    if (!dist_init(&argc, &argv, &dist, &err)) { /* mpirun, and no MPI library to load */
+        diag_print(&err);
+        dist_finish(&dist);
+        return err.exit_code;
+    }
     int rc = render_command(argc, argv, &dist);
     dist_finish(&dist);
     return rc;

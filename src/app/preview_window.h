@@ -1,6 +1,8 @@
 /* The preview's window (SDL2): shows an 8-bit RGB image 1:1 (the window can be resized; the
  * image scales with it), sets the title, and reports key presses, mouse position and the
- * window's closing as simple events. Everything SDL stays in preview_window.c. */
+ * window's closing as simple events. Everything SDL stays in preview_window.c, which opens
+ * the SDL2 library at run time (the first preview_window_library_load), so that a process
+ * that shows no window never maps it. */
 #ifndef WEDGE_APP_PREVIEW_WINDOW_H
 #define WEDGE_APP_PREVIEW_WINDOW_H
 
@@ -28,8 +30,13 @@ typedef struct {
  * anything is rendered. */
 bool preview_display_available(void);
 
-/* Opens a window for a width x height image. No display, or SDL failing: false with d set
- * (exit 3), the message saying what to do instead. */
+/* Loads SDL2 (once per process; later calls return the first call's outcome). False with d
+ * set (exit 3) when the library cannot be opened, the message saying what to install. The
+ * soname is the one the build found; $WEDGE_SDL_LIBRARY names another file (tests). */
+bool preview_window_library_load(Diag *d);
+
+/* Opens a window for a width x height image (loading SDL2 first). No display, or SDL
+ * failing: false with d set (exit 3), the message saying what to do instead. */
 bool preview_window_open(int width, int height, const char *title, PreviewWindow **out, Diag *d);
 void preview_window_close(PreviewWindow *w);
 

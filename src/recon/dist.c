@@ -18,7 +18,11 @@ _Static_assert(sizeof(cpu_set_t) == DIST_CPU_BYTES, "a core mask is the C librar
 #endif
 
 #ifdef WEDGE_MPI
-#include <mpi.h>
+#include "recon/mpi_library.h"
+
+/* The MPI library, once dist_init has loaded it (mpirun started the process); NULL otherwise,
+ * and then no MPI function is called. */
+static const MpiLibrary *mpi;
 #endif
 
 /* The longest nap between two looks at a collective a rank waits in (quiet_arrival): the
@@ -55,12 +59,14 @@ static void node_cpus_init(ReconDist *d)
     CPU_ZERO(&own);
     if (sched_getaffinity(0, sizeof own, &own) != 0) CPU_ZERO(&own); /* unknown: still take part */
     MPI_Comm node;
-    if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) != MPI_SUCCESS) return;
-    MPI_Comm_set_errhandler(node, MPI_ERRORS_RETURN);
+    if (mpi->comm_split_type(mpi->comm_world, MPI_COMM_TYPE_SHARED, 0, mpi->info_null, &node) != MPI_SUCCESS)
+        return;
+    mpi->comm_set_errhandler(node, mpi->errors_return);
     int n = 0;
-    MPI_Comm_size(node, &n);
+    mpi->comm_size(node, &n);
     cpu_set_t *all = malloc((size_t)n * sizeof *all);
-    if (all && MPI_Allgather(&own, (int)sizeof own, MPI_BYTE, all, (int)sizeof own, MPI_BYTE, node) == MPI_SUCCESS &&
+    if (all &&
+        mpi->allgather(&own, (int)sizeof own, mpi->type_byte, all, (int)sizeof own, mpi->type_byte, node) == MPI_SUCCESS &&
         CPU_COUNT(&own) > 0) {
         cpu_set_t any;
         CPU_ZERO(&any);
@@ -70,7 +76,7 @@ static void node_cpus_init(ReconDist *d)
         d->cpus_known = true;
     }
     free(all);
-    MPI_Comm_free(&node);
+    mpi->comm_free(&node);
 #else
     (void)d;
 #endif
@@ -161,33 +167,38 @@ void dist_log_new_threads(const ReconDist *d, const int *before, int before_coun
 #endif
 }
 
-void dist_init(int *argc, char ***argv, ReconDist *d)
+bool dist_init(int *argc, char ***argv, ReconDist *d, Diag *e)
 {
     memset(d, 0, sizeof *d);
     d->rank = 0;
     d->ranks = 1;
 #ifdef WEDGE_MPI
-    if (!launched_by_mpirun()) return;
+    if (!launched_by_mpirun()) return true;
+    /* the library only now: a wedge not started by mpirun never maps it (mpi_library.h) */
+    if (!(mpi = mpi_library_load(e))) return false;
     int inited = 0;
-    MPI_Initialized(&inited);
-    if (!inited && MPI_Init(argc, argv) != MPI_SUCCESS) return;
+    mpi->initialized(&inited);
+    if (!inited && mpi->init(argc, argv) != MPI_SUCCESS) return true; /* as before the library was loaded lazily */
     /* errors come back as codes (reported with a message, exit 3), not an abort */
-    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
-    MPI_Comm_rank(MPI_COMM_WORLD, &d->rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &d->ranks);
+    mpi->comm_set_errhandler(mpi->comm_world, mpi->errors_return);
+    mpi->comm_rank(mpi->comm_world, &d->rank);
+    mpi->comm_size(mpi->comm_world, &d->ranks);
     node_cpus_init(d);
 #else
-    (void)argc, (void)argv;
+    (void)argc, (void)argv, (void)e;
 #endif
+    return true;
 }
 
 void dist_finish(ReconDist *d)
 {
 #ifdef WEDGE_MPI
     int inited = 0, done = 0;
-    MPI_Initialized(&inited);
-    MPI_Finalized(&done);
-    if (inited && !done) MPI_Finalize();
+    if (mpi) {
+        mpi->initialized(&inited);
+        mpi->finalized(&done);
+    }
+    if (inited && !done) mpi->finalize();
 #endif
     free(d->owner);
     free(d->owner_before);
@@ -371,7 +382,8 @@ bool dist_measure(ReconDist *d, float *pixel_seconds, const int *spp, int spp_un
         for (size_t t = 0; t < n; ++t) mine[t] *= my_samples / my_seconds;
     bool ok = true;
 #ifdef WEDGE_MPI
-    ok = quiet_arrival(e) && mpi_ok(MPI_Allreduce(mine, all, (int)n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "all-reduce", e);
+    ok = quiet_arrival(e) &&
+         mpi_ok(mpi->allreduce(mine, all, (int)n, mpi->type_double, mpi->op_sum, mpi->comm_world), "all-reduce", e);
 #else
     memcpy(all, mine, n * sizeof(double));
 #endif
@@ -387,7 +399,7 @@ static bool mpi_ok(int rc, const char *what, Diag *e)
     if (rc == MPI_SUCCESS) return true;
     char msg[MPI_MAX_ERROR_STRING] = "";
     int len = 0;
-    MPI_Error_string(rc, msg, &len);
+    mpi->error_string(rc, msg, &len);
     diag_set(e, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "MPI %s failed: %s (another rank may have died)", what, msg);
     return false;
 }
@@ -408,10 +420,10 @@ static bool quiet_arrival(Diag *e)
     if (spin < 0) spin = env_knob_choice("WEDGE_DIST_WAIT", wait_names, 2, 0) == 1;
     if (spin) return true;
     MPI_Request req;
-    int rc = MPI_Ibarrier(MPI_COMM_WORLD, &req);
+    int rc = mpi->ibarrier(mpi->comm_world, &req);
     for (long nap_ns = 1000; rc == MPI_SUCCESS;) {
         int done = 0;
-        rc = MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+        rc = mpi->test(&req, &done, MPI_STATUS_IGNORE);
         if (rc != MPI_SUCCESS || done) break;
         struct timespec ts = {0, nap_ns};
         nanosleep(&ts, NULL);
@@ -544,16 +556,18 @@ static bool exchange(ReconDist *d, bool handover, const DistArray *arrays, int c
         unsigned char *mine = root ? NULL : buf;
         if (!handover) {
             if (!root) pack(d, d->rank, false, arrays, count, mine, true, lo, hi);
-            ok = mpi_ok(root ? MPI_Gatherv(MPI_IN_PLACE, 0, MPI_BYTE, buf, counts, displs, MPI_BYTE, 0, MPI_COMM_WORLD)
-                             : MPI_Gatherv(mine, counts[d->rank], MPI_BYTE, NULL, NULL, NULL, MPI_BYTE, 0, MPI_COMM_WORLD),
+            MPI_Datatype byte = mpi->type_byte;
+            ok = mpi_ok(root ? mpi->gatherv(MPI_IN_PLACE, 0, byte, buf, counts, displs, byte, 0, mpi->comm_world)
+                             : mpi->gatherv(mine, counts[d->rank], byte, NULL, NULL, NULL, byte, 0, mpi->comm_world),
                         "gather", e);
             if (ok && root)
                 for (int r = 1; r < d->ranks; ++r) pack(d, r, false, arrays, count, buf + displs[r], false, lo, hi);
         } else {
             if (root)
                 for (int r = 1; r < d->ranks; ++r) pack(d, r, true, arrays, count, buf + displs[r], true, lo, hi);
-            ok = mpi_ok(root ? MPI_Scatterv(buf, counts, displs, MPI_BYTE, MPI_IN_PLACE, 0, MPI_BYTE, 0, MPI_COMM_WORLD)
-                             : MPI_Scatterv(NULL, NULL, NULL, MPI_BYTE, mine, counts[d->rank], MPI_BYTE, 0, MPI_COMM_WORLD),
+            MPI_Datatype byte = mpi->type_byte;
+            ok = mpi_ok(root ? mpi->scatterv(buf, counts, displs, byte, MPI_IN_PLACE, 0, byte, 0, mpi->comm_world)
+                             : mpi->scatterv(NULL, NULL, NULL, byte, mine, counts[d->rank], byte, 0, mpi->comm_world),
                         "hand-over", e);
             if (ok && !root) pack(d, d->rank, true, arrays, count, mine, false, lo, hi);
         }
@@ -598,7 +612,7 @@ bool dist_broadcast_ints(ReconDist *d, int *data, size_t n, Diag *e)
     if (!quiet_arrival(e)) return false;
     for (size_t at = 0; at < n;) { /* in chunks an int count can say */
         size_t chunk = n - at < (size_t)INT_MAX / 4 ? n - at : (size_t)INT_MAX / 4;
-        if (!mpi_ok(MPI_Bcast(data + at, (int)chunk, MPI_INT, 0, MPI_COMM_WORLD), "broadcast", e)) return false;
+        if (!mpi_ok(mpi->bcast(data + at, (int)chunk, mpi->type_int, 0, mpi->comm_world), "broadcast", e)) return false;
         if (d->rank == 0) {
             d->bytes_sent[1] += (long long)(chunk * sizeof(int)) * (d->ranks - 1);
             d->bytes_total += (long long)(chunk * sizeof(int)) * (d->ranks - 1);
@@ -617,7 +631,9 @@ long long dist_sum_ll(const ReconDist *d, long long v)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         long long sum = 0;
-        if (quiet_arrival(NULL) && MPI_Allreduce(&v, &sum, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD) == MPI_SUCCESS) return sum;
+        if (quiet_arrival(NULL) &&
+            mpi->allreduce(&v, &sum, 1, mpi->type_long_long, mpi->op_sum, mpi->comm_world) == MPI_SUCCESS)
+            return sum;
     }
 #else
     (void)d;
@@ -630,7 +646,9 @@ int dist_max_int(const ReconDist *d, int v)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         int max = v;
-        if (quiet_arrival(NULL) && MPI_Allreduce(&v, &max, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) == MPI_SUCCESS) return max;
+        if (quiet_arrival(NULL) &&
+            mpi->allreduce(&v, &max, 1, mpi->type_int, mpi->op_max, mpi->comm_world) == MPI_SUCCESS)
+            return max;
         return v != 0 ? v : WEDGE_EXIT_RUNTIME;
     }
 #else
@@ -644,7 +662,9 @@ bool dist_all_ok(const ReconDist *d, bool ok)
 #ifdef WEDGE_MPI
     if (d && d->ranks > 1) {
         int mine = ok ? 1 : 0, all = 0;
-        if (!quiet_arrival(NULL) || MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) != MPI_SUCCESS) return false;
+        if (!quiet_arrival(NULL) ||
+            mpi->allreduce(&mine, &all, 1, mpi->type_int, mpi->op_min, mpi->comm_world) != MPI_SUCCESS)
+            return false;
         return all == 1;
     }
 #else

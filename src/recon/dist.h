@@ -78,9 +78,12 @@ typedef struct {
     size_t bytes_per_pixel;
 } DistArray;
 
-/* Starts MPI when the process was launched by mpirun (and wedge was built with it); fills d
- * with this rank and the world size (a world of one otherwise). Call once, first thing. */
-void dist_init(int *argc, char ***argv, ReconDist *d);
+/* Starts MPI when the process was launched by mpirun (and wedge was built with it), loading
+ * the MPI library first (only then: recon/mpi_library.h); fills d with this rank and the world
+ * size (a world of one otherwise). False with e set (exit 3) when mpirun started the process
+ * but the library cannot be loaded (d is then a world of one, and dist_finish may be called).
+ * Call once, first thing. */
+bool dist_init(int *argc, char ***argv, ReconDist *d, Diag *e);
 /* Ends MPI (after the last collective call). exit_code: this rank's result. */
 void dist_finish(ReconDist *d);
 /* Whether MPI support was built in. */
