@@ -886,15 +886,17 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
         in->pose_kept = true;
     }
     for (int i = 0; i < tr->layers[0].geom_count; ++i) tr->top_spheres |= tr->layers[0].geoms[i].kind == GEOM_SPHERE;
-    /* Embree 3.13's coherent occlusion streams have stalled on a sphere or disk inside an
-     * ObjectBegin prototype (design.md 12, "Open": test_robustness, test_wave): such a scene's
-     * shadow rays go incoherent, slower rather than a hang. A moving sphere's own instanced
-     * layer (past the prototypes) has never stalled and keeps the hint (10-15% of a frame). */
-    tr->shadow_coherent_ok = true;
-    for (int li = 1; li <= scene->object_count; ++li)
-        for (int i = 0; i < tr->layers[li].geom_count; ++i)
-            if (tr->layers[li].geoms[i].kind == GEOM_SPHERE || tr->layers[li].geoms[i].kind == GEOM_DISK)
-                tr->shadow_coherent_ok = false;
+    /* A scene with ObjectBegin prototypes traces its shadow rays incoherent: a coherent
+     * occlusion stream entering an instanced prototype runs Embree's coherent 16-ray packet
+     * traversal (BVHNIntersectorKHybrid::occludedCoherent), which the Embree 3.13.5 build
+     * this project links (Debian's, GCC) miscompiles: it stores the 16-bit mask of live rays
+     * into a 64-bit stack slot and reads the slot back whole, so stale stack bytes above the
+     * mask keep its loop over octants from ending (design.md 12.31; Embree's later releases
+     * work around the same GCC fault, RenderKit/embree#574). Whether a frame hung thus
+     * depended on what earlier calls left on the stack. Moving shapes' own instanced layers
+     * do not enter that kernel (test_coherent_instances) and keep the hint (10-15% of a
+     * frame); no bench scene has prototypes. */
+    tr->shadow_coherent_ok = scene->object_count == 0;
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);
     tr->seconds_build = seconds_now() - t0;

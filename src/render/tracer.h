@@ -122,7 +122,7 @@ typedef struct {
     int instance_count;
     bool has_motion;         /* some geometry moves: rays carry time */
     bool top_spheres;        /* the top level holds a sphere (whose hits a batch may shade together) */
-    bool shadow_coherent_ok; /* no sphere or disk inside an instance: occlusion streams may be coherent */
+    bool shadow_coherent_ok; /* no ObjectBegin prototype: occlusion streams may be coherent (design.md 12.31) */
     float bounds_min[3], bounds_max[3]; /* world bounds (shutter open and close) */
     /* Scale normalisation: Embree sees the world multiplied by tracer_from_world, a power of
      * two chosen from the bounds (1 for scenes of ordinary size), so that its float
