@@ -4,7 +4,8 @@
  * rays) stores its 16-bit mask of live rays into a 64-bit stack slot and reads the whole
  * slot back: the upper 48 bits are whatever the stack held there before. When they are not
  * zero, the loop over the rays' octants never ends. An occlusion stream flagged coherent
- * reaches that kernel when its rays enter an instanced prototype's triangles, so whether a
+ * reaches that kernel when its rays enter an instanced prototype (of triangles or of a
+ * sphere: forced coherent, both hang here), so whether a
  * frame hangs depends on what earlier calls left on the stack (a sanitizer build, another
  * code path before the call).
  *
@@ -39,6 +40,12 @@ static const char *PROTOTYPES = "ObjectBegin \"box\"\n" BOX "ObjectEnd\n"
                                 "AttributeBegin Translate -1.5 -0.3 0 ObjectInstance \"box\" AttributeEnd\n"
                                 "AttributeBegin Translate -0.3 0.4 0.5 ObjectInstance \"box\" AttributeEnd\n"
                                 "AttributeBegin Translate 0.9 -0.6 0.2 Rotate 30 0 1 0 ObjectInstance \"box\" AttributeEnd\n";
+
+/* a sphere prototype (user geometry) instanced three times */
+static const char *BALLS = "ObjectBegin \"ball\" Shape \"sphere\" \"float radius\" [ 0.4 ] ObjectEnd\n"
+                           "AttributeBegin Translate -1.5 -0.3 0 ObjectInstance \"ball\" AttributeEnd\n"
+                           "AttributeBegin Translate -0.3 0.4 0.5 ObjectInstance \"ball\" AttributeEnd\n"
+                           "AttributeBegin Translate 0.9 -0.6 0.2 ObjectInstance \"ball\" AttributeEnd\n";
 
 /* two moving boxes (each its own instanced layer) */
 static const char *MOVING = "AttributeBegin Translate -1.2 -0.3 0\n ActiveTransform EndTime\n Translate 0.3 0 0\n"
@@ -149,7 +156,8 @@ static int check_scene(const char *what, const char *world)
 
 int main(void)
 {
-    CHECK(check_scene("prototypes", PROTOTYPES) == 0);
+    CHECK(check_scene("triangle prototype", PROTOTYPES) == 0);
+    CHECK(check_scene("sphere prototype", BALLS) == 0);
     CHECK(check_scene("moving triangles", MOVING) == 1);
     return check_failures ? 1 : 0;
 }
