@@ -198,7 +198,9 @@ void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, 
                              SurfaceHit *hits, bool *found);
 
 /* tracer_occluded_batch for the active lanes of a (n lanes), in the lanes' order: the answer
- * of active lane i in occluded[i] (inactive lanes' entries are left as they are). */
+ * of active lane i in occluded[i] (inactive lanes' entries are left as they are). In the
+ * stream mode, lanes whose rays use few direction octants go to Embree as these arrays
+ * themselves, read in place, where they are 16-byte aligned. */
 void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool coherent, bool *occluded);
 const char *tracer_batch_mode_name(TracerBatchMode mode);
 
