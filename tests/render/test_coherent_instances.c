@@ -5,9 +5,8 @@
  * slot back: the upper 48 bits are whatever the stack held there before. When they are not
  * zero, the loop over the rays' octants never ends. An occlusion stream flagged coherent
  * reaches that kernel when its rays enter an instanced prototype (of triangles or of a
- * sphere: forced coherent, both hang here), so whether a
- * frame hangs depends on what earlier calls left on the stack (a sanitizer build, another
- * code path before the call).
+ * lone sphere: forced coherent, both hang here), so whether a frame hangs depends on what
+ * earlier calls left on the stack (a sanitizer build, another code path before the call).
  *
  * This test fills the stack below it with nonzero bytes before each batch, so that, where
  * the kernel is reached, the slot holds garbage and the batch never returns (ctest's TIMEOUT
