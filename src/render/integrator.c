@@ -536,8 +536,9 @@ typedef struct {
     float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], Li[3][WAVE_SAMPLES];
     int ok[WAVE_SAMPLES];
     float err_light; /* the light's LightSample.err_light (light_delta_offset), the same for all */
-    /* their shadow rays (ShadowRayAhead) */
-    float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
+    /* their shadow rays (ShadowRayAhead); 16-byte aligned, as Embree's stream reads them in
+     * place (tracer_occluded_arrays) */
+    _Alignas(16) float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
     int redo[WAVE_SAMPLES];
     /* every lit path's share (above) */
     float value[3][WAVE_SAMPLES];
@@ -609,8 +610,9 @@ struct Wave {
     float dim_cosine[3][WAVE_SAMPLES];
     CameraBatch camera;
     /* the wave's camera rays, per path, as arrays: camera_generate_rays writes them and
-     * tracer_intersect_arrays reads them, with no TracerRay between */
-    float cam_o[3][WAVE_SAMPLES], cam_d[3][WAVE_SAMPLES], cam_time01[WAVE_SAMPLES];
+     * tracer_intersect_arrays reads them, with no TracerRay between (16-byte aligned: Embree's
+     * streams read cam_d and cam_time01 in place) */
+    _Alignas(16) float cam_o[3][WAVE_SAMPLES], cam_d[3][WAVE_SAMPLES], cam_time01[WAVE_SAMPLES];
     WaveReceivers rx;
     /* the delta lights lit at every vertex, entry k for LightSet.delta_every[k] */
     WaveDeltaSamples delta[LIGHTS_DELTA_EVERY_MAX];

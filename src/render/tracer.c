@@ -886,15 +886,17 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
         in->pose_kept = true;
     }
     for (int i = 0; i < tr->layers[0].geom_count; ++i) tr->top_spheres |= tr->layers[0].geoms[i].kind == GEOM_SPHERE;
-    /* Embree 3.13's coherent occlusion streams have stalled on a sphere or disk inside an
-     * ObjectBegin prototype (design.md 12, "Open": test_robustness, test_wave): such a scene's
-     * shadow rays go incoherent, slower rather than a hang. A moving sphere's own instanced
-     * layer (past the prototypes) has never stalled and keeps the hint (10-15% of a frame). */
-    tr->shadow_coherent_ok = true;
-    for (int li = 1; li <= scene->object_count; ++li)
-        for (int i = 0; i < tr->layers[li].geom_count; ++i)
-            if (tr->layers[li].geoms[i].kind == GEOM_SPHERE || tr->layers[li].geoms[i].kind == GEOM_DISK)
-                tr->shadow_coherent_ok = false;
+    /* A scene with ObjectBegin prototypes traces its shadow rays incoherent: a coherent
+     * occlusion stream entering an instanced prototype runs Embree's coherent 16-ray packet
+     * traversal (BVHNIntersectorKHybrid::occludedCoherent), which the Embree 3.13.5 build
+     * this project links (Debian's, GCC) miscompiles: it stores the 16-bit mask of live rays
+     * into a 64-bit stack slot and reads the slot back whole, so stale stack bytes above the
+     * mask keep its loop over octants from ending (design.md 12.31; Embree's later releases
+     * work around the same GCC fault, RenderKit/embree#574). Whether a frame hung thus
+     * depended on what earlier calls left on the stack. Moving shapes' own instanced layers
+     * do not enter that kernel (test_coherent_instances) and keep the hint (10-15% of a
+     * frame); no bench scene has prototypes. */
+    tr->shadow_coherent_ok = scene->object_count == 0;
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);
     tr->seconds_build = seconds_now() - t0;
@@ -1558,6 +1560,86 @@ static void occluded_sparse_lanes(const Tracer *tr, RTCScene scene, struct RTCIn
     }
 }
 
+/* How many direction octants (ray_octant's) a's active lanes 0 .. n use. A loop GCC
+ * vectorises: each lane's octant as one bit of eight, or-ed together (an inactive lane adds
+ * none). */
+static int lanes_octants(const TracerRayArrays *a, int n)
+{
+    const int *restrict active = a->active;
+    const float *restrict dx = a->d[0], *restrict dy = a->d[1], *restrict dz = a->d[2];
+    unsigned used = 0u;
+    for (int i = 0; i < n; ++i) {
+        unsigned key = (unsigned)(dx[i] < 0.0f) | (unsigned)(dy[i] < 0.0f) << 1 | (unsigned)(dz[i] < 0.0f) << 2;
+        used |= active[i] != 0 ? 1u << key : 0u;
+    }
+    return __builtin_popcount(used);
+}
+
+/* Whether a's arrays may be given to Embree as a stream's as they are: 16-byte aligned, as
+ * Embree asks (chunks start 64 lanes apart, so a chunk's arrays are aligned with them). The
+ * delta lights' arrays are (integrator.c, WaveDeltaSamples); the triangle and sky groups'
+ * (WaveTriangleSamples) are not, and keep the sorted rays: aligned, their lanes as arrays
+ * took 2% more CPU on tilted_stack (docs/benchmarks.md, "Issue 22, thirty-eighth round"). */
+static bool lanes_stream_aligned(const TracerRayArrays *a)
+{
+    uintptr_t bits = (uintptr_t)a->time01;
+    for (int c = 0; c < 3; ++c) bits |= (uintptr_t)a->o[c] | (uintptr_t)a->d[c];
+    return (bits & 15u) == 0u;
+}
+
+/* Lanes k0 .. k0 + m (m <= TRACE_CHUNK) of a (lanes_stream_aligned) to Embree's
+ * structure-of-arrays stream (rtcOccludedNp) as they are: origins, directions and times by
+ * pointer into a, the origins scaled into a copy where the tracer's scale is not 1 (as
+ * init_ray scales them; k o = o exactly where k = 1); the lengths scaled into a small array in
+ * which an inactive lane gets tfar -1 < tnear 0, a ray a stream skips, and whose answer is not
+ * written. No RTCRay is filled, none copied to be sorted, and Embree gathers no packet from
+ * 48-byte rays: what occluded_rays costs per ray. */
+static void occluded_lanes_np(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
+                              const TracerRayArrays *a, const NpConstants *fixed, int k0, int m, bool *occluded)
+{
+    float k = tr->tracer_from_world;
+    _Alignas(64) float o_copy[3][TRACE_CHUNK], tfar[TRACE_CHUNK];
+    const int *restrict active = a->active + k0;
+    const float *o[3];
+    for (int c = 0; c < 3; ++c) {
+        o[c] = a->o[c] + k0;
+        if (k != 1.0f) {
+            for (int i = 0; i < m; ++i) o_copy[c][i] = k * o[c][i];
+            o[c] = o_copy[c];
+        }
+    }
+    if (a->tmax) {
+        const float *restrict tmax = a->tmax + k0;
+        for (int i = 0; i < m; ++i) tfar[i] = active[i] != 0 ? k * tmax[i] : -1.0f;
+    } else {
+        for (int i = 0; i < m; ++i) tfar[i] = active[i] != 0 ? k * INFINITY : -1.0f;
+    }
+    /* Embree writes tfar alone (-inf where occluded); the const arrays are read */
+    struct RTCRayNp np = {(float *)o[0],
+                          (float *)o[1],
+                          (float *)o[2],
+                          (float *)fixed->tnear,
+                          (float *)a->d[0] + k0,
+                          (float *)a->d[1] + k0,
+                          (float *)a->d[2] + k0,
+                          (float *)a->time01 + k0,
+                          tfar,
+                          (unsigned *)fixed->mask,
+                          (unsigned *)fixed->id,
+                          (unsigned *)fixed->flags};
+    rtcOccludedNp(scene, ctx, &np, (unsigned)m);
+    for (int i = 0; i < m; ++i)
+        if (active[i] != 0) occluded[k0 + i] = tfar[i] == -INFINITY;
+}
+
+/* tracer_occluded_arrays hands Embree the lanes themselves (occluded_lanes_np) when their
+ * active rays use at most this many direction octants. Embree's coherent stream walks a group
+ * of rays together only where they share an octant (12.18), so unsorted lanes of many
+ * octants (a sky's cosine-distributed rays) trace slower than the same rays sorted; the
+ * rays of a wave's few pixels to a point light use one or two, a distant light's one
+ * (docs/benchmarks.md, "Issue 22, thirty-eighth round"). */
+enum { OCCLUDED_NP_OCTANTS = 2 };
+
 void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool coherent, bool *occluded)
 {
     RTCScene scene = tr->layers[0].scene;
@@ -1571,6 +1653,15 @@ void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, b
     for (int i = 0; i < n; ++i) active += a->active[i] != 0;
     if (tr->batch_mode != TRACER_BATCH_PACKET16 && 2 * active < n) {
         occluded_sparse_lanes(tr, scene, &ctx, a, n, occluded);
+        return;
+    }
+    if (tr->batch_mode == TRACER_BATCH_STREAM && lanes_stream_aligned(a) && lanes_octants(a, n) <= OCCLUDED_NP_OCTANTS) {
+        /* the lanes as Embree's arrays, chunk by chunk: an occlusion answer does not depend
+         * on the order or grouping of the rays (12.18) */
+        NpConstants fixed;
+        np_constants(&fixed, a->skip_mask);
+        for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
+            occluded_lanes_np(tr, scene, &ctx, a, &fixed, k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, occluded);
         return;
     }
     if (tr->batch_mode != TRACER_BATCH_PACKET16) {

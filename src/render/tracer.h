@@ -122,7 +122,7 @@ typedef struct {
     int instance_count;
     bool has_motion;         /* some geometry moves: rays carry time */
     bool top_spheres;        /* the top level holds a sphere (whose hits a batch may shade together) */
-    bool shadow_coherent_ok; /* no sphere or disk inside an instance: occlusion streams may be coherent */
+    bool shadow_coherent_ok; /* no ObjectBegin prototype: occlusion streams may be coherent (design.md 12.31) */
     float bounds_min[3], bounds_max[3]; /* world bounds (shutter open and close) */
     /* Scale normalisation: Embree sees the world multiplied by tracer_from_world, a power of
      * two chosen from the bounds (1 for scenes of ordinary size), so that its float
@@ -198,7 +198,9 @@ void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, 
                              SurfaceHit *hits, bool *found);
 
 /* tracer_occluded_batch for the active lanes of a (n lanes), in the lanes' order: the answer
- * of active lane i in occluded[i] (inactive lanes' entries are left as they are). */
+ * of active lane i in occluded[i] (inactive lanes' entries are left as they are). In the
+ * stream mode, lanes whose rays use few direction octants go to Embree as these arrays
+ * themselves, read in place, where they are 16-byte aligned. */
 void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool coherent, bool *occluded);
 const char *tracer_batch_mode_name(TracerBatchMode mode);
 

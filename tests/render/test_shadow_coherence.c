@@ -1,9 +1,10 @@
-/* Embree 3.13's coherent occlusion streams have stalled on a sphere or disk inside an
- * ObjectBegin prototype (docs/design.md 12, "Open"): the tracer then sends its shadow rays
- * incoherent (Tracer.shadow_coherent_ok). The rule must catch a prototype holding a sphere or
- * a disk, however it is instanced, and leave the coherent hint (10-15% of a frame) to every
- * other scene: static spheres at the top level, moving triangles, a triangle prototype, and a
- * moving sphere, whose own instanced layer has never stalled. */
+/* A coherent occlusion stream that enters an ObjectBegin prototype runs a kernel the linked
+ * Embree miscompiles (it can loop for ever: docs/design.md 12.31, test_coherent_instances),
+ * so a scene with prototypes sends its shadow rays incoherent (Tracer.shadow_coherent_ok).
+ * The rule must catch every prototype, whatever it holds and however it is instanced, and
+ * leave the coherent hint (10-15% of a frame) to every other scene: static spheres at the
+ * top level, moving triangles and a moving sphere, whose own instanced layers do not enter
+ * that kernel. */
 #include <stdio.h>
 #include <string.h>
 
@@ -38,18 +39,18 @@ static int shadow_coherent(const char *world)
 
 int main(void)
 {
-    /* no user geometry inside an instance: coherent */
+    /* no prototype: coherent */
     CHECK(shadow_coherent("") == 1);
     CHECK(shadow_coherent("Shape \"sphere\" \"float radius\" [ 0.5 ]\nShape \"disk\"\n") == 1);
     CHECK(shadow_coherent("AttributeBegin\n ActiveTransform EndTime\n Translate 1 0 0\n ActiveTransform All\n"
                           " Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ] \"integer indices\" [ 0 1 2 ]\n"
                           "AttributeEnd\n") == 1);
-    CHECK(shadow_coherent("ObjectBegin \"tri\"\n"
-                          " Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ] \"integer indices\" [ 0 1 2 ]\n"
-                          "ObjectEnd\nObjectInstance \"tri\"\n") == 1);
     CHECK(shadow_coherent("AttributeBegin\n ActiveTransform EndTime\n Translate 1 0 0\n ActiveTransform All\n"
                           " Shape \"sphere\" \"float radius\" [ 0.5 ]\nAttributeEnd\n") == 1);
-    /* a prototype holding a disk or a sphere, instanced still or moving: incoherent */
+    /* a prototype, of triangles, a disk or a sphere, instanced still or moving: incoherent */
+    CHECK(shadow_coherent("ObjectBegin \"tri\"\n"
+                          " Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ] \"integer indices\" [ 0 1 2 ]\n"
+                          "ObjectEnd\nObjectInstance \"tri\"\n") == 0);
     CHECK(shadow_coherent("ObjectBegin \"d\"\n Shape \"disk\"\nObjectEnd\nObjectInstance \"d\"\n") == 0);
     CHECK(shadow_coherent("ObjectBegin \"s\"\n Shape \"sphere\"\nObjectEnd\n"
                           "AttributeBegin\n ActiveTransform EndTime\n Translate 0 2 0\n ActiveTransform All\n"

@@ -91,6 +91,67 @@ static void check_occluded_arrays(const Tracer *tr, const TracerRay *rays, const
     CHECK(bad == 0);
 }
 
+/* tracer_occluded_arrays in the stream mode hands lanes whose active rays use at most two
+ * direction octants to Embree as the arrays themselves (rtcOccludedNp, inactive lanes as
+ * rays Embree skips) where the arrays are 16-byte aligned, and other lanes as rays sorted by
+ * octant: either way each active lane's answer is a single ray's and inactive lanes keep
+ * their entries. Rays in one octant, in two (x's sign alternating) and as make_rays makes
+ * them (four), in a scene scaled by s (s = 1e-5: the tracer's scale is not 1, so the origins
+ * are scaled into a copy), from arrays 16-byte aligned and from arrays one float off. */
+static void test_occluded_octants(double s)
+{
+    char text[2048];
+    const char *world = strstr(QUADRICS, "WorldBegin\n") + strlen("WorldBegin\n");
+    snprintf(text, sizeof text, "%.*sScale %g %g %g\n%s", (int)(world - QUADRICS), QUADRICS, s, s, s, world);
+    SceneDesc scene;
+    Tracer tr;
+    if (!build_scene(text, &scene, &tr)) return;
+    CHECK((tr.tracer_from_world != 1.0f) == (s < 1e-3));
+    tr.batch_mode = TRACER_BATCH_STREAM;
+    for (int octants = 1; octants <= 4; octants *= 2) {
+        TracerRay rays[RAYS];
+        make_rays(rays, RAYS);
+        bool ref[RAYS];
+        int occluded = 0, clear = 0;
+        for (int i = 0; i < RAYS; ++i) {
+            vec3 d = rays[i].d;
+            if (octants == 1) rays[i].d = v3(fabsf(d.x), fabsf(d.y), fabsf(d.z));
+            if (octants == 2) rays[i].d = v3(i % 2 ? -fabsf(d.x) : fabsf(d.x), fabsf(d.y), fabsf(d.z));
+            rays[i].o = v3_scale(rays[i].o, (float)s);
+            rays[i].tmax *= (float)s;
+            ref[i] = tracer_occluded(&tr, rays[i].o, rays[i].d, rays[i].tmax, 0.0f);
+            occluded += ref[i], clear += !ref[i];
+        }
+        CHECK(occluded > 4 && clear > 4);
+        for (int offset = 0; offset < 2; ++offset) {
+            _Alignas(64) float o[3][RAYS + 1], d[3][RAYS + 1], tmax[RAYS + 1], time01[RAYS + 1];
+            int active[RAYS];
+            for (int i = 0; i < RAYS; ++i) {
+                int q = i + offset;
+                o[0][q] = rays[i].o.x, o[1][q] = rays[i].o.y, o[2][q] = rays[i].o.z;
+                d[0][q] = rays[i].d.x, d[1][q] = rays[i].d.y, d[2][q] = rays[i].d.z;
+                tmax[q] = rays[i].tmax, time01[q] = rays[i].time01;
+                active[i] = i % 5 != 2;
+            }
+            TracerRayArrays a = {{o[0] + offset, o[1] + offset, o[2] + offset},
+                                 {d[0] + offset, d[1] + offset, d[2] + offset},
+                                 tmax + offset,
+                                 time01 + offset,
+                                 active,
+                                 0u};
+            bool occ[RAYS], untouched[RAYS];
+            for (int i = 0; i < RAYS; ++i) occ[i] = untouched[i] = i % 2 == 0;
+            tracer_occluded_arrays(&tr, &a, RAYS, true, occ);
+            int bad = 0;
+            for (int i = 0; i < RAYS; ++i) bad += active[i] ? occ[i] != ref[i] : occ[i] != untouched[i];
+            if (bad) fprintf(stderr, "%d octants, scale %g, offset %d: %d lanes differ\n", octants, s, offset, bad);
+            CHECK(bad == 0);
+        }
+    }
+    tracer_free(&tr);
+    scene_desc_free(&scene);
+}
+
 static void test_quadric_batches(void)
 {
     SceneDesc scene;
@@ -364,6 +425,8 @@ static void test_wave_images(void)
 int main(void)
 {
     test_quadric_batches();
+    test_occluded_octants(1.0);
+    test_occluded_octants(1e-5);
     test_intersect_arrays(QUADRICS, true);
     test_intersect_arrays(TRIANGLES, false);
     test_lone_sphere();
