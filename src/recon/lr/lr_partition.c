@@ -270,9 +270,12 @@ void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_
     double inv = 1.0 / m[8], x = m[0] * inv, y = m[1] * inv, c = m[2] * inv;
     double vxx = m[3] * inv - x * x, vyy = m[4] * inv - y * y, vxy = m[5] * inv - x * y;
     double cx = m[6] * inv - x * c, cy = m[7] * inv - y * c;
-    double det = vxx * vyy - vxy * vxy;
-    /* a layer one pixel wide in some direction has no gradient across it worth fitting */
-    if (!(vxx >= 1.0 && vyy >= 1.0 && det > 0.25 * vxx * vyy)) return;
+    double det = vxx * vyy - vxy * vxy, half = 0.5 * (vxx - vyy);
+    /* the points' spread along their narrowest direction (the covariance's smaller eigenvalue,
+     * px^2): a layer a few pixels wide in some direction (under sqrt(12) px, the variance of
+     * such a band being its width^2 / 12) has no gradient across it worth fitting */
+    double narrow = 0.5 * (vxx + vyy) - sqrt(half * half + vxy * vxy);
+    if (!(narrow >= 1.0) || !(det > 0.0)) return;
     double gx = (cx * vyy - cy * vxy) / det, gy = (cy * vxx - cx * vxy) / det;
     float rx = (float)(-eta_px * gx / 4.0), ry = (float)(-rho_px * gy / 4.0);
     if (isfinite(rx) && isfinite(ry)) *ramp_x_px = rx, *ramp_y_px = ry;
