@@ -92,11 +92,11 @@ static void test_contrast_rule(void)
     LrTile t;
     lr_tile_bounds(&cfg, 1.0f, 2.0f, &t);
     LrLayerStats st[LR_MAX_LAYERS + 1];
-    for (int i = 0; i < LR_MAX_LAYERS + 1; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f};
+    for (int i = 0; i < LR_MAX_LAYERS + 1; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f, {{0}}};
     /* raw 0: a bright light, 100 samples of brightness 900; raw 1: a dim wall, 1000 of 1.5,
      * the same slopes (c = 14 px, far beyond the clamp: the clamp decides the screen sigma) */
-    st[0] = (LrLayerStats){100, 1.0f, 0.0f, 14.0f, 14.0f, 0.0f, 0.0f, 0.0f, 90000.0f};
-    st[1] = (LrLayerStats){1000, 1.0f, 0.0f, 14.0f, 14.0f, 0.0f, 0.0f, 0.0f, 1500.0f};
+    st[0] = (LrLayerStats){100, 1.0f, 0.0f, 14.0f, 14.0f, 0.0f, 0.0f, 0.0f, 90000.0f, {{0}}};
+    st[1] = (LrLayerStats){1000, 1.0f, 0.0f, 14.0f, 14.0f, 0.0f, 0.0f, 0.0f, 1500.0f, {{0}}};
     int raw_n = lr_tile_raw_count(&t);
     CHECK(fabsf(lr_layer_contrast(st, raw_n, 0) - 600.0f) < 1e-3f); /* 900 / 1.5 */
     CHECK(fabsf(lr_layer_contrast(st, raw_n, 1) - 1.5f / 900.0f) < 1e-6f);

@@ -87,10 +87,10 @@ static void check_runs(void)
     int raw_n = lr_tile_raw_count(&t);
     CHECK(raw_n >= 5 && raw_n < LR_MAX_LAYERS + 1);
     LrLayerStats st[LR_MAX_LAYERS + 1];
-    for (int i = 0; i < raw_n; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f};
-    LrLayerStats same = {50, 1.0f, 0.0f, 1.0f, 1.2f, 0.0f, 0.0f, 0.0f, 50.0f};
+    for (int i = 0; i < raw_n; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f, {{0}}};
+    LrLayerStats same = {50, 1.0f, 0.0f, 1.0f, 1.2f, 0.0f, 0.0f, 0.0f, 50.0f, {{0}}};
     st[1] = same, st[3] = same;                                              /* 2 empty between */
-    st[4] = (LrLayerStats){50, 1.0f, 0.0f, 9.0f, 9.5f, 0.0f, 0.0f, 0.0f, 50.0f}; /* far blurrier */
+    st[4] = (LrLayerStats){50, 1.0f, 0.0f, 9.0f, 9.5f, 0.0f, 0.0f, 0.0f, 50.0f, {{0}}}; /* far blurrier */
     lr_tile_finish(&cfg, st, &t);
     CHECK(t.layer_count == 2);
     CHECK(t.compact[0] == -1 && t.compact[1] == 0 && t.compact[2] == -1 && t.compact[3] == 0 && t.compact[4] == 1);

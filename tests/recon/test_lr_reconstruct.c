@@ -254,8 +254,8 @@ static void test_motion_variance_rule(void)
         LrTile t;
         lr_tile_bounds(&cfg, 1.0f, 2.0f, &t);
         LrLayerStats st[LR_MAX_LAYERS + 1];
-        for (int i = 0; i < LR_MAX_LAYERS + 1; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f};
-        st[0] = (LrLayerStats){10, 1.0f, 0.0f, -2.0f, -1.5f, cases[k].d_min, cases[k].d_max, cases[k].across, 0.0f};
+        for (int i = 0; i < LR_MAX_LAYERS + 1; ++i) st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f, {{0}}};
+        st[0] = (LrLayerStats){10, 1.0f, 0.0f, -2.0f, -1.5f, cases[k].d_min, cases[k].d_max, cases[k].across, 0.0f, {{0}}};
         lr_tile_finish(&cfg, st, &t);
         CHECK(t.layer_count == 1 && t.layer[0].motion_filter == cases[k].filtered);
         if (!cases[k].filtered) CHECK(t.layer[0].slopes.d_min_px == 0.0f && t.layer[0].slopes.d_max_px == 0.0f);

@@ -13,7 +13,8 @@
  *   tile_bounds   LR_TB_STRIDE floats per tile: n_depth, n_coc, depth bounds, CoC bounds
  *   tile_layers   LR_TL_STRIDE ints per tile: layer_count, then raw layer -> compact layer
  *   params        LR_LP_STRIDE floats per (tile, layer): cos psi, sin psi, 1/sigma_x, eta, xi,
- *                 1/sigma_u, 1/sigma_t, 1/sigma_y, rho, 1/sigma_v, radius_x, radius_y, then the
+ *                 1/sigma_u, 1/sigma_t, 1/sigma_y, rho, 1/sigma_v, radius_x, radius_y, the shift of
+ *                 the layer's own samples (ramp x, y: lr_partition.h, LrLayer), then the
  *                 screen filter's tap weights exp(-(k / sigma)^2 / 2), k = 0..32, along (x)
  *                 and across (y): computed once per partition on the host, not per tap; then
  *                 the round filter's flag (LR_ROUND: 1 for a layer filtered by one 2D table,
@@ -41,11 +42,11 @@
 #define LR_PLACE_L 5
 #define LR_TB_STRIDE 25
 #define LR_TL_STRIDE 18
-#define LR_LP_STRIDE 336
-#define LR_ROUND 78
-#define LR_ROUND_T 79
-#define LR_TAPS_X 12
-#define LR_TAPS_Y 45
+#define LR_LP_STRIDE 338
+#define LR_ROUND 80
+#define LR_ROUND_T 81
+#define LR_TAPS_X 14
+#define LR_TAPS_Y 47
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
 #define LR_CH 5
 #define LR_MOVING_PX 1.0f /* lr_partition.h: moving and static samples of a slab are separate layers */
@@ -93,7 +94,8 @@ typedef double lr_sum; /* as lr_partition.c sums the motion: the same psi, bit f
 typedef float lr_sum; /* a device without doubles: psi may differ from the C version's in the last bits */
 #endif
 
-#define LR_ST_STRIDE 9 /* per raw layer: count, cos psi, sin psi, c_min, c_max, d_min, d_max, across, brightness sum */
+#define LR_ST_STRIDE 18 /* per raw layer: count, cos psi, sin psi, c_min, c_max, d_min, d_max, across, brightness sum,
+                          * then the tilt's nine sums (lr_partition.h: LrTilt) */
 
 /* lr_tile_raw_count: the raw layers of a tile with these bounds (the slabs split into moving
  * and static layers when 2 slabs + 1 ids fit in 17). */
@@ -239,7 +241,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
                             __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
                             int blocks, int nbx, __global const int *block_hist, __global const float *block_z,
-                            __global const float *bright_in)
+                            __global const float *bright_in, __global const float *samples)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
@@ -286,7 +288,11 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     int count[17], skipped[17];
     lr_sum mx[17], my[17], bright[17];
     float cmin[17], cmax[17], cp[17], sp[17], dmin[17], dmax[17], perp[17];
+    float tilt[17][9]; /* lr_partition.h: LrTilt, lr_tilt_add; over the tile's own pixels */
+    int ix0 = inset + (tile % ntx) * tile_px, iy0 = inset + (tile / ntx) * tile_px;
+    int ix1 = min(ix0 + tile_px, width - inset), iy1 = min(iy0 + tile_px, height - inset);
     for (int i = 0; i < raw_n; ++i) {
+        for (int k = 0; k < 9; ++k) tilt[i][k] = 0.0f;
         count[i] = skipped[i] = 0;
         mx[i] = my[i] = bright[i] = 0;
         cmin[i] = dmin[i] = INFINITY;
@@ -321,6 +327,12 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                 bool finite = !isnan(b);
                 ids[i] = (uchar)(finite ? r : r | LR_SKIP); /* the reprojection skips non-finite radiance */
                 count[r]++;
+                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
+                    __global const float *pl = samples + index * LR_PLACE_STRIDE; /* x, y, u, v */
+                    float c = key.y, x = (pl[0] - (float)w.x0) - c * pl[2], y = (pl[1] - (float)w.y0) - c * pl[3];
+                    float *m = tilt[r];
+                    m[0] += x, m[1] += y, m[2] += c, m[3] += x * x, m[4] += y * y, m[5] += x * y, m[6] += x * c, m[7] += y * c, m[8] += 1.0f;
+                }
                 if (!finite) skipped[r]++; /* rare: a branch, not a sum per sample */
                 mx[r] += (lr_sum)key.z;
                 my[r] += (lr_sum)key.w;
@@ -374,6 +386,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
         o[i * LR_ST_STRIDE + 6] = used ? dmax[i] : -INFINITY;
         o[i * LR_ST_STRIDE + 7] = used ? perp[i] : 0.0f;
         o[i * LR_ST_STRIDE + 8] = used ? (float)bright[i] : 0.0f;
+        for (int k = 0; k < 9; ++k) o[i * LR_ST_STRIDE + 9 + k] = used ? tilt[i][k] : 0.0f;
     }
 }
 
@@ -451,6 +464,7 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
 /* A layer's shear and sample weights, as lr_reproject reads them from its parameters. */
 typedef struct {
     float cp, sp, eta, xi, rho, isu, isv, ist;
+    float shift_x, shift_y; /* the ramp: added where the layer's own samples land (shifted) */
 } LrShear;
 
 /* Where samples e0 .. e0 + n - 1 of a packed list land (eq. 16) and their weight w_u w_v w_t
@@ -461,12 +475,13 @@ typedef struct {
 /* (always_inline: left a call, the loops were not specialised and lr_reproject took a fifth
  * more time) */
 static inline __attribute__((always_inline)) void lr_place(__global const float *P, size_t cap, int e0, int n,
-                                                           const LrShear *f, bool flat, int x0, int y0, int ww, int bx0,
+                                                           const LrShear *f, bool flat, bool shifted, int x0, int y0, int ww, int bx0,
                                                            int by0, int bx1, int by1, float *wt, int *cell)
 {
 #pragma OPENCL FP_CONTRACT OFF
     /* in registers: the stores to wt and cell below could otherwise alias *f */
     float cp = f->cp, sp = f->sp, eta = f->eta, xi = f->xi, rho = f->rho, isu = f->isu, isv = f->isv, ist = f->ist;
+    float shx = f->shift_x, shy = f->shift_y;
     for (int m = 0; m < n; ++m) {
         int e = e0 + m;
         float su = P[2 * cap + e], sv = P[3 * cap + e];
@@ -475,6 +490,7 @@ static inline __attribute__((always_inline)) void lr_place(__global const float 
         float along = eta * ur + xi * tc, across = rho * vr;
         float p = P[e] + cp * along - sp * across; /* eq. 16 */
         float q = P[cap + e] + sp * along + cp * across;
+        if (shifted) p += shx, q += shy; /* the layer's own samples (lr_partition.h: LrLayer's ramp) */
         int ix = (int)floor(p) - x0, iy = (int)floor(q) - y0;
         float weight = 1.0f;
         if (!flat) {
@@ -523,7 +539,8 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     /* flat sample weights (docs/algorithms.md 8.15, the default): every w_u w_v w_t is
      * lr_gauss(0) = 1 exactly, so the placement skips the Gaussian (a fifth of this kernel) */
     bool flat = isu == 0.0f && isv == 0.0f && ist == 0.0f;
-    LrShear sh = {cp, sp, eta, xi, rho, isu, isv, ist};
+    float ramp_x = lp[12], ramp_y = lp[13];
+    LrShear sh = {cp, sp, eta, xi, rho, isu, isv, ist, ramp_x, ramp_y};
     /* Only the grid cells the screen passes read matter: the along pass's box around the tile,
      * widened by the along radius. A sample moves at most |eta| + |xi|/2 + |rho| px (|u_r|,
      * |v_r| <= 1 on the unit lens, |t_c| <= 1/2), so source rows farther than that from
@@ -542,7 +559,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
     /* film_slack_px: how far (past its own half) a sample's film position lies from its pixel's
      * centre, at least 2 (the host measures it: a wide pixel filter, pbrt's sinc, places
      * samples up to its radius away) */
-    int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho))) + film_slack_px;
+    int reach = (int)ceil(1.01f * (fabs(eta) + 0.5f * fabs(xi) + fabs(rho) + fabs(ramp_x) + fabs(ramp_y))) + film_slack_px;
     int cy0 = max(0, ty0 - my - reach), cy1 = min(wh, ty0 + tile_px + my + reach);
     int bx0 = max(0, tx0 - mx), bx1 = min(ww, tx0 + tile_px + mx), by0 = max(0, ty0 - my), by1 = min(wh, ty0 + tile_px + my);
     for (int iy = by0; iy < by1; ++iy) { /* a row's cells are one run of floats: cleared as one */
@@ -587,9 +604,12 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             if (own) /* the next chunk's radiance, which its sums read: fetched while this chunk is placed */
                 for (int m = e0 + LR_CHUNK; m < min(e0 + 2 * LR_CHUNK, e1); ++m)
                     __builtin_prefetch(samples + (size_t)list[m] * LR_PLACE_STRIDE + LR_PLACE_L);
-            /* written out twice by the compiler: flat is a constant in each call */
-            if (flat) lr_place(P, cap, e0, n, &sh, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
-            else lr_place(P, cap, e0, n, &sh, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
+            /* written out four times by the compiler: flat and shifted are constants in each call */
+            bool shifted = own && (ramp_x != 0.0f || ramp_y != 0.0f);
+            if (flat && shifted) lr_place(P, cap, e0, n, &sh, true, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
+            else if (flat) lr_place(P, cap, e0, n, &sh, true, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
+            else if (shifted) lr_place(P, cap, e0, n, &sh, false, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
+            else lr_place(P, cap, e0, n, &sh, false, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
             for (int m = 0; m < n; ++m) {
                 if (cell[m] < 0) continue;
                 __global float *c = g + cell[m];

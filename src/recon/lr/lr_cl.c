@@ -12,14 +12,16 @@
 #include "recon/lr/lr_bucket.h"
 
 /* as in lr.cl */
-enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_TAPS_X = 12, LP_TAPS_Y = 12 + LR_MAX_RADIUS_PX + 1,
-       LP_ROUND = 12 + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_STRIDE = LP_ROUND_T + LR_ROUND_TABLE, CH = 5, ST_STRIDE = 9, LS_STRIDE = 18, BATCH_TILES = 32,
+enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAPS_Y = LP_HEAD + LR_MAX_RADIUS_PX + 1,
+       LP_ROUND = LP_HEAD + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_STRIDE = LP_ROUND_T + LR_ROUND_TABLE, CH = 5,
+       ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = 18, BATCH_TILES = 32,
        PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
 
 _Static_assert(sizeof(LrKey) == 4 * sizeof(float) && sizeof(LrPlace) == 8 * sizeof(float), "lr.cl reads LrKey as a float4, LrPlace as 8 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
                "lr.cl's tile layouts");
-_Static_assert(LP_STRIDE == 336 && LP_TAPS_Y == 45 && LP_ROUND == 78, "lr.cl's LR_LP_STRIDE, LR_TAPS_Y and LR_ROUND");
+_Static_assert(LP_STRIDE == 338 && LP_TAPS_X == 14 && LP_TAPS_Y == 47 && LP_ROUND == 80, "lr.cl's LR_LP_STRIDE, LR_TAPS_X, LR_TAPS_Y and LR_ROUND");
+_Static_assert(ST_STRIDE == 18, "lr.cl's LR_ST_STRIDE");
 _Static_assert(LR_MAX_LAYERS + 1 < LR_LAYER_SKIP && LR_LAYER_SKIP == 0x80, "lr.cl's raw layer ids are bytes, 0x80 (LR_SKIP) flags a skipped sample");
 _Static_assert(LS_STRIDE == LR_MAX_LAYERS + 2, "lr.cl's LR_LS_STRIDE: a start per raw layer and the end");
 
@@ -114,8 +116,10 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
         for (int i = 0; i < T->n_coc; ++i) T->coc_bound_px[i] = b[17 + i];
         LrLayerStats st[LR_MAX_LAYERS + 1];
         const float *o = lr->st + (size_t)t * (LR_MAX_LAYERS + 1) * ST_STRIDE;
-        for (int i = 0; i < LR_MAX_LAYERS + 1; ++i, o += ST_STRIDE)
-            st[i] = (LrLayerStats){(int)o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7], o[8]};
+        for (int i = 0; i < LR_MAX_LAYERS + 1; ++i, o += ST_STRIDE) {
+            st[i] = (LrLayerStats){(int)o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7], o[8], {{0}}};
+            memcpy(st[i].tilt.sum, o + 9, sizeof st[i].tilt.sum);
+        }
         lr_tile_finish(cfg, st, T);
         int *l = lr->tl + (size_t)t * TL_STRIDE;
         l[0] = T->layer_count;
@@ -137,8 +141,9 @@ static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
             float *p = lr->lp + ((size_t)t * L + j) * LP_STRIDE;
             int rx, ry;
             lr_screen_radii_px(f, cfg, &rx, &ry);
-            float v[LP_TAPS_X] = {lr->tiles[t].layer[j].cos_psi, lr->tiles[t].layer[j].sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px,
-                                  f->inv_sigma_u, f->inv_sigma_t, f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, (float)rx, (float)ry};
+            const LrLayer *l = &lr->tiles[t].layer[j];
+            float v[LP_HEAD] = {l->cos_psi, l->sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px, f->inv_sigma_u, f->inv_sigma_t,
+                                f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, (float)rx, (float)ry, l->ramp_x_px, l->ramp_y_px};
             memcpy(p, v, sizeof v);
             int rr;
             if (lr_screen_round(f, cfg, v[0], v[1], &rr, p + LP_ROUND_T)) { /* one 2D sum, no passes */
@@ -254,7 +259,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
              cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
                        clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem) |
-                       clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b),
+                       clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b) | clSetKernelArg(lr->stats, 24, sizeof(cl_mem), &b_s),
                    "arguments", d) &&
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)

@@ -34,6 +34,7 @@ LrConfig lr_config_default(void)
     c.bright_clamp_px = 1.0f;
     c.merge_shift_sigmas = 0.3f; /* docs/benchmarks.md, lr16: 0.5 raised motion_defocus's error, 0.6 hard's */
     c.merge_sigma_share = 0.3f;
+    c.tilt_ramp = true; /* docs/algorithms.md 8.35 */
     c.still_tiles = NULL;
     c.samples_scanned = false; /* lr_cl_run measures the samples itself */
     c.samples_nonfinite = 0;
@@ -203,9 +204,11 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     if (gaps) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, t);
     else lr_tile_bounds(cfg, zmin, zmax, t);
     int raw_n = lr_tile_raw_count(t);
+    int ix0, iy0, ix1, iy1;
+    lr_tile_pixels(img, cfg, tx, ty, &ix0, &iy0, &ix1, &iy1);
     double mx[LR_MAX_LAYERS + 1], my[LR_MAX_LAYERS + 1], bright[LR_MAX_LAYERS + 1];
     for (int i = 0; i < raw_n; ++i) {
-        st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f};
+        st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f, {{0}}};
         mx[i] = my[i] = bright[i] = 0.0;
     }
     for (int py = y0; py < y1; ++py)
@@ -215,6 +218,11 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
                 const LrKey *s = &img->key[i];
                 int r = lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px);
                 st[r].count++;
+                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
+                    const LrPlace *pl = &img->place[i];
+                    float c = s->coc_px;
+                    lr_tilt_add(&st[r].tilt, (pl->x_px - (float)x0) - c * pl->u, (pl->y_px - (float)y0) - c * pl->v, c);
+                }
                 mx[r] += s->motion_px[0];
                 my[r] += s->motion_px[1];
                 float b = img->bright[i]; /* NaN (not finite) for a non-finite radiance */
@@ -254,6 +262,25 @@ float lr_layer_contrast(const LrLayerStats *st, int raw_n, int i)
     return rest > 0.0 ? (float)(mean / rest) : INFINITY;
 }
 
+void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_px, float *ramp_y_px)
+{
+    *ramp_x_px = *ramp_y_px = 0.0f;
+    const float *m = tilt->sum;
+    if (!(m[8] >= 16.0f)) return;
+    double inv = 1.0 / m[8], x = m[0] * inv, y = m[1] * inv, c = m[2] * inv;
+    double vxx = m[3] * inv - x * x, vyy = m[4] * inv - y * y, vxy = m[5] * inv - x * y;
+    double cx = m[6] * inv - x * c, cy = m[7] * inv - y * c;
+    double det = vxx * vyy - vxy * vxy, half = 0.5 * (vxx - vyy);
+    /* the points' spread along their narrowest direction (the covariance's smaller eigenvalue,
+     * px^2): a layer a few pixels wide in some direction (under sqrt(12) px, the variance of
+     * such a band being its width^2 / 12) has no gradient across it worth fitting */
+    double narrow = 0.5 * (vxx + vyy) - sqrt(half * half + vxy * vxy);
+    if (!(narrow >= 1.0) || !(det > 0.0)) return;
+    double gx = (cx * vyy - cy * vxy) / det, gy = (cy * vxx - cx * vxy) / det;
+    float rx = (float)(-eta_px * gx / 4.0), ry = (float)(-rho_px * gy / 4.0);
+    if (isfinite(rx) && isfinite(ry)) *ramp_x_px = rx, *ramp_y_px = ry;
+}
+
 /* A layer's filter from its slopes, with the bright-layer clamp (8.24) where its contrast asks. */
 static LrFilter layer_filter(const LrConfig *cfg, const LrSlopes *slopes, float contrast)
 {
@@ -270,6 +297,7 @@ static void merge_into(const LrConfig *cfg, LrLayer *front, const LrLayer *back)
     LrSlopes *a = &front->slopes;
     const LrSlopes *b = &back->slopes;
     front->count += back->count;
+    for (int k = 0; k < LR_TILT_SUMS; ++k) front->tilt.sum[k] += back->tilt.sum[k];
     a->c_min_px = min_f(a->c_min_px, b->c_min_px), a->c_max_px = max_f(a->c_max_px, b->c_max_px);
     a->d_min_px = min_f(a->d_min_px, b->d_min_px), a->d_max_px = max_f(a->d_max_px, b->d_max_px);
     front->filter = layer_filter(cfg, a, front->contrast);
@@ -321,6 +349,7 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
          * few percent of the layer's light past the disk's rim, docs/algorithms.md 8.24)
          * would outshine the background, so the layer keeps its blur in its samples. */
         t->layer[j].contrast = lr_layer_contrast(st, raw_n, i);
+        t->layer[j].tilt = st[i].tilt;
         t->layer[j].filter = layer_filter(cfg, &t->layer[j].slopes, t->layer[j].contrast);
     }
     /* Neighbours with (almost) the same filter: one partition (8.34) whose slope ranges are
@@ -342,6 +371,14 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
         if (t->compact[i] >= 0) t->compact[i] = map[t->compact[i]];
     for (int i = raw_n; i < LR_MAX_LAYERS + 1; ++i) t->compact[i] = -1; /* no such raw layer (lr.cl reads all 17) */
     t->layer_count = kept;
+    /* The tilt's centroid shift (8.35) for the layers the lens alone blurs, in the unrotated
+     * frame their shears are in. */
+    for (int j = 0; j < kept; ++j) {
+        LrLayer *l = &t->layer[j];
+        l->ramp_x_px = l->ramp_y_px = 0.0f;
+        if (cfg->tilt_ramp && l->cos_psi == 1.0f && l->sin_psi == 0.0f && l->filter.xi_px == 0.0f)
+            lr_tilt_ramp(&l->tilt, l->filter.eta_px, l->filter.rho_px, &l->ramp_x_px, &l->ramp_y_px);
+    }
 }
 
 /* |a - b| within share of |a| (both 0 included) */

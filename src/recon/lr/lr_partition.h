@@ -107,6 +107,9 @@ typedef struct {
      * merge_shift_sigmas 0: never merged. docs/algorithms.md 8.34. */
     float merge_shift_sigmas;
     float merge_sigma_share;
+    /* A static layer's own samples shifted by the centroid shift of its surface's tilt
+     * (LrLayer.ramp_x_px, lr_tilt_ramp; docs/algorithms.md 8.35); false: never. */
+    bool tilt_ramp;
     const unsigned char *still_tiles; /* per tile (row-major, lr_tile_count's), non-zero: a
                                        * tile with nothing to move, left out (no layers, its
                                        * pixels 0 in the output); NULL: none */
@@ -131,6 +134,25 @@ static inline void lr_scan_sample(const LrPlace *p, int px, int py, long *nonfin
     if (dy > *film_dev_px) *film_dev_px = dy;
 }
 
+/* A layer's samples' CoC slope c against the position of the point each sees through the lens
+ * centre (x, y: its film position less c (u, v), less the window's corner; px), for the slope's
+ * gradient over the surface (lr_tilt_ramp): over the
+ * samples of the tile's own pixels (a quarter of the window: the statistics' sweep sums each
+ * sample four times, once per window that holds it, and these nine sums cost a quarter of it
+ * over the whole window), the sums of x, y, c, x^2, y^2, x y, x c, y c and their count in
+ * floats, sample by sample in window order (C and lr.cl: the same sums). */
+enum { LR_TILT_SUMS = 9 };
+typedef struct {
+    float sum[LR_TILT_SUMS]; /* sum[8]: the count */
+} LrTilt;
+
+/* Sample (x, y, c) into a layer's sums (the order of the fields of LrTilt). */
+static inline void lr_tilt_add(LrTilt *t, float x, float y, float c)
+{
+    float *m = t->sum;
+    m[0] += x, m[1] += y, m[2] += c, m[3] += x * x, m[4] += y * y, m[5] += x * y, m[6] += x * c, m[7] += y * c, m[8] += 1.0f;
+}
+
 /* One layer of a tile (a partition). */
 typedef struct {
     int count;                  /* samples of the window in the layer */
@@ -140,6 +162,12 @@ typedef struct {
                                  * window's (lr_layer_contrast) */
     LrSlopes slopes;
     LrFilter filter;
+    LrTilt tilt;                /* its own samples' slope-against-position sums (merged
+                                 * layers: added) */
+    /* Where the layer's own samples land is moved by (ramp_x_px, ramp_y_px): the centroid
+     * shift of a tilted surface's defocus splat that its screen disk lacks (lr_tilt_ramp,
+     * docs/algorithms.md 8.35); 0 for a layer with motion or without a tilt. */
+    float ramp_x_px, ramp_y_px;
 } LrLayer;
 
 /* The layers of one tile: a sample's layer is the number of depth bounds below its depth plus
@@ -179,7 +207,13 @@ typedef struct {
     float d_min_px, d_max_px;
     float across_px;
     float bright_sum;
+    LrTilt tilt;
 } LrLayerStats;
+
+/* The shift of a static layer's own samples (psi = 0, no shutter shear) that gives its screen
+ * disk the tilt's centroid shift (docs/algorithms.md 8.35): with g = (dc/dX, dc/dY) the
+ * gradient of the samples' slope over their lens-centre points, fitted from `tilt`, the shift is (-eta g_x / 4, -rho g_y / 4) px. 0 when the fit is degenerate. */
+void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_px, float *ramp_y_px);
 
 /* cfg->uniform_layers within [1, 7] and cfg->gap_slabs within [0, LR_MAX_COC_BOUNDS]: the
  * counts the partition (C and lr.cl alike) works with. */

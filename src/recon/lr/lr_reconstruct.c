@@ -105,6 +105,8 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                 const LrPlace *s = &img->place[sample_at[order[e]]];
                 float p, q, w;
                 lr_reproject(s, cp, sp, f, &p, &q, &w);
+                if (r < raw_e) /* the tilt's centroid shift (8.35), the layer's own samples only */
+                    p += tile.layer[j].ramp_x_px, q += tile.layer[j].ramp_y_px;
                 int ix = (int)floorf(p) - x0, iy = (int)floorf(q) - y0;
                 if (ix < 0 || iy < 0 || ix >= ww || iy >= wh || w == 0.0f) continue;
                 float *g = &grid[((size_t)iy * ww + ix) * CH_COUNT];
