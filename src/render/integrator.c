@@ -352,10 +352,16 @@ WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, const Vertex *from,
     if (!hit) {
         for (int k = 0; k < L->infinite_count; ++k) {
             int li = L->infinite[k];
-            /* the light's pick probability as lights_choose has it (LightChoice.pmf is
-             * lights_pmf's value), without the call */
-            float pdf_light = L->choice[li].pmf * sky_pdf_at(L, li, from, wi);
-            float w = no_mis || sky_by_bsdf_alone(sc, from, li, depth) ? 1.0f : mis_power(pdf_bsdf, pdf_light);
+            /* the light's density is looked up only where MIS weighs it (under the sky from
+             * the bounce ray alone, every escaping ray of a Lambert vertex before the last: no
+             * cosine density a ray) */
+            float w = 1.0f;
+            if (!no_mis && !sky_by_bsdf_alone(sc, from, li, depth)) {
+                /* the light's pick probability as lights_choose has it (LightChoice.pmf is
+                 * lights_pmf's value), without the call */
+                float pdf_light = L->choice[li].pmf * sky_pdf_at(L, li, from, wi);
+                w = mis_power(pdf_bsdf, pdf_light);
+            }
             sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), w));
         }
         return sum;
@@ -1344,25 +1350,41 @@ static inline int light_send_lambert_triangle(const IntegratorScene *sc, const W
     return g->send[k];
 }
 
+/* The rules of a stage at one depth, the same for every path: found once a stage and handed
+ * to wave_vertex_rays (each is a few loads through sc and sc->lights, which the per-path
+ * loop cannot hoist past its stores). */
+typedef struct {
+    bool light_only; /* lambert_light_only */
+    bool picks;      /* vertex_uses_light_dims */
+    bool bsdf_dims;  /* vertex_uses_bsdf_dims */
+    bool box_test;   /* emitter_box_test */
+} StageRules;
+
+static inline StageRules stage_rules(const IntegratorScene *sc, int depth)
+{
+    return (StageRules){lambert_light_only(sc, depth), vertex_uses_light_dims(sc, depth),
+                        vertex_uses_bsdf_dims(sc, depth), emitter_box_test(sc, depth)};
+}
+
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. Inlined into its one caller: the
  * call's eleven arguments and large frame cost about 100 instructions per indirect sample. */
 static inline __attribute__((always_inline)) void wave_vertex_rays(const IntegratorScene *sc, Wave *w,
                                                                    const WaveSampling *ws, const WavePixel *pixels,
-                                                                   int j, int depth, SampleRecord *rec,
-                                                                   IntegratorStats *st, int *n_occ, int *n_rec,
-                                                                   int *n_hit)
+                                                                   int j, int depth, StageRules rules,
+                                                                   SampleRecord *rec, IntegratorStats *st, int *n_occ,
+                                                                   int *n_rec, int *n_hit)
 {
     WavePath *p = &w->path[j];
     const Vertex *v = &p->v;
     const LightSet *L = sc->lights;
     TracerRay shadow;
     bool lit = vertex_lit(v);
-    bool light_only = lambert_light_only(sc, depth);
+    bool light_only = rules.light_only;
     p->light_recorded = false;
     /* with nothing to pick, the vertex takes no picked light's sample (its pick and
      * tri_group were not set: wave_triangle_light_samples) */
-    bool picks = vertex_uses_light_dims(sc, depth);
+    bool picks = rules.picks;
     bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     p->light_valued = valued;
     if (valued) {
@@ -1438,8 +1460,8 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     p->unfiltered_light = p->unfiltered;
     p->bounce = false;
 
-    if (!vertex_uses_bsdf_dims(sc, depth) || (light_only && !v->glossy)) return;
-    bool box_test = emitter_box_test(sc, depth); /* glossy last rays (Lambert ones: lambert_light_only) */
+    if (!rules.bsdf_dims || (light_only && !v->glossy)) return;
+    bool box_test = rules.box_test; /* glossy last rays (Lambert ones: lambert_light_only) */
     vec3 o;
     if (v->glossy) {
         float u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), vertex_dim0(sc, depth) + 3);
@@ -1476,7 +1498,13 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     if (depth < sc->max_depth) ++st->rays_indirect;
     else ++st->rays_bsdf;
     p->hit_slot = (*n_hit)++;
-    w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
+    /* field by field into the batch's slot (as light_send_lambert_triangle's shadow rays) */
+    TracerRay *ray = &w->ray_hit[p->hit_slot];
+    ray->o = o;
+    ray->d = p->vs.wi;
+    ray->tmax = INFINITY;
+    ray->time01 = p->time01;
+    ray->skip_mask = 0u;
 }
 
 /* The box test for the stage's n_hit queued last rays at once (lights_rays_may_reach_emitter,
@@ -1716,9 +1744,11 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
         if (delta_lights > 0) wave_delta_light_samples(sc, w, n, st);
         wave_triangle_light_samples(sc, w, n, depth);
         if (lambert_uses_bsdf(sc, depth)) wave_lambert_bounces(w, n);
+        StageRules rules = stage_rules(sc, depth);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive)
-                wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);
+                wave_vertex_rays(sc, w, ws, pixels, j, depth, rules, wave_out_record(out, j), st, &n_occ, &n_rec,
+                                 &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         if (delta_lights > 0) {
