@@ -112,9 +112,11 @@ static inline __attribute__((always_inline)) void make_vertex(const IntegratorSc
         v->albedo = v3s(0.0f);
     } else {
         /* an untextured diffuse material's albedo is its reflectance, without the call; a
-         * textured one's is material_albedo's, without its look-up of mat (mat is diffuse:
-         * material_resolve leaves a diffuse or a glossy material) */
-        v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
+         * 2D checkerboard of two constants' is found inline (material_checker_albedo); any
+         * other textured one's is material_albedo's, without its look-up of mat (mat is
+         * diffuse: material_resolve leaves a diffuse or a glossy material) */
+        if (mat->checker) v->albedo = material_checker_albedo(mat, h->uv);
+        else v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
         float cos_ns = v3_dot(h->ns, wo);
         bool flip = cos_ns < 0.0f;
         v->n = flip ? v3_neg(h->ns) : h->ns;
