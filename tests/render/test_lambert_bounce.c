@@ -48,22 +48,13 @@ typedef struct {
 
 static void run_lanes(Lanes *l, int count)
 {
-    LambertBounceIn in = {{l->p[0], l->p[1], l->p[2]},
-                          {l->ng[0], l->ng[1], l->ng[2]},
-                          l->err,
-                          {l->n[0], l->n[1], l->n[2]},
-                          l->cos_o,
-                          {l->albedo[0], l->albedo[1], l->albedo[2]},
-                          {l->beta[0], l->beta[1], l->beta[2]},
-                          {l->local[0], l->local[1], l->local[2]},
-                          l->lambert};
-    LambertBounceOut out = {{l->wi[0], l->wi[1], l->wi[2]},
-                            l->pdf,
-                            {l->beta_next[0], l->beta_next[1], l->beta_next[2]},
-                            {l->o[0], l->o[1], l->o[2]},
-                            l->sampled,
-                            l->guarded,
-                            l->bounce};
+    LambertBounceIn in = {.err = l->err, .cos_o = l->cos_o, .lambert = l->lambert};
+    LambertBounceOut out = {.pdf = l->pdf, .sampled = l->sampled, .guarded = l->guarded, .bounce = l->bounce};
+    for (int c = 0; c < 3; ++c) {
+        in.p[c] = l->p[c], in.ng[c] = l->ng[c], in.n[c] = l->n[c];
+        in.albedo[c] = l->albedo[c], in.beta[c] = l->beta[c], in.local[c] = l->local[c];
+        out.wi[c] = l->wi[c], out.beta_next[c] = l->beta_next[c], out.o[c] = l->o[c];
+    }
     lambert_bounce_lanes(count, &in, &out);
 }
 
