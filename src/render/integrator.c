@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "core/vectorise.h"
+#include "render/lambert_bounce.h"
 #include "render/light_choose.h"
 #include "render/warp.h"
 
@@ -68,8 +69,9 @@ typedef struct {
     vec3 wo;      /* unit, towards where the path came from */
     vec3 n;       /* Lambert: shading normal flipped to wo's side (the lobe's axis);
                    * glossy: the shading normal as is (dielectrics need inside / outside) */
-    vec3 t1, t2;  /* tangents completing the local frame (t1, t2, n); a Lambert vertex that
-                   * samples no direction (make_vertex's `sampled`) leaves them unset */
+    vec3 t1, t2;  /* glossy: tangents completing the local frame (t1, t2, n); a Lambert
+                   * vertex leaves them unset (its bounce is sampled in lanes, which make
+                   * their own: wave_lambert_bounces) */
     bool glossy;
     vec3 albedo;  /* Lambert reflectance */
     float cos_o;  /* Lambert: v3_dot(n, wo) */
@@ -84,11 +86,11 @@ static vec3 from_local(const Vertex *v, vec3 l)
     return v3_normalize(v3_add(v3_add(v3_scale(v->t1, l.x), v3_scale(v->t2, l.y)), v3_scale(v->n, l.z)));
 }
 
-/* `sampled`: whether a Lambert vertex may sample its BSDF (lambert_uses_bsdf); it needs
- * its tangents only for that (vertex_sample's direction, which runs under the
- * same test), a glossy one for every f. */
+/* A glossy vertex takes its tangents here, for every f; a Lambert one needs them only to
+ * sample its bounce, which wave_lambert_bounces does for the stage's Lambert vertices in
+ * lanes, tangents included. */
 static inline __attribute__((always_inline)) void make_vertex(const IntegratorScene *sc, const SurfaceHit *h, vec3 wo,
-                                                               bool sampled, Vertex *v)
+                                                               Vertex *v)
 {
     const MaterialTable *mt = sc->materials;
     v->hit = *h;
@@ -110,21 +112,22 @@ static inline __attribute__((always_inline)) void make_vertex(const IntegratorSc
         v->albedo = v3s(0.0f);
     } else {
         /* an untextured diffuse material's albedo is its reflectance, without the call; a
-         * textured one's is material_albedo's, without its look-up of mat (mat is diffuse:
-         * material_resolve leaves a diffuse or a glossy material) */
-        v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
+         * 2D checkerboard of two constants' is found inline (material_checker_albedo); any
+         * other textured one's is material_albedo's, without its look-up of mat (mat is
+         * diffuse: material_resolve leaves a diffuse or a glossy material) */
+        if (mat->checker) v->albedo = material_checker_albedo(mat, h->uv);
+        else v->albedo = material_textured(mt, mat) ? material_diffuse_albedo(mt, mat, h->uv, h->p) : mat->reflectance;
         float cos_ns = v3_dot(h->ns, wo);
         bool flip = cos_ns < 0.0f;
         v->n = flip ? v3_neg(h->ns) : h->ns;
         /* v3_dot(v->n, wo) bit for bit: negating every term of a sum negates a nonzero sum
          * exactly (round to nearest is symmetric), and a flipped sum is < 0 */
         v->cos_o = flip ? -cos_ns : cos_ns;
-        if (sampled) v3_basis(v->n, &v->t1, &v->t2);
     }
 }
 
 /* f(wo, wi) (no cosine), the |cosine| of wi at the shading normal, and the solid-angle
- * pdf with which vertex_sample would pick wi (non-delta lobes only). */
+ * pdf with which BSDF sampling would pick wi (non-delta lobes only). */
 static vec3 vertex_f(const Vertex *v, vec3 wi, float *cos_abs, float *pdf)
 {
     if (v->glossy) {
@@ -146,30 +149,17 @@ typedef struct {
     bool delta;
 } VertexSample;
 
-/* BSDF sampling: Lambert takes the cosine-weighted direction about n, lambert_local =
- * warp_cosine_hemisphere(u) (drawn for a whole run by wave_vertex_dims); glossy BSDFs choose
- * a lobe with u_lobe and sample it with u (bsdf_glossy.h). False when nothing was sampled. */
-WAVE_STAGE bool vertex_sample(const Vertex *v, float u_lobe, vec2 u, vec3 lambert_local, VertexSample *vs)
+/* BSDF sampling at a glossy vertex: a lobe chosen with u_lobe and sampled with u
+ * (bsdf_glossy.h). False when nothing was sampled. (A Lambert vertex's bounce is sampled in
+ * lanes: wave_lambert_bounces.) */
+WAVE_STAGE bool glossy_vertex_sample(const Vertex *v, float u_lobe, vec2 u, VertexSample *vs)
 {
-    if (v->glossy) {
-        GlossySample gs;
-        if (!glossy_sample(&v->bsdf, v->wo_l, u_lobe, u, &gs)) return false;
-        vs->wi = from_local(v, gs.wi);
-        vs->pdf = gs.pdf;
-        vs->delta = gs.delta;
-        vs->weight = v3_scale(gs.f, fabsf(gs.wi.z) / gs.pdf);
-        return true;
-    }
-    /* A unit vector in an orthonormal frame is unit to rounding (a few 1e-7): no
-     * normalisation (a square root and a division on the way to the bounce ray). */
-    vs->wi = v3_add(v3_add(v3_scale(v->t1, lambert_local.x), v3_scale(v->t2, lambert_local.y)), v3_scale(v->n, lambert_local.z));
-    float cos_i = v3_dot(v->n, vs->wi), cos_o = v3_dot(v->n, v->wo);
-    vs->delta = false;
-    vs->pdf = bsdf_diffuse_pdf(cos_o, cos_i);
-    if (!(vs->pdf > 0.0f)) return false;
-    /* f |cos| / pdf for a pdf > 0, which implies cos_o cos_i > 0: f is albedo / pi
-     * (bsdf_diffuse_f's same-side value) */
-    vs->weight = v3_scale(v3_scale(v->albedo, 0.318309886f), cos_i / vs->pdf);
+    GlossySample gs;
+    if (!glossy_sample(&v->bsdf, v->wo_l, u_lobe, u, &gs)) return false;
+    vs->wi = from_local(v, gs.wi);
+    vs->pdf = gs.pdf;
+    vs->delta = gs.delta;
+    vs->weight = v3_scale(gs.f, fabsf(gs.wi.z) / gs.pdf);
     return true;
 }
 
@@ -364,10 +354,16 @@ WAVE_STAGE vec3 bsdf_ray_emission(const IntegratorScene *sc, const Vertex *from,
     if (!hit) {
         for (int k = 0; k < L->infinite_count; ++k) {
             int li = L->infinite[k];
-            /* the light's pick probability as lights_choose has it (LightChoice.pmf is
-             * lights_pmf's value), without the call */
-            float pdf_light = L->choice[li].pmf * sky_pdf_at(L, li, from, wi);
-            float w = no_mis || sky_by_bsdf_alone(sc, from, li, depth) ? 1.0f : mis_power(pdf_bsdf, pdf_light);
+            /* the light's density is looked up only where MIS weighs it (under the sky from
+             * the bounce ray alone, every escaping ray of a Lambert vertex before the last: no
+             * cosine density a ray) */
+            float w = 1.0f;
+            if (!no_mis && !sky_by_bsdf_alone(sc, from, li, depth)) {
+                /* the light's pick probability as lights_choose has it (LightChoice.pmf is
+                 * lights_pmf's value), without the call */
+                float pdf_light = L->choice[li].pmf * sky_pdf_at(L, li, from, wi);
+                w = mis_power(pdf_bsdf, pdf_light);
+            }
             sum = v3_add(sum, v3_scale(infinite_light_L(L, li, wi), w));
         }
         return sum;
@@ -512,15 +508,23 @@ typedef struct {
     float px[SAMPLER_RUN_MAX], py[SAMPLER_RUN_MAX], lens_u[SAMPLER_RUN_MAX], lens_v[SAMPLER_RUN_MAX];
 } CameraBatch;
 
-/* Each path's current vertex as a receiver of the delta lights, one lane per path, written
- * beside its Vertex (receiver_to_lanes): position, geometric normal and offset (every live
- * vertex), a Lambert vertex's lobe axis n, cos_o and albedo, and whether the path is alive
- * at a Lambert vertex (lambert: 0 for the others, whose other lanes are stale). */
+/* Each path's current vertex, one lane per path, written beside its Vertex
+ * (receiver_to_lanes), for the delta lights and the Lambert bounces: position, geometric
+ * normal and offset (every live vertex), a Lambert vertex's lobe axis n, cos_o, albedo and
+ * the path's throughput beta, and whether the path is alive at a Lambert vertex (lambert: 0
+ * for the others, whose other lanes are stale). */
 typedef struct {
     float p[3][WAVE_SAMPLES], ng[3][WAVE_SAMPLES], err[WAVE_SAMPLES];
-    float n[3][WAVE_SAMPLES], cos_o[WAVE_SAMPLES], albedo[3][WAVE_SAMPLES];
+    float n[3][WAVE_SAMPLES], cos_o[WAVE_SAMPLES], albedo[3][WAVE_SAMPLES], beta[3][WAVE_SAMPLES];
     int lambert[WAVE_SAMPLES];
 } WaveReceivers;
+
+/* The Lambert vertices' bounces of a stage, one lane per path (lambert_bounce.h; lanes of
+ * other paths hold values nothing reads). */
+typedef struct {
+    float wi[3][WAVE_SAMPLES], pdf[WAVE_SAMPLES], beta_next[3][WAVE_SAMPLES], o[3][WAVE_SAMPLES];
+    int sampled[WAVE_SAMPLES], guarded[WAVE_SAMPLES], bounce[WAVE_SAMPLES];
+} WaveLambertBounces;
 
 /* One delta light of LightSet.delta_every at the stage's vertices, one lane per path of the
  * wave (lane j: path j; lanes of dead or unlit paths hold values nothing keeps). A point or
@@ -614,6 +618,7 @@ struct Wave {
      * streams read cam_d and cam_time01 in place) */
     _Alignas(16) float cam_o[3][WAVE_SAMPLES], cam_d[3][WAVE_SAMPLES], cam_time01[WAVE_SAMPLES];
     WaveReceivers rx;
+    WaveLambertBounces lb;
     /* the delta lights lit at every vertex, entry k for LightSet.delta_every[k] */
     WaveDeltaSamples delta[LIGHTS_DELTA_EVERY_MAX];
     /* the delta rays of the occlusion batch (ray_occ) made path by path: ray delta_fix_ray[i]
@@ -698,8 +703,7 @@ static inline bool vertex_uses_bsdf_dims(const IntegratorScene *sc, int depth)
     return depth < sc->max_depth || sc->lights->has_area || sc->lights->infinite_count > 0;
 }
 
-/* Whether a Lambert vertex at `depth` samples a direction (make_vertex's `sampled`: its
- * frame is needed only then). */
+/* Whether a Lambert vertex at `depth` samples a direction (in lanes: wave_lambert_bounces). */
 static inline bool lambert_uses_bsdf(const IntegratorScene *sc, int depth)
 {
     return vertex_uses_bsdf_dims(sc, depth) && !lambert_light_only(sc, depth);
@@ -842,6 +846,33 @@ static inline void receiver_to_lanes(WaveReceivers *rx, int j, const WavePath *p
     rx->n[0][j] = v->n.x, rx->n[1][j] = v->n.y, rx->n[2][j] = v->n.z;
     rx->cos_o[j] = v->cos_o;
     rx->albedo[0][j] = v->albedo.x, rx->albedo[1][j] = v->albedo.y, rx->albedo[2][j] = v->albedo.z;
+    rx->beta[0][j] = p->beta.x, rx->beta[1][j] = p->beta.y, rx->beta[2][j] = p->beta.z;
+}
+
+/* The bounces of the stage's Lambert vertices (lambert_uses_bsdf), lanes [0, n): their
+ * directions from the BSDF dimensions' cosine-weighted directions (wave_vertex_dims), their
+ * throughputs and their rays' origins. wave_vertex_rays reads a Lambert path's lane. */
+static void wave_lambert_bounces(Wave *w, int n)
+{
+    const WaveReceivers *rx = &w->rx;
+    WaveLambertBounces *b = &w->lb;
+    LambertBounceIn in = {{rx->p[0], rx->p[1], rx->p[2]},
+                          {rx->ng[0], rx->ng[1], rx->ng[2]},
+                          rx->err,
+                          {rx->n[0], rx->n[1], rx->n[2]},
+                          rx->cos_o,
+                          {rx->albedo[0], rx->albedo[1], rx->albedo[2]},
+                          {rx->beta[0], rx->beta[1], rx->beta[2]},
+                          {w->dim_cosine[0], w->dim_cosine[1], w->dim_cosine[2]},
+                          rx->lambert};
+    LambertBounceOut out = {{b->wi[0], b->wi[1], b->wi[2]},
+                            b->pdf,
+                            {b->beta_next[0], b->beta_next[1], b->beta_next[2]},
+                            {b->o[0], b->o[1], b->o[2]},
+                            b->sampled,
+                            b->guarded,
+                            b->bounce};
+    lambert_bounce_lanes(n, &in, &out);
 }
 
 /* What the camera ray found: emission seen directly, the first hit's record fields (rec:
@@ -849,7 +880,7 @@ static inline void receiver_to_lanes(WaveReceivers *rx, int j, const WavePath *p
  * twenty-first round (its call cost about 20 instructions a sample; the fourteenth round had
  * found it dearer inline, in the base build alone, which still holds: +0.4%). */
 WAVE_STAGE void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_world, bool found, const SurfaceHit *h,
-                               bool sampled, SampleRecord *rec, SampleRadiance *R, IntegratorStats *st)
+                               SampleRecord *rec, SampleRadiance *R, IntegratorStats *st)
 {
     p->alive = false;
     if (!found) {
@@ -875,7 +906,7 @@ WAVE_STAGE void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_wo
         return;
     }
     Vertex *v = &p->v;
-    make_vertex(sc, h, v3_neg(d_world), sampled, v);
+    make_vertex(sc, h, v3_neg(d_world), v);
     if (rec) rec->hit = true;
     /* fields only the G-buffer, the methods and the AOVs read: skipped when none of them
      * runs (render_reads.h; about 3% of a --filter none sample on soft_shadows) */
@@ -1323,25 +1354,41 @@ static inline int light_send_lambert_triangle(const IntegratorScene *sc, const W
     return g->send[k];
 }
 
+/* The rules of a stage at one depth, the same for every path: found once a stage and handed
+ * to wave_vertex_rays (each is a few loads through sc and sc->lights, which the per-path
+ * loop cannot hoist past its stores). */
+typedef struct {
+    bool light_only; /* lambert_light_only */
+    bool picks;      /* vertex_uses_light_dims */
+    bool bsdf_dims;  /* vertex_uses_bsdf_dims */
+    bool box_test;   /* emitter_box_test */
+} StageRules;
+
+static inline StageRules stage_rules(const IntegratorScene *sc, int depth)
+{
+    return (StageRules){lambert_light_only(sc, depth), vertex_uses_light_dims(sc, depth),
+                        vertex_uses_bsdf_dims(sc, depth), emitter_box_test(sc, depth)};
+}
+
 /* Stage one of a vertex: its light sample's shadow ray and its BSDF-sampled bounce ray
  * (independent of each other), queued for the batches. Inlined into its one caller: the
  * call's eleven arguments and large frame cost about 100 instructions per indirect sample. */
 static inline __attribute__((always_inline)) void wave_vertex_rays(const IntegratorScene *sc, Wave *w,
                                                                    const WaveSampling *ws, const WavePixel *pixels,
-                                                                   int j, int depth, SampleRecord *rec,
-                                                                   IntegratorStats *st, int *n_occ, int *n_rec,
-                                                                   int *n_hit)
+                                                                   int j, int depth, StageRules rules,
+                                                                   SampleRecord *rec, IntegratorStats *st, int *n_occ,
+                                                                   int *n_rec, int *n_hit)
 {
     WavePath *p = &w->path[j];
     const Vertex *v = &p->v;
     const LightSet *L = sc->lights;
     TracerRay shadow;
     bool lit = vertex_lit(v);
-    bool light_only = lambert_light_only(sc, depth);
+    bool light_only = rules.light_only;
     p->light_recorded = false;
     /* with nothing to pick, the vertex takes no picked light's sample (its pick and
      * tri_group were not set: wave_triangle_light_samples) */
-    bool picks = vertex_uses_light_dims(sc, depth);
+    bool picks = rules.picks;
     bool valued = picks && lit && !v->glossy && p->tri_group >= 0 && !w->tri[p->tri_group].redo[p->tri_lane];
     p->light_valued = valued;
     if (valued) {
@@ -1417,17 +1464,28 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     p->unfiltered_light = p->unfiltered;
     p->bounce = false;
 
-    if (!vertex_uses_bsdf_dims(sc, depth) || (light_only && !v->glossy)) return;
-    vec3 lambert_local = v3(w->dim_cosine[0][j], w->dim_cosine[1][j], w->dim_cosine[2][j]);
-    bool box_test = emitter_box_test(sc, depth); /* glossy last rays (Lambert ones: lambert_light_only) */
-    float u_lobe = 0.5f; /* Lambert: unused */
-    if (v->glossy)
-        u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), vertex_dim0(sc, depth) + 3);
-    if (!vertex_sample(v, u_lobe, w->dim_bsdf[j], lambert_local, &p->vs)) return;
-    p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
-    if (max_component_nonpositive(p->beta_next)) return;
-    if (depth == 1 && p->vs.delta) p->unfiltered = true;
-    vec3 o = surface_offset(&v->hit, p->vs.wi);
+    if (!rules.bsdf_dims || (light_only && !v->glossy)) return;
+    bool box_test = rules.box_test; /* glossy last rays (Lambert ones: lambert_light_only) */
+    vec3 o;
+    if (v->glossy) {
+        float u_lobe = sampler_1d_at(wave_sampler(w, ws, pixels, p->pixel, p->sample_index), vertex_dim0(sc, depth) + 3);
+        if (!glossy_vertex_sample(v, u_lobe, w->dim_bsdf[j], &p->vs)) return;
+        p->beta_next = guard3(v3_mul(p->beta, p->vs.weight), st);
+        if (max_component_nonpositive(p->beta_next)) return;
+        if (depth == 1 && p->vs.delta) p->unfiltered = true;
+        o = surface_offset(&v->hit, p->vs.wi);
+    } else {
+        /* the lane wave_lambert_bounces sampled (what the path reads of vs: wi, pdf, delta) */
+        const WaveLambertBounces *b = &w->lb;
+        if (!b->sampled[j]) return;
+        st->guarded_events += b->guarded[j];
+        if (!b->bounce[j]) return;
+        p->vs.wi = v3(b->wi[0][j], b->wi[1][j], b->wi[2][j]);
+        p->vs.pdf = b->pdf[j];
+        p->vs.delta = false;
+        p->beta_next = v3(b->beta_next[0][j], b->beta_next[1][j], b->beta_next[2][j]);
+        o = v3(b->o[0][j], b->o[1][j], b->o[2][j]);
+    }
     if (box_test) {
         /* a glossy last ray: sampled, weighed and guarded as ever, and queued for the test,
          * which writes its ray if it keeps it */
@@ -1444,7 +1502,13 @@ static inline __attribute__((always_inline)) void wave_vertex_rays(const Integra
     if (depth < sc->max_depth) ++st->rays_indirect;
     else ++st->rays_bsdf;
     p->hit_slot = (*n_hit)++;
-    w->ray_hit[p->hit_slot] = (TracerRay){o, p->vs.wi, INFINITY, p->time01, 0u};
+    /* field by field into the batch's slot (as light_send_lambert_triangle's shadow rays) */
+    TracerRay *ray = &w->ray_hit[p->hit_slot];
+    ray->o = o;
+    ray->d = p->vs.wi;
+    ray->tmax = INFINITY;
+    ray->time01 = p->time01;
+    ray->skip_mask = 0u;
 }
 
 /* The box test for the stage's n_hit queued last rays at once (lights_rays_may_reach_emitter,
@@ -1618,7 +1682,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
         record_glossy_bsdf(p, e, rec, st);
     if (!hit || depth == sc->max_depth) return;
     p->beta = p->beta_next;
-    make_vertex(sc, nh, v3_neg(wi), lambert_uses_bsdf(sc, depth + 1), &p->v);
+    make_vertex(sc, nh, v3_neg(wi), &p->v);
     p->alive = true;
 }
 
@@ -1652,15 +1716,14 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
                                    0u};
     tracer_intersect_arrays(sc->tracer, &camera_rays, n, true, true, w->hit, w->hit_found);
     bool any_alive = false;
-    /* whether the first vertex samples its BSDF: the same for every path, so found once
-     * (its loads through sc->lights were a part of every hit) */
-    bool sampled_first = lambert_uses_bsdf(sc, 1);
-    /* the receivers' lanes are read only by the delta lights' stage */
+    /* the receivers' lanes are read by the delta lights' stage and by the Lambert bounces,
+     * which every vertex before the last samples (lambert_uses_bsdf) */
     bool delta_lanes = sc->lights->delta_every_count > 0;
+    bool rx_lanes = delta_lanes || sc->max_depth > 1 || lambert_uses_bsdf(sc, 1);
     for (int j = 0; j < n; ++j) {
-        wave_first_hit(sc, &w->path[j], v3(w->cam_d[0][j], w->cam_d[1][j], w->cam_d[2][j]), w->hit_found[j], &w->hit[j], sampled_first, wave_out_record(out, j),
-                       wave_out_radiance(out, j), st);
-        if (delta_lanes) receiver_to_lanes(&w->rx, j, &w->path[j]);
+        wave_first_hit(sc, &w->path[j], v3(w->cam_d[0][j], w->cam_d[1][j], w->cam_d[2][j]), w->hit_found[j], &w->hit[j],
+                       wave_out_record(out, j), wave_out_radiance(out, j), st);
+        if (rx_lanes) receiver_to_lanes(&w->rx, j, &w->path[j]);
         any_alive |= w->path[j].alive;
     }
 
@@ -1684,9 +1747,12 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
         int delta_lights = sc->lights->delta_every_count;
         if (delta_lights > 0) wave_delta_light_samples(sc, w, n, st);
         wave_triangle_light_samples(sc, w, n, depth);
+        if (lambert_uses_bsdf(sc, depth)) wave_lambert_bounces(w, n);
+        StageRules rules = stage_rules(sc, depth);
         for (int j = 0; j < n; ++j)
             if (w->path[j].alive)
-                wave_vertex_rays(sc, w, ws, pixels, j, depth, wave_out_record(out, j), st, &n_occ, &n_rec, &n_hit);
+                wave_vertex_rays(sc, w, ws, pixels, j, depth, rules, wave_out_record(out, j), st, &n_occ, &n_rec,
+                                 &n_hit);
         if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         if (delta_lights > 0) {
@@ -1704,7 +1770,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
             WavePath *p = &w->path[j];
             if (!p->alive) continue;
             wave_vertex_fold(sc, w, j, depth, wave_out_record(out, j), wave_out_radiance(out, j), st);
-            if (delta_lanes) receiver_to_lanes(&w->rx, j, p);
+            if (rx_lanes) receiver_to_lanes(&w->rx, j, p);
             any_alive |= p->alive;
         }
     }

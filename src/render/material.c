@@ -170,6 +170,21 @@ static int texture_index_or_warn(SceneDesc *scene, const char *name, SrcLoc loc)
     return t;
 }
 
+/* Material.checker and its fields for a diffuse material m whose texture is a 2D
+ * checkerboard of two constants: what texture_eval reads of it, and its two values clamped
+ * as material_diffuse_albedo clamps them. */
+static void set_checker(const MaterialTable *table, Material *m)
+{
+    if (!material_textured(table, m)) return;
+    const Texture *t = &table->textures[m->texture];
+    if (t->kind != TEX_CHECKERBOARD_2D || t->arg[0].tex >= 0 || t->arg[1].tex >= 0) return;
+    m->checker = true;
+    m->checker_map[0] = t->uscale, m->checker_map[1] = t->vscale;
+    m->checker_map[2] = t->udelta, m->checker_map[3] = t->vdelta;
+    m->checker_albedo[0] = clamp01(t->arg[0].value);
+    m->checker_albedo[1] = clamp01(t->arg[1].value);
+}
+
 bool materials_build(SceneDesc *scene, MaterialTable *table, Diag *err)
 {
     *table = (MaterialTable){0};
@@ -202,6 +217,7 @@ bool materials_build(SceneDesc *scene, MaterialTable *table, Diag *err)
             const char *tex = params_texture(&md->params, "reflectance");
             if (tex) {
                 m->texture = texture_index_or_warn(scene, tex, md->loc);
+                set_checker(table, m);
             } else if (params_rgb(&md->params, "reflectance", rgb)) {
                 m->reflectance = clamp01(v3(rgb[0], rgb[1], rgb[2]));
             } else {
@@ -263,22 +279,13 @@ vec3 texref_eval(const MaterialTable *table, TexRef r, vec2 uv, vec3 p_world, in
     return texture_eval(table, r.tex, uv, p_world, depth + 1);
 }
 
-/* (long)floorf(x) without floorf's library call (it is one without SSE4.1): truncation
- * rounds towards zero, one step down below zero when it moved x. The same integer for every
- * x the conversion holds (beyond them both are the same out-of-range conversion). */
-static inline long floor_to_long(float x)
-{
-    long k = (long)x;
-    return (float)k > x ? k - 1 : k;
-}
-
 static vec3 texture_eval_nested(const MaterialTable *table, const Texture *t, vec2 uv, vec3 p_world, int depth);
 
 /* The argument (tex1 or tex2) a 2D checkerboard shows at uv. */
 static inline TexRef checkerboard_2d_arg(const Texture *t, vec2 uv)
 {
     float s = uv.x * t->uscale + t->udelta, tt = uv.y * t->vscale + t->vdelta;
-    long k = floor_to_long(s) + floor_to_long(tt);
+    long k = material_floor_to_long(s) + material_floor_to_long(tt);
     return t->arg[(k & 1) == 0 ? 0 : 1];
 }
 
@@ -305,7 +312,7 @@ static __attribute__((noinline)) vec3 texture_eval_nested(const MaterialTable *t
     case TEX_CHECKERBOARD_2D: return texref_eval(table, checkerboard_2d_arg(t, uv), uv, p_world, depth);
     case TEX_CHECKERBOARD_3D: {
         vec3 p = mat4_apply_point(&t->texture_from_world, p_world);
-        long k = floor_to_long(p.x) + floor_to_long(p.y) + floor_to_long(p.z);
+        long k = material_floor_to_long(p.x) + material_floor_to_long(p.y) + material_floor_to_long(p.z);
         return texref_eval(table, t->arg[(k & 1) == 0 ? 0 : 1], uv, p_world, depth);
     }
     case TEX_IMAGEMAP:

@@ -62,6 +62,12 @@ typedef struct {
     int color_tex, urough_tex, vrough_tex; /* glossy: texture indices or -1 */
     int mix[2];                 /* MATERIAL_MIX: material indices (-1: the default material) */
     TexRef mix_amount;          /* MATERIAL_MIX: probability of choosing mix[1] */
+    /* diffuse whose reflectance texture is a 2D checkerboard of two constants (checker):
+     * the board's uscale, vscale, udelta, vdelta and its two reflectances clamped to [0, 1],
+     * for material_checker_albedo */
+    bool checker;
+    float checker_map[4];
+    vec3 checker_albedo[2];
 } Material;
 
 typedef struct {
@@ -89,6 +95,25 @@ static inline const Material *material_get(const MaterialTable *table, int m)
 static inline bool material_textured(const MaterialTable *table, const Material *m)
 {
     return m->texture >= 0 && m->texture < table->texture_count;
+}
+
+/* (long)floorf(x) without floorf's library call (it is one without SSE4.1): truncation
+ * rounds towards zero, one step down below zero when it moved x. The same integer for every
+ * x the conversion holds (beyond them both are the same out-of-range conversion). */
+static inline long material_floor_to_long(float x)
+{
+    long k = (long)x;
+    return (float)k > x ? k - 1 : k;
+}
+
+/* The albedo of a checker material (Material.checker) at uv: material_diffuse_albedo's value,
+ * inline and without the texture table (the board's cell parity picks one of the two
+ * clamped constants, as the checkerboard texture picks tex1 or tex2). */
+static inline vec3 material_checker_albedo(const Material *m, vec2 uv)
+{
+    float s = uv.x * m->checker_map[0] + m->checker_map[2], t = uv.y * m->checker_map[1] + m->checker_map[3];
+    long k = material_floor_to_long(s) + material_floor_to_long(t);
+    return m->checker_albedo[k & 1];
 }
 
 /* Whether shading material m (material_get's index) may read a hit's uv: a texture

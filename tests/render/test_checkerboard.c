@@ -6,11 +6,20 @@
  *  - a checkerboard whose tex2 is another checkerboard shows that one's value in its odd
  *    cells (the nested path), and a textured diffuse material's albedo is the texture
  *    clamped to [0, 1] (material_diffuse_albedo and material_albedo agree);
- *  - a reference cycle deeper than TEXTURE_MAX_DEPTH ends in the constant 0.5. */
+ *  - a reference cycle deeper than TEXTURE_MAX_DEPTH ends in the constant 0.5;
+ *  - a diffuse material whose reflectance is a 2D checkerboard of two constants is marked
+ *    Material.checker by materials_build, and its inline albedo (material_checker_albedo,
+ *    which make_vertex takes for it) equals material_diffuse_albedo bit for bit on a dense
+ *    grid of uv that crosses cell edges and negative cells, a constant above 1 clamped; a
+ *    checkerboard with a textured argument, a 3D one and an untextured material are not
+ *    marked. Teeth: the u and v offsets swapped, the parity inverted or the clamp left out
+ *    fail the comparison. */
 #include <math.h>
+#include <string.h>
 
 #include "check.h"
 #include "render/material.h"
+#include "scene/scene_desc.h"
 
 static Texture checker(float us, float vs, float ud, float vd, TexRef a, TexRef b)
 {
@@ -25,6 +34,53 @@ static TexRef constant(vec3 v) { return (TexRef){-1, v}; }
 static TexRef texture(int i) { return (TexRef){i, v3s(0.0f)}; }
 
 static bool same3(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+static bool same_bits3(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+/* The materials of a parsed scene: material_checker_albedo against material_diffuse_albedo. */
+static void checker_materials(void)
+{
+    static const char *SCENE =
+        "Camera \"perspective\"\n"
+        "WorldBegin\n"
+        "Texture \"board\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 7 ] \"float vscale\" [ 3 ]\n"
+        "  \"float udelta\" [ 0.3 ] \"float vdelta\" [ -0.45 ] \"rgb tex1\" [ 0.8 0.75 0.1 ] \"rgb tex2\" [ 0.2 1.5 0 ]\n"
+        "Texture \"nested\" \"spectrum\" \"checkerboard\" \"texture tex1\" \"board\" \"rgb tex2\" [ 0.1 0.1 0.1 ]\n"
+        "Texture \"solid\" \"spectrum\" \"checkerboard\" \"integer dimension\" [ 3 ]\n"
+        "MakeNamedMaterial \"a\" \"string type\" \"diffuse\" \"texture reflectance\" \"board\"\n"
+        "MakeNamedMaterial \"b\" \"string type\" \"diffuse\" \"texture reflectance\" \"nested\"\n"
+        "MakeNamedMaterial \"c\" \"string type\" \"diffuse\" \"texture reflectance\" \"solid\"\n"
+        "MakeNamedMaterial \"d\" \"string type\" \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n";
+    SceneDesc scene;
+    Diag err = {0};
+    if (!scene_parse_string(SCENE, strlen(SCENE), "<test>", NULL, &scene, &err)) {
+        fprintf(stderr, "parse failed: %s\n", err.message);
+        CHECK(false);
+        return;
+    }
+    MaterialTable table;
+    CHECK(materials_build(&scene, &table, &err));
+    CHECK(table.material_count == 4);
+    if (table.material_count == 4) {
+        const Material *board = &table.materials[0];
+        CHECK(board->checker);
+        CHECK(!table.materials[1].checker && !table.materials[2].checker && !table.materials[3].checker);
+        int wrong = 0, tex2_cells = 0;
+        for (int i = -300; i <= 300; ++i)
+            for (int j = -200; j <= 200; ++j) {
+                /* steps that land on cell edges (k / 7 - 0.3 / 7 in u) and between them */
+                vec2 uv = v2((float)i / 140.0f, (float)j / 60.0f);
+                vec3 want = material_diffuse_albedo(&table, board, uv, v3s(0.0f));
+                wrong += !same_bits3(material_checker_albedo(board, uv), want);
+                tex2_cells += want.y == 1.0f;
+            }
+        printf("checker materials: %d wrong of 241001, %d in tex2's cells\n", wrong, tex2_cells);
+        CHECK(wrong == 0);
+        CHECK(tex2_cells > 100000 && tex2_cells < 141001);
+    }
+    materials_free(&table);
+    scene_desc_free(&scene);
+}
 
 int main(void)
 {
@@ -72,5 +128,6 @@ int main(void)
 
     CHECK(same3(texture_eval(&table, 2, v2(0.5f, 0.5f), v3s(0.0f), 0), v3s(0.5f)));
     CHECK(same3(texture_eval(&table, 3, v2(0.5f, 0.5f), v3s(0.0f), 0), v3s(0.5f))); /* no such texture */
+    checker_materials();
     CHECK_DONE();
 }
