@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "render_test_util.h"
 #include "core/rng.h"
 #include "render/tracer.h"
 #include "scene/scene_desc.h"
@@ -85,18 +86,9 @@ static int check_scene(const char *what, const char *world)
     char text[8192];
     snprintf(text, sizeof text, "%s%s", HEADER, world);
     SceneDesc scene;
-    Diag err = {0};
-    if (!scene_parse_string(text, strlen(text), "<test>", NULL, &scene, &err)) {
-        fprintf(stderr, "parse failed: %s\n", err.message);
-        CHECK(false);
-        return -1;
-    }
     Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    if (!tracer_build(&tr, &scene, 1, &err)) {
-        fprintf(stderr, "build failed: %s\n", err.message);
+    if (!test_build_tracer(text, &scene, &tr)) {
         CHECK(false);
-        scene_desc_free(&scene);
         return -1;
     }
     TracerRay rays[RAYS];

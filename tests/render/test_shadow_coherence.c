@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "render_test_util.h"
 #include "render/tracer.h"
 #include "scene/scene_desc.h"
 
@@ -23,15 +24,9 @@ static int shadow_coherent(const char *world)
     char text[4096];
     snprintf(text, sizeof text, "%s%s", HEADER, world);
     SceneDesc scene;
-    Diag err = {0};
-    if (!scene_parse_string(text, strlen(text), "<test>", NULL, &scene, &err)) {
-        fprintf(stderr, "parse failed: %s\n", err.message);
-        return -1;
-    }
     Tracer tr;
-    memset(&tr, 0, sizeof tr);
-    int result = -1;
-    if (tracer_build(&tr, &scene, 1, &err)) result = tr.shadow_coherent_ok;
+    if (!test_build_tracer(text, &scene, &tr)) return -1;
+    int result = tr.shadow_coherent_ok;
     tracer_free(&tr);
     scene_desc_free(&scene);
     return result;
