@@ -1753,7 +1753,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
             if (w->path[j].alive)
                 wave_vertex_rays(sc, w, ws, pixels, j, depth, rules, wave_out_record(out, j), st, &n_occ, &n_rec,
                                  &n_hit);
-        if (emitter_box_test(sc, depth)) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
+        if (rules.box_test) n_hit = wave_emitter_box_test(sc, w, n_hit, st);
         tracer_occluded_batch(sc->tracer, w->ray_occ, n_occ, true, w->occluded);
         if (delta_lights > 0) {
             wave_delta_occlusion(sc, w, n);
