@@ -115,8 +115,8 @@ _Static_assert(FSF_BOUNCE_PARALLAX_V < FSF_BOUNCE_V_HALF - FSF_BOUNCE_V_RIM, "th
  * irradiance's directions beyond |v| = V, so a reflector that only those directions see gives
  * at most that share of the pixel's light (if no brighter than the rest), and the band's rule
  * (fsf_band.h) lets the filter drop what is weaker than e^-2 sqrt(16 / n) of the mean: 1.9 v at
- * 6 samples, 2.4 at 14, 3.6 at 56, the rim's whole square beyond about 90 (docs/algorithms.md
- * section 10, "Indirect light: the slopes within the band's reach"). */
+ * 6 samples, 2.4 at 14, 3.6 at 56, the rim (3.7) at 63, the corners of its square (5.2) at 240
+ * (docs/algorithms.md section 10, "The slopes within the band's reach"). */
 float fsf_bounce_reach_sq(int samples);
 
 /* px and the AOVs k_lo, k_hi (0 where unknown) per pixel. The slope range holds only the

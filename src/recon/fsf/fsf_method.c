@@ -7,9 +7,10 @@
  *            pixels whose lens slopes straddle the focal plane (fsf_lens_plan.h), nothing
  *            elsewhere or for the other effects. Under a --spp budget pass 1 takes
  *            FSF_BUDGET_PASS1_SHARE of it (_LENS where FSF filters defocus, _BOUNCE where its
- *            only shading filter is the indirect light's; the store keeps those samples) and the plan places the rest by the Lagrange allocation
- *            n ~ sqrt(v / A), v a pixel's pass-1 variance, A its filter's effective pixel
- *            count (fsf_budget_plan.h, recon/sample_rate.h)
+ *            only shading filter is the indirect light's; the store keeps those samples) and
+ *            the plan places the rest by the Lagrange allocation n ~ sqrt(v / A), v a pixel's
+ *            pass-1 variance, A its filter's effective pixel count (fsf_budget_plan.h,
+ *            recon/sample_rate.h)
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
