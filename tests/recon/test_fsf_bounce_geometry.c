@@ -2,8 +2,8 @@
  * seen through an oblique screen mapping, every bounce ray hitting a parallel plane at height
  * h. The shear fsf_bounce_params gives must move a hit's v-plane coordinate exactly as
  * reprojecting the hit point from a neighbour does (sign and size), the slope range must be
- * 1/h (rim samples with their unbounded slopes left out, misses at 0), and the widths the
- * parallax bound. */
+ * 1/h (rim samples with their unbounded slopes left out, and a steeper one beyond the band's
+ * reach of the pixel's count, misses at 0), and the widths the parallax bound. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -59,10 +59,13 @@ int main(void)
                 r.hit = true, r.bounce_count = 1;
                 r.indirect = v3s(1.0f);
                 vec3 dir = cosine_dir(&f);
+                float h_hit = H_M;
                 if (k == SPP - 1) /* grazing, hitting at a tiny height: on the rim, no slope */
-                    dir = v3_scale(v3_madd(f.t[0], n, 0.02f), 1.0f / sqrtf(1.0f + 0.0004f));
+                    dir = v3_scale(v3_madd(f.t[0], n, 0.02f), 1.0f / sqrtf(1.0f + 0.0004f)), h_hit = 0.01f;
+                if (k == SPP - 3) /* v = (0, 3), a lower reflector: inside the rim, beyond the reach (1.9 v) */
+                    dir = v3_scale(v3_madd(f.t[1], n, 1.0f / 3.0f), 1.0f / sqrtf(1.0f + 1.0f / 9.0f)), h_hit = 0.02f;
                 r.bounce[0].dir_world = dir;
-                r.bounce[0].d_hit_world = k == SPP - 1 ? 0.01f / v3_dot(dir, n) : H_M / v3_dot(dir, n);
+                r.bounce[0].d_hit_world = h_hit / v3_dot(dir, n);
                 if (k == SPP - 2 && (x + y) % 2) r.bounce[0].d_hit_world = INFINITY; /* a miss: k = 0 */
                 sample_store_add(st, x, y, &r);
             }
@@ -80,10 +83,15 @@ int main(void)
     FsfBounceIn in = {&g, st, yv, usable, 1.0f, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
     CHECK(fsf_bounce_params(&in, px, k_lo, k_hi));
 
-    /* the grazing sample is clamped onto the rim */
+    /* the grazing sample is clamped onto the rim; the one at v = (0, 3) is not */
     size_t c = (size_t)(H / 2) * W + W / 2;
     CHECK_NEAR(yv[2 * (c * cap + SPP - 1)], FSF_BOUNCE_V_RIM, 1e-6);
-    /* slopes: misses (0) and the plane (1/h); the rim sample's 1/0.01 left out */
+    CHECK_NEAR(yv[2 * (c * cap + SPP - 3) + 1], 3.0f, 1e-4);
+    /* the reach: 1 / (e^-2 sqrt(16 / n)) - 1, e^2 - 1 at 16 samples; 1.9 v at SPP */
+    CHECK_NEAR(fsf_bounce_reach_sq(16), expf(2.0f) - 1.0f, 1e-3);
+    CHECK_NEAR(fsf_bounce_reach_sq(SPP), expf(2.0f) * sqrtf((float)SPP / 16.0f) - 1.0f, 1e-3);
+    /* slopes: misses (0) and the plane (1/h); the rim sample's 1/0.01 and the 1/0.02 beyond the
+     * reach left out */
     CHECK_NEAR(k_lo[c], 0.0f, 1e-6);
     CHECK_NEAR(k_hi[c], 1.0f / H_M, 1e-3);
 

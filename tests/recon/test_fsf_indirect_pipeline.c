@@ -3,12 +3,15 @@
  * against a 1024-spp reference is well below plain Monte Carlo's at the same 16 samples, and
  * falls from 16 to 64 samples; on the combined bench scene (soft shadows, defocus and
  * indirect light) fsf takes the indirect light too, filtered apart from the direct light (the
- * pipeline adds them: FSF's appendix). */
+ * pipeline adds them: FSF's appendix). Under a --spp budget pass 1 takes
+ * FSF_BUDGET_PASS1_SHARE_BOUNCE of it where the indirect light is FSF's only shading filter,
+ * FSF_BUDGET_PASS1_SHARE_LENS on the combined scene (defocus). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../check.h"
+#include "recon/fsf/fsf_budget_plan.h"
 #include "recon/pipeline.h"
 #include "recon_test_util.h"
 
@@ -32,10 +35,27 @@ static void check_indirect(const ReconResult *res, void *ctx)
     CHECK(filtered > n / 2); /* a closed room: every pixel is a receiver */
 }
 
-static float *render(const char *text, const char *filter, unsigned seed, int spp, bool checks)
+typedef struct {
+    float share; /* pass 1's share of the budget */
+    int budget;
+} BudgetCheck;
+
+/* check_indirect, and the frame's counts under its budget */
+static void check_frame(const ReconPipeline *p, void *ctx)
+{
+    const BudgetCheck *b = ctx;
+    check_indirect(recon_pipeline_result(p), NULL);
+    long wrong = recon_test_budget_wrong(p, b->share, b->budget);
+    fprintf(stderr, "pass 1: %d of %d spp (%ld wrong counts)\n", recon_pipeline_result(p)->pass1_spp, b->budget, wrong);
+    CHECK(wrong == 0);
+}
+
+static float *render(const char *text, const char *filter, unsigned seed, int spp, bool checks, float share)
 {
     ReconOptions o = {.filter = filter, .spp = spp};
-    return recon_test_render(text, seed, &o, checks ? check_indirect : NULL, NULL);
+    BudgetCheck b = {share, spp};
+    if (checks) return recon_test_render_pipeline(text, seed, &o, check_frame, &b);
+    return recon_test_render(text, seed, &o, NULL, NULL);
 }
 
 int main(void)
@@ -44,11 +64,11 @@ int main(void)
     CHECK(text != NULL);
     if (!text) CHECK_DONE();
     size_t n3 = (size_t)RES * RES * 3;
-    float *ref = render(text, "none", 99, 1024, false);
+    float *ref = render(text, "none", 99, 1024, false, 1.0f);
     double e16 = 0, e64 = 0, mc16 = 0;
     for (unsigned seed = 1; seed <= 2 && ref; ++seed) {
-        float *f16 = render(text, "fsf", seed, 16, true), *f64 = render(text, "fsf", seed, 64, false);
-        float *mc = render(text, "none", seed, 16, false);
+        float *f16 = render(text, "fsf", seed, 16, true, FSF_BUDGET_PASS1_SHARE_BOUNCE);
+        float *f64 = render(text, "fsf", seed, 64, false, 1.0f), *mc = render(text, "none", seed, 16, false, 1.0f);
         if (f16 && f64 && mc) e16 += rel_mse(f16, ref, n3) / 2, e64 += rel_mse(f64, ref, n3) / 2, mc16 += rel_mse(mc, ref, n3) / 2;
         free(f16), free(f64), free(mc);
     }
@@ -62,7 +82,7 @@ int main(void)
     /* combined: shadows and indirect light both fsf's, filtered apart */
     text = recon_test_bench_scene_at("combined", RES);
     CHECK(text != NULL);
-    if (text) free(render(text, "fsf", 1, 16, true));
+    if (text) free(render(text, "fsf", 1, 16, true, FSF_BUDGET_PASS1_SHARE_LENS));
     free(text);
     CHECK_DONE();
 }

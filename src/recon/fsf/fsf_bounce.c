@@ -46,6 +46,8 @@ float fsf_bounce_slope(vec3 n, vec3 d, float t_hit_m)
     return 1.0f / (t_hit_m * dn);
 }
 
+float fsf_bounce_reach_sq(int samples) { return 1.0f / fsf_band_threshold(samples) - 1.0f; }
+
 FsfGrid fsf_bounce_grid(void)
 {
     return fsf_grid_nodes(FSF_BOUNCE_V_HALF, FSF_BOUNCE_V_HALF, FSF_BOUNCE_SHIFT_NODES);
@@ -87,18 +89,24 @@ bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *va
     return true;
 }
 
-/* sample_slope's context: the bounce field, the samples' v and the pixels' normals, found once. */
+/* sample_slope's context: the bounce field, the samples' v and the pixels' normals, found once;
+ * the reach per sample count. */
 typedef struct {
     const float *bounce, *y, *nrm4;
     size_t cap;
     float k_max;
+    const SampleStore *store;
+    const float *reach_sq; /* fsf_bounce_reach_sq per count, 0 .. cap */
 } SlopeCtx;
 
 static float sample_slope(const void *ctx, size_t slot)
 {
     const SlopeCtx *c = ctx;
-    const float *b = c->bounce + 4 * slot, *nr = c->nrm4 + 4 * (slot / c->cap), *y = c->y + 2 * slot;
+    size_t pixel = slot / c->cap;
+    const float *b = c->bounce + 4 * slot, *nr = c->nrm4 + 4 * pixel, *y = c->y + 2 * slot;
     if (!(fabsf(y[0]) < FSF_BOUNCE_V_RIM && fabsf(y[1]) < FSF_BOUNCE_V_RIM)) return NAN; /* on the rim */
+    /* beyond the reach: light below the band's threshold (fsf_bounce_reach_sq) */
+    if (y[0] * y[0] + y[1] * y[1] > c->reach_sq[sample_store_count(c->store, pixel)]) return NAN;
     float k = fsf_bounce_slope(v3(nr[0], nr[1], nr[2]), v3(b[0], b[1], b[2]), b[3]);
     return k > c->k_max ? c->k_max : k; /* NaN stays NaN */
 }
@@ -182,16 +190,19 @@ bool fsf_bounce_params(const FsfBounceIn *in, FsfPixel *px, float *k_lo, float *
     Job j = {0};
     j.in = in, j.px = px, j.k_lo = k_lo, j.k_hi = k_hi;
     float h_floor_m = in->h_min_frac * in->g->scene_size_world;
-    SlopeCtx sc = {bounce, in->y, in->g->nrm4, (size_t)sample_store_capacity(in->store),
-                   h_floor_m > 0.0f ? 1.0f / h_floor_m : INFINITY};
-    /* the band per sample count, found once (a root of W K1(W) each) */
-    float *sigma_v = sc.cap > 0 ? malloc((sc.cap + 1) * sizeof *sigma_v) : NULL;
-    for (size_t c = 0; sigma_v && c <= sc.cap; ++c) sigma_v[c] = fsf_bounce_sigma_v((int)c);
+    /* the band and the reach per sample count, found once (a root of W K1(W) each) */
+    size_t cap = (size_t)sample_store_capacity(in->store);
+    float *sigma_v = cap > 0 ? malloc((cap + 1) * sizeof *sigma_v) : NULL;
+    float *reach_sq = cap > 0 ? malloc((cap + 1) * sizeof *reach_sq) : NULL;
+    for (size_t c = 0; sigma_v && reach_sq && c <= cap; ++c)
+        sigma_v[c] = fsf_bounce_sigma_v((int)c), reach_sq[c] = fsf_bounce_reach_sq((int)c);
+    SlopeCtx sc = {bounce, in->y, in->g->nrm4, cap, h_floor_m > 0.0f ? 1.0f / h_floor_m : INFINITY, in->store, reach_sq};
     j.sigma_v = sigma_v;
     /* only the centre's object: the filter takes light from no other surface */
-    bool ok = sigma_v && fsf_slope_windows_per_object(in->store, in->g, sample_slope, &sc, &j.wnd);
+    bool ok = sigma_v && reach_sq && fsf_slope_windows_per_object(in->store, in->g, sample_slope, &sc, &j.wnd);
     if (ok) recon_parallel_for(n, params_range, &j);
     fsf_slope_windows_free(&j.wnd);
     free(sigma_v);
+    free(reach_sq);
     return ok;
 }

@@ -24,7 +24,8 @@
  *            (fsf_bounce_sigma_v: 2.87 at 16 samples, Mehta 2013's Omega_v_max = 2.8 being
  *            its e^-2 point): sigma_x = sigma_v / (k_hi - k_lo) / mu metres, over windows of slopes as
  *            for shadows (fsf_slope_window.h), capped at the 32-pixel diameter; then the
- *            parallax bound (FSF_BOUNCE_PARALLAX_V)
+ *            parallax bound (FSF_BOUNCE_PARALLAX_V). The slopes come from the samples within
+ *            the band's reach on the v-plane only (fsf_bounce_reach_sq)
  *   profile  the box |v_a| <= 5 with the samples' own cosine density: cosine sampling draws
  *            v with density gamma(v) / pi, gamma(v) = 1 / (1 + |v|^2)^2 the transfer, so a
  *            plain mean of the samples inside the box is the paper's box filter with gamma
@@ -109,12 +110,21 @@ typedef struct {
 #define FSF_BOUNCE_PARALLAX_V 1.0f
 _Static_assert(FSF_BOUNCE_PARALLAX_V < FSF_BOUNCE_V_HALF - FSF_BOUNCE_V_RIM, "the taps must not push a sample off the box");
 
+/* The reach on the v-plane of the samples whose slopes bound the widths, at n samples:
+ * |v|^2 <= 1 / fsf_band_threshold(n) - 1. Cosine sampling puts the share 1 / (1 + V^2) of the
+ * irradiance's directions beyond |v| = V, so a reflector that only those directions see gives
+ * at most that share of the pixel's light (if no brighter than the rest), and the band's rule
+ * (fsf_band.h) lets the filter drop what is weaker than e^-2 sqrt(16 / n) of the mean: 1.9 v at
+ * 6 samples, 2.4 at 14, 3.6 at 56, the rim (3.7) at 63, the corners of its square (5.2) at 240
+ * (docs/algorithms.md section 10, "The slopes within the band's reach"). */
+float fsf_bounce_reach_sq(int samples);
+
 /* px and the AOVs k_lo, k_hi (0 where unknown) per pixel. The slope range holds only the
  * samples inside the rim's square (FSF's v-plane is truncated, section 5), and beyond it the
  * slope has no bound (a floor point sees the foot of a wall at height h -> 0, k -> inf at
  * |v| -> inf; inside the box k <= 5 / D for a wall at distance D), which would make every
- * width 0. false when out of memory or the
- * store lacks the bounce field. */
+ * width 0; and of those, only the samples within the reach of the pixel's count
+ * (fsf_bounce_reach_sq). false when out of memory or the store lacks the bounce field. */
 bool fsf_bounce_params(const FsfBounceIn *in, FsfPixel *px, float *k_lo, float *k_hi);
 
 #endif

@@ -6,10 +6,11 @@
  *            d_occ) and its direct light. The plan adds FSF_LENS_STRADDLE_EXTRA_SPP at defocus
  *            pixels whose lens slopes straddle the focal plane (fsf_lens_plan.h), nothing
  *            elsewhere or for the other effects. Under a --spp budget pass 1 takes
- *            FSF_BUDGET_PASS1_SHARE of it (_LENS where FSF filters defocus; the store keeps
- *            those samples) and the plan places the rest by the Lagrange allocation
- *            n ~ sqrt(v / A), v a pixel's pass-1 variance, A its filter's effective pixel
- *            count (fsf_budget_plan.h, recon/sample_rate.h)
+ *            FSF_BUDGET_PASS1_SHARE of it (_LENS where FSF filters defocus, _BOUNCE where its
+ *            only shading filter is the indirect light's; the store keeps those samples) and
+ *            the plan places the rest by the Lagrange allocation n ~ sqrt(v / A), v a pixel's
+ *            pass-1 variance, A its filter's effective pixel count (fsf_budget_plan.h,
+ *            recon/sample_rate.h)
  *   filter   the demodulated direct light: each sample's direct light scaled by its pixel's
  *            demodulation (the pipeline's value over the raw mean: albedo and the unoccluded
  *            irradiance r(x) divided out), filtered by the 4D sheared filter (fsf_filter.h)
@@ -96,13 +97,16 @@ static int fsf_pass1_spp(EffectMask effects)
 }
 
 /* Under a budget (fsf_budget_plan.h): the lens filter reads every pixel's stored samples,
- * the shading filters those of the pixels they filter; and where other lights than FSF's
- * have a sizeable share of the power, the shadow filter leaves much of the frame to Monte
- * Carlo, which one stratified pass serves best: all of the budget in pass 1. */
+ * the shading filters those of the pixels they filter (the indirect light's nearly all); and
+ * where other lights than FSF's have a sizeable share of the power, the shadow filter leaves
+ * much of the frame to Monte Carlo, which one stratified pass serves best: all of the budget in
+ * pass 1. */
 static float fsf_budget_pass1_share(const Renderer *r, EffectMask effects)
 {
-    if (effect_in(effects, EFFECT_SOFT_SHADOWS) && fsf_light_power_share(r) < FSF_MIN_LIGHT_SHARE) return 1.0f;
-    return effect_in(effects, EFFECT_DEFOCUS) ? FSF_BUDGET_PASS1_SHARE_LENS : FSF_BUDGET_PASS1_SHARE;
+    bool shadows = effect_in(effects, EFFECT_SOFT_SHADOWS);
+    if (shadows && fsf_light_power_share(r) < FSF_MIN_LIGHT_SHARE) return 1.0f;
+    if (effect_in(effects, EFFECT_DEFOCUS)) return FSF_BUDGET_PASS1_SHARE_LENS;
+    return !shadows && effect_in(effects, EFFECT_INDIRECT) ? FSF_BUDGET_PASS1_SHARE_BOUNCE : FSF_BUDGET_PASS1_SHARE;
 }
 
 /* The store fields each effect's filter reads: a frame keeps only its effects' (the union of
