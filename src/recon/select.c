@@ -321,7 +321,7 @@ CameraBlurKinds recon_select_fallback_blur(const ReconChoice *c)
 {
     EffectMask cameras = camera_candidates(c);
     /* sharpest_lens: set by recon_gain_probe_judge (gain_probe.c) from the defocus method */
-    return (CameraBlurKinds){effect_in(cameras, EFFECT_DEFOCUS), effect_in(cameras, EFFECT_MOTION), false};
+    return (CameraBlurKinds){effect_in(cameras, EFFECT_DEFOCUS), effect_in(cameras, EFFECT_MOTION), false, false};
 }
 
 void recon_select_fallback(ReconChoice *c, const AutoFallback *fb)
