@@ -20,13 +20,10 @@
 /* relative rise of the predicted camera error under the rule; -1 on failure */
 static double probe_rise(const char *name)
 {
-    char *text = recon_test_bench_scene(name, 0); /* at its own film (160 x 120, 256 x 192) */
-    CHECK(text != NULL);
-    if (!text) return -1.0;
     SceneDesc scene;
     Renderer *r = NULL;
     double rise = -1.0;
-    if (recon_test_renderer(text, 1, 8, false, &scene, &r)) {
+    if (recon_test_bench_renderer(name, 1, 8, &scene, &r)) { /* its own film: 160 x 120, 256 x 192 */
         GainProbe plain, ruled;
         CHECK(recon_gain_probe(r, false, false, (CameraBlurKinds){true, true, false, false}, &plain));
         CHECK(recon_gain_probe(r, false, false, (CameraBlurKinds){true, true, false, true}, &ruled));
@@ -46,7 +43,6 @@ static double probe_rise(const char *name)
     } else {
         CHECK(false);
     }
-    free(text);
     return rise;
 }
 

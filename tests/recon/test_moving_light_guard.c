@@ -16,18 +16,14 @@
 
 static int light_moves(const char *name)
 {
-    char *text = recon_test_bench_scene(name, 0);
-    CHECK(text != NULL);
-    if (!text) return -1;
     SceneDesc scene;
     Renderer *r = NULL;
-    int moves = -1;
-    if (recon_test_renderer(text, 1, 4, false, &scene, &r)) {
-        moves = recon_area_light_moves(r);
-        renderer_destroy(r);
-        scene_desc_free(&scene);
-    }
-    free(text);
+    bool built = recon_test_bench_renderer(name, 1, 4, &scene, &r);
+    CHECK(built);
+    if (!built) return -1;
+    int moves = recon_area_light_moves(r);
+    renderer_destroy(r);
+    scene_desc_free(&scene);
     return moves;
 }
 
