@@ -276,8 +276,8 @@ void recon_select_moving_light(ReconChoice *c, bool area_light_moves)
     const char *was = c->method[EFFECT_SOFT_SHADOWS]->name;
     c->method[EFFECT_SOFT_SHADOWS] = NULL;
     set_reason(c, EFFECT_SOFT_SHADOWS,
-               "none: an area light moves during the shutter, and %s's shadow filter takes its pose at shutter open "
-               "(biased; docs/benchmarks.md, held4)",
+               "none, auto fell back to Monte Carlo: an area light moves during the shutter, and %s's shadow filter "
+               "takes its pose at shutter open (biased; docs/benchmarks.md, held4)",
                was);
 }
 

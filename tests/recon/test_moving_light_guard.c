@@ -40,8 +40,8 @@ int main(void)
     const char *shadow = c.method[EFFECT_SOFT_SHADOWS]->name;
     char want[256];
     snprintf(want, sizeof want,
-             "none: an area light moves during the shutter, and %s's shadow filter takes its pose at shutter open "
-             "(biased; docs/benchmarks.md, held4)",
+             "none, auto fell back to Monte Carlo: an area light moves during the shutter, and %s's shadow filter "
+             "takes its pose at shutter open (biased; docs/benchmarks.md, held4)",
              shadow);
     ReconChoice still = c;
     recon_select_moving_light(&still, false);
