@@ -9,6 +9,7 @@
 #include "geometry/mesh.h"
 #include "recon/blur_probe.h"
 #include "recon/gain_probe.h"
+#include "recon/moving_lights.h"
 #include "recon/cl/cl_runtime.h"
 #include "recon/select.h"
 #include "render/renderer.h"
@@ -315,6 +316,7 @@ int cmd_info(int argc, char **argv)
     }
     ReconChoice choice;
     recon_select_budget(scene.effects, filter, blur.median_blur_px, budget_spp, &choice);
+    recon_select_moving_light(&choice, recon_area_light_moves(r));
     choice.blur_unbounded = blur.samples_unbounded;
     /* auto's fallback to Monte Carlo, judged as recon_pipeline_create judges it: the gain probe
      * at the render's resolution */

@@ -26,9 +26,11 @@
 
 /* The camera effects whose blur counts (those whose filters are judged). sharpest_lens: the
  * defocus filter sets a pixel's width from the sharpest circle of confusion among the pixel's
- * samples (MAAF's lens filter: camera_lens_sharpest_diameter_px). */
+ * samples (MAAF's lens filter: camera_lens_sharpest_diameter_px). lr_motion_rule: the motion
+ * filter is LR's, whose layers keep no motion filter where their speeds disagree: a sample's
+ * motion counts only where LR would shear it (probe_motion_rule.h). */
 typedef struct {
-    bool defocus, motion, sharpest_lens;
+    bool defocus, motion, sharpest_lens, lr_motion_rule;
 } CameraBlurKinds;
 
 /* The area, in pixels, a sample's blur covers: A(c, m) above. c: the circle of confusion's

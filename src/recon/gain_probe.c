@@ -10,6 +10,7 @@
 #include "recon/camera_gain.h"
 #include "recon/gbuffer.h"
 #include "recon/probe_grid.h"
+#include "recon/probe_motion_rule.h"
 
 /* Independent of --seed, like the blur probe's. */
 static const uint64_t GAIN_PROBE_SEED = 0x6761696eu; /* "gain" */
@@ -60,9 +61,12 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
      * miss) and motion length, px */
     float *coc_slope_of = malloc(sizeof *coc_slope_of * (size_t)(nx * ny * PIXEL_SAMPLES));
     float *motion_of = malloc(sizeof *motion_of * (size_t)(nx * ny * PIXEL_SAMPLES));
+    /* under LR's rule the footprints wait until every sample's motion is known */
+    ProbeMotionSample *moving = camera.lr_motion_rule ? malloc(sizeof *moving * (size_t)(nx * ny * PIXEL_SAMPLES)) : NULL;
     WavePixel *pix = malloc(sizeof *pix * (size_t)per_wave);
-    if (!wave || !rec || !samples || !off_first || !footprint_of || !coc_slope_of || !motion_of || !pix || !gbuffer_track_split(&g, split_direct, split_indirect)) {
-        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(coc_slope_of), free(motion_of), free(pix);
+    if (!wave || !rec || !samples || !off_first || !footprint_of || !coc_slope_of || !motion_of || !pix ||
+        (camera.lr_motion_rule && !moving) || !gbuffer_track_split(&g, split_direct, split_indirect)) {
+        gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(coc_slope_of), free(motion_of), free(pix), free(moving);
         return false;
     }
     IntegratorStats st = {0};
@@ -84,9 +88,29 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
                                                           AUTO_CAMERA_FOOTPRINT_MAX);
                 coc_slope_of[k] = rec[j].hit ? recon_coc_slope_px(&cam, rec[j].depth_cam) : NAN;
                 motion_of[k] = camera.motion && rec[j].hit ? (float)hypot(rec[j].motion_px[0], rec[j].motion_px[1]) : 0.0f;
+                if (moving)
+                    moving[k] = (ProbeMotionSample){(float)pix[j / GAIN_PROBE_SET_SPP].px + 0.5f, (float)pix[j / GAIN_PROBE_SET_SPP].py + 0.5f,
+                                                    {rec[j].hit ? rec[j].motion_px[0] : 0.0f, rec[j].hit ? rec[j].motion_px[1] : 0.0f},
+                                                    coc_slope_of[k]};
             }
             out->samples += n;
         }
+    }
+    if (moving) {
+        /* a sample whose motion LR would not shear is blurred by its lens alone */
+        size_t n = (size_t)total * PIXEL_SAMPLES;
+        bool *shears = malloc(sizeof *shears * n);
+        if (!shears || !probe_motion_filterable(moving, (int)n, w, h, shears)) {
+            gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(coc_slope_of), free(motion_of), free(pix), free(moving), free(shears);
+            return false;
+        }
+        for (size_t k = 0; k < n; ++k) {
+            if (shears[k]) continue;
+            double coc_px = camera.defocus && isfinite(coc_slope_of[k]) ? 2.0 * fabs((double)coc_slope_of[k]) : 0.0;
+            footprint_of[k] = (float)camera_footprint(camera_blur_area_px(coc_px, 0.0), AUTO_CAMERA_EFFICIENCY, AUTO_CAMERA_FOOTPRINT_MAX);
+            motion_of[k] = 0.0f;
+        }
+        free(shears);
     }
     for (int i = 0; i < total; ++i) g.frame.spp[i] = (float)PIXEL_SAMPLES;
     gbuffer_resolve_guides(&g);
@@ -115,7 +139,7 @@ bool recon_gain_probe(const Renderer *r, bool split_direct, bool split_indirect,
     }
     long long rays = st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf;
     out->rays_per_sample = out->samples ? (double)rays / out->samples : 0.0;
-    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(coc_slope_of), free(motion_of), free(pix);
+    gbuffer_free(&g), wave_free(wave), free(rec), free(samples), free(off_first), free(footprint_of), free(coc_slope_of), free(motion_of), free(pix), free(moving);
     return true;
 }
 
@@ -125,6 +149,9 @@ CameraBlurKinds recon_gain_probe_blur(const ReconChoice *c)
     /* MAAF's lens filter takes its width from the pixel's sharpest slope (camera_gain.h) */
     const ReconMethodClass *lens = c->method[EFFECT_DEFOCUS];
     camera.sharpest_lens = camera.defocus && lens && strcmp(lens->name, "maaf") == 0;
+    /* LR keeps no motion filter where a layer's speeds disagree (probe_motion_rule.h) */
+    const ReconMethodClass *shutter = c->method[EFFECT_MOTION];
+    camera.lr_motion_rule = camera.motion && shutter && strcmp(shutter->name, "lr") == 0;
     return camera;
 }
 

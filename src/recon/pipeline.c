@@ -14,6 +14,7 @@
 #include "recon/budget_search.h"
 #include "recon/composite.h"
 #include "recon/gain_probe.h"
+#include "recon/moving_lights.h"
 #include "recon/overscan.h"
 
 /* A --spp budget is met by searching mu on a log scale over this range. Not below 1: mu = 1
@@ -155,6 +156,7 @@ bool recon_pipeline_create(Renderer *r, const ReconOptions *o, ReconPipeline **o
         return false;
     }
     recon_select_budget(renderer_effects(r), o->filter, blur.median_blur_px, o->spp, &p->choice);
+    recon_select_moving_light(&p->choice, recon_area_light_moves(r));
     p->choice.blur_unbounded = blur.samples_unbounded;
     /* auto's shading filters, judged on what this frame shows before any of their cost is
      * paid (the sink, the guides, the driver): where the gain probe predicts that Monte Carlo

@@ -270,6 +270,17 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
     memcpy(out->by_auto, by_auto, sizeof out->by_auto);
 }
 
+void recon_select_moving_light(ReconChoice *c, bool area_light_moves)
+{
+    if (!area_light_moves || !c->by_auto[EFFECT_SOFT_SHADOWS] || !c->method[EFFECT_SOFT_SHADOWS]) return;
+    const char *was = c->method[EFFECT_SOFT_SHADOWS]->name;
+    c->method[EFFECT_SOFT_SHADOWS] = NULL;
+    set_reason(c, EFFECT_SOFT_SHADOWS,
+               "none, auto fell back to Monte Carlo: an area light moves during the shutter, and %s's shadow filter "
+               "takes its pose at shutter open (biased; docs/benchmarks.md, held4)",
+               was);
+}
+
 /* The shading effects auto's fallback decides (auto_fallback.h): the filters whose gain the
  * probe measures per effect. */
 static bool fallback_candidate(const ReconChoice *c, Effect e)
@@ -321,7 +332,7 @@ CameraBlurKinds recon_select_fallback_blur(const ReconChoice *c)
 {
     EffectMask cameras = camera_candidates(c);
     /* sharpest_lens: set by recon_gain_probe_judge (gain_probe.c) from the defocus method */
-    return (CameraBlurKinds){effect_in(cameras, EFFECT_DEFOCUS), effect_in(cameras, EFFECT_MOTION), false};
+    return (CameraBlurKinds){effect_in(cameras, EFFECT_DEFOCUS), effect_in(cameras, EFFECT_MOTION), false, false};
 }
 
 void recon_select_fallback(ReconChoice *c, const AutoFallback *fb)

@@ -68,6 +68,12 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
  * Callers run the probe only then. */
 bool recon_select_wants_blur(EffectMask present, const char *request);
 
+/* A moving area light: the soft shadows auto chose a filter for are left to Monte Carlo (the
+ * shadow filters read the light's pose at shutter open and are biased when it moves,
+ * moving_lights.h), with the reason; explicit filters keep theirs. Call after
+ * recon_select_budget and before the fallback's probe. */
+void recon_select_moving_light(ReconChoice *c, bool area_light_moves);
+
 /* Whether auto chose a filter that its fallback to Monte Carlo may take back: a shading filter
  * (soft shadows, indirect light) or its camera filters (defocus, motion; judged together, and
  * only when no camera filter was named explicitly). The caller then runs the gain probe

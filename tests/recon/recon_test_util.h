@@ -149,6 +149,17 @@ static inline char *recon_test_bench_scene_resized(const char *name, int film, i
     return text;
 }
 
+/* A renderer for scenes/bench/NAME.pbrt at its own film (recon_test_renderer, no ray
+ * geometry); false when the file cannot be read or built. Free with renderer_destroy and
+ * scene_desc_free. */
+static inline bool recon_test_bench_renderer(const char *name, unsigned seed, int spp, SceneDesc *scene, Renderer **r)
+{
+    char *text = recon_test_bench_scene(name, 0);
+    bool ok = text && recon_test_renderer(text, seed, spp, false, scene, r);
+    free(text);
+    return ok;
+}
+
 /* The same for the bench scenes with a 128 x 128 film. */
 static inline char *recon_test_bench_scene_at(const char *name, int res)
 {

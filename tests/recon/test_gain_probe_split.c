@@ -30,8 +30,8 @@ static bool probe_both(const char *name, GainProbe *whole, GainProbe *split)
     bool ok = recon_test_renderer(text, 1, 16, false, &scene, &r);
     CHECK(ok);
     if (ok) {
-        CHECK(recon_gain_probe(r, false, false, (CameraBlurKinds){false, false, false}, whole));
-        CHECK(recon_gain_probe(r, true, true, (CameraBlurKinds){false, false, false}, split));
+        CHECK(recon_gain_probe(r, false, false, (CameraBlurKinds){false, false, false, false}, whole));
+        CHECK(recon_gain_probe(r, true, true, (CameraBlurKinds){false, false, false, false}, split));
         /* the same samples read two ways */
         CHECK(whole->samples == split->samples && whole->samples > 0);
         CHECK(whole->totals.left[FILTER_GAIN_NONE] == split->totals.left[FILTER_GAIN_NONE]);

@@ -303,6 +303,21 @@ static void merge_into(const LrConfig *cfg, LrLayer *front, const LrLayer *back)
     front->filter = layer_filter(cfg, a, front->contrast);
 }
 
+bool lr_motion_filter_kept(const LrConfig *cfg, float d_min_px, float d_max_px, float across_px)
+{
+    float mean_len = 0.5f * (d_min_px + d_max_px);
+    float along_range = d_max_px - d_min_px, share = cfg->motion_spread_max * fabsf(mean_len);
+    /* ...except when even the layer's slowest sample streaks past the window along psi
+     * (motion_long_px, the window's width): then every edge of the layer is a ramp at
+     * least that long, 8x the clamped screen sigma (Appendix C), so the filter's error on
+     * it stays small, while without the filter the streak keeps 8 spp of noise and the
+     * tiles on either side of one whose range is too wide differ by a 4-px blur (the
+     * tile-sized blotches of focal_motion_area, docs/algorithms.md 8.32). */
+    bool long_streaks = d_min_px >= cfg->motion_long_px;
+    return (across_px <= 0.5f || across_px <= share) &&
+           (long_streaks || along_range <= cfg->motion_range_px || along_range <= share);
+}
+
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
 {
     int raw_n = lr_tile_raw_count(t);
@@ -325,17 +340,8 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
          * whole wedge [0, 60], which blurs the floor along the motion by about as much as
          * the sphere (8.3: twice the central blur at the wedge's edge); without it the
          * hard bench scene's error was 12% higher (8.11). */
-        float mean_len = 0.5f * (st[i].d_min_px + st[i].d_max_px), perp = st[i].across_px;
-        float along_range = st[i].d_max_px - st[i].d_min_px, share = cfg->motion_spread_max * fabsf(mean_len);
-        /* ...except when even the layer's slowest sample streaks past the window along psi
-         * (motion_long_px, the window's width): then every edge of the layer is a ramp at
-         * least that long, 8x the clamped screen sigma (Appendix C), so the filter's error on
-         * it stays small, while without the filter the streak keeps 8 spp of noise and the
-         * tiles on either side of one whose range is too wide differ by a 4-px blur (the
-         * tile-sized blotches of focal_motion_area, docs/algorithms.md 8.32). */
-        bool long_streaks = st[i].d_min_px >= cfg->motion_long_px;
-        bool ok = (perp <= 0.5f || perp <= share) &&
-                  (long_streaks || along_range <= cfg->motion_range_px || along_range <= share);
+        float perp = st[i].across_px;
+        bool ok = lr_motion_filter_kept(cfg, st[i].d_min_px, st[i].d_max_px, perp);
         t->layer[j].motion_filter = ok;
         if (ok) {
             t->layer[j].slopes.d_min_px = st[i].d_min_px - perp;

@@ -252,6 +252,14 @@ int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bo
  * lr_gap_edges' edges); clears t. */
 void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t);
 
+/* Whether a layer keeps its motion filter (LR section 5, docs/algorithms.md 8.5 and 8.32): its
+ * speeds along the mean direction psi span [d_min_px, d_max_px] (px over the shutter) and its
+ * largest speed across psi is across_px. No clear direction (across above 0.5 px and above
+ * motion_spread_max of the mean speed) or too wide a range of speeds (above motion_range_px and
+ * that share, unless the slowest moves at least motion_long_px) gives none. auto's gain probe
+ * asks the same of the probe's samples (probe_motion_rule.h). */
+bool lr_motion_filter_kept(const LrConfig *cfg, float d_min_px, float d_max_px, float across_px);
+
 /* Compaction, motion ranges widened by the spread across psi (Figure 4), the filters, then
  * neighbouring layers merged where lr_layers_merge allows (a merged layer's raw layers are
  * one run of the raw order: compact[] maps each of them, and any empty raw layer between
