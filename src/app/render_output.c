@@ -38,10 +38,11 @@ bool render_output_write(const char *path, const Frame *f, const ReconResult *re
     ch[nc++] = (ExrChannel){"G", rgb + 1, 3};
     ch[nc++] = (ExrChannel){"B", rgb + 2, 3};
     ch[nc++] = (ExrChannel){"A", p.alpha, 1};
-    if (a->aovs && f->guides_skipped) { /* a user that did not declare its need (render_reads.h) */
+    /* a user that did not declare its need (render_reads.h) */
+    if (a->aovs && (f->guides_skipped || frame_planes(f) != FRAME_PLANES_ALL)) {
         diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
                  "internal error: the AOV layers of %s were asked for, but the render was told nothing reads them "
-                 "(the frame's albedo, normal and depth sums were not kept)",
+                 "(the frame's albedo, normal, depth, direct, indirect and emission sums were not all kept)",
                  path);
         free(p.alpha);
         return false;

@@ -101,10 +101,10 @@ bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam)
     return true;
 }
 
-bool gbuffer_init_frame(GBuffer *g, int width, int height, ReconCamera cam)
+bool gbuffer_init_frame(GBuffer *g, int width, int height, ReconCamera cam, unsigned frame_planes)
 {
     memset(g, 0, sizeof *g);
-    if (width <= 0 || height <= 0 || !frame_init(&g->frame, width, height)) return false;
+    if (width <= 0 || height <= 0 || !frame_init_planes(&g->frame, width, height, frame_planes)) return false;
     g->width = width;
     g->height = height;
     g->cam = cam;

@@ -121,8 +121,8 @@ typedef struct {
 bool gbuffer_init(GBuffer *g, int width, int height, ReconCamera cam);
 /* The frame alone, every per-pixel array of the guides NULL: for a frame no filter reads
  * (--filter none), whose guides would be 150-odd bytes a pixel allocated and touched for
- * nothing (315 MB at 1920x1080). */
-bool gbuffer_init_frame(GBuffer *g, int width, int height, ReconCamera cam);
+ * nothing (315 MB at 1920x1080). The frame holds the planes asked for (frame_init_planes). */
+bool gbuffer_init_frame(GBuffer *g, int width, int height, ReconCamera cam, unsigned frame_planes);
 void gbuffer_free(GBuffer *g);
 
 /* The soft-shadow filters (AAF-shadow eq. 1, MAAF, FSF) filter direct light / (albedo r(x)),

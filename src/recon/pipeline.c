@@ -309,10 +309,13 @@ static int state_arrays(ReconPipeline *p, DistArray *a)
 {
     int n = 0;
     Frame *f = &p->g.frame;
+    /* the sums the frame holds (every rank's frame holds the same: frame_init_planes) */
     float *rgb_sums[6] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
-    for (int k = 0; k < 6; ++k) a[n++] = (DistArray){rgb_sums[k], 3 * sizeof(float)};
+    for (int k = 0; k < 6; ++k)
+        if (rgb_sums[k]) a[n++] = (DistArray){rgb_sums[k], 3 * sizeof(float)};
     float *scalar_sums[3] = {f->depth, f->hits, f->spp};
-    for (int k = 0; k < 3; ++k) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
+    for (int k = 0; k < 3; ++k)
+        if (scalar_sums[k]) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
     if (p->filtering) a[n++] = (DistArray){p->g.sums, sizeof(GBufferSums)};
     if (p->g.others) a[n++] = (DistArray){p->g.others, sizeof(GBufferOtherSums)};
     if (p->store) n += sample_store_arrays(p->store, a + n, MAX_STATE_ARRAYS - n);
@@ -836,11 +839,12 @@ static bool plain_mean(ReconPipeline *p, Diag *d)
 }
 
 /* --filter none (or nothing to filter): one pass, no sink, the frame's sums alone (no guides:
- * nothing reads them). */
+ * nothing reads them), and of those only the ones the caller reads (render_reads.h). */
 static bool render_plain(ReconPipeline *p, Diag *d)
 {
     int w = renderer_width(p->r), h = renderer_height(p->r);
-    if (!gbuffer_init_frame(&p->g, w, h, recon_camera_from(renderer_camera(p->r)))) {
+    unsigned planes = render_reads_frame_planes(renderer_reads(p->r));
+    if (!gbuffer_init_frame(&p->g, w, h, recon_camera_from(renderer_camera(p->r)), planes)) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for a %dx%d frame", w, h);
         return false;
     }

@@ -7,27 +7,37 @@
 
 #include "core/zalloc.h"
 
-bool frame_init(Frame *f, int width, int height)
+bool frame_init(Frame *f, int width, int height) { return frame_init_planes(f, width, height, FRAME_PLANES_ALL); }
+
+bool frame_init_planes(Frame *f, int width, int height, unsigned planes)
 {
     *f = (Frame){0};
     if (width <= 0 || height <= 0) return false;
     size_t n = (size_t)width * (size_t)height;
     f->width = width, f->height = height;
     f->color = zalloc(3 * n, sizeof(float));
-    f->direct = zalloc(3 * n, sizeof(float));
-    f->indirect = zalloc(3 * n, sizeof(float));
-    f->emission = zalloc(3 * n, sizeof(float));
-    f->albedo = zalloc(3 * n, sizeof(float));
-    f->normal = zalloc(3 * n, sizeof(float));
-    f->depth = zalloc(n, sizeof(float));
-    f->hits = zalloc(n, sizeof(float));
     f->spp = zalloc(n, sizeof(float));
-    if (!f->color || !f->direct || !f->indirect || !f->emission || !f->albedo || !f->normal || !f->depth || !f->hits ||
-        !f->spp) {
-        frame_free(f);
-        return false;
+    bool ok = f->color && f->spp;
+    if (planes & FRAME_PLANES_PARTS) {
+        f->direct = zalloc(3 * n, sizeof(float));
+        f->indirect = zalloc(3 * n, sizeof(float));
+        f->emission = zalloc(3 * n, sizeof(float));
+        ok = ok && f->direct && f->indirect && f->emission;
     }
-    return true;
+    if (planes & FRAME_PLANES_GUIDES) {
+        f->albedo = zalloc(3 * n, sizeof(float));
+        f->normal = zalloc(3 * n, sizeof(float));
+        f->depth = zalloc(n, sizeof(float));
+        f->hits = zalloc(n, sizeof(float));
+        ok = ok && f->albedo && f->normal && f->depth && f->hits;
+    }
+    if (!ok) frame_free(f);
+    return ok;
+}
+
+unsigned frame_planes(const Frame *f)
+{
+    return (f->direct ? FRAME_PLANES_PARTS : 0u) | (f->albedo ? FRAME_PLANES_GUIDES : 0u);
 }
 
 void frame_free(Frame *f)
@@ -40,15 +50,12 @@ void frame_free(Frame *f)
 void frame_clear(Frame *f)
 {
     size_t n = (size_t)f->width * (size_t)f->height;
-    memset(f->color, 0, 3 * n * sizeof(float));
-    memset(f->direct, 0, 3 * n * sizeof(float));
-    memset(f->indirect, 0, 3 * n * sizeof(float));
-    memset(f->emission, 0, 3 * n * sizeof(float));
-    memset(f->albedo, 0, 3 * n * sizeof(float));
-    memset(f->normal, 0, 3 * n * sizeof(float));
-    memset(f->depth, 0, n * sizeof(float));
-    memset(f->hits, 0, n * sizeof(float));
-    memset(f->spp, 0, n * sizeof(float));
+    float *const sums3[] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
+    float *const sums1[] = {f->depth, f->hits, f->spp};
+    for (size_t k = 0; k < sizeof sums3 / sizeof sums3[0]; ++k)
+        if (sums3[k]) memset(sums3[k], 0, 3 * n * sizeof(float));
+    for (size_t k = 0; k < sizeof sums1 / sizeof sums1[0]; ++k)
+        if (sums1[k]) memset(sums1[k], 0, n * sizeof(float));
     f->guides_skipped = false;
 }
 

@@ -502,10 +502,10 @@ typedef struct {
     vec3 beta_next;
 } WavePath;
 
-/* One run's camera samples as arrays (camera_generate_rays' input; its rays go to the wave's
- * camera arrays). */
+/* The wave's camera samples as arrays, one lane per path (camera_generate_rays' input; its
+ * rays go to the wave's camera arrays). */
 typedef struct {
-    float px[SAMPLER_RUN_MAX], py[SAMPLER_RUN_MAX], lens_u[SAMPLER_RUN_MAX], lens_v[SAMPLER_RUN_MAX];
+    float px[WAVE_SAMPLES], py[WAVE_SAMPLES], lens_u[WAVE_SAMPLES], lens_v[WAVE_SAMPLES];
 } CameraBatch;
 
 /* Each path's current vertex, one lane per path, written beside its Vertex
@@ -778,11 +778,14 @@ static inline void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, 
     p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
 }
 
-/* The camera rays of pixel k's samples first .. first + count - 1 (count <= SAMPLER_RUN_MAX),
- * paths j0 .., with their first vertex's dimensions (a camera ray that misses has drawn them
- * for nothing). The rays themselves are one batch (camera_generate_rays). */
-WAVE_STAGE void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveSampling *ws, const WavePixel *pixels,
-                                 int k, int first, int count, int j0, WaveOut out)
+/* The camera samples of pixel k's samples first .. first + count - 1 (count <=
+ * SAMPLER_RUN_MAX), paths j0 .., into the wave's camera batch, with their first vertex's
+ * dimensions (a camera ray that misses has drawn them for nothing). The rays themselves are
+ * made for the whole wave at once (wave_integrate: camera_generate_rays), not per pixel: at 16
+ * samples a pixel the batch's set-up cost as much as its 16 rays (issue 22's flatness). Each
+ * ray is computed on its own, lane by lane, so the batch's length does not change its bits. */
+WAVE_STAGE void wave_camera_samples(const IntegratorScene *sc, Wave *w, const WaveSampling *ws,
+                                    const WavePixel *pixels, int k, int first, int count, int j0, WaveOut out)
 {
     PixelSampler *s = wave_pixel_sampler(w, ws, pixels, k);
     sampler_run_begin(s, &w->run, first, count);
@@ -792,20 +795,18 @@ WAVE_STAGE void wave_camera_rays(const IntegratorScene *sc, Wave *w, const WaveS
     if (sc->sample_lens) sampler_run_2d(s, &w->run, 2, lens);
     if (sc->sample_time) sampler_run_1d(s, &w->run, sc->sample_lens ? 4 : 2, shutter);
     CameraBatch *cb = &w->camera;
-    if (sc->sample_lens) warp_disk_concentric_run(count, lens, cb->lens_u, cb->lens_v);
+    float *lens_u = cb->lens_u + j0, *lens_v = cb->lens_v + j0;
+    if (sc->sample_lens) warp_disk_concentric_run(count, lens, lens_u, lens_v);
     else
-        for (int i = 0; i < count; ++i) cb->lens_u[i] = cb->lens_v[i] = 0.0f;
+        for (int i = 0; i < count; ++i) lens_u[i] = lens_v[i] = 0.0f;
     for (int i = 0; i < count; ++i) {
         WavePath *p = &w->path[j0 + i];
         p->pixel = k;
         p->sample_index = first + i;
-        wave_camera_sample(sc, film[i], v2(cb->lens_u[i], cb->lens_v[i]), sc->sample_time ? shutter[i] : 0.0f,
-                           &pixels[k], p, out, j0 + i, &cb->px[i], &cb->py[i]);
+        wave_camera_sample(sc, film[i], v2(lens_u[i], lens_v[i]), sc->sample_time ? shutter[i] : 0.0f, &pixels[k],
+                           p, out, j0 + i, &cb->px[j0 + i], &cb->py[j0 + i]);
         w->cam_time01[j0 + i] = p->time01;
     }
-    float *o[3] = {w->cam_o[0] + j0, w->cam_o[1] + j0, w->cam_o[2] + j0};
-    float *d[3] = {w->cam_d[0] + j0, w->cam_d[1] + j0, w->cam_d[2] + j0};
-    camera_generate_rays(sc->camera, count, cb->px, cb->py, cb->lens_u, cb->lens_v, w->cam_time01 + j0, o, d);
     wave_vertex_dims(sc, w, j0, 1);
 }
 
@@ -1695,7 +1696,7 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
     _Static_assert(SAMPLE_RECORD_MAX_SHADOW == 1 && SAMPLE_RECORD_MAX_BOUNCE == 1,
                    "record_reset clears one entry of each");
     w->sampler_pixel = -1;
-    /* camera rays, and the first vertex's dimensions */
+    /* camera samples, and the first vertex's dimensions, pixel by pixel; then the rays */
     int n = 0;
     for (int k = 0; k < pixel_count; ++k) {
         int count = pixels[k].count < WAVE_SAMPLES - n ? pixels[k].count : WAVE_SAMPLES - n;
@@ -1703,10 +1704,13 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
         w->path_count[k] = count > 0 ? count : 0;
         for (int i = 0; i < count; i += SAMPLER_RUN_MAX) {
             int m = count - i < SAMPLER_RUN_MAX ? count - i : SAMPLER_RUN_MAX;
-            wave_camera_rays(sc, w, ws, pixels, k, pixels[k].index_first + i, m, n + i, out);
+            wave_camera_samples(sc, w, ws, pixels, k, pixels[k].index_first + i, m, n + i, out);
         }
         n += w->path_count[k];
     }
+    float *cam_o[3] = {w->cam_o[0], w->cam_o[1], w->cam_o[2]}, *cam_d[3] = {w->cam_d[0], w->cam_d[1], w->cam_d[2]};
+    camera_generate_rays(sc->camera, n, w->camera.px, w->camera.py, w->camera.lens_u, w->camera.lens_v, w->cam_time01,
+                         cam_o, cam_d);
     st->rays_primary += n;
     TracerRayArrays camera_rays = {{w->cam_o[0], w->cam_o[1], w->cam_o[2]},
                                    {w->cam_d[0], w->cam_d[1], w->cam_d[2]},

@@ -271,6 +271,7 @@ typedef struct {
     Frame *frame;
     const SampleSink *sink;
     bool sum_guides;            /* add the frame's albedo, normal, depth and hits (render_reads.h) */
+    bool sum_parts;             /* add its direct, indirect and emission: the frame holds them */
     int tiles_x, tile_count;
     int sample_begin, sample_end; /* the round: sample indices [begin, end) of every pixel */
     /* The first round ([0,64)) of an interruptible pass: per tile, how many of its rows the
@@ -414,12 +415,13 @@ static inline __attribute__((always_inline)) void add_slice(PassJob *job, int px
     double sums[SLICE_RADIANCE];
     memcpy(sums, rad2, sizeof sums);
     const double *c = sums, *em = sums + 3, *di = sums + 6, *in = sums + 9;
-    for (int ch = 0; ch < 3; ++ch) {
-        f->color[i3 + ch] += (float)c[ch];
-        f->direct[i3 + ch] += (float)di[ch];
-        f->indirect[i3 + ch] += (float)in[ch];
-        f->emission[i3 + ch] += (float)em[ch];
-    }
+    for (int ch = 0; ch < 3; ++ch) f->color[i3 + ch] += (float)c[ch];
+    if (job->sum_parts)
+        for (int ch = 0; ch < 3; ++ch) {
+            f->direct[i3 + ch] += (float)di[ch];
+            f->indirect[i3 + ch] += (float)in[ch];
+            f->emission[i3 + ch] += (float)em[ch];
+        }
     if (rec && job->sum_guides) {
         for (int ch = 0; ch < 3; ++ch) {
             f->albedo[i3 + ch] += (float)al[ch];
@@ -594,7 +596,9 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     job.spp_uniform = spp_uniform;
     job.frame = frame;
     job.sink = sink;
-    job.sum_guides = render_reads_frame_guides(r->opt.reads);
+    /* the sums the frame holds (frame_init_planes), the guides only where the users read them */
+    job.sum_guides = render_reads_frame_guides(r->opt.reads) && frame->albedo;
+    job.sum_parts = frame->direct != NULL;
     if (!job.sum_guides) frame->guides_skipped = true;
     job.tiles_x = (r->width + TILE_PX - 1) / TILE_PX;
     job.tile_count = job.tiles_x * ((r->height + TILE_PX - 1) / TILE_PX);

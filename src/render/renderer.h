@@ -121,7 +121,9 @@ void renderer_set_record_motion(Renderer *r, bool on);
 /* The users' declaration of what they read of the following passes (render_reads.h; initially
  * RenderOptions.reads, 0: everything). Without RENDER_READS_FIRST_HIT the records' first-hit
  * fields are left unset; without RENDER_READS_FRAME_GUIDES the frame's albedo, normal, depth
- * and hits sums are not added (and the frame says so: Frame.guides_skipped). Not during a pass. */
+ * and hits sums are not added (and the frame says so: Frame.guides_skipped). A frame made for
+ * the declaration (render_reads_frame_planes) holds only the sums it reads: a pass adds to the
+ * sums its frame holds. Not during a pass. */
 void renderer_set_reads(Renderer *r, unsigned reads);
 unsigned renderer_reads(const Renderer *r);
 

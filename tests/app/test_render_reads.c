@@ -5,7 +5,10 @@
  *  - --filter none --aovs (and --visualize): the guide sums are kept, bit for bit those of an
  *    undeclared render (the AOV layers are what they were), and render_output_write refuses
  *    a frame whose guides were skipped rather than write empty layers;
- *  - a filter keeps everything whatever the outputs declare (its G-buffer reads it). */
+ *  - a filter keeps everything whatever the outputs declare (its G-buffer reads it), and its
+ *    frame holds every sum;
+ *  - --filter none without --aovs makes a frame of the colour and the counts alone
+ *    (frame_init_planes), whose colour and counts are the full frame's bit for bit. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,14 +65,17 @@ static bool render_with(const char *const *args, int argc, bool declare, Rendere
     if (ok) {
         const Frame *f = &recon_pipeline_gbuffer(pipe)->frame;
         size_t n = (size_t)f->width * (size_t)f->height;
-        ok = frame_init(&out->frame, f->width, f->height) && (out->rgb = malloc(3 * n * sizeof(float)));
+        /* the same planes as the pipeline's frame (those its reads asked for) */
+        ok = frame_init_planes(&out->frame, f->width, f->height, frame_planes(f)) &&
+             (out->rgb = malloc(3 * n * sizeof(float)));
         if (ok) {
             float *const dst[] = {out->frame.color, out->frame.direct, out->frame.indirect, out->frame.emission,
                                   out->frame.albedo, out->frame.normal};
             const float *const src[] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
-            for (int k = 0; k < 6; ++k) memcpy(dst[k], src[k], 3 * n * sizeof(float));
-            memcpy(out->frame.depth, f->depth, n * sizeof(float));
-            memcpy(out->frame.hits, f->hits, n * sizeof(float));
+            for (int k = 0; k < 6; ++k)
+                if (src[k]) memcpy(dst[k], src[k], 3 * n * sizeof(float));
+            if (f->depth) memcpy(out->frame.depth, f->depth, n * sizeof(float));
+            if (f->hits) memcpy(out->frame.hits, f->hits, n * sizeof(float));
             memcpy(out->frame.spp, f->spp, n * sizeof(float));
             out->frame.guides_skipped = f->guides_skipped;
             memcpy(out->rgb, recon_pipeline_result(pipe)->rgb, 3 * n * sizeof(float));
@@ -106,11 +112,15 @@ int main(void)
     size_t n = (size_t)full.frame.width * (size_t)full.frame.height;
 
     /* undeclared: everything kept */
-    CHECK(full.reads == 0 && !full.frame.guides_skipped);
-    /* --filter none, no AOVs: the guides skipped, the image the same */
-    CHECK(skip.reads == RENDER_READS_RADIANCE && skip.frame.guides_skipped);
+    CHECK(full.reads == 0 && !full.frame.guides_skipped && frame_planes(&full.frame) == FRAME_PLANES_ALL);
+    /* --filter none, no AOVs: a frame of the colour and the counts alone (no guides, no
+     * parts), the image the same */
+    CHECK(skip.reads == RENDER_READS_RADIANCE && skip.frame.guides_skipped && frame_planes(&skip.frame) == 0);
     CHECK(same(full.rgb, skip.rgb, 3 * n) && same(full.frame.spp, skip.frame.spp, n));
-    /* --aovs and --visualize declare the guides: the layers' sums as the undeclared render's */
+    CHECK(same(full.frame.color, skip.frame.color, 3 * n));
+    /* --aovs and --visualize declare the guides and the parts: the layers' sums as the
+     * undeclared render's */
+    CHECK(frame_planes(&aovs.frame) == FRAME_PLANES_ALL && frame_planes(&vis.frame) == FRAME_PLANES_ALL);
     CHECK(render_reads_frame_guides(aovs.reads) && !aovs.frame.guides_skipped);
     CHECK(same_guides(&full.frame, &aovs.frame) && same(full.rgb, aovs.rgb, 3 * n));
     CHECK(render_reads_frame_guides(vis.reads) && !vis.frame.guides_skipped && same_guides(&full.frame, &vis.frame));
@@ -140,8 +150,12 @@ int main(void)
     scene_analyze_effects(&scene);
     CHECK(renderer_create(&scene, &ro, &r, &err));
     ReconOptions po = {.filter = "aaf", .reads = RENDER_READS_RADIANCE};
-    if (recon_pipeline_create(r, &po, &pipe, &err)) CHECK(renderer_reads(r) == RENDER_READS_ALL);
-    else fprintf(stderr, "note: no OpenCL device, the filter's declaration not checked: %s\n", err.message);
+    if (recon_pipeline_create(r, &po, &pipe, &err)) {
+        CHECK(renderer_reads(r) == RENDER_READS_ALL);
+        /* and its frame holds every sum */
+        CHECK(recon_pipeline_render(pipe, &err));
+        CHECK(frame_planes(&recon_pipeline_gbuffer(pipe)->frame) == FRAME_PLANES_ALL);
+    } else fprintf(stderr, "note: no OpenCL device, the filter's declaration not checked: %s\n", err.message);
     recon_pipeline_destroy(pipe);
     renderer_destroy(r);
     scene_desc_free(&scene);

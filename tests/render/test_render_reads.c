@@ -10,7 +10,10 @@
  *  - declared first hit: a sink sees every record field the undeclared render gives it
  *    (the first-hit fields, the unfiltered parts, nonzero here, and the radiance split);
  *  - the same renderer declared everything again after a skipped pass (renderer_set_reads,
- *    frame_clear) gives the full frame: a later user that needs the AOVs gets them. */
+ *    frame_clear) gives the full frame: a later user that needs the AOVs gets them;
+ *  - a frame made with fewer planes (frame_init_planes: the colour and the counts, with or
+ *    without the parts and the guides) gets every sum it holds bit for bit the full frame's,
+ *    under every declaration; the planes it lacks stay NULL. */
 #include "check.h"
 #include "render/render_reads.h"
 #include "render_test_util.h"
@@ -167,6 +170,37 @@ int main(void)
     frame_clear(&radiance.frame);
     render_pass(radiance.r, 0, NULL, renderer_spp(radiance.r), &radiance.frame, NULL);
     CHECK(same_radiance(&all.frame, &radiance.frame) && radiance.frame.guides_skipped);
+
+    /* frames with fewer planes, under each declaration: the sums they hold are the full frame's */
+    const unsigned declared[] = {0, RENDER_READS_RADIANCE, RENDER_READS_RADIANCE | RENDER_READS_FRAME_GUIDES,
+                                 RENDER_READS_ALL};
+    const unsigned planes[] = {0, FRAME_PLANES_PARTS, FRAME_PLANES_GUIDES, FRAME_PLANES_ALL};
+    size_t n = (size_t)all.frame.width * (size_t)all.frame.height;
+    for (size_t d = 0; d < sizeof declared / sizeof declared[0]; ++d)
+        for (size_t k = 0; k < sizeof planes / sizeof planes[0]; ++k) {
+            Frame thin;
+            CHECK(frame_init_planes(&thin, all.frame.width, all.frame.height, planes[k]));
+            CHECK(frame_planes(&thin) == planes[k]);
+            renderer_set_reads(radiance.r, declared[d]);
+            for (int again = 0; again < 2; ++again) { /* and after frame_clear of a thin frame */
+                if (again) frame_clear(&thin);
+                render_pass(radiance.r, 0, NULL, renderer_spp(radiance.r), &thin, NULL);
+                CHECK(same_floats(all.frame.color, thin.color, 3 * n) && same_floats(all.frame.spp, thin.spp, n));
+                bool parts = planes[k] & FRAME_PLANES_PARTS, guides = planes[k] & FRAME_PLANES_GUIDES;
+                CHECK(parts ? same_radiance(&all.frame, &thin) : !thin.direct && !thin.indirect && !thin.emission);
+                if (!guides) CHECK(!thin.albedo && !thin.normal && !thin.depth && !thin.hits && thin.guides_skipped);
+                else if (render_reads_frame_guides(declared[d]))
+                    CHECK(same_guides(&all.frame, &thin) && !thin.guides_skipped);
+                else CHECK(thin.guides_skipped && guides_magnitude(&thin) == 0.0);
+            }
+            frame_free(&thin);
+        }
+    /* the planes a declaration asks for */
+    CHECK(render_reads_frame_planes(0) == FRAME_PLANES_ALL && render_reads_frame_planes(RENDER_READS_ALL) == FRAME_PLANES_ALL);
+    CHECK(render_reads_frame_planes(RENDER_READS_RADIANCE) == 0);
+    CHECK(render_reads_frame_planes(RENDER_READS_RADIANCE | RENDER_READS_FIRST_HIT) == 0);
+    CHECK(render_reads_frame_planes(RENDER_READS_RADIANCE | RENDER_READS_FRAME_GUIDES) == FRAME_PLANES_GUIDES);
+    CHECK(render_reads_frame_planes(RENDER_READS_RADIANCE | RENDER_READS_FRAME_PARTS) == FRAME_PLANES_PARTS);
 
     test_render_free(&all), test_render_free(&radiance), test_render_free(&guides);
     test_render_free(&a), test_render_free(&b);
