@@ -168,6 +168,8 @@ static void print_text(const SceneDesc *s, const ReconChoice *c, long triangles,
     for (int e = 0; e < EFFECT_COUNT; ++e)
         if (effect_in(s->effects, (Effect)e) && c->reason[e][0])
             fprintf(f, "  %-12s %s\n", effect_name((Effect)e), c->reason[e]);
+    char biased[RECON_REASON_SIZE];
+    if (recon_choice_moving_light_warning(c, biased, sizeof biased)) fprintf(f, "  %-12s warning: %s\n", "soft_shadows", biased);
     fprintf(f, "warnings    %d\n", s->warning_count);
     for (int i = 0; i < s->warning_count; ++i) fprintf(f, "  %s\n", s->warnings[i]);
 }

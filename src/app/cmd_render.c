@@ -311,6 +311,9 @@ static int render_command(int argc, char **argv, ReconDist *dist)
         for (int e = 0; e < EFFECT_COUNT && root; ++e)
             if (effect_in(c->fell_back, (Effect)e))
                 fprintf(stderr, "wedge render: --filter auto: %s: %s\n", effect_name((Effect)e), c->reason[e]);
+        char warning[RECON_REASON_SIZE];
+        if (root && recon_choice_moving_light_warning(c, warning, sizeof warning))
+            fprintf(stderr, "wedge render: warning: %s\n", warning);
     }
     interrupt_flag = 0;
     void (*old_handler)(int) = signal(SIGINT, on_sigint);

@@ -272,13 +272,26 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
 
 void recon_select_moving_light(ReconChoice *c, bool area_light_moves)
 {
-    if (!area_light_moves || !c->by_auto[EFFECT_SOFT_SHADOWS] || !c->method[EFFECT_SOFT_SHADOWS]) return;
+    if (!area_light_moves || !c->method[EFFECT_SOFT_SHADOWS]) return;
+    c->shadow_light_moves = true;
+    if (!c->by_auto[EFFECT_SOFT_SHADOWS]) return; /* asked for by name: kept, and warned about */
     const char *was = c->method[EFFECT_SOFT_SHADOWS]->name;
     c->method[EFFECT_SOFT_SHADOWS] = NULL;
     set_reason(c, EFFECT_SOFT_SHADOWS,
                "none, auto fell back to Monte Carlo: an area light moves during the shutter, and %s's shadow filter "
                "takes its pose at shutter open (biased; docs/benchmarks.md, held4)",
                was);
+}
+
+bool recon_choice_moving_light_warning(const ReconChoice *c, char *buf, size_t size)
+{
+    if (size) buf[0] = '\0';
+    if (!c->shadow_light_moves || !c->method[EFFECT_SOFT_SHADOWS] || c->by_auto[EFFECT_SOFT_SHADOWS]) return false;
+    snprintf(buf, size,
+             "an area light moves during the shutter, and %s's shadow filter takes its pose at shutter open: "
+             "the soft shadows are biased (--filter auto leaves them to Monte Carlo)",
+             c->method[EFFECT_SOFT_SHADOWS]->name);
+    return true;
 }
 
 /* The shading effects auto's fallback decides (auto_fallback.h): the filters whose gain the

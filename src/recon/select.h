@@ -29,6 +29,9 @@ typedef struct {
     EffectMask fell_back;                         /* effects auto had chosen a filter for and then
                                                    * left to Monte Carlo */
     AutoFallback fallback;                        /* the decision's numbers */
+    bool shadow_light_moves;                      /* an area light moves and the frame has soft
+                                                   * shadows (recon_select_moving_light): an
+                                                   * explicit shadow filter is then biased */
 } ReconChoice;
 
 /* --filter auto sends the camera effects (motion, and defocus with it) of a scene with motion
@@ -70,9 +73,13 @@ bool recon_select_wants_blur(EffectMask present, const char *request);
 
 /* A moving area light: the soft shadows auto chose a filter for are left to Monte Carlo (the
  * shadow filters read the light's pose at shutter open and are biased when it moves,
- * moving_lights.h), with the reason; explicit filters keep theirs. Call after
- * recon_select_budget and before the fallback's probe. */
+ * moving_lights.h), with the reason; explicit filters keep theirs, and shadow_light_moves
+ * tells the caller to warn that they are biased. Call after recon_select_budget and before the
+ * fallback's probe. */
 void recon_select_moving_light(ReconChoice *c, bool area_light_moves);
+/* The warning for a shadow filter asked for by name under a moving area light, into buf (one
+ * line, no prefix); false (and buf "") when there is nothing to warn about. */
+bool recon_choice_moving_light_warning(const ReconChoice *c, char *buf, size_t size);
 
 /* Whether auto chose a filter that its fallback to Monte Carlo may take back: a shading filter
  * (soft shadows, indirect light) or its camera filters (defocus, motion; judged together, and

@@ -10,7 +10,8 @@
 # ~1.4 pixels), so auto leaves motion to Monte Carlo, with one stderr line and --filter none's
 # image; on motion_defocus_hard the blur spans tens of pixels and auto keeps lr, silently. An
 # explicit method (or an effect named with a method) never falls back, and
-# WEDGE_AUTO_FALLBACK=0 keeps auto's static choice.
+# WEDGE_AUTO_FALLBACK=0 keeps auto's static choice. A moving area light: an explicit shadow filter
+# is kept with a warning.
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
@@ -146,4 +147,14 @@ if r["filters"] != {effect: method} or "auto_fallback" in r:
     print("FAIL: %s: filters %s, auto_fallback %s" % (sys.argv[2], r["filters"], r.get("auto_fallback"))); sys.exit(1)
 PY
 done
+
+# A moving area light (src/recon/moving_lights.h): auto leaves the soft shadows to Monte Carlo and
+# says nothing more; a shadow filter asked for by name is kept, with a warning that it is biased
+want_warning="wedge render: warning: an area light moves during the shutter, and aaf's shadow filter takes its pose at shutter open: the soft shadows are biased (--filter auto leaves them to Monte Carlo)"
+"$WEDGE" render "$src/scenes/bench/moving_light_defocus.pbrt" --res 32x24 --spp 4 --seed 3 --filter aaf -o "$T/ml.exr" \
+    2>"$T/err.txt" >/dev/null; check "moving_light_defocus --filter aaf" 0 $?
+grep -qxF "$want_warning" "$T/err.txt" || { echo "FAIL: no moving-light warning: $(cat "$T/err.txt")"; fail=1; }
+"$WEDGE" render "$src/scenes/bench/moving_light_defocus.pbrt" --res 32x24 --spp 4 --seed 3 --filter auto -o "$T/ml.exr" \
+    2>"$T/err.txt" >/dev/null; check "moving_light_defocus --filter auto" 0 $?
+grep -q "shadow filter takes its pose" "$T/err.txt" && { echo "FAIL: auto warned about a filter it did not keep"; fail=1; }
 exit $fail

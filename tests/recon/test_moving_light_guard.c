@@ -6,7 +6,8 @@
  *  - the scene's light is found moving; a scene whose objects move under a static light
  *    (spin_defocus) and a static one (soft_shadows) are not;
  *  - auto's soft-shadow filter is left to Monte Carlo with the reason, the other effects keep
- *    theirs; an explicit shadow filter and a static light change nothing. */
+ *    theirs; an explicit shadow filter is kept with its reason and a warning (its exact text);
+ *    a static light changes nothing. */
 #include <string.h>
 
 #include "check.h"
@@ -52,11 +53,26 @@ int main(void)
     CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
     CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
 
+    char warning[RECON_REASON_SIZE];
+    CHECK(!recon_choice_moving_light_warning(&c, warning, sizeof warning)); /* auto: left to Monte Carlo, no warning */
+    CHECK_STR(warning, "");
+
     ReconChoice named;
     recon_select_budget(all, "soft_shadows=aaf", 5.0f, 16, &named);
     ReconChoice before = named;
-    recon_select_moving_light(&named, true);
+    recon_select_moving_light(&named, false);
     CHECK(memcmp(&before, &named, sizeof named) == 0);
-    CHECK_STR(recon_choice_name(&named, EFFECT_SOFT_SHADOWS), "aaf");
+    CHECK(!recon_choice_moving_light_warning(&named, warning, sizeof warning));
+    recon_select_moving_light(&named, true);
+    CHECK_STR(recon_choice_name(&named, EFFECT_SOFT_SHADOWS), "aaf"); /* asked for by name: kept */
+    CHECK_STR(named.reason[EFFECT_SOFT_SHADOWS], before.reason[EFFECT_SOFT_SHADOWS]);
+    CHECK(recon_choice_moving_light_warning(&named, warning, sizeof warning));
+    CHECK_STR(warning, "an area light moves during the shutter, and aaf's shadow filter takes its pose at shutter open: "
+                       "the soft shadows are biased (--filter auto leaves them to Monte Carlo)");
+    /* a frame without soft shadows has nothing to warn about */
+    ReconChoice no_shadows;
+    recon_select_budget(EFFECT_BIT(EFFECT_DEFOCUS), "aaf", -1.0f, 16, &no_shadows);
+    recon_select_moving_light(&no_shadows, true);
+    CHECK(!recon_choice_moving_light_warning(&no_shadows, warning, sizeof warning));
     return check_failures ? 1 : 0;
 }
