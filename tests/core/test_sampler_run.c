@@ -117,6 +117,19 @@ int main(void)
     CHECK(compare_pixels_runs(32768, 4, 64) == 0);
     CHECK(compare_pixels_runs(211, 256, 64) == 0);
     CHECK(compare_pixels_runs(509, 128, 64) == 0);
+    /* grids with both sides at most 32 and one past 16, whose table look-ups are
+     * in-register permutes (run_tabled_values_small): 512 = 16 x 32 in the renderer's rounds
+     * of 64 and 128 and in runs that end inside a 16-lane chunk (50); 1024 = 32 x 32 and
+     * 992 = 31 x 32 at the limit, 1056 = 32 x 33 just past it (run_tabled_values), 34 = 2 x 17
+     * and 17 = 1 x 17 (a side of one) */
+    CHECK(compare_pixels_runs(512, 512, 64) == 0);
+    CHECK(compare_pixels_runs(512, 256, 128) == 0);
+    CHECK(compare_pixels_runs(512, 256, 50) == 0);
+    CHECK(compare_pixels_runs(1024, 128, 127) == 0);
+    CHECK(compare_pixels_runs(992, 128, 64) == 0);
+    CHECK(compare_pixels_runs(1056, 128, 64) == 0);
+    CHECK(compare_pixels_runs(34, 2048, 34) == 0);
+    CHECK(compare_pixels_runs(17, 2048, 17) == 0);
     /* per-pixel tables (spp <= 16: run_table_values_2d, run_table_strata), whole pixels in
      * one run as the renderer's rounds take them. Few near-edge jitters change a value (the
      * rounding must cross the edge): 131072 pixels at 16 spp (19 million values) meet some;
