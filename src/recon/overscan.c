@@ -15,14 +15,11 @@ void overscan_crop(void *dst, const void *src, int src_w, int src_h, int margin,
 void overscan_crop_gbuffer(GBuffer *dst, const GBuffer *src, int margin)
 {
     int sw = src->width, sh = src->height;
-    const Frame *f = &src->frame;
-    Frame *g = &dst->frame;
-    float *const rgb_dst[6] = {g->color, g->direct, g->indirect, g->emission, g->albedo, g->normal};
-    const float *const rgb_src[6] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
-    for (int k = 0; k < 6; ++k) overscan_crop(rgb_dst[k], rgb_src[k], sw, sh, margin, 3 * sizeof(float));
-    overscan_crop(g->depth, f->depth, sw, sh, margin, sizeof(float));
-    overscan_crop(g->hits, f->hits, sw, sh, margin, sizeof(float));
-    overscan_crop(g->spp, f->spp, sw, sh, margin, sizeof(float));
+    FrameSum to[FRAME_SUM_COUNT], from[FRAME_SUM_COUNT];
+    frame_sums(&dst->frame, to);
+    frame_sums(&src->frame, from);
+    for (int k = 0; k < FRAME_SUM_COUNT; ++k)
+        overscan_crop(to[k].sum, from[k].sum, sw, sh, margin, (size_t)from[k].floats_per_pixel * sizeof(float));
     overscan_crop(dst->sums, src->sums, sw, sh, margin, sizeof(GBufferSums));
     overscan_crop(dst->hit, src->hit, sw, sh, margin, 1);
     overscan_crop(dst->mixed, src->mixed, sw, sh, margin, 1);

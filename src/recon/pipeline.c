@@ -310,12 +310,10 @@ static int state_arrays(ReconPipeline *p, DistArray *a)
     int n = 0;
     Frame *f = &p->g.frame;
     /* the sums the frame holds (every rank's frame holds the same: frame_init_planes) */
-    float *rgb_sums[6] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
-    for (int k = 0; k < 6; ++k)
-        if (rgb_sums[k]) a[n++] = (DistArray){rgb_sums[k], 3 * sizeof(float)};
-    float *scalar_sums[3] = {f->depth, f->hits, f->spp};
-    for (int k = 0; k < 3; ++k)
-        if (scalar_sums[k]) a[n++] = (DistArray){scalar_sums[k], sizeof(float)};
+    FrameSum sums[FRAME_SUM_COUNT];
+    frame_sums(f, sums);
+    for (int k = 0; k < FRAME_SUM_COUNT; ++k)
+        if (sums[k].sum) a[n++] = (DistArray){sums[k].sum, (size_t)sums[k].floats_per_pixel * sizeof(float)};
     if (p->filtering) a[n++] = (DistArray){p->g.sums, sizeof(GBufferSums)};
     if (p->g.others) a[n++] = (DistArray){p->g.others, sizeof(GBufferOtherSums)};
     if (p->store) n += sample_store_arrays(p->store, a + n, MAX_STATE_ARRAYS - n);

@@ -47,15 +47,20 @@ void frame_free(Frame *f)
     *f = (Frame){0};
 }
 
+void frame_sums(const Frame *f, FrameSum out[FRAME_SUM_COUNT])
+{
+    float *const sums[FRAME_SUM_COUNT] = {f->color,  f->direct, f->indirect, f->emission, f->albedo,
+                                          f->normal, f->depth,  f->hits,     f->spp};
+    for (int k = 0; k < FRAME_SUM_COUNT; ++k) out[k] = (FrameSum){sums[k], k < 6 ? 3 : 1};
+}
+
 void frame_clear(Frame *f)
 {
     size_t n = (size_t)f->width * (size_t)f->height;
-    float *const sums3[] = {f->color, f->direct, f->indirect, f->emission, f->albedo, f->normal};
-    float *const sums1[] = {f->depth, f->hits, f->spp};
-    for (size_t k = 0; k < sizeof sums3 / sizeof sums3[0]; ++k)
-        if (sums3[k]) memset(sums3[k], 0, 3 * n * sizeof(float));
-    for (size_t k = 0; k < sizeof sums1 / sizeof sums1[0]; ++k)
-        if (sums1[k]) memset(sums1[k], 0, n * sizeof(float));
+    FrameSum sums[FRAME_SUM_COUNT];
+    frame_sums(f, sums);
+    for (int k = 0; k < FRAME_SUM_COUNT; ++k)
+        if (sums[k].sum) memset(sums[k].sum, 0, (size_t)sums[k].floats_per_pixel * n * sizeof(float));
     f->guides_skipped = false;
 }
 

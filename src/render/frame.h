@@ -39,6 +39,15 @@ bool frame_init(Frame *f, int width, int height);
 bool frame_init_planes(Frame *f, int width, int height, unsigned planes);
 /* The FRAME_PLANES_* bits of the planes f holds. */
 unsigned frame_planes(const Frame *f);
+/* One of a frame's sums: its array (NULL when the frame does not hold it) and floats a pixel. */
+typedef struct {
+    float *sum;
+    int floats_per_pixel;
+} FrameSum;
+enum { FRAME_SUM_COUNT = 9 };
+/* Every sum of f, in one fixed order (color, direct, indirect, emission, albedo, normal, depth,
+ * hits, spp): the one list for the code that visits them all (clearing, cropping, exchanging). */
+void frame_sums(const Frame *f, FrameSum out[FRAME_SUM_COUNT]);
 void frame_free(Frame *f);
 /* Clears all sums it holds to zero (and guides_skipped). */
 void frame_clear(Frame *f);
