@@ -7,7 +7,9 @@
 #  - at 128 spp within 1.5x of Monte Carlo at 128 spp, and at most a quarter of its own error at
 #    16 spp (the error falls with the samples: no bias floor).
 # With the light's pose at shutter open (before issue 17/18's mlight1) aaf was 1.9x Monte Carlo at
-# 16 spp and 6x at 128, maaf 3.2x at 128. The reference's own error (~4e-5) is far below these.
+# 16 spp and 6x at 128, maaf 3.2x at 128. fsf, which takes the swept light as uniform and is still
+# biased (2.8x Monte Carlo at 256 spp at 160 x 120), is held to the first only (6x before).
+# The reference's own error (~4e-5) is far below these.
 set -u
 . "$(dirname "$0")/../lib.sh"
 require_wedge
@@ -25,7 +27,7 @@ below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a < b) }'; }
 render none 1024 7 "$T/ref.exr"
 check "reference render" 0 $?
 declare -A sum
-for f in none aaf maaf; do
+for f in none aaf maaf fsf; do
     spec=$f
     [ "$f" != none ] && spec="soft_shadows=$f,defocus=none,motion=none"
     for spp in 16 128; do
@@ -40,10 +42,11 @@ for f in none aaf maaf; do
         echo "$f at $spp spp: relMSE summed over seeds 1-2 $s"
     done
 done
-for f in aaf maaf; do
+for f in aaf maaf fsf; do
     if ! below "${sum[$f,16]}" "${sum[none,16]}"; then
         echo "FAIL: $f at 16 spp (${sum[$f,16]}) not below Monte Carlo (${sum[none,16]})"; fail=1
     fi
+    [ "$f" = fsf ] && continue
     if ! below "${sum[$f,128]}" "$(awk -v a="${sum[none,128]}" 'BEGIN { print 1.5 * a }')"; then
         echo "FAIL: $f at 128 spp (${sum[$f,128]}) not within 1.5x of Monte Carlo (${sum[none,128]})"; fail=1
     fi
