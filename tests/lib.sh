@@ -29,3 +29,8 @@ require_cl_device() {
         exit 77
     fi
 }
+
+# relmse REF TEST: wedge compare's relMSE of TEST against REF (empty when it cannot be read).
+relmse() {
+    "$WEDGE" compare "$1" "$2" --json | sed -n 's/.*"relmse": \([^,]*\),.*/\1/p'
+}

@@ -1,7 +1,8 @@
-/* Whether a frame's area lights move during the shutter: the shadow filters (AAF, MAAF, FSF)
- * read each area light's geometry at shutter open (renderer_light_info) and derive their
- * widths and their unoccluded irradiance from that one pose, so a light that moves makes them
- * biased (docs/algorithms.md, "auto's fallback to Monte Carlo", a moving area light). */
+/* Whether a frame's area lights move during the shutter. The shadow filters once read each area
+ * light's geometry at shutter open (renderer_light_info) alone, and a light that moved made them
+ * biased (docs/benchmarks.md, held4). Since mlight1 AAF and MAAF take the light's poses over the
+ * shutter (docs/algorithms.md 1.9 and 9.29), and recon_select_moving_light leaves them alone;
+ * FSF takes the area the light sweeps as a uniform light, which it is not, and stays guarded. */
 #ifndef WEDGE_RECON_MOVING_LIGHTS_H
 #define WEDGE_RECON_MOVING_LIGHTS_H
 

@@ -270,16 +270,25 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
     memcpy(out->by_auto, by_auto, sizeof out->by_auto);
 }
 
+/* The shadow filters that take a moving area light's poses over the shutter (its time-mean r(x),
+ * MAAF's swept light: docs/algorithms.md 1.9, 9.29); the others (fsf) take the area it sweeps as
+ * a uniform light, where its samples' density is not uniform (docs/benchmarks.md, mlight1). */
+static bool follows_moving_light(const ReconMethodClass *m)
+{
+    return !strcmp(m->name, "aaf") || !strcmp(m->name, "maaf");
+}
+
 void recon_select_moving_light(ReconChoice *c, bool area_light_moves)
 {
-    if (!area_light_moves || !c->method[EFFECT_SOFT_SHADOWS]) return;
+    if (!area_light_moves || !c->method[EFFECT_SOFT_SHADOWS] || follows_moving_light(c->method[EFFECT_SOFT_SHADOWS]))
+        return;
     c->shadow_light_moves = true;
     if (!c->by_auto[EFFECT_SOFT_SHADOWS]) return; /* asked for by name: kept, and warned about */
     const char *was = c->method[EFFECT_SOFT_SHADOWS]->name;
     c->method[EFFECT_SOFT_SHADOWS] = NULL;
     set_reason(c, EFFECT_SOFT_SHADOWS,
                "none, auto fell back to Monte Carlo: an area light moves during the shutter, and %s's shadow filter "
-               "takes its pose at shutter open (biased; docs/benchmarks.md, held4)",
+               "takes it as a uniform light over the area it sweeps (biased; docs/benchmarks.md, mlight1)",
                was);
 }
 
@@ -288,7 +297,8 @@ bool recon_choice_moving_light_warning(const ReconChoice *c, char *buf, size_t s
     if (size) buf[0] = '\0';
     if (!c->shadow_light_moves || !c->method[EFFECT_SOFT_SHADOWS] || c->by_auto[EFFECT_SOFT_SHADOWS]) return false;
     snprintf(buf, size,
-             "an area light moves during the shutter, and %s's shadow filter takes its pose at shutter open: "
+             "an area light moves during the shutter, and %s's shadow filter takes it as a uniform light over the area it "
+             "sweeps: "
              "the soft shadows are biased (--filter auto leaves them to Monte Carlo)",
              c->method[EFFECT_SOFT_SHADOWS]->name);
     return true;

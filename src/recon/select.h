@@ -29,9 +29,10 @@ typedef struct {
     EffectMask fell_back;                         /* effects auto had chosen a filter for and then
                                                    * left to Monte Carlo */
     AutoFallback fallback;                        /* the decision's numbers */
-    bool shadow_light_moves;                      /* an area light moves and the frame has soft
-                                                   * shadows (recon_select_moving_light): an
-                                                   * explicit shadow filter is then biased */
+    bool shadow_light_moves;                      /* an area light moves and the frame's shadow
+                                                   * filter does not model its motion
+                                                   * (recon_select_moving_light): an explicit
+                                                   * one is then biased */
 } ReconChoice;
 
 /* --filter auto sends the camera effects (motion, and defocus with it) of a scene with motion
@@ -71,11 +72,11 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
  * Callers run the probe only then. */
 bool recon_select_wants_blur(EffectMask present, const char *request);
 
-/* A moving area light: the soft shadows auto chose a filter for are left to Monte Carlo (the
- * shadow filters read the light's pose at shutter open and are biased when it moves,
- * moving_lights.h), with the reason; explicit filters keep theirs, and shadow_light_moves
- * tells the caller to warn that they are biased. Call after recon_select_budget and before the
- * fallback's probe. */
+/* A moving area light: the soft shadows auto chose a filter for are left to Monte Carlo when
+ * that filter takes the area it sweeps as a uniform light (fsf; aaf and maaf take its poses over
+ * the shutter, docs/algorithms.md 1.9, and are left alone), with the reason; explicit filters keep
+ * theirs, and shadow_light_moves tells the caller to warn that they are biased. Call after
+ * recon_select_budget and before the fallback's probe. */
 void recon_select_moving_light(ReconChoice *c, bool area_light_moves);
 /* The warning for a shadow filter asked for by name under a moving area light, into buf (one
  * line, no prefix); false (and buf "") when there is nothing to warn about. */

@@ -414,6 +414,7 @@ static float shutter_time01(const IntegratorScene *sc, float shutter_u)
 }
 
 float integrator_fixed_time01(const IntegratorScene *sc) { return shutter_time01(sc, 0.0f); }
+float integrator_shutter_time01(const IntegratorScene *sc, float shutter_u) { return shutter_time01(sc, shutter_u); }
 
 /* The record of a sample that has seen nothing yet. Field by field rather than
  * `*rec = (SampleRecord){0}`: the compiler turns that into a `rep stos` over the whole

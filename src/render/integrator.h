@@ -59,6 +59,8 @@ typedef struct {
 /* The pose fraction of every ray when no time is sampled (shutter fraction 0), once per
  * scene instead of per sample: store it in time01_fixed after filling the other fields. */
 float integrator_fixed_time01(const IntegratorScene *sc);
+/* The pose fraction (tracer time) a sample with shutter coordinate shutter_u in [0, 1] traces at. */
+float integrator_shutter_time01(const IntegratorScene *sc, float shutter_u);
 
 /* The samples of a few pixels integrated together (integrator.c, "the wave"): at most
  * WAVE_SAMPLES (a render round gives a pixel at most 127, which the renderer may split

@@ -200,6 +200,12 @@ int renderer_light_count(const Renderer *r) { return r->lights.count; }
 
 bool renderer_light_info(const Renderer *r, int li, RenderLightInfo *info)
 {
+    return renderer_light_info_at(r, li, -1.0f, info);
+}
+
+/* shutter_u < 0: the pose at time01 0 (renderer_light_info's, as it always was). */
+bool renderer_light_info_at(const Renderer *r, int li, float shutter_u, RenderLightInfo *info)
+{
     if (li < 0 || li >= r->lights.count) return false;
     const Light *l = &r->lights.lights[li];
     memset(info, 0, sizeof *info);
@@ -212,7 +218,11 @@ bool renderer_light_info(const Renderer *r, int li, RenderLightInfo *info)
         info->kind = RENDER_LIGHT_AREA;
         const Geom *g = &r->tracer.layers[l->layer].geoms[l->geom];
         info->shape = g->shape;
-        Mat4 w = l->instance >= 0 ? tracer_world_from_instance(&r->tracer, l->instance, 0.0f) : mat4_identity();
+        info->moving = l->instance >= 0 && r->tracer.instances[l->instance].moving;
+        float time01 = 0.0f;
+        if (info->moving && shutter_u >= 0.0f)
+            time01 = r->isc.sample_time ? integrator_shutter_time01(&r->isc, fminf(shutter_u, 1.0f)) : r->isc.time01_fixed;
+        Mat4 w = l->instance >= 0 ? tracer_world_from_instance(&r->tracer, l->instance, time01) : mat4_identity();
         if (g->kind == GEOM_TRIANGLES) {
             info->is_triangle = true;
             if (l->instance < 0) {

@@ -92,7 +92,8 @@ long long renderer_embree_peak_bytes(const Renderer *r);
 
 /* What a filter may want to know about a light (index = ShadowRayRecord.light_index).
  * Area lights are one entry per emitting triangle, sphere or disk; `shape` (the SceneDesc
- * shape index) groups the triangles of one emitter. Geometry at shutter open. */
+ * shape index) groups the triangles of one emitter. Geometry at shutter open
+ * (renderer_light_info) or at a shutter time (renderer_light_info_at). */
 typedef enum { RENDER_LIGHT_AREA, RENDER_LIGHT_POINT, RENDER_LIGHT_SPOT, RENDER_LIGHT_DISTANT, RENDER_LIGHT_INFINITE } RenderLightKind;
 typedef struct {
     RenderLightKind kind;
@@ -102,11 +103,15 @@ typedef struct {
     float area_world;        /* area lights (sphere: full surface) */
     vec3 radiance;           /* L (area, distant, infinite) or intensity I (point, spot), times scale */
     bool two_sided;
+    bool moving;             /* area light on an instance that moves during the shutter */
     bool is_triangle;        /* area light on a triangle: its vertices follow */
     vec3 tri_world[3];       /*   in the order whose (p1 - p0) x (p2 - p0) is normal_world */
 } RenderLightInfo;
 int renderer_light_count(const Renderer *r);
 bool renderer_light_info(const Renderer *r, int light, RenderLightInfo *info);
+/* The same with a moving area light at shutter fraction shutter_u in [0, 1] (the time a sample
+ * with that shutter coordinate traces at); other lights as renderer_light_info. */
+bool renderer_light_info_at(const Renderer *r, int light, float shutter_u, RenderLightInfo *info);
 
 /* Turns the recording of shadow/bounce ray geometry in SampleRecords on or off for the
  * following passes (initially RenderOptions.record_ray_geometry). A filter that needs the

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "recon/aaf/aaf_filter.h"
+#include "recon/aaf/aaf_light_sweep.h"
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_pixel_params.h"
 #include "recon/aaf/aaf_stats.h"
@@ -54,6 +55,7 @@ struct ReconMethod {
     AafIndirectConfig indirect_cfg;
     AafDefocusConfig defocus_cfg;
     AafLightGeom *lights;
+    AafLightGeom *emitters;      /* r(x)'s, when a light moves (aaf_light_sweep.h); else NULL */
     AafStats stats;
     bool stats_ok;
     AafDerived derived;
@@ -89,6 +91,7 @@ static void aaf_destroy(ReconMethod *m)
     free(m->shade);
     free(m->slope4);
     free(m->lights);
+    free(m->emitters);
     free(m);
 }
 
@@ -134,6 +137,8 @@ static bool aaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         aaf_lights_from_renderer(s->renderer, m->lights, light_count);
         m->stats.lights = m->lights;
         m->stats.light_count = light_count;
+        m->stats.emitter_count = aaf_light_sweep(s->renderer, m->lights, light_count, &m->emitters);
+        m->stats.emitters = m->emitters;
     }
     *out = m;
     return true;

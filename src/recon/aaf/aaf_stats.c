@@ -76,54 +76,65 @@ void aaf_stats_free(AafStats *s)
  * the area the light presents (the same convention as eq. 16's A_l = (2 sigma)^2). A planar
  * emitter split into triangles (a quad light is two) counts as one light of the summed area,
  * grouped by its SceneDesc shape; a sphere presents its silhouette, area/4. */
-void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count)
+void aaf_light_geom_from_info(const RenderLightInfo *li, double shape_area, AafLightGeom *out)
 {
-    RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
-    int max_shape = -1;
-    for (int l = 0; l < count; ++l) {
-        memset(&lights[l], 0, sizeof lights[l]);
-        if (info && !renderer_light_info(r, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
-        if (info && info[l].kind == RENDER_LIGHT_AREA && info[l].shape > max_shape) max_shape = info[l].shape;
+    memset(out, 0, sizeof *out);
+    if (li->kind != RENDER_LIGHT_AREA) return;
+    bool planar = v3_dot(li->normal_world, li->normal_world) > 0.5f; /* spheres have no normal */
+    double area = li->area_world;
+    if (!planar) area *= 0.25;
+    else if (shape_area > 0.0) area = shape_area;
+    float sigma = (float)(0.5 * sqrt(area));
+    out->sigma_world = isfinite(sigma) ? sigma : 0.0f;
+    if (planar) {
+        out->normal[0] = li->normal_world.x;
+        out->normal[1] = li->normal_world.y;
+        out->normal[2] = li->normal_world.z;
     }
-    if (!info) return; /* out of memory: sigma 0, the caller falls back to the estimate */
+    out->center[0] = li->center_world.x;
+    out->center[1] = li->center_world.y;
+    out->center[2] = li->center_world.z;
+    /* the emitter itself, for r(x) */
+    out->radiance_mean = (li->radiance.x + li->radiance.y + li->radiance.z) / 3.0f;
+    out->two_sided = li->two_sided;
+    if (li->is_triangle) {
+        out->emitter = AAF_EMITTER_TRIANGLE;
+        for (int k = 0; k < 3; ++k) {
+            out->tri[k][0] = li->tri_world[k].x;
+            out->tri[k][1] = li->tri_world[k].y;
+            out->tri[k][2] = li->tri_world[k].z;
+        }
+    } else {
+        /* radius of the disk or sphere with the emitter's area (partial shapes and
+         * non-uniform scales become the round shape of the same area) */
+        out->emitter = planar ? AAF_EMITTER_DISK : AAF_EMITTER_SPHERE;
+        double r = sqrt(li->area_world / (planar ? M_PI : 4.0 * M_PI));
+        out->radius_world = isfinite(r) ? (float)r : 0.0f;
+    }
+}
+
+double *aaf_shape_areas(const RenderLightInfo *info, int count)
+{
+    int max_shape = -1;
+    for (int l = 0; l < count; ++l)
+        if (info[l].kind == RENDER_LIGHT_AREA && info[l].shape > max_shape) max_shape = info[l].shape;
     double *shape_area = calloc((size_t)max_shape + 2, sizeof(double));
     for (int l = 0; l < count && shape_area; ++l)
         if (info[l].kind == RENDER_LIGHT_AREA && info[l].shape >= 0) shape_area[info[l].shape] += info[l].area_world;
+    return shape_area;
+}
+
+void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count)
+{
+    RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
     for (int l = 0; l < count; ++l) {
-        const RenderLightInfo *li = &info[l];
-        if (li->kind != RENDER_LIGHT_AREA) continue;
-        bool planar = v3_dot(li->normal_world, li->normal_world) > 0.5f; /* spheres have no normal */
-        double area = li->area_world;
-        if (!planar) area *= 0.25;
-        else if (shape_area && li->shape >= 0) area = shape_area[li->shape];
-        float sigma = (float)(0.5 * sqrt(area));
-        lights[l].sigma_world = isfinite(sigma) ? sigma : 0.0f;
-        if (planar) {
-            lights[l].normal[0] = li->normal_world.x;
-            lights[l].normal[1] = li->normal_world.y;
-            lights[l].normal[2] = li->normal_world.z;
-        }
-        lights[l].center[0] = li->center_world.x;
-        lights[l].center[1] = li->center_world.y;
-        lights[l].center[2] = li->center_world.z;
-        /* the emitter itself, for r(x) */
-        lights[l].radiance_mean = (li->radiance.x + li->radiance.y + li->radiance.z) / 3.0f;
-        lights[l].two_sided = li->two_sided;
-        if (li->is_triangle) {
-            lights[l].emitter = AAF_EMITTER_TRIANGLE;
-            for (int k = 0; k < 3; ++k) {
-                lights[l].tri[k][0] = li->tri_world[k].x;
-                lights[l].tri[k][1] = li->tri_world[k].y;
-                lights[l].tri[k][2] = li->tri_world[k].z;
-            }
-        } else {
-            /* radius of the disk or sphere with the emitter's area (partial shapes and
-             * non-uniform scales become the round shape of the same area) */
-            lights[l].emitter = planar ? AAF_EMITTER_DISK : AAF_EMITTER_SPHERE;
-            double r = sqrt(li->area_world / (planar ? M_PI : 4.0 * M_PI));
-            lights[l].radius_world = isfinite(r) ? (float)r : 0.0f;
-        }
+        memset(&lights[l], 0, sizeof lights[l]);
+        if (info && !renderer_light_info(r, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
     }
+    if (!info) return; /* out of memory: sigma 0, the caller falls back to the estimate */
+    double *shape_area = aaf_shape_areas(info, count);
+    for (int l = 0; l < count; ++l)
+        aaf_light_geom_from_info(&info[l], shape_area && info[l].shape >= 0 ? shape_area[info[l].shape] : 0.0, &lights[l]);
     free(shape_area);
     free(info);
 }
@@ -368,11 +379,14 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
             d->exact_lights = true;
             sigma_fallback = smallest;
         }
+        /* r(x) from the lights, or from their poses over the shutter when one moves */
+        const AafLightGeom *em = s->emitters ? s->emitters : s->lights;
+        int em_count = s->emitters ? s->emitter_count : s->light_count;
         int emitters = 0;
-        for (int l = 0; l < s->light_count; ++l) emitters += s->lights[l].emitter != AAF_EMITTER_NONE;
+        for (int l = 0; l < em_count; ++l) emitters += em[l].emitter != AAF_EMITTER_NONE;
         if (emitters > 0 && emitters <= AAF_EXACT_EMITTERS_MAX) {
-            d->lights = s->lights;
-            d->light_count = s->light_count;
+            d->lights = em;
+            d->light_count = em_count;
         }
     }
     DerivePass dp = {s, d, sigma_fallback};

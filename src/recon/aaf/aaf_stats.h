@@ -43,6 +43,10 @@ typedef struct {
                                   * defocus filter, so off when AAF does not filter defocus */
     const AafLightGeom *lights;  /* exact lights (not owned; NULL: estimate from light samples) */
     int light_count;
+    /* r(x)'s emitters when an area light moves during the shutter: its poses over the shutter
+     * with their quadrature weights (aaf_light_sweep.h; not owned). NULL: lights themselves. */
+    const AafLightGeom *emitters;
+    int emitter_count;
 
     /* per pixel accumulators */
     /* shadows: ratio r = d2/d1 along each occluded shadow ray (light->occluder over
@@ -67,6 +71,12 @@ typedef struct {
 bool aaf_stats_init(AafStats *s, const GBuffer *g);
 /* Fills lights[0..count) from the renderer's exact light list (count = renderer_light_count). */
 void aaf_lights_from_renderer(const Renderer *r, AafLightGeom *lights, int count);
+/* One light's AafLightGeom from its RenderLightInfo; shape_area: the summed area of its
+ * shape's triangles (0: the light's own). */
+void aaf_light_geom_from_info(const RenderLightInfo *li, double shape_area, AafLightGeom *out);
+/* The summed area of each SceneDesc shape's area lights in info[0..count), indexed by shape
+ * (malloc'ed; NULL when out of memory). */
+double *aaf_shape_areas(const RenderLightInfo *info, int count);
 void aaf_stats_free(AafStats *s);
 
 /* The statistics' per-pixel arrays, for gathering from MPI ranks (dist.h); returns how many. */

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/aaf/aaf_light_sweep.h"
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
 #include "recon/shared_triangles.h"
@@ -84,17 +85,42 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     vec3 u = v3_madd(e, n, -v3_dot(e, n));
     u = v3_scale(u, 1.0f / v3_length(u));
     vec3 v = v3_cross(n, u);
-    float half[2] = {0.0f, 0.0f};
-    for (int m = 0; m < count; ++m) {
-        RenderLightInfo b;
-        if (!renderer_light_info(r, m, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.shape != first.shape)
-            continue;
-        for (int k = 0; k < 3; ++k) {
-            vec3 q = v3_sub(b.tri_world[k], c);
-            half[0] = fmaxf(half[0], fabsf(v3_dot(q, u)));
-            half[1] = fmaxf(half[1], fabsf(v3_dot(q, v)));
+    /* a moving light: the extent its poses sweep over the shutter (the ends included), around
+     * their mean centre (trapezoid rule); FSF still takes the swept light as uniform, where its
+     * samples' density is not (docs/algorithms.md 1.9; what is left: docs/benchmarks.md, mlight1) */
+    enum { POSES = 33 };
+    int poses = first.moving ? POSES : 1;
+    if (first.moving) {
+        vec3 mean = v3s(0.0f);
+        for (int t = 0; t < poses; ++t) {
+            vec3 ct = v3s(0.0f);
+            float at = 0.0f;
+            for (int m = 0; m < count; ++m) {
+                RenderLightInfo b;
+                if (!renderer_light_info_at(r, m, (float)t / (POSES - 1), &b) || b.kind != RENDER_LIGHT_AREA ||
+                    !b.is_triangle || b.shape != first.shape)
+                    continue;
+                ct = v3_madd(ct, b.center_world, b.area_world);
+                at += b.area_world;
+            }
+            float w = (t == 0 || t == POSES - 1 ? 0.5f : 1.0f) / (POSES - 1);
+            mean = v3_madd(mean, ct, w / at);
         }
+        c = mean;
     }
+    float half[2] = {0.0f, 0.0f};
+    for (int t = 0; t < poses; ++t)
+        for (int m = 0; m < count; ++m) {
+            RenderLightInfo b;
+            if (!renderer_light_info_at(r, m, first.moving ? (float)t / (POSES - 1) : -1.0f, &b) ||
+                b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.shape != first.shape)
+                continue;
+            for (int k = 0; k < 3; ++k) {
+                vec3 q = v3_sub(b.tri_world[k], c);
+                half[0] = fmaxf(half[0], fabsf(v3_dot(q, u)));
+                half[1] = fmaxf(half[1], fabsf(v3_dot(q, v)));
+            }
+        }
     if (!(half[0] > 0.0f && half[1] > 0.0f && isfinite(half[0]) && isfinite(half[1]))) {
         diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0}, "--filter fsf: the area light has no extent");
         return false;
@@ -208,15 +234,36 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
  * if out of memory. */
 static void shade_all(ShadeJob *j, int n)
 {
-    j->count = renderer_light_count(j->r);
+    int lights = renderer_light_count(j->r), moving = 0;
+    for (int l = 0; l < lights; ++l) {
+        RenderLightInfo b;
+        moving += renderer_light_info(j->r, l, &b) && b.moving;
+    }
+    /* a moving light enters as its poses at the sweep's nodes, each with its radiance times the
+     * node's weight: the time mean of its projected solid angle (docs/algorithms.md 1.9) */
+    j->count = lights + moving * (AAF_SWEEP_NODES - 1);
     size_t count = j->count > 0 ? (size_t)j->count : 1;
     RenderLightInfo *info = malloc(count * sizeof *info);
     bool *ok = malloc(count * sizeof *ok);
     int *tri_of = malloc(count * sizeof *tri_of), tris = 0;
     double(*tri)[3][3] = malloc(count * sizeof *tri);
     if (info && ok) {
-        for (int l = 0; l < j->count; ++l) ok[l] = renderer_light_info(j->r, l, &info[l]);
+        int at = 0;
+        for (int l = 0; l < lights; ++l) {
+            ok[at] = renderer_light_info(j->r, l, &info[at]);
+            if (!ok[at] || !info[at].moving) {
+                ++at;
+                continue;
+            }
+            for (int k = 0; k < AAF_SWEEP_NODES; ++k, ++at) {
+                double w, u = aaf_sweep_node(k, &w);
+                ok[at] = renderer_light_info_at(j->r, l, (float)u, &info[at]);
+                info[at].radiance = v3_scale(info[at].radiance, (float)w);
+            }
+        }
         j->info = info, j->info_ok = ok;
+    } else {
+        j->count = lights;
     }
     for (int l = 0; j->info && tri_of && tri && l < j->count; ++l) {
         const RenderLightInfo *b = &info[l];

@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "core/zalloc.h"
+#include "recon/aaf/aaf_light_sweep.h"
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_pixel_params.h"
 #include "recon/aaf/aaf_stats.h"
@@ -37,6 +38,7 @@
 #include "recon/maaf/maaf_far_reach.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_indirect.h"
+#include "recon/maaf/maaf_light_sweep.h"
 #include "recon/maaf/maaf_shadow.h"
 #include "recon/method.h"
 #include "recon/sample_rate.h"
@@ -132,6 +134,7 @@ struct ReconMethod {
     int lens_pairs, lens_comps;   /* the lens's: dsum, asum */
     int bounce_pairs;             /* the bounce direction's (its sums are plain: isum) */
     AafLightGeom *geoms;
+    AafLightGeom *emitters;      /* r(x)'s, when a light moves (aaf_light_sweep.h); else NULL */
     MaafLight *lights;
     const MaafLight *first_light; /* the first area light: for samples without a shadow ray */
     int light_count;
@@ -340,6 +343,7 @@ static void maaf_destroy(ReconMethod *m)
     for (int k = 0; k < 2; ++k) free(m->wedge_lo[k]), free(m->wedge_hi[k]), free(m->wedge_found[k]);
     free(m->far_reach_px);
     free(m->geoms);
+    free(m->emitters);
     free(m->lights);
     free(m->unread);
     free(m->coc_pool);
@@ -431,6 +435,8 @@ static void lights_from_renderer(ReconMethod *m)
             ml->lo[0] = ml->lo[1] = -half;
             ml->hi[0] = ml->hi[1] = half;
         }
+        /* a moving planar light: its swept light (maaf_light_sweep.h) */
+        if (info[l].moving) maaf_light_sweep(m->renderer, l, 0.5f * sqrtf((float)M_PI) * m->geoms[l].radius_world, ml);
         if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
             continue; /* degenerate: omega_y_max stays 0, its samples are not used */
         /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light; the triangles of
@@ -530,6 +536,8 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     aaf_lights_from_renderer(s->renderer, m->geoms, m->light_count);
     m->stats.lights = m->geoms;
     m->stats.light_count = m->light_count;
+    m->stats.emitter_count = aaf_light_sweep(s->renderer, m->geoms, m->light_count, &m->emitters);
+    m->stats.emitters = m->emitters;
     lights_from_renderer(m);
     for (int l = m->light_count - 1; l >= 0; --l)
         if (m->lights[l].omega_y_max > 0.0f) m->first_light = &m->lights[l];

@@ -33,6 +33,30 @@ static void window_integrals(double a, double b, const float *C, double s, int p
     }
 }
 
+/* A swept light's mean c_p: the expectation over its samples, whose density along an axis is
+ * the fraction of the shutter during which the light covers that coordinate (the share of its
+ * poses whose extent holds it; a light sliding along t1 gives a trapezoid). The static light's
+ * mean is the same with density 1 over its extent. */
+static void swept_means(int pairs, MaafLight *l)
+{
+    for (int a = 0; a < 2; ++a) {
+        double density[MAAF_YTABLE], total = 0.0;
+        for (int e = 0; e < MAAF_YTABLE; ++e) {
+            double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0);
+            int covered = 0;
+            for (int k = 0; k < l->sweep_nodes; ++k) covered += y >= l->sweep_lo[a][k] && y <= l->sweep_hi[a][k];
+            density[e] = (e == 0 || e == MAAF_YTABLE - 1 ? 0.5 : 1.0) * covered;
+            total += density[e];
+        }
+        for (int p = 0; p < pairs; ++p)
+            for (int k = 0; k < 2; ++k) {
+                double s = 0.0;
+                for (int e = 0; e < MAAF_YTABLE; ++e) s += density[e] * l->table[a][p][e][k];
+                l->mean[a][p][k] = total > 0.0 ? (float)(s / total) : 0.0f;
+            }
+    }
+}
+
 void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
 {
     float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
@@ -63,6 +87,10 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
             }
         }
     }
+    if (l->sweep_nodes > 0) {
+        swept_means(pairs, l);
+        return;
+    }
     for (int a = 0; a < 2; ++a)
         for (int p = 0; p < pairs; ++p)
             for (int k = 0; k < 2; ++k) { /* trapezoid rule over the uniform table */
@@ -77,7 +105,8 @@ bool maaf_light_design_copy(const MaafLight *from, float sigma_light_world, Maaf
 {
     float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
     if (!(wy > 0.0f) || from->omega_y_max != wy || from->lo[0] != l->lo[0] || from->hi[0] != l->hi[0] ||
-        from->lo[1] != l->lo[1] || from->hi[1] != l->hi[1])
+        from->lo[1] != l->lo[1] || from->hi[1] != l->hi[1] || from->sweep_nodes != l->sweep_nodes ||
+        memcmp(from->sweep_lo, l->sweep_lo, sizeof l->sweep_lo) || memcmp(from->sweep_hi, l->sweep_hi, sizeof l->sweep_hi))
         return false;
     l->omega_y_max = wy;
     memcpy(l->cy, from->cy, sizeof l->cy);

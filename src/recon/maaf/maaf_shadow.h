@@ -19,17 +19,25 @@
 /* Entries of a light's c_p table per axis (linear interpolation between them). */
 #define MAAF_YTABLE 129
 
+/* Poses of a moving light over the shutter that its sample density is taken from. */
+#define MAAF_SWEEP_NODES 32
+
 /* One light as MAAF sees it: the centre of its whole emitter (all triangles of one shape), its
  * plane's axes (zero for spheres: the plane facing each receiver), its extent along them
- * relative to the centre, and its y-design with the tables of c_p. */
+ * relative to the centre, and its y-design with the tables of c_p. A planar light that moves
+ * during the shutter is its swept light (maaf_light_sweep.h): the centre its mean over the
+ * shutter, the extent the union of its poses', and each pose's extent kept for the density of
+ * its samples. */
 typedef struct {
     float center[3];
     float t1[3], t2[3];       /* unit axes in the light's plane (planar emitters) */
     float lo[2], hi[2];       /* extent along t1, t2 from the centre, world units */
+    int sweep_nodes;          /* a moving light: its poses at sweep_nodes shutter times; 0: static */
+    float sweep_lo[2][MAAF_SWEEP_NODES], sweep_hi[2][MAAF_SWEEP_NODES]; /* each pose's extent, as lo, hi */
     float omega_y_max;        /* 2 / sigma_light, radians per world unit (0: not an area light) */
     float cy[MAAF_PAIRS_MAX], sy[MAAF_PAIRS_MAX];
     float table[2][MAAF_PAIRS_MAX][MAAF_YTABLE][2]; /* [axis][p][entry] = c_p (re, im) */
-    float mean[2][MAAF_PAIRS_MAX][2];               /* c_p averaged over the light */
+    float mean[2][MAAF_PAIRS_MAX][2];               /* c_p averaged over the light's samples */
 } MaafLight;
 
 /* Fills the y-design (Sec. 3: Omega_y_max = 2/sigma_light) and the c_p tables of a light whose
