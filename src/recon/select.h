@@ -72,11 +72,12 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
  * Callers run the probe only then. */
 bool recon_select_wants_blur(EffectMask present, const char *request);
 
-/* A moving area light: the soft shadows auto chose a filter for are left to Monte Carlo when
- * that filter takes the area it sweeps as a uniform light (fsf; aaf and maaf take its poses over
- * the shutter, docs/algorithms.md 1.9, and are left alone), with the reason; explicit filters keep
- * theirs, and shadow_light_moves tells the caller to warn that they are biased. Call after
- * recon_select_budget and before the fallback's probe. */
+/* A moving area light: the soft shadows auto chose a filter for are left to Monte Carlo, with the
+ * reason: fsf takes the area the light sweeps as a uniform light (biased); aaf and maaf take its
+ * poses over the shutter (docs/algorithms.md 1.9), but auto's probe misjudges such frames
+ * (docs/benchmarks.md, mlight1). Explicit filters keep theirs, and shadow_light_moves tells the
+ * caller to warn when the kept one is biased (fsf). Call after recon_select_budget and before the
+ * fallback's probe. */
 void recon_select_moving_light(ReconChoice *c, bool area_light_moves);
 /* The warning for a shadow filter asked for by name under a moving area light, into buf (one
  * line, no prefix); false (and buf "") when there is nothing to warn about. */
