@@ -18,7 +18,8 @@
  *            FSF's s = z in its own units). A miss (t_hit = inf) has k = 0
  *   shear    eta_a = k_mean (step_world[a] . t_a), v units per pixel step along dir[a]: the
  *            sign convention of fsf_filter.h (the sample's coordinate seen from x is
- *            v'_a + eta_a t for the neighbour t steps away)
+ *            v'_a + eta_a t for the neighbour t steps away). Kept in px and the AOV; the
+ *            method's filter (fsf_flat.h) does not apply it
  *   width    FSF eq. 4 with the transfer's band at the pixel's samples: sigma_v = 2 / Omega_v,
  *            Omega_v where the transfer's spectrum W K1(W) meets e^-2 sqrt(16 / n)
  *            (fsf_bounce_sigma_v: 2.87 at 16 samples, Mehta 2013's Omega_v_max = 2.8 being

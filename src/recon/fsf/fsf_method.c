@@ -22,15 +22,18 @@
  *            four passes
  *   indirect the demodulated indirect light (divided by the albedo only, as AAF-GI's): each
  *            sample's indirect light scaled by its pixel's demodulation, the bounce
- *            direction's v-plane coordinate in place of the light point (fsf_bounce.h); the
- *            same four passes. The pipeline filters it apart from the direct light and adds
- *            the two (FSF appendix)
+ *            direction's v-plane coordinate in place of the light point (fsf_bounce.h) for
+ *            the widths; filtered by the passes' two spatial gathers alone, on the host
+ *            (fsf_flat.h: with every sample inside the box the shear changed nothing but the
+ *            node interpolation, and the transfer weight that would make it count lost). The
+ *            pipeline filters it apart from the direct light and adds the two (FSF appendix)
  *   AOVs     fsf.eta_m_per_px (the shear along the light's first axis, light metres per pixel
  *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo); for
  *            defocus fsf.defocus.eta_lens_per_px (the shear, unit lens per pixel step),
  *            fsf.defocus.sigma_px, fsf.defocus.k_spread, fsf.defocus.straddle (1: the
  *            slope range straddles the focal plane); for indirect light
- *            fsf.indirect.shear (v units per pixel step along t1), fsf.indirect.sigma_px,
+ *            fsf.indirect.shear (v units per pixel step along t1: the reprojection's shear,
+ *            which the filter does not apply), fsf.indirect.sigma_px,
  *            fsf.indirect.k_spread (k_hi - k_lo, v units per receiver metre) */
 #include <math.h>
 #include <stdlib.h>
@@ -40,6 +43,7 @@
 #include "recon/fsf/fsf_budget_plan.h"
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
+#include "recon/fsf/fsf_flat.h"
 #include "recon/fsf/fsf_lens.h"
 #include "recon/fsf/fsf_lens_plan.h"
 #include "recon/fsf/fsf_light.h"
@@ -451,16 +455,21 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
     return true;
 }
 
-/* The four passes (on the device when one was opened), then each usable pixel's value4 rgb
+/* The four passes (on the device when one was opened; flat: the two spatial passes of
+ * fsf_flat.h, on the host), then each usable pixel's value4 rgb
  * replaced by its filtered one (rgb / weight); non-finite results keep the input, counted.
  * keep_left_out: pixels with both widths 0 keep value4 (for the lens, whose profile square
  * would drop some of their own samples; the light's profile keeps them all). */
 static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid, const FsfPixel *px,
-                       const FsfGuides *gd, bool keep_left_out, float *out4, float *value4, double *kernel_seconds,
-                       Diag *d)
+                       const FsfGuides *gd, bool keep_left_out, bool flat, float *out4, float *value4,
+                       double *kernel_seconds, Diag *d)
 {
     bool ok = true;
-    if (m->cl) {
+    if (flat) { /* the indirect light: two spatial passes on the host (fsf_flat.h) */
+        if (!(ok = fsf_filter_flat(s, grid, px, gd, out4)))
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's indirect-light passes");
+        fsf_profile_mark(&m->prof, "flat");
+    } else if (m->cl) {
         ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
         for (int rep = fsf_profile_repeats(&m->prof); ok && rep > 0; --rep) /* a measuring aid: the same out4 */
             ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
@@ -510,12 +519,12 @@ static void warn_nonfinite_samples(const char *what, long long nonfinite)
 /* The passes on one effect's inputs, then its AOVs: the shear and the width along the first
  * axis, the slope spread. */
 static bool filter_and_record(ReconMethod *m, const FsfScratch *b, const FsfGrid *grid, const FsfGuides *gd,
-                              bool keep_left_out, float *value4, float *eta_aov, float *sigma_aov, float *spread_aov,
-                              double *kernel_seconds, Diag *d)
+                              bool keep_left_out, bool flat, float *value4, float *eta_aov, float *sigma_aov,
+                              float *spread_aov, double *kernel_seconds, Diag *d)
 {
     int w = m->g->width, h = m->g->height;
     FsfSamples s = {w, h, sample_store_capacity(m->store), b->count, b->y, b->v};
-    bool ok = run_filter(m, &s, grid, b->px, gd, keep_left_out, b->out4, value4, kernel_seconds, d);
+    bool ok = run_filter(m, &s, grid, b->px, gd, keep_left_out, flat, b->out4, value4, kernel_seconds, d);
     for (size_t i = 0; ok && i < (size_t)w * (size_t)h; ++i) {
         eta_aov[i] = b->px[i].eta_m[0];
         sigma_aov[i] = b->px[i].sigma_px[0];
@@ -575,7 +584,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
     }
     fsf_profile_mark(&m->prof, "geo_mean");
     if (ok)
-        ok = filter_and_record(m, b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
+        ok = filter_and_record(m, b, &grid, &gd, false, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
     fsf_profile_mark(&m->prof, "aovs");
     if (ok && mean4) fsf_blend_collapsed(b->px, b->usable, b->count, m->g, &grid, mean4, value4);
@@ -607,7 +616,7 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b->usable);
     fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
-        ok = filter_and_record(m, b, &grid, &gd, false, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
+        ok = filter_and_record(m, b, &grid, &gd, false, true, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
                                kernel_seconds, d);
     fsf_profile_mark(&m->prof, "aovs_free");
     fsf_profile_print(&m->prof, "indirect");
@@ -652,7 +661,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     FsfGuides gd = fsf_guides_unguided(b->usable); /* defocus rejects no neighbour */
     fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
-        ok = filter_and_record(m, b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
+        ok = filter_and_record(m, b, &grid, &gd, true, false, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b->k_lo[i], b->k_hi[i]) ? 1.0f : 0.0f;
     fsf_profile_mark(&m->prof, "aovs_free");
