@@ -335,13 +335,17 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     if (!sample_rate_factors(m->lum4, g->width, g->height, area)) goto oom;
     fsf_profile_mark(&m->prof, "factors");
     float *factor = m->want_spp;
-    /* Pixels the indirect filter filters keep pass 1's count where no lens filter follows: their
-     * extras reach the filter through fsf_match_pixel's scale, the full mean over the mean of
-     * the few stored samples, and v-plane samples are heavy tailed (a few see the bright
-     * reflector), so that ratio adds more noise than the extras remove: on indirect.pbrt the
-     * allocation there gave 1.71x / 1.05x the relMSE at 8 / 16 spp (0.84x / 0.89x at 32 / 64;
-     * docs/benchmarks.md). */
-    for (size_t i = 0; indirect && !m->lens_planned && i < n; ++i)
+    /* Pixels the indirect filter filters keep pass 1's count where soft shadows are filtered
+     * too and no lens filter follows: there the allocation's extras raised far_light_bounce's
+     * relMSE 1.18x / 1.07x at 16 / 64 spp (2026-11-30, fsf12). Where the indirect light is
+     * FSF's only filter they follow the allocation as every other pixel: the filter reads the
+     * pixel's full mean (fsf_flat.h: its sums are the stored count times the mean, so a pixel's
+     * extras lower its own noise in every gather that reads it). On indirect.pbrt, with pass 1
+     * at 7/8, relMSE 0.89x / 0.92x / 0.91x / 0.94x at 8 / 16 / 32 / 64 spp, hotspot_bounce 0.73x /
+     * 0.85x at 16 / 64; with 13/16 (FSF_BUDGET_PASS1_SHARE_BOUNCE) more (docs/benchmarks.md;
+     * before the reach and 7/8, fsf11, it had cost 1.71x / 1.05x at 8 / 16). */
+    bool bounce_only = indirect && !effect_in(m->effects, EFFECT_SOFT_SHADOWS) && !m->lens_planned;
+    for (size_t i = 0; indirect && !bounce_only && !m->lens_planned && i < n; ++i)
         if (bounce[i] > 0.0f && bounce[i] != INFINITY) factor[i] = 0.0f;
     /* in place: each count reads its own factor only once the search is over */
     sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
