@@ -79,18 +79,18 @@ float fsf_bounce_slope(vec3 n, vec3 d, float t_hit_m);
 #define FSF_BOUNCE_SHIFT_NODES 9
 FsfGrid fsf_bounce_grid(void);
 
-/* The store's samples as the filter's input (slots as FsfSamples): y the clamped v of each
- * sample in its pixel's frame, v its indirect light scaled so that the pixel's samples average
- * to its demodulated value4 (fsf_match_pixel); usable: value4 usable, samples, a frame;
- * *nonfinite gains the values written as 0 (fsf_scale_samples). false when the store lacks the
- * bounce or indirect field. */
-bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
-                        float *v, int *count, long long *nonfinite);
+/* The store's samples' v-plane coordinates (slots as FsfSamples): y the clamped v of each sample
+ * in its pixel's frame (0 where the pixel has none), count the stored samples; usable: samples,
+ * a frame, not mixed, and (value4 not NULL) value4 usable. The filter reads no sample's light:
+ * its passes take each pixel's stored count times its mean (fsf_flat.h). false when the store
+ * lacks the bounce field. */
+bool fsf_bounce_coords(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
+                       int *count);
 
 typedef struct {
     const GBuffer *g;
     const SampleStore *store;    /* with SAMPLE_FIELD_BOUNCE */
-    const float *y;              /* the samples' v (fsf_bounce_samples): those clamped onto the
+    const float *y;              /* the samples' v (fsf_bounce_coords): those clamped onto the
                                   * rim have no slope (see fsf_bounce_params) */
     const unsigned char *usable;
     float mu;                    /* width divisor (> 0) */

@@ -8,7 +8,9 @@
 #include "recon/recon_parallel.h"
 
 typedef struct {
-    const FsfSamples *s;
+    const float *value4;
+    const int *count;
+    int width, height;
     const FsfGrid *g;
     const FsfPixel *px;
     const FsfGuides *gd;
@@ -32,14 +34,16 @@ static void sums_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     const Job *j = ctx;
-    const FsfSamples *s = j->s;
     for (size_t i = begin; i < end; ++i) {
         float acc[4] = {0, 0, 0, 0};
-        if (j->gd->usable[i])
-            for (int k = 0; k < s->count[i]; ++k) {
-                const float *v = s->value + 3 * (i * (size_t)s->capacity + (size_t)k);
-                acc[0] += v[0], acc[1] += v[1], acc[2] += v[2], acc[3] += 1.0f;
+        if (j->gd->usable[i]) {
+            float c = (float)j->count[i];
+            for (int ch = 0; ch < 3; ++ch) {
+                float v = j->value4[4 * i + (size_t)ch];
+                acc[ch] = isfinite(v) ? c * v : 0.0f;
             }
+            acc[3] = c;
+        }
         memcpy(j->out4 + 4 * i, acc, sizeof acc);
     }
 }
@@ -50,7 +54,7 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
     const Job *j = ctx;
-    int w = j->s->width, h = j->s->height, a = j->axis;
+    int w = j->width, h = j->height, a = j->axis;
     float wt[FSF_RADIUS_CAP_PX + 1];
     for (size_t i = begin; i < end; ++i) {
         float acc[4] = {0, 0, 0, 0};
@@ -75,12 +79,13 @@ static void gather_range(void *ctx, size_t begin, size_t end, int part)
     }
 }
 
-bool fsf_filter_flat(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4)
+bool fsf_filter_flat(const float *value4, const int *count, int width, int height, const FsfGrid *g,
+                     const FsfPixel *px, const FsfGuides *gd, float *out4)
 {
-    size_t n = (size_t)s->width * (size_t)s->height;
+    size_t n = (size_t)width * (size_t)height;
     float *G = malloc(sizeof(float) * 4 * (n > 0 ? n : 1));
     if (!G) return false;
-    Job j = {s, g, px, gd, NULL, out4, 0};
+    Job j = {value4, count, width, height, g, px, gd, NULL, out4, 0};
     recon_parallel_for(n, sums_range, &j); /* S into out4 */
     j.in4 = out4, j.out4 = G, j.axis = 0;
     recon_parallel_for(n, gather_range, &j);

@@ -12,7 +12,8 @@
  *   A  for each pixel q:  G(q) = sum_t1 w_q(t1) S(q + t1 dir1_q) / sum_{|t1| <= r1} w_q(t1)
  *   B  for each pixel p:  out(p) = sum_t2 w_p(t2) G(p + t2 dir2_p)
  *
- * S = (sum of the pixel's sample values, count); w_x(t) = exp(-t^2 / (2 sigma_x^2)) along the
+ * S = (sum of the pixel's stored samples' values, their count): the samples are scaled so
+ * that they average to the pixel's value (fsf_match_pixel), so S = (count value, count); w_x(t) = exp(-t^2 / (2 sigma_x^2)) along the
  * pixel's own axis (pass A: q's first, pass B: p's second, as passes 1b and 2b gather), t over
  * fsf_tap_radius, taps rounded to the nearest pixel (fsf_step_pixel) and kept where t = 0 or
  * fsf_accept(centre, neighbour); pass A divides by the sum of all 2 r1 + 1 weights (pass 1a's
@@ -28,8 +29,13 @@
 
 #include "recon/fsf/fsf_filter.h"
 
-/* out4: (rgb, weight) per pixel as fsf_filter_factored's (0 where not usable; a pixel with both
- * widths 0 its own sums). px's eta is not read. false when out of memory. */
-bool fsf_filter_flat(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, float *out4);
+/* The filter on a width x height frame: S from each usable pixel's value (value4, 4 floats a
+ * pixel, rgb) and stored count: S = (count value, count), a non-finite channel 0 (what the
+ * samples scaled to that value sum to: fsf_match_pixel, fsf_fill_dark_channels; the samples'
+ * light itself is not read). out4: (rgb, weight) per pixel as fsf_filter_factored's (0 where
+ * not usable; a pixel with both widths 0 its own S). px's eta is not read. false when out of
+ * memory. */
+bool fsf_filter_flat(const float *value4, const int *count, int width, int height, const FsfGrid *g,
+                     const FsfPixel *px, const FsfGuides *gd, float *out4);
 
 #endif

@@ -114,10 +114,11 @@ static float fsf_budget_pass1_share(const Renderer *r, EffectMask effects)
 }
 
 /* The store fields each effect's filter reads: a frame keeps only its effects' (the union of
- * all three is 21 floats a sample, 29 MB more at 256x256 and 16 spp than soft shadows alone). */
+ * all three is 18 floats a sample, 22 MB more at 256x256 and 16 spp than soft shadows alone). */
 #define FSF_FIELDS_SHADOWS (SAMPLE_FIELD_LIGHT | SAMPLE_FIELD_DIRECT)
 #define FSF_FIELDS_DEFOCUS (SAMPLE_FIELD_LENS | SAMPLE_FIELD_DEPTH | SAMPLE_FIELD_RADIANCE)
-#define FSF_FIELDS_INDIRECT (SAMPLE_FIELD_BOUNCE | SAMPLE_FIELD_INDIRECT)
+/* the indirect filter reads each pixel's value, not its samples' light (fsf_flat.h) */
+#define FSF_FIELDS_INDIRECT SAMPLE_FIELD_BOUNCE
 
 static unsigned fsf_sample_fields_for(EffectMask effects)
 {
@@ -469,8 +470,9 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
                        double *kernel_seconds, Diag *d)
 {
     bool ok = true;
-    if (flat) { /* the indirect light: two spatial passes on the host (fsf_flat.h) */
-        if (!(ok = fsf_filter_flat(s, grid, px, gd, out4)))
+    if (flat) { /* the indirect light: two spatial passes on the host over each pixel's value
+                 * and stored count (fsf_flat.h) */
+        if (!(ok = fsf_filter_flat(value4, s->count, s->width, s->height, grid, px, gd, out4)))
             diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's indirect-light passes");
         fsf_profile_mark(&m->prof, "flat");
     } else if (m->cl) {
@@ -605,12 +607,10 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     FsfScratch *b = scratch(m, d);
     if (!b) return false;
     bool ok = true;
-    long long nonfinite = 0;
-    if (!fsf_bounce_samples(m->g, m->store, value4, b->usable, b->y, b->v, b->count, &nonfinite)) {
+    if (!fsf_bounce_coords(m->g, m->store, value4, b->usable, b->y, b->count)) {
         ok = false;
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce or indirect field");
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce field");
     }
-    warn_nonfinite_samples("indirect-light", nonfinite);
     FsfBounceIn in = {m->g, m->store, b->y, b->usable, m->mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
     if (ok && !fsf_bounce_params(&in, b->px, b->k_lo, b->k_hi)) {
         ok = false;
