@@ -75,7 +75,7 @@ bool fsf_bounce_coords(const GBuffer *g, const SampleStore *st, const float *val
         vec3 jx, jy;
         bool framed = pixel_frame(g, i, &f, &jx, &jy);
         usable[i] = framed && cnt > 0 && !g->mixed[i] && (!value4 || value4[4 * i + 3] > 0.0f);
-        for (int k = 0; k < cnt; ++k) {
+        for (int k = 0; y && k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
             const float *b = bounce + 4 * slot;
             if (framed) fsf_bounce_coord(&f, v3(b[0], b[1], b[2]), y + 2 * slot);

@@ -82,8 +82,8 @@ FsfGrid fsf_bounce_grid(void);
 /* The store's samples' v-plane coordinates (slots as FsfSamples): y the clamped v of each sample
  * in its pixel's frame (0 where the pixel has none), count the stored samples; usable: samples,
  * a frame, not mixed, and (value4 not NULL) value4 usable. The filter reads no sample's light:
- * its passes take each pixel's stored count times its mean (fsf_flat.h). false when the store
- * lacks the bounce field. */
+ * its passes take each pixel's stored count times its mean (fsf_flat.h). y NULL: usable and count
+ * only (the filter reusing the plan's parameters). false when the store lacks the bounce field. */
 bool fsf_bounce_coords(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
                        int *count);
 

@@ -40,6 +40,7 @@
 #include <string.h>
 
 #include "recon/fsf/fsf_bounce.h"
+#include "recon/fsf/fsf_bounce_kept.h"
 #include "recon/fsf/fsf_budget_plan.h"
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
@@ -88,6 +89,7 @@ struct ReconMethod {
     float *want_spp;             /* under a budget: each pixel's count by the allocation (real; found once) */
     int pass1_spp;               /* the samples every pixel had at the first plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
+    FsfBounceKept bounce_kept;   /* the plan's indirect-light parameters, for the filter */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
     FsfProfile prof;             /* WEDGE_FSF_PROFILE's stage times (fsf_profile.h) */
     FsfScratch scratch;          /* the plan's and the filterings' arrays (fsf_scratch.h) ... */
@@ -149,6 +151,7 @@ static void fsf_destroy(ReconMethod *m)
     free(m->lum4);
     free(m->want_spp);
     free(m->lens_px);
+    fsf_bounce_kept_free(&m->bounce_kept);
     free(m->lens_k_lo);
     free(m->lens_k_hi);
     free(m->ind_eta_aov);
@@ -325,6 +328,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         return false;
     }
     if (indirect) fsf_profile_mark(&m->prof, "bounce_area");
+    if (indirect) fsf_bounce_keep(&m->bounce_kept, m->store, bsc->px, bsc->k_lo, bsc->k_hi, n);
     for (size_t i = 0; i < n; ++i) {
         float shade = indirect ? fminf(area[i], bounce[i]) : area[i];
         shade = shade == INFINITY ? 0.0f : shade;
@@ -607,12 +611,16 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     FsfScratch *b = scratch(m, d);
     if (!b) return false;
     bool ok = true;
-    if (!fsf_bounce_coords(m->g, m->store, value4, b->usable, b->y, b->count)) {
+    /* under a budget the plan's parameters, found from the same stored samples
+     * (fsf_bounce_kept.h): then no coordinate is needed */
+    size_t n_px = (size_t)m->g->width * (size_t)m->g->height;
+    bool reuse = fsf_bounce_kept_take(&m->bounce_kept, m->store, b->px, b->k_lo, b->k_hi, n_px);
+    if (!fsf_bounce_coords(m->g, m->store, value4, b->usable, reuse ? NULL : b->y, b->count)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce field");
     }
     FsfBounceIn in = {m->g, m->store, b->y, b->usable, m->mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
-    if (ok && !fsf_bounce_params(&in, b->px, b->k_lo, b->k_hi)) {
+    if (ok && !reuse && !fsf_bounce_params(&in, b->px, b->k_lo, b->k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF indirect parameters");
     }
