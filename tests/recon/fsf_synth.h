@@ -138,4 +138,30 @@ static inline double fsf_disk_view_factor(double h_m, double r_m, double d_m)
     return 0.5 * (1.0 - (h_m * h_m + d_m * d_m - r_m * r_m) / sqrt(a * a - 4.0 * d_m * d_m * r_m * r_m));
 }
 
+/* Over the pixels at least 8 from the border of fsf_synth_bounce_disk's receiver: the mean and
+ * RMS of (estimate - view factor) for a filtered result out4 (channel 0 over the weight) and
+ * the RMS for the pixels' own sample means. */
+typedef struct {
+    double mean, rms, rms_own;
+} FsfDiskErr;
+static inline FsfDiskErr fsf_disk_errors(const FsfSynth *f, const float *out4, float h_m, float r_m, float cx_m,
+                                         float cy_m)
+{
+    FsfDiskErr e = {0, 0, 0};
+    int cnt = 0;
+    for (int y = 8; y < f->h - 8; ++y)
+        for (int x = 8; x < f->w - 8; ++x) {
+            size_t i = (size_t)y * (size_t)f->w + (size_t)x;
+            double dx = x * 0.01 - cx_m, dy = y * 0.01 - cy_m;
+            double ref = fsf_disk_view_factor(h_m, r_m, sqrt(dx * dx + dy * dy)), own = 0.0;
+            for (int k = 0; k < f->count[i]; ++k) own += f->v[3 * (i * (size_t)f->cap + (size_t)k)];
+            own /= f->count[i];
+            double d = out4[4 * i] / out4[4 * i + 3] - ref;
+            e.mean += d, e.rms += d * d, e.rms_own += (own - ref) * (own - ref);
+            ++cnt;
+        }
+    e.mean /= cnt, e.rms = sqrt(e.rms / cnt), e.rms_own = sqrt(e.rms_own / cnt);
+    return e;
+}
+
 #endif

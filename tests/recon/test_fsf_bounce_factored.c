@@ -27,31 +27,6 @@ static double brute_vs_factored(const FsfSynth *f, const FsfGrid *g, float *out4
     return worst;
 }
 
-/* Over the pixels at least 8 from the border: the mean and RMS of (estimate - view factor), for
- * the filtered result (out4, channel 0) and the pixels' own means. */
-typedef struct {
-    double mean, rms, rms_own;
-} Err;
-static Err errors(const FsfSynth *f, const float *out4)
-{
-    Err e = {0, 0, 0};
-    int cnt = 0;
-    for (int y = 8; y < f->h - 8; ++y)
-        for (int x = 8; x < f->w - 8; ++x) {
-            size_t i = (size_t)y * f->w + (size_t)x;
-            double dx = x * 0.01 - CX_M, dy = y * 0.01 - CY_M;
-            double ref = fsf_disk_view_factor(H_M, R_M, sqrt(dx * dx + dy * dy));
-            double own = 0.0;
-            for (int k = 0; k < f->count[i]; ++k) own += f->v[3 * (i * f->cap + (size_t)k)];
-            own /= f->count[i];
-            double d = out4[4 * i] / out4[4 * i + 3] - ref;
-            e.mean += d, e.rms += d * d, e.rms_own += (own - ref) * (own - ref);
-            ++cnt;
-        }
-    e.mean /= cnt, e.rms = sqrt(e.rms / cnt), e.rms_own = sqrt(e.rms_own / cnt);
-    return e;
-}
-
 int main(void)
 {
     FsfSynth f;
@@ -73,7 +48,7 @@ int main(void)
          * apart, y2 bins 1.25 wide), where the cosine density is ~1/700 of the centre's: 1.7e-3
          * (5e-4 with the paper's 17 nodes) */
         double diff = brute_vs_factored(&f, &g, out4);
-        Err e = errors(&f, out4);
+        FsfDiskErr e = fsf_disk_errors(&f, out4, H_M, R_M, CX_M, CY_M);
         printf("seed %u: factored vs brute %.3g; filtered - view factor: mean %+.5f rms %.5f (own means rms %.5f)\n",
                seed, diff, e.mean, e.rms, e.rms_own);
         CHECK(diff < 5e-3);
@@ -88,7 +63,7 @@ int main(void)
     fsf_synth_bounce_disk(&f, L, H_M, R_M, CX_M, CY_M, false, 1);
     FsfGuides gd = fsf_guides_default(f.pos4, f.nrm4, f.usable);
     CHECK(fsf_filter_factored(&f.s, &g, f.px, &gd, out4));
-    Err drop = errors(&f, out4);
+    FsfDiskErr drop = fsf_disk_errors(&f, out4, H_M, R_M, CX_M, CY_M);
     printf("dropped beyond the box: mean error %+.5f\n", drop.mean);
     CHECK(drop.mean > 0.01); /* the disk covers the box's centre: dropping darkness biases up */
     free(out4);

@@ -5,7 +5,8 @@
  * indirect light) fsf takes the indirect light too, filtered apart from the direct light (the
  * pipeline adds them: FSF's appendix). Under a --spp budget pass 1 takes
  * FSF_BUDGET_PASS1_SHARE_BOUNCE of it where the indirect light is FSF's only shading filter,
- * FSF_BUDGET_PASS1_SHARE_LENS on the combined scene (defocus). */
+ * FSF_BUDGET_PASS1_SHARE_LENS on the combined scene (defocus); on the indirect scene the pixels
+ * the indirect filter filters take extras by the allocation too. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,22 +39,35 @@ static void check_indirect(const ReconResult *res, void *ctx)
 typedef struct {
     float share; /* pass 1's share of the budget */
     int budget;
+    bool extras_filtered; /* the indirect filter's pixels take extras too (FSF's only filter) */
 } BudgetCheck;
 
-/* check_indirect, and the frame's counts under its budget */
+/* check_indirect, and the frame's counts under its budget: with extras_filtered, a tenth or
+ * more of the pixels the indirect filter filters (sigma above 0.5 px) got some beyond pass 1,
+ * the allocation's (fsf_method.c's plan; 23% measured at 48x48 x 16 spp, 0 when those pixels
+ * kept pass 1's count) */
 static void check_frame(const ReconPipeline *p, void *ctx)
 {
     const BudgetCheck *b = ctx;
-    check_indirect(recon_pipeline_result(p), NULL);
+    const ReconResult *res = recon_pipeline_result(p);
+    check_indirect(res, NULL);
     long wrong = recon_test_budget_wrong(p, b->share, b->budget);
-    fprintf(stderr, "pass 1: %d of %d spp (%ld wrong counts)\n", recon_pipeline_result(p)->pass1_spp, b->budget, wrong);
+    fprintf(stderr, "pass 1: %d of %d spp (%ld wrong counts)\n", res->pass1_spp, b->budget, wrong);
     CHECK(wrong == 0);
+    const float *sigma = recon_test_aov(res, "fsf.indirect.sigma_px");
+    const GBuffer *g = recon_pipeline_gbuffer(p);
+    size_t filtered = 0, more = 0;
+    for (size_t i = 0; sigma && i < (size_t)res->width * (size_t)res->height; ++i)
+        if (sigma[i] > 0.5f) ++filtered, more += g->frame.spp[i] > (float)res->pass1_spp;
+    fprintf(stderr, "filtered pixels with extras: %zu of %zu\n", more, filtered);
+    if (b->extras_filtered) CHECK(filtered > 0 && more * 10 >= filtered);
 }
 
 static float *render(const char *text, const char *filter, unsigned seed, int spp, bool checks, float share)
 {
     ReconOptions o = {.filter = filter, .spp = spp};
-    BudgetCheck b = {share, spp};
+    /* the indirect scene's frames (share _BOUNCE) are FSF's indirect filter alone */
+    BudgetCheck b = {share, spp, share == FSF_BUDGET_PASS1_SHARE_BOUNCE};
     if (checks) return recon_test_render_pipeline(text, seed, &o, check_frame, &b);
     return recon_test_render(text, seed, &o, NULL, NULL);
 }

@@ -61,11 +61,11 @@ static bool pixel_frame(const GBuffer *g, size_t i, FsfBounceFrame *f, vec3 *jx,
     return fsf_bounce_frame(*jx, v3(g->nrm4[4 * i], g->nrm4[4 * i + 1], g->nrm4[4 * i + 2]), f);
 }
 
-bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
-                        float *v, int *count, long long *nonfinite)
+bool fsf_bounce_coords(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
+                       int *count)
 {
-    const float *bounce = sample_store_field(st, SAMPLE_FIELD_BOUNCE), *ind = sample_store_field(st, SAMPLE_FIELD_INDIRECT);
-    if (!bounce || !ind) return false;
+    const float *bounce = sample_store_field(st, SAMPLE_FIELD_BOUNCE);
+    if (!bounce) return false;
     int cap = sample_store_capacity(st);
     size_t n = (size_t)g->width * (size_t)g->height;
     for (size_t i = 0; i < n; ++i) {
@@ -74,17 +74,13 @@ bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *va
         FsfBounceFrame f;
         vec3 jx, jy;
         bool framed = pixel_frame(g, i, &f, &jx, &jy);
-        usable[i] = framed && cnt > 0 && value4[4 * i + 3] > 0.0f && !g->mixed[i];
-        float scale[3];
-        fsf_match_pixel(value4 + 4 * i, ind + i * (size_t)cap * 3, cnt, scale);
-        for (int k = 0; k < cnt; ++k) {
+        usable[i] = framed && cnt > 0 && !g->mixed[i] && (!value4 || value4[4 * i + 3] > 0.0f);
+        for (int k = 0; y && k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
             const float *b = bounce + 4 * slot;
             if (framed) fsf_bounce_coord(&f, v3(b[0], b[1], b[2]), y + 2 * slot);
             else y[2 * slot] = y[2 * slot + 1] = 0.0f;
         }
-        *nonfinite += fsf_scale_samples(ind + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
-        fsf_fill_dark_channels(value4 + 4 * i, ind + i * (size_t)cap * 3, cnt, v + i * (size_t)cap * 3);
     }
     return true;
 }

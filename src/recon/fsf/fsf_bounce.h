@@ -18,7 +18,8 @@
  *            FSF's s = z in its own units). A miss (t_hit = inf) has k = 0
  *   shear    eta_a = k_mean (step_world[a] . t_a), v units per pixel step along dir[a]: the
  *            sign convention of fsf_filter.h (the sample's coordinate seen from x is
- *            v'_a + eta_a t for the neighbour t steps away)
+ *            v'_a + eta_a t for the neighbour t steps away). Kept in px and the AOV; the
+ *            method's filter (fsf_flat.h) does not apply it
  *   width    FSF eq. 4 with the transfer's band at the pixel's samples: sigma_v = 2 / Omega_v,
  *            Omega_v where the transfer's spectrum W K1(W) meets e^-2 sqrt(16 / n)
  *            (fsf_bounce_sigma_v: 2.87 at 16 samples, Mehta 2013's Omega_v_max = 2.8 being
@@ -78,18 +79,18 @@ float fsf_bounce_slope(vec3 n, vec3 d, float t_hit_m);
 #define FSF_BOUNCE_SHIFT_NODES 9
 FsfGrid fsf_bounce_grid(void);
 
-/* The store's samples as the filter's input (slots as FsfSamples): y the clamped v of each
- * sample in its pixel's frame, v its indirect light scaled so that the pixel's samples average
- * to its demodulated value4 (fsf_match_pixel); usable: value4 usable, samples, a frame;
- * *nonfinite gains the values written as 0 (fsf_scale_samples). false when the store lacks the
- * bounce or indirect field. */
-bool fsf_bounce_samples(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
-                        float *v, int *count, long long *nonfinite);
+/* The store's samples' v-plane coordinates (slots as FsfSamples): y the clamped v of each sample
+ * in its pixel's frame (0 where the pixel has none), count the stored samples; usable: samples,
+ * a frame, not mixed, and (value4 not NULL) value4 usable. The filter reads no sample's light:
+ * its passes take each pixel's stored count times its mean (fsf_flat.h). y NULL: usable and count
+ * only (the filter reusing the plan's parameters). false when the store lacks the bounce field. */
+bool fsf_bounce_coords(const GBuffer *g, const SampleStore *st, const float *value4, unsigned char *usable, float *y,
+                       int *count);
 
 typedef struct {
     const GBuffer *g;
     const SampleStore *store;    /* with SAMPLE_FIELD_BOUNCE */
-    const float *y;              /* the samples' v (fsf_bounce_samples): those clamped onto the
+    const float *y;              /* the samples' v (fsf_bounce_coords): those clamped onto the
                                   * rim have no slope (see fsf_bounce_params) */
     const unsigned char *usable;
     float mu;                    /* width divisor (> 0) */

@@ -79,11 +79,8 @@ bool fsf_shadow_area(const GBuffer *g, const SampleStore *st, const FsfLight *li
 bool fsf_bounce_area(const GBuffer *g, const SampleStore *st, float mu, FsfScratch *p, float *area_px)
 {
     size_t n = (size_t)g->width * (size_t)g->height;
-    /* the v-plane coordinates need a value to scale the samples to: any usable one will do */
-    float *ones = p->out4;
-    for (size_t i = 0; i < 4 * n; ++i) ones[i] = 1.0f;
-    long long nonfinite = 0;
-    bool ok = fsf_bounce_samples(g, st, ones, p->usable, p->y, p->v, p->count, &nonfinite);
+    /* the demodulated value is not known before compositing: usable without it */
+    bool ok = fsf_bounce_coords(g, st, NULL, p->usable, p->y, p->count);
     FsfBounceIn in = {g, st, p->y, p->usable, mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
     ok = ok && fsf_bounce_params(&in, p->px, p->k_lo, p->k_hi);
     for (size_t i = 0; ok && i < n; ++i)

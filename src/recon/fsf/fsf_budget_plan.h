@@ -65,15 +65,16 @@
  * 0.5% worse (combined at 16: 8.6e-4 with 0.75, 8.0e-4 with 0.875, fixed count 8.4e-4). Under
  * the Lagrange allocation 0.75 was 2-7% better on defocus and 2-6% worse on combined. */
 #define FSF_BUDGET_PASS1_SHARE_LENS 0.875f
-/* ... and where FSF's only shading filter is the indirect light's (no soft shadows): its pixels
- * keep pass 1's count (fsf_method.c's plan: extras reach its filter only through a noisy
- * ratio), so the rest goes to the collapsed pixels alone (widths under 0.5 px at contact lines:
- * 1.6% of indirect.pbrt's pixels at 16 spp, holding 2-7% of the error), while the others' error
- * is three quarters variance. On indirect.pbrt, 256x256, seeds 1-3, with the slopes within the
- * band's reach: relMSE at 8 / 16 / 32 / 64 spp 0.77x / 0.79x / 0.73x / 0.92x of 0.75's
- * (docs/benchmarks.md, "FSF on indirect light against AAF"). 0.9375 and 1 (no extras), measured
- * against 0.875 with a wider width rule (not kept): 0.97x / 1.02x and 1.80x / 1.52x at 16 / 64. */
-#define FSF_BUDGET_PASS1_SHARE_BOUNCE 0.875f
+/* ... and where FSF's only shading filter is the indirect light's (no soft shadows): its
+ * filter reads nearly every pixel's stored samples, as the lens'. With those pixels keeping pass
+ * 1's count (fsf11) 7/8 was 0.77x / 0.79x / 0.73x / 0.92x 0.75's relMSE on indirect.pbrt at 8 /
+ * 16 / 32 / 64 spp. Since fsf12 they take extras by the allocation (fsf_method.c's plan), and 13/16
+ * did best (indirect.pbrt, 256x256, relMSE at 16 spp seeds 1-3 / 4-6, 32 and 64 spp seeds 1-3):
+ * 0.75: 2.58e-4 / 2.56e-4, 1.30e-4, 6.57e-5; 0.8125: 2.21e-4 / 2.25e-4, 1.10e-4, 6.47e-5; 0.875:
+ * 2.58e-4 / 2.58e-4, 1.20e-4, 6.77e-5; 0.9375 2.61e-4 and 7.38e-5 at 16 and 64; hotspot_bounce
+ * 0.87x / 0.94x 7/8's at 16 / 64 (docs/benchmarks.md, "FSF on indirect light: the transfer
+ * weight measured"). At 8 spp both round to 7. */
+#define FSF_BUDGET_PASS1_SHARE_BOUNCE 0.8125f
 
 /* Whether a pixel's filter (FsfPixel) has collapsed. */
 bool fsf_pixel_collapsed(const FsfPixel *px);

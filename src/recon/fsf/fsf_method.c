@@ -22,24 +22,29 @@
  *            four passes
  *   indirect the demodulated indirect light (divided by the albedo only, as AAF-GI's): each
  *            sample's indirect light scaled by its pixel's demodulation, the bounce
- *            direction's v-plane coordinate in place of the light point (fsf_bounce.h); the
- *            same four passes. The pipeline filters it apart from the direct light and adds
- *            the two (FSF appendix)
+ *            direction's v-plane coordinate in place of the light point (fsf_bounce.h) for
+ *            the widths; filtered by the passes' two spatial gathers alone, on the host
+ *            (fsf_flat.h: with every sample inside the box the shear changed nothing but the
+ *            node interpolation, and the transfer weight that would make it count lost). The
+ *            pipeline filters it apart from the direct light and adds the two (FSF appendix)
  *   AOVs     fsf.eta_m_per_px (the shear along the light's first axis, light metres per pixel
  *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo); for
  *            defocus fsf.defocus.eta_lens_per_px (the shear, unit lens per pixel step),
  *            fsf.defocus.sigma_px, fsf.defocus.k_spread, fsf.defocus.straddle (1: the
  *            slope range straddles the focal plane); for indirect light
- *            fsf.indirect.shear (v units per pixel step along t1), fsf.indirect.sigma_px,
+ *            fsf.indirect.shear (v units per pixel step along t1: the reprojection's shear,
+ *            which the filter does not apply), fsf.indirect.sigma_px,
  *            fsf.indirect.k_spread (k_hi - k_lo, v units per receiver metre) */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "recon/fsf/fsf_bounce.h"
+#include "recon/fsf/fsf_bounce_kept.h"
 #include "recon/fsf/fsf_budget_plan.h"
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
+#include "recon/fsf/fsf_flat.h"
 #include "recon/fsf/fsf_lens.h"
 #include "recon/fsf/fsf_lens_plan.h"
 #include "recon/fsf/fsf_light.h"
@@ -84,6 +89,7 @@ struct ReconMethod {
     float *want_spp;             /* under a budget: each pixel's count by the allocation (real; found once) */
     int pass1_spp;               /* the samples every pixel had at the first plan */
     float *ind_eta_aov, *ind_sigma_aov, *ind_spread_aov;    /* indirect light */
+    FsfBounceKept bounce_kept;   /* the plan's indirect-light parameters, for the filter */
     long long nonfinite;         /* filtered pixels whose result was not finite (kept unfiltered) */
     FsfProfile prof;             /* WEDGE_FSF_PROFILE's stage times (fsf_profile.h) */
     FsfScratch scratch;          /* the plan's and the filterings' arrays (fsf_scratch.h) ... */
@@ -110,10 +116,11 @@ static float fsf_budget_pass1_share(const Renderer *r, EffectMask effects)
 }
 
 /* The store fields each effect's filter reads: a frame keeps only its effects' (the union of
- * all three is 21 floats a sample, 29 MB more at 256x256 and 16 spp than soft shadows alone). */
+ * all three is 18 floats a sample, 22 MB more at 256x256 and 16 spp than soft shadows alone). */
 #define FSF_FIELDS_SHADOWS (SAMPLE_FIELD_LIGHT | SAMPLE_FIELD_DIRECT)
 #define FSF_FIELDS_DEFOCUS (SAMPLE_FIELD_LENS | SAMPLE_FIELD_DEPTH | SAMPLE_FIELD_RADIANCE)
-#define FSF_FIELDS_INDIRECT (SAMPLE_FIELD_BOUNCE | SAMPLE_FIELD_INDIRECT)
+/* the indirect filter reads each pixel's value, not its samples' light (fsf_flat.h) */
+#define FSF_FIELDS_INDIRECT SAMPLE_FIELD_BOUNCE
 
 static unsigned fsf_sample_fields_for(EffectMask effects)
 {
@@ -144,6 +151,7 @@ static void fsf_destroy(ReconMethod *m)
     free(m->lum4);
     free(m->want_spp);
     free(m->lens_px);
+    fsf_bounce_kept_free(&m->bounce_kept);
     free(m->lens_k_lo);
     free(m->lens_k_hi);
     free(m->ind_eta_aov);
@@ -320,6 +328,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         return false;
     }
     if (indirect) fsf_profile_mark(&m->prof, "bounce_area");
+    if (indirect) fsf_bounce_keep(&m->bounce_kept, m->store, bsc->px, bsc->k_lo, bsc->k_hi, n);
     for (size_t i = 0; i < n; ++i) {
         float shade = indirect ? fminf(area[i], bounce[i]) : area[i];
         shade = shade == INFINITY ? 0.0f : shade;
@@ -331,13 +340,17 @@ static bool plan_counts(ReconMethod *m, Diag *d)
     if (!sample_rate_factors(m->lum4, g->width, g->height, area)) goto oom;
     fsf_profile_mark(&m->prof, "factors");
     float *factor = m->want_spp;
-    /* Pixels the indirect filter filters keep pass 1's count where no lens filter follows: their
-     * extras reach the filter through fsf_match_pixel's scale, the full mean over the mean of
-     * the few stored samples, and v-plane samples are heavy tailed (a few see the bright
-     * reflector), so that ratio adds more noise than the extras remove: on indirect.pbrt the
-     * allocation there gave 1.71x / 1.05x the relMSE at 8 / 16 spp (0.84x / 0.89x at 32 / 64;
-     * docs/benchmarks.md). */
-    for (size_t i = 0; indirect && !m->lens_planned && i < n; ++i)
+    /* Pixels the indirect filter filters keep pass 1's count where soft shadows are filtered
+     * too and no lens filter follows: there the allocation's extras raised far_light_bounce's
+     * relMSE 1.18x / 1.07x at 16 / 64 spp (2026-11-30, fsf12). Where the indirect light is
+     * FSF's only filter they follow the allocation as every other pixel: the filter reads the
+     * pixel's full mean (fsf_flat.h: its sums are the stored count times the mean, so a pixel's
+     * extras lower its own noise in every gather that reads it). On indirect.pbrt, with pass 1
+     * at 7/8, relMSE 0.89x / 0.92x / 0.91x / 0.94x at 8 / 16 / 32 / 64 spp, hotspot_bounce 0.73x /
+     * 0.85x at 16 / 64; with 13/16 (FSF_BUDGET_PASS1_SHARE_BOUNCE) more (docs/benchmarks.md;
+     * before the reach and 7/8, fsf11, it had cost 1.71x / 1.05x at 8 / 16). */
+    bool bounce_only = indirect && !effect_in(m->effects, EFFECT_SOFT_SHADOWS) && !m->lens_planned;
+    for (size_t i = 0; indirect && !bounce_only && !m->lens_planned && i < n; ++i)
         if (bounce[i] > 0.0f && bounce[i] != INFINITY) factor[i] = 0.0f;
     /* in place: each count reads its own factor only once the search is over */
     sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
@@ -451,16 +464,22 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
     return true;
 }
 
-/* The four passes (on the device when one was opened), then each usable pixel's value4 rgb
+/* The four passes (on the device when one was opened; flat: the two spatial passes of
+ * fsf_flat.h, on the host), then each usable pixel's value4 rgb
  * replaced by its filtered one (rgb / weight); non-finite results keep the input, counted.
  * keep_left_out: pixels with both widths 0 keep value4 (for the lens, whose profile square
  * would drop some of their own samples; the light's profile keeps them all). */
 static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid, const FsfPixel *px,
-                       const FsfGuides *gd, bool keep_left_out, float *out4, float *value4, double *kernel_seconds,
-                       Diag *d)
+                       const FsfGuides *gd, bool keep_left_out, bool flat, float *out4, float *value4,
+                       double *kernel_seconds, Diag *d)
 {
     bool ok = true;
-    if (m->cl) {
+    if (flat) { /* the indirect light: two spatial passes on the host over each pixel's value
+                 * and stored count (fsf_flat.h) */
+        if (!(ok = fsf_filter_flat(value4, s->count, s->width, s->height, grid, px, gd, out4)))
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's indirect-light passes");
+        fsf_profile_mark(&m->prof, "flat");
+    } else if (m->cl) {
         ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
         for (int rep = fsf_profile_repeats(&m->prof); ok && rep > 0; --rep) /* a measuring aid: the same out4 */
             ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);
@@ -510,12 +529,12 @@ static void warn_nonfinite_samples(const char *what, long long nonfinite)
 /* The passes on one effect's inputs, then its AOVs: the shear and the width along the first
  * axis, the slope spread. */
 static bool filter_and_record(ReconMethod *m, const FsfScratch *b, const FsfGrid *grid, const FsfGuides *gd,
-                              bool keep_left_out, float *value4, float *eta_aov, float *sigma_aov, float *spread_aov,
-                              double *kernel_seconds, Diag *d)
+                              bool keep_left_out, bool flat, float *value4, float *eta_aov, float *sigma_aov,
+                              float *spread_aov, double *kernel_seconds, Diag *d)
 {
     int w = m->g->width, h = m->g->height;
     FsfSamples s = {w, h, sample_store_capacity(m->store), b->count, b->y, b->v};
-    bool ok = run_filter(m, &s, grid, b->px, gd, keep_left_out, b->out4, value4, kernel_seconds, d);
+    bool ok = run_filter(m, &s, grid, b->px, gd, keep_left_out, flat, b->out4, value4, kernel_seconds, d);
     for (size_t i = 0; ok && i < (size_t)w * (size_t)h; ++i) {
         eta_aov[i] = b->px[i].eta_m[0];
         sigma_aov[i] = b->px[i].sigma_px[0];
@@ -575,7 +594,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
     }
     fsf_profile_mark(&m->prof, "geo_mean");
     if (ok)
-        ok = filter_and_record(m, b, &grid, &gd, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
+        ok = filter_and_record(m, b, &grid, &gd, false, false, value4, m->eta_aov, m->sigma_aov, m->spread_aov,
                                kernel_seconds, d);
     fsf_profile_mark(&m->prof, "aovs");
     if (ok && mean4) fsf_blend_collapsed(b->px, b->usable, b->count, m->g, &grid, mean4, value4);
@@ -592,14 +611,16 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     FsfScratch *b = scratch(m, d);
     if (!b) return false;
     bool ok = true;
-    long long nonfinite = 0;
-    if (!fsf_bounce_samples(m->g, m->store, value4, b->usable, b->y, b->v, b->count, &nonfinite)) {
+    /* under a budget the plan's parameters, found from the same stored samples
+     * (fsf_bounce_kept.h): then no coordinate is needed */
+    size_t n_px = (size_t)m->g->width * (size_t)m->g->height;
+    bool reuse = fsf_bounce_kept_take(&m->bounce_kept, m->store, b->px, b->k_lo, b->k_hi, n_px);
+    if (!fsf_bounce_coords(m->g, m->store, value4, b->usable, reuse ? NULL : b->y, b->count)) {
         ok = false;
-        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce or indirect field");
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the bounce field");
     }
-    warn_nonfinite_samples("indirect-light", nonfinite);
     FsfBounceIn in = {m->g, m->store, b->y, b->usable, m->mu, FSF_BOUNCE_PARALLAX_V, FSF_BOUNCE_H_MIN_FRAC};
-    if (ok && !fsf_bounce_params(&in, b->px, b->k_lo, b->k_hi)) {
+    if (ok && !reuse && !fsf_bounce_params(&in, b->px, b->k_lo, b->k_hi)) {
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF indirect parameters");
     }
@@ -607,7 +628,7 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b->usable);
     fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
-        ok = filter_and_record(m, b, &grid, &gd, false, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
+        ok = filter_and_record(m, b, &grid, &gd, false, true, value4, m->ind_eta_aov, m->ind_sigma_aov, m->ind_spread_aov,
                                kernel_seconds, d);
     fsf_profile_mark(&m->prof, "aovs_free");
     fsf_profile_print(&m->prof, "indirect");
@@ -652,7 +673,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     FsfGuides gd = fsf_guides_unguided(b->usable); /* defocus rejects no neighbour */
     fsf_profile_mark(&m->prof, "samples_params");
     if (ok)
-        ok = filter_and_record(m, b, &grid, &gd, true, value4, m->lens_eta_aov, m->lens_sigma_aov,
+        ok = filter_and_record(m, b, &grid, &gd, true, false, value4, m->lens_eta_aov, m->lens_sigma_aov,
                                m->lens_spread_aov, kernel_seconds, d);
     for (size_t i = 0; ok && i < n; ++i) m->straddle_aov[i] = fsf_lens_straddles(b->k_lo[i], b->k_hi[i]) ? 1.0f : 0.0f;
     fsf_profile_mark(&m->prof, "aovs_free");
