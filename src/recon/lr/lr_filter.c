@@ -29,6 +29,14 @@ LrFilterConfig lr_filter_config_default(void)
     return c;
 }
 
+float lr_sigma_pixel_px(int spp)
+{
+    const float paper = 1.0f / 3.0f;
+    if (!(spp > 0) || spp >= LR_PIXEL_BAND_SPP) return paper;
+    /* between the smooth-light optimum's n^(-1/6) and the step edge's n^(-1/3) */
+    return paper * powf((float)LR_PIXEL_BAND_SPP / (float)spp, 0.25f);
+}
+
 /* Smallest |slope| of a range; 0 when the range touches or straddles 0 (the spectrum then
  * reaches every Omega_x up to the other band limits). */
 static double min_abs(double lo, double hi)

@@ -39,6 +39,14 @@ typedef struct {
 /* The paper's constants, with sigma_clamp for a 16-pixel tile in a 32-pixel window. */
 LrFilterConfig lr_filter_config_default(void);
 
+/* The pixel band's primal sigma (px) for a frame filtered from spp samples per pixel: LR's
+ * 1/3 px from LR_PIXEL_BAND_SPP samples up, (1/3) (LR_PIXEL_BAND_SPP / spp)^(1/4) below
+ * (0.396 px at 8 spp, 0.471 at 4): the width of the smoothing a layer near focus gets on top
+ * of its pixel's box, chosen for the error at the frame's sample count, the variance falling
+ * as 1 / (spp sigma^2) and the bias rising with sigma (docs/algorithms.md 8.36). */
+enum { LR_PIXEL_BAND_SPP = 16 };
+float lr_sigma_pixel_px(int spp);
+
 /* The slopes of one partition: ranges may be degenerate (min == max) and may straddle 0. */
 typedef struct {
     float c_min_px, c_max_px; /* circle-of-confusion slope dx/du (= dy/dv), px per unit u */
