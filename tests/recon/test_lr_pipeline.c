@@ -60,7 +60,7 @@ static void check_lr(const ReconResult *res, void *ctx)
     }
     CHECK(layers && extent);
     int bad = 0, at_band = 0;
-    float band = lr_sigma_pixel_px(spp), sharpest = INFINITY;
+    float band = lr_still_sigma_pixel_px(spp), sharpest = INFINITY;
     for (size_t i = 0; layers && extent && i < n; ++i) {
         bad += !(layers[i] >= 1 && layers[i] <= 16) || !(extent[i] >= 0 && extent[i] <= 4.0f + 1e-4f);
         if (extent[i] > 0) sharpest = fminf(sharpest, extent[i]);

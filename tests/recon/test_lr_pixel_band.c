@@ -1,7 +1,9 @@
-/* LR's pixel band at the frame's sample count (lr_sigma_pixel_px, docs/algorithms.md 8.36).
+/* LR's pixel band of still layers at the frame's sample count (lr_still_sigma_pixel_px,
+ * docs/algorithms.md 8.36).
  *
  * The law: LR's 1/3 px from LR_PIXEL_BAND_SPP samples per pixel up, (1/3) (16 / spp)^(1/4)
- * below, never narrower as samples fall. The reason for it, on a floor through focus (the
+ * below, never narrower as samples fall. It reaches only the filters of layers without motion:
+ * a layer's filter with a motion range is the same whatever the still band. The reason for it, on a floor through focus (the
  * bench scenes' in-focus rows): each pixel's error against the box mean of 4096 samples of the
  * exact light field (lr_test_tilted_sample), summed over four seeds, at 4 and 8 spp, is lower
  * with the law's band than with the paper's 1/3 px; at 16 spp the law is the paper's band,
@@ -24,11 +26,32 @@ static float slope_per_row(void) { return (C_BOTTOM_PX - C_TOP_PX) / (float)PH; 
 static void test_law(void)
 {
     const float third = 1.0f / 3.0f;
-    for (int spp = LR_PIXEL_BAND_SPP; spp <= 4096; spp *= 2) CHECK(lr_sigma_pixel_px(spp) == third);
-    CHECK(lr_sigma_pixel_px(0) == third && lr_sigma_pixel_px(-3) == third);
-    CHECK(fabsf(lr_sigma_pixel_px(8) - third * powf(2.0f, 0.25f)) < 1e-6f);
-    CHECK(fabsf(lr_sigma_pixel_px(4) - third * sqrtf(2.0f)) < 1e-6f);
-    for (int spp = 1; spp < 64; ++spp) CHECK(lr_sigma_pixel_px(spp) >= lr_sigma_pixel_px(spp + 1));
+    for (int spp = LR_PIXEL_BAND_SPP; spp <= 4096; spp *= 2) CHECK(lr_still_sigma_pixel_px(spp) == third);
+    CHECK(lr_still_sigma_pixel_px(0) == third && lr_still_sigma_pixel_px(-3) == third);
+    CHECK(fabsf(lr_still_sigma_pixel_px(8) - third * powf(2.0f, 0.25f)) < 1e-6f);
+    CHECK(fabsf(lr_still_sigma_pixel_px(4) - third * sqrtf(2.0f)) < 1e-6f);
+    for (int spp = 1; spp < 64; ++spp) CHECK(lr_still_sigma_pixel_px(spp) >= lr_still_sigma_pixel_px(spp + 1));
+}
+
+/* The still band widens the filter of a still layer near focus (clip X: its band is the one
+ * that clips) and of no layer with motion, near focus or not. */
+static void test_only_still_layers(void)
+{
+    LrFilterConfig paper = lr_filter_config_default(), law = paper;
+    law.sigma_pixel_still_px = lr_still_sigma_pixel_px(8);
+    const LrSlopes still = {0.0f, 1.0f, 0.0f, 0.0f};
+    LrFilter a = lr_filter_make(&still, &paper), b = lr_filter_make(&still, &law);
+    CHECK(a.clip_x == LR_CLIP_X && b.inv_sigma_x_px < 0.95f * a.inv_sigma_x_px);
+    const LrSlopes moving[] = {{0.0f, 1.0f, 0.5f, 1.5f}, {3.0f, 4.0f, 20.0f, 24.0f}, {0.0f, 0.0f, -2.0f, -1.0f}};
+    for (int i = 0; i < 3; ++i) {
+        LrFilter m = lr_filter_make(&moving[i], &paper), n = lr_filter_make(&moving[i], &law);
+        CHECK(m.clip_x == n.clip_x && m.clip_y == n.clip_y && m.clamped == n.clamped);
+        const float mf[] = {m.inv_sigma_x_px, m.eta_px, m.xi_px, m.inv_sigma_u, m.inv_sigma_t, m.inv_sigma_y_px, m.rho_px,
+                            m.inv_sigma_v, m.aperture_x_px, m.shutter_x_px, m.aperture_y_px};
+        const float nf[] = {n.inv_sigma_x_px, n.eta_px, n.xi_px, n.inv_sigma_u, n.inv_sigma_t, n.inv_sigma_y_px, n.rho_px,
+                            n.inv_sigma_v, n.aperture_x_px, n.shutter_x_px, n.aperture_y_px};
+        CHECK(memcmp(mf, nf, sizeof mf) == 0);
+    }
 }
 
 /* The box mean of each pixel over TRUTH_SPP samples (streamed). */
@@ -76,7 +99,7 @@ static float *lr_frame(int spp, unsigned seed, const LrConfig *cfg)
 static double lr_error(int spp, float sigma_pixel_px, const double *ref)
 {
     LrConfig cfg = lr_config_default();
-    cfg.filter.sigma_pixel_px = sigma_pixel_px;
+    cfg.filter.sigma_pixel_still_px = sigma_pixel_px;
     double err = 0.0;
     for (unsigned seed = 1; seed <= SEEDS; ++seed) {
         float *rgb = lr_frame(spp, 7919u * seed, &cfg);
@@ -101,14 +124,14 @@ static void test_floor_through_focus(void)
     truth(ref);
     const float third = 1.0f / 3.0f;
     for (int spp = 4; spp <= 8; spp *= 2) {
-        double paper = lr_error(spp, third, ref), law = lr_error(spp, lr_sigma_pixel_px(spp), ref);
+        double paper = lr_error(spp, third, ref), law = lr_error(spp, lr_still_sigma_pixel_px(spp), ref);
         fprintf(stderr, "floor through focus, %d spp: relMSE %.4e with 1/3 px, %.4e with %.3f px (%.3fx)\n", spp, paper, law,
-                lr_sigma_pixel_px(spp), law / paper);
+                lr_still_sigma_pixel_px(spp), law / paper);
         CHECK(law < 0.97 * paper);
     }
     /* at 16 spp the law is the paper's band: the same frame, bit for bit */
     LrConfig paper = lr_config_default(), law = paper;
-    law.filter.sigma_pixel_px = lr_sigma_pixel_px(16);
+    law.filter.sigma_pixel_still_px = lr_still_sigma_pixel_px(16);
     float *a = lr_frame(16, 5, &paper), *b = lr_frame(16, 5, &law);
     CHECK(a && b && memcmp(a, b, sizeof(float) * 3 * PW * PH) == 0);
     free(a), free(b), free(ref);
@@ -117,6 +140,7 @@ static void test_floor_through_focus(void)
 int main(void)
 {
     test_law();
+    test_only_still_layers();
     test_floor_through_focus();
     CHECK_DONE();
 }

@@ -375,7 +375,7 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     LrSamples img = {w, h, spp, m->img_key, m->img_place, m->bright};
     LrOutput out = {rgb, m->layers, m->extent_px, 0};
     LrConfig cfg = m->cfg;
-    cfg.filter.sigma_pixel_px = lr_sigma_pixel_px(spp); /* the band for this frame's count (8.36) */
+    cfg.filter.sigma_pixel_still_px = lr_still_sigma_pixel_px(spp); /* the still layers' band at this count (8.36) */
     cfg.samples_scanned = true; /* the gather measured them (gather_range) */
     cfg.samples_nonfinite = nonfinite;
     cfg.film_dev_px = film_dev_px;
