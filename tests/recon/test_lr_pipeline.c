@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "../check.h"
+#include "recon/lr/lr_filter.h"
 #include "recon/pipeline.h"
 #include "recon_test_util.h"
 #include "scene/scene_desc.h"
@@ -58,13 +59,18 @@ static void check_lr(const ReconResult *res, void *ctx)
         if (!strcmp(res->aovs[k].name, "lr.extent_px")) extent = res->aovs[k].data;
     }
     CHECK(layers && extent);
-    int bad = 0, sharp = 0;
+    int bad = 0, at_band = 0;
+    float band = lr_still_sigma_pixel_px(spp), sharpest = INFINITY;
     for (size_t i = 0; layers && extent && i < n; ++i) {
         bad += !(layers[i] >= 1 && layers[i] <= 16) || !(extent[i] >= 0 && extent[i] <= 4.0f + 1e-4f);
-        sharp += extent[i] > 0 && extent[i] < 0.34f; /* the pixel filter (1/3 px) near focus */
+        if (extent[i] > 0) sharpest = fminf(sharpest, extent[i]);
+        at_band += extent[i] > 0 && extent[i] < band + 0.01f; /* the pixel band alone, near focus */
     }
     CHECK(bad == 0); /* the extent is at most sigma_clamp = 4 px (Appendix C) */
-    (void)sharp;
+    /* the frame's layers near focus take the pixel band of its sample count (8.36), no less */
+    CHECK(sharpest >= band - 1e-4f && at_band > 0);
+    if (!(sharpest >= band - 1e-4f && at_band > 0))
+        fprintf(stderr, "%d spp: sharpest extent %.4f px, band %.4f px, %d pixels at it\n", spp, sharpest, band, at_band);
 }
 
 /* One render through the pipeline; returns a copy of the image and checks the result. */

@@ -12,6 +12,7 @@ LrFilterConfig lr_filter_config_default(void)
     /* LR uses 1/3 against a Gaussian-aperture reference; the renderer's lens is the uniform
      * unit disk, whose per-axis std is 1/2: matching it cut the error on a defocused scene
      * 4.4x (docs/algorithms.md 8.1) */
+    c.sigma_pixel_still_px = c.sigma_pixel_px; /* the frame's count sets it (lr_still_sigma_pixel_px) */
     c.sigma_lens = 0.5f;
     c.sigma_shutter = 1.0f / 3.0f; /* LR's 2/3 on a shutter of length 2 */
     c.sigma_clamp_px = (32.0f - 16.0f) / 4.0f;
@@ -27,6 +28,14 @@ LrFilterConfig lr_filter_config_default(void)
     c.shaped_screen = true;
     c.round_screen = true;
     return c;
+}
+
+float lr_still_sigma_pixel_px(int spp)
+{
+    const float paper = 1.0f / 3.0f;
+    if (!(spp > 0) || spp >= LR_PIXEL_BAND_SPP) return paper;
+    /* between the smooth-light optimum's n^(-1/6) and the step edge's n^(-1/3) */
+    return paper * powf((float)LR_PIXEL_BAND_SPP / (float)spp, 0.25f);
 }
 
 /* Smallest |slope| of a range; 0 when the range touches or straddles 0 (the spectrum then
@@ -304,8 +313,11 @@ static void screen_shares(double var_x, double c0, float shear_u, double d0, flo
     *disk_px = (float)sqrt(disk2), *box_px = (float)sqrt(box2);
 }
 
-LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg)
+LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg_in)
 {
+    LrFilterConfig band = *cfg_in;
+    if (s->d_min_px == 0.0f && s->d_max_px == 0.0f) band.sigma_pixel_px = cfg_in->sigma_pixel_still_px;
+    const LrFilterConfig *cfg = &band;
     LrFilter f = lr_filter_make_paper(s, cfg);
     complete_bands(&f, cfg);
     if (!cfg->flat_lens_time) return f;

@@ -19,6 +19,9 @@ typedef enum { LR_CLIP_X = 0, LR_CLIP_U = 1, LR_CLIP_T = 2 } LrClip;
 
 typedef struct {
     float sigma_pixel_px; /* the pixel's band limit, as a primal Gaussian (LR: 1/3 px) */
+    float sigma_pixel_still_px; /* the same for a layer filtered without motion (its slopes'
+                                 * motion range 0): lr_still_sigma_pixel_px of the frame's
+                                 * samples per pixel (docs/algorithms.md 8.36); default 1/3 */
     float sigma_lens;     /* the aperture, unit-disk lens units (LR: sigma_a = 1/3; ours 1/2,
                            * the renderer's uniform disk's per-axis std) */
     float sigma_shutter;  /* the shutter, in units of the shutter interval t in [0, 1]
@@ -38,6 +41,15 @@ typedef struct {
 
 /* The paper's constants, with sigma_clamp for a 16-pixel tile in a 32-pixel window. */
 LrFilterConfig lr_filter_config_default(void);
+
+/* The pixel band's primal sigma (px) of a layer without motion in a frame filtered from spp
+ * samples per pixel: LR's 1/3 px from LR_PIXEL_BAND_SPP samples up, (1/3) (LR_PIXEL_BAND_SPP /
+ * spp)^(1/4) below (0.396 px at 8 spp, 0.471 at 4): the width of the smoothing a still layer
+ * near focus gets on top of its pixel's box, chosen for the error at the frame's sample count,
+ * the variance falling as 1 / (spp sigma^2) and the bias rising with sigma (docs/algorithms.md
+ * 8.36). Layers with motion keep 1/3 px. */
+enum { LR_PIXEL_BAND_SPP = 16 };
+float lr_still_sigma_pixel_px(int spp);
 
 /* The slopes of one partition: ranges may be degenerate (min == max) and may straddle 0. */
 typedef struct {
@@ -72,7 +84,8 @@ typedef struct {
  * shutter's in case T, docs/algorithms.md 8.3). */
 LrFilter lr_filter_make_paper(const LrSlopes *s, const LrFilterConfig *cfg);
 
-/* What LR uses: lr_filter_make_paper convolved with the Gaussian aperture and shutter it does
+/* What LR uses: with cfg->sigma_pixel_still_px as the band of a layer without motion (s's
+ * motion range 0), lr_filter_make_paper convolved with the Gaussian aperture and shutter it does
  * not already contain (both blurs at the central slopes), the excess over sigma_clamp taken
  * back by reprojecting less (docs 8.4); with cfg->flat_lens_time, the sample weights in u, v
  * and t flat (inv_sigma_u = inv_sigma_v = inv_sigma_t = 0). Never produces NaN or Inf for

@@ -22,6 +22,7 @@
 
 #include "recon/lr/lr_cl.h"
 #include "recon/lr/lr_coc_slope.h"
+#include "recon/lr/lr_noise_share.h"
 #include "recon/lr/lr_partition.h"
 #include "recon/lr/lr_shading.h"
 #include "recon/lr/lr_share.h"
@@ -375,6 +376,10 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     LrSamples img = {w, h, spp, m->img_key, m->img_place, m->bright};
     LrOutput out = {rgb, m->layers, m->extent_px, 0};
     LrConfig cfg = m->cfg;
+    /* the still layers' band at this count (8.36), wider where their light is noisy (8.37) */
+    cfg.filter.sigma_pixel_still_px = lr_still_sigma_pixel_px(spp);
+    if (spp < LR_PIXEL_BAND_SPP)
+        cfg.filter.sigma_pixel_still_px = lr_still_band_px(cfg.filter.sigma_pixel_still_px, lr_still_noise_share(&img, m->moving));
     cfg.samples_scanned = true; /* the gather measured them (gather_range) */
     cfg.samples_nonfinite = nonfinite;
     cfg.film_dev_px = film_dev_px;

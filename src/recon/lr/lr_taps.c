@@ -58,7 +58,8 @@ static int axis_radius(const Axis *a, const LrConfig *cfg)
 
 void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry)
 {
-    float pixel = 1.0f / cfg->filter.sigma_pixel_px;
+    /* a layer without shears has no motion: its band is the still layers' (8.36) */
+    float pixel = 1.0f / cfg->filter.sigma_pixel_still_px;
     bool neither = f->eta_px == 0.0f && f->xi_px == 0.0f && f->rho_px == 0.0f && f->inv_sigma_x_px >= pixel &&
                    f->inv_sigma_y_px >= pixel;
     Axis along = axis_of(f, cfg, false), across = axis_of(f, cfg, true);

@@ -19,7 +19,7 @@ int lr_filter_radius_px(float inv_sigma_px, const LrConfig *cfg);
 /* The screen passes' radii for a partition's filter (along its motion, across it): the
  * Gaussian's 3 sigma plus the lens disk's radius and half the shutter box's length of the
  * flat-weight filter (lr_filter.h), capped as above; 0 for a layer with neither blur (no
- * shear, both sigmas at most sigma_pixel: a static layer seen through a pinhole), whose
+ * shear, both sigmas at most sigma_pixel_still: a static layer seen through a pinhole), whose
  * samples stay in their pixels: the pixel filter alone would only spread each pixel by 1.1%
  * into its neighbours, which around a light source is a visible ring (docs 8.11). */
 void lr_screen_radii_px(const LrFilter *f, const LrConfig *cfg, int *rx, int *ry);
