@@ -127,7 +127,16 @@ int main(void)
     printf("device against C: largest difference %.3g of the pixel's weight; %lld of %lld floats bit for bit "
            "(kernels %.4f s)\n",
            worst, bits_equal, floats, secs_all);
-    CHECK(worst < 1e-5);
+    /* The kernels do the C's arithmetic in its order (contraction off) but for the exponential
+     * of each pixel's weights' ratio c = exp(-1 / (2 sigma^2)): PoCL's exp and glibc's expf
+     * differ by an ulp (6e-8) on some widths, and the recurrence w(t) = c^(t^2) takes that to
+     * t^2 ulps, 1.5e-5 at the cap's t = 16; the filtered values are weighted means, off by no
+     * more than their weights. Measured: 3.8e-6, 94% of the floats bit for bit, and with the C's
+     * exponential in both (a double exp rounded to float, an experiment) 100%. A fused
+     * multiply-add in the kernels (contraction on) keeps the largest difference but leaves 69%
+     * bit for bit: the second check. */
+    CHECK(worst < 2e-5);
+    CHECK(bits_equal >= floats * 9 / 10);
     fsf_flat_cl_destroy(cl);
     cl_runtime_destroy(rt);
     CHECK_DONE();
