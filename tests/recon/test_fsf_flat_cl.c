@@ -11,16 +11,10 @@
 
 #include "check.h"
 #include "recon/cl/cl_runtime.h"
+#include "fsf_synth.h"
 #include "recon/fsf/fsf_bounce.h"
 #include "recon/fsf/fsf_flat.h"
 #include "recon/fsf/fsf_flat_cl.h"
-
-static unsigned rng(unsigned *st)
-{
-    *st = *st * 1664525u + 1013904223u;
-    return *st >> 8;
-}
-static float rand01(unsigned *st) { return (float)rng(st) / 16777216.0f; }
 
 typedef struct {
     int w, h;
@@ -39,26 +33,26 @@ static FlatFrame flat_frame_random(int w, int h, unsigned seed)
     static const float tie_angles[4] = {0.0f, 0.78539816f, 1.5707963f, 2.3561945f};
     for (size_t i = 0; i < n; ++i) {
         float *v = f.value4 + 4 * i;
-        for (int c = 0; c < 3; ++c) v[c] = 2.0f * rand01(&st);
+        for (int c = 0; c < 3; ++c) v[c] = 2.0f * fsf_rand01(&st);
         v[3] = 1.0f;
-        if (rng(&st) % 41 == 0) v[rng(&st) % 3] = rng(&st) % 2 ? NAN : INFINITY; /* a channel left out */
-        f.count[i] = 1 + (int)(rng(&st) % 16);
-        f.usable[i] = rng(&st) % 9 != 0;
+        if (fsf_rng(&st) % 41 == 0) v[fsf_rng(&st) % 3] = fsf_rng(&st) % 2 ? NAN : INFINITY; /* a channel left out */
+        f.count[i] = 1 + (int)(fsf_rng(&st) % 16);
+        f.usable[i] = fsf_rng(&st) % 9 != 0;
         if (!f.usable[i]) v[0] = v[1] = v[2] = NAN; /* never read */
         /* a plane z = 0 seen from 3 m, normals up; some turned 30 degrees or 0.1 m off it */
         float *p = f.pos4 + 4 * i, *nr = f.nrm4 + 4 * i;
         p[0] = 0.01f * (float)(i % (size_t)w), p[1] = 0.01f * (float)(i / (size_t)w), p[2] = 0.0f, p[3] = 3.0f;
         nr[0] = 0.0f, nr[1] = 0.0f, nr[2] = 1.0f, nr[3] = 0.0f;
-        unsigned reject = rng(&st) % 13;
+        unsigned reject = fsf_rng(&st) % 13;
         if (reject == 0) nr[0] = 0.5f, nr[2] = 0.8660254f;
         if (reject == 1) p[2] = 0.1f;
         FsfPixel *q = &f.px[i];
-        float ang = rng(&st) % 3 == 0 ? tie_angles[rng(&st) % 4] : 6.2831853f * rand01(&st);
+        float ang = fsf_rng(&st) % 3 == 0 ? tie_angles[fsf_rng(&st) % 4] : 6.2831853f * fsf_rand01(&st);
         q->dir[0][0] = cosf(ang), q->dir[0][1] = sinf(ang), q->dir[1][0] = -sinf(ang), q->dir[1][1] = cosf(ang);
-        q->eta_m[0] = 0.05f * (rand01(&st) - 0.5f), q->eta_m[1] = 0.05f * (rand01(&st) - 0.5f); /* not read */
+        q->eta_m[0] = 0.05f * (fsf_rand01(&st) - 0.5f), q->eta_m[1] = 0.05f * (fsf_rand01(&st) - 0.5f); /* not read */
         for (int a = 0; a < 2; ++a) {
-            unsigned kind = rng(&st) % 10;
-            q->sigma_px[a] = kind == 0 ? 0.0f : kind == 1 ? 9.0f + 20.0f * rand01(&st) : 8.0f * rand01(&st);
+            unsigned kind = fsf_rng(&st) % 10;
+            q->sigma_px[a] = kind == 0 ? 0.0f : kind == 1 ? 9.0f + 20.0f * fsf_rand01(&st) : 8.0f * fsf_rand01(&st);
         }
     }
     return f;

@@ -3,8 +3,7 @@
 
 #include <stdlib.h>
 
-#include "core/huge_pages.h"
-#include "recon/cl/cl_runtime_internal.h"
+#include "recon/fsf/fsf_cl_kept.h"
 
 /* fsf_flat.cl's FsfFlatArgs, passed by value */
 typedef struct {
@@ -14,15 +13,13 @@ typedef struct {
 } FsfFlatArgs;
 
 /* G (pass A's output) and the result, 4 floats a pixel each: written before they are read in
- * every run, kept so that a frame's later runs reuse touched pages (as fsf_cl.c's scratch) */
+ * every run, kept (fsf_cl_kept.h) */
 enum { KEPT_G, KEPT_OUT, KEPT_N };
 
 struct FsfFlatCl {
     ClRuntime *rt;
     cl_kernel pass_a, pass_b;
-    cl_mem kept[KEPT_N];
-    void *kept_host[KEPT_N];
-    size_t kept_bytes[KEPT_N];
+    FsfClKept kept[KEPT_N];
 };
 
 FsfFlatCl *fsf_flat_cl_create(ClRuntime *rt, Diag *d)
@@ -44,30 +41,10 @@ FsfFlatCl *fsf_flat_cl_create(ClRuntime *rt, Diag *d)
 void fsf_flat_cl_destroy(FsfFlatCl *f)
 {
     if (!f) return;
-    for (int k = 0; k < KEPT_N; ++k) {
-        if (f->kept[k]) clReleaseMemObject(f->kept[k]);
-        free(f->kept_host[k]);
-    }
+    for (int k = 0; k < KEPT_N; ++k) fsf_cl_kept_free(&f->kept[k]);
     if (f->pass_a) clReleaseKernel(f->pass_a);
     if (f->pass_b) clReleaseKernel(f->pass_b);
     free(f);
-}
-
-/* Kept buffer k of at least `bytes` (host memory used in place, from huge_pages_alloc), NULL
- * when it cannot be made. No command holds the old one: every run ends with clFinish. */
-static cl_mem kept_buffer(FsfFlatCl *f, int k, size_t bytes, cl_int *err)
-{
-    if (f->kept[k] && f->kept_bytes[k] >= bytes) return f->kept[k];
-    if (f->kept[k]) clReleaseMemObject(f->kept[k]);
-    free(f->kept_host[k]);
-    f->kept[k] = NULL, f->kept_bytes[k] = 0;
-    if (!(f->kept_host[k] = huge_pages_alloc(bytes))) {
-        *err = CL_OUT_OF_HOST_MEMORY;
-        return NULL;
-    }
-    f->kept[k] = clCreateBuffer(f->rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, f->kept_host[k], err);
-    f->kept_bytes[k] = f->kept[k] ? bytes : 0;
-    return f->kept[k];
 }
 
 /* A 1D launch over n pixels in groups of a fixed size (a size PoCL picks itself is compiled
@@ -105,8 +82,8 @@ bool fsf_flat_cl_run(FsfFlatCl *f, const float *value4, const int *count, int wi
                               : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
     if (!err) b[NRM] = guided ? clCreateBuffer(ctx, ro, sizeof(float) * 4 * n1, (void *)gd->nrm4, &err)
                               : clCreateBuffer(ctx, CL_MEM_READ_ONLY, sizeof(float) * 4, NULL, &err);
-    cl_mem G = err ? NULL : kept_buffer(f, KEPT_G, sizeof(float) * 4 * n1, &err);
-    cl_mem out = err ? NULL : kept_buffer(f, KEPT_OUT, sizeof(float) * 4 * n1, &err);
+    cl_mem G = err ? NULL : fsf_cl_kept_get(ctx, &f->kept[KEPT_G], sizeof(float) * 4 * n1, &err);
+    cl_mem out = err ? NULL : fsf_cl_kept_get(ctx, &f->kept[KEPT_OUT], sizeof(float) * 4 * n1, &err);
     const char *what = "buffer allocation";
     cl_event ev[2] = {NULL, NULL};
     if (!err && n > 0) {
