@@ -5,6 +5,8 @@
 
 #include "recon/fsf/fsf_cl_kept.h"
 
+_Static_assert(sizeof(FsfPixel) == 8 * sizeof(float), "fsf_flat.cl reads FsfPixel as 8 floats");
+
 /* fsf_flat.cl's FsfFlatArgs, passed by value */
 typedef struct {
     cl_int width, height;
