@@ -9,8 +9,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "core/huge_pages.h"
 #include "recon/cl/cl_runtime_internal.h"
+#include "recon/fsf/fsf_cl_kept.h"
 
 _Static_assert(sizeof(FsfPixel) == 8 * sizeof(float), "fsf.cl reads FsfPixel as 8 floats");
 
@@ -63,9 +63,7 @@ struct FsfCl {
     ClRuntime *rt;
     cl_kernel taps, bins, pass1a, pass1b, pass2a, pass2b;
     FsfClProfile prof; /* the last run's */
-    cl_mem kept[KEPT_N];
-    void *kept_host[KEPT_N]; /* kept[k]'s memory */
-    size_t kept_bytes[KEPT_N];
+    FsfClKept kept[KEPT_N];
     cl_int *off;       /* the tap tables' offsets, both axes (page aligned: read in place) */
     size_t off_count;
 };
@@ -103,10 +101,7 @@ FsfCl *fsf_cl_create(ClRuntime *rt, Diag *d)
 void fsf_cl_destroy(FsfCl *f)
 {
     if (!f) return;
-    for (int k = 0; k < KEPT_N; ++k) {
-        if (f->kept[k]) clReleaseMemObject(f->kept[k]);
-        free(f->kept_host[k]);
-    }
+    for (int k = 0; k < KEPT_N; ++k) fsf_cl_kept_free(&f->kept[k]);
     free(f->off);
     cl_kernel k[6] = {f->taps, f->bins, f->pass1a, f->pass1b, f->pass2a, f->pass2b};
     for (int i = 0; i < 6; ++i)
@@ -114,25 +109,13 @@ void fsf_cl_destroy(FsfCl *f)
     free(f);
 }
 
-/* Kept buffer k with at least `bytes` (made anew only when the kept one is smaller), retained
- * for the caller: the run releases it as it does the buffers it creates. */
+/* Kept buffer k with at least `bytes` (fsf_cl_kept.h), retained for the caller: the run
+ * releases it as it does the buffers it creates. */
 static cl_mem kept_buffer(FsfCl *f, int k, size_t bytes, cl_int *err)
 {
-    if (!f->kept[k] || f->kept_bytes[k] < bytes) {
-        /* no command holds it: every run ends with clFinish and releases its own references */
-        if (f->kept[k]) clReleaseMemObject(f->kept[k]);
-        free(f->kept_host[k]);
-        f->kept[k] = NULL, f->kept_bytes[k] = 0;
-        if (!(f->kept_host[k] = huge_pages_alloc(bytes))) {
-            *err = CL_OUT_OF_HOST_MEMORY;
-            return NULL;
-        }
-        f->kept[k] = clCreateBuffer(f->rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, f->kept_host[k], err);
-        f->kept_bytes[k] = f->kept[k] ? bytes : 0;
-        if (!f->kept[k]) return NULL;
-    }
-    clRetainMemObject(f->kept[k]);
-    return f->kept[k];
+    cl_mem m = fsf_cl_kept_get(f->rt->context, &f->kept[k], bytes, err);
+    if (m) clRetainMemObject(m);
+    return m;
 }
 
 /* Offsets per page: each axis' offsets start on a page of the kept array. */

@@ -21,7 +21,9 @@
  * divisor is one per pixel and cancels in out.rgb / out.w. The transfer weight that would make
  * the shear count (fsf_transfer.h) lost on every scene measured, so the shear is left out and
  * with it the per-sample work: the passes read 4 floats a pixel, not a pixel's samples at 9
- * shift nodes. */
+ * shift nodes. fsf_flat_cl.h runs the same passes as OpenCL kernels (fsf_flat.cl), used
+ * whenever FSF has a device; this C version, on the host threads, is their reference and the
+ * path without one. */
 #ifndef WEDGE_RECON_FSF_FLAT_H
 #define WEDGE_RECON_FSF_FLAT_H
 

@@ -23,9 +23,10 @@
  *   indirect the demodulated indirect light (divided by the albedo only, as AAF-GI's): each
  *            sample's indirect light scaled by its pixel's demodulation, the bounce
  *            direction's v-plane coordinate in place of the light point (fsf_bounce.h) for
- *            the widths; filtered by the passes' two spatial gathers alone, on the host
- *            (fsf_flat.h: with every sample inside the box the shear changed nothing but the
- *            node interpolation, and the transfer weight that would make it count lost). The
+ *            the widths; filtered by the passes' two spatial gathers alone (fsf_flat.h: with
+ *            every sample inside the box the shear changed nothing but the node
+ *            interpolation, and the transfer weight that would make it count lost), in OpenCL
+ *            (fsf_flat_cl.h; fsf_filter_flat when no device was opened). The
  *            pipeline filters it apart from the direct light and adds the two (FSF appendix)
  *   AOVs     fsf.eta_m_per_px (the shear along the light's first axis, light metres per pixel
  *            step), fsf.sigma_px (the width along it), fsf.k_spread (k_hi - k_lo); for
@@ -45,6 +46,7 @@
 #include "recon/fsf/fsf_cl.h"
 #include "recon/fsf/fsf_filter.h"
 #include "recon/fsf/fsf_flat.h"
+#include "recon/fsf/fsf_flat_cl.h"
 #include "recon/fsf/fsf_lens.h"
 #include "recon/fsf/fsf_lens_plan.h"
 #include "recon/fsf/fsf_light.h"
@@ -67,6 +69,7 @@ struct ReconMethod {
     FsfLight light;
     float mu;
     FsfCl *cl;
+    FsfFlatCl *flat_cl;          /* the indirect light's two passes on the device (frames with indirect light) */
     float *shade;                /* unoccluded irradiance (the light factor) */
     float *share;                /* FSF's light's share of it (FSF_MIN_LIGHT_SHARE), NULL until computed */
     FsfShadeInputs shade_from;   /* the guides shade and share were last found from (the plan's), or none */
@@ -133,6 +136,7 @@ static void fsf_destroy(ReconMethod *m)
 {
     if (!m) return;
     fsf_cl_destroy(m->cl);
+    fsf_flat_cl_destroy(m->flat_cl);
     fsf_scratch_free(&m->scratch);
     free(m->shade);
     free(m->share);
@@ -396,8 +400,9 @@ static bool fsf_plan(ReconMethod *m, float mu, const float *spp_now, int *spp_to
 
 static bool fsf_open_device(ReconMethod *m, ClRuntime *rt, Diag *d)
 {
-    if (m->cl) return true;
-    return (m->cl = fsf_cl_create(rt, d)) != NULL;
+    if (!m->cl && !(m->cl = fsf_cl_create(rt, d))) return false;
+    if (effect_in(m->effects, EFFECT_INDIRECT) && !m->flat_cl && !(m->flat_cl = fsf_flat_cl_create(rt, d))) return false;
+    return true;
 }
 
 /* AAF-shadow eq. 1, as for AAF: only the visibility is smooth enough to filter, so the
@@ -464,8 +469,8 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
     return true;
 }
 
-/* The four passes (on the device when one was opened; flat: the two spatial passes of
- * fsf_flat.h, on the host), then each usable pixel's value4 rgb
+/* The four passes (flat: the two spatial passes of fsf_flat.h), on the device when one was
+ * opened, else on the host; then each usable pixel's value4 rgb
  * replaced by its filtered one (rgb / weight); non-finite results keep the input, counted.
  * keep_left_out: pixels with both widths 0 keep value4 (for the lens, whose profile square
  * would drop some of their own samples; the light's profile keeps them all). */
@@ -474,10 +479,18 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
                        double *kernel_seconds, Diag *d)
 {
     bool ok = true;
-    if (flat) { /* the indirect light: two spatial passes on the host over each pixel's value
-                 * and stored count (fsf_flat.h) */
-        if (!(ok = fsf_filter_flat(value4, s->count, s->width, s->height, grid, px, gd, out4)))
-            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's indirect-light passes");
+    if (flat && m->flat_cl) { /* the indirect light: two spatial passes over each pixel's value and
+                               * stored count (fsf_flat.h), as fsf_flat.cl's kernels */
+        ok = fsf_flat_cl_run(m->flat_cl, value4, s->count, s->width, s->height, grid, px, gd, out4, kernel_seconds, d);
+        for (int rep = fsf_profile_repeats(&m->prof); ok && rep > 0; --rep) /* a measuring aid: the same out4 */
+            ok = fsf_flat_cl_run(m->flat_cl, value4, s->count, s->width, s->height, grid, px, gd, out4, kernel_seconds, d);
+        fsf_profile_mark(&m->prof, "flat_cl");
+        fsf_profile_add(&m->prof, "k_flat", *kernel_seconds);
+    } else if (flat) { /* the same in C, on the host threads (no device) */
+        ok = fsf_filter_flat(value4, s->count, s->width, s->height, grid, px, gd, out4);
+        for (int rep = fsf_profile_repeats(&m->prof); ok && rep > 0; --rep) /* as above */
+            ok = fsf_filter_flat(value4, s->count, s->width, s->height, grid, px, gd, out4);
+        if (!ok) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's indirect-light passes");
         fsf_profile_mark(&m->prof, "flat");
     } else if (m->cl) {
         ok = fsf_cl_run(m->cl, s, grid, px, gd, out4, kernel_seconds, d);

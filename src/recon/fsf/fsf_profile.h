@@ -28,8 +28,8 @@ void fsf_profile_begin(FsfProfile *p);
 void fsf_profile_mark(FsfProfile *p, const char *stage);
 /* A time measured elsewhere (a kernel's device seconds), as a stage without CPU or faults. */
 void fsf_profile_add(FsfProfile *p, const char *stage, double seconds);
-/* WEDGE_FSF_PROFILE_REPEAT=N with the profile on: the OpenCL passes are run N more times on the
- * same inputs (their result is the same each time), for warm kernel times and profiles with more
+/* WEDGE_FSF_PROFILE_REPEAT=N with the profile on: the OpenCL passes (and the indirect light's
+ * two passes, on the device or in C) are run N more times on the same inputs (their result is the same each time), for warm kernel times and profiles with more
  * samples (the "cl_run" stage then holds all N + 1 runs, the kernel times the last's); else 0. */
 int fsf_profile_repeats(const FsfProfile *p);
 /* Prints "fsf-profile LABEL: stage wall cpu sys faults ..." and ends the line. */
