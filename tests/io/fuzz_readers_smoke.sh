@@ -5,6 +5,8 @@ set -uo pipefail
 command -v clang >/dev/null || { echo "clang not found: skipping"; exit 77; }
 src=${WEDGE_SOURCE_DIR:-$(cd "$(dirname "$0")/../.." && pwd)}
 fail=0
+leftovers() { ls /tmp/wedge-fuzz-*.bin 2>/dev/null | wc -l; }
+before=$(leftovers)
 for reader in ply exr png; do
     work=${WEDGE_BUILD_DIR:-/tmp}/fuzz-smoke-$reader
     mkdir -p "$work"
@@ -18,4 +20,7 @@ for reader in ply exr png; do
         fail=1
     fi
 done
+# the harness writes each input to /tmp/wedge-fuzz-PID.bin and must remove it
+after=$(leftovers)
+[ "$after" -le "$before" ] || { echo "FAIL: the fuzzers left $((after - before)) input file(s) in /tmp" >&2; fail=1; }
 exit $fail
