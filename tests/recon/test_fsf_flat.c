@@ -4,10 +4,41 @@
  * widths (left out, narrow, at the cap), rotated gather directions, pixels that are not usable
  * and neighbours the guides reject; the shear it ignores; and the closed form of
  * test_fsf_bounce_factored (a receiver under a uniformly lit disk, whose irradiance is the
- * disk's view factor): within noise and far less noisy than the pixels' own means. */
+ * disk's view factor): within noise and far less noisy than the pixels' own means; NaN and
+ * infinite channels of usable pixels filtered as 0 and counted (fsf_flat_nonfinite_inputs, which
+ * FSF's warning reports), those of unusable pixels neither. */
 #include "check.h"
 #include "fsf_synth.h"
 #include "recon/fsf/fsf_flat.h"
+
+#include <string.h>
+
+/* A 3 x 2 frame, each pixel a width of 1 px along x and y, no guides: non-finite channels of
+ * usable pixels give what zeros give, bit for bit, and are counted; an unusable pixel's are not. */
+static void check_nonfinite_inputs(const FsfGrid *g)
+{
+    enum { NW = 3, NH = 2, NP = NW * NH };
+    unsigned char usable[NP] = {1, 1, 1, 1, 1, 0};
+    int count[NP] = {4, 2, 7, 1, 3, 5};
+    FsfPixel px[NP];
+    memset(px, 0, sizeof px);
+    float bad[4 * NP], zero[4 * NP];
+    for (int i = 0; i < NP; ++i) {
+        px[i].dir[0][0] = 1.0f, px[i].dir[1][1] = 1.0f, px[i].sigma_px[0] = px[i].sigma_px[1] = 1.0f;
+        for (int c = 0; c < 4; ++c) bad[4 * i + c] = zero[4 * i + c] = 0.25f * (float)(i + c + 1);
+    }
+    bad[4 * 0 + 1] = NAN, zero[4 * 0 + 1] = 0.0f;
+    bad[4 * 3 + 0] = INFINITY, zero[4 * 3 + 0] = 0.0f;
+    bad[4 * 3 + 2] = -INFINITY, zero[4 * 3 + 2] = 0.0f;
+    bad[4 * 5 + 0] = bad[4 * 5 + 1] = bad[4 * 5 + 2] = NAN; /* unusable: never read, not counted */
+    CHECK(fsf_flat_nonfinite_inputs(bad, usable, NP) == 3);
+    CHECK(fsf_flat_nonfinite_inputs(zero, usable, NP) == 0);
+    FsfGuides gd = fsf_guides_unguided(usable);
+    float out_bad[4 * NP], out_zero[4 * NP];
+    CHECK(fsf_filter_flat(bad, count, NW, NH, g, px, &gd, out_bad));
+    CHECK(fsf_filter_flat(zero, count, NW, NH, g, px, &gd, out_zero));
+    CHECK(memcmp(out_bad, out_zero, sizeof out_bad) == 0);
+}
 
 enum { W = 48, H = 40, L = 4 };
 static const float H_M = 0.2f, R_M = 1.0f, CX_M = 0.24f, CY_M = 0.20f;
@@ -114,6 +145,7 @@ int main(void)
     }
     printf("mean error over 4 seeds %+.5f\n", mean_bias);
     CHECK(fabs(mean_bias) < 0.004);
+    check_nonfinite_inputs(&g);
     free(flat), free(fact), free(value4);
     fsf_synth_free(&f);
     CHECK_DONE();

@@ -94,3 +94,11 @@ bool fsf_filter_flat(const float *value4, const int *count, int width, int heigh
     free(G);
     return true;
 }
+
+long long fsf_flat_nonfinite_inputs(const float *value4, const unsigned char *usable, size_t n)
+{
+    long long bad = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (int ch = 0; usable[i] && ch < 3; ++ch) bad += !isfinite(value4[4 * i + (size_t)ch]);
+    return bad;
+}

@@ -40,4 +40,9 @@
 bool fsf_filter_flat(const float *value4, const int *count, int width, int height, const FsfGrid *g,
                      const FsfPixel *px, const FsfGuides *gd, float *out4);
 
+/* How many of the n pixels' rgb channels the filter (C or kernel) takes as 0 because they are
+ * NaN or infinite: the usable pixels' (usable non-zero) non-finite value4 channels, for the
+ * caller to report. */
+long long fsf_flat_nonfinite_inputs(const float *value4, const unsigned char *usable, size_t n);
+
 #endif

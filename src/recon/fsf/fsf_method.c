@@ -530,13 +530,14 @@ static bool run_filter(ReconMethod *m, const FsfSamples *s, const FsfGrid *grid,
     return ok;
 }
 
-/* Sample values that came out NaN or infinite once scaled to their pixel (fsf_scale_samples)
- * enter the filter as 0: said, with their count. */
-static void warn_nonfinite_samples(const char *what, long long nonfinite)
+/* Values that came out NaN or infinite (samples once scaled to their pixel, fsf_scale_samples;
+ * the indirect light's pixel values, fsf_flat_nonfinite_inputs) enter the filter as 0: said,
+ * with their count. what names them ("direct-light sample", "indirect-light pixel", ...). */
+static void warn_nonfinite_values(const char *what, long long nonfinite)
 {
     if (nonfinite > 0)
-        fprintf(stderr, "wedge: warning: FSF: %lld %s sample values were NaN or infinite and were filtered as 0\n",
-                nonfinite, what);
+        fprintf(stderr, "wedge: warning: FSF: %lld %s values were NaN or infinite and were filtered as 0\n", nonfinite,
+                what);
 }
 
 /* The passes on one effect's inputs, then its AOVs: the shear and the width along the first
@@ -579,7 +580,7 @@ static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the light or direct field");
     }
-    warn_nonfinite_samples("direct-light", nonfinite);
+    warn_nonfinite_values("direct-light sample", nonfinite);
     fsf_profile_mark(&m->prof, "gather");
     FsfParamsIn in = {m->g, m->store, &m->light, b->usable, m->mu, kept_windows(m)};
     if (ok && !fsf_pixel_params(&in, b->px, b->k_lo, b->k_hi)) {
@@ -637,6 +638,7 @@ static bool filter_indirect(ReconMethod *m, float *value4, double *kernel_second
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF indirect parameters");
     }
+    if (ok) warn_nonfinite_values("indirect-light pixel", fsf_flat_nonfinite_inputs(value4, b->usable, n_px));
     FsfGrid grid = fsf_bounce_grid();
     FsfGuides gd = fsf_guides_default(m->g->pos4, m->g->nrm4, b->usable);
     fsf_profile_mark(&m->prof, "samples_params");
@@ -673,7 +675,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         ok = false;
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
-    warn_nonfinite_samples("radiance", nonfinite);
+    warn_nonfinite_values("radiance sample", nonfinite);
     FsfLensIn in = {m->g, m->store, b->usable, m->mu};
     if (ok && m->lens_planned) { /* the plan's, from the same store: the same ranges */
         memcpy(b->px, m->lens_px, n * sizeof(FsfPixel));
