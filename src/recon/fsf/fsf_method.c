@@ -353,8 +353,8 @@ static bool plan_counts(ReconMethod *m, Diag *d)
      * at 7/8, relMSE 0.89x / 0.92x / 0.91x / 0.94x at 8 / 16 / 32 / 64 spp, hotspot_bounce 0.73x /
      * 0.85x at 16 / 64; with 13/16 (FSF_BUDGET_PASS1_SHARE_BOUNCE) more (docs/benchmarks.md;
      * before the reach and 7/8, fsf11, it had cost 1.71x / 1.05x at 8 / 16). */
-    bool bounce_only = indirect && !effect_in(m->effects, EFFECT_SOFT_SHADOWS) && !m->lens_planned;
-    for (size_t i = 0; indirect && !bounce_only && !m->lens_planned && i < n; ++i)
+    bool keep_pass1 = indirect && !m->lens_planned && effect_in(m->effects, EFFECT_SOFT_SHADOWS);
+    for (size_t i = 0; keep_pass1 && i < n; ++i)
         if (bounce[i] > 0.0f && bounce[i] != INFINITY) factor[i] = 0.0f;
     /* in place: each count reads its own factor only once the search is over */
     sample_rate_counts(factor, n, (float)m->pass1_spp, FSF_BUDGET_CAP_RATIO * (float)m->pass1_spp,
