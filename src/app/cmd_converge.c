@@ -61,6 +61,7 @@ typedef struct {
     int threads;              /* 0: the renderer's default (all cores) */
     bool print_key;           /* --ref-key: print the reference key and stop */
     bool no_plots;
+    bool cpu_time;            /* --time cpu: speedups from each render's CPU seconds, not its wall time */
 } ConvergeOptions;
 
 /* One row of results.csv. */
@@ -68,15 +69,23 @@ typedef struct {
     const ConvergeMethod *method;
     const char *mu;
     double spp_avg, seconds_total, seconds_trace, seconds_filter;
+    double cpu_seconds_total; /* the render's process CPU over seconds_total's span, every thread */
     double relmse, mse, psnr, ssim;
 } ConvergeRow;
+
+/* The time a speedup is measured in: wall seconds, or with --time cpu the CPU seconds, which
+ * other jobs on a shared machine inflate far less (they still slow it through shared caches). */
+static double row_seconds(const ConvergeRow *r, bool cpu_time)
+{
+    return cpu_time ? r->cpu_seconds_total : r->seconds_total;
+}
 
 static void usage(FILE *f)
 {
     fprintf(f,
             "usage: wedge converge [SCENE] --spp LIST --methods LIST [--mu LIST] [--ref-spp N]\n"
             "                      [--baseline-spp LIST] [--res WxH] [--cache DIR] [--seed N]\n"
-            "                      [--ref-seed N] [--threads N] [--no-plots] --out DIR\n"
+            "                      [--ref-seed N] [--threads N] [--time wall|cpu] [--no-plots] --out DIR\n"
             "       wedge converge [SCENE] --ref-key [--ref-spp N] [--res WxH] [--seed N] [--ref-seed N]\n"
             "\n"
             "Renders a reference once (cached; default ref spp 4096), then every (method, mu, spp)\n"
@@ -88,6 +97,8 @@ static void usage(FILE *f)
             "has the error of Monte Carlo at 100 or more; outside the curve a speedup is extrapolated).\n"
             "--seed N seeds the runs (N + 1, N + 2, ...) and the reference; --ref-seed N gives the\n"
             "reference its own seed, so that sweeps of several seeds share one reference.\n"
+            "--time cpu measures the equal-error speedups in each render's CPU seconds (all threads)\n"
+            "instead of its wall time (the default): steadier on a machine other jobs share.\n"
             "\n"
             "methods:\n");
     for (int i = 0; i < converge_method_count(); ++i) {
@@ -184,6 +195,12 @@ static int parse_args(int argc, char **argv, ConvergeOptions *o)
             method_list = v;
         } else if (!strcmp(a, "--mu")) {
             mu_list = v;
+        } else if (!strcmp(a, "--time")) {
+            if (strcmp(v, "wall") && strcmp(v, "cpu")) {
+                fprintf(stderr, "wedge converge: --time wants wall or cpu, got '%s'\n", v);
+                return WEDGE_EXIT_USAGE;
+            }
+            o->cpu_time = !strcmp(v, "cpu");
         } else if (!strcmp(a, "--out")) {
             o->out_dir = v;
         } else if (!strcmp(a, "--cache")) {
@@ -440,9 +457,9 @@ static const char *scene_name(const ConvergeOptions *o, char *buf, size_t size)
 
 static void csv_row(FILE *f, const char *scene, const ConvergeRow *r)
 {
-    fprintf(f, "%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g,%.6f,%.6f\n", scene, r->method->name,
+    fprintf(f, "%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g,%.6f,%.6f,%.6g\n", scene, r->method->name,
             r->mu ? r->mu : "", r->spp_avg, r->seconds_total, r->seconds_trace, r->seconds_filter,
-            r->relmse, r->mse, r->psnr, r->ssim);
+            r->relmse, r->mse, r->psnr, r->ssim, r->cpu_seconds_total);
     fflush(f);
 }
 
@@ -521,31 +538,33 @@ static void make_plots(const char *out_dir)
  * lines of the printed table). False, and nothing written, when the sweep has under two runs
  * of the baseline. */
 static bool speedup_against(FILE *f, const char *scene, const char *baseline, const ConvergeRow *rows, int row_count,
-                            CurvePoint *curve)
+                            bool cpu_time, CurvePoint *curve)
 {
     int n = 0;
     for (int i = 0; i < row_count; ++i)
         if (!strcmp(rows[i].method->name, baseline))
-            curve[n++] = (CurvePoint){rows[i].spp_avg, rows[i].seconds_total, rows[i].relmse};
+            curve[n++] = (CurvePoint){rows[i].spp_avg, row_seconds(&rows[i], cpu_time), rows[i].relmse};
     if (n < 2) return false;
-    printf("\nequal-error speedup against %s (relMSE; baseline interpolated in log-log):\n", baseline);
+    printf("\nequal-error speedup against %s (relMSE; baseline interpolated in log-log; %s time):\n", baseline,
+           cpu_time ? "CPU" : "wall");
     printf("  %-8s %-6s %9s %11s %11s %10s %10s\n", "method", "mu", "spp", "relMSE", "base spp", "x samples",
            "x time");
     for (int i = 0; i < row_count; ++i) {
         const ConvergeRow *r = &rows[i];
         EqualErrorCost c = equal_error_cost(curve, n, r->relmse);
-        if (!c.valid || !(r->spp_avg > 0) || !(r->seconds_total > 0)) continue;
-        double x_samples = c.spp / r->spp_avg, x_time = c.seconds / r->seconds_total;
-        fprintf(f, "%s,%s,%s,%s,%.6g,%.6g,%.9g,%.6g,%.6g,%.6g,%.6g,%d\n", scene, r->method->name, r->mu ? r->mu : "",
-                baseline, r->spp_avg, r->seconds_total, r->relmse, c.spp, c.seconds, x_samples, x_time,
-                c.extrapolated);
+        double seconds = row_seconds(r, cpu_time);
+        if (!c.valid || !(r->spp_avg > 0) || !(seconds > 0)) continue;
+        double x_samples = c.spp / r->spp_avg, x_time = c.seconds / seconds;
+        fprintf(f, "%s,%s,%s,%s,%.6g,%.6g,%.9g,%.6g,%.6g,%.6g,%.6g,%d,%s\n", scene, r->method->name, r->mu ? r->mu : "",
+                baseline, r->spp_avg, seconds, r->relmse, c.spp, c.seconds, x_samples, x_time, c.extrapolated,
+                cpu_time ? "cpu" : "wall");
         printf("  %-8s %-6s %9.1f %11.4g %11.1f %10.3g %10.3g%s\n", r->method->name, r->mu ? r->mu : "-",
                r->spp_avg, r->relmse, c.spp, x_samples, x_time, c.extrapolated ? "  (extrapolated)" : "");
     }
     return true;
 }
 
-static void write_speedup(const char *out_dir, const char *scene, const ConvergeRow *rows, int row_count)
+static void write_speedup(const char *out_dir, const char *scene, const ConvergeRow *rows, int row_count, bool cpu_time)
 {
     CurvePoint *curve = malloc(sizeof *curve * (size_t)(row_count ? row_count : 1));
     if (!curve) return;
@@ -558,10 +577,10 @@ static void write_speedup(const char *out_dir, const char *scene, const Converge
         return;
     }
     fprintf(f, "scene,method,mu,baseline,spp_avg,seconds_total,relmse,base_spp,base_seconds,speedup_samples,"
-               "speedup_time,extrapolated\n");
+               "speedup_time,extrapolated,clock\n");
     bool any = false;
     for (int b = 0; b < converge_baseline_method_count; ++b)
-        any = speedup_against(f, scene, converge_baseline_methods[b], rows, row_count, curve) || any;
+        any = speedup_against(f, scene, converge_baseline_methods[b], rows, row_count, cpu_time, curve) || any;
     if (!any)
         printf("equal-error speedup: needs a Monte Carlo method (%s or %s) with at least two budgets in the sweep\n",
                converge_baseline_methods[0], converge_baseline_methods[1]);
@@ -672,10 +691,13 @@ static int run_one(const ConvergeOptions *o, const ConvergeRun *run, const char 
     char *json = read_text_file(report);
     bool have = json && json_number(json, "spp_avg", &r.spp_avg) && json_number(json, "seconds_total", &r.seconds_total) &&
                 json_number(json, "seconds_trace", &r.seconds_trace) &&
-                json_number(json, "seconds_filter", &r.seconds_filter);
+                json_number(json, "seconds_filter", &r.seconds_filter) &&
+                json_number(json, "cpu_seconds_total", &r.cpu_seconds_total);
     free(json);
     if (!have) {
-        fprintf(stderr, "wedge converge: error: %s lacks spp_avg/seconds_total/seconds_trace/seconds_filter\n", report);
+        fprintf(stderr, "wedge converge: error: %s lacks spp_avg/seconds_total/seconds_trace/seconds_filter/"
+                        "cpu_seconds_total\n",
+                report);
         return WEDGE_EXIT_RUNTIME;
     }
     int w, h;
@@ -710,7 +732,8 @@ static bool write_results(const char *path, const char *scene, const ConvergeRow
         fprintf(stderr, "wedge converge: error: cannot write %s: %s\n", tmp, strerror(errno));
         return false;
     }
-    fprintf(csv, "scene,method,mu,spp_avg,seconds_total,seconds_trace,seconds_filter,relmse,mse,psnr,ssim\n");
+    fprintf(csv, "scene,method,mu,spp_avg,seconds_total,seconds_trace,seconds_filter,relmse,mse,psnr,ssim,"
+                 "cpu_seconds_total\n");
     for (int i = 0; i < count; ++i)
         if (done[i]) csv_row(csv, scene, &rows[i]);
     bool ok = fclose(csv) == 0 && rename(tmp, path) == 0;
@@ -856,7 +879,7 @@ int cmd_converge(int argc, char **argv)
     for (int i = 0; i < run_count; ++i)
         if (done[i]) rows[row_count++] = rows[i];
     if (row_count > 0) {
-        write_speedup(o.out_dir, name, rows, row_count);
+        write_speedup(o.out_dir, name, rows, row_count, o.cpu_time);
         if (!o.no_plots) make_plots(o.out_dir);
     }
     free(rows);

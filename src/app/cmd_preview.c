@@ -20,6 +20,7 @@
 #include "app/commands.h"
 #include "app/render_args.h"
 #include "app/render_output.h"
+#include "core/clock.h"
 #include "core/diag.h"
 #include "core/false_colour.h"
 #include "io/ocio.h"
@@ -46,13 +47,6 @@ static void usage(FILE *f)
             "  --exit-at-target  close the window when --spp or --time is reached (scripts)\n\n"
             "keys: f filtered/unfiltered   a cycle layers (image, spp, filter widths, albedo, normal)\n"
             "      s save EXR + PNG   + / - exposure   space pause/resume   q or Esc quit\n");
-}
-
-static double seconds_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 /* ---- what the worker hands the window after each step ---- */
@@ -144,7 +138,7 @@ static void *worker_main(void *arg)
         double spp_now = sh->snap.res.spp_avg;
         pthread_mutex_unlock(&sh->lock);
         if (quit) break;
-        double elapsed = seconds_now() - sh->t0;
+        double elapsed = clock_wall_seconds() - sh->t0;
         bool reached = steps > 0 && ((sh->spp_target > 0 && spp_now + 1e-9 >= sh->spp_target) ||
                                      (sh->time_target > 0.0 && elapsed >= sh->time_target));
         if (reached) break;
@@ -161,7 +155,7 @@ static void *worker_main(void *arg)
             sh->failed = true;
             sh->diag = d;
         } else if (!recon_pipeline_result(sh->pipe)->cancelled) {
-            snapshot_take(&sh->snap, sh->pipe, seconds_now() - sh->t0);
+            snapshot_take(&sh->snap, sh->pipe, clock_wall_seconds() - sh->t0);
         }
         bool stop = !ok || recon_pipeline_result(sh->pipe)->cancelled ||
                     (cap > 0.0 && recon_pipeline_result(sh->pipe)->spp_avg == spp_now && steps > 0);
@@ -397,7 +391,7 @@ int cmd_preview(int argc, char **argv)
     sh.r = r;
     sh.spp_target = a.spp;
     sh.time_target = a.time_budget;
-    sh.t0 = seconds_now();
+    sh.t0 = clock_wall_seconds();
     if (pthread_create(&worker, NULL, worker_main, &sh) != 0) {
         diag_set(&err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "cannot start the render thread");
         goto fail;

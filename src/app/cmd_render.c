@@ -23,6 +23,7 @@
 #include "app/render_args.h"
 #include "app/render_output.h"
 #include "app/run_report.h"
+#include "core/clock.h"
 #include "core/diag.h"
 #include "io/ocio.h"
 #include "recon/dist.h"
@@ -105,13 +106,6 @@ static void on_sigint(int sig)
     signal(SIGINT, SIG_DFL); /* a second Ctrl-C kills the process */
 }
 
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Sample counts that are not powers of two suit the Sobol' sampler less (pbrt-v4 warns too):
  * past 16 spp its padding permutation walks, about 1.2x the render time per sample, and a
  * pixel's points are nets of unequal sizes, one per binary digit of spp, so smooth light
@@ -146,7 +140,7 @@ static bool write_checkpoint(const Progressive *pr, Diag *err)
     const ReconResult *res = recon_pipeline_result(pr->pipe);
     const Frame *frame = &recon_pipeline_gbuffer(pr->pipe)->frame;
     RenderOutputInfo info = {pr->scene_name, pr->a->filter, pr->a->seed, renderer_sampler(pr->r),
-                             seconds_now() - pr->t_start, pr->a->aovs, pr->a->view};
+                             clock_wall_seconds() - pr->t_start, pr->a->aovs, pr->a->view};
     long long guarded = 0;
     for (int k = 0; k < pr->a->out_count; ++k)
         if (!render_output_write(pr->a->out_paths[k], frame, res, &info, &guarded, err)) return false;
@@ -166,7 +160,7 @@ static bool render_progressive(const Progressive *pr, Diag *err)
     const RenderArgs *a = pr->a;
     ReconDist *dist = (ReconDist *)pr->dist;
     if (!recon_pipeline_step(pr->pipe, 0.0, err)) return false; /* the ordinary frame */
-    double t_render0 = pr->t_start, last_checkpoint = seconds_now();
+    double t_render0 = pr->t_start, last_checkpoint = clock_wall_seconds();
     /* the visible image's pixels: spp_avg and the caps count samples per visible pixel */
     const ReconResult *first = recon_pipeline_result(pr->pipe);
     double pixels = (double)first->width * (double)first->height;
@@ -174,7 +168,7 @@ static bool render_progressive(const Progressive *pr, Diag *err)
         const ReconResult *res = recon_pipeline_result(pr->pipe);
         int decision[2] = {0, 0}; /* continue?, the step's cap in 1/1024 samples per pixel */
         if (dist->rank == 0 && !res->cancelled) {
-            double now = seconds_now();
+            double now = clock_wall_seconds();
             if (a->checkpoint > 0.0 && now - last_checkpoint >= a->checkpoint) {
                 if (!write_checkpoint(pr, err)) return false;
                 last_checkpoint = now;
@@ -213,7 +207,7 @@ static void print_error(const Diag *err, const ReconDist *dist)
 
 static int render_command(int argc, char **argv, ReconDist *dist)
 {
-    double t_start = seconds_now();
+    double t_start = clock_wall_seconds(), cpu_start = clock_cpu_seconds();
     RenderArgs a;
     int rc = parse_render_args(argc, argv, "render", &a);
     if (rc != WEDGE_EXIT_OK) return rc;
@@ -355,7 +349,7 @@ static int render_command(int argc, char **argv, ReconDist *dist)
     st.rays_indirect = dist_sum_ll(dist, st.rays_indirect), st.rays_bsdf = dist_sum_ll(dist, st.rays_bsdf);
     st.guarded_events = dist_sum_ll(dist, st.guarded_events);
     guarded += st.guarded_events;
-    double seconds_total = seconds_now() - t_start;
+    double seconds_total = clock_wall_seconds() - t_start;
     int exit_code = WEDGE_EXIT_OK;
     if (!root) { /* rank 0 writes the image, the layers and the report */
         recon_pipeline_destroy(pipe);
@@ -373,13 +367,14 @@ static int render_command(int argc, char **argv, ReconDist *dist)
         print_error(&err, dist);
         exit_code = err.exit_code ? err.exit_code : WEDGE_EXIT_RUNTIME;
     }
-    seconds_total = seconds_now() - t_start;
+    seconds_total = clock_wall_seconds() - t_start;
     if (exit_code == WEDGE_EXIT_OK && a.report_path) {
         RunReport rep = {0};
         rep.width = frame->width, rep.height = frame->height;
         rep.spp_avg = res->spp_avg;
         rep.overscan_px = res->overscan_px;
         rep.seconds_total = seconds_total;
+        rep.cpu_seconds_total = clock_cpu_seconds() - cpu_start;
         rep.seconds_trace = st.seconds_trace;
         rep.seconds_filter = res->seconds_filter;
         /* effect -> method used (the policy's choice, or none when a render was cut short) */

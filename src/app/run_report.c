@@ -104,6 +104,7 @@ bool run_report_write(const char *path, const RunReport *r, Diag *err)
     fprintf(f, "  \"seconds_trace\": %.6f,\n", finite_or_zero(r->seconds_trace));
     fprintf(f, "  \"seconds_filter\": %.6f,\n", finite_or_zero(r->seconds_filter));
     fprintf(f, "  \"seconds_build\": %.6f,\n", finite_or_zero(r->seconds_build));
+    fprintf(f, "  \"cpu_seconds_total\": %.6f,\n", finite_or_zero(r->cpu_seconds_total));
     fprintf(f, "  \"rays_primary\": %lld,\n  \"rays_shadow\": %lld,\n  \"rays_indirect\": %lld,\n  \"rays_bsdf\": %lld,\n",
             r->rays_primary, r->rays_shadow, r->rays_indirect, r->rays_bsdf);
     fprintf(f, "  \"effects\": {");

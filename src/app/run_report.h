@@ -14,6 +14,7 @@ typedef struct {
     double spp_avg;            /* samples traced per visible pixel (the overscan band's included) */
     int overscan_px;           /* the band traced around the image and cropped (0: none) */
     double seconds_total, seconds_trace, seconds_filter, seconds_build;
+    double cpu_seconds_total;  /* this process's CPU (every thread) over seconds_total's span */
     long long rays_primary, rays_shadow, rays_indirect, rays_bsdf; /* RenderStats */
     long long guarded_events;  /* guarded divisions / non-finite values replaced, all stages */
     long long nonfinite_pixels;/* pixels of the image that were non-finite and written as 0 */

@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "core/clock.h"
 #include "core/env_knob.h"
 #include "recon/blur_probe.h"
 #include "recon/budget_search.h"
@@ -81,13 +82,6 @@ struct ReconPipeline {
     bool g_out_ready;
     float *aov_out[RECON_AOV_MAX];
 };
-
-static double wall_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static size_t pixel_count(const ReconPipeline *p)
 {
@@ -261,16 +255,15 @@ static void dist_mark(ReconPipeline *p, const char *what)
     if (p->mark_count >= DIST_MARKS) return;
     /* and the process's CPU time, which other jobs on the machine inflate less than the wall
      * time (they still slow it through shared caches; MPI polling counts while it waits) */
-    struct timespec cpu;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
     struct rusage use;
     getrusage(RUSAGE_SELF, &use);
     p->mark_faults[p->mark_count] = use.ru_minflt;
     p->mark_name[p->mark_count] = what;
-    p->mark_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
+    p->mark_cpu_s[p->mark_count] = clock_cpu_seconds();
+    struct timespec cpu;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
-    p->mark_main_cpu_s[p->mark_count] = (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec;
-    p->mark_s[p->mark_count++] = wall_seconds();
+    p->mark_main_cpu_s[p->mark_count] = timespec_seconds(cpu);
+    p->mark_s[p->mark_count++] = clock_wall_seconds();
 }
 
 static void dist_marks_print(ReconPipeline *p)
@@ -346,7 +339,7 @@ static _Thread_local double clock_s;
 static void time_sample(ReconPipeline *p, int px, int py)
 {
     if (clock_pipe == p && clock_traced == p->traced && clock_px == px && clock_py == py) return;
-    double now = wall_seconds();
+    double now = clock_wall_seconds();
     /* a wave of 256 samples takes 0.05-1 ms here; a longer gap is the thread descheduled
      * (other jobs on the cores), not the pixel's cost */
     if (clock_pipe == p && clock_traced == p->traced)
@@ -705,7 +698,7 @@ static void *opener_main(void *arg)
      * fixed-count frame), whichever the system finds free rather than only rank 0's, whose
      * tiles would finish last (its 10-60 ms of CPU) */
     dist_node_cpus(p->opt.dist, true);
-    double t0 = wall_seconds();
+    double t0 = clock_wall_seconds();
     op->rt = cl_runtime_create(p->opt.cl_device, &op->diag);
     for (int s = 0; op->rt && s < p->slot_count; ++s)
         if (p->slots[s].cls->open_device && !p->slots[s].cls->open_device(p->slots[s].m, op->rt, &op->diag)) {
@@ -715,8 +708,7 @@ static void *opener_main(void *arg)
     if (getenv("WEDGE_DIST_LOG")) { /* the CPU it takes from the tracing on this rank's cores */
         struct timespec cpu;
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu);
-        fprintf(stderr, "dist-opener: wall %.4f cpu %.4f\n", wall_seconds() - t0,
-                (double)cpu.tv_sec + 1e-9 * (double)cpu.tv_nsec);
+        fprintf(stderr, "dist-opener: wall %.4f cpu %.4f\n", clock_wall_seconds() - t0, timespec_seconds(cpu));
     }
     return NULL;
 }
@@ -874,7 +866,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
 {
     if (p->res.steps > 0) return step_frame(p, 0.0, d);
     if (!p->filtering) return render_plain(p, d);
-    double t0 = wall_seconds(), t_trace = 0.0;
+    double t0 = clock_wall_seconds(), t_trace = 0.0;
     dist_mark(p, "start");
     if (!setup_filtered(p, d)) return false;
     dist_mark(p, "setup");
@@ -899,12 +891,12 @@ static bool render_frame(ReconPipeline *p, Diag *d)
 
     /* ---- pass 1 ---- */
     begin_pass(p, 0, geometry);
-    double t = wall_seconds();
+    double t = clock_wall_seconds();
     int pass1 = p->res.pass1_spp;
     rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, NULL, pass1), pass1, &p->g.frame, &sink);
     rank0_tracing(p, false);
-    t_trace += wall_seconds() - t;
+    t_trace += clock_wall_seconds() - t;
     dist_mark(p, "pass1");
     if (is_root(p) && open_late) {
         opener_start(&opener, p);
@@ -945,11 +937,11 @@ static bool render_frame(ReconPipeline *p, Diag *d)
              * each dimension's sequence: docs/sampling.md, "Continuing a pixel's samples") */
             begin_pass(p, 1, NO_RAY_GEOMETRY);
             store_skip_when_full(p, pass1);
-            t = wall_seconds();
+            t = clock_wall_seconds();
             rank0_tracing(p, true);
             complete = render_pass_more(p->r, 0, pass1, counts_mine(p, p->spp_extra, 0), &p->g.frame, &sink);
             rank0_tracing(p, false);
-            t_trace += wall_seconds() - t;
+            t_trace += clock_wall_seconds() - t;
             dist_mark(p, "pass2");
             if (!gather_pass(p, 1, p->spp_extra, 0, &complete, d)) {
                 if (opened) opener_join(&opener, p, NULL);
@@ -979,7 +971,7 @@ static bool render_frame(ReconPipeline *p, Diag *d)
         dist_mark(p, "recon");
     }
     dist_marks_print(p);
-    p->res.seconds_filter = wall_seconds() - t0 - t_trace;
+    p->res.seconds_filter = clock_wall_seconds() - t0 - t_trace;
     return ok;
 }
 
@@ -990,7 +982,7 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
     size_t n = pixel_count(p);
     /* at the cap (less than one sample of room left): nothing to add */
     if (spp_cap > 0.0 && frame_samples(p) + 1.0 > spp_cap * (double)n) return true;
-    double t0 = wall_seconds(), t_trace = 0.0;
+    double t0 = clock_wall_seconds(), t_trace = 0.0;
     int pass_slot = p->pass < 3 ? p->pass : 3; /* the byte counter of this pass */
     if (!p->filtering) { /* Monte Carlo: double the samples (up to the cap) */
         /* pass 1's count times 2^(steps - 1), bounded like any sample count */
@@ -1004,18 +996,18 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
         }
         if (!dist_broadcast_ints(p->opt.dist, p->spp_extra, n, d) || !rebalance(p, p->spp_extra, pass_slot, d))
             return false;
-        double t = wall_seconds();
+        double t = clock_wall_seconds();
         rank0_tracing(p, true);
         bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, NULL);
         rank0_tracing(p, false);
-        t_trace += wall_seconds() - t;
+        t_trace += clock_wall_seconds() - t;
         if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
         p->res.cancelled = !complete;
         p->res.spp_avg = frame_spp_avg(&p->g.frame);
         bool ok = plain_mean(p, d);
         p->res.choice = p->choice;
         p->res.steps += !p->res.cancelled;
-        p->res.seconds_filter += wall_seconds() - t0 - t_trace;
+        p->res.seconds_filter += clock_wall_seconds() - t0 - t_trace;
         return ok;
     }
     /* each step doubles mu: the filters narrow and the plans (rank 0's) ask for more samples */
@@ -1045,11 +1037,11 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
     p->res.mu = mu;
     SampleSink sink = {fan_out, p};
     begin_pass(p, p->pass, NO_RAY_GEOMETRY);
-    double t = wall_seconds();
+    double t = clock_wall_seconds();
     rank0_tracing(p, true);
     bool complete = render_pass(p->r, p->pass++, counts_mine(p, p->spp_extra, 0), 0, &p->g.frame, &sink);
     rank0_tracing(p, false);
-    t_trace += wall_seconds() - t;
+    t_trace += clock_wall_seconds() - t;
     if (!gather_pass(p, pass_slot, p->spp_extra, 0, &complete, d)) return false;
     p->res.spp_avg = frame_spp_avg(&p->g.frame);
     bool ok;
@@ -1065,7 +1057,7 @@ static bool step_frame(ReconPipeline *p, double spp_cap, Diag *d)
         ok = reconstruct(p, d);
         if (ok) p->res.steps++;
     }
-    p->res.seconds_filter += wall_seconds() - t0 - t_trace;
+    p->res.seconds_filter += clock_wall_seconds() - t0 - t_trace;
     return ok;
 }
 

@@ -12,6 +12,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "core/clock.h"
 #include "core/env_knob.h"
 #include "render/integrator.h"
 #include "render/light.h"
@@ -35,13 +36,6 @@ struct Renderer {
     EffectMask effects;
     RenderStats stats;
 };
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* What the frame's readers take from a sample decides both shortcuts: a frame that reads no
  * first-hit fields skips filling them, and only such a frame may take a Lambert vertex's constant
@@ -583,7 +577,7 @@ static void run_round(PassJob *job, int begin, int end, pthread_t *tid, int n, l
      * that the end of a short round is noticed quickly. */
     while (r->opt.progress && started > 0 && __atomic_load_n(&job->workers_done, __ATOMIC_ACQUIRE) < started) {
         RenderProgress p = {__atomic_load_n(&job->samples_done, __ATOMIC_RELAXED), total,
-                            __atomic_load_n(&job->rays_done, __ATOMIC_RELAXED), seconds_now() - t0};
+                            __atomic_load_n(&job->rays_done, __ATOMIC_RELAXED), clock_wall_seconds() - t0};
         r->opt.progress(r->opt.progress_ctx, &p);
         struct timespec ts = {0, 10 * 1000 * 1000};
         nanosleep(&ts, NULL);
@@ -595,7 +589,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
                      const SampleSink *sink)
 {
     if (!frame || frame->width != r->width || frame->height != r->height) return false; /* caller bug */
-    double t0 = seconds_now();
+    double t0 = clock_wall_seconds();
     PassJob job;
     memset(&job, 0, sizeof job);
     int spp_max = spp_uniform;
@@ -658,7 +652,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     free(tid);
     free(job.tile_rows_done);
     if (r->opt.progress) {
-        RenderProgress p = {job.samples_done, total, job.rays_done, seconds_now() - t0};
+        RenderProgress p = {job.samples_done, total, job.rays_done, clock_wall_seconds() - t0};
         r->opt.progress(r->opt.progress_ctx, &p);
     }
     pthread_mutex_destroy(&job.stats_lock);
@@ -669,7 +663,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     r->stats.rays_bsdf_skipped += job.stats.rays_bsdf_skipped;
     r->stats.guarded_events += job.stats.guarded_events;
     r->stats.samples += job.samples_done;
-    r->stats.seconds_trace += seconds_now() - t0;
+    r->stats.seconds_trace += clock_wall_seconds() - t0;
     return !job.cancelled;
 }
 

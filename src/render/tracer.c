@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/clock.h"
 #include "core/env_knob.h"
 #include "geometry/mesh.h"
 #include "render/layer_build.h"
@@ -19,13 +20,6 @@
  * leaves two orders of magnitude of margin and is invisible at any scene scale because it
  * scales with the coordinates (cf. pbrt-v4's error bounds, which scale the same way). */
 static const float OFFSET_REL = 1e-5f;
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* ---- Embree device callbacks ---- */
 
@@ -713,7 +707,7 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
 {
     *tr = (Tracer){0};
     tr->tracer_from_world = tr->world_from_tracer = 1.0f;
-    double t0 = seconds_now();
+    double t0 = clock_wall_seconds();
     /* The batch interface, for benchmarks comparing them (docs/benchmarks.md). */
     tr->batch_mode = (TracerBatchMode)env_knob_choice("WEDGE_TRACE_BATCH", batch_names, TRACER_BATCH_MODE_COUNT,
                                                       TRACER_BATCH_DEFAULT);
@@ -899,7 +893,7 @@ bool tracer_build(Tracer *tr, SceneDesc *scene, int threads, Diag *err)
     tr->shadow_coherent_ok = scene->object_count == 0;
     rtcSetDeviceErrorFunction(tr->device, NULL, NULL);
     free(slot);
-    tr->seconds_build = seconds_now() - t0;
+    tr->seconds_build = clock_wall_seconds() - t0;
     return true;
 oom:
     diag_set(err, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory building the scene");

@@ -60,7 +60,7 @@ grep -q "bad.pbrt:.*error" "$T/err.txt" || { echo "FAIL: syntax error message la
 "$WEDGE" render "$T/small.pbrt" --filter none --spp 2 --res 40x30 --seed 3 --threads 2 --aovs -o "$T/a.exr" --report "$T/a.json" --quiet
 check "render to EXR" 0 $?
 [ -s "$T/a.exr" ] || { echo "FAIL: no EXR written"; fail=1; }
-for key in width height spp_avg seconds_total seconds_trace seconds_filter rays_primary rays_shadow rays_indirect effects threads seed guarded_events; do
+for key in width height spp_avg seconds_total cpu_seconds_total seconds_trace seconds_filter rays_primary rays_shadow rays_indirect effects threads seed guarded_events; do
     grep -q "\"$key\"" "$T/a.json" || { echo "FAIL: report lacks $key"; fail=1; }
 done
 grep -q '"width": 40,' "$T/a.json" || { echo "FAIL: --res width not applied"; fail=1; }
@@ -69,6 +69,13 @@ grep -q '"spp_avg": 2,' "$T/a.json" || { echo "FAIL: --spp not applied"; fail=1;
 grep -q '"rays_primary": 2400,' "$T/a.json" || { echo "FAIL: rays_primary != 40*30*2"; fail=1; }
 grep -q '"seed": 3,' "$T/a.json" || { echo "FAIL: seed not reported"; fail=1; }
 grep -q '"threads": 2,' "$T/a.json" || { echo "FAIL: threads not reported"; fail=1; }
+# the render's CPU seconds: positive, and no more than its cores could give it over its wall time
+python3 - "$T/a.json" <<'PY' || { echo "FAIL: cpu_seconds_total against seconds_total"; fail=1; }
+import json, os, sys
+r = json.load(open(sys.argv[1]))
+cpu, wall = r["cpu_seconds_total"], r["seconds_total"]
+sys.exit(0 if 0 < cpu <= os.cpu_count() * wall + 0.005 else 1)
+PY
 # the AOV layer names are in the EXR header
 for ch in R G B A albedo.R N.X Z direct.G indirect.B spp; do
     grep -aq "$ch" "$T/a.exr" || { echo "FAIL: EXR lacks channel $ch"; fail=1; }

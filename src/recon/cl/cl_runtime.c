@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/clock.h"
 #include "core/env_knob.h"
 #include "recon/cl/icd_preload.h"
 #include "recon/cl/kernel_cache.h"
@@ -163,18 +164,11 @@ static int choose_device(const DeviceList *list, const char *choice, Diag *d)
 /* OpenCL C 1.2, float only, no extensions: the same kernels must build on every driver. */
 static const char BUILD_OPTIONS[] = "-cl-std=CL1.2";
 
-static double monotonic_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* Builds slot's program (from the cached binary when there is one); false + Diag with the
  * build log on failure. */
 static bool build_program(ClRuntime *rt, ClProgramSlot *slot, Diag *d)
 {
-    double t0 = monotonic_seconds();
+    double t0 = clock_wall_seconds();
     bool cached = true;
     slot->program = program_cache_load(rt, slot->sources, slot->source_count, BUILD_OPTIONS);
     if (!slot->program) {
@@ -206,7 +200,7 @@ static bool build_program(ClRuntime *rt, ClProgramSlot *slot, Diag *d)
     ++rt->programs_built;
     if (env_knob_switch("WEDGE_CL_LOG", false))
         fprintf(stderr, "wedge: cl program %s built %s in %.1f ms\n", slot->name,
-                cached ? "from the cached binary" : "from source", 1e3 * (monotonic_seconds() - t0));
+                cached ? "from the cached binary" : "from source", 1e3 * (clock_wall_seconds() - t0));
     return true;
 }
 
