@@ -9,7 +9,9 @@
  *     squared bias  (tbar - r)^2 - s^2 / N      and variance  s^2 (N - 1) / N
  * (s^2 the frames' unbiased variance; the bias term is unbiased for (E t - r)^2). Pixels are
  * binned by the class value against the bounds B1 < B2 < ...: class k holds B_k <= v < B_k+1.
- * CHANNEL "@y" classes pixels by their row instead. Prints per class: pixel share, relMSE, its
+ * CHANNEL "@y" classes pixels by their row instead; "@diff" by the relative difference between the
+ * reference and the image CLASS.exr (the scene rendered without some objects: their footprint);
+ * with LR_BIAS_DIFF_ROWS=T, by the row plus 1000 where that difference is at least T. Prints per class: pixel share, relMSE, its
  * share of the whole, squared bias, variance. Environment: LR_BIAS_ROWS=1 also prints each row's
  * signed mean deviation, squared bias, variance and mean class value; LR_BIAS_MAP=FILE writes
  * the per-pixel squared bias (R), variance (G) and class (B): an EXR, or a PNG heat map
@@ -52,6 +54,30 @@ int main(int argc, char **argv)
         cls = malloc((size_t)w * h * sizeof *cls);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) cls[(size_t)y * w + x] = (float)y;
+    } else if (strcmp(argv[3], "@diff") == 0) {
+        /* CLASS is an image of the scene without some of its objects (e.g. without the moving
+         * ones): the class is the largest relative difference over the channels between the
+         * reference and it, |r - o| / (r + 0.01), so that the objects' footprint (with their
+         * blur and shadows) is told from the rest */
+        int ow, oh;
+        float *other = read_rgb_or_die(argv[2], &ow, &oh);
+        if (ow != w || oh != h) {
+            fprintf(stderr, "lr-bias-split: %s is %dx%d, the reference %dx%d\n", argv[2], ow, oh, w, h);
+            return 2;
+        }
+        cls = malloc((size_t)w * h * sizeof *cls);
+        for (size_t p = 0; p < (size_t)w * h; ++p) {
+            float worst = 0.0f;
+            for (int j = 0; j < 3; ++j) {
+                float r = ref[p * 3 + j], d = fabsf(r - other[p * 3 + j]) / (fabsf(r) + 0.01f);
+                worst = d > worst ? d : worst;
+            }
+            cls[p] = worst;
+        }
+        const char *rows = getenv("LR_BIAS_DIFF_ROWS");
+        if (rows) /* the row, plus 1000 inside the footprint (difference at least the given threshold) */
+            for (size_t p = 0; p < (size_t)w * h; ++p) cls[p] = (float)(p / (size_t)w) + (cls[p] >= atof(rows) ? 1000.0f : 0.0f);
+        free(other);
     } else if (!exr_read_channel(argv[2], argv[3], &cw, &ch, &cls, &err) || cw != w || ch != h) {
         fprintf(stderr, "lr-bias-split: no channel %s of %dx%d in %s\n", argv[3], w, h, argv[2]);
         return 2;
