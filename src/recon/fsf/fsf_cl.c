@@ -24,6 +24,7 @@ typedef struct {
     cl_int geo;
     cl_float lc[3], lu[3], lv[3], ln[3];
     cl_float reach;
+    cl_float ramp1, ramp2;
 } FsfArgs;
 
 /* Memory for several slices of P at once (pass 1a fills them in one launch) */
@@ -221,7 +222,8 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t n = (size_t)s->width * (size_t)s->height, slots = n * (size_t)s->capacity;
     size_t J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
     FsfArgs a = {g->half_m[0], g->half_m[1], g->shift_nodes, g->y2_bins, gd->cos_normal_min, gd->plane_tol_rel,
-                 s->width, s->height, g->profile_half[0], g->profile_half[1], 0, {0}, {0}, {0}, {0}, g->reach_sigmas};
+                 s->width, s->height, g->profile_half[0], g->profile_half[1], 0, {0}, {0}, {0}, {0}, g->reach_sigmas,
+                 g->ramp_m[0], g->ramp_m[1]};
     /* form 4 (fsf_geo_term.h) reads the guides' positions and normals */
     const FsfGeoTerm *geo = gd->geo && gd->pos4 && gd->nrm4 ? gd->geo : NULL;
     if (geo) {

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/vectorise.h"
+#include "recon/fsf/fsf_filter.h"
 
 float fsf_geo_G(const FsfGeoTerm *t, const float *pos, const float *nrm, float z1, float z2)
 {
@@ -37,12 +38,19 @@ static inline float geo_G_at(const FsfGeoTerm *t, const float lp[3], float px, f
 
 enum { GEO_M = 8, GEO_BLOCK = 64 };
 
+/* A moving light's samples' density along one axis at z (fsf_swept_profile), 1 along an axis
+ * without a ramp. */
+static float swept_density(float z, float half_m, float ramp_m)
+{
+    return ramp_m > 0.0f ? fsf_swept_profile(z, half_m, ramp_m) : 1.0f;
+}
+
 /* fsf_geo_mean for pixels [i0, i0 + nb) (nb <= GEO_BLOCK), their guides copied to one array
  * per component so that each light point's G over the block is one vector loop; each pixel's
  * double sum runs over the points in the order a, b as before (one lane per pixel). */
 static WEDGE_VECTORISED void geo_mean_block(const FsfGeoTerm *t, const float (*lp)[3], const float (*corner)[3],
-                                            const float *pos4, const float *nrm4, const unsigned char *usable,
-                                            size_t i0, int nb, float *mean_g)
+                                            const double *weight, const float *pos4, const float *nrm4,
+                                            const unsigned char *usable, size_t i0, int nb, float *mean_g)
 {
     float p[6][GEO_BLOCK];
     double sum[GEO_BLOCK];
@@ -55,13 +63,21 @@ static WEDGE_VECTORISED void geo_mean_block(const FsfGeoTerm *t, const float (*l
     for (int c = 0; c < 4; ++c)
         for (int k = 0; k < nb; ++k)
             above[k] &= isgreater(geo_G_at(t, corner[c], p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], p[5][k]), 0.0f);
+    double weights = GEO_M * GEO_M;
     for (int q = 0; q < GEO_M * GEO_M; ++q) {
         float g[GEO_BLOCK];
         for (int k = 0; k < nb; ++k) g[k] = geo_G_at(t, lp[q], p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], p[5][k]);
-        for (int k = 0; k < nb; ++k) sum[k] += (double)g[k];
+        if (weight) /* a swept light: each point by its samples' density */
+            for (int k = 0; k < nb; ++k) sum[k] += (double)g[k] * weight[q];
+        else
+            for (int k = 0; k < nb; ++k) sum[k] += (double)g[k];
+    }
+    if (weight) {
+        weights = 0.0;
+        for (int q = 0; q < GEO_M * GEO_M; ++q) weights += weight[q];
     }
     for (int k = 0; k < nb; ++k) {
-        float mean = (float)(sum[k] / (double)(GEO_M * GEO_M));
+        float mean = (float)(sum[k] / weights);
         mean_g[i0 + (size_t)k] = usable[i0 + (size_t)k] && above[k] && isfinite(mean) && mean > 0.0f ? mean : 0.0f;
     }
 }
@@ -82,12 +98,24 @@ void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, con
         float z1 = (k & 1 ? 1.0f : -1.0f) * half_m[0], z2 = (k & 2 ? 1.0f : -1.0f) * half_m[1];
         for (int c = 0; c < 3; ++c) corner[k][c] = t->centre[c] + z1 * t->axis[0][c] + z2 * t->axis[1][c];
     }
+    /* a swept light: the points' weights, its samples' density there (NULL: uniform, as before) */
+    double weight[GEO_M * GEO_M];
+    bool swept = t->ramp_m[0] > 0.0f || t->ramp_m[1] > 0.0f;
+    for (int a = 0; swept && a < GEO_M; ++a)
+        for (int b = 0; b < GEO_M; ++b) {
+            float z1 = half_m[0] * (2.0f * ((float)a + 0.5f) / (float)GEO_M - 1.0f);
+            float z2 = half_m[1] * (2.0f * ((float)b + 0.5f) / (float)GEO_M - 1.0f);
+            weight[a * GEO_M + b] = (double)swept_density(z1, half_m[0], t->ramp_m[0]) *
+                                    (double)swept_density(z2, half_m[1], t->ramp_m[1]);
+        }
     for (size_t i0 = 0; i0 < n; i0 += GEO_BLOCK) {
         int nb = n - i0 < GEO_BLOCK ? (int)(n - i0) : GEO_BLOCK;
         /* a block without a usable pixel (the background, the light's own rows) costs nothing */
         bool any = false;
         for (int k = 0; k < nb && !any; ++k) any = usable[i0 + (size_t)k];
-        if (any) geo_mean_block(t, (const float(*)[3])lp, (const float(*)[3])corner, pos4, nrm4, usable, i0, nb, mean_g);
+        if (any)
+            geo_mean_block(t, (const float(*)[3])lp, (const float(*)[3])corner, swept ? weight : NULL, pos4, nrm4,
+                           usable, i0, nb, mean_g);
         else memset(mean_g + i0, 0, sizeof(float) * (size_t)nb);
     }
 }
@@ -110,6 +138,15 @@ float fsf_geo_marginal(const FsfGeoTerm *t, const float *pos, const float *nrm, 
 {
     enum { M = 8 }; /* as fsf_geo_mean and fsf.cl's fsf_geo_marginal (one float8) */
     float sum = 0.0f;
+    if (t->ramp_m[0] > 0.0f) { /* a swept light: weighted by its samples' density along z1 */
+        float weights = 0.0f;
+        for (int a = 0; a < M; ++a) {
+            float z1 = half1_m * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f);
+            float w = fsf_swept_profile(z1, half1_m, t->ramp_m[0]);
+            sum += w * fsf_geo_G(t, pos, nrm, z1, z2), weights += w;
+        }
+        return sum / weights;
+    }
     for (int a = 0; a < M; ++a)
         sum += fsf_geo_G(t, pos, nrm, half1_m * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f), z2);
     return sum / (float)M;

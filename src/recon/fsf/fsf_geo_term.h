@@ -23,6 +23,8 @@ typedef struct {
     float centre[3], axis[2][3], normal[3]; /* the light's frame (world; axes and normal unit) */
     const float *mean_g;                    /* per pixel: the mean of G over the light (1/m^2);
                                              * 0 where form 4 does not apply (below) */
+    float ramp_m[2];                        /* a moving light: its samples' density ramps along
+                                             * the axes (FsfGrid.ramp_m); 0: uniform */
 } FsfGeoTerm;
 
 /* G (1/m^2) at a receiver point pos (world, metres) with unit normal nrm towards the light
@@ -31,7 +33,10 @@ typedef struct {
 float fsf_geo_G(const FsfGeoTerm *t, const float *pos, const float *nrm, float z1, float z2);
 
 /* Per pixel (pos4, nrm4 as FsfGuides'), mean_g: G's mean over the light of half extents
- * half_m, on an 8 x 8 midpoint grid; 0 for a pixel that is not usable or whose light
+ * half_m, on an 8 x 8 midpoint grid (a moving light's: weighted by its samples' density, the
+ * product of the axes' trapezoids, fsf_swept_profile, where t->ramp_m is set: the mean a
+ * sample's G has, which form 4's weight g(z) / mean_g must average to 1 over the pixel's own
+ * samples); 0 for a pixel that is not usable or whose light
  * straddles its tangent plane (a light corner with G = 0: the curved receiver's terminator,
  * where a sample's 0 is the receiver's own horizon, not an occluder the shear can move). */
 void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, const unsigned char *usable,
@@ -43,8 +48,9 @@ void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, con
 void fsf_geo_factors(const FsfGeoTerm *t, const float *pos4, const float *nrm4, size_t i, float y1, float y2,
                      float z1, float *f_rgb, float *f_w);
 
-/* Gm (1/m^2): G's mean over z1 in [-half1_m, half1_m] (8 midpoints) at the second light
- * coordinate z2, from the receiver point pos with normal nrm. */
+/* Gm (1/m^2): G's mean over z1 in [-half1_m, half1_m] (8 midpoints; a moving light's weighted
+ * by its samples' density along z1, t->ramp_m[0]) at the second light coordinate z2, from the
+ * receiver point pos with normal nrm. */
 float fsf_geo_marginal(const FsfGeoTerm *t, const float *pos, const float *nrm, float half1_m, float z2);
 
 /* Form 4 along the second axis for a sample of pixel i at y2 reprojected to z2: the factor

@@ -565,6 +565,7 @@ static FsfGeoTerm geo_term_of(const FsfLight *l, const float *mean_g)
     float *o[4] = {t.centre, t.axis[0], t.axis[1], t.normal};
     for (int k = 0; k < 4; ++k) o[k][0] = v[k]->x, o[k][1] = v[k]->y, o[k][2] = v[k]->z;
     t.mean_g = mean_g;
+    t.ramp_m[0] = l->ramp_m[0], t.ramp_m[1] = l->ramp_m[1];
     return t;
 }
 
