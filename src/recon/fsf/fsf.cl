@@ -48,6 +48,8 @@ typedef struct {
     float lc[3], lu[3], lv[3], ln[3]; /* the light's frame (world): centre, axes u, v, normal */
     float reach;         /* FsfGrid.reach_sigmas */
     float ramp1, ramp2;  /* FsfGrid.ramp_m: a moving light's density ramps (0: the box) */
+    float geo_w1[8];     /* geo_swept: the z1 midpoints' weights of form 4's marginals (fsf_geo_swept_weights) */
+    int geo_swept;       /* 1: form 4's light ramps along z1 (FsfGeoTerm.ramp_m[0] > 0) */
 } FsfArgs;
 
 /* fsf_tap_radius (fsf_filter.c) */
@@ -278,8 +280,8 @@ static float fsf_geo_marginal(const FsfArgs *a, float3 p, float3 n, float y2)
 {
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     float8 z1 = a->half1 * (2.0f * (lane + 0.5f) / 8.0f - 1.0f), g = fsf_geo_G8(a, p, n, z1, y2);
-    if (a->ramp1 > 0.0f) { /* a swept light: weighted by its samples' density along z1 */
-        float8 w = fsf_swept_profile8(z1, a->half1, a->ramp1), wg = w * g;
+    if (a->geo_swept) { /* a swept light: weighted by its samples' density along z1 */
+        float8 w = vload8(0, a->geo_w1), wg = w * g;
         return (wg.s0 + wg.s1 + wg.s2 + wg.s3 + wg.s4 + wg.s5 + wg.s6 + wg.s7) /
                (w.s0 + w.s1 + w.s2 + w.s3 + w.s4 + w.s5 + w.s6 + w.s7);
     }
@@ -299,10 +301,10 @@ static void fsf_geo_marginals(const FsfArgs *a, float3 p, float3 n, float L2, in
     for (int b = B; b < (B + 7) / 8 * 8; ++b) y2s[b] = 0.0f; /* lanes past B: computed, never read */
     for (int b0 = 0; b0 < B; b0 += 8) {
         float8 y2 = vload8(0, y2s + b0), sum = (float8)(0.0f);
-        if (a->ramp1 > 0.0f) { /* a swept light: each z1 by its samples' density (fsf_geo_marginal) */
+        if (a->geo_swept) { /* a swept light: each z1 by its samples' density (fsf_geo_marginal) */
             float weights = 0.0f;
             for (int k = 0; k < 8; ++k) {
-                float w = clamp((a->half1 - fabs(z1s[k])) / a->ramp1, 0.0f, 1.0f);
+                float w = a->geo_w1[k];
                 sum += w * fsf_geo_G8y(a, p, n, (float8)(z1s[k]), y2), weights += w;
             }
             vstore8(sum / weights, 0, gm + b0);

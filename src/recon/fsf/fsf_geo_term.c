@@ -38,11 +38,18 @@ static inline float geo_G_at(const FsfGeoTerm *t, const float lp[3], float px, f
 
 enum { GEO_M = 8, GEO_BLOCK = 64 };
 
-/* A moving light's samples' density along one axis at z (fsf_swept_profile), 1 along an axis
- * without a ramp. */
-static float swept_density(float z, float half_m, float ramp_m)
+void fsf_geo_swept_weights(float half_m, float ramp_m, float w[FSF_GEO_CELLS])
 {
-    return ramp_m > 0.0f ? fsf_swept_profile(z, half_m, ramp_m) : 1.0f;
+    enum { SUB = 64 }; /* the profile is linear between its corners: 64 midpoints per cell leave
+                        * at most 1/(8 * 64^2) of a corner's cell's weight */
+    for (int a = 0; a < FSF_GEO_CELLS; ++a) {
+        double sum = 0.0;
+        for (int k = 0; k < SUB; ++k) {
+            float z = half_m * (2.0f * ((float)a + ((float)k + 0.5f) / (float)SUB) / (float)FSF_GEO_CELLS - 1.0f);
+            sum += fsf_swept_profile(z, half_m, ramp_m);
+        }
+        w[a] = (float)(sum / SUB);
+    }
 }
 
 /* fsf_geo_mean for pixels [i0, i0 + nb) (nb <= GEO_BLOCK), their guides copied to one array
@@ -100,14 +107,14 @@ void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, con
     }
     /* a swept light: the points' weights, its samples' density there (NULL: uniform, as before) */
     double weight[GEO_M * GEO_M];
+    float axis_w[2][FSF_GEO_CELLS];
     bool swept = t->ramp_m[0] > 0.0f || t->ramp_m[1] > 0.0f;
+    for (int a = 0; swept && a < 2; ++a) {
+        if (t->ramp_m[a] > 0.0f) fsf_geo_swept_weights(half_m[a], t->ramp_m[a], axis_w[a]);
+        else for (int k = 0; k < FSF_GEO_CELLS; ++k) axis_w[a][k] = 1.0f; /* no ramp: uniform */
+    }
     for (int a = 0; swept && a < GEO_M; ++a)
-        for (int b = 0; b < GEO_M; ++b) {
-            float z1 = half_m[0] * (2.0f * ((float)a + 0.5f) / (float)GEO_M - 1.0f);
-            float z2 = half_m[1] * (2.0f * ((float)b + 0.5f) / (float)GEO_M - 1.0f);
-            weight[a * GEO_M + b] = (double)swept_density(z1, half_m[0], t->ramp_m[0]) *
-                                    (double)swept_density(z2, half_m[1], t->ramp_m[1]);
-        }
+        for (int b = 0; b < GEO_M; ++b) weight[a * GEO_M + b] = (double)axis_w[0][a] * (double)axis_w[1][b];
     for (size_t i0 = 0; i0 < n; i0 += GEO_BLOCK) {
         int nb = n - i0 < GEO_BLOCK ? (int)(n - i0) : GEO_BLOCK;
         /* a block without a usable pixel (the background, the light's own rows) costs nothing */
@@ -139,11 +146,11 @@ float fsf_geo_marginal(const FsfGeoTerm *t, const float *pos, const float *nrm, 
     enum { M = 8 }; /* as fsf_geo_mean and fsf.cl's fsf_geo_marginal (one float8) */
     float sum = 0.0f;
     if (t->ramp_m[0] > 0.0f) { /* a swept light: weighted by its samples' density along z1 */
-        float weights = 0.0f;
+        float w[FSF_GEO_CELLS], weights = 0.0f;
+        fsf_geo_swept_weights(half1_m, t->ramp_m[0], w);
         for (int a = 0; a < M; ++a) {
             float z1 = half1_m * (2.0f * ((float)a + 0.5f) / (float)M - 1.0f);
-            float w = fsf_swept_profile(z1, half1_m, t->ramp_m[0]);
-            sum += w * fsf_geo_G(t, pos, nrm, z1, z2), weights += w;
+            sum += w[a] * fsf_geo_G(t, pos, nrm, z1, z2), weights += w[a];
         }
         return sum / weights;
     }

@@ -42,6 +42,14 @@ float fsf_geo_G(const FsfGeoTerm *t, const float *pos, const float *nrm, float z
 void fsf_geo_mean(const FsfGeoTerm *t, const float *pos4, const float *nrm4, const unsigned char *usable,
                   const float half_m[2], size_t n, float *mean_g);
 
+/* A moving light's samples' density along one axis (half extent half_m, ramp ramp_m > 0,
+ * fsf_swept_profile) averaged over each of the 8 equal cells of [-half_m, half_m] that the
+ * means' midpoints (fsf_geo_mean, fsf_geo_marginal) stand for: the weights of those midpoints.
+ * The cell's mean rather than the profile at its midpoint: the trapezoid's corners fall inside
+ * cells in general, where the midpoint's value is off the cell's mean. */
+enum { FSF_GEO_CELLS = 8 };
+void fsf_geo_swept_weights(float half_m, float ramp_m, float w[FSF_GEO_CELLS]);
+
 /* Form 4's factors for a sample of pixel i at light point (y1, y2) read at z1 along the first
  * axis: *f_rgb multiplies its value, *f_w its weight. Both 1 where the pixel has no mean term
  * (t NULL, or mean_g 0) or the sample's own term is 0. */
