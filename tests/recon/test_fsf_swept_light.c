@@ -22,30 +22,16 @@
 #include "check.h"
 #include "fsf_synth.h"
 #include "recon/fsf/fsf_light.h"
+#include "moving_light_scene.h"
 #include "recon_test_util.h"
 
-#define SCENE_HEAD                                                                                                  \
-    "LookAt 0 6 -0.5   0 0 0   0 1 0\n"                                                                            \
-    "Camera \"perspective\" \"float fov\" [ 70 ] \"float shutteropen\" [ 0 ] \"float shutterclose\" [ 1 ]\n"       \
-    "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ] \"string filename\" [ \"t.exr\" ]\n" \
-    "Sampler \"stratified\" \"integer pixelsamples\" [ 4 ]\n"                                                       \
-    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"                                                              \
-    "WorldBegin\n"                                                                                                  \
-    "AttributeBegin\n"
-#define LIGHT_AND_FLOOR                                                                                                   \
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 5 5 5 ]\n"                                                                  \
-    "  Shape \"trianglemesh\" \"point3 P\" [ -0.4 3 -0.4  0.4 3 -0.4  0.4 3 0.4  -0.4 3 0.4 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n" \
-    "AttributeEnd\n"                                                                                                      \
-    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"                                                          \
-    "Shape \"trianglemesh\" \"point3 P\" [ -6 0 -6  6 0 -6  6 0 6  -6 0 6 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
-
 /* the 0.8 x 0.8 light slides 2.4 along x (one of its edges), or 1.8 along x and 1.2 along z */
-static const char *const ALONG = SCENE_HEAD
+static const char *const ALONG = MOVING_LIGHT_HEAD
     "  ActiveTransform StartTime\n  Translate -1.2 0 0\n  ActiveTransform EndTime\n  Translate 1.2 0 0\n"
-    "  ActiveTransform All\n" LIGHT_AND_FLOOR;
-static const char *const DIAGONAL = SCENE_HEAD
+    "  ActiveTransform All\n" MOVING_LIGHT_AND_FLOOR;
+static const char *const DIAGONAL = MOVING_LIGHT_HEAD
     "  ActiveTransform StartTime\n  Translate -0.9 0 -0.6\n  ActiveTransform EndTime\n  Translate 0.9 0 0.6\n"
-    "  ActiveTransform All\n" LIGHT_AND_FLOOR;
+    "  ActiveTransform All\n" MOVING_LIGHT_AND_FLOOR;
 
 /* the trapezoid's integral over [a, b] (midpoints; exact enough for the bins' masses) */
 static double profile_mass(double a, double b, float half, float ramp)
@@ -266,6 +252,30 @@ static double penumbra_error(const FsfSynth *f, const FsfGrid *g, float k)
     return ok ? sqrt(sum / (double)n) : INFINITY;
 }
 
+/* The factored passes against the oracle on samples drawn from a light that ramps along both
+ * axes (pass 1a's weights and pass 2b's) */
+static void factored_on_swept_samples(void)
+{
+    const int W = 48, H = 40, l = 4;
+    FsfSynth f;
+    fsf_synth_init(&f, W, H, l);
+    FsfGrid g = fsf_grid_default(1.0f, 0.5f);
+    g.ramp_m[0] = 0.8f, g.ramp_m[1] = 0.3f; /* both axes ramp: pass 1a's and pass 2b's weights */
+    swept_samples(&f, &g, l, true, 2.0f, 1);
+    float dY1 = 4.0f * g.half_m[0] / (float)(g.shift_nodes - 1), dY2 = 4.0f * g.half_m[1] / (float)(g.shift_nodes - 1);
+    uniform_params(&f, dY1, -2.0f * dY2, 3.0f, 5.0f);
+    double max_rel, rms;
+    factored_vs_brute(&f, &g, &max_rel, &rms);
+    printf("swept light, bin-centred, on-node shears: max relative difference %.3g\n", max_rel);
+    CHECK(max_rel < 1e-5);
+    swept_samples(&f, &g, l, false, 2.0f, 7);
+    uniform_params(&f, 0.037f, 0.029f, 4.0f, 4.0f);
+    factored_vs_brute(&f, &g, &max_rel, &rms);
+    printf("swept light, jittered, shears between nodes: rms difference %.4f\n", rms);
+    CHECK(rms < 0.02); /* as the static light's default grid (test_fsf_factored) */
+    fsf_synth_free(&f);
+}
+
 int main(void)
 {
     /* 1. the closed form against the renderer's poses */
@@ -293,28 +303,13 @@ int main(void)
     geo_mean_swept();
 
     /* 4. factored against brute force on a swept light's samples */
-    const int W = 48, H = 40, l = 4;
-    FsfSynth f;
-    fsf_synth_init(&f, W, H, l);
-    FsfGrid g = fsf_grid_default(1.0f, 0.5f);
-    g.ramp_m[0] = 0.8f, g.ramp_m[1] = 0.3f; /* both axes ramp: pass 1a's and pass 2b's weights */
-    swept_samples(&f, &g, l, true, 2.0f, 1);
-    float dY1 = 4.0f * g.half_m[0] / (float)(g.shift_nodes - 1), dY2 = 4.0f * g.half_m[1] / (float)(g.shift_nodes - 1);
-    uniform_params(&f, dY1, -2.0f * dY2, 3.0f, 5.0f);
-    double max_rel, rms;
-    factored_vs_brute(&f, &g, &max_rel, &rms);
-    printf("swept light, bin-centred, on-node shears: max relative difference %.3g\n", max_rel);
-    CHECK(max_rel < 1e-5);
-    swept_samples(&f, &g, l, false, 2.0f, 7);
-    uniform_params(&f, 0.037f, 0.029f, 4.0f, 4.0f);
-    factored_vs_brute(&f, &g, &max_rel, &rms);
-    printf("swept light, jittered, shears between nodes: rms difference %.4f\n", rms);
-    CHECK(rms < 0.02); /* as the static light's default grid (test_fsf_factored) */
-    fsf_synth_free(&f);
+    factored_on_swept_samples();
 
     /* 5. the penumbra under the swept light (one ramp, along the edge's axis) */
+    const int l = 4;
+    FsfSynth f;
     fsf_synth_init(&f, 160, 24, l);
-    g = fsf_grid_default(1.0f, 0.5f);
+    FsfGrid g = fsf_grid_default(1.0f, 0.5f);
     g.ramp_m[0] = TRUE_RAMP;
     const float k = 4.0f; /* a penumbra 2 L / k = 50 px wide; reprojected up to 0.48 m, 0.6 of the ramp */
     swept_samples(&f, &g, l, false, k, 3);
