@@ -46,16 +46,17 @@ float fsf_light_power_share(const Renderer *r)
     return all > 0.0 ? (float)(mine / all) : 0.0f;
 }
 
-/* Along the unit axis `axis` (index a of the sweep's), the ramp of a translating light's
- * sample density: the pose's extent (at shutter open) w and the motion's length m along the
- * axis (the centroid from shutter open to close) make the trapezoid box(w) * box(m), whose
- * ramps are min(w, m) wide (docs/algorithms.md 10, "The swept light's density"). */
-static float swept_ramp(const ReconLightSweep *sw, const float axis[3], int a)
+/* Along the unit axis `axis` (index a of the sweep's), a translating light's pose extent (at
+ * shutter open) w and its motion m (the centroid from shutter open to close): its samples'
+ * density is the trapezoid box(w) * box(m), whose ramps are min(w, |m|) wide (docs/algorithms.md
+ * 10, "The swept light's density"). */
+static float swept_ramp(const ReconLightSweep *sw, const float axis[3], int a, float *pose, float *motion)
 {
-    double motion = 0.0;
-    for (int k = 0; k < 3; ++k) motion += (sw->end_centre[1][k] - sw->end_centre[0][k]) * axis[k];
+    double m = 0.0;
+    for (int k = 0; k < 3; ++k) m += (sw->end_centre[1][k] - sw->end_centre[0][k]) * axis[k];
     double width = sw->end_hi[0][a] - sw->end_lo[0][a];
-    return (float)fmin(width, fabs(motion));
+    *pose = (float)width, *motion = (float)m;
+    return (float)fmin(width, fabs(m));
 }
 
 bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
@@ -100,7 +101,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     vec3 u = v3_madd(e, n, -v3_dot(e, n));
     u = v3_scale(u, 1.0f / v3_length(u));
     vec3 v = v3_cross(n, u);
-    float half[2] = {0.0f, 0.0f}, ramp[2] = {0.0f, 0.0f};
+    float half[2] = {0.0f, 0.0f}, ramp[2] = {0.0f, 0.0f}, pose[2] = {0.0f, 0.0f}, motion[2] = {0.0f, 0.0f};
     if (first.moving) {
         /* the swept light (moving_lights.h): centre the poses' mean, half extents those of the
          * union of its poses around it, and along each axis the ramp of its samples' density,
@@ -115,7 +116,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
         c = v3((float)sw.centre[0], (float)sw.centre[1], (float)sw.centre[2]);
         for (int a = 0; a < 2; ++a) {
             half[a] = fmaxf(-sw.lo[a], sw.hi[a]);
-            ramp[a] = swept_ramp(&sw, axes[a], a);
+            ramp[a] = swept_ramp(&sw, axes[a], a, &pose[a], &motion[a]);
             if (!(ramp[a] > FSF_RAMP_MIN_REL * half[a])) ramp[a] = 0.0f; /* a motion too small to tell: the box */
         }
     } else {
@@ -141,8 +142,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     out->axis_world[1] = v;
     out->half_m[0] = half[0];
     out->half_m[1] = half[1];
-    out->ramp_m[0] = ramp[0];
-    out->ramp_m[1] = ramp[1];
+    for (int a = 0; a < 2; ++a) out->ramp_m[a] = ramp[a], out->pose_m[a] = pose[a], out->motion_m[a] = motion[a];
     out->shape = first.shape;
     return true;
 }

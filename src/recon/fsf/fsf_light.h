@@ -22,6 +22,9 @@ typedef struct {
     float half_m[2];                                /* half extents along u, v */
     float ramp_m[2];                                /* a moving light: its samples' density ramps
                                                      * along u, v (FsfGrid.ramp_m); 0: uniform */
+    float pose_m[2], motion_m[2];                   /* a moving light: its pose's extent at shutter
+                                                     * open and its centroid's motion over the
+                                                     * shutter along u, v (FsfGeoTerm's); 0: static */
     int shape;                                      /* the emitter's SceneDesc shape */
 } FsfLight;
 

@@ -576,7 +576,7 @@ static FsfGeoTerm geo_term_of(const FsfLight *l, const float *mean_g)
     float *o[4] = {t.centre, t.axis[0], t.axis[1], t.normal};
     for (int k = 0; k < 4; ++k) o[k][0] = v[k]->x, o[k][1] = v[k]->y, o[k][2] = v[k]->z;
     t.mean_g = mean_g;
-    t.ramp_m[0] = l->ramp_m[0], t.ramp_m[1] = l->ramp_m[1];
+    for (int a = 0; a < 2; ++a) t.ramp_m[a] = l->ramp_m[a], t.pose_m[a] = l->pose_m[a], t.motion_m[a] = l->motion_m[a];
     return t;
 }
 
