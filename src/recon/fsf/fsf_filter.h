@@ -214,7 +214,7 @@ float fsf_density_mean(const FsfGrid *g, int axis, float eta_m, float sigma_px);
  * its samples' light points lie over the area it sweeps with a density proportional to the
  * time it covers each point, along axis a the trapezoid T(z) = clamp((L - |z|) / ramp, 0, 1)
  * (the pose's extent convolved with the motion's; L = half_m[a], ramp = ramp_m[a] > 0): the
- * light's profile I in place of the box. Its samples seen from a pixel t steps away lie with
+ * light's profile I (FSF eq. 9) in place of the box. Its samples seen from a pixel t steps away lie with
  * density T(z - eta t), so the density of reprojected samples is
  * rho(z) = sum_t w(t) T(z - eta t) (fsf_density_swept; cum as fsf_density's), and a sample
  * weighs T(z) / rho(z): fsf_swept_weight, 0 where either is 0. With ramp 0 the filter keeps
