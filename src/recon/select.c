@@ -271,11 +271,13 @@ void recon_select_budget(EffectMask present, const char *request, float blur_px,
 }
 
 /* The shadow filters that take a moving area light's poses over the shutter (its time-mean r(x),
- * MAAF's swept light: docs/algorithms.md 1.9, 9.29); the others (fsf) take the area it sweeps as
- * a uniform light, where its samples' density is not uniform (docs/benchmarks.md, mlight1). */
+ * MAAF's swept light: docs/algorithms.md 1.9, 9.29; FSF's swept light with its samples' density
+ * since fsf13: docs/algorithms.md 10, below Monte Carlo's error at 16-256 spp on
+ * moving_light_defocus); a filter not listed is taken to see the area the light sweeps as a
+ * uniform light, and is warned about. */
 static bool follows_moving_light(const ReconMethodClass *m)
 {
-    return !strcmp(m->name, "aaf") || !strcmp(m->name, "maaf");
+    return !strcmp(m->name, "aaf") || !strcmp(m->name, "maaf") || !strcmp(m->name, "fsf");
 }
 
 void recon_select_moving_light(ReconChoice *c, bool area_light_moves)

@@ -95,7 +95,7 @@ static inline void fsf_synth_light(FsfSynth *f, const FsfGrid *g, int l, bool bi
 static inline FsfGeoTerm fsf_synth_geo(const FsfSynth *f, const FsfGrid *g, float cx_m, float cy_m, float h_m,
                                        float *mean_g)
 {
-    FsfGeoTerm t = {{cx_m, cy_m, h_m}, {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}, {0.0f, 0.0f, -1.0f}, mean_g};
+    FsfGeoTerm t = {{cx_m, cy_m, h_m}, {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}, {0.0f, 0.0f, -1.0f}, mean_g, {0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f}};
     fsf_geo_mean(&t, f->pos4, f->nrm4, f->usable, g->half_m, (size_t)f->w * (size_t)f->h, mean_g);
     return t;
 }

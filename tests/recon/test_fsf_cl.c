@@ -233,6 +233,19 @@ int main(void)
         printf("%d shift nodes, with the geometric term: OpenCL against C: largest difference %.3g\n", nodes[gi],
                worst_geo);
         CHECK(worst_geo < 1e-5);
+        /* a light that moves (fsf_swept_profile): its samples' density ramps along both axes,
+         * in passes 1a and 2b's weights and form 4's mean and marginals; the samples stay where
+         * they are (the kernels and the C passes read the same ones) */
+        FsfGrid swept = g;
+        swept.ramp_m[0] = 0.5f, swept.ramp_m[1] = 0.3f;
+        FsfGeoTerm geo_swept = geo;
+        geo_swept.ramp_m[0] = swept.ramp_m[0], geo_swept.ramp_m[1] = swept.ramp_m[1];
+        fsf_geo_mean(&geo_swept, f.pos4, f.nrm4, f.usable, swept.half_m, (size_t)W * H, mean_g);
+        double worst_swept = cl_vs_c(cl, &f, &swept, NULL, &secs), worst_swept_geo = cl_vs_c(cl, &f, &swept, &geo_swept, &secs);
+        printf("%d shift nodes, a moving light's density: OpenCL against C: largest difference %.3g, %.3g with the "
+               "geometric term\n",
+               nodes[gi], worst_swept, worst_swept_geo);
+        CHECK(worst_swept < 1e-5 && worst_swept_geo < 1e-5);
         free(mean_g);
     }
     /* pixels that are not usable are skipped by every kernel: NaN in their samples changes no

@@ -117,7 +117,7 @@ static void run(int axis, double e[4], double d[2])
 static void geo_mean_exact(void)
 {
     enum { NP = 600, M = 8 };
-    FsfGeoTerm t = {{0.1f, 1.2f, -0.3f}, {{0.8f, 0.0f, 0.6f}, {0.0f, 1.0f, 0.0f}}, {0.6f, 0.0f, -0.8f}, NULL};
+    FsfGeoTerm t = {{0.1f, 1.2f, -0.3f}, {{0.8f, 0.0f, 0.6f}, {0.0f, 1.0f, 0.0f}}, {0.6f, 0.0f, -0.8f}, NULL, {0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f}};
     const float half_m[2] = {0.4f, 0.25f};
     float *pos = malloc(sizeof(float) * 4 * NP), *nrm = malloc(sizeof(float) * 4 * NP), *got = malloc(sizeof(float) * NP);
     unsigned char *usable = malloc(NP);

@@ -21,28 +21,14 @@
 #include "recon/aaf/aaf_light_sweep.h"
 #include "recon/maaf/maaf_light_sweep.h"
 #include "recon/polygon_irradiance.h"
+#include "moving_light_scene.h"
 #include "recon_test_util.h"
 
-#define SCENE_HEAD                                                                                                  \
-    "LookAt 0 6 -0.5   0 0 0   0 1 0\n"                                                                            \
-    "Camera \"perspective\" \"float fov\" [ 70 ] \"float shutteropen\" [ 0 ] \"float shutterclose\" [ 1 ]\n"       \
-    "Film \"rgb\" \"integer xresolution\" [ 24 ] \"integer yresolution\" [ 24 ] \"string filename\" [ \"t.exr\" ]\n" \
-    "Sampler \"stratified\" \"integer pixelsamples\" [ 16 ]\n"                                                      \
-    "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"                                                              \
-    "WorldBegin\n"                                                                                                  \
-    "AttributeBegin\n"
-#define LIGHT_AND_FLOOR                                                                                                   \
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 5 5 5 ]\n"                                                                  \
-    "  Shape \"trianglemesh\" \"point3 P\" [ -0.4 3 -0.4  0.4 3 -0.4  0.4 3 0.4  -0.4 3 0.4 ] \"integer indices\" [ 0 1 2 0 2 3 ]\n" \
-    "AttributeEnd\n"                                                                                                      \
-    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"                                                          \
-    "Shape \"trianglemesh\" \"point3 P\" [ -6 0 -6  6 0 -6  6 0 6  -6 0 6 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
-
 /* the light from x = -1.2 to 1.2; a box creeping far away gives the scene its motion either way */
-static const char *const MOVING = SCENE_HEAD
+static const char *const MOVING = MOVING_LIGHT_HEAD
     "  ActiveTransform StartTime\n  Translate -1.2 0 0\n  ActiveTransform EndTime\n  Translate 1.2 0 0\n"
-    "  ActiveTransform All\n" LIGHT_AND_FLOOR;
-static const char *const STILL = SCENE_HEAD LIGHT_AND_FLOOR
+    "  ActiveTransform All\n" MOVING_LIGHT_AND_FLOOR;
+static const char *const STILL = MOVING_LIGHT_HEAD MOVING_LIGHT_AND_FLOOR
     "AttributeBegin\n  ActiveTransform StartTime\n  Translate 5 0 5\n  ActiveTransform EndTime\n  Translate 5.1 0 5\n"
     "  ActiveTransform All\n  Shape \"sphere\" \"float radius\" [ 0.1 ]\nAttributeEnd\n";
 

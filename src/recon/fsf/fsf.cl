@@ -47,6 +47,9 @@ typedef struct {
     int geo;             /* 1: passes 1a, 2a weight by the light's geometric term (form 4, fsf_geo_term.h) */
     float lc[3], lu[3], lv[3], ln[3]; /* the light's frame (world): centre, axes u, v, normal */
     float reach;         /* FsfGrid.reach_sigmas */
+    float ramp1, ramp2;  /* FsfGrid.ramp_m: a moving light's density ramps (0: the box) */
+    float geo_w1[8];     /* geo_swept: the z1 midpoints' weights of form 4's marginals (fsf_geo_swept_weights) */
+    int geo_swept;       /* 1: form 4's light ramps along z1 (FsfGeoTerm.ramp_m[0] > 0) */
 } FsfArgs;
 
 /* fsf_tap_radius (fsf_filter.c) */
@@ -226,6 +229,25 @@ __kernel void fsf_bins(const FsfArgs a, const int capacity, __global const int *
 FSF_DEFINE_DENSITY8(fsf_density8, __private)
 FSF_DEFINE_DENSITY8(fsf_density8_global, __global)
 
+/* fsf_swept_weight (fsf_filter.c) at 8 light coordinates: a moving light's profile
+ * T(z) = clamp((L - |z|) / ramp, 0, 1) over the density of reprojected samples
+ * rho(z) = sum_t w(t) T(z - eta t), w(t) the running sums' steps; 0 where either is 0. */
+static float8 fsf_swept_profile8(float8 z, float half_m, float ramp)
+{
+    return clamp((half_m - fabs(z)) / ramp, 0.0f, 1.0f);
+}
+#define FSF_DEFINE_SWEPT8(name, space)                                                                     \
+    static float8 name(float8 z, float eta, float half_m, float ramp, int r, space const float *cum)       \
+    {                                                                                                       \
+        float8 rho = (float8)(0.0f);                                                                        \
+        for (int t = -r; t <= r; ++t)                                                                       \
+            rho += (cum[t + r + 1] - cum[t + r]) * fsf_swept_profile8(z - eta * (float)t, half_m, ramp);    \
+        float8 prof = fsf_swept_profile8(z, half_m, ramp);                                                  \
+        return select((float8)(0.0f), prof / rho, (prof > 0.0f) & (rho > 0.0f));                           \
+    }
+FSF_DEFINE_SWEPT8(fsf_swept8, __private)
+FSF_DEFINE_SWEPT8(fsf_swept8_global, __global)
+
 /* fsf_geo_G (fsf_geo_term.c) at 8 light points (z1, y2) from the receiver point p, normal n */
 static float8 fsf_geo_G8(const FsfArgs *a, float3 p, float3 n, float8 z1, float y2)
 {
@@ -257,7 +279,12 @@ static float8 fsf_geo_G8y(const FsfArgs *a, float3 p, float3 n, float8 z1, float
 static float fsf_geo_marginal(const FsfArgs *a, float3 p, float3 n, float y2)
 {
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
-    float8 g = fsf_geo_G8(a, p, n, a->half1 * (2.0f * (lane + 0.5f) / 8.0f - 1.0f), y2);
+    float8 z1 = a->half1 * (2.0f * (lane + 0.5f) / 8.0f - 1.0f), g = fsf_geo_G8(a, p, n, z1, y2);
+    if (a->geo_swept) { /* a swept light: weighted by its samples' density along z1 */
+        float8 w = vload8(0, a->geo_w1), wg = w * g;
+        return (wg.s0 + wg.s1 + wg.s2 + wg.s3 + wg.s4 + wg.s5 + wg.s6 + wg.s7) /
+               (w.s0 + w.s1 + w.s2 + w.s3 + w.s4 + w.s5 + w.s6 + w.s7);
+    }
     return (g.s0 + g.s1 + g.s2 + g.s3 + g.s4 + g.s5 + g.s6 + g.s7) / 8.0f;
 }
 
@@ -274,6 +301,15 @@ static void fsf_geo_marginals(const FsfArgs *a, float3 p, float3 n, float L2, in
     for (int b = B; b < (B + 7) / 8 * 8; ++b) y2s[b] = 0.0f; /* lanes past B: computed, never read */
     for (int b0 = 0; b0 < B; b0 += 8) {
         float8 y2 = vload8(0, y2s + b0), sum = (float8)(0.0f);
+        if (a->geo_swept) { /* a swept light: each z1 by its samples' density (fsf_geo_marginal) */
+            float weights = 0.0f;
+            for (int k = 0; k < 8; ++k) {
+                float w = a->geo_w1[k];
+                sum += w * fsf_geo_G8y(a, p, n, (float8)(z1s[k]), y2), weights += w;
+            }
+            vstore8(sum / weights, 0, gm + b0);
+            continue;
+        }
         for (int k = 0; k < 8; ++k) {
             float8 g = fsf_geo_G8y(a, p, n, (float8)(z1s[k]), y2);
             sum = k == 0 ? g : sum + g;
@@ -308,7 +344,7 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     /* eta = 0 (no shear) or r = 0 (one tap): fsf_density8's range is every tap at each node
      * the box keeps (|z| <= prof1 <= L1; for r = 0 the signs of z -+ L1 are exact), so its
      * difference of running sums is this one, the same float, without its two gathers */
-    int rho_all = eta == 0.0f || r == 0;
+    int rho_all = (eta == 0.0f || r == 0) && !(a.ramp1 > 0.0f); /* a swept light: fsf_swept8 */
     float rho_c = rho_all ? cum[2 * r + 1] - cum[0] : 0.0f;
     const float8 lane = (float8)(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
     /* form 4 (fsf_geo_term.h): the pixel's mean position, normal and mean term; 0: none */
@@ -339,9 +375,14 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
             for (int s0 = j0; s0 <= j1; s0 += 8) {
                 float8 z = y1 - ((float8)((float)s0) + lane - mid) * dY;
                 /* no shear or a single tap: every node the box keeps sees all taps */
-                float8 rho = rho_all ? (float8)(rho_c) : fsf_density8_global(z, eta, L1, r, cum);
-                /* the box (rounding at the light's ends) and an empty density leave a node out */
-                float8 wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
+                float8 wk;
+                if (a.ramp1 > 0.0f) { /* a swept light: T(z) / rho(z), inside the box */
+                    wk = select((float8)(0.0f), fsf_swept8_global(z, eta, L1, a.ramp1, r, cum), fabs(z) <= a.prof1);
+                } else {
+                    float8 rho = rho_all ? (float8)(rho_c) : fsf_density8_global(z, eta, L1, r, cum);
+                    /* the box (rounding at the light's ends) and an empty density leave a node out */
+                    wk = select((float8)(0.0f), 1.0f / rho, (fabs(z) <= a.prof1) & (rho > 0.0f));
+                }
                 float8 wv = wk, ww = wk;
                 if (g_y > 0.0f) { /* form 4: rgb times g(z) / g(y), weight times g(z) / mean */
                     float8 g_z = fsf_geo_G8(&a, gp, gn, z, y2);
@@ -468,7 +509,9 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
         float8 w = (float8)(0.0f);
         /* the box keeps about B of the 3 B coordinates: the densities of eight outside it are
          * not needed, their weight is 0 anyway */
-        if (any(inbox)) {
+        if (any(inbox) && a.ramp2 > 0.0f) { /* a swept light: T(z) / rho(z) */
+            w = select((float8)(0.0f), fsf_swept8(z, eta, L2, a.ramp2, r, cum), inbox);
+        } else if (any(inbox)) {
             float8 rho = fsf_density8(z, eta, L2, r, cum);
             w = select((float8)(0.0f), 1.0f / rho, inbox & (rho > 0.0f));
         }

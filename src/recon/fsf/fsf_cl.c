@@ -24,6 +24,9 @@ typedef struct {
     cl_int geo;
     cl_float lc[3], lu[3], lv[3], ln[3];
     cl_float reach;
+    cl_float ramp1, ramp2;
+    cl_float geo_w1[8];
+    cl_int geo_swept;
 } FsfArgs;
 
 /* Memory for several slices of P at once (pass 1a fills them in one launch) */
@@ -221,13 +224,16 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     size_t n = (size_t)s->width * (size_t)s->height, slots = n * (size_t)s->capacity;
     size_t J = (size_t)g->shift_nodes, B = (size_t)g->y2_bins;
     FsfArgs a = {g->half_m[0], g->half_m[1], g->shift_nodes, g->y2_bins, gd->cos_normal_min, gd->plane_tol_rel,
-                 s->width, s->height, g->profile_half[0], g->profile_half[1], 0, {0}, {0}, {0}, {0}, g->reach_sigmas};
+                 s->width, s->height, g->profile_half[0], g->profile_half[1], 0, {0}, {0}, {0}, {0}, g->reach_sigmas,
+                 g->ramp_m[0], g->ramp_m[1], {0}, 0};
     /* form 4 (fsf_geo_term.h) reads the guides' positions and normals */
     const FsfGeoTerm *geo = gd->geo && gd->pos4 && gd->nrm4 ? gd->geo : NULL;
     if (geo) {
         a.geo = 1;
         memcpy(a.lc, geo->centre, sizeof a.lc), memcpy(a.lu, geo->axis[0], sizeof a.lu);
         memcpy(a.lv, geo->axis[1], sizeof a.lv), memcpy(a.ln, geo->normal, sizeof a.ln);
+        a.geo_swept = geo->ramp_m[0] > 0.0f; /* its marginals weighted as fsf_geo_marginal's */
+        if (a.geo_swept) fsf_geo_swept_weights(g->half_m[0], geo->ramp_m[0], a.geo_w1);
     }
     if (g->y2_bins != g->shift_nodes - 1 || g->y2_bins > FSF_MAX_Y2_BINS) {
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: y2 bins must be shift nodes - 1 (at most %d)", FSF_MAX_Y2_BINS);

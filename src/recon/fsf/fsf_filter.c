@@ -29,6 +29,7 @@ FsfGrid fsf_grid_nodes(float half_u_m, float half_v_m, int shift_nodes)
     g.shift_nodes = shift_nodes;
     g.reach_sigmas = FSF_RADIUS_SIGMAS;
     g.y2_bins = g.shift_nodes - 1;
+    g.ramp_m[0] = g.ramp_m[1] = 0.0f;
     return g;
 }
 
@@ -139,6 +140,31 @@ float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
     return cum[(int)hi + r + 1] - cum[(int)lo + r];
 }
 
+float fsf_swept_profile(float z_m, float half_m, float ramp_m)
+{
+    float t = (half_m - fabsf(z_m)) / ramp_m;
+    return t >= 1.0f ? 1.0f : t > 0.0f ? t : 0.0f;
+}
+
+float fsf_density_swept(float z_m, float eta_m, float half_m, float ramp_m, int r, const float *cum)
+{
+    /* every tap: T is not constant over the run where it is positive (its ramps) */
+    float sum = 0.0f;
+    for (int t = -r; t <= r; ++t) {
+        float w = cum[t + r + 1] - cum[t + r];
+        sum += w * fsf_swept_profile(z_m - eta_m * (float)t, half_m, ramp_m);
+    }
+    return sum;
+}
+
+float fsf_swept_weight(float z_m, float eta_m, float half_m, float ramp_m, int r, const float *cum)
+{
+    float prof = fsf_swept_profile(z_m, half_m, ramp_m);
+    if (!(prof > 0.0f)) return 0.0f;
+    float rho = fsf_density_swept(z_m, eta_m, half_m, ramp_m, r, cum);
+    return rho > 0.0f ? prof / rho : 0.0f;
+}
+
 float fsf_density_mean(const FsfGrid *g, int axis, float eta_m, float sigma_px)
 {
     /* the mean over |z| <= h of rho(z) = sum_t w(t) [|z - eta t| <= L]: each tap's weight times
@@ -164,6 +190,16 @@ typedef struct {
     float *cum1;
     int bin, axis;
 } Job;
+
+/* The oracle's density along axis a: fsf_density for a box profile; for a swept light its
+ * density over its profile (the sample's weight is their inverse: T(z) / rho(z)), 0 where the
+ * profile is 0. */
+static float swept_over_rho(const FsfGrid *g, int a, float z, float eta, int r, const float *cum)
+{
+    if (!(g->ramp_m[a] > 0.0f)) return fsf_density(z, eta, g->half_m[a], r, cum);
+    float w = fsf_swept_weight(z, eta, g->half_m[a], g->ramp_m[a], r, cum);
+    return w > 0.0f ? 1.0f / w : 0.0f;
+}
 
 static void add_own(const FsfSamples *s, size_t i, float acc[4])
 {
@@ -213,9 +249,10 @@ static void brute_range(void *ctx, size_t begin, size_t end, int part)
                     float z1 = s->y_m[2 * slot] + pp->eta_m[0] * (float)t1;
                     float z2 = s->y_m[2 * slot + 1] + pp->eta_m[1] * (float)t2;
                     if (box(j->g, 0, z1) == 0.0f || box(j->g, 1, z2) == 0.0f) continue;
-                    /* divided by the density of reprojected samples at (z1, z2) */
-                    float rho = fsf_density(z1, pp->eta_m[0], j->g->half_m[0], r1, cum1) *
-                                fsf_density(z2, pp->eta_m[1], j->g->half_m[1], r2, cum2);
+                    /* divided by the density of reprojected samples at (z1, z2); a moving
+                     * light's profile over it along each axis that ramps (swept_over_rho) */
+                    float rho = swept_over_rho(j->g, 0, z1, pp->eta_m[0], r1, cum1) *
+                                swept_over_rho(j->g, 1, z2, pp->eta_m[1], r2, cum2);
                     if (!(rho > 0.0f)) continue;
                     float wk = wx / rho, f_rgb, f_w;
                     /* form 4 along the first axis, as pass 1a, then the second, as pass 2a
@@ -247,7 +284,7 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const
 {
     const unsigned char *usable = gd->usable;
     int J = g->shift_nodes;
-    float dY = node_step(g, 0), L1 = g->half_m[0], mid = 0.5f * (float)(J - 1);
+    float dY = node_step(g, 0), L1 = g->half_m[0], mid = 0.5f * (float)(J - 1), ramp1 = g->ramp_m[0];
     for (size_t i = begin; i < end; ++i) {
         float *Pi = P + (size_t)J * 4 * i;
         memset(Pi, 0, sizeof(float) * 4 * (size_t)J);
@@ -269,9 +306,16 @@ void fsf_pass1a(const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const
             for (int jj = j0; jj <= j1; ++jj) {
                 float z = y1 - ((float)jj - mid) * dY; /* seen from the pixel at shift Y */
                 if (box(g, 0, z) == 0.0f) continue;    /* rounding at the ends */
-                float rho = fsf_density(z, px[i].eta_m[0], L1, r, cum);
-                if (!(rho > 0.0f)) continue;
-                float wk = 1.0f / rho, *o = Pi + 4 * jj, f_rgb, f_w;
+                float wk;
+                if (ramp1 > 0.0f) { /* a swept light: T(z) / rho(z) (fsf_swept_weight) */
+                    wk = fsf_swept_weight(z, px[i].eta_m[0], L1, ramp1, r, cum);
+                    if (!(wk > 0.0f)) continue;
+                } else {
+                    float rho = fsf_density(z, px[i].eta_m[0], L1, r, cum);
+                    if (!(rho > 0.0f)) continue;
+                    wk = 1.0f / rho;
+                }
+                float *o = Pi + 4 * jj, f_rgb, f_w;
                 /* form 4: the pixel's own term read at z rather than y1 (fsf_geo_term.h) */
                 fsf_geo_factors(gd->geo, gd->pos4, gd->nrm4, i, y1, s->y_m[2 * slot + 1], z, &f_rgb, &f_w);
                 float wv = wk * f_rgb;
@@ -379,6 +423,10 @@ void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const
              * 3 B densities per pixel, of this pixel's filter */
             for (int m = -2 * B; m < B; ++m) {
                 float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
+                if (g->ramp_m[1] > 0.0f) { /* a swept light: T(z) / rho(z) (fsf_swept_weight) */
+                    inv_rho[m + 2 * B] = box(g, 1, z) != 0.0f ? fsf_swept_weight(z, px[i].eta_m[1], L2, g->ramp_m[1], r, cum) : 0.0f;
+                    continue;
+                }
                 float rho = box(g, 1, z) != 0.0f ? fsf_density(z, px[i].eta_m[1], L2, r, cum) : 0.0f;
                 inv_rho[m + 2 * B] = rho > 0.0f ? 1.0f / rho : 0.0f;
             }

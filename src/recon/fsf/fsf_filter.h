@@ -78,6 +78,8 @@ typedef struct {
                                 * the node spacing being twice the bin width */
     float reach_sigmas;        /* the taps reach this many standard deviations each side (capped
                                 * at FSF_RADIUS_CAP_PX): fsf_tap_radius */
+    float ramp_m[2];           /* a light that moves: the ramps (metres) of its samples' density
+                                * along u and v (fsf_swept_profile); 0: a uniform light, the box */
 } FsfGrid;
 enum { FSF_MAX_Y2_BINS = 64 };
 
@@ -207,6 +209,19 @@ float fsf_density(float z_m, float eta_m, float half_m, int r, const float *cum)
  * sigma >= 0: the centre tap covers the box), fsf_tap_prefix_mean the running sums of the
  * pixel's first axis over it (pass 1a's cum1). */
 float fsf_density_mean(const FsfGrid *g, int axis, float eta_m, float sigma_px);
+
+/* A light that moves during the shutter (docs/algorithms.md 10, "The swept light's density"):
+ * its samples' light points lie over the area it sweeps with a density proportional to the
+ * time it covers each point, along axis a the trapezoid T(z) = clamp((L - |z|) / ramp, 0, 1)
+ * (the pose's extent convolved with the motion's; L = half_m[a], ramp = ramp_m[a] > 0): the
+ * light's profile I (FSF eq. 9) in place of the box. Its samples seen from a pixel t steps away lie with
+ * density T(z - eta t), so the density of reprojected samples is
+ * rho(z) = sum_t w(t) T(z - eta t) (fsf_density_swept; cum as fsf_density's), and a sample
+ * weighs T(z) / rho(z): fsf_swept_weight, 0 where either is 0. With ramp 0 the filter keeps
+ * the box and fsf_density (a static light, bit for bit). */
+float fsf_swept_profile(float z_m, float half_m, float ramp_m);
+float fsf_density_swept(float z_m, float eta_m, float half_m, float ramp_m, int r, const float *cum);
+float fsf_swept_weight(float z_m, float eta_m, float half_m, float ramp_m, int r, const float *cum);
 void fsf_tap_prefix_mean(const FsfGrid *g, const FsfPixel *p, float *cum);
 
 /* The factors that make a pixel's samples (count of them, 3 floats each from sample_rgb)

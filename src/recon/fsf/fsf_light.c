@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "recon/aaf/aaf_light_sweep.h"
+#include "recon/moving_lights.h"
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
 #include "recon/shared_triangles.h"
@@ -14,6 +15,8 @@ FsfGrid fsf_light_grid(const FsfLight *l)
 {
     FsfGrid g = fsf_grid_nodes(l->half_m[0], l->half_m[1], FSF_LIGHT_SHIFT_NODES);
     g.reach_sigmas = FSF_REACH_SIGMAS_NARROW;
+    g.ramp_m[0] = l->ramp_m[0];
+    g.ramp_m[1] = l->ramp_m[1];
     return g;
 }
 
@@ -41,6 +44,19 @@ float fsf_light_power_share(const Renderer *r)
         if (b.is_triangle && b.shape == light.shape) mine += power;
     }
     return all > 0.0 ? (float)(mine / all) : 0.0f;
+}
+
+/* Along the unit axis `axis` (index a of the sweep's), a translating light's pose extent (at
+ * shutter open) w and its motion m (the centroid from shutter open to close): its samples'
+ * density is the trapezoid box(w) * box(m), whose ramps are min(w, |m|) wide (docs/algorithms.md
+ * 10, "The swept light's density"). */
+static float swept_ramp(const ReconLightSweep *sw, const float axis[3], int a, float *pose, float *motion)
+{
+    double m = 0.0;
+    for (int k = 0; k < 3; ++k) m += (sw->end_centre[1][k] - sw->end_centre[0][k]) * axis[k];
+    double width = sw->end_hi[0][a] - sw->end_lo[0][a];
+    *pose = (float)width, *motion = (float)m;
+    return (float)fmin(width, fabs(m));
 }
 
 bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
@@ -85,35 +101,29 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     vec3 u = v3_madd(e, n, -v3_dot(e, n));
     u = v3_scale(u, 1.0f / v3_length(u));
     vec3 v = v3_cross(n, u);
-    /* a moving light: the extent its poses sweep over the shutter (the ends included), around
-     * their mean centre (trapezoid rule); FSF still takes the swept light as uniform, where its
-     * samples' density is not (docs/algorithms.md 1.9; what is left: docs/benchmarks.md, mlight1) */
-    enum { POSES = 33 };
-    int poses = first.moving ? POSES : 1;
+    float half[2] = {0.0f, 0.0f}, ramp[2] = {0.0f, 0.0f}, pose[2] = {0.0f, 0.0f}, motion[2] = {0.0f, 0.0f};
     if (first.moving) {
-        vec3 mean = v3s(0.0f);
-        for (int t = 0; t < poses; ++t) {
-            vec3 ct = v3s(0.0f);
-            float at = 0.0f;
-            for (int m = 0; m < count; ++m) {
-                RenderLightInfo b;
-                if (!renderer_light_info_at(r, m, (float)t / (POSES - 1), &b) || b.kind != RENDER_LIGHT_AREA ||
-                    !b.is_triangle || b.shape != first.shape)
-                    continue;
-                ct = v3_madd(ct, b.center_world, b.area_world);
-                at += b.area_world;
-            }
-            float w = (t == 0 || t == POSES - 1 ? 0.5f : 1.0f) / (POSES - 1);
-            mean = v3_madd(mean, ct, w / at);
+        /* the swept light (moving_lights.h): centre the poses' mean, half extents those of the
+         * union of its poses around it, and along each axis the ramp of its samples' density,
+         * the trapezoid of the pose's extent convolved with the motion's (docs/algorithms.md
+         * 10, "The swept light's density") */
+        float axes[2][3] = {{u.x, u.y, u.z}, {v.x, v.y, v.z}};
+        ReconLightSweep sw;
+        if (!recon_light_sweep(r, best, 0.0f, axes[0], axes[1], &sw) || !sw.ends_ok[0] || !sw.ends_ok[1]) {
+            diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0}, "--filter fsf: the moving area light's poses cannot be read");
+            return false;
         }
-        c = mean;
-    }
-    float half[2] = {0.0f, 0.0f};
-    for (int t = 0; t < poses; ++t)
+        c = v3((float)sw.centre[0], (float)sw.centre[1], (float)sw.centre[2]);
+        for (int a = 0; a < 2; ++a) {
+            half[a] = fmaxf(-sw.lo[a], sw.hi[a]);
+            ramp[a] = swept_ramp(&sw, axes[a], a, &pose[a], &motion[a]);
+            if (!(ramp[a] > FSF_RAMP_MIN_REL * half[a])) ramp[a] = 0.0f; /* a motion too small to tell: the box */
+        }
+    } else {
         for (int m = 0; m < count; ++m) {
             RenderLightInfo b;
-            if (!renderer_light_info_at(r, m, first.moving ? (float)t / (POSES - 1) : -1.0f, &b) ||
-                b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.shape != first.shape)
+            if (!renderer_light_info_at(r, m, -1.0f, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle ||
+                b.shape != first.shape)
                 continue;
             for (int k = 0; k < 3; ++k) {
                 vec3 q = v3_sub(b.tri_world[k], c);
@@ -121,6 +131,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
                 half[1] = fmaxf(half[1], fabsf(v3_dot(q, v)));
             }
         }
+    }
     if (!(half[0] > 0.0f && half[1] > 0.0f && isfinite(half[0]) && isfinite(half[1]))) {
         diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0}, "--filter fsf: the area light has no extent");
         return false;
@@ -131,6 +142,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     out->axis_world[1] = v;
     out->half_m[0] = half[0];
     out->half_m[1] = half[1];
+    for (int a = 0; a < 2; ++a) out->ramp_m[a] = ramp[a], out->pose_m[a] = pose[a], out->motion_m[a] = motion[a];
     out->shape = first.shape;
     return true;
 }

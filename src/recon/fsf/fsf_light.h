@@ -20,6 +20,11 @@
 typedef struct {
     vec3 centre_world, normal_world, axis_world[2]; /* axis 0: u, axis 1: v (unit) */
     float half_m[2];                                /* half extents along u, v */
+    float ramp_m[2];                                /* a moving light: its samples' density ramps
+                                                     * along u, v (FsfGrid.ramp_m); 0: uniform */
+    float pose_m[2], motion_m[2];                   /* a moving light: its pose's extent at shutter
+                                                     * open and its centroid's motion over the
+                                                     * shutter along u, v (FsfGeoTerm's); 0: static */
     int shape;                                      /* the emitter's SceneDesc shape */
 } FsfLight;
 
@@ -31,6 +36,10 @@ typedef struct {
  * at 32 spp (docs/algorithms.md section 10, "Coarser shift grids, shorter taps"). */
 #define FSF_LIGHT_SHIFT_NODES 13
 FsfGrid fsf_light_grid(const FsfLight *l);
+
+/* A moving light's ramp below this share of its half extent is left out (the box): the motion
+ * along that axis is below what the samples can tell. */
+#define FSF_RAMP_MIN_REL 1e-3f
 
 /* false with d set when the scene has no planar area light made of triangles. */
 bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d);

@@ -291,6 +291,17 @@ static FsfScratch *scratch(ReconMethod *m, Diag *d)
     return NULL;
 }
 
+/* The frame's arrays with the samples' light too (FsfScratch.v): the filters that read it, the
+ * shadows' and the lens'; NULL (d set) when out of memory. */
+static FsfScratch *scratch_with_values(ReconMethod *m, Diag *d)
+{
+    FsfScratch *b = scratch(m, d);
+    if (!b || fsf_scratch_values(b, (size_t)m->g->width * (size_t)m->g->height, sample_store_capacity(m->store)))
+        return b;
+    diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF buffers");
+    return NULL;
+}
+
 /* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
  * allocation of the budget by the count factors sqrt(v / A). A: the
  * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
@@ -565,13 +576,14 @@ static FsfGeoTerm geo_term_of(const FsfLight *l, const float *mean_g)
     float *o[4] = {t.centre, t.axis[0], t.axis[1], t.normal};
     for (int k = 0; k < 4; ++k) o[k][0] = v[k]->x, o[k][1] = v[k]->y, o[k][2] = v[k]->z;
     t.mean_g = mean_g;
+    for (int a = 0; a < 2; ++a) t.ramp_m[a] = l->ramp_m[a], t.pose_m[a] = l->pose_m[a], t.motion_m[a] = l->motion_m[a];
     return t;
 }
 
 static bool filter_shadows(ReconMethod *m, float *value4, double *kernel_seconds, Diag *d)
 {
     fsf_profile_begin(&m->prof);
-    FsfScratch *b = scratch(m, d);
+    FsfScratch *b = scratch_with_values(m, d);
     if (!b) return false;
     fsf_profile_mark(&m->prof, "alloc");
     bool ok = true;
@@ -667,7 +679,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
     int w = m->g->width, h = m->g->height;
     size_t n = (size_t)w * (size_t)h;
     fsf_profile_begin(&m->prof);
-    FsfScratch *b = scratch(m, d);
+    FsfScratch *b = scratch_with_values(m, d);
     if (!b) return false;
     bool ok = true;
     long long nonfinite = 0;

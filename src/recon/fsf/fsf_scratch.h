@@ -16,7 +16,10 @@
 typedef struct {
     unsigned char *usable; /* n */
     int *count;            /* n */
-    float *y, *v;          /* 2 and 3 floats per slot (at least one slot) */
+    float *y;              /* 2 floats per slot (at least one slot) */
+    float *v;              /* 3 floats per slot: allocated only by fsf_scratch_values (NULL until
+                            * then): the filters that read a sample's light (shadows, defocus) ask
+                            * for it, the indirect light's (fsf_flat.h: a pixel's value) does not */
     float *k_lo, *k_hi;    /* n */
     float *out4;           /* 4 n */
     float *mean_g;         /* n (form 4's per-pixel means, fsf_geo_term.h) */
@@ -28,6 +31,9 @@ typedef struct {
  * CPU device would copy them (PoCL's base address alignment is 128 bytes on this machine; a page
  * is safe for any device). false (nothing left allocated) when out of memory. */
 bool fsf_scratch_alloc(FsfScratch *s, size_t n, int capacity);
+/* s->v for the same n and capacity, allocated (page aligned) at the first call; false (s->v
+ * NULL, the rest kept) when out of memory. */
+bool fsf_scratch_values(FsfScratch *s, size_t n, int capacity);
 void fsf_scratch_free(FsfScratch *s);
 
 #endif
