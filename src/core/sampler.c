@@ -1815,11 +1815,17 @@ static RUN_KERNEL bool run_table_values_2d(const uint32_t *index, const uint32_t
 }
 
 /* A run's 2D values again by the scalar stratum_value, from their strata and jitter bits: what
- * the vectorised loops' callers do when some jitter lies within rounding of a stratum edge. */
+ * the vectorised loops' callers do when some jitter lies within rounding of a stratum edge.
+ * Only those samples: where both jitters are clear of the edges stratum_value is
+ * stratum_value_raw, whose value the vectorised loop wrote already (stratum_value_vec). At
+ * 8192 spp (a margin of 2^-10 on each side) about a quarter of a 64-sample run's calls
+ * redid every sample (1% of the render). */
 static void run_values_2d_exact(const PixelSampler *s, int count, const uint32_t *sx, const uint32_t *sy,
                                 const uint32_t *jx, const uint32_t *jy, vec2 *out)
 {
-    for (int k = 0; k < count; ++k) out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+    for (int k = 0; k < count; ++k)
+        if (!jitter_clear_of_edges(s, jx[k]) || !jitter_clear_of_edges(s, jy[k]))
+            out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
 }
 
 void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
