@@ -1699,6 +1699,79 @@ static RUN_KERNEL bool run_tabled_values_small(const uint32_t *restrict j, const
     return near_edge != 0;
 }
 
+/* One side of a tabled grid as run_grid_values_direct needs it: m elements, rho's lattice
+ * step (m > 16) or its packed shuffle (2 <= m <= 16). */
+typedef struct {
+    uint32_t m, step;
+    uint64_t small;
+} GridSide;
+
+/* rho(i[k]) of one side for a run: grid_rho's values (grid_fill_all's entries' low halves).
+ * Past 16 elements the lattice's remainder by a 32-bit reciprocal, exact as in
+ * grid_lattice_entries (step i < m^2 <= 2^20, m < 2^10). */
+static inline __attribute__((always_inline)) void side_rho_run(const uint32_t *restrict i, int count, GridSide side,
+                                                               uint32_t *restrict rho)
+{
+    if (side.m <= 1) {
+        for (int k = 0; k < count; ++k) rho[k] = 0;
+    } else if (side.m <= SAMPLER_SHUFFLE_MAX) {
+        uint32_t lo = (uint32_t)side.small, hi = (uint32_t)(side.small >> 32);
+        for (int k = 0; k < count; ++k) rho[k] = nibble32(lo, hi, i[k]);
+    } else {
+        uint32_t magic = UINT32_MAX / side.m + 1u;
+        for (int k = 0; k < count; ++k) {
+            uint32_t x = side.step * i[k], q = (uint32_t)(((uint64_t)x * magic) >> 32);
+            rho[k] = x - q * side.m;
+        }
+    }
+}
+
+/* run_tabled_values without the table: each sample's row and column entries computed for
+ * that sample alone (its row's rotation, its column's, the two rho), all of it in
+ * vectorised loops without a look-up. A run fills the table with rows + cols hashes, and
+ * this costs two a sample: at 8192 spp (64 x 128) a round's 64 samples took 192 hashes and
+ * two emulated 16-lane gathers a sample (GCC 12 emits no vpgatherdd under generic tuning),
+ * here 128 hashes and none (docs/benchmarks.md, branch samp2). The same outputs as
+ * run_tabled_values unless some rotation's draw may need Lemire's rejection
+ * (uniform_below_small's flag: m 2^-64 a draw below m): then it returns
+ * RUN_DIRECT_REJECTED and writes nothing the caller may use (the caller redraws the run
+ * through the table, whose rotations grid_rotations draws exactly). Else the bit
+ * RUN_DIRECT_NEAR_EDGE says as run_tabled_values's result does. */
+enum { RUN_DIRECT_NEAR_EDGE = 1, RUN_DIRECT_REJECTED = 2 };
+static RUN_KERNEL uint32_t run_grid_values_direct(const uint32_t *restrict j, const uint32_t *restrict jitter_x,
+                                                  const uint32_t *restrict jitter_y, int count, GridSide side_x,
+                                                  GridSide side_y, uint64_t seed, StratumScale sc,
+                                                  uint32_t *restrict stratum_x, uint32_t *restrict stratum_y,
+                                                  float *restrict out_xy)
+{
+    uint32_t rows = side_x.m, cols = side_y.m;
+    uint32_t magic = UINT32_MAX / cols + 1u; /* as run_tabled_values */
+    uint32_t r[SAMPLER_RUN_MAX], c[SAMPLER_RUN_MAX];
+    for (int k = 0; k < count; ++k) {
+        uint32_t q = (uint32_t)(((uint64_t)j[k] * magic) >> 32);
+        r[k] = q, c[k] = j[k] - q * cols;
+    }
+    /* the rotations: row r's sub-rows (a draw below cols), column c's sub-columns (below rows) */
+    uint32_t row_rot[SAMPLER_RUN_MAX], col_rot[SAMPLER_RUN_MAX], rejected = 0;
+    for (int k = 0; k < count; ++k) {
+        row_rot[k] = uniform_below_small(row_perm_seed(seed, r[k]), cols, &rejected);
+        col_rot[k] = uniform_below_small(column_perm_seed(seed, c[k]), rows, &rejected);
+    }
+    if (rejected) return RUN_DIRECT_REJECTED;
+    uint32_t rho_x[SAMPLER_RUN_MAX], rho_y[SAMPLER_RUN_MAX];
+    side_rho_run(r, count, side_x, rho_x);
+    side_rho_run(c, count, side_y, rho_y);
+    uint32_t near_edge = 0;
+    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
+    for (int k = 0; k < count; ++k) {
+        uint32_t ax = rho_x[k] + col_rot[k], ay = rho_y[k] + row_rot[k];
+        near_edge |= mj_point(c[k], r[k], ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &stratum_x[k], &stratum_y[k],
+                              &fx[k], &fy[k]);
+    }
+    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
+    return near_edge ? RUN_DIRECT_NEAR_EDGE : 0u;
+}
+
 /* 1D stratified values of a run past the tables: stratum j[k], jitter bits[k]. */
 static RUN_KERNEL bool run_strata_1d(const uint32_t *j, const uint32_t *jitter, int count, StratumScale sc, float *out)
 {
@@ -1742,11 +1815,17 @@ static RUN_KERNEL bool run_table_values_2d(const uint32_t *index, const uint32_t
 }
 
 /* A run's 2D values again by the scalar stratum_value, from their strata and jitter bits: what
- * the vectorised loops' callers do when some jitter lies within rounding of a stratum edge. */
+ * the vectorised loops' callers do when some jitter lies within rounding of a stratum edge.
+ * Only those samples: where both jitters are clear of the edges stratum_value is
+ * stratum_value_raw, whose value the vectorised loop wrote already (stratum_value_vec). At
+ * 8192 spp (a margin of 2^-10 on each side) about a quarter of a 64-sample run's calls
+ * redid every sample (1% of the render). */
 static void run_values_2d_exact(const PixelSampler *s, int count, const uint32_t *sx, const uint32_t *sy,
                                 const uint32_t *jx, const uint32_t *jy, vec2 *out)
 {
-    for (int k = 0; k < count; ++k) out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+    for (int k = 0; k < count; ++k)
+        if (!jitter_clear_of_edges(s, jx[k]) || !jitter_clear_of_edges(s, jy[k]))
+            out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
 }
 
 void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
@@ -1791,6 +1870,15 @@ void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
  * render at 8192 spp cost 1.35x the CPU per sample of one at 512. */
 enum { GRID_FILL_ALL_RATIO = 4 };
 
+/* Grids whose sides both have at most this many elements are looked up in the table by
+ * in-register permutes (run_tabled_values_small); larger ones compute each sample's entries
+ * for it alone (run_grid_values_direct), and use the table only when a rotation's draw may
+ * be rejected. tools/bench-sampler --runs (rounds of 64, against the table): direct 1.52x
+ * cheaper at 8192 spp (64 x 128), 1.38x at 4096, 1.32x at 2048, 1.26x at 1000 (25 x 40:
+ * 65 entries, about as many hashes as the run's 64 samples), 2.1x at 1009 (1 x 1009,
+ * filled entry by entry); 0.955x (dearer) at 512 and 1024, whose permutes beat it. */
+enum { GRID_PERMUTE_SIDE_MAX = 32 };
+
 /* sampler_run_2d's stratified values past the per-pixel tables with a packed or a tabled grid.
  * Out of line, so that the other cases' loop stays as small as it was (Sobol' measured 2-4%
  * slower with this inlined). */
@@ -1800,9 +1888,10 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
     /* value_2d_padded's cases in loops of their own: first the padding walks, so their
      * mispredicted exits do not stall the look-ups (tools/bench-sampler: 1.05x at 100 and
      * 144 spp, 1.2x at 418 and 1000); packed grids then in the vectorised loop; past
-     * 16 x 16, the grid entries in one pass when the run may touch a large share of them
-     * (each sample two of rows + cols; GRID_FILL_ALL_RATIO), so that the value loop finds
-     * them all */
+     * 16 x 16 with a side above GRID_PERMUTE_SIDE_MAX, each sample's entries for it alone;
+     * else (or when a draw there may be rejected) the grid entries in one pass when the run
+     * may touch a large share of them (each sample two of rows + cols; GRID_FILL_ALL_RATIO),
+     * so that the value loop finds them all */
     uint32_t j[SAMPLER_RUN_MAX];
     run_padded_indices(s, t, run, j);
     if (s->grid_packed) {
@@ -1815,12 +1904,23 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
     }
     SamplerGridTable *g = grid_table(s, t, dim);
     uint32_t rows = s->grid_rows, cols = s->grid_cols, count = (uint32_t)run->count;
+    bool permutes = rows <= GRID_PERMUTE_SIDE_MAX && cols <= GRID_PERMUTE_SIDE_MAX;
+    if (!permutes) {
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        run_jitter_bits(run->key, run->count, dim, jx, jy);
+        need_grid_steps(s);
+        GridSide side_x = {rows, s->grid_step_x, g->rho_x_small}, side_y = {cols, s->grid_step_y, g->rho_y_small};
+        uint32_t got = run_grid_values_direct(j, jx, jy, run->count, side_x, side_y, g->seed, stratum_scale(s), sx, sy,
+                                              &out[0].x);
+        if (got == RUN_DIRECT_NEAR_EDGE) run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
+        if (got != RUN_DIRECT_REJECTED) return;
+    }
     uint32_t touched_max = (rows < count ? rows : count) + (cols < count ? cols : count);
     if (rows + cols <= GRID_FILL_ALL_RATIO * touched_max) {
         grid_fill_all(s, g);
         uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
         run_jitter_bits(run->key, run->count, dim, jx, jy);
-        bool near_edge = rows <= 32 && cols <= 32
+        bool near_edge = permutes
                              ? run_tabled_values_small(j, jx, jy, run->count, rows, cols, g->entry, stratum_scale(s),
                                                        sx, sy, &out[0].x)
                              : run_tabled_values(j, jx, jy, run->count, rows, cols, g->entry, stratum_scale(s), sx, sy,

@@ -130,6 +130,24 @@ int main(void)
     CHECK(compare_pixels_runs(1056, 128, 64) == 0);
     CHECK(compare_pixels_runs(34, 2048, 34) == 0);
     CHECK(compare_pixels_runs(17, 2048, 17) == 0);
+    /* grids with a side past 32, whose runs compute each sample's grid entries for it alone
+     * (run_grid_values_direct; the 8192, 32768, 211, 509 and 1056 above too): rows by
+     * lattice nibbles (5 x 37), by exact shuffles (3 x 67; 6 x 37 in runs ending inside a
+     * vector), a side of one with the longest lattice side tabled (1 x 1021), 31 x 33 (both
+     * sides by the lattice's reciprocal), 32 x 64 in runs of 127 and 64 x 64 in runs of one;
+     * and the largest grid tabled, 512 x 512 (rows + cols = SAMPLER_GRID_ENTRIES), in a few
+     * runs below */
+    CHECK(compare_pixels_runs(185, 512, 64) == 0);
+    CHECK(compare_pixels_runs(201, 512, 64) == 0);
+    CHECK(compare_pixels_runs(222, 512, 50) == 0);
+    CHECK(compare_pixels_runs(1021, 64, 64) == 0);
+    CHECK(compare_pixels_runs(1023, 64, 64) == 0);
+    CHECK(compare_pixels_runs(2048, 32, 127) == 0);
+    CHECK(compare_pixels_runs(4096, 4, 1) == 0);
+    for (int px = 0; px < 8; ++px) {
+        CHECK(compare_runs(SAMPLER_STRATIFIED, px, 0, 262144, 64 * 1000 * px, 64, false) == 0);
+        CHECK(compare_runs(SAMPLER_STRATIFIED, px, 0, 262144, 262144 - 127 + px, 127 - px, px & 1) == 0);
+    }
     /* per-pixel tables (spp <= 16: run_table_values_2d, run_table_strata), whole pixels in
      * one run as the renderer's rounds take them. Few near-edge jitters change a value (the
      * rounding must cross the edge): 131072 pixels at 16 spp (19 million values) meet some;
