@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/clock.h"
 #include "recon/cl/cl_runtime_internal.h"
 #include "recon/fsf/fsf_cl_kept.h"
 
@@ -208,17 +209,10 @@ static long long tap_offsets(const FsfGrid *g, size_t n, int axis, const FsfPixe
     return total;
 }
 
-static double mono_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 float *out4, double *kernel_seconds, Diag *d)
 {
-    double t_start = mono_seconds();
+    double t_start = clock_wall_seconds();
     cl_context ctx = f->rt->context;
     cl_command_queue q = f->rt->queue;
     size_t n = (size_t)s->width * (size_t)s->height, slots = n * (size_t)s->capacity;
@@ -324,7 +318,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's OpenCL events");
     }
 #define EV(k) (evk[nev] = (k), &evs[nev++])
-    double t_queue = mono_seconds();
+    double t_queue = clock_wall_seconds();
     if (ok) { /* taps along the first axis (and cum1), their nodes in P's ring */
         cl_int ints[4] = {0, ring1, most1, guided};
         cl_mem m[10] = {b[PX], b[POS], b[NRM], b[USE], b[OFF0], b[NTAP], b[NODE], b[TA0], b[TA1], b[CUM]};
@@ -389,7 +383,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     for (size_t e = 0; e < nev; ++e) add_time(evs[e], &kt[evk[e]]);
     free(evs), free(evk);
     f->prof = (FsfClProfile){kt[K_TAPS], kt[K_BINS], kt[K_1A],         kt[K_1B],
-                             kt[K_2A],   kt[K_2B],   t_queue - t_start, mono_seconds() - t_queue};
+                             kt[K_2A],   kt[K_2B],   t_queue - t_start, clock_wall_seconds() - t_queue};
     if (ok && kernel_seconds) *kernel_seconds = kt[K_TAPS] + kt[K_BINS] + kt[K_1A] + kt[K_1B] + kt[K_2A] + kt[K_2B];
     for (int i = 0; i < NBUF; ++i)
         if (b[i]) clReleaseMemObject(b[i]);

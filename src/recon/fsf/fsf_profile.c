@@ -7,13 +7,12 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "core/clock.h"
+
 static void now(double *wall_ms, double *cpu_ms, double *sys_ms, long *faults)
 {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    *wall_ms = 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    *cpu_ms = 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
+    *wall_ms = 1e3 * clock_wall_seconds();
+    *cpu_ms = 1e3 * clock_cpu_seconds();
     struct rusage use;
     getrusage(RUSAGE_SELF, &use);
     *faults = use.ru_minflt;

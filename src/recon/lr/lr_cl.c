@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/clock.h"
 #include "recon/cl/cl_runtime_internal.h"
 #include "recon/lr/lr_bucket.h"
 
@@ -44,13 +45,6 @@ struct LrCl {
 };
 
 LrClTimes lr_cl_last_times(const LrCl *lr) { return lr->last; }
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static bool cl_ok(cl_int err, const char *what, Diag *d)
 {
@@ -219,7 +213,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
 
     /* The samples' three arrays are read in place (on a CPU device PoCL uses the host
      * memory); the rest lives in the grow-only buffers. */
-    double t0 = now_s();
+    double t0 = clock_wall_seconds();
     cl_int err = CL_SUCCESS, err_k = CL_SUCCESS, err_b = CL_SUCCESS;
     cl_mem b_s = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(LrPlace) * nsamples, (void *)img->place, &err);
     cl_mem b_k = clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, sizeof(LrKey) * nsamples, (void *)img->key, &err_k);
@@ -283,7 +277,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         memset(lr->lp, 0, sizeof(float) * LP_STRIDE * nparts);
         flatten_params(lr, cfg, ntiles, L);
     }
-    double t_part = now_s() - t0;
+    double t_part = clock_wall_seconds() - t0;
     /* Reprojection and screen passes a batch of tile rows at a time: the two grids are per
      * (tile, layer) of the batch only. The whole frame's (63 MB at 256x192) was fresh memory
      * in a one-frame render, page-faulted and cleared by the kernel (docs/benchmarks.md, LR
