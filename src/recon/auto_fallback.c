@@ -26,11 +26,12 @@ double auto_fallback_neighbour_error(int spp, double alpha)
     return spp > AUTO_FOOTPRINT_FIT_SPP ? pow((double)spp / AUTO_FOOTPRINT_FIT_SPP, alpha - 1.0) : 1.0;
 }
 
-double auto_fallback_margin(double margin, int spp)
+double auto_fallback_camera_margin(int spp)
 {
-    /* the margin keeps auto's table, measured at the footprints' counts, within the model's
-     * error there; past them nothing measured backs the table and the faster prediction wins */
-    return spp > AUTO_FOOTPRINT_FIT_SPP ? 1.0 : margin;
+    /* the margin covers the camera model's spread where it was measured; past those counts its
+     * misses all erred towards the filters (their bias is not in it), and the faster
+     * prediction wins */
+    return spp > AUTO_FOOTPRINT_FIT_SPP ? 1.0 : AUTO_CAMERA_MIN_ADVANTAGE;
 }
 
 /* The shading filters' decision for frame f (camera filters among f->others, none judged). */
@@ -57,7 +58,7 @@ static void decide_shading(const FilterGainTotals *t, const AutoFallbackFrame *f
         if (c == out->asked) asked_speed = out->speedup[c];
         if (out->speedup[c] > best) best = out->speedup[c], out->chosen = c;
     }
-    if (best < auto_fallback_margin(AUTO_FALLBACK_MIN_ADVANTAGE, f->spp) * asked_speed) out->chosen = out->asked;
+    if (best < AUTO_FALLBACK_MIN_ADVANTAGE * asked_speed) out->chosen = out->asked;
 }
 
 void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, const AutoFallbackFrame *f, AutoFallback *out)
@@ -88,7 +89,7 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
     AutoFallback alone = *out;
     decide_shading(t, &without, &alone);
     out->camera_speedup_without = alone.speedup[alone.chosen];
-    if (out->camera_speedup_without >= auto_fallback_margin(AUTO_CAMERA_MIN_ADVANTAGE, f->spp) * out->camera_speedup) {
+    if (out->camera_speedup_without >= auto_fallback_camera_margin(f->spp) * out->camera_speedup) {
         memcpy(out->share, alone.share, sizeof out->share);
         memcpy(out->speedup, alone.speedup, sizeof out->speedup);
         out->chosen = alone.chosen;

@@ -19,9 +19,8 @@
  * leaves, relative to Monte Carlo's, grows as N^(alpha - 1) past the counts F was measured at
  * (docs/algorithms.md, "the error ratio's growth with N"). The configuration of the highest
  * S is kept when it beats the one auto chose by AUTO_FALLBACK_MIN_ADVANTAGE; otherwise auto's
- * choice stands. Past N_fit the margin is 1 (auto_fallback_margin): the table auto chose from
- * and the model's spread the margin covers were both measured at 8-16 spp; at higher counts
- * the faster prediction wins.
+ * choice stands (at every count: this model errs towards Monte Carlo, the adaptive plans
+ * not in it).
  *
  * Beside a camera filter, the per-sample variance the probe sees is mostly the lens's or the
  * shutter's, which that filter removes in every configuration; the shading filters' share is
@@ -34,8 +33,9 @@
  *   S_keep = E_cam(c_k)^(-1/alpha) * N t_s / T(c_k)     (filter_gain_camera_error_ratio_at: each
  *            pixel's variance over its camera footprint, camera_gain.h)
  * against S_drop, the best S of the shading judged as in a frame without a camera filter; they
- * are left to Monte Carlo when S_drop >= AUTO_CAMERA_MIN_ADVANTAGE S_keep (S_drop >= S_keep
- * past N_fit). */
+ * are left to Monte Carlo when S_drop >= AUTO_CAMERA_MIN_ADVANTAGE S_keep, past N_fit when
+ * S_drop >= S_keep (auto_fallback_camera_margin: the margin is the camera model's spread at
+ * 8-16 spp; past them its misses all erred towards the filters, whose bias is not in it). */
 #ifndef WEDGE_RECON_AUTO_FALLBACK_H
 #define WEDGE_RECON_AUTO_FALLBACK_H
 
@@ -117,9 +117,9 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
 /* g(N) = (N / AUTO_FOOTPRINT_FIT_SPP)^(alpha - 1) above AUTO_FOOTPRINT_FIT_SPP, 1 up to it. */
 double auto_fallback_neighbour_error(int spp, double alpha);
 
-/* The advantage another choice needs over auto's (margin: AUTO_FALLBACK_MIN_ADVANTAGE or
- * AUTO_CAMERA_MIN_ADVANTAGE) at spp samples: margin up to AUTO_FOOTPRINT_FIT_SPP, 1 past it. */
-double auto_fallback_margin(double margin, int spp);
+/* The advantage Monte Carlo needs over auto's camera filters at spp samples:
+ * AUTO_CAMERA_MIN_ADVANTAGE up to AUTO_FOOTPRINT_FIT_SPP, 1 past it. */
+double auto_fallback_camera_margin(int spp);
 
 /* T(c), microseconds per pixel (the frame's camera candidates count as filters that run). */
 double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, double sample_us);

@@ -167,9 +167,10 @@ grep -q "soft_shadows.*auto fell back to Monte Carlo: an area light moves during
 # Past the counts the model's footprints were measured at (branch auto5; docs/algorithms.md, "the
 # error ratio's growth with N"): on foreground_bars at 64x64 auto's maaf for the defocused fence
 # and the soft shadows is predicted below Monte Carlo's speed at 64 spp (its error relative to
-# Monte Carlo's grows as (N / 16)^(alpha - 1), and past 16 spp no margin keeps auto's table): both
-# fall back, and the frame is --filter none's, bit for bit. Before, the 4/3 margin kept them (the
-# lens filter predicted 0.9x) where they measure 0.46x (docs/benchmarks.md, auto5).
+# Monte Carlo's grows as (N / 16)^(alpha - 1), and past 16 spp no margin keeps auto's camera
+# filters): both fall back, and the frame is --filter none's, bit for bit. Before, the 4/3 margin
+# kept them (the lens filter predicted 0.79x) where they measure 0.47x at 128x128 (docs/benchmarks.md,
+# auto5).
 "$WEDGE" render "$src/scenes/bench/foreground_bars.pbrt" --res 64x64 --spp 64 --seed 3 --threads 2 --filter auto \
     -o "$T/fb.exr" --report "$T/fb.json" 2>"$T/err.txt" >/dev/null; check "foreground_bars at 64 spp" 0 $?
 "$WEDGE" render "$src/scenes/bench/foreground_bars.pbrt" --res 64x64 --spp 64 --seed 3 --threads 2 --filter none \

@@ -2,9 +2,9 @@
  * docs/algorithms.md, "the error ratio's growth with N"): g(N), the growth of a borrowed
  * sample's error relative to Monte Carlo's, against its closed form; the shading and camera
  * error ratios with it against a brute-force sum over the pixels (own samples' part kept,
- * neighbours' part times g); the margin (4/3 up to N_fit, 1 past it); and the decision on a
- * frame whose camera filter is kept at 16 spp and left to Monte Carlo at 64, with its speed by
- * the formula. */
+ * neighbours' part times g); the camera filters' margin (4/3 up to N_fit, 1 past it); the
+ * decision on a frame whose camera filter is kept at 16 spp and left to Monte Carlo at 64, with
+ * its speed by the formula. */
 #include <math.h>
 #include <stdio.h>
 
@@ -24,9 +24,9 @@ int main(void)
     CHECK_NEAR(auto_fallback_neighbour_error(256, 1.25), 2.0, 1e-12); /* 16^0.25 */
     CHECK_NEAR(auto_fallback_neighbour_error(1024, 1.0), 1.0, 0.0);
     CHECK_NEAR(auto_fallback_neighbour_error(0, 2.0), 1.0, 0.0);
-    /* the margin: as measured up to N_fit, none past it */
-    CHECK_NEAR(auto_fallback_margin(4.0 / 3.0, 16), 4.0 / 3.0, 0.0);
-    CHECK_NEAR(auto_fallback_margin(4.0 / 3.0, 17), 1.0, 0.0);
+    /* the camera filters' margin: as measured up to N_fit, none past it */
+    CHECK_NEAR(auto_fallback_camera_margin(16), AUTO_CAMERA_MIN_ADVANTAGE, 0.0);
+    CHECK_NEAR(auto_fallback_camera_margin(17), 1.0, 0.0);
 
     /* three pixels, each a penumbra over a texture (radiance = albedo x visibility + a texture
      * term no filter takes), blurred by footprints 1, 4 and 20 */
