@@ -132,5 +132,6 @@ double filter_gain_camera_error_ratio_at(const FilterGainTotals *t, FilterGainCo
     double kept = t->camera_left[c], removed = t->camera_left[FILTER_GAIN_NONE] - kept;
     if (removed < 0.0) removed = 0.0;
     double own = fmin(t->camera_left_own[c], kept); /* the pixels' own samples' part of kept */
-    return (own + neighbour_error * (kept - own) + neighbour_error * removed / footprint) / all;
+    /* kept + (g - 1) (kept - own): at g = 1 exactly the ratio as measured */
+    return (kept + (neighbour_error - 1.0) * (kept - own) + neighbour_error * removed / footprint) / all;
 }
