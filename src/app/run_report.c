@@ -66,8 +66,10 @@ static void write_auto_fallback(FILE *f, const RunReport *r)
     fprintf(f, ",\n  \"auto_fallback\": {\"fell_back\": [");
     for (int e = 0, first = 1; e < EFFECT_COUNT; ++e)
         if (effect_in(r->auto_fell_back, (Effect)e)) fprintf(f, "%s\"%s\"", first ? "" : ", ", effect_name((Effect)e)), first = 0;
-    fprintf(f, "], \"asked\": \"%s\", \"chosen\": \"%s\", \"spp\": %d, \"alpha\": %.4f, \"sample_us\": %.5f",
-            CONFIG[a->asked], CONFIG[a->chosen], a->spp, finite_or_zero(a->alpha), finite_or_zero(a->sample_us));
+    fprintf(f, "], \"asked\": \"%s\", \"chosen\": \"%s\", \"spp\": %d, \"alpha\": %.4f, \"sample_us\": %.5f, "
+            "\"neighbour_error\": %.4f",
+            CONFIG[a->asked], CONFIG[a->chosen], a->spp, finite_or_zero(a->alpha), finite_or_zero(a->sample_us),
+            finite_or_zero(a->neighbour_error));
     const char *what[2] = {"share", "speedup"};
     for (int k = 0; k < 2; ++k) {
         fprintf(f, ", \"%s\": {", what[k]);

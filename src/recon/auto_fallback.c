@@ -18,6 +18,22 @@ double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, dou
     return t;
 }
 
+double auto_fallback_neighbour_error(int spp, double alpha)
+{
+    /* Monte Carlo's error falls as N^-alpha, a borrowed sample's as N^-1: their ratio grows as
+     * N^(alpha - 1) past the counts the footprints were measured at (within and below them the
+     * footprints stand as measured) */
+    return spp > AUTO_FOOTPRINT_FIT_SPP ? pow((double)spp / AUTO_FOOTPRINT_FIT_SPP, alpha - 1.0) : 1.0;
+}
+
+double auto_fallback_camera_margin(int spp)
+{
+    /* the margin covers the camera model's spread where it was measured; past those counts its
+     * misses all erred towards the filters (their bias is not in it), and the faster
+     * prediction wins */
+    return spp > AUTO_FOOTPRINT_FIT_SPP ? 1.0 : AUTO_CAMERA_MIN_ADVANTAGE;
+}
+
 /* The shading filters' decision for frame f (camera filters among f->others, none judged). */
 static void decide_shading(const FilterGainTotals *t, const AutoFallbackFrame *f, AutoFallback *out)
 {
@@ -36,7 +52,7 @@ static void decide_shading(const FilterGainTotals *t, const AutoFallbackFrame *f
             share = asked_share > 0.0 ? filter_gain_filterable_share(t) * share / asked_share : 0.0;
         }
         out->share[c] = share;
-        double error_ratio = (1.0 - share) + share / AUTO_FILTER_FOOTPRINT;
+        double error_ratio = (1.0 - share) + share * out->neighbour_error / AUTO_FILTER_FOOTPRINT;
         double time_us = auto_fallback_time_us(c, f, out->sample_us);
         out->speedup[c] = time_us > 0.0 && error_ratio > 0.0 ? pow(error_ratio, -1.0 / out->alpha) * t_mc / time_us : 1.0;
         if (c == out->asked) asked_speed = out->speedup[c];
@@ -52,6 +68,7 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
     out->alpha = filter_gain_alpha(t);
     out->sample_us = AUTO_RAY_US * rays_per_sample;
     out->spp = f->spp;
+    out->neighbour_error = auto_fallback_neighbour_error(f->spp, out->alpha);
     /* the camera filters kept: the shading judged beside them as before this judgement existed
      * (its speeds relative, the camera filter's gain not in them) */
     AutoFallbackFrame kept = *f;
@@ -63,7 +80,7 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
     double t_mc = (double)f->spp * out->sample_us;
     out->camera_asked = true;
     out->camera_footprint = t->pixels ? t->camera_footprint_sum / t->pixels : 1.0;
-    out->camera_error = filter_gain_camera_error_ratio(t, out->chosen, AUTO_FILTER_FOOTPRINT);
+    out->camera_error = filter_gain_camera_error_ratio_at(t, out->chosen, AUTO_FILTER_FOOTPRINT, out->neighbour_error);
     double time_kept = auto_fallback_time_us(out->chosen, &kept, out->sample_us);
     out->camera_speedup = time_kept > 0.0 && out->camera_error > 0.0
                               ? pow(out->camera_error, -1.0 / out->alpha) * t_mc / time_kept : 1.0;
@@ -72,7 +89,7 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
     AutoFallback alone = *out;
     decide_shading(t, &without, &alone);
     out->camera_speedup_without = alone.speedup[alone.chosen];
-    if (out->camera_speedup_without >= AUTO_CAMERA_MIN_ADVANTAGE * out->camera_speedup) {
+    if (out->camera_speedup_without >= auto_fallback_camera_margin(f->spp) * out->camera_speedup) {
         memcpy(out->share, alone.share, sizeof out->share);
         memcpy(out->speedup, alone.speedup, sizeof out->speedup);
         out->chosen = alone.chosen;

@@ -4,7 +4,8 @@
  * (docs/algorithms.md, "auto's fallback to Monte Carlo", for the model and its derivation).
  *
  *   time per pixel   T(c) = N t_s + [a filter runs] N t_sink + t_px k(c)
- *   error ratio      E(c) = (1 - s(c)) + s(c) / F        (filter_gain_error_ratio)
+ *   error ratio      E(c) = (1 - s(c)) + s(c) g(N) / F   (filter_gain_error_ratio_at)
+ *   growth with N    g(N) = max(1, N / N_fit)^(alpha - 1)  (auto_fallback_neighbour_error)
  *   equal-error speed against Monte Carlo at N samples:
  *                    S(c) = E(c)^(-1/alpha) * N t_s / T(c)
  *
@@ -12,8 +13,14 @@
  * rays per sample times AUTO_RAY_US),
  * k(c) the filters that run, s(c) the probe's share of the error an ideal filter of c
  * removes, alpha Monte Carlo's convergence exponent (filter_gain_alpha) and F the filters'
- * footprint. The configuration of the highest S is kept when it beats the one auto chose by
- * AUTO_FALLBACK_MIN_ADVANTAGE; otherwise auto's choice stands.
+ * footprint, measured at N_fit samples (AUTO_FOOTPRINT_FIT_SPP). g: a filter replaces a
+ * pixel's stratified samples by its neighbours' (F samples' worth, one its own), whose error
+ * relative to the pixel falls as 1/N where Monte Carlo's falls as N^-alpha; so the error it
+ * leaves, relative to Monte Carlo's, grows as N^(alpha - 1) past the counts F was measured at
+ * (docs/algorithms.md, "the error ratio's growth with N"). The configuration of the highest
+ * S is kept when it beats the one auto chose by AUTO_FALLBACK_MIN_ADVANTAGE; otherwise auto's
+ * choice stands (at every count: this model errs towards Monte Carlo, the adaptive plans
+ * not in it).
  *
  * Beside a camera filter, the per-sample variance the probe sees is mostly the lens's or the
  * shutter's, which that filter removes in every configuration; the shading filters' share is
@@ -23,10 +30,12 @@
  *
  * The camera filters auto chose (defocus, motion) are judged as one candidate: kept, with the
  * shading configuration c_k chosen beside them as above,
- *   S_keep = E_cam(c_k)^(-1/alpha) * N t_s / T(c_k)     (filter_gain_camera_error_ratio: each
+ *   S_keep = E_cam(c_k)^(-1/alpha) * N t_s / T(c_k)     (filter_gain_camera_error_ratio_at: each
  *            pixel's variance over its camera footprint, camera_gain.h)
  * against S_drop, the best S of the shading judged as in a frame without a camera filter; they
- * are left to Monte Carlo when S_drop >= AUTO_CAMERA_MIN_ADVANTAGE S_keep. */
+ * are left to Monte Carlo when S_drop >= AUTO_CAMERA_MIN_ADVANTAGE S_keep, past N_fit when
+ * S_drop >= S_keep (auto_fallback_camera_margin: the margin is the camera model's spread at
+ * 8-16 spp; past them its misses all erred towards the filters, whose bias is not in it). */
 #ifndef WEDGE_RECON_AUTO_FALLBACK_H
 #define WEDGE_RECON_AUTO_FALLBACK_H
 
@@ -58,6 +67,9 @@
 /* The independent samples a shading filter's kernel averages, relative to one pixel's: the
  * factor by which it lowers the error it can remove. */
 #define AUTO_FILTER_FOOTPRINT 50.0
+/* N_fit: the highest sample count at which AUTO_FILTER_FOOTPRINT and the camera footprint
+ * below were measured (8 and 16 spp): g(N) = 1 up to it */
+#define AUTO_FOOTPRINT_FIT_SPP 16
 /* The camera filters' footprint (camera_gain.h), F = 1 + efficiency (A - 1) at most a cap,
  * A a sample's blur area in pixels: fitted on defocus, motion and motion_defocus_hard only
  * (256x256, 8 and 16 spp; efficiency 0.05-0.5 and caps 10-100 tried; docs/benchmarks.md, "auto
@@ -87,6 +99,8 @@ typedef struct {
     double alpha;
     double sample_us;        /* t_s, microseconds */
     int spp;
+    double neighbour_error;  /* g(N): a borrowed sample's error relative to Monte Carlo's, against
+                              * that at N_fit (auto_fallback_neighbour_error) */
     /* the camera filters' judgement (cameras > 0 in the frame) */
     bool camera_asked;       /* the frame had camera candidates */
     bool camera_fell_back;   /* they were left to Monte Carlo */
@@ -99,6 +113,13 @@ typedef struct {
 
 /* The decision for a frame from the probe's totals and rays per sample. */
 void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, const AutoFallbackFrame *f, AutoFallback *out);
+
+/* g(N) = (N / AUTO_FOOTPRINT_FIT_SPP)^(alpha - 1) above AUTO_FOOTPRINT_FIT_SPP, 1 up to it. */
+double auto_fallback_neighbour_error(int spp, double alpha);
+
+/* The advantage Monte Carlo needs over auto's camera filters at spp samples:
+ * AUTO_CAMERA_MIN_ADVANTAGE up to AUTO_FOOTPRINT_FIT_SPP, 1 past it. */
+double auto_fallback_camera_margin(int spp);
 
 /* T(c), microseconds per pixel (the frame's camera candidates count as filters that run). */
 double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, double sample_us);

@@ -64,6 +64,7 @@ void filter_gain_add_pixel_sets(FilterGainTotals *t, const FilterGainSample *s, 
         double v = mixed ? left[FILTER_GAIN_NONE] : fmin(left[c], left[FILTER_GAIN_NONE]);
         t->left[c] += w * v;
         t->camera_left[c] += w * v / f;
+        t->camera_left_own[c] += w * v / (f * f);
     }
     t->camera_footprint_sum += f;
     t->var_mean_n += w * 0.5 * (mean_a - mean_b) * (mean_a - mean_b);
@@ -108,15 +109,29 @@ double filter_gain_alpha(const FilterGainTotals *t)
 
 double filter_gain_error_ratio(const FilterGainTotals *t, FilterGainConfig c, double footprint)
 {
+    return filter_gain_error_ratio_at(t, c, footprint, 1.0);
+}
+
+double filter_gain_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint, double neighbour_error)
+{
     double s = filter_gain_share(t, c);
-    return (1.0 - s) + s / footprint;
+    /* the filter's own-pixel part (1 / footprint^2 of what it removes) is left out: under 2% */
+    return (1.0 - s) + s * neighbour_error / footprint;
 }
 
 double filter_gain_camera_error_ratio(const FilterGainTotals *t, FilterGainConfig c, double footprint)
+{
+    return filter_gain_camera_error_ratio_at(t, c, footprint, 1.0);
+}
+
+double filter_gain_camera_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint,
+                                         double neighbour_error)
 {
     double all = t->left[FILTER_GAIN_NONE];
     if (!(all > 0.0)) return 1.0;
     double kept = t->camera_left[c], removed = t->camera_left[FILTER_GAIN_NONE] - kept;
     if (removed < 0.0) removed = 0.0;
-    return (kept + removed / footprint) / all;
+    double own = fmin(t->camera_left_own[c], kept); /* the pixels' own samples' part of kept */
+    /* kept + (g - 1) (kept - own): at g = 1 exactly the ratio as measured */
+    return (kept + (neighbour_error - 1.0) * (kept - own) + neighbour_error * removed / footprint) / all;
 }

@@ -57,6 +57,11 @@ typedef struct {
      * footprint F there (camera_gain.h; the camera filters take mixed pixels too, which keep
      * left(none)); F = 1 where nothing is blurred. */
     double camera_left[FILTER_GAIN_CONFIGS];
+    /* sum of w * left(c) / F^2: the part of camera_left[c] a pixel's own samples carry (of the
+     * F samples' worth a camera filter averages, one is the pixel's; the rest are its
+     * neighbours', whose error does not fall as the pixel's stratified samples' does:
+     * filter_gain_camera_error_ratio_at) */
+    double camera_left_own[FILTER_GAIN_CONFIGS];
     double camera_footprint_sum; /* sum of F over the pixels added (the report's mean) */
 } FilterGainTotals;
 
@@ -103,11 +108,26 @@ double filter_gain_alpha(const FilterGainTotals *t);
  * samples its kernel averages, relative to one pixel's): (1 - s) + s / footprint. */
 double filter_gain_error_ratio(const FilterGainTotals *t, FilterGainConfig c, double footprint);
 
+/* The same at a sample count where the samples a filter borrows from neighbouring pixels have
+ * neighbour_error times the error relative to Monte Carlo's they had where the footprint was
+ * measured (auto_fallback.h, "the error ratio's growth with N"): (1 - s) + s neighbour_error /
+ * footprint. neighbour_error 1 gives filter_gain_error_ratio. */
+double filter_gain_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint, double neighbour_error);
+
 /* The same with the camera filters kept: per pixel, the variance configuration c's ideal
  * shading filter leaves, plus 1 / footprint of what it removes, over that pixel's camera
  * footprint F; summed with relMSE's weights over Monte Carlo's:
  *   (sum w [left(c) + (left(none) - left(c)) / footprint] / F) / sum w sigma^2.
  * 1 when there is no variance. */
 double filter_gain_camera_error_ratio(const FilterGainTotals *t, FilterGainConfig c, double footprint);
+
+/* The same with neighbour_error as in filter_gain_error_ratio_at: of a pixel's variance left
+ * by c over F, its own samples' part (left(c) / F^2) stays and the neighbours' part (left(c)
+ * (F - 1) / F^2) is multiplied by neighbour_error; what the shading filter removes is its
+ * neighbours' and multiplied by it too:
+ *   (sum w [left(c) (1 + (F - 1) g) / F^2 + g (left(none) - left(c)) / (footprint F)]) / sum w sigma^2,
+ * g = neighbour_error. g = 1 gives filter_gain_camera_error_ratio. */
+double filter_gain_camera_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint,
+                                         double neighbour_error);
 
 #endif
