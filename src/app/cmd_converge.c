@@ -61,7 +61,6 @@ typedef struct {
     int threads;              /* 0: the renderer's default (all cores) */
     bool print_key;           /* --ref-key: print the reference key and stop */
     bool no_plots;
-    bool cpu_time;            /* --time cpu: speedups from each render's CPU seconds, not its wall time */
 } ConvergeOptions;
 
 /* One row of results.csv. */
@@ -73,19 +72,13 @@ typedef struct {
     double relmse, mse, psnr, ssim;
 } ConvergeRow;
 
-/* The time a speedup is measured in: wall seconds, or with --time cpu the CPU seconds, which
- * other jobs on a shared machine inflate far less (they still slow it through shared caches). */
-static double row_seconds(const ConvergeRow *r, bool cpu_time)
-{
-    return cpu_time ? r->cpu_seconds_total : r->seconds_total;
-}
 
 static void usage(FILE *f)
 {
     fprintf(f,
             "usage: wedge converge [SCENE] --spp LIST --methods LIST [--mu LIST] [--ref-spp N]\n"
             "                      [--baseline-spp LIST] [--res WxH] [--cache DIR] [--seed N]\n"
-            "                      [--ref-seed N] [--threads N] [--time wall|cpu] [--no-plots] --out DIR\n"
+            "                      [--ref-seed N] [--threads N] [--no-plots] --out DIR\n"
             "       wedge converge [SCENE] --ref-key [--ref-spp N] [--res WxH] [--seed N] [--ref-seed N]\n"
             "\n"
             "Renders a reference once (cached; default ref spp 4096), then every (method, mu, spp)\n"
@@ -97,8 +90,8 @@ static void usage(FILE *f)
             "has the error of Monte Carlo at 100 or more; outside the curve a speedup is extrapolated).\n"
             "--seed N seeds the runs (N + 1, N + 2, ...) and the reference; --ref-seed N gives the\n"
             "reference its own seed, so that sweeps of several seeds share one reference.\n"
-            "--time cpu measures the equal-error speedups in each render's CPU seconds (all threads)\n"
-            "instead of its wall time (the default): steadier on a machine other jobs share.\n"
+            "Equal-error speedups are given in wall time and in CPU time (all threads): the second is\n"
+            "steadier on a machine other jobs share, the first is what a user waits.\n"
             "\n"
             "methods:\n");
     for (int i = 0; i < converge_method_count(); ++i) {
@@ -195,12 +188,6 @@ static int parse_args(int argc, char **argv, ConvergeOptions *o)
             method_list = v;
         } else if (!strcmp(a, "--mu")) {
             mu_list = v;
-        } else if (!strcmp(a, "--time")) {
-            if (strcmp(v, "wall") && strcmp(v, "cpu")) {
-                fprintf(stderr, "wedge converge: --time wants wall or cpu, got '%s'\n", v);
-                return WEDGE_EXIT_USAGE;
-            }
-            o->cpu_time = !strcmp(v, "cpu");
         } else if (!strcmp(a, "--out")) {
             o->out_dir = v;
         } else if (!strcmp(a, "--cache")) {
@@ -538,36 +525,40 @@ static void make_plots(const char *out_dir)
  * lines of the printed table). False, and nothing written, when the sweep has under two runs
  * of the baseline. */
 static bool speedup_against(FILE *f, const char *scene, const char *baseline, const ConvergeRow *rows, int row_count,
-                            bool cpu_time, CurvePoint *curve)
+                            CurvePoint *curve, CurvePoint *curve_cpu)
 {
     int n = 0;
     for (int i = 0; i < row_count; ++i)
-        if (!strcmp(rows[i].method->name, baseline))
-            curve[n++] = (CurvePoint){rows[i].spp_avg, row_seconds(&rows[i], cpu_time), rows[i].relmse};
+        if (!strcmp(rows[i].method->name, baseline)) {
+            curve_cpu[n] = (CurvePoint){rows[i].spp_avg, rows[i].cpu_seconds_total, rows[i].relmse};
+            curve[n++] = (CurvePoint){rows[i].spp_avg, rows[i].seconds_total, rows[i].relmse};
+        }
     if (n < 2) return false;
-    printf("\nequal-error speedup against %s (relMSE; baseline interpolated in log-log; %s time):\n", baseline,
-           cpu_time ? "CPU" : "wall");
-    printf("  %-8s %-6s %9s %11s %11s %10s %10s\n", "method", "mu", "spp", "relMSE", "base spp", "x samples",
-           "x time");
+    printf("\nequal-error speedup against %s (relMSE; baseline interpolated in log-log):\n", baseline);
+    printf("  %-8s %-6s %9s %11s %11s %10s %10s %10s\n", "method", "mu", "spp", "relMSE", "base spp", "x samples",
+           "x time", "x CPU");
     for (int i = 0; i < row_count; ++i) {
         const ConvergeRow *r = &rows[i];
         EqualErrorCost c = equal_error_cost(curve, n, r->relmse);
-        double seconds = row_seconds(r, cpu_time);
-        if (!c.valid || !(r->spp_avg > 0) || !(seconds > 0)) continue;
-        double x_samples = c.spp / r->spp_avg, x_time = c.seconds / seconds;
-        fprintf(f, "%s,%s,%s,%s,%.6g,%.6g,%.9g,%.6g,%.6g,%.6g,%.6g,%d,%s\n", scene, r->method->name, r->mu ? r->mu : "",
-                baseline, r->spp_avg, seconds, r->relmse, c.spp, c.seconds, x_samples, x_time, c.extrapolated,
-                cpu_time ? "cpu" : "wall");
-        printf("  %-8s %-6s %9.1f %11.4g %11.1f %10.3g %10.3g%s\n", r->method->name, r->mu ? r->mu : "-",
-               r->spp_avg, r->relmse, c.spp, x_samples, x_time, c.extrapolated ? "  (extrapolated)" : "");
+        if (!c.valid || !(r->spp_avg > 0) || !(r->seconds_total > 0)) continue;
+        double x_samples = c.spp / r->spp_avg, x_time = c.seconds / r->seconds_total;
+        /* the same error on the CPU-seconds curve (its interpolation in spp is the same) */
+        EqualErrorCost c_cpu = equal_error_cost(curve_cpu, n, r->relmse);
+        double x_cpu = c_cpu.valid && r->cpu_seconds_total > 0 ? c_cpu.seconds / r->cpu_seconds_total : 0.0;
+        fprintf(f, "%s,%s,%s,%s,%.6g,%.6g,%.9g,%.6g,%.6g,%.6g,%.6g,%d,%.6g,%.6g,%.6g\n", scene, r->method->name,
+                r->mu ? r->mu : "", baseline, r->spp_avg, r->seconds_total, r->relmse, c.spp, c.seconds, x_samples,
+                x_time, c.extrapolated, r->cpu_seconds_total, c_cpu.seconds, x_cpu);
+        printf("  %-8s %-6s %9.1f %11.4g %11.1f %10.3g %10.3g %10.3g%s\n", r->method->name, r->mu ? r->mu : "-",
+               r->spp_avg, r->relmse, c.spp, x_samples, x_time, x_cpu, c.extrapolated ? "  (extrapolated)" : "");
     }
     return true;
 }
 
-static void write_speedup(const char *out_dir, const char *scene, const ConvergeRow *rows, int row_count, bool cpu_time)
+static void write_speedup(const char *out_dir, const char *scene, const ConvergeRow *rows, int row_count)
 {
-    CurvePoint *curve = malloc(sizeof *curve * (size_t)(row_count ? row_count : 1));
+    CurvePoint *curve = malloc(sizeof *curve * 2 * (size_t)(row_count ? row_count : 1));
     if (!curve) return;
+    CurvePoint *curve_cpu = curve + (row_count ? row_count : 1);
     char path[4096];
     snprintf(path, sizeof path, "%s/speedup.csv", out_dir);
     FILE *f = fopen(path, "w");
@@ -577,10 +568,10 @@ static void write_speedup(const char *out_dir, const char *scene, const Converge
         return;
     }
     fprintf(f, "scene,method,mu,baseline,spp_avg,seconds_total,relmse,base_spp,base_seconds,speedup_samples,"
-               "speedup_time,extrapolated,clock\n");
+               "speedup_time,extrapolated,cpu_seconds_total,base_cpu_seconds,speedup_cpu\n");
     bool any = false;
     for (int b = 0; b < converge_baseline_method_count; ++b)
-        any = speedup_against(f, scene, converge_baseline_methods[b], rows, row_count, cpu_time, curve) || any;
+        any = speedup_against(f, scene, converge_baseline_methods[b], rows, row_count, curve, curve_cpu) || any;
     if (!any)
         printf("equal-error speedup: needs a Monte Carlo method (%s or %s) with at least two budgets in the sweep\n",
                converge_baseline_methods[0], converge_baseline_methods[1]);
@@ -879,7 +870,7 @@ int cmd_converge(int argc, char **argv)
     for (int i = 0; i < run_count; ++i)
         if (done[i]) rows[row_count++] = rows[i];
     if (row_count > 0) {
-        write_speedup(o.out_dir, name, rows, row_count, o.cpu_time);
+        write_speedup(o.out_dir, name, rows, row_count);
         if (!o.no_plots) make_plots(o.out_dir);
     }
     free(rows);
