@@ -112,7 +112,8 @@ double filter_gain_error_ratio(const FilterGainTotals *t, FilterGainConfig c, do
     return filter_gain_error_ratio_at(t, c, footprint, 1.0);
 }
 
-double filter_gain_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint, double neighbour_error)
+double filter_gain_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint,
+                                  double neighbour_error)
 {
     double s = filter_gain_share(t, c);
     /* the filter's own-pixel part (1 / footprint^2 of what it removes) is left out: under 2% */

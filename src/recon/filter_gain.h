@@ -112,7 +112,8 @@ double filter_gain_error_ratio(const FilterGainTotals *t, FilterGainConfig c, do
  * neighbour_error times the error relative to Monte Carlo's they had where the footprint was
  * measured (auto_fallback.h, "the error ratio's growth with N"): (1 - s) + s neighbour_error /
  * footprint. neighbour_error 1 gives filter_gain_error_ratio. */
-double filter_gain_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint, double neighbour_error);
+double filter_gain_error_ratio_at(const FilterGainTotals *t, FilterGainConfig c, double footprint,
+                                  double neighbour_error);
 
 /* The same with the camera filters kept: per pixel, the variance configuration c's ideal
  * shading filter leaves, plus 1 / footprint of what it removes, over that pixel's camera

@@ -424,7 +424,8 @@ void fsf_pass2b(const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd, const
             for (int m = -2 * B; m < B; ++m) {
                 float z = 2.0f * L2 / (float)B * ((float)m + 0.5f * (float)B + 0.5f);
                 if (g->ramp_m[1] > 0.0f) { /* a swept light: T(z) / rho(z) (fsf_swept_weight) */
-                    inv_rho[m + 2 * B] = box(g, 1, z) != 0.0f ? fsf_swept_weight(z, px[i].eta_m[1], L2, g->ramp_m[1], r, cum) : 0.0f;
+                    inv_rho[m + 2 * B] =
+                        box(g, 1, z) != 0.0f ? fsf_swept_weight(z, px[i].eta_m[1], L2, g->ramp_m[1], r, cum) : 0.0f;
                     continue;
                 }
                 float rho = box(g, 1, z) != 0.0f ? fsf_density(z, px[i].eta_m[1], L2, r, cum) : 0.0f;

@@ -15,7 +15,8 @@ bool maaf_light_sweep(const Renderer *r, int light, float disk_half, MaafLight *
     for (int i = 0; i < 3; ++i) l->center[i] = (float)s.centre[i];
     for (int a = 0; a < 2; ++a) {
         l->lo[a] = s.lo[a], l->hi[a] = s.hi[a];
-        for (int k = 0; k < MAAF_SWEEP_NODES; ++k) l->sweep_lo[a][k] = s.pose_lo[a][k], l->sweep_hi[a][k] = s.pose_hi[a][k];
+        for (int k = 0; k < MAAF_SWEEP_NODES; ++k)
+            l->sweep_lo[a][k] = s.pose_lo[a][k], l->sweep_hi[a][k] = s.pose_hi[a][k];
     }
     l->sweep_nodes = MAAF_SWEEP_NODES;
     return true;
