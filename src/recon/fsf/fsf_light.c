@@ -63,18 +63,38 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
 {
     int count = renderer_light_count(r), best = -1;
     float best_power = 0.0f;
-    /* the brightest emitter shape: luminance times its triangles' total area */
+    /* the brightest emitter shape: luminance times its triangles' total area, summed a shape at
+     * a time in one pass over the lights (a mesh light has a light per triangle: a sum per light
+     * over every light would be quadratic in them); its first triangle stands for it */
+    int shapes = 0;
     for (int l = 0; l < count; ++l) {
         RenderLightInfo a;
-        if (!renderer_light_info(r, l, &a) || a.kind != RENDER_LIGHT_AREA || !a.is_triangle) continue;
-        float power = 0.0f;
-        for (int m = 0; m < count; ++m) {
-            RenderLightInfo b;
-            if (renderer_light_info(r, m, &b) && b.kind == RENDER_LIGHT_AREA && b.is_triangle && b.shape == a.shape)
-                power += v3_luminance(b.radiance) * b.area_world;
-        }
-        if (power > best_power) best_power = power, best = l;
+        if (renderer_light_info(r, l, &a) && a.kind == RENDER_LIGHT_AREA && a.is_triangle && a.shape + 2 > shapes)
+            shapes = a.shape + 2; /* slot shape + 1: shape -1 (none) has its own */
     }
+    float *power = calloc(shapes > 0 ? (size_t)shapes : 1, sizeof *power);
+    int *first_of = malloc((shapes > 0 ? (size_t)shapes : 1) * sizeof *first_of);
+    if (!power || !first_of) {
+        free(power), free(first_of);
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for FSF's light");
+        return false;
+    }
+    for (int k = 0; k < shapes; ++k) first_of[k] = -1;
+    for (int l = 0; l < count; ++l) {
+        RenderLightInfo b;
+        if (!renderer_light_info(r, l, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.shape < -1) continue;
+        power[b.shape + 1] += v3_luminance(b.radiance) * b.area_world;
+        if (first_of[b.shape + 1] < 0) first_of[b.shape + 1] = l;
+    }
+    /* in the order of the shapes' first triangles, the first of the brightest */
+    for (int l = 0; l < count; ++l) {
+        RenderLightInfo a;
+        if (!renderer_light_info(r, l, &a) || a.kind != RENDER_LIGHT_AREA || !a.is_triangle || a.shape < -1 ||
+            first_of[a.shape + 1] != l)
+            continue;
+        if (power[a.shape + 1] > best_power) best_power = power[a.shape + 1], best = l;
+    }
+    free(power), free(first_of);
     if (best < 0) {
         diag_set(d, WEDGE_EXIT_USAGE, (SrcLoc){0},
                  "--filter fsf filters soft shadows of a planar area light made of triangles; the scene has none");

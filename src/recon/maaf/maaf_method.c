@@ -372,6 +372,29 @@ static void maaf_destroy(ReconMethod *m)
 
 static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+/* Light l's swept light from an earlier triangle of its shape that has one: the sweep is the
+ * shape's (its centroid, extent and poses over every triangle of the shape, along the shape's
+ * axes), whichever of its triangles asks. False when there is none. */
+static bool copy_shape_sweep(ReconMethod *m, const RenderLightInfo *info, int l)
+{
+    if (info[l].shape < 0 || !info[l].is_triangle) return false;
+    MaafLight *ml = &m->lights[l];
+    for (int k = 0; k < l; ++k) {
+        const MaafLight *mk = &m->lights[k];
+        if (info[k].kind != RENDER_LIGHT_AREA || info[k].shape != info[l].shape || !info[k].is_triangle ||
+            !info[k].moving || mk->sweep_nodes == 0)
+            continue;
+        memcpy(ml->center, mk->center, sizeof ml->center);
+        memcpy(ml->lo, mk->lo, sizeof ml->lo);
+        memcpy(ml->hi, mk->hi, sizeof ml->hi);
+        memcpy(ml->sweep_lo, mk->sweep_lo, sizeof ml->sweep_lo);
+        memcpy(ml->sweep_hi, mk->sweep_hi, sizeof ml->sweep_hi);
+        ml->sweep_nodes = mk->sweep_nodes;
+        return true;
+    }
+    return false;
+}
+
 /* Each light's emitter centre (the area-weighted centroid of all triangles of its shape), its
  * axes (along the first triangle's first edge: a quad light's edges) and extent along them,
  * and its y-design. Disks and spheres are boxes of their (silhouette) area. */
@@ -435,8 +458,11 @@ static void lights_from_renderer(ReconMethod *m)
             ml->lo[0] = ml->lo[1] = -half;
             ml->hi[0] = ml->hi[1] = half;
         }
-        /* a moving planar light: its swept light (maaf_light_sweep.h) */
-        if (info[l].moving) maaf_light_sweep(m->renderer, l, 0.5f * sqrtf((float)M_PI) * m->geoms[l].radius_world, ml);
+        /* a moving planar light: its swept light (maaf_light_sweep.h), one sweep a shape: the
+         * sweep reads every triangle of the shape at each pose, so a mesh light's triangles each
+         * sweeping it cost O(triangles^2) poses (minutes for a few thousand) */
+        if (info[l].moving && !copy_shape_sweep(m, info, l))
+            maaf_light_sweep(m->renderer, l, 0.5f * sqrtf((float)M_PI) * m->geoms[l].radius_world, ml);
         if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
             continue; /* degenerate: omega_y_max stays 0, its samples are not used */
         /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light; the triangles of
