@@ -5,6 +5,7 @@
  * OpenCL device. */
 #include <string.h>
 
+#include "cl_test_device.h"
 #include "check.h"
 #include "fsf_synth.h"
 #include "recon/fsf/fsf_cl.h"
@@ -173,11 +174,7 @@ static void kept_buffers(ClRuntime *rt, FsfCl *used)
 int main(void)
 {
     Diag d = {0};
-    ClRuntime *rt = cl_runtime_create(NULL, &d);
-    if (!rt) {
-        fprintf(stderr, "skipped: %s\n", d.message);
-        return 77;
-    }
+    ClRuntime *rt = cl_test_device_or_skip();
     FsfCl *cl = fsf_cl_create(rt, &d);
     CHECK(cl != NULL);
     const int W = 53, H = 37, l = 4;

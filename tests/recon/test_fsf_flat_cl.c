@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cl_test_device.h"
 #include "check.h"
 #include "recon/cl/cl_runtime.h"
 #include "fsf_synth.h"
@@ -84,11 +85,7 @@ static double worst_rel(const float *c_out, const float *cl_out, size_t n, bool 
 int main(void)
 {
     Diag d = {0};
-    ClRuntime *rt = cl_runtime_create(NULL, &d);
-    if (!rt) {
-        fprintf(stderr, "skipped: %s\n", d.message);
-        return 77;
-    }
+    ClRuntime *rt = cl_test_device_or_skip();
     FsfFlatCl *cl = fsf_flat_cl_create(rt, &d);
     CHECK(cl != NULL);
     const FsfGrid g = fsf_bounce_grid(); /* the pipeline's: its tap reach */

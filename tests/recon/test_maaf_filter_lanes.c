@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cl_test_device.h"
 #include "check.h"
 #include "recon/cl/cl_runtime.h"
 #include "recon/maaf/maaf_defocus.h"
@@ -163,11 +164,7 @@ static int compare(const Input *in, const float *ref, const float *dev, double *
 int main(void)
 {
     Diag d = {0};
-    ClRuntime *rt = cl_runtime_create(NULL, &d);
-    if (!rt) {
-        fprintf(stderr, "no OpenCL device: %s\n", d.message);
-        return 77;
-    }
+    ClRuntime *rt = cl_test_device_or_skip();
     MaafFilter *f = maaf_filter_create(rt, &d);
     CHECK(f != NULL);
     /* the last two are taller than a band of the pass and its ring of row-pass output
