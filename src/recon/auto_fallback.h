@@ -64,6 +64,13 @@
  * or textured pixels that the adaptive plans give more samples, wire_screen 0.77x predicted
  * against 1.56x measured at 8 spp; docs/benchmarks.md, "auto's fallback to Monte Carlo".) */
 #define AUTO_FALLBACK_MIN_ADVANTAGE (4.0 / 3.0)
+/* Beside camera candidates, a shading filter of another method than theirs (its own sink) is
+ * kept only when no subset of the configuration is predicted faster: there the model's error
+ * ratio E_cam(c) / E_cam(none) ran 0.97-1.17x the measured one (AAF's shadows or bounce beside
+ * LR: six bench scenes, 256x256, 16 spp; docs/benchmarks.md, auto6), where beside MAAF's lens,
+ * whose shading filters share its method, it ran 0.26-1.38x and AUTO_FALLBACK_MIN_ADVANTAGE
+ * stays. */
+#define AUTO_OWN_SINK_MIN_ADVANTAGE 1.0
 /* The independent samples a shading filter's kernel averages, relative to one pixel's: the
  * factor by which it lowers the error it can remove. */
 #define AUTO_FILTER_FOOTPRINT 50.0
@@ -89,6 +96,11 @@ typedef struct {
     int cameras;             /* camera effects auto chose to filter (candidates as one: kept or
                               * left to Monte Carlo together); 0 when a camera filter was named
                               * explicitly (then it is among others) */
+    /* Beside camera candidates: the soft-shadow / indirect filter's method is none of theirs, so
+     * it records its own per-sample data where theirs is all the frame had (AAF's shadows beside
+     * LR), and costs AUTO_SINK_US_PER_SAMPLE a sample more than a filter sharing a camera
+     * filter's method (MAAF's shadows beside MAAF's lens), which pays its pass alone. */
+    bool direct_own_sink, indirect_own_sink;
 } AutoFallbackFrame;
 
 typedef struct {
