@@ -28,8 +28,8 @@ static double weight(double m) { return 1.0 / (m * m + 0.01); }
 /* The frame: a blurred pixel (footprint 20) whose samples see the lens (0.5 + lens) and a
  * penumbra of depth k (albedo 0.5 times visibility k VIS), and a sharp textured pixel no
  * shading filter reaches. Its totals into *t; the brute force's E_cam(none) and E_cam(direct)
- * into e[]. */
-static void frame(double k, FilterGainTotals *t, double e[2])
+ * into e[], with the neighbours' error grown by g (1 up to 16 spp). */
+static void frame(double k, double g, FilterGainTotals *t, double e[2])
 {
     FilterGainSample s[COUNT];
     double l[COUNT], kept[COUNT], tex[COUNT];
@@ -53,8 +53,11 @@ static void frame(double k, FilterGainTotals *t, double e[2])
     double w1 = weight(sample_mean(l, COUNT)), w2 = weight(sample_mean(tex, COUNT));
     double sigma1 = sample_variance(l, COUNT), left1 = fmin(sample_variance(kept, COUNT), sigma1);
     double sigma2 = sample_variance(tex, COUNT), all = w1 * sigma1 + w2 * sigma2;
-    e[0] = (w1 * sigma1 / BLURRED_FOOTPRINT + w2 * sigma2) / all;
-    e[1] = (w1 * (left1 + (sigma1 - left1) / AUTO_FILTER_FOOTPRINT) / BLURRED_FOOTPRINT + w2 * sigma2) / all;
+    /* of the blurred pixel's variance over F, its own samples' part (1 / F^2) stays and the
+     * neighbours' part grows by g, as what the shading filter removes does (auto5) */
+    double f = BLURRED_FOOTPRINT, own = (1.0 + (f - 1.0) * g) / (f * f);
+    e[0] = (w1 * sigma1 * own + w2 * sigma2) / all;
+    e[1] = (w1 * (left1 * own + g * (sigma1 - left1) / (AUTO_FILTER_FOOTPRINT * f)) + w2 * sigma2) / all;
 }
 
 int main(void)
@@ -85,7 +88,7 @@ int main(void)
         double k = 0.05 * step;
         FilterGainTotals t;
         double e[2];
-        frame(k, &t, e);
+        frame(k, 1.0, &t, e);
         double alpha = filter_gain_alpha(&t);
         CHECK_NEAR(filter_gain_camera_error_ratio_at(&t, FILTER_GAIN_NONE, AUTO_FILTER_FOOTPRINT, 1.0), e[0], 1e-6);
         CHECK_NEAR(filter_gain_camera_error_ratio_at(&t, FILTER_GAIN_DIRECT, AUTO_FILTER_FOOTPRINT, 1.0), e[1], 1e-6);
@@ -114,6 +117,23 @@ int main(void)
         auto_fallback_decide(&t, RAYS, &own, &a);
         auto_fallback_decide(&t, RAYS, &shared, &b);
         differ += a.chosen != b.chosen;
+    }
+    /* past 16 spp the neighbours' part of E_cam grows by g (auto_fallback_neighbour_error) */
+    {
+        FilterGainTotals t;
+        double e[2];
+        frame(1.0, 1.0, &t, e);
+        double alpha = filter_gain_alpha(&t), g = auto_fallback_neighbour_error(64, alpha);
+        CHECK(g > 1.5);
+        frame(1.0, g, &t, e);
+        AutoFallbackFrame f64 = own;
+        f64.spp = 64;
+        AutoFallback fb;
+        auto_fallback_decide(&t, RAYS, &f64, &fb);
+        double t64_none = 64 * t_s + 64 * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL;
+        double t64_own = t64_none + 64 * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL;
+        CHECK_NEAR(fb.speedup[FILTER_GAIN_NONE], pow(e[0], -1.0 / alpha) * 64 * t_s / t64_none, 1e-6);
+        CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], pow(e[1], -1.0 / alpha) * 64 * t_s / t64_own, 1e-6);
     }
     /* the family crosses the own sink's threshold, below which a filter sharing the camera
      * filters' method (cheaper, and with the wider margin) is still kept */
