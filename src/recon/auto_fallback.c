@@ -9,12 +9,13 @@ static int filters_in(FilterGainConfig c)
     return ((c & FILTER_GAIN_DIRECT) != 0) + ((c & FILTER_GAIN_INDIRECT) != 0);
 }
 
-/* The shading filters of c that record their own samples beside a camera filter (the frame's
- * first sink being the camera filter's). */
+/* The sinks c's shading filters add beside a camera filter (the frame's first sink being the
+ * camera filter's): one per method of theirs the camera filters do not run. */
 static int own_sinks_in(FilterGainConfig c, const AutoFallbackFrame *f)
 {
     if (!f->camera && f->cameras == 0) return 0;
-    return ((c & FILTER_GAIN_DIRECT) != 0 && f->direct_own_sink) + ((c & FILTER_GAIN_INDIRECT) != 0 && f->indirect_own_sink);
+    bool direct = (c & FILTER_GAIN_DIRECT) != 0 && f->direct_own_sink, indirect = (c & FILTER_GAIN_INDIRECT) != 0 && f->indirect_own_sink;
+    return direct && indirect && f->shading_one_method ? 1 : direct + indirect;
 }
 
 double auto_fallback_time_us(FilterGainConfig c, const AutoFallbackFrame *f, double sample_us)

@@ -179,6 +179,8 @@ bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
     if (frame.cameras > 0) {
         frame.direct_own_sink = frame.direct && own_sink_beside_cameras(c, EFFECT_SOFT_SHADOWS, cameras);
         frame.indirect_own_sink = frame.indirect && own_sink_beside_cameras(c, EFFECT_INDIRECT, cameras);
+        frame.shading_one_method = c->method[EFFECT_SOFT_SHADOWS] && c->method[EFFECT_INDIRECT] &&
+                                   strcmp(c->method[EFFECT_SOFT_SHADOWS]->name, c->method[EFFECT_INDIRECT]->name) == 0;
     }
     auto_fallback_decide(&probe.totals, probe.rays_per_sample, &frame, &fb);
     fb.samples_nonfinite = probe.samples_nonfinite;

@@ -3,8 +3,8 @@
  * with it (E_cam) in its time, a filter of another method than the camera filters' charged its
  * own per-sample sink, and decided against a brute-force evaluation of the model: each pixel's
  * variances from its samples, E_cam(c) as the sum over the pixels, T(c) and S(c) by their
- * formulas, the highest S kept (margin 1 for a filter with its own sink, 4/3 for one sharing
- * the camera filters' method). A family of frames whose light share grows crosses the first
+ * formulas, the highest S kept (margin AUTO_OWN_SINK_MIN_ADVANTAGE for a filter with its own
+ * sink, 4/3 for one sharing the camera filters' method). A family of frames whose light share grows crosses the first
  * threshold. */
 #include <math.h>
 #include <stdio.h>
@@ -77,6 +77,14 @@ int main(void)
     CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_NONE, &kept, t_s), t_none, 1e-12);
     kept.direct_own_sink = false;
     CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_DIRECT, &kept, t_s), t_shared, 1e-12);
+    /* two shading filters of one method beside the camera filter: one sink between them */
+    AutoFallbackFrame two = {.direct = true, .indirect = true, .others = 1, .camera = true, .spp = spp,
+                             .direct_own_sink = true, .indirect_own_sink = true};
+    double t_two = t_none + 2 * AUTO_FILTER_US_PER_PIXEL + n * AUTO_SINK_US_PER_SAMPLE;
+    CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_BOTH, &two, t_s), t_two + n * AUTO_SINK_US_PER_SAMPLE, 1e-12);
+    two.shading_one_method = true;
+    CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_BOTH, &two, t_s), t_two, 1e-12);
+    CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_INDIRECT, &two, t_s), t_own, 1e-12);
     /* no camera filter running: the shading filter's sink is the frame's first */
     AutoFallbackFrame alone = {.direct = true, .spp = spp, .direct_own_sink = true};
     CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_DIRECT, &alone, t_s), n * t_s + n * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL,
@@ -96,7 +104,7 @@ int main(void)
         for (int which = 0; which < 2; ++which) {
             const AutoFallbackFrame *f = which ? &own : &shared;
             double s_direct = pow(e[1], -1.0 / alpha) * n * t_s / (which ? t_own : t_shared);
-            double margin = which ? 1.0 : AUTO_FALLBACK_MIN_ADVANTAGE;
+            double margin = which ? AUTO_OWN_SINK_MIN_ADVANTAGE : AUTO_FALLBACK_MIN_ADVANTAGE;
             FilterGainConfig want = s_none >= margin * s_direct && s_none > s_direct ? FILTER_GAIN_NONE : FILTER_GAIN_DIRECT;
             AutoFallback fb;
             auto_fallback_decide(&t, RAYS, f, &fb);

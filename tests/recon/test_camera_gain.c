@@ -109,7 +109,7 @@ int main(void)
         FilterGainTotals t = {0};
         texture_pixel(s, tex);
         filter_gain_add_pixel_sets(&t, s, N, N, false, 40.0);
-        AutoFallbackFrame f = {false, false, 0, false, 16, 1, false, false};
+        AutoFallbackFrame f = {false, false, 0, false, 16, 1, false, false, false};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         double alpha = filter_gain_alpha(&t), t_s = 2.0 * AUTO_RAY_US;
@@ -156,7 +156,7 @@ int main(void)
         }
         CHECK_NEAR(kept_speed[1], 1.01 / AUTO_CAMERA_MIN_ADVANTAGE, 1e-6);
         /* no camera candidate: nothing judged on the camera side */
-        AutoFallbackFrame g = {false, false, 1, true, 16, 0, false, false};
+        AutoFallbackFrame g = {false, false, 1, true, 16, 0, false, false, false};
         auto_fallback_decide(&t, 2.0, &g, &fb);
         CHECK(!fb.camera_asked && !fb.camera_fell_back);
     }
@@ -169,8 +169,8 @@ int main(void)
         FilterGainTotals t = {0};
         for (int i = 0; i < COUNT; ++i) s[i] = (FilterGainSample){(float)(0.5 * vis[i]), (float)(0.5 * vis[i]), 0.5f, 0.0f, 0.0f};
         filter_gain_add_pixel_sets(&t, s, N, N, false, 1.0); /* a penumbra, nothing blurred */
-        AutoFallbackFrame f = {true, false, 0, false, 2, 1, false, false}, beside = {true, false, 1, true, 2, 0, false, false},
-                          alone = {true, false, 0, false, 2, 0, false, false};
+        AutoFallbackFrame f = {true, false, 0, false, 2, 1, false, false, false}, beside = {true, false, 1, true, 2, 0, false, false, false},
+                          alone = {true, false, 0, false, 2, 0, false, false, false};
         AutoFallback fb, want_beside, want_alone;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         auto_fallback_decide(&t, 2.0, &alone, &want_alone);
