@@ -90,8 +90,9 @@ void auto_fallback_decide(const FilterGainTotals *t, double rays_per_sample, con
     out->sample_us = AUTO_RAY_US * rays_per_sample;
     out->spp = f->spp;
     out->neighbour_error = auto_fallback_neighbour_error(f->spp, out->alpha);
-    /* the camera filters kept: the shading judged beside them as before this judgement existed
-     * (its speeds relative, the camera filter's gain not in them) */
+    /* the camera filters kept: the shading judged beside them, by what they leave (E_cam) when
+     * they are candidates, else as before the camera judgement existed (speeds relative, the
+     * named camera filter's gain not in them) */
     AutoFallbackFrame kept = *f;
     kept.others += f->cameras, kept.camera = f->camera || f->cameras > 0, kept.cameras = 0;
     decide_shading(t, &kept, f->cameras > 0, out);
