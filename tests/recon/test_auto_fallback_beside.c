@@ -4,8 +4,8 @@
  * own per-sample sink, and decided against a brute-force evaluation of the model: each pixel's
  * variances from its samples, E_cam(c) as the sum over the pixels, T(c) and S(c) by their
  * formulas, the highest S kept (margin AUTO_OWN_SINK_MIN_ADVANTAGE for a filter with its own
- * sink, 4/3 for one sharing the camera filters' method). A family of frames whose light share grows crosses the first
- * threshold. */
+ * sink, 4/3 for one sharing the camera filters' method). A family of frames whose light share
+ * grows crosses the first threshold. */
 #include <math.h>
 #include <stdio.h>
 
