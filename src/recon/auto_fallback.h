@@ -22,14 +22,22 @@
  * choice stands (at every count: this model errs towards Monte Carlo, the adaptive plans
  * not in it).
  *
- * Beside a camera filter, the per-sample variance the probe sees is mostly the lens's or the
- * shutter's, which that filter removes in every configuration; the shading filters' share is
- * then taken as the variance in the pixels they may touch (filter_gain_filterable_share),
- * split between the configurations as their ideal shares are: s(c) = q s_ideal(c) /
- * s_ideal(asked).
+ * Beside a camera filter named explicitly, the per-sample variance the probe sees is mostly the
+ * lens's or the shutter's, which that filter removes in every configuration; the shading
+ * filters' share is then taken as the variance in the pixels they may touch
+ * (filter_gain_filterable_share), split between the configurations as their ideal shares are:
+ * s(c) = q s_ideal(c) / s_ideal(asked).
+ *
+ * Beside camera candidates (whose footprint the probe measured), each shading configuration is
+ * judged by the error the camera filters leave with it, S(c) = E_cam(c)^(-1/alpha) N t_s / T(c),
+ * and T(c) charges a shading filter whose method no camera filter runs its own sink (N t_sink:
+ * AAF beside LR records its own samples; one sink per method), a filter sharing their method its
+ * pass alone; a configuration with its own sink gives way to a subset AUTO_OWN_SINK_MIN_ADVANTAGE
+ * faster, one without to a subset AUTO_FALLBACK_MIN_ADVANTAGE faster (docs/algorithms.md, "a
+ * shading filter beside a kept camera filter").
  *
  * The camera filters auto chose (defocus, motion) are judged as one candidate: kept, with the
- * shading configuration c_k chosen beside them as above,
+ * shading configuration c_k chosen beside them as above (so S_keep = S(c_k)),
  *   S_keep = E_cam(c_k)^(-1/alpha) * N t_s / T(c_k)     (filter_gain_camera_error_ratio_at: each
  *            pixel's variance over its camera footprint, camera_gain.h)
  * against S_drop, the best S of the shading judged as in a frame without a camera filter; they
@@ -64,6 +72,15 @@
  * or textured pixels that the adaptive plans give more samples, wire_screen 0.77x predicted
  * against 1.56x measured at 8 spp; docs/benchmarks.md, "auto's fallback to Monte Carlo".) */
 #define AUTO_FALLBACK_MIN_ADVANTAGE (4.0 / 3.0)
+/* Beside camera candidates, a configuration with a shading filter of another method than
+ * theirs (its own sink) is replaced by a subset predicted this many times faster: there the
+ * model's E_cam(c) / E_cam(none) ran 0.97-1.17x the measured ratio (AAF's shadows or bounce
+ * beside LR, six bench scenes, 256x256, 16 spp: 0.98-1.11x in speed), and its time of the
+ * camera filters is low (LR's frame measured 4.1-6.3 us a pixel over Monte Carlo's at 16 spp,
+ * 2.7-3.8 in the model), which makes the shading filter's share of the time look ~10% larger
+ * than it is (docs/benchmarks.md, auto6). Beside MAAF's lens, whose shading filters share its
+ * method, E_cam's ratio ran 0.26-1.38x the measured one and AUTO_FALLBACK_MIN_ADVANTAGE stays. */
+#define AUTO_OWN_SINK_MIN_ADVANTAGE 1.15
 /* The independent samples a shading filter's kernel averages, relative to one pixel's: the
  * factor by which it lowers the error it can remove. */
 #define AUTO_FILTER_FOOTPRINT 50.0
@@ -89,6 +106,14 @@ typedef struct {
     int cameras;             /* camera effects auto chose to filter (candidates as one: kept or
                               * left to Monte Carlo together); 0 when a camera filter was named
                               * explicitly (then it is among others) */
+    /* Beside camera candidates: the soft-shadow / indirect filter's method is none of theirs, so
+     * it records its own per-sample data where theirs is all the frame had (AAF's shadows beside
+     * LR), and costs AUTO_SINK_US_PER_SAMPLE a sample more than a filter sharing a camera
+     * filter's method (MAAF's shadows beside MAAF's lens), which pays its pass alone. */
+    bool direct_own_sink, indirect_own_sink;
+    /* both shading filters run one method (AAF's shadows and bounce): one sink between them (the
+     * second costs its pass alone: 0.7-0.8 us a pixel beside LR, 16 spp) */
+    bool shading_one_method;
 } AutoFallbackFrame;
 
 typedef struct {

@@ -155,6 +155,17 @@ CameraBlurKinds recon_gain_probe_blur(const ReconChoice *c)
     return camera;
 }
 
+/* Whether effect e's filter runs a method none of the camera candidates runs (it then records its
+ * own per-sample data beside theirs: AutoFallbackFrame's own sinks). */
+static bool own_sink_beside_cameras(const ReconChoice *c, Effect e, CameraBlurKinds cameras)
+{
+    const ReconMethodClass *m = c->method[e];
+    if (!m) return false;
+    bool shares = (cameras.defocus && c->method[EFFECT_DEFOCUS] && strcmp(c->method[EFFECT_DEFOCUS]->name, m->name) == 0) ||
+                  (cameras.motion && c->method[EFFECT_MOTION] && strcmp(c->method[EFFECT_MOTION]->name, m->name) == 0);
+    return !shares;
+}
+
 bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
 {
     if (!recon_select_wants_fallback(c) || !env_knob_switch("WEDGE_AUTO_FALLBACK", true)) return true;
@@ -164,6 +175,13 @@ bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
         return false;
     AutoFallback fb;
     AutoFallbackFrame frame = recon_select_fallback_frame(c, spp);
+    CameraBlurKinds cameras = recon_select_fallback_blur(c);
+    if (frame.cameras > 0) {
+        frame.direct_own_sink = frame.direct && own_sink_beside_cameras(c, EFFECT_SOFT_SHADOWS, cameras);
+        frame.indirect_own_sink = frame.indirect && own_sink_beside_cameras(c, EFFECT_INDIRECT, cameras);
+        frame.shading_one_method = c->method[EFFECT_SOFT_SHADOWS] && c->method[EFFECT_INDIRECT] &&
+                                   strcmp(c->method[EFFECT_SOFT_SHADOWS]->name, c->method[EFFECT_INDIRECT]->name) == 0;
+    }
     auto_fallback_decide(&probe.totals, probe.rays_per_sample, &frame, &fb);
     fb.samples_nonfinite = probe.samples_nonfinite;
     recon_select_fallback(c, &fb);

@@ -349,7 +349,7 @@ bool recon_select_wants_fallback(const ReconChoice *c)
 AutoFallbackFrame recon_select_fallback_frame(const ReconChoice *c, int spp)
 {
     EffectMask cameras = camera_candidates(c);
-    AutoFallbackFrame f = {fallback_candidate(c, EFFECT_SOFT_SHADOWS), fallback_candidate(c, EFFECT_INDIRECT), 0, false, spp, 0};
+    AutoFallbackFrame f = {.direct = fallback_candidate(c, EFFECT_SOFT_SHADOWS), .indirect = fallback_candidate(c, EFFECT_INDIRECT), .spp = spp};
     for (int e = 0; e < EFFECT_COUNT; ++e) {
         if (effect_in(cameras, (Effect)e)) {
             f.cameras++;

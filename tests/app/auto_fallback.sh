@@ -186,4 +186,83 @@ if not (cam.get("fell_back") and cam.get("speedup", 9) < 1.0): bad.append("camer
 if c["relmse"] != 0: bad.append("relMSE against --filter none %g" % c["relmse"])
 if bad: print("FAIL: foreground_bars at 64 spp: " + "; ".join(bad)); sys.exit(1)
 PY
+# A shading filter beside camera filters auto keeps (branch auto6; docs/algorithms.md, "a shading
+# filter beside a kept camera filter"). On motion_defocus_soft (64x64, 16 spp) LR's defocus and
+# motion average most of the penumbra's noise away: AAF's soft shadows would remove ~4% of what LR
+# leaves, for their own per-sample records and pass (AAF is not LR's method), so auto keeps LR
+# and leaves the shadows to Monte Carlo, says so on stderr, and renders exactly --filter lr's
+# image (before auto6 the shadows were credited with the variance of every pixel they may touch
+# and charged a pass alone: kept). envlight's bounce beside MAAF's lens (96x96), whose filter
+# shares the lens filter's method, stays kept, silently.
+beside_args=(--res 64x64 --spp 16 --seed 3 --threads 2)
+for filter in auto lr; do
+    "$WEDGE" render "$src/scenes/bench/motion_defocus_soft.pbrt" "${beside_args[@]}" --filter $filter -o "$T/beside-$filter.exr" \
+        --report "$T/beside-$filter.json" 2>"$T/beside-$filter.err" >/dev/null; check "--filter $filter on motion_defocus_soft" 0 $?
+done
+"$WEDGE" compare "$T/beside-lr.exr" "$T/beside-auto.exr" --json > "$T/beside-cmp.json"; check "compare" 0 $?
+python3 - "$T/beside-auto.json" "$T/beside-cmp.json" "$T/beside-auto.err" "$T/beside-lr.err" <<'PY' || fail=1
+import json, re, sys
+r, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+a = r.get("auto_fallback", {})
+cam, sp, share = a.get("camera", {}), a.get("speedup", {}), a.get("share", {})
+bad = []
+# one line on stderr says what auto left to Monte Carlo, and why; --filter lr is silent
+said = open(sys.argv[3]).read().splitlines()
+want = (r"wedge render: --filter auto: soft_shadows: none, auto fell back to Monte Carlo: aaf predicted 0\.\d\dx its "
+        r"equal-error speed, 1\.\d\dx without \(error share \d%, alpha [12]\.\d\d, gain probe\)")
+if len(said) != 1 or not re.fullmatch(want, said[0]): bad.append("stderr %s" % said)
+if open(sys.argv[4]).read(): bad.append("--filter lr wrote to stderr")
+if r["filters"] != {"soft_shadows": "none", "defocus": "lr", "motion": "lr"}: bad.append("filters %s" % r["filters"])
+if a.get("fell_back") != ["soft_shadows"] or a.get("asked") != "soft_shadows" or a.get("chosen") != "none":
+    bad.append("auto_fallback %s" % a)
+# beside the kept camera filters the speeds are absolute: the camera's own (kept) is none's
+if not (cam.get("fell_back") is False and sp.get("none", 0) > sp.get("soft_shadows", 9) > 0
+        and abs(cam.get("speedup", 0) - sp.get("none", 0)) < 1e-3 and cam.get("speedup", 0) > cam.get("speedup_without", 9)):
+    bad.append("speeds %s, camera %s" % (sp, cam))
+if not (0 < share.get("soft_shadows", -1) < 0.1): bad.append("share %s" % share)
+rel = c.get("relMSE", c.get("relmse"))
+if rel != 0: bad.append("the image is not --filter lr's: relMSE %s" % rel)
+if bad: print("FAIL: motion_defocus_soft, auto: " + "; ".join(bad)); sys.exit(1)
+print("motion_defocus_soft: lr kept, soft shadows left to Monte Carlo (aaf %.2fx, without %.2fx); the image is --filter lr's"
+      % (sp["soft_shadows"], sp["none"]))
+PY
+
+# pan_defocus (128x128, 16 spp), held out: the shadows predicted 1.22x faster left to Monte Carlo beside
+# LR, between the own-sink margin (1.15) and the shading rule's 4/3; measured 1.20-1.22x faster
+# (docs/benchmarks.md, auto6)
+"$WEDGE" render "$src/scenes/bench/pan_defocus.pbrt" --res 128x128 --spp 16 --seed 3 --threads 2 --filter auto -o "$T/pan.exr" \
+    --report "$T/pan.json" 2>/dev/null >/dev/null; check "auto on pan_defocus" 0 $?
+python3 - "$T/pan.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); a = r.get("auto_fallback", {}); sp = a.get("speedup", {})
+ok = r["filters"] == {"soft_shadows": "none", "defocus": "lr", "motion": "lr"} and a.get("fell_back") == ["soft_shadows"] \
+    and 1.15 < sp.get("none", 0) / sp.get("soft_shadows", 1) < 4.0 / 3.0
+if not ok: print("FAIL: pan_defocus, auto: filters %s, auto_fallback %s" % (r["filters"], a)); sys.exit(1)
+print("pan_defocus: lr kept, soft shadows left to Monte Carlo (%.2fx faster without)" % (sp["none"] / sp["soft_shadows"]))
+PY
+
+# motion_shading (128x128, 16 spp): AAF's shadows and bounce beside LR's motion share AAF's one sink
+# (AutoFallbackFrame.shading_one_method); charged a sink each, the kept frame looked dear enough
+# for LR's motion to fall back (predicted 0.69x against 0.94x without it). All three stay.
+"$WEDGE" render "$src/scenes/bench/motion_shading.pbrt" --res 128x128 --spp 16 --seed 3 --threads 2 --filter auto -o "$T/shading.exr" \
+    --report "$T/shading.json" 2>"$T/err.txt" >/dev/null; check "auto on motion_shading" 0 $?
+python3 - "$T/shading.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); a = r.get("auto_fallback", {}); cam = a.get("camera", {})
+ok = r["filters"] == {"soft_shadows": "aaf", "motion": "lr", "indirect": "aaf"} and a.get("chosen") == "both" \
+    and cam.get("fell_back") is False
+if not ok: print("FAIL: motion_shading, auto: filters %s, auto_fallback %s" % (r["filters"], a)); sys.exit(1)
+print("motion_shading: aaf's shadows and bounce kept beside lr (%.2fx, camera left out %.2fx)" % (cam["speedup"], cam["speedup_without"]))
+PY
+
+"$WEDGE" render "$src/scenes/bench/envlight.pbrt" --res 96x96 --spp 16 --seed 3 --threads 2 --filter auto -o "$T/env.exr" \
+    --report "$T/env.json" 2>"$T/err.txt" >/dev/null; check "auto on envlight" 0 $?
+[ -s "$T/err.txt" ] && { echo "FAIL: a kept filter wrote to stderr: $(cat "$T/err.txt")"; fail=1; }
+python3 - "$T/env.json" <<'PY' || fail=1
+import json, sys
+r = json.load(open(sys.argv[1])); a = r.get("auto_fallback", {})
+ok = r["filters"] == {"defocus": "maaf", "indirect": "maaf"} and a.get("fell_back") == [] and a.get("chosen") == "indirect"
+if not ok: print("FAIL: envlight, auto: filters %s, auto_fallback %s" % (r["filters"], a)); sys.exit(1)
+print("envlight: maaf's bounce kept beside its lens (%.2fx, without %.2fx)" % (a["speedup"]["indirect"], a["speedup"]["none"]))
+PY
 exit $fail

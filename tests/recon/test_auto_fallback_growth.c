@@ -84,7 +84,7 @@ int main(void)
         filter_gain_add_pixel_sets(&probe, s, N, N, false, 1.0);
         double alpha = filter_gain_alpha(&probe), t_s = 2.0 * AUTO_RAY_US;
         CHECK(alpha > 1.05); /* g grows */
-        AutoFallbackFrame f16 = {false, false, 0, false, 16, 1};
+        AutoFallbackFrame f16 = {false, false, 0, false, 16, 1, false, false, false};
         double t16 = auto_fallback_time_us(FILTER_GAIN_NONE, &f16, t_s);
         double f = pow(0.9 * t16 / (16 * t_s), alpha); /* E = 1 / f gives 0.9x at 16 spp */
         FilterGainTotals u = {0};

@@ -109,7 +109,7 @@ int main(void)
         FilterGainTotals t = {0};
         texture_pixel(s, tex);
         filter_gain_add_pixel_sets(&t, s, N, N, false, 40.0);
-        AutoFallbackFrame f = {false, false, 0, false, 16, 1};
+        AutoFallbackFrame f = {false, false, 0, false, 16, 1, false, false, false};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         double alpha = filter_gain_alpha(&t), t_s = 2.0 * AUTO_RAY_US;
@@ -156,7 +156,7 @@ int main(void)
         }
         CHECK_NEAR(kept_speed[1], 1.01 / AUTO_CAMERA_MIN_ADVANTAGE, 1e-6);
         /* no camera candidate: nothing judged on the camera side */
-        AutoFallbackFrame g = {false, false, 1, true, 16, 0};
+        AutoFallbackFrame g = {false, false, 1, true, 16, 0, false, false, false};
         auto_fallback_decide(&t, 2.0, &g, &fb);
         CHECK(!fb.camera_asked && !fb.camera_fell_back);
     }
@@ -169,8 +169,8 @@ int main(void)
         FilterGainTotals t = {0};
         for (int i = 0; i < COUNT; ++i) s[i] = (FilterGainSample){(float)(0.5 * vis[i]), (float)(0.5 * vis[i]), 0.5f, 0.0f, 0.0f};
         filter_gain_add_pixel_sets(&t, s, N, N, false, 1.0); /* a penumbra, nothing blurred */
-        AutoFallbackFrame f = {true, false, 0, false, 2, 1}, beside = {true, false, 1, true, 2, 0},
-                          alone = {true, false, 0, false, 2, 0};
+        AutoFallbackFrame f = {true, false, 0, false, 2, 1, false, false, false}, beside = {true, false, 1, true, 2, 0, false, false, false},
+                          alone = {true, false, 0, false, 2, 0, false, false, false};
         AutoFallback fb, want_beside, want_alone;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         auto_fallback_decide(&t, 2.0, &alone, &want_alone);
@@ -179,16 +179,22 @@ int main(void)
         CHECK(fb.chosen == want_alone.chosen && fb.chosen == FILTER_GAIN_DIRECT);
         CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], want_alone.speedup[FILTER_GAIN_DIRECT], 1e-12);
         CHECK_NEAR(fb.camera_speedup_without, want_alone.speedup[FILTER_GAIN_DIRECT], 1e-12);
-        /* the same frame blurred over 40 pixels' worth: the camera filters stay, and the
-         * shading's numbers are the ones of the frame with the camera filter named */
+        /* the same frame blurred over 40 pixels' worth: the camera filters stay, and each
+         * shading configuration beside them is judged by the error they leave with it (E_cam)
+         * in its time (branch auto6; test_auto_fallback_beside.c for the decision) */
         FilterGainTotals u = {0};
         filter_gain_add_pixel_sets(&u, s, N, N, false, 40.0);
         auto_fallback_decide(&u, 2.0, &f, &fb);
-        auto_fallback_decide(&u, 2.0, &beside, &want_beside);
         CHECK(!fb.camera_fell_back);
-        CHECK(fb.chosen == want_beside.chosen);
-        CHECK(memcmp(fb.speedup, want_beside.speedup, sizeof fb.speedup) == 0);
-        CHECK(memcmp(fb.share, want_beside.share, sizeof fb.share) == 0);
+        double t_s = 2.0 * AUTO_RAY_US, a = filter_gain_alpha(&u);
+        for (int c = FILTER_GAIN_NONE; c <= FILTER_GAIN_DIRECT; ++c) {
+            double e = filter_gain_camera_error_ratio_at(&u, (FilterGainConfig)c, AUTO_FILTER_FOOTPRINT, 1.0);
+            CHECK_NEAR(fb.speedup[c], pow(e, -1.0 / a) * 2 * t_s / auto_fallback_time_us((FilterGainConfig)c, &beside, t_s), 1e-9);
+        }
+        CHECK_NEAR(fb.camera_speedup, fb.speedup[fb.chosen], 1e-12);
+        /* named explicitly, the camera filter's footprint is not measured: the old rule */
+        auto_fallback_decide(&u, 2.0, &beside, &want_beside);
+        CHECK(fb.speedup[FILTER_GAIN_DIRECT] != want_beside.speedup[FILTER_GAIN_DIRECT]);
     }
     /* the choice: auto's lr for motion, judged unable to pay, becomes none with the reason */
     {

@@ -154,7 +154,7 @@ int main(void)
         const double checks[COUNT] = {0.2, 0.8, 0.2, 0.8, 0.8, 0.2, 0.8, 0.2}, lit[COUNT] = {1, 1, 1, 1, 1, 1, 1, 1};
         direct_pixel(s, zero, checks, lit);
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, false, 0, false, 16, 0};
+        AutoFallbackFrame f = {true, false, 0, false, 16, 0, false, false, false};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.asked == FILTER_GAIN_DIRECT && fb.chosen == FILTER_GAIN_NONE);
@@ -164,7 +164,7 @@ int main(void)
         CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_DIRECT, &f, t_s), t_f, 1e-9);
         CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], 16 * t_s / t_f, 1e-9); /* no gain, only cost */
         /* beside a camera filter that runs anyway, the shading filter costs its pass alone */
-        AutoFallbackFrame g = {true, false, 1, true, 16, 0};
+        AutoFallbackFrame g = {true, false, 1, true, 16, 0, false, false, false};
         CHECK_NEAR(auto_fallback_time_us(FILTER_GAIN_NONE, &g, t_s), 16 * t_s + 16 * AUTO_SINK_US_PER_SAMPLE + AUTO_FILTER_US_PER_PIXEL, 1e-9);
         auto_fallback_decide(&t, 2.0, &g, &fb);
         /* ... which at 16 spp is less than AUTO_FALLBACK_MIN_ADVANTAGE: auto's choice stands */
@@ -182,7 +182,7 @@ int main(void)
         const double vis[COUNT] = {0.0, 0.3, 0.9, 0.6, 1.0, 0.1, 0.4, 0.7};
         direct_pixel(s, zero, half, vis);
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, false, 0, false, 16, 0};
+        AutoFallbackFrame f = {true, false, 0, false, 16, 0, false, false, false};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.chosen == FILTER_GAIN_DIRECT);
@@ -191,7 +191,7 @@ int main(void)
         CHECK_NEAR(fb.speedup[FILTER_GAIN_DIRECT], want, 1e-9);
         CHECK(fb.speedup[FILTER_GAIN_DIRECT] > 1.0);
         /* the same frame with no candidate (nothing auto chose): nothing to decide */
-        AutoFallbackFrame none = {false, false, 0, false, 16, 0};
+        AutoFallbackFrame none = {false, false, 0, false, 16, 0, false, false, false};
         auto_fallback_decide(&t, 2.0, &none, &fb);
         CHECK(fb.asked == FILTER_GAIN_NONE && fb.chosen == FILTER_GAIN_NONE);
     }
@@ -201,7 +201,7 @@ int main(void)
         const double ind[COUNT] = {0.0, 0.4, 0.1, 0.5, 0.2, 0.3, 0.6, 0.7};
         for (int i = 0; i < COUNT; ++i) s[i] = (FilterGainSample){(float)(0.25 + 0.8 * ind[i]), 0.25f, 0.5f, (float)(0.8 * ind[i]), 0.8f};
         filter_gain_add_pixel(&t, s, N, false);
-        AutoFallbackFrame f = {true, true, 0, false, 2, 0};
+        AutoFallbackFrame f = {true, true, 0, false, 2, 0, false, false, false};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK(fb.asked == FILTER_GAIN_BOTH && fb.chosen == FILTER_GAIN_INDIRECT);
@@ -225,7 +225,7 @@ int main(void)
         filter_gain_add_pixel(&t, s, N, true);
         double all = t.left[FILTER_GAIN_NONE];
         CHECK_NEAR(filter_gain_filterable_share(&t), filterable / all, 1e-6);
-        AutoFallbackFrame f = {true, false, 1, true, 16, 0};
+        AutoFallbackFrame f = {true, false, 1, true, 16, 0, false, false, false};
         AutoFallback fb;
         auto_fallback_decide(&t, 2.0, &f, &fb);
         CHECK_NEAR(fb.share[FILTER_GAIN_DIRECT], filterable / all, 1e-6);
