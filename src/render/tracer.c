@@ -1205,7 +1205,7 @@ static void context_init(const Tracer *tr, struct RTCIntersectContext *ctx, bool
  * incoherent stream as packets of 16 gathered from it, so these rays meet the same packets in
  * the same order and get the same answers; what goes is the stream's gather and, for
  * occlusion, the octant sort and the coherent stream's frustum walk, which scattered rays
- * do not share (docs/benchmarks.md, "Issue 22, forty-third round"; design.md 12.33). */
+ * do not share (docs/benchmarks.md, "Issue 22, forty-fourth round"; design.md 12.34). */
 static inline bool packets_of_16(const Tracer *tr, bool incoherent)
 {
     return tr->batch_mode == TRACER_BATCH_PACKET16 || (tr->batch_mode == TRACER_BATCH_STREAM && incoherent);
