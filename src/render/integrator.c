@@ -1231,7 +1231,9 @@ static void wave_triangle_occlusion(const IntegratorScene *sc, Wave *w, bool rec
                              t->time01,
                              t->traced,
                              sc->lights->lights[t->light].shadow_skip_mask};
-        tracer_occluded_arrays(sc->tracer, &a, t->count, true, t->occluded);
+        /* a sky's rays are cosine-distributed from scattered receivers: incoherent (Embree's
+         * packets, tracer.c packets_of_16); a triangle light's converge on it */
+        tracer_occluded_arrays(sc->tracer, &a, t->count, !t->sky, t->occluded);
     }
 }
 

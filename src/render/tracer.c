@@ -1199,6 +1199,18 @@ static void context_init(const Tracer *tr, struct RTCIntersectContext *ctx, bool
     ctx->flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
 }
 
+/* Whether a batch goes to Embree as packets of 16 (rtcIntersect16 / rtcOccluded16): in the
+ * packet mode, and in the stream mode for rays the caller calls incoherent (bounce rays, a
+ * sky's cosine-distributed shadow rays, and lanes mostly inactive). Embree 3.13 traces an
+ * incoherent stream as packets of 16 gathered from it, so these rays meet the same packets in
+ * the same order and get the same answers; what goes is the stream's gather and, for
+ * occlusion, the octant sort and the coherent stream's frustum walk, which scattered rays
+ * do not share (docs/benchmarks.md, "Issue 22, forty-fourth round"; design.md 12.34). */
+static inline bool packets_of_16(const Tracer *tr, bool incoherent)
+{
+    return tr->batch_mode == TRACER_BATCH_PACKET16 || (tr->batch_mode == TRACER_BATCH_STREAM && incoherent);
+}
+
 /* Packets of 16: the chunk's rays k0 .. k0 + 15 as structure-of-arrays (lanes past n off). */
 static void packet16_fill(struct RTCRay16 *p, int valid[16], const TracerRay *rays, int n, float k)
 {
@@ -1298,10 +1310,10 @@ static void shade_sphere_hits(const Tracer *tr, const TracerRay *r, const struct
 
 /* tracer_intersect_batch's rays r[0 .. m) (m <= TRACE_CHUNK), one chunk: hits[0 .. m), found[0 .. m). */
 static void intersect_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, const TracerRay *r, int m,
-                            bool shade_all, SurfaceHit *hits, bool *found)
+                            bool packets, bool shade_all, SurfaceHit *hits, bool *found)
 {
     struct RTCRayHit rh[TRACE_CHUNK];
-    if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+    if (packets) {
         for (int p0 = 0; p0 < m; p0 += 16) {
             struct RTCRayHit16 pk;
             _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
@@ -1344,10 +1356,11 @@ void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool
 {
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
-    context_init(tr, &ctx, coherent);
+    bool packets = packets_of_16(tr, !coherent);
+    context_init(tr, &ctx, coherent && !packets);
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
-        intersect_chunk(tr, scene, &ctx, rays + k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, shade_all, hits + k0,
-                        found + k0);
+        intersect_chunk(tr, scene, &ctx, rays + k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, packets, shade_all,
+                        hits + k0, found + k0);
 }
 
 /* Lane k of a as a TracerRay (tmax NULL: INFINITY). */
@@ -1441,8 +1454,9 @@ void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, 
 {
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
-    context_init(tr, &ctx, coherent);
-    if (tr->batch_mode == TRACER_BATCH_STREAM) {
+    bool packets = packets_of_16(tr, !coherent);
+    context_init(tr, &ctx, coherent && !packets);
+    if (tr->batch_mode == TRACER_BATCH_STREAM && !packets) {
         NpConstants fixed;
         np_constants(&fixed, a->skip_mask);
         for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
@@ -1454,7 +1468,7 @@ void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, 
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK) {
         int m = n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK;
         for (int i = 0; i < m; ++i) chunk[i] = lane_ray(a, k0 + i);
-        intersect_chunk(tr, scene, &ctx, chunk, m, shade_all, hits + k0, found + k0);
+        intersect_chunk(tr, scene, &ctx, chunk, m, packets, shade_all, hits + k0, found + k0);
     }
 }
 
@@ -1463,10 +1477,10 @@ static void occluded_rays(const Tracer *tr, RTCScene scene, struct RTCIntersectC
 
 /* tracer_occluded_batch's rays r[0 .. m) (m <= TRACE_CHUNK), one chunk: answers to occluded[0 .. m). */
 static void occluded_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, const TracerRay *r, int m,
-                           bool *occluded)
+                           bool packets, bool *occluded)
 {
     struct RTCRay ray[TRACE_CHUNK];
-    if (tr->batch_mode == TRACER_BATCH_PACKET16) {
+    if (packets) {
         for (int p0 = 0; p0 < m; p0 += 16) {
             struct RTCRay16 pk;
             _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
@@ -1514,43 +1528,44 @@ void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool 
 {
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
-    context_init(tr, &ctx, coherent && tr->shadow_coherent_ok);
+    bool packets = packets_of_16(tr, !coherent);
+    context_init(tr, &ctx, coherent && tr->shadow_coherent_ok && !packets);
     for (int k0 = 0; k0 < n; k0 += TRACE_CHUNK)
-        occluded_chunk(tr, scene, &ctx, rays + k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, occluded + k0);
+        occluded_chunk(tr, scene, &ctx, rays + k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, packets, occluded + k0);
 }
 
-/* tracer_occluded_arrays' stream for lanes mostly inactive (the delta lights' lanes of dead
- * paths and of receivers facing away: integrator.c, WaveDeltaSamples): a chunk's active
- * lanes are listed first (written for every lane, kept for the active ones: no branch on a
- * lane's flag) and only their rays filled, so that an inactive lane costs a compare, not a
- * ray. The chunks are those of the dense loop (64 active lanes in order), so Embree sees the
- * same batches. Lanes mostly active (the triangle and sky groups) keep the one-pass loop, as
- * before this form existed (docs/benchmarks.md, "Issue 22, thirty-sixth round"). */
-static void occluded_sparse_lanes(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
-                                  const TracerRayArrays *a, int n, bool *occluded)
+/* tracer_occluded_arrays' packets (packets_of_16): a's active lanes, 16 at a time in their
+ * order, gathered from the arrays straight into Embree's packets (no TracerRay between). An
+ * inactive lane costs a compare: the active ones are listed first (written for every lane,
+ * kept for the active ones: no branch on a lane's flag). */
+static void occluded_lanes_packets(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
+                                   const TracerRayArrays *a, int n, bool *occluded)
 {
-    struct RTCRay ray[TRACE_CHUNK];
-    int key[TRACE_CHUNK], lane[TRACE_CHUNK];
-    bool answer[TRACE_CHUNK];
     float k = tr->tracer_from_world;
+    int lane[16];
     for (int i = 0; i < n;) {
-        int m = 0;
-        for (; i < n && m < TRACE_CHUNK; ++i) {
-            lane[m] = i;
-            m += a->active[i] != 0;
+        int c = 0;
+        for (; i < n && c < 16; ++i) {
+            lane[c] = i;
+            c += a->active[i] != 0;
         }
-        if (m == 0) break;
-        uint64_t counts = 0;
-        for (int j = 0; j < m; ++j) {
-            int q = lane[j];
-            vec3 d = v3(a->d[0][q], a->d[1][q], a->d[2][q]);
-            init_ray(&ray[j], v3(a->o[0][q], a->o[1][q], a->o[2][q]), d, a->tmax ? a->tmax[q] : INFINITY, a->time01[q],
-                     k, a->skip_mask);
-            key[j] = ray_octant(d);
-            counts += 1ull << (8 * key[j]);
+        if (c == 0) break;
+        struct RTCRay16 pk;
+        _Alignas(64) int valid[16]; /* Embree reads the mask and the packet 64-byte aligned */
+        for (int j = 0; j < 16; ++j) {
+            int q = lane[j < c ? j : 0]; /* lanes past c: off, filled with the first ray */
+            valid[j] = j < c ? -1 : 0;
+            pk.org_x[j] = k * a->o[0][q], pk.org_y[j] = k * a->o[1][q], pk.org_z[j] = k * a->o[2][q]; /* as init_ray */
+            pk.dir_x[j] = a->d[0][q], pk.dir_y[j] = a->d[1][q], pk.dir_z[j] = a->d[2][q];
+            pk.tnear[j] = 0.0f;
+            pk.tfar[j] = k * (a->tmax ? a->tmax[q] : INFINITY);
+            pk.time[j] = a->time01[q];
+            pk.mask[j] = ~a->skip_mask;
+            pk.id[j] = 0;
+            pk.flags[j] = 0;
         }
-        occluded_rays(tr, scene, ctx, ray, key, counts, m, answer);
-        for (int j = 0; j < m; ++j) occluded[lane[j]] = answer[j];
+        rtcOccluded16(valid, scene, ctx, &pk);
+        for (int j = 0; j < c; ++j) occluded[lane[j]] = pk.tfar[j] == -INFINITY;
     }
 }
 
@@ -1638,15 +1653,15 @@ void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, b
 {
     RTCScene scene = tr->layers[0].scene;
     struct RTCIntersectContext ctx;
-    context_init(tr, &ctx, coherent && tr->shadow_coherent_ok);
-    TracerRay chunk[TRACE_CHUNK];
-    int lane[TRACE_CHUNK];
-    bool answer[TRACE_CHUNK];
-    int m = 0;
     int active = 0;
     for (int i = 0; i < n; ++i) active += a->active[i] != 0;
-    if (tr->batch_mode != TRACER_BATCH_PACKET16 && 2 * active < n) {
-        occluded_sparse_lanes(tr, scene, &ctx, a, n, occluded);
+    /* lanes mostly inactive (the delta lights' lanes of dead paths and of receivers facing
+     * away: integrator.c, WaveDeltaSamples) are scattered receivers' rays: packets, as
+     * incoherent rays (packets_of_16) */
+    bool packets = packets_of_16(tr, !coherent || 2 * active < n);
+    context_init(tr, &ctx, coherent && tr->shadow_coherent_ok && !packets);
+    if (packets) {
+        occluded_lanes_packets(tr, scene, &ctx, a, n, occluded);
         return;
     }
     if (tr->batch_mode == TRACER_BATCH_STREAM && lanes_stream_aligned(a) && lanes_octants(a, n) <= OCCLUDED_NP_OCTANTS) {
@@ -1658,40 +1673,27 @@ void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, b
             occluded_lanes_np(tr, scene, &ctx, a, &fixed, k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, occluded);
         return;
     }
-    if (tr->batch_mode != TRACER_BATCH_PACKET16) {
-        /* the active lanes straight into Embree's rays, as occluded_chunk fills them from
-         * TracerRays (no TracerRay between) */
-        struct RTCRay ray[TRACE_CHUNK];
-        int key[TRACE_CHUNK];
-        uint64_t counts = 0;
-        float k = tr->tracer_from_world;
-        for (int i = 0; i < n; ++i) {
-            vec3 d = v3(a->d[0][i], a->d[1][i], a->d[2][i]);
-            init_ray(&ray[m], v3(a->o[0][i], a->o[1][i], a->o[2][i]), d, a->tmax ? a->tmax[i] : INFINITY, a->time01[i],
-                     k, a->skip_mask);
-            key[m] = ray_octant(d);
-            lane[m] = i;
-            int on = a->active[i] != 0;
-            counts += (uint64_t)on << (8 * key[m]);
-            m += on;
-            if (m == TRACE_CHUNK || (i == n - 1 && m > 0)) {
-                occluded_rays(tr, scene, &ctx, ray, key, counts, m, answer);
-                for (int j = 0; j < m; ++j) occluded[lane[j]] = answer[j];
-                m = 0, counts = 0;
-            }
-        }
-        return;
-    }
+    /* the active lanes straight into Embree's rays, as occluded_chunk fills them from
+     * TracerRays (no TracerRay between) */
+    struct RTCRay ray[TRACE_CHUNK];
+    int key[TRACE_CHUNK], lane[TRACE_CHUNK];
+    bool answer[TRACE_CHUNK];
+    int m = 0;
+    uint64_t counts = 0;
+    float k = tr->tracer_from_world;
     for (int i = 0; i < n; ++i) {
-        /* written for every lane, kept (m moves on) for the active ones: no branch on a
-         * lane's own flag */
-        chunk[m] = lane_ray(a, i);
+        vec3 d = v3(a->d[0][i], a->d[1][i], a->d[2][i]);
+        init_ray(&ray[m], v3(a->o[0][i], a->o[1][i], a->o[2][i]), d, a->tmax ? a->tmax[i] : INFINITY, a->time01[i], k,
+                 a->skip_mask);
+        key[m] = ray_octant(d);
         lane[m] = i;
-        m += a->active[i] != 0;
+        int on = a->active[i] != 0;
+        counts += (uint64_t)on << (8 * key[m]);
+        m += on;
         if (m == TRACE_CHUNK || (i == n - 1 && m > 0)) {
-            occluded_chunk(tr, scene, &ctx, chunk, m, answer);
+            occluded_rays(tr, scene, &ctx, ray, key, counts, m, answer);
             for (int j = 0; j < m; ++j) occluded[lane[j]] = answer[j];
-            m = 0;
+            m = 0, counts = 0;
         }
     }
 }

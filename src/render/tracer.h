@@ -178,7 +178,8 @@ typedef struct {
 
 /* tracer_intersect_ex / tracer_occluded for n rays at once, through tr->batch_mode.
  * coherent: the rays start close together and point the same way (camera rays of a few
- * pixels, shadow rays to one light), a hint to Embree. */
+ * pixels, shadow rays to one light), a hint to Embree. In the stream mode, incoherent rays
+ * (bounce rays, a sky's shadow rays) go to Embree as packets of 16 (docs/design.md 12.34). */
 void tracer_intersect_batch(const Tracer *tr, const TracerRay *rays, int n, bool shade_all, bool coherent,
                             SurfaceHit *hits, bool *found);
 void tracer_occluded_batch(const Tracer *tr, const TracerRay *rays, int n, bool coherent, bool *occluded);
@@ -199,8 +200,10 @@ void tracer_intersect_arrays(const Tracer *tr, const TracerRayArrays *a, int n, 
 
 /* tracer_occluded_batch for the active lanes of a (n lanes), in the lanes' order: the answer
  * of active lane i in occluded[i] (inactive lanes' entries are left as they are). In the
- * stream mode, lanes whose rays use few direction octants go to Embree as these arrays
- * themselves, read in place, where they are 16-byte aligned. */
+ * stream mode, coherent lanes whose rays use few direction octants go to Embree as these
+ * arrays themselves, read in place, where they are 16-byte aligned; incoherent lanes, and
+ * lanes of which fewer than half are active whatever the flag, as packets of 16 of the
+ * active lanes. */
 void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, bool coherent, bool *occluded);
 const char *tracer_batch_mode_name(TracerBatchMode mode);
 
