@@ -66,12 +66,24 @@ unsigned lr_band_tile_classes(const LrSamples *img, const LrConfig *cfg, int tx,
     return present;
 }
 
+/* Whether two filters are the same in every field (the screen filter is made from them). */
+static bool same_filter(const LrFilter *a, const LrFilter *b)
+{
+    return a->clip_x == b->clip_x && a->clip_y == b->clip_y && a->clamped == b->clamped && a->inv_sigma_x_px == b->inv_sigma_x_px &&
+           a->eta_px == b->eta_px && a->xi_px == b->xi_px && a->inv_sigma_u == b->inv_sigma_u && a->inv_sigma_t == b->inv_sigma_t &&
+           a->inv_sigma_y_px == b->inv_sigma_y_px && a->rho_px == b->rho_px && a->inv_sigma_v == b->inv_sigma_v &&
+           a->aperture_x_px == b->aperture_x_px && a->shutter_x_px == b->shutter_x_px && a->aperture_y_px == b->aperture_y_px;
+}
+
 bool lr_band_screen(const LrConfig *cfg, const LrLayer *layer, int cls, const LrScreen *frame, LrScreen *out, LrFilter *filter)
 {
     if (cls == LR_BAND_FRAME || layer->slopes.d_min_px != 0.0f || layer->slopes.d_max_px != 0.0f) return false;
     LrConfig band = *cfg;
     band.filter.sigma_pixel_still_px = cls == LR_BAND_NARROW ? LR_BAND_NARROW_PX : LR_BAND_WIDE_PX;
     *filter = lr_layer_filter(&band, &layer->slopes, layer->contrast);
+    /* a layer blurred by its lens past the band (8.2) gets the frame's filter at every band:
+     * its screen filter (the costly part, a round table above all) is not made again */
+    if (same_filter(filter, &layer->filter)) return false;
     lr_screen_make(filter, &band, layer->cos_psi, layer->sin_psi, out);
     return !lr_screen_same(out, frame);
 }
