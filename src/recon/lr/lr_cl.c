@@ -348,6 +348,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     cl_mem b_lpc = ok && lr->lpc ? clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR,
                                                   sizeof(float) * LP_STRIDE * (band_records > 0 ? (size_t)band_records : 1), lr->lpc, &err_lpc)
                                  : NULL;
+    if (ok && !lr->lpc) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory (LR band classes)");
     ok = ok && b_lpc && cl_ok(err_lpc, "buffer allocation", d);
     ok = ok && grow(rt, &lr->b_cls, band_records > 0 ? npix : 1, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_p1c, band_records > 0 ? 2 * grid_bytes : 1, CL_MEM_READ_WRITE, d);

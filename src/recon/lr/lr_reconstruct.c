@@ -150,7 +150,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
         for (int i = 0; i < npix; ++i) {
             int px = tx0 + i % tw, py = ty0 + i / tw, ix = px - x0, iy = py - y0;
             int c = cfg->band_class ? cfg->band_class[(size_t)py * img->width + px] : LR_BAND_FRAME;
-            if (!has[c]) c = LR_BAND_FRAME;
+            if (c >= LR_BAND_CLASSES || !has[c]) c = LR_BAND_FRAME;
             const LrScreen *sc = &screen[c];
             const float *p1 = pass1 + (size_t)c * CH_COUNT * ww * wh;
             float acc[CH_COUNT] = {0};
