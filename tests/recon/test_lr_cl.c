@@ -10,12 +10,16 @@
  * widths and heights not multiples of 8: partial blocks at the edges) and bins sample by
  * sample where not (the 19-px band). Dropping a window's partial blocks, or one block, fails.
  * Neighbouring layers merged into one partition (lr_layers_merge: a convoy moving together, a
- * pinhole's static layers) are one run of raw layers in the kernel's reprojection too. */
+ * pinhole's static layers) are one run of raw layers in the kernel's reprojection too. A
+ * still band per pixel (LrConfig.band_class, docs/algorithms.md 8.40) with every class present:
+ * the kernels' per-class along passes (on the rows their pixels read) and across passes against
+ * the C passes', and the classes must change the image where a still layer's filter differs. */
 #include <math.h>
 #include <stdlib.h>
 
 #include "../check.h"
 #include "lr_scene.h"
+#include "recon/lr/lr_band_class.h"
 #include "recon/lr/lr_cl.h"
 
 /* LrConfig.gap_slabs of every comparison (0: the fixed focus bounds; 8: the bounds in each
@@ -196,6 +200,87 @@ static void compare_still(LrCl *lr, int w, int h, int spp, const LrTestLayer *la
     free(full), free(a), free(b), free(la), free(lb), free(still), free(s);
 }
 
+/* A class map with every class: narrow on a few whole rows and a diagonal (so that some
+ * tiles have narrow pixels on one row only), wide in 5x3 blocks, the frame's band elsewhere. */
+static unsigned char pattern_class(int x, int y)
+{
+    if (y % 11 == 3 || (x + y) % 23 == 0) return LR_BAND_NARROW;
+    return (x / 5 + y / 3) % 2 ? LR_BAND_WIDE : LR_BAND_FRAME;
+}
+
+/* The C partitions' layers with a class filter of their own (lr_band_screen) for the narrow
+ * and the wide class. */
+static void count_band_layers(const LrSamples *img, const LrConfig *cfg, int count[2])
+{
+    int ntx, nty;
+    lr_tile_count(img, cfg, &ntx, &nty);
+    count[0] = count[1] = 0;
+    for (int ty = 0; ty < nty; ++ty)
+        for (int tx = 0; tx < ntx; ++tx) {
+            LrTile t;
+            lr_tile_partition(img, cfg, tx, ty, &t);
+            for (int j = 0; j < t.layer_count; ++j) {
+                LrScreen frame, band;
+                LrFilter filter;
+                lr_screen_make(&t.layer[j].filter, cfg, t.layer[j].cos_psi, t.layer[j].sin_psi, &frame);
+                for (int c = LR_BAND_NARROW; c < LR_BAND_CLASSES; ++c)
+                    count[c - 1] += lr_band_screen(cfg, &t.layer[j], c, &frame, &band, &filter);
+            }
+        }
+}
+
+/* The band classes of pattern_class at a frame band of 0.45 px (the narrow class differs from
+ * it), the samples' CoC jittered by up to coc_jitter_px / 2 (still layers whose slope ranges
+ * reach focus): the kernels equal the C passes (bit for bit on PoCL), the frame-class pixels
+ * are what they are without the map, and the other classes change the image. (A layer whose
+ * frame filter is round, lr_screen_round, is blurred by its lens past the band: no class of
+ * it differs, so the class records are the two passes' in practice.) */
+static void compare_classes(LrCl *lr, int w, int h, int spp, const LrTestLayer *layers, int nl, int inset_px)
+{
+    LrSample *s = malloc(sizeof(LrSample) * (size_t)w * h * spp);
+    lr_test_scene(s, w, h, spp, layers, nl, 31);
+    unsigned seed = 5;
+    for (int i = 0; i < w * h * spp; ++i) s[i].coc_px += coc_jitter_px * (lr_test_unit(&seed) - 0.5f);
+    LrSamples img = lr_samples_split(w, h, spp, s);
+    LrConfig cfg = lr_config_default();
+    cfg.inset_px = inset_px;
+    cfg.filter.sigma_pixel_still_px = 0.45f;
+    size_t n = (size_t)w * h;
+    unsigned char *cls = malloc(n);
+    int present[3] = {0, 0, 0};
+    for (size_t i = 0; i < n; ++i) present[cls[i] = pattern_class((int)(i % (size_t)w), (int)(i / (size_t)w))]++;
+    CHECK(present[0] > 0 && present[1] > 0 && present[2] > 0);
+    float *plain = malloc(sizeof(float) * 3 * n), *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
+    float *la = malloc(sizeof(float) * n), *lb = malloc(sizeof(float) * n), *ea = malloc(sizeof(float) * n), *eb = malloc(sizeof(float) * n);
+    for (size_t i = 0; i < 3 * n; ++i) plain[i] = a[i] = b[i] = 0.0f;
+    for (size_t i = 0; i < n; ++i) la[i] = lb[i] = ea[i] = eb[i] = 0.0f;
+    LrOutput op = {plain, NULL, NULL, 0}, oc = {a, la, ea, 0}, ok = {b, lb, eb, 0};
+    lr_reconstruct_c(&img, &cfg, &op);
+    cfg.band_class = cls;
+    int layers_with[2];
+    count_band_layers(&img, &cfg, layers_with);
+    CHECK(layers_with[0] > 0 && layers_with[1] > 0);
+    lr_reconstruct_c(&img, &cfg, &oc);
+    Diag d = {0};
+    CHECK(lr_cl_run(lr, &img, &cfg, &ok, NULL, &d));
+    double worst = 0.0;
+    int changed[3] = {0, 0, 0}, aov_diff = 0;
+    for (size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            worst = fmax(worst, fabs(a[3 * i + c] - b[3 * i + c]));
+            changed[cls[i]] += a[3 * i + c] != plain[3 * i + c];
+        }
+        aov_diff += la[i] != lb[i] || ea[i] != eb[i];
+    }
+    CHECK(worst <= 1e-6 && aov_diff == 0);
+    /* the frame-class pixels keep the frame's filter; the others change */
+    CHECK(changed[LR_BAND_FRAME] == 0 && changed[LR_BAND_NARROW] > 0 && changed[LR_BAND_WIDE] > 0);
+    if (!(worst <= 1e-6) || changed[0] || !changed[1] || !changed[2])
+        fprintf(stderr, "classes: worst %g, changed frame %d narrow %d wide %d\n", worst, changed[0], changed[1], changed[2]);
+    lr_samples_free(&img);
+    free(cls), free(plain), free(a), free(b), free(la), free(lb), free(ea), free(eb), free(s);
+}
+
 int main(void)
 {
     Diag d = {0};
@@ -254,6 +339,18 @@ int main(void)
         compare_band(lr, 53, 45, 4, convoy, 3, false, 0.0f, 8);
         compare(lr, 48, 40, 4, still, 2, false);
         compare_band(lr, 53, 45, 4, still, 2, false, 0.0f, 8);
+        /* the still band per pixel (8.40): static layers near focus (class filters of their
+         * own), a moving disk (none), a static disk far out of focus (round, none), diagonal
+         * motion over a plane in focus; frames of several batches and with a band */
+        LrTestLayer focus[4] = {{2.0f, -1.0f, {0.0f, 0.0f}, 14.0f, 12.0f, 7.0f, 0.9f}, {3.0f, 0.0f, {5.0f, 2.0f}, 34.0f, 24.0f, 8.0f, 0.6f},
+                                {4.0f, -6.0f, {0.0f, 0.0f}, 30.0f, 6.0f, 5.0f, 0.7f}, {8.0f, 0.3f, {0.0f, 0.0f}, 0, 0, 0, 1.3f}};
+        LrTestLayer diag_focus[2] = {{2.0f, -3.0f, {5.0f, 4.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {8.0f, 0.4f, {0.0f, 0.0f}, 0, 0, 0, 1.1f}};
+        coc_jitter_px = 2.0f;
+        compare_classes(lr, 48, 40, 8, focus, 4, 0);
+        compare_classes(lr, 53, 45, 4, focus, 4, 8);
+        compare_classes(lr, 256, 80, 4, focus, 4, 0);
+        compare_classes(lr, 37, 29, 8, diag_focus, 2, 0);
+        coc_jitter_px = 0.6f;
         /* still tiles left out (lr_partition.h: LrConfig.still_tiles) */
         compare_still(lr, 48, 33, 8, big, 3);
         compare_still(lr, 256, 80, 4, wide, 2);

@@ -18,7 +18,16 @@
  *                 screen filter's tap weights exp(-(k / sigma)^2 / 2), k = 0..32, along (x)
  *                 and across (y): computed once per partition on the host, not per tap; then
  *                 the round filter's flag (LR_ROUND: 1 for a layer filtered by one 2D table,
- *                 lr_taps.h: lr_screen_round) and its table over dx^2 + dy^2 (LR_ROUND_T)
+ *                 lr_taps.h: lr_screen_round) and its table over dx^2 + dy^2 (LR_ROUND_T);
+ *                 then (LR_BAND) per band class, narrow and wide, the index of its record in
+ *                 class_params, or -1 where the frame's filter serves the class's pixels
+ *   class_params  LR_LP_STRIDE floats per record: a still layer's screen filter at a band
+ *                 class's band (1/sigma_x, radii, taps, round flag and table at the offsets of params;
+ *                 lr_band_class.h, docs/algorithms.md 8.40)
+ *   band_class    a byte per pixel of the image: its band class (0 the frame's band, 1
+ *                 narrow, 2 wide), read only for a layer with class records
+ *   pass1_class   two grids per (tile, layer) of the batch: the along pass of the narrow and
+ *                 of the wide class's filter, for a layer with those records
  *   block_hist    LR_GAP_BINS ints per 8x8 block of pixels (row-major, nbx per row): the CoC
  *                 histogram of its hits (lr_block_stats); block_z: their depth range, 2 floats
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
@@ -42,9 +51,10 @@
 #define LR_PLACE_L 5
 #define LR_TB_STRIDE 25
 #define LR_TL_STRIDE 18
-#define LR_LP_STRIDE 338
+#define LR_LP_STRIDE 340
 #define LR_ROUND 80
 #define LR_ROUND_T 81
+#define LR_BAND 338 /* two floats: the narrow and the wide class's record in class_params, or -1 */
 #define LR_TAPS_X 14
 #define LR_TAPS_Y 47
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
@@ -461,6 +471,13 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
     }
 }
 
+/* Where band class c's along pass (c = 1 narrow, 2 wide) of the batch's (tile, layer) slot
+ * begins in pass1_class: two window grids per slot. */
+static size_t lr_class_grid(int slot, int c, int window_px)
+{
+    return ((size_t)slot * 2 + (size_t)(c - 1)) * (size_t)window_px * (size_t)window_px * LR_CH;
+}
+
 /* A layer's shear and sample weights, as lr_reproject reads them from its parameters. */
 typedef struct {
     float cp, sp, eta, xi, rho, isu, isv, ist;
@@ -514,7 +531,8 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
                            int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples, __global const float *packed,
                            __global const uint *order,
                            __global const int *layer_start, __global const int *tile_layers, __global const float *params,
-                           __global float *grid, __global float *pass1, __global int *reach_box)
+                           __global float *grid, __global float *pass1, __global int *reach_box,
+                           __global const float *class_params, __global const uchar *band_class, __global float *pass1_class)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int j = get_global_id(0), tile = tile0 + get_global_id(1);
@@ -548,6 +566,14 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
      * are one run of it, found by bisection): for a sharp layer that is the tile's rows and a
      * few more instead of the whole window. The cells read get exactly the C version's sums. */
     float rx = lp[10], ry = lp[11];
+    /* a still layer with band classes (LR_BAND): the boxes cover the widest class's reach */
+    int rec[3] = {-1, (int)lp[LR_BAND], (int)lp[LR_BAND + 1]};
+    bool banded = rec[1] >= 0 || rec[2] >= 0;
+    for (int c = 1; c < 3; ++c)
+        if (rec[c] >= 0) {
+            rx = fmax(rx, class_params[rec[c] * LR_LP_STRIDE + 10]);
+            ry = fmax(ry, class_params[rec[c] * LR_LP_STRIDE + 11]);
+        }
     int tx0 = inset + (tile % ntx) * tile_px - w.x0, ty0 = inset + (tile / ntx) * tile_px - w.y0;
     /* how far the along pass (ax, ay) and the across pass (cx, cy) reach in x and y: a tap's
      * offset is the nearest integer to k cos psi or k sin psi, |k| <= r, at most ceil(r |cos|)
@@ -626,17 +652,48 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             }
         }
     }
-    if (lp[LR_ROUND] != 0.0f) return; /* the round filter reads the grid itself (lr_across_composite) */
-    /* Algorithm 2, first pass, along the layer's motion, while the grid is still in this
-     * processor's caches: at the window cells the second pass reads, box P widened by the
-     * across pass's reach (cx, cy), not the whole window. */
     float acc[LR_ROW_MAX * LR_CH];
-    int ix0 = max(0, p0x - cx), ix1 = min(ww, p1x + cx);
     __global float *p1 = pass1 + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
-    for (int iy = max(0, p0y - cy); iy < min(wh, p1y + cy); ++iy) {
-        lr_row_pass(g, ww, wh, iy, ix0, ix1, cp, sp, (int)rx, lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
-        __global float *o = p1 + (iy * ww + ix0) * LR_CH;
-        for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) o[i] = acc[i];
+    if (!banded) {
+        if (lp[LR_ROUND] != 0.0f) return; /* the round filter reads the grid itself (lr_across_composite) */
+        /* Algorithm 2, first pass, along the layer's motion, while the grid is still in this
+         * processor's caches: at the window cells the second pass reads, box P widened by the
+         * across pass's reach (cx, cy), not the whole window. */
+        int ix0 = max(0, p0x - cx), ix1 = min(ww, p1x + cx);
+        for (int iy = max(0, p0y - cy); iy < min(wh, p1y + cy); ++iy) {
+            lr_row_pass(g, ww, wh, iy, ix0, ix1, cp, sp, (int)rx, lp + LR_TAPS_X, acc); /* along (cos psi, sin psi) */
+            __global float *o = p1 + (iy * ww + ix0) * LR_CH;
+            for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) o[i] = acc[i];
+        }
+        return;
+    }
+    /* A still layer with band classes (8.40): per class its own along pass, on the rows its
+     * pixels' across pass reads. need[c]: the tile rows (bit iy - ty0) with a pixel of box P
+     * that takes class c's filter (a class without a record takes the frame's, c = 0). */
+    ulong need[3] = {0, 0, 0};
+    int pe = min(p1x, width - inset - w.x0), qe = min(p1y, height - inset - w.y0); /* the tile's pixels in the image */
+    for (int iy = p0y; iy < qe; ++iy)
+        for (int ix = p0x; ix < pe; ++ix) {
+            int k = band_class[(size_t)(w.y0 + iy) * width + w.x0 + ix];
+            need[k > 0 && k < 3 && rec[k] >= 0 ? k : 0] |= (ulong)1 << (iy - ty0);
+        }
+    for (int c = 0; c < 3; ++c) {
+        __global const float *sc = c == 0 ? lp : class_params + rec[c] * LR_LP_STRIDE;
+        if (!need[c] || sc[LR_ROUND] != 0.0f) continue;
+        int rxc = (int)sc[10], ryc = (int)sc[11];
+        int cxc = (int)ceil((float)ryc * fabs(sp)), cyc = (int)ceil((float)ryc * fabs(cp));
+        int ix0 = max(0, p0x - cxc), ix1 = min(ww, p1x + cxc);
+        __global float *pc = c == 0 ? p1 : pass1_class + lr_class_grid(id - tile0 * max_layers, c, window_px);
+        for (int iy = max(0, p0y - cyc); iy < min(wh, p1y + cyc); ++iy) {
+            /* the tile rows within cyc of this one: does any read it? */
+            int lo = max(0, iy - cyc - ty0), hi = min(tile_px - 1, iy + cyc - ty0);
+            if (lo > hi) continue;
+            ulong rows = (hi - lo == 63 ? ~(ulong)0 : (((ulong)1 << (hi - lo + 1)) - 1)) << lo;
+            if (!(need[c] & rows)) continue;
+            lr_row_pass(g, ww, wh, iy, ix0, ix1, cp, sp, rxc, sc + LR_TAPS_X, acc);
+            __global float *o = pc + (iy * ww + ix0) * LR_CH;
+            for (int i = 0; i < (ix1 - ix0) * LR_CH; ++i) o[i] = acc[i];
+        }
     }
 }
 
@@ -682,12 +739,33 @@ static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix
     }
 }
 
+/* Normalisation and eq. 17 for the row's pixels [i0, i1) of one layer, acc holding the across
+ * pass from pixel i0 on: each adds its light under the transmittance so far and takes the
+ * layer's opacity off it (the extent AOV: the first layer with opacity, 1 / inv_sigma_x).
+ * use: per pixel its band class's record, only the pixels of record c; 0: every pixel. */
+static inline __attribute__((always_inline)) void lr_composite(const float *acc, int i0, int i1, const uchar *use, int c,
+                                                               float inv_sigma_x, float *trans, float *out, float *extent)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    for (int i = i0; i < i1; ++i) {
+        if (use && use[i] != c) continue;
+        const float *a = acc + (i - i0) * LR_CH;
+        if (!(a[1] > 0.0f)) continue;
+        float alpha = a[0] / a[1];
+        for (int ch = 0; ch < 3; ++ch) out[3 * i + ch] += trans[i] * a[2 + ch] / a[1];
+        if (alpha > 0.0f && extent[i] == 0.0f) extent[i] = 1.0f / inv_sigma_x;
+        trans[i] *= 1.0f - alpha;
+    }
+}
+
 /* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per
  * row of a tile (image row py, tile column tx), layer by layer front to back. */
 __kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                                   int tile0, int inset, __global const int *tile_layers, __global const float *params,
                                   __global const float *pass1, __global float *rgb, __global float *layers_aov,
-                                  __global float *extent_aov, __global const int *reach_box, __global const float *grid)
+                                  __global float *extent_aov, __global const int *reach_box, __global const float *grid,
+                                  __global const float *class_params, __global const uchar *band_class,
+                                  __global const float *pass1_class)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int py = inset + tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
@@ -712,19 +790,35 @@ __kernel void lr_across_composite(int width, int height, int tile_px, int window
         __global const int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
         int i0 = max(ix0, box[0]) - ix0, i1 = min(ix0 + n, box[2]) - ix0;
         if (iy < box[1] || iy >= box[3] || i0 >= i1) continue;
-        if (lp[LR_ROUND] != 0.0f) {
-            __global const float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
-            lr_round_row(g, ww, wh, iy, ix0 + i0, ix0 + i1, (int)lp[11], lp + LR_ROUND_T, acc);
-        } else {
-            lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
+        __global const float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
+        int rec[3] = {-1, (int)lp[LR_BAND], (int)lp[LR_BAND + 1]};
+        if (rec[1] < 0 && rec[2] < 0) { /* one filter for the whole row */
+            if (lp[LR_ROUND] != 0.0f)
+                lr_round_row(g, ww, wh, iy, ix0 + i0, ix0 + i1, (int)lp[11], lp + LR_ROUND_T, acc);
+            else
+                lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
+            lr_composite(acc, i0, i1, 0, 0, lp[2], trans, out, extent);
+            continue;
         }
+        /* A still layer with band classes (8.40): per pixel the record of its class's filter
+         * (0, the frame's, for a class without one), per record the span [lo, hi) of its
+         * pixels, the across pass over that span, and the pixels of the record composited. */
+        uchar use[LR_ROW_MAX];
+        int lo[3] = {i1, i1, i1}, hi[3] = {i0, i0, i0};
         for (int i = i0; i < i1; ++i) {
-            float *a = acc + (i - i0) * LR_CH;
-            if (!(a[1] > 0.0f)) continue;
-            float alpha = a[0] / a[1];
-            for (int c = 0; c < 3; ++c) out[3 * i + c] += trans[i] * a[2 + c] / a[1];
-            if (alpha > 0.0f && extent[i] == 0.0f) extent[i] = 1.0f / lp[2];
-            trans[i] *= 1.0f - alpha;
+            int k = band_class[(size_t)py * width + px0 + i];
+            int u = k > 0 && k < 3 && rec[k] >= 0 ? k : 0;
+            use[i] = (uchar)u, lo[u] = min(lo[u], i), hi[u] = max(hi[u], i + 1);
+        }
+        for (int c = 0; c < 3; ++c) {
+            if (hi[c] <= lo[c]) continue;
+            __global const float *sc = c == 0 ? lp : class_params + rec[c] * LR_LP_STRIDE;
+            __global const float *pc = c == 0 ? p1 : pass1_class + lr_class_grid(id - tile0 * max_layers, c, window_px);
+            if (sc[LR_ROUND] != 0.0f)
+                lr_round_row(g, ww, wh, iy, ix0 + lo[c], ix0 + hi[c], (int)sc[11], sc + LR_ROUND_T, acc);
+            else
+                lr_row_pass(pc, ww, wh, iy, ix0 + lo[c], ix0 + hi[c], -lp[1], lp[0], (int)sc[11], sc + LR_TAPS_Y, acc);
+            lr_composite(acc, lo[c], hi[c], use, c, sc[2], trans, out, extent);
         }
     }
     for (int i = 0; i < n; ++i) {

@@ -10,18 +10,22 @@
 
 #include "core/clock.h"
 #include "recon/cl/cl_runtime_internal.h"
+#include "recon/lr/lr_band_class.h"
 #include "recon/lr/lr_bucket.h"
 
 /* as in lr.cl */
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAPS_Y = LP_HEAD + LR_MAX_RADIUS_PX + 1,
-       LP_ROUND = LP_HEAD + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_STRIDE = LP_ROUND_T + LR_ROUND_TABLE, CH = 5,
+       LP_ROUND = LP_HEAD + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_BAND = LP_ROUND_T + LR_ROUND_TABLE,
+       LP_STRIDE = LP_BAND + 2, CH = 5,
        ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = 18, BATCH_TILES = 32,
        PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
 
 _Static_assert(sizeof(LrKey) == 4 * sizeof(float) && sizeof(LrPlace) == 8 * sizeof(float), "lr.cl reads LrKey as a float4, LrPlace as 8 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
                "lr.cl's tile layouts");
-_Static_assert(LP_STRIDE == 338 && LP_TAPS_X == 14 && LP_TAPS_Y == 47 && LP_ROUND == 80, "lr.cl's LR_LP_STRIDE, LR_TAPS_X, LR_TAPS_Y and LR_ROUND");
+_Static_assert(LP_STRIDE == 340 && LP_TAPS_X == 14 && LP_TAPS_Y == 47 && LP_ROUND == 80 && LP_BAND == 338,
+               "lr.cl's LR_LP_STRIDE, LR_TAPS_X, LR_TAPS_Y, LR_ROUND and LR_BAND");
+_Static_assert(LR_BAND_NARROW == 1 && LR_BAND_WIDE == 2 && LR_BAND_CLASSES == 3, "lr.cl's band classes");
 _Static_assert(ST_STRIDE == 18, "lr.cl's LR_ST_STRIDE");
 _Static_assert(LR_MAX_LAYERS + 1 < LR_LAYER_SKIP && LR_LAYER_SKIP == 0x80, "lr.cl's raw layer ids are bytes, 0x80 (LR_SKIP) flags a skipped sample");
 _Static_assert(LS_STRIDE == LR_MAX_LAYERS + 2, "lr.cl's LR_LS_STRIDE: a start per raw layer and the end");
@@ -40,7 +44,11 @@ struct LrCl {
     int *tl;
     LrTile *tiles;
     size_t tiles_cap, parts_cap;
-    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_box, b_rgb, b_l, b_e, b_still;
+    /* the band classes' screen records (8.40): LP_STRIDE floats each, capacity in records */
+    float *lpc;
+    size_t lpc_cap;
+    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_box, b_rgb, b_l, b_e, b_still,
+        b_p1c, b_cls;
     LrClTimes last;
 };
 
@@ -87,11 +95,11 @@ void lr_cl_destroy(LrCl *lr)
     cl_kernel k[5] = {lr->blocks, lr->stats, lr->pack, lr->reproject, lr->across};
     for (int i = 0; i < 5; ++i)
         if (k[i]) clReleaseKernel(k[i]);
-    GrowBuf *b[17] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_ids, &lr->b_order,
-                      &lr->b_ls, &lr->b_pack, &lr->b_g, &lr->b_p1, &lr->b_box, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still};
-    for (int i = 0; i < 17; ++i)
+    GrowBuf *b[19] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_ids, &lr->b_order, &lr->b_ls, &lr->b_pack,
+                      &lr->b_g, &lr->b_p1, &lr->b_box, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still, &lr->b_p1c, &lr->b_cls};
+    for (int i = 0; i < 19; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
-    free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles);
+    free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles), free(lr->lpc);
     free(lr);
 }
 
@@ -123,30 +131,60 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
     return max_layers;
 }
 
-/* Per (tile, layer): rotation, filter, radii, and for a layer with the round filter its flag
- * and table (lr_screen_round), else the two tap tables (lr_screen_taps): the kernels read
- * the taps only in the two passes a round layer does not take (lr_reproject's along pass,
+/* A screen filter into a parameter record: for a layer with the round filter its flag and
+ * table (lr_screen_round), else the two tap tables (lr_screen_taps): the kernels read the taps
+ * only in the two passes a round layer does not take (lr_reproject's along pass,
  * lr_across_composite's row pass), and on the bench scenes most layers are round. */
-static void flatten_params(LrCl *lr, const LrConfig *cfg, int ntiles, int L)
+static void put_screen(float *p, const LrScreen *s)
 {
-    for (int t = 0; t < ntiles; ++t)
+    p[10] = (float)s->rx, p[11] = (float)s->ry;
+    if (s->round) {
+        p[LP_ROUND] = 1.0f;
+        memcpy(p + LP_ROUND_T, s->table, sizeof(float) * (size_t)(s->rx * s->rx + 1));
+        return;
+    }
+    memcpy(p + LP_TAPS_X, s->taps_x, sizeof(float) * (size_t)(s->rx + 1));
+    memcpy(p + LP_TAPS_Y, s->taps_y, sizeof(float) * (size_t)(s->ry + 1));
+}
+
+/* Per (tile, layer): rotation, filter, its screen filter (put_screen), and per band class
+ * whose screen filter differs from the frame band's (lr_band_screen: a still layer, the class
+ * among the tile's pixels) the index of its record in lr->lpc, else -1 (LP_BAND, LP_BAND + 1).
+ * Returns the class records written, or -1 when out of memory. */
+static long flatten_params(LrCl *lr, const LrSamples *img, const LrConfig *cfg, int ntx, int ntiles, int L)
+{
+    long records = 0;
+    for (int t = 0; t < ntiles; ++t) {
+        unsigned classes = lr_band_tile_classes(img, cfg, t % ntx, t / ntx);
         for (int j = 0; j < lr->tiles[t].layer_count; ++j) {
             const LrFilter *f = &lr->tiles[t].layer[j].filter;
             float *p = lr->lp + ((size_t)t * L + j) * LP_STRIDE;
-            int rx, ry;
-            lr_screen_radii_px(f, cfg, &rx, &ry);
             const LrLayer *l = &lr->tiles[t].layer[j];
+            LrScreen screen, band;
+            LrFilter band_filter;
+            lr_screen_make(f, cfg, l->cos_psi, l->sin_psi, &screen);
             float v[LP_HEAD] = {l->cos_psi, l->sin_psi, f->inv_sigma_x_px, f->eta_px, f->xi_px, f->inv_sigma_u, f->inv_sigma_t,
-                                f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, (float)rx, (float)ry, l->ramp_x_px, l->ramp_y_px};
+                                f->inv_sigma_y_px, f->rho_px, f->inv_sigma_v, 0.0f, 0.0f, l->ramp_x_px, l->ramp_y_px};
             memcpy(p, v, sizeof v);
-            int rr;
-            if (lr_screen_round(f, cfg, v[0], v[1], &rr, p + LP_ROUND_T)) { /* one 2D sum, no passes */
-                p[LP_ROUND] = 1.0f, p[10] = p[11] = (float)rr;
-                continue;
+            put_screen(p, &screen);
+            for (int c = LR_BAND_NARROW; c < LR_BAND_CLASSES; ++c) {
+                p[LP_BAND + c - 1] = -1.0f;
+                if (!(classes >> c & 1u) || !lr_band_screen(cfg, l, c, &screen, &band, &band_filter)) continue;
+                if ((size_t)records >= lr->lpc_cap) {
+                    size_t cap = lr->lpc_cap ? 2 * lr->lpc_cap : 64;
+                    float *grown = realloc(lr->lpc, sizeof(float) * LP_STRIDE * cap);
+                    if (!grown) return -1;
+                    lr->lpc = grown, lr->lpc_cap = cap;
+                }
+                float *q = lr->lpc + (size_t)records * LP_STRIDE;
+                memset(q, 0, sizeof(float) * LP_STRIDE);
+                q[2] = band_filter.inv_sigma_x_px; /* the extent AOV's */
+                put_screen(q, &band);
+                p[LP_BAND + c - 1] = (float)records++;
             }
-            lr_screen_taps(f, cfg, false, rx, p + LP_TAPS_X);
-            lr_screen_taps(f, cfg, true, ry, p + LP_TAPS_Y);
         }
+    }
+    return records;
 }
 
 static bool set_args(cl_kernel k, const cl_int *ints, int nints, const cl_mem *mems, int nmems, Diag *d)
@@ -273,9 +311,14 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
             ok = false;
         }
     }
+    long band_records = 0;
     if (ok) {
         memset(lr->lp, 0, sizeof(float) * LP_STRIDE * nparts);
-        flatten_params(lr, cfg, ntiles, L);
+        band_records = flatten_params(lr, img, cfg, ntx, ntiles, L);
+        if (band_records < 0) {
+            diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory (LR band classes)");
+            ok = false;
+        }
     }
     double t_part = clock_wall_seconds() - t0;
     /* Reprojection and screen passes a batch of tile rows at a time: the two grids are per
@@ -295,6 +338,22 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
                                       lr->lp, &err_lp)
                      : NULL;
     ok = ok && cl_ok(err_lp, "buffer allocation", d);
+    /* the band classes' records, read in place too (at least one record: a buffer of none is
+     * not allowed), and the class map; the kernels read both only for a layer with records */
+    if (ok && !lr->lpc) {
+        lr->lpc = calloc(LP_STRIDE, sizeof(float));
+        lr->lpc_cap = lr->lpc ? 1 : 0;
+    }
+    cl_int err_lpc = CL_SUCCESS;
+    cl_mem b_lpc = ok && lr->lpc ? clCreateBuffer(rt->context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR,
+                                                  sizeof(float) * LP_STRIDE * (band_records > 0 ? (size_t)band_records : 1), lr->lpc, &err_lpc)
+                                 : NULL;
+    if (ok && !lr->lpc) diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory (LR band classes)");
+    ok = ok && b_lpc && cl_ok(err_lpc, "buffer allocation", d);
+    ok = ok && grow(rt, &lr->b_cls, band_records > 0 ? npix : 1, CL_MEM_READ_ONLY, d) &&
+         grow(rt, &lr->b_p1c, band_records > 0 ? 2 * grid_bytes : 1, CL_MEM_READ_WRITE, d);
+    if (ok && band_records > 0)
+        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cls.mem, CL_FALSE, 0, npix, cfg->band_class, 0, NULL, NULL), "upload", d);
     ok = ok && grow(rt, &lr->b_tl, sizeof(int) * TL_STRIDE * (size_t)ntiles, CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_pack, sizeof(float) * PACK_FIELDS * (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * wcells * (size_t)img->spp,
               CL_MEM_READ_WRITE, d) &&
@@ -319,13 +378,15 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         }
         if (ok) { /* Algorithm 1 and the along pass, one work-item per (layer, tile) */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
-            cl_mem m[9] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, b_lp, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem};
-            ok = set_args(lr->reproject, ints, 11, m, 9, d) && cl_launch_serial_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            cl_mem m[12] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, b_lp, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem,
+                            b_lpc, lr->b_cls.mem, lr->b_p1c.mem};
+            ok = set_args(lr->reproject, ints, 11, m, 12, d) && cl_launch_serial_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
         }
         cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
         if (ok) {
-            cl_mem m[8] = {lr->b_tl.mem, b_lp, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem, lr->b_g.mem};
-            ok = set_args(lr->across, ints9, 9, m, 8, d) &&
+            cl_mem m[11] = {lr->b_tl.mem, b_lp, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem, lr->b_g.mem,
+                            b_lpc, lr->b_cls.mem, lr->b_p1c.mem};
+            ok = set_args(lr->across, ints9, 9, m, 11, d) &&
                  cl_launch_serial_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
         }
         /* the queue is in order, so the next batch's reprojection starts after this batch's
@@ -351,6 +412,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     for (int i = 0; i < 4; ++i)
         if (ev[i]) clReleaseEvent(ev[i]);
     if (b_lp) clReleaseMemObject(b_lp);
+    if (b_lpc) clReleaseMemObject(b_lpc);
     if (b_s) clReleaseMemObject(b_s);
     if (b_k) clReleaseMemObject(b_k);
     if (b_b) clReleaseMemObject(b_b);

@@ -5,8 +5,9 @@
  *            motion and radiance of every sample
  *   filter   the camera effects (defocus, motion) on the composite radiance: partitions on
  *            the host, reprojection / screen filter / compositing in OpenCL (lr_cl.h)
- *   AOVs     lr.layers (non-empty depth layers of the pixel's tile) and lr.extent_px (sigma_x
- *            of the front-most layer with opacity at the pixel)
+ *   AOVs     lr.layers (non-empty depth layers of the pixel's tile), lr.extent_px (sigma_x
+ *            of the front-most layer with opacity at the pixel, at its band class's band
+ *            for a still layer) and lr.band_class (docs/algorithms.md 8.40)
  *
  * Shading filters (another method's soft shadows or indirect light) run before this on the
  * pixel means; their effect reaches LR as a per-pixel additive correction of every sample's
@@ -20,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/lr/lr_band_class.h"
 #include "recon/lr/lr_cl.h"
 #include "recon/lr/lr_coc_slope.h"
 #include "recon/lr/lr_noise_share.h"
@@ -47,6 +49,8 @@ struct ReconMethod {
     LrConfig cfg;
     LrCl *cl;
     float *layers, *extent_px; /* AOVs, width * height */
+    float *band_aov;           /* AOV: each pixel's still band class (lr_band_class.h), 0 at 16 spp and up */
+    unsigned char *band_class; /* the frame's class map, width * height */
     LrKey *key;                /* the store's samples as LR reads them (LrSamples' arrays), copied here where */
     LrPlace *place;            /* the store holds more per pixel than all have (else its records are they) */
     size_t copies_cap;         /* kept between frames */
@@ -71,6 +75,7 @@ static void lr_destroy(ReconMethod *m)
     lr_cl_destroy(m->cl);
     free(m->layers);
     free(m->extent_px);
+    free(m->band_aov), free(m->band_class);
     free(m->key), free(m->place), free(m->bright);
     free(m->rgb);
     free(m->moving);
@@ -85,10 +90,12 @@ static bool lr_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     if (m) {
         m->layers = calloc(n, sizeof(float));
         m->extent_px = calloc(n, sizeof(float));
+        m->band_aov = calloc(n, sizeof(float));
+        m->band_class = malloc(n);
         m->rgb = malloc(sizeof(float) * 3 * n);
         m->moving = malloc(n);
     }
-    if (!m || !m->layers || !m->extent_px || !m->rgb || !m->moving || !s->store) {
+    if (!m || !m->layers || !m->extent_px || !m->band_aov || !m->band_class || !m->rgb || !m->moving || !s->store) {
         lr_destroy(m);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0},
                  s->store ? "out of memory for LR buffers" : "LR needs the per-sample store (none was given)");
@@ -385,6 +392,11 @@ static bool lr_filter_radiance(ReconMethod *m, EffectMask effects, float *value4
     cfg.film_dev_px = film_dev_px;
     unsigned char *still = still_tiles(&img, &cfg, m->moving);
     cfg.still_tiles = still;
+    /* below 16 spp each pixel's still layers take its band class's screen filter (8.40);
+     * with fewer than 2 samples: the frame's band everywhere */
+    size_t npix = (size_t)w * (size_t)h;
+    cfg.band_class = spp < LR_PIXEL_BAND_SPP && lr_band_classes(&img, m->band_class) ? m->band_class : NULL;
+    for (size_t i = 0; i < npix; ++i) m->band_aov[i] = cfg.band_class ? (float)cfg.band_class[i] : 0.0f;
     int ntx, nty;
     lr_tile_count(&img, &cfg, &ntx, &nty);
     if (ok && m->cl) {
@@ -413,6 +425,7 @@ static int lr_aovs(ReconMethod *m, ReconAov *out, int max)
     int count = 0;
     if (count < max) out[count++] = (ReconAov){"lr.layers", m->layers, "depth layers"};
     if (count < max) out[count++] = (ReconAov){"lr.extent_px", m->extent_px, "filter sigma in pixels"};
+    if (count < max) out[count++] = (ReconAov){"lr.band_class", m->band_aov, "still band class: 0 frame, 1 narrow, 2 wide"};
     return count;
 }
 

@@ -36,6 +36,7 @@ LrConfig lr_config_default(void)
     c.merge_sigma_share = 0.3f;
     c.tilt_ramp = true; /* docs/algorithms.md 8.35 */
     c.still_tiles = NULL;
+    c.band_class = NULL; /* the frame's band everywhere (lr_method.c sets it below 16 spp) */
     c.samples_scanned = false; /* lr_cl_run measures the samples itself */
     c.samples_nonfinite = 0;
     c.film_dev_px = 0.0f;
@@ -281,8 +282,7 @@ void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_
     if (isfinite(rx) && isfinite(ry)) *ramp_x_px = rx, *ramp_y_px = ry;
 }
 
-/* A layer's filter from its slopes, with the bright-layer clamp (8.24) where its contrast asks. */
-static LrFilter layer_filter(const LrConfig *cfg, const LrSlopes *slopes, float contrast)
+LrFilter lr_layer_filter(const LrConfig *cfg, const LrSlopes *slopes, float contrast)
 {
     LrFilterConfig fc = cfg->filter;
     if (cfg->bright_contrast > 0.0f && contrast >= cfg->bright_contrast && fc.sigma_clamp_px > cfg->bright_clamp_px)
@@ -300,7 +300,7 @@ static void merge_into(const LrConfig *cfg, LrLayer *front, const LrLayer *back)
     for (int k = 0; k < LR_TILT_SUMS; ++k) front->tilt.sum[k] += back->tilt.sum[k];
     a->c_min_px = min_f(a->c_min_px, b->c_min_px), a->c_max_px = max_f(a->c_max_px, b->c_max_px);
     a->d_min_px = min_f(a->d_min_px, b->d_min_px), a->d_max_px = max_f(a->d_max_px, b->d_max_px);
-    front->filter = layer_filter(cfg, a, front->contrast);
+    front->filter = lr_layer_filter(cfg, a, front->contrast);
 }
 
 bool lr_motion_filter_kept(const LrConfig *cfg, float d_min_px, float d_max_px, float across_px)
@@ -356,7 +356,7 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
          * would outshine the background, so the layer keeps its blur in its samples. */
         t->layer[j].contrast = lr_layer_contrast(st, raw_n, i);
         t->layer[j].tilt = st[i].tilt;
-        t->layer[j].filter = layer_filter(cfg, &t->layer[j].slopes, t->layer[j].contrast);
+        t->layer[j].filter = lr_layer_filter(cfg, &t->layer[j].slopes, t->layer[j].contrast);
     }
     /* Neighbours with (almost) the same filter: one partition (8.34) whose slope ranges are
      * the union of theirs, its filter made from them as any layer's. A layer is compared with

@@ -113,6 +113,10 @@ typedef struct {
     const unsigned char *still_tiles; /* per tile (row-major, lr_tile_count's), non-zero: a
                                        * tile with nothing to move, left out (no layers, its
                                        * pixels 0 in the output); NULL: none */
+    const unsigned char *band_class;  /* per pixel of the image (row-major), its still band's
+                                       * class (lr_band_class.h: LR_BAND_*): the still layers'
+                                       * screen filter at that pixel takes the class's band
+                                       * (docs/algorithms.md 8.40); NULL: the frame's band */
     /* What the frame's producer measured while writing the samples (samples_scanned; else
      * lr_cl_run measures it in a pass of its own): the samples with a non-finite radiance,
      * and the farthest a film position lies from its pixel's centre along x or y, px. */
@@ -265,6 +269,10 @@ bool lr_motion_filter_kept(const LrConfig *cfg, float d_min_px, float d_max_px, 
  * one run of the raw order: compact[] maps each of them, and any empty raw layer between
  * them has -1). */
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *raw_stats, LrTile *t);
+
+/* A layer's filter from its slopes (lr_filter_make with cfg->filter), with the bright-layer
+ * clamp (8.24) where its contrast asks. */
+LrFilter lr_layer_filter(const LrConfig *cfg, const LrSlopes *slopes, float contrast);
 
 /* Whether layer `back`, right behind `front` in a tile, may be filtered as part of it: the
  * same rotation and sample weights, shears within cfg->merge_shift_sigmas, screen sigmas and

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/lr/lr_band_class.h"
 #include "recon/lr/lr_bucket.h"
 
 void lr_reproject(const LrPlace *s, float cp, float sp, const LrFilter *f, float *p_px, float *q_px, float *weight)
@@ -92,6 +93,7 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
             }
     int start[LR_MAX_LAYERS + 2];
     lr_bucket_by_layer(ids, nwin, raw_n, start, order);
+    unsigned classes = lr_band_tile_classes(img, cfg, tx, ty); /* the band classes among the tile's pixels */
     for (int j = 0; j < tile.layer_count; ++j) {
         const LrFilter *f = &tile.layer[j].filter;
         float cp = tile.layer[j].cos_psi, sp = tile.layer[j].sin_psi;
@@ -117,47 +119,57 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
                 }
             }
         /* Algorithm 2, pass 1: along the motion, over the whole window (nearest pixel); a
-         * layer with the round filter (lr_screen_round) has no passes, one 2D sum below. */
-        int rx, ry, rr = 0;
-        lr_screen_radii_px(f, cfg, &rx, &ry);
-        float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1], round[LR_ROUND_TABLE];
-        bool is_round = lr_screen_round(f, cfg, cp, sp, &rr, round);
-        if (!is_round) { /* the taps serve only the two passes */
-            lr_screen_taps(f, cfg, false, rx, taps_x);
-            lr_screen_taps(f, cfg, true, ry, taps_y);
-        }
-        for (int iy = 0; iy < wh && !is_round; ++iy)
-            for (int ix = 0; ix < ww; ++ix) {
-                float acc[CH_COUNT] = {0};
-                for (int k = -rx; k <= rx; ++k) {
-                    int jx = ix + (int)floorf((float)k * cp + 0.5f), jy = iy + (int)floorf((float)k * sp + 0.5f);
-                    if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-                    float w = taps_x[k < 0 ? -k : k];
-                    const float *g = &grid[((size_t)jy * ww + jx) * CH_COUNT];
-                    for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
+         * layer with the round filter (lr_screen_round) has no passes, one 2D sum below.
+         * A still layer takes at each pixel its band class's screen filter (8.40): the along
+         * pass once per class whose filter differs from the frame band's (lr_band_screen). */
+        LrScreen screen[LR_BAND_CLASSES];
+        LrFilter class_filter[LR_BAND_CLASSES];
+        bool has[LR_BAND_CLASSES] = {true, false, false};
+        lr_screen_make(f, cfg, cp, sp, &screen[0]);
+        class_filter[0] = *f;
+        for (int c = 1; c < LR_BAND_CLASSES; ++c)
+            has[c] = (classes >> c & 1u) && lr_band_screen(cfg, &tile.layer[j], c, &screen[0], &screen[c], &class_filter[c]);
+        for (int c = 0; c < LR_BAND_CLASSES; ++c) {
+            if (!has[c] || screen[c].round) continue;
+            float *p1 = pass1 + (size_t)c * CH_COUNT * ww * wh;
+            for (int iy = 0; iy < wh; ++iy)
+                for (int ix = 0; ix < ww; ++ix) {
+                    float acc[CH_COUNT] = {0};
+                    for (int k = -screen[c].rx; k <= screen[c].rx; ++k) {
+                        int jx = ix + (int)floorf((float)k * cp + 0.5f), jy = iy + (int)floorf((float)k * sp + 0.5f);
+                        if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
+                        float w = screen[c].taps_x[k < 0 ? -k : k];
+                        const float *g = &grid[((size_t)jy * ww + jx) * CH_COUNT];
+                        for (int ch = 0; ch < CH_COUNT; ++ch) acc[ch] += w * g[ch];
+                    }
+                    memcpy(&p1[((size_t)iy * ww + ix) * CH_COUNT], acc, sizeof acc);
                 }
-                memcpy(&pass1[((size_t)iy * ww + ix) * CH_COUNT], acc, sizeof acc);
-            }
-        /* pass 2: across the motion, tile pixels only; then normalise and composite. */
+        }
+        /* pass 2: across the motion, tile pixels only, each with its class's filter; then
+         * normalise and composite. */
         for (int i = 0; i < npix; ++i) {
             int px = tx0 + i % tw, py = ty0 + i / tw, ix = px - x0, iy = py - y0;
+            int c = cfg->band_class ? cfg->band_class[(size_t)py * img->width + px] : LR_BAND_FRAME;
+            if (c >= LR_BAND_CLASSES || !has[c]) c = LR_BAND_FRAME;
+            const LrScreen *sc = &screen[c];
+            const float *p1 = pass1 + (size_t)c * CH_COUNT * ww * wh;
             float acc[CH_COUNT] = {0};
-            if (is_round)
-                lr_round_sum(grid, ww, wh, ix, iy, rr, round, acc);
+            if (sc->round)
+                lr_round_sum(grid, ww, wh, ix, iy, sc->ry, sc->table, acc);
             else
-                for (int k = -ry; k <= ry; ++k) {
+                for (int k = -sc->ry; k <= sc->ry; ++k) {
                     int jx = ix + (int)floorf(-(float)k * sp + 0.5f), jy = iy + (int)floorf((float)k * cp + 0.5f);
                     if (jx < 0 || jy < 0 || jx >= ww || jy >= wh) continue;
-                    float w = taps_y[k < 0 ? -k : k];
-                    const float *g = &pass1[((size_t)jy * ww + jx) * CH_COUNT];
-                    for (int c = 0; c < CH_COUNT; ++c) acc[c] += w * g[c];
+                    float w = sc->taps_y[k < 0 ? -k : k];
+                    const float *g = &p1[((size_t)jy * ww + jx) * CH_COUNT];
+                    for (int ch = 0; ch < CH_COUNT; ++ch) acc[ch] += w * g[ch];
                 }
             if (!(acc[CH_W] > 0.0f)) continue; /* nothing of this layer or behind reached here */
             float alpha = acc[CH_A] / acc[CH_W];
             float *o = &out->rgb[((size_t)py * img->width + px) * 3];
             for (int c = 0; c < 3; ++c) o[c] += trans[i] * acc[CH_R + c] / acc[CH_W]; /* eq. 17 */
             if (out->extent_px && alpha > 0.0f && out->extent_px[(size_t)py * img->width + px] == 0.0f)
-                out->extent_px[(size_t)py * img->width + px] = 1.0f / f->inv_sigma_x_px;
+                out->extent_px[(size_t)py * img->width + px] = 1.0f / class_filter[c].inv_sigma_x_px; /* the filter applied here */
             trans[i] *= 1.0f - alpha;
         }
     }
@@ -167,7 +179,8 @@ static void filter_tile(const LrSamples *img, const LrConfig *cfg, int tx, int t
 void lr_reconstruct_c(const LrSamples *img, const LrConfig *cfg, LrOutput *out)
 {
     size_t cells = (size_t)cfg->window_px * cfg->window_px * CH_COUNT;
-    float *grid = malloc(sizeof(float) * cells), *pass1 = malloc(sizeof(float) * cells);
+    /* pass1: one window per band class (8.40) */
+    float *grid = malloc(sizeof(float) * cells), *pass1 = malloc(sizeof(float) * cells * LR_BAND_CLASSES);
     size_t nwin = (size_t)cfg->window_px * cfg->window_px * img->spp;
     unsigned char *ids = malloc(nwin);
     int *order = malloc(sizeof(int) * nwin);

@@ -15,7 +15,8 @@ typedef struct {
     float *rgb;          /* width * height * 3, the reconstructed image */
     float *layers;       /* width * height or NULL: non-empty layers of the pixel's tile (AOV) */
     float *extent_px;    /* width * height or NULL: sigma_x of the front-most layer with
-                          * opacity at the pixel (AOV), 0 where none */
+                          * opacity at the pixel (AOV; a still layer's at the pixel's band
+                          * class, LrConfig.band_class), 0 where none */
     long nonfinite;      /* non-finite sample radiances skipped (counted, never propagated) */
 } LrOutput;
 

@@ -2,6 +2,7 @@
 #include "recon/lr/lr_taps.h"
 
 #include <math.h>
+#include <string.h>
 
 /* Half the window, at most the kernels' tables. */
 static int radius_cap(const LrConfig *cfg) { return cfg->window_px / 2 < LR_MAX_RADIUS_PX ? cfg->window_px / 2 : LR_MAX_RADIUS_PX; }
@@ -221,4 +222,23 @@ bool lr_screen_round(const LrFilter *f, const LrConfig *cfg, float cos_psi, floa
     for (int d2 = 0; d2 <= rr * rr; ++d2) table[d2] = (float)(t[d2] / sum);
     *r = rr;
     return true;
+}
+
+void lr_screen_make(const LrFilter *f, const LrConfig *cfg, float cos_psi, float sin_psi, LrScreen *s)
+{
+    memset(s, 0, sizeof *s);
+    int rr;
+    if (lr_screen_round(f, cfg, cos_psi, sin_psi, &rr, s->table)) {
+        s->round = true, s->rx = s->ry = rr;
+        return;
+    }
+    lr_screen_radii_px(f, cfg, &s->rx, &s->ry);
+    lr_screen_taps(f, cfg, false, s->rx, s->taps_x);
+    lr_screen_taps(f, cfg, true, s->ry, s->taps_y);
+}
+
+bool lr_screen_same(const LrScreen *a, const LrScreen *b)
+{
+    return a->rx == b->rx && a->ry == b->ry && a->round == b->round && !memcmp(a->taps_x, b->taps_x, sizeof a->taps_x) &&
+           !memcmp(a->taps_y, b->taps_y, sizeof a->taps_y) && !memcmp(a->table, b->table, sizeof a->table);
 }

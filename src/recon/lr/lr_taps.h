@@ -46,4 +46,20 @@ void lr_screen_taps(const LrFilter *f, const LrConfig *cfg, bool across, int r, 
 enum { LR_ROUND_MAX_PX = 16, LR_ROUND_TABLE = LR_ROUND_MAX_PX * LR_ROUND_MAX_PX + 1 };
 bool lr_screen_round(const LrFilter *f, const LrConfig *cfg, float cos_psi, float sin_psi, int *r, float *table);
 
+/* A partition's whole screen filter as the passes read it: the round filter (round, its radius
+ * in rx and ry, table) or the two passes' radii and taps. Entries past a radius are 0. */
+typedef struct {
+    int rx, ry;
+    bool round;
+    float taps_x[LR_MAX_RADIUS_PX + 1], taps_y[LR_MAX_RADIUS_PX + 1];
+    float table[LR_ROUND_TABLE];
+} LrScreen;
+
+/* The screen filter of filter f (rotated by psi): lr_screen_round's, else lr_screen_radii_px's
+ * radii and lr_screen_taps' taps. */
+void lr_screen_make(const LrFilter *f, const LrConfig *cfg, float cos_psi, float sin_psi, LrScreen *s);
+
+/* Whether two screen filters weight every tap alike. */
+bool lr_screen_same(const LrScreen *a, const LrScreen *b);
+
 #endif
