@@ -32,6 +32,10 @@ static float coc_jitter_px = 0.6f;
  * brighter than the rest of its windows, whose layers take the bright clamp (8.24) from the
  * brightness sums the kernel adds up and the C partition alike */
 static float front_gain = 1.0f;
+/* LrFilterConfig.flat_lens_time of every comparison: false, the samples weigh w_u w_v w_t
+ * (eq. 14; lr_gauss), a weight that falls to 0 far out, so the kernel's sums take weights
+ * other than 0 and 1 and lr_reproject's weight-0 samples (dropped) are exercised */
+static bool flat_weights = true;
 
 /* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
  * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
@@ -58,6 +62,7 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     LrConfig cfg = lr_config_default();
     cfg.inset_px = inset_px;
     cfg.gap_slabs = gap_slabs;
+    cfg.filter.flat_lens_time = flat_weights;
     size_t n = (size_t)w * h;
     float *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
     float *la = malloc(sizeof(float) * n), *lb = malloc(sizeof(float) * n), *ea = malloc(sizeof(float) * n), *eb = malloc(sizeof(float) * n);
@@ -370,6 +375,16 @@ int main(void)
             compare(lr, 256, 80, 4, wide, 2, false);
             front_gain = 1.0f;
         }
+        /* Gaussian sample weights: the reprojection's Gaussian branch, weights of every size,
+         * samples of weight 0 (lr_gauss' cut-off) among those that land in the box */
+        flat_weights = false;
+        compare(lr, 37, 29, 4, diag, 2, false);
+        compare(lr, 48, 33, 8, big, 3, true);
+        compare_spread(lr, 48, 40, 4, sharp, 2, false, 4.0f);
+        compare(lr, 48, 40, 4, convoy, 3, false);
+        compare_band(lr, 53, 45, 4, still, 2, false, 0.0f, 8);
+        compare(lr, 256, 80, 4, wide, 2, true);
+        flat_weights = true;
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);
