@@ -310,12 +310,14 @@ int main(void)
          * only the rows of its sorted list near the tile (bisection) */
         LrTestLayer sharp[2] = {{2.0f, 0.0f, {0.0f, 0.0f}, 22.0f, 19.0f, 11.0f, 0.7f}, {8.0f, 6.0f, {3.0f, 1.0f}, 0, 0, 0, 0.4f}};
         compare(lr, 48, 40, 4, sharp, 2, false);
-        /* frames of more than one batch of tiles (lr_cl.c: BATCH_TILES): 16 x 5 tiles in
-         * batches of 4 rows (the last one short), and 65 x 2 tiles, one row a batch */
+        /* frames of more than one batch of tiles (lr_cl.c: BATCH_TILES): 16 x 5 tiles, one row
+         * a batch, 7 x 5 tiles in batches of 2 rows (the last one short), and 65 x 2 tiles,
+         * one row a batch */
         LrTestLayer wide[2] = {{2.0f, -4.0f, {-9.0f, 3.0f}, 130.0f, 40.0f, 30.0f, 0.8f}, {6.0f, 3.0f, {2.0f, 0.0f}, 0, 0, 0, 0.35f}};
         CHECK(bright_partitions(48, 33, 8, big, 3, 300.0f) > 0 && bright_partitions(256, 80, 4, wide, 2, 300.0f) > 0);
         CHECK(bright_partitions(48, 33, 8, big, 3, 1.0f) == 0 && bright_partitions(256, 80, 4, wide, 2, 1.0f) == 0);
         compare(lr, 256, 80, 4, wide, 2, false);
+        compare(lr, 112, 80, 4, wide, 2, true);
         compare(lr, 1040, 20, 2, wide, 2, true);
         /* film positions up to 4 px from their pixel's centre (pbrt's sinc pixel filter) and 9
          * px (a wider one): the reprojection must still visit every source row that can land
