@@ -328,7 +328,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
      * three kernels. 64 tiles a batch page-faulted 3k more pages (12 MB) per one-frame render
      * for nothing (docs/benchmarks.md, "LR's reconstruction cost"); 16 (one row of tiles at
      * 256 px) against 32 halves what the batch's three kernels pass between them through the
-     * shared cache (at 256x192, 8 spp, ~8 MB against ~17 MB): 3-6% less CPU a warm filter
+     * shared cache (at 256x192, 8 spp, ~6 MB against ~13 MB): 3-6% less CPU a warm filter
      * ("LR's warm filter on the hard scene", lr25), and 16 tiles of several layers each still
      * keep both cores busy. */
     int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
