@@ -488,8 +488,10 @@ typedef struct {
  * (eq. 14): cell[m] the first float of their grid cell, clamped into the box [bx0, bx1) x
  * [by0, by1) that the screen passes read, and wt[m] their weight, 0 where the sample lands
  * outside the box (nothing reads it there). So the sums add every sample without a branch:
- * adding 0 leaves a cell's sums as they were (a cell holds +0 or a positive sum, never -0),
- * and the test it replaces mispredicted where a layer's samples straddle the box's edge.
+ * adding 0 (or 0 L, L finite: a non-finite radiance is not in the list) leaves a cell's
+ * value as it was (x + 0 = x; of a zero at most its sign changes, and -0 and +0 are the same
+ * number to every later sum, product and quotient), and the test it replaces mispredicted
+ * where a layer's samples straddle the box's edge.
  * Independent samples, no branches: the processor overlaps them. flat (8.15's flat weights,
  * all three inverse sigmas 0): every weight is lr_gauss(0), exactly 1, so the Gaussian is not
  * evaluated (docs/algorithms.md 8.30). own: the layer's own samples, whose landing cells of
