@@ -32,6 +32,10 @@ static float coc_jitter_px = 0.6f;
  * brighter than the rest of its windows, whose layers take the bright clamp (8.24) from the
  * brightness sums the kernel adds up and the C partition alike */
 static float front_gain = 1.0f;
+/* LrFilterConfig.flat_lens_time of every comparison: false, the samples weigh w_u w_v w_t
+ * (eq. 14; lr_gauss), a weight that falls to 0 far out, so the kernel's sums take weights
+ * other than 0 and 1 and lr_reproject's weight-0 samples (dropped) are exercised */
+static bool flat_weights = true;
 
 /* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
  * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
@@ -58,6 +62,7 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     LrConfig cfg = lr_config_default();
     cfg.inset_px = inset_px;
     cfg.gap_slabs = gap_slabs;
+    cfg.filter.flat_lens_time = flat_weights;
     size_t n = (size_t)w * h;
     float *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
     float *la = malloc(sizeof(float) * n), *lb = malloc(sizeof(float) * n), *ea = malloc(sizeof(float) * n), *eb = malloc(sizeof(float) * n);
@@ -305,12 +310,14 @@ int main(void)
          * only the rows of its sorted list near the tile (bisection) */
         LrTestLayer sharp[2] = {{2.0f, 0.0f, {0.0f, 0.0f}, 22.0f, 19.0f, 11.0f, 0.7f}, {8.0f, 6.0f, {3.0f, 1.0f}, 0, 0, 0, 0.4f}};
         compare(lr, 48, 40, 4, sharp, 2, false);
-        /* frames of more than one batch of tiles (lr_cl.c: BATCH_TILES): 16 x 5 tiles in
-         * batches of 4 rows (the last one short), and 65 x 2 tiles, one row a batch */
+        /* frames of more than one batch of tiles (lr_cl.c: BATCH_TILES): 16 x 5 tiles, one row
+         * a batch, 7 x 5 tiles in batches of 2 rows (the last one short), and 65 x 2 tiles,
+         * one row a batch */
         LrTestLayer wide[2] = {{2.0f, -4.0f, {-9.0f, 3.0f}, 130.0f, 40.0f, 30.0f, 0.8f}, {6.0f, 3.0f, {2.0f, 0.0f}, 0, 0, 0, 0.35f}};
         CHECK(bright_partitions(48, 33, 8, big, 3, 300.0f) > 0 && bright_partitions(256, 80, 4, wide, 2, 300.0f) > 0);
         CHECK(bright_partitions(48, 33, 8, big, 3, 1.0f) == 0 && bright_partitions(256, 80, 4, wide, 2, 1.0f) == 0);
         compare(lr, 256, 80, 4, wide, 2, false);
+        compare(lr, 112, 80, 4, wide, 2, true);
         compare(lr, 1040, 20, 2, wide, 2, true);
         /* film positions up to 4 px from their pixel's centre (pbrt's sinc pixel filter) and 9
          * px (a wider one): the reprojection must still visit every source row that can land
@@ -370,6 +377,16 @@ int main(void)
             compare(lr, 256, 80, 4, wide, 2, false);
             front_gain = 1.0f;
         }
+        /* Gaussian sample weights: the reprojection's Gaussian branch, weights of every size,
+         * samples of weight 0 (lr_gauss' cut-off) among those that land in the box */
+        flat_weights = false;
+        compare(lr, 37, 29, 4, diag, 2, false);
+        compare(lr, 48, 33, 8, big, 3, true);
+        compare_spread(lr, 48, 40, 4, sharp, 2, false, 4.0f);
+        compare(lr, 48, 40, 4, convoy, 3, false);
+        compare_band(lr, 53, 45, 4, still, 2, false, 0.0f, 8);
+        compare(lr, 256, 80, 4, wide, 2, true);
+        flat_weights = true;
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

@@ -485,20 +485,28 @@ typedef struct {
 } LrShear;
 
 /* Where samples e0 .. e0 + n - 1 of a packed list land (eq. 16) and their weight w_u w_v w_t
- * (eq. 14): cell[m] their grid cell's first float, or -1 where nothing reads it (outside
- * [bx0, bx1) x [by0, by1) or weight 0). Independent samples, no branches: the processor
- * overlaps them. flat (8.15's flat weights, all three inverse sigmas 0): every weight is
- * lr_gauss(0), exactly 1, so the Gaussian is not evaluated (docs/algorithms.md 8.30). */
+ * (eq. 14): cell[m] the first float of their grid cell, clamped into the box [bx0, bx1) x
+ * [by0, by1) that the screen passes read, and wt[m] their weight, 0 where the sample lands
+ * outside the box (nothing reads it there). So the sums add every sample without a branch:
+ * adding 0 (or 0 L, L finite: a non-finite radiance is not in the list) leaves a cell's
+ * value as it was (x + 0 = x; of a zero at most its sign changes, and -0 and +0 are the same
+ * number to every later sum, product and quotient), and the test it replaces mispredicted
+ * where a layer's samples straddle the box's edge.
+ * Independent samples, no branches: the processor overlaps them. flat (8.15's flat weights,
+ * all three inverse sigmas 0): every weight is lr_gauss(0), exactly 1, so the Gaussian is not
+ * evaluated (docs/algorithms.md 8.30). own: the layer's own samples, whose landing cells of
+ * nonzero weight widen the box obox (x0, y0, x1, y1; inclusive). */
 /* (always_inline: left a call, the loops were not specialised and lr_reproject took a fifth
  * more time) */
 static inline __attribute__((always_inline)) void lr_place(__global const float *P, size_t cap, int e0, int n,
-                                                           const LrShear *f, bool flat, bool shifted, int x0, int y0, int ww, int bx0,
-                                                           int by0, int bx1, int by1, float *wt, int *cell)
+                                                           const LrShear *f, bool flat, bool shifted, bool own, int x0, int y0, int ww, int bx0,
+                                                           int by0, int bx1, int by1, float *wt, int *cell, int *obox)
 {
 #pragma OPENCL FP_CONTRACT OFF
     /* in registers: the stores to wt and cell below could otherwise alias *f */
     float cp = f->cp, sp = f->sp, eta = f->eta, xi = f->xi, rho = f->rho, isu = f->isu, isv = f->isv, ist = f->ist;
     float shx = f->shift_x, shy = f->shift_y;
+    int ox0 = obox[0], oy0 = obox[1], ox1 = obox[2], oy1 = obox[3];
     for (int m = 0; m < n; ++m) {
         int e = e0 + m;
         float su = P[2 * cap + e], sv = P[3 * cap + e];
@@ -514,10 +522,16 @@ static inline __attribute__((always_inline)) void lr_place(__global const float 
             float au = isu * ur, av = isv * vr, at = ist * tc;
             weight = lr_gauss(au * au + av * av + at * at); /* w_u w_v w_t of eq. 14 */
         }
-        wt[m] = weight;
         bool read = ix >= bx0 && iy >= by0 && ix < bx1 && iy < by1; /* else never read */
-        cell[m] = read && weight != 0.0f ? (iy * ww + ix) * LR_CH : -1;
+        wt[m] = read ? weight : 0.0f;
+        cell[m] = (clamp(iy, by0, by1 - 1) * ww + clamp(ix, bx0, bx1 - 1)) * LR_CH;
+        if (own) {
+            bool lands = read && weight != 0.0f;
+            ox0 = min(ox0, lands ? ix : INT_MAX), ox1 = max(ox1, lands ? ix : INT_MIN);
+            oy0 = min(oy0, lands ? iy : INT_MAX), oy1 = max(oy1, lands ? iy : INT_MIN);
+        }
     }
+    obox[0] = ox0, obox[1] = oy0, obox[2] = ox1, obox[3] = oy1;
 }
 
 /* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
@@ -593,7 +607,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
         for (int i = 0; i < (bx1 - bx0) * LR_CH; ++i) row[i] = 0.0f;
     }
     uint key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
-    int ox0 = INT_MAX, oy0 = INT_MAX, ox1 = INT_MIN, oy1 = INT_MIN; /* the cells the own samples reach */
+    int obox[4] = {INT_MAX, INT_MAX, INT_MIN, INT_MIN}; /* the cells the own samples reach: x0, y0, x1, y1 */
     int p0x = 0, p0y = 0, p1x = 0, p1y = 0; /* box P */
     for (int r = raw_j; r <= 17; ++r) {
         bool own = r < raw_e;
@@ -607,8 +621,8 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
              * (box G): the samples behind are placed only into G, and only source rows within
              * reach of G are visited. G's cells get the same sums in the same order as before;
              * the cells outside it are never read (docs/algorithms.md 8.25). */
-            p0x = max(tx0, ox0 - ax - cx), p1x = min(tx0 + tile_px, ox1 + 1 + ax + cx);
-            p0y = max(ty0, oy0 - ay - cy), p1y = min(ty0 + tile_px, oy1 + 1 + ay + cy);
+            p0x = max(tx0, obox[0] - ax - cx), p1x = min(tx0 + tile_px, obox[2] + 1 + ax + cx);
+            p0y = max(ty0, obox[1] - ay - cy), p1y = min(ty0 + tile_px, obox[3] + 1 + ay + cy);
             __global int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
             box[0] = p0x, box[1] = p0y, box[2] = p1x, box[3] = p1y;
             if (p0x >= p1x || p0y >= p1y) { /* the layer shows nowhere in the tile */
@@ -630,25 +644,26 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
             if (own) /* the next chunk's radiance, which its sums read: fetched while this chunk is placed */
                 for (int m = e0 + LR_CHUNK; m < min(e0 + 2 * LR_CHUNK, e1); ++m)
                     __builtin_prefetch(samples + (size_t)list[m] * LR_PLACE_STRIDE + LR_PLACE_L);
-            /* written out four times by the compiler: flat and shifted are constants in each call */
+            /* written out six times by the compiler: flat, shifted and own are constants in each call */
             bool shifted = own && (ramp_x != 0.0f || ramp_y != 0.0f);
-            if (flat && shifted) lr_place(P, cap, e0, n, &sh, true, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
-            else if (flat) lr_place(P, cap, e0, n, &sh, true, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
-            else if (shifted) lr_place(P, cap, e0, n, &sh, false, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
-            else lr_place(P, cap, e0, n, &sh, false, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell);
+            if (!own) {
+                if (flat) lr_place(P, cap, e0, n, &sh, true, false, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell, obox);
+                else lr_place(P, cap, e0, n, &sh, false, false, false, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell, obox);
+                for (int m = 0; m < n; ++m) g[cell[m] + 1] += wt[m]; /* behind: the weight only */
+                continue;
+            }
+            if (flat && shifted) lr_place(P, cap, e0, n, &sh, true, true, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell, obox);
+            else if (flat) lr_place(P, cap, e0, n, &sh, true, false, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell, obox);
+            else if (shifted) lr_place(P, cap, e0, n, &sh, false, true, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell, obox);
+            else lr_place(P, cap, e0, n, &sh, false, false, true, w.x0, w.y0, ww, bx0, by0, bx1, by1, wt, cell, obox);
             for (int m = 0; m < n; ++m) {
-                if (cell[m] < 0) continue;
                 __global float *c = g + cell[m];
+                __global const float *L = samples + (size_t)list[e0 + m] * LR_PLACE_STRIDE + LR_PLACE_L;
+                c[0] += wt[m];
                 c[1] += wt[m];
-                if (own) {
-                    int ix = cell[m] / LR_CH % ww, iy = cell[m] / LR_CH / ww;
-                    ox0 = min(ox0, ix), ox1 = max(ox1, ix), oy0 = min(oy0, iy), oy1 = max(oy1, iy);
-                    __global const float *L = samples + (size_t)list[e0 + m] * LR_PLACE_STRIDE + LR_PLACE_L;
-                    c[0] += wt[m];
-                    c[2] += wt[m] * L[0];
-                    c[3] += wt[m] * L[1];
-                    c[4] += wt[m] * L[2];
-                }
+                c[2] += wt[m] * L[0];
+                c[3] += wt[m] * L[1];
+                c[4] += wt[m] * L[2];
             }
         }
     }
@@ -718,14 +733,23 @@ static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix
         int up = iy - dy, dn = iy + dy;
         bool has_up = up >= 0 && up < wh, has_dn = dy > 0 && dn >= 0 && dn < wh;
         if (!has_up && !has_dn) continue;
-        /* rs[(x - (ix0 - w)) * LR_CH + c] for x in [ix0 - w, ix1 + w) */
+        /* rs[(x - (ix0 - w)) * LR_CH + c] for x in [ix0 - w, ix1 + w): 0 + 0 for the columns
+         * outside the window, and within it one flat loop over the window's columns [xa, xb)
+         * (their cells are contiguous in both rows and in rs) per case of the two rows, which
+         * the compiler runs 8 or 16 wide; the same sums as cell by cell with a test per column
+         * (row + 0 where the other row is outside) */
         __global const float *row_up = g + (has_up ? up : 0) * ww * LR_CH, *row_dn = g + (has_dn ? dn : 0) * ww * LR_CH;
-        for (int x = ix0 - w; x < ix1 + w; ++x) {
-            float *o = rs + (x - ix0 + w) * LR_CH;
-            bool in = x >= 0 && x < ww;
-            int xc = clamp(x, 0, ww - 1) * LR_CH; /* a cell of the window, read but not used when !in */
-            for (int c = 0; c < LR_CH; ++c) o[c] = (in && has_up ? row_up[xc + c] : 0.0f) + (in && has_dn ? row_dn[xc + c] : 0.0f);
-        }
+        int xa = max(ix0 - w, 0), xb = min(ix1 + w, ww), nc = (xb - xa) * LR_CH;
+        for (int i = 0; i < (xa - (ix0 - w)) * LR_CH; ++i) rs[i] = 0.0f + 0.0f;
+        for (int i = (xb - (ix0 - w)) * LR_CH; i < (ix1 - ix0 + 2 * w) * LR_CH; ++i) rs[i] = 0.0f + 0.0f;
+        float *o = rs + (xa - (ix0 - w)) * LR_CH;
+        __global const float *a = row_up + xa * LR_CH, *b = row_dn + xa * LR_CH;
+        if (has_up && has_dn)
+            for (int i = 0; i < nc; ++i) o[i] = a[i] + b[i];
+        else if (has_up)
+            for (int i = 0; i < nc; ++i) o[i] = a[i] + 0.0f;
+        else
+            for (int i = 0; i < nc; ++i) o[i] = 0.0f + b[i];
         {
             float wk = table[dy * dy];
             const float *m = rs + w * LR_CH;

@@ -17,7 +17,7 @@
 enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAPS_Y = LP_HEAD + LR_MAX_RADIUS_PX + 1,
        LP_ROUND = LP_HEAD + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_BAND = LP_ROUND_T + LR_ROUND_TABLE,
        LP_STRIDE = LP_BAND + 2, CH = 5,
-       ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = 18, BATCH_TILES = 32,
+       ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = 18, BATCH_TILES = 16,
        PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
 
 _Static_assert(sizeof(LrKey) == 4 * sizeof(float) && sizeof(LrPlace) == 8 * sizeof(float), "lr.cl reads LrKey as a float4, LrPlace as 8 floats");
@@ -325,9 +325,12 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
      * (tile, layer) of the batch only. The whole frame's (63 MB at 256x192) was fresh memory
      * in a one-frame render, page-faulted and cleared by the kernel (docs/benchmarks.md, LR
      * third round); a batch's is reused by the next and stays in the caches between the
-     * three kernels. About 32 tiles a batch still keeps both cores busy; 64 page-faulted 3k
-     * more pages (12 MB) per one-frame render for nothing (docs/benchmarks.md, "LR's
-     * reconstruction cost"). */
+     * three kernels. 64 tiles a batch page-faulted 3k more pages (12 MB) per one-frame render
+     * for nothing (docs/benchmarks.md, "LR's reconstruction cost"); 16 (one row of tiles at
+     * 256 px) against 32 halves what the batch's three kernels pass between them through the
+     * shared cache (at 256x192, 8 spp, ~6 MB against ~13 MB): 3-6% less CPU a warm filter
+     * ("LR's warm filter on the hard scene", lr25), and 16 tiles of several layers each still
+     * keep both cores busy. */
     int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
     int nbatches = (nty + batch_rows - 1) / batch_rows;
     size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
