@@ -10,13 +10,25 @@
 #include "render/tracer.h"
 #include "scene/scene_desc.h"
 
+/* Every scene's camera and film, up to WorldBegin. */
+#define SCENE_HEAD                                                                                                    \
+    "LookAt 0 0 -5  0 0 0  0 1 0\n"                                                                                   \
+    "Camera \"perspective\" \"float fov\" [ 40 ]\n"                                                                 \
+    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"                                   \
+    "WorldBegin\n"
+
+/* A sphere light of radius 0.5 below the origin. */
+#define SPHERE_LIGHT                                                                                                  \
+    "AttributeBegin\n"                                                                                                \
+    "  AreaLightSource \"diffuse\" \"rgb L\" [ 1 2 3 ]\n"                                                            \
+    "  Translate 0 -2 0\n"                                                                                            \
+    "  Shape \"sphere\" \"float radius\" [ 0.5 ]\n"                                                                  \
+    "AttributeEnd\n"
+
 /* An emitting mesh of three triangles of areas 0.5, 1 and 2 (so unequal powers) and a point
  * light. */
 static const char *scene_text =
-    "LookAt 0 0 -5  0 0 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
-    "WorldBegin\n"
+    SCENE_HEAD
     "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 4 0 ]\n"
     "AttributeBegin\n"
     "  AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
@@ -27,17 +39,10 @@ static const char *scene_text =
 /* An infinite light, a sphere light, a point light (lit at every vertex, never picked), a mesh of four triangles whose second has no area (no
  * power: the pick skips it) and a moving quad (triangles, not static). */
 static const char *mixed_text =
-    "LookAt 0 0 -5  0 0 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
-    "WorldBegin\n"
+    SCENE_HEAD
     "LightSource \"infinite\" \"rgb L\" [ 0.1 0.1 0.1 ]\n"
     "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 4 0 ]\n"
-    "AttributeBegin\n"
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 1 2 3 ]\n"
-    "  Translate 0 -2 0\n"
-    "  Shape \"sphere\" \"float radius\" [ 0.5 ]\n"
-    "AttributeEnd\n"
+    SPHERE_LIGHT
     "AttributeBegin\n"
     "  AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
     "  Shape \"trianglemesh\" \"point3 P\" [ 0 3 0  1 3 0  0 3 1   2 3 0  3 3 0  4 3 0   5 3 0  7 3 0  5 3 2"
@@ -55,10 +60,7 @@ static const char *mixed_text =
 /* The mesh of scene_text declared before the point light: the lights without power (the
  * point light, lit at every vertex) then come after the mesh's run. */
 static const char *mesh_first_text =
-    "LookAt 0 0 -5  0 0 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
-    "WorldBegin\n"
+    SCENE_HEAD
     "AttributeBegin\n"
     "  AreaLightSource \"diffuse\" \"rgb L\" [ 2 2 2 ]\n"
     "  Shape \"trianglemesh\" \"point3 P\" [ 0 3 0  1 3 0  0 3 1   2 3 0  4 3 0  2 3 1   5 3 0  7 3 0  5 3 2 ]\n"
@@ -69,10 +71,7 @@ static const char *mesh_first_text =
 /* A constant sky beside a distant sun (envlight's lights): the sky is the one light the pick
  * can land on (the sun is lit at every vertex, never picked), first in the table. */
 static const char *sky_sun_text =
-    "LookAt 0 0 -5  0 0 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
-    "WorldBegin\n"
+    SCENE_HEAD
     "LightSource \"infinite\" \"rgb L\" [ 0.55 0.65 0.85 ]\n"
     "LightSource \"distant\" \"point3 from\" [ 2 2.2 3 ] \"point3 to\" [ 0 0 0 ] \"rgb L\" [ 2.6 2.4 2.1 ]\n"
     "Shape \"sphere\" \"float radius\" [ 1 ]\n";
@@ -80,25 +79,15 @@ static const char *sky_sun_text =
 /* A sphere light beside two lights without power (a point light and a distant one): the
  * sphere is the one light the pick can land on. */
 static const char *sphere_one_text =
-    "LookAt 0 0 -5  0 0 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
-    "WorldBegin\n"
+    SCENE_HEAD
     "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 4 0 ]\n"
-    "AttributeBegin\n"
-    "  AreaLightSource \"diffuse\" \"rgb L\" [ 1 2 3 ]\n"
-    "  Translate 0 -2 0\n"
-    "  Shape \"sphere\" \"float radius\" [ 0.5 ]\n"
-    "AttributeEnd\n"
+    SPHERE_LIGHT
     "LightSource \"distant\" \"point3 from\" [ 0 1 0 ] \"point3 to\" [ 0 0 0 ] \"rgb L\" [ 1 1 1 ]\n";
 
 /* A constant sky between a point light and a distant light (neither is picked): the one light
  * the pick can land on is neither first nor last in the table. */
 static const char *sky_between_text =
-    "LookAt 0 0 -5  0 0 0  0 1 0\n"
-    "Camera \"perspective\" \"float fov\" [ 40 ]\n"
-    "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
-    "WorldBegin\n"
+    SCENE_HEAD
     "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 4 0 ]\n"
     "LightSource \"infinite\" \"rgb L\" [ 0.5 0.5 0.5 ]\n"
     "LightSource \"distant\" \"point3 from\" [ 0 1 0 ] \"point3 to\" [ 0 0 0 ] \"rgb L\" [ 1 1 1 ]\n"
