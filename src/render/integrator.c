@@ -779,9 +779,17 @@ static inline void wave_camera_sample(const IntegratorScene *sc, vec2 u_film01, 
     p->time01 = sc->sample_time ? shutter_time01(sc, shutter_u) : sc->time01_fixed;
 }
 
+/* Whether the first vertex's dimensions are drawn after the camera rays are traced, per
+ * pixel with a first hit, as every later vertex's are (wave_integrate), rather than with the
+ * camera's: where camera rays can leave the scene into a sky (an infinite light), a pixel
+ * whose rays all miss then draws none; elsewhere nearly every pixel has a hit and the second
+ * pass over the pixels' samplers would cost what it saves (docs/design.md 12.35). The
+ * dimensions' values do not depend on when they are drawn. */
+static inline bool first_dims_after_trace(const IntegratorScene *sc) { return sc->lights->infinite_count > 0; }
+
 /* The camera samples of pixel k's samples first .. first + count - 1 (count <=
  * SAMPLER_RUN_MAX), paths j0 .., into the wave's camera batch, with their first vertex's
- * dimensions (a camera ray that misses has drawn them for nothing). The rays themselves are
+ * dimensions unless those come later (first_dims_after_trace). The rays themselves are
  * made for the whole wave at once (wave_integrate: camera_generate_rays), not per pixel: at 16
  * samples a pixel the batch's set-up cost as much as its 16 rays (issue 22's flatness). Each
  * ray is computed on its own, lane by lane, so the batch's length does not change its bits. */
@@ -808,7 +816,7 @@ WAVE_STAGE void wave_camera_samples(const IntegratorScene *sc, Wave *w, const Wa
                            p, out, j0 + i, &cb->px[j0 + i], &cb->py[j0 + i]);
         w->cam_time01[j0 + i] = p->time01;
     }
-    wave_vertex_dims(sc, w, j0, 1);
+    if (!first_dims_after_trace(sc)) wave_vertex_dims(sc, w, j0, 1);
 }
 
 /* Without infinite lights, and unless the filters record where it ends (the bounce
@@ -1737,9 +1745,12 @@ WAVE_STAGE int wave_integrate(const IntegratorScene *sc, Wave *w, const WaveSamp
     /* path vertices: shadow and bounce rays in batches, then folded in path by path */
     for (int depth = 1; depth <= sc->max_depth && any_alive; ++depth) {
         /* the vertex's dimensions, per pixel with a path still going (the first vertex's
-         * came with the camera rays) */
+         * came with the camera rays, unless first_dims_after_trace); a pixel with none draws
+         * nothing (the values are a pure function of pixel, sample and dimension, so when
+         * they are drawn changes none of them) */
         bool any_dims = vertex_uses_light_dims(sc, depth) || vertex_uses_bsdf_dims(sc, depth);
-        for (int k = 0; k < pixel_count && depth > 1 && any_dims; ++k) {
+        bool draw_here = depth > 1 || first_dims_after_trace(sc);
+        for (int k = 0; k < pixel_count && draw_here && any_dims; ++k) {
             int j0 = w->path_first[k], count = w->path_count[k];
             bool alive = false;
             for (int j = j0; j < j0 + count; ++j) alive |= w->path[j].alive;

@@ -345,8 +345,30 @@ void lights_free(LightSet *set)
     *set = (LightSet){0};
 }
 
+/* The light every pick target in [0, power_total) lands on, if there is one: the first i
+ * with cdf[i + 1] > target is the same s for every such target when cdf[i] <= 0 for every
+ * i <= s and cdf[i] >= power_total for every i > s (the search's predicate, cdf[i + 1] >
+ * target, is then false below s and true from s on), and lights_cdf_cell's skip of empty
+ * lights stops at s, whose width cdf[s + 1] - cdf[s] is > 0. */
+static void lights_find_sole_light(LightSet *set)
+{
+    set->has_sole_light = false;
+    set->sole_light = -1;
+    if (!(set->power_total > 0.0f) || set->count <= 0) return;
+    int s = 0;
+    while (s < set->count && set->cdf[s + 1] <= 0.0f) ++s;
+    if (s == set->count) return;
+    for (int i = 0; i <= s; ++i)
+        if (!(set->cdf[i] <= 0.0f)) return;
+    for (int i = s + 1; i <= set->count; ++i)
+        if (!(set->cdf[i] >= set->power_total)) return;
+    set->has_sole_light = true;
+    set->sole_light = s;
+}
+
 void lights_find_sole_mesh(LightSet *set)
 {
+    lights_find_sole_light(set);
     set->sole_mesh_first = set->sole_mesh_end = 0;
     int first = 0, end = 0;
     for (int i = 0; i < set->count; ++i) {
