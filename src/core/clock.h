@@ -24,12 +24,4 @@ static inline double clock_cpu_seconds(void)
     return timespec_seconds(t);
 }
 
-/* CPU seconds the calling thread has used so far, user and system. */
-static inline double clock_thread_cpu_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return timespec_seconds(t);
-}
-
 #endif

@@ -17,7 +17,6 @@
 #include "render/integrator.h"
 #include "render/light.h"
 #include "render/material.h"
-#include "render/tile_order.h"
 #include "render/tracer.h"
 
 enum { TILE_PX = 16 };
@@ -285,11 +284,6 @@ typedef struct {
      * ignores the cancel (run_pass). */
     int *tile_rows_done;
     bool completing;
-    /* With more than one thread: the order a round hands its tiles out in (tile_order.h;
-     * NULL: row-major), and the CPU seconds each tile took in the round (the next order's
-     * estimate; each entry written by the one thread that ran the tile). */
-    int *tile_order;
-    double *tile_seconds;
     int next_tile;              /* atomic */
     long long samples_done;     /* atomic */
     long long rays_done;        /* atomic */
@@ -524,10 +518,8 @@ static void *pass_worker(void *arg)
             __atomic_store_n(&job->cancelled, 1, __ATOMIC_RELAXED);
             break;
         }
-        int slot = __atomic_fetch_add(&job->next_tile, 1, __ATOMIC_RELAXED);
-        if (slot >= job->tile_count) break;
-        int tile = job->tile_order ? job->tile_order[slot] : slot;
-        double cpu_start = job->tile_seconds ? clock_thread_cpu_seconds() : 0.0;
+        int tile = __atomic_fetch_add(&job->next_tile, 1, __ATOMIC_RELAXED);
+        if (tile >= job->tile_count) break;
         int x0 = (tile % job->tiles_x) * TILE_PX, y0 = (tile / job->tiles_x) * TILE_PX;
         int x1 = x0 + TILE_PX < r->width ? x0 + TILE_PX : r->width;
         int y1 = y0 + TILE_PX < r->height ? y0 + TILE_PX : r->height;
@@ -547,7 +539,6 @@ static void *pass_worker(void *arg)
             }
         }
         samples += flush_wave(job, q, &st); /* a wave never spans two tiles */
-        if (job->tile_seconds) job->tile_seconds[tile] = clock_thread_cpu_seconds() - cpu_start;
         if (job->tile_rows_done && !job->completing) job->tile_rows_done[tile] = y - y0; /* rows y0 .. y-1 done */
         __atomic_add_fetch(&job->samples_done, samples, __ATOMIC_RELAXED);
         __atomic_add_fetch(&job->rays_done, st.rays_primary + st.rays_shadow + st.rays_indirect + st.rays_bsdf - rays_before,
@@ -649,33 +640,10 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     int n = r->threads > 0 ? r->threads : 1;
     pthread_t *tid = calloc((size_t)n, sizeof *tid);
     if (spp_max > 4) job.tile_rows_done = calloc((size_t)job.tile_count, sizeof *job.tile_rows_done);
-    /* Rounds after the first hand out the longest tiles of the round before first, so that
-     * the threads finish a round together (tile_order.h); one thread has no one to wait for.
-     * Tiles a cancelled round did not reach keep their earlier estimate (0 at first). */
-    TileCost *tile_costs = NULL;
-    if (n > 1) {
-        job.tile_seconds = calloc((size_t)job.tile_count, sizeof *job.tile_seconds);
-        job.tile_order = malloc((size_t)job.tile_count * sizeof *job.tile_order);
-        tile_costs = malloc((size_t)job.tile_count * sizeof *tile_costs);
-        if (!job.tile_seconds || !job.tile_order || !tile_costs) { /* row-major, as before */
-            free(job.tile_seconds);
-            free(job.tile_order);
-            free(tile_costs);
-            job.tile_seconds = NULL;
-            job.tile_order = NULL;
-            tile_costs = NULL;
-        }
-    }
-    int *order_next = job.tile_order;
-    job.tile_order = NULL; /* the first round: row-major */
     for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
         end = begin == 0 ? (job.tile_rows_done ? 64 : 4) : (begin < 64 ? 64 : begin + 64);
         if (end >= 64 && spp_max - end < 64) end = spp_max; /* a short remainder joins this round */
         run_round(&job, begin, end, tid, n, total, t0);
-        if (order_next) { /* the next round's order, from this round's costs */
-            tile_order_longest_first(job.tile_seconds, job.tile_count, tile_costs, order_next);
-            job.tile_order = order_next;
-        }
         if (begin == 0 && job.cancelled && job.tile_rows_done) {
             job.completing = true; /* [0,4) where the cancelled first round did not reach */
             run_round(&job, 0, 4, tid, n, total, t0);
@@ -683,9 +651,6 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     }
     free(tid);
     free(job.tile_rows_done);
-    free(order_next);
-    free(job.tile_seconds);
-    free(tile_costs);
     if (r->opt.progress) {
         RenderProgress p = {job.samples_done, total, job.rays_done, clock_wall_seconds() - t0};
         r->opt.progress(r->opt.progress_ctx, &p);
