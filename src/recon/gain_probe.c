@@ -155,14 +155,20 @@ CameraBlurKinds recon_gain_probe_blur(const ReconChoice *c)
     return camera;
 }
 
+/* Whether two effects' filters are one method (both set). */
+static bool same_method(const ReconMethodClass *a, const ReconMethodClass *b)
+{
+    return a && b && strcmp(a->name, b->name) == 0;
+}
+
 /* Whether effect e's filter runs a method none of the camera candidates runs (it then records its
  * own per-sample data beside theirs: AutoFallbackFrame's own sinks). */
 static bool own_sink_beside_cameras(const ReconChoice *c, Effect e, CameraBlurKinds cameras)
 {
     const ReconMethodClass *m = c->method[e];
     if (!m) return false;
-    bool shares = (cameras.defocus && c->method[EFFECT_DEFOCUS] && strcmp(c->method[EFFECT_DEFOCUS]->name, m->name) == 0) ||
-                  (cameras.motion && c->method[EFFECT_MOTION] && strcmp(c->method[EFFECT_MOTION]->name, m->name) == 0);
+    bool shares = (cameras.defocus && same_method(c->method[EFFECT_DEFOCUS], m)) ||
+                  (cameras.motion && same_method(c->method[EFFECT_MOTION], m));
     return !shares;
 }
 
@@ -179,8 +185,7 @@ bool recon_gain_probe_judge(const Renderer *r, int spp, ReconChoice *c)
     if (frame.cameras > 0) {
         frame.direct_own_sink = frame.direct && own_sink_beside_cameras(c, EFFECT_SOFT_SHADOWS, cameras);
         frame.indirect_own_sink = frame.indirect && own_sink_beside_cameras(c, EFFECT_INDIRECT, cameras);
-        frame.shading_one_method = c->method[EFFECT_SOFT_SHADOWS] && c->method[EFFECT_INDIRECT] &&
-                                   strcmp(c->method[EFFECT_SOFT_SHADOWS]->name, c->method[EFFECT_INDIRECT]->name) == 0;
+        frame.shading_one_method = same_method(c->method[EFFECT_SOFT_SHADOWS], c->method[EFFECT_INDIRECT]);
     }
     auto_fallback_decide(&probe.totals, probe.rays_per_sample, &frame, &fb);
     fb.samples_nonfinite = probe.samples_nonfinite;
