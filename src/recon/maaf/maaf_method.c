@@ -38,7 +38,7 @@
 #include "recon/maaf/maaf_far_reach.h"
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_indirect.h"
-#include "recon/maaf/maaf_light_sweep.h"
+#include "recon/maaf/maaf_lights.h"
 #include "recon/maaf/maaf_shadow.h"
 #include "recon/method.h"
 #include "recon/sample_rate.h"
@@ -370,111 +370,6 @@ static void maaf_destroy(ReconMethod *m)
     free(m);
 }
 
-static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-/* Light l's swept light from an earlier triangle of its shape that has one: the sweep is the
- * shape's (its centroid, extent and poses over every triangle of the shape, along the shape's
- * axes), whichever of its triangles asks. False when there is none. */
-static bool copy_shape_sweep(ReconMethod *m, const RenderLightInfo *info, int l)
-{
-    if (info[l].shape < 0 || !info[l].is_triangle) return false;
-    MaafLight *ml = &m->lights[l];
-    for (int k = 0; k < l; ++k) {
-        const MaafLight *mk = &m->lights[k];
-        if (info[k].kind != RENDER_LIGHT_AREA || info[k].shape != info[l].shape || !info[k].is_triangle ||
-            !info[k].moving || mk->sweep_nodes == 0)
-            continue;
-        memcpy(ml->center, mk->center, sizeof ml->center);
-        memcpy(ml->lo, mk->lo, sizeof ml->lo);
-        memcpy(ml->hi, mk->hi, sizeof ml->hi);
-        memcpy(ml->sweep_lo, mk->sweep_lo, sizeof ml->sweep_lo);
-        memcpy(ml->sweep_hi, mk->sweep_hi, sizeof ml->sweep_hi);
-        ml->sweep_nodes = mk->sweep_nodes;
-        return true;
-    }
-    return false;
-}
-
-/* Each light's emitter centre (the area-weighted centroid of all triangles of its shape), its
- * axes (along the first triangle's first edge: a quad light's edges) and extent along them,
- * and its y-design. Disks and spheres are boxes of their (silhouette) area. */
-static void lights_from_renderer(ReconMethod *m)
-{
-    int count = m->light_count;
-    RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
-    if (!info) return;
-    for (int l = 0; l < count; ++l)
-        if (!renderer_light_info(m->renderer, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
-    for (int l = 0; l < count; ++l) {
-        MaafLight *ml = &m->lights[l];
-        memset(ml, 0, sizeof *ml);
-        if (info[l].kind != RENDER_LIGHT_AREA || !(m->geoms[l].sigma_world > 0.0f)) continue;
-        double c[3] = {0, 0, 0}, area = 0.0;
-        for (int k = 0; k < count; ++k) {
-            bool same = k == l || (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape);
-            if (!same) continue;
-            c[0] += info[k].area_world * info[k].center_world.x;
-            c[1] += info[k].area_world * info[k].center_world.y;
-            c[2] += info[k].area_world * info[k].center_world.z;
-            area += info[k].area_world;
-        }
-        for (int k = 0; k < 3; ++k) ml->center[k] = area > 0.0 ? (float)(c[k] / area) : 0.0f;
-        const float *n = m->geoms[l].normal;
-        bool planar = dot3(n, n) > 0.5f;
-        if (planar && info[l].is_triangle) {
-            /* every triangle of the shape must use the same axes (a pixel's sums mix samples
-             * from all of them): the first triangle's first edge, a quad's edge */
-            int first = l;
-            for (int k = 0; k < l && first == l; ++k)
-                if (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape &&
-                    info[k].is_triangle)
-                    first = k;
-            const RenderLightInfo *ft = &info[first];
-            float e[3] = {ft->tri_world[1].x - ft->tri_world[0].x, ft->tri_world[1].y - ft->tri_world[0].y,
-                          ft->tri_world[1].z - ft->tri_world[0].z};
-            float en = dot3(e, n);
-            for (int k = 0; k < 3; ++k) e[k] -= en * n[k];
-            float len = sqrtf(dot3(e, e));
-            for (int k = 0; k < 3; ++k) ml->t1[k] = len > 0.0f ? e[k] / len : 0.0f;
-            ml->t2[0] = n[1] * ml->t1[2] - n[2] * ml->t1[1];
-            ml->t2[1] = n[2] * ml->t1[0] - n[0] * ml->t1[2];
-            ml->t2[2] = n[0] * ml->t1[1] - n[1] * ml->t1[0];
-            ml->lo[0] = ml->lo[1] = INFINITY;
-            ml->hi[0] = ml->hi[1] = -INFINITY;
-            for (int k = 0; k < count; ++k) {
-                bool same = k == l || (info[l].shape >= 0 && info[k].kind == RENDER_LIGHT_AREA && info[k].shape == info[l].shape);
-                if (!same || !info[k].is_triangle) continue;
-                for (int v = 0; v < 3; ++v) {
-                    float d[3] = {info[k].tri_world[v].x - ml->center[0], info[k].tri_world[v].y - ml->center[1],
-                                  info[k].tri_world[v].z - ml->center[2]};
-                    float a = dot3(d, ml->t1), b = dot3(d, ml->t2);
-                    ml->lo[0] = fminf(ml->lo[0], a), ml->hi[0] = fmaxf(ml->hi[0], a);
-                    ml->lo[1] = fminf(ml->lo[1], b), ml->hi[1] = fmaxf(ml->hi[1], b);
-                }
-            }
-        } else {
-            if (planar) maaf_basis(n, ml->t1, ml->t2); /* disk; a sphere's axes face each receiver */
-            float half = 0.5f * sqrtf((float)M_PI) * m->geoms[l].radius_world; /* box of the same area */
-            ml->lo[0] = ml->lo[1] = -half;
-            ml->hi[0] = ml->hi[1] = half;
-        }
-        /* a moving planar light: its swept light (maaf_light_sweep.h), one sweep a shape: the
-         * sweep reads every triangle of the shape at each pose, so a mesh light's triangles each
-         * sweeping it cost O(triangles^2) poses (minutes for a few thousand) */
-        if (info[l].moving && !copy_shape_sweep(m, info, l))
-            maaf_light_sweep(m->renderer, l, 0.5f * sqrtf((float)M_PI) * m->geoms[l].radius_world, ml);
-        if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
-            continue; /* degenerate: omega_y_max stays 0, its samples are not used */
-        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light; the triangles of
-         * one mesh light have one design, made once */
-        float sigma = m->geoms[l].sigma_world / m->kappa;
-        bool copied = false;
-        for (int k = 0; k < l && !copied; ++k) copied = maaf_light_design_copy(&m->lights[k], sigma, ml);
-        if (!copied) maaf_light_design(sigma, m->light_pairs, ml);
-    }
-    free(info);
-}
-
 static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
 {
     ReconMethod *m = calloc(1, sizeof *m);
@@ -564,7 +459,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->stats.light_count = m->light_count;
     m->stats.emitter_count = aaf_light_sweep(s->renderer, m->geoms, m->light_count, &m->emitters);
     m->stats.emitters = m->emitters;
-    lights_from_renderer(m);
+    maaf_lights_from_renderer(s->renderer, m->geoms, m->light_count, m->light_pairs, m->kappa, m->lights);
     for (int l = m->light_count - 1; l >= 0; --l)
         if (m->lights[l].omega_y_max > 0.0f) m->first_light = &m->lights[l];
     *out = m;

@@ -1,0 +1,221 @@
+/* MAAF's light table from the renderer's lights (see maaf_lights.h).
+ *
+ * A mesh light's triangles are lights of one shape and share its centroid, its axes (the first
+ * triangle's first edge), its extent, its sweep and, mostly, its y-design. Each is found once a
+ * shape (ShapeSummary) instead of once per triangle over every other triangle: the table of a
+ * 3200-triangle mesh light took 0.4 s that way (docs/benchmarks.md, "A mesh light's set-up").
+ * Every value and every order of additions is the per-triangle form's, so the table is the same
+ * bit for bit. */
+#include "recon/maaf/maaf_lights.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/maaf/maaf_filter.h"
+#include "recon/maaf/maaf_light_sweep.h"
+
+enum { EXTENT_CACHE = 8 };
+
+/* What the lights of one emitter shape have in common, gathered in light order. */
+typedef struct {
+    double c[3], area;   /* the sums of area x centroid and of area over the shape's area lights */
+    int first_tri;       /* its first triangle light (-1: none) */
+    int sweep_from;      /* the first light whose sweep is set (-1: none yet) */
+    int design_from;     /* the last light given a y-design (-1: none yet) */
+    float (*verts)[3];   /* the distinct vertices of its triangle lights (NULL: none, or out of memory) */
+    int vert_count;
+    /* extents already projected, by the normal that set their axes: a planar mesh's triangles'
+     * normals, each from its own edges, differ in the last bits, and take a few values */
+    int extents, extent_next;
+    float extent_normal[EXTENT_CACHE][3], extent_lo[EXTENT_CACHE][2], extent_hi[EXTENT_CACHE][2];
+} ShapeSummary;
+
+static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static bool is_area(const RenderLightInfo *b) { return b->kind == RENDER_LIGHT_AREA; }
+
+static int cmp_vertex(const void *a, const void *b) { return memcmp(a, b, sizeof(float[3])); }
+
+/* Summaries indexed by shape (NULL when no area light has a shape, or out of memory). */
+static ShapeSummary *summarise_shapes(const RenderLightInfo *info, int count)
+{
+    int top = -1;
+    for (int l = 0; l < count; ++l)
+        if (is_area(&info[l]) && info[l].shape > top) top = info[l].shape;
+    if (top < 0) return NULL;
+    ShapeSummary *s = calloc((size_t)top + 1, sizeof *s);
+    if (!s) return NULL;
+    for (int k = 0; k <= top; ++k) s[k].first_tri = s[k].sweep_from = s[k].design_from = -1;
+    for (int l = 0; l < count; ++l) {
+        const RenderLightInfo *b = &info[l];
+        if (!is_area(b) || b->shape < 0) continue;
+        ShapeSummary *h = &s[b->shape];
+        h->c[0] += b->area_world * b->center_world.x;
+        h->c[1] += b->area_world * b->center_world.y;
+        h->c[2] += b->area_world * b->center_world.z;
+        h->area += b->area_world;
+        if (b->is_triangle && h->first_tri < 0) h->first_tri = l;
+        if (b->is_triangle) h->vert_count += 3;
+    }
+    for (int k = 0; k <= top; ++k) {
+        size_t n = (size_t)s[k].vert_count;
+        s[k].vert_count = 0;
+        if (n) s[k].verts = malloc(n * sizeof *s[k].verts);
+    }
+    for (int l = 0; l < count; ++l) {
+        const RenderLightInfo *b = &info[l];
+        ShapeSummary *h = is_area(b) && b->shape >= 0 && b->is_triangle ? &s[b->shape] : NULL;
+        for (int v = 0; h && h->verts && v < 3; ++v) {
+            float *q = h->verts[h->vert_count++];
+            q[0] = b->tri_world[v].x, q[1] = b->tri_world[v].y, q[2] = b->tri_world[v].z;
+        }
+    }
+    /* shared vertices once: a min or max does not see repeats */
+    for (int k = 0; k <= top; ++k) {
+        if (!s[k].verts) continue;
+        qsort(s[k].verts, (size_t)s[k].vert_count, sizeof *s[k].verts, cmp_vertex);
+        int kept = 0;
+        for (int v = 0; v < s[k].vert_count; ++v)
+            if (kept == 0 || memcmp(s[k].verts[v], s[k].verts[kept - 1], sizeof *s[k].verts) != 0)
+                memcpy(s[k].verts[kept++], s[k].verts[v], sizeof *s[k].verts);
+        s[k].vert_count = kept;
+    }
+    return s;
+}
+
+static void free_summaries(ShapeSummary *s, const RenderLightInfo *info, int count)
+{
+    if (!s) return;
+    int top = -1;
+    for (int l = 0; l < count; ++l)
+        if (is_area(&info[l]) && info[l].shape > top) top = info[l].shape;
+    for (int k = 0; k <= top; ++k) free(s[k].verts);
+    free(s);
+}
+
+/* Widens [lo, hi] to take x (as fminf / fmaxf: a NaN is passed over), inline so the loop vectorises. */
+static void widen(float x, float *lo, float *hi)
+{
+    *lo = x < *lo ? x : *lo;
+    *hi = x > *hi ? x : *hi;
+}
+
+/* The extent along t1, t2 from the centre of the vertices verts[0..n). */
+static void project_extent(const float (*verts)[3], int n, MaafLight *ml)
+{
+    ml->lo[0] = ml->lo[1] = INFINITY;
+    ml->hi[0] = ml->hi[1] = -INFINITY;
+    for (int v = 0; v < n; ++v) {
+        float d[3] = {verts[v][0] - ml->center[0], verts[v][1] - ml->center[1], verts[v][2] - ml->center[2]};
+        widen(dot3(d, ml->t1), &ml->lo[0], &ml->hi[0]);
+        widen(dot3(d, ml->t2), &ml->lo[1], &ml->hi[1]);
+    }
+}
+
+/* A planar triangle's axes, along its shape's first triangle's first edge (every triangle of the
+ * shape must use the same axes: a pixel's sums mix samples from all of them), and its extent. */
+static void triangle_axes(const RenderLightInfo *info, const float n[3], ShapeSummary *h, int l, MaafLight *ml)
+{
+    const RenderLightInfo *ft = &info[h ? h->first_tri : l];
+    float e[3] = {ft->tri_world[1].x - ft->tri_world[0].x, ft->tri_world[1].y - ft->tri_world[0].y,
+                  ft->tri_world[1].z - ft->tri_world[0].z};
+    float en = dot3(e, n);
+    for (int k = 0; k < 3; ++k) e[k] -= en * n[k];
+    float len = sqrtf(dot3(e, e));
+    for (int k = 0; k < 3; ++k) ml->t1[k] = len > 0.0f ? e[k] / len : 0.0f;
+    ml->t2[0] = n[1] * ml->t1[2] - n[2] * ml->t1[1];
+    ml->t2[1] = n[2] * ml->t1[0] - n[0] * ml->t1[2];
+    ml->t2[2] = n[0] * ml->t1[1] - n[1] * ml->t1[0];
+    /* the axes follow from the shape's first edge and this normal alone, and the centre is the
+     * shape's: a planar mesh's triangles (one normal) share the extent, projected once */
+    for (int k = 0; h && k < h->extents; ++k)
+        if (memcmp(h->extent_normal[k], n, sizeof h->extent_normal[k]) == 0) {
+            memcpy(ml->lo, h->extent_lo[k], sizeof ml->lo);
+            memcpy(ml->hi, h->extent_hi[k], sizeof ml->hi);
+            return;
+        }
+    if (!h || !h->verts) { /* a triangle of no shape: its own vertices */
+        float own[3][3];
+        for (int v = 0; v < 3; ++v) own[v][0] = info[l].tri_world[v].x, own[v][1] = info[l].tri_world[v].y, own[v][2] = info[l].tri_world[v].z;
+        project_extent((const float(*)[3])own, 3, ml);
+        return;
+    }
+    project_extent((const float(*)[3])h->verts, h->vert_count, ml);
+    int k = h->extent_next;
+    h->extent_next = (k + 1) % EXTENT_CACHE;
+    if (h->extents < EXTENT_CACHE) ++h->extents;
+    memcpy(h->extent_normal[k], n, sizeof h->extent_normal[k]);
+    memcpy(h->extent_lo[k], ml->lo, sizeof h->extent_lo[k]);
+    memcpy(h->extent_hi[k], ml->hi, sizeof h->extent_hi[k]);
+}
+
+/* Light l's swept light from the first triangle of its shape that has one: the sweep is the
+ * shape's (its centroid, extent and poses over every triangle, along the shape's axes),
+ * whichever of its triangles asks. False when there is none. */
+static bool copy_shape_sweep(const ShapeSummary *h, const MaafLight *lights, MaafLight *ml)
+{
+    if (!h || h->sweep_from < 0) return false;
+    const MaafLight *mk = &lights[h->sweep_from];
+    memcpy(ml->center, mk->center, sizeof ml->center);
+    memcpy(ml->lo, mk->lo, sizeof ml->lo);
+    memcpy(ml->hi, mk->hi, sizeof ml->hi);
+    memcpy(ml->sweep_lo, mk->sweep_lo, sizeof ml->sweep_lo);
+    memcpy(ml->sweep_hi, mk->sweep_hi, sizeof ml->sweep_hi);
+    ml->sweep_nodes = mk->sweep_nodes;
+    return true;
+}
+
+void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa,
+                               MaafLight *lights)
+{
+    RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
+    if (!info) return;
+    for (int l = 0; l < count; ++l)
+        if (!renderer_light_info(r, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
+    ShapeSummary *summary = summarise_shapes(info, count);
+    for (int l = 0; l < count; ++l) {
+        MaafLight *ml = &lights[l];
+        memset(ml, 0, sizeof *ml);
+        if (!is_area(&info[l]) || !(geoms[l].sigma_world > 0.0f)) continue;
+        if (info[l].shape >= 0 && !summary) continue; /* out of memory for the summaries: left to Monte Carlo */
+        ShapeSummary *h = info[l].shape >= 0 ? &summary[info[l].shape] : NULL; /* NULL: a light of no shape */
+        double c[3], area;
+        if (h) {
+            memcpy(c, h->c, sizeof c), area = h->area;
+        } else {
+            c[0] = info[l].area_world * info[l].center_world.x, c[1] = info[l].area_world * info[l].center_world.y;
+            c[2] = info[l].area_world * info[l].center_world.z, area = info[l].area_world;
+        }
+        for (int k = 0; k < 3; ++k) ml->center[k] = area > 0.0 ? (float)(c[k] / area) : 0.0f;
+        const float *n = geoms[l].normal;
+        bool planar = dot3(n, n) > 0.5f;
+        if (planar && info[l].is_triangle) {
+            triangle_axes(info, n, h, l, ml);
+        } else {
+            if (planar) maaf_basis(n, ml->t1, ml->t2); /* disk; a sphere's axes face each receiver */
+            float half = 0.5f * sqrtf((float)M_PI) * geoms[l].radius_world; /* box of the same area */
+            ml->lo[0] = ml->lo[1] = -half;
+            ml->hi[0] = ml->hi[1] = half;
+        }
+        /* a moving planar light: its swept light (maaf_light_sweep.h), one sweep a shape: the
+         * sweep reads every triangle of the shape at each pose, so a mesh light's triangles each
+         * sweeping it cost O(triangles^2) poses (minutes for a few thousand) */
+        bool shape_sweep = h && info[l].is_triangle;
+        if (info[l].moving && !(shape_sweep && copy_shape_sweep(h, lights, ml)))
+            maaf_light_sweep(r, l, 0.5f * sqrtf((float)M_PI) * geoms[l].radius_world, ml);
+        if (shape_sweep && info[l].moving && h->sweep_from < 0 && ml->sweep_nodes != 0) h->sweep_from = l;
+        if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
+            continue; /* degenerate: omega_y_max stays 0, its samples are not used */
+        /* the knob scales the whole design: Omega_y_max = kappa 2 / sigma_light; the triangles of
+         * one mesh light have one design, made once (any earlier light with the same design gives
+         * it: the shape's last first, then the rest in order) */
+        float sigma = geoms[l].sigma_world / kappa;
+        bool copied = h && h->design_from >= 0 && maaf_light_design_copy(&lights[h->design_from], sigma, ml);
+        for (int k = 0; k < l && !copied; ++k) copied = maaf_light_design_copy(&lights[k], sigma, ml);
+        if (!copied) maaf_light_design(sigma, pairs, ml);
+        if (h) h->design_from = l;
+    }
+    free_summaries(summary, info, count);
+    free(info);
+}
