@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "recon/aaf/aaf_light_sweep.h"
+#include "recon/emitter_boundary.h"
 #include "recon/moving_lights.h"
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
@@ -179,6 +180,10 @@ typedef struct {
     const bool *info_ok;
     const SharedTriangles *tris;  /* the triangle lights, light l being triangle tri_of[l] (NULL: one at a time) */
     const int *tri_of;
+    /* planar mesh emitters summed through their boundary (emitter_boundary.h): light l belongs
+     * to group group_of[l] (-1: none), whose lights are first[g], next[first[g]], ... (-1 ends) */
+    const int *group_of, *group_first, *group_next;
+    EmitterBoundary *const *groups;
 } ShadeJob;
 
 /* Light l's info, from the job's table when it has one: renderer_light_info per pixel and light
@@ -218,6 +223,24 @@ static double round_phi(const RenderLightInfo *b, vec3 p, vec3 nr)
     return cos_e > 0.0 ? b->area_world * cos_e * cos_t / D2 : 0.0;
 }
 
+/* p is behind the one-sided emitter triangle b */
+static bool culled(const RenderLightInfo *b, vec3 pv)
+{
+    vec3 to = v3_sub(pv, b->center_world);
+    return !b->two_sided && !(v3_dot(to, b->normal_world) > 0.0f);
+}
+
+/* Triangle light l's luminance times its projected solid angle from p (normal nr). */
+static double triangle_light_phi(const ShadeJob *j, SharedTrianglesAt *at, int l, const RenderLightInfo *b, vec3 pv,
+                                 const double p[3], const double nr[3])
+{
+    if (culled(b, pv)) return 0.0;
+    double v[3][3];
+    for (int k = 0; k < 3; ++k) v[k][0] = b->tri_world[k].x, v[k][1] = b->tri_world[k].y, v[k][2] = b->tri_world[k].z;
+    double tri_phi = at ? shared_triangles_phi(j->tris, at, j->tri_of[l]) : polygon_projected_solid_angle(p, nr, v, 3);
+    return (double)v3_luminance(b->radiance) * tri_phi;
+}
+
 /* Both sums over the emitters at once: every triangle's projected solid angle (the cost: an
  * atan2 per edge) is computed once for the irradiance and the share, each summed in the
  * emitters' order as alone. */
@@ -244,13 +267,20 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
                 if (j->share) sum += (double)v3_luminance(b.radiance) * round_phi(&b, pv, nv);
                 continue;
             }
-            vec3 to = v3_sub(pv, b.center_world);
-            if (!b.two_sided && !(v3_dot(to, b.normal_world) > 0.0f)) continue; /* behind a one-sided emitter */
-            double v[3][3];
-            for (int k = 0; k < 3; ++k)
-                v[k][0] = b.tri_world[k].x, v[k][1] = b.tri_world[k].y, v[k][2] = b.tri_world[k].z;
-            double tri_phi = at ? shared_triangles_phi(j->tris, at, j->tri_of[l]) : polygon_projected_solid_angle(p, nr, v, 3);
-            double phi = (double)v3_luminance(b.radiance) * tri_phi;
+            int g = j->group_of ? j->group_of[l] : -1;
+            if (g >= 0 && l != j->group_first[g]) continue; /* summed with its group's first light */
+            double phi, group_phi;
+            if (g < 0) {
+                phi = triangle_light_phi(j, at, l, &b, pv, p, nr);
+            } else if (!culled(&b, pv) && emitter_boundary_phi(j->groups[g], p, nr, &group_phi)) {
+                phi = (double)v3_luminance(b.radiance) * group_phi; /* the group's lights share b's radiance */
+            } else { /* the horizon cuts the emitter: its triangles one by one */
+                phi = 0.0;
+                for (int k = l; k >= 0; k = j->group_next[k]) {
+                    RenderLightInfo bk;
+                    if (light_at(j, k, &bk)) phi += triangle_light_phi(j, at, k, &bk, pv, p, nr);
+                }
+            }
             irr += phi, sum += phi;
             if (b.shape == j->shape) own += phi;
         }
@@ -259,6 +289,94 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         if (j->share) j->share[i] = isfinite(frac) ? (float)frac : 0.0f;
     }
     shared_triangles_at_destroy(at);
+}
+
+/* The planar mesh emitters among the entries info[0..count): one group a shape and pose (node_of:
+ * the entry's sweep node, -1 static) whose triangles share their radiance and sidedness and form
+ * a surface emitter_boundary_create accepts. */
+typedef struct {
+    int count;
+    EmitterBoundary **boundary;
+    int *group_of, *first, *next;
+} BoundaryGroups;
+
+typedef struct {
+    int shape, node, entry;
+    float radiance[3];
+    bool two_sided;
+} GroupKey;
+
+static int cmp_group_key(const void *a, const void *b)
+{
+    const GroupKey *x = a, *y = b;
+    if (x->shape != y->shape) return x->shape < y->shape ? -1 : 1;
+    if (x->node != y->node) return x->node < y->node ? -1 : 1;
+    int c = memcmp(x->radiance, y->radiance, sizeof x->radiance);
+    if (c) return c;
+    if (x->two_sided != y->two_sided) return x->two_sided ? 1 : -1;
+    return x->entry - y->entry;
+}
+
+static bool same_group(const GroupKey *x, const GroupKey *y)
+{
+    return x->shape == y->shape && x->node == y->node && !memcmp(x->radiance, y->radiance, sizeof x->radiance) &&
+           x->two_sided == y->two_sided;
+}
+
+static void boundary_groups_free(BoundaryGroups *bg)
+{
+    for (int g = 0; g < bg->count; ++g) emitter_boundary_destroy(bg->boundary[g]);
+    free(bg->boundary), free(bg->group_of), free(bg->first), free(bg->next);
+    *bg = (BoundaryGroups){0};
+}
+
+/* False (bg empty) when there is none or out of memory: every triangle then sums alone. */
+static bool boundary_groups_find(const RenderLightInfo *info, const bool *ok, const int *node_of, int count,
+                                 BoundaryGroups *bg)
+{
+    *bg = (BoundaryGroups){0};
+    size_t n = count > 0 ? (size_t)count : 1;
+    GroupKey *key = malloc(n * sizeof *key);
+    double(*tri)[3][3] = malloc(n * sizeof *tri);
+    bg->group_of = malloc(n * sizeof *bg->group_of), bg->next = malloc(n * sizeof *bg->next);
+    bg->first = malloc(n * sizeof *bg->first), bg->boundary = malloc(n * sizeof *bg->boundary);
+    if (!key || !tri || !bg->group_of || !bg->next || !bg->first || !bg->boundary) {
+        free(key), free(tri);
+        boundary_groups_free(bg);
+        return false;
+    }
+    int keys = 0;
+    for (int l = 0; l < count; ++l) {
+        bg->group_of[l] = bg->next[l] = -1;
+        const RenderLightInfo *b = &info[l];
+        if (!ok[l] || b->kind != RENDER_LIGHT_AREA || !b->is_triangle || b->shape < 0) continue;
+        key[keys] = (GroupKey){b->shape, node_of[l], l, {b->radiance.x, b->radiance.y, b->radiance.z}, b->two_sided};
+        ++keys;
+    }
+    qsort(key, (size_t)keys, sizeof *key, cmp_group_key);
+    for (int q = 0; q < keys;) {
+        int r = q + 1;
+        while (r < keys && same_group(&key[q], &key[r])) ++r;
+        for (int m = q; m < r; ++m)
+            for (int v = 0; v < 3; ++v) {
+                const vec3 *w = &info[key[m].entry].tri_world[v];
+                tri[m - q][v][0] = w->x, tri[m - q][v][1] = w->y, tri[m - q][v][2] = w->z;
+            }
+        EmitterBoundary *boundary = r - q >= 2 ? emitter_boundary_create(r - q, (const double(*)[3][3])tri) : NULL;
+        if (boundary) { /* entries in increasing order: the first is the group's first in the sum */
+            bg->boundary[bg->count] = boundary;
+            bg->first[bg->count] = key[q].entry;
+            for (int m = q; m < r; ++m) {
+                bg->group_of[key[m].entry] = bg->count;
+                bg->next[key[m].entry] = m + 1 < r ? key[m + 1].entry : -1;
+            }
+            ++bg->count;
+        }
+        q = r;
+    }
+    free(key), free(tri);
+    if (bg->count == 0) boundary_groups_free(bg);
+    return bg->count > 0;
 }
 
 /* shade_range over the n pixels, the lights' infos found once and the triangle lights'
@@ -277,18 +395,20 @@ static void shade_all(ShadeJob *j, int n)
     size_t count = j->count > 0 ? (size_t)j->count : 1;
     RenderLightInfo *info = malloc(count * sizeof *info);
     bool *ok = malloc(count * sizeof *ok);
-    int *tri_of = malloc(count * sizeof *tri_of), tris = 0;
+    int *tri_of = malloc(count * sizeof *tri_of), tris = 0, *node_of = malloc(count * sizeof *node_of);
     double(*tri)[3][3] = malloc(count * sizeof *tri);
-    if (info && ok) {
+    if (info && ok && node_of) {
         int at = 0;
         for (int l = 0; l < lights; ++l) {
             ok[at] = renderer_light_info(j->r, l, &info[at]);
+            node_of[at] = -1;
             if (!ok[at] || !info[at].moving) {
                 ++at;
                 continue;
             }
             for (int k = 0; k < AAF_SWEEP_NODES; ++k, ++at) {
                 double w, u = aaf_sweep_node(k, &w);
+                node_of[at] = k;
                 ok[at] = renderer_light_info_at(j->r, l, (float)u, &info[at]);
                 info[at].radiance = v3_scale(info[at].radiance, (float)w);
             }
@@ -306,15 +426,20 @@ static void shade_all(ShadeJob *j, int n)
     }
     SharedTriangles *shared = j->info && tri_of && tri ? shared_triangles_create(tris, (const double(*)[3][3])tri) : NULL;
     if (shared) j->tris = shared, j->tri_of = tri_of;
+    BoundaryGroups bg = {0};
+    if (j->info && boundary_groups_find(info, ok, node_of, j->count, &bg))
+        j->group_of = bg.group_of, j->group_first = bg.first, j->group_next = bg.next,
+        j->groups = (EmitterBoundary *const *)bg.boundary;
     recon_parallel_for((size_t)n, shade_range, j);
+    boundary_groups_free(&bg);
     shared_triangles_destroy(shared);
-    free(info), free(ok), free(tri_of), free(tri);
+    free(info), free(ok), free(tri_of), free(tri), free(node_of);
 }
 
 void fsf_irradiance_and_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                               const float *nrm4, float *irradiance, float *share)
 {
-    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, NULL, 0, NULL, NULL, NULL, NULL};
+    ShadeJob j = {.r = r, .shape = shape < 0 ? 0 : shape, .hit = hit, .pos4 = pos4, .nrm4 = nrm4, .irradiance = irradiance, .share = share};
     shade_all(&j, n);
 }
 
@@ -339,7 +464,8 @@ void fsf_shade_inputs_free(FsfShadeInputs *k)
 void fsf_irradiance_and_share_since(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                                     const float *nrm4, const FsfShadeInputs *before, float *irradiance, float *share)
 {
-    ShadeJob j = {r, shape < 0 ? 0 : shape, hit, pos4, nrm4, irradiance, share, before, 0, NULL, NULL, NULL, NULL};
+    ShadeJob j = {.r = r, .shape = shape < 0 ? 0 : shape, .hit = hit, .pos4 = pos4, .nrm4 = nrm4, .irradiance = irradiance, .share = share,
+                  .before = before};
     shade_all(&j, n);
 }
 

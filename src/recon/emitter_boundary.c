@@ -1,0 +1,171 @@
+/* A planar mesh emitter's boundary for Lambert's formula (see emitter_boundary.h). */
+#include "recon/emitter_boundary.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/polygon_irradiance.h"
+
+/* Planarity: every triangle's unit normal within ~1e-4 rad of the first's, and every vertex
+ * within 1e-6 of the surface's size from the first triangle's plane. Looser and the interior
+ * terms would no longer cancel to within rounding; a curved mesh keeps its triangles' sum. */
+#define NORMAL_COS_MIN (1.0 - 5e-9)
+#define PLANE_TOL_REL 1e-6
+
+struct EmitterBoundary {
+    int verts, edges;
+    double (*pos)[3];  /* the boundary's vertices */
+    int (*edge)[2];    /* each boundary edge, from .. to, in its triangle's winding */
+};
+
+typedef struct {
+    double c[3];
+    int slot; /* 3 t + k */
+} VertexKey;
+
+static int cmp_vertex(const void *a, const void *b)
+{
+    int c = memcmp(((const VertexKey *)a)->c, ((const VertexKey *)b)->c, sizeof(double[3]));
+    return c ? c : ((const VertexKey *)a)->slot - ((const VertexKey *)b)->slot;
+}
+
+typedef struct {
+    int lo, hi; /* the edge's vertices, lower index first */
+    int forward; /* 1: the triangle runs lo -> hi; 0: hi -> lo */
+} EdgeKey;
+
+static int cmp_edge(const void *a, const void *b)
+{
+    const EdgeKey *x = a, *y = b;
+    if (x->lo != y->lo) return x->lo < y->lo ? -1 : 1;
+    if (x->hi != y->hi) return x->hi < y->hi ? -1 : 1;
+    return x->forward - y->forward;
+}
+
+static void sub3(const double a[3], const double b[3], double out[3])
+{
+    for (int k = 0; k < 3; ++k) out[k] = a[k] - b[k];
+}
+
+/* The triangle's unit normal (its winding's), false when it has no area. */
+static bool unit_normal(const double t[3][3], double n[3])
+{
+    double e1[3], e2[3];
+    sub3(t[1], t[0], e1), sub3(t[2], t[0], e2);
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(polygon_dot3(n, n));
+    if (!(len > 0.0) || !isfinite(len)) return false;
+    for (int k = 0; k < 3; ++k) n[k] /= len;
+    return true;
+}
+
+static bool planar(int count, const double (*tri)[3][3])
+{
+    double n0[3], n[3], lo[3], hi[3];
+    if (!unit_normal(tri[0], n0)) return false;
+    for (int k = 0; k < 3; ++k) lo[k] = hi[k] = tri[0][0][k];
+    for (int t = 0; t < count; ++t) {
+        if (!unit_normal(tri[t], n) || !(polygon_dot3(n, n0) >= NORMAL_COS_MIN)) return false;
+        for (int v = 0; v < 3; ++v)
+            for (int k = 0; k < 3; ++k) lo[k] = fmin(lo[k], tri[t][v][k]), hi[k] = fmax(hi[k], tri[t][v][k]);
+    }
+    double size[3];
+    sub3(hi, lo, size);
+    double tol = PLANE_TOL_REL * sqrt(polygon_dot3(size, size));
+    for (int t = 0; t < count; ++t)
+        for (int v = 0; v < 3; ++v) {
+            double d[3];
+            sub3(tri[t][v], tri[0][0], d);
+            if (!(fabs(polygon_dot3(d, n0)) <= tol)) return false;
+        }
+    return true;
+}
+
+EmitterBoundary *emitter_boundary_create(int count, const double (*tri)[3][3])
+{
+    if (count < 2 || !planar(count, tri)) return NULL;
+    size_t slots = 3 * (size_t)count;
+    VertexKey *vk = malloc(slots * sizeof *vk);
+    EdgeKey *ek = malloc(slots * sizeof *ek);
+    int *vert = malloc(slots * sizeof *vert), *used = calloc(slots, sizeof *used);
+    EmitterBoundary *b = calloc(1, sizeof *b);
+    if (b) b->pos = malloc(slots * sizeof *b->pos), b->edge = malloc(slots * sizeof *b->edge);
+    bool ok = vk && ek && vert && used && b && b->pos && b->edge;
+    int verts = 0, interior = 0;
+    double(*pos)[3] = ok ? malloc(slots * sizeof *pos) : NULL;
+    ok = ok && pos;
+    if (ok) {
+        /* vertices: equal coordinates (bit for bit) are one vertex */
+        for (size_t q = 0; q < slots; ++q) memcpy(vk[q].c, tri[q / 3][q % 3], sizeof vk[q].c), vk[q].slot = (int)q;
+        qsort(vk, slots, sizeof *vk, cmp_vertex);
+        for (size_t q = 0; q < slots; ++q) {
+            if (q == 0 || memcmp(vk[q].c, vk[q - 1].c, sizeof vk[q].c) != 0) memcpy(pos[verts++], vk[q].c, sizeof vk[q].c);
+            vert[vk[q].slot] = verts - 1;
+        }
+        /* edges: an interior edge twice, once each way; a boundary edge once */
+        for (size_t q = 0; q < slots; ++q) {
+            int a = vert[q], c = vert[3 * (q / 3) + (q % 3 + 1) % 3];
+            ek[q] = (EdgeKey){a < c ? a : c, a < c ? c : a, a < c};
+        }
+        qsort(ek, slots, sizeof *ek, cmp_edge);
+        for (size_t q = 0; ok && q < slots;) {
+            size_t r = q;
+            while (r < slots && ek[r].lo == ek[q].lo && ek[r].hi == ek[q].hi) ++r;
+            /* (no edge has one vertex at both ends: planar() refused triangles without area) */
+            if (r - q == 2 && ek[q].forward != ek[q + 1].forward) ++interior;          /* cancels */
+            else if (r - q == 1) {                                                      /* the boundary */
+                int from = ek[q].forward ? ek[q].lo : ek[q].hi, to = ek[q].forward ? ek[q].hi : ek[q].lo;
+                b->edge[b->edges][0] = from, b->edge[b->edges][1] = to, ++b->edges;
+                used[from] = used[to] = 1;
+            } else ok = false; /* three triangles on an edge, or two wound against each other */
+            q = r;
+        }
+    }
+    ok = ok && b->edges > 0 && b->edges < interior;
+    if (ok) { /* keep the boundary's vertices only, renumbered */
+        for (int v = 0; v < verts; ++v) {
+            if (!used[v]) continue;
+            memcpy(b->pos[b->verts], pos[v], sizeof pos[v]);
+            used[v] = ++b->verts; /* its new index + 1 */
+        }
+        for (int e = 0; e < b->edges; ++e) b->edge[e][0] = used[b->edge[e][0]] - 1, b->edge[e][1] = used[b->edge[e][1]] - 1;
+    }
+    free(vk), free(ek), free(vert), free(used), free(pos);
+    if (!ok) {
+        emitter_boundary_destroy(b);
+        return NULL;
+    }
+    return b;
+}
+
+void emitter_boundary_destroy(EmitterBoundary *b)
+{
+    if (!b) return;
+    free(b->pos), free(b->edge);
+    free(b);
+}
+
+int emitter_boundary_edge_count(const EmitterBoundary *b) { return b ? b->edges : 0; }
+
+bool emitter_boundary_phi(const EmitterBoundary *b, const double p[3], const double n[3], double *phi)
+{
+    /* first the vertices: all above the horizon and none at the receiver, or the caller's sum */
+    for (int v = 0; v < b->verts; ++v) {
+        double rel[3];
+        sub3(b->pos[v], p, rel);
+        if (!(polygon_dot3(n, rel) >= 0.0) || !(polygon_dot3(rel, rel) > 0.0)) return false;
+    }
+    double sum = 0.0;
+    for (int e = 0; e < b->edges; ++e) {
+        double a[3], c[3], x[3];
+        sub3(b->pos[b->edge[e][0]], p, a), sub3(b->pos[b->edge[e][1]], p, c);
+        double la = sqrt(polygon_dot3(a, a)), lc = sqrt(polygon_dot3(c, c));
+        for (int k = 0; k < 3; ++k) a[k] /= la, c[k] /= lc;
+        double s = polygon_edge_cross(a, c, x);
+        if (!(s > 0.0)) continue; /* coincident directions */
+        sum += atan2(s, polygon_dot3(a, c)) * polygon_dot3(x, n) / s;
+    }
+    *phi = polygon_phi_of_sum(sum);
+    return true;
+}
