@@ -14,9 +14,11 @@
 #define PLANE_TOL_REL 1e-6
 
 struct EmitterBoundary {
-    int verts, edges;
+    int verts, edges, loops;
     double (*pos)[3];  /* the boundary's vertices */
     int (*edge)[2];    /* each boundary edge, from .. to, in its triangle's winding */
+    int *loop_vert;    /* the edges chained into closed loops: loop k is the vertices */
+    int *loop_start;   /* loop_vert[loop_start[k] .. loop_start[k + 1]), each to the next, the last to the first */
 };
 
 typedef struct {
@@ -82,6 +84,45 @@ static bool planar(int count, const double (*tri)[3][3])
     return true;
 }
 
+/* The boundary edges chained into closed loops (each vertex leaves by one of its outgoing edges
+ * not yet walked; where a vertex has two, either choice closes, and the loops' sum of edge terms
+ * is the same). False when a vertex's edges in and out do not pair up, or out of memory. */
+static bool chain_loops(EmitterBoundary *b)
+{
+    int *out_first = malloc((size_t)b->verts * sizeof *out_first), *out_next = malloc((size_t)b->edges * sizeof *out_next);
+    int *balance = calloc((size_t)b->verts, sizeof *balance);
+    b->loop_vert = malloc((size_t)b->edges * sizeof *b->loop_vert);
+    b->loop_start = malloc(((size_t)b->edges + 1) * sizeof *b->loop_start);
+    bool ok = out_first && out_next && balance && b->loop_vert && b->loop_start;
+    for (int v = 0; ok && v < b->verts; ++v) out_first[v] = -1;
+    for (int e = 0; ok && e < b->edges; ++e) {
+        out_next[e] = out_first[b->edge[e][0]], out_first[b->edge[e][0]] = e;
+        ++balance[b->edge[e][0]], --balance[b->edge[e][1]];
+    }
+    for (int v = 0; ok && v < b->verts; ++v) ok = balance[v] == 0;
+    int walked = 0;
+    for (int v0 = 0; ok && v0 < b->verts; ++v0)
+        while (out_first[v0] >= 0) { /* a loop from v0 */
+            b->loop_start[b->loops++] = walked;
+            int v = v0;
+            do {
+                int e = out_first[v];
+                if (e < 0 || walked == b->edges) { /* cannot happen with every vertex balanced */
+                    ok = false;
+                    break;
+                }
+                out_first[v] = out_next[e];
+                b->loop_vert[walked++] = v;
+                v = b->edge[e][1];
+            } while (v != v0);
+            if (!ok) break;
+        }
+    if (ok) b->loop_start[b->loops] = walked;
+    ok = ok && walked == b->edges;
+    free(out_first), free(out_next), free(balance);
+    return ok;
+}
+
 EmitterBoundary *emitter_boundary_create(int count, const double (*tri)[3][3])
 {
     if (count < 2 || !planar(count, tri)) return NULL;
@@ -131,6 +172,7 @@ EmitterBoundary *emitter_boundary_create(int count, const double (*tri)[3][3])
         }
         for (int e = 0; e < b->edges; ++e) b->edge[e][0] = used[b->edge[e][0]] - 1, b->edge[e][1] = used[b->edge[e][1]] - 1;
     }
+    ok = ok && chain_loops(b);
     free(vk), free(ek), free(vert), free(used), free(pos);
     if (!ok) {
         emitter_boundary_destroy(b);
@@ -142,29 +184,63 @@ EmitterBoundary *emitter_boundary_create(int count, const double (*tri)[3][3])
 void emitter_boundary_destroy(EmitterBoundary *b)
 {
     if (!b) return;
-    free(b->pos), free(b->edge);
+    free(b->pos), free(b->edge), free(b->loop_vert), free(b->loop_start);
     free(b);
 }
 
 int emitter_boundary_edge_count(const EmitterBoundary *b) { return b ? b->edges : 0; }
 
+/* One clipped loop's running sum: the previous point's unit direction and the first one's. */
+typedef struct {
+    double first[3], prev[3];
+    int points;
+    bool at_receiver; /* a point at p itself: the caller sums the triangles */
+} LoopWalk;
+
+/* The next point of the clipped loop (relative to p): the edge from the previous one adds its term. */
+static void walk_to(LoopWalk *w, const double rel[3], const double n[3], double *sum)
+{
+    double len = sqrt(polygon_dot3(rel, rel)), u[3];
+    if (!(len > 0.0)) {
+        w->at_receiver = true;
+        return;
+    }
+    for (int k = 0; k < 3; ++k) u[k] = rel[k] / len;
+    if (w->points++ == 0) {
+        memcpy(w->first, u, sizeof u);
+    } else {
+        double c[3], s = polygon_edge_cross(w->prev, u, c);
+        if (s > 0.0) *sum += atan2(s, polygon_dot3(w->prev, u)) * polygon_dot3(c, n) / s;
+    }
+    memcpy(w->prev, u, sizeof u);
+}
+
 bool emitter_boundary_phi(const EmitterBoundary *b, const double p[3], const double n[3], double *phi)
 {
-    /* first the vertices: all above the horizon and none at the receiver, or the caller's sum */
-    for (int v = 0; v < b->verts; ++v) {
-        double rel[3];
-        sub3(b->pos[v], p, rel);
-        if (!(polygon_dot3(n, rel) >= 0.0) || !(polygon_dot3(rel, rel) > 0.0)) return false;
-    }
     double sum = 0.0;
-    for (int e = 0; e < b->edges; ++e) {
-        double a[3], c[3], x[3];
-        sub3(b->pos[b->edge[e][0]], p, a), sub3(b->pos[b->edge[e][1]], p, c);
-        double la = sqrt(polygon_dot3(a, a)), lc = sqrt(polygon_dot3(c, c));
-        for (int k = 0; k < 3; ++k) a[k] /= la, c[k] /= lc;
-        double s = polygon_edge_cross(a, c, x);
-        if (!(s > 0.0)) continue; /* coincident directions */
-        sum += atan2(s, polygon_dot3(a, c)) * polygon_dot3(x, n) / s;
+    for (int k = 0; k < b->loops; ++k) {
+        /* Sutherland-Hodgman against the receiver's horizon, as polygon_projected_solid_angle clips
+         * a triangle, streamed: each kept or crossing point closes an edge of the clipped loop. On a
+         * loop that crosses the horizon several times the clipped loop runs back and forth along
+         * the horizon between its pieces; those runs enclose no area and their terms cancel. */
+        LoopWalk w = {.points = 0};
+        int lo = b->loop_start[k], hi = b->loop_start[k + 1];
+        for (int i = lo; i < hi; ++i) {
+            double a[3], c[3];
+            sub3(b->pos[b->loop_vert[i]], p, a), sub3(b->pos[b->loop_vert[i + 1 < hi ? i + 1 : lo]], p, c);
+            double ha = polygon_dot3(n, a), hc = polygon_dot3(n, c);
+            if (ha >= 0.0) walk_to(&w, a, n, &sum);
+            if ((ha >= 0.0) != (hc >= 0.0)) {
+                double t = ha / (ha - hc), x[3];
+                for (int q = 0; q < 3; ++q) x[q] = a[q] + t * (c[q] - a[q]);
+                walk_to(&w, x, n, &sum);
+            }
+        }
+        if (w.at_receiver) return false;
+        if (w.points >= 2) { /* close the loop */
+            double c[3], s = polygon_edge_cross(w.prev, w.first, c);
+            if (s > 0.0) sum += atan2(s, polygon_dot3(w.prev, w.first)) * polygon_dot3(c, n) / s;
+        }
     }
     *phi = polygon_phi_of_sum(sum);
     return true;

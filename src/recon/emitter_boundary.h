@@ -7,8 +7,9 @@
  * the whole plane from one side (every triangle's sum has the same sign) and no triangle reaches
  * below its horizon (no clipping), the sum of the triangles' projected solid angles is therefore
  * half the absolute boundary sum: a 40 x 40 quad grid's 160 boundary edges instead of its 4,800
- * edges. A receiver whose horizon cuts the emitter is left to the caller's triangle-by-triangle
- * sum (the clipped pieces need their own edges along the horizon). */
+ * edges. Where the receiver's horizon cuts the plane, the boundary's loops are clipped to it as a
+ * single polygon is: the clipped pieces of the triangles tile the clipped surface, whose
+ * boundary is the clipped loops. */
 #ifndef WEDGE_RECON_EMITTER_BOUNDARY_H
 #define WEDGE_RECON_EMITTER_BOUNDARY_H
 
@@ -27,9 +28,9 @@ void emitter_boundary_destroy(EmitterBoundary *b);
 /* Its boundary edges (for reports and tests). */
 int emitter_boundary_edge_count(const EmitterBoundary *b);
 
-/* The projected solid angle (steradians) of the whole surface seen from p with unit normal n,
- * into *phi: true when every boundary vertex is above or on the receiver's horizon and none is
- * at p; false, *phi untouched, otherwise (sum the triangles instead). */
+/* The projected solid angle (steradians) of the part of the surface above the horizon of a
+ * receiver at p with unit normal n, into *phi; false, *phi untouched, when a boundary point (or
+ * a crossing of the horizon) is at p itself (sum the triangles instead). */
 bool emitter_boundary_phi(const EmitterBoundary *b, const double p[3], const double n[3], double *phi);
 
 #endif

@@ -261,20 +261,20 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         double irr = 0.0, sum = 0.0, own = 0.0;
         if (at) shared_triangles_receiver(at, p, nr);
         for (int l = 0; l < count; ++l) {
+            int g = j->group_of ? j->group_of[l] : -1;
+            if (g >= 0 && l != j->group_first[g]) continue; /* summed with its group's first light */
             RenderLightInfo b;
             if (!light_at(j, l, &b) || b.kind != RENDER_LIGHT_AREA) continue;
             if (!b.is_triangle) { /* only the share counts what FSF cannot filter along */
                 if (j->share) sum += (double)v3_luminance(b.radiance) * round_phi(&b, pv, nv);
                 continue;
             }
-            int g = j->group_of ? j->group_of[l] : -1;
-            if (g >= 0 && l != j->group_first[g]) continue; /* summed with its group's first light */
             double phi, group_phi;
             if (g < 0) {
                 phi = triangle_light_phi(j, at, l, &b, pv, p, nr);
             } else if (!culled(&b, pv) && emitter_boundary_phi(j->groups[g], p, nr, &group_phi)) {
                 phi = (double)v3_luminance(b.radiance) * group_phi; /* the group's lights share b's radiance */
-            } else { /* the horizon cuts the emitter: its triangles one by one */
+            } else { /* culled, or the receiver on the boundary: its triangles one by one */
                 phi = 0.0;
                 for (int k = l; k >= 0; k = j->group_next[k]) {
                     RenderLightInfo bk;

@@ -81,8 +81,8 @@ void fsf_light_share(const Renderer *r, int shape, int n, const unsigned char *h
  * unoccluded direct irradiance from every triangle area light (sum of luminance(L) times the
  * projected solid angle, polygon_irradiance.h; 0 where no surface), and `share`, as
  * fsf_light_share, in one pass (each triangle's projected solid angle found once for both,
- * each sum in the emitters' order, a planar mesh emitter's triangles summed through its boundary
- * where the pixel's horizon is below all of it: emitter_boundary.h); either output may be NULL. */
+ * each sum in the emitters' order, a planar mesh emitter's triangles summed through its boundary:
+ * emitter_boundary.h); either output may be NULL. */
 void fsf_irradiance_and_share(const Renderer *r, int shape, int n, const unsigned char *hit, const float *pos4,
                               const float *nrm4, float *irradiance, float *share);
 
