@@ -37,7 +37,7 @@ static float coc_jitter_px = 0.6f;
 static float front_gain = 1.0f;
 /* LrFilterConfig.flat_lens_time of every comparison: false, the samples weigh w_u w_v w_t
  * (eq. 14; lr_gauss), a weight that falls to 0 far out, so the kernel's sums take weights
- * other than 0 and 1 and lr_reproject's weight-0 samples (dropped) are exercised */
+ * other than 0 and 1 and lr_reproject_layer's weight-0 samples (dropped) are exercised */
 static bool flat_weights = true;
 /* LrConfig.tile_px and window_px of every comparison (the defaults unless a test sets them) */
 static int tile_px = 16, window_px = 32;
@@ -338,7 +338,7 @@ int main(void)
         compare_band(lr, 256, 80, 4, wide, 2, false, 0.0f, 8);
         compare_band(lr, 60, 50, 4, diag, 2, false, 0.0f, 19);
         /* static defocused layers in front of and behind focus: the round screen filter
-         * (lr_screen_round) reads the grid in lr_across_composite, with no along pass */
+         * (lr_screen_round) reads the grid in lr_across_row, with no along pass */
         LrTestLayer still[2] = {{2.0f, -5.0f, {0.0f, 0.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {8.0f, 7.0f, {0.0f, 0.0f}, 0, 0, 0, 0.4f}};
         CHECK(round_partitions(48, 40, 4, still, 2) > 0 && round_partitions(48, 33, 8, big, 3) > 0);
         /* layers merged (lr_layers_merge, 8.34): a partition whose own samples are several raw

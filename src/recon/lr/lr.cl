@@ -58,7 +58,7 @@
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
 #define LR_CH 5
 #define LR_MOVING_PX 1.0f /* lr_partition.h: moving and static samples of a slab are separate layers */
-#define LR_CHUNK 32 /* lr_reproject: samples placed before they are summed */
+#define LR_CHUNK 32 /* lr_reproject_layer: samples placed before they are summed */
 #define LR_LS_STRIDE 18 /* raw layers 0..16, and the end */
 
 typedef struct {
@@ -465,7 +465,7 @@ static size_t lr_class_grid(int c, int window_px)
     return (size_t)(c - 1) * (size_t)window_px * (size_t)window_px * LR_CH;
 }
 
-/* A layer's shear and sample weights, as lr_reproject reads them from its parameters. */
+/* A layer's shear and sample weights, as lr_reproject_layer reads them from its parameters. */
 typedef struct {
     float cp, sp, eta, xi, rho, isu, isv, ist;
     float shift_x, shift_y; /* the ramp: added where the layer's own samples land (shifted) */
@@ -483,7 +483,7 @@ typedef struct {
  * all three inverse sigmas 0): every weight is lr_gauss(0), exactly 1, so the Gaussian is not
  * evaluated (docs/algorithms.md 8.30). own: the layer's own samples, whose landing cells of
  * nonzero weight widen the box obox (x0, y0, x1, y1; inclusive). */
-/* (always_inline: left a call, the loops were not specialised and lr_reproject took a fifth
+/* (always_inline: left a call, the loops were not specialised and the reprojection took a fifth
  * more time) */
 static inline __attribute__((always_inline)) void lr_place(__global const float *P, size_t cap, int e0, int n,
                                                            const LrShear *f, bool flat, bool shifted, bool own, int x0, int y0, int ww, int bx0,
@@ -803,16 +803,18 @@ static void lr_across_row(int width, int ww, int wh, int window_px, int iy, int 
     }
 }
 
-/* One tile of the batch, all its layers, front to back, in one work-item: Algorithm 1 and the
- * along pass (lr_reproject_layer), then the across pass and eq. 17 on the tile's rows
- * (lr_across_row), layer by layer. Each work-item has its own grids (grid, pass1 and, for
- * still layers with band classes, two class grids: ~40-80 KB at 32 px windows), which every
- * layer of the tile reuses while they are still in this core's caches; as two kernels, one
- * work-item per (tile, layer) and one per tile row, the batch's grids (~6 MB at 256x192, 8 spp)
- * went from the one to the other through the shared cache (docs/benchmarks.md, "A tile's
- * layers in one work-item"). Each pixel gets the same operations in the same order as before:
- * the images are the same to the bit. The tile's transmittance, light and extent stay in
- * private arrays (tile_px <= LR_TILE_MAX, lr_cl.c checks). */
+/* One tile of the batch, all its layers, front to back, in one work-item (docs/algorithms.md
+ * 8.42): the copy of its list (lr_pack_tile), then per layer Algorithm 1 and the along pass
+ * (lr_reproject_layer) and the across pass and eq. 17 on the tile's rows (lr_across_row). Each
+ * work-item has its own grids (grid, pass1 and, for still layers with band classes, two class
+ * grids: 40-80 KB at 32-px windows), which every layer of the tile reuses while they are in
+ * this core's caches, and reads its copy right after writing it; as three kernels (one
+ * work-item per 16th of a tile's list, per (tile, layer), per tile row) the batch's copy and
+ * grids (~6 MB at 256x192, 8 spp) went from one to the next through the shared cache
+ * (docs/benchmarks.md, "A tile's layers in one work-item"). Each pixel gets the same
+ * operations in the same order as before: the images are the same to the bit. The tile's
+ * transmittance, light and extent stay in private arrays (tile_px <= LR_TILE_MAX, lr_cl.c
+ * checks). */
 #define LR_TILE_MAX 32
 __kernel void lr_tile_filter(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                              int tile0, int film_slack_px, int inset, __global const float *samples, __global float *packed,

@@ -131,8 +131,8 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
 
 /* A screen filter into a parameter record: for a layer with the round filter its flag and
  * table (lr_screen_round), else the two tap tables (lr_screen_taps): the kernels read the taps
- * only in the two passes a round layer does not take (lr_reproject's along pass,
- * lr_across_composite's row pass), and on the bench scenes most layers are round. */
+ * only in the two passes a round layer does not take (lr_reproject_layer's along pass,
+ * lr_across_row's row pass), and on the bench scenes most layers are round. */
 static void put_screen(float *p, const LrScreen *s)
 {
     p[10] = (float)s->rx, p[11] = (float)s->ry;
