@@ -1,6 +1,6 @@
 /* Benchmark (not a test): LR's reconstruction on a synthetic light field (lr_scene.h: a
  * defocused, moving disk over a defocused plane) at W x H for 4, 8 and 16 spp: OpenCL device
- * time of the four kernels, host wall time of lr_cl_run (partitions, uploads included) and
+ * time of the kernels, host wall time of lr_cl_run (partitions, uploads included) and
  * of the C version, warm (each configuration run 3 times after one untimed run; median), and
  * where lr_cl_run's time goes (host partitions, each kernel).
  * Prints the ratios to the 8-spp time, for the paper's Figure 8 (cost linear in spp).
@@ -75,7 +75,7 @@ int main(int argc, char **argv)
     printf("spp  kernels_s  lr_cl_run_s  c_ref_s   kernels/8spp  run/8spp\n");
     for (int k = 0; k < 3; ++k)
         printf("%3d  %9.4f  %11.4f  %7.4f   %12.2f  %8.2f\n", spps[k], dev[k], host[k], cref[k], dev[k] / dev[1], host[k] / host[1]);
-    printf("spp  partition_s (stats_s)  reproject_s  along_s  across_s  (partitions, most layers)\n");
+    printf("spp  partition_s (stats_s)  tile_filter_s  along_s  across_s  (partitions, most layers; lr_tile_filter runs both passes)\n");
     for (int k = 0; k < 3; ++k)
         printf("%3d  %11.4f (%7.4f)  %11.4f  %7.4f  %8.4f  (%zu, %d)\n", spps[k], parts[k].partition_s, parts[k].kernel_s[0],
                parts[k].kernel_s[1], parts[k].kernel_s[2], parts[k].kernel_s[3], parts[k].partitions, parts[k].max_layers);

@@ -13,9 +13,12 @@
  * pinhole's static layers) are one run of raw layers in the kernel's reprojection too. A
  * still band per pixel (LrConfig.band_class, docs/algorithms.md 8.40) with every class present:
  * the kernels' per-class along passes (on the rows their pixels read) and across passes against
- * the C passes', and the classes must change the image where a still layer's filter differs. */
+ * the C passes', and the classes must change the image where a still layer's filter differs.
+ * Tiles of 32 px in 64-px windows, the largest the kernels hold (lr_tile_filter keeps a tile's
+ * pixels in private arrays), against the C passes too; a larger tile is refused. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "../check.h"
 #include "lr_scene.h"
@@ -34,8 +37,10 @@ static float coc_jitter_px = 0.6f;
 static float front_gain = 1.0f;
 /* LrFilterConfig.flat_lens_time of every comparison: false, the samples weigh w_u w_v w_t
  * (eq. 14; lr_gauss), a weight that falls to 0 far out, so the kernel's sums take weights
- * other than 0 and 1 and lr_reproject's weight-0 samples (dropped) are exercised */
+ * other than 0 and 1 and lr_reproject_layer's weight-0 samples (dropped) are exercised */
 static bool flat_weights = true;
+/* LrConfig.tile_px and window_px of every comparison (the defaults unless a test sets them) */
+static int tile_px = 16, window_px = 32;
 
 /* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
  * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
@@ -63,6 +68,8 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     cfg.inset_px = inset_px;
     cfg.gap_slabs = gap_slabs;
     cfg.filter.flat_lens_time = flat_weights;
+    cfg.tile_px = tile_px, cfg.window_px = window_px;
+    cfg.filter.sigma_clamp_px = (float)(window_px - tile_px) / 4.0f; /* as lr_config_default's (Appendix C) */
     size_t n = (size_t)w * h;
     float *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
     float *la = malloc(sizeof(float) * n), *lb = malloc(sizeof(float) * n), *ea = malloc(sizeof(float) * n), *eb = malloc(sizeof(float) * n);
@@ -331,7 +338,7 @@ int main(void)
         compare_band(lr, 256, 80, 4, wide, 2, false, 0.0f, 8);
         compare_band(lr, 60, 50, 4, diag, 2, false, 0.0f, 19);
         /* static defocused layers in front of and behind focus: the round screen filter
-         * (lr_screen_round) reads the grid in lr_across_composite, with no along pass */
+         * (lr_screen_round) reads the grid in lr_across_row, with no along pass */
         LrTestLayer still[2] = {{2.0f, -5.0f, {0.0f, 0.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {8.0f, 7.0f, {0.0f, 0.0f}, 0, 0, 0, 0.4f}};
         CHECK(round_partitions(48, 40, 4, still, 2) > 0 && round_partitions(48, 33, 8, big, 3) > 0);
         /* layers merged (lr_layers_merge, 8.34): a partition whose own samples are several raw
@@ -387,6 +394,26 @@ int main(void)
         compare_band(lr, 53, 45, 4, still, 2, false, 0.0f, 8);
         compare(lr, 256, 80, 4, wide, 2, true);
         flat_weights = true;
+        /* the largest tile the kernels hold: 32 px (in 64-px windows), a partial last tile on
+         * both axes, several layers reusing the tile's grids; and 48 px, which is refused */
+        tile_px = 32, window_px = 64;
+        CHECK(lr_config_default().tile_px == 16 && lr_config_default().window_px == 32);
+        compare(lr, 80, 70, 4, big, 3, true);
+        compare_band(lr, 90, 75, 4, focus, 4, false, 0.0f, 16);
+        {
+            LrSample *s = malloc(sizeof(LrSample) * 40 * 40 * 2);
+            lr_test_scene(s, 40, 40, 2, diag, 2, 31);
+            LrSamples img = lr_samples_split(40, 40, 2, s);
+            LrConfig cfg = lr_config_default();
+            cfg.tile_px = 48, cfg.window_px = 64;
+            float *rgb = malloc(sizeof(float) * 3 * 40 * 40);
+            LrOutput out = {rgb, NULL, NULL, 0};
+            Diag dd = {0};
+            CHECK(!lr_cl_run(lr, &img, &cfg, &out, NULL, &dd) && dd.exit_code != 0 && strstr(dd.message, "larger than the kernels allow"));
+            lr_samples_free(&img);
+            free(rgb), free(s);
+        }
+        tile_px = 16, window_px = 32;
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

@@ -6,7 +6,7 @@
  *
  * Buffers (host layout in lr_cl.c):
  *   samples       8 floats per sample (LrPlace: x, y, u, v, t, r, g, b), pixel-major, spp per
- *                 pixel: what the reprojection reads (lr_pack, lr_reproject)
+ *                 pixel: what the reprojection reads (lr_pack_tile, lr_reproject_layer)
  *   keys          a float4 per sample (LrKey: depth, CoC, motion x, y), the same order: what
  *                 the statistics read (lr_block_stats, lr_tile_stats); bright: r + g + b per
  *                 sample, NaN for a non-finite radiance (lr_partition.h: lr_bright)
@@ -26,8 +26,8 @@
  *                 lr_band_class.h, docs/algorithms.md 8.40)
  *   band_class    a byte per pixel of the image: its band class (0 the frame's band, 1
  *                 narrow, 2 wide), read only for a layer with class records
- *   pass1_class   two grids per (tile, layer) of the batch: the along pass of the narrow and
- *                 of the wide class's filter, for a layer with those records
+ *   pass1_class   two grids per tile of the batch: the along pass of the narrow and of the
+ *                 wide class's filter, for a layer with those records
  *   block_hist    LR_GAP_BINS ints per 8x8 block of pixels (row-major, nbx per row): the CoC
  *                 histogram of its hits (lr_block_stats); block_z: their depth range, 2 floats
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
@@ -36,13 +36,11 @@
  *                 samples) sorted by raw layer, pixel-major within a layer (lr_bucket.h)
  *   layer_start   LR_LS_STRIDE ints per tile: raw layer r is order[start[r] .. start[r + 1])
  *   packed        per tile of the batch, 5 arrays of window_px^2 * spp floats: x, y, u, v, t of
- *                 the samples of order, in its order (lr_pack)
- *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per (tile, layer) of the
- *                 batch being filtered: reproject, along and across run on a few rows of tiles
- *                 at a time (tile0 its first tile), so that these buffers stay small
- *   reach_box     4 ints per (tile, layer) of the batch: the tile pixels [x0, x1) x [y0, y1) (window
- *                 coordinates) the layer can change (lr_reproject writes it, the screen passes
- *                 work only there; all 0 when it changes none)
+ *                 the samples of order, in its order (lr_pack_tile)
+ *   grid, pass1   window_px^2 cells of 5 floats (opacity, weight, rgb) per tile of the batch
+ *                 being filtered (lr_tile_filter: a tile's layers reuse them one after the
+ *                 other); the copy and the filter run on a few rows of tiles at a time (tile0
+ *                 its first tile), so that these buffers stay small
  *
  * Launch shapes (lr_cl.c): all 2D in fixed 16x4 groups (cl_launch_2d), so that PoCL compiles
  * each kernel once whatever the image size or layer count; every kernel ignores the padding. */
@@ -60,7 +58,7 @@
 #define LR_SKIP 0x80 /* flag on a layer id: non-finite radiance, not reprojected */
 #define LR_CH 5
 #define LR_MOVING_PX 1.0f /* lr_partition.h: moving and static samples of a slab are separate layers */
-#define LR_CHUNK 32 /* lr_reproject: samples placed before they are summed */
+#define LR_CHUNK 32 /* lr_reproject_layer: samples placed before they are summed */
 #define LR_LS_STRIDE 18 /* raw layers 0..16, and the end */
 
 typedef struct {
@@ -411,30 +409,20 @@ static int lr_lower_bound(__global const uint *list, int lo, int hi, uint key)
     return lo;
 }
 
-/* The batch's windows in list order (lr_tile_stats' order), as five arrays per tile: x, y,
- * u, v, t, what lr_reproject needs of every sample it places. It places each window sample
- * once per layer at or in front of the sample's own (4 to 5 times a sample at 7-8 layers a
- * tile); through the list every placement was a gather of sample records spread over the
- * window, about half of the kernel's time. Copied here once, the layers read them as
- * contiguous runs (the same floats: the sums are unchanged); the gather here reads 32-byte
- * LrPlace records, two to a cache line, which hold only what the reprojection reads
- * (docs/algorithms.md 8.31). The radiance is read once per
- * sample (by its own layer), so it stays in samples: copying it too cost more than it saved
- * (docs/benchmarks.md, "LR's reconstruction cost"). One work-item per (sixteenth of a list,
- * tile). */
+/* A tile's window in list order (lr_tile_stats' order), as five arrays: x, y, u, v, t, what
+ * lr_reproject_layer needs of every sample it places. It places each window sample once per
+ * layer at or in front of the sample's own (4 to 5 times a sample at 7-8 layers a tile);
+ * through the list every placement was a gather of sample records spread over the window,
+ * about half of its time. Copied here once, the layers read them as contiguous runs (the same
+ * floats: the sums are unchanged); the gather here reads 32-byte LrPlace records, two to a
+ * cache line, which hold only what the reprojection reads (docs/algorithms.md 8.31). The
+ * radiance is read once per sample (by its own layer), so it stays in samples: copying it too
+ * cost more than it saved (docs/benchmarks.md, "LR's reconstruction cost"). Done by the tile's
+ * own work-item (lr_tile_filter), just before its layers read the copy. */
 #define LR_PACK_FIELDS 5
-#define LR_PACK_PARTS 16
-__kernel void lr_pack(int spp, int window_px, int tile1, int tile0, __global const float *samples, __global const uint *order,
-                      __global const int *layer_start, __global float *packed)
+static void lr_pack_tile(size_t cap, int n, __global const float *samples, __global const uint *list, __global float *p)
 {
-    int part = get_global_id(0), tile = tile0 + get_global_id(1);
-    if (tile >= tile1 || part >= LR_PACK_PARTS) return;
-    size_t cap = (size_t)window_px * window_px * spp;
-    int n = layer_start[tile * LR_LS_STRIDE + 17]; /* the list's length: its finite samples */
-    int e0 = (int)((long)n * part / LR_PACK_PARTS), e1 = (int)((long)n * (part + 1) / LR_PACK_PARTS);
-    __global const uint *list = order + (size_t)tile * cap;
-    __global float *p = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap;
-    for (int e = e0; e < e1; ++e) {
+    for (int e = 0; e < n; ++e) {
         __global const float *s = samples + (size_t)list[e] * LR_PLACE_STRIDE;
         p[e] = s[0];
         p[cap + e] = s[1];
@@ -471,14 +459,13 @@ static void lr_row_pass(__global const float *g, int ww, int wh, int iy, int ix0
     }
 }
 
-/* Where band class c's along pass (c = 1 narrow, 2 wide) of the batch's (tile, layer) slot
- * begins in pass1_class: two window grids per slot. */
-static size_t lr_class_grid(int slot, int c, int window_px)
+/* Where band class c's along pass (c = 1 narrow, 2 wide) begins in a tile's two class grids. */
+static size_t lr_class_grid(int c, int window_px)
 {
-    return ((size_t)slot * 2 + (size_t)(c - 1)) * (size_t)window_px * (size_t)window_px * LR_CH;
+    return (size_t)(c - 1) * (size_t)window_px * (size_t)window_px * LR_CH;
 }
 
-/* A layer's shear and sample weights, as lr_reproject reads them from its parameters. */
+/* A layer's shear and sample weights, as lr_reproject_layer reads them from its parameters. */
 typedef struct {
     float cp, sp, eta, xi, rho, isu, isv, ist;
     float shift_x, shift_y; /* the ramp: added where the layer's own samples land (shifted) */
@@ -496,7 +483,7 @@ typedef struct {
  * all three inverse sigmas 0): every weight is lr_gauss(0), exactly 1, so the Gaussian is not
  * evaluated (docs/algorithms.md 8.30). own: the layer's own samples, whose landing cells of
  * nonzero weight widen the box obox (x0, y0, x1, y1; inclusive). */
-/* (always_inline: left a call, the loops were not specialised and lr_reproject took a fifth
+/* (always_inline: left a call, the loops were not specialised and the reprojection took a fifth
  * more time) */
 static inline __attribute__((always_inline)) void lr_place(__global const float *P, size_t cap, int e0, int n,
                                                            const LrShear *f, bool flat, bool shifted, bool own, int x0, int y0, int ww, int bx0,
@@ -534,31 +521,25 @@ static inline __attribute__((always_inline)) void lr_place(__global const float 
     obox[0] = ox0, obox[1] = oy0, obox[2] = ox1, obox[3] = oy1;
 }
 
-/* Algorithm 1 for one (tile, layer): serial over the window's samples (no float atomics in
- * OpenCL 1.2; the partitions are many, so the device is kept busy by them). One work-item
- * per (layer, tile). It reads the tile's sorted list (lr_tile_stats): the layer's own samples
- * (raw layers raw_j .. raw_e - 1: one, or a run of merged ones, lr_layers_merge), then those
- * behind it raw layer by raw layer; the C version visits them
- * in the same order, so every cell gets the same sums. Positions and lens/time coordinates
- * come from lr_pack's copy of the list, the radiance of the layer's own samples from samples. */
-__kernel void lr_reproject(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1,
-                           int max_layers, int tile0, int film_slack_px, int inset, __global const float *samples, __global const float *packed,
-                           __global const uint *order,
-                           __global const int *layer_start, __global const int *tile_layers, __global const float *params,
-                           __global float *grid, __global float *pass1, __global int *reach_box,
-                           __global const float *class_params, __global const uchar *band_class, __global float *pass1_class)
+/* Algorithm 1 for one (tile, layer) of lr_tile_filter's tile, serial over the window's samples
+ * (no float atomics in OpenCL 1.2). It reads the tile's sorted list (lr_tile_stats): the
+ * layer's own samples (raw layers raw_j .. raw_e - 1: one, or a run of merged ones,
+ * lr_layers_merge), then those behind it raw layer by raw layer; the C version visits them in
+ * the same order, so every cell gets the same sums. Positions and lens/time coordinates come
+ * from lr_pack_tile's copy of the list (P), the radiance of the layer's own samples from samples.
+ * Then the along pass into p1 (or the band classes' into pcls). g, p1, pcls: the tile's own
+ * grids, reused by each of its layers. box: the tile pixels the layer can change (window
+ * coordinates, all 0 for none). */
+static void lr_reproject_layer(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile, int j,
+                               int film_slack_px, int inset, __global const float *samples, __global const float *P,
+                               __global const uint *order, __global const int *layer_start, __global const int *tile_layers,
+                               __global const float *lp, __global float *g, __global float *p1, __global float *pcls,
+                               __global const float *class_params, __global const uchar *band_class, int *box)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int j = get_global_id(0), tile = tile0 + get_global_id(1);
-    if (tile >= tile1 || j >= max_layers) return; /* the batch is tiles [tile0, tile1) */
     __global const int *tl = tile_layers + tile * LR_TL_STRIDE;
-    if (j >= tl[0]) return;
-    int id = tile * max_layers + j;
-    __global const float *lp = params + id * LR_LP_STRIDE;
-    __global float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH; /* the batch's grids */
     size_t cap = (size_t)window_px * window_px * spp;
     __global const uint *list = order + (size_t)tile * cap;
-    __global const float *P = packed + (size_t)(tile - tile0) * LR_PACK_FIELDS * cap; /* lr_pack's copy of the list */
     __global const int *start = layer_start + tile * LR_LS_STRIDE;
     __global const int *compact = tl + 1;
     int raw_j = 0, raw_e = 0; /* the layer's own samples: raw layers [raw_j, raw_e) (lr_tile_layer_end) */
@@ -616,14 +597,13 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
              * screen filter (along, then across) reaches no cell of theirs gets alpha = 0 and
              * no light from this layer, whatever the weights, and eq. 17 leaves it as it was.
              * So the passes need only the tile pixels within (ax + cx, ay + cy) of the own
-             * cells (box P, for the along pass below and lr_across_composite), the along pass only P
+             * cells (box P, for the along pass below and lr_across_row), the along pass only P
              * widened by (cx, cy), which reads the grid within P widened by (ax + cx, ay + cy)
              * (box G): the samples behind are placed only into G, and only source rows within
              * reach of G are visited. G's cells get the same sums in the same order as before;
              * the cells outside it are never read (docs/algorithms.md 8.25). */
             p0x = max(tx0, obox[0] - ax - cx), p1x = min(tx0 + tile_px, obox[2] + 1 + ax + cx);
             p0y = max(ty0, obox[1] - ay - cy), p1y = min(ty0 + tile_px, obox[3] + 1 + ay + cy);
-            __global int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
             box[0] = p0x, box[1] = p0y, box[2] = p1x, box[3] = p1y;
             if (p0x >= p1x || p0y >= p1y) { /* the layer shows nowhere in the tile */
                 box[0] = box[1] = box[2] = box[3] = 0;
@@ -668,9 +648,8 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
         }
     }
     float acc[LR_ROW_MAX * LR_CH];
-    __global float *p1 = pass1 + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
     if (!banded) {
-        if (lp[LR_ROUND] != 0.0f) return; /* the round filter reads the grid itself (lr_across_composite) */
+        if (lp[LR_ROUND] != 0.0f) return; /* the round filter reads the grid itself (lr_across_row) */
         /* Algorithm 2, first pass, along the layer's motion, while the grid is still in this
          * processor's caches: at the window cells the second pass reads, box P widened by the
          * across pass's reach (cx, cy), not the whole window. */
@@ -698,7 +677,7 @@ __kernel void lr_reproject(int width, int height, int spp, int tile_px, int wind
         int rxc = (int)sc[10], ryc = (int)sc[11];
         int cxc = (int)ceil((float)ryc * fabs(sp)), cyc = (int)ceil((float)ryc * fabs(cp));
         int ix0 = max(0, p0x - cxc), ix1 = min(ww, p1x + cxc);
-        __global float *pc = c == 0 ? p1 : pass1_class + lr_class_grid(id - tile0 * max_layers, c, window_px);
+        __global float *pc = c == 0 ? p1 : pcls + lr_class_grid(c, window_px);
         for (int iy = max(0, p0y - cyc); iy < min(wh, p1y + cyc); ++iy) {
             /* the tile rows within cyc of this one: does any read it? */
             int lo = max(0, iy - cyc - ty0), hi = min(tile_px - 1, iy + cyc - ty0);
@@ -782,73 +761,109 @@ static inline __attribute__((always_inline)) void lr_composite(const float *acc,
     }
 }
 
-/* Algorithm 2, second pass (across the motion), normalisation and eq. 17: one work-item per
- * row of a tile (image row py, tile column tx), layer by layer front to back. */
-__kernel void lr_across_composite(int width, int height, int tile_px, int window_px, int ntx, int tile1, int max_layers,
-                                  int tile0, int inset, __global const int *tile_layers, __global const float *params,
-                                  __global const float *pass1, __global float *rgb, __global float *layers_aov,
-                                  __global float *extent_aov, __global const int *reach_box, __global const float *grid,
-                                  __global const float *class_params, __global const uchar *band_class,
-                                  __global const float *pass1_class)
+/* Algorithm 2, second pass (across the motion), normalisation and eq. 17 for one layer on
+ * tile row iy (window coordinates; image row py): the row's pixels [i0, i1) (of the tile's n,
+ * from window column ix0 on) inside the layer's box, with the tile's grids g, p1 and pcls as
+ * lr_reproject_layer left them. */
+static void lr_across_row(int width, int ww, int wh, int window_px, int iy, int py, int px0, int ix0, int i0, int i1,
+                          __global const float *lp, __global const float *g, __global const float *p1, __global const float *pcls,
+                          __global const float *class_params, __global const uchar *band_class, float *trans, float *out,
+                          float *extent)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int py = inset + tile0 / ntx * tile_px + get_global_id(0), tx = get_global_id(1); /* the batch's tile rows */
-    if (py >= height - inset || tx >= ntx) return;
-    int ty = (py - inset) / tile_px, tile = ty * ntx + tx;
+    float acc[LR_ROW_MAX * LR_CH];
+    int rec[3] = {-1, (int)lp[LR_BAND], (int)lp[LR_BAND + 1]};
+    if (rec[1] < 0 && rec[2] < 0) { /* one filter for the whole row */
+        if (lp[LR_ROUND] != 0.0f)
+            lr_round_row(g, ww, wh, iy, ix0 + i0, ix0 + i1, (int)lp[11], lp + LR_ROUND_T, acc);
+        else
+            lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
+        lr_composite(acc, i0, i1, 0, 0, lp[2], trans, out, extent);
+        return;
+    }
+    /* A still layer with band classes (8.40): per pixel the record of its class's filter
+     * (0, the frame's, for a class without one), per record the span [lo, hi) of its
+     * pixels, the across pass over that span, and the pixels of the record composited. */
+    uchar use[LR_ROW_MAX];
+    int lo[3] = {i1, i1, i1}, hi[3] = {i0, i0, i0};
+    for (int i = i0; i < i1; ++i) {
+        int k = band_class[(size_t)py * width + px0 + i];
+        int u = k > 0 && k < 3 && rec[k] >= 0 ? k : 0;
+        use[i] = (uchar)u, lo[u] = min(lo[u], i), hi[u] = max(hi[u], i + 1);
+    }
+    for (int c = 0; c < 3; ++c) {
+        if (hi[c] <= lo[c]) continue;
+        __global const float *sc = c == 0 ? lp : class_params + rec[c] * LR_LP_STRIDE;
+        __global const float *pc = c == 0 ? p1 : pcls + lr_class_grid(c, window_px);
+        if (sc[LR_ROUND] != 0.0f)
+            lr_round_row(g, ww, wh, iy, ix0 + lo[c], ix0 + hi[c], (int)sc[11], sc + LR_ROUND_T, acc);
+        else
+            lr_row_pass(pc, ww, wh, iy, ix0 + lo[c], ix0 + hi[c], -lp[1], lp[0], (int)sc[11], sc + LR_TAPS_Y, acc);
+        lr_composite(acc, lo[c], hi[c], use, c, sc[2], trans, out, extent);
+    }
+}
+
+/* One tile of the batch, all its layers, front to back, in one work-item (docs/algorithms.md
+ * 8.42): the copy of its list (lr_pack_tile), then per layer Algorithm 1 and the along pass
+ * (lr_reproject_layer) and the across pass and eq. 17 on the tile's rows (lr_across_row). Each
+ * work-item has its own grids (grid, pass1 and, for still layers with band classes, two class
+ * grids: 40-80 KB at 32-px windows), which every layer of the tile reuses while they are in
+ * this core's caches, and reads its copy right after writing it; as three kernels (one
+ * work-item per 16th of a tile's list, per (tile, layer), per tile row) the batch's copy and
+ * grids (~6 MB at 256x192, 8 spp) went from one to the next through the shared cache
+ * (docs/benchmarks.md, "A tile's layers in one work-item"). Each pixel gets the same
+ * operations in the same order as before: the images are the same to the bit. The tile's
+ * transmittance, light and extent stay in private arrays (tile_px <= LR_TILE_MAX, lr_cl.c
+ * checks). */
+#define LR_TILE_MAX 32
+__kernel void lr_tile_filter(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1, int max_layers,
+                             int tile0, int film_slack_px, int inset, __global const float *samples, __global float *packed,
+                             __global const uint *order, __global const int *layer_start, __global const int *tile_layers,
+                             __global const float *params, __global float *grid, __global float *pass1, __global float *rgb,
+                             __global float *layers_aov, __global float *extent_aov, __global const float *class_params,
+                             __global const uchar *band_class, __global float *pass1_class)
+{
+#pragma OPENCL FP_CONTRACT OFF
+    int tile = tile0 + get_global_id(0);
+    if (tile >= tile1 || get_global_id(1) != 0) return; /* the batch is tiles [tile0, tile1) */
+    int slot = tile - tile0, tx = tile % ntx, ty = tile / ntx;
+    size_t cells = (size_t)window_px * window_px * LR_CH, cap = (size_t)window_px * window_px * spp;
+    __global float *g = grid + (size_t)slot * cells, *p1 = pass1 + (size_t)slot * cells, *pcls = pass1_class + (size_t)slot * 2 * cells;
+    __global float *P = packed + (size_t)slot * LR_PACK_FIELDS * cap; /* the tile's copy of its list */
     int count = tile_layers[tile * LR_TL_STRIDE];
+    if (count > 0) lr_pack_tile(cap, layer_start[tile * LR_LS_STRIDE + 17], samples, order + (size_t)tile * cap, P);
     LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px, inset);
-    int ww = w.x1 - w.x0, wh = w.y1 - w.y0, iy = py - w.y0;
-    int px0 = inset + tx * tile_px, n = min(tile_px, width - inset - px0), ix0 = px0 - w.x0;
-    float trans[LR_ROW_MAX], out[LR_ROW_MAX * 3], extent[LR_ROW_MAX], acc[LR_ROW_MAX * LR_CH];
-    for (int i = 0; i < n; ++i) {
+    int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
+    int px0 = inset + tx * tile_px, py0 = inset + ty * tile_px;
+    int n = min(tile_px, width - inset - px0), rows = min(tile_px, height - inset - py0);
+    int ix0 = px0 - w.x0, iy0 = py0 - w.y0;
+    float trans[LR_TILE_MAX * LR_TILE_MAX], out[LR_TILE_MAX * LR_TILE_MAX * 3], extent[LR_TILE_MAX * LR_TILE_MAX];
+    for (int i = 0; i < rows * tile_px; ++i) {
         trans[i] = 1.0f;
         out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = 0.0f;
         extent[i] = 0.0f;
     }
     for (int j = 0; j < count; ++j) {
-        int id = tile * max_layers + j;
-        __global const float *lp = params + id * LR_LP_STRIDE;
-        __global const float *p1 = pass1 + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
-        /* the pixels outside the layer's box P (lr_reproject) get no opacity and no light
-         * from it: eq. 17 would leave them as they are */
-        __global const int *box = reach_box + (size_t)(id - tile0 * max_layers) * 4;
+        __global const float *lp = params + (size_t)(tile * max_layers + j) * LR_LP_STRIDE;
+        int box[4];
+        lr_reproject_layer(width, height, spp, tile_px, window_px, ntx, tile, j, film_slack_px, inset, samples, P, order, layer_start,
+                           tile_layers, lp, g, p1, pcls, class_params, band_class, box);
+        /* the pixels outside the layer's box P get no opacity and no light from it: eq. 17
+         * would leave them as they are */
         int i0 = max(ix0, box[0]) - ix0, i1 = min(ix0 + n, box[2]) - ix0;
-        if (iy < box[1] || iy >= box[3] || i0 >= i1) continue;
-        __global const float *g = grid + (size_t)(id - tile0 * max_layers) * window_px * window_px * LR_CH;
-        int rec[3] = {-1, (int)lp[LR_BAND], (int)lp[LR_BAND + 1]};
-        if (rec[1] < 0 && rec[2] < 0) { /* one filter for the whole row */
-            if (lp[LR_ROUND] != 0.0f)
-                lr_round_row(g, ww, wh, iy, ix0 + i0, ix0 + i1, (int)lp[11], lp + LR_ROUND_T, acc);
-            else
-                lr_row_pass(p1, ww, wh, iy, ix0 + i0, ix0 + i1, -lp[1], lp[0], (int)lp[11], lp + LR_TAPS_Y, acc); /* across: (-sin, cos) */
-            lr_composite(acc, i0, i1, 0, 0, lp[2], trans, out, extent);
-            continue;
-        }
-        /* A still layer with band classes (8.40): per pixel the record of its class's filter
-         * (0, the frame's, for a class without one), per record the span [lo, hi) of its
-         * pixels, the across pass over that span, and the pixels of the record composited. */
-        uchar use[LR_ROW_MAX];
-        int lo[3] = {i1, i1, i1}, hi[3] = {i0, i0, i0};
-        for (int i = i0; i < i1; ++i) {
-            int k = band_class[(size_t)py * width + px0 + i];
-            int u = k > 0 && k < 3 && rec[k] >= 0 ? k : 0;
-            use[i] = (uchar)u, lo[u] = min(lo[u], i), hi[u] = max(hi[u], i + 1);
-        }
-        for (int c = 0; c < 3; ++c) {
-            if (hi[c] <= lo[c]) continue;
-            __global const float *sc = c == 0 ? lp : class_params + rec[c] * LR_LP_STRIDE;
-            __global const float *pc = c == 0 ? p1 : pass1_class + lr_class_grid(id - tile0 * max_layers, c, window_px);
-            if (sc[LR_ROUND] != 0.0f)
-                lr_round_row(g, ww, wh, iy, ix0 + lo[c], ix0 + hi[c], (int)sc[11], sc + LR_ROUND_T, acc);
-            else
-                lr_row_pass(pc, ww, wh, iy, ix0 + lo[c], ix0 + hi[c], -lp[1], lp[0], (int)sc[11], sc + LR_TAPS_Y, acc);
-            lr_composite(acc, lo[c], hi[c], use, c, sc[2], trans, out, extent);
+        if (i0 >= i1) continue;
+        for (int r = max(0, box[1] - iy0); r < min(rows, box[3] - iy0); ++r) {
+            int o = r * tile_px;
+            lr_across_row(width, ww, wh, window_px, iy0 + r, py0 + r, px0, ix0, i0, i1, lp, g, p1, pcls, class_params, band_class,
+                          trans + o, out + 3 * o, extent + o);
         }
     }
-    for (int i = 0; i < n; ++i) {
-        size_t p = (size_t)py * width + px0 + i;
-        for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = out[3 * i + c];
-        layers_aov[p] = (float)count;
-        extent_aov[p] = extent[i];
-    }
+    for (int r = 0; r < rows; ++r)
+        for (int i = 0; i < n; ++i) {
+            size_t p = (size_t)(py0 + r) * width + px0 + i;
+            int o = r * tile_px + i;
+            for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = out[3 * o + c];
+            layers_aov[p] = (float)count;
+            extent_aov[p] = extent[o];
+        }
 }

@@ -18,7 +18,7 @@ enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAP
        LP_ROUND = LP_HEAD + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_BAND = LP_ROUND_T + LR_ROUND_TABLE,
        LP_STRIDE = LP_BAND + 2, CH = 5,
        ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = 18, BATCH_TILES = 16,
-       PACK_FIELDS = 5, PACK_PARTS = 16, BLOCK_PX = 8 };
+       PACK_FIELDS = 5, BLOCK_PX = 8, TILE_MAX = 32 };
 
 _Static_assert(sizeof(LrKey) == 4 * sizeof(float) && sizeof(LrPlace) == 8 * sizeof(float), "lr.cl reads LrKey as a float4, LrPlace as 8 floats");
 _Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
@@ -38,7 +38,7 @@ typedef struct {
 
 struct LrCl {
     ClRuntime *rt;
-    cl_kernel blocks, stats, pack, reproject, across;
+    cl_kernel blocks, stats, filter;
     /* host partitions, flattened into the kernel layouts; capacities in tiles / partitions */
     float *tb, *st, *lp;
     int *tl;
@@ -47,7 +47,7 @@ struct LrCl {
     /* the band classes' screen records (8.40): LP_STRIDE floats each, capacity in records */
     float *lpc;
     size_t lpc_cap;
-    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_box, b_rgb, b_l, b_e, b_still,
+    GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_rgb, b_l, b_e, b_still,
         b_p1c, b_cls;
     LrClTimes last;
 };
@@ -80,9 +80,7 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
     if (!lr) return NULL;
     lr->rt = rt;
     if (!(lr->blocks = cl_runtime_kernel(rt, "lr_block_stats", d)) || !(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) ||
-        !(lr->pack = cl_runtime_kernel(rt, "lr_pack", d)) ||
-        !(lr->reproject = cl_runtime_kernel(rt, "lr_reproject", d)) ||
-        !(lr->across = cl_runtime_kernel(rt, "lr_across_composite", d))) {
+        !(lr->filter = cl_runtime_kernel(rt, "lr_tile_filter", d))) {
         lr_cl_destroy(lr);
         return NULL;
     }
@@ -92,12 +90,12 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
 void lr_cl_destroy(LrCl *lr)
 {
     if (!lr) return;
-    cl_kernel k[5] = {lr->blocks, lr->stats, lr->pack, lr->reproject, lr->across};
-    for (int i = 0; i < 5; ++i)
+    cl_kernel k[3] = {lr->blocks, lr->stats, lr->filter};
+    for (int i = 0; i < 3; ++i)
         if (k[i]) clReleaseKernel(k[i]);
-    GrowBuf *b[19] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_ids, &lr->b_order, &lr->b_ls, &lr->b_pack,
-                      &lr->b_g, &lr->b_p1, &lr->b_box, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still, &lr->b_p1c, &lr->b_cls};
-    for (int i = 0; i < 19; ++i)
+    GrowBuf *b[18] = {&lr->b_cb, &lr->b_bh, &lr->b_bz, &lr->b_st, &lr->b_tb, &lr->b_tl, &lr->b_ids, &lr->b_order, &lr->b_ls, &lr->b_pack,
+                      &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still, &lr->b_p1c, &lr->b_cls};
+    for (int i = 0; i < 18; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
     free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles), free(lr->lpc);
     free(lr);
@@ -133,8 +131,8 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
 
 /* A screen filter into a parameter record: for a layer with the round filter its flag and
  * table (lr_screen_round), else the two tap tables (lr_screen_taps): the kernels read the taps
- * only in the two passes a round layer does not take (lr_reproject's along pass,
- * lr_across_composite's row pass), and on the bench scenes most layers are round. */
+ * only in the two passes a round layer does not take (lr_reproject_layer's along pass,
+ * lr_across_row's row pass), and on the bench scenes most layers are round. */
 static void put_screen(float *p, const LrScreen *s)
 {
     p[10] = (float)s->rx, p[11] = (float)s->ry;
@@ -211,6 +209,10 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     cl_command_queue q = rt->queue;
     if (cfg->tile_px > cfg->window_px) { /* lr.cl's rows of a tile fit a window's (LR_ROW_MAX) */
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "LR tile of %d px is larger than its window (%d px)", cfg->tile_px, cfg->window_px);
+        return false;
+    }
+    if (cfg->tile_px > TILE_MAX) { /* lr_tile_filter keeps a tile's pixels in private arrays (LR_TILE_MAX) */
+        diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "LR tile of %d px is larger than the kernels allow (%d)", cfg->tile_px, TILE_MAX);
         return false;
     }
     if (cfg->window_px / 2 > LR_MAX_RADIUS_PX || cfg->window_px > 255) {
@@ -321,19 +323,15 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         }
     }
     double t_part = clock_wall_seconds() - t0;
-    /* Reprojection and screen passes a batch of tile rows at a time: the two grids are per
-     * (tile, layer) of the batch only. The whole frame's (63 MB at 256x192) was fresh memory
-     * in a one-frame render, page-faulted and cleared by the kernel (docs/benchmarks.md, LR
-     * third round); a batch's is reused by the next and stays in the caches between the
-     * three kernels. 64 tiles a batch page-faulted 3k more pages (12 MB) per one-frame render
-     * for nothing (docs/benchmarks.md, "LR's reconstruction cost"); 16 (one row of tiles at
-     * 256 px) against 32 halves what the batch's three kernels pass between them through the
-     * shared cache (at 256x192, 8 spp, ~6 MB against ~13 MB): 3-6% less CPU a warm filter
-     * ("LR's warm filter on the hard scene", lr25), and 16 tiles of several layers each still
-     * keep both cores busy. */
+    /* The filter (lr_tile_filter) a batch of tile rows at a time: its copy of the samples and
+     * its grids are per tile of the batch only, and a batch's are reused by the next.
+     * The whole frame's were fresh memory in a one-frame render (docs/benchmarks.md, LR third
+     * round; "LR's reconstruction cost"); 16 tiles (one row of tiles at 256 px) against 32 kept
+     * more of the batch's copy in the shared cache ("LR's warm filter on the hard scene", lr25).
+     * The grids are a tile's, not a (tile, layer)'s: its layers reuse them one after the other. */
     int batch_rows = ntx >= BATCH_TILES ? 1 : BATCH_TILES / ntx, batch_tiles = batch_rows * ntx;
     int nbatches = (nty + batch_rows - 1) / batch_rows;
-    size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * L * wcells * CH * sizeof(float);
+    size_t grid_bytes = (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * wcells * CH * sizeof(float);
     /* The parameter table is read in place as the samples are (4 MB at 256x192: uploaded, it
      * was a copy into fresh device memory a frame) */
     cl_int err_lp = CL_SUCCESS;
@@ -361,44 +359,29 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
          grow(rt, &lr->b_pack, sizeof(float) * PACK_FIELDS * (size_t)(batch_tiles < ntiles ? batch_tiles : ntiles) * wcells * (size_t)img->spp,
               CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_g, grid_bytes, CL_MEM_READ_WRITE, d) && grow(rt, &lr->b_p1, grid_bytes, CL_MEM_READ_WRITE, d) &&
-         grow(rt, &lr->b_box, grid_bytes / (wcells * CH * sizeof(float)) * 4 * sizeof(cl_int), CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_rgb, sizeof(float) * 3 * npix, CL_MEM_WRITE_ONLY, d) &&
          grow(rt, &lr->b_l, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d) && grow(rt, &lr->b_e, sizeof(float) * npix, CL_MEM_WRITE_ONLY, d);
     if (ok)
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_tl.mem, CL_FALSE, 0, sizeof(int) * TL_STRIDE * (size_t)ntiles, lr->tl, 0, NULL, NULL), "upload", d);
 
     cl_int LL = L;
-    double batch_s[3] = {0.0, 0.0, 0.0};
+    double batch_s = 0.0;
     for (int b = 0; ok && b < nbatches; ++b) {
         cl_int tile0 = b * batch_tiles;
-        int tiles = ntiles - tile0 < batch_tiles ? ntiles - tile0 : batch_tiles, rows = tiles / ntx;
-        cl_int tile1 = tile0 + tiles; /* the launches are padded: the kernels stop at tile1 */
-        cl_event bev[4] = {NULL, NULL, NULL, NULL};
-        { /* the batch's windows copied in list order (lr_pack) */
-            cl_int ints[4] = {S, N, tile1, tile0};
-            cl_mem m[4] = {b_s, lr->b_order.mem, lr->b_ls.mem, lr->b_pack.mem};
-            ok = set_args(lr->pack, ints, 4, m, 4, d) && cl_launch_2d(rt, lr->pack, PACK_PARTS, (size_t)tiles, &bev[3], d);
-        }
-        if (ok) { /* Algorithm 1 and the along pass, one work-item per (layer, tile) */
+        int tiles = ntiles - tile0 < batch_tiles ? ntiles - tile0 : batch_tiles;
+        cl_int tile1 = tile0 + tiles;
+        cl_event ev_filter = NULL;
+        { /* Algorithms 1 and 2 and eq. 17, one work-item per tile */
             cl_int ints[11] = {W, H, S, T, N, NX, tile1, LL, tile0, film_slack_px, inset};
-            cl_mem m[12] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, b_lp, lr->b_g.mem, lr->b_p1.mem, lr->b_box.mem,
-                            b_lpc, lr->b_cls.mem, lr->b_p1c.mem};
-            ok = set_args(lr->reproject, ints, 11, m, 12, d) && cl_launch_serial_2d(rt, lr->reproject, (size_t)L, (size_t)tiles, &bev[0], d);
+            cl_mem m[14] = {b_s, lr->b_pack.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_tl.mem, b_lp, lr->b_g.mem, lr->b_p1.mem,
+                            lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, b_lpc, lr->b_cls.mem, lr->b_p1c.mem};
+            ok = set_args(lr->filter, ints, 11, m, 14, d) && cl_launch_serial_2d(rt, lr->filter, (size_t)tiles, 1, &ev_filter, d);
         }
-        cl_int ints9[9] = {W, H, T, N, NX, tile1, LL, tile0, inset};
-        if (ok) {
-            cl_mem m[11] = {lr->b_tl.mem, b_lp, lr->b_p1.mem, lr->b_rgb.mem, lr->b_l.mem, lr->b_e.mem, lr->b_box.mem, lr->b_g.mem,
-                            b_lpc, lr->b_cls.mem, lr->b_p1c.mem};
-            ok = set_args(lr->across, ints9, 9, m, 11, d) &&
-                 cl_launch_serial_2d(rt, lr->across, (size_t)rows * cfg->tile_px, (size_t)ntx, &bev[2], d);
-        }
-        /* the queue is in order, so the next batch's reprojection starts after this batch's
-         * passes have read the grids; waiting here only lets the batch's times be read */
-        if (ok) ok = cl_ok(clWaitForEvents(1, &bev[2]), "kernel", d);
-        for (int i = 0; i < 4; ++i) {
-            batch_s[i < 3 ? i : 0] += ok ? cl_event_seconds(bev[i]) : 0.0; /* the copy counts as reprojection */
-            if (bev[i]) clReleaseEvent(bev[i]);
-        }
+        /* the queue is in order, so the next batch starts after this one is done with the
+         * buffers; waiting here only lets the batch's time be read */
+        if (ok) ok = cl_ok(clWaitForEvents(1, &ev_filter), "kernel", d);
+        batch_s += ok ? cl_event_seconds(ev_filter) : 0.0;
+        if (ev_filter) clReleaseEvent(ev_filter);
     }
     float *aov_l = out->layers, *aov_e = out->extent_px;
     if (ok)
@@ -407,7 +390,8 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     clFinish(q);
     /* the statistics' time includes the blocks' (lr_block_stats) */
     double ks = lr->last.kernel_s[0] = ok ? cl_event_seconds(ev[0]) + (ev[1] ? cl_event_seconds(ev[1]) : 0.0) : 0.0;
-    for (int i = 1; i < 4; ++i) ks += lr->last.kernel_s[i] = ok ? batch_s[i - 1] : 0.0;
+    ks += lr->last.kernel_s[1] = ok ? batch_s : 0.0;
+    lr->last.kernel_s[2] = lr->last.kernel_s[3] = 0.0;
     if (ok && kernel_seconds) *kernel_seconds = ks;
     lr->last.partitions = nparts;
     lr->last.max_layers = L;

@@ -14,8 +14,9 @@ typedef struct LrCl LrCl;
 
 /* Where the last lr_cl_run spent its time (for benchmarks): the partitions (wall seconds:
  * statistics on the device, filters on the host) and the device time of the kernels
- * tile_stats, reproject, along, across (the along pass runs inside the reprojection's kernel,
- * so its time is counted there and kernel_s[2] is 0). */
+ * tile_stats, reproject, along, across (one kernel, lr_tile_filter, runs a tile's
+ * reprojection and both passes, so their time is counted in kernel_s[1] and kernel_s[2] and
+ * kernel_s[3] are 0). */
 typedef struct {
     double partition_s;
     double kernel_s[4];

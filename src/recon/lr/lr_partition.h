@@ -26,7 +26,7 @@ typedef struct {
  * producer (lr_method.c's gather; lr_samples_split for an array of LrSample): the partition
  * statistics read only LrKey and bright, the reprojection only LrPlace. The statistics read
  * every sample of a window (four windows hold each) twice, and the reprojection's copy
- * (lr.cl: lr_pack) gathers every window's samples in layer order: through one 48-byte record
+ * (lr.cl: lr_pack_tile) gathers every window's samples in layer order: through one 48-byte record
  * each of them waited on memory for fields it did not use (docs/algorithms.md 8.31). */
 typedef struct {
     float depth, coc_px, motion_px[2]; /* LrSample's; 16 bytes */
