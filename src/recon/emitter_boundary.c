@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "recon/polygon_irradiance.h"
+#include "recon/vertex_weld.h"
 
 /* Planarity: every triangle's unit normal within ~1e-4 rad of the first's, and every vertex
  * within 1e-6 of the surface's size from the first triangle's plane. Looser and the interior
@@ -20,17 +21,6 @@ struct EmitterBoundary {
     int *loop_vert;    /* the edges chained into closed loops: loop k is the vertices */
     int *loop_start;   /* loop_vert[loop_start[k] .. loop_start[k + 1]), each to the next, the last to the first */
 };
-
-typedef struct {
-    double c[3];
-    int slot; /* 3 t + k */
-} VertexKey;
-
-static int cmp_vertex(const void *a, const void *b)
-{
-    int c = memcmp(((const VertexKey *)a)->c, ((const VertexKey *)b)->c, sizeof(double[3]));
-    return c ? c : ((const VertexKey *)a)->slot - ((const VertexKey *)b)->slot;
-}
 
 typedef struct {
     int lo, hi; /* the edge's vertices, lower index first */
@@ -127,23 +117,19 @@ EmitterBoundary *emitter_boundary_create(int count, const double (*tri)[3][3])
 {
     if (count < 2 || !planar(count, tri)) return NULL;
     size_t slots = 3 * (size_t)count;
-    VertexKey *vk = malloc(slots * sizeof *vk);
     EdgeKey *ek = malloc(slots * sizeof *ek);
     int *vert = malloc(slots * sizeof *vert), *used = calloc(slots, sizeof *used);
     EmitterBoundary *b = calloc(1, sizeof *b);
     if (b) b->pos = malloc(slots * sizeof *b->pos), b->edge = malloc(slots * sizeof *b->edge);
-    bool ok = vk && ek && vert && used && b && b->pos && b->edge;
+    bool ok = ek && vert && used && b && b->pos && b->edge;
     int verts = 0, interior = 0;
     double(*pos)[3] = ok ? malloc(slots * sizeof *pos) : NULL;
     ok = ok && pos;
     if (ok) {
-        /* vertices: equal coordinates (bit for bit) are one vertex */
-        for (size_t q = 0; q < slots; ++q) memcpy(vk[q].c, tri[q / 3][q % 3], sizeof vk[q].c), vk[q].slot = (int)q;
-        qsort(vk, slots, sizeof *vk, cmp_vertex);
-        for (size_t q = 0; q < slots; ++q) {
-            if (q == 0 || memcmp(vk[q].c, vk[q - 1].c, sizeof vk[q].c) != 0) memcpy(pos[verts++], vk[q].c, sizeof vk[q].c);
-            vert[vk[q].slot] = verts - 1;
-        }
+        verts = vertex_weld(count, tri, pos, vert);
+        ok = verts >= 0;
+    }
+    if (ok) {
         /* edges: an interior edge twice, once each way; a boundary edge once */
         for (size_t q = 0; q < slots; ++q) {
             int a = vert[q], c = vert[3 * (q / 3) + (q % 3 + 1) % 3];
@@ -173,7 +159,7 @@ EmitterBoundary *emitter_boundary_create(int count, const double (*tri)[3][3])
         for (int e = 0; e < b->edges; ++e) b->edge[e][0] = used[b->edge[e][0]] - 1, b->edge[e][1] = used[b->edge[e][1]] - 1;
     }
     ok = ok && chain_loops(b);
-    free(vk), free(ek), free(vert), free(used), free(pos);
+    free(ek), free(vert), free(used), free(pos);
     if (!ok) {
         emitter_boundary_destroy(b);
         return NULL;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "recon/polygon_irradiance.h"
+#include "recon/vertex_weld.h"
 
 struct SharedTriangles {
     int count, verts, edges;
@@ -26,17 +27,6 @@ struct SharedTrianglesAt {
 };
 
 typedef struct {
-    double c[3];
-    int slot; /* 3 t + k */
-} VertexKey;
-
-static int cmp_vertex(const void *a, const void *b)
-{
-    int c = memcmp(((const VertexKey *)a)->c, ((const VertexKey *)b)->c, sizeof(double[3]));
-    return c ? c : ((const VertexKey *)a)->slot - ((const VertexKey *)b)->slot;
-}
-
-typedef struct {
     int lo, hi, slot;
 } EdgeKey;
 
@@ -52,7 +42,6 @@ SharedTriangles *shared_triangles_create(int count, const double (*tri)[3][3])
 {
     SharedTriangles *s = calloc(1, sizeof *s);
     size_t slots = 3 * (size_t)(count > 0 ? count : 0);
-    VertexKey *vk = malloc((slots ? slots : 1) * sizeof *vk);
     EdgeKey *ek = malloc((slots ? slots : 1) * sizeof *ek);
     if (s) {
         s->count = count > 0 ? count : 0;
@@ -61,18 +50,17 @@ SharedTriangles *shared_triangles_create(int count, const double (*tri)[3][3])
         s->vert = malloc((slots ? slots : 1) * sizeof(int));
         s->edge = malloc((slots ? slots : 1) * sizeof(int));
     }
-    if (!s || !vk || !ek || !s->tri || !s->pos || !s->vert || !s->edge) {
-        free(vk), free(ek);
+    if (!s || !ek || !s->tri || !s->pos || !s->vert || !s->edge) {
+        free(ek);
         shared_triangles_destroy(s);
         return NULL;
     }
     memcpy(s->tri, tri, slots * sizeof(double[3]));
-    /* vertices: equal coordinates (bit for bit) are one vertex */
-    for (size_t q = 0; q < slots; ++q) memcpy(vk[q].c, tri[q / 3][q % 3], sizeof vk[q].c), vk[q].slot = (int)q;
-    qsort(vk, slots, sizeof *vk, cmp_vertex);
-    for (size_t q = 0; q < slots; ++q) {
-        if (q == 0 || memcmp(vk[q].c, vk[q - 1].c, sizeof vk[q].c) != 0) memcpy(s->pos[s->verts++], vk[q].c, sizeof vk[q].c);
-        s->vert[vk[q].slot / 3][vk[q].slot % 3] = s->verts - 1;
+    s->verts = vertex_weld(s->count, tri, s->pos, &s->vert[0][0]);
+    if (s->verts < 0) {
+        free(ek);
+        shared_triangles_destroy(s);
+        return NULL;
     }
     /* edges: the same two vertices either way round are one edge */
     for (size_t q = 0; q < slots; ++q) {
@@ -84,7 +72,7 @@ SharedTriangles *shared_triangles_create(int count, const double (*tri)[3][3])
         if (q == 0 || ek[q].lo != ek[q - 1].lo || ek[q].hi != ek[q - 1].hi) s->edges++;
         s->edge[ek[q].slot / 3][ek[q].slot % 3] = s->edges - 1;
     }
-    free(vk), free(ek);
+    free(ek);
     return s;
 }
 
