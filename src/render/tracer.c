@@ -14,6 +14,7 @@
 #include "geometry/mesh.h"
 #include "render/layer_build.h"
 #include "render/sphere_packet.h"
+#include "render/sphere_packet_float.h"
 #include "render/sphere_shade.h"
 
 /* Relative size of the offset that lifts a new ray's origin off the surface it starts on.
@@ -228,8 +229,10 @@ static bool quadric_hit_rayn(const Geom *g, void *rays, unsigned n, unsigned i, 
     return tracer_quadric_hit(g, o, d, *rayn_f(rays, n, RAYN_TNEAR, i), *rayn_f(rays, n, RAYN_TFAR, i), t);
 }
 
-/* The usual sphere, whole and only translated, takes sphere_packet_hits: a packet's lanes
- * in one vectorised loop, with tracer_quadric_hit's results. Embree 3 packets hold at most 16
+/* The usual sphere, whole and only translated, takes sphere_packet_hits_float: a packet's
+ * lanes in one vectorised loop in single precision, with tracer_quadric_hit's hits and its t
+ * to a bound; a packet with a lane the bound cannot decide goes to sphere_packet_hits (the
+ * double test, tracer_quadric_hit's results bit for bit). Embree 3 packets hold at most 16
  * rays; larger N (none today) would go lane by lane. */
 enum { PACKET_MAX = 16 };
 static bool packet_sphere(const Geom *g)
@@ -245,7 +248,9 @@ static void quadric_hits_rayn(const Geom *g, void *rays, const int *valid, unsig
 {
     if (first == 0 && count == n && packet_sphere(g)) {
         const double translation[3] = {g->object_from_geom.m[0][3], g->object_from_geom.m[1][3], g->object_from_geom.m[2][3]};
-        sphere_packet_hits(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t);
+        float t_err[PACKET_MAX];
+        if (!sphere_packet_hits_float(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t, t_err))
+            sphere_packet_hits(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t);
         return;
     }
     for (unsigned k = 0; k < count; ++k) hit[k] = valid[first + k] == -1 && quadric_hit_rayn(g, rays, n, first + k, &t[k]);

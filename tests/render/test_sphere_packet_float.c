@@ -1,0 +1,202 @@
+/* sphere_packet_hits_float (src/render/sphere_packet_float.c) against the double test
+ * sphere_packet_hits (which test_sphere_packet ties to tracer_quadric_hit bit for bit), on
+ * random packets of 1, 4, 8 and 16 rays: for every packet the float test calls decided, each
+ * live lane's hit must be the double test's exactly and its t within the lane's bound t_err.
+ *
+ * The rays: from near and far (up to 1000 radii) towards the sphere, tangent ones (line
+ * distance r (1 +- 10^-k), k = 1..8), rays leaving the surface outwards from just above it
+ * (the offset a shadow or bounce ray gets, docs/design.md 12.2) and inwards from just below,
+ * from inside, and with tnear / tfar placed near a root (10^-2..10^-7 of it); directions of
+ * length 1/2 to 2. Spheres at every scale: geom_from_tracer 2^-30..2^27 (test_robustness's
+ * scale sweep, 1e-9..1e8), radii 1e-6..1 of the tracer's unit, centres up to 1000 radii
+ * from the origin.
+ *
+ * Besides exactness, the bound must leave the test useful; what it must decide (derived in
+ * docs/algorithms.md, "The packet sphere test in float"): a ray leaving the surface outwards
+ * at cos >= 1/10 (its near root -1e-5 r / cos, 16 times its bound: a sure miss, so no ray can
+ * find the sphere it leaves), and a ray from 2 to 10 radii whose line passes within
+ * r sqrt(1 - 2^-7) of the centre, tnear 0 and tfar infinite (both roots known to 3e-3 of
+ * themselves). */
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "check.h"
+#include "core/rng.h"
+#include "render/sphere_packet.h"
+#include "render/sphere_packet_float.h"
+
+enum { RAYN_ORG_X, RAYN_ORG_Y, RAYN_ORG_Z, RAYN_TNEAR, RAYN_DIR_X, RAYN_DIR_Y, RAYN_DIR_Z, RAYN_TIME, RAYN_TFAR };
+enum { LANES = 16, PACKETS = 6000 };
+enum { KIND_RANDOM, KIND_TANGENT, KIND_OUT, KIND_IN, KIND_INSIDE, KIND_CUT, KIND_COUNT };
+
+/* A unit vector, uniform on the sphere. */
+static void random_dir(Pcg32 *rng, double v[3])
+{
+    double z = 1.0 - 2.0 * pcg32_float(rng), phi = 2.0 * M_PI * pcg32_float(rng), s = sqrt(fmax(0.0, 1.0 - z * z));
+    v[0] = s * cos(phi), v[1] = s * sin(phi), v[2] = z;
+}
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* A unit vector perpendicular to unit n. */
+static void perpendicular(Pcg32 *rng, const double n[3], double v[3])
+{
+    double x[3];
+    random_dir(rng, x);
+    double k = dot3(x, n);
+    for (int j = 0; j < 3; ++j) x[j] -= k * n[j];
+    double l = sqrt(dot3(x, x));
+    for (int j = 0; j < 3; ++j) v[j] = x[j] / l;
+}
+
+/* One lane's ray in tracer units, relative to the sphere of centre c and radius r; what the
+ * test promises about it in *must_decide (see the header). */
+typedef struct {
+    int kind;
+    bool must_decide, must_miss;
+} LaneInfo;
+
+static void make_lane(float *rays, unsigned n, unsigned i, Pcg32 *rng, const double c[3], double r, LaneInfo *info)
+{
+    int kind = (int)pcg32_below(rng, KIND_COUNT);
+    double o[3], d[3], u[3], side[3];
+    double tnear = 0.0, tfar = INFINITY;
+    random_dir(rng, u);
+    info->kind = kind, info->must_decide = false, info->must_miss = false;
+    if (kind == KIND_OUT || kind == KIND_IN) {
+        /* the offset of a ray leaving a hit: 1e-5 of the point's largest coordinate plus r */
+        double mag = fmax(fmax(fabs(c[0] + r * u[0]), fabs(c[1] + r * u[1])), fabs(c[2] + r * u[2])) + r;
+        double lift = kind == KIND_OUT ? 1e-5 * mag : -1e-5 * mag;
+        for (int j = 0; j < 3; ++j) o[j] = c[j] + (r * u[j] + lift * u[j]);
+        double cosine = pcg32_float(rng), sine = sqrt(1.0 - cosine * cosine);
+        perpendicular(rng, u, side);
+        double sign = kind == KIND_OUT ? 1.0 : -1.0;
+        for (int j = 0; j < 3; ++j) d[j] = sign * cosine * u[j] + sine * side[j];
+        info->must_miss = kind == KIND_OUT;
+        info->must_decide = kind == KIND_OUT && cosine >= 1e-3;
+    } else {
+        double dist = kind == KIND_INSIDE ? 0.9 * r * pcg32_float(rng) : r * (1.0 + pow(10.0, 3.0 * pcg32_float(rng)));
+        if (kind == KIND_TANGENT) dist = fmax(dist, 2.0 * r);
+        for (int j = 0; j < 3; ++j) o[j] = c[j] + dist * u[j];
+        perpendicular(rng, u, side);
+        if (kind == KIND_TANGENT) {
+            /* a line at distance r (1 +- 10^-k) from the centre, k = 1..8 (dist >= 2 r) */
+            double line = r * (1.0 + (pcg32_float(rng) < 0.5 ? -1.0 : 1.0) * pow(10.0, -1.0 - 7.0 * pcg32_float(rng)));
+            double sine = line / dist, cosine = sqrt(1.0 - sine * sine);
+            for (int j = 0; j < 3; ++j) d[j] = -cosine * u[j] + sine * side[j];
+        } else {
+            /* at a point within 1.2 r of the centre */
+            double aim[3], a_dir[3], lateral = 1.2 * r * pcg32_float(rng);
+            for (int j = 0; j < 3; ++j) aim[j] = c[j] + lateral * side[j];
+            for (int j = 0; j < 3; ++j) a_dir[j] = aim[j] - o[j];
+            double l = sqrt(dot3(a_dir, a_dir));
+            for (int j = 0; j < 3; ++j) d[j] = a_dir[j] / l;
+        }
+        if (kind == KIND_CUT) {
+            /* tnear or tfar within 10^-2..10^-7 of a root (the double test's) */
+            double oc[3] = {o[0] - c[0], o[1] - c[1], o[2] - c[2]};
+            double b = dot3(d, oc), cc = dot3(oc, oc) - r * r, disc = b * b - cc;
+            if (disc > 0.0) {
+                double root = -b + (pcg32_float(rng) < 0.5 ? -1.0 : 1.0) * sqrt(disc);
+                double cut = root * (1.0 + (pcg32_float(rng) < 0.5 ? -1.0 : 1.0) * pow(10.0, -2.0 - 5.0 * pcg32_float(rng)));
+                if (cut > 0.0) {
+                    if (pcg32_float(rng) < 0.5) tfar = cut;
+                    else tnear = cut;
+                }
+            }
+        }
+        if (kind == KIND_RANDOM && dist >= 2.0 * r && dist <= 10.0 * r) {
+            double oc[3] = {o[0] - c[0], o[1] - c[1], o[2] - c[2]};
+            double b = dot3(d, oc), line2 = dot3(oc, oc) - b * b;
+            info->must_decide = line2 <= r * r * (1.0 - 0x1p-7);
+        }
+    }
+    /* direction lengths 1/2..2 (t scales by the inverse) */
+    double len = pow(2.0, 2.0 * pcg32_float(rng) - 1.0);
+    for (int j = 0; j < 3; ++j) d[j] *= len;
+    tnear /= len, tfar /= len;
+    rays[RAYN_ORG_X * n + i] = (float)o[0], rays[RAYN_ORG_Y * n + i] = (float)o[1], rays[RAYN_ORG_Z * n + i] = (float)o[2];
+    rays[RAYN_DIR_X * n + i] = (float)d[0], rays[RAYN_DIR_Y * n + i] = (float)d[1], rays[RAYN_DIR_Z * n + i] = (float)d[2];
+    rays[RAYN_TNEAR * n + i] = (float)tnear, rays[RAYN_TFAR * n + i] = (float)tfar;
+    rays[RAYN_TIME * n + i] = 0.0f;
+}
+
+/* One sphere: centre c_tracer and radius r_tracer in tracer units, geometry space = tracer
+ * space times w (a power of two). */
+static void check_sphere(double w, const double c_tracer[3], double r_tracer, uint64_t seed)
+{
+    const double translation[3] = {-w * c_tracer[0], -w * c_tracer[1], -w * c_tracer[2]};
+    double r = w * r_tracer;
+    Pcg32 rng;
+    pcg32_seed(&rng, seed, 3);
+    static const unsigned sizes[4] = {1, 4, 8, 16};
+    long lanes = 0, decided_lanes = 0, hits = 0, wrong_hit = 0, wrong_t = 0, promised = 0, promise_broken = 0;
+    long out_lanes = 0, out_hits = 0;
+    double worst_rel = 0.0; /* |t_f - t_d| in units of u (|o - c| + r) / |d| */
+    float rays[12 * LANES + 8 * LANES];
+    for (int p = 0; p < PACKETS; ++p) {
+        unsigned n = sizes[p % 4];
+        int valid[LANES], hit[LANES], hit_d[LANES];
+        double t[LANES], t_d[LANES];
+        float t_err[LANES];
+        LaneInfo info[LANES];
+        for (unsigned i = 0; i < n; ++i) {
+            make_lane(rays, n, i, &rng, c_tracer, r_tracer, &info[i]);
+            valid[i] = pcg32_float(&rng) < 0.85f ? -1 : 0;
+        }
+        int decided = sphere_packet_hits_float(rays, valid, n, w, translation, r, hit, t, t_err);
+        sphere_packet_hits(rays, valid, n, w, translation, r, hit_d, t_d);
+        for (unsigned i = 0; i < n; ++i) {
+            if (valid[i] != -1) continue;
+            ++lanes;
+            hits += hit_d[i];
+            if (info[i].kind == KIND_OUT) ++out_lanes, out_hits += hit_d[i];
+            if (info[i].must_miss && hit_d[i]) ++promise_broken;
+            if (n == 1 && info[i].must_decide) {
+                ++promised, promise_broken += !decided;
+            }
+            if (!decided) continue;
+            ++decided_lanes;
+            if ((hit[i] != 0) != (hit_d[i] != 0)) {
+                ++wrong_hit;
+                continue;
+            }
+            if (!hit_d[i]) continue;
+            double err = fabs(t[i] - t_d[i]);
+            wrong_t += !(err <= (double)t_err[i]);
+            double o[3], dd[3];
+            for (int j = 0; j < 3; ++j) o[j] = rays[(RAYN_ORG_X + j) * n + i] - c_tracer[j];
+            for (int j = 0; j < 3; ++j) dd[j] = rays[(RAYN_DIR_X + j) * n + i];
+            double scale = 0x1p-24 * (sqrt(dot3(o, o)) + r_tracer) / sqrt(dot3(dd, dd));
+            worst_rel = fmax(worst_rel, err / scale);
+        }
+    }
+    printf("w 2^%d r %g |c| %g: %ld live lanes, %ld hits, %ld in decided packets (%ld wrong hits, %ld t beyond the "
+           "bound), worst t error %.3g u (|o - c| + r) / |d|; %ld of %ld promised single lanes broken; %ld of %ld "
+           "outward rays hit\n",
+           (int)log2(w), r_tracer, sqrt(dot3(c_tracer, c_tracer)), lanes, hits, decided_lanes, wrong_hit, wrong_t,
+           worst_rel, promise_broken, promised, out_hits, out_lanes);
+    CHECK(wrong_hit == 0);
+    CHECK(wrong_t == 0);
+    CHECK(promise_broken == 0);
+    CHECK(promised > 100);
+    CHECK(out_hits == 0);
+    CHECK(hits > lanes / 10);
+}
+
+int main(void)
+{
+    static const double scales[] = {0x1p-30, 0x1p-10, 1.0, 0x1p10, 0x1p27};
+    static const double radii[] = {1e-6, 1e-3, 0.3, 1.0};
+    uint64_t seed = 1;
+    for (size_t s = 0; s < sizeof scales / sizeof scales[0]; ++s)
+        for (size_t k = 0; k < sizeof radii / sizeof radii[0]; ++k) {
+            double r = radii[k];
+            /* near the origin of tracer space, and 1000 radii from it (a centre that is
+             * not a float) */
+            const double near[3] = {0.1 * r, -0.2 * r, 0.05 * r}, far[3] = {700.3 * r, -500.7 * r, 300.1 * r};
+            check_sphere(scales[s], near, r, seed++);
+            check_sphere(scales[s], far, r, seed++);
+        }
+    CHECK_DONE();
+}
