@@ -80,16 +80,18 @@ WEDGE_VECTORISED int sphere_packet_hits_float(const float *rays, const int *vali
         /* decided: a sure miss of the line, or a line well inside the sphere's silhouette whose
          * roots are each farther than their bound from tnear and tfar (false for NaN) */
         int line_miss = disc < -e_disc;
-        /* or an origin outside moving away from the centre (c > 0, b > 0: |o + t d|^2 > |o|^2
-         * > r^2 for every t > 0), whatever the line: the ray leaving a sphere's surface. b's
-         * error is at most 4u sum |d_i o_i| <= 4u |o| |d| */
-        int behind = (c > e_c) & (b > 0.0f) & (b * b > 16.0f * u * u * oo * a) & (tnear >= 0.0f);
+        /* or an origin outside moving away from the centre, whatever the line: the ray leaving a
+         * sphere's surface. c > 2 e_c puts the exact c above e_c >= 6u |o|^2; with b > 0 in
+         * float the exact b is positive (|o + t d|^2 > |o|^2 > r^2 for every t > 0) or below
+         * b's error 4u |o| |d| in magnitude, so b^2 < a c and the line misses. A root is never
+         * positive in float then either (c > 0, q < 0), so such a lane's hit is 0 as it is. */
+        int behind = (c > 2.0f * e_c) & (b > 0.0f) & (tnear >= 0.0f);
         int line_hit = (disc > SPHERE_FLOAT_TANGENT * ar2 + e_disc) & (a > 0x1p-100f);
         int clear = (fabsf(t0 - tnear) > e0) & (fabsf(t0 - tfar) > e0) & (fabsf(t1 - tnear) > e1) &
                     (fabsf(t1 - tfar) > e1);
         int live = valid[i] == -1;
         undecided |= live & !(line_miss | behind | (line_hit & clear));
-        hit[i] = live & !behind & line_hit & (in0 | in1);
+        hit[i] = live & line_hit & (in0 | in1);
         t[i] = in0 & in1 ? (t0 > t1 ? t1 : t0) : in0 ? t0 : t1;
         t_err[i] = e0 + e1;
     }

@@ -6,17 +6,18 @@
  * The rays: from near and far (up to 1000 radii) towards the sphere, tangent ones (line
  * distance r (1 +- 10^-k), k = 1..8), rays leaving the surface outwards from just above it
  * (the offset a shadow or bounce ray gets, docs/design.md 12.2) and inwards from just below,
- * from inside, and with tnear / tfar placed near a root (10^-2..10^-7 of it); directions of
- * length 1/2 to 2. Spheres at every scale: geom_from_tracer 2^-30..2^27 (test_robustness's
- * scale sweep, 1e-9..1e8), radii 1e-6..1 of the tracer's unit, centres up to 1000 radii
- * from the origin.
+ * from on the surface give or take 10^-9..10^-5 r in any direction, from inside, and with
+ * tnear / tfar near a root (10^-2..10^-7 of it, and 1..10^4 u (|o - c| + r) from it, the
+ * other root in or out of range); directions of length 1/2 to 2. Spheres at every scale:
+ * geom_from_tracer 2^-30..2^27 (test_robustness's scale sweep, 1e-9..1e8), radii 1e-6..1 of
+ * the tracer's unit, centres near the origin and 1000 radii from it.
  *
- * Besides exactness, the bound must leave the test useful; what it must decide (derived in
- * docs/algorithms.md, "The packet sphere test in float"): a ray leaving the surface outwards
- * at cos >= 1/10 (its near root -1e-5 r / cos, 16 times its bound: a sure miss, so no ray can
- * find the sphere it leaves), and a ray from 2 to 10 radii whose line passes within
- * r sqrt(1 - 2^-7) of the centre, tnear 0 and tfar infinite (both roots known to 3e-3 of
- * themselves). */
+ * What the bound must decide, so that the test notices a useless one (docs/algorithms.md,
+ * "The packet sphere test in float"): every ray leaving the surface outwards at cos >= 1e-3
+ * (a sure miss: no ray finds the sphere it leaves), and a ray from 2 to 10 radii whose line
+ * passes within r sqrt(1 - 2^-7) of the centre, tnear 0 and tfar infinite. And the tangent
+ * threshold caps a decided hit's t error at about 2^9 u (|o - c| + r) / |d| (u = 2^-24);
+ * checked at 2^10. */
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -27,7 +28,7 @@
 
 enum { RAYN_ORG_X, RAYN_ORG_Y, RAYN_ORG_Z, RAYN_TNEAR, RAYN_DIR_X, RAYN_DIR_Y, RAYN_DIR_Z, RAYN_TIME, RAYN_TFAR };
 enum { LANES = 16, PACKETS = 6000 };
-enum { KIND_RANDOM, KIND_TANGENT, KIND_OUT, KIND_IN, KIND_INSIDE, KIND_CUT, KIND_COUNT };
+enum { KIND_RANDOM, KIND_TANGENT, KIND_OUT, KIND_IN, KIND_INSIDE, KIND_CUT, KIND_SURFACE, KIND_NEAR_ROOT, KIND_COUNT };
 
 /* A unit vector, uniform on the sphere. */
 static void random_dir(Pcg32 *rng, double v[3])
@@ -63,7 +64,13 @@ static void make_lane(float *rays, unsigned n, unsigned i, Pcg32 *rng, const dou
     double tnear = 0.0, tfar = INFINITY;
     random_dir(rng, u);
     info->kind = kind, info->must_decide = false, info->must_miss = false;
-    if (kind == KIND_OUT || kind == KIND_IN) {
+    if (kind == KIND_SURFACE) {
+        /* on the surface give or take 10^-9..10^-5 r (either side: the origin's c may round
+         * either way), in any direction */
+        double lift = (pcg32_float(rng) < 0.5 ? -1.0 : 1.0) * r * pow(10.0, -9.0 + 4.0 * pcg32_float(rng));
+        for (int j = 0; j < 3; ++j) o[j] = c[j] + (r + lift) * u[j];
+        random_dir(rng, d);
+    } else if (kind == KIND_OUT || kind == KIND_IN) {
         /* the offset of a ray leaving a hit: 1e-5 of the point's largest coordinate plus r */
         double mag = fmax(fmax(fabs(c[0] + r * u[0]), fabs(c[1] + r * u[1])), fabs(c[2] + r * u[2])) + r;
         double lift = kind == KIND_OUT ? 1e-5 * mag : -1e-5 * mag;
@@ -91,6 +98,23 @@ static void make_lane(float *rays, unsigned n, unsigned i, Pcg32 *rng, const dou
             for (int j = 0; j < 3; ++j) a_dir[j] = aim[j] - o[j];
             double l = sqrt(dot3(a_dir, a_dir));
             for (int j = 0; j < 3; ++j) d[j] = a_dir[j] / l;
+        }
+        if (kind == KIND_NEAR_ROOT) {
+            /* tnear or tfar at 1..10^4 u (|o - c| + r) from a root: where the bounds decide */
+            double oc[3] = {o[0] - c[0], o[1] - c[1], o[2] - c[2]};
+            double b = dot3(d, oc), cc = dot3(oc, oc) - r * r, disc = b * b - cc;
+            if (disc > 0.0) {
+                double root = -b + (pcg32_float(rng) < 0.5 ? -1.0 : 1.0) * sqrt(disc);
+                double gap = 0x1p-24 * (sqrt(dot3(oc, oc)) + r) * pow(10.0, 4.0 * pcg32_float(rng));
+                double cut = root + (pcg32_float(rng) < 0.5 ? -gap : gap), other = -b - (root + b);
+                if (cut > 0.0) {
+                    /* with the other root outside [tnear, tfar] half of the time, so that this
+                     * root alone decides the hit */
+                    bool alone = pcg32_float(rng) < 0.5;
+                    if (pcg32_float(rng) < 0.5) tfar = cut, tnear = alone && other < root ? fmax(0.0, 0.5 * (other + root)) : 0.0;
+                    else tnear = cut, tfar = alone && other > root ? 0.5 * (other + root) : INFINITY;
+                }
+            }
         }
         if (kind == KIND_CUT) {
             /* tnear or tfar within 10^-2..10^-7 of a root (the double test's) */
@@ -182,10 +206,27 @@ static void check_sphere(double w, const double c_tracer[3], double r_tracer, ui
     CHECK(promised > 100);
     CHECK(out_hits == 0);
     CHECK(hits > lanes / 10);
+    /* the tangent threshold caps the error: within 2^10 u (|o - c| + r) / |d| (see the header) */
+    CHECK(worst_rel <= 1024.0);
 }
 
 int main(void)
 {
+    /* dead lanes (NaN: Embree leaves them as they are) decide nothing and do not send a
+     * packet to the double test */
+    {
+        float rays[12 * LANES + 8 * LANES];
+        int valid[LANES], hit[LANES];
+        double t[LANES];
+        float t_err[LANES];
+        const double translation[3] = {0.0, 0.0, 0.0};
+        for (size_t i = 0; i < sizeof rays / sizeof rays[0]; ++i) rays[i] = NAN;
+        for (int i = 0; i < LANES; ++i) valid[i] = 0;
+        CHECK(sphere_packet_hits_float(rays, valid, LANES, 1.0, translation, 1.0, hit, t, t_err) == 1);
+        for (int i = 0; i < LANES; ++i) CHECK(hit[i] == 0);
+        valid[3] = -1; /* and a live NaN lane is not decided */
+        CHECK(sphere_packet_hits_float(rays, valid, LANES, 1.0, translation, 1.0, hit, t, t_err) == 0);
+    }
     static const double scales[] = {0x1p-30, 0x1p-10, 1.0, 0x1p10, 0x1p27};
     static const double radii[] = {1e-6, 1e-3, 0.3, 1.0};
     uint64_t seed = 1;
