@@ -124,12 +124,14 @@ int main(void)
     check_scene("LookAt 0 0 -6e6  0 0 0  0 1 0 Camera \"perspective\" WorldBegin\n"
                 "AttributeBegin Translate 3e6 -1e6 2e6 Shape \"sphere\" \"float radius\" [ 2e6 ] AttributeEnd\n",
                 1, &cf, &rf, true, RAYS / 3);
-    /* a small sphere 3700 from the origin whose centre is not a float: the offset from the
-     * centre must be taken in double (in float it would be off by ulp(3000) = 2.4e-4) */
+    /* a small sphere 3700 from the origin whose centre is not a float (two translations, composed
+     * in double): the offset from the centre must be taken in double (in float it would be off
+     * by up to ulp(3000) / 2 = 1.2e-4, 2.4e-4 of the radius) */
     const vec3 cn = v3(3000.1f, -2000.3f, 1000.7f);
     const float rn = 0.5f;
     check_scene("LookAt 3000.1 -2000.3 995  3000.1 -2000.3 1000.7  0 1 0 Camera \"perspective\" WorldBegin\n"
-                "AttributeBegin Translate 3000.1 -2000.3 1000.7 Shape \"sphere\" \"float radius\" [ 0.5 ] AttributeEnd\n",
+                "AttributeBegin Translate 3000 -2000 1000 Translate 0.1 -0.3 0.7 Shape \"sphere\" \"float radius\" [ 0.5 ] "
+                "AttributeEnd\n",
                 1, &cn, &rn, true, RAYS / 3);
     /* an instanced sphere: shaded by shade_hit through the instance */
     const vec3 ci = v3(0.5f, 0.0f, 1.0f);
