@@ -17,6 +17,22 @@
 #include "core/vec.h"
 #include "core/vectorise.h"
 
+/* Lane k's results: t, the point, the unit normal, whether the normal's length l was in
+ * v3_normalize's plain range, and the offset magnitude v3_max_abs(p) + reach (fmax_nonneg's
+ * NaN rule as a select). Inline in both loops. */
+static inline void lane_store(SphereShadeBatch *restrict b, int k, float t, float px, float py, float pz, float nx,
+                              float ny, float nz, float l, float reach_f)
+{
+    b->ok[k] = (l > V3_LENGTH_PLAIN_MIN) & (l < V3_LENGTH_PLAIN_MAX);
+    b->n[0][k] = nx, b->n[1][k] = ny, b->n[2][k] = nz;
+    b->p[0][k] = px, b->p[1][k] = py, b->p[2][k] = pz;
+    b->t[k] = t;
+    float ax = fabsf(px), ay = fabsf(py), az = fabsf(pz);
+    float myz = (ay > az || az != az) ? ay : az;
+    float mxyz = (ax > myz || myz != myz) ? ax : myz;
+    b->mag[k] = mxyz + reach_f;
+}
+
 WEDGE_VECTORISED void sphere_shade_batch(SphereShadeBatch *restrict b, const Mat4 *object_from_geom,
                                          const Mat4 *geom_from_object, double radius, float world_from_tracer,
                                          double reach)
@@ -57,15 +73,7 @@ WEDGE_VECTORISED void sphere_shade_batch(SphereShadeBatch *restrict b, const Mat
         float nz = (float)(a02 * x + a12 * y + a22 * z);
         float l = sqrtf(nx * nx + ny * ny + nz * nz);
         float inv = 1.0f / l;
-        b->ok[k] = (l > V3_LENGTH_PLAIN_MIN) & (l < V3_LENGTH_PLAIN_MAX);
-        b->n[0][k] = nx * inv, b->n[1][k] = ny * inv, b->n[2][k] = nz * inv;
-        b->p[0][k] = px, b->p[1][k] = py, b->p[2][k] = pz;
-        b->t[k] = t;
-        /* v3_max_abs (fmax_nonneg's NaN rule as a select) */
-        float ax = fabsf(px), ay = fabsf(py), az = fabsf(pz);
-        float myz = (ay > az || az != az) ? ay : az;
-        float mxyz = (ax > myz || myz != myz) ? ax : myz;
-        b->mag[k] = mxyz + reach_f;
+        lane_store(b, k, t, px, py, pz, nx * inv, ny * inv, nz * inv, l, reach_f);
     }
 }
 
@@ -88,14 +96,6 @@ WEDGE_VECTORISED void sphere_shade_batch_translated(SphereShadeBatch *restrict b
         float inv = 1.0f / l;
         float nx = vx * inv, ny = vy * inv, nz = vz * inv;
         float px = (float)(cx + r * (double)nx), py = (float)(cy + r * (double)ny), pz = (float)(cz + r * (double)nz);
-        b->ok[k] = (l > V3_LENGTH_PLAIN_MIN) & (l < V3_LENGTH_PLAIN_MAX);
-        b->n[0][k] = nx, b->n[1][k] = ny, b->n[2][k] = nz;
-        b->p[0][k] = px, b->p[1][k] = py, b->p[2][k] = pz;
-        b->t[k] = t;
-        /* v3_max_abs (fmax_nonneg's NaN rule as a select) */
-        float ax = fabsf(px), ay = fabsf(py), az = fabsf(pz);
-        float myz = (ay > az || az != az) ? ay : az;
-        float mxyz = (ax > myz || myz != myz) ? ax : myz;
-        b->mag[k] = mxyz + reach_f;
+        lane_store(b, k, t, px, py, pz, nx, ny, nz, l, reach_f);
     }
 }
