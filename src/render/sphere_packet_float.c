@@ -15,6 +15,8 @@
  * 10^8 times smaller); its t is within the bound of the double test's. */
 #include "render/sphere_packet_float.h"
 
+#include "render/sphere_packet.h"
+
 #include <math.h>
 
 #include "core/vectorise.h"
@@ -27,7 +29,7 @@ enum { RAYN_ORG_X, RAYN_ORG_Y, RAYN_ORG_Z, RAYN_TNEAR, RAYN_DIR_X, RAYN_DIR_Y, R
 
 WEDGE_VECTORISED int sphere_packet_hits_float(const float *rays, const int *valid, unsigned n, double w,
                                               const double translation[3], double r, int *restrict hit,
-                                              double *restrict t, float *restrict t_err)
+                                              double *restrict t, float *restrict t_err, int *restrict decided)
 {
     const float *ox = rays + RAYN_ORG_X * n, *oy = rays + RAYN_ORG_Y * n, *oz = rays + RAYN_ORG_Z * n;
     const float *dx = rays + RAYN_DIR_X * n, *dy = rays + RAYN_DIR_Y * n, *dz = rays + RAYN_DIR_Z * n;
@@ -90,10 +92,28 @@ WEDGE_VECTORISED int sphere_packet_hits_float(const float *rays, const int *vali
         int clear = (fabsf(t0 - tnear) > e0) & (fabsf(t0 - tfar) > e0) & (fabsf(t1 - tnear) > e1) &
                     (fabsf(t1 - tfar) > e1);
         int live = valid[i] == -1;
-        undecided |= live & !(line_miss | behind | (line_hit & clear));
+        int sure = (!live) | line_miss | behind | (line_hit & clear);
+        decided[i] = sure;
+        undecided |= !sure;
         hit[i] = live & line_hit & (in0 | in1);
         t[i] = in0 & in1 ? (t0 > t1 ? t1 : t0) : in0 ? t0 : t1;
         t_err[i] = e0 + e1;
     }
     return !undecided;
+}
+
+/* The float test, and for the lanes it leaves undecided the double test's results. Each lane's
+ * answer depends on its own ray alone, not on the packet it shares (so images do not depend on
+ * how rays are grouped: threads, tiles, MPI ranks). */
+void sphere_packet_hits_fast(const float *rays, const int *valid, unsigned n, double w, const double translation[3],
+                             double r, int *hit, double *t)
+{
+    enum { MAX = SPHERE_PACKET_FLOAT_MAX };
+    float t_err[MAX];
+    int decided[MAX], hit_d[MAX];
+    double t_d[MAX];
+    if (sphere_packet_hits_float(rays, valid, n, w, translation, r, hit, t, t_err, decided)) return;
+    sphere_packet_hits(rays, valid, n, w, translation, r, hit_d, t_d);
+    for (unsigned i = 0; i < n; ++i)
+        if (!decided[i]) hit[i] = hit_d[i], t[i] = t_d[i];
 }

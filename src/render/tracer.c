@@ -229,12 +229,13 @@ static bool quadric_hit_rayn(const Geom *g, void *rays, unsigned n, unsigned i, 
     return tracer_quadric_hit(g, o, d, *rayn_f(rays, n, RAYN_TNEAR, i), *rayn_f(rays, n, RAYN_TFAR, i), t);
 }
 
-/* The usual sphere, whole and only translated, takes sphere_packet_hits_float: a packet's
+/* The usual sphere, whole and only translated, takes sphere_packet_hits_fast: a packet's
  * lanes in one vectorised loop in single precision, with tracer_quadric_hit's hits and its t
- * to a bound; a packet with a lane the bound cannot decide goes to sphere_packet_hits (the
- * double test, tracer_quadric_hit's results bit for bit). Embree 3 packets hold at most 16
+ * to a bound; the lanes the bound cannot decide take sphere_packet_hits' answers (the double
+ * test, tracer_quadric_hit's results bit for bit). Embree 3 packets hold at most 16
  * rays; larger N (none today) would go lane by lane. */
 enum { PACKET_MAX = 16 };
+_Static_assert((int)PACKET_MAX <= (int)SPHERE_PACKET_FLOAT_MAX, "a packet fits the float test");
 static bool packet_sphere(const Geom *g)
 {
     return g->kind == GEOM_SPHERE && g->object_translation_only && !(g->zmin > -g->radius || g->zmax < g->radius) &&
@@ -248,9 +249,7 @@ static void quadric_hits_rayn(const Geom *g, void *rays, const int *valid, unsig
 {
     if (first == 0 && count == n && packet_sphere(g)) {
         const double translation[3] = {g->object_from_geom.m[0][3], g->object_from_geom.m[1][3], g->object_from_geom.m[2][3]};
-        float t_err[PACKET_MAX];
-        if (!sphere_packet_hits_float(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t, t_err))
-            sphere_packet_hits(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t);
+        sphere_packet_hits_fast(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t);
         return;
     }
     for (unsigned k = 0; k < count; ++k) hit[k] = valid[first + k] == -1 && quadric_hit_rayn(g, rays, n, first + k, &t[k]);

@@ -1,7 +1,8 @@
 /* sphere_packet_hits_float (src/render/sphere_packet_float.c) against the double test
  * sphere_packet_hits (which test_sphere_packet ties to tracer_quadric_hit bit for bit), on
- * random packets of 1, 4, 8 and 16 rays: for every packet the float test calls decided, each
- * live lane's hit must be the double test's exactly and its t within the lane's bound t_err.
+ * random packets of 1, 4, 8 and 16 rays: every live lane the float test calls decided must have
+ * the double test's hit exactly and its t within the lane's bound t_err; and the combined test
+ * (sphere_packet_hits_fast) must give each lane what it gives that lane alone.
  *
  * The rays: from near and far (up to 1000 radii) towards the sphere, tangent ones (line
  * distance r (1 +- 10^-k), k = 1..8), rays leaving the surface outwards from just above it
@@ -20,6 +21,7 @@
  * checked at 2^10. */
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "check.h"
 #include "core/rng.h"
@@ -155,31 +157,39 @@ static void check_sphere(double w, const double c_tracer[3], double r_tracer, ui
     pcg32_seed(&rng, seed, 3);
     static const unsigned sizes[4] = {1, 4, 8, 16};
     long lanes = 0, decided_lanes = 0, hits = 0, wrong_hit = 0, wrong_t = 0, promised = 0, promise_broken = 0;
-    long out_lanes = 0, out_hits = 0;
+    long out_lanes = 0, out_hits = 0, fast_differs = 0;
     double worst_rel = 0.0; /* |t_f - t_d| in units of u (|o - c| + r) / |d| */
-    float rays[12 * LANES + 8 * LANES];
+    float rays[12 * LANES + 8 * LANES], one[12 + 8];
     for (int p = 0; p < PACKETS; ++p) {
         unsigned n = sizes[p % 4];
-        int valid[LANES], hit[LANES], hit_d[LANES];
-        double t[LANES], t_d[LANES];
+        int valid[LANES], hit[LANES], hit_d[LANES], hit_fast[LANES], decided[LANES];
+        double t[LANES], t_d[LANES], t_fast[LANES];
         float t_err[LANES];
         LaneInfo info[LANES];
         for (unsigned i = 0; i < n; ++i) {
             make_lane(rays, n, i, &rng, c_tracer, r_tracer, &info[i]);
             valid[i] = pcg32_float(&rng) < 0.85f ? -1 : 0;
         }
-        int decided = sphere_packet_hits_float(rays, valid, n, w, translation, r, hit, t, t_err);
+        sphere_packet_hits_float(rays, valid, n, w, translation, r, hit, t, t_err, decided);
         sphere_packet_hits(rays, valid, n, w, translation, r, hit_d, t_d);
+        sphere_packet_hits_fast(rays, valid, n, w, translation, r, hit_fast, t_fast);
         for (unsigned i = 0; i < n; ++i) {
             if (valid[i] != -1) continue;
             ++lanes;
             hits += hit_d[i];
             if (info[i].kind == KIND_OUT) ++out_lanes, out_hits += hit_d[i];
             if (info[i].must_miss && hit_d[i]) ++promise_broken;
-            if (n == 1 && info[i].must_decide) {
-                ++promised, promise_broken += !decided;
-            }
-            if (!decided) continue;
+            if (info[i].must_decide) ++promised, promise_broken += !decided[i];
+            /* sphere_packet_hits_fast: the lane's answer is the one it gets alone, bit for bit
+             * (the float test's where decided, the double test's where not) */
+            for (int f = 0; f < 9; ++f) one[f] = rays[f * n + i];
+            int valid_one = -1, hit_one;
+            double t_one;
+            sphere_packet_hits_fast(one, &valid_one, 1, w, translation, r, &hit_one, &t_one);
+            fast_differs += hit_fast[i] != hit_one || (hit_one && memcmp(&t_fast[i], &t_one, sizeof t_one) != 0) ||
+                            hit_fast[i] != (decided[i] ? hit[i] : hit_d[i]) ||
+                            (hit_one && memcmp(&t_one, decided[i] ? &t[i] : &t_d[i], sizeof t_one) != 0);
+            if (!decided[i]) continue;
             ++decided_lanes;
             if ((hit[i] != 0) != (hit_d[i] != 0)) {
                 ++wrong_hit;
@@ -195,11 +205,12 @@ static void check_sphere(double w, const double c_tracer[3], double r_tracer, ui
             worst_rel = fmax(worst_rel, err / scale);
         }
     }
-    printf("w 2^%d r %g |c| %g: %ld live lanes, %ld hits, %ld in decided packets (%ld wrong hits, %ld t beyond the "
-           "bound), worst t error %.3g u (|o - c| + r) / |d|; %ld of %ld promised single lanes broken; %ld of %ld "
-           "outward rays hit\n",
+    printf("w 2^%d r %g |c| %g: %ld live lanes, %ld hits, %ld decided (%ld wrong hits, %ld t beyond the bound), worst "
+           "t error %.3g u (|o - c| + r) / |d|; %ld of %ld promised lanes broken; %ld of %ld outward rays hit; %ld "
+           "lanes of the combined test differ from alone\n",
            (int)log2(w), r_tracer, sqrt(dot3(c_tracer, c_tracer)), lanes, hits, decided_lanes, wrong_hit, wrong_t,
-           worst_rel, promise_broken, promised, out_hits, out_lanes);
+           worst_rel, promise_broken, promised, out_hits, out_lanes, fast_differs);
+    CHECK(fast_differs == 0);
     CHECK(wrong_hit == 0);
     CHECK(wrong_t == 0);
     CHECK(promise_broken == 0);
@@ -219,13 +230,15 @@ int main(void)
         int valid[LANES], hit[LANES];
         double t[LANES];
         float t_err[LANES];
+        int decided[LANES];
         const double translation[3] = {0.0, 0.0, 0.0};
         for (size_t i = 0; i < sizeof rays / sizeof rays[0]; ++i) rays[i] = NAN;
         for (int i = 0; i < LANES; ++i) valid[i] = 0;
-        CHECK(sphere_packet_hits_float(rays, valid, LANES, 1.0, translation, 1.0, hit, t, t_err) == 1);
+        CHECK(sphere_packet_hits_float(rays, valid, LANES, 1.0, translation, 1.0, hit, t, t_err, decided) == 1);
         for (int i = 0; i < LANES; ++i) CHECK(hit[i] == 0);
         valid[3] = -1; /* and a live NaN lane is not decided */
-        CHECK(sphere_packet_hits_float(rays, valid, LANES, 1.0, translation, 1.0, hit, t, t_err) == 0);
+        CHECK(sphere_packet_hits_float(rays, valid, LANES, 1.0, translation, 1.0, hit, t, t_err, decided) == 0);
+        CHECK(decided[3] == 0 && decided[2] == 1);
     }
     static const double scales[] = {0x1p-30, 0x1p-10, 1.0, 0x1p10, 0x1p27};
     static const double radii[] = {1e-6, 1e-3, 0.3, 1.0};
