@@ -17,6 +17,22 @@
 #include "core/vec.h"
 #include "core/vectorise.h"
 
+/* Lane k's results: t, the point, the unit normal, whether the normal's length l was in
+ * v3_normalize's plain range, and the offset magnitude v3_max_abs(p) + reach (fmax_nonneg's
+ * NaN rule as a select). Inline in both loops. */
+static inline void lane_store(SphereShadeBatch *restrict b, int k, float t, float px, float py, float pz, float nx,
+                              float ny, float nz, float l, float reach_f)
+{
+    b->ok[k] = (l > V3_LENGTH_PLAIN_MIN) & (l < V3_LENGTH_PLAIN_MAX);
+    b->n[0][k] = nx, b->n[1][k] = ny, b->n[2][k] = nz;
+    b->p[0][k] = px, b->p[1][k] = py, b->p[2][k] = pz;
+    b->t[k] = t;
+    float ax = fabsf(px), ay = fabsf(py), az = fabsf(pz);
+    float myz = (ay > az || az != az) ? ay : az;
+    float mxyz = (ax > myz || myz != myz) ? ax : myz;
+    b->mag[k] = mxyz + reach_f;
+}
+
 WEDGE_VECTORISED void sphere_shade_batch(SphereShadeBatch *restrict b, const Mat4 *object_from_geom,
                                          const Mat4 *geom_from_object, double radius, float world_from_tracer,
                                          double reach)
@@ -57,14 +73,29 @@ WEDGE_VECTORISED void sphere_shade_batch(SphereShadeBatch *restrict b, const Mat
         float nz = (float)(a02 * x + a12 * y + a22 * z);
         float l = sqrtf(nx * nx + ny * ny + nz * nz);
         float inv = 1.0f / l;
-        b->ok[k] = (l > V3_LENGTH_PLAIN_MIN) & (l < V3_LENGTH_PLAIN_MAX);
-        b->n[0][k] = nx * inv, b->n[1][k] = ny * inv, b->n[2][k] = nz * inv;
-        b->p[0][k] = px, b->p[1][k] = py, b->p[2][k] = pz;
-        b->t[k] = t;
-        /* v3_max_abs (fmax_nonneg's NaN rule as a select) */
-        float ax = fabsf(px), ay = fabsf(py), az = fabsf(pz);
-        float myz = (ay > az || az != az) ? ay : az;
-        float mxyz = (ax > myz || myz != myz) ? ax : myz;
-        b->mag[k] = mxyz + reach_f;
+        lane_store(b, k, t, px, py, pz, nx * inv, ny * inv, nz * inv, l, reach_f);
+    }
+}
+
+/* sphere_hit_shade (tracer.c) for a sphere placed by a translation alone, lane by lane: the
+ * offset from the centre in double rounded to float, the hit's offset and its normalisation in
+ * float, the point c + r n in double rounded once. The same operations in the same order, so
+ * each lane's values are sphere_hit_shade's bit for bit (ok = 0 where v3_normalize would leave
+ * its plain case). */
+WEDGE_VECTORISED void sphere_shade_batch_translated(SphereShadeBatch *restrict b, const double centre[3], double radius,
+                                                    float world_from_tracer, double reach)
+{
+    const double cx = centre[0], cy = centre[1], cz = centre[2], r = radius;
+    const float reach_f = (float)reach;
+    for (int k = 0; k < b->count; ++k) {
+        float t = world_from_tracer * b->tfar[k];
+        float ox = (float)((double)b->o[0][k] - cx), oy = (float)((double)b->o[1][k] - cy),
+              oz = (float)((double)b->o[2][k] - cz);
+        float vx = ox + b->d[0][k] * t, vy = oy + b->d[1][k] * t, vz = oz + b->d[2][k] * t;
+        float l = sqrtf(vx * vx + vy * vy + vz * vz);
+        float inv = 1.0f / l;
+        float nx = vx * inv, ny = vy * inv, nz = vz * inv;
+        float px = (float)(cx + r * (double)nx), py = (float)(cy + r * (double)ny), pz = (float)(cz + r * (double)nz);
+        lane_store(b, k, t, px, py, pz, nx, ny, nz, l, reach_f);
     }
 }

@@ -24,4 +24,10 @@ typedef struct {
 void sphere_shade_batch(SphereShadeBatch *b, const Mat4 *object_from_geom, const Mat4 *geom_from_object, double radius,
                         float world_from_tracer, double reach);
 
+/* The same for a sphere placed by a translation alone (centre in geometry space): each lane's
+ * values are tracer.c's sphere_hit_shade's, bit for bit (mostly float: docs/algorithms.md, "A
+ * translated sphere's hit in float"). */
+void sphere_shade_batch_translated(SphereShadeBatch *b, const double centre[3], double radius, float world_from_tracer,
+                                   double reach);
+
 #endif

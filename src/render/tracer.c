@@ -14,6 +14,7 @@
 #include "geometry/mesh.h"
 #include "render/layer_build.h"
 #include "render/sphere_packet.h"
+#include "render/sphere_packet_float.h"
 #include "render/sphere_shade.h"
 
 /* Relative size of the offset that lifts a new ray's origin off the surface it starts on.
@@ -228,10 +229,13 @@ static bool quadric_hit_rayn(const Geom *g, void *rays, unsigned n, unsigned i, 
     return tracer_quadric_hit(g, o, d, *rayn_f(rays, n, RAYN_TNEAR, i), *rayn_f(rays, n, RAYN_TFAR, i), t);
 }
 
-/* The usual sphere, whole and only translated, takes sphere_packet_hits: a packet's lanes
- * in one vectorised loop, with tracer_quadric_hit's results. Embree 3 packets hold at most 16
+/* The usual sphere, whole and only translated, takes sphere_packet_hits_fast: a packet's
+ * lanes in one vectorised loop in single precision, with tracer_quadric_hit's hits and its t
+ * to a bound; the lanes the bound cannot decide take sphere_packet_hits' answers (the double
+ * test, tracer_quadric_hit's results bit for bit). Embree 3 packets hold at most 16
  * rays; larger N (none today) would go lane by lane. */
 enum { PACKET_MAX = 16 };
+_Static_assert((int)PACKET_MAX <= (int)SPHERE_PACKET_FLOAT_MAX, "a packet fits the float test");
 static bool packet_sphere(const Geom *g)
 {
     return g->kind == GEOM_SPHERE && g->object_translation_only && !(g->zmin > -g->radius || g->zmax < g->radius) &&
@@ -245,7 +249,7 @@ static void quadric_hits_rayn(const Geom *g, void *rays, const int *valid, unsig
 {
     if (first == 0 && count == n && packet_sphere(g)) {
         const double translation[3] = {g->object_from_geom.m[0][3], g->object_from_geom.m[1][3], g->object_from_geom.m[2][3]};
-        sphere_packet_hits(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t);
+        sphere_packet_hits_fast(rays, valid, n, g->geom_from_tracer, translation, g->radius, hit, t);
         return;
     }
     for (unsigned k = 0; k < count; ++k) hit[k] = valid[first + k] == -1 && quadric_hit_rayn(g, rays, n, first + k, &t[k]);
@@ -985,6 +989,19 @@ static inline void shade_triangle(const Geom *g, int prim, float bu, float bv, v
     }
 }
 
+/* The uv of sphere g's object-space surface point po (pbrt-v4's Sphere: phi over phimax, theta
+ * between the polar angles of zmin and zmax); 0 when nothing reads it (Geom.uv_unread). */
+static vec2 sphere_uv(const Geom *g, const double po[3])
+{
+    if (g->uv_unread) return v2(0.0f, 0.0f);
+    double phi = atan2(po[1], po[0]);
+    if (phi < 0.0) phi += 2.0 * M_PI;
+    double r = g->radius > 0.0 ? g->radius : 1.0;
+    double theta = acos(fmax(-1.0, fmin(1.0, po[2] / r)));
+    double th_min = g->theta_zmin_rad, dv = g->theta_zmax_rad - th_min;
+    return v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f, dv != 0.0 ? (float)((theta - th_min) / dv) : 0.0f);
+}
+
 /* Hit point, normals and uv in geometry space. p_hint_geom is the ray's hit point there. */
 static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const double p_hint_geom[3], vec3 *p, vec3 *ng,
                              vec3 *ns, vec2 *uv, float *mag)
@@ -1001,17 +1018,7 @@ static void shade_geom_space(const Geom *g, int prim, float bu, float bv, const 
         if (len > 0.0)
             for (int i = 0; i < 3; ++i) po[i] *= g->radius / len; /* reproject onto the surface */
         for (int i = 0; i < 3; ++i) n_obj[i] = po[i];
-        if (g->uv_unread) {
-            *uv = v2(0.0f, 0.0f);
-        } else {
-            double phi = atan2(po[1], po[0]);
-            if (phi < 0.0) phi += 2.0 * M_PI;
-            double r = g->radius > 0.0 ? g->radius : 1.0;
-            double theta = acos(fmax(-1.0, fmin(1.0, po[2] / r)));
-            double th_min = g->theta_zmin_rad, dv = g->theta_zmax_rad - th_min;
-            *uv = v2(g->phimax_rad > 0.0 ? (float)(phi / g->phimax_rad) : 0.0f,
-                     dv != 0.0 ? (float)((theta - th_min) / dv) : 0.0f);
-        }
+        *uv = sphere_uv(g, po);
     } else if (g->uv_unread) {
         po[2] = g->height;
         *uv = v2(0.0f, 0.0f);
@@ -1071,6 +1078,28 @@ static inline void hit_shaded(SurfaceHit *hit, float t, vec3 p, vec3 ng, vec3 ns
     hit->light = g->light_first >= 0 ? g->light_first + (g->kind == GEOM_TRIANGLES ? prim : 0) : -1;
 }
 
+/* The hit of a top-level sphere placed by a translation alone (centre c, radius r), mostly in
+ * float (docs/algorithms.md, "A translated sphere's hit in float"): the offset from the centre
+ * o - c in double, rounded (an origin far from the world's origin keeps its digits near the
+ * sphere), plus t d in float (t is a float anyway: its rounding is the hit's own uncertainty
+ * along the ray); the normal, that offset normalised (v3_normalize; sphere_shade_batch_translated
+ * takes the plain case of it); the point reprojected onto the surface, c + r n, in double and
+ * rounded once; the uv from r n. shade_geom_space does the same in double through two 4x4
+ * transforms, a double square root and division, and the normal through the inverse. */
+static void sphere_hit_shade(const Geom *g, vec3 o, vec3 d, float t, SurfaceHit *hit, int prim, int object_id)
+{
+    const Mat4 *m = &g->geom_from_object;
+    double cx = m->m[0][3], cy = m->m[1][3], cz = m->m[2][3], r = g->radius;
+    vec3 oc = v3((float)((double)o.x - cx), (float)((double)o.y - cy), (float)((double)o.z - cz));
+    vec3 n = v3_normalize(v3_madd(oc, d, t));
+    double po[3] = {r * (double)n.x, r * (double)n.y, r * (double)n.z};
+    vec3 p = v3((float)(cx + po[0]), (float)(cy + po[1]), (float)(cz + po[2]));
+    vec2 uv = sphere_uv(g, po);
+    if (g->flip_normal) n = v3_neg(n);
+    float mag = v3_max_abs(p) + (float)g->quadric_reach;
+    hit_shaded(hit, t, p, n, n, uv, OFFSET_REL * mag, g, prim, -1, object_id);
+}
+
 /* tracer_intersect_ex's shading of any hit rh of the ray o + t d (instances, spheres and
  * disks included). Out of line: the common case below stays small. */
 static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d, float time01, bool shade_all,
@@ -1091,6 +1120,10 @@ static __attribute__((noinline)) bool shade_hit(const Tracer *tr, vec3 o, vec3 d
     float t = tr->world_from_tracer * rh.ray.tfar;
     if (!shade_all && g->light_first < 0) {
         hit_unshaded(hit, t, g, (int)rh.hit.primID, instance, object_id);
+        return true;
+    }
+    if (instance < 0 && g->kind == GEOM_SPHERE && g->object_translation_only) {
+        sphere_hit_shade(g, o, d, t, hit, (int)rh.hit.primID, object_id);
         return true;
     }
     double pg[3] = {0.0, 0.0, 0.0};
@@ -1292,8 +1325,13 @@ static void shade_sphere_hits(const Tracer *tr, const TracerRay *r, const struct
             b.tfar[k] = rh[i].ray.tfar;
         }
         count = rest;
-        sphere_shade_batch(&b, &g->object_from_geom, &g->geom_from_object, g->radius, tr->world_from_tracer,
-                           g->quadric_reach);
+        if (g->object_translation_only) {
+            const double centre[3] = {g->geom_from_object.m[0][3], g->geom_from_object.m[1][3], g->geom_from_object.m[2][3]};
+            sphere_shade_batch_translated(&b, centre, g->radius, tr->world_from_tracer, g->quadric_reach);
+        } else {
+            sphere_shade_batch(&b, &g->object_from_geom, &g->geom_from_object, g->radius, tr->world_from_tracer,
+                               g->quadric_reach);
+        }
         for (int k = 0; k < b.count; ++k) {
             int i = of[k];
             if (!b.ok[k]) {

@@ -1,10 +1,12 @@
-/* Sphere hits shaded in a batch (sphere_shade_batch, through tracer_intersect_batch) against
- * the same rays shaded one by one (tracer_intersect_ex: shade_hit), every SurfaceHit field
- * bit for bit. Spheres translated, rotated and unevenly scaled, with reversed orientation,
- * tiny and far from the origin (where the scene is scaled for Embree), several in one chunk
- * of rays, and at the top level only (an instanced one and a sphere whose uv is read take
- * the one-by-one path in both). Rays from all around each sphere towards points inside
- * it, some of them tangent at the rim. */
+/* Sphere hits shaded in a batch (sphere_shade_batch, sphere_shade_batch_translated, through
+ * tracer_intersect_batch) against the same rays shaded one by one (tracer_intersect_ex:
+ * shade_hit), every SurfaceHit field bit for bit; and a top-level translated sphere's hit
+ * (shaded mostly in float) against the closed form in double within its error bound. Spheres
+ * translated, rotated and unevenly scaled, with reversed orientation, tiny, far from the
+ * origin (where the scene is scaled for Embree) and small at 3700 from it with a centre that
+ * is not a float, several in one chunk of rays, and at the top level only (an instanced one
+ * and a sphere whose uv is read take the one-by-one path in both). Rays from all around each
+ * sphere towards points inside it, some of them tangent at the rim. */
 #include <stdint.h>
 #include <string.h>
 
@@ -61,7 +63,39 @@ static void check_scene(const char *text, int spheres, const vec3 *c, const floa
         hits += ref;
         differ += ref != found[i] || (ref && !same_hit(&batch[i], &single[i]));
     }
-    printf("%d rays, %ld hits, %ld differ\n", RAYS, hits, differ);
+    /* a top-level translated sphere's hit against the closed form in double from the same t
+     * (docs/algorithms.md, "A translated sphere's hit in float"): the normal within
+     * 16 eps (|o - c| + t) / r + 8 eps, the point within r times that plus two roundings of
+     * a coordinate of size |c| + r (eps = 2^-23) */
+    long closed = 0, beyond = 0;
+    double worst = 0.0;
+    for (int i = 0; i < RAYS; ++i) {
+        const SurfaceHit *h = &batch[i];
+        if (!found[i] || h->instance >= 0 || h->geom->kind != GEOM_SPHERE || !h->geom->object_translation_only) continue;
+        const Geom *g = h->geom;
+        double c[3] = {g->geom_from_object.m[0][3], g->geom_from_object.m[1][3], g->geom_from_object.m[2][3]}, v[3];
+        double oc = 0.0, len = 0.0, cmax = 0.0, sign = g->flip_normal ? -1.0 : 1.0;
+        for (int j = 0; j < 3; ++j) {
+            double o = (double)v3_get(rays[i].o, j) - c[j];
+            v[j] = o + (double)h->t * (double)v3_get(rays[i].d, j);
+            oc += o * o, len += v[j] * v[j], cmax = fmax(cmax, fabs(c[j]));
+        }
+        len = sqrt(len);
+        double eps = 0x1p-23, n_bound = 16.0 * eps * (sqrt(oc) + h->t) / g->radius + 8.0 * eps;
+        double p_bound = g->radius * n_bound + 2.0 * eps * (cmax + g->radius), n_err = 0.0, p_err = 0.0;
+        for (int j = 0; j < 3; ++j) {
+            double n = v[j] / len;
+            n_err = fmax(n_err, fabs(sign * (double)v3_get(h->ng, j) - n));
+            p_err = fmax(p_err, fabs((double)v3_get(h->p, j) - (c[j] + g->radius * n)));
+        }
+        ++closed;
+        beyond += !(n_err <= n_bound && p_err <= p_bound);
+        worst = fmax(worst, fmax(n_err / n_bound, p_err / p_bound));
+    }
+    printf("%d rays, %ld hits, %ld differ; %ld translated-sphere hits against the closed form, %ld beyond the "
+           "bound, worst %.3g of it\n",
+           RAYS, hits, differ, closed, beyond, worst);
+    CHECK(beyond == 0);
     CHECK(differ == 0);
     CHECK(hits >= min_hits);
     tracer_free(&tr);
@@ -90,6 +124,15 @@ int main(void)
     check_scene("LookAt 0 0 -6e6  0 0 0  0 1 0 Camera \"perspective\" WorldBegin\n"
                 "AttributeBegin Translate 3e6 -1e6 2e6 Shape \"sphere\" \"float radius\" [ 2e6 ] AttributeEnd\n",
                 1, &cf, &rf, true, RAYS / 3);
+    /* a small sphere 3700 from the origin whose centre is not a float (two translations, composed
+     * in double): the offset from the centre must be taken in double (in float it would be off
+     * by up to ulp(3000) / 2 = 1.2e-4, 2.4e-4 of the radius) */
+    const vec3 cn = v3(3000.1f, -2000.3f, 1000.7f);
+    const float rn = 0.5f;
+    check_scene("LookAt 3000.1 -2000.3 995  3000.1 -2000.3 1000.7  0 1 0 Camera \"perspective\" WorldBegin\n"
+                "AttributeBegin Translate 3000 -2000 1000 Translate 0.1 -0.3 0.7 Shape \"sphere\" \"float radius\" [ 0.5 ] "
+                "AttributeEnd\n",
+                1, &cn, &rn, true, RAYS / 3);
     /* an instanced sphere: shaded by shade_hit through the instance */
     const vec3 ci = v3(0.5f, 0.0f, 1.0f);
     const float ri = 0.7f;
