@@ -272,9 +272,13 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
             double phi, group_phi;
             if (g < 0) {
                 phi = triangle_light_phi(j, at, l, &b, pv, p, nr);
-            } else if (!culled(&b, pv) && emitter_boundary_phi(j->groups[g], p, nr, &group_phi)) {
+            } else if (culled(&b, pv)) {
+                /* behind the plane of the one-sided mesh, or in it (where each triangle's projected
+                 * solid angle is 0 too): its triangles differ from b's test by rounding alone */
+                phi = 0.0;
+            } else if (emitter_boundary_phi(j->groups[g], p, nr, &group_phi)) {
                 phi = (double)v3_luminance(b.radiance) * group_phi; /* the group's lights share b's radiance */
-            } else { /* culled, or the receiver on the boundary: its triangles one by one */
+            } else { /* the receiver on a boundary point: its triangles one by one */
                 phi = 0.0;
                 for (int k = l; k >= 0; k = j->group_next[k]) {
                     RenderLightInfo bk;
