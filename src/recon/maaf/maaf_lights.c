@@ -3,7 +3,8 @@
  * A mesh light's triangles are lights of one shape and share its centroid, its axes (the first
  * triangle's first edge), its extent, its sweep and, mostly, its y-design. Each is found once a
  * shape (ShapeSummary) instead of once per triangle over every other triangle: the table of a
- * 3200-triangle mesh light took 0.4 s that way (docs/benchmarks.md, "A mesh light's set-up").
+ * 3200-triangle mesh light took 0.4 s that way (docs/benchmarks.md, "Mesh area lights of thousands
+ * of triangles").
  * Every value and every order of additions is the per-triangle form's, so the table is the same
  * bit for bit. */
 #include "recon/maaf/maaf_lights.h"
