@@ -153,6 +153,7 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
     *set = (LightSet){0};
     set->area_sampling_complete = true;
     set->sky_cosine_light = -1;
+    set->sole_light = -1;
     int cap = 0;
     vec3 bmin = v3(tr->bounds_min[0], tr->bounds_min[1], tr->bounds_min[2]);
     vec3 bmax = v3(tr->bounds_max[0], tr->bounds_max[1], tr->bounds_max[2]);
@@ -352,7 +353,6 @@ void lights_free(LightSet *set)
  * lights stops at s, whose width cdf[s + 1] - cdf[s] is > 0. */
 static void lights_find_sole_light(LightSet *set)
 {
-    set->has_sole_light = false;
     set->sole_light = -1;
     if (!(set->power_total > 0.0f) || set->count <= 0) return;
     int s = 0;
@@ -362,7 +362,6 @@ static void lights_find_sole_light(LightSet *set)
         if (!(set->cdf[i] <= 0.0f)) return;
     for (int i = s + 1; i <= set->count; ++i)
         if (!(set->cdf[i] >= set->power_total)) return;
-    set->has_sole_light = true;
     set->sole_light = s;
 }
 

@@ -87,10 +87,9 @@ typedef struct {
      * outside its run [sole_mesh_first, sole_mesh_end) have no power, each inside has some):
      * the run, else sole_mesh_end = 0. lights_choose then needs no pick of the light. */
     int sole_mesh_first, sole_mesh_end;
-    /* When the pick can land on one light alone (sole_light: cdf[i] <= 0 up to it and >=
-     * power_total after it): lights_cdf_cell's answer for every target in [0, power_total),
-     * which lights_choose then takes without the search (envlight's sky beside its sun). */
-    bool has_sole_light;
+    /* When the pick can land on one light alone (cdf[i] <= 0 up to it and >= power_total
+     * after it): lights_cdf_cell's answer for every target in [0, power_total), which
+     * lights_choose then takes without the search (envlight's sky beside its sun); else -1. */
     int sole_light;
 } LightSet;
 
@@ -111,7 +110,7 @@ typedef struct {
 bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err);
 void lights_free(LightSet *set);
 
-/* Sets sole_mesh_first / sole_mesh_end and has_sole_light / sole_light from the set's cdf
+/* Sets sole_mesh_first / sole_mesh_end and sole_light from the set's cdf
  * and choice table (lights_build calls it; a test that edits the table calls it again). */
 void lights_find_sole_mesh(LightSet *set);
 /* The box around the area lights (light_bounds.c; called by lights_build). */

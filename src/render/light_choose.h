@@ -76,7 +76,7 @@ static inline int lights_choose(const LightSet *set, float u_pick, vec2 *u, floa
         float target = u_pick * set->power_total;
         /* one light with power: the search's answer for every target in [0, total)
          * (LightSet.sole_light); the rest (a target at or above the total, NaN) searches */
-        bool sole = set->has_sole_light && target >= 0.0f && target < set->power_total;
+        bool sole = set->sole_light >= 0 && target >= 0.0f && target < set->power_total;
         lo = sole ? set->sole_light : lights_cdf_cell(set, target);
         const LightChoice *c = &set->choice[lo];
         *pmf = c->pmf; /* lights_pick's quotient: lights_pmf is the same expression */

@@ -139,7 +139,7 @@ static void check_choose(const char *text, int chosen[3], bool *sole, bool *one)
     LightSet set;
     if (!build(text, &scene, &tr, &set)) return;
     *sole = set.sole_mesh_end > 0;
-    *one = set.has_sole_light;
+    *one = set.sole_light >= 0;
     CHECK(choose_mismatches(&set, &tr, chosen) == 0);
     lights_free(&set);
     tracer_free(&tr);
@@ -167,21 +167,21 @@ static void check_edited_tables(void)
     LightSet set[2];
     if (!build(sky_between_text, &scene[0], &tr[0], &set[0]) || !build(sky_sun_text, &scene[1], &tr[1], &set[1])) return;
     LightSet *a = &set[0], *b = &set[1];
-    CHECK(a->count == 3 && a->lights[1].kind == LIGHT_INFINITE && a->has_sole_light && a->sole_light == 1);
-    CHECK(b->count == 2 && b->lights[0].kind == LIGHT_INFINITE && b->has_sole_light && b->sole_light == 0);
+    CHECK(a->count == 3 && a->lights[1].kind == LIGHT_INFINITE && a->sole_light == 1);
+    CHECK(b->count == 2 && b->lights[0].kind == LIGHT_INFINITE && b->sole_light == 0);
     int chosen[3] = {0, 0, 0};
     float total = a->power_total;
     edit_cdf(a, 0, -0.5f * total);
-    CHECK(a->has_sole_light && a->sole_light == 1);
+    CHECK(a->sole_light == 1);
     CHECK(choose_mismatches(a, &tr[0], chosen) == 0);
     edit_cdf(a, 0, 0.0f);
     edit_cdf(a, 2, 0.5f * total);
-    CHECK(!a->has_sole_light);
+    CHECK(a->sole_light < 0);
     CHECK(choose_mismatches(a, &tr[0], chosen) == 0);
     edit_cdf(a, 2, total);
-    CHECK(a->has_sole_light && a->sole_light == 1);
+    CHECK(a->sole_light == 1);
     edit_cdf(b, 0, 2.0f * b->power_total);
-    CHECK(!b->has_sole_light);
+    CHECK(b->sole_light < 0);
     CHECK(choose_mismatches(b, &tr[1], chosen) == 0);
     for (int k = 0; k < 2; ++k) {
         lights_free(&set[k]);
