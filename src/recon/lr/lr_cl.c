@@ -313,7 +313,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
         for (int i = 0; i < 4; ++i) err_a |= clSetKernelArg(ks, (cl_uint)(26 + i), sizeof(cl_mem), &bm2[2 + i]);
         ok = cl_ok(err_a, "arguments", d);
         ok = ok && cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
-             (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && (slots ? cl_launch_serial_2d : cl_launch_2d)(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
+             (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
              cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
                        clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem) |
                        clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b) | clSetKernelArg(lr->stats, 24, sizeof(cl_mem), &b_s),
