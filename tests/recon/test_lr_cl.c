@@ -31,10 +31,6 @@ static int gap_slabs = 0;
 /* each sample's CoC slope is jittered by up to half this (a tilted surface's spread of slopes):
  * wide enough, a window's histogram has more occupied bins than slabs */
 static float coc_jitter_px = 0.6f;
-/* each hit's depth is scaled by up to 1 +- half this: surfaces with a spread of depths, whose
- * blocks' slots can straddle a window's depth bounds (lr_stats_by_block: those blocks are taken
- * sample by sample, the rest from their slot sums) */
-static float depth_spread = 0.0f;
 /* the radiance of the front layer's samples is scaled by this: at 300 it is a light far
  * brighter than the rest of its windows, whose layers take the bright clamp (8.24) from the
  * brightness sums the kernel adds up and the C partition alike */
@@ -60,7 +56,6 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
         if (s[i].depth == layers[0].depth)
             for (int c = 0; c < 3; ++c) s[i].L[c] *= front_gain;
         s[i].coc_px += coc_jitter_px * (lr_test_unit(&seed) - 0.5f);
-        if (depth_spread > 0.0f && s[i].depth < INFINITY) s[i].depth *= 1.0f + depth_spread * (lr_test_unit(&seed) - 0.5f);
     }
     for (int i = 0; i < w * h * spp && film_spread_px > 0.0f; ++i) {
         int pixel = i / spp;
@@ -389,17 +384,6 @@ int main(void)
             compare(lr, 256, 80, 4, wide, 2, false);
             front_gain = 1.0f;
         }
-        /* the blocks' slot sums (8.44) where slots straddle depth bounds: few occupied CoC
-         * bins (no jitter), so the windows have depth bounds, and depths spread within each
-         * surface; with and without a band, non-finite radiance among the slots */
-        gap_slabs = 8;
-        coc_jitter_px = 0.0f;
-        depth_spread = 0.8f;
-        compare(lr, 48, 33, 8, big, 3, true);
-        compare_band(lr, 53, 45, 4, big, 3, true, 0.0f, 8);
-        compare(lr, 256, 80, 4, wide, 2, false);
-        depth_spread = 0.0f;
-        coc_jitter_px = 0.6f; /* gap_slabs stays 8, as the loop above left it */
         /* Gaussian sample weights: the reprojection's Gaussian branch, weights of every size,
          * samples of weight 0 (lr_gauss' cut-off) among those that land in the box */
         flat_weights = false;
