@@ -217,113 +217,23 @@ static void lr_bin_rect(__global const float4 *keys, int width, int spp, int x0,
  * whole blocks (lr_cl.c checks the alignment), lr_tile_stats adds its 16 blocks' histograms
  * and ranges instead of binning its 8192 samples: each sample is binned once, not once per
  * window that holds it (four). Counts are integers and a range's ends are a minimum and a
- * maximum, so the bounds are the same as sample by sample. One work-item per block.
- *
- * slots (the histogram-gap bounds, blocks that are whole tiles' own pixels too: lr_cl.c):
- * also the block's samples' partial statistics per slot, a slot being a CoC bin and the
- * moving flag (2 bin + 1 for a static hit) or the misses (LR_SLOT_MISS): count, non-finite
- * count, motion and brightness sums, CoC range, depth range, and over the own pixels of the
- * tile whose own pixels the block is, the tilt's nine sums (lr_partition.h: LrTilt, from that
- * tile's window corner). A window's CoC bounds are bin edges, so every sample of a slot falls
- * in one raw layer of every window that holds the block unless the slot's depth range
- * straddles a depth bound of the window: lr_tile_stats adds the slots' sums instead of
- * sweeping the block's samples (docs/algorithms.md 8.44). The occupied slots are stored first,
- * in slot order (slot_n of them): slot_i (slot, count, non-finite count), slot_d (motion x, y,
- * brightness sums), slot_f (CoC min, max, depth min, max, the tilt's sums). */
+ * maximum, so the bounds are the same as sample by sample. One work-item per block. */
 #define LR_BLOCK_PX 8
-#define LR_SLOTS 97 /* 2 per CoC bin, and the misses */
-#define LR_SLOT_MISS 96
-#define LR_SLOT_F 13
-static void lr_slot_clear(int i, int *count, int *skipped, lr_sum *mx, lr_sum *my, lr_sum *bright, float *f)
-{
-    count[i] = skipped[i] = 0;
-    mx[i] = my[i] = bright[i] = 0;
-    f[i * LR_SLOT_F + 0] = f[i * LR_SLOT_F + 2] = INFINITY;
-    f[i * LR_SLOT_F + 1] = f[i * LR_SLOT_F + 3] = -INFINITY;
-    for (int k = 4; k < LR_SLOT_F; ++k) f[i * LR_SLOT_F + k] = 0.0f;
-}
-
 __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, int gap_slabs, __global const float *coc_edges,
-                             __global const float4 *keys, __global int *block_hist, __global float *block_z, int slots,
-                             int tile_px, int window_px, int inset, __global const float *bright_in, __global const float *samples,
-                             __global int *slot_n, __global int *slot_i, __global lr_sum *slot_d, __global float *slot_f)
+                             __global const float4 *keys, __global int *block_hist, __global float *block_z)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int bx = get_global_id(0), by = get_global_id(1);
     if (bx >= nbx || by >= nby) return;
     int x0 = bx * LR_BLOCK_PX, y0 = by * LR_BLOCK_PX, x1 = min(width, x0 + LR_BLOCK_PX), y1 = min(height, y0 + LR_BLOCK_PX);
-    int b0 = by * nbx + bx;
-    if (!slots) {
-        int hist[LR_GAP_BINS];
-        for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
-        float zmin = INFINITY, zmax = -INFINITY;
-        lr_bin_rect(keys, width, spp, x0, y0, x1, y1, gap_slabs, coc_edges, hist, &zmin, &zmax);
-        for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = hist[b];
-        block_z[2 * b0] = zmin;
-        block_z[2 * b0 + 1] = zmax;
-        return;
-    }
-    float edges64[64];
-    for (int b = 0; b < 64; ++b) edges64[b] = b < LR_GAP_BINS - 1 ? coc_edges[b] : INFINITY;
-    /* the tile whose own pixels the block is (clipped to the reconstructed image), its window's corner */
-    int ntx = (width - 2 * inset + tile_px - 1) / tile_px, nty = (height - 2 * inset + tile_px - 1) / tile_px;
-    int tx = (x0 - inset) / tile_px, ty = (y0 - inset) / tile_px;
-    bool owned = x0 >= inset && y0 >= inset && tx < ntx && ty < nty;
-    int ix0 = inset + tx * tile_px, iy0 = inset + ty * tile_px;
-    int ix1 = owned ? min(ix0 + tile_px, width - inset) : ix0, iy1 = owned ? min(iy0 + tile_px, height - inset) : iy0;
-    LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px, inset);
-    int count[LR_SLOTS], skipped[LR_SLOTS];
-    lr_sum mx[LR_SLOTS], my[LR_SLOTS], bright[LR_SLOTS];
-    float f[LR_SLOTS * LR_SLOT_F];
-    for (int i = 0; i < LR_SLOTS; ++i) lr_slot_clear(i, count, skipped, mx, my, bright, f);
-    for (int py = y0; py < y1; ++py)
-        for (int px = x0; px < x1; ++px)
-            for (int k = 0; k < spp; ++k) {
-                size_t index = (size_t)(py * width + px) * spp + k;
-                float4 key = keys[index];
-                float b = bright_in[index];
-                bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
-                int sl = key.x < INFINITY ? 2 * lr_gap_bin(edges64, key.y) + (moving ? 0 : 1) : LR_SLOT_MISS;
-                float *m = f + sl * LR_SLOT_F;
-                count[sl]++;
-                if (isnan(b)) skipped[sl]++;
-                mx[sl] += (lr_sum)key.z;
-                my[sl] += (lr_sum)key.w;
-                bright[sl] += (lr_sum)(isfinite(b) ? b : 0.0f);
-                m[0] = key.y < m[0] ? key.y : m[0];
-                m[1] = key.y > m[1] ? key.y : m[1];
-                m[2] = key.x < m[2] ? key.x : m[2];
-                m[3] = key.x > m[3] ? key.x : m[3];
-                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the owner's own pixels (LrTilt) */
-                    __global const float *pl = samples + index * LR_PLACE_STRIDE;
-                    float c = key.y, x = (pl[0] - (float)w.x0) - c * pl[2], y = (pl[1] - (float)w.y0) - c * pl[3];
-                    float *t = m + 4;
-                    t[0] += x, t[1] += y, t[2] += c, t[3] += x * x, t[4] += y * y, t[5] += x * y, t[6] += x * c, t[7] += y * c, t[8] += 1.0f;
-                }
-            }
-    /* the histogram and depth range from the slots (the same counts, minimum and maximum) */
+    int hist[LR_GAP_BINS];
+    for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     float zmin = INFINITY, zmax = -INFINITY;
-    for (int i = 0; i < LR_SLOT_MISS; ++i) {
-        zmin = f[i * LR_SLOT_F + 2] < zmin ? f[i * LR_SLOT_F + 2] : zmin;
-        zmax = f[i * LR_SLOT_F + 3] > zmax ? f[i * LR_SLOT_F + 3] : zmax;
-    }
-    for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = count[2 * b] + count[2 * b + 1];
+    lr_bin_rect(keys, width, spp, x0, y0, x1, y1, gap_slabs, coc_edges, hist, &zmin, &zmax);
+    int b0 = by * nbx + bx;
+    for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = hist[b];
     block_z[2 * b0] = zmin;
     block_z[2 * b0 + 1] = zmax;
-    int n = 0;
-    size_t o = (size_t)b0 * LR_SLOTS;
-    for (int i = 0; i < LR_SLOTS; ++i) {
-        if (!count[i]) continue;
-        slot_i[3 * (o + n)] = i;
-        slot_i[3 * (o + n) + 1] = count[i];
-        slot_i[3 * (o + n) + 2] = skipped[i];
-        slot_d[3 * (o + n)] = mx[i];
-        slot_d[3 * (o + n) + 1] = my[i];
-        slot_d[3 * (o + n) + 2] = bright[i];
-        for (int k = 0; k < LR_SLOT_F; ++k) slot_f[(o + n) * LR_SLOT_F + k] = f[i * LR_SLOT_F + k];
-        ++n;
-    }
-    slot_n[b0] = n;
 }
 
 /* The partition statistics of one tile (lr_partition.c: tile_stats, the same sums in the same
@@ -339,9 +249,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
                             __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
                             int blocks, int nbx, __global const int *block_hist, __global const float *block_z,
-                            __global const float *bright_in, __global const float *samples, int slots,
-                            __global const int *slot_n, __global const int *slot_i, __global const lr_sum *slot_d,
-                            __global const float *slot_f)
+                            __global const float *bright_in, __global const float *samples)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
@@ -391,7 +299,6 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     float tilt[17][9]; /* lr_partition.h: LrTilt, lr_tilt_add; over the tile's own pixels */
     int ix0 = inset + (tile % ntx) * tile_px, iy0 = inset + (tile / ntx) * tile_px;
     int ix1 = min(ix0 + tile_px, width - inset), iy1 = min(iy0 + tile_px, height - inset);
-    int own_x0 = ix0, own_y0 = iy0; /* the own pixels before clipping: the blocks whose tilt sums are the tile's */
     for (int i = 0; i < raw_n; ++i) {
         for (int k = 0; k < 9; ++k) tilt[i][k] = 0.0f;
         count[i] = skipped[i] = 0;
@@ -410,82 +317,6 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
         db[i] = i < n_depth ? tb[2 + i] : INFINITY;
         cb[i] = i < n_coc ? tb[17 + i] : INFINITY;
     }
-    if (slots) {
-        /* the blocks' slot sums (lr_block_stats), a block at a time in window order; a block
-         * with a slot whose depth range straddles a depth bound, sample by sample. kc[b]: the
-         * CoC bounds below every c of bin b (bounds are bins' upper edges: c > bound exactly
-         * when the bin's lower edge is at or above it) */
-        int kc[LR_GAP_BINS];
-        for (int b = 0; b < LR_GAP_BINS; ++b) {
-            kc[b] = 0;
-            for (int j = 0; j < n_coc; ++j) kc[b] += b >= 1 && coc_bounds[b - 1] >= cb[j];
-        }
-        for (int by = w.y0 / LR_BLOCK_PX; by < (w.y1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++by)
-            for (int bx = w.x0 / LR_BLOCK_PX; bx < (w.x1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++bx) {
-                int b0 = by * nbx + bx, n = slot_n[b0];
-                size_t o = (size_t)b0 * LR_SLOTS;
-                bool straddle = false;
-                for (int e = 0; e < n; ++e) {
-                    float lo = slot_f[(o + e) * LR_SLOT_F + 2], hi = slot_f[(o + e) * LR_SLOT_F + 3];
-                    for (int j = 0; j < n_depth; ++j) straddle |= lo <= db[j] && db[j] < hi; /* misses: lo > hi */
-                }
-                if (!straddle) {
-                    bool own = bx * LR_BLOCK_PX >= own_x0 && bx * LR_BLOCK_PX < own_x0 + tile_px && by * LR_BLOCK_PX >= own_y0 &&
-                               by * LR_BLOCK_PX < own_y0 + tile_px;
-                    for (int e = 0; e < n; ++e) {
-                        size_t q = o + e;
-                        int sl = slot_i[3 * q], r;
-                        __global const float *sf = slot_f + q * LR_SLOT_F;
-                        if (sl == LR_SLOT_MISS) r = raw_n - 1;
-                        else {
-                            int slab = kc[sl >> 1];
-                            for (int j = 0; j < n_depth; ++j) slab += sf[2] > db[j];
-                            r = split ? 2 * slab + (sl & 1) : slab;
-                        }
-                        count[r] += slot_i[3 * q + 1];
-                        skipped[r] += slot_i[3 * q + 2];
-                        mx[r] += slot_d[3 * q];
-                        my[r] += slot_d[3 * q + 1];
-                        bright[r] += slot_d[3 * q + 2];
-                        cmin[r] = sf[0] < cmin[r] ? sf[0] : cmin[r];
-                        cmax[r] = sf[1] > cmax[r] ? sf[1] : cmax[r];
-                        if (own)
-                            for (int k = 0; k < 9; ++k) tilt[r][k] += sf[4 + k];
-                    }
-                    continue;
-                }
-                    for (int py = by * LR_BLOCK_PX; py < min(w.y1, (by + 1) * LR_BLOCK_PX); ++py)
-        for (int px = bx * LR_BLOCK_PX; px < min(w.x1, (bx + 1) * LR_BLOCK_PX); ++px)
-            for (int k = 0; k < spp; ++k) {
-                size_t index = (size_t)(py * width + px) * spp + k;
-                float4 key = keys[index]; /* depth, CoC, motion */
-                float b = bright_in[index]; /* r + g + b, NaN for a non-finite radiance (lr_bright) */
-                int r;
-                if (!padded) r = lr_raw_layer(tb, key.x, key.y, key.z, key.w);
-                else if (!(key.x < INFINITY)) r = raw_n - 1;
-                else {
-                    int slab = 0;
-                    for (int j = 0; j < 8; ++j) slab += (key.x > db[j]) + (key.y > cb[j]);
-                    bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
-                    r = split ? 2 * slab + (moving ? 0 : 1) : slab;
-                }
-                bool finite = !isnan(b);
-                count[r]++;
-                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
-                    __global const float *pl = samples + index * LR_PLACE_STRIDE; /* x, y, u, v */
-                    float c = key.y, x = (pl[0] - (float)w.x0) - c * pl[2], y = (pl[1] - (float)w.y0) - c * pl[3];
-                    float *m = tilt[r];
-                    m[0] += x, m[1] += y, m[2] += c, m[3] += x * x, m[4] += y * y, m[5] += x * y, m[6] += x * c, m[7] += y * c, m[8] += 1.0f;
-                }
-                if (!finite) skipped[r]++; /* rare: a branch, not a sum per sample */
-                mx[r] += (lr_sum)key.z;
-                my[r] += (lr_sum)key.w;
-                bright[r] += (lr_sum)(isfinite(b) ? b : 0.0f); /* lr_partition.c: the layer's brightness, 8.24 */
-                cmin[r] = key.y < cmin[r] ? key.y : cmin[r];
-                cmax[r] = key.y > cmax[r] ? key.y : cmax[r];
-            }
-            }
-    } else
     for (int py = w.y0, i = 0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
@@ -542,23 +373,8 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
                 uint index = ((uint)py * (uint)width + (uint)px) * (uint)spp + (uint)k;
-                float4 key = keys[index]; /* depth, CoC, motion */
-                float2 m = key.zw;
-                int id;
-                if (slots) { /* no first sweep wrote the ids: the raw layer here */
-                    int q;
-                    if (!padded) q = lr_raw_layer(tb, key.x, key.y, key.z, key.w);
-                    else if (!(key.x < INFINITY)) q = raw_n - 1;
-                    else {
-                        int slab = 0;
-                        for (int j = 0; j < 8; ++j) slab += (key.x > db[j]) + (key.y > cb[j]);
-                        bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
-                        q = split ? 2 * slab + (moving ? 0 : 1) : slab;
-                    }
-                    id = isnan(bright_in[index]) ? q | LR_SKIP : q;
-                } else
-                    id = ids[i];
-                int r = id & ~LR_SKIP;
+                float2 m = keys[index].zw; /* the motion */
+                int id = ids[i], r = id & ~LR_SKIP;
                 if (!(id & LR_SKIP)) list[next[r]++] = index;
                 float along = cp[r] * m.x + sp[r] * m.y;
                 float across = fabs(-sp[r] * m.x + cp[r] * m.y);

@@ -27,7 +27,6 @@ _Static_assert(LP_STRIDE == 340 && LP_TAPS_X == 14 && LP_TAPS_Y == 47 && LP_ROUN
                "lr.cl's LR_LP_STRIDE, LR_TAPS_X, LR_TAPS_Y, LR_ROUND and LR_BAND");
 _Static_assert(LR_BAND_NARROW == 1 && LR_BAND_WIDE == 2 && LR_BAND_CLASSES == 3, "lr.cl's band classes");
 _Static_assert(ST_STRIDE == 18, "lr.cl's LR_ST_STRIDE");
-_Static_assert((int)BLOCK_PX == (int)LR_BLOCK_PX && LR_BLOCK_SLOTS == 97 && LR_BLOCK_SLOT_F == 13, "lr.cl's LR_BLOCK_PX, LR_SLOTS and LR_SLOT_F");
 _Static_assert(LR_MAX_LAYERS + 1 < LR_LAYER_SKIP && LR_LAYER_SKIP == 0x80, "lr.cl's raw layer ids are bytes, 0x80 (LR_SKIP) flags a skipped sample");
 _Static_assert(LS_STRIDE == LR_MAX_LAYERS + 2, "lr.cl's LR_LS_STRIDE: a start per raw layer and the end");
 
@@ -48,7 +47,6 @@ struct LrCl {
     /* the band classes' screen records (8.40): LP_STRIDE floats each, capacity in records */
     float *lpc;
     size_t lpc_cap;
-    GrowBuf b_sn, b_si, b_sd, b_sf; /* the blocks' slot sums (lr_block_stats) */
     GrowBuf b_cb, b_bh, b_bz, b_st, b_tb, b_tl, b_ids, b_order, b_ls, b_pack, b_g, b_p1, b_rgb, b_l, b_e, b_still,
         b_p1c, b_cls;
     LrClTimes last;
@@ -99,9 +97,6 @@ void lr_cl_destroy(LrCl *lr)
                       &lr->b_g, &lr->b_p1, &lr->b_rgb, &lr->b_l, &lr->b_e, &lr->b_still, &lr->b_p1c, &lr->b_cls};
     for (int i = 0; i < 18; ++i)
         if (b[i]->mem) clReleaseMemObject(b[i]->mem);
-    GrowBuf *sb[4] = {&lr->b_sn, &lr->b_si, &lr->b_sd, &lr->b_sf};
-    for (int i = 0; i < 4; ++i)
-        if (sb[i]->mem) clReleaseMemObject(sb[i]->mem);
     free(lr->tb), free(lr->st), free(lr->lp), free(lr->tl), free(lr->tiles), free(lr->lpc);
     free(lr);
 }
@@ -289,30 +284,12 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     cl_int NBX = (W + BLOCK_PX - 1) / BLOCK_PX, NBY = (H + BLOCK_PX - 1) / BLOCK_PX;
     ok = ok && grow(rt, &lr->b_bh, blocks ? sizeof(cl_int) * LR_GAP_BINS * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_bz, blocks ? sizeof(float) * 2 * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d);
-    /* ...and with the histogram's bounds and whole tiles' own pixels on the block grid too, the
-     * blocks' per-slot sums, which lr_tile_stats adds instead of sweeping (lr_partition.h:
-     * lr_stats_by_block, the same rule) */
-    cl_int slots = lr_stats_by_block(cfg);
-    size_t nslots = slots ? (size_t)NBX * NBY * LR_BLOCK_SLOTS : 1;
-    ok = ok && grow(rt, &lr->b_sn, slots ? sizeof(cl_int) * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d) &&
-         grow(rt, &lr->b_si, sizeof(cl_int) * 3 * nslots, CL_MEM_READ_WRITE, d) &&
-         grow(rt, &lr->b_sd, sizeof(double) * 3 * nslots, CL_MEM_READ_WRITE, d) &&
-         grow(rt, &lr->b_sf, sizeof(float) * LR_BLOCK_SLOT_F * nslots, CL_MEM_READ_WRITE, d);
     if (ok) {
         cl_int ints[11] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset, gap_slabs};
         cl_mem m[8] = {lr->b_cb.mem, b_k, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
         cl_int bints[6] = {W, H, S, NBX, NBY, gap_slabs};
         cl_mem bm[4] = {lr->b_cb.mem, b_k, lr->b_bh.mem, lr->b_bz.mem};
-        cl_int bints2[4] = {slots, T, N, inset};
-        cl_mem bm2[6] = {b_b, b_s, lr->b_sn.mem, lr->b_si.mem, lr->b_sd.mem, lr->b_sf.mem};
-        cl_kernel kb = lr->blocks, ks = lr->stats;
-        cl_int err_a = CL_SUCCESS;
-        for (int i = 0; i < 4; ++i) err_a |= clSetKernelArg(kb, (cl_uint)(10 + i), sizeof(cl_int), &bints2[i]);
-        for (int i = 0; i < 6; ++i) err_a |= clSetKernelArg(kb, (cl_uint)(14 + i), sizeof(cl_mem), &bm2[i]);
-        err_a |= clSetKernelArg(ks, 25, sizeof(cl_int), &slots);
-        for (int i = 0; i < 4; ++i) err_a |= clSetKernelArg(ks, (cl_uint)(26 + i), sizeof(cl_mem), &bm2[2 + i]);
-        ok = cl_ok(err_a, "arguments", d);
-        ok = ok && cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
+        ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
              (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
              cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
                        clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem) |

@@ -94,13 +94,6 @@ int lr_config_uniform_layers(const LrConfig *cfg)
     return cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
 }
 
-bool lr_stats_by_block(const LrConfig *cfg)
-{
-    int margin = (cfg->window_px - cfg->tile_px) / 2;
-    return cfg->gap_slabs > 0 && (cfg->inset_px - margin) % LR_BLOCK_PX == 0 && cfg->tile_px % LR_BLOCK_PX == 0 &&
-           margin % LR_BLOCK_PX == 0;
-}
-
 int lr_config_gap_slabs(const LrConfig *cfg)
 {
     return cfg->gap_slabs > LR_MAX_COC_BOUNDS ? LR_MAX_COC_BOUNDS : cfg->gap_slabs;
@@ -183,71 +176,6 @@ void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int 
         for (int i = 1; i <= n; ++i) t->depth_bound[t->n_depth++] = zmin + (zmax - zmin) * (float)i / (float)(n + 1);
 }
 
-/* A block's samples of one slot (lr_stats_by_block): as lr.cl's lr_block_stats sums them. */
-typedef struct {
-    int count;
-    double mx, my, bright;
-    float c_min, c_max, z_min, z_max;
-    LrTilt tilt; /* the own pixels of the tile whose own pixels the block is */
-} BlockSlot;
-
-/* The slot sums of block (bx, by), sample by sample in pixel order (lr.cl: lr_block_stats). */
-static void block_slots(const LrSamples *img, const LrConfig *cfg, const float *edges, int bx, int by, BlockSlot *slot)
-{
-    int x0 = bx * LR_BLOCK_PX, y0 = by * LR_BLOCK_PX;
-    int x1 = x0 + LR_BLOCK_PX < img->width ? x0 + LR_BLOCK_PX : img->width, y1 = y0 + LR_BLOCK_PX < img->height ? y0 + LR_BLOCK_PX : img->height;
-    int ntx, nty;
-    lr_tile_count(img, cfg, &ntx, &nty);
-    int tx = (x0 - cfg->inset_px) / cfg->tile_px, ty = (y0 - cfg->inset_px) / cfg->tile_px;
-    bool owned = x0 >= cfg->inset_px && y0 >= cfg->inset_px && tx < ntx && ty < nty;
-    int ix0 = 0, iy0 = 0, ix1 = 0, iy1 = 0, wx0 = 0, wy0 = 0, unused;
-    if (owned) {
-        lr_tile_pixels(img, cfg, tx, ty, &ix0, &iy0, &ix1, &iy1);
-        lr_tile_window(img, cfg, tx, ty, &wx0, &wy0, &unused, &unused);
-    }
-    for (int i = 0; i < LR_BLOCK_SLOTS; ++i) slot[i] = (BlockSlot){0, 0.0, 0.0, 0.0, INFINITY, -INFINITY, INFINITY, -INFINITY, {{0}}};
-    for (int py = y0; py < y1; ++py)
-        for (int px = x0; px < x1; ++px)
-            for (int k = 0; k < img->spp; ++k) {
-                size_t i = ((size_t)py * img->width + px) * img->spp + k;
-                const LrKey *s = &img->key[i];
-                bool moving = s->motion_px[0] * s->motion_px[0] + s->motion_px[1] * s->motion_px[1] >= LR_MOVING_PX * LR_MOVING_PX;
-                BlockSlot *b = &slot[s->depth < INFINITY ? 2 * lr_gap_bin(edges, s->coc_px) + (moving ? 0 : 1) : LR_BLOCK_SLOTS - 1];
-                float br = img->bright[i];
-                b->count++;
-                b->mx += s->motion_px[0];
-                b->my += s->motion_px[1];
-                b->bright += isfinite(br) ? br : 0.0f;
-                b->c_min = min_f(b->c_min, s->coc_px), b->c_max = max_f(b->c_max, s->coc_px);
-                b->z_min = min_f(b->z_min, s->depth), b->z_max = max_f(b->z_max, s->depth);
-                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) {
-                    const LrPlace *pl = &img->place[i];
-                    float c = s->coc_px;
-                    lr_tilt_add(&b->tilt, (pl->x_px - (float)wx0) - c * pl->u, (pl->y_px - (float)wy0) - c * pl->v, c);
-                }
-            }
-}
-
-/* One sample of the window into the first sweep's sums (BASE order of lr_tile_stats). */
-static void sweep_sample(const LrSamples *img, const LrTile *t, size_t i, int px, int py, int x0, int y0, int ix0, int iy0, int ix1,
-                         int iy1, LrLayerStats *st, double *mx, double *my, double *bright)
-{
-    const LrKey *s = &img->key[i];
-    int r = lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px);
-    st[r].count++;
-    if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
-        const LrPlace *pl = &img->place[i];
-        float c = s->coc_px;
-        lr_tilt_add(&st[r].tilt, (pl->x_px - (float)x0) - c * pl->u, (pl->y_px - (float)y0) - c * pl->v, c);
-    }
-    mx[r] += s->motion_px[0];
-    my[r] += s->motion_px[1];
-    float b = img->bright[i]; /* NaN (not finite) for a non-finite radiance */
-    bright[r] += isfinite(b) ? b : 0.0f;
-    st[r].c_min_px = min_f(st[r].c_min_px, s->coc_px);
-    st[r].c_max_px = max_f(st[r].c_max_px, s->coc_px);
-}
-
 /* The statistics of lr_tile_finish, the C version of lr.cl's lr_tile_stats (same sums in the
  * same order, so that both give the same partitions). */
 static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *t, LrLayerStats *st)
@@ -284,60 +212,25 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
         st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f, {{0}}};
         mx[i] = my[i] = bright[i] = 0.0;
     }
-    if (lr_stats_by_block(cfg) && x1 > x0 && y1 > y0) {
-        /* block by block in window order: a block's slot sums, unless a slot's depth range
-         * straddles a depth bound (then its samples one by one). kc[b]: the CoC bounds below
-         * every c of bin b (bounds are bin edges: c > bound exactly when the bin's lower edge
-         * is at or above it) */
-        int kc[LR_GAP_BINS];
-        for (int b = 0; b < LR_GAP_BINS; ++b) {
-            kc[b] = 0;
-            for (int j = 0; j < t->n_coc; ++j) kc[b] += b >= 1 && edges[b - 1] >= t->coc_bound_px[j];
-        }
-        bool split = lr_tile_raw_count(t) > t->n_depth + t->n_coc + 2;
-        int own_x0 = cfg->inset_px + tx * cfg->tile_px, own_y0 = cfg->inset_px + ty * cfg->tile_px;
-        BlockSlot slot[LR_BLOCK_SLOTS];
-        for (int by = y0 / LR_BLOCK_PX; by < (y1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++by)
-            for (int bx = x0 / LR_BLOCK_PX; bx < (x1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++bx) {
-                block_slots(img, cfg, edges, bx, by, slot);
-                bool straddle = false;
-                for (int e = 0; e < LR_BLOCK_SLOTS; ++e)
-                    for (int j = 0; slot[e].count && j < t->n_depth; ++j)
-                        straddle |= slot[e].z_min <= t->depth_bound[j] && t->depth_bound[j] < slot[e].z_max;
-                if (straddle) {
-                    int bx1 = (bx + 1) * LR_BLOCK_PX < x1 ? (bx + 1) * LR_BLOCK_PX : x1, by1 = (by + 1) * LR_BLOCK_PX < y1 ? (by + 1) * LR_BLOCK_PX : y1;
-                    for (int py = by * LR_BLOCK_PX; py < by1; ++py)
-                        for (int px = bx * LR_BLOCK_PX; px < bx1; ++px)
-                            for (int k = 0; k < img->spp; ++k)
-                                sweep_sample(img, t, ((size_t)py * img->width + px) * img->spp + k, px, py, x0, y0, ix0, iy0, ix1, iy1,
-                                             st, mx, my, bright);
-                    continue;
+    for (int py = y0; py < y1; ++py)
+        for (int px = x0; px < x1; ++px)
+            for (int k = 0; k < img->spp; ++k) {
+                size_t i = ((size_t)py * img->width + px) * img->spp + k;
+                const LrKey *s = &img->key[i];
+                int r = lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px);
+                st[r].count++;
+                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
+                    const LrPlace *pl = &img->place[i];
+                    float c = s->coc_px;
+                    lr_tilt_add(&st[r].tilt, (pl->x_px - (float)x0) - c * pl->u, (pl->y_px - (float)y0) - c * pl->v, c);
                 }
-                bool own = bx * LR_BLOCK_PX >= own_x0 && bx * LR_BLOCK_PX < own_x0 + cfg->tile_px && by * LR_BLOCK_PX >= own_y0 &&
-                           by * LR_BLOCK_PX < own_y0 + cfg->tile_px;
-                for (int e = 0; e < LR_BLOCK_SLOTS; ++e) {
-                    const BlockSlot *b = &slot[e];
-                    if (!b->count) continue;
-                    int r;
-                    if (e == LR_BLOCK_SLOTS - 1) r = raw_n - 1;
-                    else {
-                        int slab = kc[e / 2];
-                        for (int j = 0; j < t->n_depth; ++j) slab += b->z_min > t->depth_bound[j];
-                        r = split ? 2 * slab + (e & 1) : slab;
-                    }
-                    st[r].count += b->count;
-                    mx[r] += b->mx, my[r] += b->my, bright[r] += b->bright;
-                    st[r].c_min_px = min_f(st[r].c_min_px, b->c_min);
-                    st[r].c_max_px = max_f(st[r].c_max_px, b->c_max);
-                    if (own)
-                        for (int m = 0; m < LR_TILT_SUMS; ++m) st[r].tilt.sum[m] += b->tilt.sum[m];
-                }
+                mx[r] += s->motion_px[0];
+                my[r] += s->motion_px[1];
+                float b = img->bright[i]; /* NaN (not finite) for a non-finite radiance */
+                bright[r] += isfinite(b) ? b : 0.0f;
+                st[r].c_min_px = min_f(st[r].c_min_px, s->coc_px);
+                st[r].c_max_px = max_f(st[r].c_max_px, s->coc_px);
             }
-    } else
-        for (int py = y0; py < y1; ++py)
-            for (int px = x0; px < x1; ++px)
-                for (int k = 0; k < img->spp; ++k)
-                    sweep_sample(img, t, ((size_t)py * img->width + px) * img->spp + k, px, py, x0, y0, ix0, iy0, ix1, iy1, st, mx, my, bright);
     for (int i = 0; i < raw_n; ++i) st[i].bright_sum = (float)bright[i];
     /* Figure 4: the mean motion sets psi */
     for (int i = 0; i < raw_n; ++i) {

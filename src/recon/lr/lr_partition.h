@@ -256,18 +256,6 @@ int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bo
  * lr_gap_edges' edges); clears t. */
 void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t);
 
-/* Whether a window's statistics are summed from its 8x8 blocks' slot sums (docs/algorithms.md
- * 8.44): with the histogram-gap bounds (cfg->gap_slabs > 0), every window a union of whole
- * blocks and every tile's own pixels too (the block grid starts at the image's corner). A
- * slot of a block is its samples of one CoC bin that move (slot 2 b) or not (2 b + 1), or its
- * misses (LR_BLOCK_SLOTS - 1): the window's CoC bounds are bin edges, so a slot's samples fall
- * in one raw layer of the window unless the slot's depth range straddles one of its depth
- * bounds; then, and only then, that block's samples are taken one by one. The C partition and
- * lr.cl (lr_block_stats, lr_tile_stats) take the same rule, and add the same sums in the same
- * order: a block's slots in slot order, each slot's samples in pixel order. */
-enum { LR_BLOCK_PX = 8, LR_BLOCK_SLOTS = 2 * LR_GAP_BINS + 1, LR_BLOCK_SLOT_F = 4 + LR_TILT_SUMS };
-bool lr_stats_by_block(const LrConfig *cfg);
-
 /* Whether a layer keeps its motion filter (LR section 5, docs/algorithms.md 8.5 and 8.32): its
  * speeds along the mean direction psi span [d_min_px, d_max_px] (px over the shutter) and its
  * largest speed across psi is across_px. No clear direction (across above 0.5 px and above
