@@ -134,13 +134,24 @@ static const uint64_t FACTORIAL[SAMPLER_SHUFFLE_MAX + 1] = {
  * which is then one-cycle shuffles. The steps of positions 1..3, 4..5 and 6..7 go as one
  * shuffle each: their digits together are code mod 24, floor(code / 24) mod 30 and
  * floor(code / 720) mod 56 (the digits' own mixed radix), and the table row is the identity
- * after those swaps. Positions 8..15 shuffle one at a time (the tables of pairs would take
- * 11 KiB). A shuffle of 16 elements is 11 byte shuffles instead of 15 dependent swaps.
- * The tables (3.8 KiB) are filled once when the program is loaded (build_swap_tables).
+ * after those swaps. Positions 8..15 go two at a time the same way: with h = floor(code / 8!)
+ * and a = h mod 11880 (9 10 11 12), b = floor(h / 11880), the pairs' digits are a mod 90
+ * (positions 8, 9), floor(a / 90) (10, 11), b mod 182 (12, 13) and floor(b / 182) (14, 15).
+ * Positions 8..15 thus take 4 byte shuffles and 6 divisions by constants (until 2026-12-01
+ * they went one at a time: 8 shuffles and 16 divisions); a shuffle of 16 elements is 7 byte
+ * shuffles instead of 15 dependent swaps.
+ * The tables (12 KiB) are filled once when the program is loaded (build_swap_tables).
  * Derivation: docs/algorithms.md, "A Fisher-Yates shuffle from one draw". */
 enum { LOW_SWAPS_1_3 = 0, LOW_SWAPS_4_5 = 24, LOW_SWAPS_6_7 = 24 + 30, LOW_SWAPS_ROWS = 24 + 30 + 56 };
 static uint8_t LOW_SWAPS[LOW_SWAPS_ROWS][16] __attribute__((aligned(16)));
-static uint8_t HIGH_SWAPS[8][16][16] __attribute__((aligned(16))); /* [k - 8][j] */
+enum {
+    HIGH_SWAPS_8_9 = 0,
+    HIGH_SWAPS_10_11 = 90,
+    HIGH_SWAPS_12_13 = 90 + 132,
+    HIGH_SWAPS_14_15 = 90 + 132 + 182,
+    HIGH_SWAPS_ROWS = 90 + 132 + 182 + 240
+};
+static uint8_t HIGH_SWAPS[HIGH_SWAPS_ROWS][16] __attribute__((aligned(16)));
 
 /* The identity after the swaps of positions hi, hi - 1, .., lo with digits of `index`
  * (mixed radix lo + 1, lo + 2, ..., least significant first). */
@@ -160,8 +171,10 @@ __attribute__((constructor)) static void build_swap_tables(void)
     for (uint32_t x = 0; x < 24; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_1_3 + x], 1, 3, x);
     for (uint32_t x = 0; x < 30; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_4_5 + x], 4, 5, x);
     for (uint32_t x = 0; x < 56; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_6_7 + x], 6, 7, x);
-    for (uint32_t k = 8; k < 16; ++k)
-        for (uint32_t j = 0; j <= k; ++j) swapped_identity(HIGH_SWAPS[k - 8][j], k, k, j);
+    for (uint32_t x = 0; x < 90; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_8_9 + x], 8, 9, x);
+    for (uint32_t x = 0; x < 132; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_10_11 + x], 10, 11, x);
+    for (uint32_t x = 0; x < 182; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_12_13 + x], 12, 13, x);
+    for (uint32_t x = 0; x < 240; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_14_15 + x], 14, 15, x);
 }
 
 __attribute__((target("ssse3"))) static inline __m128i shuffle_by(__m128i p, const uint8_t row[16])
@@ -191,20 +204,19 @@ __attribute__((target("ssse3"))) static uint64_t fisher_yates_ssse3(uint64_t cod
 {
     __m128i p = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     uint32_t low = (uint32_t)(code % 40320u), high = (uint32_t)(code / 40320u); /* 8! */
-    /* positions n - 1 .. 8 one at a time (entering at n - 1: no idle steps, constant divisors) */
-#define HIGH_STEP(k) p = shuffle_by(p, HIGH_SWAPS[(k) - 8][high / (uint32_t)(FACTORIAL[k] / 40320u) % ((k) + 1)])
+    /* the pairs from the one holding n - 1 down to 8 (constant divisors); when n - 1 is the
+     * pair's lower position, its upper one must not swap: its digit is 0, so its own index
+     * times its weight (lo + 1) is added, as for the low groups below */
+    uint32_t a = high % 11880u, b = high / 11880u;
+#define PAIR_ROW(base, lo, index) HIGH_SWAPS[(base) + (index) + (n == (lo) + 1 ? ((lo) + 1) * ((lo) + 1) : 0)]
     switch (n) {
-    case 16: HIGH_STEP(15); /* fall through */
-    case 15: HIGH_STEP(14); /* fall through */
-    case 14: HIGH_STEP(13); /* fall through */
-    case 13: HIGH_STEP(12); /* fall through */
-    case 12: HIGH_STEP(11); /* fall through */
-    case 11: HIGH_STEP(10); /* fall through */
-    case 10: HIGH_STEP(9); /* fall through */
-    case 9: HIGH_STEP(8); /* fall through */
+    case 16: case 15: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_14_15, 14, b / 182u)); /* fall through */
+    case 14: case 13: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_12_13, 12, b % 182u)); /* fall through */
+    case 12: case 11: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_10_11, 10, a / 90u)); /* fall through */
+    case 10: case 9: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_8_9, 8, a % 90u)); /* fall through */
     default: break;
     }
-#undef HIGH_STEP
+#undef PAIR_ROW
     /* identity digits in the groups: j_5 = 5 (weight 5), j_6 = 6 and j_7 = 7 (weights 1, 7) */
     uint32_t idle_4_5 = n <= 5 ? 5 * 5 : 0, idle_6_7 = n <= 6 ? 6 + 7 * 7 : n == 7 ? 7 * 7 : 0;
     p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_6_7 + low / 720u + idle_6_7]);
