@@ -851,6 +851,15 @@ static inline uint64_t batch_rows_packed(BatchDraw *d, uint32_t rows, uint32_t c
     return batch_shuffles_packed(d, rows, cols, 1, cols);
 }
 
+/* Two of SMALL_PERMS side by side: entry d1 24 + d2 holds SMALL_PERMS[d1] in its low and
+ * SMALL_PERMS[d2] in its high 16 bits (batch_grid_4x4's pairs of base-24 digits). */
+static uint32_t SMALL_PERM_PAIRS[24 * 24];
+
+__attribute__((constructor)) static void build_small_perm_pairs(void)
+{
+    for (uint32_t d = 0; d < 24 * 24; ++d) SMALL_PERM_PAIRS[d] = SMALL_PERMS[d / 24u] | (uint32_t)SMALL_PERMS[d % 24u] << 16;
+}
+
 /* The grid permutations of a 4 x 4 grid (16 spp): `cell`'s four shuffles of [0, 4) (one per
  * column) then `y_of_cell`'s four (one per row), the values batch_shuffles_packed and
  * batch_rows_packed give. Their eight draws of bound 24 are the base-24 digits of one draw
@@ -866,14 +875,12 @@ static inline void batch_grid_4x4(BatchDraw *d, uint64_t *cell, uint64_t *y_of_c
     d->product *= draws_bound;
     uint64_t code = (uint64_t)(m >> 64);
     uint32_t hi = (uint32_t)(code / 331776u), lo = (uint32_t)(code % 331776u); /* 24^4 */
-    uint32_t pair[4] = {hi / 576u, hi % 576u, lo / 576u, lo % 576u}, digit[8]; /* 24^2 */
-    for (uint32_t i = 0; i < 4; ++i) digit[2 * i] = pair[i] / 24u, digit[2 * i + 1] = pair[i] % 24u;
-    uint64_t c = 0, y = 0;
-    for (uint32_t k = 0; k < 4; ++k) {
-        c |= ((uint64_t)SMALL_PERMS[digit[k]] * 4u + k * 0x1111ull) << (16u * k);
-        y |= ((uint64_t)SMALL_PERMS[digit[4 + k]] + 4u * k * 0x1111ull) << (16u * k);
-    }
-    *cell = c, *y_of_cell = y;
+    /* the pairs of digits below 24^2, each two permutations side by side (SMALL_PERM_PAIRS);
+     * a permutation's nibbles times 4 (cell's sub-rows, values below 4) and the blocks' offsets
+     * k 0x1111 (k cols, k rows 0x1111 for y) stay below 16: no nibble carries */
+    uint64_t c = SMALL_PERM_PAIRS[hi / 576u] | (uint64_t)SMALL_PERM_PAIRS[hi % 576u] << 32;
+    uint64_t y = SMALL_PERM_PAIRS[lo / 576u] | (uint64_t)SMALL_PERM_PAIRS[lo % 576u] << 32;
+    *cell = c * 4u + 0x3333222211110000ull, *y_of_cell = y + 0xcccc888844440000ull;
 }
 
 /* The same for the other grids up to 16 spp whose sides are all shuffles of at most 4
