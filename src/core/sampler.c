@@ -378,6 +378,12 @@ static inline bool jitter_clear_of_edges(const PixelSampler *s, uint32_t jitter_
     return jitter_bits > s->margin_bits && jitter_bits < (uint64_t)UINT32_MAX + 1u - s->margin_bits;
 }
 
+/* Whether a 2D value's jitters need stratum_value's correction (either is near an edge). */
+static inline bool jitters_near_edge(const PixelSampler *s, uint32_t jitter_x, uint32_t jitter_y)
+{
+    return !jitter_clear_of_edges(s, jitter_x) || !jitter_clear_of_edges(s, jitter_y);
+}
+
 /* (stratum + jitter) / n as a float that stays inside [stratum/n, (stratum+1)/n), with
  * jitter = jitter_bits 2^-32: rounding to float could otherwise step onto the next
  * stratum's edge (or 1.0). For n below 2^24, float * n is exact in double, so the test of
@@ -1619,12 +1625,13 @@ static inline __attribute__((always_inline)) uint32_t mj_point(uint32_t c, uint3
 }
 
 /* multi_jitter_packed for a run: padded indices j, jitter bits; the values go to out_xy
- * as x, y pairs (a vec2 array: two floats each, no padding), their strata to stratum_x
- * and _y. Returns whether some jitter lies within rounding of a stratum edge (those
- * samples' values are then corrected by the caller). */
+ * as x, y pairs (a vec2 array: two floats each, no padding), stored in the loop (no arrays
+ * of x and y to interleave after it, no strata kept for the rare correction: 1-2% of the
+ * sampler at 64-256 spp, tools/bench-sampler). Returns whether some jitter lies within
+ * rounding of a stratum edge (the caller then redoes those samples by multi_jitter_packed). */
 static RUN_KERNEL bool run_packed_values(const uint32_t *j, const uint32_t *jitter_x, const uint32_t *jitter_y, int count, uint32_t rows, uint32_t cols,
                                          uint64_t sub_x, uint64_t sub_y, uint64_t col_rot, uint64_t row_rot,
-                                         StratumScale sc, uint32_t *stratum_x, uint32_t *stratum_y, float *out_xy)
+                                         StratumScale sc, float *out_xy)
 {
     /* r = j / cols by a 16-bit reciprocal: packed grids have j < 256 and cols <= 16, and
      * 16 fraction bits >= 8 + 4 make it exact (Lemire, Kaser, Kurz 2019) */
@@ -1632,15 +1639,13 @@ static RUN_KERNEL bool run_packed_values(const uint32_t *j, const uint32_t *jitt
     uint32_t sxl = (uint32_t)sub_x, sxh = (uint32_t)(sub_x >> 32), syl = (uint32_t)sub_y, syh = (uint32_t)(sub_y >> 32);
     uint32_t crl = (uint32_t)col_rot, crh = (uint32_t)(col_rot >> 32), rrl = (uint32_t)row_rot, rrh = (uint32_t)(row_rot >> 32);
     uint32_t near_edge = 0;
-    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
     for (int k = 0; k < count; ++k) {
         uint32_t r = (j[k] * magic) >> 16, c = j[k] - r * cols;
         uint32_t ax = nibble32(sxl, sxh, r) + nibble32(crl, crh, c);
-        uint32_t ay = nibble32(syl, syh, c) + nibble32(rrl, rrh, r);
-        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &stratum_x[k], &stratum_y[k], &fx[k],
-                              &fy[k]);
+        uint32_t ay = nibble32(syl, syh, c) + nibble32(rrl, rrh, r), sx, sy;
+        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &sx, &sy, &out_xy[2 * k],
+                              &out_xy[2 * k + 1]);
     }
-    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
     return near_edge != 0;
 }
 
@@ -1812,24 +1817,20 @@ static RUN_KERNEL void run_table_strata(const uint32_t *index, int count, uint64
 }
 
 /* value_2d_padded's stratified case with per-pixel tables for a run: strata nibble index[k]
- * of tx and of ty, jitter bits jx and jy; the values go to out_xy as x, y pairs, their strata
- * to stratum_x and _y. Returns whether some jitter lies within rounding of a stratum edge
- * (the caller then corrects those samples, as run_packed_values). */
+ * of tx and of ty, jitter bits jx and jy; the values go to out_xy as x, y pairs, stored in
+ * the loop as run_packed_values does. Returns whether some jitter lies within rounding of a
+ * stratum edge (the caller then redoes those samples by value_2d_padded). */
 static RUN_KERNEL bool run_table_values_2d(const uint32_t *index, const uint32_t *jitter_x, const uint32_t *jitter_y,
-                                           int count, uint64_t tx, uint64_t ty, StratumScale sc, uint32_t *stratum_x,
-                                           uint32_t *stratum_y, float *out_xy)
+                                           int count, uint64_t tx, uint64_t ty, StratumScale sc, float *out_xy)
 {
     uint32_t txl = (uint32_t)tx, txh = (uint32_t)(tx >> 32), tyl = (uint32_t)ty, tyh = (uint32_t)(ty >> 32);
     uint32_t near_edge = 0;
-    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
     for (int k = 0; k < count; ++k) {
         uint32_t x = nibble32(txl, txh, index[k]), y = nibble32(tyl, tyh, index[k]), jx = jitter_x[k], jy = jitter_y[k];
-        stratum_x[k] = x, stratum_y[k] = y;
-        fx[k] = stratum_value_vec(x, jx, sc.scale);
-        fy[k] = stratum_value_vec(y, jy, sc.scale);
+        out_xy[2 * k] = stratum_value_vec(x, jx, sc.scale);
+        out_xy[2 * k + 1] = stratum_value_vec(y, jy, sc.scale);
         near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
     }
-    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
     return near_edge != 0;
 }
 
@@ -1843,8 +1844,7 @@ static void run_values_2d_exact(const PixelSampler *s, int count, const uint32_t
                                 const uint32_t *jx, const uint32_t *jy, vec2 *out)
 {
     for (int k = 0; k < count; ++k)
-        if (!jitter_clear_of_edges(s, jx[k]) || !jitter_clear_of_edges(s, jy[k]))
-            out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+        if (jitters_near_edge(s, jx[k], jy[k])) out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
 }
 
 void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
@@ -1914,11 +1914,12 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
     uint32_t j[SAMPLER_RUN_MAX];
     run_padded_indices(s, t, run, j);
     if (s->grid_packed) {
-        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
         run_jitter_bits(run->key, run->count, dim, jx, jy);
         if (run_packed_values(j, jx, jy, run->count, s->grid_rows, s->grid_cols, t->sub_x, t->sub_y, t->col_rot,
-                              t->row_rot, stratum_scale(s), sx, sy, &out[0].x))
-            run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
+                              t->row_rot, stratum_scale(s), &out[0].x))
+            for (int k = 0; k < run->count; ++k) /* those samples again, as one request would take them */
+                if (jitters_near_edge(s, jx[k], jy[k])) out[k] = multi_jitter_packed(s, t, j[k], (uint64_t)jy[k] << 32 | jx[k]);
         return;
     }
     SamplerGridTable *g = grid_table(s, t, dim);
@@ -1974,10 +1975,12 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
         return;
     }
     if (jitter && s->spp <= SAMPLER_SHUFFLE_MAX) { /* value_2d_padded's case with tables, vectorised */
-        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
         run_jitter_bits(run->key, run->count, dim, jx, jy);
-        if (run_table_values_2d(run->index_in_block, jx, jy, run->count, t->x, t->y, stratum_scale(s), sx, sy, &out[0].x))
-            run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
+        if (run_table_values_2d(run->index_in_block, jx, jy, run->count, t->x, t->y, stratum_scale(s), &out[0].x))
+            for (int k = 0; k < run->count; ++k) /* those samples again, as one request would take them */
+                if (jitters_near_edge(s, jx[k], jy[k]))
+                    out[k] = value_2d_padded(s, t, dim, run->index_in_block[k], (uint64_t)jy[k] << 32 | jx[k]);
         return;
     }
     for (int k = 0; k < run->count; ++k)
