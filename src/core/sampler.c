@@ -134,13 +134,24 @@ static const uint64_t FACTORIAL[SAMPLER_SHUFFLE_MAX + 1] = {
  * which is then one-cycle shuffles. The steps of positions 1..3, 4..5 and 6..7 go as one
  * shuffle each: their digits together are code mod 24, floor(code / 24) mod 30 and
  * floor(code / 720) mod 56 (the digits' own mixed radix), and the table row is the identity
- * after those swaps. Positions 8..15 shuffle one at a time (the tables of pairs would take
- * 11 KiB). A shuffle of 16 elements is 11 byte shuffles instead of 15 dependent swaps.
- * The tables (3.8 KiB) are filled once when the program is loaded (build_swap_tables).
+ * after those swaps. Positions 8..15 go two at a time the same way: with h = floor(code / 8!)
+ * and a = h mod 11880 (9 10 11 12), b = floor(h / 11880), the pairs' digits are a mod 90
+ * (positions 8, 9), floor(a / 90) (10, 11), b mod 182 (12, 13) and floor(b / 182) (14, 15).
+ * Positions 8..15 thus take 4 byte shuffles and 6 divisions by constants (until 2026-12-01
+ * they went one at a time: 8 shuffles and 16 divisions); a shuffle of 16 elements is 7 byte
+ * shuffles instead of 15 dependent swaps.
+ * The tables (12 KiB) are filled once when the program is loaded (build_swap_tables).
  * Derivation: docs/algorithms.md, "A Fisher-Yates shuffle from one draw". */
 enum { LOW_SWAPS_1_3 = 0, LOW_SWAPS_4_5 = 24, LOW_SWAPS_6_7 = 24 + 30, LOW_SWAPS_ROWS = 24 + 30 + 56 };
 static uint8_t LOW_SWAPS[LOW_SWAPS_ROWS][16] __attribute__((aligned(16)));
-static uint8_t HIGH_SWAPS[8][16][16] __attribute__((aligned(16))); /* [k - 8][j] */
+enum {
+    HIGH_SWAPS_8_9 = 0,
+    HIGH_SWAPS_10_11 = 90,
+    HIGH_SWAPS_12_13 = 90 + 132,
+    HIGH_SWAPS_14_15 = 90 + 132 + 182,
+    HIGH_SWAPS_ROWS = 90 + 132 + 182 + 240
+};
+static uint8_t HIGH_SWAPS[HIGH_SWAPS_ROWS][16] __attribute__((aligned(16)));
 
 /* The identity after the swaps of positions hi, hi - 1, .., lo with digits of `index`
  * (mixed radix lo + 1, lo + 2, ..., least significant first). */
@@ -160,8 +171,10 @@ __attribute__((constructor)) static void build_swap_tables(void)
     for (uint32_t x = 0; x < 24; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_1_3 + x], 1, 3, x);
     for (uint32_t x = 0; x < 30; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_4_5 + x], 4, 5, x);
     for (uint32_t x = 0; x < 56; ++x) swapped_identity(LOW_SWAPS[LOW_SWAPS_6_7 + x], 6, 7, x);
-    for (uint32_t k = 8; k < 16; ++k)
-        for (uint32_t j = 0; j <= k; ++j) swapped_identity(HIGH_SWAPS[k - 8][j], k, k, j);
+    for (uint32_t x = 0; x < 90; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_8_9 + x], 8, 9, x);
+    for (uint32_t x = 0; x < 132; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_10_11 + x], 10, 11, x);
+    for (uint32_t x = 0; x < 182; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_12_13 + x], 12, 13, x);
+    for (uint32_t x = 0; x < 240; ++x) swapped_identity(HIGH_SWAPS[HIGH_SWAPS_14_15 + x], 14, 15, x);
 }
 
 __attribute__((target("ssse3"))) static inline __m128i shuffle_by(__m128i p, const uint8_t row[16])
@@ -191,20 +204,19 @@ __attribute__((target("ssse3"))) static uint64_t fisher_yates_ssse3(uint64_t cod
 {
     __m128i p = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     uint32_t low = (uint32_t)(code % 40320u), high = (uint32_t)(code / 40320u); /* 8! */
-    /* positions n - 1 .. 8 one at a time (entering at n - 1: no idle steps, constant divisors) */
-#define HIGH_STEP(k) p = shuffle_by(p, HIGH_SWAPS[(k) - 8][high / (uint32_t)(FACTORIAL[k] / 40320u) % ((k) + 1)])
+    /* the pairs from the one holding n - 1 down to 8 (constant divisors); when n - 1 is the
+     * pair's lower position, its upper one must not swap: its digit is 0, so its own index
+     * times its weight (lo + 1) is added, as for the low groups below */
+    uint32_t a = high % 11880u, b = high / 11880u;
+#define PAIR_ROW(base, lo, index) HIGH_SWAPS[(base) + (index) + (n == (lo) + 1 ? ((lo) + 1) * ((lo) + 1) : 0)]
     switch (n) {
-    case 16: HIGH_STEP(15); /* fall through */
-    case 15: HIGH_STEP(14); /* fall through */
-    case 14: HIGH_STEP(13); /* fall through */
-    case 13: HIGH_STEP(12); /* fall through */
-    case 12: HIGH_STEP(11); /* fall through */
-    case 11: HIGH_STEP(10); /* fall through */
-    case 10: HIGH_STEP(9); /* fall through */
-    case 9: HIGH_STEP(8); /* fall through */
+    case 16: case 15: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_14_15, 14, b / 182u)); /* fall through */
+    case 14: case 13: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_12_13, 12, b % 182u)); /* fall through */
+    case 12: case 11: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_10_11, 10, a / 90u)); /* fall through */
+    case 10: case 9: p = shuffle_by(p, PAIR_ROW(HIGH_SWAPS_8_9, 8, a % 90u)); /* fall through */
     default: break;
     }
-#undef HIGH_STEP
+#undef PAIR_ROW
     /* identity digits in the groups: j_5 = 5 (weight 5), j_6 = 6 and j_7 = 7 (weights 1, 7) */
     uint32_t idle_4_5 = n <= 5 ? 5 * 5 : 0, idle_6_7 = n <= 6 ? 6 + 7 * 7 : n == 7 ? 7 * 7 : 0;
     p = shuffle_by(p, LOW_SWAPS[LOW_SWAPS_6_7 + low / 720u + idle_6_7]);
@@ -364,6 +376,12 @@ static inline float stratum_value_raw(const PixelSampler *s, uint32_t stratum, u
 static inline bool jitter_clear_of_edges(const PixelSampler *s, uint32_t jitter_bits)
 {
     return jitter_bits > s->margin_bits && jitter_bits < (uint64_t)UINT32_MAX + 1u - s->margin_bits;
+}
+
+/* Whether a 2D value's jitters need stratum_value's correction (either is near an edge). */
+static inline bool jitters_near_edge(const PixelSampler *s, uint32_t jitter_x, uint32_t jitter_y)
+{
+    return !jitter_clear_of_edges(s, jitter_x) || !jitter_clear_of_edges(s, jitter_y);
 }
 
 /* (stratum + jitter) / n as a float that stays inside [stratum/n, (stratum+1)/n), with
@@ -839,6 +857,15 @@ static inline uint64_t batch_rows_packed(BatchDraw *d, uint32_t rows, uint32_t c
     return batch_shuffles_packed(d, rows, cols, 1, cols);
 }
 
+/* Two of SMALL_PERMS side by side: entry d1 24 + d2 holds SMALL_PERMS[d1] in its low and
+ * SMALL_PERMS[d2] in its high 16 bits (batch_grid_4x4's pairs of base-24 digits). */
+static uint32_t SMALL_PERM_PAIRS[24 * 24];
+
+__attribute__((constructor)) static void build_small_perm_pairs(void)
+{
+    for (uint32_t d = 0; d < 24 * 24; ++d) SMALL_PERM_PAIRS[d] = SMALL_PERMS[d / 24u] | (uint32_t)SMALL_PERMS[d % 24u] << 16;
+}
+
 /* The grid permutations of a 4 x 4 grid (16 spp): `cell`'s four shuffles of [0, 4) (one per
  * column) then `y_of_cell`'s four (one per row), the values batch_shuffles_packed and
  * batch_rows_packed give. Their eight draws of bound 24 are the base-24 digits of one draw
@@ -854,14 +881,12 @@ static inline void batch_grid_4x4(BatchDraw *d, uint64_t *cell, uint64_t *y_of_c
     d->product *= draws_bound;
     uint64_t code = (uint64_t)(m >> 64);
     uint32_t hi = (uint32_t)(code / 331776u), lo = (uint32_t)(code % 331776u); /* 24^4 */
-    uint32_t pair[4] = {hi / 576u, hi % 576u, lo / 576u, lo % 576u}, digit[8]; /* 24^2 */
-    for (uint32_t i = 0; i < 4; ++i) digit[2 * i] = pair[i] / 24u, digit[2 * i + 1] = pair[i] % 24u;
-    uint64_t c = 0, y = 0;
-    for (uint32_t k = 0; k < 4; ++k) {
-        c |= ((uint64_t)SMALL_PERMS[digit[k]] * 4u + k * 0x1111ull) << (16u * k);
-        y |= ((uint64_t)SMALL_PERMS[digit[4 + k]] + 4u * k * 0x1111ull) << (16u * k);
-    }
-    *cell = c, *y_of_cell = y;
+    /* the pairs of digits below 24^2, each two permutations side by side (SMALL_PERM_PAIRS);
+     * a permutation's nibbles times 4 (cell's sub-rows, values below 4) and the blocks' offsets
+     * k 0x1111 (k cols, k rows 0x1111 for y) stay below 16: no nibble carries */
+    uint64_t c = SMALL_PERM_PAIRS[hi / 576u] | (uint64_t)SMALL_PERM_PAIRS[hi % 576u] << 32;
+    uint64_t y = SMALL_PERM_PAIRS[lo / 576u] | (uint64_t)SMALL_PERM_PAIRS[lo % 576u] << 32;
+    *cell = c * 4u + 0x3333222211110000ull, *y_of_cell = y + 0xcccc888844440000ull;
 }
 
 /* The same for the other grids up to 16 spp whose sides are all shuffles of at most 4
@@ -1600,12 +1625,13 @@ static inline __attribute__((always_inline)) uint32_t mj_point(uint32_t c, uint3
 }
 
 /* multi_jitter_packed for a run: padded indices j, jitter bits; the values go to out_xy
- * as x, y pairs (a vec2 array: two floats each, no padding), their strata to stratum_x
- * and _y. Returns whether some jitter lies within rounding of a stratum edge (those
- * samples' values are then corrected by the caller). */
+ * as x, y pairs (a vec2 array: two floats each, no padding), stored in the loop (no arrays
+ * of x and y to interleave after it, no strata kept for the rare correction: 1-2% of the
+ * sampler at 64-256 spp, tools/bench-sampler). Returns whether some jitter lies within
+ * rounding of a stratum edge (the caller then redoes those samples by multi_jitter_packed). */
 static RUN_KERNEL bool run_packed_values(const uint32_t *j, const uint32_t *jitter_x, const uint32_t *jitter_y, int count, uint32_t rows, uint32_t cols,
                                          uint64_t sub_x, uint64_t sub_y, uint64_t col_rot, uint64_t row_rot,
-                                         StratumScale sc, uint32_t *stratum_x, uint32_t *stratum_y, float *out_xy)
+                                         StratumScale sc, float *out_xy)
 {
     /* r = j / cols by a 16-bit reciprocal: packed grids have j < 256 and cols <= 16, and
      * 16 fraction bits >= 8 + 4 make it exact (Lemire, Kaser, Kurz 2019) */
@@ -1613,15 +1639,13 @@ static RUN_KERNEL bool run_packed_values(const uint32_t *j, const uint32_t *jitt
     uint32_t sxl = (uint32_t)sub_x, sxh = (uint32_t)(sub_x >> 32), syl = (uint32_t)sub_y, syh = (uint32_t)(sub_y >> 32);
     uint32_t crl = (uint32_t)col_rot, crh = (uint32_t)(col_rot >> 32), rrl = (uint32_t)row_rot, rrh = (uint32_t)(row_rot >> 32);
     uint32_t near_edge = 0;
-    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
     for (int k = 0; k < count; ++k) {
         uint32_t r = (j[k] * magic) >> 16, c = j[k] - r * cols;
         uint32_t ax = nibble32(sxl, sxh, r) + nibble32(crl, crh, c);
-        uint32_t ay = nibble32(syl, syh, c) + nibble32(rrl, rrh, r);
-        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &stratum_x[k], &stratum_y[k], &fx[k],
-                              &fy[k]);
+        uint32_t ay = nibble32(syl, syh, c) + nibble32(rrl, rrh, r), sx, sy;
+        near_edge |= mj_point(c, r, ax, ay, rows, cols, jitter_x[k], jitter_y[k], sc, &sx, &sy, &out_xy[2 * k],
+                              &out_xy[2 * k + 1]);
     }
-    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
     return near_edge != 0;
 }
 
@@ -1793,24 +1817,20 @@ static RUN_KERNEL void run_table_strata(const uint32_t *index, int count, uint64
 }
 
 /* value_2d_padded's stratified case with per-pixel tables for a run: strata nibble index[k]
- * of tx and of ty, jitter bits jx and jy; the values go to out_xy as x, y pairs, their strata
- * to stratum_x and _y. Returns whether some jitter lies within rounding of a stratum edge
- * (the caller then corrects those samples, as run_packed_values). */
+ * of tx and of ty, jitter bits jx and jy; the values go to out_xy as x, y pairs, stored in
+ * the loop as run_packed_values does. Returns whether some jitter lies within rounding of a
+ * stratum edge (the caller then redoes those samples by value_2d_padded). */
 static RUN_KERNEL bool run_table_values_2d(const uint32_t *index, const uint32_t *jitter_x, const uint32_t *jitter_y,
-                                           int count, uint64_t tx, uint64_t ty, StratumScale sc, uint32_t *stratum_x,
-                                           uint32_t *stratum_y, float *out_xy)
+                                           int count, uint64_t tx, uint64_t ty, StratumScale sc, float *out_xy)
 {
     uint32_t txl = (uint32_t)tx, txh = (uint32_t)(tx >> 32), tyl = (uint32_t)ty, tyh = (uint32_t)(ty >> 32);
     uint32_t near_edge = 0;
-    float fx[SAMPLER_RUN_MAX], fy[SAMPLER_RUN_MAX];
     for (int k = 0; k < count; ++k) {
         uint32_t x = nibble32(txl, txh, index[k]), y = nibble32(tyl, tyh, index[k]), jx = jitter_x[k], jy = jitter_y[k];
-        stratum_x[k] = x, stratum_y[k] = y;
-        fx[k] = stratum_value_vec(x, jx, sc.scale);
-        fy[k] = stratum_value_vec(y, jy, sc.scale);
+        out_xy[2 * k] = stratum_value_vec(x, jx, sc.scale);
+        out_xy[2 * k + 1] = stratum_value_vec(y, jy, sc.scale);
         near_edge |= (uint32_t)!(jx > sc.lo && jx < sc.hi) | (uint32_t)!(jy > sc.lo && jy < sc.hi);
     }
-    for (int k = 0; k < count; ++k) out_xy[2 * k] = fx[k], out_xy[2 * k + 1] = fy[k];
     return near_edge != 0;
 }
 
@@ -1824,8 +1844,7 @@ static void run_values_2d_exact(const PixelSampler *s, int count, const uint32_t
                                 const uint32_t *jx, const uint32_t *jy, vec2 *out)
 {
     for (int k = 0; k < count; ++k)
-        if (!jitter_clear_of_edges(s, jx[k]) || !jitter_clear_of_edges(s, jy[k]))
-            out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
+        if (jitters_near_edge(s, jx[k], jy[k])) out[k] = v2(stratum_value(s, sx[k], jx[k]), stratum_value(s, sy[k], jy[k]));
 }
 
 void sampler_run_1d(PixelSampler *s, const SamplerRun *run, int dim, float *out)
@@ -1895,11 +1914,12 @@ static __attribute__((noinline)) void run_2d_multi_jitter(PixelSampler *s, const
     uint32_t j[SAMPLER_RUN_MAX];
     run_padded_indices(s, t, run, j);
     if (s->grid_packed) {
-        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
         run_jitter_bits(run->key, run->count, dim, jx, jy);
         if (run_packed_values(j, jx, jy, run->count, s->grid_rows, s->grid_cols, t->sub_x, t->sub_y, t->col_rot,
-                              t->row_rot, stratum_scale(s), sx, sy, &out[0].x))
-            run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
+                              t->row_rot, stratum_scale(s), &out[0].x))
+            for (int k = 0; k < run->count; ++k) /* those samples again, as one request would take them */
+                if (jitters_near_edge(s, jx[k], jy[k])) out[k] = multi_jitter_packed(s, t, j[k], (uint64_t)jy[k] << 32 | jx[k]);
         return;
     }
     SamplerGridTable *g = grid_table(s, t, dim);
@@ -1955,10 +1975,12 @@ void sampler_run_2d(PixelSampler *s, const SamplerRun *run, int dim, vec2 *out)
         return;
     }
     if (jitter && s->spp <= SAMPLER_SHUFFLE_MAX) { /* value_2d_padded's case with tables, vectorised */
-        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX], sx[SAMPLER_RUN_MAX], sy[SAMPLER_RUN_MAX];
+        uint32_t jx[SAMPLER_RUN_MAX], jy[SAMPLER_RUN_MAX];
         run_jitter_bits(run->key, run->count, dim, jx, jy);
-        if (run_table_values_2d(run->index_in_block, jx, jy, run->count, t->x, t->y, stratum_scale(s), sx, sy, &out[0].x))
-            run_values_2d_exact(s, run->count, sx, sy, jx, jy, out);
+        if (run_table_values_2d(run->index_in_block, jx, jy, run->count, t->x, t->y, stratum_scale(s), &out[0].x))
+            for (int k = 0; k < run->count; ++k) /* those samples again, as one request would take them */
+                if (jitters_near_edge(s, jx[k], jy[k]))
+                    out[k] = value_2d_padded(s, t, dim, run->index_in_block[k], (uint64_t)jy[k] << 32 | jx[k]);
         return;
     }
     for (int k = 0; k < run->count; ++k)
