@@ -337,10 +337,16 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
     int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
-    for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
     int r = fsf_radius(px[8 * i + 6], a.reach);
     float eta = px[8 * i + 4];
     __global const float *cum = cum1 + tap_off[i];
+    /* the running sums' first and last lines asked for before the clear of P below, which
+     * takes long enough to hide their fetch: each launch of a band reads them afresh, and the
+     * density's first gather waited on them (fsf_taps wrote them a pass before; PoCL's own
+     * prefetch() is empty, clang's builtin emits the instruction) */
+    __builtin_prefetch(cum);
+    __builtin_prefetch(cum + 2 * r + 1);
+    for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
     /* eta = 0 (no shear) or r = 0 (one tap): fsf_density8's range is every tap at each node
      * the box keeps (|z| <= prof1 <= L1; for r = 0 the signs of z -+ L1 are exact), so its
      * difference of running sums is this one, the same float, without its two gathers */
@@ -503,6 +509,8 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
     float c = 0.0f;
     cum[0] = c;
     for (int e = 0; e < 2 * r + 1; ++e) cum[e + 1] = c = c + g[e];
+    /* the span of m with a nonzero weight (lanes past 3 B hold 0 below), found eight at a time */
+    int8 m_lo8 = (int8)(3 * B), m_hi8 = (int8)(-1);
     for (int m0 = -2 * B; m0 < B; m0 += 8) {
         float8 z = 2.0f * L2 / (float)B * (convert_float8((int8)(m0) + FSF_LANES8) + 0.5f * (float)B + 0.5f);
         int8 inbox = fabs(z) <= a.prof2;
@@ -516,13 +524,15 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
             w = select((float8)(0.0f), 1.0f / rho, inbox & (rho > 0.0f));
         }
         vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): weight 0 */
+        int8 m = (int8)(m0 + 2 * B) + FSF_LANES8, live = (w != 0.0f) & (m < 3 * B);
+        m_lo8 = min(m_lo8, select((int8)(3 * B), m, live)), m_hi8 = max(m_hi8, select((int8)(-1), m, live));
     }
     vstore8((float8)(0.0f), 0, inv_rho + 3 * B); /* the lanes past a tap's last bin read up to 3 B + 6 */
     /* the span of m with a nonzero weight: each node sums only the bins in it, in the same
      * order (those left out had weight 0, which the sum skips anyway) */
-    int m_lo = 3 * B, m_hi = -1;
-    for (int m = 0; m < 3 * B; ++m)
-        if (inv_rho[m] != 0.0f) m_lo = min(m_lo, m), m_hi = m;
+    int4 lo4 = min(m_lo8.lo, m_lo8.hi), hi4 = max(m_hi8.lo, m_hi8.hi);
+    int2 lo2 = min(lo4.lo, lo4.hi), hi2 = max(hi4.lo, hi4.hi);
+    int m_lo = min(lo2.x, lo2.y), m_hi = max(hi2.x, hi2.y);
     int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
         int o = o0 + e, node = tap_node[o];
