@@ -425,8 +425,9 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
     return acc;
 }
 
-/* Pass 1b for the C <= 4 bins of pass 1a's launches (fsf_pass1b, eq. 13) over the image rows
- * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring; the C
+/* Pass 1b for the C <= 8 bins of pass 1a's launches (fsf_pass1b, eq. 13; fsf_cl.h's
+ * FSF_CL_MAX_BINS_PER_LAUNCH) over the image rows row0 .. row1 - 1: each tap read once for all
+ * of them, one accumulator a bin. The taps' nodes index P's ring; the C
  * slices' values of node n are the float4 n * C .. n * C + C - 1 (pass 1a). */
 __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int row0, const int row1, const int ring,
                          __global const uchar *usable, __global const int *n_taps, __global const int *tap_off,
@@ -435,7 +436,7 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width || !usable[i]) return; /* its G is never read (pass 2a skips it) */
-    float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
+    float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0, acc4 = acc0, acc5 = acc0, acc6 = acc0, acc7 = acc0;
     int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
         int o = o0 + e, node = tap_node[o];
@@ -446,11 +447,19 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
         if (C > 1) acc1 += a0 * vload4(n0 + 1, P) + a1 * vload4(n1 + 1, P);
         if (C > 2) acc2 += a0 * vload4(n0 + 2, P) + a1 * vload4(n1 + 2, P);
         if (C > 3) acc3 += a0 * vload4(n0 + 3, P) + a1 * vload4(n1 + 3, P);
+        if (C > 4) acc4 += a0 * vload4(n0 + 4, P) + a1 * vload4(n1 + 4, P);
+        if (C > 5) acc5 += a0 * vload4(n0 + 5, P) + a1 * vload4(n1 + 5, P);
+        if (C > 6) acc6 += a0 * vload4(n0 + 6, P) + a1 * vload4(n1 + 6, P);
+        if (C > 7) acc7 += a0 * vload4(n0 + 7, P) + a1 * vload4(n1 + 7, P);
     }
     vstore4(acc0, a.B * i + bin0, G);
     if (C > 1) vstore4(acc1, a.B * i + bin0 + 1, G);
     if (C > 2) vstore4(acc2, a.B * i + bin0 + 2, G);
     if (C > 3) vstore4(acc3, a.B * i + bin0 + 3, G);
+    if (C > 4) vstore4(acc4, a.B * i + bin0 + 4, G);
+    if (C > 5) vstore4(acc5, a.B * i + bin0 + 5, G);
+    if (C > 6) vstore4(acc6, a.B * i + bin0 + 6, G);
+    if (C > 7) vstore4(acc7, a.B * i + bin0 + 7, G);
 }
 
 /* Pass 2a (fsf_pass2a) over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows: each

@@ -72,6 +72,15 @@ struct FsfCl {
     size_t off_count;
 };
 
+int fsf_cl_bins_per_launch(int bins, size_t slice_bytes, size_t p_bytes)
+{
+    long long fit = slice_bytes ? (long long)(p_bytes / slice_bytes) : 1;
+    int most = fit < 1 ? 1 : fit > FSF_CL_MAX_BINS_PER_LAUNCH ? FSF_CL_MAX_BINS_PER_LAUNCH : (int)fit;
+    if (bins < 1) return 1;
+    int launches = (bins + most - 1) / most;
+    return (bins + launches - 1) / launches;
+}
+
 /* Adds an event's device time to *acc (seconds) and releases it. */
 static void add_time(cl_event ev, double *acc)
 {
@@ -260,12 +269,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         free(halo1);
         return false;
     }
-    /* y2 bins per launch of pass 1a (one slice of P each): up to 4, as many as fit in
-     * FSF_P_BYTES (docs/benchmarks.md, "FSF's passes, faster": 4 slices take 25% less time
-     * in 1a than 1; more were slower) */
+    /* y2 bins per launch of pass 1a (one slice of P each): fsf_cl_bins_per_launch */
     size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring1;
-    int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
-    chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
+    int chunk = fsf_cl_bins_per_launch(g->y2_bins, slice_bytes, FSF_P_BYTES);
     /* pass 2a's Q (FSF_Q2_CL_FLOATS per pixel of its ring, sized for form 4, the larger) lives
      * in P's memory once pass 1 is done */
     size_t p_bytes = slice_bytes * (size_t)chunk,

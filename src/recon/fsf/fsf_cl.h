@@ -31,4 +31,16 @@ void fsf_cl_destroy(FsfCl *f);
 bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel *px, const FsfGuides *gd,
                 float *out4, double *kernel_seconds, Diag *d);
 
+/* The y2 bins pass 1a fills in one launch (one slice of P each, C in fsf.cl; pass 1b gathers
+ * them with one read of each tap): as few launches as hold `bins` with at most
+ * FSF_CL_MAX_BINS_PER_LAUNCH slices and at most p_bytes of slices (slice_bytes each; one
+ * launch per bin when not even one fits), each launch no larger than that needs: the smallest
+ * count with as few launches (12 bins: two launches of 6, not 8 and 4). Each bin's sums are the
+ * same whatever the split; a launch shares each pixel's set-up and its scan of the slots
+ * between its bins, and pass 1b each tap's read. Up to 4 bins a launch took 25% less time in
+ * pass 1a than 1 (docs/benchmarks.md, "FSF's passes, faster"); 8 took another 14% off pass 1a
+ * on defocus' 16 bins (docs/benchmarks.md, branch fsf14). */
+enum { FSF_CL_MAX_BINS_PER_LAUNCH = 8 };
+int fsf_cl_bins_per_launch(int bins, size_t slice_bytes, size_t p_bytes);
+
 #endif
