@@ -30,9 +30,6 @@ typedef struct {
     cl_int geo_swept;
 } FsfArgs;
 
-/* Memory for several slices of P at once (pass 1a fills them in one launch) */
-#define FSF_P_BYTES ((size_t)72 << 20)
-
 /* Both passes run in bands of FSF_BAND_ROWS image rows: pass 1a (2a) fills P's (Q's) rows up
  * to the band's last row plus the rows its gathers reach (the band's halo, band_halo_rows),
  * then pass 1b (2b) gathers the band. P and Q are rings of the band plus the largest halo on
@@ -72,10 +69,18 @@ struct FsfCl {
     size_t off_count;
 };
 
-int fsf_cl_bins_per_launch(int bins, size_t slice_bytes, size_t p_bytes)
+/* slices of P that fit in `bytes`, between 1 and `cap` */
+static int slices_within(size_t slice_bytes, size_t bytes, int cap)
 {
-    long long fit = slice_bytes ? (long long)(p_bytes / slice_bytes) : 1;
-    int most = fit < 1 ? 1 : fit > FSF_CL_MAX_BINS_PER_LAUNCH ? FSF_CL_MAX_BINS_PER_LAUNCH : (int)fit;
+    size_t fit = slice_bytes ? bytes / slice_bytes : (size_t)cap;
+    return fit < 1 ? 1 : fit > (size_t)cap ? cap : (int)fit;
+}
+
+int fsf_cl_bins_per_launch(int bins, size_t slice_bytes)
+{
+    int most = slices_within(slice_bytes, FSF_CL_P_BYTES, FSF_CL_BINS_PER_LAUNCH);
+    int wide = slices_within(slice_bytes, FSF_CL_P_WIDE_BYTES, FSF_CL_MAX_BINS_PER_LAUNCH);
+    if (wide > most) most = wide;
     if (bins < 1) return 1;
     int launches = (bins + most - 1) / most;
     return (bins + launches - 1) / launches;
@@ -271,7 +276,7 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
     }
     /* y2 bins per launch of pass 1a (one slice of P each): fsf_cl_bins_per_launch */
     size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring1;
-    int chunk = fsf_cl_bins_per_launch(g->y2_bins, slice_bytes, FSF_P_BYTES);
+    int chunk = fsf_cl_bins_per_launch(g->y2_bins, slice_bytes);
     /* pass 2a's Q (FSF_Q2_CL_FLOATS per pixel of its ring, sized for form 4, the larger) lives
      * in P's memory once pass 1 is done */
     size_t p_bytes = slice_bytes * (size_t)chunk,
