@@ -337,10 +337,16 @@ __kernel void fsf_pass1a(const FsfArgs a, const int bin0, const int C, const int
     int J = a.J;
     float dY = 4.0f * a.half1 / (float)(J - 1), L1 = a.half1, mid = 0.5f * (float)(J - 1);
     int ip = (i / a.width % ring) * a.width + i % a.width; /* the pixel's place in P's ring */
-    for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
     int r = fsf_radius(px[8 * i + 6], a.reach);
     float eta = px[8 * i + 4];
     __global const float *cum = cum1 + tap_off[i];
+    /* the running sums' first and last lines asked for before the clear of P below, which
+     * takes long enough to hide their fetch: each launch of a band reads them afresh, and the
+     * density's first gather waited on them (fsf_taps wrote them a pass before; PoCL's own
+     * prefetch() is empty, clang's builtin emits the instruction) */
+    __builtin_prefetch(cum);
+    __builtin_prefetch(cum + 2 * r + 1);
+    for (int e = 0; e < J * C; ++e) vstore4((float4)(0.0f), J * C * ip + e, P);
     /* eta = 0 (no shear) or r = 0 (one tap): fsf_density8's range is every tap at each node
      * the box keeps (|z| <= prof1 <= L1; for r = 0 the signs of z -+ L1 are exact), so its
      * difference of running sums is this one, the same float, without its two gathers */
@@ -419,8 +425,9 @@ static float4 fsf_gather(int i, __global const int *n_taps, __global const int *
     return acc;
 }
 
-/* Pass 1b for the C <= 4 bins of pass 1a's launches (fsf_pass1b, eq. 13) over the image rows
- * row0 .. row1 - 1: each tap read once for all of them. The taps' nodes index P's ring; the C
+/* Pass 1b for the C <= 8 bins of pass 1a's launches (fsf_pass1b, eq. 13; fsf_cl.h's
+ * FSF_CL_MAX_BINS_PER_LAUNCH) over the image rows row0 .. row1 - 1: each tap read once for all
+ * of them, one accumulator a bin. The taps' nodes index P's ring; the C
  * slices' values of node n are the float4 n * C .. n * C + C - 1 (pass 1a). */
 __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int row0, const int row1, const int ring,
                          __global const uchar *usable, __global const int *n_taps, __global const int *tap_off,
@@ -429,7 +436,7 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
 {
     int i = row0 * a.width + get_global_id(0);
     if (i >= row1 * a.width || !usable[i]) return; /* its G is never read (pass 2a skips it) */
-    float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
+    float4 acc0 = (float4)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0, acc4 = acc0, acc5 = acc0, acc6 = acc0, acc7 = acc0;
     int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
         int o = o0 + e, node = tap_node[o];
@@ -440,11 +447,19 @@ __kernel void fsf_pass1b(const FsfArgs a, const int bin0, const int C, const int
         if (C > 1) acc1 += a0 * vload4(n0 + 1, P) + a1 * vload4(n1 + 1, P);
         if (C > 2) acc2 += a0 * vload4(n0 + 2, P) + a1 * vload4(n1 + 2, P);
         if (C > 3) acc3 += a0 * vload4(n0 + 3, P) + a1 * vload4(n1 + 3, P);
+        if (C > 4) acc4 += a0 * vload4(n0 + 4, P) + a1 * vload4(n1 + 4, P);
+        if (C > 5) acc5 += a0 * vload4(n0 + 5, P) + a1 * vload4(n1 + 5, P);
+        if (C > 6) acc6 += a0 * vload4(n0 + 6, P) + a1 * vload4(n1 + 6, P);
+        if (C > 7) acc7 += a0 * vload4(n0 + 7, P) + a1 * vload4(n1 + 7, P);
     }
     vstore4(acc0, a.B * i + bin0, G);
     if (C > 1) vstore4(acc1, a.B * i + bin0 + 1, G);
     if (C > 2) vstore4(acc2, a.B * i + bin0 + 2, G);
     if (C > 3) vstore4(acc3, a.B * i + bin0 + 3, G);
+    if (C > 4) vstore4(acc4, a.B * i + bin0 + 4, G);
+    if (C > 5) vstore4(acc5, a.B * i + bin0 + 5, G);
+    if (C > 6) vstore4(acc6, a.B * i + bin0 + 6, G);
+    if (C > 7) vstore4(acc7, a.B * i + bin0 + 7, G);
 }
 
 /* Pass 2a (fsf_pass2a) over the image rows row0 .. row1 - 1, into Q's ring of `ring` rows: each
@@ -503,6 +518,8 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
     float c = 0.0f;
     cum[0] = c;
     for (int e = 0; e < 2 * r + 1; ++e) cum[e + 1] = c = c + g[e];
+    /* the span of m with a nonzero weight (lanes past 3 B hold 0 below), found eight at a time */
+    int8 m_lo8 = (int8)(3 * B), m_hi8 = (int8)(-1);
     for (int m0 = -2 * B; m0 < B; m0 += 8) {
         float8 z = 2.0f * L2 / (float)B * (convert_float8((int8)(m0) + FSF_LANES8) + 0.5f * (float)B + 0.5f);
         int8 inbox = fabs(z) <= a.prof2;
@@ -516,13 +533,15 @@ __kernel void fsf_pass2b(const FsfArgs a, const int row0, const int row1, __glob
             w = select((float8)(0.0f), 1.0f / rho, inbox & (rho > 0.0f));
         }
         vstore8(w, 0, inv_rho + m0 + 2 * B); /* past 3 B (B not a multiple of 8): weight 0 */
+        int8 m = (int8)(m0 + 2 * B) + FSF_LANES8, live = (w != 0.0f) & (m < 3 * B);
+        m_lo8 = min(m_lo8, select((int8)(3 * B), m, live)), m_hi8 = max(m_hi8, select((int8)(-1), m, live));
     }
     vstore8((float8)(0.0f), 0, inv_rho + 3 * B); /* the lanes past a tap's last bin read up to 3 B + 6 */
     /* the span of m with a nonzero weight: each node sums only the bins in it, in the same
      * order (those left out had weight 0, which the sum skips anyway) */
-    int m_lo = 3 * B, m_hi = -1;
-    for (int m = 0; m < 3 * B; ++m)
-        if (inv_rho[m] != 0.0f) m_lo = min(m_lo, m), m_hi = m;
+    int4 lo4 = min(m_lo8.lo, m_lo8.hi), hi4 = max(m_hi8.lo, m_hi8.hi);
+    int2 lo2 = min(lo4.lo, lo4.hi), hi2 = max(hi4.lo, hi4.hi);
+    int m_lo = min(lo2.x, lo2.y), m_hi = max(hi2.x, hi2.y);
     int n = n_taps[i], o0 = tap_off[i];
     for (int e = 0; e < n; ++e) {
         int o = o0 + e, node = tap_node[o];

@@ -30,9 +30,6 @@ typedef struct {
     cl_int geo_swept;
 } FsfArgs;
 
-/* Memory for several slices of P at once (pass 1a fills them in one launch) */
-#define FSF_P_BYTES ((size_t)72 << 20)
-
 /* Both passes run in bands of FSF_BAND_ROWS image rows: pass 1a (2a) fills P's (Q's) rows up
  * to the band's last row plus the rows its gathers reach (the band's halo, band_halo_rows),
  * then pass 1b (2b) gathers the band. P and Q are rings of the band plus the largest halo on
@@ -71,6 +68,23 @@ struct FsfCl {
     cl_int *off;       /* the tap tables' offsets, both axes (page aligned: read in place) */
     size_t off_count;
 };
+
+/* slices of P that fit in `bytes`, between 1 and `cap` */
+static int slices_within(size_t slice_bytes, size_t bytes, int cap)
+{
+    size_t fit = slice_bytes ? bytes / slice_bytes : (size_t)cap;
+    return fit < 1 ? 1 : fit > (size_t)cap ? cap : (int)fit;
+}
+
+int fsf_cl_bins_per_launch(int bins, size_t slice_bytes)
+{
+    int most = slices_within(slice_bytes, FSF_CL_P_BYTES, FSF_CL_BINS_PER_LAUNCH);
+    int wide = slices_within(slice_bytes, FSF_CL_P_WIDE_BYTES, FSF_CL_MAX_BINS_PER_LAUNCH);
+    if (wide > most) most = wide;
+    if (bins < 1) return 1;
+    int launches = (bins + most - 1) / most;
+    return (bins + launches - 1) / launches;
+}
 
 /* Adds an event's device time to *acc (seconds) and releases it. */
 static void add_time(cl_event ev, double *acc)
@@ -260,12 +274,9 @@ bool fsf_cl_run(FsfCl *f, const FsfSamples *s, const FsfGrid *g, const FsfPixel 
         free(halo1);
         return false;
     }
-    /* y2 bins per launch of pass 1a (one slice of P each): up to 4, as many as fit in
-     * FSF_P_BYTES (docs/benchmarks.md, "FSF's passes, faster": 4 slices take 25% less time
-     * in 1a than 1; more were slower) */
+    /* y2 bins per launch of pass 1a (one slice of P each): fsf_cl_bins_per_launch */
     size_t slice_bytes = sizeof(float) * 4 * J * (size_t)s->width * (size_t)ring1;
-    int chunk = slice_bytes ? (int)(FSF_P_BYTES / slice_bytes) : 1;
-    chunk = chunk < 1 ? 1 : chunk > 4 ? 4 : chunk;
+    int chunk = fsf_cl_bins_per_launch(g->y2_bins, slice_bytes);
     /* pass 2a's Q (FSF_Q2_CL_FLOATS per pixel of its ring, sized for form 4, the larger) lives
      * in P's memory once pass 1 is done */
     size_t p_bytes = slice_bytes * (size_t)chunk,

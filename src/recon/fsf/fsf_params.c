@@ -183,8 +183,12 @@ static WEDGE_VECTORISED void footprint_rows(void *ctx, size_t begin, size_t end,
         if (r >= 0 && !sloped_near(j, x, y, r)) r = -1; /* no slope in reach: the empty range */
         for (int t = -r; t <= r; ++t) {
             int q = fsf_step_pixel(w, h, x, y, pp->dir[0], (float)t);
-            if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
-            lo = min_f(lo, j->wnd.own_lo[q]), hi = max_f(hi, j->wnd.own_hi[q]);
+            if (q < 0) continue;
+            /* a tap without a slope of its own (the empty range INFINITY, -INFINITY) leaves the
+             * range as it is whether accepted or not: the guides' test only for the others */
+            float q_lo = j->wnd.own_lo[q], q_hi = j->wnd.own_hi[q];
+            if (!(q_lo <= q_hi) || !fsf_accept(&j->gd, (int)i, q)) continue;
+            lo = min_f(lo, q_lo), hi = max_f(hi, q_hi);
         }
         j->row_lo[i] = lo, j->row_hi[i] = hi;
     }
@@ -206,8 +210,10 @@ static WEDGE_VECTORISED void footprint_cols(void *ctx, size_t begin, size_t end,
         float lo = INFINITY, hi = -INFINITY;
         for (int t = -r; t <= r; ++t) {
             int q = fsf_step_pixel(w, h, x, y, pp->dir[1], (float)t);
-            if (q < 0 || !fsf_accept(&j->gd, (int)i, q)) continue;
-            lo = min_f(lo, j->row_lo[q]), hi = max_f(hi, j->row_hi[q]);
+            if (q < 0) continue;
+            float q_lo = j->row_lo[q], q_hi = j->row_hi[q]; /* empty: as in footprint_rows */
+            if (!(q_lo <= q_hi) || !fsf_accept(&j->gd, (int)i, q)) continue;
+            lo = min_f(lo, q_lo), hi = max_f(hi, q_hi);
         }
         if (!(lo <= hi)) continue; /* every sample reached is lit */
         /* slopes are positive (d_occ < d_light): k_lo = k_hi = 0 is the window without any */
