@@ -136,25 +136,6 @@ static void test_bin_counts_edges_below(void)
     CHECK(lr_gap_bin(edges, INFINITY) == LR_GAP_BINS - 1 && lr_gap_bin(edges, -INFINITY) == 0 && lr_gap_bin(edges, NAN) == 0);
 }
 
-/* The slab count a window may get (lr_config_gap_slabs): with the default sixteen slabs and more
- * occupied CoC bins than that, fifteen CoC bounds (docs/algorithms.md 8.45); a larger gap_slabs is
- * held to LR_MAX_COC_BOUNDS slabs. */
-static void test_slab_count(void)
-{
-    float edges[LR_GAP_BINS - 1];
-    lr_gap_edges(edges);
-    int hist[LR_GAP_BINS] = {0};
-    for (int b = 0; b < LR_GAP_BINS; b += 2) hist[b] = 10; /* 24 occupied bins, gaps between them */
-    LrConfig cfg = lr_config_default();
-    CHECK(cfg.gap_slabs == 16);
-    LrTile t;
-    lr_tile_bounds_gaps(&cfg, 1.0f, 2.0f, hist, edges, &t);
-    CHECK(t.n_coc == 15 && t.n_depth == 0 && lr_tile_raw_count(&t) == 33);
-    cfg.gap_slabs = 40;
-    lr_tile_bounds_gaps(&cfg, 1.0f, 2.0f, hist, edges, &t);
-    CHECK(t.n_coc == LR_MAX_COC_BOUNDS - 1);
-}
-
 int main(void)
 {
     test_bin_counts_edges_below();
@@ -162,6 +143,5 @@ int main(void)
     test_two_surfaces(2);
     test_two_surfaces(8);
     test_two_surfaces(16);
-    test_slab_count();
     CHECK_DONE();
 }
