@@ -25,8 +25,8 @@
 #include "recon/lr/lr_band_class.h"
 #include "recon/lr/lr_cl.h"
 
-/* LrConfig.gap_slabs of every comparison (0: the fixed focus bounds; 8 or 16 (the default): the
- * bounds in each window's CoC histogram gaps, chosen by the kernel and by lr_partition.c alike) */
+/* LrConfig.gap_slabs of every comparison (0: the fixed focus bounds; 8: the bounds in each
+ * window's CoC histogram gaps, chosen by the kernel and by lr_partition.c alike) */
 static int gap_slabs = 0;
 /* each sample's CoC slope is jittered by up to half this (a tilted surface's spread of slopes):
  * wide enough, a window's histogram has more occupied bins than slabs */
@@ -373,7 +373,7 @@ int main(void)
         compare_still(lr, 48, 33, 8, big, 3);
         compare_still(lr, 256, 80, 4, wide, 2);
         /* the histogram-gap bounds: the device's choice must equal the C partition's */
-        for (int g = 0; g <= 16; g += 8) { /* 16: up to 33 raw layer ids (8.45) */
+        for (int g = 0; g <= 8; g += 8) {
             gap_slabs = g;
             coc_jitter_px = 6.0f; /* many occupied bins: the programme's choice matters */
             compare(lr, 37, 29, 4, diag, 2, false);
@@ -425,7 +425,7 @@ int main(void)
         CHECK(lr_config_default().bounds_group_tiles == 2);
         for (int g = 1; g <= LR_MAX_BOUNDS_GROUP; ++g) {
             bounds_group = g;
-            gap_slabs = 16;
+            gap_slabs = 8;
             coc_jitter_px = 6.0f;
             compare(lr, 48, 33, 8, big, 3, true);
             compare_band(lr, 83, 61, 4, focus, 4, false, 0.0f, 8);
@@ -433,7 +433,6 @@ int main(void)
             compare(lr, 112, 80, 4, wide, 2, true);
             compare_still(lr, 48, 33, 8, big, 3);
             window_px = 28;
-            gap_slabs = 8;
             compare_band(lr, 83, 61, 4, big, 3, true, 0.0f, 5);
             window_px = 32;
             gap_slabs = 0;

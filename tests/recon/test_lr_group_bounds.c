@@ -93,9 +93,9 @@ static void check_frame(int w, int h, int spp, const LrTestLayer *layers, int nl
             int x0, y0, x1, y1, ix0, iy0, ix1, iy1;
             lr_tile_window(&img, &cfg, tx, ty, &x0, &y0, &x1, &y1);
             lr_tile_pixels(&img, &cfg, tx, ty, &ix0, &iy0, &ix1, &iy1);
-            int count[LR_MAX_LAYERS + 1] = {0}, own[LR_MAX_LAYERS + 1] = {0};
-            float cmin[LR_MAX_LAYERS + 1], cmax[LR_MAX_LAYERS + 1];
-            for (int j = 0; j <= LR_MAX_LAYERS; ++j) cmin[j] = INFINITY, cmax[j] = -INFINITY;
+            int count[LR_MAX_LAYERS] = {0}, own[LR_MAX_LAYERS] = {0};
+            float cmin[LR_MAX_LAYERS], cmax[LR_MAX_LAYERS];
+            for (int j = 0; j < LR_MAX_LAYERS; ++j) cmin[j] = INFINITY, cmax[j] = -INFINITY;
             for (int py = y0; py < y1; ++py)
                 for (int px = x0; px < x1; ++px)
                     for (int k = 0; k < spp; ++k) {

@@ -47,8 +47,8 @@
 
 #define LR_PLACE_STRIDE 8 /* LrPlace: x, y, u, v, t, then the radiance at LR_PLACE_L */
 #define LR_PLACE_L 5
-#define LR_TB_STRIDE 33 /* n_depth, n_coc, 15 depth bounds, LR_COC_MAX CoC bounds at LR_TB_COC */
-#define LR_TL_STRIDE 34 /* layer_count, then LR_RAW_IDS compact layers */
+#define LR_TB_STRIDE 25
+#define LR_TL_STRIDE 18
 #define LR_LP_STRIDE 340
 #define LR_ROUND 80
 #define LR_ROUND_T 81
@@ -59,12 +59,7 @@
 #define LR_CH 5
 #define LR_MOVING_PX 1.0f /* lr_partition.h: moving and static samples of a slab are separate layers */
 #define LR_CHUNK 32 /* lr_reproject_layer: samples placed before they are summed */
-#define LR_LS_STRIDE 34 /* raw layers 0..LR_RAW_IDS - 1, and the end */
-/* lr_partition.h: LR_MAX_COC_BOUNDS slabs at most (16), so 2 x 16 slabs + the misses: 33 raw layer ids
- * (docs/algorithms.md 8.45: a 2x2 group's 48-px union needs twice the CoC slabs of a 32-px window) */
-#define LR_COC_MAX 16
-#define LR_RAW_IDS 33
-#define LR_TB_COC 17
+#define LR_LS_STRIDE 18 /* raw layers 0..16, and the end */
 
 typedef struct {
     int x0, y0, x1, y1;
@@ -111,11 +106,11 @@ typedef float lr_sum; /* a device without doubles: psi may differ from the C ver
                           * then the tilt's nine sums (lr_partition.h: LrTilt) */
 
 /* lr_tile_raw_count: the raw layers of a tile with these bounds (the slabs split into moving
- * and static layers when 2 slabs + 1 ids fit in LR_RAW_IDS). */
+ * and static layers when 2 slabs + 1 ids fit in 17). */
 static int lr_raw_count(int n_depth, int n_coc)
 {
     int slabs = n_depth + n_coc + 1;
-    return 2 * slabs + 1 <= LR_RAW_IDS ? 2 * slabs + 1 : slabs + 1;
+    return 2 * slabs + 1 <= 17 ? 2 * slabs + 1 : slabs + 1;
 }
 
 /* Same rule as lr_tile_raw_layer, on the tile's own bounds array: slab k's moving samples are
@@ -128,7 +123,7 @@ static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float
     if (!(depth < INFINITY)) return raw_n - 1;
     int k = 0;
     for (int i = 0; i < n_depth; ++i) k += depth > tb[2 + i];
-    for (int i = 0; i < n_coc; ++i) k += coc > tb[LR_TB_COC + i];
+    for (int i = 0; i < n_coc; ++i) k += coc > tb[17 + i];
     if (!split) return k;
     bool moving = mx * mx + my * my >= LR_MOVING_PX * LR_MOVING_PX;
     return 2 * k + (moving ? 0 : 1);
@@ -168,8 +163,8 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
         }
     int groups = max_bounds + 1 < m ? max_bounds + 1 : m;
     if (groups <= 1) return 0;
-    long best[LR_COC_MAX][LR_GAP_BINS];
-    int from[LR_COC_MAX][LR_GAP_BINS];
+    long best[8][LR_GAP_BINS];
+    int from[8][LR_GAP_BINS];
     for (int j = 0; j < m; ++j) {
         long w = occ[j] - occ[0] + 1;
         best[0][j] = pre[j + 1] * w * w;
@@ -242,7 +237,7 @@ __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, i
 }
 
 /* A window's layer bounds into tb (LR_TB_STRIDE floats: n_depth, n_coc, depth bounds at 2,
- * CoC bounds at LR_TB_COC) from its hits' depth range [zmin, zmax] and CoC histogram (lr_partition.c:
+ * CoC bounds at 17) from its hits' depth range [zmin, zmax] and CoC histogram (lr_partition.c:
  * lr_tile_bounds, lr_tile_bounds_gaps). uniform: the uniform depth layers (1..7). gap_slabs
  * 0: coc_bounds holds n_coc fixed bounds, the same for every tile; gap_slabs > 0: it holds the
  * LR_GAP_BINS - 1 edges of the CoC histogram, and the bounds are chosen in its gaps
@@ -254,16 +249,16 @@ static void lr_make_bounds(const int *hist, float zmin, float zmax, int uniform,
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
     if (gap_slabs > 0) {
-        float gb[LR_COC_MAX];
+        float gb[8];
         n_coc = lr_gap_bounds(hist, coc_bounds, gap_slabs - 1, gb);
-        for (int i = 0; i < n_coc; ++i) tb[LR_TB_COC + i] = gb[i];
+        for (int i = 0; i < n_coc; ++i) tb[17 + i] = gb[i];
         int n = uniform - 1 < gap_slabs - 1 - n_coc ? uniform - 1 : gap_slabs - 1 - n_coc;
         if (zmin < zmax)
             for (int i = 1; i <= n; ++i) tb[2 + n_depth++] = zmin + (zmax - zmin) * (float)i / (float)(n + 1);
     } else {
         if (zmin < zmax)
             for (int i = 1; i < uniform; ++i) tb[2 + n_depth++] = zmin + (zmax - zmin) * (float)i / (float)uniform;
-        for (int i = 0; i < n_coc; ++i) tb[LR_TB_COC + i] = coc_bounds[i];
+        for (int i = 0; i < n_coc; ++i) tb[17 + i] = coc_bounds[i];
     }
     tb[0] = (float)n_depth;
     tb[1] = (float)n_coc;
@@ -330,9 +325,9 @@ __kernel void lr_group_stats(int width, int height, int spp, int tile_px, int wi
     int raw_n = lr_raw_count(n_depth, n_coc);
 
     /* per tile of the group: the window's sums */
-    int count[LR_GT][LR_RAW_IDS], skipped[LR_GT][LR_RAW_IDS];
-    lr_sum mx[LR_GT][LR_RAW_IDS], my[LR_GT][LR_RAW_IDS], bright[LR_GT][LR_RAW_IDS];
-    float cmin[LR_GT][LR_RAW_IDS], cmax[LR_GT][LR_RAW_IDS], tilt[LR_GT][LR_RAW_IDS][9]; /* lr_partition.h: LrTilt, over the tile's own pixels */
+    int count[LR_GT][17], skipped[LR_GT][17];
+    lr_sum mx[LR_GT][17], my[LR_GT][17], bright[LR_GT][17];
+    float cmin[LR_GT][17], cmax[LR_GT][17], tilt[LR_GT][17][9]; /* lr_partition.h: LrTilt, over the tile's own pixels */
     for (int s = 0; s < gtn; ++s)
         for (int i = 0; i < raw_n; ++i) {
             for (int k = 0; k < 9; ++k) tilt[s][i][k] = 0.0f;
@@ -344,13 +339,15 @@ __kernel void lr_group_stats(int width, int height, int spp, int tile_px, int wi
     int gww = gw.x1 - gw.x0, margin = (window_px - tile_px) / 2;
     size_t gcap = (size_t)(group * tile_px + 2 * margin) * (size_t)(group * tile_px + 2 * margin) * (size_t)spp;
     __global uchar *ids = layer_ids + (size_t)gi * gcap;
-    /* lr_raw_layer with the bounds padded (8 depth, LR_COC_MAX CoC) with +infinity, which no depth or CoC
+    /* lr_raw_layer with the bounds padded to 8 each with +infinity, which no depth or CoC
      * exceeds: a fixed count of compares per sample, added without branches (the same layer;
      * the bounds loops of varying length were a fifth of this loop's time) */
-    float db[8], cb[LR_COC_MAX];
-    bool padded = n_depth <= 8 && n_coc <= LR_COC_MAX, split = raw_n > n_depth + n_coc + 2;
-    for (int i = 0; i < 8; ++i) db[i] = i < n_depth ? tb[2 + i] : INFINITY;
-    for (int i = 0; i < LR_COC_MAX; ++i) cb[i] = i < n_coc ? tb[LR_TB_COC + i] : INFINITY;
+    float db[8], cb[8];
+    bool padded = n_depth <= 8 && n_coc <= 8, split = raw_n > n_depth + n_coc + 2;
+    for (int i = 0; i < 8; ++i) {
+        db[i] = i < n_depth ? tb[2 + i] : INFINITY;
+        cb[i] = i < n_coc ? tb[17 + i] : INFINITY;
+    }
     int cell = tile_px, rest = margin; /* lr_stats_cell_px: gcd(tile_px, margin) */
     while (rest > 0) {
         int r = cell % rest;
@@ -376,9 +373,9 @@ __kernel void lr_group_stats(int width, int height, int spp, int tile_px, int wi
                 ix1 = min(ix0 + tile_px, width - inset), iy1 = min(iy0 + tile_px, height - inset);
                 wx0 = tw[own].x0, wy0 = tw[own].y0;
             }
-            int c_count[LR_RAW_IDS], c_skipped[LR_RAW_IDS];
-            lr_sum c_mx[LR_RAW_IDS], c_my[LR_RAW_IDS], c_bright[LR_RAW_IDS];
-            float c_min[LR_RAW_IDS], c_max[LR_RAW_IDS], c_tilt[LR_RAW_IDS][9];
+            int c_count[17], c_skipped[17];
+            lr_sum c_mx[17], c_my[17], c_bright[17];
+            float c_min[17], c_max[17], c_tilt[17][9];
             for (int i = 0; i < raw_n; ++i) {
                 for (int k = 0; k < 9; ++k) c_tilt[i][k] = 0.0f;
                 c_count[i] = c_skipped[i] = 0;
@@ -397,8 +394,7 @@ __kernel void lr_group_stats(int width, int height, int spp, int tile_px, int wi
                         else if (!(key.x < INFINITY)) r = raw_n - 1;
                         else {
                             int slab = 0;
-                            for (int j = 0; j < 8; ++j) slab += key.x > db[j];
-                            for (int j = 0; j < LR_COC_MAX; ++j) slab += key.y > cb[j];
+                            for (int j = 0; j < 8; ++j) slab += (key.x > db[j]) + (key.y > cb[j]);
                             bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
                             r = split ? 2 * slab + (moving ? 0 : 1) : slab;
                         }
@@ -457,7 +453,7 @@ __kernel void lr_group_stats(int width, int height, int spp, int tile_px, int wi
                 for (int k = 0; k < 9; ++k) tilt[s][i][k] = 0.0f;
             }
         }
-        float cp[LR_RAW_IDS], sp[LR_RAW_IDS], dmin[LR_RAW_IDS], dmax[LR_RAW_IDS], perp[LR_RAW_IDS];
+        float cp[17], sp[17], dmin[17], dmax[17], perp[17];
         for (int i = 0; i < tn; ++i) {
             cp[i] = 1.0f;
             sp[i] = 0.0f;
@@ -472,12 +468,12 @@ __kernel void lr_group_stats(int width, int height, int spp, int tile_px, int wi
             }
         }
         __global int *start = layer_start + tile * LR_LS_STRIDE;
-        int next[LR_RAW_IDS], total = 0;
-        for (int r = 0; r < LR_RAW_IDS; ++r) {
+        int next[17], total = 0;
+        for (int r = 0; r < 17; ++r) {
             start[r] = next[r] = total;
             total += r < tn ? count[s][r] - skipped[s][r] : 0;
         }
-        start[LR_RAW_IDS] = total;
+        start[17] = total;
         __global uint *list = order + (size_t)tile * window_px * window_px * spp;
         for (int py = w.y0; py < w.y1; ++py)
             for (int px = w.x0; px < w.x1; ++px)
@@ -492,8 +488,8 @@ __kernel void lr_group_stats(int width, int height, int spp, int tile_px, int wi
                     dmax[r] = along > dmax[r] ? along : dmax[r];
                     perp[r] = across > perp[r] ? across : perp[r];
                 }
-        __global float *out = stats + (size_t)tile * LR_RAW_IDS * LR_ST_STRIDE;
-        for (int i = 0; i < LR_RAW_IDS; ++i) {
+        __global float *out = stats + (size_t)tile * 17 * LR_ST_STRIDE;
+        for (int i = 0; i < 17; ++i) {
             bool used = i < tn;
             out[i * LR_ST_STRIDE + 0] = used ? (float)count[s][i] : 0.0f;
             out[i * LR_ST_STRIDE + 1] = used ? cp[i] : 1.0f;
@@ -670,7 +666,7 @@ static void lr_reproject_layer(int width, int height, int spp, int tile_px, int 
     __global const int *compact = tl + 1;
     int raw_j = 0, raw_e = 0; /* the layer's own samples: raw layers [raw_j, raw_e) (lr_tile_layer_end) */
     while (compact[raw_j] != j) ++raw_j;
-    for (int i = raw_j; i < LR_RAW_IDS; ++i)
+    for (int i = raw_j; i < 17; ++i)
         if (compact[i] == j) raw_e = i + 1;
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
@@ -716,7 +712,7 @@ static void lr_reproject_layer(int width, int height, int spp, int tile_px, int 
     uint key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
     int obox[4] = {INT_MAX, INT_MAX, INT_MIN, INT_MIN}; /* the cells the own samples reach: x0, y0, x1, y1 */
     int p0x = 0, p0y = 0, p1x = 0, p1y = 0; /* box P */
-    for (int r = raw_j; r <= LR_RAW_IDS; ++r) {
+    for (int r = raw_j; r <= 17; ++r) {
         bool own = r < raw_e;
         if (r == raw_e) {
             /* The layer's opacity and light come from its own samples only: a tile pixel whose
@@ -740,7 +736,7 @@ static void lr_reproject_layer(int width, int height, int spp, int tile_px, int 
             cy0 = max(0, by0 - reach), cy1 = min(wh, by1 + reach);
             key0 = (uint)(w.y0 + cy0) * (uint)width * (uint)spp, key1 = (uint)(w.y0 + cy1) * (uint)width * (uint)spp;
         }
-        if (r == LR_RAW_IDS) break; /* (the loop's last step only writes the box when the layer's run ends at the last raw layer) */
+        if (r == 17) break; /* (the loop's last step only writes the box when the layer's run ends at the last raw layer) */
         int e1 = lr_lower_bound(list, start[r], start[r + 1], key1);
         /* In chunks: first where each sample lands and its weight (independent samples, no
          * branches: the processor overlaps them), then the sums in list order. */
@@ -961,7 +957,7 @@ __kernel void lr_tile_filter(int width, int height, int spp, int tile_px, int wi
     __global float *g = grid + (size_t)slot * cells, *p1 = pass1 + (size_t)slot * cells, *pcls = pass1_class + (size_t)slot * 2 * cells;
     __global float *P = packed + (size_t)slot * LR_PACK_FIELDS * cap; /* the tile's copy of its list */
     int count = tile_layers[tile * LR_TL_STRIDE];
-    if (count > 0) lr_pack_tile(cap, layer_start[tile * LR_LS_STRIDE + LR_RAW_IDS], samples, order + (size_t)tile * cap, P);
+    if (count > 0) lr_pack_tile(cap, layer_start[tile * LR_LS_STRIDE + 17], samples, order + (size_t)tile * cap, P);
     LrWindow w = lr_window(tx, ty, width, height, tile_px, window_px, inset);
     int ww = w.x1 - w.x0, wh = w.y1 - w.y0;
     int px0 = inset + tx * tile_px, py0 = inset + ty * tile_px;

@@ -14,15 +14,15 @@
 #include "recon/lr/lr_bucket.h"
 
 /* as in lr.cl */
-enum { TB_STRIDE = 2 + LR_MAX_DEPTH_BOUNDS + LR_MAX_COC_BOUNDS, TL_STRIDE = LR_MAX_LAYERS + 2, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAPS_Y = LP_HEAD + LR_MAX_RADIUS_PX + 1,
+enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAPS_Y = LP_HEAD + LR_MAX_RADIUS_PX + 1,
        LP_ROUND = LP_HEAD + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_BAND = LP_ROUND_T + LR_ROUND_TABLE,
        LP_STRIDE = LP_BAND + 2, CH = 5,
-       ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = LR_MAX_LAYERS + 2, BATCH_TILES = 16,
+       ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = 18, BATCH_TILES = 16,
        PACK_FIELDS = 5, BLOCK_PX = 8, TILE_MAX = 32 };
 
 _Static_assert(sizeof(LrKey) == 4 * sizeof(float) && sizeof(LrPlace) == 8 * sizeof(float), "lr.cl reads LrKey as a float4, LrPlace as 8 floats");
-_Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 16 && LR_MAX_LAYERS + 1 == 33 && TB_STRIDE == 33 && TL_STRIDE == 34,
-               "lr.cl's tile layouts (LR_TB_STRIDE, LR_TL_STRIDE, LR_COC_MAX, LR_RAW_IDS; CoC bounds at LR_TB_COC = 17)");
+_Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
+               "lr.cl's tile layouts");
 _Static_assert(LP_STRIDE == 340 && LP_TAPS_X == 14 && LP_TAPS_Y == 47 && LP_ROUND == 80 && LP_BAND == 338,
                "lr.cl's LR_LP_STRIDE, LR_TAPS_X, LR_TAPS_Y, LR_ROUND and LR_BAND");
 _Static_assert(LR_BAND_NARROW == 1 && LR_BAND_WIDE == 2 && LR_BAND_CLASSES == 3, "lr.cl's band classes");
@@ -114,7 +114,7 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
         T->n_depth = (int)b[0];
         T->n_coc = (int)b[1];
         for (int i = 0; i < T->n_depth; ++i) T->depth_bound[i] = b[2 + i];
-        for (int i = 0; i < T->n_coc; ++i) T->coc_bound_px[i] = b[2 + LR_MAX_DEPTH_BOUNDS + i];
+        for (int i = 0; i < T->n_coc; ++i) T->coc_bound_px[i] = b[17 + i];
         LrLayerStats st[LR_MAX_LAYERS + 1];
         const float *o = lr->st + (size_t)t * (LR_MAX_LAYERS + 1) * ST_STRIDE;
         for (int i = 0; i < LR_MAX_LAYERS + 1; ++i, o += ST_STRIDE) {

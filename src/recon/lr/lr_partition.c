@@ -26,7 +26,7 @@ LrConfig lr_config_default(void)
     c.uniform_layers = 4;
     c.focus_bounds = 4;
     c.focus_step_px = 1.0f;
-    c.gap_slabs = 16; /* 2 x 16 slabs + misses: the 33 raw layer ids (8.45) */
+    c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
     c.motion_spread_max = 0.5f;
     c.motion_range_px = 4.0f;
     c.motion_long_px = (float)c.window_px;
@@ -436,7 +436,7 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
      * the union of theirs, its filter made from them as any layer's. A layer is compared with
      * the merged layer in front of it, so a run's filter stays within the tolerances of
      * each layer it takes. */
-    int map[LR_MAX_LAYERS + 1], kept = 0;
+    int map[LR_MAX_LAYERS], kept = 0;
     for (int j = 0; j < t->layer_count; ++j) {
         if (kept > 0 && lr_layers_merge(cfg, &t->layer[kept - 1].filter, t->layer[kept - 1].cos_psi, t->layer[kept - 1].sin_psi,
                                         &t->layer[j].filter, t->layer[j].cos_psi, t->layer[j].sin_psi)) {
@@ -449,7 +449,7 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
     }
     for (int i = 0; i < raw_n; ++i)
         if (t->compact[i] >= 0) t->compact[i] = map[t->compact[i]];
-    for (int i = raw_n; i < LR_MAX_LAYERS + 1; ++i) t->compact[i] = -1; /* no such raw layer (lr.cl reads all LR_RAW_IDS) */
+    for (int i = raw_n; i < LR_MAX_LAYERS + 1; ++i) t->compact[i] = -1; /* no such raw layer (lr.cl reads all 17) */
     t->layer_count = kept;
     /* The tilt's centroid shift (8.35) for the layers the lens alone blurs, in the unrotated
      * frame their shears are in. */

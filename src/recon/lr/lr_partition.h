@@ -65,11 +65,7 @@ static inline void lr_split_sample(const LrSample *s, size_t i, LrKey *key, LrPl
 LrSamples lr_samples_split(int width, int height, int spp, const LrSample *s);
 void lr_samples_free(LrSamples *img);
 
-/* LR_MAX_COC_BOUNDS: room for the CoC bounds, and the most slabs gap_slabs may ask for. 16: a
- * 2x2 bounds group's 48-px union spans half as much again of a surface's CoC slope as a 32-px
- * window, and with eight slabs each layer's slope range widened (docs/algorithms.md 8.44, 8.45).
- * Two raw layers a slab (moving, static) and the misses: LR_MAX_LAYERS + 1 = 33 raw layer ids. */
-enum { LR_MAX_LAYERS = 32, LR_MAX_DEPTH_BOUNDS = 15, LR_MAX_COC_BOUNDS = 16 };
+enum { LR_MAX_LAYERS = 16, LR_MAX_DEPTH_BOUNDS = 15, LR_MAX_COC_BOUNDS = 8 };
 
 typedef struct {
     LrFilterConfig filter;
@@ -193,7 +189,7 @@ typedef struct {
     float coc_bound_px[LR_MAX_COC_BOUNDS];
     int compact[LR_MAX_LAYERS + 1]; /* raw layer -> compact layer */
     int layer_count;                /* non-empty layers, front to back */
-    LrLayer layer[LR_MAX_LAYERS + 1]; /* one per raw layer: every raw layer, the misses too, may be non-empty */
+    LrLayer layer[LR_MAX_LAYERS];
 } LrTile;
 
 /* The tiles covering the reconstructed image (the image less cfg->inset_px on every side). */
