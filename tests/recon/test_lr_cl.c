@@ -41,8 +41,6 @@ static float front_gain = 1.0f;
 static bool flat_weights = true;
 /* LrConfig.tile_px and window_px of every comparison (the defaults unless a test sets them) */
 static int tile_px = 16, window_px = 32;
-/* LrConfig.bounds_group_tiles of every comparison (0: the default's) */
-static int bounds_group = 0;
 
 /* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
  * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
@@ -71,7 +69,6 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     cfg.gap_slabs = gap_slabs;
     cfg.filter.flat_lens_time = flat_weights;
     cfg.tile_px = tile_px, cfg.window_px = window_px;
-    if (bounds_group) cfg.bounds_group_tiles = bounds_group;
     cfg.filter.sigma_clamp_px = (float)(window_px - tile_px) / 4.0f; /* as lr_config_default's (Appendix C) */
     size_t n = (size_t)w * h;
     float *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
@@ -183,7 +180,6 @@ static void compare_still(LrCl *lr, int w, int h, int spp, const LrTestLayer *la
     lr_test_scene(s, w, h, spp, layers, nl, 31);
     LrSamples img = lr_samples_split(w, h, spp, s);
     LrConfig cfg = lr_config_default();
-    if (bounds_group) cfg.bounds_group_tiles = bounds_group;
     int ntx, nty;
     lr_tile_count(&img, &cfg, &ntx, &nty);
     unsigned char *still = malloc((size_t)ntx * nty);
@@ -418,27 +414,6 @@ int main(void)
             free(rgb), free(s);
         }
         tile_px = 16, window_px = 32;
-        /* the bounds shared by groups of 1 to 4 tiles a side (lr_group_stats, 8.44; the default
-         * 2 above): partial groups at the edges, still tiles among a group's, a band, cells
-         * of 2 px off the blocks' grid (window 28: margin 6) where the union is binned sample
-         * by sample, and the histogram-gap bounds */
-        CHECK(lr_config_default().bounds_group_tiles == 2);
-        for (int g = 1; g <= LR_MAX_BOUNDS_GROUP; ++g) {
-            bounds_group = g;
-            gap_slabs = 8;
-            coc_jitter_px = 6.0f;
-            compare(lr, 48, 33, 8, big, 3, true);
-            compare_band(lr, 83, 61, 4, focus, 4, false, 0.0f, 8);
-            coc_jitter_px = 0.6f;
-            compare(lr, 112, 80, 4, wide, 2, true);
-            compare_still(lr, 48, 33, 8, big, 3);
-            window_px = 28;
-            compare_band(lr, 83, 61, 4, big, 3, true, 0.0f, 5);
-            window_px = 32;
-            gap_slabs = 0;
-            compare(lr, 83, 61, 4, big, 3, false);
-        }
-        bounds_group = 0;
         lr_cl_destroy(lr);
     }
     cl_runtime_destroy(rt);

@@ -265,7 +265,7 @@ static void lr_make_bounds(const int *hist, float zmin, float zmax, int uniform,
 }
 
 /* The partition statistics of one bounds group of group x group tiles (lr_partition.c:
- * tile_stats, the same sums in the same order; docs/algorithms.md 8.44). The group's bounds
+ * tile_stats, the same sums in the same order; docs/algorithms.md 8.43). The group's bounds
  * come from the depth range and CoC histogram of the union of its windows (written to
  * tile_bounds for each of its tiles; a still tile gets an empty window's), so a sample is in
  * the same raw layer in every window of the group that holds it. The union is cut into cells

@@ -111,7 +111,7 @@ typedef struct {
      * tiles (lr_tile_group), from the union of the group's windows, and shared by its tiles:
      * a sample falls in the same raw layer in every window of the group that holds it, so the
      * per-layer sums of a cell of the windows (lr_stats_cell_px) are taken once for all of
-     * them (lr.cl: lr_group_stats; docs/algorithms.md 8.44). 1: every tile its own bounds. */
+     * them (lr.cl: lr_group_stats; docs/algorithms.md 8.43). 1: every tile its own bounds. */
     int bounds_group_tiles;
     /* A static layer's own samples shifted by the centroid shift of its surface's tilt
      * (LrLayer.ramp_x_px, lr_tilt_ramp; docs/algorithms.md 8.35); false: never. */
