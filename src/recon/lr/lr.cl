@@ -236,19 +236,47 @@ __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, i
     block_z[2 * b0 + 1] = zmax;
 }
 
-/* A window's layer bounds into tb (LR_TB_STRIDE floats: n_depth, n_coc, depth bounds at 2,
- * CoC bounds at 17) from its hits' depth range [zmin, zmax] and CoC histogram (lr_partition.c:
- * lr_tile_bounds, lr_tile_bounds_gaps). uniform: the uniform depth layers (1..7). gap_slabs
- * 0: coc_bounds holds n_coc fixed bounds, the same for every tile; gap_slabs > 0: it holds the
- * LR_GAP_BINS - 1 edges of the CoC histogram, and the bounds are chosen in its gaps
- * (lr_gap_bounds). */
-static void lr_make_bounds(const int *hist, float zmin, float zmax, int uniform, int n_coc, int gap_slabs,
-                           __global const float *coc_bounds, float *tb)
+/* The partition statistics of one tile (lr_partition.c: tile_stats, the same sums in the same
+ * order): depth range -> layer bounds (written to tile_bounds), then per raw layer the count,
+ * motion sum, CoC range, and in the mean motion's frame the motion ranges. The host finishes
+ * the partitions (lr_tile_finish) from these few numbers instead of sweeping the samples. The
+ * raw layer of every window sample is kept for the reprojection (layer_ids).
+ * uniform: the uniform depth layers (1..7). gap_slabs 0: coc_bounds holds n_coc fixed bounds,
+ * the same for every tile; gap_slabs > 0: it holds the LR_GAP_BINS - 1 edges of the CoC
+ * histogram, and each tile's bounds are chosen in its gaps (lr_gap_bounds). */
+__kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
+                            int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float4 *keys,
+                            __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
+                            __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
+                            int blocks, int nbx, __global const int *block_hist, __global const float *block_z,
+                            __global const float *bright_in, __global const float *samples)
 {
 #pragma OPENCL FP_CONTRACT OFF
+    int tile = get_global_id(0);
+    if (tile >= ntiles || get_global_id(1) != 0) return;
+    LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
+    if (still_tiles[tile]) w.x1 = w.x0, w.y1 = w.y0; /* nothing to partition: no layers (lr_partition.c) */
+    float zmin = INFINITY, zmax = -INFINITY;
+    int hist[LR_GAP_BINS];
+    for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
+    if (blocks) { /* the window is whole blocks (lr_block_stats) */
+        if (w.x1 > w.x0 && w.y1 > w.y0)
+            for (int by = w.y0 / LR_BLOCK_PX; by < (w.y1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++by)
+                for (int bx = w.x0 / LR_BLOCK_PX; bx < (w.x1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++bx) {
+                    int b0 = by * nbx + bx;
+                    float z0 = block_z[2 * b0], z1 = block_z[2 * b0 + 1];
+                    zmin = z0 < zmin ? z0 : zmin;
+                    zmax = z1 > zmax ? z1 : zmax;
+                    if (gap_slabs > 0)
+                        for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_GAP_BINS + b];
+                }
+    } else
+        lr_bin_rect(keys, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &zmin, &zmax);
+    float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
     if (gap_slabs > 0) {
+        /* lr_partition.c: lr_tile_bounds_gaps; coc_bounds holds the histogram's edges */
         float gb[8];
         n_coc = lr_gap_bounds(hist, coc_bounds, gap_slabs - 1, gb);
         for (int i = 0; i < n_coc; ++i) tb[17 + i] = gb[i];
@@ -262,246 +290,111 @@ static void lr_make_bounds(const int *hist, float zmin, float zmax, int uniform,
     }
     tb[0] = (float)n_depth;
     tb[1] = (float)n_coc;
-}
+    for (int i = 0; i < LR_TB_STRIDE; ++i) tile_bounds[tile * LR_TB_STRIDE + i] = tb[i];
 
-/* The partition statistics of one bounds group of group x group tiles (lr_partition.c:
- * tile_stats, the same sums in the same order; docs/algorithms.md 8.43). The group's bounds
- * come from the depth range and CoC histogram of the union of its windows (written to
- * tile_bounds for each of its tiles; a still tile gets an empty window's), so a sample is in
- * the same raw layer in every window of the group that holds it. The union is cut into cells
- * (lr_stats_cell_px: 8 px by default) of which every window is a union: each cell is swept
- * once, its per-raw-layer count, motion sums, brightness sum, CoC range and (for a tile's own
- * pixels) tilt sums taken, and those partial sums added to each window holding the cell, in
- * the cells' row-major order. A 2x2 group's 36 cells stand for its windows' 64: the sweep reads
- * each sample 1.8 times instead of 4 (the windows overlap). The raw layer of every sample of
- * the union is kept (layer_ids, per group) for each tile's second sweep: the motion ranges in
- * its layers' mean-motion frames, and the window sorted by raw layer (order, layer_start). */
-#define LR_GROUP_MAX 4 /* lr_partition.h: LR_MAX_BOUNDS_GROUP */
-#define LR_GT (LR_GROUP_MAX * LR_GROUP_MAX)
-__kernel void lr_group_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int nty, int group,
-                             int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float4 *keys,
-                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
-                             __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
-                             int blocks, int nbx, __global const int *block_hist, __global const float *block_z,
-                             __global const float *bright_in, __global const float *samples)
-{
-#pragma OPENCL FP_CONTRACT OFF
-    int ngx = (ntx + group - 1) / group, ngy = (nty + group - 1) / group, gi = get_global_id(0);
-    if (gi >= ngx * ngy || get_global_id(1) != 0) return;
-    int tx0 = (gi % ngx) * group, ty0 = (gi / ngx) * group;
-    int gtw = min(ntx, tx0 + group) - tx0, gtn = gtw * (min(nty, ty0 + group) - ty0);
-    LrWindow tw[LR_GT];
-    bool live[LR_GT], any = false;
-    for (int s = 0; s < gtn; ++s) {
-        int tile = (ty0 + s / gtw) * ntx + tx0 + s % gtw;
-        tw[s] = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
-        live[s] = !still_tiles[tile];
-        any |= live[s];
-    }
-    LrWindow gw = tw[0]; /* the union of the group's windows */
-    gw.x1 = tw[gtn - 1].x1, gw.y1 = tw[gtn - 1].y1;
-    if (!any) gw.x1 = gw.x0, gw.y1 = gw.y0; /* every tile still: nothing to partition */
-    float zmin = INFINITY, zmax = -INFINITY;
-    int hist[LR_GAP_BINS];
-    for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
-    float tb_none[LR_TB_STRIDE], tb[LR_TB_STRIDE];
-    lr_make_bounds(hist, zmin, zmax, uniform, n_coc, gap_slabs, coc_bounds, tb_none); /* a still tile's */
-    if (blocks) { /* the union is whole blocks (lr_block_stats) */
-        if (gw.x1 > gw.x0 && gw.y1 > gw.y0)
-            for (int by = gw.y0 / LR_BLOCK_PX; by < (gw.y1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++by)
-                for (int bx = gw.x0 / LR_BLOCK_PX; bx < (gw.x1 + LR_BLOCK_PX - 1) / LR_BLOCK_PX; ++bx) {
-                    int b0 = by * nbx + bx;
-                    float z0 = block_z[2 * b0], z1 = block_z[2 * b0 + 1];
-                    zmin = z0 < zmin ? z0 : zmin;
-                    zmax = z1 > zmax ? z1 : zmax;
-                    if (gap_slabs > 0)
-                        for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_GAP_BINS + b];
-                }
-    } else
-        lr_bin_rect(keys, width, spp, gw.x0, gw.y0, gw.x1, gw.y1, gap_slabs, coc_bounds, hist, &zmin, &zmax);
-    lr_make_bounds(hist, zmin, zmax, uniform, n_coc, gap_slabs, coc_bounds, tb);
-    int n_depth = (int)tb[0];
-    n_coc = (int)tb[1];
     int raw_n = lr_raw_count(n_depth, n_coc);
-
-    /* per tile of the group: the window's sums */
-    int count[LR_GT][17], skipped[LR_GT][17];
-    lr_sum mx[LR_GT][17], my[LR_GT][17], bright[LR_GT][17];
-    float cmin[LR_GT][17], cmax[LR_GT][17], tilt[LR_GT][17][9]; /* lr_partition.h: LrTilt, over the tile's own pixels */
-    for (int s = 0; s < gtn; ++s)
-        for (int i = 0; i < raw_n; ++i) {
-            for (int k = 0; k < 9; ++k) tilt[s][i][k] = 0.0f;
-            count[s][i] = skipped[s][i] = 0;
-            mx[s][i] = my[s][i] = bright[s][i] = 0;
-            cmin[s][i] = INFINITY;
-            cmax[s][i] = -INFINITY;
-        }
-    int gww = gw.x1 - gw.x0, margin = (window_px - tile_px) / 2;
-    size_t gcap = (size_t)(group * tile_px + 2 * margin) * (size_t)(group * tile_px + 2 * margin) * (size_t)spp;
-    __global uchar *ids = layer_ids + (size_t)gi * gcap;
-    /* lr_raw_layer with the bounds padded to 8 each with +infinity, which no depth or CoC
-     * exceeds: a fixed count of compares per sample, added without branches (the same layer;
-     * the bounds loops of varying length were a fifth of this loop's time) */
+    int count[17], skipped[17];
+    lr_sum mx[17], my[17], bright[17];
+    float cmin[17], cmax[17], cp[17], sp[17], dmin[17], dmax[17], perp[17];
+    float tilt[17][9]; /* lr_partition.h: LrTilt, lr_tilt_add; over the tile's own pixels */
+    int ix0 = inset + (tile % ntx) * tile_px, iy0 = inset + (tile / ntx) * tile_px;
+    int ix1 = min(ix0 + tile_px, width - inset), iy1 = min(iy0 + tile_px, height - inset);
+    for (int i = 0; i < raw_n; ++i) {
+        for (int k = 0; k < 9; ++k) tilt[i][k] = 0.0f;
+        count[i] = skipped[i] = 0;
+        mx[i] = my[i] = bright[i] = 0;
+        cmin[i] = dmin[i] = INFINITY;
+        cmax[i] = dmax[i] = -INFINITY;
+        perp[i] = 0.0f;
+    }
+    __global uchar *ids = layer_ids + (size_t)tile * window_px * window_px * spp;
+    /* lr_raw_layer with the tile's bounds padded to 8 each with +infinity, which no depth or
+     * CoC exceeds: a fixed count of compares per sample, added without branches (the same
+     * layer; the bounds loops of varying length were a fifth of this loop's time) */
     float db[8], cb[8];
     bool padded = n_depth <= 8 && n_coc <= 8, split = raw_n > n_depth + n_coc + 2;
     for (int i = 0; i < 8; ++i) {
         db[i] = i < n_depth ? tb[2 + i] : INFINITY;
         cb[i] = i < n_coc ? tb[17 + i] : INFINITY;
     }
-    int cell = tile_px, rest = margin; /* lr_stats_cell_px: gcd(tile_px, margin) */
-    while (rest > 0) {
-        int r = cell % rest;
-        cell = rest, rest = r;
-    }
-    int o = inset - margin; /* the cells' grid origin */
-    for (int cy0 = gw.y0, cy1; cy0 < gw.y1; cy0 = cy1) {
-        cy1 = min(gw.y1, o + ((cy0 - o) / cell + 1) * cell);
-        for (int cx0 = gw.x0, cx1; cx0 < gw.x1; cx0 = cx1) {
-            cx1 = min(gw.x1, o + ((cx0 - o) / cell + 1) * cell);
-            /* the live windows holding the cell, and the tile whose own pixels it is */
-            int holders = 0, own = -1;
-            for (int s = 0; s < gtn; ++s) {
-                bool in = live[s] && cx0 >= tw[s].x0 && cx0 < tw[s].x1 && cy0 >= tw[s].y0 && cy0 < tw[s].y1;
-                holders |= in ? 1 << s : 0;
-                int ox = inset + (tx0 + s % gtw) * tile_px, oy = inset + (ty0 + s / gtw) * tile_px;
-                if (in && cx0 >= ox && cx0 < ox + tile_px && cy0 >= oy && cy0 < oy + tile_px) own = s;
-            }
-            if (!holders) continue;
-            int ix0 = 0, iy0 = 0, ix1 = 0, iy1 = 0, wx0 = 0, wy0 = 0; /* the own pixels (clipped), the window's corner */
-            if (own >= 0) {
-                ix0 = inset + (tx0 + own % gtw) * tile_px, iy0 = inset + (ty0 + own / gtw) * tile_px;
-                ix1 = min(ix0 + tile_px, width - inset), iy1 = min(iy0 + tile_px, height - inset);
-                wx0 = tw[own].x0, wy0 = tw[own].y0;
-            }
-            int c_count[17], c_skipped[17];
-            lr_sum c_mx[17], c_my[17], c_bright[17];
-            float c_min[17], c_max[17], c_tilt[17][9];
-            for (int i = 0; i < raw_n; ++i) {
-                for (int k = 0; k < 9; ++k) c_tilt[i][k] = 0.0f;
-                c_count[i] = c_skipped[i] = 0;
-                c_mx[i] = c_my[i] = c_bright[i] = 0;
-                c_min[i] = INFINITY;
-                c_max[i] = -INFINITY;
-            }
-            for (int py = cy0; py < cy1; ++py)
-                for (int px = cx0; px < cx1; ++px)
-                    for (int k = 0; k < spp; ++k) {
-                        size_t index = (size_t)(py * width + px) * spp + k;
-                        float4 key = keys[index]; /* depth, CoC, motion */
-                        float b = bright_in[index]; /* r + g + b, NaN for a non-finite radiance (lr_bright) */
-                        int r;
-                        if (!padded) r = lr_raw_layer(tb, key.x, key.y, key.z, key.w);
-                        else if (!(key.x < INFINITY)) r = raw_n - 1;
-                        else {
-                            int slab = 0;
-                            for (int j = 0; j < 8; ++j) slab += (key.x > db[j]) + (key.y > cb[j]);
-                            bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
-                            r = split ? 2 * slab + (moving ? 0 : 1) : slab;
-                        }
-                        bool finite = !isnan(b);
-                        /* the reprojection skips non-finite radiance */
-                        ids[((size_t)(py - gw.y0) * gww + (px - gw.x0)) * spp + k] = (uchar)(finite ? r : r | LR_SKIP);
-                        c_count[r]++;
-                        if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the owner's own pixels (LrTilt) */
-                            __global const float *pl = samples + index * LR_PLACE_STRIDE; /* x, y, u, v */
-                            float c = key.y, x = (pl[0] - (float)wx0) - c * pl[2], y = (pl[1] - (float)wy0) - c * pl[3];
-                            float *m = c_tilt[r];
-                            m[0] += x, m[1] += y, m[2] += c, m[3] += x * x, m[4] += y * y, m[5] += x * y, m[6] += x * c, m[7] += y * c, m[8] += 1.0f;
-                        }
-                        if (!finite) c_skipped[r]++; /* rare: a branch, not a sum per sample */
-                        c_mx[r] += (lr_sum)key.z;
-                        c_my[r] += (lr_sum)key.w;
-                        c_bright[r] += (lr_sum)(isfinite(b) ? b : 0.0f); /* lr_partition.c: the layer's brightness, 8.24 */
-                        c_min[r] = key.y < c_min[r] ? key.y : c_min[r];
-                        c_max[r] = key.y > c_max[r] ? key.y : c_max[r];
-                    }
-            for (int s = 0; s < gtn; ++s) {
-                if (!(holders >> s & 1)) continue;
-                for (int i = 0; i < raw_n; ++i) {
-                    count[s][i] += c_count[i];
-                    skipped[s][i] += c_skipped[i];
-                    mx[s][i] += c_mx[i];
-                    my[s][i] += c_my[i];
-                    bright[s][i] += c_bright[i];
-                    cmin[s][i] = c_min[i] < cmin[s][i] ? c_min[i] : cmin[s][i];
-                    cmax[s][i] = c_max[i] > cmax[s][i] ? c_max[i] : cmax[s][i];
-                    if (s == own)
-                        for (int k = 0; k < 9; ++k) tilt[s][i][k] += c_tilt[i][k];
+    for (int py = w.y0, i = 0; py < w.y1; ++py)
+        for (int px = w.x0; px < w.x1; ++px)
+            for (int k = 0; k < spp; ++k, ++i) {
+                size_t index = (size_t)(py * width + px) * spp + k;
+                float4 key = keys[index]; /* depth, CoC, motion */
+                float b = bright_in[index]; /* r + g + b, NaN for a non-finite radiance (lr_bright) */
+                int r;
+                if (!padded) r = lr_raw_layer(tb, key.x, key.y, key.z, key.w);
+                else if (!(key.x < INFINITY)) r = raw_n - 1;
+                else {
+                    int slab = 0;
+                    for (int j = 0; j < 8; ++j) slab += (key.x > db[j]) + (key.y > cb[j]);
+                    bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
+                    r = split ? 2 * slab + (moving ? 0 : 1) : slab;
                 }
+                bool finite = !isnan(b);
+                ids[i] = (uchar)(finite ? r : r | LR_SKIP); /* the reprojection skips non-finite radiance */
+                count[r]++;
+                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
+                    __global const float *pl = samples + index * LR_PLACE_STRIDE; /* x, y, u, v */
+                    float c = key.y, x = (pl[0] - (float)w.x0) - c * pl[2], y = (pl[1] - (float)w.y0) - c * pl[3];
+                    float *m = tilt[r];
+                    m[0] += x, m[1] += y, m[2] += c, m[3] += x * x, m[4] += y * y, m[5] += x * y, m[6] += x * c, m[7] += y * c, m[8] += 1.0f;
+                }
+                if (!finite) skipped[r]++; /* rare: a branch, not a sum per sample */
+                mx[r] += (lr_sum)key.z;
+                my[r] += (lr_sum)key.w;
+                bright[r] += (lr_sum)(isfinite(b) ? b : 0.0f); /* lr_partition.c: the layer's brightness, 8.24 */
+                cmin[r] = key.y < cmin[r] ? key.y : cmin[r];
+                cmax[r] = key.y > cmax[r] ? key.y : cmax[r];
             }
+    for (int i = 0; i < raw_n; ++i) {
+        cp[i] = 1.0f;
+        sp[i] = 0.0f;
+        if (!count[i]) continue;
+        lr_sum ax = mx[i] / count[i], ay = my[i] / count[i], len = sqrt(ax * ax + ay * ay);
+        if (len > 0) {
+            cp[i] = (float)(ax / len);
+            sp[i] = (float)(ay / len);
         }
     }
-
-    /* per tile: its layers' mean motion, its window sorted by raw layer (lr_bucket.c:
-     * lr_bucket_by_layer, a stable counting sort, so that a layer's reprojection reads its own
-     * samples and those behind it as one contiguous run of the list and none in front of it)
-     * and the motion ranges in the layers' frames (the second sweep), its statistics out */
-    for (int s = 0; s < gtn; ++s) {
-        int tile = (ty0 + s / gtw) * ntx + tx0 + s % gtw;
-        const float *tbs = live[s] ? tb : tb_none;
-        for (int i = 0; i < LR_TB_STRIDE; ++i) tile_bounds[tile * LR_TB_STRIDE + i] = tbs[i];
-        LrWindow w = tw[s];
-        int tn = raw_n;
-        if (!live[s]) {
-            w.x1 = w.x0, w.y1 = w.y0;
-            tn = lr_raw_count((int)tb_none[0], (int)tb_none[1]);
-            for (int i = 0; i < tn; ++i) {
-                count[s][i] = skipped[s][i] = 0;
-                mx[s][i] = my[s][i] = bright[s][i] = 0;
-                cmin[s][i] = INFINITY;
-                cmax[s][i] = -INFINITY;
-                for (int k = 0; k < 9; ++k) tilt[s][i][k] = 0.0f;
+    /* The window sorted by raw layer (lr_bucket.c: lr_bucket_by_layer, a stable counting
+     * sort), so that a layer's reprojection reads its own samples and those behind it as one
+     * contiguous run of the list and none in front of it; written during the second sweep. */
+    __global int *start = layer_start + tile * LR_LS_STRIDE;
+    int next[17], total = 0;
+    for (int r = 0; r < 17; ++r) {
+        start[r] = next[r] = total;
+        total += r < raw_n ? count[r] - skipped[r] : 0;
+    }
+    start[17] = total;
+    __global uint *list = order + (size_t)tile * window_px * window_px * spp;
+    for (int py = w.y0, i = 0; py < w.y1; ++py)
+        for (int px = w.x0; px < w.x1; ++px)
+            for (int k = 0; k < spp; ++k, ++i) {
+                uint index = ((uint)py * (uint)width + (uint)px) * (uint)spp + (uint)k;
+                float2 m = keys[index].zw; /* the motion */
+                int id = ids[i], r = id & ~LR_SKIP;
+                if (!(id & LR_SKIP)) list[next[r]++] = index;
+                float along = cp[r] * m.x + sp[r] * m.y;
+                float across = fabs(-sp[r] * m.x + cp[r] * m.y);
+                dmin[r] = along < dmin[r] ? along : dmin[r];
+                dmax[r] = along > dmax[r] ? along : dmax[r];
+                perp[r] = across > perp[r] ? across : perp[r];
             }
-        }
-        float cp[17], sp[17], dmin[17], dmax[17], perp[17];
-        for (int i = 0; i < tn; ++i) {
-            cp[i] = 1.0f;
-            sp[i] = 0.0f;
-            dmin[i] = INFINITY;
-            dmax[i] = -INFINITY;
-            perp[i] = 0.0f;
-            if (!count[s][i]) continue;
-            lr_sum ax = mx[s][i] / count[s][i], ay = my[s][i] / count[s][i], len = sqrt(ax * ax + ay * ay);
-            if (len > 0) {
-                cp[i] = (float)(ax / len);
-                sp[i] = (float)(ay / len);
-            }
-        }
-        __global int *start = layer_start + tile * LR_LS_STRIDE;
-        int next[17], total = 0;
-        for (int r = 0; r < 17; ++r) {
-            start[r] = next[r] = total;
-            total += r < tn ? count[s][r] - skipped[s][r] : 0;
-        }
-        start[17] = total;
-        __global uint *list = order + (size_t)tile * window_px * window_px * spp;
-        for (int py = w.y0; py < w.y1; ++py)
-            for (int px = w.x0; px < w.x1; ++px)
-                for (int k = 0; k < spp; ++k) {
-                    uint index = ((uint)py * (uint)width + (uint)px) * (uint)spp + (uint)k;
-                    float2 m = keys[index].zw; /* the motion */
-                    int id = ids[((size_t)(py - gw.y0) * gww + (px - gw.x0)) * spp + k], r = id & ~LR_SKIP;
-                    if (!(id & LR_SKIP)) list[next[r]++] = index;
-                    float along = cp[r] * m.x + sp[r] * m.y;
-                    float across = fabs(-sp[r] * m.x + cp[r] * m.y);
-                    dmin[r] = along < dmin[r] ? along : dmin[r];
-                    dmax[r] = along > dmax[r] ? along : dmax[r];
-                    perp[r] = across > perp[r] ? across : perp[r];
-                }
-        __global float *out = stats + (size_t)tile * 17 * LR_ST_STRIDE;
-        for (int i = 0; i < 17; ++i) {
-            bool used = i < tn;
-            out[i * LR_ST_STRIDE + 0] = used ? (float)count[s][i] : 0.0f;
-            out[i * LR_ST_STRIDE + 1] = used ? cp[i] : 1.0f;
-            out[i * LR_ST_STRIDE + 2] = used ? sp[i] : 0.0f;
-            out[i * LR_ST_STRIDE + 3] = used ? cmin[s][i] : INFINITY;
-            out[i * LR_ST_STRIDE + 4] = used ? cmax[s][i] : -INFINITY;
-            out[i * LR_ST_STRIDE + 5] = used ? dmin[i] : INFINITY;
-            out[i * LR_ST_STRIDE + 6] = used ? dmax[i] : -INFINITY;
-            out[i * LR_ST_STRIDE + 7] = used ? perp[i] : 0.0f;
-            out[i * LR_ST_STRIDE + 8] = used ? (float)bright[s][i] : 0.0f;
-            for (int k = 0; k < 9; ++k) out[i * LR_ST_STRIDE + 9 + k] = used ? tilt[s][i][k] : 0.0f;
-        }
+    __global float *o = stats + (size_t)tile * 17 * LR_ST_STRIDE;
+    for (int i = 0; i < 17; ++i) {
+        bool used = i < raw_n;
+        o[i * LR_ST_STRIDE + 0] = used ? (float)count[i] : 0.0f;
+        o[i * LR_ST_STRIDE + 1] = used ? cp[i] : 1.0f;
+        o[i * LR_ST_STRIDE + 2] = used ? sp[i] : 0.0f;
+        o[i * LR_ST_STRIDE + 3] = used ? cmin[i] : INFINITY;
+        o[i * LR_ST_STRIDE + 4] = used ? cmax[i] : -INFINITY;
+        o[i * LR_ST_STRIDE + 5] = used ? dmin[i] : INFINITY;
+        o[i * LR_ST_STRIDE + 6] = used ? dmax[i] : -INFINITY;
+        o[i * LR_ST_STRIDE + 7] = used ? perp[i] : 0.0f;
+        o[i * LR_ST_STRIDE + 8] = used ? (float)bright[i] : 0.0f;
+        for (int k = 0; k < 9; ++k) o[i * LR_ST_STRIDE + 9 + k] = used ? tilt[i][k] : 0.0f;
     }
 }
 

@@ -27,7 +27,6 @@ _Static_assert(LP_STRIDE == 340 && LP_TAPS_X == 14 && LP_TAPS_Y == 47 && LP_ROUN
                "lr.cl's LR_LP_STRIDE, LR_TAPS_X, LR_TAPS_Y, LR_ROUND and LR_BAND");
 _Static_assert(LR_BAND_NARROW == 1 && LR_BAND_WIDE == 2 && LR_BAND_CLASSES == 3, "lr.cl's band classes");
 _Static_assert(ST_STRIDE == 18, "lr.cl's LR_ST_STRIDE");
-_Static_assert(LR_MAX_BOUNDS_GROUP == 4, "lr.cl's LR_GROUP_MAX");
 _Static_assert(LR_MAX_LAYERS + 1 < LR_LAYER_SKIP && LR_LAYER_SKIP == 0x80, "lr.cl's raw layer ids are bytes, 0x80 (LR_SKIP) flags a skipped sample");
 _Static_assert(LS_STRIDE == LR_MAX_LAYERS + 2, "lr.cl's LR_LS_STRIDE: a start per raw layer and the end");
 
@@ -80,7 +79,7 @@ LrCl *lr_cl_create(ClRuntime *rt, Diag *d)
     LrCl *lr = calloc(1, sizeof *lr);
     if (!lr) return NULL;
     lr->rt = rt;
-    if (!(lr->blocks = cl_runtime_kernel(rt, "lr_block_stats", d)) || !(lr->stats = cl_runtime_kernel(rt, "lr_group_stats", d)) ||
+    if (!(lr->blocks = cl_runtime_kernel(rt, "lr_block_stats", d)) || !(lr->stats = cl_runtime_kernel(rt, "lr_tile_stats", d)) ||
         !(lr->filter = cl_runtime_kernel(rt, "lr_tile_filter", d))) {
         lr_cl_destroy(lr);
         return NULL;
@@ -102,7 +101,7 @@ void lr_cl_destroy(LrCl *lr)
     free(lr);
 }
 
-/* The partitions from the device's statistics (lr_group_stats), flattened into the kernel
+/* The partitions from the device's statistics (lr_tile_stats), flattened into the kernel
  * layouts; returns the most layers of a tile. */
 static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
 {
@@ -227,9 +226,6 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     if (ntiles <= 0) return true; /* nothing inside the band */
     size_t npix = (size_t)img->width * img->height, nsamples = npix * (size_t)img->spp;
     size_t wcells = (size_t)cfg->window_px * cfg->window_px;
-    /* the bounds groups (lr_tile_group) and the samples of a group's windows' union */
-    int group = lr_config_bounds_group(cfg), ngroups = ((ntx + group - 1) / group) * ((nty + group - 1) / group);
-    size_t gside = (size_t)(group * cfg->tile_px + (cfg->window_px - cfg->tile_px)), gcells = gside * gside;
     if ((size_t)ntiles > lr->tiles_cap) {
         free(lr->tb), free(lr->st), free(lr->tl), free(lr->tiles);
         lr->tb = malloc(sizeof(float) * TB_STRIDE * (size_t)ntiles);
@@ -267,42 +263,42 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     ok = ok && grow(rt, &lr->b_cb, sizeof(float) * (LR_GAP_BINS - 1), CL_MEM_READ_ONLY, d) &&
          grow(rt, &lr->b_st, st_bytes, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_tb, sizeof(float) * TB_STRIDE * (size_t)ntiles, CL_MEM_READ_WRITE, d) &&
-         grow(rt, &lr->b_ids, (size_t)ngroups * gcells * (size_t)img->spp, CL_MEM_READ_WRITE, d) &&
+         grow(rt, &lr->b_ids, (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_order, sizeof(cl_uint) * (size_t)ntiles * wcells * (size_t)img->spp, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_ls, sizeof(cl_int) * LS_STRIDE * (size_t)ntiles, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_still, (size_t)ntiles, CL_MEM_READ_ONLY, d);
-    /* Partition statistics on the device (one work-item per bounds group), the rest on the host. */
+    /* Partition statistics on the device (one work-item per tile), the rest on the host. */
     LrTile shape;
     lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
     float edges[LR_GAP_BINS - 1];
     lr_gap_edges(edges); /* with cfg->gap_slabs: the histogram's bins instead */
     cl_int gap_slabs = lr_config_gap_slabs(cfg);
     cl_int uniform = lr_config_uniform_layers(cfg);
-    cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NY = nty, G = group;
+    cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NT = ntiles;
     cl_int inset = cfg->inset_px;
     cl_event ev[4] = {NULL, NULL, NULL, NULL};
     /* Every window a union of whole 8x8 blocks (its corner, or the image's edge, on the block
-     * grid): lr_block_stats bins each sample once and lr_group_stats adds the blocks. */
+     * grid): lr_block_stats bins each sample once and lr_tile_stats adds the blocks. */
     int margin = (cfg->window_px - cfg->tile_px) / 2;
     cl_int blocks = (cfg->inset_px - margin) % BLOCK_PX == 0 && cfg->tile_px % BLOCK_PX == 0 && cfg->window_px % BLOCK_PX == 0;
     cl_int NBX = (W + BLOCK_PX - 1) / BLOCK_PX, NBY = (H + BLOCK_PX - 1) / BLOCK_PX;
     ok = ok && grow(rt, &lr->b_bh, blocks ? sizeof(cl_int) * LR_GAP_BINS * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_bz, blocks ? sizeof(float) * 2 * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d);
     if (ok) {
-        cl_int ints[12] = {W, H, S, T, N, NX, NY, G, uniform, shape.n_coc, inset, gap_slabs};
+        cl_int ints[11] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset, gap_slabs};
         cl_mem m[8] = {lr->b_cb.mem, b_k, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
         cl_int bints[6] = {W, H, S, NBX, NBY, gap_slabs};
         cl_mem bm[4] = {lr->b_cb.mem, b_k, lr->b_bh.mem, lr->b_bz.mem};
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
              (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
-             cl_ok(clSetKernelArg(lr->stats, 20, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 21, sizeof(cl_int), &NBX) |
-                       clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &lr->b_bz.mem) |
-                       clSetKernelArg(lr->stats, 24, sizeof(cl_mem), &b_b) | clSetKernelArg(lr->stats, 25, sizeof(cl_mem), &b_s),
+             cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
+                       clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem) |
+                       clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b) | clSetKernelArg(lr->stats, 24, sizeof(cl_mem), &b_s),
                    "arguments", d) &&
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)
                                : cl_ok(clEnqueueFillBuffer(q, lr->b_still.mem, &(cl_uchar){0}, 1, 0, (size_t)ntiles, 0, NULL, NULL), "fill", d)) &&
-             set_args(lr->stats, ints, 12, m, 8, d) && cl_launch_serial_2d(rt, lr->stats, (size_t)ngroups, 1, &ev[0], d) &&
+             set_args(lr->stats, ints, 11, m, 8, d) && cl_launch_serial_2d(rt, lr->stats, (size_t)ntiles, 1, &ev[0], d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_st.mem, CL_TRUE, 0, st_bytes, lr->st, 0, NULL, NULL), "download", d) &&
              cl_ok(clEnqueueReadBuffer(q, lr->b_tb.mem, CL_TRUE, 0, sizeof(float) * TB_STRIDE * (size_t)ntiles, lr->tb, 0, NULL, NULL), "download", d);
     }

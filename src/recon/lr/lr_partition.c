@@ -35,7 +35,6 @@ LrConfig lr_config_default(void)
     c.merge_shift_sigmas = 0.3f; /* docs/benchmarks.md, lr16: 0.5 raised motion_defocus's error, 0.6 hard's */
     c.merge_sigma_share = 0.3f;
     c.tilt_ramp = true; /* docs/algorithms.md 8.35 */
-    c.bounds_group_tiles = 2; /* docs/algorithms.md 8.43 */
     c.still_tiles = NULL;
     c.band_class = NULL; /* the frame's band everywhere (lr_method.c sets it below 16 spp) */
     c.samples_scanned = false; /* lr_cl_run measures the samples itself */
@@ -93,31 +92,6 @@ static inline float max_f(float a, float b) { return b > a ? b : a; }
 int lr_config_uniform_layers(const LrConfig *cfg)
 {
     return cfg->uniform_layers < 1 ? 1 : cfg->uniform_layers > 7 ? 7 : cfg->uniform_layers;
-}
-
-int lr_config_bounds_group(const LrConfig *cfg)
-{
-    int g = cfg->bounds_group_tiles;
-    return g < 1 ? 1 : g > LR_MAX_BOUNDS_GROUP ? LR_MAX_BOUNDS_GROUP : g;
-}
-
-void lr_tile_group(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *tx0, int *ty0, int *tx1, int *ty1)
-{
-    int g = lr_config_bounds_group(cfg), ntx, nty;
-    lr_tile_count(img, cfg, &ntx, &nty);
-    *tx0 = tx / g * g, *ty0 = ty / g * g;
-    *tx1 = *tx0 + g < ntx ? *tx0 + g : ntx;
-    *ty1 = *ty0 + g < nty ? *ty0 + g : nty;
-}
-
-int lr_stats_cell_px(const LrConfig *cfg)
-{
-    int a = cfg->tile_px, b = (cfg->window_px - cfg->tile_px) / 2;
-    while (b > 0) {
-        int r = a % b;
-        a = b, b = r;
-    }
-    return a;
 }
 
 int lr_config_gap_slabs(const LrConfig *cfg)
@@ -202,48 +176,24 @@ void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int 
         for (int i = 1; i <= n; ++i) t->depth_bound[t->n_depth++] = zmin + (zmax - zmin) * (float)i / (float)(n + 1);
 }
 
-/* The layer bounds of a window whose hits have depths [zmin, zmax] and CoC histogram hist. */
-static void bounds_from(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t)
-{
-    if (cfg->gap_slabs > 0) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, t);
-    else lr_tile_bounds(cfg, zmin, zmax, t);
-}
-
-/* The end of the statistics cell that holds coordinate p (cells of side cell_px from origin o,
- * p >= o), clipped to end. */
-static int cell_end(int p, int o, int cell_px, int end)
-{
-    int e = o + ((p - o) / cell_px + 1) * cell_px;
-    return e < end ? e : end;
-}
-
-/* The statistics of lr_tile_finish, the C version of lr.cl's lr_group_stats (same sums in the
+/* The statistics of lr_tile_finish, the C version of lr.cl's lr_tile_stats (same sums in the
  * same order, so that both give the same partitions). */
 static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *t, LrLayerStats *st)
 {
     int x0, y0, x1, y1;
     lr_tile_window(img, cfg, tx, ty, &x0, &y0, &x1, &y1);
-    bool still = false;
     if (cfg->still_tiles) { /* a still tile has no samples to partition: no layers */
         int ntx, nty;
         lr_tile_count(img, cfg, &ntx, &nty);
-        still = cfg->still_tiles[ty * ntx + tx] != 0;
-        if (still) x1 = x0, y1 = y0;
+        if (cfg->still_tiles[ty * ntx + tx]) x1 = x0, y1 = y0;
     }
-    /* depth range and CoC histogram of the hits of the group's windows (a still tile: none) */
+    /* depth range of the window's hits */
     float zmin = INFINITY, zmax = -INFINITY, edges[LR_GAP_BINS - 1];
     int hist[LR_GAP_BINS] = {0};
     bool gaps = cfg->gap_slabs > 0;
     if (gaps) lr_gap_edges(edges);
-    int gx0 = 0, gy0 = 0, gx1 = 0, gy1 = 0;
-    if (!still) {
-        int tx0, ty0, tx1, ty1, unused;
-        lr_tile_group(img, cfg, tx, ty, &tx0, &ty0, &tx1, &ty1);
-        lr_tile_window(img, cfg, tx0, ty0, &gx0, &gy0, &unused, &unused);
-        lr_tile_window(img, cfg, tx1 - 1, ty1 - 1, &unused, &unused, &gx1, &gy1);
-    }
-    for (int py = gy0; py < gy1; ++py)
-        for (int px = gx0; px < gx1; ++px)
+    for (int py = y0; py < y1; ++py)
+        for (int px = x0; px < x1; ++px)
             for (int k = 0; k < img->spp; ++k) {
                 const LrKey *s = &img->key[((size_t)py * img->width + px) * img->spp + k];
                 float z = s->depth;
@@ -252,59 +202,35 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
                     if (gaps) hist[lr_gap_bin(edges, s->coc_px)]++;
                 }
             }
-    bounds_from(cfg, zmin, zmax, hist, edges, t);
+    if (gaps) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, t);
+    else lr_tile_bounds(cfg, zmin, zmax, t);
     int raw_n = lr_tile_raw_count(t);
     int ix0, iy0, ix1, iy1;
     lr_tile_pixels(img, cfg, tx, ty, &ix0, &iy0, &ix1, &iy1);
-    /* the tile's own pixels before clipping: the cells whose tilt sums are the tile's */
-    int ox0 = cfg->inset_px + tx * cfg->tile_px, oy0 = cfg->inset_px + ty * cfg->tile_px;
     double mx[LR_MAX_LAYERS + 1], my[LR_MAX_LAYERS + 1], bright[LR_MAX_LAYERS + 1];
     for (int i = 0; i < raw_n; ++i) {
         st[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f, {{0}}};
         mx[i] = my[i] = bright[i] = 0.0;
     }
-    /* cell by cell: each cell's partial sums, then added to the window's */
-    int cell = lr_stats_cell_px(cfg), o = cfg->inset_px - (cfg->window_px - cfg->tile_px) / 2;
-    for (int cy0 = y0, cy1; cy0 < y1; cy0 = cy1) {
-        cy1 = cell_end(cy0, o, cell, y1);
-        for (int cx0 = x0, cx1; cx0 < x1; cx0 = cx1) {
-            cx1 = cell_end(cx0, o, cell, x1);
-            bool own = cx0 >= ox0 && cx0 < ox0 + cfg->tile_px && cy0 >= oy0 && cy0 < oy0 + cfg->tile_px;
-            LrLayerStats c[LR_MAX_LAYERS + 1];
-            double cmx[LR_MAX_LAYERS + 1], cmy[LR_MAX_LAYERS + 1], cbright[LR_MAX_LAYERS + 1];
-            for (int i = 0; i < raw_n; ++i) {
-                c[i] = (LrLayerStats){0, 1.0f, 0.0f, INFINITY, -INFINITY, INFINITY, -INFINITY, 0.0f, 0.0f, {{0}}};
-                cmx[i] = cmy[i] = cbright[i] = 0.0;
+    for (int py = y0; py < y1; ++py)
+        for (int px = x0; px < x1; ++px)
+            for (int k = 0; k < img->spp; ++k) {
+                size_t i = ((size_t)py * img->width + px) * img->spp + k;
+                const LrKey *s = &img->key[i];
+                int r = lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px);
+                st[r].count++;
+                if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
+                    const LrPlace *pl = &img->place[i];
+                    float c = s->coc_px;
+                    lr_tilt_add(&st[r].tilt, (pl->x_px - (float)x0) - c * pl->u, (pl->y_px - (float)y0) - c * pl->v, c);
+                }
+                mx[r] += s->motion_px[0];
+                my[r] += s->motion_px[1];
+                float b = img->bright[i]; /* NaN (not finite) for a non-finite radiance */
+                bright[r] += isfinite(b) ? b : 0.0f;
+                st[r].c_min_px = min_f(st[r].c_min_px, s->coc_px);
+                st[r].c_max_px = max_f(st[r].c_max_px, s->coc_px);
             }
-            for (int py = cy0; py < cy1; ++py)
-                for (int px = cx0; px < cx1; ++px)
-                    for (int k = 0; k < img->spp; ++k) {
-                        size_t i = ((size_t)py * img->width + px) * img->spp + k;
-                        const LrKey *s = &img->key[i];
-                        int r = lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px);
-                        c[r].count++;
-                        if (px >= ix0 && px < ix1 && py >= iy0 && py < iy1) { /* the tile's own pixels (LrTilt) */
-                            const LrPlace *pl = &img->place[i];
-                            float cc = s->coc_px;
-                            lr_tilt_add(&c[r].tilt, (pl->x_px - (float)x0) - cc * pl->u, (pl->y_px - (float)y0) - cc * pl->v, cc);
-                        }
-                        cmx[r] += s->motion_px[0];
-                        cmy[r] += s->motion_px[1];
-                        float b = img->bright[i]; /* NaN (not finite) for a non-finite radiance */
-                        cbright[r] += isfinite(b) ? b : 0.0f;
-                        c[r].c_min_px = min_f(c[r].c_min_px, s->coc_px);
-                        c[r].c_max_px = max_f(c[r].c_max_px, s->coc_px);
-                    }
-            for (int i = 0; i < raw_n; ++i) {
-                st[i].count += c[i].count;
-                mx[i] += cmx[i], my[i] += cmy[i], bright[i] += cbright[i];
-                st[i].c_min_px = min_f(st[i].c_min_px, c[i].c_min_px);
-                st[i].c_max_px = max_f(st[i].c_max_px, c[i].c_max_px);
-                if (own)
-                    for (int m = 0; m < LR_TILT_SUMS; ++m) st[i].tilt.sum[m] += c[i].tilt.sum[m];
-            }
-        }
-    }
     for (int i = 0; i < raw_n; ++i) st[i].bright_sum = (float)bright[i];
     /* Figure 4: the mean motion sets psi */
     for (int i = 0; i < raw_n; ++i) {

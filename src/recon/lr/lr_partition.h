@@ -107,12 +107,6 @@ typedef struct {
      * merge_shift_sigmas 0: never merged. docs/algorithms.md 8.34. */
     float merge_shift_sigmas;
     float merge_sigma_share;
-    /* The layer bounds are chosen once per group of bounds_group_tiles x bounds_group_tiles
-     * tiles (lr_tile_group), from the union of the group's windows, and shared by its tiles:
-     * a sample falls in the same raw layer in every window of the group that holds it, so the
-     * per-layer sums of a cell of the windows (lr_stats_cell_px) are taken once for all of
-     * them (lr.cl: lr_group_stats; docs/algorithms.md 8.43). 1: every tile its own bounds. */
-    int bounds_group_tiles;
     /* A static layer's own samples shifted by the centroid shift of its surface's tilt
      * (LrLayer.ramp_x_px, lr_tilt_ramp; docs/algorithms.md 8.35); false: never. */
     bool tilt_ramp;
@@ -201,10 +195,8 @@ void lr_tile_pixels(const LrSamples *img, const LrConfig *cfg, int tx, int ty, i
 /* Window of tile (tx, ty) in pixels, clipped to the image (the band included): [x0, x1) x [y0, y1). */
 void lr_tile_window(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *x0, int *y0, int *x1, int *y1);
 
-/* Partitions the window of tile (tx, ty) (LR sections 5, 7): lr_tile_bounds from the depth
- * range (and CoC histogram) of its bounds group's windows, the per-layer statistics below
- * summed cell by cell (lr_stats_cell_px: each cell's partial sums in sample order, then the
- * cells' in row-major order, as lr.cl sums them), then lr_tile_finish. */
+/* Partitions the window of tile (tx, ty) (LR sections 5, 7): lr_tile_bounds from the window's
+ * depth range, the per-layer statistics below, then lr_tile_finish. */
 void lr_tile_partition(const LrSamples *img, const LrConfig *cfg, int tx, int ty, LrTile *tile);
 
 /* What a partition needs from its samples, per raw layer (before compaction): the sample
@@ -226,20 +218,6 @@ typedef struct {
  * disk the tilt's centroid shift (docs/algorithms.md 8.35): with g = (dc/dX, dc/dY) the
  * gradient of the samples' slope over their lens-centre points, fitted from `tilt`, the shift is (-eta g_x / 4, -rho g_y / 4) px. 0 when the fit is degenerate. */
 void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_px, float *ramp_y_px);
-
-/* The most tiles a side of a bounds group (LrConfig.bounds_group_tiles); lr.cl's LR_GROUP_MAX. */
-enum { LR_MAX_BOUNDS_GROUP = 4 };
-int lr_config_bounds_group(const LrConfig *cfg);
-
-/* The tiles [tx0, tx1) x [ty0, ty1) of tile (tx, ty)'s bounds group (clipped to the tiles). */
-void lr_tile_group(const LrSamples *img, const LrConfig *cfg, int tx, int ty, int *tx0, int *ty0, int *tx1, int *ty1);
-
-/* The side of the cells the windows are cut into for the statistics' partial sums: every
- * window, and every tile's own pixels, is a union of whole cells of the grid that starts at
- * inset_px - margin (clipped to the image): gcd(tile_px, margin), margin = (window_px -
- * tile_px) / 2 (tile_px when the margin is 0). 8 px with the default 16-px tiles and 32-px
- * windows. */
-int lr_stats_cell_px(const LrConfig *cfg);
 
 /* cfg->uniform_layers within [1, 7] and cfg->gap_slabs within [0, LR_MAX_COC_BOUNDS]: the
  * counts the partition (C and lr.cl alike) works with. */
