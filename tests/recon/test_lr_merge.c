@@ -6,9 +6,12 @@
  * merge_shift_sigmas screen sigmas, screen sigmas just within / past merge_sigma_share, another
  * rotation, merging off. (3) lr_tile_finish's runs: raw layers of one partition with an
  * empty raw layer between them map to it, the empty one and the ids past the tile's raw
- * layers to -1, and lr_tile_layer_end ends the run after its last raw layer. */
+ * layers to -1, and lr_tile_layer_end ends the run after its last raw layer. (4) A tile whose
+ * 17 raw layer ids (8 slabs, moving and static, and the misses) all hold samples keeps 17
+ * partitions (the tile's arrays were one short: under ASan an overflow). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "../check.h"
 #include "lr_scene.h"
@@ -105,6 +108,28 @@ static void check_runs(void)
     CHECK(t.layer_count == 3 && t.compact[1] == 0 && t.compact[3] == 1 && t.compact[4] == 2);
 }
 
+static void check_full_tile(void)
+{
+    LrConfig cfg = lr_config_default();
+    cfg.merge_shift_sigmas = 0.0f; /* no merging: every raw layer its own partition */
+    LrTile t;
+    memset(&t, 0, sizeof t);
+    t.n_depth = 7; /* 8 slabs: split into moving and static, plus the misses */
+    for (int i = 0; i < t.n_depth; ++i) t.depth_bound[i] = 1.0f + (float)i;
+    int raw_n = lr_tile_raw_count(&t);
+    CHECK(raw_n == LR_MAX_LAYERS + 1);
+    LrLayerStats st[LR_MAX_LAYERS + 1];
+    for (int i = 0; i < raw_n; ++i) {
+        float c = 0.5f + 3.0f * (float)i; /* CoC ranges far apart */
+        st[i] = (LrLayerStats){10 + i, 1.0f, 0.0f, c, c + 0.1f, 0.0f, 0.0f, 0.0f, 10.0f, {{0}}};
+    }
+    lr_tile_finish(&cfg, st, &t);
+    CHECK(t.layer_count == raw_n);
+    int ok = 1;
+    for (int i = 0; i < raw_n && i < t.layer_count; ++i) ok &= t.compact[i] == i && t.layer[i].count == 10 + i;
+    CHECK(ok);
+}
+
 int main(void)
 {
     LrTestLayer convoy[3] = {{2.0f, 0.0f, {6.0f, 0.0f}, 20.0f, 17.0f, 9.0f, 0.7f}, {4.0f, 0.0f, {6.0f, 0.0f}, 28.0f, 20.0f, 8.0f, 0.5f},
@@ -115,5 +140,6 @@ int main(void)
     check_exact_merge(pinhole, 3);
     check_rule();
     check_runs();
+    check_full_tile();
     CHECK_DONE();
 }

@@ -362,7 +362,7 @@ void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *st, LrTile *t)
      * the union of theirs, its filter made from them as any layer's. A layer is compared with
      * the merged layer in front of it, so a run's filter stays within the tolerances of
      * each layer it takes. */
-    int map[LR_MAX_LAYERS], kept = 0;
+    int map[LR_MAX_LAYERS + 1], kept = 0;
     for (int j = 0; j < t->layer_count; ++j) {
         if (kept > 0 && lr_layers_merge(cfg, &t->layer[kept - 1].filter, t->layer[kept - 1].cos_psi, t->layer[kept - 1].sin_psi,
                                         &t->layer[j].filter, t->layer[j].cos_psi, t->layer[j].sin_psi)) {

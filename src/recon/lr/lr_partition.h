@@ -183,7 +183,7 @@ typedef struct {
     float coc_bound_px[LR_MAX_COC_BOUNDS];
     int compact[LR_MAX_LAYERS + 1]; /* raw layer -> compact layer */
     int layer_count;                /* non-empty layers, front to back */
-    LrLayer layer[LR_MAX_LAYERS];
+    LrLayer layer[LR_MAX_LAYERS + 1]; /* one per raw layer id at most (the misses' included) */
 } LrTile;
 
 /* The tiles covering the reconstructed image (the image less cfg->inset_px on every side). */
