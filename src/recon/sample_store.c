@@ -31,17 +31,11 @@ _Static_assert(SAMPLE_FIELD_COUNT_ == 17 && SAMPLE_FIELD_SHADING == 1u << 12 && 
                    SAMPLE_FIELD_SHADING_DIRECT == 1u << 15 && SAMPLE_FIELD_SHADING_INDIRECT == 1u << 16,
                "sample_store_add writes field 1 << n at field[n]");
 
-/* 37 blocks of 128 bytes (two cache lines; 128-byte aligned, as an OpenCL CPU device wants a
- * buffer it uses in place): an odd count, so fields f and g (f != g < 32) start in different
- * sets of an L1 of 64 sets and of an L2 of up to 2048 (a multiple of 2 MB put them in one) */
-#define FIELD_STAGGER_BYTES ((size_t)37 * 128)
-
 struct SampleStore {
     unsigned fields;
     int width, height, capacity;
     int *count;                       /* per pixel */
     float *field[SAMPLE_FIELD_COUNT_];
-    void *block[SAMPLE_FIELD_COUNT_]; /* field[f]'s allocation (field[f] starts past its stagger) */
     long long dropped;                /* atomic */
 };
 
@@ -98,16 +92,11 @@ bool sample_store_create(unsigned fields, int width, int height, int capacity, s
     size_t pixels = (size_t)width * (size_t)height;
     bool ok = s && (s->count = zalloc(pixels, sizeof(int))) != NULL;
     for (int f = 0; ok && f < SAMPLE_FIELD_COUNT_; ++f)
-        if (fields & FIELDS[f].bit) {
+        if (fields & FIELDS[f].bit)
             /* written once a frame, sample by sample: in 2 MB pages where the machine has them to spare
-             * (huge_pages.h), one page fault per 2 MB instead of per 4 KB. Each field starts
-             * FIELD_STAGGER_BYTES * f past its 2 MB boundary: with every field on the boundary, a
-             * reader that walks one sample's fields (LR's gather) found them all in the same cache
-             * sets and evicted its own lines (LR's gather 3.5x slower at 4 spp, lr30) */
-            ok = (s->block[f] = huge_pages_alloc(FIELD_STAGGER_BYTES * (size_t)f + pixels * (size_t)capacity *
-                                                 (size_t)FIELDS[f].components * sizeof(float) + 1)) != NULL;
-            if (ok) s->field[f] = (float *)((char *)s->block[f] + FIELD_STAGGER_BYTES * (size_t)f);
-        }
+             * (huge_pages.h), one page fault per 2 MB instead of per 4 KB */
+            ok = (s->field[f] = huge_pages_alloc(pixels * (size_t)capacity * (size_t)FIELDS[f].components *
+                                                 sizeof(float) + 1)) != NULL;
     if (!ok) {
         sample_store_destroy(s);
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "out of memory for the per-sample store (%.2f GiB)",
@@ -126,7 +115,7 @@ void sample_store_destroy(SampleStore *s)
 {
     if (!s) return;
     free(s->count);
-    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f) free(s->block[f]);
+    for (int f = 0; f < SAMPLE_FIELD_COUNT_; ++f) free(s->field[f]);
     free(s);
 }
 
