@@ -45,6 +45,29 @@ static long free_huge_blocks_now(void)
     return huge_pages_free_blocks(text);
 }
 
+/* Advises the whole 2 MB pages inside [p, p + bytes) while the machine has free 2 MB blocks to
+ * spare for them (huge_pages.h). A refusal (EINVAL where the kernel has no transparent huge
+ * pages) leaves 4 KB pages: nothing to undo. */
+static void advise_whole_pages(void *p, size_t bytes)
+{
+#ifdef MADV_HUGEPAGE
+    uintptr_t first = ((uintptr_t)p + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
+    uintptr_t end = ((uintptr_t)p + bytes) & ~(uintptr_t)(HUGE_PAGE - 1);
+    size_t whole = end > first ? (end - first) / HUGE_PAGE : 0;
+    if (whole > 0 && free_huge_blocks_now() >= 2 * (long)whole + HUGE_PAGES_SPARE)
+        (void)madvise((void *)first, whole * HUGE_PAGE, MADV_HUGEPAGE);
+#else
+    (void)p, (void)bytes;
+#endif
+}
+
+void *huge_pages_malloc(size_t bytes)
+{
+    void *p = malloc(bytes ? bytes : 1);
+    if (p) advise_whole_pages(p, bytes);
+    return p;
+}
+
 void *huge_pages_alloc(size_t bytes)
 {
     if (bytes == 0) bytes = 1;
@@ -53,13 +76,6 @@ void *huge_pages_alloc(size_t bytes)
     /* aligned_alloc wants a multiple of the alignment: the rounding is address space only, the
      * tail past `bytes` is never touched */
     void *p = aligned_alloc(align, (bytes + align - 1) / align * align);
-#ifdef MADV_HUGEPAGE
-    /* the whole 2 MB pages inside [p, p + bytes) (p is 2 MB aligned here), while the machine has
-     * free 2 MB blocks to spare for them (huge_pages.h). A refusal (EINVAL where the kernel has no
-     * transparent huge pages) leaves 4 KB pages: nothing to undo */
-    size_t whole = bytes / HUGE_PAGE;
-    if (p && whole > 0 && free_huge_blocks_now() >= 2 * (long)whole + HUGE_PAGES_SPARE)
-        (void)madvise(p, whole * HUGE_PAGE, MADV_HUGEPAGE);
-#endif
+    if (p) advise_whole_pages(p, bytes); /* p is 2 MB aligned when bytes >= 2 MB */
     return p;
 }

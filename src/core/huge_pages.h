@@ -29,6 +29,13 @@
  * so an OpenCL CPU device can use it in place); NULL when out of memory. Free with free(). */
 void *huge_pages_alloc(size_t bytes);
 
+/* bytes (at least 1) from malloc, its start where malloc puts it, with the whole 2 MB pages inside
+ * advised as huge pages under the same guard; NULL when out of memory. Free with free(). For
+ * arrays read in step with others at the same index: a start on a 2 MB boundary made LR's
+ * gather over the per-sample store's fields 10-15% slower (docs/benchmarks.md, "The per-sample
+ * store in 2 MB pages"), malloc's start did not. */
+void *huge_pages_malloc(size_t bytes);
+
 /* The free 2 MB blocks in a /proc/buddyinfo text (each zone's free blocks of order 9 and above,
  * an order-k block counting 2^(k - 9)); -1 when the text has no zone line. */
 long huge_pages_free_blocks(const char *buddyinfo);

@@ -94,8 +94,9 @@ bool sample_store_create(unsigned fields, int width, int height, int capacity, s
     for (int f = 0; ok && f < SAMPLE_FIELD_COUNT_; ++f)
         if (fields & FIELDS[f].bit)
             /* written once a frame, sample by sample: in 2 MB pages where the machine has them to spare
-             * (huge_pages.h), one page fault per 2 MB instead of per 4 KB */
-            ok = (s->field[f] = huge_pages_alloc(pixels * (size_t)capacity * (size_t)FIELDS[f].components *
+             * (huge_pages.h), one page fault per 2 MB instead of per 4 KB; from malloc's start, not a
+             * 2 MB boundary (LR's gather reads the fields in step: huge_pages_malloc) */
+            ok = (s->field[f] = huge_pages_malloc(pixels * (size_t)capacity * (size_t)FIELDS[f].components *
                                                  sizeof(float) + 1)) != NULL;
     if (!ok) {
         sample_store_destroy(s);
