@@ -561,8 +561,10 @@ typedef struct {
  * and its shadow ray leaves the receiver along it (sky_shadow_rays); every other lane is
  * used alike. */
 typedef struct {
-    int light, count;
+    int light, count; /* light: the group's light, or for a mesh the first triangle of its run */
     bool sky;
+    bool mesh;             /* the triangles of one emitting mesh, lane k's in tri[k] */
+    int tri[WAVE_SAMPLES]; /* lane k's light */
     float p[3][WAVE_SAMPLES], ng[3][WAVE_SAMPLES], err[WAVE_SAMPLES], u[2][WAVE_SAMPLES];
     float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], pl[3][WAVE_SAMPLES], pdf[WAVE_SAMPLES];
     int ok[WAVE_SAMPLES];
@@ -1058,25 +1060,45 @@ static WEDGE_VECTORISED void delta_lanes_sum(int count, int lights, const WaveDe
     }
 }
 
-/* shadow_ray_to for the samples of a triangle light (normal n_light, offset err_light > 0)
- * in g: as point_shadow_rays, with the end pushed off the light's surface to the
+/* shadow_ray_to for lane k of g, a sample of a triangle light (normal n_light, offset
+ * err_light > 0): as point_shadow_rays, with the end pushed off the light's surface to the
  * receiver's side. */
+static inline __attribute__((always_inline)) void triangle_shadow_ray_lane(float nx, float ny, float nz, float err_light,
+                                                                           int k, WaveTriangleSamples *restrict g)
+{
+    float gx = g->ng[0][k], gy = g->ng[1][k], gz = g->ng[2][k];
+    float side = gx * g->wi[0][k] + gy * g->wi[1][k] + gz * g->wi[2][k] >= 0.0f ? g->err[k] : -g->err[k];
+    float ox = g->p[0][k] + gx * side, oy = g->p[1][k] + gy * side, oz = g->p[2][k] + gz * side;
+    float lx = g->pl[0][k], ly = g->pl[1][k], lz = g->pl[2][k];
+    float to_side = nx * (ox - lx) + ny * (oy - ly) + nz * (oz - lz) >= 0.0f ? 1.0f : -1.0f;
+    float push = to_side * err_light;
+    float dx = (lx + nx * push) - ox, dy = (ly + ny * push) - oy, dz = (lz + nz * push) - oz;
+    float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
+    g->o[0][k] = ox, g->o[1][k] = oy, g->o[2][k] = oz;
+    g->dir[0][k] = dx * inv, g->dir[1][k] = dy * inv, g->dir[2][k] = dz * inv;
+    g->len[k] = len;
+    g->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (g->dist[k] < INFINITY));
+}
+
+/* The shadow rays of every lane of g, one triangle light's samples. */
 static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light, WaveTriangleSamples *restrict g)
 {
-    float nx = n_light.x, ny = n_light.y, nz = n_light.z;
+    for (int k = 0; k < g->count; ++k) triangle_shadow_ray_lane(n_light.x, n_light.y, n_light.z, err_light, k, g);
+}
+
+/* The same for a mesh's lanes, each with its own triangle lights[g->tri[k]]; a lane whose
+ * triangle has no offset or no normal is left to shadow_ray_to (redo), as a single light's
+ * group is. */
+static void mesh_shadow_rays(const Light *lights, WaveTriangleSamples *restrict g)
+{
     for (int k = 0; k < g->count; ++k) {
-        float gx = g->ng[0][k], gy = g->ng[1][k], gz = g->ng[2][k];
-        float side = gx * g->wi[0][k] + gy * g->wi[1][k] + gz * g->wi[2][k] >= 0.0f ? g->err[k] : -g->err[k];
-        float ox = g->p[0][k] + gx * side, oy = g->p[1][k] + gy * side, oz = g->p[2][k] + gz * side;
-        float lx = g->pl[0][k], ly = g->pl[1][k], lz = g->pl[2][k];
-        float to_side = nx * (ox - lx) + ny * (oy - ly) + nz * (oz - lz) >= 0.0f ? 1.0f : -1.0f;
-        float push = to_side * err_light;
-        float dx = (lx + nx * push) - ox, dy = (ly + ny * push) - oy, dz = (lz + nz * push) - oz;
-        float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
-        g->o[0][k] = ox, g->o[1][k] = oy, g->o[2][k] = oz;
-        g->dir[0][k] = dx * inv, g->dir[1][k] = dy * inv, g->dir[2][k] = dz * inv;
-        g->len[k] = len;
-        g->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (g->dist[k] < INFINITY));
+        const Light *l = &lights[g->tri[k]];
+        if (l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f) {
+            triangle_shadow_ray_lane(l->tri_n.x, l->tri_n.y, l->tri_n.z, l->tri_err, k, g);
+        } else {
+            g->o[0][k] = g->o[1][k] = g->o[2][k] = g->dir[0][k] = g->dir[1][k] = g->dir[2][k] = g->len[k] = 0.0f;
+            g->redo[k] = 1;
+        }
     }
 }
 
@@ -1169,15 +1191,31 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         }
         /* a static triangle, or else a constant sky (the group's kind, below) */
         if (!static_triangle && !light_is_constant_sky(&L->lights[u->light_index])) continue;
+        /* the triangles of a large emitting mesh share a group (keyed by its run's first
+         * light), where they share what the group reads of its light (radiance, shadow mask):
+         * with each triangle a light of its own a mesh of hundreds scattered the wave's lanes
+         * over more groups than it keeps, and they took the scalar path. A mesh of a few
+         * triangles (a quad's two) keeps a group a triangle, whose loops take the triangle's
+         * vertices as constants (vectorised; the mesh's lanes load their own) */
+        int key = u->light_index;
+        bool mesh = false;
+        if (static_triangle) {
+            const LightChoice *c = &L->choice[u->light_index];
+            const Light *a = &L->lights[u->light_index], *b = &L->lights[c->mesh_first];
+            mesh = c->mesh_end - c->mesh_first > WAVE_TRIANGLE_GROUPS / 2 && a->L.x == b->L.x && a->L.y == b->L.y && a->L.z == b->L.z &&
+                   a->shadow_skip_mask == b->shadow_skip_mask;
+            if (mesh) key = c->mesh_first;
+        }
         int g = 0;
-        while (g < w->tri_groups && w->tri[g].light != u->light_index) ++g;
+        while (g < w->tri_groups && !(w->tri[g].light == key && w->tri[g].mesh == mesh)) ++g;
         if (g == w->tri_groups) {
             if (g == WAVE_TRIANGLE_GROUPS) continue;
-            w->tri[g].light = u->light_index, w->tri[g].count = 0, w->tri[g].sky = !static_triangle;
+            w->tri[g].light = key, w->tri[g].count = 0, w->tri[g].sky = !static_triangle, w->tri[g].mesh = mesh;
             ++w->tri_groups;
         }
         WaveTriangleSamples *t = &w->tri[g];
         int k = t->count++;
+        t->tri[k] = u->light_index;
         const SurfaceHit *h = &p->v.hit;
         t->p[0][k] = h->p.x, t->p[1][k] = h->p.y, t->p[2][k] = h->p.z;
         t->ng[0][k] = h->ng.x, t->ng[1][k] = h->ng.y, t->ng[2][k] = h->ng.z;
@@ -1211,6 +1249,13 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
             continue;
         }
         TriangleSampleBatch out = {{t->wi[0], t->wi[1], t->wi[2]}, t->dist, {t->pl[0], t->pl[1], t->pl[2]}, t->pdf, t->ok};
+        if (t->mesh) {
+            light_sample_triangles_batch(L->lights, t->tri, t->count, pos, uv, &out);
+            t->rays_ahead = true;
+            mesh_shadow_rays(L->lights, t);
+            lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), bsdf_mis, t);
+            continue;
+        }
         light_sample_triangle_batch(l, t->count, pos, uv, &out);
         t->rays_ahead = l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f;
         if (t->rays_ahead) {
@@ -1619,7 +1664,7 @@ WAVE_STAGE void wave_vertex_fold(const IntegratorScene *sc, Wave *w, int j, int 
             r->d_light_world = g ? g->dist[lane] : p->lp.ls.dist;
             r->d_occluder_world = occluded ? w->rec_hit[k].t : INFINITY;
             r->light_p_world = g ? v3(g->pl[0][lane], g->pl[1][lane], g->pl[2][lane]) : p->lp.ls.p_light;
-            r->light_index = g ? g->light : p->lp.light;
+            r->light_index = g ? g->tri[lane] : p->lp.light;
         } else {
             occluded = g ? g->occluded[lane] : w->occluded[p->shadow_ray];
         }

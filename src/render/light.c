@@ -562,8 +562,43 @@ bool light_is_static_triangle(const LightSet *set, const Tracer *tr, int li)
            l->area_world > 0.0f;
 }
 
-/* light_sample's static-triangle case and finish_area_sample, per coordinate (the same
- * operations in the same order), for GCC's vectoriser. */
+/* light_sample's static-triangle case and finish_area_sample for one receiver (px, py, pz)
+ * and position sample (u0, u1) on the triangle p0 + b1 e1 + b2 e2 (normal n, 1 / area
+ * pdf_area): the same operations in the same order, per coordinate and returned by value,
+ * so that the loops below vectorise. */
+typedef struct {
+    float wx, wy, wz, dist, lx, ly, lz, pdf;
+    int ok;
+} TriangleLane;
+
+static inline __attribute__((always_inline)) TriangleLane triangle_light_lane(vec3 p0, vec3 e1, vec3 e2, vec3 n,
+                                                                              float pdf_area, int two_sided, float px,
+                                                                              float py, float pz, float u0, float u1)
+{
+    float su = sqrtf(u0);
+    float b0 = 1.0f - su, b1 = u1 * su, b2 = 1.0f - b0 - b1; /* warp_triangle */
+    float qx = p0.x + (e1.x * b1 + e2.x * b2), qy = p0.y + (e1.y * b1 + e2.y * b2), qz = p0.z + (e1.z * b1 + e2.z * b2);
+    float dx = qx - px, dy = qy - py, dz = qz - pz;
+    float dist2 = dx * dx + dy * dy + dz * dz;
+    float dist = sqrtf(dist2), inv = 1.0f / dist;
+    float x = dx * inv, y = dy * inv, z = dz * inv;
+    float cos_l = -(n.x * x + n.y * y + n.z * z);
+    float pdf = pdf_area * dist2 / fabsf(cos_l);
+    int facing = two_sided | !(cos_l <= 0.0f);
+    int ok = (dist2 > 0.0f) & (pdf_area > 0.0f) & facing & !(fabsf(cos_l) < 1e-7f) & (fabsf(pdf) < INFINITY);
+    return (TriangleLane){x, y, z, dist, qx, qy, qz, pdf, ok};
+}
+
+static inline __attribute__((always_inline)) void triangle_lane_store(TriangleLane t, int k, float *restrict wx,
+                                                                      float *restrict wy, float *restrict wz,
+                                                                      float *restrict dist, float *restrict lx,
+                                                                      float *restrict ly, float *restrict lz,
+                                                                      float *restrict pdf, int *restrict ok)
+{
+    wx[k] = t.wx, wy[k] = t.wy, wz[k] = t.wz, dist[k] = t.dist;
+    lx[k] = t.lx, ly[k] = t.ly, lz[k] = t.lz, pdf[k] = t.pdf, ok[k] = t.ok;
+}
+
 static inline void triangle_light_loop(const Light *l, int count, const float *restrict px, const float *restrict py,
                                        const float *restrict pz, const float *restrict u0, const float *restrict u1,
                                        float *restrict wx, float *restrict wy, float *restrict wz,
@@ -574,19 +609,9 @@ static inline void triangle_light_loop(const Light *l, int count, const float *r
     float pdf_area = 1.0f / l->area_world;
     int two_sided = l->two_sided;
     for (int k = 0; k < count; ++k) {
-        float su = sqrtf(u0[k]);
-        float b0 = 1.0f - su, b1 = u1[k] * su, b2 = 1.0f - b0 - b1; /* warp_triangle */
-        float qx = p0.x + (e1.x * b1 + e2.x * b2), qy = p0.y + (e1.y * b1 + e2.y * b2), qz = p0.z + (e1.z * b1 + e2.z * b2);
-        float dx = qx - px[k], dy = qy - py[k], dz = qz - pz[k];
-        float dist2 = dx * dx + dy * dy + dz * dz;
-        float dist = sqrtf(dist2), inv = 1.0f / dist;
-        float x = dx * inv, y = dy * inv, z = dz * inv;
-        float cos_l = -(n.x * x + n.y * y + n.z * z);
-        float pdf = pdf_area * dist2 / fabsf(cos_l);
-        int facing = two_sided | !(cos_l <= 0.0f);
-        ok[k] = (dist2 > 0.0f) & (pdf_area > 0.0f) & facing & !(fabsf(cos_l) < 1e-7f) & (fabsf(pdf) < INFINITY);
-        wx[k] = x, wy[k] = y, wz[k] = z, dist_out[k] = dist;
-        lx[k] = qx, ly[k] = qy, lz[k] = qz, pdf_out[k] = pdf;
+        TriangleLane t = triangle_light_lane(p0, e1, e2, n, pdf_area, two_sided, px[k], py[k], pz[k], u0[k], u1[k]);
+        wx[k] = t.wx, wy[k] = t.wy, wz[k] = t.wz, dist_out[k] = t.dist;
+        lx[k] = t.lx, ly[k] = t.ly, lz[k] = t.lz, pdf_out[k] = t.pdf, ok[k] = t.ok;
     }
 }
 
@@ -601,6 +626,18 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
                                  const TriangleSampleBatch *out)
 {
     triangle_light_batch(l, count, p, u, out);
+}
+
+void light_sample_triangles_batch(const Light *lights, const int *tri, int count, const float *const p[3],
+                                  const float *const u[2], const TriangleSampleBatch *out)
+{
+    for (int k = 0; k < count; ++k) {
+        const Light *l = &lights[tri[k]];
+        TriangleLane t = triangle_light_lane(l->tri_p0, l->tri_e1, l->tri_e2, l->tri_n, 1.0f / l->area_world,
+                                             l->two_sided, p[0][k], p[1][k], p[2][k], u[0][k], u[1][k]);
+        triangle_lane_store(t, k, out->wi[0], out->wi[1], out->wi[2], out->dist, out->p_light[0], out->p_light[1],
+                            out->p_light[2], out->pdf, out->ok);
+    }
 }
 
 /* warp_uniform_sphere for a run of samples, as light_sample's constant sky takes it: z, r

@@ -164,6 +164,11 @@ typedef struct {
 } TriangleSampleBatch;
 void light_sample_triangle_batch(const Light *l, int count, const float *const p[3], const float *const u[2],
                                  const TriangleSampleBatch *out);
+/* light_sample_triangle_batch with each receiver's own static triangle light: lane k samples
+ * lights[tri[k]], bit for bit as light_sample (the lanes of one emitting mesh, whose
+ * triangles are separate lights). */
+void light_sample_triangles_batch(const Light *lights, const int *tri, int count, const float *const p[3],
+                                  const float *const u[2], const TriangleSampleBatch *out);
 /* light_sample of a constant infinite light (LIGHT_INFINITE without an image:
  * light_is_constant_sky) for count position samples u (u[0][k], u[1][k]): wi[.][k] is the
  * sample's direction (warp_uniform_sphere), bit for bit, the same for every such light; the
