@@ -1093,7 +1093,7 @@ static void mesh_shadow_rays(const Light *lights, WaveTriangleSamples *restrict 
 {
     for (int k = 0; k < g->count; ++k) {
         const Light *l = &lights[g->tri[k]];
-        if (l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f) {
+        if (light_triangle_rays_ahead(l)) {
             triangle_shadow_ray_lane(l->tri_n.x, l->tri_n.y, l->tri_n.z, l->tri_err, k, g);
         } else {
             g->o[0][k] = g->o[1][k] = g->o[2][k] = g->dir[0][k] = g->dir[1][k] = g->dir[2][k] = g->len[k] = 0.0f;
@@ -1201,9 +1201,7 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         bool mesh = false;
         if (static_triangle) {
             const LightChoice *c = &L->choice[u->light_index];
-            const Light *a = &L->lights[u->light_index], *b = &L->lights[c->mesh_first];
-            mesh = c->mesh_end - c->mesh_first > WAVE_TRIANGLE_GROUPS / 2 && a->L.x == b->L.x && a->L.y == b->L.y && a->L.z == b->L.z &&
-                   a->shadow_skip_mask == b->shadow_skip_mask;
+            mesh = c->mesh_end - c->mesh_first > WAVE_TRIANGLE_GROUPS / 2 && c->batches_with_run;
             if (mesh) key = c->mesh_first;
         }
         int g = 0;
@@ -1257,7 +1255,7 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
             continue;
         }
         light_sample_triangle_batch(l, t->count, pos, uv, &out);
-        t->rays_ahead = l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f;
+        t->rays_ahead = light_triangle_rays_ahead(l);
         if (t->rays_ahead) {
             triangle_shadow_rays(l->tri_n, l->tri_err, t);
             lambert_triangle_nee(l->L, !max_component_nonpositive(l->L), bsdf_mis, t);

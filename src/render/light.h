@@ -53,6 +53,9 @@ typedef struct {
     float pmf;
     int mesh_first, mesh_end;
     bool static_triangle;
+    /* a static triangle of a run whose radiance and shadow mask are its run's first light's:
+     * the wave batches it with the run's other triangles (wave_triangle_light_samples) */
+    bool batches_with_run;
 } LightChoice;
 
 typedef struct {
@@ -190,6 +193,9 @@ void light_sky_cosine_batch(int count, const float *const n[3], const int *lambe
                             int *ok);
 /* Whether light l is a constant infinite light (light_sample_sky_batch). */
 static inline bool light_is_constant_sky(const Light *l) { return l->kind == LIGHT_INFINITE && !l->env; }
+/* Whether the shadow rays of static triangle light l's samples can be made ahead (an offset and
+ * a normal to push their far end off the light; else shadow_ray_to makes them). */
+static inline bool light_triangle_rays_ahead(const Light *l) { return l->tri_err > 0.0f && v3_length2(l->tri_n) > 0.0f; }
 /* Whether light_sample of light l takes the static-triangle case (light_sample_triangle_batch). */
 bool light_is_static_triangle(const LightSet *set, const Tracer *tr, int l);
 /* The shadow-ray offset of a point or spot light's samples (LightSample.err_light). */
