@@ -141,7 +141,7 @@ static void check_scene(const char *what, bool moving)
              "AttributeEnd\n"
              "AttributeBegin\n  AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n  Translate -2 1.5 0\n  Shape \"sphere\" \"float radius\" [ 0.2 ]\nAttributeEnd\n");
     append_mesh_light(s, CAP, 12, false, moving);
-    append_mesh_light(s, CAP, 9, true, false);
+    append_mesh_light(s, CAP, 13, true, false); /* 196 vertices: past EXTENT_PLAIN_MAX, the tree's path */
     SceneDesc scene;
     Diag d = {0};
     bool parsed = scene_parse_string(s, strlen(s), "<test>", NULL, &scene, &d);
@@ -159,7 +159,7 @@ static void check_scene(const char *what, bool moving)
     Renderer *r = NULL;
     CHECK(renderer_create(&scene, &ro, &r, &d));
     int count = r ? renderer_light_count(r) : 0;
-    CHECK(count == 2 + 2 + 1 + 2 * 144 + 2 * 81);
+    CHECK(count == 2 + 2 + 1 + 2 * 144 + 2 * 169);
     AafLightGeom *geoms = calloc((size_t)count, sizeof *geoms);
     MaafLight *fast = calloc((size_t)count, sizeof *fast), *direct = calloc((size_t)count, sizeof *direct);
     aaf_lights_from_renderer(r, geoms, count);

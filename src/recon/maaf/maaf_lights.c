@@ -10,13 +10,17 @@
 #include "recon/maaf/maaf_lights.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "recon/maaf/maaf_filter.h"
 #include "recon/maaf/maaf_light_sweep.h"
+#include "recon/maaf/maaf_vertex_extent.h"
 
-enum { EXTENT_CACHE = 8 };
+/* EXTENT_PLAIN_MAX: a shape of at most this many distinct vertices projects them all (the clusters
+ * pay from a few hundred) */
+enum { EXTENT_CACHE = 8, EXTENT_PLAIN_MAX = 128 };
 
 /* What the lights of one emitter shape have in common, gathered in light order. */
 typedef struct {
@@ -26,6 +30,7 @@ typedef struct {
     int design_from;     /* the last light given a y-design (-1: none yet) */
     float (*verts)[3];   /* the distinct vertices of its triangle lights (NULL: none, or out of memory) */
     int vert_count;
+    MaafVertexExtent *vert_extent; /* the same, clustered (NULL: few vertices, or out of memory) */
     /* extents already projected, by the normal that set their axes: a planar mesh's triangles'
      * normals, each from its own edges, differ in the last bits, and take a few values */
     int extents, extent_next;
@@ -81,6 +86,7 @@ static ShapeSummary *summarise_shapes(const RenderLightInfo *info, int count)
             if (kept == 0 || memcmp(s[k].verts[v], s[k].verts[kept - 1], sizeof *s[k].verts) != 0)
                 memcpy(s[k].verts[kept++], s[k].verts[v], sizeof *s[k].verts);
         s[k].vert_count = kept;
+        if (kept > EXTENT_PLAIN_MAX) s[k].vert_extent = maaf_vertex_extent_create((const float(*)[3])s[k].verts, kept);
     }
     return s;
 }
@@ -91,27 +97,8 @@ static void free_summaries(ShapeSummary *s, const RenderLightInfo *info, int cou
     int top = -1;
     for (int l = 0; l < count; ++l)
         if (is_area(&info[l]) && info[l].shape > top) top = info[l].shape;
-    for (int k = 0; k <= top; ++k) free(s[k].verts);
+    for (int k = 0; k <= top; ++k) free(s[k].verts), maaf_vertex_extent_destroy(s[k].vert_extent);
     free(s);
-}
-
-/* Widens [lo, hi] to take x (as fminf / fmaxf: a NaN is passed over), inline so the loop vectorises. */
-static void widen(float x, float *lo, float *hi)
-{
-    *lo = x < *lo ? x : *lo;
-    *hi = x > *hi ? x : *hi;
-}
-
-/* The extent along t1, t2 from the centre of the vertices verts[0..n). */
-static void project_extent(const float (*verts)[3], int n, MaafLight *ml)
-{
-    ml->lo[0] = ml->lo[1] = INFINITY;
-    ml->hi[0] = ml->hi[1] = -INFINITY;
-    for (int v = 0; v < n; ++v) {
-        float d[3] = {verts[v][0] - ml->center[0], verts[v][1] - ml->center[1], verts[v][2] - ml->center[2]};
-        widen(dot3(d, ml->t1), &ml->lo[0], &ml->hi[0]);
-        widen(dot3(d, ml->t2), &ml->lo[1], &ml->hi[1]);
-    }
 }
 
 /* A planar triangle's axes, along its shape's first triangle's first edge (every triangle of the
@@ -139,10 +126,13 @@ static void triangle_axes(const RenderLightInfo *info, const float n[3], ShapeSu
     if (!h || !h->verts) { /* a triangle of no shape: its own vertices */
         float own[3][3];
         for (int v = 0; v < 3; ++v) own[v][0] = info[l].tri_world[v].x, own[v][1] = info[l].tri_world[v].y, own[v][2] = info[l].tri_world[v].z;
-        project_extent((const float(*)[3])own, 3, ml);
+        maaf_vertex_extent_plain((const float(*)[3])own, 3, ml->center, ml->t1, ml->t2, ml->lo, ml->hi);
         return;
     }
-    project_extent((const float(*)[3])h->verts, h->vert_count, ml);
+    if (h->vert_extent)
+        maaf_vertex_extent_along(h->vert_extent, ml->center, ml->t1, ml->t2, ml->lo, ml->hi);
+    else
+        maaf_vertex_extent_plain((const float(*)[3])h->verts, h->vert_count, ml->center, ml->t1, ml->t2, ml->lo, ml->hi);
     int k = h->extent_next;
     h->extent_next = (k + 1) % EXTENT_CACHE;
     if (h->extents < EXTENT_CACHE) ++h->extents;
@@ -167,6 +157,62 @@ static bool copy_shape_sweep(const ShapeSummary *h, const MaafLight *lights, Maa
     return true;
 }
 
+/* The lights given a y-design of their own, found by what the design depends on (its band and
+ * extents, maaf_light_design_copy's comparisons), so that a light finds an earlier one with the
+ * same design without comparing itself with every earlier light: a curved mesh light's triangles
+ * each have extents of their own, and that search was quadratic in them (10,000 triangles: 5e7
+ * comparisons, most of the table's time). Open addressing, -1 empty; any earlier light with the
+ * same design gives the same table, so the first one found is the one the search found. */
+typedef struct {
+    int *slot;
+    size_t mask;
+} DesignIndex;
+
+static uint64_t mix_bits(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull; /* FNV-1a */
+    return h;
+}
+
+static uint64_t design_hash(float omega_y_max, const MaafLight *l)
+{
+    /* + 0.0f: -0 and +0 compare equal in maaf_light_design_copy, so they must hash alike */
+    float key[5] = {omega_y_max + 0.0f, l->lo[0] + 0.0f, l->hi[0] + 0.0f, l->lo[1] + 0.0f, l->hi[1] + 0.0f};
+    uint64_t h = mix_bits(14695981039346656037ull, key, sizeof key);
+    h = mix_bits(h, &l->sweep_nodes, sizeof l->sweep_nodes);
+    if (l->sweep_nodes) h = mix_bits(mix_bits(h, l->sweep_lo, sizeof l->sweep_lo), l->sweep_hi, sizeof l->sweep_hi);
+    return h;
+}
+
+static void design_index_init(DesignIndex *x, int count)
+{
+    size_t cap = 16;
+    while (cap < 2 * (size_t)(count > 0 ? count : 1)) cap *= 2;
+    x->slot = malloc(cap * sizeof *x->slot);
+    x->mask = cap - 1;
+    if (x->slot)
+        for (size_t i = 0; i < cap; ++i) x->slot[i] = -1;
+}
+
+/* Copies into ml the design of an indexed light with ml's band and extents; false when none. */
+static bool design_index_copy(const DesignIndex *x, const MaafLight *lights, float sigma, MaafLight *ml)
+{
+    float wy = sigma > 0.0f && isfinite(sigma) ? 2.0f / sigma : 0.0f;
+    if (!x->slot || !(wy > 0.0f)) return false;
+    for (size_t i = design_hash(wy, ml) & x->mask; x->slot[i] >= 0; i = (i + 1) & x->mask)
+        if (maaf_light_design_copy(&lights[x->slot[i]], sigma, ml)) return true;
+    return false;
+}
+
+static void design_index_add(DesignIndex *x, const MaafLight *ml, int l)
+{
+    if (!x->slot || !(ml->omega_y_max > 0.0f)) return;
+    size_t i = design_hash(ml->omega_y_max, ml) & x->mask;
+    while (x->slot[i] >= 0) i = (i + 1) & x->mask;
+    x->slot[i] = l;
+}
+
 void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa,
                                MaafLight *lights)
 {
@@ -175,6 +221,8 @@ void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
     for (int l = 0; l < count; ++l)
         if (!renderer_light_info(r, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
     ShapeSummary *summary = summarise_shapes(info, count);
+    DesignIndex designs;
+    design_index_init(&designs, count); /* out of memory (no slots): every light designs its own */
     for (int l = 0; l < count; ++l) {
         MaafLight *ml = &lights[l];
         memset(ml, 0, sizeof *ml);
@@ -213,10 +261,14 @@ void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
          * it: the shape's last first, then the rest in order) */
         float sigma = geoms[l].sigma_world / kappa;
         bool copied = h && h->design_from >= 0 && maaf_light_design_copy(&lights[h->design_from], sigma, ml);
-        for (int k = 0; k < l && !copied; ++k) copied = maaf_light_design_copy(&lights[k], sigma, ml);
-        if (!copied) maaf_light_design(sigma, pairs, ml);
+        if (!copied) copied = design_index_copy(&designs, lights, sigma, ml);
+        if (!copied) {
+            maaf_light_design(sigma, pairs, ml);
+            design_index_add(&designs, ml, l);
+        }
         if (h) h->design_from = l;
     }
     free_summaries(summary, info, count);
+    free(designs.slot);
     free(info);
 }

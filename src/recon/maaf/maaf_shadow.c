@@ -6,31 +6,44 @@
 
 #define INV_SQRT_2PI 0.39894228f
 
-/* int_{a}^{b} exp(j C_p t) g(t; s) dt for the bands p < pairs by Simpson's rule (the integrand is
- * smooth: a Gaussian of std 1/s times an oscillation of period 2 pi / C, both wider than the
- * step). The bands share s (eq. 6: Omega_y_max / (2N - 1) for every band), so the Gaussian is
- * one exp per step for all of them, and the central band (C t = +-0) takes no cosine or sine:
- * they give exactly 1 and C t there. Each band's sum gets the same terms in the same order as
- * one integral per band did. */
-static void window_integrals(double a, double b, const float *C, double s, int pairs, double out[][2])
+/* One axis' table c_p(y_e), e < MAAF_YTABLE, y_e = lo + (hi - lo) e / (MAAF_YTABLE - 1), of
+ *     c_p(y) = int_{lo - y}^{hi - y} exp(j C_p t) g(t; s) dt
+ * for the bands p < pairs by Simpson's rule with 2 (MAAF_YTABLE - 1) steps over each window (the
+ * integrand is smooth: a Gaussian of std 1/s times an oscillation of period 2 pi / C, both wider
+ * than a step). Every window is the light's width w long and starts at a multiple of
+ * w / (MAAF_YTABLE - 1), so the Simpson panels of all the windows are the same panels of one grid
+ * over [-w, w]: each panel is integrated once, and a window is the difference of two running sums
+ * of them (the same weights as each window's own Simpson sum; only the order of the additions
+ * differs). This is 2 (2 MAAF_YTABLE - 1) integrand values an axis instead of MAAF_YTABLE windows
+ * of 2 MAAF_YTABLE - 1: a mesh light of thousands of triangles, each with its own extents, designed
+ * each one's table in a millisecond. The bands share s (eq. 6: Omega_y_max / (2N - 1) for every
+ * band), so the Gaussian is one exp per node for all of them, and the central band (C t = +-0)
+ * takes no cosine or sine: they give exactly 1 and C t there. */
+static void window_table(double lo, double hi, const float *C, double s, int pairs, float table[][MAAF_YTABLE][2])
 {
-    enum { STEPS = 256 };
-    double h = (b - a) / STEPS, re[MAAF_PAIRS_MAX], im[MAAF_PAIRS_MAX];
-    for (int p = 0; p < pairs; ++p) re[p] = im[p] = 0.0;
-    for (int k = 0; k <= STEPS; ++k) {
-        double t = a + k * h, wk = (k == 0 || k == STEPS) ? 1.0 : (k & 1) ? 4.0 : 2.0;
-        double g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
+    enum { PANELS = MAAF_YTABLE - 1, NODES = 4 * PANELS + 1 }; /* panels of the window; nodes over [-w, w] */
+    double w = hi - lo, h = w / (2 * PANELS);                  /* Simpson's step */
+    double f[NODES][MAAF_PAIRS_MAX][2];                          /* the integrand at node j: t = (j - 2 PANELS) h */
+    for (int j = 0; j < NODES; ++j) {
+        double t = (j - 2 * PANELS) * h, g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
         for (int p = 0; p < pairs; ++p) {
             double x = C[p] * t;
             bool zero = x == 0.0;
-            re[p] += wk * g * (zero ? 1.0 : cos(x));
-            im[p] += wk * g * (zero ? x : sin(x));
+            f[j][p][0] = g * (zero ? 1.0 : cos(x));
+            f[j][p][1] = g * (zero ? x : sin(x));
         }
     }
-    for (int p = 0; p < pairs; ++p) {
-        out[p][0] = re[p] * h / 3.0;
-        out[p][1] = im[p] * h / 3.0;
-    }
+    /* run[m]: the panels [0, m) of the 2 PANELS over [-w, w] (panel m spans nodes 2m .. 2m + 2) */
+    double run[2 * PANELS + 1][MAAF_PAIRS_MAX][2];
+    for (int p = 0; p < pairs; ++p) run[0][p][0] = run[0][p][1] = 0.0;
+    for (int m = 0; m < 2 * PANELS; ++m)
+        for (int p = 0; p < pairs; ++p)
+            for (int k = 0; k < 2; ++k)
+                run[m + 1][p][k] = run[m][p][k] + (f[2 * m][p][k] + 4.0 * f[2 * m + 1][p][k] + f[2 * m + 2][p][k]) * h / 3.0;
+    /* window e spans t in [-w e / PANELS, w (PANELS - e) / PANELS]: panels PANELS - e .. 2 PANELS - e */
+    for (int e = 0; e < MAAF_YTABLE; ++e)
+        for (int p = 0; p < pairs; ++p)
+            for (int k = 0; k < 2; ++k) table[p][e][k] = (float)(run[2 * PANELS - e][p][k] - run[PANELS - e][p][k]);
 }
 
 /* A swept light's mean c_p: the expectation over its samples, whose density along an axis is
@@ -77,15 +90,7 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
             for (int p = 0; p < pairs; ++p) memcpy(l->table[1][p], l->table[0][p], sizeof l->table[0][p]);
             continue;
         }
-        for (int e = 0; e < MAAF_YTABLE; ++e) {
-            /* c_p(y) = int_{lo - y}^{hi - y} exp(j C t) g(t) dt, t = y' - y */
-            double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0), c[MAAF_PAIRS_MAX][2];
-            window_integrals(l->lo[a] - y, l->hi[a] - y, l->cy, l->sy[0], pairs, c);
-            for (int p = 0; p < pairs; ++p) {
-                l->table[a][p][e][0] = (float)c[p][0];
-                l->table[a][p][e][1] = (float)c[p][1];
-            }
-        }
+        window_table(l->lo[a], l->hi[a], l->cy, l->sy[0], pairs, l->table[a]);
     }
     if (l->sweep_nodes > 0) {
         swept_means(pairs, l);
