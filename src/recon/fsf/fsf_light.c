@@ -84,6 +84,9 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     for (int l = 0; l < count; ++l) {
         RenderLightInfo b;
         if (!renderer_light_info(r, l, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.shape < -1) continue;
+        /* a degenerate triangle (a latitude-longitude sphere's poles have rings of them) emits
+         * nothing and has no normal to set the axes */
+        if (!(b.area_world > 0.0f) || !(v3_length2(b.normal_world) > 0.5f)) continue;
         power[b.shape + 1] += v3_luminance(b.radiance) * b.area_world;
         if (first_of[b.shape + 1] < 0) first_of[b.shape + 1] = l;
     }
@@ -107,7 +110,8 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     float area = 0.0f;
     for (int m = 0; m < count; ++m) {
         RenderLightInfo b;
-        if (!renderer_light_info(r, m, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.shape != first.shape)
+        if (!renderer_light_info(r, m, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.shape != first.shape ||
+            !(b.area_world > 0.0f))
             continue;
         c = v3_madd(c, b.center_world, b.area_world);
         area += b.area_world;
