@@ -4,7 +4,9 @@
  * at the sweep's nodes, each pose a mesh of its own): at receivers under the
  * mesh (the boundary's), on a wall whose horizon cuts the mesh (its triangles one by one),
  * behind the one-sided mesh (nothing from it), with a second quad light of another shape and a
- * sphere light (the share's small source) in the scene. */
+ * sphere light (the share's small source) in the scene. The same mesh sagging into a curve
+ * (a trough across it) is summed through its facing parts (emitter_facing.h) instead, against
+ * the same direct sum. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,7 +27,7 @@ static float uniform(void)
     return (float)((g_rng >> 8) * (1.0 / 16777216.0));
 }
 
-static char *scene_text(bool moving)
+static char *scene_text(bool moving, bool curved)
 {
     size_t cap = 1 << 18, at = 0;
     char *s = malloc(cap);
@@ -47,7 +49,8 @@ static char *scene_text(bool moving)
     for (int j = 0; j <= GRID; ++j)
         for (int i = 0; i <= GRID; ++i) {
             double u = (double)i / GRID, v = (double)j / GRID;
-            at += (size_t)snprintf(s + at, cap - at, " %.9g %.9g %.9g", -1.0 + 1.6 * u, 2.0 + 0.3 * u - 0.1 * v, -0.8 + 1.6 * v);
+            double sag = curved ? 0.3 * sin(M_PI * u) : 0.0;
+            at += (size_t)snprintf(s + at, cap - at, " %.9g %.9g %.9g", -1.0 + 1.6 * u, 2.0 + 0.3 * u - 0.1 * v - sag, -0.8 + 1.6 * v);
         }
     at += (size_t)snprintf(s + at, cap - at, " ] \"integer indices\" [");
     for (int j = 0; j < GRID; ++j)
@@ -93,9 +96,9 @@ static void direct(const Renderer *r, int shape, const float p4[4], const float 
     *share = all > 0.0 ? fmin(own / all, 1.0) : 0.0;
 }
 
-static void check_scene(bool moving)
+static void check_scene(bool moving, bool curved)
 {
-    char *text = scene_text(moving);
+    char *text = scene_text(moving, curved);
     SceneDesc scene;
     Diag d = {0};
     bool parsed = scene_parse_string(text, strlen(text), "<test>", NULL, &scene, &d);
@@ -147,8 +150,8 @@ static void check_scene(bool moving)
         worst_share = fmax(worst_share, fabs(share[i] - want_share));
         lit[i % 3] += want_share > 0.5;
     }
-    printf("%s mesh, %d receivers: worst relative irradiance difference %.2e, worst share difference %.2e; mostly lit by the mesh: "
-           "%d floor, %d wall, %d behind\n", moving ? "moving" : "static", PIXELS, worst_irr, worst_share, lit[0], lit[1], lit[2]);
+    printf("%s%s mesh, %d receivers: worst relative irradiance difference %.2e, worst share difference %.2e; mostly lit by the mesh: "
+           "%d floor, %d wall, %d behind\n", moving ? "moving" : "static", curved ? " curved" : "", PIXELS, worst_irr, worst_share, lit[0], lit[1], lit[2]);
     CHECK(worst_irr < 2e-6);   /* float outputs of double sums that differ in rounding only */
     CHECK(worst_share < 2e-6);
     CHECK(lit[0] > 150 && lit[1] > 50 && lit[2] == 0); /* the three kinds of receiver were what they are meant to be */
@@ -161,7 +164,9 @@ static void check_scene(bool moving)
 
 int main(void)
 {
-    check_scene(false);
-    check_scene(true);
+    check_scene(false, false);
+    check_scene(true, false);
+    check_scene(false, true);
+    check_scene(true, true);
     return check_failures ? 1 : 0;
 }

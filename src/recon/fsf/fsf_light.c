@@ -7,6 +7,7 @@
 
 #include "recon/aaf/aaf_light_sweep.h"
 #include "recon/emitter_boundary.h"
+#include "recon/emitter_facing.h"
 #include "recon/moving_lights.h"
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
@@ -188,6 +189,15 @@ typedef struct {
      * to group group_of[l] (-1: none), whose lights are first[g], next[first[g]], ... (-1 ends) */
     const int *group_of, *group_first, *group_next;
     EmitterBoundary *const *groups;
+    /* curved mesh emitters summed through their facing parts (emitter_facing.h): group g's when
+     * facing[g] is set (groups[g] NULL) */
+    EmitterFacing *const *facing;
+    int *const *facing_member; /* group g's lights in the order its EmitterFacing has its triangles */
+    int group_count;
+    /* the lights a pixel visits: each group's first and every light in none, in light order
+     * (NULL: all); a mesh of 40,000 triangles otherwise costs each pixel 40,000 skips */
+    const int *lead;
+    int lead_count;
 } ShadeJob;
 
 /* Light l's info, from the job's table when it has one: renderer_light_info per pixel and light
@@ -245,6 +255,28 @@ static double triangle_light_phi(const ShadeJob *j, SharedTrianglesAt *at, int l
     return (double)v3_luminance(b->radiance) * tri_phi;
 }
 
+/* A curved group's triangle that emitter_facing_phi sums alone, by the per-triangle rule
+ * (triangle_light_phi's, without the luminance the group's sum takes): t indexes the group's
+ * lights as emitter_facing_create was given them. */
+typedef struct {
+    const ShadeJob *j;
+    SharedTrianglesAt *at;
+    const int *member; /* the group's lights, in the order its triangles were given */
+    vec3 pv;
+    const double *p, *nr;
+} FacingAlone;
+
+static double facing_alone(void *ctx, int t)
+{
+    const FacingAlone *c = ctx;
+    RenderLightInfo b;
+    int l = c->member[t];
+    if (!light_at(c->j, l, &b) || culled(&b, c->pv)) return 0.0;
+    double v[3][3];
+    for (int k = 0; k < 3; ++k) v[k][0] = b.tri_world[k].x, v[k][1] = b.tri_world[k].y, v[k][2] = b.tri_world[k].z;
+    return c->at ? shared_triangles_phi(c->j->tris, c->at, c->j->tri_of[l]) : polygon_projected_solid_angle(c->p, c->nr, v, 3);
+}
+
 /* Both sums over the emitters at once: every triangle's projected solid angle (the cost: an
  * atan2 per edge) is computed once for the irradiance and the share, each summed in the
  * emitters' order as alone. */
@@ -254,6 +286,8 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
     const ShadeJob *j = ctx;
     int count = j->count;
     SharedTrianglesAt *at = j->tris ? shared_triangles_at_create(j->tris) : NULL;
+    /* this range's receiver values for each curved group, made when a pixel first needs them */
+    EmitterFacingAt **facing_at = j->facing ? calloc((size_t)j->group_count, sizeof *facing_at) : NULL;
     for (size_t i = begin; i < end; ++i) {
         if (j->before && same_inputs(j, i)) continue; /* both outputs hold this pixel's sums */
         if (j->irradiance) j->irradiance[i] = 0.0f;
@@ -264,7 +298,8 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         vec3 pv = v3((float)p[0], (float)p[1], (float)p[2]), nv = v3((float)nr[0], (float)nr[1], (float)nr[2]);
         double irr = 0.0, sum = 0.0, own = 0.0;
         if (at) shared_triangles_receiver(at, p, nr);
-        for (int l = 0; l < count; ++l) {
+        for (int m = 0; m < (j->lead ? j->lead_count : count); ++m) {
+            int l = j->lead ? j->lead[m] : m;
             int g = j->group_of ? j->group_of[l] : -1;
             if (g >= 0 && l != j->group_first[g]) continue; /* summed with its group's first light */
             RenderLightInfo b;
@@ -274,8 +309,20 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
                 continue;
             }
             double phi, group_phi;
+            EmitterFacingAt *fat = NULL;
+            if (g >= 0 && facing_at && j->facing[g] && !facing_at[g]) facing_at[g] = emitter_facing_at_create(j->facing[g]);
+            if (g >= 0 && facing_at && j->facing[g]) fat = facing_at[g];
             if (g < 0) {
                 phi = triangle_light_phi(j, at, l, &b, pv, p, nr);
+            } else if (fat) {
+                FacingAlone alone = {j, at, j->facing_member[g], pv, p, nr};
+                phi = (double)v3_luminance(b.radiance) * emitter_facing_phi(j->facing[g], fat, p, nr, facing_alone, &alone);
+            } else if (!j->groups[g]) { /* a curved group, out of memory for its receiver values */
+                phi = 0.0;
+                for (int k = l; k >= 0; k = j->group_next[k]) {
+                    RenderLightInfo bk;
+                    if (light_at(j, k, &bk)) phi += triangle_light_phi(j, at, k, &bk, pv, p, nr);
+                }
             } else if (culled(&b, pv)) {
                 /* behind the plane of the one-sided mesh, or in it (where each triangle's projected
                  * solid angle is 0 too): its triangles differ from b's test by rounding alone */
@@ -296,15 +343,22 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         double frac = sum > 0.0 ? fmin(own / sum, 1.0) : 0.0;
         if (j->share) j->share[i] = isfinite(frac) ? (float)frac : 0.0f;
     }
+    for (int g = 0; facing_at && g < j->group_count; ++g) emitter_facing_at_destroy(facing_at[g]);
+    free(facing_at);
     shared_triangles_at_destroy(at);
 }
 
-/* The planar mesh emitters among the entries info[0..count): one group a shape and pose (node_of:
- * the entry's sweep node, -1 static) whose triangles share their radiance and sidedness and form
- * a surface emitter_boundary_create accepts. */
+/* The mesh emitters among the entries info[0..count): one group a shape and pose (node_of: the
+ * entry's sweep node, -1 static) whose triangles share their radiance and sidedness, summed through
+ * its boundary when it is a surface emitter_boundary_create accepts (planar), else, from
+ * FACING_MIN_TRIANGLES triangles, through its facing parts (emitter_facing.h; fewer are as cheap one
+ * by one). */
+#define FACING_MIN_TRIANGLES 32
 typedef struct {
     int count;
     EmitterBoundary **boundary;
+    EmitterFacing **facing;
+    int **member; /* a curved group's lights, in the order its triangles were given (else NULL) */
     int *group_of, *first, *next;
 } BoundaryGroups;
 
@@ -333,8 +387,9 @@ static bool same_group(const GroupKey *x, const GroupKey *y)
 
 static void boundary_groups_free(BoundaryGroups *bg)
 {
-    for (int g = 0; g < bg->count; ++g) emitter_boundary_destroy(bg->boundary[g]);
-    free(bg->boundary), free(bg->group_of), free(bg->first), free(bg->next);
+    for (int g = 0; g < bg->count; ++g)
+        emitter_boundary_destroy(bg->boundary[g]), emitter_facing_destroy(bg->facing[g]), free(bg->member[g]);
+    free(bg->boundary), free(bg->facing), free(bg->member), free(bg->group_of), free(bg->first), free(bg->next);
     *bg = (BoundaryGroups){0};
 }
 
@@ -348,7 +403,8 @@ static bool boundary_groups_find(const RenderLightInfo *info, const bool *ok, co
     double(*tri)[3][3] = malloc(n * sizeof *tri);
     bg->group_of = malloc(n * sizeof *bg->group_of), bg->next = malloc(n * sizeof *bg->next);
     bg->first = malloc(n * sizeof *bg->first), bg->boundary = malloc(n * sizeof *bg->boundary);
-    if (!key || !tri || !bg->group_of || !bg->next || !bg->first || !bg->boundary) {
+    bg->facing = malloc(n * sizeof *bg->facing), bg->member = malloc(n * sizeof *bg->member);
+    if (!key || !tri || !bg->group_of || !bg->next || !bg->first || !bg->boundary || !bg->facing || !bg->member) {
         free(key), free(tri);
         boundary_groups_free(bg);
         return false;
@@ -371,8 +427,16 @@ static bool boundary_groups_find(const RenderLightInfo *info, const bool *ok, co
                 tri[m - q][v][0] = w->x, tri[m - q][v][1] = w->y, tri[m - q][v][2] = w->z;
             }
         EmitterBoundary *boundary = r - q >= 2 ? emitter_boundary_create(r - q, (const double(*)[3][3])tri) : NULL;
-        if (boundary) { /* entries in increasing order: the first is the group's first in the sum */
+        EmitterFacing *facing = !boundary && r - q >= FACING_MIN_TRIANGLES
+                                    ? emitter_facing_create(r - q, (const double(*)[3][3])tri, key[q].two_sided)
+                                    : NULL;
+        int *member = facing ? malloc((size_t)(r - q) * sizeof *member) : NULL;
+        if (facing && !member) emitter_facing_destroy(facing), facing = NULL;
+        for (int m = q; member && m < r; ++m) member[m - q] = key[m].entry;
+        if (boundary || facing) { /* entries in increasing order: the first is the group's first in the sum */
             bg->boundary[bg->count] = boundary;
+            bg->facing[bg->count] = facing;
+            bg->member[bg->count] = member;
             bg->first[bg->count] = key[q].entry;
             for (int m = q; m < r; ++m) {
                 bg->group_of[key[m].entry] = bg->count;
@@ -437,8 +501,15 @@ static void shade_all(ShadeJob *j, int n)
     BoundaryGroups bg = {0};
     if (j->info && boundary_groups_find(info, ok, node_of, j->count, &bg))
         j->group_of = bg.group_of, j->group_first = bg.first, j->group_next = bg.next,
-        j->groups = (EmitterBoundary *const *)bg.boundary;
+        j->groups = (EmitterBoundary *const *)bg.boundary, j->facing = (EmitterFacing *const *)bg.facing,
+        j->facing_member = (int *const *)bg.member,
+        j->group_count = bg.count;
+    int *lead = j->group_of ? malloc((size_t)(j->count > 0 ? j->count : 1) * sizeof *lead) : NULL;
+    for (int l = 0; lead && l < j->count; ++l)
+        if (j->group_of[l] < 0 || l == j->group_first[j->group_of[l]]) lead[j->lead_count++] = l;
+    j->lead = lead;
     recon_parallel_for((size_t)n, shade_range, j);
+    free(lead);
     boundary_groups_free(&bg);
     shared_triangles_destroy(shared);
     free(info), free(ok), free(tri_of), free(tri), free(node_of);

@@ -1,0 +1,441 @@
+/* A curved mesh emitter's projected solid angle through its facing parts' boundaries (see
+ * emitter_facing.h). */
+#include "recon/emitter_facing.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "recon/polygon_irradiance.h"
+#include "recon/vertex_weld.h"
+
+enum { LEAF = 4, STACK = 64 }; /* triangles a leaf; the traversal's stack (two entries a level) */
+
+/* Margins: a node is taken whole only when its sphere clears the horizon by this share of its
+ * distance and size, and its facing by this angle (radians), far above the rounding of the tests. */
+#define HORIZON_MARGIN_REL 1e-9
+#define FACING_MARGIN_RAD 1e-7
+
+typedef struct {
+    double c[3], r;      /* bounding sphere of its triangles' vertices (r infinite: unknown) */
+    double axis[3];      /* the cone of its triangles' unit normals: within alpha of axis */
+    double alpha;        /* radians; >= pi / 2: no cone (or a degenerate triangle inside) */
+    double sin_a, cos_a; /* of alpha plus FACING_MARGIN_RAD */
+    int begin, end;      /* its triangles (sorted order) */
+    int ebegin, eend;    /* its boundary edges: bedge[ebegin .. eend) */
+} Node;
+
+struct EmitterFacing {
+    int tris, verts, edges, leaves;
+    bool two_sided;
+    double (*pos)[3];    /* per vertex */
+    double (*tri)[3][3]; /* per sorted triangle: its corners */
+    int (*vert)[3];      /* its vertices */
+    int (*edge)[3];      /* its undirected edge from corner k to k + 1 */
+    double (*nrm)[3];    /* its unit normal (0: no area) */
+    double *size;        /* its longest edge */
+    int *orig;           /* its index in the triangles create was given */
+    Node *node;          /* node k (1-based) has children 2k, 2k + 1; leaf j is node leaves + j */
+    int *bedge;          /* 3 t + k: sorted triangle t's edge from corner k to k + 1 */
+    int (*twin)[3];      /* the sorted triangle across each edge, wound the other way (-1: none) */
+};
+
+/* A receiver's parts: each triangle's label (which sum it joins), and the nodes and single
+ * triangles labelled into the two sums, whose edges are read once every label is set. */
+enum { ALONE = 0, FRONT = 1, BACK = 2 };
+
+struct EmitterFacingAt {
+    double p[3], n[3];
+    unsigned stamp;
+    unsigned *vert_stamp, *dir_stamp, *edge_stamp; /* h; u; theta */
+    double (*u)[3], *h, *theta;
+    unsigned char *label; /* per sorted triangle */
+    int *part, parts;     /* node i (> 0) or single triangle -1 - t, labelled FRONT or BACK */
+};
+
+static void sub3(const double a[3], const double b[3], double out[3])
+{
+    for (int k = 0; k < 3; ++k) out[k] = a[k] - b[k];
+}
+
+/* Morton order of the triangles' centroids in their bounding box, 10 bits an axis. */
+typedef struct {
+    uint32_t key;
+    int t;
+} Keyed;
+
+static uint32_t spread10(uint32_t x)
+{
+    x &= 0x3ff;
+    x = (x | (x << 16)) & 0x030000ff;
+    x = (x | (x << 8)) & 0x0300f00f;
+    x = (x | (x << 4)) & 0x030c30c3;
+    return (x | (x << 2)) & 0x09249249;
+}
+
+static int cmp_keyed(const void *a, const void *b)
+{
+    const Keyed *x = a, *y = b;
+    if (x->key != y->key) return x->key < y->key ? -1 : 1;
+    return x->t - y->t;
+}
+
+typedef struct {
+    int lo, hi, slot; /* slot: 3 t + k of a sorted triangle */
+} EdgeKey;
+
+static int cmp_edge(const void *a, const void *b)
+{
+    const EdgeKey *x = a, *y = b;
+    if (x->lo != y->lo) return x->lo < y->lo ? -1 : 1;
+    if (x->hi != y->hi) return x->hi < y->hi ? -1 : 1;
+    return x->slot - y->slot;
+}
+
+/* The bounding sphere and normal cone of the sorted triangles [begin, end). */
+static void node_bounds(const EmitterFacing *f, Node *nd)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, sum[3] = {0.0, 0.0, 0.0};
+    bool degenerate = false;
+    for (int t = nd->begin; t < nd->end; ++t) {
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) lo[a] = fmin(lo[a], f->tri[t][k][a]), hi[a] = fmax(hi[a], f->tri[t][k][a]);
+        degenerate = degenerate || polygon_dot3(f->nrm[t], f->nrm[t]) == 0.0;
+        for (int a = 0; a < 3; ++a) sum[a] += f->nrm[t][a];
+    }
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a) nd->c[a] = 0.5 * (lo[a] + hi[a]), d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+    nd->r = 0.5 * sqrt(d2) * (1.0 + 1e-12);
+    if (!isfinite(nd->r) || !isfinite(nd->c[0] + nd->c[1] + nd->c[2])) nd->r = INFINITY, nd->c[0] = nd->c[1] = nd->c[2] = 0.0;
+    double len = sqrt(polygon_dot3(sum, sum));
+    nd->alpha = M_PI; /* no cone */
+    if (degenerate || !(len > 0.0) || !isfinite(len)) return;
+    for (int a = 0; a < 3; ++a) nd->axis[a] = sum[a] / len;
+    double cos_min = 1.0;
+    for (int t = nd->begin; t < nd->end; ++t) cos_min = fmin(cos_min, polygon_dot3(nd->axis, f->nrm[t]));
+    if (cos_min > 0.0) nd->alpha = acos(fmin(cos_min, 1.0));
+    nd->sin_a = sin(nd->alpha + FACING_MARGIN_RAD), nd->cos_a = cos(nd->alpha + FACING_MARGIN_RAD);
+}
+
+EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool two_sided)
+{
+    if (count < 1) return NULL;
+    EmitterFacing *f = calloc(1, sizeof *f);
+    size_t n = (size_t)count;
+    double(*pos)[3] = malloc(3 * n * sizeof *pos);
+    int *vert = malloc(3 * n * sizeof *vert);
+    Keyed *keyed = malloc(n * sizeof *keyed);
+    EdgeKey *ek = malloc(3 * n * sizeof *ek);
+    int *twin = malloc(3 * n * sizeof *twin);
+    if (f) {
+        f->tris = count, f->two_sided = two_sided;
+        f->tri = malloc(n * sizeof *f->tri), f->vert = malloc(n * sizeof *f->vert), f->edge = malloc(n * sizeof *f->edge);
+        f->nrm = malloc(n * sizeof *f->nrm), f->twin = malloc(n * sizeof *f->twin);
+        f->size = malloc(n * sizeof *f->size), f->orig = malloc(n * sizeof *f->orig);
+        f->leaves = 1;
+        while (f->leaves < (count + LEAF - 1) / LEAF) f->leaves *= 2;
+        f->node = calloc(2 * (size_t)f->leaves, sizeof *f->node);
+    }
+    bool ok = f && pos && vert && keyed && ek && twin && f->tri && f->vert && f->edge && f->nrm && f->twin && f->size &&
+              f->orig && f->node;
+    if (ok) f->verts = vertex_weld(count, tri, pos, vert);
+    if (!ok || f->verts < 0) {
+        free(pos), free(vert), free(keyed), free(ek), free(twin);
+        emitter_facing_destroy(f);
+        return NULL;
+    }
+    f->pos = pos;
+    /* the triangles in Morton order of their centroids */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t t = 0; t < n; ++t)
+        for (int a = 0; a < 3; ++a) {
+            double c = (tri[t][0][a] + tri[t][1][a] + tri[t][2][a]) / 3.0;
+            if (isfinite(c)) lo[a] = fmin(lo[a], c), hi[a] = fmax(hi[a], c);
+        }
+    for (size_t t = 0; t < n; ++t) {
+        uint32_t key = 0;
+        for (int a = 0; a < 3; ++a) {
+            double c = (tri[t][0][a] + tri[t][1][a] + tri[t][2][a]) / 3.0;
+            double q = hi[a] > lo[a] ? (c - lo[a]) / (hi[a] - lo[a]) : 0.0;
+            key |= spread10(isfinite(q) ? (uint32_t)fmin(fmax(q * 1023.0, 0.0), 1023.0) : 0) << a;
+        }
+        keyed[t] = (Keyed){key, (int)t};
+    }
+    qsort(keyed, n, sizeof *keyed, cmp_keyed);
+    for (size_t s = 0; s < n; ++s) {
+        int t = keyed[s].t;
+        f->orig[s] = t;
+        memcpy(f->tri[s], tri[t], sizeof f->tri[s]);
+        for (int k = 0; k < 3; ++k) f->vert[s][k] = vert[3 * t + k];
+        double e1[3], e2[3], *m = f->nrm[s];
+        sub3(tri[t][1], tri[t][0], e1), sub3(tri[t][2], tri[t][0], e2);
+        m[0] = e1[1] * e2[2] - e1[2] * e2[1], m[1] = e1[2] * e2[0] - e1[0] * e2[2], m[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        double len = sqrt(polygon_dot3(m, m));
+        for (int a = 0; a < 3; ++a) m[a] = len > 0.0 && isfinite(len) ? m[a] / len : 0.0;
+        f->size[s] = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            double e[3];
+            sub3(tri[t][(k + 1) % 3], tri[t][k], e);
+            f->size[s] = fmax(f->size[s], sqrt(polygon_dot3(e, e)));
+        }
+    }
+    free(vert), free(keyed);
+    /* undirected edges, and each directed edge's twin: the one other triangle that runs the same
+     * edge the other way (-1 when there is none, or the edge is not shared so) */
+    for (size_t q = 0; q < 3 * n; ++q) {
+        int a = f->vert[q / 3][q % 3], b = f->vert[q / 3][(q % 3 + 1) % 3];
+        ek[q] = (EdgeKey){a < b ? a : b, a < b ? b : a, (int)q};
+        twin[q] = -1;
+    }
+    qsort(ek, 3 * n, sizeof *ek, cmp_edge);
+    for (size_t q = 0; q < 3 * n;) {
+        size_t r = q + 1;
+        while (r < 3 * n && ek[r].lo == ek[q].lo && ek[r].hi == ek[q].hi) ++r;
+        for (size_t m = q; m < r; ++m) f->edge[ek[m].slot / 3][ek[m].slot % 3] = f->edges;
+        if (r - q == 2) {
+            int s0 = ek[q].slot, s1 = ek[q + 1].slot;
+            bool opposite = f->vert[s0 / 3][s0 % 3] == f->vert[s1 / 3][(s1 % 3 + 1) % 3];
+            if (opposite && s0 / 3 != s1 / 3) twin[s0] = s1 / 3, twin[s1] = s0 / 3;
+        }
+        ++f->edges, q = r;
+    }
+    free(ek);
+    /* the nodes: ranges of sorted triangles, their bounds and the edges leaving them */
+    for (int j = 0; j < f->leaves; ++j) {
+        Node *nd = &f->node[f->leaves + j];
+        nd->begin = j * LEAF < count ? j * LEAF : count;
+        nd->end = nd->begin + LEAF < count ? nd->begin + LEAF : count;
+    }
+    for (int i = f->leaves - 1; i >= 1; --i) f->node[i].begin = f->node[2 * i].begin, f->node[i].end = f->node[2 * i + 1].end;
+    size_t total = 0;
+    for (int i = 1; i < 2 * f->leaves; ++i) {
+        Node *nd = &f->node[i];
+        nd->ebegin = (int)total;
+        for (int q = 3 * nd->begin; q < 3 * nd->end; ++q) total += twin[q] < nd->begin || twin[q] >= nd->end;
+        nd->eend = (int)total;
+        if (nd->end > nd->begin) node_bounds(f, nd);
+    }
+    f->bedge = total > INT32_MAX ? NULL : malloc((total ? total : 1) * sizeof *f->bedge);
+    if (!f->bedge) {
+        free(twin);
+        emitter_facing_destroy(f);
+        return NULL;
+    }
+    for (int i = 1; i < 2 * f->leaves; ++i) {
+        const Node *nd = &f->node[i];
+        int at = nd->ebegin;
+        for (int q = 3 * nd->begin; q < 3 * nd->end; ++q)
+            if (twin[q] < nd->begin || twin[q] >= nd->end) f->bedge[at++] = q;
+    }
+    for (size_t q = 0; q < 3 * n; ++q) f->twin[q / 3][q % 3] = twin[q];
+    free(twin);
+    return f;
+}
+
+void emitter_facing_destroy(EmitterFacing *f)
+{
+    if (!f) return;
+    free(f->pos), free(f->tri), free(f->vert), free(f->edge), free(f->nrm), free(f->node), free(f->bedge), free(f->twin);
+    free(f->size), free(f->orig);
+    free(f);
+}
+
+EmitterFacingAt *emitter_facing_at_create(const EmitterFacing *f)
+{
+    EmitterFacingAt *at = calloc(1, sizeof *at);
+    size_t v = f->verts > 0 ? (size_t)f->verts : 1, e = f->edges > 0 ? (size_t)f->edges : 1;
+    if (at) {
+        at->vert_stamp = calloc(v, sizeof *at->vert_stamp), at->edge_stamp = calloc(e, sizeof *at->edge_stamp);
+        at->dir_stamp = calloc(v, sizeof *at->dir_stamp);
+        at->u = malloc(v * sizeof *at->u), at->h = malloc(v * sizeof *at->h);
+        at->theta = malloc(e * sizeof *at->theta);
+        /* parts: at most every node and every triangle */
+        at->label = malloc((size_t)f->tris), at->part = malloc((2 * (size_t)f->leaves + (size_t)f->tris) * sizeof *at->part);
+    }
+    if (!at || !at->vert_stamp || !at->dir_stamp || !at->edge_stamp || !at->u || !at->h || !at->theta || !at->label ||
+        !at->part) {
+        emitter_facing_at_destroy(at);
+        return NULL;
+    }
+    return at;
+}
+
+void emitter_facing_at_destroy(EmitterFacingAt *at)
+{
+    if (!at) return;
+    free(at->vert_stamp), free(at->dir_stamp), free(at->edge_stamp), free(at->u), free(at->h), free(at->theta);
+    free(at->label), free(at->part);
+    free(at);
+}
+
+/* Vertex v's height over the current receiver's horizon. */
+static double height(const EmitterFacing *f, EmitterFacingAt *at, int v)
+{
+    if (at->vert_stamp[v] != at->stamp) {
+        double rel[3];
+        sub3(f->pos[v], at->p, rel);
+        at->h[v] = polygon_dot3(at->n, rel);
+        at->vert_stamp[v] = at->stamp;
+    }
+    return at->h[v];
+}
+
+/* Vertex v's unit direction from the current receiver (v not at the receiver itself). */
+static const double *direction(const EmitterFacing *f, EmitterFacingAt *at, int v)
+{
+    if (at->dir_stamp[v] != at->stamp) {
+        double rel[3];
+        sub3(f->pos[v], at->p, rel);
+        double len = sqrt(polygon_dot3(rel, rel));
+        for (int k = 0; k < 3; ++k) at->u[v][k] = rel[k] / len;
+        at->dir_stamp[v] = at->stamp;
+    }
+    return at->u[v];
+}
+
+/* Lambert's term of sorted triangle q / 3's edge from corner q % 3 to the next, both ends above
+ * the horizon: theta (n . (a x b)) / |a x b|, each undirected edge's angle found once. */
+static double edge_term(const EmitterFacing *f, EmitterFacingAt *at, int q)
+{
+    int t = q / 3, k = q % 3;
+    const double *a = direction(f, at, f->vert[t][k]), *b = direction(f, at, f->vert[t][(k + 1) % 3]);
+    double c[3], sn = polygon_edge_cross(a, b, c);
+    if (!(sn > 0.0)) return 0.0; /* coincident directions: a zero-length edge */
+    int e = f->edge[t][k];
+    if (at->edge_stamp[e] != at->stamp) at->theta[e] = atan2(sn, polygon_dot3(a, b)), at->edge_stamp[e] = at->stamp;
+    return at->theta[e] * polygon_dot3(c, at->n) / sn;
+}
+
+/* > 0: p in front of sorted triangle t's plane (by its winding), < 0 behind, 0 in it or no area */
+static double facing(const EmitterFacing *f, int t, const double p[3])
+{
+    double c[3];
+    for (int a = 0; a < 3; ++a) c[a] = (f->tri[t][0][a] + f->tri[t][1][a] + f->tri[t][2][a]) / 3.0;
+    double d[3];
+    sub3(p, c, d);
+    return polygon_dot3(f->nrm[t], d);
+}
+
+/* Triangle t alone: its projected solid angle above the horizon, nothing from behind a one-sided
+ * emitter. */
+static double triangle_alone(const EmitterFacing *f, int t, const double p[3], const double n[3])
+{
+    if (!f->two_sided && !(facing(f, t, p) > 0.0)) return 0.0;
+    return polygon_projected_solid_angle(p, n, (const double(*)[3])f->tri[t], 3);
+}
+
+double emitter_facing_phi_by_triangle(const EmitterFacing *f, const double p[3], const double n[3])
+{
+    double phi = 0.0;
+    for (int t = 0; t < f->tris; ++t) phi += triangle_alone(f, t, p, n);
+    return phi;
+}
+
+/* +1: every triangle of nd faces p from its front, -1 from its back, 0: not shown. The angle
+ * from a triangle's normal to the direction from any of its points to p is at most g, the angle
+ * from the cone's axis to the direction from the sphere's centre to p, plus the cone's half angle
+ * alpha, plus the sphere's angular radius beta seen from p; all face p when that is below pi / 2,
+ * that is when cos g > sin(alpha + margin + beta). */
+static int node_side(const Node *nd, const double d[3], double dist)
+{
+    if (!(nd->alpha < 0.5 * M_PI) || !(dist > nd->r)) return 0;
+    double cos_g = -polygon_dot3(nd->axis, d) / dist; /* d: from p to the centre */
+    double sin_b = nd->r / dist, cos_b = sqrt(fmax(0.0, 1.0 - sin_b * sin_b));
+    if (nd->cos_a * cos_b - nd->sin_a * sin_b <= 0.0) return 0; /* alpha + margin + beta >= pi / 2 */
+    double bound = nd->sin_a * cos_b + nd->cos_a * sin_b;
+    if (cos_g > bound) return 1;
+    if (-cos_g > bound) return -1;
+    return 0;
+}
+
+/* The edges of a labelled part (node i > 0, or single triangle -1 - i) whose other side is not in
+ * the same sum: the boundary of the region that sum covers. */
+static double part_edges(const EmitterFacing *f, EmitterFacingAt *at, int i, int label)
+{
+    double s = 0.0;
+    if (i > 0) {
+        const Node *nd = &f->node[i];
+        for (int e = nd->ebegin; e < nd->eend; ++e) {
+            int q = f->bedge[e], other = f->twin[q / 3][q % 3];
+            if (other < 0 || at->label[other] != label) s += edge_term(f, at, q);
+        }
+        return s;
+    }
+    int t = -1 - i;
+    for (int k = 0; k < 3; ++k) {
+        int other = f->twin[t][k];
+        if (other < 0 || at->label[other] != label) s += edge_term(f, at, 3 * t + k);
+    }
+    return s;
+}
+
+/* A triangle's distance from its plane that rounding may put on either side, over its size plus
+ * its distance from the receiver: below it the triangle is summed alone. */
+#define PLANE_CLEAR_REL 1e-7
+
+double emitter_facing_phi(const EmitterFacing *f, EmitterFacingAt *at, const double p[3], const double n[3],
+                          double (*alone_fn)(void *ctx, int t), void *ctx)
+{
+    memcpy(at->p, p, sizeof at->p), memcpy(at->n, n, sizeof at->n);
+    if (++at->stamp == 0) { /* wrapped: every stamp could look current */
+        memset(at->vert_stamp, 0, (size_t)f->verts * sizeof *at->vert_stamp);
+        memset(at->dir_stamp, 0, (size_t)f->verts * sizeof *at->dir_stamp);
+        memset(at->edge_stamp, 0, (size_t)f->edges * sizeof *at->edge_stamp);
+        at->stamp = 1;
+    }
+    /* label every triangle: FRONT or BACK when it is wholly above the horizon and faces p from
+     * that side (its signed sum then joins that side's), else ALONE (summed by itself, or
+     * nothing); a whole node at once where its bounds show it */
+    double alone = 0.0;
+    at->parts = 0;
+    int stack[STACK], top = 0;
+    stack[top++] = 1;
+    while (top > 0) {
+        int i = stack[--top];
+        const Node *nd = &f->node[i];
+        if (nd->end <= nd->begin) continue;
+        double d[3];
+        sub3(nd->c, p, d);
+        double dist = sqrt(polygon_dot3(d, d)), hc = polygon_dot3(n, d), margin = HORIZON_MARGIN_REL * (dist + nd->r);
+        int side = hc - nd->r > margin ? node_side(nd, d, dist) : 0;
+        /* wholly below the horizon (every triangle clipped away) or the back of a one-sided
+         * emitter: nothing */
+        bool nothing = hc + nd->r < -margin || (side < 0 && !f->two_sided);
+        if (nothing || side != 0) {
+            unsigned char label = nothing ? ALONE : side > 0 ? FRONT : BACK;
+            memset(at->label + nd->begin, label, (size_t)(nd->end - nd->begin));
+            if (!nothing) at->part[at->parts++] = i;
+            continue;
+        }
+        if (i < f->leaves) {
+            stack[top++] = 2 * i + 1;
+            stack[top++] = 2 * i;
+            continue;
+        }
+        for (int t = nd->begin; t < nd->end; ++t) {
+            const int *v = f->vert[t];
+            double fc = facing(f, t, p), rel[3];
+            sub3(f->tri[t][0], p, rel);
+            bool clear = fabs(fc) > PLANE_CLEAR_REL * (f->size[t] + sqrt(polygon_dot3(rel, rel)));
+            bool above = height(f, at, v[0]) > 0.0 && height(f, at, v[1]) > 0.0 && height(f, at, v[2]) > 0.0;
+            if (above && clear && (fc > 0.0 || f->two_sided)) {
+                at->label[t] = fc > 0.0 ? FRONT : BACK;
+                at->part[at->parts++] = -1 - t;
+            } else {
+                at->label[t] = ALONE;
+                alone += alone_fn ? alone_fn(ctx, f->orig[t]) : triangle_alone(f, t, p, n);
+            }
+        }
+    }
+    /* each side's signed sum over the boundary of the region it labelled */
+    double front = 0.0, back = 0.0;
+    for (int k = 0; k < at->parts; ++k) {
+        int i = at->part[k];
+        int label = at->label[i > 0 ? f->node[i].begin : -1 - i];
+        double s = part_edges(f, at, i, label);
+        if (label == FRONT) front += s;
+        else back += s;
+    }
+    return polygon_phi_of_sum(front) + polygon_phi_of_sum(back) + alone;
+}
