@@ -1086,19 +1086,36 @@ static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light,
     for (int k = 0; k < g->count; ++k) triangle_shadow_ray_lane(n_light.x, n_light.y, n_light.z, err_light, k, g);
 }
 
+/* Each lane's triangle's normal and offset, loaded by its index as floats (LIGHT_F_...:
+ * gathers where the vector width has them), and whether its shadow ray can be made ahead
+ * (light_triangle_rays_ahead). */
+static inline void mesh_lane_normals(const Light *lights, int count, const int *restrict tri, float *restrict nx,
+                                     float *restrict ny, float *restrict nz, float *restrict err, int *restrict ahead)
+{
+    const float *restrict f = (const float *)lights;
+    for (int k = 0; k < count; ++k) {
+        int i = tri[k] * LIGHT_FLOATS; /* an index, not a pointer: GCC gathers through the one, not the other */
+        float x = f[i + LIGHT_F_TRI_N], y = f[i + LIGHT_F_TRI_N + 1], z = f[i + LIGHT_F_TRI_N + 2];
+        float e = f[i + LIGHT_F_TRI_ERR];
+        nx[k] = x, ny[k] = y, nz[k] = z, err[k] = e;
+        ahead[k] = (e > 0.0f) & (x * x + y * y + z * z > 0.0f);
+    }
+}
+
 /* The same for a mesh's lanes, each with its own triangle lights[g->tri[k]]; a lane whose
  * triangle has no offset or no normal is left to shadow_ray_to (redo), as a single light's
- * group is. */
-static void mesh_shadow_rays(const Light *lights, WaveTriangleSamples *restrict g)
+ * group is: its ray is made, then replaced. */
+static WEDGE_VECTORISED void mesh_shadow_rays(const Light *lights, WaveTriangleSamples *restrict g)
 {
+    float nx[WAVE_SAMPLES], ny[WAVE_SAMPLES], nz[WAVE_SAMPLES], err[WAVE_SAMPLES];
+    int ahead[WAVE_SAMPLES];
+    mesh_lane_normals(lights, g->count, g->tri, nx, ny, nz, err, ahead);
+    for (int k = 0; k < g->count; ++k) triangle_shadow_ray_lane(nx[k], ny[k], nz[k], err[k], k, g);
+    /* apart: as selects in the loop above they kept it scalar */
     for (int k = 0; k < g->count; ++k) {
-        const Light *l = &lights[g->tri[k]];
-        if (light_triangle_rays_ahead(l)) {
-            triangle_shadow_ray_lane(l->tri_n.x, l->tri_n.y, l->tri_n.z, l->tri_err, k, g);
-        } else {
-            g->o[0][k] = g->o[1][k] = g->o[2][k] = g->dir[0][k] = g->dir[1][k] = g->dir[2][k] = g->len[k] = 0.0f;
-            g->redo[k] = 1;
-        }
+        if (ahead[k]) continue;
+        g->o[0][k] = g->o[1][k] = g->o[2][k] = g->dir[0][k] = g->dir[1][k] = g->dir[2][k] = g->len[k] = 0.0f;
+        g->redo[k] = 1;
     }
 }
 
