@@ -1190,6 +1190,15 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
     /* Nothing to pick (wave_vertex_dims drew no pick): wave_vertex_rays then reads neither
      * the pick nor tri_group, so the pass over the paths is skipped. */
     if (!vertex_uses_light_dims(sc, depth)) return;
+    /* One emitting mesh lights the scene: every lane's choice in vectorised loops first
+     * (lights_choose_sole_mesh_batch, bit for bit lights_choose's), where one at a time the
+     * choice's chain of dependent loads was the longest per-path cost */
+    _Static_assert((int)WAVE_SAMPLES <= (int)WAVE_CHOOSE_MAX, "a wave's lanes fit the batch choice");
+    int pick_index[WAVE_SAMPLES], pick_regular[WAVE_SAMPLES];
+    float pick_ux[WAVE_SAMPLES], pick_pmf[WAVE_SAMPLES];
+    bool sole_mesh = L->sole_mesh_end > 0;
+    if (sole_mesh)
+        lights_choose_sole_mesh_batch(L, n, w->dim_pick, w->dim_light, pick_index, pick_ux, pick_pmf, pick_regular);
     for (int j = 0; j < n; ++j) {
         WavePath *p = &w->path[j];
         p->tri_group = -1;
@@ -1198,7 +1207,14 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         float pmf = 0.0f;
         bool static_triangle = false;
         u->light_uv = w->dim_light[j];
-        u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
+        if (sole_mesh && pick_regular[j]) {
+            u->light_index = pick_index[j];
+            u->light_uv.x = pick_ux[j];
+            pmf = pick_pmf[j];
+            static_triangle = L->choice[pick_index[j]].static_triangle;
+        } else {
+            u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
+        }
         u->light_pmf = pmf;
         if (u->light_index < 0) continue;
         /* the sky from the bounce ray alone: no light sample here (light_prepare finds none) */
