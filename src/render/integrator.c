@@ -1193,7 +1193,6 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
     /* One emitting mesh lights the scene: every lane's choice in vectorised loops first
      * (lights_choose_sole_mesh_batch, bit for bit lights_choose's), where one at a time the
      * choice's chain of dependent loads was the longest per-path cost */
-    _Static_assert((int)WAVE_SAMPLES <= (int)WAVE_CHOOSE_MAX, "a wave's lanes fit the batch choice");
     int pick_index[WAVE_SAMPLES], pick_regular[WAVE_SAMPLES];
     float pick_ux[WAVE_SAMPLES], pick_pmf[WAVE_SAMPLES];
     bool sole_mesh = L->sole_mesh_end > 0;

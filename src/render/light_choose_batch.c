@@ -12,15 +12,18 @@
 
 #include "core/vectorise.h"
 
-WEDGE_VECTORISED void lights_choose_sole_mesh_batch(const LightSet *set, int count, const float *restrict u_pick,
-                                                    const vec2 *restrict u, int *restrict index,
-                                                    float *restrict ux, float *restrict pmf,
-                                                    int *restrict regular)
+/* The batch for count <= CHOOSE_CHUNK lanes (target on the stack); inlined into each of the
+ * batch's instruction-set copies (else it is compiled once, for the baseline). */
+enum { CHOOSE_CHUNK = 256 };
+static inline __attribute__((always_inline)) void choose_chunk(const LightSet *set, int count,
+                                                               const float *restrict u_pick, const vec2 *restrict u,
+                                                               int *restrict index, float *restrict ux,
+                                                               float *restrict pmf, int *restrict regular)
 {
     const float *restrict cdf = set->cdf;
     const int first = set->sole_mesh_first, end = set->sole_mesh_end;
     const float total = set->power_total, lo = cdf[first], hi = cdf[end];
-    float target[WAVE_CHOOSE_MAX];
+    float target[CHOOSE_CHUNK];
     for (int k = 0; k < count; ++k) {
         /* lights_choose's test for the run (the rest take its full path) */
         regular[k] = u_pick[k] * total < total;
@@ -44,5 +47,16 @@ WEDGE_VECTORISED void lights_choose_sole_mesh_batch(const LightSet *set, int cou
         x = x > 0.0f ? x : 0.0f;
         ux[k] = x < 0x1.fffffep-1f ? x : 0x1.fffffep-1f;
         pmf[k] = w / total;
+    }
+}
+
+WEDGE_VECTORISED void lights_choose_sole_mesh_batch(const LightSet *set, int count, const float *restrict u_pick,
+                                                    const vec2 *restrict u, int *restrict index,
+                                                    float *restrict ux, float *restrict pmf,
+                                                    int *restrict regular)
+{
+    for (int k0 = 0; k0 < count; k0 += CHOOSE_CHUNK) {
+        int m = count - k0 < CHOOSE_CHUNK ? count - k0 : CHOOSE_CHUNK;
+        choose_chunk(set, m, u_pick + k0, u + k0, index + k0, ux + k0, pmf + k0, regular + k0);
     }
 }
