@@ -1086,19 +1086,36 @@ static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light,
     for (int k = 0; k < g->count; ++k) triangle_shadow_ray_lane(n_light.x, n_light.y, n_light.z, err_light, k, g);
 }
 
+/* Each lane's triangle's normal and offset, loaded by its index as floats (LIGHT_F_...:
+ * gathers where the vector width has them), and whether its shadow ray can be made ahead
+ * (light_triangle_rays_ahead). */
+static inline void mesh_lane_normals(const Light *lights, int count, const int *restrict tri, float *restrict nx,
+                                     float *restrict ny, float *restrict nz, float *restrict err, int *restrict ahead)
+{
+    const float *restrict f = (const float *)lights;
+    for (int k = 0; k < count; ++k) {
+        int i = tri[k] * LIGHT_FLOATS; /* an index, not a pointer: GCC gathers through the one, not the other */
+        float x = f[i + LIGHT_F_TRI_N], y = f[i + LIGHT_F_TRI_N + 1], z = f[i + LIGHT_F_TRI_N + 2];
+        float e = f[i + LIGHT_F_TRI_ERR];
+        nx[k] = x, ny[k] = y, nz[k] = z, err[k] = e;
+        ahead[k] = (e > 0.0f) & (x * x + y * y + z * z > 0.0f);
+    }
+}
+
 /* The same for a mesh's lanes, each with its own triangle lights[g->tri[k]]; a lane whose
  * triangle has no offset or no normal is left to shadow_ray_to (redo), as a single light's
- * group is. */
-static void mesh_shadow_rays(const Light *lights, WaveTriangleSamples *restrict g)
+ * group is: its ray is made, then replaced. */
+static WEDGE_VECTORISED void mesh_shadow_rays(const Light *lights, WaveTriangleSamples *restrict g)
 {
+    float nx[WAVE_SAMPLES], ny[WAVE_SAMPLES], nz[WAVE_SAMPLES], err[WAVE_SAMPLES];
+    int ahead[WAVE_SAMPLES];
+    mesh_lane_normals(lights, g->count, g->tri, nx, ny, nz, err, ahead);
+    for (int k = 0; k < g->count; ++k) triangle_shadow_ray_lane(nx[k], ny[k], nz[k], err[k], k, g);
+    /* apart: as selects in the loop above they kept it scalar */
     for (int k = 0; k < g->count; ++k) {
-        const Light *l = &lights[g->tri[k]];
-        if (light_triangle_rays_ahead(l)) {
-            triangle_shadow_ray_lane(l->tri_n.x, l->tri_n.y, l->tri_n.z, l->tri_err, k, g);
-        } else {
-            g->o[0][k] = g->o[1][k] = g->o[2][k] = g->dir[0][k] = g->dir[1][k] = g->dir[2][k] = g->len[k] = 0.0f;
-            g->redo[k] = 1;
-        }
+        if (ahead[k]) continue;
+        g->o[0][k] = g->o[1][k] = g->o[2][k] = g->dir[0][k] = g->dir[1][k] = g->dir[2][k] = g->len[k] = 0.0f;
+        g->redo[k] = 1;
     }
 }
 
@@ -1173,6 +1190,14 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
     /* Nothing to pick (wave_vertex_dims drew no pick): wave_vertex_rays then reads neither
      * the pick nor tri_group, so the pass over the paths is skipped. */
     if (!vertex_uses_light_dims(sc, depth)) return;
+    /* One emitting mesh lights the scene: every lane's choice in vectorised loops first
+     * (lights_choose_sole_mesh_batch, bit for bit lights_choose's), where one at a time the
+     * choice's chain of dependent loads was the longest per-path cost */
+    int pick_index[WAVE_SAMPLES], pick_regular[WAVE_SAMPLES];
+    float pick_ux[WAVE_SAMPLES], pick_pmf[WAVE_SAMPLES];
+    bool sole_mesh = L->sole_mesh_end > 0;
+    if (sole_mesh)
+        lights_choose_sole_mesh_batch(L, n, w->dim_pick, w->dim_light, pick_index, pick_ux, pick_pmf, pick_regular);
     for (int j = 0; j < n; ++j) {
         WavePath *p = &w->path[j];
         p->tri_group = -1;
@@ -1181,7 +1206,14 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
         float pmf = 0.0f;
         bool static_triangle = false;
         u->light_uv = w->dim_light[j];
-        u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
+        if (sole_mesh && pick_regular[j]) {
+            u->light_index = pick_index[j];
+            u->light_uv.x = pick_ux[j];
+            pmf = pick_pmf[j];
+            static_triangle = L->choice[pick_index[j]].static_triangle;
+        } else {
+            u->light_index = lights_choose(L, w->dim_pick[j], &u->light_uv, &pmf, &static_triangle);
+        }
         u->light_pmf = pmf;
         if (u->light_index < 0) continue;
         /* the sky from the bounce ray alone: no light sample here (light_prepare finds none) */

@@ -324,7 +324,8 @@ bool lights_build(LightSet *set, SceneDesc *scene, Tracer *tr, Diag *err)
         c->static_triangle = light_is_static_triangle(set, tr, i);
         const Light *a = &set->lights[i], *b = &set->lights[c->mesh_first];
         c->batches_with_run = c->static_triangle && c->mesh_end > c->mesh_first && a->L.x == b->L.x &&
-                              a->L.y == b->L.y && a->L.z == b->L.z && a->shadow_skip_mask == b->shadow_skip_mask;
+                              a->L.y == b->L.y && a->L.z == b->L.z && a->shadow_skip_mask == b->shadow_skip_mask &&
+                              a->two_sided == b->two_sided;
     }
     lights_find_sole_mesh(set);
     return true;
@@ -633,16 +634,42 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
     triangle_light_batch(l, count, p, u, out);
 }
 
+/* light_sample_triangles_batch's loop: each lane's triangle loaded by its index as floats
+ * (LIGHT_F_...: gathers where the vector width has them), the lane arithmetic
+ * triangle_light_batch's; two_sided is the lanes' common sidedness. */
+static inline void triangles_light_loop(const Light *lights, int two_sided, const int *restrict tri, int count,
+                                        const float *restrict px, const float *restrict py, const float *restrict pz,
+                                        const float *restrict u0, const float *restrict u1, float *restrict wx,
+                                        float *restrict wy, float *restrict wz, float *restrict dist_out,
+                                        float *restrict lx, float *restrict ly, float *restrict lz,
+                                        float *restrict pdf_out, int *restrict ok)
+{
+    const float *restrict f = (const float *)lights;
+    for (int k = 0; k < count; ++k) {
+        int i = tri[k] * LIGHT_FLOATS; /* an index, not a pointer: GCC gathers through the one, not the other */
+        vec3 p0 = {f[i + LIGHT_F_TRI_P0], f[i + LIGHT_F_TRI_P0 + 1], f[i + LIGHT_F_TRI_P0 + 2]};
+        vec3 e1 = {f[i + LIGHT_F_TRI_E1], f[i + LIGHT_F_TRI_E1 + 1], f[i + LIGHT_F_TRI_E1 + 2]};
+        vec3 e2 = {f[i + LIGHT_F_TRI_E2], f[i + LIGHT_F_TRI_E2 + 1], f[i + LIGHT_F_TRI_E2 + 2]};
+        vec3 n = {f[i + LIGHT_F_TRI_N], f[i + LIGHT_F_TRI_N + 1], f[i + LIGHT_F_TRI_N + 2]};
+        TriangleLane t = triangle_light_lane(p0, e1, e2, n, 1.0f / f[i + LIGHT_F_AREA], two_sided, px[k], py[k],
+                                             pz[k], u0[k], u1[k]);
+        wx[k] = t.wx, wy[k] = t.wy, wz[k] = t.wz, dist_out[k] = t.dist;
+        lx[k] = t.lx, ly[k] = t.ly, lz[k] = t.lz, pdf_out[k] = t.pdf, ok[k] = t.ok;
+    }
+}
+
+static WEDGE_VECTORISED void triangles_light_batch(const Light *lights, int two_sided, const int *tri, int count,
+                                                   const float *const p[3], const float *const u[2],
+                                                   const TriangleSampleBatch *out)
+{
+    triangles_light_loop(lights, two_sided, tri, count, p[0], p[1], p[2], u[0], u[1], out->wi[0], out->wi[1],
+                         out->wi[2], out->dist, out->p_light[0], out->p_light[1], out->p_light[2], out->pdf, out->ok);
+}
+
 void light_sample_triangles_batch(const Light *lights, const int *tri, int count, const float *const p[3],
                                   const float *const u[2], const TriangleSampleBatch *out)
 {
-    for (int k = 0; k < count; ++k) {
-        const Light *l = &lights[tri[k]];
-        TriangleLane t = triangle_light_lane(l->tri_p0, l->tri_e1, l->tri_e2, l->tri_n, 1.0f / l->area_world,
-                                             l->two_sided, p[0][k], p[1][k], p[2][k], u[0][k], u[1][k]);
-        triangle_lane_store(t, k, out->wi[0], out->wi[1], out->wi[2], out->dist, out->p_light[0], out->p_light[1],
-                            out->p_light[2], out->pdf, out->ok);
-    }
+    if (count > 0) triangles_light_batch(lights, lights[tri[0]].two_sided, tri, count, p, u, out);
 }
 
 /* warp_uniform_sphere for a run of samples, as light_sample's constant sky takes it: z, r

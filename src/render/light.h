@@ -7,6 +7,7 @@
 #define WEDGE_RENDER_LIGHT_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "core/diag.h"
 #include "core/vec.h"
@@ -37,6 +38,21 @@ typedef struct {
     Envmap *env;            /* infinite light with "filename": the image (owned); else NULL */
 } Light;
 
+/* A Light's static-triangle fields as float offsets from the Light's start, for loops over
+ * lanes that each read their own light lights[i] (a mesh's triangles): as
+ * ((const float *)lights)[i * LIGHT_FLOATS + LIGHT_F_...] the load is a gather GCC 12
+ * vectorises, which it does not for a field of an indexed struct. */
+enum {
+    LIGHT_FLOATS = sizeof(Light) / sizeof(float),
+    LIGHT_F_TRI_P0 = offsetof(Light, tri_p0) / sizeof(float),
+    LIGHT_F_TRI_E1 = offsetof(Light, tri_e1) / sizeof(float),
+    LIGHT_F_TRI_E2 = offsetof(Light, tri_e2) / sizeof(float),
+    LIGHT_F_TRI_N = offsetof(Light, tri_n) / sizeof(float),
+    LIGHT_F_TRI_ERR = offsetof(Light, tri_err) / sizeof(float),
+    LIGHT_F_AREA = offsetof(Light, area_world) / sizeof(float),
+};
+_Static_assert(sizeof(Light) % sizeof(float) == 0, "a Light is a whole number of floats");
+
 /* Point, spot and distant lights of a scene that has at most this many are lit at every
  * path vertex (a shadow ray each) instead of entering the one-light pick: picking one of
  * them per sample adds a two-valued noise (light or nothing, scaled by 1/pmf) that
@@ -53,7 +69,7 @@ typedef struct {
     float pmf;
     int mesh_first, mesh_end;
     bool static_triangle;
-    /* a static triangle of a run whose radiance and shadow mask are its run's first light's:
+    /* a static triangle of a run whose radiance, shadow mask and sidedness are its run's first light's:
      * the wave batches it with the run's other triangles (wave_triangle_light_samples) */
     bool batches_with_run;
 } LightChoice;
@@ -169,7 +185,8 @@ void light_sample_triangle_batch(const Light *l, int count, const float *const p
                                  const TriangleSampleBatch *out);
 /* light_sample_triangle_batch with each receiver's own static triangle light: lane k samples
  * lights[tri[k]], bit for bit as light_sample (the lanes of one emitting mesh, whose
- * triangles are separate lights). */
+ * triangles are separate lights). The lanes' lights are all one-sided or all two-sided
+ * (one mesh's run: LightChoice.batches_with_run). */
 void light_sample_triangles_batch(const Light *lights, const int *tri, int count, const float *const p[3],
                                   const float *const u[2], const TriangleSampleBatch *out);
 /* light_sample of a constant infinite light (LIGHT_INFINITE without an image:

@@ -88,4 +88,15 @@ static inline int lights_choose(const LightSet *set, float u_pick, vec2 *u, floa
     return lo;
 }
 
+/* lights_choose for lanes [0, count) of a set from lights_build with a sole mesh
+ * (sole_mesh_end > 0), from the lanes' choice samples u_pick[k] and position samples u[k]:
+ * where regular[k], lights_choose(set, u_pick[k], &u[k], ...) returns index[k], stretches
+ * u[k].x to ux[k] and writes pmf[k], bit for bit (its static_triangle is
+ * set->choice[index[k]].static_triangle); where not, lights_choose takes its full path and
+ * the lane's other outputs mean nothing. Any input is safe (index[k] stays in the run).
+ * Vectorised (light_choose_batch.c). */
+void lights_choose_sole_mesh_batch(const LightSet *set, int count, const float *restrict u_pick,
+                                   const vec2 *restrict u, int *restrict index, float *restrict ux,
+                                   float *restrict pmf, int *restrict regular);
+
 #endif
