@@ -713,34 +713,48 @@ static void lr_reproject_layer(int width, int height, int spp, int tile_px, int 
 /* The round screen filter on the cells [ix0, ix1) of window row iy, summed into
  * acc[(ix - ix0) * LR_CH + c]: the grid's cells within r of each, weighted by
  * table[dx^2 + dy^2]. The four taps (+-dx, +-dy) share a weight, so they are added before
- * it multiplies them: per dy >= 0 the rows iy - dy and iy + dy summed once into rs (cells
- * outside the window count 0), then per dx >= 0 the pair rs[ix + dx] + rs[ix - dx] added to
- * each cell (one load and one store of acc per pair of columns, where the tap-by-tap loop
- * spent one per tap and was bound by those stores). dy, then dx ascending, exactly as
- * lr_reconstruct.c's lr_round_sum, so every cell gets the same sums (docs/algorithms.md 8.30). */
+ * it multiplies them: per dy >= 0 the rows iy - dy and iy + dy summed once into a row of rs
+ * (cells outside the window count 0), then per dx >= 0 the pair rs[ix + dx] + rs[ix - dx]
+ * added to each cell. dy, then dx ascending, exactly as lr_reconstruct.c's lr_round_sum, so
+ * every cell gets the same sums (docs/algorithms.md 8.30).
+ * The row sums of every dy are made first; then acc is summed LR_ROUND_BLOCK floats at a time
+ * in registers over all (dy, dx) and stored once, where the pair loop swept the whole row once
+ * per (dy, dx) with a load and a store of acc each time (docs/algorithms.md 8.46). Row dy of
+ * rs holds the columns [ix0 - w(dy), ix1 + w(dy)) at the place of [ix0 - r, ...) (one stride
+ * for all rows), then zeros up to the last block's end: a block's lanes past the row's n
+ * floats are summed from them and never stored. ix1 - ix0 <= LR_TILE_MAX (lr_across_row's
+ * tile pixels). */
+#define LR_TILE_MAX 32
+#define LR_ROUND_BLOCK 40 /* five 8-float chains of additions (a 16-px tile row is two blocks) */
+/* eight floats from any float's address as one load (vload8 of private memory was taken apart
+ * into 8-byte loads) */
+typedef float8 lr_float8_any __attribute__((aligned(4)));
+static inline float8 lr_load8(const float *p) { return *(const lr_float8_any *)p; }
 static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix0, int ix1, int r, __global const float *table,
                          float *acc)
 {
 #pragma OPENCL FP_CONTRACT OFF
-    int n = (ix1 - ix0) * LR_CH;
-    float rs[(LR_ROW_MAX + 2 * LR_ROUND_MAX) * LR_CH];
-    for (int i = 0; i < n; ++i) acc[i] = 0.0f;
+    int n = (ix1 - ix0) * LR_CH, blocks = (n + LR_ROUND_BLOCK - 1) / LR_ROUND_BLOCK * LR_ROUND_BLOCK;
+    int stride = 2 * r * LR_CH + blocks;
+    float rs[(LR_ROUND_MAX + 1) * ((LR_TILE_MAX + 2 * LR_ROUND_MAX) * LR_CH + LR_ROUND_BLOCK)];
+    int width[LR_ROUND_MAX + 1]; /* the row's taps dx <= width[dy]; -1: both rows outside the window */
     for (int dy = 0; dy <= r; ++dy) {
         int w = r;
         while (w * w + dy * dy > r * r) --w; /* the row's taps: dx^2 + dy^2 <= r^2 */
         int up = iy - dy, dn = iy + dy;
         bool has_up = up >= 0 && up < wh, has_dn = dy > 0 && dn >= 0 && dn < wh;
+        width[dy] = has_up || has_dn ? w : -1;
         if (!has_up && !has_dn) continue;
-        /* rs[(x - (ix0 - w)) * LR_CH + c] for x in [ix0 - w, ix1 + w): 0 + 0 for the columns
-         * outside the window, and within it one flat loop over the window's columns [xa, xb)
-         * (their cells are contiguous in both rows and in rs) per case of the two rows, which
-         * the compiler runs 8 or 16 wide; the same sums as cell by cell with a test per column
-         * (row + 0 where the other row is outside) */
+        /* rs[dy * stride + (x - (ix0 - r)) * LR_CH + c] for x in [ix0 - w, ix1 + w): 0 + 0 for
+         * the columns outside the window (and the tail), and within it one flat loop over the
+         * window's columns [xa, xb) per case of the two rows; the same sums as cell by cell with
+         * a test per column (row + 0 where the other row is outside) */
+        float *o = rs + dy * stride;
         __global const float *row_up = g + (has_up ? up : 0) * ww * LR_CH, *row_dn = g + (has_dn ? dn : 0) * ww * LR_CH;
         int xa = max(ix0 - w, 0), xb = min(ix1 + w, ww), nc = (xb - xa) * LR_CH;
-        for (int i = 0; i < (xa - (ix0 - w)) * LR_CH; ++i) rs[i] = 0.0f + 0.0f;
-        for (int i = (xb - (ix0 - w)) * LR_CH; i < (ix1 - ix0 + 2 * w) * LR_CH; ++i) rs[i] = 0.0f + 0.0f;
-        float *o = rs + (xa - (ix0 - w)) * LR_CH;
+        for (int i = (r - w) * LR_CH; i < (xa - (ix0 - r)) * LR_CH; ++i) o[i] = 0.0f + 0.0f;
+        for (int i = (xb - (ix0 - r)) * LR_CH; i < (r + w) * LR_CH + blocks; ++i) o[i] = 0.0f + 0.0f;
+        o += (xa - (ix0 - r)) * LR_CH;
         __global const float *a = row_up + xa * LR_CH, *b = row_dn + xa * LR_CH;
         if (has_up && has_dn)
             for (int i = 0; i < nc; ++i) o[i] = a[i] + b[i];
@@ -748,15 +762,33 @@ static void lr_round_row(__global const float *g, int ww, int wh, int iy, int ix
             for (int i = 0; i < nc; ++i) o[i] = a[i] + 0.0f;
         else
             for (int i = 0; i < nc; ++i) o[i] = 0.0f + b[i];
-        {
+    }
+    for (int b0 = 0; b0 < n; b0 += LR_ROUND_BLOCK) {
+        float8 s0 = 0.0f, s1 = 0.0f, s2 = 0.0f, s3 = 0.0f, s4 = 0.0f;
+        for (int dy = 0; dy <= r; ++dy) {
+            int w = width[dy];
+            if (w < 0) continue;
+            const float *m = rs + dy * stride + b0 + r * LR_CH; /* column ix0 + b0 / LR_CH */
             float wk = table[dy * dy];
-            const float *m = rs + w * LR_CH;
-            for (int i = 0; i < n; ++i) acc[i] += wk * m[i];
+            s0 += wk * lr_load8(m), s1 += wk * lr_load8(m + 8), s2 += wk * lr_load8(m + 16), s3 += wk * lr_load8(m + 24);
+            s4 += wk * lr_load8(m + 32);
+            for (int dx = 1; dx <= w; ++dx) {
+                float wd = table[dx * dx + dy * dy];
+                const float *right = m + dx * LR_CH, *left = m - dx * LR_CH;
+                s0 += wd * (lr_load8(right) + lr_load8(left));
+                s1 += wd * (lr_load8(right + 8) + lr_load8(left + 8));
+                s2 += wd * (lr_load8(right + 16) + lr_load8(left + 16));
+                s3 += wd * (lr_load8(right + 24) + lr_load8(left + 24));
+                s4 += wd * (lr_load8(right + 32) + lr_load8(left + 32));
+            }
         }
-        for (int dx = 1; dx <= w; ++dx) {
-            float wk = table[dx * dx + dy * dy];
-            const float *right = rs + (w + dx) * LR_CH, *left = rs + (w - dx) * LR_CH;
-            for (int i = 0; i < n; ++i) acc[i] += wk * (right[i] + left[i]);
+        if (n - b0 >= LR_ROUND_BLOCK) {
+            vstore8(s0, 0, acc + b0), vstore8(s1, 1, acc + b0), vstore8(s2, 2, acc + b0), vstore8(s3, 3, acc + b0);
+            vstore8(s4, 4, acc + b0);
+        } else { /* the row's last, partial block */
+            float part[LR_ROUND_BLOCK];
+            vstore8(s0, 0, part), vstore8(s1, 1, part), vstore8(s2, 2, part), vstore8(s3, 3, part), vstore8(s4, 4, part);
+            for (int i = 0; i < n - b0; ++i) acc[b0 + i] = part[i];
         }
     }
 }
@@ -834,7 +866,6 @@ static void lr_across_row(int width, int ww, int wh, int window_px, int iy, int 
  * operations in the same order as before: the images are the same to the bit. The tile's
  * transmittance, light and extent stay in private arrays (tile_px <= LR_TILE_MAX, lr_cl.c
  * checks). */
-#define LR_TILE_MAX 32
 __kernel void lr_tile_filter(int width, int height, int spp, int tile_px, int window_px, int ntx, int tile1, int max_layers,
                              int tile0, int film_slack_px, int inset, __global const float *samples, __global float *packed,
                              __global const uint *order, __global const int *layer_start, __global const int *tile_layers,
