@@ -2,11 +2,12 @@
  * emitter_facing.h). */
 #include "recon/emitter_facing.h"
 
+#include <limits.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/morton_order.h"
 #include "recon/polygon_irradiance.h"
 #include "recon/vertex_weld.h"
 
@@ -59,28 +60,6 @@ static void sub3(const double a[3], const double b[3], double out[3])
     for (int k = 0; k < 3; ++k) out[k] = a[k] - b[k];
 }
 
-/* Morton order of the triangles' centroids in their bounding box, 10 bits an axis. */
-typedef struct {
-    uint32_t key;
-    int t;
-} Keyed;
-
-static uint32_t spread10(uint32_t x)
-{
-    x &= 0x3ff;
-    x = (x | (x << 16)) & 0x030000ff;
-    x = (x | (x << 8)) & 0x0300f00f;
-    x = (x | (x << 4)) & 0x030c30c3;
-    return (x | (x << 2)) & 0x09249249;
-}
-
-static int cmp_keyed(const void *a, const void *b)
-{
-    const Keyed *x = a, *y = b;
-    if (x->key != y->key) return x->key < y->key ? -1 : 1;
-    return x->t - y->t;
-}
-
 typedef struct {
     int lo, hi, slot; /* slot: 3 t + k of a sorted triangle */
 } EdgeKey;
@@ -125,7 +104,7 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
     size_t n = (size_t)count;
     double(*pos)[3] = malloc(3 * n * sizeof *pos);
     int *vert = malloc(3 * n * sizeof *vert);
-    Keyed *keyed = malloc(n * sizeof *keyed);
+    double(*centroid)[3] = malloc(n * sizeof *centroid);
     EdgeKey *ek = malloc(3 * n * sizeof *ek);
     int *twin = malloc(3 * n * sizeof *twin);
     if (f) {
@@ -137,34 +116,27 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
         while (f->leaves < (count + LEAF - 1) / LEAF) f->leaves *= 2;
         f->node = calloc(2 * (size_t)f->leaves, sizeof *f->node);
     }
-    bool ok = f && pos && vert && keyed && ek && twin && f->tri && f->vert && f->edge && f->nrm && f->twin && f->size &&
+    bool ok = f && pos && vert && centroid && ek && twin && f->tri && f->vert && f->edge && f->nrm && f->twin && f->size &&
               f->orig && f->node;
     if (ok) f->verts = vertex_weld(count, tri, pos, vert);
     if (!ok || f->verts < 0) {
-        free(pos), free(vert), free(keyed), free(ek), free(twin);
+        free(pos), free(vert), free(centroid), free(ek), free(twin);
         emitter_facing_destroy(f);
         return NULL;
     }
     f->pos = pos;
     /* the triangles in Morton order of their centroids */
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t t = 0; t < n; ++t)
-        for (int a = 0; a < 3; ++a) {
-            double c = (tri[t][0][a] + tri[t][1][a] + tri[t][2][a]) / 3.0;
-            if (isfinite(c)) lo[a] = fmin(lo[a], c), hi[a] = fmax(hi[a], c);
-        }
-    for (size_t t = 0; t < n; ++t) {
-        uint32_t key = 0;
-        for (int a = 0; a < 3; ++a) {
-            double c = (tri[t][0][a] + tri[t][1][a] + tri[t][2][a]) / 3.0;
-            double q = hi[a] > lo[a] ? (c - lo[a]) / (hi[a] - lo[a]) : 0.0;
-            key |= spread10(isfinite(q) ? (uint32_t)fmin(fmax(q * 1023.0, 0.0), 1023.0) : 0) << a;
-        }
-        keyed[t] = (Keyed){key, (int)t};
+        for (int a = 0; a < 3; ++a) centroid[t][a] = (tri[t][0][a] + tri[t][1][a] + tri[t][2][a]) / 3.0;
+    int *order = morton_order(count, (const double(*)[3])centroid);
+    free(centroid);
+    if (!order) {
+        free(vert), free(ek), free(twin);
+        emitter_facing_destroy(f);
+        return NULL;
     }
-    qsort(keyed, n, sizeof *keyed, cmp_keyed);
     for (size_t s = 0; s < n; ++s) {
-        int t = keyed[s].t;
+        int t = order[s];
         f->orig[s] = t;
         memcpy(f->tri[s], tri[t], sizeof f->tri[s]);
         for (int k = 0; k < 3; ++k) f->vert[s][k] = vert[3 * t + k];
@@ -180,7 +152,7 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
             f->size[s] = fmax(f->size[s], sqrt(polygon_dot3(e, e)));
         }
     }
-    free(vert), free(keyed);
+    free(vert), free(order);
     /* undirected edges, and each directed edge's twin: the one other triangle that runs the same
      * edge the other way (-1 when there is none, or the edge is not shared so) */
     for (size_t q = 0; q < 3 * n; ++q) {
@@ -216,7 +188,7 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
         nd->eend = (int)total;
         if (nd->end > nd->begin) node_bounds(f, nd);
     }
-    f->bedge = total > INT32_MAX ? NULL : malloc((total ? total : 1) * sizeof *f->bedge);
+    f->bedge = total > INT_MAX ? NULL : malloc((total ? total : 1) * sizeof *f->bedge);
     if (!f->bedge) {
         free(twin);
         emitter_facing_destroy(f);

@@ -1,11 +1,12 @@
-/* A mesh light's vertex extent along axes, cluster by cluster (see maaf_vertex_extent.h). */
+/* A mesh light's vertex extent along axes, by branch and bound (see maaf_vertex_extent.h). */
 #include "recon/maaf/maaf_vertex_extent.h"
 
 #include <math.h>
 #include <stdbool.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "recon/morton_order.h"
 
 enum { LEAF = 16, STACK = 64 }; /* vertices a leaf; the traversal's stack (two entries a level, at most 27 levels) */
 
@@ -51,29 +52,6 @@ void maaf_vertex_extent_plain(const float (*verts)[3], int n, const float centre
     lo[0] = lo[1] = INFINITY;
     hi[0] = hi[1] = -INFINITY;
     widen_range(verts, 0, n, centre, t1, t2, lo, hi);
-}
-
-/* Morton order of the vertices in their bounding box (10 bits an axis): neighbours in the order
- * are neighbours in space, so runs of LEAF vertices (and the runs of runs above them) have small bounding spheres. */
-typedef struct {
-    uint32_t key;
-    int v;
-} Keyed;
-
-static uint32_t spread10(uint32_t x)
-{
-    x &= 0x3ff;
-    x = (x | (x << 16)) & 0x030000ff;
-    x = (x | (x << 8)) & 0x0300f00f;
-    x = (x | (x << 4)) & 0x030c30c3;
-    return (x | (x << 2)) & 0x09249249;
-}
-
-static int cmp_keyed(const void *a, const void *b)
-{
-    const Keyed *x = a, *y = b;
-    if (x->key != y->key) return x->key < y->key ? -1 : 1;
-    return x->v - y->v;
 }
 
 /* The eigenvectors of the symmetric 3 x 3 matrix m, as the rows of axis (Jacobi rotations; any
@@ -146,7 +124,6 @@ MaafVertexExtent *maaf_vertex_extent_create(const float (*verts)[3], int n)
 {
     if (n < 1) return NULL;
     MaafVertexExtent *x = calloc(1, sizeof *x);
-    Keyed *k = malloc((size_t)n * sizeof *k);
     if (x) {
         x->n = n;
         x->leaves = 1;
@@ -154,27 +131,22 @@ MaafVertexExtent *maaf_vertex_extent_create(const float (*verts)[3], int n)
         x->verts = malloc((size_t)n * sizeof *x->verts);
         x->node = malloc(2 * (size_t)x->leaves * sizeof *x->node);
     }
-    if (!x || !k || !x->verts || !x->node) {
-        free(k);
+    if (!x || !x->verts || !x->node) {
         maaf_vertex_extent_destroy(x);
         return NULL;
     }
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int v = 0; v < n; ++v)
-        for (int a = 0; a < 3; ++a)
-            if (isfinite(verts[v][a])) lo[a] = fmin(lo[a], verts[v][a]), hi[a] = fmax(hi[a], verts[v][a]);
-    for (int v = 0; v < n; ++v) {
-        uint32_t key = 0;
-        for (int a = 0; a < 3; ++a) {
-            double f = hi[a] > lo[a] ? (verts[v][a] - lo[a]) / (hi[a] - lo[a]) : 0.0;
-            uint32_t q = isfinite(f) ? (uint32_t)fmin(fmax(f * 1023.0, 0.0), 1023.0) : 0; /* a NaN or infinite vertex: anywhere */
-            key |= spread10(q) << a;
-        }
-        k[v] = (Keyed){key, v};
+    /* Morton order: runs of LEAF vertices (and the runs of runs above them) are compact */
+    double(*pt)[3] = malloc((size_t)n * sizeof *pt);
+    for (int v = 0; pt && v < n; ++v)
+        for (int a = 0; a < 3; ++a) pt[v][a] = verts[v][a];
+    int *order = pt ? morton_order(n, (const double(*)[3])pt) : NULL;
+    free(pt);
+    if (!order) {
+        maaf_vertex_extent_destroy(x);
+        return NULL;
     }
-    qsort(k, (size_t)n, sizeof *k, cmp_keyed);
-    for (int v = 0; v < n; ++v) memcpy(x->verts[v], verts[k[v].v], sizeof x->verts[v]);
-    free(k);
+    for (int v = 0; v < n; ++v) memcpy(x->verts[v], verts[order[v]], sizeof x->verts[v]);
+    free(order);
     /* the leaves: runs of LEAF vertices in Morton order; a node above them: its leaves' runs */
     for (int j = 0; j < x->leaves; ++j) {
         Node *nd = &x->node[x->leaves + j];
