@@ -272,9 +272,10 @@ static double facing_alone(void *ctx, int t)
     RenderLightInfo b;
     int l = c->member[t];
     if (!light_at(c->j, l, &b) || culled(&b, c->pv)) return 0.0;
+    if (c->at) return shared_triangles_phi(c->j->tris, c->at, c->j->tri_of[l]);
     double v[3][3];
     for (int k = 0; k < 3; ++k) v[k][0] = b.tri_world[k].x, v[k][1] = b.tri_world[k].y, v[k][2] = b.tri_world[k].z;
-    return c->at ? shared_triangles_phi(c->j->tris, c->at, c->j->tri_of[l]) : polygon_projected_solid_angle(c->p, c->nr, v, 3);
+    return polygon_projected_solid_angle(c->p, c->nr, v, 3);
 }
 
 /* Both sums over the emitters at once: every triangle's projected solid angle (the cost: an

@@ -18,8 +18,8 @@
 #include "recon/maaf/maaf_light_sweep.h"
 #include "recon/maaf/maaf_vertex_extent.h"
 
-/* EXTENT_PLAIN_MAX: a shape of at most this many distinct vertices projects them all (the clusters
- * pay from a few hundred) */
+/* EXTENT_PLAIN_MAX: a shape of at most this many distinct vertices projects them all (the tree of
+ * maaf_vertex_extent.h pays from a few hundred) */
 enum { EXTENT_CACHE = 8, EXTENT_PLAIN_MAX = 128 };
 
 /* What the lights of one emitter shape have in common, gathered in light order. */
@@ -30,7 +30,7 @@ typedef struct {
     int design_from;     /* the last light given a y-design (-1: none yet) */
     float (*verts)[3];   /* the distinct vertices of its triangle lights (NULL: none, or out of memory) */
     int vert_count;
-    MaafVertexExtent *vert_extent; /* the same, clustered (NULL: few vertices, or out of memory) */
+    MaafVertexExtent *vert_extent; /* the same in a tree (NULL: few vertices, or out of memory) */
     /* extents already projected, by the normal that set their axes: a planar mesh's triangles'
      * normals, each from its own edges, differ in the last bits, and take a few values */
     int extents, extent_next;
@@ -161,8 +161,9 @@ static bool copy_shape_sweep(const ShapeSummary *h, const MaafLight *lights, Maa
  * extents, maaf_light_design_copy's comparisons), so that a light finds an earlier one with the
  * same design without comparing itself with every earlier light: a curved mesh light's triangles
  * each have extents of their own, and that search was quadratic in them (10,000 triangles: 5e7
- * comparisons, most of the table's time). Open addressing, -1 empty; any earlier light with the
- * same design gives the same table, so the first one found is the one the search found. */
+ * comparisons, most of the table's time). Open addressing, -1 empty. Every earlier light with the
+ * same design holds the same table bit for bit, so whichever one is found gives the copy the scan
+ * in light order gave. */
 typedef struct {
     int *slot;
     size_t mask;
