@@ -9,7 +9,7 @@
 
 #include "recon/morton_order.h"
 #include "recon/polygon_irradiance.h"
-#include "recon/vertex_weld.h"
+#include "recon/shared_triangles.h"
 
 enum { LEAF = 4, STACK = 64 }; /* triangles a leaf; the traversal's stack (two entries a level) */
 
@@ -28,12 +28,10 @@ typedef struct {
 } Node;
 
 struct EmitterFacing {
-    int tris, verts, edges, leaves;
+    int tris, leaves;
     bool two_sided;
-    double (*pos)[3];    /* per vertex */
     double (*tri)[3][3]; /* per sorted triangle: its corners */
-    int (*vert)[3];      /* its vertices */
-    int (*edge)[3];      /* its undirected edge from corner k to k + 1 */
+    SharedTriangles *shared; /* the same triangles' vertices, edges and Lambert terms */
     double (*nrm)[3];    /* its unit normal (0: no area) */
     double *size;        /* its longest edge */
     int *orig;           /* its index in the triangles create was given */
@@ -47,29 +45,14 @@ struct EmitterFacing {
 enum { ALONE = 0, FRONT = 1, BACK = 2 };
 
 struct EmitterFacingAt {
-    double p[3], n[3];
-    unsigned stamp;
-    unsigned *vert_stamp, *dir_stamp, *edge_stamp; /* h; u; theta */
-    double (*u)[3], *h, *theta;
-    unsigned char *label; /* per sorted triangle */
+    SharedTrianglesAt *shared; /* the receiver's vertex heights, directions, edge angles */
+    unsigned char *label;      /* per sorted triangle */
     int *part, parts;     /* node i (> 0) or single triangle -1 - t, labelled FRONT or BACK */
 };
 
 static void sub3(const double a[3], const double b[3], double out[3])
 {
     for (int k = 0; k < 3; ++k) out[k] = a[k] - b[k];
-}
-
-typedef struct {
-    int lo, hi, slot; /* slot: 3 t + k of a sorted triangle */
-} EdgeKey;
-
-static int cmp_edge(const void *a, const void *b)
-{
-    const EdgeKey *x = a, *y = b;
-    if (x->lo != y->lo) return x->lo < y->lo ? -1 : 1;
-    if (x->hi != y->hi) return x->hi < y->hi ? -1 : 1;
-    return x->slot - y->slot;
 }
 
 /* The bounding sphere and normal cone of the sorted triangles [begin, end). */
@@ -102,36 +85,29 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
     if (count < 1) return NULL;
     EmitterFacing *f = calloc(1, sizeof *f);
     size_t n = (size_t)count;
-    double(*pos)[3] = malloc(3 * n * sizeof *pos);
-    int *vert = malloc(3 * n * sizeof *vert);
     double(*centroid)[3] = malloc(n * sizeof *centroid);
-    EdgeKey *ek = malloc(3 * n * sizeof *ek);
-    int *twin = malloc(3 * n * sizeof *twin);
+    int *twin = malloc(3 * n * sizeof *twin), *first_use = NULL;
     if (f) {
         f->tris = count, f->two_sided = two_sided;
-        f->tri = malloc(n * sizeof *f->tri), f->vert = malloc(n * sizeof *f->vert), f->edge = malloc(n * sizeof *f->edge);
+        f->tri = malloc(n * sizeof *f->tri);
         f->nrm = malloc(n * sizeof *f->nrm), f->twin = malloc(n * sizeof *f->twin);
         f->size = malloc(n * sizeof *f->size), f->orig = malloc(n * sizeof *f->orig);
         f->leaves = 1;
         while (f->leaves < (count + LEAF - 1) / LEAF) f->leaves *= 2;
         f->node = calloc(2 * (size_t)f->leaves, sizeof *f->node);
     }
-    bool ok = f && pos && vert && centroid && ek && twin && f->tri && f->vert && f->edge && f->nrm && f->twin && f->size &&
-              f->orig && f->node;
-    if (ok) f->verts = vertex_weld(count, tri, pos, vert);
-    if (!ok || f->verts < 0) {
-        free(pos), free(vert), free(centroid), free(ek), free(twin);
+    if (!f || !centroid || !twin || !f->tri || !f->nrm || !f->twin || !f->size || !f->orig || !f->node) {
+        free(centroid), free(twin);
         emitter_facing_destroy(f);
         return NULL;
     }
-    f->pos = pos;
     /* the triangles in Morton order of their centroids */
     for (size_t t = 0; t < n; ++t)
         for (int a = 0; a < 3; ++a) centroid[t][a] = (tri[t][0][a] + tri[t][1][a] + tri[t][2][a]) / 3.0;
     int *order = morton_order(count, (const double(*)[3])centroid);
     free(centroid);
     if (!order) {
-        free(vert), free(ek), free(twin);
+        free(twin);
         emitter_facing_destroy(f);
         return NULL;
     }
@@ -139,7 +115,6 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
         int t = order[s];
         f->orig[s] = t;
         memcpy(f->tri[s], tri[t], sizeof f->tri[s]);
-        for (int k = 0; k < 3; ++k) f->vert[s][k] = vert[3 * t + k];
         double e1[3], e2[3], *m = f->nrm[s];
         sub3(tri[t][1], tri[t][0], e1), sub3(tri[t][2], tri[t][0], e2);
         m[0] = e1[1] * e2[2] - e1[2] * e2[1], m[1] = e1[2] * e2[0] - e1[0] * e2[2], m[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -152,27 +127,37 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
             f->size[s] = fmax(f->size[s], sqrt(polygon_dot3(e, e)));
         }
     }
-    free(vert), free(order);
-    /* undirected edges, and each directed edge's twin: the one other triangle that runs the same
-     * edge the other way (-1 when there is none, or the edge is not shared so) */
-    for (size_t q = 0; q < 3 * n; ++q) {
-        int a = f->vert[q / 3][q % 3], b = f->vert[q / 3][(q % 3 + 1) % 3];
-        ek[q] = (EdgeKey){a < b ? a : b, a < b ? b : a, (int)q};
-        twin[q] = -1;
+    free(order);
+    /* the sorted triangles' shared vertices and edges, and each directed edge's twin: the one
+     * other triangle that runs the same edge the other way (-1 when there is none, or the edge is
+     * not shared so) */
+    f->shared = shared_triangles_create(count, (const double(*)[3][3])f->tri);
+    int edges = f->shared ? shared_triangles_edge_count(f->shared) : 0;
+    int *uses = f->shared ? calloc(edges > 0 ? (size_t)edges : 1, sizeof *uses) : NULL;
+    first_use = uses ? malloc((edges > 0 ? (size_t)edges : 1) * sizeof *first_use) : NULL;
+    if (!first_use) {
+        free(uses), free(twin);
+        emitter_facing_destroy(f);
+        return NULL;
     }
-    qsort(ek, 3 * n, sizeof *ek, cmp_edge);
-    for (size_t q = 0; q < 3 * n;) {
-        size_t r = q + 1;
-        while (r < 3 * n && ek[r].lo == ek[q].lo && ek[r].hi == ek[q].hi) ++r;
-        for (size_t m = q; m < r; ++m) f->edge[ek[m].slot / 3][ek[m].slot % 3] = f->edges;
-        if (r - q == 2) {
-            int s0 = ek[q].slot, s1 = ek[q + 1].slot;
-            bool opposite = f->vert[s0 / 3][s0 % 3] == f->vert[s1 / 3][(s1 % 3 + 1) % 3];
-            if (opposite && s0 / 3 != s1 / 3) twin[s0] = s1 / 3, twin[s1] = s0 / 3;
+    for (size_t q = 0; q < 3 * n; ++q) twin[q] = -1;
+    for (int t = 0; t < count; ++t) {
+        int vert[3], edge[3];
+        shared_triangles_corners(f->shared, t, vert, edge);
+        for (int k = 0; k < 3; ++k)
+            if (uses[edge[k]]++ == 0) first_use[edge[k]] = 3 * t + k;
+    }
+    for (int t = 0; t < count; ++t) {
+        int vert[3], edge[3];
+        shared_triangles_corners(f->shared, t, vert, edge);
+        for (int k = 0; k < 3; ++k) {
+            int q0 = first_use[edge[k]], t0 = q0 / 3, v0[3], e0[3];
+            if (uses[edge[k]] != 2 || t0 == t) continue; /* unshared, used thrice or more, or the first use itself */
+            shared_triangles_corners(f->shared, t0, v0, e0);
+            if (v0[q0 % 3] == vert[(k + 1) % 3]) twin[q0] = t, twin[3 * t + k] = t0; /* run the other way */
         }
-        ++f->edges, q = r;
     }
-    free(ek);
+    free(uses), free(first_use);
     /* the nodes: ranges of sorted triangles, their bounds and the edges leaving them */
     for (int j = 0; j < f->leaves; ++j) {
         Node *nd = &f->node[f->leaves + j];
@@ -208,7 +193,8 @@ EmitterFacing *emitter_facing_create(int count, const double (*tri)[3][3], bool 
 void emitter_facing_destroy(EmitterFacing *f)
 {
     if (!f) return;
-    free(f->pos), free(f->tri), free(f->vert), free(f->edge), free(f->nrm), free(f->node), free(f->bedge), free(f->twin);
+    shared_triangles_destroy(f->shared);
+    free(f->tri), free(f->nrm), free(f->node), free(f->bedge), free(f->twin);
     free(f->size), free(f->orig);
     free(f);
 }
@@ -216,17 +202,12 @@ void emitter_facing_destroy(EmitterFacing *f)
 EmitterFacingAt *emitter_facing_at_create(const EmitterFacing *f)
 {
     EmitterFacingAt *at = calloc(1, sizeof *at);
-    size_t v = f->verts > 0 ? (size_t)f->verts : 1, e = f->edges > 0 ? (size_t)f->edges : 1;
     if (at) {
-        at->vert_stamp = calloc(v, sizeof *at->vert_stamp), at->edge_stamp = calloc(e, sizeof *at->edge_stamp);
-        at->dir_stamp = calloc(v, sizeof *at->dir_stamp);
-        at->u = malloc(v * sizeof *at->u), at->h = malloc(v * sizeof *at->h);
-        at->theta = malloc(e * sizeof *at->theta);
+        at->shared = shared_triangles_at_create(f->shared);
         /* parts: at most every node and every triangle */
         at->label = malloc((size_t)f->tris), at->part = malloc((2 * (size_t)f->leaves + (size_t)f->tris) * sizeof *at->part);
     }
-    if (!at || !at->vert_stamp || !at->dir_stamp || !at->edge_stamp || !at->u || !at->h || !at->theta || !at->label ||
-        !at->part) {
+    if (!at || !at->shared || !at->label || !at->part) {
         emitter_facing_at_destroy(at);
         return NULL;
     }
@@ -236,47 +217,16 @@ EmitterFacingAt *emitter_facing_at_create(const EmitterFacing *f)
 void emitter_facing_at_destroy(EmitterFacingAt *at)
 {
     if (!at) return;
-    free(at->vert_stamp), free(at->dir_stamp), free(at->edge_stamp), free(at->u), free(at->h), free(at->theta);
+    shared_triangles_at_destroy(at->shared);
     free(at->label), free(at->part);
     free(at);
 }
 
-/* Vertex v's height over the current receiver's horizon. */
-static double height(const EmitterFacing *f, EmitterFacingAt *at, int v)
-{
-    if (at->vert_stamp[v] != at->stamp) {
-        double rel[3];
-        sub3(f->pos[v], at->p, rel);
-        at->h[v] = polygon_dot3(at->n, rel);
-        at->vert_stamp[v] = at->stamp;
-    }
-    return at->h[v];
-}
-
-/* Vertex v's unit direction from the current receiver (v not at the receiver itself). */
-static const double *direction(const EmitterFacing *f, EmitterFacingAt *at, int v)
-{
-    if (at->dir_stamp[v] != at->stamp) {
-        double rel[3];
-        sub3(f->pos[v], at->p, rel);
-        double len = sqrt(polygon_dot3(rel, rel));
-        for (int k = 0; k < 3; ++k) at->u[v][k] = rel[k] / len;
-        at->dir_stamp[v] = at->stamp;
-    }
-    return at->u[v];
-}
-
 /* Lambert's term of sorted triangle q / 3's edge from corner q % 3 to the next, both ends above
- * the horizon: theta (n . (a x b)) / |a x b|, each undirected edge's angle found once. */
+ * the horizon. */
 static double edge_term(const EmitterFacing *f, EmitterFacingAt *at, int q)
 {
-    int t = q / 3, k = q % 3;
-    const double *a = direction(f, at, f->vert[t][k]), *b = direction(f, at, f->vert[t][(k + 1) % 3]);
-    double c[3], sn = polygon_edge_cross(a, b, c);
-    if (!(sn > 0.0)) return 0.0; /* coincident directions: a zero-length edge */
-    int e = f->edge[t][k];
-    if (at->edge_stamp[e] != at->stamp) at->theta[e] = atan2(sn, polygon_dot3(a, b)), at->edge_stamp[e] = at->stamp;
-    return at->theta[e] * polygon_dot3(c, at->n) / sn;
+    return shared_triangles_edge_term(f->shared, at->shared, q / 3, q % 3);
 }
 
 /* > 0: p in front of sorted triangle t's plane (by its winding), < 0 behind, 0 in it or no area */
@@ -349,13 +299,7 @@ static double part_edges(const EmitterFacing *f, EmitterFacingAt *at, int i, int
 double emitter_facing_phi(const EmitterFacing *f, EmitterFacingAt *at, const double p[3], const double n[3],
                           double (*alone_fn)(void *ctx, int t), void *ctx)
 {
-    memcpy(at->p, p, sizeof at->p), memcpy(at->n, n, sizeof at->n);
-    if (++at->stamp == 0) { /* wrapped: every stamp could look current */
-        memset(at->vert_stamp, 0, (size_t)f->verts * sizeof *at->vert_stamp);
-        memset(at->dir_stamp, 0, (size_t)f->verts * sizeof *at->dir_stamp);
-        memset(at->edge_stamp, 0, (size_t)f->edges * sizeof *at->edge_stamp);
-        at->stamp = 1;
-    }
+    shared_triangles_receiver(at->shared, p, n);
     /* label every triangle: FRONT or BACK when it is wholly above the horizon and faces p from
      * that side (its signed sum then joins that side's), else ALONE (summed by itself, or
      * nothing); a whole node at once where its bounds show it */
@@ -386,11 +330,14 @@ double emitter_facing_phi(const EmitterFacing *f, EmitterFacingAt *at, const dou
             continue;
         }
         for (int t = nd->begin; t < nd->end; ++t) {
-            const int *v = f->vert[t];
+            int v[3], e[3];
+            shared_triangles_corners(f->shared, t, v, e);
             double fc = facing(f, t, p), rel[3];
             sub3(f->tri[t][0], p, rel);
             bool clear = fabs(fc) > PLANE_CLEAR_REL * (f->size[t] + sqrt(polygon_dot3(rel, rel)));
-            bool above = height(f, at, v[0]) > 0.0 && height(f, at, v[1]) > 0.0 && height(f, at, v[2]) > 0.0;
+            bool above = shared_triangles_height(f->shared, at->shared, v[0]) > 0.0 &&
+                         shared_triangles_height(f->shared, at->shared, v[1]) > 0.0 &&
+                         shared_triangles_height(f->shared, at->shared, v[2]) > 0.0;
             if (above && clear && (fc > 0.0 || f->two_sided)) {
                 at->label[t] = fc > 0.0 ? FRONT : BACK;
                 at->part[at->parts++] = -1 - t;

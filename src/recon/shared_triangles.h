@@ -33,4 +33,17 @@ void shared_triangles_receiver(SharedTrianglesAt *at, const double p[3], const d
 /* polygon_projected_solid_angle(p, n, tri[t], 3) for the current receiver. */
 double shared_triangles_phi(const SharedTriangles *s, SharedTrianglesAt *at, int t);
 
+/* The pieces of that sum, for a caller that sums a mesh's edges its own way (emitter_facing.h).
+ * Triangle t's vertices and undirected edges (edge k runs from corner k to corner k + 1), as
+ * numbered here: equal vertices, and the same two vertices either way round, share a number. */
+int shared_triangles_vertex_count(const SharedTriangles *s);
+int shared_triangles_edge_count(const SharedTriangles *s);
+void shared_triangles_corners(const SharedTriangles *s, int t, int vert[3], int edge[3]);
+/* Vertex v's height n . (v - p) over the current receiver's horizon. */
+double shared_triangles_height(const SharedTriangles *s, SharedTrianglesAt *at, int v);
+/* Lambert's term of triangle t's edge from corner k to k + 1, theta (n . (a x b)) / |a x b| for
+ * the unit directions a, b to its ends (neither at the receiver itself), 0 when they coincide:
+ * the term shared_triangles_phi sums, each edge's angle found once a receiver. */
+double shared_triangles_edge_term(const SharedTriangles *s, SharedTrianglesAt *at, int t, int k);
+
 #endif
