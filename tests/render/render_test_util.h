@@ -3,6 +3,7 @@
 #define WEDGE_TESTS_RENDER_TEST_UTIL_H
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,6 +74,42 @@ static inline bool test_build_tracer(const char *text, SceneDesc *scene, Tracer 
         return false;
     }
     return true;
+}
+
+/* Appends printf-formatted text at text + *len (cap bytes in all); false when it does not fit. */
+static inline bool test_appendf(char *text, size_t cap, size_t *len, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int w = *len < cap ? vsnprintf(text + *len, cap - *len, fmt, ap) : -1;
+    va_end(ap);
+    if (w < 0 || *len + (size_t)w >= cap) return false;
+    *len += (size_t)w;
+    return true;
+}
+
+/* Appends a trianglemesh's "point3 P" and "integer indices" for a grid of cols x rows quads to
+ * text (cap bytes in all): the points at(ctx, c, r, p) for c <= cols, r <= rows, row by row, and
+ * each quad as the triangles (v, v+1, v+cols+2) and (v, v+cols+2, v+cols+1), v its lower corner.
+ * false when text is too short. */
+static inline bool test_grid_mesh(char *text, size_t cap, int cols, int rows, void (*at)(void *ctx, int c, int r, double p[3]),
+                                  void *ctx)
+{
+    size_t len = strlen(text);
+    bool ok = test_appendf(text, cap, &len, "\"point3 P\" [");
+    for (int r = 0; r <= rows; ++r)
+        for (int c = 0; c <= cols && ok; ++c) {
+            double p[3];
+            at(ctx, c, r, p);
+            ok = test_appendf(text, cap, &len, " %.9g %.9g %.9g", p[0], p[1], p[2]);
+        }
+    ok = ok && test_appendf(text, cap, &len, " ] \"integer indices\" [");
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols && ok; ++c) {
+            int v = r * (cols + 1) + c;
+            ok = test_appendf(text, cap, &len, " %d %d %d  %d %d %d", v, v + 1, v + cols + 2, v, v + cols + 2, v + cols + 1);
+        }
+    return ok && test_appendf(text, cap, &len, " ]");
 }
 
 /* A scene's tracer and lights (test_build_lights). */

@@ -20,29 +20,27 @@
 
 enum { LANES = 1001, COLS = 6, ROWS = 5 };
 
+/* the patch's points: a cylinder's arc across, 0.4 apart up it */
+static void patch_at(void *ctx, int c, int r, double p[3])
+{
+    (void)ctx;
+    double a = -0.8 + 1.6 * c / COLS;
+    p[0] = 1.5 * sin(a), p[1] = 0.4 * r, p[2] = 2.0 - 1.5 * cos(a);
+}
+
 /* A cylinder patch of COLS x ROWS quads as a trianglemesh emitting L (two_sided or not). */
 static bool build(bool two_sided, TestLights *b)
 {
-    char pts[4096] = "", idx[4096] = "";
-    size_t np = 0, ni = 0;
-    for (int r = 0; r <= ROWS; ++r)
-        for (int c = 0; c <= COLS; ++c) {
-            double a = -0.8 + 1.6 * c / COLS;
-            np += (size_t)snprintf(pts + np, sizeof pts - np, " %.6f %.6f %.6f", 1.5 * sin(a), 0.4 * r, 2.0 - 1.5 * cos(a));
-        }
-    for (int r = 0; r < ROWS; ++r)
-        for (int c = 0; c < COLS; ++c) {
-            int v = r * (COLS + 1) + c;
-            ni += (size_t)snprintf(idx + ni, sizeof idx - ni, " %d %d %d  %d %d %d", v, v + 1, v + COLS + 2, v,
-                                   v + COLS + 2, v + COLS + 1);
-        }
     char text[12288];
-    snprintf(text, sizeof text,
-             "LookAt 0 2 -5  0 0.3 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 45 ]\nWorldBegin\n"
-             "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 3 2 1 ] \"bool twosided\" %s\n"
-             "Shape \"trianglemesh\" \"point3 P\" [%s ] \"integer indices\" [%s ]\nAttributeEnd\n",
-             two_sided ? "true" : "false", pts, idx);
-    return test_build_lights(text, b);
+    size_t len = 0;
+    bool ok = test_appendf(text, sizeof text, &len,
+                           "LookAt 0 2 -5  0 0.3 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 45 ]\nWorldBegin\n"
+                           "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 3 2 1 ] \"bool twosided\" %s\nShape \"trianglemesh\" ",
+                           two_sided ? "true" : "false") &&
+              test_grid_mesh(text, sizeof text, COLS, ROWS, patch_at, NULL);
+    len = strlen(text);
+    ok = ok && test_appendf(text, sizeof text, &len, "\nAttributeEnd\n");
+    return ok && test_build_lights(text, b);
 }
 
 static bool same_bits(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }

@@ -10,37 +10,31 @@
 
 enum { COLS = 4, ROWS = 4 }; /* 4 x 4 quads of 0.5 x 0.5: 32 triangles of area 0.125 */
 
+/* the panel's points: 0.5 apart at height 2; test_grid_mesh's winding faces down (-y), towards the floor */
+static void panel_at(void *ctx, int c, int r, double p[3])
+{
+    (void)ctx;
+    p[0] = -1.0 + 0.5 * c, p[1] = 2.0, p[2] = -1.0 + 0.5 * r;
+}
+
 static double render_floor(bool sheet, long long *rays_shadow)
 {
-    char pts[2048] = "", idx[2048] = "";
-    size_t np = 0, ni = 0;
-    for (int r = 0; r <= ROWS; ++r)
-        for (int c = 0; c <= COLS; ++c)
-            np += (size_t)snprintf(pts + np, sizeof pts - np, " %g 2 %g", -1.0 + 0.5 * c, -1.0 + 0.5 * r);
-    for (int r = 0; r < ROWS; ++r)
-        for (int c = 0; c < COLS; ++c) {
-            int v = r * (COLS + 1) + c;
-            /* wound to face down (-y), towards the floor */
-            ni += (size_t)snprintf(idx + ni, sizeof idx - ni, " %d %d %d  %d %d %d", v, v + 1, v + COLS + 2, v,
-                                   v + COLS + 2, v + COLS + 1);
-        }
-    char text[8192];
-    snprintf(text, sizeof text,
-             "LookAt 0 1 -4  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 20 ]\n"
-             "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
-             "Sampler \"independent\" \"integer pixelsamples\" [ 16 ]\n"
-             "Integrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
-             "AttributeBegin\n  Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
-             "  Shape \"trianglemesh\" \"point3 P\" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
-             "AttributeEnd\n"
-             "AttributeBegin\n  AreaLightSource \"diffuse\" \"rgb L\" [ 4 4 4 ]\n"
-             "  Shape \"trianglemesh\" \"point3 P\" [%s ] \"integer indices\" [%s ]\nAttributeEnd\n"
-             "%s",
-             pts, idx,
-             sheet ? "AttributeBegin\n  Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
-                     "  Shape \"trianglemesh\" \"point3 P\" [ -1.5 1.95 -1.5  1.5 1.95 -1.5  1.5 1.95 1.5  -1.5 1.95 1.5 ]"
-                     " \"integer indices\" [ 0 1 2 0 2 3 ]\nAttributeEnd\n"
-                   : "");
+    char text[8192] = "LookAt 0 1 -4  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 20 ]\n"
+                      "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
+                      "Sampler \"independent\" \"integer pixelsamples\" [ 16 ]\n"
+                      "Integrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
+                      "AttributeBegin\n  Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+                      "  Shape \"trianglemesh\" \"point3 P\" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n"
+                      "AttributeEnd\n"
+                      "AttributeBegin\n  AreaLightSource \"diffuse\" \"rgb L\" [ 4 4 4 ]\n  Shape \"trianglemesh\" ";
+    bool ok = test_grid_mesh(text, sizeof text, COLS, ROWS, panel_at, NULL);
+    size_t len = strlen(text);
+    ok = ok && test_appendf(text, sizeof text, &len, "\nAttributeEnd\n%s",
+                           sheet ? "AttributeBegin\n  Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+                                   "  Shape \"trianglemesh\" \"point3 P\" [ -1.5 1.95 -1.5  1.5 1.95 -1.5  1.5 1.95 1.5  -1.5 1.95 1.5 ]"
+                                   " \"integer indices\" [ 0 1 2 0 2 3 ]\nAttributeEnd\n"
+                                 : "");
+    CHECK(ok);
     TestRender t;
     RenderOptions o = {0};
     o.threads = 2;

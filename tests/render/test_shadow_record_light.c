@@ -68,22 +68,25 @@ static void record_add(void *ctx, int px, int py, const SampleRecord *rec)
     }
 }
 
-/* Appends a GRID x GRID quad grid at height y over [x0, x0 + w] x [z0, z0 + w], wound so
- * that it emits downwards. */
-static void append_grid(char *text, size_t cap, int n, float x0, float z0, float w, float y)
+/* An n x n quad grid at height y over [x0, x0 + w] x [z0, z0 + w] (test_grid_mesh's winding
+ * faces down). */
+typedef struct {
+    int n;
+    double x0, z0, w, y;
+} Grid;
+
+static void grid_at(void *ctx, int c, int r, double p[3])
+{
+    const Grid *g = ctx;
+    p[0] = g->x0 + g->w * c / g->n, p[1] = g->y, p[2] = g->z0 + g->w * r / g->n;
+}
+
+static void append_grid(char *text, size_t cap, Grid g)
 {
     size_t len = strlen(text);
-    len += (size_t)snprintf(text + len, cap - len, " Shape \"trianglemesh\" \"point3 P\" [");
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i)
-            len += (size_t)snprintf(text + len, cap - len, " %g %g %g", x0 + w * i / n, y, z0 + w * j / n);
-    len += (size_t)snprintf(text + len, cap - len, " ] \"integer indices\" [");
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            int v00 = j * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1, v11 = v01 + 1;
-            len += (size_t)snprintf(text + len, cap - len, " %d %d %d %d %d %d", v00, v10, v11, v00, v11, v01);
-        }
-    snprintf(text + len, cap - len, " ]\n");
+    bool ok = test_appendf(text, cap, &len, " Shape \"trianglemesh\" ") && test_grid_mesh(text, cap, g.n, g.n, grid_at, &g);
+    len = strlen(text);
+    CHECK(ok && test_appendf(text, cap, &len, "\n"));
 }
 
 int main(void)
@@ -102,7 +105,7 @@ int main(void)
              " Shape \"trianglemesh\" \"point3 P\" [ 0.2 0.01 -1.5  1.5 0.01 -1.5  1.5 0.01 -0.2  0.2 0.01 -0.2 ]"
              " \"integer indices\" [ 0 2 1 0 3 2 ]\nAttributeEnd\n"
              "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ 3 3 3 ]\n");
-    append_grid(text, sizeof text, GRID, -1.4f, -0.6f, 1.2f, 2.0f);
+    append_grid(text, sizeof text, (Grid){GRID, -1.4, -0.6, 1.2, 2.0});
     size_t len = strlen(text);
     snprintf(text + len, sizeof text - len,
              "AttributeEnd\n"
@@ -113,7 +116,7 @@ int main(void)
              " Shape \"sphere\" \"float radius\" [ 0.15 ]\nAttributeEnd\n"
              "AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [ 4 4 4 ]\n"
              " TransformTimes 0 1\n ActiveTransform EndTime\n Translate 0.5 0 0\n ActiveTransform All\n");
-    append_grid(text, sizeof text, MOVING_GRID, -0.5f, 1.0f, 0.6f, 1.8f);
+    append_grid(text, sizeof text, (Grid){MOVING_GRID, -0.5, 1.0, 0.6, 1.8});
     len = strlen(text);
     snprintf(text + len, sizeof text - len, "AttributeEnd\n");
 
