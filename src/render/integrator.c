@@ -28,6 +28,7 @@
 #include "core/vectorise.h"
 #include "render/lambert_bounce.h"
 #include "render/light_choose.h"
+#include "render/shadow_rays.h"
 #include "render/warp.h"
 
 /* The wave is compiled twice, for whole records (integrate_wave) and for the radiance alone
@@ -205,22 +206,11 @@ typedef struct {
  * two ends coincide. */
 static bool shadow_ray_to(const Vertex *v, const LightSample *ls, float time01, IntegratorStats *st, TracerRay *ray)
 {
-    vec3 o = surface_offset(&v->hit, ls->wi), dir = ls->wi;
-    float tmax = INFINITY;
-    if (isfinite(ls->dist)) {
-        vec3 target = ls->p_light;
-        if (ls->err_light > 0.0f && v3_length2(ls->n_light) > 0.0f) {
-            float side = v3_dot(ls->n_light, v3_sub(o, ls->p_light)) >= 0.0f ? 1.0f : -1.0f;
-            target = v3_madd(ls->p_light, ls->n_light, side * ls->err_light);
-        }
-        vec3 d = v3_sub(target, o);
-        float len = v3_length(d);
-        if (!(len > 0.0f)) {
-            ++st->guarded_events;
-            return false;
-        }
-        dir = v3_scale(d, 1.0f / len);
-        tmax = len;
+    vec3 o, dir;
+    float tmax;
+    if (!shadow_ray_make(&v->hit, ls, &o, &dir, &tmax)) {
+        ++st->guarded_events;
+        return false;
     }
     ++st->rays_shadow;
     *ray = (TracerRay){o, dir, tmax, time01, 0u};
@@ -527,65 +517,6 @@ typedef struct {
     int sampled[WAVE_SAMPLES], guarded[WAVE_SAMPLES], bounce[WAVE_SAMPLES];
 } WaveLambertBounces;
 
-/* One delta light of LightSet.delta_every at the stage's vertices, one lane per path of the
- * wave (lane j: path j; lanes of dead or unlit paths hold values nothing keeps). A point or
- * spot light's samples (light_sample_point_batch: wi, dist, Li, ok) and shadow rays
- * (point_shadow_rays, ShadowRayAhead's o, dir, len and redo); a distant light's shadow rays
- * (distant_lambert_lanes: o, dir, len). Then every lit path's share: its shadow ray is kept
- * (kept), its unoccluded value f Li |cos| (value) and the ray's answer (occluded). A Lambert
- * receiver's lane is computed by a vectorised loop (point_lambert_lanes,
- * distant_lambert_lanes); a glossy receiver's, or a ray point_shadow_rays leaves to
- * shadow_ray_to (redo), by wave_vertex_rays path by path, whose ray goes to the occlusion
- * batch and whose answer is copied into the lane (Wave.delta_fix_*). */
-typedef struct {
-    float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], Li[3][WAVE_SAMPLES];
-    int ok[WAVE_SAMPLES];
-    float err_light; /* the light's LightSample.err_light (light_delta_offset), the same for all */
-    /* their shadow rays (ShadowRayAhead); 16-byte aligned, as Embree's stream reads them in
-     * place (tracer_occluded_arrays) */
-    _Alignas(16) float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
-    int redo[WAVE_SAMPLES];
-    /* every lit path's share (above) */
-    float value[3][WAVE_SAMPLES];
-    int kept[WAVE_SAMPLES];
-    bool occluded[WAVE_SAMPLES];
-    int kept_count; /* how many lanes the loops kept (none: nothing to trace from the lanes) */
-} WaveDeltaSamples;
-
-/* The samples of one static triangle light picked by some of a stage's paths, one lane per
- * path: its receiver (position, geometric normal, offset) and position sample, the sample
- * (light_sample_triangle_batch) and its shadow ray (ShadowRayAhead). A constant sky
- * (light_is_constant_sky) is grouped the same way (sky): its sample is a direction
- * (light_sample_sky_batch: wi, pdf 1 / (4 pi), dist infinite, no p_light; at a Lambert
- * receiver made cosine-weighted about its normal by light_sky_cosine_batch, sky_by_cosine)
- * and its shadow ray leaves the receiver along it (sky_shadow_rays); every other lane is
- * used alike. */
-typedef struct {
-    int light, count; /* light: the group's light, or for a mesh the first triangle of its run */
-    bool sky;
-    bool mesh;             /* the triangles of one emitting mesh, lane k's in tri[k] */
-    int tri[WAVE_SAMPLES]; /* lane k's light */
-    float p[3][WAVE_SAMPLES], ng[3][WAVE_SAMPLES], err[WAVE_SAMPLES], u[2][WAVE_SAMPLES];
-    float wi[3][WAVE_SAMPLES], dist[WAVE_SAMPLES], pl[3][WAVE_SAMPLES], pdf[WAVE_SAMPLES];
-    int ok[WAVE_SAMPLES];
-    float o[3][WAVE_SAMPLES], dir[3][WAVE_SAMPLES], len[WAVE_SAMPLES];
-    int redo[WAVE_SAMPLES];
-    /* a Lambert receiver's part (lambert_triangle_nee): in, its vertex's n, cos_o, albedo
-     * and the pick's pmf; out, whether the shadow ray is sent (send) or guarded (send_guarded)
-     * and the unoccluded estimate (light_finish's value, nee_guarded where it counts a
-     * guarded event and gives 0). Lanes of glossy receivers hold values nothing reads. */
-    float n[3][WAVE_SAMPLES], cos_o[WAVE_SAMPLES], albedo[3][WAVE_SAMPLES], pmf[WAVE_SAMPLES];
-    int send[WAVE_SAMPLES], send_guarded[WAVE_SAMPLES];
-    float nee[3][WAVE_SAMPLES];
-    int nee_guarded[WAVE_SAMPLES];
-    /* a Lambert receiver's shadow ray is traced from the lanes (tracer_occluded_arrays):
-     * the lane's receiver is Lambert (lambert), its path's time, whether the ray is traced
-     * there (traced: a Lambert receiver, the ray computed ahead and sent) and the answer */
-    int lambert[WAVE_SAMPLES], traced[WAVE_SAMPLES];
-    bool rays_ahead; /* triangle_shadow_rays made the lanes' rays (else none is traced here) */
-    float time01[WAVE_SAMPLES];
-    bool occluded[WAVE_SAMPLES];
-} WaveTriangleSamples;
 /* Triangle lights batched per stage; paths that pick others sample them one by one. */
 enum { WAVE_TRIANGLE_GROUPS = 8 };
 
@@ -942,28 +873,6 @@ WAVE_STAGE void wave_first_hit(const IntegratorScene *sc, WavePath *p, vec3 d_wo
 /* A BSDF made of delta lobes only cannot be reached by a light sample: its vertex takes none. */
 static inline bool vertex_lit(const Vertex *v) { return !(v->glossy && glossy_is_delta(&v->bsdf)); }
 
-/* shadow_ray_to for count samples of a point or spot light at target (a finite distance,
- * no offset at the light, as its samples have) from receivers p (geometric normals ng,
- * offsets err), written out per coordinate so that GCC vectorises the loop: the same
- * operations in the same order. redo[k]: the length is outside v3_length's plain range or
- * the distance not finite, and shadow_ray_to must compute that ray itself. */
-static WEDGE_VECTORISED void point_shadow_rays(int count, const float (*restrict p)[WAVE_SAMPLES],
-                                               const float (*restrict ng)[WAVE_SAMPLES], const float *restrict err,
-                                               vec3 target, WaveDeltaSamples *restrict ps)
-{
-    for (int k = 0; k < count; ++k) {
-        float nx = ng[0][k], ny = ng[1][k], nz = ng[2][k];
-        /* surface_offset */
-        float side = nx * ps->wi[0][k] + ny * ps->wi[1][k] + nz * ps->wi[2][k] >= 0.0f ? err[k] : -err[k];
-        float ox = p[0][k] + nx * side, oy = p[1][k] + ny * side, oz = p[2][k] + nz * side;
-        float dx = target.x - ox, dy = target.y - oy, dz = target.z - oz;
-        float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
-        ps->o[0][k] = ox, ps->o[1][k] = oy, ps->o[2][k] = oz;
-        ps->dir[0][k] = dx * inv, ps->dir[1][k] = dy * inv, ps->dir[2][k] = dz * inv;
-        ps->len[k] = len;
-        ps->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (ps->dist[k] < INFINITY));
-    }
-}
 
 /* A Lambert receiver's response to one delta light in lane k of the loops below: what
  * light_prepare_sampled and its caller compute path by path (bsdf_diffuse_f: albedo / pi
@@ -1060,80 +969,6 @@ static WEDGE_VECTORISED void delta_lanes_sum(int count, int lights, const WaveDe
     }
 }
 
-/* shadow_ray_to for lane k of g, a sample of a triangle light (normal n_light, offset
- * err_light > 0): as point_shadow_rays, with the end pushed off the light's surface to the
- * receiver's side. */
-static inline __attribute__((always_inline)) void triangle_shadow_ray_lane(float nx, float ny, float nz, float err_light,
-                                                                           int k, WaveTriangleSamples *restrict g)
-{
-    float gx = g->ng[0][k], gy = g->ng[1][k], gz = g->ng[2][k];
-    float side = gx * g->wi[0][k] + gy * g->wi[1][k] + gz * g->wi[2][k] >= 0.0f ? g->err[k] : -g->err[k];
-    float ox = g->p[0][k] + gx * side, oy = g->p[1][k] + gy * side, oz = g->p[2][k] + gz * side;
-    float lx = g->pl[0][k], ly = g->pl[1][k], lz = g->pl[2][k];
-    float to_side = nx * (ox - lx) + ny * (oy - ly) + nz * (oz - lz) >= 0.0f ? 1.0f : -1.0f;
-    float push = to_side * err_light;
-    float dx = (lx + nx * push) - ox, dy = (ly + ny * push) - oy, dz = (lz + nz * push) - oz;
-    float len = sqrtf(dx * dx + dy * dy + dz * dz), inv = 1.0f / len;
-    g->o[0][k] = ox, g->o[1][k] = oy, g->o[2][k] = oz;
-    g->dir[0][k] = dx * inv, g->dir[1][k] = dy * inv, g->dir[2][k] = dz * inv;
-    g->len[k] = len;
-    g->redo[k] = !((len > V3_LENGTH_PLAIN_MIN) & (len < V3_LENGTH_PLAIN_MAX) & (g->dist[k] < INFINITY));
-}
-
-/* The shadow rays of every lane of g, one triangle light's samples. */
-static WEDGE_VECTORISED void triangle_shadow_rays(vec3 n_light, float err_light, WaveTriangleSamples *restrict g)
-{
-    for (int k = 0; k < g->count; ++k) triangle_shadow_ray_lane(n_light.x, n_light.y, n_light.z, err_light, k, g);
-}
-
-/* Each lane's triangle's normal and offset, loaded by its index as floats (LIGHT_F_...:
- * gathers where the vector width has them), and whether its shadow ray can be made ahead
- * (light_triangle_rays_ahead). */
-static inline void mesh_lane_normals(const Light *lights, int count, const int *restrict tri, float *restrict nx,
-                                     float *restrict ny, float *restrict nz, float *restrict err, int *restrict ahead)
-{
-    const float *restrict f = (const float *)lights;
-    for (int k = 0; k < count; ++k) {
-        int i = tri[k] * LIGHT_FLOATS; /* an index, not a pointer: GCC gathers through the one, not the other */
-        float x = f[i + LIGHT_F_TRI_N], y = f[i + LIGHT_F_TRI_N + 1], z = f[i + LIGHT_F_TRI_N + 2];
-        float e = f[i + LIGHT_F_TRI_ERR];
-        nx[k] = x, ny[k] = y, nz[k] = z, err[k] = e;
-        ahead[k] = (e > 0.0f) & (x * x + y * y + z * z > 0.0f);
-    }
-}
-
-/* The same for a mesh's lanes, each with its own triangle lights[g->tri[k]]; a lane whose
- * triangle has no offset or no normal is left to shadow_ray_to (redo), as a single light's
- * group is: its ray is made, then replaced. */
-static WEDGE_VECTORISED void mesh_shadow_rays(const Light *lights, WaveTriangleSamples *restrict g)
-{
-    float nx[WAVE_SAMPLES], ny[WAVE_SAMPLES], nz[WAVE_SAMPLES], err[WAVE_SAMPLES];
-    int ahead[WAVE_SAMPLES];
-    mesh_lane_normals(lights, g->count, g->tri, nx, ny, nz, err, ahead);
-    for (int k = 0; k < g->count; ++k) triangle_shadow_ray_lane(nx[k], ny[k], nz[k], err[k], k, g);
-    /* apart: as selects in the loop above they kept it scalar */
-    for (int k = 0; k < g->count; ++k) {
-        if (ahead[k]) continue;
-        g->o[0][k] = g->o[1][k] = g->o[2][k] = g->dir[0][k] = g->dir[1][k] = g->dir[2][k] = g->len[k] = 0.0f;
-        g->redo[k] = 1;
-    }
-}
-
-/* shadow_ray_to for the samples of a constant sky in g (directions wi, an infinite
- * distance): from the receiver pushed off its surface towards wi (surface_offset), along
- * wi, unbounded; never redone. */
-static WEDGE_VECTORISED void sky_shadow_rays(WaveTriangleSamples *restrict g)
-{
-    for (int k = 0; k < g->count; ++k) {
-        float gx = g->ng[0][k], gy = g->ng[1][k], gz = g->ng[2][k];
-        float wx = g->wi[0][k], wy = g->wi[1][k], wz = g->wi[2][k];
-        float side = gx * wx + gy * wy + gz * wz >= 0.0f ? g->err[k] : -g->err[k];
-        g->o[0][k] = g->p[0][k] + gx * side, g->o[1][k] = g->p[1][k] + gy * side, g->o[2][k] = g->p[2][k] + gz * side;
-        g->dir[0][k] = wx, g->dir[1][k] = wy, g->dir[2][k] = wz;
-        g->len[k] = INFINITY;
-        g->redo[k] = 0;
-    }
-}
 
 /* light_prepare_lambert_triangle and light_finish (unoccluded) for every lane of g, as one
  * loop GCC vectorises: bsdf_diffuse_f and bsdf_diffuse_pdf, the shadow ray's send and guard
