@@ -162,8 +162,8 @@ static bool copy_shape_sweep(const ShapeSummary *h, const MaafLight *lights, Maa
  * same design without comparing itself with every earlier light: a curved mesh light's triangles
  * each have extents of their own, and that search was quadratic in them (10,000 triangles: 5e7
  * comparisons, most of the table's time). Open addressing, -1 empty. Every earlier light with the
- * same design holds the same table bit for bit, so whichever one is found gives the copy the scan
- * in light order gave. */
+ * same design holds the same band and means bit for bit, so whichever one is found gives the copy
+ * the scan in light order gave. */
 typedef struct {
     int *slot;
     size_t mask;
