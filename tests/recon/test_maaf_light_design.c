@@ -7,7 +7,8 @@
  *    of the table's linear interpolation (twice h^2/8 max|Phi_p''| plus float rounding);
  * 3. the means over the light (the trapezoid rule over c_p);
  * 4. maaf_light_design_copy: a mesh light's second triangle gets the first one's design bit for
- *    bit, and a light with another band or extent gets none. */
+ *    bit, and a light with another band, extent or poses gets none; a moving light's poses
+ *    weight its means. */
 #include <math.h>
 #include <string.h>
 
@@ -186,5 +187,30 @@ int main(void)
     CHECK(!maaf_light_design_copy(wide, 0.006f, &other));
     CHECK(!maaf_light_design_copy(wide, 0.0f, &other));
     CHECK(memcmp(&other, &before, sizeof other) == 0);
+
+    /* a moving light: its poses weight the means (a light sliding along t1 covers the middle
+     * longer), a copy needs the same poses, whichever storage holds them, and poses at hand */
+    MaafSweep poses, twin, shifted;
+    for (int k = 0; k < MAAF_SWEEP_NODES; ++k) {
+        float d = 0.6f * (float)k / (MAAF_SWEEP_NODES - 1) - 0.3f;
+        poses.lo[0][k] = d - 0.4f, poses.hi[0][k] = d + 0.4f, poses.lo[1][k] = -0.2f, poses.hi[1][k] = 0.2f;
+    }
+    twin = shifted = poses;
+    shifted.hi[0][7] += 0.01f;
+    MaafLight moving = light_box(-0.7f, 0.7f, -0.2f, 0.2f, 0.0f), copy = moving, unlike = moving, bare = moving;
+    moving.sweep_nodes = copy.sweep_nodes = unlike.sweep_nodes = bare.sweep_nodes = MAAF_SWEEP_NODES;
+    moving.sweep = &poses, copy.sweep = &twin, unlike.sweep = &shifted;
+    MaafLight still = moving;
+    still.sweep_nodes = 0, still.sweep = NULL;
+    maaf_light_design(0.05f, PAIRS, &moving);
+    maaf_light_design(0.05f, PAIRS, &still);
+    printf("moving light: mean c_0 along the motion %.4f, the static light's %.4f\n", moving.mean[0][0][0], still.mean[0][0][0]);
+    CHECK(moving.mean[0][0][0] > still.mean[0][0][0] + 0.01f); /* the density: more samples mid-light */
+    CHECK(moving.mean[1][0][0] == still.mean[1][0][0]);        /* no motion along t2 */
+    CHECK(maaf_light_design_copy(&moving, 0.05f, &copy));
+    CHECK(memcmp(copy.mean, moving.mean, sizeof copy.mean) == 0);
+    CHECK(!maaf_light_design_copy(&moving, 0.05f, &unlike));
+    CHECK(!maaf_light_design_copy(&moving, 0.05f, &bare));
+    CHECK(!maaf_light_design_copy(&moving, 0.05f, &still));
     CHECK_DONE();
 }

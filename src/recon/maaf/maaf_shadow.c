@@ -39,9 +39,9 @@ static void light_means(int pairs, MaafLight *l)
         for (int e = 0; e < MAAF_MEAN_NODES; ++e) {
             double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_MEAN_NODES - 1.0);
             int covered = 1;
-            if (l->sweep_nodes > 0) {
+            if (l->sweep_nodes > 0 && l->sweep) {
                 covered = 0;
-                for (int k = 0; k < l->sweep_nodes; ++k) covered += y >= l->sweep_lo[a][k] && y <= l->sweep_hi[a][k];
+                for (int k = 0; k < l->sweep_nodes; ++k) covered += y >= l->sweep->lo[a][k] && y <= l->sweep->hi[a][k];
             }
             double density = (e == 0 || e == MAAF_MEAN_NODES - 1 ? 0.5 : 1.0) * covered;
             if (density == 0.0) continue;
@@ -71,7 +71,7 @@ bool maaf_light_design_copy(const MaafLight *from, float sigma_light_world, Maaf
     float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
     if (!(wy > 0.0f) || from->omega_y_max != wy || from->lo[0] != l->lo[0] || from->hi[0] != l->hi[0] ||
         from->lo[1] != l->lo[1] || from->hi[1] != l->hi[1] || from->sweep_nodes != l->sweep_nodes ||
-        memcmp(from->sweep_lo, l->sweep_lo, sizeof l->sweep_lo) || memcmp(from->sweep_hi, l->sweep_hi, sizeof l->sweep_hi))
+        (l->sweep_nodes > 0 && (!from->sweep || !l->sweep || memcmp(from->sweep, l->sweep, sizeof *l->sweep))))
         return false;
     l->omega_y_max = wy;
     l->sy = from->sy;

@@ -24,18 +24,26 @@
 /* Poses of a moving light over the shutter that its sample density is taken from. */
 #define MAAF_SWEEP_NODES 32
 
+/* A moving light's poses: each one's extent along the light's axes, as lo, hi (world units from
+ * the swept light's centre). */
+typedef struct {
+    float lo[2][MAAF_SWEEP_NODES], hi[2][MAAF_SWEEP_NODES];
+} MaafSweep;
+
 /* One light as MAAF sees it: the centre of its whole emitter (all triangles of one shape), its
  * plane's axes (zero for spheres: the plane facing each receiver), its extent along them
  * relative to the centre, its y-design and its mean c_p. A planar light that moves
  * during the shutter is its swept light (maaf_light_sweep.h): the centre its mean over the
- * shutter, the extent the union of its poses', and each pose's extent kept for the density of
- * its samples. */
+ * shutter, the extent the union of its poses', and each pose's extent read for the density of
+ * its samples while its design is made. The poses are the caller's (a mesh light's triangles
+ * share their shape's), not the light's: 152 bytes a light instead of 664, and a light of a
+ * finished table (maaf_lights_from_renderer) holds none. */
 typedef struct {
     float center[3];
     float t1[3], t2[3];       /* unit axes in the light's plane (planar emitters) */
     float lo[2], hi[2];       /* extent along t1, t2 from the centre, world units */
     int sweep_nodes;          /* a moving light: its poses at sweep_nodes shutter times; 0: static */
-    float sweep_lo[2][MAAF_SWEEP_NODES], sweep_hi[2][MAAF_SWEEP_NODES]; /* each pose's extent, as lo, hi */
+    const MaafSweep *sweep;   /* those poses while the design is made (NULL: static, or designed) */
     float omega_y_max;        /* 2 / sigma_light, radians per world unit (0: not an area light) */
     float sy;                 /* the y-Gaussians' Fourier std Omega_y_max / (2N - 1) (eq. 6; band p's
                                * centre C_y^p is 2p sy), radians per world unit */
@@ -46,8 +54,8 @@ typedef struct {
  * centre, axes and extent (and sweep, if it moves) are set. */
 void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l);
 /* The same design copied from an earlier light (same pairs) when it is the one maaf_light_design
- * would make: the same band and extents (a mesh light's triangles share their shape's). False,
- * and l untouched, otherwise. */
+ * would make: the same band and extents, and for a moving light the same poses, both at hand (a
+ * mesh light's triangles share their shape's). False, and l untouched, otherwise. */
 bool maaf_light_design_copy(const MaafLight *from, float sigma_light_world, MaafLight *l);
 
 /* The axes a receiver at p measures this light's samples along (planar: the light's; sphere:
