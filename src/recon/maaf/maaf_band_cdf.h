@@ -54,4 +54,11 @@ static inline void maaf_band_cdf_lerp(const MaafBandCdf *table, int p, MaafBandC
     out[1] = a[1] + at.t * (b[1] - a[1]);
 }
 
+/* Re Phi_p alone (the central band's Phi_0 is real). */
+static inline float maaf_band_cdf_lerp_re(const MaafBandCdf *table, int p, MaafBandCdfAt at)
+{
+    float a = (*table)[p][at.e][0], b = (*table)[p][at.e + 1][0];
+    return a + at.t * (b - a);
+}
+
 #endif

@@ -8,22 +8,24 @@
 
 #define INV_SQRT_2PI 0.39894228f
 
-/* c_p(y) along axis a for the bands [p0, p1): the window [lo - y, hi - y] in units of the
+/* c_p(y) along axis a for the bands p < pairs: the window [lo - y, hi - y] in units of the
  * y-Gaussian's primal std (1 / sy) and Phi_p at its two ends (maaf_band_cdf.h). y outside the
  * extent is its nearest end, as the per-light table of 129 entries had it (2026-12-01). The two
- * ends' places in the table are found once for all the bands. */
-static void light_factors(const MaafLight *l, int a, float y, int p0, int p1, float c[][2])
+ * ends' places in the table are found once for all the bands, and the central band, whose
+ * table is real (its imaginary parts all +0), reads only the real parts: the same floats. */
+static inline void light_factors(const MaafBandCdf *table, const MaafLight *l, int a, float y, int pairs, float c[][2])
 {
     if (!(y > l->lo[a])) y = l->lo[a]; /* NaN too */
     if (y > l->hi[a]) y = l->hi[a];
-    const MaafBandCdf *table = maaf_band_cdf();
     MaafBandCdfAt hi = maaf_band_cdf_at(l->sy * (l->hi[a] - y)), lo = maaf_band_cdf_at(l->sy * (l->lo[a] - y));
-    for (int p = p0; p < p1; ++p) {
+    c[0][0] = maaf_band_cdf_lerp_re(table, 0, hi) - maaf_band_cdf_lerp_re(table, 0, lo);
+    c[0][1] = 0.0f;
+    for (int p = 1; p < pairs; ++p) {
         float up[2], down[2];
         maaf_band_cdf_lerp(table, p, hi, up);
         maaf_band_cdf_lerp(table, p, lo, down);
-        c[p - p0][0] = up[0] - down[0];
-        c[p - p0][1] = up[1] - down[1];
+        c[p][0] = up[0] - down[0];
+        c[p][1] = up[1] - down[1];
     }
 }
 
@@ -46,7 +48,7 @@ static void light_means(int pairs, MaafLight *l)
             double density = (e == 0 || e == MAAF_MEAN_NODES - 1 ? 0.5 : 1.0) * covered;
             if (density == 0.0) continue;
             float c[MAAF_PAIRS_MAX][2];
-            light_factors(l, a, (float)y, 0, pairs, c);
+            light_factors(maaf_band_cdf(), l, a, (float)y, pairs, c);
             total += density;
             for (int p = 0; p < pairs; ++p)
                 for (int k = 0; k < 2; ++k) sum[p][k] += density * c[p][k];
@@ -96,7 +98,9 @@ void maaf_light_axes(const MaafLight *l, const float p[3], float t1[3], float t2
 
 void maaf_light_factor(const MaafLight *l, int axis, int p, float y, float c[2])
 {
-    light_factors(l, axis, y, p, p + 1, (float(*)[2])c);
+    float all[MAAF_PAIRS_MAX][2];
+    light_factors(maaf_band_cdf(), l, axis, y, p + 1, all);
+    c[0] = all[p][0], c[1] = all[p][1];
 }
 
 static void accumulate(int pairs, const MaafLight *l, float b1[][2], float b2[][2], const float f4[4], float *ysum);
@@ -105,8 +109,9 @@ void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const fl
 {
     /* c_p(y) per axis (eq. 20 with the light integrated, see maaf_shadow.h) */
     float b1[MAAF_PAIRS_MAX][2], b2[MAAF_PAIRS_MAX][2];
-    light_factors(l, 0, y1, 0, pairs, b1);
-    light_factors(l, 1, y2, 0, pairs, b2);
+    const MaafBandCdf *table = maaf_band_cdf();
+    light_factors(table, l, 0, y1, pairs, b1);
+    light_factors(table, l, 1, y2, pairs, b2);
     accumulate(pairs, l, b1, b2, f4, ysum);
 }
 
