@@ -11,7 +11,7 @@
  * Tabulated on [-MAAF_BAND_CDF_V_MAX, MAAF_BAND_CDF_V_MAX] every 1 / MAAF_BAND_CDF_PER_UNIT and
  * linearly interpolated; outside it Phi_p is flat to float precision (the normal tail beyond 8
  * is 6e-16) and the end entries are used. Interpolation error at most h^2/8 max|Phi_p''| with
- * |Phi_p''(v)| = sqrt(4 p^2 + v^2) phi(v): h^2/8 x 2p phi(0) = 1.5e-6 p (p >= 1), 1.8e-7 for
+ * |Phi_p''(v)| = sqrt(4 p^2 + v^2) phi(v): h^2/8 x 2p phi(0) = 1.5e-6 p (p >= 1), 4.6e-7 for
  * p = 0 (max |v| phi(v) = phi(1)), per end of the window. */
 #ifndef WEDGE_RECON_MAAF_BAND_CDF_H
 #define WEDGE_RECON_MAAF_BAND_CDF_H
