@@ -29,6 +29,7 @@ static bool same_shape(const RenderLightInfo *info, int l, int k)
 static void direct_table(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa, MaafLight *out)
 {
     RenderLightInfo *info = calloc((size_t)count, sizeof *info);
+    MaafSweep **poses = calloc((size_t)count, sizeof *poses); /* each sweeping light's own */
     for (int l = 0; l < count; ++l)
         if (!renderer_light_info(r, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
     for (int l = 0; l < count; ++l) {
@@ -87,17 +88,20 @@ static void direct_table(const Renderer *r, const AafLightGeom *geoms, int count
             memcpy(ml->center, mk->center, sizeof ml->center);
             memcpy(ml->lo, mk->lo, sizeof ml->lo);
             memcpy(ml->hi, mk->hi, sizeof ml->hi);
-            memcpy(ml->sweep_lo, mk->sweep_lo, sizeof ml->sweep_lo);
-            memcpy(ml->sweep_hi, mk->sweep_hi, sizeof ml->sweep_hi);
+            ml->sweep = mk->sweep;
             ml->sweep_nodes = mk->sweep_nodes;
             copied_sweep = true;
         }
-        if (info[l].moving && !copied_sweep)
-            maaf_light_sweep(r, l, 0.5f * sqrtf((float)M_PI) * geoms[l].radius_world, ml);
+        if (info[l].moving && !copied_sweep) {
+            poses[l] = malloc(sizeof *poses[l]);
+            maaf_light_sweep(r, l, 0.5f * sqrtf((float)M_PI) * geoms[l].radius_world, poses[l], ml);
+        }
         if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
             continue;
         maaf_light_design(geoms[l].sigma_world / kappa, pairs, ml);
     }
+    for (int l = 0; l < count; ++l) out[l].sweep = NULL, free(poses[l]); /* as the table leaves them */
+    free(poses);
     free(info);
 }
 
@@ -167,10 +171,11 @@ static void check_scene(const char *what, bool moving)
     const float kappa = 4.0f;
     maaf_lights_from_renderer(r, geoms, count, pairs, kappa, fast);
     direct_table(r, geoms, count, pairs, kappa, direct);
-    int differ = 0, designed = 0, outside = 0, moving_lights = 0;
+    int differ = 0, designed = 0, outside = 0, moving_lights = 0, poses_left = 0;
     for (int l = 0; l < count; ++l) {
         differ += memcmp(&fast[l], &direct[l], sizeof fast[l]) != 0;
         designed += fast[l].omega_y_max > 0.0f;
+        poses_left += fast[l].sweep != NULL;
         moving_lights += fast[l].sweep_nodes > 0;
         RenderLightInfo b, o;
         if (!renderer_light_info(r, l, &b) || b.kind != RENDER_LIGHT_AREA || !b.is_triangle || b.moving || fast[l].omega_y_max <= 0.0f)
@@ -191,6 +196,7 @@ static void check_scene(const char *what, bool moving)
     CHECK(moving_lights == (moving ? 2 * 144 : 0));
     CHECK(differ == 0);
     CHECK(outside == 0);
+    CHECK(poses_left == 0); /* the table owns no memory */
     free(geoms), free(fast), free(direct);
     if (r) renderer_destroy(r);
     scene_desc_free(&scene);

@@ -125,10 +125,11 @@ static void check_poses_and_r(void)
 
     /* MAAF's swept light along the quad's edges */
     MaafLight ml;
+    MaafSweep poses;
     memset(&ml, 0, sizeof ml);
     ml.t1[0] = 1.0f;
     ml.t2[2] = -1.0f;
-    CHECK(maaf_light_sweep(r, 0, 0.0f, &ml));
+    CHECK(maaf_light_sweep(r, 0, 0.0f, &poses, &ml));
     CHECK_NEAR(ml.center[0], 0.0, 1e-5);
     CHECK_NEAR(ml.center[1], 3.0, 1e-5);
     CHECK_NEAR(ml.lo[0], -1.6, 1e-5);
@@ -169,7 +170,7 @@ static void check_poses_and_r(void)
     aaf_lights_from_renderer(r, lights, 2);
     CHECK(aaf_light_sweep(r, lights, 2, &em) == 0 && em == NULL);
     MaafLight before = ml;
-    CHECK(!maaf_light_sweep(r, 0, 0.0f, &ml));
+    CHECK(!maaf_light_sweep(r, 0, 0.0f, &poses, &ml));
     CHECK(memcmp(&before, &ml, sizeof ml) == 0);
     renderer_destroy(r);
     scene_desc_free(&scene);

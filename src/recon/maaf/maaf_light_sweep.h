@@ -19,9 +19,10 @@
 /* For light `light` of r (a triangle of a planar emitter, or a disk whose box of the same
  * area has half side disk_half), which moves: replaces l's centre and extent (its axes set) by
  * its swept light's from its poses at MAAF_SWEEP_NODES shutter times (the midpoints of equal
- * parts; recon_light_sweep, moving_lights.h, which FSF shares), and keeps each pose's extent
- * (sweep_lo, sweep_hi). Returns false, l untouched, when the light does not move or is not
- * planar. */
-bool maaf_light_sweep(const Renderer *r, int light, float disk_half, MaafLight *l);
+ * parts; recon_light_sweep, moving_lights.h, which FSF shares), writes each pose's extent to
+ * poses and points l->sweep at them (the caller keeps them until l's design is made). Returns
+ * false, l and poses untouched, when the light does not move or is not planar (or poses is
+ * NULL). */
+bool maaf_light_sweep(const Renderer *r, int light, float disk_half, MaafSweep *poses, MaafLight *l);
 
 #endif

@@ -151,8 +151,7 @@ static bool copy_shape_sweep(const ShapeSummary *h, const MaafLight *lights, Maa
     memcpy(ml->center, mk->center, sizeof ml->center);
     memcpy(ml->lo, mk->lo, sizeof ml->lo);
     memcpy(ml->hi, mk->hi, sizeof ml->hi);
-    memcpy(ml->sweep_lo, mk->sweep_lo, sizeof ml->sweep_lo);
-    memcpy(ml->sweep_hi, mk->sweep_hi, sizeof ml->sweep_hi);
+    ml->sweep = mk->sweep;
     ml->sweep_nodes = mk->sweep_nodes;
     return true;
 }
@@ -162,8 +161,8 @@ static bool copy_shape_sweep(const ShapeSummary *h, const MaafLight *lights, Maa
  * same design without comparing itself with every earlier light: a curved mesh light's triangles
  * each have extents of their own, and that search was quadratic in them (10,000 triangles: 5e7
  * comparisons, most of the table's time). Open addressing, -1 empty. Every earlier light with the
- * same design holds the same table bit for bit, so whichever one is found gives the copy the scan
- * in light order gave. */
+ * same design holds the same band and means bit for bit, so whichever one is found gives the copy
+ * the scan in light order gave. */
 typedef struct {
     int *slot;
     size_t mask;
@@ -182,7 +181,7 @@ static uint64_t design_hash(float omega_y_max, const MaafLight *l)
     float key[5] = {omega_y_max + 0.0f, l->lo[0] + 0.0f, l->hi[0] + 0.0f, l->lo[1] + 0.0f, l->hi[1] + 0.0f};
     uint64_t h = mix_bits(14695981039346656037ull, key, sizeof key);
     h = mix_bits(h, &l->sweep_nodes, sizeof l->sweep_nodes);
-    if (l->sweep_nodes) h = mix_bits(mix_bits(h, l->sweep_lo, sizeof l->sweep_lo), l->sweep_hi, sizeof l->sweep_hi);
+    if (l->sweep_nodes && l->sweep) h = mix_bits(h, l->sweep, sizeof *l->sweep);
     return h;
 }
 
@@ -224,6 +223,11 @@ void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
     ShapeSummary *summary = summarise_shapes(info, count);
     DesignIndex designs;
     design_index_init(&designs, count); /* out of memory (no slots): every light designs its own */
+    /* the poses of each light that sweeps its own (a shape's first moving triangle, a disk), kept
+     * until the table is done: its shape's other triangles and the design index read them */
+    bool any_moving = false;
+    for (int l = 0; l < count; ++l) any_moving = any_moving || (is_area(&info[l]) && info[l].moving);
+    MaafSweep **poses = any_moving ? calloc((size_t)count, sizeof *poses) : NULL; /* NULL: every light static */
     for (int l = 0; l < count; ++l) {
         MaafLight *ml = &lights[l];
         memset(ml, 0, sizeof *ml);
@@ -252,8 +256,11 @@ void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
          * sweep reads every triangle of the shape at each pose, so a mesh light's triangles each
          * sweeping it cost O(triangles^2) poses (minutes for a few thousand) */
         bool shape_sweep = h && info[l].is_triangle;
-        if (info[l].moving && !(shape_sweep && copy_shape_sweep(h, lights, ml)))
-            maaf_light_sweep(r, l, 0.5f * sqrtf((float)M_PI) * geoms[l].radius_world, ml);
+        if (info[l].moving && poses && !(shape_sweep && copy_shape_sweep(h, lights, ml))) {
+            poses[l] = malloc(sizeof *poses[l]);
+            if (!maaf_light_sweep(r, l, 0.5f * sqrtf((float)M_PI) * geoms[l].radius_world, poses[l], ml))
+                free(poses[l]), poses[l] = NULL;
+        }
         if (shape_sweep && info[l].moving && h->sweep_from < 0 && ml->sweep_nodes != 0) h->sweep_from = l;
         if (!(ml->hi[0] > ml->lo[0]) || !(ml->hi[1] > ml->lo[1]) || !isfinite(ml->hi[0] - ml->lo[0] + ml->hi[1] - ml->lo[1]))
             continue; /* degenerate: omega_y_max stays 0, its samples are not used */
@@ -269,6 +276,8 @@ void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
         }
         if (h) h->design_from = l;
     }
+    for (int l = 0; poses && l < count; ++l) lights[l].sweep = NULL, free(poses[l]);
+    free(poses);
     free_summaries(summary, info, count);
     free(designs.slot);
     free(info);

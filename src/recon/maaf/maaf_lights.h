@@ -12,7 +12,9 @@
 
 /* lights[0..count) from r's lights and their AAF geometry geoms (aaf_lights_from_renderer), the
  * design's pairs and knob kappa (Omega_y_max = kappa 2 / sigma_light). A light that is not an
- * area light, or has no extent, is left zero (omega_y_max 0: its samples are not filtered). */
+ * area light, or has no extent, is left zero (omega_y_max 0: its samples are not filtered). A
+ * moving light's poses are read for its means and not kept (sweep NULL, sweep_nodes set): the
+ * table owns no memory. */
 void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa,
                                MaafLight *lights);
 

@@ -1,72 +1,60 @@
 /* Soft-shadow MAAF: light frames, the sums of eq. 20, per-pixel filters (see maaf_shadow.h). */
 #include "recon/maaf/maaf_shadow.h"
 
+#include "recon/maaf/maaf_band_cdf.h"
+
 #include <math.h>
 #include <string.h>
 
 #define INV_SQRT_2PI 0.39894228f
 
-/* One axis' table c_p(y_e), e < MAAF_YTABLE, y_e = lo + (hi - lo) e / (MAAF_YTABLE - 1), of
- *     c_p(y) = int_{lo - y}^{hi - y} exp(j C_p t) g(t; s) dt
- * for the bands p < pairs by Simpson's rule with 2 (MAAF_YTABLE - 1) steps over each window (the
- * integrand is smooth: a Gaussian of std 1/s times an oscillation of period 2 pi / C, both wider
- * than a step). Every window is the light's width w long and starts at a multiple of
- * w / (MAAF_YTABLE - 1), so the Simpson panels of all the windows are the same panels of one grid
- * over [-w, w]: each panel is integrated once, and a window is the difference of two running sums
- * of them (the same weights as each window's own Simpson sum; only the order of the additions
- * differs). This is 2 (2 MAAF_YTABLE - 1) integrand values an axis instead of MAAF_YTABLE windows
- * of 2 MAAF_YTABLE - 1: a mesh light of thousands of triangles, each with its own extents, designed
- * each one's table in a millisecond. The bands share s (eq. 6: Omega_y_max / (2N - 1) for every
- * band), so the Gaussian is one exp per node for all of them, and the central band (C t = +-0)
- * takes no cosine or sine: they give exactly 1 and C t there. */
-static void window_table(double lo, double hi, const float *C, double s, int pairs, float table[][MAAF_YTABLE][2])
+/* c_p(y) along axis a for the bands p < pairs: the window [lo - y, hi - y] in units of the
+ * y-Gaussian's primal std (1 / sy) and Phi_p at its two ends (maaf_band_cdf.h). y outside the
+ * extent is its nearest end, as the per-light table of 129 entries had it (2026-12-01). The two
+ * ends' places in the table are found once for all the bands, and the central band, whose
+ * table is real (its imaginary parts all +0), reads only the real parts: the same floats. */
+static inline void light_factors(const MaafBandCdf *table, const MaafLight *l, int a, float y, int pairs, float c[][2])
 {
-    enum { PANELS = MAAF_YTABLE - 1, NODES = 4 * PANELS + 1 }; /* panels of the window; nodes over [-w, w] */
-    double w = hi - lo, h = w / (2 * PANELS);                  /* Simpson's step */
-    double f[NODES][MAAF_PAIRS_MAX][2];                          /* the integrand at node j: t = (j - 2 PANELS) h */
-    for (int j = 0; j < NODES; ++j) {
-        double t = (j - 2 * PANELS) * h, g = s * 0.3989422804014327 * exp(-0.5 * s * s * t * t);
-        for (int p = 0; p < pairs; ++p) {
-            double x = C[p] * t;
-            bool zero = x == 0.0;
-            f[j][p][0] = g * (zero ? 1.0 : cos(x));
-            f[j][p][1] = g * (zero ? x : sin(x));
-        }
+    if (!(y > l->lo[a])) y = l->lo[a]; /* NaN too */
+    if (y > l->hi[a]) y = l->hi[a];
+    MaafBandCdfAt hi = maaf_band_cdf_at(l->sy * (l->hi[a] - y)), lo = maaf_band_cdf_at(l->sy * (l->lo[a] - y));
+    c[0][0] = maaf_band_cdf_lerp_re(table, 0, hi) - maaf_band_cdf_lerp_re(table, 0, lo);
+    c[0][1] = 0.0f;
+    for (int p = 1; p < pairs; ++p) {
+        float up[2], down[2];
+        maaf_band_cdf_lerp(table, p, hi, up);
+        maaf_band_cdf_lerp(table, p, lo, down);
+        c[p][0] = up[0] - down[0];
+        c[p][1] = up[1] - down[1];
     }
-    /* run[m]: the panels [0, m) of the 2 PANELS over [-w, w] (panel m spans nodes 2m .. 2m + 2) */
-    double run[2 * PANELS + 1][MAAF_PAIRS_MAX][2];
-    for (int p = 0; p < pairs; ++p) run[0][p][0] = run[0][p][1] = 0.0;
-    for (int m = 0; m < 2 * PANELS; ++m)
-        for (int p = 0; p < pairs; ++p)
-            for (int k = 0; k < 2; ++k)
-                run[m + 1][p][k] = run[m][p][k] + (f[2 * m][p][k] + 4.0 * f[2 * m + 1][p][k] + f[2 * m + 2][p][k]) * h / 3.0;
-    /* window e spans t in [-w e / PANELS, w (PANELS - e) / PANELS]: panels PANELS - e .. 2 PANELS - e */
-    for (int e = 0; e < MAAF_YTABLE; ++e)
-        for (int p = 0; p < pairs; ++p)
-            for (int k = 0; k < 2; ++k) table[p][e][k] = (float)(run[2 * PANELS - e][p][k] - run[PANELS - e][p][k]);
 }
 
-/* A swept light's mean c_p: the expectation over its samples, whose density along an axis is
- * the fraction of the shutter during which the light covers that coordinate (the share of its
- * poses whose extent holds it; a light sliding along t1 gives a trapezoid). The static light's
- * mean is the same with density 1 over its extent. */
-static void swept_means(int pairs, MaafLight *l)
+/* The light's mean c_p per axis: the expectation over its samples by the trapezoid rule on
+ * MAAF_MEAN_NODES nodes over its extent. A static light's samples are uniform on it; a swept
+ * light's density along an axis is the fraction of the shutter during which it covers that
+ * coordinate (the share of its poses whose extent holds it; a light sliding along t1 gives a
+ * trapezoid). */
+static void light_means(int pairs, MaafLight *l)
 {
     for (int a = 0; a < 2; ++a) {
-        double density[MAAF_YTABLE], total = 0.0;
-        for (int e = 0; e < MAAF_YTABLE; ++e) {
-            double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_YTABLE - 1.0);
-            int covered = 0;
-            for (int k = 0; k < l->sweep_nodes; ++k) covered += y >= l->sweep_lo[a][k] && y <= l->sweep_hi[a][k];
-            density[e] = (e == 0 || e == MAAF_YTABLE - 1 ? 0.5 : 1.0) * covered;
-            total += density[e];
+        double sum[MAAF_PAIRS_MAX][2] = {{0.0}}, total = 0.0;
+        for (int e = 0; e < MAAF_MEAN_NODES; ++e) {
+            double y = l->lo[a] + (l->hi[a] - l->lo[a]) * e / (MAAF_MEAN_NODES - 1.0);
+            int covered = 1;
+            if (l->sweep_nodes > 0 && l->sweep) {
+                covered = 0;
+                for (int k = 0; k < l->sweep_nodes; ++k) covered += y >= l->sweep->lo[a][k] && y <= l->sweep->hi[a][k];
+            }
+            double density = (e == 0 || e == MAAF_MEAN_NODES - 1 ? 0.5 : 1.0) * covered;
+            if (density == 0.0) continue;
+            float c[MAAF_PAIRS_MAX][2];
+            light_factors(maaf_band_cdf(), l, a, (float)y, pairs, c);
+            total += density;
+            for (int p = 0; p < pairs; ++p)
+                for (int k = 0; k < 2; ++k) sum[p][k] += density * c[p][k];
         }
         for (int p = 0; p < pairs; ++p)
-            for (int k = 0; k < 2; ++k) {
-                double s = 0.0;
-                for (int e = 0; e < MAAF_YTABLE; ++e) s += density[e] * l->table[a][p][e][k];
-                l->mean[a][p][k] = total > 0.0 ? (float)(s / total) : 0.0f;
-            }
+            for (int k = 0; k < 2; ++k) l->mean[a][p][k] = total > 0.0 ? (float)(sum[p][k] / total) : 0.0f;
     }
 }
 
@@ -74,36 +62,10 @@ void maaf_light_design(float sigma_light_world, int pairs, MaafLight *l)
 {
     float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
     l->omega_y_max = wy;
-    float bands = 2.0f * (float)pairs - 1.0f;
-    for (int p = 0; p < MAAF_PAIRS_MAX; ++p) {
-        /* eq. 6 */
-        l->cy[p] = p < pairs ? wy * 2.0f * (float)p / bands : 0.0f;
-        l->sy[p] = p < pairs ? wy / bands : 0.0f;
-    }
-    memset(l->table, 0, sizeof l->table);
+    l->sy = wy / (2.0f * (float)pairs - 1.0f); /* eq. 6; C_y^p = 2p sy is in the universal table */
+    memset(l->mean, 0, sizeof l->mean);
     if (!(wy > 0.0f)) return;
-    /* a light as wide along t2 as along t1 (squares, disks, spheres) has the same table on both
-     * axes: the second is a copy, not 2 x 129 more integrals of 257 steps per band */
-    bool same_axes = l->lo[1] == l->lo[0] && l->hi[1] == l->hi[0];
-    for (int a = 0; a < 2; ++a) {
-        if (a == 1 && same_axes) {
-            for (int p = 0; p < pairs; ++p) memcpy(l->table[1][p], l->table[0][p], sizeof l->table[0][p]);
-            continue;
-        }
-        window_table(l->lo[a], l->hi[a], l->cy, l->sy[0], pairs, l->table[a]);
-    }
-    if (l->sweep_nodes > 0) {
-        swept_means(pairs, l);
-        return;
-    }
-    for (int a = 0; a < 2; ++a)
-        for (int p = 0; p < pairs; ++p)
-            for (int k = 0; k < 2; ++k) { /* trapezoid rule over the uniform table */
-                double s = 0.0;
-                for (int e = 0; e < MAAF_YTABLE; ++e)
-                    s += (e == 0 || e == MAAF_YTABLE - 1 ? 0.5 : 1.0) * l->table[a][p][e][k];
-                l->mean[a][p][k] = (float)(s / (MAAF_YTABLE - 1));
-            }
+    light_means(pairs, l);
 }
 
 bool maaf_light_design_copy(const MaafLight *from, float sigma_light_world, MaafLight *l)
@@ -111,12 +73,10 @@ bool maaf_light_design_copy(const MaafLight *from, float sigma_light_world, Maaf
     float wy = sigma_light_world > 0.0f && isfinite(sigma_light_world) ? 2.0f / sigma_light_world : 0.0f;
     if (!(wy > 0.0f) || from->omega_y_max != wy || from->lo[0] != l->lo[0] || from->hi[0] != l->hi[0] ||
         from->lo[1] != l->lo[1] || from->hi[1] != l->hi[1] || from->sweep_nodes != l->sweep_nodes ||
-        memcmp(from->sweep_lo, l->sweep_lo, sizeof l->sweep_lo) || memcmp(from->sweep_hi, l->sweep_hi, sizeof l->sweep_hi))
+        (l->sweep_nodes > 0 && (!from->sweep || !l->sweep || memcmp(from->sweep, l->sweep, sizeof *l->sweep))))
         return false;
     l->omega_y_max = wy;
-    memcpy(l->cy, from->cy, sizeof l->cy);
-    memcpy(l->sy, from->sy, sizeof l->sy);
-    memcpy(l->table, from->table, sizeof l->table);
+    l->sy = from->sy;
     memcpy(l->mean, from->mean, sizeof l->mean);
     return true;
 }
@@ -138,16 +98,9 @@ void maaf_light_axes(const MaafLight *l, const float p[3], float t1[3], float t2
 
 void maaf_light_factor(const MaafLight *l, int axis, int p, float y, float c[2])
 {
-    float span = l->hi[axis] - l->lo[axis];
-    float u = span > 0.0f ? (y - l->lo[axis]) / span * (MAAF_YTABLE - 1) : 0.0f;
-    if (!(u > 0.0f)) u = 0.0f; /* NaN too */
-    if (u > MAAF_YTABLE - 1) u = MAAF_YTABLE - 1;
-    int e = (int)u;
-    if (e > MAAF_YTABLE - 2) e = MAAF_YTABLE - 2;
-    float t = u - (float)e;
-    const float(*row)[2] = l->table[axis][p];
-    c[0] = row[e][0] + t * (row[e + 1][0] - row[e][0]);
-    c[1] = row[e][1] + t * (row[e + 1][1] - row[e][1]);
+    float all[MAAF_PAIRS_MAX][2];
+    light_factors(maaf_band_cdf(), l, axis, y, p + 1, all);
+    c[0] = all[p][0], c[1] = all[p][1];
 }
 
 static void accumulate(int pairs, const MaafLight *l, float b1[][2], float b2[][2], const float f4[4], float *ysum);
@@ -156,10 +109,9 @@ void maaf_accumulate(int pairs, const MaafLight *l, float y1, float y2, const fl
 {
     /* c_p(y) per axis (eq. 20 with the light integrated, see maaf_shadow.h) */
     float b1[MAAF_PAIRS_MAX][2], b2[MAAF_PAIRS_MAX][2];
-    for (int p = 0; p < pairs; ++p) {
-        maaf_light_factor(l, 0, p, y1, b1[p]);
-        maaf_light_factor(l, 1, p, y2, b2[p]);
-    }
+    const MaafBandCdf *table = maaf_band_cdf();
+    light_factors(table, l, 0, y1, pairs, b1);
+    light_factors(table, l, 1, y2, pairs, b2);
     accumulate(pairs, l, b1, b2, f4, ysum);
 }
 
