@@ -4,8 +4,9 @@
  * latitude-longitude sphere (every vertex on its hull, a pole ring of equal vertices), a bent
  * grid, a flat grid (no thickness across it), a line, one point repeated, a random cloud, a
  * small mesh far from the origin (float rounding large against its size), sets holding NaN and
- * infinite vertices, and sizes around a leaf; axes in random directions (as floats, not exactly
- * unit), centres at the set's middle, near it and far from it. */
+ * infinite vertices, and sizes around a leaf; axes turning slowly from call to call (a mesh's
+ * triangles in order: each call starts at the last one's extremes) and in random directions (as
+ * floats, not exactly unit), centres at the set's middle, near it and far from it. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -22,16 +23,32 @@ static double uniform(void)
     return (double)(rng >> 11) * 0x1p-53;
 }
 
-/* a random direction as floats (its length 1 to float rounding) and a second one across it */
-static void random_axes(float t1[3], float t2[3])
+/* two unit directions across the unit normal n, as floats (their length 1 to float rounding) */
+static void axes_across(const double n[3], float t1[3], float t2[3])
 {
-    double z = 2.0 * uniform() - 1.0, phi = 2.0 * M_PI * uniform(), r = sqrt(fmax(0.0, 1.0 - z * z));
-    double n[3] = {r * cos(phi), r * sin(phi), z}, a[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+    double a[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
     double u[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
     double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
     for (int k = 0; k < 3; ++k) u[k] /= len;
     double v[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
     for (int k = 0; k < 3; ++k) t1[k] = (float)u[k], t2[k] = (float)v[k];
+}
+
+/* a random direction and a second one across it */
+static void random_axes(float t1[3], float t2[3])
+{
+    double z = 2.0 * uniform() - 1.0, phi = 2.0 * M_PI * uniform(), r = sqrt(fmax(0.0, 1.0 - z * z));
+    double n[3] = {r * cos(phi), r * sin(phi), z};
+    axes_across(n, t1, t2);
+}
+
+/* call c of a slow sweep: axes turning a little from one call to the next, as a mesh's triangles'
+ * do in order (the tree starts each call at the leaves of the last one's extremes) */
+static void sweeping_axes(int c, float t1[3], float t2[3])
+{
+    double a = 0.004 * c, b = 0.6 * sin(0.0013 * c);
+    double n[3] = {cos(a) * cos(b), sin(a) * cos(b), sin(b)};
+    axes_across(n, t1, t2);
 }
 
 static int same_float(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
@@ -56,14 +73,20 @@ static int check_set(const char *what, const float (*v)[3], int n, int calls)
     int differ = 0;
     for (int c = 0; c < calls; ++c) {
         float t1[3], t2[3], centre[3], lo[2], hi[2], plo[2], phi[2];
-        random_axes(t1, t2);
+        /* the first half in a slow sweep, the rest at random */
+        if (2 * c < calls)
+            sweeping_axes(c, t1, t2);
+        else
+            random_axes(t1, t2);
         /* a third of the centres at the middle, a third up to twice the set's size away, a third
          * thousands of times its size away (the offsets' rounding then dwarfs the set) */
         double away = c % 3 == 0 ? 0.0 : c % 3 == 1 ? 2.0 : 5000.0;
         for (int k = 0; k < 3; ++k) centre[k] = (float)(mid[k] + (2.0 * uniform() - 1.0) * away * span);
         maaf_vertex_extent_along(x, centre, t1, t2, lo, hi);
         maaf_vertex_extent_plain(v, n, centre, t1, t2, plo, phi);
-        differ += !same_float(lo[0], plo[0]) || !same_float(lo[1], plo[1]) || !same_float(hi[0], phi[0]) || !same_float(hi[1], phi[1]);
+        int d = !same_float(lo[0], plo[0]) || !same_float(lo[1], plo[1]) || !same_float(hi[0], phi[0]) || !same_float(hi[1], phi[1]);
+        if (d) printf("  call %d: tree %.9g %.9g %.9g %.9g, plain %.9g %.9g %.9g %.9g; t1 %.9g %.9g %.9g t2 %.9g %.9g %.9g\n", c, lo[0], hi[0], lo[1], hi[1], plo[0], phi[0], plo[1], phi[1], t1[0], t1[1], t1[2], t2[0], t2[1], t2[2]);
+        differ += d;
     }
     printf("%-34s %6d vertices, %d calls: %d differ\n", what, n, calls, differ);
     maaf_vertex_extent_destroy(x);

@@ -25,6 +25,7 @@ struct MaafVertexExtent {
     float (*verts)[3];
     int n, leaves; /* leaves: a power of two; node k (1-based) has children 2k and 2k + 1, leaf j is node leaves + j */
     Node *node;
+    int last_leaf[4]; /* the leaf that last moved each extreme (axis a, least / greatest: 2a, 2a + 1), 0: none */
 };
 
 /* Widens [lo, hi] to take x (as fminf / fmaxf: a NaN is passed over), inline so loops vectorise. */
@@ -46,12 +47,21 @@ static void widen_range(const float (*verts)[3], int begin, int end, const float
     }
 }
 
+/* An extreme that is a zero takes the sign of whichever zero came first (-0 < +0 is false), which
+ * depends on the order the vertices are visited in: both paths give +0 instead (x + 0 is +0 for
+ * either zero and x for any other x, infinities and NaN included). */
+static void zeros_unsigned(float lo[2], float hi[2])
+{
+    for (int a = 0; a < 2; ++a) lo[a] += 0.0f, hi[a] += 0.0f;
+}
+
 void maaf_vertex_extent_plain(const float (*verts)[3], int n, const float centre[3], const float t1[3],
                               const float t2[3], float lo[2], float hi[2])
 {
     lo[0] = lo[1] = INFINITY;
     hi[0] = hi[1] = -INFINITY;
     widen_range(verts, 0, n, centre, t1, t2, lo, hi);
+    zeros_unsigned(lo, hi);
 }
 
 /* The eigenvectors of the symmetric 3 x 3 matrix m, as the rows of axis (Jacobi rotations; any
@@ -184,11 +194,21 @@ static inline double node_reach(const Node *nd, const float centre[3], const flo
     return s * mid + reach + 0x1p-16 * (fabs(dc[0]) + fabs(dc[1]) + fabs(dc[2]) + 2.0 * r) * tn;
 }
 
+/* Widens the four extremes by leaf i's vertices, noting the leaf as the last to move each it moves. */
+static void visit_leaf(MaafVertexExtent *x, int i, const float centre[3], const float *t[2], float lo[2], float hi[2])
+{
+    float before[4] = {lo[0], hi[0], lo[1], hi[1]};
+    widen_range((const float(*)[3])x->verts, x->node[i].begin, x->node[i].end, centre, t[0], t[1], lo, hi);
+    float after[4] = {lo[0], hi[0], lo[1], hi[1]};
+    for (int e = 0; e < 4; ++e)
+        if (after[e] != before[e]) x->last_leaf[e] = i;
+}
+
 /* Branch and bound for one of the four extremes (axis a, sense s: +1 the greatest, -1 the least),
  * the more promising child first; every vertex of a visited leaf widens all four. A node is
  * passed over only when no vertex in it can pass the extreme found so far (a NaN bound never
  * passes one over). */
-static void extreme(const MaafVertexExtent *x, const float centre[3], const float *t[2], const double tn[2], int a,
+static void extreme(MaafVertexExtent *x, const float centre[3], const float *t[2], const double tn[2], int a,
                     double s, float lo[2], float hi[2])
 {
     int stack[STACK], top = 0;
@@ -200,7 +220,7 @@ static void extreme(const MaafVertexExtent *x, const float centre[3], const floa
         double best = s > 0.0 ? hi[a] : -(double)lo[a];
         if (node_reach(nd, centre, t[a], tn[a], s) <= best) continue;
         if (i >= x->leaves) {
-            widen_range((const float(*)[3])x->verts, nd->begin, nd->end, centre, t[0], t[1], lo, hi);
+            visit_leaf(x, i, centre, t, lo, hi);
             continue;
         }
         double r0 = node_reach(&x->node[2 * i], centre, t[a], tn[a], s);
@@ -211,16 +231,28 @@ static void extreme(const MaafVertexExtent *x, const float centre[3], const floa
     }
 }
 
-void maaf_vertex_extent_along(const MaafVertexExtent *x, const float centre[3], const float t1[3], const float t2[3],
+void maaf_vertex_extent_along(MaafVertexExtent *x, const float centre[3], const float t1[3], const float t2[3],
                               float lo[2], float hi[2])
 {
     lo[0] = lo[1] = INFINITY;
     hi[0] = hi[1] = -INFINITY;
     const float *t[2] = {t1, t2};
+    /* A mesh's triangles come in order over its surface, so the next one's axes are close to this
+     * one's and so are its extremes: the leaves that held the last call's, visited first, give
+     * bounds near the final ones, and the search below passes over most nodes at once. Their
+     * vertices are candidates like any other; the result is the same minimum and maximum. */
+    int seeds[4];
+    memcpy(seeds, x->last_leaf, sizeof seeds);
+    for (int e = 0; e < 4; ++e) {
+        bool again = seeds[e] <= 0;
+        for (int f = 0; f < e; ++f) again = again || seeds[f] == seeds[e];
+        if (!again) visit_leaf(x, seeds[e], centre, t, lo, hi);
+    }
     double tn[2];
     for (int a = 0; a < 2; ++a) tn[a] = sqrt((double)t[a][0] * t[a][0] + (double)t[a][1] * t[a][1] + (double)t[a][2] * t[a][2]);
     for (int a = 0; a < 2; ++a) {
         extreme(x, centre, t, tn, a, 1.0, lo, hi);
         extreme(x, centre, t, tn, a, -1.0, lo, hi);
     }
+    zeros_unsigned(lo, hi);
 }

@@ -17,8 +17,11 @@ MaafVertexExtent *maaf_vertex_extent_create(const float (*verts)[3], int n);
 void maaf_vertex_extent_destroy(MaafVertexExtent *x);
 
 /* lo[a], hi[a]: the least and greatest (v - centre) . t_a over the vertices, each product
- * evaluated as maaf_vertex_extent_plain does (NaNs passed over; +-INFINITY when none is a number). */
-void maaf_vertex_extent_along(const MaafVertexExtent *x, const float centre[3], const float t1[3], const float t2[3],
+ * evaluated as maaf_vertex_extent_plain does (NaNs passed over; +-INFINITY when none is a number).
+ * x remembers where the extremes were found and starts the next call there (one caller at a
+ * time): calls along nearby axes, a mesh's triangles in order, cost far less; the results do not
+ * depend on it. */
+void maaf_vertex_extent_along(MaafVertexExtent *x, const float centre[3], const float t1[3], const float t2[3],
                               float lo[2], float hi[2]);
 
 /* The same by visiting every vertex (the reference, and the path for few vertices). */
