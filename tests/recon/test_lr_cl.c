@@ -41,6 +41,11 @@ static float front_gain = 1.0f;
 static bool flat_weights = true;
 /* LrConfig.tile_px and window_px of every comparison (the defaults unless a test sets them) */
 static int tile_px = 16, window_px = 32;
+/* LrConfig.still_moving_permille of every comparison; and the C partitions of compare_band that
+ * took more than the split slabs (a still window's, LrConfig.still_gap_slabs), those of them
+ * with moving hits (under the threshold) counted apart: the kernel must choose the same */
+static int still_permille = 0, still_slabs = 0;
+static int fine_windows = 0, fine_moving_windows = 0;
 
 /* film_spread_px > 0 moves each sample's film position up to that far from its pixel's
  * centre, as a wide pixel filter places them (pbrt's sinc: its radius, 4 px). */
@@ -70,6 +75,26 @@ static void compare_band(LrCl *lr, int w, int h, int spp, const LrTestLayer *lay
     cfg.filter.flat_lens_time = flat_weights;
     cfg.tile_px = tile_px, cfg.window_px = window_px;
     cfg.filter.sigma_clamp_px = (float)(window_px - tile_px) / 4.0f; /* as lr_config_default's (Appendix C) */
+    cfg.still_moving_permille = still_permille;
+    cfg.still_gap_slabs = still_slabs;
+    int ntx, nty;
+    lr_tile_count(&img, &cfg, &ntx, &nty);
+    for (int t = 0; t < ntx * nty; ++t) {
+        LrTile tile;
+        lr_tile_partition(&img, &cfg, t % ntx, t / ntx, &tile);
+        if (tile.n_depth + tile.n_coc + 1 <= LR_MAX_SPLIT_SLABS) continue;
+        fine_windows++;
+        int x0, y0, x1, y1;
+        lr_tile_window(&img, &cfg, t % ntx, t / ntx, &x0, &y0, &x1, &y1);
+        bool moves = false;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x)
+                for (int k = 0; k < spp; ++k) {
+                    const LrKey *key = &img.key[((size_t)y * w + x) * spp + k];
+                    moves = moves || (key->depth < INFINITY && lr_key_moving(key->motion_px));
+                }
+        fine_moving_windows += moves;
+    }
     size_t n = (size_t)w * h;
     float *a = malloc(sizeof(float) * 3 * n), *b = malloc(sizeof(float) * 3 * n);
     float *la = malloc(sizeof(float) * n), *lb = malloc(sizeof(float) * n), *ea = malloc(sizeof(float) * n), *eb = malloc(sizeof(float) * n);
@@ -383,6 +408,23 @@ int main(void)
             compare(lr, 48, 33, 8, big, 3, true);
             compare(lr, 256, 80, 4, wide, 2, false);
             front_gain = 1.0f;
+            /* windows that hardly move take 16 slabs (LrConfig.still_gap_slabs): static
+             * layers whose slopes spread over many bins, in 8x8 blocks and sample by sample
+             * (the 19-px band); then windows with a moving share up to 30% */
+            coc_jitter_px = 6.0f;
+            still_slabs = 16;
+            compare(lr, 48, 40, 4, still, 2, false);
+            compare_band(lr, 60, 50, 4, still, 2, true, 0.0f, 19);
+            CHECK(g == 0 ? fine_windows == 0 : fine_windows > 0);
+            CHECK(fine_moving_windows == 0);
+            still_permille = 300;
+            compare(lr, 48, 40, 8, focus, 4, false);
+            compare_band(lr, 60, 50, 4, focus, 4, false, 0.0f, 19);
+            compare(lr, 256, 80, 4, wide, 2, false);
+            CHECK(g == 0 ? fine_moving_windows == 0 : fine_moving_windows > 0);
+            if (g > 0 && !fine_moving_windows) fprintf(stderr, "no window with moving hits under the threshold took 16 slabs\n");
+            still_permille = 0, still_slabs = 0;
+            coc_jitter_px = 0.6f;
         }
         /* Gaussian sample weights: the reprojection's Gaussian branch, weights of every size,
          * samples of weight 0 (lr_gauss' cut-off) among those that land in the box */

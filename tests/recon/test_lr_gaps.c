@@ -2,7 +2,10 @@
  * docs/algorithms.md 8.22): the dynamic programme against a brute-force search over every
  * choice of split points on small histograms, and on a synthetic window of two surfaces (a
  * disk in front of a plane, each with its own CoC slope) the bounds fall in the histogram's
- * gap: no layer holds samples of both surfaces, and a single bound lies between them.
+ * gap: no layer holds samples of both surfaces, and a single bound lies between them. A window
+ * whose hits hardly move (LrConfig.still_gap_slabs, still_moving_permille) spends the 17 raw
+ * layer ids on twice the slabs, no moving/static split: its layers span less CoC, and a window
+ * whose moving share is over the threshold keeps the split slabs.
  * (C vs OpenCL with these bounds: test_lr_cl.c.) */
 #include <math.h>
 #include <stdint.h>
@@ -65,7 +68,7 @@ static void test_dp_is_optimal(void)
         int hist[LR_GAP_BINS] = {0};
         int occupied = 1 + (int)(lr_test_rand(&seed) % 12); /* up to 11 split points: 2048 masks */
         for (int i = 0; i < occupied; ++i) hist[lr_test_rand(&seed) % LR_GAP_BINS] += 1 + (int)(lr_test_rand(&seed) % 500);
-        int max_bounds = (int)(lr_test_rand(&seed) % 8);
+        int max_bounds = (int)(lr_test_rand(&seed) % (LR_MAX_COC_BOUNDS + 1)); /* a still window's 15 too */
         float bounds[LR_MAX_COC_BOUNDS];
         int nb = lr_gap_bounds(hist, edges, max_bounds, bounds);
         too_many += nb > max_bounds;
@@ -89,6 +92,8 @@ static void test_two_surfaces(int gap_slabs)
     LrSamples img = lr_samples_split(w, h, spp, s);
     LrConfig cfg = lr_config_default();
     cfg.gap_slabs = gap_slabs;
+    cfg.still_gap_slabs = 0; /* the window does not move: gap_slabs for it too */
+    cfg.tile_px = 16, cfg.window_px = 32; /* tile (1, 1)'s window: pixels [8, 40) */
     LrTile t;
     lr_tile_partition(&img, &cfg, 1, 1, &t);
     /* the gap is (-2.4, 4.4): one bound there, none cutting a surface when only one is allowed */
@@ -109,6 +114,77 @@ static void test_two_surfaces(int gap_slabs)
         for (int j = 0; j < t.layer_count; ++j) CHECK(t.layer[j].slopes.c_max_px - t.layer[j].slopes.c_min_px < 1.2f);
     lr_samples_free(&img);
     free(s);
+}
+
+/* The largest CoC span of a tile's layers, and whether any layer holds both moving and static
+ * samples of the window (counted sample by sample). */
+static float widest_layer(const LrSamples *img, const LrConfig *cfg, int tx, int ty, const LrTile *t, bool *mixed)
+{
+    float span = 0.0f;
+    for (int j = 0; j < t->layer_count; ++j) span = fmaxf(span, t->layer[j].slopes.c_max_px - t->layer[j].slopes.c_min_px);
+    int has[LR_MAX_LAYERS + 1][2] = {{0}};
+    int x0, y0, x1, y1;
+    lr_tile_window(img, cfg, tx, ty, &x0, &y0, &x1, &y1);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            for (int k = 0; k < img->spp; ++k) {
+                const LrKey *s = &img->key[((size_t)y * img->width + x) * img->spp + k];
+                if (s->depth < INFINITY) has[lr_tile_raw_layer(t, s->depth, s->coc_px, s->motion_px)][lr_key_moving(s->motion_px)] = 1;
+            }
+    *mixed = false;
+    for (int r = 0; r < lr_tile_raw_count(t); ++r) *mixed = *mixed || (has[r][0] && has[r][1]);
+    return span;
+}
+
+/* A static plane whose slopes spread over [-8, 8] px (far more occupied bins than slabs), with
+ * or without a small disk moving 6 px in front of it. Tile (1, 1)'s window: with no moving hit,
+ * or a moving share at most still_moving_permille (the threshold at the share's exact per mille,
+ * rounded up), it takes still_gap_slabs (16) slabs, 17 raw layers without the split, and its
+ * widest layer is narrower than with 8 slabs; one per mille less, it keeps 8 split slabs, and no
+ * layer mixes moving and static samples. */
+static void test_still_window(void)
+{
+    enum { w = 48, h = 48, spp = 8 };
+    LrTestLayer layers[2] = {{2.0f, 0.0f, {6.0f, 0.0f}, 24.0f, 24.0f, 1.5f, 0.7f}, {8.0f, 0.0f, {0.0f, 0.0f}, 0, 0, 0, 0.4f}};
+    for (int disk = 0; disk <= 1; ++disk) {
+        LrSample *s = malloc(sizeof(LrSample) * w * h * spp);
+        lr_test_scene(s, w, h, spp, disk ? layers : layers + 1, disk ? 2 : 1, 9);
+        unsigned seed = 17;
+        long hits = 0, moving = 0;
+        for (int i = 0; i < w * h * spp; ++i) {
+            if (s[i].depth == 8.0f) s[i].coc_px = 16.0f * (lr_test_unit(&seed) - 0.5f);
+            int px = (i / spp) % w, py = (i / spp) / w;
+            if (px >= 8 && px < 40 && py >= 8 && py < 40 && s[i].depth < INFINITY) hits++, moving += lr_key_moving(s[i].motion_px);
+        }
+        /* the least per mille that holds the window's moving share */
+        int share_permille = (int)((moving * 1000 + hits - 1) / hits);
+        CHECK(disk ? moving > 0 && share_permille < 100 : moving == 0);
+        LrSamples img = lr_samples_split(w, h, spp, s);
+        LrConfig cfg = lr_config_default();
+        cfg.tile_px = 16, cfg.window_px = 32; /* tile (1, 1)'s window: pixels [8, 40) */
+        cfg.still_gap_slabs = 40; /* clamped to the 16 slabs the 17 raw ids hold */
+        CHECK(lr_config_still_gap_slabs(&cfg) == LR_MAX_COC_BOUNDS + 1 && lr_config_gap_slabs(&cfg) == LR_MAX_SPLIT_SLABS);
+        float span[3];
+        bool mixed[3];
+        for (int v = 0; v < 3; ++v) {
+            /* v 0: the threshold at the share; v 1: one per mille under it (the threshold 0
+             * without the disk); v 2: no rule (still_gap_slabs = gap_slabs) */
+            cfg.still_moving_permille = v == 1 && disk ? share_permille - 1 : share_permille;
+            cfg.still_gap_slabs = v == 2 ? cfg.gap_slabs : 40;
+            LrTile t;
+            lr_tile_partition(&img, &cfg, 1, 1, &t);
+            bool still = v == 0 || (v == 1 && !disk);
+            int slabs = t.n_depth + t.n_coc + 1;
+            CHECK(slabs == (still ? 16 : 8));
+            CHECK(lr_tile_raw_count(&t) == LR_MAX_LAYERS + 1 && lr_tile_raw_count(&t) == (still ? slabs + 1 : 2 * slabs + 1));
+            span[v] = widest_layer(&img, &cfg, 1, 1, &t, &mixed[v]);
+        }
+        CHECK(span[0] < 0.75f * span[2] && (disk ? span[1] == span[2] : span[1] == span[0]));
+        CHECK(mixed[0] == (disk == 1) && !mixed[1] && !mixed[2]);
+        if (!(span[0] < 0.75f * span[2])) fprintf(stderr, "still window: widest layer %g px against %g with 8 slabs\n", span[0], span[2]);
+        lr_samples_free(&img);
+        free(s);
+    }
 }
 
 /* lr_gap_bin (binary lifting, the form lr.cl runs) gives every slope the number of edges
@@ -142,5 +218,6 @@ int main(void)
     test_dp_is_optimal();
     test_two_surfaces(2);
     test_two_surfaces(8);
+    test_still_window();
     CHECK_DONE();
 }

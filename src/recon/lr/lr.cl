@@ -10,7 +10,7 @@
  *   keys          a float4 per sample (LrKey: depth, CoC, motion x, y), the same order: what
  *                 the statistics read (lr_block_stats, lr_tile_stats); bright: r + g + b per
  *                 sample, NaN for a non-finite radiance (lr_partition.h: lr_bright)
- *   tile_bounds   LR_TB_STRIDE floats per tile: n_depth, n_coc, depth bounds, CoC bounds
+ *   tile_bounds   LR_TB_STRIDE floats per tile: n_depth, n_coc, 15 depth bounds, 15 CoC bounds
  *   tile_layers   LR_TL_STRIDE ints per tile: layer_count, then raw layer -> compact layer
  *   params        LR_LP_STRIDE floats per (tile, layer): cos psi, sin psi, 1/sigma_x, eta, xi,
  *                 1/sigma_u, 1/sigma_t, 1/sigma_y, rho, 1/sigma_v, radius_x, radius_y, the shift of
@@ -28,8 +28,9 @@
  *                 narrow, 2 wide), read only for a layer with class records
  *   pass1_class   two grids per tile of the batch: the along pass of the narrow and of the
  *                 wide class's filter, for a layer with those records
- *   block_hist    LR_GAP_BINS ints per 8x8 block of pixels (row-major, nbx per row): the CoC
- *                 histogram of its hits (lr_block_stats); block_z: their depth range, 2 floats
+ *   block_hist    LR_BH_STRIDE ints per 8x8 block of pixels (row-major, nbx per row): the CoC
+ *                 histogram of its hits, then how many of them move (lr_block_stats); block_z:
+ *                 their depth range, 2 floats
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
  *                 (lr_tile_stats), with the flag LR_SKIP for a non-finite radiance
  *   order         window_px^2 * spp uints per tile: the window's finite samples (their index in
@@ -47,7 +48,8 @@
 
 #define LR_PLACE_STRIDE 8 /* LrPlace: x, y, u, v, t, then the radiance at LR_PLACE_L */
 #define LR_PLACE_L 5
-#define LR_TB_STRIDE 25
+#define LR_TB_STRIDE 32
+#define LR_TB_COC 17 /* tile_bounds: the CoC bounds' first float */
 #define LR_TL_STRIDE 18
 #define LR_LP_STRIDE 340
 #define LR_ROUND 80
@@ -102,6 +104,9 @@ typedef double lr_sum; /* as lr_partition.c sums the motion: the same psi, bit f
 typedef float lr_sum; /* a device without doubles: psi may differ from the C version's in the last bits */
 #endif
 
+/* lr_partition.h: lr_key_moving */
+static bool lr_moving(float mx, float my) { return mx * mx + my * my >= LR_MOVING_PX * LR_MOVING_PX; }
+
 #define LR_ST_STRIDE 18 /* per raw layer: count, cos psi, sin psi, c_min, c_max, d_min, d_max, across, brightness sum,
                           * then the tilt's nine sums (lr_partition.h: LrTilt) */
 
@@ -123,15 +128,16 @@ static int lr_raw_layer(const float *tb, float depth, float coc, float mx, float
     if (!(depth < INFINITY)) return raw_n - 1;
     int k = 0;
     for (int i = 0; i < n_depth; ++i) k += depth > tb[2 + i];
-    for (int i = 0; i < n_coc; ++i) k += coc > tb[17 + i];
+    for (int i = 0; i < n_coc; ++i) k += coc > tb[LR_TB_COC + i];
     if (!split) return k;
-    bool moving = mx * mx + my * my >= LR_MOVING_PX * LR_MOVING_PX;
-    return 2 * k + (moving ? 0 : 1);
+    return 2 * k + (lr_moving(mx, my) ? 0 : 1);
 }
 
 /* lr_partition.c: lr_gap_bin, lr_gap_bounds (the same integer dynamic programme, so the same
  * bounds): the histogram-gap CoC bounds of a window (docs/algorithms.md 8.22). */
 #define LR_GAP_BINS 48
+#define LR_COC_SLABS 16 /* lr_partition.h: LR_MAX_COC_BOUNDS + 1, a still window's most slabs */
+#define LR_BH_STRIDE 49 /* block_hist: the histogram, then the block's moving hits */
 /* The number of edges below c (edges ascending, padded with +infinity to 64 entries, which no
  * c exceeds), found by binary lifting: six compares whose results are added, no branch. The
  * binary search it replaces mispredicted about one branch in two on every window sample and
@@ -163,8 +169,8 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
         }
     int groups = max_bounds + 1 < m ? max_bounds + 1 : m;
     if (groups <= 1) return 0;
-    long best[8][LR_GAP_BINS];
-    int from[8][LR_GAP_BINS];
+    long best[LR_COC_SLABS][LR_GAP_BINS];
+    int from[LR_COC_SLABS][LR_GAP_BINS];
     for (int j = 0; j < m; ++j) {
         long w = occ[j] - occ[0] + 1;
         best[0][j] = pre[j + 1] * w * w;
@@ -190,14 +196,15 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
 
 /* The hits among the samples of pixels [x0, x1) x [y0, y1): their depth range into *zmin,
  * *zmax and, with gap_slabs > 0, their CoC bins counted into hist (edges: the histogram's
- * LR_GAP_BINS - 1 edges). Window order, as lr_partition.c. */
+ * LR_GAP_BINS - 1 edges) and the moving ones into *moving. Window order, as lr_partition.c. */
 static void lr_bin_rect(__global const float4 *keys, int width, int spp, int x0, int y0, int x1, int y1, int gap_slabs,
-                        __global const float *edges, int *hist, float *zmin, float *zmax)
+                        __global const float *edges, int *hist, int *moving, float *zmin, float *zmax)
 {
 #pragma OPENCL FP_CONTRACT OFF
     float edges64[64]; /* the edges in private memory, padded for lr_gap_bin */
     for (int b = 0; b < 64; ++b) edges64[b] = gap_slabs > 0 && b < LR_GAP_BINS - 1 ? edges[b] : INFINITY;
     float lo = *zmin, hi = *zmax;
+    int n_moving = *moving;
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
             for (int k = 0; k < spp; ++k) {
@@ -207,9 +214,11 @@ static void lr_bin_rect(__global const float4 *keys, int width, int spp, int x0,
                     lo = z < lo ? z : lo;
                     hi = z > hi ? z : hi;
                     if (gap_slabs > 0) hist[lr_gap_bin(edges64, key.y)]++;
+                    n_moving += lr_moving(key.z, key.w);
                 }
             }
     *zmin = lo, *zmax = hi;
+    *moving = n_moving;
 }
 
 /* Per block of LR_BLOCK_PX x LR_BLOCK_PX pixels (clipped at the image's edges): the CoC
@@ -226,12 +235,13 @@ __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, i
     int bx = get_global_id(0), by = get_global_id(1);
     if (bx >= nbx || by >= nby) return;
     int x0 = bx * LR_BLOCK_PX, y0 = by * LR_BLOCK_PX, x1 = min(width, x0 + LR_BLOCK_PX), y1 = min(height, y0 + LR_BLOCK_PX);
-    int hist[LR_GAP_BINS];
+    int hist[LR_GAP_BINS], moving = 0;
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     float zmin = INFINITY, zmax = -INFINITY;
-    lr_bin_rect(keys, width, spp, x0, y0, x1, y1, gap_slabs, coc_edges, hist, &zmin, &zmax);
+    lr_bin_rect(keys, width, spp, x0, y0, x1, y1, gap_slabs, coc_edges, hist, &moving, &zmin, &zmax);
     int b0 = by * nbx + bx;
-    for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_GAP_BINS + b] = hist[b];
+    for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_BH_STRIDE + b] = hist[b];
+    block_hist[b0 * LR_BH_STRIDE + LR_GAP_BINS] = moving;
     block_z[2 * b0] = zmin;
     block_z[2 * b0 + 1] = zmax;
 }
@@ -243,13 +253,15 @@ __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, i
  * raw layer of every window sample is kept for the reprojection (layer_ids).
  * uniform: the uniform depth layers (1..7). gap_slabs 0: coc_bounds holds n_coc fixed bounds,
  * the same for every tile; gap_slabs > 0: it holds the LR_GAP_BINS - 1 edges of the CoC
- * histogram, and each tile's bounds are chosen in its gaps (lr_gap_bounds). */
+ * histogram, and each tile's bounds are chosen in its gaps (lr_gap_bounds), at most
+ * gap_slabs slabs, or still_slabs in a window where at most still_permille per mille of the
+ * hits move (lr_partition.c: lr_tile_bounds_gaps, the same integer test). */
 __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int window_px, int ntx, int ntiles,
                             int uniform, int n_coc, int inset, int gap_slabs, __global const float *coc_bounds, __global const float4 *keys,
                             __global float *tile_bounds, __global float *stats, __global uchar *layer_ids,
                             __global uint *order, __global int *layer_start, __global const uchar *still_tiles,
                             int blocks, int nbx, __global const int *block_hist, __global const float *block_z,
-                            __global const float *bright_in, __global const float *samples)
+                            __global const float *bright_in, __global const float *samples, int still_slabs, int still_permille)
 {
 #pragma OPENCL FP_CONTRACT OFF
     int tile = get_global_id(0);
@@ -257,7 +269,7 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     LrWindow w = lr_window(tile % ntx, tile / ntx, width, height, tile_px, window_px, inset);
     if (still_tiles[tile]) w.x1 = w.x0, w.y1 = w.y0; /* nothing to partition: no layers (lr_partition.c) */
     float zmin = INFINITY, zmax = -INFINITY;
-    int hist[LR_GAP_BINS];
+    int hist[LR_GAP_BINS], moving = 0;
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     if (blocks) { /* the window is whole blocks (lr_block_stats) */
         if (w.x1 > w.x0 && w.y1 > w.y0)
@@ -268,25 +280,29 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                     zmin = z0 < zmin ? z0 : zmin;
                     zmax = z1 > zmax ? z1 : zmax;
                     if (gap_slabs > 0)
-                        for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_GAP_BINS + b];
+                        for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_BH_STRIDE + b];
+                    moving += block_hist[b0 * LR_BH_STRIDE + LR_GAP_BINS];
                 }
     } else
-        lr_bin_rect(keys, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &zmin, &zmax);
+        lr_bin_rect(keys, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &moving, &zmin, &zmax);
     float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;
     if (gap_slabs > 0) {
         /* lr_partition.c: lr_tile_bounds_gaps; coc_bounds holds the histogram's edges */
-        float gb[8];
-        n_coc = lr_gap_bounds(hist, coc_bounds, gap_slabs - 1, gb);
-        for (int i = 0; i < n_coc; ++i) tb[17 + i] = gb[i];
-        int n = uniform - 1 < gap_slabs - 1 - n_coc ? uniform - 1 : gap_slabs - 1 - n_coc;
+        long hits = 0;
+        for (int b = 0; b < LR_GAP_BINS; ++b) hits += hist[b];
+        int slabs = (long)moving * 1000 > (long)still_permille * hits ? gap_slabs : still_slabs;
+        float gb[LR_COC_SLABS - 1];
+        n_coc = lr_gap_bounds(hist, coc_bounds, slabs - 1, gb);
+        for (int i = 0; i < n_coc; ++i) tb[LR_TB_COC + i] = gb[i];
+        int n = uniform - 1 < slabs - 1 - n_coc ? uniform - 1 : slabs - 1 - n_coc;
         if (zmin < zmax)
             for (int i = 1; i <= n; ++i) tb[2 + n_depth++] = zmin + (zmax - zmin) * (float)i / (float)(n + 1);
     } else {
         if (zmin < zmax)
             for (int i = 1; i < uniform; ++i) tb[2 + n_depth++] = zmin + (zmax - zmin) * (float)i / (float)uniform;
-        for (int i = 0; i < n_coc; ++i) tb[17 + i] = coc_bounds[i];
+        for (int i = 0; i < n_coc; ++i) tb[LR_TB_COC + i] = coc_bounds[i];
     }
     tb[0] = (float)n_depth;
     tb[1] = (float)n_coc;
@@ -308,15 +324,14 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
         perp[i] = 0.0f;
     }
     __global uchar *ids = layer_ids + (size_t)tile * window_px * window_px * spp;
-    /* lr_raw_layer with the tile's bounds padded to 8 each with +infinity, which no depth or
-     * CoC exceeds: a fixed count of compares per sample, added without branches (the same
-     * layer; the bounds loops of varying length were a fifth of this loop's time) */
-    float db[8], cb[8];
-    bool padded = n_depth <= 8 && n_coc <= 8, split = raw_n > n_depth + n_coc + 2;
-    for (int i = 0; i < 8; ++i) {
-        db[i] = i < n_depth ? tb[2 + i] : INFINITY;
-        cb[i] = i < n_coc ? tb[17 + i] : INFINITY;
-    }
+    /* lr_raw_layer with the tile's bounds padded to 8 depth and 16 CoC bounds with +infinity,
+     * which no depth or CoC exceeds: a fixed count of compares per sample, added without
+     * branches (the same layer; the bounds loops of varying length were a fifth of this
+     * loop's time) */
+    float db[8], cb[LR_COC_SLABS];
+    bool padded = n_depth <= 8, split = raw_n > n_depth + n_coc + 2, fine = n_coc > 8;
+    for (int i = 0; i < 8; ++i) db[i] = i < n_depth ? tb[2 + i] : INFINITY;
+    for (int i = 0; i < LR_COC_SLABS; ++i) cb[i] = i < n_coc ? tb[LR_TB_COC + i] : INFINITY;
     for (int py = w.y0, i = 0; py < w.y1; ++py)
         for (int px = w.x0; px < w.x1; ++px)
             for (int k = 0; k < spp; ++k, ++i) {
@@ -329,8 +344,9 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                 else {
                     int slab = 0;
                     for (int j = 0; j < 8; ++j) slab += (key.x > db[j]) + (key.y > cb[j]);
-                    bool moving = key.z * key.z + key.w * key.w >= LR_MOVING_PX * LR_MOVING_PX;
-                    r = split ? 2 * slab + (moving ? 0 : 1) : slab;
+                    if (fine) /* a still window's bounds past 8 (the same for every sample: predicted) */
+                        for (int j = 8; j < LR_COC_SLABS; ++j) slab += key.y > cb[j];
+                    r = split ? 2 * slab + (lr_moving(key.z, key.w) ? 0 : 1) : slab;
                 }
                 bool finite = !isnan(b);
                 ids[i] = (uchar)(finite ? r : r | LR_SKIP); /* the reprojection skips non-finite radiance */

@@ -14,15 +14,16 @@
 #include "recon/lr/lr_bucket.h"
 
 /* as in lr.cl */
-enum { TB_STRIDE = 25, TL_STRIDE = 18, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAPS_Y = LP_HEAD + LR_MAX_RADIUS_PX + 1,
+enum { TB_STRIDE = 2 + LR_MAX_DEPTH_BOUNDS + LR_MAX_COC_BOUNDS, TB_COC = 2 + LR_MAX_DEPTH_BOUNDS, TL_STRIDE = 18, LP_HEAD = 14, LP_TAPS_X = LP_HEAD, LP_TAPS_Y = LP_HEAD + LR_MAX_RADIUS_PX + 1,
        LP_ROUND = LP_HEAD + 2 * (LR_MAX_RADIUS_PX + 1), LP_ROUND_T = LP_ROUND + 1, LP_BAND = LP_ROUND_T + LR_ROUND_TABLE,
        LP_STRIDE = LP_BAND + 2, CH = 5,
        ST_STRIDE = 9 + LR_TILT_SUMS, LS_STRIDE = 18, BATCH_TILES = 16,
-       PACK_FIELDS = 5, BLOCK_PX = 8, TILE_MAX = 32 };
+       PACK_FIELDS = 5, BLOCK_PX = 8, BH_STRIDE = LR_GAP_BINS + 1, TILE_MAX = 32 };
 
 _Static_assert(sizeof(LrKey) == 4 * sizeof(float) && sizeof(LrPlace) == 8 * sizeof(float), "lr.cl reads LrKey as a float4, LrPlace as 8 floats");
-_Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 8 && LR_MAX_LAYERS + 1 == 17,
-               "lr.cl's tile layouts");
+_Static_assert(LR_MAX_DEPTH_BOUNDS == 15 && LR_MAX_COC_BOUNDS == 15 && LR_MAX_LAYERS + 1 == 17 && TB_STRIDE == 32 && TB_COC == 17,
+               "lr.cl's tile layouts (LR_TB_STRIDE, LR_TB_COC, LR_COC_SLABS)");
+_Static_assert(BH_STRIDE == 49, "lr.cl's LR_BH_STRIDE");
 _Static_assert(LP_STRIDE == 340 && LP_TAPS_X == 14 && LP_TAPS_Y == 47 && LP_ROUND == 80 && LP_BAND == 338,
                "lr.cl's LR_LP_STRIDE, LR_TAPS_X, LR_TAPS_Y, LR_ROUND and LR_BAND");
 _Static_assert(LR_BAND_NARROW == 1 && LR_BAND_WIDE == 2 && LR_BAND_CLASSES == 3, "lr.cl's band classes");
@@ -113,7 +114,7 @@ static int finish_tiles(LrCl *lr, const LrConfig *cfg, int ntiles)
         T->n_depth = (int)b[0];
         T->n_coc = (int)b[1];
         for (int i = 0; i < T->n_depth; ++i) T->depth_bound[i] = b[2 + i];
-        for (int i = 0; i < T->n_coc; ++i) T->coc_bound_px[i] = b[17 + i];
+        for (int i = 0; i < T->n_coc; ++i) T->coc_bound_px[i] = b[TB_COC + i];
         LrLayerStats st[LR_MAX_LAYERS + 1];
         const float *o = lr->st + (size_t)t * (LR_MAX_LAYERS + 1) * ST_STRIDE;
         for (int i = 0; i < LR_MAX_LAYERS + 1; ++i, o += ST_STRIDE) {
@@ -272,7 +273,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     lr_tile_bounds(cfg, 0.0f, 0.0f, &shape); /* the CoC bounds, the same for every tile */
     float edges[LR_GAP_BINS - 1];
     lr_gap_edges(edges); /* with cfg->gap_slabs: the histogram's bins instead */
-    cl_int gap_slabs = lr_config_gap_slabs(cfg);
+    cl_int gap_slabs = lr_config_gap_slabs(cfg), still_slabs = lr_config_still_gap_slabs(cfg);
     cl_int uniform = lr_config_uniform_layers(cfg);
     cl_int W = img->width, H = img->height, S = img->spp, T = cfg->tile_px, N = cfg->window_px, NX = ntx, NT = ntiles;
     cl_int inset = cfg->inset_px;
@@ -282,7 +283,7 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     int margin = (cfg->window_px - cfg->tile_px) / 2;
     cl_int blocks = (cfg->inset_px - margin) % BLOCK_PX == 0 && cfg->tile_px % BLOCK_PX == 0 && cfg->window_px % BLOCK_PX == 0;
     cl_int NBX = (W + BLOCK_PX - 1) / BLOCK_PX, NBY = (H + BLOCK_PX - 1) / BLOCK_PX;
-    ok = ok && grow(rt, &lr->b_bh, blocks ? sizeof(cl_int) * LR_GAP_BINS * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d) &&
+    ok = ok && grow(rt, &lr->b_bh, blocks ? sizeof(cl_int) * BH_STRIDE * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d) &&
          grow(rt, &lr->b_bz, blocks ? sizeof(float) * 2 * (size_t)NBX * NBY : 1, CL_MEM_READ_WRITE, d);
     if (ok) {
         cl_int ints[11] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset, gap_slabs};
@@ -293,7 +294,9 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
              (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
              cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
                        clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem) |
-                       clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b) | clSetKernelArg(lr->stats, 24, sizeof(cl_mem), &b_s),
+                       clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b) | clSetKernelArg(lr->stats, 24, sizeof(cl_mem), &b_s) |
+                       clSetKernelArg(lr->stats, 25, sizeof(cl_int), &still_slabs) |
+                       clSetKernelArg(lr->stats, 26, sizeof(cl_int), &cfg->still_moving_permille),
                    "arguments", d) &&
              /* the still-tile mask, or zeros when the config has none */
              (cfg->still_tiles ? cl_ok(clEnqueueWriteBuffer(q, lr->b_still.mem, CL_FALSE, 0, (size_t)ntiles, cfg->still_tiles, 0, NULL, NULL), "upload", d)

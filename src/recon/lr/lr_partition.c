@@ -27,6 +27,11 @@ LrConfig lr_config_default(void)
     c.focus_bounds = 4;
     c.focus_step_px = 1.0f;
     c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
+    /* Off: at 16/32 px it changes the error by 0.2% or less. With 24-px tiles in 40-px
+     * windows, 12 slabs for windows whose hits move at most 15% win back those tiles' error
+     * (docs/algorithms.md 8.47), but test_lr_tilted's near-focus plane keeps them out. */
+    c.still_gap_slabs = 0;
+    c.still_moving_permille = 150;
     c.motion_spread_max = 0.5f;
     c.motion_range_px = 4.0f;
     c.motion_long_px = (float)c.window_px;
@@ -78,8 +83,7 @@ int lr_tile_raw_layer(const LrTile *t, float depth, float coc_px, const float mo
     for (int i = 0; i < t->n_depth; ++i) k += depth > t->depth_bound[i];
     for (int i = 0; i < t->n_coc; ++i) k += coc_px > t->coc_bound_px[i];
     if (!split) return k;
-    bool moving = motion_px[0] * motion_px[0] + motion_px[1] * motion_px[1] >= LR_MOVING_PX * LR_MOVING_PX;
-    return 2 * k + (moving ? 0 : 1);
+    return 2 * k + (lr_key_moving(motion_px) ? 0 : 1);
 }
 
 int lr_tile_layer_of(const LrTile *tile, const LrKey *s) { return tile->compact[lr_tile_raw_layer(tile, s->depth, s->coc_px, s->motion_px)]; }
@@ -96,7 +100,14 @@ int lr_config_uniform_layers(const LrConfig *cfg)
 
 int lr_config_gap_slabs(const LrConfig *cfg)
 {
-    return cfg->gap_slabs > LR_MAX_COC_BOUNDS ? LR_MAX_COC_BOUNDS : cfg->gap_slabs;
+    return cfg->gap_slabs > LR_MAX_SPLIT_SLABS ? LR_MAX_SPLIT_SLABS : cfg->gap_slabs;
+}
+
+int lr_config_still_gap_slabs(const LrConfig *cfg)
+{
+    int gap = lr_config_gap_slabs(cfg);
+    if (gap <= 0 || cfg->still_gap_slabs <= 0) return gap;
+    return cfg->still_gap_slabs > LR_MAX_COC_BOUNDS + 1 ? LR_MAX_COC_BOUNDS + 1 : cfg->still_gap_slabs;
 }
 
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t)
@@ -108,7 +119,7 @@ void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t)
     int uniform = lr_config_uniform_layers(cfg);
     if (zmin < zmax)
         for (int i = 1; i < uniform; ++i) t->depth_bound[t->n_depth++] = zmin + (zmax - zmin) * (float)i / (float)uniform;
-    int half = cfg->focus_bounds / 2 > LR_MAX_COC_BOUNDS / 2 ? LR_MAX_COC_BOUNDS / 2 : cfg->focus_bounds / 2;
+    int half = cfg->focus_bounds / 2 > LR_MAX_SPLIT_SLABS / 2 ? LR_MAX_SPLIT_SLABS / 2 : cfg->focus_bounds / 2;
     for (int k = half; k >= 1; --k) t->coc_bound_px[t->n_coc++] = -cfg->focus_step_px * (float)(k * k);
     for (int k = 1; k <= half; ++k) t->coc_bound_px[t->n_coc++] = cfg->focus_step_px * (float)(k * k);
 }
@@ -137,12 +148,13 @@ int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bo
     pre[0] = 0;
     for (int b = 0; b < LR_GAP_BINS; ++b)
         if (hist[b] > 0) occ[m] = b, pre[m + 1] = pre[m] + hist[b], ++m;
+    if (max_bounds > LR_MAX_COC_BOUNDS) max_bounds = LR_MAX_COC_BOUNDS;
     int groups = max_bounds + 1 < m ? max_bounds + 1 : m;
     if (groups <= 1) return 0;
     /* best[g][j]: least cost of occupied bins 0..j in g + 1 groups; from[g][j]: the last bin
      * of the previous group (ties: the smallest) */
-    int64_t best[LR_MAX_COC_BOUNDS][LR_GAP_BINS];
-    int from[LR_MAX_COC_BOUNDS][LR_GAP_BINS];
+    int64_t best[LR_MAX_COC_BOUNDS + 1][LR_GAP_BINS];
+    int from[LR_MAX_COC_BOUNDS + 1][LR_GAP_BINS];
     for (int j = 0; j < m; ++j) {
         int64_t w = occ[j] - occ[0] + 1;
         best[0][j] = pre[j + 1] * w * w;
@@ -163,10 +175,17 @@ int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bo
     return groups - 1;
 }
 
-void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t)
+void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, long moving_hits,
+                         LrTile *t)
 {
     memset(t, 0, sizeof *t);
-    int slabs = lr_config_gap_slabs(cfg);
+    /* A window whose hits (almost) all stay put need not split its slabs into moving and
+     * static layers (splits_motion is false past 8 slabs), so its raw ids go to finer CoC
+     * slabs; its few moving samples then share their slab's layer with the static ones
+     * (integer arithmetic, as lr.cl: the same choice). docs/algorithms.md 8.47 */
+    long hits = 0;
+    for (int b = 0; b < LR_GAP_BINS; ++b) hits += hist[b];
+    int slabs = moving_hits * 1000 > (long)cfg->still_moving_permille * hits ? lr_config_gap_slabs(cfg) : lr_config_still_gap_slabs(cfg);
     t->n_coc = lr_gap_bounds(hist, edges, slabs - 1, t->coc_bound_px);
     /* a window with fewer occupied CoC bins than slabs (a pinhole: every c = 0) spends the
      * rest on uniform depth layers, as without the histogram */
@@ -190,6 +209,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     /* depth range of the window's hits */
     float zmin = INFINITY, zmax = -INFINITY, edges[LR_GAP_BINS - 1];
     int hist[LR_GAP_BINS] = {0};
+    long moving_hits = 0;
     bool gaps = cfg->gap_slabs > 0;
     if (gaps) lr_gap_edges(edges);
     for (int py = y0; py < y1; ++py)
@@ -200,9 +220,10 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
                 if (z < INFINITY) {
                     zmin = min_f(zmin, z), zmax = max_f(zmax, z);
                     if (gaps) hist[lr_gap_bin(edges, s->coc_px)]++;
+                    moving_hits += lr_key_moving(s->motion_px);
                 }
             }
-    if (gaps) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, t);
+    if (gaps) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, moving_hits, t);
     else lr_tile_bounds(cfg, zmin, zmax, t);
     int raw_n = lr_tile_raw_count(t);
     int ix0, iy0, ix1, iy1;

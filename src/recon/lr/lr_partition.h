@@ -65,7 +65,10 @@ static inline void lr_split_sample(const LrSample *s, size_t i, LrKey *key, LrPl
 LrSamples lr_samples_split(int width, int height, int spp, const LrSample *s);
 void lr_samples_free(LrSamples *img);
 
-enum { LR_MAX_LAYERS = 16, LR_MAX_DEPTH_BOUNDS = 15, LR_MAX_COC_BOUNDS = 8 };
+/* 17 raw layer ids: 2 x 8 slabs and the misses where a window's moving and static samples
+ * split (LR_MAX_SPLIT_SLABS), 16 slabs and the misses where nothing in the window moves
+ * (LR_MAX_COC_BOUNDS + 1 slabs: lr_config_still_gap_slabs). */
+enum { LR_MAX_LAYERS = 16, LR_MAX_DEPTH_BOUNDS = 15, LR_MAX_SPLIT_SLABS = 8, LR_MAX_COC_BOUNDS = 15 };
 
 typedef struct {
     LrFilterConfig filter;
@@ -82,6 +85,15 @@ typedef struct {
                                * samples' CoC histogram (lr_gap_bounds), at most gap_slabs - 1
                                * of them, and focus_bounds / focus_step_px are not used; 0: the
                                * fixed focus bounds */
+    int still_gap_slabs;      /* the same for a window that (hardly) moves: it splits no slab
+                               * into moving and static layers once it has more than 8, so the
+                               * 17 raw ids hold up to LR_MAX_COC_BOUNDS + 1 slabs, finer layers
+                               * where static geometry crosses the focal plane (0, the
+                               * default: gap_slabs; 12 measured with 24-px tiles).
+                               * docs/algorithms.md 8.47 */
+    int still_moving_permille; /* ...a window "hardly moves" when at most this share (per
+                                * mille) of its hits is moving (LR_MOVING_PX; 0: none at all;
+                                * default 150) */
     float motion_spread_max;  /* no motion filter when the directions' spread exceeds this
                                * share of the mean motion (and half a pixel), or when the
                                * range of speeds along the mean direction exceeds this share
@@ -219,10 +231,12 @@ typedef struct {
  * gradient of the samples' slope over their lens-centre points, fitted from `tilt`, the shift is (-eta g_x / 4, -rho g_y / 4) px. 0 when the fit is degenerate. */
 void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_px, float *ramp_y_px);
 
-/* cfg->uniform_layers within [1, 7] and cfg->gap_slabs within [0, LR_MAX_COC_BOUNDS]: the
- * counts the partition (C and lr.cl alike) works with. */
+/* cfg->uniform_layers within [1, 7], cfg->gap_slabs within [0, LR_MAX_SPLIT_SLABS] and
+ * cfg->still_gap_slabs within [1, LR_MAX_COC_BOUNDS + 1] (0: the clamped gap_slabs; with
+ * gap_slabs 0 it is 0 too): the counts the partition (C and lr.cl alike) works with. */
 int lr_config_uniform_layers(const LrConfig *cfg);
 int lr_config_gap_slabs(const LrConfig *cfg);
+int lr_config_still_gap_slabs(const LrConfig *cfg);
 
 /* The tile's layer bounds from its window's depth range (zmin > zmax: no hits); clears t. */
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t);
@@ -253,8 +267,11 @@ int lr_gap_bin(const float *edges, float coc_px);
 int lr_gap_bounds(const int *hist, const float *edges, int max_bounds, float *bounds);
 
 /* lr_tile_bounds with cfg->gap_slabs > 0: CoC bounds from the window's histogram hist (bins of
- * lr_gap_edges' edges); clears t. */
-void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, LrTile *t);
+ * lr_gap_edges' edges), at most lr_config_gap_slabs slabs, or lr_config_still_gap_slabs when
+ * moving_hits (the window's moving hits) is at most cfg->still_moving_permille per mille of
+ * its hits (the histogram's count); clears t. */
+void lr_tile_bounds_gaps(const LrConfig *cfg, float zmin, float zmax, const int *hist, const float *edges, long moving_hits,
+                         LrTile *t);
 
 /* Whether a layer keeps its motion filter (LR section 5, docs/algorithms.md 8.5 and 8.32): its
  * speeds along the mean direction psi span [d_min_px, d_max_px] (px over the shutter) and its
@@ -294,6 +311,13 @@ float lr_layer_contrast(const LrLayerStats *raw_stats, int raw_n, int i);
  * depth/CoC slab the moving and the static samples are separate layers (lr_tile_raw_layer).
  * lr.cl has the same constant. */
 #define LR_MOVING_PX 1.0f
+
+/* Whether a sample is "moving" (LR_MOVING_PX or more over the shutter): the moving/static split
+ * of a slab's raw layers, and (none among a window's hits) cfg->still_gap_slabs. */
+static inline bool lr_key_moving(const float motion_px[2])
+{
+    return motion_px[0] * motion_px[0] + motion_px[1] * motion_px[1] >= LR_MOVING_PX * LR_MOVING_PX;
+}
 
 /* The raw layer (before compaction) of a sample in a tile. The depth and CoC bounds cut the
  * hits into slabs (k below); when the tile's 2 * slabs + 1 raw layers fit (always with the
