@@ -45,8 +45,8 @@ static bool build(TestLights *b)
 
 static bool same_bits(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
 
-/* A random receiver lane k of g: a point around the patch, a unit geometric normal in any
- * direction (so the origin is pushed to either side) and an offset over three decades. */
+/* A random receiver: a point around the patch, a unit geometric normal in any direction (so
+ * the origin is pushed to either side) and an offset over three decades. */
 static SurfaceHit random_receiver(Pcg32 *rng)
 {
     SurfaceHit h;
