@@ -43,15 +43,20 @@ static bool is_area(const RenderLightInfo *b) { return b->kind == RENDER_LIGHT_A
 
 static int cmp_vertex(const void *a, const void *b) { return memcmp(a, b, sizeof(float[3])); }
 
-/* Summaries indexed by shape (NULL when no area light has a shape, or out of memory). */
-static ShapeSummary *summarise_shapes(const RenderLightInfo *info, int count)
+static void free_summaries(ShapeSummary *s, const RenderLightInfo *info, int count);
+
+/* Summaries indexed by shape in *out (NULL when no area light has a shape). False when out of
+ * memory: a shape without its vertices would give each triangle its own box, a narrower light
+ * than the shape's, so that is no table to filter with. */
+static bool summarise_shapes(const RenderLightInfo *info, int count, ShapeSummary **out)
 {
+    *out = NULL;
     int top = -1;
     for (int l = 0; l < count; ++l)
         if (is_area(&info[l]) && info[l].shape > top) top = info[l].shape;
-    if (top < 0) return NULL;
+    if (top < 0) return true;
     ShapeSummary *s = calloc((size_t)top + 1, sizeof *s);
-    if (!s) return NULL;
+    if (!s) return false;
     for (int k = 0; k <= top; ++k) s[k].first_tri = s[k].sweep_from = s[k].design_from = -1;
     for (int l = 0; l < count; ++l) {
         const RenderLightInfo *b = &info[l];
@@ -67,7 +72,10 @@ static ShapeSummary *summarise_shapes(const RenderLightInfo *info, int count)
     for (int k = 0; k <= top; ++k) {
         size_t n = (size_t)s[k].vert_count;
         s[k].vert_count = 0;
-        if (n) s[k].verts = malloc(n * sizeof *s[k].verts);
+        if (n && !(s[k].verts = malloc(n * sizeof *s[k].verts))) {
+            free_summaries(s, info, count);
+            return false;
+        }
     }
     for (int l = 0; l < count; ++l) {
         const RenderLightInfo *b = &info[l];
@@ -86,9 +94,11 @@ static ShapeSummary *summarise_shapes(const RenderLightInfo *info, int count)
             if (kept == 0 || memcmp(s[k].verts[v], s[k].verts[kept - 1], sizeof *s[k].verts) != 0)
                 memcpy(s[k].verts[kept++], s[k].verts[v], sizeof *s[k].verts);
         s[k].vert_count = kept;
+        /* out of memory for the tree: the plain loop, the same floats (maaf_vertex_extent.h) */
         if (kept > EXTENT_PLAIN_MAX) s[k].vert_extent = maaf_vertex_extent_create((const float(*)[3])s[k].verts, kept);
     }
-    return s;
+    *out = s;
+    return true;
 }
 
 static void free_summaries(ShapeSummary *s, const RenderLightInfo *info, int count)
@@ -213,26 +223,32 @@ static void design_index_add(DesignIndex *x, const MaafLight *ml, int l)
     x->slot[i] = l;
 }
 
-void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa,
+bool maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa,
                                MaafLight *lights)
 {
+    for (int l = 0; l < count; ++l) memset(&lights[l], 0, sizeof lights[l]);
     RenderLightInfo *info = calloc(count > 0 ? (size_t)count : 1, sizeof *info);
-    if (!info) return;
+    if (!info) return false;
     for (int l = 0; l < count; ++l)
         if (!renderer_light_info(r, l, &info[l])) info[l].kind = RENDER_LIGHT_POINT;
-    ShapeSummary *summary = summarise_shapes(info, count);
-    DesignIndex designs;
-    design_index_init(&designs, count); /* out of memory (no slots): every light designs its own */
+    ShapeSummary *summary = NULL;
     /* the poses of each light that sweeps its own (a shape's first moving triangle, a disk), kept
      * until the table is done: its shape's other triangles and the design index read them */
     bool any_moving = false;
     for (int l = 0; l < count; ++l) any_moving = any_moving || (is_area(&info[l]) && info[l].moving);
-    MaafSweep **poses = any_moving ? calloc((size_t)count, sizeof *poses) : NULL; /* NULL: every light static */
-    for (int l = 0; l < count; ++l) {
+    MaafSweep **poses = any_moving ? calloc((size_t)count, sizeof *poses) : NULL;
+    if (!summarise_shapes(info, count, &summary) || (any_moving && !poses)) {
+        free_summaries(summary, info, count);
+        free(poses);
+        free(info);
+        return false;
+    }
+    DesignIndex designs;
+    design_index_init(&designs, count); /* out of memory (no slots): every light designs its own, the same design */
+    bool ok = true;
+    for (int l = 0; ok && l < count; ++l) {
         MaafLight *ml = &lights[l];
-        memset(ml, 0, sizeof *ml);
         if (!is_area(&info[l]) || !(geoms[l].sigma_world > 0.0f)) continue;
-        if (info[l].shape >= 0 && !summary) continue; /* out of memory for the summaries: left to Monte Carlo */
         ShapeSummary *h = info[l].shape >= 0 ? &summary[info[l].shape] : NULL; /* NULL: a light of no shape */
         double c[3], area;
         if (h) {
@@ -256,8 +272,12 @@ void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
          * sweep reads every triangle of the shape at each pose, so a mesh light's triangles each
          * sweeping it cost O(triangles^2) poses (minutes for a few thousand) */
         bool shape_sweep = h && info[l].is_triangle;
-        if (info[l].moving && poses && !(shape_sweep && copy_shape_sweep(h, lights, ml))) {
-            poses[l] = malloc(sizeof *poses[l]);
+        if (info[l].moving && !(shape_sweep && copy_shape_sweep(h, lights, ml))) {
+            /* without its poses a moving light would be designed as if it stood still */
+            if (!(poses[l] = malloc(sizeof *poses[l]))) {
+                ok = false;
+                break;
+            }
             if (!maaf_light_sweep(r, l, 0.5f * sqrtf((float)M_PI) * geoms[l].radius_world, poses[l], ml))
                 free(poses[l]), poses[l] = NULL;
         }
@@ -281,4 +301,7 @@ void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
     free_summaries(summary, info, count);
     free(designs.slot);
     free(info);
+    if (!ok)
+        for (int l = 0; l < count; ++l) memset(&lights[l], 0, sizeof lights[l]);
+    return ok;
 }

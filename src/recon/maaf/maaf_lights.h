@@ -14,8 +14,9 @@
  * design's pairs and knob kappa (Omega_y_max = kappa 2 / sigma_light). A light that is not an
  * area light, or has no extent, is left zero (omega_y_max 0: its samples are not filtered). A
  * moving light's poses are read for its means and not kept (sweep NULL, sweep_nodes set): the
- * table owns no memory. */
-void maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa,
+ * table owns no memory. False when out of memory (every entry zeroed): a table missing a shape's
+ * vertices or a moving light's poses would filter with a narrower light than the scene's. */
+bool maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int count, int pairs, float kappa,
                                MaafLight *lights);
 
 #endif

@@ -459,7 +459,7 @@ static bool maaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->stats.light_count = m->light_count;
     m->stats.emitter_count = aaf_light_sweep(s->renderer, m->geoms, m->light_count, &m->emitters);
     m->stats.emitters = m->emitters;
-    maaf_lights_from_renderer(s->renderer, m->geoms, m->light_count, m->light_pairs, m->kappa, m->lights);
+    if (!maaf_lights_from_renderer(s->renderer, m->geoms, m->light_count, m->light_pairs, m->kappa, m->lights)) goto oom;
     for (int l = m->light_count - 1; l >= 0; --l)
         if (m->lights[l].omega_y_max > 0.0f) m->first_light = &m->lights[l];
     *out = m;
