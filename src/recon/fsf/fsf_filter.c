@@ -63,15 +63,41 @@ int fsf_y2_bin(const FsfGrid *g, float y2_m)
     return b < 0 ? 0 : b >= g->y2_bins ? g->y2_bins - 1 : b;
 }
 
-void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3])
+bool fsf_sample_on_light(const float y_m[2], const float half_m[2])
 {
-    double mean[3] = {0, 0, 0};
-    for (int k = 0; k < count; ++k)
-        for (int ch = 0; ch < 3; ++ch) mean[ch] += sample_rgb[3 * (size_t)k + (size_t)ch];
+    /* the light point's projection on the light's axes rounds a little past the edge */
+    return fabsf(y_m[0]) <= half_m[0] * (1.0f + FSF_ON_LIGHT_SLACK) &&
+           fabsf(y_m[1]) <= half_m[1] * (1.0f + FSF_ON_LIGHT_SLACK);
+}
+
+/* The factors over the samples on the light (y_m, half_m), or over every sample when y_m is
+ * NULL or none is on it. */
+static void match_pixel_over(const float *value4, const float *sample_rgb, const float *y_m, const float *half_m,
+                             int count, float scale[3])
+{
+    double sum[3] = {0, 0, 0};
+    int taken = 0;
+    for (int pick_all = !y_m; pick_all <= 1 && taken == 0; ++pick_all)
+        for (int k = 0; k < count; ++k) {
+            if (!pick_all && !fsf_sample_on_light(y_m + 2 * (size_t)k, half_m)) continue;
+            ++taken;
+            for (int ch = 0; ch < 3; ++ch) sum[ch] += sample_rgb[3 * (size_t)k + (size_t)ch];
+        }
     for (int ch = 0; ch < 3; ++ch) {
-        double s = mean[ch] > 0.0 ? value4[ch] * (double)count / mean[ch] : 0.0;
+        double s = sum[ch] > 0.0 ? value4[ch] * (double)taken / sum[ch] : 0.0;
         scale[ch] = isfinite(s) ? (float)s : 0.0f;
     }
+}
+
+void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3])
+{
+    match_pixel_over(value4, sample_rgb, NULL, NULL, count, scale);
+}
+
+void fsf_match_pixel_on_light(const float *value4, const float *sample_rgb, const float *y_m, const float half_m[2],
+                              int count, float scale[3])
+{
+    match_pixel_over(value4, sample_rgb, y_m, half_m, count, scale);
 }
 
 void fsf_fill_dark_channels(const float *value4, const float *sample_rgb, int count, float *out)

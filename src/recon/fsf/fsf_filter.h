@@ -230,6 +230,16 @@ void fsf_tap_prefix_mean(const FsfGrid *g, const FsfPixel *p, float *cum);
  * mean (demodulation, a shading filter's result); the filter then blurs samples on the
  * pixel's own scale. */
 void fsf_match_pixel(const float *value4, const float *sample_rgb, int count, float scale[3]);
+/* The same over the samples whose light point is on the filter's light (fsf_sample_on_light:
+ * light coordinates y_m, 2 per sample, within the half extents); every sample when none is.
+ * The shadow filter's box profile gives a sample aimed at another emitter no weight, so the
+ * filter averages the others alone: their mean is the pixel's light over the probability of
+ * choosing this light, and it is that mean the pixel's value must scale. */
+void fsf_match_pixel_on_light(const float *value4, const float *sample_rgb, const float *y_m, const float half_m[2],
+                              int count, float scale[3]);
+/* y_m within the half extents, to the rounding of a light point's projection on the axes */
+#define FSF_ON_LIGHT_SLACK 1e-4f
+bool fsf_sample_on_light(const float y_m[2], const float half_m[2]);
 /* out (3 floats per sample) = each of count samples' rgb times scale (fsf_match_pixel's); a
  * product that is not finite is written as 0 and counted: the return value, which the method
  * reports (a value cleaned up is never hidden). */

@@ -463,8 +463,6 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
         usable[i] = value4[4 * i + 3] > 0.0f && cnt > 0 && m->g->hit[i] && !m->g->mixed[i] &&
                     (!m->share || m->share[i] >= FSF_MIN_LIGHT_SHARE) && !fsf_pixel_creased(m->g, i);
         if (!usable[i]) continue; /* no pass reads its samples (fsf_filter.h) */
-        float scale[3];
-        fsf_match_pixel(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, scale);
         for (int k = 0; k < cnt; ++k) {
             size_t slot = i * (size_t)cap + (size_t)k;
             const float *s = lf + 5 * slot;
@@ -474,6 +472,9 @@ static bool gather(const ReconMethod *m, const float *value4, unsigned char *usa
             y_m[2 * slot] = has ? v3_dot(q, u) : 0.0f;
             y_m[2 * slot + 1] = has ? v3_dot(q, w) : 0.0f;
         }
+        float scale[3];
+        fsf_match_pixel_on_light(value4 + 4 * i, dir + i * (size_t)cap * 3, y_m + 2 * i * (size_t)cap, m->light.half_m,
+                                 cnt, scale);
         *nonfinite += fsf_scale_samples(dir + i * (size_t)cap * 3, cnt, scale, v + i * (size_t)cap * 3);
         fsf_fill_dark_channels(value4 + 4 * i, dir + i * (size_t)cap * 3, cnt, v + i * (size_t)cap * 3);
     }
