@@ -41,4 +41,20 @@ static inline double polygon_phi_of_sum(double sum)
     return isfinite(phi) ? phi : 0.0;
 }
 
+/* A receiver p closer to the plane through q with unit normal nl than this share of their
+ * coordinates' size and distance (the rounding of a hit point on that plane) lies in it. */
+#define POLYGON_PLANE_TOL_REL 1e-5
+
+/* The signed distance of p from that plane, or 0 when p lies in it (POLYGON_PLANE_TOL_REL).
+ * An emitter gives a receiver in its own plane no light: it subtends no solid angle there, and
+ * for a point on it (a pixel that sees the back of a one-sided light, lit by another) Lambert's
+ * formula, whose edges then all lie on the receiver's horizon, gives anything from 0 to pi. */
+static inline double polygon_plane_side(const double p[3], const double q[3], const double nl[3])
+{
+    double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    double side = polygon_dot3(nl, d), size = sqrt(polygon_dot3(d, d));
+    for (int k = 0; k < 3; ++k) size += fabs(p[k]) + fabs(q[k]);
+    return fabs(side) > POLYGON_PLANE_TOL_REL * size ? side : 0.0;
+}
+
 #endif

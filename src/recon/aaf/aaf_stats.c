@@ -434,14 +434,18 @@ static void round_polygon(const double c[3], const double nrm[3], double rad, do
     }
 }
 
-/* Phi of one emitter seen from p (normal n); 0 from behind a one-sided planar emitter. */
+/* Phi of one emitter seen from p (normal n); 0 from behind a one-sided planar emitter and
+ * from within its plane (polygon_plane_side). */
 static double emitter_phi(const AafLightGeom *L, const double p[3], const double n[3])
 {
     double c[3] = {L->center[0], L->center[1], L->center[2]};
     double nl[3] = {L->normal[0], L->normal[1], L->normal[2]};
     if (L->emitter == AAF_EMITTER_TRIANGLE || L->emitter == AAF_EMITTER_DISK) {
-        double side = nl[0] * (p[0] - c[0]) + nl[1] * (p[1] - c[1]) + nl[2] * (p[2] - c[2]);
-        if (!L->two_sided && !(side > 0.0)) return 0.0;
+        double q[3] = {c[0], c[1], c[2]}; /* a point of the plane */
+        if (L->emitter == AAF_EMITTER_TRIANGLE) q[0] = L->tri[0][0], q[1] = L->tri[0][1], q[2] = L->tri[0][2];
+        double side = polygon_plane_side(p, q, nl);
+        if (side == 0.0) return 0.0;
+        if (!L->two_sided && side < 0.0) return 0.0;
     }
     if (L->emitter == AAF_EMITTER_TRIANGLE) {
         double v[3][3];

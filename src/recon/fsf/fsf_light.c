@@ -237,11 +237,13 @@ static double round_phi(const RenderLightInfo *b, vec3 p, vec3 nr)
     return cos_e > 0.0 ? b->area_world * cos_e * cos_t / D2 : 0.0;
 }
 
-/* p is behind the one-sided emitter triangle b */
+/* p is behind the one-sided emitter triangle b, or in its plane (polygon_plane_side) */
 static bool culled(const RenderLightInfo *b, vec3 pv)
 {
-    vec3 to = v3_sub(pv, b->center_world);
-    return !b->two_sided && !(v3_dot(to, b->normal_world) > 0.0f);
+    double p[3] = {pv.x, pv.y, pv.z}, q[3] = {b->center_world.x, b->center_world.y, b->center_world.z};
+    double nl[3] = {b->normal_world.x, b->normal_world.y, b->normal_world.z};
+    double side = polygon_plane_side(p, q, nl);
+    return side == 0.0 || (!b->two_sided && side < 0.0);
 }
 
 /* Triangle light l's luminance times its projected solid angle from p (normal nr). */
