@@ -170,6 +170,7 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     out->half_m[1] = half[1];
     for (int a = 0; a < 2; ++a) out->ramp_m[a] = ramp[a], out->pose_m[a] = pose[a], out->motion_m[a] = motion[a];
     out->shape = first.shape;
+    out->fill = first.moving ? 1.0f : area / (4.0f * half[0] * half[1]);
     return true;
 }
 

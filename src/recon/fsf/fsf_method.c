@@ -198,6 +198,12 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
         fsf_destroy(m);
         return false;
     }
+    if (effect_in(s->effects, EFFECT_SOFT_SHADOWS) && !(m->light.fill >= FSF_MIN_LIGHT_FILL))
+        fprintf(stderr,
+                "wedge: warning: FSF: the brightest area light fills %.0f%% of its bounding rectangle, and FSF's "
+                "shadow filter assumes a rectangular light: its soft shadows are left unfiltered (--filter maaf or aaf "
+                "filter lights of any shape)\n",
+                100.0 * (double)m->light.fill);
     m->renderer = s->renderer;
     m->g = s->gbuffer;
     m->store = s->store;
@@ -308,6 +314,13 @@ static FsfScratch *scratch_with_values(ReconMethod *m, Diag *d)
  * where one passes the pixel through), and where FSF filters defocus the lens filter's added
  * (it blurs the shading filters' output: the composed Gaussian's area is at least the sum,
  * docs/algorithms.md 10), except at the straddlers, which it leaves to Monte Carlo. */
+/* A light that is not a rectangle (FSF_MIN_LIGHT_FILL): no pixel's light is FSF's to filter. */
+static void share_of_filterable_light(ReconMethod *m, size_t n)
+{
+    if (m->light.fill >= FSF_MIN_LIGHT_FILL) return;
+    for (size_t i = 0; i < n; ++i) m->share[i] = 0.0f;
+}
+
 static bool plan_counts(ReconMethod *m, Diag *d)
 {
     const GBuffer *g = m->g;
@@ -322,6 +335,7 @@ static bool plan_counts(ReconMethod *m, Diag *d)
         /* with r(x) too (the same cost), kept with its guides: the filter recomputes only the
          * pixels whose guides pass 2 changed */
         fsf_irradiance_and_share(m->renderer, m->light.shape, (int)n, g->hit, g->pos4, g->nrm4, m->shade, m->share);
+        share_of_filterable_light(m, n);
         fsf_shade_inputs_free(&m->shade_from);
         fsf_shade_inputs_keep(&m->shade_from, (int)n, g->hit, g->pos4, g->nrm4); /* out of memory: all recomputed */
         fsf_profile_mark(&m->prof, "share");
@@ -437,6 +451,7 @@ static bool fsf_light_factor(ReconMethod *m, Effect e, const float **factor, flo
                                        &m->shade_from, m->shade, m->share);
     else
         fsf_irradiance_and_share(m->renderer, m->light.shape, n, m->g->hit, m->g->pos4, m->g->nrm4, m->shade, m->share);
+    share_of_filterable_light(m, (size_t)n);
     fsf_profile_mark(&m->prof, "irradiance");
     fsf_profile_print(&m->prof, "light_factor");
     float shade_max = 0.0f;
