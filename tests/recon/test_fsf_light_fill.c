@@ -48,13 +48,6 @@ static float light_fill(const char *text)
     return fill;
 }
 
-static double rel_mse3(const float *a, const float *ref)
-{
-    double e = 0.0;
-    for (int i = 0; i < 3 * W * H; ++i) e += (a[i] - ref[i]) * (a[i] - ref[i]) / (ref[i] * ref[i] + 0.01);
-    return e / (3 * W * H);
-}
-
 /* relMSE at 16 spp over seeds 1-2 of fsf and of Monte Carlo against a 1024-spp reference */
 static void errors(const char *text, double *e_fsf, double *e_mc)
 {
@@ -64,7 +57,7 @@ static void errors(const char *text, double *e_fsf, double *e_mc)
     for (unsigned seed = 1; seed <= 2 && ref; ++seed) {
         ReconOptions fo = {.filter = "fsf", .spp = 16}, mo = {.filter = "none", .spp = 16};
         float *f = recon_test_render(text, seed, &fo, NULL, NULL), *mc = recon_test_render(text, seed, &mo, NULL, NULL);
-        if (f && mc) *e_fsf += rel_mse3(f, ref) / 2, *e_mc += rel_mse3(mc, ref) / 2;
+        if (f && mc) *e_fsf += rel_mse(f, ref, 3 * W * H) / 2, *e_mc += rel_mse(mc, ref, 3 * W * H) / 2;
         CHECK(f && mc);
         free(f);
         free(mc);

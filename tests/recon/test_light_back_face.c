@@ -48,13 +48,6 @@ static void find_back(const ReconPipeline *p, void *ctx)
     for (int i = 0; g && g->mixed && g->pos4 && i < W * H; ++i) back[i] = g->hit[i] && !g->mixed[i] && fabsf(g->pos4[4 * i + 1] - 2.0f) < 1e-3f;
 }
 
-static double rel_mse3(const float *a, const float *ref)
-{
-    double e = 0.0;
-    for (int i = 0; i < 3 * W * H; ++i) e += (a[i] - ref[i]) * (a[i] - ref[i]) / (ref[i] * ref[i] + 0.01);
-    return e / (3 * W * H);
-}
-
 int main(void)
 {
     ReconOptions ro = {.filter = "none", .spp = 1024};
@@ -68,7 +61,7 @@ int main(void)
     for (unsigned seed = 1; seed <= 2 && ref; ++seed) {
         ReconOptions mo = {.filter = "none", .spp = 16};
         float *mc = recon_test_render(SCENE, seed, &mo, NULL, NULL);
-        if (mc) e_mc += rel_mse3(mc, ref) / 2;
+        if (mc) e_mc += rel_mse(mc, ref, 3 * W * H) / 2;
         free(mc);
     }
     for (int f = 0; f < 3 && ref; ++f) {
@@ -78,7 +71,7 @@ int main(void)
             float *img = recon_test_render(SCENE, seed, &fo, NULL, NULL);
             CHECK(img != NULL);
             if (!img) continue;
-            e += rel_mse3(img, ref) / 2;
+            e += rel_mse(img, ref, 3 * W * H) / 2;
             for (int i = 0; i < W * H; ++i)
                 for (int c = 0; back[i] && c < 3; ++c) sum += img[3 * i + c], sum_ref += ref[3 * i + c];
             free(img);
