@@ -45,7 +45,8 @@ static void find_back(const ReconPipeline *p, void *ctx)
     (void)ctx;
     const GBuffer *g = recon_pipeline_gbuffer(p);
     CHECK(g && g->mixed && g->pos4);
-    for (int i = 0; g && g->mixed && g->pos4 && i < W * H; ++i) back[i] = g->hit[i] && !g->mixed[i] && fabsf(g->pos4[4 * i + 1] - 2.0f) < 1e-3f;
+    for (int i = 0; g && g->mixed && g->pos4 && i < W * H; ++i)
+        back[i] = g->hit[i] && !g->mixed[i] && fabsf(g->pos4[4 * i + 1] - 2.0f) < 1e-3f;
 }
 
 int main(void)
