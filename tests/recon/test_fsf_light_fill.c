@@ -21,17 +21,19 @@ enum { W = 40, H = 40 };
 
 static const char *const QUAD = "\"point3 P\" [ -0.8 4 -0.8  0.8 4 -0.8  0.8 4 0.8  -0.8 4 0.8 ] \"integer indices\" [ 0 1 2 0 2 3 ]";
 static const char *const TRIANGLE = "\"point3 P\" [ -0.8 4 -0.8  0.8 4 -0.8  0.8 4 0.8 ] \"integer indices\" [ 0 1 2 ]";
-
-/* the soft-shadow scene with its light's shape replaced */
-static void scene_with(const char *light, char *out, size_t size)
+/* the soft-shadow scene with its light's shape replaced, moving 0.5 m along x over the shutter
+ * when asked */
+static void scene_with(const char *light, bool moving, char *out, size_t size)
 {
-    const char *at = strstr(SHADOW_SCENE, QUAD);
-    CHECK(at != NULL);
-    if (!at) {
+    const char *at = strstr(SHADOW_SCENE, QUAD), *shape = at ? strstr(SHADOW_SCENE, "  Shape \"trianglemesh\" ") : NULL;
+    CHECK(at != NULL && shape != NULL && shape < at);
+    if (!at || !shape || shape > at) {
         snprintf(out, size, "%s", SHADOW_SCENE);
         return;
     }
-    snprintf(out, size, "%.*s%s%s", (int)(at - SHADOW_SCENE), SHADOW_SCENE, light, at + strlen(QUAD));
+    snprintf(out, size, "%.*s%s%.*s%s%s", (int)(shape - SHADOW_SCENE), SHADOW_SCENE,
+             moving ? "  ActiveTransform EndTime Translate 0.5 0 0 ActiveTransform All\n" : "", (int)(at - shape), shape,
+             light, at + strlen(QUAD));
 }
 
 static float light_fill(const char *text)
@@ -69,15 +71,20 @@ static void errors(const char *text, double *e_fsf, double *e_mc)
 int main(void)
 {
     char quad[8192], tri[8192];
-    scene_with(QUAD, quad, sizeof quad);
-    scene_with(TRIANGLE, tri, sizeof tri);
-    float fq = light_fill(quad), ft = light_fill(tri);
+    scene_with(QUAD, false, quad, sizeof quad);
+    scene_with(TRIANGLE, false, tri, sizeof tri);
+    char moving[8192];
+    scene_with(TRIANGLE, true, moving, sizeof moving);
+    float fq = light_fill(quad), ft = light_fill(tri), fm = light_fill(moving);
     /* the right triangle's centroid is a third of each leg from the right angle, so the
      * rectangle about it (half extents the farthest vertex along each axis) is
      * (2 * 2/3 * 1.6)^2 against the triangle's 1.6^2 / 2: a fill of 9/32 */
     fprintf(stderr, "fill: quad %.4f, triangle %.4f (closed form 0.28125)\n", fq, ft);
     CHECK_NEAR(fq, 1.0, 1e-4);
     CHECK_NEAR(ft, 9.0 / 32.0, 1e-4);
+    /* a moving light: its pose over the pose's own rectangle, 1.6^2 / 2 over 1.6^2 */
+    fprintf(stderr, "fill: moving triangle %.4f (closed form 0.5)\n", fm);
+    CHECK_NEAR(fm, 0.5, 1e-4);
     double eq_fsf, eq_mc, et_fsf, et_mc;
     errors(quad, &eq_fsf, &eq_mc);
     errors(tri, &et_fsf, &et_mc);

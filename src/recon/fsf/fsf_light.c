@@ -170,7 +170,9 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     out->half_m[1] = half[1];
     for (int a = 0; a < 2; ++a) out->ramp_m[a] = ramp[a], out->pose_m[a] = pose[a], out->motion_m[a] = motion[a];
     out->shape = first.shape;
-    out->fill = first.moving ? 1.0f : area / (4.0f * half[0] * half[1]);
+    /* a moving light's samples are uniform over each pose (the swept density is built on that):
+     * its fill is the pose's at shutter open, over the pose's own rectangle */
+    out->fill = first.moving ? area / (pose[0] * pose[1]) : area / (4.0f * half[0] * half[1]);
     return true;
 }
 

@@ -28,7 +28,8 @@ typedef struct {
     int shape;                                      /* the emitter's SceneDesc shape */
     float fill;                                     /* its triangles' area over the rectangle's,
                                                      * 4 half_m[0] half_m[1] (FSF_MIN_LIGHT_FILL);
-                                                     * 1 for a moving light (not measured) */
+                                                     * a moving light's over its pose's at shutter
+                                                     * open, pose_m[0] pose_m[1] */
 } FsfLight;
 
 /* The shadow filter's box profile and its density correction take the light's samples to be
