@@ -238,6 +238,10 @@ int lr_config_uniform_layers(const LrConfig *cfg);
 int lr_config_gap_slabs(const LrConfig *cfg);
 int lr_config_still_gap_slabs(const LrConfig *cfg);
 
+/* Whether a window's moving hits can change its slab count (lr_config_still_gap_slabs differs
+ * from lr_config_gap_slabs): when not, the statistics (C and lr.cl) do not count them. */
+bool lr_config_counts_moving(const LrConfig *cfg);
+
 /* The tile's layer bounds from its window's depth range (zmin > zmax: no hits); clears t. */
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t);
 
