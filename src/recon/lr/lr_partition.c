@@ -29,7 +29,8 @@ LrConfig lr_config_default(void)
     c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
     /* Off: at 16/32 px it changes the error by 0.2% or less. With 24-px tiles in 40-px
      * windows, 12 slabs for windows whose hits move at most 15% win back those tiles' error
-     * (docs/algorithms.md 8.47), but test_lr_tilted's near-focus plane keeps them out. */
+     * (docs/algorithms.md 8.47), but test_lr_tilted's near-focus plane keeps them out: with
+     * them the tilt shift's harm inside layers outweighs its gain at their bounds (8.48). */
     c.still_gap_slabs = 0;
     c.still_moving_permille = 150;
     c.motion_spread_max = 0.5f;

@@ -228,7 +228,9 @@ typedef struct {
 
 /* The shift of a static layer's own samples (psi = 0, no shutter shear) that gives its screen
  * disk the tilt's centroid shift (docs/algorithms.md 8.35): with g = (dc/dX, dc/dY) the
- * gradient of the samples' slope over their lens-centre points, fitted from `tilt`, the shift is (-eta g_x / 4, -rho g_y / 4) px. 0 when the fit is degenerate. */
+ * gradient of the samples' slope over their lens-centre points, fitted from `tilt`, the shift is (-eta g_x / 4, -rho g_y / 4) px. 0 when the fit is degenerate.
+ * Measured since (8.48): inside a layer a normalised gather wants the opposite sign; the shift's
+ * net gain comes from the layer bounds, where eq. 17 displaces the image the other way. */
 void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_px, float *ramp_y_px);
 
 /* cfg->uniform_layers within [1, 7], cfg->gap_slabs within [0, LR_MAX_SPLIT_SLABS] and
