@@ -187,6 +187,40 @@ static void test_still_window(void)
     }
 }
 
+/* lr_config_counts_moving says whether a window's moving hits can change its bounds, so that
+ * the statistics may skip counting them: off by default (still_gap_slabs 0), with
+ * still_gap_slabs equal to gap_slabs, and without gap slabs; on with 12 or (clamped) 40. Its
+ * meaning checked on lr_tile_bounds_gaps: a histogram with 24 occupied bins gets the same bounds
+ * with no moving hit and with every hit moving exactly when it is off. */
+static void test_counts_moving(void)
+{
+    float edges[LR_GAP_BINS - 1];
+    lr_gap_edges(edges);
+    int hist[LR_GAP_BINS] = {0};
+    long hits = 0;
+    for (int b = 12; b < 36; ++b) hist[b] = 5 + b % 7, hits += hist[b];
+    struct {
+        int gap, still;
+        bool counts;
+    } cases[] = {{8, 0, false}, {8, 8, false}, {0, 12, false}, {8, 12, true}, {8, 40, true}, {4, 6, true}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        LrConfig cfg = lr_config_default();
+        cfg.gap_slabs = cases[i].gap, cfg.still_gap_slabs = cases[i].still;
+        CHECK(lr_config_counts_moving(&cfg) == cases[i].counts);
+        LrTile none, all;
+        if (cfg.gap_slabs > 0) {
+            lr_tile_bounds_gaps(&cfg, 1.0f, 9.0f, hist, edges, 0, &none);
+            lr_tile_bounds_gaps(&cfg, 1.0f, 9.0f, hist, edges, hits, &all);
+        } else {
+            lr_tile_bounds(&cfg, 1.0f, 9.0f, &none);
+            lr_tile_bounds(&cfg, 1.0f, 9.0f, &all);
+        }
+        CHECK((memcmp(&none, &all, sizeof none) != 0) == cases[i].counts);
+    }
+    LrConfig def = lr_config_default(); /* the default: no count */
+    CHECK(!lr_config_counts_moving(&def));
+}
+
 /* lr_gap_bin (binary lifting, the form lr.cl runs) gives every slope the number of edges
  * below it: at each edge, a float either side of it, between edges, beyond both ends, at
  * +-infinity (47, 0) and NaN (0, as "c > edge" is false for every edge). */
@@ -219,5 +253,6 @@ int main(void)
     test_two_surfaces(2);
     test_two_surfaces(8);
     test_still_window();
+    test_counts_moving();
     CHECK_DONE();
 }

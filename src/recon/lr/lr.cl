@@ -29,7 +29,8 @@
  *   pass1_class   two grids per tile of the batch: the along pass of the narrow and of the
  *                 wide class's filter, for a layer with those records
  *   block_hist    LR_BH_STRIDE ints per 8x8 block of pixels (row-major, nbx per row): the CoC
- *                 histogram of its hits, then how many of them move (lr_block_stats); block_z:
+ *                 histogram of its hits, then how many of them move (0 unless the moving hits
+ *                 are counted: lr_config_counts_moving; lr_block_stats); block_z:
  *                 their depth range, 2 floats
  *   layer_ids     window_px^2 * spp bytes per tile: the raw layer of every window sample
  *                 (lr_tile_stats), with the flag LR_SKIP for a non-finite radiance
@@ -196,9 +197,10 @@ static int lr_gap_bounds(const int *hist, __global const float *edges, int max_b
 
 /* The hits among the samples of pixels [x0, x1) x [y0, y1): their depth range into *zmin,
  * *zmax and, with gap_slabs > 0, their CoC bins counted into hist (edges: the histogram's
- * LR_GAP_BINS - 1 edges) and the moving ones into *moving. Window order, as lr_partition.c. */
+ * LR_GAP_BINS - 1 edges) and, with count_moving (lr_config_counts_moving), the moving ones into
+ * *moving. Window order, as lr_partition.c. */
 static void lr_bin_rect(__global const float4 *keys, int width, int spp, int x0, int y0, int x1, int y1, int gap_slabs,
-                        __global const float *edges, int *hist, int *moving, float *zmin, float *zmax)
+                        int count_moving, __global const float *edges, int *hist, int *moving, float *zmin, float *zmax)
 {
 #pragma OPENCL FP_CONTRACT OFF
     float edges64[64]; /* the edges in private memory, padded for lr_gap_bin */
@@ -214,7 +216,7 @@ static void lr_bin_rect(__global const float4 *keys, int width, int spp, int x0,
                     lo = z < lo ? z : lo;
                     hi = z > hi ? z : hi;
                     if (gap_slabs > 0) hist[lr_gap_bin(edges64, key.y)]++;
-                    n_moving += lr_moving(key.z, key.w);
+                    if (count_moving) n_moving += lr_moving(key.z, key.w);
                 }
             }
     *zmin = lo, *zmax = hi;
@@ -228,7 +230,7 @@ static void lr_bin_rect(__global const float4 *keys, int width, int spp, int x0,
  * window that holds it (four). Counts are integers and a range's ends are a minimum and a
  * maximum, so the bounds are the same as sample by sample. One work-item per block. */
 #define LR_BLOCK_PX 8
-__kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, int gap_slabs, __global const float *coc_edges,
+__kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, int gap_slabs, int count_moving, __global const float *coc_edges,
                              __global const float4 *keys, __global int *block_hist, __global float *block_z)
 {
 #pragma OPENCL FP_CONTRACT OFF
@@ -238,7 +240,7 @@ __kernel void lr_block_stats(int width, int height, int spp, int nbx, int nby, i
     int hist[LR_GAP_BINS], moving = 0;
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     float zmin = INFINITY, zmax = -INFINITY;
-    lr_bin_rect(keys, width, spp, x0, y0, x1, y1, gap_slabs, coc_edges, hist, &moving, &zmin, &zmax);
+    lr_bin_rect(keys, width, spp, x0, y0, x1, y1, gap_slabs, count_moving, coc_edges, hist, &moving, &zmin, &zmax);
     int b0 = by * nbx + bx;
     for (int b = 0; b < LR_GAP_BINS; ++b) block_hist[b0 * LR_BH_STRIDE + b] = hist[b];
     block_hist[b0 * LR_BH_STRIDE + LR_GAP_BINS] = moving;
@@ -270,6 +272,8 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
     if (still_tiles[tile]) w.x1 = w.x0, w.y1 = w.y0; /* nothing to partition: no layers (lr_partition.c) */
     float zmin = INFINITY, zmax = -INFINITY;
     int hist[LR_GAP_BINS], moving = 0;
+    /* the moving hits only choose between gap_slabs and still_slabs (lr_config_counts_moving) */
+    int count_moving = still_slabs != gap_slabs;
     for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] = 0;
     if (blocks) { /* the window is whole blocks (lr_block_stats) */
         if (w.x1 > w.x0 && w.y1 > w.y0)
@@ -281,10 +285,10 @@ __kernel void lr_tile_stats(int width, int height, int spp, int tile_px, int win
                     zmax = z1 > zmax ? z1 : zmax;
                     if (gap_slabs > 0)
                         for (int b = 0; b < LR_GAP_BINS; ++b) hist[b] += block_hist[b0 * LR_BH_STRIDE + b];
-                    moving += block_hist[b0 * LR_BH_STRIDE + LR_GAP_BINS];
+                    if (count_moving) moving += block_hist[b0 * LR_BH_STRIDE + LR_GAP_BINS];
                 }
     } else
-        lr_bin_rect(keys, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, coc_bounds, hist, &moving, &zmin, &zmax);
+        lr_bin_rect(keys, width, spp, w.x0, w.y0, w.x1, w.y1, gap_slabs, count_moving, coc_bounds, hist, &moving, &zmin, &zmax);
     float tb[LR_TB_STRIDE];
     for (int i = 0; i < LR_TB_STRIDE; ++i) tb[i] = 0.0f;
     int n_depth = 0;

@@ -288,10 +288,11 @@ bool lr_cl_run(LrCl *lr, const LrSamples *img, const LrConfig *cfg, LrOutput *ou
     if (ok) {
         cl_int ints[11] = {W, H, S, T, N, NX, NT, uniform, shape.n_coc, inset, gap_slabs};
         cl_mem m[8] = {lr->b_cb.mem, b_k, lr->b_tb.mem, lr->b_st.mem, lr->b_ids.mem, lr->b_order.mem, lr->b_ls.mem, lr->b_still.mem};
-        cl_int bints[6] = {W, H, S, NBX, NBY, gap_slabs};
+        cl_int count_moving = lr_config_counts_moving(cfg);
+        cl_int bints[7] = {W, H, S, NBX, NBY, gap_slabs, count_moving};
         cl_mem bm[4] = {lr->b_cb.mem, b_k, lr->b_bh.mem, lr->b_bz.mem};
         ok = cl_ok(clEnqueueWriteBuffer(q, lr->b_cb.mem, CL_FALSE, 0, gap_slabs > 0 ? sizeof edges : sizeof(float) * LR_MAX_COC_BOUNDS, gap_slabs > 0 ? (const float *)edges : shape.coc_bound_px, 0, NULL, NULL), "upload", d) &&
-             (!blocks || (set_args(lr->blocks, bints, 6, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
+             (!blocks || (set_args(lr->blocks, bints, 7, bm, 4, d) && cl_launch_2d(rt, lr->blocks, (size_t)NBX, (size_t)NBY, &ev[1], d))) &&
              cl_ok(clSetKernelArg(lr->stats, 19, sizeof(cl_int), &blocks) | clSetKernelArg(lr->stats, 20, sizeof(cl_int), &NBX) |
                        clSetKernelArg(lr->stats, 21, sizeof(cl_mem), &lr->b_bh.mem) | clSetKernelArg(lr->stats, 22, sizeof(cl_mem), &lr->b_bz.mem) |
                        clSetKernelArg(lr->stats, 23, sizeof(cl_mem), &b_b) | clSetKernelArg(lr->stats, 24, sizeof(cl_mem), &b_s) |

@@ -29,7 +29,8 @@ LrConfig lr_config_default(void)
     c.gap_slabs = 8; /* 2 x 8 slabs + misses: the 17 raw layer ids */
     /* Off: at 16/32 px it changes the error by 0.2% or less. With 24-px tiles in 40-px
      * windows, 12 slabs for windows whose hits move at most 15% win back those tiles' error
-     * (docs/algorithms.md 8.47), but test_lr_tilted's near-focus plane keeps them out. */
+     * (docs/algorithms.md 8.47), but test_lr_tilted's near-focus plane keeps them out: with
+     * them the tilt shift's harm inside layers outweighs its gain at their bounds (8.48). */
     c.still_gap_slabs = 0;
     c.still_moving_permille = 150;
     c.motion_spread_max = 0.5f;
@@ -109,6 +110,8 @@ int lr_config_still_gap_slabs(const LrConfig *cfg)
     if (gap <= 0 || cfg->still_gap_slabs <= 0) return gap;
     return cfg->still_gap_slabs > LR_MAX_COC_BOUNDS + 1 ? LR_MAX_COC_BOUNDS + 1 : cfg->still_gap_slabs;
 }
+
+bool lr_config_counts_moving(const LrConfig *cfg) { return lr_config_still_gap_slabs(cfg) != lr_config_gap_slabs(cfg); }
 
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t)
 {
@@ -211,6 +214,9 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
     int hist[LR_GAP_BINS] = {0};
     long moving_hits = 0;
     bool gaps = cfg->gap_slabs > 0;
+    /* the moving hits decide only between two slab counts: none to count when they agree
+     * (the still-window rule off, 8.47), as lr.cl's lr_tile_stats */
+    bool count_moving = lr_config_counts_moving(cfg);
     if (gaps) lr_gap_edges(edges);
     for (int py = y0; py < y1; ++py)
         for (int px = x0; px < x1; ++px)
@@ -220,7 +226,7 @@ static void tile_stats(const LrSamples *img, const LrConfig *cfg, int tx, int ty
                 if (z < INFINITY) {
                     zmin = min_f(zmin, z), zmax = max_f(zmax, z);
                     if (gaps) hist[lr_gap_bin(edges, s->coc_px)]++;
-                    moving_hits += lr_key_moving(s->motion_px);
+                    if (count_moving) moving_hits += lr_key_moving(s->motion_px);
                 }
             }
     if (gaps) lr_tile_bounds_gaps(cfg, zmin, zmax, hist, edges, moving_hits, t);

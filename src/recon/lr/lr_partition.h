@@ -228,7 +228,9 @@ typedef struct {
 
 /* The shift of a static layer's own samples (psi = 0, no shutter shear) that gives its screen
  * disk the tilt's centroid shift (docs/algorithms.md 8.35): with g = (dc/dX, dc/dY) the
- * gradient of the samples' slope over their lens-centre points, fitted from `tilt`, the shift is (-eta g_x / 4, -rho g_y / 4) px. 0 when the fit is degenerate. */
+ * gradient of the samples' slope over their lens-centre points, fitted from `tilt`, the shift is (-eta g_x / 4, -rho g_y / 4) px. 0 when the fit is degenerate.
+ * Measured since (8.48): inside a layer a normalised gather wants the opposite sign; the shift's
+ * net gain comes from the layer bounds, where eq. 17 displaces the image the other way. */
 void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_px, float *ramp_y_px);
 
 /* cfg->uniform_layers within [1, 7], cfg->gap_slabs within [0, LR_MAX_SPLIT_SLABS] and
@@ -237,6 +239,10 @@ void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_
 int lr_config_uniform_layers(const LrConfig *cfg);
 int lr_config_gap_slabs(const LrConfig *cfg);
 int lr_config_still_gap_slabs(const LrConfig *cfg);
+
+/* Whether a window's moving hits can change its slab count (lr_config_still_gap_slabs differs
+ * from lr_config_gap_slabs): when not, the statistics (C and lr.cl) do not count them. */
+bool lr_config_counts_moving(const LrConfig *cfg);
 
 /* The tile's layer bounds from its window's depth range (zmin > zmax: no hits); clears t. */
 void lr_tile_bounds(const LrConfig *cfg, float zmin, float zmax, LrTile *t);
