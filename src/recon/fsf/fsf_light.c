@@ -172,7 +172,8 @@ bool fsf_light_from_renderer(const Renderer *r, FsfLight *out, Diag *d)
     out->shape = first.shape;
     /* a moving light's samples are uniform over each pose (the swept density is built on that):
      * its fill is the pose's at shutter open, over the pose's own rectangle */
-    out->fill = first.moving ? area / (pose[0] * pose[1]) : area / (4.0f * half[0] * half[1]);
+    float rect = first.moving ? pose[0] * pose[1] : 4.0f * half[0] * half[1];
+    out->fill = rect > 0.0f ? area / rect : 1.0f;
     return true;
 }
 

@@ -308,12 +308,6 @@ static FsfScratch *scratch_with_values(ReconMethod *m, Diag *d)
     return NULL;
 }
 
-/* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
- * allocation of the budget by the count factors sqrt(v / A). A: the
- * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
- * where one passes the pixel through), and where FSF filters defocus the lens filter's added
- * (it blurs the shading filters' output: the composed Gaussian's area is at least the sum,
- * docs/algorithms.md 10), except at the straddlers, which it leaves to Monte Carlo. */
 /* A light that is not a rectangle (FSF_MIN_LIGHT_FILL): no pixel's light is FSF's to filter. */
 static void share_of_filterable_light(ReconMethod *m, size_t n)
 {
@@ -321,6 +315,12 @@ static void share_of_filterable_light(ReconMethod *m, size_t n)
     for (size_t i = 0; i < n; ++i) m->share[i] = 0.0f;
 }
 
+/* Under a budget: each pixel's count (fsf_budget_plan.h), from pass 1's samples: the Lagrange
+ * allocation of the budget by the count factors sqrt(v / A). A: the
+ * narrowest shading filter's effective pixel count (the shadow or indirect-light filter; 0
+ * where one passes the pixel through), and where FSF filters defocus the lens filter's added
+ * (it blurs the shading filters' output: the composed Gaussian's area is at least the sum,
+ * docs/algorithms.md 10), except at the straddlers, which it leaves to Monte Carlo. */
 static bool plan_counts(ReconMethod *m, Diag *d)
 {
     const GBuffer *g = m->g;
