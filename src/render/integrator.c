@@ -517,8 +517,9 @@ typedef struct {
     int sampled[WAVE_SAMPLES], guarded[WAVE_SAMPLES], bounce[WAVE_SAMPLES];
 } WaveLambertBounces;
 
-/* Triangle lights batched per stage; paths that pick others sample them one by one. */
-enum { WAVE_TRIANGLE_GROUPS = 8 };
+/* Triangle lights batched per stage; paths that pick others sample them one by one.
+ * GROUP_SLOTS: wave_triangle_light_samples' memory of each key's group (a power of two). */
+enum { WAVE_TRIANGLE_GROUPS = 8, GROUP_SLOTS = 16 };
 
 /* Occlusion rays of one stage: per path, the picked light's and one per delta light lit at
  * every vertex. */
@@ -1033,6 +1034,12 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
     bool sole_mesh = L->sole_mesh_end > 0;
     if (sole_mesh)
         lights_choose_sole_mesh_batch(L, n, w->dim_pick, w->dim_light, pick_index, pick_ux, pick_pmf, pick_regular);
+    /* The groups' keys, and the group a key last went to by its low bits (-1: none): which of
+     * a quad's two triangles a path picks is a coin flip, on which a search from the first
+     * group stopping at the match branched, mispredicted half the time; the remembered group
+     * is checked (the same answer: each key has at most one group) and nearly always right */
+    int group_light[WAVE_TRIANGLE_GROUPS], group_mesh[WAVE_TRIANGLE_GROUPS], last_group[GROUP_SLOTS];
+    for (int q = 0; q < GROUP_SLOTS; ++q) last_group[q] = -1;
     for (int j = 0; j < n; ++j) {
         WavePath *p = &w->path[j];
         p->tri_group = -1;
@@ -1071,12 +1078,17 @@ WAVE_STAGE void wave_triangle_light_samples(const IntegratorScene *sc, Wave *w, 
             mesh = c->mesh_end - c->mesh_first > WAVE_TRIANGLE_GROUPS / 2 && c->batches_with_run;
             if (mesh) key = c->mesh_first;
         }
-        int g = 0;
-        while (g < w->tri_groups && !(w->tri[g].light == key && w->tri[g].mesh == mesh)) ++g;
-        if (g == w->tri_groups) {
-            if (g == WAVE_TRIANGLE_GROUPS) continue;
-            w->tri[g].light = key, w->tri[g].count = 0, w->tri[g].sky = !static_triangle, w->tri[g].mesh = mesh;
-            ++w->tri_groups;
+        int slot = key & (GROUP_SLOTS - 1), g = last_group[slot];
+        if (!(g >= 0 && group_light[g] == key && group_mesh[g] == (int)mesh)) {
+            g = 0;
+            while (g < w->tri_groups && !(group_light[g] == key && group_mesh[g] == (int)mesh)) ++g;
+            if (g == w->tri_groups) {
+                if (g == WAVE_TRIANGLE_GROUPS) continue;
+                w->tri[g].light = key, w->tri[g].count = 0, w->tri[g].sky = !static_triangle, w->tri[g].mesh = mesh;
+                group_light[g] = key, group_mesh[g] = mesh;
+                ++w->tri_groups;
+            }
+            last_group[slot] = g;
         }
         WaveTriangleSamples *t = &w->tri[g];
         int k = t->count++;

@@ -1685,6 +1685,52 @@ static void occluded_lanes_np(const Tracer *tr, RTCScene scene, struct RTCInters
         if (active[i] != 0) occluded[k0 + i] = tfar[i] == -INFINITY;
 }
 
+/* The active lanes of a (n lanes) straight into Embree's rays, as occluded_chunk fills them
+ * from TracerRays (no TracerRay between), in chunks of TRACE_CHUNK active lanes; a chunk whose
+ * rays mix direction octants goes to Embree grouped by octant, each octant's rays in their
+ * order: what occluded_rays hands it (octant_order), written there in one pass (each ray
+ * straight to its place, after its octant's count) instead of built, listed and copied. */
+static void occluded_lanes_sorted(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx,
+                                  const TracerRayArrays *a, int n, bool *occluded)
+{
+    _Static_assert(TRACE_CHUNK < 256, "a chunk's count per octant fits a byte");
+    const float *restrict ox = a->o[0], *restrict oy = a->o[1], *restrict oz = a->o[2];
+    const float *restrict dx = a->d[0], *restrict dy = a->d[1], *restrict dz = a->d[2];
+    const float *restrict tmax = a->tmax, *restrict time01 = a->time01;
+    const int *restrict active = a->active;
+    float k = tr->tracer_from_world;
+    unsigned skip_mask = a->skip_mask;
+    struct RTCRay ray[TRACE_CHUNK];
+    int lane[TRACE_CHUNK + 1], key[TRACE_CHUNK + 1], place[TRACE_CHUNK];
+    for (int i = 0; i < n;) {
+        /* the chunk's lanes (the next TRACE_CHUNK active ones; the branch-free compaction
+         * writes one past) and their octants */
+        int m = 0;
+        for (; i < n && m < TRACE_CHUNK; ++i) {
+            lane[m] = i;
+            key[m] = ray_octant(v3(dx[i], dy[i], dz[i]));
+            m += active[i] != 0;
+        }
+        if (m == 0) break;
+        int count[8] = {0};
+        for (int j = 0; j < m; ++j) ++count[key[j]];
+        /* each octant's first place (one octant: every ray where it is) */
+        int first[8], at = 0;
+        for (int o = 0; o < 8; ++o) first[o] = at, at += count[o];
+        for (int j = 0; j < m; ++j) place[j] = first[key[j]]++;
+        for (int j = 0; j < m; ++j) {
+            int q = lane[j];
+            init_ray(&ray[place[j]], v3(ox[q], oy[q], oz[q]), v3(dx[q], dy[q], dz[q]), tmax ? tmax[q] : INFINITY,
+                     time01[q], k, skip_mask);
+        }
+        if (tr->batch_mode == TRACER_BATCH_STREAM)
+            rtcOccluded1M(scene, ctx, ray, (unsigned)m, sizeof ray[0]);
+        else
+            for (int j = 0; j < m; ++j) rtcOccluded1(scene, ctx, &ray[j]);
+        for (int j = 0; j < m; ++j) occluded[lane[j]] = ray[place[j]].tfar == -INFINITY;
+    }
+}
+
 /* tracer_occluded_arrays hands Embree the lanes themselves (occluded_lanes_np) when their
  * active rays use at most this many direction octants. Embree's coherent stream walks a group
  * of rays together only where they share an octant (12.18), so unsorted lanes of many
@@ -1717,27 +1763,5 @@ void tracer_occluded_arrays(const Tracer *tr, const TracerRayArrays *a, int n, b
             occluded_lanes_np(tr, scene, &ctx, a, &fixed, k0, n - k0 < TRACE_CHUNK ? n - k0 : TRACE_CHUNK, occluded);
         return;
     }
-    /* the active lanes straight into Embree's rays, as occluded_chunk fills them from
-     * TracerRays (no TracerRay between) */
-    struct RTCRay ray[TRACE_CHUNK];
-    int key[TRACE_CHUNK], lane[TRACE_CHUNK];
-    bool answer[TRACE_CHUNK];
-    int m = 0;
-    uint64_t counts = 0;
-    float k = tr->tracer_from_world;
-    for (int i = 0; i < n; ++i) {
-        vec3 d = v3(a->d[0][i], a->d[1][i], a->d[2][i]);
-        init_ray(&ray[m], v3(a->o[0][i], a->o[1][i], a->o[2][i]), d, a->tmax ? a->tmax[i] : INFINITY, a->time01[i], k,
-                 a->skip_mask);
-        key[m] = ray_octant(d);
-        lane[m] = i;
-        int on = a->active[i] != 0;
-        counts += (uint64_t)on << (8 * key[m]);
-        m += on;
-        if (m == TRACE_CHUNK || (i == n - 1 && m > 0)) {
-            occluded_rays(tr, scene, &ctx, ray, key, counts, m, answer);
-            for (int j = 0; j < m; ++j) occluded[lane[j]] = answer[j];
-            m = 0, counts = 0;
-        }
-    }
+    occluded_lanes_sorted(tr, scene, &ctx, a, n, occluded);
 }
