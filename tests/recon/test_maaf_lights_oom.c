@@ -12,6 +12,7 @@
 #include "../check.h"
 #include "recon/aaf/aaf_stats.h"
 #include "recon/maaf/maaf_lights.h"
+#include "recon_test_util.h"
 #include "render/renderer.h"
 #include "scene/scene_desc.h"
 
@@ -64,21 +65,13 @@ int main(void)
     at = append_mesh_light(s, CAP, at, 4, false, true);
     append_mesh_light(s, CAP, at, 12, true, false); /* 169 vertices: the tree's path */
     SceneDesc scene;
-    Diag d = {0};
-    bool parsed = scene_parse_string(s, strlen(s), "<test>", NULL, &scene, &d);
-    CHECK(parsed);
-    if (!parsed) {
-        fprintf(stderr, "%s\n", d.message);
+    Renderer *r = NULL;
+    bool made = recon_test_renderer(s, 1, 1, false, &scene, &r);
+    CHECK(made);
+    if (!made) {
         free(s);
         return 1;
     }
-    scene_analyze_effects(&scene);
-    RenderOptions ro;
-    memset(&ro, 0, sizeof ro);
-    ro.spp = 1;
-    ro.threads = 1;
-    Renderer *r = NULL;
-    CHECK(renderer_create(&scene, &ro, &r, &d));
     int count = r ? renderer_light_count(r) : 0;
     AafLightGeom *geoms = calloc((size_t)count + 1, sizeof *geoms);
     MaafLight *whole = calloc((size_t)count + 1, sizeof *whole), *table = calloc((size_t)count + 1, sizeof *table);
