@@ -1540,6 +1540,17 @@ static void occluded_chunk(const Tracer *tr, RTCScene scene, struct RTCIntersect
     occluded_rays(tr, scene, ctx, ray, key, counts, m, occluded);
 }
 
+/* Embree's occlusion of ray[0 .. m) as they are ordered: one stream call in the stream mode,
+ * else a call a ray (tfar -INFINITY: occluded). */
+static void occluded_in_order(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, struct RTCRay *ray,
+                              int m)
+{
+    if (tr->batch_mode == TRACER_BATCH_STREAM)
+        rtcOccluded1M(scene, ctx, ray, (unsigned)m, sizeof ray[0]);
+    else
+        for (int i = 0; i < m; ++i) rtcOccluded1(scene, ctx, &ray[i]);
+}
+
 /* occluded_chunk's rays in Embree's layout (not a packet mode), with each one's octant key
  * and the chunk's counts per octant: the answers. */
 static void occluded_rays(const Tracer *tr, RTCScene scene, struct RTCIntersectContext *ctx, struct RTCRay *ray,
@@ -1556,10 +1567,7 @@ static void occluded_rays(const Tracer *tr, RTCScene scene, struct RTCIntersectC
         for (int j = 0; j < m; ++j) occluded[order[j]] = sorted[j].tfar == -INFINITY;
         return;
     }
-    if (tr->batch_mode == TRACER_BATCH_STREAM)
-        rtcOccluded1M(scene, ctx, ray, (unsigned)m, sizeof ray[0]);
-    else
-        for (int i = 0; i < m; ++i) rtcOccluded1(scene, ctx, &ray[i]);
+    occluded_in_order(tr, scene, ctx, ray, m);
     for (int i = 0; i < m; ++i) occluded[i] = ray[i].tfar == -INFINITY;
 }
 
@@ -1723,10 +1731,7 @@ static void occluded_lanes_sorted(const Tracer *tr, RTCScene scene, struct RTCIn
             init_ray(&ray[place[j]], v3(ox[q], oy[q], oz[q]), v3(dx[q], dy[q], dz[q]), tmax ? tmax[q] : INFINITY,
                      time01[q], k, skip_mask);
         }
-        if (tr->batch_mode == TRACER_BATCH_STREAM)
-            rtcOccluded1M(scene, ctx, ray, (unsigned)m, sizeof ray[0]);
-        else
-            for (int j = 0; j < m; ++j) rtcOccluded1(scene, ctx, &ray[j]);
+        occluded_in_order(tr, scene, ctx, ray, m);
         for (int j = 0; j < m; ++j) occluded[lane[j]] = ray[place[j]].tfar == -INFINITY;
     }
 }

@@ -71,18 +71,23 @@ bool fsf_sample_on_light(const float y_m[2], const float half_m[2])
 }
 
 /* The factors over the samples on the light (y_m, half_m), or over every sample when y_m is
- * NULL or none is on it. */
+ * NULL or none is on it: both sums in one pass. */
 static void match_pixel_over(const float *value4, const float *sample_rgb, const float *y_m, const float *half_m,
                              int count, float scale[3])
 {
-    double sum[3] = {0, 0, 0};
-    int taken = 0;
-    for (int pick_all = !y_m; pick_all <= 1 && taken == 0; ++pick_all)
-        for (int k = 0; k < count; ++k) {
-            if (!pick_all && !fsf_sample_on_light(y_m + 2 * (size_t)k, half_m)) continue;
-            ++taken;
-            for (int ch = 0; ch < 3; ++ch) sum[ch] += sample_rgb[3 * (size_t)k + (size_t)ch];
+    double all[3] = {0, 0, 0}, on[3] = {0, 0, 0};
+    int on_count = 0;
+    for (int k = 0; k < count; ++k) {
+        bool on_light = y_m && fsf_sample_on_light(y_m + 2 * (size_t)k, half_m);
+        on_count += on_light;
+        for (int ch = 0; ch < 3; ++ch) {
+            double c = sample_rgb[3 * (size_t)k + (size_t)ch];
+            all[ch] += c;
+            if (on_light) on[ch] += c;
         }
+    }
+    const double *sum = on_count > 0 ? on : all;
+    int taken = on_count > 0 ? on_count : count;
     for (int ch = 0; ch < 3; ++ch) {
         double s = sum[ch] > 0.0 ? value4[ch] * (double)taken / sum[ch] : 0.0;
         scale[ch] = isfinite(s) ? (float)s : 0.0f;

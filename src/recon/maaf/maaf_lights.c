@@ -246,7 +246,7 @@ bool maaf_lights_from_renderer(const Renderer *r, const AafLightGeom *geoms, int
     DesignIndex designs;
     design_index_init(&designs, count); /* out of memory (no slots): every light designs its own, the same design */
     bool ok = true;
-    for (int l = 0; ok && l < count; ++l) {
+    for (int l = 0; l < count; ++l) {
         MaafLight *ml = &lights[l];
         if (!is_area(&info[l]) || !(geoms[l].sigma_world > 0.0f)) continue;
         ShapeSummary *h = info[l].shape >= 0 ? &summary[info[l].shape] : NULL; /* NULL: a light of no shape */
