@@ -324,6 +324,21 @@ static void resolve_split(GBuffer *g, size_t i)
     g->split_share[i] = fminf((float)hits / spp, 1.0f);
 }
 
+float gbuffer_shading_normal_coherence(const GBuffer *g, size_t i)
+{
+    const GBufferSums *s = &g->sums[i];
+    bool split = g->others && gbuffer_pixel_split(g, i);
+    int hits = s->hits - (split ? g->others[i].hits : 0);
+    if (hits <= 0) return 1.0f;
+    float nl = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        float n = s->nrm_sum[k] - (split ? g->others[i].nrm_sum[k] : 0.0f);
+        nl += n * n;
+    }
+    nl = sqrtf(nl) / (float)hits;
+    return nl < 1.0f ? nl : 1.0f;
+}
+
 void gbuffer_first_surface_sums(const GBuffer *g, size_t i, bool direct, float *count, float light[3], float albedo[3])
 {
     const GBufferSums *s = &g->sums[i];

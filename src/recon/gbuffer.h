@@ -301,6 +301,13 @@ static inline bool gbuffer_on_first_surface(const GBuffer *g, size_t i, const Sa
  * light and the frame's albedo). Only where split_share[i] > 0. */
 void gbuffer_first_surface_sums(const GBuffer *g, size_t i, bool direct, float *count, float light[3], float albedo[3]);
 
+/* The coherence of the normals behind pixel i's shading guides (snrm4): the length of their
+ * mean, |sum n_k| / hits in (0, 1], over a split pixel's first surface or else all the pixel's
+ * hits; 1 when no sample hit. It is the samples' mean cosine to the mean normal, so some sample
+ * lies at least acos(coherence) from it: the spread the guides' one normal stands for
+ * (aaf_unoccluded_irradiance). */
+float gbuffer_shading_normal_coherence(const GBuffer *g, size_t i);
+
 /* The SampleSink callback (ctx = GBuffer *). */
 void gbuffer_add(void *ctx, int px, int py, const SampleRecord *r);
 /* The same sink for a frame that reads none of the guides, only the unfiltered light's sums

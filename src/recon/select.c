@@ -134,19 +134,22 @@ int recon_lr_max_budget_spp(EffectMask present)
  * filter only where the blur spans several pixels. On the bench at 128x128 it beats aaf-only
  * by 2-3x where the probe's median blur is 6.2 px (motion_defocus_hard, _soft) and loses up
  * to 2x where it is 1.8-2.0 px (all_effects, motion_defocus); RECON_LR_MIN_BLUR_PX = 3 px
- * sits between (a blur of 3 px reaches at least the 8 neighbours). Motion always goes to lr:
- * below the threshold lr filters it alone (the lens left to aaf, docs/algorithms.md 8.14),
- * which at equal samples never lost to unfiltered motion on the bench and wins where objects
- * move over a static background. A --spp budget of recon_lr_max_budget_spp or more leaves lr
- * the motion alone at any blur: there its bias costs more than its gain for the lens
- * (docs/benchmarks.md, "LR's floor and the budget"). */
-static void select_camera_by_blur(Effect e, EffectMask present, float blur_px, int budget_spp, ReconChoice *out)
+ * sits between (a blur of 3 px reaches at least the 8 neighbours). Below the threshold the
+ * motion is left to Monte Carlo (the lens to aaf): lr for the motion alone lowered the error
+ * at equal samples (motion_shading, 9-60%) but added 0.3-0.8 s of CPU a 256 x 256 frame, and
+ * at equal CPU it lost on moving_shadow at every budget, on motion_shading at three of four
+ * and on all five random scenes where auto kept it (docs/benchmarks.md, "lr for the motion
+ * alone at equal CPU"). A --spp budget of recon_lr_max_budget_spp or more leaves lr the motion
+ * alone at any blur above the threshold: there its bias costs more than its gain for the lens
+ * (docs/benchmarks.md, "LR's floor and the budget"). True when the effect is decided (a
+ * method or Monte Carlo). */
+static bool select_camera_by_blur(Effect e, EffectMask present, float blur_px, int budget_spp, ReconChoice *out)
 {
     const ReconMethodClass *lr = recon_method_find("lr");
-    if (!lr || !effect_in(lr->effects, e)) return;
+    if (!lr || !effect_in(lr->effects, e)) return false;
     int max_budget = recon_lr_max_budget_spp(present);
     if (blur_px >= RECON_LR_MIN_BLUR_PX && budget_spp >= max_budget) {
-        if (e != EFFECT_MOTION) return; /* defocus: the per-pixel filter's choice, below */
+        if (e != EFFECT_MOTION) return false; /* defocus: the per-pixel filter's choice, below */
         out->method[e] = lr;
         set_reason(out, e, "lr, motion only: a budget of %d spp >= %d, where lr's bias outweighs its gain for the lens "
                    "(docs/benchmarks.md, issue 18)", budget_spp, max_budget);
@@ -155,10 +158,12 @@ static void select_camera_by_blur(Effect e, EffectMask present, float blur_px, i
         set_reason(out, e, "lr: median blur %.1f px >= %.0f px, layered reconstruction shares samples across pixels "
                    "(docs/benchmarks.md, issue 18)", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
     } else if (e == EFFECT_MOTION) {
-        out->method[e] = lr;
-        set_reason(out, e, "lr, motion only: median blur %.1f px < %.0f px; moving objects get their own layers' "
-                   "motion filter (%s)", (double)blur_px, (double)RECON_LR_MIN_BLUR_PX, LR_MOTION_ONLY_EVIDENCE);
+        out->method[e] = NULL;
+        set_reason(out, e, "none, auto fell back to Monte Carlo: median blur %.1f px < %.0f px, where lr's motion filter "
+                   "alone costs more CPU than it saves (docs/benchmarks.md, \"lr for the motion alone at equal CPU\")",
+                   (double)blur_px, (double)RECON_LR_MIN_BLUR_PX);
     }
+    return out->method[e] != NULL || e == EFFECT_MOTION;
 }
 
 /* auto's choice for effect e of the effects present; blur_px and budget_spp as for
@@ -169,8 +174,7 @@ static void select_auto(Effect e, EffectMask present, float blur_px, int budget_
     bool camera = e == EFFECT_MOTION || e == EFFECT_DEFOCUS;
     if (measured && camera) {
         out->blur_px = blur_px;
-        select_camera_by_blur(e, present, blur_px, budget_spp, out);
-        if (out->method[e]) return;
+        if (select_camera_by_blur(e, present, blur_px, budget_spp, out)) return;
     }
     const char *why = NO_METHOD_REASON[e];
     for (size_t k = 0; k < sizeof AUTO_POLICY / sizeof AUTO_POLICY[0]; ++k) {

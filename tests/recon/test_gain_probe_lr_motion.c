@@ -8,7 +8,8 @@
  *  - on motion_defocus_hard (objects translating: one speed a layer, LR shears them) it
  *    changes the predicted error by less than it does on spin_defocus;
  *  - Monte Carlo's own variance is the same either way (the rule changes what is read);
- *  - the probe asks for the rule exactly when auto's motion filter is LR's. */
+ *  - the probe asks for the rule exactly when auto's motion filter is LR's (above the blur
+ *    threshold; below it auto leaves the motion to Monte Carlo). */
 #include <math.h>
 #include <stdio.h>
 
@@ -53,9 +54,10 @@ int main(void)
     recon_select_budget(EFFECT_BIT(EFFECT_MOTION) | EFFECT_BIT(EFFECT_DEFOCUS), "auto", 8.0f, 8, &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
     CHECK(recon_gain_probe_blur(&c).lr_motion_rule);
+    /* below the blur threshold auto leaves the motion to Monte Carlo: nothing to judge it by */
     recon_select_budget(EFFECT_BIT(EFFECT_MOTION) | EFFECT_BIT(EFFECT_DEFOCUS), "auto", 1.0f, 8, &c);
-    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr"); /* motion alone to lr (8.14) */
-    CHECK(recon_gain_probe_blur(&c).lr_motion_rule);
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "none");
+    CHECK(!recon_gain_probe_blur(&c).lr_motion_rule);
     recon_select_budget(EFFECT_BIT(EFFECT_DEFOCUS), "auto", -1.0f, 8, &c);
     CHECK(!recon_gain_probe_blur(&c).lr_motion_rule); /* no motion */
 

@@ -1,6 +1,6 @@
 /* The issue-18 rule in recon/select: under --filter auto, a scene with motion sends its camera
  * effects (motion, defocus) to lr when the blur probe's median blur is at least
- * RECON_LR_MIN_BLUR_PX, else defocus keeps aaf and motion alone goes to lr; the measured value
+ * RECON_LR_MIN_BLUR_PX, else defocus keeps aaf and the motion is left to Monte Carlo; the measured value
  * is in the reason line; scenes without motion and explicit requests ignore the value. With a
  * --spp budget of recon_lr_max_budget_spp or more (higher with indirect light), lr keeps only
  * the motion. */
@@ -69,14 +69,18 @@ int main(void)
     recon_select_budget(motion_defocus, "lr", 9.4f, 4096, &c); /* asked for: the budget does not matter */
     CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "lr");
 
-    /* below: defocus aaf, motion alone to lr (every effect filtered), the value in the reasons */
+    /* below: defocus aaf, the motion left to Monte Carlo (lr for it alone costs more CPU than
+     * it saves), the value in the reasons */
     recon_select(motion_defocus, "auto", 1.76f, &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");
-    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "none");
     CHECK_STR(c.reason[EFFECT_DEFOCUS], "aaf: median blur 1.8 px < 3 px, too little for lr to pay (docs/benchmarks.md, issue 18)");
-    CHECK_STR(c.reason[EFFECT_MOTION], "lr, motion only: median blur 1.8 px < 3 px; moving objects get their own layers' motion "
-                                       "filter (motion_shading 128x128: 29%/18% less error than unfiltered at 8/16 spp)");
+    CHECK_STR(c.reason[EFFECT_MOTION], "none, auto fell back to Monte Carlo: median blur 1.8 px < 3 px, where lr's motion filter "
+                                       "alone costs more CPU than it saves (docs/benchmarks.md, \"lr for the motion alone at "
+                                       "equal CPU\")");
     recon_select(EFFECT_BIT(EFFECT_MOTION), "auto", 0.0f, &c);
+    CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "none");
+    recon_select(EFFECT_BIT(EFFECT_MOTION), "auto", RECON_LR_MIN_BLUR_PX, &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_MOTION), "lr");
     recon_select(motion_defocus, "auto", nextafterf(RECON_LR_MIN_BLUR_PX, 0.0f), &c);
     CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), "aaf");

@@ -1,7 +1,8 @@
 /* The defocus row of --filter auto (recon/select.c, AUTO_POLICY and follow_maaf_lens): in a
  * frame without motion the lens goes to maaf, and the effects auto decides that maaf also
  * filters (soft shadows, indirect light) go with it, one adaptive filter per frame. With
- * motion the lens keeps aaf below lr's blur threshold, and so does the frame's shading. An
+ * motion the lens keeps aaf below lr's blur threshold, and so does the frame's shading (the
+ * motion, measured below it, is left to Monte Carlo; without the probe it is lr's). An
  * effect named in the request keeps what was asked; a lens asked of maaf takes auto's shading
  * along, a lens asked of aaf does not. Every subset of the four effects is checked against
  * the rule written out here. Soft shadows as the frame's only effect go to maaf; beside any
@@ -12,13 +13,14 @@
 #include "recon/select.h"
 
 /* What the rule says auto gives effect e (present) when the request leaves it to auto; lens:
- * the frame's defocus method ("" when the frame has no lens). */
-static const char *expected(Effect e, EffectMask present, const char *lens)
+ * the frame's defocus method ("" when the frame has no lens); blur_px: the blur probe's median
+ * (negative: no probe). */
+static const char *expected(Effect e, EffectMask present, const char *lens, float blur_px)
 {
     bool motion = effect_in(present, EFFECT_MOTION);
     switch (e) {
-    case EFFECT_MOTION:
-        return "lr";
+    case EFFECT_MOTION: /* measured below lr's threshold: left to Monte Carlo */
+        return blur_px >= 0.0f && blur_px < RECON_LR_MIN_BLUR_PX ? "none" : "lr";
     case EFFECT_DEFOCUS:
         return motion ? "aaf" : "maaf";
     default: /* soft shadows, indirect light; soft shadows alone go to maaf too */
@@ -41,7 +43,7 @@ int main(void)
                     CHECK(c.method[e] == NULL);
                     continue;
                 }
-                CHECK_STR(recon_choice_name(&c, (Effect)e), expected((Effect)e, present, auto_lens));
+                CHECK_STR(recon_choice_name(&c, (Effect)e), expected((Effect)e, present, auto_lens, blur[b]));
             }
         }
         if (!lens) continue;
@@ -54,7 +56,7 @@ int main(void)
             CHECK_STR(recon_choice_name(&c, EFFECT_DEFOCUS), asked[k]);
             for (int e = 0; e < EFFECT_COUNT; ++e)
                 if (effect_in(present, (Effect)e) && e != EFFECT_DEFOCUS)
-                    CHECK_STR(recon_choice_name(&c, (Effect)e), expected((Effect)e, present, asked[k]));
+                    CHECK_STR(recon_choice_name(&c, (Effect)e), expected((Effect)e, present, asked[k], -1.0f));
         }
         /* an effect named in the request keeps what was asked beside auto's maaf lens */
         if (!motion && effect_in(present, EFFECT_SOFT_SHADOWS)) {

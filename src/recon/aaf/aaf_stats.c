@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vec.h"
 #include "core/zalloc.h"
 #include "recon/polygon_irradiance.h"
 #include "recon/recon_parallel.h"
@@ -408,6 +409,12 @@ bool aaf_derive(const AafStats *s, AafDerived *d)
 enum { ROUND_SIDES = 16 }; /* disks and sphere silhouettes as polygons of this many sides */
 _Static_assert((int)ROUND_SIDES < (int)POLYGON_MAX_VERTS, "a clipped round polygon must fit polygon_irradiance");
 
+/* unoccluded_steady: how far r at the tilted normals may move from r at the mean one (a factor,
+ * each way), and the coherence above which the normals count as one (a spread under 0.08
+ * degrees: flat receivers, and curved ones at pixel scale, skip the four extra polygons). */
+#define UNOCCLUDED_SPREAD_RATIO 2.0f
+#define UNOCCLUDED_STEADY_COHERENCE 0.999999f
+
 typedef struct {
     const AafDerived *d;
     float *r;
@@ -499,6 +506,34 @@ static float unoccluded_at(const ShadePass *sp, const float *pf, const float *nf
     return (len2 > 0.0 && cos_r > 0.0) ? (float)(cos_r / len2) : 0.0f;
 }
 
+/* Whether r at the guides' normal n stands for r at the normals of the samples behind it
+ * (coherence: gbuffer_shading_normal_coherence). The composite divides the pixel's direct
+ * light, which its samples saw at their own normals, by this one r; near a light's horizon r
+ * changes by orders of magnitude over a spread of normals (a curved surface moving over the
+ * shutter or seen through a wide lens: samples at times it faced the light over r at a mean
+ * normal that hardly does), and the quotient, divided by a near-zero r, reached 40x the
+ * X
+ * The samples' mean cosine to n is the coherence, so some of them lie at least acos(coherence)
+ * from it: r at n tilted by that angle each way along two tangent axes must stay within
+ * UNOCCLUDED_SPREAD_RATIO of r at n, else the pixel keeps its own direct light (r = 0: below
+ * the composite's minimum, as for a receiver facing away). */
+static bool unoccluded_steady(const ShadePass *sp, const float *p, const float *n, float coherence, float r_at_n)
+{
+    if (coherence >= UNOCCLUDED_STEADY_COHERENCE) return true;
+    if (!(r_at_n > 0.0f)) return true; /* already left out (the composite's minimum) */
+    float spread = acosf(coherence), c = cosf(spread), s = sinf(spread);
+    vec3 nv = v3(n[0], n[1], n[2]), t1, t2;
+    v3_basis(nv, &t1, &t2);
+    const vec3 tangents[4] = {t1, v3_scale(t1, -1.0f), t2, v3_scale(t2, -1.0f)};
+    for (int j = 0; j < 4; ++j) {
+        vec3 m = v3_add(v3_scale(nv, c), v3_scale(tangents[j], s));
+        float tilted[3] = {m.x, m.y, m.z};
+        float r = unoccluded_at(sp, p, tilted);
+        if (!(r * UNOCCLUDED_SPREAD_RATIO >= r_at_n && r <= UNOCCLUDED_SPREAD_RATIO * r_at_n)) return false;
+    }
+    return true;
+}
+
 static void shade_range(void *ctx, size_t begin, size_t end, int part)
 {
     (void)part;
@@ -511,6 +546,8 @@ static void shade_range(void *ctx, size_t begin, size_t end, int part)
         /* at the shading guides: a split pixel's first surface (gbuffer.h), which its direct
          * light is demodulated for */
         float v = unoccluded_at(sp, d->g->spos4 + 4 * i, d->g->snrm4 + 4 * i);
+        if (!unoccluded_steady(sp, d->g->spos4 + 4 * i, d->g->snrm4 + 4 * i, gbuffer_shading_normal_coherence(d->g, i), v))
+            v = 0.0f;
         sp->r[i] = isfinite(v) ? v : 0.0f;
     }
 }
