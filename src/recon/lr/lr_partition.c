@@ -37,7 +37,7 @@ LrConfig lr_config_default(void)
     c.motion_range_px = 4.0f;
     c.motion_long_px = (float)c.window_px;
     c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
-    c.bright_clamp_px = 1.0f;
+    c.bright_clamp_px = 0.28867513f; /* 1 / sqrt(12): docs/algorithms.md 8.49 */
     c.merge_shift_sigmas = 0.3f; /* docs/benchmarks.md, lr16: 0.5 raised motion_defocus's error, 0.6 hard's */
     c.merge_sigma_share = 0.3f;
     c.tilt_ramp = true; /* docs/algorithms.md 8.35 */

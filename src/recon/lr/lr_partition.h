@@ -108,7 +108,10 @@ typedef struct {
      * in the samples' own lens and shutter offsets, the lens disk's and the shutter box's
      * shape, rather than in a screen share whose shape is right only in variance (a bright
      * cone, with a halo past the disk's rim on the dark pixels around it). Defaults 8 and
-     * 1 px; bright_contrast 0: off. docs/algorithms.md 8.24. */
+     * 1 / sqrt(12) px, the pixel box's own std: the screen filter then adds no Gaussian past
+     * what binning a sample into its pixel already does, so nothing lands beyond the blur's
+     * support but the pixel's own width (8.49; 8.24 had 1 px, whose tails past a blur of a few
+     * pixels outshone the background); bright_contrast 0: off. docs/algorithms.md 8.24, 8.49. */
     float bright_contrast;
     float bright_clamp_px;
     /* Neighbouring layers whose filters agree (lr_layers_merge) are one partition, its
