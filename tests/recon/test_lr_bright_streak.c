@@ -1,6 +1,6 @@
 /* LR on a short bright streak (docs/algorithms.md 8.49, issue 17): a bright layer's screen
- * filter (8.24's clamp) must not put its light past the blur's own support, where the reference
- * is the dark background's. */
+ * filter (8.24's clamp, shrunk with the layer's blur radius) must not put its light past the
+ * blur's own support, where the reference is the dark background's; and the clamp's law. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -17,10 +17,10 @@ static const float CX = 24.0f, CY = 24.0f, L_E = 300.0f;
  * whose centre is more than R + sqrt(2)/2 px from the segment gets no light; Algorithm 2's
  * nearest-pixel steps along a diagonal may place a tap up to another sqrt(2)/2 px off, so from
  * R + sqrt(2) = 7.4 px out LR's filter should put nothing but its Gaussian's tails. With the
- * bright clamp at the pixel box's std (8.49) the screen filter has no Gaussian beyond the
- * pixel's binning: under 0.1% of the light lands from 7.5 px out; with 8.24's 1-px clamp,
+ * bright clamp at the pixel box's std (8.49: R = 1.5 px) the screen filter has no Gaussian
+ * beyond the pixel's binning: under 0.1% of the light lands from 7.5 px out; with 8.24's 1-px clamp,
  * 0.3% (and 4.5% from 7 px out). The time average keeps the disk's energy. */
-static double moving_halo(float bright_clamp_px, double *energy)
+static double moving_halo(float bright_clamp_min_px, double *energy)
 {
     const float R_M = 6.0f, D_M = 3.0f;
     LrSample *s = malloc(sizeof(LrSample) * W * H * SPP);
@@ -35,7 +35,7 @@ static double moving_halo(float bright_clamp_px, double *energy)
         for (int c = 0; c < 3; ++c) s[i].L[c] = light ? L_E : 0.0f;
     }
     LrConfig cfg = lr_config_default();
-    cfg.bright_clamp_px = bright_clamp_px;
+    cfg.bright_clamp_min_px = bright_clamp_min_px;
     LrSamples img = lr_samples_split(W, H, SPP, s);
     LrOutput out = {rgb, NULL, NULL, 0};
     lr_reconstruct_c(&img, &cfg, &out);
@@ -60,16 +60,36 @@ static double moving_halo(float bright_clamp_px, double *energy)
 static void test_moving_light_no_halo(void)
 {
     double energy = L_E * M_PI * 36.0, e_on, e_off; /* the time average keeps the disk's energy */
-    double on = moving_halo(lr_config_default().bright_clamp_px, &e_on), off = moving_halo(1.0f, &e_off);
+    LrConfig cfg = lr_config_default();
+    LrSlopes streak = {0.0f, 0.0f, 3.0f, 3.0f};
+    /* R = 1.5 px: the clamp is at its floor, the pixel box's std */
+    CHECK(fabsf(lr_bright_clamp_px(&cfg, &streak) - cfg.bright_clamp_min_px) < 1e-6f);
+    double on = moving_halo(cfg.bright_clamp_min_px, &e_on), off = moving_halo(1.0f, &e_off);
     fprintf(stderr, "bright light moving 3 px at -60 degrees, 16 spp (energy %.0f): clamp %.3f px: halo %.4g energy %.0f; 1 px: halo %.4g energy %.0f\n",
-            energy, lr_config_default().bright_clamp_px, on, e_on, off, e_off);
+            energy, lr_bright_clamp_px(&cfg, &streak), on, e_on, off, e_off);
     CHECK(on < 1e-3 * L_E);
     CHECK(fabs(e_on / energy - 1.0) < 0.02);
     CHECK(off > 2e-3 * L_E);
 }
 
+/* lr_bright_clamp_px's law: sqrt(2 pi) R / (2 bright_contrast) between its two limits, R the
+ * smallest blur radius (a circle of confusion, half a streak; 0 across the focal plane). */
+static void test_clamp_law(void)
+{
+    LrConfig cfg = lr_config_default();
+    double k = sqrt(2.0 * M_PI) / (2.0 * cfg.bright_contrast);
+    LrSlopes lens = {4.0f, 6.0f, 0.0f, 0.0f}, across = {-1.0f, 6.0f, 0.0f, 0.0f}, far = {14.0f, 15.0f, 0.0f, 0.0f};
+    LrSlopes moving = {0.0f, 0.0f, -7.0f, -5.0f}, both = {-5.0f, -4.0f, 2.0f, 12.0f};
+    CHECK(fabs(lr_bright_clamp_px(&cfg, &lens) - k * 4.0) < 1e-5);
+    CHECK(lr_bright_clamp_px(&cfg, &across) == cfg.bright_clamp_min_px);
+    CHECK(lr_bright_clamp_px(&cfg, &far) == cfg.bright_clamp_px);
+    CHECK(fabs(lr_bright_clamp_px(&cfg, &moving) - k * 2.5) < 1e-5);
+    CHECK(fabs(lr_bright_clamp_px(&cfg, &both) - k * 4.0) < 1e-5);
+}
+
 int main(void)
 {
+    test_clamp_law();
     test_moving_light_no_halo();
     CHECK_DONE();
 }
