@@ -78,7 +78,7 @@ static void test_clamp_law(void)
 {
     LrConfig cfg = lr_config_default();
     double k = sqrt(2.0 * M_PI) / (2.0 * cfg.bright_contrast);
-    LrSlopes lens = {4.0f, 6.0f, 0.0f, 0.0f}, across = {-1.0f, 6.0f, 0.0f, 0.0f}, far = {14.0f, 15.0f, 0.0f, 0.0f};
+    LrSlopes lens = {4.0f, 6.0f, 0.0f, 0.0f}, across = {-5.0f, 6.0f, 0.0f, 0.0f}, far = {14.0f, 15.0f, 0.0f, 0.0f};
     LrSlopes moving = {0.0f, 0.0f, -7.0f, -5.0f}, both = {-5.0f, -4.0f, 2.0f, 12.0f};
     CHECK(fabs(lr_bright_clamp_px(&cfg, &lens) - k * 4.0) < 1e-5);
     CHECK(lr_bright_clamp_px(&cfg, &across) == cfg.bright_clamp_min_px);
