@@ -72,19 +72,28 @@ static void test_moving_light_no_halo(void)
     CHECK(off > 2e-3 * L_E);
 }
 
-/* lr_bright_clamp_px's law: sqrt(2 pi) R / (2 bright_contrast) between its two limits, R the
- * smallest blur radius (a circle of confusion, half a streak; 0 across the focal plane). */
+/* lr_bright_clamp_px's law: for a moving layer, or a still one whose lens blur is within the
+ * still band (|c| / 2 at most the band), sqrt(2 pi) R / (2 bright_contrast) between its two
+ * limits, R the smallest blur radius (a circle of confusion, half a streak; 0 across the focal
+ * plane or across still); a still layer blurred past the band keeps bright_clamp_px. */
 static void test_clamp_law(void)
 {
     LrConfig cfg = lr_config_default();
     double k = sqrt(2.0 * M_PI) / (2.0 * cfg.bright_contrast);
-    LrSlopes lens = {4.0f, 6.0f, 0.0f, 0.0f}, across = {-5.0f, 6.0f, 0.0f, 0.0f}, far = {14.0f, 15.0f, 0.0f, 0.0f};
-    LrSlopes moving = {0.0f, 0.0f, -7.0f, -5.0f}, both = {-5.0f, -4.0f, 2.0f, 12.0f};
-    CHECK(fabs(lr_bright_clamp_px(&cfg, &lens) - k * 4.0) < 1e-5);
-    CHECK(lr_bright_clamp_px(&cfg, &across) == cfg.bright_clamp_min_px);
-    CHECK(lr_bright_clamp_px(&cfg, &far) == cfg.bright_clamp_px);
-    CHECK(fabs(lr_bright_clamp_px(&cfg, &moving) - k * 2.5) < 1e-5);
-    CHECK(fabs(lr_bright_clamp_px(&cfg, &both) - k * 4.0) < 1e-5);
+    float band = cfg.filter.sigma_pixel_still_px;
+    LrSlopes in_band = {0.1f, 2.0f * band, 0.0f, 0.0f}, past_band = {0.1f, 2.0f * band + 0.05f, 0.0f, 0.0f};
+    LrSlopes lens = {4.0f, 6.0f, 0.0f, 0.0f}, across_focus = {-0.3f, 0.5f, 0.0f, 0.0f};
+    LrSlopes moving = {0.0f, 0.0f, -70.0f, -50.0f}, slow = {0.0f, 0.0f, -7.0f, -5.0f}, across_still = {0.0f, 0.0f, -20.0f, 30.0f};
+    LrSlopes both = {-25.0f, -24.0f, 2.0f, 12.0f}, both_slow = {-5.0f, -4.0f, 2.0f, 12.0f};
+    CHECK(lr_bright_clamp_px(&cfg, &in_band) == cfg.bright_clamp_min_px);
+    CHECK(lr_bright_clamp_px(&cfg, &across_focus) == cfg.bright_clamp_min_px);
+    CHECK(lr_bright_clamp_px(&cfg, &past_band) == cfg.bright_clamp_px);
+    CHECK(lr_bright_clamp_px(&cfg, &lens) == cfg.bright_clamp_px);
+    CHECK(lr_bright_clamp_px(&cfg, &moving) == cfg.bright_clamp_px); /* R = 25 px: past the cap */
+    CHECK(fabs(lr_bright_clamp_px(&cfg, &slow) - k * 2.5) < 1e-5);
+    CHECK(lr_bright_clamp_px(&cfg, &across_still) == cfg.bright_clamp_min_px);
+    CHECK(lr_bright_clamp_px(&cfg, &both) == cfg.bright_clamp_px);
+    CHECK(fabs(lr_bright_clamp_px(&cfg, &both_slow) - k * 4.0) < 1e-5);
 }
 
 int main(void)

@@ -321,11 +321,16 @@ static float smallest_blur_px(const LrSlopes *s)
 
 float lr_bright_clamp_px(const LrConfig *cfg, const LrSlopes *slopes)
 {
+    /* A still layer blurred by its lens past the still band keeps 8.24's clamp: there the
+     * Gaussian carries the lens blur, and sharing it was worth more than its tails (measured,
+     * docs/algorithms.md 8.49). */
+    bool still = slopes->d_min_px == 0.0f && slopes->d_max_px == 0.0f;
+    if (still && !lr_blur_within_band(slopes, &cfg->filter)) return cfg->bright_clamp_px;
     /* A screen Gaussian of std s moves about 2 s / (sqrt(2 pi) R) of a blurred disk's light past
      * its radius R (the rim, 2 pi R long, times the Gaussian's mean overshoot s / sqrt(2 pi),
      * over the area pi R^2); at the contrast bright_contrast the background hides at most
      * 1 / bright_contrast of it: s <= sqrt(2 pi) R / (2 bright_contrast). Between the pixel
-     * box's own std and bright_clamp_px. docs/algorithms.md 8.49. */
+     * box's own std and bright_clamp_px. */
     float s = 1.2533141f * smallest_blur_px(slopes) / cfg->bright_contrast;
     return fminf(cfg->bright_clamp_px, fmaxf(cfg->bright_clamp_min_px, s));
 }
