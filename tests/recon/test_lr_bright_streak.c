@@ -85,6 +85,7 @@ static void test_clamp_law(void)
     LrSlopes lens = {4.0f, 6.0f, 0.0f, 0.0f}, across_focus = {-0.3f, 0.5f, 0.0f, 0.0f};
     LrSlopes moving = {0.0f, 0.0f, -70.0f, -50.0f}, slow = {0.0f, 0.0f, -7.0f, -5.0f}, across_still = {0.0f, 0.0f, -20.0f, 30.0f};
     LrSlopes both = {-25.0f, -24.0f, 2.0f, 12.0f}, both_slow = {-5.0f, -4.0f, 2.0f, 12.0f};
+    LrSlopes moving_across_focus = {-20.0f, 30.0f, 5.0f, 6.0f};
     CHECK(lr_bright_clamp_px(&cfg, &in_band) == cfg.bright_clamp_min_px);
     CHECK(lr_bright_clamp_px(&cfg, &across_focus) == cfg.bright_clamp_min_px);
     CHECK(lr_bright_clamp_px(&cfg, &past_band) == cfg.bright_clamp_px);
@@ -94,6 +95,7 @@ static void test_clamp_law(void)
     CHECK(lr_bright_clamp_px(&cfg, &across_still) == cfg.bright_clamp_min_px);
     CHECK(lr_bright_clamp_px(&cfg, &both) == cfg.bright_clamp_px);
     CHECK(fabs(lr_bright_clamp_px(&cfg, &both_slow) - k * 4.0) < 1e-5);
+    CHECK(fabs(lr_bright_clamp_px(&cfg, &moving_across_focus) - k * 2.5) < 1e-5);
 }
 
 int main(void)
