@@ -370,3 +370,9 @@ double lr_filter_weight_xut(const LrFilter *f, double dx_px, double du, double d
     double au = f->inv_sigma_u * du, at = f->inv_sigma_t * dt;
     return exp(-0.5 * (ax * ax + au * au + at * at));
 }
+
+bool lr_blur_within_band(const LrSlopes *s, const LrFilterConfig *cfg)
+{
+    float c_px = fmaxf(fabsf(s->c_min_px), fabsf(s->c_max_px));
+    return s->d_min_px == 0.0f && s->d_max_px == 0.0f && 0.5f * c_px <= cfg->sigma_pixel_still_px;
+}

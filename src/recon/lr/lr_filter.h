@@ -92,6 +92,12 @@ LrFilter lr_filter_make_paper(const LrSlopes *s, const LrFilterConfig *cfg);
  * finite input. */
 LrFilter lr_filter_make(const LrSlopes *s, const LrFilterConfig *cfg);
 
+/* Whether a layer of slopes s has no motion and a lens blur within the still layers' pixel
+ * band: the uniform disk's per-axis std at its largest slope, |c| / 2 px, at most
+ * cfg->sigma_pixel_still_px (its whole slope range is then clipped by the band, case X: the
+ * screen filter only smooths it, 8.36). docs/algorithms.md 8.49. */
+bool lr_blur_within_band(const LrSlopes *s, const LrFilterConfig *cfg);
+
 /* The Fourier-domain warp of eq. 8 (the case's scale then two shears, in the order
  * (Omega_x, Omega_u, Omega_t)) before the x-only rewrite, for tests of eqs. 10-11. */
 void lr_filter_warp(const LrSlopes *s, const LrFilterConfig *cfg, double S[3][3]);

@@ -38,6 +38,7 @@ LrConfig lr_config_default(void)
     c.motion_long_px = (float)c.window_px;
     c.bright_contrast = 8.0f; /* docs/algorithms.md 8.24 */
     c.bright_clamp_px = 1.0f;
+    c.bright_clamp_min_px = 0.28867513f; /* 1 / sqrt(12): docs/algorithms.md 8.49 */
     c.merge_shift_sigmas = 0.3f; /* docs/benchmarks.md, lr16: 0.5 raised motion_defocus's error, 0.6 hard's */
     c.merge_sigma_share = 0.3f;
     c.tilt_ramp = true; /* docs/algorithms.md 8.35 */
@@ -309,11 +310,38 @@ void lr_tilt_ramp(const LrTilt *tilt, float eta_px, float rho_px, float *ramp_x_
     if (isfinite(rx) && isfinite(ry)) *ramp_x_px = rx, *ramp_y_px = ry;
 }
 
+/* The smallest blur radius of a layer's slopes (px): its least defocused part's circle of
+ * confusion or half its slowest streak, 0 for a range across the focal plane or across still. */
+static float smallest_blur_px(const LrSlopes *s)
+{
+    float c = s->c_min_px <= 0.0f && s->c_max_px >= 0.0f ? 0.0f : fminf(fabsf(s->c_min_px), fabsf(s->c_max_px));
+    float d = s->d_min_px <= 0.0f && s->d_max_px >= 0.0f ? 0.0f : fminf(fabsf(s->d_min_px), fabsf(s->d_max_px));
+    return fmaxf(c, 0.5f * d);
+}
+
+float lr_bright_clamp_px(const LrConfig *cfg, const LrSlopes *slopes)
+{
+    /* A still layer blurred by its lens past the still band keeps 8.24's clamp: there the
+     * Gaussian carries the lens blur, and sharing it was worth more than its tails (measured,
+     * docs/algorithms.md 8.49). */
+    bool still = slopes->d_min_px == 0.0f && slopes->d_max_px == 0.0f;
+    if (still && !lr_blur_within_band(slopes, &cfg->filter)) return cfg->bright_clamp_px;
+    /* A screen Gaussian of std s moves about 2 s / (sqrt(2 pi) R) of a blurred disk's light past
+     * its radius R (the rim, 2 pi R long, times the Gaussian's mean overshoot s / sqrt(2 pi),
+     * over the area pi R^2); at the contrast bright_contrast the background hides at most
+     * 1 / bright_contrast of it: s <= sqrt(2 pi) R / (2 bright_contrast). Between the pixel
+     * box's own std and bright_clamp_px. */
+    float s = 1.2533141f * smallest_blur_px(slopes) / cfg->bright_contrast;
+    return fminf(cfg->bright_clamp_px, fmaxf(cfg->bright_clamp_min_px, s));
+}
+
 LrFilter lr_layer_filter(const LrConfig *cfg, const LrSlopes *slopes, float contrast)
 {
     LrFilterConfig fc = cfg->filter;
-    if (cfg->bright_contrast > 0.0f && contrast >= cfg->bright_contrast && fc.sigma_clamp_px > cfg->bright_clamp_px)
-        fc.sigma_clamp_px = cfg->bright_clamp_px;
+    if (cfg->bright_contrast > 0.0f && contrast >= cfg->bright_contrast) {
+        float clamp = lr_bright_clamp_px(cfg, slopes);
+        if (fc.sigma_clamp_px > clamp) fc.sigma_clamp_px = clamp;
+    }
     return lr_filter_make(slopes, &fc);
 }
 

@@ -108,9 +108,15 @@ typedef struct {
      * in the samples' own lens and shutter offsets, the lens disk's and the shutter box's
      * shape, rather than in a screen share whose shape is right only in variance (a bright
      * cone, with a halo past the disk's rim on the dark pixels around it). Defaults 8 and
-     * 1 px; bright_contrast 0: off. docs/algorithms.md 8.24. */
+     * 1 px; bright_contrast 0: off. docs/algorithms.md 8.24. For a moving layer and a still
+     * one within the still band the clamp shrinks with the layer's smallest blur radius R
+     * (lr_bright_clamp_px), down to bright_clamp_min_px (1 / sqrt(12) px, the pixel box's own
+     * std: no Gaussian past what binning a sample into its pixel does), so that the
+     * Gaussian's tails past a short blur (a light in focus, a light moving 3 px) do not
+     * outshine the background (8.49). */
     float bright_contrast;
     float bright_clamp_px;
+    float bright_clamp_min_px;
     /* Neighbouring layers whose filters agree (lr_layers_merge) are one partition, its
      * filter made from the union of their slope ranges. merge_shift_sigmas: the most a sample
      * may land elsewhere under the front layer's shear than under its own (|d eta| +
@@ -293,8 +299,14 @@ bool lr_motion_filter_kept(const LrConfig *cfg, float d_min_px, float d_max_px, 
  * them has -1). */
 void lr_tile_finish(const LrConfig *cfg, const LrLayerStats *raw_stats, LrTile *t);
 
+/* A bright layer's screen sigma limit for slopes: sqrt(2 pi) R / (2 bright_contrast) for its
+ * smallest blur radius R (px), between bright_clamp_min_px and bright_clamp_px, for a moving
+ * layer or a still one whose lens blur is within the still band (lr_blur_within_band: the
+ * band only smooths it); bright_clamp_px for a still layer blurred past the band (8.49). */
+float lr_bright_clamp_px(const LrConfig *cfg, const LrSlopes *slopes);
+
 /* A layer's filter from its slopes (lr_filter_make with cfg->filter), with the bright-layer
- * clamp (8.24) where its contrast asks. */
+ * clamp (8.24, 8.49) where its contrast asks. */
 LrFilter lr_layer_filter(const LrConfig *cfg, const LrSlopes *slopes, float contrast);
 
 /* Whether layer `back`, right behind `front` in a tile, may be filtered as part of it: the
