@@ -34,10 +34,11 @@ expect aaf soft_shadows aaf.cl
 expect fsf soft_shadows fsf.cl
 expect maaf combined maaf.cl
 expect lr motion_defocus_soft lr.cl
-# auto's table on this 24x16 frame (its fallback would leave every effect to Monte Carlo here)
-WEDGE_AUTO_FALLBACK=0 expect auto all_effects aaf.cl lr.cl
-[ "$(find "$T/xdg-auto/wedge" -name 'cl-*.bin' | wc -l)" = 2 ] ||
-    { echo "FAIL: --filter auto: expected two cached programs: $(ls "$T/xdg-auto/wedge")"; fail=1; }
+# two methods in one frame: lr asked for the motion, auto's table for the rest (aaf: on this 24x16
+# frame the blur is under lr's threshold, and the fallback would leave every effect to Monte Carlo)
+WEDGE_AUTO_FALLBACK=0 expect motion=lr all_effects aaf.cl lr.cl
+[ "$(find "$T/xdg-motion=lr/wedge" -name 'cl-*.bin' | wc -l)" = 2 ] ||
+    { echo "FAIL: --filter motion=lr: expected two cached programs: $(ls "$T/xdg-motion=lr/wedge")"; fail=1; }
 # no OpenCL at all for an unfiltered frame
 got=$(built none soft_shadows plain) || fail=1
 [ -z "$got" ] || { echo "FAIL: --filter none built '$got'"; fail=1; }
