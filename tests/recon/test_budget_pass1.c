@@ -3,8 +3,8 @@
  * through a wide lens, its defocus and motion to LR (fixed count, reads as many samples per
  * pixel as the pixel with the fewest has). The whole budget must be traced uniformly in pass
  * 1, so every pixel has exactly the budget and LR reads all of it, while AAF still filters.
- * Without a budget (the methods' own counts), and through a pinhole (LR takes the motion
- * alone), AAF's plan adds samples where it wants them. */
+ * Without a budget (the methods' own counts), and through a pinhole (LR asked for the motion
+ * alone: auto leaves a blur that short to Monte Carlo), AAF's plan adds samples where it wants them. */
 #include <stdlib.h>
 
 #include "check.h"
@@ -40,9 +40,9 @@ static void count_samples(const ReconPipeline *p, void *ctx)
     recon_test_spp_range(p, &fc->spp_min, &fc->spp_max);
 }
 
-/* Renders with `spp` (0: the methods' own counts), through a lens of radius 0.3 focused at
- * 1 unit (the floor ~3.4 units away blurs ~16 px) or a pinhole. */
-static FrameCounts render(int spp, bool lens, const char *defocus_method)
+/* Renders with `spp` (0: the methods' own counts) and `filter`, through a lens of radius 0.3
+ * focused at 1 unit (the floor ~3.4 units away blurs ~16 px) or a pinhole. */
+static FrameCounts render(int spp, bool lens, const char *filter, const char *defocus_method)
 {
     const char *camera = "Camera \"perspective\" \"float fov\" [ 30 ]\n";
     const char *at = strstr(SHADOW_SCENE, camera);
@@ -54,7 +54,7 @@ static FrameCounts render(int spp, bool lens, const char *defocus_method)
                   : camera,
              at ? at + strlen(camera) : "", MOVING_OCCLUDER); /* shutter: pbrt's [0, 1] */
     FrameCounts fc = {-1, -1, 0, defocus_method};
-    ReconOptions o = {.filter = "auto", .spp = spp};
+    ReconOptions o = {.filter = filter, .spp = spp};
     free(recon_test_render_pipeline(text, 5, &o, count_samples, &fc));
     return fc;
 }
@@ -64,19 +64,19 @@ int main(void)
     /* auto's static choice: this test is about the filters' pipeline on a tiny frame, where
      * auto's fallback (recon/auto_fallback.h) would leave the shading effects to Monte Carlo */
     setenv("WEDGE_AUTO_FALLBACK", "0", 1);
-    FrameCounts fc = render(24, true, "lr");
+    FrameCounts fc = render(24, true, "auto", "lr");
     fprintf(stderr, "lens, --spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max,
             fc.aaf_pixels);
     CHECK(fc.spp_min == 24 && fc.spp_max == 24);
     CHECK(fc.aaf_pixels > 0);
     /* no budget: the plan decides, unevenly (the penumbrae want more than the open floor) */
-    fc = render(0, true, "lr");
+    fc = render(0, true, "auto", "lr");
     fprintf(stderr, "lens, own counts: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max,
             fc.aaf_pixels);
     CHECK(fc.spp_max > fc.spp_min);
     CHECK(fc.aaf_pixels > 0);
     /* a pinhole: LR takes the motion alone, and the plan keeps the budget */
-    fc = render(24, false, NULL);
+    fc = render(24, false, "motion=lr", NULL);
     fprintf(stderr, "pinhole, --spp 24: samples per pixel %d..%d, AAF filtered %lld pixels\n", fc.spp_min, fc.spp_max,
             fc.aaf_pixels);
     CHECK(fc.spp_max > fc.spp_min);
