@@ -285,8 +285,9 @@ typedef struct {
     bool sum_parts;             /* add its direct, indirect and emission: the frame holds them */
     int tiles_x, tile_count;
     int sample_begin, sample_end; /* the round: sample indices [begin, end) of every pixel */
-    /* The first round ([0,64)) of an interruptible pass: per tile, how many of its rows the
-     * round has finished (NULL: the first round is [0,4)). When the pass is cancelled in
+    /* The first round ([0,ROUND_SAMPLES), or all of a short pass) of an interruptible pass:
+     * per tile, how many of its rows the round has finished (NULL: the first round is
+     * [0,4)). When the pass is cancelled in
      * that round, a completion round gives the rows it did not reach samples [0,4), and
      * ignores the cancel (run_pass). */
     int *tile_rows_done;
@@ -640,8 +641,8 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
      * sample count): when the pass is cancelled during its first round, a completion round
      * gives the rows that round did not reach their samples [0,4), whatever the cancel
      * flag says (a second Ctrl-C kills wedge render); that makes a cancel in the first
-     * round slower to take effect, by up to about a fifth of the round. The old cuts remain as the frame's
-     * slices (frame_slice_end), which is all the images depend on, so images do not depend
+     * round slower to take effect, by the time 4 samples of the rows not reached take. The
+     * old cuts remain as the frame's slices (frame_slice_end), which is all the images depend on, so images do not depend
      * on the rounds; the rounds depend only on the sample counts, so images stay identical
      * for any number of threads; within a round a pixel belongs to one thread. Without
      * memory for the rows' counts the first round is [0,4), as before. */

@@ -65,7 +65,8 @@ static bool slices_match(const SliceCheck *c, const Frame *f, size_t i, bool wit
  * path of the frame's sums): the counts whose rounds split pixels between waves (83: one
  * round of 83 per pixel, 3 pixels and a part of a fourth per wave of 256; 158: one round;
  * 300: one round longer than a wave, so some pixels span three waves, alone in the middle
- * one, which continues one carried slice and carries another on) give the same frame for the first two, every pixel gets spp records, and the
+ * one, which continues one carried slice and carries another on) give the same frame for
+ * the first two, every pixel gets spp records, and the
  * frames' sums are the slices' sums exactly, as if no pixel had been split (renderer.c,
  * WaveQueue's carried slice). */
 static void check_split_rounds(const char *text, int spp)
