@@ -63,8 +63,8 @@ float integrator_fixed_time01(const IntegratorScene *sc);
 float integrator_shutter_time01(const IntegratorScene *sc, float shutter_u);
 
 /* The samples of a few pixels integrated together (integrator.c, "the wave"): at most
- * WAVE_SAMPLES (a render round gives a pixel at most 127, which the renderer may split
- * between two waves). Scratch space for one thread. */
+ * WAVE_SAMPLES (a render round gives a pixel up to 319, which the renderer splits between
+ * as many waves as they take). Scratch space for one thread. */
 enum { WAVE_SAMPLES = 256 };
 typedef struct Wave Wave;
 Wave *wave_create(void); /* NULL when out of memory */

@@ -20,6 +20,13 @@
 #include "render/tracer.h"
 
 enum { TILE_PX = 16 };
+/* A render round's samples of a pixel (run_pass). Each round sets every pixel's sampler up
+ * again (its dimension seeds, grid rotations and tables, in every wave the pixel's samples
+ * fall in), so fewer, longer rounds cost less a sample: at 256 spp one round of 256 instead
+ * of four of 64 took 3.4% of envlight's instructions (docs/benchmarks.md, "Issue 22,
+ * fifty-second round"). A round's length only sets how coarse a cancel's stopping point
+ * and a progress display's steps are; images do not depend on it (frame_slice_end). */
+enum { ROUND_SAMPLES = 256 };
 
 struct Renderer {
     SceneDesc *scene;
@@ -278,8 +285,9 @@ typedef struct {
     bool sum_parts;             /* add its direct, indirect and emission: the frame holds them */
     int tiles_x, tile_count;
     int sample_begin, sample_end; /* the round: sample indices [begin, end) of every pixel */
-    /* The first round ([0,64)) of an interruptible pass: per tile, how many of its rows the
-     * round has finished (NULL: the first round is [0,4)). When the pass is cancelled in
+    /* The first round ([0,ROUND_SAMPLES), or all of a short pass) of an interruptible pass:
+     * per tile, how many of its rows the round has finished (NULL: the first round is
+     * [0,4)). When the pass is cancelled in
      * that round, a completion round gives the rows it did not reach samples [0,4), and
      * ignores the cancel (run_pass). */
     int *tile_rows_done;
@@ -309,9 +317,11 @@ typedef struct {
 } SliceSums;
 
 /* A worker's wave: the pixels queued for it and their records. A pixel's samples of a round
- * may be split between two waves (queue_pixel), so that every wave but a tile's last is full:
- * the slice open at the split is then carried over to the next wave in double, unrounded,
- * and added to the frame once, as if the pixel had stayed in one wave. */
+ * may be split between waves (queue_pixel), so that every wave but a tile's last is full:
+ * the slice open at a split is then carried over to the next wave in double, unrounded,
+ * and added to the frame once, as if the pixel had stayed in one wave. (A round longer than
+ * a wave puts a pixel alone in a middle wave: it continues the carried slice and, ending
+ * inside another, carries that one on; its first slice is read before its last is written.) */
 typedef struct {
     Wave *wave;
     WavePixel pixel[WAVE_SAMPLES];
@@ -562,7 +572,6 @@ static void *pass_worker(void *arg)
  * threads (or done here when no thread starts), progress reported while they run. */
 static void run_round(PassJob *job, int begin, int end, pthread_t *tid, int n, long long total, double t0)
 {
-    _Static_assert(WAVE_SAMPLES >= 127, "a pixel's slice of a round (at most 127 samples) fits in one wave");
     const Renderer *r = job->r;
     job->sample_begin = begin;
     job->sample_end = end;
@@ -618,10 +627,10 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
         total = (long long)r->width * r->height * (spp_uniform > 0 ? spp_uniform : 0);
     }
 
-    /* The pass runs in rounds over the whole image, each taking the next slice of every
-     * pixel's sample indices: [0,64), then 64 at a time, and a remainder of fewer than 64
-     * with the round before it ([0,65), [0,64) [64,158)), so a round takes 64 to 127 of a
-     * pixel's samples: a round of 1 (65 spp) set every pixel's sampler up for one sample,
+    /* The pass runs in rounds over the whole image, each taking the next ROUND_SAMPLES of
+     * every pixel's sample indices, and a remainder of fewer than 64 with the round before
+     * it ([0,65), [0,256) [256,300)), so a round takes 64 to 319 of a pixel's samples (all
+     * of them up to 319 spp): a round of 1 (65 spp) set every pixel's sampler up for one sample,
      * in waves of 256 pixels (docs/benchmarks.md, "CPU per sample at counts that are not
      * whole rounds"). Each round sets a pixel's sampler up and builds its per-dimension
      * tables again, so a round should be long: a first
@@ -632,8 +641,8 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
      * sample count): when the pass is cancelled during its first round, a completion round
      * gives the rows that round did not reach their samples [0,4), whatever the cancel
      * flag says (a second Ctrl-C kills wedge render); that makes a cancel in the first
-     * round slower to take effect, by up to about a fifth of the round. The old cuts remain as the frame's
-     * slices (frame_slice_end), which is all the images depend on, so images do not depend
+     * round slower to take effect, by the time 4 samples of the rows not reached take. The
+     * old cuts remain as the frame's slices (frame_slice_end), which is all the images depend on, so images do not depend
      * on the rounds; the rounds depend only on the sample counts, so images stay identical
      * for any number of threads; within a round a pixel belongs to one thread. Without
      * memory for the rows' counts the first round is [0,4), as before. */
@@ -641,7 +650,7 @@ static bool run_pass(Renderer *r, int pass, int spp_before, const int *spp_per_p
     pthread_t *tid = calloc((size_t)n, sizeof *tid);
     if (spp_max > 4) job.tile_rows_done = calloc((size_t)job.tile_count, sizeof *job.tile_rows_done);
     for (int begin = 0, end; begin < spp_max && !job.cancelled; begin = end) {
-        end = begin == 0 ? (job.tile_rows_done ? 64 : 4) : (begin < 64 ? 64 : begin + 64);
+        end = begin == 0 ? (job.tile_rows_done ? ROUND_SAMPLES : 4) : (begin < 64 ? 64 : begin + ROUND_SAMPLES);
         if (end >= 64 && spp_max - end < 64) end = spp_max; /* a short remainder joins this round */
         run_round(&job, begin, end, tid, n, total, t0);
         if (begin == 0 && job.cancelled && job.tile_rows_done) {

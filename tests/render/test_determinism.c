@@ -63,8 +63,10 @@ static bool slices_match(const SliceCheck *c, const Frame *f, size_t i, bool wit
 /* Renders the default scene at spp with 1 thread and a SliceCheck sink, with 2 threads
  * without one, and with 2 threads reading the radiance alone (RadianceRecords, the other
  * path of the frame's sums): the counts whose rounds split pixels between waves (83: one
- * round of 83 per pixel, 3 pixels and a part of a fourth per wave of 256; 158: [0,64) then
- * [64,158)) give the same frame for the first two, every pixel gets spp records, and the
+ * round of 83 per pixel, 3 pixels and a part of a fourth per wave of 256; 158: one round;
+ * 300: one round longer than a wave, so some pixels span three waves, alone in the middle
+ * one, which continues one carried slice and carries another on) give the same frame for
+ * the first two, every pixel gets spp records, and the
  * frames' sums are the slices' sums exactly, as if no pixel had been split (renderer.c,
  * WaveQueue's carried slice). */
 static void check_split_rounds(const char *text, int spp)
@@ -168,6 +170,8 @@ int main(void)
     check_split_rounds(text, 13); /* low counts: slices [0,4) [4,8) [8,13), pixels split */
     check_split_rounds(text, 83);
     check_split_rounds(text, 158);
+    check_split_rounds(text, 300);
+    check_split_rounds(text, 600); /* rounds [0,256) [256,512) [512,600) */
     free(text);
     CHECK_DONE();
 }
