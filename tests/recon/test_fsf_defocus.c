@@ -137,7 +137,7 @@ static void inputs_make_mu(Inputs *in, const Plane *f, float mu)
     long long nonfinite = 0;
     CHECK(fsf_lens_samples(f->st, W, H, f->value4, in->usable, in->y, in->v, in->count, &nonfinite));
     CHECK(nonfinite == 0);
-    FsfLensIn li = {&f->g, f->st, in->usable, mu};
+    FsfLensIn li = {&f->g, f->st, in->usable, mu, false};
     CHECK(fsf_lens_params(&li, in->px, in->k_lo, in->k_hi));
     in->s = (FsfSamples){W, H, f->spp, in->count, in->y, in->v};
     in->gd = fsf_guides_unguided(in->usable);

@@ -2,7 +2,7 @@
  * (scenes/bench/defocus.pbrt: a textured floor through the focal plane, spheres in front of,
  * on and behind it) at 96x96: defocus goes to fsf with --filter fsf and with
  * --filter defocus=fsf, the image is finite, the defocus AOVs are there and within their
- * bounds, and at equal samples the error against a 1024-spp reference is below Monte Carlo's
+ * bounds (no width where a pixel saw only the black sky), and at equal samples the error against a 1024-spp reference is below Monte Carlo's
  * and falls from 8 to 16 samples per pixel; every pixel's taps (to the lens grid's reach) stay
  * inside the image, and the border lets them reach it: some pixel at least 4 px from the
  * border has taps to its edge (with the cap of 2-sigma taps they stopped at 0.75 of it). */
@@ -19,18 +19,22 @@
 enum { RES = 96 };
 
 /* What only an FSF defocus frame has: the method chosen and its AOVs. */
-static void check_fsf(const ReconResult *res, void *ctx)
+static void check_fsf(const ReconPipeline *p, void *ctx)
 {
     (void)ctx;
+    const ReconResult *res = recon_pipeline_result(p);
+    const GBuffer *g = recon_pipeline_gbuffer(p);
     size_t n = (size_t)res->width * (size_t)res->height;
     CHECK(!strcmp(recon_choice_name(&res->choice, EFFECT_DEFOCUS), "fsf"));
     const float *eta = recon_test_aov(res, "fsf.defocus.eta_lens_per_px"), *sigma = recon_test_aov(res, "fsf.defocus.sigma_px");
     CHECK(eta && sigma);
-    size_t bad = 0, filtered = 0, outside = 0, to_edge = 0;
+    size_t bad = 0, filtered = 0, hits = 0, sky_filtered = 0, outside = 0, to_edge = 0;
     FsfGrid lens = fsf_lens_grid();
-    for (size_t i = 0; eta && sigma && i < n; ++i) {
+    for (size_t i = 0; eta && sigma && g && i < n; ++i) {
         bad += !isfinite(eta[i]) || !(sigma[i] >= 0.0f && sigma[i] <= FSF_RADIUS_CAP_PX / FSF_RADIUS_SIGMAS);
-        filtered += sigma[i] > 1.0f;
+        hits += g->hit[i] != 0;
+        filtered += g->hit[i] && sigma[i] > 1.0f;
+        sky_filtered += !g->hit[i] && sigma[i] > 0.0f;
         int x = (int)(i % (size_t)res->width), y = (int)(i / (size_t)res->width);
         int edge = x < y ? x : y;
         edge = edge < res->width - 1 - x ? edge : res->width - 1 - x;
@@ -40,7 +44,8 @@ static void check_fsf(const ReconResult *res, void *ctx)
         to_edge += edge >= 4 && r == edge;
     }
     CHECK(bad == 0);          /* a finite shear, a width within the 32-pixel cap */
-    CHECK(filtered > n / 4);  /* the defocused floor and spheres are filtered */
+    CHECK(filtered > hits / 4); /* the defocused floor and spheres are filtered */
+    CHECK(sky_filtered == 0);   /* a pixel that saw only the black sky is left out (fsf_lens.c) */
     CHECK(outside == 0);      /* no tap beyond the border */
     CHECK(to_edge > 0);       /* the border cap lets the taps reach it */
 }
@@ -49,7 +54,7 @@ static float *render(const char *text, const char *filter, unsigned seed, int sp
 {
     ReconOptions o = {.filter = filter, .spp = spp};
     bool fsf = strstr(filter, "fsf") != NULL;
-    return recon_test_render(text, seed, &o, fsf ? check_fsf : NULL, NULL);
+    return recon_test_render_pipeline(text, seed, &o, fsf ? check_fsf : NULL, NULL);
 }
 
 int main(void)

@@ -17,6 +17,7 @@
 #include "recon/aaf/aaf_params.h"
 #include "recon/aaf/aaf_pixel_params.h"
 #include "recon/aaf/aaf_stats.h"
+#include "recon/background.h"
 #include "recon/method.h"
 #include "recon/recon_parallel.h"
 
@@ -95,15 +96,6 @@ static void aaf_destroy(ReconMethod *m)
     free(m);
 }
 
-/* An environment ("infinite") light is the only radiance a ray that escapes the scene sees. */
-static bool has_light_at_infinity(const Renderer *r)
-{
-    RenderLightInfo info;
-    for (int l = 0; l < renderer_light_count(r); ++l)
-        if (renderer_light_info(r, l, &info) && info.kind == RENDER_LIGHT_INFINITE) return true;
-    return false;
-}
-
 static bool aaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
 {
     ReconMethod *m = calloc(1, sizeof *m);
@@ -116,7 +108,7 @@ static bool aaf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
     m->shadow_cfg = aaf_shadow_config_default();
     m->indirect_cfg = aaf_indirect_config_default();
     m->defocus_cfg = aaf_defocus_config_default();
-    m->defocus_cfg.black_background = !has_light_at_infinity(s->renderer);
+    m->defocus_cfg.black_background = recon_background_is_black(s->renderer);
     size_t n = (size_t)m->g->width * (size_t)m->g->height;
     m->stats_ok = aaf_stats_init(&m->stats, m->g);
     m->stats.collect_coc = effect_in(m->effects, EFFECT_DEFOCUS);

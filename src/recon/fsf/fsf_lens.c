@@ -88,6 +88,11 @@ static void params_range(void *ctx, size_t begin, size_t end, int part)
         *pp = fsf_pixel_left_out();
         j->k_lo[i] = j->k_hi[i] = 0.0f;
         if (!in->usable[i]) continue;
+        /* Every sample escaped to a black background: the light field is zero wherever this
+         * pixel looked, and a filter would only gather its neighbours' light into it, a square
+         * halo round a bright defocused emitter over the sky (as AAF's lens, 3.2; its own black
+         * samples still reach its neighbours' filters) */
+        if (in->black_background && !in->g->hit[i]) continue;
         /* the band narrows the filter as the pixel's samples grow */
         WidthCtx wc = {in->mu, fsf_lens_sigma_u(sample_store_count(in->store, i))};
         FsfSlopePick pick = fsf_slope_pick(&j->wnd, i, sigma_of_spread, &wc);

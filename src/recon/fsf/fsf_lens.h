@@ -90,6 +90,8 @@ typedef struct {
     const SampleStore *store;    /* with SAMPLE_FIELD_DEPTH */
     const unsigned char *usable;
     float mu;                    /* width divisor (> 0) */
+    bool black_background;       /* an escaped ray sees black (recon/background.h): a pixel none
+                                  * of whose samples hit is left out of the filter */
 } FsfLensIn;
 
 /* px and the AOVs k_lo, k_hi (0 where unknown) per pixel. false when out of memory or the

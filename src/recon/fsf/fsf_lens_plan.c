@@ -5,14 +5,14 @@
 
 #include "recon/fsf/fsf_lens.h"
 
-bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, FsfPixel *px, float *k_lo, float *k_hi,
-                         unsigned char *straddle)
+bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, bool black_background, FsfPixel *px,
+                         float *k_lo, float *k_hi, unsigned char *straddle)
 {
     size_t n = (size_t)g->width * (size_t)g->height;
     unsigned char *usable = malloc(n);
     bool ok = usable != NULL;
     for (size_t i = 0; ok && i < n; ++i) usable[i] = sample_store_count(st, i) > 0;
-    FsfLensIn in = {g, st, usable, mu};
+    FsfLensIn in = {g, st, usable, mu, black_background};
     ok = ok && fsf_lens_params(&in, px, k_lo, k_hi);
     for (size_t i = 0; ok && i < n; ++i) straddle[i] = fsf_lens_straddles(k_lo[i], k_hi[i]);
     free(usable);

@@ -26,10 +26,10 @@
 
 /* fsf_lens_params over the store's samples with every pixel that has one usable (as
  * fsf_lens_samples has it for the composite radiance, whose weight is 1), and straddle[i] = 1
- * where pixel i's range straddles the focal plane, else 0. false when out of memory or the
- * store lacks the depth field. */
-bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, FsfPixel *px, float *k_lo, float *k_hi,
-                         unsigned char *straddle);
+ * where pixel i's range straddles the focal plane, else 0 (black_background: FsfLensIn's). false
+ * when out of memory or the store lacks the depth field. */
+bool fsf_lens_straddlers(const GBuffer *g, const SampleStore *st, float mu, bool black_background, FsfPixel *px,
+                         float *k_lo, float *k_hi, unsigned char *straddle);
 
 /* The plan: spp_total[i] = max(spp_now[i], pass1_spp + extra_spp) at straddling pixels,
  * spp_now[i] elsewhere. */

@@ -53,6 +53,7 @@
 #include "recon/fsf/fsf_params.h"
 #include "recon/fsf/fsf_profile.h"
 #include "recon/fsf/fsf_scratch.h"
+#include "recon/background.h"
 #include "recon/method.h"
 #include "recon/sample_rate.h"
 
@@ -226,8 +227,8 @@ static bool plan_lens(ReconMethod *m)
     m->lens_px = malloc(n * sizeof(FsfPixel));
     m->lens_k_lo = malloc(n * sizeof(float)), m->lens_k_hi = malloc(n * sizeof(float));
     return m->lens_px && m->lens_k_lo && m->lens_k_hi &&
-           (m->lens_planned = fsf_lens_straddlers(m->g, m->store, m->mu, m->lens_px, m->lens_k_lo, m->lens_k_hi,
-                                                  m->straddle));
+           (m->lens_planned = fsf_lens_straddlers(m->g, m->store, m->mu, recon_background_is_black(m->renderer), m->lens_px,
+                                                  m->lens_k_lo, m->lens_k_hi, m->straddle));
 }
 
 static void fsf_begin_pass(ReconMethod *m, int pass)
@@ -704,7 +705,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
     warn_nonfinite_values("radiance sample", nonfinite);
-    FsfLensIn in = {m->g, m->store, b->usable, m->mu};
+    FsfLensIn in = {m->g, m->store, b->usable, m->mu, recon_background_is_black(m->renderer)};
     if (ok && m->lens_planned) { /* the plan's, from the same store: the same ranges */
         memcpy(b->px, m->lens_px, n * sizeof(FsfPixel));
         memcpy(b->k_lo, m->lens_k_lo, n * sizeof(float)), memcpy(b->k_hi, m->lens_k_hi, n * sizeof(float));
