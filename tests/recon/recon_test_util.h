@@ -199,6 +199,22 @@ static inline double rel_mse(const float *img, const float *ref, size_t n3)
     return s / (double)n3;
 }
 
+/* The mean relMSE against ref (n3 floats) of `filter` at spp over seeds 1..seeds (a seed whose
+ * render fails counts as a failed check and adds nothing). */
+static inline double recon_test_seeds_rel_mse(const char *text, const char *filter, int spp, unsigned seeds, const float *ref,
+                                              size_t n3)
+{
+    double e = 0.0;
+    for (unsigned seed = 1; seed <= seeds; ++seed) {
+        ReconOptions o = {.filter = filter, .spp = spp};
+        float *img = recon_test_render(text, seed, &o, NULL, NULL);
+        CHECK(img != NULL);
+        if (img) e += rel_mse(img, ref, n3) / seeds;
+        free(img);
+    }
+    return e;
+}
+
 /* recon_test_render_pipeline with --filter filter and --spp spp (0: none) as the only options. */
 static inline float *recon_test_render_spp(const char *text, const char *filter, unsigned seed, int spp,
                                            ReconPipelineCheck check, void *ctx)

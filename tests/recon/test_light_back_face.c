@@ -58,13 +58,7 @@ int main(void)
     int back_count = 0;
     for (int i = 0; i < W * H; ++i) back_count += back[i];
     const char *filters[] = {"aaf", "maaf", "fsf"};
-    double e_mc = 0.0;
-    for (unsigned seed = 1; seed <= 2 && ref; ++seed) {
-        ReconOptions mo = {.filter = "none", .spp = 16};
-        float *mc = recon_test_render(SCENE, seed, &mo, NULL, NULL);
-        if (mc) e_mc += rel_mse(mc, ref, 3 * W * H) / 2;
-        free(mc);
-    }
+    double e_mc = ref ? recon_test_seeds_rel_mse(SCENE, "none", 16, 2, ref, 3 * W * H) : 0.0;
     for (int f = 0; f < 3 && ref; ++f) {
         double e = 0.0, sum = 0.0, sum_ref = 0.0;
         for (unsigned seed = 1; seed <= 2; ++seed) {
