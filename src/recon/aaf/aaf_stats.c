@@ -512,7 +512,7 @@ static float unoccluded_at(const ShadePass *sp, const float *pf, const float *nf
  * changes by orders of magnitude over a spread of normals (a curved surface moving over the
  * shutter or seen through a wide lens: samples at times it faced the light over r at a mean
  * normal that hardly does), and the quotient, divided by a near-zero r, reached 40x the
- * X
+ * visibility's range and spread into the neighbours' filtered light (docs/algorithms.md 4.7).
  * The samples' mean cosine to n is the coherence, so some of them lie at least acos(coherence)
  * from it: r at n tilted by that angle each way along two tangent axes must stay within
  * UNOCCLUDED_SPREAD_RATIO of r at n, else the pixel keeps its own direct light (r = 0: below

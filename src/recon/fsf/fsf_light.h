@@ -36,8 +36,9 @@ typedef struct {
  * uniform over the rectangle of half extents half_m: a light that fills less of it (a triangle,
  * a trapezoid) has them on part of it only, and the filter's mean is biased (a generated scene
  * with a 2.8 m x 0.43 m triangle light: 5x Monte Carlo's relMSE at 16 spp, the same light as a
- * rectangle 0.74x, a trapezoid filling 80% of its bounding box 1.8x). Below this fill the light's shadows are left
- * to Monte Carlo (every pixel's share of filterable light is 0), with a warning. */
+ * rectangle 0.74x, a trapezoid filling 80% of its bounding box 1.8x). Below this fill the
+ * light's shadows are left to Monte Carlo (every pixel's share of filterable light is 0), with
+ * a warning. */
 #define FSF_MIN_LIGHT_FILL 0.95f
 
 /* The shadows' grid over the light's half extents, its taps to FSF_REACH_SIGMAS_NARROW, and

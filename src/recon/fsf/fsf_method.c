@@ -40,6 +40,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "recon/background.h"
 #include "recon/fsf/fsf_bounce.h"
 #include "recon/fsf/fsf_bounce_kept.h"
 #include "recon/fsf/fsf_budget_plan.h"
@@ -53,7 +54,6 @@
 #include "recon/fsf/fsf_params.h"
 #include "recon/fsf/fsf_profile.h"
 #include "recon/fsf/fsf_scratch.h"
-#include "recon/background.h"
 #include "recon/method.h"
 #include "recon/sample_rate.h"
 
@@ -65,6 +65,7 @@
 
 struct ReconMethod {
     const Renderer *renderer;
+    bool black_background;       /* an escaped ray sees black: the lens filter leaves such pixels (background.h) */
     const GBuffer *g;
     SampleStore *store;
     FsfLight light;
@@ -206,6 +207,7 @@ static bool fsf_create(const ReconSetup *s, ReconMethod **out, Diag *d)
                 "filter lights of any shape)\n",
                 100.0 * (double)m->light.fill);
     m->renderer = s->renderer;
+    m->black_background = recon_background_is_black(s->renderer);
     m->g = s->gbuffer;
     m->store = s->store;
     m->mu = s->mu > 0.0f ? s->mu : 1.0f;
@@ -227,7 +229,7 @@ static bool plan_lens(ReconMethod *m)
     m->lens_px = malloc(n * sizeof(FsfPixel));
     m->lens_k_lo = malloc(n * sizeof(float)), m->lens_k_hi = malloc(n * sizeof(float));
     return m->lens_px && m->lens_k_lo && m->lens_k_hi &&
-           (m->lens_planned = fsf_lens_straddlers(m->g, m->store, m->mu, recon_background_is_black(m->renderer), m->lens_px,
+           (m->lens_planned = fsf_lens_straddlers(m->g, m->store, m->mu, m->black_background, m->lens_px,
                                                   m->lens_k_lo, m->lens_k_hi, m->straddle));
 }
 
@@ -705,7 +707,7 @@ static bool fsf_filter_radiance(ReconMethod *m, EffectMask effects, float *value
         diag_set(d, WEDGE_EXIT_RUNTIME, (SrcLoc){0}, "FSF: the per-sample store lacks the lens or radiance field");
     }
     warn_nonfinite_values("radiance sample", nonfinite);
-    FsfLensIn in = {m->g, m->store, b->usable, m->mu, recon_background_is_black(m->renderer)};
+    FsfLensIn in = {m->g, m->store, b->usable, m->mu, m->black_background};
     if (ok && m->lens_planned) { /* the plan's, from the same store: the same ranges */
         memcpy(b->px, m->lens_px, n * sizeof(FsfPixel));
         memcpy(b->k_lo, m->lens_k_lo, n * sizeof(float)), memcpy(b->k_hi, m->lens_k_hi, n * sizeof(float));
